@@ -1,0 +1,1 @@
+"""Data sets: seeded synthetic generators with known ground truth, and loaders."""

@@ -1,0 +1,863 @@
+"""Demonstrations: the data model and file I/O.
+
+A *demonstration set* is a plain ``list`` of float64 arrays, one per
+demonstration, each of shape ``(n_points_j, n_dims)``. Lengths may differ
+between demonstrations; ``n_dims`` is shared (2 or 3 normally, any ``>= 2``
+accepted). Coordinates are in whatever unit the user works in (metres for
+robot data); lfdkit never rescales them.
+
+Optionally each demonstration carries its sample times, a float64 array of
+shape ``(n_points_j,)`` in seconds, strictly increasing.
+
+Files
+-----
+The format is chosen from the file suffix (case-insensitive):
+
+``.csv``
+    A header row, then one row per sample. Columns: ``demo`` (the
+    demonstration id, integer or string), optionally ``t`` or ``time``
+    (seconds), and the coordinates, named ``x, y[, z]`` or ``x1, x2, ..., xq``.
+    Demonstrations are ordered by first appearance of their id; rows keep
+    file order within a demonstration. Blank lines and lines starting with
+    ``#`` are ignored. Columns with other names are ignored.
+``.npz``
+    Arrays ``demo_0, demo_1, ...`` (each ``(n_points_j, n_dims)``), optionally
+    ``time_j`` for any ``j`` and ``ids`` (1-D, one per demonstration); or a
+    single 3-D array ``demos`` of shape ``(n_demos, n_points, n_dims)`` with an
+    optional 2-D ``times`` of shape ``(n_demos, n_points)``. Never unpickled.
+``.json``
+    ``{"format": "lfdkit-demos", "version": 1, "n_dims": q, "demos":
+    [{"id": ..., "points": [[x, y], ...], "t": [...]}, ...]}`` with ``"t"``
+    (and ``"id"``) optional per demonstration.
+
+Writing is atomic (see :func:`atomic_write`) and floats are written so that
+a load after a save gives back bit-identical arrays in every format.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import json
+import math
+import os
+import re
+import secrets
+import stat
+import zipfile
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+from typing import IO, Any, Literal, overload
+
+import numpy as np
+
+from lfdkit._validation import check_demos, check_path
+
+__all__ = [
+    "JSON_FORMAT",
+    "JSON_VERSION",
+    "SUPPORTED_SUFFIXES",
+    "DemoId",
+    "atomic_write",
+    "load_demos",
+    "save_demos",
+]
+
+PathLike = str | os.PathLike[str]
+"""A file-system path: ``str`` or any ``os.PathLike``."""
+
+DemoId = int | str
+"""Identifier of one demonstration in a file: an ``int`` or a non-empty ``str``."""
+
+SUPPORTED_SUFFIXES: tuple[str, ...] = (".csv", ".json", ".npz")
+"""File suffixes understood by :func:`load_demos` and :func:`save_demos`."""
+
+JSON_FORMAT = "lfdkit-demos"
+"""Value of the ``"format"`` field of a demonstrations JSON file."""
+
+JSON_VERSION = 1
+"""Newest JSON file-format version this module reads and the one it writes."""
+
+_INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
+_NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
+_NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
+
+
+# --------------------------------------------------------------------------- #
+# Atomic writes
+# --------------------------------------------------------------------------- #
+
+
+def atomic_write(
+    path: PathLike,
+    writer: Callable[[IO[Any]], object],
+    *,
+    binary: bool = False,
+    overwrite: bool = False,
+    encoding: str = "utf-8",
+) -> Path:
+    """Write a file atomically: readers see the old file or the whole new one.
+
+    ``writer`` is called with a file object open on a temporary file in the
+    same directory as ``path``; when it returns, the data are flushed to disk
+    and the temporary file is renamed onto ``path``. If ``writer`` raises (or
+    the process is interrupted), the temporary file is removed, an existing
+    ``path`` is left untouched, and the exception propagates.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination file. Its directory must exist.
+    writer : callable
+        ``writer(f)`` writes the whole content to the file object ``f``
+        (its return value is ignored). ``f`` is a binary file when ``binary``
+        is true, otherwise a text file with the given ``encoding`` opened with
+        ``newline=""``, so line endings are written exactly as given (use
+        ``"\\n"``; nothing is translated to the platform's convention).
+    binary : bool
+        Open the temporary file in binary (``"wb"``) rather than text mode.
+    overwrite : bool
+        Replace ``path`` if it exists. When false, an existing ``path`` raises
+        ``FileExistsError``; the check is race-free where the file system
+        supports hard links.
+    encoding : str
+        Text encoding (ignored when ``binary``).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is false.
+    IsADirectoryError
+        If ``path`` is a directory.
+    FileNotFoundError
+        If the directory of ``path`` does not exist.
+
+    Notes
+    -----
+    A new file gets the usual permissions (``0o666`` less the umask); a
+    replaced file keeps its permission bits. If ``path`` is a symbolic link
+    and ``overwrite`` is true, the link itself is replaced by a regular file.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise IsADirectoryError(f"{target}: is a directory; give the path of a file to write")
+    parent = target.parent
+    if not parent.is_dir():
+        raise FileNotFoundError(f"{target}: directory '{parent}' does not exist")
+    exists = os.path.lexists(target)
+    if exists and not overwrite:
+        raise _exists_error(target)
+    mode = stat.S_IMODE(target.stat().st_mode) if exists and target.exists() else None
+
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    while True:
+        tmp = parent / f".{target.name}.{secrets.token_hex(6)}.tmp"
+        try:
+            fd = os.open(tmp, flags, 0o666)
+            break
+        except FileExistsError:  # pragma: no cover - 48 random bits collided
+            continue
+    try:
+        try:
+            f: IO[Any] = (
+                os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding=encoding, newline="")
+            )
+        except BaseException:
+            os.close(fd)
+            raise
+        with f:
+            writer(f)
+            f.flush()
+            os.fsync(f.fileno())
+        if mode is not None:
+            os.chmod(tmp, mode)
+        if overwrite:
+            os.replace(tmp, target)
+        else:
+            _rename_no_clobber(tmp, target)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    _fsync_dir(parent)
+    return target
+
+
+def _exists_error(target: Path) -> FileExistsError:
+    return FileExistsError(f"{target}: file already exists; pass overwrite=True to replace it")
+
+
+def _rename_no_clobber(tmp: Path, target: Path) -> None:
+    """Move ``tmp`` to ``target``, failing if ``target`` exists."""
+    try:
+        os.link(tmp, target)  # atomic "create only if absent"
+    except FileExistsError:
+        raise _exists_error(target) from None
+    except OSError:
+        # Hard links unsupported here (e.g. FAT, some network file systems):
+        # fall back to check-then-rename, which has a small race window.
+        if os.path.lexists(target):
+            raise _exists_error(target) from None
+        os.replace(tmp, target)
+    else:
+        os.unlink(tmp)
+
+
+def _fsync_dir(directory: Path) -> None:
+    """Best-effort fsync of a directory so a rename survives a crash (POSIX)."""
+    if os.name != "posix":  # pragma: no cover
+        return
+    with contextlib.suppress(OSError):
+        fd = os.open(directory, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+# --------------------------------------------------------------------------- #
+# Public load / save
+# --------------------------------------------------------------------------- #
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[False] = ..., return_ids: Literal[False] = ...
+) -> list[np.ndarray]: ...
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[True], return_ids: Literal[False] = ...
+) -> tuple[list[np.ndarray], list[np.ndarray | None]]: ...
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[False] = ..., return_ids: Literal[True]
+) -> tuple[list[np.ndarray], list[DemoId]]: ...
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[True], return_ids: Literal[True]
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]: ...
+
+
+def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool = False) -> Any:
+    """Read a demonstration set from a ``.csv``, ``.npz`` or ``.json`` file.
+
+    See the module docstring for the layout of each format.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to read; its suffix selects the format.
+    return_times : bool
+        Also return the per-demonstration sample times.
+    return_ids : bool
+        Also return the demonstration ids. CSV and NPZ store ids as text; an
+        id that is the canonical spelling of an integer (``"7"``, ``"-2"``,
+        not ``"07"``) is returned as ``int``, others as ``str``. Files without
+        ids give ``0, 1, ..., n_demos - 1``.
+
+    Returns
+    -------
+    demos : list of ndarray, each shape (n_points_j, n_dims)
+        The demonstrations, float64, in file order.
+    times : list of (ndarray, shape (n_points_j,), or None)
+        Only if ``return_times``: sample times in seconds, ``None`` for a
+        demonstration stored without times.
+    ids : list of int or str
+        Only if ``return_ids``: one id per demonstration.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not supported or the content is malformed; the
+        message names the file and, where it applies, the line, column or
+        array at fault.
+    TypeError
+        If a JSON value has the wrong type.
+    FileNotFoundError
+        If the file does not exist.
+    """
+    fname = os.fspath(path)
+    fmt = _format_of(fname)
+    if fmt == ".csv":
+        demos, times, ids = _read_csv(fname)
+    elif fmt == ".npz":
+        demos, times, ids = _read_npz(fname)
+    else:
+        demos, times, ids = _read_json(fname)
+    out: list[Any] = [demos]
+    if return_times:
+        out.append(times)
+    if return_ids:
+        out.append(ids)
+    return demos if len(out) == 1 else tuple(out)
+
+
+def save_demos(
+    path: PathLike,
+    demos: Sequence[Any],
+    *,
+    times: Sequence[Any | None] | None = None,
+    ids: Sequence[DemoId] | None = None,
+    overwrite: bool = False,
+) -> Path:
+    """Write a demonstration set to a ``.csv``, ``.npz`` or ``.json`` file.
+
+    The write is atomic (:func:`atomic_write`) and exact: :func:`load_demos`
+    gives back bit-identical float64 arrays.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; its suffix selects the format.
+    demos : sequence of array_like, each shape (n_points_j, n_dims)
+        The demonstrations; all share ``n_dims`` and have at least 2 points.
+    times : sequence of (array_like, shape (n_points_j,), or None), optional
+        Sample times in seconds, finite and strictly increasing within each
+        demonstration. ``None`` entries mean "no times" for that
+        demonstration; CSV needs times for all demonstrations or none. A 2-D
+        array of shape ``(n_demos, n_points)`` is accepted too.
+    ids : sequence of int or str, optional
+        Demonstration ids, unique (also once written as text: ``7`` and
+        ``"7"`` clash). A ``str`` id must be non-empty, without surrounding
+        whitespace or line breaks, and must not start with ``#``. Defaults to
+        ``0, 1, ..., n_demos - 1``.
+    overwrite : bool
+        Replace an existing file. When false an existing file raises
+        ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is unsupported or the inputs are invalid.
+    FileExistsError
+        If the file exists and ``overwrite`` is false.
+    IsADirectoryError
+        If ``path`` is a directory.
+    """
+    fname = os.fspath(path)
+    fmt = _format_of(fname)
+    arrs = check_demos(demos, "demos")
+    n = len(arrs)
+    time_arrs = _check_times_list(times, arrs)
+    id_list = _check_ids(ids, n)
+
+    if Path(fname).is_dir():
+        raise IsADirectoryError(f"{fname}: is a directory; give the path of a file to write")
+    if not overwrite and os.path.lexists(fname):
+        raise _exists_error(Path(fname))
+
+    if fmt == ".csv":
+        if any(t is None for t in time_arrs) and any(t is not None for t in time_arrs):
+            raise ValueError(
+                f"{fname}: a CSV file stores times for all demonstrations or none; "
+                "times has None for some demonstrations only"
+            )
+
+        def write_csv(f: IO[Any]) -> None:
+            _write_csv(f, arrs, time_arrs, id_list)
+
+        return atomic_write(fname, write_csv, overwrite=overwrite)
+    if fmt == ".npz":
+        arrays: dict[str, np.ndarray] = {}
+        for j, (a, t) in enumerate(zip(arrs, time_arrs, strict=True)):
+            arrays[f"demo_{j}"] = a
+            if t is not None:
+                arrays[f"time_{j}"] = t
+        if ids is not None:
+            arrays["ids"] = np.array([str(i) for i in id_list], dtype=np.str_)
+
+        def write_npz(f: IO[Any]) -> None:
+            np.savez_compressed(f, **arrays)  # float/str arrays only: no pickling
+
+        return atomic_write(fname, write_npz, binary=True, overwrite=overwrite)
+
+    def write_json(f: IO[Any]) -> None:
+        _write_json(f, arrs, time_arrs, id_list)
+
+    return atomic_write(fname, write_json, overwrite=overwrite)
+
+
+# --------------------------------------------------------------------------- #
+# Shared helpers
+# --------------------------------------------------------------------------- #
+
+
+def _format_of(fname: str) -> str:
+    suffix = Path(fname).suffix.lower()
+    if suffix not in SUPPORTED_SUFFIXES:
+        shown = repr(suffix) if suffix else "(none)"
+        raise ValueError(
+            f"{fname}: unsupported file suffix {shown}; supported suffixes: "
+            + ", ".join(SUPPORTED_SUFFIXES)
+        )
+    return suffix
+
+
+def _check_times(t: Any, n_points: int, name: str) -> np.ndarray:
+    """Validate one demonstration's times: float64, shape (n_points,), strictly increasing."""
+    try:
+        arr = np.asarray(t, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name}: expected a 1-D numeric array of times in seconds") from exc
+    if arr.ndim != 1:
+        raise ValueError(f"{name}: expected a 1-D array of times, got shape {arr.shape}")
+    if arr.shape[0] != n_points:
+        raise ValueError(
+            f"{name}: has {arr.shape[0]} times but the demonstration has {n_points} points"
+        )
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(f"{name}: time at index {i} is {float(arr[i])!r}; times must be finite")
+    step = np.flatnonzero(np.diff(arr) <= 0)
+    if step.size:
+        i = int(step[0]) + 1
+        raise ValueError(
+            f"{name}: times must be strictly increasing; t[{i}] = {float(arr[i])!r} "
+            f"is not after t[{i - 1}] = {float(arr[i - 1])!r}"
+        )
+    return arr
+
+
+def _check_times_list(
+    times: Sequence[Any | None] | None, demos: list[np.ndarray]
+) -> list[np.ndarray | None]:
+    if times is None:
+        return [None] * len(demos)
+    if isinstance(times, np.ndarray) and times.ndim == 2:
+        times = list(times)  # (n_demos, n_points), matching a 3-D demos array
+    if isinstance(times, (str, bytes, np.ndarray)) or not isinstance(times, Sequence):
+        raise TypeError(
+            "times: expected a list with one 1-D array (or None) per demonstration, "
+            "or a 2-D array of shape (n_demos, n_points)"
+        )
+    if len(times) != len(demos):
+        raise ValueError(f"times: got {len(times)} entries for {len(demos)} demonstrations")
+    return [
+        None if t is None else _check_times(t, d.shape[0], f"times[{j}]")
+        for j, (t, d) in enumerate(zip(times, demos, strict=True))
+    ]
+
+
+def _check_ids(ids: Sequence[DemoId] | None, n: int) -> list[DemoId]:
+    if ids is None:
+        return list(range(n))
+    if isinstance(ids, (str, bytes)) or not isinstance(ids, (Sequence, np.ndarray)):
+        raise TypeError("ids: expected a list with one int or str per demonstration")
+    if len(ids) != n:
+        raise ValueError(f"ids: got {len(ids)} ids for {n} demonstrations")
+    out: list[DemoId] = []
+    seen: dict[str, int] = {}
+    for j, i in enumerate(ids):
+        if isinstance(i, (bool, np.bool_)):
+            raise TypeError(f"ids[{j}]: expected an int or str, got {i!r}")
+        if isinstance(i, (int, np.integer)):
+            val: DemoId = int(i)
+        elif isinstance(i, str):
+            if not i or i != i.strip() or "\n" in i or "\r" in i or i.startswith("#"):
+                raise ValueError(
+                    f"ids[{j}]: {i!r} is not a valid id; a str id must be non-empty, without "
+                    "surrounding whitespace or line breaks, and must not start with '#'"
+                )
+            val = i
+        else:
+            raise TypeError(f"ids[{j}]: expected an int or str, got {type(i).__name__}")
+        key = str(val)
+        if key in seen:
+            raise ValueError(f"ids[{j}]: {val!r} repeats ids[{seen[key]}]; ids must be unique")
+        seen[key] = j
+        out.append(val)
+    return out
+
+
+def _parse_id(text: str) -> DemoId:
+    """Turn a stored textual id back into an int when it is a canonical integer."""
+    try:
+        value = int(text)
+    except ValueError:
+        return text
+    return value if str(value) == text else text
+
+
+def _check_same_dims(arrs: list[np.ndarray], names: list[str], fname: str) -> None:
+    q = arrs[0].shape[1]
+    for a, name in zip(arrs[1:], names[1:], strict=True):
+        if a.shape[1] != q:
+            raise ValueError(
+                f"{fname}: {name} has {a.shape[1]} dimensions but {names[0]} has {q}; "
+                "all demonstrations in a file must have the same number of dimensions"
+            )
+
+
+# --------------------------------------------------------------------------- #
+# CSV
+# --------------------------------------------------------------------------- #
+
+
+def _coord_header(q: int) -> list[str]:
+    return ["x", "y", "z"][:q] if q <= 3 else [f"x{k}" for k in range(1, q + 1)]
+
+
+def _write_csv(
+    f: IO[str],
+    demos: list[np.ndarray],
+    times: list[np.ndarray | None],
+    ids: list[DemoId],
+) -> None:
+    q = demos[0].shape[1]
+    has_t = times[0] is not None
+    w = csv.writer(f, lineterminator="\n")
+    w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q)])
+    for a, t, i in zip(demos, times, ids, strict=True):
+        sid = str(i)
+        tl = t.tolist() if t is not None else None
+        for k, row in enumerate(a.tolist()):
+            # repr() of a Python float is the shortest string that reads back exactly.
+            w.writerow([sid, *([repr(tl[k])] if tl is not None else []), *map(repr, row)])
+
+
+def _read_text(fname: str) -> str:
+    """Read a UTF-8 text file (a leading byte-order mark is dropped), keeping line endings."""
+    with open(fname, encoding="utf-8-sig", newline="") as f:
+        try:
+            return f.read()
+        except UnicodeDecodeError as exc:
+            raise ValueError(
+                f"{fname}: not UTF-8 text (byte {exc.start}: {exc.reason}); save the file as UTF-8"
+            ) from None
+
+
+def _csv_row(fname: str, lineno: int, line: str) -> list[str]:
+    try:
+        return next(csv.reader([line]))
+    except csv.Error as exc:
+        raise ValueError(f"{fname} line {lineno}: malformed CSV ({exc})") from None
+
+
+def _content_lines(f: IO[str]) -> Iterator[tuple[int, str]]:
+    """Yield (1-based line number, line) for lines that are not blank or comments."""
+    for lineno, line in enumerate(f, 1):
+        s = line.strip()
+        if s and not s.startswith("#"):
+            yield lineno, line
+
+
+def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[int], list[str]]:
+    """Locate the demo, time and coordinate columns; return their indices and names."""
+    names = [h.strip() for h in header]
+    found = ", ".join(repr(n) for n in names)
+    keys = [n.lower() for n in names]
+    for k, key in enumerate(keys):
+        if not key:
+            raise ValueError(f"{fname}: header column {k + 1} has no name; found columns: {found}")
+        if keys.index(key) != k:
+            raise ValueError(f"{fname}: duplicate column {names[k]!r}; found columns: {found}")
+    pos = {key: k for k, key in enumerate(keys)}
+
+    if "demo" not in pos:
+        raise ValueError(f"{fname}: missing column 'demo'; found columns: {found}")
+    if "t" in pos and "time" in pos:
+        raise ValueError(
+            f"{fname}: both 't' and 'time' columns present; keep one; found columns: {found}"
+        )
+    t_col = pos.get("t", pos.get("time"))
+
+    xyz = [c for c in ("x", "y", "z") if c in pos]
+    indexed = sorted((int(m.group(1)), key) for key in keys if (m := _INDEXED_COORD.fullmatch(key)))
+    if xyz and indexed:
+        raise ValueError(
+            f"{fname}: mixes coordinate naming 'x, y, z' with 'x1, x2, ...'; "
+            f"use one; found columns: {found}"
+        )
+    if indexed:
+        want = [f"x{k}" for k in range(1, max(2, indexed[-1][0]) + 1)]
+    else:
+        want = ["x", "y", "z"] if "z" in pos else ["x", "y"]
+    for c in want:
+        if c not in pos:
+            raise ValueError(f"{fname}: missing column {c!r}; found columns: {found}")
+    coord_cols = [pos[c] for c in want]
+    return pos["demo"], t_col, coord_cols, [names[k] for k in coord_cols]
+
+
+def _csv_number(fname: str, lineno: int, column: str, cell: str) -> float:
+    where = f"{fname} line {lineno}, column {column!r}"
+    if not cell:
+        raise ValueError(f"{where}: empty value")
+    try:
+        value = float(cell)
+    except ValueError:
+        raise ValueError(f"{where}: could not read {cell!r} as a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{where}: value {cell!r} is not finite; NaN and infinity are not allowed")
+    return value
+
+
+def _read_csv(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    with io.StringIO(_read_text(fname), newline="") as f:
+        lines = _content_lines(f)
+        first = next(lines, None)
+        if first is None:
+            raise ValueError(f"{fname}: no header row; the file is empty")
+        header = _csv_row(fname, *first)
+        demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
+        colnames = [h.strip() for h in header]
+        t_name = colnames[t_col] if t_col is not None else ""
+        n_fields = len(header)
+
+        groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+        for lineno, line in lines:
+            row = _csv_row(fname, lineno, line)
+            if len(row) != n_fields:
+                raise ValueError(
+                    f"{fname} line {lineno}: expected {n_fields} fields "
+                    f"({', '.join(colnames)}), got {len(row)}"
+                )
+            row = [c.strip() for c in row]
+            did = row[demo_col]
+            if not did:
+                raise ValueError(f"{fname} line {lineno}, column 'demo': empty value")
+            pts, ts, linenos = groups.setdefault(did, ([], [], []))
+            pts.append(
+                [
+                    _csv_number(fname, lineno, nm, row[c])
+                    for c, nm in zip(coord_cols, coord_names, strict=True)
+                ]
+            )
+            if t_col is not None:
+                t = _csv_number(fname, lineno, t_name, row[t_col])
+                if ts and t <= ts[-1]:
+                    raise ValueError(
+                        f"{fname} line {lineno}, column {t_name!r}: time {t!r} in demo {did!r} "
+                        f"is not after the previous time {ts[-1]!r} (line {linenos[-1]}); "
+                        "times must be strictly increasing within a demonstration"
+                    )
+                ts.append(t)
+            linenos.append(lineno)
+
+    if not groups:
+        raise ValueError(f"{fname}: no data rows after the header")
+    for did, (pts, _, _) in groups.items():
+        if len(pts) < 2:
+            raise ValueError(
+                f"{fname}: demo {did!r} has {len(pts)} row; each demonstration needs at least 2"
+            )
+    demos = check_demos([g[0] for g in groups.values()], fname)
+    times: list[np.ndarray | None] = [
+        np.asarray(g[1], dtype=np.float64) if t_col is not None else None for g in groups.values()
+    ]
+    return demos, times, [_parse_id(d) for d in groups]
+
+
+# --------------------------------------------------------------------------- #
+# NPZ
+# --------------------------------------------------------------------------- #
+
+
+def _read_npz(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    try:
+        loaded = np.load(fname, allow_pickle=False)
+        if not isinstance(loaded, np.lib.npyio.NpzFile):
+            raise ValueError(f"{fname}: is a single .npy array, not an .npz archive")
+        with loaded as npz:
+            data = {key: npz[key] for key in npz.files}
+    except (FileNotFoundError, IsADirectoryError, PermissionError):
+        raise
+    except (zipfile.BadZipFile, OSError, EOFError) as exc:
+        raise ValueError(f"{fname}: could not read as an .npz archive ({exc})") from exc
+    except ValueError as exc:
+        if str(exc).startswith(fname):
+            raise
+        # e.g. "Object arrays cannot be loaded when allow_pickle=False"
+        raise ValueError(f"{fname}: could not read array data ({exc})") from exc
+
+    found = ", ".join(repr(k) for k in sorted(data)) or "(none)"
+    demo_idx = sorted(int(m.group(1)) for k in data if (m := _NPZ_DEMO.fullmatch(k)))
+    time_idx = sorted(int(m.group(1)) for k in data if (m := _NPZ_TIME.fullmatch(k)))
+
+    if "demos" in data:
+        if demo_idx or time_idx:
+            raise ValueError(
+                f"{fname}: has both a 'demos' array and 'demo_j'/'time_j' arrays; "
+                f"use one layout; found arrays: {found}"
+            )
+        stacked = data["demos"]
+        if stacked.ndim != 3:
+            raise ValueError(
+                f"{fname}: array 'demos' must be 3-D, shape (n_demos, n_points, n_dims), "
+                f"got shape {stacked.shape}"
+            )
+        demos = check_demos(stacked, f"{fname}: array 'demos'")
+        if "times" in data:
+            t2 = data["times"]
+            if t2.ndim != 2 or t2.shape[0] != len(demos):
+                raise ValueError(
+                    f"{fname}: array 'times' must have shape (n_demos, n_points) = "
+                    f"{stacked.shape[:2]}, got {t2.shape}"
+                )
+            times: list[np.ndarray | None] = [
+                _check_times(t2[j], d.shape[0], f"{fname}: array 'times' row {j}")
+                for j, d in enumerate(demos)
+            ]
+        else:
+            times = [None] * len(demos)
+    else:
+        if not demo_idx:
+            raise ValueError(
+                f"{fname}: no demonstrations; expected arrays 'demo_0', 'demo_1', ... "
+                f"or a 3-D array 'demos'; found arrays: {found}"
+            )
+        for j, k in enumerate(demo_idx):
+            if j != k:
+                raise ValueError(
+                    f"{fname}: missing array 'demo_{j}' (found 'demo_{k}'); "
+                    "demonstrations must be numbered 0, 1, 2, ... without gaps"
+                )
+        stray = [k for k in time_idx if k >= len(demo_idx)]
+        if stray:
+            raise ValueError(f"{fname}: array 'time_{stray[0]}' has no matching 'demo_{stray[0]}'")
+        names = [f"array 'demo_{j}'" for j in demo_idx]
+        demos = [
+            check_path(data[f"demo_{j}"], f"{fname}: {nm}")
+            for j, nm in zip(demo_idx, names, strict=True)
+        ]
+        _check_same_dims(demos, names, fname)
+        demos = check_demos(demos, fname)
+        times = [
+            _check_times(data[f"time_{j}"], d.shape[0], f"{fname}: array 'time_{j}'")
+            if f"time_{j}" in data
+            else None
+            for j, d in enumerate(demos)
+        ]
+
+    if "ids" in data:
+        raw = data["ids"]
+        if raw.ndim != 1 or raw.shape[0] != len(demos) or raw.dtype.kind not in "Uiu":
+            raise ValueError(
+                f"{fname}: array 'ids' must be 1-D text or integers with one entry per "
+                f"demonstration ({len(demos)}), got dtype {raw.dtype} and shape {raw.shape}"
+            )
+        ids: list[DemoId] = [
+            _parse_id(str(v)) if raw.dtype.kind == "U" else int(v) for v in raw.tolist()
+        ]
+        if len({str(i) for i in ids}) != len(ids):
+            raise ValueError(f"{fname}: array 'ids' has repeated ids")
+    else:
+        ids = list(range(len(demos)))
+    return demos, times, ids
+
+
+# --------------------------------------------------------------------------- #
+# JSON
+# --------------------------------------------------------------------------- #
+
+
+def _write_json(
+    f: IO[str],
+    demos: list[np.ndarray],
+    times: list[np.ndarray | None],
+    ids: list[DemoId],
+) -> None:
+    # One demonstration per line keeps the file readable and diff-friendly.
+    # json writes floats with repr(), so values read back exactly.
+    buf = io.StringIO()
+    buf.write("{\n")
+    buf.write(f'  "format": {json.dumps(JSON_FORMAT)},\n')
+    buf.write(f'  "version": {JSON_VERSION},\n')
+    buf.write(f'  "n_dims": {demos[0].shape[1]},\n')
+    buf.write('  "demos": [\n')
+    for j, (a, t, i) in enumerate(zip(demos, times, ids, strict=True)):
+        item: dict[str, Any] = {"id": i, "points": a.tolist()}
+        if t is not None:
+            item["t"] = t.tolist()
+        sep = "," if j < len(demos) - 1 else ""
+        buf.write(f"    {json.dumps(item, allow_nan=False)}{sep}\n")
+    buf.write("  ]\n}\n")
+    f.write(buf.getvalue())
+
+
+def _read_json(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    try:
+        doc = json.loads(_read_text(fname))
+    except json.JSONDecodeError as exc:
+        raise ValueError(
+            f"{fname} line {exc.lineno}, column {exc.colno}: invalid JSON ({exc.msg})"
+        ) from None
+    if not isinstance(doc, dict):
+        raise ValueError(f"{fname}: expected a JSON object at the top level")
+    fmt = doc.get("format")
+    if fmt != JSON_FORMAT:
+        raise ValueError(
+            f"{fname}: field 'format' is {fmt!r}; expected {JSON_FORMAT!r} "
+            "(not an lfdkit demonstrations file)"
+        )
+    version = doc.get("version")
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise ValueError(f"{fname}: field 'version' must be an integer, got {version!r}")
+    if version > JSON_VERSION:
+        raise ValueError(
+            f"{fname}: file format version {version} is newer than this lfdkit supports "
+            f"(version {JSON_VERSION}); upgrade lfdkit to read it"
+        )
+    if version < 1:
+        raise ValueError(f"{fname}: unknown file format version {version}")
+    q = doc.get("n_dims")
+    if isinstance(q, bool) or not isinstance(q, int) or q < 2:
+        raise ValueError(f"{fname}: field 'n_dims' must be an integer >= 2, got {q!r}")
+    items = doc.get("demos")
+    if not isinstance(items, list) or not items:
+        raise ValueError(f"{fname}: field 'demos' must be a non-empty list of demonstrations")
+
+    demos: list[np.ndarray] = []
+    times: list[np.ndarray | None] = []
+    ids: list[DemoId] = []
+    seen: dict[str, int] = {}
+    for j, item in enumerate(items):
+        where = f"{fname}: demos[{j}]"
+        if not isinstance(item, dict):
+            raise ValueError(f"{where}: expected an object with 'points' (and optional 'id', 't')")
+        did = item.get("id", j)
+        if isinstance(did, bool) or not isinstance(did, (int, str)):
+            raise TypeError(f"{where}: field 'id' must be an int or str, got {did!r}")
+        if str(did) in seen:
+            raise ValueError(f"{where}: id {did!r} repeats demos[{seen[str(did)]}]")
+        seen[str(did)] = j
+        if "points" not in item:
+            raise ValueError(f"{where}: missing field 'points'")
+        arr = check_path(item["points"], f"{where} (id {did!r}) field 'points'")
+        if arr.shape[1] != q:
+            raise ValueError(
+                f"{where} (id {did!r}): points have {arr.shape[1]} dimensions but the file "
+                f"declares n_dims = {q}; all demonstrations must have n_dims dimensions"
+            )
+        demos.append(arr)
+        times.append(
+            _check_times(item["t"], arr.shape[0], f"{where} (id {did!r}) field 't'")
+            if item.get("t") is not None
+            else None
+        )
+        ids.append(did)
+    return check_demos(demos, fname, n_dims=q), times, ids

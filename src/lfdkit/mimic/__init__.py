@@ -1,0 +1,1 @@
+"""Mimicking: one clean generalized path from several noisy demonstrations."""

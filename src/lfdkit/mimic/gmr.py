@@ -1,0 +1,460 @@
+"""Gaussian mixture model / Gaussian mixture regression (thesis §3.2).
+
+A time-indexed generalized path: every demonstration point becomes a sample
+``(t, s)`` of a scalar phase ``t`` and a spatial vector ``s``. A ``K``-component
+Gaussian mixture is fitted to the joint samples by EM (k-means initialisation,
+stopping when the log-likelihood stops improving), and the path is recovered
+by conditioning the mixture on ``t`` (Gaussian mixture regression):
+
+* per component ``k``::
+
+      ŝ_k(t) = μ_s,k + Σ_st,k Σ_tt,k⁻¹ (t − μ_t,k)
+      Σ̂_k    = Σ_ss,k − Σ_st,k Σ_tt,k⁻¹ Σ_ts,k
+
+  (standard Gaussian conditioning; the thesis prints a minus sign in ``ŝ_k``,
+  which is a typo);
+* responsibilities ``β_k(t) ∝ π_k N(t; μ_t,k, Σ_tt,k)``, evaluated in log
+  space so that they never underflow, even far from every component;
+* mean ``ŝ(t) = Σ_k β_k ŝ_k`` and covariance ``Σ_k β_k² Σ̂_k`` (thesis
+  eq. 3.4), or, with ``cov_mode="law_of_total_covariance"``, the exact
+  covariance of the conditional mixture
+  ``Σ_k β_k (Σ̂_k + (ŝ_k − ŝ)(ŝ_k − ŝ)ᵀ)``.
+
+The covariance along the path shows where the task is constrained (small)
+and where it is free (large).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import Any, Literal
+
+import numpy as np
+from scipy.special import logsumexp
+from sklearn.base import BaseEstimator
+from sklearn.mixture import GaussianMixture
+from sklearn.utils.validation import check_is_fitted
+from threadpoolctl import threadpool_limits
+
+from lfdkit._validation import check_demos, check_positive, check_random_state
+
+__all__ = ["GMR", "select_n_components"]
+
+TimeMode = Literal["index", "arclength"]
+CovMode = Literal["thesis", "law_of_total_covariance"]
+
+_TIME_MODES = ("index", "arclength")
+_COV_MODES = ("thesis", "law_of_total_covariance")
+_LOG_2PI = float(np.log(2.0 * np.pi))
+
+
+def _check_demos_any_dim(demos: Any, name: str = "demos") -> list[np.ndarray]:
+    """``check_demos`` that also accepts one spatial dimension (``q >= 1``).
+
+    ``check_demos`` asks for at least two columns when it infers the dimension
+    itself, so the dimension is read from the first demonstration and passed
+    on explicitly; every other check (and message) is ``check_demos``'s.
+    """
+    n_dims: int | None = None
+    try:
+        first = demos[0] if len(demos) > 0 else None
+        if first is not None and not isinstance(first, (str, bytes)):
+            shape = np.shape(first)
+            if len(shape) == 2 and shape[1] >= 1:
+                n_dims = int(shape[1])
+    except Exception:  # malformed input: let check_demos produce the message
+        n_dims = None
+    if isinstance(demos, np.ndarray) and demos.ndim != 3:
+        n_dims = None
+    return check_demos(demos, name, min_points=2, n_dims=n_dims)
+
+
+def _phase(demo: np.ndarray, time_mode: str) -> np.ndarray:
+    """Phase in [0, 1] for each sample of one demonstration, shape ``(n_i,)``."""
+    n = demo.shape[0]
+    if time_mode == "arclength":
+        seg = np.linalg.norm(np.diff(demo, axis=0), axis=1)
+        total = seg.sum()
+        if total > 0.0:
+            return np.concatenate(([0.0], np.cumsum(seg))) / total
+        # A demonstration that never moves has no arc length: fall back to
+        # equal steps rather than dividing by zero.
+    return np.linspace(0.0, 1.0, n)
+
+
+def _check_times(times: Any, demos: list[np.ndarray]) -> list[np.ndarray]:
+    """Validate user-supplied phases: one finite 1-D array per demonstration."""
+    if isinstance(times, np.ndarray) and times.ndim == 2:
+        times = list(times)
+    if isinstance(times, (str, bytes)) or not isinstance(times, (Sequence, np.ndarray)):
+        raise TypeError("times: expected a list of 1-D arrays, one per demonstration")
+    if len(times) != len(demos):
+        raise ValueError(
+            f"times: expected {len(demos)} arrays (one per demonstration), got {len(times)}"
+        )
+    out = []
+    for j, (tj, demo) in enumerate(zip(times, demos, strict=True)):
+        try:
+            arr = np.asarray(tj, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"times[{j}]: expected a numeric 1-D array") from exc
+        if arr.ndim != 1:
+            raise ValueError(f"times[{j}]: expected a 1-D array, got shape {arr.shape}")
+        if arr.shape[0] != demo.shape[0]:
+            raise ValueError(
+                f"times[{j}]: has {arr.shape[0]} values but demos[{j}] has {demo.shape[0]} points"
+            )
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"times[{j}]: contains NaN or an infinite value")
+        out.append(arr)
+    return out
+
+
+def _sklearn_seed(random_state: Any) -> int:
+    """An int seed for scikit-learn from ``None``, an int or a ``Generator``."""
+    if isinstance(random_state, (int, np.integer)) and not isinstance(random_state, bool):
+        if random_state < 0:
+            raise ValueError(f"random_state: must be >= 0, got {random_state}")
+        return int(random_state) % (2**32)
+    rng = check_random_state(random_state)
+    return int(rng.integers(0, 2**32 - 1))
+
+
+class GMR(BaseEstimator):
+    """Generalized path by Gaussian mixture model / regression (thesis §3.2).
+
+    Parameters
+    ----------
+    n_components : int, default 10
+        Number of Gaussian components ``K``.
+    covariance_reg : float, default 1e-6
+        Non-negative value added to the diagonal of every covariance during EM
+        (scikit-learn's ``reg_covar``), in squared data units (phase and
+        spatial units alike). Raise it when the data are degenerate (for
+        example, a demonstration that stands still).
+    max_iter : int, default 500
+        Maximum number of EM iterations per initialisation.
+    tol : float, default 1e-4
+        EM stops when the gain in mean per-sample log-likelihood falls below
+        ``tol``.
+    n_init : int, default 1
+        Number of k-means/EM initialisations; the best likelihood is kept.
+    random_state : None, int or numpy.random.Generator, default None
+        Seed for k-means initialisation. An int gives reproducible fits.
+    time_mode : {"index", "arclength"}, default "index"
+        Phase given to each demonstration when ``fit`` gets no ``times``:
+        ``"index"`` gives equal steps ``linspace(0, 1, n_i)`` (the thesis
+        rescales each demonstration to the same number of points);
+        ``"arclength"`` gives the normalised cumulative arc length, which
+        ignores how fast the demonstrator moved.
+    cov_mode : {"thesis", "law_of_total_covariance"}, default "thesis"
+        Covariance returned by ``predict(..., return_cov=True)``:
+        ``"thesis"`` is ``Σ_k β_k² Σ̂_k`` (eq. 3.4); ``"law_of_total_covariance"``
+        is the exact covariance of the conditional mixture,
+        ``Σ_k β_k (Σ̂_k + (ŝ_k − ŝ)(ŝ_k − ŝ)ᵀ)``, which is the statistically
+        proper choice (it never shrinks below the within-component spread and
+        grows where components disagree).
+
+    Attributes
+    ----------
+    weights_ : ndarray, shape (K,)
+        Mixing weights ``π_k``.
+    means_ : ndarray, shape (K, 1 + q)
+        Component means; column 0 is the phase, columns ``1:`` the position.
+    covariances_ : ndarray, shape (K, 1 + q, 1 + q)
+        Full component covariances, ordered like ``means_``.
+    n_dims_ : int
+        Number of spatial dimensions ``q``.
+    time_range_ : tuple of float
+        Smallest and largest training phase; ``path`` samples this range
+        (``(0.0, 1.0)`` unless ``times`` were given).
+    log_likelihood_ : float
+        Mean per-sample log-likelihood of the training samples.
+    converged_ : bool
+        Whether EM converged within ``max_iter`` iterations.
+    n_iter_ : int
+        EM iterations used by the best initialisation.
+    bic_, aic_ : float
+        Bayesian / Akaike information criterion on the training samples
+        (smaller is better).
+    n_samples_ : int
+        Number of ``(t, s)`` samples the mixture was fitted to.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 1, 50)
+    >>> demos = [np.c_[t, np.sin(np.pi * t) + 0.01 * k] for k in range(3)]
+    >>> gmr = GMR(n_components=4, random_state=0).fit(demos)
+    >>> gmr.path(20).shape
+    (20, 2)
+    """
+
+    def __init__(
+        self,
+        n_components: int = 10,
+        covariance_reg: float = 1e-6,
+        max_iter: int = 500,
+        tol: float = 1e-4,
+        n_init: int = 1,
+        random_state: Any = None,
+        time_mode: TimeMode = "index",
+        cov_mode: CovMode = "thesis",
+    ) -> None:
+        self.n_components = n_components
+        self.covariance_reg = covariance_reg
+        self.max_iter = max_iter
+        self.tol = tol
+        self.n_init = n_init
+        self.random_state = random_state
+        self.time_mode = time_mode
+        self.cov_mode = cov_mode
+
+    # ------------------------------------------------------------------ fit
+    def _check_params(self) -> None:
+        check_positive(self.n_components, "n_components", integer=True)
+        check_positive(self.covariance_reg, "covariance_reg", allow_zero=True)
+        check_positive(self.max_iter, "max_iter", integer=True)
+        check_positive(self.tol, "tol", allow_zero=True)
+        check_positive(self.n_init, "n_init", integer=True)
+        if self.time_mode not in _TIME_MODES:
+            raise ValueError(f"time_mode: expected one of {_TIME_MODES}, got {self.time_mode!r}")
+        if self.cov_mode not in _COV_MODES:
+            raise ValueError(f"cov_mode: expected one of {_COV_MODES}, got {self.cov_mode!r}")
+
+    def fit(self, demos: Any, times: Any = None) -> GMR:
+        """Fit the joint mixture of phase and position.
+
+        Parameters
+        ----------
+        demos : list of array_like, each shape (n_i, q)
+            Demonstrations, possibly of different lengths, in any consistent
+            length unit; all share the spatial dimension ``q >= 1``.
+        times : list of array_like, each shape (n_i,), optional
+            Phase (or time, in any unit) of every sample. When omitted each
+            demonstration gets a phase in ``[0, 1]`` chosen by ``time_mode``.
+
+        Returns
+        -------
+        self : GMR
+
+        Raises
+        ------
+        ValueError
+            On NaN/inf, a demonstration with fewer than 2 points, mixed
+            dimensions, ``times`` that do not match ``demos``, ``n_components``
+            larger than the number of samples, or a singular covariance that
+            ``covariance_reg`` does not cure.
+        """
+        self._check_params()
+        demos = _check_demos_any_dim(demos, "demos")
+        if times is None:
+            phases = [_phase(d, self.time_mode) for d in demos]
+        else:
+            phases = _check_times(times, demos)
+        data = np.vstack([np.column_stack((tj, d)) for tj, d in zip(phases, demos, strict=True)])
+        n_samples = data.shape[0]
+        if self.n_components > n_samples:
+            raise ValueError(
+                f"n_components: {self.n_components} components need at least as many "
+                f"data points, but the demonstrations hold only {n_samples}"
+            )
+        gm = GaussianMixture(
+            n_components=self.n_components,
+            covariance_type="full",
+            tol=self.tol,
+            reg_covar=self.covariance_reg,
+            max_iter=self.max_iter,
+            n_init=self.n_init,
+            init_params="kmeans",
+            random_state=_sklearn_seed(self.random_state),
+        )
+        try:
+            # The matrices are tiny ((1+q) x (1+q)): BLAS/OpenMP threads only add
+            # overhead (and stall badly on a loaded machine), so run EM single-threaded.
+            with threadpool_limits(limits=1):
+                gm.fit(data)
+        except ValueError as exc:
+            msg = str(exc)
+            if "covariance" in msg or "singular" in msg or "positive" in msg:
+                raise ValueError(
+                    "GMR.fit: EM produced a singular covariance matrix (a component "
+                    "collapsed onto too few or degenerate points); increase "
+                    f"covariance_reg (now {self.covariance_reg!r}) or reduce n_components"
+                ) from exc
+            raise
+        if not np.all(np.isfinite(gm.covariances_)) or not np.all(np.isfinite(gm.means_)):
+            raise ValueError(
+                "GMR.fit: EM produced a singular covariance matrix; increase covariance_reg"
+            )
+        self.weights_ = np.asarray(gm.weights_, dtype=np.float64)
+        self.means_ = np.asarray(gm.means_, dtype=np.float64)
+        self.covariances_ = np.asarray(gm.covariances_, dtype=np.float64)
+        self.n_dims_ = int(data.shape[1] - 1)
+        self.n_samples_ = int(n_samples)
+        self.time_range_ = (float(data[:, 0].min()), float(data[:, 0].max()))
+        self.log_likelihood_ = float(gm.score(data))
+        self.converged_ = bool(gm.converged_)
+        self.n_iter_ = int(gm.n_iter_)
+        self.bic_ = float(gm.bic(data))
+        self.aic_ = float(gm.aic(data))
+        return self
+
+    # -------------------------------------------------------------- predict
+    def _responsibilities(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Return ``β`` of shape ``(T, K)`` and ``t − μ_t`` of shape ``(T, K)``."""
+        mu_t = self.means_[:, 0]
+        var_t = self.covariances_[:, 0, 0]
+        if np.any(var_t <= 0.0):
+            raise ValueError(
+                "covariances_: the phase variance Σ_tt of some component is not positive "
+                "(singular covariance); refit with a larger covariance_reg"
+            )
+        diff = t[:, None] - mu_t[None, :]
+        with np.errstate(divide="ignore"):
+            log_w = np.log(self.weights_)
+        log_p = log_w[None, :] - 0.5 * (_LOG_2PI + np.log(var_t)[None, :] + diff**2 / var_t)
+        log_beta = log_p - logsumexp(log_p, axis=1, keepdims=True)
+        return np.exp(log_beta), diff
+
+    def predict(
+        self,
+        t: Any,
+        return_cov: bool = False,
+        cov_mode: CovMode | None = None,
+    ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+        """Conditional mean (and covariance) of the position given the phase.
+
+        Parameters
+        ----------
+        t : array_like, shape (T,)
+            Query phases, in the units used for training (``[0, 1]`` by
+            default). A scalar is read as one query. Values outside the
+            training range are allowed (extrapolation stays finite).
+        return_cov : bool, default False
+            Also return the conditional covariance.
+        cov_mode : {"thesis", "law_of_total_covariance"}, optional
+            Overrides the estimator's ``cov_mode`` for this call.
+
+        Returns
+        -------
+        mean : ndarray, shape (T, q)
+            Generalized path at ``t`` (spatial units of the demonstrations).
+        cov : ndarray, shape (T, q, q)
+            Conditional covariance (squared spatial units); only with
+            ``return_cov=True``.
+        """
+        check_is_fitted(self, ("weights_", "means_", "covariances_"))
+        try:
+            tq = np.asarray(t, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise TypeError("t: expected a numeric 1-D array of phases") from exc
+        if tq.ndim == 0:
+            tq = tq.reshape(1)
+        elif tq.ndim == 2 and tq.shape[1] == 1:
+            tq = tq[:, 0]
+        elif tq.ndim != 1:
+            raise ValueError(f"t: expected a 1-D array of shape (T,), got shape {tq.shape}")
+        if not np.all(np.isfinite(tq)):
+            raise ValueError("t: contains NaN or an infinite value")
+        mode = self.cov_mode if cov_mode is None else cov_mode
+        if mode not in _COV_MODES:
+            raise ValueError(f"cov_mode: expected one of {_COV_MODES}, got {mode!r}")
+
+        mu_s = self.means_[:, 1:]  # (K, q)
+        var_t = self.covariances_[:, 0, 0]  # (K,)
+        cov_st = self.covariances_[:, 1:, 0]  # (K, q)
+        gain = cov_st / var_t[:, None]  # Σ_st Σ_tt⁻¹, (K, q)
+
+        beta, diff = self._responsibilities(tq)  # (T, K)
+        s_k = mu_s[None, :, :] + diff[:, :, None] * gain[None, :, :]  # (T, K, q)
+        mean = np.einsum("tk,tkq->tq", beta, s_k)
+        if not return_cov:
+            return mean
+
+        # Σ̂_k = Σ_ss − Σ_st Σ_tt⁻¹ Σ_ts   (K, q, q)
+        cond_cov = self.covariances_[:, 1:, 1:] - np.einsum("ki,kj->kij", gain, cov_st)
+        cond_cov = 0.5 * (cond_cov + np.swapaxes(cond_cov, 1, 2))
+        if mode == "thesis":
+            cov = np.einsum("tk,kij->tij", beta**2, cond_cov)
+        else:
+            dev = s_k - mean[:, None, :]
+            cov = np.einsum("tk,kij->tij", beta, cond_cov) + np.einsum(
+                "tk,tki,tkj->tij", beta, dev, dev
+            )
+        return mean, cov
+
+    def path(self, n_points: int = 100) -> np.ndarray:
+        """Generalized path on ``n_points`` equally spaced phases.
+
+        Parameters
+        ----------
+        n_points : int, default 100
+            Number of samples; the phases are
+            ``linspace(*time_range_, n_points)``, i.e. ``linspace(0, 1, n_points)``
+            unless ``fit`` was given explicit ``times``.
+
+        Returns
+        -------
+        ndarray, shape (n_points, q)
+        """
+        check_is_fitted(self, ("weights_", "means_", "covariances_"))
+        n_points = check_positive(n_points, "n_points", integer=True)
+        t0, t1 = getattr(self, "time_range_", (0.0, 1.0))
+        return self.predict(np.linspace(t0, t1, n_points))
+
+
+def select_n_components(
+    demos: Any,
+    candidates: Iterable[int] = range(2, 31),
+    criterion: Literal["bic", "aic"] = "bic",
+    random_state: Any = None,
+    times: Any = None,
+    **gmr_params: Any,
+) -> tuple[int, dict[int, float]]:
+    """Choose the number of GMR components by an information criterion.
+
+    Parameters
+    ----------
+    demos : list of array_like, each shape (n_i, q)
+        Demonstrations, as for ``GMR.fit``.
+    candidates : iterable of int, default range(2, 31)
+        Component counts to try. Counts larger than the number of samples are
+        skipped (they cannot be fitted).
+    criterion : {"bic", "aic"}, default "bic"
+        Criterion to minimise.
+    random_state : None, int or numpy.random.Generator
+        Seed; every candidate is fitted with the same derived seed.
+    times : list of array_like, each shape (n_i,), optional
+        Explicit phases, as for ``GMR.fit``.
+    **gmr_params
+        Further ``GMR`` parameters (``covariance_reg``, ``time_mode``, ...).
+
+    Returns
+    -------
+    best_k : int
+        Candidate with the smallest criterion (the smallest such ``k`` on ties).
+    scores : dict of int to float
+        Criterion value for every fitted candidate.
+    """
+    if criterion not in ("bic", "aic"):
+        raise ValueError(f"criterion: expected 'bic' or 'aic', got {criterion!r}")
+    demos = _check_demos_any_dim(demos, "demos")
+    cand = list(candidates)
+    if not cand:
+        raise ValueError("candidates: needs at least one component count")
+    for k in cand:
+        check_positive(k, "candidates", integer=True)
+    n_samples = sum(d.shape[0] for d in demos)
+    usable = sorted({int(k) for k in cand if k <= n_samples})
+    if not usable:
+        raise ValueError(
+            f"candidates: every candidate exceeds the {n_samples} available data points"
+        )
+    seed = _sklearn_seed(random_state)
+    scores: dict[int, float] = {}
+    for k in usable:
+        model = GMR(n_components=k, random_state=seed, **gmr_params).fit(demos, times=times)
+        scores[k] = model.bic_ if criterion == "bic" else model.aic_
+    best_k = min(usable, key=lambda k: (scores[k], k))
+    return best_k, scores

@@ -1,0 +1,766 @@
+"""Tests for lfdkit.demos: data model, file formats and atomic writes."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from lfdkit.demos import (
+    JSON_FORMAT,
+    JSON_VERSION,
+    SUPPORTED_SUFFIXES,
+    atomic_write,
+    load_demos,
+    save_demos,
+)
+
+FORMATS = [".csv", ".npz", ".json"]
+
+
+def _bits_equal(a: np.ndarray, b: np.ndarray) -> bool:
+    """Exact equality, bit for bit (distinguishes 0.0 from -0.0)."""
+    return a.dtype == b.dtype == np.float64 and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _m(path: Path, rest: str) -> str:
+    """Regex matching a message that starts with the file name, then ``rest``."""
+    return "^" + re.escape(str(path)) + rest
+
+
+def _leftovers(directory: Path) -> list[str]:
+    return sorted(p.name for p in directory.iterdir() if p.name.endswith(".tmp"))
+
+
+# --------------------------------------------------------------------------- #
+# Hypothesis round trips
+# --------------------------------------------------------------------------- #
+
+finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
+
+
+@st.composite
+def demo_sets(draw: st.DrawFn, with_times: bool) -> tuple[list[np.ndarray], list | None]:
+    n_demos = draw(st.integers(1, 5))
+    q = draw(st.integers(2, 3))
+    demos, times = [], []
+    for _ in range(n_demos):
+        n = draw(st.integers(2, 30))
+        vals = draw(st.lists(finite, min_size=n * q, max_size=n * q))
+        demos.append(np.array(vals, dtype=np.float64).reshape(n, q))
+        # sorted distinct finite floats are strictly increasing
+        t = sorted(draw(st.lists(finite, min_size=n, max_size=n, unique=True)))
+        times.append(np.array(t, dtype=np.float64))
+    return demos, (times if with_times else None)
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(data=st.data())
+def test_round_trip_exact(tmp_path: Path, suffix: str, data: st.DataObject) -> None:
+    with_times = data.draw(st.booleans(), label="with_times")
+    demos, times = data.draw(demo_sets(with_times), label="demos")
+    with tempfile.TemporaryDirectory(dir=tmp_path) as d:
+        path = Path(d) / f"demos{suffix}"
+        assert save_demos(path, demos, times=times) == path
+        got, got_t, got_ids = load_demos(path, return_times=True, return_ids=True)
+        assert _leftovers(Path(d)) == []
+    assert len(got) == len(demos)
+    for a, b in zip(demos, got, strict=True):
+        assert _bits_equal(a, b)
+    assert got_ids == list(range(len(demos)))
+    if times is None:
+        assert got_t == [None] * len(demos)
+    else:
+        for a, b in zip(times, got_t, strict=True):
+            assert b is not None and _bits_equal(a, b)
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_round_trip_special_values_and_ids(tmp_path: Path, suffix: str) -> None:
+    demos = [
+        np.array([[0.1, -0.0], [5e-324, 1.7976931348623157e308], [-2.2250738585072014e-308, 3.0]]),
+        np.array([[1.0, 2.0], [1e22, -1e-22]]),
+    ]
+    times = [np.array([-1.5, 0.0, 1e-9]), np.array([0.0, 0.1])]
+    path = tmp_path / f"d{suffix}"
+    save_demos(path, demos, times=times, ids=["left arm, take 1", 42])
+    got, got_t, ids = load_demos(path, return_times=True, return_ids=True)
+    assert all(_bits_equal(a, b) for a, b in zip(demos, got, strict=True))
+    assert all(_bits_equal(a, b) for a, b in zip(times, got_t, strict=True))
+    assert ids == ["left arm, take 1", 42]
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_round_trip_high_dimensional(tmp_path: Path, suffix: str) -> None:
+    rng = np.random.default_rng(0)
+    demos = [rng.normal(size=(7, 5)), rng.normal(size=(4, 5))]
+    path = tmp_path / f"d{suffix}"
+    save_demos(path, demos)
+    got = load_demos(path)
+    assert all(_bits_equal(a, b) for a, b in zip(demos, got, strict=True))
+
+
+def test_load_returns_plain_list_without_flags(tmp_path: Path) -> None:
+    path = save_demos(tmp_path / "d.json", [np.zeros((2, 2)), np.ones((3, 2))])
+    got = load_demos(path)
+    assert isinstance(got, list) and len(got) == 2
+    _, ids = load_demos(path, return_ids=True)
+    assert ids == [0, 1]
+
+
+def test_partial_times_npz_and_json(tmp_path: Path) -> None:
+    demos = [np.zeros((2, 2)), np.ones((3, 2))]
+    times = [None, np.array([0.0, 1.0, 2.0])]
+    for suffix in (".npz", ".json"):
+        path = save_demos(tmp_path / f"d{suffix}", demos, times=times)
+        _, got_t = load_demos(path, return_times=True)
+        assert got_t[0] is None
+        assert _bits_equal(got_t[1], times[1])
+
+
+def test_suffix_is_case_insensitive(tmp_path: Path) -> None:
+    path = save_demos(tmp_path / "D.CSV", [np.zeros((2, 2))])
+    assert path.read_text().startswith("demo,x,y\n")
+    assert len(load_demos(path)) == 1
+
+
+def test_save_accepts_str_path(tmp_path: Path) -> None:
+    path = str(tmp_path / "d.npz")
+    save_demos(path, [[[0, 0], [1, 1]]])
+    assert os.path.exists(path)  # np.savez must not append a second ".npz"
+    assert _bits_equal(load_demos(path)[0], np.array([[0.0, 0.0], [1.0, 1.0]]))
+
+
+# --------------------------------------------------------------------------- #
+# CSV reading
+# --------------------------------------------------------------------------- #
+
+
+def test_csv_groups_by_first_appearance_and_keeps_row_order(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path / "demos.csv",
+        "# recorded 2024-01-01\n"
+        "demo,x,y\n"
+        "\n"
+        "b,1,10\n"
+        "a,2,20\n"
+        "   \n"
+        "b,3,30\n"
+        "# a comment between rows\n"
+        "a,4,40\n"
+        "  # indented comment\n",
+    )
+    demos, ids = load_demos(path, return_ids=True)
+    assert ids == ["b", "a"]
+    np.testing.assert_array_equal(demos[0], [[1, 10], [3, 30]])
+    np.testing.assert_array_equal(demos[1], [[2, 20], [4, 40]])
+
+
+def test_csv_integer_ids_time_alias_z_and_extra_columns(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path / "demos.csv",
+        " Demo , Time ,X,Y,Z,label\n"
+        "3,0.0,1,2,3,start\n3,0.5,4,5,6,end\n007,0,0,0,0,\n007,1,1,1,1,\n",
+    )
+    demos, times, ids = load_demos(path, return_times=True, return_ids=True)
+    assert ids == [3, "007"]  # canonical integer spellings come back as int
+    assert demos[0].shape == (2, 3)
+    np.testing.assert_array_equal(times[0], [0.0, 0.5])
+
+
+def test_csv_indexed_coordinates(tmp_path: Path) -> None:
+    path = _write(tmp_path / "d.csv", "demo,t,x1,x2,x3,x4\n0,0,1,2,3,4\n0,1,5,6,7,8\n")
+    (demo,) = load_demos(path)
+    np.testing.assert_array_equal(demo, [[1, 2, 3, 4], [5, 6, 7, 8]])
+
+
+def test_csv_quoted_fields_and_bom(tmp_path: Path) -> None:
+    path = tmp_path / "d.csv"
+    path.write_bytes(b'\xef\xbb\xbfdemo,x,y\r\n"a, b",1,2\r\n"a, b",3,4\r\n')
+    demos, ids = load_demos(path, return_ids=True)
+    assert ids == ["a, b"]
+    np.testing.assert_array_equal(demos[0], [[1, 2], [3, 4]])
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".json"])
+def test_text_not_utf8(tmp_path: Path, suffix: str) -> None:
+    path = tmp_path / f"demos{suffix}"
+    path.write_bytes(b"demo,x,y\n\xff\xfe,1,2\n")
+    with pytest.raises(ValueError, match=_m(path, r": not UTF-8 text")):
+        load_demos(path)
+
+
+def test_csv_malformed_row_names_line(tmp_path: Path) -> None:
+    huge = "1" * 200_000  # beyond csv.field_size_limit()
+    path = _write(tmp_path / "demos.csv", f"demo,x,y\na,0,0\na,{huge},1\n")
+    with pytest.raises(ValueError, match=_m(path, r" line 3: malformed CSV")):
+        load_demos(path)
+
+
+def test_csv_without_time_column_gives_none_times(tmp_path: Path) -> None:
+    path = _write(tmp_path / "d.csv", "demo,x,y\n0,1,2\n0,3,4\n")
+    _, times = load_demos(path, return_times=True)
+    assert times == [None]
+
+
+# --------------------------------------------------------------------------- #
+# CSV errors: every message names the file, and the line/field where it applies
+# --------------------------------------------------------------------------- #
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("x,y\n0,1\n", r": missing column 'demo'; found columns: 'x', 'y'"),
+        ("demo,x\na,1\na,2\n", r": missing column 'y'; found columns: 'demo', 'x'"),
+        ("demo,t\na,1\na,2\n", r": missing column 'x'; found columns: 'demo', 't'"),
+        ("demo,x1\na,1\na,2\n", r": missing column 'x2'; found columns"),
+        ("demo,x1,x2,x4\na,1,2,3\n", r": missing column 'x3'; found columns"),
+        ("demo,x,y,x1\na,1,2,3\n", r": mixes coordinate naming"),
+        ("demo,x,y,X\na,1,2,3\n", r": duplicate column 'X'"),
+        ("demo,x,,y\na,1,2,3\n", r": header column 3 has no name"),
+        ("demo,t,time,x,y\na,1,2,3,4\n", r": both 't' and 'time' columns"),
+        ("", r": no header row; the file is empty"),
+        ("# only a comment\n\n", r": no header row"),
+        ("demo,x,y\n# nothing else\n", r": no data rows after the header"),
+    ],
+)
+def test_csv_header_errors(tmp_path: Path, text: str, expected: str) -> None:
+    path = _write(tmp_path / "demos.csv", text)
+    with pytest.raises(ValueError, match=_m(path, expected)):
+        load_demos(path)
+
+
+def test_csv_missing_column_message_matches_spec(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.csv", "demo,x,t\na,1,0\na,2,1\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == f"{path}: missing column 'y'; found columns: 'demo', 'x', 't'"
+
+
+def test_csv_non_numeric_value_names_line_and_column(tmp_path: Path) -> None:
+    # line 7 counts the comment and blank lines too
+    path = _write(
+        tmp_path / "demos.csv",
+        "# header comment\ndemo,x,y\na,0,0\n\na,1,1\nb,2,2\nb,abc,3\n",
+    )
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == f"{path} line 7, column 'x': could not read 'abc' as a number"
+
+
+@pytest.mark.parametrize("cell", ["nan", "NaN", "inf", "-Infinity"])
+def test_csv_non_finite_value_names_line(tmp_path: Path, cell: str) -> None:
+    path = _write(tmp_path / "demos.csv", f"demo,x,y\na,0,0\na,1,{cell}\n")
+    with pytest.raises(
+        ValueError, match=_m(path, rf" line 3, column 'y': value '{cell}' is not finite")
+    ):
+        load_demos(path)
+
+
+def test_csv_nan_time_names_line(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.csv", "demo,t,x,y\na,0,0,0\na,nan,1,1\n")
+    with pytest.raises(ValueError, match=_m(path, r" line 3, column 't': value 'nan'")):
+        load_demos(path)
+
+
+@pytest.mark.parametrize(("row", "column"), [("a,,1", "x"), ("a,1, ", "y"), (",1,1", "demo")])
+def test_csv_empty_cell(tmp_path: Path, row: str, column: str) -> None:
+    path = _write(tmp_path / "demos.csv", f"demo,x,y\na,0,0\n{row}\n")
+    with pytest.raises(ValueError, match=_m(path, rf" line 3, column '{column}': empty value")):
+        load_demos(path)
+
+
+def test_csv_wrong_field_count(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.csv", "demo,x,y\na,0,0\na,1\n")
+    with pytest.raises(
+        ValueError, match=_m(path, r" line 3: expected 3 fields \(demo, x, y\), got 2")
+    ):
+        load_demos(path)
+
+
+def test_csv_single_row_demo(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.csv", "demo,x,y\na,0,0\na,1,1\nb,2,2\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (f"{path}: demo 'b' has 1 row; each demonstration needs at least 2")
+
+
+@pytest.mark.parametrize("second", ["0.5", "0.4"])
+def test_csv_times_not_strictly_increasing(tmp_path: Path, second: str) -> None:
+    path = _write(
+        tmp_path / "demos.csv",
+        f"demo,t,x,y\na,0.0,0,0\nb,0.5,0,0\nb,{second},1,1\n",
+    )
+    with pytest.raises(
+        ValueError,
+        match=_m(
+            path,
+            rf" line 4, column 't': time {second} in demo 'b' is not after the previous "
+            r"time 0\.5 \(line 3\); times must be strictly increasing",
+        ),
+    ):
+        load_demos(path)
+
+
+def test_csv_times_are_per_demo(tmp_path: Path) -> None:
+    # each demonstration has its own clock; interleaving is fine
+    path = _write(tmp_path / "d.csv", "demo,t,x,y\na,5,0,0\nb,0,0,0\na,6,1,1\nb,1,1,1\n")
+    _, times = load_demos(path, return_times=True)
+    np.testing.assert_array_equal(times[0], [5, 6])
+    np.testing.assert_array_equal(times[1], [0, 1])
+
+
+# --------------------------------------------------------------------------- #
+# NPZ
+# --------------------------------------------------------------------------- #
+
+
+def test_npz_stacked_demos_array(tmp_path: Path) -> None:
+    stacked = np.arange(24, dtype=float).reshape(2, 4, 3)
+    path = tmp_path / "d.npz"
+    np.savez(path, demos=stacked, times=np.tile(np.arange(4.0), (2, 1)))
+    demos, times = load_demos(path, return_times=True)
+    assert len(demos) == 2
+    np.testing.assert_array_equal(demos[1], stacked[1])
+    np.testing.assert_array_equal(times[0], [0, 1, 2, 3])
+
+
+def test_npz_float32_and_int_arrays_become_float64(tmp_path: Path) -> None:
+    path = tmp_path / "d.npz"
+    np.savez(path, demo_0=np.ones((3, 2), np.float32), demo_1=np.zeros((2, 2), np.int64))
+    demos = load_demos(path)
+    assert all(d.dtype == np.float64 for d in demos)
+
+
+@pytest.mark.parametrize(
+    ("arrays", "expected"),
+    [
+        ({"other": np.zeros(3)}, r": no demonstrations; expected arrays 'demo_0'.*'other'"),
+        ({"demo_0": np.zeros((2, 2)), "demo_2": np.zeros((2, 2))}, r": missing array 'demo_1'"),
+        (
+            {"demo_0": np.zeros((2, 2)), "time_1": np.zeros(2)},
+            r": array 'time_1' has no matching 'demo_1'",
+        ),
+        (
+            {"demo_0": np.zeros((2, 2)), "demos": np.zeros((1, 2, 2))},
+            r": has both a 'demos' array and 'demo_j'",
+        ),
+        ({"demos": np.zeros((2, 2))}, r": array 'demos' must be 3-D"),
+        (
+            {"demo_0": np.zeros((2, 2)), "time_0": np.array([0.0, 0.0])},
+            r": array 'time_0': times must be strictly increasing",
+        ),
+        (
+            {"demo_0": np.zeros((3, 2)), "time_0": np.array([0.0, 1.0])},
+            r": array 'time_0': has 2 times but the demonstration has 3 points",
+        ),
+        ({"demo_0": np.zeros((1, 2))}, r": array 'demo_0': needs at least 2 points"),
+        (
+            {"demo_0": np.array([[0.0, 0.0], [np.nan, 1.0]])},
+            r": array 'demo_0': contains NaN at row 1",
+        ),
+        (
+            {"demo_0": np.zeros((2, 2)), "ids": np.array(["a", "b"])},
+            r": array 'ids' must be 1-D text or integers with one entry per demonstration",
+        ),
+    ],
+)
+def test_npz_errors(tmp_path: Path, arrays: dict, expected: str) -> None:
+    path = tmp_path / "demos.npz"
+    np.savez(path, **arrays)
+    with pytest.raises(ValueError, match=_m(path, expected)):
+        load_demos(path)
+
+
+def test_npz_object_arrays_are_never_unpickled(tmp_path: Path) -> None:
+    path = tmp_path / "demos.npz"
+    ragged = np.empty(2, dtype=object)
+    ragged[0], ragged[1] = np.zeros((2, 2)), np.zeros((3, 2))
+    np.savez(path, demo_0=ragged)
+    with pytest.raises(ValueError, match=_m(path, r": could not read array data")):
+        load_demos(path)
+
+
+def test_npz_not_an_archive(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.npz", "definitely not a zip file\n")
+    with pytest.raises(ValueError, match="^" + re.escape(str(path))):
+        load_demos(path)
+
+
+def test_npz_single_npy_payload(tmp_path: Path) -> None:
+    path = tmp_path / "demos.npz"
+    with open(path, "wb") as f:
+        np.save(f, np.zeros((2, 2, 2)))
+    with pytest.raises(ValueError, match=_m(path, r": is a single \.npy array")):
+        load_demos(path)
+
+
+def test_npz_ids_integer_array(tmp_path: Path) -> None:
+    path = tmp_path / "d.npz"
+    np.savez(path, demo_0=np.zeros((2, 2)), demo_1=np.ones((2, 2)), ids=np.array([10, 20]))
+    assert load_demos(path, return_ids=True)[1] == [10, 20]
+
+
+# --------------------------------------------------------------------------- #
+# JSON
+# --------------------------------------------------------------------------- #
+
+
+def _json_doc(**overrides: object) -> dict:
+    doc: dict = {
+        "format": JSON_FORMAT,
+        "version": JSON_VERSION,
+        "n_dims": 2,
+        "demos": [{"id": "a", "points": [[0, 0], [1, 1]]}, {"points": [[2, 2], [3, 3]]}],
+    }
+    doc.update(overrides)
+    return doc
+
+
+def test_json_minimal_file_and_default_ids(tmp_path: Path) -> None:
+    path = _write(tmp_path / "d.json", json.dumps(_json_doc()))
+    demos, times, ids = load_demos(path, return_times=True, return_ids=True)
+    assert ids == ["a", 1]
+    assert times == [None, None]
+    np.testing.assert_array_equal(demos[1], [[2, 2], [3, 3]])
+
+
+@pytest.mark.parametrize(
+    ("doc", "expected"),
+    [
+        (_json_doc(format="something"), r": field 'format' is 'something'; expected"),
+        (
+            _json_doc(version=2),
+            r": file format version 2 is newer than this lfdkit supports \(version 1\); "
+            r"upgrade lfdkit",
+        ),
+        (_json_doc(version=0), r": unknown file format version 0"),
+        (_json_doc(version="1"), r": field 'version' must be an integer"),
+        (_json_doc(n_dims=1), r": field 'n_dims' must be an integer >= 2"),
+        (_json_doc(demos=[]), r": field 'demos' must be a non-empty list"),
+        (
+            _json_doc(demos=[{"id": "a", "points": [[0, 0], [1, 1]]}, {"id": "b"}]),
+            r": demos\[1\]: missing field 'points'",
+        ),
+        (
+            _json_doc(demos=[{"id": "a", "points": [[0, 0], [1, 1]], "t": [0, 1, 2]}]),
+            r": demos\[0\] \(id 'a'\) field 't': has 3 times but the demonstration has 2",
+        ),
+        (
+            _json_doc(demos=[{"id": 1, "points": [[0, 0]]}]),
+            r": demos\[0\] \(id 1\) field 'points': needs at least 2 points",
+        ),
+        (
+            _json_doc(
+                demos=[{"id": "a", "points": [[0, 0], [1, 1]]}, {"id": "a", "points": [[0, 0]]}]
+            ),
+            r": demos\[1\]: id 'a' repeats demos\[0\]",
+        ),
+    ],
+)
+def test_json_errors(tmp_path: Path, doc: dict, expected: str) -> None:
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(ValueError, match=_m(path, expected)):
+        load_demos(path)
+
+
+def test_json_invalid_syntax_names_line(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.json", '{\n  "format": "lfdkit-demos",\n  oops\n}\n')
+    with pytest.raises(ValueError, match=_m(path, r" line 3, column 3: invalid JSON")):
+        load_demos(path)
+
+
+def test_json_non_finite_point(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path / "demos.json",
+        json.dumps(_json_doc(demos=[{"id": "a", "points": [[0, 0], [float("nan"), 1]]}])),
+    )
+    with pytest.raises(ValueError, match=_m(path, r": demos\[0\] .*contains NaN at row 1")):
+        load_demos(path)
+
+
+def test_json_bad_id_type(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path / "demos.json", json.dumps(_json_doc(demos=[{"id": 1.5, "points": [[0, 0]]}]))
+    )
+    with pytest.raises(TypeError, match=_m(path, r": demos\[0\]: field 'id' must be an int")):
+        load_demos(path)
+
+
+# --------------------------------------------------------------------------- #
+# Mixed dimensions
+# --------------------------------------------------------------------------- #
+
+
+def test_mixed_dims_json(tmp_path: Path) -> None:
+    doc = _json_doc(
+        n_dims=3,
+        demos=[
+            {"id": "a", "points": [[0, 0, 0], [1, 1, 1]]},
+            {"id": "b", "points": [[0, 0], [1, 1]]},
+        ],
+    )
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(
+        ValueError,
+        match=_m(
+            path,
+            r": demos\[1\] \(id 'b'\): points have 2 dimensions but the file declares n_dims = 3",
+        ),
+    ):
+        load_demos(path)
+
+
+def test_mixed_dims_npz(tmp_path: Path) -> None:
+    path = tmp_path / "demos.npz"
+    np.savez(path, demo_0=np.zeros((2, 3)), demo_1=np.zeros((2, 2)))
+    with pytest.raises(
+        ValueError,
+        match=_m(
+            path,
+            r": array 'demo_1' has 2 dimensions but array 'demo_0' has 3; "
+            r"all demonstrations in a file must have the same number of dimensions",
+        ),
+    ):
+        load_demos(path)
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_mixed_dims_refused_on_save(tmp_path: Path, suffix: str) -> None:
+    path = tmp_path / f"demos{suffix}"
+    with pytest.raises(ValueError, match=r"demos\[1\]: expected 3 columns"):
+        save_demos(path, [np.zeros((2, 3)), np.zeros((2, 2))])
+    assert not path.exists()
+
+
+# --------------------------------------------------------------------------- #
+# Suffixes, overwrite, directories
+# --------------------------------------------------------------------------- #
+
+
+@pytest.mark.parametrize("name", ["demos.txt", "demos", "demos.csv.gz"])
+def test_unknown_suffix(tmp_path: Path, name: str) -> None:
+    path = tmp_path / name
+    path.write_text("x")
+    expected = _m(path, r": unsupported file suffix .*; supported suffixes: \.csv, \.json, \.npz")
+    with pytest.raises(ValueError, match=expected):
+        load_demos(path)
+    with pytest.raises(ValueError, match=expected):
+        save_demos(path, [np.zeros((2, 2))], overwrite=True)
+    assert path.read_text() == "x"
+    assert SUPPORTED_SUFFIXES == (".csv", ".json", ".npz")
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_refuses_overwrite_then_overwrites(tmp_path: Path, suffix: str) -> None:
+    path = tmp_path / f"demos{suffix}"
+    first = [np.zeros((2, 2))]
+    second = [np.ones((3, 2)), np.full((2, 2), 2.0)]
+    save_demos(path, first)
+    before = path.read_bytes()
+    with pytest.raises(
+        FileExistsError, match=_m(path, r": file already exists; pass overwrite=True")
+    ):
+        save_demos(path, second)
+    assert path.read_bytes() == before
+    save_demos(path, second, overwrite=True)
+    got = load_demos(path)
+    assert len(got) == 2 and _bits_equal(got[0], second[0])
+    assert _leftovers(tmp_path) == []
+
+
+def test_refuses_directory(tmp_path: Path) -> None:
+    path = tmp_path / "looks_like_a_file.csv"
+    path.mkdir()
+    with pytest.raises(IsADirectoryError, match=_m(path, r": is a directory")):
+        save_demos(path, [np.zeros((2, 2))], overwrite=True)
+    with pytest.raises(IsADirectoryError, match=_m(path, r": is a directory")):
+        atomic_write(path, lambda f: f.write("x"), overwrite=True)
+
+
+def test_missing_parent_directory(tmp_path: Path) -> None:
+    path = tmp_path / "nope" / "d.csv"
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        save_demos(path, [np.zeros((2, 2))])
+
+
+def test_load_missing_file(tmp_path: Path) -> None:
+    with pytest.raises(FileNotFoundError):
+        load_demos(tmp_path / "absent.csv")
+
+
+# --------------------------------------------------------------------------- #
+# save_demos argument checks
+# --------------------------------------------------------------------------- #
+
+
+def test_csv_needs_times_for_all_or_none(tmp_path: Path) -> None:
+    path = tmp_path / "demos.csv"
+    with pytest.raises(ValueError, match=_m(path, r": a CSV file stores times for all")):
+        save_demos(path, [np.zeros((2, 2))] * 2, times=[None, [0.0, 1.0]])
+    assert not path.exists()
+
+
+@pytest.mark.parametrize(
+    ("times", "error", "expected"),
+    [
+        ([[0.0, 0.0]], ValueError, r"times\[0\]: times must be strictly increasing"),
+        ([[0.0, np.inf]], ValueError, r"times\[0\]: time at index 1 is inf"),
+        ([[0.0, 1.0, 2.0]], ValueError, r"times\[0\]: has 3 times but the demonstration has 2"),
+        ([[[0.0, 1.0]]], ValueError, r"times\[0\]: expected a 1-D array"),
+        ([], ValueError, r"times: got 0 entries for 1 demonstrations"),
+        (np.zeros(2), TypeError, r"times: expected a list"),
+        (np.zeros((1, 2)), ValueError, r"times\[0\]: times must be strictly increasing"),
+    ],
+)
+def test_save_validates_times(tmp_path: Path, times: object, error: type, expected: str) -> None:
+    with pytest.raises(error, match=expected):
+        save_demos(tmp_path / "d.json", [np.zeros((2, 2))], times=times)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("ids", "error", "expected"),
+    [
+        (["a", "a"], ValueError, r"ids\[1\]: 'a' repeats ids\[0\]"),
+        ([7, "7"], ValueError, r"ids\[1\]: '7' repeats ids\[0\]"),
+        (["a", ""], ValueError, r"ids\[1\]: '' is not a valid id"),
+        (["a", " b"], ValueError, r"ids\[1\]: ' b' is not a valid id"),
+        (["a", "#b"], ValueError, r"ids\[1\]: '#b' is not a valid id"),
+        (["a", "b\nc"], ValueError, r"is not a valid id"),
+        (["a", True], TypeError, r"ids\[1\]: expected an int or str"),
+        (["a", 1.0], TypeError, r"ids\[1\]: expected an int or str"),
+        (["a"], ValueError, r"ids: got 1 ids for 2 demonstrations"),
+    ],
+)
+def test_save_validates_ids(tmp_path: Path, ids: list, error: type, expected: str) -> None:
+    with pytest.raises(error, match=expected):
+        save_demos(tmp_path / "d.csv", [np.zeros((2, 2))] * 2, ids=ids)
+    assert not (tmp_path / "d.csv").exists()
+
+
+def test_save_validates_demos_with_check_demos(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match=r"demos\[0\]: contains NaN at row 1"):
+        save_demos(tmp_path / "d.csv", [np.array([[0.0, 0.0], [np.nan, 0.0]])])
+    with pytest.raises(ValueError, match=r"demos\[0\]: needs at least 2 points"):
+        save_demos(tmp_path / "d.csv", [np.zeros((1, 2))])
+    with pytest.raises(ValueError, match=r"demos: needs at least 1 demonstration"):
+        save_demos(tmp_path / "d.csv", [])
+    assert _leftovers(tmp_path) == [] and not (tmp_path / "d.csv").exists()
+
+
+def test_save_accepts_3d_demos_and_2d_times(tmp_path: Path) -> None:
+    stacked = np.arange(12, dtype=float).reshape(2, 3, 2)
+    t = np.tile([0.0, 0.5, 1.0], (2, 1))
+    path = save_demos(tmp_path / "d.csv", stacked, times=t)
+    demos, times = load_demos(path, return_times=True)
+    assert _bits_equal(demos[1], stacked[1]) and _bits_equal(times[0], t[0])
+
+
+def test_numpy_integer_ids(tmp_path: Path) -> None:
+    path = save_demos(tmp_path / "d.json", [np.zeros((2, 2))], ids=[np.int64(5)])
+    assert load_demos(path, return_ids=True)[1] == [5]
+
+
+# --------------------------------------------------------------------------- #
+# atomic_write
+# --------------------------------------------------------------------------- #
+
+
+def test_atomic_write_text_and_binary(tmp_path: Path) -> None:
+    text_path = atomic_write(tmp_path / "a.txt", lambda f: f.write("é\nline 2\n"))
+    assert text_path.read_bytes() == "é\nline 2\n".encode()  # no newline translation
+    bin_path = atomic_write(tmp_path / "b.bin", lambda f: f.write(b"\x00\xff"), binary=True)
+    assert bin_path.read_bytes() == b"\x00\xff"
+    assert _leftovers(tmp_path) == []
+
+
+def test_atomic_write_failing_writer_leaves_original(tmp_path: Path) -> None:
+    path = tmp_path / "keep.csv"
+    path.write_text("original\n")
+
+    def writer(f) -> None:
+        f.write("half written")
+        raise RuntimeError("boom")
+
+    with pytest.raises(RuntimeError, match="boom"):
+        atomic_write(path, writer, overwrite=True)
+    assert path.read_text() == "original\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.csv"]
+
+
+def test_atomic_write_failing_writer_creates_nothing(tmp_path: Path) -> None:
+    def writer(f) -> None:
+        f.write(b"partial")
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        atomic_write(tmp_path / "new.npz", writer, binary=True)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_save_demos_failure_mid_write_leaves_original(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = save_demos(tmp_path / "d.npz", [np.zeros((2, 2))])
+    before = path.read_bytes()
+
+    def broken(*args: object, **kwargs: object) -> None:
+        raise OSError("disk full")
+
+    monkeypatch.setattr(np, "savez_compressed", broken)
+    with pytest.raises(OSError, match="disk full"):
+        save_demos(path, [np.ones((2, 2))], overwrite=True)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.npz"]
+
+
+def test_atomic_write_refuses_existing(tmp_path: Path) -> None:
+    path = tmp_path / "a.txt"
+    path.write_text("old")
+    with pytest.raises(FileExistsError, match=_m(path, r": file already exists")):
+        atomic_write(path, lambda f: f.write("new"))
+    assert path.read_text() == "old"
+    atomic_write(path, lambda f: f.write("new"), overwrite=True)
+    assert path.read_text() == "new"
+    assert _leftovers(tmp_path) == []
+
+
+def test_atomic_write_refuses_file_created_during_write(tmp_path: Path) -> None:
+    # another process creates the target while we write: it must not be clobbered
+    path = tmp_path / "race.txt"
+
+    def writer(f) -> None:
+        path.write_text("theirs")
+        f.write("ours")
+
+    with pytest.raises(FileExistsError):
+        atomic_write(path, writer)
+    assert path.read_text() == "theirs"
+    assert _leftovers(tmp_path) == []
+
+
+@pytest.mark.skipif(os.name != "posix", reason="POSIX permission bits")
+def test_atomic_write_permissions(tmp_path: Path) -> None:
+    plain = tmp_path / "plain.txt"
+    plain.write_text("x")
+    made = atomic_write(tmp_path / "made.txt", lambda f: f.write("x"))
+    assert made.stat().st_mode == plain.stat().st_mode  # umask applies, not mkstemp's 0o600
+    os.chmod(plain, 0o640)
+    atomic_write(plain, lambda f: f.write("y"), overwrite=True)
+    assert plain.stat().st_mode & 0o777 == 0o640  # replaced file keeps its mode
