@@ -245,21 +245,24 @@ def project_onto_polyline(
     closest : ndarray, shape (m, q)
     distance : ndarray, shape (m,)
     """
-    a, b = polyline[:-1], polyline[1:]
-    d = b - a
+    a = polyline[:-1]
+    d = np.diff(polyline, axis=0)
     len2 = np.einsum("ij,ij->i", d, d)
-    rel = points[:, None, :] - a[None]
-    u = np.divide(
-        np.einsum("mij,ij->mi", rel, d), len2, out=np.zeros((len(points), len(a))), where=len2 > 0
+    # Everything as (m, n_segments) matrix products: |p - a - u d|^2 expanded.
+    p_dot_d = points @ d.T - np.einsum("ij,ij->i", a, d)  # (p - a) . d
+    u = np.clip(np.divide(p_dot_d, len2, out=np.zeros_like(p_dot_d), where=len2 > 0), 0.0, 1.0)
+    rel2 = (
+        np.einsum("mq,mq->m", points, points)[:, None]
+        - 2.0 * (points @ a.T)
+        + np.einsum("ij,ij->i", a, a)
     )
-    u = np.clip(u, 0.0, 1.0)
-    foot = a[None] + u[..., None] * d[None]
-    dist2 = np.einsum("mij,mij->mi", points[:, None, :] - foot, points[:, None, :] - foot)
+    dist2 = rel2 - 2.0 * u * p_dot_d + u * u * len2
     k = np.argmin(dist2, axis=1)
     rows = np.arange(len(points))
-    s_vertices = arc_length(polyline)
-    s = s_vertices[k] + u[rows, k] * np.sqrt(len2[k])
-    return s, foot[rows, k], np.sqrt(dist2[rows, k])
+    uk = u[rows, k]
+    closest = a[k] + uk[:, None] * d[k]
+    s = arc_length(polyline)[k] + uk * np.sqrt(len2[k])
+    return s, closest, np.linalg.norm(points - closest, axis=1)
 
 
 @dataclass(frozen=True)
@@ -326,17 +329,16 @@ class PolylineSet:
         self._n_chunks = n_chunks.astype(np.int64)
         self._b = b
         self._scale = float(np.abs(self._verts).max()) + 1.0
-        centres, radii = [], []
-        for poly, nc in zip(self.polylines, n_chunks):
-            # Chunk c spans vertices c*b .. min((c+1)*b, n_seg) inclusive.
-            idx = np.minimum(np.arange(nc)[:, None] * b + np.arange(b + 1), len(poly) - 1)
-            verts = poly[idx]
-            centre = 0.5 * (verts.min(axis=1) + verts.max(axis=1))
-            centres.append(centre)
-            radii.append(np.linalg.norm(verts - centre[:, None], axis=2).max(axis=1))
-        self._centres = np.ascontiguousarray(np.concatenate(centres))
+        # Chunk c of polyline j spans its vertices c*b .. min((c+1)*b, n_seg) inclusive.
+        owner = np.repeat(np.arange(len(n_seg)), n_chunks)
+        local = np.arange(len(owner)) - self._chunk_offset[owner]
+        vert_idx = np.minimum(local[:, None] * b + np.arange(b + 1), n_seg[owner, None])
+        verts = self._verts[vert_idx + self._vert_offset[owner, None]]
+        centres = 0.5 * (verts.min(axis=1) + verts.max(axis=1))
+        self._centres = np.ascontiguousarray(centres)
+        radii = np.sqrt(np.einsum("cvq,cvq->cv", verts - centres[:, None], verts - centres[:, None]))
         # Inflate the balls by more than any rounding in the tests below.
-        self._radii = np.concatenate(radii) + 1e-9 * self._scale
+        self._radii = radii.max(axis=1) + 1e-9 * self._scale
 
     def intersect(
         self, points: np.ndarray, tangents: np.ndarray, *, same_direction: bool = False

@@ -1,1 +1,46 @@
-"""Data sets: seeded synthetic generators with known ground truth, and loaders."""
+"""Data sets: seeded synthetic generators with known ground truth, and loaders.
+
+Every generator returns a :class:`DemoSet` (demonstrations plus the ground-truth
+``nominal`` path they were generated around); :func:`load_dataset` builds one by
+its short name, a key of :data:`MIMIC_DATASETS`.
+"""
+
+from lfdkit.datasets.synthetic import (
+    MIMIC_DATASETS,
+    RESIDUAL_SHAPES,
+    DemoSet,
+    Residual,
+    da_vinci_walls,
+    deburring_circular,
+    deburring_linear,
+    different_extents,
+    draw_residuals,
+    load_dataset,
+    local_detours,
+    loops,
+    noisy_band,
+    quasi_circular_band,
+    residual_profile,
+    uneven_sampling,
+    walking_corridor,
+)
+
+__all__ = [
+    "MIMIC_DATASETS",
+    "RESIDUAL_SHAPES",
+    "DemoSet",
+    "Residual",
+    "da_vinci_walls",
+    "deburring_circular",
+    "deburring_linear",
+    "different_extents",
+    "draw_residuals",
+    "load_dataset",
+    "local_detours",
+    "loops",
+    "noisy_band",
+    "quasi_circular_band",
+    "residual_profile",
+    "uneven_sampling",
+    "walking_corridor",
+]

@@ -1,1 +1,7 @@
 """Mimicking: one clean generalized path from several noisy demonstrations."""
+
+from lfdkit.mimic.gmr import GMR, select_n_components
+from lfdkit.mimic.mean_path import MeanPath
+from lfdkit.mimic.nlpca import NLPCA
+
+__all__ = ["GMR", "NLPCA", "MeanPath", "select_n_components"]

@@ -1,0 +1,1100 @@
+"""Seeded synthetic demonstration sets with a known ground truth (mimicking layer).
+
+The thesis's data sets are not public, so each example is regenerated here from
+an explicit *nominal* path: demonstrations are produced as perturbations of the
+nominal, which is therefore the exact answer a generalized-path estimator
+should recover (up to the finite number of demonstrations). Every generator
+returns a :class:`DemoSet`.
+
+Conventions
+-----------
+* Every random draw comes from ``numpy.random.Generator`` built by
+  :func:`lfdkit._validation.check_random_state` from ``seed`` (``None``, an
+  ``int`` or a ``Generator``); the same integer seed gives bit-identical arrays.
+* Nominal curves are first built on a fine polyline (``4001`` points equally
+  spaced in arc length, far finer than any demonstration); demonstrations are
+  offsets of that fine polyline along its vertex normals
+  (:func:`lfdkit.geometry.left_normals` in 2-D,
+  :func:`lfdkit.geometry.normal_frames` in 3-D), and are then resampled. The
+  ``nominal`` returned in the :class:`DemoSet` is the same fine curve
+  resampled to ``500`` points (its chord error is below ``1e-4`` of the noise).
+* "Smooth" random deviations are sums of three sinusoids of the normalised arc
+  length ``u in [0, 1]`` with random frequencies, phases and amplitudes, scaled
+  so that their standard deviation over ``u`` is about the requested value.
+  Their expected value is zero for every ``u``, so the nominal is the mean path.
+* 2-D "band" examples (``noisy_band`` and the hard cases) share one S-shaped
+  nominal: ``y = 1.5 sin(2 pi x / 10)``, ``x in [0, 10]`` m (length about
+  11.9 m, smallest radius of curvature about 1.7 m).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
+from lfdkit.geometry import (
+    arc_length,
+    left_normals,
+    normal_frames,
+    point_tangents,
+    resample,
+    resample_between,
+)
+
+__all__ = [
+    "MIMIC_DATASETS",
+    "RESIDUAL_SHAPES",
+    "DemoSet",
+    "Residual",
+    "da_vinci_walls",
+    "deburring_circular",
+    "deburring_linear",
+    "different_extents",
+    "draw_residuals",
+    "load_dataset",
+    "local_detours",
+    "loops",
+    "noisy_band",
+    "quasi_circular_band",
+    "residual_profile",
+    "uneven_sampling",
+    "walking_corridor",
+]
+
+#: Points of the ground-truth ``nominal`` returned in every :class:`DemoSet`.
+_N_NOMINAL = 500
+#: Points of the fine construction polyline (nominal and offset curves).
+_N_FINE = 4001
+_TWO_PI = 2.0 * np.pi
+
+
+# --------------------------------------------------------------------- data model
+@dataclass(frozen=True, eq=False)
+class DemoSet:
+    """A set of demonstrations with the ground-truth path they were generated around.
+
+    Attributes
+    ----------
+    name : str
+        Short name of the generator (a key of :data:`MIMIC_DATASETS`).
+    demos : list of ndarray, each shape (n_j, q)
+        The demonstrations, float64; lengths ``n_j`` may differ.
+    nominal : ndarray, shape (M, q)
+        Ground-truth generalized path, densely sampled (``M = 500`` for every
+        generator here), running in the same direction as the demonstrations.
+    units : str
+        Unit of every coordinate: ``"m"`` or ``"mm"``.
+    material_side : int or None
+        2-D deburring only: ``+1`` if the workpiece material lies on the left of
+        ``nominal`` with respect to its direction of travel (the side of
+        :func:`lfdkit.geometry.left_normals`), ``-1`` if on the right; ``None``
+        for every other set.
+    walls : tuple of ndarray, each shape (n_w, q)
+        Polylines of environment constraints, for drawing and checks; may be empty.
+    description : str
+        How the set was made and what its ground truth is.
+
+    Notes
+    -----
+    Equality is identity (``eq=False``): comparing arrays field by field would be
+    ambiguous. The arrays themselves are not write-protected.
+    """
+
+    name: str
+    demos: list[np.ndarray]
+    nominal: np.ndarray
+    units: str
+    material_side: int | None = None
+    walls: tuple[np.ndarray, ...] = ()
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        demos = check_demos(self.demos, "demos")
+        q = demos[0].shape[1]
+        nominal = check_path(self.nominal, "nominal", n_dims=q)
+        if self.units not in ("m", "mm"):
+            raise ValueError(f"units: expected 'm' or 'mm', got {self.units!r}")
+        if self.material_side not in (None, 1, -1):
+            raise ValueError(f"material_side: expected +1, -1 or None, got {self.material_side!r}")
+        if self.material_side is not None and q != 2:
+            raise ValueError(f"material_side: defined for 2-D sets only, got {q} dimensions")
+        walls = tuple(
+            check_path(w, f"walls[{i}]", n_dims=q) for i, w in enumerate(self.walls)
+        )
+        object.__setattr__(self, "demos", demos)
+        object.__setattr__(self, "nominal", nominal)
+        object.__setattr__(self, "walls", walls)
+        if self.material_side is not None:
+            object.__setattr__(self, "material_side", int(self.material_side))
+
+    @property
+    def n_demos(self) -> int:
+        """Number of demonstrations."""
+        return len(self.demos)
+
+    @property
+    def n_dims(self) -> int:
+        """Spatial dimension ``q`` of the demonstrations."""
+        return int(self.nominal.shape[1])
+
+
+# --------------------------------------------------------------------- helpers
+def _check_count(value: Any, name: str, minimum: int = 1) -> int:
+    value = check_positive(value, name, integer=True, allow_zero=minimum == 0)
+    if value < minimum:
+        raise ValueError(f"{name}: must be >= {minimum}, got {value}")
+    return value
+
+
+def _smooth_offset(
+    rng: np.random.Generator,
+    u: np.ndarray,
+    sd: float,
+    freq: tuple[float, float] = (0.5, 2.5),
+    n_terms: int = 3,
+) -> np.ndarray:
+    """Random smooth function of ``u in [0, 1]``: a sum of sinusoids with std about ``sd``.
+
+    Frequencies (cycles per unit ``u``) are uniform in ``freq``, phases uniform,
+    amplitude weights uniform in [0.5, 1]; amplitudes are scaled so that
+    ``sqrt(sum a_k**2 / 2) = sd``. The magnitude never exceeds
+    ``sqrt(2 * n_terms) * sd``. Always consumes the same number of draws.
+    """
+    f = rng.uniform(freq[0], freq[1], n_terms)
+    phase = rng.uniform(0.0, _TWO_PI, n_terms)
+    w = rng.uniform(0.5, 1.0, n_terms)
+    amp = w * sd * np.sqrt(2.0 / np.sum(w**2))
+    return np.sum(amp[:, None] * np.sin(_TWO_PI * f[:, None] * u[None, :] + phase[:, None]), axis=0)
+
+
+def _fine(curve: np.ndarray) -> np.ndarray:
+    """Resample a dense analytic polyline to the fine construction resolution."""
+    return resample(curve, _N_FINE)
+
+
+def _s_curve() -> np.ndarray:
+    """Fine S-shaped nominal of the 2-D band examples, shape ``(_N_FINE, 2)``, metres."""
+    x = np.linspace(0.0, 10.0, 20001)
+    return _fine(np.column_stack((x, 1.5 * np.sin(_TWO_PI * x / 10.0))))
+
+
+def _interp_at(path: np.ndarray, s_path: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Points of the polyline ``path`` (vertex arc positions ``s_path``) at positions ``s``."""
+    return np.column_stack([np.interp(s, s_path, path[:, k]) for k in range(path.shape[1])])
+
+
+def _cut(path: np.ndarray, s_path: np.ndarray, s0: float, s1: float) -> np.ndarray:
+    """Stretch of ``path`` between parameter values ``s0 < s1`` (vertices plus exact ends)."""
+    inside = (s_path > s0) & (s_path < s1)
+    ends = _interp_at(path, s_path, np.array([s0, s1]))
+    return np.vstack((ends[:1], path[inside], ends[1:]))
+
+
+def _band_draws(
+    rng: np.random.Generator, u: np.ndarray, n_demos: int, n_points: int, noise: float
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Smooth normal offsets (sd ``noise``) and white noise (sd ``0.05 noise``) per demo."""
+    offsets = [_smooth_offset(rng, u, noise) for _ in range(n_demos)]
+    white = [rng.normal(0.0, 0.05 * noise, (n_points, 2)) for _ in range(n_demos)]
+    return offsets, white
+
+
+def _check_band(
+    n_demos: Any, n_points: Any, noise: Any, noise_zero: bool = True
+) -> tuple[int, int, float]:
+    return (
+        _check_count(n_demos, "n_demos"),
+        _check_count(n_points, "n_points", 2),
+        check_positive(noise, "noise", allow_zero=noise_zero),
+    )
+
+
+# --------------------------------------------------------------------- chapter 4
+def quasi_circular_band(n_points: int = 100, offset: float = 0.6, seed: Any = None) -> DemoSet:
+    """Two paths at uniform normal offsets around a quasi-circular nominal (thesis Fig 4.5).
+
+    The nominal is ``r(theta) = 5 (1 + 0.08 sin 3 theta)`` m for ``theta`` from 0
+    to 300 degrees (counter-clockwise, open). Demonstration 0 lies at ``+offset``
+    along the nominal's left normal (inside), demonstration 1 at ``-offset``
+    (outside); each is resampled to ``n_points`` points equally spaced in arc
+    length, then every point is moved along the demonstration's own normal by an
+    independent Gaussian jitter of sd ``0.01 * offset``.
+
+    Parameters
+    ----------
+    n_points : int
+        Points per demonstration (the thesis uses M = 100).
+    offset : float
+        Normal offset of the two demonstrations, metres (smaller than the
+        smallest radius of curvature, about 3 m).
+    seed : None, int or numpy.random.Generator
+        Source of the jitter.
+
+    Returns
+    -------
+    DemoSet
+        Two demonstrations of shape ``(n_points, 2)`` in metres; ``nominal`` of
+        shape ``(500, 2)``.
+    """
+    n_points = _check_count(n_points, "n_points", 2)
+    offset = check_positive(offset, "offset")
+    rng = check_random_state(seed)
+    theta = np.linspace(0.0, 5.0 * np.pi / 3.0, 20001)
+    r = 5.0 * (1.0 + 0.08 * np.sin(3.0 * theta))
+    fine = _fine(np.column_stack((r * np.cos(theta), r * np.sin(theta))))
+    normals = left_normals(fine)
+    jitter_sd = 0.01 * offset
+    demos = []
+    for sign in (1.0, -1.0):
+        demo = resample(fine + sign * offset * normals, n_points)
+        demo = demo + rng.normal(0.0, jitter_sd, n_points)[:, None] * left_normals(demo)
+        demos.append(demo)
+    return DemoSet(
+        name="quasi_circular",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        description=(
+            "Thesis Fig 4.5: nominal r = 5(1 + 0.08 sin 3θ) m, θ in [0°, 300°]; two demos at "
+            f"normal offsets ±{offset:g} m with jitter sd {jitter_sd:g} m along the normal, "
+            f"{n_points} points each. Ground truth: the nominal."
+        ),
+    )
+
+
+def noisy_band(
+    n_demos: int = 10, n_points: int = 100, noise: float = 0.15, seed: Any = None
+) -> DemoSet:
+    """Demonstrations scattered smoothly around an S-shaped 2-D nominal.
+
+    Each demonstration is the nominal offset along its normal by a smooth random
+    function (three sinusoids of 0.5-2.5 cycles per path length, sd about
+    ``noise``), resampled to ``n_points`` points equally spaced in arc length,
+    plus isotropic white noise of sd ``0.05 * noise`` at every point.
+
+    Parameters
+    ----------
+    n_demos : int
+    n_points : int
+        Points per demonstration.
+    noise : float
+        Standard deviation of the smooth normal offset, metres.
+    seed : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    DemoSet
+        ``n_demos`` arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of
+        shape ``(500, 2)`` (the S-curve ``y = 1.5 sin(2π x / 10)``, ``x`` from 0 to 10).
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
+    rng = check_random_state(seed)
+    fine = _s_curve()
+    normals = left_normals(fine)
+    u = arc_length(fine) / arc_length(fine)[-1]
+    offsets, white = _band_draws(rng, u, n_demos, n_points, noise)
+    demos = [resample(fine + o[:, None] * normals, n_points) + w for o, w in zip(offsets, white)]
+    return DemoSet(
+        name="noisy_band",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        description=(
+            f"S-shaped nominal; {n_demos} demos = smooth normal offsets (sd ≈ {noise:g} m) "
+            f"+ white noise (sd {0.05 * noise:g} m), {n_points} points each. "
+            "Ground truth: the nominal."
+        ),
+    )
+
+
+def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int = 5) -> DemoSet:
+    """Human walking paths from circle A along a corridor into a room to circle B (Fig 4.7).
+
+    Geometry (metres): the corridor runs along ``x`` with walls at ``y = ±0.9``
+    (1.8 m wide) from ``x = -1`` to ``x = 8.5``; the room spans
+    ``x in [4.5, 8.5]``, ``y in [0.9, 5]`` and opens on the corridor through a
+    door ``x in [5.8, 7.6]`` in the wall ``y = 0.9``. The nominal (the centre
+    line) goes straight from A = (0, 0) to (5.5, 0), turns left on a 1.2 m
+    radius arc to (6.7, 1.2), and goes straight to B = (6.7, 4); length
+    about 10.2 m.
+
+    Demonstration ``j`` belongs to volunteer ``j * n_volunteers // n_demos``
+    (5 volunteers x 6 trials by default). It is the nominal plus, along its
+    normal, the volunteer's smooth bias (sd 0.10 m, 0.3-1.5 cycles per path)
+    and the trial's smooth deviation (sd 0.06 m, 0.5-3 cycles), both tapered
+    to zero over the first and last 15 % of the path; plus a start displacement
+    and a goal displacement, uniform in discs of radius 0.3 m around A and B and
+    blended out over the first / last 20 %; resampled to 90-110 points
+    (random per demo) equally spaced in arc length; plus white noise of sd
+    0.01 m. By construction every demo stays at least 0.15 m away from every wall.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    n_volunteers : int
+        Number of demonstrators, each with a personal bias.
+
+    Returns
+    -------
+    DemoSet
+        Demonstrations of shape ``(n_j, 2)``, ``90 <= n_j <= 110``, metres;
+        ``nominal`` of shape ``(500, 2)`` from A to B; ``walls`` the three wall
+        polylines.
+    """
+    n_demos = _check_count(n_demos, "n_demos")
+    n_volunteers = _check_count(n_volunteers, "n_volunteers")
+    rng = check_random_state(seed)
+    # Centre line: straight, quarter turn to the left, straight.
+    phi = np.linspace(-np.pi / 2.0, 0.0, 2001)
+    centre = np.vstack(
+        (
+            np.column_stack((np.linspace(0.0, 5.5, 5001), np.zeros(5001))),
+            np.column_stack((5.5 + 1.2 * np.cos(phi), 1.2 + 1.2 * np.sin(phi)))[1:],
+            np.column_stack((np.full(3001, 6.7), np.linspace(1.2, 4.0, 3001)))[1:],
+        )
+    )
+    fine = _fine(centre)
+    normals = left_normals(fine)
+    u = arc_length(fine) / arc_length(fine)[-1]
+
+    def ramp(x: np.ndarray) -> np.ndarray:
+        x = np.clip(x, 0.0, 1.0)
+        return x * x * (3.0 - 2.0 * x)
+
+    taper = ramp(u / 0.15) * ramp((1.0 - u) / 0.15)
+    w_start, w_goal = 1.0 - ramp(u / 0.2), 1.0 - ramp((1.0 - u) / 0.2)
+    a_pt, b_pt = fine[0], fine[-1]
+
+    def in_disc(radius: float) -> np.ndarray:
+        r, ang = radius * np.sqrt(rng.random()), rng.uniform(0.0, _TWO_PI)
+        return np.array([r * np.cos(ang), r * np.sin(ang)])
+
+    biases = [_smooth_offset(rng, u, 0.10, freq=(0.3, 1.5)) for _ in range(n_volunteers)]
+    demos = []
+    for j in range(n_demos):
+        trial = _smooth_offset(rng, u, 0.06, freq=(0.5, 3.0))
+        d_start, d_goal = in_disc(0.3), in_disc(0.3)
+        n_j = int(rng.integers(90, 111))
+        bias = biases[j * n_volunteers // n_demos]
+        path = (
+            fine
+            + (taper * (bias + trial))[:, None] * normals
+            + w_start[:, None] * d_start
+            + w_goal[:, None] * d_goal
+        )
+        demos.append(resample(path, n_j) + rng.normal(0.0, 0.01, (n_j, 2)))
+    walls = (
+        np.array([[-1.0, -0.9], [8.5, -0.9], [8.5, 5.0], [4.5, 5.0], [4.5, 0.9]]),
+        np.array([[-1.0, 0.9], [5.8, 0.9]]),
+        np.array([[7.6, 0.9], [8.5, 0.9]]),
+    )
+    return DemoSet(
+        name="walking",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        walls=walls,
+        description=(
+            f"Thesis Fig 4.7: {n_demos} walking paths by {n_volunteers} volunteers from circle A "
+            "(0, 0) along a 1.8 m corridor and through a door to circle B (6.7, 4) in a room "
+            "(radius 0.3 m). Ground truth: the corridor centre line from A to B."
+        ),
+    )
+
+
+def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) -> DemoSet:
+    """3-D pick-and-place between two parallel walls (thesis Fig 4.10, da Vinci robot).
+
+    Nominal (metres, in the plane ``y = 0``): from ``z_I`` = (0, 0, 0) lift
+    vertically to z = 0.02, round a 0.015 m radius corner, travel along ``x`` at
+    z = 0.035, round a corner down and lower vertically to ``z_G`` = (0.1, 0,
+    0.005); length about 0.152 m. Walls: the planes ``y = ±0.025``, drawn as
+    closed rectangles ``x in [-0.02, 0.12]``, ``z in [-0.01, 0.06]``.
+
+    Each demonstration is the nominal displaced in its normal plane by two
+    smooth random functions (sd ``noise`` each, 0.5-3 cycles per path),
+    resampled to 90-110 points (random per demo) and perturbed by white noise
+    of sd ``0.1 * noise``.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    noise : float
+        Standard deviation of each smooth normal component, metres.
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_j, 3)`` in metres; ``nominal`` of shape
+        ``(500, 3)``; ``walls`` two closed 3-D rectangles of shape ``(5, 3)``.
+    """
+    n_demos = _check_count(n_demos, "n_demos")
+    noise = check_positive(noise, "noise", allow_zero=True)
+    rng = check_random_state(seed)
+    rad, top = 0.015, 0.035
+    a1 = np.linspace(np.pi, np.pi / 2.0, 2001)
+    a2 = np.linspace(np.pi / 2.0, 0.0, 2001)
+    xz = np.vstack(
+        (
+            np.column_stack((np.zeros(2001), np.linspace(0.0, top - rad, 2001))),
+            np.column_stack((rad + rad * np.cos(a1), top - rad + rad * np.sin(a1)))[1:],
+            np.column_stack((np.linspace(rad, 0.1 - rad, 5001), np.full(5001, top)))[1:],
+            np.column_stack((0.1 - rad + rad * np.cos(a2), top - rad + rad * np.sin(a2)))[1:],
+            np.column_stack((np.full(2001, 0.1), np.linspace(top - rad, 0.005, 2001)))[1:],
+        )
+    )
+    fine = _fine(np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1])))
+    frames = normal_frames(point_tangents(fine))
+    u = arc_length(fine) / arc_length(fine)[-1]
+    demos = []
+    for _ in range(n_demos):
+        o1 = _smooth_offset(rng, u, noise, freq=(0.5, 3.0))
+        o2 = _smooth_offset(rng, u, noise, freq=(0.5, 3.0))
+        n_j = int(rng.integers(90, 111))
+        path = fine + o1[:, None] * frames[:, 1] + o2[:, None] * frames[:, 2]
+        demos.append(resample(path, n_j) + rng.normal(0.0, 0.1 * noise, (n_j, 3)))
+    walls = tuple(
+        np.array(
+            [[-0.02, y, -0.01], [0.12, y, -0.01], [0.12, y, 0.06], [-0.02, y, 0.06],
+             [-0.02, y, -0.01]]
+        )  # fmt: skip
+        for y in (-0.025, 0.025)
+    )
+    return DemoSet(
+        name="da_vinci",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        walls=walls,
+        description=(
+            f"Thesis Fig 4.10: {n_demos} 3-D pick-and-place paths from z_I (0, 0, 0) up, along x "
+            "between walls y = ±0.025 m and down to z_G (0.1, 0, 0.005); smooth normal "
+            f"deviations sd {noise:g} m per normal direction. Ground truth: the nominal."
+        ),
+    )
+
+
+# --------------------------------------------------------------------- deburring (§6.2)
+#: Names of the seven deburring residual shapes (thesis Fig 6.2).
+RESIDUAL_SHAPES: tuple[str, ...] = (
+    "triangle",
+    "rectangle",
+    "half_disc",
+    "trapezoid",
+    "saw_tooth",
+    "double_bump",
+    "ramp",
+)
+
+
+def residual_profile(shape: str, u: Any) -> np.ndarray:
+    """Height of a deburring residual as a fraction of its peak height.
+
+    Parameters
+    ----------
+    shape : str
+        One of :data:`RESIDUAL_SHAPES`:
+
+        * ``"triangle"``: symmetric peak ``1 - |2u - 1|``;
+        * ``"rectangle"``: flat top with steep flanks (5 % of the width each);
+        * ``"half_disc"``: ``sqrt(1 - (2u - 1)**2)`` (a half-ellipse once scaled);
+        * ``"trapezoid"``: flanks of 30 % of the width each;
+        * ``"saw_tooth"``: three teeth, each rising over 80 % and falling over 20 %;
+        * ``"double_bump"``: ``sin(2 pi u)**2``, two humps of full height;
+        * ``"ramp"``: rises over 80 % of the width, drops over the last 20 %.
+    u : array_like
+        Position across the residual, 0 at its start and 1 at its end.
+
+    Returns
+    -------
+    ndarray, same shape as ``u``
+        Values in ``[0, 1]``; 0 at ``u = 0``, at ``u = 1`` and outside ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        If ``shape`` is not one of :data:`RESIDUAL_SHAPES`.
+    """
+    u = np.asarray(u, dtype=np.float64)
+    inside = (u > 0.0) & (u < 1.0)
+    v = np.clip(u, 0.0, 1.0)
+    if shape == "triangle":
+        h = 1.0 - np.abs(2.0 * v - 1.0)
+    elif shape == "rectangle":
+        h = np.minimum(1.0, np.minimum(v, 1.0 - v) / 0.05)
+    elif shape == "half_disc":
+        h = np.sqrt(np.clip(1.0 - (2.0 * v - 1.0) ** 2, 0.0, 1.0))
+    elif shape == "trapezoid":
+        h = np.minimum(1.0, np.minimum(v, 1.0 - v) / 0.3)
+    elif shape == "saw_tooth":
+        w = np.mod(3.0 * v, 1.0)
+        h = np.minimum(w / 0.8, (1.0 - w) / 0.2)
+    elif shape == "double_bump":
+        h = np.sin(_TWO_PI * v) ** 2
+    elif shape == "ramp":
+        h = np.minimum(v / 0.8, (1.0 - v) / 0.2)
+    else:
+        raise ValueError(f"shape: unknown residual shape {shape!r}; valid: {list(RESIDUAL_SHAPES)}")
+    return np.where(inside, np.clip(h, 0.0, 1.0), 0.0)
+
+
+@dataclass(frozen=True)
+class Residual:
+    """One deburring residual left on one demonstrated profile.
+
+    Attributes
+    ----------
+    demo : int
+        Index of the demonstration.
+    segment : int
+        Index of the profile segment holding the residual.
+    shape : str
+        One of :data:`RESIDUAL_SHAPES`.
+    start : float
+        Arc-length position of the residual's start along the nominal, mm.
+    width : float
+        Extent along the nominal, mm (the residual lies within its segment).
+    height : float
+        Peak height outwards from the nominal (away from the material), mm.
+    """
+
+    demo: int
+    segment: int
+    shape: str
+    start: float
+    width: float
+    height: float
+
+
+def draw_residuals(
+    n_demos: int,
+    n_segments: int,
+    profile_length: float,
+    p_residual: float = 0.3,
+    seed: Any = None,
+) -> list[list[Residual]]:
+    """Draw which segments of which profiles carry a residual, and its shape and size.
+
+    The profile is split into ``n_segments`` segments of equal length. For each
+    demonstration and segment a uniform draw below ``p_residual`` adds a residual
+    whose shape is uniform over :data:`RESIDUAL_SHAPES`, height uniform in
+    [0.5, 2] mm, width uniform in [35 %, 90 %] of the segment length, placed
+    uniformly inside the segment. The same number of draws is made whatever
+    ``p_residual``, so changing it only toggles residuals on or off.
+
+    Parameters
+    ----------
+    n_demos, n_segments : int
+    profile_length : float
+        Length of the nominal profile, mm.
+    p_residual : float
+        Probability that a segment carries a residual, in [0, 1].
+    seed : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    list of list of Residual
+        ``result[j]`` holds demonstration ``j``'s residuals, ordered by segment.
+    """
+    n_demos = _check_count(n_demos, "n_demos")
+    n_segments = _check_count(n_segments, "n_segments")
+    profile_length = check_positive(profile_length, "profile_length")
+    p_residual = check_positive(p_residual, "p_residual", allow_zero=True)
+    if p_residual > 1.0:
+        raise ValueError(f"p_residual: must be <= 1, got {p_residual!r}")
+    rng = check_random_state(seed)
+    shape = (n_demos, n_segments)
+    active = rng.random(shape) < p_residual
+    kind = rng.integers(0, len(RESIDUAL_SHAPES), shape)
+    width_frac = rng.uniform(0.35, 0.9, shape)
+    place = rng.random(shape)
+    height = rng.uniform(0.5, 2.0, shape)
+    seg_len = profile_length / n_segments
+    out: list[list[Residual]] = []
+    for j in range(n_demos):
+        row = []
+        for i in np.flatnonzero(active[j]):
+            width = width_frac[j, i] * seg_len
+            start = i * seg_len + place[j, i] * (seg_len - width)
+            row.append(
+                Residual(
+                    demo=j,
+                    segment=int(i),
+                    shape=RESIDUAL_SHAPES[kind[j, i]],
+                    start=float(start),
+                    width=float(width),
+                    height=float(height[j, i]),
+                )
+            )
+        out.append(row)
+    return out
+
+
+def _residual_height(residuals: list[Residual], s: np.ndarray) -> np.ndarray:
+    """Summed residual height (mm) at arc positions ``s`` (mm) along the nominal."""
+    h = np.zeros_like(s)
+    for r in residuals:
+        h += r.height * residual_profile(r.shape, (s - r.start) / r.width)
+    return h
+
+
+def _deburring(
+    kind: str,
+    n_demos: Any,
+    n_points: Any,
+    seed: Any,
+    n_segments: Any,
+    p_residual: Any,
+    noise: Any,
+) -> DemoSet:
+    n_demos = _check_count(n_demos, "n_demos")
+    n_points = _check_count(n_points, "n_points", 2)
+    n_segments = _check_count(n_segments, "n_segments")
+    noise = check_positive(noise, "noise", allow_zero=True)
+    rng = check_random_state(seed)
+    radius = 50.0
+    length = 200.0 if kind == "linear" else np.pi * radius
+    residuals = draw_residuals(n_demos, n_segments, length, p_residual, seed=rng)
+    s = np.linspace(0.0, length, n_points)
+    s_nom = np.linspace(0.0, length, _N_NOMINAL)
+
+    if kind == "linear":
+        # Travel along +x, material below (on the right): outwards is +y.
+        def place(s_: np.ndarray, h: np.ndarray) -> np.ndarray:
+            return np.column_stack((s_, h))
+
+        material_side = -1
+        shape_txt = "straight line of length 200 mm along +x, material below (y < 0)"
+    else:
+        # Counter-clockwise half circle, material inside the disc (on the left): outwards
+        # is the radial direction.
+        def place(s_: np.ndarray, h: np.ndarray) -> np.ndarray:
+            phi = s_ / radius
+            return (radius + h)[:, None] * np.column_stack((np.cos(phi), np.sin(phi)))
+
+        material_side = 1
+        shape_txt = (
+            "half circle of radius 50 mm centred at the origin, from angle 0 to 180° "
+            "counter-clockwise, material inside the disc"
+        )
+    demos = []
+    for res in residuals:
+        demo = place(s, _residual_height(res, s))
+        if noise > 0:
+            demo = demo + rng.normal(0.0, noise, demo.shape)
+        demos.append(demo)
+    return DemoSet(
+        name=f"deburring_{kind}",
+        demos=demos,
+        nominal=place(s_nom, np.zeros(_N_NOMINAL)),
+        units="mm",
+        material_side=material_side,
+        description=(
+            f"Thesis §6.2: {shape_txt}; {n_demos} profiles sampled at {n_points} points equally "
+            f"spaced along the nominal, {n_segments} equal segments, each carrying a residual "
+            f"with probability {p_residual:g} (7 shapes, height 0.5-2 mm, outwards only); "
+            f"measurement noise sd {noise:g} mm. Residuals are those of draw_residuals with the "
+            "same seed. Ground truth: the nominal profile."
+        ),
+    )
+
+
+def deburring_linear(
+    n_demos: int = 10,
+    n_points: int = 200,
+    seed: Any = None,
+    *,
+    n_segments: int = 10,
+    p_residual: float = 0.3,
+    noise: float = 0.0,
+) -> DemoSet:
+    """Linear deburred profiles with random residuals (thesis §6.2, Fig 6.3a).
+
+    The nominal is the segment from (0, 0) to (200, 0) mm, travelled along +x; the
+    workpiece material lies below it (``y < 0``, on the right:
+    ``material_side = -1``). It is split into ``n_segments`` segments of equal
+    length; residuals (:func:`draw_residuals`, called first on the same random
+    generator) displace the profile only outwards (``+y``), so with ``noise = 0``
+    every demonstration satisfies ``y >= 0``. Each profile is sampled at
+    ``n_points`` points equally spaced in ``x`` (as a profilometer would).
+
+    Parameters
+    ----------
+    n_demos : int
+    n_points : int
+        Samples per profile.
+    seed : None, int or numpy.random.Generator
+    n_segments : int
+        Segments of equal length (20 mm each by default).
+    p_residual : float
+        Probability that a segment carries a residual.
+    noise : float
+        Optional isotropic Gaussian measurement noise, sd in mm (may put points
+        on the material side).
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in mm; ``nominal`` of shape ``(500, 2)``.
+    """
+    return _deburring("linear", n_demos, n_points, seed, n_segments, p_residual, noise)
+
+
+def deburring_circular(
+    n_demos: int = 10,
+    n_points: int = 200,
+    seed: Any = None,
+    *,
+    n_segments: int = 10,
+    p_residual: float = 0.3,
+    noise: float = 0.0,
+) -> DemoSet:
+    """Circular deburred profiles with random residuals (thesis §6.2, Fig 6.3b).
+
+    The nominal is the half circle of radius 50 mm centred at the origin, from
+    (50, 0) counter-clockwise to (-50, 0) (length 50π ≈ 157 mm). The workpiece
+    is the disc, on the left of the direction of travel (``material_side = +1``);
+    residuals displace the profile radially outwards only, so with ``noise = 0``
+    every point has radius ``>= 50`` mm. Profiles are sampled at ``n_points``
+    points equally spaced in angle. Other parameters as in
+    :func:`deburring_linear` (segments are 15.7 mm long by default).
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in mm; ``nominal`` of shape ``(500, 2)``.
+    """
+    return _deburring("circular", n_demos, n_points, seed, n_segments, p_residual, noise)
+
+
+# --------------------------------------------------------------------- hard cases
+def different_extents(
+    n_demos: int = 10,
+    seed: Any = None,
+    *,
+    n_points: int = 100,
+    noise: float = 0.15,
+) -> DemoSet:
+    """Demonstrations that start and stop at different places along the task.
+
+    Built like :func:`noisy_band` on the same S-shaped curve (length ``L``),
+    but demonstration ``j`` covers only the stretch of the curve between
+    arc-length positions ``s0_j ~ U[0, 0.15 L]`` and ``s1_j ~ U[0.85 L, L]``
+    (its smooth offset is a function of the position along the full curve, so
+    the stretches agree where they overlap).
+
+    The ground-truth ``nominal`` covers the *consensus extent*: the S-curve from
+    ``median(s0_j)`` to ``median(s1_j)``. Demonstrations therefore both overhang
+    the nominal and fall short of it at either end.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    n_points : int
+        Points per demonstration (equally spaced in arc length).
+    noise : float
+        Standard deviation of the smooth normal offset, metres.
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
+    rng = check_random_state(seed)
+    fine = _s_curve()
+    normals = left_normals(fine)
+    s_fine = arc_length(fine)
+    length = s_fine[-1]
+    u = s_fine / length
+    demos, starts, ends = [], [], []
+    for _ in range(n_demos):
+        s0 = rng.uniform(0.0, 0.15 * length)
+        s1 = rng.uniform(0.85 * length, length)
+        offset = _smooth_offset(rng, u, noise)
+        white = rng.normal(0.0, 0.05 * noise, (n_points, 2))
+        piece = _cut(fine + offset[:, None] * normals, s_fine, s0, s1)
+        demos.append(resample(piece, n_points) + white)
+        starts.append(s0)
+        ends.append(s1)
+    s_start, s_end = float(np.median(starts)), float(np.median(ends))
+    return DemoSet(
+        name="different_extents",
+        demos=demos,
+        nominal=resample_between(fine, s_start, s_end, _N_NOMINAL),
+        units="m",
+        description=(
+            f"S-shaped band, {n_demos} demos each covering [s0, s1] with s0 ~ U[0, 15 %] and "
+            f"s1 ~ U[85 %, 100 %] of the length; smooth normal offsets sd ≈ {noise:g} m. "
+            f"Ground truth: the S-curve from the median start ({s_start:.3f} m) to the median "
+            f"end ({s_end:.3f} m) arc-length position."
+        ),
+    )
+
+
+def local_detours(
+    n_demos: int = 10,
+    n_detours: int = 2,
+    seed: Any = None,
+    *,
+    n_points: int = 100,
+    noise: float = 0.15,
+) -> DemoSet:
+    """A :func:`noisy_band` set in which ``n_detours`` demonstrators swerve once.
+
+    The base set is exactly ``noisy_band(n_demos, n_points, noise, seed)`` (same
+    random draws, made first). Then ``n_detours`` distinct demonstrations are
+    picked at random and each gets one raised-cosine bump added to its normal
+    offset: support width 8 % of the length, centred uniformly in [20 %, 80 %]
+    of it, height ``5 * noise`` to a random side. The other demonstrations are
+    bit-identical to the base set's. The ground truth stays the nominal: a
+    detour is an outlier, not part of the task.
+
+    Parameters
+    ----------
+    n_demos : int
+    n_detours : int
+        Number of swerving demonstrations, ``0 <= n_detours <= n_demos``.
+    seed : None, int or numpy.random.Generator
+    n_points : int
+    noise : float
+        Standard deviation of the smooth normal offset, metres (> 0).
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise, noise_zero=False)
+    n_detours = _check_count(n_detours, "n_detours", 0)
+    if n_detours > n_demos:
+        raise ValueError(f"n_detours: must be <= n_demos ({n_demos}), got {n_detours}")
+    rng = check_random_state(seed)
+    fine = _s_curve()
+    normals = left_normals(fine)
+    s_fine = arc_length(fine)
+    length = s_fine[-1]
+    offsets, white = _band_draws(rng, s_fine / length, n_demos, n_points, noise)
+    chosen = np.sort(rng.choice(n_demos, size=n_detours, replace=False))
+    width = 0.08 * length
+    for j in chosen:
+        centre = rng.uniform(0.2 * length, 0.8 * length)
+        sign = 1.0 if rng.random() < 0.5 else -1.0
+        x = (s_fine - centre) / width
+        bump = np.where(np.abs(x) < 0.5, 0.5 * (1.0 + np.cos(_TWO_PI * x)), 0.0)
+        offsets[j] = offsets[j] + sign * 5.0 * noise * bump
+    demos = [resample(fine + o[:, None] * normals, n_points) + w for o, w in zip(offsets, white)]
+    return DemoSet(
+        name="local_detours",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        description=(
+            f"noisy_band with {n_detours} of {n_demos} demos (indices {chosen.tolist()}) swerving "
+            f"once: a bump of width 8 % of the length and height {5 * noise:g} m. "
+            "Ground truth: the nominal."
+        ),
+    )
+
+
+def uneven_sampling(
+    n_demos: int = 10,
+    seed: Any = None,
+    *,
+    noise: float = 0.15,
+    points_range: tuple[int, int] = (60, 160),
+    speed_ratio: float = 40.0,
+) -> DemoSet:
+    """A band whose demonstrations are sampled at very uneven speed.
+
+    Geometry as in :func:`noisy_band` (smooth normal offsets of sd ``noise`` on
+    the S-curve). Demonstration ``j`` has ``n_j`` points, uniform in
+    ``points_range``; the spacing between consecutive samples along its arc
+    length follows ``exp(c sin(2 pi f tau + phi))`` over the sample index
+    ``tau in [0, 1]``, with ``c = ln(speed_ratio) / 2``, ``f ~ U[1, 2.5]`` cycles
+    and a random phase: the demonstrator dwells (dense samples) in some parts
+    and hurries (sparse samples) in others, so the largest to smallest spacing
+    ratio within each demonstration is close to ``speed_ratio`` (at least 20
+    with the defaults). No white noise is added, so the spacing is exactly the
+    designed one.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    noise : float
+        Standard deviation of the smooth normal offset, metres.
+    points_range : (int, int)
+        Inclusive bounds on the number of points per demonstration.
+    speed_ratio : float
+        Ratio of the fastest to the slowest sampling speed, ``> 1``.
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_j, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
+    """
+    n_demos = _check_count(n_demos, "n_demos")
+    noise = check_positive(noise, "noise", allow_zero=True)
+    lo, hi = (_check_count(v, "points_range", 2) for v in points_range)
+    if lo > hi:
+        raise ValueError(f"points_range: expected (low, high) with low <= high, got {points_range}")
+    speed_ratio = check_positive(speed_ratio, "speed_ratio")
+    if speed_ratio <= 1.0:
+        raise ValueError(f"speed_ratio: must be > 1, got {speed_ratio!r}")
+    rng = check_random_state(seed)
+    fine = _s_curve()
+    normals = left_normals(fine)
+    u = arc_length(fine) / arc_length(fine)[-1]
+    c = 0.5 * np.log(speed_ratio)
+    demos = []
+    for _ in range(n_demos):
+        path = fine + _smooth_offset(rng, u, noise)[:, None] * normals
+        n_j = int(rng.integers(lo, hi + 1))
+        f = rng.uniform(1.0, 2.5)
+        phase = rng.uniform(0.0, _TWO_PI)
+        tau = (np.arange(n_j - 1) + 0.5) / (n_j - 1)
+        spacing = np.exp(c * np.sin(_TWO_PI * f * tau + phase))
+        s_path = arc_length(path)
+        s = np.concatenate(([0.0], np.cumsum(spacing)))
+        s *= s_path[-1] / s[-1]
+        demo = _interp_at(path, s_path, s)
+        demo[-1] = path[-1]
+        demos.append(demo)
+    return DemoSet(
+        name="uneven_sampling",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        description=(
+            f"S-shaped band, {n_demos} demos with smooth normal offsets sd ≈ {noise:g} m, "
+            f"{lo}-{hi} points each, sampled with a speed ratio of {speed_ratio:g} between "
+            "fast and slow parts. Ground truth: the nominal."
+        ),
+    )
+
+
+def loops(
+    n_demos: int = 10,
+    n_loops: int = 2,
+    seed: Any = None,
+    *,
+    n_points: int = 100,
+    noise: float = 0.15,
+) -> DemoSet:
+    """A :func:`noisy_band` set in which ``n_loops`` demonstrations make a small loop.
+
+    The base set is exactly ``noisy_band(n_demos, n_points, noise, seed)`` (same
+    random draws, made first). Then ``n_loops`` distinct demonstrations are picked
+    at random; in each, the stretch of length ``pi R`` (``R = 3 * noise``) centred
+    at a position uniform in [40 %, 60 %] of the length is replaced by a curl
+    ``p(s) + R sin(2 pi tau) t(s) + sigma R (1 - cos(2 pi tau)) n(s)``
+    (``tau`` from 0 to 1 over the stretch, ``t``, ``n`` the offset curve's tangent
+    and left normal, ``sigma = ±1`` a random side): a closed loop of radius
+    about ``R`` whose path genuinely crosses itself, joined with a continuous
+    tangent. The ground truth stays the nominal.
+
+    Parameters
+    ----------
+    n_demos : int
+    n_loops : int
+        Number of looping demonstrations, ``0 <= n_loops <= n_demos``.
+    seed : None, int or numpy.random.Generator
+    n_points : int
+        Points per demonstration, equally spaced in arc length (the loop adds
+        length, so looping demonstrations are sampled a little more coarsely).
+    noise : float
+        Standard deviation of the smooth normal offset, metres (> 0).
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise, noise_zero=False)
+    n_loops = _check_count(n_loops, "n_loops", 0)
+    if n_loops > n_demos:
+        raise ValueError(f"n_loops: must be <= n_demos ({n_demos}), got {n_loops}")
+    rng = check_random_state(seed)
+    fine = _s_curve()
+    normals = left_normals(fine)
+    s_fine = arc_length(fine)
+    length = s_fine[-1]
+    offsets, white = _band_draws(rng, s_fine / length, n_demos, n_points, noise)
+    chosen = np.sort(rng.choice(n_demos, size=n_loops, replace=False))
+    radius = 3.0 * noise
+    span = np.pi * radius
+    paths = [fine + o[:, None] * normals for o in offsets]
+    for j in chosen:
+        centre = rng.uniform(0.4 * length, 0.6 * length)
+        side = 1.0 if rng.random() < 0.5 else -1.0
+        path = paths[j]
+        tau = np.clip((s_fine - (centre - 0.5 * span)) / span, 0.0, 1.0)
+        curl = (
+            radius * np.sin(_TWO_PI * tau)[:, None] * point_tangents(path)
+            + side * radius * (1.0 - np.cos(_TWO_PI * tau))[:, None] * left_normals(path)
+        )
+        paths[j] = path + curl
+    demos = [resample(p, n_points) + w for p, w in zip(paths, white)]
+    return DemoSet(
+        name="loops",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="m",
+        description=(
+            f"noisy_band with {n_loops} of {n_demos} demos (indices {chosen.tolist()}) making a "
+            f"closed self-crossing loop of radius ≈ {radius:g} m near mid-path. "
+            "Ground truth: the nominal."
+        ),
+    )
+
+
+# --------------------------------------------------------------------- registry
+#: Short name -> generator, for every synthetic mimicking data set.
+MIMIC_DATASETS: dict[str, Callable[..., DemoSet]] = {
+    "quasi_circular": quasi_circular_band,
+    "noisy_band": noisy_band,
+    "deburring_linear": deburring_linear,
+    "deburring_circular": deburring_circular,
+    "walking": walking_corridor,
+    "da_vinci": da_vinci_walls,
+    "different_extents": different_extents,
+    "local_detours": local_detours,
+    "uneven_sampling": uneven_sampling,
+    "loops": loops,
+}
+
+
+def load_dataset(name: str, seed: Any = None, **kwargs: Any) -> DemoSet:
+    """Generate a synthetic data set by its short name.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`MIMIC_DATASETS`.
+    seed : None, int or numpy.random.Generator
+    **kwargs
+        Passed to the generator.
+
+    Returns
+    -------
+    DemoSet
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is unknown; the message lists the valid names.
+    """
+    try:
+        generator = MIMIC_DATASETS[name]
+    except (KeyError, TypeError):
+        valid = ", ".join(sorted(MIMIC_DATASETS))
+        raise ValueError(f"name: unknown data set {name!r}; valid names: {valid}") from None
+    return generator(seed=seed, **kwargs)
