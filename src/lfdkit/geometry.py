@@ -19,7 +19,6 @@ Conventions
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -369,7 +368,9 @@ class PolylineSet:
         out_seg = np.full((m, n), -1, dtype=np.int64)
         out_dist = np.full((m, n), np.inf)
         scale = max(self._scale, float(np.abs(points).max()) + 1.0)
-        _crossing_kernel()(
+        from lfdkit._kernels import nearest_crossings  # numba compiles on first use
+
+        nearest_crossings(
             np.ascontiguousarray(points, dtype=np.float64),
             np.ascontiguousarray(tangents, dtype=np.float64),
             self._verts,
@@ -387,103 +388,6 @@ class PolylineSet:
             out_dist,
         )
         return NormalHits(points=out_pt, segment=out_seg, distance=out_dist)
-
-
-@functools.cache
-def _crossing_kernel():
-    """Compile (once, cached on disk) the nearest-crossing loop of :class:`PolylineSet`."""
-    import numba
-
-    @numba.njit(cache=True, inline="always")
-    def check_chunk(p, t, verts, v0, n_seg, c, b, same_direction, tol, best, out_pt_row):
-        """Best crossing of chunk ``c``; returns (distance, segment) improving on ``best``."""
-        q = p.shape[0]
-        best_seg = -1
-        first = c * b
-        last = min(first + b, n_seg)  # exclusive segment bound
-        side_a = 0.0
-        for k in range(q):
-            side_a += (verts[v0 + first, k] - p[k]) * t[k]
-        if abs(side_a) <= tol:
-            side_a = 0.0
-        for s in range(first, last):
-            side_b = 0.0
-            for k in range(q):
-                side_b += (verts[v0 + s + 1, k] - p[k]) * t[k]
-            if abs(side_b) <= tol:
-                side_b = 0.0
-            if same_direction:
-                crosses = side_a <= 0.0 and side_b >= 0.0 and side_b > side_a
-            else:
-                crosses = (side_a <= 0.0 and side_b >= 0.0) or (side_a >= 0.0 and side_b <= 0.0)
-            if crosses:
-                ds = side_b - side_a
-                u = -side_a / ds if ds != 0.0 else 0.0
-                d2 = 0.0
-                for k in range(q):
-                    a = verts[v0 + s, k]
-                    x = a + u * (verts[v0 + s + 1, k] - a) - p[k]
-                    d2 += x * x
-                d = np.sqrt(d2)
-                if d < best:
-                    best = d
-                    best_seg = s
-                    for k in range(q):
-                        a = verts[v0 + s, k]
-                        out_pt_row[k] = a + u * (verts[v0 + s + 1, k] - a)
-            side_a = side_b
-        return best, best_seg
-
-    @numba.njit(parallel=True, cache=True)
-    def kernel(
-        points, tangents, verts, vert_offset, n_seg, centres, radii, chunk_offset, n_chunks,
-        b, same_direction, tol, out_pt, out_seg, out_dist,
-    ):  # fmt: skip
-        m, q = points.shape
-        n = n_seg.shape[0]
-        max_chunks = 0
-        for j in range(n):
-            max_chunks = max(max_chunks, n_chunks[j])
-        for i in numba.prange(m):
-            p = points[i]
-            t = tangents[i]
-            lower = np.empty(max_chunks)
-            for j in range(n):
-                c0 = chunk_offset[j]
-                first_c = -1
-                first_lb = np.inf
-                for c in range(n_chunks[j]):
-                    along = 0.0
-                    d2 = 0.0
-                    for k in range(q):
-                        diff = centres[c0 + c, k] - p[k]
-                        along += diff * t[k]
-                        d2 += diff * diff
-                    r = radii[c0 + c]
-                    lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
-                    lower[c] = lb
-                    if lb < first_lb:
-                        first_lb = lb
-                        first_c = c
-                if first_c < 0:
-                    continue
-                best, seg = check_chunk(
-                    p, t, verts, vert_offset[j], n_seg[j], first_c, b, same_direction, tol,
-                    np.inf, out_pt[i, j],
-                )  # fmt: skip
-                for c in range(n_chunks[j]):
-                    if c != first_c and lower[c] < best:
-                        d, s = check_chunk(
-                            p, t, verts, vert_offset[j], n_seg[j], c, b, same_direction, tol,
-                            best, out_pt[i, j],
-                        )  # fmt: skip
-                        if s >= 0:
-                            best, seg = d, s
-                if seg >= 0:
-                    out_seg[i, j] = seg
-                    out_dist[i, j] = best
-
-    return kernel
 
 
 def intersect_normals(

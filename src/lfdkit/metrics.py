@@ -107,7 +107,11 @@ def e2(estimate: np.ndarray, nominal: np.ndarray, *, n_points: int | None = None
     nominal = check_path(nominal, "nominal", n_dims=estimate.shape[1])
     if n_points is not None:
         nominal = resample(nominal, n_points)
-    hits = PolylineSet([estimate]).intersect(nominal, point_tangents(nominal))
+    # Same-direction matching: on a curved task the nominal's normal can also meet
+    # the far side of the estimate, travelled the other way.
+    hits = PolylineSet([estimate]).intersect(
+        nominal, point_tangents(nominal), same_direction=True
+    )
     dist = hits.distance[:, 0]
     missed = ~np.isfinite(dist)
     if missed.any():

@@ -65,7 +65,7 @@ def signed_normal_offsets(nominal: np.ndarray, demo: np.ndarray) -> tuple[np.nda
 
 def signed_side(points: np.ndarray, polyline: np.ndarray) -> np.ndarray:
     """Signed distance of points to a 2-D polyline, positive on its left."""
-    s, closest, dist = project_onto_polyline(points, polyline)
+    s, closest, _ = project_onto_polyline(points, polyline)
     seg = np.clip(np.searchsorted(arc_length(polyline), s, side="right") - 1, 0, len(polyline) - 2)
     t = polyline[seg + 1] - polyline[seg]
     n = np.column_stack((-t[:, 1], t[:, 0])) / np.linalg.norm(t, axis=1, keepdims=True)
@@ -83,12 +83,13 @@ def test_seeded_reproducible_and_well_formed(name):
     assert a.name == name
     assert a.units in ("m", "mm")
     assert len(a.demos) == len(b.demos) == len(c.demos)
-    for x, y, z in zip(a.demos, b.demos, c.demos):
+    for x, y, z in zip(a.demos, b.demos, c.demos, strict=True):
         np.testing.assert_array_equal(x, y)
         np.testing.assert_array_equal(x, z)
     np.testing.assert_array_equal(a.nominal, b.nominal)
     assert any(
-        x.shape != y.shape or not np.array_equal(x, y) for x, y in zip(a.demos, other.demos)
+        x.shape != y.shape or not np.array_equal(x, y)
+        for x, y in zip(a.demos, other.demos, strict=False)
     )
     q = a.nominal.shape[1]
     assert a.nominal.shape[0] >= 400
@@ -105,7 +106,7 @@ def test_seeded_reproducible_and_well_formed(name):
 
 
 def test_load_dataset_unknown_name():
-    with pytest.raises(ValueError, match="valid names:.*noisy_band"):
+    with pytest.raises(ValueError, match=r"valid names:.*noisy_band"):
         load_dataset("no_such_set")
 
 
@@ -127,10 +128,12 @@ def test_quasi_circular_band_offsets():
     assert len(ds.demos) == 2 and all(d.shape == (100, 2) for d in ds.demos)
     # Open curve: endpoints far apart; about 300 degrees of a radius ~5 m curve.
     assert np.linalg.norm(ds.nominal[0] - ds.nominal[-1]) > 4.0
-    for demo, sign in zip(ds.demos, (1.0, -1.0)):
+    for demo, sign in zip(ds.demos, (1.0, -1.0), strict=True):
+        # Interior nominal points only: at the very ends the demo may stop just short of
+        # the nominal's end normal, which then meets the far side of the open curve.
         d, found = signed_normal_offsets(ds.nominal, demo)
         assert found[2:-2].all()
-        err = d[found] - sign * offset
+        err = d[2:-2] - sign * offset
         # Chord error of a 100-point polyline on this curve is ~2 mm at most; jitter is
         # Gaussian with sd 0.006 m: every deviation within 4.5 sd, RMS close to one sd.
         assert np.abs(err).max() < 4.5 * jitter + 0.003
@@ -216,7 +219,8 @@ def test_deburring_never_inside_material(gen):
         for demo in ds.demos:
             outward = -ds.material_side * signed_side(demo, ds.nominal)
             assert outward.min() >= -1e-9
-            assert outward.max() <= 2.0 + 1e-9
+            # The 500-point nominal's chords lie up to 2.5e-4 mm inside the true arc.
+            assert outward.max() <= 2.0 + 1e-3
 
 
 def test_deburring_circular_radius():
@@ -233,7 +237,7 @@ def test_deburring_linear_matches_drawn_residuals():
     ds = deburring_linear(n_demos=n_demos, n_points=200, seed=5)
     res = draw_residuals(n_demos, n_segments, 200.0, 0.3, seed=5)
     assert ds.material_side == -1
-    for demo, row in zip(ds.demos, res):
+    for demo, row in zip(ds.demos, res, strict=True):
         x, y = demo[:, 0], demo[:, 1]
         expected = sum(
             (r.height * residual_profile(r.shape, (x - r.start) / r.width) for r in row),
@@ -248,7 +252,7 @@ def test_deburring_linear_matches_drawn_residuals():
 def test_deburring_optional_noise():
     clean = deburring_linear(seed=1)
     noisy = deburring_linear(seed=1, noise=0.05)
-    diff = np.concatenate([a - b for a, b in zip(noisy.demos, clean.demos)])
+    diff = np.concatenate([a - b for a, b in zip(noisy.demos, clean.demos, strict=True)])
     assert 0.03 < diff.std() < 0.07
 
 
@@ -260,8 +264,10 @@ def test_different_extents():
         # Tangential position of each demo's start (end) relative to the nominal's start (end).
         start = np.array([(d[0] - ds.nominal[0]) @ t0 for d in ds.demos])
         end = np.array([(d[-1] - ds.nominal[-1]) @ t1 for d in ds.demos])
-        assert start.min() < -0.2 and start.max() > 0.2
-        assert end.min() < -0.2 and end.max() > 0.2
+        # Starts (ends) spread over up to 15 % of the ~12 m curve: they really differ, and
+        # some demos overhang the nominal while others fall short of it.
+        assert np.ptp(start) > 0.5 and np.ptp(end) > 0.5
+        assert start.min() < 0 < start.max() and end.min() < 0 < end.max()
         assert abs(np.median(start)) < 0.05 and abs(np.median(end)) < 0.05
         full = noisy_band(seed=0).nominal
         assert path_length(ds.nominal) < path_length(full)
@@ -271,7 +277,11 @@ def test_local_detours_are_local_and_counted():
     noise = 0.15
     base = noisy_band(n_demos=10, n_points=100, noise=noise, seed=9)
     ds = local_detours(n_demos=10, n_detours=3, seed=9, n_points=100, noise=noise)
-    changed = [j for j, (a, b) in enumerate(zip(ds.demos, base.demos)) if not np.array_equal(a, b)]
+    changed = [
+        j
+        for j, (a, b) in enumerate(zip(ds.demos, base.demos, strict=True))
+        if not np.array_equal(a, b)
+    ]
     assert len(changed) == 3
     for j in changed:
         dist = project_onto_polyline(ds.demos[j], base.demos[j])[2]

@@ -14,8 +14,8 @@ Conventions
 * Nominal curves are first built on a fine polyline (``4001`` points equally
   spaced in arc length, far finer than any demonstration); demonstrations are
   offsets of that fine polyline along its vertex normals
-  (:func:`lfdkit.geometry.left_normals` in 2-D,
-  :func:`lfdkit.geometry.normal_frames` in 3-D), and are then resampled. The
+  (:func:`lfdkit.geometry.left_normals` in 2-D; in 3-D the planar da Vinci
+  nominal's wall normal and in-plane normal), and are then resampled. The
   ``nominal`` returned in the :class:`DemoSet` is the same fine curve
   resampled to ``500`` points (its chord error is below ``1e-4`` of the noise).
 * "Smooth" random deviations are sums of three sinusoids of the normalised arc
@@ -39,7 +39,6 @@ from lfdkit._validation import check_demos, check_path, check_positive, check_ra
 from lfdkit.geometry import (
     arc_length,
     left_normals,
-    normal_frames,
     point_tangents,
     resample,
     resample_between,
@@ -122,9 +121,7 @@ class DemoSet:
             raise ValueError(f"material_side: expected +1, -1 or None, got {self.material_side!r}")
         if self.material_side is not None and q != 2:
             raise ValueError(f"material_side: defined for 2-D sets only, got {q} dimensions")
-        walls = tuple(
-            check_path(w, f"walls[{i}]", n_dims=q) for i, w in enumerate(self.walls)
-        )
+        walls = tuple(check_path(w, f"walls[{i}]", n_dims=q) for i, w in enumerate(self.walls))
         object.__setattr__(self, "demos", demos)
         object.__setattr__(self, "nominal", nominal)
         object.__setattr__(self, "walls", walls)
@@ -297,7 +294,10 @@ def noisy_band(
     normals = left_normals(fine)
     u = arc_length(fine) / arc_length(fine)[-1]
     offsets, white = _band_draws(rng, u, n_demos, n_points, noise)
-    demos = [resample(fine + o[:, None] * normals, n_points) + w for o, w in zip(offsets, white)]
+    demos = [
+        resample(fine + o[:, None] * normals, n_points) + w
+        for o, w in zip(offsets, white, strict=True)
+    ]
     return DemoSet(
         name="noisy_band",
         demos=demos,
@@ -330,7 +330,8 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
     and a goal displacement, uniform in discs of radius 0.3 m around A and B and
     blended out over the first / last 20 %; resampled to 90-110 points
     (random per demo) equally spaced in arc length; plus white noise of sd
-    0.01 m. By construction every demo stays at least 0.15 m away from every wall.
+    0.01 m. The smooth parts are bounded, so every demo stays more than 0.15 m
+    from every wall (0.4 m in practice) unless the white noise exceeds 10 sd.
 
     Parameters
     ----------
@@ -368,7 +369,6 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
 
     taper = ramp(u / 0.15) * ramp((1.0 - u) / 0.15)
     w_start, w_goal = 1.0 - ramp(u / 0.2), 1.0 - ramp((1.0 - u) / 0.2)
-    a_pt, b_pt = fine[0], fine[-1]
 
     def in_disc(radius: float) -> np.ndarray:
         r, ang = radius * np.sqrt(rng.random()), rng.uniform(0.0, _TWO_PI)
@@ -450,20 +450,29 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
         )
     )
     fine = _fine(np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1])))
-    frames = normal_frames(point_tangents(fine))
+    # The nominal is planar: its normal plane is spanned by the wall normal (y axis)
+    # and the in-plane normal (tangent × y axis), an exact parallel-transported frame.
+    tangents = point_tangents(fine)
+    n_wall = np.broadcast_to(np.array([0.0, 1.0, 0.0]), tangents.shape)
+    n_plane = np.cross(tangents, n_wall)
     u = arc_length(fine) / arc_length(fine)[-1]
     demos = []
     for _ in range(n_demos):
         o1 = _smooth_offset(rng, u, noise, freq=(0.5, 3.0))
         o2 = _smooth_offset(rng, u, noise, freq=(0.5, 3.0))
         n_j = int(rng.integers(90, 111))
-        path = fine + o1[:, None] * frames[:, 1] + o2[:, None] * frames[:, 2]
+        path = fine + o1[:, None] * n_wall + o2[:, None] * n_plane
         demos.append(resample(path, n_j) + rng.normal(0.0, 0.1 * noise, (n_j, 3)))
     walls = tuple(
         np.array(
-            [[-0.02, y, -0.01], [0.12, y, -0.01], [0.12, y, 0.06], [-0.02, y, 0.06],
-             [-0.02, y, -0.01]]
-        )  # fmt: skip
+            [
+                [-0.02, y, -0.01],
+                [0.12, y, -0.01],
+                [0.12, y, 0.06],
+                [-0.02, y, 0.06],
+                [-0.02, y, -0.01],
+            ]
+        )
         for y in (-0.025, 0.025)
     )
     return DemoSet(
@@ -890,7 +899,10 @@ def local_detours(
         x = (s_fine - centre) / width
         bump = np.where(np.abs(x) < 0.5, 0.5 * (1.0 + np.cos(_TWO_PI * x)), 0.0)
         offsets[j] = offsets[j] + sign * 5.0 * noise * bump
-    demos = [resample(fine + o[:, None] * normals, n_points) + w for o, w in zip(offsets, white)]
+    demos = [
+        resample(fine + o[:, None] * normals, n_points) + w
+        for o, w in zip(offsets, white, strict=True)
+    ]
     return DemoSet(
         name="local_detours",
         demos=demos,
@@ -1037,12 +1049,12 @@ def loops(
         side = 1.0 if rng.random() < 0.5 else -1.0
         path = paths[j]
         tau = np.clip((s_fine - (centre - 0.5 * span)) / span, 0.0, 1.0)
-        curl = (
-            radius * np.sin(_TWO_PI * tau)[:, None] * point_tangents(path)
-            + side * radius * (1.0 - np.cos(_TWO_PI * tau))[:, None] * left_normals(path)
+        along = radius * np.sin(_TWO_PI * tau)
+        across = side * radius * (1.0 - np.cos(_TWO_PI * tau))
+        paths[j] = (
+            path + along[:, None] * point_tangents(path) + across[:, None] * left_normals(path)
         )
-        paths[j] = path + curl
-    demos = [resample(p, n_points) + w for p, w in zip(paths, white)]
+    demos = [resample(p, n_points) + w for p, w in zip(paths, white, strict=True)]
     return DemoSet(
         name="loops",
         demos=demos,

@@ -1,7 +1,8 @@
 """Mimicking: one clean generalized path from several noisy demonstrations."""
 
+from lfdkit.mimic.baselines import pointwise_average
 from lfdkit.mimic.gmr import GMR, select_n_components
 from lfdkit.mimic.mean_path import MeanPath
 from lfdkit.mimic.nlpca import NLPCA
 
-__all__ = ["GMR", "NLPCA", "MeanPath", "select_n_components"]
+__all__ = ["GMR", "NLPCA", "MeanPath", "pointwise_average", "select_n_components"]

@@ -64,6 +64,7 @@ from lfdkit.geometry import (
     resample,
     resample_between,
 )
+from lfdkit.mimic.baselines import pointwise_average
 
 __all__ = ["MeanPath"]
 
@@ -265,7 +266,7 @@ class MeanPath(BaseEstimator):
         if isinstance(init, str):
             if init != "average":
                 raise ValueError(f"init: expected 'average', an int or an array, got {init!r}")
-            return np.mean([resample(d, self.n_points) for d in demos], axis=0)
+            return pointwise_average(demos, self.n_points)
         if isinstance(init, (int, np.integer)) and not isinstance(init, bool):
             if not -len(demos) <= init < len(demos):
                 raise ValueError(f"init: demo index {init} out of range for {len(demos)} demos")
@@ -408,7 +409,7 @@ def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> n
     """
     if center == "mean":
         return np.nanmean(offsets, axis=1)
-    m, n, q = offsets.shape
+    m, _, q = offsets.shape
     if q == 2:
         # Offsets lie on the normal line: the median of their signed lengths.
         direction = np.nanmean(offsets, axis=1)

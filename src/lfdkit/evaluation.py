@@ -1,0 +1,209 @@
+"""Compare generalized-path methods on data sets with known ground truth.
+
+Used by ``lfdkit demo`` and by ``benchmarks/mimic.py`` (which adds the peer
+libraries as further methods). Every estimate is resampled to the same number
+of points evenly in arc length before it is scored, so that sums over points
+(e1, e2) compare like with like.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from lfdkit import metrics
+from lfdkit.datasets import DemoSet, load_dataset
+from lfdkit.geometry import resample
+from lfdkit.mimic import GMR, NLPCA, MeanPath, pointwise_average, select_n_components
+
+__all__ = [
+    "LFDKIT_METHODS",
+    "MethodRun",
+    "format_table",
+    "gmr_components",
+    "run_comparison",
+    "summarize",
+]
+
+#: A method takes a data set and a seed and returns a generalized path (m, q).
+Method = Callable[[DemoSet, int], np.ndarray]
+
+#: Candidate numbers of Gaussian components, chosen per data set by BIC.
+GMR_CANDIDATES = (4, 8, 12, 16, 24, 32)
+
+
+def gmr_components(demoset: DemoSet, seed: int) -> int:
+    """Number of GMM components for a data set, chosen by BIC (no ground truth used)."""
+    best, _ = select_n_components(demoset.demos, GMR_CANDIDATES, random_state=seed)
+    return best
+
+
+def _mean_path(center: str) -> Method:
+    def run(demoset: DemoSet, seed: int) -> np.ndarray:
+        return MeanPath(n_points=100, center=center).fit(demoset.demos).path_
+
+    return run
+
+
+def _gmr(demoset: DemoSet, seed: int) -> np.ndarray:
+    k = gmr_components(demoset, seed)
+    return GMR(n_components=k, random_state=seed).fit(demoset.demos).path(100)
+
+
+def _nlpca(demoset: DemoSet, seed: int) -> np.ndarray:
+    return NLPCA(random_state=seed).fit(demoset.demos).path_
+
+
+def _average(demoset: DemoSet, seed: int) -> np.ndarray:
+    return pointwise_average(demoset.demos, 100)
+
+
+#: lfdkit's own methods, by display name.
+LFDKIT_METHODS: dict[str, Method] = {
+    "Mean-Path": _mean_path("mean"),
+    "Mean-Path (median)": _mean_path("median"),
+    "GMR (BIC)": _gmr,
+    "NLPCA": _nlpca,
+    "arc-length average": _average,
+}
+
+
+@dataclass
+class MethodRun:
+    """One method on one data set with one seed."""
+
+    dataset: str
+    method: str
+    seed: int
+    e1: float
+    e2: float
+    penetration: float | None
+    runtime_s: float
+    path: np.ndarray = field(repr=False)
+    error: str | None = None
+
+    def record(self) -> dict:
+        """JSON-ready dictionary (without the path)."""
+        return {
+            "dataset": self.dataset,
+            "method": self.method,
+            "seed": self.seed,
+            "e1": self.e1,
+            "e2": self.e2,
+            "penetration": self.penetration,
+            "runtime_s": self.runtime_s,
+            "error": self.error,
+        }
+
+
+def run_comparison(
+    datasets: Sequence[str],
+    seeds: Iterable[int],
+    methods: dict[str, Method],
+    *,
+    n_points: int = 100,
+    on_result: Callable[[MethodRun], None] | None = None,
+) -> list[MethodRun]:
+    """Run every method on every data set and seed and score it.
+
+    Parameters
+    ----------
+    datasets : sequence of str
+        Names known to :func:`lfdkit.datasets.load_dataset`.
+    seeds : iterable of int
+        One data set instance per seed (the method gets the same seed).
+    methods : dict
+        Display name → method.
+    n_points : int
+        Points of the resampled estimate and of the nominal for e1/e2.
+    on_result : callable, optional
+        Called after each run (progress display).
+
+    Returns
+    -------
+    list of MethodRun
+        A method that raises is recorded with NaN scores and its error message.
+    """
+    runs = []
+    for name in datasets:
+        for seed in seeds:
+            demoset = load_dataset(name, seed=seed)
+            for method, fn in methods.items():
+                start = time.perf_counter()
+                try:
+                    path = np.asarray(fn(demoset, seed), dtype=float)
+                    elapsed = time.perf_counter() - start
+                    run = _score(demoset, method, seed, path, elapsed, n_points)
+                except Exception as exc:  # noqa: BLE001 - a failing peer is reported, not fatal
+                    run = MethodRun(name, method, seed, np.nan, np.nan, None, np.nan,
+                                    np.empty((0, demoset.nominal.shape[1])),
+                                    f"{type(exc).__name__}: {exc}")  # fmt: skip
+                runs.append(run)
+                if on_result is not None:
+                    on_result(run)
+    return runs
+
+
+def _score(demoset, method, seed, path, elapsed, n_points) -> MethodRun:
+    estimate = resample(path, n_points)
+    depth = None
+    if demoset.material_side is not None:
+        depth = metrics.penetration(estimate, demoset.nominal, demoset.material_side)[0]
+    return MethodRun(
+        dataset=demoset.name,
+        method=method,
+        seed=seed,
+        e1=metrics.e1(estimate, demoset.demos),
+        e2=metrics.e2(estimate, demoset.nominal, n_points=n_points),
+        penetration=depth,
+        runtime_s=elapsed,
+        path=path,
+    )
+
+
+def summarize(runs: Sequence[MethodRun]) -> list[dict]:
+    """Mean and standard deviation over seeds per (data set, method), in run order."""
+    groups: dict[tuple[str, str], list[MethodRun]] = {}
+    for run in runs:
+        groups.setdefault((run.dataset, run.method), []).append(run)
+    rows = []
+    for (dataset, method), items in groups.items():
+        e1 = np.array([r.e1 for r in items])
+        e2 = np.array([r.e2 for r in items])
+        pen = [r.penetration for r in items if r.penetration is not None]
+        rows.append({
+            "dataset": dataset,
+            "method": method,
+            "n_seeds": len(items),
+            "e1_mean": float(np.mean(e1)),
+            "e1_sd": float(np.std(e1)),
+            "e2_mean": float(np.mean(e2)),
+            "e2_sd": float(np.std(e2)),
+            "penetration_max": float(np.max(pen)) if pen else None,
+            "runtime_s_median": float(np.median([r.runtime_s for r in items])),
+            "errors": sorted({r.error for r in items if r.error}),
+        })  # fmt: skip
+    return rows
+
+
+def format_table(rows: Sequence[dict]) -> str:
+    """Plain-text table of :func:`summarize` rows, one block per data set."""
+    header = f"{'data set':<20} {'method':<22} {'e1':>18} {'e2':>18} {'penetr.':>9} {'time':>9}"
+    lines = [header, "-" * len(header)]
+    previous = None
+    for row in rows:
+        name = row["dataset"] if row["dataset"] != previous else ""
+        if previous is not None and name:
+            lines.append("")
+        previous = row["dataset"]
+        pen = "" if row["penetration_max"] is None else f"{row['penetration_max']:.3g}"
+        e1 = f"{row['e1_mean']:.4g} ± {row['e1_sd']:.2g}"
+        e2 = f"{row['e2_mean']:.4g} ± {row['e2_sd']:.2g}"
+        t = f"{row['runtime_s_median'] * 1000:.1f} ms"
+        if row["errors"]:
+            e1, e2, t = "failed", row["errors"][0][:18], ""
+        lines.append(f"{name:<20} {row['method']:<22} {e1:>18} {e2:>18} {pen:>9} {t:>9}")
+    return "\n".join(lines)
