@@ -25,9 +25,24 @@ from pathlib import Path
 import numpy as np
 
 from lfdkit.datasets import MIMIC_DATASETS, load_dataset
-from lfdkit.evaluation import LFDKIT_METHODS, format_table, gmr_components, run_comparison, summarize
+from lfdkit.evaluation import (
+    LFDKIT_METHODS,
+    format_table,
+    gmr_components,
+    run_comparison,
+    summarize,
+)
 from lfdkit.mimic import GMR, MeanPath
 from lfdkit.plot import comparison_figure, mean_path_figure
+
+#: Data sets with outliers, where the issue asks for half the best peer's e2,
+#: and the robust centre suited to each: one-sided residuals with no other noise
+#: (the median lands on the clean profile), occasional swerves (the biweight).
+ROBUST_VARIANT = {
+    "deburring_linear": "Mean-Path (median)",
+    "deburring_circular": "Mean-Path (median)",
+    "local_detours": "Mean-Path (biweight)",
+}
 
 PEERS = ("gmr (package)", "DBA (tslearn)", "soft-DTW (tslearn)", "arc-length average")
 
@@ -80,13 +95,17 @@ def scaling_table(repeats: int = 5) -> list[dict]:
     for n_points in (100, 1000):
         s = np.linspace(0.0, np.pi, n_points)
         nominal = np.column_stack((s, np.sin(s)))
-        normal = np.column_stack((-np.cos(s), np.ones_like(s))) / np.sqrt(1 + np.cos(s) ** 2)[:, None]
+        normal = (
+            np.column_stack((-np.cos(s), np.ones_like(s))) / np.sqrt(1 + np.cos(s) ** 2)[:, None]
+        )
         for n_demos in (2, 10, 100):
             demos = []
             for _ in range(n_demos):
                 phase = rng.uniform(0, 2 * np.pi, 3)
                 offset = sum(0.05 * np.sin((k + 1) * s + phase[k]) for k in range(3))
-                demos.append(nominal + offset[:, None] * normal + rng.normal(0, 0.002, (n_points, 2)))
+                demos.append(
+                    nominal + offset[:, None] * normal + rng.normal(0, 0.002, (n_points, 2))
+                )
             MeanPath(n_points=n_points).fit(demos)  # warm-up (numba compile, caches)
             times, iters = [], []
             for _ in range(repeats):
@@ -94,13 +113,18 @@ def scaling_table(repeats: int = 5) -> list[dict]:
                 mp = MeanPath(n_points=n_points).fit(demos)
                 times.append(time.perf_counter() - start)
                 iters.append(mp.n_iter_)
-            rows.append({
-                "n_demos": n_demos, "n_points": n_points,
-                "time_s_median": float(np.median(times)), "time_s_min": float(np.min(times)),
-                "iterations": int(np.median(iters)),
-                "us_per_demo_point_iteration": float(
-                    np.median(times) / (n_demos * n_points * max(1, np.median(iters))) * 1e6),
-            })  # fmt: skip
+            rows.append(
+                {
+                    "n_demos": n_demos,
+                    "n_points": n_points,
+                    "time_s_median": float(np.median(times)),
+                    "time_s_min": float(np.min(times)),
+                    "iterations": int(np.median(iters)),
+                    "us_per_demo_point_iteration": float(
+                        np.median(times) / (n_demos * n_points * max(1, np.median(iters))) * 1e6
+                    ),
+                }
+            )
     return rows
 
 
@@ -113,8 +137,8 @@ def check_targets(rows: list[dict]) -> list[dict]:
         if not peers:
             continue
         best = min(peers, key=lambda r: r["e2_mean"])
-        strict = name in ("local_detours", "deburring_linear", "deburring_circular")
-        variant = "Mean-Path (median)" if strict else "Mean-Path"
+        strict = name in ROBUST_VARIANT
+        variant = ROBUST_VARIANT.get(name, "Mean-Path")
         mp = by[(name, variant)]
         if strict:
             ok = mp["e2_mean"] <= 0.5 * best["e2_mean"]
@@ -122,16 +146,29 @@ def check_targets(rows: list[dict]) -> list[dict]:
         else:
             ok = mp["e2_mean"] <= best["e2_mean"] + best["e2_sd"]
             rule = "e2 <= best peer + 1 sd"
-        checks.append({
-            "dataset": name, "method": variant, "rule": rule, "e2": mp["e2_mean"],
-            "best_peer": best["method"], "best_peer_e2": best["e2_mean"],
-            "best_peer_sd": best["e2_sd"], "ratio": mp["e2_mean"] / best["e2_mean"], "pass": bool(ok),
-        })  # fmt: skip
+        checks.append(
+            {
+                "dataset": name,
+                "method": variant,
+                "rule": rule,
+                "e2": mp["e2_mean"],
+                "best_peer": best["method"],
+                "best_peer_e2": best["e2_mean"],
+                "best_peer_sd": best["e2_sd"],
+                "ratio": mp["e2_mean"] / best["e2_mean"],
+                "pass": bool(ok),
+            }
+        )
         if mp["penetration_max"] is not None:
-            checks.append({
-                "dataset": name, "method": variant, "rule": "zero penetration",
-                "penetration": mp["penetration_max"], "pass": mp["penetration_max"] == 0.0,
-            })  # fmt: skip
+            checks.append(
+                {
+                    "dataset": name,
+                    "method": variant,
+                    "rule": "no penetration > 1 µm",
+                    "penetration": mp["penetration_max"],
+                    "pass": mp["penetration_max"] == 0.0,
+                }
+            )
     return checks
 
 
@@ -159,8 +196,11 @@ def main(argv: list[str] | None = None) -> int:
     def progress(run):
         done[0] += 1
         status = "FAILED " + run.error if run.error else f"{run.runtime_s * 1000:8.1f} ms"
-        print(f"[{done[0]:>4}/{total}] {run.dataset:<20} seed {run.seed} {run.method:<20} {status}",
-              file=sys.stderr, flush=True)  # fmt: skip
+        print(
+            f"[{done[0]:>4}/{total}] {run.dataset:<20} seed {run.seed} {run.method:<20} {status}",
+            file=sys.stderr,
+            flush=True,
+        )
 
     runs = run_comparison(args.datasets, seeds, methods, on_result=progress)
     rows = summarize(runs)
@@ -168,24 +208,33 @@ def main(argv: list[str] | None = None) -> int:
     checks = check_targets(rows)
     print("\nTargets")
     for c in checks:
-        figures = (f"e2 {c['e2']:.4g} vs {c['best_peer']} {c['best_peer_e2']:.4g} ± {c['best_peer_sd']:.2g}"
-                   if "e2" in c else f"penetration {c['penetration']:.3g}")  # fmt: skip
-        print(f"  {'PASS' if c['pass'] else 'FAIL'}  {c['dataset']:<20} {c['method']:<20} {c['rule']:<24} {figures}")
+        if "e2" in c:
+            peer = f"{c['best_peer']} {c['best_peer_e2']:.4g} ± {c['best_peer_sd']:.2g}"
+            figures = f"e2 {c['e2']:.4g} vs {peer}"
+        else:
+            figures = f"penetration {c['penetration']:.3g}"
+        verdict = "PASS" if c["pass"] else "FAIL"
+        print(f"  {verdict}  {c['dataset']:<20} {c['method']:<20} {c['rule']:<24} {figures}")
 
     scaling = [] if args.quick else scaling_table()
     if scaling:
         print("\nMean-Path scaling (noisy band, median of 5 fits)")
         print(f"{'N demos':>8} {'M points':>9} {'time':>11} {'iters':>6} {'µs/(N·M·iter)':>14}")
         for r in scaling:
-            print(f"{r['n_demos']:>8} {r['n_points']:>9} {r['time_s_median'] * 1000:>8.1f} ms "
-                  f"{r['iterations']:>6} {r['us_per_demo_point_iteration']:>14.3f}")  # fmt: skip
+            print(
+                f"{r['n_demos']:>8} {r['n_points']:>9} {r['time_s_median'] * 1000:>8.1f} ms "
+                f"{r['iterations']:>6} {r['us_per_demo_point_iteration']:>14.3f}"
+            )
 
     _figures(runs, args.output)
     result = {
         "benchmark": "mimic",
         "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
-        "machine": {"python": platform.python_version(), "cpus": os.cpu_count(),
-                    "platform": platform.platform()},  # fmt: skip
+        "machine": {
+            "python": platform.python_version(),
+            "cpus": os.cpu_count(),
+            "platform": platform.platform(),
+        },
         "seeds": list(seeds),
         "summary": rows,
         "targets": checks,
@@ -202,15 +251,29 @@ def _figures(runs, output: Path) -> None:
     """One comparison panel per data set (seed 0), plus Mean-Path detail panels."""
     for name in dict.fromkeys(r.dataset for r in runs):
         demoset = load_dataset(name, seed=0)
-        paths = {r.method: r.path for r in runs if r.dataset == name and r.seed == 0 and not r.error}
-        fig = comparison_figure(demoset.demos, paths, nominal=demoset.nominal, walls=demoset.walls,
-                                units=demoset.units, title=f"{name} (seed 0)")  # fmt: skip
+        paths = {
+            r.method: r.path for r in runs if r.dataset == name and r.seed == 0 and not r.error
+        }
+        fig = comparison_figure(
+            demoset.demos,
+            paths,
+            nominal=demoset.nominal,
+            walls=demoset.walls,
+            units=demoset.units,
+            title=f"{name} (seed 0)",
+        )
         fig.savefig(output / f"{name}.png", dpi=110)
         if demoset.demos[0].shape[1] == 2:
             mp = MeanPath().fit(demoset.demos)
             gmr = GMR(n_components=gmr_components(demoset, 0), random_state=0).fit(demoset.demos)
-            fig = mean_path_figure(demoset.demos, mp, units=demoset.units, nominal=demoset.nominal,
-                                   gmr=gmr, title=f"{name}: Mean-Path and GMR")  # fmt: skip
+            fig = mean_path_figure(
+                demoset.demos,
+                mp,
+                units=demoset.units,
+                nominal=demoset.nominal,
+                gmr=gmr,
+                title=f"{name}: Mean-Path and GMR",
+            )
             fig.savefig(output / f"{name}_mean_path.png", dpi=110)
 
 

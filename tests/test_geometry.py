@@ -310,15 +310,10 @@ def test_vertex_within_snap_tolerance_is_on_plane():
     assert not intersect_normals(np.array([[0.0, 0.0]]), np.array([[1.0, 0.0]]), demo).found[0]
 
 
-@pytest.mark.xfail(
-    reason="BUG: the crossing tolerance grows with the query points' magnitude "
-    "(1e-12 * max(|verts|, |points|)) but the chunk balls are only inflated by "
-    "1e-9 * max|verts|, so a vertex counted as on the plane can sit in a pruned chunk",
-    strict=True,
-)
 def test_snap_tolerance_consistent_for_far_query_points():
-    # Query 1e6 away: tolerance 1e-12 * (1e6 + 1) ~ 1e-6 > 1e-7, so the vertex
-    # (1e-7, 0) lies on the plane x = 0 as documented; the ball prunes it.
+    # Regression: the tolerance grows with the query points' magnitude,
+    # 1e-12 * (1e6 + 1) ~ 1e-6 > 1e-7, so the vertex (1e-7, 0) lies on the plane
+    # x = 0 as documented; the chunk's bounding ball must not prune it.
     poly = np.array([[1e-7, 0.0], [1.0, 0.0]])
     pts, tan = np.array([[0.0, 1e6]]), np.array([[1.0, 0.0]])
     ref_pt, ref_seg, _ = reference_crossings(pts, tan, [poly])
@@ -535,14 +530,22 @@ def test_normal_frames_continuous_on_helix():
     assert step.max() < 0.05
 
 
-@pytest.mark.xfail(
-    reason="BUG: geometry's module docstring promises a normal frame is a rotation, but "
-    "normal_frames seeds 3-D frames from an arbitrary QR basis, which is left-handed "
-    "(det = -1) e.g. for the tangent (0, 0, 1)",
-    strict=True,
-)
 def test_normal_frames_are_rotations_in_3d():
-    frames = normal_frames(np.array([[0.0, 0.0, 1.0], [0.0, 0.6, 0.8]]))
+    # Regression: the seed basis for the tangent (0, 0, 1) used to be left-handed.
+    for first in np.eye(3):
+        frames = normal_frames(np.array([first, [0.0, 0.6, 0.8], [0.36, 0.48, 0.8]]))
+        np.testing.assert_allclose(np.linalg.det(frames), 1.0)
+    th = np.linspace(0, 6 * np.pi, 600)
+    for sign in (1, -1):
+        helix = np.column_stack((np.cos(th), sign * np.sin(th), 0.2 * th))
+        np.testing.assert_allclose(np.linalg.det(normal_frames(point_tangents(helix))), 1.0)
+
+
+def test_normal_frames_stay_rotations_through_sharp_turns():
+    tangents = np.array([[1.0, 0.0, 0.0], [-0.2, 1.0, 0.0], [-1.0, 0.1, 0.0]])
+    tangents /= np.linalg.norm(tangents, axis=1, keepdims=True)
+    frames = normal_frames(tangents)
+    _check_frames(frames, tangents)
     np.testing.assert_allclose(np.linalg.det(frames), 1.0)
 
 

@@ -49,9 +49,22 @@ def check_chunk(p, t, verts, v0, n_seg, c, b, same_direction, tol, best, out_pt_
 
 @numba.njit(parallel=True, cache=True)
 def nearest_crossings(
-    points, tangents, verts, vert_offset, n_seg, centres, radii, chunk_offset, n_chunks,
-    b, same_direction, tol, out_pt, out_seg, out_dist,
-):  # fmt: skip
+    points,
+    tangents,
+    verts,
+    vert_offset,
+    n_seg,
+    centres,
+    radii,
+    chunk_offset,
+    n_chunks,
+    b,
+    same_direction,
+    tol,
+    out_pt,
+    out_seg,
+    out_dist,
+):
     """Nearest crossing of each query's normal hyperplane with each polyline.
 
     See :class:`lfdkit.geometry.PolylineSet` for the method; outputs are written in
@@ -77,7 +90,9 @@ def nearest_crossings(
                     diff = centres[c0 + c, k] - p[k]
                     along += diff * t[k]
                     d2 += diff * diff
-                r = radii[c0 + c]
+                # Widen each ball by the on-plane tolerance so that a vertex counted
+                # as lying on the plane is never in a pruned chunk.
+                r = radii[c0 + c] + tol
                 lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
                 lower[c] = lb
                 if lb < first_lb:
@@ -86,15 +101,33 @@ def nearest_crossings(
             if first_c < 0:
                 continue
             best, seg = check_chunk(
-                p, t, verts, vert_offset[j], n_seg[j], first_c, b, same_direction, tol,
-                np.inf, out_pt[i, j],
-            )  # fmt: skip
+                p,
+                t,
+                verts,
+                vert_offset[j],
+                n_seg[j],
+                first_c,
+                b,
+                same_direction,
+                tol,
+                np.inf,
+                out_pt[i, j],
+            )
             for c in range(n_chunks[j]):
                 if c != first_c and lower[c] < best:
                     d, s = check_chunk(
-                        p, t, verts, vert_offset[j], n_seg[j], c, b, same_direction, tol,
-                        best, out_pt[i, j],
-                    )  # fmt: skip
+                        p,
+                        t,
+                        verts,
+                        vert_offset[j],
+                        n_seg[j],
+                        c,
+                        b,
+                        same_direction,
+                        tol,
+                        best,
+                        out_pt[i, j],
+                    )
                     if s >= 0:
                         best, seg = d, s
             if seg >= 0:

@@ -80,7 +80,9 @@ def check_demos(
 
     Parameters
     ----------
-    demos : sequence of array_like, each shape (n_points_j, n_dims), or array, shape (n_demos, n_points, n_dims)
+    demos : sequence of array_like or ndarray
+        Each demonstration of shape ``(n_points_j, n_dims)``, or one array of
+        shape ``(n_demos, n_points, n_dims)``.
         The demonstrations. All must share ``n_dims``.
     name : str
         Argument name used in error messages.

@@ -42,7 +42,9 @@ def _demo(args: argparse.Namespace) -> None:
     names = args.datasets or list(MIMIC_DATASETS)
     unknown = [n for n in names if n not in MIMIC_DATASETS]
     if unknown:
-        raise CommandError(f"--datasets: unknown {unknown[0]!r}; choose from {', '.join(MIMIC_DATASETS)}")
+        raise CommandError(
+            f"--datasets: unknown {unknown[0]!r}; choose from {', '.join(MIMIC_DATASETS)}"
+        )
     planned = [out / "mimic_table.txt", out / "mimic.json"]
     planned += [out / f"{n}.png" for n in names] + [out / f"{n}_mean_path.png" for n in names]
     clash = [p for p in planned if p.exists()]
@@ -65,24 +67,42 @@ def _demo(args: argparse.Namespace) -> None:
     table = format_table(rows)
 
     def save_figure(fig, path: Path) -> None:
-        atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=110), binary=True,
-                     overwrite=args.force)  # fmt: skip
+        atomic_write(
+            path, lambda f: fig.savefig(f, format="png", dpi=110), binary=True, overwrite=args.force
+        )
         _say(args, f"wrote {path}", level=2)
 
     for name in names:
         demoset = load_dataset(name, seed=args.seed)
         paths = {r.method: r.path for r in runs if r.dataset == demoset.name and not r.error}
-        save_figure(comparison_figure(demoset.demos, paths, nominal=demoset.nominal,
-                                      walls=demoset.walls, units=demoset.units,
-                                      title=f"{name}: generalized paths"), out / f"{name}.png")  # fmt: skip
+        save_figure(
+            comparison_figure(
+                demoset.demos,
+                paths,
+                nominal=demoset.nominal,
+                walls=demoset.walls,
+                units=demoset.units,
+                title=f"{name}: generalized paths",
+            ),
+            out / f"{name}.png",
+        )
         if demoset.demos[0].shape[1] == 2:
             mp = MeanPath().fit(demoset.demos)
-            save_figure(mean_path_figure(demoset.demos, mp, units=demoset.units,
-                                         nominal=demoset.nominal, title=f"{name}: Mean-Path"),
-                        out / f"{name}_mean_path.png")  # fmt: skip
+            save_figure(
+                mean_path_figure(
+                    demoset.demos,
+                    mp,
+                    units=demoset.units,
+                    nominal=demoset.nominal,
+                    title=f"{name}: Mean-Path",
+                ),
+                out / f"{name}_mean_path.png",
+            )
     atomic_write(out / "mimic_table.txt", lambda f: f.write(table + "\n"), overwrite=args.force)
     payload = {"seed": args.seed, "summary": rows, "runs": [r.record() for r in runs]}
-    atomic_write(out / "mimic.json", lambda f: json.dump(payload, f, indent=1), overwrite=args.force)
+    atomic_write(
+        out / "mimic.json", lambda f: json.dump(payload, f, indent=1), overwrite=args.force
+    )
     if args.verbosity >= 1:
         print(table)
         _say(args, f"done in {time.perf_counter() - started:.1f} s; results in {out}/")
@@ -103,16 +123,33 @@ def _parser() -> argparse.ArgumentParser:
         description="Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in "
         "data sets (known ground truth); write one figure per data set, a table and JSON.",
     )
-    demo.add_argument("-o", "--output", type=Path, default=Path("lfdkit-demo"),
-                      help="output directory (default: ./lfdkit-demo)")  # fmt: skip
+    demo.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("lfdkit-demo"),
+        help="output directory (default: ./lfdkit-demo)",
+    )
     demo.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
     demo.add_argument("--seed", type=int, default=0, help="data set seed (default 0)")
     demo.add_argument("-f", "--force", action="store_true", help="overwrite existing output files")
     loud = demo.add_mutually_exclusive_group()
-    loud.add_argument("-q", "--quiet", dest="verbosity", action="store_const", const=0,
-                      help="print nothing on success")  # fmt: skip
-    loud.add_argument("-v", "--verbose", dest="verbosity", action="store_const", const=2,
-                      help="also list every file written")  # fmt: skip
+    loud.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=0,
+        help="print nothing on success",
+    )
+    loud.add_argument(
+        "-v",
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=2,
+        help="also list every file written",
+    )
     demo.set_defaults(verbosity=1, handler=_demo)
     return parser
 

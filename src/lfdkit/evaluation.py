@@ -31,14 +31,26 @@ __all__ = [
 #: A method takes a data set and a seed and returns a generalized path (m, q).
 Method = Callable[[DemoSet, int], np.ndarray]
 
+#: Penetration below this depth is below any machining precision (1 µm).
+PENETRATION_TOLERANCE = {"mm": 1e-3, "m": 1e-6}
+
 #: Candidate numbers of Gaussian components, chosen per data set by BIC.
 GMR_CANDIDATES = (4, 8, 12, 16, 24, 32)
 
 
+_COMPONENTS: dict[tuple[str, int], int] = {}
+
+
 def gmr_components(demoset: DemoSet, seed: int) -> int:
-    """Number of GMM components for a data set, chosen by BIC (no ground truth used)."""
-    best, _ = select_n_components(demoset.demos, GMR_CANDIDATES, random_state=seed)
-    return best
+    """Number of GMM components for a data set, chosen by BIC (no ground truth used).
+
+    Remembered per (data set, seed) so that the peers compared with lfdkit's GMR
+    use the same number without choosing it again.
+    """
+    key = (demoset.name, seed)  # the generators are deterministic in the seed
+    if key not in _COMPONENTS:
+        _COMPONENTS[key] = select_n_components(demoset.demos, GMR_CANDIDATES, random_state=seed)[0]
+    return _COMPONENTS[key]
 
 
 def _mean_path(center: str) -> Method:
@@ -65,6 +77,7 @@ def _average(demoset: DemoSet, seed: int) -> np.ndarray:
 LFDKIT_METHODS: dict[str, Method] = {
     "Mean-Path": _mean_path("mean"),
     "Mean-Path (median)": _mean_path("median"),
+    "Mean-Path (biweight)": _mean_path("biweight"),
     "GMR (BIC)": _gmr,
     "NLPCA": _nlpca,
     "arc-length average": _average,
@@ -137,10 +150,18 @@ def run_comparison(
                     path = np.asarray(fn(demoset, seed), dtype=float)
                     elapsed = time.perf_counter() - start
                     run = _score(demoset, method, seed, path, elapsed, n_points)
-                except Exception as exc:  # noqa: BLE001 - a failing peer is reported, not fatal
-                    run = MethodRun(name, method, seed, np.nan, np.nan, None, np.nan,
-                                    np.empty((0, demoset.nominal.shape[1])),
-                                    f"{type(exc).__name__}: {exc}")  # fmt: skip
+                except Exception as exc:
+                    run = MethodRun(
+                        name,
+                        method,
+                        seed,
+                        np.nan,
+                        np.nan,
+                        None,
+                        np.nan,
+                        np.empty((0, demoset.nominal.shape[1])),
+                        f"{type(exc).__name__}: {exc}",
+                    )
                 runs.append(run)
                 if on_result is not None:
                     on_result(run)
@@ -151,7 +172,12 @@ def _score(demoset, method, seed, path, elapsed, n_points) -> MethodRun:
     estimate = resample(path, n_points)
     depth = None
     if demoset.material_side is not None:
-        depth = metrics.penetration(estimate, demoset.nominal, demoset.material_side)[0]
+        depth = metrics.penetration(
+            estimate,
+            demoset.nominal,
+            demoset.material_side,
+            tolerance=PENETRATION_TOLERANCE[demoset.units],
+        )[0]
     return MethodRun(
         dataset=demoset.name,
         method=method,
@@ -174,18 +200,20 @@ def summarize(runs: Sequence[MethodRun]) -> list[dict]:
         e1 = np.array([r.e1 for r in items])
         e2 = np.array([r.e2 for r in items])
         pen = [r.penetration for r in items if r.penetration is not None]
-        rows.append({
-            "dataset": dataset,
-            "method": method,
-            "n_seeds": len(items),
-            "e1_mean": float(np.mean(e1)),
-            "e1_sd": float(np.std(e1)),
-            "e2_mean": float(np.mean(e2)),
-            "e2_sd": float(np.std(e2)),
-            "penetration_max": float(np.max(pen)) if pen else None,
-            "runtime_s_median": float(np.median([r.runtime_s for r in items])),
-            "errors": sorted({r.error for r in items if r.error}),
-        })  # fmt: skip
+        rows.append(
+            {
+                "dataset": dataset,
+                "method": method,
+                "n_seeds": len(items),
+                "e1_mean": float(np.mean(e1)),
+                "e1_sd": float(np.std(e1)),
+                "e2_mean": float(np.mean(e2)),
+                "e2_sd": float(np.std(e2)),
+                "penetration_max": float(np.max(pen)) if pen else None,
+                "runtime_s_median": float(np.median([r.runtime_s for r in items])),
+                "errors": sorted({r.error for r in items if r.error}),
+            }
+        )
     return rows
 
 

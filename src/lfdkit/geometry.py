@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
 from lfdkit._validation import check_path, check_positive
 
 __all__ = [
@@ -154,7 +155,11 @@ def normal_frames(tangents: np.ndarray) -> np.ndarray:
         return frames
     # Start from any basis completing the first tangent, then transport: project
     # the previous normals onto the new normal hyperplane and re-orthonormalise.
-    normals = np.linalg.qr(np.column_stack((tangents[0], np.eye(q))))[0][:, 1:].T
+    basis = np.linalg.qr(np.column_stack((tangents[0], np.eye(q))))[0]
+    basis[:, 0] = tangents[0]
+    if np.linalg.det(basis) < 0:
+        basis[:, -1] *= -1.0  # right-handed: a rotation, not a reflection
+    normals = basis[:, 1:].T
     for i in range(n):
         t = tangents[i]
         projected = normals - np.outer(normals @ t, t)
@@ -162,6 +167,8 @@ def normal_frames(tangents: np.ndarray) -> np.ndarray:
         qmat, rmat = np.linalg.qr(full.T)
         qmat = qmat * np.sign(np.diag(rmat) + (np.diag(rmat) == 0))
         frames[i] = qmat.T
+        if np.linalg.det(frames[i]) < 0:
+            frames[i, -1] *= -1.0  # a sharp turn can degenerate the transport; stay a rotation
         normals = frames[i, 1:]
     return frames
 
@@ -195,9 +202,7 @@ def resample(path: np.ndarray, n_points: int) -> np.ndarray:
     return _interp_path(path, s, np.linspace(0.0, s[-1], n_points))
 
 
-def resample_between(
-    path: np.ndarray, s_start: float, s_end: float, n_points: int
-) -> np.ndarray:
+def resample_between(path: np.ndarray, s_start: float, s_end: float, n_points: int) -> np.ndarray:
     """Resample the stretch of a polyline between two arc-length positions.
 
     Positions outside ``[0, length]`` extend the path straight along its end
@@ -335,7 +340,9 @@ class PolylineSet:
         verts = self._verts[vert_idx + self._vert_offset[owner, None]]
         centres = 0.5 * (verts.min(axis=1) + verts.max(axis=1))
         self._centres = np.ascontiguousarray(centres)
-        radii = np.sqrt(np.einsum("cvq,cvq->cv", verts - centres[:, None], verts - centres[:, None]))
+        radii = np.sqrt(
+            np.einsum("cvq,cvq->cv", verts - centres[:, None], verts - centres[:, None])
+        )
         # Inflate the balls by more than any rounding in the tests below.
         self._radii = radii.max(axis=1) + 1e-9 * self._scale
 

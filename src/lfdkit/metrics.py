@@ -109,9 +109,7 @@ def e2(estimate: np.ndarray, nominal: np.ndarray, *, n_points: int | None = None
         nominal = resample(nominal, n_points)
     # Same-direction matching: on a curved task the nominal's normal can also meet
     # the far side of the estimate, travelled the other way.
-    hits = PolylineSet([estimate]).intersect(
-        nominal, point_tangents(nominal), same_direction=True
-    )
+    hits = PolylineSet([estimate]).intersect(nominal, point_tangents(nominal), same_direction=True)
     dist = hits.distance[:, 0]
     missed = ~np.isfinite(dist)
     if missed.any():
@@ -133,7 +131,7 @@ def e3(innovation: np.ndarray) -> float:
 
 
 def penetration(
-    estimate: np.ndarray, nominal: np.ndarray, material_side: int
+    estimate: np.ndarray, nominal: np.ndarray, material_side: int, *, tolerance: float = 0.0
 ) -> tuple[float, float]:
     """How far a 2-D estimated profile goes into the workpiece (thesis §6.2, Fig 6.5).
 
@@ -148,12 +146,15 @@ def penetration(
     material_side : {+1, -1}
         +1 if the material lies to the left of the nominal (the side of its left
         normal), -1 if to the right.
+    tolerance : float
+        Depths up to this (in units) do not count, e.g. below the machining or
+        measuring precision; rounding (1e-9 of the profile's size) never counts.
 
     Returns
     -------
     depth : float
         Largest depth inside the material, in units (0 when the estimate never
-        enters it).
+        enters it; depths below 1e-9 of the profile's size count as rounding).
     fraction : float
         Fraction of the estimate's points inside the material.
     """
@@ -168,4 +169,7 @@ def penetration(
     n_at = np.column_stack([np.interp(s_est, s_nominal, normals[:, k]) for k in range(2)])
     signed = np.sign(np.einsum("mq,mq->m", estimate - closest, n_at)) * dist
     inside = material_side * signed
-    return float(max(0.0, inside.max())), float(np.mean(inside > 1e-12))
+    # Depths below 1e-9 of the profile's size are rounding, not penetration.
+    tol = max(float(tolerance), 1e-9 * (float(np.abs(nominal).max()) + 1.0))
+    depth = float(inside.max())
+    return (depth if depth > tol else 0.0), float(np.mean(inside > tol))

@@ -29,6 +29,7 @@ __all__ = [
 METHOD_COLORS = {
     "Mean-Path": "#d62728",
     "Mean-Path (median)": "#ff7f0e",
+    "Mean-Path (biweight)": "#bcbd22",
     "GMR (BIC)": "#1f77b4",
     "gmr (package)": "#17becf",
     "NLPCA": "#2ca02c",
@@ -132,7 +133,9 @@ def draw_distance_space(ax: Axes, mean_path, units: str = "m") -> None:
     d = mean_path.distances_[..., 0]
     idx = np.arange(d.shape[1])
     for j, row in enumerate(d):
-        ax.plot(idx, row, color=DEMO_COLOR, linewidth=0.8, label="demonstrations" if j == 0 else None)
+        ax.plot(
+            idx, row, color=DEMO_COLOR, linewidth=0.8, label="demonstrations" if j == 0 else None
+        )
     ax.axhline(0.0, color=METHOD_COLORS["Mean-Path"], linewidth=1.6, label="Mean-Path")
     ax.set_xlabel("Mean-Path point index")
     ax.set_ylabel(f"normal distance [{units}]")
@@ -150,13 +153,25 @@ def draw_gmr_tube(ax: Axes, gmr, n_points: int = 200, n_std: float = 2.0) -> Non
     sd = np.sqrt(np.einsum("ti,tij,tj->t", normal, cov, normal))
     upper, lower = mean + n_std * sd[:, None] * normal, mean - n_std * sd[:, None] * normal
     band = np.vstack((upper, lower[::-1]))
-    ax.fill(band[:, 0], band[:, 1], color=METHOD_COLORS["GMR (BIC)"], alpha=0.2,
-            label=f"GMR ±{n_std:g} sd")  # fmt: skip
+    ax.fill(
+        band[:, 0],
+        band[:, 1],
+        color=METHOD_COLORS["GMR (BIC)"],
+        alpha=0.2,
+        label=f"GMR ±{n_std:g} sd",
+    )
     ax.plot(mean[:, 0], mean[:, 1], color=METHOD_COLORS["GMR (BIC)"], linewidth=1.4)
 
 
-def mean_path_figure(demos: Sequence[np.ndarray], mean_path, *, units: str = "m",
-                     nominal: np.ndarray | None = None, gmr=None, title: str = "") -> Figure:  # fmt: skip
+def mean_path_figure(
+    demos: Sequence[np.ndarray],
+    mean_path,
+    *,
+    units: str = "m",
+    nominal: np.ndarray | None = None,
+    gmr=None,
+    title: str = "",
+) -> Figure:
     """Three panels: demos with the Mean-Path (and GMR tube), Distance-Space, convergence."""
     fig = Figure(figsize=(15.0, 4.6), layout="constrained")
     ax0, ax1, ax2 = fig.subplots(1, 3)

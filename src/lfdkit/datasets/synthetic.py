@@ -716,7 +716,7 @@ def _deburring(
 
 def deburring_linear(
     n_demos: int = 10,
-    n_points: int = 200,
+    n_points: int = 500,
     seed: Any = None,
     *,
     n_segments: int = 10,
@@ -757,7 +757,7 @@ def deburring_linear(
 
 def deburring_circular(
     n_demos: int = 10,
-    n_points: int = 200,
+    n_points: int = 500,
     seed: Any = None,
     *,
     n_segments: int = 10,
@@ -854,7 +854,8 @@ def local_detours(
     seed: Any = None,
     *,
     n_points: int = 100,
-    noise: float = 0.15,
+    noise: float = 0.02,
+    detour_height: float = 0.75,
 ) -> DemoSet:
     """A :func:`noisy_band` set in which ``n_detours`` demonstrators swerve once.
 
@@ -862,7 +863,10 @@ def local_detours(
     random draws, made first). Then ``n_detours`` distinct demonstrations are
     picked at random and each gets one raised-cosine bump added to its normal
     offset: support width 8 % of the length, centred uniformly in [20 %, 80 %]
-    of it, height ``5 * noise`` to a random side. The other demonstrations are
+    of it, height ``detour_height`` to a random side. The defaults describe a
+    consistent demonstrator (2 cm smooth spread, as in kinesthetic teaching)
+    who once swerves 0.75 m around something: the detour, not the noise,
+    dominates the error. The other demonstrations are
     bit-identical to the base set's. The ground truth stays the nominal: a
     detour is an outlier, not part of the task.
 
@@ -875,6 +879,8 @@ def local_detours(
     n_points : int
     noise : float
         Standard deviation of the smooth normal offset, metres (> 0).
+    detour_height : float
+        Peak normal displacement of each swerve, metres (> 0).
 
     Returns
     -------
@@ -885,6 +891,7 @@ def local_detours(
     n_detours = _check_count(n_detours, "n_detours", 0)
     if n_detours > n_demos:
         raise ValueError(f"n_detours: must be <= n_demos ({n_demos}), got {n_detours}")
+    detour_height = check_positive(detour_height, "detour_height")
     rng = check_random_state(seed)
     fine = _s_curve()
     normals = left_normals(fine)
@@ -898,7 +905,7 @@ def local_detours(
         sign = 1.0 if rng.random() < 0.5 else -1.0
         x = (s_fine - centre) / width
         bump = np.where(np.abs(x) < 0.5, 0.5 * (1.0 + np.cos(_TWO_PI * x)), 0.0)
-        offsets[j] = offsets[j] + sign * 5.0 * noise * bump
+        offsets[j] = offsets[j] + sign * detour_height * bump
     demos = [
         resample(fine + o[:, None] * normals, n_points) + w
         for o, w in zip(offsets, white, strict=True)
@@ -910,7 +917,7 @@ def local_detours(
         units="m",
         description=(
             f"noisy_band with {n_detours} of {n_demos} demos (indices {chosen.tolist()}) swerving "
-            f"once: a bump of width 8 % of the length and height {5 * noise:g} m. "
+            f"once: a bump of width 8 % of the length and height {detour_height:g} m. "
             "Ground truth: the nominal."
         ),
     )

@@ -39,6 +39,11 @@ implementation decides as follows (each is a constructor option):
   once and to one-sided deviations such as deburring residuals: the median along
   each normal (in 3-D, the geometric median in the normal plane), with the step
   control then minimising the summed distances instead of squared distances.
+  ``center="biweight"`` is Tukey's biweight M-estimate (tuning constant 4.685,
+  scale from the median absolute deviation, reweighted from the median): about as
+  efficient as the mean on Gaussian spread (95 %), while intersections farther
+  than about 4.7 robust standard deviations get no weight at all; the best
+  choice when demonstrations are consistent except for occasional swerves.
 * **Direction.** Demonstrations recorded in the opposite direction are reversed
   (``orient="auto"``); which ones is recorded in ``reversed_``.
 * **Start.** The iteration starts from the point-wise average of the
@@ -68,7 +73,7 @@ from lfdkit.mimic.baselines import pointwise_average
 
 __all__ = ["MeanPath"]
 
-Center = Literal["mean", "median"]
+Center = Literal["mean", "median", "biweight"]
 
 
 class MeanPath(BaseEstimator):
@@ -78,9 +83,9 @@ class MeanPath(BaseEstimator):
     ----------
     n_points : int, default 100
         Number of points of the estimated path (evenly spaced in arc length).
-    center : {"mean", "median"}, default "mean"
-        Centre of the intersections along each normal: the thesis's mean, or the
-        robust median (see the module notes).
+    center : {"mean", "median", "biweight"}, default "mean"
+        Centre of the intersections along each normal: the thesis's mean, the
+        robust median, or Tukey's biweight (see the module notes).
     tol : float, default 1e-4
         Stop when the residual changes by less than ``tol`` times its value.
     max_iter : int, default 100
@@ -92,10 +97,11 @@ class MeanPath(BaseEstimator):
         How the path's extent is decided (see the module notes).
     same_direction : bool, default True
         Match only demonstration segments traversed in the reference's direction.
-    extend : float, default 0.2
+    extend : float, default 0.05
         Length of the straight virtual extension added before the start and after
         the end of each demonstration while fitting, as a fraction of its length
-        (see the module notes on misses). 0 disables it.
+        (see the module notes on misses). Short, because a straight ray departs
+        from a curved task; 0 disables it.
     min_support : float, default 0.5
         Fraction of the demonstrations a normal must meet for its point to be
         estimated on its own (at least one demonstration in any case).
@@ -153,7 +159,7 @@ class MeanPath(BaseEstimator):
         init: str | int | np.ndarray = "average",
         ends: Literal["consensus", "normal"] = "consensus",
         same_direction: bool = True,
-        extend: float = 0.2,
+        extend: float = 0.05,
         min_support: float = 0.5,
         orient: Literal["auto", "as_given"] = "auto",
         max_halvings: int = 5,
@@ -247,8 +253,10 @@ class MeanPath(BaseEstimator):
         n_points = check_positive(self.n_points, "n_points", integer=True)
         if n_points < 2:
             raise ValueError(f"n_points: needs at least 2, got {n_points}")
-        if self.center not in ("mean", "median"):
-            raise ValueError(f"center: expected 'mean' or 'median', got {self.center!r}")
+        if self.center not in ("mean", "median", "biweight"):
+            raise ValueError(
+                f"center: expected 'mean', 'median' or 'biweight', got {self.center!r}"
+            )
         if self.ends not in ("consensus", "normal"):
             raise ValueError(f"ends: expected 'consensus' or 'normal', got {self.ends!r}")
         if self.orient not in ("auto", "as_given"):
@@ -361,11 +369,13 @@ def _extend(demo: np.ndarray, fraction: float) -> np.ndarray:
     head = demo[min(int(np.searchsorted(s, reach)), len(demo) - 1)] - demo[0]
     tail = demo[-1] - demo[max(int(np.searchsorted(s, s[-1] - reach, side="right")) - 1, 0)]
     ext = fraction * s[-1]
-    return np.vstack((
-        demo[0] - ext * head / np.linalg.norm(head),
-        demo,
-        demo[-1] + ext * tail / np.linalg.norm(tail),
-    ))
+    return np.vstack(
+        (
+            demo[0] - ext * head / np.linalg.norm(head),
+            demo,
+            demo[-1] + ext * tail / np.linalg.norm(tail),
+        )
+    )
 
 
 def _fill_unsupported(
@@ -389,17 +399,23 @@ def _fill_unsupported(
 def _arc_positions(points: np.ndarray, path: np.ndarray) -> np.ndarray:
     """Arc-length position of each point's projection, extended past the path's ends."""
     s, _, _ = project_onto_polyline(points, path)
+    length = arc_length(path)[-1]
     t0 = path[1] - path[0]
     t1 = path[-1] - path[-2]
-    length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
     before = (points - path[0]) @ (t0 / np.linalg.norm(t0))
     after = length + (points - path[-1]) @ (t1 / np.linalg.norm(t1))
-    s = np.where(s <= 0.0, np.minimum(before, 0.0), s)
-    return np.where(s >= length, np.maximum(after, length), s)
+    # A projection clamped to an end lands there only up to rounding.
+    tol = 1e-12 * length
+    s = np.where(s <= tol, np.minimum(before, 0.0), s)
+    return np.where(s >= length - tol, np.maximum(after, length), s)
 
 
 def _centre_1d(values: np.ndarray, center: Center) -> float:
-    return float(np.mean(values) if center == "mean" else np.median(values))
+    if center == "mean":
+        return float(np.mean(values))
+    if center == "median":
+        return float(np.median(values))
+    return float(_biweight(values[None, :, None], np.ones((1, len(values)), bool))[0, 0])
 
 
 def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> np.ndarray:
@@ -409,6 +425,8 @@ def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> n
     """
     if center == "mean":
         return np.nanmean(offsets, axis=1)
+    if center == "biweight":
+        return _biweight(offsets, found)
     m, _, q = offsets.shape
     if q == 2:
         # Offsets lie on the normal line: the median of their signed lengths.
@@ -423,6 +441,36 @@ def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> n
         signed = np.einsum("mnq,mq->mn", offsets, unit)
         return np.nanmedian(signed, axis=1)[:, None] * unit
     return _geometric_median(offsets, found)
+
+
+def _biweight(
+    points: np.ndarray, found: np.ndarray, c: float = 4.685, n_iter: int = 10
+) -> np.ndarray:
+    """Tukey's biweight location of each row's found vectors, shape (m, q).
+
+    Iteratively reweighted from the (geometric) median, with the scale fixed at
+    1.4826 times the median distance to it. Where more than half the points
+    coincide the scale is zero and the result is that common point.
+    """
+    pts = np.where(found[..., None], points, 0.0)
+    median = _centre_vectors(points, found, "median")
+    dist = np.linalg.norm(pts - median[:, None, :], axis=2)
+    scale = 1.4826 * np.nanmedian(np.where(found, dist, np.nan), axis=1, keepdims=True)
+    # Zero spread (most points coincide, up to rounding): the median is the answer.
+    degenerate = scale[:, 0] <= 1e-12 * (1.0 + np.abs(pts).max())
+    scale = np.where(degenerate[:, None], 1.0, scale)
+    centre = median
+    for _ in range(n_iter):
+        u = dist / (c * scale)
+        w = np.where(found & (u < 1.0), (1.0 - u**2) ** 2, 0.0)
+        total = w.sum(1, keepdims=True)
+        new = np.where(total > 0, (pts * w[..., None]).sum(1) / np.maximum(total, 1e-300), median)
+        converged = np.allclose(new, centre, rtol=0.0, atol=1e-12 * (1.0 + np.abs(centre).max()))
+        centre = new
+        if converged:
+            break
+        dist = np.linalg.norm(pts - centre[:, None, :], axis=2)
+    return np.where(degenerate[:, None], median, centre)
 
 
 def _geometric_median(points: np.ndarray, found: np.ndarray, n_iter: int = 100) -> np.ndarray:

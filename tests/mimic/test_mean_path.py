@@ -1,0 +1,639 @@
+"""Tests for lfdkit.mimic.mean_path: the Mean-Path estimator (thesis chapter 4)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+from sklearn.base import clone
+
+from lfdkit.geometry import (
+    arc_length,
+    left_normals,
+    normal_frames,
+    path_length,
+    point_tangents,
+    project_onto_polyline,
+    resample,
+)
+from lfdkit.metrics import e1, e2
+from lfdkit.mimic import MeanPath
+
+SETTINGS = settings(max_examples=12, deadline=None)
+
+
+# ----------------------------------------------------------------- helpers
+def sine(n=2001, x0=0.0, x1=10.0):
+    """Fine polyline of y = 1.5 sin(2 pi x / 10) (smallest radius of curvature ~1.7)."""
+    x = np.linspace(x0, x1, n)
+    return np.column_stack((x, 1.5 * np.sin(2 * np.pi * x / 10)))
+
+
+def semicircle(radius=3.0, n=2001):
+    th = np.linspace(0.0, np.pi, n)
+    return radius * np.column_stack((np.cos(th), np.sin(th)))
+
+
+def helix(n=2001, turns=1.5, radius=2.0, pitch=1.0):
+    th = np.linspace(0.0, 2 * np.pi * turns, n)
+    return np.column_stack((radius * np.cos(th), radius * np.sin(th), pitch * th / (2 * np.pi)))
+
+
+def offset(curve, d):
+    """Curve displaced by ``d`` (scalar or per point) along its left normal (2-D)."""
+    d = np.broadcast_to(np.asarray(d, float), (len(curve),))
+    return curve + d[:, None] * left_normals(curve)
+
+
+def offset_frames(curve, d):
+    """Curve displaced by ``d`` (shape (n, q-1) or (q-1,)) in its normal frames (any q)."""
+    frames = normal_frames(point_tangents(curve))
+    d = np.broadcast_to(np.asarray(d, float), (len(curve), curve.shape[1] - 1))
+    return curve + np.einsum("nk,nkq->nq", d, frames[:, 1:, :])
+
+
+def smooth_deviation(rng, n, sd, pinned=False):
+    """Sum of three sinusoids of the normalised arc length, standard deviation ~ sd."""
+    u = np.linspace(0.0, 1.0, n)
+    freq = rng.uniform(0.5, 3.0, 3)
+    phase = rng.uniform(0.0, 2 * np.pi, 3)
+    amp = rng.normal(size=3)
+    dev = (amp * np.sin(2 * np.pi * freq * u[:, None] + phase)).sum(axis=1)
+    dev *= sd / np.sqrt((amp**2).sum() / 2)
+    return dev * np.sin(np.pi * u) if pinned else dev
+
+
+def noisy_band(seed=0, n_demos=8, sd=0.1, nominal=None, pinned=False, n_range=(60, 200)):
+    """Demos = nominal + smooth random normal deviations, each resampled to its own length."""
+    rng = np.random.default_rng(seed)
+    nominal = sine() if nominal is None else nominal
+    q = nominal.shape[1]
+    demos = []
+    for _ in range(n_demos):
+        dev = np.column_stack(
+            [smooth_deviation(rng, len(nominal), sd, pinned) for _ in range(q - 1)]
+        )
+        demos.append(resample(offset_frames(nominal, dev), int(rng.integers(*n_range))))
+    return demos, nominal
+
+
+def dist_to(path, curve):
+    """Distance from each point of ``path`` to the polyline ``curve``."""
+    return project_onto_polyline(path, curve)[2]
+
+
+def rotation_2d(angle):
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+@pytest.fixture(scope="module")
+def band():
+    demos, nominal = noisy_band(seed=1)
+    return demos, nominal, MeanPath(n_points=100).fit(demos)
+
+
+# ----------------------------------------------------------------- closed form
+@pytest.mark.parametrize("d", [0.05, 0.3])
+def test_symmetric_demos_about_sine_recover_it(d):
+    nominal = sine()
+    demos = [resample(offset(nominal, d), 150), resample(offset(nominal, -d), 230)]
+    mp = MeanPath(n_points=100).fit(demos)
+    assert mp.path_.shape == (100, 2)
+    assert dist_to(mp.path_, nominal).max() < 1e-3
+    assert e2(mp.path_, nominal, n_points=100) < 100 * 5e-4
+    # Consensus ends: both demos start and stop on the nominal's end normals.
+    np.testing.assert_allclose(mp.path_[0], nominal[0], atol=1e-3)
+    np.testing.assert_allclose(mp.path_[-1], nominal[-1], atol=1e-3)
+    # Distance space: the demo offset to the left is at +d, the other at -d.
+    assert mp.distances_.shape == (2, 100, 1)
+    found = ~np.isnan(mp.distances_[..., 0])
+    assert found[:, 1:-1].all()
+    np.testing.assert_allclose(mp.distances_[0][found[0]], d, atol=2e-3)
+    np.testing.assert_allclose(mp.distances_[1][found[1]], -d, atol=2e-3)
+    # e1 = sum of squared normal distances = (points met) * d^2.
+    assert mp.residual_ == pytest.approx(found.sum() * d**2, rel=2e-2)
+    assert mp.residual_ == pytest.approx(e1(mp.path_, demos), rel=1e-9)
+
+
+@pytest.mark.parametrize("center", ["mean", "median"])
+def test_symmetric_demos_about_arc_recover_it(center):
+    arc = semicircle(3.0)
+    demos = [resample(offset(arc, d), n) for d, n in ((0.4, 120), (-0.4, 90), (0.0, 75))]
+    mp = MeanPath(n_points=80, center=center).fit(demos)
+    # Radius 3 everywhere (the offsets are concentric arcs of radius 2.6 and 3.4).
+    np.testing.assert_allclose(np.linalg.norm(mp.path_, axis=1), 3.0, atol=2e-3)
+    np.testing.assert_allclose(mp.path_[0], [3.0, 0.0], atol=2e-3)
+    np.testing.assert_allclose(mp.path_[-1], [-3.0, 0.0], atol=2e-3)
+    assert not mp.reversed_.any()
+
+
+def test_identical_demos_give_the_demo_back():
+    demo = resample(sine(), 150)
+    mp = MeanPath(n_points=60).fit([demo, demo.copy(), demo.copy()])
+    assert mp.residual_ < 1e-20
+    assert dist_to(mp.path_, demo).max() < 1e-9
+    np.testing.assert_allclose(mp.path_[[0, -1]], demo[[0, -1]], atol=1e-9)
+    # Evenly spaced along the demo: the demo resampled, up to chord/arc differences.
+    np.testing.assert_allclose(mp.path_, resample(demo, 60), atol=2e-3)
+    np.testing.assert_allclose(np.nan_to_num(mp.distances_), 0.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("q", [2, 3])
+def test_single_demo_returns_it_resampled(q):
+    demo = resample(sine(), 80) if q == 2 else resample(helix(), 120)
+    mp = MeanPath(n_points=50).fit([demo])
+    assert mp.path_.shape == (50, q)
+    assert dist_to(mp.path_, demo).max() < 1e-9
+    np.testing.assert_allclose(mp.path_[[0, -1]], demo[[0, -1]], atol=1e-9)
+    np.testing.assert_allclose(mp.path_, resample(demo, 50), atol=5e-3)
+    assert mp.residual_ < 1e-20
+    assert (mp.support_ == 1).all()
+
+
+def test_helix_band_3d():
+    nominal = helix()
+    d = 0.15
+    # Four demos symmetric about the helix in its normal planes, plus noisy ones.
+    demos = [
+        resample(offset_frames(nominal, v), n)
+        for v, n in (([d, 0], 200), ([-d, 0], 150), ([0, d], 170), ([0, -d], 260))
+    ]
+    mp = MeanPath(n_points=100).fit(demos)
+    assert mp.path_.shape == (100, 3)
+    assert mp.distances_.shape == (4, 100, 2)
+    assert dist_to(mp.path_, nominal).max() < 5e-3
+    np.testing.assert_allclose(np.linalg.norm(mp.distances_[:, 1:-1], axis=2), d, atol=5e-3)
+    noisy, _ = noisy_band(seed=3, n_demos=6, sd=0.1, nominal=nominal)
+    mp = MeanPath(n_points=100).fit(noisy)
+    assert mp.converged_
+    assert np.median(dist_to(mp.path_, nominal)) < 0.06
+
+
+# ----------------------------------------------------------------- invariances
+def _band_case(seed, q, pinned):
+    rng = np.random.default_rng(seed)
+    nominal = sine() if q == 2 else helix(turns=0.8)
+    demos, _ = noisy_band(
+        seed=seed, n_demos=int(rng.integers(2, 7)), sd=0.1, nominal=nominal, pinned=pinned,
+        n_range=(40, 150),
+    )  # fmt: skip
+    return rng, demos
+
+
+def _transform(rng, q, kind):
+    if q == 2:
+        rot = rotation_2d(rng.uniform(0, 2 * np.pi))
+    else:
+        rot = Rotation.from_rotvec(rng.normal(size=3)).as_matrix()
+    shift = rng.normal(size=q) * 20
+    k = float(np.exp(rng.uniform(np.log(0.01), np.log(100))))
+    return {
+        "translate": (lambda x: x + shift, 1.0),
+        "rotate": (lambda x: x @ rot.T, 1.0),
+        "scale": (lambda x: k * x, k),
+        "similarity": (lambda x: k * x @ rot.T + shift, k),
+    }[kind]
+
+
+def _assert_equivariant(demos, f, k, **params):
+    ref = MeanPath(n_points=50, **params).fit(demos)
+    moved = MeanPath(n_points=50, **params).fit([f(d) for d in demos])
+    expected = f(ref.path_)
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(moved.path_, expected, atol=1e-6 * scale)
+    assert moved.residual_ == pytest.approx(k**2 * ref.residual_, rel=1e-6, abs=1e-12 * k**2)
+    np.testing.assert_array_equal(moved.support_, ref.support_)
+
+
+@SETTINGS
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    q=st.sampled_from([2, 3]),
+    kind=st.sampled_from(["translate", "rotate", "scale", "similarity"]),
+    center=st.sampled_from(["mean", "median"]),
+)
+def test_equivariance_with_common_ends(seed, q, kind, center):
+    """Demos sharing start and end points (consensus ends = those points)."""
+    rng, demos = _band_case(seed, q, pinned=True)
+    f, k = _transform(rng, q, kind)
+    _assert_equivariant(demos, f, k, center=center)
+
+
+@SETTINGS
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    q=st.sampled_from([2, 3]),
+    kind=st.sampled_from(["translate", "rotate", "scale", "similarity"]),
+    center=st.sampled_from(["mean", "median"]),
+    ends=st.sampled_from(["consensus", "normal"]),
+)
+def test_equivariance_with_free_ends(seed, q, kind, center, ends):
+    """Demos starting and stopping at different places."""
+    rng, demos = _band_case(seed, q, pinned=False)
+    f, k = _transform(rng, q, kind)
+    _assert_equivariant(demos, f, k, center=center, ends=ends)
+
+
+def test_consensus_end_does_not_depend_on_rotation():
+    # Regression: demo ends beyond the path's end were sometimes clamped to it
+    # (exact comparison of two differently rounded path lengths), so the
+    # consensus end depended on how the data were rotated.
+    # Demos end at x = 10, 10 and 13: the consensus (mean) end is at x = 11.
+    base = []
+    for length, y in ((10.0, 0.1), (10.0, -0.1), (13.0, 0.0)):
+        x = np.linspace(0.0, length, 40)
+        base.append(np.column_stack((x, y + 0.05 * np.sin(x))))
+    ends = []
+    for angle in np.linspace(0.0, 3.0, 7):
+        rot = rotation_2d(angle)
+        mp = MeanPath(n_points=30).fit([d @ rot.T for d in base])
+        ends.append(mp.path_[-1] @ rot)
+    ends = np.array(ends)
+    np.testing.assert_allclose(ends[:, 0], 11.0, atol=0.05)
+
+
+@SETTINGS
+@given(seed=st.integers(0, 2**32 - 1), q=st.sampled_from([2, 3]), n_copies=st.integers(1, 4))
+def test_identical_demos_property(seed, q, n_copies):
+    rng = np.random.default_rng(seed)
+    nominal = sine() if q == 2 else helix(turns=0.8)
+    dev = np.column_stack([smooth_deviation(rng, len(nominal), 0.2) for _ in range(q - 1)])
+    demo = resample(offset_frames(nominal, dev), int(rng.integers(30, 200)))
+    mp = MeanPath(n_points=40).fit([demo] * n_copies)
+    assert dist_to(mp.path_, demo).max() < 1e-8
+    np.testing.assert_allclose(mp.path_[[0, -1]], demo[[0, -1]], atol=1e-8)
+    assert mp.residual_ < 1e-16
+    np.testing.assert_allclose(
+        np.diff(arc_length(mp.path_)), path_length(mp.path_) / 39, rtol=1e-9
+    )
+
+
+# ----------------------------------------------------------------- init independence
+def test_result_does_not_depend_on_init(band):
+    demos, nominal, fitted = band
+    fits = [fitted] + [MeanPath(n_points=100, init=i).fit(demos) for i in (0, 3, -1)]
+    fits.append(MeanPath(n_points=100, init=demos[5]).fit(demos))
+    residuals = np.array([m.residual_ for m in fits])
+    assert residuals.max() / residuals.min() - 1 < 0.01
+    for m in fits:
+        assert m.converged_
+        assert dist_to(m.path_, fitted.path_).max() < 0.02
+        assert np.abs(m.path_ - fitted.path_).max() < 0.05
+        assert np.median(dist_to(m.path_, nominal)) < 0.05
+    # Starting from a demonstration is a worse start than the result.
+    assert fits[1].residual_history_[0] > fits[1].residual_history_[-1]
+
+
+def test_fit_improves_on_a_poor_start(band):
+    demos, nominal, fitted = band
+    start = offset(resample(nominal, 100), 0.4)  # a parallel path well off the band
+    mp = MeanPath(n_points=100, init=start).fit(demos)
+    assert mp.residual_history_[0] > 3 * mp.residual_history_[-1]
+    assert mp.residual_ == pytest.approx(fitted.residual_, rel=0.01)
+    assert dist_to(mp.path_, fitted.path_).max() < 0.02
+
+
+# ----------------------------------------------------------------- robustness
+def _detour_demos(seed=4):
+    nominal = sine()
+    demos, _ = noisy_band(seed=seed, n_demos=9, sd=0.05, nominal=nominal)
+    x = nominal[:, 0]
+    bump = 1.2 * np.exp(-(((x - 5.0) / 0.5) ** 2))
+    for j in (2, 6):
+        rng = np.random.default_rng(seed + j)
+        dev = smooth_deviation(rng, len(nominal), 0.05) + bump
+        demos[j] = resample(offset(nominal, dev), 200)
+    return demos, nominal
+
+
+def test_median_ignores_local_detours():
+    demos, nominal = _detour_demos()
+    med = MeanPath(n_points=100, center="median").fit(demos)
+    mean = MeanPath(n_points=100, center="mean").fit(demos)
+    near = np.abs(med.path_[:, 0] - 5.0) < 0.3
+    near_mean = np.abs(mean.path_[:, 0] - 5.0) < 0.3
+    med_err = dist_to(med.path_[near], nominal).max()
+    mean_err = dist_to(mean.path_[near_mean], nominal).max()
+    # The mean is pulled by about 2/9 of the 1.2 detour; the median stays in the noise.
+    assert mean_err > 0.15
+    assert med_err < 0.08
+    assert med_err < mean_err / 3
+    # Away from the detour both agree with the nominal.
+    far = np.abs(med.path_[:, 0] - 5.0) > 2.0
+    assert dist_to(med.path_[far], nominal).max() < 0.08
+
+
+@pytest.mark.parametrize("flip", [[1, 4], [2, 3, 5, 6, 7]])
+def test_reversed_demos_are_oriented(band, flip):
+    demos, _, fitted = band
+    mixed = [d[::-1].copy() if j in flip else d for j, d in enumerate(demos)]
+    mp = MeanPath(n_points=100).fit(mixed)
+    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), flip))
+    assert mp.reversed_.dtype == bool
+    # The reversed demos are turned back exactly: the all-forward result.
+    np.testing.assert_allclose(mp.path_, fitted.path_, atol=1e-12)
+    assert mp.residual_ == pytest.approx(fitted.residual_, rel=1e-12)
+
+
+def test_reversed_first_demo_sets_the_direction_ends_normal(band):
+    demos, _, _ = band
+    forward = MeanPath(n_points=100, ends="normal").fit(demos)
+    mixed = [d[::-1].copy() if j in (0, 4) else d for j, d in enumerate(demos)]
+    mp = MeanPath(n_points=100, ends="normal").fit(mixed)
+    # Demonstration 0 sets the direction: all the others are reversed instead.
+    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), (0, 4), invert=True))
+    np.testing.assert_allclose(mp.path_[::-1], forward.path_, atol=1e-9)
+
+
+def test_reversed_first_demo_sets_the_direction(band):
+    demos, _, fitted = band
+    mixed = [d[::-1].copy() if j in (0, 4) else d for j, d in enumerate(demos)]
+    mp = MeanPath(n_points=100).fit(mixed)
+    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), (0, 4), invert=True))
+    np.testing.assert_allclose(mp.path_[::-1], fitted.path_, atol=1e-6)
+
+
+def test_orient_as_given_does_not_flip(band):
+    demos, _, fitted = band
+    mixed = [d[::-1].copy() if j == 3 else d for j, d in enumerate(demos)]
+    mp = MeanPath(n_points=100, orient="as_given", init=0).fit(mixed)
+    assert not mp.reversed_.any()
+    # The reversed demo is never matched with same-direction crossings.
+    assert np.isnan(mp.distances_[3]).all()
+    assert (mp.support_ <= len(demos) - 1).all()
+
+
+def _staggered_demos():
+    """Demos along one sine that start and stop at different places (x positions)."""
+    nominal = sine(x0=-1.0, x1=11.0)
+    rng = np.random.default_rng(7)
+    x_starts = np.array([0.0, 0.1, 0.2, 0.3, 2.5])  # one starts late
+    x_stops = np.array([7.5, 9.7, 9.8, 9.9, 10.0])  # one stops early
+    demos = []
+    for a, b in zip(x_starts, x_stops):
+        piece = nominal[(nominal[:, 0] >= a) & (nominal[:, 0] <= b)]
+        demos.append(resample(offset(piece, smooth_deviation(rng, len(piece), 0.05)), 120))
+    return demos, nominal, x_starts, x_stops
+
+
+def _x_at_centre_arc_position(nominal, xs, centre):
+    """x of the point at the mean/median arc-length position of the points at ``xs``."""
+    s = arc_length(nominal)
+    return np.interp(centre(np.interp(xs, nominal[:, 0], s)), s, nominal[:, 0])
+
+
+def test_path_starts_and_stops_at_median_consensus():
+    demos, nominal, x_starts, x_stops = _staggered_demos()
+    mp = MeanPath(n_points=100, center="median").fit(demos)
+    # The median start/stop, not the earliest (0.0 / 7.5) or latest (2.5 / 10.0).
+    assert mp.path_[0, 0] == pytest.approx(0.2, abs=0.03)
+    assert mp.path_[-1, 0] == pytest.approx(9.8, abs=0.03)
+    assert dist_to(mp.path_, nominal).max() < 0.1
+    # Normals beyond a demo's extent miss it: NaN in the distance space.
+    assert np.isnan(mp.distances_[4, 0, 0]) and np.isnan(mp.distances_[0, -1, 0])
+    assert mp.support_[0] == 3 and mp.support_[50] == 5 and mp.support_[-1] == 3
+    assert np.isnan(mp.distances_[..., 0]).sum() == (5 * 100 - mp.support_.sum())
+
+
+def test_path_starts_at_mean_consensus():
+    demos, nominal, x_starts, _ = _staggered_demos()
+    mp = MeanPath(n_points=100, center="mean").fit(demos)
+    expected = _x_at_centre_arc_position(nominal, x_starts, np.mean)
+    assert expected == pytest.approx(0.56, abs=0.01)
+    assert mp.path_[0, 0] == pytest.approx(expected, abs=0.03)
+
+
+def test_path_stops_at_mean_consensus():
+    # Regression: the mean consensus end used to creep backwards (x = 9.09 here).
+    demos, nominal, _, x_stops = _staggered_demos()
+    mp = MeanPath(n_points=100, center="mean").fit(demos)
+    expected = _x_at_centre_arc_position(nominal, x_stops, np.mean)
+    assert expected == pytest.approx(9.44, abs=0.01)
+    assert mp.path_[-1, 0] == pytest.approx(expected, abs=0.03)
+
+
+def _densified(demos, seed=0):
+    """The same polylines with 0-40 extra, clustered points inserted in every segment."""
+    rng = np.random.default_rng(seed)
+    dense = []
+    for d in demos:
+        parts = [d[:1]]
+        for a, b in zip(d[:-1], d[1:]):
+            u = np.sort(rng.uniform(0, 1, int(rng.integers(0, 41))) ** 3)
+            parts.extend((a + u[:, None] * (b - a), b[None]))
+        dense.append(np.vstack(parts))
+    return dense
+
+
+def test_uneven_sampling_of_the_same_polylines_gives_the_same_path():
+    demos, _ = noisy_band(seed=2, n_demos=5, n_range=(30, 40))
+    dense = _densified(demos)
+    assert max(len(d) for d in dense) > 10 * max(len(d) for d in demos)
+    spacing = np.diff(arc_length(dense[0]))
+    assert spacing.max() > 1e4 * spacing[spacing > 0].min()
+    even = MeanPath(n_points=80, ends="normal").fit(demos)
+    uneven = MeanPath(n_points=80, ends="normal").fit(dense)
+    np.testing.assert_allclose(uneven.path_, even.path_, atol=1e-9)
+    even = MeanPath(n_points=80).fit(demos)
+    uneven = MeanPath(n_points=80).fit(dense)
+    np.testing.assert_allclose(uneven.path_, even.path_, atol=1e-3)
+
+
+def test_uneven_sampling_of_the_same_curves():
+    nominal = sine()
+    rng = np.random.default_rng(3)
+    even, uneven = [], []
+    for _ in range(6):
+        curve = offset(nominal, smooth_deviation(rng, len(nominal), 0.1))
+        even.append(resample(curve, 400))
+        # Dense near the start, sparse near the end.
+        idx = np.unique(np.round((len(curve) - 1) * np.linspace(0, 1, 300) ** 5).astype(int))
+        uneven.append(curve[idx])
+    spacing = np.diff(arc_length(uneven[0]))
+    assert spacing.max() > 30 * spacing.min()
+    a = MeanPath(n_points=100).fit(even)
+    b = MeanPath(n_points=100).fit(uneven)
+    # Polyline chord errors of the sparse parts are ~1e-3; the noise is 0.1.
+    assert np.abs(a.path_ - b.path_).max() < 3e-3
+
+
+def test_small_loop_does_not_pull_the_median_path():
+    nominal = sine()
+    demos, _ = noisy_band(seed=8, n_demos=7, sd=0.05, nominal=nominal)
+    # Demo 0 makes a loop of radius 0.4 at x = 5 (a forward leg, a backward leg).
+    piece_a = nominal[nominal[:, 0] <= 5.0]
+    piece_b = nominal[nominal[:, 0] > 5.0]
+    centre = piece_a[-1] + 0.4 * left_normals(piece_a)[-1]
+    start = np.arctan2(*(piece_a[-1] - centre)[::-1])
+    th = start + np.linspace(0, 2 * np.pi, 60)
+    loop = centre + 0.4 * np.column_stack((np.cos(th), np.sin(th)))
+    demos[0] = np.vstack((piece_a[::10], loop[1:], piece_b[::10]))
+    mp = MeanPath(n_points=100, center="median").fit(demos)
+    near = np.abs(mp.path_[:, 0] - 5.0) < 0.6
+    assert dist_to(mp.path_[near], nominal).max() < 0.06
+    assert dist_to(mp.path_, nominal).max() < 0.08
+
+
+# ----------------------------------------------------------------- attributes
+def test_fitted_attributes(band):
+    demos, _, mp = band
+    n = mp.n_iter_
+    assert isinstance(n, int) and n >= 1
+    assert mp.residual_history_.shape == mp.innovation_history_.shape == (n + 1,)
+    # Accepted steps never increase the residual (mean centre: e1 is the loss).
+    assert np.all(np.diff(mp.residual_history_) <= 1e-12 * mp.residual_history_[0])
+    assert mp.innovation_history_[-1] < mp.innovation_history_[0]
+    assert np.all(mp.innovation_history_ >= 0)
+    assert mp.distances_.shape == (len(demos), 100, 1)
+    assert mp.support_.shape == (100,)
+    assert mp.support_.dtype.kind == "i"
+    np.testing.assert_array_equal(mp.support_, (~np.isnan(mp.distances_[..., 0])).sum(axis=0))
+    assert mp.support_[1:-1].min() == len(demos)
+    assert mp.converged_ is True
+    assert mp.stop_reason_ in ("tolerance", "stationary")
+    assert mp.n_features_in_ == 2
+    assert mp.reversed_.shape == (len(demos),) and not mp.reversed_.any()
+    # residual_ is e1 of the final path (NaN distances left out).
+    assert mp.residual_ == pytest.approx(np.nansum(mp.distances_**2), rel=1e-9)
+    assert mp.residual_ == pytest.approx(e1(mp.path_, demos), rel=1e-9)
+    # Evenly spaced in arc length.
+    np.testing.assert_allclose(np.diff(arc_length(mp.path_)), path_length(mp.path_) / 99, rtol=1e-3)
+
+
+def test_distances_are_signed_offsets_in_the_normal_frame(band):
+    demos, _, mp = band
+    tangents = point_tangents(mp.path_)
+    normals = left_normals(mp.path_)
+    for j, demo in enumerate(demos):
+        d = mp.distances_[j, :, 0]
+        ok = ~np.isnan(d)
+        points = mp.path_[ok] + d[ok, None] * normals[ok]
+        # Each reconstructed point lies on demo j and on the normal line.
+        assert dist_to(points, demo).max() < 1e-9
+        np.testing.assert_allclose(
+            np.einsum("ij,ij->i", points - mp.path_[ok], tangents[ok]), 0.0, atol=1e-12
+        )
+
+
+def test_max_iter_and_stop_reasons(band):
+    demos, _, _ = band
+    zero = MeanPath(n_points=100, max_iter=0).fit(demos)
+    assert zero.n_iter_ == 0 and zero.stop_reason_ == "max_iter" and zero.converged_ is False
+    assert zero.residual_history_.shape == (1,)
+    one = MeanPath(n_points=100, max_iter=1, tol=0.0).fit(demos)
+    assert one.n_iter_ == 1 and one.stop_reason_ == "max_iter" and not one.converged_
+    tight = MeanPath(n_points=100, tol=0.0, max_iter=500).fit(demos)
+    assert tight.stop_reason_ == "stationary" and tight.converged_
+    assert tight.residual_history_[-1] <= one.residual_history_[-1]
+
+
+def test_median_history_shapes_and_3d_distances():
+    demos, nominal = noisy_band(seed=5, n_demos=5, nominal=helix(turns=0.8))
+    mp = MeanPath(n_points=40, center="median").fit(demos)
+    assert mp.distances_.shape == (5, 40, 2)
+    assert mp.innovation_history_.shape == (mp.n_iter_ + 1,)
+    found = ~np.isnan(mp.distances_[..., 0])
+    np.testing.assert_array_equal(found, ~np.isnan(mp.distances_[..., 1]))
+    assert mp.residual_ == pytest.approx(np.nansum(mp.distances_**2), rel=1e-9)
+
+
+# ----------------------------------------------------------------- errors
+@pytest.fixture(scope="module")
+def two_demos():
+    return [resample(offset(sine(), d), 50) for d in (-0.1, 0.1)]
+
+
+def test_errors_in_demos(two_demos):
+    a, b = two_demos
+    bad = a.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"demos\[1\].*NaN"):
+        MeanPath().fit([a, bad])
+    bad[3, 1] = np.inf
+    with pytest.raises(ValueError, match=r"demos\[0\].*infinite"):
+        MeanPath().fit([bad, a])
+    with pytest.raises(ValueError, match=r"demos\[1\].*at least 2 points"):
+        MeanPath().fit([a, b[:1]])
+    with pytest.raises(ValueError, match=r"demos\[1\].*columns"):
+        MeanPath().fit([a, np.column_stack((b, b[:, 0]))])
+    with pytest.raises(ValueError, match=r"demos\[1\].*zero length"):
+        MeanPath().fit([a, np.tile(b[:1], (5, 1))])
+    with pytest.raises(ValueError, match="demos.*one 2-D array"):
+        MeanPath().fit(a)
+    with pytest.raises(ValueError, match="demos.*at least 1"):
+        MeanPath().fit([])
+    with pytest.raises(TypeError, match="demos"):
+        MeanPath().fit("not demos")
+    with pytest.raises(ValueError, match=r"demos\[0\].*dimensions"):
+        MeanPath().fit([a[:, :1], b[:, :1]])
+
+
+@pytest.mark.parametrize(
+    ("params", "exc", "match"),
+    [
+        ({"n_points": 1}, ValueError, "n_points"),
+        ({"n_points": 0}, ValueError, "n_points"),
+        ({"n_points": 10.5}, TypeError, "n_points"),
+        ({"center": "foo"}, ValueError, "center"),
+        ({"ends": "foo"}, ValueError, "ends"),
+        ({"orient": "foo"}, ValueError, "orient"),
+        ({"min_support": 1.5}, ValueError, "min_support"),
+        ({"min_support": -0.1}, ValueError, "min_support"),
+        ({"tol": -1.0}, ValueError, "tol"),
+        ({"tol": np.nan}, ValueError, "tol"),
+        ({"max_iter": -1}, ValueError, "max_iter"),
+        ({"max_iter": 2.0}, TypeError, "max_iter"),
+        ({"max_halvings": -1}, ValueError, "max_halvings"),
+        ({"extend": -0.1}, ValueError, "extend"),
+        ({"init": 2}, ValueError, "init"),
+        ({"init": -3}, ValueError, "init"),
+        ({"init": "first"}, ValueError, "init"),
+        ({"init": np.zeros((5, 3))}, ValueError, "init"),
+        ({"init": np.zeros(5)}, ValueError, "init"),
+    ],
+)
+def test_bad_parameters(two_demos, params, exc, match):
+    with pytest.raises(exc, match=match):
+        MeanPath(**params).fit(two_demos)
+
+
+def test_normals_that_meet_no_demo(two_demos):
+    far = np.column_stack((np.zeros(20), np.linspace(20.0, 30.0, 20)))  # perpendicular, far
+    with pytest.raises(ValueError, match="demos: no normal of the path meets any"):
+        MeanPath(n_points=20, init=far, ends="normal", extend=0.0).fit(two_demos)
+    with pytest.raises(ValueError, match="demos"):
+        MeanPath(n_points=20, init=far).fit(two_demos)
+
+
+def test_min_support_unreachable():
+    a = np.column_stack((np.linspace(0, 4, 20), np.zeros(20)))
+    b = np.column_stack((np.linspace(6, 10, 20), np.ones(20)))  # no overlap with a
+    init = np.column_stack((np.linspace(0, 10, 30), np.full(30, 0.5)))
+    with pytest.raises(ValueError, match="min_support"):
+        MeanPath(n_points=30, init=init, min_support=1.0, extend=0.0, ends="normal").fit([a, b])
+    mp = MeanPath(n_points=30, init=init, min_support=0.5, extend=0.0, ends="normal").fit([a, b])
+    assert mp.support_.max() == 1
+
+
+# ----------------------------------------------------------------- scikit-learn
+def test_sklearn_conventions(two_demos):
+    model = MeanPath(n_points=30, center="median", init=1, tol=1e-6)
+    assert model.fit(two_demos) is model
+    params = model.get_params()
+    assert params["n_points"] == 30 and params["center"] == "median" and params["init"] == 1
+    assert set(params) == {
+        "n_points", "center", "tol", "max_iter", "init", "ends", "same_direction",
+        "extend", "min_support", "orient", "max_halvings",
+    }  # fmt: skip
+    copy = clone(model)
+    assert copy.get_params() == params
+    assert not hasattr(copy, "path_")
+    np.testing.assert_array_equal(copy.fit(two_demos).path_, model.path_)
+    other = MeanPath().set_params(**params)
+    assert other.get_params() == params
+    with_array = clone(MeanPath(init=two_demos[0]))
+    np.testing.assert_array_equal(with_array.init, two_demos[0])
+    assert "MeanPath(" in repr(model)
