@@ -78,7 +78,7 @@ def assert_hits_match(hits, ref, points, tangents, polylines):
     assert np.all(np.isnan(hits.points[~found]))
     assert np.all(np.isinf(hits.distance[~found]))
     np.testing.assert_allclose(hits.distance[found], ref_dist[found], rtol=1e-9, atol=1e-9 * scale)
-    for i, j in zip(*np.nonzero(found)):
+    for i, j in zip(*np.nonzero(found), strict=True):
         seg = hits.segment[i, j]
         if seg == ref_seg[i, j]:
             np.testing.assert_allclose(hits.points[i, j], ref_pt[i, j], atol=1e-9 * scale)
@@ -149,14 +149,16 @@ def make_queries(rng, polylines, m, kind):
     return np.array(pts), np.array(tan)
 
 
-polyline_case = st.fixed_dictionaries({
-    "seed": st.integers(0, 2**32 - 1),
-    "q": st.sampled_from([2, 3]),
-    "kind": st.sampled_from(["smooth", "uneven", "jagged", "grid", "repeats"]),
-    "n_polylines": st.integers(1, 4),
-    "chunk_size": st.sampled_from([None, 1, 2, 3, 4, 7]),
-    "same_direction": st.booleans(),
-})
+polyline_case = st.fixed_dictionaries(
+    {
+        "seed": st.integers(0, 2**32 - 1),
+        "q": st.sampled_from([2, 3]),
+        "kind": st.sampled_from(["smooth", "uneven", "jagged", "grid", "repeats"]),
+        "n_polylines": st.integers(1, 4),
+        "chunk_size": st.sampled_from([None, 1, 2, 3, 4, 7]),
+        "same_direction": st.booleans(),
+    }
+)
 
 
 def build_case(case):
@@ -344,29 +346,29 @@ def test_intersect_normals_input_errors():
     poly = np.array([[0.0, 0.0], [1.0, 1.0]])
     bad = pts.copy()
     bad[1, 0] = np.nan
-    with pytest.raises(ValueError, match="points.*NaN"):
+    with pytest.raises(ValueError, match=r"points.*NaN"):
         intersect_normals(bad, tan, poly)
-    with pytest.raises(ValueError, match="polyline.*infinite"):
+    with pytest.raises(ValueError, match=r"polyline.*infinite"):
         intersect_normals(pts, tan, np.array([[0.0, 0.0], [np.inf, 1.0]]))
-    with pytest.raises(ValueError, match="tangents.*NaN"):
+    with pytest.raises(ValueError, match=r"tangents.*NaN"):
         intersect_normals(pts, np.where(bad == bad, tan, np.nan), poly)
-    with pytest.raises(ValueError, match="tangents.*columns"):
+    with pytest.raises(ValueError, match=r"tangents.*columns"):
         intersect_normals(pts, np.ones((3, 3)), poly)
-    with pytest.raises(ValueError, match="polyline.*columns"):
+    with pytest.raises(ValueError, match=r"polyline.*columns"):
         intersect_normals(pts, tan, np.ones((2, 3)))
-    with pytest.raises(ValueError, match="points.*2-D"):
+    with pytest.raises(ValueError, match=r"points.*2-D"):
         intersect_normals(np.zeros(3), tan, poly)
-    with pytest.raises(ValueError, match="points.*dimensions"):
+    with pytest.raises(ValueError, match=r"points.*dimensions"):
         intersect_normals(np.zeros((3, 1)), tan, poly)
-    with pytest.raises(ValueError, match="polyline.*at least 2 points"):
+    with pytest.raises(ValueError, match=r"polyline.*at least 2 points"):
         intersect_normals(pts, tan, poly[:1])
     zero = tan.copy()
     zero[2] = 0.0
-    with pytest.raises(ValueError, match="tangents: row 2 is the zero vector"):
+    with pytest.raises(ValueError, match=r"tangents: row 2 is the zero vector"):
         intersect_normals(pts, zero, poly)
-    with pytest.raises(ValueError, match="tangents: expected 3 rows"):
+    with pytest.raises(ValueError, match=r"tangents: expected 3 rows"):
         intersect_normals(pts, tan[:2], poly)
-    with pytest.raises(TypeError, match="points"):
+    with pytest.raises(TypeError, match=r"points"):
         intersect_normals([["a", "b"]], tan, poly)
 
 
@@ -416,31 +418,33 @@ def test_resample_exact_positions_on_straight_and_bent_path():
 
 
 def test_resample_errors():
-    with pytest.raises(ValueError, match="zero length"):
+    with pytest.raises(ValueError, match=r"zero length"):
         resample(np.ones((5, 2)), 10)
-    with pytest.raises(ValueError, match="n_points"):
+    with pytest.raises(ValueError, match=r"n_points"):
         resample(np.array([[0.0, 0.0], [1.0, 0.0]]), 1)
-    with pytest.raises(TypeError, match="n_points"):
+    with pytest.raises(TypeError, match=r"n_points"):
         resample(np.array([[0.0, 0.0], [1.0, 0.0]]), 2.5)
-    with pytest.raises(ValueError, match="path.*NaN"):
+    with pytest.raises(ValueError, match=r"path.*NaN"):
         resample(np.array([[0.0, 0.0], [np.nan, 0.0]]), 3)
 
 
 def test_resample_between_extrapolates_along_end_tangents():
     path = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 2.0]])  # length 3
     out = resample_between(path, -1.0, 4.0, 6)
-    np.testing.assert_allclose(
-        out, [[-1, 0], [0, 0], [1, 0], [1, 1], [1, 2], [1, 3]], atol=1e-15
-    )
+    np.testing.assert_allclose(out, [[-1, 0], [0, 0], [1, 0], [1, 1], [1, 2], [1, 3]], atol=1e-15)
     inner = resample_between(path, 0.5, 2.5, 3)
     np.testing.assert_allclose(inner, [[0.5, 0], [1, 0.5], [1, 1.5]], atol=1e-15)
     # Repeated points at the ends do not spoil the extrapolation direction.
     rep = np.array([[0.0, 0.0], [0.0, 0.0], [0.0, 1.0], [0.0, 1.0]])
-    np.testing.assert_allclose(resample_between(rep, -1.0, 2.0, 4), [[0, -1], [0, 0], [0, 1], [0, 2]])
+    np.testing.assert_allclose(
+        resample_between(rep, -1.0, 2.0, 4), [[0, -1], [0, 0], [0, 1], [0, 2]]
+    )
 
 
 def test_remove_repeated_points():
-    path = np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 1e-3], [2, 0]])
+    path = np.array(
+        [[0.0, 0.0], [0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.0, 1e-3], [2, 0]]
+    )
     np.testing.assert_array_equal(remove_repeated_points(path), path[[0, 2, 5, 6]])
     np.testing.assert_array_equal(remove_repeated_points(path, atol=0.01), path[[0, 2, 6]])
     np.testing.assert_array_equal(remove_repeated_points(np.zeros((3, 2))), np.zeros((1, 2)))
@@ -482,9 +486,9 @@ def test_point_tangents_reverse_and_unit(seed, q):
 
 
 def test_point_tangents_errors():
-    with pytest.raises(ValueError, match="zero length"):
+    with pytest.raises(ValueError, match=r"zero length"):
         point_tangents(np.ones((4, 3)))
-    with pytest.raises(ValueError, match="turns back onto itself at point 2"):
+    with pytest.raises(ValueError, match=r"turns back onto itself at point 2"):
         point_tangents(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 0.0]]))
 
 
@@ -493,14 +497,16 @@ def test_left_normals():
     circle = np.column_stack((np.cos(th), np.sin(th)))  # counter-clockwise
     # The left normal of a counter-clockwise circle points to the centre.
     np.testing.assert_allclose(left_normals(circle)[1:-1], -circle[1:-1], atol=1e-3)
-    with pytest.raises(ValueError, match="2-D only"):
+    with pytest.raises(ValueError, match=r"2-D only"):
         left_normals(np.column_stack((circle, th)))
 
 
 def _check_frames(frames, tangents):
     n, q = tangents.shape
     assert frames.shape == (n, q, q)
-    np.testing.assert_allclose(frames @ np.swapaxes(frames, 1, 2), np.broadcast_to(np.eye(q), frames.shape), atol=1e-12)
+    np.testing.assert_allclose(
+        frames @ np.swapaxes(frames, 1, 2), np.broadcast_to(np.eye(q), frames.shape), atol=1e-12
+    )
     np.testing.assert_allclose(frames[:, 0], tangents, atol=1e-12)
 
 

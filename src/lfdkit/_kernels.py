@@ -47,8 +47,10 @@ def check_chunk(p, t, verts, v0, n_seg, c, b, same_direction, tol, best, out_pt_
     return best, best_seg
 
 
-@numba.njit(parallel=True, cache=True)
-def nearest_crossings(
+@numba.njit(cache=True, inline="always")
+def _one_query(
+    i,
+    max_chunks,
     points,
     tangents,
     verts,
@@ -65,71 +67,197 @@ def nearest_crossings(
     out_seg,
     out_dist,
 ):
+    """All polylines for query ``i`` (see :func:`nearest_crossings`)."""
+    q = points.shape[1]
+    n = n_seg.shape[0]
+    p = points[i]
+    t = tangents[i]
+    lower = np.empty(max_chunks)
+    for j in range(n):
+        c0 = chunk_offset[j]
+        first_c = -1
+        first_lb = np.inf
+        for c in range(n_chunks[j]):
+            along = 0.0
+            d2 = 0.0
+            for k in range(q):
+                diff = centres[c0 + c, k] - p[k]
+                along += diff * t[k]
+                d2 += diff * diff
+            # Widen each ball by the on-plane tolerance so that a vertex counted
+            # as lying on the plane is never in a pruned chunk.
+            r = radii[c0 + c] + tol
+            lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
+            lower[c] = lb
+            if lb < first_lb:
+                first_lb = lb
+                first_c = c
+        if first_c < 0:
+            continue
+        best, seg = check_chunk(
+            p,
+            t,
+            verts,
+            vert_offset[j],
+            n_seg[j],
+            first_c,
+            b,
+            same_direction,
+            tol,
+            np.inf,
+            out_pt[i, j],
+        )
+        for c in range(n_chunks[j]):
+            if c != first_c and lower[c] < best:
+                d, s = check_chunk(
+                    p,
+                    t,
+                    verts,
+                    vert_offset[j],
+                    n_seg[j],
+                    c,
+                    b,
+                    same_direction,
+                    tol,
+                    best,
+                    out_pt[i, j],
+                )
+                if s >= 0:
+                    best, seg = d, s
+        if seg >= 0:
+            out_seg[i, j] = seg
+            out_dist[i, j] = best
+
+
+@numba.njit(cache=True)
+def _max_chunks(n_chunks):
+    out = 0
+    for j in range(n_chunks.shape[0]):
+        out = max(out, n_chunks[j])
+    return out
+
+
+@numba.njit(cache=True)
+def _serial(
+    points,
+    tangents,
+    verts,
+    vert_offset,
+    n_seg,
+    centres,
+    radii,
+    chunk_offset,
+    n_chunks,
+    b,
+    same_direction,
+    tol,
+    out_pt,
+    out_seg,
+    out_dist,
+):
+    mc = _max_chunks(n_chunks)
+    for i in range(points.shape[0]):
+        _one_query(
+            i,
+            mc,
+            points,
+            tangents,
+            verts,
+            vert_offset,
+            n_seg,
+            centres,
+            radii,
+            chunk_offset,
+            n_chunks,
+            b,
+            same_direction,
+            tol,
+            out_pt,
+            out_seg,
+            out_dist,
+        )
+
+
+@numba.njit(parallel=True, cache=True)
+def _parallel(
+    points,
+    tangents,
+    verts,
+    vert_offset,
+    n_seg,
+    centres,
+    radii,
+    chunk_offset,
+    n_chunks,
+    b,
+    same_direction,
+    tol,
+    out_pt,
+    out_seg,
+    out_dist,
+):
+    mc = _max_chunks(n_chunks)
+    for i in numba.prange(points.shape[0]):
+        _one_query(
+            i,
+            mc,
+            points,
+            tangents,
+            verts,
+            vert_offset,
+            n_seg,
+            centres,
+            radii,
+            chunk_offset,
+            n_chunks,
+            b,
+            same_direction,
+            tol,
+            out_pt,
+            out_seg,
+            out_dist,
+        )
+
+
+def nearest_crossings(
+    points,
+    tangents,
+    verts,
+    vert_offset,
+    n_seg,
+    centres,
+    radii,
+    chunk_offset,
+    n_chunks,
+    b,
+    same_direction,
+    tol,
+    out_pt,
+    out_seg,
+    out_dist,
+) -> None:
     """Nearest crossing of each query's normal hyperplane with each polyline.
 
     See :class:`lfdkit.geometry.PolylineSet` for the method; outputs are written in
-    place (``out_pt`` (m, n, q), ``out_seg`` (m, n), ``out_dist`` (m, n)).
+    place (``out_pt`` (m, n, q), ``out_seg`` (m, n), ``out_dist`` (m, n)). Small
+    problems run serially: starting threads costs more than it saves there, and
+    far more when the cores are busy.
     """
-    m, q = points.shape
-    n = n_seg.shape[0]
-    max_chunks = 0
-    for j in range(n):
-        max_chunks = max(max_chunks, n_chunks[j])
-    for i in numba.prange(m):
-        p = points[i]
-        t = tangents[i]
-        lower = np.empty(max_chunks)
-        for j in range(n):
-            c0 = chunk_offset[j]
-            first_c = -1
-            first_lb = np.inf
-            for c in range(n_chunks[j]):
-                along = 0.0
-                d2 = 0.0
-                for k in range(q):
-                    diff = centres[c0 + c, k] - p[k]
-                    along += diff * t[k]
-                    d2 += diff * diff
-                # Widen each ball by the on-plane tolerance so that a vertex counted
-                # as lying on the plane is never in a pruned chunk.
-                r = radii[c0 + c] + tol
-                lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
-                lower[c] = lb
-                if lb < first_lb:
-                    first_lb = lb
-                    first_c = c
-            if first_c < 0:
-                continue
-            best, seg = check_chunk(
-                p,
-                t,
-                verts,
-                vert_offset[j],
-                n_seg[j],
-                first_c,
-                b,
-                same_direction,
-                tol,
-                np.inf,
-                out_pt[i, j],
-            )
-            for c in range(n_chunks[j]):
-                if c != first_c and lower[c] < best:
-                    d, s = check_chunk(
-                        p,
-                        t,
-                        verts,
-                        vert_offset[j],
-                        n_seg[j],
-                        c,
-                        b,
-                        same_direction,
-                        tol,
-                        best,
-                        out_pt[i, j],
-                    )
-                    if s >= 0:
-                        best, seg = d, s
-            if seg >= 0:
-                out_seg[i, j] = seg
-                out_dist[i, j] = best
+    kernel = _parallel if points.shape[0] * n_seg.shape[0] >= 20_000 else _serial
+    kernel(
+        points,
+        tangents,
+        verts,
+        vert_offset,
+        n_seg,
+        centres,
+        radii,
+        chunk_offset,
+        n_chunks,
+        b,
+        same_direction,
+        tol,
+        out_pt,
+        out_seg,
+        out_dist,
+    )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -205,7 +207,10 @@ def _assert_equivariant(demos, f, k, **params):
     scale = np.abs(expected).max()
     np.testing.assert_allclose(moved.path_, expected, atol=1e-6 * scale)
     assert moved.residual_ == pytest.approx(k**2 * ref.residual_, rel=1e-6, abs=1e-12 * k**2)
-    np.testing.assert_array_equal(moved.support_, ref.support_)
+    # At the very ends a demo can end exactly on the last normal (median consensus):
+    # whether it counts is decided within rounding.
+    np.testing.assert_array_equal(moved.support_[1:-1], ref.support_[1:-1])
+    assert np.abs(moved.support_ - ref.support_).max() <= 1
 
 
 @SETTINGS
@@ -266,9 +271,7 @@ def test_identical_demos_property(seed, q, n_copies):
     assert dist_to(mp.path_, demo).max() < 1e-8
     np.testing.assert_allclose(mp.path_[[0, -1]], demo[[0, -1]], atol=1e-8)
     assert mp.residual_ < 1e-16
-    np.testing.assert_allclose(
-        np.diff(arc_length(mp.path_)), path_length(mp.path_) / 39, rtol=1e-9
-    )
+    np.testing.assert_allclose(np.diff(arc_length(mp.path_)), path_length(mp.path_) / 39, rtol=1e-9)
 
 
 # ----------------------------------------------------------------- init independence
@@ -357,7 +360,7 @@ def test_reversed_first_demo_sets_the_direction(band):
 
 
 def test_orient_as_given_does_not_flip(band):
-    demos, _, fitted = band
+    demos, _, _ = band
     mixed = [d[::-1].copy() if j == 3 else d for j, d in enumerate(demos)]
     mp = MeanPath(n_points=100, orient="as_given", init=0).fit(mixed)
     assert not mp.reversed_.any()
@@ -373,7 +376,7 @@ def _staggered_demos():
     x_starts = np.array([0.0, 0.1, 0.2, 0.3, 2.5])  # one starts late
     x_stops = np.array([7.5, 9.7, 9.8, 9.9, 10.0])  # one stops early
     demos = []
-    for a, b in zip(x_starts, x_stops):
+    for a, b in zip(x_starts, x_stops, strict=True):
         piece = nominal[(nominal[:, 0] >= a) & (nominal[:, 0] <= b)]
         demos.append(resample(offset(piece, smooth_deviation(rng, len(piece), 0.05)), 120))
     return demos, nominal, x_starts, x_stops
@@ -386,7 +389,7 @@ def _x_at_centre_arc_position(nominal, xs, centre):
 
 
 def test_path_starts_and_stops_at_median_consensus():
-    demos, nominal, x_starts, x_stops = _staggered_demos()
+    demos, nominal, _, _ = _staggered_demos()
     mp = MeanPath(n_points=100, center="median").fit(demos)
     # The median start/stop, not the earliest (0.0 / 7.5) or latest (2.5 / 10.0).
     assert mp.path_[0, 0] == pytest.approx(0.2, abs=0.03)
@@ -421,7 +424,7 @@ def _densified(demos, seed=0):
     dense = []
     for d in demos:
         parts = [d[:1]]
-        for a, b in zip(d[:-1], d[1:]):
+        for a, b in itertools.pairwise(d):
             u = np.sort(rng.uniform(0, 1, int(rng.integers(0, 41))) ** 3)
             parts.extend((a + u[:, None] * (b - a), b[None]))
         dense.append(np.vstack(parts))
@@ -531,7 +534,7 @@ def test_max_iter_and_stop_reasons(band):
 
 
 def test_median_history_shapes_and_3d_distances():
-    demos, nominal = noisy_band(seed=5, n_demos=5, nominal=helix(turns=0.8))
+    demos, _ = noisy_band(seed=5, n_demos=5, nominal=helix(turns=0.8))
     mp = MeanPath(n_points=40, center="median").fit(demos)
     assert mp.distances_.shape == (5, 40, 2)
     assert mp.innovation_history_.shape == (mp.n_iter_ + 1,)
@@ -561,11 +564,11 @@ def test_errors_in_demos(two_demos):
         MeanPath().fit([a, np.column_stack((b, b[:, 0]))])
     with pytest.raises(ValueError, match=r"demos\[1\].*zero length"):
         MeanPath().fit([a, np.tile(b[:1], (5, 1))])
-    with pytest.raises(ValueError, match="demos.*one 2-D array"):
+    with pytest.raises(ValueError, match=r"demos.*one 2-D array"):
         MeanPath().fit(a)
-    with pytest.raises(ValueError, match="demos.*at least 1"):
+    with pytest.raises(ValueError, match=r"demos.*at least 1"):
         MeanPath().fit([])
-    with pytest.raises(TypeError, match="demos"):
+    with pytest.raises(TypeError, match=r"demos"):
         MeanPath().fit("not demos")
     with pytest.raises(ValueError, match=r"demos\[0\].*dimensions"):
         MeanPath().fit([a[:, :1], b[:, :1]])
@@ -602,9 +605,9 @@ def test_bad_parameters(two_demos, params, exc, match):
 
 def test_normals_that_meet_no_demo(two_demos):
     far = np.column_stack((np.zeros(20), np.linspace(20.0, 30.0, 20)))  # perpendicular, far
-    with pytest.raises(ValueError, match="demos: no normal of the path meets any"):
+    with pytest.raises(ValueError, match=r"demos: no normal of the path meets any"):
         MeanPath(n_points=20, init=far, ends="normal", extend=0.0).fit(two_demos)
-    with pytest.raises(ValueError, match="demos"):
+    with pytest.raises(ValueError, match=r"demos"):
         MeanPath(n_points=20, init=far).fit(two_demos)
 
 
@@ -612,7 +615,7 @@ def test_min_support_unreachable():
     a = np.column_stack((np.linspace(0, 4, 20), np.zeros(20)))
     b = np.column_stack((np.linspace(6, 10, 20), np.ones(20)))  # no overlap with a
     init = np.column_stack((np.linspace(0, 10, 30), np.full(30, 0.5)))
-    with pytest.raises(ValueError, match="min_support"):
+    with pytest.raises(ValueError, match=r"min_support"):
         MeanPath(n_points=30, init=init, min_support=1.0, extend=0.0, ends="normal").fit([a, b])
     mp = MeanPath(n_points=30, init=init, min_support=0.5, extend=0.0, ends="normal").fit([a, b])
     assert mp.support_.max() == 1
