@@ -207,6 +207,33 @@ def test_chunk_size_does_not_change_result():
     assert results[0].found.any() and not results[0].found.all()
 
 
+def test_large_batches_match_small_batches_and_brute_force():
+    # Many (query, polyline) pairs take the parallel loop, few the serial one:
+    # both must give the same answers.
+    rng = np.random.default_rng(21)
+    polys = [make_polyline(rng, kind, 3, n) for kind, n in (("smooth", 400), ("jagged", 90))]
+    polys += [make_polyline(rng, "repeats", 3, 30), make_polyline(rng, "uneven", 3, 200)]
+    pts, tan = make_queries(rng, polys, 6000, "near")
+    pset = PolylineSet(polys)
+    big = pset.intersect(pts, tan, same_direction=True)
+    parts = [pset.intersect(pts[i : i + 500], tan[i : i + 500], same_direction=True)
+             for i in range(0, len(pts), 500)]  # fmt: skip
+    small_seg = np.concatenate([h.segment for h in parts])
+    np.testing.assert_array_equal(big.found, small_seg >= 0)
+    # Up to rounding (the two compiled loops may round differently, which decides
+    # ties such as a crossing at the vertex shared by two segments).
+    np.testing.assert_allclose(
+        big.distance, np.concatenate([h.distance for h in parts]), rtol=1e-12
+    )
+    np.testing.assert_allclose(big.points, np.concatenate([h.points for h in parts]), atol=1e-12)
+    assert np.mean(big.segment == small_seg) > 0.99
+    assert big.found.mean() > 0.2
+    idx = rng.choice(len(pts), 40, replace=False)
+    ref = reference_crossings(pts[idx], tan[idx], polys, True)
+    sub = type(big)(big.points[idx], big.segment[idx], big.distance[idx])
+    assert_hits_match(sub, ref, pts[idx], tan[idx], polys)
+
+
 def test_long_polyline_default_chunks_match_brute_force():
     rng = np.random.default_rng(11)
     t = np.linspace(0, 6 * np.pi, 2000)
