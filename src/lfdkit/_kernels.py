@@ -7,7 +7,7 @@ import numpy as np
 
 
 @numba.njit(cache=True, inline="always")
-def check_chunk(p, t, verts, v0, n_seg, c, b, same_direction, tol, best, out_pt_row):
+def _check_chunk(p, t, verts, v0, n_seg, c, b, same_direction, tol, best, out_pt_row):
     """Best crossing of chunk ``c``; returns (distance, segment) improving on ``best``."""
     q = p.shape[0]
     best_seg = -1
@@ -48,26 +48,10 @@ def check_chunk(p, t, verts, v0, n_seg, c, b, same_direction, tol, best, out_pt_
 
 
 @numba.njit(cache=True, inline="always")
-def _one_query(
-    i,
-    max_chunks,
-    points,
-    tangents,
-    verts,
-    vert_offset,
-    n_seg,
-    centres,
-    radii,
-    chunk_offset,
-    n_chunks,
-    b,
-    same_direction,
-    tol,
-    out_pt,
-    out_seg,
-    out_dist,
-):
+def _one_query(i, max_chunks, points, tangents, polylines, b, same_direction, tol, out):
     """All polylines for query ``i`` (see :func:`nearest_crossings`)."""
+    verts, vert_offset, n_seg, centres, radii, chunk_offset, n_chunks = polylines
+    out_pt, out_seg, out_dist = out
     q = points.shape[1]
     n = n_seg.shape[0]
     p = points[i]
@@ -94,7 +78,7 @@ def _one_query(
                 first_c = c
         if first_c < 0:
             continue
-        best, seg = check_chunk(
+        best, seg = _check_chunk(
             p,
             t,
             verts,
@@ -109,7 +93,7 @@ def _one_query(
         )
         for c in range(n_chunks[j]):
             if c != first_c and lower[c] < best:
-                d, s = check_chunk(
+                d, s = _check_chunk(
                     p,
                     t,
                     verts,
@@ -138,126 +122,27 @@ def _max_chunks(n_chunks):
 
 
 @numba.njit(cache=True)
-def _serial(
-    points,
-    tangents,
-    verts,
-    vert_offset,
-    n_seg,
-    centres,
-    radii,
-    chunk_offset,
-    n_chunks,
-    b,
-    same_direction,
-    tol,
-    out_pt,
-    out_seg,
-    out_dist,
-):
-    mc = _max_chunks(n_chunks)
+def _serial(points, tangents, polylines, b, same_direction, tol, out):
+    max_chunks = _max_chunks(polylines[6])
     for i in range(points.shape[0]):
-        _one_query(
-            i,
-            mc,
-            points,
-            tangents,
-            verts,
-            vert_offset,
-            n_seg,
-            centres,
-            radii,
-            chunk_offset,
-            n_chunks,
-            b,
-            same_direction,
-            tol,
-            out_pt,
-            out_seg,
-            out_dist,
-        )
+        _one_query(i, max_chunks, points, tangents, polylines, b, same_direction, tol, out)
 
 
 @numba.njit(parallel=True, cache=True)
-def _parallel(
-    points,
-    tangents,
-    verts,
-    vert_offset,
-    n_seg,
-    centres,
-    radii,
-    chunk_offset,
-    n_chunks,
-    b,
-    same_direction,
-    tol,
-    out_pt,
-    out_seg,
-    out_dist,
-):
-    mc = _max_chunks(n_chunks)
+def _parallel(points, tangents, polylines, b, same_direction, tol, out):
+    max_chunks = _max_chunks(polylines[6])
     for i in numba.prange(points.shape[0]):
-        _one_query(
-            i,
-            mc,
-            points,
-            tangents,
-            verts,
-            vert_offset,
-            n_seg,
-            centres,
-            radii,
-            chunk_offset,
-            n_chunks,
-            b,
-            same_direction,
-            tol,
-            out_pt,
-            out_seg,
-            out_dist,
-        )
+        _one_query(i, max_chunks, points, tangents, polylines, b, same_direction, tol, out)
 
 
-def nearest_crossings(
-    points,
-    tangents,
-    verts,
-    vert_offset,
-    n_seg,
-    centres,
-    radii,
-    chunk_offset,
-    n_chunks,
-    b,
-    same_direction,
-    tol,
-    out_pt,
-    out_seg,
-    out_dist,
-) -> None:
+def nearest_crossings(points, tangents, polylines, b, same_direction, tol, out) -> None:
     """Nearest crossing of each query's normal hyperplane with each polyline.
 
-    See :class:`lfdkit.geometry.PolylineSet` for the method; outputs are written in
-    place (``out_pt`` (m, n, q), ``out_seg`` (m, n), ``out_dist`` (m, n)). Small
-    problems run serially: starting threads costs more than it saves there, and
-    far more when the cores are busy.
+    See :class:`lfdkit.geometry.PolylineSet` for the method. ``polylines`` is the
+    tuple (verts, vert_offset, n_seg, centres, radii, chunk_offset, n_chunks);
+    results are written in place into ``out`` = (points (m, n, q), segment
+    (m, n), distance (m, n)). Small problems run serially: starting threads costs
+    more than it saves there, and far more when the cores are busy.
     """
-    kernel = _parallel if points.shape[0] * n_seg.shape[0] >= 20_000 else _serial
-    kernel(
-        points,
-        tangents,
-        verts,
-        vert_offset,
-        n_seg,
-        centres,
-        radii,
-        chunk_offset,
-        n_chunks,
-        b,
-        same_direction,
-        tol,
-        out_pt,
-        out_seg,
-        out_dist,
-    )
+    kernel = _parallel if points.shape[0] * polylines[2].shape[0] >= 20_000 else _serial
+    kernel(points, tangents, polylines, b, same_direction, tol, out)

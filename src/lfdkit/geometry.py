@@ -345,6 +345,15 @@ class PolylineSet:
         )
         # Inflate the balls by more than any rounding in the tests below.
         self._radii = radii.max(axis=1) + 1e-9 * self._scale
+        self._kernel_data = (
+            self._verts,
+            self._vert_offset,
+            self._n_seg,
+            self._centres,
+            self._radii,
+            self._chunk_offset,
+            self._n_chunks,
+        )
 
     def intersect(
         self, points: np.ndarray, tangents: np.ndarray, *, same_direction: bool = False
@@ -380,19 +389,11 @@ class PolylineSet:
         nearest_crossings(
             np.ascontiguousarray(points, dtype=np.float64),
             np.ascontiguousarray(tangents, dtype=np.float64),
-            self._verts,
-            self._vert_offset,
-            self._n_seg,
-            self._centres,
-            self._radii,
-            self._chunk_offset,
-            self._n_chunks,
+            self._kernel_data,
             self._b,
             bool(same_direction),
             1e-12 * scale,
-            out_pt,
-            out_seg,
-            out_dist,
+            (out_pt, out_seg, out_dist),
         )
         return NormalHits(points=out_pt, segment=out_seg, distance=out_dist)
 
