@@ -24,16 +24,16 @@ from pathlib import Path
 
 import numpy as np
 
-from lfdkit.datasets import MIMIC_DATASETS, load_dataset
+from lfdkit.datasets import MIMIC_DATASETS
 from lfdkit.evaluation import (
     LFDKIT_METHODS,
+    comparison_figures,
     format_table,
     gmr_components,
     run_comparison,
     summarize,
 )
-from lfdkit.mimic import GMR, MeanPath
-from lfdkit.plot import comparison_figure, mean_path_figure
+from lfdkit.mimic import MeanPath
 
 #: Data sets with outliers, where the issue asks for half the best peer's e2,
 #: and the robust centre suited to each: one-sided residuals with no other noise
@@ -226,7 +226,8 @@ def main(argv: list[str] | None = None) -> int:
                 f"{r['iterations']:>6} {r['us_per_demo_point_iteration']:>14.3f}"
             )
 
-    _figures(runs, args.output)
+    for filename, fig in comparison_figures(runs, seed=0, gmr_tube=True):
+        fig.savefig(args.output / filename, dpi=110)
     result = {
         "benchmark": "mimic",
         "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
@@ -245,36 +246,6 @@ def main(argv: list[str] | None = None) -> int:
     out.write_text(json.dumps(result, indent=1))
     print(f"\nwrote {out} and figures in {args.output}", file=sys.stderr)
     return 0
-
-
-def _figures(runs, output: Path) -> None:
-    """One comparison panel per data set (seed 0), plus Mean-Path detail panels."""
-    for name in dict.fromkeys(r.dataset for r in runs):
-        demoset = load_dataset(name, seed=0)
-        paths = {
-            r.method: r.path for r in runs if r.dataset == name and r.seed == 0 and not r.error
-        }
-        fig = comparison_figure(
-            demoset.demos,
-            paths,
-            nominal=demoset.nominal,
-            walls=demoset.walls,
-            units=demoset.units,
-            title=f"{name} (seed 0)",
-        )
-        fig.savefig(output / f"{name}.png", dpi=110)
-        if demoset.demos[0].shape[1] == 2:
-            mp = MeanPath().fit(demoset.demos)
-            gmr = GMR(n_components=gmr_components(demoset, 0), random_state=0).fit(demoset.demos)
-            fig = mean_path_figure(
-                demoset.demos,
-                mp,
-                units=demoset.units,
-                nominal=demoset.nominal,
-                gmr=gmr,
-                title=f"{name}: Mean-Path and GMR",
-            )
-            fig.savefig(output / f"{name}_mean_path.png", dpi=110)
 
 
 if __name__ == "__main__":

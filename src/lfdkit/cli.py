@@ -30,11 +30,15 @@ def _say(args: argparse.Namespace, message: str, *, level: int = 1) -> None:
 
 def _demo(args: argparse.Namespace) -> None:
     # Heavy imports here so that `lfdkit --help` stays instant.
-    from lfdkit.datasets import MIMIC_DATASETS, load_dataset
+    from lfdkit.datasets import MIMIC_DATASETS
     from lfdkit.demos import atomic_write
-    from lfdkit.evaluation import LFDKIT_METHODS, format_table, run_comparison, summarize
-    from lfdkit.mimic import MeanPath
-    from lfdkit.plot import comparison_figure, mean_path_figure
+    from lfdkit.evaluation import (
+        LFDKIT_METHODS,
+        comparison_figures,
+        format_table,
+        run_comparison,
+        summarize,
+    )
 
     out: Path = args.output
     if out.exists() and not out.is_dir():
@@ -72,32 +76,8 @@ def _demo(args: argparse.Namespace) -> None:
         )
         _say(args, f"wrote {path}", level=2)
 
-    for name in names:
-        demoset = load_dataset(name, seed=args.seed)
-        paths = {r.method: r.path for r in runs if r.dataset == demoset.name and not r.error}
-        save_figure(
-            comparison_figure(
-                demoset.demos,
-                paths,
-                nominal=demoset.nominal,
-                walls=demoset.walls,
-                units=demoset.units,
-                title=f"{name}: generalized paths",
-            ),
-            out / f"{name}.png",
-        )
-        if demoset.demos[0].shape[1] == 2:
-            mp = MeanPath().fit(demoset.demos)
-            save_figure(
-                mean_path_figure(
-                    demoset.demos,
-                    mp,
-                    units=demoset.units,
-                    nominal=demoset.nominal,
-                    title=f"{name}: Mean-Path",
-                ),
-                out / f"{name}_mean_path.png",
-            )
+    for filename, fig in comparison_figures(runs, seed=args.seed):
+        save_figure(fig, out / filename)
     atomic_write(out / "mimic_table.txt", lambda f: f.write(table + "\n"), overwrite=args.force)
     payload = {"seed": args.seed, "summary": rows, "runs": [r.record() for r in runs]}
     atomic_write(

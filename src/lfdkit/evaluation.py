@@ -9,19 +9,22 @@ of points evenly in arc length before it is scored, so that sums over points
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from lfdkit import metrics
 from lfdkit.datasets import DemoSet, load_dataset
 from lfdkit.geometry import resample
 from lfdkit.mimic import GMR, NLPCA, MeanPath, pointwise_average, select_n_components
+from lfdkit.plot import comparison_figure, mean_path_figure
 
 __all__ = [
     "LFDKIT_METHODS",
     "MethodRun",
+    "comparison_figures",
     "format_table",
     "gmr_components",
     "run_comparison",
@@ -235,3 +238,46 @@ def format_table(rows: Sequence[dict]) -> str:
             e1, e2, t = "failed", row["errors"][0][:18], ""
         lines.append(f"{name:<20} {row['method']:<22} {e1:>18} {e2:>18} {pen:>9} {t:>9}")
     return "\n".join(lines)
+
+
+def comparison_figures(
+    runs: Sequence[MethodRun], seed: int, *, gmr_tube: bool = False
+) -> Iterator[tuple[str, Figure]]:
+    """The figures of a comparison, as (file name, figure) pairs, for one seed.
+
+    Per data set: every method's path on the demonstrations (``NAME.png``) and,
+    in 2-D, the Mean-Path with its Distance-Space and convergence
+    (``NAME_mean_path.png``), with the GMR covariance tube if ``gmr_tube``.
+    """
+    for name in dict.fromkeys(r.dataset for r in runs):
+        demoset = load_dataset(name, seed=seed)
+        paths = {
+            r.method: r.path for r in runs if r.dataset == name and r.seed == seed and not r.error
+        }
+        yield (
+            f"{name}.png",
+            comparison_figure(
+                demoset.demos,
+                paths,
+                nominal=demoset.nominal,
+                walls=demoset.walls,
+                units=demoset.units,
+                title=f"{name} (seed {seed})",
+            ),
+        )
+        if demoset.demos[0].shape[1] == 2:
+            gmr = None
+            if gmr_tube:
+                k = gmr_components(demoset, seed)
+                gmr = GMR(n_components=k, random_state=seed).fit(demoset.demos)
+            yield (
+                f"{name}_mean_path.png",
+                mean_path_figure(
+                    demoset.demos,
+                    MeanPath().fit(demoset.demos),
+                    units=demoset.units,
+                    nominal=demoset.nominal,
+                    gmr=gmr,
+                    title=f"{name}: Mean-Path" + (" and GMR" if gmr_tube else ""),
+                ),
+            )
