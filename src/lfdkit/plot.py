@@ -22,7 +22,9 @@ __all__ = [
     "draw_gmr_tube",
     "draw_paths",
     "draw_residual_history",
+    "draw_rollouts",
     "mean_path_figure",
+    "retargeting_figure",
 ]
 
 #: Consistent colours per method across every figure.
@@ -38,6 +40,9 @@ METHOD_COLORS = {
     "soft-DTW (tslearn)": "#e377c2",
 }
 DEMO_COLOR = "0.65"
+#: The generalized path a DMP is trained on, and its rollouts to new goals.
+PATH_COLOR = "#1f77b4"
+ROLLOUT_COLORS = ("#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2")
 NOMINAL_STYLE = {"color": "k", "linestyle": "--", "linewidth": 1.4, "label": "ground truth"}
 
 
@@ -185,4 +190,95 @@ def mean_path_figure(
     ax0.legend(fontsize=8)
     draw_distance_space(ax1, mean_path, units)
     draw_residual_history(ax2, mean_path)
+    return fig
+
+
+def draw_rollouts(
+    ax: Axes,
+    path: np.ndarray,
+    rollouts: Sequence[np.ndarray],
+    *,
+    goal_names: Sequence[str] | None = None,
+) -> None:
+    """The training path from A to B and DMP rollouts to new goals B′, B″, … (2-D or 3-D).
+
+    Parameters
+    ----------
+    ax : Axes
+    path : ndarray, shape (n, q)
+        The generalized path the DMP was trained on.
+    rollouts : sequence of ndarray, each (m, q)
+        Rollout positions; each ends at its goal.
+    goal_names : sequence of str, optional
+        Name of each rollout's goal (default ``B′``, ``B″``, …), shown at the
+        goal and in the legend as ``DMP → name``.
+    """
+    ax.plot(*_xy(path), color=PATH_COLOR, linewidth=2.0, label="generalized path")
+    ax.plot(*_xy(path[:1]), "ko", markersize=5)
+    ax.annotate("A", path[0, :2], textcoords="offset points", xytext=(-12, 4))
+    ax.plot(*_xy(path[-1:]), "ks", markersize=5)
+    ax.annotate("B", path[-1, :2], textcoords="offset points", xytext=(6, 4))
+    for i, positions in enumerate(rollouts):
+        color = ROLLOUT_COLORS[i % len(ROLLOUT_COLORS)]
+        name = goal_names[i] if goal_names is not None else "B" + "\u2032" * (i + 1)
+        ax.plot(*_xy(positions), "--", color=color, linewidth=1.6, label=f"DMP → {name}")
+        ax.plot(*_xy(positions[-1:]), "s", color=color, markersize=5)
+        ax.annotate(name, positions[-1, :2], textcoords="offset points", xytext=(6, -10))
+
+
+def retargeting_figure(
+    demos: Sequence[np.ndarray] | None,
+    path: np.ndarray,
+    path_times: np.ndarray,
+    rollouts: Sequence[tuple[np.ndarray, np.ndarray]],
+    *,
+    units: str = "m",
+    title: str = "",
+    goal_names: Sequence[str] | None = None,
+) -> Figure:
+    """Demonstrations → generalized path → DMP to new goals, like thesis Fig 3.15 and 5.12.
+
+    Left: the demonstrations, the generalized path from A to B and the DMP
+    rollouts to new goals. Right: each coordinate over time, the path and the
+    rollouts, so that timing and smoothness can be judged.
+
+    Parameters
+    ----------
+    demos : sequence of ndarray, each (n_j, q), or None
+    path : ndarray, shape (n, q)
+        Generalized path (the DMP's training path), ``q`` 2 or 3.
+    path_times : ndarray, shape (n,)
+        Its times in seconds.
+    rollouts : sequence of (times (m,), positions (m, q))
+        DMP rollouts, times in seconds.
+    units : str
+        Unit of the coordinates.
+    title : str
+    goal_names : sequence of str, optional
+        Name of each rollout's goal (default ``B′``, ``B″``, …).
+    """
+    q = path.shape[1]
+    fig = Figure(figsize=(11.0, 4.8), layout="constrained")
+    grid = fig.add_gridspec(q, 2, width_ratios=(1.25, 1.0))
+    ax = fig.add_subplot(grid[:, 0], projection="3d" if q == 3 else None)
+    if demos:
+        draw_demos(ax, demos)
+    draw_rollouts(ax, path, [positions for _, positions in rollouts], goal_names=goal_names)
+    _axis_labels(ax, q, units)
+    if q == 2:
+        ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=8, loc="best")
+    ax.set_title(title)
+    names = ("x", "y", "z")
+    for k in range(q):
+        axk = fig.add_subplot(grid[k, 1])
+        axk.plot(path_times, path[:, k], color=PATH_COLOR, linewidth=2.0)
+        for i, (times, positions) in enumerate(rollouts):
+            color = ROLLOUT_COLORS[i % len(ROLLOUT_COLORS)]
+            axk.plot(times, positions[:, k], "--", color=color, linewidth=1.4)
+        axk.set_ylabel(f"{names[k]} [{units}]")
+        if k == q - 1:
+            axk.set_xlabel("time [s]")
+        else:
+            axk.tick_params(labelbottom=False)
     return fig

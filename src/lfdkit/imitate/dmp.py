@@ -1,0 +1,857 @@
+"""Discrete Dynamic Movement Primitive (thesis §3.3, Ijspeert et al.).
+
+Formulation
+-----------
+One DMP moves all ``q`` dimensions with one shared phase. In the
+*normalised time* ``s = t / (τ D)`` (``D`` the duration of the training
+path, ``τ`` the temporal scaling; ``s`` runs from 0 to 1 over the movement)
+each dimension obeys the thesis's critically damped transformation system
+and canonical system (eq. 3.6, 3.8, 3.11)::
+
+    y'' = k (g − y) − c y' + f(s),          Z' = −α Z,  Z(0) = 1,
+    f(s) = M · Z Σᵢ wᵢ ψᵢ(Z) / Σᵢ ψᵢ(Z),     ψᵢ(Z) = exp(−hᵢ (Z − cᵢ)²),
+
+where ``'`` is ``d/ds``. With ``τ D = 1`` this is the thesis's equation with
+``τ = 1`` literally. Writing it in normalised time makes ``k``, ``c`` and
+``α`` independent of how long the movement takes: the thesis's ``k = 156.25``,
+``c = 25`` (critically damped, ``c² = 4k``) fit a 1 s and a 10 s path alike,
+and ``τ`` rescales time only, never the path's shape (the thesis's eq. 3.6 uses
+``τ`` as a mass, which would change the damping ratio with the duration).
+
+``M`` maps the learned forcing to a new start ``y0`` and goal ``g``:
+
+* ``scaling="per_dimension"`` (the thesis): ``M = diag((g − y0) / (g_d − y0_d))``,
+  the thesis's factor ``(g − y0)`` over the training displacement. Exact for
+  goals along the training displacement; but a dimension whose training
+  displacement is (near) zero cannot be scaled, and one whose displacement
+  changes sign mirrors the shape in that dimension only.
+* ``scaling="spatial"``: ``M = σ R``, with ``R`` the smallest rotation taking
+  the training start→goal direction onto the new one and ``σ`` the ratio of
+  their lengths: the whole shape is rotated and scaled rigidly, so it never
+  shears or mirrors. Use it when the task has no preferred axes (drawing,
+  sweeping on a table, LASA shapes) or when a dimension of the training
+  displacement is near zero; use ``per_dimension`` when the axes mean
+  something (e.g. height must stay height) and goals move mainly along the
+  training displacement.
+
+Learning (thesis eq. 3.13–3.14): the target forcing ``F = y_d'' − k (g_d − y_d)
++ c y_d'`` of the training path, with velocities and accelerations by
+second-order finite differences (:func:`numpy.gradient`, non-uniform times
+allowed); weights by ridge-regularised linear least squares on the design
+matrix ``X[t, i] = Z_t ψᵢ(Z_t) / Σⱼ ψⱼ(Z_t)``. The weights are stored in
+absolute units (``weights_``); the thesis's ``wᵢ`` for its input ``u`` equal
+``weights_ / (g_d − y0_d)``.
+
+With ``end="rest"`` (default) the least squares are solved subject to two
+linear equality constraints per dimension: the reproduction is at the goal
+with zero velocity at ``s = 1``. Because the rollout from rest is an affine
+map of the reproduction (see below), every rollout then ends exactly at its
+goal at ``t = τ D``, for any goal. ``end="free"`` gives the thesis's plain
+least squares; its end point then misses the goal by the fit error at
+``s = 1`` and converges to it afterwards.
+
+Exact rollout
+-------------
+The transformation system is linear and its forcing a known function of ``s``.
+Over a step ``h`` the state ``x = (y − g, y')`` moves exactly as::
+
+    x(s + h) = e^{A h} x(s) + ∫₀ʰ e^{A (h − σ)} B f(s + σ) dσ,   A = [[0, 1], [−k, −c]]
+
+The integral is evaluated by Gauss–Legendre quadrature (panels no longer than
+``0.01``, four nodes each: error below 1e-12 relative for the smooth forcing),
+so :meth:`DMP.rollout` and :meth:`DMP.step` are exact discretisations, not
+Euler or Runge–Kutta approximations, and agree with each other to round-off.
+
+Two more facts make rollouts cheap. The response is linear in the initial
+state and in the forcing, and the forcing is ``M`` times a fixed function of
+``s``; so for a grid of ``n`` steps the learned forced response and the
+transition powers ``e^{A s_j}`` are computed once (a linear recursion run as a
+second-order IIR filter, :func:`scipy.signal.lfilter`) and cached, and a
+rollout for any start, goal and initial velocity is two small matrix products.
+In particular, from rest ``y(s) = g + M (y_rep(s) − g_d)``: every new goal
+gets an affine copy of the reproduction ``y_rep``.
+"""
+
+from __future__ import annotations
+
+import warnings
+from functools import lru_cache
+from typing import Any, Literal, NamedTuple
+
+import numpy as np
+from scipy import linalg
+from scipy.interpolate import make_interp_spline
+from scipy.signal import lfilter
+from sklearn.base import BaseEstimator
+from sklearn.utils.validation import check_is_fitted
+
+from lfdkit._validation import check_path, check_positive
+from lfdkit.geometry import arc_length, path_length, segment_lengths
+
+__all__ = ["DMP", "Trajectory", "minimum_jerk_times"]
+
+Scaling = Literal["per_dimension", "spatial"]
+EndCondition = Literal["rest", "free"]
+Timing = Literal["uniform", "minimum_jerk"]
+
+_SCALINGS = ("per_dimension", "spatial")
+_END_CONDITIONS = ("rest", "free")
+_TIMINGS = ("uniform", "minimum_jerk")
+#: Gauss–Legendre nodes per quadrature panel and the longest panel (normalised time).
+_GAUSS_NODES = 4
+_MAX_PANEL = 0.01
+#: A training displacement below this fraction of the path's extent counts as zero.
+_ZERO_DISPLACEMENT = 1e-9
+#: Per-dimension scale factors beyond this magnitude trigger a warning.
+_LARGE_SCALE = 10.0
+_MAX_CACHED_GRIDS = 8
+
+
+class Trajectory(NamedTuple):
+    """A sampled movement.
+
+    Attributes
+    ----------
+    times : ndarray, shape (n_steps,)
+        Time of each sample in seconds, starting at 0.
+    positions : ndarray, shape (n_steps, q) or (n_rollouts, n_steps, q)
+        Positions, in the units of the training path.
+    velocities : ndarray, same shape as ``positions``
+        Velocities, units per second.
+    accelerations : ndarray, same shape as ``positions``
+        Accelerations, units per second squared.
+    """
+
+    times: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    accelerations: np.ndarray
+
+
+def minimum_jerk_times(path: Any, duration: float = 1.0) -> np.ndarray:
+    """Times at which a rest-to-rest minimum-jerk motion passes the path's points.
+
+    The arc length ``ℓ(t)`` follows ``L (10 u³ − 15 u⁴ + 6 u⁵)``, ``u = t / T``:
+    the motion starts and stops at rest, unlike the thesis's equal time steps
+    (constant speed), which a DMP starting at rest cannot follow at the ends.
+
+    Parameters
+    ----------
+    path : array_like, shape (n_points, q)
+        Path with distinct consecutive points.
+    duration : float
+        Total time ``T`` in seconds.
+
+    Returns
+    -------
+    ndarray, shape (n_points,)
+        Strictly increasing times from 0 to ``duration``.
+    """
+    points = check_path(path, "path", min_points=2, min_dims=1)
+    duration = check_positive(duration, "duration")
+    _check_distinct(points)
+    fraction = arc_length(points) / path_length(points)
+    # Invert the monotone quintic 10u³ − 15u⁴ + 6u⁵ by bisection, vectorised.
+    low, high = np.zeros_like(fraction), np.ones_like(fraction)
+    for _ in range(60):
+        mid = 0.5 * (low + high)
+        below = _minimum_jerk_law(mid)[0] < fraction
+        low = np.where(below, mid, low)
+        high = np.where(below, high, mid)
+    times = 0.5 * (low + high) * duration
+    times[0], times[-1] = 0.0, duration
+    return times
+
+
+def _transition(k: float, c: float, t: np.ndarray) -> np.ndarray:
+    """``e^{A t}`` for ``A = [[0, 1], [−k, −c]]``, closed form, shape (len(t), 2, 2).
+
+    ``e^{At} = e^{μt} (C(t) I + S(t) (A − μI))`` with ``μ = −c/2``,
+    ``δ² = μ² − k``, ``C = cosh δt``, ``S = sinh(δt)/δ`` (``cos``/``sin``
+    when under-damped; ``C = 1``, ``S = t`` when critically damped, as the
+    thesis's gains are).
+    """
+    t = np.asarray(t, dtype=np.float64)
+    mu = -0.5 * c
+    delta2 = mu * mu - k
+    root = np.sqrt(abs(delta2))
+    x = root * t
+    if abs(delta2) <= 1e-12 * k or np.all(np.abs(x) < 1e-4):
+        series = 1.0 + np.sign(delta2) * x * x / 6.0
+        cosine, sine = 1.0 + np.sign(delta2) * x * x / 2.0, t * series
+    elif delta2 > 0:
+        cosine, sine = np.cosh(x), np.sinh(x) / root
+    else:
+        cosine, sine = np.cos(x), np.sin(x) / root
+    decay = np.exp(mu * t)
+    out = np.empty((*t.shape, 2, 2))
+    out[..., 0, 0] = decay * (cosine - mu * sine)
+    out[..., 0, 1] = decay * sine
+    out[..., 1, 0] = -k * decay * sine
+    out[..., 1, 1] = decay * (cosine - (c + mu) * sine)
+    return out
+
+
+def _quadrature(h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes in ``[0, h]`` and their weights, panels ``<= _MAX_PANEL``."""
+    n_panels = max(1, int(np.ceil(h / _MAX_PANEL - 1e-9)))
+    x, w = np.polynomial.legendre.leggauss(_GAUSS_NODES)
+    width = h / n_panels
+    starts = width * np.arange(n_panels)[:, None]
+    nodes = (starts + 0.5 * width * (x + 1.0)).ravel()
+    weights = np.tile(0.5 * width * w, n_panels)
+    return nodes, weights
+
+
+def _step_operators(k: float, c: float, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact one-step operators for the spring over a normalised step ``h``.
+
+    Returns ``Φ = e^{Ah}`` (2, 2), the quadrature nodes ``σ`` (m,), and
+    ``Γ`` (m, 2) with ``Γ_m = w_m e^{A(h − σ_m)} B``, so that
+    ``x(s+h) = Φ x(s) + Σ_m Γ_m f(s + σ_m)``.
+    """
+    nodes, weights = _quadrature(h)
+    phi = _transition(k, c, np.array([h]))[0]
+    gamma = _transition(k, c, h - nodes)[:, :, 1] * weights[:, None]
+    return phi, nodes, gamma
+
+
+def _propagate(phi: np.ndarray, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
+    """Run ``x_{j+1} = Φ x_j + v_j`` as a second-order IIR filter.
+
+    Parameters
+    ----------
+    phi : ndarray, shape (2, 2)
+    x0 : ndarray, shape (2, m)
+    inputs : ndarray, shape (n - 1, 2, m)
+
+    Returns
+    -------
+    ndarray, shape (n, 2, m)
+
+    Notes
+    -----
+    ``(I − Φ z⁻¹)⁻¹ = (I − adj(Φ) z⁻¹) / (1 − tr(Φ) z⁻¹ + det(Φ) z⁻²)`` for a
+    2×2 ``Φ``, so each state is one call of :func:`scipy.signal.lfilter` on
+    the sequence ``(x0, v_0, v_1, …)`` followed by one matrix product.
+    """
+    sequence = np.concatenate([x0[None], inputs], axis=0)
+    denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+    filtered = lfilter([1.0], denominator, sequence, axis=0)
+    adjugate = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
+    states = filtered.copy()
+    states[1:] -= np.einsum("ab,nbm->nam", adjugate, filtered[:-1])
+    return states
+
+
+def _rotation_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Smallest rotation taking unit vector ``u`` onto unit vector ``v`` (any dimension).
+
+    Rotates in the plane spanned by ``u`` and ``v`` and leaves its orthogonal
+    complement fixed. For opposite vectors the plane is not defined: the
+    rotation by π is taken in the plane of ``u`` and the coordinate axis least
+    aligned with it (in 2-D this is the unique rotation, ``−I``).
+    """
+    q = u.size
+    if q == 1:
+        return np.array([[1.0 if u[0] * v[0] > 0 else -1.0]])
+    cos = float(np.clip(u @ v, -1.0, 1.0))
+    ortho = v - cos * u
+    sin = float(np.linalg.norm(ortho))
+    if sin < 1e-12:
+        if cos > 0:
+            return np.eye(q)
+        axis = np.zeros(q)
+        axis[int(np.argmin(np.abs(u)))] = 1.0
+        ortho = axis - (axis @ u) * u
+        sin, cos = 0.0, -1.0
+        ortho /= np.linalg.norm(ortho)
+    else:
+        ortho /= sin
+    return (
+        np.eye(q)
+        + sin * (np.outer(ortho, u) - np.outer(u, ortho))
+        + (cos - 1.0) * (np.outer(u, u) + np.outer(ortho, ortho))
+    )
+
+
+class DMP(BaseEstimator):
+    """Discrete Dynamic Movement Primitive with one phase shared by all dimensions.
+
+    Parameters
+    ----------
+    n_basis : int
+        Number of Gaussian basis functions (weights per dimension).
+    k : float
+        Spring constant, in units of the normalised time (see the module notes).
+    c : float
+        Damping; ``c = 2 sqrt(k)`` is critically damped (thesis: 156.25 and 25).
+    alpha : float, optional
+        Decay rate of the canonical system. Default ``ln 100`` (so ``Z`` falls
+        to 0.01 at the end of the movement).
+    tau : float
+        Default temporal scaling of rollouts: 1 reproduces the training path's
+        duration, 2 takes twice as long along the same path.
+    scaling : {"per_dimension", "spatial"}
+        How the learned forcing is carried to a new start and goal (module notes).
+    end : {"rest", "free"}
+        ``"rest"``: constrain the fit so every rollout ends at its goal at rest
+        at ``t = τ D``; ``"free"``: the thesis's unconstrained least squares.
+    regularization : float
+        Ridge term relative to the mean diagonal of ``XᵀX``; keeps the weights
+        defined when basis functions outnumber or fall between samples.
+
+    Attributes
+    ----------
+    weights_ : ndarray, shape (n_basis, q)
+        Forcing weights in absolute units (path units per normalised time²).
+    centers_, widths_ : ndarray, shape (n_basis,)
+        Basis centres ``cᵢ`` in the phase ``Z`` (equally spaced in time) and
+        widths ``hᵢ`` (neighbours cross at half height).
+    alpha_ : float
+        The canonical decay rate used.
+    start_, goal_ : ndarray, shape (q,)
+        First and last point of the training path.
+    duration_ : float
+        Duration ``D`` of the training path in seconds.
+    times_ : ndarray, shape (n_points,)
+        Training times in seconds, starting at 0.
+    path_ : ndarray, shape (n_points, q)
+        The training path.
+    forcing_times_ : ndarray, shape (n_fit,)
+        Dense, even times (seconds) at which the target forcing was fitted.
+    forcing_target_ : ndarray, shape (n_fit, q)
+        The target forcing ``F`` of the training path at ``forcing_times_``.
+    n_dims_ : int
+        Dimension ``q``.
+    """
+
+    def __init__(
+        self,
+        n_basis: int = 10,
+        k: float = 156.25,
+        c: float = 25.0,
+        alpha: float | None = None,
+        tau: float = 1.0,
+        scaling: Scaling = "per_dimension",
+        end: EndCondition = "rest",
+        regularization: float = 1e-8,
+    ) -> None:
+        self.n_basis = n_basis
+        self.k = k
+        self.c = c
+        self.alpha = alpha
+        self.tau = tau
+        self.scaling = scaling
+        self.end = end
+        self.regularization = regularization
+
+    # ------------------------------------------------------------------ learning
+    def _check_params(self) -> None:
+        check_positive(self.n_basis, "n_basis", integer=True)
+        check_positive(self.k, "k")
+        check_positive(self.c, "c")
+        if self.alpha is not None:
+            check_positive(self.alpha, "alpha")
+        check_positive(self.tau, "tau")
+        check_positive(self.regularization, "regularization", allow_zero=True)
+        if self.scaling not in _SCALINGS:
+            raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
+        if self.end not in _END_CONDITIONS:
+            raise ValueError(f"end: expected one of {_END_CONDITIONS}, got {self.end!r}")
+
+    def fit(
+        self,
+        path: Any,
+        times: Any = None,
+        *,
+        duration: float | None = None,
+        timing: Timing = "uniform",
+    ) -> DMP:
+        """Learn the forcing weights from one path.
+
+        Parameters
+        ----------
+        path : array_like, shape (n_points, q)
+            The path to imitate, e.g. a generalized path from
+            :class:`lfdkit.mimic.MeanPath` or :class:`lfdkit.mimic.GMR`.
+            At least 3 points.
+        times : array_like, shape (n_points,), optional
+            Strictly increasing sample times in seconds (shifted to start at 0).
+            Default: equal time steps over ``duration`` (the thesis's choice).
+        duration : float, optional
+            Total duration in seconds when ``times`` is not given (default 1).
+        timing : {"uniform", "minimum_jerk"}
+            How times are assigned when ``times`` is not given. ``"uniform"``:
+            equal steps (the thesis; with points equally spaced along the path
+            this is constant speed, which a DMP starting at rest cannot follow
+            at the ends). ``"minimum_jerk"``: :func:`minimum_jerk_times`, a
+            rest-to-rest motion along the path, reproduced far more closely.
+
+        Returns
+        -------
+        DMP
+            ``self``.
+        """
+        self._check_params()
+        points = check_path(path, "path", min_points=3, min_dims=1)
+        n = points.shape[0]
+        if timing not in _TIMINGS:
+            raise ValueError(f"timing: expected one of {_TIMINGS}, got {timing!r}")
+        if times is None:
+            total = 1.0 if duration is None else check_positive(duration, "duration")
+            if timing == "uniform":
+                t = np.linspace(0.0, total, n)
+            else:
+                t = minimum_jerk_times(points, total)
+        else:
+            if duration is not None:
+                raise ValueError("duration: give either times or duration, not both")
+            t = _check_times(times, n)
+        span = float(t[-1])
+        composed = times is None and timing == "minimum_jerk"
+        s, positions, velocity, acceleration = _dense_derivatives(
+            None if composed else t / span, points, self.n_basis
+        )
+        start, goal = points[0].copy(), points[-1].copy()
+        target = acceleration - self.k * (goal - positions) + self.c * velocity
+
+        self.alpha_ = float(np.log(100.0) if self.alpha is None else self.alpha)
+        self.centers_, self.widths_ = _basis(int(self.n_basis), self.alpha_)
+        design = self._design(s)
+        gram = design.T @ design
+        ridge = float(self.regularization) * max(float(np.mean(np.diag(gram))), 1e-300)
+        gram[np.diag_indices_from(gram)] += ridge
+        rhs = design.T @ target
+        if self.end == "rest":
+            constraint = self._end_response()
+            homogeneous = _transition(self.k, self.c, np.array([1.0]))[0, :, 0]
+            wanted = -np.outer(homogeneous, start - goal)
+            m = gram.shape[0]
+            kkt = np.zeros((m + 2, m + 2))
+            kkt[:m, :m], kkt[:m, m:], kkt[m:, :m] = gram, constraint.T, constraint
+            solution = linalg.solve(kkt, np.vstack([rhs, wanted]), assume_a="sym")
+            weights = solution[:m]
+        else:
+            weights = linalg.solve(gram, rhs, assume_a="pos")
+        if not np.all(np.isfinite(weights)):
+            raise ValueError(
+                "path: the least-squares problem for the weights is singular; "
+                "raise regularization or lower n_basis"
+            )
+        self.weights_ = weights
+        self.start_, self.goal_ = start, goal
+        self.duration_ = span
+        self.times_ = t
+        self.path_ = points.copy()
+        self.forcing_times_ = s * span
+        self.forcing_target_ = target
+        self.n_dims_ = points.shape[1]
+        extent = float(np.max(np.ptp(points, axis=0)))
+        self._extent = extent
+        self._grid_cache: dict[int, tuple[np.ndarray, ...]] = {}
+        self._left_cache: dict[tuple[int, float], np.ndarray] = {}
+        self._step_cache: tuple[float, tuple[np.ndarray, ...]] | None = None
+        return self
+
+    def _design(self, s: np.ndarray) -> np.ndarray:
+        """Design matrix ``X[t, i] = Z ψᵢ(Z) / Σ ψ(Z)``, shape (len(s), n_basis)."""
+        phase = np.exp(-self.alpha_ * s)
+        psi = np.exp(-self.widths_ * (phase[:, None] - self.centers_) ** 2)
+        total = psi.sum(axis=1, keepdims=True)
+        # Far outside every basis the Gaussians underflow; the nearest one takes over.
+        empty = total[:, 0] < 1e-300
+        if np.any(empty):
+            nearest = np.argmin(np.abs(phase[empty, None] - self.centers_), axis=1)
+            psi[empty] = 0.0
+            psi[np.flatnonzero(empty), nearest] = 1.0
+            total[empty] = 1.0
+        return psi * (phase / total[:, 0])[:, None]
+
+    def _end_response(self) -> np.ndarray:
+        """State at ``s = 1`` driven by each basis forcing from rest, shape (2, n_basis)."""
+        nodes, weights = _quadrature(1.0)
+        kernels = _transition(self.k, self.c, 1.0 - nodes)[:, :, 1]
+        return (kernels * weights[:, None]).T @ self._design(nodes)
+
+    def forcing(self, times: Any) -> np.ndarray:
+        """Learned forcing in the training frame at the given training-path times.
+
+        Parameters
+        ----------
+        times : array_like, shape (n,)
+            Times in seconds along the training path (``0 … duration_``; later
+            times give the decaying tail).
+
+        Returns
+        -------
+        ndarray, shape (n, q)
+            ``Z Σ wᵢ ψᵢ / Σ ψᵢ`` in path units per normalised time².
+        """
+        check_is_fitted(self, "weights_")
+        t = np.atleast_1d(np.asarray(times, dtype=np.float64))
+        if t.ndim != 1 or not np.all(np.isfinite(t)):
+            raise ValueError("times: expected a 1-D array of finite values")
+        return self._design(t / self.duration_) @ self.weights_
+
+    # --------------------------------------------------------------- retargeting
+    def scale_matrix(self, start: Any = None, goal: Any = None) -> np.ndarray:
+        """Linear map ``M`` carrying the learned forcing to a new start and goal.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,) or (n_rollouts, q), optional
+            Default: the training path's start and goal.
+
+        Returns
+        -------
+        ndarray, shape (q, q) or (n_rollouts, q, q)
+        """
+        check_is_fitted(self, "weights_")
+        starts, goals, batch = self._starts_goals(start, goal)
+        matrices = self._scale_matrices(starts, goals)
+        return matrices if batch else matrices[0]
+
+    def _starts_goals(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray, bool]:
+        q = self.n_dims_
+        arrays = []
+        for value, name, default in ((start, "start", self.start_), (goal, "goal", self.goal_)):
+            arrays.append(default if value is None else _check_state(value, name, q))
+        batch = arrays[0].ndim == 2 or arrays[1].ndim == 2
+        starts, goals = (np.atleast_2d(a) for a in arrays)
+        if starts.shape[0] != goals.shape[0] and 1 not in (starts.shape[0], goals.shape[0]):
+            raise ValueError(
+                f"start, goal: {starts.shape[0]} starts and {goals.shape[0]} goals do not match"
+            )
+        starts, goals = np.broadcast_arrays(starts, goals)
+        return starts, goals, batch
+
+    def _scale_matrices(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
+        trained = self.goal_ - self.start_
+        wanted = goals - starts
+        tiny = _ZERO_DISPLACEMENT * max(self._extent, 1e-300)
+        n_rollouts, q = wanted.shape
+        if self.scaling == "per_dimension":
+            flat = np.abs(trained) <= tiny
+            ratio = np.ones_like(wanted)
+            np.divide(wanted, trained, out=ratio, where=~flat[None, :])
+            moved = flat[None, :] & (np.abs(wanted) > tiny)
+            if np.any(moved):
+                dim = int(np.argwhere(moved)[0, 1])
+                raise ValueError(
+                    f"goal: per-dimension scaling cannot move dimension {dim}: the training "
+                    "path starts and ends at the same value there (displacement 0); "
+                    "use scaling='spatial'"
+                )
+            large = np.abs(ratio) > _LARGE_SCALE
+            if np.any(large):
+                dim = int(np.argwhere(large)[0, 1])
+                warnings.warn(
+                    f"per-dimension scaling multiplies the shape of dimension {dim} by "
+                    f"{ratio[np.nonzero(large)][0]:.3g}: its training displacement is small; "
+                    "scaling='spatial' keeps the shape",
+                    RuntimeWarning,
+                    stacklevel=3,
+                )
+            return ratio[:, :, None] * np.eye(q)[None]
+        length = float(np.linalg.norm(trained))
+        if length <= tiny:
+            # A closed training path has no direction to follow: translate it.
+            return np.broadcast_to(np.eye(q), (n_rollouts, q, q)).copy()
+        unit = trained / length
+        matrices = np.empty((n_rollouts, q, q))
+        for i, displacement in enumerate(wanted):
+            norm = float(np.linalg.norm(displacement))
+            if norm <= tiny:
+                matrices[i] = 0.0
+                continue
+            matrices[i] = (norm / length) * _rotation_between(unit, displacement / norm)
+        return matrices
+
+    # ------------------------------------------------------------------- rollout
+    def _grid(self, n_steps: int) -> tuple[np.ndarray, ...]:
+        """Cached pieces of the exact solution on ``n_steps`` equal steps over ``s ∈ [0, 1]``.
+
+        Returns ``s`` (n,), transition powers ``e^{A s_j}`` (n, 2, 2), the learned
+        forced response from rest (n, 2, q) and the forcing (n, q).
+        """
+        cached = self._grid_cache.get(n_steps)
+        if cached is not None:
+            return cached
+        s = np.linspace(0.0, 1.0, n_steps)
+        h = 1.0 / (n_steps - 1)
+        phi, nodes, gamma = _step_operators(self.k, self.c, h)
+        node_times = (s[:-1, None] + nodes[None, :]).ravel()
+        node_forcing = (self._design(node_times) @ self.weights_).reshape(
+            n_steps - 1, nodes.size, self.n_dims_
+        )
+        inputs = np.einsum("mk,jmq->jkq", gamma, node_forcing)
+        forced = _propagate(phi, np.zeros((2, self.n_dims_)), inputs)
+        powers = _transition(self.k, self.c, s)
+        forcing = self._design(s) @ self.weights_
+        pieces = (s, powers, forced, forcing)
+        _remember(self._grid_cache, n_steps, pieces)
+        return pieces
+
+    def rollout(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        tau: float | None = None,
+        n_steps: int | None = None,
+        *,
+        start_velocity: Any = None,
+    ) -> Trajectory:
+        """Run the DMP from ``start`` to ``goal``, exactly (module notes), for one or many goals.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,) or (n_rollouts, q), optional
+            Start and goal; default the training path's. Either may hold many
+            rows, the other is broadcast: one call then returns a batch.
+        tau : float, optional
+            Temporal scaling (default ``self.tau``): the movement lasts
+            ``tau * duration_`` seconds.
+        n_steps : int, optional
+            Samples over the movement, ends included (default: as many as the
+            training path; at least 2).
+        start_velocity : array_like, shape (q,) or (n_rollouts, q), optional
+            Initial velocity in units per second (default at rest).
+
+        Returns
+        -------
+        Trajectory
+            ``times`` (n_steps,) in seconds; positions, velocities and
+            accelerations of shape (n_steps, q), or (n_rollouts, n_steps, q)
+            when ``start`` or ``goal`` is 2-D.
+        """
+        check_is_fitted(self, "weights_")
+        tau = check_positive(self.tau if tau is None else tau, "tau")
+        n_steps = self.path_.shape[0] if n_steps is None else n_steps
+        n_steps = check_positive(n_steps, "n_steps", integer=True)
+        if n_steps < 2:
+            raise ValueError(f"n_steps: needs at least 2 samples, got {n_steps}")
+        starts, goals, batch = self._starts_goals(start, goal)
+        time_scale = tau * self.duration_
+        velocity = np.zeros(self.n_dims_)
+        if start_velocity is not None:
+            velocity = _check_state(start_velocity, "start_velocity", self.n_dims_)
+            batch = batch or velocity.ndim == 2
+        velocity = np.atleast_2d(velocity)
+        if velocity.shape[0] not in (1, starts.shape[0]) and starts.shape[0] != 1:
+            raise ValueError(
+                f"start_velocity: {velocity.shape[0]} rows do not match "
+                f"{starts.shape[0]} starts/goals"
+            )
+        starts, goals, velocity = np.broadcast_arrays(starts, goals, velocity)
+        x0 = np.stack([starts - goals, velocity * time_scale], axis=1)  # (r, 2, q)
+        matrices = self._scale_matrices(starts, goals)
+        s = np.linspace(0.0, 1.0, n_steps)
+        n_rollouts, q = starts.shape
+        # Everything is linear in (x0, M, g): one matrix product gives positions,
+        # velocities and accelerations for every rollout at once. Columns are
+        # (rollout, dimension) pairs; memory traffic, not arithmetic, is the cost.
+        right = np.concatenate(
+            [
+                x0.transpose(1, 0, 2).reshape(2, n_rollouts * q),
+                matrices.transpose(2, 0, 1).reshape(q, n_rollouts * q),
+                goals.reshape(1, n_rollouts * q),
+            ]
+        )
+        left = self._rollout_coefficients(n_steps, time_scale)
+        columns = (left @ right).reshape(3, n_steps, n_rollouts, q)
+        # (rollout, step, dimension) views of the (step, rollout, dimension) blocks.
+        positions, velocities, accelerations = columns.transpose(0, 2, 1, 3)
+        times = s * time_scale
+        if not batch:
+            return Trajectory(times, positions[0], velocities[0], accelerations[0])
+        return Trajectory(times, positions, velocities, accelerations)
+
+    def _rollout_coefficients(self, n_steps: int, time_scale: float) -> np.ndarray:
+        """Left factor of the rollout product, shape (3 n_steps, 3 + q).
+
+        Rows: position, velocity and acceleration blocks; columns multiply the
+        initial state (2), the forcing map ``M`` (q) and the goal (1).
+        """
+        key = (n_steps, time_scale)
+        cached = self._left_cache.get(key)
+        if cached is not None:
+            return cached
+        _, powers, forced, forcing = self._grid(n_steps)
+        zeros = np.zeros((n_steps, 1))
+        error = np.hstack([powers[:, 0, :], forced[:, 0, :], zeros])  # y − g
+        velocity = np.hstack([powers[:, 1, :], forced[:, 1, :], zeros])
+        acceleration = -self.k * error - self.c * velocity
+        acceleration[:, 2:-1] += forcing
+        position = error
+        position[:, -1] = 1.0
+        left = np.vstack([position, velocity / time_scale, acceleration / time_scale**2])
+        _remember(self._left_cache, key, left)
+        return left
+
+    def step(
+        self,
+        t: float,
+        position: Any,
+        velocity: Any,
+        dt: float,
+        *,
+        start: Any = None,
+        goal: Any = None,
+        tau: float | None = None,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Advance a (possibly perturbed) state by one exact step, for online use.
+
+        The phase is the elapsed time ``t``; the state is whatever the robot is
+        at, so a push is absorbed and the motion pulled back to the path and on
+        to the goal. Steps of ``duration·tau / (n_steps − 1)`` from the start at
+        rest reproduce :meth:`rollout` to round-off.
+
+        Parameters
+        ----------
+        t : float
+            Time since the movement started, in seconds (``>= 0``).
+        position, velocity : array_like, shape (q,) or (n_rollouts, q)
+            Current state, units and units per second.
+        dt : float
+            Step in seconds (``> 0``).
+        start, goal : array_like, shape (q,) or (n_rollouts, q), optional
+            Start the movement began from (it sets the forcing's scale) and goal.
+        tau : float, optional
+            Temporal scaling (default ``self.tau``).
+
+        Returns
+        -------
+        position, velocity, acceleration : ndarray, shape like ``position``
+            The state at ``t + dt`` and its acceleration.
+        """
+        check_is_fitted(self, "weights_")
+        tau = check_positive(self.tau if tau is None else tau, "tau")
+        dt = check_positive(dt, "dt")
+        t = check_positive(t, "t", allow_zero=True)
+        starts, goals, _ = self._starts_goals(start, goal)
+        pos = _check_state(position, "position", self.n_dims_)
+        vel = _check_state(velocity, "velocity", self.n_dims_)
+        single = pos.ndim == 1 and vel.ndim == 1 and starts.shape[0] == 1
+        pos, vel = np.atleast_2d(pos), np.atleast_2d(vel)
+        time_scale = tau * self.duration_
+        h = dt / time_scale
+        if self._step_cache is None or self._step_cache[0] != h:
+            self._step_cache = (h, _step_operators(self.k, self.c, h))
+        phi, nodes, gamma = self._step_cache[1]
+        matrices = self._scale_matrices(starts, goals)
+        forcing_nodes = self._design(t / time_scale + nodes) @ self.weights_  # (m, q)
+        drive = np.einsum("mk,mp,rqp->rkq", gamma, forcing_nodes, matrices)
+        x = np.stack([pos - goals, vel * time_scale], axis=1)  # (r, 2, q)
+        x = np.einsum("ab,rbq->raq", phi, x) + drive
+        forcing_end = self._design(np.array([(t + dt) / time_scale])) @ self.weights_
+        acceleration = (
+            -self.k * x[:, 0] - self.c * x[:, 1] + np.einsum("p,rqp->rq", forcing_end[0], matrices)
+        )
+        new_pos = x[:, 0] + goals
+        new_vel = x[:, 1] / time_scale
+        new_acc = acceleration / time_scale**2
+        if single:
+            return new_pos[0], new_vel[0], new_acc[0]
+        return new_pos, new_vel, new_acc
+
+
+def _remember(cache: dict, key: Any, value: Any) -> None:
+    """Insert into a small first-in-first-out cache."""
+    if len(cache) >= _MAX_CACHED_GRIDS:
+        cache.pop(next(iter(cache)))
+    cache[key] = value
+
+
+@lru_cache(maxsize=32)
+def _basis_cached(n_basis: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    centers = np.exp(-alpha * np.linspace(0.0, 1.0, n_basis))
+    if n_basis == 1:
+        return centers, np.array([1.0])
+    gaps = np.abs(np.diff(centers))
+    gaps = np.append(gaps, gaps[-1])
+    # Neighbouring Gaussians cross at half height: exp(−h (Δ/2)²) = 1/2.
+    widths = 4.0 * np.log(2.0) / gaps**2
+    centers.setflags(write=False)
+    widths.setflags(write=False)
+    return centers, widths
+
+
+def _basis(n_basis: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    return _basis_cached(n_basis, float(alpha))
+
+
+def _minimum_jerk_law(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fraction of the way ``10u³ − 15u⁴ + 6u⁵`` and its first two derivatives in ``u``."""
+    return (
+        u**3 * (10.0 - 15.0 * u + 6.0 * u**2),
+        30.0 * u**2 * (1.0 - u) ** 2,
+        60.0 * u * (1.0 - u) * (1.0 - 2.0 * u),
+    )
+
+
+def _dense_derivatives(
+    s: np.ndarray | None, points: np.ndarray, n_basis: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Positions and their first two derivatives on a dense, even grid of ``s ∈ [0, 1]``.
+
+    With sample times ``s``, a cubic interpolating spline (not-a-knot ends)
+    through every sample is differentiated analytically. With ``s=None`` the
+    minimum-jerk timing is composed exactly: a cubic spline of the path in its
+    arc-length fraction ``ℓ``, moved along by ``ℓ(s)`` of
+    :func:`_minimum_jerk_law` (chain rule), so the motion is at rest at both
+    ends without the spline having to guess it from sparse end samples.
+
+    The dense even grid matters when samples are uneven in time: a basis
+    function with no sample under it would otherwise get an arbitrary weight.
+    """
+    n = points.shape[0]
+    degree = min(3, n - 1)
+    grid = np.linspace(0.0, 1.0, max(2 * n, 20 * n_basis, 1000))
+    if s is not None:
+        spline = make_interp_spline(s, points, k=degree, axis=0)
+        return grid, spline(grid), spline(grid, 1), spline(grid, 2)
+    fraction = arc_length(points) / path_length(points)
+    spline = make_interp_spline(fraction, points, k=degree, axis=0)
+    where, speed, rate = _minimum_jerk_law(grid)
+    slope, bend = spline(where, 1), spline(where, 2)
+    return (
+        grid,
+        spline(where),
+        slope * speed[:, None],
+        bend * speed[:, None] ** 2 + slope * rate[:, None],
+    )
+
+
+def _check_distinct(points: np.ndarray) -> None:
+    steps = segment_lengths(points)
+    if np.any(steps == 0.0):
+        row = int(np.argmax(steps == 0.0))
+        raise ValueError(
+            f"path: points {row} and {row + 1} coincide; remove repeated points "
+            "(lfdkit.geometry.remove_repeated_points) or give times"
+        )
+
+
+def _check_times(times: Any, n: int) -> np.ndarray:
+    try:
+        t = np.asarray(times, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError("times: expected a 1-D numeric array") from exc
+    if t.shape != (n,):
+        raise ValueError(f"times: expected shape ({n},) to match path, got {t.shape}")
+    if not np.all(np.isfinite(t)):
+        raise ValueError("times: contains NaN or infinite values")
+    if np.any(np.diff(t) <= 0.0):
+        row = int(np.argmax(np.diff(t) <= 0.0))
+        raise ValueError(f"times: must increase strictly (row {row + 1} does not)")
+    return t - t[0]
+
+
+def _check_state(value: Any, name: str, q: int) -> np.ndarray:
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.ndim not in (1, 2) or arr.shape[-1] != q:
+        raise ValueError(f"{name}: expected shape ({q},) or (n_rollouts, {q}), got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or infinite values")
+    return arr
