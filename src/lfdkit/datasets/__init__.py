@@ -2,9 +2,11 @@
 
 Every generator returns a :class:`DemoSet` (demonstrations plus the ground-truth
 ``nominal`` path they were generated around); :func:`load_dataset` builds one by
-its short name, a key of :data:`MIMIC_DATASETS`.
+its short name, a key of :data:`MIMIC_DATASETS`. :func:`load_lasa` reads the
+LASA handwriting data set (real demonstrations, optional extra ``lfdkit[lasa]``).
 """
 
+from lfdkit.datasets.lasa import LASA_SHAPES, LasaShape, lasa_available, load_all_lasa, load_lasa
 from lfdkit.datasets.synthetic import (
     MIMIC_DATASETS,
     RESIDUAL_SHAPES,
@@ -26,16 +28,21 @@ from lfdkit.datasets.synthetic import (
 )
 
 __all__ = [
+    "LASA_SHAPES",
     "MIMIC_DATASETS",
     "RESIDUAL_SHAPES",
     "DemoSet",
+    "LasaShape",
     "Residual",
     "da_vinci_walls",
     "deburring_circular",
     "deburring_linear",
     "different_extents",
     "draw_residuals",
+    "lasa_available",
+    "load_all_lasa",
     "load_dataset",
+    "load_lasa",
     "local_detours",
     "loops",
     "noisy_band",
