@@ -226,6 +226,18 @@ def test_per_dimension_scaling_refuses_a_dimension_with_no_training_displacement
     np.testing.assert_allclose(spatial.positions[-1], [1.0, 0.5], atol=1e-9)
 
 
+@pytest.mark.parametrize("scaling", ["per_dimension", "spatial"])
+def test_a_closed_movement_can_be_moved_but_not_stretched(scaling: str) -> None:
+    u = np.linspace(0.0, 1.0, 100)
+    loop = np.column_stack([np.cos(2 * np.pi * u), np.sin(2 * np.pi * u)])
+    dmp = DMP(n_basis=20, scaling=scaling).fit(loop, timing="minimum_jerk")
+    shifted = dmp.rollout(start=[3.0, 1.0], goal=[3.0, 1.0])
+    moved = dmp.rollout().positions + np.array([2.0, 1.0])
+    np.testing.assert_allclose(shifted.positions, moved, atol=1e-12)
+    with pytest.raises(ValueError, match=r"goal: .*starts and ends at the same"):
+        dmp.rollout(goal=[2.0, 0.0])
+
+
 def test_per_dimension_scaling_warns_when_it_amplifies_a_tiny_displacement() -> None:
     u = np.linspace(0.0, 1.0, 80)
     nearly_flat = np.column_stack([u, np.sin(np.pi * u) + 0.01 * u])
@@ -392,6 +404,9 @@ def test_bad_times_and_options_are_refused() -> None:
         DMP(end="stop").fit(path)
     with pytest.raises(TypeError, match="n_basis"):
         DMP(n_basis=2.5).fit(path)
+    with pytest.raises(ValueError, match="n_basis: end='rest' puts 3 constraints"):
+        DMP(n_basis=3).fit(path)
+    assert np.all(np.isfinite(DMP(n_basis=1, end="free").fit(path).weights_))
     with pytest.raises(ValueError, match="coincide"):
         DMP().fit(np.array([[0.0, 0.0], [1.0, 1.0], [1.0, 1.0], [2.0, 0.0]]), timing="minimum_jerk")
 

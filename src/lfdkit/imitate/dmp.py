@@ -367,6 +367,11 @@ class DMP(BaseEstimator):
             raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
         if self.end not in _END_CONDITIONS:
             raise ValueError(f"end: expected one of {_END_CONDITIONS}, got {self.end!r}")
+        if self.end == "rest" and self.n_basis < 4:
+            raise ValueError(
+                f"n_basis: end='rest' puts 3 constraints on the weights and needs at least 4 "
+                f"basis functions, got {self.n_basis}; use end='free' for fewer"
+            )
 
     def fit(
         self,
@@ -568,7 +573,13 @@ class DMP(BaseEstimator):
             return ratio[:, :, None] * np.eye(q)[None]
         length = float(np.linalg.norm(trained))
         if length <= tiny:
-            # A closed training path has no direction to follow: translate it.
+            if np.any(np.linalg.norm(wanted, axis=1) > tiny):
+                raise ValueError(
+                    "goal: the training path starts and ends at the same point, so its "
+                    "shape has no start→goal direction to rotate and scale; a closed "
+                    "movement can only be moved (give goal equal to start)"
+                )
+            # A closed movement to a closed goal: translate it.
             return np.broadcast_to(np.eye(q), (n_rollouts, q, q)).copy()
         unit = trained / length
         matrices = np.empty((n_rollouts, q, q))
