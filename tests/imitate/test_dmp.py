@@ -436,3 +436,26 @@ def test_minimum_jerk_times_follow_the_quintic_law() -> None:
     np.testing.assert_allclose(10 * u**3 - 15 * u**4 + 6 * u**5, line[:, 0], atol=1e-12)
     assert times[0] == 0.0 and times[-1] == 2.0
     assert np.all(np.diff(times) > 0)
+
+
+@pytest.mark.parametrize("q", [1, 2, 3, 5])
+def test_rotations_between_are_proper_and_map_u_onto_v(q: int) -> None:
+    from lfdkit.imitate.dmp import _rotations_between
+
+    rng = np.random.default_rng(q)
+    u = rng.normal(size=q)
+    u /= np.linalg.norm(u)
+    v = rng.normal(size=(20, q))
+    v[0], v[1] = u, -u  # identical and opposite directions
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    rotations = _rotations_between(u, v)
+    np.testing.assert_allclose(rotations @ u, v, atol=1e-12)
+    if q > 1:
+        identity = np.broadcast_to(np.eye(q), rotations.shape)
+        np.testing.assert_allclose(rotations @ rotations.transpose(0, 2, 1), identity, atol=1e-12)
+        np.testing.assert_allclose(np.linalg.det(rotations), 1.0, atol=1e-12)
+        # Vectors orthogonal to both u and v stay where they are.
+        if q > 2:
+            w = rng.normal(size=q)
+            basis = np.linalg.qr(np.column_stack([u, v[5], w]))[0]
+            np.testing.assert_allclose(rotations[5] @ basis[:, 2], basis[:, 2], atol=1e-12)

