@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lfdkit.geometry import (
+    FoldedPathError,
     PolylineSet,
     arc_length,
     intersect_normals,
@@ -515,8 +516,9 @@ def test_point_tangents_reverse_and_unit(seed, q):
 def test_point_tangents_errors():
     with pytest.raises(ValueError, match=r"zero length"):
         point_tangents(np.ones((4, 3)))
-    with pytest.raises(ValueError, match=r"turns back onto itself at point 2"):
+    with pytest.raises(FoldedPathError, match=r"turns back onto itself at point 2"):
         point_tangents(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 0.0]]))
+    assert issubclass(FoldedPathError, ValueError)
 
 
 def test_left_normals():

@@ -26,6 +26,7 @@ import numpy as np
 from lfdkit._validation import check_path, check_positive
 
 __all__ = [
+    "FoldedPathError",
     "NormalHits",
     "PolylineSet",
     "arc_length",
@@ -43,6 +44,10 @@ __all__ = [
 ]
 
 _EPS = 1e-12
+
+
+class FoldedPathError(ValueError):
+    """A path turns back onto itself, so its tangent (and normal) is undefined there."""
 
 
 def segment_lengths(path: np.ndarray) -> np.ndarray:
@@ -118,7 +123,9 @@ def point_tangents(path: np.ndarray) -> np.ndarray:
     norm = np.linalg.norm(tan, axis=1, keepdims=True)
     if np.any(norm < 1e-9):
         bad = int(np.argmin(norm[:, 0]))
-        raise ValueError(f"path: turns back onto itself at point {bad}; the tangent is undefined")
+        raise FoldedPathError(
+            f"path: turns back onto itself at point {bad}; the tangent is undefined"
+        )
     return tan / norm
 
 

@@ -62,6 +62,7 @@ from sklearn.base import BaseEstimator
 
 from lfdkit._validation import check_demos, check_path, check_positive
 from lfdkit.geometry import (
+    FoldedPathError,
     PolylineSet,
     arc_length,
     normal_frames,
@@ -221,8 +222,8 @@ class MeanPath(BaseEstimator):
                 try:
                     candidate = self._reparametrise(ref + step * state.innovation, starts, stops)
                     new = self._evaluate(candidate, polylines, needed)
-                except ValueError:
-                    new = None  # the step folded the path or lost the demonstrations
+                except FoldedPathError:
+                    new = None  # the step folded the path back onto itself: a shorter one
                 if new is not None and new.loss <= state.loss:
                     break
                 step /= 2.0
