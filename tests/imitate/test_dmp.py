@@ -59,7 +59,8 @@ def test_transition_matches_matrix_exponential_for_every_damping() -> None:
     for k, c in [(156.25, 25.0), (100.0, 5.0), (100.0, 40.0), (156.25, 25.0 + 1e-9)]:
         a = np.array([[0.0, 1.0], [-k, -c]])
         expected = np.stack([linalg.expm(a * ti) for ti in t])
-        np.testing.assert_allclose(_transition(k, c, t), expected, rtol=1e-9, atol=1e-12)
+        got = np.moveaxis(_transition(k, c, t), 2, 0)
+        np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-12)
 
 
 def test_unforced_path_gives_the_critically_damped_spring_for_a_new_goal() -> None:
@@ -459,3 +460,18 @@ def test_rotations_between_are_proper_and_map_u_onto_v(q: int) -> None:
             w = rng.normal(size=q)
             basis = np.linalg.qr(np.column_stack([u, v[5], w]))[0]
             np.testing.assert_allclose(rotations[5] @ basis[:, 2], basis[:, 2], atol=1e-12)
+
+
+def test_piecewise_quintic_is_exact_for_quintic_polynomials() -> None:
+    from lfdkit.imitate.dmp import _evaluate_pieces, _quintic_pieces
+
+    rng = np.random.default_rng(7)
+    polys = [np.polynomial.Polynomial(rng.normal(size=6)) for _ in range(2)]
+    knots = np.linspace(0.0, 1.0, 9)
+    data = [np.column_stack([p.deriv(m)(knots) for p in polys]) for m in range(3)]
+    pieces = _quintic_pieces(*data, knots[1])
+    s = np.linspace(0.0, 1.0, 257)
+    out = _evaluate_pieces(s, knots[1], pieces)  # (q, 3, n)
+    for d, poly in enumerate(polys):
+        for m in range(3):
+            np.testing.assert_allclose(out[d, m], poly.deriv(m)(s), atol=1e-10)

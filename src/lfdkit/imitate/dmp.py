@@ -180,7 +180,9 @@ def minimum_jerk_times(path: Any, duration: float = 1.0) -> np.ndarray:
 
 
 def _transition(k: float, c: float, t: np.ndarray) -> np.ndarray:
-    """``e^{A t}`` for ``A = [[0, 1], [−k, −c]]``, closed form, shape (len(t), 2, 2).
+    """``e^{A t}`` for ``A = [[0, 1], [−k, −c]]``, closed form, shape (2, 2, len(t)).
+
+    Entry ``[i, j]`` is a contiguous array over ``t`` (the rollout reads whole rows).
 
     ``e^{At} = e^{μt} (C(t) I + S(t) (A − μI))`` with ``μ = −c/2``,
     ``δ² = μ² − k``, ``C = cosh δt``, ``S = sinh(δt)/δ`` (``cos``/``sin``
@@ -200,11 +202,11 @@ def _transition(k: float, c: float, t: np.ndarray) -> np.ndarray:
     else:
         cosine, sine = np.cos(x), np.sin(x) / root
     decay = np.exp(mu * t)
-    out = np.empty((*t.shape, 2, 2))
-    out[..., 0, 0] = decay * (cosine - mu * sine)
-    out[..., 0, 1] = decay * sine
-    out[..., 1, 0] = -k * decay * sine
-    out[..., 1, 1] = decay * (cosine - (c + mu) * sine)
+    out = np.empty((2, 2, *t.shape))
+    out[0, 0] = decay * (cosine - mu * sine)
+    out[0, 1] = decay * sine
+    out[1, 0] = -k * decay * sine
+    out[1, 1] = decay * (cosine - (c + mu) * sine)
     return out
 
 
@@ -238,8 +240,8 @@ def _step_operators(
     # Steps far shorter than a panel need one node fewer for the same accuracy.
     n_nodes = _GAUSS_NODES - 1 if h <= 0.2 * max_panel else _GAUSS_NODES
     nodes, weights = _quadrature(h, max_panel, n_nodes)
-    phi = _transition(k, c, np.array([h]))[0]
-    gamma = _transition(k, c, h - nodes)[:, :, 1] * weights[:, None]
+    phi = _transition(k, c, np.array([h]))[:, :, 0]
+    gamma = _transition(k, c, h - nodes)[:, 1, :].T * weights[:, None]
     return phi, nodes, gamma
 
 
@@ -464,7 +466,7 @@ class DMP(BaseEstimator):
         if self.end == "rest":
             # At s = 1: y = g and y' = 0 (the state), and f = 0 so y'' = 0 too.
             constraint = np.vstack([self._end_response(), self._design(np.array([1.0]))])
-            homogeneous = _transition(self.k, self.c, np.array([1.0]))[0, :, 0]
+            homogeneous = _transition(self.k, self.c, np.array([1.0]))[:, 0, 0]
             wanted = np.vstack([-np.outer(homogeneous, start - goal), np.zeros((1, start.size))])
             m, n_constraints = gram.shape[0], constraint.shape[0]
             kkt = np.zeros((m + n_constraints, m + n_constraints))
@@ -536,7 +538,7 @@ class DMP(BaseEstimator):
     def _end_response(self) -> np.ndarray:
         """State at ``s = 1`` driven by each basis forcing from rest, shape (2, n_basis)."""
         nodes, weights = _quadrature(1.0, 0.5 * self._panel, _END_NODES)
-        kernels = _transition(self.k, self.c, 1.0 - nodes)[:, :, 1]
+        kernels = _transition(self.k, self.c, 1.0 - nodes)[:, 1, :].T
         return (kernels * weights[:, None]).T @ self._design(nodes)
 
     def forcing(self, times: Any) -> np.ndarray:
@@ -642,8 +644,8 @@ class DMP(BaseEstimator):
     def _grid(self, n_steps: int) -> tuple[np.ndarray, ...]:
         """Cached pieces of the exact solution on ``n_steps`` equal steps over ``s ∈ [0, 1]``.
 
-        Returns ``s`` (n,), transition powers ``e^{A s_j}`` (n, 2, 2) and the
-        learned forced response from rest with its first two derivatives (n, 3, q).
+        Returns ``s`` (n,), transition powers ``e^{A s_j}`` (2, 2, n) and the
+        learned forced response from rest with its first two derivatives (q, 3, n).
         """
         cached = self._grid_cache.get(n_steps)
         if cached is not None:
@@ -755,16 +757,19 @@ class DMP(BaseEstimator):
         if cached is not None:
             return cached
         _, powers, forced = self._grid(n_steps)
-        q = self.n_dims_
-        left = np.zeros((3, n_steps, 3 + q))
-        left[:, :, :2] = powers[:, 0, :], powers[:, 1, :], -self.k * powers[:, 0, :]
+        q, n = self.n_dims_, n_steps
+        # Built transposed, one contiguous row per column of the product.
+        columns = np.empty((3 + q, 3, n))
+        columns[:2, 0] = powers[0]  # e^{As} applied to (y0 − g, y0')
+        columns[:2, 1] = powers[1]
         # d/ds e^{As} = A e^{As}: the homogeneous acceleration is its second row.
-        left[2, :, :2] -= self.c * powers[:, 1, :]
-        left[:, :, 2 : 2 + q] = forced.transpose(1, 0, 2)
-        left[0, :, -1] = 1.0  # position = goal + error
-        left[1] /= time_scale
-        left[2] /= time_scale**2
-        left = left.reshape(3 * n_steps, 3 + q)
+        columns[:2, 2] = -self.k * powers[0] - self.c * powers[1]
+        columns[2 : 2 + q] = forced
+        columns[-1] = 0.0
+        columns[-1, 0] = 1.0  # position = goal + error
+        columns[:, 1] /= time_scale
+        columns[:, 2] /= time_scale**2
+        left = columns.reshape(3 + q, 3 * n).T
         _remember(self._left_cache, key, left)
         return left
 
@@ -871,15 +876,12 @@ def _quintic_pieces(
 
 
 def _evaluate_pieces(s: np.ndarray, spacing: float, pieces: np.ndarray) -> np.ndarray:
-    """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (len(s), 3, q)."""
-    index = np.minimum((s / spacing).astype(np.intp), pieces.shape[0] - 1)
-    t = s / spacing - index
-    monomials = t[:, None] ** np.arange(6.0)  # 1, t, …, t⁵
-    rows = np.zeros((s.size, 3, 6))
-    rows[:, 0] = monomials
-    rows[:, 1, 1:] = monomials[:, :5] * (np.arange(1.0, 6.0) / spacing)
-    rows[:, 2, 2:] = monomials[:, :4] * (np.arange(2.0, 6.0) * np.arange(1.0, 5.0) / spacing**2)
-    return rows @ pieces[index]
+    """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (q, 3, len(s))."""
+    from lfdkit._kernels import evaluate_quintic_pieces  # numba compiles on first use
+
+    out = np.empty((pieces.shape[2], 3, s.size))
+    evaluate_quintic_pieces(np.ascontiguousarray(s, dtype=np.float64), spacing, pieces, out)
+    return out
 
 
 def _remember(cache: dict, key: Any, value: Any) -> None:
