@@ -395,8 +395,11 @@ def test_bad_times_and_options_are_refused() -> None:
         DMP().fit(path, np.r_[0.0, 0.0, np.arange(2, 10)])
     with pytest.raises(ValueError, match=r"times: expected shape \(10,\)"):
         DMP().fit(path, np.arange(9))
-    with pytest.raises(ValueError, match="either times or duration"):
+    with pytest.raises(ValueError, match="either times or a duration"):
         DMP().fit(path, np.arange(10.0), duration=2.0)
+    with pytest.raises(ValueError, match="either duration or dt"):
+        DMP().fit(path, duration=2.0, dt=0.1)
+    assert DMP().fit(path, dt=0.5).duration_ == pytest.approx(4.5)
     with pytest.raises(ValueError, match="timing"):
         DMP().fit(path, timing="fast")
     with pytest.raises(ValueError, match="scaling"):

@@ -404,6 +404,7 @@ class DMP(BaseEstimator):
         times: Any = None,
         *,
         duration: float | None = None,
+        dt: float | None = None,
         timing: Timing = "uniform",
     ) -> DMP:
         """Learn the forcing weights from one path.
@@ -419,6 +420,8 @@ class DMP(BaseEstimator):
             Default: equal time steps over ``duration`` (the thesis's choice).
         duration : float, optional
             Total duration in seconds when ``times`` is not given (default 1).
+        dt : float, optional
+            Or the time step in seconds: the duration is ``dt * (n_points − 1)``.
         timing : {"uniform", "minimum_jerk"}
             How times are assigned when ``times`` is not given. ``"uniform"``:
             equal steps (the thesis; with points equally spaced along the path
@@ -436,15 +439,19 @@ class DMP(BaseEstimator):
         n = points.shape[0]
         if timing not in _TIMINGS:
             raise ValueError(f"timing: expected one of {_TIMINGS}, got {timing!r}")
+        if duration is not None and dt is not None:
+            raise ValueError("dt: give either duration or dt, not both")
         if times is None:
             total = 1.0 if duration is None else check_positive(duration, "duration")
+            if dt is not None:
+                total = check_positive(dt, "dt") * (n - 1)
             if timing == "uniform":
                 t = np.linspace(0.0, total, n)
             else:
                 t = minimum_jerk_times(points, total)
         else:
-            if duration is not None:
-                raise ValueError("duration: give either times or duration, not both")
+            if duration is not None or dt is not None:
+                raise ValueError("times: give either times or a duration/dt, not both")
             t = _check_times(times, n)
         span = float(t[-1])
         composed = times is None and timing == "minimum_jerk"
