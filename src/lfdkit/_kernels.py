@@ -170,3 +170,178 @@ def evaluate_quintic_pieces(s, spacing, pieces, out):
                 (((5.0 * c5 * t + 4.0 * c4) * t + 3.0 * c3) * t + 2.0 * c2) * t + c1
             ) * inv
             out[d, 2, j] = (((20.0 * c5 * t + 12.0 * c4) * t + 6.0 * c3) * t + 2.0 * c2) * inv2
+
+
+# ----------------------------------------------------------------- emulation
+@numba.njit(cache=True)
+def offset_cost(c, b, a, weight, d):
+    """Planner cost ``Σ Q|d_k|² + Σ exp(−(c + 2bᵀd + dᵀAd))``; see ``lfdkit.emulate.planner``."""
+    n, n_obs = c.shape
+    m = d.shape[1]
+    total = 0.0
+    for k in range(n):
+        for i in range(m):
+            total += weight * d[k, i] * d[k, i]
+        for o in range(n_obs):
+            s = c[k, o]
+            for i in range(m):
+                npu = b[k, o, i]
+                for j in range(m):
+                    npu += a[k, o, i, j] * d[k, j]
+                s += (b[k, o, i] + npu) * d[k, i]
+            total += np.exp(-s)
+    return total
+
+
+@numba.njit(cache=True)
+def offset_derivatives(c, b, a, weight, d, gradient, hessian):
+    """Cost; fills the gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
+    n, n_obs = c.shape
+    m = d.shape[1]
+    total = 0.0
+    npu = np.empty(m)
+    for k in range(n):
+        for i in range(m):
+            total += weight * d[k, i] * d[k, i]
+            gradient[k, i] = 2.0 * weight * d[k, i]
+            for j in range(m):
+                hessian[k, i, j] = 2.0 * weight if i == j else 0.0
+        for o in range(n_obs):
+            s = c[k, o]
+            for i in range(m):
+                npu[i] = b[k, o, i]
+                for j in range(m):
+                    npu[i] += a[k, o, i, j] * d[k, j]
+                s += (b[k, o, i] + npu[i]) * d[k, i]
+            e = np.exp(-s)
+            total += e
+            for i in range(m):
+                gradient[k, i] -= 2.0 * e * npu[i]
+                for j in range(m):
+                    hessian[k, i, j] += e * (4.0 * npu[i] * npu[j] - 2.0 * a[k, o, i, j])
+    return total
+
+
+@numba.njit(cache=True)
+def offset_groups(free, index):
+    """Reduced-variable index per offset component (−1: anchored); returns their number."""
+    n, m = free.shape
+    count = 0
+    for i in range(m):
+        current = -1
+        for k in range(n):
+            if free[k, i]:
+                current = count
+                count += 1
+            index[k, i] = current
+    return count
+
+
+@numba.njit(cache=True)
+def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
+    """Projected Newton on the actions ``a_k = d_k − d_{k−1}``, box ``|a| <= max_step``.
+
+    ``d`` (n, m) holds the start on entry and the optimum on exit. Returns
+    ``(cost, iterations, converged)``. See ``lfdkit.emulate.planner``.
+    """
+    n, m = d.shape
+    actions = np.empty((n, m))
+    for k in range(n):
+        for i in range(m):
+            previous = d0[i] if k == 0 else d[k - 1, i]
+            actions[k, i] = min(max(d[k, i] - previous, -max_step), max_step)
+    for i in range(m):
+        running = d0[i]
+        for k in range(n):
+            running += actions[k, i]
+            d[k, i] = running
+    gradient = np.empty((n, m))
+    hessian = np.empty((n, m, m))
+    action_gradient = np.empty((n, m))
+    free = np.empty((n, m), dtype=np.bool_)
+    index = np.empty((n, m), dtype=np.int64)
+    step_d = np.empty((n, m))
+    step_a = np.empty((n, m))
+    trial_a = np.empty((n, m))
+    trial_d = np.empty((n, m))
+    floor = 1e-8 * 2.0 * weight
+    scale = 1.0 + 2.0 * weight * max_step
+    cost = offset_derivatives(c, b, a, weight, d, gradient, hessian)
+    for iteration in range(max_iter):
+        worst = 0.0
+        for i in range(m):
+            running = 0.0
+            for k in range(n - 1, -1, -1):
+                running += gradient[k, i]
+                action_gradient[k, i] = running
+                upper = actions[k, i] >= max_step * (1.0 - 1e-12)
+                lower = actions[k, i] <= -max_step * (1.0 - 1e-12)
+                held = (upper and running < 0.0) or (lower and running > 0.0)
+                free[k, i] = not held
+                if not held and abs(running) > worst:
+                    worst = abs(running)
+        if worst <= tol * scale:
+            return cost, iteration, True
+        n_vars = offset_groups(free, index)
+        g = np.zeros(n_vars)
+        for k in range(n):
+            for i in range(m):
+                if index[k, i] >= 0:
+                    g[index[k, i]] += gradient[k, i]
+        move = np.empty(n_vars)
+        if m == 1:
+            h = np.zeros(n_vars)
+            for k in range(n):
+                if index[k, 0] >= 0:
+                    h[index[k, 0]] += hessian[k, 0, 0]
+            for v in range(n_vars):
+                move[v] = -g[v] / max(abs(h[v]), floor)
+        else:
+            h2 = np.zeros((n_vars, n_vars))
+            for k in range(n):
+                for i in range(m):
+                    if index[k, i] < 0:
+                        continue
+                    for j in range(m):
+                        if index[k, j] >= 0:
+                            h2[index[k, i], index[k, j]] += hessian[k, i, j]
+            values, vectors = np.linalg.eigh(h2)
+            projected = vectors.T @ g
+            for v in range(n_vars):
+                projected[v] /= max(abs(values[v]), floor)
+            move = -(vectors @ projected)
+        for k in range(n):
+            for i in range(m):
+                step_d[k, i] = move[index[k, i]] if index[k, i] >= 0 else 0.0
+                before = step_d[k - 1, i] if k > 0 else 0.0
+                step_a[k, i] = step_d[k, i] - before
+        t = 1.0
+        accepted = False
+        for _ in range(40):
+            decrease = 0.0
+            for i in range(m):
+                running = d0[i]
+                for k in range(n):
+                    value = min(max(actions[k, i] + t * step_a[k, i], -max_step), max_step)
+                    trial_a[k, i] = value
+                    decrease += action_gradient[k, i] * (value - actions[k, i])
+                    running += value
+                    trial_d[k, i] = running
+            trial_cost = offset_cost(c, b, a, weight, trial_d)
+            if trial_cost <= cost + 1e-4 * decrease:
+                accepted = True
+                break
+            t *= 0.5
+        if not accepted:
+            # No decrease left to find: stationary to round-off if the gradient is tiny.
+            return cost, iteration + 1, worst <= 1e-6 * scale
+        change = 0.0
+        for k in range(n):
+            for i in range(m):
+                change = max(change, abs(trial_d[k, i] - d[k, i]))
+        actions[:, :] = trial_a
+        d[:, :] = trial_d
+        cost = offset_derivatives(c, b, a, weight, d, gradient, hessian)
+        if change <= 1e-13 * max_step:
+            return cost, iteration + 1, worst <= 1e-6 * scale  # the steps stopped moving
+    return cost, max_iter, False

@@ -1,0 +1,464 @@
+"""Forward planning: the path that maximises the learned reward in a scene (thesis §5.4).
+
+Model
+-----
+The robot moves along the nominal path at constant speed (thesis §5.4): the
+``k``-th planned point lies on the normal of the ``k``-th nominal point,
+
+    x_k = x_k^N + N_kᵀ d_k,
+
+with ``N_k`` (m, q), ``m = q − 1``, the orthonormal normals of the nominal
+(the left normal in 2-D), and ``d_k`` the lateral offset. So the nominal
+point matched to ``x_k`` is the one whose normal passes through it, as the
+thesis defines it, by construction. The linear point model is
+``d_{k+1} = d_k + a_k`` with actions in the box ``|a_k| ≤ max_step`` per
+component (the thesis's polyhedral action set: bounded sideways steps;
+default one nominal step length, a 45° slope at most). The plan maximises
+``Σ_k R(x_k)`` (:class:`lfdkit.emulate.Reward`) over ``k = 1 … K−1`` from a
+given start offset ``d_0``.
+
+Solver
+------
+The cost ``Σ_k Q |d_k|² + Σ_o exp(…)`` is separable in ``d``: its Hessian is
+block-diagonal (diagonal in 2-D). In the actions it is dense, but a projected
+Newton method (Bertsekas) needs it only on the free actions: actions held at
+a bound lock neighbouring offsets together, the free ones move whole groups,
+and the Newton system in the group moves is again block-diagonal (diagonal
+in 2-D), solved in O(K). Negative curvature (the flanks of an obstacle's
+bump) is replaced by its magnitude to keep each step a descent step of
+sensible length; an Armijo search along the
+projection arc gives global convergence, and Newton steps near the optimum
+converge quadratically.
+
+The obstacle term is not convex: an obstacle can be passed on either side. The
+full-horizon plan is solved from several starts (the nominal, every obstacle
+passed on one side or the other, all of them on one side) and the best optimum
+is kept. The receding-horizon plan (MPC, horizon ``H``) re-solves a window of
+``H`` offsets at every step, warm-started from the previous window shifted by
+one, and also from both sides when an obstacle is in the window.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from lfdkit._validation import check_path, check_positive
+from lfdkit.emulate.reward import Reward
+from lfdkit.emulate.scene import Scene
+from lfdkit.geometry import PolylineSet, normal_frames, point_tangents, resample
+
+__all__ = ["Corridor", "Plan", "plan_path"]
+
+#: Horizons the thesis found to work (§5.4).
+MIN_HORIZON, MAX_HORIZON = 4, 12
+_ARMIJO = 1e-4
+_MAX_BACKTRACKS = 40
+
+
+@dataclass(frozen=True, eq=False)
+class Corridor:
+    """A nominal path sampled at constant speed, with the normals a plan moves along.
+
+    Attributes
+    ----------
+    points : ndarray, shape (K, q)
+        Nominal points ``x_k^N``, equally spaced in arc length.
+    normals : ndarray, shape (K, q − 1, q)
+        Orthonormal normals ``N_k`` of each point (rows).
+    tangents : ndarray, shape (K, q)
+    step : float
+        Arc length between consecutive points.
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    tangents: np.ndarray
+    step: float
+
+    @classmethod
+    def from_path(cls, nominal: Any, n_points: int = 100) -> Corridor:
+        """Resample ``nominal`` (n, q), q 2 or 3, to ``n_points`` equally spaced points."""
+        path = check_path(nominal, "nominal", min_points=2)
+        if path.shape[1] not in (2, 3):
+            raise ValueError(f"nominal: expected 2-D or 3-D points, got {path.shape[1]}")
+        n_points = check_positive(n_points, "n_points", integer=True)
+        if n_points < 3:
+            raise ValueError(f"n_points: needs at least 3, got {n_points}")
+        points = resample(path, n_points)
+        tangents = point_tangents(points)
+        frames = normal_frames(tangents)
+        step = float(np.linalg.norm(points[1] - points[0]))
+        return cls(points, frames[:, 1:, :], tangents, step)
+
+    @property
+    def n_points(self) -> int:
+        return int(self.points.shape[0])
+
+    @property
+    def n_dims(self) -> int:
+        return int(self.points.shape[1])
+
+    def to_points(self, offsets: np.ndarray) -> np.ndarray:
+        """World points ``x_k^N + N_kᵀ d_k`` for offsets (K, q − 1)."""
+        return self.points + np.einsum("km,kmq->kq", offsets, self.normals)
+
+    def offsets_of(self, demo: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Lateral offsets where a demonstration crosses each normal.
+
+        Returns
+        -------
+        offsets : ndarray, shape (K, q − 1)
+            ``N_k (p_k − x_k^N)`` with ``p_k`` the nearest crossing of the
+            demonstration (travelled in the nominal's direction) with the
+            normal hyperplane of point ``k``; 0 where there is none.
+        found : ndarray of bool, shape (K,)
+        """
+        demo = check_path(demo, "demo", n_dims=self.n_dims)
+        hits = PolylineSet([demo]).intersect(self.points, self.tangents, same_direction=True)
+        found = hits.found[:, 0]
+        rel = np.where(found[:, None], hits.points[:, 0] - self.points, 0.0)
+        return np.einsum("kmq,kq->km", self.normals, rel), found
+
+
+@dataclass
+class Plan:
+    """A planned path.
+
+    Attributes
+    ----------
+    points : ndarray, shape (K, q)
+        The path, first point the start.
+    offsets : ndarray, shape (K, q − 1)
+        Lateral offsets from the nominal.
+    cost : float
+        ``−Σ_k R(x_k)`` over ``k = 1 … K−1`` (lower is better).
+    horizon : int or None
+        MPC horizon, None for the full-horizon optimum.
+    n_iter : int
+        Newton iterations, summed over starts (and MPC steps).
+    converged : bool
+    """
+
+    points: np.ndarray
+    offsets: np.ndarray
+    cost: float
+    horizon: int | None
+    n_iter: int
+    converged: bool
+    active: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0, bool))
+
+
+# --------------------------------------------------------------------- problem
+class _Problem:
+    """Offsets ``d_1 … d_n`` after a fixed ``d_0``: the cost's ingredients.
+
+    The exponent of obstacle ``l`` at point ``k`` is a quadratic in the offset,
+    ``s = c + 2 bᵀd + dᵀA d`` with ``c = rᵀPr``, ``b = N P r``, ``A = N P Nᵀ``
+    and ``r = x_k^N − O_l``: precomputed once, so each evaluation is a few
+    element-wise operations.
+    """
+
+    def __init__(
+        self,
+        base: np.ndarray,
+        normals: np.ndarray,
+        obstacles: np.ndarray,
+        precision: np.ndarray,
+        weight: float,
+        max_step: float,
+    ) -> None:
+        self.base, self.normals = base, normals  # (n, q), (n, m, q)
+        self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
+        self.weight, self.max_step = float(weight), float(max_step)
+        rel = base[:, None, :] - obstacles[None]  # (n, L, q)
+        pr = np.einsum("lij,klj->kli", precision, rel)
+        self.c = np.einsum("kli,kli->kl", rel, pr)
+        self.b = np.einsum("kmq,klq->klm", normals, pr)
+        self.a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
+
+    @property
+    def n(self) -> int:
+        return int(self.base.shape[0])
+
+    @property
+    def m(self) -> int:
+        return int(self.normals.shape[1])
+
+    @property
+    def has_obstacles(self) -> bool:
+        return bool(self.obstacles.shape[0])
+
+    def window(self, start: int, stop: int) -> _Problem:
+        return _Problem(
+            self.base[start:stop],
+            self.normals[start:stop],
+            self.obstacles,
+            self.precision,
+            self.weight,
+            self.max_step,
+        )
+
+    def bumps(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Obstacle terms ``e`` (n, L) and ``N P u = b + A d`` (n, L, m) at offsets (n, m)."""
+        npu = self.b + np.einsum("klmn,kn->klm", self.a, d)
+        exponent = self.c + np.einsum("klm,km->kl", self.b + npu, d)
+        return np.exp(-exponent), npu
+
+    def cost(self, d: np.ndarray) -> float:
+        value = self.weight * float(np.sum(d * d))
+        if self.has_obstacles:
+            value += float(self.bumps(d)[0].sum())
+        return value
+
+    def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
+        n, m = d.shape
+        cost = self.weight * float(np.sum(d * d))
+        gradient = 2.0 * self.weight * d
+        hessian = np.broadcast_to(2.0 * self.weight * np.eye(m), (n, m, m)).copy()
+        if self.has_obstacles:
+            bump, npu = self.bumps(d)
+            cost += float(bump.sum())
+            gradient -= 2.0 * np.einsum("kl,klm->km", bump, npu)
+            hessian += np.einsum(
+                "kl,klmn->kmn", bump, 4.0 * npu[..., :, None] * npu[..., None, :] - 2.0 * self.a
+            )
+        return cost, gradient, hessian
+
+
+def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
+    """Reduced-variable index of each offset component; −1 where anchored to ``d_0``.
+
+    ``free`` (n, m): action ``j`` (from offset ``j−1`` to ``j``) is free. Offsets
+    linked by held actions move together; each free action starts a new group.
+    """
+    n, m = free.shape
+    counts = np.cumsum(free, axis=0)  # groups started so far per component
+    totals = counts[-1] if n else np.zeros(m, dtype=int)
+    starts = np.concatenate([[0], np.cumsum(totals)[:-1]])
+    index = np.where(counts > 0, counts - 1 + starts[None, :], -1)
+    return index, int(totals.sum())
+
+
+def _reduced(
+    index: np.ndarray, n_vars: int, gradient: np.ndarray, hessian: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Gradient and Hessian in the group moves (sums over each group's members)."""
+    n, m = index.shape
+    moving = index >= 0
+    g = np.bincount(index[moving], weights=gradient[moving], minlength=n_vars)
+    if m == 1:
+        h = np.bincount(index[moving], weights=hessian[:, 0, 0][moving[:, 0]], minlength=n_vars)
+        return g, h  # diagonal
+    rows = np.broadcast_to(index[:, :, None], (n, m, m))
+    cols = np.broadcast_to(index[:, None, :], (n, m, m))
+    keep = (rows >= 0) & (cols >= 0)
+    h = np.zeros((n_vars, n_vars))
+    np.add.at(h, (rows[keep], cols[keep]), hessian[keep])
+    return g, h
+
+
+def _newton_step(g: np.ndarray, h: np.ndarray, floor: float) -> np.ndarray:
+    """``−h⁻¹ g`` with the curvature clipped from below (a descent direction)."""
+    if h.ndim == 1:
+        return -g / np.maximum(h, floor)
+    values, vectors = np.linalg.eigh(h)
+    return -vectors @ ((vectors.T @ g) / np.maximum(values, floor))
+
+
+def _solve(
+    problem: _Problem, d0: np.ndarray, init: np.ndarray, *, tol: float = 1e-10, max_iter: int = 100
+) -> tuple[np.ndarray, float, int, bool]:
+    """Projected Newton on the actions (compiled); returns offsets, cost, iterations, converged."""
+    from lfdkit._kernels import offsets_newton  # numba compiles on first use
+
+    d = np.array(init, dtype=np.float64, order="C").reshape(problem.n, problem.m)
+    cost, n_iter, ok = offsets_newton(
+        problem.c,
+        problem.b,
+        problem.a,
+        problem.weight,
+        problem.max_step,
+        np.ascontiguousarray(d0, dtype=np.float64),
+        d,
+        tol,
+        max_iter,
+    )
+    return d, float(cost), int(n_iter), bool(ok)
+
+
+def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
+    """Initial offsets passing every nearby obstacle on one side or the other."""
+    n, m = problem.n, problem.m
+    starts = [np.zeros((n, m))]
+    if not problem.has_obstacles:
+        return starts
+    rel = problem.obstacles[:, None, :] - problem.base[None]  # (L, n, q)
+    nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
+    sides = []
+    for o, k in enumerate(nearest):
+        lateral = problem.normals[k] @ rel[o, k]  # obstacle's offset (m,)
+        p = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
+        direction = (
+            lateral / np.linalg.norm(lateral) if np.linalg.norm(lateral) > 0 else np.eye(m)[0]
+        )
+        width = 2.5 / np.sqrt(direction @ p @ direction)  # where the bump is below e^-6
+        along = np.arange(n) - k
+        reach = np.maximum(0.0, 1.0 - np.abs(along) * problem.max_step / (2.0 * width))
+        sides.append((lateral, direction, width, reach))
+    for sign in (1.0, -1.0):
+        both = np.zeros((n, m))
+        for lateral, direction, width, reach in sides:
+            target = lateral + sign * direction * width
+            both = np.where(
+                np.abs(reach[:, None] * target) > np.abs(both), reach[:, None] * target, both
+            )
+        starts.append(both)
+        for lateral, direction, width, reach in sides:
+            starts.append(reach[:, None] * (lateral + sign * direction * width))
+    return starts
+
+
+def _build(reward: Reward, corridor: Corridor, scene: Scene, start: int) -> _Problem:
+    precision = reward.precision_of(scene)
+    obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
+    if len(scene) and obstacles.shape[1] != corridor.n_dims:
+        raise ValueError(
+            f"scene: {obstacles.shape[1]}-D obstacles for a {corridor.n_dims}-D nominal path"
+        )
+    return _Problem(
+        corridor.points[start:],
+        corridor.normals[start:],
+        obstacles,
+        precision.reshape(-1, corridor.n_dims, corridor.n_dims),
+        reward.nominal_weight,
+        _max_step(corridor),
+    )
+
+
+def _max_step(corridor: Corridor, slope: float = 1.0) -> float:
+    return slope * corridor.step
+
+
+def plan_path(
+    reward: Reward,
+    nominal: Any,
+    scene: Scene,
+    *,
+    horizon: int | None = None,
+    n_points: int = 100,
+    start_offset: Any = None,
+    init: Any = None,
+    max_slope: float = 1.0,
+) -> Plan:
+    """The path maximising the reward along a nominal path in a scene.
+
+    Parameters
+    ----------
+    reward : Reward
+    nominal : array_like, shape (n, q) or Corridor
+        Nominal path (e.g. a DMP rollout to the new goal), q 2 or 3.
+    scene : Scene
+        Obstacles; every class must be known to ``reward``.
+    horizon : int, optional
+        MPC horizon ``H`` with ``4 <= H <= 12``; None for the full-horizon optimum.
+    n_points : int
+        Points ``K`` of the plan (the nominal is resampled at constant speed).
+    start_offset : array_like, shape (q − 1,), optional
+        Lateral offset of the start from the nominal's first point (default 0).
+    init : array_like, shape (K, q − 1), optional
+        Initial offsets (full horizon only); replaces the multi-start.
+    max_slope : float
+        Largest sideways step per nominal step (the action box).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ValueError
+        For a horizon outside 4–12, an unknown obstacle class, a start inside
+        an obstacle, or mismatched dimensions.
+    """
+    corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
+    m = corridor.n_dims - 1
+    d0 = np.zeros(m) if start_offset is None else np.asarray(start_offset, float).reshape(m)
+    problem = _build(reward, corridor, scene, 1)
+    problem = _Problem(
+        problem.base,
+        problem.normals,
+        problem.obstacles,
+        problem.precision,
+        problem.weight,
+        check_positive(max_slope, "max_slope") * corridor.step,
+    )
+    start_point = corridor.points[0] + d0 @ corridor.normals[0]
+    _check_start(start_point, problem)
+    if horizon is None:
+        starts = (
+            [np.asarray(init, float).reshape(problem.n + 1, m)[1:]]
+            if init is not None
+            else (_side_starts(problem, d0))
+        )
+        best = None
+        total_iter = 0
+        for guess in starts:
+            d, cost, n_iter, ok = _solve(problem, d0, guess)
+            total_iter += n_iter
+            if best is None or cost < best[1] - 1e-12 * abs(best[1]):
+                best = (d, cost, ok)
+        d, cost, ok = best
+        offsets = np.vstack([d0[None], d])
+        return Plan(corridor.to_points(offsets), offsets, cost, None, total_iter, ok)
+    horizon = check_positive(horizon, "horizon", integer=True)
+    if not MIN_HORIZON <= horizon <= MAX_HORIZON:
+        raise ValueError(
+            f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON} (thesis §5.4), got {horizon}"
+        )
+    return _receding_horizon(problem, corridor, d0, horizon)
+
+
+def _receding_horizon(problem: _Problem, corridor: Corridor, d0: np.ndarray, horizon: int) -> Plan:
+    n, m = problem.n, problem.m
+    offsets = np.zeros((n + 1, m))
+    offsets[0] = d0
+    guess = np.zeros((min(horizon, n), m))
+    total_iter, all_ok = 0, True
+    for k in range(n):
+        stop = min(k + horizon, n)
+        window = problem.window(k, stop)
+        guess = guess[: stop - k]
+        if guess.shape[0] < stop - k:
+            guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
+        candidates = [guess]
+        if window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
+            candidates += _side_starts(window, offsets[k])[1:]
+        best = None
+        for candidate in candidates:
+            d, cost, n_iter, ok = _solve(window, offsets[k], candidate)
+            total_iter += n_iter
+            if best is None or cost < best[1]:
+                best = (d, cost, ok)
+        d, _, ok = best
+        all_ok &= ok
+        offsets[k + 1] = d[0]
+        guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
+    cost = problem.cost(offsets[1:])
+    return Plan(corridor.to_points(offsets), offsets, cost, horizon, total_iter, all_ok)
+
+
+def _check_start(point: np.ndarray, problem: _Problem) -> None:
+    if not problem.obstacles.shape[0]:
+        return
+    rel = point[None] - problem.obstacles
+    depth = np.einsum("li,lij,lj->l", rel, problem.precision, rel)
+    inside = np.flatnonzero(depth < 1.0)
+    if inside.size:
+        raise ValueError(
+            f"start: lies inside obstacle {int(inside[0])} (within one standard width of its "
+            "centre); move the start or the obstacle"
+        )

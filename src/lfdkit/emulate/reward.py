@@ -1,0 +1,223 @@
+"""The learned reward (thesis eq. 5.4): stay near the nominal path, keep clear of obstacles.
+
+For a state ``x`` (a point of the path, units of the demonstrations)::
+
+    R(x) = −Q |x − x_N|² − Σ_o exp(−(x − O_o)ᵀ P_c(o) (x − O_o))
+
+* ``x_N`` is the point of the nominal path whose normal passes through ``x``
+  (thesis §5.3: the segment ``x_N x`` is perpendicular to the nominal). For a
+  point in the plane this is the foot of the perpendicular onto the nominal
+  polyline (:func:`lfdkit.geometry.project_onto_polyline`); the planner
+  instead moves each planned point along its own nominal point's normal, so
+  that the match holds by construction.
+* ``Q > 0`` is the thesis's nominal weight (a scalar: only the distance
+  across the path counts, and the path's direction changes along it).
+* ``P_c = R_c⁻¹`` is the precision of obstacle class ``c``: positive
+  definite, in world axes (as the thesis's ``R = diag(…)``). The obstacle term
+  has unit height, so ``Q`` and ``P_c`` together set how far and how wide the
+  path swerves.
+
+Parameters for learning (:attr:`Reward.theta`) are logarithms: ``log Q`` and
+the log-diagonal of every class's precision, so every ``θ`` gives a positive
+definite reward.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from lfdkit._validation import check_positive
+from lfdkit.emulate.scene import Scene
+from lfdkit.geometry import project_onto_polyline, segment_tangents
+
+__all__ = ["Reward"]
+
+
+class Reward:
+    """Nominal term plus one Gaussian obstacle term per class.
+
+    Parameters
+    ----------
+    nominal_weight : float
+        ``Q`` in 1/units² (thesis: 10 for the synthetic example, 200 for da
+        Vinci, 20 for sweeping).
+    precisions : mapping of class label to array_like, shape (q,) or (q, q)
+        ``P_c = R_c⁻¹`` per obstacle class in 1/units²: a positive diagonal
+        ``(q,)`` or a symmetric positive definite matrix ``(q, q)``.
+
+    Raises
+    ------
+    ValueError
+        For a non-positive or non-finite weight, a precision that is not
+        symmetric positive definite, or classes of different dimensions.
+    """
+
+    def __init__(self, nominal_weight: float, precisions: Mapping[str, Any]) -> None:
+        self.nominal_weight = check_positive(nominal_weight, "nominal_weight")
+        matrices: dict[str, np.ndarray] = {}
+        dims = set()
+        for label, value in precisions.items():
+            arr = np.asarray(value, dtype=np.float64)
+            name = f"precisions[{label!r}]"
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"{name}: contains NaN or infinite values")
+            if arr.ndim == 1:
+                if np.any(arr <= 0):
+                    raise ValueError(f"{name}: diagonal entries must be positive, got {arr}")
+                arr = np.diag(arr)
+            if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or arr.shape[0] not in (2, 3):
+                raise ValueError(f"{name}: expected shape (q,) or (q, q) with q 2 or 3")
+            if not np.allclose(arr, arr.T, rtol=1e-10, atol=0.0):
+                raise ValueError(f"{name}: must be symmetric")
+            try:
+                np.linalg.cholesky(arr)
+            except np.linalg.LinAlgError:
+                raise ValueError(f"{name}: must be positive definite") from None
+            dims.add(arr.shape[0])
+            matrices[str(label)] = arr
+        if len(dims) > 1:
+            raise ValueError("precisions: classes of different dimensions")
+        self.precisions = matrices
+
+    # ------------------------------------------------------------ parameters
+    @property
+    def classes(self) -> tuple[str, ...]:
+        """Learned obstacle classes, in order."""
+        return tuple(self.precisions)
+
+    @property
+    def n_dims(self) -> int | None:
+        """Spatial dimension of the precisions (None without classes)."""
+        for matrix in self.precisions.values():
+            return int(matrix.shape[0])
+        return None
+
+    @property
+    def theta(self) -> np.ndarray:
+        """``[log Q, log diag P_c for each class]``; defined for diagonal precisions only."""
+        parts = [np.array([np.log(self.nominal_weight)])]
+        for label, matrix in self.precisions.items():
+            if np.any(matrix - np.diag(np.diag(matrix))):
+                raise ValueError(f"theta: precision of {label!r} is not diagonal")
+            parts.append(np.log(np.diag(matrix)))
+        return np.concatenate(parts)
+
+    @classmethod
+    def from_theta(cls, theta: Any, classes: Sequence[str], n_dims: int) -> Reward:
+        """The reward with ``Q = exp θ₀`` and diagonal precisions ``exp θ`` per class."""
+        theta = np.asarray(theta, dtype=np.float64)
+        expected = 1 + len(classes) * n_dims
+        if theta.shape != (expected,):
+            raise ValueError(f"theta: expected {expected} values, got shape {theta.shape}")
+        if not np.all(np.isfinite(theta)):
+            raise ValueError("theta: contains NaN or infinite values")
+        precisions = {
+            label: np.exp(theta[1 + i * n_dims : 1 + (i + 1) * n_dims])
+            for i, label in enumerate(classes)
+        }
+        return cls(float(np.exp(theta[0])), precisions)
+
+    def combined(self, other: Reward, nominal_weight: float | None = None) -> Reward:
+        """One reward with the classes of both (e.g. learned from separate demonstration sets).
+
+        ``nominal_weight`` defaults to this reward's; a class in both is taken from ``other``.
+        """
+        weight = self.nominal_weight if nominal_weight is None else nominal_weight
+        return Reward(weight, {**self.precisions, **other.precisions})
+
+    def __repr__(self) -> str:
+        parts = ", ".join(
+            f"{k!r}: diag{np.round(np.diag(v), 4).tolist()}" for k, v in self.precisions.items()
+        )
+        return f"Reward(Q={self.nominal_weight:.6g}, precisions={{{parts}}})"
+
+    # ------------------------------------------------------------ evaluation
+    def precision_of(self, scene: Scene) -> np.ndarray:
+        """Precision matrix of every obstacle of ``scene``, shape (n_obstacles, q, q).
+
+        Raises
+        ------
+        ValueError
+            If the scene has an obstacle of a class this reward has not learned,
+            or its dimension differs.
+        """
+        unknown = [label for label in scene.classes if label not in self.precisions]
+        if unknown:
+            raise ValueError(
+                f"scene: obstacle class {unknown[0]!r} was never learned; "
+                f"known classes: {', '.join(self.classes) or 'none'}"
+            )
+        if not len(scene):
+            return np.zeros((0, self.n_dims or 2, self.n_dims or 2))
+        if scene.positions.shape[1] != self.n_dims:
+            raise ValueError(
+                f"scene: {scene.positions.shape[1]}-D obstacles for a {self.n_dims}-D reward"
+            )
+        return np.array([self.precisions[label] for label in scene.labels])
+
+    def obstacle_cost(self, points: Any, scene: Scene) -> np.ndarray:
+        """``Σ_o exp(−(x − O)ᵀ P (x − O))`` at each point, shape (n,)."""
+        points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        precision = self.precision_of(scene)
+        if not len(scene):
+            return np.zeros(points.shape[0])
+        rel = points[:, None, :] - scene.positions[None]
+        return np.exp(-np.einsum("nli,lij,nlj->nl", rel, precision, rel)).sum(axis=1)
+
+    def value(self, points: Any, nominal: Any, scene: Scene) -> np.ndarray:
+        """Reward at each point, shape (n,), the nominal point found by projection.
+
+        Parameters
+        ----------
+        points : array_like, shape (n, q)
+        nominal : array_like, shape (m, q)
+            The nominal path (generalized or DMP-retargeted).
+        scene : Scene
+        """
+        points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        _, _, distance = project_onto_polyline(points, np.asarray(nominal, dtype=np.float64))
+        return -self.nominal_weight * distance**2 - self.obstacle_cost(points, scene)
+
+    def gradient(self, points: Any, nominal: Any, scene: Scene) -> np.ndarray:
+        """Gradient of :meth:`value` with respect to each point, shape (n, q)."""
+        return self._derivatives(points, nominal, scene)[0]
+
+    def hessian(self, points: Any, nominal: Any, scene: Scene) -> np.ndarray:
+        """Hessian of :meth:`value` at each point, shape (n, q, q).
+
+        The nominal term's Hessian is ``−2Q (I − t tᵀ)`` where the foot of the
+        perpendicular lies inside a segment of tangent ``t`` (the polyline's
+        curvature sits in its vertices), ``−2Q I`` where it is a vertex.
+        """
+        return self._derivatives(points, nominal, scene)[1]
+
+    def _derivatives(self, points: Any, nominal: Any, scene: Scene) -> tuple[np.ndarray, ...]:
+        points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        nominal = np.asarray(nominal, dtype=np.float64)
+        q = points.shape[1]
+        arc, foot, _ = project_onto_polyline(points, nominal)
+        offset = points - foot
+        gradient = -2.0 * self.nominal_weight * offset
+        knots = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(nominal, axis=0), axis=1))])
+        segment = np.clip(np.searchsorted(knots, arc, side="right") - 1, 0, len(nominal) - 2)
+        at_vertex = np.isclose(arc, knots[segment]) | np.isclose(arc, knots[segment + 1])
+        tangents = segment_tangents(nominal)[segment]
+        across = np.eye(q) - np.where(at_vertex[:, None, None], 0.0, 1.0) * (
+            tangents[:, :, None] * tangents[:, None, :]
+        )
+        hessian = -2.0 * self.nominal_weight * across
+        if len(scene):
+            precision = self.precision_of(scene)
+            rel = points[:, None, :] - scene.positions[None]  # (n, L, q)
+            pu = np.einsum("lij,nlj->nli", precision, rel)
+            bump = np.exp(-np.einsum("nli,nli->nl", rel, pu))
+            gradient += 2.0 * np.einsum("nl,nli->ni", bump, pu)
+            hessian += np.einsum(
+                "nl,nlij->nij",
+                bump,
+                2.0 * precision[None] - 4.0 * pu[:, :, :, None] * pu[:, :, None, :],
+            )
+        return gradient, hessian
