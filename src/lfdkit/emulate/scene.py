@@ -21,10 +21,14 @@ class Obstacle:
         Obstacle class; the reward has one Gaussian term per class.
     position : ndarray, shape (q,)
         Centre, in the units of the paths.
+    radius : float
+        Physical radius (units of the paths) for collision and clearance checks;
+        the reward does not use it (the learned precision sets the response).
     """
 
     label: str
     position: np.ndarray
+    radius: float = 0.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.label, str) or not self.label:
@@ -38,6 +42,10 @@ class Obstacle:
             raise ValueError(f"position: contains NaN or infinite values ({self.label!r})")
         position.setflags(write=False)
         object.__setattr__(self, "position", position)
+        radius = float(self.radius)
+        if not np.isfinite(radius) or radius < 0:
+            raise ValueError(f"radius: must be finite and >= 0, got {self.radius!r}")
+        object.__setattr__(self, "radius", radius)
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,15 +71,25 @@ class Scene:
         object.__setattr__(self, "obstacles", obstacles)
 
     @classmethod
-    def from_arrays(cls, labels: Sequence[str], positions: Any) -> Scene:
-        """Build a scene from parallel lists of labels and positions ``(n, q)``."""
+    def from_arrays(
+        cls, labels: Sequence[str], positions: Any, radii: Sequence[float] | None = None
+    ) -> Scene:
+        """Build a scene from parallel lists of labels, positions ``(n, q)`` and radii."""
         positions = np.asarray(positions, dtype=np.float64)
         if positions.ndim != 2 or positions.shape[0] != len(labels):
             raise ValueError(
                 f"positions: expected shape ({len(labels)}, q) to match labels, "
                 f"got {positions.shape}"
             )
-        return cls(tuple(Obstacle(lab, pos) for lab, pos in zip(labels, positions, strict=True)))
+        radii = [0.0] * len(labels) if radii is None else list(radii)
+        if len(radii) != len(labels):
+            raise ValueError(f"radii: expected {len(labels)} values, got {len(radii)}")
+        return cls(
+            tuple(
+                Obstacle(lab, pos, rad)
+                for lab, pos, rad in zip(labels, positions, radii, strict=True)
+            )
+        )
 
     @property
     def positions(self) -> np.ndarray:
@@ -79,6 +97,11 @@ class Scene:
         if not self.obstacles:
             return np.zeros((0, 0))
         return np.array([o.position for o in self.obstacles])
+
+    @property
+    def radii(self) -> np.ndarray:
+        """Physical radius of each obstacle, shape (n_obstacles,)."""
+        return np.array([o.radius for o in self.obstacles], dtype=np.float64)
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -100,7 +123,7 @@ class Scene:
         """The scene reflected in coordinate ``axis`` (for symmetry checks)."""
         flip = np.ones(self.positions.shape[1] if self.obstacles else 1)
         flip[axis] = -1.0
-        return Scene(tuple(Obstacle(o.label, o.position * flip) for o in self.obstacles))
+        return Scene(tuple(Obstacle(o.label, o.position * flip, o.radius) for o in self.obstacles))
 
     def with_obstacles(self, obstacles: Iterable[Obstacle]) -> Scene:
         """A new scene with more obstacles."""

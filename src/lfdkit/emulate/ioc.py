@@ -1,0 +1,351 @@
+"""Inverse optimal control: the reward whose optimal paths match the demonstrations (eq. 5.5).
+
+``θ = [log Q, log diag P_c for each class]`` minimises the mean squared
+distance between each demonstration and the path planned in its scene::
+
+    L(θ) = Σ_d Σ_k |x̄_k(θ, scene_d) − ζ_{d,k}|² / (number of matched points)
+
+Distances are taken along the nominal's normals (the planner's own
+coordinates, :class:`lfdkit.emulate.Corridor`): ``ζ_{d,k}`` is where
+demonstration ``d`` crosses the normal of nominal point ``k``, so ``|x̄_k −
+ζ_{d,k}|`` is the difference of two lateral offsets. Points where the
+demonstration does not cross a normal are left out.
+
+Gradients are exact, by implicit differentiation of the planner's optimality
+conditions. At a plan ``d*`` the free action groups (:mod:`.planner`) satisfy
+``G(d*, θ) = 0``; so ``dδ/dθ = −H⁻¹ ∂G/∂θ`` with ``H`` the (block-)diagonal
+reduced Hessian, and the loss gradient is one adjoint solve per demonstration,
+``−λᵀ ∂G/∂θ`` with ``H λ = ∂L/∂δ``. Held actions (at their bound) do not move
+to first order. The outer loop is L-BFGS on ``θ``; each inner plan is
+warm-started on the demonstration it is compared with, so it lands in the same
+local optimum (the same side of each obstacle) as the demonstrator.
+
+The fit is staged: the full-horizon planner first (cheap, smooth), then,
+optionally, refinement with the receding-horizon planner (MPC) that is used
+at run time, its gradient by forward sensitivities through every MPC step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.optimize import minimize
+
+from lfdkit._validation import check_positive
+from lfdkit.emulate.planner import (
+    MAX_HORIZON,
+    MIN_HORIZON,
+    Corridor,
+    _build,
+    _groups,
+    _Problem,
+    _solve,
+    plan_path,
+)
+from lfdkit.emulate.reward import Reward
+from lfdkit.emulate.scene import Scene
+
+__all__ = ["IOC", "DemoInScene"]
+
+
+@dataclass(frozen=True, eq=False)
+class DemoInScene:
+    """One demonstration in the planner's coordinates."""
+
+    corridor: Corridor
+    scene: Scene
+    start: np.ndarray  # (m,) lateral offset of the demonstration's start
+    target: np.ndarray  # (K, m) lateral offsets of the demonstration
+    found: np.ndarray  # (K,) where it crosses the normals
+
+
+def _theta_derivative(
+    problem: _Problem, d: np.ndarray, class_of: np.ndarray, n_classes: int
+) -> np.ndarray:
+    """``∂G/∂θ``: derivative of the offset gradient w.r.t. θ, shape (n, m, n_theta).
+
+    θ = [log Q, log p_{c,i}]; precisions diagonal. For obstacle ``o`` of class
+    ``c`` with ``u = x − O`` and ``e = exp(−uᵀPu)`` the gradient term is
+    ``−2e N P u``, whose derivative in ``log p_i`` is ``2 e p_i u_i (u_i N P u − N_{·i})``.
+    """
+    n, m = d.shape
+    q = problem.base.shape[1]
+    out = np.zeros((n, m, 1 + n_classes * q))
+    out[:, :, 0] = 2.0 * problem.weight * d
+    if not problem.has_obstacles:
+        return out
+    points = problem.base + np.einsum("km,kmq->kq", d, problem.normals)
+    rel = points[:, None, :] - problem.obstacles[None]  # (n, L, q)
+    diag = np.einsum("lii->li", problem.precision)  # (L, q)
+    pu = rel * diag[None]  # P u for diagonal P
+    bump = np.exp(-np.einsum("kli,kli->kl", rel, pu))
+    npu = np.einsum("kmq,klq->klm", problem.normals, pu)
+    # (n, L, m, q): 2 e p_i u_i (u_i N P u − N[:, i])
+    term = (
+        2.0
+        * (bump[:, :, None] * diag[None] * rel)[:, :, None, :]
+        * (rel[:, :, None, :] * npu[:, :, :, None] - problem.normals[:, None, :, :])
+    )
+    for o in range(problem.obstacles.shape[0]):
+        c = int(class_of[o])
+        out[:, :, 1 + c * q : 1 + (c + 1) * q] += term[:, o]
+    return out
+
+
+def _held(problem: _Problem, d0: np.ndarray, d: np.ndarray, gradient: np.ndarray) -> np.ndarray:
+    actions = np.diff(np.vstack([d0[None], d]), axis=0)
+    action_gradient = np.cumsum(gradient[::-1], axis=0)[::-1]
+    bound = problem.max_step
+    return ((actions >= bound * (1 - 1e-9)) & (action_gradient < 0)) | (
+        (actions <= -bound * (1 - 1e-9)) & (action_gradient > 0)
+    )
+
+
+def _reduced_hessian(index: np.ndarray, n_vars: int, hessian: np.ndarray) -> np.ndarray:
+    m = index.shape[1]
+    h = np.zeros((n_vars, n_vars))
+    for i in range(m):
+        for j in range(m):
+            keep = (index[:, i] >= 0) & (index[:, j] >= 0)
+            np.add.at(h, (index[keep, i], index[keep, j]), hessian[keep, i, j])
+    return h
+
+
+class IOC:
+    """Fit a :class:`Reward` to demonstrations in their scenes (thesis eq. 5.5).
+
+    Parameters
+    ----------
+    classes : sequence of str, optional
+        Obstacle classes to learn (default: every class in the scenes).
+    n_points : int
+        Points ``K`` of each plan along the nominal.
+    horizon : int, optional
+        If given (4–12), refine the full-horizon fit with the MPC planner of
+        this horizon (the staged fit).
+    max_slope : float
+        The planner's action bound (sideways step per nominal step).
+    init : Reward, optional
+        Starting reward (default: widths of 5 % of the path's extent,
+        ``Q = 10 / extent²``).
+    max_iter : int
+        L-BFGS iterations per stage.
+    tol : float
+        Relative tolerance on the loss for L-BFGS.
+
+    Attributes
+    ----------
+    reward_ : Reward
+    theta_ : ndarray
+        ``[log Q, log diag P_c …]``.
+    classes_ : tuple of str
+    loss_ : float
+        Final mean squared distance (units²) on the training demonstrations.
+    loss_history_ : list of float
+    stages_ : list of dict
+        Per stage: planner, iterations, loss, seconds.
+    """
+
+    def __init__(
+        self,
+        classes: Sequence[str] | None = None,
+        *,
+        n_points: int = 100,
+        horizon: int | None = None,
+        max_slope: float = 1.0,
+        init: Reward | None = None,
+        max_iter: int = 200,
+        tol: float = 1e-10,
+    ) -> None:
+        self.classes = classes
+        self.n_points = n_points
+        self.horizon = horizon
+        self.max_slope = max_slope
+        self.init = init
+        self.max_iter = max_iter
+        self.tol = tol
+
+    # ---------------------------------------------------------------- data
+    def _prepare(self, demos: Any, scenes: Any, nominal: Any) -> list[DemoInScene]:
+        demos = list(demos)
+        scenes = list(scenes)
+        if len(demos) != len(scenes):
+            raise ValueError(
+                f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations; "
+                "give one scene per demonstration"
+            )
+        if not demos:
+            raise ValueError("demos: needs at least one demonstration")
+        nominals = nominal if isinstance(nominal, (list, tuple)) else [nominal] * len(demos)
+        if len(nominals) != len(demos):
+            raise ValueError(f"nominal: {len(nominals)} nominal paths for {len(demos)} demos")
+        corridors: dict[int, Corridor] = {}
+        prepared = []
+        for j, (demo, scene, path) in enumerate(zip(demos, scenes, nominals, strict=True)):
+            if not isinstance(scene, Scene):
+                raise TypeError(f"scenes[{j}]: expected a Scene, got {type(scene).__name__}")
+            corridor = corridors.get(id(path))
+            if corridor is None:
+                corridor = Corridor.from_path(path, self.n_points)
+                corridors[id(path)] = corridor
+            try:
+                target, found = corridor.offsets_of(demo)
+            except ValueError as exc:
+                raise ValueError(f"demos[{j}]: {exc}") from None
+            if found.sum() < 0.5 * corridor.n_points:
+                raise ValueError(
+                    f"demos[{j}]: crosses only {int(found.sum())} of {corridor.n_points} normals "
+                    "of the nominal path; does it follow the same course?"
+                )
+            start = target[0] if found[0] else target[np.argmax(found)]
+            prepared.append(DemoInScene(corridor, scene, start, target, found))
+        return prepared
+
+    # ------------------------------------------------------------- objective
+    def _objective(
+        self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
+    ) -> tuple[float, np.ndarray]:
+        reward = Reward.from_theta(theta, self.classes_, self._q)
+        total, gradient = 0.0, np.zeros_like(theta)
+        count = sum(int(item.found[1:].sum()) for item in data)
+        for j, item in enumerate(data):
+            problem = self._problem(reward, item)
+            d, _, _, _ = _solve(problem, item.start, warm[j], tol=1e-11, max_iter=200)
+            warm[j] = d
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
+            gradient += self._implicit_gradient(problem, item, d, 2.0 * residual / count)
+        return total, gradient
+
+    def _problem(self, reward: Reward, item: DemoInScene) -> _Problem:
+        problem = _build(reward, item.corridor, item.scene, 1)
+        return _Problem(
+            problem.base,
+            problem.normals,
+            problem.obstacles,
+            problem.precision,
+            problem.weight,
+            self.max_slope * item.corridor.step,
+        )
+
+    def _implicit_gradient(
+        self, problem: _Problem, item: DemoInScene, d: np.ndarray, d_loss: np.ndarray
+    ) -> np.ndarray:
+        _, gradient, hessian = problem.derivatives(d)
+        held = _held(problem, item.start, d, gradient)
+        index, n_vars = _groups(~held)
+        if n_vars == 0:
+            return np.zeros(1 + len(self.classes_) * self._q)
+        moving = index >= 0
+        rhs = np.bincount(index[moving], weights=d_loss[moving], minlength=n_vars)
+        h = _reduced_hessian(index, n_vars, hessian)
+        try:
+            adjoint = np.linalg.solve(h, rhs)
+        except np.linalg.LinAlgError:
+            adjoint = np.linalg.lstsq(h, rhs, rcond=None)[0]
+        class_of = np.array([self.classes_.index(label) for label in item.scene.labels], int)
+        d_grad = _theta_derivative(problem, d, class_of, len(self.classes_))
+        spread = np.where(moving[:, :, None], adjoint[np.maximum(index, 0)][:, :, None], 0.0)
+        return -np.einsum("kmp,kmp->p", spread, d_grad)
+
+    # ------------------------------------------------------------------ fit
+    def fit(self, demos: Any, scenes: Any, nominal: Any) -> IOC:
+        """Learn the reward.
+
+        Parameters
+        ----------
+        demos : sequence of array_like, each (n_j, q)
+            Demonstrations, each recorded in its scene.
+        scenes : sequence of Scene
+            One scene per demonstration.
+        nominal : array_like (n, q), or a sequence of them (one per demonstration)
+            The nominal path the demonstrations deviate from (e.g. their
+            Mean-Path, or a DMP rollout to their goal).
+
+        Returns
+        -------
+        IOC
+            ``self``.
+        """
+        check_positive(self.n_points, "n_points", integer=True)
+        check_positive(self.max_iter, "max_iter", integer=True)
+        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
+            raise ValueError(
+                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
+            )
+        data = self._prepare(demos, scenes, nominal)
+        seen = tuple(dict.fromkeys(label for item in data for label in item.scene.labels))
+        self.classes_ = tuple(self.classes) if self.classes is not None else seen
+        missing = [label for label in seen if label not in self.classes_]
+        if missing:
+            raise ValueError(f"classes: the scenes contain {missing[0]!r}, which is not listed")
+        self._q = data[0].corridor.n_dims
+        theta0 = self._initial_theta(data)
+        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+        history: list[float] = []
+        self.stages_ = []
+
+        def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
+            value, grad = self._objective(theta, data, warm)
+            history.append(value)
+            return value, grad
+
+        import time
+
+        started = time.perf_counter()
+        result = minimize(
+            fun,
+            theta0,
+            jac=True,
+            method="L-BFGS-B",
+            bounds=[(-20.0, 25.0)] * theta0.size,
+            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-12},
+        )
+        self.stages_.append(
+            {
+                "planner": "full horizon",
+                "iterations": int(result.nit),
+                "loss": float(result.fun),
+                "seconds": time.perf_counter() - started,
+                "message": str(result.message),
+            }
+        )
+        theta = result.x
+        if self.horizon is not None:
+            theta = self._refine_mpc(theta, data, history)
+        self.theta_ = theta
+        self.reward_ = Reward.from_theta(theta, self.classes_, self._q)
+        self.loss_history_ = history
+        self.loss_ = float(history[-1]) if history else float("nan")
+        self.converged_ = bool(result.success)
+        return self
+
+    def _initial_theta(self, data: list[DemoInScene]) -> np.ndarray:
+        if self.init is not None:
+            missing = [c for c in self.classes_ if c not in self.init.precisions]
+            if missing:
+                raise ValueError(f"init: has no precision for class {missing[0]!r}")
+            sub = Reward(
+                self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_}
+            )
+            return sub.theta
+        extent = max(float(np.ptp(item.corridor.points, axis=0).max()) for item in data)
+        width = 0.05 * extent
+        theta = [np.log(10.0 / extent**2)]
+        for _ in self.classes_:
+            theta.extend([np.log(1.0 / width**2)] * self._q)
+        return np.array(theta)
+
+    def _refine_mpc(self, theta: np.ndarray, data: list[DemoInScene], history: list[float]):
+        raise NotImplementedError
+
+    # -------------------------------------------------------------- use
+    def plan(self, nominal: Any, scene: Scene, **kwargs: Any):
+        """Plan with the learned reward (:func:`lfdkit.emulate.plan_path`)."""
+        kwargs.setdefault("horizon", self.horizon)
+        kwargs.setdefault("n_points", self.n_points)
+        kwargs.setdefault("max_slope", self.max_slope)
+        return plan_path(self.reward_, nominal, scene, **kwargs)
