@@ -114,6 +114,54 @@ def _reduced_hessian(index: np.ndarray, n_vars: int, hessian: np.ndarray) -> np.
     return h
 
 
+def _mpc_with_sensitivity(
+    problem: _Problem, item: DemoInScene, horizon: int, class_of: np.ndarray, n_classes: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Receding-horizon plan and its derivative w.r.t. θ by forward sensitivities.
+
+    Each window is warm-started on the demonstration's offsets over the window
+    (so it keeps the demonstrator's side of each obstacle). At a window's
+    optimum the free groups satisfy ``G(w, d_k, θ) = 0``; the window moves with
+    ``θ`` directly and through the executed offset ``d_k`` it is anchored to:
+    ``dδ = −H⁻¹ (∂G/∂θ + ∂G/∂d_k · S_k)``, and ``S_{k+1}`` is the first
+    offset's row of it (or ``S_k`` where the first action is held).
+
+    Returns offsets (n, m) and sensitivities (n, m, n_theta).
+    """
+    n, m = problem.n, problem.m
+    n_theta = 1 + n_classes * problem.base.shape[1]
+    guide = np.where(item.found[1:, None], item.target[1:], 0.0)
+    offsets = np.zeros((n, m))
+    sensitivity = np.zeros((n, m, n_theta))
+    anchor, anchor_sens = item.start.astype(float), np.zeros((m, n_theta))
+    for k in range(n):
+        stop = min(k + horizon, n)
+        window = problem.window(k, stop)
+        w, _, _, _ = _solve(window, anchor, guide[k:stop].copy(), tol=1e-11, max_iter=200)
+        _, gradient, hessian = window.derivatives(w)
+        held = _held(window, anchor, w, gradient)
+        index, n_vars = _groups(~held)
+        first = np.empty((m, n_theta))
+        if n_vars:
+            moving = index >= 0
+            rhs = np.zeros((n_vars, n_theta))
+            np.add.at(rhs, index[moving], _theta_derivative(window, w, class_of, n_classes)[moving])
+            coupling = np.zeros((n_vars, m))  # ∂G/∂d_k: anchored components move with d_k
+            for i in range(m):
+                for j in range(m):
+                    pair = moving[:, i] & ~moving[:, j]
+                    np.add.at(coupling[:, j], index[pair, i], hessian[pair, i, j])
+            h = _reduced_hessian(index, n_vars, hessian)
+            moves = -np.linalg.solve(h, rhs + coupling @ anchor_sens)
+            for i in range(m):
+                first[i] = moves[index[0, i]] if index[0, i] >= 0 else anchor_sens[i]
+        else:
+            first[:] = anchor_sens
+        offsets[k], sensitivity[k] = w[0], first
+        anchor, anchor_sens = w[0], first
+    return offsets, sensitivity
+
+
 class IOC:
     """Fit a :class:`Reward` to demonstrations in their scenes (thesis eq. 5.5).
 
@@ -339,8 +387,53 @@ class IOC:
             theta.extend([np.log(1.0 / width**2)] * self._q)
         return np.array(theta)
 
-    def _refine_mpc(self, theta: np.ndarray, data: list[DemoInScene], history: list[float]):
-        raise NotImplementedError
+    def _refine_mpc(
+        self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
+    ) -> np.ndarray:
+        import time
+
+        started = time.perf_counter()
+
+        def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
+            loss, grad = self._objective_mpc(value, data)
+            history.append(loss)
+            return loss, grad
+
+        result = minimize(
+            fun,
+            theta,
+            jac=True,
+            method="L-BFGS-B",
+            bounds=[(-20.0, 25.0)] * theta.size,
+            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-12},
+        )
+        self.stages_.append(
+            {
+                "planner": f"MPC H={int(self.horizon)}",
+                "iterations": int(result.nit),
+                "loss": float(result.fun),
+                "seconds": time.perf_counter() - started,
+                "message": str(result.message),
+            }
+        )
+        return result.x if result.fun <= self.stages_[0]["loss"] * 10 else theta
+
+    def _objective_mpc(
+        self, theta: np.ndarray, data: list[DemoInScene]
+    ) -> tuple[float, np.ndarray]:
+        reward = Reward.from_theta(theta, self.classes_, self._q)
+        count = sum(int(item.found[1:].sum()) for item in data)
+        total, gradient = 0.0, np.zeros_like(theta)
+        for item in data:
+            problem = self._problem(reward, item)
+            class_of = np.array([self.classes_.index(label) for label in item.scene.labels], int)
+            d, sensitivity = _mpc_with_sensitivity(
+                problem, item, int(self.horizon), class_of, len(self.classes_)
+            )
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
+            gradient += np.einsum("km,kmp->p", 2.0 * residual / count, sensitivity)
+        return total, gradient
 
     # -------------------------------------------------------------- use
     def plan(self, nominal: Any, scene: Scene, **kwargs: Any):
