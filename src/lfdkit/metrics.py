@@ -17,17 +17,29 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path
+from lfdkit._validation import check_demos, check_path, check_positive
 from lfdkit.geometry import (
     PolylineSet,
     arc_length,
     left_normals,
+    path_length,
     point_tangents,
     project_onto_polyline,
     resample,
 )
 
-__all__ = ["distance_space", "e1", "e2", "e3", "penetration"]
+__all__ = [
+    "clearance",
+    "collisions",
+    "distance_space",
+    "e1",
+    "e2",
+    "e3",
+    "improvement",
+    "mse_paths",
+    "parameter_errors",
+    "penetration",
+]
 
 
 def distance_space(
@@ -173,3 +185,181 @@ def penetration(
     tol = max(float(tolerance), 1e-9 * (float(np.abs(nominal).max()) + 1.0))
     depth = float(inside.max())
     return (depth if depth > tol else 0.0), float(np.mean(inside > tol))
+
+
+# --------------------------------------------------------------------- emulation
+# Measures of emulation (thesis §5.5, §6.3–6.4): how close reproduced paths are
+# to the demonstrations, how much that improves on replaying the generalized
+# path, how far a path keeps from the obstacles, and how well a fitted reward
+# recovers known parameters.
+
+
+def _paths_for(paths, n_demos: int, n_dims: int) -> list[np.ndarray]:
+    """One path per demonstration: a single (m, q) path is repeated ``n_demos`` times."""
+    if isinstance(paths, np.ndarray) and paths.ndim == 2:
+        return [check_path(paths, "paths", n_dims=n_dims)] * n_demos
+    checked = check_demos(paths, "paths", n_dims=n_dims)
+    if len(checked) != n_demos:
+        raise ValueError(
+            f"paths: expected one path per demonstration ({n_demos}), got {len(checked)}; "
+            "pass a single (m, q) array to compare one path with every demonstration"
+        )
+    return checked
+
+
+def mse_paths(paths, demos, n_points: int = 100) -> float:
+    """Mean squared distance between reproduced paths and demonstrations (thesis MSE_R).
+
+    ``MSE = 1/(n m) Σ_d Σ_i |ζ_{d,i} − ζ_{R,i}|²`` over the ``n`` demonstrations
+    and the ``m = n_points`` points of each, both paths resampled to points
+    equally spaced in arc length, so point ``i`` of one is compared with point
+    ``i`` of the other.
+
+    Parameters
+    ----------
+    paths : list of array_like, each (m_d, q), or one ndarray (m, q)
+        ``paths[d]`` is the reproduction of ``demos[d]`` (e.g. the plan in that
+        demonstration's scene). A single 2-D array is compared with every
+        demonstration: replaying the generalized path gives MSE_Mp.
+    demos : list of array_like, each (n_d, q)
+    n_points : int
+        Points each path is resampled to (the thesis uses 100).
+
+    Returns
+    -------
+    float
+        Mean squared distance per point and per path, in units².
+
+    Raises
+    ------
+    ValueError
+        For mismatched numbers of paths and demonstrations or dimensions, a path of
+        zero length, or ``n_points < 2``.
+    """
+    demos = check_demos(demos, "demos")
+    n_dims = demos[0].shape[1]
+    paths = _paths_for(paths, len(demos), n_dims)
+    n_points = check_positive(n_points, "n_points", integer=True)
+    if n_points < 2:
+        raise ValueError(f"n_points: needs at least 2, got {n_points}")
+    total = 0.0
+    for d, (path, demo) in enumerate(zip(paths, demos, strict=True)):
+        for arr, name in ((path, f"paths[{d}]"), (demo, f"demos[{d}]")):
+            if path_length(arr) <= 0:
+                raise ValueError(f"{name}: has zero length (all points coincide)")
+        diff = resample(path, n_points) - resample(demo, n_points)
+        total += float(np.einsum("iq,iq->", diff, diff))
+    return total / (len(demos) * n_points)
+
+
+def improvement(mse_replay: float, mse_reproduced: float) -> float:
+    """Improvement over replaying the generalized path, in percent (thesis Pr).
+
+    ``Pr = (MSE_Mp − MSE_R) / MSE_Mp · 100``: 100 % for a perfect reproduction,
+    0 % for no better than replaying, negative when worse.
+
+    Parameters
+    ----------
+    mse_replay : float
+        MSE_Mp, of the generalized path replayed in every scene (> 0).
+    mse_reproduced : float
+        MSE_R, of the reproduced (planned) paths (>= 0).
+    """
+    mse_replay = check_positive(mse_replay, "mse_replay")
+    mse_reproduced = check_positive(mse_reproduced, "mse_reproduced", allow_zero=True)
+    return (mse_replay - mse_reproduced) / mse_replay * 100.0
+
+
+def _check_scene(scene, name: str = "scene"):
+    if not hasattr(scene, "obstacles") or not hasattr(scene, "radii"):
+        raise TypeError(f"{name}: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
+    return scene
+
+
+def clearance(path, scene) -> np.ndarray:
+    """Distance from a path to the surface of every obstacle (negative inside).
+
+    The path is taken as a polyline: the distance to an obstacle's centre is the
+    smallest over its segments, not only its vertices, so a coarse path that
+    cuts through an obstacle between two points is caught.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, q), q 2 or 3
+        One point is accepted (its distance to each centre).
+    scene : Scene
+        Obstacles of the same dimension as the path.
+
+    Returns
+    -------
+    ndarray, shape (n_obstacles,)
+        Smallest distance from the polyline to each obstacle centre minus its
+        radius, in units: negative where the path enters the obstacle.
+    """
+    path = check_path(path, "path", min_points=1)
+    scene = _check_scene(scene)
+    if not len(scene.obstacles):
+        return np.zeros(0)
+    centres = scene.positions
+    if centres.shape[1] != path.shape[1]:
+        raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
+    if path.shape[0] == 1:
+        dist = np.linalg.norm(centres - path[0], axis=1)
+    else:
+        a, seg = path[:-1], np.diff(path, axis=0)  # (s, q)
+        len2 = np.einsum("sq,sq->s", seg, seg)
+        rel = centres[:, None, :] - a[None]  # (L, s, q)
+        dot = np.einsum("lsq,sq->ls", rel, seg)
+        u = np.clip(np.divide(dot, len2, out=np.zeros_like(dot), where=len2 > 0), 0.0, 1.0)
+        foot = a[None] + u[..., None] * seg[None]
+        dist = np.linalg.norm(centres[:, None, :] - foot, axis=2).min(axis=1)
+    return dist - scene.radii
+
+
+def collisions(path, scene) -> int:
+    """Number of obstacles whose radius the path polyline enters (:func:`clearance` < 0)."""
+    return int(np.count_nonzero(clearance(path, scene) < 0.0))
+
+
+def parameter_errors(fitted, true) -> dict[str, float]:
+    """Relative errors of a fitted reward's parameters against known ones.
+
+    Parameters
+    ----------
+    fitted, true : Reward
+        ``true`` is the ground truth; ``fitted`` must know every class of
+        ``true`` (extra classes of ``fitted`` are ignored).
+
+    Returns
+    -------
+    dict of str to float
+        ``|fitted − true| / |true|`` for ``"Q"`` (the nominal weight) and for each
+        diagonal precision entry, keyed ``"<class>[<i>]"`` (e.g. ``"cup[0]"``), in
+        the order of ``true``'s classes.
+
+    Raises
+    ------
+    ValueError
+        If a class of ``true`` is missing from ``fitted`` or their dimensions differ.
+    """
+    for reward, name in ((fitted, "fitted"), (true, "true")):
+        if not hasattr(reward, "precisions") or not hasattr(reward, "nominal_weight"):
+            raise TypeError(
+                f"{name}: expected an lfdkit.emulate.Reward, got {type(reward).__name__}"
+            )
+    missing = [label for label in true.precisions if label not in fitted.precisions]
+    if missing:
+        raise ValueError(
+            f"fitted: has no class {missing[0]!r} of the true reward; "
+            f"fitted classes: {', '.join(fitted.precisions) or 'none'}"
+        )
+    errors = {"Q": abs(fitted.nominal_weight - true.nominal_weight) / abs(true.nominal_weight)}
+    for label, matrix in true.precisions.items():
+        other = fitted.precisions[label]
+        if other.shape != matrix.shape:
+            raise ValueError(
+                f"fitted: class {label!r} is {other.shape[0]}-D, the true one {matrix.shape[0]}-D"
+            )
+        for i, (f_ii, t_ii) in enumerate(zip(np.diag(other), np.diag(matrix), strict=True)):
+            errors[f"{label}[{i}]"] = float(abs(f_ii - t_ii) / abs(t_ii))
+    return errors

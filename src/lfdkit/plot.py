@@ -11,10 +11,16 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+from matplotlib import patheffects
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.patches import Circle
+from matplotlib.ticker import MaxNLocator
+
+from lfdkit._validation import check_path, check_positive
 
 __all__ = [
+    "CLASS_COLORS",
     "METHOD_COLORS",
     "comparison_figure",
     "draw_demos",
@@ -22,7 +28,11 @@ __all__ = [
     "draw_gmr_tube",
     "draw_paths",
     "draw_residual_history",
+    "draw_reward",
     "draw_rollouts",
+    "draw_scene",
+    "emulation_figure",
+    "emulation_grid",
     "mean_path_figure",
     "retargeting_figure",
 ]
@@ -281,4 +291,436 @@ def retargeting_figure(
             axk.set_xlabel("time [s]")
         else:
             axk.tick_params(labelbottom=False)
+    return fig
+
+
+# --------------------------------------------------------------------- emulation
+#: Colour of each obstacle class; classes not listed take ``EXTRA_CLASS_COLORS`` in turn.
+CLASS_COLORS = {"obstacle": "#9a9a9a", "cup": "#17becf", "marker": "#2ca02c"}
+EXTRA_CLASS_COLORS = ("#9467bd", "#e377c2", "#8c564b", "#7f7f7f", "#bcbd22")
+#: Planned paths in an emulation figure, in turn.
+PLAN_COLORS = ("#1f77b4", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#ff7f0e")
+#: Colour map of the reward: hot (bright yellow) is high, dark is low.
+REWARD_CMAP = "inferno"
+EMULATION_NOMINAL_STYLE = {"color": "k", "linestyle": "--", "linewidth": 1.6, "label": "nominal"}
+EMULATION_DEMO_STYLE = {"color": "k", "linestyle": (0, (3, 2)), "linewidth": 0.7, "alpha": 0.8}
+_PANEL_KEYS = ("reward", "nominal", "scene", "demos", "plans", "title")
+
+
+def _is_3d(ax: Axes) -> bool:
+    return getattr(ax, "name", "") == "3d"
+
+
+def _class_colors(classes: Sequence[str], colors: Mapping[str, str] | None) -> dict[str, str]:
+    """Colour per class: ``colors``, then ``CLASS_COLORS``, then the extra colours in turn."""
+    chosen = {**CLASS_COLORS, **(colors or {})}
+    out, k = {}, 0
+    for label in classes:
+        if label in chosen:
+            out[label] = chosen[label]
+        else:
+            out[label] = EXTRA_CLASS_COLORS[k % len(EXTRA_CLASS_COLORS)]
+            k += 1
+    return out
+
+
+def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None:
+    """Obstacles as filled circles of their radius, one colour and one legend entry per class.
+
+    Parameters
+    ----------
+    ax : Axes
+        2-D axes, or 3-D axes for a 3-D scene (spheres, centres marked).
+    scene : Scene
+    colors : mapping of class label to colour, optional
+        Overrides :data:`CLASS_COLORS`; unlisted classes take
+        :data:`EXTRA_CLASS_COLORS` in turn.
+
+    Notes
+    -----
+    An obstacle of radius 0 is drawn as a marker at its centre.
+    """
+    palette = _class_colors(scene.classes, colors)
+    if _is_3d(ax):
+        u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 24), np.linspace(0, np.pi, 12))
+        sphere = np.stack((np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)))
+        for obstacle in scene:
+            if obstacle.radius > 0:
+                x, y, z = obstacle.position[:, None, None] + obstacle.radius * sphere
+                ax.plot_surface(
+                    x, y, z, color=palette[obstacle.label], alpha=0.35, linewidth=0, shade=True
+                )
+        for label in scene.classes:
+            centres = np.array([o.position for o in scene if o.label == label])
+            ax.plot(*_xy(centres), "o", color=palette[label], markersize=5, label=label)
+        return
+    labelled: set[str] = set()
+    for obstacle in scene:
+        color = palette[obstacle.label]
+        label = None if obstacle.label in labelled else obstacle.label
+        labelled.add(obstacle.label)
+        if obstacle.radius > 0:
+            ax.add_patch(
+                Circle(
+                    tuple(obstacle.position),
+                    obstacle.radius,
+                    facecolor=color,
+                    edgecolor="k",
+                    linewidth=0.8,
+                    alpha=0.9,
+                    zorder=3,
+                    label=label,
+                )
+            )
+        else:
+            ax.plot(
+                *obstacle.position,
+                "X",
+                color=color,
+                markeredgecolor="k",
+                markersize=9,
+                zorder=3,
+                label=label,
+            )
+
+
+def _reward_extent(
+    paths: Sequence[np.ndarray], scene, margin: float
+) -> tuple[float, float, float, float]:
+    """Box around the 2-D paths and obstacles, padded by ``margin`` × its larger side."""
+    pts = [np.asarray(p, dtype=np.float64)[:, :2] for p in paths]
+    for obstacle in scene:
+        pts.append(obstacle.position[None, :2] + obstacle.radius * np.array([[-1, -1], [1, 1]]))
+    allpts = np.vstack(pts)
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    span = float((hi - lo).max()) or 1.0
+    pad = margin * span
+    return lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad
+
+
+def draw_reward(
+    ax: Axes,
+    reward,
+    nominal: np.ndarray,
+    scene,
+    *,
+    resolution: int = 200,
+    margin: float = 0.15,
+    levels: int = 30,
+    extent: tuple[float, float, float, float] | None = None,
+    vmin: float | None = None,
+):
+    """Filled contours of a learned reward in a 2-D scene, like thesis Fig 5.7–5.8 and 6.11.
+
+    Parameters
+    ----------
+    ax : Axes
+    reward : Reward
+    nominal : array_like, shape (n, 2)
+        The nominal path the reward is relative to.
+    scene : Scene
+        Obstacles; every class must be known to ``reward``.
+    resolution : int
+        Grid points along each axis.
+    margin : float
+        Padding around the nominal and the obstacles, as a fraction of the larger
+        side of their bounding box.
+    levels : int
+        Number of contour bands.
+    extent : (xmin, xmax, ymin, ymax), optional
+        Grid limits; replaces the box from the nominal, obstacles and ``margin``.
+    vmin : float, optional
+        Lowest reward of the colour scale; lower values take the lowest colour.
+        Default: one unit (an obstacle's height) below the lowest reward at an
+        obstacle centre, so that the steep nominal term far from the path does
+        not wash out the obstacles; the whole range without obstacles.
+
+    Returns
+    -------
+    matplotlib.contour.QuadContourSet
+        The mappable, for a colour bar (``fig.colorbar(cs, ax=ax)``).
+
+    Raises
+    ------
+    ValueError
+        For a nominal that is not 2-D, or bad ``resolution``, ``margin`` or ``levels``.
+    """
+    nominal = check_path(nominal, "nominal")
+    if nominal.shape[1] != 2:
+        raise ValueError(
+            f"nominal: draw_reward draws 2-D rewards only, got {nominal.shape[1]}-D points "
+            "(use emulation_figure for a 3-D line plot)"
+        )
+    resolution = check_positive(resolution, "resolution", integer=True)
+    if resolution < 2:
+        raise ValueError(f"resolution: needs at least 2, got {resolution}")
+    margin = check_positive(margin, "margin", allow_zero=True)
+    levels = check_positive(levels, "levels", integer=True)
+    if extent is None:
+        extent = _reward_extent([nominal], scene, margin)
+    x0, x1, y0, y1 = (float(v) for v in extent)
+    if not (x1 > x0 and y1 > y0):
+        raise ValueError(f"extent: expected xmin < xmax and ymin < ymax, got {extent}")
+    gx, gy = np.meshgrid(np.linspace(x0, x1, resolution), np.linspace(y0, y1, resolution))
+    values = reward.value(np.column_stack((gx.ravel(), gy.ravel())), nominal, scene)
+    values = values.reshape(gx.shape)
+    top, bottom = float(values.max()), float(values.min())
+    if vmin is None:
+        vmin = bottom
+        if len(scene):
+            vmin = max(bottom, float(reward.value(scene.positions, nominal, scene).min()) - 1.0)
+    vmin = min(float(vmin), top - 1e-12 * max(1.0, abs(top)))
+    bounds = np.linspace(vmin, top, levels + 1)
+    return ax.contourf(
+        gx,
+        gy,
+        values,
+        levels=bounds,
+        cmap=REWARD_CMAP,
+        extend="min" if bottom < vmin else "neither",
+        zorder=0,
+    )
+
+
+def _panel_data(reward, nominal, scene, demos, plans, index: str = ""):
+    """Validated arrays of one emulation panel: nominal (n, q), demos, plans by name."""
+    where = f"panels[{index}]." if index else ""
+    nominal = check_path(nominal, f"{where}nominal")
+    q = nominal.shape[1]
+    if q not in (2, 3):
+        raise ValueError(f"{where}nominal: expected 2-D or 3-D points, got {q}-D")
+    if not hasattr(scene, "obstacles"):
+        raise TypeError(f"{where}scene: expected an lfdkit.emulate.Scene")
+    if len(scene) and scene.positions.shape[1] != q:
+        raise ValueError(f"{where}scene: {scene.positions.shape[1]}-D obstacles, {q}-D nominal")
+    demos = [check_path(d, f"{where}demos[{j}]", n_dims=q) for j, d in enumerate(demos or ())]
+    plans = {
+        str(name): check_path(getattr(value, "points", value), f"{where}plans[{name!r}]", n_dims=q)
+        for name, value in dict(plans or {}).items()
+    }
+    return nominal, demos, plans
+
+
+def _equal_3d(ax: Axes, arrays: Sequence[np.ndarray]) -> None:
+    """Equal scale on the three axes: a cube of limits around all the data."""
+    pts = np.vstack(arrays)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    half = 0.5 * float((hi - lo).max()) * 1.05 or 0.5
+    centre = 0.5 * (lo + hi)
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.set_box_aspect((1.0, 1.0, 1.0))
+
+
+def _emulation_panel(
+    fig: Figure,
+    ax: Axes,
+    reward,
+    nominal: np.ndarray,
+    scene,
+    demos: list[np.ndarray],
+    plans: dict[str, np.ndarray],
+    *,
+    plan_colors: Mapping[str, str],
+    class_colors: Mapping[str, str],
+    units: str,
+    title: str,
+) -> None:
+    q = nominal.shape[1]
+    if q == 2:
+        extent = _reward_extent([nominal, *demos, *plans.values()], scene, 0.15)
+        mappable = draw_reward(ax, reward, nominal, scene, extent=extent)
+        cax = ax.inset_axes([1.03, 0.0, 0.035, 1.0])
+        fig.colorbar(mappable, cax=cax, label="reward", ticks=MaxNLocator(6))
+    draw_scene(ax, scene, colors=class_colors)
+    for j, demo in enumerate(demos):
+        ax.plot(*_xy(demo), **EMULATION_DEMO_STYLE, label="demonstrations" if j == 0 else None)
+    ax.plot(*_xy(nominal), **EMULATION_NOMINAL_STYLE)
+    halo = [patheffects.withStroke(linewidth=3.6, foreground="w")] if q == 2 else None
+    for name, path in plans.items():
+        ax.plot(
+            *_xy(path),
+            color=plan_colors[name],
+            linewidth=1.8,
+            label=name,
+            zorder=4,
+            path_effects=halo,
+        )
+    _axis_labels(ax, q, units)
+    if q == 2:
+        ax.set_aspect("equal", adjustable="box")
+    else:
+        spheres = [o.position[None] + o.radius * np.vstack((np.eye(3), -np.eye(3))) for o in scene]
+        _equal_3d(ax, [nominal, *demos, *plans.values(), *spheres])
+    ax.set_title(title)
+
+
+def _figure_legend(fig: Figure, axes: Sequence[Axes], max_cols: int) -> None:
+    """One legend below the panels, each label once (the first panel's handle)."""
+    entries: dict[str, object] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    if entries:
+        fig.legend(
+            list(entries.values()),
+            list(entries),
+            loc="outside lower center",
+            ncols=min(len(entries), max_cols),
+            fontsize=8,
+            frameon=False,
+        )
+
+
+def _plan_colors(names: Sequence[str]) -> dict[str, str]:
+    unique = list(dict.fromkeys(names))
+    return {name: PLAN_COLORS[i % len(PLAN_COLORS)] for i, name in enumerate(unique)}
+
+
+def emulation_figure(
+    reward,
+    nominal: np.ndarray,
+    scene,
+    *,
+    demos: Sequence[np.ndarray] | None = None,
+    plans: Mapping[str, np.ndarray] | None = None,
+    units: str = "m",
+    title: str = "",
+) -> Figure:
+    """A learned reward in a scene with demonstrations and planned paths (thesis Fig 5.7, 6.11).
+
+    2-D: filled contours of the reward (hot is high) with a colour bar, the
+    obstacles, the nominal path dashed, the demonstrations thin black dashed and
+    each planned path in its own colour; a legend below. 3-D: the same paths and
+    the obstacles as spheres, without contours.
+
+    Parameters
+    ----------
+    reward : Reward
+    nominal : array_like, shape (n, q), q 2 or 3
+        The nominal path the reward is relative to.
+    scene : Scene
+    demos : sequence of array_like, each (n_j, q), optional
+    plans : mapping of name to array_like (K, q) or Plan, optional
+        Planned paths, e.g. ``{"MPC H=8": plan.points}``, in :data:`PLAN_COLORS`.
+    units : str
+        Axis unit label.
+    title : str
+
+    Returns
+    -------
+    Figure
+    """
+    nominal, demos, plans = _panel_data(reward, nominal, scene, demos, plans)
+    q = nominal.shape[1]
+    if q == 2:
+        x0, x1, y0, y1 = _reward_extent([nominal, *demos, *plans.values()], scene, 0.15)
+        height = float(np.clip(5.6 * (y1 - y0) / (x1 - x0) + 1.9, 3.4, 8.0))
+    else:
+        height = 6.4
+    fig = Figure(figsize=(7.4, height), layout="constrained")
+    ax = fig.add_subplot(projection="3d" if q == 3 else None)
+    _emulation_panel(
+        fig,
+        ax,
+        reward,
+        nominal,
+        scene,
+        demos,
+        plans,
+        plan_colors=_plan_colors(list(plans)),
+        class_colors=_class_colors(scene.classes, None),
+        units=units,
+        title=title,
+    )
+    _figure_legend(fig, [ax], max_cols=4)
+    return fig
+
+
+def emulation_grid(
+    panels: Sequence[Mapping], *, ncols: int = 3, units: str = "m", title: str = ""
+) -> Figure:
+    """Several emulation panels in one figure, e.g. transfer scenes (thesis Fig 6.12–6.13).
+
+    A planned path's name and an obstacle class keep one colour across the
+    panels, and one legend below lists them all.
+
+    Parameters
+    ----------
+    panels : sequence of mapping
+        One per panel, with the arguments of :func:`emulation_figure`: required
+        ``"reward"``, ``"nominal"``, ``"scene"``; optional ``"demos"``,
+        ``"plans"`` and ``"title"``.
+    ncols : int
+        Panels per row.
+    units : str
+        Axis unit label.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Figure
+
+    Raises
+    ------
+    ValueError
+        For no panels, or a panel with a missing or unknown key.
+    """
+    ncols = check_positive(ncols, "ncols", integer=True)
+    panels = list(panels)
+    if not panels:
+        raise ValueError("panels: needs at least one panel")
+    data = []
+    for i, panel in enumerate(panels):
+        if not isinstance(panel, Mapping):
+            raise TypeError(f"panels[{i}]: expected a mapping, got {type(panel).__name__}")
+        unknown = sorted(set(panel) - set(_PANEL_KEYS))
+        if unknown:
+            raise ValueError(
+                f"panels[{i}]: unknown key {unknown[0]!r}; "
+                f"expected some of {', '.join(_PANEL_KEYS)}"
+            )
+        missing = [k for k in ("reward", "nominal", "scene") if k not in panel]
+        if missing:
+            raise ValueError(f"panels[{i}]: missing key {missing[0]!r}")
+        data.append(
+            _panel_data(
+                panel["reward"],
+                panel["nominal"],
+                panel["scene"],
+                panel.get("demos"),
+                panel.get("plans"),
+                str(i),
+            )
+        )
+    plan_colors = _plan_colors([name for _, _, plans in data for name in plans])
+    class_colors = _class_colors(
+        list(dict.fromkeys(c for panel in panels for c in panel["scene"].classes)), None
+    )
+    ncols = min(ncols, len(panels))
+    nrows = -(-len(panels) // ncols)
+    fig = Figure(figsize=(5.6 * ncols, 3.9 * nrows + 0.8), layout="constrained")
+    axes = []
+    for i, (panel, (nominal, demos, plans)) in enumerate(zip(panels, data, strict=True)):
+        q = nominal.shape[1]
+        ax = fig.add_subplot(nrows, ncols, i + 1, projection="3d" if q == 3 else None)
+        _emulation_panel(
+            fig,
+            ax,
+            panel["reward"],
+            nominal,
+            panel["scene"],
+            demos,
+            plans,
+            plan_colors=plan_colors,
+            class_colors=class_colors,
+            units=units,
+            title=panel.get("title", ""),
+        )
+        axes.append(ax)
+    _figure_legend(fig, axes, max_cols=8)
+    if title:
+        fig.suptitle(title)
     return fig

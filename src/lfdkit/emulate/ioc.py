@@ -42,6 +42,7 @@ from lfdkit.emulate.planner import (
     _build,
     _groups,
     _Problem,
+    _side_starts,
     _solve,
     plan_path,
 )
@@ -114,13 +115,33 @@ def _reduced_hessian(index: np.ndarray, n_vars: int, hessian: np.ndarray) -> np.
     return h
 
 
+def _closest_window(
+    window: _Problem, anchor: np.ndarray, guess: np.ndarray, guide: np.ndarray, matched: bool
+) -> np.ndarray:
+    """The window optimum (of several starts) whose first offset is nearest the demonstration's."""
+    candidates = [guess, guide.copy()]
+    if window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
+        candidates += _side_starts(window, anchor)[1:]
+    best, best_key = None, None
+    for candidate in candidates:
+        d, cost, _, _ = _solve(window, anchor, candidate, tol=1e-11, max_iter=200)
+        key = (float(np.sum((d[0] - guide[0]) ** 2)) if matched else 0.0, cost)
+        if best_key is None or key < best_key:
+            best, best_key = d, key
+    return best
+
+
 def _mpc_with_sensitivity(
     problem: _Problem, item: DemoInScene, horizon: int, class_of: np.ndarray, n_classes: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """Receding-horizon plan and its derivative w.r.t. θ by forward sensitivities.
 
-    Each window is warm-started on the demonstration's offsets over the window
-    (so it keeps the demonstrator's side of each obstacle). At a window's
+    Each window is solved from the previous window shifted (as at run time),
+    from the demonstration's offsets over the window and from both sides of a
+    near obstacle; of these local optima the one whose executed offset is
+    closest to the demonstration's is kept. The demonstrator's choice of side
+    is data, and what is explained is how far and how smoothly it swerves;
+    within one choice the plan is smooth in θ. At a window's
     optimum the free groups satisfy ``G(w, d_k, θ) = 0``; the window moves with
     ``θ`` directly and through the executed offset ``d_k`` it is anchored to:
     ``dδ = −H⁻¹ (∂G/∂θ + ∂G/∂d_k · S_k)``, and ``S_{k+1}`` is the first
@@ -134,10 +155,13 @@ def _mpc_with_sensitivity(
     offsets = np.zeros((n, m))
     sensitivity = np.zeros((n, m, n_theta))
     anchor, anchor_sens = item.start.astype(float), np.zeros((m, n_theta))
+    guess = guide[: min(horizon, n)].copy()
     for k in range(n):
         stop = min(k + horizon, n)
         window = problem.window(k, stop)
-        w, _, _, _ = _solve(window, anchor, guide[k:stop].copy(), tol=1e-11, max_iter=200)
+        guess = guess[: stop - k]
+        w = _closest_window(window, anchor, guess, guide[k:stop], item.found[k + 1])
+        guess = np.vstack([w[1:], w[-1:]]) if w.shape[0] > 1 else w
         _, gradient, hessian = window.derivatives(w)
         held = _held(window, anchor, w, gradient)
         index, n_vars = _groups(~held)
@@ -336,10 +360,17 @@ class IOC:
         history: list[float] = []
         self.stages_ = []
 
+        # L-BFGS-B's stopping test is relative to max(|f|, 1): scale the loss to
+        # about 1, the mean squared offset of the demonstrations from the nominal
+        # (replaying the nominal scores 1).
+        self._scale = float(
+            np.mean([np.mean(item.target[item.found] ** 2) for item in data]) or 1.0
+        )
+
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = self._objective(theta, data, warm)
             history.append(value)
-            return value, grad
+            return value / self._scale, grad / self._scale
 
         import time
 
@@ -356,7 +387,7 @@ class IOC:
             {
                 "planner": "full horizon",
                 "iterations": int(result.nit),
-                "loss": float(result.fun),
+                "loss": float(result.fun) * self._scale,
                 "seconds": time.perf_counter() - started,
                 "message": str(result.message),
             }
@@ -367,7 +398,7 @@ class IOC:
         self.theta_ = theta
         self.reward_ = Reward.from_theta(theta, self.classes_, self._q)
         self.loss_history_ = history
-        self.loss_ = float(history[-1]) if history else float("nan")
+        self.loss_ = float(self.stages_[-1]["loss"])
         self.converged_ = bool(result.success)
         return self
 
@@ -397,7 +428,7 @@ class IOC:
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
             loss, grad = self._objective_mpc(value, data)
             history.append(loss)
-            return loss, grad
+            return loss / self._scale, grad / self._scale
 
         result = minimize(
             fun,
@@ -411,12 +442,12 @@ class IOC:
             {
                 "planner": f"MPC H={int(self.horizon)}",
                 "iterations": int(result.nit),
-                "loss": float(result.fun),
+                "loss": float(result.fun) * self._scale,
                 "seconds": time.perf_counter() - started,
                 "message": str(result.message),
             }
         )
-        return result.x if result.fun <= self.stages_[0]["loss"] * 10 else theta
+        return result.x
 
     def _objective_mpc(
         self, theta: np.ndarray, data: list[DemoInScene]

@@ -434,21 +434,38 @@ def _receding_horizon(problem: _Problem, corridor: Corridor, d0: np.ndarray, hor
         guess = guess[: stop - k]
         if guess.shape[0] < stop - k:
             guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
-        candidates = [guess]
-        if window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
-            candidates += _side_starts(window, offsets[k])[1:]
-        best = None
-        for candidate in candidates:
-            d, cost, n_iter, ok = _solve(window, offsets[k], candidate)
-            total_iter += n_iter
-            if best is None or cost < best[1]:
-                best = (d, cost, ok)
-        d, _, ok = best
+        d, _, n_iter, ok = _best_window(window, offsets[k], guess)
+        total_iter += n_iter
         all_ok &= ok
         offsets[k + 1] = d[0]
         guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
     cost = problem.cost(offsets[1:])
     return Plan(corridor.to_points(offsets), offsets, cost, horizon, total_iter, all_ok)
+
+
+def _best_window(
+    window: _Problem,
+    anchor: np.ndarray,
+    guess: np.ndarray,
+    extra: tuple[np.ndarray, ...] = (),
+    *,
+    sides: bool = True,
+) -> tuple[np.ndarray, float, int, bool]:
+    """Solve one MPC window from the warm start (and both sides when an obstacle is near).
+
+    Returns the lowest-cost optimum found, its cost, the summed iterations and
+    whether that optimum converged.
+    """
+    candidates = [guess, *extra]
+    if sides and window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
+        candidates += _side_starts(window, anchor)[1:]
+    best, total = None, 0
+    for candidate in candidates:
+        d, cost, n_iter, ok = _solve(window, anchor, candidate)
+        total += n_iter
+        if best is None or cost < best[1]:
+            best = (d, cost, ok)
+    return best[0], best[1], total, best[2]
 
 
 def _check_start(point: np.ndarray, problem: _Problem) -> None:

@@ -1,0 +1,130 @@
+"""Tests for lfdkit.emulate.plan_path: closed forms, symmetry, optimality, local minima, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize
+
+from lfdkit.emulate import Corridor, Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate.planner import _build
+
+REWARD = Reward(10.0, {"obstacle": [2500.0, 215.0]})
+
+
+def straight(n: int = 200) -> np.ndarray:
+    x = np.linspace(0.0, 1.0, n)
+    return np.column_stack([x, np.zeros(n)])
+
+
+def min_distance(points: np.ndarray, centre) -> float:
+    return float(np.min(np.linalg.norm(points - np.asarray(centre), axis=1)))
+
+
+def test_no_obstacle_gives_the_nominal() -> None:
+    for horizon in (None, 6):
+        plan = plan_path(REWARD, straight(), Scene(), horizon=horizon)
+        np.testing.assert_allclose(plan.offsets, 0.0, atol=1e-14)
+        np.testing.assert_allclose(plan.points, Corridor.from_path(straight()).points, atol=1e-14)
+
+
+def test_a_far_obstacle_causes_no_deviation() -> None:
+    plan = plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.5, 3.0]),)))
+    assert np.abs(plan.offsets).max() < 1e-12
+
+
+def test_an_obstacle_on_the_path_is_passed_with_clearance() -> None:
+    scene = Scene((Obstacle("obstacle", [0.5, 0.01], radius=0.02),))
+    for horizon in (None, 12):
+        plan = plan_path(REWARD, straight(), scene, horizon=horizon)
+        assert plan.converged
+        assert min_distance(plan.points, [0.5, 0.01]) > 0.02
+        assert plan.offsets.min() < -0.05  # swerves away from the side the obstacle sits on
+        np.testing.assert_allclose(plan.points[-1], [1.0, 0.0], atol=1e-3)
+
+
+def test_mirrored_scene_gives_the_mirrored_plan() -> None:
+    scene = Scene((Obstacle("obstacle", [0.45, 0.015]), Obstacle("obstacle", [0.7, -0.03])))
+    for horizon in (None, 8):
+        plan = plan_path(REWARD, straight(), scene, horizon=horizon)
+        mirrored = plan_path(REWARD, straight(), scene.mirrored(axis=1), horizon=horizon)
+        np.testing.assert_allclose(mirrored.points[:, 1], -plan.points[:, 1], atol=1e-8)
+        np.testing.assert_allclose(mirrored.cost, plan.cost, rtol=1e-9)
+
+
+def test_actions_stay_in_their_box() -> None:
+    scene = Scene((Obstacle("obstacle", [0.5, 0.0]),))
+    plan = plan_path(REWARD, straight(), scene, max_slope=0.3)
+    corridor = Corridor.from_path(straight())
+    assert np.abs(np.diff(plan.offsets[:, 0])).max() <= 0.3 * corridor.step * (1 + 1e-9)
+
+
+def test_the_full_horizon_plan_is_a_local_optimum_scipy_cannot_improve() -> None:
+    scene = Scene((Obstacle("obstacle", [0.4, 0.02]), Obstacle("obstacle", [0.62, -0.01])))
+    plan = plan_path(REWARD, straight(), scene)
+    corridor = Corridor.from_path(straight())
+    problem = _build(REWARD, corridor, scene, 1)
+    actions = np.diff(plan.offsets[:, 0])
+
+    def cost(a: np.ndarray) -> tuple[float, np.ndarray]:
+        d = np.cumsum(a)[:, None]
+        value, gradient, _ = problem.derivatives(d)
+        return value, np.cumsum(gradient[::-1, 0])[::-1]
+
+    bound = corridor.step
+    result = minimize(
+        cost,
+        actions,
+        jac=True,
+        method="L-BFGS-B",
+        bounds=[(-bound, bound)] * actions.size,
+        options={"ftol": 1e-15, "gtol": 1e-12},
+    )
+    assert result.fun >= plan.cost - 1e-10
+    np.testing.assert_allclose(np.cumsum(result.x), plan.offsets[1:, 0], atol=1e-6)
+
+
+def test_concave_arrangement_is_passed_around() -> None:
+    # Five obstacles forming a pocket that opens towards the oncoming path (thesis Fig 5.8).
+    pocket = [[0.55, -0.06], [0.58, -0.03], [0.6, 0.0], [0.58, 0.03], [0.55, 0.06]]
+    scene = Scene(tuple(Obstacle("obstacle", p, radius=0.015) for p in pocket))
+    for horizon in (None, 12):
+        plan = plan_path(REWARD, straight(), scene, horizon=horizon)
+        for centre in pocket:
+            assert min_distance(plan.points, centre) > 0.015
+        assert np.abs(plan.offsets).max() > 0.06  # around the whole pocket, not into it
+
+
+def test_three_dimensional_plans() -> None:
+    x = np.linspace(0.0, 1.0, 100)
+    nominal = np.column_stack([x, 0.1 * np.sin(np.pi * x), np.zeros_like(x)])
+    reward = Reward(10.0, {"obstacle": [2500.0, 215.0, 215.0]})
+    scene = Scene((Obstacle("obstacle", [0.5, 0.1, 0.01], radius=0.02),))
+    plan = plan_path(reward, nominal, scene)
+    assert plan.offsets.shape == (100, 2)
+    assert min_distance(plan.points, [0.5, 0.1, 0.01]) > 0.02
+    mpc = plan_path(reward, nominal, scene, horizon=10)
+    assert min_distance(mpc.points, [0.5, 0.1, 0.01]) > 0.02
+
+
+def test_plans_are_deterministic() -> None:
+    scene = Scene((Obstacle("obstacle", [0.5, 0.0]),))
+    a = plan_path(REWARD, straight(), scene, horizon=8)
+    b = plan_path(REWARD, straight(), scene, horizon=8)
+    np.testing.assert_array_equal(a.points, b.points)
+
+
+def test_bad_requests_are_refused() -> None:
+    scene = Scene((Obstacle("obstacle", [0.5, 0.0]),))
+    with pytest.raises(ValueError, match="horizon: expected 4 <= H <= 12"):
+        plan_path(REWARD, straight(), scene, horizon=3)
+    with pytest.raises(ValueError, match="horizon: expected 4 <= H <= 12"):
+        plan_path(REWARD, straight(), scene, horizon=13)
+    with pytest.raises(ValueError, match="start: lies inside obstacle 0"):
+        plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.0, 0.0]),)))
+    with pytest.raises(ValueError, match="class 'cup' was never learned"):
+        plan_path(REWARD, straight(), Scene((Obstacle("cup", [0.5, 0.0]),)))
+    with pytest.raises(ValueError, match="nominal: contains NaN"):
+        plan_path(REWARD, np.array([[0.0, 0.0], [np.nan, 1.0], [2.0, 0.0]]), scene)
+    with pytest.raises(ValueError, match="3-D obstacles for a 2-D"):
+        plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.5, 0.0, 0.0]),)))

@@ -1,0 +1,100 @@
+"""Tests for lfdkit.emulate.Reward: values, derivatives, parameters, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lfdkit.emulate import Obstacle, Reward, Scene
+
+
+@pytest.fixture
+def setting():
+    x = np.linspace(0.0, 1.0, 50)
+    nominal = np.column_stack([x, 0.1 * x])
+    reward = Reward(
+        10.0, {"cup": [2500.0, 215.0], "marker": np.array([[900.0, 100.0], [100.0, 400.0]])}
+    )
+    scene = Scene((Obstacle("cup", [0.4, 0.05]), Obstacle("marker", [0.7, 0.02])))
+    return reward, nominal, scene
+
+
+def test_value_is_zero_on_the_nominal_far_from_obstacles(setting) -> None:
+    reward, nominal, _ = setting
+    assert reward.value(nominal[[5, 20]], nominal, Scene()) == pytest.approx([0.0, 0.0], abs=1e-12)
+    off = nominal[10] + np.array([-0.1, 1.0]) * 0.02 / np.hypot(0.1, 1.0)
+    assert reward.value(off, nominal, Scene())[0] == pytest.approx(-10.0 * 0.02**2)
+
+
+def test_obstacle_term_is_a_unit_gaussian(setting) -> None:
+    reward, _, scene = setting
+    assert reward.obstacle_cost([0.4, 0.05], scene)[0] == pytest.approx(1.0, abs=1e-6)
+    point = np.array([0.4 + 0.01, 0.05])
+    expected = np.exp(-2500.0 * 0.01**2) + np.exp(
+        -np.array([-0.29, 0.03])
+        @ np.array([[900.0, 100.0], [100.0, 400.0]])
+        @ np.array([-0.29, 0.03])
+    )
+    assert reward.obstacle_cost(point, scene)[0] == pytest.approx(expected)
+
+
+def test_gradient_and_hessian_match_finite_differences(setting) -> None:
+    reward, nominal, scene = setting
+    rng = np.random.default_rng(0)
+    points = np.column_stack([rng.uniform(0.2, 0.8, 6), rng.uniform(-0.05, 0.15, 6)])
+    gradient = reward.gradient(points, nominal, scene)
+    hessian = reward.hessian(points, nominal, scene)
+    eps = 1e-6
+    for i in range(2):
+        step = np.zeros(2)
+        step[i] = eps
+        fd = (
+            reward.value(points + step, nominal, scene)
+            - reward.value(points - step, nominal, scene)
+        ) / (2 * eps)
+        np.testing.assert_allclose(gradient[:, i], fd, rtol=1e-5, atol=1e-7)
+        fd_h = (
+            reward.gradient(points + step, nominal, scene)
+            - reward.gradient(points - step, nominal, scene)
+        ) / (2 * eps)
+        np.testing.assert_allclose(hessian[:, :, i], fd_h, rtol=1e-4, atol=1e-4)
+
+
+def test_theta_round_trip_and_combination() -> None:
+    reward = Reward(20.0, {"cup": [15.4, 1000.0], "marker": [20.08, 880.0]})
+    again = Reward.from_theta(reward.theta, reward.classes, 2)
+    assert again.nominal_weight == pytest.approx(20.0)
+    np.testing.assert_allclose(again.precisions["marker"], np.diag([20.08, 880.0]))
+    both = Reward(20.0, {"cup": [15.4, 1000.0]}).combined(Reward(5.0, {"marker": [20.08, 880.0]}))
+    assert both.classes == ("cup", "marker") and both.nominal_weight == 20.0
+    with pytest.raises(ValueError, match="theta: expected 5 values"):
+        Reward.from_theta(np.zeros(3), ("cup", "marker"), 2)
+    with pytest.raises(ValueError, match="theta: contains NaN"):
+        Reward.from_theta([np.nan, 0, 0], ("cup",), 2)
+
+
+@pytest.mark.parametrize(
+    "precisions, match",
+    [
+        ({"cup": [1.0, -1.0]}, "positive"),
+        ({"cup": [[1.0, 2.0], [2.0, 1.0]]}, "positive definite"),
+        ({"cup": [[1.0, 0.5], [0.0, 1.0]]}, "symmetric"),
+        ({"cup": [1.0, np.inf]}, "NaN or infinite"),
+        ({"cup": [1.0, 1.0], "marker": [1.0, 1.0, 1.0]}, "different dimensions"),
+    ],
+)
+def test_bad_precisions_are_refused(precisions, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        Reward(1.0, precisions)
+
+
+def test_unknown_class_and_bad_weight_are_refused(setting) -> None:
+    reward, nominal, _ = setting
+    with pytest.raises(ValueError, match="class 'vase' was never learned"):
+        reward.value(nominal[:2], nominal, Scene((Obstacle("vase", [0.5, 0.0]),)))
+    with pytest.raises(ValueError, match="nominal_weight"):
+        Reward(0.0, {})
+    with pytest.raises(ValueError, match="position"):
+        Obstacle("cup", [np.nan, 0.0])
+    with pytest.raises(ValueError, match="mixed 2-D and 3-D"):
+        Scene((Obstacle("cup", [0.0, 0.0]), Obstacle("cup", [0.0, 0.0, 0.0])))
