@@ -207,6 +207,9 @@ class IOC:
         L-BFGS iterations per stage.
     tol : float
         Relative tolerance on the loss for L-BFGS.
+    gradient : {"implicit", "finite_difference"}
+        Exact implicit gradients (default), or central finite differences of the
+        loss (two extra plans per parameter and demonstration; for comparison).
 
     Attributes
     ----------
@@ -231,6 +234,7 @@ class IOC:
         init: Reward | None = None,
         max_iter: int = 200,
         tol: float = 1e-10,
+        gradient: str = "implicit",
     ) -> None:
         self.classes = classes
         self.n_points = n_points
@@ -239,6 +243,7 @@ class IOC:
         self.init = init
         self.max_iter = max_iter
         self.tol = tol
+        self.gradient = gradient
 
     # ---------------------------------------------------------------- data
     def _prepare(self, demos: Any, scenes: Any, nominal: Any) -> list[DemoInScene]:
@@ -344,6 +349,10 @@ class IOC:
         """
         check_positive(self.n_points, "n_points", integer=True)
         check_positive(self.max_iter, "max_iter", integer=True)
+        if self.gradient not in ("implicit", "finite_difference"):
+            raise ValueError(
+                f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
+            )
         if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
             raise ValueError(
                 f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
@@ -369,6 +378,10 @@ class IOC:
 
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = self._objective(theta, data, warm)
+            if self.gradient == "finite_difference":
+                grad = self._finite_difference(
+                    lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
+                )
             history.append(value)
             return value / self._scale, grad / self._scale
 
@@ -402,6 +415,15 @@ class IOC:
         self.converged_ = bool(result.success)
         return self
 
+    @staticmethod
+    def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
+        out = np.empty_like(theta)
+        for i in range(theta.size):
+            step = np.zeros_like(theta)
+            step[i] = eps
+            out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
+        return out
+
     def _initial_theta(self, data: list[DemoInScene]) -> np.ndarray:
         if self.init is not None:
             missing = [c for c in self.classes_ if c not in self.init.precisions]
@@ -427,6 +449,8 @@ class IOC:
 
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
             loss, grad = self._objective_mpc(value, data)
+            if self.gradient == "finite_difference":
+                grad = self._finite_difference(lambda t: self._objective_mpc(t, data)[0], value)
             history.append(loss)
             return loss / self._scale, grad / self._scale
 
