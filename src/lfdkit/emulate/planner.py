@@ -192,14 +192,13 @@ class _Problem:
         return bool(self.obstacles.shape[0])
 
     def window(self, start: int, stop: int) -> _Problem:
-        return _Problem(
-            self.base[start:stop],
-            self.normals[start:stop],
-            self.obstacles,
-            self.precision,
-            self.weight,
-            self.max_step,
-        )
+        """The sub-problem of offsets ``start … stop − 1`` (precomputed terms sliced)."""
+        sub = object.__new__(_Problem)
+        sub.base, sub.normals = self.base[start:stop], self.normals[start:stop]
+        sub.obstacles, sub.precision = self.obstacles, self.precision
+        sub.weight, sub.max_step = self.weight, self.max_step
+        sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
+        return sub
 
     def bumps(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Obstacle terms ``e`` (n, L) and ``N P u = b + A d`` (n, L, m) at offsets (n, m)."""
