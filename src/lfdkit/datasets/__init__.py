@@ -6,6 +6,14 @@ its short name, a key of :data:`MIMIC_DATASETS`. :func:`load_lasa` reads the
 LASA handwriting data set (real demonstrations, optional extra ``lfdkit[lasa]``).
 """
 
+from lfdkit.datasets.emulation import (
+    EMULATION_DATASETS,
+    EmulationSet,
+    artificial_obstacles,
+    da_vinci_marker,
+    load_emulation_dataset,
+    sweeping,
+)
 from lfdkit.datasets.lasa import LASA_SHAPES, LasaShape, lasa_available, load_all_lasa, load_lasa
 from lfdkit.datasets.synthetic import (
     MIMIC_DATASETS,
@@ -28,12 +36,16 @@ from lfdkit.datasets.synthetic import (
 )
 
 __all__ = [
+    "EMULATION_DATASETS",
     "LASA_SHAPES",
     "MIMIC_DATASETS",
     "RESIDUAL_SHAPES",
     "DemoSet",
+    "EmulationSet",
     "LasaShape",
     "Residual",
+    "artificial_obstacles",
+    "da_vinci_marker",
     "da_vinci_walls",
     "deburring_circular",
     "deburring_linear",
@@ -42,12 +54,14 @@ __all__ = [
     "lasa_available",
     "load_all_lasa",
     "load_dataset",
+    "load_emulation_dataset",
     "load_lasa",
     "local_detours",
     "loops",
     "noisy_band",
     "quasi_circular_band",
     "residual_profile",
+    "sweeping",
     "uneven_sampling",
     "walking_corridor",
 ]

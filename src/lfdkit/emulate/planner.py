@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
@@ -290,34 +291,55 @@ def _solve(
 
 
 def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
-    """Initial offsets passing every nearby obstacle on one side or the other."""
+    """Initial offsets passing nearby obstacles on one side or the other.
+
+    Each start holds the offset just beyond the obstacle's response (2.5 of its
+    widths across the path) over the stretch where the response acts along the
+    path, ramping in and out at the action bound. Starts: the nominal; all
+    obstacles passed on one side; each obstacle alone on either side. In 3-D
+    an obstacle sitting on the nominal is also passed along the second normal.
+    """
     n, m = problem.n, problem.m
     starts = [np.zeros((n, m))]
     if not problem.has_obstacles:
         return starts
     rel = problem.obstacles[:, None, :] - problem.base[None]  # (L, n, q)
     nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
-    sides = []
+    step = float(np.linalg.norm(problem.base[1] - problem.base[0])) if n > 1 else 1.0
+    position = np.arange(n) * step
+    shapes: dict[tuple[int, float], list[np.ndarray]] = {}
     for o, k in enumerate(nearest):
-        lateral = problem.normals[k] @ rel[o, k]  # obstacle's offset (m,)
-        p = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
-        direction = (
-            lateral / np.linalg.norm(lateral) if np.linalg.norm(lateral) > 0 else np.eye(m)[0]
-        )
-        width = 2.5 / np.sqrt(direction @ p @ direction)  # where the bump is below e^-6
-        along = np.arange(n) - k
-        reach = np.maximum(0.0, 1.0 - np.abs(along) * problem.max_step / (2.0 * width))
-        sides.append((lateral, direction, width, reach))
-    for sign in (1.0, -1.0):
-        both = np.zeros((n, m))
-        for lateral, direction, width, reach in sides:
-            target = lateral + sign * direction * width
-            both = np.where(
-                np.abs(reach[:, None] * target) > np.abs(both), reach[:, None] * target, both
-            )
-        starts.append(both)
-        for lateral, direction, width, reach in sides:
-            starts.append(reach[:, None] * (lateral + sign * direction * width))
+        lateral = problem.normals[k] @ rel[o, k]  # the obstacle's offset (m,)
+        across = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
+        tangent = problem.base[min(k + 1, n - 1)] - problem.base[max(k - 1, 0)]
+        length = float(np.linalg.norm(tangent))
+        along = 0.0  # a one-point window has no direction
+        if length > 0.0:
+            tangent = tangent / length
+            along = 2.5 / np.sqrt(tangent @ problem.precision[o] @ tangent)
+        norm = float(np.linalg.norm(lateral))
+        if m == 1 or norm > 0.0:
+            first = lateral / norm if norm > 0.0 else np.eye(m)[0]
+        else:
+            first = np.eye(m)[0]
+        directions = [first]
+        if m > 1 and norm < 1.25 / np.sqrt(first @ across @ first):
+            directions.append(np.array([-first[1], first[0]]) if m == 2 else np.eye(m)[1])
+        for axis, direction in enumerate(directions):
+            width = 2.5 / np.sqrt(direction @ across @ direction)
+            for sign in (1.0, -1.0):
+                target = lateral + sign * direction * width
+                ramp = np.linalg.norm(target) * step / problem.max_step
+                distance = np.abs(position - position[k])
+                reach = np.clip(1.0 - (distance - along) / max(ramp, 1e-300), 0.0, 1.0)
+                shape = reach[:, None] * target
+                shapes.setdefault((axis, sign), []).append(shape)
+                starts.append(shape)
+    for group in shapes.values():
+        combined = np.zeros((n, m))
+        for shape in group:
+            combined = np.where(np.abs(shape) > np.abs(combined), shape, combined)
+        starts.append(combined)
     return starts
 
 
@@ -383,6 +405,22 @@ def plan_path(
         For a horizon outside 4–12, an unknown obstacle class, a start inside
         an obstacle, or mismatched dimensions.
     """
+    # One BLAS thread: the 3-D solver's eigen-solves are many and small, and
+    # threaded BLAS makes them many times slower on a busy machine.
+    with threadpool_limits(limits=1):
+        return _plan(reward, nominal, scene, horizon, n_points, start_offset, init, max_slope)
+
+
+def _plan(
+    reward: Reward,
+    nominal: Any,
+    scene: Scene,
+    horizon: int | None,
+    n_points: int,
+    start_offset: Any,
+    init: Any,
+    max_slope: float,
+) -> Plan:
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = np.zeros(m) if start_offset is None else np.asarray(start_offset, float).reshape(m)
@@ -409,6 +447,12 @@ def plan_path(
             d, cost, n_iter, ok = _solve(problem, d0, guess)
             total_iter += n_iter
             if best is None or cost < best[1] - 1e-12 * abs(best[1]):
+                best = (d, cost, ok)
+        if init is None and problem.has_obstacles:
+            # The best plan mirrored through the nominal: the other side of everything.
+            d, cost, n_iter, ok = _solve(problem, d0, 2.0 * d0 - best[0])
+            total_iter += n_iter
+            if cost < best[1] - 1e-12 * abs(best[1]):
                 best = (d, cost, ok)
         d, cost, ok = best
         offsets = np.vstack([d0[None], d])
