@@ -101,3 +101,12 @@ def test_bad_inputs_are_refused() -> None:
     far = np.column_stack([np.linspace(0, 1, 50), np.full(50, 5.0)])
     with pytest.raises(ValueError, match=r"demos\[0\]: crosses only"):
         IOC().fit([far, demos[1]], scenes, nominal())
+
+
+def test_score_on_held_out_demonstrations() -> None:
+    demos, scenes = demonstrations(6)
+    ioc = IOC().fit(demos[:4], scenes[:4], nominal())
+    assert ioc.score(demos[4:], scenes[4:], nominal()) < 1e-10
+    assert ioc.score(demos[4:], scenes[4:], nominal(), horizon=8) < 1e-4
+    with pytest.raises(ValueError, match="never learned"):
+        ioc.score(demos[4:5], [Scene((Obstacle("cup", [0.5, 0.2]),))], nominal())

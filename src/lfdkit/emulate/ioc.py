@@ -491,6 +491,30 @@ class IOC:
         return total, gradient
 
     # -------------------------------------------------------------- use
+    def score(self, demos: Any, scenes: Any, nominal: Any, *, horizon: Any = "fitted") -> float:
+        """Mean squared distance (units²) from held-out demonstrations to the plans in their scenes.
+
+        The training loss (distances along the nominal's normals) on other
+        demonstrations: a test score for a train/test split. ``horizon``
+        defaults to the fitted planner (full horizon, or the MPC of the staged fit).
+        """
+        if not hasattr(self, "reward_"):
+            raise ValueError("score: fit the IOC first")
+        data = self._prepare(demos, scenes, nominal)
+        unknown = {label for item in data for label in item.scene.labels} - set(self.classes_)
+        if unknown:
+            raise ValueError(f"scenes: obstacle class {sorted(unknown)[0]!r} was never learned")
+        horizon = self.horizon if horizon == "fitted" else horizon
+        if horizon is None:
+            warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+            return self._objective(self.theta_, data, warm)[0]
+        saved = self.horizon
+        try:
+            self.horizon = horizon
+            return self._objective_mpc(self.theta_, data)[0]
+        finally:
+            self.horizon = saved
+
     def plan(self, nominal: Any, scene: Scene, **kwargs: Any):
         """Plan with the learned reward (:func:`lfdkit.emulate.plan_path`)."""
         kwargs.setdefault("horizon", self.horizon)
