@@ -139,6 +139,9 @@ class EmulationSet:
     held_out_scenes : list of Scene
         Unseen scenes for evaluating planning (cluttered, concave or mixed-class
         arrangements); only classes that occur in the training scenes.
+    free_demos : list of ndarray, each (n_points, q)
+        Demonstrations of the task with no obstacle (the nominal plus the same
+        noise): what the mimicking layer learns the nominal path from.
 
     Raises
     ------
@@ -166,6 +169,7 @@ class EmulationSet:
     walls: tuple[np.ndarray, ...] = ()
     description: str = ""
     held_out_scenes: list[Scene] = field(default_factory=list)
+    free_demos: list[np.ndarray] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -400,6 +404,7 @@ def artificial_obstacles(
     n_points: int = 100,
     *,
     plan_points: int = 100,
+    n_free: int = 5,
 ) -> EmulationSet:
     """Artificial demonstrations, one obstacle per scene (thesis §5.5, Figs 5.8-5.11).
 
@@ -477,7 +482,14 @@ def artificial_obstacles(
     angles = np.deg2rad([90.0, 45.0, 0.0, -45.0, -90.0])
     concave = scene_of([track.local(0.45, 0.08 * np.cos(a), 0.08 * np.sin(a)) for a in angles])
     train, test = _split(n_demos, n_demos // 4)
+    n_free = _check_count(n_free, "n_free", 0)
+    # Drawn after everything else, so the demonstrations above do not depend on n_free.
+    free_demos = [
+        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
+        for _ in range(n_free)
+    ]
     return EmulationSet(
+        free_demos=free_demos,
         name="artificial",
         nominal=nominal,
         demos=demos,
@@ -542,6 +554,7 @@ def da_vinci_marker(
     n_points: int = 100,
     *,
     plan_points: int = 100,
+    n_free: int = 5,
 ) -> EmulationSet:
     """3-D pick-and-place between two walls around a marker (thesis §6.3, Figs 6.6-6.8).
 
@@ -625,7 +638,14 @@ def da_vinci_marker(
         scene_of([(0.035, 0.006), (0.065, 0.004)]),
     ]
     train, test = _split(n_demos, n_demos // 3)
+    n_free = _check_count(n_free, "n_free", 0)
+    # Drawn after everything else, so the demonstrations above do not depend on n_free.
+    free_demos = [
+        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
+        for _ in range(n_free)
+    ]
     return EmulationSet(
+        free_demos=free_demos,
         name="da_vinci_marker",
         nominal=nominal,
         demos=demos,
@@ -661,6 +681,7 @@ def sweeping(
     n_points: int = 90,
     *,
     plan_points: int = 100,
+    n_free: int = 5,
 ) -> EmulationSet:
     """Table-top sweeping of a cube into a dustpan around a cup or a marker (thesis §6.4).
 
@@ -759,7 +780,14 @@ def sweeping(
     ]
     cup_train, cup_test = _split(n_cup, n_cup // 3)
     marker_train, marker_test = _split(n_marker, n_marker // 3, offset=n_cup)
+    n_free = _check_count(n_free, "n_free", 0)
+    # Drawn after everything else, so the demonstrations above do not depend on n_free.
+    free_demos = [
+        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
+        for _ in range(n_free)
+    ]
     return EmulationSet(
+        free_demos=free_demos,
         name="sweeping",
         nominal=nominal,
         demos=demos,

@@ -201,8 +201,8 @@ class IOC:
     max_slope : float
         The planner's action bound (sideways step per nominal step).
     init : Reward, optional
-        Starting reward (default: widths of 5 % of the path's extent,
-        ``Q = 10 / extent²``).
+        Starting reward (default: the best of a coarse grid of stiffnesses and
+        obstacle widths, see :meth:`_initial_theta`).
     max_iter : int
         L-BFGS iterations per stage.
     tol : float
@@ -364,8 +364,8 @@ class IOC:
         if missing:
             raise ValueError(f"classes: the scenes contain {missing[0]!r}, which is not listed")
         self._q = data[0].corridor.n_dims
-        theta0 = self._initial_theta(data)
         warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+        theta0 = self._initial_theta(data, warm)
         history: list[float] = []
         self.stages_ = []
 
@@ -424,7 +424,15 @@ class IOC:
             out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
         return out
 
-    def _initial_theta(self, data: list[DemoInScene]) -> np.ndarray:
+    def _initial_theta(self, data: list[DemoInScene], warm: list[np.ndarray]) -> np.ndarray:
+        """``init``'s θ, or the best of a coarse grid of stiffnesses and widths.
+
+        The loss has local minima in θ (a stiff path with narrow obstacles and a
+        soft one with wide obstacles can both bend around a demonstration), so
+        without ``init`` the loss is evaluated (plans only, no optimisation) for
+        ``Q = 10 f_Q / extent²`` and widths ``0.05 f_w extent``, ``f_Q`` in 0.1 … 10,
+        ``f_w`` in 0.4 … 2.5, and the fit starts from the best.
+        """
         if self.init is not None:
             missing = [c for c in self.classes_ if c not in self.init.precisions]
             if missing:
@@ -434,11 +442,30 @@ class IOC:
             )
             return sub.theta
         extent = max(float(np.ptp(item.corridor.points, axis=0).max()) for item in data)
-        width = 0.05 * extent
-        theta = [np.log(10.0 / extent**2)]
-        for _ in self.classes_:
-            theta.extend([np.log(1.0 / width**2)] * self._q)
-        return np.array(theta)
+        best, best_loss = None, np.inf
+        for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
+            for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
+                width = 0.05 * spread * extent
+                theta = np.array(
+                    [np.log(10.0 * stiffness / extent**2)]
+                    + [np.log(1.0 / width**2)] * (self._q * len(self.classes_))
+                )
+                loss = self._loss_only(theta, data, warm)
+                if loss < best_loss:
+                    best, best_loss = theta, loss
+        return best
+
+    def _loss_only(
+        self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
+    ) -> float:
+        reward = Reward.from_theta(theta, self.classes_, self._q)
+        count = sum(int(item.found[1:].sum()) for item in data)
+        total = 0.0
+        for j, item in enumerate(data):
+            d, _, _, _ = _solve(self._problem(reward, item), item.start, warm[j].copy())
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
+        return total
 
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
