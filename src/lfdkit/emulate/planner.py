@@ -23,8 +23,10 @@ The cost ``Σ_k Q |d_k|² + Σ_o exp(…)`` is separable in ``d``: its Hessian i
 block-diagonal (diagonal in 2-D). In the actions it is dense, but a projected
 Newton method (Bertsekas) needs it only on the free actions: actions held at
 a bound lock neighbouring offsets together, the free ones move whole groups,
-and the Newton system in the group moves is again block-diagonal (diagonal
-in 2-D), solved in O(K). Negative curvature (the flanks of an obstacle's
+and in 2-D the Newton system in the group moves is again diagonal, solved in
+O(K). In 3-D the two normal components of a group couple through the 2×2
+blocks, and the small dense reduced system is solved by an eigen-decomposition
+(which also repairs negative curvature); 3-D plans are therefore slower. Negative curvature (the flanks of an obstacle's
 bump) is replaced by its magnitude to keep each step a descent step of
 sensible length; an Armijo search along the
 projection arc gives global convergence, and Newton steps near the optimum
