@@ -76,8 +76,12 @@ def test_recovers_the_true_parameters_from_noise_free_demonstrations() -> None:
 def test_staged_fit_recovers_mpc_demonstrations() -> None:
     demos, scenes = demonstrations(4, horizon=8)
     ioc = IOC(horizon=8, max_iter=30).fit(demos, scenes, nominal())
-    assert [stage["planner"] for stage in ioc.stages_] == ["full horizon", "MPC H=8"]
-    assert ioc.stages_[1]["loss"] < 1e-12  # the MPC demonstrator is explained exactly
+    assert [stage["planner"] for stage in ioc.stages_] == [
+        "initial grid",
+        "full horizon",
+        "MPC H=8",
+    ]
+    assert ioc.stages_[-1]["loss"] < 1e-12  # the MPC demonstrator is explained exactly
     np.testing.assert_allclose(np.exp(ioc.theta_), np.exp(TRUE.theta), rtol=1e-3)
 
 
@@ -106,7 +110,9 @@ def test_bad_inputs_are_refused() -> None:
 def test_score_on_held_out_demonstrations() -> None:
     demos, scenes = demonstrations(6)
     ioc = IOC().fit(demos[:4], scenes[:4], nominal())
-    assert ioc.score(demos[4:], scenes[4:], nominal()) < 1e-10
-    assert ioc.score(demos[4:], scenes[4:], nominal(), horizon=8) < 1e-4
+    full = ioc.score(demos[4:], scenes[4:], nominal())
+    assert full < 1e-10
+    # The demonstrator planned the full horizon: a receding horizon explains it less well.
+    assert full < ioc.score(demos[4:], scenes[4:], nominal(), horizon=8) < 1e-2
     with pytest.raises(ValueError, match="never learned"):
         ioc.score(demos[4:5], [Scene((Obstacle("cup", [0.5, 0.2]),))], nominal())

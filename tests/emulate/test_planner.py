@@ -122,6 +122,10 @@ def test_bad_requests_are_refused() -> None:
         plan_path(REWARD, straight(), scene, horizon=13)
     with pytest.raises(ValueError, match="start: lies inside obstacle 0"):
         plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.0, 0.0]),)))
+    with pytest.raises(ValueError, match=r"inside obstacle 0 \(within its radius 0.05\)"):
+        plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.03, 0.02], radius=0.05),)))
+    # Physically clear of a small obstacle: planned even though its response reaches the start.
+    plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.01, 0.0], radius=0.005),)))
     with pytest.raises(ValueError, match="class 'cup' was never learned"):
         plan_path(REWARD, straight(), Scene((Obstacle("cup", [0.5, 0.0]),)))
     with pytest.raises(ValueError, match="nominal: contains NaN"):

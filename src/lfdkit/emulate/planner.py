@@ -26,9 +26,10 @@ a bound lock neighbouring offsets together, the free ones move whole groups,
 and in 2-D the Newton system in the group moves is again diagonal, solved in
 O(K). In 3-D the two normal components of a group couple through the 2×2
 blocks, and the small dense reduced system is solved by an eigen-decomposition
-(which also repairs negative curvature); 3-D plans are therefore slower. Negative curvature (the flanks of an obstacle's
-bump) is replaced by its magnitude to keep each step a descent step of
-sensible length; an Armijo search along the
+(which also repairs negative curvature); 3-D plans are therefore slower.
+Negative curvature (the flanks of an obstacle's bump) is replaced by its
+magnitude to keep each step a descent step of sensible length; an Armijo
+search along the
 projection arc gives global convergence, and Newton steps near the optimum
 converge quadratically.
 
@@ -436,7 +437,7 @@ def _plan(
         check_positive(max_slope, "max_slope") * corridor.step,
     )
     start_point = corridor.points[0] + d0 @ corridor.normals[0]
-    _check_start(start_point, problem)
+    _check_start(start_point, problem, scene.radii if len(scene) else np.zeros(0))
     if horizon is None:
         starts = (
             [np.asarray(init, float).reshape(problem.n + 1, m)[1:]]
@@ -513,14 +514,17 @@ def _best_window(
     return best[0], best[1], total, best[2]
 
 
-def _check_start(point: np.ndarray, problem: _Problem) -> None:
-    if not problem.obstacles.shape[0]:
+def _check_start(point: np.ndarray, problem: _Problem, radii: np.ndarray) -> None:
+    """Refuse a start inside an obstacle: its physical radius, or one response width if 0."""
+    if not problem.has_obstacles:
         return
     rel = point[None] - problem.obstacles
+    distance = np.linalg.norm(rel, axis=1)
     depth = np.einsum("li,lij,lj->l", rel, problem.precision, rel)
-    inside = np.flatnonzero(depth < 1.0)
+    inside = np.flatnonzero(np.where(radii > 0, distance < radii, depth < 1.0))
     if inside.size:
+        o = int(inside[0])
+        what = f"its radius {radii[o]:g}" if radii[o] > 0 else "one width of its response"
         raise ValueError(
-            f"start: lies inside obstacle {int(inside[0])} (within one standard width of its "
-            "centre); move the start or the obstacle"
+            f"start: lies inside obstacle {o} (within {what}); move the start or the obstacle"
         )
