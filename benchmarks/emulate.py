@@ -797,7 +797,7 @@ def scipy_ioc(demos, scenes, nominal, classes, theta0, horizon, limit_s: float) 
         reward = Reward.from_theta(theta, classes, q)
         total = 0.0
         for (d0, offsets, found), scene in zip(items, scenes, strict=True):
-            problem = lfd_planner._build(reward, corridor, scene, 1)
+            problem = lfd_planner._build(reward, corridor, scene)
             guide = np.where(found[1:, None], offsets[1:], 0.0)
             if horizon is None:
                 d = scipy_plan(problem, d0, guide)
@@ -916,7 +916,7 @@ def speed(fit_repeats: int, repeats: int, quick: bool, limit_s: float, vinci) ->
     corridor = Corridor.from_path(nominal, 100)
     agreement = []
     for (d0, offsets, found), scene in zip(_targets_of(corridor, demos), scenes, strict=True):
-        problem = lfd_planner._build(true, corridor, scene, 1)
+        problem = lfd_planner._build(true, corridor, scene)
         guide = np.where(found[1:, None], offsets[1:], 0.0)
         ours, cost, _, _ = lfd_planner._solve(problem, d0, guide.copy())
         theirs = scipy_plan(problem, d0, guide)
@@ -989,7 +989,7 @@ def time_planning(reward: Reward, nominal: np.ndarray, scene: Scene, repeats: in
     steps = mpc.offsets.shape[0] - 1
     # Each window of the same MPC loop, timed on its own.
     corridor = Corridor.from_path(nominal, mpc.offsets.shape[0])
-    problem = lfd_planner._build(reward, corridor, scene, 1)
+    problem = lfd_planner._build(reward, corridor, scene)
     n, m = problem.n, problem.m
     windows, replay_error = [], 0.0
     for _ in range(max(1, min(repeats, 5))):

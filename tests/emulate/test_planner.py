@@ -63,7 +63,7 @@ def test_the_full_horizon_plan_is_a_local_optimum_scipy_cannot_improve() -> None
     scene = Scene((Obstacle("obstacle", [0.4, 0.02]), Obstacle("obstacle", [0.62, -0.01])))
     plan = plan_path(REWARD, straight(), scene)
     corridor = Corridor.from_path(straight())
-    problem = _build(REWARD, corridor, scene, 1)
+    problem = _build(REWARD, corridor, scene)
     actions = np.diff(plan.offsets[:, 0])
 
     def cost(a: np.ndarray) -> tuple[float, np.ndarray]:

@@ -67,7 +67,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets.synthetic import _check_count, _smooth_offset
+from lfdkit.datasets.synthetic import _check_count, _generate, _smooth_offset
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
@@ -377,6 +377,26 @@ def _demonstrate(
     return resample(path, n_points)
 
 
+def _free_demos(
+    reward: Reward,
+    nominal: np.ndarray,
+    rng: np.random.Generator,
+    noise: float,
+    n_points: int,
+    plan_points: int,
+    n_free: Any,
+) -> list[np.ndarray]:
+    """Demonstrations with no obstacle (the nominal plus noise), for learning the nominal.
+
+    Drawn after everything else, so the other demonstrations do not depend on ``n_free``.
+    """
+    n_free = _check_count(n_free, "n_free", 0)
+    return [
+        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
+        for _ in range(n_free)
+    ]
+
+
 def _check_common(noise: Any, n_points: Any, plan_points: Any) -> tuple[float, int, int]:
     noise = check_positive(noise, "noise", allow_zero=True)
     n_points = _check_count(n_points, "n_points", 2)
@@ -482,12 +502,7 @@ def artificial_obstacles(
     angles = np.deg2rad([90.0, 45.0, 0.0, -45.0, -90.0])
     concave = scene_of([track.local(0.45, 0.08 * np.cos(a), 0.08 * np.sin(a)) for a in angles])
     train, test = _split(n_demos, n_demos // 4)
-    n_free = _check_count(n_free, "n_free", 0)
-    # Drawn after everything else, so the demonstrations above do not depend on n_free.
-    free_demos = [
-        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
-        for _ in range(n_free)
-    ]
+    free_demos = _free_demos(reward, nominal, rng, noise, n_points, plan_points, n_free)
     return EmulationSet(
         free_demos=free_demos,
         name="artificial",
@@ -638,12 +653,7 @@ def da_vinci_marker(
         scene_of([(0.035, 0.006), (0.065, 0.004)]),
     ]
     train, test = _split(n_demos, n_demos // 3)
-    n_free = _check_count(n_free, "n_free", 0)
-    # Drawn after everything else, so the demonstrations above do not depend on n_free.
-    free_demos = [
-        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
-        for _ in range(n_free)
-    ]
+    free_demos = _free_demos(reward, nominal, rng, noise, n_points, plan_points, n_free)
     return EmulationSet(
         free_demos=free_demos,
         name="da_vinci_marker",
@@ -780,12 +790,7 @@ def sweeping(
     ]
     cup_train, cup_test = _split(n_cup, n_cup // 3)
     marker_train, marker_test = _split(n_marker, n_marker // 3, offset=n_cup)
-    n_free = _check_count(n_free, "n_free", 0)
-    # Drawn after everything else, so the demonstrations above do not depend on n_free.
-    free_demos = [
-        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
-        for _ in range(n_free)
-    ]
+    free_demos = _free_demos(reward, nominal, rng, noise, n_points, plan_points, n_free)
     return EmulationSet(
         free_demos=free_demos,
         name="sweeping",
@@ -838,11 +843,4 @@ def load_emulation_dataset(name: str, seed: Any = None, **kwargs: Any) -> Emulat
     ValueError
         If ``name`` is unknown; the message lists the valid names.
     """
-    try:
-        generator = EMULATION_DATASETS[name]
-    except (KeyError, TypeError):
-        valid = ", ".join(sorted(EMULATION_DATASETS))
-        raise ValueError(
-            f"name: unknown emulation data set {name!r}; valid names: {valid}"
-        ) from None
-    return generator(seed=seed, **kwargs)
+    return _generate(EMULATION_DATASETS, "emulation data set", name, seed, kwargs)

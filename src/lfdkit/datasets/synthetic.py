@@ -29,7 +29,7 @@ Conventions
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -1111,9 +1111,20 @@ def load_dataset(name: str, seed: Any = None, **kwargs: Any) -> DemoSet:
     ValueError
         If ``name`` is unknown; the message lists the valid names.
     """
+    return _generate(MIMIC_DATASETS, "data set", name, seed, kwargs)
+
+
+def _generate(
+    registry: Mapping[str, Callable[..., Any]],
+    kind: str,
+    name: str,
+    seed: Any,
+    kwargs: dict[str, Any],
+) -> Any:
+    """Call the generator registered under ``name``; a clear error listing the valid names."""
     try:
-        generator = MIMIC_DATASETS[name]
+        generator = registry[name]
     except (KeyError, TypeError):
-        valid = ", ".join(sorted(MIMIC_DATASETS))
-        raise ValueError(f"name: unknown data set {name!r}; valid names: {valid}") from None
+        valid = ", ".join(sorted(registry))
+        raise ValueError(f"name: unknown {kind} {name!r}; valid names: {valid}") from None
     return generator(seed=seed, **kwargs)

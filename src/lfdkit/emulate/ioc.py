@@ -27,6 +27,7 @@ at run time, its gradient by forward sensitivities through every MPC step.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -298,15 +299,7 @@ class IOC:
         return total, gradient
 
     def _problem(self, reward: Reward, item: DemoInScene) -> _Problem:
-        problem = _build(reward, item.corridor, item.scene, 1)
-        return _Problem(
-            problem.base,
-            problem.normals,
-            problem.obstacles,
-            problem.precision,
-            problem.weight,
-            self.max_slope * item.corridor.step,
-        )
+        return _build(reward, item.corridor, item.scene, self.max_slope)
 
     def _implicit_gradient(
         self, problem: _Problem, item: DemoInScene, d: np.ndarray, d_loss: np.ndarray
@@ -365,8 +358,6 @@ class IOC:
             raise ValueError(f"classes: the scenes contain {missing[0]!r}, which is not listed")
         self._q = data[0].corridor.n_dims
         warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
-        import time
-
         started = time.perf_counter()
         theta0 = self._initial_theta(data, warm)
         history: list[float] = []
@@ -479,8 +470,6 @@ class IOC:
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
     ) -> np.ndarray:
-        import time
-
         started = time.perf_counter()
 
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:

@@ -58,8 +58,6 @@ __all__ = ["Corridor", "Plan", "plan_path"]
 
 #: Horizons the thesis found to work (§5.4).
 MIN_HORIZON, MAX_HORIZON = 4, 12
-_ARMIJO = 1e-4
-_MAX_BACKTRACKS = 40
 
 
 @dataclass(frozen=True, eq=False)
@@ -246,32 +244,6 @@ def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
     return index, int(totals.sum())
 
 
-def _reduced(
-    index: np.ndarray, n_vars: int, gradient: np.ndarray, hessian: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Gradient and Hessian in the group moves (sums over each group's members)."""
-    n, m = index.shape
-    moving = index >= 0
-    g = np.bincount(index[moving], weights=gradient[moving], minlength=n_vars)
-    if m == 1:
-        h = np.bincount(index[moving], weights=hessian[:, 0, 0][moving[:, 0]], minlength=n_vars)
-        return g, h  # diagonal
-    rows = np.broadcast_to(index[:, :, None], (n, m, m))
-    cols = np.broadcast_to(index[:, None, :], (n, m, m))
-    keep = (rows >= 0) & (cols >= 0)
-    h = np.zeros((n_vars, n_vars))
-    np.add.at(h, (rows[keep], cols[keep]), hessian[keep])
-    return g, h
-
-
-def _newton_step(g: np.ndarray, h: np.ndarray, floor: float) -> np.ndarray:
-    """``−h⁻¹ g`` with the curvature clipped from below (a descent direction)."""
-    if h.ndim == 1:
-        return -g / np.maximum(h, floor)
-    values, vectors = np.linalg.eigh(h)
-    return -vectors @ ((vectors.T @ g) / np.maximum(values, floor))
-
-
 def _solve(
     problem: _Problem, d0: np.ndarray, init: np.ndarray, *, tol: float = 1e-10, max_iter: int = 100
 ) -> tuple[np.ndarray, float, int, bool]:
@@ -346,7 +318,8 @@ def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
     return starts
 
 
-def _build(reward: Reward, corridor: Corridor, scene: Scene, start: int) -> _Problem:
+def _build(reward: Reward, corridor: Corridor, scene: Scene, max_slope: float = 1.0) -> _Problem:
+    """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step."""
     precision = reward.precision_of(scene)
     obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
     if len(scene) and obstacles.shape[1] != corridor.n_dims:
@@ -354,17 +327,13 @@ def _build(reward: Reward, corridor: Corridor, scene: Scene, start: int) -> _Pro
             f"scene: {obstacles.shape[1]}-D obstacles for a {corridor.n_dims}-D nominal path"
         )
     return _Problem(
-        corridor.points[start:],
-        corridor.normals[start:],
+        corridor.points[1:],
+        corridor.normals[1:],
         obstacles,
         precision.reshape(-1, corridor.n_dims, corridor.n_dims),
         reward.nominal_weight,
-        _max_step(corridor),
+        max_slope * corridor.step,
     )
-
-
-def _max_step(corridor: Corridor, slope: float = 1.0) -> float:
-    return slope * corridor.step
 
 
 def plan_path(
@@ -427,15 +396,7 @@ def _plan(
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = np.zeros(m) if start_offset is None else np.asarray(start_offset, float).reshape(m)
-    problem = _build(reward, corridor, scene, 1)
-    problem = _Problem(
-        problem.base,
-        problem.normals,
-        problem.obstacles,
-        problem.precision,
-        problem.weight,
-        check_positive(max_slope, "max_slope") * corridor.step,
-    )
+    problem = _build(reward, corridor, scene, check_positive(max_slope, "max_slope"))
     start_point = corridor.points[0] + d0 @ corridor.normals[0]
     _check_start(start_point, problem, scene.radii if len(scene) else np.zeros(0))
     if horizon is None:
