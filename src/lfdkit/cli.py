@@ -1,5 +1,11 @@
 """The ``lfdkit`` command.
 
+Subcommands: ``demo`` (the whole workflow on the built-in sweeping example),
+``learn`` (a skill from demonstration files), ``plan`` (a path for a new
+start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
+``compare`` (the mimicking methods on the built-in data sets) and ``bench``
+(the benchmarks of a source checkout).
+
 Exit codes: 0 success, 1 the work failed (the reason on stderr in one line),
 2 wrong usage (argparse). Progress goes to stderr; ``--quiet`` prints nothing on
 success.
@@ -9,8 +15,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import subprocess
 import sys
 import time
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 from lfdkit import __version__
@@ -28,7 +37,83 @@ def _say(args: argparse.Namespace, message: str, *, level: int = 1) -> None:
         print(message, file=sys.stderr, flush=True)
 
 
-def _demo(args: argparse.Namespace) -> None:
+@contextmanager
+def _progress(args: argparse.Namespace, total: int, unit: str = "step") -> Iterator[Callable]:
+    """A progress bar on stderr (tqdm); yields ``step(message)`` to call as each step starts."""
+    from tqdm import tqdm
+
+    bar = tqdm(
+        total=total,
+        unit=unit,
+        file=sys.stderr,
+        disable=args.verbosity < 1,
+        leave=False,
+        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}]",
+        dynamic_ncols=True,
+    )
+    started = [False]
+
+    def step(message: str) -> None:
+        if started[0]:
+            bar.update(1)
+        started[0] = True
+        bar.set_description_str(message)
+        if args.verbosity >= 2:
+            bar.write(message, file=sys.stderr)
+
+    try:
+        yield step
+        if started[0]:
+            bar.update(1)
+    finally:
+        bar.close()
+
+
+def _refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
+    if path.is_dir():
+        raise CommandError(f"{option} {path}: is a directory; give a file name")
+    if path.exists() and not force:
+        raise CommandError(f"{option} {path}: exists; pass --force to overwrite it")
+    if not path.parent.exists():
+        raise CommandError(f"{option} {path}: folder {path.parent} does not exist")
+
+
+def _numbers(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected numbers separated by commas, got {text!r}"
+        ) from None
+    if len(values) not in (2, 3) or not all(v == v and abs(v) != float("inf") for v in values):
+        raise argparse.ArgumentTypeError(
+            f"expected 2 or 3 finite numbers like 0.4,0.45, got {text!r}"
+        )
+    return values
+
+
+def _obstacle(text: str):
+    """``CLASS:X,Y[,Z][,r=RADIUS]`` as (label, position, radius)."""
+    label, sep, rest = text.partition(":")
+    if not sep or not label.strip():
+        raise argparse.ArgumentTypeError(f"expected CLASS:X,Y[,Z][,r=RADIUS], got {text!r}")
+    radius = 0.0
+    coords = []
+    for token in rest.split(","):
+        token = token.strip()
+        if token.startswith("r="):
+            try:
+                radius = float(token[2:])
+            except ValueError:
+                raise argparse.ArgumentTypeError(f"radius in {text!r} is not a number") from None
+            if not radius >= 0 or radius == float("inf"):
+                raise argparse.ArgumentTypeError(f"radius in {text!r} must be finite and >= 0")
+        else:
+            coords.append(token)
+    return label.strip(), _numbers(",".join(coords)), radius
+
+
+def _compare(args: argparse.Namespace) -> None:
     # Heavy imports here so that `lfdkit --help` stays instant.
     from lfdkit.datasets import MIMIC_DATASETS
     from lfdkit.demos import atomic_write
@@ -88,32 +173,189 @@ def _demo(args: argparse.Namespace) -> None:
         _say(args, f"done in {time.perf_counter() - started:.1f} s; results in {out}/")
 
 
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="lfdkit",
-        description="Robot learning from demonstration: mimic, imitate, emulate, execute.",
-    )
-    parser.add_argument("--version", action="version", version=f"lfdkit {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    sub.required = True
+def _demo(args: argparse.Namespace) -> None:
+    from lfdkit.examples.sweeping_demo import N_STEPS, run_demo
 
-    demo = sub.add_parser(
-        "demo",
-        help="run the main example and write figures and a table",
-        description="Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in "
-        "data sets (known ground truth); write one figure per data set, a table and JSON.",
+    out: Path = args.output
+    if out.exists() and not out.is_dir():
+        raise CommandError(f"--output {out}: exists and is not a directory")
+    started = time.perf_counter()
+    _say(args, f"lfdkit {__version__}: the sweeping example, from demonstrations to new scenes")
+    try:
+        with _progress(args, N_STEPS) as step:
+            results = run_demo(out, overwrite=args.force, progress=step)
+    except FileExistsError as exc:
+        raise CommandError(str(exc)) from None
+    if args.verbosity >= 1:
+        test = results["emulate"]["test"]
+        unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
+        print(
+            f"held-out sweeps: Pr {test['improvement']:.1f} % over replaying the nominal; "
+            f"unseen scenes: {sum(r['collisions'] for r in unseen)} collisions in {len(unseen)}"
+        )
+        _say(args, f"done in {time.perf_counter() - started:.1f} s; open {out / 'report.html'}")
+
+
+def _skill_params(args: argparse.Namespace) -> dict:
+    params = {"mimic": args.mimic, "planner": args.planner, "horizon": args.horizon}
+    params.update(n_points=args.n_points, random_state=args.seed)
+    return params
+
+
+def _learn(args: argparse.Namespace) -> None:
+    from lfdkit.skill import learn
+
+    _refuse_existing(args.output, args.force)
+    started = time.perf_counter()
+    with _progress(args, 4) as step:
+        skill = learn(args.demos, args.scenes, progress=step, **_skill_params(args))
+    skill.save(args.output, overwrite=args.force)
+    if args.verbosity >= 1:
+        classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
+        _say(
+            args,
+            f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
+            + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
+            + f" (obstacle classes: {classes}) in {time.perf_counter() - started:.1f} s; "
+            f"wrote {args.output}",
+        )
+
+
+def _scene_from_args(args: argparse.Namespace, n_dims: int):
+    from lfdkit.emulate import Obstacle, Scene
+    from lfdkit.emulate.scene import load_scene
+
+    obstacles = []
+    if args.scene is not None:
+        obstacles += list(load_scene(args.scene))
+    for label, position, radius in args.obstacle or ():
+        if len(position) != n_dims:
+            raise CommandError(
+                f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill"
+            )
+        obstacles.append(Obstacle(label, position, radius))
+    scene = Scene(tuple(obstacles))
+    if len(scene) and scene.positions.shape[1] != n_dims:
+        raise CommandError(
+            f"--scene {args.scene}: {scene.positions.shape[1]}-D obstacles for a {n_dims}-D skill"
+        )
+    return scene
+
+
+def _load_skill(path: Path):
+    from lfdkit.skill import Skill
+
+    return Skill.load(path)
+
+
+def _point_arg(values, name: str, n_dims: int):
+    if values is not None and len(values) != n_dims:
+        raise CommandError(f"{name}: {len(values)} coordinates for a {n_dims}-D skill")
+    return values
+
+
+def _plan(args: argparse.Namespace) -> None:
+    import numpy as np
+
+    from lfdkit.demos import atomic_write
+
+    if args.output is not None:
+        _refuse_existing(args.output, args.force)
+    skill = _load_skill(args.skill)
+    q = skill.n_dims_
+    scene = _scene_from_args(args, q)
+    start = _point_arg(args.start, "--start", q)
+    goal = _point_arg(args.goal, "--goal", q)
+    started = time.perf_counter()
+    path = skill.plan(start, goal, scene, planner=args.planner, horizon=args.horizon)
+    names = ("x", "y", "z")[:q]
+    text = (
+        ",".join(names)
+        + "\n"
+        + "".join(",".join(repr(float(v)) for v in row) + "\n" for row in np.asarray(path))
     )
-    demo.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        default=Path("lfdkit-demo"),
-        help="output directory (default: ./lfdkit-demo)",
+    if args.output is None:
+        sys.stdout.write(text)
+        return
+    atomic_write(args.output, lambda f: f.write(text), overwrite=args.force)
+    _say(
+        args,
+        f"planned {len(path)} points around {len(scene)} obstacles in "
+        f"{1e3 * (time.perf_counter() - started):.0f} ms; wrote {args.output}",
     )
-    demo.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
-    demo.add_argument("--seed", type=int, default=0, help="data set seed (default 0)")
-    demo.add_argument("-f", "--force", action="store_true", help="overwrite existing output files")
-    loud = demo.add_mutually_exclusive_group()
+
+
+def _plot(args: argparse.Namespace) -> None:
+    from lfdkit import plot
+    from lfdkit.demos import atomic_write, load_demos
+
+    _refuse_existing(args.output, args.force)
+    skill = _load_skill(args.skill)
+    q = skill.n_dims_
+    scene = _scene_from_args(args, q)
+    start = _point_arg(args.start, "--start", q)
+    goal = _point_arg(args.goal, "--goal", q)
+    demos = load_demos(args.demos) if args.demos is not None else []
+    nominal = skill.nominal(start, goal)
+    plans = {}
+    if len(scene) or start is not None or goal is not None:
+        plans["plan"] = skill.plan(start, goal, scene)
+    if skill.reward_ is not None:
+        fig = plot.emulation_figure(
+            skill.reward_,
+            nominal,
+            scene,
+            demos=demos,
+            plans=plans,
+            units=skill.units,
+            title=args.title or f"{args.skill.name}: reward, nominal and plan",
+        )
+    else:
+        rollout = skill.dmp_.rollout(start, goal, n_steps=200)
+        fig = plot.retargeting_figure(
+            demos,
+            skill.path_,
+            skill.dmp_.times_,
+            [(rollout.times, rollout.positions)],
+            units=skill.units,
+            title=args.title or f"{args.skill.name}: path and DMP",
+        )
+    atomic_write(
+        args.output,
+        lambda f: fig.savefig(f, format="png", dpi=args.dpi),
+        binary=True,
+        overwrite=args.force,
+    )
+    _say(args, f"wrote {args.output}")
+
+
+def _bench(args: argparse.Namespace) -> None:
+    root = Path(__file__).resolve().parents[2]
+    folder = root / "benchmarks"
+    if not folder.is_dir():
+        raise CommandError(
+            "the benchmarks live in the source checkout (benchmarks/); run lfdkit bench from "
+            "an editable install of the repository (pip install -e '.[bench]')"
+        )
+    available = sorted(p.stem for p in folder.glob("*.py") if not p.stem.startswith("_"))
+    names = args.names or available
+    unknown = [n for n in names if n not in available]
+    if unknown:
+        raise CommandError(f"unknown benchmark {unknown[0]!r}; choose from {', '.join(available)}")
+    for name in names:
+        command = [sys.executable, str(folder / f"{name}.py")]
+        if args.quick:
+            command.append("--quick")
+        _say(args, f"lfdkit bench: {' '.join(command[1:])}")
+        done = subprocess.run(
+            command, cwd=root, stdout=subprocess.DEVNULL if args.verbosity < 1 else None
+        )
+        if done.returncode != 0:
+            raise CommandError(f"benchmark {name} failed with exit code {done.returncode}")
+
+
+def _loudness(parser: argparse.ArgumentParser) -> None:
+    loud = parser.add_mutually_exclusive_group()
     loud.add_argument(
         "-q",
         "--quiet",
@@ -128,23 +370,201 @@ def _parser() -> argparse.ArgumentParser:
         dest="verbosity",
         action="store_const",
         const=2,
-        help="also list every file written",
+        help="say more about each step",
     )
-    demo.set_defaults(verbosity=1, handler=_demo)
+    parser.set_defaults(verbosity=1)
+
+
+def _force(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-f", "--force", action="store_true", help="overwrite existing files")
+
+
+def _planner_options(parser: argparse.ArgumentParser, *, defaults: bool) -> None:
+    parser.add_argument(
+        "--planner",
+        choices=("mpc", "full"),
+        default="mpc" if defaults else None,
+        help="receding-horizon MPC or the full-horizon optimum"
+        + (" (default mpc)" if defaults else " (default: the skill's)"),
+    )
+    parser.add_argument(
+        "--horizon",
+        type=int,
+        default=8 if defaults else None,
+        metavar="H",
+        help="MPC horizon, 4 to 12" + (" (default 8)" if defaults else " (default: the skill's)"),
+    )
+
+
+def _scene_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--start", type=_numbers, metavar="X,Y[,Z]", help="start (default: the demonstrations')"
+    )
+    parser.add_argument(
+        "--goal", type=_numbers, metavar="X,Y[,Z]", help="goal (default: the demonstrations')"
+    )
+    parser.add_argument(
+        "--obstacle",
+        type=_obstacle,
+        action="append",
+        metavar="CLASS:X,Y[,Z][,r=R]",
+        help="an obstacle of a learned class, optionally with its radius (repeatable)",
+    )
+    parser.add_argument(
+        "--scene",
+        type=Path,
+        metavar="FILE",
+        help="obstacles from a scene file (.csv or .json, one scene)",
+    )
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="lfdkit",
+        description="Robot learning from demonstration: mimic, imitate, emulate, execute.",
+        epilog="Run 'lfdkit COMMAND --help' for a command's options.",
+    )
+    parser.add_argument("--version", action="version", version=f"lfdkit {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    demo = sub.add_parser(
+        "demo",
+        help="the whole workflow on the built-in sweeping example, with a report",
+        description="Learn the sweeping skill from the shipped demonstrations (clean sweeps, "
+        "sweeps around a cup and a marker), score it on held-out sweeps, plan to a moved "
+        "dustpan in three unseen scenes, and write figures, the skill, the plans, JSON and "
+        "an HTML report.",
+    )
+    demo.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("lfdkit-demo"),
+        help="output directory (default: ./lfdkit-demo)",
+    )
+    _force(demo)
+    _loudness(demo)
+    demo.set_defaults(handler=_demo)
+
+    learn = sub.add_parser(
+        "learn",
+        help="learn a skill from demonstration files",
+        description="Learn a skill: the generalized path and its DMP from the demonstrations "
+        "without obstacles, and the obstacle reward from those the scene file lists.",
+    )
+    learn.add_argument(
+        "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"
+    )
+    learn.add_argument(
+        "--scenes",
+        type=Path,
+        metavar="SCENES",
+        help="obstacles of the obstacle demonstrations, by demo id (.csv or .json)",
+    )
+    learn.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="SKILL.json", help="skill file to write"
+    )
+    learn.add_argument(
+        "--mimic",
+        choices=("mean_path", "gmr"),
+        default="mean_path",
+        help="generalized path method (default mean_path)",
+    )
+    learn.add_argument(
+        "--n-points", type=int, default=100, help="points of the path and of plans (default 100)"
+    )
+    learn.add_argument("--seed", type=int, default=None, help="seed of GMR's initialisation")
+    _planner_options(learn, defaults=True)
+    _force(learn)
+    _loudness(learn)
+    learn.set_defaults(handler=_learn)
+
+    plan = sub.add_parser(
+        "plan",
+        help="plan a path with a learned skill",
+        description="Plan with a learned skill: the DMP carries the path to the new start and "
+        "goal, then the planner moves around the obstacles. Writes x,y[,z] rows as CSV.",
+    )
+    plan.add_argument("skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn")
+    _scene_options(plan)
+    plan.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="PATH.csv",
+        help="CSV file to write (default: standard output)",
+    )
+    _planner_options(plan, defaults=False)
+    _force(plan)
+    _loudness(plan)
+    plan.set_defaults(handler=_plan)
+
+    plot = sub.add_parser(
+        "plot",
+        help="draw a skill: reward contours, demonstrations and a plan",
+        description="Draw a learned skill as a PNG: with an obstacle reward, its contours in "
+        "the scene with the nominal, the demonstrations and the plan; otherwise the path and "
+        "its DMP.",
+    )
+    plot.add_argument("skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn")
+    _scene_options(plot)
+    plot.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
+    plot.add_argument("--title", default="", help="figure title")
+    plot.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
+    plot.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
+    )
+    _force(plot)
+    _loudness(plot)
+    plot.set_defaults(handler=_plot)
+
+    compare = sub.add_parser(
+        "compare",
+        help="compare the mimicking methods on the built-in data sets",
+        description="Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in "
+        "data sets (known ground truth); write one figure per data set, a table and JSON.",
+    )
+    compare.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("lfdkit-compare"),
+        help="output directory (default: ./lfdkit-compare)",
+    )
+    compare.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
+    compare.add_argument("--seed", type=int, default=0, help="data set seed (default 0)")
+    _force(compare)
+    _loudness(compare)
+    compare.set_defaults(handler=_compare)
+
+    bench = sub.add_parser(
+        "bench",
+        help="run the benchmarks (source checkout)",
+        description="Run benchmarks/NAME.py of the source checkout; each prints a table and "
+        "writes JSON and figures under benchmarks/results/NAME/.",
+    )
+    bench.add_argument("names", nargs="*", metavar="NAME", help="benchmarks (default all)")
+    bench.add_argument("--quick", action="store_true", help="smaller, faster runs")
+    _loudness(bench)
+    bench.set_defaults(handler=_bench)
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lfdkit`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
     try:
         args.handler(args)
-    except CommandError as exc:
-        print(f"lfdkit {args.command}: error: {exc}", file=sys.stderr)
+    except (CommandError, OSError, ValueError, TypeError) as exc:
+        message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if isinstance(exc, FileNotFoundError) and exc.filename:
+            message = f"{exc.filename}: no such file"
+        print(f"lfdkit {args.command}: error: {message}", file=sys.stderr)
         return 1
-    except (OSError, ValueError) as exc:
-        print(f"lfdkit {args.command}: error: {exc}", file=sys.stderr)
-        return 1
+    except KeyboardInterrupt:
+        print(f"lfdkit {args.command}: interrupted", file=sys.stderr)
+        return 130
     return 0
 
 

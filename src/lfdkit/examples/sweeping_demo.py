@@ -1,0 +1,377 @@
+"""The whole workflow on the sweeping example: what ``lfdkit demo`` runs.
+
+From the shipped files (:mod:`lfdkit.examples`): learn a :class:`lfdkit.skill.Skill`
+(Mean-Path of the clean sweeps, a DMP, the cup and marker reward by inverse
+optimal control), score it on held-out sweeps, then plan a sweep to a new
+dustpan position in three unseen scenes holding a cup and a marker, and
+compare with the demonstrator's own plan (its true reward is known) and with
+the DMP alone. Writes figures, the skill, the plans, a JSON record and one
+self-contained HTML report.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lfdkit import __version__, metrics
+from lfdkit.demos import atomic_write, load_demos
+from lfdkit.emulate import Scene, plan_path
+from lfdkit.emulate.scene import Obstacle, load_scenes
+from lfdkit.examples import example_dataset, example_files
+from lfdkit.geometry import left_normals, resample
+from lfdkit.report import Report
+from lfdkit.skill import Skill, learn
+
+__all__ = ["NEW_GOAL", "UNSEEN_DESIGNS", "demo_outputs", "run_demo"]
+
+#: The dustpan moved: the new goal of the unseen scenes (metres).
+NEW_GOAL = np.array([0.36, 0.50])
+#: Obstacles of the unseen scenes: (class, fraction along the new straight sweep,
+#: offset across it in metres, left positive).
+UNSEEN_DESIGNS = (
+    (("cup", 0.40, 0.02), ("marker", 0.62, -0.015)),
+    (("marker", 0.38, -0.01), ("cup", 0.60, 0.025)),
+    (("cup", 0.42, -0.03), ("marker", 0.55, 0.02), ("cup", 0.72, 0.05)),
+)
+_RADIUS = {"cup": 0.03, "marker": 0.01}
+_FIGURES = ("mimic.png", "imitate.png", "emulate_test.png", "unseen_scenes.png")
+_PLANNERS = ("learned reward", "true reward", "DMP only")
+
+Progress = Callable[[str], None]
+
+
+def demo_outputs(output: str | os.PathLike[str]) -> list[Path]:
+    """Every file :func:`run_demo` writes under ``output``."""
+    out = Path(output)
+    files = [out / "report.html", out / "results.json", out / "skill.json"]
+    files += [out / "figures" / name for name in _FIGURES]
+    files += [out / "plans" / f"unseen_{i + 1}.csv" for i in range(len(UNSEEN_DESIGNS))]
+    files += [out / "data" / path.name for path in example_files().values()]
+    return files
+
+
+def _unseen_scenes(start: np.ndarray, goal: np.ndarray) -> list[Scene]:
+    """The designs placed along the straight sweep from ``start`` to ``goal``."""
+    line = np.vstack([start, goal])
+    normal = left_normals(line)[0]
+    scenes = []
+    for design in UNSEEN_DESIGNS:
+        obstacles = [
+            Obstacle(label, start + u * (goal - start) + across * normal, _RADIUS[label])
+            for label, u, across in design
+        ]
+        scenes.append(Scene(tuple(obstacles)))
+    return scenes
+
+
+def run_demo(
+    output: str | os.PathLike[str],
+    *,
+    overwrite: bool = False,
+    progress: Progress | None = None,
+) -> dict[str, Any]:
+    """Run the sweeping workflow and write its outputs under ``output``.
+
+    Parameters
+    ----------
+    output : path
+        Output directory, created if needed.
+    overwrite : bool
+        Replace files of an earlier run; otherwise an existing output file
+        raises ``FileExistsError`` before anything is written.
+    progress : callable, optional
+        Called with a short message at each step (:data:`N_STEPS` of them).
+
+    Returns
+    -------
+    dict
+        The results written to ``results.json``.
+    """
+    out = Path(output)
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"{out}: exists and is not a directory")
+    planned = demo_outputs(out)
+    clash = [p for p in planned if p.exists()]
+    if clash and not overwrite:
+        raise FileExistsError(f"{clash[0]}: exists; pass --force to overwrite the demo's files")
+    for folder in {p.parent for p in planned}:
+        folder.mkdir(parents=True, exist_ok=True)
+
+    def tell(message: str) -> None:
+        if progress is not None:
+            progress(message)
+
+    started = time.perf_counter()
+    files = example_files()
+    truth = example_dataset()
+    tell("learn the skill from data/demos.csv and data/scenes.csv")
+    t0 = time.perf_counter()
+    skill = learn(files["demos"], files["scenes"])
+    learn_s = time.perf_counter() - t0
+
+    tell("score the held-out sweeps")
+    test_demos, test_ids = load_demos(files["test_demos"], return_ids=True)
+    test_scene_map = load_scenes(files["test_scenes"])
+    test_scenes = [test_scene_map[key] for key in test_ids]
+    scores = skill.evaluate(test_demos, test_scenes)
+    # The demonstrator's reward with the skill's own planner: differences are the reward's.
+    horizon = skill.horizon if skill.planner == "mpc" else None
+    true_plans = [
+        plan_path(truth.true_reward, skill.nominal(demo[0]), scene, horizon=horizon).points
+        for demo, scene in zip(test_demos, test_scenes, strict=True)
+    ]
+    scores["mse_true_reward"] = metrics.mse_paths(true_plans, test_demos)
+
+    tell("plan in three unseen scenes with a new goal")
+    start = skill.path_[0]
+    scenes = _unseen_scenes(start, NEW_GOAL)
+    nominal = skill.nominal(start, NEW_GOAL)
+    # The demonstrator's nominal to the new goal is the straight sweep.
+    true_nominal = resample(np.vstack([start, NEW_GOAL]), 500)
+    unseen = []
+    for i, scene in enumerate(scenes):
+        t0 = time.perf_counter()
+        learned = skill.plan(start, NEW_GOAL, scene)
+        plan_ms = 1e3 * (time.perf_counter() - t0)
+        reference = plan_path(truth.true_reward, true_nominal, scene, horizon=horizon).points
+        # Drawn in this order: the learned plan on top of the demonstrator's.
+        paths = {
+            _PLANNERS[2]: resample(nominal, len(learned)),
+            _PLANNERS[1]: reference,
+            _PLANNERS[0]: learned,
+        }
+        rows = []
+        for name in _PLANNERS:
+            path = paths[name]
+            rows.append(
+                {
+                    "scene": i + 1,
+                    "planner": name,
+                    "collisions": metrics.collisions(path, scene),
+                    "min_clearance_mm": 1e3 * float(metrics.clearance(path, scene).min()),
+                    "rms_to_true_mm": 1e3 * float(np.sqrt(metrics.mse_paths(path, [reference]))),
+                    "end_to_goal_mm": 1e3 * float(np.linalg.norm(path[-1] - NEW_GOAL)),
+                }
+            )
+        rows[0]["plan_ms"] = plan_ms
+        unseen.append({"scene": scene, "paths": paths, "rows": rows})
+
+    tell("draw the figures")
+    figures = _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
+    results = _results(skill, truth, scores, unseen, learn_s, time.perf_counter() - started)
+    text = json.dumps(results, indent=1, allow_nan=False)
+
+    tell("write the skill, the plans, the figures, the results and the report")
+    for i, item in enumerate(unseen):
+        learned = item["paths"][_PLANNERS[0]]
+        _write_plan_csv(out / "plans" / f"unseen_{i + 1}.csv", learned, overwrite)
+    for name, fig in figures.items():
+        atomic_write(
+            out / "figures" / name,
+            lambda f, fig=fig: fig.savefig(f, format="png", dpi=110),
+            binary=True,
+            overwrite=overwrite,
+        )
+    skill.save(out / "skill.json", overwrite=overwrite)
+    for path in files.values():
+        target = out / "data" / path.name
+        content = path.read_bytes()
+        atomic_write(
+            target, lambda f, content=content: f.write(content), binary=True, overwrite=overwrite
+        )
+    atomic_write(out / "results.json", lambda f: f.write(text + "\n"), overwrite=overwrite)
+    _report(results, figures).write(out / "report.html", overwrite=overwrite)
+    return results
+
+
+N_STEPS = 5
+"""Number of progress messages :func:`run_demo` sends."""
+
+
+def _write_plan_csv(path: Path, points: np.ndarray, overwrite: bool) -> None:
+    names = ("x", "y", "z")[: points.shape[1]]
+
+    def write(f) -> None:
+        f.write(",".join(names) + "\n")
+        for row in points:
+            f.write(",".join(repr(float(v)) for v in row) + "\n")
+
+    atomic_write(path, write, overwrite=overwrite)
+
+
+def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen) -> dict:
+    from lfdkit import plot
+
+    data = read_free_demos()
+    figures = {
+        "mimic.png": plot.mean_path_figure(
+            data,
+            skill.mimic_,
+            nominal=truth.nominal,
+            title="Clean sweeps and their Mean-Path",
+        )
+    }
+    rollout = skill.dmp_.rollout(goal=NEW_GOAL, n_steps=200)
+    figures["imitate.png"] = plot.retargeting_figure(
+        data,
+        skill.path_,
+        skill.dmp_.times_,
+        [(rollout.times, rollout.positions)],
+        title="DMP: the sweep carried to the moved dustpan",
+        goal_names=["new dustpan"],
+    )
+    panels = []
+    for j, (demo, scene, reference) in enumerate(
+        zip(test_demos, test_scenes, true_plans, strict=True)
+    ):
+        panels.append(
+            {
+                "reward": skill.reward_,
+                "nominal": skill.nominal(demo[0]),
+                "scene": scene,
+                "demos": [demo],
+                "plans": {_PLANNERS[1]: reference, _PLANNERS[0]: skill.plan(demo[0], None, scene)},
+                "title": f"held-out sweep {j + 1} ({scene.labels[0]})",
+            }
+        )
+    figures["emulate_test.png"] = plot.emulation_grid(
+        panels, ncols=2, title="Learned reward on held-out sweeps"
+    )
+    panels = [
+        {
+            "reward": skill.reward_,
+            "nominal": nominal,
+            "scene": item["scene"],
+            "plans": item["paths"],
+            "title": f"unseen scene {i + 1}",
+        }
+        for i, item in enumerate(unseen)
+    ]
+    figures["unseen_scenes.png"] = plot.emulation_grid(
+        panels, ncols=1, title="Unseen scenes, dustpan moved: learned skill vs the demonstrator"
+    )
+    return figures
+
+
+def read_free_demos() -> list[np.ndarray]:
+    """The clean sweeps of the shipped example (no obstacle)."""
+    demos, ids = load_demos(example_files()["demos"], return_ids=True)
+    return [d for d, key in zip(demos, ids, strict=True) if str(key).startswith("free-")]
+
+
+def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float) -> dict:
+    errors = metrics.parameter_errors(skill.reward_, truth.true_reward)
+    parameters = [
+        {
+            "parameter": "Q",
+            "learned": skill.reward_.nominal_weight,
+            "true": truth.true_reward.nominal_weight,
+            "relative_error": errors["Q"],
+        }
+    ]
+    for label, matrix in truth.true_reward.precisions.items():
+        for i, axis in enumerate("xy"):
+            parameters.append(
+                {
+                    "parameter": f"{label} P_{axis}{axis}",
+                    "learned": float(skill.reward_.precisions[label][i, i]),
+                    "true": float(matrix[i, i]),
+                    "relative_error": errors[f"{label}[{i}]"],
+                }
+            )
+    mimic_error = metrics.e2(skill.path_, truth.nominal, n_points=100)
+    return {
+        "lfdkit": __version__,
+        "example": "sweeping (synthetic demonstrator, seed 0)",
+        "seconds": {"learn": learn_s, "total": total_s},
+        "mimic": {
+            **skill.mimic_info_,
+            "error_to_true_nominal_mm": 1e3 * float(np.sqrt(mimic_error)),
+        },
+        "imitate": {
+            "n_basis": skill.n_basis,
+            "reproduction_rms_mm": 1e3
+            * float(np.sqrt(metrics.mse_paths(skill.nominal(), [skill.path_]))),
+            "new_goal": NEW_GOAL.tolist(),
+        },
+        "emulate": {"ioc": skill.ioc_info_, "parameters": parameters, "test": scores},
+        "unseen": [row for item in unseen for row in item["rows"]],
+    }
+
+
+def _report(results: dict, figures: dict) -> Report:
+    report = Report(
+        "lfdkit demo: sweeping a cube into a dustpan",
+        subtitle="Learn from demonstrations, then sweep around a cup and a marker in new scenes",
+    )
+    report.definition_list(
+        {
+            "data": results["example"],
+            "learned in": f"{results['seconds']['learn']:.2f} s",
+            "whole run": f"{results['seconds']['total']:.1f} s",
+            "inputs": "data/demos.csv, data/scenes.csv (clean and obstacle sweeps)",
+        }
+    )
+    mimic = results["mimic"]
+    report.heading("1. Mimic: the generalized path")
+    report.paragraph(
+        f"Mean-Path of {mimic['n_demos']} clean sweeps: {mimic['n_iter']} iterations; "
+        f"distance to the demonstrator's true path {mimic['error_to_true_nominal_mm']:.2f} mm."
+    )
+    report.figure(
+        figures["mimic.png"],
+        "Demonstrations and the Mean-Path (left), the Distance-Space (middle), the residual "
+        "per iteration (right).",
+    )
+    imitate = results["imitate"]
+    report.heading("2. Imitate: a DMP to new goals")
+    report.paragraph(
+        f"DMP with {imitate['n_basis']} basis functions per dimension reproduces the path to "
+        f"{imitate['reproduction_rms_mm']:.3f} mm RMS and is carried to the moved dustpan at "
+        f"{tuple(round(v, 3) for v in imitate['new_goal'])} m."
+    )
+    report.figure(figures["imitate.png"], "The generalized path and the DMP to the new goal.")
+    emulate = results["emulate"]
+    report.heading("3. Emulate: the obstacle reward")
+    report.table(
+        emulate["parameters"],
+        "Learned reward (1/m²) against the demonstrator's true one.",
+        formats={"learned": ".4g", "true": ".4g", "relative_error": ".1%"},
+    )
+    test = emulate["test"]
+    report.table(
+        [
+            {"planner": "learned skill", "MSE_R (mm²)": 1e6 * test["mse"]},
+            {"planner": "true reward", "MSE_R (mm²)": 1e6 * test["mse_true_reward"]},
+            {"planner": "replay the nominal (MSE_Mp)", "MSE_R (mm²)": 1e6 * test["mse_replay"]},
+        ],
+        f"Held-out sweeps: improvement over replaying the nominal Pr = "
+        f"{test['improvement']:.1f} %.",
+    )
+    report.figure(
+        figures["emulate_test.png"],
+        "Reward contours of the learned skill on the held-out sweeps, with the demonstration "
+        "and the plans of the learned and the true reward.",
+    )
+    report.heading("4. Unseen scenes with a new goal")
+    report.table(
+        results["unseen"],
+        "Each planner in each unseen scene: collisions, smallest clearance to an obstacle's "
+        "surface, RMS distance to the demonstrator's plan, distance of the end to the goal.",
+        formats={"min_clearance_mm": ".1f", "rms_to_true_mm": ".2f", "end_to_goal_mm": ".1f"},
+    )
+    report.figure(figures["unseen_scenes.png"], "Plans in the unseen scenes.")
+    report.heading("Files")
+    report.paragraph(
+        "skill.json (the learned skill: lfdkit plan skill.json ...), plans/unseen_*.csv, "
+        "figures/*.png, results.json, data/ (the inputs: try lfdkit learn data/demos.csv "
+        "--scenes data/scenes.csv -o my_skill.json)."
+    )
+    return report

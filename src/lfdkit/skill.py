@@ -1,0 +1,917 @@
+"""The layered skill: mimic → imitate → emulate, in one object (thesis Fig 1.4 and 5.2).
+
+A :class:`Skill` learns, in order,
+
+1. **mimic**: the generalized path of clean demonstrations (no obstacle),
+   :class:`lfdkit.mimic.MeanPath` (default) or :class:`lfdkit.mimic.GMR`;
+2. **imitate**: a :class:`lfdkit.imitate.DMP` trained on that path, which
+   carries it to a new start and goal;
+3. **emulate**: from demonstrations recorded around obstacles, one
+   :class:`lfdkit.emulate.Reward` term per obstacle class, by inverse optimal
+   control (:class:`lfdkit.emulate.IOC`).
+
+:meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
+DMP retargets the generalized path to the new start and goal (the *nominal*),
+and the planner (receding-horizon MPC by default, or the full-horizon
+optimum) moves along it around the scene's obstacles.
+
+Each layer can be learned on its own (:meth:`Skill.fit_path`,
+:meth:`Skill.fit_reward`) or taken from elsewhere (:meth:`Skill.use_path`,
+:meth:`Skill.adopt`, e.g. an obstacle class learned in another skill).
+
+Files
+-----
+:meth:`Skill.save` writes one JSON document, ``{"format": "lfdkit-skill",
+"version": 1, ...}``, with every number written exactly (floats round-trip
+bit for bit) and no pickle:
+
+``params``
+    The constructor parameters.
+``n_dims``, ``units``
+    Dimension of the paths and their unit.
+``path``
+    The generalized path, ``(n_points, n_dims)`` nested lists.
+``mimic``
+    How the path was made: ``{"method": ..., "n_demos": ...}`` and the
+    method's diagnostics.
+``reward``
+    ``null`` or ``{"nominal_weight": Q, "precisions": {class: (q, q) nested
+    lists}}`` in 1/units².
+``ioc``
+    ``null`` or a summary of the reward fit (loss, stages, demonstrations).
+``lfdkit``, ``created``
+    The version that wrote it and when (UTC, ISO 8601).
+
+:meth:`Skill.load` refits the DMP from the stored path and parameters (a
+deterministic closed-form fit), so a loaded skill plans exactly as the saved
+one. A file from a newer format version, or one with a missing or broken
+field, is refused with a message naming the file and the field.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import math
+import os
+import time
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any, Literal, NamedTuple
+
+import numpy as np
+
+from lfdkit import __version__, metrics
+from lfdkit._validation import check_demos, check_path, check_positive
+from lfdkit.demos import DemoId, atomic_write, load_demos
+from lfdkit.emulate import IOC, Reward, Scene, plan_path
+from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
+from lfdkit.emulate.scene import load_scenes
+from lfdkit.imitate import DMP
+from lfdkit.mimic import GMR, MeanPath
+
+__all__ = ["SKILL_FORMAT", "SKILL_VERSION", "Skill", "TrainingData", "learn", "read_training_data"]
+
+SKILL_FORMAT = "lfdkit-skill"
+"""Value of the ``"format"`` field of a skill file."""
+
+SKILL_VERSION = 1
+"""Newest skill-file version this module reads, and the one it writes."""
+
+MimicMethod = Literal["mean_path", "gmr"]
+PlannerKind = Literal["mpc", "full"]
+Progress = Callable[[str], None]
+
+_MIMIC_METHODS = ("mean_path", "gmr")
+_PLANNERS = ("mpc", "full")
+_TIMINGS = ("minimum_jerk", "uniform")
+_SCALINGS = ("spatial", "per_dimension")
+# Samples of a DMP rollout handed to the planner, which resamples it at
+# constant speed: dense enough that the resampled nominal follows the curve.
+_NOMINAL_OVERSAMPLING = 4
+
+
+class Skill:
+    """A task learned from demonstrations: generalized path, DMP and obstacle reward.
+
+    Parameters
+    ----------
+    mimic : {"mean_path", "gmr"}
+        How the generalized path is computed from the clean demonstrations.
+    n_points : int
+        Points of the generalized path and of every plan (thesis: 100).
+    n_components : int
+        Gaussian components when ``mimic="gmr"``.
+    n_basis : int
+        DMP basis functions per dimension.
+    timing : {"minimum_jerk", "uniform"}
+        Times assigned to the generalized path for the DMP fit
+        (:meth:`lfdkit.imitate.DMP.fit`).
+    duration : float
+        Duration of the movement, seconds.
+    scaling : {"spatial", "per_dimension"}
+        How the DMP carries the path to a new start and goal; ``"spatial"``
+        rotates and scales the whole shape with the start→goal vector and
+        works for paths whose start and goal share a coordinate (a straight
+        sweep), where ``"per_dimension"`` (the thesis) cannot scale.
+    planner : {"mpc", "full"}
+        Receding-horizon MPC (as on the robot) or the full-horizon optimum; the
+        reward fit is staged (full horizon, then MPC) for ``"mpc"``.
+    horizon : int
+        MPC horizon ``H``, 4 to 12.
+    max_slope : float
+        Largest sideways step per step along the nominal (the action box).
+    classes : sequence of str, optional
+        Obstacle classes to learn (default: those in the training scenes).
+    random_state : int, optional
+        Seed of the GMR's EM initialisation (the other layers are deterministic).
+    units : str
+        Unit of every coordinate (for files and figures).
+
+    Attributes
+    ----------
+    path_ : ndarray, shape (n_points, q)
+        The generalized path.
+    mimic_ : MeanPath or GMR or None
+        The fitted mimicking estimator (None after :meth:`use_path` or :meth:`load`).
+    mimic_info_ : dict
+        How the path was made (method, number of demonstrations, diagnostics).
+    dmp_ : DMP
+        The DMP trained on ``path_``.
+    reward_ : Reward or None
+        The obstacle reward (None until :meth:`fit_reward` or :meth:`adopt`).
+    ioc_ : IOC or None
+        The fitted inverse optimal control (None after :meth:`adopt` or :meth:`load`).
+    ioc_info_ : dict or None
+        Summary of the reward fit: loss, stages, classes, demonstrations.
+    n_dims_ : int
+        Dimension ``q`` of the paths.
+    """
+
+    def __init__(
+        self,
+        *,
+        mimic: MimicMethod = "mean_path",
+        n_points: int = 100,
+        n_components: int = 10,
+        n_basis: int = 20,
+        timing: str = "minimum_jerk",
+        duration: float = 1.0,
+        scaling: str = "spatial",
+        planner: PlannerKind = "mpc",
+        horizon: int = 8,
+        max_slope: float = 1.0,
+        classes: Sequence[str] | None = None,
+        random_state: int | None = None,
+        units: str = "m",
+    ) -> None:
+        self.mimic = mimic
+        self.n_points = n_points
+        self.n_components = n_components
+        self.n_basis = n_basis
+        self.timing = timing
+        self.duration = duration
+        self.scaling = scaling
+        self.planner = planner
+        self.horizon = horizon
+        self.max_slope = max_slope
+        self.classes = classes
+        self.random_state = random_state
+        self.units = units
+
+    # ------------------------------------------------------------ parameters
+    def get_params(self) -> dict[str, Any]:
+        """The constructor parameters, as a dict (scikit-learn style)."""
+        return {
+            "mimic": self.mimic,
+            "n_points": self.n_points,
+            "n_components": self.n_components,
+            "n_basis": self.n_basis,
+            "timing": self.timing,
+            "duration": self.duration,
+            "scaling": self.scaling,
+            "planner": self.planner,
+            "horizon": self.horizon,
+            "max_slope": self.max_slope,
+            "classes": None if self.classes is None else list(self.classes),
+            "random_state": self.random_state,
+            "units": self.units,
+        }
+
+    def _check_params(self) -> None:
+        _check_choice(self.mimic, "mimic", _MIMIC_METHODS)
+        _check_choice(self.planner, "planner", _PLANNERS)
+        _check_choice(self.timing, "timing", _TIMINGS)
+        _check_choice(self.scaling, "scaling", _SCALINGS)
+        check_positive(self.n_points, "n_points", integer=True)
+        if int(self.n_points) < 3:
+            raise ValueError(f"n_points: needs at least 3, got {self.n_points}")
+        check_positive(self.n_components, "n_components", integer=True)
+        check_positive(self.n_basis, "n_basis", integer=True)
+        check_positive(self.duration, "duration")
+        check_positive(self.max_slope, "max_slope")
+        if not isinstance(self.horizon, (int, np.integer)) or not (
+            MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON
+        ):
+            raise ValueError(
+                f"horizon: expected an integer {MIN_HORIZON} <= H <= {MAX_HORIZON}, "
+                f"got {self.horizon!r}"
+            )
+        if not isinstance(self.units, str) or not self.units:
+            raise ValueError(f"units: expected a non-empty string, got {self.units!r}")
+
+    @property
+    def _horizon(self) -> int | None:
+        return int(self.horizon) if self.planner == "mpc" else None
+
+    # ------------------------------------------------------------------ fit
+    def fit(
+        self,
+        demos: Sequence[Any],
+        obstacle_demos: Sequence[Any] | None = None,
+        scenes: Sequence[Scene] | None = None,
+        *,
+        goals: Any = None,
+        progress: Progress | None = None,
+    ) -> Skill:
+        """Learn every layer: path and DMP from ``demos``, the reward from the rest.
+
+        Parameters
+        ----------
+        demos : sequence of array_like, each (n_j, q)
+            Clean demonstrations (no obstacle), at least 2, q 2 or 3.
+        obstacle_demos : sequence of array_like, each (n_j, q), optional
+            Demonstrations recorded around obstacles.
+        scenes : sequence of Scene, optional
+            One per obstacle demonstration.
+        goals : array_like, shape (q,) or (n_obstacle_demos, q), optional
+            Passed to :meth:`fit_reward`.
+        progress : callable, optional
+            Called with a short message as each stage starts.
+
+        Returns
+        -------
+        Skill
+            ``self``.
+        """
+        if (obstacle_demos is None) != (scenes is None):
+            raise ValueError("scenes: give obstacle_demos and scenes together, or neither")
+        self.fit_path(demos, progress=progress)
+        self.reward_ = None
+        self.ioc_ = None
+        self.ioc_info_ = None
+        if obstacle_demos is not None and len(obstacle_demos):
+            self.fit_reward(obstacle_demos, scenes, goals=goals, progress=progress)
+        elif obstacle_demos is not None and scenes is not None and len(scenes):
+            raise ValueError(f"scenes: {len(scenes)} scenes for 0 obstacle demonstrations")
+        return self
+
+    def fit_path(self, demos: Sequence[Any], *, progress: Progress | None = None) -> Skill:
+        """Learn the generalized path (mimic) and the DMP on it (imitate).
+
+        Parameters
+        ----------
+        demos : sequence of array_like, each (n_j, q)
+            Clean demonstrations, at least 2, all of the same dimension 2 or 3.
+        progress : callable, optional
+
+        Returns
+        -------
+        Skill
+            ``self``; an obstacle reward learned before is kept.
+        """
+        self._check_params()
+        demos = check_demos(demos, "demos", min_demos=2, min_points=3)
+        q = demos[0].shape[1]
+        if q not in (2, 3):
+            raise ValueError(f"demos: expected 2-D or 3-D points, got {q} dimensions")
+        _tell(progress, f"mimic: {self._mimic_name()} of {len(demos)} demonstrations")
+        started = time.perf_counter()
+        if self.mimic == "mean_path":
+            estimator: MeanPath | GMR = MeanPath(n_points=int(self.n_points)).fit(demos)
+            path = estimator.path_
+            info: dict[str, Any] = {
+                "n_iter": int(estimator.n_iter_),
+                "residual": float(estimator.residual_),
+                "converged": bool(estimator.converged_),
+            }
+        else:
+            estimator = GMR(
+                n_components=int(self.n_components), random_state=self.random_state
+            ).fit(demos)
+            path = estimator.path(int(self.n_points))
+            info = {
+                "log_likelihood": float(estimator.log_likelihood_),
+                "converged": bool(estimator.converged_),
+                "n_iter": int(estimator.n_iter_),
+            }
+        info = {"method": self.mimic, "n_demos": len(demos), **info}
+        info["seconds"] = time.perf_counter() - started
+        self.mimic_ = estimator
+        self._set_path(path, info, progress)
+        return self
+
+    def use_path(self, path: Any, *, source: str = "given") -> Skill:
+        """Take a generalized path from elsewhere and train the DMP on it.
+
+        Parameters
+        ----------
+        path : array_like, shape (n, q)
+            The path, q 2 or 3, at least 3 points.
+        source : str
+            Recorded in :attr:`mimic_info_` (e.g. where the path came from).
+        """
+        self._check_params()
+        path = check_path(path, "path", min_points=3)
+        if path.shape[1] not in (2, 3):
+            raise ValueError(f"path: expected 2-D or 3-D points, got {path.shape[1]} dimensions")
+        self.mimic_ = None
+        self._set_path(path, {"method": "given", "source": str(source)}, None)
+        return self
+
+    def _set_path(self, path: np.ndarray, info: dict[str, Any], progress: Progress | None) -> None:
+        reward = getattr(self, "reward_", None)
+        if reward is not None and reward.n_dims not in (None, path.shape[1]):
+            raise ValueError(
+                f"path: {path.shape[1]}-D, but the obstacle reward is {reward.n_dims}-D"
+            )
+        _tell(progress, f"imitate: DMP with {self.n_basis} basis functions per dimension")
+        self.path_ = np.array(path, dtype=np.float64)
+        self.mimic_info_ = info
+        self.dmp_ = self._fit_dmp(self.path_)
+        self.n_dims_ = int(self.path_.shape[1])
+        if not hasattr(self, "reward_"):
+            self.reward_ = None
+            self.ioc_ = None
+            self.ioc_info_ = None
+
+    def _fit_dmp(self, path: np.ndarray) -> DMP:
+        dmp = DMP(n_basis=int(self.n_basis), scaling=self.scaling)
+        return dmp.fit(path, duration=float(self.duration), timing=self.timing)
+
+    def fit_reward(
+        self,
+        demos: Sequence[Any],
+        scenes: Sequence[Scene],
+        *,
+        goals: Any = None,
+        progress: Progress | None = None,
+    ) -> Skill:
+        """Learn the obstacle reward by inverse optimal control (emulate).
+
+        Each demonstration is compared with the plan along its own nominal:
+        the DMP from the demonstration's first point to its goal. The goal is
+        where the task ends (the dustpan), not where a demonstration that
+        swerved around an obstacle happened to stop, so it defaults to the
+        generalized path's goal.
+
+        Parameters
+        ----------
+        demos : sequence of array_like, each (n_j, q)
+            Demonstrations recorded around obstacles.
+        scenes : sequence of Scene
+            One per demonstration.
+        goals : array_like, shape (q,) or (n_demos, q), optional
+            Goal of each demonstration's nominal (default: the generalized path's goal).
+        progress : callable, optional
+
+        Returns
+        -------
+        Skill
+            ``self``.
+        """
+        self._check_fitted()
+        demos = check_demos(demos, "obstacle_demos", n_dims=self.n_dims_)
+        scenes = list(scenes)
+        if len(scenes) != len(demos):
+            raise ValueError(
+                f"scenes: {len(scenes)} scenes for {len(demos)} obstacle demonstrations; "
+                "give one scene per demonstration"
+            )
+        for j, scene in enumerate(scenes):
+            if not isinstance(scene, Scene):
+                raise TypeError(f"scenes[{j}]: expected a Scene, got {type(scene).__name__}")
+            if len(scene) and scene.positions.shape[1] != self.n_dims_:
+                raise ValueError(
+                    f"scenes[{j}]: {scene.positions.shape[1]}-D obstacles for "
+                    f"{self.n_dims_}-D demonstrations"
+                )
+        goal = self.path_[-1] if goals is None else goals
+        goal = np.broadcast_to(
+            _point(goal, "goals", self.n_dims_, batch=True), (len(demos), self.n_dims_)
+        )
+        _tell(progress, "emulate: nominal of each obstacle demonstration (DMP)")
+        starts = np.array([demo[0] for demo in demos])
+        nominals = list(self._rollouts(starts, goal))
+        stages = "full horizon, then MPC" if self.planner == "mpc" else "full horizon"
+        _tell(progress, f"emulate: inverse optimal control on {len(demos)} demos ({stages})")
+        started = time.perf_counter()
+        ioc = IOC(
+            self.classes,
+            n_points=int(self.n_points),
+            horizon=self._horizon,
+            max_slope=float(self.max_slope),
+        ).fit(demos, scenes, nominals)
+        self.ioc_ = ioc
+        self.reward_ = ioc.reward_
+        self.ioc_info_ = {
+            "n_demos": len(demos),
+            "classes": list(ioc.classes_),
+            "loss": float(ioc.loss_),
+            "converged": bool(ioc.converged_),
+            "seconds": time.perf_counter() - started,
+            "stages": _jsonable(
+                [
+                    {k: v for k, v in stage.items() if isinstance(v, (int, float, str, bool))}
+                    for stage in ioc.stages_
+                ]
+            ),
+        }
+        return self
+
+    def adopt(self, source: Skill | Reward, classes: Sequence[str] | None = None) -> Skill:
+        """Reuse obstacle classes learned elsewhere (thesis §6.3.3, composition and transfer).
+
+        Parameters
+        ----------
+        source : Skill or Reward
+            Where the classes were learned.
+        classes : sequence of str, optional
+            Which classes to take (default all of ``source``'s). A class this
+            skill already has is replaced.
+
+        Returns
+        -------
+        Skill
+            ``self``; its nominal weight ``Q`` is kept if it has a reward,
+            otherwise taken from ``source``.
+        """
+        reward = source.reward_ if isinstance(source, Skill) else source
+        if not isinstance(reward, Reward):
+            raise ValueError("source: has no learned obstacle reward to adopt")
+        wanted = reward.classes if classes is None else tuple(classes)
+        missing = [c for c in wanted if c not in reward.precisions]
+        if missing:
+            raise ValueError(
+                f"classes: {missing[0]!r} is not learned in source "
+                f"(it has {', '.join(reward.classes) or 'none'})"
+            )
+        n_dims = getattr(self, "n_dims_", None)
+        if n_dims is not None and reward.n_dims not in (None, n_dims):
+            raise ValueError(f"source: {reward.n_dims}-D reward for a {n_dims}-D skill")
+        taken = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in wanted})
+        own = getattr(self, "reward_", None)
+        self.reward_ = taken if own is None else own.combined(taken)
+        if not hasattr(self, "ioc_"):
+            self.ioc_ = None
+            self.ioc_info_ = None
+        return self
+
+    # ------------------------------------------------------------------ use
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "path_"):
+            raise ValueError("skill: not fitted; call fit() or fit_path() first")
+
+    def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
+        n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
+        return self.dmp_.rollout(starts, goals, n_steps=n_steps).positions
+
+    def nominal(self, start: Any = None, goal: Any = None) -> np.ndarray:
+        """The generalized path carried to a new start and goal by the DMP.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+
+        Returns
+        -------
+        ndarray, shape (4 n_points, q)
+            DMP rollout positions (minimum-jerk timing: denser at the ends).
+        """
+        self._check_fitted()
+        start = self.path_[0] if start is None else _point(start, "start", self.n_dims_)
+        goal = self.path_[-1] if goal is None else _point(goal, "goal", self.n_dims_)
+        if np.allclose(start, goal, rtol=0.0, atol=1e-12 * _extent(self.path_)):
+            raise ValueError("goal: coincides with start; a path needs distinct ends")
+        return self._rollouts(start[None], goal[None])[0]
+
+    def plan(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        scene: Scene | None = None,
+        *,
+        planner: PlannerKind | None = None,
+        horizon: int | None = None,
+    ) -> np.ndarray:
+        """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+        scene : Scene, optional
+            Obstacles (default none); each class must have been learned.
+        planner : {"mpc", "full"}, optional
+            Override the skill's planner.
+        horizon : int, optional
+            Override the MPC horizon (4 to 12).
+
+        Returns
+        -------
+        ndarray, shape (n_points, q)
+            The planned path, from ``start``; with no obstacle, the nominal
+            resampled at constant speed.
+
+        Raises
+        ------
+        ValueError
+            For a start or goal of the wrong dimension or not finite, a scene
+            with an obstacle class this skill has not learned (or with
+            obstacles when no reward is learned), a start inside an obstacle,
+            or a horizon outside 4-12.
+        """
+        nominal = self.nominal(start, goal)
+        scene = Scene() if scene is None else scene
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
+        kind = self.planner if planner is None else planner
+        _check_choice(kind, "planner", _PLANNERS)
+        if kind == "mpc":
+            h = int(self.horizon) if horizon is None else horizon
+        else:
+            h = None
+        reward = self.reward_
+        if reward is None:
+            if len(scene):
+                raise ValueError(
+                    "scene: has obstacles, but this skill has no obstacle reward; learn one "
+                    "with fit_reward() (demonstrations around obstacles) or adopt() it"
+                )
+            reward = Reward(1.0, {})
+        return plan_path(
+            reward,
+            nominal,
+            scene,
+            horizon=h,
+            n_points=int(self.n_points),
+            max_slope=float(self.max_slope),
+        ).points
+
+    def evaluate(
+        self, demos: Sequence[Any], scenes: Sequence[Scene], *, goals: Any = None
+    ) -> dict[str, float]:
+        """Scores on held-out demonstrations in their scenes (thesis MSE_R and Pr).
+
+        Each demonstration is compared with the plan from its first point to
+        its goal (default the generalized path's goal) in its scene, and with
+        the nominal replayed without the obstacle term.
+
+        Returns
+        -------
+        dict
+            ``mse`` (MSE_R of the plans, units²), ``mse_replay`` (MSE_Mp of the
+            nominals) and ``improvement`` (Pr, percent), over 100 points per path.
+        """
+        self._check_fitted()
+        demos = check_demos(demos, "demos", n_dims=self.n_dims_)
+        scenes = list(scenes)
+        if len(scenes) != len(demos):
+            raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
+        goal = self.path_[-1] if goals is None else goals
+        goal = np.broadcast_to(
+            _point(goal, "goals", self.n_dims_, batch=True), (len(demos), self.n_dims_)
+        )
+        plans = [
+            self.plan(demo[0], g, scene) for demo, g, scene in zip(demos, goal, scenes, strict=True)
+        ]
+        nominals = [self.nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
+        mse = metrics.mse_paths(plans, demos)
+        replay = metrics.mse_paths(nominals, demos)
+        return {"mse": mse, "mse_replay": replay, "improvement": metrics.improvement(replay, mse)}
+
+    # ------------------------------------------------------------------ files
+    def to_dict(self) -> dict[str, Any]:
+        """The skill as a JSON-ready dict (the file format of the module notes)."""
+        self._check_fitted()
+        reward = None
+        if self.reward_ is not None:
+            reward = {
+                "nominal_weight": float(self.reward_.nominal_weight),
+                "precisions": {c: m.tolist() for c, m in self.reward_.precisions.items()},
+            }
+        return {
+            "format": SKILL_FORMAT,
+            "version": SKILL_VERSION,
+            "lfdkit": __version__,
+            "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "params": self.get_params(),
+            "n_dims": self.n_dims_,
+            "units": self.units,
+            "path": self.path_.tolist(),
+            "mimic": _jsonable(self.mimic_info_),
+            "reward": reward,
+            "ioc": _jsonable(self.ioc_info_),
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, source: str = "skill") -> Skill:
+        """Rebuild a skill from :meth:`to_dict`'s output.
+
+        Raises
+        ------
+        ValueError
+            For another format, a newer version, or a missing or broken field;
+            the message starts with ``source`` and names the field.
+        """
+        field = _FieldReader(data, source)
+        if field.get("format", str) != SKILL_FORMAT:
+            raise ValueError(
+                f"{source}: not an lfdkit skill (format {data.get('format')!r}, "
+                f"expected {SKILL_FORMAT!r})"
+            )
+        version = field.get("version", int)
+        if version > SKILL_VERSION:
+            raise ValueError(
+                f"{source}: skill file version {version} was written by a newer lfdkit "
+                f"({data.get('lfdkit', '?')}); this lfdkit {__version__} reads up to version "
+                f"{SKILL_VERSION}. Upgrade lfdkit"
+            )
+        if version < 1:
+            raise ValueError(f"{source}: version: expected >= 1, got {version}")
+        params = field.get("params", dict)
+        known = cls().get_params()
+        unknown = sorted(set(params) - set(known))
+        if unknown:
+            raise ValueError(f"{source}: params.{unknown[0]}: unknown parameter")
+        try:
+            skill = cls(**params)
+            skill._check_params()
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{source}: params: {exc}") from None
+        n_dims = field.get("n_dims", int)
+        path = field.array("path", (None, n_dims))
+        reward_data = data.get("reward")
+        try:
+            skill.use_path(path)
+            skill.mimic_info_ = field.get("mimic", dict)
+            if reward_data is not None:
+                sub = _FieldReader(reward_data, source, "reward.")
+                precisions = sub.get("precisions", dict)
+                matrices = {
+                    str(c): sub.array(f"precisions.{c}", (n_dims, n_dims), value=m)
+                    for c, m in precisions.items()
+                }
+                weight = sub.get("nominal_weight", (int, float))
+                skill.adopt(Reward(float(weight), matrices))
+            info = data.get("ioc")
+            skill.ioc_info_ = dict(info) if isinstance(info, Mapping) else None
+        except ValueError as exc:
+            if str(exc).startswith(source):
+                raise
+            raise ValueError(f"{source}: {exc}") from None
+        return skill
+
+    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Write the skill to a JSON file, atomically (module notes).
+
+        Raises
+        ------
+        FileExistsError
+            If ``path`` exists and ``overwrite`` is false.
+        IsADirectoryError
+            If ``path`` is a directory.
+        """
+        target = Path(path)
+        if target.is_dir():
+            raise IsADirectoryError(f"{target}: is a directory; give a file name like skill.json")
+        text = json.dumps(self.to_dict(), indent=1, allow_nan=False)
+        return atomic_write(target, lambda f: f.write(text + "\n"), overwrite=overwrite)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Skill:
+        """Read a skill written by :meth:`save`.
+
+        Raises
+        ------
+        FileNotFoundError
+            If the file does not exist.
+        ValueError
+            For a file that is not valid JSON, not a skill, from a newer
+            version, or with a broken field (the message names the file and field).
+        """
+        name = os.fspath(path)
+        with open(name, encoding="utf-8") as f:
+            text = f.read()
+        try:
+            data = json.loads(text, parse_constant=_reject_constant)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{name}: line {exc.lineno}: not valid JSON ({exc.msg})") from None
+        except ValueError as exc:
+            raise ValueError(f"{name}: {exc}") from None
+        if not isinstance(data, Mapping):
+            raise ValueError(f"{name}: expected a JSON object at the top level")
+        return cls.from_dict(data, source=name)
+
+    def _mimic_name(self) -> str:
+        return "Mean-Path" if self.mimic == "mean_path" else "GMR"
+
+    def __repr__(self) -> str:
+        changed = {k: v for k, v in self.get_params().items() if v != _DEFAULTS.get(k)}
+        args = ", ".join(f"{k}={v!r}" for k, v in changed.items())
+        return f"Skill({args})"
+
+
+# ------------------------------------------------------------- training files
+class TrainingData(NamedTuple):
+    """Demonstrations from files, split by whether they were recorded around obstacles.
+
+    Attributes
+    ----------
+    free_demos : list of ndarray, each (n_j, q)
+        Demonstrations without a scene, or with an empty one: the clean
+        demonstrations the generalized path is learned from.
+    free_ids : list of int or str
+    obstacle_demos : list of ndarray, each (n_j, q)
+        Demonstrations whose scene has obstacles.
+    obstacle_ids : list of int or str
+    scenes : list of Scene
+        One per obstacle demonstration.
+    """
+
+    free_demos: list[np.ndarray]
+    free_ids: list[DemoId]
+    obstacle_demos: list[np.ndarray]
+    obstacle_ids: list[DemoId]
+    scenes: list[Scene]
+
+
+def read_training_data(
+    demos_path: str | os.PathLike[str], scenes_path: str | os.PathLike[str] | None = None
+) -> TrainingData:
+    """Read a demonstrations file and, optionally, the scene file of the obstacle demonstrations.
+
+    Parameters
+    ----------
+    demos_path : path
+        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.demos.load_demos`).
+    scenes_path : path, optional
+        Scenes by demonstration id, ``.csv`` or ``.json``
+        (:func:`lfdkit.emulate.scene.load_scenes`). A demonstration it does not
+        list, or lists with no obstacle, is a clean demonstration.
+
+    Raises
+    ------
+    ValueError
+        If a file is malformed (the message names the file, line and field),
+        demonstrations mix dimensions, or the scene file names a
+        demonstration id that the demonstrations file does not have.
+    """
+    demos, ids = load_demos(demos_path, return_ids=True)
+    dims = {demo.shape[1] for demo in demos}
+    if len(dims) > 1:
+        first = demos[0].shape[1]
+        j = next(j for j, demo in enumerate(demos) if demo.shape[1] != first)
+        raise ValueError(
+            f"{os.fspath(demos_path)}: demonstration {ids[j]!r} is {demos[j].shape[1]}-D, "
+            f"but {ids[0]!r} is {first}-D; all demonstrations must share their dimension"
+        )
+    scenes = {} if scenes_path is None else load_scenes(scenes_path)
+    known = set(ids)
+    stray = [key for key in scenes if key not in known]
+    if stray:
+        raise ValueError(
+            f"{os.fspath(scenes_path)}: demo {stray[0]!r} is not in {os.fspath(demos_path)} "
+            f"(its ids: {', '.join(map(str, ids[:5]))}{', ...' if len(ids) > 5 else ''})"
+        )
+    data = TrainingData([], [], [], [], [])
+    for demo, key in zip(demos, ids, strict=True):
+        scene = scenes.get(key)
+        if scene is None or not len(scene):
+            data.free_demos.append(demo)
+            data.free_ids.append(key)
+        else:
+            if scene.positions.shape[1] != demo.shape[1]:
+                raise ValueError(
+                    f"{os.fspath(scenes_path)}: demo {key!r}: {scene.positions.shape[1]}-D "
+                    f"obstacles for a {demo.shape[1]}-D demonstration"
+                )
+            data.obstacle_demos.append(demo)
+            data.obstacle_ids.append(key)
+            data.scenes.append(scene)
+    if len(data.free_demos) < 2:
+        raise ValueError(
+            f"{os.fspath(demos_path)}: needs at least 2 demonstrations without obstacles to "
+            f"learn the path from, found {len(data.free_demos)}"
+        )
+    return data
+
+
+def learn(
+    demos_path: str | os.PathLike[str],
+    scenes_path: str | os.PathLike[str] | None = None,
+    *,
+    progress: Progress | None = None,
+    **params: Any,
+) -> Skill:
+    """Learn a skill from files: :func:`read_training_data`, then :meth:`Skill.fit`.
+
+    ``params`` are :class:`Skill`'s parameters. The ``lfdkit learn`` command
+    calls exactly this.
+    """
+    data = read_training_data(demos_path, scenes_path)
+    skill = Skill(**params)
+    obstacle = data.obstacle_demos or None
+    return skill.fit(
+        data.free_demos, obstacle, data.scenes if obstacle else None, progress=progress
+    )
+
+
+# ------------------------------------------------------------------ helpers
+def _tell(progress: Progress | None, message: str) -> None:
+    if progress is not None:
+        progress(message)
+
+
+def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
+    if value not in choices:
+        raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
+
+
+def _point(value: Any, name: str, q: int, *, batch: bool = False) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected {q} numbers, got {value!r}") from None
+    ok = arr.shape == (q,) or (batch and arr.ndim == 2 and arr.shape[1] == q)
+    if not ok:
+        raise ValueError(f"{name}: expected a {q}-D point, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or infinite values")
+    return arr
+
+
+def _extent(path: np.ndarray) -> float:
+    return float(np.max(np.ptp(path, axis=0))) or 1.0
+
+
+def _jsonable(value: Any) -> Any:
+    """Plain JSON types (NumPy scalars and arrays converted); non-finite floats become None."""
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def _reject_constant(name: str) -> None:
+    raise ValueError(f"contains {name}, which is not a number lfdkit writes")
+
+
+class _FieldReader:
+    """Typed access to the fields of a parsed file, with errors that name the field."""
+
+    def __init__(self, data: Any, source: str, prefix: str = "") -> None:
+        if not isinstance(data, Mapping):
+            raise ValueError(f"{source}: {prefix.rstrip('.') or 'file'}: expected an object")
+        self.data, self.source, self.prefix = data, source, prefix
+
+    def get(self, key: str, kind: Any) -> Any:
+        if key not in self.data:
+            raise ValueError(f"{self.source}: {self.prefix}{key}: missing field")
+        value = self.data[key]
+        kinds = kind if isinstance(kind, tuple) else (kind,)
+        if (isinstance(value, bool) and bool not in kinds) or not isinstance(value, kinds):
+            names = " or ".join(k.__name__ for k in kinds)
+            raise ValueError(
+                f"{self.source}: {self.prefix}{key}: expected {names}, got {type(value).__name__}"
+            )
+        return value
+
+    def array(self, key: str, shape: tuple[int | None, ...], *, value: Any = None) -> np.ndarray:
+        raw = self.get(key, list) if value is None else value
+        where = f"{self.source}: {self.prefix}{key}"
+        try:
+            arr = np.array(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"{where}: expected nested lists of numbers") from None
+        if arr.ndim != len(shape) or any(
+            s is not None and s != a for s, a in zip(shape, arr.shape, strict=True)
+        ):
+            want = " x ".join("n" if s is None else str(s) for s in shape)
+            raise ValueError(f"{where}: expected shape {want}, got {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{where}: contains NaN or infinite values")
+        return arr
+
+
+_DEFAULTS = Skill().get_params()
