@@ -446,7 +446,7 @@ class Skill:
             ``self``; its nominal weight ``Q`` is kept if it has a reward,
             otherwise taken from ``source``.
         """
-        reward = source.reward_ if isinstance(source, Skill) else source
+        reward = getattr(source, "reward_", None) if isinstance(source, Skill) else source
         if not isinstance(reward, Reward):
             raise ValueError("source: has no learned obstacle reward to adopt")
         wanted = reward.classes if classes is None else tuple(classes)

@@ -1,0 +1,303 @@
+"""The layered skill: learning from files, planning, composition, and the skill file."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lfdkit import metrics
+from lfdkit.datasets import load_emulation_dataset
+from lfdkit.demos import load_demos, save_demos
+from lfdkit.emulate import Reward, Scene, plan_path
+from lfdkit.emulate.scene import load_scenes, save_scenes
+from lfdkit.examples import example_dataset, example_files, write_example_files
+from lfdkit.geometry import resample
+from lfdkit.skill import SKILL_VERSION, Skill, learn, read_training_data
+
+FILES = example_files()
+
+
+@pytest.fixture(scope="module")
+def skill() -> Skill:
+    return learn(FILES["demos"], FILES["scenes"])
+
+
+@pytest.fixture(scope="module")
+def test_set() -> tuple[list[np.ndarray], list[Scene]]:
+    demos, ids = load_demos(FILES["test_demos"], return_ids=True)
+    scenes = load_scenes(FILES["test_scenes"])
+    return demos, [scenes[key] for key in ids]
+
+
+@pytest.fixture(scope="module")
+def sweeping():
+    return load_emulation_dataset("sweeping", seed=0)
+
+
+# ------------------------------------------------------------------ learning
+def test_shipped_example_files_are_what_the_demonstrator_writes(tmp_path: Path) -> None:
+    written = write_example_files(tmp_path)
+    for stem, path in FILES.items():
+        assert path.read_bytes() == written[stem].read_bytes(), stem
+
+
+def test_training_data_splits_clean_and_obstacle_demonstrations() -> None:
+    data = read_training_data(FILES["demos"], FILES["scenes"])
+    assert data.free_ids == [f"free-{j}" for j in range(1, 6)]
+    assert sorted(data.obstacle_ids) == sorted(
+        [f"cup-{j}" for j in range(1, 5)] + [f"marker-{j}" for j in range(1, 5)]
+    )
+    assert [s.labels[0] for s in data.scenes] == [k.split("-")[0] for k in data.obstacle_ids]
+    only_free = read_training_data(FILES["demos"])
+    assert len(only_free.free_demos) == 13 and not only_free.obstacle_demos
+
+
+def test_learned_skill_matches_the_demonstrator_on_held_out_sweeps(skill, test_set, sweeping):
+    demos, scenes = test_set
+    scores = skill.evaluate(demos, scenes)
+    truth = [
+        plan_path(sweeping.true_reward, skill.nominal(d[0]), s, horizon=8).points
+        for d, s in zip(demos, scenes, strict=True)
+    ]
+    assert scores["improvement"] > 95.0
+    assert scores["mse"] < 1.5 * metrics.mse_paths(truth, demos)
+    assert set(skill.reward_.classes) == {"cup", "marker"}
+    # The generalized path is the clean sweeps' Mean-Path: on average within 1 mm of the truth.
+    assert metrics.e2(skill.path_, sweeping.nominal, n_points=100) / 100 < 1e-3
+
+
+def test_the_file_path_and_the_in_memory_path_learn_the_same_skill(skill) -> None:
+    data = example_dataset()
+    direct = Skill().fit(
+        data.free_demos,
+        [data.demos[j] for j in data.train],
+        [data.scenes[j] for j in data.train],
+    )
+    np.testing.assert_array_equal(direct.path_, skill.path_)
+    assert direct.reward_.nominal_weight == skill.reward_.nominal_weight
+    for label in ("cup", "marker"):
+        np.testing.assert_array_equal(
+            direct.reward_.precisions[label], skill.reward_.precisions[label]
+        )
+
+
+# ------------------------------------------------------------------ planning
+def test_without_obstacles_the_plan_is_the_dmp_nominal(skill) -> None:
+    goal = np.array([0.35, 0.5])
+    plan = skill.plan(goal=goal)
+    expected = resample(skill.nominal(goal=goal), skill.n_points)
+    np.testing.assert_allclose(plan, expected, atol=1e-9)
+    np.testing.assert_allclose(plan[-1], goal, atol=1e-9)
+    np.testing.assert_allclose(plan[0], skill.path_[0], atol=1e-9)
+
+
+def test_plan_avoids_both_classes_in_an_unseen_scene(skill) -> None:
+    start, goal = np.array([-0.4, 0.45]), np.array([0.36, 0.5])
+    scene = Scene.from_arrays(["cup", "marker"], [[-0.1, 0.47], [0.12, 0.46]], [0.03, 0.01])
+    nominal = skill.nominal(start, goal)
+    assert metrics.collisions(nominal, scene) > 0  # the DMP alone hits the cup
+    for planner in ("mpc", "full"):
+        plan = skill.plan(start, goal, scene, planner=planner)
+        assert plan.shape == (100, 2)
+        assert metrics.collisions(plan, scene) == 0
+        np.testing.assert_allclose(plan[0], start, atol=1e-9)
+
+
+def test_plan_is_deterministic(skill) -> None:
+    scene = Scene.from_arrays(["cup"], [[0.0, 0.47]], [0.03])
+    np.testing.assert_array_equal(skill.plan(scene=scene), skill.plan(scene=scene))
+
+
+def test_gmr_mimic_gives_a_path_close_to_mean_path(skill) -> None:
+    data = read_training_data(FILES["demos"])
+    clean = data.free_demos[:5]
+    gmr = Skill(mimic="gmr", n_components=6, random_state=0).fit_path(clean)
+    assert gmr.path_.shape == (100, 2)
+    assert metrics.e2(gmr.path_, skill.path_, n_points=100) / 100 < 2e-3
+    assert gmr.mimic_info_["method"] == "gmr"
+
+
+def test_a_class_learned_in_another_skill_is_reused(sweeping) -> None:
+    train = list(sweeping.train)
+    cup = [j for j in train if sweeping.scenes[j].labels[0] == "cup"]
+    marker = [j for j in train if sweeping.scenes[j].labels[0] == "marker"]
+    base = Skill(planner="full").fit_path(sweeping.free_demos)
+    cup_skill = Skill(planner="full").fit_path(sweeping.free_demos)
+    cup_skill.fit_reward([sweeping.demos[j] for j in cup], [sweeping.scenes[j] for j in cup])
+    marker_skill = Skill(planner="full").fit_path(sweeping.free_demos)
+    marker_skill.fit_reward(
+        [sweeping.demos[j] for j in marker], [sweeping.scenes[j] for j in marker]
+    )
+    combined = base.adopt(cup_skill).adopt(marker_skill, ["marker"])
+    assert combined.reward_.classes == ("cup", "marker")
+    assert combined.reward_.nominal_weight == cup_skill.reward_.nominal_weight
+    np.testing.assert_array_equal(
+        combined.reward_.precisions["marker"], marker_skill.reward_.precisions["marker"]
+    )
+    mixed = sweeping.held_out_scenes[0]
+    plan = combined.plan(scene=mixed)
+    assert metrics.collisions(plan, mixed) == 0
+    with pytest.raises(ValueError, match="'marker' was never learned"):
+        cup_skill.plan(scene=mixed)
+    with pytest.raises(ValueError, match="classes: 'bottle' is not learned"):
+        base.adopt(cup_skill, ["bottle"])
+
+
+# ------------------------------------------------------------------ files
+@pytest.mark.parametrize("planner", ["mpc", "full"])
+def test_skill_file_round_trip_plans_identically(skill, tmp_path: Path, planner: str) -> None:
+    path = skill.save(tmp_path / "skill.json")
+    loaded = Skill.load(path)
+    assert loaded.get_params() == skill.get_params()
+    np.testing.assert_array_equal(loaded.path_, skill.path_)
+    assert loaded.reward_.nominal_weight == skill.reward_.nominal_weight
+    scene = Scene.from_arrays(["cup", "marker"], [[-0.05, 0.47], [0.1, 0.44]], [0.03, 0.01])
+    goal = [0.3, 0.52]
+    np.testing.assert_array_equal(
+        loaded.plan(goal=goal, scene=scene, planner=planner),
+        skill.plan(goal=goal, scene=scene, planner=planner),
+    )
+    # Saving the loaded skill writes the same document (but the time stamp).
+    again = json.loads(loaded.save(tmp_path / "again.json").read_text())
+    first = json.loads(path.read_text())
+    for doc in (again, first):
+        doc.pop("created")
+    assert again == first
+
+
+def test_skill_without_reward_round_trips(tmp_path: Path) -> None:
+    data = read_training_data(FILES["demos"])
+    plain = Skill(planner="full").fit_path(data.free_demos[:5])
+    loaded = Skill.load(plain.save(tmp_path / "plain.json"))
+    assert loaded.reward_ is None
+    np.testing.assert_array_equal(loaded.plan(goal=[0.3, 0.5]), plain.plan(goal=[0.3, 0.5]))
+
+
+def test_save_refuses_to_overwrite_and_directories(skill, tmp_path: Path) -> None:
+    target = tmp_path / "skill.json"
+    target.write_text("keep")
+    with pytest.raises(FileExistsError):
+        skill.save(target)
+    assert target.read_text() == "keep"
+    skill.save(target, overwrite=True)
+    assert Skill.load(target).n_dims_ == 2
+    with pytest.raises(IsADirectoryError, match="is a directory"):
+        skill.save(tmp_path)
+
+
+def _edited(skill: Skill, tmp_path: Path, edit) -> Path:
+    doc = skill.to_dict()
+    edit(doc)
+    path = tmp_path / "edited.json"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda d: d.update(version=SKILL_VERSION + 1), "newer lfdkit.*Upgrade"),
+        (lambda d: d.update(format="something"), "not an lfdkit skill"),
+        (lambda d: d.pop("path"), "path: missing field"),
+        (lambda d: d.update(path=[[0.0, 1.0, 2.0]] * 5), r"path: expected shape n x 2"),
+        (lambda d: d.update(n_dims="2"), "n_dims: expected int"),
+        (lambda d: d["params"].update(horizon=40), "params: horizon"),
+        (lambda d: d["params"].update(colour="red"), "params.colour: unknown parameter"),
+        (lambda d: d["reward"].pop("nominal_weight"), "reward.nominal_weight: missing field"),
+        (
+            lambda d: d["reward"]["precisions"].update(cup=[[1.0, 0.0], [0.0, -1.0]]),
+            "positive definite",
+        ),
+        (lambda d: d["reward"]["precisions"].update(cup=[[1.0, 0.0]]), r"precisions.cup"),
+    ],
+)
+def test_broken_skill_files_name_the_field(skill, tmp_path: Path, edit, message: str) -> None:
+    path = _edited(skill, tmp_path, edit)
+    with pytest.raises(ValueError, match=message) as info:
+        Skill.load(path)
+    assert str(info.value).startswith(str(path))
+
+
+def test_non_json_and_non_finite_skill_files(skill, tmp_path: Path) -> None:
+    path = tmp_path / "bad.json"
+    path.write_text('{"format": "lfdkit-skill",\n "version": ')
+    with pytest.raises(ValueError, match=r"bad.json: line 2: not valid JSON"):
+        Skill.load(path)
+    text = json.dumps(skill.to_dict()).replace('"nominal_weight": ', '"nominal_weight": NaN, "x": ')
+    path.write_text(text)
+    with pytest.raises(ValueError, match="NaN"):
+        Skill.load(path)
+    with pytest.raises(FileNotFoundError):
+        Skill.load(tmp_path / "missing.json")
+
+
+# ------------------------------------------------------------------ errors
+def test_plan_errors(skill) -> None:
+    with pytest.raises(ValueError, match="'bottle' was never learned"):
+        skill.plan(scene=Scene.from_arrays(["bottle"], [[0.0, 0.45]]))
+    with pytest.raises(ValueError, match="horizon"):
+        skill.plan(scene=Scene.from_arrays(["cup"], [[0.0, 0.47]]), horizon=20)
+    with pytest.raises(ValueError, match="goal: expected a 2-D point"):
+        skill.plan(goal=[1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="start: contains NaN"):
+        skill.plan(start=[np.nan, 0.0])
+    with pytest.raises(ValueError, match="goal: coincides with start"):
+        skill.plan(start=[0.0, 0.0], goal=[0.0, 0.0])
+    with pytest.raises(ValueError, match="inside"):
+        skill.plan(scene=Scene.from_arrays(["cup"], [[-0.39, 0.45]], [0.03]))
+    with pytest.raises(ValueError, match="not fitted"):
+        Skill().plan()
+    plain = Skill().fit_path(read_training_data(FILES["demos"]).free_demos[:5])
+    with pytest.raises(ValueError, match="no obstacle reward"):
+        plain.plan(scene=Scene.from_arrays(["cup"], [[0.0, 0.47]]))
+
+
+def test_fit_errors(sweeping) -> None:
+    free = sweeping.free_demos
+    with pytest.raises(ValueError, match="scenes: give obstacle_demos and scenes together"):
+        Skill().fit(free, sweeping.demos[:2])
+    with pytest.raises(ValueError, match="scenes: 1 scenes for 2 obstacle demonstrations"):
+        Skill(planner="full").fit(free, sweeping.demos[:2], sweeping.scenes[:1])
+    with pytest.raises(ValueError, match="demos: "):
+        Skill().fit(free[:1])
+    with pytest.raises(ValueError, match="mimic: expected one of"):
+        Skill(mimic="average").fit(free)
+    with pytest.raises(ValueError, match="horizon: expected an integer 4 <= H <= 12"):
+        Skill(horizon=3).fit(free)
+    with pytest.raises(ValueError, match="contains NaN"):
+        Skill().fit([free[0], np.full_like(free[1], np.nan)])
+    with pytest.raises(ValueError, match="not fitted"):
+        Skill().fit_reward(sweeping.demos[:1], sweeping.scenes[:1])
+    with pytest.raises(ValueError, match="2-D obstacles for 3-D"):
+        three_d = [np.column_stack([d, np.zeros(len(d))]) for d in free]
+        Skill().fit_path(three_d).fit_reward(
+            [np.column_stack([sweeping.demos[0], np.zeros(len(sweeping.demos[0]))])],
+            sweeping.scenes[:1],
+        )
+    with pytest.raises(ValueError, match="no learned obstacle reward"):
+        Skill().adopt(Skill())
+
+
+def test_training_file_errors(tmp_path: Path) -> None:
+    demos, ids = load_demos(FILES["demos"], return_ids=True)
+    scenes = load_scenes(FILES["scenes"])
+    stray = tmp_path / "stray.csv"
+    save_scenes(stray, {**scenes, "cup-99": scenes["cup-1"]})
+    with pytest.raises(ValueError, match=r"stray.csv: demo 'cup-99' is not in .*demos.csv"):
+        read_training_data(FILES["demos"], stray)
+    few = tmp_path / "few.csv"
+    save_demos(few, demos[:1] + demos[5:7], ids=ids[:1] + ids[5:7])
+    few_scenes = tmp_path / "few_scenes.csv"
+    save_scenes(few_scenes, {key: scenes[key] for key in ids[5:7]})
+    with pytest.raises(ValueError, match=r"few\.csv: needs at least 2 demonstrations without"):
+        read_training_data(few, few_scenes)
+
+
+def test_reward_from_another_dimension_is_refused() -> None:
+    free = read_training_data(FILES["demos"]).free_demos[:5]
+    reward3 = Reward(10.0, {"cup": [1.0, 2.0, 3.0]})
+    with pytest.raises(ValueError, match="3-D reward for a 2-D skill"):
+        Skill().fit_path(free).adopt(reward3)
