@@ -556,6 +556,18 @@ def _emulation_panel(
     ax.set_title(title)
 
 
+def _panel_height(panels: Sequence[Mapping], data: Sequence[tuple]) -> float:
+    """Inches per panel row: 2-D panels are drawn at equal scale, so wide scenes need less."""
+    if any(nominal.shape[1] == 3 for nominal, _, _ in data):
+        return 3.9
+    aspects = []
+    for panel, (nominal, demos, plans) in zip(panels, data, strict=True):
+        x0, x1, y0, y1 = _reward_extent([nominal, *demos, *plans.values()], panel["scene"], 0.15)
+        aspects.append((y1 - y0) / (x1 - x0))
+    # About 4.3 in of axes width beside the colour bar, plus room for title and labels.
+    return float(np.clip(4.3 * max(aspects) + 1.3, 2.4, 3.9))
+
+
 def _figure_legend(fig: Figure, axes: Sequence[Axes], max_cols: int) -> None:
     """One legend below the panels, each label once (the first panel's handle)."""
     entries: dict[str, object] = {}
@@ -701,7 +713,9 @@ def emulation_grid(
     )
     ncols = min(ncols, len(panels))
     nrows = -(-len(panels) // ncols)
-    fig = Figure(figsize=(5.6 * ncols, 3.9 * nrows + 0.8), layout="constrained")
+    fig = Figure(
+        figsize=(5.6 * ncols, _panel_height(panels, data) * nrows + 0.8), layout="constrained"
+    )
     axes = []
     for i, (panel, (nominal, demos, plans)) in enumerate(zip(panels, data, strict=True)):
         q = nominal.shape[1]

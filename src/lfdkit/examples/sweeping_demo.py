@@ -255,7 +255,7 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
         for i, item in enumerate(unseen)
     ]
     figures["unseen_scenes.png"] = plot.emulation_grid(
-        panels, ncols=1, title="Unseen scenes, dustpan moved: learned skill vs the demonstrator"
+        panels, ncols=3, title="Unseen scenes, dustpan moved: learned skill vs the demonstrator"
     )
     return figures
 
@@ -321,9 +321,10 @@ def _report(results: dict, figures: dict) -> Report:
         }
     )
     mimic = results["mimic"]
-    report.heading("1. Mimic: the generalized path")
+    report.heading("Mimic: the generalized path")
     report.paragraph(
-        f"Mean-Path of {mimic['n_demos']} clean sweeps: {mimic['n_iter']} iterations; "
+        f"Mean-Path of {mimic['n_demos']} clean sweeps: {mimic['n_iter']} "
+        f"iteration{'s' if mimic['n_iter'] != 1 else ''}; "
         f"mean distance to the demonstrator's true path "
         f"{mimic['mean_distance_to_true_path_mm']:.2f} mm."
     )
@@ -333,7 +334,7 @@ def _report(results: dict, figures: dict) -> Report:
         "per iteration (right).",
     )
     imitate = results["imitate"]
-    report.heading("2. Imitate: a DMP to new goals")
+    report.heading("Imitate: a DMP to new goals")
     report.paragraph(
         f"DMP with {imitate['n_basis']} basis functions per dimension reproduces the path to "
         f"{imitate['reproduction_rms_mm']:.3f} mm RMS and is carried to the moved dustpan at "
@@ -341,11 +342,19 @@ def _report(results: dict, figures: dict) -> Report:
     )
     report.figure(figures["imitate.png"], "The generalized path and the DMP to the new goal.")
     emulate = results["emulate"]
-    report.heading("3. Emulate: the obstacle reward")
+    report.heading("Emulate: the obstacle reward")
     report.table(
-        emulate["parameters"],
+        [
+            {
+                "parameter": row["parameter"],
+                "learned": row["learned"],
+                "true": row["true"],
+                "relative error": row["relative_error"],
+            }
+            for row in emulate["parameters"]
+        ],
         "Learned reward (1/m²) against the demonstrator's true one.",
-        formats={"learned": ".4g", "true": ".4g", "relative_error": ".1%"},
+        formats={"learned": ".4g", "true": ".4g", "relative error": ".1%"},
     )
     test = emulate["test"]
     report.table(
@@ -362,12 +371,27 @@ def _report(results: dict, figures: dict) -> Report:
         "Reward contours of the learned skill on the held-out sweeps, with the demonstration "
         "and the plans of the learned and the true reward.",
     )
-    report.heading("4. Unseen scenes with a new goal")
+    report.heading("Unseen scenes with a new goal")
+    labels = {
+        "scene": "scene",
+        "planner": "planner",
+        "collisions": "collisions",
+        "min_clearance_mm": "min clearance (mm)",
+        "rms_to_true_mm": "RMS to demonstrator (mm)",
+        "end_to_goal_mm": "end to goal (mm)",
+        "plan_ms": "plan (ms)",
+    }
     report.table(
-        results["unseen"],
+        [{labels[k]: v for k, v in row.items()} for row in results["unseen"]],
         "Each planner in each unseen scene: collisions, smallest clearance to an obstacle's "
         "surface, RMS distance to the demonstrator's plan, distance of the end to the goal.",
-        formats={"min_clearance_mm": ".1f", "rms_to_true_mm": ".2f", "end_to_goal_mm": ".1f"},
+        columns=list(labels.values()),
+        formats={
+            labels["min_clearance_mm"]: ".1f",
+            labels["rms_to_true_mm"]: ".2f",
+            labels["end_to_goal_mm"]: ".1f",
+            labels["plan_ms"]: ".0f",
+        },
     )
     report.figure(figures["unseen_scenes.png"], "Plans in the unseen scenes.")
     report.heading("Files")
