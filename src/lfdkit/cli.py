@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import subprocess
 import sys
 import time
@@ -42,11 +43,12 @@ def _progress(args: argparse.Namespace, total: int, unit: str = "step") -> Itera
     """A progress bar on stderr (tqdm); yields ``step(message)`` to call as each step starts."""
     from tqdm import tqdm
 
+    # A bar only on a terminal: in a log file its carriage returns would garble the lines.
     bar = tqdm(
         total=total,
         unit=unit,
         file=sys.stderr,
-        disable=args.verbosity < 1,
+        disable=args.verbosity < 1 or not sys.stderr.isatty(),
         leave=False,
         bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}]",
         dynamic_ncols=True,
@@ -551,11 +553,30 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+_POINT_OPTIONS = ("--start", "--goal")
+_NEGATIVE = re.compile(r"^-[0-9.]")
+
+
+def _join_negative_points(argv: Sequence[str]) -> list[str]:
+    """``--start -0.4,0.45`` as ``--start=-0.4,0.45`` (argparse takes ``-0.4,...`` for an option)."""
+    out: list[str] = []
+    for token in argv:
+        if out and out[-1] in _POINT_OPTIONS and _NEGATIVE.match(token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``lfdkit`` console script; returns the exit code."""
-    args = _parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = _parser().parse_args(_join_negative_points(argv))
     try:
         args.handler(args)
+    except MemoryError:
+        print(f"lfdkit {args.command}: error: out of memory; are the sizes sane?", file=sys.stderr)
+        return 1
     except (CommandError, OSError, ValueError, TypeError) as exc:
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if isinstance(exc, FileNotFoundError) and exc.filename:

@@ -86,6 +86,8 @@ _MIMIC_METHODS = ("mean_path", "gmr")
 _PLANNERS = ("mpc", "full")
 _TIMINGS = ("minimum_jerk", "uniform")
 _SCALINGS = ("spatial", "per_dimension")
+# Points of a path or plan: the planner's memory grows linearly with them.
+_MAX_POINTS = 100_000
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
@@ -204,8 +206,8 @@ class Skill:
         _check_choice(self.timing, "timing", _TIMINGS)
         _check_choice(self.scaling, "scaling", _SCALINGS)
         check_positive(self.n_points, "n_points", integer=True)
-        if int(self.n_points) < 3:
-            raise ValueError(f"n_points: needs at least 3, got {self.n_points}")
+        if not 3 <= int(self.n_points) <= _MAX_POINTS:
+            raise ValueError(f"n_points: expected 3 to {_MAX_POINTS}, got {self.n_points}")
         check_positive(self.n_components, "n_components", integer=True)
         check_positive(self.n_basis, "n_basis", integer=True)
         check_positive(self.duration, "duration")
@@ -217,6 +219,10 @@ class Skill:
                 f"horizon: expected an integer {MIN_HORIZON} <= H <= {MAX_HORIZON}, "
                 f"got {self.horizon!r}"
             )
+        if self.classes is not None and (
+            isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
+        ):
+            raise ValueError(f"classes: expected a list of class names, got {self.classes!r}")
         if not isinstance(self.units, str) or not self.units:
             raise ValueError(f"units: expected a non-empty string, got {self.units!r}")
 
@@ -659,6 +665,8 @@ class Skill:
             if reward_data is not None:
                 sub = _FieldReader(reward_data, source, "reward.")
                 precisions = sub.get("precisions", dict)
+                if any(not str(c) for c in precisions):
+                    raise ValueError("reward.precisions: a class name is empty")
                 matrices = {
                     str(c): sub.array(f"precisions.{c}", (n_dims, n_dims), value=m)
                     for c, m in precisions.items()
@@ -784,6 +792,12 @@ def read_training_data(
         raise ValueError(
             f"{os.fspath(scenes_path)}: demo {stray[0]!r} is not in {os.fspath(demos_path)} "
             f"(its ids: {', '.join(map(str, ids[:5]))}{', ...' if len(ids) > 5 else ''})"
+        )
+    short = [(key, len(demo)) for demo, key in zip(demos, ids, strict=True) if len(demo) < 3]
+    if short:
+        raise ValueError(
+            f"{os.fspath(demos_path)}: demonstration {short[0][0]!r} has {short[0][1]} "
+            "points; a path needs at least 3"
         )
     data = TrainingData([], [], [], [], [])
     for demo, key in zip(demos, ids, strict=True):

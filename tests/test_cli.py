@@ -1,0 +1,582 @@
+"""Tests for the ``lfdkit`` command (lfdkit.cli): help, learn, plan, plot, bench and demo.
+
+Most tests call :func:`lfdkit.cli.main` in-process and read stdout/stderr with
+``capsys``; the demo test runs the installed console script in a subprocess, as
+the README does. The example skill is learned once per module.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+import subprocess
+from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+from types import SimpleNamespace
+
+import matplotlib.image as mpimg
+import numpy as np
+import pytest
+
+from lfdkit.cli import main
+from lfdkit.emulate.scene import Obstacle, Scene, save_scenes
+from lfdkit.examples import example_files
+from lfdkit.examples.sweeping_demo import demo_outputs
+from lfdkit.skill import SKILL_VERSION, Skill, learn
+
+SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "bench")
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+REPO = Path(__file__).resolve().parents[1]
+
+# Two small clean demonstrations: a skill without obstacle reward, learned in a blink.
+SMALL_DEMOS = "demo,x,y\n1,0,0\n1,0.5,0.1\n1,1,0\n2,0,0\n2,0.5,0.05\n2,1,0\n"
+
+# Where the plan tests put their obstacles (the example sweeps run from x=-0.4 to 0.4 at y~0.45).
+START, GOAL = (-0.4, 0.45), (0.36, 0.5)
+CUP = ("cup", (-0.02, 0.47), 0.03)
+MARKER = ("marker", (0.15, 0.47), 0.01)
+
+
+# --------------------------------------------------------------------------- #
+# Helpers and fixtures
+# --------------------------------------------------------------------------- #
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
+    """``main(argv)`` in-process: (exit code, stdout, stderr)."""
+    code = main([str(a) for a in argv])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def usage_exit(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
+    """``main(argv)`` for arguments argparse handles itself: (SystemExit code, stdout, stderr)."""
+    with pytest.raises(SystemExit) as exc:
+        main([str(a) for a in argv])
+    captured = capsys.readouterr()
+    return exc.value.code, captured.out, captured.err
+
+
+def error_line(err: str, command: str) -> str:
+    """The one stderr line of a failed command, checked for the ``lfdkit CMD: error:`` form."""
+    lines = err.splitlines()
+    assert len(lines) == 1, f"expected one stderr line, got {len(lines)}: {err!r}"
+    assert lines[0].startswith(f"lfdkit {command}: error: "), lines[0]
+    return lines[0]
+
+
+def obstacle_arg(obstacle: tuple[str, tuple[float, float], float]) -> str:
+    label, (x, y), r = obstacle
+    return f"{label}:{x!r},{y!r},r={r!r}"
+
+
+def scene_of(*obstacles: tuple[str, tuple[float, float], float]) -> Scene:
+    return Scene(tuple(Obstacle(label, np.array(pos), r) for label, pos, r in obstacles))
+
+
+def read_plan_csv(text: str) -> tuple[str, np.ndarray]:
+    """(header line, float rows) of a plan CSV."""
+    lines = text.splitlines()
+    rows = [[float(v) for v in line.split(",")] for line in lines[1:]]
+    return lines[0], np.array(rows, dtype=np.float64)
+
+
+def comparable(skill_dict: dict) -> dict:
+    """A skill dict as JSON reads it, without the creation time and the timings."""
+
+    def strip(value):
+        if isinstance(value, dict):
+            return {k: strip(v) for k, v in value.items() if k != "seconds"}
+        if isinstance(value, list):
+            return [strip(v) for v in value]
+        return value
+
+    data = json.loads(json.dumps(skill_dict))
+    data.pop("created")
+    return strip(data)
+
+
+@pytest.fixture(scope="module")
+def examples() -> dict[str, Path]:
+    return example_files()
+
+
+@pytest.fixture(scope="module")
+def learned(tmp_path_factory: pytest.TempPathFactory, examples: dict[str, Path]):
+    """The example skill, learned once with ``lfdkit learn ... -q``, with what it printed."""
+    path = tmp_path_factory.mktemp("skill") / "skill.json"
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        demos, scenes = str(examples["demos"]), str(examples["scenes"])
+        code = main(["learn", demos, "--scenes", scenes, "-o", str(path), "-q"])
+    return SimpleNamespace(path=path, code=code, stdout=out.getvalue(), stderr=err.getvalue())
+
+
+@pytest.fixture(scope="module")
+def skill_path(learned) -> Path:
+    assert learned.code == 0, learned.stderr
+    return learned.path
+
+
+@pytest.fixture
+def small_demos(tmp_path: Path) -> Path:
+    path = tmp_path / "small.csv"
+    path.write_text(SMALL_DEMOS)
+    return path
+
+
+# --------------------------------------------------------------------------- #
+# 1. Help, version, usage
+# --------------------------------------------------------------------------- #
+
+
+@pytest.mark.parametrize("command", [None, *SUBCOMMANDS])
+def test_help_exits_zero_and_prints_usage(capsys, command):
+    argv = ["--help"] if command is None else [command, "--help"]
+    code, out, err = usage_exit(capsys, *argv)
+    assert code == 0
+    prog = "lfdkit" if command is None else f"lfdkit {command}"
+    assert out.startswith(f"usage: {prog} "), out[:200]
+    assert err == ""
+    if command is None:
+        for name in SUBCOMMANDS:
+            assert name in out
+
+
+def test_version(capsys):
+    code, out, err = usage_exit(capsys, "--version")
+    assert code == 0
+    assert out.strip() == "lfdkit 0.1.0"
+    assert err == ""
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [[], ["--bogus"], ["nosuch"], ["learn", "x.csv", "-o", "s.json", "--bogus"], ["plan"]],
+    ids=["no-command", "unknown-top-option", "unknown-command", "unknown-option", "missing-arg"],
+)
+def test_usage_errors_exit_2(capsys, argv):
+    code, out, err = usage_exit(capsys, *argv)
+    assert code == 2
+    assert out == ""
+    assert "usage: lfdkit" in err
+    assert "error:" in err
+
+
+# --------------------------------------------------------------------------- #
+# 2. learn
+# --------------------------------------------------------------------------- #
+
+
+def test_learn_quiet_prints_nothing(learned):
+    assert learned.code == 0, learned.stderr
+    assert learned.stdout == ""
+    assert learned.stderr == ""
+    assert learned.path.is_file()
+
+
+def test_learn_cli_matches_python_api(skill_path, examples):
+    from_cli = json.loads(skill_path.read_text())
+    from_api = learn(examples["demos"], examples["scenes"]).to_dict()
+    assert from_cli["version"] == SKILL_VERSION
+    cli, api = comparable(from_cli), comparable(from_api)
+    for field in ("path", "reward", "params"):
+        assert cli[field] == api[field], field
+    assert cli == api
+    assert np.array(cli["path"]).shape == (100, 2)
+    assert set(cli["reward"]["precisions"]) == {"cup", "marker"}
+
+
+def test_learn_refuses_to_overwrite_then_force(capsys, tmp_path, small_demos):
+    out = tmp_path / "skill.json"
+    out.write_text("precious\n")
+    code, stdout, err = run_cli(capsys, "learn", small_demos, "-o", out)
+    assert code == 1
+    line = error_line(err, "learn")
+    assert "--force" in line
+    assert str(out) in line
+    assert stdout == ""
+    assert out.read_text() == "precious\n"
+
+    code, stdout, err = run_cli(capsys, "learn", small_demos, "-o", out, "--force", "-q")
+    assert code == 0, err
+    assert (stdout, err) == ("", "")
+    skill = Skill.load(out)
+    assert skill.n_dims_ == 2
+    assert skill.reward_ is None
+
+
+def test_learn_output_is_a_directory(capsys, tmp_path, small_demos):
+    folder = tmp_path / "somewhere"
+    folder.mkdir()
+    code, stdout, err = run_cli(capsys, "learn", small_demos, "-o", folder)
+    assert code == 1
+    assert str(folder) in error_line(err, "learn")
+    assert "directory" in err
+    assert stdout == ""
+    assert list(folder.iterdir()) == []
+
+
+# --------------------------------------------------------------------------- #
+# 3. plan
+# --------------------------------------------------------------------------- #
+
+
+def test_plan_csv_equals_the_python_plan(capsys, tmp_path, skill_path):
+    out = tmp_path / "plan.csv"
+    code, stdout, err = run_cli(
+        capsys,
+        "plan",
+        skill_path,
+        f"--start={START[0]},{START[1]}",
+        "--goal",
+        f"{GOAL[0]},{GOAL[1]}",
+        "--obstacle",
+        obstacle_arg(CUP),
+        "-o",
+        out,
+    )
+    assert code == 0, err
+    assert stdout == ""
+    header, rows = read_plan_csv(out.read_text())
+    assert header == "x,y"
+    assert rows.shape == (100, 2)
+    skill = Skill.load(skill_path)
+    assert np.array_equal(rows, skill.plan(START, GOAL, scene_of(CUP)))
+    assert not np.allclose(rows, skill.plan(START, GOAL), atol=1e-3)  # the cup is avoided
+    assert np.array_equal(rows[0], START)
+
+
+def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):
+    code, stdout, err = run_cli(capsys, "plan", skill_path, "--obstacle", obstacle_arg(MARKER))
+    assert code == 0, err
+    assert err == ""
+    header, rows = read_plan_csv(stdout)
+    assert header == "x,y"
+    assert rows.shape == (100, 2)
+    skill = Skill.load(skill_path)
+    assert np.array_equal(rows, skill.plan(None, None, scene_of(MARKER)))
+    assert not np.allclose(rows, skill.plan(), atol=1e-3)  # the marker is avoided
+
+
+def test_plan_scene_file_equals_obstacle_args(capsys, tmp_path, skill_path):
+    scene_file = tmp_path / "scene.csv"
+    save_scenes(scene_file, {0: scene_of(CUP, MARKER)})
+    goal = ["--goal", f"{GOAL[0]},{GOAL[1]}"]
+    code, from_file, err = run_cli(capsys, "plan", skill_path, *goal, "--scene", scene_file)
+    assert code == 0, err
+    code, from_args, err = run_cli(
+        capsys,
+        "plan",
+        skill_path,
+        *goal,
+        "--obstacle",
+        obstacle_arg(CUP),
+        "--obstacle",
+        obstacle_arg(MARKER),
+    )
+    assert code == 0, err
+    assert from_file == from_args
+    code, free, err = run_cli(capsys, "plan", skill_path, *goal)
+    assert code == 0, err
+    assert not np.array_equal(read_plan_csv(from_file)[1], read_plan_csv(free)[1])
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["--obstacle", "bottle:0,0.45"], ["'bottle'", "cup", "marker"]),
+        (["--goal", "1,2,3"], ["--goal", "3 coordinates", "2-D"]),
+        (["--obstacle", "cup:0,0.45,0.1"], ["--obstacle cup", "3 coordinates", "2-D"]),
+        (["--horizon", "20"], ["horizon", "20"]),
+    ],
+    ids=["unknown-class", "3-D-goal", "3-D-obstacle", "horizon"],
+)
+def test_plan_bad_arguments_exit_1(capsys, tmp_path, skill_path, args, fragments):
+    out = tmp_path / "plan.csv"
+    code, stdout, err = run_cli(capsys, "plan", skill_path, *args, "-o", out)
+    assert code == 1
+    line = error_line(err, "plan")
+    for fragment in fragments:
+        assert fragment in line
+    assert stdout == ""
+    assert not out.exists()
+
+
+def test_plan_non_numeric_goal_is_a_usage_error(capsys, skill_path):
+    code, out, err = usage_exit(capsys, "plan", skill_path, "--goal", "a,b")
+    assert code == 2
+    assert out == ""
+    assert "--goal" in err
+    assert "'a,b'" in err
+
+
+def test_plan_missing_skill_file(capsys, tmp_path):
+    missing = tmp_path / "no_such_skill.json"
+    code, out, err = run_cli(capsys, "plan", missing)
+    assert code == 1
+    assert str(missing) in error_line(err, "plan")
+    assert out == ""
+
+
+def test_plan_accepts_a_negative_start_as_a_separate_argument(capsys, skill_path):
+    try:
+        code = main(["plan", str(skill_path), "--start", "-0.4,0.45", "--goal", "0.36,0.5"])
+    except SystemExit as exc:
+        code = exc.code
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    _, rows = read_plan_csv(captured.out)
+    assert np.array_equal(rows[0], START)
+
+
+# --------------------------------------------------------------------------- #
+# 4. plot
+# --------------------------------------------------------------------------- #
+
+
+def check_png(path: Path) -> np.ndarray:
+    assert path.read_bytes()[:8] == PNG_SIGNATURE
+    image = mpimg.imread(path)
+    assert image.ndim == 3
+    assert image.shape[0] > 100
+    assert image.shape[1] > 100
+    return image
+
+
+@pytest.mark.parametrize("with_obstacles", [False, True], ids=["no-obstacles", "obstacles"])
+def test_plot_writes_a_png(capsys, tmp_path, skill_path, examples, with_obstacles):
+    out = tmp_path / "skill.png"
+    args = ["plot", skill_path, "-o", out, "-q"]
+    if with_obstacles:
+        args += ["--obstacle", obstacle_arg(CUP), "--obstacle", obstacle_arg(MARKER)]
+        args += ["--demos", examples["demos"], "--goal", f"{GOAL[0]},{GOAL[1]}"]
+    code, stdout, err = run_cli(capsys, *args)
+    assert code == 0, err
+    assert (stdout, err) == ("", "")
+    check_png(out)
+
+
+def test_plot_of_a_skill_without_reward(capsys, tmp_path, small_demos):
+    skill = tmp_path / "small.json"
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", skill, "-q")
+    assert code == 0, err
+    out = tmp_path / "small.png"
+    code, _, err = run_cli(capsys, "plot", skill, "-o", out, "--demos", small_demos)
+    assert code == 0, err
+    assert str(out) in err
+    check_png(out)
+
+
+# --------------------------------------------------------------------------- #
+# 5. Bad input files
+# --------------------------------------------------------------------------- #
+
+GOOD_SCENES = "demo,class,x,y,radius\n"
+BAD_LEARN_INPUTS = {
+    # id: (demos file, its content, scenes content or None, fragments besides the file name)
+    "missing-column": ("demos.csv", "demo,y\n1,0.1\n1,0.2\n1,0.3\n", None, ["'x'"]),
+    "non-numeric": (
+        "demos.csv",
+        "demo,x,y\n1,0,0\n1,0.5,abc\n1,1,0\n2,0,0\n2,0.5,0.1\n2,1,0\n",
+        None,
+        ["line 3", "'y'", "'abc'"],
+    ),
+    "single-row": ("demos.csv", SMALL_DEMOS + "3,0,0\n", None, ["demo '3'", "1 row"]),
+    "mixed-dims": (
+        "demos.json",
+        json.dumps(
+            {
+                "format": "lfdkit-demos",
+                "version": 1,
+                "n_dims": 2,
+                "demos": [
+                    {"id": "flat", "points": [[0, 0], [0.5, 0.1], [1, 0]]},
+                    {"id": "tall", "points": [[0, 0, 0], [0.5, 0.1, 0], [1, 0, 0]]},
+                ],
+            }
+        ),
+        None,
+        ["demos[1]", "'tall'", "3 dimensions"],
+    ),
+    "scene-unknown-demo": (
+        "demos.csv",
+        SMALL_DEMOS,
+        GOOD_SCENES + "ghost,cup,0.5,0.2,0.03\n",
+        ["'ghost'"],
+    ),
+    "scene-non-numeric": (
+        "demos.csv",
+        SMALL_DEMOS,
+        GOOD_SCENES + "1,cup,0.5,zz,0.03\n",
+        ["line 2", "'y'", "'zz'"],
+    ),
+}
+
+
+@pytest.mark.parametrize(
+    ("demos_name", "demos_text", "scenes_text", "fragments"),
+    list(BAD_LEARN_INPUTS.values()),
+    ids=list(BAD_LEARN_INPUTS),
+)
+def test_learn_bad_input_files(capsys, tmp_path, demos_name, demos_text, scenes_text, fragments):
+    demos = tmp_path / demos_name
+    demos.write_text(demos_text)
+    args = ["learn", demos]
+    culprit = demos
+    if scenes_text is not None:
+        culprit = tmp_path / "scenes.csv"
+        culprit.write_text(scenes_text)
+        args += ["--scenes", culprit]
+    out = tmp_path / "skill.json"
+    code, stdout, err = run_cli(capsys, *args, "-o", out, "-q")
+    assert code == 1
+    line = error_line(err, "learn")
+    assert str(culprit) in line
+    for fragment in fragments:
+        assert fragment in line
+    assert stdout == ""
+    assert not out.exists()
+
+
+def test_learn_two_row_demo_names_the_file_and_demo(capsys, tmp_path):
+    demos = tmp_path / "demos.csv"
+    demos.write_text("demo,x,y\nfirst,0,0\nfirst,0.5,0.1\nfirst,1,0\nshort,0,0\nshort,1,0\n")
+    code, _, err = run_cli(capsys, "learn", demos, "-o", tmp_path / "skill.json", "-q")
+    assert code == 1
+    line = error_line(err, "learn")
+    assert str(demos) in line
+    assert "short" in line
+
+
+def test_learn_failure_without_quiet_is_one_clean_line(capsys, tmp_path):
+    demos = tmp_path / "demos.csv"
+    demos.write_text("demo,y\n1,0.1\n1,0.2\n1,0.3\n")
+    code, _, err = run_cli(capsys, "learn", demos, "-o", tmp_path / "skill.json")
+    assert code == 1
+    assert "\r" not in err, repr(err)
+    assert str(demos) in error_line(err, "learn")
+
+
+def _future(data: dict, text: str) -> str:
+    data["version"] = 99
+    return json.dumps(data, indent=1)
+
+
+def _truncated(data: dict, text: str) -> str:
+    return text[: len(text) // 2]
+
+
+def _no_path(data: dict, text: str) -> str:
+    del data["path"]
+    return json.dumps(data, indent=1)
+
+
+@pytest.mark.parametrize(
+    ("breaker", "fragments"),
+    [(_future, ["version 99", "newer"]), (_truncated, ["not valid JSON"]), (_no_path, ["path"])],
+    ids=["future-version", "truncated", "missing-path"],
+)
+def test_plan_refuses_a_broken_skill_file(capsys, tmp_path, skill_path, breaker, fragments):
+    text = skill_path.read_text()
+    broken = tmp_path / "broken.json"
+    broken.write_text(breaker(json.loads(text), text))
+    code, out, err = run_cli(capsys, "plan", broken)
+    assert code == 1
+    line = error_line(err, "plan")
+    assert str(broken) in line
+    for fragment in fragments:
+        assert fragment in line
+    if breaker is _truncated:
+        with pytest.raises(json.JSONDecodeError) as exc:
+            json.loads(broken.read_text())
+        assert f"line {exc.value.lineno}:" in line
+    if breaker is _no_path:
+        assert re.search(r": path: missing field$", line), line
+    assert out == ""
+
+
+def test_plan_refuses_a_skill_file_with_absurd_n_points(capsys, tmp_path, skill_path):
+    data = json.loads(skill_path.read_text())
+    data["params"]["n_points"] = 10**15
+    broken = tmp_path / "huge.json"
+    broken.write_text(json.dumps(data))
+    code, _, err = run_cli(capsys, "plan", broken)
+    assert code == 1
+    assert "n_points" in error_line(err, "plan")
+
+
+# --------------------------------------------------------------------------- #
+# 6. The installed command, end to end
+# --------------------------------------------------------------------------- #
+
+
+def test_demo_command_end_to_end(tmp_path):
+    out, quiet = tmp_path / "out", tmp_path / "quiet"
+    # The quiet run is independent: let it use the second core meanwhile.
+    quiet_run = subprocess.Popen(
+        ["lfdkit", "demo", "--output", str(quiet), "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
+    try:
+        command = ["lfdkit", "demo", "--output", str(out)]
+        first = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=tmp_path)
+        assert first.returncode == 0, first.stderr[-2000:]
+        assert "held-out sweeps" in first.stdout
+        for path in demo_outputs(out):
+            assert path.is_file(), path
+
+        html = (out / "report.html").read_text(encoding="utf-8")
+        assert html.count("data:image/png;base64,") >= 4
+        assert 'src="http' not in html
+        results_text = (out / "results.json").read_text()
+        results = json.loads(results_text)
+        assert results["emulate"]["test"]["improvement"] > 90
+        Skill.load(out / "skill.json")
+
+        again = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=tmp_path)
+        assert again.returncode == 1
+        errors = [line for line in again.stderr.splitlines() if "error:" in line]
+        assert len(errors) == 1, again.stderr
+        assert errors[0].startswith("lfdkit demo: error: ")
+        assert "--force" in errors[0]
+        assert (out / "results.json").read_text() == results_text
+
+        forced = subprocess.run(
+            [*command, "--force"], capture_output=True, text=True, timeout=300, cwd=tmp_path
+        )
+        assert forced.returncode == 0, forced.stderr[-2000:]
+        assert json.loads((out / "results.json").read_text())["lfdkit"] == "0.1.0"
+
+        stdout, stderr = quiet_run.communicate(timeout=300)
+    finally:
+        if quiet_run.poll() is None:
+            quiet_run.kill()
+            quiet_run.communicate()
+    assert quiet_run.returncode == 0, stderr[-2000:]
+    assert stdout == ""
+    assert stderr == ""
+    for path in demo_outputs(quiet):
+        assert path.is_file(), path
+
+
+# --------------------------------------------------------------------------- #
+# 7. bench
+# --------------------------------------------------------------------------- #
+
+
+def test_bench_unknown_name_lists_the_available_ones(capsys):
+    available = sorted(
+        p.stem for p in (REPO / "benchmarks").glob("*.py") if not p.stem.startswith("_")
+    )
+    assert available, "no benchmarks/*.py in the checkout"
+    code, out, err = run_cli(capsys, "bench", "no_such_benchmark")
+    assert code == 1
+    line = error_line(err, "bench")
+    assert "'no_such_benchmark'" in line
+    assert line.endswith("choose from " + ", ".join(available))
+    assert out == ""
