@@ -558,7 +558,7 @@ _NEGATIVE = re.compile(r"^-[0-9.]")
 
 
 def _join_negative_points(argv: Sequence[str]) -> list[str]:
-    """``--start -0.4,0.45`` as ``--start=-0.4,0.45`` (argparse takes ``-0.4,...`` for an option)."""
+    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option."""
     out: list[str] = []
     for token in argv:
         if out and out[-1] in _POINT_OPTIONS and _NEGATIVE.match(token):
