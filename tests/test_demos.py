@@ -447,8 +447,8 @@ def test_json_minimal_file_and_default_ids(tmp_path: Path) -> None:
         (_json_doc(format="something"), r": field 'format' is 'something'; expected"),
         (
             _json_doc(version=2),
-            r": file format version 2 is newer than this lfdkit supports \(version 1\); "
-            r"upgrade lfdkit",
+            r": file format version 2 was written by a newer lfdkit; this lfdkit reads up to "
+            r"version 1; upgrade lfdkit",
         ),
         (_json_doc(version=0), r": unknown file format version 0"),
         (_json_doc(version="1"), r": field 'version' must be an integer"),

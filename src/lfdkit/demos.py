@@ -797,9 +797,12 @@ def _write_json(
     f.write(buf.getvalue())
 
 
-def _read_json(
-    fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+def _json_document(fname: str, fmt: str, newest: int, kind: str) -> dict[str, Any]:
+    """Parse a versioned lfdkit JSON file and check its ``format`` and ``version`` fields.
+
+    Shared by every lfdkit JSON reader; ``kind`` names the content in messages
+    (e.g. ``"scene"``).
+    """
     try:
         doc = json.loads(_read_text(fname))
     except json.JSONDecodeError as exc:
@@ -808,22 +811,28 @@ def _read_json(
         ) from None
     if not isinstance(doc, dict):
         raise ValueError(f"{fname}: expected a JSON object at the top level")
-    fmt = doc.get("format")
-    if fmt != JSON_FORMAT:
+    found = doc.get("format")
+    if found != fmt:
         raise ValueError(
-            f"{fname}: field 'format' is {fmt!r}; expected {JSON_FORMAT!r} "
-            "(not an lfdkit demonstrations file)"
+            f"{fname}: field 'format' is {found!r}; expected {fmt!r} (not an lfdkit {kind} file)"
         )
     version = doc.get("version")
     if isinstance(version, bool) or not isinstance(version, int):
         raise ValueError(f"{fname}: field 'version' must be an integer, got {version!r}")
-    if version > JSON_VERSION:
+    if version > newest:
         raise ValueError(
-            f"{fname}: file format version {version} is newer than this lfdkit supports "
-            f"(version {JSON_VERSION}); upgrade lfdkit to read it"
+            f"{fname}: file format version {version} was written by a newer lfdkit; this "
+            f"lfdkit reads up to version {newest}; upgrade lfdkit to read it"
         )
     if version < 1:
         raise ValueError(f"{fname}: unknown file format version {version}")
+    return doc
+
+
+def _read_json(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    doc = _json_document(fname, JSON_FORMAT, JSON_VERSION, "demonstrations")
     q = doc.get("n_dims")
     if isinstance(q, bool) or not isinstance(q, int) or q < 2:
         raise ValueError(f"{fname}: field 'n_dims' must be an integer >= 2, got {q!r}")

@@ -58,6 +58,7 @@ from lfdkit.demos import (
     _content_lines,
     _csv_number,
     _csv_row,
+    _json_document,
     _parse_id,
     _read_text,
     atomic_write,
@@ -554,30 +555,7 @@ def _json_number(fname: str, where: str, value: Any) -> float:
 
 
 def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
-    try:
-        doc = json.loads(_read_text(fname))
-    except json.JSONDecodeError as exc:
-        raise ValueError(
-            f"{fname} line {exc.lineno}, column {exc.colno}: invalid JSON ({exc.msg})"
-        ) from None
-    if not isinstance(doc, dict):
-        raise ValueError(f"{fname}: expected a JSON object at the top level")
-    fmt = doc.get("format")
-    if fmt != SCENE_JSON_FORMAT:
-        raise ValueError(
-            f"{fname}: field 'format' is {fmt!r}; expected {SCENE_JSON_FORMAT!r} "
-            "(not an lfdkit scene file)"
-        )
-    version = doc.get("version")
-    if isinstance(version, bool) or not isinstance(version, int):
-        raise ValueError(f"{fname}: field 'version' must be an integer, got {version!r}")
-    if version > SCENE_JSON_VERSION:
-        raise ValueError(
-            f"{fname}: file format version {version} was written by a newer lfdkit; this "
-            f"lfdkit reads up to version {SCENE_JSON_VERSION}; upgrade lfdkit to read it"
-        )
-    if version < 1:
-        raise ValueError(f"{fname}: unknown file format version {version}")
+    doc = _json_document(fname, SCENE_JSON_FORMAT, SCENE_JSON_VERSION, "scene")
     items = doc.get("scenes")
     if not isinstance(items, list):
         raise ValueError(f"{fname}: field 'scenes' must be a list of scenes, got {items!r}")
