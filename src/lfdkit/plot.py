@@ -194,9 +194,16 @@ def mean_path_figure(
     if gmr is not None and demos[0].shape[1] == 2:
         draw_gmr_tube(ax0, gmr)
     draw_paths(ax0, {"Mean-Path": mean_path.path_}, nominal=nominal)
-    ax0.set_aspect("equal", adjustable="datalim")
+    span = np.ptp(np.vstack(demos)[:, :2], axis=0)
+    # Equal scale, unless the task is so thin (a straight sweep) that the spread would vanish.
+    to_scale = span.min() >= 0.1 * span.max()
+    if to_scale:
+        ax0.set_aspect("equal", adjustable="datalim")
     _axis_labels(ax0, 2, units)
-    ax0.set_title(title or "Demonstrations and generalized path")
+    ax0.set_title(
+        (title or "Demonstrations and generalized path")
+        + ("" if to_scale else "\n(axes not to scale)")
+    )
     ax0.legend(fontsize=8)
     draw_distance_space(ax1, mean_path, units)
     draw_residual_history(ax2, mean_path)

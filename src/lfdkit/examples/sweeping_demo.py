@@ -208,14 +208,18 @@ def _write_plan_csv(path: Path, points: np.ndarray, overwrite: bool) -> None:
 
 def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen) -> dict:
     from lfdkit import plot
+    from lfdkit.mimic import GMR
 
     data = read_free_demos()
+    # GMR's 2-sd tube shows how far the clean sweeps spread around the path.
+    gmr = GMR(n_components=6, random_state=0).fit(data)
     figures = {
         "mimic.png": plot.mean_path_figure(
             data,
             skill.mimic_,
             nominal=truth.nominal,
-            title="Clean sweeps and their Mean-Path",
+            gmr=gmr,
+            title="Clean sweeps, their Mean-Path and GMR's 2-sd tube",
         )
     }
     rollout = skill.dmp_.rollout(goal=NEW_GOAL, n_steps=200)
@@ -330,8 +334,8 @@ def _report(results: dict, figures: dict) -> Report:
     )
     report.figure(
         figures["mimic.png"],
-        "Demonstrations and the Mean-Path (left), the Distance-Space (middle), the residual "
-        "per iteration (right).",
+        "Demonstrations, the Mean-Path and GMR's covariance tube (left), the Distance-Space "
+        "(middle), the residual per iteration (right).",
     )
     imitate = results["imitate"]
     report.heading("Imitate: a DMP to new goals")
