@@ -65,6 +65,7 @@ __all__ = [
     "SINGULARITY_TOL",
     "DHParameters",
     "JointLimitError",
+    "KinematicsError",
     "SingularityError",
     "SingularityReport",
     "UnreachableError",
@@ -131,8 +132,8 @@ _WRIST_EPS = 1e-12  # |sin q5| below which q6 is undetermined and set to the hin
 
 
 # ------------------------------------------------------------------ errors
-class UnreachableError(ValueError):
-    """No joint configuration reaches the pose.
+class KinematicsError(ValueError):
+    """A pose or path the arm cannot follow.
 
     Attributes
     ----------
@@ -145,21 +146,15 @@ class UnreachableError(ValueError):
         self.index = index
 
 
-class JointLimitError(ValueError):
-    """Solutions exist but none lies within the joint limits.
-
-    Attributes
-    ----------
-    index : int or None
-        Index of the offending pose in a batch or path, ``None`` for a single pose.
-    """
-
-    def __init__(self, message: str, index: int | None = None) -> None:
-        super().__init__(message)
-        self.index = index
+class UnreachableError(KinematicsError):
+    """No joint configuration reaches the pose."""
 
 
-class SingularityError(ValueError):
+class JointLimitError(KinematicsError):
+    """Solutions exist but none lies within the joint limits."""
+
+
+class SingularityError(KinematicsError):
     """A joint path passes (near) a singularity or flips branch.
 
     Attributes
@@ -171,8 +166,7 @@ class SingularityError(ValueError):
     """
 
     def __init__(self, message: str, index: int, kinds: tuple[str, ...] = ()) -> None:
-        super().__init__(message)
-        self.index = index
+        super().__init__(message, index)
         self.kinds = kinds
 
 
