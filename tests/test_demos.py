@@ -19,7 +19,9 @@ from lfdkit.demos import (
     SUPPORTED_SUFFIXES,
     atomic_write,
     load_demos,
+    path_csv,
     save_demos,
+    save_path,
 )
 
 FORMATS = [".csv", ".npz", ".json"]
@@ -764,3 +766,20 @@ def test_atomic_write_permissions(tmp_path: Path) -> None:
     os.chmod(plain, 0o640)
     atomic_write(plain, lambda f: f.write("y"), overwrite=True)
     assert plain.stat().st_mode & 0o777 == 0o640  # replaced file keeps its mode
+
+
+def test_path_csv_is_exact_and_save_path_never_overwrites(tmp_path) -> None:
+    rng = np.random.default_rng(3)
+    for q, header in ((2, "x,y"), (3, "x,y,z"), (4, "x1,x2,x3,x4")):
+        points = rng.normal(size=(7, q)) * 10.0 ** rng.integers(-9, 9, size=(7, q))
+        lines = path_csv(points).splitlines()
+        assert lines[0] == header
+        parsed = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+        np.testing.assert_array_equal(parsed, points)
+    target = tmp_path / "plan.csv"
+    save_path(target, points)
+    with pytest.raises(FileExistsError):
+        save_path(target, points[:2])
+    assert target.read_text() == path_csv(points)
+    with pytest.raises(ValueError, match="points: contains NaN"):
+        path_csv([[0.0, np.nan]])

@@ -256,30 +256,26 @@ def _point_arg(values, name: str, n_dims: int):
     return values
 
 
-def _plan(args: argparse.Namespace) -> None:
-    import numpy as np
-
-    from lfdkit.demos import atomic_write
-
-    if args.output is not None:
-        _refuse_existing(args.output, args.force)
+def _skill_and_scene(args: argparse.Namespace):
+    """The skill of ``plan``/``plot`` with the scene, start and goal of the command line."""
     skill = _load_skill(args.skill)
     q = skill.n_dims_
     scene = _scene_from_args(args, q)
-    start = _point_arg(args.start, "--start", q)
-    goal = _point_arg(args.goal, "--goal", q)
+    return skill, scene, _point_arg(args.start, "--start", q), _point_arg(args.goal, "--goal", q)
+
+
+def _plan(args: argparse.Namespace) -> None:
+    from lfdkit.demos import path_csv, save_path
+
+    if args.output is not None:
+        _refuse_existing(args.output, args.force)
+    skill, scene, start, goal = _skill_and_scene(args)
     started = time.perf_counter()
     path = skill.plan(start, goal, scene, planner=args.planner, horizon=args.horizon)
-    names = ("x", "y", "z")[:q]
-    text = (
-        ",".join(names)
-        + "\n"
-        + "".join(",".join(repr(float(v)) for v in row) + "\n" for row in np.asarray(path))
-    )
     if args.output is None:
-        sys.stdout.write(text)
+        sys.stdout.write(path_csv(path))
         return
-    atomic_write(args.output, lambda f: f.write(text), overwrite=args.force)
+    save_path(args.output, path, overwrite=args.force)
     _say(
         args,
         f"planned {len(path)} points around {len(scene)} obstacles in "
@@ -292,11 +288,7 @@ def _plot(args: argparse.Namespace) -> None:
     from lfdkit.demos import atomic_write, load_demos
 
     _refuse_existing(args.output, args.force)
-    skill = _load_skill(args.skill)
-    q = skill.n_dims_
-    scene = _scene_from_args(args, q)
-    start = _point_arg(args.start, "--start", q)
-    goal = _point_arg(args.goal, "--goal", q)
+    skill, scene, start, goal = _skill_and_scene(args)
     demos = load_demos(args.demos) if args.demos is not None else []
     nominal = skill.nominal(start, goal)
     plans = {}

@@ -61,7 +61,9 @@ __all__ = [
     "DemoId",
     "atomic_write",
     "load_demos",
+    "path_csv",
     "save_demos",
+    "save_path",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -394,18 +396,36 @@ def save_demos(
     return atomic_write(fname, write_json, overwrite=overwrite)
 
 
+def path_csv(points: Any) -> str:
+    """One path as CSV text: a header ``x,y[,z]`` (or ``x1,...,xq``), one row per point.
+
+    Floats are written exactly (``repr``), so parsing the text gives back the same array.
+    """
+    arr = check_path(points, "points", min_points=1)
+    rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in arr)
+    return ",".join(_coord_header(arr.shape[1])) + "\n" + rows
+
+
+def save_path(path: PathLike, points: Any, *, overwrite: bool = False) -> Path:
+    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`atomic_write`)."""
+    text = path_csv(points)
+    return atomic_write(path, lambda f: f.write(text), overwrite=overwrite)
+
+
 # --------------------------------------------------------------------------- #
 # Shared helpers
 # --------------------------------------------------------------------------- #
 
 
-def _format_of(fname: str) -> str:
+def _format_of(fname: str, supported: Sequence[str] = SUPPORTED_SUFFIXES, kind: str = "") -> str:
+    """Lower-case suffix of ``fname`` if ``supported``; ``kind`` names the file in errors."""
     suffix = Path(fname).suffix.lower()
-    if suffix not in SUPPORTED_SUFFIXES:
+    if suffix not in supported:
         shown = repr(suffix) if suffix else "(none)"
+        what = f" for {kind}" if kind else ""
         raise ValueError(
-            f"{fname}: unsupported file suffix {shown}; supported suffixes: "
-            + ", ".join(SUPPORTED_SUFFIXES)
+            f"{fname}: unsupported file suffix {shown}{what}; supported suffixes: "
+            + ", ".join(supported)
         )
     return suffix
 

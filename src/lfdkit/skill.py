@@ -402,10 +402,7 @@ class Skill:
                     f"scenes[{j}]: {scene.positions.shape[1]}-D obstacles for "
                     f"{self.n_dims_}-D demonstrations"
                 )
-        goal = self.path_[-1] if goals is None else goals
-        goal = np.broadcast_to(
-            _point(goal, "goals", self.n_dims_, batch=True), (len(demos), self.n_dims_)
-        )
+        goal = self._goals(goals, len(demos))
         _tell(progress, "emulate: nominal of each obstacle demonstration (DMP)")
         starts = np.array([demo[0] for demo in demos])
         nominals = list(self._rollouts(starts, goal))
@@ -434,6 +431,14 @@ class Skill:
             ),
         }
         return self
+
+    def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
+        """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
+        goal = self.path_[-1] if goals is None else goals
+        point = _point(goal, "goals", self.n_dims_, batch=True)
+        if point.ndim == 2 and point.shape[0] not in (1, n_demos):
+            raise ValueError(f"goals: {point.shape[0]} goals for {n_demos} demonstrations")
+        return np.broadcast_to(point, (n_demos, self.n_dims_))
 
     def adopt(self, source: Skill | Reward, classes: Sequence[str] | None = None) -> Skill:
         """Reuse obstacle classes learned elsewhere (thesis §6.3.3, composition and transfer).
@@ -585,10 +590,7 @@ class Skill:
         scenes = list(scenes)
         if len(scenes) != len(demos):
             raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
-        goal = self.path_[-1] if goals is None else goals
-        goal = np.broadcast_to(
-            _point(goal, "goals", self.n_dims_, batch=True), (len(demos), self.n_dims_)
-        )
+        goal = self._goals(goals, len(demos))
         plans = [
             self.plan(demo[0], g, scene) for demo, g, scene in zip(demos, goal, scenes, strict=True)
         ]

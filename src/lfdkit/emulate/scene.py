@@ -58,6 +58,7 @@ from lfdkit.demos import (
     _content_lines,
     _csv_number,
     _csv_row,
+    _format_of,
     _json_document,
     _parse_id,
     _read_text,
@@ -371,14 +372,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
 
 
 def _scene_format(fname: str) -> str:
-    suffix = Path(fname).suffix.lower()
-    if suffix not in SCENE_SUFFIXES:
-        shown = repr(suffix) if suffix else "(none)"
-        raise ValueError(
-            f"{fname}: unsupported file suffix {shown} for a scene file; supported suffixes: "
-            + ", ".join(SCENE_SUFFIXES)
-        )
-    return suffix
+    return _format_of(fname, SCENE_SUFFIXES, "a scene file")
 
 
 def _obstacle(where: str, label: str, position: list[float], radius: float) -> Obstacle:

@@ -21,13 +21,13 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__, metrics
-from lfdkit.demos import atomic_write, load_demos
+from lfdkit.demos import atomic_write, load_demos, save_path
 from lfdkit.emulate import Scene, plan_path
 from lfdkit.emulate.scene import Obstacle, load_scenes
 from lfdkit.examples import example_dataset, example_files
 from lfdkit.geometry import left_normals, resample
 from lfdkit.report import Report
-from lfdkit.skill import Skill, learn
+from lfdkit.skill import Skill, learn, read_training_data
 
 __all__ = ["NEW_GOAL", "UNSEEN_DESIGNS", "demo_outputs", "run_demo"]
 
@@ -171,7 +171,7 @@ def run_demo(
     tell("write the skill, the plans, the figures, the results and the report")
     for i, item in enumerate(unseen):
         learned = item["paths"][_PLANNERS[0]]
-        _write_plan_csv(out / "plans" / f"unseen_{i + 1}.csv", learned, overwrite)
+        save_path(out / "plans" / f"unseen_{i + 1}.csv", learned, overwrite=overwrite)
     for name, fig in figures.items():
         atomic_write(
             out / "figures" / name,
@@ -195,22 +195,11 @@ N_STEPS = 5
 """Number of progress messages :func:`run_demo` sends."""
 
 
-def _write_plan_csv(path: Path, points: np.ndarray, overwrite: bool) -> None:
-    names = ("x", "y", "z")[: points.shape[1]]
-
-    def write(f) -> None:
-        f.write(",".join(names) + "\n")
-        for row in points:
-            f.write(",".join(repr(float(v)) for v in row) + "\n")
-
-    atomic_write(path, write, overwrite=overwrite)
-
-
 def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen) -> dict:
     from lfdkit import plot
     from lfdkit.mimic import GMR
 
-    data = read_free_demos()
+    data = read_training_data(example_files()["demos"]).free_demos
     # GMR's 2-sd tube shows how far the clean sweeps spread around the path.
     gmr = GMR(n_components=6, random_state=0).fit(data)
     figures = {
@@ -262,12 +251,6 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
         panels, ncols=3, title="Unseen scenes, dustpan moved: learned skill vs the demonstrator"
     )
     return figures
-
-
-def read_free_demos() -> list[np.ndarray]:
-    """The clean sweeps of the shipped example (no obstacle)."""
-    demos, ids = load_demos(example_files()["demos"], return_ids=True)
-    return [d for d, key in zip(demos, ids, strict=True) if str(key).startswith("free-")]
 
 
 def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float) -> dict:
