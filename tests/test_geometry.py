@@ -628,3 +628,32 @@ def test_project_onto_polyline_closed_form():
     np.testing.assert_allclose(closest, [[1, 0], [0, 0], [4, 4], [4, 1.5]])
     np.testing.assert_allclose(s, [1, 0, 8, 5.5])
     np.testing.assert_allclose(dist, [2, 3, np.sqrt(5), 0.5])
+
+
+def test_smooth_path_keeps_ends_and_straight_lines_and_rounds_corners() -> None:
+    from lfdkit.geometry import smooth_path
+
+    line = np.column_stack([np.linspace(0.0, 1.0, 30), np.linspace(0.0, -2.0, 30)])
+    np.testing.assert_allclose(smooth_path(line, 0.1), line, atol=1e-12)
+    corner = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    smooth = smooth_path(corner, 0.05, 400)
+    np.testing.assert_array_equal(smooth[[0, -1]], corner[[0, -1]])
+    # a 90° corner is cut by E|s| sin(45°), with E|s| = sqrt(2/pi) sd for a Gaussian
+    cut = np.linalg.norm(smooth - corner[1], axis=1).min()
+    assert cut == pytest.approx(np.sqrt(2 / np.pi) * 0.05 * np.sqrt(0.5), rel=0.05)
+    # far from the corner the path is untouched; no direction change exceeds a few degrees
+    assert np.abs(smooth[smooth[:, 0] < 0.7, 1]).max() < 1e-9
+    t = np.diff(smooth, axis=0)
+    turn = np.abs(np.diff(np.unwrap(np.arctan2(t[:, 1], t[:, 0]))))
+    assert turn.max() < np.radians(3.0)
+
+
+def test_smooth_path_refuses_bad_input() -> None:
+    from lfdkit.geometry import smooth_path
+
+    with pytest.raises(ValueError, match="width"):
+        smooth_path(np.eye(2), 0.0)
+    with pytest.raises(ValueError, match="zero length"):
+        smooth_path(np.zeros((3, 2)), 0.1)
+    with pytest.raises(ValueError, match="path"):
+        smooth_path(np.array([[0.0, np.nan], [1.0, 0.0]]), 0.1)

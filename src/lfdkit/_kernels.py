@@ -175,13 +175,13 @@ def evaluate_quintic_pieces(s, spacing, pieces, out):
 # ----------------------------------------------------------------- emulation
 @numba.njit(cache=True)
 def offset_cost(c, b, a, weight, d):
-    """Planner cost ``Σ Q|d_k|² + Σ exp(−(c + 2bᵀd + dᵀAd))``; see ``lfdkit.emulate.planner``."""
+    """Planner cost ``Σ Q_k|d_k|² + Σ exp(−(c + 2bᵀd + dᵀAd))``; see ``lfdkit.emulate.planner``."""
     n, n_obs = c.shape
     m = d.shape[1]
     total = 0.0
     for k in range(n):
         for i in range(m):
-            total += weight * d[k, i] * d[k, i]
+            total += weight[k] * d[k, i] * d[k, i]
         for o in range(n_obs):
             s = c[k, o]
             for i in range(m):
@@ -202,10 +202,10 @@ def offset_derivatives(c, b, a, weight, d, gradient, hessian):
     npu = np.empty(m)
     for k in range(n):
         for i in range(m):
-            total += weight * d[k, i] * d[k, i]
-            gradient[k, i] = 2.0 * weight * d[k, i]
+            total += weight[k] * d[k, i] * d[k, i]
+            gradient[k, i] = 2.0 * weight[k] * d[k, i]
             for j in range(m):
-                hessian[k, i, j] = 2.0 * weight if i == j else 0.0
+                hessian[k, i, j] = 2.0 * weight[k] if i == j else 0.0
         for o in range(n_obs):
             s = c[k, o]
             for i in range(m):
@@ -264,8 +264,10 @@ def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
     step_a = np.empty((n, m))
     trial_a = np.empty((n, m))
     trial_d = np.empty((n, m))
-    floor = 1e-8 * 2.0 * weight
-    scale = 1.0 + 2.0 * weight * max_step
+    # The base weight (the smallest) sets the scales, so a goal ramp does not loosen them.
+    base = weight.min()
+    floor = 1e-8 * 2.0 * base
+    scale = 1.0 + 2.0 * base * max_step
     cost = offset_derivatives(c, b, a, weight, d, gradient, hessian)
     for iteration in range(max_iter):
         worst = 0.0

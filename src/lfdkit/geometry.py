@@ -41,6 +41,7 @@ __all__ = [
     "resample_between",
     "segment_lengths",
     "segment_tangents",
+    "smooth_path",
 ]
 
 _EPS = 1e-12
@@ -207,6 +208,58 @@ def resample(path: np.ndarray, n_points: int) -> np.ndarray:
     if s[-1] <= 0:
         raise ValueError("path: has zero length (all points coincide); cannot resample")
     return _interp_path(path, s, np.linspace(0.0, s[-1], n_points))
+
+
+def smooth_path(path: np.ndarray, width: float, n_points: int | None = None) -> np.ndarray:
+    """Round a polyline's corners: Gaussian smoothing in arc length, ends kept.
+
+    The path is resampled evenly (about 20 points per ``width``, at least as
+    many as it has), extended past each end by its point reflection through
+    the end (so the ends stay where they are and straight stretches stay
+    straight), convolved with a Gaussian of standard deviation ``width``
+    and resampled to ``n_points``. A corner is cut by about ``0.8 · width ·
+    sin(turn/2)``; for a planned path around obstacles, keep ``width`` well
+    below the clearance.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, q)
+    width : float
+        Standard deviation of the smoothing kernel, in units of the path.
+    n_points : int, optional
+        Points of the result (default ``n``).
+
+    Returns
+    -------
+    ndarray, shape (n_points, q)
+        Evenly spaced in arc length; first and last points equal the path's.
+
+    Raises
+    ------
+    ValueError
+        For a path with zero length or fewer than 2 points, NaN/inf, or a
+        width that is not positive.
+    """
+    from scipy.ndimage import gaussian_filter1d
+
+    path = check_path(path, "path", min_points=2)
+    width = check_positive(width, "width")
+    n_out = path.shape[0] if n_points is None else check_positive(n_points, "n_points", integer=True)
+    if n_out < 2:
+        raise ValueError(f"n_points: needs at least 2, got {n_out}")
+    length = path_length(path)
+    if length <= 0:
+        raise ValueError("path: has zero length (all points coincide); cannot smooth")
+    n_fine = int(min(max(path.shape[0], 20.0 * length / width, 2), 200_000))
+    fine = resample(path, n_fine)
+    pad = min(n_fine - 1, int(np.ceil(4.0 * width / (length / (n_fine - 1)))))
+    head = 2.0 * fine[0] - fine[pad:0:-1]
+    tail = 2.0 * fine[-1] - fine[-2 : -pad - 2 : -1]
+    sigma = width / (length / (n_fine - 1))
+    padded = np.vstack([head, fine, tail])
+    smooth = gaussian_filter1d(padded, sigma, axis=0, mode="nearest")[pad : pad + n_fine]
+    smooth[0], smooth[-1] = fine[0], fine[-1]
+    return resample(smooth, n_out)
 
 
 def resample_between(path: np.ndarray, s_start: float, s_end: float, n_points: int) -> np.ndarray:

@@ -515,6 +515,7 @@ class Skill:
         *,
         planner: PlannerKind | None = None,
         horizon: int | None = None,
+        goal_approach: float | None = None,
     ) -> np.ndarray:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -528,6 +529,12 @@ class Skill:
             Override the skill's planner.
         horizon : int, optional
             Override the MPC horizon (4 to 12).
+        goal_approach : float, optional
+            Length (units of the path) before the goal over which the plan is
+            drawn back onto the nominal so that it ends at the goal (e.g. the
+            dustpan a cube must be swept into). None: the thesis's reward,
+            which has no goal term; a swerve can leave the plan's end beside
+            the goal. See :func:`lfdkit.emulate.planner.goal_weights`.
 
         Returns
         -------
@@ -568,6 +575,7 @@ class Skill:
             horizon=h,
             n_points=int(self.n_points),
             max_slope=float(self.max_slope),
+            goal_approach=goal_approach,
         ).points
 
     def evaluate(

@@ -132,3 +132,32 @@ def test_bad_requests_are_refused() -> None:
         plan_path(REWARD, np.array([[0.0, 0.0], [np.nan, 1.0], [2.0, 0.0]]), scene)
     with pytest.raises(ValueError, match="3-D obstacles for a 2-D"):
         plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.5, 0.0, 0.0]),)))
+
+
+def test_goal_approach_brings_a_swerving_plan_back_to_the_goal() -> None:
+    # A lateral obstacle late on the path leaves the thesis's plan beside the goal.
+    reward = Reward(10.0, {"obstacle": [15.0, 1000.0]})
+    scene = Scene((Obstacle("obstacle", [0.6, 0.01], radius=0.02),))
+    for horizon in (None, 8):
+        free_end = plan_path(reward, straight(), scene, horizon=horizon).offsets[-1, 0]
+        assert abs(free_end) > 0.02
+        plan = plan_path(reward, straight(), scene, horizon=horizon, goal_approach=0.15)
+        np.testing.assert_allclose(plan.points[-1], [1.0, 0.0], atol=1e-4)
+        assert min_distance(plan.points, [0.6, 0.01]) > 0.02
+        # before the approach the plan is the thesis's (same swerve past the obstacle)
+        unconstrained = plan_path(reward, straight(), scene, horizon=horizon)
+        k = int(0.4 * (len(plan.points) - 1))
+        np.testing.assert_allclose(plan.offsets[:k], unconstrained.offsets[:k], atol=2e-3)
+
+
+def test_goal_weights_ramp_smoothly_from_q_to_the_gain() -> None:
+    from lfdkit.emulate.planner import GOAL_GAIN, goal_weights
+
+    corridor = Corridor.from_path(straight(), 101)  # step 0.01
+    np.testing.assert_array_equal(goal_weights(corridor, 3.0, None), np.full(100, 3.0))
+    w = goal_weights(corridor, 3.0, 0.2)
+    assert np.all(w[:80] == 3.0)  # positions up to 0.8
+    assert np.all(np.diff(w) >= 0.0)
+    assert w[-1] == pytest.approx(3.0 * (1.0 + GOAL_GAIN))
+    with pytest.raises(ValueError, match="goal_approach"):
+        goal_weights(corridor, 3.0, -0.1)

@@ -76,7 +76,7 @@ def _theta_derivative(
     n, m = d.shape
     q = problem.base.shape[1]
     out = np.zeros((n, m, 1 + n_classes * q))
-    out[:, :, 0] = 2.0 * problem.weight * d
+    out[:, :, 0] = 2.0 * problem.weight[:, None] * d
     if not problem.has_obstacles:
         return out
     points = problem.base + np.einsum("km,kmq->kq", d, problem.normals)

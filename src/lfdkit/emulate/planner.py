@@ -58,6 +58,8 @@ __all__ = ["Corridor", "Plan", "plan_path"]
 
 #: Horizons the thesis found to work (§5.4).
 MIN_HORIZON, MAX_HORIZON = 4, 12
+#: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
+GOAL_GAIN = 1e4
 
 
 @dataclass(frozen=True, eq=False)
@@ -169,12 +171,14 @@ class _Problem:
         normals: np.ndarray,
         obstacles: np.ndarray,
         precision: np.ndarray,
-        weight: float,
+        weight: float | np.ndarray,
         max_step: float,
     ) -> None:
         self.base, self.normals = base, normals  # (n, q), (n, m, q)
         self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
-        self.weight, self.max_step = float(weight), float(max_step)
+        # Nominal weight per offset: Q, or Q ramped up towards the goal.
+        self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
+        self.max_step = float(max_step)
         rel = base[:, None, :] - obstacles[None]  # (n, L, q)
         pr = np.einsum("lij,klj->kli", precision, rel)
         self.c = np.einsum("kli,kli->kl", rel, pr)
@@ -198,7 +202,7 @@ class _Problem:
         sub = object.__new__(_Problem)
         sub.base, sub.normals = self.base[start:stop], self.normals[start:stop]
         sub.obstacles, sub.precision = self.obstacles, self.precision
-        sub.weight, sub.max_step = self.weight, self.max_step
+        sub.weight, sub.max_step = self.weight[start:stop], self.max_step
         sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
         return sub
 
@@ -209,7 +213,7 @@ class _Problem:
         return np.exp(-exponent), npu
 
     def cost(self, d: np.ndarray) -> float:
-        value = self.weight * float(np.sum(d * d))
+        value = float(np.sum(self.weight[:, None] * d * d))
         if self.has_obstacles:
             value += float(self.bumps(d)[0].sum())
         return value
@@ -217,9 +221,9 @@ class _Problem:
     def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
         n, m = d.shape
-        cost = self.weight * float(np.sum(d * d))
-        gradient = 2.0 * self.weight * d
-        hessian = np.broadcast_to(2.0 * self.weight * np.eye(m), (n, m, m)).copy()
+        cost = float(np.sum(self.weight[:, None] * d * d))
+        gradient = 2.0 * self.weight[:, None] * d
+        hessian = 2.0 * self.weight[:, None, None] * np.eye(m)[None]
         if self.has_obstacles:
             bump, npu = self.bumps(d)
             cost += float(bump.sum())
@@ -318,7 +322,29 @@ def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
     return starts
 
 
-def _build(reward: Reward, corridor: Corridor, scene: Scene, max_slope: float = 1.0) -> _Problem:
+def goal_weights(corridor: Corridor, weight: float, goal_approach: float | None) -> np.ndarray:
+    """Nominal weight of offsets 1 … K−1: ``Q``, ramped up over the last ``goal_approach``.
+
+    Over the final stretch of length ``goal_approach`` the weight rises as
+    ``Q (1 + GOAL_GAIN · r²(3 − 2r))`` with ``r`` from 0 to 1 (a smooth step),
+    which draws the plan back onto the nominal so it ends at the goal.
+    """
+    n = corridor.n_points - 1
+    if goal_approach is None:
+        return np.full(n, float(weight))
+    approach = check_positive(goal_approach, "goal_approach")
+    position = np.arange(1, n + 1) * corridor.step
+    r = np.clip((position - (n * corridor.step - approach)) / approach, 0.0, 1.0)
+    return weight * (1.0 + GOAL_GAIN * r * r * (3.0 - 2.0 * r))
+
+
+def _build(
+    reward: Reward,
+    corridor: Corridor,
+    scene: Scene,
+    max_slope: float = 1.0,
+    goal_approach: float | None = None,
+) -> _Problem:
     """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step."""
     precision = reward.precision_of(scene)
     obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
@@ -331,7 +357,7 @@ def _build(reward: Reward, corridor: Corridor, scene: Scene, max_slope: float = 
         corridor.normals[1:],
         obstacles,
         precision.reshape(-1, corridor.n_dims, corridor.n_dims),
-        reward.nominal_weight,
+        goal_weights(corridor, reward.nominal_weight, goal_approach),
         max_slope * corridor.step,
     )
 
@@ -346,6 +372,7 @@ def plan_path(
     start_offset: Any = None,
     init: Any = None,
     max_slope: float = 1.0,
+    goal_approach: float | None = None,
 ) -> Plan:
     """The path maximising the reward along a nominal path in a scene.
 
@@ -366,6 +393,11 @@ def plan_path(
         Initial offsets (full horizon only); replaces the multi-start.
     max_slope : float
         Largest sideways step per nominal step (the action box).
+    goal_approach : float, optional
+        Length (path units) before the goal over which the plan returns to the
+        nominal, so it ends at the goal (see :func:`goal_weights`). None (the
+        default) is the thesis's model, which has no goal term: a plan that
+        swerves may end beside the goal.
 
     Returns
     -------
@@ -380,7 +412,9 @@ def plan_path(
     # One BLAS thread: the 3-D solver's eigen-solves are many and small, and
     # threaded BLAS makes them many times slower on a busy machine.
     with threadpool_limits(limits=1):
-        return _plan(reward, nominal, scene, horizon, n_points, start_offset, init, max_slope)
+        return _plan(
+            reward, nominal, scene, horizon, n_points, start_offset, init, max_slope, goal_approach
+        )
 
 
 def _plan(
@@ -392,11 +426,14 @@ def _plan(
     start_offset: Any,
     init: Any,
     max_slope: float,
+    goal_approach: float | None,
 ) -> Plan:
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = np.zeros(m) if start_offset is None else np.asarray(start_offset, float).reshape(m)
-    problem = _build(reward, corridor, scene, check_positive(max_slope, "max_slope"))
+    problem = _build(
+        reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach
+    )
     start_point = corridor.points[0] + d0 @ corridor.normals[0]
     _check_start(start_point, problem, scene.radii if len(scene) else np.zeros(0))
     if horizon is None:
