@@ -1,0 +1,622 @@
+"""UR5 robot benchmark: kinematics (this part) and simulation (added separately).
+
+Run ``python benchmarks/robot.py`` (``--help`` for options; ``--quick`` for a
+smoke run of a few seconds). Prints one table per section and a final targets
+table (PASS/FAIL/SKIP), writes ``robot.json`` to ``--output``
+(``benchmarks/results/robot`` by default). Exits 0 even when a target fails.
+All work runs under ``threadpoolctl.threadpool_limits(1)`` (one BLAS thread:
+the machine has two cores and may be shared).
+
+The model is :mod:`lfdkit.robot.ur5`: the thesis's standard DH table
+(Table 6.3; ``d = (0.08916, 0, 0, 0.10915, 0.09465, 0.0823)`` m,
+``a = (0, -0.425, -0.39225, 0, 0, 0)`` m, ``alpha = (π/2, 0, 0, π/2, -π/2, 0)``,
+link transform ``Rz(θ) Tz(d) Tx(a) Rx(α)``), ``forward`` (FK) and ``inverse``
+(closed-form IK, all eight branches, NaN rows where a branch does not exist).
+
+Errors between two poses: position error = Euclidean distance of the
+translations (m); rotation error = Frobenius norm ``‖R_a - R_b‖_F``
+(dimensionless), also given as the angle of ``R_aᵀ R_b``,
+``2 asin(‖R_a - R_b‖_F / (2√2))`` (rad; accurate near 0, unlike ``acos``).
+
+Kinematics
+==========
+
+K1. FK cross-check
+------------------
+``N`` random configurations (10,000; 1,000 with ``--quick``), uniform in
+``[-π, π]^6``. ``lfdkit.robot.ur5.forward`` against two independent
+implementations of the same DH chain:
+
+* roboticstoolbox-python: ``rtb.DHRobot([rtb.RevoluteDH(d, a, alpha), ...])``
+  built from the thesis's table (NOT rtb's own ``models.DH.UR5``, whose
+  parameters need not be the thesis's), ``robot.fkine(q_batch)``;
+* pytransform3d: per configuration and joint, ``Rz(θ) Tz(d) Tx(a) Rx(α)`` as a
+  product of ``transformations.transform_from(rotations.active_matrix_from_angle
+  (...), ...)`` matrices.
+
+Reported: max position and rotation error. Target: max position error
+< 1e-9 m against rtb (SKIP when roboticstoolbox-python cannot be imported;
+pytransform3d is a reference row judged the same way).
+
+K2. IK round trip
+-----------------
+``N`` reachable poses (10,000; 1,000 with ``--quick``) ``forward(q)`` of
+random ``q`` in ``[-π, π]^6``; ``inverse(poses, strict=False)`` returns all
+branches. Every non-NaN solution is put through ``forward`` and compared with
+its pose. Reported: poses, solutions checked, how many poses have 8/6/4/2 (or
+another number of) valid branches, max position and rotation error over all
+solutions, and the share of poses whose original ``q`` is among the solutions
+(modulo 2π, max joint difference < 1e-6 rad); for information also the share
+where it is the row ``branch(q)`` names. Targets: every solution within
+1e-9 m and 1e-9 (Frobenius) of its pose; the original ``q`` recovered for
+100 % of poses.
+
+K3. Throughput
+--------------
+Median of 5 repeats (``time.perf_counter``) of ``forward`` on 10,000
+configurations and ``inverse`` on 10,000 poses (1,000 each with ``--quick``),
+as ms per call, µs per pose and poses per second, side by side with rtb:
+``robot.fkine(q_batch)`` on the same configurations, and rtb's numerical IK
+``robot.ik_LM(T, q0=...)`` (C++ Levenberg-Marquardt, random start from the
+seeded generator, rtb's own random restarts) on the first 200 poses (50 with
+``--quick``), timed per pose, twice: with rtb's default ``tol=1e-6`` and with
+``tol=1e-24``. rtb's tolerance bounds its residual ``E = ½ eᵀ W e``, the SQUARE
+of the pose error, so ``tol=1e-6`` lets the position be off by up to about
+1.4 mm and ``tol=1e-24`` by about 1.4e-12 m (comparable with lfdkit's
+closed form; the time per call hardly changes). The success count and the max
+and median position errors of rtb's solutions are reported. Ratios are rtb's
+time per pose over lfdkit's.
+
+Note that rtb's numerical IK returns ONE solution per call (which of them
+depends on the start), while lfdkit's ``inverse`` returns all eight branches
+of every pose; the IK ratio compares one rtb solution with eight lfdkit ones.
+Absolute times are noisy on this shared two-core machine; the ratios are what
+matters. No speed targets.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from lfdkit.robot import ur5
+
+#: Packages whose versions go into the JSON (later sections may append theirs).
+VERSION_PACKAGES = [
+    "lfdkit",
+    "numpy",
+    "scipy",
+    "threadpoolctl",
+    "roboticstoolbox-python",
+    "spatialmath-python",
+    "pytransform3d",
+]
+
+N_FULL = 10_000
+N_QUICK = 1_000
+RTB_IK_FULL = 200
+RTB_IK_QUICK = 50
+SPEED_REPEATS = 5
+FK_POS_TARGET = 1e-9  # m
+IK_POS_TARGET = 1e-9  # m
+IK_ROT_TARGET = 1e-9  # Frobenius norm of the rotation difference
+RECOVER_TOL = 1e-6  # rad, max joint difference modulo 2π
+RTB_IK_TOLS = (1e-6, 1e-24)
+
+_STARTED = time.perf_counter()
+
+
+# ----------------------------------------------------------------------------- helpers
+def progress(message: str) -> None:
+    sys.stdout.flush()
+    print(f"[{time.perf_counter() - _STARTED:6.1f} s] {message}", file=sys.stderr, flush=True)
+
+
+def sci(x: float | None, digits: int = 2) -> str:
+    return "—" if x is None or not np.isfinite(x) else f"{x:.{digits}e}"
+
+
+def random_configurations(n: int, rng: np.random.Generator) -> np.ndarray:
+    """``n`` configurations uniform in ``[-π, π]^6``, shape (n, 6), radians."""
+    return rng.uniform(-np.pi, np.pi, size=(n, 6))
+
+
+def pose_errors(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Position error (m), rotation error ``‖R_a - R_b‖_F`` and its angle (rad), per pose."""
+    pos = np.linalg.norm(a[..., :3, 3] - b[..., :3, 3], axis=-1)
+    frob = np.linalg.norm(a[..., :3, :3] - b[..., :3, :3], axis=(-2, -1))
+    angle = 2 * np.arcsin(np.minimum(frob / (2 * np.sqrt(2)), 1.0))
+    return pos, frob, angle
+
+
+def wrap(angle: np.ndarray) -> np.ndarray:
+    """Angles wrapped to ``[-π, π)``."""
+    return np.mod(angle + np.pi, 2 * np.pi) - np.pi
+
+
+def median_time(fn, repeats: int) -> tuple[float, list[float], Any]:
+    """Median wall time (s) of ``repeats`` calls of ``fn``, all times, last result."""
+    times, out = [], None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - start)
+    return float(np.median(times)), times, out
+
+
+def import_rtb() -> tuple[Any, str | None]:
+    """``(roboticstoolbox, None)``, or ``(None, reason)`` when it cannot be imported."""
+    try:
+        import roboticstoolbox as rtb
+    except ImportError:
+        return None, "roboticstoolbox-python not installed"
+    except Exception as exc:  # e.g. a binary incompatibility with this numpy
+        return None, f"roboticstoolbox-python failed to import ({type(exc).__name__}: {exc})"
+    return rtb, None
+
+
+def rtb_ur5(rtb) -> Any:
+    """rtb ``DHRobot`` with the thesis's DH table (not rtb's own UR5 model)."""
+    dh = ur5.DH
+    links = [
+        rtb.RevoluteDH(d=d, a=a, alpha=alpha)
+        for d, a, alpha in zip(dh.d, dh.a, dh.alpha, strict=True)
+    ]
+    return rtb.DHRobot(links, name="UR5 (thesis DH)")
+
+
+def rtb_fkine(robot, q: np.ndarray) -> np.ndarray:
+    """rtb forward kinematics of a batch, shape (n, 4, 4)."""
+    return np.asarray(robot.fkine(q).A, dtype=float).reshape(len(q), 4, 4)
+
+
+def pytransform3d_forward(q: np.ndarray) -> np.ndarray:
+    """The DH chain built from pytransform3d matrices, one configuration at a time."""
+    from pytransform3d.rotations import active_matrix_from_angle
+    from pytransform3d.transformations import transform_from
+
+    dh = ur5.DH
+    eye = np.eye(3)
+    # Tz(d) Tx(a) Rx(alpha) does not depend on the joint angle.
+    fixed = [
+        transform_from(eye, [0.0, 0.0, d])
+        @ transform_from(eye, [a, 0.0, 0.0])
+        @ transform_from(active_matrix_from_angle(0, alpha), np.zeros(3))
+        for d, a, alpha in zip(dh.d, dh.a, dh.alpha, strict=True)
+    ]
+    out = np.empty((len(q), 4, 4))
+    for k, qk in enumerate(q):
+        t = np.eye(4)
+        for i in range(6):
+            t = t @ transform_from(active_matrix_from_angle(2, qk[i]), np.zeros(3)) @ fixed[i]
+        out[k] = t
+    return out
+
+
+def error_summary(reference: np.ndarray, poses: np.ndarray) -> dict:
+    pos, frob, angle = pose_errors(reference, poses)
+    return {
+        "max_position_error_m": float(pos.max()),
+        "max_rotation_error_frobenius": float(frob.max()),
+        "max_rotation_error_rad": float(angle.max()),
+        "mean_position_error_m": float(pos.mean()),
+    }
+
+
+# ------------------------------------------------------------------ K1. FK cross-check
+def kinematics_crosscheck(n: int, rng: np.random.Generator) -> dict:
+    """``ur5.forward`` against rtb and pytransform3d on ``n`` random configurations."""
+    q = random_configurations(n, rng)
+    poses = ur5.forward(q)
+    refs: dict[str, dict] = {}
+
+    rtb, reason = import_rtb()
+    if rtb is None:
+        refs["roboticstoolbox-python"] = {"skipped": reason}
+    else:
+        start = time.perf_counter()
+        ref = rtb_fkine(rtb_ur5(rtb), q)
+        refs["roboticstoolbox-python"] = {
+            "call": "DHRobot([RevoluteDH(d, a, alpha) x 6]).fkine(q_batch)",
+            "seconds": time.perf_counter() - start,
+            **error_summary(ref, poses),
+        }
+
+    try:
+        import pytransform3d  # noqa: F401
+    except ImportError:
+        refs["pytransform3d"] = {"skipped": "pytransform3d not installed"}
+    else:
+        start = time.perf_counter()
+        ref = pytransform3d_forward(q)
+        refs["pytransform3d"] = {
+            "call": "transform_from(active_matrix_from_angle(...)) chain, per configuration",
+            "seconds": time.perf_counter() - start,
+            **error_summary(ref, poses),
+        }
+    return {"n": n, "references": refs}
+
+
+# ------------------------------------------------------------------ K2. IK round trip
+def ik_round_trip(n: int, rng: np.random.Generator) -> dict:
+    """``forward(inverse(forward(q)))`` for every branch of ``n`` random poses."""
+    q = random_configurations(n, rng)
+    poses = ur5.forward(q)
+    sols = ur5.inverse(poses, strict=False)  # (n, 8, 6)
+    valid = ~np.isnan(sols).any(axis=-1)  # (n, 8)
+    per_pose = valid.sum(axis=1)
+    values, freq = np.unique(per_pose, return_counts=True)
+    counts = {int(k): int(v) for k, v in zip(values, freq, strict=True)}
+
+    idx_pose, idx_branch = np.nonzero(valid)
+    fk = ur5.forward(sols[idx_pose, idx_branch])
+    pos, frob, angle = pose_errors(fk, poses[idx_pose])
+
+    # Original configuration among the solutions (modulo 2π).
+    with np.errstate(invalid="ignore"):
+        diff = np.abs(wrap(sols - q[:, None, :])).max(axis=-1)  # (n, 8), NaN rows -> NaN
+    diff = np.where(valid, diff, np.inf)
+    closest = diff.min(axis=1)
+    recovered = closest < RECOVER_TOL
+    named = ur5.branch(q)
+    at_branch = diff[np.arange(n), named] < RECOVER_TOL
+
+    worst = int(np.argmax(pos)) if len(pos) else None
+    return {
+        "n_poses": n,
+        "n_solutions": int(valid.sum()),
+        "branch_counts": counts,
+        "poses_without_solution": int((per_pose == 0).sum()),
+        "max_position_error_m": float(pos.max()) if len(pos) else None,
+        "max_rotation_error_frobenius": float(frob.max()) if len(frob) else None,
+        "max_rotation_error_rad": float(angle.max()) if len(angle) else None,
+        "solutions_over_position_target": int((pos >= IK_POS_TARGET).sum()),
+        "solutions_over_rotation_target": int((frob >= IK_ROT_TARGET).sum()),
+        "worst_solution": None
+        if worst is None
+        else {
+            "pose": int(idx_pose[worst]),
+            "branch": int(idx_branch[worst]),
+            "q_original": q[idx_pose[worst]].tolist(),
+            "q_solution": sols[idx_pose[worst], idx_branch[worst]].tolist(),
+        },
+        "recovered": int(recovered.sum()),
+        "recovered_fraction": float(recovered.mean()),
+        "recovered_at_branch_row": int(at_branch.sum()),
+        "max_recovery_joint_error_rad": float(closest[recovered].max())
+        if recovered.any()
+        else None,
+        "not_recovered_q": q[~recovered][:10].tolist(),
+        "recover_tol_rad": RECOVER_TOL,
+    }
+
+
+# ------------------------------------------------------------------ K3. throughput
+def _per_pose(seconds: float, n: int) -> dict:
+    return {
+        "median_s": seconds,
+        "ms": seconds * 1e3,
+        "us_per_pose": seconds / n * 1e6,
+        "poses_per_s": n / seconds,
+    }
+
+
+def kinematics_speed(n: int, quick: bool, seed: int = 0) -> dict:
+    """Median times of lfdkit's FK/IK on ``n`` poses and rtb's fkine / ik_LM."""
+    rng = np.random.default_rng([seed, 3])
+    repeats = SPEED_REPEATS
+    q = random_configurations(n, rng)
+    poses = ur5.forward(q)
+    out: dict[str, Any] = {"n": n, "repeats": repeats, "rows": {}}
+    rows = out["rows"]
+
+    t, times, _ = median_time(lambda: ur5.forward(q), repeats)
+    rows["lfdkit forward"] = {"n": n, **_per_pose(t, n), "times_s": times}
+    t, times, _ = median_time(lambda: ur5.inverse(poses), repeats)
+    rows["lfdkit inverse (8 branches)"] = {"n": n, **_per_pose(t, n), "times_s": times}
+
+    rtb, reason = import_rtb()
+    if rtb is None:
+        out["rtb_skipped"] = reason
+        return out
+    robot = rtb_ur5(rtb)
+    t, times, _ = median_time(lambda: rtb_fkine(robot, q), repeats)
+    rows["rtb fkine"] = {
+        "n": n,
+        **_per_pose(t, n),
+        "times_s": times,
+        "vs": "lfdkit forward",
+        "ratio": t / rows["lfdkit forward"]["median_s"],
+    }
+
+    n_ik = RTB_IK_QUICK if quick else RTB_IK_FULL
+    targets = poses[:n_ik]
+    starts = rng.uniform(-np.pi, np.pi, size=(n_ik, 6))
+    lfd_per_pose = rows["lfdkit inverse (8 branches)"]["median_s"] / n
+    for tol in RTB_IK_TOLS:
+
+        def solve_all(tol=tol):
+            return [robot.ik_LM(T, q0=q0, tol=tol) for T, q0 in zip(targets, starts, strict=True)]
+
+        t, times, sols = median_time(solve_all, repeats)
+        q_rtb = np.array([s.q for s in sols], dtype=float)
+        success = np.array([bool(s.success) for s in sols])
+        pos, frob, _ = pose_errors(ur5.forward(q_rtb), targets)
+        rows[f"rtb ik_LM tol={tol:g} (1 solution)"] = {
+            "n": n_ik,
+            **_per_pose(t, n_ik),
+            "times_s": times,
+            "vs": "lfdkit inverse (8 branches)",
+            "ratio": (t / n_ik) / lfd_per_pose,
+            "success": int(success.sum()),
+            "max_position_error_m": float(pos.max()),
+            "median_position_error_m": float(np.median(pos)),
+            "max_rotation_error_frobenius": float(frob.max()),
+        }
+    return out
+
+
+# ------------------------------------------------------------------ printing and targets
+def print_kinematics(results: dict) -> None:
+    cross = results["crosscheck"]
+    print(
+        f"\nK1. FK cross-check: lfdkit forward vs independent DH chains ({cross['n']:,} random q)"
+    )
+    print(f"{'reference':<24} {'max pos err m':>14} {'max rot err F':>14} {'max angle rad':>14}")
+    for name, r in cross["references"].items():
+        if "skipped" in r:
+            print(f"{name:<24} skipped ({r['skipped']})")
+            continue
+        print(
+            f"{name:<24} {sci(r['max_position_error_m']):>14} "
+            f"{sci(r['max_rotation_error_frobenius']):>14} {sci(r['max_rotation_error_rad']):>14}"
+        )
+
+    ik = results["ik_round_trip"]
+    print("\nK2. IK round trip: forward(inverse(forward(q))) over all branches")
+    counts = ik["branch_counts"]
+    shown = ", ".join(f"{k}: {counts.get(k, 0):,}" for k in (8, 6, 4, 2))
+    other = {k: v for k, v in counts.items() if k not in (8, 6, 4, 2)}
+    if other:
+        shown += ", other " + ", ".join(f"{k}: {v:,}" for k, v in sorted(other.items()))
+    rows = [
+        ("poses", f"{ik['n_poses']:,}"),
+        ("solutions checked", f"{ik['n_solutions']:,}"),
+        ("poses by valid branches", shown),
+        ("max position error m", sci(ik["max_position_error_m"])),
+        ("max rotation error F", sci(ik["max_rotation_error_frobenius"])),
+        ("max rotation angle rad", sci(ik["max_rotation_error_rad"])),
+        (
+            "original q recovered",
+            f"{ik['recovered']:,}/{ik['n_poses']:,} ({100 * ik['recovered_fraction']:.2f} %), "
+            f"max joint diff {sci(ik['max_recovery_joint_error_rad'])} rad",
+        ),
+        ("  ... at row branch(q)", f"{ik['recovered_at_branch_row']:,}/{ik['n_poses']:,}"),
+    ]
+    for label, value in rows:
+        print(f"  {label:<26} {value}")
+
+    speed = results["speed"]
+    print(
+        f"\nK3. Throughput (median of {speed['repeats']} repeats; rtb/lfdkit = ratio of time per "
+        "pose)"
+    )
+    print(
+        f"{'call':<36} {'poses':>6} {'ms':>10} {'µs/pose':>10} {'poses/s':>12} "
+        f"{'rtb/lfdkit':>10}  accuracy"
+    )
+    for name, r in speed["rows"].items():
+        ratio = f"{r['ratio']:.1f}x" if "ratio" in r else ""
+        acc = ""
+        if "success" in r:
+            acc = (
+                f"success {r['success']}/{r['n']}, pos err max {sci(r['max_position_error_m'])}"
+                f" median {sci(r['median_position_error_m'])} m"
+            )
+        print(
+            f"{name:<36} {r['n']:>6,} {r['ms']:>10.2f} {r['us_per_pose']:>10.2f} "
+            f"{r['poses_per_s']:>12,.0f} {ratio:>10}  {acc}"
+        )
+    if "rtb_skipped" in speed:
+        print(f"  rtb rows skipped ({speed['rtb_skipped']})")
+    print(
+        "  rtb ik_LM returns one solution per call, lfdkit inverse all eight branches; "
+        "absolute times are noisy on a shared 2-core machine"
+    )
+
+
+def kinematics_targets(results: dict) -> list[dict]:
+    targets = []
+    for name in ("roboticstoolbox-python", "pytransform3d"):
+        r = results["crosscheck"]["references"].get(name, {"skipped": "not run"})
+        target = f"< {FK_POS_TARGET:g} m"
+        if "skipped" in r:
+            targets.append(
+                {
+                    "name": f"FK max position error vs {name}",
+                    "value": f"skipped ({r['skipped']})",
+                    "target": target,
+                    "status": "SKIP",
+                }
+            )
+            continue
+        err = r["max_position_error_m"]
+        targets.append(
+            {
+                "name": f"FK max position error vs {name}",
+                "value": f"{err:.2e} m (rot {r['max_rotation_error_frobenius']:.2e})",
+                "target": target,
+                "status": "PASS" if err < FK_POS_TARGET else "FAIL",
+            }
+        )
+
+    ik = results["ik_round_trip"]
+    pos, rot = ik["max_position_error_m"], ik["max_rotation_error_frobenius"]
+    ok = pos is not None and pos < IK_POS_TARGET and rot < IK_ROT_TARGET
+    targets.append(
+        {
+            "name": f"IK every solution valid ({ik['n_solutions']:,} solutions)",
+            "value": f"pos {sci(pos)} m, rot {sci(rot)}",
+            "target": f"< {IK_POS_TARGET:g} m, < {IK_ROT_TARGET:g}",
+            "status": "PASS" if ok else "FAIL",
+        }
+    )
+    targets.append(
+        {
+            "name": f"IK original q recovered ({ik['n_poses']:,} poses)",
+            "value": f"{100 * ik['recovered_fraction']:.2f} %",
+            "target": "100 %",
+            "status": "PASS" if ik["recovered"] == ik["n_poses"] else "FAIL",
+        }
+    )
+    return targets
+
+
+def print_targets(targets: list[dict]) -> None:
+    print("\nTARGETS")
+    print(f"  {'status':<6} {'target':<52} {'value':<40} required")
+    for t in targets:
+        print(f"  {t['status']:<6} {t['name']:<52} {t['value']:<40} {t['target']}")
+
+
+# ------------------------------------------------------------------------------ output
+def versions() -> dict:
+    out = {}
+    for package in VERSION_PACKAGES:
+        try:
+            out[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            out[package] = None
+    return out
+
+
+def git_state() -> dict:
+    root = Path(__file__).resolve().parent.parent
+    try:
+        head = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, check=True
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--", "src"],
+            cwd=root,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+        return {"commit": head, "src_modified": bool(dirty)}
+    except (OSError, subprocess.CalledProcessError):
+        return {"commit": None, "src_modified": None}
+
+
+def _clean(value):
+    """JSON-ready copy: arrays and numpy scalars converted, non-finite floats to null."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_clean(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _clean(value.tolist())
+    if isinstance(value, np.generic):
+        return _clean(value.item())
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    return value
+
+
+def write_json(path: Path, sections: dict, targets: list[dict], meta: dict) -> None:
+    """Write ``meta``, the sections' results and the targets to ``path`` atomically."""
+    result = {**meta, **sections, "targets": targets}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            json.dump(_clean(result), fh, indent=2, ensure_ascii=False)
+            fh.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--output", type=Path, default=Path(__file__).parent / "results" / "robot")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help=f"smoke run: {N_QUICK:,} instead of {N_FULL:,} configurations/poses, "
+        f"rtb IK on {RTB_IK_QUICK} instead of {RTB_IK_FULL} poses",
+    )
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    quick = args.quick
+    n = N_QUICK if quick else N_FULL
+    wall = time.perf_counter()
+    sections: dict[str, dict] = {}
+    targets: list[dict] = []
+
+    with threadpool_limits(limits=1):
+        rng = np.random.default_rng(args.seed)
+        progress("K1. FK cross-check ...")
+        kin = {"crosscheck": kinematics_crosscheck(n, rng)}
+        progress("K2. IK round trip ...")
+        kin["ik_round_trip"] = ik_round_trip(n, rng)
+        progress("K3. throughput ...")
+        kin["speed"] = kinematics_speed(n, quick, seed=args.seed)
+        print_kinematics(kin)
+        sections["kinematics"] = kin
+        targets += kinematics_targets(kin)
+
+        # Simulation section: added separately
+        # (append its results to ``sections`` and its targets to ``targets``).
+
+    print_targets(targets)
+    wall = time.perf_counter() - wall
+    print(f"\nwall time {wall:.1f} s")
+
+    meta = {
+        "benchmark": "robot",
+        "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
+        "command": [sys.executable, *sys.argv] if argv is None else ["robot.py", *argv],
+        "quick": quick,
+        "seed": args.seed,
+        "machine": {
+            "python": platform.python_version(),
+            "cpus": os.cpu_count(),
+            "platform": platform.platform(),
+            "processor": platform.processor(),
+            "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        },
+        "versions": versions(),
+        "git": git_state(),
+        "wall_time_s": wall,
+        "settings": {
+            "n": n,
+            "speed_repeats": SPEED_REPEATS,
+            "rtb_ik_poses": RTB_IK_QUICK if quick else RTB_IK_FULL,
+            "rtb_ik_tols": list(RTB_IK_TOLS),
+            "recover_tol_rad": RECOVER_TOL,
+            "dh": {"d": ur5.DH.d, "a": ur5.DH.a, "alpha": ur5.DH.alpha},
+        },
+    }
+    path = args.output / "robot.json"
+    write_json(path, sections, targets, meta)
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,732 @@
+"""MuJoCo simulation of the sweeping experiment (thesis §6.4, Fig 6.14–6.15).
+
+A UR5 with a brush sweeps a green cube over a table into a dustpan, past cups
+and markers. The robot is built from the same DH table as
+:mod:`lfdkit.robot.ur5` (bodies placed by each link's fixed transform, hinges
+about their ``z`` axes), so MuJoCo's flange pose equals :func:`ur5.forward` to
+round-off (:func:`mujoco_flange_poses`). Links are simple capsules with the
+UR5's masses; the brush is a box on a handle; cube, cups and markers are free
+bodies, so physics decides where the cube goes and whether an obstacle is hit.
+
+Frames and units
+----------------
+Metres, seconds, radians. The robot's base frame is the world frame; the table
+top is the plane ``z = 0`` (the UR5 stands on the table, as in Fig 6.14). The
+tool frame is the flange: sweeping poses (:func:`lfdkit.robot.poses.sweeping_poses`)
+put it at ``z = 0.192`` with its ``z`` axis down, its ``x`` axis along the
+path and the brush's long edge along its ``y`` axis. The brush head's bottom
+is :attr:`Brush.clearance` above the table.
+
+Dimensions (:data:`BRUSH`, :data:`CUBE_SIZE`, :class:`Dustpan`) are chosen for
+the synthetic demonstrator of :func:`lfdkit.datasets.emulation.sweeping`,
+which passes 6.3–7.1 cm from a cup's centre (3 cm radius): a brush 5 cm wide
+then clears the cup by 0.8–1.6 cm. The thesis does not give them.
+
+Control
+-------
+Position actuators (PD, ``kp``/``kv`` per joint) follow the time-parameterised
+joint trajectory, commanded at every 2 ms physics step with a velocity
+feed-forward (``q_ref + kv/kp · q̇_ref``) that cancels the damping's lag;
+the links are gravity-compensated. The robot starts at the trajectory's first
+configuration (lowering the brush onto the table is not simulated), waits
+:data:`SETTLE_TIME`, sweeps, and waits again for the cube to come to rest.
+
+Outcome
+-------
+:func:`simulate_sweep` never raises for what happens in the scene: a cube that
+misses the dustpan, a touched obstacle, tracking beyond the tolerance, an
+unstable simulation or (in :func:`execute_sweep`) a path the robot cannot
+follow are reported in :class:`SweepResult` (``success``, ``failures``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from lfdkit._validation import check_path, check_positive
+from lfdkit.emulate.scene import Scene
+from lfdkit.geometry import (
+    path_length,
+    project_onto_polyline,
+    resample_between,
+    smooth_path,
+)
+from lfdkit.robot import ur5
+from lfdkit.robot.poses import SWEEP_HEIGHT, sweeping_poses
+from lfdkit.robot.timing import Timing, time_parameterize
+
+__all__ = [
+    "BRUSH",
+    "CUBE_SIZE",
+    "HOME",
+    "TRACKING_TOLERANCE",
+    "Brush",
+    "Dustpan",
+    "SweepResult",
+    "SweepingTask",
+    "build_model",
+    "execute_sweep",
+    "mujoco_flange_poses",
+    "simulate_sweep",
+    "sweeping_mjcf",
+]
+
+#: Physics step (s).
+TIMESTEP = 0.002
+#: Rest before and after the sweep (s).
+SETTLE_TIME = 0.3
+#: Largest accepted distance of the simulated tool from the planned tool path (m).
+TRACKING_TOLERANCE = 0.005
+#: Side of the green cube (m).
+CUBE_SIZE = 0.025
+#: A configuration with the brush down in front of the robot (rad); picks the IK branch.
+HOME = np.array([0.0, -1.2, 1.6, -1.97, -1.5708, 0.0])
+
+# UR5 link masses (kg), from Universal Robots' published dynamics parameters.
+_LINK_MASS = (3.7, 8.393, 2.275, 1.219, 1.219, 0.1879)
+_LINK_RADIUS = (0.06, 0.054, 0.045, 0.04, 0.04, 0.035)
+_KP = (3000.0, 3000.0, 2000.0, 800.0, 800.0, 500.0)  # N·m/rad
+_KV = (120.0, 120.0, 80.0, 25.0, 25.0, 12.0)  # N·m·s/rad
+_ARMATURE = 0.1  # kg·m², reflected rotor inertia: keeps the stiff PD stable
+
+# Collision groups: the robot and brush hit objects, not the table or themselves.
+_ROBOT = 'contype="2" conaffinity="0"'
+_OBJECT = 'contype="1" conaffinity="3"'
+_FIXED = 'contype="1" conaffinity="1"'
+
+
+@dataclass(frozen=True)
+class Brush:
+    """A box brush head on a handle below the flange.
+
+    Attributes
+    ----------
+    width : float
+        Length of the brush edge, across the path (tool ``y``), m.
+    thickness : float
+        Along the path (tool ``x``), m.
+    height : float
+        Height of the head, m.
+    clearance : float
+        Gap between the head and the table at the sweeping height, m.
+    sweep_height : float
+        Height of the flange while sweeping, m (thesis 0.192).
+    """
+
+    width: float = 0.05
+    thickness: float = 0.02
+    height: float = 0.025
+    clearance: float = 0.002
+    sweep_height: float = SWEEP_HEIGHT
+
+    @property
+    def head_centre(self) -> float:
+        """Distance of the head's centre below the flange, along tool ``z`` (m)."""
+        return self.sweep_height - self.clearance - 0.5 * self.height
+
+
+#: The brush used in the experiment.
+BRUSH = Brush()
+
+
+@dataclass(frozen=True)
+class Dustpan:
+    """A dustpan on the table: a floor flush with the table and three low walls.
+
+    The frame's origin is the middle of the opening; its ``x`` axis points into
+    the dustpan (the direction the cube arrives from), at ``yaw`` from the
+    world ``x`` axis. A cube is *in* the dustpan when its centre lies over
+    the floor, ``0 <= x <= depth`` and ``|y| <= width / 2``.
+
+    Attributes
+    ----------
+    position : ndarray, shape (2,)
+        Middle of the opening, m.
+    yaw : float
+        rad.
+    depth, width : float
+        Inner size of the floor, m.
+    wall_height, wall_thickness : float
+        m.
+    """
+
+    position: np.ndarray
+    yaw: float
+    depth: float = 0.12
+    width: float = 0.16
+    wall_height: float = 0.03
+    wall_thickness: float = 0.006
+
+    def __post_init__(self) -> None:
+        position = np.asarray(self.position, dtype=np.float64)
+        if position.shape != (2,) or not np.all(np.isfinite(position)):
+            raise ValueError(f"dustpan position: expected 2 finite numbers, got {self.position!r}")
+        if not math.isfinite(float(self.yaw)):
+            raise ValueError(f"dustpan yaw: expected a finite angle, got {self.yaw!r}")
+        for name in ("depth", "width", "wall_height", "wall_thickness"):
+            check_positive(getattr(self, name), f"dustpan {name}")
+        object.__setattr__(self, "position", position)
+        object.__setattr__(self, "yaw", float(self.yaw))
+
+    @property
+    def axes(self) -> np.ndarray:
+        """Rows: the dustpan's ``x`` (inwards) and ``y`` axes in the world, (2, 2)."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return np.array([[c, s], [-s, c]])
+
+    def local(self, points: Any) -> np.ndarray:
+        """World points (…, 2) in the dustpan frame."""
+        return (np.asarray(points, dtype=np.float64) - self.position) @ self.axes.T
+
+    def contains(self, point: Any) -> bool:
+        """Whether a point (2,) lies over the floor."""
+        x, y = self.local(point)
+        return bool(0.0 <= x <= self.depth and abs(y) <= 0.5 * self.width)
+
+    def goal(self, depth: float = 0.02) -> np.ndarray:
+        """Where the brush should stop: ``depth`` into the dustpan on its centre line (2,)."""
+        return self.position + depth * self.axes[0]
+
+
+@dataclass(frozen=True)
+class SweepingTask:
+    """The physical scene of one sweep: the cube, the dustpan and the obstacles.
+
+    Attributes
+    ----------
+    cube : ndarray, shape (2,)
+        Start of the cube's centre on the table, m.
+    dustpan : Dustpan
+    scene : Scene
+        Obstacles, 2-D positions on the table. Class ``"marker"`` is a thin
+        tall cylinder, every other class a cup; each obstacle's ``radius`` is
+        the cylinder's (a class default where it is 0).
+    cube_yaw : float
+        Initial heading of the cube (rad), e.g. the path's first direction.
+    """
+
+    cube: np.ndarray
+    dustpan: Dustpan
+    scene: Scene = field(default_factory=Scene)
+    cube_yaw: float = 0.0
+
+    def __post_init__(self) -> None:
+        cube = np.asarray(self.cube, dtype=np.float64)
+        if cube.shape != (2,) or not np.all(np.isfinite(cube)):
+            raise ValueError(f"cube: expected 2 finite numbers, got {self.cube!r}")
+        if not isinstance(self.dustpan, Dustpan):
+            raise TypeError(f"dustpan: expected a Dustpan, got {type(self.dustpan).__name__}")
+        if not isinstance(self.scene, Scene):
+            raise TypeError(f"scene: expected a Scene, got {type(self.scene).__name__}")
+        if len(self.scene) and self.scene.positions.shape[1] != 2:
+            raise ValueError("scene: obstacles must be 2-D positions on the table")
+        object.__setattr__(self, "cube", cube)
+        object.__setattr__(self, "cube_yaw", float(self.cube_yaw))
+
+    @classmethod
+    def for_path(
+        cls, path: Any, dustpan: Dustpan, scene: Scene | None = None, *, brush: Brush = BRUSH
+    ) -> SweepingTask:
+        """The cube placed just in front of the brush at the start of ``path`` (n, 2).
+
+        The direction is that of the path's first 2 cm (a DMP rollout creeps
+        off its start, so the first segment alone can point anywhere).
+        """
+        path = check_path(path, "path", n_dims=2, min_points=2)
+        lead = resample_between(path, 0.0, min(0.02, path_length(path)), 2)
+        tangent = lead[1] - lead[0]
+        if not np.linalg.norm(tangent) > 0:
+            raise ValueError("path: has zero length")
+        tangent /= np.linalg.norm(tangent)
+        ahead = 0.5 * brush.thickness + 0.5 * CUBE_SIZE + 0.004
+        yaw = math.atan2(tangent[1], tangent[0])
+        return cls(path[0] + ahead * tangent, dustpan, Scene() if scene is None else scene, yaw)
+
+
+@dataclass
+class SweepResult:
+    """What happened in one simulated sweep.
+
+    Attributes
+    ----------
+    success : bool
+        Cube in the dustpan, no obstacle touched, tracking within tolerance,
+        simulation stable.
+    cube_in_dustpan : bool
+    touched : list of int
+        Indices (in the task's scene) of obstacles anything touched.
+    tracking_error : float
+        Largest distance of the simulated flange from the planned flange
+        position at the same time, m (nan if not simulated).
+    path_error : float
+        Largest distance of the simulated flange from the planned tool path
+        (a polyline), m.
+    failures : list of str
+        One line per failure; empty on success.
+    cube_final : ndarray, shape (2,)
+        Where the cube came to rest (nan if not simulated).
+    duration : float
+        Length of the sweep, s.
+    times : ndarray, shape (m,)
+        Sample times of the traces, s.
+    tool_trace : ndarray, shape (m, 3)
+        Simulated flange positions, m.
+    cube_trace : ndarray, shape (m, 2)
+        Simulated cube centre, m.
+    obstacle_shift : ndarray, shape (L,)
+        How far each obstacle moved, m.
+    joint_path : ndarray, shape (n, 6) or None
+        The commanded joint waypoints, rad.
+    timing : Timing or None
+    """
+
+    success: bool
+    cube_in_dustpan: bool
+    touched: list[int]
+    tracking_error: float
+    path_error: float
+    failures: list[str]
+    cube_final: np.ndarray
+    duration: float
+    times: np.ndarray
+    tool_trace: np.ndarray
+    cube_trace: np.ndarray
+    obstacle_shift: np.ndarray
+    joint_path: np.ndarray | None = None
+    timing: Timing | None = field(default=None, repr=False)
+
+    def summary(self) -> str:
+        """One line: success or the failures."""
+        if self.success:
+            return (
+                f"success: cube in the dustpan, no obstacle touched, "
+                f"tracking {self.tracking_error * 1e3:.2f} mm"
+            )
+        return "; ".join(self.failures)
+
+
+# ------------------------------------------------------------------ model
+def _fmt(values: Any) -> str:
+    return " ".join(repr(float(v)) for v in np.atleast_1d(values))
+
+
+def _robot_xml(brush: Brush) -> str:
+    """Nested bodies of the UR5 from the DH table, the flange site and the brush.
+
+    Body ``i`` turns about its ``z`` axis by ``θ_i``; the next body sits at
+    the link's fixed transform ``Tz(d_i) Tx(a_i) Rx(α_i)``, i.e. at position
+    ``(a_i, 0, d_i)`` with the rotation ``Rx(α_i)``.
+    """
+    dh = ur5.DH
+    opening, closing = [], []
+    placement = ""  # link 1 sits at the base frame
+    for i in range(6):
+        pad = "    " * (i + 2)
+        child = np.array([dh.a[i], 0.0, dh.d[i]])
+        shape = (
+            f'type="capsule" fromto="0 0 0 {_fmt(child)}"'
+            if np.linalg.norm(child) > 0
+            else 'type="sphere"'
+        )
+        opening += [
+            f'{pad}<body name="link{i + 1}"{placement} gravcomp="1">',
+            f'{pad}  <joint name="joint{i + 1}" axis="0 0 1" '
+            f'range="{_fmt(ur5.JOINT_LIMITS[i])}" armature="{_ARMATURE}" damping="0.5"/>',
+            f'{pad}  <geom {shape} size="{_LINK_RADIUS[i]}" mass="{_LINK_MASS[i]}" '
+            f'rgba="0.6 0.65 0.7 1" {_ROBOT}/>',
+        ]
+        closing.insert(0, f"{pad}</body>")
+        half = 0.5 * dh.alpha[i]
+        placement = f' pos="{_fmt(child)}" quat="{_fmt([math.cos(half), math.sin(half), 0, 0])}"'
+    pad = "    " * 8
+    flange = [
+        f'{pad}<body name="flange"{placement} gravcomp="1">',
+        f'{pad}  <site name="flange" size="0.005" rgba="1 0 0 1"/>',
+        f'{pad}  <geom name="handle" type="cylinder" fromto="0 0 0 0 0 {brush.head_centre!r}" '
+        f'size="0.008" mass="0.1" rgba="0.45 0.3 0.2 1" {_ROBOT}/>',
+        f'{pad}  <geom name="brush" type="box" pos="0 0 {brush.head_centre!r}" '
+        f'size="{0.5 * brush.thickness!r} {0.5 * brush.width!r} {0.5 * brush.height!r}" '
+        f'mass="0.1" friction="0.8 0.01 0.001" rgba="0.9 0.75 0.2 1" {_ROBOT}/>',
+        f"{pad}</body>",
+    ]
+    return "\n".join(opening + flange + closing)
+
+
+def _obstacle_xml(scene: Scene) -> str:
+    lines = []
+    for index, obstacle in enumerate(scene):
+        marker = obstacle.label == "marker"
+        radius = float(obstacle.radius) or (0.01 if marker else 0.03)
+        height, mass = (0.14, 0.02) if marker else (0.10, 0.25)
+        colour = "0.1 0.1 0.8 1" if marker else "0.85 0.85 0.9 1"
+        x, y = (float(v) for v in obstacle.position)
+        lines.append(
+            f'    <body name="obstacle{index}" pos="{x!r} {y!r} {0.5 * height + 1e-4}">\n'
+            f'      <freejoint name="obstacle{index}"/>\n'
+            f'      <geom name="obstacle{index}" type="cylinder" size="{radius!r} {0.5 * height}" '
+            f'mass="{mass}" rgba="{colour}" {_OBJECT}/>\n'
+            f"    </body>"
+        )
+    return "\n".join(lines)
+
+
+def _dustpan_xml(pan: Dustpan) -> str:
+    t, h = pan.wall_thickness, pan.wall_height
+    x, y = (float(v) for v in pan.position)
+    half_w = 0.5 * pan.width
+    quat = _fmt([math.cos(0.5 * pan.yaw), 0.0, 0.0, math.sin(0.5 * pan.yaw)])
+    return (
+        f'    <body name="dustpan" pos="{x!r} {y!r} 0" quat="{quat}">\n'
+        f'      <geom name="dustpan_floor" type="box" pos="{0.5 * pan.depth} 0 0.0005" '
+        f'size="{0.5 * pan.depth} {half_w} 0.0005" rgba="0.2 0.2 0.2 1" '
+        f'contype="0" conaffinity="0"/>\n'
+        f'      <geom name="dustpan_back" type="box" pos="{pan.depth + 0.5 * t} 0 {0.5 * h}" '
+        f'size="{0.5 * t} {half_w + t} {0.5 * h}" rgba="0.3 0.3 0.3 1" {_OBJECT}/>\n'
+        f'      <geom name="dustpan_left" type="box" pos="{0.5 * pan.depth} {half_w + 0.5 * t} '
+        f'{0.5 * h}" size="{0.5 * pan.depth} {0.5 * t} {0.5 * h}" rgba="0.3 0.3 0.3 1" '
+        f"{_OBJECT}/>\n"
+        f'      <geom name="dustpan_right" type="box" pos="{0.5 * pan.depth} '
+        f'{-(half_w + 0.5 * t)} {0.5 * h}" size="{0.5 * pan.depth} {0.5 * t} {0.5 * h}" '
+        f'rgba="0.3 0.3 0.3 1" {_OBJECT}/>\n'
+        f"    </body>"
+    )
+
+
+def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> str:
+    """The MJCF (MuJoCo XML) of the UR5 with a brush, table and the task's objects.
+
+    With ``task`` None: the robot and the table only (for kinematic checks).
+    """
+    quarter = CUBE_SIZE / 2
+    objects = ""
+    if task is not None:
+        cx, cy = (float(v) for v in task.cube)
+        cube_quat = _fmt([math.cos(0.5 * task.cube_yaw), 0.0, 0.0, math.sin(0.5 * task.cube_yaw)])
+        objects = "\n".join(
+            [
+                f'    <body name="cube" pos="{cx!r} {cy!r} {quarter + 1e-4}" quat="{cube_quat}">',
+                '      <freejoint name="cube"/>',
+                f'      <geom name="cube" type="box" size="{quarter} {quarter} {quarter}" '
+                f'mass="0.03" friction="0.5 0.01 0.001" rgba="0.1 0.8 0.1 1" {_OBJECT}/>',
+                "    </body>",
+                _dustpan_xml(task.dustpan),
+                _obstacle_xml(task.scene),
+            ]
+        )
+    return f"""<mujoco model="lfdkit UR5 sweeping">
+  <compiler angle="radian" autolimits="true"/>
+  <option timestep="{TIMESTEP}" integrator="implicitfast" cone="elliptic"/>
+  <visual>
+    <global offwidth="960" offheight="720"/>
+    <quality shadowsize="2048"/>
+  </visual>
+  <default>
+    <geom friction="0.5 0.01 0.001" solref="0.004 1"/>
+  </default>
+  <worldbody>
+    <light pos="0.3 0.2 2.0" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
+    <camera name="overview" pos="0.0 1.3 0.85" xyaxes="-1 0 0 0 -0.687 0.727" fovy="50"/>
+    <camera name="top" pos="0.0 0.45 1.6" xyaxes="1 0 0 0 1 0"/>
+    <geom name="table" type="plane" size="1.2 1.2 0.01" rgba="0.85 0.78 0.65 1" {_FIXED}/>
+    <geom name="base" type="cylinder" size="0.075 0.045" pos="0 0 0.045"
+          rgba="0.3 0.3 0.35 1" contype="0" conaffinity="0"/>
+{_robot_xml(brush)}
+{objects}
+  </worldbody>
+  <actuator>
+{_actuators_xml()}
+  </actuator>
+</mujoco>
+"""
+
+
+def _actuators_xml() -> str:
+    return "\n".join(
+        f'    <position name="joint{i + 1}" joint="joint{i + 1}" kp="{_KP[i]}" kv="{_KV[i]}"/>'
+        for i in range(6)
+    )
+
+
+def _mujoco() -> Any:
+    try:
+        import mujoco
+    except ImportError as exc:  # declared dependency; a broken install is worth a clear word
+        raise ImportError("lfdkit.robot.sim needs MuJoCo: python -m pip install mujoco") from exc
+    return mujoco
+
+
+def build_model(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> Any:
+    """The compiled ``mujoco.MjModel`` of :func:`sweeping_mjcf`."""
+    return _mujoco().MjModel.from_xml_string(sweeping_mjcf(task, brush=brush))
+
+
+def mujoco_flange_poses(q: Any) -> np.ndarray:
+    """Flange poses computed by MuJoCo's own kinematics (independent of ``ur5.forward``).
+
+    Parameters
+    ----------
+    q : array_like, shape (6,) or (n, 6)
+        Joint angles, rad.
+
+    Returns
+    -------
+    ndarray, shape (4, 4) or (n, 4, 4)
+    """
+    mujoco = _mujoco()
+    arr = np.asarray(q, dtype=np.float64)
+    single = arr.ndim == 1
+    arr = np.atleast_2d(arr)
+    if arr.shape[1] != 6 or not np.all(np.isfinite(arr)):
+        raise ValueError(
+            f"q: expected finite joint angles of shape (6,) or (n, 6), got {arr.shape}"
+        )
+    model = build_model()
+    data = mujoco.MjData(model)
+    site = model.site("flange").id
+    out = np.tile(np.eye(4), (arr.shape[0], 1, 1))
+    for i, config in enumerate(arr):
+        data.qpos[:6] = config
+        mujoco.mj_kinematics(model, data)
+        out[i, :3, :3] = data.site_xmat[site].reshape(3, 3)
+        out[i, :3, 3] = data.site_xpos[site]
+    return out[0] if single else out
+
+
+# ------------------------------------------------------------------ running
+def _render_camera(
+    mujoco: Any, model: Any, data: Any, camera: str, traces: list[tuple[np.ndarray, tuple]]
+) -> np.ndarray | None:
+    """An RGB image (h, w, 3) with traces drawn as dots; None without an OpenGL context."""
+    try:
+        with mujoco.Renderer(model, 720, 960) as renderer:
+            renderer.update_scene(data, camera=camera)
+            scene = renderer.scene
+            for points, rgba in traces:
+                for point in points[:: max(1, len(points) // 150)]:
+                    if scene.ngeom >= scene.maxgeom:
+                        break
+                    mujoco.mjv_initGeom(
+                        scene.geoms[scene.ngeom],
+                        mujoco.mjtGeom.mjGEOM_SPHERE,
+                        np.array([0.004, 0.0, 0.0]),
+                        np.asarray(point, dtype=np.float64),
+                        np.eye(3).ravel(),
+                        np.asarray(rgba, dtype=np.float32),
+                    )
+                    scene.ngeom += 1
+            return renderer.render().copy()
+    except Exception:  # no EGL/OSMesa/GLFW: rendering is optional
+        return None
+
+
+def simulate_sweep(
+    timing: Timing,
+    task: SweepingTask,
+    *,
+    brush: Brush = BRUSH,
+    tolerance: float = TRACKING_TOLERANCE,
+    render: bool = False,
+    camera: str = "overview",
+    sample_rate: float = 50.0,
+) -> SweepResult:
+    """Run a joint trajectory in the sweeping scene and report what happened.
+
+    Parameters
+    ----------
+    timing : Timing
+        The joint trajectory (:func:`lfdkit.robot.timing.time_parameterize`).
+    task : SweepingTask
+    brush : Brush
+    tolerance : float
+        Largest accepted tracking error, m.
+    render : bool
+        Also render the final scene (``SweepResult.image``; None without OpenGL).
+    camera : {"overview", "top"}
+    sample_rate : float
+        Rate of the recorded traces, Hz.
+
+    Returns
+    -------
+    SweepResult
+        With ``image`` (ndarray (720, 960, 3) or None) added when ``render``.
+    """
+    mujoco = _mujoco()
+    if not isinstance(timing, Timing):
+        raise TypeError(f"timing: expected a Timing, got {type(timing).__name__}")
+    if timing.n_joints != 6:
+        raise ValueError(f"timing: expected 6 joints for a UR5, got {timing.n_joints}")
+    tolerance = check_positive(tolerance, "tolerance")
+    model = build_model(task, brush=brush)
+    data = mujoco.MjData(model)
+    flange = model.site("flange").id
+    cube = model.body("cube").id
+    n_obstacles = len(task.scene)
+    obstacle_geoms = {model.geom(f"obstacle{i}").id: i for i in range(n_obstacles)}
+    obstacle_bodies = [model.body(f"obstacle{i}").id for i in range(n_obstacles)]
+    table = model.geom("table").id
+
+    q0 = timing.sample(0.0)[0]
+    data.qpos[:6] = q0
+    data.ctrl[:] = q0
+    mujoco.mj_forward(model, data)
+    obstacle_start = np.array([data.xpos[b, :2] for b in obstacle_bodies]).reshape(-1, 2)
+    kv_over_kp = np.array(_KV) / np.array(_KP)
+    duration = timing.duration
+    total = duration + 2 * SETTLE_TIME
+    n_steps = int(math.ceil(total / TIMESTEP))
+    every = max(1, int(round(1.0 / (sample_rate * TIMESTEP))))
+    step_times = np.arange(1, n_steps + 1) * TIMESTEP
+    q_ref, qd_ref, _ = timing.sample(step_times - SETTLE_TIME)
+    planned = ur5.forward(q_ref)[:, :3, 3]
+
+    touched: set[int] = set()
+    times, tool, cube_xy = [], [], []
+    worst = 0.0
+    unstable = ""
+    for k in range(n_steps):
+        data.ctrl[:] = q_ref[k] + kv_over_kp * qd_ref[k]
+        mujoco.mj_step(model, data)
+        if not np.all(np.isfinite(data.qpos)):
+            unstable = f"simulation became unstable at t = {data.time:.3f} s"
+            break
+        worst = max(worst, float(np.linalg.norm(data.site_xpos[flange] - planned[k])))
+        for contact in data.contact[: data.ncon]:
+            for geom, other in ((contact.geom1, contact.geom2), (contact.geom2, contact.geom1)):
+                if geom in obstacle_geoms and other != table:
+                    touched.add(obstacle_geoms[geom])
+        if k % every == 0 or k == n_steps - 1:
+            times.append(data.time)
+            tool.append(data.site_xpos[flange].copy())
+            cube_xy.append(data.xpos[cube, :2].copy())
+
+    tool_trace = np.array(tool).reshape(-1, 3)
+    cube_trace = np.array(cube_xy).reshape(-1, 2)
+    cube_final = cube_trace[-1] if len(cube_trace) else np.full(2, np.nan)
+    shift = np.array(
+        [
+            np.linalg.norm(data.xpos[b, :2] - obstacle_start[i])
+            for i, b in enumerate(obstacle_bodies)
+        ]
+    )
+    sweeping = (np.array(times) >= SETTLE_TIME) & (np.array(times) <= SETTLE_TIME + duration)
+    path_error = (
+        float(project_onto_polyline(tool_trace[sweeping], planned)[2].max())
+        if sweeping.any() and not unstable
+        else float("nan")
+    )
+    in_pan = bool(not unstable and task.dustpan.contains(cube_final))
+    failures = []
+    if unstable:
+        failures.append(unstable)
+        worst = float("nan")
+    if not in_pan and not unstable:
+        x, y = task.dustpan.local(cube_final)
+        failures.append(
+            f"cube missed the dustpan: rests at ({x:+.3f}, {y:+.3f}) m in the dustpan's frame"
+        )
+    for i in sorted(touched):
+        obstacle = task.scene.obstacles[i]
+        failures.append(f"touched obstacle {i} ({obstacle.label}), moved {shift[i] * 1e3:.1f} mm")
+    if not unstable and worst > tolerance:
+        failures.append(f"tracking error {worst * 1e3:.2f} mm exceeds {tolerance * 1e3:.2f} mm")
+    result = SweepResult(
+        success=not failures,
+        cube_in_dustpan=in_pan,
+        touched=sorted(touched),
+        tracking_error=worst,
+        path_error=path_error,
+        failures=failures,
+        cube_final=cube_final,
+        duration=duration,
+        times=np.array(times),
+        tool_trace=tool_trace,
+        cube_trace=cube_trace,
+        obstacle_shift=shift,
+        joint_path=timing.waypoints,
+        timing=timing,
+    )
+    if render:
+        ground = np.column_stack([planned[:, :2], np.full(len(planned), 0.003)])
+        cube_path = np.column_stack([cube_trace, np.full(len(cube_trace), 0.003)])
+        traces = [(ground, (0.9, 0.1, 0.1, 1.0)), (cube_path, (0.1, 0.7, 0.1, 1.0))]
+        result.image = _render_camera(mujoco, model, data, camera, traces)
+    else:
+        result.image = None
+    return result
+
+
+def _failed(message: str, task: SweepingTask) -> SweepResult:
+    """A result for a sweep that could not be run."""
+    return SweepResult(
+        success=False,
+        cube_in_dustpan=False,
+        touched=[],
+        tracking_error=float("nan"),
+        path_error=float("nan"),
+        failures=[message],
+        cube_final=np.full(2, np.nan),
+        duration=float("nan"),
+        times=np.zeros(0),
+        tool_trace=np.zeros((0, 3)),
+        cube_trace=np.zeros((0, 2)),
+        obstacle_shift=np.zeros(len(task.scene)),
+    )
+
+
+def execute_sweep(
+    path: Any,
+    task: SweepingTask,
+    *,
+    brush: Brush = BRUSH,
+    smoothing: float = 0.01,
+    speed_fraction: float = 0.2,
+    q_home: Any = HOME,
+    tolerance: float = TRACKING_TOLERANCE,
+    render: bool = False,
+    camera: str = "overview",
+) -> SweepResult:
+    """Sweep along a planned table path in MuJoCo: poses, IK, timing, simulation.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, 2)
+        The planned path of the brush on the table (e.g. :meth:`lfdkit.skill.Skill.plan`), m.
+    task : SweepingTask
+    brush : Brush
+    smoothing : float
+        Width (m) of the corner rounding (:func:`lfdkit.geometry.smooth_path`)
+        applied before the poses are made: a plan's corners would otherwise
+        turn the brush abruptly. 0 leaves the path as it is.
+    speed_fraction : float
+        Fraction of the UR5's joint speed limits (thesis: playback at 0.2).
+    q_home : array_like, shape (6,)
+        Configuration that picks the IK branch.
+    tolerance : float
+        Largest accepted tracking error, m.
+    render : bool
+        Render the final scene (``SweepResult.image``).
+    camera : {"overview", "top"}
+
+    Returns
+    -------
+    SweepResult
+        A path the robot cannot follow (unreachable, joint limits, a
+        singularity) is reported as a failure, not raised.
+    """
+    path = check_path(path, "path", n_dims=2, min_points=2)
+    if smoothing:
+        path = smooth_path(path, check_positive(smoothing, "smoothing"), max(len(path), 100))
+    frames = sweeping_poses(path, height=brush.sweep_height)
+    try:
+        q_start = ur5.nearest_solution(frames[0], q_home)
+        joints = ur5.inverse_path(frames, q_start)
+    except ur5.KinematicsError as exc:
+        return _failed(f"the robot cannot follow the path: {exc}", task)
+    timing = time_parameterize(joints, speed_fraction=speed_fraction)
+    return simulate_sweep(
+        timing, task, brush=brush, tolerance=tolerance, render=render, camera=camera
+    )
