@@ -35,6 +35,7 @@ __all__ = [
     "emulation_grid",
     "mean_path_figure",
     "retargeting_figure",
+    "sweep_figure",
 ]
 
 #: Consistent colours per method across every figure.
@@ -744,4 +745,82 @@ def emulation_grid(
     _figure_legend(fig, axes, max_cols=8)
     if title:
         fig.suptitle(title)
+    return fig
+
+
+# --------------------------------------------------------------------- execution
+def _draw_dustpan(ax: Axes, dustpan) -> None:
+    """The dustpan's floor as an outline; its open side dashed."""
+    corners = np.array([[0.0, -0.5], [dustpan.depth, -0.5], [dustpan.depth, 0.5], [0.0, 0.5]]) * [
+        1.0,
+        dustpan.width,
+    ]
+    world = dustpan.position + corners @ dustpan.axes
+    ax.plot(*world.T, color="0.25", linewidth=2.0, label="dustpan", zorder=2)
+    ax.plot(*world[[3, 0]].T, color="0.25", linewidth=1.0, linestyle=":", zorder=2)
+
+
+def sweep_figure(
+    dustpan,
+    scene,
+    runs: Mapping[str, object],
+    *,
+    ax: Axes | None = None,
+    title: str = "",
+) -> Figure:
+    """Top view of simulated sweeps: the brush's and the cube's traces, dustpan and obstacles.
+
+    Parameters
+    ----------
+    dustpan : lfdkit.robot.sim.Dustpan
+    scene : Scene
+        Obstacles at their start positions.
+    runs : mapping of str to SweepResult
+        One or more simulated sweeps in this scene, by planner name.
+    ax : Axes, optional
+        Draw into these axes (default: a new figure).
+    title : str
+
+    Returns
+    -------
+    Figure
+
+    Notes
+    -----
+    Each run's flange trace is a solid line, the cube's a dotted line of the
+    same colour ending in a square where the cube came to rest; the legend
+    says whether the run succeeded.
+    """
+    if ax is None:
+        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        ax = fig.add_subplot()
+    else:
+        fig = ax.figure
+    _draw_dustpan(ax, dustpan)
+    draw_scene(ax, scene)
+    colors = _plan_colors(list(runs))
+    for name, result in runs.items():
+        color = colors[name]
+        verdict = "ok" if result.success else "failed"
+        if len(result.tool_trace):
+            ax.plot(
+                *result.tool_trace[:, :2].T,
+                color=color,
+                linewidth=1.6,
+                label=f"{name} ({verdict})",
+                zorder=4,
+            )
+            ax.plot(*result.cube_trace.T, color=color, linewidth=1.0, linestyle=":", zorder=4)
+            ax.plot(
+                *result.cube_final, "s", color=color, markeredgecolor="k", markersize=6, zorder=5
+            )
+        else:
+            ax.plot([], [], color=color, label=f"{name} (not run)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, alpha=0.3)
+    if title:
+        ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=7, loc="best")
     return fig

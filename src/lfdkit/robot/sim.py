@@ -52,6 +52,7 @@ from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import (
     path_length,
     project_onto_polyline,
+    resample,
     resample_between,
     smooth_path,
 )
@@ -577,15 +578,18 @@ def simulate_sweep(
     kv_over_kp = np.array(_KV) / np.array(_KP)
     duration = timing.duration
     total = duration + 2 * SETTLE_TIME
-    n_steps = int(math.ceil(total / TIMESTEP))
-    every = max(1, int(round(1.0 / (sample_rate * TIMESTEP))))
+    n_steps = math.ceil(total / TIMESTEP)
+    every = max(1, round(1.0 / (sample_rate * TIMESTEP)))
     step_times = np.arange(1, n_steps + 1) * TIMESTEP
     q_ref, qd_ref, _ = timing.sample(step_times - SETTLE_TIME)
     planned = ur5.forward(q_ref)[:, :3, 3]
 
+    obstacle_of = np.full(model.ngeom, -1)  # obstacle index of each geom, -1 for others
+    for geom, index in obstacle_geoms.items():
+        obstacle_of[geom] = index
     touched: set[int] = set()
-    times, tool, cube_xy = [], [], []
-    worst = 0.0
+    tool_all = np.full((n_steps, 3), np.nan)
+    cube_all = np.full((n_steps, 2), np.nan)
     unstable = ""
     for k in range(n_steps):
         data.ctrl[:] = q_ref[k] + kv_over_kp * qd_ref[k]
@@ -593,26 +597,26 @@ def simulate_sweep(
         if not np.all(np.isfinite(data.qpos)):
             unstable = f"simulation became unstable at t = {data.time:.3f} s"
             break
-        worst = max(worst, float(np.linalg.norm(data.site_xpos[flange] - planned[k])))
-        for contact in data.contact[: data.ncon]:
-            for geom, other in ((contact.geom1, contact.geom2), (contact.geom2, contact.geom1)):
-                if geom in obstacle_geoms and other != table:
-                    touched.add(obstacle_geoms[geom])
-        if k % every == 0 or k == n_steps - 1:
-            times.append(data.time)
-            tool.append(data.site_xpos[flange].copy())
-            cube_xy.append(data.xpos[cube, :2].copy())
+        tool_all[k] = data.site_xpos[flange]
+        cube_all[k] = data.xpos[cube, :2]
+        if data.ncon:
+            pairs = data.contact.geom[: data.ncon]
+            hit = obstacle_of[pairs]
+            # an obstacle resting on the table is not touched; anything else is
+            for side in (0, 1):
+                mask = (hit[:, side] >= 0) & (pairs[:, 1 - side] != table)
+                touched.update(int(i) for i in hit[mask, side])
 
-    tool_trace = np.array(tool).reshape(-1, 3)
-    cube_trace = np.array(cube_xy).reshape(-1, 2)
+    n_done = k + 1 if not unstable else k
+    recorded = np.arange(0, n_done, every)
+    if n_done and recorded[-1] != n_done - 1:
+        recorded = np.append(recorded, n_done - 1)
+    times = step_times[recorded]
+    tool_trace, cube_trace = tool_all[recorded], cube_all[recorded]
+    worst = float(np.linalg.norm(tool_all[:n_done] - planned[:n_done], axis=1).max())
     cube_final = cube_trace[-1] if len(cube_trace) else np.full(2, np.nan)
-    shift = np.array(
-        [
-            np.linalg.norm(data.xpos[b, :2] - obstacle_start[i])
-            for i, b in enumerate(obstacle_bodies)
-        ]
-    )
-    sweeping = (np.array(times) >= SETTLE_TIME) & (np.array(times) <= SETTLE_TIME + duration)
+    shift = np.linalg.norm(data.xpos[obstacle_bodies, :2] - obstacle_start, axis=1)
+    sweeping = (times >= SETTLE_TIME) & (times <= SETTLE_TIME + duration)
     path_error = (
         float(project_onto_polyline(tool_trace[sweeping], planned)[2].max())
         if sweeping.any() and not unstable
@@ -642,7 +646,7 @@ def simulate_sweep(
         failures=failures,
         cube_final=cube_final,
         duration=duration,
-        times=np.array(times),
+        times=times,
         tool_trace=tool_trace,
         cube_trace=cube_trace,
         obstacle_shift=shift,
@@ -718,8 +722,13 @@ def execute_sweep(
         singularity) is reported as a failure, not raised.
     """
     path = check_path(path, "path", n_dims=2, min_points=2)
+    # A pose every 2 mm: a sharp but real turn of the brush stays below the IK's
+    # branch-flip threshold between consecutive poses.
+    n_poses = max(len(path), math.ceil(path_length(path) / 0.002) + 1)
     if smoothing:
-        path = smooth_path(path, check_positive(smoothing, "smoothing"), max(len(path), 100))
+        path = smooth_path(path, check_positive(smoothing, "smoothing"), n_poses)
+    else:
+        path = resample(path, n_poses)
     frames = sweeping_poses(path, height=brush.sweep_height)
     try:
         q_start = ur5.nearest_solution(frames[0], q_home)
