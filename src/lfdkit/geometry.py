@@ -244,7 +244,9 @@ def smooth_path(path: np.ndarray, width: float, n_points: int | None = None) -> 
 
     path = check_path(path, "path", min_points=2)
     width = check_positive(width, "width")
-    n_out = path.shape[0] if n_points is None else check_positive(n_points, "n_points", integer=True)
+    n_out = (
+        path.shape[0] if n_points is None else check_positive(n_points, "n_points", integer=True)
+    )
     if n_out < 2:
         raise ValueError(f"n_points: needs at least 2, got {n_out}")
     length = path_length(path)

@@ -220,7 +220,7 @@ class _Problem:
 
     def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
-        n, m = d.shape
+        m = d.shape[1]
         cost = float(np.sum(self.weight[:, None] * d * d))
         gradient = 2.0 * self.weight[:, None] * d
         hessian = 2.0 * self.weight[:, None, None] * np.eye(m)[None]
@@ -431,9 +431,7 @@ def _plan(
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = np.zeros(m) if start_offset is None else np.asarray(start_offset, float).reshape(m)
-    problem = _build(
-        reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach
-    )
+    problem = _build(reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach)
     start_point = corridor.points[0] + d0 @ corridor.normals[0]
     _check_start(start_point, problem, scene.radii if len(scene) else np.zeros(0))
     if horizon is None:

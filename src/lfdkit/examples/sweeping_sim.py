@@ -103,10 +103,10 @@ def random_scenarios(
     start = np.asarray(start, dtype=np.float64)
     scenarios = []
     for _ in range(n):
-        opening = NOMINAL_DUSTPAN + [
-            -rng.uniform(0.0, dustpan_shift[0]),
-            rng.uniform(-dustpan_shift[1], dustpan_shift[1]),
-        ]
+        shift = np.array(
+            [-rng.uniform(0.0, dustpan_shift[0]), rng.uniform(-dustpan_shift[1], dustpan_shift[1])]
+        )
+        opening = NOMINAL_DUSTPAN + shift
         direction = opening - start
         yaw = math.atan2(direction[1], direction[0])
         dustpan = Dustpan(opening, yaw)
