@@ -248,6 +248,26 @@ def test_plan_csv_equals_the_python_plan(capsys, tmp_path, skill_path):
     assert np.array_equal(rows[0], START)
 
 
+def test_plan_goal_approach_ends_at_the_goal(capsys, skill_path):
+    goal = np.array([0.36, 0.5])
+    cup = "cup:0.0,0.47,r=0.03"
+    args = ("plan", skill_path, "--goal", "0.36,0.5", "--obstacle", cup)
+    code, stdout, err = run_cli(capsys, *args)
+    assert code == 0, err
+    thesis_end = read_plan_csv(stdout)[1][-1]
+    assert np.linalg.norm(thesis_end - goal) > 0.02  # the swerve leaves it beside the goal
+    code, stdout, err = run_cli(capsys, *args, "--goal-approach", "0.1")
+    assert code == 0, err
+    rows = read_plan_csv(stdout)[1]
+    np.testing.assert_allclose(rows[-1], goal, atol=1e-3)
+    skill = Skill.load(skill_path)
+    scene = Scene((Obstacle("cup", [0.0, 0.47], 0.03),))
+    assert np.array_equal(rows, skill.plan(None, goal, scene, goal_approach=0.1))
+    code, _, err = run_cli(capsys, *args, "--goal-approach", "0")
+    assert code == 1
+    assert "goal_approach" in err
+
+
 def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):
     code, stdout, err = run_cli(capsys, "plan", skill_path, "--obstacle", obstacle_arg(MARKER))
     assert code == 0, err

@@ -195,6 +195,7 @@ def _demo(args: argparse.Namespace) -> None:
             f"held-out sweeps: Pr {test['improvement']:.1f} % over replaying the nominal; "
             f"unseen scenes: {sum(r['collisions'] for r in unseen)} collisions in {len(unseen)}"
         )
+        print(f"simulated UR5 sweep (MuJoCo): {results['execution']['summary']}")
         _say(args, f"done in {time.perf_counter() - started:.1f} s; open {out / 'report.html'}")
 
 
@@ -271,7 +272,14 @@ def _plan(args: argparse.Namespace) -> None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
     started = time.perf_counter()
-    path = skill.plan(start, goal, scene, planner=args.planner, horizon=args.horizon)
+    path = skill.plan(
+        start,
+        goal,
+        scene,
+        planner=args.planner,
+        horizon=args.horizon,
+        goal_approach=args.goal_approach,
+    )
     if args.output is None:
         sys.stdout.write(path_csv(path))
         return
@@ -490,6 +498,13 @@ def _parser() -> argparse.ArgumentParser:
         help="CSV file to write (default: standard output)",
     )
     _planner_options(plan, defaults=False)
+    plan.add_argument(
+        "--goal-approach",
+        type=float,
+        metavar="LENGTH",
+        help="return onto the nominal over this last stretch so the plan ends at the goal "
+        "(path units; default: the thesis's reward, no goal term)",
+    )
     _force(plan)
     _loudness(plan)
     plan.set_defaults(handler=_plan)

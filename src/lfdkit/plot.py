@@ -792,7 +792,7 @@ def sweep_figure(
     says whether the run succeeded.
     """
     if ax is None:
-        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        fig = Figure(figsize=(8.5, 3.4), layout="constrained")
         ax = fig.add_subplot()
     else:
         fig = ax.figure

@@ -41,7 +41,16 @@ UNSEEN_DESIGNS = (
     (("cup", 0.42, -0.03), ("marker", 0.55, 0.02), ("cup", 0.72, 0.05)),
 )
 _RADIUS = {"cup": 0.03, "marker": 0.01}
-_FIGURES = ("mimic.png", "imitate.png", "emulate_test.png", "unseen_scenes.png")
+_FIGURES = (
+    "mimic.png",
+    "imitate.png",
+    "emulate_test.png",
+    "unseen_scenes.png",
+    "simulation.png",
+)
+#: Written when MuJoCo can render off-screen (EGL, OSMesa or a display).
+_RENDER = "simulation_render.png"
+_URSCRIPT = "robot/unseen_1.script"
 _PLANNERS = ("learned reward", "true reward", "DMP only")
 
 Progress = Callable[[str], None]
@@ -53,6 +62,7 @@ def demo_outputs(output: str | os.PathLike[str]) -> list[Path]:
     files = [out / "report.html", out / "results.json", out / "skill.json"]
     files += [out / "figures" / name for name in _FIGURES]
     files += [out / "plans" / f"unseen_{i + 1}.csv" for i in range(len(UNSEEN_DESIGNS))]
+    files += [out / _URSCRIPT]
     files += [out / "data" / path.name for path in example_files().values()]
     return files
 
@@ -98,7 +108,7 @@ def run_demo(
     if out.exists() and not out.is_dir():
         raise NotADirectoryError(f"{out}: exists and is not a directory")
     planned = demo_outputs(out)
-    clash = [p for p in planned if p.exists()]
+    clash = [p for p in [*planned, out / "figures" / _RENDER] if p.exists()]
     if clash and not overwrite:
         raise FileExistsError(f"{clash[0]}: exists; pass --force to overwrite the demo's files")
     for folder in {p.parent for p in planned}:
@@ -163,9 +173,16 @@ def run_demo(
         rows[0]["plan_ms"] = plan_ms
         unseen.append({"scene": scene, "paths": paths, "rows": rows})
 
+    tell("sweep in unseen scene 1 with a simulated UR5 (MuJoCo)")
+    execution = _execute(skill, start, scenes[0])
+
     tell("draw the figures")
     figures = _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
+    figures["simulation.png"] = execution.pop("figure")
+    image = execution.pop("image")
+    program = execution.pop("program")
     results = _results(skill, truth, scores, unseen, learn_s, time.perf_counter() - started)
+    results["execution"] = execution
     text = json.dumps(results, indent=1, allow_nan=False)
 
     tell("write the skill, the plans, the figures, the results and the report")
@@ -179,6 +196,16 @@ def run_demo(
             binary=True,
             overwrite=overwrite,
         )
+    if image is not None:
+        from matplotlib.image import imsave
+
+        atomic_write(
+            out / "figures" / _RENDER,
+            lambda f: imsave(f, image, format="png"),
+            binary=True,
+            overwrite=overwrite,
+        )
+    atomic_write(out / _URSCRIPT, lambda f: f.write(program), overwrite=overwrite)
     skill.save(out / "skill.json", overwrite=overwrite)
     for path in files.values():
         target = out / "data" / path.name
@@ -187,11 +214,11 @@ def run_demo(
             target, lambda f, content=content: f.write(content), binary=True, overwrite=overwrite
         )
     atomic_write(out / "results.json", lambda f: f.write(text + "\n"), overwrite=overwrite)
-    _report(results, figures).write(out / "report.html", overwrite=overwrite)
+    _report(results, figures, image).write(out / "report.html", overwrite=overwrite)
     return results
 
 
-N_STEPS = 5
+N_STEPS = 6
 """Number of progress messages :func:`run_demo` sends."""
 
 
@@ -253,6 +280,48 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
     return figures
 
 
+def _execute(skill: Skill, start: np.ndarray, scene: Scene) -> dict:
+    """Plan with the goal approach and sweep in MuJoCo; the dustpan stands at the new goal."""
+    from lfdkit.examples.sweeping_sim import GOAL_APPROACH
+    from lfdkit.plot import sweep_figure
+    from lfdkit.robot import sim
+    from lfdkit.robot.urscript import urscript_program
+
+    direction = (NEW_GOAL - start) / np.linalg.norm(NEW_GOAL - start)
+    dustpan = sim.Dustpan(NEW_GOAL - 0.02 * direction, float(np.arctan2(*direction[::-1])))
+    path = skill.plan(start, NEW_GOAL, scene, goal_approach=GOAL_APPROACH)
+    task = sim.SweepingTask.for_path(path, dustpan, scene)
+    result = sim.execute_sweep(path, task, render=True)
+    figure = sweep_figure(
+        dustpan, scene, {"learned skill": result}, title="Simulated UR5 sweep, unseen scene 1"
+    )
+    program = ""
+    if result.timing is not None:
+        times, q, _, _ = result.timing.resample(125.0)
+        program = urscript_program(
+            motion="servoj",
+            times=times,
+            joint_path=q,
+            header="lfdkit demo: the learned sweep of unseen scene 1 (servoj at 125 Hz)",
+        )
+    return {
+        "success": result.success,
+        "summary": result.summary(),
+        "failures": result.failures,
+        "cube_in_dustpan": result.cube_in_dustpan,
+        "touched": result.touched,
+        "tracking_error_mm": 1e3 * result.tracking_error,
+        "path_error_mm": 1e3 * result.path_error,
+        "motion_s": result.duration,
+        "cube_in_dustpan_frame_m": dustpan.local(result.cube_final).tolist(),
+        "goal_approach_m": GOAL_APPROACH,
+        "rendered": result.image is not None,
+        "figure": figure,
+        "image": result.image,
+        "program": program,
+    }
+
+
 def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float) -> dict:
     errors = metrics.parameter_errors(skill.reward_, truth.true_reward)
     parameters = [
@@ -294,7 +363,7 @@ def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float
     }
 
 
-def _report(results: dict, figures: dict) -> Report:
+def _report(results: dict, figures: dict, image: np.ndarray | None = None) -> Report:
     report = Report(
         "lfdkit demo: sweeping a cube into a dustpan",
         subtitle="Learn from demonstrations, then sweep around a cup and a marker in new scenes",
@@ -381,9 +450,35 @@ def _report(results: dict, figures: dict) -> Report:
         },
     )
     report.figure(figures["unseen_scenes.png"], "Plans in the unseen scenes.")
+    run = results["execution"]
+    report.heading("Execution: a simulated UR5 sweeps the cube")
+    report.paragraph(
+        f"The learned plan for unseen scene 1, drawn back onto the nominal over the last "
+        f"{run['goal_approach_m']:.2f} m so that it ends in the dustpan, turned into brush "
+        "poses at 0.192 m, joint angles (analytic IK on one branch) and a trajectory at 20 % "
+        "of the UR5's joint limits, then run in MuJoCo with joint position control. "
+        f"Outcome: {run['summary']}; path deviation {run['path_error_mm']:.2f} mm; "
+        f"{run['motion_s']:.1f} s of motion. The URScript (servoj) is robot/unseen_1.script."
+    )
+    report.figure(
+        figures["simulation.png"],
+        "Top view: the brush (flange) trace, the cube's trace (dotted) and where it came to rest.",
+    )
+    if image is not None:
+        from io import BytesIO
+
+        from matplotlib.image import imsave
+
+        buffer = BytesIO()
+        imsave(buffer, image, format="png")
+        report.figure(
+            buffer.getvalue(),
+            "MuJoCo at the end of the sweep: planned path (red), the cube's trace (green).",
+        )
     report.heading("Files")
     report.paragraph(
         "skill.json (the learned skill: lfdkit plan skill.json ...), plans/unseen_*.csv, "
+        "robot/unseen_1.script (URScript for a UR5), "
         "figures/*.png, results.json, data/ (the inputs: try lfdkit learn data/demos.csv "
         "--scenes data/scenes.csv -o my_skill.json)."
     )

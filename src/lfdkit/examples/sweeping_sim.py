@@ -184,11 +184,12 @@ def run_experiment(
             begin = time.perf_counter()
             try:
                 path = np.asarray(planner(scenario.start, scenario.goal, scenario.scene), float)
+                plan_s = time.perf_counter() - begin
+                # A path that is not a path (NaN, wrong shape) fails here, not in the simulator.
+                task = SweepingTask.for_path(path, scenario.dustpan, scenario.scene)
             except ValueError as exc:
                 rows.append(_row(index, name, None, float("nan"), f"planning failed: {exc}"))
                 continue
-            plan_s = time.perf_counter() - begin
-            task = SweepingTask.for_path(path, scenario.dustpan, scenario.scene)
             result = execute_sweep(path, task, speed_fraction=speed_fraction)
             rows.append(_row(index, name, result, plan_s))
         if progress is not None:

@@ -42,6 +42,7 @@ follow are reported in :class:`SweepResult` (``success``, ``failures``).
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -73,6 +74,7 @@ __all__ = [
     "execute_sweep",
     "mujoco_flange_poses",
     "simulate_sweep",
+    "sweep_motion",
     "sweeping_mjcf",
 ]
 
@@ -238,11 +240,11 @@ class SweepingTask:
         off its start, so the first segment alone can point anywhere).
         """
         path = check_path(path, "path", n_dims=2, min_points=2)
-        lead = resample_between(path, 0.0, min(0.02, path_length(path)), 2)
-        tangent = lead[1] - lead[0]
-        if not np.linalg.norm(tangent) > 0:
-            raise ValueError("path: has zero length")
-        tangent /= np.linalg.norm(tangent)
+        length = path_length(path)
+        if not length > 0:
+            raise ValueError("path: has zero length (all points coincide)")
+        lead = resample_between(path, 0.0, min(0.02, length), 2)
+        tangent = (lead[1] - lead[0]) / np.linalg.norm(lead[1] - lead[0])
         ahead = 0.5 * brush.thickness + 0.5 * CUBE_SIZE + 0.004
         yaw = math.atan2(tangent[1], tangent[0])
         return cls(path[0] + ahead * tangent, dustpan, Scene() if scene is None else scene, yaw)
@@ -283,6 +285,9 @@ class SweepResult:
     joint_path : ndarray, shape (n, 6) or None
         The commanded joint waypoints, rad.
     timing : Timing or None
+    image : ndarray, shape (720, 960, 3) or None
+        The rendered final scene (with the planned path in red and the cube's
+        trace in green), when asked for and OpenGL is available.
     """
 
     success: bool
@@ -299,6 +304,7 @@ class SweepResult:
     obstacle_shift: np.ndarray
     joint_path: np.ndarray | None = None
     timing: Timing | None = field(default=None, repr=False)
+    image: np.ndarray | None = field(default=None, repr=False)
 
     def summary(self) -> str:
         """One line: success or the failures."""
@@ -453,6 +459,9 @@ def _actuators_xml() -> str:
 
 
 def _mujoco() -> Any:
+    if "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY"):
+        # No display: render off-screen with EGL (GLFW would need a window system).
+        os.environ["MUJOCO_GL"] = "egl"
     try:
         import mujoco
     except ImportError as exc:  # declared dependency; a broken install is worth a clear word
@@ -636,7 +645,7 @@ def simulate_sweep(
         obstacle = task.scene.obstacles[i]
         failures.append(f"touched obstacle {i} ({obstacle.label}), moved {shift[i] * 1e3:.1f} mm")
     if not unstable and worst > tolerance:
-        failures.append(f"tracking error {worst * 1e3:.2f} mm exceeds {tolerance * 1e3:.2f} mm")
+        failures.append(f"tracking error {worst * 1e3:.3g} mm exceeds {tolerance * 1e3:.3g} mm")
     result = SweepResult(
         success=not failures,
         cube_in_dustpan=in_pan,
@@ -658,8 +667,6 @@ def simulate_sweep(
         cube_path = np.column_stack([cube_trace, np.full(len(cube_trace), 0.003)])
         traces = [(ground, (0.9, 0.1, 0.1, 1.0)), (cube_path, (0.1, 0.7, 0.1, 1.0))]
         result.image = _render_camera(mujoco, model, data, camera, traces)
-    else:
-        result.image = None
     return result
 
 
@@ -679,6 +686,47 @@ def _failed(message: str, task: SweepingTask) -> SweepResult:
         cube_trace=np.zeros((0, 2)),
         obstacle_shift=np.zeros(len(task.scene)),
     )
+
+
+def sweep_motion(
+    path: Any, *, brush: Brush = BRUSH, smoothing: float = 0.01, q_home: Any = HOME
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tool poses and the continuous joint path that sweep along a table path.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, 2)
+        The brush's path on the table, m.
+    brush : Brush
+        Gives the sweeping height.
+    smoothing : float
+        Width (m) of the corner rounding (:func:`lfdkit.geometry.smooth_path`);
+        0 leaves the path as it is.
+    q_home : array_like, shape (6,)
+        Configuration that picks the IK branch.
+
+    Returns
+    -------
+    poses : ndarray, shape (m, 4, 4)
+        Flange poses, one every 2 mm of path (so that a sharp but real turn of
+        the brush stays below the IK's branch-flip threshold between poses).
+    joints : ndarray, shape (m, 6)
+        Joint angles, rad, on one continuous IK branch.
+
+    Raises
+    ------
+    lfdkit.robot.ur5.KinematicsError
+        Unreachable poses, joint limits or a singularity, naming the pose.
+    """
+    path = check_path(path, "path", n_dims=2, min_points=2)
+    n_poses = max(len(path), math.ceil(path_length(path) / 0.002) + 1)
+    if smoothing:
+        path = smooth_path(path, check_positive(smoothing, "smoothing"), n_poses)
+    else:
+        path = resample(path, n_poses)
+    frames = sweeping_poses(path, height=brush.sweep_height)
+    q_start = ur5.nearest_solution(frames[0], q_home)
+    return frames, ur5.inverse_path(frames, q_start)
 
 
 def execute_sweep(
@@ -721,18 +769,8 @@ def execute_sweep(
         A path the robot cannot follow (unreachable, joint limits, a
         singularity) is reported as a failure, not raised.
     """
-    path = check_path(path, "path", n_dims=2, min_points=2)
-    # A pose every 2 mm: a sharp but real turn of the brush stays below the IK's
-    # branch-flip threshold between consecutive poses.
-    n_poses = max(len(path), math.ceil(path_length(path) / 0.002) + 1)
-    if smoothing:
-        path = smooth_path(path, check_positive(smoothing, "smoothing"), n_poses)
-    else:
-        path = resample(path, n_poses)
-    frames = sweeping_poses(path, height=brush.sweep_height)
     try:
-        q_start = ur5.nearest_solution(frames[0], q_home)
-        joints = ur5.inverse_path(frames, q_start)
+        _, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home)
     except ur5.KinematicsError as exc:
         return _failed(f"the robot cannot follow the path: {exc}", task)
     timing = time_parameterize(joints, speed_fraction=speed_fraction)
