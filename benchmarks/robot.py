@@ -1,7 +1,7 @@
 """UR5 robot benchmark: kinematics, MuJoCo model and the sweeping experiment.
 
 Run ``python benchmarks/robot.py`` (``--help`` for options; ``--quick`` for a
-smoke run of about two minutes; the full run takes about ten). Prints one
+smoke run of about a minute; the full run takes about five). Prints one
 table per section and a final targets table (PASS/FAIL/SKIP), writes ``robot.json`` to ``--output``
 (``benchmarks/results/robot`` by default). Exits 0 even when a target fails.
 All work runs under ``threadpoolctl.threadpool_limits(1)`` (one BLAS thread:
@@ -653,7 +653,7 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
     output.mkdir(parents=True, exist_ok=True)
     shown = ("learned skill", "DMP alone", "DMP + coupling", "replay generalized path")
     count = min(4, len(scenarios))
-    fig = Figure(figsize=(13, 3.4 * ((count + 1) // 2)), layout="constrained")
+    fig = Figure(figsize=(13, 2.6 * ((count + 1) // 2) + 0.8), layout="constrained")
     axes = np.atleast_1d(fig.subplots((count + 1) // 2, 2)).ravel()
     for index in range(count):
         runs = {
@@ -667,9 +667,22 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
             runs,
             ax=axes[index],
             title=f"scenario {index}",
+            legend=False,
         )
     for ax in axes[count:]:
         ax.set_visible(False)
+    entries: dict[str, object] = {}
+    for ax in axes[:count]:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label.split(" (")[0], handle)
+    fig.legend(
+        list(entries.values()), list(entries), loc="outside lower center", ncols=len(entries)
+    )
+    fig.suptitle(
+        "Simulated sweeps: brush (flange) traces, cube traces dotted, squares where the cube "
+        "rested; ok/failed per run in robot.json",
+        fontsize=10,
+    )
     names = ["robot_scenarios.png"]
     fig.savefig(output / names[0], dpi=110)
     scenario = scenarios[0]

@@ -767,6 +767,7 @@ def sweep_figure(
     *,
     ax: Axes | None = None,
     title: str = "",
+    legend: bool = True,
 ) -> Figure:
     """Top view of simulated sweeps: the brush's and the cube's traces, dustpan and obstacles.
 
@@ -780,6 +781,9 @@ def sweep_figure(
     ax : Axes, optional
         Draw into these axes (default: a new figure).
     title : str
+    legend : bool
+        Draw a legend in the axes (off when a figure collects one legend for
+        several panels).
 
     Returns
     -------
@@ -822,5 +826,6 @@ def sweep_figure(
     ax.grid(True, alpha=0.3)
     if title:
         ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=7, loc="best")
+    if legend:
+        ax.legend(fontsize=7, loc="best")
     return fig

@@ -436,7 +436,7 @@ def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> 
   </default>
   <worldbody>
     <light pos="0.3 0.2 2.0" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
-    <camera name="overview" pos="0.0 1.3 0.85" xyaxes="-1 0 0 0 -0.687 0.727" fovy="50"/>
+    <camera name="overview" pos="0.0 1.0 1.2" xyaxes="-1 0 0 0 -0.893 0.45" fovy="45"/>
     <camera name="top" pos="0.0 0.45 1.6" xyaxes="1 0 0 0 1 0"/>
     <geom name="table" type="plane" size="1.2 1.2 0.01" rgba="0.85 0.78 0.65 1" {_FIXED}/>
     <geom name="base" type="cylinder" size="0.075 0.045" pos="0 0 0.045"
