@@ -126,14 +126,13 @@ import argparse
 import json
 import os
 import platform
-import subprocess
 import sys
 import time
 import warnings
-from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+from _common import git_state, package_versions
 from scipy.interpolate import make_interp_spline
 from scipy.optimize import minimize
 from threadpoolctl import threadpool_limits
@@ -1630,32 +1629,6 @@ def print_targets(checks: list[dict]) -> None:
 
 
 # ------------------------------------------------------------------------------ output
-def versions() -> dict:
-    out = {}
-    for package in ("lfdkit", "numpy", "scipy", "numba", "matplotlib", "movement_primitives"):
-        try:
-            out[package] = metadata.version(package)
-        except metadata.PackageNotFoundError:
-            out[package] = None
-    return out
-
-
-def git_state() -> dict:
-    root = Path(__file__).resolve().parent.parent
-    try:
-        head = subprocess.run(
-            ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, check=True
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--", "src"],
-            cwd=root,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-        return {"commit": head, "src_modified": bool(dirty)}
-    except (OSError, subprocess.CalledProcessError):
-        return {"commit": None, "src_modified": None}
 
 
 def _clean(value):
@@ -1778,7 +1751,9 @@ def main(argv: list[str] | None = None) -> int:
             "processor": platform.processor(),
             "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
         },
-        "versions": versions(),
+        "versions": package_versions(
+            ("lfdkit", "numpy", "scipy", "numba", "matplotlib", "movement_primitives")
+        ),
         "git": git_state(),
         "wall_time_s": wall,
         "settings": {

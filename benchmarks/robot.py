@@ -119,15 +119,14 @@ import argparse
 import json
 import os
 import platform
-import subprocess
 import sys
 import tempfile
 import time
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _common import git_state, package_versions
 from threadpoolctl import threadpool_limits
 
 from lfdkit.robot import sim, ur5
@@ -769,32 +768,6 @@ def simulation_targets(results: dict) -> list[dict]:
 
 
 # ------------------------------------------------------------------------------ output
-def versions() -> dict:
-    out = {}
-    for package in VERSION_PACKAGES:
-        try:
-            out[package] = metadata.version(package)
-        except metadata.PackageNotFoundError:
-            out[package] = None
-    return out
-
-
-def git_state() -> dict:
-    root = Path(__file__).resolve().parent.parent
-    try:
-        head = subprocess.run(
-            ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, check=True
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--", "src"],
-            cwd=root,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-        return {"commit": head, "src_modified": bool(dirty)}
-    except (OSError, subprocess.CalledProcessError):
-        return {"commit": None, "src_modified": None}
 
 
 def _clean(value):
@@ -884,7 +857,7 @@ def main(argv: list[str] | None = None) -> int:
             "processor": platform.processor(),
             "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
         },
-        "versions": versions(),
+        "versions": package_versions(VERSION_PACKAGES),
         "git": git_state(),
         "wall_time_s": wall,
         "settings": {
