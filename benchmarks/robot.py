@@ -756,7 +756,8 @@ def simulation_targets(results: dict) -> list[dict]:
             "name": f"learned skill success ({exp['n_scenarios']} scenarios)",
             "value": f"{learned['success_rate']:.1%}",
             "target": f">= {SUCCESS_TARGET:.0%} of >= {MIN_SCENARIOS}",
-            "status": "PASS" if success and enough else "FAIL",
+            # A --quick run has too few scenarios to judge the rate.
+            "status": ("PASS" if success else "FAIL") if enough else "SKIP",
         },
         {
             "name": "learned skill tracking error",
