@@ -308,3 +308,26 @@ def test_render_gives_an_image_or_none():
     path = straight_path(start=(0.0, 0.45), end=(0.05, 0.45), n=5)
     result = execute_sweep(path, SweepingTask.for_path(path, PAN), render=True, camera="top")
     assert result.image is None or result.image.shape == (720, 960, 3)
+
+
+def test_a_missing_opengl_backend_leaves_physics_running(tmp_path):
+    """Headless, with no usable off-screen OpenGL, MuJoCo still simulates; no image."""
+    import os
+    import subprocess
+    import sys
+
+    script = (
+        "import numpy as np\n"
+        "from lfdkit.robot import sim\n"
+        "sim.HEADLESS_GL = 'no-such-backend'  # MuJoCo refuses it on import, as without EGL\n"
+        "p = np.column_stack([np.linspace(-0.3, 0.32, 50), np.full(50, 0.45)])\n"
+        "task = sim.SweepingTask.for_path(p, sim.Dustpan([0.3, 0.45], 0.0))\n"
+        "r = sim.execute_sweep(p, task, render=True)\n"
+        "print(r.success, r.image is None)\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "MUJOCO_GL")}
+    run = subprocess.run(
+        [sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert run.stdout.split() == ["True", "True"]

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -458,14 +459,30 @@ def _actuators_xml() -> str:
     )
 
 
+#: Off-screen OpenGL backend tried when there is no display and MUJOCO_GL is unset.
+HEADLESS_GL = "egl"
+
+
 def _mujoco() -> Any:
-    if "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY"):
-        # No display: render off-screen with EGL (GLFW would need a window system).
-        os.environ["MUJOCO_GL"] = "egl"
+    """Import MuJoCo; headless, try EGL for rendering, and simulate without it if it is missing."""
+    if "mujoco" in sys.modules:
+        return sys.modules["mujoco"]
+    chosen = "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY")
+    if chosen:
+        # No display: render off-screen (GLFW would need a window system).
+        os.environ["MUJOCO_GL"] = HEADLESS_GL
     try:
         import mujoco
     except ImportError as exc:  # declared dependency; a broken install is worth a clear word
         raise ImportError("lfdkit.robot.sim needs MuJoCo: python -m pip install mujoco") from exc
+    except Exception:
+        if not chosen:
+            raise
+        # The OpenGL library is not there (MuJoCo fails on import): no rendering, physics only.
+        for name in [m for m in sys.modules if m.split(".")[0] in ("mujoco", "OpenGL")]:
+            del sys.modules[name]
+        os.environ["MUJOCO_GL"] = "disable"
+        import mujoco
     return mujoco
 
 
