@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["check_demos", "check_path", "check_positive", "check_random_state"]
+__all__ = ["check_demos", "check_finite", "check_path", "check_positive", "check_random_state"]
 
 
 def check_path(
@@ -124,6 +124,17 @@ def check_demos(
     return out
 
 
+def check_finite(value: Any, name: str) -> float:
+    """Check a scalar parameter is a finite number; return it as a float."""
+    try:
+        out = float(value)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name}: expected a number, got {value!r}") from exc
+    if not np.isfinite(out):
+        raise ValueError(f"{name}: must be finite, got {value!r}")
+    return out
+
+
 def check_positive(value: Any, name: str, *, integer: bool = False, allow_zero: bool = False):
     """Check a scalar parameter is finite and positive (or non-negative); return it."""
     if integer:
@@ -131,12 +142,7 @@ def check_positive(value: Any, name: str, *, integer: bool = False, allow_zero: 
             raise TypeError(f"{name}: expected an integer, got {value!r}")
         value = int(value)
     else:
-        try:
-            value = float(value)
-        except (TypeError, ValueError) as exc:
-            raise TypeError(f"{name}: expected a number, got {value!r}") from exc
-        if not np.isfinite(value):
-            raise ValueError(f"{name}: must be finite, got {value!r}")
+        value = check_finite(value, name)
     if value < 0 or (value == 0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name}: must be {bound}, got {value!r}")

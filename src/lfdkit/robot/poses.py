@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path
+from lfdkit._validation import check_finite, check_path
 from lfdkit.geometry import point_tangents
 
 __all__ = [
@@ -344,16 +344,6 @@ def pose_matrix(p: Any) -> np.ndarray:
 # --------------------------------------------------------------------------- #
 
 
-def _check_scalar(value: Any, name: str) -> float:
-    try:
-        out = float(value)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected a number, got {value!r}") from exc
-    if not np.isfinite(out):
-        raise ValueError(f"{name}: must be finite, got {value!r}")
-    return out
-
-
 def path_yaw(path: Any, *, yaw_offset: float = 0.0) -> np.ndarray:
     """Continuous heading of a planar path: the tool's yaw while sweeping along it.
 
@@ -380,7 +370,7 @@ def path_yaw(path: Any, *, yaw_offset: float = 0.0) -> np.ndarray:
         NaN/inf, has zero length, or turns back exactly onto itself.
     """
     arr = check_path(path, "path", n_dims=2)
-    offset = _check_scalar(yaw_offset, "yaw_offset")
+    offset = check_finite(yaw_offset, "yaw_offset")
     t = point_tangents(arr)
     return np.unwrap(np.arctan2(t[:, 1], t[:, 0])) + offset
 
@@ -430,7 +420,7 @@ def sweeping_poses(
     """
     psi = path_yaw(path, yaw_offset=yaw_offset)
     arr = np.asarray(path, dtype=np.float64)
-    z = _check_scalar(height, "height")
+    z = check_finite(height, "height")
     c, s = np.cos(psi), np.sin(psi)
     T = np.zeros((len(psi), 4, 4))
     T[:, 0, 0], T[:, 1, 0] = c, s  # tool x: along the path

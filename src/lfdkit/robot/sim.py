@@ -49,7 +49,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_positive
+from lfdkit._validation import check_finite, check_path, check_positive
 from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import (
     path_length,
@@ -169,12 +169,10 @@ class Dustpan:
         position = np.asarray(self.position, dtype=np.float64)
         if position.shape != (2,) or not np.all(np.isfinite(position)):
             raise ValueError(f"dustpan position: expected 2 finite numbers, got {self.position!r}")
-        if not math.isfinite(float(self.yaw)):
-            raise ValueError(f"dustpan yaw: expected a finite angle, got {self.yaw!r}")
         for name in ("depth", "width", "wall_height", "wall_thickness"):
             check_positive(getattr(self, name), f"dustpan {name}")
         object.__setattr__(self, "position", position)
-        object.__setattr__(self, "yaw", float(self.yaw))
+        object.__setattr__(self, "yaw", check_finite(self.yaw, "dustpan yaw"))
 
     @property
     def axes(self) -> np.ndarray:
