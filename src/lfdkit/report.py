@@ -490,8 +490,6 @@ class Report:
             If the directory of ``path`` does not exist.
         """
         target = Path(path)
-        if target.is_dir():
-            raise IsADirectoryError(f"{target}: is a directory; give the path of a file to write")
         document = self.html()
 
         def _writer(f: Any) -> None:
