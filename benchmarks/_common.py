@@ -1,7 +1,9 @@
-"""Helpers shared by the benchmark scripts: package versions and the git state for the JSON."""
+"""Helpers shared by the benchmark scripts: what the JSON records about the run."""
 
 from __future__ import annotations
 
+import os
+import platform
 import subprocess
 from collections.abc import Iterable
 from importlib import metadata
@@ -36,3 +38,14 @@ def git_state() -> dict:
         return {"commit": head, "src_modified": bool(dirty)}
     except (OSError, subprocess.CalledProcessError):
         return {"commit": None, "src_modified": None}
+
+
+def machine_info() -> dict:
+    """Python version, CPU count, platform, processor and load average of this machine."""
+    return {
+        "python": platform.python_version(),
+        "cpus": os.cpu_count(),
+        "platform": platform.platform(),
+        "processor": platform.processor(),
+        "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+    }

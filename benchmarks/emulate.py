@@ -124,15 +124,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
-from _common import git_state, package_versions
+from _common import git_state, machine_info, package_versions
 from scipy.interpolate import make_interp_spline
 from scipy.optimize import minimize
 from threadpoolctl import threadpool_limits
@@ -1744,13 +1742,7 @@ def main(argv: list[str] | None = None) -> int:
         "command": [sys.executable, *sys.argv] if argv is None else ["emulate.py", *argv],
         "quick": quick,
         "seed": args.seed,
-        "machine": {
-            "python": platform.python_version(),
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "processor": platform.processor(),
-            "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
-        },
+        "machine": machine_info(),
         "versions": package_versions(
             ("lfdkit", "numpy", "scipy", "numba", "matplotlib", "movement_primitives")
         ),

@@ -125,15 +125,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
-from _common import package_versions
+from _common import machine_info, package_versions
 from matplotlib.figure import Figure
 from scipy.interpolate import make_interp_spline
 
@@ -1006,12 +1004,7 @@ def main(argv: list[str] | None = None) -> int:
         "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
         "command": [sys.executable, *sys.argv] if argv is None else ["imitate.py", *argv],
         "quick": args.quick,
-        "machine": {
-            "python": platform.python_version(),
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "processor": platform.processor(),
-        },
+        "machine": machine_info(),
         "versions": package_versions(
             (
                 "lfdkit",

@@ -15,14 +15,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
+from _common import machine_info
 
 from lfdkit.datasets import MIMIC_DATASETS
 from lfdkit.evaluation import (
@@ -231,11 +230,7 @@ def main(argv: list[str] | None = None) -> int:
     result = {
         "benchmark": "mimic",
         "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
-        "machine": {
-            "python": platform.python_version(),
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-        },
+        "machine": machine_info(),
         "seeds": list(seeds),
         "summary": rows,
         "targets": checks,

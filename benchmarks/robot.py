@@ -117,18 +117,16 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _common import git_state, package_versions
+from _common import git_state, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
+from lfdkit.demos import atomic_write
 from lfdkit.robot import sim, ur5
 
 #: Packages whose versions go into the JSON (later sections may append theirs).
@@ -790,16 +788,8 @@ def write_json(path: Path, sections: dict, targets: list[dict], meta: dict) -> N
     """Write ``meta``, the sections' results and the targets to ``path`` atomically."""
     result = {**meta, **sections, "targets": targets}
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump(_clean(result), fh, indent=2, ensure_ascii=False)
-            fh.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    text = json.dumps(_clean(result), indent=2, ensure_ascii=False) + "\n"
+    atomic_write(path, lambda f: f.write(text), overwrite=True, encoding="utf-8")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -851,13 +841,7 @@ def main(argv: list[str] | None = None) -> int:
         "command": [sys.executable, *sys.argv] if argv is None else ["robot.py", *argv],
         "quick": quick,
         "seed": args.seed,
-        "machine": {
-            "python": platform.python_version(),
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "processor": platform.processor(),
-            "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
-        },
+        "machine": machine_info(),
         "versions": package_versions(VERSION_PACKAGES),
         "git": git_state(),
         "wall_time_s": wall,
