@@ -173,28 +173,68 @@ def evaluate_quintic_pieces(s, spacing, pieces, out):
 
 
 # ----------------------------------------------------------------- emulation
+# The planner's cost in the lateral offsets d (see lfdkit.emulate.planner):
+#   Σ_k Q_k |d_k|² + Σ_{k,o} exp(−(c + 2bᵀd + dᵀAd)) + Σ_{k,h} B(u_kh),
+# with u = |x_k − O_h|² = rr + 2 nrᵀd + |d|² for the obstacles with a hard radius, and
+# B the clearance barrier: 0 beyond the outer radius ρ, rising to +inf at the inner radius.
+# Arrays with zero obstacles (shape (n, 0, …)) switch a term off.
+
+
+@numba.njit(cache=True, inline="always")
+def _barrier(u, inner2, outer2, mu):
+    """Barrier value and its first two derivatives in ``u`` (a squared distance).
+
+    ``B = μ t³ / (1 − t)`` with ``t = (ρ² − u) / (ρ² − r²)``: zero with zero
+    first and second derivatives at ``u = ρ²`` (so Newton sees a C² cost), and
+    ``+inf`` at ``u = r²``.
+    """
+    if u >= outer2:
+        return 0.0, 0.0, 0.0
+    if u <= inner2:
+        return np.inf, 0.0, 0.0
+    kappa = 1.0 / (outer2 - inner2)
+    t = (outer2 - u) * kappa
+    one = 1.0 - t
+    value = mu * t * t * t / one
+    first = -mu * kappa * (3.0 * t * t - 2.0 * t * t * t) / (one * one)
+    second = mu * kappa * kappa * (6.0 * t - 6.0 * t * t + 2.0 * t * t * t) / (one * one * one)
+    return value, first, second
+
+
 @numba.njit(cache=True)
-def offset_cost(c, b, a, weight, d):
-    """Planner cost ``Σ Q_k|d_k|² + Σ exp(−(c + 2bᵀd + dᵀAd))``; see ``lfdkit.emulate.planner``."""
-    n, n_obs = c.shape
-    m = d.shape[1]
+def _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g):
+    """Cost of offset ``g`` (m,) at point ``k`` alone."""
+    m = g.shape[0]
     total = 0.0
-    for k in range(n):
+    for i in range(m):
+        total += weight[k] * g[i] * g[i]
+    for o in range(c.shape[1]):
+        s = c[k, o]
         for i in range(m):
-            total += weight[k] * d[k, i] * d[k, i]
-        for o in range(n_obs):
-            s = c[k, o]
-            for i in range(m):
-                npu = b[k, o, i]
-                for j in range(m):
-                    npu += a[k, o, i, j] * d[k, j]
-                s += (b[k, o, i] + npu) * d[k, i]
-            total += np.exp(-s)
+            npu = b[k, o, i]
+            for j in range(m):
+                npu += a[k, o, i, j] * g[j]
+            s += (b[k, o, i] + npu) * g[i]
+        total += np.exp(-s)
+    for h in range(rr.shape[1]):
+        u = rr[k, h]
+        for i in range(m):
+            u += (2.0 * nr[k, h, i] + g[i]) * g[i]
+        total += _barrier(u, inner2[h], outer2[h], mu)[0]
     return total
 
 
 @numba.njit(cache=True)
-def offset_derivatives(c, b, a, weight, d, gradient, hessian):
+def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
+    """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
+    total = 0.0
+    for k in range(d.shape[0]):
+        total += _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, d[k])
+    return total
+
+
+@numba.njit(cache=True)
+def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian):
     """Cost; fills the gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
     n, n_obs = c.shape
     m = d.shape[1]
@@ -219,7 +259,31 @@ def offset_derivatives(c, b, a, weight, d, gradient, hessian):
                 gradient[k, i] -= 2.0 * e * npu[i]
                 for j in range(m):
                     hessian[k, i, j] += e * (4.0 * npu[i] * npu[j] - 2.0 * a[k, o, i, j])
+        for h in range(rr.shape[1]):
+            u = rr[k, h]
+            for i in range(m):
+                u += (2.0 * nr[k, h, i] + d[k, i]) * d[k, i]
+            value, first, second = _barrier(u, inner2[h], outer2[h], mu)
+            if value == 0.0:
+                continue
+            total += value
+            for i in range(m):
+                gradient[k, i] += 2.0 * first * (nr[k, h, i] + d[k, i])
+                for j in range(m):
+                    hessian[k, i, j] += (
+                        4.0 * second * (nr[k, h, i] + d[k, i]) * (nr[k, h, j] + d[k, j])
+                    )
+                hessian[k, i, i] += 2.0 * first
     return total
+
+
+@numba.njit(cache=True)
+def offset_cost(c, b, a, weight, d):
+    """Planner cost without hard radii (the thesis's model)."""
+    n, m = d.shape
+    return planner_cost(
+        c, b, a, weight, np.zeros((n, 0)), np.zeros((n, 0, m)), np.zeros(0), np.zeros(0), 0.0, d
+    )
 
 
 @numba.njit(cache=True)
@@ -239,10 +303,34 @@ def offset_groups(free, index):
 
 @numba.njit(cache=True)
 def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
+    """:func:`planner_newton` without hard radii (the thesis's model)."""
+    n, m = d.shape
+    return planner_newton(
+        c,
+        b,
+        a,
+        weight,
+        np.zeros((n, 0)),
+        np.zeros((n, 0, m)),
+        np.zeros(0),
+        np.zeros(0),
+        0.0,
+        max_step,
+        d0,
+        d,
+        tol,
+        max_iter,
+    )
+
+
+@numba.njit(cache=True)
+def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter):
     """Projected Newton on the actions ``a_k = d_k − d_{k−1}``, box ``|a| <= max_step``.
 
-    ``d`` (n, m) holds the start on entry and the optimum on exit. Returns
-    ``(cost, iterations, converged)``. See ``lfdkit.emulate.planner``.
+    ``d`` (n, m) holds the start on entry and the optimum on exit. The start
+    must have a finite cost (outside every hard radius): the line search never
+    accepts a step into one. Returns ``(cost, iterations, converged)``. See
+    ``lfdkit.emulate.planner``.
     """
     n, m = d.shape
     actions = np.empty((n, m))
@@ -268,7 +356,9 @@ def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
     base = weight.min()
     floor = 1e-8 * 2.0 * base
     scale = 1.0 + 2.0 * base * max_step
-    cost = offset_derivatives(c, b, a, weight, d, gradient, hessian)
+    cost = planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian)
+    if not np.isfinite(cost):
+        return cost, 0, False
     for iteration in range(max_iter):
         worst = 0.0
         for i in range(m):
@@ -284,56 +374,98 @@ def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
                     worst = abs(running)
         if worst <= tol * scale:
             return cost, iteration, True
-        n_vars = offset_groups(free, index)
-        g = np.zeros(n_vars)
-        for k in range(n):
-            for i in range(m):
-                if index[k, i] >= 0:
-                    g[index[k, i]] += gradient[k, i]
-        move = np.empty(n_vars)
-        if m == 1:
-            h = np.zeros(n_vars)
-            for k in range(n):
-                if index[k, 0] >= 0:
-                    h[index[k, 0]] += hessian[k, 0, 0]
-            for v in range(n_vars):
-                move[v] = -g[v] / max(abs(h[v]), floor)
-        else:
-            h2 = np.zeros((n_vars, n_vars))
+        # Refine the held set: an action at its bound that the Newton step would push
+        # further out is held too (the gradient alone misses it), and the step redone.
+        for _refine in range(8):
+            n_vars = offset_groups(free, index)
+            g = np.zeros(n_vars)
             for k in range(n):
                 for i in range(m):
-                    if index[k, i] < 0:
-                        continue
-                    for j in range(m):
-                        if index[k, j] >= 0:
-                            h2[index[k, i], index[k, j]] += hessian[k, i, j]
-            values, vectors = np.linalg.eigh(h2)
-            projected = vectors.T @ g
-            for v in range(n_vars):
-                projected[v] /= max(abs(values[v]), floor)
-            move = -(vectors @ projected)
-        for k in range(n):
+                    if index[k, i] >= 0:
+                        g[index[k, i]] += gradient[k, i]
+            move = np.empty(n_vars)
+            if m == 1:
+                h = np.zeros(n_vars)
+                for k in range(n):
+                    if index[k, 0] >= 0:
+                        h[index[k, 0]] += hessian[k, 0, 0]
+                for v in range(n_vars):
+                    move[v] = -g[v] / max(abs(h[v]), floor)
+            else:
+                h2 = np.zeros((n_vars, n_vars))
+                for k in range(n):
+                    for i in range(m):
+                        if index[k, i] < 0:
+                            continue
+                        for j in range(m):
+                            if index[k, j] >= 0:
+                                h2[index[k, i], index[k, j]] += hessian[k, i, j]
+                values, vectors = np.linalg.eigh(h2)
+                projected = vectors.T @ g
+                for v in range(n_vars):
+                    projected[v] /= max(abs(values[v]), floor)
+                move = -(vectors @ projected)
+            for k in range(n):
+                for i in range(m):
+                    step_d[k, i] = move[index[k, i]] if index[k, i] >= 0 else 0.0
+            changed = False
             for i in range(m):
-                step_d[k, i] = move[index[k, i]] if index[k, i] >= 0 else 0.0
+                for k in range(n):
+                    if not free[k, i]:
+                        continue
+                    before = step_d[k - 1, i] if k > 0 else 0.0
+                    change = step_d[k, i] - before
+                    if (actions[k, i] >= max_step * (1.0 - 1e-9) and change > 0.0) or (
+                        actions[k, i] <= -max_step * (1.0 - 1e-9) and change < 0.0
+                    ):
+                        free[k, i] = False
+                        changed = True
+            if not changed:
+                break
+        # Two ways back onto the bounds, and the better is taken: clamp each offset to
+        # its predecessor's box (a clipped action moves only its own offset, not the
+        # rest of the path, which a stiff goal weight at the end makes expensive), or
+        # clip the actions (Bertsekas's projection arc).
+        for i in range(m):
+            for k in range(n):
                 before = step_d[k - 1, i] if k > 0 else 0.0
                 step_a[k, i] = step_d[k, i] - before
-        t = 1.0
         accepted = False
-        for _ in range(40):
-            decrease = 0.0
-            for i in range(m):
-                running = d0[i]
-                for k in range(n):
-                    value = min(max(actions[k, i] + t * step_a[k, i], -max_step), max_step)
-                    trial_a[k, i] = value
-                    decrease += action_gradient[k, i] * (value - actions[k, i])
-                    running += value
-                    trial_d[k, i] = running
-            trial_cost = offset_cost(c, b, a, weight, trial_d)
-            if trial_cost <= cost + 1e-4 * decrease:
-                accepted = True
-                break
-            t *= 0.5
+        best_cost = np.inf
+        for retraction in range(2):
+            t = 1.0
+            for _ in range(60 if retraction else 30):
+                decrease = 0.0
+                for i in range(m):
+                    previous = d0[i]
+                    for k in range(n):
+                        if retraction == 0:
+                            value = d[k, i] + t * step_d[k, i]
+                            value = min(max(value, previous - max_step), previous + max_step)
+                            decrease += gradient[k, i] * (value - d[k, i])
+                        else:
+                            action = actions[k, i] + t * step_a[k, i]
+                            action = min(max(action, -max_step), max_step)
+                            decrease += action_gradient[k, i] * (action - actions[k, i])
+                            value = previous + action
+                        trial_d[k, i] = value
+                        previous = value
+                trial_cost = planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, trial_d)
+                if trial_cost <= cost + 1e-4 * decrease and (retraction == 1 or decrease < 0.0):
+                    if trial_cost < best_cost:
+                        best_cost = trial_cost
+                        trial_a[:, :] = trial_d
+                    accepted = True
+                    break
+                t *= 0.5
+            if accepted and t == 1.0:
+                break  # a full Newton step: nothing better to look for
+        trial_d[:, :] = trial_a
+        for i in range(m):
+            previous = d0[i]
+            for k in range(n):
+                trial_a[k, i] = trial_d[k, i] - previous
+                previous = trial_d[k, i]
         if not accepted:
             # No decrease left to find: stationary to round-off if the gradient is tiny.
             return cost, iteration + 1, worst <= 1e-6 * scale
@@ -343,7 +475,154 @@ def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
                 change = max(change, abs(trial_d[k, i] - d[k, i]))
         actions[:, :] = trial_a
         d[:, :] = trial_d
-        cost = offset_derivatives(c, b, a, weight, d, gradient, hessian)
+        cost = planner_derivatives(
+            c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian
+        )
         if change <= 1e-13 * max_step:
             return cost, iteration + 1, worst <= 1e-6 * scale  # the steps stopped moving
     return cost, max_iter, False
+
+
+@numba.njit(cache=True)
+def _grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, m, out):
+    """Cost of every grid state at every point: ``out`` (n, G^m)."""
+    g_count = levels.shape[0]
+    point = np.empty(m)
+    for k in range(out.shape[0]):
+        for s in range(out.shape[1]):
+            point[0] = levels[s // g_count if m == 2 else s]
+            if m == 2:
+                point[1] = levels[s % g_count]
+            out[k, s] = _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, point)
+
+
+@numba.njit(cache=True)
+def _box_min(values, g_count, m, window, inner, out):
+    """``out[s]`` = the smallest of ``values`` over the states within ``window`` cells of ``s``."""
+    if m == 1:
+        for s in range(g_count):
+            best = np.inf
+            for t in range(max(0, s - window), min(g_count, s + window + 1)):
+                if values[t] < best:
+                    best = values[t]
+            out[s] = best
+        return
+    for i in range(g_count):
+        for j in range(g_count):
+            best = np.inf
+            for t in range(max(0, j - window), min(g_count, j + window + 1)):
+                v = values[i * g_count + t]
+                if v < best:
+                    best = v
+            inner[i * g_count + j] = best
+    for i in range(g_count):
+        for j in range(g_count):
+            best = np.inf
+            for t in range(max(0, i - window), min(g_count, i + window + 1)):
+                v = inner[t * g_count + j]
+                if v < best:
+                    best = v
+            out[i * g_count + j] = best
+
+
+@numba.njit(cache=True)
+def grid_cost_to_go(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, out
+):
+    """Backward dynamic programme on the lateral grid (see :func:`lateral_dp`).
+
+    Fills ``out`` (n, G^m) with the least cost of points ``k … n − 1`` over grid
+    paths that start in each state at point ``k`` (with ``end_zero``, that end
+    on 0); ``+inf`` where none avoids the hard radii. ``extra`` (n, G^m) is
+    added to the states' costs (``+inf`` forbids a state; empty: nothing).
+    """
+    n, n_states = out.shape
+    g_count = levels.shape[0]
+    m = 2 if n_states != g_count else 1
+    _grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, m, out)
+    if extra.shape[0]:
+        for k in range(n):
+            for s in range(n_states):
+                out[k, s] += extra[k, s]
+    if end_zero:
+        zero = (g_count - 1) // 2
+        keep = zero * g_count + zero if m == 2 else zero
+        for s in range(n_states):
+            if s != keep:
+                out[n - 1, s] = np.inf
+    best = np.empty(n_states)
+    inner = np.empty(n_states)
+    for k in range(n - 2, -1, -1):
+        _box_min(out[k + 1], g_count, m, window, inner, best)
+        for s in range(n_states):
+            out[k, s] += best[s]
+
+
+@numba.njit(cache=True)
+def lateral_dp(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, levels, window, end_zero, extra, out
+):
+    """Globally best offsets on a lateral grid, by dynamic programming.
+
+    Every offset component takes a value of ``levels`` (G,), an odd-length
+    grid symmetric about 0 with spacing ``max_step / window`` at most, so a
+    move of up to ``window`` cells per point respects the action bound. The
+    first point is reached from ``d0`` (off the grid) within the bound; with
+    ``end_zero`` the last offset is 0 (the plan ends on the nominal). States
+    are G (m = 1) or G² (m = 2); each transition is a box, so the minimum
+    over predecessors is a separable sliding minimum. Fills ``out`` (n, m)
+    and returns its cost (``+inf`` when no grid path avoids the hard radii).
+    """
+    n, m = out.shape
+    g_count = levels.shape[0]
+    n_states = g_count**m
+    value = np.empty((n, n_states))
+    grid_cost_to_go(
+        c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, value
+    )
+    return grid_walk(value, levels, window, max_step, d0, out)
+
+
+@numba.njit(cache=True)
+def grid_walk(value, levels, window, max_step, d0, out):
+    """Follow a cost-to-go table (:func:`grid_cost_to_go`) from ``d0`` for ``out``'s rows.
+
+    The first state is the best within the action bound of ``d0`` (off the
+    grid), each next one the best within ``window`` cells. Fills ``out``
+    (h, m), h ≤ n, and returns the table's value of the first state (the
+    least cost of the whole remaining path; ``+inf`` if blocked).
+    """
+    h, m = out.shape
+    g_count = levels.shape[0]
+    reach = max_step * (1.0 + 1e-12)
+    state, total = -1, np.inf
+    for s in range(value.shape[1]):
+        i0 = s // g_count if m == 2 else s
+        if abs(levels[i0] - d0[0]) > reach:
+            continue
+        if m == 2 and abs(levels[s % g_count] - d0[1]) > reach:
+            continue
+        if value[0, s] < total:
+            state, total = s, value[0, s]
+    if not np.isfinite(total):
+        return total
+    for k in range(h):
+        i0 = state // g_count if m == 2 else state
+        j0 = state % g_count
+        out[k, 0] = levels[i0]
+        if m == 2:
+            out[k, 1] = levels[j0]
+        if k == h - 1:
+            break
+        best_state, best = -1, np.inf
+        for t in range(max(0, i0 - window), min(g_count, i0 + window + 1)):
+            if m == 1:
+                if value[k + 1, t] < best:
+                    best_state, best = t, value[k + 1, t]
+            else:
+                for u in range(max(0, j0 - window), min(g_count, j0 + window + 1)):
+                    v = value[k + 1, t * g_count + u]
+                    if v < best:
+                        best_state, best = t * g_count + u, v
+        state = best_state
+    return total

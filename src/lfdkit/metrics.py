@@ -306,13 +306,7 @@ def clearance(path, scene) -> np.ndarray:
     if path.shape[0] == 1:
         dist = np.linalg.norm(centres - path[0], axis=1)
     else:
-        a, seg = path[:-1], np.diff(path, axis=0)  # (s, q)
-        len2 = np.einsum("sq,sq->s", seg, seg)
-        rel = centres[:, None, :] - a[None]  # (L, s, q)
-        dot = np.einsum("lsq,sq->ls", rel, seg)
-        u = np.clip(np.divide(dot, len2, out=np.zeros_like(dot), where=len2 > 0), 0.0, 1.0)
-        foot = a[None] + u[..., None] * seg[None]
-        dist = np.linalg.norm(centres[:, None, :] - foot, axis=2).min(axis=1)
+        dist = project_onto_polyline(centres, path)[2]
     return dist - scene.radii
 
 

@@ -22,7 +22,11 @@ def demonstrations(n: int = 6, horizon: int | None = None, seed: int = 0):
     for _ in range(n):
         i = int(rng.uniform(0.25, 0.75) * (len(path) - 1))
         scene = Scene((Obstacle("obstacle", path[i] + [0.0, rng.uniform(-0.03, 0.03)]),))
-        demos.append(plan_path(TRUE, path, scene, horizon=horizon).points)
+        demos.append(
+            plan_path(
+                TRUE, path, scene, horizon=horizon, goal_approach=None, lookahead=False
+            ).points
+        )
         scenes.append(scene)
     return demos, scenes
 
@@ -51,7 +55,11 @@ def test_full_horizon_gradient_matches_finite_differences() -> None:
     theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
     warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in data]
     _, gradient = ioc._objective(theta, data, [w.copy() for w in warm])
-    fd = finite_difference(lambda t: ioc._objective(t, data, [w.copy() for w in warm])[0], theta)
+    # A step of 1e-3: truncation about 2e-7 here, while at 1e-4 the difference of two
+    # losses meets the inner solver's tolerance (1e-11 on the gradient).
+    fd = finite_difference(
+        lambda t: ioc._objective(t, data, [w.copy() for w in warm])[0], theta, eps=1e-3
+    )
     np.testing.assert_allclose(gradient, fd, rtol=1e-6)
 
 

@@ -61,7 +61,7 @@ def test_actions_stay_in_their_box() -> None:
 
 def test_the_full_horizon_plan_is_a_local_optimum_scipy_cannot_improve() -> None:
     scene = Scene((Obstacle("obstacle", [0.4, 0.02]), Obstacle("obstacle", [0.62, -0.01])))
-    plan = plan_path(REWARD, straight(), scene)
+    plan = plan_path(REWARD, straight(), scene, goal_approach=None)
     corridor = Corridor.from_path(straight())
     problem = _build(REWARD, corridor, scene)
     actions = np.diff(plan.offsets[:, 0])
@@ -122,7 +122,7 @@ def test_bad_requests_are_refused() -> None:
         plan_path(REWARD, straight(), scene, horizon=13)
     with pytest.raises(ValueError, match="start: lies inside obstacle 0"):
         plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.0, 0.0]),)))
-    with pytest.raises(ValueError, match=r"inside obstacle 0 \(within its radius 0.05\)"):
+    with pytest.raises(ValueError, match=r"inside obstacle 0 .*within its radius 0.05 plus"):
         plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.03, 0.02], radius=0.05),)))
     # Physically clear of a small obstacle: planned even though its response reaches the start.
     plan_path(REWARD, straight(), Scene((Obstacle("obstacle", [0.01, 0.0], radius=0.005),)))
@@ -139,13 +139,16 @@ def test_goal_approach_brings_a_swerving_plan_back_to_the_goal() -> None:
     reward = Reward(10.0, {"obstacle": [15.0, 1000.0]})
     scene = Scene((Obstacle("obstacle", [0.6, 0.01], radius=0.02),))
     for horizon in (None, 8):
-        free_end = plan_path(reward, straight(), scene, horizon=horizon).offsets[-1, 0]
+        thesis = dict(horizon=horizon, goal_approach=None)
+        free_end = plan_path(reward, straight(), scene, **thesis).offsets[-1, 0]
         assert abs(free_end) > 0.02
-        plan = plan_path(reward, straight(), scene, horizon=horizon, goal_approach=0.15)
-        np.testing.assert_allclose(plan.points[-1], [1.0, 0.0], atol=1e-4)
-        assert min_distance(plan.points, [0.6, 0.01]) > 0.02
+        for approach in (0.15, "auto"):  # "auto" is the default
+            plan = plan_path(reward, straight(), scene, horizon=horizon, goal_approach=approach)
+            np.testing.assert_allclose(plan.points[-1], [1.0, 0.0], atol=1e-4)
+            assert plan.goal_error < 1e-4
+            assert min_distance(plan.points, [0.6, 0.01]) > 0.02
         # before the approach the plan is the thesis's (same swerve past the obstacle)
-        unconstrained = plan_path(reward, straight(), scene, horizon=horizon)
+        unconstrained = plan_path(reward, straight(), scene, **thesis)
         k = int(0.4 * (len(plan.points) - 1))
         np.testing.assert_allclose(plan.offsets[:k], unconstrained.offsets[:k], atol=2e-3)
 

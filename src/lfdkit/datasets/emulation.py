@@ -348,8 +348,12 @@ def _lateral(rng: np.random.Generator) -> float:
 
 
 def _optimal_plan(reward: Reward, nominal: np.ndarray, scene: Scene, n_points: int) -> np.ndarray:
-    """The demonstrator's path: the full-horizon optimum of the true reward."""
-    return plan_path(reward, nominal, scene, n_points=n_points).points
+    """The demonstrator's path: the full-horizon optimum of the true reward.
+
+    The thesis's model, without a goal term: a demonstrator who swerved late
+    may end beside the goal, as the thesis's demonstrations do.
+    """
+    return plan_path(reward, nominal, scene, n_points=n_points, goal_approach=None).points
 
 
 def _demonstrate(

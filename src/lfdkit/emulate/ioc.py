@@ -541,6 +541,8 @@ class IOC:
                 horizon=horizon,
                 start_offset=item.start,
                 max_slope=self.max_slope,
+                goal_approach=None,  # the model that was fitted
+                lookahead=False,
             )
             residual = np.where(item.found[1:, None], plan.offsets[1:] - item.target[1:], 0.0)
             total += float(np.sum(residual**2)) / count
@@ -551,4 +553,6 @@ class IOC:
         kwargs.setdefault("horizon", self.horizon)
         kwargs.setdefault("n_points", self.n_points)
         kwargs.setdefault("max_slope", self.max_slope)
+        kwargs.setdefault("goal_approach", None)  # the model that was fitted
+        kwargs.setdefault("lookahead", False)
         return plan_path(self.reward_, nominal, scene, **kwargs)

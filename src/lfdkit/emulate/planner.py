@@ -33,12 +33,46 @@ search along the
 projection arc gives global convergence, and Newton steps near the optimum
 converge quadratically.
 
-The obstacle term is not convex: an obstacle can be passed on either side. The
-full-horizon plan is solved from several starts (the nominal, every obstacle
-passed on one side or the other, all of them on one side) and the best optimum
-is kept. The receding-horizon plan (MPC, horizon ``H``) re-solves a window of
-``H`` offsets at every step, warm-started from the previous window shifted by
-one, and also from both sides when an obstacle is in the window.
+The obstacle term is not convex: an obstacle can be passed on either side,
+and a concave group of obstacles has a pocket to fall into. So the plan is
+first searched globally: a dynamic programme over a lateral grid of offsets
+(spacing a fraction of the action bound, every offset reachable from the
+previous one) finds the best grid path over every combination of passing
+sides in ``O(K G w)`` (``G`` grid values, ``w`` cells per step; ``G²`` in
+3-D). Newton then polishes that path, the same path with each nearby
+obstacle forced to its other side (the grid ranks near-ties only to its
+resolution), and the nominal; the lowest cost wins.
+
+The receding-horizon plan (MPC, horizon ``H``) polishes, at every step, the
+warm start (the previous window shifted by one) and a grid path from the
+current offset. A window alone is myopic: before a concave pocket deeper
+than the horizon, the best ``H`` points head straight in. So by default
+(``lookahead``) the grid path is the whole path's global route from the
+current offset, from a backward dynamic programme computed once per plan,
+and the candidate executed is the one with least window cost plus the
+route's cost-to-go from the window's end. With ``lookahead=False`` it is
+the thesis's MPC: the window's own grid optimum, and the least window cost.
+Either way, a candidate from whose end the rest of the path is blocked is
+never executed.
+
+Safety
+------
+A plan a robot can execute must reach its goal and keep out of obstacles:
+
+* **Goal.** By default the nominal weight rises smoothly to
+  ``Q (1 + GOAL_GAIN)`` over the last stretch of the path
+  (:func:`goal_weights`), and the grid search must end on the nominal, so the
+  plan ends at the goal; the thesis's model (no goal term, the plan may end
+  beside the goal) is ``goal_approach=None``.
+* **Clearance.** With ``clearance`` given, every obstacle's physical radius
+  plus the clearance is a hard constraint on the plan, on top of the learned
+  reward: a barrier ``μ t³/(1 − t)`` that is exactly zero outside a thin zone
+  around the radius (so the plan is unchanged where the reward alone keeps
+  it clear) and infinite at it. The radius is widened by half a segment's
+  length (``√(r² + L²/4)``) so that the straight segments between plan points
+  stay out too. Every returned plan is checked segment by segment; a plan
+  that cannot be made safe within the action bounds raises
+  :class:`UnsafePlanError`, never returns.
 """
 
 from __future__ import annotations
@@ -52,14 +86,31 @@ from threadpoolctl import threadpool_limits
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
-from lfdkit.geometry import PolylineSet, normal_frames, point_tangents, resample
+from lfdkit.geometry import (
+    PolylineSet,
+    normal_frames,
+    path_length,
+    point_tangents,
+    project_onto_polyline,
+    resample,
+)
 
-__all__ = ["Corridor", "Plan", "plan_path"]
+__all__ = ["Corridor", "Plan", "UnsafePlanError", "plan_clearance", "plan_path"]
 
 #: Horizons the thesis found to work (§5.4).
 MIN_HORIZON, MAX_HORIZON = 4, 12
 #: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
 GOAL_GAIN = 1e4
+#: Default goal approach, as a fraction of the nominal path's length.
+GOAL_APPROACH_FRACTION = 0.2
+#: A plan ends at its goal when its last point is this close (fraction of the path's extent).
+GOAL_TOLERANCE = 1e-3
+#: Most points a plan may have (memory and time grow linearly).
+MAX_POINTS = 100_000
+
+
+class UnsafePlanError(ValueError):
+    """No plan within the action bounds keeps out of every obstacle (or reaches the goal)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,8 +140,8 @@ class Corridor:
         if path.shape[1] not in (2, 3):
             raise ValueError(f"nominal: expected 2-D or 3-D points, got {path.shape[1]}")
         n_points = check_positive(n_points, "n_points", integer=True)
-        if n_points < 3:
-            raise ValueError(f"n_points: needs at least 3, got {n_points}")
+        if not 3 <= n_points <= MAX_POINTS:
+            raise ValueError(f"n_points: expected 3 to {MAX_POINTS} points, got {n_points}")
         points = resample(path, n_points)
         tangents = point_tangents(points)
         frames = normal_frames(tangents)
@@ -104,6 +155,16 @@ class Corridor:
     @property
     def n_dims(self) -> int:
         return int(self.points.shape[1])
+
+    @property
+    def length(self) -> float:
+        """Arc length from the first to the last point."""
+        return self.step * (self.n_points - 1)
+
+    @property
+    def extent(self) -> float:
+        """Largest side of the points' bounding box (the scale of goal tolerances)."""
+        return float(np.ptp(self.points, axis=0).max())
 
     def to_points(self, offsets: np.ndarray) -> np.ndarray:
         """World points ``x_k^N + N_kᵀ d_k`` for offsets (K, q − 1)."""
@@ -144,6 +205,12 @@ class Plan:
     n_iter : int
         Newton iterations, summed over starts (and MPC steps).
     converged : bool
+    clearance : ndarray, shape (n_obstacles,)
+        Distance from the path (its segments) to each obstacle's surface minus
+        the tool clearance, in units; never negative for a returned plan.
+        Empty for a scene without obstacles.
+    goal_error : float
+        Distance from the last point to the nominal's last point (the goal).
     """
 
     points: np.ndarray
@@ -152,7 +219,8 @@ class Plan:
     horizon: int | None
     n_iter: int
     converged: bool
-    active: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0, bool))
+    clearance: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
+    goal_error: float = float("nan")
 
 
 # --------------------------------------------------------------------- problem
@@ -162,7 +230,9 @@ class _Problem:
     The exponent of obstacle ``l`` at point ``k`` is a quadratic in the offset,
     ``s = c + 2 bᵀd + dᵀA d`` with ``c = rᵀPr``, ``b = N P r``, ``A = N P Nᵀ``
     and ``r = x_k^N − O_l``: precomputed once, so each evaluation is a few
-    element-wise operations.
+    element-wise operations. Obstacles with a hard radius (``hard_radius > 0``)
+    add the clearance barrier, on the squared distance ``|r|² + 2 (N r)ᵀd + |d|²``
+    (the normals are orthonormal).
     """
 
     def __init__(
@@ -173,6 +243,7 @@ class _Problem:
         precision: np.ndarray,
         weight: float | np.ndarray,
         max_step: float,
+        hard_radius: np.ndarray | None = None,
     ) -> None:
         self.base, self.normals = base, normals  # (n, q), (n, m, q)
         self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
@@ -184,6 +255,19 @@ class _Problem:
         self.c = np.einsum("kli,kli->kl", rel, pr)
         self.b = np.einsum("kmq,klq->klm", normals, pr)
         self.a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
+        radius = np.zeros(obstacles.shape[0]) if hard_radius is None else hard_radius
+        self.hard = np.flatnonzero(radius > 0.0)  # obstacles with a barrier
+        # A segment of length L whose ends keep √(r² + L²/4) from a centre keeps r from
+        # it; L is at most the nominal step and the largest sideways step (10 % slack
+        # for the normals turning on a curved nominal).
+        step = _step_of(base)
+        segment = 1.1 * np.sqrt(step**2 + normals.shape[1] * max_step**2)
+        inner = np.sqrt(radius[self.hard] ** 2 + 0.25 * segment**2)
+        self.inner2 = inner**2
+        self.outer2 = (inner + 0.25 * np.maximum(inner, step)) ** 2
+        hard_rel = rel[:, self.hard]
+        self.rr = np.einsum("khq,khq->kh", hard_rel, hard_rel)
+        self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
 
     @property
     def n(self) -> int:
@@ -204,7 +288,23 @@ class _Problem:
         sub.obstacles, sub.precision = self.obstacles, self.precision
         sub.weight, sub.max_step = self.weight[start:stop], self.max_step
         sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
+        sub.hard, sub.inner2, sub.outer2 = self.hard, self.inner2, self.outer2
+        sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
         return sub
+
+    def kernel_arguments(self) -> tuple:
+        """The cost's arrays as the compiled kernels take them."""
+        return (
+            self.c,
+            self.b,
+            self.a,
+            self.weight,
+            self.rr,
+            self.nr,
+            self.inner2,
+            self.outer2,
+            BARRIER_WEIGHT,
+        )
 
     def bumps(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Obstacle terms ``e`` (n, L) and ``N P u = b + A d`` (n, L, m) at offsets (n, m)."""
@@ -213,13 +313,20 @@ class _Problem:
         return np.exp(-exponent), npu
 
     def cost(self, d: np.ndarray) -> float:
+        """The reward's cost ``−Σ R`` (without the clearance barrier)."""
         value = float(np.sum(self.weight[:, None] * d * d))
         if self.has_obstacles:
             value += float(self.bumps(d)[0].sum())
         return value
 
+    def total_cost(self, d: np.ndarray) -> float:
+        """The cost with the clearance barrier (``+inf`` inside a hard radius)."""
+        from lfdkit._kernels import planner_cost
+
+        return float(planner_cost(*self.kernel_arguments(), np.ascontiguousarray(d, float)))
+
     def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-        """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
+        """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets (no barrier)."""
         m = d.shape[1]
         cost = float(np.sum(self.weight[:, None] * d * d))
         gradient = 2.0 * self.weight[:, None] * d
@@ -232,6 +339,14 @@ class _Problem:
                 "kl,klmn->kmn", bump, 4.0 * npu[..., :, None] * npu[..., None, :] - 2.0 * self.a
             )
         return cost, gradient, hessian
+
+
+#: Scale of the clearance barrier (an obstacle's reward term is at most 1).
+BARRIER_WEIGHT = 1.0
+
+
+def _step_of(base: np.ndarray) -> float:
+    return float(np.linalg.norm(base[1] - base[0])) if base.shape[0] > 1 else 0.0
 
 
 def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
@@ -251,15 +366,16 @@ def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
 def _solve(
     problem: _Problem, d0: np.ndarray, init: np.ndarray, *, tol: float = 1e-10, max_iter: int = 100
 ) -> tuple[np.ndarray, float, int, bool]:
-    """Projected Newton on the actions (compiled); returns offsets, cost, iterations, converged."""
-    from lfdkit._kernels import offsets_newton  # numba compiles on first use
+    """Projected Newton on the actions (compiled); returns offsets, cost, iterations, converged.
+
+    The cost returned includes the clearance barrier (``+inf`` for a start
+    inside a hard radius, which is returned unchanged).
+    """
+    from lfdkit._kernels import planner_newton  # numba compiles on first use
 
     d = np.array(init, dtype=np.float64, order="C").reshape(problem.n, problem.m)
-    cost, n_iter, ok = offsets_newton(
-        problem.c,
-        problem.b,
-        problem.a,
-        problem.weight,
+    cost, n_iter, ok = planner_newton(
+        *problem.kernel_arguments(),
         problem.max_step,
         np.ascontiguousarray(d0, dtype=np.float64),
         d,
@@ -267,6 +383,103 @@ def _solve(
         max_iter,
     )
     return d, float(cost), int(n_iter), bool(ok)
+
+
+def _lateral_levels(problem: _Problem, d0: np.ndarray) -> tuple[np.ndarray, int]:
+    """The grid of the global search: offsets ``h·j``, ``|j| ≤ J``, and cells per step.
+
+    It spans the start and, for every obstacle whose response or radius
+    reaches the nominal, its lateral position plus that reach, so that every
+    way around it is on the grid; the spacing is a quarter of the action bound
+    (half in 3-D) unless the span needs more than the cell budget.
+    """
+    n, m = problem.n, problem.m
+    step = problem.max_step
+    span = max(float(np.abs(d0).max()), 2.0 * step)
+    if problem.has_obstacles:
+        rel = problem.obstacles[:, None, :] - problem.base[None]  # (L, n, q)
+        nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
+        radius = np.zeros(problem.obstacles.shape[0])
+        radius[problem.hard] = np.sqrt(problem.outer2)
+        for o, k in enumerate(nearest):
+            lateral = problem.normals[k] @ rel[o, k]
+            across = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
+            width = 1.0 / np.sqrt(max(float(np.linalg.eigvalsh(across).min()), 1e-300))
+            reach = max(4.0 * width, radius[o])
+            if float(np.linalg.norm(lateral)) < reach:
+                span = max(span, float(np.abs(lateral).max()) + reach)
+    span = min(span, float(np.abs(d0).max()) + n * step)
+    cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
+    window = max(1, min(cells_per_step, int(budget * step / span)))
+    spacing = step / window
+    count = min(int(np.ceil(span / spacing)), budget)
+    return spacing * np.arange(-count, count + 1), window
+
+
+def _global_start(
+    problem: _Problem,
+    d0: np.ndarray,
+    end_on_nominal: bool,
+    levels: tuple[np.ndarray, int] | None = None,
+    extra: np.ndarray | None = None,
+) -> np.ndarray | None:
+    """The best path on the lateral grid (:func:`lfdkit._kernels.lateral_dp`), None if blocked.
+
+    ``extra`` (n, G^m) is added to the grid states' costs (``+inf`` forbids one).
+    """
+    from lfdkit._kernels import lateral_dp
+
+    grid, cells = levels if levels is not None else _lateral_levels(problem, d0)
+    out = np.zeros((problem.n, problem.m))
+    total = lateral_dp(
+        *problem.kernel_arguments(),
+        problem.max_step,
+        np.ascontiguousarray(d0, dtype=np.float64),
+        grid,
+        cells,
+        end_on_nominal,
+        np.zeros((0, 0)) if extra is None else extra,
+        out,
+    )
+    return out if np.isfinite(total) else None
+
+
+def _flipped_starts(
+    problem: _Problem, d0: np.ndarray, end_on_nominal: bool, best: np.ndarray, levels
+) -> list[np.ndarray]:
+    """The best grid path with one obstacle passed on the other side, for each near one.
+
+    The grid ranks passing sides only to its resolution: where two ways
+    round differ by less, the continuous optimum may lie on the other side of
+    an obstacle. Each flipped path is forbidden, at the obstacle's nearest
+    point, the side the best grid path takes there.
+    """
+    grid = levels[0]
+    m = problem.m
+    states = (
+        grid[:, None]
+        if m == 1
+        else np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)
+    )
+    bump = problem.bumps(best)[0]  # (n, L)
+    rel = problem.obstacles[:, None, :] - problem.base[None]
+    nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
+    near = bump.max(axis=0) > 1e-9
+    if problem.hard.size:
+        near[problem.hard] = True
+    starts = []
+    for o in np.flatnonzero(near):
+        k = int(nearest[o])
+        lateral = problem.normals[k] @ rel[o, k]
+        side = best[k] - lateral
+        if not np.any(side):
+            side = np.ones(m)
+        extra = np.zeros((problem.n, states.shape[0]))
+        extra[k, (states - lateral) @ side >= 0.0] = np.inf
+        flipped = _global_start(problem, d0, end_on_nominal, levels, extra)
+        if flipped is not None:
+            starts.append(flipped)
+    return starts
 
 
 def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
@@ -322,17 +535,28 @@ def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
     return starts
 
 
-def goal_weights(corridor: Corridor, weight: float, goal_approach: float | None) -> np.ndarray:
+def goal_weights(
+    corridor: Corridor, weight: float, goal_approach: float | str | None
+) -> np.ndarray:
     """Nominal weight of offsets 1 … K−1: ``Q``, ramped up over the last ``goal_approach``.
 
-    Over the final stretch of length ``goal_approach`` the weight rises as
+    Over the final stretch of length ``goal_approach`` (``"auto"``:
+    :data:`GOAL_APPROACH_FRACTION` of the nominal's length) the weight rises as
     ``Q (1 + GOAL_GAIN · r²(3 − 2r))`` with ``r`` from 0 to 1 (a smooth step),
-    which draws the plan back onto the nominal so it ends at the goal.
+    which draws the plan back onto the nominal so it ends at the goal. None
+    keeps ``Q`` everywhere (the thesis's model).
     """
     n = corridor.n_points - 1
     if goal_approach is None:
         return np.full(n, float(weight))
-    approach = check_positive(goal_approach, "goal_approach")
+    if isinstance(goal_approach, str):
+        if goal_approach != "auto":
+            raise ValueError(
+                f"goal_approach: expected a length, 'auto' or None, got {goal_approach!r}"
+            )
+        approach = GOAL_APPROACH_FRACTION * corridor.length
+    else:
+        approach = check_positive(goal_approach, "goal_approach")
     position = np.arange(1, n + 1) * corridor.step
     r = np.clip((position - (n * corridor.step - approach)) / approach, 0.0, 1.0)
     return weight * (1.0 + GOAL_GAIN * r * r * (3.0 - 2.0 * r))
@@ -343,15 +567,21 @@ def _build(
     corridor: Corridor,
     scene: Scene,
     max_slope: float = 1.0,
-    goal_approach: float | None = None,
+    goal_approach: float | str | None = None,
+    clearance: float | None = None,
 ) -> _Problem:
-    """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step."""
+    """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step.
+
+    ``clearance`` None: no hard radii (the thesis's model, as the IOC fits
+    it); a number: each obstacle's radius plus it is a hard constraint.
+    """
     precision = reward.precision_of(scene)
     obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
     if len(scene) and obstacles.shape[1] != corridor.n_dims:
         raise ValueError(
             f"scene: {obstacles.shape[1]}-D obstacles for a {corridor.n_dims}-D nominal path"
         )
+    hard = None if clearance is None or not len(scene) else scene.radii + clearance
     return _Problem(
         corridor.points[1:],
         corridor.normals[1:],
@@ -359,6 +589,7 @@ def _build(
         precision.reshape(-1, corridor.n_dims, corridor.n_dims),
         goal_weights(corridor, reward.nominal_weight, goal_approach),
         max_slope * corridor.step,
+        hard,
     )
 
 
@@ -372,48 +603,79 @@ def plan_path(
     start_offset: Any = None,
     init: Any = None,
     max_slope: float = 1.0,
-    goal_approach: float | None = None,
+    goal_approach: float | str | None = "auto",
+    clearance: float = 0.0,
+    lookahead: bool = True,
 ) -> Plan:
-    """The path maximising the reward along a nominal path in a scene.
+    """The path maximising the reward along a nominal path in a scene, safely.
 
     Parameters
     ----------
     reward : Reward
     nominal : array_like, shape (n, q) or Corridor
-        Nominal path (e.g. a DMP rollout to the new goal), q 2 or 3.
+        Nominal path (e.g. a DMP rollout to the new goal), q 2 or 3; its last
+        point is the goal.
     scene : Scene
         Obstacles; every class must be known to ``reward``.
     horizon : int, optional
         MPC horizon ``H`` with ``4 <= H <= 12``; None for the full-horizon optimum.
     n_points : int
-        Points ``K`` of the plan (the nominal is resampled at constant speed).
+        Points ``K`` of the plan (the nominal is resampled at constant speed),
+        3 to :data:`MAX_POINTS`.
     start_offset : array_like, shape (q − 1,), optional
         Lateral offset of the start from the nominal's first point (default 0).
     init : array_like, shape (K, q − 1), optional
-        Initial offsets (full horizon only); replaces the multi-start.
+        Initial offsets (full horizon only); replaces the global search.
     max_slope : float
         Largest sideways step per nominal step (the action box).
-    goal_approach : float, optional
+    goal_approach : float, "auto" or None
         Length (path units) before the goal over which the plan returns to the
-        nominal, so it ends at the goal (see :func:`goal_weights`). None (the
-        default) is the thesis's model, which has no goal term: a plan that
-        swerves may end beside the goal.
+        nominal so it ends at the goal (see :func:`goal_weights`); "auto" (the
+        default) is :data:`GOAL_APPROACH_FRACTION` of the nominal's length.
+        None is the thesis's model, which has no goal term: a plan that swerves
+        may end beside the goal.
+    clearance : float
+        Tool clearance (units) added to every obstacle's radius; radius plus
+        clearance is a hard constraint (obstacles where both are 0 have none).
+    lookahead : bool
+        MPC only. True (default): each step executes the candidate (window
+        optima, and the grid's global path) of least window cost plus the
+        grid's cost-to-go for the rest of the path, so the plan does not walk
+        into a concave pocket deeper than the horizon. False: the thesis's
+        receding horizon, each window's globally best optimum (what the IOC's
+        MPC stage fits); both skip candidates that lead into a dead end.
 
     Returns
     -------
     Plan
+        Its ``clearance`` is never negative, and with a goal approach it ends
+        within :data:`GOAL_TOLERANCE` of the path's extent from the goal.
 
     Raises
     ------
+    UnsafePlanError
+        When no plan within the action bounds keeps out of the obstacles (or,
+        with a goal approach, reaches the goal).
     ValueError
-        For a horizon outside 4–12, an unknown obstacle class, a start inside
-        an obstacle, or mismatched dimensions.
+        For a horizon outside 4–12, an unknown obstacle class, a start (or,
+        with a goal approach, a goal) inside an obstacle, non-finite or
+        mismatched arguments.
     """
     # One BLAS thread: the 3-D solver's eigen-solves are many and small, and
     # threaded BLAS makes them many times slower on a busy machine.
     with threadpool_limits(limits=1):
         return _plan(
-            reward, nominal, scene, horizon, n_points, start_offset, init, max_slope, goal_approach
+            reward,
+            nominal,
+            scene,
+            horizon,
+            n_points,
+            start_offset,
+            init,
+            max_slope,
+            goal_approach,
+            clearance,
+            lookahead,
         )
 
 
@@ -426,49 +688,111 @@ def _plan(
     start_offset: Any,
     init: Any,
     max_slope: float,
-    goal_approach: float | None,
+    goal_approach: float | str | None,
+    clearance: float,
+    lookahead: bool,
 ) -> Plan:
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
-    d0 = np.zeros(m) if start_offset is None else np.asarray(start_offset, float).reshape(m)
-    problem = _build(reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach)
-    start_point = corridor.points[0] + d0 @ corridor.normals[0]
-    _check_start(start_point, problem, scene.radii if len(scene) else np.zeros(0))
+    d0 = _vector(start_offset, "start_offset", m)
+    clearance = check_positive(clearance, "clearance", allow_zero=True)
+    if horizon is not None:
+        horizon = check_positive(horizon, "horizon", integer=True)
+        if not MIN_HORIZON <= horizon <= MAX_HORIZON:
+            raise ValueError(
+                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON} (thesis §5.4), "
+                f"got {horizon}"
+            )
+    reach_goal = goal_approach is not None
+    problem = _build(
+        reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach, clearance
+    )
+    _check_ends(corridor, d0, problem, scene, clearance, reach_goal)
     if horizon is None:
-        starts = (
-            [np.asarray(init, float).reshape(problem.n + 1, m)[1:]]
-            if init is not None
-            else (_side_starts(problem, d0))
-        )
-        best = None
-        total_iter = 0
-        for guess in starts:
-            d, cost, n_iter, ok = _solve(problem, d0, guess)
-            total_iter += n_iter
-            if best is None or cost < best[1] - 1e-12 * abs(best[1]):
-                best = (d, cost, ok)
-        if init is None and problem.has_obstacles:
-            # The best plan mirrored through the nominal: the other side of everything.
-            d, cost, n_iter, ok = _solve(problem, d0, 2.0 * d0 - best[0])
-            total_iter += n_iter
-            if cost < best[1] - 1e-12 * abs(best[1]):
-                best = (d, cost, ok)
-        d, cost, ok = best
-        offsets = np.vstack([d0[None], d])
-        return Plan(corridor.to_points(offsets), offsets, cost, None, total_iter, ok)
-    horizon = check_positive(horizon, "horizon", integer=True)
-    if not MIN_HORIZON <= horizon <= MAX_HORIZON:
-        raise ValueError(
-            f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON} (thesis §5.4), got {horizon}"
-        )
-    return _receding_horizon(problem, corridor, d0, horizon)
+        if init is not None:
+            init = np.asarray(init, dtype=np.float64)
+            if init.size != (problem.n + 1) * m or not np.all(np.isfinite(init)):
+                raise ValueError(f"init: expected {problem.n + 1}x{m} finite offsets")
+            starts = [init.reshape(problem.n + 1, m)[1:]]
+        else:
+            starts = _full_starts(problem, d0, reach_goal)
+        d, n_iter, ok = _best_of(problem, d0, starts)
+    else:
+        d, n_iter, ok = _receding_horizon(problem, d0, horizon, reach_goal, lookahead)
+    offsets = np.vstack([d0[None], d])
+    plan = Plan(corridor.to_points(offsets), offsets, problem.cost(d), horizon, n_iter, ok)
+    return _verified(plan, corridor, scene, clearance, reach_goal)
 
 
-def _receding_horizon(problem: _Problem, corridor: Corridor, d0: np.ndarray, horizon: int) -> Plan:
+def _vector(value: Any, name: str, size: int) -> np.ndarray:
+    if value is None:
+        return np.zeros(size)
+    out = np.asarray(value, dtype=np.float64).reshape(-1)
+    if out.size != size:
+        raise ValueError(f"{name}: expected {size} value(s), got {out.size}")
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{name}: must be finite, got {value!r}")
+    return out
+
+
+def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
+    """The global grid path, its one-obstacle flips, and the nominal."""
+    nominal = np.zeros((problem.n, problem.m))
+    if not problem.has_obstacles:
+        return [nominal]
+    levels = _lateral_levels(problem, d0)
+    grid = _global_start(problem, d0, reach_goal, levels)
+    if grid is None:
+        raise UnsafePlanError(
+            "no collision-free plan: every path within the action bound "
+            f"(max_slope {problem.max_step / _step_of(problem.base):g}) enters an obstacle's "
+            "radius plus clearance" + (" or cannot return to the goal" if reach_goal else "")
+        )
+    return [grid, *_flipped_starts(problem, d0, reach_goal, grid, levels), nominal]
+
+
+def _best_of(
+    problem: _Problem, d0: np.ndarray, starts: list[np.ndarray]
+) -> tuple[np.ndarray, int, bool]:
+    """The lowest-cost optimum polished from ``starts`` (skipping those inside a hard radius)."""
+    best, total_iter = None, 0
+    for guess in starts:
+        d, cost, n_iter, ok = _solve(problem, d0, guess)
+        total_iter += n_iter
+        if np.isfinite(cost) and (best is None or cost < best[1] - 1e-12 * abs(best[1])):
+            best = (d, cost, ok)
+    if best is None:
+        raise UnsafePlanError("no collision-free plan: every start enters an obstacle")
+    return best[0], total_iter, best[2]
+
+
+def _receding_horizon(
+    problem: _Problem, d0: np.ndarray, horizon: int, reach_goal: bool, lookahead: bool = True
+) -> tuple[np.ndarray, int, bool]:
+    """MPC: each window's best optimum, judged with the grid's cost-to-go after the window.
+
+    A window alone is myopic: in front of a concave pocket the best ``H``
+    points may head straight in. The grid's backward dynamic programme over
+    the whole path (:func:`lfdkit._kernels.grid_cost_to_go`) gives, for any
+    offset at the window's end, the least cost of the rest; candidates (the
+    warm start and the grid path from the anchor, polished, and that grid
+    path itself) are ranked by window cost plus that cost-to-go.
+    """
+    from lfdkit._kernels import grid_cost_to_go, grid_walk
+
     n, m = problem.n, problem.m
     offsets = np.zeros((n + 1, m))
     offsets[0] = d0
     guess = np.zeros((min(horizon, n), m))
+    table = levels = None
+    if problem.has_obstacles:
+        levels, cells = _lateral_levels(problem, d0)
+        table = np.empty((n, levels.size**m))
+        grid_cost_to_go(
+            *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
+        )
     total_iter, all_ok = 0, True
     for k in range(n):
         stop = min(k + horizon, n)
@@ -476,13 +800,85 @@ def _receding_horizon(problem: _Problem, corridor: Corridor, d0: np.ndarray, hor
         guess = guess[: stop - k]
         if guess.shape[0] < stop - k:
             guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
-        d, _, n_iter, ok = _best_window(window, offsets[k], guess)
+        anchor = offsets[k]
+        if table is None or not _obstacle_near(window, anchor):
+            d, cost, n_iter, ok = _best_window(window, anchor, guess, sides=False)
+        else:
+            grid = np.zeros((stop - k, m))
+            blocked = not np.isfinite(
+                grid_walk(table[k:stop], levels, cells, problem.max_step, anchor, grid)
+            )
+            if not lookahead and not blocked:  # the window's own best grid path
+                own = _global_start(window, anchor, reach_goal and stop == n)
+                grid = grid if own is None else own
+            polished = []
+            for start in [guess] if blocked else [guess, grid]:
+                d, cost, n_iter, ok = _solve(window, anchor, start)
+                total_iter += n_iter
+                polished.append((d, ok))
+            d, cost, n_iter, ok = _ranked(
+                window, polished, None if blocked else grid, table, levels, stop, problem, lookahead
+            )
+        if not np.isfinite(cost):
+            raise UnsafePlanError(
+                f"no collision-free plan: at point {k + 1} of {n + 1} every move within the "
+                "action bound enters an obstacle's radius plus clearance"
+            )
         total_iter += n_iter
         all_ok &= ok
         offsets[k + 1] = d[0]
         guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
-    cost = problem.cost(offsets[1:])
-    return Plan(corridor.to_points(offsets), offsets, cost, horizon, total_iter, all_ok)
+    return offsets[1:], total_iter, all_ok
+
+
+def _ranked(
+    window: _Problem,
+    polished: list[tuple[np.ndarray, bool]],
+    grid: np.ndarray | None,
+    table: np.ndarray,
+    levels: np.ndarray,
+    stop: int,
+    problem: _Problem,
+    lookahead: bool,
+) -> tuple[np.ndarray, float, int, bool]:
+    """The window's candidate to execute.
+
+    Candidates from whose last offset the rest of the path is blocked are
+    skipped. With ``lookahead``, the least window cost plus cost-to-go wins,
+    the grid path itself among the candidates (it is the only one that turns
+    early enough to pass a concave pocket the window cannot see round);
+    without, the window optimum of least window cost (the thesis's MPC).
+    Returns offsets, window cost, 0 iterations (counted by the caller) and
+    whether the candidate is a converged optimum.
+    """
+    candidates = list(polished) + ([(grid, True)] if lookahead and grid is not None else [])
+    best, best_score = None, np.inf
+    for d, ok in candidates:
+        cost = window.total_cost(d)
+        follow = _cost_to_go(table, levels, stop, d[-1], problem.max_step)
+        if not np.isfinite(follow):
+            continue
+        score = cost + follow if lookahead else cost
+        if best is None or score < best_score:
+            best, best_score = (d, cost, 0, ok), score
+    if best is None:  # blocked everywhere: the caller reports it
+        best = (polished[0][0], np.inf, 0, polished[0][1])
+    return best
+
+
+def _cost_to_go(
+    table: np.ndarray, levels: np.ndarray, stop: int, end: np.ndarray, max_step: float
+) -> float:
+    """Least grid cost of points ``stop …`` reached in one step from offset ``end``."""
+    if stop >= table.shape[0]:
+        return 0.0
+    near = np.abs(levels - end[0]) <= max_step * (1.0 + 1e-12)
+    row = table[stop]
+    if end.size == 2:
+        near2 = np.abs(levels - end[1]) <= max_step * (1.0 + 1e-12)
+        row = row.reshape(levels.size, levels.size)[near][:, near2]
+        return float(row.min()) if row.size else np.inf
+    return float(row[near].min()) if near.any() else np.inf
 
 
 def _best_window(
@@ -492,15 +888,19 @@ def _best_window(
     extra: tuple[np.ndarray, ...] = (),
     *,
     sides: bool = True,
+    end_on_nominal: bool = False,
 ) -> tuple[np.ndarray, float, int, bool]:
-    """Solve one MPC window from the warm start (and both sides when an obstacle is near).
+    """Solve one MPC window from the warm start and, near an obstacle, its global grid path.
 
-    Returns the lowest-cost optimum found, its cost, the summed iterations and
-    whether that optimum converged.
+    Returns the lowest-cost optimum found (``+inf`` cost if every candidate
+    enters a hard radius), its cost, the summed iterations and whether that
+    optimum converged.
     """
     candidates = [guess, *extra]
-    if sides and window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
-        candidates += _side_starts(window, anchor)[1:]
+    if sides and _obstacle_near(window, anchor):
+        grid = _global_start(window, anchor, end_on_nominal)
+        if grid is not None:
+            candidates.append(grid)
     best, total = None, 0
     for candidate in candidates:
         d, cost, n_iter, ok = _solve(window, anchor, candidate)
@@ -510,17 +910,115 @@ def _best_window(
     return best[0], best[1], total, best[2]
 
 
-def _check_start(point: np.ndarray, problem: _Problem, radii: np.ndarray) -> None:
-    """Refuse a start inside an obstacle: its physical radius, or one response width if 0."""
+def _obstacle_near(window: _Problem, anchor: np.ndarray) -> bool:
+    """Whether an obstacle's response or hard radius reaches the window's reachable offsets.
+
+    Offsets within reach satisfy ``|d| ≤ ρ = |d_anchor| + n · max_step``; there the
+    exponent ``c + 2bᵀd + dᵀAd`` is at least ``c − 2|b|ρ`` (``A`` is positive
+    semi-definite), so an obstacle whose bound stays above 28 contributes less
+    than 1e-12 anywhere the window can go.
+    """
+    if not window.has_obstacles:
+        return False
+    reach = float(np.linalg.norm(anchor)) + window.n * window.max_step * np.sqrt(window.m)
+    lowest = window.c - 2.0 * np.linalg.norm(window.b, axis=2) * reach
+    if bool(np.any(lowest < 28.0)):
+        return True
+    return bool(np.any(np.sqrt(window.rr) - reach < np.sqrt(window.outer2)[None]))
+
+
+def _check_ends(
+    corridor: Corridor,
+    d0: np.ndarray,
+    problem: _Problem,
+    scene: Scene,
+    clearance: float,
+    reach_goal: bool,
+) -> None:
+    """Refuse a start (or, when the plan must reach it, a goal) inside an obstacle.
+
+    Inside means within the radius plus clearance, or within one width of the
+    obstacle's response for an obstacle with neither.
+    """
     if not problem.has_obstacles:
         return
-    rel = point[None] - problem.obstacles
-    distance = np.linalg.norm(rel, axis=1)
-    depth = np.einsum("li,lij,lj->l", rel, problem.precision, rel)
-    inside = np.flatnonzero(np.where(radii > 0, distance < radii, depth < 1.0))
-    if inside.size:
-        o = int(inside[0])
-        what = f"its radius {radii[o]:g}" if radii[o] > 0 else "one width of its response"
-        raise ValueError(
-            f"start: lies inside obstacle {o} (within {what}); move the start or the obstacle"
+    radius = scene.radii + clearance
+    ends = [("start", corridor.points[0] + d0 @ corridor.normals[0])]
+    if reach_goal:
+        ends.append(("goal", corridor.points[-1]))
+    for name, point in ends:
+        rel = point[None] - problem.obstacles
+        distance = np.linalg.norm(rel, axis=1)
+        depth = np.einsum("li,lij,lj->l", rel, problem.precision, rel)
+        inside = np.flatnonzero(np.where(radius > 0, distance < radius, depth < 1.0))
+        if inside.size:
+            o = int(inside[0])
+            obstacle = scene.obstacles[o]
+            what = (
+                f"its radius {scene.radii[o]:g} plus clearance {clearance:g}"
+                if radius[o] > 0
+                else "one width of its response"
+            )
+            raise ValueError(
+                f"{name}: lies inside obstacle {o} ({obstacle.label!r} at "
+                f"{_coordinates(obstacle.position)}; within {what}); move the {name} or the "
+                "obstacle"
+            )
+
+
+def _coordinates(point: np.ndarray) -> str:
+    return "(" + ", ".join(f"{v:.6g}" for v in point) + ")"
+
+
+def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndarray:
+    """Distance from a path's segments to each obstacle's surface, minus ``clearance``.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, q)
+        The path (a polyline; its segments are checked, not only its points).
+    scene : Scene
+    clearance : float
+        Tool clearance, in the path's units.
+
+    Returns
+    -------
+    ndarray, shape (n_obstacles,)
+        Negative where the path comes closer than radius plus clearance.
+    """
+    path = check_path(points, "points", min_points=1)
+    clearance = check_positive(clearance, "clearance", allow_zero=True)
+    if not len(scene):
+        return np.zeros(0)
+    centres = scene.positions
+    if centres.shape[1] != path.shape[1]:
+        raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
+    if path.shape[0] == 1:
+        distance = np.linalg.norm(centres - path[0], axis=1)
+    else:
+        distance = project_onto_polyline(centres, path)[2]
+    return distance - scene.radii - clearance
+
+
+def _verified(
+    plan: Plan, corridor: Corridor, scene: Scene, clearance: float, reach_goal: bool
+) -> Plan:
+    """Check the finished plan against every obstacle and the goal; raise if it fails."""
+    plan.clearance = plan_clearance(plan.points, scene, clearance)
+    plan.goal_error = float(np.linalg.norm(plan.points[-1] - corridor.points[-1]))
+    tolerance = 1e-9 * max(corridor.extent, path_length(corridor.points))
+    hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.radii + clearance > 0))
+    if hit.size:
+        o = int(hit[np.argmin(plan.clearance[hit])])
+        obstacle = scene.obstacles[o]
+        raise UnsafePlanError(
+            f"no collision-free plan: the best plan passes {-plan.clearance[o]:.3g} inside "
+            f"obstacle {o} ({obstacle.label!r} at {_coordinates(obstacle.position)}, radius "
+            f"{obstacle.radius:g} plus clearance {clearance:g})"
         )
+    if reach_goal and plan.goal_error > GOAL_TOLERANCE * corridor.extent:
+        raise UnsafePlanError(
+            f"the plan ends {plan.goal_error:.3g} from the goal (more than {GOAL_TOLERANCE:g} of "
+            f"the path's extent {corridor.extent:.3g}); a longer goal_approach may help"
+        )
+    return plan
