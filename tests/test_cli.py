@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from lfdkit.cli import main
+from lfdkit.emulate import plan_clearance
 from lfdkit.emulate.scene import Obstacle, Scene, save_scenes
 from lfdkit.examples import example_files
 from lfdkit.examples.sweeping_demo import demo_outputs
@@ -248,24 +249,49 @@ def test_plan_csv_equals_the_python_plan(capsys, tmp_path, skill_path):
     assert np.array_equal(rows[0], START)
 
 
-def test_plan_goal_approach_ends_at_the_goal(capsys, skill_path):
+def test_plan_ends_at_the_goal_by_default(capsys, skill_path):
     goal = np.array([0.36, 0.5])
     cup = "cup:0.0,0.47,r=0.03"
     args = ("plan", skill_path, "--goal", "0.36,0.5", "--obstacle", cup)
-    code, stdout, err = run_cli(capsys, *args)
+    code, stdout, err = run_cli(capsys, *args, "--goal-approach", "none")
     assert code == 0, err
     thesis_end = read_plan_csv(stdout)[1][-1]
     assert np.linalg.norm(thesis_end - goal) > 0.02  # the swerve leaves it beside the goal
-    code, stdout, err = run_cli(capsys, *args, "--goal-approach", "0.1")
-    assert code == 0, err
-    rows = read_plan_csv(stdout)[1]
-    np.testing.assert_allclose(rows[-1], goal, atol=1e-3)
     skill = Skill.load(skill_path)
     scene = Scene((Obstacle("cup", [0.0, 0.47], 0.03),))
-    assert np.array_equal(rows, skill.plan(None, goal, scene, goal_approach=0.1))
-    code, _, err = run_cli(capsys, *args, "--goal-approach", "0")
+    for extra, approach in (((), "auto"), (("--goal-approach", "0.1"), 0.1)):
+        code, stdout, err = run_cli(capsys, *args, *extra)
+        assert code == 0, err
+        rows = read_plan_csv(stdout)[1]
+        np.testing.assert_allclose(rows[-1], goal, atol=1e-3)
+        assert np.array_equal(rows, skill.plan(None, goal, scene, goal_approach=approach))
+    for bad in ("0", "-1", "soon", "nan"):
+        code, _, err = usage_exit(capsys, *args, "--goal-approach", bad)
+        assert code == 2
+        assert "--goal-approach" in err
+
+
+def test_plan_keeps_out_of_the_radius_plus_clearance(capsys, skill_path):
+    # The example: a 10 cm cup the learned response alone passes 3.9 cm inside.
+    args = ("plan", skill_path, "--goal", "0.36,0.5", "--obstacle", "cup:0.0,0.46,r=0.1")
+    scene = Scene((Obstacle("cup", [0.0, 0.46], 0.1),))
+    for clearance in ("0", "0.025"):
+        code, stdout, err = run_cli(capsys, *args, "--clearance", clearance, "-v")
+        assert code == 0, err
+        rows = read_plan_csv(stdout)[1]
+        assert plan_clearance(rows, scene, float(clearance))[0] >= 0.0
+        assert "from the goal" in err and "beyond radius + clearance" in err
+    # No way round within the action bound: refused on one line, exit 1.
+    nominal = Skill.load(skill_path).nominal(None, [0.36, 0.5])
+    middle = nominal[len(nominal) // 2]
+    across = np.array([-1.0, 1.0]) * (nominal[-1] - nominal[0])[::-1]
+    across /= np.linalg.norm(across)
+    wall = [middle + t * across for t in np.arange(-0.6, 0.61, 0.08)]
+    obstacles = [arg for x, y in wall for arg in ("--obstacle", f"cup:{x:.4f},{y:.4f},r=0.05")]
+    code, stdout, err = run_cli(capsys, "plan", skill_path, "--goal", "0.36,0.5", *obstacles)
     assert code == 1
-    assert "goal_approach" in err
+    assert stdout == ""
+    assert "no collision-free plan" in err and len(err.strip().splitlines()) == 1
 
 
 def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):

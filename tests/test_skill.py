@@ -57,13 +57,17 @@ def test_training_data_splits_clean_and_obstacle_demonstrations() -> None:
 
 def test_learned_skill_matches_the_demonstrator_on_held_out_sweeps(skill, test_set, sweeping):
     demos, scenes = test_set
-    scores = skill.evaluate(demos, scenes)
+    # The demonstrator follows the thesis's model (no goal term: a late swerve ends beside the
+    # goal): scored with that model the plans match it; the executed plans, which return to
+    # the goal over the last tenth of the path, lose a little at the end.
+    scores = skill.evaluate(demos, scenes, goal_approach=None)
     truth = [
-        plan_path(sweeping.true_reward, skill.nominal(d[0]), s, horizon=8).points
+        plan_path(sweeping.true_reward, skill.nominal(d[0]), s, horizon=8, goal_approach=None)
         for d, s in zip(demos, scenes, strict=True)
     ]
-    assert scores["improvement"] > 95.0
-    assert scores["mse"] < 1.5 * metrics.mse_paths(truth, demos)
+    assert scores["improvement"] > 99.0
+    assert scores["mse"] < 1.5 * metrics.mse_paths([t.points for t in truth], demos)
+    assert skill.evaluate(demos, scenes)["improvement"] > 93.0
     assert set(skill.reward_.classes) == {"cup", "marker"}
     # The generalized path is the clean sweeps' Mean-Path: on average within 1 mm of the truth.
     assert metrics.e2(skill.path_, sweeping.nominal, n_points=100) / 100 < 1e-3

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import re
 import subprocess
 import sys
@@ -257,6 +258,22 @@ def _point_arg(values, name: str, n_dims: int):
     return values
 
 
+def _goal_approach(text: str) -> float | str | None:
+    """``--goal-approach``: a positive length, ``auto`` or ``none``."""
+    word = text.strip().lower()
+    if word in ("auto", "none"):
+        return None if word == "none" else "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected a length, 'auto' or 'none', got {text!r}"
+        ) from None
+    if not math.isfinite(value) or value <= 0.0:
+        raise argparse.ArgumentTypeError(f"expected a positive length, got {text!r}")
+    return value
+
+
 def _skill_and_scene(args: argparse.Namespace):
     """The skill of ``plan``/``plot`` with the scene, start and goal of the command line."""
     skill = _load_skill(args.skill)
@@ -272,23 +289,32 @@ def _plan(args: argparse.Namespace) -> None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
     started = time.perf_counter()
-    path = skill.plan(
+    plan = skill.plan_details(
         start,
         goal,
         scene,
         planner=args.planner,
         horizon=args.horizon,
         goal_approach=args.goal_approach,
+        clearance=args.clearance,
+    )
+    path = plan.points
+    clear = (
+        f"; closest obstacle {plan.clearance.min():.4g} beyond radius + clearance"
+        if len(scene)
+        else ""
+    )
+    summary = (
+        f"planned {len(path)} points around {len(scene)} obstacles in "
+        f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} from the "
+        f"goal{clear}"
     )
     if args.output is None:
         sys.stdout.write(path_csv(path))
+        _say(args, summary, level=2)  # standard output carries the plan: details at -v only
         return
     save_path(args.output, path, overwrite=args.force)
-    _say(
-        args,
-        f"planned {len(path)} points around {len(scene)} obstacles in "
-        f"{1e3 * (time.perf_counter() - started):.0f} ms; wrote {args.output}",
-    )
+    _say(args, f"{summary}; wrote {args.output}")
 
 
 def _plot(args: argparse.Namespace) -> None:
@@ -500,10 +526,20 @@ def _parser() -> argparse.ArgumentParser:
     _planner_options(plan, defaults=False)
     plan.add_argument(
         "--goal-approach",
-        type=float,
-        metavar="LENGTH",
+        type=_goal_approach,
+        default="auto",
+        metavar="LENGTH|auto|none",
         help="return onto the nominal over this last stretch so the plan ends at the goal "
-        "(path units; default: the thesis's reward, no goal term)",
+        "(path units; default auto: the last tenth of the path; none: the thesis's reward, "
+        "no goal term, the plan may end beside the goal)",
+    )
+    plan.add_argument(
+        "--clearance",
+        type=float,
+        default=0.0,
+        metavar="LENGTH",
+        help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
+        "plus clearance or the command fails (path units; default 0)",
     )
     _force(plan)
     _loudness(plan)

@@ -64,7 +64,7 @@ import numpy as np
 from lfdkit import __version__, metrics
 from lfdkit._validation import check_demos, check_path, check_positive
 from lfdkit.demos import DemoId, atomic_write, load_demos
-from lfdkit.emulate import IOC, Reward, Scene, plan_path
+from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
 from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
@@ -515,7 +515,8 @@ class Skill:
         *,
         planner: PlannerKind | None = None,
         horizon: int | None = None,
-        goal_approach: float | None = None,
+        goal_approach: float | str | None = "auto",
+        clearance: float = 0.0,
     ) -> np.ndarray:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -529,27 +530,56 @@ class Skill:
             Override the skill's planner.
         horizon : int, optional
             Override the MPC horizon (4 to 12).
-        goal_approach : float, optional
+        goal_approach : float, "auto" or None
             Length (units of the path) before the goal over which the plan is
-            drawn back onto the nominal so that it ends at the goal (e.g. the
-            dustpan a cube must be swept into). None: the thesis's reward,
+            drawn back onto the nominal so that it ends at the goal; "auto"
+            (the default) is a tenth of the path. None: the thesis's reward,
             which has no goal term; a swerve can leave the plan's end beside
             the goal. See :func:`lfdkit.emulate.planner.goal_weights`.
+        clearance : float
+            Tool clearance (units) added to every obstacle's radius; the plan
+            keeps out of radius plus clearance (a hard constraint).
 
         Returns
         -------
         ndarray, shape (n_points, q)
             The planned path, from ``start``; with no obstacle, the nominal
-            resampled at constant speed.
+            resampled at constant speed. :meth:`plan_details` gives the whole
+            :class:`lfdkit.emulate.Plan` (clearance, goal error, cost).
 
         Raises
         ------
+        lfdkit.emulate.UnsafePlanError
+            When no plan within the action bounds keeps out of the obstacles
+            and reaches the goal.
         ValueError
             For a start or goal of the wrong dimension or not finite, a scene
             with an obstacle class this skill has not learned (or with
-            obstacles when no reward is learned), a start inside an obstacle,
-            or a horizon outside 4-12.
+            obstacles when no reward is learned), a start or goal inside an
+            obstacle, or a horizon outside 4-12.
         """
+        return self.plan_details(
+            start,
+            goal,
+            scene,
+            planner=planner,
+            horizon=horizon,
+            goal_approach=goal_approach,
+            clearance=clearance,
+        ).points
+
+    def plan_details(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        scene: Scene | None = None,
+        *,
+        planner: PlannerKind | None = None,
+        horizon: int | None = None,
+        goal_approach: float | str | None = "auto",
+        clearance: float = 0.0,
+    ) -> Plan:
+        """:meth:`plan`, returning the whole :class:`lfdkit.emulate.Plan`."""
         nominal = self.nominal(start, goal)
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
@@ -576,16 +606,25 @@ class Skill:
             n_points=int(self.n_points),
             max_slope=float(self.max_slope),
             goal_approach=goal_approach,
-        ).points
+            clearance=clearance,
+        )
 
     def evaluate(
-        self, demos: Sequence[Any], scenes: Sequence[Scene], *, goals: Any = None
+        self,
+        demos: Sequence[Any],
+        scenes: Sequence[Scene],
+        *,
+        goals: Any = None,
+        goal_approach: float | str | None = "auto",
     ) -> dict[str, float]:
         """Scores on held-out demonstrations in their scenes (thesis MSE_R and Pr).
 
         Each demonstration is compared with the plan from its first point to
         its goal (default the generalized path's goal) in its scene, and with
-        the nominal replayed without the obstacle term.
+        the nominal replayed without the obstacle term. ``goal_approach`` is
+        :meth:`plan`'s: by default the plan the robot would execute, which
+        ends at the goal; None scores the thesis's model, which matches
+        demonstrators that swerve late and end beside the goal.
 
         Returns
         -------
@@ -600,7 +639,8 @@ class Skill:
             raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
         goal = self._goals(goals, len(demos))
         plans = [
-            self.plan(demo[0], g, scene) for demo, g, scene in zip(demos, goal, scenes, strict=True)
+            self.plan(demo[0], g, scene, goal_approach=goal_approach)
+            for demo, g, scene in zip(demos, goal, scenes, strict=True)
         ]
         nominals = [self.nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
         mse = metrics.mse_paths(plans, demos)

@@ -102,7 +102,7 @@ MIN_HORIZON, MAX_HORIZON = 4, 12
 #: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
 GOAL_GAIN = 1e4
 #: Default goal approach, as a fraction of the nominal path's length.
-GOAL_APPROACH_FRACTION = 0.2
+GOAL_APPROACH_FRACTION = 0.1
 #: A plan ends at its goal when its last point is this close (fraction of the path's extent).
 GOAL_TOLERANCE = 1e-3
 #: Most points a plan may have (memory and time grow linearly).
@@ -745,12 +745,16 @@ def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np
     levels = _lateral_levels(problem, d0)
     grid = _global_start(problem, d0, reach_goal, levels)
     if grid is None:
-        raise UnsafePlanError(
-            "no collision-free plan: every path within the action bound "
-            f"(max_slope {problem.max_step / _step_of(problem.base):g}) enters an obstacle's "
-            "radius plus clearance" + (" or cannot return to the goal" if reach_goal else "")
-        )
+        raise UnsafePlanError(_blocked_message(problem, reach_goal))
     return [grid, *_flipped_starts(problem, d0, reach_goal, grid, levels), nominal]
+
+
+def _blocked_message(problem: _Problem, reach_goal: bool) -> str:
+    return (
+        "no collision-free plan: every path within the action bound "
+        f"(max_slope {problem.max_step / _step_of(problem.base):g}) enters an obstacle's "
+        "radius plus clearance" + (" or cannot return to the goal" if reach_goal else "")
+    )
 
 
 def _best_of(
@@ -793,6 +797,8 @@ def _receding_horizon(
         grid_cost_to_go(
             *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
         )
+        if not np.isfinite(grid_walk(table, levels, cells, problem.max_step, d0, np.zeros((1, m)))):
+            raise UnsafePlanError(_blocked_message(problem, reach_goal))
     total_iter, all_ok = 0, True
     for k in range(n):
         stop = min(k + horizon, n)
