@@ -37,7 +37,10 @@ and the offending value:
   given, before NumPy would turn ``True`` into 1.0; NaN and infinities too.
 * *Rotations.* A rotation vector ``[rx, ry, rz]`` has norm at most π (plus
   1e-9): every rotation has one, and a larger norm is most likely degrees
-  passed as radians (``[0, 180, 0]``).
+  passed as radians (``[0, 180, 0]``). Tool-down sweeping poses are
+  rotations by π, so :func:`lfdkit.robot.poses.unwrap_rotvecs` keeps them at
+  norm π (it only picks between ``±π a``); a sequence it unwraps past π is
+  refused.
 * *Positions.* Every tool position lies in the :class:`Workspace` box
   (default: on or above the table plane ``z = 0``, where the UR5 of the
   sweeping set-up stands) and, unless the workspace says otherwise, has an
@@ -453,17 +456,21 @@ def format_number(value: float) -> str:
         For a value that is not a finite real number below 1e9 in magnitude
         (never a 300-digit literal).
     """
-    v = _real(value, "value", "value")
-    if abs(v) >= _MAX_FORMATTED:
-        raise URScriptError(f"value: {_show(v)} is too large to write (|value| < 1e9)", "value")
-    text = f"{v:.{DECIMALS}f}".rstrip("0")
+    return _format(_real(value, "value", "value"))
+
+
+def _format(value: float) -> str:
+    """:func:`format_number` of a value already known to be a finite float."""
+    if abs(value) >= _MAX_FORMATTED:
+        raise URScriptError(f"value: {_show(value)} is too large to write (|value| < 1e9)", "value")
+    text = f"{value:.{DECIMALS}f}".rstrip("0")
     if text.endswith("."):
         text += "0"
     return "0.0" if text == "-0.0" else text
 
 
 def _fmt_list(values: np.ndarray) -> str:
-    return ", ".join(format_number(v) for v in values)
+    return ", ".join(_format(v) for v in values.tolist())
 
 
 # ------------------------------------------------------------------ argument checks
