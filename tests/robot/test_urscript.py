@@ -400,6 +400,38 @@ def test_workspace_refusals(kwargs, error, message):
         Workspace(**kwargs)
 
 
+_CORNERS = st.one_of(
+    st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=0, max_size=4),
+    st.builds(np.array, st.lists(st.floats(-2, 2), min_size=3, max_size=3)),
+    st.just(np.array(0.5)),
+    st.none(),
+    st.text(max_size=3),
+    st.tuples(st.booleans(), st.integers(), st.floats()),
+)
+
+
+@settings(max_examples=150, deadline=2000)
+@given(
+    lower=_CORNERS,
+    upper=_CORNERS,
+    check_reach=st.one_of(st.booleans(), st.none(), st.integers()),
+    tool=st.one_of(
+        st.none(),
+        st.just(np.eye(4)),
+        st.lists(st.lists(st.floats(-2, 2), min_size=4, max_size=4), max_size=5),
+        st.text(max_size=3),
+    ),
+)
+def test_fuzzed_workspace_is_built_or_refused(lower, upper, check_reach, tool):
+    try:
+        box = Workspace(lower, upper, check_reach, tool)
+    except URScriptError as exc:
+        assert str(exc)
+        return
+    assert all(lo < hi for lo, hi in zip(box.lower, box.upper, strict=True))
+    assert isinstance(box.check_reach, bool)
+
+
 # ------------------------------------------------------------------ movel arguments
 @pytest.mark.parametrize(
     ("kwargs", "error", "message"),

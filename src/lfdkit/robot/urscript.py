@@ -343,7 +343,8 @@ class Workspace:
         corners = {}
         for name in ("lower", "upper"):
             value = getattr(self, name)
-            if not (_is_sequence(value) or isinstance(value, np.ndarray)) or len(value) != 3:
+            is_vector = isinstance(value, np.ndarray) and value.ndim == 1
+            if not (_is_sequence(value) or is_vector) or len(value) != 3:
                 raise URScriptTypeError(
                     f"{name}: expected 3 numbers (x, y, z) in metres, got {_show(value)}", name
                 )
@@ -366,6 +367,7 @@ class Workspace:
             raise URScriptTypeError(
                 f"check_reach: expected a bool, got {_show(self.check_reach)}", "check_reach"
             )
+        object.__setattr__(self, "check_reach", bool(self.check_reach))
         if self.tool is not None:
             rows = _real_rows(self.tool, "tool", tuple(f"column {c}" for c in range(4)), 4)
             try:
