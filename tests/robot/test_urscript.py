@@ -388,6 +388,7 @@ def test_workspace_tool_moves_the_checked_point():
         ({"check_reach": 1}, URScriptTypeError, "check_reach: expected a bool"),
         ({"tool": np.zeros((4, 4))}, URScriptError, "tool: .*bottom row"),
         ({"tool": np.eye(3)}, URScriptError, r"tool: expected an array of shape \(n, 4\)"),
+        ({"tool": np.eye(5, 4)}, URScriptError, r"tool: expected shape \(4, 4\), got \(5, 4\)"),
         (
             {"tool": [[1, 1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]},
             URScriptError,

@@ -370,12 +370,12 @@ class Workspace:
         object.__setattr__(self, "check_reach", bool(self.check_reach))
         if self.tool is not None:
             rows = _real_rows(self.tool, "tool", tuple(f"column {c}" for c in range(4)), 4)
+            if rows.shape != (4, 4):
+                raise URScriptError(f"tool: expected shape (4, 4), got {rows.shape}", "tool")
             try:
                 ur5.forward(np.zeros(6), tool=rows)  # checks it is a rigid transform
             except (TypeError, ValueError) as exc:
                 raise URScriptError(str(exc), "tool") from exc
-            if rows.shape != (4, 4):
-                raise URScriptError(f"tool: expected shape (4, 4), got {rows.shape}", "tool")
             object.__setattr__(self, "tool", tuple(tuple(float(v) for v in r) for r in rows))
 
     @classmethod
