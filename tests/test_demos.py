@@ -5,7 +5,9 @@ from __future__ import annotations
 import json
 import os
 import re
+import stat
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +18,10 @@ from hypothesis import strategies as st
 from lfdkit.demos import (
     JSON_FORMAT,
     JSON_VERSION,
+    STALE_TEMP_SECONDS,
     SUPPORTED_SUFFIXES,
+    NotRegularFileError,
+    OutputExistsError,
     atomic_write,
     load_demos,
     path_csv,
@@ -577,7 +582,8 @@ def test_refuses_overwrite_then_overwrites(tmp_path: Path, suffix: str) -> None:
     save_demos(path, first)
     before = path.read_bytes()
     with pytest.raises(
-        FileExistsError, match=_m(path, r": file already exists; pass overwrite=True")
+        OutputExistsError,
+        match=_m(path, r": file already exists; allow overwriting to replace it \(overwrite=True"),
     ):
         save_demos(path, second)
     assert path.read_bytes() == before
@@ -766,6 +772,109 @@ def test_atomic_write_permissions(tmp_path: Path) -> None:
     os.chmod(plain, 0o640)
     atomic_write(plain, lambda f: f.write("y"), overwrite=True)
     assert plain.stat().st_mode & 0o777 == 0o640  # replaced file keeps its mode
+
+
+def test_exists_error_names_path_and_both_ways_to_allow(tmp_path: Path) -> None:
+    path = tmp_path / "a.txt"
+    path.write_text("old")
+    with pytest.raises(OutputExistsError) as info:
+        atomic_write(path, lambda f: f.write("new"))
+    assert isinstance(info.value, FileExistsError) and info.value.path == path
+    assert str(info.value) == (
+        f"{path}: file already exists; allow overwriting to replace it "
+        "(overwrite=True; --force on the command line)"
+    )
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_atomic_write_never_replaces_a_fifo(tmp_path: Path, overwrite: bool) -> None:
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    expected = _m(fifo, r": is a named pipe \(FIFO\), not a regular file; lfdkit writes regular")
+    with pytest.raises(NotRegularFileError, match=expected):
+        atomic_write(fifo, lambda f: f.write("x"), overwrite=overwrite)
+    with pytest.raises(NotRegularFileError, match=expected):
+        save_demos(fifo, [np.zeros((2, 2))], overwrite=overwrite)
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.csv"]
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/null"), reason="needs /dev/null")
+def test_atomic_write_never_replaces_a_device() -> None:
+    with pytest.raises(NotRegularFileError, match=r"^/dev/null: is a character device, not a"):
+        atomic_write("/dev/null", lambda f: f.write("x"), overwrite=True)
+    assert stat.S_ISCHR(os.lstat("/dev/null").st_mode)
+
+
+@pytest.mark.skipif(os.name != "posix", reason="POSIX symbolic links")
+@pytest.mark.parametrize("points_to", ["real.txt", "missing.txt", "/dev/null"])
+def test_atomic_write_refuses_symbolic_links(tmp_path: Path, points_to: str) -> None:
+    real = tmp_path / "real.txt"
+    real.write_text("kept")
+    link = tmp_path / "link.txt"
+    link.symlink_to(points_to)
+    with pytest.raises(NotRegularFileError, match=_m(link, r": is a symbolic link \(to '")):
+        atomic_write(link, lambda f: f.write("new"), overwrite=True)
+    assert link.is_symlink() and os.readlink(link) == points_to
+    assert real.read_text() == "kept"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_target_turned_into_fifo_during_write_is_not_replaced(tmp_path: Path) -> None:
+    path = tmp_path / "a.txt"
+    path.write_text("old")
+
+    def writer(f) -> None:
+        path.unlink()
+        os.mkfifo(path)
+        f.write("new")
+
+    with pytest.raises(NotRegularFileError, match="named pipe"):
+        atomic_write(path, writer, overwrite=True)
+    assert stat.S_ISFIFO(os.lstat(path).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]
+
+
+def test_temporary_file_name_is_recognisably_ours(tmp_path: Path) -> None:
+    path = tmp_path / "skill.json"
+    seen: list[str] = []
+
+    def writer(f) -> None:
+        seen.extend(p.name for p in tmp_path.iterdir())
+        f.write("{}")
+
+    atomic_write(path, writer)
+    assert len(seen) == 1 and re.fullmatch(r"\.skill\.json\.[0-9a-f]{12}\.lfdkit\.tmp", seen[0])
+
+
+def test_stale_temporary_files_of_the_target_are_removed(tmp_path: Path) -> None:
+    path = tmp_path / "skill.json"
+    old = time.time() - STALE_TEMP_SECONDS - 60
+    ours_stale = [".skill.json.0123456789ab.lfdkit.tmp", ".skill.json.ba9876543210.tmp"]
+    kept = [
+        ".skill.json.0123456789ac.lfdkit.tmp",  # ours but recent: a write in progress
+        ".other.json.0123456789ab.lfdkit.tmp",  # another target's
+        ".skill.json.notours.tmp",  # not our naming
+        ".skill.json.0123456789ab.lfdkit.tmp.bak",
+        "skill.json.0123456789ab.lfdkit.tmp",
+    ]
+    for name in ours_stale + kept:
+        (tmp_path / name).write_text("x")
+        if name != kept[0]:
+            os.utime(tmp_path / name, (old, old))
+    os.mkdir(tmp_path / ".skill.json.fedcba987654.lfdkit.tmp")  # not a regular file: kept
+    os.utime(tmp_path / ".skill.json.fedcba987654.lfdkit.tmp", (old, old))
+    atomic_write(path, lambda f: f.write("{}"))
+    remaining = sorted(p.name for p in tmp_path.iterdir())
+    assert remaining == sorted([*kept, ".skill.json.fedcba987654.lfdkit.tmp", "skill.json"])
+
+
+def test_long_file_name_still_writes(tmp_path: Path) -> None:
+    path = tmp_path / ("n" * 250 + ".csv")
+    save_demos(path, [np.zeros((2, 2))])
+    assert len(load_demos(path)) == 1
+    assert _leftovers(tmp_path) == []
 
 
 def test_path_csv_is_exact_and_save_path_never_overwrites(tmp_path) -> None:

@@ -45,6 +45,7 @@ import os
 import re
 import secrets
 import stat
+import time
 import zipfile
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -57,9 +58,13 @@ from lfdkit._validation import check_demos, check_path
 __all__ = [
     "JSON_FORMAT",
     "JSON_VERSION",
+    "STALE_TEMP_SECONDS",
     "SUPPORTED_SUFFIXES",
     "DemoId",
+    "NotRegularFileError",
+    "OutputExistsError",
     "atomic_write",
+    "check_output_path",
     "load_demos",
     "path_csv",
     "save_demos",
@@ -91,6 +96,135 @@ _NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
 # --------------------------------------------------------------------------- #
 
 
+class OutputExistsError(FileExistsError):
+    """The file to write exists and overwriting was not allowed.
+
+    A :class:`FileExistsError`, so existing handlers keep working. The message
+    is worded for both audiences (the ``overwrite=True`` argument and a
+    command line's ``--force``); :attr:`path` is the file, for a caller that
+    words its own message.
+    """
+
+    def __init__(self, path: PathLike) -> None:
+        self.path = Path(path)
+        super().__init__(
+            f"{self.path}: file already exists; allow overwriting to replace it "
+            "(overwrite=True; --force on the command line)"
+        )
+
+
+class NotRegularFileError(OSError):
+    """A path to read or write is a FIFO, device, socket or symbolic link, not a regular file.
+
+    lfdkit reads and writes regular files only: reading a FIFO can block forever
+    and replacing a device node or a link destroys something that is not a
+    data file. The message names the path and what it is, in one line.
+    """
+
+
+STALE_TEMP_SECONDS = 600.0
+"""Age (seconds since last modified) after which :func:`atomic_write` removes a
+temporary file it left behind for the same target (a killed process)."""
+
+_TEMP_SUFFIX = ".lfdkit.tmp"
+# Temporary files: ".<name>.<12 hex digits>.lfdkit.tmp" (earlier versions wrote
+# the same without "lfdkit"); the name is cut so the whole stays under NAME_MAX.
+_TEMP_NAME_CHARS = 200
+_TEMP_PATTERN = r"[0-9a-f]{12}(?:\.lfdkit)?\.tmp"
+
+
+def _file_kind(mode: int) -> str:
+    """Words for a file type from ``st_mode`` (for messages)."""
+    if stat.S_ISDIR(mode):
+        return "a directory"
+    if stat.S_ISFIFO(mode):
+        return "a named pipe (FIFO)"
+    if stat.S_ISCHR(mode):
+        return "a character device"
+    if stat.S_ISBLK(mode):
+        return "a block device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    if stat.S_ISLNK(mode):
+        return "a symbolic link"
+    return "not a regular file"
+
+
+def _check_output_target(target: Path) -> os.stat_result | None:
+    """Stat of an existing regular-file target, ``None`` when absent; refuse anything else."""
+    try:
+        st = os.lstat(target)
+    except FileNotFoundError:
+        return None
+    if stat.S_ISREG(st.st_mode):
+        return st
+    if stat.S_ISDIR(st.st_mode):
+        raise IsADirectoryError(f"{target}: is a directory; give the path of a file to write")
+    if stat.S_ISLNK(st.st_mode):
+        try:
+            points_to = os.readlink(target)
+        except OSError:  # pragma: no cover - vanished meanwhile
+            points_to = "?"
+        raise NotRegularFileError(
+            f"{target}: is a symbolic link (to '{points_to}'); lfdkit neither writes through "
+            "nor replaces links; give the target's own path or remove the link"
+        )
+    raise NotRegularFileError(
+        f"{target}: is {_file_kind(st.st_mode)}, not a regular file; lfdkit writes regular "
+        "files only; give another path"
+    )
+
+
+def check_output_path(path: PathLike, *, overwrite: bool) -> os.stat_result | None:
+    """Check that :func:`atomic_write` may write ``path``, before any work is done.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+    overwrite : bool
+        Whether an existing regular file may be replaced.
+
+    Returns
+    -------
+    os.stat_result or None
+        The status of the existing regular file, ``None`` if ``path`` is absent.
+
+    Raises
+    ------
+    OutputExistsError, IsADirectoryError, NotRegularFileError
+        As :func:`atomic_write`.
+    """
+    target = Path(path)
+    existing = _check_output_target(target)
+    if existing is not None and not overwrite:
+        raise _exists_error(target)
+    return existing
+
+
+def _temp_prefix(target: Path) -> str:
+    return f".{target.name[:_TEMP_NAME_CHARS]}."
+
+
+def _remove_stale_temps(target: Path) -> None:
+    """Remove this target's temporary files older than :data:`STALE_TEMP_SECONDS`.
+
+    Only regular files named exactly like :func:`atomic_write`'s temporary
+    files for ``target`` are touched; errors are ignored (best effort).
+    """
+    prefix = _temp_prefix(target)
+    pattern = re.compile(re.escape(prefix) + _TEMP_PATTERN)
+    cutoff = time.time() - STALE_TEMP_SECONDS
+    with contextlib.suppress(OSError), os.scandir(target.parent) as entries:
+        for entry in entries:
+            if not entry.name.startswith(prefix) or not pattern.fullmatch(entry.name):
+                continue
+            with contextlib.suppress(OSError):
+                st = entry.stat(follow_symlinks=False)
+                if stat.S_ISREG(st.st_mode) and st.st_mtime < cutoff:
+                    os.unlink(entry.path)
+
+
 def atomic_write(
     path: PathLike,
     writer: Callable[[IO[Any]], object],
@@ -120,9 +254,9 @@ def atomic_write(
     binary : bool
         Open the temporary file in binary (``"wb"``) rather than text mode.
     overwrite : bool
-        Replace ``path`` if it exists. When false, an existing ``path`` raises
-        ``FileExistsError``; the check is race-free where the file system
-        supports hard links.
+        Replace ``path`` if it is an existing regular file. When false, an
+        existing ``path`` raises :class:`OutputExistsError`; the check is
+        race-free where the file system supports hard links.
     encoding : str
         Text encoding (ignored when ``binary``).
 
@@ -133,33 +267,42 @@ def atomic_write(
 
     Raises
     ------
-    FileExistsError
-        If ``path`` exists and ``overwrite`` is false.
+    OutputExistsError
+        (a ``FileExistsError``) If ``path`` exists and ``overwrite`` is false.
     IsADirectoryError
         If ``path`` is a directory.
+    NotRegularFileError
+        (an ``OSError``) If ``path`` is a FIFO, device, socket or symbolic
+        link, whatever ``overwrite`` says.
     FileNotFoundError
         If the directory of ``path`` does not exist.
 
     Notes
     -----
+    Only a missing path or an existing regular file is written: a special
+    file (FIFO, device, socket) is never replaced or written through, and
+    neither is a symbolic link (whatever it points to), so ``overwrite``
+    cannot turn ``/dev/null`` or a link into a regular file.
+
     A new file gets the usual permissions (``0o666`` less the umask); a
-    replaced file keeps its permission bits. If ``path`` is a symbolic link
-    and ``overwrite`` is true, the link itself is replaced by a regular file.
+    replaced file keeps its permission bits.
+
+    The temporary file is ``.<name>.<12 hex digits>.lfdkit.tmp`` next to
+    ``path``. A process killed mid-write leaves it behind; the next write of
+    the same ``path`` removes such files older than :data:`STALE_TEMP_SECONDS`
+    (and nothing else).
     """
     target = Path(path)
-    if target.is_dir():
-        raise IsADirectoryError(f"{target}: is a directory; give the path of a file to write")
     parent = target.parent
     if not parent.is_dir():
         raise FileNotFoundError(f"{target}: directory '{parent}' does not exist")
-    exists = os.path.lexists(target)
-    if exists and not overwrite:
-        raise _exists_error(target)
-    mode = stat.S_IMODE(target.stat().st_mode) if exists and target.exists() else None
+    existing = check_output_path(target, overwrite=overwrite)
+    mode = stat.S_IMODE(existing.st_mode) if existing is not None else None
+    _remove_stale_temps(target)
 
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
     while True:
-        tmp = parent / f".{target.name}.{secrets.token_hex(6)}.tmp"
+        tmp = parent / f"{_temp_prefix(target)}{secrets.token_hex(6)}{_TEMP_SUFFIX}"
         try:
             fd = os.open(tmp, flags, 0o666)
             break
@@ -180,6 +323,9 @@ def atomic_write(
         if mode is not None:
             os.chmod(tmp, mode)
         if overwrite:
+            # The target may have changed since the check; look again just before
+            # the rename so that a FIFO or link put there meanwhile is not replaced.
+            _check_output_target(target)
             os.replace(tmp, target)
         else:
             _rename_no_clobber(tmp, target)
@@ -191,8 +337,8 @@ def atomic_write(
     return target
 
 
-def _exists_error(target: Path) -> FileExistsError:
-    return FileExistsError(f"{target}: file already exists; pass overwrite=True to replace it")
+def _exists_error(target: Path) -> OutputExistsError:
+    return OutputExistsError(target)
 
 
 def _rename_no_clobber(tmp: Path, target: Path) -> None:
@@ -360,10 +506,7 @@ def save_demos(
     time_arrs = _check_times_list(times, arrs)
     id_list = _check_ids(ids, n)
 
-    if Path(fname).is_dir():
-        raise IsADirectoryError(f"{fname}: is a directory; give the path of a file to write")
-    if not overwrite and os.path.lexists(fname):
-        raise _exists_error(Path(fname))
+    check_output_path(fname, overwrite=overwrite)
 
     if fmt == ".csv":
         if any(t is None for t in time_arrs) and any(t is not None for t in time_arrs):

@@ -483,7 +483,8 @@ def test_save_refuses_to_overwrite(tmp_path: Path, suffix: str) -> None:
     new = {"b": Scene((Obstacle("box", [3.0, 4.0], 0.5),)), "c": Scene()}
     save_scenes(path, old)
     before = path.read_bytes()
-    with pytest.raises(FileExistsError, match=rf"s\{suffix}: file already exists.*overwrite=True"):
+    expected = rf"s\{suffix}: file already exists; allow overwriting.*overwrite=True"
+    with pytest.raises(FileExistsError, match=expected):
         save_scenes(path, new)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]  # no temporary left

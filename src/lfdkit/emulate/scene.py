@@ -63,6 +63,7 @@ from lfdkit.demos import (
     _parse_id,
     _read_text,
     atomic_write,
+    check_output_path,
 )
 
 __all__ = [
@@ -353,10 +354,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
         values.append(scene)
     q = 2 if dim is None else dim[0]
 
-    if Path(fname).is_dir():
-        raise IsADirectoryError(f"{fname}: is a directory; give the path of a file to write")
-    if not overwrite and os.path.lexists(fname):
-        raise FileExistsError(f"{fname}: file already exists; pass overwrite=True to replace it")
+    check_output_path(fname, overwrite=overwrite)
 
     if fmt == ".csv":
 
