@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import re
@@ -15,6 +16,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import lfdkit.demos as demos_module
 from lfdkit.demos import (
     JSON_FORMAT,
     JSON_VERSION,
@@ -400,8 +402,142 @@ def test_npz_object_arrays_are_never_unpickled(tmp_path: Path) -> None:
     ragged = np.empty(2, dtype=object)
     ragged[0], ragged[1] = np.zeros((2, 2)), np.zeros((3, 2))
     np.savez(path, demo_0=ragged)
-    with pytest.raises(ValueError, match=_m(path, r": could not read array data")):
+    with pytest.raises(
+        ValueError, match=_m(path, r": array 'demo_0': holds Python objects, which lfdkit never")
+    ):
         load_demos(path)
+
+
+@pytest.mark.parametrize(
+    ("array", "words"),
+    [
+        (np.ones((3, 2), dtype=complex), r"complex numbers \(dtype complex128\)"),
+        (np.ones((3, 2), dtype=bool), r"booleans \(dtype bool\)"),
+        (np.zeros((3, 2), dtype="datetime64[s]"), r"dates \(dtype datetime64\[s\]\)"),
+        (np.zeros((3, 2), dtype="timedelta64[s]"), r"time intervals \(dtype timedelta64\[s\]\)"),
+        (np.array([["1", "2"], ["3", "4"]]), r"text \(dtype <U1\)"),
+        (
+            np.zeros(3, dtype=[("x", float), ("y", float)]),
+            r"raw or structured records \(dtype \[\('x', '<f8'\), \('y', '<f8'\)\]\)",
+        ),
+    ],
+)
+@pytest.mark.parametrize("layout", ["demo_0", "demos", "time_0"])
+def test_npz_non_real_arrays_are_refused(
+    tmp_path: Path, array: np.ndarray, words: str, layout: str
+) -> None:
+    path = tmp_path / "demos.npz"
+    if layout == "demos":
+        np.savez(path, demos=array[None])
+    elif layout == "time_0":
+        np.savez(path, demo_0=np.zeros((array.shape[0], 2)), time_0=array)
+    else:
+        np.savez(path, demo_0=array)
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    expected = rf": array '{layout}': holds {words}; demonstrations and times must be real"
+    assert re.match(_m(path, expected), str(info.value))
+
+
+def test_npz_float16_and_unsigned_are_real(tmp_path: Path) -> None:
+    path = tmp_path / "d.npz"
+    np.savez(
+        path, demo_0=np.ones((3, 2), np.float16), demo_1=np.arange(4, dtype=np.uint8).reshape(2, 2)
+    )
+    demos = load_demos(path)
+    np.testing.assert_array_equal(demos[1], [[0, 1], [2, 3]])
+
+
+def _zip_bomb(path: Path, member: str, n_bytes: int, **arrays: np.ndarray) -> None:
+    """An .npz with the given arrays plus ``member``: a zero array of ``n_bytes``, compressed."""
+    import zipfile
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (n_bytes // 8,)}
+    )
+    np.savez_compressed(path, **arrays)
+    with zipfile.ZipFile(path, "a", compression=zipfile.ZIP_DEFLATED) as zf:
+        with zf.open(member + ".npy", "w", force_zip64=True) as f:
+            f.write(header.getvalue())
+            chunk = bytes(1 << 20)
+            for _ in range(n_bytes // len(chunk)):
+                f.write(chunk)
+
+
+def test_npz_unused_members_are_never_decompressed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import zipfile
+
+    # np.load-style reading decompressed every member, e.g. a bomb stored as a "thumbnail"
+    path = tmp_path / "bomb.npz"
+    _zip_bomb(path, "thumbnail", 16 << 20, demo_0=np.zeros((3, 2)), ids=np.array(["a"]))
+    opened: list[str] = []
+    real_open = zipfile.ZipFile.open
+
+    def spy(self, name, *args, **kwargs):
+        opened.append(name.filename if isinstance(name, zipfile.ZipInfo) else name)
+        return real_open(self, name, *args, **kwargs)
+
+    monkeypatch.setattr(zipfile.ZipFile, "open", spy)
+    demos, ids = load_demos(path, return_ids=True)
+    assert len(demos) == 1 and ids == ["a"]
+    assert sorted(opened) == ["demo_0.npy", "ids.npy"]
+
+
+def test_npz_oversized_member_is_refused_from_its_header(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "bomb.npz"
+    _zip_bomb(path, "demo_0", 64 << 20)
+    monkeypatch.setattr(demos_module, "MAX_NPZ_ARRAY_BYTES", 32 << 20)
+    started = time.perf_counter()
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert time.perf_counter() - started < 1.0
+    size = (64 << 20) + 128
+    assert str(info.value) == (
+        f"{path}: array 'demo_0' is {size} bytes once decompressed; lfdkit reads arrays of "
+        f"at most {32 << 20} bytes (0.03125 GiB)"
+    )
+
+
+def test_npz_header_larger_than_member_is_refused(tmp_path: Path) -> None:
+    import zipfile
+
+    path = tmp_path / "lie.npz"
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (10**9, 3)}
+    )
+    with zipfile.ZipFile(path, "w") as zf:
+        zf.writestr("demo_0.npy", header.getvalue() + bytes(48))
+    with pytest.raises(
+        ValueError,
+        match=_m(
+            path,
+            r": array 'demo_0': could not read array data \(header says shape \(1000000000, 3\)",
+        ),
+    ):
+        load_demos(path)
+
+
+def test_npz_too_many_members(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "many.npz"
+    np.savez(path, **{f"demo_{j}": np.zeros((2, 2)) for j in range(5)})
+    monkeypatch.setattr(demos_module, "MAX_NPZ_MEMBERS", 4)
+    with pytest.raises(
+        ValueError, match=_m(path, r": has 5 arrays; lfdkit reads .npz files of at most 4$")
+    ):
+        load_demos(path)
+
+
+def test_npz_fortran_order_array(tmp_path: Path) -> None:
+    path = tmp_path / "f.npz"
+    demo = np.asfortranarray(np.arange(12.0).reshape(6, 2))
+    np.savez(path, demo_0=demo)
+    np.testing.assert_array_equal(load_demos(path)[0], demo)
 
 
 def test_npz_not_an_archive(tmp_path: Path) -> None:
@@ -494,11 +630,14 @@ def test_json_invalid_syntax_names_line(tmp_path: Path) -> None:
 
 
 def test_json_non_finite_point(tmp_path: Path) -> None:
-    path = _write(
-        tmp_path / "demos.json",
-        json.dumps(_json_doc(demos=[{"id": "a", "points": [[0, 0], [float("nan"), 1]]}])),
-    )
-    with pytest.raises(ValueError, match=_m(path, r": demos\[0\] .*contains NaN at row 1")):
+    # Python's json writes the non-standard literal NaN; lfdkit refuses it where it stands
+    text = json.dumps(_json_doc(demos=[{"id": "a", "points": [[0, 0], [float("nan"), 1]]}]))
+    text = text.replace('"format"', '\n  "format"')
+    path = _write(tmp_path / "demos.json", text)
+    column = text.index("NaN") - text.index("\n")
+    with pytest.raises(
+        ValueError, match=_m(path, rf" line 2, column {column}: NaN is not a JSON number")
+    ):
         load_demos(path)
 
 
@@ -508,6 +647,116 @@ def test_json_bad_id_type(tmp_path: Path) -> None:
     )
     with pytest.raises(TypeError, match=_m(path, r": demos\[0\]: field 'id' must be an int")):
         load_demos(path)
+
+
+def test_json_duplicate_demos_key_is_an_error(tmp_path: Path) -> None:
+    # the issue's case: a second "demos" key silently replaced the first (4 demos became 2)
+    four = json.dumps([{"points": [[k, 0], [k, 1]]} for k in range(4)])
+    two = json.dumps([{"points": [[k, 0], [k, 1]]} for k in range(2)])
+    text = (
+        f'{{"format": "{JSON_FORMAT}", "version": 1, "n_dims": 2,\n'
+        f' "demos": {four},\n "demos": {two}}}\n'
+    )
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: (top level): key 'demos' appears more than once in one object; "
+        "each key may be given once"
+    )
+
+
+def test_json_duplicate_nested_key_names_its_path(tmp_path: Path) -> None:
+    text = json.dumps(_json_doc()).replace('"id": "a"', '"id": "a", "id": "b"')
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(
+        ValueError, match=_m(path, r": demos\[0\]: key 'id' appears more than once")
+    ):
+        load_demos(path)
+
+
+@pytest.mark.parametrize(
+    ("point", "where", "kind"),
+    [
+        ('"0.5"', r"demos\[0\]\.points\[1\]\[0\]", "a string"),
+        ("true", r"demos\[0\]\.points\[1\]\[0\]", "a boolean"),
+        ("null", r"demos\[0\]\.points\[1\]\[0\]", "null"),
+    ],
+)
+def test_json_numbers_must_be_numbers(tmp_path: Path, point: str, where: str, kind: str) -> None:
+    text = json.dumps(_json_doc()).replace("[[0, 0], [1, 1]]", f"[[0, 0], [{point}, 1]]")
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(TypeError, match=_m(path, rf": {where}: expected a number, got {kind}")):
+        load_demos(path)
+
+
+def test_json_times_as_strings_are_an_error(tmp_path: Path) -> None:
+    doc = _json_doc(demos=[{"id": "a", "points": [[0, 0], [1, 1]], "t": [0, "1"]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(
+        TypeError, match=_m(path, r": demos\[0\]\.t\[1\]: expected a number, got a")
+    ):
+        load_demos(path)
+
+
+def test_json_ragged_points_name_the_row(tmp_path: Path) -> None:
+    doc = _json_doc(demos=[{"id": "a", "points": [[0, 0], [1, 1, 1]]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(ValueError, match=_m(path, r": demos\[0\]\.points\[1\]: has 3 numbers but")):
+        load_demos(path)
+
+
+def test_json_huge_integer_is_an_error(tmp_path: Path) -> None:
+    text = json.dumps(_json_doc()).replace("[[0, 0], [1, 1]]", f"[[0, 0], [1{'0' * 400}, 1]]")
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(ValueError, match=_m(path, r": demos\[0\]\.points: a number is too large")):
+        load_demos(path)
+
+
+@pytest.mark.parametrize("depth", [65, 1000, 100_000])
+def test_json_deep_nesting_is_a_clear_error(tmp_path: Path, depth: int) -> None:
+    path = _write(tmp_path / "demos.json", "[" * depth + "]" * depth)
+    with pytest.raises(ValueError, match=_m(path, r": JSON nested too deep \(more than 64 levels")):
+        load_demos(path)
+
+
+def test_json_nesting_inside_strings_does_not_count(tmp_path: Path) -> None:
+    doc = _json_doc(demos=[{"id": "[" * 500 + '\\"{', "points": [[0, 0], [1, 1]]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    assert load_demos(path, return_ids=True)[1] == ["[" * 500 + '\\"{']
+
+
+def test_json_unterminated_string_is_invalid_json(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.json", '{"format": "lfdkit-demos' + '\\"[' * 10_000)
+    with pytest.raises(ValueError, match=_m(path, r" line 1, column 12: invalid JSON")):
+        load_demos(path)
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_file_too_large_is_refused_before_reading(
+    tmp_path: Path, suffix: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / f"demos{suffix}"
+    save_demos(path, [np.zeros((50, 2))])
+    size = path.stat().st_size
+    monkeypatch.setattr(demos_module, "MAX_FILE_BYTES", size - 1)
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: file too large ({size} bytes); lfdkit reads files of at most {size - 1} "
+        f"bytes ({(size - 1) / 1024**2:g} MiB)"
+    )
+    monkeypatch.setattr(demos_module, "MAX_FILE_BYTES", size)
+    assert len(load_demos(path)) == 1
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_reading_a_fifo_is_refused_without_blocking(tmp_path: Path, suffix: str) -> None:
+    fifo = tmp_path / f"pipe{suffix}"
+    os.mkfifo(fifo)
+    with pytest.raises(NotRegularFileError, match=_m(fifo, r": is a named pipe \(FIFO\), not a")):
+        load_demos(fifo)
 
 
 # --------------------------------------------------------------------------- #

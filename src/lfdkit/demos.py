@@ -58,6 +58,10 @@ from lfdkit._validation import check_demos, check_path
 __all__ = [
     "JSON_FORMAT",
     "JSON_VERSION",
+    "MAX_FILE_BYTES",
+    "MAX_JSON_DEPTH",
+    "MAX_NPZ_ARRAY_BYTES",
+    "MAX_NPZ_MEMBERS",
     "STALE_TEMP_SECONDS",
     "SUPPORTED_SUFFIXES",
     "DemoId",
@@ -65,7 +69,9 @@ __all__ = [
     "OutputExistsError",
     "atomic_write",
     "check_output_path",
+    "json_float_array",
     "load_demos",
+    "load_json",
     "path_csv",
     "save_demos",
     "save_path",
@@ -85,6 +91,26 @@ JSON_FORMAT = "lfdkit-demos"
 
 JSON_VERSION = 1
 """Newest JSON file-format version this module reads and the one it writes."""
+
+MAX_FILE_BYTES = 256 * 1024**2
+"""Largest demonstrations or scenes file (CSV, JSON or NPZ) read, in bytes (256 MiB).
+
+Far above any recording (a 3-D demonstration sampled at 1 kHz for a minute is
+about 4 MB of CSV); it bounds the memory a corrupt or hostile file can take."""
+
+MAX_JSON_DEPTH = 64
+"""Deepest nesting of arrays and objects accepted in an lfdkit JSON file.
+
+lfdkit files nest a few levels (a skill file about six)."""
+
+MAX_NPZ_MEMBERS = 10_000
+"""Most arrays accepted in an ``.npz`` demonstrations file."""
+
+MAX_NPZ_ARRAY_BYTES = 1024**3
+"""Largest array read from an ``.npz`` file, in bytes once decompressed (1 GiB).
+
+Checked from the archive's header before anything is decompressed; members
+that are not demonstrations, times or ids are never decompressed."""
 
 _INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
 _NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
@@ -696,15 +722,52 @@ def _write_csv(
             w.writerow([sid, *([repr(tl[k])] if tl is not None else []), *map(repr, row)])
 
 
-def _read_text(fname: str) -> str:
+def _read_bytes(fname: str, max_bytes: int | None = None) -> bytes:
+    """Read a whole regular file of at most ``max_bytes`` bytes (default :data:`MAX_FILE_BYTES`).
+
+    A FIFO, device or socket is refused before it is opened (reading one could
+    block forever or never end); the size is checked before reading.
+    """
+    if max_bytes is None:
+        max_bytes = MAX_FILE_BYTES
+    _check_input_file(fname, max_bytes)
+    with open(fname, "rb") as f:
+        data = f.read(max_bytes + 1)
+    if len(data) > max_bytes:  # grew since the check
+        raise _too_large(fname, f"more than {max_bytes}", max_bytes)
+    return data
+
+
+def _too_large(fname: str, size: str, max_bytes: int) -> ValueError:
+    return ValueError(
+        f"{fname}: file too large ({size} bytes); lfdkit reads files of at most "
+        f"{max_bytes} bytes ({max_bytes / 1024**2:g} MiB)"
+    )
+
+
+def _check_input_file(fname: str, max_bytes: int) -> None:
+    """Refuse a directory, a special file (FIFO, device, socket) or a file over ``max_bytes``."""
+    st = os.stat(fname)  # follows links: a link to a regular file is fine to read
+    if stat.S_ISDIR(st.st_mode):
+        raise IsADirectoryError(f"{fname}: is a directory; give the path of a file to read")
+    if not stat.S_ISREG(st.st_mode):
+        raise NotRegularFileError(
+            f"{fname}: is {_file_kind(st.st_mode)}, not a regular file; lfdkit reads "
+            "regular files only"
+        )
+    if st.st_size > max_bytes:
+        raise _too_large(fname, str(st.st_size), max_bytes)
+
+
+def _read_text(fname: str, max_bytes: int | None = None) -> str:
     """Read a UTF-8 text file (a leading byte-order mark is dropped), keeping line endings."""
-    with open(fname, encoding="utf-8-sig", newline="") as f:
-        try:
-            return f.read()
-        except UnicodeDecodeError as exc:
-            raise ValueError(
-                f"{fname}: not UTF-8 text (byte {exc.start}: {exc.reason}); save the file as UTF-8"
-            ) from None
+    data = _read_bytes(fname, max_bytes)
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ValueError(
+            f"{fname}: not UTF-8 text (byte {exc.start}: {exc.reason}); save the file as UTF-8"
+        ) from None
 
 
 def _csv_row(fname: str, lineno: int, line: str) -> list[str]:
@@ -836,25 +899,119 @@ def _read_csv(
 # --------------------------------------------------------------------------- #
 
 
+_DTYPE_WORDS = {
+    "b": "booleans",
+    "c": "complex numbers",
+    "m": "time intervals",
+    "M": "dates",
+    "O": "Python objects, which lfdkit never unpickles",
+    "S": "bytes",
+    "U": "text",
+    "V": "raw or structured records",
+}
+
+
+class _NpzArchive:
+    """The arrays of an ``.npz`` file, decompressed one at a time and only on request.
+
+    ``np.load`` would decompress any member it is asked for without a size
+    check; here the zip directory's sizes and each array's ``.npy`` header are
+    checked first, so a small archive cannot expand into gigabytes.
+    """
+
+    def __init__(self, fname: str) -> None:
+        self.fname = fname
+        _check_input_file(fname, MAX_FILE_BYTES)
+        with open(fname, "rb") as f:
+            if f.read(6) == b"\x93NUMPY":
+                raise ValueError(f"{fname}: is a single .npy array, not an .npz archive")
+        try:
+            self.zip = zipfile.ZipFile(fname)
+            infos = self.zip.infolist()
+        except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, EOFError, ValueError) as exc:
+            raise ValueError(f"{fname}: could not read as an .npz archive ({exc})") from None
+        if len(infos) > MAX_NPZ_MEMBERS:
+            self.zip.close()
+            raise ValueError(
+                f"{fname}: has {len(infos)} arrays; lfdkit reads .npz files of at most "
+                f"{MAX_NPZ_MEMBERS}"
+            )
+        self.members: dict[str, zipfile.ZipInfo] = {}
+        for info in infos:
+            key = info.filename.removesuffix(".npy")
+            if key in self.members:
+                self.zip.close()
+                raise ValueError(f"{fname}: array {key!r} is stored twice in the archive")
+            self.members[key] = info
+
+    def __enter__(self) -> _NpzArchive:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.zip.close()
+
+    def read(
+        self, key: str, kinds: str = "fiu", *, refused: Callable[[np.dtype], str] | None = None
+    ) -> np.ndarray:
+        """Read array ``key`` if its dtype kind is one of ``kinds`` (read-only array).
+
+        ``refused(dtype)``, if given, words the error for another dtype.
+        """
+        info = self.members[key]
+        where = f"{self.fname}: array {key!r}"
+        if info.file_size > MAX_NPZ_ARRAY_BYTES:
+            raise ValueError(
+                f"{where} is {info.file_size} bytes once decompressed; lfdkit reads arrays of "
+                f"at most {MAX_NPZ_ARRAY_BYTES} bytes ({MAX_NPZ_ARRAY_BYTES / 1024**3:g} GiB)"
+            )
+        try:
+            with self.zip.open(info) as fp:
+                version = np.lib.format.read_magic(fp)
+                if version == (1, 0):
+                    shape, fortran, dtype = np.lib.format.read_array_header_1_0(fp)
+                elif version == (2, 0):
+                    shape, fortran, dtype = np.lib.format.read_array_header_2_0(fp)
+                else:
+                    raise ValueError(f".npy format version {version} is not supported")
+                if dtype.kind not in kinds or dtype.hasobject or dtype.names:
+                    if refused is not None:
+                        raise _RefusedArray(refused(dtype))
+                    raise _RefusedArray(
+                        f"{where}: holds {_DTYPE_WORDS.get(dtype.kind, 'values')} (dtype "
+                        f"{dtype}); demonstrations and times must be real numbers (float or "
+                        "integer arrays)"
+                    )
+                nbytes = math.prod(shape) * dtype.itemsize
+                if nbytes > info.file_size:
+                    raise ValueError(
+                        f"header says shape {shape} of {dtype} ({nbytes} bytes) but the "
+                        f"member holds {info.file_size} bytes"
+                    )
+                data = fp.read(nbytes)
+        except _RefusedArray as exc:
+            raise ValueError(str(exc)) from None
+        except (zipfile.BadZipFile, OSError, EOFError, ValueError, TypeError) as exc:
+            raise ValueError(f"{where}: could not read array data ({exc})") from None
+        if len(data) != nbytes:
+            raise ValueError(f"{where}: could not read array data (truncated)")
+        return np.frombuffer(data, dtype=dtype).reshape(shape, order="F" if fortran else "C")
+
+
+class _RefusedArray(ValueError):
+    """An array whose dtype lfdkit does not read."""
+
+
 def _read_npz(
     fname: str,
 ) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
-    try:
-        loaded = np.load(fname, allow_pickle=False)
-        if not isinstance(loaded, np.lib.npyio.NpzFile):
-            raise ValueError(f"{fname}: is a single .npy array, not an .npz archive")
-        with loaded as npz:
-            data = {key: npz[key] for key in npz.files}
-    except (FileNotFoundError, IsADirectoryError, PermissionError):
-        raise
-    except (zipfile.BadZipFile, OSError, EOFError) as exc:
-        raise ValueError(f"{fname}: could not read as an .npz archive ({exc})") from exc
-    except ValueError as exc:
-        if str(exc).startswith(fname):
-            raise
-        # e.g. "Object arrays cannot be loaded when allow_pickle=False"
-        raise ValueError(f"{fname}: could not read array data ({exc})") from exc
+    with _NpzArchive(fname) as npz:
+        return _read_npz_arrays(fname, npz)
 
+
+def _read_npz_arrays(
+    fname: str, npz: _NpzArchive
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    data = npz.members  # names only: each array is read when needed
     found = ", ".join(repr(k) for k in sorted(data)) or "(none)"
     demo_idx = sorted(int(m.group(1)) for k in data if (m := _NPZ_DEMO.fullmatch(k)))
     time_idx = sorted(int(m.group(1)) for k in data if (m := _NPZ_TIME.fullmatch(k)))
@@ -865,7 +1022,7 @@ def _read_npz(
                 f"{fname}: has both a 'demos' array and 'demo_j'/'time_j' arrays; "
                 f"use one layout; found arrays: {found}"
             )
-        stacked = data["demos"]
+        stacked = npz.read("demos")
         if stacked.ndim != 3:
             raise ValueError(
                 f"{fname}: array 'demos' must be 3-D, shape (n_demos, n_points, n_dims), "
@@ -873,7 +1030,7 @@ def _read_npz(
             )
         demos = check_demos(stacked, f"{fname}: array 'demos'")
         if "times" in data:
-            t2 = data["times"]
+            t2 = npz.read("times")
             if t2.ndim != 2 or t2.shape[0] != len(demos):
                 raise ValueError(
                     f"{fname}: array 'times' must have shape (n_demos, n_points) = "
@@ -902,25 +1059,26 @@ def _read_npz(
             raise ValueError(f"{fname}: array 'time_{stray[0]}' has no matching 'demo_{stray[0]}'")
         names = [f"array 'demo_{j}'" for j in demo_idx]
         demos = [
-            check_path(data[f"demo_{j}"], f"{fname}: {nm}")
+            check_path(npz.read(f"demo_{j}"), f"{fname}: {nm}")
             for j, nm in zip(demo_idx, names, strict=True)
         ]
         _check_same_dims(demos, names, fname)
         demos = check_demos(demos, fname)
         times = [
-            _check_times(data[f"time_{j}"], d.shape[0], f"{fname}: array 'time_{j}'")
+            _check_times(npz.read(f"time_{j}"), d.shape[0], f"{fname}: array 'time_{j}'")
             if f"time_{j}" in data
             else None
             for j, d in enumerate(demos)
         ]
 
     if "ids" in data:
-        raw = data["ids"]
-        if raw.ndim != 1 or raw.shape[0] != len(demos) or raw.dtype.kind not in "Uiu":
-            raise ValueError(
-                f"{fname}: array 'ids' must be 1-D text or integers with one entry per "
-                f"demonstration ({len(demos)}), got dtype {raw.dtype} and shape {raw.shape}"
-            )
+        ids_rule = (
+            f"{fname}: array 'ids' must be 1-D text or integers with one entry per "
+            f"demonstration ({len(demos)})"
+        )
+        raw = npz.read("ids", "Uiu", refused=lambda dtype: f"{ids_rule}, got dtype {dtype}")
+        if raw.ndim != 1 or raw.shape[0] != len(demos):
+            raise ValueError(f"{ids_rule}, got dtype {raw.dtype} and shape {raw.shape}")
         ids: list[DemoId] = [
             _parse_id(str(v)) if raw.dtype.kind == "U" else int(v) for v in raw.tolist()
         ]
@@ -960,18 +1118,201 @@ def _write_json(
     f.write(buf.getvalue())
 
 
-def _json_document(fname: str, fmt: str, newest: int, kind: str) -> dict[str, Any]:
-    """Parse a versioned lfdkit JSON file and check its ``format`` and ``version`` fields.
+# A JSON string, escapes included; an unterminated one runs to the end of the
+# text (so the pattern never fails and is never retried: linear time).
+_JSON_STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"?', re.DOTALL)
+_JSON_NOT_BRACKET = re.compile(r"[^\[\]{}]+")
 
-    Shared by every lfdkit JSON reader; ``kind`` names the content in messages
-    (e.g. ``"scene"``).
+
+def _json_too_deep(text: str, max_depth: int) -> bool:
+    """Whether arrays and objects in ``text`` nest deeper than ``max_depth`` (no recursion)."""
+    if text.count("[") + text.count("{") <= max_depth:
+        return False
+    brackets = _JSON_NOT_BRACKET.sub("", _JSON_STRING.sub("", text))
+    codes = np.frombuffer(brackets.encode("ascii"), dtype=np.uint8)
+    steps = np.where((codes == ord("[")) | (codes == ord("{")), np.int32(1), np.int32(-1))
+    return bool(steps.size) and int(np.cumsum(steps).max()) > max_depth
+
+
+class _DuplicateKeys:
+    """``object_pairs_hook`` that builds dicts and remembers those with a repeated key."""
+
+    def __init__(self) -> None:
+        self.found: list[tuple[dict[str, Any], str]] = []
+
+    def __call__(self, pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+        obj = dict(pairs)
+        if len(obj) != len(pairs) and not self.found:
+            seen: set[str] = set()
+            for key, _ in pairs:
+                if key in seen:
+                    self.found.append((obj, key))
+                    break
+                seen.add(key)
+        return obj
+
+
+def _json_path_of(doc: Any, target: object) -> str:
+    """JSON path (``demos[2].points``) of the container ``target`` inside ``doc``, iteratively."""
+    stack: list[tuple[Any, str]] = [(doc, "")]
+    while stack:
+        node, where = stack.pop()
+        if node is target:
+            return where or "(top level)"
+        if isinstance(node, dict):
+            stack.extend((v, f"{where}.{k}" if where else str(k)) for k, v in node.items())
+        elif isinstance(node, list):
+            stack.extend(
+                (v, f"{where}[{i}]") for i, v in enumerate(node) if isinstance(v, (list, dict))
+            )
+    return "?"  # pragma: no cover - target is always in doc
+
+
+_JSON_CONSTANT = re.compile(_JSON_STRING.pattern + r"|(-?Infinity|NaN)", re.DOTALL)
+
+
+def _json_constant_line(text: str) -> str:
+    """`` line L, column C`` of the first NaN/Infinity literal outside strings in ``text``."""
+    for match in _JSON_CONSTANT.finditer(text):
+        if match.group(1):
+            start = match.start(1)
+            line = text.count("\n", 0, start) + 1
+            return f" line {line}, column {start - text.rfind(chr(10), 0, start)}"
+    return ""  # pragma: no cover - json found one
+
+
+def _reject_json_constant(name: str) -> None:
+    raise _JSONConstantError(name)
+
+
+class _JSONConstantError(ValueError):
+    """A NaN or Infinity literal (Python's json extension to JSON)."""
+
+
+def load_json(fname: str, *, max_bytes: int | None = None) -> Any:
+    """Parse an lfdkit JSON file strictly, refusing anything that could lose data silently.
+
+    Parameters
+    ----------
+    fname : str
+        The file.
+    max_bytes : int, optional
+        Largest file accepted (default :data:`MAX_FILE_BYTES`).
+
+    Returns
+    -------
+    object
+        The parsed document (dicts, lists, str, int, float, bool, None).
+
+    Raises
+    ------
+    ValueError
+        For a file larger than ``max_bytes``, not UTF-8, not valid JSON (line
+        and column given), nested deeper than :data:`MAX_JSON_DEPTH`, with a
+        repeated key in an object (the object's JSON path given; a repeated
+        ``"demos"`` would otherwise keep only the last list), or with the
+        non-standard ``NaN``/``Infinity`` literals.
+    FileNotFoundError, IsADirectoryError, NotRegularFileError
+        If the file is missing, a directory, or not a regular file.
     """
+    text = _read_text(fname, max_bytes)
+    if _json_too_deep(text, MAX_JSON_DEPTH):
+        raise ValueError(
+            f"{fname}: JSON nested too deep (more than {MAX_JSON_DEPTH} levels of arrays and "
+            "objects); lfdkit files nest only a few levels"
+        )
+    duplicates = _DuplicateKeys()
     try:
-        doc = json.loads(_read_text(fname))
+        doc = json.loads(text, object_pairs_hook=duplicates, parse_constant=_reject_json_constant)
     except json.JSONDecodeError as exc:
         raise ValueError(
             f"{fname} line {exc.lineno}, column {exc.colno}: invalid JSON ({exc.msg})"
         ) from None
+    except _JSONConstantError as exc:
+        raise ValueError(
+            f"{fname}{_json_constant_line(text)}: {exc} is not a JSON number; NaN and "
+            "infinity are not allowed in lfdkit files"
+        ) from None
+    except (ValueError, RecursionError) as exc:  # e.g. an integer of more than 4300 digits
+        raise ValueError(f"{fname}: invalid JSON ({exc})") from None
+    if duplicates.found:
+        obj, key = duplicates.found[0]
+        raise ValueError(
+            f"{fname}: {_json_path_of(doc, obj)}: key {key!r} appears more than once in one "
+            "object; each key may be given once"
+        )
+    return doc
+
+
+def _json_kind(value: Any) -> str:
+    """Words for a JSON value's type, for messages."""
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, str):
+        return "a string"
+    if value is None:
+        return "null"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "an object"
+    return "a number"
+
+
+def json_float_array(value: Any, where: str, ndim: int) -> np.ndarray:
+    """A float64 array from JSON nested lists of numbers, refusing strings and booleans.
+
+    Parameters
+    ----------
+    value : object
+        Parsed JSON: a list of numbers (``ndim`` 1) or a list of lists of numbers (``ndim`` 2).
+    where : str
+        File and JSON path of ``value`` for messages (``"f.json: demos[0].points"``).
+    ndim : {1, 2}
+        Nesting expected.
+
+    Returns
+    -------
+    ndarray of float64, ``ndim`` dimensions
+        Not yet checked for shape or finiteness.
+
+    Raises
+    ------
+    TypeError
+        If an element is not a number (a string such as ``"0.5"``, a boolean,
+        null) or a level is not a list; the message gives the element's path.
+    ValueError
+        If rows differ in length or a number does not fit a float64.
+    """
+    rows = value if ndim == 2 else [value]
+    if not isinstance(rows, list):
+        raise TypeError(f"{where}: expected an array of arrays of numbers, got {_json_kind(rows)}")
+    for i, row in enumerate(rows):
+        at = f"{where}[{i}]" if ndim == 2 else where
+        if not isinstance(row, list):
+            raise TypeError(f"{at}: expected an array of numbers, got {_json_kind(row)}")
+        if not set(map(type, row)) <= {int, float}:
+            j, bad = next((j, v) for j, v in enumerate(row) if type(v) not in (int, float))
+            raise TypeError(f"{at}[{j}]: expected a number, got {_json_kind(bad)} ({bad!r:.40})")
+    if ndim == 2 and len({len(row) for row in rows}) > 1:
+        k = next(i for i, row in enumerate(rows) if len(row) != len(rows[0]))
+        raise ValueError(
+            f"{where}[{k}]: has {len(rows[k])} numbers but {where}[0] has {len(rows[0])}; "
+            "every point needs the same number of coordinates"
+        )
+    try:
+        return np.array(value, dtype=np.float64)
+    except OverflowError:
+        raise ValueError(f"{where}: a number is too large for a 64-bit float") from None
+
+
+def _json_document(fname: str, fmt: str, newest: int, kind: str) -> dict[str, Any]:
+    """Parse a versioned lfdkit JSON file and check its ``format`` and ``version`` fields.
+
+    Shared by every lfdkit JSON reader; ``kind`` names the content in messages
+    (e.g. ``"scene"``). Parsing is strict (:func:`load_json`).
+    """
+    doc = load_json(fname)
     if not isinstance(doc, dict):
         raise ValueError(f"{fname}: expected a JSON object at the top level")
     found = doc.get("format")
@@ -1019,7 +1360,8 @@ def _read_json(
         seen[str(did)] = j
         if "points" not in item:
             raise ValueError(f"{where}: missing field 'points'")
-        arr = check_path(item["points"], f"{where} (id {did!r}) field 'points'")
+        raw_points = json_float_array(item["points"], f"{fname}: demos[{j}].points", 2)
+        arr = check_path(raw_points, f"{where} (id {did!r}) field 'points'")
         if arr.shape[1] != q:
             raise ValueError(
                 f"{where} (id {did!r}): points have {arr.shape[1]} dimensions but the file "
@@ -1027,7 +1369,11 @@ def _read_json(
             )
         demos.append(arr)
         times.append(
-            _check_times(item["t"], arr.shape[0], f"{where} (id {did!r}) field 't'")
+            _check_times(
+                json_float_array(item["t"], f"{fname}: demos[{j}].t", 1),
+                arr.shape[0],
+                f"{where} (id {did!r}) field 't'",
+            )
             if item.get("t") is not None
             else None
         )

@@ -424,12 +424,23 @@ def test_json_bad_field_names_file_and_path(
         load_scenes(path)
 
 
-@pytest.mark.parametrize("value", ["NaN", "Infinity", "-Infinity", "1e999"])
-def test_json_non_finite_coordinate(tmp_path: Path, value: str) -> None:
+def test_json_overflowing_coordinate(tmp_path: Path) -> None:
     text = _json_doc([{"demo": 0, "obstacles": [_ob(position=[0.0, 123.0])]}])
-    path = _write(tmp_path / "nf.json", text.replace("123.0", value))
+    path = _write(tmp_path / "nf.json", text.replace("123.0", "1e999"))
     with pytest.raises(
         ValueError, match=r"nf\.json: scenes\[0\]\.obstacles\[0\]\.position\[1\]: .*not finite"
+    ):
+        load_scenes(path)
+
+
+@pytest.mark.parametrize("value", ["NaN", "Infinity", "-Infinity"])
+def test_json_non_finite_literal_names_line(tmp_path: Path, value: str) -> None:
+    text = _json_doc([{"demo": 0, "obstacles": [_ob(position=[0.0, 123.0])]}])
+    text = text.replace("123.0", value)
+    line = text[: text.index(value)].count("\n") + 1
+    path = _write(tmp_path / "nf.json", text)
+    with pytest.raises(
+        ValueError, match=rf"nf\.json line {line}, column \d+: {value} is not a JSON number"
     ):
         load_scenes(path)
 
