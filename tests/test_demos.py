@@ -160,17 +160,17 @@ def test_save_accepts_str_path(tmp_path: Path) -> None:
 # --------------------------------------------------------------------------- #
 
 
-def test_csv_groups_by_first_appearance_and_keeps_row_order(tmp_path: Path) -> None:
+def test_csv_keeps_file_order_and_skips_blank_and_comment_lines(tmp_path: Path) -> None:
     path = _write(
         tmp_path / "demos.csv",
         "# recorded 2024-01-01\n"
         "demo,x,y\n"
         "\n"
         "b,1,10\n"
-        "a,2,20\n"
         "   \n"
         "b,3,30\n"
         "# a comment between rows\n"
+        "a,2,20\n"
         "a,4,40\n"
         "  # indented comment\n",
     )
@@ -328,11 +328,87 @@ def test_csv_times_not_strictly_increasing(tmp_path: Path, second: str) -> None:
 
 
 def test_csv_times_are_per_demo(tmp_path: Path) -> None:
-    # each demonstration has its own clock; interleaving is fine
-    path = _write(tmp_path / "d.csv", "demo,t,x,y\na,5,0,0\nb,0,0,0\na,6,1,1\nb,1,1,1\n")
+    # each demonstration has its own clock
+    path = _write(tmp_path / "d.csv", "demo,t,x,y\na,5,0,0\na,6,1,1\nb,0,0,0\nb,1,1,1\n")
     _, times = load_demos(path, return_times=True)
     np.testing.assert_array_equal(times[0], [5, 6])
     np.testing.assert_array_equal(times[1], [0, 1])
+
+
+def test_csv_id_in_two_blocks_is_an_error_naming_both(tmp_path: Path) -> None:
+    # two recordings pasted together under one id used to merge into one demonstration
+    path = _write(
+        tmp_path / "d.csv",
+        "demo,x,y\n7,0,0\n7,1,1\n# second recording\n8,5,5\n8,6,6\n7,0,0\n7,2,2\n",
+    )
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 7: demo '7' continues here, but its rows so far are lines 2-3 and other "
+        "demos come between; the rows of one demo must be consecutive (two recordings with "
+        "one id?)"
+    )
+
+
+@pytest.mark.parametrize("cell", [" 7", "7 ", "\t7", " 7 "])
+def test_csv_id_with_surrounding_whitespace_is_an_error(tmp_path: Path, cell: str) -> None:
+    # " 7" and "7" used to merge silently
+    path = _write(tmp_path / "d.csv", f"x,y,demo\n0,0,7\n1,1,7\n2,2,{cell}\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 4, column 'demo': id {cell!r} has spaces around it; write ids without "
+        "surrounding whitespace ('7')"
+    )
+
+
+@pytest.mark.parametrize(
+    ("cell", "hint"),
+    [
+        ("0_5", "; digit separators ('_') are not allowed"),
+        ("1_000.5", "; digit separators ('_') are not allowed"),
+        ("1 000", ""),
+        ("0x10", ""),
+        ("1e", ""),
+        ("--1", ""),
+        ("\uff11", ""),  # a full-width digit, which float() reads as 1
+        ("٣", ""),  # an Arabic-Indic digit, which float() reads as 3
+    ],
+)
+def test_csv_numbers_that_float_would_misread(tmp_path: Path, cell: str, hint: str) -> None:
+    # float("0_5") is 5.0: the learned path moved 0.645 m from one such cell
+    path = _write(tmp_path / "d.csv", f"demo,x,y\na,0,0\na,{cell},1\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 3, column 'x': could not read {cell!r} as a number{hint}"
+    )
+
+
+@pytest.mark.parametrize(
+    ("cell", "value"),
+    [
+        ("+1", 1.0),
+        ("-0.5", -0.5),
+        (".5", 0.5),
+        ("5.", 5.0),
+        ("1E-3", 1e-3),
+        ("-0", -0.0),
+        (" 2.5 ", 2.5),
+        ("007", 7.0),
+    ],
+)
+def test_csv_decimal_spellings_are_read(tmp_path: Path, cell: str, value: float) -> None:
+    path = _write(tmp_path / "d.csv", f"demo,x,y\na,0,0\na,{cell},1\n")
+    got = load_demos(path)[0][1, 0]
+    assert got == value and np.signbit(got) == np.signbit(value)
+
+
+@pytest.mark.parametrize("cell", ["1e999", "-1e400"])
+def test_csv_overflowing_number_is_not_finite(tmp_path: Path, cell: str) -> None:
+    path = _write(tmp_path / "d.csv", f"demo,x,y\na,0,0\na,{cell},1\n")
+    with pytest.raises(ValueError, match=_m(path, rf" line 3, column 'x': value '{cell}' is not")):
+        load_demos(path)
 
 
 # --------------------------------------------------------------------------- #

@@ -15,11 +15,13 @@ The format is chosen from the file suffix (case-insensitive):
 
 ``.csv``
     A header row, then one row per sample. Columns: ``demo`` (the
-    demonstration id, integer or string), optionally ``t`` or ``time``
-    (seconds), and the coordinates, named ``x, y[, z]`` or ``x1, x2, ..., xq``.
-    Demonstrations are ordered by first appearance of their id; rows keep
-    file order within a demonstration. Blank lines and lines starting with
-    ``#`` are ignored. Columns with other names are ignored.
+    demonstration id, integer or string, without surrounding spaces),
+    optionally ``t`` or ``time`` (seconds), and the coordinates, named
+    ``x, y[, z]`` or ``x1, x2, ..., xq``. The rows of one demonstration are
+    consecutive, in time order; demonstrations are in file order. Numbers are
+    decimal (``-0.5``, ``1e-3``; not ``0_5``, ``nan`` or ``inf``). Blank lines
+    and lines starting with ``#`` are ignored. Columns with other names are
+    ignored.
 ``.npz``
     Arrays ``demo_0, demo_1, ...`` (each ``(n_points_j, n_dims)``), optionally
     ``time_j`` for any ``j`` and ``ids`` (1-D, one per demonstration); or a
@@ -32,6 +34,16 @@ The format is chosen from the file suffix (case-insensitive):
 
 Writing is atomic (see :func:`atomic_write`) and floats are written so that
 a load after a save gives back bit-identical arrays in every format.
+
+Reading is strict: anything that could change the data silently is an error
+naming the file and the line, column, JSON path or array (repeated JSON
+keys, numbers given as strings, non-real arrays, ``0_5`` in a CSV cell, ids
+with spaces, the rows of one id in two places). Files larger than
+:data:`MAX_FILE_BYTES`, JSON nested deeper than :data:`MAX_JSON_DEPTH`, and
+``.npz`` archives with more than :data:`MAX_NPZ_MEMBERS` arrays or an array
+over :data:`MAX_NPZ_ARRAY_BYTES` are refused before they are read, and only
+the arrays needed are decompressed. FIFOs, devices and sockets are neither
+read nor written.
 """
 
 from __future__ import annotations
@@ -823,17 +835,76 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
     return pos["demo"], t_col, coord_cols, [names[k] for k in coord_cols]
 
 
+# A decimal number as CSV files spell it: no digit separators ("0_5", which
+# Python's float reads as 5), no inner spaces, no hexadecimal, no nan/inf words.
+_CSV_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
 def _csv_number(fname: str, lineno: int, column: str, cell: str) -> float:
+    """Read one CSV cell (already stripped) as a finite float, strictly.
+
+    Accepts the decimal spellings ``12``, ``-0.5``, ``.5``, ``1.``, ``1e-3``;
+    refuses what Python's ``float`` would also take (``0_5``, ``nan``, ``inf``,
+    ``infinity``, spaces inside) so that no cell is read as another number.
+    """
     where = f"{fname} line {lineno}, column {column!r}"
     if not cell:
         raise ValueError(f"{where}: empty value")
-    try:
-        value = float(cell)
-    except ValueError:
-        raise ValueError(f"{where}: could not read {cell!r} as a number") from None
-    if not math.isfinite(value):
+    if _CSV_NUMBER.fullmatch(cell) is None:
+        try:
+            value = float(cell)
+        except ValueError:
+            value = None
+        if value is not None and not math.isfinite(value):
+            raise ValueError(
+                f"{where}: value {cell!r} is not finite; NaN and infinity are not allowed"
+            )
+        hint = "; digit separators ('_') are not allowed" if "_" in cell else ""
+        raise ValueError(f"{where}: could not read {cell!r} as a number{hint}")
+    value = float(cell)
+    if not math.isfinite(value):  # e.g. 1e999
         raise ValueError(f"{where}: value {cell!r} is not finite; NaN and infinity are not allowed")
     return value
+
+
+def _csv_id(fname: str, lineno: int, column: str, cell: str) -> str:
+    """A demonstration id cell, refused when empty or padded with whitespace.
+
+    Stripping would silently merge ``" 7"`` with ``"7"``; keeping the spaces
+    would make two ids that print alike, so both are errors.
+    """
+    where = f"{fname} line {lineno}, column {column!r}"
+    if not cell.strip():
+        raise ValueError(f"{where}: empty value")
+    if cell != cell.strip():
+        raise ValueError(
+            f"{where}: id {cell!r} has spaces around it; write ids without surrounding "
+            f"whitespace ({cell.strip()!r})"
+        )
+    return cell
+
+
+class _Blocks:
+    """Checks that the rows of each id come in one consecutive block of lines."""
+
+    def __init__(self, fname: str, what: str) -> None:
+        self.fname, self.what = fname, what
+        self.spans: dict[str, list[int]] = {}  # id -> [first line, last line]
+        self.current: str | None = None
+
+    def add(self, did: str, lineno: int) -> None:
+        span = self.spans.get(did)
+        if span is None:
+            self.spans[did] = [lineno, lineno]
+        elif did != self.current:
+            raise ValueError(
+                f"{self.fname} line {lineno}: {self.what} {did!r} continues here, but its rows "
+                f"so far are lines {span[0]}-{span[1]} and other {self.what}s come between; "
+                f"the rows of one {self.what} must be consecutive (two recordings with one id?)"
+            )
+        else:
+            span[1] = lineno
+        self.current = did
 
 
 def _read_csv(
@@ -851,6 +922,7 @@ def _read_csv(
         n_fields = len(header)
 
         groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+        blocks = _Blocks(fname, "demo")
         for lineno, line in lines:
             row = _csv_row(fname, lineno, line)
             if len(row) != n_fields:
@@ -858,10 +930,9 @@ def _read_csv(
                     f"{fname} line {lineno}: expected {n_fields} fields "
                     f"({', '.join(colnames)}), got {len(row)}"
                 )
+            did = _csv_id(fname, lineno, colnames[demo_col], row[demo_col])
             row = [c.strip() for c in row]
-            did = row[demo_col]
-            if not did:
-                raise ValueError(f"{fname} line {lineno}, column 'demo': empty value")
+            blocks.add(did, lineno)
             pts, ts, linenos = groups.setdefault(did, ([], [], []))
             pts.append(
                 [

@@ -21,16 +21,21 @@ positions in one file have the same dimension.
     case-insensitive; columns with other names are ignored, as are blank
     lines and lines starting with ``#``. A row with a demo id and empty
     ``class``, coordinates and radius states that this demonstration was
-    recorded without obstacles (an empty scene). Scenes are ordered by first
-    appearance of their id; obstacles keep file order. An id that is the
-    canonical spelling of an integer (``"7"``, not ``"07"``) is read as
-    ``int``.
+    recorded without obstacles (an empty scene). The rows of one
+    demonstration are consecutive; scenes and obstacles keep file order.
+    Ids have no surrounding spaces; an id that is the canonical spelling of
+    an integer (``"7"``, not ``"07"``) is read as ``int``. Numbers are
+    decimal, as in :mod:`lfdkit.demos` (no ``0_5``, ``nan`` or ``inf``).
 ``.json``
     ``{"format": "lfdkit-scenes", "version": 1, "scenes": [{"demo": <id>,
     "obstacles": [{"class": "cup", "position": [x, y], "radius": 0.03},
     ...]}, ...]}``. ``"radius"`` is optional (default 0); ``"demo"`` is
     optional in a file with a single scene (id ``0``). Other fields are
-    ignored.
+    ignored. Numbers must be JSON numbers (not strings or booleans).
+
+Reading is strict and bounded as in :mod:`lfdkit.demos` (repeated keys,
+NaN literals, deep nesting and files over
+:data:`lfdkit.demos.MAX_FILE_BYTES` are errors naming the file).
 
 Writing is atomic (:func:`lfdkit.demos.atomic_write`) and floats are written
 with ``repr``, so :func:`load_scenes` after :func:`save_scenes` gives back
@@ -54,8 +59,10 @@ import numpy as np
 from lfdkit.demos import (
     DemoId,
     PathLike,
+    _Blocks,
     _check_ids,
     _content_lines,
+    _csv_id,
     _csv_number,
     _csv_row,
     _format_of,
@@ -429,6 +436,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
 
         # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
         groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
+        blocks = _Blocks(fname, "demo")
         for lineno, line in lines:
             row = _csv_row(fname, lineno, line)
             if len(row) != n_fields:
@@ -436,15 +444,12 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                     f"{fname} line {lineno}: expected {n_fields} fields "
                     f"({', '.join(header)}), got {len(row)}"
                 )
-            row = [c.strip() for c in row]
             if "demo" in pos:
-                did = row[pos["demo"]]
-                if not did:
-                    raise ValueError(
-                        f"{fname} line {lineno}, column {header[pos['demo']]!r}: empty value"
-                    )
+                did = _csv_id(fname, lineno, header[pos["demo"]], row[pos["demo"]])
+                blocks.add(did, lineno)
             else:
                 did = "0"
+            row = [c.strip() for c in row]
             obstacles, obstacle_lines, empty_lines = groups.setdefault(did, ([], [], []))
             label = row[pos["class"]]
             cells = [(row[c], name) for c, name in coord_cols]
