@@ -774,6 +774,14 @@ def _check_input_file(fname: str, max_bytes: int) -> None:
 def _read_text(fname: str, max_bytes: int | None = None) -> str:
     """Read a UTF-8 text file (a leading byte-order mark is dropped), keeping line endings."""
     data = _read_bytes(fname, max_bytes)
+    head = data[:4096]
+    if head.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ValueError(f"{fname}: is UTF-16 text; save the file as UTF-8")
+    if b"\x00" in head or head.startswith(b"\x80"):  # 0x80: a pickle's first byte
+        raise ValueError(
+            f"{fname}: binary data, not text (a pickle, NumPy or other binary file?); "
+            "this file type is read as UTF-8 text"
+        )
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
