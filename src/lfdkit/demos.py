@@ -59,6 +59,7 @@ import secrets
 import stat
 import time
 import zipfile
+import zlib
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any, Literal, overload
@@ -1043,6 +1044,13 @@ class _NpzArchive:
                 f"{where} is {info.file_size} bytes once decompressed; lfdkit reads arrays of "
                 f"at most {MAX_NPZ_ARRAY_BYTES} bytes ({MAX_NPZ_ARRAY_BYTES / 1024**3:g} GiB)"
             )
+        if info.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
+            raise ValueError(
+                f"{where}: compression method {info.compress_type} is not one NumPy writes "
+                "(stored or deflate)"
+            )
+        if info.flag_bits & 0x1:
+            raise ValueError(f"{where}: is encrypted")
         try:
             with self.zip.open(info) as fp:
                 version = np.lib.format.read_magic(fp)
@@ -1069,7 +1077,16 @@ class _NpzArchive:
                 data = fp.read(nbytes)
         except _RefusedArray as exc:
             raise ValueError(str(exc)) from None
-        except (zipfile.BadZipFile, OSError, EOFError, ValueError, TypeError) as exc:
+        except (
+            zipfile.BadZipFile,
+            zlib.error,
+            OSError,
+            EOFError,
+            ValueError,
+            TypeError,
+            NotImplementedError,
+            RuntimeError,
+        ) as exc:
             raise ValueError(f"{where}: could not read array data ({exc})") from None
         if len(data) != nbytes:
             raise ValueError(f"{where}: could not read array data (truncated)")
