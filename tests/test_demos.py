@@ -362,6 +362,16 @@ def test_csv_id_with_surrounding_whitespace_is_an_error(tmp_path: Path, cell: st
     )
 
 
+def test_csv_id_starting_with_hash_in_a_later_column(tmp_path: Path) -> None:
+    path = _write(tmp_path / "d.csv", "x,y,demo\n0,0,#1\n1,1,#1\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 2, column 'demo': '#1' is not a valid id; a str id must be non-empty, "
+        "without surrounding whitespace or line breaks, and must not start with '#'"
+    )
+
+
 @pytest.mark.parametrize(
     ("cell", "hint"),
     [
@@ -723,6 +733,19 @@ def test_json_bad_id_type(tmp_path: Path) -> None:
     )
     with pytest.raises(TypeError, match=_m(path, r": demos\[0\]: field 'id' must be an int")):
         load_demos(path)
+
+
+@pytest.mark.parametrize("did", [" a", "a ", "#a", "a\nb", ""])
+def test_json_ids_follow_the_rules_of_save(tmp_path: Path, did: str) -> None:
+    # anything load_demos accepts can be written back (and matched with a CSV file)
+    doc = _json_doc(demos=[{"id": did, "points": [[0, 0], [1, 1]]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: demos[0]: field 'id': {did!r} is not a valid id; a str id must be non-empty, "
+        "without surrounding whitespace or line breaks, and must not start with '#'"
+    )
 
 
 def test_json_duplicate_demos_key_is_an_error(tmp_path: Path) -> None:

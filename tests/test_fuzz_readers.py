@@ -159,6 +159,7 @@ json_scalars = st.one_of(
     st.integers(-(10**20), 10**20),
     st.floats(allow_nan=False, allow_infinity=False),
     st.text(max_size=8),
+    st.sampled_from([" a", "#x", "a\nb", "", "7", "07", "0_5", "1.5", "NaN", "cup"]),
 )
 json_values = st.recursive(
     json_scalars,

@@ -689,6 +689,14 @@ def _check_ids(ids: Sequence[DemoId] | None, n: int) -> list[DemoId]:
     return out
 
 
+def _check_file_id(did: DemoId, where: str) -> None:
+    """Apply :func:`save_demos`'s id rules to an id read from a file (so it can be written back)."""
+    try:
+        _check_ids([did], 1)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: {str(exc).removeprefix('ids[0]: ')}") from None
+
+
 def _parse_id(text: str) -> DemoId:
     """Turn a stored textual id back into an int when it is a canonical integer."""
     try:
@@ -890,6 +898,7 @@ def _csv_id(fname: str, lineno: int, column: str, cell: str) -> str:
             f"{where}: id {cell!r} has spaces around it; write ids without surrounding "
             f"whitespace ({cell.strip()!r})"
         )
+    _check_file_id(cell, where)  # e.g. '#1' in a later column: not writable back
     return cell
 
 
@@ -1451,6 +1460,7 @@ def _read_json(
         did = item.get("id", j)
         if isinstance(did, bool) or not isinstance(did, (int, str)):
             raise TypeError(f"{where}: field 'id' must be an int or str, got {did!r}")
+        _check_file_id(did, f"{where}: field 'id'")
         if str(did) in seen:
             raise ValueError(f"{where}: id {did!r} repeats demos[{seen[str(did)]}]")
         seen[str(did)] = j

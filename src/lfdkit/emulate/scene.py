@@ -60,6 +60,7 @@ from lfdkit.demos import (
     DemoId,
     PathLike,
     _Blocks,
+    _check_file_id,
     _check_ids,
     _content_lines,
     _csv_id,
@@ -570,6 +571,7 @@ def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
                 raise ValueError(
                     f"{fname}: {where}.demo: expected an int or a non-empty str, got {did!r}"
                 )
+            _check_file_id(did, f"{fname}: {where}.demo")
         elif len(items) == 1:
             did = 0
         else:
