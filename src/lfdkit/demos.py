@@ -51,6 +51,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import io
+import itertools
 import json
 import math
 import os
@@ -783,17 +784,16 @@ def _check_input_file(fname: str, max_bytes: int) -> None:
 def _read_text(fname: str, max_bytes: int | None = None) -> str:
     """Read a UTF-8 text file (a leading byte-order mark is dropped), keeping line endings."""
     data = _read_bytes(fname, max_bytes)
-    head = data[:4096]
-    if head.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise ValueError(f"{fname}: is UTF-16 text; save the file as UTF-8")
-    if b"\x00" in head or head.startswith(b"\x80"):  # 0x80: a pickle's first byte
-        raise ValueError(
-            f"{fname}: binary data, not text (a pickle, NumPy or other binary file?); "
-            "this file type is read as UTF-8 text"
-        )
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
+        if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+            raise ValueError(f"{fname}: is UTF-16 text; save the file as UTF-8") from None
+        if data.startswith(b"\x80") or b"\x00" in data[:4096]:  # 0x80: a pickle's first byte
+            raise ValueError(
+                f"{fname}: binary data, not text (a pickle, NumPy or other binary file?); "
+                "this file type is read as UTF-8 text"
+            ) from None
         raise ValueError(
             f"{fname}: not UTF-8 text (byte {exc.start}: {exc.reason}); save the file as UTF-8"
         ) from None
@@ -903,26 +903,29 @@ def _csv_id(fname: str, lineno: int, column: str, cell: str) -> str:
 
 
 class _Blocks:
-    """Checks that the rows of each id come in one consecutive block of lines."""
+    """The demonstration id of each CSV row, checked; the rows of one id must be consecutive."""
 
-    def __init__(self, fname: str, what: str) -> None:
-        self.fname, self.what = fname, what
+    def __init__(self, fname: str, column: str) -> None:
+        self.fname, self.column = fname, column
         self.spans: dict[str, list[int]] = {}  # id -> [first line, last line]
         self.current: str | None = None
 
-    def add(self, did: str, lineno: int) -> None:
+    def id_of(self, cell: str, lineno: int) -> str:
+        """The id in ``cell`` (raw, unstripped) on line ``lineno``."""
+        if cell == self.current:  # the common case: the block goes on
+            self.spans[cell][1] = lineno
+            return cell
+        did = _csv_id(self.fname, lineno, self.column, cell)
         span = self.spans.get(did)
-        if span is None:
-            self.spans[did] = [lineno, lineno]
-        elif did != self.current:
+        if span is not None:
             raise ValueError(
-                f"{self.fname} line {lineno}: {self.what} {did!r} continues here, but its rows "
-                f"so far are lines {span[0]}-{span[1]} and other {self.what}s come between; "
-                f"the rows of one {self.what} must be consecutive (two recordings with one id?)"
+                f"{self.fname} line {lineno}: demo {did!r} continues here, but its rows so far "
+                f"are lines {span[0]}-{span[1]} and other demos come between; the rows of one "
+                "demo must be consecutive (two recordings with one id?)"
             )
-        else:
-            span[1] = lineno
+        self.spans[did] = [lineno, lineno]
         self.current = did
+        return did
 
 
 def _read_csv(
@@ -940,7 +943,7 @@ def _read_csv(
         n_fields = len(header)
 
         groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
-        blocks = _Blocks(fname, "demo")
+        blocks = _Blocks(fname, colnames[demo_col])
         for lineno, line in lines:
             row = _csv_row(fname, lineno, line)
             if len(row) != n_fields:
@@ -948,9 +951,8 @@ def _read_csv(
                     f"{fname} line {lineno}: expected {n_fields} fields "
                     f"({', '.join(colnames)}), got {len(row)}"
                 )
-            did = _csv_id(fname, lineno, colnames[demo_col], row[demo_col])
+            did = blocks.id_of(row[demo_col], lineno)
             row = [c.strip() for c in row]
-            blocks.add(did, lineno)
             pts, ts, linenos = groups.setdefault(did, ([], [], []))
             pts.append(
                 [
@@ -1226,15 +1228,15 @@ def _write_json(
 # A JSON string, escapes included; an unterminated one runs to the end of the
 # text (so the pattern never fails and is never retried: linear time).
 _JSON_STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"?', re.DOTALL)
-_JSON_NOT_BRACKET = re.compile(r"[^\[\]{}]+")
+_NOT_BRACKET_BYTES = bytes(c for c in range(256) if c not in b"[]{}")
 
 
 def _json_too_deep(text: str, max_depth: int) -> bool:
     """Whether arrays and objects in ``text`` nest deeper than ``max_depth`` (no recursion)."""
     if text.count("[") + text.count("{") <= max_depth:
         return False
-    brackets = _JSON_NOT_BRACKET.sub("", _JSON_STRING.sub("", text))
-    codes = np.frombuffer(brackets.encode("ascii"), dtype=np.uint8)
+    brackets = _JSON_STRING.sub("", text).encode("utf-8").translate(None, _NOT_BRACKET_BYTES)
+    codes = np.frombuffer(brackets, dtype=np.uint8)
     steps = np.where((codes == ord("[")) | (codes == ord("{")), np.int32(1), np.int32(-1))
     return bool(steps.size) and int(np.cumsum(steps).max()) > max_depth
 
@@ -1392,14 +1394,18 @@ def json_float_array(value: Any, where: str, ndim: int) -> np.ndarray:
     rows = value if ndim == 2 else [value]
     if not isinstance(rows, list):
         raise TypeError(f"{where}: expected an array of arrays of numbers, got {_json_kind(rows)}")
-    for i, row in enumerate(rows):
+    # Whole-document type checks in C (set of types); the Python loops run only on error.
+    if not set(map(type, rows)) <= {list}:
+        i, row = next((i, row) for i, row in enumerate(rows) if not isinstance(row, list))
         at = f"{where}[{i}]" if ndim == 2 else where
-        if not isinstance(row, list):
-            raise TypeError(f"{at}: expected an array of numbers, got {_json_kind(row)}")
-        if not set(map(type, row)) <= {int, float}:
-            j, bad = next((j, v) for j, v in enumerate(row) if type(v) not in (int, float))
-            raise TypeError(f"{at}[{j}]: expected a number, got {_json_kind(bad)} ({bad!r:.40})")
-    if ndim == 2 and len({len(row) for row in rows}) > 1:
+        raise TypeError(f"{at}: expected an array of numbers, got {_json_kind(row)}")
+    if not set(map(type, itertools.chain.from_iterable(rows))) <= {int, float}:
+        for i, row in enumerate(rows):
+            for j, v in enumerate(row):
+                if type(v) not in (int, float):
+                    at = f"{where}[{i}][{j}]" if ndim == 2 else f"{where}[{j}]"
+                    raise TypeError(f"{at}: expected a number, got {_json_kind(v)} ({v!r:.40})")
+    if ndim == 2 and rows and len(set(map(len, rows))) > 1:
         k = next(i for i, row in enumerate(rows) if len(row) != len(rows[0]))
         raise ValueError(
             f"{where}[{k}]: has {len(rows[k])} numbers but {where}[0] has {len(rows[0])}; "

@@ -63,7 +63,6 @@ from lfdkit.demos import (
     _check_file_id,
     _check_ids,
     _content_lines,
-    _csv_id,
     _csv_number,
     _csv_row,
     _format_of,
@@ -437,7 +436,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
 
         # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
         groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
-        blocks = _Blocks(fname, "demo")
+        blocks = _Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
         for lineno, line in lines:
             row = _csv_row(fname, lineno, line)
             if len(row) != n_fields:
@@ -445,9 +444,8 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                     f"{fname} line {lineno}: expected {n_fields} fields "
                     f"({', '.join(header)}), got {len(row)}"
                 )
-            if "demo" in pos:
-                did = _csv_id(fname, lineno, header[pos["demo"]], row[pos["demo"]])
-                blocks.add(did, lineno)
+            if blocks is not None:
+                did = blocks.id_of(row[pos["demo"]], lineno)
             else:
                 did = "0"
             row = [c.strip() for c in row]
