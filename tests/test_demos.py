@@ -711,7 +711,7 @@ def test_json_errors(tmp_path: Path, doc: dict, expected: str) -> None:
 
 def test_json_invalid_syntax_names_line(tmp_path: Path) -> None:
     path = _write(tmp_path / "demos.json", '{\n  "format": "lfdkit-demos",\n  oops\n}\n')
-    with pytest.raises(ValueError, match=_m(path, r" line 3, column 3: invalid JSON")):
+    with pytest.raises(ValueError, match=_m(path, r": line 3: not valid JSON at column 3 \(")):
         load_demos(path)
 
 
@@ -722,7 +722,7 @@ def test_json_non_finite_point(tmp_path: Path) -> None:
     path = _write(tmp_path / "demos.json", text)
     column = text.index("NaN") - text.index("\n")
     with pytest.raises(
-        ValueError, match=_m(path, rf" line 2, column {column}: NaN is not a JSON number")
+        ValueError, match=_m(path, rf": line 2, column {column}: NaN is not a JSON number")
     ):
         load_demos(path)
 
@@ -827,7 +827,7 @@ def test_json_nesting_inside_strings_does_not_count(tmp_path: Path) -> None:
 
 def test_json_unterminated_string_is_invalid_json(tmp_path: Path) -> None:
     path = _write(tmp_path / "demos.json", '{"format": "lfdkit-demos' + '\\"[' * 10_000)
-    with pytest.raises(ValueError, match=_m(path, r" line 1, column 12: invalid JSON")):
+    with pytest.raises(ValueError, match=_m(path, r": line 1: not valid JSON at column 12 \(")):
         load_demos(path)
 
 

@@ -26,7 +26,11 @@ The format is chosen from the file suffix (case-insensitive):
     Arrays ``demo_0, demo_1, ...`` (each ``(n_points_j, n_dims)``), optionally
     ``time_j`` for any ``j`` and ``ids`` (1-D, one per demonstration); or a
     single 3-D array ``demos`` of shape ``(n_demos, n_points, n_dims)`` with an
-    optional 2-D ``times`` of shape ``(n_demos, n_points)``. Never unpickled.
+    optional 2-D ``times`` of shape ``(n_demos, n_points)``. Coordinates and
+    times are real (float or integer dtype; complex, boolean, date and text
+    arrays are refused). Never unpickled; other arrays in the archive are never
+    decompressed. (Members of a zip archive cannot be memory-mapped, so each
+    array needed is read once, after its size is checked.)
 ``.json``
     ``{"format": "lfdkit-demos", "version": 1, "n_dims": q, "demos":
     [{"id": ..., "points": [[x, y], ...], "t": [...]}, ...]}`` with ``"t"``
@@ -468,13 +472,16 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
     Raises
     ------
     ValueError
-        If the suffix is not supported or the content is malformed; the
-        message names the file and, where it applies, the line, column or
-        array at fault.
+        If the suffix is not supported, the content is malformed or would be
+        read ambiguously (see the module notes), or the file is over a size
+        limit; the message names the file and, where it applies, the line,
+        column, JSON path or array at fault.
     TypeError
-        If a JSON value has the wrong type.
+        If a JSON value has the wrong type (e.g. a number given as a string).
     FileNotFoundError
         If the file does not exist.
+    IsADirectoryError, NotRegularFileError
+        If ``path`` is a directory, or a FIFO, device or socket (never opened).
     """
     fname = os.fspath(path)
     fmt = _format_of(fname)
@@ -534,10 +541,13 @@ def save_demos(
     ------
     ValueError
         If the suffix is unsupported or the inputs are invalid.
-    FileExistsError
-        If the file exists and ``overwrite`` is false.
+    OutputExistsError
+        (a ``FileExistsError``) If the file exists and ``overwrite`` is false.
     IsADirectoryError
         If ``path`` is a directory.
+    NotRegularFileError
+        If ``path`` is a FIFO, device, socket or symbolic link
+        (:func:`atomic_write`).
     """
     fname = os.fspath(path)
     fmt = _format_of(fname)
@@ -1279,12 +1289,12 @@ _JSON_CONSTANT = re.compile(_JSON_STRING.pattern + r"|(-?Infinity|NaN)", re.DOTA
 
 
 def _json_constant_line(text: str) -> str:
-    """`` line L, column C`` of the first NaN/Infinity literal outside strings in ``text``."""
+    """``: line L, column C`` of the first NaN/Infinity literal outside strings in ``text``."""
     for match in _JSON_CONSTANT.finditer(text):
         if match.group(1):
             start = match.start(1)
             line = text.count("\n", 0, start) + 1
-            return f" line {line}, column {start - text.rfind(chr(10), 0, start)}"
+            return f": line {line}, column {start - text.rfind(chr(10), 0, start)}"
     return ""  # pragma: no cover - json found one
 
 
@@ -1314,11 +1324,12 @@ def load_json(fname: str, *, max_bytes: int | None = None) -> Any:
     Raises
     ------
     ValueError
-        For a file larger than ``max_bytes``, not UTF-8, not valid JSON (line
-        and column given), nested deeper than :data:`MAX_JSON_DEPTH`, with a
-        repeated key in an object (the object's JSON path given; a repeated
-        ``"demos"`` would otherwise keep only the last list), or with the
-        non-standard ``NaN``/``Infinity`` literals.
+        For a file larger than ``max_bytes``, not UTF-8, not valid JSON
+        (``"<file>: line L: not valid JSON at column C (...)"``), nested
+        deeper than :data:`MAX_JSON_DEPTH`, with a repeated key in an object
+        (the object's JSON path given; a repeated ``"demos"`` would otherwise
+        keep only the last list), or with the non-standard ``NaN`` and
+        ``Infinity`` literals.
     FileNotFoundError, IsADirectoryError, NotRegularFileError
         If the file is missing, a directory, or not a regular file.
     """
@@ -1333,7 +1344,7 @@ def load_json(fname: str, *, max_bytes: int | None = None) -> Any:
         doc = json.loads(text, object_pairs_hook=duplicates, parse_constant=_reject_json_constant)
     except json.JSONDecodeError as exc:
         raise ValueError(
-            f"{fname} line {exc.lineno}, column {exc.colno}: invalid JSON ({exc.msg})"
+            f"{fname}: line {exc.lineno}: not valid JSON at column {exc.colno} ({exc.msg})"
         ) from None
     except _JSONConstantError as exc:
         raise ValueError(

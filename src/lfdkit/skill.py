@@ -110,17 +110,19 @@ A skill with the longest path allowed (100 000 points in 3-D) takes about 8 MB."
 SKILL_FILE_LIMITS: dict[str, tuple[float, float]] = {
     "n_points": (3, _MAX_POINTS),
     "n_components": (1, 1000),
-    "n_basis": (1, 1000),
+    "n_basis": (1, 200),
     "duration": (0.0, 1e6),
     "max_slope": (0.0, 1e6),
 }
 """Ranges :meth:`Skill.load` accepts for the numeric ``params`` of a skill file.
 
 ``(low, high)``: integers ``low <= n <= high``; ``duration`` (seconds) and
-``max_slope`` in ``(low, high]``. Far beyond any robot task, they keep a
-corrupt or hostile file from asking for gigabytes (``n_basis = 10**4``) or
-overflowing (``duration = 1e300``). The stored ``path`` has at most
-``n_points`` limit rows."""
+``max_slope`` in ``(low, high]``. Far beyond any robot task (DMPs use tens
+of basis functions), they keep a corrupt or hostile file from asking for
+gigabytes or minutes (``n_basis = 10**4``; the DMP fit that loading does
+grows with ``n_basis**2``, 200 takes about 0.5 s) or overflowing
+(``duration = 1e300``). The stored ``path`` has at most the ``n_points``
+limit of rows."""
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4

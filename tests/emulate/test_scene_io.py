@@ -527,7 +527,7 @@ def test_json_non_finite_literal_names_line(tmp_path: Path, value: str) -> None:
     line = text[: text.index(value)].count("\n") + 1
     path = _write(tmp_path / "nf.json", text)
     with pytest.raises(
-        ValueError, match=rf"nf\.json line {line}, column \d+: {value} is not a JSON number"
+        ValueError, match=rf"nf\.json: line {line}, column \d+: {value} is not a JSON number"
     ):
         load_scenes(path)
 
@@ -558,7 +558,7 @@ def test_json_wrong_format(tmp_path: Path, fmt: object) -> None:
 
 def test_json_that_does_not_parse(tmp_path: Path) -> None:
     path = _write(tmp_path / "broken.json", '{\n  "format": "lfdkit-scenes",\n  "version": 1,\n]')
-    with pytest.raises(ValueError, match=r"broken\.json line 4, column \d+: invalid JSON"):
+    with pytest.raises(ValueError, match=r"broken\.json: line 4: not valid JSON at column \d+"):
         load_scenes(path)
 
 
