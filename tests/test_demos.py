@@ -640,6 +640,17 @@ def test_npz_single_npy_payload(tmp_path: Path) -> None:
         load_demos(path)
 
 
+def test_npz_ids_follow_the_rules_of_save(tmp_path: Path) -> None:
+    path = tmp_path / "d.npz"
+    np.savez(path, demo_0=np.zeros((2, 2)), demo_1=np.ones((2, 2)), ids=np.array(["7", " 7"]))
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: array 'ids' entry 1: ' 7' is not a valid id; a str id must be non-empty, "
+        "without surrounding whitespace or line breaks, and must not start with '#'"
+    )
+
+
 def test_npz_ids_integer_array(tmp_path: Path) -> None:
     path = tmp_path / "d.npz"
     np.savez(path, demo_0=np.zeros((2, 2)), demo_1=np.ones((2, 2)), ids=np.array([10, 20]))

@@ -1199,6 +1199,8 @@ def _read_npz_arrays(
         ids: list[DemoId] = [
             _parse_id(str(v)) if raw.dtype.kind == "U" else int(v) for v in raw.tolist()
         ]
+        for j, did in enumerate(ids):
+            _check_file_id(did, f"{fname}: array 'ids' entry {j}")
         if len({str(i) for i in ids}) != len(ids):
             raise ValueError(f"{fname}: array 'ids' has repeated ids")
     else:
