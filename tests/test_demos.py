@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import re
+import stat
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -13,10 +16,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import lfdkit.demos as demos_module
 from lfdkit.demos import (
     JSON_FORMAT,
     JSON_VERSION,
+    STALE_TEMP_SECONDS,
     SUPPORTED_SUFFIXES,
+    NotRegularFileError,
+    OutputExistsError,
     atomic_write,
     load_demos,
     path_csv,
@@ -153,17 +160,17 @@ def test_save_accepts_str_path(tmp_path: Path) -> None:
 # --------------------------------------------------------------------------- #
 
 
-def test_csv_groups_by_first_appearance_and_keeps_row_order(tmp_path: Path) -> None:
+def test_csv_keeps_file_order_and_skips_blank_and_comment_lines(tmp_path: Path) -> None:
     path = _write(
         tmp_path / "demos.csv",
         "# recorded 2024-01-01\n"
         "demo,x,y\n"
         "\n"
         "b,1,10\n"
-        "a,2,20\n"
         "   \n"
         "b,3,30\n"
         "# a comment between rows\n"
+        "a,2,20\n"
         "a,4,40\n"
         "  # indented comment\n",
     )
@@ -321,11 +328,97 @@ def test_csv_times_not_strictly_increasing(tmp_path: Path, second: str) -> None:
 
 
 def test_csv_times_are_per_demo(tmp_path: Path) -> None:
-    # each demonstration has its own clock; interleaving is fine
-    path = _write(tmp_path / "d.csv", "demo,t,x,y\na,5,0,0\nb,0,0,0\na,6,1,1\nb,1,1,1\n")
+    # each demonstration has its own clock
+    path = _write(tmp_path / "d.csv", "demo,t,x,y\na,5,0,0\na,6,1,1\nb,0,0,0\nb,1,1,1\n")
     _, times = load_demos(path, return_times=True)
     np.testing.assert_array_equal(times[0], [5, 6])
     np.testing.assert_array_equal(times[1], [0, 1])
+
+
+def test_csv_id_in_two_blocks_is_an_error_naming_both(tmp_path: Path) -> None:
+    # two recordings pasted together under one id used to merge into one demonstration
+    path = _write(
+        tmp_path / "d.csv",
+        "demo,x,y\n7,0,0\n7,1,1\n# second recording\n8,5,5\n8,6,6\n7,0,0\n7,2,2\n",
+    )
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 7: demo '7' continues here, but its rows so far are lines 2-3 and other "
+        "demos come between; the rows of one demo must be consecutive (two recordings with "
+        "one id?)"
+    )
+
+
+@pytest.mark.parametrize("cell", [" 7", "7 ", "\t7", " 7 "])
+def test_csv_id_with_surrounding_whitespace_is_an_error(tmp_path: Path, cell: str) -> None:
+    # " 7" and "7" used to merge silently
+    path = _write(tmp_path / "d.csv", f"x,y,demo\n0,0,7\n1,1,7\n2,2,{cell}\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 4, column 'demo': id {cell!r} has spaces around it; write ids without "
+        "surrounding whitespace ('7')"
+    )
+
+
+def test_csv_id_starting_with_hash_in_a_later_column(tmp_path: Path) -> None:
+    path = _write(tmp_path / "d.csv", "x,y,demo\n0,0,#1\n1,1,#1\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 2, column 'demo': '#1' is not a valid id; a str id must be non-empty, "
+        "without surrounding whitespace or line breaks, and must not start with '#'"
+    )
+
+
+@pytest.mark.parametrize(
+    ("cell", "hint"),
+    [
+        ("0_5", "; digit separators ('_') are not allowed"),
+        ("1_000.5", "; digit separators ('_') are not allowed"),
+        ("1 000", ""),
+        ("0x10", ""),
+        ("1e", ""),
+        ("--1", ""),
+        ("\uff11", ""),  # a full-width digit, which float() reads as 1
+        ("٣", ""),  # an Arabic-Indic digit, which float() reads as 3
+    ],
+)
+def test_csv_numbers_that_float_would_misread(tmp_path: Path, cell: str, hint: str) -> None:
+    # float("0_5") is 5.0: the issue's learned path moved 0.645 m from one such cell
+    path = _write(tmp_path / "d.csv", f"demo,x,y\na,0,0\na,{cell},1\n")
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path} line 3, column 'x': could not read {cell!r} as a number{hint}"
+    )
+
+
+@pytest.mark.parametrize(
+    ("cell", "value"),
+    [
+        ("+1", 1.0),
+        ("-0.5", -0.5),
+        (".5", 0.5),
+        ("5.", 5.0),
+        ("1E-3", 1e-3),
+        ("-0", -0.0),
+        (" 2.5 ", 2.5),
+        ("007", 7.0),
+    ],
+)
+def test_csv_decimal_spellings_are_read(tmp_path: Path, cell: str, value: float) -> None:
+    path = _write(tmp_path / "d.csv", f"demo,x,y\na,0,0\na,{cell},1\n")
+    got = load_demos(path)[0][1, 0]
+    assert got == value and np.signbit(got) == np.signbit(value)
+
+
+@pytest.mark.parametrize("cell", ["1e999", "-1e400"])
+def test_csv_overflowing_number_is_not_finite(tmp_path: Path, cell: str) -> None:
+    path = _write(tmp_path / "d.csv", f"demo,x,y\na,0,0\na,{cell},1\n")
+    with pytest.raises(ValueError, match=_m(path, rf" line 3, column 'x': value '{cell}' is not")):
+        load_demos(path)
 
 
 # --------------------------------------------------------------------------- #
@@ -395,8 +488,142 @@ def test_npz_object_arrays_are_never_unpickled(tmp_path: Path) -> None:
     ragged = np.empty(2, dtype=object)
     ragged[0], ragged[1] = np.zeros((2, 2)), np.zeros((3, 2))
     np.savez(path, demo_0=ragged)
-    with pytest.raises(ValueError, match=_m(path, r": could not read array data")):
+    with pytest.raises(
+        ValueError, match=_m(path, r": array 'demo_0': holds Python objects, which lfdkit never")
+    ):
         load_demos(path)
+
+
+@pytest.mark.parametrize(
+    ("array", "words"),
+    [
+        (np.ones((3, 2), dtype=complex), r"complex numbers \(dtype complex128\)"),
+        (np.ones((3, 2), dtype=bool), r"booleans \(dtype bool\)"),
+        (np.zeros((3, 2), dtype="datetime64[s]"), r"dates \(dtype datetime64\[s\]\)"),
+        (np.zeros((3, 2), dtype="timedelta64[s]"), r"time intervals \(dtype timedelta64\[s\]\)"),
+        (np.array([["1", "2"], ["3", "4"]]), r"text \(dtype <U1\)"),
+        (
+            np.zeros(3, dtype=[("x", float), ("y", float)]),
+            r"raw or structured records \(dtype \[\('x', '<f8'\), \('y', '<f8'\)\]\)",
+        ),
+    ],
+)
+@pytest.mark.parametrize("layout", ["demo_0", "demos", "time_0"])
+def test_npz_non_real_arrays_are_refused(
+    tmp_path: Path, array: np.ndarray, words: str, layout: str
+) -> None:
+    path = tmp_path / "demos.npz"
+    if layout == "demos":
+        np.savez(path, demos=array[None])
+    elif layout == "time_0":
+        np.savez(path, demo_0=np.zeros((array.shape[0], 2)), time_0=array)
+    else:
+        np.savez(path, demo_0=array)
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    expected = rf": array '{layout}': holds {words}; demonstrations and times must be real"
+    assert re.match(_m(path, expected), str(info.value))
+
+
+def test_npz_float16_and_unsigned_are_real(tmp_path: Path) -> None:
+    path = tmp_path / "d.npz"
+    np.savez(
+        path, demo_0=np.ones((3, 2), np.float16), demo_1=np.arange(4, dtype=np.uint8).reshape(2, 2)
+    )
+    demos = load_demos(path)
+    np.testing.assert_array_equal(demos[1], [[0, 1], [2, 3]])
+
+
+def _zip_bomb(path: Path, member: str, n_bytes: int, **arrays: np.ndarray) -> None:
+    """An .npz with the given arrays plus ``member``: a zero array of ``n_bytes``, compressed."""
+    import zipfile
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (n_bytes // 8,)}
+    )
+    np.savez_compressed(path, **arrays)
+    with zipfile.ZipFile(path, "a", compression=zipfile.ZIP_DEFLATED) as zf:
+        with zf.open(member + ".npy", "w", force_zip64=True) as f:
+            f.write(header.getvalue())
+            chunk = bytes(1 << 20)
+            for _ in range(n_bytes // len(chunk)):
+                f.write(chunk)
+
+
+def test_npz_unused_members_are_never_decompressed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import zipfile
+
+    # np.load-style reading decompressed every member, e.g. a bomb stored as a "thumbnail"
+    path = tmp_path / "bomb.npz"
+    _zip_bomb(path, "thumbnail", 16 << 20, demo_0=np.zeros((3, 2)), ids=np.array(["a"]))
+    opened: list[str] = []
+    real_open = zipfile.ZipFile.open
+
+    def spy(self, name, *args, **kwargs):
+        opened.append(name.filename if isinstance(name, zipfile.ZipInfo) else name)
+        return real_open(self, name, *args, **kwargs)
+
+    monkeypatch.setattr(zipfile.ZipFile, "open", spy)
+    demos, ids = load_demos(path, return_ids=True)
+    assert len(demos) == 1 and ids == ["a"]
+    assert sorted(opened) == ["demo_0.npy", "ids.npy"]
+
+
+def test_npz_oversized_member_is_refused_from_its_header(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "bomb.npz"
+    _zip_bomb(path, "demo_0", 64 << 20)
+    monkeypatch.setattr(demos_module, "MAX_NPZ_ARRAY_BYTES", 32 << 20)
+    started = time.perf_counter()
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert time.perf_counter() - started < 1.0
+    size = (64 << 20) + 128
+    assert str(info.value) == (
+        f"{path}: array 'demo_0' is {size} bytes once decompressed; lfdkit reads arrays of "
+        f"at most {32 << 20} bytes (0.03125 GiB)"
+    )
+
+
+def test_npz_header_larger_than_member_is_refused(tmp_path: Path) -> None:
+    import zipfile
+
+    path = tmp_path / "lie.npz"
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (10**9, 3)}
+    )
+    with zipfile.ZipFile(path, "w") as zf:
+        zf.writestr("demo_0.npy", header.getvalue() + bytes(48))
+    with pytest.raises(
+        ValueError,
+        match=_m(
+            path,
+            r": array 'demo_0': could not read array data \(header says shape \(1000000000, 3\)",
+        ),
+    ):
+        load_demos(path)
+
+
+def test_npz_too_many_members(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "many.npz"
+    np.savez(path, **{f"demo_{j}": np.zeros((2, 2)) for j in range(5)})
+    monkeypatch.setattr(demos_module, "MAX_NPZ_MEMBERS", 4)
+    with pytest.raises(
+        ValueError, match=_m(path, r": has 5 arrays; lfdkit reads .npz files of at most 4$")
+    ):
+        load_demos(path)
+
+
+def test_npz_fortran_order_array(tmp_path: Path) -> None:
+    path = tmp_path / "f.npz"
+    demo = np.asfortranarray(np.arange(12.0).reshape(6, 2))
+    np.savez(path, demo_0=demo)
+    np.testing.assert_array_equal(load_demos(path)[0], demo)
 
 
 def test_npz_not_an_archive(tmp_path: Path) -> None:
@@ -411,6 +638,17 @@ def test_npz_single_npy_payload(tmp_path: Path) -> None:
         np.save(f, np.zeros((2, 2, 2)))
     with pytest.raises(ValueError, match=_m(path, r": is a single \.npy array")):
         load_demos(path)
+
+
+def test_npz_ids_follow_the_rules_of_save(tmp_path: Path) -> None:
+    path = tmp_path / "d.npz"
+    np.savez(path, demo_0=np.zeros((2, 2)), demo_1=np.ones((2, 2)), ids=np.array(["7", " 7"]))
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: array 'ids' entry 1: ' 7' is not a valid id; a str id must be non-empty, "
+        "without surrounding whitespace or line breaks, and must not start with '#'"
+    )
 
 
 def test_npz_ids_integer_array(tmp_path: Path) -> None:
@@ -484,16 +722,19 @@ def test_json_errors(tmp_path: Path, doc: dict, expected: str) -> None:
 
 def test_json_invalid_syntax_names_line(tmp_path: Path) -> None:
     path = _write(tmp_path / "demos.json", '{\n  "format": "lfdkit-demos",\n  oops\n}\n')
-    with pytest.raises(ValueError, match=_m(path, r" line 3, column 3: invalid JSON")):
+    with pytest.raises(ValueError, match=_m(path, r": line 3: not valid JSON at column 3 \(")):
         load_demos(path)
 
 
 def test_json_non_finite_point(tmp_path: Path) -> None:
-    path = _write(
-        tmp_path / "demos.json",
-        json.dumps(_json_doc(demos=[{"id": "a", "points": [[0, 0], [float("nan"), 1]]}])),
-    )
-    with pytest.raises(ValueError, match=_m(path, r": demos\[0\] .*contains NaN at row 1")):
+    # Python's json writes the non-standard literal NaN; lfdkit refuses it where it stands
+    text = json.dumps(_json_doc(demos=[{"id": "a", "points": [[0, 0], [float("nan"), 1]]}]))
+    text = text.replace('"format"', '\n  "format"')
+    path = _write(tmp_path / "demos.json", text)
+    column = text.index("NaN") - text.index("\n")
+    with pytest.raises(
+        ValueError, match=_m(path, rf": line 2, column {column}: NaN is not a JSON number")
+    ):
         load_demos(path)
 
 
@@ -503,6 +744,129 @@ def test_json_bad_id_type(tmp_path: Path) -> None:
     )
     with pytest.raises(TypeError, match=_m(path, r": demos\[0\]: field 'id' must be an int")):
         load_demos(path)
+
+
+@pytest.mark.parametrize("did", [" a", "a ", "#a", "a\nb", ""])
+def test_json_ids_follow_the_rules_of_save(tmp_path: Path, did: str) -> None:
+    # anything load_demos accepts can be written back (and matched with a CSV file)
+    doc = _json_doc(demos=[{"id": did, "points": [[0, 0], [1, 1]]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: demos[0]: field 'id': {did!r} is not a valid id; a str id must be non-empty, "
+        "without surrounding whitespace or line breaks, and must not start with '#'"
+    )
+
+
+def test_json_duplicate_demos_key_is_an_error(tmp_path: Path) -> None:
+    # the issue's case: a second "demos" key silently replaced the first (4 demos became 2)
+    four = json.dumps([{"points": [[k, 0], [k, 1]]} for k in range(4)])
+    two = json.dumps([{"points": [[k, 0], [k, 1]]} for k in range(2)])
+    text = (
+        f'{{"format": "{JSON_FORMAT}", "version": 1, "n_dims": 2,\n'
+        f' "demos": {four},\n "demos": {two}}}\n'
+    )
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: (top level): key 'demos' appears more than once in one object; "
+        "each key may be given once"
+    )
+
+
+def test_json_duplicate_nested_key_names_its_path(tmp_path: Path) -> None:
+    text = json.dumps(_json_doc()).replace('"id": "a"', '"id": "a", "id": "b"')
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(
+        ValueError, match=_m(path, r": demos\[0\]: key 'id' appears more than once")
+    ):
+        load_demos(path)
+
+
+@pytest.mark.parametrize(
+    ("point", "where", "kind"),
+    [
+        ('"0.5"', r"demos\[0\]\.points\[1\]\[0\]", "a string"),
+        ("true", r"demos\[0\]\.points\[1\]\[0\]", "a boolean"),
+        ("null", r"demos\[0\]\.points\[1\]\[0\]", "null"),
+    ],
+)
+def test_json_numbers_must_be_numbers(tmp_path: Path, point: str, where: str, kind: str) -> None:
+    text = json.dumps(_json_doc()).replace("[[0, 0], [1, 1]]", f"[[0, 0], [{point}, 1]]")
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(TypeError, match=_m(path, rf": {where}: expected a number, got {kind}")):
+        load_demos(path)
+
+
+def test_json_times_as_strings_are_an_error(tmp_path: Path) -> None:
+    doc = _json_doc(demos=[{"id": "a", "points": [[0, 0], [1, 1]], "t": [0, "1"]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(
+        TypeError, match=_m(path, r": demos\[0\]\.t\[1\]: expected a number, got a")
+    ):
+        load_demos(path)
+
+
+def test_json_ragged_points_name_the_row(tmp_path: Path) -> None:
+    doc = _json_doc(demos=[{"id": "a", "points": [[0, 0], [1, 1, 1]]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    with pytest.raises(ValueError, match=_m(path, r": demos\[0\]\.points\[1\]: has 3 numbers but")):
+        load_demos(path)
+
+
+def test_json_huge_integer_is_an_error(tmp_path: Path) -> None:
+    text = json.dumps(_json_doc()).replace("[[0, 0], [1, 1]]", f"[[0, 0], [1{'0' * 400}, 1]]")
+    path = _write(tmp_path / "demos.json", text)
+    with pytest.raises(ValueError, match=_m(path, r": demos\[0\]\.points: a number is too large")):
+        load_demos(path)
+
+
+@pytest.mark.parametrize("depth", [65, 1000, 100_000])
+def test_json_deep_nesting_is_a_clear_error(tmp_path: Path, depth: int) -> None:
+    path = _write(tmp_path / "demos.json", "[" * depth + "]" * depth)
+    with pytest.raises(ValueError, match=_m(path, r": JSON nested too deep \(more than 64 levels")):
+        load_demos(path)
+
+
+def test_json_nesting_inside_strings_does_not_count(tmp_path: Path) -> None:
+    doc = _json_doc(demos=[{"id": "[" * 500 + '\\"{', "points": [[0, 0], [1, 1]]}])
+    path = _write(tmp_path / "demos.json", json.dumps(doc))
+    assert load_demos(path, return_ids=True)[1] == ["[" * 500 + '\\"{']
+
+
+def test_json_unterminated_string_is_invalid_json(tmp_path: Path) -> None:
+    path = _write(tmp_path / "demos.json", '{"format": "lfdkit-demos' + '\\"[' * 10_000)
+    with pytest.raises(ValueError, match=_m(path, r": line 1: not valid JSON at column 12 \(")):
+        load_demos(path)
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_file_too_large_is_refused_before_reading(
+    tmp_path: Path, suffix: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / f"demos{suffix}"
+    save_demos(path, [np.zeros((50, 2))])
+    size = path.stat().st_size
+    monkeypatch.setattr(demos_module, "MAX_FILE_BYTES", size - 1)
+    with pytest.raises(ValueError) as info:
+        load_demos(path)
+    assert str(info.value) == (
+        f"{path}: file too large ({size} bytes); lfdkit reads files of at most {size - 1} "
+        f"bytes ({(size - 1) / 1024**2:g} MiB)"
+    )
+    monkeypatch.setattr(demos_module, "MAX_FILE_BYTES", size)
+    assert len(load_demos(path)) == 1
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_reading_a_fifo_is_refused_without_blocking(tmp_path: Path, suffix: str) -> None:
+    fifo = tmp_path / f"pipe{suffix}"
+    os.mkfifo(fifo)
+    with pytest.raises(NotRegularFileError, match=_m(fifo, r": is a named pipe \(FIFO\), not a")):
+        load_demos(fifo)
 
 
 # --------------------------------------------------------------------------- #
@@ -577,7 +941,8 @@ def test_refuses_overwrite_then_overwrites(tmp_path: Path, suffix: str) -> None:
     save_demos(path, first)
     before = path.read_bytes()
     with pytest.raises(
-        FileExistsError, match=_m(path, r": file already exists; pass overwrite=True")
+        OutputExistsError,
+        match=_m(path, r": file already exists; allow overwriting to replace it \(overwrite=True"),
     ):
         save_demos(path, second)
     assert path.read_bytes() == before
@@ -766,6 +1131,109 @@ def test_atomic_write_permissions(tmp_path: Path) -> None:
     os.chmod(plain, 0o640)
     atomic_write(plain, lambda f: f.write("y"), overwrite=True)
     assert plain.stat().st_mode & 0o777 == 0o640  # replaced file keeps its mode
+
+
+def test_exists_error_names_path_and_both_ways_to_allow(tmp_path: Path) -> None:
+    path = tmp_path / "a.txt"
+    path.write_text("old")
+    with pytest.raises(OutputExistsError) as info:
+        atomic_write(path, lambda f: f.write("new"))
+    assert isinstance(info.value, FileExistsError) and info.value.path == path
+    assert str(info.value) == (
+        f"{path}: file already exists; allow overwriting to replace it "
+        "(overwrite=True; --force on the command line)"
+    )
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_atomic_write_never_replaces_a_fifo(tmp_path: Path, overwrite: bool) -> None:
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    expected = _m(fifo, r": is a named pipe \(FIFO\), not a regular file; lfdkit writes regular")
+    with pytest.raises(NotRegularFileError, match=expected):
+        atomic_write(fifo, lambda f: f.write("x"), overwrite=overwrite)
+    with pytest.raises(NotRegularFileError, match=expected):
+        save_demos(fifo, [np.zeros((2, 2))], overwrite=overwrite)
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.csv"]
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/null"), reason="needs /dev/null")
+def test_atomic_write_never_replaces_a_device() -> None:
+    with pytest.raises(NotRegularFileError, match=r"^/dev/null: is a character device, not a"):
+        atomic_write("/dev/null", lambda f: f.write("x"), overwrite=True)
+    assert stat.S_ISCHR(os.lstat("/dev/null").st_mode)
+
+
+@pytest.mark.skipif(os.name != "posix", reason="POSIX symbolic links")
+@pytest.mark.parametrize("points_to", ["real.txt", "missing.txt", "/dev/null"])
+def test_atomic_write_refuses_symbolic_links(tmp_path: Path, points_to: str) -> None:
+    real = tmp_path / "real.txt"
+    real.write_text("kept")
+    link = tmp_path / "link.txt"
+    link.symlink_to(points_to)
+    with pytest.raises(NotRegularFileError, match=_m(link, r": is a symbolic link \(to '")):
+        atomic_write(link, lambda f: f.write("new"), overwrite=True)
+    assert link.is_symlink() and os.readlink(link) == points_to
+    assert real.read_text() == "kept"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_target_turned_into_fifo_during_write_is_not_replaced(tmp_path: Path) -> None:
+    path = tmp_path / "a.txt"
+    path.write_text("old")
+
+    def writer(f) -> None:
+        path.unlink()
+        os.mkfifo(path)
+        f.write("new")
+
+    with pytest.raises(NotRegularFileError, match="named pipe"):
+        atomic_write(path, writer, overwrite=True)
+    assert stat.S_ISFIFO(os.lstat(path).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt"]
+
+
+def test_temporary_file_name_is_recognisably_ours(tmp_path: Path) -> None:
+    path = tmp_path / "skill.json"
+    seen: list[str] = []
+
+    def writer(f) -> None:
+        seen.extend(p.name for p in tmp_path.iterdir())
+        f.write("{}")
+
+    atomic_write(path, writer)
+    assert len(seen) == 1 and re.fullmatch(r"\.skill\.json\.[0-9a-f]{12}\.lfdkit\.tmp", seen[0])
+
+
+def test_stale_temporary_files_of_the_target_are_removed(tmp_path: Path) -> None:
+    path = tmp_path / "skill.json"
+    old = time.time() - STALE_TEMP_SECONDS - 60
+    ours_stale = [".skill.json.0123456789ab.lfdkit.tmp", ".skill.json.ba9876543210.tmp"]
+    kept = [
+        ".skill.json.0123456789ac.lfdkit.tmp",  # ours but recent: a write in progress
+        ".other.json.0123456789ab.lfdkit.tmp",  # another target's
+        ".skill.json.notours.tmp",  # not our naming
+        ".skill.json.0123456789ab.lfdkit.tmp.bak",
+        "skill.json.0123456789ab.lfdkit.tmp",
+    ]
+    for name in ours_stale + kept:
+        (tmp_path / name).write_text("x")
+        if name != kept[0]:
+            os.utime(tmp_path / name, (old, old))
+    os.mkdir(tmp_path / ".skill.json.fedcba987654.lfdkit.tmp")  # not a regular file: kept
+    os.utime(tmp_path / ".skill.json.fedcba987654.lfdkit.tmp", (old, old))
+    atomic_write(path, lambda f: f.write("{}"))
+    remaining = sorted(p.name for p in tmp_path.iterdir())
+    assert remaining == sorted([*kept, ".skill.json.fedcba987654.lfdkit.tmp", "skill.json"])
+
+
+def test_long_file_name_still_writes(tmp_path: Path) -> None:
+    path = tmp_path / ("n" * 250 + ".csv")
+    save_demos(path, [np.zeros((2, 2))])
+    assert len(load_demos(path)) == 1
+    assert _leftovers(tmp_path) == []
 
 
 def test_path_csv_is_exact_and_save_path_never_overwrites(tmp_path) -> None:

@@ -164,12 +164,19 @@ def test_skill_file_round_trip_plans_identically(skill, tmp_path: Path, planner:
         loaded.plan(goal=goal, scene=scene, planner=planner),
         skill.plan(goal=goal, scene=scene, planner=planner),
     )
-    # Saving the loaded skill writes the same document (but the time stamp).
-    again = json.loads(loaded.save(tmp_path / "again.json").read_text())
-    first = json.loads(path.read_text())
-    for doc in (again, first):
-        doc.pop("created")
-    assert again == first
+    # Saving the loaded skill writes the same bytes (the file holds no time stamp).
+    assert loaded.save(tmp_path / "again.json").read_bytes() == path.read_bytes()
+
+
+def test_learning_twice_writes_byte_identical_skill_files(skill, tmp_path: Path) -> None:
+    # the issue: skill.json recorded the wall-clock time and run times, so no two runs matched
+    again = learn(FILES["demos"], FILES["scenes"])
+    first = skill.save(tmp_path / "first.json").read_bytes()
+    assert again.save(tmp_path / "second.json").read_bytes() == first
+    assert b'"created"' not in first and b'"seconds"' not in first
+    # the run times stay on the object, for reports
+    assert skill.mimic_info_["seconds"] >= 0 and skill.ioc_info_["seconds"] > 0
+    assert "seconds" in skill.ioc_info_["stages"][0]
 
 
 def test_skill_without_reward_round_trips(tmp_path: Path) -> None:
@@ -216,6 +223,31 @@ def _edited(skill: Skill, tmp_path: Path, edit) -> Path:
             "positive definite",
         ),
         (lambda d: d["reward"]["precisions"].update(cup=[[1.0, 0.0]]), r"precisions.cup"),
+        (lambda d: d["params"].update(duration=1e300), r"params.duration: expected a value in "),
+        (lambda d: d["params"].update(duration=0.0), r"params.duration: expected a value in "),
+        (lambda d: d["params"].update(duration="1.0"), r"params.duration: expected a number"),
+        (lambda d: d["params"].update(duration=True), r"params.duration: expected a number"),
+        (lambda d: d["params"].update(n_basis=10_000), r"params.n_basis: expected 1 to 200"),
+        (lambda d: d["params"].update(n_basis=20.0), r"params.n_basis: expected an integer"),
+        (lambda d: d["params"].update(n_points=10**6), r"params.n_points: expected 3 to 100000"),
+        (lambda d: d["params"].update(n_components="10"), "params.n_components: expected an"),
+        (lambda d: d["params"].update(max_slope=1e9), r"params.max_slope: expected a value"),
+        (lambda d: d["params"].update(horizon=8.0), r"params.horizon: expected an integer"),
+        (lambda d: d["params"].update(random_state="0"), "params.random_state: expected an"),
+        (lambda d: d.update(n_dims=4), r"n_dims: expected 2 or 3, got 4"),
+        (
+            lambda d: d.update(path=[[0.0, 0.0]] * 100_001),
+            r"path: has 100001 points; a skill file holds at most 100000",
+        ),
+        (
+            lambda d: d["path"][3].__setitem__(1, "0.5"),
+            r"path\[3\]\[1\]: expected a number, got a string",
+        ),
+        (lambda d: d["path"][0].__setitem__(0, False), r"path\[0\]\[0\]: expected a number"),
+        (
+            lambda d: d["reward"]["precisions"].update(cup=[[1.0, "0"], [0.0, 1.0]]),
+            r"reward.precisions.cup\[0\]\[1\]: expected a number",
+        ),
     ],
 )
 def test_broken_skill_files_name_the_field(skill, tmp_path: Path, edit, message: str) -> None:
@@ -232,10 +264,56 @@ def test_non_json_and_non_finite_skill_files(skill, tmp_path: Path) -> None:
         Skill.load(path)
     text = json.dumps(skill.to_dict()).replace('"nominal_weight": ', '"nominal_weight": NaN, "x": ')
     path.write_text(text)
-    with pytest.raises(ValueError, match="NaN"):
+    with pytest.raises(ValueError, match=r"bad.json: line 1, column \d+: NaN is not a JSON number"):
         Skill.load(path)
     with pytest.raises(FileNotFoundError):
         Skill.load(tmp_path / "missing.json")
+
+
+def test_pickle_given_as_a_skill_file_names_the_file(skill, tmp_path: Path) -> None:
+    import pickle
+
+    path = tmp_path / "skill.json"
+    path.write_bytes(pickle.dumps({"format": "lfdkit-skill"}))
+    with pytest.raises(ValueError) as info:
+        Skill.load(path)
+    assert str(info.value) == (
+        f"{path}: binary data, not text (a pickle, NumPy or other binary file?); this file "
+        "type is read as UTF-8 text"
+    )
+
+
+def test_repeated_key_in_a_skill_file(skill, tmp_path: Path) -> None:
+    text = skill.save(tmp_path / "skill.json").read_text()
+    path = tmp_path / "dup.json"
+    path.write_text(text.replace('"params": {', '"params": {\n  "n_basis": 5,', 1))
+    with pytest.raises(ValueError) as info:
+        Skill.load(path)
+    assert str(info.value) == (
+        f"{path}: params: key 'n_basis' appears more than once in one object; each key may "
+        "be given once"
+    )
+
+
+@pytest.mark.parametrize("depth", [65, 100_000])
+def test_deeply_nested_skill_file(tmp_path: Path, depth: int) -> None:
+    path = tmp_path / "deep.json"
+    path.write_text('{"format": "lfdkit-skill", "ioc": ' + "[" * depth + "]" * depth + "}")
+    with pytest.raises(ValueError, match=r"deep.json: JSON nested too deep \(more than 64"):
+        Skill.load(path)
+
+
+def test_skill_file_over_the_size_cap(skill, tmp_path: Path, monkeypatch) -> None:
+    import lfdkit.skill
+
+    path = skill.save(tmp_path / "skill.json")
+    monkeypatch.setattr(lfdkit.skill, "MAX_SKILL_FILE_BYTES", 1000)
+    with pytest.raises(ValueError) as info:
+        Skill.load(path)
+    assert str(info.value) == (
+        f"{path}: file too large ({path.stat().st_size} bytes); lfdkit reads files of at most "
+        "1000 bytes (0.000953674 MiB)"
+    )
 
 
 # ------------------------------------------------------------------ errors

@@ -39,8 +39,13 @@ bit for bit) and no pickle:
     lists}}`` in 1/units².
 ``ioc``
     ``null`` or a summary of the reward fit (loss, stages, demonstrations).
-``lfdkit``, ``created``
-    The version that wrote it and when (UTC, ISO 8601).
+``lfdkit``
+    The version that wrote it.
+
+The same fitted skill always writes the same bytes: the file holds no date
+and no run times (those stay on the object, in :attr:`Skill.mimic_info_` and
+:attr:`Skill.ioc_info_`, for reports), so skill files can be compared and
+cached.
 
 :meth:`Skill.load` refits the DMP from the stored path and parameters (a
 deterministic closed-form fit), so a loaded skill plans exactly as the saved
@@ -50,7 +55,6 @@ field, is refused with a message naming the file and the field.
 
 from __future__ import annotations
 
-import datetime as _dt
 import json
 import math
 import os
@@ -63,14 +67,23 @@ import numpy as np
 
 from lfdkit import __version__, metrics
 from lfdkit._validation import check_demos, check_path, check_positive
-from lfdkit.demos import DemoId, atomic_write, load_demos
+from lfdkit.demos import DemoId, atomic_write, json_float_array, load_demos, load_json
 from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
 from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
 from lfdkit.mimic import GMR, MeanPath
 
-__all__ = ["SKILL_FORMAT", "SKILL_VERSION", "Skill", "TrainingData", "learn", "read_training_data"]
+__all__ = [
+    "MAX_SKILL_FILE_BYTES",
+    "SKILL_FILE_LIMITS",
+    "SKILL_FORMAT",
+    "SKILL_VERSION",
+    "Skill",
+    "TrainingData",
+    "learn",
+    "read_training_data",
+]
 
 SKILL_FORMAT = "lfdkit-skill"
 """Value of the ``"format"`` field of a skill file."""
@@ -88,6 +101,28 @@ _TIMINGS = ("minimum_jerk", "uniform")
 _SCALINGS = ("spatial", "per_dimension")
 # Points of a path or plan: the planner's memory grows linearly with them.
 _MAX_POINTS = 100_000
+
+MAX_SKILL_FILE_BYTES = 32 * 1024**2
+"""Largest skill file :meth:`Skill.load` reads, in bytes (32 MiB).
+
+A skill with the longest path allowed (100 000 points in 3-D) takes about 8 MB."""
+
+SKILL_FILE_LIMITS: dict[str, tuple[float, float]] = {
+    "n_points": (3, _MAX_POINTS),
+    "n_components": (1, 1000),
+    "n_basis": (1, 200),
+    "duration": (0.0, 1e6),
+    "max_slope": (0.0, 1e6),
+}
+"""Ranges :meth:`Skill.load` accepts for the numeric ``params`` of a skill file.
+
+``(low, high)``: integers ``low <= n <= high``; ``duration`` (seconds) and
+``max_slope`` in ``(low, high]``. Far beyond any robot task (DMPs use tens
+of basis functions), they keep a corrupt or hostile file from asking for
+gigabytes or minutes (``n_basis = 10**4``; the DMP fit that loading does
+grows with ``n_basis**2``, 200 takes about 0.5 s) or overflowing
+(``duration = 1e300``). The stored ``path`` has at most the ``n_points``
+limit of rows."""
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
@@ -649,7 +684,12 @@ class Skill:
 
     # ------------------------------------------------------------------ files
     def to_dict(self) -> dict[str, Any]:
-        """The skill as a JSON-ready dict (the file format of the module notes)."""
+        """The skill as a JSON-ready dict (the file format of the module notes).
+
+        The same fitted skill always gives the same dict: no date, and the
+        run times (``"seconds"``) of :attr:`mimic_info_` and :attr:`ioc_info_`
+        are left out (they stay on the object for reports).
+        """
         self._check_fitted()
         reward = None
         if self.reward_ is not None:
@@ -661,14 +701,13 @@ class Skill:
             "format": SKILL_FORMAT,
             "version": SKILL_VERSION,
             "lfdkit": __version__,
-            "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "params": self.get_params(),
             "n_dims": self.n_dims_,
             "units": self.units,
             "path": self.path_.tolist(),
-            "mimic": _jsonable(self.mimic_info_),
+            "mimic": _without_timing(_jsonable(self.mimic_info_)),
             "reward": reward,
-            "ioc": _jsonable(self.ioc_info_),
+            "ioc": _without_timing(_jsonable(self.ioc_info_)),
         }
 
     @classmethod
@@ -701,12 +740,21 @@ class Skill:
         unknown = sorted(set(params) - set(known))
         if unknown:
             raise ValueError(f"{source}: params.{unknown[0]}: unknown parameter")
+        _check_file_params(params, source)
         try:
             skill = cls(**params)
             skill._check_params()
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{source}: params: {exc}") from None
         n_dims = field.get("n_dims", int)
+        if n_dims not in (2, 3):
+            raise ValueError(f"{source}: n_dims: expected 2 or 3, got {n_dims}")
+        raw_path = field.get("path", list)
+        if len(raw_path) > _MAX_POINTS:
+            raise ValueError(
+                f"{source}: path: has {len(raw_path)} points; a skill file holds at most "
+                f"{_MAX_POINTS}"
+            )
         path = field.array("path", (None, n_dims))
         reward_data = data.get("reward")
         try:
@@ -751,23 +799,22 @@ class Skill:
     def load(cls, path: str | os.PathLike[str]) -> Skill:
         """Read a skill written by :meth:`save`.
 
+        Parsing is strict (:func:`lfdkit.demos.load_json`: no repeated keys,
+        no NaN, bounded size and depth) and the parameters must lie in
+        :data:`SKILL_FILE_LIMITS`.
+
         Raises
         ------
         FileNotFoundError
             If the file does not exist.
         ValueError
-            For a file that is not valid JSON, not a skill, from a newer
-            version, or with a broken field (the message names the file and field).
+            For a file that is binary (e.g. a pickle), larger than
+            :data:`MAX_SKILL_FILE_BYTES`, not valid JSON, not a skill, from a
+            newer version, or with a broken or out-of-range field (the message
+            names the file and field).
         """
         name = os.fspath(path)
-        with open(name, encoding="utf-8") as f:
-            text = f.read()
-        try:
-            data = json.loads(text, parse_constant=_reject_constant)
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"{name}: line {exc.lineno}: not valid JSON ({exc.msg})") from None
-        except ValueError as exc:
-            raise ValueError(f"{name}: {exc}") from None
+        data = load_json(name, max_bytes=MAX_SKILL_FILE_BYTES)
         if not isinstance(data, Mapping):
             raise ValueError(f"{name}: expected a JSON object at the top level")
         return cls.from_dict(data, source=name)
@@ -937,8 +984,35 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
-def _reject_constant(name: str) -> None:
-    raise ValueError(f"contains {name}, which is not a number lfdkit writes")
+def _without_timing(value: Any) -> Any:
+    """``value`` without its ``"seconds"`` entries, at any depth (run times vary run to run)."""
+    if isinstance(value, dict):
+        return {k: _without_timing(v) for k, v in value.items() if k != "seconds"}
+    if isinstance(value, list):
+        return [_without_timing(v) for v in value]
+    return value
+
+
+def _check_file_params(params: Mapping[str, Any], source: str) -> None:
+    """Types and ranges of a skill file's numeric ``params`` (:data:`SKILL_FILE_LIMITS`)."""
+    for key, (low, high) in SKILL_FILE_LIMITS.items():
+        if key not in params:
+            continue
+        value = params[key]
+        where = f"{source}: params.{key}"
+        integer = isinstance(_DEFAULTS[key], int)
+        kinds = (int,) if integer else (int, float)
+        if isinstance(value, bool) or not isinstance(value, kinds):
+            kind = "an integer" if integer else "a number"
+            raise ValueError(f"{where}: expected {kind}, got {value!r}")
+        if integer and not low <= value <= high:
+            raise ValueError(f"{where}: expected {int(low)} to {int(high)}, got {value}")
+        if not integer and not (low < value <= high):
+            raise ValueError(f"{where}: expected a value in ({low:g}, {high:g}], got {value!r}")
+    for key in ("horizon", "random_state"):
+        value = params.get(key)
+        if isinstance(value, (bool, float, str)):
+            raise ValueError(f"{source}: params.{key}: expected an integer, got {value!r}")
 
 
 class _FieldReader:
@@ -965,9 +1039,9 @@ class _FieldReader:
         raw = self.get(key, list) if value is None else value
         where = f"{self.source}: {self.prefix}{key}"
         try:
-            arr = np.array(raw, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(f"{where}: expected nested lists of numbers") from None
+            arr = json_float_array(raw, where, len(shape))
+        except TypeError as exc:
+            raise ValueError(str(exc)) from None
         if arr.ndim != len(shape) or any(
             s is not None and s != a for s, a in zip(shape, arr.shape, strict=True)
         ):

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
 import re
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -153,8 +155,8 @@ def test_csv_hand_written(tmp_path: Path) -> None:
         "\n"
         "b,cup,0.5,0.25,left one,0.03\n"
         "  # a comment between rows\n"
-        "1,marker,1e-3,-2,,\n"
         'b,"big, cup",0.75,0.125,,0.5\n'
+        "1,marker,1e-3,-2,,\n"
         "07,,,,nothing here,\n",
     )
     scenes = load_scenes(path)
@@ -166,6 +168,38 @@ def test_csv_hand_written(tmp_path: Path) -> None:
     assert scenes[1].obstacles[0].position.tolist() == [0.001, -2.0]
     assert scenes[1].obstacles[0].radius == 0.0  # empty cell: default
     assert len(scenes["07"]) == 0
+
+
+def test_csv_rows_of_one_demo_in_two_places_are_an_error(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path / "scenes.csv",
+        "demo,class,x,y\nb,cup,0,0\nb,box,1,1\n1,cup,2,2\n\nb,cup,3,3\n",
+    )
+    with pytest.raises(ValueError) as info:
+        load_scenes(path)
+    assert str(info.value) == (
+        f"{path} line 6: demo 'b' continues here, but its rows so far are lines 2-3 and other "
+        "demos come between; the rows of one demo must be consecutive (two recordings with "
+        "one id?)"
+    )
+
+
+@pytest.mark.parametrize("cell", [" 7", "7 "])
+def test_csv_id_with_spaces_is_an_error(tmp_path: Path, cell: str) -> None:
+    path = _write(tmp_path / "scenes.csv", f"class,x,y,demo\ncup,0,0,7\nbox,1,1,{cell}\n")
+    with pytest.raises(ValueError) as info:
+        load_scenes(path)
+    assert str(info.value) == (
+        f"{path} line 3, column 'demo': id {cell!r} has spaces around it; write ids without "
+        "surrounding whitespace ('7')"
+    )
+
+
+@pytest.mark.parametrize("cell", ["0_5", "nan", "infinity", "1 5"])
+def test_csv_strict_numbers(tmp_path: Path, cell: str) -> None:
+    path = _write(tmp_path / "scenes.csv", f"demo,class,x,y,radius\n1,cup,{cell},0,0.1\n")
+    with pytest.raises(ValueError, match=re.escape(f"{path} line 2, column 'x': ")):
+        load_scenes(path)
 
 
 def test_csv_without_demo_or_radius_column_is_one_scene_with_id_0(tmp_path: Path) -> None:
@@ -424,12 +458,76 @@ def test_json_bad_field_names_file_and_path(
         load_scenes(path)
 
 
-@pytest.mark.parametrize("value", ["NaN", "Infinity", "-Infinity", "1e999"])
-def test_json_non_finite_coordinate(tmp_path: Path, value: str) -> None:
+def test_json_repeated_key_is_an_error(tmp_path: Path) -> None:
+    text = _json_doc(_one(_ob(radius=0.5))).replace('"radius": 0.5', '"radius": 0.5, "radius": 1')
+    path = _write(tmp_path / "dup.json", text)
+    with pytest.raises(ValueError) as info:
+        load_scenes(path)
+    assert str(info.value) == (
+        f"{path}: scenes[0].obstacles[0]: key 'radius' appears more than once in one object; "
+        "each key may be given once"
+    )
+
+
+def test_json_repeated_scenes_list_is_an_error(tmp_path: Path) -> None:
+    text = _json_doc(_one(_ob())).replace('"scenes":', '"scenes": [], "scenes":')
+    path = _write(tmp_path / "dup.json", text)
+    with pytest.raises(ValueError, match=re.escape(f"{path}: (top level): key 'scenes' appears")):
+        load_scenes(path)
+
+
+@pytest.mark.parametrize("text", ["[" * 100_000, '{"a":' * 100_000, "[{" * 40 + "}]" * 40])
+def test_json_deep_nesting_is_a_clear_error(tmp_path: Path, text: str) -> None:
+    path = _write(tmp_path / "deep.json", text)
+    with pytest.raises(ValueError, match=re.escape(f"{path}: JSON nested too deep (more than 64")):
+        load_scenes(path)
+
+
+def test_files_over_the_size_cap_are_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import lfdkit.demos
+
+    for suffix in SUFFIXES:
+        path = tmp_path / f"s{suffix}"
+        save_scenes(path, {0: Scene((Obstacle("cup", [0.0, 1.0], 0.1),))})
+        monkeypatch.setattr(lfdkit.demos, "MAX_FILE_BYTES", path.stat().st_size - 1)
+        with pytest.raises(ValueError, match=re.escape(f"{path}: file too large (")):
+            load_scenes(path)
+        monkeypatch.undo()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_fifo_is_neither_read_nor_replaced(tmp_path: Path) -> None:
+    from lfdkit.demos import NotRegularFileError
+
+    for suffix in SUFFIXES:
+        fifo = tmp_path / f"pipe{suffix}"
+        os.mkfifo(fifo)
+        with pytest.raises(NotRegularFileError, match="is a named pipe"):
+            load_scenes(fifo)
+        with pytest.raises(NotRegularFileError, match="is a named pipe"):
+            save_scenes(fifo, {0: Scene()}, overwrite=True)
+        assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+
+
+def test_json_overflowing_coordinate(tmp_path: Path) -> None:
     text = _json_doc([{"demo": 0, "obstacles": [_ob(position=[0.0, 123.0])]}])
-    path = _write(tmp_path / "nf.json", text.replace("123.0", value))
+    path = _write(tmp_path / "nf.json", text.replace("123.0", "1e999"))
     with pytest.raises(
         ValueError, match=r"nf\.json: scenes\[0\]\.obstacles\[0\]\.position\[1\]: .*not finite"
+    ):
+        load_scenes(path)
+
+
+@pytest.mark.parametrize("value", ["NaN", "Infinity", "-Infinity"])
+def test_json_non_finite_literal_names_line(tmp_path: Path, value: str) -> None:
+    text = _json_doc([{"demo": 0, "obstacles": [_ob(position=[0.0, 123.0])]}])
+    text = text.replace("123.0", value)
+    line = text[: text.index(value)].count("\n") + 1
+    path = _write(tmp_path / "nf.json", text)
+    with pytest.raises(
+        ValueError, match=rf"nf\.json: line {line}, column \d+: {value} is not a JSON number"
     ):
         load_scenes(path)
 
@@ -460,7 +558,7 @@ def test_json_wrong_format(tmp_path: Path, fmt: object) -> None:
 
 def test_json_that_does_not_parse(tmp_path: Path) -> None:
     path = _write(tmp_path / "broken.json", '{\n  "format": "lfdkit-scenes",\n  "version": 1,\n]')
-    with pytest.raises(ValueError, match=r"broken\.json line 4, column \d+: invalid JSON"):
+    with pytest.raises(ValueError, match=r"broken\.json: line 4: not valid JSON at column \d+"):
         load_scenes(path)
 
 
@@ -483,7 +581,8 @@ def test_save_refuses_to_overwrite(tmp_path: Path, suffix: str) -> None:
     new = {"b": Scene((Obstacle("box", [3.0, 4.0], 0.5),)), "c": Scene()}
     save_scenes(path, old)
     before = path.read_bytes()
-    with pytest.raises(FileExistsError, match=rf"s\{suffix}: file already exists.*overwrite=True"):
+    expected = rf"s\{suffix}: file already exists; allow overwriting.*overwrite=True"
+    with pytest.raises(FileExistsError, match=expected):
         save_scenes(path, new)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]  # no temporary left

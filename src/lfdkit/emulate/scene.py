@@ -21,16 +21,21 @@ positions in one file have the same dimension.
     case-insensitive; columns with other names are ignored, as are blank
     lines and lines starting with ``#``. A row with a demo id and empty
     ``class``, coordinates and radius states that this demonstration was
-    recorded without obstacles (an empty scene). Scenes are ordered by first
-    appearance of their id; obstacles keep file order. An id that is the
-    canonical spelling of an integer (``"7"``, not ``"07"``) is read as
-    ``int``.
+    recorded without obstacles (an empty scene). The rows of one
+    demonstration are consecutive; scenes and obstacles keep file order.
+    Ids have no surrounding spaces; an id that is the canonical spelling of
+    an integer (``"7"``, not ``"07"``) is read as ``int``. Numbers are
+    decimal, as in :mod:`lfdkit.demos` (no ``0_5``, ``nan`` or ``inf``).
 ``.json``
     ``{"format": "lfdkit-scenes", "version": 1, "scenes": [{"demo": <id>,
     "obstacles": [{"class": "cup", "position": [x, y], "radius": 0.03},
     ...]}, ...]}``. ``"radius"`` is optional (default 0); ``"demo"`` is
     optional in a file with a single scene (id ``0``). Other fields are
-    ignored.
+    ignored. Numbers must be JSON numbers (not strings or booleans).
+
+Reading is strict and bounded as in :mod:`lfdkit.demos` (repeated keys,
+NaN literals, deep nesting and files over
+:data:`lfdkit.demos.MAX_FILE_BYTES` are errors naming the file).
 
 Writing is atomic (:func:`lfdkit.demos.atomic_write`) and floats are written
 with ``repr``, so :func:`load_scenes` after :func:`save_scenes` gives back
@@ -54,6 +59,8 @@ import numpy as np
 from lfdkit.demos import (
     DemoId,
     PathLike,
+    _Blocks,
+    _check_file_id,
     _check_ids,
     _content_lines,
     _csv_number,
@@ -63,6 +70,7 @@ from lfdkit.demos import (
     _parse_id,
     _read_text,
     atomic_write,
+    check_output_path,
 )
 
 __all__ = [
@@ -353,10 +361,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
         values.append(scene)
     q = 2 if dim is None else dim[0]
 
-    if Path(fname).is_dir():
-        raise IsADirectoryError(f"{fname}: is a directory; give the path of a file to write")
-    if not overwrite and os.path.lexists(fname):
-        raise FileExistsError(f"{fname}: file already exists; pass overwrite=True to replace it")
+    check_output_path(fname, overwrite=overwrite)
 
     if fmt == ".csv":
 
@@ -431,6 +436,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
 
         # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
         groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
+        blocks = _Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
         for lineno, line in lines:
             row = _csv_row(fname, lineno, line)
             if len(row) != n_fields:
@@ -438,15 +444,11 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                     f"{fname} line {lineno}: expected {n_fields} fields "
                     f"({', '.join(header)}), got {len(row)}"
                 )
-            row = [c.strip() for c in row]
-            if "demo" in pos:
-                did = row[pos["demo"]]
-                if not did:
-                    raise ValueError(
-                        f"{fname} line {lineno}, column {header[pos['demo']]!r}: empty value"
-                    )
+            if blocks is not None:
+                did = blocks.id_of(row[pos["demo"]], lineno)
             else:
                 did = "0"
+            row = [c.strip() for c in row]
             obstacles, obstacle_lines, empty_lines = groups.setdefault(did, ([], [], []))
             label = row[pos["class"]]
             cells = [(row[c], name) for c, name in coord_cols]
@@ -567,6 +569,7 @@ def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
                 raise ValueError(
                     f"{fname}: {where}.demo: expected an int or a non-empty str, got {did!r}"
                 )
+            _check_file_id(did, f"{fname}: {where}.demo")
         elif len(items) == 1:
             did = 0
         else:
