@@ -19,6 +19,8 @@ import re
 import subprocess
 import sys
 import time
+import traceback
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -72,12 +74,32 @@ def _progress(args: argparse.Namespace, total: int, unit: str = "step") -> Itera
 
 
 def _refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
+    """Refuse an output file before the work, not after it: exists, folder missing or read-only."""
     if path.is_dir():
         raise CommandError(f"{option} {path}: is a directory; give a file name")
     if path.exists() and not force:
         raise CommandError(f"{option} {path}: exists; pass --force to overwrite it")
     if not path.parent.exists():
         raise CommandError(f"{option} {path}: folder {path.parent} does not exist")
+    _check_writable(path.parent, option, path)
+
+
+def _check_writable(folder: Path, option: str, shown: Path) -> None:
+    """Create and remove a probe file in ``folder``: the one test that also holds for root.
+
+    ``os.access`` says yes to root on a read-only mount and knows nothing of
+    quotas; the file that is finally written goes through the same call.
+    """
+    import tempfile
+
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".lfdkit-probe-"):
+            pass
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise CommandError(
+            f"{option} {shown}: cannot write in folder {folder} ({reason.lower()})"
+        ) from None
 
 
 def _numbers(text: str) -> list[float]:
@@ -140,8 +162,9 @@ def _compare(args: argparse.Namespace) -> None:
     planned += [out / f"{n}.png" for n in names] + [out / f"{n}_mean_path.png" for n in names]
     clash = [p for p in planned if p.exists()]
     if clash and not args.force:
-        raise CommandError(f"{clash[0]} exists; pass --force to overwrite the demo's files")
+        raise CommandError(f"--output {out}: {clash[0]} exists; pass --force to overwrite it")
     out.mkdir(parents=True, exist_ok=True)
+    _check_writable(out, "--output", out)
 
     total = len(names) * len(LFDKIT_METHODS)
     count = [0]
@@ -176,18 +199,28 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _demo(args: argparse.Namespace) -> None:
-    from lfdkit.examples.sweeping_demo import N_STEPS, run_demo
+    from lfdkit.examples.sweeping_demo import N_STEPS, demo_outputs, run_demo
 
     out: Path = args.output
     if out.exists() and not out.is_dir():
         raise CommandError(f"--output {out}: exists and is not a directory")
+    clash = [p for p in demo_outputs(out) if p.exists()]
+    if clash and not args.force:
+        raise CommandError(f"--output {out}: {clash[0]} exists; pass --force to overwrite it")
+    # The demo writes into a sibling folder and moves it into place at the end.
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CommandError(
+            f"--output {out}: cannot create folder {out.parent} ({exc.strerror or exc})"
+        ) from None
+    _check_writable(out.parent, "--output", out)
+    if out.is_dir():
+        _check_writable(out, "--output", out)
     started = time.perf_counter()
     _say(args, f"lfdkit {__version__}: the sweeping example, from demonstrations to new scenes")
-    try:
-        with _progress(args, N_STEPS) as step:
-            results = run_demo(out, overwrite=args.force, progress=step)
-    except FileExistsError as exc:
-        raise CommandError(str(exc)) from None
+    with _progress(args, N_STEPS) as step:
+        results = run_demo(out, overwrite=args.force, progress=step)
     if args.verbosity >= 1:
         test = results["emulate"]["test"]
         unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
@@ -576,24 +609,94 @@ def _join_negative_points(argv: Sequence[str]) -> list[str]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``lfdkit`` console script; returns the exit code."""
+    """Entry point of the ``lfdkit`` console script; returns the exit code.
+
+    Whatever goes wrong ends as one line on stderr, never a traceback: the
+    expected failures as ``lfdkit CMD: error: <why>``, anything unexpected the
+    same way plus "run with -v for details" (``-v`` prints the traceback too).
+    Exit codes: 1 failure, 2 usage (argparse, which exits itself), 130 interrupted.
+    """
     argv = sys.argv[1:] if argv is None else list(argv)
     args = _parser().parse_args(_join_negative_points(argv))
+    prefix = f"lfdkit {args.command}"
     try:
-        args.handler(args)
+        with _warnings_as_lines(args, prefix):
+            args.handler(args)
+    except KeyboardInterrupt:
+        print(f"{prefix}: interrupted", file=sys.stderr)
+        return 130
     except MemoryError:
-        print(f"lfdkit {args.command}: error: out of memory; are the sizes sane?", file=sys.stderr)
+        print(f"{prefix}: error: out of memory: {_too_large(args)}", file=sys.stderr)
+        return 1
+    except FileExistsError as exc:
+        # The library's wording is for Python callers; here the switch is --force.
+        where = exc.filename or getattr(args, "output", None) or "the output"
+        print(f"{prefix}: error: {where}: exists; pass --force to overwrite it", file=sys.stderr)
         return 1
     except (CommandError, OSError, ValueError, TypeError) as exc:
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if isinstance(exc, FileNotFoundError) and exc.filename:
             message = f"{exc.filename}: no such file"
-        print(f"lfdkit {args.command}: error: {message}", file=sys.stderr)
+        print(f"{prefix}: error: {message}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"lfdkit {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except Exception as exc:  # the last resort: a bug or a case nobody foresaw
+        if args.verbosity >= 2:
+            traceback.print_exc(file=sys.stderr)
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        what = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+        print(
+            f"{prefix}: error: unexpected {what} (run with -v for details)",
+            file=sys.stderr,
+        )
+        return 1
     return 0
+
+
+#: Command options whose size drives memory use, for the out-of-memory message.
+_SIZE_OPTIONS = (
+    ("n_points", "--n-points"),
+    ("dpi", "--dpi"),
+    ("demos", "the demonstrations file"),
+    ("skill", "the skill file"),
+    ("scene", "the scene file"),
+)
+
+
+def _too_large(args: argparse.Namespace) -> str:
+    """Which inputs of this command could have asked for too much memory."""
+    named = [
+        f"{label} {getattr(args, attr)}"
+        if label.startswith("--")
+        else f"{label} ({getattr(args, attr)})"
+        for attr, label in _SIZE_OPTIONS
+        if getattr(args, attr, None) is not None
+    ]
+    if not named:
+        return "an input is too large for this machine"
+    return "an input is too large for this machine: check " + ", ".join(named)
+
+
+@contextmanager
+def _warnings_as_lines(args: argparse.Namespace, prefix: str) -> Iterator[None]:
+    """Show each warning once as ``lfdkit CMD: warning: <message>``, not Python's two lines.
+
+    Notes (:class:`lfdkit.mimic.DemoOrientationWarning`, e.g. a demonstration
+    flipped to the common direction) only with ``-v``; other warnings unless
+    ``-q``.
+    """
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        # Imported here, when a warning comes: lfdkit.mimic pulls in scikit-learn.
+        from lfdkit.mimic import DemoOrientationWarning
+
+        level = 2 if issubclass(category, DemoOrientationWarning) else 1
+        text = str(message).splitlines()[0] if str(message) else category.__name__
+        _say(args, f"{prefix}: warning: {text}", level=level)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = show
+        yield
 
 
 if __name__ == "__main__":
