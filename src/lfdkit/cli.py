@@ -116,6 +116,31 @@ def _numbers(text: str) -> list[float]:
     return values
 
 
+def _bounded_int(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: an integer from ``low`` to ``high`` (a usage error otherwise)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"expected {low} to {high:,}, got {text!r}")
+        return value
+
+    return parse
+
+
+def _positive_length(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a finite length > 0, got {text!r}")
+    return value
+
+
 def _obstacle(text: str):
     """``CLASS:X,Y[,Z][,r=RADIUS]`` as (label, position, radius)."""
     label, sep, rest = text.partition(":")
@@ -509,7 +534,12 @@ def _parser() -> argparse.ArgumentParser:
     learn.add_argument(
         "--n-points", type=int, default=100, help="points of the path and of plans (default 100)"
     )
-    learn.add_argument("--seed", type=int, default=None, help="seed of GMR's initialisation")
+    learn.add_argument(
+        "--seed",
+        type=_bounded_int(0, 2**32 - 1),
+        default=None,
+        help="seed of GMR's initialisation",
+    )
     _planner_options(learn, defaults=True)
     _force(learn)
     _loudness(learn)
@@ -533,7 +563,7 @@ def _parser() -> argparse.ArgumentParser:
     _planner_options(plan, defaults=False)
     plan.add_argument(
         "--goal-approach",
-        type=float,
+        type=_positive_length,
         metavar="LENGTH",
         help="return onto the nominal over this last stretch so the plan ends at the goal "
         "(path units; default: the thesis's reward, no goal term)",
@@ -553,7 +583,12 @@ def _parser() -> argparse.ArgumentParser:
     _scene_options(plot)
     plot.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
     plot.add_argument("--title", default="", help="figure title")
-    plot.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
+    plot.add_argument(
+        "--dpi",
+        type=_bounded_int(10, 1000),
+        default=110,
+        help="resolution, 10 to 1000 (default 110)",
+    )
     plot.add_argument(
         "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
     )
@@ -575,7 +610,9 @@ def _parser() -> argparse.ArgumentParser:
         help="output directory (default: ./lfdkit-compare)",
     )
     compare.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
-    compare.add_argument("--seed", type=int, default=0, help="data set seed (default 0)")
+    compare.add_argument(
+        "--seed", type=_bounded_int(0, 2**32 - 1), default=0, help="data set seed (default 0)"
+    )
     _force(compare)
     _loudness(compare)
     compare.set_defaults(handler=_compare)
