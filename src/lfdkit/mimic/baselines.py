@@ -11,15 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_positive
+from lfdkit._validation import check_count, check_demos
 from lfdkit.geometry import resample
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 __all__ = ["pointwise_average"]
-
-
-#: Most points of a result, so that a typo is an error, not a MemoryError.
-MAX_POINTS = 1_000_000
 
 
 def pointwise_average(
@@ -32,7 +28,7 @@ def pointwise_average(
     demos : list of array_like, each shape (n_j, q)
     n_points : int
         Points per resampled demonstration and in the result, 2 to
-        :data:`MAX_POINTS`.
+        1,000,000 (:data:`lfdkit._validation.MAX_POINTS`).
     orient : {"auto", "as_given"}
         ``"auto"``: reverse demonstrations recorded against the majority's
         direction first (:func:`lfdkit.mimic.orient_demos`) and refuse an
@@ -45,9 +41,7 @@ def pointwise_average(
     ndarray, shape (n_points, q)
     """
     demos = check_demos(demos, "demos")
-    n_points = check_positive(n_points, "n_points", integer=True)
-    if n_points > MAX_POINTS:
-        raise ValueError(f"n_points: at most {MAX_POINTS:,} points, got {n_points:,}")
+    n_points = check_count(n_points, "n_points", minimum=2)  # at most MAX_POINTS
     if orient not in ("auto", "as_given"):
         raise ValueError(f"orient: expected 'auto' or 'as_given', got {orient!r}")
     if orient == "as_given":

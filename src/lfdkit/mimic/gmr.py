@@ -36,7 +36,7 @@ from sklearn.mixture import GaussianMixture
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
-from lfdkit._validation import check_demos, check_positive, check_random_state
+from lfdkit._validation import check_count, check_demos, check_positive, check_random_state
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 __all__ = ["GMR", "select_n_components"]
@@ -50,7 +50,6 @@ _LOG_2PI = float(np.log(2.0 * np.pi))
 #: Caps on sizes a caller gives, so that a typo is an error, not a MemoryError.
 _MAX_COMPONENTS = 1000
 _MAX_INIT = 1000
-_MAX_PATH_POINTS = 1_000_000
 #: Samples of the path whose length is compared with the demonstrations'.
 _LENGTH_CHECK_POINTS = 200
 
@@ -133,7 +132,7 @@ class GMR(BaseEstimator):
     Parameters
     ----------
     n_components : int, default 10
-        Number of Gaussian components ``K``.
+        Number of Gaussian components ``K`` (at most 1000).
     covariance_reg : float, default 1e-6
         Non-negative value added to the diagonal of every covariance during EM
         (scikit-learn's ``reg_covar``), in squared data units (phase and
@@ -422,7 +421,7 @@ class GMR(BaseEstimator):
         Parameters
         ----------
         n_points : int, default 100
-            Number of samples; the phases are
+            Number of samples (at most 1,000,000); the phases are
             ``linspace(*time_range_, n_points)``, i.e. ``linspace(0, 1, n_points)``
             unless ``fit`` was given explicit ``times``.
 
@@ -431,9 +430,7 @@ class GMR(BaseEstimator):
         ndarray, shape (n_points, q)
         """
         check_is_fitted(self, ("weights_", "means_", "covariances_"))
-        n_points = check_positive(n_points, "n_points", integer=True)
-        if n_points > _MAX_PATH_POINTS:
-            raise ValueError(f"n_points: at most {_MAX_PATH_POINTS:,} points, got {n_points:,}")
+        n_points = check_count(n_points, "n_points")  # at most MAX_POINTS
         t0, t1 = getattr(self, "time_range_", (0.0, 1.0))
         return self.predict(np.linspace(t0, t1, n_points))
 

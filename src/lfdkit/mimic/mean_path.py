@@ -63,7 +63,7 @@ from typing import Literal
 import numpy as np
 from sklearn.base import BaseEstimator
 
-from lfdkit._validation import check_demos, check_path, check_positive
+from lfdkit._validation import check_count, check_demos, check_path, check_positive
 from lfdkit.geometry import (
     FoldedPathError,
     PolylineSet,
@@ -91,7 +91,8 @@ class MeanPath(BaseEstimator):
     Parameters
     ----------
     n_points : int, default 100
-        Number of points of the estimated path (evenly spaced in arc length).
+        Number of points of the estimated path (evenly spaced in arc length),
+        2 to 1,000,000.
     center : {"mean", "median", "biweight"}, default "mean"
         Centre of the intersections along each normal: the thesis's mean, the
         robust median, or Tukey's biweight (see the module notes).
@@ -277,9 +278,7 @@ class MeanPath(BaseEstimator):
 
     # ------------------------------------------------------------- helpers
     def _check_params(self) -> None:
-        n_points = check_positive(self.n_points, "n_points", integer=True)
-        if n_points < 2:
-            raise ValueError(f"n_points: needs at least 2, got {n_points}")
+        check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
         if self.center not in ("mean", "median", "biweight"):
             raise ValueError(
                 f"center: expected 'mean', 'median' or 'biweight', got {self.center!r}"

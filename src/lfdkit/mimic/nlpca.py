@@ -28,7 +28,7 @@ from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
-from lfdkit._validation import check_path, check_positive, check_random_state
+from lfdkit._validation import check_count, check_path, check_positive, check_random_state
 from lfdkit.mimic.gmr import _check_demos_any_dim
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
@@ -38,7 +38,6 @@ Scaling = Literal["isotropic", "per_dimension"]
 _SCALINGS = ("isotropic", "per_dimension")
 #: Caps on sizes a caller gives, so that a typo is an error, not a MemoryError.
 _MAX_HIDDEN = 1000
-_MAX_POINTS = 1_000_000
 _MAX_RESTARTS = 1000
 
 
@@ -148,7 +147,7 @@ class NLPCA(BaseEstimator):
     Parameters
     ----------
     n_hidden : int, default 10
-        Units in each of the two tanh hidden layers.
+        Units in each of the two tanh hidden layers (at most 1000).
     alpha : float, default 1e-3
         Weight-decay coefficient (non-negative); larger values give a smoother,
         flatter curve.
@@ -157,7 +156,7 @@ class NLPCA(BaseEstimator):
     n_restarts : int, default 3
         Number of random initialisations; the lowest final loss is kept.
     n_points : int, default 100
-        Number of samples in ``path_``.
+        Number of samples in ``path_`` (2 to 1,000,000).
     scaling : {"isotropic", "per_dimension"}, default "isotropic"
         Input standardisation. ``"isotropic"`` centres the data and divides
         every coordinate by one common scale (the RMS distance to the
@@ -245,9 +244,7 @@ class NLPCA(BaseEstimator):
         alpha = check_positive(self.alpha, "alpha", allow_zero=True)
         max_iter = check_positive(self.max_iter, "max_iter", integer=True)
         n_restarts = check_positive(self.n_restarts, "n_restarts", integer=True)
-        n_points = check_positive(self.n_points, "n_points", integer=True)
-        if not 2 <= n_points <= _MAX_POINTS:
-            raise ValueError(f"n_points: expected 2 to {_MAX_POINTS:,}, got {n_points:,}")
+        n_points = check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
         if n_restarts > _MAX_RESTARTS:
             raise ValueError(f"n_restarts: at most {_MAX_RESTARTS}, got {n_restarts}")
         if self.orient not in ("auto", "as_given"):
