@@ -844,3 +844,10 @@ def test_demo_output_folder_gets_the_usual_permissions(monkeypatch, tmp_path):
     plain.mkdir()
     sweeping_demo.run_demo(tmp_path / "demo")
     assert (tmp_path / "demo").stat().st_mode == plain.stat().st_mode
+
+
+def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
+    monkeypatch.setattr("lfdkit.cli._learn", _raiser(BrokenPipeError(32, "Broken pipe")))
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
+    assert code == 1
+    assert error_line(err, "learn").endswith("standard output closed early (broken pipe)")

@@ -6,18 +6,23 @@ start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
 ``compare`` (the mimicking methods on the built-in data sets) and ``bench``
 (the benchmarks of a source checkout).
 
-Exit codes: 0 success, 1 the work failed (the reason on stderr in one line),
-2 wrong usage (argparse). Progress goes to stderr; ``--quiet`` prints nothing on
-success.
+Exit codes: 0 success, 1 the work failed (the reason on stderr in one line,
+never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
+(argparse), 130 interrupted (Ctrl-C). Progress and warnings go to stderr, one
+line each; ``--quiet`` prints nothing on success. Output files are checked
+(exists without ``--force``, folder missing or not writable) before the work.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
 import re
 import subprocess
 import sys
+import tempfile
 import time
 import traceback
 import warnings
@@ -90,8 +95,6 @@ def _check_writable(folder: Path, option: str, shown: Path) -> None:
     ``os.access`` says yes to root on a read-only mount and knows nothing of
     quotas; the file that is finally written goes through the same call.
     """
-    import tempfile
-
     try:
         with tempfile.TemporaryFile(dir=folder, prefix=".lfdkit-probe-"):
             pass
@@ -664,6 +667,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     except MemoryError:
         print(f"{prefix}: error: out of memory: {_too_large(args)}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:
+        # The reader went away (``lfdkit plan ... | head``): no more output, and none at exit.
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        print(f"{prefix}: error: standard output closed early (broken pipe)", file=sys.stderr)
         return 1
     except FileExistsError as exc:
         # The library's wording is for Python callers; here the switch is --force.
