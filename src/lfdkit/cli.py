@@ -134,16 +134,6 @@ def _bounded_int(low: int, high: int) -> Callable[[str], int]:
     return parse
 
 
-def _positive_length(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not 0 < value < float("inf"):
-        raise argparse.ArgumentTypeError(f"expected a finite length > 0, got {text!r}")
-    return value
-
-
 def _obstacle(text: str):
     """``CLASS:X,Y[,Z][,r=RADIUS]`` as (label, position, radius)."""
     label, sep, rest = text.partition(":")
@@ -566,7 +556,7 @@ def _parser() -> argparse.ArgumentParser:
     _planner_options(plan, defaults=False)
     plan.add_argument(
         "--goal-approach",
-        type=_positive_length,
+        type=float,
         metavar="LENGTH",
         help="return onto the nominal over this last stretch so the plan ends at the goal "
         "(path units; default: the thesis's reward, no goal term)",

@@ -9,7 +9,9 @@ alike whatever the method:
   direction opposite to the majority is reversed, with a
   :class:`DemoOrientationWarning`; one whose direction cannot be told
   (it looks the same both ways round, e.g. a there-and-back stroke) is refused
-  with a ``ValueError`` naming it.
+  with a ``ValueError`` naming it, and a group of demonstrations that fits
+  the rest as badly forwards as backwards (motions into one goal from
+  different sides, LASA's ``Multi_Models``) with :class:`SeveralMotionsError`.
 * :func:`check_one_motion` after fitting: a generalized path shorter than
   :data:`MIN_LENGTH_RATIO` times the median demonstration length means the
   method averaged several different motions into a stub, and raises
@@ -96,6 +98,11 @@ def orient_demos(
     ValueError
         If the direction of a demonstration cannot be decided (it is about as
         close to the others forwards as backwards); the message names it.
+    SeveralMotionsError
+        If a group of demonstrations fits the rest about as badly forwards as
+        backwards (e.g. motions into one goal from different sides); the
+        message names the smaller group. With a ``reference``, such groups
+        are oriented against it one by one instead.
 
     Warns
     -----
