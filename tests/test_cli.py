@@ -725,7 +725,9 @@ def test_flipped_demonstration_is_reported_only_with_verbose(capsys, tmp_path):
         "lfdkit learn: warning: MeanPath: reversed demonstration(s) 2 of 3 to run in the "
         "others' direction"
     ]
-    path = Skill.load(tmp_path / "b.json").path_
+    skill = Skill.load(tmp_path / "b.json")
+    assert skill.mimic_info_["reversed"] == [2]
+    path = skill.path_
     np.testing.assert_allclose(path[0], [0.0, 0.0], atol=0.02)
     np.testing.assert_allclose(path[-1], [1.0, 0.0], atol=0.02)
 
