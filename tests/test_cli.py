@@ -12,6 +12,7 @@ import json
 import os
 import re
 import subprocess
+import sys
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 from types import SimpleNamespace
@@ -853,3 +854,46 @@ def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 1
     assert error_line(err, "learn").endswith("standard output closed early (broken pipe)")
+
+
+_SLOW_DEMO = """
+import sys, time
+from lfdkit.examples import sweeping_demo
+from lfdkit.cli import main
+
+def slow(out, progress):
+    (out / "figures").mkdir()
+    (out / "figures" / "mimic.png").write_text("half\\n")
+    print("started", flush=True)
+    time.sleep(60)
+
+sweeping_demo._run_into = slow
+sys.argv = ["lfdkit", "demo", "-o", sys.argv[1]]
+raise SystemExit(main())
+"""
+
+
+def test_a_killed_demo_leaves_nothing_behind(tmp_path):
+    import signal
+
+    out = tmp_path / "demo"
+    env = {**os.environ, "PYTHONPATH": str(REPO / "src")}
+    process = subprocess.Popen(
+        [sys.executable, "-c", _SLOW_DEMO, str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    try:
+        assert process.stdout.readline() == "started\n"
+        assert [p.name.startswith(".demo.partial-") for p in tmp_path.iterdir()] == [True]
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
+    assert process.returncode == 130
+    assert err.splitlines()[-1] == "lfdkit demo: interrupted"
+    assert list(tmp_path.iterdir()) == []

@@ -20,6 +20,7 @@ import contextlib
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -646,8 +647,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     same way plus "run with -v for details" (``-v`` prints the traceback too).
     Exit codes: 1 failure, 2 usage (argparse, which exits itself), 130 interrupted.
     """
-    argv = sys.argv[1:] if argv is None else list(argv)
-    args = _parser().parse_args(_join_negative_points(argv))
+    if argv is None:  # the real command line: a plain kill cleans up like Ctrl-C
+        argv = sys.argv[1:]
+        with contextlib.suppress(ValueError, AttributeError):  # not the main thread / Windows
+            signal.signal(signal.SIGTERM, _interrupt)
+    args = _parser().parse_args(_join_negative_points(list(argv)))
     prefix = f"lfdkit {args.command}"
     try:
         with _warnings_as_lines(args, prefix):
@@ -686,6 +690,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         return 1
     return 0
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    """SIGTERM as KeyboardInterrupt, so that partial outputs are removed on the way out."""
+    raise KeyboardInterrupt
 
 
 #: Command options whose size drives memory use, for the out-of-memory message.
