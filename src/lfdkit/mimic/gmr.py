@@ -26,6 +26,7 @@ and where it is free (large).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable, Sequence
 from typing import Any, Literal
 
@@ -471,7 +472,10 @@ def select_n_components(
     if criterion not in ("bic", "aic"):
         raise ValueError(f"criterion: expected 'bic' or 'aic', got {criterion!r}")
     demos = _check_demos_any_dim(demos, "demos")
-    cand = list(candidates)
+    # At most _MAX_COMPONENTS + 1 read: a huge range is refused, not materialised.
+    cand = list(itertools.islice(candidates, _MAX_COMPONENTS + 1))
+    if len(cand) > _MAX_COMPONENTS:
+        raise ValueError(f"candidates: at most {_MAX_COMPONENTS} component counts to try")
     if not cand:
         raise ValueError("candidates: needs at least one component count")
     for k in cand:
