@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import re
 import subprocess
+import sys
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 from types import SimpleNamespace
@@ -94,7 +96,7 @@ def comparable(skill_dict: dict) -> dict:
         return value
 
     data = json.loads(json.dumps(skill_dict))
-    data.pop("created")
+    data.pop("created", None)
     return strip(data)
 
 
@@ -626,3 +628,298 @@ def test_bench_unknown_name_lists_the_available_ones(capsys):
     assert "'no_such_benchmark'" in line
     assert line.endswith("choose from " + ", ".join(available))
     assert out == ""
+
+
+# --------------------------------------------------------------------------- #
+# 8. Never a traceback; outputs checked before the work
+# --------------------------------------------------------------------------- #
+
+
+def _raiser(exc: BaseException):
+    def handler(args) -> None:
+        raise exc
+
+    return handler
+
+
+def test_unexpected_exception_is_one_line_without_traceback(capsys, monkeypatch, small_demos):
+    monkeypatch.setattr("lfdkit.cli._learn", _raiser(RuntimeError("boom\nsecond line")))
+    code, out, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
+    assert code == 1
+    line = error_line(err, "learn")
+    assert line == "lfdkit learn: error: unexpected RuntimeError: boom (run with -v for details)"
+    assert "Traceback" not in err
+    assert out == ""
+
+
+def test_unexpected_exception_with_verbose_shows_the_traceback(capsys, monkeypatch, small_demos):
+    monkeypatch.setattr("lfdkit.cli._learn", _raiser(KeyError("deep")))
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json", "-v")
+    assert code == 1
+    assert err.startswith("Traceback (most recent call last):")
+    assert "KeyError: 'deep'" in err
+    assert err.splitlines()[-1].startswith("lfdkit learn: error: unexpected KeyError: 'deep'")
+
+
+def test_interrupt_exits_130_with_one_line(capsys, monkeypatch, small_demos):
+    monkeypatch.setattr("lfdkit.cli._learn", _raiser(KeyboardInterrupt()))
+    code, out, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
+    assert code == 130
+    assert err == "lfdkit learn: interrupted\n"
+    assert out == ""
+
+
+def test_memory_error_names_the_inputs_to_check(capsys, monkeypatch, small_demos):
+    monkeypatch.setattr("lfdkit.cli._learn", _raiser(MemoryError()))
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json", "--n-points", "77")
+    assert code == 1
+    line = error_line(err, "learn")
+    assert "out of memory" in line
+    assert "--n-points 77" in line
+    assert str(small_demos) in line
+
+
+def test_file_exists_error_from_the_library_says_force(capsys, monkeypatch, tmp_path, small_demos):
+    # The library's own wording (for Python callers) must not reach the command line.
+    def save(self, path, *, overwrite=False):
+        raise FileExistsError(f"{path}: file already exists; pass overwrite=True to replace it")
+
+    monkeypatch.setattr("lfdkit.skill.Skill.save", save)
+    out = tmp_path / "skill.json"
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", out)
+    assert code == 1
+    line = error_line(err, "learn")
+    assert line == f"lfdkit learn: error: {out}: exists; pass --force to overwrite it"
+
+
+def _no_learning(*args, **kwargs):
+    raise AssertionError("learned although the output cannot be written")
+
+
+@pytest.mark.parametrize("command", ["learn", "plan", "plot"])
+def test_unwritable_output_folder_fails_before_the_work(capsys, monkeypatch, tmp_path, command):
+    monkeypatch.setattr("lfdkit.skill.learn", _no_learning)
+    monkeypatch.setattr("lfdkit.cli._load_skill", _no_learning)
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder\n")
+    out = blocker / "out.json"
+    first = tmp_path / "demos.csv" if command == "learn" else tmp_path / "skill.json"
+    code, stdout, err = run_cli(capsys, command, first, "-o", out)
+    assert code == 1
+    line = error_line(err, command)
+    assert f"--output {out}: cannot write in folder {blocker}" in line
+    assert stdout == ""
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root writes anyway")
+def test_read_only_output_folder_fails_before_learning(capsys, monkeypatch, tmp_path, small_demos):
+    monkeypatch.setattr("lfdkit.skill.learn", _no_learning)
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        code, _, err = run_cli(capsys, "learn", small_demos, "-o", folder / "skill.json")
+    finally:
+        folder.chmod(0o755)
+    assert code == 1
+    assert "cannot write in folder" in error_line(err, "learn")
+
+
+def test_existing_output_is_refused_before_learning(capsys, monkeypatch, tmp_path, small_demos):
+    monkeypatch.setattr("lfdkit.skill.learn", _no_learning)
+    out = tmp_path / "skill.json"
+    out.write_text("{}")
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", out)
+    assert code == 1
+    assert error_line(err, "learn").endswith(f"{out}: exists; pass --force to overwrite it")
+
+
+def test_flipped_demonstration_is_reported_only_with_verbose(capsys, tmp_path):
+    # Demonstration 2 of three is recorded backwards: learned forwards, said at -v.
+    rows = ["demo,x,y"]
+    for j, dy in enumerate((0.0, 0.02, -0.02)):
+        points = [(float(x), float(0.1 * np.sin(np.pi * x) + dy)) for x in np.linspace(0, 1, 12)]
+        rows += [f"{j},{x!r},{y!r}" for x, y in (points[::-1] if j == 2 else points)]
+    demos = tmp_path / "demos.csv"
+    demos.write_text("\n".join(rows) + "\n")
+    code, _, err = run_cli(capsys, "learn", demos, "-o", tmp_path / "a.json")
+    assert code == 0, err
+    assert "warning" not in err
+    code, _, err = run_cli(capsys, "learn", demos, "-o", tmp_path / "b.json", "-v")
+    assert code == 0, err
+    warned = [line for line in err.splitlines() if "warning" in line]
+    assert warned == [
+        "lfdkit learn: warning: MeanPath: reversed demonstration(s) 2 of 3 to run in the "
+        "others' direction"
+    ]
+    skill = Skill.load(tmp_path / "b.json")
+    assert skill.mimic_info_["reversed"] == [2]
+    path = skill.path_
+    np.testing.assert_allclose(path[0], [0.0, 0.0], atol=0.02)
+    np.testing.assert_allclose(path[-1], [1.0, 0.0], atol=0.02)
+
+
+def test_several_motions_are_one_clean_error(capsys, tmp_path):
+    rows = ["demo,x,y"]
+    for j, side in enumerate((-1, -1, 1, 1)):
+        for a in np.linspace(0, 1, 15):
+            x, y = float(side * (1 - a)), float(0.4 * np.sin(np.pi * a) + 0.01 * j)
+            rows.append(f"{j},{x!r},{y!r}")
+    demos = tmp_path / "demos.csv"
+    demos.write_text("\n".join(rows) + "\n")
+    code, _, err = run_cli(capsys, "learn", demos, "-o", tmp_path / "s.json", "--mimic", "gmr")
+    assert code == 1
+    assert "several motions" in error_line(err, "learn")
+    assert not (tmp_path / "s.json").exists()
+
+
+# --------------------------------------------------------------------------- #
+# 9. lfdkit demo: an interrupted run never looks complete
+# --------------------------------------------------------------------------- #
+
+
+def _fake_run_into(fail_after: int | None = None):
+    """Stands in for the demo's work: writes every output, or fails midway."""
+
+    def run_into(out: Path, progress) -> dict:
+        for i, path in enumerate(demo_outputs(out)):
+            if fail_after is not None and i == fail_after:
+                raise RuntimeError("simulated failure midway")
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(f"new {path.name}\n")
+        return {"written": True}
+
+    return run_into
+
+
+def test_demo_failing_midway_leaves_no_output_folder(monkeypatch, tmp_path):
+    from lfdkit.examples import sweeping_demo
+
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into(fail_after=5))
+    out = tmp_path / "demo"
+    with pytest.raises(RuntimeError, match="midway"):
+        sweeping_demo.run_demo(out)
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == []  # no hidden .partial- folder left either
+
+
+def test_demo_moves_its_outputs_into_place_at_the_end(monkeypatch, tmp_path):
+    from lfdkit.examples import sweeping_demo
+
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
+    out = tmp_path / "demo"
+    assert sweeping_demo.run_demo(out) == {"written": True}
+    for path in demo_outputs(out):
+        assert path.read_text() == f"new {path.name}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
+
+
+def test_demo_force_keeps_other_files_and_an_interrupted_move_is_marked(monkeypatch, tmp_path):
+    from lfdkit.examples import sweeping_demo
+
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
+    out = tmp_path / "demo"
+    out.mkdir()
+    (out / "mine.txt").write_text("the user's\n")
+    for path in demo_outputs(out):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text("old\n")
+    with pytest.raises(FileExistsError):
+        sweeping_demo.run_demo(out)
+    assert (out / "report.html").read_text() == "old\n"
+
+    # Interrupted while moving the new files in: marked, and no report to open.
+    moves = []
+    real_replace = os.replace
+
+    def replace(src, dst):
+        if len(moves) == 4:
+            raise KeyboardInterrupt
+        moves.append(dst)
+        real_replace(src, dst)
+
+    monkeypatch.setattr(sweeping_demo.os, "replace", replace)
+    with pytest.raises(KeyboardInterrupt):
+        sweeping_demo.run_demo(out, overwrite=True)
+    assert (out / sweeping_demo.INCOMPLETE_MARKER).is_file()
+    assert not (out / "report.html").exists()
+
+    monkeypatch.setattr(sweeping_demo.os, "replace", real_replace)
+    sweeping_demo.run_demo(out, overwrite=True)
+    assert not (out / sweeping_demo.INCOMPLETE_MARKER).exists()
+    assert (out / "report.html").read_text() == "new report.html\n"
+    assert (out / "mine.txt").read_text() == "the user's\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
+
+
+def test_demo_cli_refuses_existing_outputs_before_the_work(capsys, monkeypatch, tmp_path):
+    from lfdkit.examples import sweeping_demo
+
+    monkeypatch.setattr(sweeping_demo, "_run_into", _no_learning)
+    out = tmp_path / "demo"
+    (out / "figures").mkdir(parents=True)
+    (out / "figures" / "mimic.png").write_text("old\n")
+    code, _, err = run_cli(capsys, "demo", "-o", out)
+    assert code == 1
+    line = error_line(err, "demo")
+    assert line.endswith("mimic.png exists; pass --force to overwrite it")
+
+
+def test_demo_output_folder_gets_the_usual_permissions(monkeypatch, tmp_path):
+    from lfdkit.examples import sweeping_demo
+
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
+    plain = tmp_path / "plain"
+    plain.mkdir()
+    sweeping_demo.run_demo(tmp_path / "demo")
+    assert (tmp_path / "demo").stat().st_mode == plain.stat().st_mode
+
+
+def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
+    monkeypatch.setattr("lfdkit.cli._learn", _raiser(BrokenPipeError(32, "Broken pipe")))
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
+    assert code == 1
+    assert error_line(err, "learn").endswith("standard output closed early (broken pipe)")
+
+
+_SLOW_DEMO = """
+import sys, time
+from lfdkit.examples import sweeping_demo
+from lfdkit.cli import main
+
+def slow(out, progress):
+    (out / "figures").mkdir()
+    (out / "figures" / "mimic.png").write_text("half\\n")
+    print("started", flush=True)
+    time.sleep(60)
+
+sweeping_demo._run_into = slow
+sys.argv = ["lfdkit", "demo", "-o", sys.argv[1]]
+raise SystemExit(main())
+"""
+
+
+def test_a_killed_demo_leaves_nothing_behind(tmp_path):
+    import signal
+
+    out = tmp_path / "demo"
+    env = {**os.environ, "PYTHONPATH": str(REPO / "src")}
+    process = subprocess.Popen(
+        [sys.executable, "-c", _SLOW_DEMO, str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    try:
+        assert process.stdout.readline() == "started\n"
+        assert [p.name.startswith(".demo.partial-") for p in tmp_path.iterdir()] == [True]
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
+    assert process.returncode == 130
+    assert err.splitlines()[-1] == "lfdkit demo: interrupted"
+    assert list(tmp_path.iterdir()) == []

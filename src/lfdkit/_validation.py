@@ -12,7 +12,20 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["check_demos", "check_finite", "check_path", "check_positive", "check_random_state"]
+__all__ = [
+    "MAX_POINTS",
+    "check_count",
+    "check_demos",
+    "check_finite",
+    "check_path",
+    "check_positive",
+    "check_random_state",
+]
+
+#: Most points a caller may ask a function to produce (paths, resamplings,
+#: rollouts): a million 3-D points are 24 MB; more is a typo, not a path, and
+#: would end as a MemoryError deep inside NumPy.
+MAX_POINTS = 1_000_000
 
 
 def check_path(
@@ -147,6 +160,18 @@ def check_positive(value: Any, name: str, *, integer: bool = False, allow_zero: 
         bound = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name}: must be {bound}, got {value!r}")
     return value
+
+
+def check_count(value: Any, name: str, *, minimum: int = 1, maximum: int = MAX_POINTS) -> int:
+    """Check an integer size (a number of points, components, ...) is within bounds.
+
+    Raises ``TypeError`` for a non-integer and ``ValueError`` naming ``name``
+    and both bounds otherwise; returns it as an ``int``.
+    """
+    count = check_positive(value, name, integer=True, allow_zero=minimum <= 0)
+    if not minimum <= count <= maximum:
+        raise ValueError(f"{name}: expected {minimum:,} to {maximum:,}, got {count:,}")
+    return count
 
 
 def check_random_state(seed: Any) -> np.random.Generator:

@@ -6,20 +6,28 @@ start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
 ``compare`` (the mimicking methods on the built-in data sets) and ``bench``
 (the benchmarks of a source checkout).
 
-Exit codes: 0 success, 1 the work failed (the reason on stderr in one line),
-2 wrong usage (argparse). Progress goes to stderr; ``--quiet`` prints nothing on
-success.
+Exit codes: 0 success, 1 the work failed (the reason on stderr in one line,
+never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
+(argparse), 130 interrupted (Ctrl-C). Progress and warnings go to stderr, one
+line each; ``--quiet`` prints nothing on success. Output files are checked
+(exists without ``--force``, folder missing or not writable) before the work.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
+import os
 import re
+import signal
 import subprocess
 import sys
+import tempfile
 import time
+import traceback
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -73,12 +81,30 @@ def _progress(args: argparse.Namespace, total: int, unit: str = "step") -> Itera
 
 
 def _refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
+    """Refuse an output file before the work, not after it: exists, folder missing or read-only."""
     if path.is_dir():
         raise CommandError(f"{option} {path}: is a directory; give a file name")
     if path.exists() and not force:
         raise CommandError(f"{option} {path}: exists; pass --force to overwrite it")
     if not path.parent.exists():
         raise CommandError(f"{option} {path}: folder {path.parent} does not exist")
+    _check_writable(path.parent, option, path)
+
+
+def _check_writable(folder: Path, option: str, shown: Path) -> None:
+    """Create and remove a probe file in ``folder``: the one test that also holds for root.
+
+    ``os.access`` says yes to root on a read-only mount and knows nothing of
+    quotas; the file that is finally written goes through the same call.
+    """
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".lfdkit-probe-"):
+            pass
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise CommandError(
+            f"{option} {shown}: cannot write in folder {folder} ({reason.lower()})"
+        ) from None
 
 
 def _numbers(text: str) -> list[float]:
@@ -93,6 +119,21 @@ def _numbers(text: str) -> list[float]:
             f"expected 2 or 3 finite numbers like 0.4,0.45, got {text!r}"
         )
     return values
+
+
+def _bounded_int(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: an integer from ``low`` to ``high`` (a usage error otherwise)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"expected {low} to {high:,}, got {text!r}")
+        return value
+
+    return parse
 
 
 def _obstacle(text: str):
@@ -141,8 +182,9 @@ def _compare(args: argparse.Namespace) -> None:
     planned += [out / f"{n}.png" for n in names] + [out / f"{n}_mean_path.png" for n in names]
     clash = [p for p in planned if p.exists()]
     if clash and not args.force:
-        raise CommandError(f"{clash[0]} exists; pass --force to overwrite the demo's files")
+        raise CommandError(f"--output {out}: {clash[0]} exists; pass --force to overwrite it")
     out.mkdir(parents=True, exist_ok=True)
+    _check_writable(out, "--output", out)
 
     total = len(names) * len(LFDKIT_METHODS)
     count = [0]
@@ -177,18 +219,28 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _demo(args: argparse.Namespace) -> None:
-    from lfdkit.examples.sweeping_demo import N_STEPS, run_demo
+    from lfdkit.examples.sweeping_demo import N_STEPS, demo_outputs, run_demo
 
     out: Path = args.output
     if out.exists() and not out.is_dir():
         raise CommandError(f"--output {out}: exists and is not a directory")
+    clash = [p for p in demo_outputs(out) if p.exists()]
+    if clash and not args.force:
+        raise CommandError(f"--output {out}: {clash[0]} exists; pass --force to overwrite it")
+    # The demo writes into a sibling folder and moves it into place at the end.
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CommandError(
+            f"--output {out}: cannot create folder {out.parent} ({exc.strerror or exc})"
+        ) from None
+    _check_writable(out.parent, "--output", out)
+    if out.is_dir():
+        _check_writable(out, "--output", out)
     started = time.perf_counter()
     _say(args, f"lfdkit {__version__}: the sweeping example, from demonstrations to new scenes")
-    try:
-        with _progress(args, N_STEPS) as step:
-            results = run_demo(out, overwrite=args.force, progress=step)
-    except FileExistsError as exc:
-        raise CommandError(str(exc)) from None
+    with _progress(args, N_STEPS) as step:
+        results = run_demo(out, overwrite=args.force, progress=step)
     if args.verbosity >= 1:
         test = results["emulate"]["test"]
         unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
@@ -502,7 +554,12 @@ def _parser() -> argparse.ArgumentParser:
     learn.add_argument(
         "--n-points", type=int, default=100, help="points of the path and of plans (default 100)"
     )
-    learn.add_argument("--seed", type=int, default=None, help="seed of GMR's initialisation")
+    learn.add_argument(
+        "--seed",
+        type=_bounded_int(0, 2**32 - 1),
+        default=None,
+        help="seed of GMR's initialisation",
+    )
     _planner_options(learn, defaults=True)
     _force(learn)
     _loudness(learn)
@@ -556,7 +613,12 @@ def _parser() -> argparse.ArgumentParser:
     _scene_options(plot)
     plot.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
     plot.add_argument("--title", default="", help="figure title")
-    plot.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
+    plot.add_argument(
+        "--dpi",
+        type=_bounded_int(10, 1000),
+        default=110,
+        help="resolution, 10 to 1000 (default 110)",
+    )
     plot.add_argument(
         "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
     )
@@ -578,7 +640,9 @@ def _parser() -> argparse.ArgumentParser:
         help="output directory (default: ./lfdkit-compare)",
     )
     compare.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
-    compare.add_argument("--seed", type=int, default=0, help="data set seed (default 0)")
+    compare.add_argument(
+        "--seed", type=_bounded_int(0, 2**32 - 1), default=0, help="data set seed (default 0)"
+    )
     _force(compare)
     _loudness(compare)
     compare.set_defaults(handler=_compare)
@@ -612,24 +676,108 @@ def _join_negative_points(argv: Sequence[str]) -> list[str]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``lfdkit`` console script; returns the exit code."""
-    argv = sys.argv[1:] if argv is None else list(argv)
-    args = _parser().parse_args(_join_negative_points(argv))
+    """Entry point of the ``lfdkit`` console script; returns the exit code.
+
+    Whatever goes wrong ends as one line on stderr, never a traceback: the
+    expected failures as ``lfdkit CMD: error: <why>``, anything unexpected the
+    same way plus "run with -v for details" (``-v`` prints the traceback too).
+    Exit codes: 1 failure, 2 usage (argparse, which exits itself), 130 interrupted.
+    """
+    if argv is None:  # the real command line: a plain kill cleans up like Ctrl-C
+        argv = sys.argv[1:]
+        with contextlib.suppress(ValueError, AttributeError):  # not the main thread / Windows
+            signal.signal(signal.SIGTERM, _interrupt)
+    args = _parser().parse_args(_join_negative_points(list(argv)))
+    prefix = f"lfdkit {args.command}"
     try:
-        args.handler(args)
+        with _warnings_as_lines(args, prefix):
+            args.handler(args)
+    except KeyboardInterrupt:
+        print(f"{prefix}: interrupted", file=sys.stderr)
+        return 130
     except MemoryError:
-        print(f"lfdkit {args.command}: error: out of memory; are the sizes sane?", file=sys.stderr)
+        print(f"{prefix}: error: out of memory: {_too_large(args)}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:
+        # The reader went away (``lfdkit plan ... | head``): no more output, and none at exit.
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        print(f"{prefix}: error: standard output closed early (broken pipe)", file=sys.stderr)
+        return 1
+    except FileExistsError as exc:
+        # The library's wording is for Python callers; here the switch is --force.
+        where = exc.filename or getattr(args, "output", None) or "the output"
+        print(f"{prefix}: error: {where}: exists; pass --force to overwrite it", file=sys.stderr)
         return 1
     except (CommandError, OSError, ValueError, TypeError) as exc:
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if isinstance(exc, FileNotFoundError) and exc.filename:
             message = f"{exc.filename}: no such file"
-        print(f"lfdkit {args.command}: error: {message}", file=sys.stderr)
+        print(f"{prefix}: error: {message}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"lfdkit {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except Exception as exc:  # the last resort: a bug or a case nobody foresaw
+        if args.verbosity >= 2:
+            traceback.print_exc(file=sys.stderr)
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        what = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+        print(
+            f"{prefix}: error: unexpected {what} (run with -v for details)",
+            file=sys.stderr,
+        )
+        return 1
     return 0
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    """SIGTERM as KeyboardInterrupt, so that partial outputs are removed on the way out."""
+    raise KeyboardInterrupt
+
+
+#: Command options whose size drives memory use, for the out-of-memory message.
+_SIZE_OPTIONS = (
+    ("n_points", "--n-points"),
+    ("dpi", "--dpi"),
+    ("demos", "the demonstrations file"),
+    ("skill", "the skill file"),
+    ("scene", "the scene file"),
+)
+
+
+def _too_large(args: argparse.Namespace) -> str:
+    """Which inputs of this command could have asked for too much memory."""
+    named = [
+        f"{label} {getattr(args, attr)}"
+        if label.startswith("--")
+        else f"{label} ({getattr(args, attr)})"
+        for attr, label in _SIZE_OPTIONS
+        if getattr(args, attr, None) is not None
+    ]
+    if not named:
+        return "an input is too large for this machine"
+    return "an input is too large for this machine: check " + ", ".join(named)
+
+
+@contextmanager
+def _warnings_as_lines(args: argparse.Namespace, prefix: str) -> Iterator[None]:
+    """Show each warning once as ``lfdkit CMD: warning: <message>``, not Python's two lines.
+
+    Notes (:class:`lfdkit.mimic.DemoOrientationWarning`, e.g. a demonstration
+    flipped to the common direction) only with ``-v``; other warnings unless
+    ``-q``.
+    """
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        # Imported here, when a warning comes: lfdkit.mimic pulls in scikit-learn.
+        from lfdkit.mimic import DemoOrientationWarning
+
+        level = 2 if issubclass(category, DemoOrientationWarning) else 1
+        text = str(message).splitlines()[0] if str(message) else category.__name__
+        _say(args, f"{prefix}: warning: {text}", level=level)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = show
+        yield
 
 
 if __name__ == "__main__":

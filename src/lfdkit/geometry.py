@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_positive
+from lfdkit._validation import check_count, check_path, check_positive
 
 __all__ = [
     "FoldedPathError",
@@ -204,6 +204,7 @@ def resample(path: np.ndarray, n_points: int) -> np.ndarray:
     n_points = check_positive(n_points, "n_points", integer=True)
     if n_points < 2:
         raise ValueError(f"n_points: needs at least 2, got {n_points}")
+    check_count(n_points, "n_points", minimum=2)  # at most MAX_POINTS
     s = arc_length(path)
     if s[-1] <= 0:
         raise ValueError("path: has zero length (all points coincide); cannot resample")
@@ -249,6 +250,7 @@ def smooth_path(path: np.ndarray, width: float, n_points: int | None = None) -> 
     )
     if n_out < 2:
         raise ValueError(f"n_points: needs at least 2, got {n_out}")
+    check_count(n_out, "n_points", minimum=2)  # at most MAX_POINTS
     length = path_length(path)
     if length <= 0:
         raise ValueError("path: has zero length (all points coincide); cannot smooth")
@@ -282,6 +284,7 @@ def resample_between(path: np.ndarray, s_start: float, s_end: float, n_points: i
     ndarray, shape (n_points, q)
     """
     s = arc_length(path)
+    n_points = check_count(n_points, "n_points", minimum=2)
     return _interp_path(path, s, np.linspace(s_start, s_end, n_points))
 
 

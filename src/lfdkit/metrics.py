@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_positive
+from lfdkit._validation import check_count, check_demos, check_path, check_positive
 from lfdkit.geometry import (
     PolylineSet,
     arc_length,
@@ -242,6 +242,7 @@ def mse_paths(paths, demos, n_points: int = 100) -> float:
     n_points = check_positive(n_points, "n_points", integer=True)
     if n_points < 2:
         raise ValueError(f"n_points: needs at least 2, got {n_points}")
+    check_count(n_points, "n_points", minimum=2)  # at most MAX_POINTS
     total = 0.0
     for d, (path, demo) in enumerate(zip(paths, demos, strict=True)):
         for arr, name in ((path, f"paths[{d}]"), (demo, f"demos[{d}]")):

@@ -172,7 +172,9 @@ class Skill:
     mimic_ : MeanPath or GMR or None
         The fitted mimicking estimator (None after :meth:`use_path` or :meth:`load`).
     mimic_info_ : dict
-        How the path was made (method, number of demonstrations, diagnostics).
+        How the path was made (method, number of demonstrations, the indices
+        of those reversed to the majority's direction under ``"reversed"``,
+        diagnostics).
     dmp_ : DMP
         The DMP trained on ``path_``.
     reward_ : Reward or None
@@ -346,6 +348,8 @@ class Skill:
                 "converged": bool(estimator.converged_),
                 "n_iter": int(estimator.n_iter_),
             }
+        # Demonstrations the mimic method turned round to the majority's direction.
+        info["reversed"] = [int(j) for j in np.flatnonzero(estimator.reversed_)]
         info = {"method": self.mimic, "n_demos": len(demos), **info}
         info["seconds"] = time.perf_counter() - started
         self.mimic_ = estimator

@@ -433,6 +433,66 @@ def test_bad_rollout_and_step_arguments_are_refused() -> None:
         dmp.step(0.0, [0.0, 0.0], [np.nan, 0.0], 0.1)
 
 
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda d: d.rollout(goal=[1e300, 1e300]), r"goal: 1e\+300 is beyond 1e\+06 times"),
+        (lambda d: d.rollout(start=[0.0, -5e6]), r"start: 5e\+06 is beyond"),
+        (lambda d: d.rollout(goal=np.full((3, 2), np.inf)), "goal: contains NaN or infinite"),
+        (lambda d: d.rollout(start_velocity=[1e7, 0.0]), "start_velocity: 1e\\+07 units/s"),
+        (lambda d: d.rollout(n_steps=10**9), "n_steps: expected 2 to 1,000,000"),
+        (lambda d: d.rollout(goal=np.ones((100, 2)), n_steps=200_000), "exceed 10,000,000"),
+        (lambda d: d.rollout(tau=1e300), "tau: expected 1e-06 to 1e\\+06"),
+        (lambda d: d.rollout(tau=1e-300), "tau: expected"),
+        (lambda d: d.rollout(goal=["a", "b"]), "goal: expected 2 numbers"),
+        (lambda d: d.step(0.0, [1e200, 0.0], [0.0, 0.0], 0.01), "position: 1e\\+200"),
+        (lambda d: d.step(0.0, [0.0, 0.0], [1e12, 0.0], 0.01), "velocity: 1e\\+12"),
+        (lambda d: d.step(0.0, [0.0, 0.0], [0.0, 0.0], 1e10), "dt: 1e\\+10 s is more than"),
+        (lambda d: d.step(0.0, [0.0, 0.0], [0.0, 0.0], 0.1, goal=[0, 1e300]), "goal: 1e\\+300"),
+    ],
+)
+def test_absurd_arguments_are_errors_not_inf(call, match) -> None:
+    dmp = DMP().fit(s_curve(10))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow warning on the way to the error
+        with pytest.raises((ValueError, TypeError), match=match):
+            call(dmp)
+
+
+def test_the_magnitude_bound_is_relative_to_the_training_scale() -> None:
+    # The same shape in micrometres and in kilometres: the bound scales with it.
+    for scale in (1e-6, 1e3):
+        dmp = DMP().fit(scale * s_curve(10))
+        far = dmp.rollout(goal=scale * np.array([1e5, 1e5]), n_steps=5)
+        assert np.all(np.isfinite(far.positions))
+        np.testing.assert_allclose(far.positions[-1], scale * np.array([1e5, 1e5]), rtol=1e-9)
+        with pytest.raises(ValueError, match="goal"):
+            dmp.rollout(goal=scale * np.array([1e7, 0.0]))
+
+
+def test_size_caps_are_errors_not_memory_errors() -> None:
+    with pytest.raises(ValueError, match="n_basis: expected 1 to 1,000, got 1,000,000"):
+        DMP(n_basis=10**6).fit(s_curve(10))
+    DMP(n_basis=1000, end="free").fit(s_curve(10))  # the cap itself is allowed
+    for duration, match in [(1e-9, "duration: the path must last"), (1e12, "duration")]:
+        with pytest.raises(ValueError, match=match):
+            DMP().fit(s_curve(10), duration=duration)
+
+
+def test_a_long_step_past_the_end_settles_at_the_goal() -> None:
+    dmp = DMP().fit(s_curve(30))
+    # 500 movement durations in one step: no quadrature over it, no NaN, at the goal at rest.
+    pos, vel, _ = dmp.step(0.5, dmp.goal_ + 0.3, [1.0, -2.0], 500.0 * dmp.duration_)
+    np.testing.assert_allclose(pos, dmp.goal_, atol=1e-12)
+    np.testing.assert_allclose(vel, 0.0, atol=1e-12)
+    # And a step that starts after the end agrees with two shorter ones.
+    one = dmp.step(1.5, dmp.goal_ + 0.1, [0.2, 0.0], 0.2)
+    half = dmp.step(1.5, dmp.goal_ + 0.1, [0.2, 0.0], 0.1)
+    two = dmp.step(1.6, half[0], half[1], 0.1)
+    np.testing.assert_allclose(one[0], two[0], atol=1e-12)
+    np.testing.assert_allclose(one[1], two[1], atol=1e-12)
+
+
 def test_minimum_jerk_times_follow_the_quintic_law() -> None:
     line = np.linspace([0.0, 0.0], [1.0, 0.0], 101)
     times = minimum_jerk_times(line, duration=2.0)

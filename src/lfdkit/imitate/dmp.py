@@ -99,10 +99,17 @@ from scipy.signal import lfilter
 from sklearn.base import BaseEstimator
 from sklearn.exceptions import NotFittedError
 
-from lfdkit._validation import check_path, check_positive
+from lfdkit._validation import MAX_POINTS, check_count, check_path, check_positive
 from lfdkit.geometry import arc_length, path_length, segment_lengths
 
-__all__ = ["DMP", "Trajectory", "minimum_jerk_times"]
+__all__ = [
+    "DMP",
+    "MAX_BASIS",
+    "MAX_RELATIVE_MAGNITUDE",
+    "MAX_ROLLOUT_SAMPLES",
+    "Trajectory",
+    "minimum_jerk_times",
+]
 
 Scaling = Literal["per_dimension", "spatial"]
 EndCondition = Literal["rest", "free"]
@@ -121,6 +128,21 @@ _ZERO_DISPLACEMENT = 1e-9
 #: Per-dimension scale factors beyond this magnitude trigger a warning.
 _LARGE_SCALE = 10.0
 _MAX_CACHED_GRIDS = 8
+#: Caps on what a caller may ask for, so that a typo is an error naming the
+#: argument, not a MemoryError or an overflow deep inside NumPy.
+MAX_BASIS = 1000
+#: Most samples of one rollout call (steps times rollouts).
+MAX_ROLLOUT_SAMPLES = 10_000_000
+#: Starts, goals and states farther than this many training scales from the
+#: training path (and initial velocities that would carry that far in one
+#: movement) are refused: the result would overflow or mean nothing.
+MAX_RELATIVE_MAGNITUDE = 1e6
+#: Temporal scalings outside [1/MAX_TAU, MAX_TAU] are refused.
+MAX_TAU = 1e6
+#: A step of :meth:`DMP.step` may span at most this many movement durations.
+MAX_STEP_DURATIONS = 1e3
+#: Training durations (seconds) outside this range are refused.
+DURATION_RANGE = (1e-6, 1e9)
 
 
 class Trajectory(NamedTuple):
@@ -313,7 +335,8 @@ class DMP(BaseEstimator):
     Parameters
     ----------
     n_basis : int
-        Number of Gaussian basis functions (weights per dimension).
+        Number of Gaussian basis functions (weights per dimension), 1 to
+        :data:`MAX_BASIS` (1000).
     k : float
         Spring constant, in units of the normalised time (see the module notes).
     c : float
@@ -323,7 +346,7 @@ class DMP(BaseEstimator):
         to 0.01 at the end of the movement).
     tau : float
         Default temporal scaling of rollouts: 1 reproduces the training path's
-        duration, 2 takes twice as long along the same path.
+        duration, 2 takes twice as long along the same path (1e-6 to 1e6).
     scaling : {"per_dimension", "spatial"}
         How the learned forcing is carried to a new start and goal (module notes).
     end : {"rest", "free"}
@@ -381,12 +404,12 @@ class DMP(BaseEstimator):
 
     # ------------------------------------------------------------------ learning
     def _check_params(self) -> None:
-        check_positive(self.n_basis, "n_basis", integer=True)
+        check_count(self.n_basis, "n_basis", maximum=MAX_BASIS)
         check_positive(self.k, "k")
         check_positive(self.c, "c")
         if self.alpha is not None:
             check_positive(self.alpha, "alpha")
-        check_positive(self.tau, "tau")
+        _check_tau(self.tau)
         check_positive(self.regularization, "regularization", allow_zero=True)
         if self.scaling not in _SCALINGS:
             raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
@@ -454,6 +477,12 @@ class DMP(BaseEstimator):
                 raise ValueError("times: give either times or a duration/dt, not both")
             t = _check_times(times, n)
         span = float(t[-1])
+        low, high = DURATION_RANGE
+        if not low <= span <= high:
+            raise ValueError(
+                f"{'times' if times is not None else 'duration'}: the path must last "
+                f"{low:g} to {high:g} s, got {span:g} s"
+            )
         composed = times is None and timing == "minimum_jerk"
         s, positions, velocity, acceleration = _dense_derivatives(
             None if composed else t / span, points, self.n_basis
@@ -497,6 +526,8 @@ class DMP(BaseEstimator):
         self.n_dims_ = points.shape[1]
         extent = float(np.max(np.ptp(points, axis=0)))
         self._extent = extent
+        # The scale against which absurd starts, goals and states are judged.
+        self._scale = max(extent, float(np.max(np.abs(points))), 1e-300)
         self._grid_cache: dict[int, tuple[np.ndarray, ...]] = {}
         self._knots = self._response_knots()
         self._left_cache: dict[tuple[int, float], np.ndarray] = {}
@@ -587,10 +618,9 @@ class DMP(BaseEstimator):
         return matrices if batch else matrices[0]
 
     def _starts_goals(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray, bool]:
-        q = self.n_dims_
         arrays = []
         for value, name, default in ((start, "start", self.start_), (goal, "goal", self.goal_)):
-            arrays.append(default if value is None else _check_state(value, name, q))
+            arrays.append(default if value is None else self._check_position(value, name))
         batch = arrays[0].ndim == 2 or arrays[1].ndim == 2
         starts, goals = (np.atleast_2d(a) for a in arrays)
         if starts.shape[0] != goals.shape[0] and 1 not in (starts.shape[0], goals.shape[0]):
@@ -599,6 +629,29 @@ class DMP(BaseEstimator):
             )
         starts, goals = np.broadcast_arrays(starts, goals)
         return starts, goals, batch
+
+    def _check_position(self, value: Any, name: str) -> np.ndarray:
+        """A finite state of shape (q,) or (n, q) within reach of the training scale."""
+        arr = _check_state(value, name, self.n_dims_)
+        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
+        if np.max(np.abs(arr), initial=0.0) > limit:
+            raise ValueError(
+                f"{name}: {np.max(np.abs(arr)):.3g} is beyond {MAX_RELATIVE_MAGNITUDE:g} times "
+                f"the training path's scale ({limit:.3g}); the result would overflow"
+            )
+        return arr
+
+    def _check_velocity(self, value: Any, name: str, time_scale: float) -> np.ndarray:
+        """A finite velocity that does not carry past the position bound in one movement."""
+        arr = _check_state(value, name, self.n_dims_)
+        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
+        if np.max(np.abs(arr), initial=0.0) * time_scale > limit:
+            raise ValueError(
+                f"{name}: {np.max(np.abs(arr)):.3g} units/s would carry beyond "
+                f"{MAX_RELATIVE_MAGNITUDE:g} times the training path's scale within the "
+                f"movement ({time_scale:.3g} s); the result would overflow"
+            )
+        return arr
 
     def _scale_matrices(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         trained = self.goal_ - self.start_
@@ -704,6 +757,16 @@ class DMP(BaseEstimator):
         start_velocity : array_like, shape (q,) or (n_rollouts, q), optional
             Initial velocity in units per second (default at rest).
 
+        Raises
+        ------
+        ValueError
+            For NaN/inf, a start or goal beyond :data:`MAX_RELATIVE_MAGNITUDE`
+            times the training path's scale (its extent or largest coordinate)
+            or a velocity that would carry that far in one movement, ``n_steps``
+            above 1,000,000, more than :data:`MAX_ROLLOUT_SAMPLES` samples in
+            all, or ``tau`` outside 1e-6 to 1e6: the result would overflow or
+            not fit in memory.
+
         Returns
         -------
         Trajectory
@@ -712,16 +775,17 @@ class DMP(BaseEstimator):
             when ``start`` or ``goal`` is 2-D.
         """
         self._check_fitted()
-        tau = check_positive(self.tau if tau is None else tau, "tau")
+        tau = _check_tau(self.tau if tau is None else tau)
         n_steps = self.path_.shape[0] if n_steps is None else n_steps
         n_steps = check_positive(n_steps, "n_steps", integer=True)
         if n_steps < 2:
             raise ValueError(f"n_steps: needs at least 2 samples, got {n_steps}")
+        check_count(n_steps, "n_steps", minimum=2, maximum=MAX_POINTS)
         starts, goals, batch = self._starts_goals(start, goal)
         time_scale = tau * self.duration_
         velocity = np.zeros(self.n_dims_)
         if start_velocity is not None:
-            velocity = _check_state(start_velocity, "start_velocity", self.n_dims_)
+            velocity = self._check_velocity(start_velocity, "start_velocity", time_scale)
             batch = batch or velocity.ndim == 2
         velocity = np.atleast_2d(velocity)
         if velocity.shape[0] not in (1, starts.shape[0]) and starts.shape[0] != 1:
@@ -730,6 +794,11 @@ class DMP(BaseEstimator):
                 f"{starts.shape[0]} starts/goals"
             )
         starts, goals, velocity = np.broadcast_arrays(starts, goals, velocity)
+        if n_steps * starts.shape[0] > MAX_ROLLOUT_SAMPLES:
+            raise ValueError(
+                f"n_steps: {n_steps:,} steps for {starts.shape[0]:,} rollouts exceed "
+                f"{MAX_ROLLOUT_SAMPLES:,} samples in one call; split the batch"
+            )
         x0 = np.stack([starts - goals, velocity * time_scale], axis=1)  # (r, 2, q)
         matrices = self._scale_matrices(starts, goals)
         s = np.linspace(0.0, 1.0, n_steps)
@@ -815,17 +884,28 @@ class DMP(BaseEstimator):
         -------
         position, velocity, acceleration : ndarray, shape like ``position``
             The state at ``t + dt`` and its acceleration.
+
+        Raises
+        ------
+        ValueError
+            For the absurd arguments :meth:`rollout` refuses, and a ``dt`` of
+            more than :data:`MAX_STEP_DURATIONS` movement durations.
         """
         self._check_fitted()
-        tau = check_positive(self.tau if tau is None else tau, "tau")
+        tau = _check_tau(self.tau if tau is None else tau)
+        time_scale = tau * self.duration_
         dt = check_positive(dt, "dt")
+        if dt > MAX_STEP_DURATIONS * time_scale:
+            raise ValueError(
+                f"dt: {dt:g} s is more than {MAX_STEP_DURATIONS:g} movement durations "
+                f"({time_scale:g} s each)"
+            )
         t = check_positive(t, "t", allow_zero=True)
         starts, goals, _ = self._starts_goals(start, goal)
-        pos = _check_state(position, "position", self.n_dims_)
-        vel = _check_state(velocity, "velocity", self.n_dims_)
+        pos = self._check_position(position, "position")
+        vel = self._check_velocity(velocity, "velocity", time_scale)
         single = pos.ndim == 1 and vel.ndim == 1 and starts.shape[0] == 1
         pos, vel = np.atleast_2d(pos), np.atleast_2d(vel)
-        time_scale = tau * self.duration_
         matrices = self._scale_matrices(starts, goals)
         x = np.stack([pos - goals, vel * time_scale], axis=1)  # (r, 2, q)
         s_now, s_next = t / time_scale, (t + dt) / time_scale
@@ -847,6 +927,11 @@ class DMP(BaseEstimator):
 
     def _advance(self, x: np.ndarray, s: float, h: float, matrices: np.ndarray) -> np.ndarray:
         """Exact step of the state ``x`` (r, 2, q) from normalised time ``s`` by ``h``."""
+        if s >= 1.0:
+            # No forcing after the movement: the spring alone, no quadrature (whose
+            # panels would grow with a long step).
+            phi = _transition(self.k, self.c, np.array([h]))[:, :, 0]
+            return np.einsum("ab,rbq->raq", phi, x)
         operators = self._step_cache.get(h)
         if operators is None:
             operators = _step_operators(self.k, self.c, h, self._panel)
@@ -984,8 +1069,22 @@ def _check_times(times: Any, n: int) -> np.ndarray:
     return t - t[0]
 
 
+def _check_tau(tau: Any) -> float:
+    tau = check_positive(tau, "tau")
+    if not 1.0 / MAX_TAU <= tau <= MAX_TAU:
+        raise ValueError(f"tau: expected {1.0 / MAX_TAU:g} to {MAX_TAU:g}, got {tau:g}")
+    return tau
+
+
+def _training_scale(path: np.ndarray) -> float:
+    return max(float(np.max(np.ptp(path, axis=0))), float(np.max(np.abs(path))), 1e-300)
+
+
 def _check_state(value: Any, name: str, q: int) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name}: expected {q} numbers, got {value!r}") from exc
     if arr.ndim not in (1, 2) or arr.shape[-1] != q:
         raise ValueError(f"{name}: expected shape ({q},) or (n_rollouts, {q}), got {arr.shape}")
     if not np.all(np.isfinite(arr)):

@@ -4,5 +4,21 @@ from lfdkit.mimic.baselines import pointwise_average
 from lfdkit.mimic.gmr import GMR, select_n_components
 from lfdkit.mimic.mean_path import MeanPath
 from lfdkit.mimic.nlpca import NLPCA
+from lfdkit.mimic.orientation import (
+    DemoOrientationWarning,
+    SeveralMotionsError,
+    check_one_motion,
+    orient_demos,
+)
 
-__all__ = ["GMR", "NLPCA", "MeanPath", "pointwise_average", "select_n_components"]
+__all__ = [
+    "GMR",
+    "NLPCA",
+    "DemoOrientationWarning",
+    "MeanPath",
+    "SeveralMotionsError",
+    "check_one_motion",
+    "orient_demos",
+    "pointwise_average",
+    "select_n_components",
+]

@@ -26,6 +26,7 @@ and where it is free (large).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable, Sequence
 from typing import Any, Literal
 
@@ -36,7 +37,8 @@ from sklearn.mixture import GaussianMixture
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
-from lfdkit._validation import check_demos, check_positive, check_random_state
+from lfdkit._validation import check_count, check_demos, check_positive, check_random_state
+from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 __all__ = ["GMR", "select_n_components"]
 
@@ -46,6 +48,11 @@ CovMode = Literal["thesis", "law_of_total_covariance"]
 _TIME_MODES = ("index", "arclength")
 _COV_MODES = ("thesis", "law_of_total_covariance")
 _LOG_2PI = float(np.log(2.0 * np.pi))
+#: Caps on sizes a caller gives, so that a typo is an error, not a MemoryError.
+_MAX_COMPONENTS = 1000
+_MAX_INIT = 1000
+#: Samples of the path whose length is compared with the demonstrations'.
+_LENGTH_CHECK_POINTS = 200
 
 
 def _check_demos_any_dim(demos: Any, name: str = "demos") -> list[np.ndarray]:
@@ -126,7 +133,7 @@ class GMR(BaseEstimator):
     Parameters
     ----------
     n_components : int, default 10
-        Number of Gaussian components ``K``.
+        Number of Gaussian components ``K`` (at most 1000).
     covariance_reg : float, default 1e-6
         Non-negative value added to the diagonal of every covariance during EM
         (scikit-learn's ``reg_covar``), in squared data units (phase and
@@ -154,6 +161,13 @@ class GMR(BaseEstimator):
         ``Σ_k β_k (Σ̂_k + (ŝ_k − ŝ)(ŝ_k − ŝ)ᵀ)``, which is the statistically
         proper choice (it never shrinks below the within-component spread and
         grows where components disagree).
+    orient : {"auto", "as_given"}, default "auto"
+        ``"auto"``: reverse demonstrations recorded against the majority's
+        direction before fitting (:func:`lfdkit.mimic.orient_demos`; not when
+        ``fit`` is given ``times``, which say which way each one runs).
+        ``"as_given"``: trust the recorded directions. Either way a path
+        shorter than 0.3 times the median demonstration is refused
+        (:func:`lfdkit.mimic.check_one_motion`).
 
     Attributes
     ----------
@@ -179,6 +193,8 @@ class GMR(BaseEstimator):
         (smaller is better).
     n_samples_ : int
         Number of ``(t, s)`` samples the mixture was fitted to.
+    reversed_ : ndarray of bool, shape (n_demos,)
+        Which demonstrations were reversed before fitting.
 
     Examples
     --------
@@ -200,6 +216,7 @@ class GMR(BaseEstimator):
         random_state: Any = None,
         time_mode: TimeMode = "index",
         cov_mode: CovMode = "thesis",
+        orient: Literal["auto", "as_given"] = "auto",
     ) -> None:
         self.n_components = n_components
         self.covariance_reg = covariance_reg
@@ -209,6 +226,7 @@ class GMR(BaseEstimator):
         self.random_state = random_state
         self.time_mode = time_mode
         self.cov_mode = cov_mode
+        self.orient = orient
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> None:
@@ -221,6 +239,14 @@ class GMR(BaseEstimator):
             raise ValueError(f"time_mode: expected one of {_TIME_MODES}, got {self.time_mode!r}")
         if self.cov_mode not in _COV_MODES:
             raise ValueError(f"cov_mode: expected one of {_COV_MODES}, got {self.cov_mode!r}")
+        if self.orient not in ("auto", "as_given"):
+            raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
+        if self.n_components > _MAX_COMPONENTS:
+            raise ValueError(
+                f"n_components: at most {_MAX_COMPONENTS} components, got {self.n_components}"
+            )
+        if self.n_init > _MAX_INIT:
+            raise ValueError(f"n_init: at most {_MAX_INIT} initialisations, got {self.n_init}")
 
     def fit(self, demos: Any, times: Any = None) -> GMR:
         """Fit the joint mixture of phase and position.
@@ -248,10 +274,15 @@ class GMR(BaseEstimator):
         """
         self._check_params()
         demos = _check_demos_any_dim(demos, "demos")
+        if times is not None:
+            times = _check_times(times, demos)
+        self.reversed_ = np.zeros(len(demos), dtype=bool)
         if times is None:
+            if self.orient == "auto":
+                demos, self.reversed_ = orient_demos(demos, method="GMR")
             phases = [_phase(d, self.time_mode) for d in demos]
         else:
-            phases = _check_times(times, demos)
+            phases = times  # the times say which way each demonstration runs
         data = np.vstack([np.column_stack((tj, d)) for tj, d in zip(phases, demos, strict=True)])
         n_samples = data.shape[0]
         if self.n_components > n_samples:
@@ -298,6 +329,7 @@ class GMR(BaseEstimator):
         self.n_iter_ = int(gm.n_iter_)
         self.bic_ = float(gm.bic(data))
         self.aic_ = float(gm.aic(data))
+        check_one_motion(self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times)
         return self
 
     # -------------------------------------------------------------- predict
@@ -390,7 +422,7 @@ class GMR(BaseEstimator):
         Parameters
         ----------
         n_points : int, default 100
-            Number of samples; the phases are
+            Number of samples (at most 1,000,000); the phases are
             ``linspace(*time_range_, n_points)``, i.e. ``linspace(0, 1, n_points)``
             unless ``fit`` was given explicit ``times``.
 
@@ -399,7 +431,7 @@ class GMR(BaseEstimator):
         ndarray, shape (n_points, q)
         """
         check_is_fitted(self, ("weights_", "means_", "covariances_"))
-        n_points = check_positive(n_points, "n_points", integer=True)
+        n_points = check_count(n_points, "n_points")  # at most MAX_POINTS
         t0, t1 = getattr(self, "time_range_", (0.0, 1.0))
         return self.predict(np.linspace(t0, t1, n_points))
 
@@ -440,7 +472,10 @@ def select_n_components(
     if criterion not in ("bic", "aic"):
         raise ValueError(f"criterion: expected 'bic' or 'aic', got {criterion!r}")
     demos = _check_demos_any_dim(demos, "demos")
-    cand = list(candidates)
+    # At most _MAX_COMPONENTS + 1 read: a huge range is refused, not materialised.
+    cand = list(itertools.islice(candidates, _MAX_COMPONENTS + 1))
+    if len(cand) > _MAX_COMPONENTS:
+        raise ValueError(f"candidates: at most {_MAX_COMPONENTS} component counts to try")
     if not cand:
         raise ValueError("candidates: needs at least one component count")
     for k in cand:

@@ -44,8 +44,11 @@ implementation decides as follows (each is a constructor option):
   efficient as the mean on Gaussian spread (95 %), while intersections farther
   than about 4.7 robust standard deviations get no weight at all; the best
   choice when demonstrations are consistent except for occasional swerves.
-* **Direction.** Demonstrations recorded in the opposite direction are reversed
-  (``orient="auto"``); which ones is recorded in ``reversed_``.
+* **Direction.** Demonstrations recorded against the majority's direction are
+  reversed (``orient="auto"``, :func:`lfdkit.mimic.orient_demos`, shared by every
+  mimicking method); which ones is recorded in ``reversed_``. A path much
+  shorter than the demonstrations is refused
+  (:func:`lfdkit.mimic.check_one_motion`).
 * **Start.** The iteration starts from the point-wise average of the
   demonstrations resampled by arc length (``init="average"``), from one
   demonstration (``init=j``, as in the thesis) or from a given path. The result
@@ -60,7 +63,7 @@ from typing import Literal
 import numpy as np
 from sklearn.base import BaseEstimator
 
-from lfdkit._validation import check_demos, check_path, check_positive
+from lfdkit._validation import check_count, check_demos, check_path, check_positive
 from lfdkit.geometry import (
     FoldedPathError,
     PolylineSet,
@@ -72,6 +75,7 @@ from lfdkit.geometry import (
     resample_between,
 )
 from lfdkit.mimic.baselines import pointwise_average
+from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 #: Warn when more than this fraction of the final path's normals is under-supported.
 _UNSUPPORTED_WARNING = 0.1
@@ -87,7 +91,8 @@ class MeanPath(BaseEstimator):
     Parameters
     ----------
     n_points : int, default 100
-        Number of points of the estimated path (evenly spaced in arc length).
+        Number of points of the estimated path (evenly spaced in arc length),
+        2 to 1,000,000.
     center : {"mean", "median", "biweight"}, default "mean"
         Centre of the intersections along each normal: the thesis's mean, the
         robust median, or Tukey's biweight (see the module notes).
@@ -111,7 +116,8 @@ class MeanPath(BaseEstimator):
         Fraction of the demonstrations a normal must meet for its point to be
         estimated on its own (at least one demonstration in any case).
     orient : {"auto", "as_given"}, default "auto"
-        Reverse demonstrations recorded in the opposite direction, or trust them.
+        Reverse demonstrations recorded against the majority's direction (or
+        against ``init`` when it is a path), or trust them.
     max_halvings : int, default 5
         Step halvings tried before the iteration is declared stationary.
 
@@ -201,10 +207,14 @@ class MeanPath(BaseEstimator):
         for j, demo in enumerate(demos):
             if not np.any(np.diff(demo, axis=0)):
                 raise ValueError(f"demos[{j}]: has zero length (all points coincide)")
+        self.reversed_ = np.zeros(len(demos), dtype=bool)
+        if self.orient == "auto":
+            # A given initial path sets the direction; otherwise the majority does.
+            given = (
+                None if isinstance(self.init, (str, int, np.integer)) else self._initial_path(demos)
+            )
+            demos, self.reversed_ = orient_demos(demos, reference=given, method="MeanPath")
         ref = self._initial_path(demos)
-        demos, self.reversed_ = self._orient(demos, ref)
-        if self.orient == "auto" and self.reversed_.any() and isinstance(self.init, str):
-            ref = self._initial_path(demos)  # the average of unoriented demos is meaningless
         polylines = PolylineSet([_extend(d, self.extend) for d in demos])
         starts = np.array([d[0] for d in demos])
         stops = np.array([d[-1] for d in demos])
@@ -259,6 +269,7 @@ class MeanPath(BaseEstimator):
         frames = normal_frames(tangents)
         offsets = real.points - ref[:, None, :]
         self.distances_ = np.einsum("mnq,mkq->nmk", offsets, frames[:, 1:, :])
+        check_one_motion(ref, demos, "MeanPath")
         self.n_iter_ = n_iter
         self.stop_reason_ = stop_reason
         self.converged_ = stop_reason != "max_iter"
@@ -267,9 +278,7 @@ class MeanPath(BaseEstimator):
 
     # ------------------------------------------------------------- helpers
     def _check_params(self) -> None:
-        n_points = check_positive(self.n_points, "n_points", integer=True)
-        if n_points < 2:
-            raise ValueError(f"n_points: needs at least 2, got {n_points}")
+        check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
         if self.center not in ("mean", "median", "biweight"):
             raise ValueError(
                 f"center: expected 'mean', 'median' or 'biweight', got {self.center!r}"
@@ -291,29 +300,14 @@ class MeanPath(BaseEstimator):
         if isinstance(init, str):
             if init != "average":
                 raise ValueError(f"init: expected 'average', an int or an array, got {init!r}")
-            return pointwise_average(demos, self.n_points)
+            # Already oriented by fit when asked (orient="auto").
+            return pointwise_average(demos, self.n_points, orient="as_given")
         if isinstance(init, (int, np.integer)) and not isinstance(init, bool):
             if not -len(demos) <= init < len(demos):
                 raise ValueError(f"init: demo index {init} out of range for {len(demos)} demos")
             return resample(demos[init], self.n_points)
         path = check_path(init, "init", n_dims=demos[0].shape[1])
         return resample(path, self.n_points)
-
-    def _orient(self, demos: list[np.ndarray], ref: np.ndarray):
-        flipped = np.zeros(len(demos), dtype=bool)
-        if self.orient == "as_given":
-            return demos, flipped
-        # Compare with the first demonstration (or the given start path), whichever
-        # direction the initial average happened to take.
-        anchor = demos[0] if isinstance(self.init, str) else ref
-        a0, a1 = anchor[0], anchor[-1]
-        out = []
-        for j, d in enumerate(demos):
-            same = np.linalg.norm(d[0] - a0) + np.linalg.norm(d[-1] - a1)
-            opposite = np.linalg.norm(d[0] - a1) + np.linalg.norm(d[-1] - a0)
-            flipped[j] = opposite < same
-            out.append(d[::-1].copy() if flipped[j] else d)
-        return out, flipped
 
     def _reparametrise(self, path: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> np.ndarray:
         """Respace evenly in arc length, over the consensus extent if asked."""

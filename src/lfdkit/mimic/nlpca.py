@@ -28,13 +28,17 @@ from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
-from lfdkit._validation import check_path, check_positive, check_random_state
+from lfdkit._validation import check_count, check_path, check_positive, check_random_state
 from lfdkit.mimic.gmr import _check_demos_any_dim
+from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 __all__ = ["NLPCA"]
 
 Scaling = Literal["isotropic", "per_dimension"]
 _SCALINGS = ("isotropic", "per_dimension")
+#: Caps on sizes a caller gives, so that a typo is an error, not a MemoryError.
+_MAX_HIDDEN = 1000
+_MAX_RESTARTS = 1000
 
 
 # ---------------------------------------------------------------- network
@@ -143,7 +147,7 @@ class NLPCA(BaseEstimator):
     Parameters
     ----------
     n_hidden : int, default 10
-        Units in each of the two tanh hidden layers.
+        Units in each of the two tanh hidden layers (at most 1000).
     alpha : float, default 1e-3
         Weight-decay coefficient (non-negative); larger values give a smoother,
         flatter curve.
@@ -152,7 +156,7 @@ class NLPCA(BaseEstimator):
     n_restarts : int, default 3
         Number of random initialisations; the lowest final loss is kept.
     n_points : int, default 100
-        Number of samples in ``path_``.
+        Number of samples in ``path_`` (2 to 1,000,000).
     scaling : {"isotropic", "per_dimension"}, default "isotropic"
         Input standardisation. ``"isotropic"`` centres the data and divides
         every coordinate by one common scale (the RMS distance to the
@@ -162,6 +166,12 @@ class NLPCA(BaseEstimator):
         nearly straight path).
     random_state : None, int or numpy.random.Generator, default None
         Seed for the random initialisations.
+    orient : {"auto", "as_given"}, default "auto"
+        ``"auto"``: demonstrations recorded against the majority's direction
+        are reversed before their first and last points orient ``path_``
+        (:func:`lfdkit.mimic.orient_demos`); ``"as_given"``: trust them.
+        Either way a path shorter than 0.3 times the median demonstration is
+        refused (:func:`lfdkit.mimic.check_one_motion`).
 
     Attributes
     ----------
@@ -184,6 +194,8 @@ class NLPCA(BaseEstimator):
         Whether the kept restart's optimiser reported success.
     n_dims_ : int
         Spatial dimension ``q``.
+    reversed_ : ndarray of bool, shape (n_demos,)
+        Which demonstrations were reversed to orient ``path_``.
     mean_ : ndarray, shape (q,)
         Centre subtracted before the network.
     scale_ : ndarray, shape (q,)
@@ -201,6 +213,7 @@ class NLPCA(BaseEstimator):
         n_points: int = 100,
         scaling: Scaling = "isotropic",
         random_state: Any = None,
+        orient: Literal["auto", "as_given"] = "auto",
     ) -> None:
         self.n_hidden = n_hidden
         self.alpha = alpha
@@ -209,6 +222,7 @@ class NLPCA(BaseEstimator):
         self.n_points = n_points
         self.scaling = scaling
         self.random_state = random_state
+        self.orient = orient
 
     def fit(self, demos: Any) -> NLPCA:
         """Train the network on all points of all demonstrations.
@@ -225,18 +239,28 @@ class NLPCA(BaseEstimator):
         self : NLPCA
         """
         n_hidden = check_positive(self.n_hidden, "n_hidden", integer=True)
+        if n_hidden > _MAX_HIDDEN:
+            raise ValueError(f"n_hidden: at most {_MAX_HIDDEN} units, got {n_hidden}")
         alpha = check_positive(self.alpha, "alpha", allow_zero=True)
         max_iter = check_positive(self.max_iter, "max_iter", integer=True)
         n_restarts = check_positive(self.n_restarts, "n_restarts", integer=True)
-        n_points = check_positive(self.n_points, "n_points", integer=True)
-        if n_points < 2:
-            raise ValueError(f"n_points: must be >= 2, got {n_points}")
+        n_points = check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
+        if n_restarts > _MAX_RESTARTS:
+            raise ValueError(f"n_restarts: at most {_MAX_RESTARTS}, got {n_restarts}")
+        if self.orient not in ("auto", "as_given"):
+            raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
         if self.scaling not in _SCALINGS:
             raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
         rng = check_random_state(self.random_state)
 
         demos = _check_demos_any_dim(demos, "demos")
+        # The network sees the point cloud in the recorded order (scores_ follows it);
+        # only the end points that orient the path need the common direction.
         data = np.vstack(demos)
+        self.reversed_ = np.zeros(len(demos), dtype=bool)
+        oriented = demos
+        if self.orient == "auto":
+            oriented, self.reversed_ = orient_demos(demos, method="NLPCA")
         q = data.shape[1]
         mean = data.mean(axis=0)
         centred = data - mean
@@ -268,8 +292,8 @@ class NLPCA(BaseEstimator):
         self.converged_ = bool(best.success)
 
         # Orient: increasing score must run from the demos' start to their end.
-        start = np.mean([d[0] for d in demos], axis=0)
-        end = np.mean([d[-1] for d in demos], axis=0)
+        start = np.mean([d[0] for d in oriented], axis=0)
+        end = np.mean([d[-1] for d in oriented], axis=0)
         scores = self.transform(data)
         path = self.inverse_transform(np.linspace(scores.min(), scores.max(), n_points))
         forward = np.linalg.norm(path[0] - start) + np.linalg.norm(path[-1] - end)
@@ -282,6 +306,7 @@ class NLPCA(BaseEstimator):
             params[4][...] *= -1.0  # W3
             scores = self.transform(data)
             path = self.inverse_transform(np.linspace(scores.min(), scores.max(), n_points))
+        check_one_motion(path, demos, "NLPCA")
         self.scores_ = scores
         self.path_ = path
         recon = self.inverse_transform(scores)
