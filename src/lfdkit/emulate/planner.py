@@ -385,7 +385,9 @@ def _solve(
     return d, float(cost), int(n_iter), bool(ok)
 
 
-def _lateral_levels(problem: _Problem, d0: np.ndarray) -> tuple[np.ndarray, int]:
+def _lateral_levels(
+    problem: _Problem, d0: np.ndarray, fine: bool = False
+) -> tuple[np.ndarray, int]:
     """The grid of the global search: offsets ``h·j``, ``|j| ≤ J``, and cells per step.
 
     It spans the start and, for every obstacle whose response or radius
@@ -410,6 +412,8 @@ def _lateral_levels(problem: _Problem, d0: np.ndarray) -> tuple[np.ndarray, int]
                 span = max(span, float(np.abs(lateral).max()) + reach)
     span = min(span, float(np.abs(d0).max()) + n * step)
     cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
+    if fine:
+        cells_per_step, budget = 2 * cells_per_step, 2 * budget
     window = max(1, min(cells_per_step, int(budget * step / span)))
     spacing = step / window
     count = min(int(np.ceil(span / spacing)), budget)
@@ -738,7 +742,7 @@ def _vector(value: Any, name: str, size: int) -> np.ndarray:
 
 
 def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
-    """The global grid path, its one-obstacle flips, and the nominal."""
+    """The global grid path, its one-obstacle flips, a finer grid's path (2-D), the nominal."""
     nominal = np.zeros((problem.n, problem.m))
     if not problem.has_obstacles:
         return [nominal]
@@ -746,7 +750,11 @@ def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np
     grid = _global_start(problem, d0, reach_goal, levels)
     if grid is None:
         raise UnsafePlanError(_blocked_message(problem, reach_goal))
-    return [grid, *_flipped_starts(problem, d0, reach_goal, grid, levels), nominal]
+    starts = [grid, *_flipped_starts(problem, d0, reach_goal, grid, levels)]
+    if problem.m == 1:  # cheap in 2-D: a grid twice as fine separates closer ties
+        fine = _global_start(problem, d0, reach_goal, _lateral_levels(problem, d0, fine=True))
+        starts += [] if fine is None else [fine]
+    return [*starts, nominal]
 
 
 def _blocked_message(problem: _Problem, reach_goal: bool) -> str:
