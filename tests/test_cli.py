@@ -600,3 +600,26 @@ def test_bench_unknown_name_lists_the_available_ones(capsys):
     assert "'no_such_benchmark'" in line
     assert line.endswith("choose from " + ", ".join(available))
     assert out == ""
+
+
+def test_learn_exits_1_and_writes_nothing_when_the_reward_fit_fails(
+    capsys, tmp_path, examples, monkeypatch
+):
+    import lfdkit.skill
+
+    class TwoIterations(lfdkit.skill.IOC):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **{**kwargs, "max_iter": 2})
+
+    monkeypatch.setattr(lfdkit.skill, "IOC", TwoIterations)
+    out = tmp_path / "skill.json"
+    code, stdout, err = run_cli(
+        capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out, "-q"
+    )
+    assert code == 1
+    line = error_line(err, "learn")
+    assert "did not converge" in line
+    assert "ITERATIONS" in line
+    assert "wrote nothing" in line
+    assert stdout == ""
+    assert not out.exists()

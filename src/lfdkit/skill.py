@@ -422,6 +422,9 @@ class Skill:
             "classes": list(ioc.classes_),
             "loss": float(ioc.loss_),
             "converged": bool(ioc.converged_),
+            "convergence_message": ioc.convergence_message_,
+            "not_learned": list(ioc.not_learned_),
+            "identifiability": _jsonable(ioc.identifiability_),
             "seconds": time.perf_counter() - started,
             "stages": _jsonable(
                 [

@@ -28,14 +28,15 @@ at run time, its gradient by forward sensitivities through every MPC step.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize
 
-from lfdkit._validation import check_positive
+from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.planner import (
     MAX_HORIZON,
     MIN_HORIZON,
@@ -50,7 +51,7 @@ from lfdkit.emulate.planner import (
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
 
-__all__ = ["IOC", "DemoInScene"]
+__all__ = ["IOC", "THETA_BOUNDS", "DemoInScene"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,8 +188,41 @@ def _mpc_with_sensitivity(
     return offsets, sensitivity
 
 
+#: Bounds of every θ' (log Q' and log precisions, in normalised units).
+THETA_BOUNDS = (-20.0, 25.0)
+#: Range of the starting search (normalised units): nominal weights and obstacle widths.
+SEARCH_WEIGHTS = (0.1, 1000.0)
+SEARCH_WIDTHS = (0.005, 1.0)
+#: An obstacle term smaller than this at every demonstration point (at the widest
+#: search width), or a class that moves no plan by more than this fraction of the
+#: demonstrations' offsets, did not shape them.
+INFLUENCE_FLOOR = 1e-6
+#: L-BFGS-B's line search may fail at a point that is already stationary to the
+#: accuracy of the inner plans; below this projected gradient (of the loss scaled
+#: to about 1) that is accepted as convergence.
+STATIONARY_GRADIENT = 1e-5
+#: A parameter whose relative standard error exceeds this is reported as not identified.
+IDENTIFIED_ERROR = 0.5
+
+Progress = Callable[[str], None]
+
+
 class IOC:
     """Fit a :class:`Reward` to demonstrations in their scenes (thesis eq. 5.5).
+
+    Lengths are normalised inside :meth:`fit`: every demonstration, nominal and
+    obstacle is divided by one characteristic length ``ℓ`` (the largest extent
+    of the nominal paths), the unit-free parameters are fitted, and ``Q`` and
+    the precisions are converted back (both scale as 1/length²). The same
+    demonstrations in millimetres and in metres therefore give the same reward
+    up to the scale.
+
+    The loss has local minima in θ (a stiff path with narrow obstacles and a
+    soft one with wide obstacles can both bend around a demonstration). Without
+    ``init`` the fit first evaluates the loss (plans only, no gradients) over a
+    coarse grid of stiffnesses and isotropic widths and a Latin hypercube over
+    ``log Q`` and every class's log width per axis, then runs L-BFGS from the
+    ``n_starts`` best distinct points and keeps the lowest final loss.
 
     Parameters
     ----------
@@ -202,27 +236,50 @@ class IOC:
     max_slope : float
         The planner's action bound (sideways step per nominal step).
     init : Reward, optional
-        Starting reward (default: the best of a coarse grid of stiffnesses and
-        obstacle widths, see :meth:`_initial_theta`).
+        Starting reward (default: the search described above).
+    n_starts : int
+        L-BFGS runs, from the best distinct points of the search.
     max_iter : int
-        L-BFGS iterations per stage.
+        L-BFGS iterations per run.
     tol : float
         Relative tolerance on the loss for L-BFGS.
     gradient : {"implicit", "finite_difference"}
         Exact implicit gradients (default), or central finite differences of the
         loss (two extra plans per parameter and demonstration; for comparison).
+    progress : callable, optional
+        Called with a one-line message at every stage, and at every L-BFGS
+        iteration once a stage has run for more than 2 s.
 
     Attributes
     ----------
     reward_ : Reward
+        The learned reward, in the units of the data; classes in
+        ``not_learned_`` are left out, so the planner refuses scenes with them.
     theta_ : ndarray
-        ``[log Q, log diag P_c …]``.
+        ``[log Q, log diag P_c …]`` of ``reward_`` (units of the data).
     classes_ : tuple of str
+        The learned classes (in ``theta_``'s order).
+    not_learned_ : tuple of str
+        Classes in the scenes whose obstacles never influenced a demonstration.
+    length_scale_ : float
+        The characteristic length ``ℓ`` the fit was done in (units of the data).
     loss_ : float
-        Final mean squared distance (units²) on the training demonstrations.
+        Final mean squared distance (units²) on the training demonstrations,
+        of the last stage's planner.
     loss_history_ : list of float
     stages_ : list of dict
-        Per stage: planner, iterations, loss, seconds.
+        Per stage: planner, iterations, loss, seconds, message, converged.
+    converged_ : bool
+        False when an optimiser of the kept runs failed (line search failure
+        away from a stationary point, iteration limit, non-finite loss) or a
+        learned parameter sits at its bound.
+    convergence_message_ : str
+        Why (not) converged.
+    identifiability_ : dict
+        Per parameter name (``"Q"``, ``"P[<class>][<axis>]"``): ``curvature``
+        (second derivative of the training loss scaled to about 1, in θ),
+        ``relative_error`` (approximate relative standard error of the
+        parameter) and ``identified``.
     """
 
     def __init__(
@@ -233,18 +290,22 @@ class IOC:
         horizon: int | None = None,
         max_slope: float = 1.0,
         init: Reward | None = None,
+        n_starts: int = 3,
         max_iter: int = 200,
         tol: float = 1e-10,
         gradient: str = "implicit",
+        progress: Progress | None = None,
     ) -> None:
         self.classes = classes
         self.n_points = n_points
         self.horizon = horizon
         self.max_slope = max_slope
         self.init = init
+        self.n_starts = n_starts
         self.max_iter = max_iter
         self.tol = tol
         self.gradient = gradient
+        self.progress = progress
 
     # ---------------------------------------------------------------- data
     def _prepare(self, demos: Any, scenes: Any, nominal: Any) -> list[DemoInScene]:
@@ -282,6 +343,31 @@ class IOC:
             prepared.append(DemoInScene(corridor, scene, start, target, found))
         return prepared
 
+    @staticmethod
+    def _normalised(
+        demos: Any, scenes: Any, nominal: Any
+    ) -> tuple[float, list[np.ndarray], list[Any], Any]:
+        """Demonstrations, scenes and nominals divided by the characteristic length."""
+        demos = [check_path(demo, f"demos[{j}]") for j, demo in enumerate(demos)]
+        scenes = list(scenes)
+        several = isinstance(nominal, (list, tuple))
+        paths = list(nominal) if several else [nominal]
+        checked = {id(p): check_path(p, "nominal") for p in paths}
+        length = max(float(np.ptp(p, axis=0).max()) for p in checked.values())
+        if not np.isfinite(length) or length <= 0.0:
+            raise ValueError("nominal: has no extent (all its points coincide)")
+        scaled_paths = {key: p / length for key, p in checked.items()}
+        scaled_nominal = (
+            [scaled_paths[id(p)] for p in paths] if several else scaled_paths[id(paths[0])]
+        )
+        scaled_scenes = [
+            Scene.from_arrays(s.labels, s.positions / length, s.radii / length)
+            if isinstance(s, Scene) and len(s)
+            else s
+            for s in scenes
+        ]
+        return length, [d / length for d in demos], scaled_scenes, scaled_nominal
+
     # ------------------------------------------------------------- objective
     def _objective(
         self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
@@ -301,6 +387,9 @@ class IOC:
     def _problem(self, reward: Reward, item: DemoInScene) -> _Problem:
         return _build(reward, item.corridor, item.scene, self.max_slope)
 
+    def _class_of(self, scene: Scene) -> np.ndarray:
+        return np.array([self.classes_.index(label) for label in scene.labels], int)
+
     def _implicit_gradient(
         self, problem: _Problem, item: DemoInScene, d: np.ndarray, d_loss: np.ndarray
     ) -> np.ndarray:
@@ -316,12 +405,27 @@ class IOC:
             adjoint = np.linalg.solve(h, rhs)
         except np.linalg.LinAlgError:
             adjoint = np.linalg.lstsq(h, rhs, rcond=None)[0]
-        class_of = np.array([self.classes_.index(label) for label in item.scene.labels], int)
-        d_grad = _theta_derivative(problem, d, class_of, len(self.classes_))
+        d_grad = _theta_derivative(problem, d, self._class_of(item.scene), len(self.classes_))
         spread = np.where(moving[:, :, None], adjoint[np.maximum(index, 0)][:, :, None], 0.0)
         return -np.einsum("kmp,kmp->p", spread, d_grad)
 
     # ------------------------------------------------------------------ fit
+    def _check_params(self) -> None:
+        check_positive(self.n_points, "n_points", integer=True)
+        check_positive(self.max_iter, "max_iter", integer=True)
+        check_positive(self.n_starts, "n_starts", integer=True)
+        check_positive(self.max_slope, "max_slope")
+        if self.gradient not in ("implicit", "finite_difference"):
+            raise ValueError(
+                f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
+            )
+        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
+            raise ValueError(
+                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
+            )
+        if self.init is not None and not isinstance(self.init, Reward):
+            raise TypeError(f"init: expected a Reward, got {type(self.init).__name__}")
+
     def fit(self, demos: Any, scenes: Any, nominal: Any) -> IOC:
         """Learn the reward.
 
@@ -339,81 +443,297 @@ class IOC:
         -------
         IOC
             ``self``.
+
+        Warns
+        -----
+        UserWarning
+            For an obstacle class whose obstacles never influenced a
+            demonstration (it is not learned, see ``not_learned_``), and when
+            the fit did not converge.
         """
-        check_positive(self.n_points, "n_points", integer=True)
-        check_positive(self.max_iter, "max_iter", integer=True)
-        if self.gradient not in ("implicit", "finite_difference"):
-            raise ValueError(
-                f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
-            )
-        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
-            )
-        data = self._prepare(demos, scenes, nominal)
+        self._check_params()
+        demos, scenes = list(demos), list(scenes)
+        length, scaled_demos, scaled_scenes, scaled_nominal = self._normalised(
+            demos, scenes, nominal
+        )
+        data = self._prepare(scaled_demos, scaled_scenes, scaled_nominal)
+        self.length_scale_ = length
         seen = tuple(dict.fromkeys(label for item in data for label in item.scene.labels))
-        self.classes_ = tuple(self.classes) if self.classes is not None else seen
-        missing = [label for label in seen if label not in self.classes_]
+        wanted = tuple(self.classes) if self.classes is not None else seen
+        missing = [label for label in seen if label not in wanted]
         if missing:
             raise ValueError(f"classes: the scenes contain {missing[0]!r}, which is not listed")
         self._q = data[0].corridor.n_dims
-        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
-        started = time.perf_counter()
-        theta0 = self._initial_theta(data, warm)
-        history: list[float] = []
-        self.stages_ = [
-            {
-                "planner": "initial grid",
-                "iterations": 0,
-                "loss": float("nan"),
-                "seconds": time.perf_counter() - started,
-                "message": "best of the starting grid" if self.init is None else "init given",
-            }
-        ]
-
+        # A class out of reach of every demonstration even at the widest response
+        # the search tries has no say in the loss: leave it out of θ.
+        far = [c for c in wanted if self._influence(data, c, SEARCH_WIDTHS[1] ** -2) is None]
+        learnable = tuple(c for c in wanted if c not in far)
+        self.classes_ = learnable
+        data = self._without(data, far)
         # L-BFGS-B's stopping test is relative to max(|f|, 1): scale the loss to
         # about 1, the mean squared offset of the demonstrations from the nominal
         # (replaying the nominal scores 1).
         self._scale = float(
             np.mean([np.mean(item.target[item.found] ** 2) for item in data]) or 1.0
         )
+        self._data = data
+        history: list[float] = []
+        self.stages_ = []
+        theta = self._fit_full_horizon(data, history)
+        if self.horizon is not None:
+            theta = self._refine_mpc(theta, data, history)
+        # After the fit: a class whose learned response does not move the plans
+        # did not shape the demonstrations either.
+        weak = [label for label in self.classes_ if not self._moves_plans(theta, data, label)]
+        self.not_learned_ = tuple(c for c in wanted if c in far or c in weak)
+        keep = [i for i, c in enumerate(self.classes_) if c not in weak]
+        columns = [0] + [1 + i * self._q + a for i in keep for a in range(self._q)]
+        theta = theta[columns]
+        self.classes_ = tuple(self.classes_[i] for i in keep)
+        self._data = data = self._without(data, weak)
+        self.identifiability_ = self._identifiability(theta, data)
+        # Back to the data's units: Q and the precisions scale as 1/length².
+        self.theta_ = theta - 2.0 * np.log(length)
+        self.reward_ = Reward.from_theta(self.theta_, self.classes_, self._q)
+        self.loss_history_ = [value * length**2 for value in history]
+        self.loss_ = float(self.stages_[-1]["loss"])
+        failed = [s for s in self.stages_ if not s.get("converged", True)]
+        self.converged_ = not failed
+        self.convergence_message_ = (
+            "; ".join(f"{s['planner']}: {s['reason']}" for s in failed) if failed else "converged"
+        )
+        for label in self.not_learned_:
+            warnings.warn(
+                f"obstacle class {label!r} was not learned: none of its obstacles influenced "
+                "a demonstration; planning a scene with it is refused unless a reward for it "
+                "is adopted (e.g. Skill.adopt)",
+                UserWarning,
+                stacklevel=2,
+            )
+        if not self.converged_:
+            warnings.warn(
+                f"the reward fit did not converge ({self.convergence_message_})",
+                UserWarning,
+                stacklevel=2,
+            )
+        return self
 
-        def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
-            value, grad = self._objective(theta, data, warm)
-            if self.gradient == "finite_difference":
-                grad = self._finite_difference(
-                    lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
-                )
-            history.append(value)
-            return value / self._scale, grad / self._scale
+    def _tell(self, message: str) -> None:
+        if self.progress is not None:
+            self.progress(message)
 
-        started = time.perf_counter()
+    def _influence(self, data: list[DemoInScene], label: str, precision: Any) -> float | None:
+        """Largest obstacle term of class ``label`` at a demonstration point (None: no obstacle).
+
+        ``precision``: the class's diagonal precision (q,), or a scalar for an
+        isotropic one, in the units of ``data``.
+        """
+        largest = None
+        for item in data:
+            mask = np.array([lab == label for lab in item.scene.labels], bool)
+            if not mask.any():
+                continue
+            points = item.corridor.to_points(np.where(item.found[:, None], item.target, 0.0))
+            rel = points[item.found][:, None, :] - item.scene.positions[mask][None]
+            depth = np.einsum("klq,q->kl", rel**2, np.broadcast_to(precision, (self._q,)))
+            value = float(np.exp(-depth.min()))
+            largest = value if largest is None else max(largest, value)
+        return largest if largest is not None else None
+
+    def _moves_plans(self, theta: np.ndarray, data: list[DemoInScene], label: str) -> bool:
+        """Whether class ``label``'s obstacles move a plan at ``theta`` by a noticeable amount.
+
+        Noticeable: more than ``INFLUENCE_FLOOR`` times the root mean squared
+        offset of the demonstrations. Measured on the plans, not on the size of
+        the obstacle term: a tiny ``Q`` makes a tiny term matter.
+        """
+        reward = Reward.from_theta(theta, self.classes_, self._q)
+        threshold = INFLUENCE_FLOOR * np.sqrt(self._scale)
+        for item in data:
+            if label not in item.scene.labels:
+                continue
+            others = self._without([item], [label])[0]
+            warm = np.where(item.found[1:, None], item.target[1:], 0.0)
+            with_it = _solve(self._problem(reward, item), item.start, warm.copy())[0]
+            without = _solve(self._problem(reward, others), item.start, warm.copy())[0]
+            if np.max(np.abs(with_it - without)) > threshold:
+                return True
+        return False
+
+    @staticmethod
+    def _without(data: list[DemoInScene], labels: Sequence[str]) -> list[DemoInScene]:
+        """The data with the obstacles of ``labels`` removed from every scene."""
+        if not labels:
+            return data
+        out = []
+        for item in data:
+            kept = [o for o in item.scene.obstacles if o.label not in labels]
+            out.append(
+                DemoInScene(item.corridor, Scene(tuple(kept)), item.start, item.target, item.found)
+            )
+        return out
+
+    def _theta_names(self) -> list[str]:
+        axes = "xyz"[: self._q]
+        return ["Q"] + [f"P[{c}][{a}]" for c in self.classes_ for a in axes]
+
+    def _lbfgs(
+        self, fun: Callable, theta0: np.ndarray, name: str, started: float
+    ) -> tuple[np.ndarray, dict]:
+        """One bounded L-BFGS run; the stage record says honestly whether it converged."""
+        iterations = [0]
+
+        def callback(*_: Any) -> None:
+            iterations[0] += 1
+            if time.perf_counter() - started > 2.0:
+                self._tell(f"IOC {name}: iteration {iterations[0]}, loss {history_last[0]:.4g}")
+
+        history_last = [np.nan]
+
+        def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
+            value, grad = fun(theta)
+            history_last[0] = value
+            return value, grad
+
+        run_started = time.perf_counter()
         result = minimize(
-            fun,
+            wrapped,
             theta0,
             jac=True,
             method="L-BFGS-B",
-            bounds=[(-20.0, 25.0)] * theta0.size,
+            bounds=[THETA_BOUNDS] * theta0.size,
+            callback=callback,
             options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-8},
         )
+        theta = np.asarray(result.x, float)
+        converged, reason = bool(result.success), str(result.message)
+        at_bound = np.flatnonzero(
+            (theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6)
+        )
+        if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
+            converged, reason = False, "non-finite loss or gradient"
+        elif not converged and result.status == 2:
+            # A failed line search at a point stationary to the accuracy of the
+            # inner plans is the optimum; anywhere else it is a failure.
+            jac = np.asarray(result.jac, float)
+            projected = np.where(
+                ((theta <= THETA_BOUNDS[0]) & (jac > 0)) | ((theta >= THETA_BOUNDS[1]) & (jac < 0)),
+                0.0,
+                jac,
+            )
+            if np.max(np.abs(projected)) <= STATIONARY_GRADIENT:
+                converged = True
+                reason += " (accepted: stationary to the accuracy of the plans)"
+        if converged and at_bound.size:
+            names = self._theta_names()
+            converged = False
+            reason = f"{names[at_bound[0]]} at its bound (degenerate fit)"
+        stage = {
+            "planner": name,
+            "iterations": int(result.nit),
+            "loss": float(result.fun) * self._scale * self.length_scale_**2,
+            "seconds": time.perf_counter() - run_started,
+            "message": str(result.message),
+            "converged": converged,
+            "reason": reason,
+        }
+        return theta, stage
+
+    def _fit_full_horizon(self, data: list[DemoInScene], history: list[float]) -> np.ndarray:
+        started = time.perf_counter()
+        demo_warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+        if self.init is not None:
+            starts = [self._init_theta()]
+            message = "init given"
+        else:
+            self._tell("IOC: searching starting parameters (plans only)")
+            starts = self._search(data, demo_warm)
+            message = f"best {len(starts)} distinct of the starting search"
         self.stages_.append(
             {
-                "planner": "full horizon",
-                "iterations": int(result.nit),
-                "loss": float(result.fun) * self._scale,
+                "planner": "initial search",
+                "iterations": 0,
+                "loss": float("nan"),
                 "seconds": time.perf_counter() - started,
-                "message": str(result.message),
+                "message": message,
+                "converged": True,
             }
         )
-        theta = result.x
-        if self.horizon is not None:
-            theta = self._refine_mpc(theta, data, history)
-        self.theta_ = theta
-        self.reward_ = Reward.from_theta(theta, self.classes_, self._q)
-        self.loss_history_ = history
-        self.loss_ = float(self.stages_[-1]["loss"])  # the last fitting stage
-        self.converged_ = bool(result.success)
-        return self
+        best = None
+        for r, theta0 in enumerate(starts):
+            self._tell(f"IOC full horizon: run {r + 1} of {len(starts)}")
+            warm = [w.copy() for w in demo_warm]
+            run_history: list[float] = []
+
+            def fun(theta: np.ndarray, warm=warm, run_history=run_history) -> tuple:
+                value, grad = self._objective(theta, data, warm)
+                if self.gradient == "finite_difference":
+                    grad = self._finite_difference(
+                        lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
+                    )
+                run_history.append(value)
+                return value / self._scale, grad / self._scale
+
+            theta, stage = self._lbfgs(fun, theta0, "full horizon", started)
+            # Rank the runs by the loss of plans started from the demonstrations,
+            # the same for every run (an L-BFGS run warm-starts from its last plans).
+            final = self._loss_only(theta, data, demo_warm)
+            stage["loss"] = final * self.length_scale_**2
+            stage["starts"] = len(starts)
+            if best is None or final < best[0]:
+                best = (final, theta, stage, run_history)
+        _, theta, stage, run_history = best
+        history.extend(run_history)
+        stage["seconds"] = time.perf_counter() - started - self.stages_[0]["seconds"]
+        self.stages_.append(stage)
+        return theta
+
+    def _init_theta(self) -> np.ndarray:
+        missing = [c for c in self.classes_ if c not in self.init.precisions]
+        if missing:
+            raise ValueError(f"init: has no precision for class {missing[0]!r}")
+        sub = Reward(self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_})
+        # The data are in units of the length scale: Q and P scale as length².
+        return sub.theta + 2.0 * np.log(self.length_scale_)
+
+    def _search(self, data: list[DemoInScene], warm: list[np.ndarray]) -> list[np.ndarray]:
+        """The ``n_starts`` best distinct points of a coarse grid and a Latin hypercube.
+
+        The grid: ``Q' = 10 f_Q``, ``f_Q`` in 0.1 … 10, every width ``0.05 f_w``,
+        ``f_w`` in 0.4 … 2.5 (normalised units); the hypercube: ``8 (1 + C q)``
+        points over ``log Q'`` in ``SEARCH_WEIGHTS`` and every class's log width
+        per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
+        """
+        n_theta = 1 + len(self.classes_) * self._q
+        candidates = []
+        for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
+            for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
+                width = 0.05 * spread
+                candidates.append(
+                    np.array([np.log(10.0 * stiffness)] + [-2.0 * np.log(width)] * (n_theta - 1))
+                )
+        rng = np.random.default_rng(0)
+        n_lhs = 8 * n_theta
+        cells = (
+            rng.permuted(np.tile(np.arange(n_lhs), (n_theta, 1)), axis=1).T
+            + rng.random((n_lhs, n_theta))
+        ) / n_lhs
+        low = np.array(
+            [np.log(SEARCH_WEIGHTS[0])] + [-2.0 * np.log(SEARCH_WIDTHS[1])] * (n_theta - 1)
+        )
+        high = np.array(
+            [np.log(SEARCH_WEIGHTS[1])] + [-2.0 * np.log(SEARCH_WIDTHS[0])] * (n_theta - 1)
+        )
+        candidates += list(low + cells * (high - low))
+        losses = np.array([self._loss_only(theta, data, warm) for theta in candidates])
+        order = np.argsort(np.where(np.isfinite(losses), losses, np.inf), kind="stable")
+        chosen: list[np.ndarray] = []
+        for i in order:
+            if all(np.max(np.abs(candidates[i] - c)) > 1.0 for c in chosen):
+                chosen.append(candidates[i])
+            if len(chosen) == self.n_starts:
+                break
+        return chosen
 
     @staticmethod
     def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
@@ -423,37 +743,6 @@ class IOC:
             step[i] = eps
             out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
         return out
-
-    def _initial_theta(self, data: list[DemoInScene], warm: list[np.ndarray]) -> np.ndarray:
-        """``init``'s θ, or the best of a coarse grid of stiffnesses and widths.
-
-        The loss has local minima in θ (a stiff path with narrow obstacles and a
-        soft one with wide obstacles can both bend around a demonstration), so
-        without ``init`` the loss is evaluated (plans only, no optimisation) for
-        ``Q = 10 f_Q / extent²`` and widths ``0.05 f_w extent``, ``f_Q`` in 0.1 … 10,
-        ``f_w`` in 0.4 … 2.5, and the fit starts from the best.
-        """
-        if self.init is not None:
-            missing = [c for c in self.classes_ if c not in self.init.precisions]
-            if missing:
-                raise ValueError(f"init: has no precision for class {missing[0]!r}")
-            sub = Reward(
-                self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_}
-            )
-            return sub.theta
-        extent = max(float(np.ptp(item.corridor.points, axis=0).max()) for item in data)
-        best, best_loss = None, np.inf
-        for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
-            for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
-                width = 0.05 * spread * extent
-                theta = np.array(
-                    [np.log(10.0 * stiffness / extent**2)]
-                    + [np.log(1.0 / width**2)] * (self._q * len(self.classes_))
-                )
-                loss = self._loss_only(theta, data, warm)
-                if loss < best_loss:
-                    best, best_loss = theta, loss
-        return best
 
     def _loss_only(
         self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
@@ -467,10 +756,74 @@ class IOC:
             total += float(np.sum(residual**2)) / count
         return total
 
+    def training_loss(self, reward: Reward) -> float:
+        """Full-horizon training loss (units²) of any reward on the fitted data.
+
+        Planned as in the fit (each plan started from its demonstration), so
+        the learned reward can be compared with another, e.g. the true one of a
+        synthetic demonstrator. Classes not learned are left out of the scenes.
+        """
+        if not hasattr(self, "reward_"):
+            raise ValueError("training_loss: fit the IOC first")
+        if not isinstance(reward, Reward):
+            raise TypeError(f"reward: expected a Reward, got {type(reward).__name__}")
+        missing = [c for c in self.classes_ if c not in reward.precisions]
+        if missing:
+            raise ValueError(f"reward: has no precision for class {missing[0]!r}")
+        sub = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in self.classes_})
+        theta = sub.theta + 2.0 * np.log(self.length_scale_)
+        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in self._data]
+        return self._loss_only(theta, self._data, warm) * self.length_scale_**2
+
+    def _identifiability(self, theta: np.ndarray, data: list[DemoInScene]) -> dict:
+        """Curvature of the full-horizon loss in θ and approximate relative standard errors.
+
+        The Hessian is central differences of the exact gradient. The loss
+        ``L = Σ r² / N`` is treated as a least-squares fit whose residuals are
+        correlated along each demonstration (smooth noise), so the errors use
+        the number of demonstrations ``D`` as the number of independent
+        observations: ``cov θ ≈ 2 L / D · H⁻¹``, which is deliberately
+        conservative. The relative error of ``exp θ_i`` is ``√cov_ii``.
+        """
+        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+
+        def grad(t: np.ndarray) -> np.ndarray:
+            return self._objective(t, data, [w.copy() for w in warm])[1] / self._scale
+
+        eps = 1e-4
+        n = theta.size
+        hessian = np.empty((n, n))
+        for i in range(n):
+            step = np.zeros(n)
+            step[i] = eps
+            hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
+        hessian = 0.5 * (hessian + hessian.T)
+        loss = self._loss_only(theta, data, warm) / self._scale
+        variance_scale = 2.0 * loss / len(data)
+        diag = np.diag(hessian)
+        try:
+            np.linalg.cholesky(hessian)
+            variances = variance_scale * np.diag(np.linalg.inv(hessian))
+            definite = True
+        except np.linalg.LinAlgError:
+            variances = np.where(diag > 0, variance_scale / np.where(diag > 0, diag, 1.0), np.inf)
+            definite = False
+        out = {}
+        for i, name in enumerate(self._theta_names()):
+            flat = diag[i] <= 1e-8
+            error = float(np.sqrt(variances[i])) if not flat else float("inf")
+            out[name] = {
+                "curvature": float(diag[i]),
+                "relative_error": error,
+                "identified": bool(definite and not flat and error <= IDENTIFIED_ERROR),
+            }
+        return out
+
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
     ) -> np.ndarray:
         started = time.perf_counter()
+        self._tell(f"IOC MPC H={int(self.horizon)}: refining")
 
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
             loss, grad = self._objective_mpc(value, data)
@@ -479,24 +832,9 @@ class IOC:
             history.append(loss)
             return loss / self._scale, grad / self._scale
 
-        result = minimize(
-            fun,
-            theta,
-            jac=True,
-            method="L-BFGS-B",
-            bounds=[(-20.0, 25.0)] * theta.size,
-            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-8},
-        )
-        self.stages_.append(
-            {
-                "planner": f"MPC H={int(self.horizon)}",
-                "iterations": int(result.nit),
-                "loss": float(result.fun) * self._scale,
-                "seconds": time.perf_counter() - started,
-                "message": str(result.message),
-            }
-        )
-        return result.x
+        theta, stage = self._lbfgs(fun, theta, f"MPC H={int(self.horizon)}", started)
+        self.stages_.append(stage)
+        return theta
 
     def _objective_mpc(
         self, theta: np.ndarray, data: list[DemoInScene]
@@ -506,9 +844,8 @@ class IOC:
         total, gradient = 0.0, np.zeros_like(theta)
         for item in data:
             problem = self._problem(reward, item)
-            class_of = np.array([self.classes_.index(label) for label in item.scene.labels], int)
             d, sensitivity = _mpc_with_sensitivity(
-                problem, item, int(self.horizon), class_of, len(self.classes_)
+                problem, item, int(self.horizon), self._class_of(item.scene), len(self.classes_)
             )
             residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
             total += float(np.sum(residual**2)) / count
