@@ -220,7 +220,7 @@ def synthetic(n_demos: int, noise_factor: float, seed: int):
 
 
 @pytest.mark.parametrize("noise_factor", [1.0, 2.0, 4.0])
-@pytest.mark.parametrize("n_demos", [3, 6, 12, pytest.param(24, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("n_demos", [3, 6, 12, 24])
 def test_learned_loss_never_exceeds_the_true_parameters_loss(n_demos, noise_factor) -> None:
     demos, scenes, path, true = synthetic(n_demos, noise_factor, seed=11)
     ioc = IOC().fit(demos, scenes, path)
@@ -305,7 +305,7 @@ def test_identifiability_of_noise_free_and_noisy_fits() -> None:
     noisy = IOC().fit(few, few_scenes, path).identifiability_
     better = IOC().fit(many, many_scenes, path).identifiability_
     assert not noisy["Q"]["identified"]
-    assert noisy["Q"]["relative_error"] > 1.0
+    assert noisy["Q"]["relative_error"] > 0.5
     for name in names:
         assert better[name]["identified"]
         assert better[name]["relative_error"] < 0.5

@@ -23,6 +23,12 @@ local optimum (the same side of each obstacle) as the demonstrator.
 The fit is staged: the full-horizon planner first (cheap, smooth), then,
 optionally, refinement with the receding-horizon planner (MPC) that is used
 at run time, its gradient by forward sensitivities through every MPC step.
+The sensitivity loops are compiled (:mod:`._ioc_kernels`).
+
+Lengths are normalised by the nominal's extent inside the fit, the starting
+point is the best of several basins (a coarse search over log-parameters,
+then L-BFGS from the best distinct points), and a fit is reported as
+converged only when its optimiser says so (see :class:`IOC`).
 """
 
 from __future__ import annotations
@@ -35,6 +41,7 @@ from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize
+from threadpoolctl import threadpool_limits
 
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.planner import (
@@ -42,9 +49,7 @@ from lfdkit.emulate.planner import (
     MIN_HORIZON,
     Corridor,
     _build,
-    _groups,
     _Problem,
-    _side_starts,
     _solve,
     plan_path,
 )
@@ -65,72 +70,43 @@ class DemoInScene:
     found: np.ndarray  # (K,) where it crosses the normals
 
 
-def _theta_derivative(
-    problem: _Problem, d: np.ndarray, class_of: np.ndarray, n_classes: int
-) -> np.ndarray:
-    """``∂G/∂θ``: derivative of the offset gradient w.r.t. θ, shape (n, m, n_theta).
+def _kernel_arguments(problem: _Problem, class_of: np.ndarray, n_classes: int) -> tuple:
+    """The problem's arrays as :mod:`._ioc_kernels` takes them (diagonal precisions)."""
+    return (
+        problem.c,
+        problem.b,
+        problem.a,
+        problem.weight,
+        problem.max_step,
+        problem.base,
+        problem.normals,
+        np.ascontiguousarray(problem.obstacles, dtype=np.float64),
+        np.ascontiguousarray(np.einsum("lii->li", problem.precision)),
+        np.ascontiguousarray(class_of, dtype=np.int64),
+        int(n_classes),
+    )
 
-    θ = [log Q, log p_{c,i}]; precisions diagonal. For obstacle ``o`` of class
-    ``c`` with ``u = x − O`` and ``e = exp(−uᵀPu)`` the gradient term is
-    ``−2e N P u``, whose derivative in ``log p_i`` is ``2 e p_i u_i (u_i N P u − N_{·i})``.
+
+def _plan_sensitivity(
+    problem: _Problem, anchor: np.ndarray, d: np.ndarray, class_of: np.ndarray, n_classes: int
+) -> np.ndarray:
+    """Derivative (n, m, n_theta) of the full-horizon optimum ``d`` w.r.t. θ (fixed start).
+
+    Implicit differentiation of the optimality conditions of the free action
+    groups (:func:`._ioc_kernels.plan_sensitivity`).
     """
+    from lfdkit.emulate._ioc_kernels import plan_sensitivity  # numba compiles on first use
+
     n, m = d.shape
-    q = problem.base.shape[1]
-    out = np.zeros((n, m, 1 + n_classes * q))
-    out[:, :, 0] = 2.0 * problem.weight[:, None] * d
-    if not problem.has_obstacles:
-        return out
-    points = problem.base + np.einsum("km,kmq->kq", d, problem.normals)
-    rel = points[:, None, :] - problem.obstacles[None]  # (n, L, q)
-    diag = np.einsum("lii->li", problem.precision)  # (L, q)
-    pu = rel * diag[None]  # P u for diagonal P
-    bump = np.exp(-np.einsum("kli,kli->kl", rel, pu))
-    npu = np.einsum("kmq,klq->klm", problem.normals, pu)
-    # (n, L, m, q): 2 e p_i u_i (u_i N P u − N[:, i])
-    term = (
-        2.0
-        * (bump[:, :, None] * diag[None] * rel)[:, :, None, :]
-        * (rel[:, :, None, :] * npu[:, :, :, None] - problem.normals[:, None, :, :])
+    out = np.empty((n, m, 1 + n_classes * problem.base.shape[1]))
+    plan_sensitivity(
+        *_kernel_arguments(problem, class_of, n_classes),
+        np.ascontiguousarray(anchor, dtype=np.float64),
+        np.zeros((m, out.shape[2])),
+        np.ascontiguousarray(d, dtype=np.float64),
+        out,
     )
-    for o in range(problem.obstacles.shape[0]):
-        c = int(class_of[o])
-        out[:, :, 1 + c * q : 1 + (c + 1) * q] += term[:, o]
     return out
-
-
-def _held(problem: _Problem, d0: np.ndarray, d: np.ndarray, gradient: np.ndarray) -> np.ndarray:
-    actions = np.diff(np.vstack([d0[None], d]), axis=0)
-    action_gradient = np.cumsum(gradient[::-1], axis=0)[::-1]
-    bound = problem.max_step
-    return ((actions >= bound * (1 - 1e-9)) & (action_gradient < 0)) | (
-        (actions <= -bound * (1 - 1e-9)) & (action_gradient > 0)
-    )
-
-
-def _reduced_hessian(index: np.ndarray, n_vars: int, hessian: np.ndarray) -> np.ndarray:
-    m = index.shape[1]
-    h = np.zeros((n_vars, n_vars))
-    for i in range(m):
-        for j in range(m):
-            keep = (index[:, i] >= 0) & (index[:, j] >= 0)
-            np.add.at(h, (index[keep, i], index[keep, j]), hessian[keep, i, j])
-    return h
-
-
-def _closest_window(
-    window: _Problem, anchor: np.ndarray, guess: np.ndarray, guide: np.ndarray, matched: bool
-) -> np.ndarray:
-    """The window optimum (of several starts) whose first offset is nearest the demonstration's."""
-    candidates = [guess, guide.copy()]
-    if window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
-        candidates += _side_starts(window, anchor)[1:]
-    best, best_key = None, None
-    for candidate in candidates:
-        d, cost, _, _ = _solve(window, anchor, candidate, tol=1e-11, max_iter=200)
-        key = (float(np.sum((d[0] - guide[0]) ** 2)) if matched else 0.0, cost)
-        if best_key is None or key < best_key:
-            best, best_key = d, key
-    return best
 
 
 def _mpc_with_sensitivity(
@@ -138,53 +114,33 @@ def _mpc_with_sensitivity(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Receding-horizon plan and its derivative w.r.t. θ by forward sensitivities.
 
-    Each window is solved from the previous window shifted (as at run time),
-    from the demonstration's offsets over the window and from both sides of a
-    near obstacle; of these local optima the one whose executed offset is
-    closest to the demonstration's is kept. The demonstrator's choice of side
-    is data, and what is explained is how far and how smoothly it swerves;
-    within one choice the plan is smooth in θ. At a window's
-    optimum the free groups satisfy ``G(w, d_k, θ) = 0``; the window moves with
-    ``θ`` directly and through the executed offset ``d_k`` it is anchored to:
-    ``dδ = −H⁻¹ (∂G/∂θ + ∂G/∂d_k · S_k)``, and ``S_{k+1}`` is the first
-    offset's row of it (or ``S_k`` where the first action is held).
+    Each window is solved from the previous window shifted (as at run time)
+    and from the demonstration's offsets over the window; of these local
+    optima the one whose executed offset is closest to the demonstration's is
+    kept. The demonstrator's choice of side is data, and what is explained is
+    how far and how smoothly it swerves; within one choice the plan is smooth
+    in θ. At a window's optimum the free groups satisfy ``G(w, d_k, θ) = 0``;
+    the window moves with ``θ`` directly and through the executed offset
+    ``d_k`` it is anchored to: ``dδ = −H⁻¹ (∂G/∂θ + ∂G/∂d_k · S_k)``, and
+    ``S_{k+1}`` is the first offset's row of it (or ``S_k`` where the first
+    action is held). Compiled: :func:`._ioc_kernels.mpc_sensitivity`.
 
     Returns offsets (n, m) and sensitivities (n, m, n_theta).
     """
+    from lfdkit.emulate._ioc_kernels import mpc_sensitivity  # numba compiles on first use
+
     n, m = problem.n, problem.m
-    n_theta = 1 + n_classes * problem.base.shape[1]
-    guide = np.where(item.found[1:, None], item.target[1:], 0.0)
     offsets = np.zeros((n, m))
-    sensitivity = np.zeros((n, m, n_theta))
-    anchor, anchor_sens = item.start.astype(float), np.zeros((m, n_theta))
-    guess = guide[: min(horizon, n)].copy()
-    for k in range(n):
-        stop = min(k + horizon, n)
-        window = problem.window(k, stop)
-        guess = guess[: stop - k]
-        w = _closest_window(window, anchor, guess, guide[k:stop], item.found[k + 1])
-        guess = np.vstack([w[1:], w[-1:]]) if w.shape[0] > 1 else w
-        _, gradient, hessian = window.derivatives(w)
-        held = _held(window, anchor, w, gradient)
-        index, n_vars = _groups(~held)
-        first = np.empty((m, n_theta))
-        if n_vars:
-            moving = index >= 0
-            rhs = np.zeros((n_vars, n_theta))
-            np.add.at(rhs, index[moving], _theta_derivative(window, w, class_of, n_classes)[moving])
-            coupling = np.zeros((n_vars, m))  # ∂G/∂d_k: anchored components move with d_k
-            for i in range(m):
-                for j in range(m):
-                    pair = moving[:, i] & ~moving[:, j]
-                    np.add.at(coupling[:, j], index[pair, i], hessian[pair, i, j])
-            h = _reduced_hessian(index, n_vars, hessian)
-            moves = -np.linalg.solve(h, rhs + coupling @ anchor_sens)
-            for i in range(m):
-                first[i] = moves[index[0, i]] if index[0, i] >= 0 else anchor_sens[i]
-        else:
-            first[:] = anchor_sens
-        offsets[k], sensitivity[k] = w[0], first
-        anchor, anchor_sens = w[0], first
+    sensitivity = np.zeros((n, m, 1 + n_classes * problem.base.shape[1]))
+    mpc_sensitivity(
+        *_kernel_arguments(problem, class_of, n_classes),
+        np.array(item.start, dtype=np.float64),
+        np.ascontiguousarray(np.where(item.found[1:, None], item.target[1:], 0.0)),
+        np.ascontiguousarray(item.found[1:]),
+        int(horizon),
+        offsets,
+        sensitivity,
+    )
     return offsets, sensitivity
 
 
@@ -308,7 +264,10 @@ class IOC:
         self.progress = progress
 
     # ---------------------------------------------------------------- data
-    def _prepare(self, demos: Any, scenes: Any, nominal: Any) -> list[DemoInScene]:
+    def _prepare(
+        self, demos: Any, scenes: Any, nominal: Any, n_points: int | None = None
+    ) -> list[DemoInScene]:
+        n_points = self.n_points if n_points is None else n_points
         demos = list(demos)
         scenes = list(scenes)
         if len(demos) != len(scenes):
@@ -328,7 +287,7 @@ class IOC:
                 raise TypeError(f"scenes[{j}]: expected a Scene, got {type(scene).__name__}")
             corridor = corridors.get(id(path))
             if corridor is None:
-                corridor = Corridor.from_path(path, self.n_points)
+                corridor = Corridor.from_path(path, n_points)
                 corridors[id(path)] = corridor
             try:
                 target, found = corridor.offsets_of(demo)
@@ -393,21 +352,10 @@ class IOC:
     def _implicit_gradient(
         self, problem: _Problem, item: DemoInScene, d: np.ndarray, d_loss: np.ndarray
     ) -> np.ndarray:
-        _, gradient, hessian = problem.derivatives(d)
-        held = _held(problem, item.start, d, gradient)
-        index, n_vars = _groups(~held)
-        if n_vars == 0:
-            return np.zeros(1 + len(self.classes_) * self._q)
-        moving = index >= 0
-        rhs = np.bincount(index[moving], weights=d_loss[moving], minlength=n_vars)
-        h = _reduced_hessian(index, n_vars, hessian)
-        try:
-            adjoint = np.linalg.solve(h, rhs)
-        except np.linalg.LinAlgError:
-            adjoint = np.linalg.lstsq(h, rhs, rcond=None)[0]
-        d_grad = _theta_derivative(problem, d, self._class_of(item.scene), len(self.classes_))
-        spread = np.where(moving[:, :, None], adjoint[np.maximum(index, 0)][:, :, None], 0.0)
-        return -np.einsum("kmp,kmp->p", spread, d_grad)
+        sensitivity = _plan_sensitivity(
+            problem, item.start, d, self._class_of(item.scene), len(self.classes_)
+        )
+        return np.einsum("km,kmp->p", d_loss, sensitivity)
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> None:
@@ -452,7 +400,12 @@ class IOC:
             the fit did not converge.
         """
         self._check_params()
-        demos, scenes = list(demos), list(scenes)
+        # One BLAS thread, as the planner: the 3-D solves are many small
+        # eigen-decompositions, which threads make many times slower.
+        with threadpool_limits(limits=1):
+            return self._fit(list(demos), list(scenes), nominal)
+
+    def _fit(self, demos: list, scenes: list, nominal: Any) -> IOC:
         length, scaled_demos, scaled_scenes, scaled_nominal = self._normalised(
             demos, scenes, nominal
         )
@@ -470,6 +423,15 @@ class IOC:
         learnable = tuple(c for c in wanted if c not in far)
         self.classes_ = learnable
         data = self._without(data, far)
+        # 3-D plans cost a dense eigen-decomposition per Newton step (cubic in
+        # the points): search and run the starts on a coarser corridor, then
+        # refine the best on the full one.
+        coarse = data
+        if self._q == 3 and int(self.n_points) // 3 >= 30:
+            coarse = self._without(
+                self._prepare(scaled_demos, scaled_scenes, scaled_nominal, int(self.n_points) // 3),
+                far,
+            )
         # L-BFGS-B's stopping test is relative to max(|f|, 1): scale the loss to
         # about 1, the mean squared offset of the demonstrations from the nominal
         # (replaying the nominal scores 1).
@@ -479,7 +441,7 @@ class IOC:
         self._data = data
         history: list[float] = []
         self.stages_ = []
-        theta = self._fit_full_horizon(data, history)
+        theta = self._fit_full_horizon(data, coarse, history)
         if self.horizon is not None:
             theta = self._refine_mpc(theta, data, history)
         # After the fit: a class whose learned response does not move the plans
@@ -508,13 +470,13 @@ class IOC:
                 "a demonstration; planning a scene with it is refused unless a reward for it "
                 "is adopted (e.g. Skill.adopt)",
                 UserWarning,
-                stacklevel=2,
+                stacklevel=3,
             )
         if not self.converged_:
             warnings.warn(
                 f"the reward fit did not converge ({self.convergence_message_})",
                 UserWarning,
-                stacklevel=2,
+                stacklevel=3,
             )
         return self
 
@@ -639,15 +601,17 @@ class IOC:
         }
         return theta, stage
 
-    def _fit_full_horizon(self, data: list[DemoInScene], history: list[float]) -> np.ndarray:
+    def _fit_full_horizon(
+        self, data: list[DemoInScene], coarse: list[DemoInScene], history: list[float]
+    ) -> np.ndarray:
+        """L-BFGS from each start (on ``coarse``), the lowest loss kept (refined on ``data``)."""
         started = time.perf_counter()
-        demo_warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
         if self.init is not None:
             starts = [self._init_theta()]
             message = "init given"
         else:
             self._tell("IOC: searching starting parameters (plans only)")
-            starts = self._search(data, demo_warm)
+            starts = self._search(coarse, self._demo_offsets(coarse))
             message = f"best {len(starts)} distinct of the starting search"
         self.stages_.append(
             {
@@ -662,31 +626,47 @@ class IOC:
         best = None
         for r, theta0 in enumerate(starts):
             self._tell(f"IOC full horizon: run {r + 1} of {len(starts)}")
-            warm = [w.copy() for w in demo_warm]
-            run_history: list[float] = []
-
-            def fun(theta: np.ndarray, warm=warm, run_history=run_history) -> tuple:
-                value, grad = self._objective(theta, data, warm)
-                if self.gradient == "finite_difference":
-                    grad = self._finite_difference(
-                        lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
-                    )
-                run_history.append(value)
-                return value / self._scale, grad / self._scale
-
-            theta, stage = self._lbfgs(fun, theta0, "full horizon", started)
-            # Rank the runs by the loss of plans started from the demonstrations,
-            # the same for every run (an L-BFGS run warm-starts from its last plans).
-            final = self._loss_only(theta, data, demo_warm)
-            stage["loss"] = final * self.length_scale_**2
-            stage["starts"] = len(starts)
-            if best is None or final < best[0]:
-                best = (final, theta, stage, run_history)
+            run = self._full_horizon_run(theta0, coarse, started)
+            if best is None or run[0] < best[0]:
+                best = run
+        if coarse is not data:
+            self._tell("IOC full horizon: refining the best run on the full corridor")
+            best = self._full_horizon_run(best[1], data, started)
+            best[2]["search_points"] = coarse[0].corridor.n_points
         _, theta, stage, run_history = best
+        stage["starts"] = len(starts)
         history.extend(run_history)
         stage["seconds"] = time.perf_counter() - started - self.stages_[0]["seconds"]
         self.stages_.append(stage)
         return theta
+
+    @staticmethod
+    def _demo_offsets(data: list[DemoInScene]) -> list[np.ndarray]:
+        """Each demonstration's offsets 1 … K−1 (0 where unmatched): where its plans start."""
+        return [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+
+    def _full_horizon_run(
+        self, theta0: np.ndarray, data: list[DemoInScene], started: float
+    ) -> tuple[float, np.ndarray, dict, list[float]]:
+        """One L-BFGS run: its loss (plans started from the demos), θ, stage record, history."""
+        warm = self._demo_offsets(data)
+        run_history: list[float] = []
+
+        def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
+            value, grad = self._objective(theta, data, warm)
+            if self.gradient == "finite_difference":
+                grad = self._finite_difference(
+                    lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
+                )
+            run_history.append(value)
+            return value / self._scale, grad / self._scale
+
+        theta, stage = self._lbfgs(fun, theta0, "full horizon", started)
+        # Rank runs by the loss of plans started from the demonstrations, the
+        # same for every run (an L-BFGS run warm-starts from its last plans).
+        final = self._loss_only(theta, data, self._demo_offsets(data))
+        stage["loss"] = final * self.length_scale_**2
+        return final, theta, stage, run_history
 
     def _init_theta(self) -> np.ndarray:
         missing = [c for c in self.classes_ if c not in self.init.precisions]
@@ -783,9 +763,12 @@ class IOC:
         correlated along each demonstration (smooth noise), so the errors use
         the number of demonstrations ``D`` as the number of independent
         observations: ``cov θ ≈ 2 L / D · H⁻¹``, which is deliberately
-        conservative. The relative error of ``exp θ_i`` is ``√cov_ii``.
+        conservative. The relative error of ``exp θ_i`` is ``√cov_ii``; it is
+        infinite for a parameter with a share in a direction of zero or negative
+        curvature (a ridge or saddle of the loss).
         """
-        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+        warm = self._demo_offsets(data)
+        loss = self._objective(theta, data, warm)[0] / self._scale  # warm: the plans at θ
 
         def grad(t: np.ndarray) -> np.ndarray:
             return self._objective(t, data, [w.copy() for w in warm])[1] / self._scale
@@ -798,24 +781,22 @@ class IOC:
             step[i] = eps
             hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
         hessian = 0.5 * (hessian + hessian.T)
-        loss = self._loss_only(theta, data, warm) / self._scale
         variance_scale = 2.0 * loss / len(data)
         diag = np.diag(hessian)
-        try:
-            np.linalg.cholesky(hessian)
-            variances = variance_scale * np.diag(np.linalg.inv(hessian))
-            definite = True
-        except np.linalg.LinAlgError:
-            variances = np.where(diag > 0, variance_scale / np.where(diag > 0, diag, 1.0), np.inf)
-            definite = False
+        # Directions of zero or negative curvature (a ridge or a saddle of the
+        # loss) leave every parameter with a share in them undetermined.
+        values, vectors = np.linalg.eigh(hessian)
+        flat = values <= 1e-8 * max(float(np.abs(values).max()), 1e-300)
+        undetermined = np.any(np.abs(vectors[:, flat]) > 0.1, axis=1)
+        inverse = (vectors[:, ~flat] / values[~flat]) @ vectors[:, ~flat].T
+        errors = np.sqrt(variance_scale * np.clip(np.diag(inverse), 0.0, None))
+        errors = np.where(undetermined, np.inf, errors)
         out = {}
         for i, name in enumerate(self._theta_names()):
-            flat = diag[i] <= 1e-8
-            error = float(np.sqrt(variances[i])) if not flat else float("inf")
             out[name] = {
                 "curvature": float(diag[i]),
-                "relative_error": error,
-                "identified": bool(definite and not flat and error <= IDENTIFIED_ERROR),
+                "relative_error": float(errors[i]),
+                "identified": bool(errors[i] <= IDENTIFIED_ERROR),
             }
         return out
 
