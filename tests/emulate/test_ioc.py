@@ -309,3 +309,11 @@ def test_identifiability_of_noise_free_and_noisy_fits() -> None:
     for name in names:
         assert better[name]["identified"]
         assert better[name]["relative_error"] < 0.5
+
+
+def test_a_listed_class_absent_from_every_scene_is_not_learned() -> None:
+    demos, scenes = demonstrations(3)
+    with pytest.warns(UserWarning, match="'cup' was not learned"):
+        ioc = IOC(classes=("obstacle", "cup")).fit(demos, scenes, nominal())
+    assert ioc.not_learned_ == ("cup",)
+    assert ioc.reward_.classes == ("obstacle",)

@@ -419,7 +419,8 @@ class IOC:
         self._q = data[0].corridor.n_dims
         # A class out of reach of every demonstration even at the widest response
         # the search tries has no say in the loss: leave it out of θ.
-        far = [c for c in wanted if self._influence(data, c, SEARCH_WIDTHS[1] ** -2) is None]
+        reach = {c: self._influence(data, c, SEARCH_WIDTHS[1] ** -2) for c in wanted}
+        far = [c for c, value in reach.items() if value is None or value < INFLUENCE_FLOOR]
         learnable = tuple(c for c in wanted if c not in far)
         self.classes_ = learnable
         data = self._without(data, far)
@@ -500,7 +501,7 @@ class IOC:
             depth = np.einsum("klq,q->kl", rel**2, np.broadcast_to(precision, (self._q,)))
             value = float(np.exp(-depth.min()))
             largest = value if largest is None else max(largest, value)
-        return largest if largest is not None else None
+        return largest
 
     def _moves_plans(self, theta: np.ndarray, data: list[DemoInScene], label: str) -> bool:
         """Whether class ``label``'s obstacles move a plan at ``theta`` by a noticeable amount.
