@@ -623,3 +623,36 @@ def test_learn_exits_1_and_writes_nothing_when_the_reward_fit_fails(
     assert "wrote nothing" in line
     assert stdout == ""
     assert not out.exists()
+
+
+def test_learn_shows_the_reward_fit_warnings_as_lines(capsys, tmp_path, examples, monkeypatch):
+    import warnings
+
+    import lfdkit.skill
+
+    class Warns(lfdkit.skill.IOC):
+        def fit(self, *args, **kwargs):
+            warnings.warn("obstacle class 'vase' was not learned: ...", UserWarning, stacklevel=2)
+            return super().fit(*args, **kwargs)
+
+    monkeypatch.setattr(lfdkit.skill, "IOC", Warns)
+    out = tmp_path / "skill.json"
+    code, _, err = run_cli(
+        capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out
+    )
+    assert code == 0, err
+    assert "lfdkit learn: warning: obstacle class 'vase' was not learned: ..." in err.splitlines()
+    assert out.is_file()
+    code, _, err = run_cli(
+        capsys,
+        "learn",
+        examples["demos"],
+        "--scenes",
+        examples["scenes"],
+        "-o",
+        out,
+        "-q",
+        "--force",
+    )
+    assert code == 0
+    assert err == ""

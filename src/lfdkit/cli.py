@@ -213,7 +213,7 @@ def _learn(args: argparse.Namespace) -> None:
     _refuse_existing(args.output, args.force)
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught, _progress(args, 4) as step:
-        warnings.simplefilter("always")
+        warnings.simplefilter("always", UserWarning)
         skill = learn(args.demos, args.scenes, progress=step, **_skill_params(args))
     fit = skill.ioc_info_ or {}
     if not fit.get("converged", True):
@@ -222,8 +222,13 @@ def _learn(args: argparse.Namespace) -> None:
             "wrote nothing. Check the units and that each obstacle demonstration follows "
             "the path around its scene's obstacles, add demonstrations, or try --planner full"
         )
-    for warning in caught:
-        _say(args, f"lfdkit learn: warning: {warning.message}")
+    for warning in caught:  # lfdkit's own warnings as one line each, others as usual
+        if issubclass(warning.category, UserWarning):
+            _say(args, f"lfdkit learn: warning: {warning.message}")
+        else:
+            warnings.showwarning(
+                warning.message, warning.category, warning.filename, warning.lineno
+            )
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"

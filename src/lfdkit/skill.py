@@ -38,7 +38,8 @@ bit for bit) and no pickle:
     ``null`` or ``{"nominal_weight": Q, "precisions": {class: (q, q) nested
     lists}}`` in 1/units².
 ``ioc``
-    ``null`` or a summary of the reward fit (loss, stages, demonstrations).
+    ``null`` or a summary of the reward fit (loss, stages, demonstrations,
+    convergence, classes not learned, identifiability of each parameter).
 ``lfdkit``, ``created``
     The version that wrote it and when (UTC, ISO 8601).
 
