@@ -317,3 +317,19 @@ def test_a_listed_class_absent_from_every_scene_is_not_learned() -> None:
         ioc = IOC(classes=("obstacle", "cup")).fit(demos, scenes, nominal())
     assert ioc.not_learned_ == ("cup",)
     assert ioc.reward_.classes == ("obstacle",)
+
+
+def test_effective_count_of_correlated_residuals() -> None:
+    from lfdkit.emulate.ioc import _effective_count
+
+    rng = np.random.default_rng(0)
+    white = rng.normal(size=(20000, 1))
+    assert _effective_count([white]) == pytest.approx(20000, rel=0.05)
+    # AR(1) with coefficient 0.9: integrated autocorrelation time (1 + 0.9) / (1 − 0.9) = 19.
+    ar = np.empty(20000)
+    ar[0] = 0.0
+    for k in range(1, ar.size):
+        ar[k] = 0.9 * ar[k - 1] + rng.normal()
+    assert _effective_count([ar[:, None]]) == pytest.approx(20000 / 19, rel=0.15)
+    # Two sequences, one constant: it still counts once.
+    assert _effective_count([white[:10], np.zeros((5, 1))]) >= 2.0

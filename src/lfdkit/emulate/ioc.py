@@ -144,6 +144,30 @@ def _mpc_with_sensitivity(
     return offsets, sensitivity
 
 
+def _effective_count(residuals: Sequence[np.ndarray]) -> float:
+    """Independent residuals among correlated ones: ``Σ length / τ`` per sequence and component.
+
+    ``τ = 1 + 2 Σ ρ(lag)`` is the integrated autocorrelation time, summed up
+    to the first non-positive autocorrelation; each sequence counts at least once.
+    """
+    total = 0.0
+    for sequence in residuals:
+        count = 0.0
+        for component in np.atleast_2d(sequence.T):
+            x = component - component.mean()
+            power = float(x @ x)
+            tau = 1.0
+            if power > 0.0:
+                for lag in range(1, x.size // 2):
+                    rho = float(x[:-lag] @ x[lag:]) / power
+                    if rho <= 0.0:
+                        break
+                    tau += 2.0 * rho
+            count += x.size / tau
+        total += max(count, 1.0)
+    return total
+
+
 #: Bounds of every θ' (log Q' and log precisions, in normalised units).
 THETA_BOUNDS = (-20.0, 25.0)
 #: Range of the starting search (normalised units): nominal weights and obstacle widths.
@@ -760,16 +784,19 @@ class IOC:
         """Curvature of the full-horizon loss in θ and approximate relative standard errors.
 
         The Hessian is central differences of the exact gradient. The loss
-        ``L = Σ r² / N`` is treated as a least-squares fit whose residuals are
-        correlated along each demonstration (smooth noise), so the errors use
-        the number of demonstrations ``D`` as the number of independent
-        observations: ``cov θ ≈ 2 L / D · H⁻¹``, which is deliberately
-        conservative. The relative error of ``exp θ_i`` is ``√cov_ii``; it is
-        infinite for a parameter with a share in a direction of zero or negative
-        curvature (a ridge or saddle of the loss).
+        ``L = Σ r² / N`` is treated as a least-squares fit, ``cov θ ≈ 2 L / n ·
+        H⁻¹``, whose residuals are correlated along each demonstration (smooth
+        noise): ``n`` is their effective number, each demonstration's count
+        divided by the integrated autocorrelation time of its residuals (at
+        least one per demonstration). The relative error of ``exp θ_i`` is
+        ``√cov_ii``; it is infinite for a parameter with a share in a direction
+        of zero or negative curvature (a ridge or saddle of the loss).
         """
         warm = self._demo_offsets(data)
         loss = self._objective(theta, data, warm)[0] / self._scale  # warm: the plans at θ
+        residuals = [
+            (plan - item.target[1:])[item.found[1:]] for plan, item in zip(warm, data, strict=True)
+        ]
 
         def grad(t: np.ndarray) -> np.ndarray:
             return self._objective(t, data, [w.copy() for w in warm])[1] / self._scale
@@ -782,7 +809,7 @@ class IOC:
             step[i] = eps
             hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
         hessian = 0.5 * (hessian + hessian.T)
-        variance_scale = 2.0 * loss / len(data)
+        variance_scale = 2.0 * loss / _effective_count(residuals)
         diag = np.diag(hessian)
         # Directions of zero or negative curvature (a ridge or a saddle of the
         # loss) leave every parameter with a share in them undetermined.
