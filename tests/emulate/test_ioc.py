@@ -333,3 +333,34 @@ def test_effective_count_of_correlated_residuals() -> None:
     assert _effective_count([ar[:, None]]) == pytest.approx(20000 / 19, rel=0.15)
     # Two sequences, one constant: it still counts once.
     assert _effective_count([white[:10], np.zeros((5, 1))]) >= 2.0
+
+
+def test_3d_gradients_match_finite_differences() -> None:
+    # Two normal components per point: the groups couple through 2×2 blocks.
+    t = np.linspace(0.0, 1.0, 200)
+    path = np.column_stack([t, 0.1 * np.sin(np.pi * t), 0.05 * t])
+    true = Reward(20.0, {"ball": [400.0, 900.0, 600.0]})
+    scenes = [
+        Scene((Obstacle("ball", path[80] + [0.0, 0.02, 0.01]),)),
+        Scene((Obstacle("ball", path[120] + [0.0, -0.01, 0.02]),)),
+    ]
+    demos = [plan_path(true, path, s, n_points=40, horizon=6).points for s in scenes]
+    theta = true.theta + np.array([0.2, -0.1, 0.15, 0.1])
+    for horizon in (None, 6):
+        ioc = IOC(n_points=40, horizon=horizon)
+        data = ioc._prepare(demos, scenes, path)
+        ioc.classes_, ioc._q = ("ball",), 3
+        if horizon is None:
+            warm = ioc._demo_offsets(data)
+
+            def loss(t, data=data, warm=warm, ioc=ioc):
+                return ioc._objective(t, data, [w.copy() for w in warm])
+
+        else:
+
+            def loss(t, data=data, ioc=ioc):
+                return ioc._objective_mpc(t, data)
+
+        gradient = loss(theta)[1]
+        fd = finite_difference(lambda t, loss=loss: loss(t)[0], theta)
+        np.testing.assert_allclose(gradient, fd, rtol=1e-5, atol=1e-12 * np.abs(fd).max())
