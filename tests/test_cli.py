@@ -923,3 +923,59 @@ def test_a_killed_demo_leaves_nothing_behind(tmp_path):
     assert process.returncode == 130
     assert err.splitlines()[-1] == "lfdkit demo: interrupted"
     assert list(tmp_path.iterdir()) == []
+
+
+def test_learn_exits_1_and_writes_nothing_when_the_reward_fit_fails(
+    capsys, tmp_path, examples, monkeypatch
+):
+    import lfdkit.skill
+
+    class TwoIterations(lfdkit.skill.IOC):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **{**kwargs, "max_iter": 2})
+
+    monkeypatch.setattr(lfdkit.skill, "IOC", TwoIterations)
+    out = tmp_path / "skill.json"
+    code, stdout, err = run_cli(
+        capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out, "-q"
+    )
+    assert code == 1
+    line = error_line(err, "learn")
+    assert "did not converge" in line
+    assert "ITERATIONS" in line
+    assert "wrote nothing" in line
+    assert stdout == ""
+    assert not out.exists()
+
+
+def test_learn_shows_the_reward_fit_warnings_as_lines(capsys, tmp_path, examples, monkeypatch):
+    import warnings
+
+    import lfdkit.skill
+
+    class Warns(lfdkit.skill.IOC):
+        def fit(self, *args, **kwargs):
+            warnings.warn("obstacle class 'vase' was not learned: ...", UserWarning, stacklevel=2)
+            return super().fit(*args, **kwargs)
+
+    monkeypatch.setattr(lfdkit.skill, "IOC", Warns)
+    out = tmp_path / "skill.json"
+    code, _, err = run_cli(
+        capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out
+    )
+    assert code == 0, err
+    assert "lfdkit learn: warning: obstacle class 'vase' was not learned: ..." in err.splitlines()
+    assert out.is_file()
+    code, _, err = run_cli(
+        capsys,
+        "learn",
+        examples["demos"],
+        "--scenes",
+        examples["scenes"],
+        "-o",
+        out,
+        "-q",
+        "--force",
+    )
+    assert code == 0
+    assert err == ""

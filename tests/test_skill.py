@@ -383,3 +383,16 @@ def test_reward_from_another_dimension_is_refused() -> None:
     reward3 = Reward(10.0, {"cup": [1.0, 2.0, 3.0]})
     with pytest.raises(ValueError, match="3-D reward for a 2-D skill"):
         Skill().fit_path(free).adopt(reward3)
+
+
+def test_skill_records_how_the_reward_fit_went(skill, tmp_path: Path) -> None:
+    info = skill.ioc_info_
+    assert info["converged"] is True
+    assert info["convergence_message"] == "converged"
+    assert info["not_learned"] == []
+    names = {"Q", "P[cup][x]", "P[cup][y]", "P[marker][x]", "P[marker][y]"}
+    assert set(info["identifiability"]) == names
+    for entry in info["identifiability"].values():
+        assert set(entry) == {"curvature", "relative_error", "identified"}
+    loaded = Skill.load(skill.save(tmp_path / "skill.json"))
+    assert loaded.ioc_info_["identifiability"] == json.loads(json.dumps(info["identifiability"]))

@@ -259,12 +259,29 @@ def _skill_params(args: argparse.Namespace) -> dict:
 
 
 def _learn(args: argparse.Namespace) -> None:
+    import warnings
+
     from lfdkit.skill import learn
 
     _refuse_existing(args.output, args.force)
     started = time.perf_counter()
-    with _progress(args, 4) as step:
+    with warnings.catch_warnings(record=True) as caught, _progress(args, 4) as step:
+        warnings.simplefilter("always", UserWarning)
         skill = learn(args.demos, args.scenes, progress=step, **_skill_params(args))
+    fit = skill.ioc_info_ or {}
+    if not fit.get("converged", True):
+        raise CommandError(
+            f"the obstacle reward fit did not converge ({fit['convergence_message']}); "
+            "wrote nothing. Check the units and that each obstacle demonstration follows "
+            "the path around its scene's obstacles, add demonstrations, or try --planner full"
+        )
+    for warning in caught:  # lfdkit's own warnings as one line each, others as usual
+        if issubclass(warning.category, UserWarning):
+            _say(args, f"lfdkit learn: warning: {warning.message}")
+        else:
+            warnings.showwarning(
+                warning.message, warning.category, warning.filename, warning.lineno
+            )
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
@@ -531,7 +548,9 @@ def _parser() -> argparse.ArgumentParser:
         "learn",
         help="learn a skill from demonstration files",
         description="Learn a skill: the generalized path and its DMP from the demonstrations "
-        "without obstacles, and the obstacle reward from those the scene file lists.",
+        "without obstacles, and the obstacle reward from those the scene file lists. "
+        "If the obstacle reward fit does not converge, nothing is written and the exit "
+        "status is 1.",
     )
     learn.add_argument(
         "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"

@@ -38,7 +38,8 @@ bit for bit) and no pickle:
     ``null`` or ``{"nominal_weight": Q, "precisions": {class: (q, q) nested
     lists}}`` in 1/units².
 ``ioc``
-    ``null`` or a summary of the reward fit (loss, stages, demonstrations).
+    ``null`` or a summary of the reward fit (loss, stages, demonstrations,
+    convergence, classes not learned, identifiability of each parameter).
 ``lfdkit``
     The version that wrote it.
 
@@ -461,6 +462,9 @@ class Skill:
             "classes": list(ioc.classes_),
             "loss": float(ioc.loss_),
             "converged": bool(ioc.converged_),
+            "convergence_message": ioc.convergence_message_,
+            "not_learned": list(ioc.not_learned_),
+            "identifiability": _jsonable(ioc.identifiability_),
             "seconds": time.perf_counter() - started,
             "stages": _jsonable(
                 [

@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.datasets.emulation import load_emulation_dataset
 from lfdkit.emulate import IOC, Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate.ioc import THETA_BOUNDS
 
 TRUE = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 
@@ -85,7 +87,7 @@ def test_staged_fit_recovers_mpc_demonstrations() -> None:
     demos, scenes = demonstrations(4, horizon=8)
     ioc = IOC(horizon=8, max_iter=30).fit(demos, scenes, nominal())
     assert [stage["planner"] for stage in ioc.stages_] == [
-        "initial grid",
+        "initial search",
         "full horizon",
         "MPC H=8",
     ]
@@ -124,3 +126,249 @@ def test_score_on_held_out_demonstrations() -> None:
     assert full < ioc.score(demos[4:], scenes[4:], nominal(), horizon=8) < 1e-2
     with pytest.raises(ValueError, match="never learned"):
         ioc.score(demos[4:5], [Scene((Obstacle("cup", [0.5, 0.2]),))], nominal())
+
+
+# ------------------------------------------------------------ honest convergence
+def fitted_shell(n_theta: int = 3) -> IOC:
+    """An IOC with just what an L-BFGS run needs (scale 1, unit length)."""
+    ioc = IOC(max_iter=50)
+    ioc.classes_, ioc._q = ("obstacle",), 2
+    ioc._scale, ioc.length_scale_ = 1.0, 1.0
+    return ioc
+
+
+def test_iteration_limit_is_not_convergence() -> None:
+    demos, scenes = demonstrations(3)
+    with pytest.warns(UserWarning, match="did not converge"):
+        ioc = IOC(max_iter=2).fit(demos, scenes, nominal())
+    assert not ioc.converged_
+    assert "ITERATIONS" in ioc.convergence_message_
+    assert not ioc.stages_[1]["converged"]
+
+
+def test_parameter_at_its_bound_is_not_convergence() -> None:
+    # The minimum of exp(θ₀) + θ₁² + θ₂² lies beyond the lower bound of θ₀.
+    ioc = fitted_shell()
+
+    def fun(theta):
+        return np.exp(theta[0]) + theta[1] ** 2 + theta[2] ** 2, np.array(
+            [np.exp(theta[0]), 2 * theta[1], 2 * theta[2]]
+        )
+
+    theta, stage = ioc._lbfgs(fun, np.array([1.0, 1.0, 1.0]), "test", 0.0)
+    assert theta[0] == THETA_BOUNDS[0]
+    assert not stage["converged"]
+    assert stage["reason"] == "Q at its bound (degenerate fit)"
+
+
+def test_failed_line_search_and_non_finite_loss_are_not_convergence() -> None:
+    ioc = fitted_shell()
+
+    def wrong_sign(theta):  # the gradient points uphill: the line search must fail
+        return float(theta @ theta), -2.0 * theta
+
+    _, stage = ioc._lbfgs(wrong_sign, np.array([1.0, 2.0, 3.0]), "test", 0.0)
+    assert not stage["converged"]
+    assert "ABNORMAL" in stage["reason"]
+
+    def nan_loss(theta):
+        return float("nan"), np.zeros(3)
+
+    _, stage = ioc._lbfgs(nan_loss, np.zeros(3), "test", 0.0)
+    assert not stage["converged"]
+    assert stage["reason"] == "non-finite loss or gradient"
+
+
+def test_converged_fit_says_so() -> None:
+    demos, scenes = demonstrations(4)
+    ioc = IOC().fit(demos, scenes, nominal())
+    assert ioc.converged_
+    assert ioc.convergence_message_ == "converged"
+    assert all(stage["converged"] for stage in ioc.stages_)
+
+
+# ---------------------------------------------------------------------- units
+@pytest.mark.parametrize("horizon", [None, 8])
+def test_millimetres_and_metres_give_the_same_reward_and_plans(horizon) -> None:
+    demos, scenes = demonstrations(4, horizon=horizon, seed=3)
+    rng = np.random.default_rng(5)
+    # Noisy (not the demonstrator's own plans), so the fit is not at a zero loss.
+    demos = [d + 0.002 * np.sin(np.linspace(0, 7, len(d)))[:, None] * rng.normal() for d in demos]
+    metres = IOC(horizon=horizon).fit(demos, scenes, nominal())
+    mm_scenes = [
+        Scene.from_arrays(s.labels, 1000.0 * s.positions, 1000.0 * s.radii) for s in scenes
+    ]
+    millimetres = IOC(horizon=horizon).fit(
+        [1000.0 * d for d in demos], mm_scenes, 1000.0 * nominal()
+    )
+    np.testing.assert_allclose(
+        millimetres.reward_.nominal_weight * 1e6, metres.reward_.nominal_weight, rtol=1e-6
+    )
+    np.testing.assert_allclose(
+        millimetres.reward_.precisions["obstacle"] * 1e6,
+        metres.reward_.precisions["obstacle"],
+        rtol=1e-6,
+    )
+    assert millimetres.loss_ == pytest.approx(1e6 * metres.loss_, rel=1e-6)
+    assert millimetres.length_scale_ == pytest.approx(1000.0 * metres.length_scale_, rel=1e-12)
+    scene = Scene((Obstacle("obstacle", [0.45, 0.2]), Obstacle("obstacle", [0.6, 0.12])))
+    mm_scene = Scene.from_arrays(scene.labels, 1000.0 * scene.positions)
+    plan_m = metres.plan(nominal(), scene).points
+    plan_mm = millimetres.plan(1000.0 * nominal(), mm_scene).points
+    np.testing.assert_allclose(plan_mm / 1000.0, plan_m, rtol=1e-6, atol=1e-9)
+
+
+# -------------------------------------------------------------- several basins
+def synthetic(n_demos: int, noise_factor: float, seed: int):
+    """The thesis's artificial demonstrator, at a seed and noise other than its defaults."""
+    es = load_emulation_dataset(
+        "artificial", seed, n_demos=n_demos, noise=0.0015 * noise_factor, n_free=0
+    )
+    return es.demos, es.scenes, es.nominal, es.true_reward
+
+
+@pytest.mark.parametrize("noise_factor", [1.0, 2.0, 4.0])
+@pytest.mark.parametrize("n_demos", [3, 6, 12, 24])
+def test_learned_loss_never_exceeds_the_true_parameters_loss(n_demos, noise_factor) -> None:
+    demos, scenes, path, true = synthetic(n_demos, noise_factor, seed=11)
+    ioc = IOC().fit(demos, scenes, path)
+    assert ioc.converged_, ioc.convergence_message_
+    assert ioc.loss_ == pytest.approx(ioc.training_loss(ioc.reward_), rel=1e-9)
+    assert ioc.loss_ <= ioc.training_loss(true) * (1.0 + 1e-6)
+
+
+@pytest.mark.parametrize("noise", [0.5e-3, 2e-3])
+def test_learned_loss_at_most_the_true_loss_in_other_units(noise) -> None:
+    # The test's own demonstrator, in millimetres, with smooth noise.
+    demos, scenes = demonstrations(6, seed=7)
+    rng = np.random.default_rng(8)
+    u = np.linspace(0.0, 1.0, len(demos[0]))
+    noisy = [
+        1000.0 * (d + noise * np.sin(2 * np.pi * (rng.uniform(1, 3) * u + rng.random()))[:, None])
+        for d in demos
+    ]
+    mm = [Scene.from_arrays(s.labels, 1000.0 * s.positions) for s in scenes]
+    ioc = IOC().fit(noisy, mm, 1000.0 * nominal())
+    true_mm = Reward(
+        TRUE.nominal_weight / 1e6, {"obstacle": np.diag(TRUE.precisions["obstacle"]) / 1e6}
+    )
+    assert ioc.converged_
+    assert ioc.loss_ <= ioc.training_loss(true_mm) * (1.0 + 1e-6)
+
+
+def test_search_starts_are_distinct() -> None:
+    demos, scenes = demonstrations(3)
+    ioc = IOC(n_starts=4).fit(demos, scenes, nominal())
+    assert ioc.stages_[1]["starts"] == 4
+    data = ioc._data
+    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in data]
+    starts = ioc._search(data, warm)
+    for i in range(len(starts)):
+        for j in range(i):
+            assert np.max(np.abs(starts[i] - starts[j])) > 1.0
+
+
+# ------------------------------------------------------------ classes not learned
+def test_a_class_far_from_every_demonstration_is_not_learned() -> None:
+    demos, scenes = demonstrations(4)
+    far = Obstacle("vase", [0.5, 10.0])  # 10 m away from paths 1 m long
+    scenes = [Scene((*s.obstacles, far)) for s in scenes]
+    with pytest.warns(UserWarning, match="'vase' was not learned"):
+        ioc = IOC().fit(demos, scenes, nominal())
+    assert ioc.not_learned_ == ("vase",)
+    assert ioc.classes_ == ("obstacle",)
+    assert "vase" not in ioc.reward_.precisions
+    # Still the reward of the other class: the far obstacle had no say.
+    np.testing.assert_allclose(np.exp(ioc.theta_), np.exp(TRUE.theta), rtol=1e-2)
+    with pytest.raises(ValueError, match=r"'vase' was never learned.*Skill\.adopt"):
+        ioc.plan(nominal(), Scene((Obstacle("vase", [0.5, 0.2]),)))
+
+
+def test_a_class_the_demonstrations_ignore_is_not_learned() -> None:
+    # The demonstrations follow the nominal straight past a cup beside it.
+    path = nominal()
+    scenes = [Scene((Obstacle("cup", path[100 + 40 * j] + [0.0, 0.08]),)) for j in range(3)]
+    with pytest.warns(UserWarning, match="'cup' was not learned"):
+        ioc = IOC().fit([path] * 3, scenes, path)
+    assert ioc.not_learned_ == ("cup",)
+    assert ioc.reward_.classes == ()
+    assert not ioc.identifiability_["Q"]["identified"]  # nothing swerves: Q is free
+
+
+# ------------------------------------------------------------- identifiability
+def test_identifiability_of_noise_free_and_noisy_fits() -> None:
+    demos, scenes = demonstrations(6)
+    clean = IOC().fit(demos, scenes, nominal())
+    names = ["Q", "P[obstacle][x]", "P[obstacle][y]"]
+    assert list(clean.identifiability_) == names
+    for name in names:
+        entry = clean.identifiability_[name]
+        assert entry["identified"]
+        assert entry["curvature"] > 0
+        assert entry["relative_error"] < 1e-3  # a loss of zero
+    # Three demonstrations at four times the noise leave the stiffness on a ridge
+    # (a soft path with sharp obstacles swerves the same); 24 pin everything down.
+    few, few_scenes, path, _ = synthetic(3, 4.0, seed=2)
+    many, many_scenes, _, _ = synthetic(24, 1.0, seed=2)
+    noisy = IOC().fit(few, few_scenes, path).identifiability_
+    better = IOC().fit(many, many_scenes, path).identifiability_
+    assert not noisy["Q"]["identified"]
+    assert noisy["Q"]["relative_error"] > 0.5
+    for name in names:
+        assert better[name]["identified"]
+        assert better[name]["relative_error"] < 0.5
+
+
+def test_a_listed_class_absent_from_every_scene_is_not_learned() -> None:
+    demos, scenes = demonstrations(3)
+    with pytest.warns(UserWarning, match="'cup' was not learned"):
+        ioc = IOC(classes=("obstacle", "cup")).fit(demos, scenes, nominal())
+    assert ioc.not_learned_ == ("cup",)
+    assert ioc.reward_.classes == ("obstacle",)
+
+
+def test_effective_count_of_correlated_residuals() -> None:
+    from lfdkit.emulate.ioc import _effective_count
+
+    rng = np.random.default_rng(0)
+    white = rng.normal(size=(20000, 1))
+    assert _effective_count([white]) == pytest.approx(20000, rel=0.05)
+    # AR(1) with coefficient 0.9: integrated autocorrelation time (1 + 0.9) / (1 − 0.9) = 19.
+    ar = np.empty(20000)
+    ar[0] = 0.0
+    for k in range(1, ar.size):
+        ar[k] = 0.9 * ar[k - 1] + rng.normal()
+    assert _effective_count([ar[:, None]]) == pytest.approx(20000 / 19, rel=0.15)
+    # Two sequences, one constant: it still counts once.
+    assert _effective_count([white[:10], np.zeros((5, 1))]) >= 2.0
+
+
+def test_3d_gradients_match_finite_differences() -> None:
+    # Two normal components per point: the groups couple through 2×2 blocks.
+    t = np.linspace(0.0, 1.0, 200)
+    path = np.column_stack([t, 0.1 * np.sin(np.pi * t), 0.05 * t])
+    true = Reward(20.0, {"ball": [400.0, 900.0, 600.0]})
+    scenes = [
+        Scene((Obstacle("ball", path[80] + [0.0, 0.02, 0.01]),)),
+        Scene((Obstacle("ball", path[120] + [0.0, -0.01, 0.02]),)),
+    ]
+    demos = [plan_path(true, path, s, n_points=40, horizon=6).points for s in scenes]
+    theta = true.theta + np.array([0.2, -0.1, 0.15, 0.1])
+    for horizon in (None, 6):
+        ioc = IOC(n_points=40, horizon=horizon)
+        data = ioc._prepare(demos, scenes, path)
+        ioc.classes_, ioc._q = ("ball",), 3
+        if horizon is None:
+            warm = ioc._demo_offsets(data)
+
+            def loss(t, data=data, warm=warm, ioc=ioc):
+                return ioc._objective(t, data, [w.copy() for w in warm])
+
+        else:
+
+            def loss(t, data=data, ioc=ioc):
+                return ioc._objective_mpc(t, data)
+
+        gradient = loss(theta)[1]
+        fd = finite_difference(lambda t, loss=loss: loss(t)[0], theta)
+        np.testing.assert_allclose(gradient, fd, rtol=1e-5, atol=1e-12 * np.abs(fd).max())

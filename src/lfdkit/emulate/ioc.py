@@ -23,34 +23,40 @@ local optimum (the same side of each obstacle) as the demonstrator.
 The fit is staged: the full-horizon planner first (cheap, smooth), then,
 optionally, refinement with the receding-horizon planner (MPC) that is used
 at run time, its gradient by forward sensitivities through every MPC step.
+The sensitivity loops are compiled (:mod:`._ioc_kernels`).
+
+Lengths are normalised by the nominal's extent inside the fit, the starting
+point is the best of several basins (a coarse search over log-parameters,
+then L-BFGS from the best distinct points), and a fit is reported as
+converged only when its optimiser says so (see :class:`IOC`).
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize
+from threadpoolctl import threadpool_limits
 
-from lfdkit._validation import check_positive
+from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.planner import (
     MAX_HORIZON,
     MIN_HORIZON,
     Corridor,
     _build,
-    _groups,
     _Problem,
-    _side_starts,
     _solve,
     plan_path,
 )
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
 
-__all__ = ["IOC", "DemoInScene"]
+__all__ = ["IOC", "THETA_BOUNDS", "DemoInScene"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,72 +70,43 @@ class DemoInScene:
     found: np.ndarray  # (K,) where it crosses the normals
 
 
-def _theta_derivative(
-    problem: _Problem, d: np.ndarray, class_of: np.ndarray, n_classes: int
-) -> np.ndarray:
-    """``∂G/∂θ``: derivative of the offset gradient w.r.t. θ, shape (n, m, n_theta).
+def _kernel_arguments(problem: _Problem, class_of: np.ndarray, n_classes: int) -> tuple:
+    """The problem's arrays as :mod:`._ioc_kernels` takes them (diagonal precisions)."""
+    return (
+        problem.c,
+        problem.b,
+        problem.a,
+        problem.weight,
+        problem.max_step,
+        problem.base,
+        problem.normals,
+        np.ascontiguousarray(problem.obstacles, dtype=np.float64),
+        np.ascontiguousarray(np.einsum("lii->li", problem.precision)),
+        np.ascontiguousarray(class_of, dtype=np.int64),
+        int(n_classes),
+    )
 
-    θ = [log Q, log p_{c,i}]; precisions diagonal. For obstacle ``o`` of class
-    ``c`` with ``u = x − O`` and ``e = exp(−uᵀPu)`` the gradient term is
-    ``−2e N P u``, whose derivative in ``log p_i`` is ``2 e p_i u_i (u_i N P u − N_{·i})``.
+
+def _plan_sensitivity(
+    problem: _Problem, anchor: np.ndarray, d: np.ndarray, class_of: np.ndarray, n_classes: int
+) -> np.ndarray:
+    """Derivative (n, m, n_theta) of the full-horizon optimum ``d`` w.r.t. θ (fixed start).
+
+    Implicit differentiation of the optimality conditions of the free action
+    groups (:func:`._ioc_kernels.plan_sensitivity`).
     """
+    from lfdkit.emulate._ioc_kernels import plan_sensitivity  # numba compiles on first use
+
     n, m = d.shape
-    q = problem.base.shape[1]
-    out = np.zeros((n, m, 1 + n_classes * q))
-    out[:, :, 0] = 2.0 * problem.weight[:, None] * d
-    if not problem.has_obstacles:
-        return out
-    points = problem.base + np.einsum("km,kmq->kq", d, problem.normals)
-    rel = points[:, None, :] - problem.obstacles[None]  # (n, L, q)
-    diag = np.einsum("lii->li", problem.precision)  # (L, q)
-    pu = rel * diag[None]  # P u for diagonal P
-    bump = np.exp(-np.einsum("kli,kli->kl", rel, pu))
-    npu = np.einsum("kmq,klq->klm", problem.normals, pu)
-    # (n, L, m, q): 2 e p_i u_i (u_i N P u − N[:, i])
-    term = (
-        2.0
-        * (bump[:, :, None] * diag[None] * rel)[:, :, None, :]
-        * (rel[:, :, None, :] * npu[:, :, :, None] - problem.normals[:, None, :, :])
+    out = np.empty((n, m, 1 + n_classes * problem.base.shape[1]))
+    plan_sensitivity(
+        *_kernel_arguments(problem, class_of, n_classes),
+        np.ascontiguousarray(anchor, dtype=np.float64),
+        np.zeros((m, out.shape[2])),
+        np.ascontiguousarray(d, dtype=np.float64),
+        out,
     )
-    for o in range(problem.obstacles.shape[0]):
-        c = int(class_of[o])
-        out[:, :, 1 + c * q : 1 + (c + 1) * q] += term[:, o]
     return out
-
-
-def _held(problem: _Problem, d0: np.ndarray, d: np.ndarray, gradient: np.ndarray) -> np.ndarray:
-    actions = np.diff(np.vstack([d0[None], d]), axis=0)
-    action_gradient = np.cumsum(gradient[::-1], axis=0)[::-1]
-    bound = problem.max_step
-    return ((actions >= bound * (1 - 1e-9)) & (action_gradient < 0)) | (
-        (actions <= -bound * (1 - 1e-9)) & (action_gradient > 0)
-    )
-
-
-def _reduced_hessian(index: np.ndarray, n_vars: int, hessian: np.ndarray) -> np.ndarray:
-    m = index.shape[1]
-    h = np.zeros((n_vars, n_vars))
-    for i in range(m):
-        for j in range(m):
-            keep = (index[:, i] >= 0) & (index[:, j] >= 0)
-            np.add.at(h, (index[keep, i], index[keep, j]), hessian[keep, i, j])
-    return h
-
-
-def _closest_window(
-    window: _Problem, anchor: np.ndarray, guess: np.ndarray, guide: np.ndarray, matched: bool
-) -> np.ndarray:
-    """The window optimum (of several starts) whose first offset is nearest the demonstration's."""
-    candidates = [guess, guide.copy()]
-    if window.has_obstacles and window.bumps(guess)[0].max() > 1e-6:
-        candidates += _side_starts(window, anchor)[1:]
-    best, best_key = None, None
-    for candidate in candidates:
-        d, cost, _, _ = _solve(window, anchor, candidate, tol=1e-11, max_iter=200)
-        key = (float(np.sum((d[0] - guide[0]) ** 2)) if matched else 0.0, cost)
-        if best_key is None or key < best_key:
-            best, best_key = d, key
-    return best
 
 
 def _mpc_with_sensitivity(
@@ -137,58 +114,95 @@ def _mpc_with_sensitivity(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Receding-horizon plan and its derivative w.r.t. θ by forward sensitivities.
 
-    Each window is solved from the previous window shifted (as at run time),
-    from the demonstration's offsets over the window and from both sides of a
-    near obstacle; of these local optima the one whose executed offset is
-    closest to the demonstration's is kept. The demonstrator's choice of side
-    is data, and what is explained is how far and how smoothly it swerves;
-    within one choice the plan is smooth in θ. At a window's
-    optimum the free groups satisfy ``G(w, d_k, θ) = 0``; the window moves with
-    ``θ`` directly and through the executed offset ``d_k`` it is anchored to:
-    ``dδ = −H⁻¹ (∂G/∂θ + ∂G/∂d_k · S_k)``, and ``S_{k+1}`` is the first
-    offset's row of it (or ``S_k`` where the first action is held).
+    Each window is solved from the previous window shifted (as at run time)
+    and from the demonstration's offsets over the window; of these local
+    optima the one whose executed offset is closest to the demonstration's is
+    kept. The demonstrator's choice of side is data, and what is explained is
+    how far and how smoothly it swerves; within one choice the plan is smooth
+    in θ. At a window's optimum the free groups satisfy ``G(w, d_k, θ) = 0``;
+    the window moves with ``θ`` directly and through the executed offset
+    ``d_k`` it is anchored to: ``dδ = −H⁻¹ (∂G/∂θ + ∂G/∂d_k · S_k)``, and
+    ``S_{k+1}`` is the first offset's row of it (or ``S_k`` where the first
+    action is held). Compiled: :func:`._ioc_kernels.mpc_sensitivity`.
 
     Returns offsets (n, m) and sensitivities (n, m, n_theta).
     """
+    from lfdkit.emulate._ioc_kernels import mpc_sensitivity  # numba compiles on first use
+
     n, m = problem.n, problem.m
-    n_theta = 1 + n_classes * problem.base.shape[1]
-    guide = np.where(item.found[1:, None], item.target[1:], 0.0)
     offsets = np.zeros((n, m))
-    sensitivity = np.zeros((n, m, n_theta))
-    anchor, anchor_sens = item.start.astype(float), np.zeros((m, n_theta))
-    guess = guide[: min(horizon, n)].copy()
-    for k in range(n):
-        stop = min(k + horizon, n)
-        window = problem.window(k, stop)
-        guess = guess[: stop - k]
-        w = _closest_window(window, anchor, guess, guide[k:stop], item.found[k + 1])
-        guess = np.vstack([w[1:], w[-1:]]) if w.shape[0] > 1 else w
-        _, gradient, hessian = window.derivatives(w)
-        held = _held(window, anchor, w, gradient)
-        index, n_vars = _groups(~held)
-        first = np.empty((m, n_theta))
-        if n_vars:
-            moving = index >= 0
-            rhs = np.zeros((n_vars, n_theta))
-            np.add.at(rhs, index[moving], _theta_derivative(window, w, class_of, n_classes)[moving])
-            coupling = np.zeros((n_vars, m))  # ∂G/∂d_k: anchored components move with d_k
-            for i in range(m):
-                for j in range(m):
-                    pair = moving[:, i] & ~moving[:, j]
-                    np.add.at(coupling[:, j], index[pair, i], hessian[pair, i, j])
-            h = _reduced_hessian(index, n_vars, hessian)
-            moves = -np.linalg.solve(h, rhs + coupling @ anchor_sens)
-            for i in range(m):
-                first[i] = moves[index[0, i]] if index[0, i] >= 0 else anchor_sens[i]
-        else:
-            first[:] = anchor_sens
-        offsets[k], sensitivity[k] = w[0], first
-        anchor, anchor_sens = w[0], first
+    sensitivity = np.zeros((n, m, 1 + n_classes * problem.base.shape[1]))
+    mpc_sensitivity(
+        *_kernel_arguments(problem, class_of, n_classes),
+        np.array(item.start, dtype=np.float64),
+        np.ascontiguousarray(np.where(item.found[1:, None], item.target[1:], 0.0)),
+        np.ascontiguousarray(item.found[1:]),
+        int(horizon),
+        offsets,
+        sensitivity,
+    )
     return offsets, sensitivity
+
+
+def _effective_count(residuals: Sequence[np.ndarray]) -> float:
+    """Independent residuals among correlated ones: ``Σ length / τ`` per sequence and component.
+
+    ``τ = 1 + 2 Σ ρ(lag)`` is the integrated autocorrelation time, summed up
+    to the first non-positive autocorrelation; each sequence counts at least once.
+    """
+    total = 0.0
+    for sequence in residuals:
+        count = 0.0
+        for component in np.atleast_2d(sequence.T):
+            x = component - component.mean()
+            power = float(x @ x)
+            tau = 1.0
+            if power > 0.0:
+                for lag in range(1, x.size // 2):
+                    rho = float(x[:-lag] @ x[lag:]) / power
+                    if rho <= 0.0:
+                        break
+                    tau += 2.0 * rho
+            count += x.size / tau
+        total += max(count, 1.0)
+    return total
+
+
+#: Bounds of every θ' (log Q' and log precisions, in normalised units).
+THETA_BOUNDS = (-20.0, 25.0)
+#: Range of the starting search (normalised units): nominal weights and obstacle widths.
+SEARCH_WEIGHTS = (0.1, 1000.0)
+SEARCH_WIDTHS = (0.005, 1.0)
+#: An obstacle term smaller than this at every demonstration point (at the widest
+#: search width), or a class that moves no plan by more than this fraction of the
+#: demonstrations' offsets, did not shape them.
+INFLUENCE_FLOOR = 1e-6
+#: L-BFGS-B's line search may fail at a point that is already stationary to the
+#: accuracy of the inner plans; below this projected gradient (of the loss scaled
+#: to about 1) that is accepted as convergence.
+STATIONARY_GRADIENT = 1e-5
+#: A parameter whose relative standard error exceeds this is reported as not identified.
+IDENTIFIED_ERROR = 0.5
+
+Progress = Callable[[str], None]
 
 
 class IOC:
     """Fit a :class:`Reward` to demonstrations in their scenes (thesis eq. 5.5).
+
+    Lengths are normalised inside :meth:`fit`: every demonstration, nominal and
+    obstacle is divided by one characteristic length ``ℓ`` (the largest extent
+    of the nominal paths), the unit-free parameters are fitted, and ``Q`` and
+    the precisions are converted back (both scale as 1/length²). The same
+    demonstrations in millimetres and in metres therefore give the same reward
+    up to the scale.
+
+    The loss has local minima in θ (a stiff path with narrow obstacles and a
+    soft one with wide obstacles can both bend around a demonstration). Without
+    ``init`` the fit first evaluates the loss (plans only, no gradients) over a
+    coarse grid of stiffnesses and isotropic widths and a Latin hypercube over
+    ``log Q`` and every class's log width per axis, then runs L-BFGS from the
+    ``n_starts`` best distinct points and keeps the lowest final loss.
 
     Parameters
     ----------
@@ -202,27 +216,50 @@ class IOC:
     max_slope : float
         The planner's action bound (sideways step per nominal step).
     init : Reward, optional
-        Starting reward (default: the best of a coarse grid of stiffnesses and
-        obstacle widths, see :meth:`_initial_theta`).
+        Starting reward (default: the search described above).
+    n_starts : int
+        L-BFGS runs, from the best distinct points of the search.
     max_iter : int
-        L-BFGS iterations per stage.
+        L-BFGS iterations per run.
     tol : float
         Relative tolerance on the loss for L-BFGS.
     gradient : {"implicit", "finite_difference"}
         Exact implicit gradients (default), or central finite differences of the
         loss (two extra plans per parameter and demonstration; for comparison).
+    progress : callable, optional
+        Called with a one-line message at every stage, and at every L-BFGS
+        iteration once a stage has run for more than 2 s.
 
     Attributes
     ----------
     reward_ : Reward
+        The learned reward, in the units of the data; classes in
+        ``not_learned_`` are left out, so the planner refuses scenes with them.
     theta_ : ndarray
-        ``[log Q, log diag P_c …]``.
+        ``[log Q, log diag P_c …]`` of ``reward_`` (units of the data).
     classes_ : tuple of str
+        The learned classes (in ``theta_``'s order).
+    not_learned_ : tuple of str
+        Classes in the scenes whose obstacles never influenced a demonstration.
+    length_scale_ : float
+        The characteristic length ``ℓ`` the fit was done in (units of the data).
     loss_ : float
-        Final mean squared distance (units²) on the training demonstrations.
+        Final mean squared distance (units²) on the training demonstrations,
+        of the last stage's planner.
     loss_history_ : list of float
     stages_ : list of dict
-        Per stage: planner, iterations, loss, seconds.
+        Per stage: planner, iterations, loss, seconds, message, converged.
+    converged_ : bool
+        False when an optimiser of the kept runs failed (line search failure
+        away from a stationary point, iteration limit, non-finite loss) or a
+        learned parameter sits at its bound.
+    convergence_message_ : str
+        Why (not) converged.
+    identifiability_ : dict
+        Per parameter name (``"Q"``, ``"P[<class>][<axis>]"``): ``curvature``
+        (second derivative of the training loss scaled to about 1, in θ),
+        ``relative_error`` (approximate relative standard error of the
+        parameter) and ``identified``.
     """
 
     def __init__(
@@ -233,21 +270,28 @@ class IOC:
         horizon: int | None = None,
         max_slope: float = 1.0,
         init: Reward | None = None,
+        n_starts: int = 3,
         max_iter: int = 200,
         tol: float = 1e-10,
         gradient: str = "implicit",
+        progress: Progress | None = None,
     ) -> None:
         self.classes = classes
         self.n_points = n_points
         self.horizon = horizon
         self.max_slope = max_slope
         self.init = init
+        self.n_starts = n_starts
         self.max_iter = max_iter
         self.tol = tol
         self.gradient = gradient
+        self.progress = progress
 
     # ---------------------------------------------------------------- data
-    def _prepare(self, demos: Any, scenes: Any, nominal: Any) -> list[DemoInScene]:
+    def _prepare(
+        self, demos: Any, scenes: Any, nominal: Any, n_points: int | None = None
+    ) -> list[DemoInScene]:
+        n_points = self.n_points if n_points is None else n_points
         demos = list(demos)
         scenes = list(scenes)
         if len(demos) != len(scenes):
@@ -267,7 +311,7 @@ class IOC:
                 raise TypeError(f"scenes[{j}]: expected a Scene, got {type(scene).__name__}")
             corridor = corridors.get(id(path))
             if corridor is None:
-                corridor = Corridor.from_path(path, self.n_points)
+                corridor = Corridor.from_path(path, n_points)
                 corridors[id(path)] = corridor
             try:
                 target, found = corridor.offsets_of(demo)
@@ -281,6 +325,31 @@ class IOC:
             start = target[0] if found[0] else target[np.argmax(found)]
             prepared.append(DemoInScene(corridor, scene, start, target, found))
         return prepared
+
+    @staticmethod
+    def _normalised(
+        demos: Any, scenes: Any, nominal: Any
+    ) -> tuple[float, list[np.ndarray], list[Any], Any]:
+        """Demonstrations, scenes and nominals divided by the characteristic length."""
+        demos = [check_path(demo, f"demos[{j}]") for j, demo in enumerate(demos)]
+        scenes = list(scenes)
+        several = isinstance(nominal, (list, tuple))
+        paths = list(nominal) if several else [nominal]
+        checked = {id(p): check_path(p, "nominal") for p in paths}
+        length = max(float(np.ptp(p, axis=0).max()) for p in checked.values())
+        if not np.isfinite(length) or length <= 0.0:
+            raise ValueError("nominal: has no extent (all its points coincide)")
+        scaled_paths = {key: p / length for key, p in checked.items()}
+        scaled_nominal = (
+            [scaled_paths[id(p)] for p in paths] if several else scaled_paths[id(paths[0])]
+        )
+        scaled_scenes = [
+            Scene.from_arrays(s.labels, s.positions / length, s.radii / length)
+            if isinstance(s, Scene) and len(s)
+            else s
+            for s in scenes
+        ]
+        return length, [d / length for d in demos], scaled_scenes, scaled_nominal
 
     # ------------------------------------------------------------- objective
     def _objective(
@@ -301,27 +370,34 @@ class IOC:
     def _problem(self, reward: Reward, item: DemoInScene) -> _Problem:
         return _build(reward, item.corridor, item.scene, self.max_slope)
 
+    def _class_of(self, scene: Scene) -> np.ndarray:
+        return np.array([self.classes_.index(label) for label in scene.labels], int)
+
     def _implicit_gradient(
         self, problem: _Problem, item: DemoInScene, d: np.ndarray, d_loss: np.ndarray
     ) -> np.ndarray:
-        _, gradient, hessian = problem.derivatives(d)
-        held = _held(problem, item.start, d, gradient)
-        index, n_vars = _groups(~held)
-        if n_vars == 0:
-            return np.zeros(1 + len(self.classes_) * self._q)
-        moving = index >= 0
-        rhs = np.bincount(index[moving], weights=d_loss[moving], minlength=n_vars)
-        h = _reduced_hessian(index, n_vars, hessian)
-        try:
-            adjoint = np.linalg.solve(h, rhs)
-        except np.linalg.LinAlgError:
-            adjoint = np.linalg.lstsq(h, rhs, rcond=None)[0]
-        class_of = np.array([self.classes_.index(label) for label in item.scene.labels], int)
-        d_grad = _theta_derivative(problem, d, class_of, len(self.classes_))
-        spread = np.where(moving[:, :, None], adjoint[np.maximum(index, 0)][:, :, None], 0.0)
-        return -np.einsum("kmp,kmp->p", spread, d_grad)
+        sensitivity = _plan_sensitivity(
+            problem, item.start, d, self._class_of(item.scene), len(self.classes_)
+        )
+        return np.einsum("km,kmp->p", d_loss, sensitivity)
 
     # ------------------------------------------------------------------ fit
+    def _check_params(self) -> None:
+        check_positive(self.n_points, "n_points", integer=True)
+        check_positive(self.max_iter, "max_iter", integer=True)
+        check_positive(self.n_starts, "n_starts", integer=True)
+        check_positive(self.max_slope, "max_slope")
+        if self.gradient not in ("implicit", "finite_difference"):
+            raise ValueError(
+                f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
+            )
+        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
+            raise ValueError(
+                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
+            )
+        if self.init is not None and not isinstance(self.init, Reward):
+            raise TypeError(f"init: expected a Reward, got {type(self.init).__name__}")
+
     def fit(self, demos: Any, scenes: Any, nominal: Any) -> IOC:
         """Learn the reward.
 
@@ -339,44 +415,267 @@ class IOC:
         -------
         IOC
             ``self``.
+
+        Warns
+        -----
+        UserWarning
+            For an obstacle class whose obstacles never influenced a
+            demonstration (it is not learned, see ``not_learned_``), and when
+            the fit did not converge.
         """
-        check_positive(self.n_points, "n_points", integer=True)
-        check_positive(self.max_iter, "max_iter", integer=True)
-        if self.gradient not in ("implicit", "finite_difference"):
-            raise ValueError(
-                f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
-            )
-        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
-            )
-        data = self._prepare(demos, scenes, nominal)
+        self._check_params()
+        # One BLAS thread, as the planner: the 3-D solves are many small
+        # eigen-decompositions, which threads make many times slower.
+        with threadpool_limits(limits=1):
+            return self._fit(list(demos), list(scenes), nominal)
+
+    def _fit(self, demos: list, scenes: list, nominal: Any) -> IOC:
+        length, scaled_demos, scaled_scenes, scaled_nominal = self._normalised(
+            demos, scenes, nominal
+        )
+        data = self._prepare(scaled_demos, scaled_scenes, scaled_nominal)
+        self.length_scale_ = length
         seen = tuple(dict.fromkeys(label for item in data for label in item.scene.labels))
-        self.classes_ = tuple(self.classes) if self.classes is not None else seen
-        missing = [label for label in seen if label not in self.classes_]
+        wanted = tuple(self.classes) if self.classes is not None else seen
+        missing = [label for label in seen if label not in wanted]
         if missing:
             raise ValueError(f"classes: the scenes contain {missing[0]!r}, which is not listed")
         self._q = data[0].corridor.n_dims
-        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
-        started = time.perf_counter()
-        theta0 = self._initial_theta(data, warm)
-        history: list[float] = []
-        self.stages_ = [
-            {
-                "planner": "initial grid",
-                "iterations": 0,
-                "loss": float("nan"),
-                "seconds": time.perf_counter() - started,
-                "message": "best of the starting grid" if self.init is None else "init given",
-            }
-        ]
-
+        # A class out of reach of every demonstration even at the widest response
+        # the search tries has no say in the loss: leave it out of θ.
+        reach = {c: self._influence(data, c, SEARCH_WIDTHS[1] ** -2) for c in wanted}
+        far = [c for c, value in reach.items() if value is None or value < INFLUENCE_FLOOR]
+        learnable = tuple(c for c in wanted if c not in far)
+        self.classes_ = learnable
+        data = self._without(data, far)
+        # 3-D plans cost a dense eigen-decomposition per Newton step (cubic in
+        # the points): search and run the starts on a coarser corridor, then
+        # refine the best on the full one.
+        coarse = data
+        if self._q == 3 and int(self.n_points) // 3 >= 30:
+            coarse = self._without(
+                self._prepare(scaled_demos, scaled_scenes, scaled_nominal, int(self.n_points) // 3),
+                far,
+            )
         # L-BFGS-B's stopping test is relative to max(|f|, 1): scale the loss to
         # about 1, the mean squared offset of the demonstrations from the nominal
         # (replaying the nominal scores 1).
         self._scale = float(
             np.mean([np.mean(item.target[item.found] ** 2) for item in data]) or 1.0
         )
+        self._data = data
+        history: list[float] = []
+        self.stages_ = []
+        theta = self._fit_full_horizon(data, coarse, history)
+        if self.horizon is not None:
+            theta = self._refine_mpc(theta, data, history)
+        # After the fit: a class whose learned response does not move the plans
+        # did not shape the demonstrations either.
+        weak = [label for label in self.classes_ if not self._moves_plans(theta, data, label)]
+        self.not_learned_ = tuple(c for c in wanted if c in far or c in weak)
+        keep = [i for i, c in enumerate(self.classes_) if c not in weak]
+        columns = [0] + [1 + i * self._q + a for i in keep for a in range(self._q)]
+        theta = theta[columns]
+        self.classes_ = tuple(self.classes_[i] for i in keep)
+        self._data = data = self._without(data, weak)
+        self.identifiability_ = self._identifiability(theta, data)
+        # Back to the data's units: Q and the precisions scale as 1/length².
+        self.theta_ = theta - 2.0 * np.log(length)
+        self.reward_ = Reward.from_theta(self.theta_, self.classes_, self._q)
+        self.loss_history_ = [value * length**2 for value in history]
+        self.loss_ = float(self.stages_[-1]["loss"])
+        failed = [s for s in self.stages_ if not s.get("converged", True)]
+        self.converged_ = not failed
+        self.convergence_message_ = (
+            "; ".join(f"{s['planner']}: {s['reason']}" for s in failed) if failed else "converged"
+        )
+        for label in self.not_learned_:
+            warnings.warn(
+                f"obstacle class {label!r} was not learned: none of its obstacles influenced "
+                "a demonstration; planning a scene with it is refused unless a reward for it "
+                "is adopted (e.g. Skill.adopt)",
+                UserWarning,
+                stacklevel=3,
+            )
+        if not self.converged_:
+            warnings.warn(
+                f"the reward fit did not converge ({self.convergence_message_})",
+                UserWarning,
+                stacklevel=3,
+            )
+        return self
+
+    def _tell(self, message: str) -> None:
+        if self.progress is not None:
+            self.progress(message)
+
+    def _influence(self, data: list[DemoInScene], label: str, precision: Any) -> float | None:
+        """Largest obstacle term of class ``label`` at a demonstration point (None: no obstacle).
+
+        ``precision``: the class's diagonal precision (q,), or a scalar for an
+        isotropic one, in the units of ``data``.
+        """
+        largest = None
+        for item in data:
+            mask = np.array([lab == label for lab in item.scene.labels], bool)
+            if not mask.any():
+                continue
+            points = item.corridor.to_points(np.where(item.found[:, None], item.target, 0.0))
+            rel = points[item.found][:, None, :] - item.scene.positions[mask][None]
+            depth = np.einsum("klq,q->kl", rel**2, np.broadcast_to(precision, (self._q,)))
+            value = float(np.exp(-depth.min()))
+            largest = value if largest is None else max(largest, value)
+        return largest
+
+    def _moves_plans(self, theta: np.ndarray, data: list[DemoInScene], label: str) -> bool:
+        """Whether class ``label``'s obstacles move a plan at ``theta`` by a noticeable amount.
+
+        Noticeable: more than ``INFLUENCE_FLOOR`` times the root mean squared
+        offset of the demonstrations. Measured on the plans, not on the size of
+        the obstacle term: a tiny ``Q`` makes a tiny term matter.
+        """
+        reward = Reward.from_theta(theta, self.classes_, self._q)
+        threshold = INFLUENCE_FLOOR * np.sqrt(self._scale)
+        for item in data:
+            if label not in item.scene.labels:
+                continue
+            others = self._without([item], [label])[0]
+            warm = np.where(item.found[1:, None], item.target[1:], 0.0)
+            with_it = _solve(self._problem(reward, item), item.start, warm.copy())[0]
+            without = _solve(self._problem(reward, others), item.start, warm.copy())[0]
+            if np.max(np.abs(with_it - without)) > threshold:
+                return True
+        return False
+
+    @staticmethod
+    def _without(data: list[DemoInScene], labels: Sequence[str]) -> list[DemoInScene]:
+        """The data with the obstacles of ``labels`` removed from every scene."""
+        if not labels:
+            return data
+        out = []
+        for item in data:
+            kept = [o for o in item.scene.obstacles if o.label not in labels]
+            out.append(
+                DemoInScene(item.corridor, Scene(tuple(kept)), item.start, item.target, item.found)
+            )
+        return out
+
+    def _theta_names(self) -> list[str]:
+        axes = "xyz"[: self._q]
+        return ["Q"] + [f"P[{c}][{a}]" for c in self.classes_ for a in axes]
+
+    def _lbfgs(
+        self, fun: Callable, theta0: np.ndarray, name: str, started: float
+    ) -> tuple[np.ndarray, dict]:
+        """One bounded L-BFGS run; the stage record says honestly whether it converged."""
+        iterations = [0]
+
+        def callback(*_: Any) -> None:
+            iterations[0] += 1
+            if time.perf_counter() - started > 2.0:
+                self._tell(f"IOC {name}: iteration {iterations[0]}, loss {history_last[0]:.4g}")
+
+        history_last = [np.nan]
+
+        def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
+            value, grad = fun(theta)
+            history_last[0] = value
+            return value, grad
+
+        run_started = time.perf_counter()
+        result = minimize(
+            wrapped,
+            theta0,
+            jac=True,
+            method="L-BFGS-B",
+            bounds=[THETA_BOUNDS] * theta0.size,
+            callback=callback,
+            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-8},
+        )
+        theta = np.asarray(result.x, float)
+        converged, reason = bool(result.success), str(result.message)
+        at_bound = np.flatnonzero(
+            (theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6)
+        )
+        if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
+            converged, reason = False, "non-finite loss or gradient"
+        elif not converged and result.status == 2:
+            # A failed line search at a point stationary to the accuracy of the
+            # inner plans is the optimum; anywhere else it is a failure.
+            jac = np.asarray(result.jac, float)
+            projected = np.where(
+                ((theta <= THETA_BOUNDS[0]) & (jac > 0)) | ((theta >= THETA_BOUNDS[1]) & (jac < 0)),
+                0.0,
+                jac,
+            )
+            if np.max(np.abs(projected)) <= STATIONARY_GRADIENT:
+                converged = True
+                reason += " (accepted: stationary to the accuracy of the plans)"
+        if converged and at_bound.size:
+            names = self._theta_names()
+            converged = False
+            reason = f"{names[at_bound[0]]} at its bound (degenerate fit)"
+        stage = {
+            "planner": name,
+            "iterations": int(result.nit),
+            "loss": float(result.fun) * self._scale * self.length_scale_**2,
+            "seconds": time.perf_counter() - run_started,
+            "message": str(result.message),
+            "converged": converged,
+            "reason": reason,
+        }
+        return theta, stage
+
+    def _fit_full_horizon(
+        self, data: list[DemoInScene], coarse: list[DemoInScene], history: list[float]
+    ) -> np.ndarray:
+        """L-BFGS from each start (on ``coarse``), the lowest loss kept (refined on ``data``)."""
+        started = time.perf_counter()
+        if self.init is not None:
+            starts = [self._init_theta()]
+            message = "init given"
+        else:
+            self._tell("IOC: searching starting parameters (plans only)")
+            starts = self._search(coarse, self._demo_offsets(coarse))
+            message = f"best {len(starts)} distinct of the starting search"
+        self.stages_.append(
+            {
+                "planner": "initial search",
+                "iterations": 0,
+                "loss": float("nan"),
+                "seconds": time.perf_counter() - started,
+                "message": message,
+                "converged": True,
+            }
+        )
+        best = None
+        for r, theta0 in enumerate(starts):
+            self._tell(f"IOC full horizon: run {r + 1} of {len(starts)}")
+            run = self._full_horizon_run(theta0, coarse, started)
+            if best is None or run[0] < best[0]:
+                best = run
+        if coarse is not data:
+            self._tell("IOC full horizon: refining the best run on the full corridor")
+            best = self._full_horizon_run(best[1], data, started)
+            best[2]["search_points"] = coarse[0].corridor.n_points
+        _, theta, stage, run_history = best
+        stage["starts"] = len(starts)
+        history.extend(run_history)
+        stage["seconds"] = time.perf_counter() - started - self.stages_[0]["seconds"]
+        self.stages_.append(stage)
+        return theta
+
+    @staticmethod
+    def _demo_offsets(data: list[DemoInScene]) -> list[np.ndarray]:
+        """Each demonstration's offsets 1 … K−1 (0 where unmatched): where its plans start."""
+        return [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
+
+    def _full_horizon_run(
+        self, theta0: np.ndarray, data: list[DemoInScene], started: float
+    ) -> tuple[float, np.ndarray, dict, list[float]]:
+        """One L-BFGS run: its loss (plans started from the demos), θ, stage record, history."""
+        warm = self._demo_offsets(data)
+        run_history: list[float] = []
 
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = self._objective(theta, data, warm)
@@ -384,36 +683,62 @@ class IOC:
                 grad = self._finite_difference(
                     lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
                 )
-            history.append(value)
+            run_history.append(value)
             return value / self._scale, grad / self._scale
 
-        started = time.perf_counter()
-        result = minimize(
-            fun,
-            theta0,
-            jac=True,
-            method="L-BFGS-B",
-            bounds=[(-20.0, 25.0)] * theta0.size,
-            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-8},
+        theta, stage = self._lbfgs(fun, theta0, "full horizon", started)
+        # Rank runs by the loss of plans started from the demonstrations, the
+        # same for every run (an L-BFGS run warm-starts from its last plans).
+        final = self._loss_only(theta, data, self._demo_offsets(data))
+        stage["loss"] = final * self.length_scale_**2
+        return final, theta, stage, run_history
+
+    def _init_theta(self) -> np.ndarray:
+        missing = [c for c in self.classes_ if c not in self.init.precisions]
+        if missing:
+            raise ValueError(f"init: has no precision for class {missing[0]!r}")
+        sub = Reward(self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_})
+        # The data are in units of the length scale: Q and P scale as length².
+        return sub.theta + 2.0 * np.log(self.length_scale_)
+
+    def _search(self, data: list[DemoInScene], warm: list[np.ndarray]) -> list[np.ndarray]:
+        """The ``n_starts`` best distinct points of a coarse grid and a Latin hypercube.
+
+        The grid: ``Q' = 10 f_Q``, ``f_Q`` in 0.1 … 10, every width ``0.05 f_w``,
+        ``f_w`` in 0.4 … 2.5 (normalised units); the hypercube: ``8 (1 + C q)``
+        points over ``log Q'`` in ``SEARCH_WEIGHTS`` and every class's log width
+        per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
+        """
+        n_theta = 1 + len(self.classes_) * self._q
+        candidates = []
+        for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
+            for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
+                width = 0.05 * spread
+                candidates.append(
+                    np.array([np.log(10.0 * stiffness)] + [-2.0 * np.log(width)] * (n_theta - 1))
+                )
+        rng = np.random.default_rng(0)
+        n_lhs = 8 * n_theta
+        cells = (
+            rng.permuted(np.tile(np.arange(n_lhs), (n_theta, 1)), axis=1).T
+            + rng.random((n_lhs, n_theta))
+        ) / n_lhs
+        low = np.array(
+            [np.log(SEARCH_WEIGHTS[0])] + [-2.0 * np.log(SEARCH_WIDTHS[1])] * (n_theta - 1)
         )
-        self.stages_.append(
-            {
-                "planner": "full horizon",
-                "iterations": int(result.nit),
-                "loss": float(result.fun) * self._scale,
-                "seconds": time.perf_counter() - started,
-                "message": str(result.message),
-            }
+        high = np.array(
+            [np.log(SEARCH_WEIGHTS[1])] + [-2.0 * np.log(SEARCH_WIDTHS[0])] * (n_theta - 1)
         )
-        theta = result.x
-        if self.horizon is not None:
-            theta = self._refine_mpc(theta, data, history)
-        self.theta_ = theta
-        self.reward_ = Reward.from_theta(theta, self.classes_, self._q)
-        self.loss_history_ = history
-        self.loss_ = float(self.stages_[-1]["loss"])  # the last fitting stage
-        self.converged_ = bool(result.success)
-        return self
+        candidates += list(low + cells * (high - low))
+        losses = np.array([self._loss_only(theta, data, warm) for theta in candidates])
+        order = np.argsort(np.where(np.isfinite(losses), losses, np.inf), kind="stable")
+        chosen: list[np.ndarray] = []
+        for i in order:
+            if all(np.max(np.abs(candidates[i] - c)) > 1.0 for c in chosen):
+                chosen.append(candidates[i])
+            if len(chosen) == self.n_starts:
+                break
+        return chosen
 
     @staticmethod
     def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
@@ -423,37 +748,6 @@ class IOC:
             step[i] = eps
             out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
         return out
-
-    def _initial_theta(self, data: list[DemoInScene], warm: list[np.ndarray]) -> np.ndarray:
-        """``init``'s θ, or the best of a coarse grid of stiffnesses and widths.
-
-        The loss has local minima in θ (a stiff path with narrow obstacles and a
-        soft one with wide obstacles can both bend around a demonstration), so
-        without ``init`` the loss is evaluated (plans only, no optimisation) for
-        ``Q = 10 f_Q / extent²`` and widths ``0.05 f_w extent``, ``f_Q`` in 0.1 … 10,
-        ``f_w`` in 0.4 … 2.5, and the fit starts from the best.
-        """
-        if self.init is not None:
-            missing = [c for c in self.classes_ if c not in self.init.precisions]
-            if missing:
-                raise ValueError(f"init: has no precision for class {missing[0]!r}")
-            sub = Reward(
-                self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_}
-            )
-            return sub.theta
-        extent = max(float(np.ptp(item.corridor.points, axis=0).max()) for item in data)
-        best, best_loss = None, np.inf
-        for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
-            for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
-                width = 0.05 * spread * extent
-                theta = np.array(
-                    [np.log(10.0 * stiffness / extent**2)]
-                    + [np.log(1.0 / width**2)] * (self._q * len(self.classes_))
-                )
-                loss = self._loss_only(theta, data, warm)
-                if loss < best_loss:
-                    best, best_loss = theta, loss
-        return best
 
     def _loss_only(
         self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
@@ -467,10 +761,78 @@ class IOC:
             total += float(np.sum(residual**2)) / count
         return total
 
+    def training_loss(self, reward: Reward) -> float:
+        """Full-horizon training loss (units²) of any reward on the fitted data.
+
+        Planned as in the fit (each plan started from its demonstration), so
+        the learned reward can be compared with another, e.g. the true one of a
+        synthetic demonstrator. Classes not learned are left out of the scenes.
+        """
+        if not hasattr(self, "reward_"):
+            raise ValueError("training_loss: fit the IOC first")
+        if not isinstance(reward, Reward):
+            raise TypeError(f"reward: expected a Reward, got {type(reward).__name__}")
+        missing = [c for c in self.classes_ if c not in reward.precisions]
+        if missing:
+            raise ValueError(f"reward: has no precision for class {missing[0]!r}")
+        sub = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in self.classes_})
+        theta = sub.theta + 2.0 * np.log(self.length_scale_)
+        warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in self._data]
+        return self._loss_only(theta, self._data, warm) * self.length_scale_**2
+
+    def _identifiability(self, theta: np.ndarray, data: list[DemoInScene]) -> dict:
+        """Curvature of the full-horizon loss in θ and approximate relative standard errors.
+
+        The Hessian is central differences of the exact gradient. The loss
+        ``L = Σ r² / N`` is treated as a least-squares fit, ``cov θ ≈ 2 L / n ·
+        H⁻¹``, whose residuals are correlated along each demonstration (smooth
+        noise): ``n`` is their effective number, each demonstration's count
+        divided by the integrated autocorrelation time of its residuals (at
+        least one per demonstration). The relative error of ``exp θ_i`` is
+        ``√cov_ii``; it is infinite for a parameter with a share in a direction
+        of zero or negative curvature (a ridge or saddle of the loss).
+        """
+        warm = self._demo_offsets(data)
+        loss = self._objective(theta, data, warm)[0] / self._scale  # warm: the plans at θ
+        residuals = [
+            (plan - item.target[1:])[item.found[1:]] for plan, item in zip(warm, data, strict=True)
+        ]
+
+        def grad(t: np.ndarray) -> np.ndarray:
+            return self._objective(t, data, [w.copy() for w in warm])[1] / self._scale
+
+        eps = 1e-4
+        n = theta.size
+        hessian = np.empty((n, n))
+        for i in range(n):
+            step = np.zeros(n)
+            step[i] = eps
+            hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
+        hessian = 0.5 * (hessian + hessian.T)
+        variance_scale = 2.0 * loss / _effective_count(residuals)
+        diag = np.diag(hessian)
+        # Directions of zero or negative curvature (a ridge or a saddle of the
+        # loss) leave every parameter with a share in them undetermined.
+        values, vectors = np.linalg.eigh(hessian)
+        flat = values <= 1e-8 * max(float(np.abs(values).max()), 1e-300)
+        undetermined = np.any(np.abs(vectors[:, flat]) > 0.1, axis=1)
+        inverse = (vectors[:, ~flat] / values[~flat]) @ vectors[:, ~flat].T
+        errors = np.sqrt(variance_scale * np.clip(np.diag(inverse), 0.0, None))
+        errors = np.where(undetermined, np.inf, errors)
+        out = {}
+        for i, name in enumerate(self._theta_names()):
+            out[name] = {
+                "curvature": float(diag[i]),
+                "relative_error": float(errors[i]),
+                "identified": bool(errors[i] <= IDENTIFIED_ERROR),
+            }
+        return out
+
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
     ) -> np.ndarray:
         started = time.perf_counter()
+        self._tell(f"IOC MPC H={int(self.horizon)}: refining")
 
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
             loss, grad = self._objective_mpc(value, data)
@@ -479,24 +841,9 @@ class IOC:
             history.append(loss)
             return loss / self._scale, grad / self._scale
 
-        result = minimize(
-            fun,
-            theta,
-            jac=True,
-            method="L-BFGS-B",
-            bounds=[(-20.0, 25.0)] * theta.size,
-            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-8},
-        )
-        self.stages_.append(
-            {
-                "planner": f"MPC H={int(self.horizon)}",
-                "iterations": int(result.nit),
-                "loss": float(result.fun) * self._scale,
-                "seconds": time.perf_counter() - started,
-                "message": str(result.message),
-            }
-        )
-        return result.x
+        theta, stage = self._lbfgs(fun, theta, f"MPC H={int(self.horizon)}", started)
+        self.stages_.append(stage)
+        return theta
 
     def _objective_mpc(
         self, theta: np.ndarray, data: list[DemoInScene]
@@ -506,9 +853,8 @@ class IOC:
         total, gradient = 0.0, np.zeros_like(theta)
         for item in data:
             problem = self._problem(reward, item)
-            class_of = np.array([self.classes_.index(label) for label in item.scene.labels], int)
             d, sensitivity = _mpc_with_sensitivity(
-                problem, item, int(self.horizon), class_of, len(self.classes_)
+                problem, item, int(self.horizon), self._class_of(item.scene), len(self.classes_)
             )
             residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
             total += float(np.sum(residual**2)) / count

@@ -147,8 +147,10 @@ class Reward:
         unknown = [label for label in scene.classes if label not in self.precisions]
         if unknown:
             raise ValueError(
-                f"scene: obstacle class {unknown[0]!r} was never learned; "
-                f"known classes: {', '.join(self.classes) or 'none'}"
+                f"scene: obstacle class {unknown[0]!r} was never learned (not in the "
+                "training scenes, or no demonstration passed near one); known classes: "
+                f"{', '.join(self.classes) or 'none'}; adopt a reward for it learned "
+                "elsewhere (e.g. Skill.adopt) to plan with it"
             )
         if not len(scene):
             return np.zeros((0, self.n_dims or 2, self.n_dims or 2))
