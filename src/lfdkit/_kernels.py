@@ -287,6 +287,26 @@ def offset_cost(c, b, a, weight, d):
 
 
 @numba.njit(cache=True)
+def offset_derivatives(c, b, a, weight, d, gradient, hessian):
+    """:func:`planner_derivatives` without hard radii (the thesis's model)."""
+    n, m = d.shape
+    return planner_derivatives(
+        c,
+        b,
+        a,
+        weight,
+        np.zeros((n, 0)),
+        np.zeros((n, 0, m)),
+        np.zeros(0),
+        np.zeros(0),
+        0.0,
+        d,
+        gradient,
+        hessian,
+    )
+
+
+@numba.njit(cache=True)
 def offset_groups(free, index):
     """Reduced-variable index per offset component (−1: anchored); returns their number."""
     n, m = free.shape
