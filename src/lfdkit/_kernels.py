@@ -504,16 +504,69 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
 
 
 @numba.njit(cache=True)
-def _grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, m, out):
-    """Cost of every grid state at every point: ``out`` (n, G^m)."""
+def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
+    """Cost of every grid state at every point: ``out`` (n, G^m), m from its width.
+
+    At each point, obstacles whose term is negligible at every offset (the
+    exponent's minimum over all offsets above 40, or the squared distance's
+    minimum beyond the barrier) are left out of that point's states.
+    """
     g_count = levels.shape[0]
+    n = out.shape[0]
+    m = 2 if out.shape[1] != g_count else 1
+    n_obs, n_hard = c.shape[1], rr.shape[1]
     point = np.empty(m)
-    for k in range(out.shape[0]):
+    bumps = np.empty(n_obs, dtype=np.int64)
+    hards = np.empty(n_hard, dtype=np.int64)
+    for k in range(n):
+        n_bumps = 0
+        for o in range(n_obs):
+            # min over d of c + 2bᵀd + dᵀAd is c − bᵀA⁻¹b (A positive definite)
+            if m == 1:
+                lowest = c[k, o] - b[k, o, 0] ** 2 / max(a[k, o, 0, 0], 1e-300)
+            else:
+                det = a[k, o, 0, 0] * a[k, o, 1, 1] - a[k, o, 0, 1] * a[k, o, 1, 0]
+                det = max(det, 1e-300)
+                quad = (
+                    a[k, o, 1, 1] * b[k, o, 0] ** 2
+                    - 2.0 * a[k, o, 0, 1] * b[k, o, 0] * b[k, o, 1]
+                    + a[k, o, 0, 0] * b[k, o, 1] ** 2
+                ) / det
+                lowest = c[k, o] - quad
+            if lowest < 40.0:
+                bumps[n_bumps] = o
+                n_bumps += 1
+        n_hards = 0
+        for h in range(n_hard):
+            closest = rr[k, h]
+            for i in range(m):
+                closest -= nr[k, h, i] ** 2
+            if closest < outer2[h]:
+                hards[n_hards] = h
+                n_hards += 1
         for s in range(out.shape[1]):
             point[0] = levels[s // g_count if m == 2 else s]
             if m == 2:
                 point[1] = levels[s % g_count]
-            out[k, s] = _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, point)
+            total = 0.0
+            for i in range(m):
+                total += weight[k] * point[i] * point[i]
+            for j in range(n_bumps):
+                o = bumps[j]
+                e = c[k, o]
+                for i in range(m):
+                    npu = b[k, o, i]
+                    for jj in range(m):
+                        npu += a[k, o, i, jj] * point[jj]
+                    e += (b[k, o, i] + npu) * point[i]
+                total += np.exp(-e)
+            for j in range(n_hards):
+                h = hards[j]
+                u = rr[k, h]
+                for i in range(m):
+                    u += (2.0 * nr[k, h, i] + point[i]) * point[i]
+                total += _barrier(u, inner2[h], outer2[h], mu)[0]
+            out[k, s] = total
 
 
 @numba.njit(cache=True)
@@ -556,14 +609,18 @@ def grid_cost_to_go(
     on 0); ``+inf`` where none avoids the hard radii. ``extra`` (n, G^m) is
     added to the states' costs (``+inf`` forbids a state; empty: nothing).
     """
+    grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
+    grid_backward(out.copy(), levels.shape[0], window, end_zero, extra, out)
+
+
+@numba.njit(cache=True)
+def grid_backward(node, g_count, window, end_zero, extra, out):
+    """:func:`grid_cost_to_go` from states' costs ``node`` (n, G^m) computed before."""
     n, n_states = out.shape
-    g_count = levels.shape[0]
     m = 2 if n_states != g_count else 1
-    _grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, m, out)
-    if extra.shape[0]:
-        for k in range(n):
-            for s in range(n_states):
-                out[k, s] += extra[k, s]
+    for k in range(n):
+        for s in range(n_states):
+            out[k, s] = node[k, s] + (extra[k, s] if extra.shape[0] else 0.0)
     if end_zero:
         zero = (g_count - 1) // 2
         keep = zero * g_count + zero if m == 2 else zero

@@ -275,13 +275,8 @@ def _learn(args: argparse.Namespace) -> None:
             "wrote nothing. Check the units and that each obstacle demonstration follows "
             "the path around its scene's obstacles, add demonstrations, or try --planner full"
         )
-    for warning in caught:  # lfdkit's own warnings as one line each, others as usual
-        if issubclass(warning.category, UserWarning):
-            _say(args, f"lfdkit learn: warning: {warning.message}")
-        else:
-            warnings.showwarning(
-                warning.message, warning.category, warning.filename, warning.lineno
-            )
+    for warning in caught:  # shown once each, after the fit, as main's handler shows them
+        warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"

@@ -170,15 +170,33 @@ def normal_frames(tangents: np.ndarray) -> np.ndarray:
     normals = basis[:, 1:].T
     for i in range(n):
         t = tangents[i]
-        projected = normals - np.outer(normals @ t, t)
-        full = np.vstack((t, projected))
-        qmat, rmat = np.linalg.qr(full.T)
-        qmat = qmat * np.sign(np.diag(rmat) + (np.diag(rmat) == 0))
-        frames[i] = qmat.T
+        frame = _gram_schmidt(t, normals)
+        if frame is None:  # a degenerate transport (sharp turn): QR decides
+            projected = normals - np.outer(normals @ t, t)
+            qmat, rmat = np.linalg.qr(np.vstack((t, projected)).T)
+            frame = (qmat * np.sign(np.diag(rmat) + (np.diag(rmat) == 0))).T
+        frames[i] = frame
         if np.linalg.det(frames[i]) < 0:
             frames[i, -1] *= -1.0  # a sharp turn can degenerate the transport; stay a rotation
         normals = frames[i, 1:]
     return frames
+
+
+def _gram_schmidt(tangent: np.ndarray, normals: np.ndarray) -> np.ndarray | None:
+    """``tangent`` then ``normals`` orthonormalised in order (QR with a positive diagonal).
+
+    Plain Gram–Schmidt on a few short vectors, many times cheaper than a QR
+    call per point; None when a vector is (nearly) dependent on the earlier ones.
+    """
+    rows = [tangent]
+    for v in normals:
+        for u in rows:
+            v = v - (v @ u) * u
+        norm = float(np.sqrt(v @ v))
+        if norm < 1e-8:
+            return None
+        rows.append(v / norm)
+    return np.array(rows)
 
 
 def resample(path: np.ndarray, n_points: int) -> np.ndarray:

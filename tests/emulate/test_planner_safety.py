@@ -105,9 +105,10 @@ def reference_cost(reward: Reward, path: np.ndarray, scene: Scene, goal_approach
     return float(min(result.fun, problem.cost(d[:, None])))
 
 
-@pytest.mark.parametrize("block", range(10))
+@pytest.mark.parametrize("block", range(2))
 def test_full_horizon_plan_is_the_global_optimum_over_passing_sides(block: int) -> None:
-    # 500 random scenes in 10 blocks (thesis model, so the reference is well conditioned).
+    # 100 random scenes here (thesis model, so the reference is well conditioned);
+    # benchmarks/emulate_planner.py runs 500 against the same reference.
     for seed in range(50 * block, 50 * block + 50):
         reward, path, scene = random_case(seed)
         plan = plan_path(reward, path, scene, n_points=N_POINTS, goal_approach=None)
@@ -116,7 +117,7 @@ def test_full_horizon_plan_is_the_global_optimum_over_passing_sides(block: int) 
 
 
 def test_goal_reaching_plan_is_the_global_optimum_over_passing_sides() -> None:
-    for seed in range(60):
+    for seed in range(30):
         reward, path, scene = random_case(10_000 + seed)
         plan = plan_path(reward, path, scene, n_points=N_POINTS)
         best = reference_cost(reward, path, scene, "auto")

@@ -41,8 +41,8 @@ from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize
-from threadpoolctl import threadpool_limits
 
+from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.planner import (
     MAX_HORIZON,
@@ -426,7 +426,7 @@ class IOC:
         self._check_params()
         # One BLAS thread, as the planner: the 3-D solves are many small
         # eigen-decompositions, which threads make many times slower.
-        with threadpool_limits(limits=1):
+        with one_blas_thread():
             return self._fit(list(demos), list(scenes), nominal)
 
     def _fit(self, demos: list, scenes: list, nominal: Any) -> IOC:

@@ -81,8 +81,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
+from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
@@ -448,42 +448,83 @@ def _global_start(
     return out if np.isfinite(total) else None
 
 
-def _flipped_starts(
-    problem: _Problem, d0: np.ndarray, end_on_nominal: bool, best: np.ndarray, levels
-) -> list[np.ndarray]:
-    """The best grid path with one obstacle passed on the other side, for each near one.
+class _GridSearch:
+    """The states' costs on one lateral grid, computed once, for several searches.
 
-    The grid ranks passing sides only to its resolution: where two ways
-    round differ by less, the continuous optimum may lie on the other side of
-    an obstacle. Each flipped path is forbidden, at the obstacle's nearest
-    point, the side the best grid path takes there.
+    In 2-D the grid is twice as fine as :func:`_lateral_levels`' and the
+    coarse grid is every other level of it (sharing the costs); in 3-D there
+    is only the coarse grid.
     """
-    grid = levels[0]
-    m = problem.m
-    states = (
-        grid[:, None]
-        if m == 1
-        else np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)
-    )
-    bump = problem.bumps(best)[0]  # (n, L)
-    rel = problem.obstacles[:, None, :] - problem.base[None]
-    nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
-    near = bump.max(axis=0) > 1e-9
-    if problem.hard.size:
-        near[problem.hard] = True
-    starts = []
-    for o in np.flatnonzero(near):
-        k = int(nearest[o])
-        lateral = problem.normals[k] @ rel[o, k]
-        side = best[k] - lateral
-        if not np.any(side):
-            side = np.ones(m)
-        extra = np.zeros((problem.n, states.shape[0]))
-        extra[k, (states - lateral) @ side >= 0.0] = np.inf
-        flipped = _global_start(problem, d0, end_on_nominal, levels, extra)
-        if flipped is not None:
-            starts.append(flipped)
-    return starts
+
+    def __init__(self, problem: _Problem, d0: np.ndarray) -> None:
+        from lfdkit._kernels import grid_node_costs
+
+        self.problem, self.d0, self.m = problem, d0, problem.m
+        levels, window = _lateral_levels(problem, d0, fine=problem.m == 1)
+        node = np.empty((problem.n, levels.size**problem.m))
+        grid_node_costs(*problem.kernel_arguments(), levels, node)
+        self.grids = {"fine": (levels, window, node)}
+        if problem.m == 1 and window >= 2:
+            half = levels.size // 2  # the zero level's index
+            pick = np.arange(half % 2, levels.size, 2)
+            self.grids["coarse"] = (levels[pick], window // 2, node[:, pick])
+        else:
+            self.grids["coarse"] = self.grids["fine"]
+
+    def best(
+        self, end_on_nominal: bool, grid: str = "coarse", extra: np.ndarray | None = None
+    ) -> np.ndarray | None:
+        """The best path on a grid (None if every grid path is blocked)."""
+        from lfdkit._kernels import grid_backward, grid_walk
+
+        levels, window, node = self.grids[grid]
+        table = np.empty_like(node)
+        grid_backward(
+            node,
+            levels.size,
+            window,
+            end_on_nominal,
+            np.zeros((0, 0)) if extra is None else extra,
+            table,
+        )
+        out = np.zeros((self.problem.n, self.m))
+        total = grid_walk(table, levels, window, self.problem.max_step, self.d0, out)
+        return out if np.isfinite(total) else None
+
+    def flipped(self, end_on_nominal: bool, best: np.ndarray) -> list[np.ndarray]:
+        """The best coarse path with one near obstacle passed on its other side, each.
+
+        The grid ranks passing sides only to its resolution: where two ways
+        round differ by less, the continuous optimum may lie on the other side
+        of an obstacle. Each flipped path is forbidden, at the obstacle's
+        nearest point, the side the best grid path takes there.
+        """
+        problem, m = self.problem, self.m
+        levels = self.grids["coarse"][0]
+        states = (
+            levels[:, None]
+            if m == 1
+            else np.stack(np.meshgrid(levels, levels, indexing="ij"), axis=-1).reshape(-1, 2)
+        )
+        bump = problem.bumps(best)[0]  # (n, L)
+        rel = problem.obstacles[:, None, :] - problem.base[None]
+        nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
+        near = bump.max(axis=0) > 1e-9
+        if problem.hard.size:
+            near[problem.hard] = True
+        starts = []
+        for o in np.flatnonzero(near):
+            k = int(nearest[o])
+            lateral = problem.normals[k] @ rel[o, k]
+            side = best[k] - lateral
+            if not np.any(side):
+                side = np.ones(m)
+            extra = np.zeros((problem.n, states.shape[0]))
+            extra[k, (states - lateral) @ side >= 0.0] = np.inf
+            flipped = self.best(end_on_nominal, "coarse", extra)
+            if flipped is not None:
+                starts.append(flipped)
+        return starts
 
 
 def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
@@ -667,7 +708,7 @@ def plan_path(
     """
     # One BLAS thread: the 3-D solver's eigen-solves are many and small, and
     # threaded BLAS makes them many times slower on a busy machine.
-    with threadpool_limits(limits=1):
+    with one_blas_thread():
         return _plan(
             reward,
             nominal,
@@ -746,13 +787,13 @@ def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np
     nominal = np.zeros((problem.n, problem.m))
     if not problem.has_obstacles:
         return [nominal]
-    levels = _lateral_levels(problem, d0)
-    grid = _global_start(problem, d0, reach_goal, levels)
+    search = _GridSearch(problem, d0)
+    grid = search.best(reach_goal)
     if grid is None:
         raise UnsafePlanError(_blocked_message(problem, reach_goal))
-    starts = [grid, *_flipped_starts(problem, d0, reach_goal, grid, levels)]
-    if problem.m == 1:  # cheap in 2-D: a grid twice as fine separates closer ties
-        fine = _global_start(problem, d0, reach_goal, _lateral_levels(problem, d0, fine=True))
+    starts = [grid, *search.flipped(reach_goal, grid)]
+    if search.grids["fine"] is not search.grids["coarse"]:
+        fine = search.best(reach_goal, "fine")
         starts += [] if fine is None else [fine]
     return [*starts, nominal]
 

@@ -29,6 +29,7 @@ from lfdkit.emulate.scene import Obstacle, load_scenes
 from lfdkit.examples import example_dataset, example_files
 from lfdkit.geometry import left_normals, resample
 from lfdkit.report import Report
+from lfdkit.robot.sim import BRUSH
 from lfdkit.skill import Skill, learn, read_training_data
 
 __all__ = ["INCOMPLETE_MARKER", "NEW_GOAL", "UNSEEN_DESIGNS", "demo_outputs", "run_demo"]
@@ -178,7 +179,7 @@ def _run_into(out: Path, progress: Progress | None) -> dict[str, Any]:
     unseen = []
     for i, scene in enumerate(scenes):
         t0 = time.perf_counter()
-        learned = skill.plan(start, NEW_GOAL, scene)
+        learned = skill.plan(start, NEW_GOAL, scene, clearance=0.5 * BRUSH.width)
         plan_ms = 1e3 * (time.perf_counter() - t0)
         reference = plan_path(truth.true_reward, true_nominal, scene, horizon=horizon).points
         # Drawn in this order: the learned plan on top of the demonstrator's.
@@ -366,7 +367,9 @@ def _execute(skill: Skill, start: np.ndarray, scene: Scene) -> dict:
 
     direction = (NEW_GOAL - start) / np.linalg.norm(NEW_GOAL - start)
     dustpan = sim.Dustpan(NEW_GOAL - 0.02 * direction, float(np.arctan2(*direction[::-1])))
-    path = skill.plan(start, NEW_GOAL, scene, goal_approach=GOAL_APPROACH)
+    path = skill.plan(
+        start, NEW_GOAL, scene, goal_approach=GOAL_APPROACH, clearance=0.5 * BRUSH.width
+    )
     task = sim.SweepingTask.for_path(path, dustpan, scene)
     result = sim.execute_sweep(path, task, render=True)
     figure = sweep_figure(

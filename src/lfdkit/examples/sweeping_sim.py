@@ -140,7 +140,9 @@ def default_planners(skill: Skill, true_reward: Reward | None = None) -> dict[st
 
     planners: dict[str, Planner] = {
         "learned skill": learned,
-        "learned, thesis end": lambda start, goal, scene: skill.plan(start, goal, scene),
+        "learned, thesis end": lambda start, goal, scene: skill.plan(
+            start, goal, scene, goal_approach=None
+        ),
         "replay generalized path": lambda start, goal, scene: skill.path_,
         "DMP alone": lambda start, goal, scene: skill.nominal(start, goal),
     }

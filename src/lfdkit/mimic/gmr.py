@@ -35,8 +35,8 @@ from scipy.special import logsumexp
 from sklearn.base import BaseEstimator
 from sklearn.mixture import GaussianMixture
 from sklearn.utils.validation import check_is_fitted
-from threadpoolctl import threadpool_limits
 
+from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_count, check_demos, check_positive, check_random_state
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
@@ -303,7 +303,7 @@ class GMR(BaseEstimator):
         try:
             # The matrices are tiny ((1+q) x (1+q)): BLAS/OpenMP threads only add
             # overhead (and stall badly on a loaded machine), so run EM single-threaded.
-            with threadpool_limits(limits=1):
+            with one_blas_thread():
                 gm.fit(data)
         except ValueError as exc:
             msg = str(exc)

@@ -26,8 +26,8 @@ import numpy as np
 from scipy.optimize import minimize
 from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
-from threadpoolctl import threadpool_limits
 
+from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_count, check_path, check_positive, check_random_state
 from lfdkit.mimic.gmr import _check_demos_any_dim
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
@@ -278,7 +278,7 @@ class NLPCA(BaseEstimator):
         x = centred / scale
 
         # Small dense products (N x h): BLAS threads only add overhead here.
-        with threadpool_limits(limits=1):
+        with one_blas_thread():
             best = self._optimise(x, q, n_hidden, alpha, max_iter, n_restarts, rng)
         assert best is not None
         theta = np.asarray(best.x, dtype=np.float64).copy()
