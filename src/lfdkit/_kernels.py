@@ -322,6 +322,48 @@ def offset_groups(free, index):
 
 
 @numba.njit(cache=True)
+def _positive_block(h00, h01, h11, floor):
+    """A symmetric 2×2 block with its eigenvalues replaced by ``max(|λ|, floor)``."""
+    mean = 0.5 * (h00 + h11)
+    radius = np.sqrt((0.5 * (h00 - h11)) ** 2 + h01 * h01)
+    low, high = mean - radius, mean + radius
+    fixed_low, fixed_high = max(abs(low), floor), max(abs(high), floor)
+    if low == fixed_low and high == fixed_high:
+        return h00, h01, h11
+    if radius == 0.0:
+        return fixed_high, 0.0, fixed_high
+    # eigenvector of the high eigenvalue: (h01, high − h00) or (high − h11, h01)
+    ux, uy = (h01, high - h00) if abs(high - h00) > abs(high - h11) else (high - h11, h01)
+    norm = np.sqrt(ux * ux + uy * uy)
+    ux, uy = ux / norm, uy / norm
+    vx, vy = -uy, ux
+    return (
+        fixed_high * ux * ux + fixed_low * vx * vx,
+        fixed_high * ux * uy + fixed_low * vx * vy,
+        fixed_high * uy * uy + fixed_low * vy * vy,
+    )
+
+
+@numba.njit(cache=True)
+def _cholesky_solve(lower, rhs):
+    """``x`` with ``L Lᵀ x = rhs`` for a lower-triangular ``L``."""
+    n = rhs.shape[0]
+    y = np.empty(n)
+    for i in range(n):
+        total = rhs[i]
+        for j in range(i):
+            total -= lower[i, j] * y[j]
+        y[i] = total / lower[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        total = y[i]
+        for j in range(i + 1, n):
+            total -= lower[j, i] * x[j]
+        x[i] = total / lower[i, i]
+    return x
+
+
+@numba.njit(cache=True)
 def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
     """:func:`planner_newton` without hard radii (the thesis's model)."""
     n, m = d.shape
@@ -412,19 +454,27 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
                 for v in range(n_vars):
                     move[v] = -g[v] / max(abs(h[v]), floor)
             else:
+                # Each point's 2×2 block made positive definite (eigenvalues by their
+                # magnitude, at least the floor): the reduced system, a sum of them, is
+                # then positive definite and a Cholesky solve replaces a dense
+                # eigen-decomposition (many times cheaper for long 3-D paths).
                 h2 = np.zeros((n_vars, n_vars))
                 for k in range(n):
-                    for i in range(m):
-                        if index[k, i] < 0:
-                            continue
-                        for j in range(m):
-                            if index[k, j] >= 0:
-                                h2[index[k, i], index[k, j]] += hessian[k, i, j]
-                values, vectors = np.linalg.eigh(h2)
-                projected = vectors.T @ g
-                for v in range(n_vars):
-                    projected[v] /= max(abs(values[v]), floor)
-                move = -(vectors @ projected)
+                    if index[k, 0] < 0 and index[k, 1] < 0:
+                        continue
+                    p00, p01, p11 = _positive_block(
+                        hessian[k, 0, 0], hessian[k, 0, 1], hessian[k, 1, 1], floor
+                    )
+                    i0, i1 = index[k, 0], index[k, 1]
+                    if i0 >= 0:
+                        h2[i0, i0] += p00
+                    if i1 >= 0:
+                        h2[i1, i1] += p11
+                    if i0 >= 0 and i1 >= 0:
+                        h2[i0, i1] += p01
+                        h2[i1, i0] += p01
+                lower = np.linalg.cholesky(h2)
+                move = -_cholesky_solve(lower, g)
             for k in range(n):
                 for i in range(m):
                     step_d[k, i] = move[index[k, i]] if index[k, i] >= 0 else 0.0

@@ -783,7 +783,7 @@ def _vector(value: Any, name: str, size: int) -> np.ndarray:
 
 
 def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
-    """The global grid path, its one-obstacle flips, a finer grid's path (2-D), the nominal."""
+    """The global grid path, in 2-D its one-obstacle flips and a finer grid's, the nominal."""
     nominal = np.zeros((problem.n, problem.m))
     if not problem.has_obstacles:
         return [nominal]
@@ -791,10 +791,12 @@ def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np
     grid = search.best(reach_goal)
     if grid is None:
         raise UnsafePlanError(_blocked_message(problem, reach_goal))
-    starts = [grid, *search.flipped(reach_goal, grid)]
-    if search.grids["fine"] is not search.grids["coarse"]:
-        fine = search.best(reach_goal, "fine")
-        starts += [] if fine is None else [fine]
+    starts = [grid]
+    if problem.m == 1:  # cheap in 2-D; in 3-D each costs a dense solve per Newton step
+        starts += search.flipped(reach_goal, grid)
+        if search.grids["fine"] is not search.grids["coarse"]:
+            fine = search.best(reach_goal, "fine")
+            starts += [] if fine is None else [fine]
     return [*starts, nominal]
 
 
