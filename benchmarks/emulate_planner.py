@@ -50,7 +50,12 @@ from lfdkit.emulate import (
     plan_clearance,
     plan_path,
 )
-from tests.emulate.test_planner_safety import N_POINTS, random_case, reference_cost
+from tests.emulate.test_planner_safety import (
+    N_POINTS,
+    random_case,
+    random_case_with_radii,
+    reference_cost,
+)
 
 
 def progress(message: str) -> None:
@@ -84,16 +89,7 @@ def clearance_and_goal(n_scenes: int) -> dict:
     worst_goal = 0.0
     smallest = np.inf
     for seed in range(n_scenes):
-        reward, path, scene = random_case(20_000 + seed)
-        rng = np.random.default_rng(seed)
-        width = 1.0 / np.sqrt(reward.precisions["obstacle"][1, 1])
-        scene = Scene(
-            tuple(
-                Obstacle("obstacle", o.position, radius=rng.uniform(0.0, 1.5) * width)
-                for o in scene.obstacles
-            )
-        )
-        clearance = rng.uniform(0.0, 0.5) * width
+        reward, path, scene, clearance = random_case_with_radii(seed)
         extent = Corridor.from_path(path, N_POINTS).extent
         for horizon in (None, 8):
             try:

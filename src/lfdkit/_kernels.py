@@ -278,32 +278,23 @@ def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient
 
 
 @numba.njit(cache=True)
+def _without_radii(n, m):
+    """The hard-radius arrays of a problem without any (the thesis's model)."""
+    return np.zeros((n, 0)), np.zeros((n, 0, m)), np.zeros(0), np.zeros(0)
+
+
+@numba.njit(cache=True)
 def offset_cost(c, b, a, weight, d):
     """Planner cost without hard radii (the thesis's model)."""
-    n, m = d.shape
-    return planner_cost(
-        c, b, a, weight, np.zeros((n, 0)), np.zeros((n, 0, m)), np.zeros(0), np.zeros(0), 0.0, d
-    )
+    rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])
+    return planner_cost(c, b, a, weight, rr, nr, inner2, outer2, 0.0, d)
 
 
 @numba.njit(cache=True)
 def offset_derivatives(c, b, a, weight, d, gradient, hessian):
     """:func:`planner_derivatives` without hard radii (the thesis's model)."""
-    n, m = d.shape
-    return planner_derivatives(
-        c,
-        b,
-        a,
-        weight,
-        np.zeros((n, 0)),
-        np.zeros((n, 0, m)),
-        np.zeros(0),
-        np.zeros(0),
-        0.0,
-        d,
-        gradient,
-        hessian,
-    )
+    rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])
+    return planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, 0.0, d, gradient, hessian)
 
 
 @numba.njit(cache=True)
@@ -366,22 +357,9 @@ def _cholesky_solve(lower, rhs):
 @numba.njit(cache=True)
 def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
     """:func:`planner_newton` without hard radii (the thesis's model)."""
-    n, m = d.shape
+    rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])
     return planner_newton(
-        c,
-        b,
-        a,
-        weight,
-        np.zeros((n, 0)),
-        np.zeros((n, 0, m)),
-        np.zeros(0),
-        np.zeros(0),
-        0.0,
-        max_step,
-        d0,
-        d,
-        tol,
-        max_iter,
+        c, b, a, weight, rr, nr, inner2, outer2, 0.0, max_step, d0, d, tol, max_iter
     )
 
 

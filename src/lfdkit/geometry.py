@@ -35,6 +35,7 @@ __all__ = [
     "normal_frames",
     "path_length",
     "point_tangents",
+    "polyline_distances",
     "project_onto_polyline",
     "remove_repeated_points",
     "resample",
@@ -350,6 +351,23 @@ def project_onto_polyline(
     closest = a[k] + uk[:, None] * d[k]
     s = arc_length(polyline)[k] + uk * np.sqrt(len2[k])
     return s, closest, np.linalg.norm(points - closest, axis=1)
+
+
+def polyline_distances(points: np.ndarray, polyline: np.ndarray) -> np.ndarray:
+    """Distance from each point to a polyline (its segments; a single point is accepted).
+
+    Parameters
+    ----------
+    points : ndarray, shape (m, q)
+    polyline : ndarray, shape (n, q), n ≥ 1
+
+    Returns
+    -------
+    ndarray, shape (m,)
+    """
+    if polyline.shape[0] == 1:
+        return np.linalg.norm(points - polyline[0], axis=1)
+    return project_onto_polyline(points, polyline)[2]
 
 
 @dataclass(frozen=True)

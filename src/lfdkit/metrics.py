@@ -24,6 +24,7 @@ from lfdkit.geometry import (
     left_normals,
     path_length,
     point_tangents,
+    polyline_distances,
     project_onto_polyline,
     resample,
 )
@@ -304,10 +305,7 @@ def clearance(path, scene) -> np.ndarray:
     centres = scene.positions
     if centres.shape[1] != path.shape[1]:
         raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
-    if path.shape[0] == 1:
-        dist = np.linalg.norm(centres - path[0], axis=1)
-    else:
-        dist = project_onto_polyline(centres, path)[2]
+    dist = polyline_distances(centres, path)
     return dist - scene.radii
 
 

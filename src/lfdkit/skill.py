@@ -561,6 +561,32 @@ class Skill:
         goal_approach: float | str | None = "auto",
         clearance: float = 0.0,
     ) -> np.ndarray:
+        """The planned path for a new start, goal and scene: ``plan_details(...).points``.
+
+        ndarray, shape (n_points, q), from ``start``; the parameters, errors and
+        safety guarantees are :meth:`plan_details`'.
+        """
+        return self.plan_details(
+            start,
+            goal,
+            scene,
+            planner=planner,
+            horizon=horizon,
+            goal_approach=goal_approach,
+            clearance=clearance,
+        ).points
+
+    def plan_details(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        scene: Scene | None = None,
+        *,
+        planner: PlannerKind | None = None,
+        horizon: int | None = None,
+        goal_approach: float | str | None = "auto",
+        clearance: float = 0.0,
+    ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
         Parameters
@@ -585,10 +611,10 @@ class Skill:
 
         Returns
         -------
-        ndarray, shape (n_points, q)
-            The planned path, from ``start``; with no obstacle, the nominal
-            resampled at constant speed. :meth:`plan_details` gives the whole
-            :class:`lfdkit.emulate.Plan` (clearance, goal error, cost).
+        Plan
+            ``points`` (n_points, q), the planned path from ``start`` (with no
+            obstacle, the nominal resampled at constant speed), with its
+            ``clearance``, ``goal_error`` and ``cost``.
 
         Raises
         ------
@@ -601,28 +627,6 @@ class Skill:
             obstacles when no reward is learned), a start or goal inside an
             obstacle, or a horizon outside 4-12.
         """
-        return self.plan_details(
-            start,
-            goal,
-            scene,
-            planner=planner,
-            horizon=horizon,
-            goal_approach=goal_approach,
-            clearance=clearance,
-        ).points
-
-    def plan_details(
-        self,
-        start: Any = None,
-        goal: Any = None,
-        scene: Scene | None = None,
-        *,
-        planner: PlannerKind | None = None,
-        horizon: int | None = None,
-        goal_approach: float | str | None = "auto",
-        clearance: float = 0.0,
-    ) -> Plan:
-        """:meth:`plan`, returning the whole :class:`lfdkit.emulate.Plan`."""
         nominal = self.nominal(start, goal)
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):

@@ -64,6 +64,18 @@ def random_case(seed: int) -> tuple[Reward, np.ndarray, Scene]:
     return reward, path, scene
 
 
+def random_case_with_radii(seed: int) -> tuple[Reward, np.ndarray, Scene, float]:
+    """:func:`random_case` with radii of 0–1.5 response widths and a random tool clearance."""
+    reward, path, scene = random_case(20_000 + seed)
+    rng = np.random.default_rng(seed)
+    width = 1.0 / np.sqrt(reward.precisions["obstacle"][1, 1])
+    radii = rng.uniform(0.0, 1.5, len(scene)) * width
+    scene = Scene(
+        tuple(Obstacle("obstacle", o.position, radius=r) for o, r in zip(scene, radii, strict=True))
+    )
+    return reward, path, scene, float(rng.uniform(0.0, 0.5) * width)
+
+
 def reference_cost(reward: Reward, path: np.ndarray, scene: Scene, goal_approach) -> float:
     """Exhaustive reference: fine grid dynamic programme over every path, then L-BFGS-B."""
     corridor = Corridor.from_path(path, N_POINTS)
@@ -200,16 +212,7 @@ def test_clearance_in_three_dimensions() -> None:
 def test_random_scenes_with_radii_are_clear_or_refused() -> None:
     refused = 0
     for seed in range(40):
-        reward, path, scene = random_case(20_000 + seed)
-        rng = np.random.default_rng(seed)
-        width = 1.0 / np.sqrt(reward.precisions["obstacle"][1, 1])
-        with_radii = Scene(
-            tuple(
-                Obstacle("obstacle", o.position, radius=rng.uniform(0.0, 1.5) * width)
-                for o in scene.obstacles
-            )
-        )
-        clearance = rng.uniform(0.0, 0.5) * width
+        reward, path, with_radii, clearance = random_case_with_radii(seed)
         for horizon in (None, 8):
             try:
                 plan = plan_path(

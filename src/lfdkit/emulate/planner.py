@@ -91,7 +91,7 @@ from lfdkit.geometry import (
     normal_frames,
     path_length,
     point_tangents,
-    project_onto_polyline,
+    polyline_distances,
     resample,
 )
 
@@ -1050,11 +1050,7 @@ def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndar
     centres = scene.positions
     if centres.shape[1] != path.shape[1]:
         raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
-    if path.shape[0] == 1:
-        distance = np.linalg.norm(centres - path[0], axis=1)
-    else:
-        distance = project_onto_polyline(centres, path)[2]
-    return distance - scene.radii - clearance
+    return polyline_distances(centres, path) - scene.radii - clearance
 
 
 def _verified(
