@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -396,3 +397,19 @@ def test_skill_records_how_the_reward_fit_went(skill, tmp_path: Path) -> None:
         assert set(entry) == {"curvature", "relative_error", "identified"}
     loaded = Skill.load(skill.save(tmp_path / "skill.json"))
     assert loaded.ioc_info_["identifiability"] == json.loads(json.dumps(info["identifiability"]))
+
+
+@pytest.mark.parametrize(
+    ("params", "message"),
+    [
+        ({"n_basis": 10**4}, "n_basis: expected 1 to 200, got 10000"),
+        ({"duration": 1e300}, "duration: expected at most 1e+06"),
+        ({"n_points": 10**6}, "n_points: expected 3 to 100000"),
+        ({"n_components": 5000}, "n_components: expected 1 to 1000"),
+        ({"max_slope": 1e9}, "max_slope: expected at most 1e+06"),
+    ],
+)
+def test_a_skill_built_in_code_is_bounded_as_a_skill_file_is(params, message) -> None:
+    # What the constructor accepts, a skill file can hold (and load back).
+    with pytest.raises(ValueError, match=re.escape(message)):
+        Skill(**params)._check_params()

@@ -243,13 +243,19 @@ class Skill:
         _check_choice(self.planner, "planner", _PLANNERS)
         _check_choice(self.timing, "timing", _TIMINGS)
         _check_choice(self.scaling, "scaling", _SCALINGS)
-        check_positive(self.n_points, "n_points", integer=True)
-        if not 3 <= int(self.n_points) <= _MAX_POINTS:
-            raise ValueError(f"n_points: expected 3 to {_MAX_POINTS}, got {self.n_points}")
-        check_positive(self.n_components, "n_components", integer=True)
-        check_positive(self.n_basis, "n_basis", integer=True)
-        check_positive(self.duration, "duration")
-        check_positive(self.max_slope, "max_slope")
+        # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
+        # code can always be saved and loaded again.
+        for name in ("n_points", "n_components", "n_basis"):
+            value = check_positive(getattr(self, name), name, integer=True)
+            low, high = SKILL_FILE_LIMITS[name]
+            if not low <= value <= high:
+                raise ValueError(f"{name}: expected {low} to {high:g}, got {value}")
+        for name in ("duration", "max_slope"):
+            value = check_positive(getattr(self, name), name)
+            if value > SKILL_FILE_LIMITS[name][1]:
+                raise ValueError(
+                    f"{name}: expected at most {SKILL_FILE_LIMITS[name][1]:g}, got {value:g}"
+                )
         if not isinstance(self.horizon, (int, np.integer)) or not (
             MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON
         ):
