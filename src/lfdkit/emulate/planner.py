@@ -527,59 +527,6 @@ class _GridSearch:
         return starts
 
 
-def _side_starts(problem: _Problem, d0: np.ndarray) -> list[np.ndarray]:
-    """Initial offsets passing nearby obstacles on one side or the other.
-
-    Each start holds the offset just beyond the obstacle's response (2.5 of its
-    widths across the path) over the stretch where the response acts along the
-    path, ramping in and out at the action bound. Starts: the nominal; all
-    obstacles passed on one side; each obstacle alone on either side. In 3-D
-    an obstacle sitting on the nominal is also passed along the second normal.
-    """
-    n, m = problem.n, problem.m
-    starts = [np.zeros((n, m))]
-    if not problem.has_obstacles:
-        return starts
-    rel = problem.obstacles[:, None, :] - problem.base[None]  # (L, n, q)
-    nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
-    step = float(np.linalg.norm(problem.base[1] - problem.base[0])) if n > 1 else 1.0
-    position = np.arange(n) * step
-    shapes: dict[tuple[int, float], list[np.ndarray]] = {}
-    for o, k in enumerate(nearest):
-        lateral = problem.normals[k] @ rel[o, k]  # the obstacle's offset (m,)
-        across = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
-        tangent = problem.base[min(k + 1, n - 1)] - problem.base[max(k - 1, 0)]
-        length = float(np.linalg.norm(tangent))
-        along = 0.0  # a one-point window has no direction
-        if length > 0.0:
-            tangent = tangent / length
-            along = 2.5 / np.sqrt(tangent @ problem.precision[o] @ tangent)
-        norm = float(np.linalg.norm(lateral))
-        if m == 1 or norm > 0.0:
-            first = lateral / norm if norm > 0.0 else np.eye(m)[0]
-        else:
-            first = np.eye(m)[0]
-        directions = [first]
-        if m > 1 and norm < 1.25 / np.sqrt(first @ across @ first):
-            directions.append(np.array([-first[1], first[0]]) if m == 2 else np.eye(m)[1])
-        for axis, direction in enumerate(directions):
-            width = 2.5 / np.sqrt(direction @ across @ direction)
-            for sign in (1.0, -1.0):
-                target = lateral + sign * direction * width
-                ramp = np.linalg.norm(target) * step / problem.max_step
-                distance = np.abs(position - position[k])
-                reach = np.clip(1.0 - (distance - along) / max(ramp, 1e-300), 0.0, 1.0)
-                shape = reach[:, None] * target
-                shapes.setdefault((axis, sign), []).append(shape)
-                starts.append(shape)
-    for group in shapes.values():
-        combined = np.zeros((n, m))
-        for shape in group:
-            combined = np.where(np.abs(shape) > np.abs(combined), shape, combined)
-        starts.append(combined)
-    return starts
-
-
 def goal_weights(
     corridor: Corridor, weight: float, goal_approach: float | str | None
 ) -> np.ndarray:
