@@ -89,7 +89,6 @@ from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import (
     PolylineSet,
     normal_frames,
-    path_length,
     point_tangents,
     polyline_distances,
     resample,
@@ -778,9 +777,12 @@ def _receding_horizon(
     A window alone is myopic: in front of a concave pocket the best ``H``
     points may head straight in. The grid's backward dynamic programme over
     the whole path (:func:`lfdkit._kernels.grid_cost_to_go`) gives, for any
-    offset at the window's end, the least cost of the rest; candidates (the
-    warm start and the grid path from the anchor, polished, and that grid
-    path itself) are ranked by window cost plus that cost-to-go.
+    offset at the window's end, the least cost of the rest. Near an obstacle
+    the warm start and a grid path are polished; with ``lookahead`` the grid
+    path is the global route from the anchor and the candidates (also that
+    route itself) are ranked by window cost plus cost-to-go, without it the
+    grid path is the window's own optimum and the least window cost wins
+    (:func:`_ranked`). A candidate leading into a dead end is never executed.
     """
     from lfdkit._kernels import grid_cost_to_go, grid_walk
 
@@ -820,9 +822,10 @@ def _receding_horizon(
                 d, cost, n_iter, ok = _solve(window, anchor, start)
                 total_iter += n_iter
                 polished.append((d, ok))
-            d, cost, n_iter, ok = _ranked(
+            d, cost, ok = _ranked(
                 window, polished, None if blocked else grid, table, levels, stop, problem, lookahead
             )
+            n_iter = 0  # counted per polish above
         if not np.isfinite(cost):
             raise UnsafePlanError(
                 f"no collision-free plan: at point {k + 1} of {n + 1} every move within the "
@@ -844,7 +847,7 @@ def _ranked(
     stop: int,
     problem: _Problem,
     lookahead: bool,
-) -> tuple[np.ndarray, float, int, bool]:
+) -> tuple[np.ndarray, float, bool]:
     """The window's candidate to execute.
 
     Candidates from whose last offset the rest of the path is blocked are
@@ -852,8 +855,8 @@ def _ranked(
     the grid path itself among the candidates (it is the only one that turns
     early enough to pass a concave pocket the window cannot see round);
     without, the window optimum of least window cost (the thesis's MPC).
-    Returns offsets, window cost, 0 iterations (counted by the caller) and
-    whether the candidate is a converged optimum.
+    Returns offsets, window cost (``+inf`` when every candidate is blocked)
+    and whether the candidate is a converged optimum.
     """
     candidates = list(polished) + ([(grid, True)] if lookahead and grid is not None else [])
     best, best_score = None, np.inf
@@ -864,9 +867,9 @@ def _ranked(
             continue
         score = cost + follow if lookahead else cost
         if best is None or score < best_score:
-            best, best_score = (d, cost, 0, ok), score
+            best, best_score = (d, cost, ok), score
     if best is None:  # blocked everywhere: the caller reports it
-        best = (polished[0][0], np.inf, 0, polished[0][1])
+        best = (polished[0][0], np.inf, polished[0][1])
     return best
 
 
@@ -889,7 +892,6 @@ def _best_window(
     window: _Problem,
     anchor: np.ndarray,
     guess: np.ndarray,
-    extra: tuple[np.ndarray, ...] = (),
     *,
     sides: bool = True,
     end_on_nominal: bool = False,
@@ -900,7 +902,7 @@ def _best_window(
     enters a hard radius), its cost, the summed iterations and whether that
     optimum converged.
     """
-    candidates = [guess, *extra]
+    candidates = [guess]
     if sides and _obstacle_near(window, anchor):
         grid = _global_start(window, anchor, end_on_nominal)
         if grid is not None:
@@ -1006,7 +1008,7 @@ def _verified(
     """Check the finished plan against every obstacle and the goal; raise if it fails."""
     plan.clearance = plan_clearance(plan.points, scene, clearance)
     plan.goal_error = float(np.linalg.norm(plan.points[-1] - corridor.points[-1]))
-    tolerance = 1e-9 * max(corridor.extent, path_length(corridor.points))
+    tolerance = 1e-9 * max(corridor.extent, corridor.length)
     hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.radii + clearance > 0))
     if hit.size:
         o = int(hit[np.argmin(plan.clearance[hit])])
