@@ -218,3 +218,79 @@ def test_e1_and_distance_space_errors():
         distance_space(path, path)
     with pytest.raises(ValueError, match=r"path.*at least 2 points"):
         distance_space(path[:1], [path])
+
+
+# ------------------------------------------------------------ held-out distances
+def _frechet_reference(a: np.ndarray, b: np.ndarray) -> float:
+    """Eiter and Mannila's memoised recursion, written literally."""
+    from functools import lru_cache
+
+    @lru_cache(maxsize=None)
+    def c(i: int, j: int) -> float:
+        d = float(np.linalg.norm(a[i] - b[j]))
+        if i == 0 and j == 0:
+            return d
+        if i == 0:
+            return max(c(0, j - 1), d)
+        if j == 0:
+            return max(c(i - 1, 0), d)
+        return max(min(c(i - 1, j), c(i - 1, j - 1), c(i, j - 1)), d)
+
+    return c(len(a) - 1, len(b) - 1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(1, 9),
+    st.integers(1, 9),
+    st.integers(0, 2**31 - 1),
+)
+def test_discrete_frechet_matches_the_recursive_definition(n, m, seed):
+    from lfdkit.metrics import discrete_frechet
+
+    rng = np.random.default_rng(seed)
+    a, b = rng.normal(size=(n, 2)), rng.normal(size=(m, 2))
+    assert discrete_frechet(a, b) == pytest.approx(_frechet_reference(a, b), abs=1e-12)
+    assert discrete_frechet(b, a) == pytest.approx(discrete_frechet(a, b), abs=1e-12)
+
+
+def test_discrete_frechet_sees_order_where_closest_points_do_not():
+    from lfdkit.metrics import discrete_frechet
+
+    there_and_back = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [1.0, 0.0]])
+    straight = np.array([[0.0, 0.0], [1.0, 0.0]])
+    assert discrete_frechet(there_and_back, straight) == pytest.approx(1.0)
+    shifted = straight + [0.0, 0.25]
+    assert discrete_frechet(straight, shifted) == pytest.approx(0.25)
+
+
+def test_held_out_distances_of_a_parallel_line_and_a_truncated_one():
+    from lfdkit.metrics import held_out_distances
+
+    x = np.linspace(0.0, 2.0, 50)
+    demo = np.column_stack((x, np.zeros_like(x)))
+    parallel = held_out_distances(demo + [0.0, 0.1], demo)
+    assert parallel["mean"] == pytest.approx(0.1)
+    assert parallel["max"] == pytest.approx(0.1)
+    assert parallel["frechet"] == pytest.approx(0.1)
+    # Cut at half length: the demonstration's second half is up to 1 away.
+    half = held_out_distances(demo[:25], demo)
+    assert half["max"] == pytest.approx(2.0 - x[24], rel=1e-9)
+    # Half of the mean over x in [0, 2] of max(x - 0.98, 0), the reverse direction 0.
+    assert half["mean"] == pytest.approx(0.5 * (2.0 - x[24]) ** 2 / 4.0, rel=0.02)
+    assert half["frechet"] >= half["max"] - 1e-12
+
+
+@pytest.mark.parametrize(
+    ("path", "demo", "message"),
+    [
+        (np.zeros((5, 2)), np.eye(2), "path: has zero length"),
+        (np.eye(2), np.ones((4, 3)), "demo"),
+        (np.array([[0.0, np.nan], [1.0, 1.0]]), np.eye(2), "path"),
+    ],
+)
+def test_held_out_distances_refuses_bad_input(path, demo, message):
+    from lfdkit.metrics import held_out_distances
+
+    with pytest.raises(ValueError, match=message):
+        held_out_distances(path, demo)

@@ -32,10 +32,12 @@ from lfdkit.geometry import (
 __all__ = [
     "clearance",
     "collisions",
+    "discrete_frechet",
     "distance_space",
     "e1",
     "e2",
     "e3",
+    "held_out_distances",
     "improvement",
     "mse_paths",
     "parameter_errors",
@@ -252,6 +254,83 @@ def mse_paths(paths, demos, n_points: int = 100) -> float:
         diff = resample(path, n_points) - resample(demo, n_points)
         total += float(np.einsum("iq,iq->", diff, diff))
     return total / (len(demos) * n_points)
+
+
+def discrete_frechet(a, b) -> float:
+    """Discrete Fréchet distance between two polylines' vertices (Eiter and Mannila, 1994).
+
+    The shortest leash that lets one walker step along ``a`` and another along
+    ``b``, each only forward, from first to last vertex. Unlike a closest-point
+    distance it sees order: a path that retraces or skips part of the other is
+    far from it even where the two overlap.
+
+    Parameters
+    ----------
+    a : array_like, shape (n, q)
+    b : array_like, shape (m, q)
+
+    Returns
+    -------
+    float
+        In the paths' units.
+    """
+    a = check_path(a, "a", min_points=1)
+    b = check_path(b, "b", min_points=1, n_dims=a.shape[1])
+    d = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
+    n, m = d.shape
+    leash = np.full((n, m), np.inf)
+    # Sweep anti-diagonals: every cell depends only on the previous two.
+    for k in range(n + m - 1):
+        i = np.arange(max(0, k - m + 1), min(n, k + 1))
+        j = k - i
+        if k == 0:
+            leash[0, 0] = d[0, 0]
+            continue
+        up = np.where(i > 0, leash[np.maximum(i - 1, 0), j], np.inf)
+        left = np.where(j > 0, leash[i, np.maximum(j - 1, 0)], np.inf)
+        diag = np.where((i > 0) & (j > 0), leash[np.maximum(i - 1, 0), np.maximum(j - 1, 0)], np.inf)
+        leash[i, j] = np.maximum(d[i, j], np.minimum(np.minimum(up, left), diag))
+    return float(leash[-1, -1])
+
+
+def held_out_distances(path, demo, n_points: int = 200) -> dict[str, float]:
+    """How far a generalized path is from a held-out demonstration.
+
+    Both are resampled to ``n_points`` points evenly spaced in arc length.
+
+    Parameters
+    ----------
+    path : array_like, shape (m, q)
+        The generalized path (or its reproduction).
+    demo : array_like, shape (n, q)
+        The held-out demonstration.
+    n_points : int
+        Points each is resampled to (2 to ``MAX_POINTS``).
+
+    Returns
+    -------
+    dict
+        ``mean``: the symmetric mean closest-point distance (half the mean
+        distance from the demonstration's points to the path plus half the
+        reverse, so a path cut short or running past the demonstration is
+        penalised); ``max``: the Hausdorff distance (the larger of the two
+        directions' maxima); ``frechet``: :func:`discrete_frechet`. All in the
+        paths' units.
+    """
+    path = check_path(path, "path")
+    demo = check_path(demo, "demo", n_dims=path.shape[1])
+    check_count(n_points, "n_points", minimum=2)
+    for arr, name in ((path, "path"), (demo, "demo")):
+        if path_length(arr) <= 0:
+            raise ValueError(f"{name}: has zero length (all points coincide)")
+    p, h = resample(path, n_points), resample(demo, n_points)
+    to_path = polyline_distances(h, p)
+    to_demo = polyline_distances(p, h)
+    return {
+        "mean": float(0.5 * (to_path.mean() + to_demo.mean())),
+        "max": float(max(to_path.max(), to_demo.max())),
+        "frechet": discrete_frechet(p, h),
+    }
 
 
 def improvement(mse_replay: float, mse_reproduced: float) -> float:
