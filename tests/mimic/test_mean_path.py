@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import warnings
 
 import numpy as np
 import pytest
@@ -21,7 +22,13 @@ from lfdkit.geometry import (
     resample,
 )
 from lfdkit.metrics import e1, e2
-from lfdkit.mimic import DemoOrientationWarning, MeanPath, SeveralMotionsError
+from lfdkit.mimic import (
+    DemoOrientationWarning,
+    MeanPath,
+    PathLengthWarning,
+    SeveralMotionsError,
+    pointwise_average,
+)
 
 SETTINGS = settings(max_examples=12, deadline=None)
 
@@ -628,7 +635,9 @@ def test_normals_that_meet_no_demo(two_demos):
     far = np.column_stack((np.zeros(20), np.linspace(20.0, 30.0, 20)))  # perpendicular, far
     with pytest.raises(ValueError, match=r"demos: no normal of the path meets any"):
         MeanPath(n_points=20, init=far, ends="normal", extend=0.0).fit(two_demos)
-    with pytest.raises(ValueError, match=r"demos"):
+    # Consensus ends pull the path onto the demonstrations' extent, and what is
+    # left of the bad start is reported, not hidden.
+    with pytest.warns(RuntimeWarning, match="meet fewer than"):
         MeanPath(n_points=20, init=far).fit(two_demos)
 
 
@@ -688,3 +697,128 @@ def test_two_motions_into_one_goal_are_refused_not_averaged() -> None:
     with pytest.warns(RuntimeWarning, match="may not follow one common path"):
         model = MeanPath(n_points=200, orient="as_given").fit(left + top)
     assert model.stop_reason_ == "stationary"
+
+
+# ------------------------------------------------------ closed and returning shapes
+def _circle_demos(seed: int, fraction: float, n_demos: int = 7) -> list[np.ndarray]:
+    """Noisy circles of radius 1 (in units of 10 cm), each covering ``fraction`` of a turn."""
+    rng = np.random.default_rng(seed)
+    demos = []
+    for _ in range(n_demos):
+        theta = np.linspace(0.0, 2.0 * np.pi * fraction, int(rng.integers(300, 700))) + 0.3
+        radius = 1.0 + sum(
+            rng.normal(0.0, 0.02) * np.sin(f * theta + rng.uniform(0, 2 * np.pi))
+            for f in (2, 3)
+        )
+        demos.append(np.column_stack((radius * np.cos(theta), radius * np.sin(theta))))
+    if fraction == 1.0:  # exactly closed, as a pen lifted where it was put down
+        for demo in demos:
+            demo[-1] = demo[0]
+    return demos
+
+
+@pytest.mark.parametrize("center", ["mean", "median", "biweight"])
+@pytest.mark.parametrize("ends", ["consensus", "normal"])
+@pytest.mark.parametrize("fraction", [1.0, 0.97])
+def test_closed_and_nearly_closed_circles(center, ends, fraction):
+    demos = _circle_demos(seed=3, fraction=fraction)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no length or support warning either
+        mp = MeanPath(center=center, ends=ends).fit(demos)
+    radius = np.linalg.norm(mp.path_, axis=1)
+    assert np.abs(radius - 1.0).max() < 0.03
+    assert mp.length_ratio_ == pytest.approx(1.0, abs=0.02)
+    # Round the whole circle from where the demonstrations start to where they end.
+    angles = np.unwrap(np.arctan2(mp.path_[:, 1], mp.path_[:, 0]))
+    assert angles[-1] - angles[0] == pytest.approx(2 * np.pi * fraction, abs=0.05)
+
+
+def test_closed_circle_is_not_pulled_off_by_virtual_extensions():
+    """Near the closure the truth is the circle: no straight ray may bias it outward."""
+    errors = []
+    for seed in range(4):
+        demos = _circle_demos(seed, 1.0)
+        path = MeanPath().fit(demos).path_
+        average = pointwise_average(demos, 100)
+        near_closure = np.r_[0:10, 90:100]
+        errors.append(
+            [np.abs(np.linalg.norm(p[near_closure], axis=1) - 1).mean() for p in (path, average)]
+        )
+    path_error, average_error = np.mean(errors, axis=0)
+    assert path_error <= 1.05 * average_error
+
+
+def test_figure_eight_traversed_once():
+    rng = np.random.default_rng(5)
+    demos = []
+    for _ in range(6):
+        t = np.linspace(0, 2 * np.pi, 600)
+        wobble = 1.0 + 0.02 * np.sin(3 * t + rng.uniform(0, 6))
+        demos.append(np.column_stack((np.sin(t), np.sin(t) * np.cos(t))) * wobble[:, None])
+    mp = MeanPath().fit(demos)
+    nominal = np.column_stack((np.sin(t), np.sin(t) * np.cos(t)))
+    assert dist_to(mp.path_, nominal).max() < 0.03
+    assert mp.length_ratio_ == pytest.approx(1.0, abs=0.02)
+    assert np.linalg.norm(mp.path_[0] - mp.path_[-1]) < 0.05
+
+
+def _returning_stroke(seed: int) -> tuple[list[np.ndarray], np.ndarray]:
+    """A handwritten "a": from the top right round a square bowl, up past the start, then right.
+
+    The up-stroke passes 2 cm from where the pen was put down, and the starts
+    spread ±3 cm along the first stroke: a start placed past the mean start is
+    nearer to the up-stroke than to the path's own beginning.
+    """
+    corners = np.array([[0.3, 0.5], [-0.5, 0.5], [-0.5, -0.5], [0.32, -0.5], [0.32, 0.48], [0.8, 0.48]])
+    rng = np.random.default_rng(seed)
+    demos = []
+    for _ in range(8):
+        start = corners[0] + [rng.uniform(-0.03, 0.03), 0.0]
+        pts = np.vstack([start, corners[1:]])
+        dense = np.vstack(
+            [np.linspace(a, b, 80, endpoint=False) for a, b in zip(pts[:-1], pts[1:])] + [pts[-1:]]
+        )
+        dense[1:-1] += rng.normal(0.0, 0.002, dense[1:-1].shape)
+        demos.append(dense)
+    return demos, corners
+
+
+@pytest.mark.parametrize("center", ["mean", "median", "biweight"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_stroke_that_returns_beside_its_start_is_not_cut(center, seed):
+    # Projected onto the whole path, seed 0's starts landed on the up-stroke: a stub.
+    demos, corners = _returning_stroke(seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PathLengthWarning)
+        mp = MeanPath(center=center).fit(demos)
+    assert mp.length_ratio_ == pytest.approx(1.0, abs=0.03)
+    assert np.linalg.norm(mp.path_[0] - corners[0]) < 0.03
+    assert np.linalg.norm(mp.path_[-1] - corners[-1]) < 0.01
+
+
+def test_a_path_cut_short_is_warned_about_with_the_reason(two_demos):
+    # Starting from a path over the middle third and keeping its ends there.
+    x = np.linspace(0.0, 10.0, 50)
+    demos = [np.column_stack((x, np.full(50, y))) for y in (-0.1, 0.1)]
+    middle = np.column_stack((np.linspace(2.5, 7.5, 20), np.zeros(20)))
+    with pytest.warns(PathLengthWarning, match=r"0\.50 times the median .* stops short"):
+        mp = MeanPath(init=middle, ends="normal", extend=0.0, min_support=0.0).fit(demos)
+    assert mp.length_ratio_ == pytest.approx(0.5, abs=0.01)
+    # The same start with consensus ends: the path spans the demonstrations again.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PathLengthWarning)
+        assert MeanPath(init=middle).fit(demos).length_ratio_ == pytest.approx(1.0, abs=0.01)
+
+
+def test_partial_demonstrations_explain_a_short_path():
+    """Some demonstrations cover only part of the task: no warning, the path spans them."""
+    x = np.linspace(0.0, 10.0, 200)
+    full = [np.column_stack((x, np.full_like(x, y))) for y in (-0.1, 0.1)]
+    partial = [np.column_stack((x[:60], np.full(60, y))) for y in (-0.05, 0.05, 0.0)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PathLengthWarning)
+        with pytest.warns(RuntimeWarning, match="meet fewer than 3 of the 5"):  # the honest part
+            mp = MeanPath(ends="normal", orient="as_given").fit(full + partial)
+    # Far beyond the median (a partial demonstration's length), but among the lengths.
+    assert mp.length_ratio_ > 1.25
+    assert 3.0 < path_length(mp.path_) < 10.0

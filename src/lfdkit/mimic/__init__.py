@@ -6,6 +6,7 @@ from lfdkit.mimic.mean_path import MeanPath
 from lfdkit.mimic.nlpca import NLPCA
 from lfdkit.mimic.orientation import (
     DemoOrientationWarning,
+    PathLengthWarning,
     SeveralMotionsError,
     check_one_motion,
     orient_demos,
@@ -16,6 +17,7 @@ __all__ = [
     "NLPCA",
     "DemoOrientationWarning",
     "MeanPath",
+    "PathLengthWarning",
     "SeveralMotionsError",
     "check_one_motion",
     "orient_demos",

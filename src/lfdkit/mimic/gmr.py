@@ -329,7 +329,9 @@ class GMR(BaseEstimator):
         self.n_iter_ = int(gm.n_iter_)
         self.bic_ = float(gm.bic(data))
         self.aic_ = float(gm.aic(data))
-        check_one_motion(self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times)
+        self.length_ratio_ = check_one_motion(
+            self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times
+        )
         return self
 
     # -------------------------------------------------------------- predict

@@ -29,7 +29,10 @@ implementation decides as follows (each is a constructor option):
 * **Ends.** With ``ends="consensus"`` (default) the path starts and stops where the
   demonstrations agree: after each update its extent is set to the centre (mean or
   median, as ``center``) of the arc-length positions of the demonstrations' first
-  and last points, extrapolating straight past the current ends if needed. With
+  and last points, extrapolating straight past the current ends if needed. A start
+  is placed on the path's first quarter only, an end on its last quarter, so a
+  closed shape (an "o", a figure-eight) or a stroke that comes back beside its
+  start (an "a") is never cut where it passes the start again. With
   ``ends="normal"`` the end points, like all others, move only along their
   normals (the thesis's behaviour: the ends stay where the initial path put them).
   In both cases the points are then re-spaced evenly in arc length, which keeps
@@ -77,6 +80,10 @@ from lfdkit.geometry import (
 from lfdkit.mimic.baselines import pointwise_average
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
+#: Consensus ends: a demonstration's start (end) is placed on this first (last)
+#: fraction of the path's length; far enough in for starts that vary, short of
+#: the middle, where a closed or self-approaching path returns near its start.
+_END_WINDOW = 0.25
 #: Warn when more than this fraction of the final path's normals is under-supported.
 _UNSUPPORTED_WARNING = 0.1
 
@@ -142,6 +149,11 @@ class MeanPath(BaseEstimator):
         Number of demonstrations each final normal meets.
     reversed_ : ndarray of bool, shape (n_demos,)
         Which demonstrations were reversed before fitting.
+    length_ratio_ : float
+        The path's length over the median demonstration length (both measured
+        through 17 samples, so recording noise does not count); outside 0.8 to
+        1.25 a :class:`~lfdkit.mimic.PathLengthWarning` says why
+        (:func:`lfdkit.mimic.check_one_motion`).
     n_iter_ : int
         Accepted iterations.
     converged_ : bool
@@ -269,7 +281,12 @@ class MeanPath(BaseEstimator):
         frames = normal_frames(tangents)
         offsets = real.points - ref[:, None, :]
         self.distances_ = np.einsum("mnq,mkq->nmk", offsets, frames[:, 1:, :])
-        check_one_motion(ref, demos, "MeanPath")
+        hint = (
+            "; ends='normal' keeps the ends where the initial path puts them"
+            if self.ends == "consensus"
+            else ""
+        )
+        self.length_ratio_ = check_one_motion(ref, demos, "MeanPath", hint=hint)
         self.n_iter_ = n_iter
         self.stop_reason_ = stop_reason
         self.converged_ = stop_reason != "max_iter"
@@ -313,9 +330,8 @@ class MeanPath(BaseEstimator):
         """Respace evenly in arc length, over the consensus extent if asked."""
         if self.ends == "normal":
             return resample(path, self.n_points)
-        positions = _arc_positions(np.concatenate((starts, stops)), path)
-        s_start = _centre_1d(positions[: len(starts)], self.center)
-        s_stop = _centre_1d(positions[len(starts) :], self.center)
+        s_start = _centre_1d(_arc_positions(starts, path, "start"), self.center)
+        s_stop = _centre_1d(_arc_positions(stops, path, "stop"), self.center)
         if not s_stop > s_start:
             raise ValueError(
                 "demos: their start and end points do not follow one direction along the "
@@ -371,15 +387,20 @@ def _extend(demo: np.ndarray, fraction: float) -> np.ndarray:
     """Demonstration with straight virtual extensions before its start and after its end.
 
     The end directions are the chords over the first and last 2 % of its length,
-    steadier than one noisy segment.
+    steadier than one noisy segment. A closed or nearly closed demonstration
+    (its ends closer than twice the extension) is not extended: its own other
+    end already covers where the rays would go, and a ray there, nearer to
+    some normals than the real stroke, would pull the path off it.
     """
     if fraction == 0:
         return demo
     s = arc_length(demo)
+    ext = fraction * s[-1]
+    if np.linalg.norm(demo[-1] - demo[0]) < 2.0 * ext:
+        return demo
     reach = 0.02 * s[-1]
     head = demo[min(int(np.searchsorted(s, reach)), len(demo) - 1)] - demo[0]
     tail = demo[-1] - demo[max(int(np.searchsorted(s, s[-1] - reach, side="right")) - 1, 0)]
-    ext = fraction * s[-1]
     return np.vstack(
         (
             demo[0] - ext * head / np.linalg.norm(head),
@@ -407,17 +428,34 @@ def _fill_unsupported(
     return out - ref
 
 
-def _arc_positions(points: np.ndarray, path: np.ndarray) -> np.ndarray:
-    """Arc-length position of each point's projection, extended past the path's ends."""
-    s, _, _ = project_onto_polyline(points, path)
-    length = arc_length(path)[-1]
-    t0 = path[1] - path[0]
+def _arc_positions(points: np.ndarray, path: np.ndarray, end: Literal["start", "stop"]) -> np.ndarray:
+    """Arc-length position of points near one end of the path, extended past that end.
+
+    Each point is projected onto the path's first (``end="start"``) or last
+    (``"stop"``) :data:`_END_WINDOW` of its length only. A closed path passes
+    its start again at its end, and a letter's stroke may come back beside
+    where it began: projected onto the whole path, such a start would land
+    near the end and cut the path short (or, start = end, leave nothing).
+    """
+    s_path = arc_length(path)
+    length = s_path[-1]
+    reach = _END_WINDOW * length
+    if end == "start":
+        last = max(int(np.searchsorted(s_path, reach, side="right")), 2)
+        window, offset = path[:last], 0.0
+    else:
+        first = min(int(np.searchsorted(s_path, length - reach, side="left")) - 1, len(path) - 2)
+        first = max(first, 0)
+        window, offset = path[first:], s_path[first]
+    s, _, _ = project_onto_polyline(points, window)
+    s = s + offset
+    tol = 1e-12 * length  # a projection clamped to an end lands there only up to rounding
+    if end == "start":
+        t0 = path[1] - path[0]
+        before = (points - path[0]) @ (t0 / np.linalg.norm(t0))
+        return np.where(s <= tol, np.minimum(before, 0.0), s)
     t1 = path[-1] - path[-2]
-    before = (points - path[0]) @ (t0 / np.linalg.norm(t0))
     after = length + (points - path[-1]) @ (t1 / np.linalg.norm(t1))
-    # A projection clamped to an end lands there only up to rounding.
-    tol = 1e-12 * length
-    s = np.where(s <= tol, np.minimum(before, 0.0), s)
     return np.where(s >= length - tol, np.maximum(after, length), s)
 
 

@@ -306,7 +306,7 @@ class NLPCA(BaseEstimator):
             params[4][...] *= -1.0  # W3
             scores = self.transform(data)
             path = self.inverse_transform(np.linspace(scores.min(), scores.max(), n_points))
-        check_one_motion(path, demos, "NLPCA")
+        self.length_ratio_ = check_one_motion(path, demos, "NLPCA")
         self.scores_ = scores
         self.path_ = path
         recon = self.inverse_transform(scores)

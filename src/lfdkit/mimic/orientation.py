@@ -15,7 +15,12 @@ alike whatever the method:
 * :func:`check_one_motion` after fitting: a generalized path shorter than
   :data:`MIN_LENGTH_RATIO` times the median demonstration length means the
   method averaged several different motions into a stub, and raises
-  :class:`SeveralMotionsError`.
+  :class:`SeveralMotionsError`. A path whose length is outside
+  :data:`LENGTH_WARNING_RANGE` (0.8 to 1.25 times the median) gets a
+  :class:`PathLengthWarning` with the reason, unless the demonstrations'
+  own lengths differ that much (partial demonstrations) and the path lies
+  among them: a path cut short or run past the demonstrations' ends is
+  wrong in a way no error measured along normals shows.
 
 Direction is decided from the whole path, not from its end points: each
 demonstration is resampled evenly in arc length and compared point by point
@@ -35,8 +40,10 @@ import numpy as np
 from lfdkit.geometry import arc_length, path_length
 
 __all__ = [
+    "LENGTH_WARNING_RANGE",
     "MIN_LENGTH_RATIO",
     "DemoOrientationWarning",
+    "PathLengthWarning",
     "SeveralMotionsError",
     "check_one_motion",
     "orient_demos",
@@ -44,6 +51,9 @@ __all__ = [
 
 #: A generalized path shorter than this fraction of the median demonstration is refused.
 MIN_LENGTH_RATIO = 0.3
+#: A generalized path outside this range of the median demonstration length is
+#: warned about (unless partial demonstrations explain it).
+LENGTH_WARNING_RANGE = (0.8, 1.25)
 #: Samples per demonstration for the direction comparison (arc-length resampled).
 _N_SAMPLES = 64
 #: A demonstration whose forward and reversed distances to the others differ by
@@ -60,6 +70,10 @@ _EXHAUSTIVE = 12
 
 class DemoOrientationWarning(UserWarning):
     """Some demonstrations were reversed to follow the majority's direction."""
+
+
+class PathLengthWarning(UserWarning):
+    """A generalized path much shorter or longer than the demonstrations."""
 
 
 class SeveralMotionsError(ValueError):
@@ -183,12 +197,17 @@ def check_one_motion(
     method: str = "mimic",
     *,
     times: Sequence[np.ndarray] | None = None,
-) -> None:
-    """Refuse a generalized path much shorter than the demonstrations.
+    hint: str = "",
+) -> float:
+    """Refuse a generalized path much shorter than the demonstrations; warn of an odd length.
 
     Averaging demonstrations of different motions (e.g. into one goal from
     opposite sides) cancels them out into a short stub: a path shorter than
-    :data:`MIN_LENGTH_RATIO` times the median demonstration length.
+    :data:`MIN_LENGTH_RATIO` times the median demonstration length is refused.
+    A path outside :data:`LENGTH_WARNING_RANGE` times that median gets a
+    :class:`PathLengthWarning`, unless the demonstrations' lengths themselves
+    spread beyond that range (some cover only part of the task) and the path's
+    length lies between the shortest and the longest.
 
     Parameters
     ----------
@@ -200,6 +219,13 @@ def check_one_motion(
         Name of the caller, for the message.
     times : sequence of ndarray, each shape (n_j,), optional
         Sample times of the demonstrations, when their rows are not in time order.
+    hint : str
+        What the caller's user can change, appended to the warning.
+
+    Returns
+    -------
+    float
+        The path's length over the median demonstration length.
 
     Raises
     ------
@@ -208,23 +234,44 @@ def check_one_motion(
 
     Notes
     -----
-    A demonstration's length is measured through :data:`_LENGTH_CHORDS` + 1
-    of its samples, evenly spaced in time order: noise between neighbouring
-    samples would lengthen the full polyline many times over (dense, noisy
-    recordings), and a coarse polyline only underestimates, which errs on
-    the side of accepting.
+    Lengths are measured through :data:`_LENGTH_CHORDS` + 1 samples, evenly
+    spaced in time order, of the path and of each demonstration: noise between
+    neighbouring samples would lengthen a dense, noisy recording's full polyline
+    many times over while the smooth path's stays as it is.
     """
     if times is not None:
         demos = [d[np.argsort(t, kind="stable")] for d, t in zip(demos, times, strict=True)]
-    median = float(np.median([_coarse_length(d) for d in demos]))
-    length = path_length(path)
-    if median > 0 and not length >= MIN_LENGTH_RATIO * median:
+    lengths = np.array([_coarse_length(d) for d in demos])
+    median = float(np.median(lengths))
+    length = _coarse_length(path)
+    if not median > 0:
+        return float("nan")
+    ratio = length / median
+    if not ratio >= MIN_LENGTH_RATIO:
         raise SeveralMotionsError(
             f"demos: the demonstrations look like several motions, not one: the {method} "
-            f"path is {length:.4g} long, {length / median:.2f} times the median demonstration "
+            f"path is {length:.4g} long, {ratio:.2f} times the median demonstration "
             f"length {median:.4g} (at least {MIN_LENGTH_RATIO} expected); learn each motion "
             "from its own demonstrations"
         )
+    low, high = LENGTH_WARNING_RANGE
+    shortest, longest = float(lengths.min()), float(lengths.max())
+    partial = longest > high / low * shortest and shortest <= length <= longest
+    if not low <= ratio <= high and not partial:
+        reason = (
+            "it stops short of where the demonstrations start or end"
+            if ratio < low
+            else "it runs past where the demonstrations start or end"
+        )
+        warnings.warn(
+            f"{method}: the generalized path is {ratio:.2f} times the median demonstration "
+            f"length ({length:.4g} against {median:.4g}; the demonstrations measure "
+            f"{shortest:.4g} to {longest:.4g}), outside {low}–{high}: {reason}. Plot it "
+            f"against the demonstrations before using it{hint}",
+            PathLengthWarning,
+            stacklevel=3,
+        )
+    return float(ratio)
 
 
 def _coarse_length(demo: np.ndarray) -> float:
