@@ -413,3 +413,19 @@ def test_a_skill_built_in_code_is_bounded_as_a_skill_file_is(params, message) ->
     # What the constructor accepts, a skill file can hold (and load back).
     with pytest.raises(ValueError, match=re.escape(message)):
         Skill(**params)._check_params()
+
+
+def test_a_mimic_warning_is_passed_on_and_kept_in_the_skill_file(tmp_path, monkeypatch) -> None:
+    from lfdkit.mimic import PathLengthWarning, orientation
+
+    # Any path is "too short" against a band of 1.5-2 times the median.
+    monkeypatch.setattr(orientation, "LENGTH_WARNING_RANGE", (1.5, 2.0))
+    x = np.linspace(0.0, 1.0, 40)
+    demos = [np.column_stack((x, 0.2 * np.sin(3 * x) + dy)) for dy in (-0.01, 0.0, 0.01)]
+    with pytest.warns(PathLengthWarning, match="times the median demonstration length"):
+        skill = Skill().fit_path(demos)
+    assert skill.mimic_info_["length_ratio"] == pytest.approx(1.0, abs=0.02)
+    [text] = skill.mimic_info_["warnings"]
+    assert "stops short" in text
+    saved = skill.save(tmp_path / "skill.json")
+    assert Skill.load(saved).mimic_info_["warnings"] == [text]

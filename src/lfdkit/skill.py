@@ -60,6 +60,7 @@ import json
 import math
 import os
 import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal, NamedTuple
@@ -73,7 +74,7 @@ from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
 from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
-from lfdkit.mimic import GMR, MeanPath
+from lfdkit.mimic import GMR, DemoOrientationWarning, MeanPath
 
 __all__ = [
     "MAX_SKILL_FILE_BYTES",
@@ -175,7 +176,9 @@ class Skill:
     mimic_info_ : dict
         How the path was made (method, number of demonstrations, the indices
         of those reversed to the majority's direction under ``"reversed"``,
-        diagnostics).
+        the path's length over the median demonstration's under
+        ``"length_ratio"``, the mimic method's warnings as text under
+        ``"warnings"``, diagnostics).
     dmp_ : DMP
         The DMP trained on ``path_``.
     reward_ : Reward or None
@@ -337,26 +340,35 @@ class Skill:
             raise ValueError(f"demos: expected 2-D or 3-D points, got {q} dimensions")
         _tell(progress, f"mimic: {self._mimic_name()} of {len(demos)} demonstrations")
         started = time.perf_counter()
-        if self.mimic == "mean_path":
-            estimator: MeanPath | GMR = MeanPath(n_points=int(self.n_points)).fit(demos)
-            path = estimator.path_
-            info: dict[str, Any] = {
-                "n_iter": int(estimator.n_iter_),
-                "residual": float(estimator.residual_),
-                "converged": bool(estimator.converged_),
-            }
-        else:
-            estimator = GMR(
-                n_components=int(self.n_components), random_state=self.random_state
-            ).fit(demos)
-            path = estimator.path(int(self.n_points))
-            info = {
-                "log_likelihood": float(estimator.log_likelihood_),
-                "converged": bool(estimator.converged_),
-                "n_iter": int(estimator.n_iter_),
-            }
+        # Recorded as well as passed on, so that the skill file and reports keep them.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            if self.mimic == "mean_path":
+                estimator: MeanPath | GMR = MeanPath(n_points=int(self.n_points)).fit(demos)
+                path = estimator.path_
+                info: dict[str, Any] = {
+                    "n_iter": int(estimator.n_iter_),
+                    "residual": float(estimator.residual_),
+                    "converged": bool(estimator.converged_),
+                }
+            else:
+                estimator = GMR(
+                    n_components=int(self.n_components), random_state=self.random_state
+                ).fit(demos)
+                path = estimator.path(int(self.n_points))
+                info = {
+                    "log_likelihood": float(estimator.log_likelihood_),
+                    "converged": bool(estimator.converged_),
+                    "n_iter": int(estimator.n_iter_),
+                }
+        for warning in caught:
+            warnings.warn(warning.message, stacklevel=2)
         # Demonstrations the mimic method turned round to the majority's direction.
         info["reversed"] = [int(j) for j in np.flatnonzero(estimator.reversed_)]
+        info["length_ratio"] = float(estimator.length_ratio_)
+        info["warnings"] = [
+            str(w.message) for w in caught if not issubclass(w.category, DemoOrientationWarning)
+        ]
         info = {"method": self.mimic, "n_demos": len(demos), **info}
         info["seconds"] = time.perf_counter() - started
         self.mimic_ = estimator

@@ -462,8 +462,11 @@ def _report(results: dict, figures: dict, image: np.ndarray | None = None) -> Re
         f"Mean-Path of {mimic['n_demos']} clean sweeps: {mimic['n_iter']} "
         f"iteration{'s' if mimic['n_iter'] != 1 else ''}; "
         f"mean distance to the demonstrator's true path "
-        f"{mimic['mean_distance_to_true_path_mm']:.2f} mm."
+        f"{mimic['mean_distance_to_true_path_mm']:.2f} mm; its length is "
+        f"{mimic['length_ratio']:.2f} times the median demonstration's."
     )
+    for text in mimic.get("warnings", []):
+        report.paragraph(f"Warning: {text}")
     report.figure(
         figures["mimic.png"],
         "Demonstrations, the Mean-Path and GMR's covariance tube (left), the Distance-Space "
