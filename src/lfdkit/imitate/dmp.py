@@ -1303,22 +1303,28 @@ def _reproduction_departure(
     obeys ``e'' = −k e − c e' + (X w − F)`` from ``e(0) = 0``,
     ``e'(0) = −y'(0)`` (the reproduction starts at rest). The mismatch
     ``X w − F`` (len(s), q) is held linear between grid points and the
-    spring integrated exactly over each step (:func:`_propagate`).
+    spring integrated exactly over each step, as :func:`_propagate` does but
+    for the position only: one second-order IIR filter per dimension.
     """
     h = float(s[1] - s[0])
     x, w = _legendre(_GAUSS_NODES)
     nodes, weights = 0.5 * h * (x + 1.0), 0.5 * h * w
     kernel = _transition(k, c, h - nodes)[:, 1, :]  # e^{A(h − σ)} B, (2, m)
     later = nodes / h
-    hold_now = kernel @ (weights * (1.0 - later))
-    hold_next = kernel @ (weights * later)
-    inputs = (
-        hold_now[None, :, None] * mismatch[:-1, None, :]
-        + hold_next[None, :, None] * mismatch[1:, None, :]
-    )
+    now_weights, next_weights = kernel @ (weights * (1.0 - later)), kernel @ (weights * later)
     phi = _transition(k, c, np.array([h]))[:, :, 0]
-    x0 = np.stack([np.zeros_like(velocity0), -velocity0])
-    return _propagate(phi, x0, inputs)[:, 0, :]
+    # The state sequence (x0, v_0, v_1, …) of _propagate, both components, (n, q) each.
+    u = np.ascontiguousarray(mismatch.T)  # (q, n): filter along contiguous rows
+    drive = np.empty((2, *u.shape))
+    drive[:, :, 0] = np.stack([np.zeros_like(velocity0), -velocity0])
+    drive[:, :, 1:] = (
+        now_weights[:, None, None] * u[None, :, :-1] + next_weights[:, None, None] * u[None, :, 1:]
+    )
+    # Position row of (I − Φ z⁻¹)⁻¹ = adj(I − Φ z⁻¹) / det(I − Φ z⁻¹).
+    combined = drive[0].copy()
+    combined[:, 1:] += -phi[1, 1] * drive[0, :, :-1] + phi[0, 1] * drive[1, :, :-1]
+    denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+    return lfilter([1.0], denominator, combined, axis=1).T
 
 
 def _check_distinct(points: np.ndarray) -> None:
