@@ -785,8 +785,11 @@ def closed_demos(name: str, rng: np.random.Generator, n_demos: int = 8) -> list[
     for _ in range(n_demos):
         n = int(rng.integers(300, 701))
         demo = resample(nominal, n)
-        # Low-passed white noise along the normals, not the thesis's sums of sinusoids.
-        offset = gaussian_filter1d(rng.normal(size=n), n / 15.0, mode="nearest")
+        # Low-passed white noise along the normals, not the thesis's sums of sinusoids;
+        # filtered with a margin and cropped, so the ends are no noisier than the rest.
+        width = n / 15.0
+        margin = int(4 * width)
+        offset = gaussian_filter1d(rng.normal(size=n + 2 * margin), width)[margin:-margin]
         demo = demo + (0.02 * size / offset.std()) * offset[:, None] * left_normals(demo)
         angle, scale = rng.normal(0.0, np.radians(3.0)), 1.0 + rng.normal(0.0, 0.03)
         rotation = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
@@ -1089,7 +1092,12 @@ def held_out_figure(rows: list[dict]) -> Figure:
             f"{s['warp']['mean']:.3g}, DMP {s['dmp_auto_translate']['mean']:.3g}",
             fontsize=9,
         )
-        ax.set_aspect("equal", adjustable="datalim")
+        # Limits from the demo: a blown-up rollout runs off the panel instead of hiding it.
+        low, high = demo.min(axis=0), demo.max(axis=0)
+        margin = 0.25 * float(np.max(high - low))
+        ax.set_xlim(low[0] - margin, high[0] + margin)
+        ax.set_ylim(low[1] - margin, high[1] + margin)
+        ax.set_aspect("equal", adjustable="box")
         ax.tick_params(labelsize=7)
     for ax in axes[len(picks) :]:
         ax.set_visible(False)

@@ -62,7 +62,7 @@ and ``τ`` rescales time only, never the path's shape (the thesis's eq. 3.6 uses
   closed paths and for starts and goals near the training ones: on held-out
   LASA demonstrations it lands as close as the warp of the Mean-Path (mean
   distance 1.070 mm against 1.068 mm, 182 folds; ``spatial`` 1.161 mm, and
-  on the synthetic closed strokes 4 to 340 times the warp's; benchmark
+  on the synthetic closed strokes 3 to 300 times the warp's; benchmark
   ``imitate.py`` section 5). Letting the spring alone absorb the offsets
   (``M = I`` without ``b``, the plain DMP) fades the start offset out as
   ``φ``, to 8 % by a third of the movement (21 % of the path's length with
@@ -125,8 +125,8 @@ to do. The error is time-aligned, so it counts lag too: with
 that starts at full speed by 4 to 10 % of its extent whatever the count
 (LASA), and ``"auto"`` warns. On the 182 leave-one-out Mean-Paths of the 26
 single-motion LASA shapes (minimum-jerk timing) it keeps 15 to 200 (median
-20; 20 misses 1 % on 84 of them) in about twice the time of a fit with 20
-(a median 26 ms against 13 ms on two cores; about 1 s for the one path that
+20; 20 misses 1 % on 84 of them), in a median 12.5 ms per fit against
+8.5 ms for 20 basis functions on two cores (1.2 s for the one path that
 needed 200). Smooth generalized paths of the thesis's tasks take 10 or 15.
 
 Exact rollout
