@@ -67,6 +67,10 @@ def test_auto_basis_follows_the_tolerance() -> None:
     tight = DMP(n_basis="auto", basis_tol=0.001).fit(path, times)
     assert loose.n_basis_ < tight.n_basis_
     assert loose.reproduction_error_ <= 0.05 and tight.reproduction_error_ <= 0.001
+    # The ladder starts at its first rung: a straight stroke within 5 % needs no more.
+    line = np.linspace([0.0, 0.0], [1.0, 2.0], 50)
+    first = DMP(n_basis="auto", basis_tol=0.05).fit(line, timing="minimum_jerk")
+    assert first.n_basis_ == BASIS_LADDER[0]
 
 
 def test_reproduction_error_is_the_rollout_error_at_the_training_times() -> None:
