@@ -118,11 +118,12 @@ SKILL_FILE_LIMITS: dict[str, tuple[float, float]] = {
 }
 """Ranges :meth:`Skill.load` accepts for the numeric ``params`` of a skill file.
 
-``(low, high)``: integers ``low <= n <= high``; ``duration`` (seconds) and
-``max_slope`` in ``(low, high]``. Far beyond any robot task (DMPs use tens
-of basis functions), they keep a corrupt or hostile file from asking for
-gigabytes or minutes (``n_basis = 10**4``; the DMP fit that loading does
-grows with ``n_basis**2``, 200 takes about 0.5 s) or overflowing
+``(low, high)``: integers ``low <= n <= high`` (``n_basis`` may also be
+``"auto"``); ``duration`` (seconds) and ``max_slope`` in ``(low, high]``.
+Far beyond any robot task (DMPs use tens of basis functions), they keep a
+corrupt or hostile file from asking for gigabytes or minutes
+(``n_basis = 10**4``; the DMP fit that loading does grows with
+``n_basis**2``, 200 takes about 0.5 s; ``"auto"`` tries at most 200) or overflowing
 (``duration = 1e300``). The stored ``path`` has at most the ``n_points``
 limit of rows."""
 # Samples of a DMP rollout handed to the planner, which resamples it at
@@ -141,8 +142,10 @@ class Skill:
         Points of the generalized path and of every plan (thesis: 100).
     n_components : int
         Gaussian components when ``mimic="gmr"``.
-    n_basis : int
-        DMP basis functions per dimension.
+    n_basis : int or "auto"
+        DMP basis functions per dimension, or ``"auto"`` (default): the
+        fewest that reproduce the path within 1 % of its extent
+        (:class:`lfdkit.imitate.DMP`; the count used is ``dmp_.n_basis_``).
     timing : {"minimum_jerk", "uniform"}
         Times assigned to the generalized path for the DMP fit
         (:meth:`lfdkit.imitate.DMP.fit`).
@@ -197,7 +200,7 @@ class Skill:
         mimic: MimicMethod = "mean_path",
         n_points: int = 100,
         n_components: int = 10,
-        n_basis: int = 20,
+        n_basis: int | Literal["auto"] = "auto",
         timing: str = "minimum_jerk",
         duration: float = 1.0,
         scaling: str = "spatial",
@@ -249,6 +252,8 @@ class Skill:
         # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
         # code can always be saved and loaded again.
         for name in ("n_points", "n_components", "n_basis"):
+            if name == "n_basis" and isinstance(self.n_basis, str) and self.n_basis == "auto":
+                continue  # the DMP chooses the count
             value = check_positive(getattr(self, name), name, integer=True)
             low, high = SKILL_FILE_LIMITS[name]
             if not low <= value <= high:
@@ -399,10 +404,15 @@ class Skill:
             raise ValueError(
                 f"path: {path.shape[1]}-D, but the obstacle reward is {reward.n_dims}-D"
             )
-        _tell(progress, f"imitate: DMP with {self.n_basis} basis functions per dimension")
         self.path_ = np.array(path, dtype=np.float64)
         self.mimic_info_ = info
         self.dmp_ = self._fit_dmp(self.path_)
+        chosen = " (n_basis='auto')" if isinstance(self.n_basis, str) else ""
+        _tell(
+            progress,
+            f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
+            f"reproducing the path within {self.dmp_.reproduction_error_:.2%} of its extent",
+        )
         self.n_dims_ = int(self.path_.shape[1])
         if not hasattr(self, "reward_"):
             self.reward_ = None
@@ -410,7 +420,8 @@ class Skill:
             self.ioc_info_ = None
 
     def _fit_dmp(self, path: np.ndarray) -> DMP:
-        dmp = DMP(n_basis=int(self.n_basis), scaling=self.scaling)
+        n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
+        dmp = DMP(n_basis=n_basis, scaling=self.scaling)
         return dmp.fit(path, duration=float(self.duration), timing=self.timing)
 
     def fit_reward(
@@ -1030,7 +1041,9 @@ def _check_file_params(params: Mapping[str, Any], source: str) -> None:
             continue
         value = params[key]
         where = f"{source}: params.{key}"
-        integer = isinstance(_DEFAULTS[key], int)
+        if key == "n_basis" and value == "auto":
+            continue  # the DMP chooses the count
+        integer = key == "n_basis" or isinstance(_DEFAULTS[key], int)
         kinds = (int,) if integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, kinds):
             kind = "an integer" if integer else "a number"

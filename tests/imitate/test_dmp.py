@@ -139,7 +139,7 @@ def test_uniform_timing_starts_at_rest_and_so_lags_the_constant_speed_path() -> 
 
 
 # ---------------------------------------------------------------- goal reaching
-@pytest.mark.parametrize("scaling", ["per_dimension", "spatial"])
+@pytest.mark.parametrize("scaling", ["per_dimension", "spatial", "translate"])
 def test_every_new_goal_is_reached_at_rest_at_the_end(scaling: str) -> None:
     path = s_curve()
     dmp = DMP(n_basis=30, scaling=scaling).fit(path, timing="minimum_jerk")
@@ -368,6 +368,7 @@ def test_estimator_conventions() -> None:
     assert clone(dmp).get_params()["n_basis"] == 12
     assert dmp.fit(s_curve()) is dmp
     assert dmp.weights_.shape == (12, 2)
+    assert dmp.n_basis_ == 12
     assert dmp.centers_.shape == dmp.widths_.shape == (12,)
     assert np.all(np.diff(dmp.centers_) < 0)  # phase decays from 1
     with pytest.raises(NotFittedError):

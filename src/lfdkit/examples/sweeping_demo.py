@@ -433,7 +433,7 @@ def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float
             "mean_distance_to_true_path_mm": 1e3 * float(mimic_error),
         },
         "imitate": {
-            "n_basis": skill.n_basis,
+            "n_basis": skill.dmp_.n_basis_,
             "reproduction_rms_mm": 1e3
             * float(np.sqrt(metrics.mse_paths(skill.nominal(), [skill.path_]))),
             "new_goal": NEW_GOAL.tolist(),

@@ -1,0 +1,76 @@
+"""The skill's DMP settings: n_basis="auto" or an integer, in code and in skill files."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from lfdkit.datasets import load_dataset
+from lfdkit.imitate import BASIS_LADDER, DMP
+from lfdkit.skill import Skill, _check_file_params
+
+
+@pytest.fixture(scope="module")
+def path() -> np.ndarray:
+    u = np.linspace(0.0, 1.0, 100)
+    return np.column_stack([0.6 * u, 0.1 * np.sin(2.0 * np.pi * u)])
+
+
+def test_auto_is_the_default_and_the_dmp_reports_the_count(path) -> None:
+    skill = Skill().use_path(path)
+    assert skill.n_basis == "auto"
+    assert skill.dmp_.n_basis_ in BASIS_LADDER
+    assert skill.dmp_.reproduction_error_ <= 0.01
+    expected = DMP(n_basis="auto", scaling="spatial").fit(path, timing="minimum_jerk")
+    np.testing.assert_array_equal(skill.dmp_.weights_, expected.weights_)
+    assert Skill(n_basis=12).use_path(path).dmp_.n_basis_ == 12
+
+
+@pytest.mark.parametrize("n_basis", ["auto", 12])
+def test_the_skill_file_round_trips_auto_and_integer_counts(path, n_basis) -> None:
+    skill = Skill(n_basis=n_basis).use_path(path)
+    data = json.loads(json.dumps(skill.to_dict()))
+    assert data["params"]["n_basis"] == n_basis
+    loaded = Skill.from_dict(data)
+    assert loaded.n_basis == n_basis
+    assert loaded.dmp_.n_basis_ == skill.dmp_.n_basis_
+    np.testing.assert_array_equal(loaded.dmp_.weights_, skill.dmp_.weights_)
+    np.testing.assert_array_equal(loaded.nominal(goal=[0.7, 0.1]), skill.nominal(goal=[0.7, 0.1]))
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("automatic", "params.n_basis: expected an integer, got 'automatic'"),
+        (0, "params.n_basis: expected 1 to 200, got 0"),
+        (201, "params.n_basis: expected 1 to 200, got 201"),
+        (20.0, "params.n_basis: expected an integer"),
+        (True, "params.n_basis: expected an integer"),
+    ],
+)
+def test_skill_files_accept_auto_and_bounded_integers_only(value, message) -> None:
+    _check_file_params({"n_basis": "auto"}, "f.json")
+    _check_file_params({"n_basis": 200}, "f.json")
+    with pytest.raises(ValueError, match=message):
+        _check_file_params({"n_basis": value}, "f.json")
+
+
+def test_a_skill_built_in_code_refuses_a_bad_count() -> None:
+    with pytest.raises(TypeError, match="n_basis: expected an integer, got 'many'"):
+        Skill(n_basis="many")._check_params()
+    with pytest.raises(ValueError, match="n_basis: expected 1 to 200, got 500"):
+        Skill(n_basis=500)._check_params()
+
+
+def test_the_progress_message_names_the_chosen_count() -> None:
+    demos = load_dataset("walking", seed=0).demos
+    messages: list[str] = []
+    skill = Skill().fit_path(demos, progress=messages.append)
+    said = [m for m in messages if m.startswith("imitate:")]
+    assert said == [
+        f"imitate: DMP with {skill.dmp_.n_basis_} basis functions per dimension "
+        f"(n_basis='auto'), reproducing the path within "
+        f"{skill.dmp_.reproduction_error_:.2%} of its extent"
+    ]
