@@ -223,9 +223,9 @@ def test_e1_and_distance_space_errors():
 # ------------------------------------------------------------ held-out distances
 def _frechet_reference(a: np.ndarray, b: np.ndarray) -> float:
     """Eiter and Mannila's memoised recursion, written literally."""
-    from functools import lru_cache
+    from functools import cache
 
-    @lru_cache(maxsize=None)
+    @cache
     def c(i: int, j: int) -> float:
         d = float(np.linalg.norm(a[i] - b[j]))
         if i == 0 and j == 0:
@@ -260,7 +260,7 @@ def test_discrete_frechet_sees_order_where_closest_points_do_not():
     there_and_back = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [1.0, 0.0]])
     straight = np.array([[0.0, 0.0], [1.0, 0.0]])
     assert discrete_frechet(there_and_back, straight) == pytest.approx(1.0)
-    shifted = straight + [0.0, 0.25]
+    shifted = straight + np.array([0.0, 0.25])
     assert discrete_frechet(straight, shifted) == pytest.approx(0.25)
 
 
@@ -269,7 +269,7 @@ def test_held_out_distances_of_a_parallel_line_and_a_truncated_one():
 
     x = np.linspace(0.0, 2.0, 50)
     demo = np.column_stack((x, np.zeros_like(x)))
-    parallel = held_out_distances(demo + [0.0, 0.1], demo)
+    parallel = held_out_distances(demo + np.array([0.0, 0.1]), demo)
     assert parallel["mean"] == pytest.approx(0.1)
     assert parallel["max"] == pytest.approx(0.1)
     assert parallel["frechet"] == pytest.approx(0.1)

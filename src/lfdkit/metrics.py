@@ -288,7 +288,8 @@ def discrete_frechet(a, b) -> float:
             continue
         up = np.where(i > 0, leash[np.maximum(i - 1, 0), j], np.inf)
         left = np.where(j > 0, leash[i, np.maximum(j - 1, 0)], np.inf)
-        diag = np.where((i > 0) & (j > 0), leash[np.maximum(i - 1, 0), np.maximum(j - 1, 0)], np.inf)
+        back = leash[np.maximum(i - 1, 0), np.maximum(j - 1, 0)]
+        diag = np.where((i > 0) & (j > 0), back, np.inf)
         leash[i, j] = np.maximum(d[i, j], np.minimum(np.minimum(up, left), diag))
     return float(leash[-1, -1])
 

@@ -100,7 +100,7 @@ Progress = Callable[[str], None]
 _MIMIC_METHODS = ("mean_path", "gmr")
 _PLANNERS = ("mpc", "full")
 _TIMINGS = ("minimum_jerk", "uniform")
-_SCALINGS = ("spatial", "per_dimension")
+_SCALINGS = ("translate", "spatial", "per_dimension")
 # Points of a path or plan: the planner's memory grows linearly with them.
 _MAX_POINTS = 100_000
 
@@ -151,11 +151,15 @@ class Skill:
         (:meth:`lfdkit.imitate.DMP.fit`).
     duration : float
         Duration of the movement, seconds.
-    scaling : {"spatial", "per_dimension"}
-        How the DMP carries the path to a new start and goal; ``"spatial"``
-        rotates and scales the whole shape with the start→goal vector and
-        works for paths whose start and goal share a coordinate (a straight
-        sweep), where ``"per_dimension"`` (the thesis) cannot scale.
+    scaling : {"translate", "spatial", "per_dimension"}
+        How the DMP carries the path to a new start and goal
+        (:class:`lfdkit.imitate.DMP`). ``"translate"`` keeps the shape and
+        blends the start and goal offsets in along the movement: defined for
+        closed shapes, and the closest to held-out demonstrations (1.00 times
+        the affine warp on LASA against 1.09 for ``"spatial"``).
+        ``"spatial"`` rotates and scales the whole shape with the start→goal
+        vector, for goals in another direction; ``"per_dimension"`` is the
+        thesis's.
     planner : {"mpc", "full"}
         Receding-horizon MPC (as on the robot) or the full-horizon optimum; the
         reward fit is staged (full horizon, then MPC) for ``"mpc"``.
@@ -203,7 +207,7 @@ class Skill:
         n_basis: int | Literal["auto"] = "auto",
         timing: str = "minimum_jerk",
         duration: float = 1.0,
-        scaling: str = "spatial",
+        scaling: str = "translate",
         planner: PlannerKind = "mpc",
         horizon: int = 8,
         max_slope: float = 1.0,

@@ -707,8 +707,7 @@ def _circle_demos(seed: int, fraction: float, n_demos: int = 7) -> list[np.ndarr
     for _ in range(n_demos):
         theta = np.linspace(0.0, 2.0 * np.pi * fraction, int(rng.integers(300, 700))) + 0.3
         radius = 1.0 + sum(
-            rng.normal(0.0, 0.02) * np.sin(f * theta + rng.uniform(0, 2 * np.pi))
-            for f in (2, 3)
+            rng.normal(0.0, 0.02) * np.sin(f * theta + rng.uniform(0, 2 * np.pi)) for f in (2, 3)
         )
         demos.append(np.column_stack((radius * np.cos(theta), radius * np.sin(theta))))
     if fraction == 1.0:  # exactly closed, as a pen lifted where it was put down
@@ -769,14 +768,16 @@ def _returning_stroke(seed: int) -> tuple[list[np.ndarray], np.ndarray]:
     spread ±3 cm along the first stroke: a start placed past the mean start is
     nearer to the up-stroke than to the path's own beginning.
     """
-    corners = np.array([[0.3, 0.5], [-0.5, 0.5], [-0.5, -0.5], [0.32, -0.5], [0.32, 0.48], [0.8, 0.48]])
+    corners = np.array(
+        [[0.3, 0.5], [-0.5, 0.5], [-0.5, -0.5], [0.32, -0.5], [0.32, 0.48], [0.8, 0.48]]
+    )
     rng = np.random.default_rng(seed)
     demos = []
     for _ in range(8):
         start = corners[0] + [rng.uniform(-0.03, 0.03), 0.0]
         pts = np.vstack([start, corners[1:]])
         dense = np.vstack(
-            [np.linspace(a, b, 80, endpoint=False) for a, b in zip(pts[:-1], pts[1:])] + [pts[-1:]]
+            [np.linspace(a, b, 80, endpoint=False) for a, b in itertools.pairwise(pts)] + [pts[-1:]]
         )
         dense[1:-1] += rng.normal(0.0, 0.002, dense[1:-1].shape)
         demos.append(dense)

@@ -428,7 +428,9 @@ def _fill_unsupported(
     return out - ref
 
 
-def _arc_positions(points: np.ndarray, path: np.ndarray, end: Literal["start", "stop"]) -> np.ndarray:
+def _arc_positions(
+    points: np.ndarray, path: np.ndarray, end: Literal["start", "stop"]
+) -> np.ndarray:
     """Arc-length position of points near one end of the path, extended past that end.
 
     Each point is projected onto the path's first (``end="start"``) or last

@@ -266,7 +266,7 @@ def check_one_motion(
         warnings.warn(
             f"{method}: the generalized path is {ratio:.2f} times the median demonstration "
             f"length ({length:.4g} against {median:.4g}; the demonstrations measure "
-            f"{shortest:.4g} to {longest:.4g}), outside {low}–{high}: {reason}. Plot it "
+            f"{shortest:.4g} to {longest:.4g}), outside {low} to {high}: {reason}. Plot it "
             f"against the demonstrations before using it{hint}",
             PathLengthWarning,
             stacklevel=3,
