@@ -83,10 +83,14 @@ model: lfdkit's methods refuse them by design
 Tables and targets
 ------------------
 Per group and method: ``tasks`` completed (at least one fold); ``mean``,
-``max``, ``Fréchet``: the mean over tasks of the task distances, over the
-*common* tasks, those on which every method completed every fold (their
-number is printed); ``ratio med`` / ``ratio max``: median and largest ratio to
-the average over tasks; folds off-length, refused, warned; median runtime.
+``max``, ``Fréchet`` (and ``vs nom.``): the mean over tasks of the task
+distances, over the *common* tasks, those on which every method completed
+every fold (their number is printed), per unit (the synthetic group's
+deburring sets are in mm, the rest in m: the mm tasks get their own lines);
+``ratio med`` / ``ratio max``: median and largest ratio to the average over
+all the group's tasks; folds off-length, refused, warned; median runtime.
+Below each table, every refusal kind (message with its numbers blanked) with
+its count of folds and the tasks it happened on.
 
 The issue's acceptance criterion, evaluated for ``real`` and ``synthetic``
 separately (``closed`` is shown alongside, for information): the default
@@ -109,6 +113,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 import warnings
@@ -387,6 +392,7 @@ def task_table(folds: Sequence[Fold], methods: Sequence[str]) -> dict:
                 ),
                 "runtime_s_median": float(np.median([f.runtime_s for f in items])),
                 "errors": sorted({f.error for f in items if f.error}),
+                "error_folds": [f.error for f in items if f.error],
             }
             both = [f for f in ok if not avg[f.fold].refused]
             avg_ok = [f for f in avg.values() if not f.refused]
@@ -401,25 +407,38 @@ def task_table(folds: Sequence[Fold], methods: Sequence[str]) -> dict:
     return out
 
 
-def group_summary(per_task: dict, methods: Sequence[str]) -> tuple[list[dict], int]:
-    """Per method over the tasks of one group; the number of common tasks."""
+def group_summary(
+    per_task: dict, methods: Sequence[str], task_units: dict[str, str]
+) -> tuple[list[dict], dict[str, int]]:
+    """Per method over the tasks of one group; the number of common tasks per unit.
+
+    Distances are averaged per unit (a group may mix metres and millimetres) over
+    the common tasks, those every method completed on every fold; ratios and
+    counts are over every task of the group.
+    """
     tasks = list(per_task)
     common = [t for t in tasks if all(per_task[t][m]["n_refused"] == 0 for m in methods)]
+    units = sorted(set(task_units.values()), key=lambda u: -list(task_units.values()).count(u))
     rows = []
     for method in methods:
         cells = [per_task[t][method] for t in tasks]
         ratios = np.array([c["ratio"] for c in cells if not np.isnan(c["ratio"])])
-        on_common = [per_task[t][method] for t in common]
-        nominal = [c["nominal_mean"] for c in on_common if c["nominal_mean"] is not None]
+        distances = {}
+        for unit in units:
+            on_common = [per_task[t][method] for t in common if task_units[t] == unit]
+            nominal = [c["nominal_mean"] for c in on_common if c["nominal_mean"] is not None]
+            distances[unit] = {
+                "mean": _mean_of(c["mean"] for c in on_common),
+                "max": _mean_of(c["max"] for c in on_common),
+                "frechet": _mean_of(c["frechet"] for c in on_common),
+                "nominal_mean": _mean_of(nominal) if nominal else None,
+            }
         rows.append(
             {
                 "method": method,
                 "n_tasks": len(tasks),
                 "tasks_completed": sum(c["n_refused"] < c["n_folds"] for c in cells),
-                "mean": _mean_of(c["mean"] for c in on_common),
-                "max": _mean_of(c["max"] for c in on_common),
-                "frechet": _mean_of(c["frechet"] for c in on_common),
-                "nominal_mean": _mean_of(nominal) if nominal else None,
+                "distances": distances,
                 "ratio_median": float(np.median(ratios)) if ratios.size else np.nan,
                 "ratio_max": float(np.max(ratios)) if ratios.size else np.nan,
                 "folds": sum(c["n_folds"] for c in cells),
@@ -427,10 +446,25 @@ def group_summary(per_task: dict, methods: Sequence[str]) -> tuple[list[dict], i
                 "refused": sum(c["n_refused"] for c in cells),
                 "warned": sum(c["n_warned"] for c in cells),
                 "runtime_s_median": float(np.median([c["runtime_s_median"] for c in cells])),
-                "errors": sorted({e for c in cells for e in c["errors"]}),
+                "refusals": refusal_kinds(per_task, method),
             }
         )
-    return rows, len(common)
+    n_common = {u: sum(task_units[t] == u for t in common) for u in units}
+    n_tasks = {u: sum(task_units[t] == u for t in tasks) for u in units}
+    return rows, {"common": n_common, "tasks": n_tasks}
+
+
+def refusal_kinds(per_task: dict, method: str) -> list[dict]:
+    """A method's refusals grouped by message (numbers blanked): count and tasks."""
+    kinds: dict[str, dict] = {}
+    for task, cells in per_task.items():
+        for message in cells[method]["error_folds"]:
+            key = re.sub(r"\d+(\.\d+)?(e-?\d+)?", "#", message)
+            kind = kinds.setdefault(key, {"message": key, "folds": 0, "tasks": []})
+            kind["folds"] += 1
+            if task not in kind["tasks"]:
+                kind["tasks"].append(task)
+    return sorted(kinds.values(), key=lambda k: -k["folds"])
 
 
 def _mean_of(values) -> float:
@@ -501,12 +535,15 @@ def _f(x: float | None, digits: int = 4) -> str:
     return f"{x:.{digits}g}"
 
 
-def print_group(group: str, rows: list[dict], n_common: int, units: str) -> None:
-    n_tasks = rows[0]["n_tasks"]
-    nominal = any(r["nominal_mean"] is not None for r in rows)
+def print_group(group: str, rows: list[dict], counts: dict) -> None:
+    units = list(counts["tasks"])
+    nominal = any(r["distances"][units[0]]["nominal_mean"] is not None for r in rows)
+    main = units[0]
     print(
-        f"\n{group}: {n_tasks} tasks, {rows[0]['folds']} folds per method; distances in "
-        f"{units}, mean over the {n_common} tasks every method completed"
+        f"\n{group}: {rows[0]['n_tasks']} tasks, {rows[0]['folds']} folds per method. "
+        f"Distances in {main}: mean over the {counts['common'][main]} of "
+        f"{counts['tasks'][main]} {main} tasks every method completed; ratios and counts "
+        "over all tasks"
     )
     head = (
         f"{'method':<36} {'tasks':>5} {'mean':>8} {'max':>8} {'Fréchet':>8} "
@@ -517,26 +554,38 @@ def print_group(group: str, rows: list[dict], n_common: int, units: str) -> None
     print(head)
     print("-" * len(head))
     for r in rows:
+        d = r["distances"][main]
         print(
-            f"{r['method']:<36} {r['tasks_completed']:>5} {_f(r['mean']):>8} {_f(r['max']):>8} "
-            f"{_f(r['frechet']):>8} "
-            + (f"{_f(r['nominal_mean']):>8} " if nominal else "")
+            f"{r['method']:<36} {r['tasks_completed']:>5} {_f(d['mean']):>8} {_f(d['max']):>8} "
+            f"{_f(d['frechet']):>8} "
+            + (f"{_f(d['nominal_mean']):>8} " if nominal else "")
             + f"{_f(r['ratio_median'], 3):>9} {_f(r['ratio_max'], 3):>9} "
             f"{r['off_length']:>7} {r['refused']:>7} {r['warned']:>6} "
             f"{r['runtime_s_median'] * 1000:>6.1f} ms"
         )
+    for unit in units[1:]:
+        print(
+            f"  and in {unit}, over the {counts['common'][unit]} of {counts['tasks'][unit]} "
+            f"{unit} tasks every method completed: mean / max / Fréchet"
+            + (" / vs nominal" if nominal else "")
+        )
+        for r in rows:
+            d = r["distances"][unit]
+            figures = [d["mean"], d["max"], d["frechet"]] + ([d["nominal_mean"]] if nominal else [])
+            print(f"  {r['method']:<36} " + " / ".join(_f(x) for x in figures))
     for r in rows:
-        if r["errors"]:
-            more = len(r["errors"]) - 1
-            tail = f" (+{more} other messages)" if more else ""
-            print(f"  {r['method']} refused {r['refused']}: {r['errors'][0][:160]}...{tail}")
+        for kind in r["refusals"]:
+            print(
+                f"  refused: {r['method']}, {kind['folds']} folds on {', '.join(kind['tasks'])}: "
+                f"{kind['message'][:200]}"
+            )
 
 
 def print_per_task(group: str, per_task: dict, variants: Sequence[str], default: str) -> None:
     print(f"\nPer task ({group}): ratio = method's mean distance / the average's")
     head = (
         f"{'task':<22} {'average mean':>12} {'default ratio':>13} {'best variant':<30} "
-        f"{'its ratio':>9} {'default refused/off-length':>26}"
+        f"{'its ratio':>9} {'default refused/off-len':>23}"
     )
     print(head)
     print("-" * len(head))
@@ -546,7 +595,7 @@ def print_per_task(group: str, per_task: dict, variants: Sequence[str], default:
         print(
             f"{task:<22} {_f(cells[AVERAGE]['mean']):>12} {_f(d['ratio'], 3):>13} "
             f"{best.replace('Mean-Path ', ''):<30} {_f(cells[best]['ratio'], 3):>9} "
-            f"{d['n_refused']:>13}/{d['n_off_length']:<12}"
+            f"{str(d['n_refused']) + '/' + str(d['n_off_length']):>23}"
         )
 
 
@@ -712,17 +761,15 @@ def main(argv: list[str] | None = None) -> int:
     folds = run_tasks(tasks, methods, max_folds, [0], total)
 
     groups_run = list(dict.fromkeys(t.group for t in tasks))
-    units = {g: sorted({t.units for t in tasks if t.group == g}) for g in groups_run}
     per_group = {g: task_table([f for f in folds if f.group == g], names) for g in groups_run}
     summaries, n_common = {}, {}
     for g in groups_run:
-        summaries[g], n_common[g] = group_summary(per_group[g], names)
+        task_units = {t.name: t.units for t in tasks if t.group == g}
+        summaries[g], n_common[g] = group_summary(per_group[g], names, task_units)
 
     for g in groups_run:
-        if g == MULTI:
-            continue
-        unit = "/".join(units[g]) + (" (each set in its own units)" if len(units[g]) > 1 else "")
-        print_group(g, summaries[g], n_common[g], unit)
+        if g != MULTI:
+            print_group(g, summaries[g], n_common[g])
     if MULTI in per_group:
         print_multi(per_group[MULTI], names)
     checks = check_targets(summaries, default)
@@ -779,7 +826,7 @@ def main(argv: list[str] | None = None) -> int:
         "default": default,
         "tasks": {g: list(per_group[g]) for g in groups_run},
         "summary": {
-            g: {"common_tasks": n_common[g], "rows": _jsonable(summaries[g])} for g in groups_run
+            g: {"task_counts": n_common[g], "rows": _jsonable(summaries[g])} for g in groups_run
         },
         "targets": checks,
         "variants": _jsonable(vrows),
