@@ -6,7 +6,8 @@ targets (PASS/FAIL), a table of Mean-Path variants and per-task tables, writes
 ``mimic_loo.json`` and the figures ``mimic_loo_ratios.png`` and
 ``mimic_loo_examples.png`` to ``--output`` (``benchmarks/results/mimic_loo``
 by default). Exits 0 even when a target fails. The full run takes about
-9 minutes on 2 cores (GMR and the Fréchet distances most of it); ``--quick``
+8 minutes on 2 cores (478 folds × 9 methods; GMR and the Fréchet distances
+most of it); ``--quick``
 (4 LASA shapes, 4 synthetic and the 4 closed sets, seed 0, the first 2 folds
 of each, no Multi_Models) under a minute.
 
@@ -47,7 +48,8 @@ Methods (every path 100 points)
 * ``GMR (K=10)``: lfdkit ``GMR(n_components=10, random_state=0)``, ``path(100)``.
   The component count is fixed (``--gmr-components``; GMR's own default), not
   chosen by BIC as in ``benchmarks/mimic.py``: BIC over the 6 candidates there
-  would multiply GMR's time, the largest part of the run, by about 10. Giving
+  (4 to 32) would multiply GMR's time, the largest part of the run, by about 6
+  (12 s instead of 2 s for one fold of LASA's GShape). Giving
   several counts (e.g. ``--gmr-components 5 10 15``) chooses among them by BIC
   on each fold's training demonstrations only.
 * ``DBA (tslearn)``: ``tslearn.barycenters.dtw_barycenter_averaging`` of the
@@ -76,7 +78,8 @@ Data groups
 LASA's four ``Multi_Models`` shapes hold several distinct motions (into one
 goal from different sides), so a single generalized path is not the right
 model: lfdkit's methods refuse them by design
-(:class:`lfdkit.mimic.SeveralMotionsError`). They run as a separate group
+(:class:`lfdkit.mimic.SeveralMotionsError`, or a ``ValueError`` when one
+demonstration's direction cannot be decided). They run as a separate group
 ``real multi-motion``, reported in its own table and kept out of the targets
 (``--no-multi`` skips them).
 
@@ -97,11 +100,11 @@ separately (``closed`` is shown alongside, for information): the default
 Mean-Path beats the average on the median task (median ratio < 1) and is never
 worse than 1.05 times it (largest ratio <= 1.05). The table of Mean-Path
 variants gives the same figures for every variant; the best default is the
-variant with the fewest failed targets on real and synthetic, then the smallest
-largest ratio over those two groups, then the smallest mean of the two
-medians. Per-task tables (real and closed): the average's ``mean``, the default
-Mean-Path's ratio, the best variant on that task and its ratio, and the
-default's refused/off-length folds.
+variant with the fewest failed targets on real and synthetic, then the fewest
+on closed (the same two rules), then the smallest largest ratio over real and
+synthetic, then the smallest mean of their two medians. Per-task tables (real
+and closed): the average's ``mean``, the default Mean-Path's ratio, the best
+variant on that task and its ratio, and the default's refused/off-length folds.
 
 Figures: ``mimic_loo_ratios.png``: every task's ratio per method and group
 (log scale; refusals drawn at the top); ``mimic_loo_examples.png``: fold 0 of
@@ -517,8 +520,19 @@ def variant_table(summaries: dict[str, list[dict]], variants: Sequence[str]) -> 
                 fails += int(not r["ratio_median"] < 1.0) + int(not r["ratio_max"] <= MAX_RATIO)
                 worst = max(worst, r["ratio_max"])
                 medians.append(r["ratio_median"])
+        closed_fails = 0
+        if "closed" in summaries:
+            r = next(x for x in summaries["closed"] if x["method"] == v)
+            closed_fails = int(not r["ratio_median"] < 1.0) + int(not r["ratio_max"] <= MAX_RATIO)
         row["failed_targets"] = fails
-        row["rank_key"] = (fails, worst, float(np.mean(medians)) if medians else np.nan)
+        row["failed_closed"] = closed_fails
+        row["refused"] = sum(
+            next(x for x in summaries[g] if x["method"] == v)["refused"]
+            for g in GROUPS
+            if g in summaries
+        )
+        mean_median = float(np.mean(medians)) if medians else np.nan
+        row["rank_key"] = (fails, closed_fails, worst, mean_median)
         rows.append(row)
     order = sorted(range(len(rows)), key=lambda i: rows[i]["rank_key"])
     for rank, i in enumerate(order, 1):
@@ -609,6 +623,9 @@ def print_multi(per_task: dict, methods: Sequence[str]) -> None:
             if m in methods
         ]
         print(f"  {task:<16} " + "; ".join(parts))
+    for method in methods:
+        for kind in refusal_kinds(per_task, method):
+            print(f"  refused: {method}, {kind['folds']} folds: {kind['message'][:140]}")
 
 
 def print_targets(checks: list[dict], default: str) -> None:
@@ -620,15 +637,25 @@ def print_targets(checks: list[dict], default: str) -> None:
 
 
 def print_variants(rows: list[dict], groups: Sequence[str]) -> None:
-    print("\nMean-Path variants against the criterion (ratio median / max per group)")
-    head = f"{'rank':>4} {'variant':<36} " + " ".join(f"{g:>17}" for g in groups) + " failed"
+    print(
+        "\nMean-Path variants against the criterion (ratio median / max per group; failed: "
+        "targets failed on real and synthetic; closed: on closed; refused: folds, all groups)"
+    )
+    head = (
+        f"{'rank':>4} {'variant':<36} "
+        + " ".join(f"{g:>17}" for g in groups)
+        + f" {'failed':>6} {'closed':>6} {'refused':>7}"
+    )
     print(head)
     print("-" * len(head))
     for r in sorted(rows, key=lambda r: r["rank"]):
         cells = " ".join(
             f"{_f(r[g]['ratio_median'], 3):>8}/{_f(r[g]['ratio_max'], 3):<8}" for g in groups
         )
-        print(f"{r['rank']:>4} {r['method']:<36} {cells} {r['failed_targets']:>6}")
+        print(
+            f"{r['rank']:>4} {r['method']:<36} {cells} {r['failed_targets']:>6} "
+            f"{r['failed_closed']:>6} {r['refused']:>7}"
+        )
     best = min(rows, key=lambda r: r["rank"])
     print(f"  best default by the criterion: {best['method']}")
 
@@ -636,7 +663,7 @@ def print_variants(rows: list[dict], groups: Sequence[str]) -> None:
 # ------------------------------------------------------------------ figures
 def ratio_figure(per_group: dict[str, dict], methods: Sequence[str]):
     from matplotlib.figure import Figure
-    from matplotlib.ticker import ScalarFormatter
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
 
     groups = [g for g in GROUPS if g in per_group]
     fig = Figure(figsize=(5.0 * len(groups), 5.2), layout="constrained")
@@ -664,8 +691,11 @@ def ratio_figure(per_group: dict[str, dict], methods: Sequence[str]):
         ax.axhline(1.0, color="k", lw=0.8)
         ax.axhline(MAX_RATIO, color="k", lw=0.8, ls="--")
         ax.set_yscale("log")
+        low, high = ax.get_ylim()
+        ticks = [t for t in (0.5, 0.7, 0.8, 0.9, 1.0, 1.05, 1.1, 1.2, 1.5, 2, 3, 5, 10, 20)]
+        ax.set_yticks([t for t in ticks if low <= t <= high])
         ax.yaxis.set_major_formatter(ScalarFormatter())
-        ax.yaxis.set_minor_formatter(ScalarFormatter())
+        ax.yaxis.set_minor_formatter(NullFormatter())
         ax.set_xticks(range(len(shown)))
         ax.set_xticklabels(
             [m.replace("Mean-Path ", "MP ") for m in shown], rotation=60, ha="right", fontsize=8
@@ -709,7 +739,10 @@ def examples_figure(examples: list[tuple[Task, dict[str, np.ndarray | None]]], d
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
-        "--output", type=Path, default=Path(__file__).parent / "results" / "mimic_loo"
+        "--output",
+        type=Path,
+        default=Path(__file__).parent / "results" / "mimic_loo",
+        help="folder for mimic_loo.json and the figures (benchmarks/results/mimic_loo)",
     )
     parser.add_argument(
         "--quick",
@@ -728,7 +761,13 @@ def main(argv: list[str] | None = None) -> int:
         metavar="K",
         help="GMR components: one fixed count (10), or several for BIC per fold",
     )
-    parser.add_argument("--groups", nargs="+", default=list(GROUPS), choices=GROUPS)
+    parser.add_argument(
+        "--groups",
+        nargs="+",
+        default=list(GROUPS),
+        choices=GROUPS,
+        help="data groups to run (all; LASA's Multi_Models run with real)",
+    )
     parser.add_argument("--no-multi", action="store_true", help="skip LASA's Multi_Models")
     parser.add_argument(
         "--max-folds", type=int, default=None, help="score only the first folds of each task"
