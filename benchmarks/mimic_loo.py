@@ -92,8 +92,8 @@ every fold (their number is printed), per unit (the synthetic group's
 deburring sets are in mm, the rest in m: the mm tasks get their own lines);
 ``ratio med`` / ``ratio max``: median and largest ratio to the average over
 all the group's tasks; folds off-length, refused, warned; median runtime.
-Below each table, every refusal kind (message with its numbers blanked) with
-its count of folds and the tasks it happened on.
+Below each table, every refusal kind (message with its numbers and the
+method's name blanked) with its count of folds and the tasks it happened on.
 
 The issue's acceptance criterion, evaluated for ``real`` and ``synthetic``
 separately (``closed`` is shown alongside, for information): the default
@@ -458,11 +458,12 @@ def group_summary(
 
 
 def refusal_kinds(per_task: dict, method: str) -> list[dict]:
-    """A method's refusals grouped by message (numbers blanked): count and tasks."""
+    """A method's refusals grouped by message (numbers and method names blanked)."""
     kinds: dict[str, dict] = {}
     for task, cells in per_task.items():
         for message in cells[method]["error_folds"]:
             key = re.sub(r"\d+(\.\d+)?(e-?\d+)?", "#", message)
+            key = re.sub(r"\b(MeanPath|GMR|NLPCA|pointwise_average)\b", "<method>", key)
             kind = kinds.setdefault(key, {"message": key, "folds": 0, "tasks": []})
             kind["folds"] += 1
             if task not in kind["tasks"]:
@@ -623,9 +624,14 @@ def print_multi(per_task: dict, methods: Sequence[str]) -> None:
             if m in methods
         ]
         print(f"  {task:<16} " + "; ".join(parts))
+    kinds: dict[str, dict] = {}
     for method in methods:
         for kind in refusal_kinds(per_task, method):
-            print(f"  refused: {method}, {kind['folds']} folds: {kind['message'][:140]}")
+            entry = kinds.setdefault(kind["message"], {"folds": kind["folds"], "methods": []})
+            entry["methods"].append(method.replace("Mean-Path ", "MP "))
+    for message, entry in kinds.items():
+        who = ", ".join(entry["methods"])
+        print(f"  refused, {entry['folds']} folds each by {who}:\n    {message[:160]}")
 
 
 def print_targets(checks: list[dict], default: str) -> None:
