@@ -6,10 +6,11 @@ targets (PASS/FAIL), a table of Mean-Path variants and per-task tables, writes
 ``mimic_loo.json`` and the figures ``mimic_loo_ratios.png`` and
 ``mimic_loo_examples.png`` to ``--output`` (``benchmarks/results/mimic_loo``
 by default). Exits 0 even when a target fails. The full run takes about
-8 minutes on 2 cores (478 folds × 9 methods; GMR and the Fréchet distances
-most of it); ``--quick``
-(4 LASA shapes, 4 synthetic and the 4 closed sets, seed 0, the first 2 folds
-of each, no Multi_Models) under a minute.
+8 minutes of one core (478 folds × 9 methods; GMR and the Fréchet distances
+most of it): 7.5 min wall on an idle 2-core machine, 14 min while it was shared
+with other work. ``--quick`` (4 LASA shapes, 4 synthetic and the 4 closed
+sets, seed 0, the first 2 folds of each, no Multi_Models): 36 s idle, 51 s
+shared.
 
 What is measured
 ----------------
