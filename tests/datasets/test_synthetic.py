@@ -6,17 +6,22 @@ import numpy as np
 import pytest
 
 from lfdkit.datasets import (
+    CLOSED_DATASETS,
     MIMIC_DATASETS,
     RESIDUAL_SHAPES,
     DemoSet,
+    closed_circle,
     da_vinci_walls,
     deburring_circular,
     deburring_linear,
     different_extents,
     draw_residuals,
+    figure_eight,
+    letter_a,
     load_dataset,
     local_detours,
     loops,
+    nearly_closed_o,
     noisy_band,
     quasi_circular_band,
     residual_profile,
@@ -308,3 +313,147 @@ def test_loops_self_intersect():
     for j, has_loop in enumerate(looped):
         if not has_loop:
             np.testing.assert_array_equal(ds.demos[j], base.demos[j])
+
+
+# ----------------------------------------------------------------- closed shapes
+@pytest.mark.parametrize("name", sorted(CLOSED_DATASETS))
+def test_closed_sets_seeded_and_well_formed(name):
+    a = load_dataset(name, seed=7)
+    b = CLOSED_DATASETS[name](seed=7)
+    c = load_dataset(name, seed=np.random.default_rng(7))
+    other = load_dataset(name, seed=8)
+    assert isinstance(a, DemoSet) and a.name == name
+    assert a.units == "mm" and a.material_side is None and a.description
+    assert len(a.demos) == 7 and a.nominal.shape == (500, 2)
+    for x, y, z, w in zip(a.demos, b.demos, c.demos, other.demos, strict=True):
+        assert x.shape == (200, 2) and x.dtype == np.float64 and np.isfinite(x).all()
+        np.testing.assert_array_equal(x, y)
+        np.testing.assert_array_equal(x, z)
+        assert not np.array_equal(x, w)
+    np.testing.assert_array_equal(a.nominal, b.nominal)
+    # The nominal is fixed: only the demonstrations depend on the seed.
+    np.testing.assert_array_equal(a.nominal, other.nominal)
+    # Not part of MIMIC_DATASETS (benchmarks/mimic.py and `lfdkit demo` run those).
+    assert name not in MIMIC_DATASETS
+
+
+@pytest.mark.parametrize(
+    ("gen", "noise"),
+    [(closed_circle, 1.0), (closed_circle, 0.4), (nearly_closed_o, 1.0), (figure_eight, 1.0)],
+)
+def test_closed_sets_noise_level(gen, noise):
+    """Points lie at RMS distance ≈ noise from the nominal (the normal offsets' sd)."""
+    rms = []
+    for seed in range(5):
+        ds = gen(seed=seed, noise=noise)
+        dist = np.concatenate([project_onto_polyline(d, ds.nominal)[2] for d in ds.demos])
+        rms.append(np.sqrt(np.mean(dist**2)))
+        # Smooth offsets are bounded by sqrt(6) sd, plus a little white noise.
+        assert dist.max() < np.sqrt(6) * noise + 0.3 * noise
+    assert 0.7 * noise < np.mean(rms) < 1.3 * noise
+
+
+def test_closed_circle_is_closed():
+    ds = closed_circle(seed=1, radius=20.0, noise=1.0)
+    np.testing.assert_array_equal(ds.nominal[0], ds.nominal[-1])
+    # Points of the fine 4001-point polygon resampled: chord error below 1e-5 mm.
+    np.testing.assert_allclose(np.linalg.norm(ds.nominal, axis=1), 20.0, atol=1e-5)
+    np.testing.assert_allclose(ds.nominal[0], [0.0, 20.0], atol=1e-12)
+    assert path_length(ds.nominal) == pytest.approx(2 * np.pi * 20.0, rel=1e-4)
+    for demo in ds.demos:
+        np.testing.assert_array_equal(demo[0], demo[-1])  # start = end exactly
+        # Starts on the top of the circle (the radial offset moves it up or down).
+        assert abs(demo[0, 0]) < 0.3 and abs(demo[0, 1] - 20.0) < np.sqrt(6) + 0.3
+        # Once round, counter-clockwise: the unwrapped angle gains 2 pi.
+        angle = np.unwrap(np.arctan2(demo[:, 1], demo[:, 0]))
+        assert angle[-1] - angle[0] == pytest.approx(2 * np.pi, abs=1e-9)
+        assert not self_intersects(demo[:-1])
+
+
+def test_nearly_closed_o_gap():
+    coverage, radius, noise = 0.96, 20.0, 1.0
+    ds = nearly_closed_o(seed=2, coverage=coverage, radius=radius, noise=noise)
+    gap_arc = (1.0 - coverage) * 2 * np.pi * radius
+    chord = 2 * radius * np.sin(np.pi * (1.0 - coverage))
+    assert np.linalg.norm(ds.nominal[0] - ds.nominal[-1]) == pytest.approx(chord, rel=1e-6)
+    assert path_length(ds.nominal) == pytest.approx(coverage * 2 * np.pi * radius, rel=1e-4)
+    assert 4.5 < gap_arc < 5.5
+    for demo in ds.demos:
+        gap = np.linalg.norm(demo[0] - demo[-1])
+        # Nearly closed: a gap of a few mm, never closed, never wide open.
+        assert chord - 2 * np.sqrt(6) * noise - 0.5 < gap < chord + 2 * np.sqrt(6) * noise + 0.5
+        assert gap > 0.5
+        angle = np.unwrap(np.arctan2(demo[:, 1], demo[:, 0]))
+        assert 0.9 * coverage * 2 * np.pi < angle[-1] - angle[0] < 2 * np.pi
+    with pytest.raises(ValueError, match="coverage"):
+        nearly_closed_o(coverage=1.0)
+
+
+def test_figure_eight_closed_and_crossing():
+    ds = figure_eight(seed=3, size=20.0)
+    np.testing.assert_array_equal(ds.nominal[0], ds.nominal[-1])
+    np.testing.assert_allclose(ds.nominal[0], [0.0, 20.0], atol=1e-9)
+    assert np.ptp(ds.nominal[:, 1]) == pytest.approx(40.0, rel=1e-3)
+    assert np.ptp(ds.nominal[:, 0]) == pytest.approx(20.0, rel=1e-3)
+    # The nominal passes through the origin twice (its crossing), half a length apart.
+    s = arc_length(ds.nominal)
+    near = np.linalg.norm(ds.nominal, axis=1) < 0.5
+    passes = s[near]
+    assert passes.min() < 0.5 * s[-1] < passes.max()
+    for demo in ds.demos:
+        np.testing.assert_array_equal(demo[0], demo[-1])
+        assert self_intersects(demo[:-1])  # the figure-eight crosses itself
+
+
+def test_letter_a_returns_near_start_and_common_end():
+    radius, spread = 15.0, 0.015
+    height = 2.2 * radius
+    for seed in range(3):
+        ds = letter_a(seed=seed, radius=radius, start_spread=spread)
+        nominal = ds.nominal
+        np.testing.assert_array_equal(nominal[-1], [0.0, 0.0])
+        assert np.ptp(nominal[:, 1]) == pytest.approx(height, rel=1e-3)
+        # The nominal passes back through its own start at about 71 % of its length.
+        s = arc_length(nominal)
+        late = s > 0.5 * s[-1]
+        s_back, _, dist = project_onto_polyline(nominal[:1], nominal[late])
+        assert dist[0] < 0.01
+        assert (s_back[0] + s[late][0]) / s[-1] == pytest.approx(0.71, abs=0.02)
+        starts = np.array([d[0] for d in ds.demos])
+        for demo in ds.demos:
+            np.testing.assert_array_equal(demo[-1], [0.0, 0.0])  # one common end
+            # Start within the start disc of the nominal's start (plus white noise).
+            assert np.linalg.norm(demo[0] - nominal[0]) < spread * height + 0.2
+            # The demonstration later passes close to its own start.
+            sd = arc_length(demo)
+            later = sd > 0.5 * sd[-1]
+            gap = project_onto_polyline(demo[:1], demo[later])[2][0]
+            assert gap < 3.0 * 0.75
+        # Starts spread by about 1-2 % of the height.
+        spread_seen = np.linalg.norm(starts - starts.mean(axis=0), axis=1).max()
+        assert 0.2 * spread * height < spread_seen < 1.2 * spread * height
+
+
+def test_letter_a_noise_level():
+    noise = 0.75
+    rms = []
+    for seed in range(5):
+        ds = letter_a(seed=seed, noise=noise, start_spread=0.0)
+        s = arc_length(ds.nominal)
+        u = s / s[-1]
+        for demo in ds.demos:
+            # Away from the tapered ends, along the nominal's normals.
+            d, found = signed_normal_offsets(ds.nominal, demo)
+            keep = found & (u > 0.2) & (u < 0.6)
+            rms.append(np.sqrt(np.mean(d[keep] ** 2)))
+            assert np.abs(d[keep]).max() < np.sqrt(6) * noise + 0.3
+    assert 0.7 * noise < np.mean(rms) < 1.3 * noise
+    with pytest.raises(ValueError, match="noise"):
+        letter_a(noise=1.0)  # would fold the tight turn (radius 15 mm: noise < 0.88 mm)
+
+
+def test_load_dataset_finds_closed_sets():
+    for name in CLOSED_DATASETS:
+        assert load_dataset(name, seed=0).name == name
+    with pytest.raises(ValueError, match=r"valid names:.*closed_circle.*noisy_band"):
+        load_dataset("no_such_set")

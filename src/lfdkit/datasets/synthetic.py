@@ -25,6 +25,12 @@ Conventions
 * 2-D "band" examples (``noisy_band`` and the hard cases) share one S-shaped
   nominal: ``y = 1.5 sin(2 pi x / 10)``, ``x in [0, 10]`` m (length about
   11.9 m, smallest radius of curvature about 1.7 m).
+* The closed and nearly closed shapes (:data:`CLOSED_DATASETS`: a circle, an
+  "o", a figure-eight, a letter "a") are handwriting-sized, in millimetres,
+  with 7 demonstrations each by default, like LASA's. The closed ones
+  (circle, figure-eight) use *periodic* smooth offsets (whole numbers of
+  cycles per turn) along periodic normals, so each demonstration starts and
+  ends at exactly the same point.
 """
 
 from __future__ import annotations
@@ -45,18 +51,23 @@ from lfdkit.geometry import (
 )
 
 __all__ = [
+    "CLOSED_DATASETS",
     "MIMIC_DATASETS",
     "RESIDUAL_SHAPES",
     "DemoSet",
     "Residual",
+    "closed_circle",
     "da_vinci_walls",
     "deburring_circular",
     "deburring_linear",
     "different_extents",
     "draw_residuals",
+    "figure_eight",
+    "letter_a",
     "load_dataset",
     "local_detours",
     "loops",
+    "nearly_closed_o",
     "noisy_band",
     "quasi_circular_band",
     "residual_profile",
@@ -1075,6 +1086,376 @@ def loops(
     )
 
 
+# --------------------------------------------------------------------- closed shapes
+# Handwriting-sized shapes in millimetres (like LASA), drawn once: a closed circle,
+# a nearly closed "o", a figure-eight and a letter "a" whose bowl comes back to its
+# start before the down-stroke. Seven demonstrations each by default (as in LASA).
+
+
+def _periodic_offset(
+    rng: np.random.Generator, u: np.ndarray, sd: float, cycles: tuple[int, int] = (1, 4)
+) -> np.ndarray:
+    """Like :func:`_smooth_offset`, with whole numbers of cycles: equal at ``u = 0`` and ``1``.
+
+    Three sinusoids of ``u in [0, 1]`` with integer frequencies uniform in
+    ``cycles`` (inclusive), random phases and amplitude weights uniform in
+    [0.5, 1], scaled so that ``sqrt(sum a_k**2 / 2) = sd``. Always consumes the
+    same number of draws.
+    """
+    f = rng.integers(cycles[0], cycles[1] + 1, 3).astype(np.float64)
+    phase = rng.uniform(0.0, _TWO_PI, 3)
+    w = rng.uniform(0.5, 1.0, 3)
+    amp = w * sd * np.sqrt(2.0 / np.sum(w**2))
+    return np.sum(amp[:, None] * np.sin(_TWO_PI * f[:, None] * u[None, :] + phase[:, None]), axis=0)
+
+
+def _closed_normals(loop: np.ndarray) -> np.ndarray:
+    """Unit left normals of a closed 2-D polyline (``loop[0] == loop[-1]``), periodic.
+
+    The tangent at every vertex is the central difference with wrap-around, so
+    the first and last normals are identical and an offset curve built with a
+    periodic offset closes exactly.
+    """
+    body = loop[:-1]
+    t = np.roll(body, -1, axis=0) - np.roll(body, 1, axis=0)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    n = np.column_stack((-t[:, 1], t[:, 0]))
+    return np.vstack((n, n[:1]))
+
+
+def _closed_demos(
+    rng: np.random.Generator, fine: np.ndarray, n_demos: int, n_points: int, noise: float
+) -> list[np.ndarray]:
+    """Demonstrations of a closed nominal: periodic normal offsets, white noise, closed exactly.
+
+    Each is the fine loop offset along its periodic normals by
+    :func:`_periodic_offset` (sd ``noise``, 1-4 cycles per loop), resampled to
+    ``n_points`` points, plus white noise of sd ``0.05 noise``; its last point
+    is then set equal to its first, so every demonstration starts and ends at
+    exactly the same point.
+    """
+    normals = _closed_normals(fine)
+    u = arc_length(fine) / arc_length(fine)[-1]
+    demos = []
+    for _ in range(n_demos):
+        offset = _periodic_offset(rng, u, noise)
+        path = fine + offset[:, None] * normals
+        path[-1] = path[0]
+        demo = resample(path, n_points) + rng.normal(0.0, 0.05 * noise, (n_points, 2))
+        demo[-1] = demo[0]
+        demos.append(demo)
+    return demos
+
+
+def closed_circle(
+    n_demos: int = 7,
+    seed: Any = None,
+    *,
+    n_points: int = 200,
+    radius: float = 20.0,
+    noise: float = 1.0,
+) -> DemoSet:
+    """A full circle drawn once, counter-clockwise from the top: start = end.
+
+    The nominal is the circle of radius ``radius`` mm centred at the origin,
+    from (0, radius) counter-clockwise once round, back to (0, radius). Each
+    demonstration is the circle offset radially by a smooth *periodic* random
+    function (three sinusoids of 1-4 whole cycles per turn, sd about
+    ``noise``), resampled to ``n_points`` points equally spaced in arc length,
+    plus isotropic white noise of sd ``0.05 * noise``; its last point equals
+    its first exactly (each demonstration is a closed curve, starting where
+    the normal offset puts it on the top of the circle).
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    n_points : int
+        Points per demonstration.
+    radius : float
+        Radius of the nominal circle, mm.
+    noise : float
+        Standard deviation of the smooth radial offset, mm (smaller than ``radius / 3``).
+
+    Returns
+    -------
+    DemoSet
+        ``n_demos`` arrays of shape ``(n_points, 2)`` in mm, each with
+        ``demo[0] == demo[-1]``; ``nominal`` of shape ``(500, 2)`` with
+        ``nominal[0] == nominal[-1]``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
+    radius = check_positive(radius, "radius")
+    if noise * 3.0 >= radius:
+        raise ValueError(f"noise: must be smaller than radius / 3 ({radius / 3:g}), got {noise}")
+    rng = check_random_state(seed)
+    theta = np.linspace(0.5 * np.pi, 2.5 * np.pi, _N_FINE)
+    fine = radius * np.column_stack((np.cos(theta), np.sin(theta)))
+    fine[-1] = fine[0]
+    demos = _closed_demos(rng, fine, n_demos, n_points, noise)
+    nominal = resample(fine, _N_NOMINAL)
+    nominal[-1] = nominal[0]
+    return DemoSet(
+        name="closed_circle",
+        demos=demos,
+        nominal=nominal,
+        units="mm",
+        description=(
+            f"Circle of radius {radius:g} mm drawn once counter-clockwise from the top, start = "
+            f"end; {n_demos} closed demos = periodic smooth radial offsets (sd ≈ {noise:g} mm) "
+            f"+ white noise (sd {0.05 * noise:g} mm), {n_points} points each. "
+            "Ground truth: the circle."
+        ),
+    )
+
+
+def nearly_closed_o(
+    n_demos: int = 7,
+    seed: Any = None,
+    *,
+    n_points: int = 200,
+    radius: float = 20.0,
+    coverage: float = 0.96,
+    noise: float = 1.0,
+) -> DemoSet:
+    """A handwritten "o" that stops just short of closing (``coverage`` of a circle).
+
+    The nominal is the arc of the circle of radius ``radius`` mm centred at the
+    origin from the top, (0, radius), counter-clockwise through
+    ``coverage * 360`` degrees: it ends a gap of ``(1 - coverage) * 2 pi *
+    radius`` (arc length; 5.0 mm with the defaults) short of its start. Each
+    demonstration is the arc offset along its normal by a smooth random
+    function (three sinusoids of 0.5-2.5 cycles per path, sd about ``noise``,
+    not periodic), resampled to ``n_points`` points equally spaced in arc
+    length, plus isotropic white noise of sd ``0.05 * noise``.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    n_points : int
+    radius : float
+        Radius of the nominal circle, mm.
+    coverage : float
+        Fraction of the full circle drawn, in (0.5, 1).
+    noise : float
+        Standard deviation of the smooth normal offset, mm (smaller than ``radius / 3``).
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in mm; ``nominal`` of shape ``(500, 2)``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
+    radius = check_positive(radius, "radius")
+    coverage = check_positive(coverage, "coverage")
+    if not 0.5 < coverage < 1.0:
+        raise ValueError(f"coverage: expected a fraction in (0.5, 1), got {coverage!r}")
+    if noise * 3.0 >= radius:
+        raise ValueError(f"noise: must be smaller than radius / 3 ({radius / 3:g}), got {noise}")
+    rng = check_random_state(seed)
+    theta = 0.5 * np.pi + np.linspace(0.0, coverage * _TWO_PI, _N_FINE)
+    fine = radius * np.column_stack((np.cos(theta), np.sin(theta)))
+    normals = left_normals(fine)
+    u = arc_length(fine) / arc_length(fine)[-1]
+    offsets, white = _band_draws(rng, u, n_demos, n_points, noise)
+    demos = [
+        resample(fine + o[:, None] * normals, n_points) + w
+        for o, w in zip(offsets, white, strict=True)
+    ]
+    gap = (1.0 - coverage) * _TWO_PI * radius
+    return DemoSet(
+        name="nearly_closed_o",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="mm",
+        description=(
+            f"Handwritten 'o': {coverage * 100:g} % of a circle of radius {radius:g} mm, "
+            f"counter-clockwise from the top, stopping {gap:.3g} mm (arc) short of its start; "
+            f"{n_demos} demos = smooth normal offsets (sd ≈ {noise:g} mm) + white noise "
+            f"(sd {0.05 * noise:g} mm), {n_points} points each. Ground truth: the arc."
+        ),
+    )
+
+
+def figure_eight(
+    n_demos: int = 7,
+    seed: Any = None,
+    *,
+    n_points: int = 200,
+    size: float = 20.0,
+    noise: float = 1.0,
+) -> DemoSet:
+    """An upright figure-eight drawn once, from its top and back: start = end, one crossing.
+
+    The nominal is the lemniscate of Gerono ``x = (size / 2) sin 2t``,
+    ``y = size * sin t`` for ``t`` from pi/2 to 5 pi/2: it starts at the top
+    (0, size), goes left round the upper lobe, crosses itself at the origin,
+    round the lower lobe (bottom at (0, -size)), crosses again at the origin
+    and returns up to the top. Height ``2 size``, width ``size`` mm, length
+    about ``6.1 size``; it is straight where it crosses itself and its smallest
+    radius of curvature is about ``0.21 size`` (in the lobes' flanks), so an
+    offset below ``size / 12`` times the smooth offsets' bound ``sqrt(6)`` never
+    folds it. Demonstrations are
+    built as in :func:`closed_circle`: periodic smooth normal offsets (sd about
+    ``noise``, 1-4 whole cycles per figure), resampled to ``n_points`` points
+    equally spaced in arc length, white noise of sd ``0.05 * noise``, last
+    point equal to the first.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    n_points : int
+    size : float
+        Half the height of the figure, mm.
+    noise : float
+        Standard deviation of the smooth normal offset, mm (smaller than ``size / 12``).
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in mm, each with ``demo[0] == demo[-1]``;
+        ``nominal`` of shape ``(500, 2)`` with ``nominal[0] == nominal[-1]``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
+    size = check_positive(size, "size")
+    if noise * 12.0 >= size:
+        raise ValueError(f"noise: must be smaller than size / 12 ({size / 12:g}), got {noise}")
+    rng = check_random_state(seed)
+    t = np.linspace(0.5 * np.pi, 2.5 * np.pi, 40001)
+    fine = _fine(np.column_stack((0.5 * size * np.sin(2.0 * t), size * np.sin(t))))
+    fine[-1] = fine[0]
+    demos = _closed_demos(rng, fine, n_demos, n_points, noise)
+    nominal = resample(fine, _N_NOMINAL)
+    nominal[-1] = nominal[0]
+    return DemoSet(
+        name="figure_eight",
+        demos=demos,
+        nominal=nominal,
+        units="mm",
+        description=(
+            f"Upright figure-eight (lemniscate of Gerono, height {2 * size:g} mm) drawn once "
+            f"from the top, start = end, crossing itself at the origin; {n_demos} closed demos = "
+            f"periodic smooth normal offsets (sd ≈ {noise:g} mm) + white noise "
+            f"(sd {0.05 * noise:g} mm), {n_points} points each. Ground truth: the lemniscate."
+        ),
+    )
+
+
+def letter_a(
+    n_demos: int = 7,
+    seed: Any = None,
+    *,
+    n_points: int = 200,
+    radius: float = 15.0,
+    noise: float = 0.75,
+    start_spread: float = 0.015,
+) -> DemoSet:
+    """A handwritten "a": round a bowl back to the start, then a down-stroke to a common end.
+
+    Nominal (mm), built from arcs and a line and then shifted so that it ends
+    at the origin (as LASA's demonstrations do): start S on the bowl, the
+    circle of radius ``R = radius``, at 40 degrees (top right); once round the
+    bowl counter-clockwise (over the top, down the left, along the bottom, up
+    the right) exactly back to S; a tight clockwise turn of radius ``0.15 R``
+    through 220 degrees, from heading up-left to heading straight down; a
+    straight down-stroke at ``1.031 R`` right of the bowl's centre (it passes
+    0.031 R outside the bowl's rightmost point) to ``1.2 R`` below the centre.
+    Length about ``8.8 R``; the path comes back through its own start at 71 %
+    of its length.
+
+    Each demonstration is the nominal offset along its normal by a smooth
+    random function (three sinusoids of 0.5-2.5 cycles per path, sd about
+    ``noise``) tapered in over the first 15 % and out over the last 15 % of the
+    length, plus a start displacement uniform in the disc of radius
+    ``start_spread * H`` (``H = 2.2 R``, the letter's height) blended out over
+    the first 20 %; resampled to ``n_points`` points equally spaced in arc
+    length, plus white noise of sd ``0.05 * noise`` on every point but the
+    last. Every demonstration therefore ends exactly at the origin, its start
+    lies within ``start_spread * H`` of S (up to the white noise), and its bowl
+    returns to within a few ``noise`` of its own start.
+
+    Parameters
+    ----------
+    n_demos : int
+    seed : None, int or numpy.random.Generator
+    n_points : int
+    radius : float
+        Radius of the bowl, mm.
+    noise : float
+        Standard deviation of the smooth normal offset, mm (smaller than
+        ``radius / 17``, so that the offsets, at most ``sqrt(6)`` times it,
+        never fold the tight turn).
+    start_spread : float
+        Radius of the disc of start displacements as a fraction of the height,
+        in [0, 0.1].
+
+    Returns
+    -------
+    DemoSet
+        Arrays of shape ``(n_points, 2)`` in mm, each ending at (0, 0);
+        ``nominal`` of shape ``(500, 2)``.
+    """
+    n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
+    radius = check_positive(radius, "radius")
+    start_spread = check_positive(start_spread, "start_spread", allow_zero=True)
+    if noise * 17.0 >= radius:
+        raise ValueError(f"noise: must be smaller than radius / 17 ({radius / 17:g}), got {noise}")
+    if start_spread > 0.1:
+        raise ValueError(f"start_spread: expected a fraction in [0, 0.1], got {start_spread!r}")
+    rng = check_random_state(seed)
+    r, rc, a0 = radius, 0.15 * radius, np.deg2rad(40.0)
+    bowl_angle = a0 + np.linspace(0.0, _TWO_PI, 20001)
+    bowl = r * np.column_stack((np.cos(bowl_angle), np.sin(bowl_angle)))
+    start = bowl[0]
+    # Heading at S is a0 + 90 degrees; the turn's centre lies on its right.
+    centre = start + rc * np.array([np.cos(a0), np.sin(a0)])
+    turn_angle = np.linspace(np.pi + a0, 0.0, 2001)
+    turn = centre + rc * np.column_stack((np.cos(turn_angle), np.sin(turn_angle)))
+    x_stroke = turn[-1, 0]
+    stroke = np.column_stack((np.full(4001, x_stroke), np.linspace(turn[-1, 1], -1.2 * r, 4001)))
+    curve = np.vstack((bowl, turn[1:], stroke[1:]))
+    curve = curve - curve[-1]
+    fine = _fine(curve)
+    normals = left_normals(fine)
+    s_fine = arc_length(fine)
+    u = s_fine / s_fine[-1]
+
+    def ramp(x: np.ndarray) -> np.ndarray:
+        x = np.clip(x, 0.0, 1.0)
+        return x * x * (3.0 - 2.0 * x)
+
+    taper = ramp(u / 0.15) * ramp((1.0 - u) / 0.15)
+    w_start = 1.0 - ramp(u / 0.2)
+    spread = start_spread * 2.2 * r
+    demos = []
+    for _ in range(n_demos):
+        offset = _smooth_offset(rng, u, noise)
+        rho, ang = spread * np.sqrt(rng.random()), rng.uniform(0.0, _TWO_PI)
+        d_start = np.array([rho * np.cos(ang), rho * np.sin(ang)])
+        white = rng.normal(0.0, 0.05 * noise, (n_points, 2))
+        white[-1] = 0.0
+        path = fine + (taper * offset)[:, None] * normals + w_start[:, None] * d_start
+        demo = resample(path, n_points) + white
+        demo[-1] = 0.0
+        demos.append(demo)
+    return DemoSet(
+        name="letter_a",
+        demos=demos,
+        nominal=resample(fine, _N_NOMINAL),
+        units="mm",
+        description=(
+            f"Handwritten 'a' (bowl radius {radius:g} mm, height {2.2 * radius:g} mm): from the "
+            "top right once round the bowl counter-clockwise back through the start, a tight "
+            f"turn and a down-stroke to the origin; {n_demos} demos = smooth normal offsets (sd ≈ "
+            f"{noise:g} mm, tapered at both ends) + start displacements within "
+            f"{spread:.3g} mm ({start_spread * 100:g} % of the height) + white noise, all ending "
+            "exactly at the origin. Ground truth: the nominal."
+        ),
+    )
+
+
 # --------------------------------------------------------------------- registry
 #: Short name -> generator, for every synthetic mimicking data set.
 MIMIC_DATASETS: dict[str, Callable[..., DemoSet]] = {
@@ -1090,6 +1471,16 @@ MIMIC_DATASETS: dict[str, Callable[..., DemoSet]] = {
     "loops": loops,
 }
 
+#: Short name -> generator, for the closed and nearly closed handwriting shapes
+#: (kept apart from :data:`MIMIC_DATASETS`, whose sets ``benchmarks/mimic.py`` and
+#: ``lfdkit demo`` run by default). :func:`load_dataset` finds both.
+CLOSED_DATASETS: dict[str, Callable[..., DemoSet]] = {
+    "closed_circle": closed_circle,
+    "nearly_closed_o": nearly_closed_o,
+    "figure_eight": figure_eight,
+    "letter_a": letter_a,
+}
+
 
 def load_dataset(name: str, seed: Any = None, **kwargs: Any) -> DemoSet:
     """Generate a synthetic data set by its short name.
@@ -1097,7 +1488,7 @@ def load_dataset(name: str, seed: Any = None, **kwargs: Any) -> DemoSet:
     Parameters
     ----------
     name : str
-        A key of :data:`MIMIC_DATASETS`.
+        A key of :data:`MIMIC_DATASETS` or :data:`CLOSED_DATASETS`.
     seed : None, int or numpy.random.Generator
     **kwargs
         Passed to the generator.
@@ -1111,7 +1502,7 @@ def load_dataset(name: str, seed: Any = None, **kwargs: Any) -> DemoSet:
     ValueError
         If ``name`` is unknown; the message lists the valid names.
     """
-    return _generate(MIMIC_DATASETS, "data set", name, seed, kwargs)
+    return _generate({**MIMIC_DATASETS, **CLOSED_DATASETS}, "data set", name, seed, kwargs)
 
 
 def _generate(
