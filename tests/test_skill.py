@@ -347,7 +347,7 @@ def test_fit_errors(sweeping) -> None:
     with pytest.raises(ValueError, match="demos: "):
         Skill().fit(free[:1])
     with pytest.raises(ValueError, match="mimic: expected one of"):
-        Skill(mimic="average").fit(free)
+        Skill(mimic="dtw").fit(free)
     with pytest.raises(ValueError, match="horizon: expected an integer 4 <= H <= 12"):
         Skill(horizon=3).fit(free)
     with pytest.raises(ValueError, match="contains NaN"):

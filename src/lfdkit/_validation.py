@@ -88,6 +88,7 @@ def check_demos(
     min_demos: int = 1,
     min_points: int = 2,
     n_dims: int | None = None,
+    min_dims: int = 2,
 ) -> list[np.ndarray]:
     """Validate a set of demonstrations of possibly different lengths.
 
@@ -105,6 +106,9 @@ def check_demos(
         Fewest points accepted in each demonstration.
     n_dims : int, optional
         Required dimension; inferred from the first demonstration when omitted.
+    min_dims : int
+        Fewest spatial dimensions accepted when ``n_dims`` is inferred (GMR and
+        NLPCA also take 1-D demonstrations).
 
     Returns
     -------
@@ -130,7 +134,9 @@ def check_demos(
         raise ValueError(f"{name}: needs at least {min_demos} demonstration(s), got {len(items)}")
     out = []
     for j, demo in enumerate(items):
-        arr = check_path(demo, f"{name}[{j}]", min_points=min_points, n_dims=n_dims)
+        arr = check_path(
+            demo, f"{name}[{j}]", min_points=min_points, n_dims=n_dims, min_dims=min_dims
+        )
         if n_dims is None:
             n_dims = arr.shape[1]
         out.append(arr)

@@ -255,7 +255,27 @@ def _demo(args: argparse.Namespace) -> None:
 def _skill_params(args: argparse.Namespace) -> dict:
     params = {"mimic": args.mimic, "planner": args.planner, "horizon": args.horizon}
     params.update(n_points=args.n_points, random_state=args.seed)
-    return params
+    # Options not given take the Skill's own defaults.
+    return {name: value for name, value in params.items() if value is not None}
+
+
+class _MimicChoices:
+    """The registered mimic methods' keys, read when argparse first needs them.
+
+    Importing the registry loads scikit-learn (seconds), which ``lfdkit --help``
+    and every other command should not wait for.
+    """
+
+    def _keys(self) -> tuple[str, ...]:
+        from lfdkit.mimic import MIMIC_METHODS
+
+        return tuple(MIMIC_METHODS)
+
+    def __contains__(self, value: object) -> bool:
+        return value in self._keys()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys())
 
 
 def _learn(args: argparse.Namespace) -> None:
@@ -561,9 +581,10 @@ def _parser() -> argparse.ArgumentParser:
     )
     learn.add_argument(
         "--mimic",
-        choices=("mean_path", "gmr"),
-        default="mean_path",
-        help="generalized path method (default mean_path)",
+        choices=_MimicChoices(),
+        default=None,
+        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS "
+        "(default: the skill's, mean_path)",
     )
     learn.add_argument(
         "--n-points", type=int, default=100, help="points of the path and of plans (default 100)"

@@ -18,7 +18,14 @@ from matplotlib.figure import Figure
 from lfdkit import metrics
 from lfdkit.datasets import DemoSet, load_dataset
 from lfdkit.geometry import resample
-from lfdkit.mimic import GMR, NLPCA, MeanPath, pointwise_average, select_n_components
+from lfdkit.mimic import (
+    GMR,
+    MIMIC_METHODS,
+    MeanPath,
+    MimicMethod,
+    MimicSettings,
+    select_n_components,
+)
 from lfdkit.plot import comparison_figure, mean_path_figure
 
 __all__ = [
@@ -56,35 +63,20 @@ def gmr_components(demoset: DemoSet, seed: int) -> int:
     return _COMPONENTS[key]
 
 
-def _mean_path(center: str) -> Method:
+def _registered(method: MimicMethod) -> Method:
+    """A registered method run on a data set: 100 points, the seed, components by BIC."""
+
     def run(demoset: DemoSet, seed: int) -> np.ndarray:
-        return MeanPath(n_points=100, center=center).fit(demoset.demos).path_
+        components = gmr_components(demoset, seed) if "n_components" in method.uses else 10
+        settings = MimicSettings(n_points=100, random_state=seed, n_components=components)
+        return method.build(settings).fit(demoset.demos).path_
 
     return run
 
 
-def _gmr(demoset: DemoSet, seed: int) -> np.ndarray:
-    k = gmr_components(demoset, seed)
-    return GMR(n_components=k, random_state=seed).fit(demoset.demos).path(100)
-
-
-def _nlpca(demoset: DemoSet, seed: int) -> np.ndarray:
-    return NLPCA(random_state=seed).fit(demoset.demos).path_
-
-
-def _average(demoset: DemoSet, seed: int) -> np.ndarray:
-    return pointwise_average(demoset.demos, 100)
-
-
-#: lfdkit's own methods, by display name.
-LFDKIT_METHODS: dict[str, Method] = {
-    "Mean-Path": _mean_path("mean"),
-    "Mean-Path (median)": _mean_path("median"),
-    "Mean-Path (biweight)": _mean_path("biweight"),
-    "GMR (BIC)": _gmr,
-    "NLPCA": _nlpca,
-    "arc-length average": _average,
-}
+#: lfdkit's own methods (every registered one, :data:`lfdkit.mimic.MIMIC_METHODS`),
+#: by display name; a method with a number of components gets it by BIC.
+LFDKIT_METHODS: dict[str, Method] = {m.label: _registered(m) for m in MIMIC_METHODS.values()}
 
 
 @dataclass

@@ -18,6 +18,7 @@ from matplotlib.patches import Circle
 from matplotlib.ticker import MaxNLocator
 
 from lfdkit._validation import check_path, check_positive
+from lfdkit.mimic import MIMIC_METHODS
 
 __all__ = [
     "CLASS_COLORS",
@@ -34,22 +35,27 @@ __all__ = [
     "emulation_figure",
     "emulation_grid",
     "mean_path_figure",
+    "method_color",
     "retargeting_figure",
     "sweep_figure",
 ]
 
-#: Consistent colours per method across every figure.
+#: Consistent colours per method across every figure: lfdkit's registered methods
+#: (:data:`lfdkit.mimic.MIMIC_METHODS`) and the peer libraries of the benchmarks.
 METHOD_COLORS = {
-    "Mean-Path": "#d62728",
-    "Mean-Path (median)": "#ff7f0e",
-    "Mean-Path (biweight)": "#bcbd22",
-    "GMR (BIC)": "#1f77b4",
+    **{m.label: m.color for m in MIMIC_METHODS.values()},
     "gmr (package)": "#17becf",
-    "NLPCA": "#2ca02c",
-    "arc-length average": "#9467bd",
     "DBA (tslearn)": "#8c564b",
     "soft-DTW (tslearn)": "#e377c2",
 }
+
+
+def method_color(label: str) -> str | None:
+    """Colour of a method by its label, methods registered after import included."""
+    for method in MIMIC_METHODS.values():
+        if method.label == label:
+            return method.color
+    return METHOD_COLORS.get(label)
 DEMO_COLOR = "0.65"
 #: The generalized path a DMP is trained on, and its rollouts to new goals.
 PATH_COLOR = "#1f77b4"
@@ -82,7 +88,7 @@ def draw_paths(
     if nominal is not None:
         ax.plot(*_xy(nominal), **NOMINAL_STYLE)
     for name, path in paths.items():
-        ax.plot(*_xy(path), color=METHOD_COLORS.get(name), linewidth=1.6, label=name)
+        ax.plot(*_xy(path), color=method_color(name), linewidth=1.6, label=name)
 
 
 def _axis_labels(ax: Axes, q: int, units: str) -> None:
@@ -172,11 +178,11 @@ def draw_gmr_tube(ax: Axes, gmr, n_points: int = 200, n_std: float = 2.0) -> Non
     ax.fill(
         band[:, 0],
         band[:, 1],
-        color=METHOD_COLORS["GMR (BIC)"],
+        color=METHOD_COLORS[MIMIC_METHODS["gmr"].label],
         alpha=0.2,
         label=f"GMR ±{n_std:g} sd",
     )
-    ax.plot(mean[:, 0], mean[:, 1], color=METHOD_COLORS["GMR (BIC)"], linewidth=1.4)
+    ax.plot(mean[:, 0], mean[:, 1], color=METHOD_COLORS[MIMIC_METHODS["gmr"].label], linewidth=1.4)
 
 
 def mean_path_figure(

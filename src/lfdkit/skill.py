@@ -3,7 +3,8 @@
 A :class:`Skill` learns, in order,
 
 1. **mimic**: the generalized path of clean demonstrations (no obstacle),
-   :class:`lfdkit.mimic.MeanPath` (default) or :class:`lfdkit.mimic.GMR`;
+   :class:`lfdkit.mimic.MeanPath` (default) or any method of
+   :data:`lfdkit.mimic.MIMIC_METHODS`;
 2. **imitate**: a :class:`lfdkit.imitate.DMP` trained on that path, which
    carries it to a new start and goal;
 3. **emulate**: from demonstrations recorded around obstacles, one
@@ -74,7 +75,7 @@ from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
 from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
-from lfdkit.mimic import GMR, DemoOrientationWarning, MeanPath
+from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
 
 __all__ = [
     "MAX_SKILL_FILE_BYTES",
@@ -93,11 +94,9 @@ SKILL_FORMAT = "lfdkit-skill"
 SKILL_VERSION = 1
 """Newest skill-file version this module reads, and the one it writes."""
 
-MimicMethod = Literal["mean_path", "gmr"]
 PlannerKind = Literal["mpc", "full"]
 Progress = Callable[[str], None]
 
-_MIMIC_METHODS = ("mean_path", "gmr")
 _PLANNERS = ("mpc", "full")
 _TIMINGS = ("minimum_jerk", "uniform")
 _SCALINGS = ("translate", "spatial", "per_dimension")
@@ -136,8 +135,10 @@ class Skill:
 
     Parameters
     ----------
-    mimic : {"mean_path", "gmr"}
-        How the generalized path is computed from the clean demonstrations.
+    mimic : str
+        How the generalized path is computed from the clean demonstrations: a
+        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default;
+        "mean_path_median", "mean_path_biweight", "gmr", "nlpca", "average").
     n_points : int
         Points of the generalized path and of every plan (thesis: 100).
     n_components : int
@@ -170,7 +171,8 @@ class Skill:
     classes : sequence of str, optional
         Obstacle classes to learn (default: those in the training scenes).
     random_state : int, optional
-        Seed of the GMR's EM initialisation (the other layers are deterministic).
+        Seed of the mimic method's random initialisation (GMR, NLPCA; the
+        other layers are deterministic).
     units : str
         Unit of every coordinate (for files and figures).
 
@@ -178,7 +180,7 @@ class Skill:
     ----------
     path_ : ndarray, shape (n_points, q)
         The generalized path.
-    mimic_ : MeanPath or GMR or None
+    mimic_ : estimator or None
         The fitted mimicking estimator (None after :meth:`use_path` or :meth:`load`).
     mimic_info_ : dict
         How the path was made (method, number of demonstrations, the indices
@@ -201,7 +203,7 @@ class Skill:
     def __init__(
         self,
         *,
-        mimic: MimicMethod = "mean_path",
+        mimic: str = "mean_path",
         n_points: int = 100,
         n_components: int = 10,
         n_basis: int | Literal["auto"] = "auto",
@@ -249,7 +251,7 @@ class Skill:
         }
 
     def _check_params(self) -> None:
-        _check_choice(self.mimic, "mimic", _MIMIC_METHODS)
+        _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
         _check_choice(self.planner, "planner", _PLANNERS)
         _check_choice(self.timing, "timing", _TIMINGS)
         _check_choice(self.scaling, "scaling", _SCALINGS)
@@ -349,27 +351,18 @@ class Skill:
             raise ValueError(f"demos: expected 2-D or 3-D points, got {q} dimensions")
         _tell(progress, f"mimic: {self._mimic_name()} of {len(demos)} demonstrations")
         started = time.perf_counter()
+        method = MIMIC_METHODS[self.mimic]
+        settings = MimicSettings(
+            n_points=int(self.n_points),
+            random_state=self.random_state,
+            n_components=int(self.n_components),
+        )
         # Recorded as well as passed on, so that the skill file and reports keep them.
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            if self.mimic == "mean_path":
-                estimator: MeanPath | GMR = MeanPath(n_points=int(self.n_points)).fit(demos)
-                path = estimator.path_
-                info: dict[str, Any] = {
-                    "n_iter": int(estimator.n_iter_),
-                    "residual": float(estimator.residual_),
-                    "converged": bool(estimator.converged_),
-                }
-            else:
-                estimator = GMR(
-                    n_components=int(self.n_components), random_state=self.random_state
-                ).fit(demos)
-                path = estimator.path(int(self.n_points))
-                info = {
-                    "log_likelihood": float(estimator.log_likelihood_),
-                    "converged": bool(estimator.converged_),
-                    "n_iter": int(estimator.n_iter_),
-                }
+            estimator = method.build(settings).fit(demos)
+        path = estimator.path_
+        info: dict[str, Any] = method.diagnostics(estimator)
         for warning in caught:
             warnings.warn(warning.message, stacklevel=2)
         # Demonstrations the mimic method turned round to the majority's direction.
@@ -865,7 +858,7 @@ class Skill:
         return cls.from_dict(data, source=name)
 
     def _mimic_name(self) -> str:
-        return "Mean-Path" if self.mimic == "mean_path" else "GMR"
+        return MIMIC_METHODS[self.mimic].label
 
     def __repr__(self) -> str:
         changed = {k: v for k, v in self.get_params().items() if v != _DEFAULTS.get(k)}

@@ -1,9 +1,20 @@
-"""Mimicking: one clean generalized path from several noisy demonstrations."""
+"""Mimicking: one clean generalized path from several noisy demonstrations.
 
-from lfdkit.mimic.baselines import pointwise_average
-from lfdkit.mimic.gmr import GMR, select_n_components
+Every method follows one contract and is listed in one registry
+(:mod:`lfdkit.mimic.base`): a new method is its module, one ``register`` call
+there and its import below.
+"""
+
+from lfdkit.mimic.base import MIMIC_METHODS, Mimic, MimicMethod, MimicSettings, register
+
+# isort: off
+# In the order the methods are listed (MIMIC_METHODS, tables, --mimic).
 from lfdkit.mimic.mean_path import MeanPath
+from lfdkit.mimic.gmr import GMR, select_n_components
 from lfdkit.mimic.nlpca import NLPCA
+from lfdkit.mimic.baselines import ArcLengthAverage, pointwise_average
+
+# isort: on
 from lfdkit.mimic.orientation import (
     DemoOrientationWarning,
     PathLengthWarning,
@@ -14,13 +25,19 @@ from lfdkit.mimic.orientation import (
 
 __all__ = [
     "GMR",
+    "MIMIC_METHODS",
     "NLPCA",
+    "ArcLengthAverage",
     "DemoOrientationWarning",
     "MeanPath",
+    "Mimic",
+    "MimicMethod",
+    "MimicSettings",
     "PathLengthWarning",
     "SeveralMotionsError",
     "check_one_motion",
     "orient_demos",
     "pointwise_average",
+    "register",
     "select_n_components",
 ]

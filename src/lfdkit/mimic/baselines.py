@@ -10,22 +10,21 @@ from local detours.
 from __future__ import annotations
 
 import numpy as np
+from sklearn.base import BaseEstimator
 
 from lfdkit._validation import check_count, check_demos
 from lfdkit.geometry import resample
+from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
-__all__ = ["pointwise_average"]
+__all__ = ["ArcLengthAverage", "pointwise_average"]
 
 
-def pointwise_average(
-    demos: list[np.ndarray], n_points: int = 100, *, orient: str = "auto"
-) -> np.ndarray:
+class ArcLengthAverage(BaseEstimator):
     """Average of the demonstrations after resampling each evenly in arc length.
 
     Parameters
     ----------
-    demos : list of array_like, each shape (n_j, q)
     n_points : int
         Points per resampled demonstration and in the result, 2 to
         1,000,000 (:data:`lfdkit._validation.MAX_POINTS`).
@@ -36,17 +35,60 @@ def pointwise_average(
         (:func:`lfdkit.mimic.check_one_motion`); ``"as_given"``: the plain
         average of the demonstrations as recorded.
 
+    Attributes
+    ----------
+    path_ : ndarray, shape (n_points, q)
+    reversed_ : ndarray of bool, shape (n_demos,)
+    length_ratio_ : float
+        NaN with ``orient="as_given"`` (not checked).
+    converged_ : bool
+        Always True (nothing iterates).
+    """
+
+    def __init__(self, n_points: int = 100, *, orient: str = "auto") -> None:
+        self.n_points = n_points
+        self.orient = orient
+
+    def fit(self, demos: list[np.ndarray], y: None = None) -> ArcLengthAverage:
+        """Average the demonstrations; returns ``self``."""
+        demos = check_demos(demos, "demos")
+        n_points = check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
+        if self.orient not in ("auto", "as_given"):
+            raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
+        self.reversed_ = np.zeros(len(demos), dtype=bool)
+        self.length_ratio_ = float("nan")
+        if self.orient == "auto":
+            demos, self.reversed_ = orient_demos(demos, method="pointwise_average")
+        self.path_ = np.mean([resample(d, n_points) for d in demos], axis=0)
+        if self.orient == "auto":
+            self.length_ratio_ = check_one_motion(self.path_, demos, "pointwise_average")
+        self.converged_ = True
+        return self
+
+
+def pointwise_average(
+    demos: list[np.ndarray], n_points: int = 100, *, orient: str = "auto"
+) -> np.ndarray:
+    """:class:`ArcLengthAverage`'s path, in one call.
+
+    Parameters
+    ----------
+    demos : list of array_like, each shape (n_j, q)
+    n_points : int
+    orient : {"auto", "as_given"}
+
     Returns
     -------
     ndarray, shape (n_points, q)
     """
-    demos = check_demos(demos, "demos")
-    n_points = check_count(n_points, "n_points", minimum=2)  # at most MAX_POINTS
-    if orient not in ("auto", "as_given"):
-        raise ValueError(f"orient: expected 'auto' or 'as_given', got {orient!r}")
-    if orient == "as_given":
-        return np.mean([resample(d, n_points) for d in demos], axis=0)
-    demos, _ = orient_demos(demos, method="pointwise_average")
-    average = np.mean([resample(d, n_points) for d in demos], axis=0)
-    check_one_motion(average, demos, "pointwise_average")
-    return average
+    return ArcLengthAverage(n_points, orient=orient).fit(demos).path_
+
+
+register(
+    MimicMethod(
+        key="average",
+        label="arc-length average",
+        color="#9467bd",
+        build=lambda settings: ArcLengthAverage(n_points=settings.n_points),
+    )
+)

@@ -38,6 +38,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_count, check_demos, check_positive, check_random_state
+from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 __all__ = ["GMR", "select_n_components"]
@@ -53,27 +54,6 @@ _MAX_COMPONENTS = 1000
 _MAX_INIT = 1000
 #: Samples of the path whose length is compared with the demonstrations'.
 _LENGTH_CHECK_POINTS = 200
-
-
-def _check_demos_any_dim(demos: Any, name: str = "demos") -> list[np.ndarray]:
-    """``check_demos`` that also accepts one spatial dimension (``q >= 1``).
-
-    ``check_demos`` asks for at least two columns when it infers the dimension
-    itself, so the dimension is read from the first demonstration and passed
-    on explicitly; every other check (and message) is ``check_demos``'s.
-    """
-    n_dims: int | None = None
-    try:
-        first = demos[0] if len(demos) > 0 else None
-        if first is not None and not isinstance(first, (str, bytes)):
-            shape = np.shape(first)
-            if len(shape) == 2 and shape[1] >= 1:
-                n_dims = int(shape[1])
-    except Exception:  # malformed input: let check_demos produce the message
-        n_dims = None
-    if isinstance(demos, np.ndarray) and demos.ndim != 3:
-        n_dims = None
-    return check_demos(demos, name, min_points=2, n_dims=n_dims)
 
 
 def _phase(demo: np.ndarray, time_mode: str) -> np.ndarray:
@@ -195,6 +175,10 @@ class GMR(BaseEstimator):
         Number of ``(t, s)`` samples the mixture was fitted to.
     reversed_ : ndarray of bool, shape (n_demos,)
         Which demonstrations were reversed before fitting.
+    path_ : ndarray, shape (n_points, q)
+        ``path(n_points)``, the generalized path (:mod:`lfdkit.mimic.base`).
+    length_ratio_ : float
+        Its length over the median demonstration's.
 
     Examples
     --------
@@ -217,6 +201,7 @@ class GMR(BaseEstimator):
         time_mode: TimeMode = "index",
         cov_mode: CovMode = "thesis",
         orient: Literal["auto", "as_given"] = "auto",
+        n_points: int = 100,
     ) -> None:
         self.n_components = n_components
         self.covariance_reg = covariance_reg
@@ -227,10 +212,12 @@ class GMR(BaseEstimator):
         self.time_mode = time_mode
         self.cov_mode = cov_mode
         self.orient = orient
+        self.n_points = n_points
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> None:
         check_positive(self.n_components, "n_components", integer=True)
+        check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
         check_positive(self.covariance_reg, "covariance_reg", allow_zero=True)
         check_positive(self.max_iter, "max_iter", integer=True)
         check_positive(self.tol, "tol", allow_zero=True)
@@ -273,7 +260,7 @@ class GMR(BaseEstimator):
             ``covariance_reg`` does not cure.
         """
         self._check_params()
-        demos = _check_demos_any_dim(demos, "demos")
+        demos = check_demos(demos, "demos", min_dims=1)
         if times is not None:
             times = _check_times(times, demos)
         self.reversed_ = np.zeros(len(demos), dtype=bool)
@@ -332,6 +319,7 @@ class GMR(BaseEstimator):
         self.length_ratio_ = check_one_motion(
             self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times
         )
+        self.path_ = self.path(self.n_points)
         return self
 
     # -------------------------------------------------------------- predict
@@ -473,7 +461,7 @@ def select_n_components(
     """
     if criterion not in ("bic", "aic"):
         raise ValueError(f"criterion: expected 'bic' or 'aic', got {criterion!r}")
-    demos = _check_demos_any_dim(demos, "demos")
+    demos = check_demos(demos, "demos", min_dims=1)
     # At most _MAX_COMPONENTS + 1 read: a huge range is refused, not materialised.
     cand = list(itertools.islice(candidates, _MAX_COMPONENTS + 1))
     if len(cand) > _MAX_COMPONENTS:
@@ -495,3 +483,23 @@ def select_n_components(
         scores[k] = model.bic_ if criterion == "bic" else model.aic_
     best_k = min(usable, key=lambda k: (scores[k], k))
     return best_k, scores
+
+
+register(
+    MimicMethod(
+        key="gmr",
+        label="GMR",
+        color="#1f77b4",
+        build=lambda settings: GMR(
+            n_components=settings.n_components,
+            random_state=settings.random_state,
+            n_points=settings.n_points,
+        ),
+        diagnostics=lambda fitted: {
+            "log_likelihood": float(fitted.log_likelihood_),
+            "converged": bool(fitted.converged_),
+            "n_iter": int(fitted.n_iter_),
+        },
+        uses=("n_points", "random_state", "n_components"),
+    )
+)

@@ -77,7 +77,7 @@ from lfdkit.geometry import (
     resample,
     resample_between,
 )
-from lfdkit.mimic.baselines import pointwise_average
+from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 #: Consensus ends: a demonstration's start (end) is placed on this first (last)
@@ -317,6 +317,9 @@ class MeanPath(BaseEstimator):
         if isinstance(init, str):
             if init != "average":
                 raise ValueError(f"init: expected 'average', an int or an array, got {init!r}")
+            # Imported here so that Mean-Path registers first (mimic/__init__ order).
+            from lfdkit.mimic.baselines import pointwise_average
+
             # Already oriented by fit when asked (orient="auto").
             return pointwise_average(demos, self.n_points, orient="as_given")
         if isinstance(init, (int, np.integer)) and not isinstance(init, bool):
@@ -537,3 +540,29 @@ def _geometric_median(points: np.ndarray, found: np.ndarray, n_iter: int = 100) 
             return new
         centre = new
     return centre
+
+
+def _diagnostics(fitted: MeanPath) -> dict[str, object]:
+    return {
+        "n_iter": int(fitted.n_iter_),
+        "residual": float(fitted.residual_),
+        "converged": bool(fitted.converged_),
+    }
+
+
+for _key, _label, _center, _color in (
+    ("mean_path", "Mean-Path", "mean", "#d62728"),
+    ("mean_path_median", "Mean-Path (median)", "median", "#ff7f0e"),
+    ("mean_path_biweight", "Mean-Path (biweight)", "biweight", "#bcbd22"),
+):
+    register(
+        MimicMethod(
+            key=_key,
+            label=_label,
+            color=_color,
+            build=lambda settings, center=_center: MeanPath(
+                n_points=settings.n_points, center=center
+            ),
+            diagnostics=_diagnostics,
+        )
+    )

@@ -28,8 +28,14 @@ from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
 
 from lfdkit._threads import one_blas_thread
-from lfdkit._validation import check_count, check_path, check_positive, check_random_state
-from lfdkit.mimic.gmr import _check_demos_any_dim
+from lfdkit._validation import (
+    check_count,
+    check_demos,
+    check_path,
+    check_positive,
+    check_random_state,
+)
+from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
 __all__ = ["NLPCA"]
@@ -253,7 +259,7 @@ class NLPCA(BaseEstimator):
             raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
         rng = check_random_state(self.random_state)
 
-        demos = _check_demos_any_dim(demos, "demos")
+        demos = check_demos(demos, "demos", min_dims=1)
         # The network sees the point cloud in the recorded order (scores_ follows it);
         # only the end points that orient the path need the common direction.
         data = np.vstack(demos)
@@ -390,3 +396,21 @@ class NLPCA(BaseEstimator):
     def fit_transform(self, demos: Any) -> np.ndarray:
         """Fit and return ``scores_`` (shape ``(N,)``, all demos stacked)."""
         return self.fit(demos).scores_
+
+
+register(
+    MimicMethod(
+        key="nlpca",
+        label="NLPCA",
+        color="#2ca02c",
+        build=lambda settings: NLPCA(
+            n_points=settings.n_points, random_state=settings.random_state
+        ),
+        diagnostics=lambda fitted: {
+            "loss": float(fitted.loss_),
+            "converged": bool(fitted.converged_),
+            "n_iter": int(fitted.n_iter_),
+        },
+        uses=("n_points", "random_state"),
+    )
+)
