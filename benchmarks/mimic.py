@@ -25,10 +25,10 @@ from _common import machine_info
 
 from lfdkit.datasets import MIMIC_DATASETS
 from lfdkit.evaluation import (
-    LFDKIT_METHODS,
     comparison_figures,
     format_table,
     gmr_components,
+    lfdkit_methods,
     run_comparison,
     summarize,
 )
@@ -184,7 +184,7 @@ def main(argv: list[str] | None = None) -> int:
     args.output.mkdir(parents=True, exist_ok=True)
     warnings.filterwarnings("ignore", category=UserWarning, module="tslearn")
 
-    methods = dict(LFDKIT_METHODS)
+    methods = dict(lfdkit_methods())
     if args.no_nlpca:
         methods.pop("NLPCA")
     if not args.no_peers:

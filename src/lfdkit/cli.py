@@ -162,9 +162,9 @@ def _compare(args: argparse.Namespace) -> None:
     from lfdkit.datasets import MIMIC_DATASETS
     from lfdkit.demos import atomic_write
     from lfdkit.evaluation import (
-        LFDKIT_METHODS,
         comparison_figures,
         format_table,
+        lfdkit_methods,
         run_comparison,
         summarize,
     )
@@ -186,7 +186,8 @@ def _compare(args: argparse.Namespace) -> None:
     out.mkdir(parents=True, exist_ok=True)
     _check_writable(out, "--output", out)
 
-    total = len(names) * len(LFDKIT_METHODS)
+    methods = lfdkit_methods()
+    total = len(names) * len(methods)
     count = [0]
     started = time.perf_counter()
 
@@ -196,7 +197,7 @@ def _compare(args: argparse.Namespace) -> None:
         _say(args, f"[{count[0]:>2}/{total}] {run.dataset:<20} {run.method:<20} {detail}")
 
     _say(args, f"lfdkit {__version__}: comparing generalized paths on {len(names)} data sets")
-    runs = run_comparison(names, [args.seed], LFDKIT_METHODS, on_result=progress)
+    runs = run_comparison(names, [args.seed], methods, on_result=progress)
     rows = summarize(runs)
     table = format_table(rows)
 

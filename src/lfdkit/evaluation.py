@@ -29,11 +29,11 @@ from lfdkit.mimic import (
 from lfdkit.plot import comparison_figure, mean_path_figure
 
 __all__ = [
-    "LFDKIT_METHODS",
     "MethodRun",
     "comparison_figures",
     "format_table",
     "gmr_components",
+    "lfdkit_methods",
     "run_comparison",
     "summarize",
 ]
@@ -74,9 +74,13 @@ def _registered(method: MimicMethod) -> Method:
     return run
 
 
-#: lfdkit's own methods (every registered one, :data:`lfdkit.mimic.MIMIC_METHODS`),
-#: by display name; a method with a number of components gets it by BIC.
-LFDKIT_METHODS: dict[str, Method] = {m.label: _registered(m) for m in MIMIC_METHODS.values()}
+def lfdkit_methods() -> dict[str, Method]:
+    """lfdkit's own methods, every one registered now, by display name.
+
+    Each runs with 100 points and the data set's seed; a method with a number
+    of components (:attr:`MimicMethod.uses`) gets it by BIC (:func:`gmr_components`).
+    """
+    return {m.label: _registered(m) for m in MIMIC_METHODS.values()}
 
 
 @dataclass

@@ -56,6 +56,8 @@ def method_color(label: str) -> str | None:
         if method.label == label:
             return method.color
     return METHOD_COLORS.get(label)
+
+
 DEMO_COLOR = "0.65"
 #: The generalized path a DMP is trained on, and its rollouts to new goals.
 PATH_COLOR = "#1f77b4"
