@@ -67,6 +67,8 @@ from pathlib import Path
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
+from sklearn.base import BaseEstimator
+from sklearn.utils.validation import check_is_fitted
 
 from lfdkit import __version__, metrics
 from lfdkit._validation import check_demos, check_path, check_positive
@@ -130,7 +132,7 @@ limit of rows."""
 _NOMINAL_OVERSAMPLING = 4
 
 
-class Skill:
+class Skill(BaseEstimator):
     """A task learned from demonstrations: generalized path, DMP and obstacle reward.
 
     Parameters
@@ -232,24 +234,6 @@ class Skill:
         self.units = units
 
     # ------------------------------------------------------------ parameters
-    def get_params(self) -> dict[str, Any]:
-        """The constructor parameters, as a dict (scikit-learn style)."""
-        return {
-            "mimic": self.mimic,
-            "n_points": self.n_points,
-            "n_components": self.n_components,
-            "n_basis": self.n_basis,
-            "timing": self.timing,
-            "duration": self.duration,
-            "scaling": self.scaling,
-            "planner": self.planner,
-            "horizon": self.horizon,
-            "max_slope": self.max_slope,
-            "classes": None if self.classes is None else list(self.classes),
-            "random_state": self.random_state,
-            "units": self.units,
-        }
-
     def _check_params(self) -> None:
         _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
         _check_choice(self.planner, "planner", _PLANNERS)
@@ -549,8 +533,7 @@ class Skill:
 
     # ------------------------------------------------------------------ use
     def _check_fitted(self) -> None:
-        if not hasattr(self, "path_"):
-            raise ValueError("skill: not fitted; call fit() or fit_path() first")
+        check_is_fitted(self, "path_", msg="skill: not fitted; call fit() or fit_path() first")
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
@@ -739,7 +722,7 @@ class Skill:
             "format": SKILL_FORMAT,
             "version": SKILL_VERSION,
             "lfdkit": __version__,
-            "params": self.get_params(),
+            "params": _jsonable(self.get_params()),
             "n_dims": self.n_dims_,
             "units": self.units,
             "path": self.path_.tolist(),
