@@ -11,6 +11,8 @@ structure gets forward kinematics but no analytic inverse.
 from __future__ import annotations
 
 import dataclasses
+import pickle
+from copy import deepcopy
 
 import numpy as np
 import pytest
@@ -80,6 +82,14 @@ def test_descriptions_are_immutable():
     assert arm.d[0] == 0.1
 
 
+def test_pickled_and_copied_arms_stay_read_only():
+    for copy in (pickle.loads(pickle.dumps(UR10)), deepcopy(UR10)):
+        assert copy is not UR10 and repr(copy) == repr(UR10) and copy.ur_type
+        np.testing.assert_array_equal(copy.max_joint_speed, UR10.max_joint_speed)
+        with pytest.raises(ValueError, match="read-only"):
+            copy.kp[0] = 1.0
+
+
 def test_replace_makes_a_checked_variant():
     slow = dataclasses.replace(UR5, name="UR5 slow", max_joint_speed=1.0)
     np.testing.assert_array_equal(slow.max_joint_speed, [1.0] * 6)
@@ -90,8 +100,8 @@ def test_replace_makes_a_checked_variant():
 @pytest.mark.parametrize(
     ("changes", "error", "message"),
     [
-        ({"name": ""}, TypeError, r"Arm\.name: expected a non-empty str"),
-        ({"name": 5}, TypeError, r"Arm\.name"),
+        ({"name": " "}, ValueError, r"Arm\.name: must not be empty"),
+        ({"name": 5}, TypeError, r"Arm\.name: expected a str"),
         ({"d": []}, ValueError, r"Arm\.d: expected one value per joint"),
         ({"d": [[0.1, 0.2, 0.3]]}, ValueError, r"Arm\.d"),
         ({"d": "abc"}, TypeError, r"Arm\.d: expected numbers"),

@@ -53,7 +53,7 @@ tracks within 0.5 mm, as the UR5's does).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -156,7 +156,7 @@ class Arm:
     TypeError
         If ``name`` is not a string or a field cannot be read as numbers.
     ValueError
-        If a field has the wrong shape, a value is NaN/inf, a limit, mass,
+        If ``name`` is empty, a field has the wrong shape, a value is NaN/inf, a limit, mass,
         radius or gain is not positive, or a lower joint limit is not below
         the upper one; the message names the field (``Arm.<field>: ...``).
     """
@@ -177,8 +177,10 @@ class Arm:
     ur_type: bool = field(init=False)
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name.strip():
-            raise TypeError(f"Arm.name: expected a non-empty str, got {self.name!r}")
+        if not isinstance(self.name, str):
+            raise TypeError(f"Arm.name: expected a str, got {self.name!r}")
+        if not self.name.strip():
+            raise ValueError("Arm.name: must not be empty")
         d = _array(self.d, "d")
         if d.ndim != 1 or len(d) == 0:
             raise ValueError(f"Arm.d: expected one value per joint, shape (n,), got {d.shape}")
@@ -232,6 +234,10 @@ class Arm:
 
     def __repr__(self) -> str:
         return f"Arm({self.name!r}, {self.n_joints} joints)"
+
+    def __reduce__(self) -> tuple[type[Arm], tuple[Any, ...]]:
+        # Pickle and copy through __init__, so that the copy is checked and read-only too.
+        return (type(self), tuple(getattr(self, f.name) for f in fields(self) if f.init))
 
 
 #: The UR5 of the thesis: DH table (Table 6.3), limits (Table 6.2); masses from
