@@ -7,7 +7,8 @@ table per section and a final targets table (PASS/FAIL/SKIP), writes ``robot.jso
 All work runs under ``threadpoolctl.threadpool_limits(1)`` (one BLAS thread:
 the machine has two cores and may be shared).
 
-The model is :mod:`lfdkit.robot.ur5`: the thesis's standard DH table
+The model is :data:`lfdkit.robot.arm.UR5` with the kinematics of
+:mod:`lfdkit.robot.ur5`: the thesis's standard DH table
 (Table 6.3; ``d = (0.08916, 0, 0, 0.10915, 0.09465, 0.0823)`` m,
 ``a = (0, -0.425, -0.39225, 0, 0, 0)`` m, ``alpha = (π/2, 0, 0, π/2, -π/2, 0)``,
 link transform ``Rz(θ) Tz(d) Tx(a) Rx(α)``), ``forward`` (FK) and ``inverse``
@@ -78,8 +79,8 @@ Simulation
 
 S1. MuJoCo kinematics
 ---------------------
-``lfdkit.robot.sim`` builds the MuJoCo model from the same DH table; MuJoCo's
-own flange pose (``mujoco_flange_poses``, ``mj_kinematics``) is compared with
+``lfdkit.robot.mujoco`` builds the MuJoCo model from the same description; MuJoCo's
+own flange pose (``flange_poses``, ``mj_kinematics``) is compared with
 ``ur5.forward`` on 2,000 random configurations (500 with ``--quick``).
 Target: max position error < 1e-9 m.
 
@@ -128,6 +129,8 @@ from threadpoolctl import threadpool_limits
 
 from lfdkit.demos import atomic_write
 from lfdkit.robot import sim, ur5
+from lfdkit.robot.arm import UR5
+from lfdkit.robot.mujoco import flange_poses
 
 #: Packages whose versions go into the JSON (later sections may append theirs).
 VERSION_PACKAGES = [
@@ -212,10 +215,9 @@ def import_rtb() -> tuple[Any, str | None]:
 
 def rtb_ur5(rtb) -> Any:
     """rtb ``DHRobot`` with the thesis's DH table (not rtb's own UR5 model)."""
-    dh = ur5.DH
     links = [
-        rtb.RevoluteDH(d=d, a=a, alpha=alpha)
-        for d, a, alpha in zip(dh.d, dh.a, dh.alpha, strict=True)
+        rtb.RevoluteDH(d=float(d), a=float(a), alpha=float(alpha))
+        for d, a, alpha in zip(UR5.d, UR5.a, UR5.alpha, strict=True)
     ]
     return rtb.DHRobot(links, name="UR5 (thesis DH)")
 
@@ -230,14 +232,13 @@ def pytransform3d_forward(q: np.ndarray) -> np.ndarray:
     from pytransform3d.rotations import active_matrix_from_angle
     from pytransform3d.transformations import transform_from
 
-    dh = ur5.DH
     eye = np.eye(3)
     # Tz(d) Tx(a) Rx(alpha) does not depend on the joint angle.
     fixed = [
         transform_from(eye, [0.0, 0.0, d])
         @ transform_from(eye, [a, 0.0, 0.0])
         @ transform_from(active_matrix_from_angle(0, alpha), np.zeros(3))
-        for d, a, alpha in zip(dh.d, dh.a, dh.alpha, strict=True)
+        for d, a, alpha in zip(UR5.d, UR5.a, UR5.alpha, strict=True)
     ]
     out = np.empty((len(q), 4, 4))
     for k, qk in enumerate(q):
@@ -539,7 +540,7 @@ def mujoco_crosscheck(n: int, rng: np.random.Generator) -> dict:
     """S1: MuJoCo's flange poses against ``ur5.forward``."""
     q = rng.uniform(-2 * np.pi, 2 * np.pi, size=(n, 6))
     start = time.perf_counter()
-    poses = sim.mujoco_flange_poses(q)
+    poses = flange_poses(q)
     seconds = time.perf_counter() - start
     summary = error_summary(ur5.forward(q), poses)
     summary.update({"n": n, "seconds": seconds})
@@ -851,7 +852,7 @@ def main(argv: list[str] | None = None) -> int:
             "rtb_ik_poses": RTB_IK_QUICK if quick else RTB_IK_FULL,
             "rtb_ik_tols": list(RTB_IK_TOLS),
             "recover_tol_rad": RECOVER_TOL,
-            "dh": {"d": ur5.DH.d, "a": ur5.DH.a, "alpha": ur5.DH.alpha},
+            "dh": {"d": UR5.d.tolist(), "a": UR5.a.tolist(), "alpha": UR5.alpha.tolist()},
         },
     }
     path = args.output / "robot.json"

@@ -6,8 +6,10 @@ short straight pushes along the world ``x`` axis at ``y = 0.45`` m, in front of
 the robot, whose outcome is known in advance: the cube ends in a dustpan that
 stands at the end of the line, a cup on the line is hit, a cup 15 cm beside it
 is not, a dustpan 20 cm off the line is missed, and a line 1.1 m from the base
-is out of reach. No test renders (no OpenGL needed), except to check that a
-requested image is either absent or of the documented size.
+is out of reach. The UR10 and a planar three-joint arm are built from their
+descriptions alone, and the UR10 sweeps as the UR5 does. No test renders (no
+OpenGL needed), except to check that a requested image is either absent or of
+the documented size.
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ import pytest
 
 from lfdkit.emulate import Obstacle, Scene
 from lfdkit.robot import ur5
+from lfdkit.robot.arm import UR5, UR10
+from lfdkit.robot.mujoco import flange_poses as mujoco_flange_poses
 from lfdkit.robot.sim import (
     BRUSH,
     CUBE_SIZE,
@@ -29,11 +33,11 @@ from lfdkit.robot.sim import (
     SweepResult,
     build_model,
     execute_sweep,
-    mujoco_flange_poses,
     simulate_sweep,
     sweeping_mjcf,
 )
 from lfdkit.robot.timing import time_parameterize
+from tests.robot.arms import PLANAR
 
 #: UR5 link masses (kg), Universal Robots' published dynamics parameters.
 UR5_MASSES = (3.7, 8.393, 2.275, 1.219, 1.219, 0.1879)
@@ -88,7 +92,7 @@ def test_robot_model_has_ur5_joints_limits_and_masses():
         np.testing.assert_array_equal(joint.axis, [0.0, 0.0, 1.0])
         assert model.body(int(joint.bodyid[0])).name == f"link{i + 1}"
         assert model.body(f"link{i + 1}").mass[0] == pytest.approx(UR5_MASSES[i], abs=1e-12)
-    np.testing.assert_array_equal(model.jnt_range[:6], ur5.JOINT_LIMITS)
+    np.testing.assert_array_equal(model.jnt_range[:6], UR5.joint_limits)
     assert np.all(model.jnt_limited[:6])
     assert model.nu == 6
 
@@ -105,7 +109,7 @@ def test_task_adds_free_cube_and_obstacles():
     model = build_model(task)
     assert model.njnt == 6 + 1 + len(scene)
     assert all(int(t) == mujoco.mjtJoint.mjJNT_FREE for t in model.jnt_type[6:])
-    np.testing.assert_array_equal(model.jnt_range[:6], ur5.JOINT_LIMITS)
+    np.testing.assert_array_equal(model.jnt_range[:6], UR5.joint_limits)
     np.testing.assert_allclose(model.body("cube").pos[:2], task.cube, atol=1e-12)
     np.testing.assert_allclose(model.geom("cube").size, [CUBE_SIZE / 2] * 3, atol=1e-12)
     # A cylinder's size is (radius, half height); 0 picks 3 cm for a cup, 1 cm for a marker.
@@ -284,7 +288,8 @@ def test_simulate_sweep_rejects_bad_arguments(straight_sweep):
     with pytest.raises(TypeError, match="timing"):
         simulate_sweep(np.array([HOME, HOME + 0.05]), task)
     with pytest.raises(ValueError, match="timing"):
-        simulate_sweep(time_parameterize(np.array([[0.0] * 5, [0.1] * 5])), task)
+        five_joints = np.array([[0.0] * 5, [0.1] * 5])
+        simulate_sweep(time_parameterize(five_joints, max_velocity=1, max_acceleration=1), task)
     for tolerance in (0.0, -0.001):
         with pytest.raises(ValueError, match="tolerance"):
             simulate_sweep(timing, task, tolerance=tolerance)
@@ -318,8 +323,8 @@ def test_a_missing_opengl_backend_leaves_physics_running(tmp_path):
 
     script = (
         "import numpy as np\n"
-        "from lfdkit.robot import sim\n"
-        "sim.HEADLESS_GL = 'no-such-backend'  # MuJoCo refuses it on import, as without EGL\n"
+        "from lfdkit.robot import mujoco, sim\n"
+        "mujoco.HEADLESS_GL = 'no-such-backend'  # MuJoCo refuses it on import, as without EGL\n"
         "p = np.column_stack([np.linspace(-0.3, 0.32, 50), np.full(50, 0.45)])\n"
         "task = sim.SweepingTask.for_path(p, sim.Dustpan([0.3, 0.45], 0.0))\n"
         "r = sim.execute_sweep(p, task, render=True)\n"
@@ -331,3 +336,44 @@ def test_a_missing_opengl_backend_leaves_physics_running(tmp_path):
     )
     assert run.returncode == 0, run.stderr[-2000:]
     assert run.stdout.split() == ["True", "True"]
+
+
+# ------------------------------------------------------------------ other arms
+#: UR10 link masses (kg), Universal Robots' published dynamics parameters.
+UR10_MASSES = (7.1, 12.7, 4.27, 2.0, 2.0, 0.365)
+
+
+def test_the_model_is_built_from_the_arm_description():
+    model = build_model(arm=UR10)
+    assert model.njnt == 6 and model.nu == 6
+    for i in range(6):
+        assert model.body(f"link{i + 1}").mass[0] == pytest.approx(UR10_MASSES[i], abs=1e-12)
+        assert model.actuator(f"joint{i + 1}").gainprm[0] == UR10.kp[i]
+    np.testing.assert_array_equal(model.jnt_range[:6], UR10.joint_limits)
+    assert 'model="lfdkit UR10 sweeping"' in sweeping_mjcf(arm=UR10)
+    q = np.random.default_rng(4).uniform(-np.pi, np.pi, size=(50, 6))
+    np.testing.assert_allclose(
+        mujoco_flange_poses(q, arm=UR10), ur5.forward(q, arm=UR10), rtol=0, atol=1e-12
+    )
+    # Any number of joints: a planar 3R arm.
+    model = build_model(arm=PLANAR)
+    assert model.njnt == 3 and model.nu == 3
+    q = np.random.default_rng(5).uniform(-3.0, 3.0, size=(20, 3))
+    np.testing.assert_allclose(
+        mujoco_flange_poses(q, arm=PLANAR), ur5.forward(q, arm=PLANAR), rtol=0, atol=1e-12
+    )
+    with pytest.raises(ValueError, match=r"q: .*\(3,\) or \(m, 3\) for the planar 3R"):
+        mujoco_flange_poses(np.zeros(6), arm=PLANAR)
+    with pytest.raises(TypeError, match="arm: expected an Arm"):
+        build_model(arm="UR10")
+
+
+def test_a_ur10_sweeps_into_the_dustpan():
+    path = straight_path()
+    task = SweepingTask.for_path(path, PAN)
+    result = execute_sweep(path, task, arm=UR10)
+    assert result.success, result.summary()
+    np.testing.assert_allclose(result.timing.max_velocity, 0.2 * UR10.max_joint_speed)
+    with pytest.raises(ValueError, match="timing: expected 6 joints for the UR10, got 5"):
+        five = np.array([[0.0] * 5, [0.1] * 5])
+        simulate_sweep(time_parameterize(five, max_velocity=1, max_acceleration=1), task, arm=UR10)

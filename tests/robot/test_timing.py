@@ -10,13 +10,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.robot.arm import UR5, UR10
 from lfdkit.robot.timing import (
     SAFETY_MARGIN,
-    UR5_MAX_ACCELERATION,
-    UR5_MAX_VELOCITY,
     Timing,
     time_parameterize,
 )
+
+UR5_MAX_VELOCITY = float(UR5.max_joint_speed[0])  # the same on every joint
+UR5_MAX_ACCELERATION = float(UR5.max_joint_acceleration[0])
 
 RATE = 1000.0
 
@@ -251,3 +253,43 @@ def test_sample_and_resample_errors():
         timing.sample(np.zeros((2, 2)))
     with pytest.raises(ValueError, match="rate_hz: must be > 0"):
         timing.resample(0)
+
+
+# ------------------------------------------------------------------ the arm's limits
+def test_limits_come_from_the_arm():
+    """A UR10 base move keeps to its 120°/s; the same move on the UR5 may take 3.2 rad/s."""
+    base = np.radians(120.0)
+    q = np.zeros((2, 6))
+    q[1, 0] = 3.0
+    ur10 = time_parameterize(q, arm=UR10)
+    np.testing.assert_allclose(ur10.max_velocity, UR10.max_joint_speed)
+    np.testing.assert_allclose(ur10.max_acceleration, UR10.max_joint_acceleration)
+    assert_within_limits(ur10)
+    qd = ur10.sample(np.linspace(0.0, ur10.duration, 2000))[1]
+    assert np.abs(qd[:, 0]).max() <= base
+    assert np.abs(qd[:, 0]).max() > 0.98 * base  # and uses it
+    best = min_time(3.0, base, 15.0)
+    assert best <= ur10.duration <= best * (1 + 1.5 * SAFETY_MARGIN)
+    ur5 = time_parameterize(q)
+    assert ur5.duration < ur10.duration
+    # Wrist joints of the UR10 are allowed 180°/s.
+    q[1] = [0, 0, 0, 3.0, 0, 0]
+    wrist = time_parameterize(q, arm=UR10)
+    best = min_time(3.0, np.pi, 15.0)
+    assert best <= wrist.duration <= best * (1 + 1.5 * SAFETY_MARGIN)
+    # Explicit limits win over the arm's; speed_fraction scales the arm's.
+    np.testing.assert_allclose(time_parameterize(q, arm=UR10, max_velocity=1.0).max_velocity, 1.0)
+    slow = time_parameterize(q, arm=UR10, speed_fraction=0.5)
+    np.testing.assert_allclose(slow.max_velocity, 0.5 * UR10.max_joint_speed)
+    np.testing.assert_allclose(slow.max_acceleration, 0.25 * UR10.max_joint_acceleration)
+
+
+def test_joint_count_must_match_the_arm_whose_limits_are_used():
+    q = np.array([[0.0] * 5, [0.1] * 5])
+    with pytest.raises(ValueError, match="q: has 5 joints, the UR5 6"):
+        time_parameterize(q)
+    with pytest.raises(ValueError, match="q: has 5 joints, the UR10 6"):
+        time_parameterize(q, arm=UR10, max_velocity=1.0)  # the acceleration is the arm's
+    assert time_parameterize(q, max_velocity=1.0, max_acceleration=2.0).n_joints == 5
+    with pytest.raises(TypeError, match="arm: expected an Arm"):
+        time_parameterize(np.eye(6)[:2], arm="UR10")

@@ -13,10 +13,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from lfdkit.robot import ur5
+from lfdkit.robot.arm import UR5
 from lfdkit.robot.ur5 import (
-    DH,
-    JOINT_LIMITS,
     JointLimitError,
     SingularityError,
     UnreachableError,
@@ -30,8 +28,9 @@ from lfdkit.robot.ur5 import (
     singularity,
 )
 
-D1, _, _, D4, D5, D6 = DH.d
-_, A2, A3, _, _, _ = DH.a
+D1, _, _, D4, D5, D6 = UR5.d
+_, A2, A3, _, _, _ = UR5.a
+JOINT_LIMITS = UR5.joint_limits
 PI = np.pi
 
 # A brush: tool centre 0.12 m along the flange z axis, bristles turned 0.3 rad about it.
@@ -78,15 +77,15 @@ def brush_down_line(n: int = 61) -> np.ndarray:
 
 # ---------------------------------------------------------------- constants
 def test_constants():
-    assert DH.d == (0.08916, 0.0, 0.0, 0.10915, 0.09465, 0.0823)
-    assert DH.a == (0.0, -0.425, -0.39225, 0.0, 0.0, 0.0)
-    np.testing.assert_allclose(DH.alpha, [PI / 2, 0, 0, PI / 2, -PI / 2, 0])
+    np.testing.assert_array_equal(UR5.d, (0.08916, 0.0, 0.0, 0.10915, 0.09465, 0.0823))
+    np.testing.assert_array_equal(UR5.a, (0.0, -0.425, -0.39225, 0.0, 0.0, 0.0))
+    np.testing.assert_allclose(UR5.alpha, [PI / 2, 0, 0, PI / 2, -PI / 2, 0])
     assert JOINT_LIMITS.shape == (6, 2)
     np.testing.assert_array_equal(JOINT_LIMITS, [[-2 * PI, 2 * PI]] * 6)
     with pytest.raises(ValueError):
         JOINT_LIMITS[0, 0] = 0.0  # read-only
-    assert ur5.MAX_JOINT_SPEED == 3.2
-    assert ur5.MAX_JOINT_ACCELERATION == 15.0
+    np.testing.assert_array_equal(UR5.max_joint_speed, [3.2] * 6)
+    np.testing.assert_array_equal(UR5.max_joint_acceleration, [15.0] * 6)
 
 
 # ---------------------------------------------------------------- forward kinematics
@@ -150,9 +149,9 @@ def test_forward_against_pytransform3d():
         # concat(A2B, B2C) = B2C @ A2B; the inputs were checked where they were built.
         return pt.concat(a2b, b2c, check=False)
 
-    tz = [pt.transform_from(np.eye(3), [0.0, 0.0, d]) for d in DH.d]
-    tx = [pt.transform_from(np.eye(3), [a, 0.0, 0.0]) for a in DH.a]
-    rx = [pt.transform_from(pr.active_matrix_from_angle(0, al), np.zeros(3)) for al in DH.alpha]
+    tz = [pt.transform_from(np.eye(3), [0.0, 0.0, d]) for d in UR5.d]
+    tx = [pt.transform_from(np.eye(3), [a, 0.0, 0.0]) for a in UR5.a]
+    rx = [pt.transform_from(pr.active_matrix_from_angle(0, al), np.zeros(3)) for al in UR5.alpha]
     expected = np.empty((len(qs), 4, 4))
     for k, q in enumerate(qs):
         t = np.eye(4)

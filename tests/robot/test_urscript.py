@@ -6,6 +6,7 @@ accepts only the exact shapes of lines the module documents.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import tempfile
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ from hypothesis import strategies as st
 
 import lfdkit
 from lfdkit.robot import ur5
+from lfdkit.robot.arm import UR5, UR10
 from lfdkit.robot.poses import pose_vector, sweeping_poses, unwrap_rotvecs
 from lfdkit.robot.timing import time_parameterize
 from lfdkit.robot.urscript import (
@@ -30,6 +32,7 @@ from lfdkit.robot.urscript import (
     urscript_program,
     write_urscript,
 )
+from tests.robot.arms import PLANAR
 
 PRECISION = 5e-10 + 1e-15  # half a unit in the 9th decimal, plus rounding
 NUM = r"-?\d+\.\d+"  # fixed point, no exponent
@@ -540,7 +543,7 @@ def test_servoj_refuses_the_issues_step_from_rest():
 def test_servoj_acceleration_limit_is_the_known_answer():
     # from rest, a step s in one tick dt needs s / dt²; the limit 15 rad/s² allows
     # s = 15 dt² (0.96 mrad at 125 Hz), then the stop after it needs the same.
-    limit = ur5.MAX_JOINT_ACCELERATION * DT**2
+    limit = UR5.max_joint_acceleration[0] * DT**2
     hold = step_from_rest(limit * (1 - 1e-6), joint=3)
     hold["joint_path"] = np.vstack((hold["joint_path"][:2], hold["joint_path"][1:]))
     hold["times"] = np.arange(4) * DT
@@ -680,12 +683,12 @@ def test_servoj_step_from_rest_refused_exactly_above_the_limit(step, rate):
     dt = 1.0 / rate
     needed = step / dt**2  # from rest, then the stop after it needs as much
     kwargs = step_from_rest(step, dt=dt)
-    if step / dt > ur5.MAX_JOINT_SPEED * (1 + 1e-8):  # the speed limit is checked first
+    if step / dt > UR5.max_joint_speed[0] * (1 + 1e-8):  # the speed limit is checked first
         with pytest.raises(URScriptError, match=r"joint_path\[1\] joint 0: moves at .* rad/s"):
             urscript_program(**kwargs)
-    elif needed <= ur5.MAX_JOINT_ACCELERATION * (1 - 1e-9):
+    elif needed <= UR5.max_joint_acceleration[0] * (1 - 1e-9):
         read_program(urscript_program(**kwargs))
-    elif needed > ur5.MAX_JOINT_ACCELERATION * (1 + 1e-8):
+    elif needed > UR5.max_joint_acceleration[0] * (1 + 1e-8):
         with pytest.raises(URScriptError, match=r"joint_path\[1\] joint 0: a step of") as info:
             urscript_program(**kwargs)
         value = float(re.search(r"needs (\S+) rad/s", str(info.value)).group(1))
@@ -806,3 +809,44 @@ def test_write_urscript_errors(tmp_path):
     with pytest.raises(FileNotFoundError):
         write_urscript(tmp_path / "missing" / "a.script", "def x():\nend\n")
     assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------------ the arm
+def test_joint_stream_is_checked_against_the_arms_limits():
+    """A base move timed for the UR5 (3.2 rad/s) is too fast for the UR10 (120°/s)."""
+    q = np.repeat(Q_ABOVE[None], 2, axis=0)
+    q[1, 0] += 2.0
+    times, stream, _, _ = time_parameterize(q).resample(125.0)
+    read_program(urscript_program(motion="servoj", joint_path=stream, times=times))
+    with pytest.raises(
+        URScriptError,
+        match=r"joint 0: moves at .* rad/s from sample .*, above the UR10 limit "
+        r"of 2.0944 rad/s",
+    ):
+        urscript_program(motion="servoj", joint_path=stream, times=times, arm=UR10)
+    # Timed for the UR10, the same move passes.
+    times, stream, _, _ = time_parameterize(q, arm=UR10).resample(125.0)
+    read_program(urscript_program(motion="servoj", joint_path=stream, times=times, arm=UR10))
+    # Joint limits are the arm's too.
+    narrow = dataclasses.replace(UR10, name="UR10 narrow", joint_limits=[[-1.0, 1.0]] * 6)
+    with pytest.raises(URScriptError, match=r"outside the UR10 narrow joint limits \[-1, 1\]"):
+        urscript_program(motion="servoj", joint_path=stream, times=times, arm=narrow)
+
+
+def test_reach_is_the_arms():
+    """Tool-down poses 0.95 m out: beyond the UR5's reach, within the UR10's."""
+    path = np.column_stack((np.linspace(-0.2, 0.2, 5), np.full(5, 0.95)))
+    poses = pose_vector(sweeping_poses(path))
+    poses[:, 3:] = unwrap_rotvecs(poses[:, 3:])
+    with pytest.raises(URScriptError, match=r"poses\[0\]: unreachable .* for the UR5"):
+        urscript_program(poses)
+    prog = read_program(urscript_program(poses, arm=UR10))
+    assert len(prog.movel) == 5
+
+
+def test_arm_must_be_a_ur_arm():
+    with pytest.raises(URScriptTypeError, match="arm: expected an Arm") as info:
+        urscript_program(sweep_poses(), arm="UR10")
+    assert info.value.argument == "arm"
+    with pytest.raises(URScriptError, match="arm: URScript drives UR arms; planar 3R does not"):
+        urscript_program(sweep_poses(), arm=PLANAR)

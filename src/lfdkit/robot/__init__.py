@@ -1,7 +1,15 @@
-"""Execution on a UR5 (thesis §6.4): kinematics, sweeping poses, timing, URScript, simulation.
+"""Robot execution (thesis §6.4, a UR5): kinematics, sweeping poses, timing, URScript, simulation.
 
-Submodules: :mod:`.ur5` (DH forward kinematics, Jacobian, analytic inverse
-kinematics), :mod:`.poses` (rotation vectors, sweeping tool poses),
-:mod:`.timing` (time parameterisation within the joint limits) and
-:mod:`.urscript` (programs for a UR controller).
+An arm is described once, by an :class:`lfdkit.robot.arm.Arm` (DH table, joint
+position/speed/acceleration limits, link masses and radii, servo gains); every
+submodule takes it as ``arm=`` and defaults to :data:`lfdkit.robot.arm.UR5`, the
+arm of the thesis. :data:`lfdkit.robot.arm.UR10` is a second one. A new arm is a
+new :class:`~lfdkit.robot.arm.Arm`, nothing else.
+
+Submodules: :mod:`.arm` (the descriptions), :mod:`.ur5` (DH forward kinematics,
+Jacobian, analytic inverse kinematics of UR-type arms), :mod:`.poses` (rotation
+vectors, sweeping tool poses), :mod:`.timing` (time parameterisation within the
+arm's joint limits), :mod:`.urscript` (programs for a UR controller),
+:mod:`.mujoco` (MuJoCo bodies and servos of an arm) and :mod:`.sim` (the
+sweeping experiment in MuJoCo).
 """

@@ -1,12 +1,15 @@
 """MuJoCo simulation of the sweeping experiment (thesis §6.4, Fig 6.14–6.15).
 
 A UR5 with a brush sweeps a green cube over a table into a dustpan, past cups
-and markers. The robot is built from the same DH table as
-:mod:`lfdkit.robot.ur5` (bodies placed by each link's fixed transform, hinges
-about their ``z`` axes), so MuJoCo's flange pose equals :func:`ur5.forward` to
-round-off (:func:`mujoco_flange_poses`). Links are simple capsules with the
-UR5's masses; the brush is a box on a handle; cube, cups and markers are free
-bodies, so physics decides where the cube goes and whether an obstacle is hit.
+and markers. The robot is an :class:`lfdkit.robot.arm.Arm` (``arm=``, default
+the thesis's UR5; the sweep needs a UR-type arm for its inverse kinematics),
+built by :mod:`lfdkit.robot.mujoco` from the description's DH table, masses,
+link radii, joint limits and servo gains, so MuJoCo's flange pose equals
+:func:`lfdkit.robot.ur5.forward` to round-off
+(:func:`lfdkit.robot.mujoco.flange_poses`). This module adds the scene: the
+brush is a box on a handle fixed to the flange; cube, cups and markers are
+free bodies, so physics decides where the cube goes and whether an obstacle
+is hit.
 
 Frames and units
 ----------------
@@ -24,7 +27,7 @@ then clears the cup by 0.8–1.6 cm. The thesis does not give them.
 
 Control
 -------
-Position actuators (PD, ``kp``/``kv`` per joint) follow the time-parameterised
+Position actuators (PD, the arm's ``kp``/``kv`` per joint) follow the time-parameterised
 joint trajectory, commanded at every 2 ms physics step with a velocity
 feed-forward (``q_ref + kv/kp · q̇_ref``) that cancels the damping's lag;
 the links are gravity-compensated. The robot starts at the trajectory's first
@@ -42,9 +45,8 @@ follow are reported in :class:`SweepResult` (``success``, ``failures``).
 from __future__ import annotations
 
 import math
-import os
-import sys
 from dataclasses import dataclass, field
+from html import escape
 from typing import Any
 
 import numpy as np
@@ -59,6 +61,14 @@ from lfdkit.geometry import (
     smooth_path,
 )
 from lfdkit.robot import ur5
+from lfdkit.robot.arm import UR5, Arm, check_arm
+from lfdkit.robot.mujoco import (
+    ROBOT_CONTACT,
+    actuators_xml,
+    load_mujoco,
+    mjcf_numbers,
+    robot_xml,
+)
 from lfdkit.robot.poses import SWEEP_HEIGHT, sweeping_poses
 from lfdkit.robot.timing import Timing, time_parameterize
 
@@ -73,7 +83,6 @@ __all__ = [
     "SweepingTask",
     "build_model",
     "execute_sweep",
-    "mujoco_flange_poses",
     "simulate_sweep",
     "sweep_motion",
     "sweeping_mjcf",
@@ -87,18 +96,12 @@ SETTLE_TIME = 0.3
 TRACKING_TOLERANCE = 0.005
 #: Side of the green cube (m).
 CUBE_SIZE = 0.025
-#: A configuration with the brush down in front of the robot (rad); picks the IK branch.
+#: A configuration of a UR-type arm with the brush down in front of it (rad); picks the
+#: IK branch.
 HOME = np.array([0.0, -1.2, 1.6, -1.97, -1.5708, 0.0])
 
-# UR5 link masses (kg), from Universal Robots' published dynamics parameters.
-_LINK_MASS = (3.7, 8.393, 2.275, 1.219, 1.219, 0.1879)
-_LINK_RADIUS = (0.06, 0.054, 0.045, 0.04, 0.04, 0.035)
-_KP = (3000.0, 3000.0, 2000.0, 800.0, 800.0, 500.0)  # N·m/rad
-_KV = (120.0, 120.0, 80.0, 25.0, 25.0, 12.0)  # N·m·s/rad
-_ARMATURE = 0.1  # kg·m², reflected rotor inertia: keeps the stiff PD stable
-
-# Collision groups: the robot and brush hit objects, not the table or themselves.
-_ROBOT = 'contype="2" conaffinity="0"'
+# Collision groups: the robot and brush (ROBOT_CONTACT) hit objects, not the table or
+# themselves.
 _OBJECT = 'contype="1" conaffinity="3"'
 _FIXED = 'contype="1" conaffinity="1"'
 
@@ -281,7 +284,7 @@ class SweepResult:
         Simulated cube centre, m.
     obstacle_shift : ndarray, shape (L,)
         How far each obstacle moved, m.
-    joint_path : ndarray, shape (n, 6) or None
+    joint_path : ndarray, shape (n, n_joints) or None
         The commanded joint waypoints, rad.
     timing : Timing or None
     image : ndarray, shape (720, 960, 3) or None
@@ -316,50 +319,15 @@ class SweepResult:
 
 
 # ------------------------------------------------------------------ model
-def _fmt(values: Any) -> str:
-    return " ".join(repr(float(v)) for v in np.atleast_1d(values))
-
-
-def _robot_xml(brush: Brush) -> str:
-    """Nested bodies of the UR5 from the DH table, the flange site and the brush.
-
-    Body ``i`` turns about its ``z`` axis by ``θ_i``; the next body sits at
-    the link's fixed transform ``Tz(d_i) Tx(a_i) Rx(α_i)``, i.e. at position
-    ``(a_i, 0, d_i)`` with the rotation ``Rx(α_i)``.
-    """
-    dh = ur5.DH
-    opening, closing = [], []
-    placement = ""  # link 1 sits at the base frame
-    for i in range(6):
-        pad = "    " * (i + 2)
-        child = np.array([dh.a[i], 0.0, dh.d[i]])
-        shape = (
-            f'type="capsule" fromto="0 0 0 {_fmt(child)}"'
-            if np.linalg.norm(child) > 0
-            else 'type="sphere"'
-        )
-        opening += [
-            f'{pad}<body name="link{i + 1}"{placement} gravcomp="1">',
-            f'{pad}  <joint name="joint{i + 1}" axis="0 0 1" '
-            f'range="{_fmt(ur5.JOINT_LIMITS[i])}" armature="{_ARMATURE}" damping="0.5"/>',
-            f'{pad}  <geom {shape} size="{_LINK_RADIUS[i]}" mass="{_LINK_MASS[i]}" '
-            f'rgba="0.6 0.65 0.7 1" {_ROBOT}/>',
-        ]
-        closing.insert(0, f"{pad}</body>")
-        half = 0.5 * dh.alpha[i]
-        placement = f' pos="{_fmt(child)}" quat="{_fmt([math.cos(half), math.sin(half), 0, 0])}"'
-    pad = "    " * 8
-    flange = [
-        f'{pad}<body name="flange"{placement} gravcomp="1">',
-        f'{pad}  <site name="flange" size="0.005" rgba="1 0 0 1"/>',
-        f'{pad}  <geom name="handle" type="cylinder" fromto="0 0 0 0 0 {brush.head_centre!r}" '
-        f'size="0.008" mass="0.1" rgba="0.45 0.3 0.2 1" {_ROBOT}/>',
-        f'{pad}  <geom name="brush" type="box" pos="0 0 {brush.head_centre!r}" '
+def _brush_xml(brush: Brush) -> list[str]:
+    """The brush's geoms in the flange body: a handle down the tool ``z`` axis and the head."""
+    return [
+        f'<geom name="handle" type="cylinder" fromto="0 0 0 0 0 {brush.head_centre!r}" '
+        f'size="0.008" mass="0.1" rgba="0.45 0.3 0.2 1" {ROBOT_CONTACT}/>',
+        f'<geom name="brush" type="box" pos="0 0 {brush.head_centre!r}" '
         f'size="{0.5 * brush.thickness!r} {0.5 * brush.width!r} {0.5 * brush.height!r}" '
-        f'mass="0.1" friction="0.8 0.01 0.001" rgba="0.9 0.75 0.2 1" {_ROBOT}/>',
-        f"{pad}</body>",
+        f'mass="0.1" friction="0.8 0.01 0.001" rgba="0.9 0.75 0.2 1" {ROBOT_CONTACT}/>',
     ]
-    return "\n".join(opening + flange + closing)
 
 
 def _obstacle_xml(scene: Scene) -> str:
@@ -384,7 +352,7 @@ def _dustpan_xml(pan: Dustpan) -> str:
     t, h = pan.wall_thickness, pan.wall_height
     x, y = (float(v) for v in pan.position)
     half_w = 0.5 * pan.width
-    quat = _fmt([math.cos(0.5 * pan.yaw), 0.0, 0.0, math.sin(0.5 * pan.yaw)])
+    quat = mjcf_numbers([math.cos(0.5 * pan.yaw), 0.0, 0.0, math.sin(0.5 * pan.yaw)])
     return (
         f'    <body name="dustpan" pos="{x!r} {y!r} 0" quat="{quat}">\n'
         f'      <geom name="dustpan_floor" type="box" pos="{0.5 * pan.depth} 0 0.0005" '
@@ -402,16 +370,19 @@ def _dustpan_xml(pan: Dustpan) -> str:
     )
 
 
-def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> str:
-    """The MJCF (MuJoCo XML) of the UR5 with a brush, table and the task's objects.
+def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH, arm: Arm = UR5) -> str:
+    """The MJCF (MuJoCo XML) of the arm with a brush, table and the task's objects.
 
     With ``task`` None: the robot and the table only (for kinematic checks).
     """
+    arm = check_arm(arm)
     quarter = CUBE_SIZE / 2
     objects = ""
     if task is not None:
         cx, cy = (float(v) for v in task.cube)
-        cube_quat = _fmt([math.cos(0.5 * task.cube_yaw), 0.0, 0.0, math.sin(0.5 * task.cube_yaw)])
+        cube_quat = mjcf_numbers(
+            [math.cos(0.5 * task.cube_yaw), 0.0, 0.0, math.sin(0.5 * task.cube_yaw)]
+        )
         objects = "\n".join(
             [
                 f'    <body name="cube" pos="{cx!r} {cy!r} {quarter + 1e-4}" quat="{cube_quat}">',
@@ -423,7 +394,7 @@ def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> 
                 _obstacle_xml(task.scene),
             ]
         )
-    return f"""<mujoco model="lfdkit UR5 sweeping">
+    return f"""<mujoco model="lfdkit {escape(arm.name)} sweeping">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="{TIMESTEP}" integrator="implicitfast" cone="elliptic"/>
   <visual>
@@ -440,85 +411,19 @@ def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> 
     <geom name="table" type="plane" size="1.2 1.2 0.01" rgba="0.85 0.78 0.65 1" {_FIXED}/>
     <geom name="base" type="cylinder" size="0.075 0.045" pos="0 0 0.045"
           rgba="0.3 0.3 0.35 1" contype="0" conaffinity="0"/>
-{_robot_xml(brush)}
+{robot_xml(arm, _brush_xml(brush))}
 {objects}
   </worldbody>
   <actuator>
-{_actuators_xml()}
+{actuators_xml(arm)}
   </actuator>
 </mujoco>
 """
 
 
-def _actuators_xml() -> str:
-    return "\n".join(
-        f'    <position name="joint{i + 1}" joint="joint{i + 1}" kp="{_KP[i]}" kv="{_KV[i]}"/>'
-        for i in range(6)
-    )
-
-
-#: Off-screen OpenGL backend tried when there is no display and MUJOCO_GL is unset.
-HEADLESS_GL = "egl"
-
-
-def _mujoco() -> Any:
-    """Import MuJoCo; headless, try EGL for rendering, and simulate without it if it is missing."""
-    if "mujoco" in sys.modules:
-        return sys.modules["mujoco"]
-    chosen = "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY")
-    if chosen:
-        # No display: render off-screen (GLFW would need a window system).
-        os.environ["MUJOCO_GL"] = HEADLESS_GL
-    try:
-        import mujoco
-    except ImportError as exc:  # declared dependency; a broken install is worth a clear word
-        raise ImportError("lfdkit.robot.sim needs MuJoCo: python -m pip install mujoco") from exc
-    except Exception:
-        if not chosen:
-            raise
-        # The OpenGL library is not there (MuJoCo fails on import): no rendering, physics only.
-        for name in [m for m in sys.modules if m.split(".")[0] in ("mujoco", "OpenGL")]:
-            del sys.modules[name]
-        os.environ["MUJOCO_GL"] = "disable"
-        import mujoco
-    return mujoco
-
-
-def build_model(task: SweepingTask | None = None, *, brush: Brush = BRUSH) -> Any:
+def build_model(task: SweepingTask | None = None, *, brush: Brush = BRUSH, arm: Arm = UR5) -> Any:
     """The compiled ``mujoco.MjModel`` of :func:`sweeping_mjcf`."""
-    return _mujoco().MjModel.from_xml_string(sweeping_mjcf(task, brush=brush))
-
-
-def mujoco_flange_poses(q: Any) -> np.ndarray:
-    """Flange poses computed by MuJoCo's own kinematics (independent of ``ur5.forward``).
-
-    Parameters
-    ----------
-    q : array_like, shape (6,) or (n, 6)
-        Joint angles, rad.
-
-    Returns
-    -------
-    ndarray, shape (4, 4) or (n, 4, 4)
-    """
-    mujoco = _mujoco()
-    arr = np.asarray(q, dtype=np.float64)
-    single = arr.ndim == 1
-    arr = np.atleast_2d(arr)
-    if arr.shape[1] != 6 or not np.all(np.isfinite(arr)):
-        raise ValueError(
-            f"q: expected finite joint angles of shape (6,) or (n, 6), got {arr.shape}"
-        )
-    model = build_model()
-    data = mujoco.MjData(model)
-    site = model.site("flange").id
-    out = np.tile(np.eye(4), (arr.shape[0], 1, 1))
-    for i, config in enumerate(arr):
-        data.qpos[:6] = config
-        mujoco.mj_kinematics(model, data)
-        out[i, :3, :3] = data.site_xmat[site].reshape(3, 3)
-        out[i, :3, 3] = data.site_xpos[site]
-    return out[0] if single else out
+    return load_mujoco().MjModel.from_xml_string(sweeping_mjcf(task, brush=brush, arm=arm))
 
 
 # ------------------------------------------------------------------ running
@@ -557,6 +462,7 @@ def simulate_sweep(
     render: bool = False,
     camera: str = "overview",
     sample_rate: float = 50.0,
+    arm: Arm = UR5,
 ) -> SweepResult:
     """Run a joint trajectory in the sweeping scene and report what happened.
 
@@ -573,19 +479,25 @@ def simulate_sweep(
     camera : {"overview", "top"}
     sample_rate : float
         Rate of the recorded traces, Hz.
+    arm : Arm
+        The arm that runs ``timing`` (as many joints).
 
     Returns
     -------
     SweepResult
         With ``image`` (ndarray (720, 960, 3) or None) added when ``render``.
     """
-    mujoco = _mujoco()
+    mujoco = load_mujoco()
+    arm = check_arm(arm)
     if not isinstance(timing, Timing):
         raise TypeError(f"timing: expected a Timing, got {type(timing).__name__}")
-    if timing.n_joints != 6:
-        raise ValueError(f"timing: expected 6 joints for a UR5, got {timing.n_joints}")
+    n_joints = arm.n_joints
+    if timing.n_joints != n_joints:
+        raise ValueError(
+            f"timing: expected {n_joints} joints for the {arm.name}, got {timing.n_joints}"
+        )
     tolerance = check_positive(tolerance, "tolerance")
-    model = build_model(task, brush=brush)
+    model = build_model(task, brush=brush, arm=arm)
     data = mujoco.MjData(model)
     flange = model.site("flange").id
     cube = model.body("cube").id
@@ -595,18 +507,18 @@ def simulate_sweep(
     table = model.geom("table").id
 
     q0 = timing.sample(0.0)[0]
-    data.qpos[:6] = q0
+    data.qpos[:n_joints] = q0
     data.ctrl[:] = q0
     mujoco.mj_forward(model, data)
     obstacle_start = np.array([data.xpos[b, :2] for b in obstacle_bodies]).reshape(-1, 2)
-    kv_over_kp = np.array(_KV) / np.array(_KP)
+    kv_over_kp = arm.kv / arm.kp
     duration = timing.duration
     total = duration + 2 * SETTLE_TIME
     n_steps = math.ceil(total / TIMESTEP)
     every = max(1, round(1.0 / (sample_rate * TIMESTEP)))
     step_times = np.arange(1, n_steps + 1) * TIMESTEP
     q_ref, qd_ref, _ = timing.sample(step_times - SETTLE_TIME)
-    planned = ur5.forward(q_ref)[:, :3, 3]
+    planned = ur5.forward(q_ref, arm=arm)[:, :3, 3]
 
     obstacle_of = np.full(model.ngeom, -1)  # obstacle index of each geom, -1 for others
     for geom, index in obstacle_geoms.items():
@@ -704,7 +616,12 @@ def _failed(message: str, task: SweepingTask) -> SweepResult:
 
 
 def sweep_motion(
-    path: Any, *, brush: Brush = BRUSH, smoothing: float = 0.01, q_home: Any = HOME
+    path: Any,
+    *,
+    brush: Brush = BRUSH,
+    smoothing: float = 0.01,
+    q_home: Any = HOME,
+    arm: Arm = UR5,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Tool poses and the continuous joint path that sweep along a table path.
 
@@ -719,6 +636,8 @@ def sweep_motion(
         0 leaves the path as it is.
     q_home : array_like, shape (6,)
         Configuration that picks the IK branch.
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -740,8 +659,8 @@ def sweep_motion(
     else:
         path = resample(path, n_poses)
     frames = sweeping_poses(path, height=brush.sweep_height)
-    q_start = ur5.nearest_solution(frames[0], q_home)
-    return frames, ur5.inverse_path(frames, q_start)
+    q_start = ur5.nearest_solution(frames[0], q_home, arm=arm)
+    return frames, ur5.inverse_path(frames, q_start, arm=arm)
 
 
 def execute_sweep(
@@ -755,6 +674,7 @@ def execute_sweep(
     tolerance: float = TRACKING_TOLERANCE,
     render: bool = False,
     camera: str = "overview",
+    arm: Arm = UR5,
 ) -> SweepResult:
     """Sweep along a planned table path in MuJoCo: poses, IK, timing, simulation.
 
@@ -769,7 +689,7 @@ def execute_sweep(
         applied before the poses are made: a plan's corners would otherwise
         turn the brush abruptly. 0 leaves the path as it is.
     speed_fraction : float
-        Fraction of the UR5's joint speed limits (thesis: playback at 0.2).
+        Fraction of the arm's joint speed limits (thesis: playback at 0.2).
     q_home : array_like, shape (6,)
         Configuration that picks the IK branch.
     tolerance : float
@@ -777,6 +697,8 @@ def execute_sweep(
     render : bool
         Render the final scene (``SweepResult.image``).
     camera : {"overview", "top"}
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`); its limits time the motion.
 
     Returns
     -------
@@ -785,10 +707,10 @@ def execute_sweep(
         singularity) is reported as a failure, not raised.
     """
     try:
-        _, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home)
+        _, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm)
     except ur5.KinematicsError as exc:
         return _failed(f"the robot cannot follow the path: {exc}", task)
-    timing = time_parameterize(joints, speed_fraction=speed_fraction)
+    timing = time_parameterize(joints, arm=arm, speed_fraction=speed_fraction)
     return simulate_sweep(
-        timing, task, brush=brush, tolerance=tolerance, render=render, camera=camera
+        timing, task, brush=brush, tolerance=tolerance, render=render, camera=camera, arm=arm
     )

@@ -1,8 +1,11 @@
 """Time parameterisation of a joint-space path within joint velocity and acceleration limits.
 
 The robot has to follow waypoints ``q_0 .. q_{n-1}`` (joint angles, rad) as
-fast as its joints allow (thesis §6.4, Table 6.2: 3.2 rad/s and 15 rad/s² on
-every UR5 joint), starting and ending at rest. The path-parameter method:
+fast as its joints allow, starting and ending at rest. The limits are the
+arm's (``arm.max_joint_speed`` and ``arm.max_joint_acceleration`` of an
+:class:`lfdkit.robot.arm.Arm`; by default the UR5 of the thesis, §6.4,
+Table 6.2: 3.2 rad/s and 15 rad/s² on every joint) unless given explicitly,
+one number for all joints or one per joint. The path-parameter method:
 
 1. *Path.* ``s`` is the cumulative joint-space distance through the waypoints
    (the piecewise-linear arc length, rad). A natural cubic spline ``q(s)``
@@ -46,21 +49,14 @@ from scipy.interpolate import CubicSpline
 
 from lfdkit._validation import check_path, check_positive
 from lfdkit.geometry import arc_length
+from lfdkit.robot.arm import UR5, Arm, check_arm
 
 __all__ = [
     "DUPLICATE_TOL",
     "SAFETY_MARGIN",
-    "UR5_MAX_ACCELERATION",
-    "UR5_MAX_VELOCITY",
     "Timing",
     "time_parameterize",
 ]
-
-UR5_MAX_VELOCITY = 3.2
-"""Joint speed limit of the UR5 used in the thesis (rad/s, Table 6.2)."""
-
-UR5_MAX_ACCELERATION = 15.0
-"""Joint acceleration limit of the UR5 used in the thesis (rad/s², Table 6.2)."""
 
 SAFETY_MARGIN = 0.01
 """Fraction of each limit kept in reserve when planning the profile."""
@@ -196,8 +192,19 @@ class Timing:
 # --------------------------------------------------------------------------- #
 
 
-def _check_limits(value: Any, name: str, n_joints: int) -> np.ndarray:
-    """A positive scalar or one positive value per joint, as an array of shape (n_joints,)."""
+def _check_limits(value: Any, name: str, n_joints: int, arm: Arm, field: str) -> np.ndarray:
+    """A positive scalar or one positive value per joint, as an array of shape (n_joints,).
+
+    ``None`` takes the arm's limits (``getattr(arm, field)``), which the arm checked
+    when it was made; only their number must match the path's joints.
+    """
+    if value is None:
+        if arm.n_joints != n_joints:
+            raise ValueError(
+                f"q: has {n_joints} joints, the {arm.name} {arm.n_joints}; pass the arm "
+                "with this many joints, or max_velocity and max_acceleration"
+            )
+        return getattr(arm, field)
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -320,8 +327,9 @@ def _profile(
 def time_parameterize(
     q: Any,
     *,
-    max_velocity: Any = UR5_MAX_VELOCITY,
-    max_acceleration: Any = UR5_MAX_ACCELERATION,
+    arm: Arm = UR5,
+    max_velocity: Any = None,
+    max_acceleration: Any = None,
     speed_fraction: float = 1.0,
 ) -> Timing:
     """Time a joint-space path through waypoints, within joint velocity and acceleration limits.
@@ -332,11 +340,15 @@ def time_parameterize(
     Parameters
     ----------
     q : array_like, shape (n, n_joints)
-        Waypoints (rad), at least 2 distinct ones; 6 joints for a UR5.
-    max_velocity : float or array_like, shape (n_joints,)
-        Joint speed limits (rad/s), one for all joints or one per joint.
-    max_acceleration : float or array_like, shape (n_joints,)
-        Joint acceleration limits (rad/s²).
+        Waypoints (rad), at least 2 distinct ones; ``arm.n_joints`` joints
+        unless both limits are given.
+    arm : Arm
+        Gives the limits not passed explicitly (default: the UR5's).
+    max_velocity : float or array_like, shape (n_joints,), optional
+        Joint speed limits (rad/s), one for all joints or one per joint;
+        by default ``arm.max_joint_speed``.
+    max_acceleration : float or array_like, shape (n_joints,), optional
+        Joint acceleration limits (rad/s²); by default ``arm.max_joint_acceleration``.
     speed_fraction : float
         In ``(0, 1]``; velocity limits are multiplied by it and acceleration
         limits by its square, so the same path takes ``1 / speed_fraction``
@@ -351,14 +363,20 @@ def time_parameterize(
     ------
     ValueError
         If ``q`` is not 2-D, has NaN/inf or fewer than 2 distinct waypoints, a
-        limit is not positive (or has the wrong length), or ``speed_fraction``
-        is outside ``(0, 1]``.
+        limit is not positive (or has the wrong length), ``q`` has another
+        number of joints than the arm whose limits are used, or
+        ``speed_fraction`` is outside ``(0, 1]``.
+    TypeError
+        If ``arm`` is not an :class:`~lfdkit.robot.arm.Arm`.
     """
+    arm = check_arm(arm)
     arr = check_path(q, "q", min_dims=1)
     n_joints = arr.shape[1]
     f = _check_speed_fraction(speed_fraction)
-    vmax = _check_limits(max_velocity, "max_velocity", n_joints) * f
-    amax = _check_limits(max_acceleration, "max_acceleration", n_joints) * (f * f)
+    vmax = _check_limits(max_velocity, "max_velocity", n_joints, arm, "max_joint_speed") * f
+    amax = _check_limits(
+        max_acceleration, "max_acceleration", n_joints, arm, "max_joint_acceleration"
+    ) * (f * f)
 
     # Drop repeats: a zero-length step has no direction and would give two knots at one s.
     step = np.linalg.norm(np.diff(arr, axis=0), axis=1)

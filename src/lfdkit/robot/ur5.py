@@ -1,15 +1,27 @@
-"""UR5 kinematics (thesis §6.4, Table 6.3, eq. 6.1–6.2): forward, Jacobian, analytic inverse.
+"""UR-type arm kinematics (thesis §6.4, Table 6.3, eq. 6.1–6.2): forward, Jacobian, analytic IK.
 
 Conventions
 -----------
-* Standard Denavit–Hartenberg parameters (:data:`DH`); the link transform is
-  ``T_{i-1}^i = Rot_z(θ_i) Trans_z(d_i) Trans_x(a_i) Rot_x(α_i)`` and the flange pose
-  is ``T_0^6 = T_0^1 … T_5^6``. Lengths are in metres, angles in radians.
+* The arm is an :class:`lfdkit.robot.arm.Arm` passed as ``arm=`` (default
+  :data:`lfdkit.robot.arm.UR5`, the thesis's); this module holds no arm's numbers.
+  Standard Denavit–Hartenberg parameters (``arm.d``, ``arm.a``, ``arm.alpha``); the
+  link transform is ``T_{i-1}^i = Rot_z(θ_i) Trans_z(d_i) Trans_x(a_i) Rot_x(α_i)``
+  and the flange pose is ``T_0^6 = T_0^1 … T_5^6``. Lengths are in metres, angles in
+  radians.
+* :func:`forward`, :func:`link_frames` and :func:`jacobian` take any DH table (``n``
+  joints); the closed-form :func:`inverse` and everything built on it
+  (:func:`nearest_solution`, :func:`inverse_path`, :func:`singularity`,
+  :func:`branch`) need the UR joint structure (:attr:`~lfdkit.robot.arm.Arm.ur_type`:
+  6 joints, the UR5's twists and zero entries), whatever its lengths: the UR10's
+  table works as the UR5's does.
 * Every function takes one configuration ``q`` of shape ``(6,)`` or a batch of shape
   ``(n, 6)`` (one pose ``(4, 4)`` or a batch ``(n, 4, 4)``) and answers with the same
   leading shape.
 * An optional ``tool`` is the ``(4, 4)`` flange→tool transform (e.g. a brush's tool
   centre point); poses given to :func:`inverse` are then tool poses.
+* Inputs are checked once, by the public function they enter; the arm only for its
+  kind (:class:`~lfdkit.robot.arm.Arm` checked its own numbers when it was made).
+  The default joint limits are ``arm.joint_limits``.
 
 Inverse kinematics
 ------------------
@@ -57,13 +69,10 @@ from typing import Any
 
 import numpy as np
 
+from lfdkit.robot.arm import UR5, Arm, check_arm
+
 __all__ = [
-    "DH",
-    "JOINT_LIMITS",
-    "MAX_JOINT_ACCELERATION",
-    "MAX_JOINT_SPEED",
     "SINGULARITY_TOL",
-    "DHParameters",
     "JointLimitError",
     "KinematicsError",
     "SingularityError",
@@ -80,51 +89,8 @@ __all__ = [
 ]
 
 
-# ------------------------------------------------------------------ parameters
-@dataclass(frozen=True)
-class DHParameters:
-    """Standard Denavit–Hartenberg table of a 6-joint arm.
-
-    Attributes
-    ----------
-    d : tuple of 6 float
-        Link offsets along the previous ``z`` axis, metres.
-    a : tuple of 6 float
-        Link lengths along the new ``x`` axis, metres.
-    alpha : tuple of 6 float
-        Link twists about the new ``x`` axis, radians.
-    """
-
-    d: tuple[float, ...]
-    a: tuple[float, ...]
-    alpha: tuple[float, ...]
-
-
-#: UR5 DH table (thesis Table 6.3).
-DH = DHParameters(
-    d=(0.08916, 0.0, 0.0, 0.10915, 0.09465, 0.0823),
-    a=(0.0, -0.425, -0.39225, 0.0, 0.0, 0.0),
-    alpha=(np.pi / 2, 0.0, 0.0, np.pi / 2, -np.pi / 2, 0.0),
-)
-
-#: Joint limits, shape (6, 2): (lower, upper) per joint, radians (thesis Table 6.2).
-JOINT_LIMITS = np.array([[-2 * np.pi, 2 * np.pi]] * 6)
-JOINT_LIMITS.setflags(write=False)
-#: Largest joint speed, rad/s (thesis Table 6.2).
-MAX_JOINT_SPEED = 3.2
-#: Largest joint acceleration, rad/s² (thesis Table 6.2).
-MAX_JOINT_ACCELERATION = 15.0
 #: Default tolerance on the singularity measures (see :func:`singularity`).
 SINGULARITY_TOL = 1e-2
-
-_D = np.array(DH.d)
-_A = np.array(DH.a)
-# Exact cos/sin of the twists: np.cos(pi / 2) is 6e-17, not 0.
-_CA = np.array([0.0, 1.0, 1.0, 0.0, 0.0, 1.0])
-_SA = np.array([1.0, 0.0, 0.0, 1.0, -1.0, 0.0])
-_D1, _D4, _D5, _D6 = _D[0], _D[3], _D[4], _D[5]
-_A2, _A3 = _A[1], _A[2]
-_REACH = (abs(abs(_A2) - abs(_A3)), abs(_A2) + abs(_A3))  # elbow span, metres
 
 _ORTHO_TOL = 1e-6  # accepted |R^T R - I| of an input rotation
 _DOMAIN_EPS = 1e-10  # slack on asin/acos arguments, so stretched poses round-trip
@@ -185,11 +151,27 @@ def _check_finite(arr: np.ndarray, name: str, batch: bool) -> None:
         raise ValueError(f"{where}: contains NaN or an infinite value")
 
 
-def _check_q(q: Any, name: str = "q") -> np.ndarray:
-    """Return ``q`` as float64 of shape (6,) or (n, 6)."""
-    arr = _as_float_array(q, name, "(6,) or (n, 6)")
-    if arr.ndim not in (1, 2) or arr.shape[-1] != 6:
-        raise ValueError(f"{name}: expected shape (6,) or (n, 6) in radians, got {arr.shape}")
+def _check_arm(arm: Any, *, analytic: bool = False) -> Arm:
+    """Return ``arm`` after checking it is an :class:`Arm` (of UR type if ``analytic``).
+
+    The description checked itself when it was made; only its kind is checked here.
+    """
+    arm = check_arm(arm)
+    if analytic and not arm.ur_type:
+        raise ValueError(
+            f"arm: the analytic inverse kinematics needs a UR-type arm (6 joints, "
+            f"a1 = a4 = a5 = a6 = 0, d2 = d3 = 0, alpha = (pi/2, 0, 0, pi/2, -pi/2, 0), "
+            f"a2, a3 != 0, d4 > 0); {arm.name} is not one"
+        )
+    return arm
+
+
+def _check_q(q: Any, arm: Arm, name: str = "q") -> np.ndarray:
+    """Return ``q`` as float64 of shape (n_joints,) or (n, n_joints)."""
+    j = arm.n_joints
+    arr = _as_float_array(q, name, f"({j},) or (n, {j})")
+    if arr.ndim not in (1, 2) or arr.shape[-1] != j:
+        raise ValueError(f"{name}: expected shape ({j},) or (n, {j}) in radians, got {arr.shape}")
     _check_finite(arr, name, arr.ndim == 2)
     return arr
 
@@ -230,10 +212,14 @@ def _check_tool(tool: Any) -> np.ndarray | None:
     return None if tool is None else _check_transform(tool, "tool", allow_batch=False)
 
 
-def _check_limits(limits: Any) -> np.ndarray:
-    arr = _as_float_array(limits, "limits", "(6, 2)")
-    if arr.shape != (6, 2):
-        raise ValueError(f"limits: expected shape (6, 2) of (lower, upper) rad, got {arr.shape}")
+def _check_limits(limits: Any, arm: Arm) -> np.ndarray:
+    """``limits`` as an array (n_joints, 2); ``None`` means the arm's joint limits."""
+    if limits is None:
+        return arm.joint_limits
+    j = arm.n_joints
+    arr = _as_float_array(limits, "limits", f"({j}, 2)")
+    if arr.shape != (j, 2):
+        raise ValueError(f"limits: expected shape ({j}, 2) of (lower, upper) rad, got {arr.shape}")
     if not np.isfinite(arr).all():
         raise ValueError("limits: contains NaN or an infinite value")
     if (arr[:, 0] > arr[:, 1]).any():
@@ -258,10 +244,10 @@ def _rigid_inv(t: np.ndarray) -> np.ndarray:
     return out
 
 
-def _link(theta: np.ndarray, i: int) -> np.ndarray:
+def _link(theta: np.ndarray, i: int, arm: Arm) -> np.ndarray:
     """Link transforms T_{i}^{i+1} (eq. 6.1) for joint ``i`` (0-based), shape (..., 4, 4)."""
     ct, st = np.cos(theta), np.sin(theta)
-    ca, sa, a, d = _CA[i], _SA[i], _A[i], _D[i]
+    ca, sa, a, d = arm.cos_alpha[i], arm.sin_alpha[i], arm.a[i], arm.d[i]
     t = np.zeros((*np.shape(theta), 4, 4))
     t[..., 0, 0], t[..., 0, 1], t[..., 0, 2], t[..., 0, 3] = ct, -ca * st, sa * st, a * ct
     t[..., 1, 0], t[..., 1, 1], t[..., 1, 2], t[..., 1, 3] = st, ca * ct, -sa * ct, a * st
@@ -270,89 +256,100 @@ def _link(theta: np.ndarray, i: int) -> np.ndarray:
     return t
 
 
-def _frames(q: np.ndarray) -> np.ndarray:
-    """T_0^0 … T_0^6 for q (..., 6), shape (..., 7, 4, 4)."""
-    out = np.empty((*q.shape[:-1], 7, 4, 4))
+def _frames(q: np.ndarray, arm: Arm) -> np.ndarray:
+    """T_0^0 … T_0^n for q (..., n), shape (..., n + 1, 4, 4)."""
+    n = arm.n_joints
+    out = np.empty((*q.shape[:-1], n + 1, 4, 4))
     out[..., 0, :, :] = np.eye(4)
-    for i in range(6):
-        out[..., i + 1, :, :] = out[..., i, :, :] @ _link(q[..., i], i)
+    for i in range(n):
+        out[..., i + 1, :, :] = out[..., i, :, :] @ _link(q[..., i], i, arm)
     return out
 
 
-def _shoulder_x(q: np.ndarray) -> np.ndarray:
-    """Signed x1-coordinate of the wrist point o5 in frame 1, metres."""
+def _shoulder_x(q: np.ndarray, arm: Arm) -> np.ndarray:
+    """Signed x1-coordinate of the wrist point o5 in frame 1, metres (UR-type arms)."""
     q2, q23, q234 = q[..., 1], q[..., 1] + q[..., 2], q[..., 1] + q[..., 2] + q[..., 3]
-    return _A2 * np.cos(q2) + _A3 * np.cos(q23) + _D5 * np.sin(q234)
+    return arm.a[1] * np.cos(q2) + arm.a[2] * np.cos(q23) + arm.d[4] * np.sin(q234)
 
 
 # ------------------------------------------------------------------ forward kinematics
-def forward(q: Any, *, tool: Any = None) -> np.ndarray:
+def forward(q: Any, *, tool: Any = None, arm: Arm = UR5) -> np.ndarray:
     """Flange (or tool) pose in the base frame (eq. 6.2).
 
     Parameters
     ----------
     q : array_like, shape (6,) or (n, 6)
-        Joint angles, radians.
+        Joint angles, radians (``arm.n_joints`` per configuration).
     tool : array_like, shape (4, 4), optional
         Flange→tool rigid transform (metres) appended to the flange pose.
+    arm : Arm
+        The arm; any DH table.
 
     Returns
     -------
     ndarray, shape (4, 4) or (n, 4, 4)
         Homogeneous transform base→flange (or base→tool); translation in metres.
     """
-    q = _check_q(q)
+    arm = _check_arm(arm)
+    q = _check_q(q, arm)
     tool = _check_tool(tool)
-    t = _link(q[..., 0], 0)
-    for i in range(1, 6):
-        t = t @ _link(q[..., i], i)
+    t = _link(q[..., 0], 0, arm)
+    for i in range(1, arm.n_joints):
+        t = t @ _link(q[..., i], i, arm)
     return t if tool is None else t @ tool
 
 
-def link_frames(q: Any) -> np.ndarray:
+def link_frames(q: Any, *, arm: Arm = UR5) -> np.ndarray:
     """Poses of all DH frames, ``T_0^0 = I``, ``T_0^1``, …, ``T_0^6``.
 
     Parameters
     ----------
     q : array_like, shape (6,) or (n, 6)
-        Joint angles, radians.
+        Joint angles, radians (``arm.n_joints`` per configuration).
+    arm : Arm
+        The arm; any DH table.
 
     Returns
     -------
     ndarray, shape (7, 4, 4) or (n, 7, 4, 4)
         Frame ``k`` is the pose of DH frame ``k`` in the base frame (metres); joint
-        ``k + 1`` turns about the ``z`` axis of frame ``k``.
+        ``k + 1`` turns about the ``z`` axis of frame ``k``. ``n_joints + 1`` frames.
     """
-    return _frames(_check_q(q))
+    arm = _check_arm(arm)
+    return _frames(_check_q(q, arm), arm)
 
 
-def jacobian(q: Any, *, tool: Any = None) -> np.ndarray:
+def jacobian(q: Any, *, tool: Any = None, arm: Arm = UR5) -> np.ndarray:
     """Geometric Jacobian at the flange (or the tool point), in the base frame.
 
     Parameters
     ----------
     q : array_like, shape (6,) or (n, 6)
-        Joint angles, radians.
+        Joint angles, radians (``arm.n_joints`` per configuration).
     tool : array_like, shape (4, 4), optional
         Flange→tool transform; its origin is the reference point of the linear rows.
+    arm : Arm
+        The arm; any DH table.
 
     Returns
     -------
     ndarray, shape (6, 6) or (n, 6, 6)
         Rows ``(v_x, v_y, v_z, ω_x, ω_y, ω_z)``: linear velocity (m/s) of the reference
         point and angular velocity (rad/s) per unit joint speed (rad/s); columns are the
-        joints.
+        joints (``arm.n_joints`` of them).
     """
-    q = _check_q(q)
+    arm = _check_arm(arm)
+    q = _check_q(q, arm)
     tool = _check_tool(tool)
-    return _jacobian(q, tool)
+    return _jacobian(q, tool, arm)
 
 
-def _jacobian(q: np.ndarray, tool: np.ndarray | None) -> np.ndarray:
-    frames = _frames(q)
-    end = frames[..., 6, :, :] if tool is None else frames[..., 6, :, :] @ tool
-    z = frames[..., :6, :3, 2]  # joint axes, (..., 6, 3)
-    o = frames[..., :6, :3, 3]
+def _jacobian(q: np.ndarray, tool: np.ndarray | None, arm: Arm) -> np.ndarray:
+    n = arm.n_joints
+    frames = _frames(q, arm)
+    end = frames[..., n, :, :] if tool is None else frames[..., n, :, :] @ tool
+    z = frames[..., :n, :3, 2]  # joint axes, (..., n, 3)
+    o = frames[..., :n, :3, 3]
     jv = np.cross(z, end[..., None, :3, 3] - o)
     return np.concatenate((np.swapaxes(jv, -1, -2), np.swapaxes(z, -1, -2)), axis=-2)
 
@@ -360,7 +357,7 @@ def _jacobian(q: np.ndarray, tool: np.ndarray | None) -> np.ndarray:
 # ------------------------------------------------------------------ singularities
 @dataclass(frozen=True)
 class SingularityReport:
-    """How close configurations are to the UR5's singularities.
+    """How close configurations are to the singularities of a UR-type arm.
 
     For one configuration every field is a Python ``bool``/``float``; for a batch of
     ``n`` it is an array of shape ``(n,)``.
@@ -414,7 +411,9 @@ class SingularityReport:
         return rows[0] if np.ndim(self.wrist) == 0 else rows
 
 
-def singularity(q: Any, *, tol: float = SINGULARITY_TOL, tool: Any = None) -> SingularityReport:
+def singularity(
+    q: Any, *, tol: float = SINGULARITY_TOL, tool: Any = None, arm: Arm = UR5
+) -> SingularityReport:
     """Report which of the wrist, shoulder and elbow singularities ``q`` is near.
 
     Parameters
@@ -426,27 +425,31 @@ def singularity(q: Any, *, tol: float = SINGULARITY_TOL, tool: Any = None) -> Si
         below ``tol``; ``1e-2`` is about 0.6° from it for the wrist and elbow.
     tool : array_like, shape (4, 4), optional
         Reference point for ``sigma_min`` (the flags do not depend on it).
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
 
     Returns
     -------
     SingularityReport
     """
-    q = _check_q(q)
+    arm = _check_arm(arm, analytic=True)
+    q = _check_q(q, arm)
     tool = _check_tool(tool)
     if not (np.isfinite(tol) and tol >= 0):
         raise ValueError(f"tol: must be finite and >= 0, got {tol!r}")
-    return _singularity(q, float(tol), tool)
+    return _singularity(q, float(tol), tool, arm)
 
 
-def _measures(q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    x = _shoulder_x(q)
+def _measures(q: np.ndarray, arm: Arm) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    x = _shoulder_x(q, arm)
     # r = distance of o5 from z0 is hypot(x, d4) >= d4 > 0, so this never divides by 0.
-    return np.abs(np.sin(q[..., 4])), np.abs(x) / np.hypot(x, _D4), np.abs(np.sin(q[..., 2]))
+    shoulder = np.abs(x) / np.hypot(x, arm.d[3])
+    return np.abs(np.sin(q[..., 4])), shoulder, np.abs(np.sin(q[..., 2]))
 
 
-def _singularity(q: np.ndarray, tol: float, tool: np.ndarray | None) -> SingularityReport:
-    wm, sm, em = _measures(q)
-    sigma = np.linalg.svd(_jacobian(q, tool), compute_uv=False)[..., -1]
+def _singularity(q: np.ndarray, tol: float, tool: np.ndarray | None, arm: Arm) -> SingularityReport:
+    wm, sm, em = _measures(q, arm)
+    sigma = np.linalg.svd(_jacobian(q, tool, arm), compute_uv=False)[..., -1]
 
     def out(v: np.ndarray) -> Any:
         return v.item() if v.ndim == 0 else v
@@ -463,13 +466,15 @@ def _singularity(q: np.ndarray, tol: float, tool: np.ndarray | None) -> Singular
     )
 
 
-def branch(q: Any) -> int | np.ndarray:
+def branch(q: Any, *, arm: Arm = UR5) -> int | np.ndarray:
     """Branch index of configurations, as used for the rows of :func:`inverse`.
 
     Parameters
     ----------
     q : array_like, shape (6,) or (n, 6)
         Joint angles, radians.
+    arm : Arm
+        A UR-type arm.
 
     Returns
     -------
@@ -478,30 +483,33 @@ def branch(q: Any) -> int | np.ndarray:
         signed x1-coordinate of the wrist point, see the module notes),
         ``wrist = sin q5 < 0`` and ``elbow = sin q3 < 0``.
     """
-    q = _check_q(q)
-    idx = (4 * (_shoulder_x(q) < 0) + 2 * (np.sin(q[..., 4]) < 0) + (np.sin(q[..., 2]) < 0)).astype(
-        int
-    )
+    arm = _check_arm(arm, analytic=True)
+    q = _check_q(q, arm)
+    shoulder = _shoulder_x(q, arm) < 0
+    idx = (4 * shoulder + 2 * (np.sin(q[..., 4]) < 0) + (np.sin(q[..., 2]) < 0)).astype(int)
     return int(idx) if idx.ndim == 0 else idx
 
 
 # ------------------------------------------------------------------ inverse kinematics
-def _ik(flange: np.ndarray, q6_hint: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """All eight IK branches of flange poses (n, 4, 4).
+def _ik(
+    flange: np.ndarray, q6_hint: np.ndarray, arm: Arm
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """All eight IK branches of flange poses (n, 4, 4) of a UR-type arm.
 
     Returns the solutions (n, 8, 6) with NaN rows, the distance ``r`` (n,) of the wrist
     point from the base axis and the elbow spans ``L`` (n, 2, 2) per shoulder/wrist
     branch (NaN where the shoulder branch does not exist).
     """
     n = len(flange)
+    d4, d6, a2, a3 = arm.d[3], arm.d[5], arm.a[1], arm.a[2]
     rot, p = flange[:, :3, :3], flange[:, :3, 3]
-    p5 = p - _D6 * rot[:, :, 2]  # wrist point: origin of frame 5
+    p5 = p - d6 * rot[:, :, 2]  # wrist point: origin of frame 5
     r = np.hypot(p5[:, 0], p5[:, 1])
     phi = np.arctan2(p5[:, 1], p5[:, 0])
     with np.errstate(divide="ignore", invalid="ignore"):
         # o5 lies d4 along z1 = (sin q1, -cos q1, 0) from the plane of z0 and x1:
         # r sin(q1 - phi) = d4, two roots when r > d4.
-        ratio = _D4 / r
+        ratio = d4 / r
         psi = np.arcsin(np.minimum(ratio, 1.0))
         q1 = np.stack((phi + psi, phi + np.pi - psi), axis=1)  # (n, 2)
         q1[ratio > 1.0 + _DOMAIN_EPS] = np.nan
@@ -517,16 +525,16 @@ def _ik(flange: np.ndarray, q6_hint: np.ndarray) -> tuple[np.ndarray, np.ndarray
         q6 = np.where(free, np.broadcast_to(q6_hint[:, None, None], q6.shape), q6)
 
         # Planar 3R problem for joints 2-4 in frame 1: T_1^4 = (T_0^1)^-1 T_0^6 (T_4^6)^-1.
-        t46 = _link(q5, 4) @ _link(q6, 5)
-        t14 = _rigid_inv(_link(q1, 0))[:, :, None] @ flange[:, None, None] @ _rigid_inv(t46)
+        t46 = _link(q5, 4, arm) @ _link(q6, 5, arm)
+        t14 = _rigid_inv(_link(q1, 0, arm))[:, :, None] @ flange[:, None, None] @ _rigid_inv(t46)
         px, py = t14[..., 0, 3], t14[..., 1, 3]
         q234 = np.arctan2(t14[..., 1, 0], t14[..., 0, 0])
         span2 = px**2 + py**2
-        c3 = (span2 - _A2**2 - _A3**2) / (2 * _A2 * _A3)
+        c3 = (span2 - a2**2 - a3**2) / (2 * a2 * a3)
         q3p = np.arccos(np.clip(c3, -1.0, 1.0))
         q3p[np.abs(c3) > 1.0 + _DOMAIN_EPS] = np.nan
         q3 = np.stack((q3p, -q3p), axis=-1)  # (n, 2, 2, 2 elbow)
-        q2 = np.arctan2(py, px)[..., None] - np.arctan2(_A3 * np.sin(q3), _A2 + _A3 * np.cos(q3))
+        q2 = np.arctan2(py, px)[..., None] - np.arctan2(a3 * np.sin(q3), a2 + a3 * np.cos(q3))
         q4 = q234[..., None] - q2 - q3
 
     shape = (n, 2, 2, 2)
@@ -546,16 +554,18 @@ def _ik(flange: np.ndarray, q6_hint: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return sols, r, np.sqrt(span2)
 
 
-def _unreachable_reason(pose: np.ndarray, r: float, spans: np.ndarray) -> str:
+def _unreachable_reason(pose: np.ndarray, r: float, spans: np.ndarray, arm: Arm) -> str:
     pos = ", ".join(f"{v:.4g}" for v in pose[:3, 3])
     head = f"unreachable (position ({pos}) m)"
-    if not r >= _D4 * (1.0 - _DOMAIN_EPS):
+    d4 = arm.d[3]
+    if not r >= d4 * (1.0 - _DOMAIN_EPS):
         return (
             f"{head}: too close to the base axis; the wrist point (flange minus d6 along "
             f"the tool z-axis) is {r:.4g} m from z0, inside the shoulder offset "
-            f"d4 = {_D4} m"
+            f"d4 = {d4} m"
         )
-    lo, hi = _REACH
+    a2, a3 = abs(arm.a[1]), abs(arm.a[2])
+    lo, hi = abs(a2 - a3), a2 + a3  # the elbow's span, metres
     spans = spans[np.isfinite(spans)]
     if (spans > hi).all():
         return (
@@ -589,7 +599,9 @@ def _hint(q6_hint: Any, n: int) -> np.ndarray:
     return np.broadcast_to(hint, (n,))
 
 
-def inverse(pose: Any, *, tool: Any = None, q6_hint: Any = 0.0, strict: bool = True) -> np.ndarray:
+def inverse(
+    pose: Any, *, tool: Any = None, q6_hint: Any = 0.0, strict: bool = True, arm: Arm = UR5
+) -> np.ndarray:
     """All closed-form inverse kinematics solutions of a flange (or tool) pose.
 
     Parameters
@@ -605,6 +617,8 @@ def inverse(pose: Any, *, tool: Any = None, q6_hint: Any = 0.0, strict: bool = T
     strict : bool
         Raise :class:`UnreachableError` for a pose with no solution (the first one, for
         a batch). With ``False`` such a pose gets eight NaN rows.
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -620,23 +634,24 @@ def inverse(pose: Any, *, tool: Any = None, q6_hint: Any = 0.0, strict: bool = T
         the base axis, or the elbow cannot span the shoulder-to-wrist distance. (The
         wrist can always orient the flange once the position is reached.)
     """
+    arm = _check_arm(arm, analytic=True)
     tool = _check_tool(tool)
     flange = _flange_poses(pose, "pose", tool)
     batch = np.ndim(pose) == 3
-    sols = _solve(flange, _hint(q6_hint, len(flange)), batch, strict)
+    sols = _solve(flange, _hint(q6_hint, len(flange)), batch, strict, arm)
     return sols if batch else sols[0]
 
 
-def _solve(flange: np.ndarray, hint: np.ndarray, batch: bool, strict: bool) -> np.ndarray:
+def _solve(flange: np.ndarray, hint: np.ndarray, batch: bool, strict: bool, arm: Arm) -> np.ndarray:
     """:func:`_ik` raising :class:`UnreachableError` (if ``strict``) for argument ``pose``."""
-    sols, r, spans = _ik(flange, hint)
+    sols, r, spans = _ik(flange, hint, arm)
     if strict:
         none = np.isnan(sols).all(axis=(1, 2))
         if none.any():
             i = int(np.argmax(none))
             where = f"pose[{i}]" if batch else "pose"
             raise UnreachableError(
-                f"{where}: {_unreachable_reason(flange[i], r[i], spans[i])}",
+                f"{where}: {_unreachable_reason(flange[i], r[i], spans[i], arm)}",
                 i if batch else None,
             )
     return sols
@@ -671,7 +686,7 @@ def _nearest(
 
 
 def nearest_solution(
-    pose: Any, q_ref: Any, *, limits: Any = JOINT_LIMITS, tool: Any = None
+    pose: Any, q_ref: Any, *, limits: Any = None, tool: Any = None, arm: Arm = UR5
 ) -> np.ndarray:
     """The inverse kinematics solution closest to a reference configuration.
 
@@ -686,10 +701,12 @@ def nearest_solution(
         Target pose(s) in the base frame, metres.
     q_ref : array_like, shape (6,) or (n, 6)
         Reference configuration(s), radians (e.g. the current robot configuration).
-    limits : array_like, shape (6, 2)
-        ``(lower, upper)`` per joint, radians.
+    limits : array_like, shape (6, 2), optional
+        ``(lower, upper)`` per joint, radians; by default ``arm.joint_limits``.
     tool : array_like, shape (4, 4), optional
         Flange→tool transform; ``pose`` is then the tool pose.
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -703,18 +720,19 @@ def nearest_solution(
     JointLimitError
         If solutions exist but none lies within ``limits``.
     """
+    arm = _check_arm(arm, analytic=True)
     tool = _check_tool(tool)
-    limits = _check_limits(limits)
+    limits = _check_limits(limits, arm)
     flange = _flange_poses(pose, "pose", tool)
     batch = np.ndim(pose) == 3
-    q_ref = _check_q(q_ref, "q_ref")
+    q_ref = _check_q(q_ref, arm, "q_ref")
     if (q_ref.ndim == 2) != batch or (batch and len(q_ref) != len(flange)):
         raise ValueError(
             f"q_ref: expected shape {(len(flange), 6) if batch else (6,)} to match pose, "
             f"got {q_ref.shape}"
         )
     q_ref2 = q_ref.reshape(-1, 6)
-    sols = _solve(flange, _wrap(q_ref2[:, 5]), batch, strict=True)
+    sols = _solve(flange, _wrap(q_ref2[:, 5]), batch, True, arm)
     best, _ = _nearest(sols, q_ref2, limits)
     bad = np.isnan(best).any(axis=-1)
     if bad.any():
@@ -750,8 +768,9 @@ def inverse_path(
     *,
     max_step: float = 0.5,
     tol: float = SINGULARITY_TOL,
-    limits: Any = JOINT_LIMITS,
+    limits: Any = None,
     tool: Any = None,
+    arm: Arm = UR5,
 ) -> np.ndarray:
     """Joint path following a pose path on one continuous branch.
 
@@ -768,14 +787,16 @@ def inverse_path(
         Configuration at (or near) the first pose, radians.
     max_step : float
         Largest accepted change of any joint between consecutive poses, radians. Set it
-        from the sampling, e.g. ``MAX_JOINT_SPEED * dt``; a larger jump means a branch
+        from the sampling, e.g. ``arm.max_joint_speed.max() * dt``; a larger jump means a branch
         flip or a pass close to a singularity.
     tol : float
         Singularity tolerance, as in :func:`singularity`.
-    limits : array_like, shape (6, 2)
-        ``(lower, upper)`` per joint, radians.
+    limits : array_like, shape (6, 2), optional
+        ``(lower, upper)`` per joint, radians; by default ``arm.joint_limits``.
     tool : array_like, shape (4, 4), optional
         Flange→tool transform; ``poses`` are then tool poses.
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -793,12 +814,13 @@ def inverse_path(
         Naming the index of the first configuration within ``tol`` of a singularity or
         the first step in which a joint moves more than ``max_step``.
     """
+    arm = _check_arm(arm, analytic=True)
     tool = _check_tool(tool)
-    limits = _check_limits(limits)
+    limits = _check_limits(limits, arm)
     poses_arr = _check_transform(poses, "poses")
     if poses_arr.ndim != 3 or len(poses_arr) == 0:
         raise ValueError(f"poses: expected shape (n, 4, 4) with n >= 1, got {poses_arr.shape}")
-    q_prev = _check_q(q_start, "q_start")
+    q_prev = _check_q(q_start, arm, "q_start")
     if q_prev.ndim != 1:
         raise ValueError(f"q_start: expected shape (6,), got {q_prev.shape}")
     if not (np.isfinite(max_step) and max_step > 0):
@@ -807,20 +829,20 @@ def inverse_path(
         raise ValueError(f"tol: must be finite and >= 0, got {tol!r}")
 
     flange = poses_arr if tool is None else poses_arr @ _rigid_inv(tool)
-    sols, r, spans = _ik(flange, np.zeros(len(flange)))
+    sols, r, spans = _ik(flange, np.zeros(len(flange)), arm)
     out = np.empty((len(flange), 6))
     names = ("wrist", "shoulder", "elbow")
     for i in range(len(flange)):
         q, exists = _nearest(sols[i], q_prev, limits)
         if not exists:
             raise UnreachableError(
-                f"poses[{i}]: {_unreachable_reason(flange[i], r[i], spans[i])}", i
+                f"poses[{i}]: {_unreachable_reason(flange[i], r[i], spans[i], arm)}", i
             )
         if np.isnan(q).any():
             raise JointLimitError(
                 f"poses[{i}]: no inverse kinematics solution lies within limits", i
             )
-        measures = _measures(q)
+        measures = _measures(q, arm)
         kinds = tuple(nm for nm, m in zip(names, measures, strict=True) if m < tol)
         if kinds:
             detail = ", ".join(

@@ -41,17 +41,20 @@ and the offending value:
   rotations by π, so :func:`lfdkit.robot.poses.unwrap_rotvecs` keeps them at
   norm π (it only picks between ``±π a``); a sequence it unwraps past π is
   refused.
+* *Arm.* The program is for one arm, ``arm=`` (an
+  :class:`lfdkit.robot.arm.Arm` of UR type, :attr:`~lfdkit.robot.arm.Arm.ur_type`;
+  default the UR5 of the thesis): its reach, joint limits and forward
+  kinematics are what the checks below use; messages name it.
 * *Positions.* Every tool position lies in the :class:`Workspace` box
   (default: on or above the table plane ``z = 0``, where the UR5 of the
   sweeping set-up stands) and, unless the workspace says otherwise, has an
-  inverse kinematics solution (:func:`lfdkit.robot.ur5.inverse`). Only the
-  poses are checked, not the straight lines ``movel`` draws between them.
-  ``servoj`` samples are checked through their forward kinematics.
-* *Joint streams* (``servoj``): joint angles within
-  :data:`lfdkit.robot.ur5.JOINT_LIMITS`; the speed between consecutive
-  samples at most :data:`~lfdkit.robot.ur5.MAX_JOINT_SPEED`; and the
-  acceleration implied at every tick at most
-  :data:`~lfdkit.robot.ur5.MAX_JOINT_ACCELERATION`. The stream starts from
+  inverse kinematics solution for the arm (:func:`lfdkit.robot.ur5.inverse`).
+  Only the poses are checked, not the straight lines ``movel`` draws between
+  them. ``servoj`` samples are checked through their forward kinematics.
+* *Joint streams* (``servoj``): joint angles within the arm's
+  ``joint_limits``; the speed between consecutive samples at most its
+  ``max_joint_speed``; and the acceleration implied at every tick at most its
+  ``max_joint_acceleration`` (per joint). The stream starts from
   rest (the ``movej`` before it stops at the first sample) and the robot
   stops after the last sample, so the first step and the stop count too: a
   0.025 rad step from rest in one 8 ms tick (3.1 rad/s, under the speed
@@ -85,6 +88,7 @@ import numpy as np
 from lfdkit import __version__
 from lfdkit.demos import PathLike, atomic_write
 from lfdkit.robot import ur5
+from lfdkit.robot.arm import UR5, Arm
 from lfdkit.robot.poses import pose_matrix
 
 __all__ = [
@@ -140,7 +144,6 @@ _MAX_EXTENT = 1000.0  # |box corner| cap (m): keeps even an unbounded workspace 
 _REL_TOL = 1e-9  # relative slack on the joint speed and acceleration limits
 _REL_DT_TOL = 1e-6  # relative tolerance on the spacing of servoj times
 _POSE_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
-_JOINT_COLUMNS = tuple(f"joint {j}" for j in range(6))
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 # URScript keywords, built-in literals and the functions the program calls (a program
@@ -316,13 +319,14 @@ class Workspace:
         tool position must satisfy ``lower <= position <= upper``. Finite and
         within ±1000 m. The default is the half-space on or above the table
         plane (:data:`TABLE_Z`), cut at 1.2 m, beyond the UR5's reach, so that
-        the table and the reach check are what bind. Raise ``lower[2]`` to keep
+        the table and the reach check are what bind (the UR10 reaches 1.3 m:
+        widen the box for it). Raise ``lower[2]`` to keep
         a mounted tool off the table: the tool frame of the sweeping set-up is
         the flange, 0.192 m above the table while sweeping, with the brush
         reaching down to 2 mm above it.
     check_reach : bool
-        Also require every pose to have an inverse kinematics solution
-        (:func:`lfdkit.robot.ur5.inverse`, with ``tool``).
+        Also require every pose to have an inverse kinematics solution for
+        the program's arm (:func:`lfdkit.robot.ur5.inverse`, with ``tool``).
     tool : array_like, shape (4, 4), optional
         Flange→tool transform of the controller's tool centre point, so that
         poses are tool poses; ``None``: the tool frame is the flange (as in
@@ -407,24 +411,38 @@ class Workspace:
                 i,
             )
 
-    def _check_reach(self, poses: np.ndarray, name: str) -> None:
+    def _check_reach(self, poses: np.ndarray, name: str, arm: Arm) -> None:
         if not self.check_reach:
             return
         frames = pose_matrix(poses)
-        sols = ur5.inverse(frames, tool=self.tool_matrix, strict=False)
+        sols = ur5.inverse(frames, tool=self.tool_matrix, strict=False, arm=arm)
         unreachable = np.isnan(sols).all(axis=(1, 2))
         if unreachable.any():
             i = int(np.argmax(unreachable))
             try:
-                ur5.inverse(frames[i], tool=self.tool_matrix)
+                ur5.inverse(frames[i], tool=self.tool_matrix, arm=arm)
                 reason = "unreachable"  # pragma: no cover - the batch said so
             except ur5.UnreachableError as exc:
                 reason = str(exc).removeprefix("pose: ")
-            raise URScriptError(f"{name}[{i}]: {reason} for the UR5", name, i)
+            raise URScriptError(f"{name}[{i}]: {reason} for the {arm.name}", name, i)
 
 
-#: The default :class:`Workspace`: on or above the table, within the UR5's reach.
+#: The default :class:`Workspace`: on or above the table, within the arm's reach.
 DEFAULT_WORKSPACE = Workspace()
+
+
+def _check_arm(arm: Any) -> Arm:
+    if not isinstance(arm, Arm):
+        raise URScriptTypeError(
+            f"arm: expected an Arm (e.g. lfdkit.robot.arm.UR5), got {_show(arm)}", "arm"
+        )
+    if not arm.ur_type:
+        raise URScriptError(
+            f"arm: URScript drives UR arms; {arm.name} does not have the UR joint structure "
+            "(Arm.ur_type)",
+            "arm",
+        )
+    return arm
 
 
 def _check_workspace(workspace: Any) -> Workspace:
@@ -510,7 +528,7 @@ def _check_header(header: Any) -> list[str]:
     return [f"# {line}".rstrip() for line in lines]
 
 
-def _check_poses(poses: Any, workspace: Workspace) -> np.ndarray:
+def _check_poses(poses: Any, workspace: Workspace, arm: Arm) -> np.ndarray:
     p = _real_rows(poses, "poses", _POSE_COLUMNS, 1)
     norm = np.hypot(np.hypot(p[:, 3], p[:, 4]), p[:, 5])  # no overflow for 1e300
     if (norm > MAX_ROTATION).any():
@@ -523,15 +541,18 @@ def _check_poses(poses: Any, workspace: Workspace) -> np.ndarray:
             i,
         )
     workspace._check_box(p[:, :3], "poses", "position")
-    workspace._check_reach(p, "poses")
+    workspace._check_reach(p, "poses", arm)
     return p
 
 
-def _check_servo(joint_path: Any, times: Any, workspace: Workspace) -> tuple[np.ndarray, float]:
+def _check_servo(
+    joint_path: Any, times: Any, workspace: Workspace, arm: Arm
+) -> tuple[np.ndarray, float]:
     if joint_path is None or times is None:
         missing = "joint_path" if joint_path is None else "times"
         raise URScriptError("joint_path, times: both are required with motion='servoj'", missing)
-    q = _real_rows(joint_path, "joint_path", _JOINT_COLUMNS, 2)
+    columns = tuple(f"joint {j}" for j in range(arm.n_joints))
+    q = _real_rows(joint_path, "joint_path", columns, 2)
     t = _real_vector(times, "times")
     if t.shape != (len(q),):
         raise URScriptError(
@@ -554,33 +575,34 @@ def _check_servo(joint_path: Any, times: Any, workspace: Workspace) -> tuple[np.
             f"(one controller period is {MIN_SERVO_DT:g} s; a stream ticks every 2 to 8 ms)",
             "times",
         )
-    lower, upper = ur5.JOINT_LIMITS[:, 0], ur5.JOINT_LIMITS[:, 1]
+    lower, upper = arm.joint_limits[:, 0], arm.joint_limits[:, 1]
     bad = (q < lower) | (q > upper)
     if bad.any():
         i, j = (int(k) for k in np.argwhere(bad)[0])
         raise URScriptError(
-            f"joint_path[{i}] joint {j}: {q[i, j]:.6g} rad is outside the UR5 joint limits "
-            f"[{lower[j]:.6g}, {upper[j]:.6g}] rad",
+            f"joint_path[{i}] joint {j}: {q[i, j]:.6g} rad is outside the {arm.name} joint "
+            f"limits [{lower[j]:.6g}, {upper[j]:.6g}] rad",
             "joint_path",
             i,
         )
     # Velocity over each tick; the stream starts and ends at rest.
     velocity = np.diff(q, axis=0) / dt
-    fast = np.abs(velocity) > ur5.MAX_JOINT_SPEED * (1.0 + _REL_TOL)
+    speed_limit = arm.max_joint_speed
+    fast = np.abs(velocity) > speed_limit * (1.0 + _REL_TOL)
     if fast.any():
         k, j = (int(v) for v in np.argwhere(fast)[0])
         raise URScriptError(
             f"joint_path[{k + 1}] joint {j}: moves at {velocity[k, j]:.6g} rad/s from sample "
-            f"{k}, above the UR5 limit of {ur5.MAX_JOINT_SPEED:g} rad/s",
+            f"{k}, above the {arm.name} limit of {speed_limit[j]:g} rad/s",
             "joint_path",
             k + 1,
         )
-    rest = np.zeros((1, 6))
+    rest = np.zeros((1, arm.n_joints))
     acceleration = np.diff(np.vstack((rest, velocity, rest)), axis=0) / dt
-    hard = np.abs(acceleration) > ur5.MAX_JOINT_ACCELERATION * (1.0 + _REL_TOL)
+    hard = np.abs(acceleration) > arm.max_joint_acceleration * (1.0 + _REL_TOL)
     if hard.any():
         k, j = (int(v) for v in np.argwhere(hard)[0])
-        a, limit = acceleration[k, j], ur5.MAX_JOINT_ACCELERATION
+        a, limit = acceleration[k, j], arm.max_joint_acceleration[j]
         if k == 0:
             i = 1
             what = f"a step of {q[1, j] - q[0, j]:.6g} rad in {dt:g} s from rest at sample 0"
@@ -591,12 +613,12 @@ def _check_servo(joint_path: Any, times: Any, workspace: Workspace) -> tuple[np.
             i = k
             what = f"a speed change from {velocity[k - 1, j]:.6g} to {velocity[k, j]:.6g} rad/s"
         raise URScriptError(
-            f"joint_path[{i}] joint {j}: {what} needs {a:.8g} rad/s^2, above the UR5 limit "
-            f"of {limit:g} rad/s^2",
+            f"joint_path[{i}] joint {j}: {what} needs {a:.8g} rad/s^2, above the {arm.name} "
+            f"limit of {limit:g} rad/s^2",
             "joint_path",
             i,
         )
-    tool = ur5.forward(q, tool=workspace.tool_matrix)[:, :3, 3]
+    tool = ur5.forward(q, tool=workspace.tool_matrix, arm=arm)[:, :3, 3]
     workspace._check_box(tool, "joint_path", "tool position")
     return q, dt
 
@@ -614,6 +636,7 @@ def urscript_program(
     joint_path: Any = None,
     header: str | None = None,
     workspace: Workspace = DEFAULT_WORKSPACE,
+    arm: Arm = UR5,
 ) -> str:
     """A URScript program that plays a motion on a UR controller.
 
@@ -647,8 +670,11 @@ def urscript_program(
         Extra printable ASCII text for the header comment (one comment line per line).
     workspace : Workspace
         Where the tool may go (:class:`Workspace`); by default on or above the
-        table plane and within the UR5's reach. ``Workspace.unbounded()``
+        table plane and within the arm's reach. ``Workspace.unbounded()``
         switches the box and reach checks off.
+    arm : Arm
+        The UR arm that runs the program (default: the UR5); its reach, joint
+        limits and kinematics are checked against.
 
     Returns
     -------
@@ -672,6 +698,7 @@ def urscript_program(
     name = _check_name(name)
     extra = _check_header(header)
     workspace = _check_workspace(workspace)
+    arm = _check_arm(arm)
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
     lines = [f"# URScript program written by lfdkit {__version__} on {stamp}"]
 
@@ -681,7 +708,7 @@ def urscript_program(
             raise URScriptError("times, joint_path: only used with motion='servoj'", extra_arg)
         if poses is None:
             raise URScriptError("poses: required with motion='movel'", "poses")
-        p = _check_poses(poses, workspace)
+        p = _check_poses(poses, workspace, arm)
         v = _scalar(speed, "speed", MAX_TOOL_SPEED, "m/s")
         a = _scalar(acceleration, "acceleration", MAX_TOOL_ACCELERATION, "m/s^2")
         r = _scalar(blend_radius, "blend_radius", MAX_BLEND_RADIUS, "m", allow_lower=True)
@@ -712,7 +739,7 @@ def urscript_program(
             raise URScriptError(
                 "poses: not used with motion='servoj'; pass joint_path and times", "poses"
             )
-        q, dt = _check_servo(joint_path, times, workspace)
+        q, dt = _check_servo(joint_path, times, workspace, arm)
         lines += [
             f"# {len(q)} samples, servoj every {format_number(dt)} s "
             f"({format_number(dt * (len(q) - 1))} s): joint angles in radians",
