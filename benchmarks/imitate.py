@@ -151,12 +151,9 @@ Data groups:
   white jitter of 0.2 % (the low-passed noise is filtered with a margin and
   cropped, so the ends are no noisier than the rest). Its start and end
   therefore differ by the noise: nearly closed. Generalized path
-  ``MeanPath(n_points=200, ends="normal")``: its ends stay at the
-  demonstrations' average start and end, whatever the consensus rule makes of
-  a closed stroke (when this section was written, the default
-  ``ends="consensus"`` refused the circle and the figure-eight, whose
-  demonstrations' last points project onto the path's start, and cut the
-  "a" short; a later Mean-Path handles them).
+  ``MeanPath(n_points=200)`` with its default consensus ends, which place
+  each start on the path's first quarter and each end on its last, so a
+  closed stroke is neither refused nor cut.
 
 Methods: ``path``, the generalized path itself; ``warp``,
 ``lfdkit.imitate.warp_path(path, start, goal)`` (each point moved by the
@@ -828,9 +825,7 @@ def held_out_data(quick: bool, seed: int) -> list[dict]:
                 "units": units,
                 "demos": demos,
                 "durations": [1.0] * len(demos),
-                # The ends stay at the demonstrations' average ends, whatever the
-                # consensus rule makes of a closed stroke (module notes).
-                "mean_path": {"n_points": 200, "ends": "normal"},
+                "mean_path": {"n_points": 200},
             }
         )
     return groups
