@@ -91,7 +91,7 @@ per-round ratios.
 (c) A straightforward SciPy implementation (:func:`scipy_ioc`): each inner plan
     by ``scipy.optimize.minimize(method="L-BFGS-B")`` over the actions with
     their bounds, cost and gradient from the planner's own
-    ``_build(...).derivatives``, started from the demonstration (MPC: each
+    ``Problem.from_scene(...).derivatives``, started from the demonstration (MPC: each
     window from the previous one shifted, the first from the demonstration);
     the outer loop ``minimize(L-BFGS-B)`` on the same scaled loss with
     SciPy's finite-difference gradient (step 1e-4 in log-parameters), a time
@@ -101,7 +101,7 @@ per-round ratios.
     lfdkit via ``IOC(init=...)``; the SciPy stage 2 starts from its stage 1.
 (d) MPC H=12 in a sweeping scene (one cup) and the cluttered held-out scene:
     the whole ``plan_path(..., horizon=12)`` call divided by its 99 MPC steps
-    (median over calls), and each window's ``planner._best_window`` timed
+    (median over calls), and each window's ``planner.best_window`` timed
     directly (median, 90th percentile and max over all windows of several
     plans; the replayed loop is checked to reproduce the plan). Target
     < 1 ms median (the per-window median in the one-cup scene).
@@ -137,7 +137,8 @@ from threadpoolctl import threadpool_limits
 
 from lfdkit.datasets.emulation import load_emulation_dataset
 from lfdkit.emulate import IOC, Corridor, Reward, Scene, plan_path
-from lfdkit.emulate import planner as lfd_planner
+from lfdkit.emulate.planner import best_window
+from lfdkit.emulate.problem import Problem
 from lfdkit.geometry import arc_length, left_normals, project_onto_polyline
 from lfdkit.metrics import clearance, collisions, improvement, mse_paths, parameter_errors
 from lfdkit.mimic import MeanPath
@@ -794,7 +795,7 @@ def scipy_ioc(demos, scenes, nominal, classes, theta0, horizon, limit_s: float) 
         reward = Reward.from_theta(theta, classes, q)
         total = 0.0
         for (d0, offsets, found), scene in zip(items, scenes, strict=True):
-            problem = lfd_planner._build(reward, corridor, scene)
+            problem = Problem.from_scene(reward, corridor, scene)
             guide = np.where(found[1:, None], offsets[1:], 0.0)
             if horizon is None:
                 d = scipy_plan(problem, d0, guide)
@@ -913,9 +914,9 @@ def speed(fit_repeats: int, repeats: int, quick: bool, limit_s: float, vinci) ->
     corridor = Corridor.from_path(nominal, 100)
     agreement = []
     for (d0, offsets, found), scene in zip(_targets_of(corridor, demos), scenes, strict=True):
-        problem = lfd_planner._build(true, corridor, scene)
+        problem = Problem.from_scene(true, corridor, scene)
         guide = np.where(found[1:, None], offsets[1:], 0.0)
-        ours, cost, _, _ = lfd_planner._solve(problem, d0, guide.copy())
+        ours, cost, _, _ = problem.solve(d0, guide.copy())
         theirs = scipy_plan(problem, d0, guide)
         agreement.append(
             {
@@ -986,7 +987,7 @@ def time_planning(reward: Reward, nominal: np.ndarray, scene: Scene, repeats: in
     steps = mpc.offsets.shape[0] - 1
     # Each window of the same MPC loop, timed on its own.
     corridor = Corridor.from_path(nominal, mpc.offsets.shape[0])
-    problem = lfd_planner._build(reward, corridor, scene)
+    problem = Problem.from_scene(reward, corridor, scene)
     n, m = problem.n, problem.m
     windows, replay_error = [], 0.0
     for _ in range(max(1, min(repeats, 5))):
@@ -1000,7 +1001,7 @@ def time_planning(reward: Reward, nominal: np.ndarray, scene: Scene, repeats: in
             if guess.shape[0] < stop - k:
                 guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], 0)])
             start = time.perf_counter()
-            d = lfd_planner._best_window(window, offsets[k], guess)[0]
+            d = best_window(window, offsets[k], guess)[0]
             windows.append(time.perf_counter() - start)
             offsets[k + 1] = d[0]
             guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
@@ -1092,7 +1093,7 @@ def print_speed(s: dict) -> None:
         )
     print(
         "  MPC step = whole plan_path(horizon=12) call / its 99 steps (median over calls); window ="
-        " planner._best_window alone, over every window (replay reproduces the plan to "
+        " planner.best_window alone, over every window (replay reproduces the plan to "
         f"{max(p.get('window_replay_max_difference', 0) for p in s['planning'].values()):.0e})"
     )
 
