@@ -6,7 +6,7 @@ the backward cost-to-go (:func:`grid_backward`, :func:`grid_cost_to_go`),
 following it from a start (:func:`grid_walk`) and the whole search
 (:func:`lateral_dp`). Argument names as the attributes of
 :class:`lfdkit.emulate.problem.Problem`; the cost is the one of
-:mod:`._problem_kernels`, whose clearance barrier it shares.
+:mod:`._problem_kernels`, whose cost of one point it shares.
 
 Imported lazily: compiling costs a few seconds once, after which the machine
 code is cached on disk next to this file.
@@ -15,7 +15,7 @@ code is cached on disk next to this file.
 import numba
 import numpy as np
 
-from lfdkit.emulate._problem_kernels import barrier
+from lfdkit.emulate._problem_kernels import point_cost
 
 
 @numba.njit(cache=True)
@@ -59,58 +59,44 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
             if closest < outer2[h]:
                 hards[n_hards] = h
                 n_hards += 1
+        near, hit = bumps[:n_bumps], hards[:n_hards]
         for s in range(out.shape[1]):
             point[0] = levels[s // g_count if m == 2 else s]
             if m == 2:
                 point[1] = levels[s % g_count]
-            total = 0.0
-            for i in range(m):
-                total += weight[k] * point[i] * point[i]
-            for j in range(n_bumps):
-                o = bumps[j]
-                e = c[k, o]
-                for i in range(m):
-                    npu = b[k, o, i]
-                    for jj in range(m):
-                        npu += a[k, o, i, jj] * point[jj]
-                    e += (b[k, o, i] + npu) * point[i]
-                total += np.exp(-e)
-            for j in range(n_hards):
-                h = hards[j]
-                u = rr[k, h]
-                for i in range(m):
-                    u += (2.0 * nr[k, h, i] + point[i]) * point[i]
-                total += barrier(u, inner2[h], outer2[h], mu)[0]
-            out[k, s] = total
+            out[k, s] = point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, point, near, hit)
+
+
+@numba.njit(cache=True, inline="always")
+def _window_min(values, start, stride, g_count, window, out, out_start):
+    """Sliding minimum along one grid axis.
+
+    ``out[out_start + s·stride]`` = the smallest of ``values[start + t·stride]``
+    over ``|t − s| ≤ window``, ``0 ≤ s, t < g_count``.
+    """
+    for s in range(g_count):
+        best = np.inf
+        for t in range(max(0, s - window), min(g_count, s + window + 1)):
+            v = values[start + t * stride]
+            if v < best:
+                best = v
+        out[out_start + s * stride] = best
 
 
 @numba.njit(cache=True)
 def _box_min(values, g_count, m, window, inner, out):
-    """``out[s]`` = the smallest of ``values`` over the states within ``window`` cells of ``s``."""
+    """``out[s]`` = the smallest of ``values`` over the states within ``window`` cells of ``s``.
+
+    In 3-D (``m`` 2, state ``i·G + j``) the box is separable: a sliding
+    minimum along ``j`` into ``inner``, then along ``i``.
+    """
     if m == 1:
-        for s in range(g_count):
-            best = np.inf
-            for t in range(max(0, s - window), min(g_count, s + window + 1)):
-                if values[t] < best:
-                    best = values[t]
-            out[s] = best
+        _window_min(values, 0, 1, g_count, window, out, 0)
         return
     for i in range(g_count):
-        for j in range(g_count):
-            best = np.inf
-            for t in range(max(0, j - window), min(g_count, j + window + 1)):
-                v = values[i * g_count + t]
-                if v < best:
-                    best = v
-            inner[i * g_count + j] = best
-    for i in range(g_count):
-        for j in range(g_count):
-            best = np.inf
-            for t in range(max(0, i - window), min(g_count, i + window + 1)):
-                v = inner[t * g_count + j]
-                if v < best:
-                    best = v
-            out[i * g_count + j] = best
+        _window_min(values, i * g_count, 1, g_count, window, inner, i * g_count)
+    for j in range(g_count):
+        _window_min(inner, j, g_count, g_count, window, out, j)
 
 
 @numba.njit(cache=True)

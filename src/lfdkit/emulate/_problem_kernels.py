@@ -46,14 +46,18 @@ def barrier(u, inner2, outer2, mu):
     return value, first, second
 
 
-@numba.njit(cache=True)
-def _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g):
-    """Cost of offset ``g`` (m,) at point ``k`` alone."""
+@numba.njit(cache=True, inline="always")
+def point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g, bumps, hards):
+    """Cost of offset ``g`` (m,) at point ``k`` alone.
+
+    Over the obstacles ``bumps`` and the hard radii ``hards`` (indices; the
+    others are left out: the grid search drops those negligible at a point).
+    """
     m = g.shape[0]
     total = 0.0
     for i in range(m):
         total += weight[k] * g[i] * g[i]
-    for o in range(c.shape[1]):
+    for o in bumps:
         s = c[k, o]
         for i in range(m):
             npu = b[k, o, i]
@@ -61,7 +65,7 @@ def _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g):
                 npu += a[k, o, i, j] * g[j]
             s += (b[k, o, i] + npu) * g[i]
         total += np.exp(-s)
-    for h in range(rr.shape[1]):
+    for h in hards:
         u = rr[k, h]
         for i in range(m):
             u += (2.0 * nr[k, h, i] + g[i]) * g[i]
@@ -72,9 +76,10 @@ def _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g):
 @numba.njit(cache=True)
 def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
+    bumps, hards = np.arange(c.shape[1]), np.arange(rr.shape[1])
     total = 0.0
     for k in range(d.shape[0]):
-        total += _point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, d[k])
+        total += point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, d[k], bumps, hards)
     return total
 
 

@@ -721,19 +721,25 @@ def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndar
     """
     path = check_path(points, "points", min_points=1)
     clearance = check_positive(clearance, "clearance", allow_zero=True)
+    if len(scene) and scene.positions.shape[1] != path.shape[1]:
+        raise ValueError(
+            f"scene: {scene.positions.shape[1]}-D obstacles for a {path.shape[1]}-D path"
+        )
+    return _clearance(path, scene, clearance)
+
+
+def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
+    """:func:`plan_clearance` of a path and clearance already checked."""
     if not len(scene):
         return np.zeros(0)
-    centres = scene.positions
-    if centres.shape[1] != path.shape[1]:
-        raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
-    return polyline_distances(centres, path) - scene.radii - clearance
+    return polyline_distances(scene.positions, path) - scene.radii - clearance
 
 
 def _verified(
     plan: Plan, corridor: Corridor, scene: Scene, clearance: float, reach_goal: bool
 ) -> Plan:
     """Check the finished plan against every obstacle and the goal; raise if it fails."""
-    plan.clearance = plan_clearance(plan.points, scene, clearance)
+    plan.clearance = _clearance(plan.points, scene, clearance)  # checked by plan_path
     plan.goal_error = float(np.linalg.norm(plan.points[-1] - corridor.points[-1]))
     tolerance = 1e-9 * max(corridor.extent, corridor.length)
     hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.radii + clearance > 0))

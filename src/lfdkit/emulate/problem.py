@@ -62,15 +62,56 @@ __all__ = [
     "goal_weights",
 ]
 
+#: Most points a plan may have (memory and time grow linearly).
+MAX_POINTS = 100_000
 #: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
 GOAL_GAIN = 1e4
 #: Default goal approach, as a fraction of the nominal path's length.
 GOAL_APPROACH_FRACTION = 0.1
-#: Most points a plan may have (memory and time grow linearly).
-MAX_POINTS = 100_000
 
-#: Scale of the clearance barrier (an obstacle's reward term is at most 1).
-BARRIER_WEIGHT = 1.0
+
+def goal_weights(
+    corridor: Corridor, weight: float, goal_approach: float | str | None
+) -> np.ndarray:
+    """Nominal weight of offsets 1 … K−1: ``Q``, ramped up over the last ``goal_approach``.
+
+    Over the final stretch of length ``goal_approach`` (``"auto"``:
+    :data:`GOAL_APPROACH_FRACTION` of the nominal's length) the weight rises as
+    ``Q (1 + GOAL_GAIN · r²(3 − 2r))`` with ``r`` from 0 to 1 (a smooth step),
+    which draws the plan back onto the nominal so it ends at the goal. None
+    keeps ``Q`` everywhere (the thesis's model).
+
+    Parameters
+    ----------
+    corridor : Corridor
+    weight : float
+        The reward's nominal weight ``Q`` (1/units²).
+    goal_approach : float, "auto" or None
+        Length of the approach (units, positive), "auto" or None.
+
+    Returns
+    -------
+    ndarray, shape (K − 1,)
+
+    Raises
+    ------
+    ValueError
+        For a goal approach that is not positive, "auto" or None.
+    """
+    n = corridor.n_points - 1
+    if goal_approach is None:
+        return np.full(n, float(weight))
+    if isinstance(goal_approach, str):
+        if goal_approach != "auto":
+            raise ValueError(
+                f"goal_approach: expected a length, 'auto' or None, got {goal_approach!r}"
+            )
+        approach = GOAL_APPROACH_FRACTION * corridor.length
+    else:
+        approach = check_positive(goal_approach, "goal_approach")
+    position = np.arange(1, n + 1) * corridor.step
+    r = np.clip((position - (n * corridor.step - approach)) / approach, 0.0, 1.0)
+    return weight * (1.0 + GOAL_GAIN * r * r * (3.0 - 2.0 * r))
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +187,10 @@ class Corridor:
         found = hits.found[:, 0]
         rel = np.where(found[:, None], hits.points[:, 0] - self.points, 0.0)
         return np.einsum("kmq,kq->km", self.normals, rel), found
+
+
+#: Scale of the clearance barrier (an obstacle's reward term is at most 1).
+BARRIER_WEIGHT = 1.0
 
 
 class Problem:
@@ -408,33 +453,6 @@ class Problem:
             max_iter,
         )
         return d, float(cost), int(n_iter), bool(ok)
-
-
-def goal_weights(
-    corridor: Corridor, weight: float, goal_approach: float | str | None
-) -> np.ndarray:
-    """Nominal weight of offsets 1 … K−1: ``Q``, ramped up over the last ``goal_approach``.
-
-    Over the final stretch of length ``goal_approach`` (``"auto"``:
-    :data:`GOAL_APPROACH_FRACTION` of the nominal's length) the weight rises as
-    ``Q (1 + GOAL_GAIN · r²(3 − 2r))`` with ``r`` from 0 to 1 (a smooth step),
-    which draws the plan back onto the nominal so it ends at the goal. None
-    keeps ``Q`` everywhere (the thesis's model).
-    """
-    n = corridor.n_points - 1
-    if goal_approach is None:
-        return np.full(n, float(weight))
-    if isinstance(goal_approach, str):
-        if goal_approach != "auto":
-            raise ValueError(
-                f"goal_approach: expected a length, 'auto' or None, got {goal_approach!r}"
-            )
-        approach = GOAL_APPROACH_FRACTION * corridor.length
-    else:
-        approach = check_positive(goal_approach, "goal_approach")
-    position = np.arange(1, n + 1) * corridor.step
-    r = np.clip((position - (n * corridor.step - approach)) / approach, 0.0, 1.0)
-    return weight * (1.0 + GOAL_GAIN * r * r * (3.0 - 2.0 * r))
 
 
 def _step_of(base: np.ndarray) -> float:
