@@ -34,7 +34,7 @@ path's extent. Target: the plans ≤ 1e-6 (the parameters are reported).
 100 points, two classes, true nominal): ``IOC()`` and the staged
 ``IOC(horizon=8)``, medians of ``--repeats`` calls after one warm-up call
 (numba compiles on first use; target: staged ≤ 2 s). The straightforward SciPy
-IOC of ``benchmarks/emulate.py`` (:func:`emulate.scipy_ioc`, full horizon then
+IOC of ``benchmarks/emulate/`` (:func:`emulate.scipy_ioc`, full horizon then
 MPC H=8, SciPy's own inner plans and finite-difference outer gradients) from
 lfdkit's former default start, with a time limit per stage, against
 ``IOC(init=<same start>, horizon=8)`` in the same run (target: ≥ 10×; when
@@ -226,7 +226,7 @@ def speed(repeats: int, scipy_limit: float) -> dict:
     ]
     out["staged_target_pass"] = out["staged_s"] <= 2.0
 
-    import emulate  # benchmarks/emulate.py: the straightforward SciPy IOC
+    import emulate  # benchmarks/emulate/: the straightforward SciPy IOC
 
     start = emulate.default_start(nominal, es.true_reward.classes, 2)
     progress(f"   SciPy IOC, full horizon then MPC H={HORIZON} (limit {scipy_limit:g} s a stage)")

@@ -102,7 +102,7 @@ joint position control):
 * ``DMP + coupling``: movement_primitives' ``DMP`` (30 weights) imitating the
   generalized path, with ``CouplingTermObstacleAvoidance2D`` (Hoffmann et al.
   2009) per obstacle, γ and β grid-searched on the training demonstrations
-  (lowest MSE to the demonstrations, as in ``benchmarks/emulate.py``);
+  (lowest MSE to the demonstrations, as in ``benchmarks/emulate/``);
 * ``true reward``: the demonstrator's reward with the goal approach (a reference).
 
 A run succeeds when the cube ends on the dustpan's floor, no cup or marker is

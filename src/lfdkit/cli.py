@@ -450,13 +450,16 @@ def _bench(args: argparse.Namespace) -> None:
             "the benchmarks live in the source checkout (benchmarks/); run lfdkit bench from "
             "an editable install of the repository (pip install -e '.[bench]')"
         )
-    available = sorted(p.stem for p in folder.glob("*.py") if not p.stem.startswith("_"))
+    # A benchmark is a script NAME.py or a package NAME/ with a __main__.py.
+    scripts = {p.stem: p for p in folder.glob("*.py")}
+    scripts.update({p.parent.name: p.parent for p in folder.glob("*/__main__.py")})
+    available = sorted(name for name in scripts if not name.startswith("_"))
     names = args.names or available
     unknown = [n for n in names if n not in available]
     if unknown:
         raise CommandError(f"unknown benchmark {unknown[0]!r}; choose from {', '.join(available)}")
     for name in names:
-        command = [sys.executable, str(folder / f"{name}.py")]
+        command = [sys.executable, str(scripts[name])]
         if args.quick:
             command.append("--quick")
         _say(args, f"lfdkit bench: {' '.join(command[1:])}")
@@ -686,8 +689,9 @@ def _parser() -> argparse.ArgumentParser:
     bench = sub.add_parser(
         "bench",
         help="run the benchmarks (source checkout)",
-        description="Run benchmarks/NAME.py of the source checkout; each prints a table and "
-        "writes JSON and figures under benchmarks/results/NAME/.",
+        description="Run benchmarks/NAME.py (or the package benchmarks/NAME/) of the source "
+        "checkout; each prints a table and writes JSON and figures under "
+        "benchmarks/results/NAME/.",
     )
     bench.add_argument("names", nargs="*", metavar="NAME", help="benchmarks (default all)")
     bench.add_argument("--quick", action="store_true", help="smaller, faster runs")

@@ -485,7 +485,7 @@ class PolylineSet:
         out_seg = np.full((m, n), -1, dtype=np.int64)
         out_dist = np.full((m, n), np.inf)
         scale = max(self._scale, float(np.abs(points).max()) + 1.0)
-        from lfdkit._kernels import nearest_crossings  # numba compiles on first use
+        from lfdkit._geometry_kernels import nearest_crossings  # numba compiles on first use
 
         nearest_crossings(
             np.ascontiguousarray(points, dtype=np.float64),

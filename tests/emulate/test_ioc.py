@@ -7,7 +7,14 @@ import pytest
 
 from lfdkit.datasets.emulation import load_emulation_dataset
 from lfdkit.emulate import IOC, Obstacle, Reward, Scene, plan_path
-from lfdkit.emulate.ioc import THETA_BOUNDS
+from lfdkit.emulate.ioc import (
+    THETA_BOUNDS,
+    TrainingLoss,
+    effective_count,
+    lbfgs_stage,
+    prepare_demos,
+    search_starts,
+)
 
 TRUE = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 
@@ -33,10 +40,8 @@ def demonstrations(n: int = 6, horizon: int | None = None, seed: int = 0):
     return demos, scenes
 
 
-def prepared(ioc: IOC, demos, scenes):
-    data = ioc._prepare(demos, scenes, nominal())
-    ioc.classes_, ioc._q = ("obstacle",), 2
-    return data
+def training_loss(demos, scenes) -> TrainingLoss:
+    return TrainingLoss(prepare_demos(demos, scenes, nominal(), 100), ("obstacle",), 1.0)
 
 
 def finite_difference(fun, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
@@ -52,26 +57,24 @@ def finite_difference(fun, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
 
 def test_full_horizon_gradient_matches_finite_differences() -> None:
     demos, scenes = demonstrations(4)
-    ioc = IOC()
-    data = prepared(ioc, demos, scenes)
+    loss = training_loss(demos, scenes)
     theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
-    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in data]
-    _, gradient = ioc._objective(theta, data, [w.copy() for w in warm])
+    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
+    _, gradient = loss.full_horizon(theta, [w.copy() for w in warm])
     # A step of 1e-3: truncation about 2e-7 here, while at 1e-4 the difference of two
     # losses meets the inner solver's tolerance (1e-11 on the gradient).
     fd = finite_difference(
-        lambda t: ioc._objective(t, data, [w.copy() for w in warm])[0], theta, eps=1e-3
+        lambda t: loss.full_horizon(t, [w.copy() for w in warm])[0], theta, eps=1e-3
     )
     np.testing.assert_allclose(gradient, fd, rtol=1e-6)
 
 
 def test_mpc_gradient_matches_finite_differences() -> None:
     demos, scenes = demonstrations(3, horizon=8)
-    ioc = IOC(horizon=8)
-    data = prepared(ioc, demos, scenes)
+    loss = training_loss(demos, scenes)
     theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
-    _, gradient = ioc._objective_mpc(theta, data)
-    fd = finite_difference(lambda t: ioc._objective_mpc(t, data)[0], theta)
+    _, gradient = loss.mpc(theta, 8)
+    fd = finite_difference(lambda t: loss.mpc(t, 8)[0], theta)
     np.testing.assert_allclose(gradient, fd, rtol=1e-5)
 
 
@@ -129,12 +132,7 @@ def test_score_on_held_out_demonstrations() -> None:
 
 
 # ------------------------------------------------------------ honest convergence
-def fitted_shell(n_theta: int = 3) -> IOC:
-    """An IOC with just what an L-BFGS run needs (scale 1, unit length)."""
-    ioc = IOC(max_iter=50)
-    ioc.classes_, ioc._q = ("obstacle",), 2
-    ioc._scale, ioc.length_scale_ = 1.0, 1.0
-    return ioc
+NAMES = ("Q", "P[obstacle][x]", "P[obstacle][y]")
 
 
 def test_iteration_limit_is_not_convergence() -> None:
@@ -148,33 +146,29 @@ def test_iteration_limit_is_not_convergence() -> None:
 
 def test_parameter_at_its_bound_is_not_convergence() -> None:
     # The minimum of exp(θ₀) + θ₁² + θ₂² lies beyond the lower bound of θ₀.
-    ioc = fitted_shell()
-
     def fun(theta):
         return np.exp(theta[0]) + theta[1] ** 2 + theta[2] ** 2, np.array(
             [np.exp(theta[0]), 2 * theta[1], 2 * theta[2]]
         )
 
-    theta, stage = ioc._lbfgs(fun, np.array([1.0, 1.0, 1.0]), "test", 0.0)
+    theta, stage = lbfgs_stage(fun, np.array([1.0, 1.0, 1.0]), NAMES, max_iter=50)
     assert theta[0] == THETA_BOUNDS[0]
     assert not stage["converged"]
     assert stage["reason"] == "Q at its bound (degenerate fit)"
 
 
 def test_failed_line_search_and_non_finite_loss_are_not_convergence() -> None:
-    ioc = fitted_shell()
-
     def wrong_sign(theta):  # the gradient points uphill: the line search must fail
         return float(theta @ theta), -2.0 * theta
 
-    _, stage = ioc._lbfgs(wrong_sign, np.array([1.0, 2.0, 3.0]), "test", 0.0)
+    _, stage = lbfgs_stage(wrong_sign, np.array([1.0, 2.0, 3.0]), NAMES, max_iter=50)
     assert not stage["converged"]
     assert "ABNORMAL" in stage["reason"]
 
     def nan_loss(theta):
         return float("nan"), np.zeros(3)
 
-    _, stage = ioc._lbfgs(nan_loss, np.zeros(3), "test", 0.0)
+    _, stage = lbfgs_stage(nan_loss, np.zeros(3), NAMES, max_iter=50)
     assert not stage["converged"]
     assert stage["reason"] == "non-finite loss or gradient"
 
@@ -263,9 +257,10 @@ def test_search_starts_are_distinct() -> None:
     demos, scenes = demonstrations(3)
     ioc = IOC(n_starts=4).fit(demos, scenes, nominal())
     assert ioc.stages_[1]["starts"] == 4
-    data = ioc._data
-    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in data]
-    starts = ioc._search(data, warm)
+    loss = training_loss(demos, scenes)
+    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
+    starts = search_starts(lambda theta: loss.plans_only(theta, warm), 3, 4)
+    assert len(starts) == 4
     for i in range(len(starts)):
         for j in range(i):
             assert np.max(np.abs(starts[i] - starts[j])) > 1.0
@@ -331,19 +326,17 @@ def test_a_listed_class_absent_from_every_scene_is_not_learned() -> None:
 
 
 def test_effective_count_of_correlated_residuals() -> None:
-    from lfdkit.emulate.ioc import _effective_count
-
     rng = np.random.default_rng(0)
     white = rng.normal(size=(20000, 1))
-    assert _effective_count([white]) == pytest.approx(20000, rel=0.05)
+    assert effective_count([white]) == pytest.approx(20000, rel=0.05)
     # AR(1) with coefficient 0.9: integrated autocorrelation time (1 + 0.9) / (1 − 0.9) = 19.
     ar = np.empty(20000)
     ar[0] = 0.0
     for k in range(1, ar.size):
         ar[k] = 0.9 * ar[k - 1] + rng.normal()
-    assert _effective_count([ar[:, None]]) == pytest.approx(20000 / 19, rel=0.15)
+    assert effective_count([ar[:, None]]) == pytest.approx(20000 / 19, rel=0.15)
     # Two sequences, one constant: it still counts once.
-    assert _effective_count([white[:10], np.zeros((5, 1))]) >= 2.0
+    assert effective_count([white[:10], np.zeros((5, 1))]) >= 2.0
 
 
 def test_3d_gradients_match_finite_differences() -> None:
@@ -357,20 +350,18 @@ def test_3d_gradients_match_finite_differences() -> None:
     ]
     demos = [plan_path(true, path, s, n_points=40, horizon=6).points for s in scenes]
     theta = true.theta + np.array([0.2, -0.1, 0.15, 0.1])
+    training = TrainingLoss(prepare_demos(demos, scenes, path, 40), ("ball",), 1.0)
+    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in training.data]
     for horizon in (None, 6):
-        ioc = IOC(n_points=40, horizon=horizon)
-        data = ioc._prepare(demos, scenes, path)
-        ioc.classes_, ioc._q = ("ball",), 3
         if horizon is None:
-            warm = ioc._demo_offsets(data)
 
-            def loss(t, data=data, warm=warm, ioc=ioc):
-                return ioc._objective(t, data, [w.copy() for w in warm])
+            def loss(t):
+                return training.full_horizon(t, [w.copy() for w in warm])
 
         else:
 
-            def loss(t, data=data, ioc=ioc):
-                return ioc._objective_mpc(t, data)
+            def loss(t):
+                return training.mpc(t, 6)
 
         gradient = loss(theta)[1]
         fd = finite_difference(lambda t, loss=loss: loss(t)[0], theta)

@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import minimize
 
 from lfdkit.emulate import Corridor, Obstacle, Reward, Scene, plan_path
-from lfdkit.emulate.planner import _build
+from lfdkit.emulate.problem import Problem
 
 REWARD = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 
@@ -63,7 +63,7 @@ def test_the_full_horizon_plan_is_a_local_optimum_scipy_cannot_improve() -> None
     scene = Scene((Obstacle("obstacle", [0.4, 0.02]), Obstacle("obstacle", [0.62, -0.01])))
     plan = plan_path(REWARD, straight(), scene, goal_approach=None)
     corridor = Corridor.from_path(straight())
-    problem = _build(REWARD, corridor, scene)
+    problem = Problem.from_scene(REWARD, corridor, scene)
     actions = np.diff(plan.offsets[:, 0])
 
     def cost(a: np.ndarray) -> tuple[float, np.ndarray]:
@@ -154,7 +154,7 @@ def test_goal_approach_brings_a_swerving_plan_back_to_the_goal() -> None:
 
 
 def test_goal_weights_ramp_smoothly_from_q_to_the_gain() -> None:
-    from lfdkit.emulate.planner import GOAL_GAIN, goal_weights
+    from lfdkit.emulate.problem import GOAL_GAIN, goal_weights
 
     corridor = Corridor.from_path(straight(), 101)  # step 0.01
     np.testing.assert_array_equal(goal_weights(corridor, 3.0, None), np.full(100, 3.0))

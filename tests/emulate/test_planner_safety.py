@@ -16,7 +16,8 @@ from scipy.ndimage import minimum_filter1d
 from scipy.optimize import minimize
 
 from lfdkit.emulate import Corridor, Obstacle, Reward, Scene, plan_path
-from lfdkit.emulate.planner import UnsafePlanError, _build, plan_clearance
+from lfdkit.emulate.planner import UnsafePlanError, plan_clearance
+from lfdkit.emulate.problem import Problem
 
 N_POINTS = 50
 
@@ -79,7 +80,7 @@ def random_case_with_radii(seed: int) -> tuple[Reward, np.ndarray, Scene, float]
 def reference_cost(reward: Reward, path: np.ndarray, scene: Scene, goal_approach) -> float:
     """Exhaustive reference: fine grid dynamic programme over every path, then L-BFGS-B."""
     corridor = Corridor.from_path(path, N_POINTS)
-    problem = _build(reward, corridor, scene, 1.0, goal_approach)
+    problem = Problem.from_scene(reward, corridor, scene, 1.0, goal_approach)
     step, n = problem.max_step, problem.n
     cells = 8
     levels = step / cells * np.arange(-cells * n, cells * n + 1)

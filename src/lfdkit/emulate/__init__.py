@@ -1,7 +1,23 @@
-"""Emulation: learn how the demonstrator reacts to obstacles (a reward) and plan in new scenes."""
+"""Emulation: learn how the demonstrator reacts to obstacles (a reward) and plan in new scenes.
+
+Layout, each module with its compiled loops beside it:
+
+* :mod:`.scene`: obstacles and scene files;
+* :mod:`.reward`: the reward ``R(x)`` of a point (nominal weight, one
+  precision per obstacle class) and its parameters;
+* :mod:`.problem`: the planning problem both the planner and the IOC solve,
+  the nominal's normals (:class:`Corridor`), the cost of lateral offsets
+  (:class:`~.problem.Problem`) and its projected Newton solver
+  (``_problem_kernels``);
+* :mod:`.planner`: global grid search, receding horizon and safety checks,
+  :func:`plan_path` (``_planner_kernels``);
+* :mod:`.ioc`: the reward fitted to demonstrations, :class:`IOC`, with exact
+  gradients (``_ioc_kernels``).
+"""
 
 from lfdkit.emulate.ioc import IOC
-from lfdkit.emulate.planner import Corridor, Plan, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Obstacle, Scene
 

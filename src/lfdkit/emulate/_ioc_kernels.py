@@ -2,12 +2,12 @@
 
 The derivative of a plan with respect to θ (:mod:`lfdkit.emulate.ioc`), for
 one full-horizon plan and for every window of a receding-horizon plan. The
-planner's own compiled pieces (projected Newton, cost derivatives, action
-groups) come from :mod:`lfdkit._kernels` through its public functions.
+problem's own compiled pieces (projected Newton, cost derivatives, action
+groups) come from :mod:`._problem_kernels` through its public functions.
 Imported lazily: compiling costs a few seconds once, after which the machine
 code is cached on disk next to this file.
 
-Notation as in :class:`lfdkit.emulate.planner._Problem`: ``c`` (n, L),
+Notation as in :class:`lfdkit.emulate.problem.Problem`: ``c`` (n, L),
 ``b`` (n, L, m), ``a`` (n, L, m, m) are the obstacle terms of the offsets,
 ``weight`` (n,) the nominal weight per offset, ``base`` (n, q) and ``normals``
 (n, m, q) the nominal points and their normals, ``obstacles`` (L, q) and
@@ -18,7 +18,7 @@ Notation as in :class:`lfdkit.emulate.planner._Problem`: ``c`` (n, L),
 import numba
 import numpy as np
 
-from lfdkit._kernels import offset_derivatives, offset_groups, offsets_newton
+from lfdkit.emulate._problem_kernels import offset_derivatives, offset_groups, offsets_newton
 
 
 @numba.njit(cache=True)

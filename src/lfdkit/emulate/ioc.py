@@ -6,13 +6,15 @@ distance between each demonstration and the path planned in its scene::
     L(θ) = Σ_d Σ_k |x̄_k(θ, scene_d) − ζ_{d,k}|² / (number of matched points)
 
 Distances are taken along the nominal's normals (the planner's own
-coordinates, :class:`lfdkit.emulate.Corridor`): ``ζ_{d,k}`` is where
+coordinates, :class:`lfdkit.emulate.problem.Corridor`): ``ζ_{d,k}`` is where
 demonstration ``d`` crosses the normal of nominal point ``k``, so ``|x̄_k −
 ζ_{d,k}|`` is the difference of two lateral offsets. Points where the
 demonstration does not cross a normal are left out.
 
 Gradients are exact, by implicit differentiation of the planner's optimality
-conditions. At a plan ``d*`` the free action groups (:mod:`.planner`) satisfy
+conditions (the planning problem and its solver are
+:class:`lfdkit.emulate.problem.Problem`, shared with the planner). At a plan
+``d*`` the free action groups (held actions lock offsets together) satisfy
 ``G(d*, θ) = 0``; so ``dδ/dθ = −H⁻¹ ∂G/∂θ`` with ``H`` the (block-)diagonal
 reduced Hessian, and the loss gradient is one adjoint solve per demonstration,
 ``−λᵀ ∂G/∂θ`` with ``H λ = ∂L/∂δ``. Held actions (at their bound) do not move
@@ -44,19 +46,21 @@ from scipy.optimize import minimize
 
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
-from lfdkit.emulate.planner import (
-    MAX_HORIZON,
-    MIN_HORIZON,
-    Corridor,
-    _build,
-    _Problem,
-    _solve,
-    plan_path,
-)
+from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON, plan_path
+from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
 
-__all__ = ["IOC", "THETA_BOUNDS", "DemoInScene"]
+__all__ = [
+    "IOC",
+    "THETA_BOUNDS",
+    "DemoInScene",
+    "TrainingLoss",
+    "effective_count",
+    "lbfgs_stage",
+    "prepare_demos",
+    "search_starts",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,7 +74,7 @@ class DemoInScene:
     found: np.ndarray  # (K,) where it crosses the normals
 
 
-def _kernel_arguments(problem: _Problem, class_of: np.ndarray, n_classes: int) -> tuple:
+def _kernel_arguments(problem: Problem, class_of: np.ndarray, n_classes: int) -> tuple:
     """The problem's arrays as :mod:`._ioc_kernels` takes them (diagonal precisions)."""
     return (
         problem.c,
@@ -88,7 +92,7 @@ def _kernel_arguments(problem: _Problem, class_of: np.ndarray, n_classes: int) -
 
 
 def _plan_sensitivity(
-    problem: _Problem, anchor: np.ndarray, d: np.ndarray, class_of: np.ndarray, n_classes: int
+    problem: Problem, anchor: np.ndarray, d: np.ndarray, class_of: np.ndarray, n_classes: int
 ) -> np.ndarray:
     """Derivative (n, m, n_theta) of the full-horizon optimum ``d`` w.r.t. θ (fixed start).
 
@@ -110,7 +114,7 @@ def _plan_sensitivity(
 
 
 def _mpc_with_sensitivity(
-    problem: _Problem, item: DemoInScene, horizon: int, class_of: np.ndarray, n_classes: int
+    problem: Problem, item: DemoInScene, horizon: int, class_of: np.ndarray, n_classes: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """Receding-horizon plan and its derivative w.r.t. θ by forward sensitivities.
 
@@ -144,7 +148,7 @@ def _mpc_with_sensitivity(
     return offsets, sensitivity
 
 
-def _effective_count(residuals: Sequence[np.ndarray]) -> float:
+def effective_count(residuals: Sequence[np.ndarray]) -> float:
     """Independent residuals among correlated ones: ``Σ length / τ`` per sequence and component.
 
     ``τ = 1 + 2 Σ ρ(lag)`` is the integrated autocorrelation time, summed up
@@ -185,6 +189,287 @@ STATIONARY_GRADIENT = 1e-5
 IDENTIFIED_ERROR = 0.5
 
 Progress = Callable[[str], None]
+
+
+def prepare_demos(demos: Any, scenes: Any, nominal: Any, n_points: int) -> list[DemoInScene]:
+    """Each demonstration in the planner's coordinates along its nominal (:class:`DemoInScene`).
+
+    Parameters
+    ----------
+    demos : sequence of array_like, each (n_j, q)
+        Demonstrations (checked as paths of the nominal's dimension).
+    scenes : sequence of Scene
+        One scene per demonstration.
+    nominal : array_like (n, q), or a sequence of them (one per demonstration)
+        Nominal paths; the same object given twice shares one corridor.
+    n_points : int
+        Points ``K`` of each corridor.
+
+    Returns
+    -------
+    list of DemoInScene
+        The demonstration's offsets where it crosses each normal; its start is
+        the first crossing.
+
+    Raises
+    ------
+    ValueError
+        For mismatched counts, or a demonstration crossing fewer than half of
+        the nominal's normals.
+    TypeError
+        For a scene that is not a :class:`Scene`.
+    """
+    demos = list(demos)
+    scenes = list(scenes)
+    if len(demos) != len(scenes):
+        raise ValueError(
+            f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations; "
+            "give one scene per demonstration"
+        )
+    if not demos:
+        raise ValueError("demos: needs at least one demonstration")
+    nominals = nominal if isinstance(nominal, (list, tuple)) else [nominal] * len(demos)
+    if len(nominals) != len(demos):
+        raise ValueError(f"nominal: {len(nominals)} nominal paths for {len(demos)} demos")
+    corridors: dict[int, Corridor] = {}
+    prepared = []
+    for j, (demo, scene, path) in enumerate(zip(demos, scenes, nominals, strict=True)):
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scenes[{j}]: expected a Scene, got {type(scene).__name__}")
+        corridor = corridors.get(id(path))
+        if corridor is None:
+            corridor = Corridor.from_path(path, n_points)
+            corridors[id(path)] = corridor
+        try:
+            target, found = corridor.offsets_of(demo)
+        except ValueError as exc:
+            raise ValueError(f"demos[{j}]: {exc}") from None
+        if found.sum() < 0.5 * corridor.n_points:
+            raise ValueError(
+                f"demos[{j}]: crosses only {int(found.sum())} of {corridor.n_points} normals "
+                "of the nominal path; does it follow the same course?"
+            )
+        start = target[0] if found[0] else target[np.argmax(found)]
+        prepared.append(DemoInScene(corridor, scene, start, target, found))
+    return prepared
+
+
+class TrainingLoss:
+    """The loss ``L(θ)`` of eq. 5.5 on prepared demonstrations, with its exact gradient.
+
+    ``θ = [log Q, log diag P_c for each class]`` in the units of ``data``; the
+    loss is the mean squared lateral distance (units²) from each
+    demonstration to the plan from its start in its scene, over the matched
+    points. :class:`IOC` minimises it (on data normalised to unit length);
+    the methods are what it evaluates.
+
+    Parameters
+    ----------
+    data : list of DemoInScene
+        From :func:`prepare_demos`; every scene's classes among ``classes``.
+    classes : sequence of str
+        The classes of ``θ``, in its order.
+    max_slope : float
+        The planner's action bound (sideways step per nominal step).
+    """
+
+    def __init__(self, data: list[DemoInScene], classes: Sequence[str], max_slope: float) -> None:
+        self.data = data
+        self.classes = tuple(classes)
+        self.max_slope = max_slope
+        self.n_dims = data[0].corridor.n_dims
+
+    def reward(self, theta: np.ndarray) -> Reward:
+        """The reward of ``θ``."""
+        return Reward.from_theta(theta, self.classes, self.n_dims)
+
+    def problem(self, reward: Reward, item: DemoInScene) -> Problem:
+        """The planning problem of one demonstration's scene (the thesis's model, no radii)."""
+        return Problem.from_scene(reward, item.corridor, item.scene, self.max_slope)
+
+    def full_horizon(self, theta: np.ndarray, warm: list[np.ndarray]) -> tuple[float, np.ndarray]:
+        """Loss and gradient with full-horizon plans, by implicit differentiation.
+
+        Each plan starts from ``warm[j]`` (n, m) and replaces it (warm starts for
+        the next evaluation).
+        """
+        reward = self.reward(theta)
+        total, gradient = 0.0, np.zeros_like(theta)
+        count = sum(int(item.found[1:].sum()) for item in self.data)
+        for j, item in enumerate(self.data):
+            problem = self.problem(reward, item)
+            d, _, _, _ = problem.solve(item.start, warm[j], tol=1e-11, max_iter=200)
+            warm[j] = d
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
+            sensitivity = _plan_sensitivity(
+                problem, item.start, d, self._class_of(item.scene), len(self.classes)
+            )
+            gradient += np.einsum("km,kmp->p", 2.0 * residual / count, sensitivity)
+        return total, gradient
+
+    def mpc(self, theta: np.ndarray, horizon: int) -> tuple[float, np.ndarray]:
+        """Loss and gradient with receding-horizon plans, by forward sensitivities."""
+        reward = self.reward(theta)
+        count = sum(int(item.found[1:].sum()) for item in self.data)
+        total, gradient = 0.0, np.zeros_like(theta)
+        for item in self.data:
+            problem = self.problem(reward, item)
+            d, sensitivity = _mpc_with_sensitivity(
+                problem, item, horizon, self._class_of(item.scene), len(self.classes)
+            )
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
+            gradient += np.einsum("km,kmp->p", 2.0 * residual / count, sensitivity)
+        return total, gradient
+
+    def plans_only(self, theta: np.ndarray, warm: list[np.ndarray]) -> float:
+        """The full-horizon loss without its gradient, each plan from ``warm[j]`` (kept)."""
+        reward = self.reward(theta)
+        count = sum(int(item.found[1:].sum()) for item in self.data)
+        total = 0.0
+        for j, item in enumerate(self.data):
+            d, _, _, _ = self.problem(reward, item).solve(item.start, warm[j].copy())
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
+        return total
+
+    def _class_of(self, scene: Scene) -> np.ndarray:
+        return np.array([self.classes.index(label) for label in scene.labels], int)
+
+
+def search_starts(
+    loss: Callable[[np.ndarray], float], n_theta: int, n_starts: int
+) -> list[np.ndarray]:
+    """The ``n_starts`` best distinct points of a coarse grid and a Latin hypercube.
+
+    The grid: ``Q' = 10 f_Q``, ``f_Q`` in 0.1 … 10, every width ``0.05 f_w``,
+    ``f_w`` in 0.4 … 2.5 (normalised units); the hypercube: ``8 (1 + C q)``
+    points over ``log Q'`` in ``SEARCH_WEIGHTS`` and every class's log width
+    per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
+    Distinct: more than 1 apart in some log-parameter. ``loss`` maps ``θ``
+    (``n_theta``,) to the loss (e.g. :meth:`TrainingLoss.plans_only`).
+    """
+    candidates = []
+    for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
+        for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
+            width = 0.05 * spread
+            candidates.append(
+                np.array([np.log(10.0 * stiffness)] + [-2.0 * np.log(width)] * (n_theta - 1))
+            )
+    rng = np.random.default_rng(0)
+    n_lhs = 8 * n_theta
+    cells = (
+        rng.permuted(np.tile(np.arange(n_lhs), (n_theta, 1)), axis=1).T
+        + rng.random((n_lhs, n_theta))
+    ) / n_lhs
+    low = np.array([np.log(SEARCH_WEIGHTS[0])] + [-2.0 * np.log(SEARCH_WIDTHS[1])] * (n_theta - 1))
+    high = np.array([np.log(SEARCH_WEIGHTS[1])] + [-2.0 * np.log(SEARCH_WIDTHS[0])] * (n_theta - 1))
+    candidates += list(low + cells * (high - low))
+    losses = np.array([loss(theta) for theta in candidates])
+    order = np.argsort(np.where(np.isfinite(losses), losses, np.inf), kind="stable")
+    chosen: list[np.ndarray] = []
+    for i in order:
+        if all(np.max(np.abs(candidates[i] - c)) > 1.0 for c in chosen):
+            chosen.append(candidates[i])
+        if len(chosen) == n_starts:
+            break
+    return chosen
+
+
+def lbfgs_stage(
+    fun: Callable[[np.ndarray], tuple[float, np.ndarray]],
+    theta0: np.ndarray,
+    names: Sequence[str],
+    *,
+    max_iter: int = 200,
+    tol: float = 1e-10,
+    label: str = "",
+    started: float | None = None,
+    tell: Progress | None = None,
+) -> tuple[np.ndarray, dict]:
+    """One bounded L-BFGS-B run on ``θ``; the stage record says honestly whether it converged.
+
+    Parameters
+    ----------
+    fun : callable
+        ``θ -> (loss, gradient)``, the loss scaled to about 1.
+    theta0 : ndarray, shape (n_theta,)
+    names : sequence of str
+        Name of each parameter (for the reason of a parameter at its bound).
+    max_iter, tol : int, float
+        L-BFGS-B's iteration limit and relative tolerance on the loss.
+    label : str
+        The stage's ``planner`` entry and the prefix of progress messages.
+    started, tell : float and callable, optional
+        With ``tell``, each iteration is reported once ``perf_counter()`` is
+        more than 2 s past ``started``.
+
+    Returns
+    -------
+    theta : ndarray
+    stage : dict
+        ``planner``, ``iterations``, ``loss`` (as ``fun`` scales it),
+        ``seconds``, ``message``, ``converged`` and ``reason``. Not converged:
+        a non-finite loss or gradient, a failed line search away from a
+        stationary point (projected gradient above ``STATIONARY_GRADIENT``),
+        the iteration limit, or a parameter at a bound of ``THETA_BOUNDS``.
+    """
+    iterations = [0]
+    started = time.perf_counter() if started is None else started
+
+    def callback(*_: Any) -> None:
+        iterations[0] += 1
+        if tell is not None and time.perf_counter() - started > 2.0:
+            tell(f"IOC {label}: iteration {iterations[0]}, loss {history_last[0]:.4g}")
+
+    history_last = [np.nan]
+
+    def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
+        value, grad = fun(theta)
+        history_last[0] = value
+        return value, grad
+
+    run_started = time.perf_counter()
+    result = minimize(
+        wrapped,
+        theta0,
+        jac=True,
+        method="L-BFGS-B",
+        bounds=[THETA_BOUNDS] * theta0.size,
+        callback=callback,
+        options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
+    )
+    theta = np.asarray(result.x, float)
+    converged, reason = bool(result.success), str(result.message)
+    at_bound = np.flatnonzero((theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6))
+    if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
+        converged, reason = False, "non-finite loss or gradient"
+    elif not converged and result.status == 2:
+        # A failed line search at a point stationary to the accuracy of the
+        # inner plans is the optimum; anywhere else it is a failure.
+        jac = np.asarray(result.jac, float)
+        projected = np.where(
+            ((theta <= THETA_BOUNDS[0]) & (jac > 0)) | ((theta >= THETA_BOUNDS[1]) & (jac < 0)),
+            0.0,
+            jac,
+        )
+        if np.max(np.abs(projected)) <= STATIONARY_GRADIENT:
+            converged = True
+            reason += " (accepted: stationary to the accuracy of the plans)"
+    if converged and at_bound.size:
+        converged = False
+        reason = f"{names[at_bound[0]]} at its bound (degenerate fit)"
+    stage = {
+        "planner": label,
+        "iterations": int(result.nit),
+        "loss": float(result.fun),
+        "seconds": time.perf_counter() - run_started,
+        "message": str(result.message),
+        "converged": converged,
+        "reason": reason,
+    }
+    return theta, stage
 
 
 class IOC:
@@ -287,45 +572,6 @@ class IOC:
         self.gradient = gradient
         self.progress = progress
 
-    # ---------------------------------------------------------------- data
-    def _prepare(
-        self, demos: Any, scenes: Any, nominal: Any, n_points: int | None = None
-    ) -> list[DemoInScene]:
-        n_points = self.n_points if n_points is None else n_points
-        demos = list(demos)
-        scenes = list(scenes)
-        if len(demos) != len(scenes):
-            raise ValueError(
-                f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations; "
-                "give one scene per demonstration"
-            )
-        if not demos:
-            raise ValueError("demos: needs at least one demonstration")
-        nominals = nominal if isinstance(nominal, (list, tuple)) else [nominal] * len(demos)
-        if len(nominals) != len(demos):
-            raise ValueError(f"nominal: {len(nominals)} nominal paths for {len(demos)} demos")
-        corridors: dict[int, Corridor] = {}
-        prepared = []
-        for j, (demo, scene, path) in enumerate(zip(demos, scenes, nominals, strict=True)):
-            if not isinstance(scene, Scene):
-                raise TypeError(f"scenes[{j}]: expected a Scene, got {type(scene).__name__}")
-            corridor = corridors.get(id(path))
-            if corridor is None:
-                corridor = Corridor.from_path(path, n_points)
-                corridors[id(path)] = corridor
-            try:
-                target, found = corridor.offsets_of(demo)
-            except ValueError as exc:
-                raise ValueError(f"demos[{j}]: {exc}") from None
-            if found.sum() < 0.5 * corridor.n_points:
-                raise ValueError(
-                    f"demos[{j}]: crosses only {int(found.sum())} of {corridor.n_points} normals "
-                    "of the nominal path; does it follow the same course?"
-                )
-            start = target[0] if found[0] else target[np.argmax(found)]
-            prepared.append(DemoInScene(corridor, scene, start, target, found))
-        return prepared
-
     @staticmethod
     def _normalised(
         demos: Any, scenes: Any, nominal: Any
@@ -350,36 +596,6 @@ class IOC:
             for s in scenes
         ]
         return length, [d / length for d in demos], scaled_scenes, scaled_nominal
-
-    # ------------------------------------------------------------- objective
-    def _objective(
-        self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
-    ) -> tuple[float, np.ndarray]:
-        reward = Reward.from_theta(theta, self.classes_, self._q)
-        total, gradient = 0.0, np.zeros_like(theta)
-        count = sum(int(item.found[1:].sum()) for item in data)
-        for j, item in enumerate(data):
-            problem = self._problem(reward, item)
-            d, _, _, _ = _solve(problem, item.start, warm[j], tol=1e-11, max_iter=200)
-            warm[j] = d
-            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
-            total += float(np.sum(residual**2)) / count
-            gradient += self._implicit_gradient(problem, item, d, 2.0 * residual / count)
-        return total, gradient
-
-    def _problem(self, reward: Reward, item: DemoInScene) -> _Problem:
-        return _build(reward, item.corridor, item.scene, self.max_slope)
-
-    def _class_of(self, scene: Scene) -> np.ndarray:
-        return np.array([self.classes_.index(label) for label in scene.labels], int)
-
-    def _implicit_gradient(
-        self, problem: _Problem, item: DemoInScene, d: np.ndarray, d_loss: np.ndarray
-    ) -> np.ndarray:
-        sensitivity = _plan_sensitivity(
-            problem, item.start, d, self._class_of(item.scene), len(self.classes_)
-        )
-        return np.einsum("km,kmp->p", d_loss, sensitivity)
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> None:
@@ -433,7 +649,7 @@ class IOC:
         length, scaled_demos, scaled_scenes, scaled_nominal = self._normalised(
             demos, scenes, nominal
         )
-        data = self._prepare(scaled_demos, scaled_scenes, scaled_nominal)
+        data = prepare_demos(scaled_demos, scaled_scenes, scaled_nominal, self.n_points)
         self.length_scale_ = length
         seen = tuple(dict.fromkeys(label for item in data for label in item.scene.labels))
         wanted = tuple(self.classes) if self.classes is not None else seen
@@ -454,7 +670,7 @@ class IOC:
         coarse = data
         if self._q == 3 and int(self.n_points) // 3 >= 30:
             coarse = self._without(
-                self._prepare(scaled_demos, scaled_scenes, scaled_nominal, int(self.n_points) // 3),
+                prepare_demos(scaled_demos, scaled_scenes, scaled_nominal, int(self.n_points) // 3),
                 far,
             )
         # L-BFGS-B's stopping test is relative to max(|f|, 1): scale the loss to
@@ -541,8 +757,9 @@ class IOC:
                 continue
             others = self._without([item], [label])[0]
             warm = np.where(item.found[1:, None], item.target[1:], 0.0)
-            with_it = _solve(self._problem(reward, item), item.start, warm.copy())[0]
-            without = _solve(self._problem(reward, others), item.start, warm.copy())[0]
+            loss = self._training_loss([item, others])
+            with_it = loss.problem(reward, item).solve(item.start, warm.copy())[0]
+            without = loss.problem(reward, others).solve(item.start, warm.copy())[0]
             if np.max(np.abs(with_it - without)) > threshold:
                 return True
         return False
@@ -564,66 +781,24 @@ class IOC:
         axes = "xyz"[: self._q]
         return ["Q"] + [f"P[{c}][{a}]" for c in self.classes_ for a in axes]
 
+    def _training_loss(self, data: list[DemoInScene]) -> TrainingLoss:
+        return TrainingLoss(data, self.classes_, self.max_slope)
+
     def _lbfgs(
         self, fun: Callable, theta0: np.ndarray, name: str, started: float
     ) -> tuple[np.ndarray, dict]:
-        """One bounded L-BFGS run; the stage record says honestly whether it converged."""
-        iterations = [0]
-
-        def callback(*_: Any) -> None:
-            iterations[0] += 1
-            if time.perf_counter() - started > 2.0:
-                self._tell(f"IOC {name}: iteration {iterations[0]}, loss {history_last[0]:.4g}")
-
-        history_last = [np.nan]
-
-        def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
-            value, grad = fun(theta)
-            history_last[0] = value
-            return value, grad
-
-        run_started = time.perf_counter()
-        result = minimize(
-            wrapped,
+        """One bounded L-BFGS run (:func:`lbfgs_stage`), its loss in the data's units²."""
+        theta, stage = lbfgs_stage(
+            fun,
             theta0,
-            jac=True,
-            method="L-BFGS-B",
-            bounds=[THETA_BOUNDS] * theta0.size,
-            callback=callback,
-            options={"maxiter": self.max_iter, "ftol": self.tol, "gtol": 1e-8},
+            self._theta_names(),
+            max_iter=self.max_iter,
+            tol=self.tol,
+            label=name,
+            started=started,
+            tell=self._tell,
         )
-        theta = np.asarray(result.x, float)
-        converged, reason = bool(result.success), str(result.message)
-        at_bound = np.flatnonzero(
-            (theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6)
-        )
-        if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
-            converged, reason = False, "non-finite loss or gradient"
-        elif not converged and result.status == 2:
-            # A failed line search at a point stationary to the accuracy of the
-            # inner plans is the optimum; anywhere else it is a failure.
-            jac = np.asarray(result.jac, float)
-            projected = np.where(
-                ((theta <= THETA_BOUNDS[0]) & (jac > 0)) | ((theta >= THETA_BOUNDS[1]) & (jac < 0)),
-                0.0,
-                jac,
-            )
-            if np.max(np.abs(projected)) <= STATIONARY_GRADIENT:
-                converged = True
-                reason += " (accepted: stationary to the accuracy of the plans)"
-        if converged and at_bound.size:
-            names = self._theta_names()
-            converged = False
-            reason = f"{names[at_bound[0]]} at its bound (degenerate fit)"
-        stage = {
-            "planner": name,
-            "iterations": int(result.nit),
-            "loss": float(result.fun) * self._scale * self.length_scale_**2,
-            "seconds": time.perf_counter() - run_started,
-            "message": str(result.message),
-            "converged": converged,
-            "reason": reason,
-        }
+        stage["loss"] = stage["loss"] * self._scale * self.length_scale_**2
         return theta, stage
 
     def _fit_full_horizon(
@@ -636,7 +811,13 @@ class IOC:
             message = "init given"
         else:
             self._tell("IOC: searching starting parameters (plans only)")
-            starts = self._search(coarse, self._demo_offsets(coarse))
+            warm = self._demo_offsets(coarse)
+            loss = self._training_loss(coarse)
+            starts = search_starts(
+                lambda theta: loss.plans_only(theta, warm),
+                1 + len(self.classes_) * self._q,
+                self.n_starts,
+            )
             message = f"best {len(starts)} distinct of the starting search"
         self.stages_.append(
             {
@@ -678,10 +859,13 @@ class IOC:
         run_history: list[float] = []
 
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
-            value, grad = self._objective(theta, data, warm)
+            value, grad = self._training_loss(data).full_horizon(theta, warm)
             if self.gradient == "finite_difference":
                 grad = self._finite_difference(
-                    lambda t: self._objective(t, data, [w.copy() for w in warm])[0], theta
+                    lambda t: self._training_loss(data).full_horizon(t, [w.copy() for w in warm])[
+                        0
+                    ],
+                    theta,
                 )
             run_history.append(value)
             return value / self._scale, grad / self._scale
@@ -689,7 +873,7 @@ class IOC:
         theta, stage = self._lbfgs(fun, theta0, "full horizon", started)
         # Rank runs by the loss of plans started from the demonstrations, the
         # same for every run (an L-BFGS run warm-starts from its last plans).
-        final = self._loss_only(theta, data, self._demo_offsets(data))
+        final = self._training_loss(data).plans_only(theta, self._demo_offsets(data))
         stage["loss"] = final * self.length_scale_**2
         return final, theta, stage, run_history
 
@@ -701,45 +885,6 @@ class IOC:
         # The data are in units of the length scale: Q and P scale as length².
         return sub.theta + 2.0 * np.log(self.length_scale_)
 
-    def _search(self, data: list[DemoInScene], warm: list[np.ndarray]) -> list[np.ndarray]:
-        """The ``n_starts`` best distinct points of a coarse grid and a Latin hypercube.
-
-        The grid: ``Q' = 10 f_Q``, ``f_Q`` in 0.1 … 10, every width ``0.05 f_w``,
-        ``f_w`` in 0.4 … 2.5 (normalised units); the hypercube: ``8 (1 + C q)``
-        points over ``log Q'`` in ``SEARCH_WEIGHTS`` and every class's log width
-        per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
-        """
-        n_theta = 1 + len(self.classes_) * self._q
-        candidates = []
-        for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
-            for spread in (0.4, 0.63, 1.0, 1.6, 2.5):
-                width = 0.05 * spread
-                candidates.append(
-                    np.array([np.log(10.0 * stiffness)] + [-2.0 * np.log(width)] * (n_theta - 1))
-                )
-        rng = np.random.default_rng(0)
-        n_lhs = 8 * n_theta
-        cells = (
-            rng.permuted(np.tile(np.arange(n_lhs), (n_theta, 1)), axis=1).T
-            + rng.random((n_lhs, n_theta))
-        ) / n_lhs
-        low = np.array(
-            [np.log(SEARCH_WEIGHTS[0])] + [-2.0 * np.log(SEARCH_WIDTHS[1])] * (n_theta - 1)
-        )
-        high = np.array(
-            [np.log(SEARCH_WEIGHTS[1])] + [-2.0 * np.log(SEARCH_WIDTHS[0])] * (n_theta - 1)
-        )
-        candidates += list(low + cells * (high - low))
-        losses = np.array([self._loss_only(theta, data, warm) for theta in candidates])
-        order = np.argsort(np.where(np.isfinite(losses), losses, np.inf), kind="stable")
-        chosen: list[np.ndarray] = []
-        for i in order:
-            if all(np.max(np.abs(candidates[i] - c)) > 1.0 for c in chosen):
-                chosen.append(candidates[i])
-            if len(chosen) == self.n_starts:
-                break
-        return chosen
-
     @staticmethod
     def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
         out = np.empty_like(theta)
@@ -748,18 +893,6 @@ class IOC:
             step[i] = eps
             out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
         return out
-
-    def _loss_only(
-        self, theta: np.ndarray, data: list[DemoInScene], warm: list[np.ndarray]
-    ) -> float:
-        reward = Reward.from_theta(theta, self.classes_, self._q)
-        count = sum(int(item.found[1:].sum()) for item in data)
-        total = 0.0
-        for j, item in enumerate(data):
-            d, _, _, _ = _solve(self._problem(reward, item), item.start, warm[j].copy())
-            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
-            total += float(np.sum(residual**2)) / count
-        return total
 
     def training_loss(self, reward: Reward) -> float:
         """Full-horizon training loss (units²) of any reward on the fitted data.
@@ -778,7 +911,7 @@ class IOC:
         sub = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in self.classes_})
         theta = sub.theta + 2.0 * np.log(self.length_scale_)
         warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in self._data]
-        return self._loss_only(theta, self._data, warm) * self.length_scale_**2
+        return self._training_loss(self._data).plans_only(theta, warm) * self.length_scale_**2
 
     def _identifiability(self, theta: np.ndarray, data: list[DemoInScene]) -> dict:
         """Curvature of the full-horizon loss in θ and approximate relative standard errors.
@@ -793,13 +926,17 @@ class IOC:
         of zero or negative curvature (a ridge or saddle of the loss).
         """
         warm = self._demo_offsets(data)
-        loss = self._objective(theta, data, warm)[0] / self._scale  # warm: the plans at θ
+        loss = (
+            self._training_loss(data).full_horizon(theta, warm)[0] / self._scale
+        )  # warm: plans at θ
         residuals = [
             (plan - item.target[1:])[item.found[1:]] for plan, item in zip(warm, data, strict=True)
         ]
 
         def grad(t: np.ndarray) -> np.ndarray:
-            return self._objective(t, data, [w.copy() for w in warm])[1] / self._scale
+            return (
+                self._training_loss(data).full_horizon(t, [w.copy() for w in warm])[1] / self._scale
+            )
 
         eps = 1e-4
         n = theta.size
@@ -809,7 +946,7 @@ class IOC:
             step[i] = eps
             hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
         hessian = 0.5 * (hessian + hessian.T)
-        variance_scale = 2.0 * loss / _effective_count(residuals)
+        variance_scale = 2.0 * loss / effective_count(residuals)
         diag = np.diag(hessian)
         # Directions of zero or negative curvature (a ridge or a saddle of the
         # loss) leave every parameter with a share in them undetermined.
@@ -835,31 +972,17 @@ class IOC:
         self._tell(f"IOC MPC H={int(self.horizon)}: refining")
 
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
-            loss, grad = self._objective_mpc(value, data)
+            loss, grad = self._training_loss(data).mpc(value, int(self.horizon))
             if self.gradient == "finite_difference":
-                grad = self._finite_difference(lambda t: self._objective_mpc(t, data)[0], value)
+                grad = self._finite_difference(
+                    lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
+                )
             history.append(loss)
             return loss / self._scale, grad / self._scale
 
         theta, stage = self._lbfgs(fun, theta, f"MPC H={int(self.horizon)}", started)
         self.stages_.append(stage)
         return theta
-
-    def _objective_mpc(
-        self, theta: np.ndarray, data: list[DemoInScene]
-    ) -> tuple[float, np.ndarray]:
-        reward = Reward.from_theta(theta, self.classes_, self._q)
-        count = sum(int(item.found[1:].sum()) for item in data)
-        total, gradient = 0.0, np.zeros_like(theta)
-        for item in data:
-            problem = self._problem(reward, item)
-            d, sensitivity = _mpc_with_sensitivity(
-                problem, item, int(self.horizon), self._class_of(item.scene), len(self.classes_)
-            )
-            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
-            total += float(np.sum(residual**2)) / count
-            gradient += np.einsum("km,kmp->p", 2.0 * residual / count, sensitivity)
-        return total, gradient
 
     # -------------------------------------------------------------- use
     def score(self, demos: Any, scenes: Any, nominal: Any, *, horizon: Any = "fitted") -> float:
@@ -872,7 +995,7 @@ class IOC:
         """
         if not hasattr(self, "reward_"):
             raise ValueError("score: fit the IOC first")
-        data = self._prepare(demos, scenes, nominal)
+        data = prepare_demos(demos, scenes, nominal, self.n_points)
         unknown = {label for item in data for label in item.scene.labels} - set(self.classes_)
         if unknown:
             raise ValueError(f"scenes: obstacle class {sorted(unknown)[0]!r} was never learned")

@@ -15,7 +15,11 @@ thesis defines it, by construction. The linear point model is
 component (the thesis's polyhedral action set: bounded sideways steps;
 default one nominal step length, a 45° slope at most). The plan maximises
 ``Σ_k R(x_k)`` (:class:`lfdkit.emulate.Reward`) over ``k = 1 … K−1`` from a
-given start offset ``d_0``.
+given start offset ``d_0``. These coordinates, the cost and its Newton solver
+are :mod:`lfdkit.emulate.problem` (:class:`~lfdkit.emulate.problem.Corridor`,
+:class:`~lfdkit.emulate.problem.Problem`), shared with the IOC; this module
+adds the global search (compiled in :mod:`._planner_kernels`), the receding
+horizon and the safety checks.
 
 Solver
 ------
@@ -25,13 +29,13 @@ Newton method (Bertsekas) needs it only on the free actions: actions held at
 a bound lock neighbouring offsets together, the free ones move whole groups,
 and in 2-D the Newton system in the group moves is again diagonal, solved in
 O(K). In 3-D the two normal components of a group couple through the 2×2
-blocks, and the small dense reduced system is solved by an eigen-decomposition
-(which also repairs negative curvature); 3-D plans are therefore slower.
-Negative curvature (the flanks of an obstacle's bump) is replaced by its
-magnitude to keep each step a descent step of sensible length; an Armijo
-search along the
-projection arc gives global convergence, and Newton steps near the optimum
-converge quadratically.
+blocks: each block is made positive definite (eigenvalues by their magnitude)
+and the small dense reduced system is solved by Cholesky; 3-D plans are
+therefore slower. Negative curvature (the flanks of an obstacle's bump) is
+replaced by its magnitude to keep each step a descent step of sensible
+length; an Armijo search along the projection arc gives global convergence,
+and Newton steps near the optimum converge quadratically
+(:meth:`Problem.solve <lfdkit.emulate.problem.Problem.solve>`).
 
 The obstacle term is not convex: an obstacle can be passed on either side,
 and a concave group of obstacles has a pocket to fall into. So the plan is
@@ -61,9 +65,10 @@ A plan a robot can execute must reach its goal and keep out of obstacles:
 
 * **Goal.** By default the nominal weight rises smoothly to
   ``Q (1 + GOAL_GAIN)`` over the last stretch of the path
-  (:func:`goal_weights`), and the grid search must end on the nominal, so the
-  plan ends at the goal; the thesis's model (no goal term, the plan may end
-  beside the goal) is ``goal_approach=None``.
+  (:func:`~lfdkit.emulate.problem.goal_weights`, re-exported here), and the
+  grid search must end on the nominal, so the plan ends at the goal; the
+  thesis's model (no goal term, the plan may end beside the goal) is
+  ``goal_approach=None``.
 * **Clearance.** With ``clearance`` given, every obstacle's physical radius
   plus the clearance is a hard constraint on the plan, on top of the learned
   reward: a barrier ``μ t³/(1 − t)`` that is exactly zero outside a thin zone
@@ -84,107 +89,33 @@ import numpy as np
 
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
+from lfdkit.emulate.problem import Corridor, Problem, goal_weights
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
-from lfdkit.geometry import (
-    PolylineSet,
-    normal_frames,
-    point_tangents,
-    polyline_distances,
-    resample,
-)
+from lfdkit.geometry import polyline_distances
 
-__all__ = ["Corridor", "Plan", "UnsafePlanError", "plan_clearance", "plan_path"]
+# goal_weights is the problem's (lfdkit.emulate.problem); listed here too, as the
+# planner's goal approach that plan_path documents.
+__all__ = [
+    "GOAL_TOLERANCE",
+    "MAX_HORIZON",
+    "MIN_HORIZON",
+    "Plan",
+    "UnsafePlanError",
+    "best_window",
+    "goal_weights",
+    "plan_clearance",
+    "plan_path",
+]
 
 #: Horizons the thesis found to work (§5.4).
 MIN_HORIZON, MAX_HORIZON = 4, 12
-#: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
-GOAL_GAIN = 1e4
-#: Default goal approach, as a fraction of the nominal path's length.
-GOAL_APPROACH_FRACTION = 0.1
 #: A plan ends at its goal when its last point is this close (fraction of the path's extent).
 GOAL_TOLERANCE = 1e-3
-#: Most points a plan may have (memory and time grow linearly).
-MAX_POINTS = 100_000
 
 
 class UnsafePlanError(ValueError):
     """No plan within the action bounds keeps out of every obstacle (or reaches the goal)."""
-
-
-@dataclass(frozen=True, eq=False)
-class Corridor:
-    """A nominal path sampled at constant speed, with the normals a plan moves along.
-
-    Attributes
-    ----------
-    points : ndarray, shape (K, q)
-        Nominal points ``x_k^N``, equally spaced in arc length.
-    normals : ndarray, shape (K, q − 1, q)
-        Orthonormal normals ``N_k`` of each point (rows).
-    tangents : ndarray, shape (K, q)
-    step : float
-        Arc length between consecutive points.
-    """
-
-    points: np.ndarray
-    normals: np.ndarray
-    tangents: np.ndarray
-    step: float
-
-    @classmethod
-    def from_path(cls, nominal: Any, n_points: int = 100) -> Corridor:
-        """Resample ``nominal`` (n, q), q 2 or 3, to ``n_points`` equally spaced points."""
-        path = check_path(nominal, "nominal", min_points=2)
-        if path.shape[1] not in (2, 3):
-            raise ValueError(f"nominal: expected 2-D or 3-D points, got {path.shape[1]}")
-        n_points = check_positive(n_points, "n_points", integer=True)
-        if not 3 <= n_points <= MAX_POINTS:
-            raise ValueError(f"n_points: expected 3 to {MAX_POINTS} points, got {n_points}")
-        points = resample(path, n_points)
-        tangents = point_tangents(points)
-        frames = normal_frames(tangents)
-        step = float(np.linalg.norm(points[1] - points[0]))
-        return cls(points, frames[:, 1:, :], tangents, step)
-
-    @property
-    def n_points(self) -> int:
-        return int(self.points.shape[0])
-
-    @property
-    def n_dims(self) -> int:
-        return int(self.points.shape[1])
-
-    @property
-    def length(self) -> float:
-        """Arc length from the first to the last point."""
-        return self.step * (self.n_points - 1)
-
-    @property
-    def extent(self) -> float:
-        """Largest side of the points' bounding box (the scale of goal tolerances)."""
-        return float(np.ptp(self.points, axis=0).max())
-
-    def to_points(self, offsets: np.ndarray) -> np.ndarray:
-        """World points ``x_k^N + N_kᵀ d_k`` for offsets (K, q − 1)."""
-        return self.points + np.einsum("km,kmq->kq", offsets, self.normals)
-
-    def offsets_of(self, demo: Any) -> tuple[np.ndarray, np.ndarray]:
-        """Lateral offsets where a demonstration crosses each normal.
-
-        Returns
-        -------
-        offsets : ndarray, shape (K, q − 1)
-            ``N_k (p_k − x_k^N)`` with ``p_k`` the nearest crossing of the
-            demonstration (travelled in the nominal's direction) with the
-            normal hyperplane of point ``k``; 0 where there is none.
-        found : ndarray of bool, shape (K,)
-        """
-        demo = check_path(demo, "demo", n_dims=self.n_dims)
-        hits = PolylineSet([demo]).intersect(self.points, self.tangents, same_direction=True)
-        found = hits.found[:, 0]
-        rel = np.where(found[:, None], hits.points[:, 0] - self.points, 0.0)
-        return np.einsum("kmq,kq->km", self.normals, rel), found
 
 
 @dataclass
@@ -222,171 +153,7 @@ class Plan:
     goal_error: float = float("nan")
 
 
-# --------------------------------------------------------------------- problem
-class _Problem:
-    """Offsets ``d_1 … d_n`` after a fixed ``d_0``: the cost's ingredients.
-
-    The exponent of obstacle ``l`` at point ``k`` is a quadratic in the offset,
-    ``s = c + 2 bᵀd + dᵀA d`` with ``c = rᵀPr``, ``b = N P r``, ``A = N P Nᵀ``
-    and ``r = x_k^N − O_l``: precomputed once, so each evaluation is a few
-    element-wise operations. Obstacles with a hard radius (``hard_radius > 0``)
-    add the clearance barrier, on the squared distance ``|r|² + 2 (N r)ᵀd + |d|²``
-    (the normals are orthonormal).
-    """
-
-    def __init__(
-        self,
-        base: np.ndarray,
-        normals: np.ndarray,
-        obstacles: np.ndarray,
-        precision: np.ndarray,
-        weight: float | np.ndarray,
-        max_step: float,
-        hard_radius: np.ndarray | None = None,
-    ) -> None:
-        self.base, self.normals = base, normals  # (n, q), (n, m, q)
-        self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
-        # Nominal weight per offset: Q, or Q ramped up towards the goal.
-        self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
-        self.max_step = float(max_step)
-        rel = base[:, None, :] - obstacles[None]  # (n, L, q)
-        pr = np.einsum("lij,klj->kli", precision, rel)
-        self.c = np.einsum("kli,kli->kl", rel, pr)
-        self.b = np.einsum("kmq,klq->klm", normals, pr)
-        self.a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
-        radius = np.zeros(obstacles.shape[0]) if hard_radius is None else hard_radius
-        self.hard = np.flatnonzero(radius > 0.0)  # obstacles with a barrier
-        # A segment of length L whose ends keep √(r² + L²/4) from a centre keeps r from
-        # it; L is at most the nominal step and the largest sideways step (10 % slack
-        # for the normals turning on a curved nominal).
-        step = _step_of(base)
-        segment = 1.1 * np.sqrt(step**2 + normals.shape[1] * max_step**2)
-        inner = np.sqrt(radius[self.hard] ** 2 + 0.25 * segment**2)
-        self.inner2 = inner**2
-        self.outer2 = (inner + 0.25 * np.maximum(inner, step)) ** 2
-        hard_rel = rel[:, self.hard]
-        self.rr = np.einsum("khq,khq->kh", hard_rel, hard_rel)
-        self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
-
-    @property
-    def n(self) -> int:
-        return int(self.base.shape[0])
-
-    @property
-    def m(self) -> int:
-        return int(self.normals.shape[1])
-
-    @property
-    def has_obstacles(self) -> bool:
-        return bool(self.obstacles.shape[0])
-
-    def window(self, start: int, stop: int) -> _Problem:
-        """The sub-problem of offsets ``start … stop − 1`` (precomputed terms sliced)."""
-        sub = object.__new__(_Problem)
-        sub.base, sub.normals = self.base[start:stop], self.normals[start:stop]
-        sub.obstacles, sub.precision = self.obstacles, self.precision
-        sub.weight, sub.max_step = self.weight[start:stop], self.max_step
-        sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
-        sub.hard, sub.inner2, sub.outer2 = self.hard, self.inner2, self.outer2
-        sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
-        return sub
-
-    def kernel_arguments(self) -> tuple:
-        """The cost's arrays as the compiled kernels take them."""
-        return (
-            self.c,
-            self.b,
-            self.a,
-            self.weight,
-            self.rr,
-            self.nr,
-            self.inner2,
-            self.outer2,
-            BARRIER_WEIGHT,
-        )
-
-    def bumps(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Obstacle terms ``e`` (n, L) and ``N P u = b + A d`` (n, L, m) at offsets (n, m)."""
-        npu = self.b + np.einsum("klmn,kn->klm", self.a, d)
-        exponent = self.c + np.einsum("klm,km->kl", self.b + npu, d)
-        return np.exp(-exponent), npu
-
-    def cost(self, d: np.ndarray) -> float:
-        """The reward's cost ``−Σ R`` (without the clearance barrier)."""
-        value = float(np.sum(self.weight[:, None] * d * d))
-        if self.has_obstacles:
-            value += float(self.bumps(d)[0].sum())
-        return value
-
-    def total_cost(self, d: np.ndarray) -> float:
-        """The cost with the clearance barrier (``+inf`` inside a hard radius)."""
-        from lfdkit._kernels import planner_cost
-
-        return float(planner_cost(*self.kernel_arguments(), np.ascontiguousarray(d, float)))
-
-    def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-        """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets (no barrier)."""
-        m = d.shape[1]
-        cost = float(np.sum(self.weight[:, None] * d * d))
-        gradient = 2.0 * self.weight[:, None] * d
-        hessian = 2.0 * self.weight[:, None, None] * np.eye(m)[None]
-        if self.has_obstacles:
-            bump, npu = self.bumps(d)
-            cost += float(bump.sum())
-            gradient -= 2.0 * np.einsum("kl,klm->km", bump, npu)
-            hessian += np.einsum(
-                "kl,klmn->kmn", bump, 4.0 * npu[..., :, None] * npu[..., None, :] - 2.0 * self.a
-            )
-        return cost, gradient, hessian
-
-
-#: Scale of the clearance barrier (an obstacle's reward term is at most 1).
-BARRIER_WEIGHT = 1.0
-
-
-def _step_of(base: np.ndarray) -> float:
-    return float(np.linalg.norm(base[1] - base[0])) if base.shape[0] > 1 else 0.0
-
-
-def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
-    """Reduced-variable index of each offset component; −1 where anchored to ``d_0``.
-
-    ``free`` (n, m): action ``j`` (from offset ``j−1`` to ``j``) is free. Offsets
-    linked by held actions move together; each free action starts a new group.
-    """
-    n, m = free.shape
-    counts = np.cumsum(free, axis=0)  # groups started so far per component
-    totals = counts[-1] if n else np.zeros(m, dtype=int)
-    starts = np.concatenate([[0], np.cumsum(totals)[:-1]])
-    index = np.where(counts > 0, counts - 1 + starts[None, :], -1)
-    return index, int(totals.sum())
-
-
-def _solve(
-    problem: _Problem, d0: np.ndarray, init: np.ndarray, *, tol: float = 1e-10, max_iter: int = 100
-) -> tuple[np.ndarray, float, int, bool]:
-    """Projected Newton on the actions (compiled); returns offsets, cost, iterations, converged.
-
-    The cost returned includes the clearance barrier (``+inf`` for a start
-    inside a hard radius, which is returned unchanged).
-    """
-    from lfdkit._kernels import planner_newton  # numba compiles on first use
-
-    d = np.array(init, dtype=np.float64, order="C").reshape(problem.n, problem.m)
-    cost, n_iter, ok = planner_newton(
-        *problem.kernel_arguments(),
-        problem.max_step,
-        np.ascontiguousarray(d0, dtype=np.float64),
-        d,
-        tol,
-        max_iter,
-    )
-    return d, float(cost), int(n_iter), bool(ok)
-
-
-def _lateral_levels(
-    problem: _Problem, d0: np.ndarray, fine: bool = False
-) -> tuple[np.ndarray, int]:
+def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tuple[np.ndarray, int]:
     """The grid of the global search: offsets ``h·j``, ``|j| ≤ J``, and cells per step.
 
     It spans the start and, for every obstacle whose response or radius
@@ -420,17 +187,17 @@ def _lateral_levels(
 
 
 def _global_start(
-    problem: _Problem,
+    problem: Problem,
     d0: np.ndarray,
     end_on_nominal: bool,
     levels: tuple[np.ndarray, int] | None = None,
     extra: np.ndarray | None = None,
 ) -> np.ndarray | None:
-    """The best path on the lateral grid (:func:`lfdkit._kernels.lateral_dp`), None if blocked.
+    """The best path on the lateral grid (:func:`._planner_kernels.lateral_dp`), None if blocked.
 
     ``extra`` (n, G^m) is added to the grid states' costs (``+inf`` forbids one).
     """
-    from lfdkit._kernels import lateral_dp
+    from lfdkit.emulate._planner_kernels import lateral_dp
 
     grid, cells = levels if levels is not None else _lateral_levels(problem, d0)
     out = np.zeros((problem.n, problem.m))
@@ -455,8 +222,8 @@ class _GridSearch:
     is only the coarse grid.
     """
 
-    def __init__(self, problem: _Problem, d0: np.ndarray) -> None:
-        from lfdkit._kernels import grid_node_costs
+    def __init__(self, problem: Problem, d0: np.ndarray) -> None:
+        from lfdkit.emulate._planner_kernels import grid_node_costs
 
         self.problem, self.d0, self.m = problem, d0, problem.m
         levels, window = _lateral_levels(problem, d0, fine=problem.m == 1)
@@ -474,7 +241,7 @@ class _GridSearch:
         self, end_on_nominal: bool, grid: str = "coarse", extra: np.ndarray | None = None
     ) -> np.ndarray | None:
         """The best path on a grid (None if every grid path is blocked)."""
-        from lfdkit._kernels import grid_backward, grid_walk
+        from lfdkit.emulate._planner_kernels import grid_backward, grid_walk
 
         levels, window, node = self.grids[grid]
         table = np.empty_like(node)
@@ -526,64 +293,6 @@ class _GridSearch:
         return starts
 
 
-def goal_weights(
-    corridor: Corridor, weight: float, goal_approach: float | str | None
-) -> np.ndarray:
-    """Nominal weight of offsets 1 … K−1: ``Q``, ramped up over the last ``goal_approach``.
-
-    Over the final stretch of length ``goal_approach`` (``"auto"``:
-    :data:`GOAL_APPROACH_FRACTION` of the nominal's length) the weight rises as
-    ``Q (1 + GOAL_GAIN · r²(3 − 2r))`` with ``r`` from 0 to 1 (a smooth step),
-    which draws the plan back onto the nominal so it ends at the goal. None
-    keeps ``Q`` everywhere (the thesis's model).
-    """
-    n = corridor.n_points - 1
-    if goal_approach is None:
-        return np.full(n, float(weight))
-    if isinstance(goal_approach, str):
-        if goal_approach != "auto":
-            raise ValueError(
-                f"goal_approach: expected a length, 'auto' or None, got {goal_approach!r}"
-            )
-        approach = GOAL_APPROACH_FRACTION * corridor.length
-    else:
-        approach = check_positive(goal_approach, "goal_approach")
-    position = np.arange(1, n + 1) * corridor.step
-    r = np.clip((position - (n * corridor.step - approach)) / approach, 0.0, 1.0)
-    return weight * (1.0 + GOAL_GAIN * r * r * (3.0 - 2.0 * r))
-
-
-def _build(
-    reward: Reward,
-    corridor: Corridor,
-    scene: Scene,
-    max_slope: float = 1.0,
-    goal_approach: float | str | None = None,
-    clearance: float | None = None,
-) -> _Problem:
-    """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step.
-
-    ``clearance`` None: no hard radii (the thesis's model, as the IOC fits
-    it); a number: each obstacle's radius plus it is a hard constraint.
-    """
-    precision = reward.precision_of(scene)
-    obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
-    if len(scene) and obstacles.shape[1] != corridor.n_dims:
-        raise ValueError(
-            f"scene: {obstacles.shape[1]}-D obstacles for a {corridor.n_dims}-D nominal path"
-        )
-    hard = None if clearance is None or not len(scene) else scene.radii + clearance
-    return _Problem(
-        corridor.points[1:],
-        corridor.normals[1:],
-        obstacles,
-        precision.reshape(-1, corridor.n_dims, corridor.n_dims),
-        goal_weights(corridor, reward.nominal_weight, goal_approach),
-        max_slope * corridor.step,
-        hard,
-    )
-
-
 def plan_path(
     reward: Reward,
     nominal: Any,
@@ -612,7 +321,7 @@ def plan_path(
         MPC horizon ``H`` with ``4 <= H <= 12``; None for the full-horizon optimum.
     n_points : int
         Points ``K`` of the plan (the nominal is resampled at constant speed),
-        3 to :data:`MAX_POINTS`.
+        3 to :data:`lfdkit.emulate.problem.MAX_POINTS`.
     start_offset : array_like, shape (q − 1,), optional
         Lateral offset of the start from the nominal's first point (default 0).
     init : array_like, shape (K, q − 1), optional
@@ -622,7 +331,8 @@ def plan_path(
     goal_approach : float, "auto" or None
         Length (path units) before the goal over which the plan returns to the
         nominal so it ends at the goal (see :func:`goal_weights`); "auto" (the
-        default) is :data:`GOAL_APPROACH_FRACTION` of the nominal's length.
+        default) is :data:`~lfdkit.emulate.problem.GOAL_APPROACH_FRACTION` of the
+        nominal's length.
         None is the thesis's model, which has no goal term: a plan that swerves
         may end beside the goal.
     clearance : float
@@ -697,7 +407,7 @@ def _plan(
                 f"got {horizon}"
             )
     reach_goal = goal_approach is not None
-    problem = _build(
+    problem = Problem.from_scene(
         reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach, clearance
     )
     _check_ends(corridor, d0, problem, scene, clearance, reach_goal)
@@ -728,7 +438,7 @@ def _vector(value: Any, name: str, size: int) -> np.ndarray:
     return out
 
 
-def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
+def _full_starts(problem: Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
     """The global grid path, in 2-D its one-obstacle flips and a finer grid's, the nominal."""
     nominal = np.zeros((problem.n, problem.m))
     if not problem.has_obstacles:
@@ -746,21 +456,21 @@ def _full_starts(problem: _Problem, d0: np.ndarray, reach_goal: bool) -> list[np
     return [*starts, nominal]
 
 
-def _blocked_message(problem: _Problem, reach_goal: bool) -> str:
+def _blocked_message(problem: Problem, reach_goal: bool) -> str:
     return (
         "no collision-free plan: every path within the action bound "
-        f"(max_slope {problem.max_step / _step_of(problem.base):g}) enters an obstacle's "
+        f"(max_slope {problem.max_step / problem.step:g}) enters an obstacle's "
         "radius plus clearance" + (" or cannot return to the goal" if reach_goal else "")
     )
 
 
 def _best_of(
-    problem: _Problem, d0: np.ndarray, starts: list[np.ndarray]
+    problem: Problem, d0: np.ndarray, starts: list[np.ndarray]
 ) -> tuple[np.ndarray, int, bool]:
     """The lowest-cost optimum polished from ``starts`` (skipping those inside a hard radius)."""
     best, total_iter = None, 0
     for guess in starts:
-        d, cost, n_iter, ok = _solve(problem, d0, guess)
+        d, cost, n_iter, ok = problem.solve(d0, guess)
         total_iter += n_iter
         if np.isfinite(cost) and (best is None or cost < best[1] - 1e-12 * abs(best[1])):
             best = (d, cost, ok)
@@ -770,13 +480,13 @@ def _best_of(
 
 
 def _receding_horizon(
-    problem: _Problem, d0: np.ndarray, horizon: int, reach_goal: bool, lookahead: bool = True
+    problem: Problem, d0: np.ndarray, horizon: int, reach_goal: bool, lookahead: bool = True
 ) -> tuple[np.ndarray, int, bool]:
     """MPC: each window's best optimum, judged with the grid's cost-to-go after the window.
 
     A window alone is myopic: in front of a concave pocket the best ``H``
     points may head straight in. The grid's backward dynamic programme over
-    the whole path (:func:`lfdkit._kernels.grid_cost_to_go`) gives, for any
+    the whole path (:func:`lfdkit.emulate._planner_kernels.grid_cost_to_go`) gives, for any
     offset at the window's end, the least cost of the rest. Near an obstacle
     the warm start and a grid path are polished; with ``lookahead`` the grid
     path is the global route from the anchor and the candidates (also that
@@ -784,7 +494,7 @@ def _receding_horizon(
     grid path is the window's own optimum and the least window cost wins
     (:func:`_ranked`). A candidate leading into a dead end is never executed.
     """
-    from lfdkit._kernels import grid_cost_to_go, grid_walk
+    from lfdkit.emulate._planner_kernels import grid_cost_to_go, grid_walk
 
     n, m = problem.n, problem.m
     offsets = np.zeros((n + 1, m))
@@ -808,7 +518,7 @@ def _receding_horizon(
             guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
         anchor = offsets[k]
         if table is None or not _obstacle_near(window, anchor):
-            d, cost, n_iter, ok = _best_window(window, anchor, guess, sides=False)
+            d, cost, n_iter, ok = best_window(window, anchor, guess, sides=False)
         else:
             grid = np.zeros((stop - k, m))
             blocked = not np.isfinite(
@@ -819,7 +529,7 @@ def _receding_horizon(
                 grid = grid if own is None else own
             polished = []
             for start in [guess] if blocked else [guess, grid]:
-                d, cost, n_iter, ok = _solve(window, anchor, start)
+                d, cost, n_iter, ok = window.solve(anchor, start)
                 total_iter += n_iter
                 polished.append((d, ok))
             d, cost, ok = _ranked(
@@ -839,13 +549,13 @@ def _receding_horizon(
 
 
 def _ranked(
-    window: _Problem,
+    window: Problem,
     polished: list[tuple[np.ndarray, bool]],
     grid: np.ndarray | None,
     table: np.ndarray,
     levels: np.ndarray,
     stop: int,
-    problem: _Problem,
+    problem: Problem,
     lookahead: bool,
 ) -> tuple[np.ndarray, float, bool]:
     """The window's candidate to execute.
@@ -888,35 +598,52 @@ def _cost_to_go(
     return float(row[near].min()) if near.any() else np.inf
 
 
-def _best_window(
-    window: _Problem,
-    anchor: np.ndarray,
-    guess: np.ndarray,
-    *,
-    sides: bool = True,
-    end_on_nominal: bool = False,
+def best_window(
+    window: Problem, anchor: np.ndarray, guess: np.ndarray, *, sides: bool = True
 ) -> tuple[np.ndarray, float, int, bool]:
     """Solve one MPC window from the warm start and, near an obstacle, its global grid path.
 
-    Returns the lowest-cost optimum found (``+inf`` cost if every candidate
-    enters a hard radius), its cost, the summed iterations and whether that
-    optimum converged.
+    The thesis's window solve (what :func:`plan_path` does away from
+    obstacles, and what the emulation benchmark times window by window).
+
+    Parameters
+    ----------
+    window : Problem
+        The window's offsets (:meth:`Problem.window`).
+    anchor : ndarray, shape (m,)
+        The executed offset before the window (units).
+    guess : ndarray, shape (h, m)
+        Warm start: the previous window shifted by one point.
+    sides : bool
+        Near an obstacle, also polish the window's best path on the lateral
+        grid (another way round it); False: the warm start alone.
+
+    Returns
+    -------
+    d : ndarray, shape (h, m)
+        The lowest-cost optimum found.
+    cost : float
+        Its cost (``+inf`` if every candidate enters a hard radius).
+    n_iter : int
+        Newton iterations, summed over the candidates.
+    converged : bool
+        Whether that optimum converged.
     """
     candidates = [guess]
     if sides and _obstacle_near(window, anchor):
-        grid = _global_start(window, anchor, end_on_nominal)
+        grid = _global_start(window, anchor, False)
         if grid is not None:
             candidates.append(grid)
     best, total = None, 0
     for candidate in candidates:
-        d, cost, n_iter, ok = _solve(window, anchor, candidate)
+        d, cost, n_iter, ok = window.solve(anchor, candidate)
         total += n_iter
         if best is None or cost < best[1]:
             best = (d, cost, ok)
     return best[0], best[1], total, best[2]
 
 
-def _obstacle_near(window: _Problem, anchor: np.ndarray) -> bool:
+def _obstacle_near(window: Problem, anchor: np.ndarray) -> bool:
     """Whether an obstacle's response or hard radius reaches the window's reachable offsets.
 
     Offsets within reach satisfy ``|d| ≤ ρ = |d_anchor| + n · max_step``; there the
@@ -936,7 +663,7 @@ def _obstacle_near(window: _Problem, anchor: np.ndarray) -> bool:
 def _check_ends(
     corridor: Corridor,
     d0: np.ndarray,
-    problem: _Problem,
+    problem: Problem,
     scene: Scene,
     clearance: float,
     reach_goal: bool,
@@ -994,19 +721,25 @@ def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndar
     """
     path = check_path(points, "points", min_points=1)
     clearance = check_positive(clearance, "clearance", allow_zero=True)
+    if len(scene) and scene.positions.shape[1] != path.shape[1]:
+        raise ValueError(
+            f"scene: {scene.positions.shape[1]}-D obstacles for a {path.shape[1]}-D path"
+        )
+    return _clearance(path, scene, clearance)
+
+
+def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
+    """:func:`plan_clearance` of a path and clearance already checked."""
     if not len(scene):
         return np.zeros(0)
-    centres = scene.positions
-    if centres.shape[1] != path.shape[1]:
-        raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
-    return polyline_distances(centres, path) - scene.radii - clearance
+    return polyline_distances(scene.positions, path) - scene.radii - clearance
 
 
 def _verified(
     plan: Plan, corridor: Corridor, scene: Scene, clearance: float, reach_goal: bool
 ) -> Plan:
     """Check the finished plan against every obstacle and the goal; raise if it fails."""
-    plan.clearance = plan_clearance(plan.points, scene, clearance)
+    plan.clearance = _clearance(plan.points, scene, clearance)  # checked by plan_path
     plan.goal_error = float(np.linalg.norm(plan.points[-1] - corridor.points[-1]))
     tolerance = 1e-9 * max(corridor.extent, corridor.length)
     hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.radii + clearance > 0))

@@ -1205,7 +1205,7 @@ def _quintic_pieces(
 
 def _evaluate_pieces(s: np.ndarray, spacing: float, pieces: np.ndarray) -> np.ndarray:
     """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (q, 3, len(s))."""
-    from lfdkit._kernels import evaluate_quintic_pieces  # numba compiles on first use
+    from lfdkit.imitate._dmp_kernels import evaluate_quintic_pieces  # numba compiles on first use
 
     out = np.empty((pieces.shape[2], 3, s.size))
     evaluate_quintic_pieces(np.ascontiguousarray(s, dtype=np.float64), spacing, pieces, out)

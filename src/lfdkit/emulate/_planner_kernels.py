@@ -1,0 +1,206 @@
+"""Compiled global search of the planner on a lateral grid (numba).
+
+Dynamic programmes over a grid of lateral offsets for
+:mod:`lfdkit.emulate.planner`: the states' costs (:func:`grid_node_costs`),
+the backward cost-to-go (:func:`grid_backward`, :func:`grid_cost_to_go`),
+following it from a start (:func:`grid_walk`) and the whole search
+(:func:`lateral_dp`). Argument names as the attributes of
+:class:`lfdkit.emulate.problem.Problem`; the cost is the one of
+:mod:`._problem_kernels`, whose cost of one point it shares.
+
+Imported lazily: compiling costs a few seconds once, after which the machine
+code is cached on disk next to this file.
+"""
+
+import numba
+import numpy as np
+
+from lfdkit.emulate._problem_kernels import point_cost
+
+
+@numba.njit(cache=True)
+def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
+    """Cost of every grid state at every point: ``out`` (n, G^m), m from its width.
+
+    At each point, obstacles whose term is negligible at every offset (the
+    exponent's minimum over all offsets above 40, or the squared distance's
+    minimum beyond the barrier) are left out of that point's states.
+    """
+    g_count = levels.shape[0]
+    n = out.shape[0]
+    m = 2 if out.shape[1] != g_count else 1
+    n_obs, n_hard = c.shape[1], rr.shape[1]
+    point = np.empty(m)
+    bumps = np.empty(n_obs, dtype=np.int64)
+    hards = np.empty(n_hard, dtype=np.int64)
+    for k in range(n):
+        n_bumps = 0
+        for o in range(n_obs):
+            # min over d of c + 2bᵀd + dᵀAd is c − bᵀA⁻¹b (A positive definite)
+            if m == 1:
+                lowest = c[k, o] - b[k, o, 0] ** 2 / max(a[k, o, 0, 0], 1e-300)
+            else:
+                det = a[k, o, 0, 0] * a[k, o, 1, 1] - a[k, o, 0, 1] * a[k, o, 1, 0]
+                det = max(det, 1e-300)
+                quad = (
+                    a[k, o, 1, 1] * b[k, o, 0] ** 2
+                    - 2.0 * a[k, o, 0, 1] * b[k, o, 0] * b[k, o, 1]
+                    + a[k, o, 0, 0] * b[k, o, 1] ** 2
+                ) / det
+                lowest = c[k, o] - quad
+            if lowest < 40.0:
+                bumps[n_bumps] = o
+                n_bumps += 1
+        n_hards = 0
+        for h in range(n_hard):
+            closest = rr[k, h]
+            for i in range(m):
+                closest -= nr[k, h, i] ** 2
+            if closest < outer2[h]:
+                hards[n_hards] = h
+                n_hards += 1
+        near, hit = bumps[:n_bumps], hards[:n_hards]
+        for s in range(out.shape[1]):
+            point[0] = levels[s // g_count if m == 2 else s]
+            if m == 2:
+                point[1] = levels[s % g_count]
+            out[k, s] = point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, point, near, hit)
+
+
+@numba.njit(cache=True, inline="always")
+def _window_min(values, start, stride, g_count, window, out, out_start):
+    """Sliding minimum along one grid axis.
+
+    ``out[out_start + s·stride]`` = the smallest of ``values[start + t·stride]``
+    over ``|t − s| ≤ window``, ``0 ≤ s, t < g_count``.
+    """
+    for s in range(g_count):
+        best = np.inf
+        for t in range(max(0, s - window), min(g_count, s + window + 1)):
+            v = values[start + t * stride]
+            if v < best:
+                best = v
+        out[out_start + s * stride] = best
+
+
+@numba.njit(cache=True)
+def _box_min(values, g_count, m, window, inner, out):
+    """``out[s]`` = the smallest of ``values`` over the states within ``window`` cells of ``s``.
+
+    In 3-D (``m`` 2, state ``i·G + j``) the box is separable: a sliding
+    minimum along ``j`` into ``inner``, then along ``i``.
+    """
+    if m == 1:
+        _window_min(values, 0, 1, g_count, window, out, 0)
+        return
+    for i in range(g_count):
+        _window_min(values, i * g_count, 1, g_count, window, inner, i * g_count)
+    for j in range(g_count):
+        _window_min(inner, j, g_count, g_count, window, out, j)
+
+
+@numba.njit(cache=True)
+def grid_cost_to_go(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, out
+):
+    """Backward dynamic programme on the lateral grid (see :func:`lateral_dp`).
+
+    Fills ``out`` (n, G^m) with the least cost of points ``k … n − 1`` over grid
+    paths that start in each state at point ``k`` (with ``end_zero``, that end
+    on 0); ``+inf`` where none avoids the hard radii. ``extra`` (n, G^m) is
+    added to the states' costs (``+inf`` forbids a state; empty: nothing).
+    """
+    grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
+    grid_backward(out.copy(), levels.shape[0], window, end_zero, extra, out)
+
+
+@numba.njit(cache=True)
+def grid_backward(node, g_count, window, end_zero, extra, out):
+    """:func:`grid_cost_to_go` from states' costs ``node`` (n, G^m) computed before."""
+    n, n_states = out.shape
+    m = 2 if n_states != g_count else 1
+    for k in range(n):
+        for s in range(n_states):
+            out[k, s] = node[k, s] + (extra[k, s] if extra.shape[0] else 0.0)
+    if end_zero:
+        zero = (g_count - 1) // 2
+        keep = zero * g_count + zero if m == 2 else zero
+        for s in range(n_states):
+            if s != keep:
+                out[n - 1, s] = np.inf
+    best = np.empty(n_states)
+    inner = np.empty(n_states)
+    for k in range(n - 2, -1, -1):
+        _box_min(out[k + 1], g_count, m, window, inner, best)
+        for s in range(n_states):
+            out[k, s] += best[s]
+
+
+@numba.njit(cache=True)
+def lateral_dp(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, levels, window, end_zero, extra, out
+):
+    """Globally best offsets on a lateral grid, by dynamic programming.
+
+    Every offset component takes a value of ``levels`` (G,), an odd-length
+    grid symmetric about 0 with spacing ``max_step / window`` at most, so a
+    move of up to ``window`` cells per point respects the action bound. The
+    first point is reached from ``d0`` (off the grid) within the bound; with
+    ``end_zero`` the last offset is 0 (the plan ends on the nominal). States
+    are G (m = 1) or G² (m = 2); each transition is a box, so the minimum
+    over predecessors is a separable sliding minimum. Fills ``out`` (n, m)
+    and returns its cost (``+inf`` when no grid path avoids the hard radii).
+    """
+    n, m = out.shape
+    g_count = levels.shape[0]
+    n_states = g_count**m
+    value = np.empty((n, n_states))
+    grid_cost_to_go(
+        c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, value
+    )
+    return grid_walk(value, levels, window, max_step, d0, out)
+
+
+@numba.njit(cache=True)
+def grid_walk(value, levels, window, max_step, d0, out):
+    """Follow a cost-to-go table (:func:`grid_cost_to_go`) from ``d0`` for ``out``'s rows.
+
+    The first state is the best within the action bound of ``d0`` (off the
+    grid), each next one the best within ``window`` cells. Fills ``out``
+    (h, m), h ≤ n, and returns the table's value of the first state (the
+    least cost of the whole remaining path; ``+inf`` if blocked).
+    """
+    h, m = out.shape
+    g_count = levels.shape[0]
+    reach = max_step * (1.0 + 1e-12)
+    state, total = -1, np.inf
+    for s in range(value.shape[1]):
+        i0 = s // g_count if m == 2 else s
+        if abs(levels[i0] - d0[0]) > reach:
+            continue
+        if m == 2 and abs(levels[s % g_count] - d0[1]) > reach:
+            continue
+        if value[0, s] < total:
+            state, total = s, value[0, s]
+    if not np.isfinite(total):
+        return total
+    for k in range(h):
+        i0 = state // g_count if m == 2 else state
+        j0 = state % g_count
+        out[k, 0] = levels[i0]
+        if m == 2:
+            out[k, 1] = levels[j0]
+        if k == h - 1:
+            break
+        best_state, best = -1, np.inf
+        for t in range(max(0, i0 - window), min(g_count, i0 + window + 1)):
+            if m == 1:
+                if value[k + 1, t] < best:
+                    best_state, best = t, value[k + 1, t]
+            else:
+                for u in range(max(0, j0 - window), min(g_count, j0 + window + 1)):
+                    v = value[k + 1, t * g_count + u]
+                    if v < best:
+                        best_state, best = t * g_count + u, v
+        state = best_state
+    return total

@@ -1,0 +1,374 @@
+"""Compiled cost and projected Newton solver of the planning problem (numba).
+
+The kernels of :class:`lfdkit.emulate.problem.Problem`, shared by the planner
+(:mod:`lfdkit.emulate.planner`, whose global grid search has its own kernels
+in :mod:`._planner_kernels`) and the inverse optimal control
+(:mod:`._ioc_kernels`). The cost in the lateral offsets ``d`` (n, m) is
+
+    Σ_k Q_k |d_k|² + Σ_{k,o} exp(−(c + 2bᵀd + dᵀAd)) + Σ_{k,h} B(u_kh),
+
+with ``u = |x_k − O_h|² = rr + 2 nrᵀd + |d|²`` for the obstacles with a hard
+radius, and ``B`` the clearance barrier: 0 beyond the outer radius ρ, rising
+to ``+inf`` at the inner radius. Arrays with zero obstacles (shape (n, 0, …))
+switch a term off; the ``offset_*`` functions are the thesis's model, without
+hard radii. Argument names as the attributes of ``Problem``.
+
+:meth:`Problem.derivatives <lfdkit.emulate.problem.Problem.derivatives>` is
+the readable NumPy form of :func:`planner_derivatives` (without the barrier);
+``tests/emulate/test_problem.py`` holds the two to the same numbers.
+
+Imported lazily: compiling costs a few seconds once, after which the machine
+code is cached on disk next to this file.
+"""
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True, inline="always")
+def barrier(u, inner2, outer2, mu):
+    """Barrier value and its first two derivatives in ``u`` (a squared distance).
+
+    ``B = μ t³ / (1 − t)`` with ``t = (ρ² − u) / (ρ² − r²)``: zero with zero
+    first and second derivatives at ``u = ρ²`` (so Newton sees a C² cost), and
+    ``+inf`` at ``u = r²``.
+    """
+    if u >= outer2:
+        return 0.0, 0.0, 0.0
+    if u <= inner2:
+        return np.inf, 0.0, 0.0
+    kappa = 1.0 / (outer2 - inner2)
+    t = (outer2 - u) * kappa
+    one = 1.0 - t
+    value = mu * t * t * t / one
+    first = -mu * kappa * (3.0 * t * t - 2.0 * t * t * t) / (one * one)
+    second = mu * kappa * kappa * (6.0 * t - 6.0 * t * t + 2.0 * t * t * t) / (one * one * one)
+    return value, first, second
+
+
+@numba.njit(cache=True, inline="always")
+def point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g, bumps, hards):
+    """Cost of offset ``g`` (m,) at point ``k`` alone.
+
+    Over the obstacles ``bumps`` and the hard radii ``hards`` (indices; the
+    others are left out: the grid search drops those negligible at a point).
+    """
+    m = g.shape[0]
+    total = 0.0
+    for i in range(m):
+        total += weight[k] * g[i] * g[i]
+    for o in bumps:
+        s = c[k, o]
+        for i in range(m):
+            npu = b[k, o, i]
+            for j in range(m):
+                npu += a[k, o, i, j] * g[j]
+            s += (b[k, o, i] + npu) * g[i]
+        total += np.exp(-s)
+    for h in hards:
+        u = rr[k, h]
+        for i in range(m):
+            u += (2.0 * nr[k, h, i] + g[i]) * g[i]
+        total += barrier(u, inner2[h], outer2[h], mu)[0]
+    return total
+
+
+@numba.njit(cache=True)
+def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
+    """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
+    bumps, hards = np.arange(c.shape[1]), np.arange(rr.shape[1])
+    total = 0.0
+    for k in range(d.shape[0]):
+        total += point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, d[k], bumps, hards)
+    return total
+
+
+@numba.njit(cache=True)
+def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian):
+    """Cost; fills the gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
+    n, n_obs = c.shape
+    m = d.shape[1]
+    total = 0.0
+    npu = np.empty(m)
+    for k in range(n):
+        for i in range(m):
+            total += weight[k] * d[k, i] * d[k, i]
+            gradient[k, i] = 2.0 * weight[k] * d[k, i]
+            for j in range(m):
+                hessian[k, i, j] = 2.0 * weight[k] if i == j else 0.0
+        for o in range(n_obs):
+            s = c[k, o]
+            for i in range(m):
+                npu[i] = b[k, o, i]
+                for j in range(m):
+                    npu[i] += a[k, o, i, j] * d[k, j]
+                s += (b[k, o, i] + npu[i]) * d[k, i]
+            e = np.exp(-s)
+            total += e
+            for i in range(m):
+                gradient[k, i] -= 2.0 * e * npu[i]
+                for j in range(m):
+                    hessian[k, i, j] += e * (4.0 * npu[i] * npu[j] - 2.0 * a[k, o, i, j])
+        for h in range(rr.shape[1]):
+            u = rr[k, h]
+            for i in range(m):
+                u += (2.0 * nr[k, h, i] + d[k, i]) * d[k, i]
+            value, first, second = barrier(u, inner2[h], outer2[h], mu)
+            if value == 0.0:
+                continue
+            total += value
+            for i in range(m):
+                gradient[k, i] += 2.0 * first * (nr[k, h, i] + d[k, i])
+                for j in range(m):
+                    hessian[k, i, j] += (
+                        4.0 * second * (nr[k, h, i] + d[k, i]) * (nr[k, h, j] + d[k, j])
+                    )
+                hessian[k, i, i] += 2.0 * first
+    return total
+
+
+@numba.njit(cache=True)
+def _without_radii(n, m):
+    """The hard-radius arrays of a problem without any (the thesis's model)."""
+    return np.zeros((n, 0)), np.zeros((n, 0, m)), np.zeros(0), np.zeros(0)
+
+
+@numba.njit(cache=True)
+def offset_derivatives(c, b, a, weight, d, gradient, hessian):
+    """:func:`planner_derivatives` without hard radii (the thesis's model)."""
+    rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])
+    return planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, 0.0, d, gradient, hessian)
+
+
+@numba.njit(cache=True)
+def offset_groups(free, index):
+    """Reduced-variable index per offset component (−1: anchored); returns their number."""
+    n, m = free.shape
+    count = 0
+    for i in range(m):
+        current = -1
+        for k in range(n):
+            if free[k, i]:
+                current = count
+                count += 1
+            index[k, i] = current
+    return count
+
+
+@numba.njit(cache=True)
+def _positive_block(h00, h01, h11, floor):
+    """A symmetric 2×2 block with its eigenvalues replaced by ``max(|λ|, floor)``."""
+    mean = 0.5 * (h00 + h11)
+    radius = np.sqrt((0.5 * (h00 - h11)) ** 2 + h01 * h01)
+    low, high = mean - radius, mean + radius
+    fixed_low, fixed_high = max(abs(low), floor), max(abs(high), floor)
+    if low == fixed_low and high == fixed_high:
+        return h00, h01, h11
+    if radius == 0.0:
+        return fixed_high, 0.0, fixed_high
+    # eigenvector of the high eigenvalue: (h01, high − h00) or (high − h11, h01)
+    ux, uy = (h01, high - h00) if abs(high - h00) > abs(high - h11) else (high - h11, h01)
+    norm = np.sqrt(ux * ux + uy * uy)
+    ux, uy = ux / norm, uy / norm
+    vx, vy = -uy, ux
+    return (
+        fixed_high * ux * ux + fixed_low * vx * vx,
+        fixed_high * ux * uy + fixed_low * vx * vy,
+        fixed_high * uy * uy + fixed_low * vy * vy,
+    )
+
+
+@numba.njit(cache=True)
+def _cholesky_solve(lower, rhs):
+    """``x`` with ``L Lᵀ x = rhs`` for a lower-triangular ``L``."""
+    n = rhs.shape[0]
+    y = np.empty(n)
+    for i in range(n):
+        total = rhs[i]
+        for j in range(i):
+            total -= lower[i, j] * y[j]
+        y[i] = total / lower[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        total = y[i]
+        for j in range(i + 1, n):
+            total -= lower[j, i] * x[j]
+        x[i] = total / lower[i, i]
+    return x
+
+
+@numba.njit(cache=True)
+def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
+    """:func:`planner_newton` without hard radii (the thesis's model)."""
+    rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])
+    return planner_newton(
+        c, b, a, weight, rr, nr, inner2, outer2, 0.0, max_step, d0, d, tol, max_iter
+    )
+
+
+@numba.njit(cache=True)
+def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter):
+    """Projected Newton on the actions ``a_k = d_k − d_{k−1}``, box ``|a| <= max_step``.
+
+    ``d`` (n, m) holds the start on entry and the optimum on exit. The start
+    must have a finite cost (outside every hard radius): the line search never
+    accepts a step into one. Returns ``(cost, iterations, converged)``. See
+    ``lfdkit.emulate.planner``.
+    """
+    n, m = d.shape
+    actions = np.empty((n, m))
+    for k in range(n):
+        for i in range(m):
+            previous = d0[i] if k == 0 else d[k - 1, i]
+            actions[k, i] = min(max(d[k, i] - previous, -max_step), max_step)
+    for i in range(m):
+        running = d0[i]
+        for k in range(n):
+            running += actions[k, i]
+            d[k, i] = running
+    gradient = np.empty((n, m))
+    hessian = np.empty((n, m, m))
+    action_gradient = np.empty((n, m))
+    free = np.empty((n, m), dtype=np.bool_)
+    index = np.empty((n, m), dtype=np.int64)
+    step_d = np.empty((n, m))
+    step_a = np.empty((n, m))
+    trial_a = np.empty((n, m))
+    trial_d = np.empty((n, m))
+    # The base weight (the smallest) sets the scales, so a goal ramp does not loosen them.
+    base = weight.min()
+    floor = 1e-8 * 2.0 * base
+    scale = 1.0 + 2.0 * base * max_step
+    cost = planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian)
+    if not np.isfinite(cost):
+        return cost, 0, False
+    for iteration in range(max_iter):
+        worst = 0.0
+        for i in range(m):
+            running = 0.0
+            for k in range(n - 1, -1, -1):
+                running += gradient[k, i]
+                action_gradient[k, i] = running
+                upper = actions[k, i] >= max_step * (1.0 - 1e-12)
+                lower = actions[k, i] <= -max_step * (1.0 - 1e-12)
+                held = (upper and running < 0.0) or (lower and running > 0.0)
+                free[k, i] = not held
+                if not held and abs(running) > worst:
+                    worst = abs(running)
+        if worst <= tol * scale:
+            return cost, iteration, True
+        # Refine the held set: an action at its bound that the Newton step would push
+        # further out is held too (the gradient alone misses it), and the step redone.
+        for _refine in range(8):
+            n_vars = offset_groups(free, index)
+            g = np.zeros(n_vars)
+            for k in range(n):
+                for i in range(m):
+                    if index[k, i] >= 0:
+                        g[index[k, i]] += gradient[k, i]
+            move = np.empty(n_vars)
+            if m == 1:
+                h = np.zeros(n_vars)
+                for k in range(n):
+                    if index[k, 0] >= 0:
+                        h[index[k, 0]] += hessian[k, 0, 0]
+                for v in range(n_vars):
+                    move[v] = -g[v] / max(abs(h[v]), floor)
+            else:
+                # Each point's 2×2 block made positive definite (eigenvalues by their
+                # magnitude, at least the floor): the reduced system, a sum of them, is
+                # then positive definite and a Cholesky solve replaces a dense
+                # eigen-decomposition (many times cheaper for long 3-D paths).
+                h2 = np.zeros((n_vars, n_vars))
+                for k in range(n):
+                    if index[k, 0] < 0 and index[k, 1] < 0:
+                        continue
+                    p00, p01, p11 = _positive_block(
+                        hessian[k, 0, 0], hessian[k, 0, 1], hessian[k, 1, 1], floor
+                    )
+                    i0, i1 = index[k, 0], index[k, 1]
+                    if i0 >= 0:
+                        h2[i0, i0] += p00
+                    if i1 >= 0:
+                        h2[i1, i1] += p11
+                    if i0 >= 0 and i1 >= 0:
+                        h2[i0, i1] += p01
+                        h2[i1, i0] += p01
+                lower = np.linalg.cholesky(h2)
+                move = -_cholesky_solve(lower, g)
+            for k in range(n):
+                for i in range(m):
+                    step_d[k, i] = move[index[k, i]] if index[k, i] >= 0 else 0.0
+            changed = False
+            for i in range(m):
+                for k in range(n):
+                    if not free[k, i]:
+                        continue
+                    before = step_d[k - 1, i] if k > 0 else 0.0
+                    change = step_d[k, i] - before
+                    if (actions[k, i] >= max_step * (1.0 - 1e-9) and change > 0.0) or (
+                        actions[k, i] <= -max_step * (1.0 - 1e-9) and change < 0.0
+                    ):
+                        free[k, i] = False
+                        changed = True
+            if not changed:
+                break
+        # Two ways back onto the bounds, and the better is taken: clamp each offset to
+        # its predecessor's box (a clipped action moves only its own offset, not the
+        # rest of the path, which a stiff goal weight at the end makes expensive), or
+        # clip the actions (Bertsekas's projection arc).
+        for i in range(m):
+            for k in range(n):
+                before = step_d[k - 1, i] if k > 0 else 0.0
+                step_a[k, i] = step_d[k, i] - before
+        accepted = False
+        best_cost = np.inf
+        for retraction in range(2):
+            t = 1.0
+            for _ in range(60 if retraction else 30):
+                decrease = 0.0
+                for i in range(m):
+                    previous = d0[i]
+                    for k in range(n):
+                        if retraction == 0:
+                            value = d[k, i] + t * step_d[k, i]
+                            value = min(max(value, previous - max_step), previous + max_step)
+                            decrease += gradient[k, i] * (value - d[k, i])
+                        else:
+                            action = actions[k, i] + t * step_a[k, i]
+                            action = min(max(action, -max_step), max_step)
+                            decrease += action_gradient[k, i] * (action - actions[k, i])
+                            value = previous + action
+                        trial_d[k, i] = value
+                        previous = value
+                trial_cost = planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, trial_d)
+                if trial_cost <= cost + 1e-4 * decrease and (retraction == 1 or decrease < 0.0):
+                    if trial_cost < best_cost:
+                        best_cost = trial_cost
+                        trial_a[:, :] = trial_d
+                    accepted = True
+                    break
+                t *= 0.5
+            if accepted and t == 1.0:
+                break  # a full Newton step: nothing better to look for
+        trial_d[:, :] = trial_a
+        for i in range(m):
+            previous = d0[i]
+            for k in range(n):
+                trial_a[k, i] = trial_d[k, i] - previous
+                previous = trial_d[k, i]
+        if not accepted:
+            # No decrease left to find: stationary to round-off if the gradient is tiny.
+            return cost, iteration + 1, worst <= 1e-6 * scale
+        change = 0.0
+        for k in range(n):
+            for i in range(m):
+                change = max(change, abs(trial_d[k, i] - d[k, i]))
+        actions[:, :] = trial_a
+        d[:, :] = trial_d
+        cost = planner_derivatives(
+            c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian
+        )
+        if change <= 1e-13 * max_step:
+            return cost, iteration + 1, worst <= 1e-6 * scale  # the steps stopped moving
+    return cost, max_iter, False

@@ -1,0 +1,459 @@
+"""The planning problem shared by the planner and the inverse optimal control (thesis §5.4).
+
+Coordinates
+-----------
+A plan moves along a nominal path at constant speed: the ``k``-th planned
+point lies on the normal of the ``k``-th nominal point,
+
+    x_k = x_k^N + N_kᵀ d_k,
+
+with ``N_k`` (m, q), ``m = q − 1``, the orthonormal normals of the nominal
+(:class:`Corridor`; the left normal in 2-D) and ``d_k`` the lateral offset.
+The start offset ``d_0`` is fixed; the unknowns are ``d_1 … d_{K−1}``, linked
+by the actions ``a_k = d_k − d_{k−1}`` in the box ``|a_k| ≤ max_step`` per
+component.
+
+Cost
+----
+The cost of offsets ``d`` (n, m), ``n = K − 1``, is the negative reward
+(:class:`lfdkit.emulate.Reward`) summed over the points,
+
+    Σ_k Q_k |d_k|² + Σ_{k,o} exp(−(x_k − O_o)ᵀ P_o (x_k − O_o)),
+
+with ``Q_k`` the nominal weight (``Q``, ramped up towards the goal when a plan
+must reach it: :func:`goal_weights`) and, for obstacles with a hard radius,
+the clearance barrier of :mod:`lfdkit.emulate.planner`. :class:`Problem`
+precomputes the obstacle terms once per scene, so every evaluation is a few
+element-wise operations; :meth:`Problem.solve` is the compiled projected
+Newton solver (:mod:`._problem_kernels`) that the planner polishes its starts
+with and the IOC differentiates. :meth:`Problem.cost` and
+:meth:`Problem.derivatives` are the same cost in NumPy (without the barrier):
+the readable reference that tests and the SciPy benchmark use, held to the
+compiled kernel by ``tests/emulate/test_problem.py``.
+
+Validation
+----------
+Nothing here validates what :func:`lfdkit.emulate.plan_path` and
+:meth:`lfdkit.emulate.IOC.fit` have validated where the data entered; a
+:class:`Corridor` validates its nominal path, :meth:`Problem.from_scene`
+checks the scene against the reward (its classes) and the corridor (its
+dimension), and :func:`goal_weights` its goal approach.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from lfdkit._validation import check_path, check_positive
+from lfdkit.emulate.reward import Reward
+from lfdkit.emulate.scene import Scene
+from lfdkit.geometry import PolylineSet, normal_frames, point_tangents, resample
+
+__all__ = [
+    "BARRIER_WEIGHT",
+    "GOAL_APPROACH_FRACTION",
+    "GOAL_GAIN",
+    "MAX_POINTS",
+    "Corridor",
+    "Problem",
+    "goal_weights",
+]
+
+#: Most points a plan may have (memory and time grow linearly).
+MAX_POINTS = 100_000
+#: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
+GOAL_GAIN = 1e4
+#: Default goal approach, as a fraction of the nominal path's length.
+GOAL_APPROACH_FRACTION = 0.1
+
+
+def goal_weights(
+    corridor: Corridor, weight: float, goal_approach: float | str | None
+) -> np.ndarray:
+    """Nominal weight of offsets 1 … K−1: ``Q``, ramped up over the last ``goal_approach``.
+
+    Over the final stretch of length ``goal_approach`` (``"auto"``:
+    :data:`GOAL_APPROACH_FRACTION` of the nominal's length) the weight rises as
+    ``Q (1 + GOAL_GAIN · r²(3 − 2r))`` with ``r`` from 0 to 1 (a smooth step),
+    which draws the plan back onto the nominal so it ends at the goal. None
+    keeps ``Q`` everywhere (the thesis's model).
+
+    Parameters
+    ----------
+    corridor : Corridor
+    weight : float
+        The reward's nominal weight ``Q`` (1/units²).
+    goal_approach : float, "auto" or None
+        Length of the approach (units, positive), "auto" or None.
+
+    Returns
+    -------
+    ndarray, shape (K − 1,)
+
+    Raises
+    ------
+    ValueError
+        For a goal approach that is not positive, "auto" or None.
+    """
+    n = corridor.n_points - 1
+    if goal_approach is None:
+        return np.full(n, float(weight))
+    if isinstance(goal_approach, str):
+        if goal_approach != "auto":
+            raise ValueError(
+                f"goal_approach: expected a length, 'auto' or None, got {goal_approach!r}"
+            )
+        approach = GOAL_APPROACH_FRACTION * corridor.length
+    else:
+        approach = check_positive(goal_approach, "goal_approach")
+    position = np.arange(1, n + 1) * corridor.step
+    r = np.clip((position - (n * corridor.step - approach)) / approach, 0.0, 1.0)
+    return weight * (1.0 + GOAL_GAIN * r * r * (3.0 - 2.0 * r))
+
+
+@dataclass(frozen=True, eq=False)
+class Corridor:
+    """A nominal path sampled at constant speed, with the normals a plan moves along.
+
+    Attributes
+    ----------
+    points : ndarray, shape (K, q)
+        Nominal points ``x_k^N``, equally spaced in arc length.
+    normals : ndarray, shape (K, q − 1, q)
+        Orthonormal normals ``N_k`` of each point (rows).
+    tangents : ndarray, shape (K, q)
+    step : float
+        Arc length between consecutive points.
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    tangents: np.ndarray
+    step: float
+
+    @classmethod
+    def from_path(cls, nominal: Any, n_points: int = 100) -> Corridor:
+        """Resample ``nominal`` (n, q), q 2 or 3, to ``n_points`` equally spaced points."""
+        path = check_path(nominal, "nominal", min_points=2)
+        if path.shape[1] not in (2, 3):
+            raise ValueError(f"nominal: expected 2-D or 3-D points, got {path.shape[1]}")
+        n_points = check_positive(n_points, "n_points", integer=True)
+        if not 3 <= n_points <= MAX_POINTS:
+            raise ValueError(f"n_points: expected 3 to {MAX_POINTS} points, got {n_points}")
+        points = resample(path, n_points)
+        tangents = point_tangents(points)
+        frames = normal_frames(tangents)
+        step = float(np.linalg.norm(points[1] - points[0]))
+        return cls(points, frames[:, 1:, :], tangents, step)
+
+    @property
+    def n_points(self) -> int:
+        return int(self.points.shape[0])
+
+    @property
+    def n_dims(self) -> int:
+        return int(self.points.shape[1])
+
+    @property
+    def length(self) -> float:
+        """Arc length from the first to the last point."""
+        return self.step * (self.n_points - 1)
+
+    @property
+    def extent(self) -> float:
+        """Largest side of the points' bounding box (the scale of goal tolerances)."""
+        return float(np.ptp(self.points, axis=0).max())
+
+    def to_points(self, offsets: np.ndarray) -> np.ndarray:
+        """World points ``x_k^N + N_kᵀ d_k`` for offsets (K, q − 1)."""
+        return self.points + np.einsum("km,kmq->kq", offsets, self.normals)
+
+    def offsets_of(self, demo: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Lateral offsets where a demonstration crosses each normal.
+
+        Returns
+        -------
+        offsets : ndarray, shape (K, q − 1)
+            ``N_k (p_k − x_k^N)`` with ``p_k`` the nearest crossing of the
+            demonstration (travelled in the nominal's direction) with the
+            normal hyperplane of point ``k``; 0 where there is none.
+        found : ndarray of bool, shape (K,)
+        """
+        demo = check_path(demo, "demo", n_dims=self.n_dims)
+        hits = PolylineSet([demo]).intersect(self.points, self.tangents, same_direction=True)
+        found = hits.found[:, 0]
+        rel = np.where(found[:, None], hits.points[:, 0] - self.points, 0.0)
+        return np.einsum("kmq,kq->km", self.normals, rel), found
+
+
+#: Scale of the clearance barrier (an obstacle's reward term is at most 1).
+BARRIER_WEIGHT = 1.0
+
+
+class Problem:
+    """Offsets ``d_1 … d_n`` after a fixed ``d_0``: the cost's ingredients.
+
+    The exponent of obstacle ``l`` at point ``k`` is a quadratic in the offset,
+    ``s = c + 2 bᵀd + dᵀA d`` with ``c = rᵀPr``, ``b = N P r``, ``A = N P Nᵀ``
+    and ``r = x_k^N − O_l``: precomputed once, so each evaluation is a few
+    element-wise operations. Obstacles with a hard radius (``hard_radius > 0``)
+    add the clearance barrier, on the squared distance ``|r|² + 2 (N r)ᵀd + |d|²``
+    (the normals are orthonormal). Build one with :meth:`from_scene`.
+
+    Parameters
+    ----------
+    base : ndarray, shape (n, q)
+        Nominal points of the offsets (points 1 … K−1 of the corridor), in units.
+    normals : ndarray, shape (n, m, q)
+        Their orthonormal normals.
+    obstacles : ndarray, shape (L, q)
+        Obstacle centres, in units.
+    precision : ndarray, shape (L, q, q)
+        Each obstacle's precision ``P`` (1/units²).
+    weight : float or ndarray, shape (n,)
+        Nominal weight ``Q`` per offset (1/units²).
+    max_step : float
+        Action bound: largest change of an offset component per point (units).
+    hard_radius : ndarray, shape (L,), optional
+        Radius plus clearance of each obstacle (units); 0 or None: no barrier.
+
+    Attributes
+    ----------
+    base, normals, obstacles, precision, max_step
+        As given.
+    weight : ndarray, shape (n,)
+    c : ndarray, shape (n, L)
+        ``rᵀPr`` (dimensionless).
+    b : ndarray, shape (n, L, m)
+        ``N P r`` (1/units).
+    a : ndarray, shape (n, L, m, m)
+        ``N P Nᵀ`` (1/units²).
+    hard : ndarray of int, shape (H,)
+        The obstacles with a barrier.
+    inner2, outer2 : ndarray, shape (H,)
+        Squared radii (units²) where the barrier is infinite and where it
+        starts: the hard radius widened by half a segment's length, and a
+        thin zone outside it.
+    rr : ndarray, shape (n, H)
+        ``|r|²`` of the obstacles with a barrier (units²).
+    nr : ndarray, shape (n, H, m)
+        ``N r`` of the obstacles with a barrier (units).
+    """
+
+    def __init__(
+        self,
+        base: np.ndarray,
+        normals: np.ndarray,
+        obstacles: np.ndarray,
+        precision: np.ndarray,
+        weight: float | np.ndarray,
+        max_step: float,
+        hard_radius: np.ndarray | None = None,
+    ) -> None:
+        self.base, self.normals = base, normals  # (n, q), (n, m, q)
+        self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
+        # Nominal weight per offset: Q, or Q ramped up towards the goal.
+        self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
+        self.max_step = float(max_step)
+        rel = base[:, None, :] - obstacles[None]  # (n, L, q)
+        pr = np.einsum("lij,klj->kli", precision, rel)
+        self.c = np.einsum("kli,kli->kl", rel, pr)
+        self.b = np.einsum("kmq,klq->klm", normals, pr)
+        self.a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
+        radius = np.zeros(obstacles.shape[0]) if hard_radius is None else hard_radius
+        self.hard = np.flatnonzero(radius > 0.0)  # obstacles with a barrier
+        # A segment of length L whose ends keep √(r² + L²/4) from a centre keeps r from
+        # it; L is at most the nominal step and the largest sideways step (10 % slack
+        # for the normals turning on a curved nominal).
+        step = _step_of(base)
+        segment = 1.1 * np.sqrt(step**2 + normals.shape[1] * max_step**2)
+        inner = np.sqrt(radius[self.hard] ** 2 + 0.25 * segment**2)
+        self.inner2 = inner**2
+        self.outer2 = (inner + 0.25 * np.maximum(inner, step)) ** 2
+        hard_rel = rel[:, self.hard]
+        self.rr = np.einsum("khq,khq->kh", hard_rel, hard_rel)
+        self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
+
+    @classmethod
+    def from_scene(
+        cls,
+        reward: Reward,
+        corridor: Corridor,
+        scene: Scene,
+        max_slope: float = 1.0,
+        goal_approach: float | str | None = None,
+        clearance: float | None = None,
+    ) -> Problem:
+        """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step.
+
+        Parameters
+        ----------
+        reward : Reward
+            Must know every class of ``scene``.
+        corridor : Corridor
+        scene : Scene
+            Obstacles of the corridor's dimension.
+        max_slope : float
+            Largest sideways step per nominal step (positive; not checked here).
+        goal_approach : float, "auto" or None
+            See :func:`goal_weights`; None (the default) is the thesis's model.
+        clearance : float, optional
+            None: no hard radii (the thesis's model, as the IOC fits it); a
+            number (units): each obstacle's radius plus it is a hard constraint.
+
+        Raises
+        ------
+        ValueError
+            For an obstacle class ``reward`` does not know, obstacles of
+            another dimension than the corridor, or a bad ``goal_approach``.
+        """
+        precision = reward.precision_of(scene)
+        obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
+        if len(scene) and obstacles.shape[1] != corridor.n_dims:
+            raise ValueError(
+                f"scene: {obstacles.shape[1]}-D obstacles for a {corridor.n_dims}-D nominal path"
+            )
+        hard = None if clearance is None or not len(scene) else scene.radii + clearance
+        return cls(
+            corridor.points[1:],
+            corridor.normals[1:],
+            obstacles,
+            precision.reshape(-1, corridor.n_dims, corridor.n_dims),
+            goal_weights(corridor, reward.nominal_weight, goal_approach),
+            max_slope * corridor.step,
+            hard,
+        )
+
+    @property
+    def n(self) -> int:
+        """Number of offsets."""
+        return int(self.base.shape[0])
+
+    @property
+    def m(self) -> int:
+        """Components of an offset, ``q − 1``."""
+        return int(self.normals.shape[1])
+
+    @property
+    def has_obstacles(self) -> bool:
+        return bool(self.obstacles.shape[0])
+
+    @property
+    def step(self) -> float:
+        """Arc length between consecutive nominal points (0 with a single point)."""
+        return _step_of(self.base)
+
+    def window(self, start: int, stop: int) -> Problem:
+        """The sub-problem of offsets ``start … stop − 1`` (precomputed terms sliced)."""
+        sub = object.__new__(Problem)
+        sub.base, sub.normals = self.base[start:stop], self.normals[start:stop]
+        sub.obstacles, sub.precision = self.obstacles, self.precision
+        sub.weight, sub.max_step = self.weight[start:stop], self.max_step
+        sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
+        sub.hard, sub.inner2, sub.outer2 = self.hard, self.inner2, self.outer2
+        sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
+        return sub
+
+    def kernel_arguments(self) -> tuple:
+        """The cost's arrays as the compiled kernels take them.
+
+        ``(c, b, a, weight, rr, nr, inner2, outer2, mu)`` with ``mu`` the
+        barrier's scale :data:`BARRIER_WEIGHT`: the first arguments of
+        :mod:`._problem_kernels`' and :mod:`._planner_kernels`' functions.
+        """
+        return (
+            self.c,
+            self.b,
+            self.a,
+            self.weight,
+            self.rr,
+            self.nr,
+            self.inner2,
+            self.outer2,
+            BARRIER_WEIGHT,
+        )
+
+    def bumps(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Obstacle terms ``e`` (n, L) and ``N P u = b + A d`` (n, L, m) at offsets ``d`` (n, m)."""
+        npu = self.b + np.einsum("klmn,kn->klm", self.a, d)
+        exponent = self.c + np.einsum("klm,km->kl", self.b + npu, d)
+        return np.exp(-exponent), npu
+
+    def cost(self, d: np.ndarray) -> float:
+        """The reward's cost ``−Σ R`` (without the clearance barrier)."""
+        value = float(np.sum(self.weight[:, None] * d * d))
+        if self.has_obstacles:
+            value += float(self.bumps(d)[0].sum())
+        return value
+
+    def total_cost(self, d: np.ndarray) -> float:
+        """The cost with the clearance barrier (``+inf`` inside a hard radius)."""
+        from lfdkit.emulate._problem_kernels import planner_cost
+
+        return float(planner_cost(*self.kernel_arguments(), np.ascontiguousarray(d, float)))
+
+    def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """Cost, gradient (n, m) and Hessian blocks (n, m, m) in the offsets (no barrier).
+
+        The NumPy form of the compiled derivatives the solver uses (without
+        the clearance barrier): for reference solvers and checks.
+        """
+        m = d.shape[1]
+        cost = float(np.sum(self.weight[:, None] * d * d))
+        gradient = 2.0 * self.weight[:, None] * d
+        hessian = 2.0 * self.weight[:, None, None] * np.eye(m)[None]
+        if self.has_obstacles:
+            bump, npu = self.bumps(d)
+            cost += float(bump.sum())
+            gradient -= 2.0 * np.einsum("kl,klm->km", bump, npu)
+            hessian += np.einsum(
+                "kl,klmn->kmn", bump, 4.0 * npu[..., :, None] * npu[..., None, :] - 2.0 * self.a
+            )
+        return cost, gradient, hessian
+
+    def solve(
+        self, d0: np.ndarray, init: np.ndarray, *, tol: float = 1e-10, max_iter: int = 100
+    ) -> tuple[np.ndarray, float, int, bool]:
+        """The local optimum from ``init`` by projected Newton on the actions (compiled).
+
+        Parameters
+        ----------
+        d0 : ndarray, shape (m,)
+            The fixed start offset (units).
+        init : array_like, shape (n, m)
+            Starting offsets; actions outside the box are clipped first.
+        tol : float
+            Convergence: largest free action gradient at most
+            ``tol (1 + 2 Q_min max_step)``.
+        max_iter : int
+
+        Returns
+        -------
+        d : ndarray, shape (n, m)
+            The optimum (a new array).
+        cost : float
+            Its cost with the clearance barrier; ``+inf`` for a start inside a
+            hard radius, which is returned unchanged.
+        n_iter : int
+            Newton iterations.
+        converged : bool
+        """
+        from lfdkit.emulate._problem_kernels import planner_newton  # numba compiles on first use
+
+        d = np.array(init, dtype=np.float64, order="C").reshape(self.n, self.m)
+        cost, n_iter, ok = planner_newton(
+            *self.kernel_arguments(),
+            self.max_step,
+            np.ascontiguousarray(d0, dtype=np.float64),
+            d,
+            tol,
+            max_iter,
+        )
+        return d, float(cost), int(n_iter), bool(ok)
+
+
+def _step_of(base: np.ndarray) -> float:
+    return float(np.linalg.norm(base[1] - base[0])) if base.shape[0] > 1 else 0.0
