@@ -780,7 +780,9 @@ def test_fuzzed_write_urscript_writes_only_the_target(program, filename, overwri
             assert sorted(p.name for p in root.iterdir()) == ["sub"]
             return
         assert out == target
-        assert target.read_text() == (program if program.endswith("\n") else program + "\n")
+        # Bytes, not read_text: universal newlines would turn a written "\r\n" into "\n".
+        written = target.read_bytes().decode()
+        assert written == (program if program.endswith("\n") else program + "\n")
         assert sorted(p.name for p in root.rglob("*")) == sorted(["sub", target.name])
 
 
