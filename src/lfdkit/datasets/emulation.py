@@ -67,7 +67,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets.synthetic import _check_count, _generate, _smooth_offset
+from lfdkit.datasets._shared import check_count_at_least, generate, smooth_offset
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
@@ -376,7 +376,7 @@ def _demonstrate(
         normals = normal_frames(point_tangents(plan))[:, 1:, :]
     path = plan.copy()
     for i in range(q - 1):
-        offset = _smooth_offset(rng, u, noise, freq=_NOISE_FREQ)
+        offset = smooth_offset(rng, u, noise, freq=_NOISE_FREQ)
         path += offset[:, None] * normals[:, i, :]
     return resample(path, n_points)
 
@@ -394,7 +394,7 @@ def _free_demos(
 
     Drawn after everything else, so the other demonstrations do not depend on ``n_free``.
     """
-    n_free = _check_count(n_free, "n_free", 0)
+    n_free = check_count_at_least(n_free, "n_free", 0)
     return [
         _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
         for _ in range(n_free)
@@ -403,8 +403,8 @@ def _free_demos(
 
 def _check_common(noise: Any, n_points: Any, plan_points: Any) -> tuple[float, int, int]:
     noise = check_positive(noise, "noise", allow_zero=True)
-    n_points = _check_count(n_points, "n_points", 2)
-    plan_points = _check_count(plan_points, "plan_points", 3)
+    n_points = check_count_at_least(n_points, "n_points", 2)
+    plan_points = check_count_at_least(plan_points, "plan_points", 3)
     return noise, n_points, plan_points
 
 
@@ -477,7 +477,7 @@ def artificial_obstacles(
         pocket (3.4 cm clear of every obstacle), while the receding-horizon
         plan with ``H = 8`` or ``12`` cuts through an obstacle's radius.
     """
-    n_demos = _check_count(n_demos, "n_demos")
+    n_demos = check_count_at_least(n_demos, "n_demos")
     noise, n_points, plan_points = _check_common(noise, n_points, plan_points)
     rng = check_random_state(seed)
     fine = _artificial_nominal()
@@ -633,7 +633,7 @@ def da_vinci_marker(
     which a standing marker would not allow, so no held-out scene has that
     arrangement.
     """
-    n_demos = _check_count(n_demos, "n_demos")
+    n_demos = check_count_at_least(n_demos, "n_demos")
     noise, n_points, plan_points = _check_common(noise, n_points, plan_points)
     rng = check_random_state(seed)
     nominal = resample(_da_vinci_nominal(), _N_NOMINAL)
@@ -754,8 +754,8 @@ def sweeping(
         cups and two markers alternating along the path: cup (0.36, 0.04),
         marker (0.46, −0.03), cup (0.56, 0.05), marker (0.66, −0.04).
     """
-    n_cup = _check_count(n_cup, "n_cup")
-    n_marker = _check_count(n_marker, "n_marker")
+    n_cup = check_count_at_least(n_cup, "n_cup")
+    n_marker = check_count_at_least(n_marker, "n_marker")
     noise, n_points, plan_points = _check_common(noise, n_points, plan_points)
     rng = check_random_state(seed)
     x = np.linspace(_SWEEP_START[0], _SWEEP_GOAL[0], 2001)
@@ -847,4 +847,4 @@ def load_emulation_dataset(name: str, seed: Any = None, **kwargs: Any) -> Emulat
     ValueError
         If ``name`` is unknown; the message lists the valid names.
     """
-    return _generate(EMULATION_DATASETS, "emulation data set", name, seed, kwargs)
+    return generate(EMULATION_DATASETS, "emulation data set", name, seed, kwargs)

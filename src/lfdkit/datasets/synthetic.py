@@ -35,13 +35,14 @@ Conventions
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
+from lfdkit.datasets._shared import check_count_at_least, generate, smooth_offset
 from lfdkit.geometry import (
     arc_length,
     left_normals,
@@ -151,34 +152,6 @@ class DemoSet:
 
 
 # --------------------------------------------------------------------- helpers
-def _check_count(value: Any, name: str, minimum: int = 1) -> int:
-    value = check_positive(value, name, integer=True, allow_zero=minimum == 0)
-    if value < minimum:
-        raise ValueError(f"{name}: must be >= {minimum}, got {value}")
-    return value
-
-
-def _smooth_offset(
-    rng: np.random.Generator,
-    u: np.ndarray,
-    sd: float,
-    freq: tuple[float, float] = (0.5, 2.5),
-    n_terms: int = 3,
-) -> np.ndarray:
-    """Random smooth function of ``u in [0, 1]``: a sum of sinusoids with std about ``sd``.
-
-    Frequencies (cycles per unit ``u``) are uniform in ``freq``, phases uniform,
-    amplitude weights uniform in [0.5, 1]; amplitudes are scaled so that
-    ``sqrt(sum a_k**2 / 2) = sd``. The magnitude never exceeds
-    ``sqrt(2 * n_terms) * sd``. Always consumes the same number of draws.
-    """
-    f = rng.uniform(freq[0], freq[1], n_terms)
-    phase = rng.uniform(0.0, _TWO_PI, n_terms)
-    w = rng.uniform(0.5, 1.0, n_terms)
-    amp = w * sd * np.sqrt(2.0 / np.sum(w**2))
-    return np.sum(amp[:, None] * np.sin(_TWO_PI * f[:, None] * u[None, :] + phase[:, None]), axis=0)
-
-
 def _fine(curve: np.ndarray) -> np.ndarray:
     """Resample a dense analytic polyline to the fine construction resolution."""
     return resample(curve, _N_FINE)
@@ -206,7 +179,7 @@ def _band_draws(
     rng: np.random.Generator, u: np.ndarray, n_demos: int, n_points: int, noise: float
 ) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """Smooth normal offsets (sd ``noise``) and white noise (sd ``0.05 noise``) per demo."""
-    offsets = [_smooth_offset(rng, u, noise) for _ in range(n_demos)]
+    offsets = [smooth_offset(rng, u, noise) for _ in range(n_demos)]
     white = [rng.normal(0.0, 0.05 * noise, (n_points, 2)) for _ in range(n_demos)]
     return offsets, white
 
@@ -215,8 +188,8 @@ def _check_band(
     n_demos: Any, n_points: Any, noise: Any, noise_zero: bool = True
 ) -> tuple[int, int, float]:
     return (
-        _check_count(n_demos, "n_demos"),
-        _check_count(n_points, "n_points", 2),
+        check_count_at_least(n_demos, "n_demos"),
+        check_count_at_least(n_points, "n_points", 2),
         check_positive(noise, "noise", allow_zero=noise_zero),
     )
 
@@ -248,7 +221,7 @@ def quasi_circular_band(n_points: int = 100, offset: float = 0.6, seed: Any = No
         Two demonstrations of shape ``(n_points, 2)`` in metres; ``nominal`` of
         shape ``(500, 2)``.
     """
-    n_points = _check_count(n_points, "n_points", 2)
+    n_points = check_count_at_least(n_points, "n_points", 2)
     offset = check_positive(offset, "offset")
     rng = check_random_state(seed)
     theta = np.linspace(0.0, 5.0 * np.pi / 3.0, 20001)
@@ -358,8 +331,8 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
         ``nominal`` of shape ``(500, 2)`` from A to B; ``walls`` the three wall
         polylines.
     """
-    n_demos = _check_count(n_demos, "n_demos")
-    n_volunteers = _check_count(n_volunteers, "n_volunteers")
+    n_demos = check_count_at_least(n_demos, "n_demos")
+    n_volunteers = check_count_at_least(n_volunteers, "n_volunteers")
     rng = check_random_state(seed)
     # Centre line: straight, quarter turn to the left, straight.
     phi = np.linspace(-np.pi / 2.0, 0.0, 2001)
@@ -385,10 +358,10 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
         r, ang = radius * np.sqrt(rng.random()), rng.uniform(0.0, _TWO_PI)
         return np.array([r * np.cos(ang), r * np.sin(ang)])
 
-    biases = [_smooth_offset(rng, u, 0.10, freq=(0.3, 1.5)) for _ in range(n_volunteers)]
+    biases = [smooth_offset(rng, u, 0.10, freq=(0.3, 1.5)) for _ in range(n_volunteers)]
     demos = []
     for j in range(n_demos):
-        trial = _smooth_offset(rng, u, 0.06, freq=(0.5, 3.0))
+        trial = smooth_offset(rng, u, 0.06, freq=(0.5, 3.0))
         d_start, d_goal = in_disc(0.3), in_disc(0.3)
         n_j = int(rng.integers(90, 111))
         bias = biases[j * n_volunteers // n_demos]
@@ -445,7 +418,7 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
         Arrays of shape ``(n_j, 3)`` in metres; ``nominal`` of shape
         ``(500, 3)``; ``walls`` two closed 3-D rectangles of shape ``(5, 3)``.
     """
-    n_demos = _check_count(n_demos, "n_demos")
+    n_demos = check_count_at_least(n_demos, "n_demos")
     noise = check_positive(noise, "noise", allow_zero=True)
     rng = check_random_state(seed)
     rad, top = 0.015, 0.035
@@ -469,8 +442,8 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
     u = arc_length(fine) / arc_length(fine)[-1]
     demos = []
     for _ in range(n_demos):
-        o1 = _smooth_offset(rng, u, noise, freq=(0.5, 3.0))
-        o2 = _smooth_offset(rng, u, noise, freq=(0.5, 3.0))
+        o1 = smooth_offset(rng, u, noise, freq=(0.5, 3.0))
+        o2 = smooth_offset(rng, u, noise, freq=(0.5, 3.0))
         n_j = int(rng.integers(90, 111))
         path = fine + o1[:, None] * n_wall + o2[:, None] * n_plane
         demos.append(resample(path, n_j) + rng.normal(0.0, 0.1 * noise, (n_j, 3)))
@@ -622,8 +595,8 @@ def draw_residuals(
     list of list of Residual
         ``result[j]`` holds demonstration ``j``'s residuals, ordered by segment.
     """
-    n_demos = _check_count(n_demos, "n_demos")
-    n_segments = _check_count(n_segments, "n_segments")
+    n_demos = check_count_at_least(n_demos, "n_demos")
+    n_segments = check_count_at_least(n_segments, "n_segments")
     profile_length = check_positive(profile_length, "profile_length")
     p_residual = check_positive(p_residual, "p_residual", allow_zero=True)
     if p_residual > 1.0:
@@ -673,9 +646,9 @@ def _deburring(
     p_residual: Any,
     noise: Any,
 ) -> DemoSet:
-    n_demos = _check_count(n_demos, "n_demos")
-    n_points = _check_count(n_points, "n_points", 2)
-    n_segments = _check_count(n_segments, "n_segments")
+    n_demos = check_count_at_least(n_demos, "n_demos")
+    n_points = check_count_at_least(n_points, "n_points", 2)
+    n_segments = check_count_at_least(n_segments, "n_segments")
     noise = check_positive(noise, "noise", allow_zero=True)
     rng = check_random_state(seed)
     radius = 50.0
@@ -838,7 +811,7 @@ def different_extents(
     for _ in range(n_demos):
         s0 = rng.uniform(0.0, 0.15 * length)
         s1 = rng.uniform(0.85 * length, length)
-        offset = _smooth_offset(rng, u, noise)
+        offset = smooth_offset(rng, u, noise)
         white = rng.normal(0.0, 0.05 * noise, (n_points, 2))
         piece = _cut(fine + offset[:, None] * normals, s_fine, s0, s1)
         demos.append(resample(piece, n_points) + white)
@@ -899,7 +872,7 @@ def local_detours(
         Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise, noise_zero=False)
-    n_detours = _check_count(n_detours, "n_detours", 0)
+    n_detours = check_count_at_least(n_detours, "n_detours", 0)
     if n_detours > n_demos:
         raise ValueError(f"n_detours: must be <= n_demos ({n_demos}), got {n_detours}")
     detour_height = check_positive(detour_height, "detour_height")
@@ -971,9 +944,9 @@ def uneven_sampling(
     DemoSet
         Arrays of shape ``(n_j, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
     """
-    n_demos = _check_count(n_demos, "n_demos")
+    n_demos = check_count_at_least(n_demos, "n_demos")
     noise = check_positive(noise, "noise", allow_zero=True)
-    lo, hi = (_check_count(v, "points_range", 2) for v in points_range)
+    lo, hi = (check_count_at_least(v, "points_range", 2) for v in points_range)
     if lo > hi:
         raise ValueError(f"points_range: expected (low, high) with low <= high, got {points_range}")
     speed_ratio = check_positive(speed_ratio, "speed_ratio")
@@ -986,7 +959,7 @@ def uneven_sampling(
     c = 0.5 * np.log(speed_ratio)
     demos = []
     for _ in range(n_demos):
-        path = fine + _smooth_offset(rng, u, noise)[:, None] * normals
+        path = fine + smooth_offset(rng, u, noise)[:, None] * normals
         n_j = int(rng.integers(lo, hi + 1))
         f = rng.uniform(1.0, 2.5)
         phase = rng.uniform(0.0, _TWO_PI)
@@ -1049,7 +1022,7 @@ def loops(
         Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise, noise_zero=False)
-    n_loops = _check_count(n_loops, "n_loops", 0)
+    n_loops = check_count_at_least(n_loops, "n_loops", 0)
     if n_loops > n_demos:
         raise ValueError(f"n_loops: must be <= n_demos ({n_demos}), got {n_loops}")
     rng = check_random_state(seed)
@@ -1095,7 +1068,7 @@ def loops(
 def _periodic_offset(
     rng: np.random.Generator, u: np.ndarray, sd: float, cycles: tuple[int, int] = (1, 4)
 ) -> np.ndarray:
-    """Like :func:`_smooth_offset`, with whole numbers of cycles: equal at ``u = 0`` and ``1``.
+    """Like :func:`smooth_offset`, with whole numbers of cycles: equal at ``u = 0`` and ``1``.
 
     Three sinusoids of ``u in [0, 1]`` with integer frequencies uniform in
     ``cycles`` (inclusive), random phases and amplitude weights uniform in
@@ -1431,7 +1404,7 @@ def letter_a(
     spread = start_spread * 2.2 * r
     demos = []
     for _ in range(n_demos):
-        offset = _smooth_offset(rng, u, noise)
+        offset = smooth_offset(rng, u, noise)
         rho, ang = spread * np.sqrt(rng.random()), rng.uniform(0.0, _TWO_PI)
         d_start = np.array([rho * np.cos(ang), rho * np.sin(ang)])
         white = rng.normal(0.0, 0.05 * noise, (n_points, 2))
@@ -1502,20 +1475,4 @@ def load_dataset(name: str, seed: Any = None, **kwargs: Any) -> DemoSet:
     ValueError
         If ``name`` is unknown; the message lists the valid names.
     """
-    return _generate({**MIMIC_DATASETS, **CLOSED_DATASETS}, "data set", name, seed, kwargs)
-
-
-def _generate(
-    registry: Mapping[str, Callable[..., Any]],
-    kind: str,
-    name: str,
-    seed: Any,
-    kwargs: dict[str, Any],
-) -> Any:
-    """Call the generator registered under ``name``; a clear error listing the valid names."""
-    try:
-        generator = registry[name]
-    except (KeyError, TypeError):
-        valid = ", ".join(sorted(registry))
-        raise ValueError(f"name: unknown {kind} {name!r}; valid names: {valid}") from None
-    return generator(seed=seed, **kwargs)
+    return generate({**MIMIC_DATASETS, **CLOSED_DATASETS}, "data set", name, seed, kwargs)
