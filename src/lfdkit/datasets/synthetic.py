@@ -1120,6 +1120,28 @@ def _closed_demos(
     return demos
 
 
+def _closed_set(
+    name: str,
+    rng: np.random.Generator,
+    fine: np.ndarray,
+    n_demos: int,
+    n_points: int,
+    noise: float,
+    description: str,
+) -> DemoSet:
+    """A closed data set in mm: the fine loop closed exactly, its demos and nominal."""
+    fine[-1] = fine[0]
+    nominal = resample(fine, _N_NOMINAL)
+    nominal[-1] = nominal[0]
+    return DemoSet(
+        name=name,
+        demos=_closed_demos(rng, fine, n_demos, n_points, noise),
+        nominal=nominal,
+        units="mm",
+        description=description,
+    )
+
+
 def closed_circle(
     n_demos: int = 7,
     seed: Any = None,
@@ -1164,21 +1186,17 @@ def closed_circle(
     rng = check_random_state(seed)
     theta = np.linspace(0.5 * np.pi, 2.5 * np.pi, _N_FINE)
     fine = radius * np.column_stack((np.cos(theta), np.sin(theta)))
-    fine[-1] = fine[0]
-    demos = _closed_demos(rng, fine, n_demos, n_points, noise)
-    nominal = resample(fine, _N_NOMINAL)
-    nominal[-1] = nominal[0]
-    return DemoSet(
-        name="closed_circle",
-        demos=demos,
-        nominal=nominal,
-        units="mm",
-        description=(
-            f"Circle of radius {radius:g} mm drawn once counter-clockwise from the top, start = "
-            f"end; {n_demos} closed demos = periodic smooth radial offsets (sd ≈ {noise:g} mm) "
-            f"+ white noise (sd {0.05 * noise:g} mm), {n_points} points each. "
-            "Ground truth: the circle."
-        ),
+    return _closed_set(
+        "closed_circle",
+        rng,
+        fine,
+        n_demos,
+        n_points,
+        noise,
+        f"Circle of radius {radius:g} mm drawn once counter-clockwise from the top, start = "
+        f"end; {n_demos} closed demos = periodic smooth radial offsets (sd ≈ {noise:g} mm) "
+        f"+ white noise (sd {0.05 * noise:g} mm), {n_points} points each. "
+        "Ground truth: the circle.",
     )
 
 
@@ -1298,21 +1316,17 @@ def figure_eight(
     rng = check_random_state(seed)
     t = np.linspace(0.5 * np.pi, 2.5 * np.pi, 40001)
     fine = _fine(np.column_stack((0.5 * size * np.sin(2.0 * t), size * np.sin(t))))
-    fine[-1] = fine[0]
-    demos = _closed_demos(rng, fine, n_demos, n_points, noise)
-    nominal = resample(fine, _N_NOMINAL)
-    nominal[-1] = nominal[0]
-    return DemoSet(
-        name="figure_eight",
-        demos=demos,
-        nominal=nominal,
-        units="mm",
-        description=(
-            f"Upright figure-eight (lemniscate of Gerono, height {2 * size:g} mm) drawn once "
-            f"from the top, start = end, crossing itself at the origin; {n_demos} closed demos = "
-            f"periodic smooth normal offsets (sd ≈ {noise:g} mm) + white noise "
-            f"(sd {0.05 * noise:g} mm), {n_points} points each. Ground truth: the lemniscate."
-        ),
+    return _closed_set(
+        "figure_eight",
+        rng,
+        fine,
+        n_demos,
+        n_points,
+        noise,
+        f"Upright figure-eight (lemniscate of Gerono, height {2 * size:g} mm) drawn once "
+        f"from the top, start = end, crossing itself at the origin; {n_demos} closed demos = "
+        f"periodic smooth normal offsets (sd ≈ {noise:g} mm) + white noise "
+        f"(sd {0.05 * noise:g} mm), {n_points} points each. Ground truth: the lemniscate.",
     )
 
 
