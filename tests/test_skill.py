@@ -429,3 +429,17 @@ def test_a_mimic_warning_is_passed_on_and_kept_in_the_skill_file(tmp_path, monke
     assert "stops short" in text
     saved = skill.save(tmp_path / "skill.json")
     assert Skill.load(saved).mimic_info_["warnings"] == [text]
+
+
+@pytest.mark.parametrize("scaling", ["translate", "spatial"])
+def test_a_closed_skill_plans_from_a_point_back_to_it(scaling) -> None:
+    # An open skill asked to go nowhere is refused (test_plan_errors); a closed one is not.
+    t = np.linspace(0.0, 2.0 * np.pi, 100)
+    circle = np.column_stack((np.cos(t), np.sin(t)))
+    circle[-1] = circle[0]
+    skill = Skill(scaling=scaling).use_path(circle)
+    here = np.array([1.1, 0.1])
+    plan = skill.plan(start=here, goal=here)
+    np.testing.assert_allclose(plan[[0, -1]], [here, here], atol=1e-9)
+    # The loop is carried there whole, not collapsed.
+    assert np.ptp(plan, axis=0).min() == pytest.approx(2.0, abs=0.02)

@@ -555,7 +555,10 @@ class Skill(BaseEstimator):
         self._check_fitted()
         start = self.path_[0] if start is None else _point(start, "start", self.n_dims_)
         goal = self.path_[-1] if goal is None else _point(goal, "goal", self.n_dims_)
-        if np.allclose(start, goal, rtol=0.0, atol=1e-12 * _extent(self.path_)):
+        tol = 1e-12 * _extent(self.path_)
+        # A closed skill (an "o") goes from a point back to it; an open one cannot.
+        closed = np.allclose(self.path_[0], self.path_[-1], rtol=0.0, atol=tol)
+        if not closed and np.allclose(start, goal, rtol=0.0, atol=tol):
             raise ValueError("goal: coincides with start; a path needs distinct ends")
         return self._rollouts(start[None], goal[None])[0]
 
