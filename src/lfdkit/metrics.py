@@ -278,19 +278,16 @@ def discrete_frechet(a, b) -> float:
     b = check_path(b, "b", min_points=1, n_dims=a.shape[1])
     d = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
     n, m = d.shape
-    leash = np.full((n, m), np.inf)
+    # leash[i + 1, j + 1] is cell (i, j); the infinite border stands for "no predecessor"
+    # and the zero corner lets (0, 0) take its own distance.
+    leash = np.full((n + 1, m + 1), np.inf)
+    leash[0, 0] = 0.0
     # Sweep anti-diagonals: every cell depends only on the previous two.
     for k in range(n + m - 1):
         i = np.arange(max(0, k - m + 1), min(n, k + 1))
         j = k - i
-        if k == 0:
-            leash[0, 0] = d[0, 0]
-            continue
-        up = np.where(i > 0, leash[np.maximum(i - 1, 0), j], np.inf)
-        left = np.where(j > 0, leash[i, np.maximum(j - 1, 0)], np.inf)
-        back = leash[np.maximum(i - 1, 0), np.maximum(j - 1, 0)]
-        diag = np.where((i > 0) & (j > 0), back, np.inf)
-        leash[i, j] = np.maximum(d[i, j], np.minimum(np.minimum(up, left), diag))
+        before = np.minimum(np.minimum(leash[i, j + 1], leash[i + 1, j]), leash[i, j])
+        leash[i + 1, j + 1] = np.maximum(d[i, j], before)
     return float(leash[-1, -1])
 
 
