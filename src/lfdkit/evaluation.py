@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -67,8 +67,9 @@ def _registered(method: MimicMethod) -> Method:
     """A registered method run on a data set: 100 points, the seed, components by BIC."""
 
     def run(demoset: DemoSet, seed: int) -> np.ndarray:
-        components = gmr_components(demoset, seed) if "n_components" in method.uses else 10
-        settings = MimicSettings(n_points=100, random_state=seed, n_components=components)
+        settings = MimicSettings(n_points=100, random_state=seed)
+        if "n_components" in method.uses:
+            settings = replace(settings, n_components=gmr_components(demoset, seed))
         return method.build(settings).fit(demoset.demos).path_
 
     return run
