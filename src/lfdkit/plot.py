@@ -22,7 +22,7 @@ from lfdkit.mimic import MIMIC_METHODS
 
 __all__ = [
     "CLASS_COLORS",
-    "METHOD_COLORS",
+    "PEER_COLORS",
     "comparison_figure",
     "draw_demos",
     "draw_distance_space",
@@ -40,10 +40,9 @@ __all__ = [
     "sweep_figure",
 ]
 
-#: Consistent colours per method across every figure: lfdkit's registered methods
-#: (:data:`lfdkit.mimic.MIMIC_METHODS`) and the peer libraries of the benchmarks.
-METHOD_COLORS = {
-    **{m.label: m.color for m in MIMIC_METHODS.values()},
+#: Colours of the benchmarks' peer libraries; lfdkit's own methods carry theirs in
+#: the registry (:data:`lfdkit.mimic.MIMIC_METHODS`), see :func:`method_color`.
+PEER_COLORS = {
     "gmr (package)": "#17becf",
     "DBA (tslearn)": "#8c564b",
     "soft-DTW (tslearn)": "#e377c2",
@@ -51,11 +50,11 @@ METHOD_COLORS = {
 
 
 def method_color(label: str) -> str | None:
-    """Colour of a method by its label, methods registered after import included."""
+    """Colour of a method by its label: a registered method's own, else a peer's, else None."""
     for method in MIMIC_METHODS.values():
         if method.label == label:
             return method.color
-    return METHOD_COLORS.get(label)
+    return PEER_COLORS.get(label)
 
 
 DEMO_COLOR = "0.65"
@@ -160,7 +159,7 @@ def draw_distance_space(ax: Axes, mean_path, units: str = "m") -> None:
         ax.plot(
             idx, row, color=DEMO_COLOR, linewidth=0.8, label="demonstrations" if j == 0 else None
         )
-    ax.axhline(0.0, color=METHOD_COLORS["Mean-Path"], linewidth=1.6, label="Mean-Path")
+    ax.axhline(0.0, color=MIMIC_METHODS["mean_path"].color, linewidth=1.6, label="Mean-Path")
     ax.set_xlabel("Mean-Path point index")
     ax.set_ylabel(f"normal distance [{units}]")
     ax.set_title("Distance-Space")
@@ -180,11 +179,11 @@ def draw_gmr_tube(ax: Axes, gmr, n_points: int = 200, n_std: float = 2.0) -> Non
     ax.fill(
         band[:, 0],
         band[:, 1],
-        color=METHOD_COLORS[MIMIC_METHODS["gmr"].label],
+        color=MIMIC_METHODS["gmr"].color,
         alpha=0.2,
         label=f"GMR ±{n_std:g} sd",
     )
-    ax.plot(mean[:, 0], mean[:, 1], color=METHOD_COLORS[MIMIC_METHODS["gmr"].label], linewidth=1.4)
+    ax.plot(mean[:, 0], mean[:, 1], color=MIMIC_METHODS["gmr"].color, linewidth=1.4)
 
 
 def mean_path_figure(
