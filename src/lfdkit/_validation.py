@@ -143,6 +143,36 @@ def check_demos(
     return out
 
 
+def check_point(value: Any, name: str, q: int, *, batch: str | None = None) -> np.ndarray:
+    """Validate one point of ``q`` coordinates, or with ``batch`` a stack of them.
+
+    Parameters
+    ----------
+    value : array_like, shape (q,) or, with ``batch``, (n, q)
+    name : str
+        Argument name used in error messages.
+    q : int
+        Number of coordinates.
+    batch : str, optional
+        Name of the leading axis when a stack of points is accepted (e.g. "n_rollouts").
+
+    Returns
+    -------
+    ndarray of float64
+    """
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name}: expected {q} numbers, got {value!r}") from exc
+    if batch is None and arr.shape != (q,):
+        raise ValueError(f"{name}: expected shape ({q},), got {arr.shape}")
+    if batch is not None and (arr.ndim not in (1, 2) or arr.shape[-1] != q):
+        raise ValueError(f"{name}: expected shape ({q},) or ({batch}, {q}), got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or infinite values")
+    return arr
+
+
 def check_finite(value: Any, name: str) -> float:
     """Check a scalar parameter is a finite number; return it as a float."""
     try:

@@ -173,7 +173,7 @@ from scipy.signal import lfilter
 from sklearn.base import BaseEstimator
 from sklearn.exceptions import NotFittedError
 
-from lfdkit._validation import MAX_POINTS, check_count, check_path, check_positive
+from lfdkit._validation import MAX_POINTS, check_count, check_path, check_point, check_positive
 from lfdkit.geometry import arc_length, path_length, segment_lengths
 
 __all__ = [
@@ -810,7 +810,7 @@ class DMP(BaseEstimator):
 
     def _check_position(self, value: Any, name: str) -> np.ndarray:
         """A finite state of shape (q,) or (n, q) within reach of the training scale."""
-        arr = _check_state(value, name, self.n_dims_)
+        arr = check_point(value, name, self.n_dims_, batch="n_rollouts")
         limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) > limit:
             raise ValueError(
@@ -821,7 +821,7 @@ class DMP(BaseEstimator):
 
     def _check_velocity(self, value: Any, name: str, time_scale: float) -> np.ndarray:
         """A finite velocity that does not carry past the position bound in one movement."""
-        arr = _check_state(value, name, self.n_dims_)
+        arr = check_point(value, name, self.n_dims_, batch="n_rollouts")
         limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) * time_scale > limit:
             raise ValueError(
@@ -1363,15 +1363,3 @@ def _check_tau(tau: Any) -> float:
 
 def _training_scale(path: np.ndarray) -> float:
     return max(float(np.max(np.ptp(path, axis=0))), float(np.max(np.abs(path))), 1e-300)
-
-
-def _check_state(value: Any, name: str, q: int) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected {q} numbers, got {value!r}") from exc
-    if arr.ndim not in (1, 2) or arr.shape[-1] != q:
-        raise ValueError(f"{name}: expected shape ({q},) or (n_rollouts, {q}), got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: contains NaN or infinite values")
-    return arr

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path
+from lfdkit._validation import check_path, check_point
 from lfdkit.geometry import arc_length
 
 __all__ = ["warp_path"]
@@ -55,8 +55,8 @@ def warp_path(path: Any, start: Any = None, goal: Any = None) -> np.ndarray:
     """
     points = check_path(path, "path", min_points=2, min_dims=1)
     q = points.shape[1]
-    new_start = _point(start, "start", q, points[0])
-    new_goal = _point(goal, "goal", q, points[-1])
+    new_start = points[0].copy() if start is None else check_point(start, "start", q)
+    new_goal = points[-1].copy() if goal is None else check_point(goal, "goal", q)
     along = arc_length(points)
     if along[-1] <= 0.0:
         raise ValueError("path: has zero length (all points coincide); nothing to warp along")
@@ -65,17 +65,3 @@ def warp_path(path: Any, start: Any = None, goal: Any = None) -> np.ndarray:
     # Exact ends, not 1 − u rounded: the callers compare them with the wanted points.
     warped[0], warped[-1] = new_start, new_goal
     return warped
-
-
-def _point(value: Any, name: str, q: int, default: np.ndarray) -> np.ndarray:
-    if value is None:
-        return default.copy()
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected {q} numbers, got {value!r}") from exc
-    if arr.shape != (q,):
-        raise ValueError(f"{name}: expected shape ({q},) to match path, got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: contains NaN or infinite values")
-    return arr
