@@ -41,6 +41,7 @@ __all__ = [
     "resample",
     "resample_between",
     "segment_lengths",
+    "segment_polyline_distance",
     "segment_tangents",
     "smooth_path",
 ]
@@ -368,6 +369,46 @@ def polyline_distances(points: np.ndarray, polyline: np.ndarray) -> np.ndarray:
     if polyline.shape[0] == 1:
         return np.linalg.norm(points - polyline[0], axis=1)
     return project_onto_polyline(points, polyline)[2]
+
+
+def segment_polyline_distance(start: np.ndarray, end: np.ndarray, polyline: np.ndarray) -> float:
+    """Smallest distance between the segment ``start``–``end`` and a polyline.
+
+    The squared distance between two segments is convex in their two
+    parameters, so its minimum over the unit square is either the lines'
+    closest pair (when both parameters fall inside) or on the square's border,
+    where one of the segments is reduced to an end point.
+
+    Parameters
+    ----------
+    start, end : ndarray, shape (q,)
+        The segment (they may coincide: a point).
+    polyline : ndarray, shape (n, q), n ≥ 1
+
+    Returns
+    -------
+    float
+    """
+    ends = np.stack([start, end])
+    best = float(polyline_distances(ends, polyline).min())
+    if np.any(end != start):
+        best = min(best, float(project_onto_polyline(polyline, ends)[2].min()))
+    if polyline.shape[0] == 1:
+        return best
+    u = end - start
+    v = np.diff(polyline, axis=0)
+    w = start[None] - polyline[:-1]
+    a, b, c = float(u @ u), v @ u, np.einsum("ij,ij->i", v, v)
+    d, e = w @ u, np.einsum("ij,ij->i", v, w)
+    det = a * c - b * b
+    regular = det > 1e-12 * a * c  # parallel segments: the border holds the minimum
+    s = np.divide(b * e - c * d, det, out=np.zeros_like(det), where=regular)
+    t = np.divide(a * e - b * d, det, out=np.zeros_like(det), where=regular)
+    inside = regular & (s > 0.0) & (s < 1.0) & (t > 0.0) & (t < 1.0)
+    if inside.any():
+        gap = w[inside] + s[inside, None] * u - t[inside, None] * v[inside]
+        best = min(best, float(np.linalg.norm(gap, axis=1).min()))
+    return best
 
 
 @dataclass(frozen=True)

@@ -358,7 +358,7 @@ def _check_scene(scene, name: str = "scene"):
 def clearance(path, scene) -> np.ndarray:
     """Distance from a path to the surface of every obstacle (negative inside).
 
-    The path is taken as a polyline: the distance to an obstacle's centre is the
+    The path is taken as a polyline: the distance to an obstacle is the
     smallest over its segments, not only its vertices, so a coarse path that
     cuts through an obstacle between two points is caught.
 
@@ -372,18 +372,20 @@ def clearance(path, scene) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n_obstacles,)
-        Smallest distance from the polyline to each obstacle centre minus its
-        radius, in units: negative where the path enters the obstacle.
+        Smallest distance from the polyline to each obstacle's surface
+        (:meth:`lfdkit.scene.Obstacle.distance`; for a round obstacle its
+        centre's distance minus its radius), in units: negative where the
+        path enters the obstacle.
     """
     path = check_path(path, "path", min_points=1)
     scene = _check_scene(scene)
     if not len(scene.obstacles):
         return np.zeros(0)
-    centres = scene.positions
-    if centres.shape[1] != path.shape[1]:
-        raise ValueError(f"scene: {centres.shape[1]}-D obstacles for a {path.shape[1]}-D path")
-    dist = polyline_distances(centres, path)
-    return dist - scene.radii
+    if scene.positions.shape[1] != path.shape[1]:
+        raise ValueError(
+            f"scene: {scene.positions.shape[1]}-D obstacles for a {path.shape[1]}-D path"
+        )
+    return scene.distances(path)
 
 
 def collisions(path, scene) -> int:

@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib import patheffects
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
-from matplotlib.patches import Circle
+from matplotlib.patches import Polygon
 from matplotlib.ticker import MaxNLocator
 
 from lfdkit._validation import check_path, check_positive
@@ -340,7 +340,7 @@ def _class_colors(classes: Sequence[str], colors: Mapping[str, str] | None) -> d
 
 
 def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None:
-    """Obstacles as filled circles of their radius, one colour and one legend entry per class.
+    """Obstacles as filled outlines (a round one's circle), one colour and legend entry per class.
 
     Parameters
     ----------
@@ -353,18 +353,21 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
 
     Notes
     -----
-    An obstacle of radius 0 is drawn as a marker at its centre.
+    An obstacle of radius 0 is drawn as a marker at its centre (and a line
+    along a rod's axis). In 3-D each obstacle is drawn as its covering balls
+    (:meth:`lfdkit.scene.Obstacle.balls`).
     """
     palette = _class_colors(scene.classes, colors)
     if _is_3d(ax):
         u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 24), np.linspace(0, np.pi, 12))
         sphere = np.stack((np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)))
         for obstacle in scene:
-            if obstacle.radius > 0:
-                x, y, z = obstacle.position[:, None, None] + obstacle.radius * sphere
-                ax.plot_surface(
-                    x, y, z, color=palette[obstacle.label], alpha=0.35, linewidth=0, shade=True
-                )
+            for centre, radius in zip(*obstacle.balls(), strict=True):
+                if radius > 0:
+                    x, y, z = centre[:, None, None] + radius * sphere
+                    ax.plot_surface(
+                        x, y, z, color=palette[obstacle.label], alpha=0.35, linewidth=0, shade=True
+                    )
         for label in scene.classes:
             centres = np.array([o.position for o in scene if o.label == label])
             ax.plot(*_xy(centres), "o", color=palette[label], markersize=5, label=label)
@@ -376,9 +379,9 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
         labelled.add(obstacle.label)
         if obstacle.radius > 0:
             ax.add_patch(
-                Circle(
-                    tuple(obstacle.position),
-                    obstacle.radius,
+                Polygon(
+                    obstacle.outline(),
+                    closed=True,
                     facecolor=color,
                     edgecolor="k",
                     linewidth=0.8,
@@ -388,6 +391,7 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
                 )
             )
         else:
+            ax.plot(*obstacle.outline(2).T, "-", color=color, linewidth=1.5, zorder=3)
             ax.plot(
                 *obstacle.position,
                 "X",
@@ -405,7 +409,7 @@ def _reward_extent(
     """Box around the 2-D paths and obstacles, padded by ``margin`` × its larger side."""
     pts = [np.asarray(p, dtype=np.float64)[:, :2] for p in paths]
     for obstacle in scene:
-        pts.append(obstacle.position[None, :2] + obstacle.radius * np.array([[-1, -1], [1, 1]]))
+        pts.append(np.stack(obstacle.bounds())[:, :2])
     allpts = np.vstack(pts)
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     span = float((hi - lo).max()) or 1.0
@@ -566,8 +570,8 @@ def _emulation_panel(
     if q == 2:
         ax.set_aspect("equal", adjustable="box")
     else:
-        spheres = [o.position[None] + o.radius * np.vstack((np.eye(3), -np.eye(3))) for o in scene]
-        _equal_3d(ax, [nominal, *demos, *plans.values(), *spheres])
+        boxes = [np.stack(o.bounds()) for o in scene]
+        _equal_3d(ax, [nominal, *demos, *plans.values(), *boxes])
     ax.set_title(title)
 
 

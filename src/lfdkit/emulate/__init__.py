@@ -19,10 +19,11 @@ from lfdkit.emulate.ioc import IOC
 from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_path
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
-from lfdkit.emulate.scene import Obstacle, Scene
+from lfdkit.emulate.scene import Capsule, Obstacle, Scene
 
 __all__ = [
     "IOC",
+    "Capsule",
     "Corridor",
     "Obstacle",
     "Plan",

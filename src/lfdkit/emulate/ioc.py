@@ -335,7 +335,9 @@ class TrainingLoss:
         return total
 
     def _class_of(self, scene: Scene) -> np.ndarray:
-        return np.array([self.classes.index(label) for label in scene.labels], int)
+        """Class index of each reward anchor of ``scene`` (the problem's obstacles)."""
+        of_obstacle = np.array([self.classes.index(label) for label in scene.labels], int)
+        return of_obstacle[scene.anchors()[1]] if len(scene) else of_obstacle
 
 
 def search_starts(
@@ -589,12 +591,7 @@ class IOC:
         scaled_nominal = (
             [scaled_paths[id(p)] for p in paths] if several else scaled_paths[id(paths[0])]
         )
-        scaled_scenes = [
-            Scene.from_arrays(s.labels, s.positions / length, s.radii / length)
-            if isinstance(s, Scene) and len(s)
-            else s
-            for s in scenes
-        ]
+        scaled_scenes = [s.scaled(1.0 / length) if isinstance(s, Scene) else s for s in scenes]
         return length, [d / length for d in demos], scaled_scenes, scaled_nominal
 
     # ------------------------------------------------------------------ fit
@@ -733,11 +730,12 @@ class IOC:
         """
         largest = None
         for item in data:
-            mask = np.array([lab == label for lab in item.scene.labels], bool)
+            anchors, owner = item.scene.anchors()
+            mask = np.array([item.scene.labels[o] == label for o in owner], bool)
             if not mask.any():
                 continue
             points = item.corridor.to_points(np.where(item.found[:, None], item.target, 0.0))
-            rel = points[item.found][:, None, :] - item.scene.positions[mask][None]
+            rel = points[item.found][:, None, :] - anchors[mask][None]
             depth = np.einsum("klq,q->kl", rel**2, np.broadcast_to(precision, (self._q,)))
             value = float(np.exp(-depth.min()))
             largest = value if largest is None else max(largest, value)

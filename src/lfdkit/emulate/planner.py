@@ -92,7 +92,6 @@ from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.problem import Corridor, Problem, goal_weights
 from lfdkit.emulate.reward import Reward
 from lfdkit.emulate.scene import Scene
-from lfdkit.geometry import polyline_distances
 
 # goal_weights is the problem's (lfdkit.emulate.problem); listed here too, as the
 # planner's goal approach that plan_path documents.
@@ -165,15 +164,15 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
     step = problem.max_step
     span = max(float(np.abs(d0).max()), 2.0 * step)
     if problem.has_obstacles:
-        rel = problem.obstacles[:, None, :] - problem.base[None]  # (L, n, q)
-        nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
-        radius = np.zeros(problem.obstacles.shape[0])
-        radius[problem.hard] = np.sqrt(problem.outer2)
-        for o, k in enumerate(nearest):
-            lateral = problem.normals[k] @ rel[o, k]
+        for o, (k, lateral) in enumerate(_nearest_laterals(problem, problem.obstacles)):
             across = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
             width = 1.0 / np.sqrt(max(float(np.linalg.eigvalsh(across).min()), 1e-300))
-            reach = max(4.0 * width, radius[o])
+            if float(np.linalg.norm(lateral)) < 4.0 * width:
+                span = max(span, float(np.abs(lateral).max()) + 4.0 * width)
+        hard = problem.hard_centres[problem.hard]
+        for (_, lateral), reach in zip(
+            _nearest_laterals(problem, hard), np.sqrt(problem.outer2), strict=True
+        ):
             if float(np.linalg.norm(lateral)) < reach:
                 span = max(span, float(np.abs(lateral).max()) + reach)
     span = min(span, float(np.abs(d0).max()) + n * step)
@@ -184,6 +183,13 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
     spacing = step / window
     count = min(int(np.ceil(span / spacing)), budget)
     return spacing * np.arange(-count, count + 1), window
+
+
+def _nearest_laterals(problem: Problem, centres: np.ndarray) -> list[tuple[int, np.ndarray]]:
+    """For each centre (L, q): its nearest nominal point ``k`` and its lateral offset there."""
+    rel = centres[:, None, :] - problem.base[None]  # (L, n, q)
+    nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
+    return [(int(k), problem.normals[k] @ rel[o, k]) for o, k in enumerate(nearest)]
 
 
 def _global_start(
@@ -272,16 +278,10 @@ class _GridSearch:
             if m == 1
             else np.stack(np.meshgrid(levels, levels, indexing="ij"), axis=-1).reshape(-1, 2)
         )
-        bump = problem.bumps(best)[0]  # (n, L)
-        rel = problem.obstacles[:, None, :] - problem.base[None]
-        nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
-        near = bump.max(axis=0) > 1e-9
-        if problem.hard.size:
-            near[problem.hard] = True
+        near = problem.obstacles[problem.bumps(best)[0].max(axis=0) > 1e-9]
+        centres = np.concatenate([near, problem.hard_centres[problem.hard]])
         starts = []
-        for o in np.flatnonzero(near):
-            k = int(nearest[o])
-            lateral = problem.normals[k] @ rel[o, k]
+        for k, lateral in _nearest_laterals(problem, centres):
             side = best[k] - lateral
             if not np.any(side):
                 side = np.ones(m)
@@ -676,14 +676,17 @@ def _check_ends(
     if not problem.has_obstacles:
         return
     radius = scene.radii + clearance
+    anchor_owner = scene.anchors()[1]
     ends = [("start", corridor.points[0] + d0 @ corridor.normals[0])]
     if reach_goal:
         ends.append(("goal", corridor.points[-1]))
     for name, point in ends:
         rel = point[None] - problem.obstacles
-        distance = np.linalg.norm(rel, axis=1)
         depth = np.einsum("li,lij,lj->l", rel, problem.precision, rel)
-        inside = np.flatnonzero(np.where(radius > 0, distance < radius, depth < 1.0))
+        within_response = np.zeros(len(scene), bool)
+        within_response[anchor_owner[depth < 1.0]] = True
+        surface = scene.distances(point[None])
+        inside = np.flatnonzero(np.where(radius > 0, surface < clearance, within_response))
         if inside.size:
             o = int(inside[0])
             obstacle = scene.obstacles[o]
@@ -732,7 +735,7 @@ def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
     """:func:`plan_clearance` of a path and clearance already checked."""
     if not len(scene):
         return np.zeros(0)
-    return polyline_distances(scene.positions, path) - scene.radii - clearance
+    return scene.distances(path) - clearance
 
 
 def _verified(

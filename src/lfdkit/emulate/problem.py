@@ -210,15 +210,21 @@ class Problem:
     normals : ndarray, shape (n, m, q)
         Their orthonormal normals.
     obstacles : ndarray, shape (L, q)
-        Obstacle centres, in units.
+        Centres of the reward's obstacle terms (a round obstacle's centre; a
+        shape's anchors, :meth:`lfdkit.scene.Obstacle.anchors`), in units.
     precision : ndarray, shape (L, q, q)
-        Each obstacle's precision ``P`` (1/units²).
+        Each term's precision ``P`` (1/units²).
     weight : float or ndarray, shape (n,)
         Nominal weight ``Q`` per offset (1/units²).
     max_step : float
         Action bound: largest change of an offset component per point (units).
-    hard_radius : ndarray, shape (L,), optional
-        Radius plus clearance of each obstacle (units); 0 or None: no barrier.
+    hard_radius : ndarray, shape (L,) or (B,), optional
+        Radius plus clearance (units) of each ball the plan must keep out of;
+        0 or None: no barrier.
+    hard_centres : ndarray, shape (B, q), optional
+        Centres of those balls (the obstacles' covering balls,
+        :meth:`lfdkit.scene.Obstacle.balls`); None: the term centres
+        ``obstacles``, with ``hard_radius`` of shape (L,).
 
     Attributes
     ----------
@@ -232,7 +238,9 @@ class Problem:
     a : ndarray, shape (n, L, m, m)
         ``N P Nᵀ`` (1/units²).
     hard : ndarray of int, shape (H,)
-        The obstacles with a barrier.
+        The balls with a barrier (indices into ``hard_centres``).
+    hard_centres : ndarray, shape (B, q)
+        As given (``obstacles`` when not given).
     inner2, outer2 : ndarray, shape (H,)
         Squared radii (units²) where the barrier is infinite and where it
         starts: the hard radius widened by half a segment's length, and a
@@ -252,6 +260,7 @@ class Problem:
         weight: float | np.ndarray,
         max_step: float,
         hard_radius: np.ndarray | None = None,
+        hard_centres: np.ndarray | None = None,
     ) -> None:
         self.base, self.normals = base, normals  # (n, q), (n, m, q)
         self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
@@ -263,8 +272,9 @@ class Problem:
         self.c = np.einsum("kli,kli->kl", rel, pr)
         self.b = np.einsum("kmq,klq->klm", normals, pr)
         self.a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
-        radius = np.zeros(obstacles.shape[0]) if hard_radius is None else hard_radius
-        self.hard = np.flatnonzero(radius > 0.0)  # obstacles with a barrier
+        self.hard_centres = obstacles if hard_centres is None else hard_centres
+        radius = np.zeros(self.hard_centres.shape[0]) if hard_radius is None else hard_radius
+        self.hard = np.flatnonzero(radius > 0.0)  # balls with a barrier
         # A segment of length L whose ends keep √(r² + L²/4) from a centre keeps r from
         # it; L is at most the nominal step and the largest sideways step (10 % slack
         # for the normals turning on a curved nominal).
@@ -273,7 +283,7 @@ class Problem:
         inner = np.sqrt(radius[self.hard] ** 2 + 0.25 * segment**2)
         self.inner2 = inner**2
         self.outer2 = (inner + 0.25 * np.maximum(inner, step)) ** 2
-        hard_rel = rel[:, self.hard]
+        hard_rel = base[:, None, :] - self.hard_centres[self.hard][None]  # (n, H, q)
         self.rr = np.einsum("khq,khq->kh", hard_rel, hard_rel)
         self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
 
@@ -310,21 +320,24 @@ class Problem:
             For an obstacle class ``reward`` does not know, obstacles of
             another dimension than the corridor, or a bad ``goal_approach``.
         """
-        precision = reward.precision_of(scene)
-        obstacles = scene.positions if len(scene) else np.zeros((0, corridor.n_dims))
-        if len(scene) and obstacles.shape[1] != corridor.n_dims:
-            raise ValueError(
-                f"scene: {obstacles.shape[1]}-D obstacles for a {corridor.n_dims}-D nominal path"
-            )
-        hard = None if clearance is None or not len(scene) else scene.radii + clearance
+        q = corridor.n_dims
+        anchors, precision = reward.anchor_precisions(scene)
+        if len(scene) and anchors.shape[1] != q:
+            raise ValueError(f"scene: {anchors.shape[1]}-D obstacles for a {q}-D nominal path")
+        hard_radius = hard_centres = None
+        if clearance is not None and len(scene):
+            hard_centres, radii, owner = scene.balls()
+            # An obstacle of radius 0 has a barrier only with a clearance, as a point.
+            hard_radius = np.where(scene.radii[owner] + clearance > 0.0, radii + clearance, 0.0)
         return cls(
             corridor.points[1:],
             corridor.normals[1:],
-            obstacles,
-            precision.reshape(-1, corridor.n_dims, corridor.n_dims),
+            anchors.reshape(-1, q),
+            precision.reshape(-1, q, q),
             goal_weights(corridor, reward.nominal_weight, goal_approach),
             max_slope * corridor.step,
-            hard,
+            hard_radius,
+            hard_centres,
         )
 
     @property
@@ -339,6 +352,7 @@ class Problem:
 
     @property
     def has_obstacles(self) -> bool:
+        """Whether the scene has obstacles (each has at least one term)."""
         return bool(self.obstacles.shape[0])
 
     @property
@@ -354,6 +368,7 @@ class Problem:
         sub.weight, sub.max_step = self.weight[start:stop], self.max_step
         sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
         sub.hard, sub.inner2, sub.outer2 = self.hard, self.inner2, self.outer2
+        sub.hard_centres = self.hard_centres
         sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
         return sub
 

@@ -4,6 +4,9 @@ For a state ``x`` (a point of the path, units of the demonstrations)::
 
     R(x) = −Q |x − x_N|² − Σ_o exp(−(x − O_o)ᵀ P_c(o) (x − O_o))
 
+(a shape other than a round obstacle contributes its class's term at each of
+its anchors, :meth:`lfdkit.scene.Obstacle.anchors`)
+
 * ``x_N`` is the point of the nominal path whose normal passes through ``x``
   (thesis §5.3: the segment ``x_N x`` is perpendicular to the nominal). For a
   point in the plane this is the foot of the perpendicular onto the nominal
@@ -160,13 +163,30 @@ class Reward:
             )
         return np.array([self.precisions[label] for label in scene.labels])
 
-    def obstacle_cost(self, points: Any, scene: Scene) -> np.ndarray:
-        """``Σ_o exp(−(x − O)ᵀ P (x − O))`` at each point, shape (n,)."""
-        points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    def anchor_precisions(self, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+        """The scene's reward anchors (A, q) and each one's precision (A, q, q).
+
+        An obstacle's term is its class's Gaussian at each of its anchors
+        (:meth:`lfdkit.scene.Obstacle.anchors`; a round obstacle's centre).
+
+        Raises
+        ------
+        ValueError
+            As :meth:`precision_of`.
+        """
         precision = self.precision_of(scene)
         if not len(scene):
+            return np.zeros((0, precision.shape[1])), precision
+        anchors, owner = scene.anchors()
+        return anchors, precision[owner]
+
+    def obstacle_cost(self, points: Any, scene: Scene) -> np.ndarray:
+        """``Σ_a exp(−(x − O_a)ᵀ P (x − O_a))`` over the anchors at each point, shape (n,)."""
+        points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        anchors, precision = self.anchor_precisions(scene)
+        if not len(anchors):
             return np.zeros(points.shape[0])
-        rel = points[:, None, :] - scene.positions[None]
+        rel = points[:, None, :] - anchors[None]
         return np.exp(-np.einsum("nli,lij,nlj->nl", rel, precision, rel)).sum(axis=1)
 
     def value(self, points: Any, nominal: Any, scene: Scene) -> np.ndarray:
@@ -211,9 +231,9 @@ class Reward:
             tangents[:, :, None] * tangents[:, None, :]
         )
         hessian = -2.0 * self.nominal_weight * across
-        if len(scene):
-            precision = self.precision_of(scene)
-            rel = points[:, None, :] - scene.positions[None]  # (n, L, q)
+        anchors, precision = self.anchor_precisions(scene)
+        if len(anchors):
+            rel = points[:, None, :] - anchors[None]  # (n, A, q)
             pu = np.einsum("lij,nlj->nli", precision, rel)
             bump = np.exp(-np.einsum("nli,nli->nl", rel, pu))
             gradient += 2.0 * np.einsum("nl,nli->ni", bump, pu)
