@@ -279,7 +279,10 @@ class _GridSearch:
             else np.stack(np.meshgrid(levels, levels, indexing="ij"), axis=-1).reshape(-1, 2)
         )
         near = problem.obstacles[problem.bumps(best)[0].max(axis=0) > 1e-9]
-        centres = np.concatenate([near, problem.hard_centres[problem.hard]])
+        hard = problem.hard_centres[problem.hard]
+        # A round obstacle's ball and anchor coincide: flip round it once.
+        hard = hard[~(hard[:, None, :] == near[None]).all(axis=2).any(axis=1)]
+        centres = np.concatenate([near, hard])
         starts = []
         for k, lateral in _nearest_laterals(problem, centres):
             side = best[k] - lateral
