@@ -41,15 +41,8 @@ from _common import git_state, machine_info, package_versions
 
 from lfdkit.datasets.emulation import artificial_obstacles, da_vinci_marker
 from lfdkit.demos import atomic_write
-from lfdkit.emulate import (
-    Corridor,
-    Obstacle,
-    Reward,
-    Scene,
-    UnsafePlanError,
-    plan_clearance,
-    plan_path,
-)
+from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.scene import Obstacle, Scene
 from tests.emulate.test_planner_safety import (
     N_POINTS,
     random_case,

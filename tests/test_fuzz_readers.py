@@ -28,12 +28,7 @@ from hypothesis import strategies as st
 
 from lfdkit.demos import JSON_FORMAT, JSON_VERSION, load_demos, save_demos
 from lfdkit.emulate import Reward
-from lfdkit.emulate.scene import (
-    SCENE_JSON_FORMAT,
-    SCENE_JSON_VERSION,
-    load_scenes,
-    save_scenes,
-)
+from lfdkit.io.scenes import SCENE_JSON_FORMAT, SCENE_JSON_VERSION, load_scenes, save_scenes
 from lfdkit.skill import Skill
 
 PROJECT_ERRORS = (ValueError, TypeError)

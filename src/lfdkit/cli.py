@@ -311,8 +311,8 @@ def _learn(args: argparse.Namespace) -> None:
 
 
 def _scene_from_args(args: argparse.Namespace, n_dims: int):
-    from lfdkit.emulate import Obstacle, Scene
-    from lfdkit.emulate.scene import load_scene
+    from lfdkit.io.scenes import load_scene
+    from lfdkit.scene import Obstacle, Scene
 
     obstacles = []
     if args.scene is not None:

@@ -73,11 +73,12 @@ from sklearn.utils.validation import check_is_fitted
 from lfdkit import __version__, metrics
 from lfdkit._validation import check_demos, check_path, check_positive
 from lfdkit.demos import DemoId, atomic_write, json_float_array, load_demos, load_json
-from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
+from lfdkit.emulate import IOC, Plan, Reward, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
-from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
+from lfdkit.io.scenes import load_scenes
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
+from lfdkit.scene import Scene
 
 __all__ = [
     "MAX_SKILL_FILE_BYTES",

@@ -13,15 +13,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from lfdkit.emulate.scene import (
+from lfdkit.io.scenes import (
     SCENE_JSON_FORMAT,
     SCENE_JSON_VERSION,
-    Obstacle,
-    Scene,
     load_scene,
     load_scenes,
     save_scenes,
 )
+from lfdkit.scene import Obstacle, Scene
 
 SUFFIXES = (".csv", ".json")
 

@@ -24,7 +24,7 @@ from pathlib import Path
 
 from lfdkit.datasets.emulation import EmulationSet, sweeping
 from lfdkit.demos import save_demos
-from lfdkit.emulate.scene import save_scenes
+from lfdkit.io.scenes import save_scenes
 
 __all__ = ["EXAMPLE_SEED", "example_dataset", "example_files", "write_example_files"]
 
