@@ -98,7 +98,7 @@ CASES: list[tuple[str, str, str, str]] = [
 
 HELPERS = """
 import numpy as np
-from lfdkit.demos import load_demos
+from lfdkit.io import load_demos
 from lfdkit.emulate import Reward, plan_path, plan_clearance
 from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill

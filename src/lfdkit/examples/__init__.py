@@ -23,7 +23,7 @@ import os
 from pathlib import Path
 
 from lfdkit.datasets.emulation import EmulationSet, sweeping
-from lfdkit.demos import save_demos
+from lfdkit.io import save_demos
 from lfdkit.io.scenes import save_scenes
 
 __all__ = ["EXAMPLE_SEED", "example_dataset", "example_files", "write_example_files"]

@@ -23,10 +23,10 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__, metrics
-from lfdkit.demos import atomic_write, load_demos, save_path
 from lfdkit.emulate import plan_path
 from lfdkit.examples import example_dataset, example_files
 from lfdkit.geometry import left_normals, resample
+from lfdkit.io import atomic_write, load_demos, save_path
 from lfdkit.io.scenes import load_scenes
 from lfdkit.report import Report
 from lfdkit.robot.sim import BRUSH

@@ -25,7 +25,7 @@ positions in one file have the same dimension.
     demonstration are consecutive; scenes and obstacles keep file order.
     Ids have no surrounding spaces; an id that is the canonical spelling of
     an integer (``"7"``, not ``"07"``) is read as ``int``. Numbers are
-    decimal, as in :mod:`lfdkit.demos` (no ``0_5``, ``nan`` or ``inf``).
+    decimal, as in :mod:`lfdkit.io.demos` (no ``0_5``, ``nan`` or ``inf``).
 ``.json``
     ``{"format": "lfdkit-scenes", "version": 1, "scenes": [{"demo": <id>,
     "obstacles": [{"class": "cup", "position": [x, y], "radius": 0.03},
@@ -33,11 +33,12 @@ positions in one file have the same dimension.
     optional in a file with a single scene (id ``0``). Other fields are
     ignored. Numbers must be JSON numbers (not strings or booleans).
 
-Reading is strict and bounded as in :mod:`lfdkit.demos` (repeated keys,
-NaN literals, deep nesting and files over
-:data:`lfdkit.demos.MAX_FILE_BYTES` are errors naming the file).
+Reading is strict and bounded as in :mod:`lfdkit.io.demos`, with the same
+primitives (:mod:`lfdkit.io.text`: repeated keys, NaN literals, deep nesting
+and files over :data:`lfdkit.io.text.MAX_FILE_BYTES` are errors naming the
+file).
 
-Writing is atomic (:func:`lfdkit.demos.atomic_write`) and floats are written
+Writing is atomic (:func:`lfdkit.io.atomic.atomic_write`) and floats are written
 with ``repr``, so :func:`load_scenes` after :func:`save_scenes` gives back
 bit-identical positions and radii.
 """
@@ -55,21 +56,19 @@ from typing import IO, Any
 
 import numpy as np
 
-from lfdkit.demos import (
-    DemoId,
-    PathLike,
-    _Blocks,
-    _check_file_id,
-    _check_ids,
-    _content_lines,
-    _csv_number,
-    _csv_row,
-    _format_of,
-    _json_document,
-    _parse_id,
-    _read_text,
-    atomic_write,
-    check_output_path,
+from lfdkit.demos import DemoId, PathLike
+from lfdkit.io.atomic import atomic_write, check_output_path
+from lfdkit.io.text import (
+    Blocks,
+    check_file_id,
+    check_ids,
+    content_lines,
+    csv_number,
+    csv_row,
+    format_of,
+    json_document,
+    parse_id,
+    read_text,
 )
 from lfdkit.scene import Obstacle, Scene
 
@@ -167,7 +166,7 @@ def load_scene(path: PathLike) -> Scene:
 def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bool = False) -> Path:
     """Write the scenes of one or several demonstrations to a ``.csv`` or ``.json`` file.
 
-    The write is atomic (:func:`lfdkit.demos.atomic_write`) and exact:
+    The write is atomic (:func:`lfdkit.io.atomic.atomic_write`) and exact:
     :func:`load_scenes` gives back bit-identical positions and radii, the
     labels and the ids in the same order. A CSV file stores ids as text, so
     a ``str`` id that spells a canonical integer (``"7"``) reads back as
@@ -179,7 +178,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
         Destination; its suffix selects the format.
     scenes : mapping of {int or str: Scene}
         One scene per demonstration id; scenes may be empty. Ids follow the
-        rules of :func:`lfdkit.demos.save_demos` (unique also as text; a
+        rules of :func:`lfdkit.io.demos.save_demos` (unique also as text; a
         ``str`` id non-empty, without surrounding whitespace or line breaks,
         not starting with ``#``). All positions share one dimension, 2 or 3.
         CSV also needs labels without surrounding whitespace or line breaks.
@@ -211,7 +210,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
         )
     keys = list(scenes)
     try:
-        ids = _check_ids(keys, len(keys))
+        ids = check_ids(keys, len(keys))
     except (TypeError, ValueError) as exc:
         raise type(exc)(f"scenes: bad demo id among the keys ({exc})") from None
     values: list[Scene] = []
@@ -256,7 +255,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
 
 
 def _scene_format(fname: str) -> str:
-    return _format_of(fname, SCENE_SUFFIXES, "a scene file")
+    return format_of(fname, SCENE_SUFFIXES, "a scene file")
 
 
 def _obstacle(where: str, label: str, position: list[float], radius: float) -> Obstacle:
@@ -287,12 +286,12 @@ def _write_scenes_csv(f: IO[str], ids: list[DemoId], scenes: list[Scene], q: int
 
 
 def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
-    with io.StringIO(_read_text(fname), newline="") as f:
-        lines = _content_lines(f)
+    with io.StringIO(read_text(fname), newline="") as f:
+        lines = content_lines(f)
         first = next(lines, None)
         if first is None:
             raise ValueError(f"{fname}: no header row; the file is empty")
-        header = [h.strip() for h in _csv_row(fname, *first)]
+        header = [h.strip() for h in csv_row(fname, *first)]
         found = ", ".join(repr(h) for h in header)
         pos: dict[str, int] = {}
         for k, name in enumerate(header):
@@ -315,9 +314,9 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
 
         # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
         groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
-        blocks = _Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
+        blocks = Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
         for lineno, line in lines:
-            row = _csv_row(fname, lineno, line)
+            row = csv_row(fname, lineno, line)
             if len(row) != n_fields:
                 raise ValueError(
                     f"{fname} line {lineno}: expected {n_fields} fields "
@@ -372,11 +371,11 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                     f"{cells[2][1]!r} column; mixed 2-D and 3-D positions: give z for "
                     "every obstacle, or drop the column for 2-D"
                 )
-            position = [_csv_number(fname, lineno, name, cell) for cell, name in cells]
+            position = [csv_number(fname, lineno, name, cell) for cell, name in cells]
             radius = 0.0
             if radius_cell:
                 rname = header[pos["radius"]]
-                radius = _csv_number(fname, lineno, rname, radius_cell)
+                radius = csv_number(fname, lineno, rname, radius_cell)
                 if radius < 0:
                     raise ValueError(
                         f"{at}, column {rname!r}: radius {radius_cell!r} is negative; "
@@ -387,7 +386,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
 
     if "demo" not in pos and not groups:
         return {0: Scene()}  # a header-only single-scene file: no obstacles
-    return {_parse_id(did): Scene(tuple(g[0])) for did, g in groups.items()}
+    return {parse_id(did): Scene(tuple(g[0])) for did, g in groups.items()}
 
 
 # --------------------------------------------------------------------------- #
@@ -430,7 +429,7 @@ def _json_number(fname: str, where: str, value: Any) -> float:
 
 
 def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
-    doc = _json_document(fname, SCENE_JSON_FORMAT, SCENE_JSON_VERSION, "scene")
+    doc = json_document(fname, SCENE_JSON_FORMAT, SCENE_JSON_VERSION, "scene")
     items = doc.get("scenes")
     if not isinstance(items, list):
         raise ValueError(f"{fname}: field 'scenes' must be a list of scenes, got {items!r}")
@@ -448,7 +447,7 @@ def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
                 raise ValueError(
                     f"{fname}: {where}.demo: expected an int or a non-empty str, got {did!r}"
                 )
-            _check_file_id(did, f"{fname}: {where}.demo")
+            check_file_id(did, f"{fname}: {where}.demo")
         elif len(items) == 1:
             did = 0
         else:
