@@ -23,6 +23,7 @@ from scipy.spatial.distance import cdist
 from lfdkit import metrics
 from lfdkit.emulate import IOC, Capsule, Obstacle, Reward, Scene, plan_path
 from lfdkit.geometry import segment_polyline_distance
+from lfdkit.io import load_scenes, save_scenes
 from lfdkit.plot import draw_scene
 
 
@@ -195,3 +196,64 @@ def test_metrics_and_plots_use_the_shape() -> None:
     lo, hi = patches["marker"].get_xy().min(axis=0), patches["marker"].get_xy().max(axis=0)
     np.testing.assert_allclose([*lo, *hi], [0.18, 0.08, 0.82, 0.12], atol=1e-3)
     plt.close(fig)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".json"])
+@pytest.mark.parametrize("q", [2, 3])
+def test_scene_files_keep_every_shape_exactly(tmp_path, suffix: str, q: int) -> None:
+    rng = np.random.default_rng(q)
+    scenes = {
+        "rods": Scene(
+            (
+                Capsule("marker", rng.normal(size=q), 0.011, rng.normal(size=q)),
+                Obstacle("cup", rng.normal(size=q), 0.03),
+            )
+        ),
+        7: Scene(),
+        "cups": Scene((Obstacle("cup", rng.normal(size=q), 0.0),)),
+    }
+    path = save_scenes(tmp_path / f"s{suffix}", scenes)
+    back = load_scenes(path)
+    assert list(back) == list(scenes)
+    for key, scene in scenes.items():
+        assert [type(o) for o in back[key]] == [type(o) for o in scene]
+        for got, want in zip(back[key], scene, strict=True):
+            np.testing.assert_array_equal(got.position, want.position)
+            assert got.radius == want.radius
+            for name, value in want.fields().items():
+                np.testing.assert_array_equal(got.fields()[name], value)
+
+
+def test_round_only_scene_files_are_unchanged(tmp_path) -> None:
+    path = save_scenes(tmp_path / "s.csv", {1: Scene((Obstacle("cup", [0.5, 0.25], 0.03),))})
+    assert path.read_text() == "demo,class,x,y,radius\n1,cup,0.5,0.25,0.03\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("class,x,y,shape\ncup,0,0,cone\n", r"line 2, column 'shape': unknown shape 'cone'; known"),
+        ("class,x,y,shape\ncup,0,0,capsule\n", r"line 2: a capsule obstacle needs columns"),
+        ("class,x,y,shape,end_x,end_y\ncup,0,0,capsule,1,\n", r"line 2: a capsule obstacle"),
+        ("class,x,y,end_x,end_y\ncup,0,0,1,2\n", r"line 2, column 'end_x': a capsule field"),
+    ],
+)
+def test_bad_shapes_in_csv_files_are_named(tmp_path, text: str, message: str) -> None:
+    path = tmp_path / "s.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message):
+        load_scenes(path)
+
+
+def test_bad_shapes_in_json_files_are_named(tmp_path) -> None:
+    path = tmp_path / "s.json"
+    head = '{"format": "lfdkit-scenes", "version": 1, "scenes": [{"demo": 1, "obstacles": ['
+    for body, message in [
+        ('{"class": "m", "position": [0, 0], "shape": "capsule"}', r"needs 'end'"),
+        ('{"class": "m", "position": [0, 0], "shape": "capsule", "end": [1]}', r"\.end: expected"),
+        ('{"class": "m", "position": [0, 0], "shape": 3}', r"\.shape: expected a shape name"),
+        ('{"class": "m", "position": [0, 0], "shape": "cone"}', r"unknown shape 'cone'"),
+    ]:
+        path.write_text(head + body + "]}]}")
+        with pytest.raises(ValueError, match=message):
+            load_scenes(path)

@@ -11,11 +11,12 @@ import pytest
 
 from lfdkit import metrics
 from lfdkit.datasets import load_emulation_dataset
-from lfdkit.demos import load_demos, save_demos
-from lfdkit.emulate import Reward, Scene, plan_path
-from lfdkit.emulate.scene import load_scenes, save_scenes
+from lfdkit.emulate import Reward, plan_path
 from lfdkit.examples import example_dataset, example_files, write_example_files
 from lfdkit.geometry import resample
+from lfdkit.io import load_demos, save_demos
+from lfdkit.io.scenes import load_scenes, save_scenes
+from lfdkit.scene import Scene
 from lfdkit.skill import SKILL_VERSION, Skill, learn, read_training_data
 
 FILES = example_files()

@@ -34,7 +34,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 import lfdkit
-from lfdkit.demos import PathLike, atomic_write
+from lfdkit.demos import PathLike
+from lfdkit.io import atomic_write
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -466,7 +467,7 @@ class Report:
         return "\n".join(out) + "\n"
 
     def write(self, path: PathLike, *, overwrite: bool = False) -> Path:
-        """Save the page atomically (see :func:`lfdkit.demos.atomic_write`).
+        """Save the page atomically (see :func:`lfdkit.io.atomic_write`).
 
         Parameters
         ----------

@@ -72,12 +72,14 @@ from sklearn.utils.validation import check_is_fitted
 
 from lfdkit import __version__, metrics
 from lfdkit._validation import check_demos, check_path, check_positive
-from lfdkit.demos import DemoId, atomic_write, json_float_array, load_demos, load_json
-from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
+from lfdkit.demos import DemoId
+from lfdkit.emulate import IOC, Plan, Reward, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
-from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
+from lfdkit.io import atomic_write, json_float_array, load_demos, load_json
+from lfdkit.io.scenes import load_scenes
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
+from lfdkit.scene import Scene
 
 __all__ = [
     "MAX_SKILL_FILE_BYTES",
@@ -823,7 +825,7 @@ class Skill(BaseEstimator):
     def load(cls, path: str | os.PathLike[str]) -> Skill:
         """Read a skill written by :meth:`save`.
 
-        Parsing is strict (:func:`lfdkit.demos.load_json`: no repeated keys,
+        Parsing is strict (:func:`lfdkit.io.load_json`: no repeated keys,
         no NaN, bounded size and depth) and the parameters must lie in
         :data:`SKILL_FILE_LIMITS`.
 
@@ -884,10 +886,10 @@ def read_training_data(
     Parameters
     ----------
     demos_path : path
-        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.demos.load_demos`).
+        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.io.load_demos`).
     scenes_path : path, optional
         Scenes by demonstration id, ``.csv`` or ``.json``
-        (:func:`lfdkit.emulate.scene.load_scenes`). A demonstration it does not
+        (:func:`lfdkit.io.load_scenes`). A demonstration it does not
         list, or lists with no obstacle, is a clean demonstration.
 
     Raises

@@ -86,7 +86,8 @@ from typing import IO, Any, Literal
 import numpy as np
 
 from lfdkit import __version__
-from lfdkit.demos import PathLike, atomic_write
+from lfdkit.demos import PathLike
+from lfdkit.io import atomic_write
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, Arm
 from lfdkit.robot.poses import pose_matrix
