@@ -71,7 +71,7 @@ from typing import IO, Any, Literal, overload
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path
+from lfdkit._validation import check_demos, check_path, check_times, check_times_list
 
 __all__ = [
     "JSON_FORMAT",
@@ -553,7 +553,7 @@ def save_demos(
     fmt = _format_of(fname)
     arrs = check_demos(demos, "demos")
     n = len(arrs)
-    time_arrs = _check_times_list(times, arrs)
+    time_arrs = check_times_list(times, arrs)
     id_list = _check_ids(ids, n)
 
     check_output_path(fname, overwrite=overwrite)
@@ -621,52 +621,6 @@ def _format_of(fname: str, supported: Sequence[str] = SUPPORTED_SUFFIXES, kind: 
             + ", ".join(supported)
         )
     return suffix
-
-
-def _check_times(t: Any, n_points: int, name: str) -> np.ndarray:
-    """Validate one demonstration's times: float64, shape (n_points,), strictly increasing."""
-    try:
-        arr = np.asarray(t, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected a 1-D numeric array of times in seconds") from exc
-    if arr.ndim != 1:
-        raise ValueError(f"{name}: expected a 1-D array of times, got shape {arr.shape}")
-    if arr.shape[0] != n_points:
-        raise ValueError(
-            f"{name}: has {arr.shape[0]} times but the demonstration has {n_points} points"
-        )
-    bad = np.flatnonzero(~np.isfinite(arr))
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(f"{name}: time at index {i} is {float(arr[i])!r}; times must be finite")
-    step = np.flatnonzero(np.diff(arr) <= 0)
-    if step.size:
-        i = int(step[0]) + 1
-        raise ValueError(
-            f"{name}: times must be strictly increasing; t[{i}] = {float(arr[i])!r} "
-            f"is not after t[{i - 1}] = {float(arr[i - 1])!r}"
-        )
-    return arr
-
-
-def _check_times_list(
-    times: Sequence[Any | None] | None, demos: list[np.ndarray]
-) -> list[np.ndarray | None]:
-    if times is None:
-        return [None] * len(demos)
-    if isinstance(times, np.ndarray) and times.ndim == 2:
-        times = list(times)  # (n_demos, n_points), matching a 3-D demos array
-    if isinstance(times, (str, bytes, np.ndarray)) or not isinstance(times, Sequence):
-        raise TypeError(
-            "times: expected a list with one 1-D array (or None) per demonstration, "
-            "or a 2-D array of shape (n_demos, n_points)"
-        )
-    if len(times) != len(demos):
-        raise ValueError(f"times: got {len(times)} entries for {len(demos)} demonstrations")
-    return [
-        None if t is None else _check_times(t, d.shape[0], f"times[{j}]")
-        for j, (t, d) in enumerate(zip(times, demos, strict=True))
-    ]
 
 
 def _check_ids(ids: Sequence[DemoId] | None, n: int) -> list[DemoId]:
@@ -1154,7 +1108,7 @@ def _read_npz_arrays(
                     f"{stacked.shape[:2]}, got {t2.shape}"
                 )
             times: list[np.ndarray | None] = [
-                _check_times(t2[j], d.shape[0], f"{fname}: array 'times' row {j}")
+                check_times(t2[j], d.shape[0], f"{fname}: array 'times' row {j}")
                 for j, d in enumerate(demos)
             ]
         else:
@@ -1182,7 +1136,7 @@ def _read_npz_arrays(
         _check_same_dims(demos, names, fname)
         demos = check_demos(demos, fname)
         times = [
-            _check_times(npz.read(f"time_{j}"), d.shape[0], f"{fname}: array 'time_{j}'")
+            check_times(npz.read(f"time_{j}"), d.shape[0], f"{fname}: array 'time_{j}'")
             if f"time_{j}" in data
             else None
             for j, d in enumerate(demos)
@@ -1494,7 +1448,7 @@ def _read_json(
             )
         demos.append(arr)
         times.append(
-            _check_times(
+            check_times(
                 json_float_array(item["t"], f"{fname}: demos[{j}].t", 1),
                 arr.shape[0],
                 f"{where} (id {did!r}) field 't'",

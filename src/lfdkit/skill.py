@@ -71,7 +71,7 @@ from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
 
 from lfdkit import __version__, metrics
-from lfdkit._validation import check_demos, check_path, check_positive
+from lfdkit._validation import check_demos, check_path, check_point, check_positive
 from lfdkit.demos import DemoId, atomic_write, json_float_array, load_demos, load_json
 from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
@@ -344,7 +344,7 @@ class Skill(BaseEstimator):
         # Recorded as well as passed on, so that the skill file and reports keep them.
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            estimator = method.build(settings).fit(demos)
+            estimator = method.fit(method.build(settings), demos)  # checked above
         path = estimator.path_
         info: dict[str, Any] = method.diagnostics(estimator)
         for warning in caught:
@@ -488,7 +488,7 @@ class Skill(BaseEstimator):
     def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
         """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
         goal = self.path_[-1] if goals is None else goals
-        point = _point(goal, "goals", self.n_dims_, batch=True)
+        point = check_point(goal, "goals", self.n_dims_, batch="n_demos", style="point")
         if point.ndim == 2 and point.shape[0] not in (1, n_demos):
             raise ValueError(f"goals: {point.shape[0]} goals for {n_demos} demonstrations")
         return np.broadcast_to(point, (n_demos, self.n_dims_))
@@ -537,7 +537,8 @@ class Skill(BaseEstimator):
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
-        return self.dmp_.rollout(starts, goals, n_steps=n_steps).positions
+        # Checked by the caller (public methods validate start and goal once, here).
+        return self.dmp_.rollout(starts, goals, n_steps=n_steps, check_input=False).positions
 
     def nominal(self, start: Any = None, goal: Any = None) -> np.ndarray:
         """The generalized path carried to a new start and goal by the DMP.
@@ -552,9 +553,18 @@ class Skill(BaseEstimator):
         ndarray, shape (4 n_points, q)
             DMP rollout positions (minimum-jerk timing: denser at the ends).
         """
+        return self._nominal(*self._ends(start, goal))
+
+    def _ends(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The start and goal a caller gave, checked (default: the generalized path's)."""
         self._check_fitted()
-        start = self.path_[0] if start is None else _point(start, "start", self.n_dims_)
-        goal = self.path_[-1] if goal is None else _point(goal, "goal", self.n_dims_)
+        q = self.n_dims_
+        start = self.path_[0] if start is None else check_point(start, "start", q, style="point")
+        goal = self.path_[-1] if goal is None else check_point(goal, "goal", q, style="point")
+        return start, goal
+
+    def _nominal(self, start: np.ndarray, goal: np.ndarray) -> np.ndarray:
+        """:meth:`nominal` from a checked start and goal."""
         tol = 1e-12 * _extent(self.path_)
         # A closed skill (an "o") goes from a point back to it; an open one cannot.
         closed = np.allclose(self.path_[0], self.path_[-1], rtol=0.0, atol=tol)
@@ -563,30 +573,15 @@ class Skill(BaseEstimator):
         return self._rollouts(start[None], goal[None])[0]
 
     def plan(
-        self,
-        start: Any = None,
-        goal: Any = None,
-        scene: Scene | None = None,
-        *,
-        planner: PlannerKind | None = None,
-        horizon: int | None = None,
-        goal_approach: float | str | None = "auto",
-        clearance: float = 0.0,
+        self, start: Any = None, goal: Any = None, scene: Scene | None = None, **options: Any
     ) -> np.ndarray:
         """The planned path for a new start, goal and scene: ``plan_details(...).points``.
 
-        ndarray, shape (n_points, q), from ``start``; the parameters, errors and
-        safety guarantees are :meth:`plan_details`'.
+        ndarray, shape (n_points, q), from ``start``; the keyword ``options``
+        (``planner``, ``horizon``, ``goal_approach``, ``clearance``), the errors
+        and the safety guarantees are :meth:`plan_details`'.
         """
-        return self.plan_details(
-            start,
-            goal,
-            scene,
-            planner=planner,
-            horizon=horizon,
-            goal_approach=goal_approach,
-            clearance=clearance,
-        ).points
+        return self.plan_details(start, goal, scene, **options).points
 
     def plan_details(
         self,
@@ -639,7 +634,21 @@ class Skill(BaseEstimator):
             obstacles when no reward is learned), a start or goal inside an
             obstacle, or a horizon outside 4-12.
         """
-        nominal = self.nominal(start, goal)
+        start, goal = self._ends(start, goal)
+        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance)
+
+    def _plan(
+        self,
+        start: np.ndarray,
+        goal: np.ndarray,
+        scene: Scene | None,
+        planner: PlannerKind | None,
+        horizon: int | None,
+        goal_approach: float | str | None,
+        clearance: float,
+    ) -> Plan:
+        """:meth:`plan_details` from a checked start and goal."""
+        nominal = self._nominal(start, goal)
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
@@ -697,11 +706,12 @@ class Skill(BaseEstimator):
         if len(scenes) != len(demos):
             raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
         goal = self._goals(goals, len(demos))
+        # The demonstrations' starts and the goals are checked: straight to the planner.
         plans = [
-            self.plan(demo[0], g, scene, goal_approach=goal_approach)
+            self._plan(demo[0], g, scene, None, None, goal_approach, 0.0).points
             for demo, g, scene in zip(demos, goal, scenes, strict=True)
         ]
-        nominals = [self.nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
+        nominals = [self._nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
         mse = metrics.mse_paths(plans, demos)
         replay = metrics.mse_paths(nominals, demos)
         return {"mse": mse, "mse_replay": replay, "improvement": metrics.improvement(replay, mse)}
@@ -972,19 +982,6 @@ def _tell(progress: Progress | None, message: str) -> None:
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
     if value not in choices:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
-
-
-def _point(value: Any, name: str, q: int, *, batch: bool = False) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}: expected {q} numbers, got {value!r}") from None
-    ok = arr.shape == (q,) or (batch and arr.ndim == 2 and arr.shape[1] == q)
-    if not ok:
-        raise ValueError(f"{name}: expected a {q}-D point, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: contains NaN or infinite values")
-    return arr
 
 
 def _extent(path: np.ndarray) -> float:
