@@ -147,6 +147,27 @@ def test_help_exits_zero_and_prints_usage(capsys, command):
             assert name in out
 
 
+def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
+    """Every option of ``learn`` that sets a Skill parameter defaults to Skill()'s value."""
+    passed = {}
+
+    def fake_learn(demos_path, scenes_path=None, *, progress=None, **params):
+        passed.update(params)
+        raise ValueError("stop here")
+
+    monkeypatch.setattr("lfdkit.skill.learn", fake_learn)
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
+    assert code == 1, err
+    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon"}
+    defaults = Skill().get_params()
+    assert passed == {name: defaults[name] for name in passed}
+    code, out, _ = usage_exit(capsys, "learn", "--help")
+    assert code == 0
+    text = " ".join(out.split())
+    for name in ("mimic", "n_points", "planner", "horizon"):
+        assert f"(default {defaults[name]})" in text, name
+
+
 def test_version(capsys):
     code, out, err = usage_exit(capsys, "--version")
     assert code == 0
@@ -630,6 +651,50 @@ def test_bench_unknown_name_lists_the_available_ones(capsys):
     assert "'no_such_benchmark'" in line
     assert line.endswith("choose from " + ", ".join(available))
     assert out == ""
+
+
+BENCHMARK = """import pathlib, sys
+here = pathlib.Path(__file__).resolve().parent
+(here / "ran.txt").write_text(f"{pathlib.Path.cwd()} {' '.join(sys.argv[1:])}")
+"""
+
+
+def test_bench_runs_the_benchmarks_of_the_folder_given(capsys, tmp_path):
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    (folder / "hello.py").write_text(BENCHMARK)
+    code, out, err = run_cli(capsys, "bench", "--benchmarks", folder, "hello", "--quick", "-q")
+    assert (code, out) == (0, ""), err
+    assert (folder / "ran.txt").read_text() == f"{tmp_path} --quick"
+
+
+def test_bench_finds_benchmarks_in_the_current_folder(capsys, monkeypatch, tmp_path):
+    (tmp_path / "benchmarks").mkdir()
+    (tmp_path / "benchmarks" / "hello.py").write_text(BENCHMARK)
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run_cli(capsys, "bench", "-q")
+    assert (code, out) == (0, ""), err
+    assert (tmp_path / "benchmarks" / "ran.txt").read_text() == f"{tmp_path} "
+
+
+def test_bench_without_benchmarks_is_a_usage_error_naming_where_it_looked(
+    capsys, monkeypatch, tmp_path
+):
+    import lfdkit.cli
+
+    # An installed package: no source checkout around the module.
+    monkeypatch.setattr(lfdkit.cli, "__file__", str(tmp_path / "site" / "lfdkit" / "cli.py"))
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run_cli(capsys, "bench")
+    assert code == 2
+    line = err.strip()
+    assert line.startswith("lfdkit bench: error: no benchmarks folder: looked for ")
+    assert str(tmp_path / "benchmarks") in line
+    assert "--benchmarks DIR" in line
+    assert out == ""
+    code, out, err = run_cli(capsys, "bench", "--benchmarks", tmp_path / "nowhere")
+    assert code == 2
+    assert err == f"lfdkit bench: error: --benchmarks {tmp_path / 'nowhere'}: no such folder\n"
 
 
 # --------------------------------------------------------------------------- #

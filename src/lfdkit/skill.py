@@ -71,10 +71,10 @@ from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
 
 from lfdkit import __version__, metrics
+from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
 from lfdkit._validation import check_demos, check_path, check_point, check_positive
 from lfdkit.demos import DemoId, atomic_write, json_float_array, load_demos, load_json
 from lfdkit.emulate import IOC, Plan, Reward, Scene, plan_path
-from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
 from lfdkit.emulate.scene import load_scenes
 from lfdkit.imitate import DMP
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
@@ -99,9 +99,6 @@ SKILL_VERSION = 1
 PlannerKind = Literal["mpc", "full"]
 Progress = Callable[[str], None]
 
-_PLANNERS = ("mpc", "full")
-_TIMINGS = ("minimum_jerk", "uniform")
-_SCALINGS = ("translate", "spatial", "per_dimension")
 # Points of a path or plan: the planner's memory grows linearly with them.
 _MAX_POINTS = 100_000
 
@@ -205,19 +202,19 @@ class Skill(BaseEstimator):
     def __init__(
         self,
         *,
-        mimic: str = "mean_path",
-        n_points: int = 100,
-        n_components: int = 10,
-        n_basis: int | Literal["auto"] = "auto",
-        timing: str = "minimum_jerk",
-        duration: float = 1.0,
-        scaling: str = "translate",
-        planner: PlannerKind = "mpc",
-        horizon: int = 8,
-        max_slope: float = 1.0,
-        classes: Sequence[str] | None = None,
-        random_state: int | None = None,
-        units: str = "m",
+        mimic: str = SKILL_DEFAULTS["mimic"],
+        n_points: int = SKILL_DEFAULTS["n_points"],
+        n_components: int = SKILL_DEFAULTS["n_components"],
+        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
+        timing: str = SKILL_DEFAULTS["timing"],
+        duration: float = SKILL_DEFAULTS["duration"],
+        scaling: str = SKILL_DEFAULTS["scaling"],
+        planner: PlannerKind = SKILL_DEFAULTS["planner"],
+        horizon: int = SKILL_DEFAULTS["horizon"],
+        max_slope: float = SKILL_DEFAULTS["max_slope"],
+        classes: Sequence[str] | None = SKILL_DEFAULTS["classes"],
+        random_state: int | None = SKILL_DEFAULTS["random_state"],
+        units: str = SKILL_DEFAULTS["units"],
     ) -> None:
         self.mimic = mimic
         self.n_points = n_points
@@ -236,9 +233,9 @@ class Skill(BaseEstimator):
     # ------------------------------------------------------------ parameters
     def _check_params(self) -> None:
         _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
-        _check_choice(self.planner, "planner", _PLANNERS)
-        _check_choice(self.timing, "timing", _TIMINGS)
-        _check_choice(self.scaling, "scaling", _SCALINGS)
+        _check_choice(self.planner, "planner", PLANNERS)
+        _check_choice(self.timing, "timing", TIMINGS)
+        _check_choice(self.scaling, "scaling", SCALINGS)
         # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
         # code can always be saved and loaded again.
         for name in ("n_points", "n_components", "n_basis"):
@@ -653,7 +650,7 @@ class Skill(BaseEstimator):
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
         kind = self.planner if planner is None else planner
-        _check_choice(kind, "planner", _PLANNERS)
+        _check_choice(kind, "planner", PLANNERS)
         if kind == "mpc":
             h = int(self.horizon) if horizon is None else horizon
         else:
@@ -857,7 +854,7 @@ class Skill(BaseEstimator):
         return MIMIC_METHODS[self.mimic].label
 
     def __repr__(self) -> str:
-        changed = {k: v for k, v in self.get_params().items() if v != _DEFAULTS.get(k)}
+        changed = {k: v for k, v in self.get_params().items() if v != SKILL_DEFAULTS.get(k)}
         args = ", ".join(f"{k}={v!r}" for k, v in changed.items())
         return f"Skill({args})"
 
@@ -1023,7 +1020,7 @@ def _check_file_params(params: Mapping[str, Any], source: str) -> None:
         where = f"{source}: params.{key}"
         if key == "n_basis" and value == "auto":
             continue  # the DMP chooses the count
-        integer = key == "n_basis" or isinstance(_DEFAULTS[key], int)
+        integer = key == "n_basis" or isinstance(SKILL_DEFAULTS[key], int)
         kinds = (int,) if integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, kinds):
             kind = "an integer" if integer else "a number"
@@ -1073,6 +1070,3 @@ class _FieldReader:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{where}: contains NaN or infinite values")
         return arr
-
-
-_DEFAULTS = Skill().get_params()
