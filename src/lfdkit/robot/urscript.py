@@ -392,7 +392,92 @@ class Workspace:
         """``tool`` as a ``(4, 4)`` array, or ``None``."""
         return None if self.tool is None else np.array(self.tool)
 
-    def _check_box(self, positions: np.ndarray, name: str, what: str) -> None:
+    def check_positions(
+        self, positions: Any, name: str = "positions", what: str = "position"
+    ) -> np.ndarray:
+        """Refuse tool positions outside the box (``lower <= position <= upper``).
+
+        Parameters
+        ----------
+        positions : array_like, shape (n, 3)
+            Positions ``(x, y, z)`` in metres, robot base frame.
+        name : str
+            What the positions are called in messages (``name[i]``).
+        what : str
+            What one row is, for messages ("position", "tool position").
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            The positions as float64.
+
+        Raises
+        ------
+        URScriptError
+            For a position that is not 3 finite numbers, or outside the box; the
+            message names the row, the coordinate and the bound, with a hint for
+            millimetres passed as metres.
+        """
+        rows = _real_rows(positions, name, _POSE_COLUMNS[:3], 1)
+        self._refuse_outside(rows, name, what)
+        return rows
+
+    def check_poses(self, poses: Any, arm: Arm = UR5, name: str = "poses") -> np.ndarray:
+        """Refuse tool poses a program must not send: outside the box or (``check_reach``) reach.
+
+        Parameters
+        ----------
+        poses : array_like, shape (n, 6)
+            UR poses ``(x, y, z, rx, ry, rz)``: metres and a rotation vector in
+            radians (norm at most :data:`MAX_ROTATION`), robot base frame.
+        arm : Arm
+            The UR arm whose inverse kinematics decide the reach (with ``tool``).
+        name : str
+            What the poses are called in messages (``name[i]``).
+
+        Returns
+        -------
+        ndarray, shape (n, 6)
+            The poses as float64.
+
+        Raises
+        ------
+        URScriptError
+            For a pose that is not 6 finite numbers, a rotation of more than π
+            (degrees passed as radians), a position outside the box, or a pose
+            with no inverse kinematics solution for ``arm``; the message names
+            the row.
+        """
+        arm = _check_arm(arm)
+        p = _real_rows(poses, name, _POSE_COLUMNS, 1)
+        norm = np.hypot(np.hypot(p[:, 3], p[:, 4]), p[:, 5])  # no overflow for 1e300
+        if (norm > MAX_ROTATION).any():
+            i = int(np.argmax(norm > MAX_ROTATION))
+            raise URScriptError(
+                f"{name}[{i}]: rotation vector {_vec(p[i, 3:])} has norm {norm[i]:.6g} rad, more "
+                "than π; a UR pose takes a rotation vector in radians with norm <= π (a value "
+                "like 180 is degrees)",
+                name,
+                i,
+            )
+        self._refuse_outside(p[:, :3], name, "position")
+        if not self.check_reach:
+            return p
+        frames = pose_matrix(p)
+        sols = ur5.inverse(frames, tool=self.tool_matrix, strict=False, arm=arm)
+        unreachable = np.isnan(sols).all(axis=(1, 2))
+        if unreachable.any():
+            i = int(np.argmax(unreachable))
+            try:
+                ur5.inverse(frames[i], tool=self.tool_matrix, arm=arm)
+                reason = "unreachable"  # pragma: no cover - the batch said so
+            except ur5.UnreachableError as exc:
+                reason = str(exc).removeprefix("pose: ")
+            raise URScriptError(f"{name}[{i}]: {reason} for the {arm.name}", name, i)
+        return p
+
+    def _refuse_outside(self, positions: np.ndarray, name: str, what: str) -> None:
+        """:meth:`check_positions` of positions already read as finite float rows."""
         lo, hi = np.array(self.lower), np.array(self.upper)
         out = (positions < lo) | (positions > hi)
         if out.any():
@@ -410,21 +495,6 @@ class Workspace:
                 name,
                 i,
             )
-
-    def _check_reach(self, poses: np.ndarray, name: str, arm: Arm) -> None:
-        if not self.check_reach:
-            return
-        frames = pose_matrix(poses)
-        sols = ur5.inverse(frames, tool=self.tool_matrix, strict=False, arm=arm)
-        unreachable = np.isnan(sols).all(axis=(1, 2))
-        if unreachable.any():
-            i = int(np.argmax(unreachable))
-            try:
-                ur5.inverse(frames[i], tool=self.tool_matrix, arm=arm)
-                reason = "unreachable"  # pragma: no cover - the batch said so
-            except ur5.UnreachableError as exc:
-                reason = str(exc).removeprefix("pose: ")
-            raise URScriptError(f"{name}[{i}]: {reason} for the {arm.name}", name, i)
 
 
 #: The default :class:`Workspace`: on or above the table, within the arm's reach.
@@ -528,23 +598,6 @@ def _check_header(header: Any) -> list[str]:
     return [f"# {line}".rstrip() for line in lines]
 
 
-def _check_poses(poses: Any, workspace: Workspace, arm: Arm) -> np.ndarray:
-    p = _real_rows(poses, "poses", _POSE_COLUMNS, 1)
-    norm = np.hypot(np.hypot(p[:, 3], p[:, 4]), p[:, 5])  # no overflow for 1e300
-    if (norm > MAX_ROTATION).any():
-        i = int(np.argmax(norm > MAX_ROTATION))
-        raise URScriptError(
-            f"poses[{i}]: rotation vector {_vec(p[i, 3:])} has norm {norm[i]:.6g} rad, more "
-            "than π; a UR pose takes a rotation vector in radians with norm <= π (a value "
-            "like 180 is degrees)",
-            "poses",
-            i,
-        )
-    workspace._check_box(p[:, :3], "poses", "position")
-    workspace._check_reach(p, "poses", arm)
-    return p
-
-
 def _check_servo(
     joint_path: Any, times: Any, workspace: Workspace, arm: Arm
 ) -> tuple[np.ndarray, float]:
@@ -619,7 +672,7 @@ def _check_servo(
             i,
         )
     tool = ur5.forward(q, tool=workspace.tool_matrix, arm=arm)[:, :3, 3]
-    workspace._check_box(tool, "joint_path", "tool position")
+    workspace._refuse_outside(tool, "joint_path", "tool position")  # finite: forward kinematics
     return q, dt
 
 
@@ -708,7 +761,7 @@ def urscript_program(
             raise URScriptError("times, joint_path: only used with motion='servoj'", extra_arg)
         if poses is None:
             raise URScriptError("poses: required with motion='movel'", "poses")
-        p = _check_poses(poses, workspace, arm)
+        p = workspace.check_poses(poses, arm)
         v = _scalar(speed, "speed", MAX_TOOL_SPEED, "m/s")
         a = _scalar(acceleration, "acceleration", MAX_TOOL_ACCELERATION, "m/s^2")
         r = _scalar(blend_radius, "blend_radius", MAX_BLEND_RADIUS, "m", allow_lower=True)
