@@ -28,6 +28,8 @@ def smooth_offset(
     sd: float,
     freq: tuple[float, float] = (0.5, 2.5),
     n_terms: int = 3,
+    *,
+    whole_cycles: bool = False,
 ) -> np.ndarray:
     """Random smooth function of ``u in [0, 1]``: a sum of sinusoids with std about ``sd``.
 
@@ -35,8 +37,13 @@ def smooth_offset(
     amplitude weights uniform in [0.5, 1]; amplitudes are scaled so that
     ``sqrt(sum a_k**2 / 2) = sd``. The magnitude never exceeds
     ``sqrt(2 * n_terms) * sd``. Always consumes the same number of draws.
+    With ``whole_cycles`` the frequencies are whole numbers uniform in ``freq``
+    (inclusive), so the function is periodic: equal at ``u = 0`` and ``1``.
     """
-    f = rng.uniform(freq[0], freq[1], n_terms)
+    if whole_cycles:
+        f = rng.integers(freq[0], freq[1] + 1, n_terms).astype(np.float64)
+    else:
+        f = rng.uniform(freq[0], freq[1], n_terms)
     phase = rng.uniform(0.0, _TWO_PI, n_terms)
     w = rng.uniform(0.5, 1.0, n_terms)
     amp = w * sd * np.sqrt(2.0 / np.sum(w**2))
