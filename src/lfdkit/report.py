@@ -149,9 +149,9 @@ class Report:
     """Builder for one self-contained HTML page showing the results of a run.
 
     Add content in reading order with :meth:`heading`, :meth:`paragraph`,
-    :meth:`figure`, :meth:`table` and :meth:`definition_list` (each returns the
-    report, so calls chain), then get the page with :meth:`html` or save it with
-    :meth:`write`.
+    :meth:`figure`, :meth:`table` and :meth:`definition_list`, then get the page
+    with :meth:`html` or save it with :meth:`write`. Each of the five adding
+    methods returns the report itself, so calls chain.
 
     Parameters
     ----------
@@ -187,11 +187,6 @@ class Report:
         text : str
             Heading text. Its id is a slug of the text, made unique by a numeric
             suffix (``results``, ``results-2``, ...) when headings repeat.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
         """
         text = str(text)
         base = _slug(text)
@@ -212,11 +207,6 @@ class Report:
         text : str
             The text. Runs of blank lines split it into ``<p>`` elements; single
             line breaks are kept as ordinary spaces by the browser.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
         """
         for chunk in re.split(r"\n[ \t\r\f\v]*\n", str(text)):
             chunk = chunk.strip()
@@ -245,11 +235,6 @@ class Report:
             Alternative text for the image; the caption (or ``"Figure N"``) if empty.
         dpi : int
             Resolution used to render a matplotlib figure (ignored for PNG bytes).
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
 
         Raises
         ------
@@ -314,11 +299,6 @@ class Report:
         formats : mapping of str to str, optional
             Format spec per column for floats (e.g. ``{"rmse": ".3g"}``); other
             floats use ``".4g"``. Keys that are not columns are ignored.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
 
         Raises
         ------
@@ -394,11 +374,6 @@ class Report:
             as table cells are (floats with ``".4g"``, booleans as yes/no, ...).
         caption : str
             Text above the list.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
         """
         parts = ['<div class="kv">']
         if caption:
