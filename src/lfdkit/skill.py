@@ -534,7 +534,7 @@ class Skill(BaseEstimator):
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
-        # Checked by the caller (public methods validate start and goal once, here).
+        # Starts and goals come checked (_ends, _goals, check_demos): not again in the DMP.
         return self.dmp_.rollout(starts, goals, n_steps=n_steps, check_input=False).positions
 
     def nominal(self, start: Any = None, goal: Any = None) -> np.ndarray:
