@@ -9,7 +9,8 @@ import pytest
 
 from lfdkit.datasets import load_dataset
 from lfdkit.imitate import BASIS_LADDER, DMP
-from lfdkit.skill import Skill, _check_file_params
+from lfdkit.io.skill_file import check_file_params
+from lfdkit.skill import Skill
 
 
 @pytest.fixture(scope="module")
@@ -51,10 +52,10 @@ def test_the_skill_file_round_trips_auto_and_integer_counts(path, n_basis) -> No
     ],
 )
 def test_skill_files_accept_auto_and_bounded_integers_only(value, message) -> None:
-    _check_file_params({"n_basis": "auto"}, "f.json")
-    _check_file_params({"n_basis": 200}, "f.json")
+    check_file_params({"n_basis": "auto"}, "f.json")
+    check_file_params({"n_basis": 200}, "f.json")
     with pytest.raises(ValueError, match=message):
-        _check_file_params({"n_basis": value}, "f.json")
+        check_file_params({"n_basis": value}, "f.json")
 
 
 def test_a_skill_built_in_code_refuses_a_bad_count() -> None:
