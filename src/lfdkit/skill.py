@@ -727,12 +727,9 @@ class Skill(BaseEstimator):
     def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
         """Write the skill to a JSON file, atomically (:mod:`lfdkit.io.skill_file`).
 
-        Raises
-        ------
-        FileExistsError
-            If ``path`` exists and ``overwrite`` is false.
-        IsADirectoryError
-            If ``path`` is a directory.
+        Returns the file written. Raises ``FileExistsError`` if ``path``
+        exists and ``overwrite`` is false, ``IsADirectoryError`` if it is a
+        directory (:func:`lfdkit.io.skill_file.write_skill_file`).
         """
         target = skill_file.check_skill_path(path)
         return skill_file.write_skill_file(target, self.to_dict(), overwrite=overwrite)

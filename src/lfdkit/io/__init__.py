@@ -1,7 +1,8 @@
 """File I/O: every file lfdkit reads or writes, one module per concern.
 
 * :mod:`.atomic`: atomic writes and the checks on an output path
-  (:func:`atomic_write`, :func:`check_output_path`, :class:`OutputExistsError`,
+  (:func:`atomic_write`, :func:`write_text` for a whole text,
+  :func:`check_output_path`, :class:`OutputExistsError`,
   :class:`NotRegularFileError`);
 * :mod:`.text`: the strict, bounded reading primitives every reader shares
   (file size and type, UTF-8, CSV cells, demonstration ids, strict JSON);
@@ -24,6 +25,7 @@ from lfdkit.io.atomic import (
     OutputExistsError,
     atomic_write,
     check_output_path,
+    write_text,
 )
 from lfdkit.io.demos import (
     JSON_FORMAT,
@@ -87,4 +89,5 @@ __all__ = [
     "save_path",
     "save_scenes",
     "write_skill_file",
+    "write_text",
 ]

@@ -37,7 +37,7 @@ Reading is strict (:func:`lfdkit.io.text.load_json`: no repeated keys, no
 NaN, bounded depth), at most :data:`MAX_SKILL_FILE_BYTES`, and the numeric
 parameters must lie in :data:`SKILL_FILE_LIMITS`. A file from a newer format
 version, or one with a missing or broken field, is refused. Writing is
-atomic (:func:`lfdkit.io.atomic.atomic_write`).
+atomic (:func:`lfdkit.io.atomic.write_text`).
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ import numpy as np
 
 from lfdkit import __version__
 from lfdkit.demos import PathLike
-from lfdkit.io.atomic import atomic_write
+from lfdkit.io.atomic import write_text
 from lfdkit.io.text import json_float_array, load_json
 
 __all__ = [
@@ -181,15 +181,14 @@ def check_skill_path(path: PathLike) -> Path:
 
 
 def write_skill_file(path: PathLike, document: Mapping[str, Any], *, overwrite: bool) -> Path:
-    """Write :func:`to_document`'s output to ``path``, atomically, as indented JSON.
+    """Write :func:`to_document`'s output to ``path`` as indented JSON (:func:`write_text`).
 
-    Raises
-    ------
-    OutputExistsError
-        (a ``FileExistsError``) If ``path`` exists and ``overwrite`` is false.
+    Returns the file written; an existing ``path`` raises
+    :class:`~lfdkit.io.atomic.OutputExistsError` (a ``FileExistsError``)
+    unless ``overwrite``.
     """
     text = json.dumps(document, indent=1, allow_nan=False)
-    return atomic_write(path, lambda f: f.write(text + "\n"), overwrite=overwrite)
+    return write_text(path, text + "\n", overwrite=overwrite)
 
 
 def jsonable(value: Any) -> Any:
@@ -230,13 +229,11 @@ def _without_timing(value: Any) -> Any:
 def read_skill_file(path: PathLike) -> Mapping[str, Any]:
     """Parse a skill file strictly; the top-level object, its fields not yet checked.
 
-    Raises
-    ------
-    FileNotFoundError
-        If the file does not exist.
-    ValueError
-        For a file that is binary (e.g. a pickle), larger than
-        :data:`MAX_SKILL_FILE_BYTES`, not valid JSON, or not a JSON object.
+    The file is read with :func:`lfdkit.io.text.load_json` (at most
+    :data:`MAX_SKILL_FILE_BYTES`, UTF-8 text, valid JSON without repeated
+    keys or NaN); anything else, or a document that is not a JSON object,
+    raises ``ValueError`` naming the file. A missing file raises
+    ``FileNotFoundError``.
     """
     name = os.fspath(path)
     data = load_json(name, max_bytes=MAX_SKILL_FILE_BYTES)
