@@ -98,8 +98,9 @@ CASES: list[tuple[str, str, str, str]] = [
 
 HELPERS = """
 import numpy as np
-from lfdkit.demos import load_demos
-from lfdkit.emulate import Obstacle, Reward, Scene, plan_path, plan_clearance
+from lfdkit.io import load_demos
+from lfdkit.emulate import Reward, plan_path, plan_clearance
+from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 
 def fit_gmr_reversed():

@@ -127,7 +127,7 @@ import numpy as np
 from _common import git_state, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
-from lfdkit.demos import atomic_write
+from lfdkit.io import atomic_write
 from lfdkit.robot import sim, ur5
 from lfdkit.robot.arm import UR5
 from lfdkit.robot.mujoco import flange_poses

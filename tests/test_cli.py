@@ -23,10 +23,12 @@ import pytest
 
 from lfdkit.cli import main
 from lfdkit.emulate import plan_clearance
-from lfdkit.emulate.scene import Obstacle, Scene, save_scenes
 from lfdkit.examples import example_files
 from lfdkit.examples.sweeping_demo import demo_outputs
-from lfdkit.skill import SKILL_VERSION, Skill, learn
+from lfdkit.io import SKILL_VERSION
+from lfdkit.io.scenes import save_scenes
+from lfdkit.scene import Obstacle, Scene
+from lfdkit.skill import Skill, learn
 
 SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "bench")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

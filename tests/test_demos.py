@@ -1,4 +1,4 @@
-"""Tests for lfdkit.demos: data model, file formats and atomic writes."""
+"""Tests for lfdkit.io (demonstration files and atomic writes) and the lfdkit.demos data model."""
 
 from __future__ import annotations
 
@@ -16,8 +16,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import lfdkit.demos as demos_module
-from lfdkit.demos import (
+import lfdkit.io.demos as demos_io
+import lfdkit.io.text as io_text
+from lfdkit.io import (
     JSON_FORMAT,
     JSON_VERSION,
     STALE_TEMP_SECONDS,
@@ -577,7 +578,7 @@ def test_npz_oversized_member_is_refused_from_its_header(
 ) -> None:
     path = tmp_path / "bomb.npz"
     _zip_bomb(path, "demo_0", 64 << 20)
-    monkeypatch.setattr(demos_module, "MAX_NPZ_ARRAY_BYTES", 32 << 20)
+    monkeypatch.setattr(demos_io, "MAX_NPZ_ARRAY_BYTES", 32 << 20)
     started = time.perf_counter()
     with pytest.raises(ValueError) as info:
         load_demos(path)
@@ -612,7 +613,7 @@ def test_npz_header_larger_than_member_is_refused(tmp_path: Path) -> None:
 def test_npz_too_many_members(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     path = tmp_path / "many.npz"
     np.savez(path, **{f"demo_{j}": np.zeros((2, 2)) for j in range(5)})
-    monkeypatch.setattr(demos_module, "MAX_NPZ_MEMBERS", 4)
+    monkeypatch.setattr(demos_io, "MAX_NPZ_MEMBERS", 4)
     with pytest.raises(
         ValueError, match=_m(path, r": has 5 arrays; lfdkit reads .npz files of at most 4$")
     ):
@@ -849,14 +850,14 @@ def test_file_too_large_is_refused_before_reading(
     path = tmp_path / f"demos{suffix}"
     save_demos(path, [np.zeros((50, 2))])
     size = path.stat().st_size
-    monkeypatch.setattr(demos_module, "MAX_FILE_BYTES", size - 1)
+    monkeypatch.setattr(io_text, "MAX_FILE_BYTES", size - 1)
     with pytest.raises(ValueError) as info:
         load_demos(path)
     assert str(info.value) == (
         f"{path}: file too large ({size} bytes); lfdkit reads files of at most {size - 1} "
         f"bytes ({(size - 1) / 1024**2:g} MiB)"
     )
-    monkeypatch.setattr(demos_module, "MAX_FILE_BYTES", size)
+    monkeypatch.setattr(io_text, "MAX_FILE_BYTES", size)
     assert len(load_demos(path)) == 1
 
 

@@ -26,14 +26,9 @@ import pytest
 from hypothesis import HealthCheck, currently_in_test_context, event, given, settings
 from hypothesis import strategies as st
 
-from lfdkit.demos import JSON_FORMAT, JSON_VERSION, load_demos, save_demos
 from lfdkit.emulate import Reward
-from lfdkit.emulate.scene import (
-    SCENE_JSON_FORMAT,
-    SCENE_JSON_VERSION,
-    load_scenes,
-    save_scenes,
-)
+from lfdkit.io import JSON_FORMAT, JSON_VERSION, load_demos, save_demos
+from lfdkit.io.scenes import SCENE_JSON_FORMAT, SCENE_JSON_VERSION, load_scenes, save_scenes
 from lfdkit.skill import Skill
 
 PROJECT_ERRORS = (ValueError, TypeError)

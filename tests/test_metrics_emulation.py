@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.emulate import Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate import Reward, plan_path
 from lfdkit.metrics import (
     clearance,
     collisions,
@@ -13,6 +13,7 @@ from lfdkit.metrics import (
     mse_paths,
     parameter_errors,
 )
+from lfdkit.scene import Obstacle, Scene
 
 
 def hline(x0, x1, y, n):

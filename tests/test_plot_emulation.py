@@ -9,7 +9,7 @@ from matplotlib.colors import to_rgb
 from matplotlib.contour import ContourSet
 from matplotlib.figure import Figure
 
-from lfdkit.emulate import Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate import Reward, plan_path
 from lfdkit.plot import (
     CLASS_COLORS,
     EXTRA_CLASS_COLORS,
@@ -19,6 +19,7 @@ from lfdkit.plot import (
     emulation_figure,
     emulation_grid,
 )
+from lfdkit.scene import Obstacle, Scene
 
 matplotlib.use("Agg")
 

@@ -8,10 +8,11 @@ import warnings
 
 import numpy as np
 
-from lfdkit.emulate import Reward, Scene
+from lfdkit.emulate import Reward
 from lfdkit.geometry import project_onto_polyline
 from lfdkit.metrics import clearance, collisions, mse_paths
 from lfdkit.mimic import MeanPath
+from lfdkit.scene import Scene
 
 from .spec import HELD_OUT_NAMES
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit.emulate import IOC, Reward, Scene, plan_path
+from lfdkit.emulate import IOC, Reward, plan_path
 from lfdkit.geometry import arc_length, left_normals
 from lfdkit.metrics import mse_paths, parameter_errors
+from lfdkit.scene import Scene
 
 from .common import held_out_names, reward_record, reward_text, safe_plan, scene_metrics, sci
 from .spec import HORIZON

@@ -166,7 +166,6 @@ def _obstacle(text: str):
 def _compare(args: argparse.Namespace) -> None:
     # Heavy imports here so that `lfdkit --help` stays instant.
     from lfdkit.datasets import MIMIC_DATASETS
-    from lfdkit.demos import atomic_write
     from lfdkit.evaluation import (
         comparison_figures,
         format_table,
@@ -174,6 +173,7 @@ def _compare(args: argparse.Namespace) -> None:
         run_comparison,
         summarize,
     )
+    from lfdkit.io import atomic_write
 
     out: Path = args.output
     if out.exists() and not out.is_dir():
@@ -321,8 +321,8 @@ def _learn(args: argparse.Namespace) -> None:
 
 
 def _scene_from_args(args: argparse.Namespace, n_dims: int):
-    from lfdkit.emulate import Obstacle, Scene
-    from lfdkit.emulate.scene import load_scene
+    from lfdkit.io.scenes import load_scene
+    from lfdkit.scene import Obstacle, Scene
 
     obstacles = []
     if args.scene is not None:
@@ -378,7 +378,7 @@ def _skill_and_scene(args: argparse.Namespace):
 
 
 def _plan(args: argparse.Namespace) -> None:
-    from lfdkit.demos import path_csv, save_path
+    from lfdkit.io import path_csv, save_path
 
     if args.output is not None:
         _refuse_existing(args.output, args.force)
@@ -414,7 +414,7 @@ def _plan(args: argparse.Namespace) -> None:
 
 def _plot(args: argparse.Namespace) -> None:
     from lfdkit import plot
-    from lfdkit.demos import atomic_write, load_demos
+    from lfdkit.io import atomic_write, load_demos
 
     _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)

@@ -28,6 +28,7 @@ from lfdkit.geometry import (
     project_onto_polyline,
     resample,
 )
+from lfdkit.scene import Scene
 
 __all__ = [
     "clearance",
@@ -349,8 +350,8 @@ def improvement(mse_replay: float, mse_reproduced: float) -> float:
     return (mse_replay - mse_reproduced) / mse_replay * 100.0
 
 
-def _check_scene(scene, name: str = "scene"):
-    if not hasattr(scene, "obstacles") or not hasattr(scene, "radii"):
+def _check_scene(scene, name: str = "scene") -> Scene:
+    if not isinstance(scene, Scene):
         raise TypeError(f"{name}: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
     return scene
 

@@ -19,6 +19,7 @@ from matplotlib.ticker import MaxNLocator
 
 from lfdkit._validation import check_path, check_positive
 from lfdkit.mimic import MIMIC_METHODS
+from lfdkit.scene import Scene
 
 __all__ = [
     "CLASS_COLORS",
@@ -504,7 +505,7 @@ def _panel_data(reward, nominal, scene, demos, plans, index: str = ""):
     q = nominal.shape[1]
     if q not in (2, 3):
         raise ValueError(f"{where}nominal: expected 2-D or 3-D points, got {q}-D")
-    if not hasattr(scene, "obstacles"):
+    if not isinstance(scene, Scene):
         raise TypeError(f"{where}scene: expected an lfdkit.emulate.Scene")
     if len(scene) and scene.positions.shape[1] != q:
         raise ValueError(f"{where}scene: {scene.positions.shape[1]}-D obstacles, {q}-D nominal")

@@ -29,12 +29,13 @@ from collections.abc import Mapping, Sequence
 from datetime import datetime, timezone
 from html import escape
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 import lfdkit
-from lfdkit.demos import PathLike, atomic_write
+from lfdkit.demos import PathLike
+from lfdkit.io import write_text
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -441,33 +442,25 @@ class Report:
         return "\n".join(out) + "\n"
 
     def write(self, path: PathLike, *, overwrite: bool = False) -> Path:
-        """Save the page atomically (see :func:`lfdkit.demos.atomic_write`).
+        """Save the page atomically, as UTF-8 (:func:`lfdkit.io.write_text`).
 
         Parameters
         ----------
         path : str or os.PathLike
-            Destination file (UTF-8); its directory must exist.
+            Destination file; its directory must exist.
         overwrite : bool
-            Replace an existing file. When false an existing file is left intact.
+            Replace an existing file. When false an existing file is left
+            intact and ``FileExistsError`` is raised.
 
         Returns
         -------
         pathlib.Path
-            The path written.
+            The page's file.
 
         Raises
         ------
-        FileExistsError
-            If ``path`` exists and ``overwrite`` is false.
-        IsADirectoryError
-            If ``path`` is a directory.
-        FileNotFoundError
-            If the directory of ``path`` does not exist.
+        FileExistsError, IsADirectoryError, FileNotFoundError
+            As :func:`lfdkit.io.write_text`: ``path`` exists and ``overwrite``
+            is false, ``path`` is a directory, or its directory does not exist.
         """
-        target = Path(path)
-        document = self.html()
-
-        def _writer(f: Any) -> None:
-            f.write(document)
-
-        return atomic_write(target, _writer, overwrite=overwrite, encoding="utf-8")
+        return write_text(path, self.html(), overwrite=overwrite)

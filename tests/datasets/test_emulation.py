@@ -16,8 +16,9 @@ from lfdkit.datasets.emulation import (
     sweeping,
 )
 from lfdkit.datasets.synthetic import da_vinci_walls
-from lfdkit.emulate import Obstacle, Reward, Scene
+from lfdkit.emulate import Reward
 from lfdkit.geometry import point_tangents, resample
+from lfdkit.scene import Obstacle, Scene
 
 NAMES = ("artificial", "da_vinci_marker", "sweeping")
 #: Small configurations: the 3-D planner is the slow part, so da Vinci gets few demos.

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lfdkit.datasets.emulation import load_emulation_dataset
-from lfdkit.emulate import IOC, Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate import IOC, Reward, plan_path
 from lfdkit.emulate.ioc import (
     THETA_BOUNDS,
     TrainingLoss,
@@ -15,6 +15,7 @@ from lfdkit.emulate.ioc import (
     prepare_demos,
     search_starts,
 )
+from lfdkit.scene import Obstacle, Scene
 
 TRUE = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
-from lfdkit.emulate import Corridor, Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate import Corridor, Reward, plan_path
 from lfdkit.emulate.problem import Problem
+from lfdkit.scene import Obstacle, Scene
 
 REWARD = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 

@@ -15,9 +15,10 @@ import pytest
 from scipy.ndimage import minimum_filter1d
 from scipy.optimize import minimize
 
-from lfdkit.emulate import Corridor, Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate import Corridor, Reward, plan_path
 from lfdkit.emulate.planner import UnsafePlanError, plan_clearance
 from lfdkit.emulate.problem import Problem
+from lfdkit.scene import Obstacle, Scene
 
 N_POINTS = 50
 

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.emulate import Corridor, Obstacle, Reward, Scene
+from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate._problem_kernels import planner_derivatives
 from lfdkit.emulate.problem import Problem
+from lfdkit.scene import Obstacle, Scene
 
 
 def case(q: int, seed: int) -> tuple[Problem, np.ndarray]:

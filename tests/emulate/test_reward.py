@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.emulate import Obstacle, Reward, Scene
+from lfdkit.emulate import Reward
+from lfdkit.scene import Obstacle, Scene
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""Tests for the scene file I/O of lfdkit.emulate.scene: round trips, formats, errors."""
+"""Tests for the scene file I/O of lfdkit.io.scenes: round trips, formats, errors."""
 
 from __future__ import annotations
 
@@ -13,15 +13,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from lfdkit.emulate.scene import (
+from lfdkit.io.scenes import (
     SCENE_JSON_FORMAT,
     SCENE_JSON_VERSION,
-    Obstacle,
-    Scene,
     load_scene,
     load_scenes,
     save_scenes,
 )
+from lfdkit.scene import Obstacle, Scene
 
 SUFFIXES = (".csv", ".json")
 
@@ -486,12 +485,12 @@ def test_json_deep_nesting_is_a_clear_error(tmp_path: Path, text: str) -> None:
 def test_files_over_the_size_cap_are_refused(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import lfdkit.demos
+    import lfdkit.io.text
 
     for suffix in SUFFIXES:
         path = tmp_path / f"s{suffix}"
         save_scenes(path, {0: Scene((Obstacle("cup", [0.0, 1.0], 0.1),))})
-        monkeypatch.setattr(lfdkit.demos, "MAX_FILE_BYTES", path.stat().st_size - 1)
+        monkeypatch.setattr(lfdkit.io.text, "MAX_FILE_BYTES", path.stat().st_size - 1)
         with pytest.raises(ValueError, match=re.escape(f"{path}: file too large (")):
             load_scenes(path)
         monkeypatch.undo()
@@ -499,7 +498,7 @@ def test_files_over_the_size_cap_are_refused(
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
 def test_fifo_is_neither_read_nor_replaced(tmp_path: Path) -> None:
-    from lfdkit.demos import NotRegularFileError
+    from lfdkit.io import NotRegularFileError
 
     for suffix in SUFFIXES:
         fifo = tmp_path / f"pipe{suffix}"

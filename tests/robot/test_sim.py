@@ -20,7 +20,6 @@ import mujoco
 import numpy as np
 import pytest
 
-from lfdkit.emulate import Obstacle, Scene
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, UR10
 from lfdkit.robot.mujoco import flange_poses as mujoco_flange_poses
@@ -37,6 +36,7 @@ from lfdkit.robot.sim import (
     sweeping_mjcf,
 )
 from lfdkit.robot.timing import time_parameterize
+from lfdkit.scene import Obstacle, Scene
 from tests.robot.arms import PLANAR
 
 #: UR5 link masses (kg), Universal Robots' published dynamics parameters.

@@ -70,8 +70,8 @@ from lfdkit._validation import check_demos, check_path, check_positive, check_ra
 from lfdkit.datasets._shared import check_count_at_least, generate, smooth_offset
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
-from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
+from lfdkit.scene import Scene
 
 __all__ = [
     "EMULATION_DATASETS",

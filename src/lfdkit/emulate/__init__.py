@@ -2,7 +2,9 @@
 
 Layout, each module with its compiled loops beside it:
 
-* :mod:`.scene`: obstacles and scene files;
+* the scenes it works in are :mod:`lfdkit.scene` (data model) and
+  :mod:`lfdkit.io.scenes` (files), re-exported here; :mod:`.scene` is kept
+  as a compatibility alias;
 * :mod:`.reward`: the reward ``R(x)`` of a point (nominal weight, one
   precision per obstacle class) and its parameters;
 * :mod:`.problem`: the planning problem both the planner and the IOC solve,
@@ -19,7 +21,8 @@ from lfdkit.emulate.ioc import IOC
 from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_path
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
-from lfdkit.emulate.scene import Obstacle, Scene
+from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
+from lfdkit.scene import Obstacle, Scene
 
 __all__ = [
     "IOC",
@@ -29,6 +32,9 @@ __all__ = [
     "Reward",
     "Scene",
     "UnsafePlanError",
+    "load_scene",
+    "load_scenes",
     "plan_clearance",
     "plan_path",
+    "save_scenes",
 ]

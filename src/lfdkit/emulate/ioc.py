@@ -49,7 +49,7 @@ from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON, plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
-from lfdkit.emulate.scene import Scene
+from lfdkit.scene import Scene
 
 __all__ = [
     "IOC",

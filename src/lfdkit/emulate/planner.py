@@ -92,8 +92,8 @@ from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.problem import Corridor, Problem, goal_weights
 from lfdkit.emulate.reward import Reward
-from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import polyline_distances
+from lfdkit.scene import Scene
 
 # goal_weights is the problem's (lfdkit.emulate.problem); listed here too, as the
 # planner's goal approach that plan_path documents.

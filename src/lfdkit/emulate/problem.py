@@ -49,8 +49,8 @@ import numpy as np
 
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
-from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import PolylineSet, normal_frames, point_tangents, resample
+from lfdkit.scene import Scene
 
 __all__ = [
     "BARRIER_WEIGHT",

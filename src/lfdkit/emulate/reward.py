@@ -30,8 +30,8 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_positive
-from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import project_onto_polyline, segment_tangents
+from lfdkit.scene import Scene
 
 __all__ = ["Reward"]
 

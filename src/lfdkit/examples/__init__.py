@@ -23,8 +23,8 @@ import os
 from pathlib import Path
 
 from lfdkit.datasets.emulation import EmulationSet, sweeping
-from lfdkit.demos import save_demos
-from lfdkit.emulate.scene import save_scenes
+from lfdkit.io import save_demos
+from lfdkit.io.scenes import save_scenes
 
 __all__ = ["EXAMPLE_SEED", "example_dataset", "example_files", "write_example_files"]
 

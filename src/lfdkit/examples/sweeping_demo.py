@@ -23,13 +23,14 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__, metrics
-from lfdkit.demos import atomic_write, load_demos, save_path
-from lfdkit.emulate import Scene, plan_path
-from lfdkit.emulate.scene import Obstacle, load_scenes
+from lfdkit.emulate import plan_path
 from lfdkit.examples import example_dataset, example_files
 from lfdkit.geometry import left_normals, resample
+from lfdkit.io import atomic_write, load_demos, save_path
+from lfdkit.io.scenes import load_scenes
 from lfdkit.report import Report
 from lfdkit.robot.sim import BRUSH
+from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn, read_training_data
 
 __all__ = ["INCOMPLETE_MARKER", "NEW_GOAL", "UNSEEN_DESIGNS", "demo_outputs", "run_demo"]

@@ -18,8 +18,9 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_positive, check_random_state
-from lfdkit.emulate import Obstacle, Reward, Scene, plan_path
+from lfdkit.emulate import Reward, plan_path
 from lfdkit.robot.sim import Dustpan, SweepingTask, SweepResult, execute_sweep
+from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 
 __all__ = [

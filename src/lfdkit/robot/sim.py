@@ -52,7 +52,6 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_finite, check_path, check_positive
-from lfdkit.emulate.scene import Scene
 from lfdkit.geometry import (
     path_length,
     project_onto_polyline,
@@ -71,6 +70,7 @@ from lfdkit.robot.mujoco import (
 )
 from lfdkit.robot.poses import SWEEP_HEIGHT, sweeping_poses
 from lfdkit.robot.timing import Timing, time_parameterize
+from lfdkit.scene import Scene
 
 __all__ = [
     "BRUSH",

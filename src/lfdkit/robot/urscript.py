@@ -81,12 +81,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import IO, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from lfdkit import __version__
-from lfdkit.demos import PathLike, atomic_write
+from lfdkit.demos import PathLike
+from lfdkit.io import write_text
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, Arm
 from lfdkit.robot.poses import pose_matrix
@@ -811,7 +812,7 @@ def urscript_program(
 
 
 def write_urscript(path: PathLike, program: str, *, overwrite: bool = False) -> Path:
-    """Write a URScript program to a file, atomically.
+    """Write a URScript program to a file, atomically (:func:`lfdkit.io.write_text`).
 
     Parameters
     ----------
@@ -825,16 +826,17 @@ def write_urscript(path: PathLike, program: str, *, overwrite: bool = False) -> 
     Returns
     -------
     pathlib.Path
-        The path written.
+        The script's file.
 
     Raises
     ------
-    FileExistsError
-        If ``path`` exists and ``overwrite`` is false.
     URScriptTypeError
         If ``program`` is not a str.
     URScriptError
         If ``program`` is empty or not ASCII.
+    FileExistsError, IsADirectoryError, FileNotFoundError
+        As :func:`lfdkit.io.write_text`, e.g. ``path`` exists and
+        ``overwrite`` is false.
     """
     if not isinstance(program, str):
         raise URScriptTypeError(f"program: expected a str, got {type(program).__name__}", "program")
@@ -845,8 +847,4 @@ def write_urscript(path: PathLike, program: str, *, overwrite: bool = False) -> 
             "program: must be ASCII text (UR controllers read ASCII scripts)", "program"
         )
     text = program if program.endswith("\n") else program + "\n"
-
-    def writer(f: IO[Any]) -> None:
-        f.write(text)
-
-    return atomic_write(path, writer, overwrite=overwrite)
+    return write_text(path, text, overwrite=overwrite)

@@ -1,0 +1,722 @@
+"""Demonstration files: a demonstration set read and written in CSV, NPZ or JSON.
+
+A demonstration set is the data model of :mod:`lfdkit.demos`: a list of
+float64 arrays of shape ``(n_points_j, n_dims)``, optionally with sample
+times in seconds and with one id (:data:`lfdkit.demos.DemoId`) per
+demonstration.
+
+Files
+-----
+The format is chosen from the file suffix (case-insensitive):
+
+``.csv``
+    A header row, then one row per sample. Columns: ``demo`` (the
+    demonstration id, integer or string, without surrounding spaces),
+    optionally ``t`` or ``time`` (seconds), and the coordinates, named
+    ``x, y[, z]`` or ``x1, x2, ..., xq``. The rows of one demonstration are
+    consecutive, in time order; demonstrations are in file order. Numbers are
+    decimal (``-0.5``, ``1e-3``; not ``0_5``, ``nan`` or ``inf``). Blank lines
+    and lines starting with ``#`` are ignored. Columns with other names are
+    ignored.
+``.npz``
+    Arrays ``demo_0, demo_1, ...`` (each ``(n_points_j, n_dims)``), optionally
+    ``time_j`` for any ``j`` and ``ids`` (1-D, one per demonstration); or a
+    single 3-D array ``demos`` of shape ``(n_demos, n_points, n_dims)`` with an
+    optional 2-D ``times`` of shape ``(n_demos, n_points)``. Coordinates and
+    times are real (float or integer dtype; complex, boolean, date and text
+    arrays are refused). Never unpickled; other arrays in the archive are never
+    decompressed. (Members of a zip archive cannot be memory-mapped, so each
+    array needed is read once, after its size is checked.)
+``.json``
+    ``{"format": "lfdkit-demos", "version": 1, "n_dims": q, "demos":
+    [{"id": ..., "points": [[x, y], ...], "t": [...]}, ...]}`` with ``"t"``
+    (and ``"id"``) optional per demonstration.
+
+Writing is atomic (see :func:`lfdkit.io.atomic.atomic_write`) and floats
+are written so that a load after a save gives back bit-identical arrays in
+every format.
+
+Reading is strict (the primitives of :mod:`lfdkit.io.text`): anything that
+could change the data silently is an error naming the file and the line,
+column, JSON path or array (repeated JSON keys, numbers given as strings,
+non-real arrays, ``0_5`` in a CSV cell, ids with spaces, the rows of one id
+in two places). Files larger than :data:`lfdkit.io.text.MAX_FILE_BYTES`,
+JSON nested deeper than :data:`lfdkit.io.text.MAX_JSON_DEPTH`, and ``.npz``
+archives with more than :data:`MAX_NPZ_MEMBERS` arrays or an array over
+:data:`MAX_NPZ_ARRAY_BYTES` are refused before they are read, and only the
+arrays needed are decompressed. FIFOs, devices and sockets are neither read
+nor written.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import re
+import zipfile
+import zlib
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import IO, Any, Literal, overload
+
+import numpy as np
+
+from lfdkit._validation import check_demos, check_path, check_times, check_times_list
+from lfdkit.demos import DemoId, PathLike
+from lfdkit.io.atomic import atomic_write, check_output_path, write_text
+from lfdkit.io.text import (
+    Blocks,
+    check_file_id,
+    check_ids,
+    check_input_file,
+    content_lines,
+    csv_number,
+    csv_row,
+    csv_rows,
+    format_of,
+    json_document,
+    json_float_array,
+    parse_id,
+    read_text,
+)
+
+__all__ = [
+    "JSON_FORMAT",
+    "JSON_VERSION",
+    "MAX_NPZ_ARRAY_BYTES",
+    "MAX_NPZ_MEMBERS",
+    "SUPPORTED_SUFFIXES",
+    "load_demos",
+    "path_csv",
+    "save_demos",
+    "save_path",
+]
+
+SUPPORTED_SUFFIXES: tuple[str, ...] = (".csv", ".json", ".npz")
+"""File suffixes understood by :func:`load_demos` and :func:`save_demos`."""
+
+JSON_FORMAT = "lfdkit-demos"
+"""Value of the ``"format"`` field of a demonstrations JSON file."""
+
+JSON_VERSION = 1
+"""Newest JSON file-format version this module reads and the one it writes."""
+
+MAX_NPZ_MEMBERS = 10_000
+"""Most arrays accepted in an ``.npz`` demonstrations file."""
+
+MAX_NPZ_ARRAY_BYTES = 1024**3
+"""Largest array read from an ``.npz`` file, in bytes once decompressed (1 GiB).
+
+Checked from the archive's header before anything is decompressed; members
+that are not demonstrations, times or ids are never decompressed."""
+
+_INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
+_NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
+_NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
+
+
+# --------------------------------------------------------------------------- #
+# Public load / save
+# --------------------------------------------------------------------------- #
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[False] = ..., return_ids: Literal[False] = ...
+) -> list[np.ndarray]: ...
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[True], return_ids: Literal[False] = ...
+) -> tuple[list[np.ndarray], list[np.ndarray | None]]: ...
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[False] = ..., return_ids: Literal[True]
+) -> tuple[list[np.ndarray], list[DemoId]]: ...
+
+
+@overload
+def load_demos(
+    path: PathLike, *, return_times: Literal[True], return_ids: Literal[True]
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]: ...
+
+
+def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool = False) -> Any:
+    """Read a demonstration set from a ``.csv``, ``.npz`` or ``.json`` file.
+
+    See the module docstring for the layout of each format.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to read; its suffix selects the format.
+    return_times : bool
+        Also return the per-demonstration sample times.
+    return_ids : bool
+        Also return the demonstration ids. CSV and NPZ store ids as text; an
+        id that is the canonical spelling of an integer (``"7"``, ``"-2"``,
+        not ``"07"``) is returned as ``int``, others as ``str``. Files without
+        ids give ``0, 1, ..., n_demos - 1``.
+
+    Returns
+    -------
+    demos : list of ndarray, each shape (n_points_j, n_dims)
+        The demonstrations, float64, in file order.
+    times : list of (ndarray, shape (n_points_j,), or None)
+        Only if ``return_times``: sample times in seconds, ``None`` for a
+        demonstration stored without times.
+    ids : list of int or str
+        Only if ``return_ids``: one id per demonstration.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not supported, the content is malformed or would be
+        read ambiguously (see the module notes), or the file is over a size
+        limit; the message names the file and, where it applies, the line,
+        column, JSON path or array at fault.
+    TypeError
+        If a JSON value has the wrong type (e.g. a number given as a string).
+    FileNotFoundError
+        If the file does not exist.
+    IsADirectoryError, NotRegularFileError
+        If ``path`` is a directory, or a FIFO, device or socket (never opened).
+    """
+    fname = os.fspath(path)
+    fmt = format_of(fname, SUPPORTED_SUFFIXES)
+    if fmt == ".csv":
+        demos, times, ids = _read_csv(fname)
+    elif fmt == ".npz":
+        demos, times, ids = _read_npz(fname)
+    else:
+        demos, times, ids = _read_json(fname)
+    out: list[Any] = [demos]
+    if return_times:
+        out.append(times)
+    if return_ids:
+        out.append(ids)
+    return demos if len(out) == 1 else tuple(out)
+
+
+def save_demos(
+    path: PathLike,
+    demos: Sequence[Any],
+    *,
+    times: Sequence[Any | None] | None = None,
+    ids: Sequence[DemoId] | None = None,
+    overwrite: bool = False,
+) -> Path:
+    """Write a demonstration set to a ``.csv``, ``.npz`` or ``.json`` file.
+
+    The write is atomic (:func:`lfdkit.io.atomic.write_text`; NPZ
+    :func:`atomic_write`) and exact: :func:`load_demos`
+    gives back bit-identical float64 arrays.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; its suffix selects the format.
+    demos : sequence of array_like, each shape (n_points_j, n_dims)
+        The demonstrations; all share ``n_dims`` and have at least 2 points.
+    times : sequence of (array_like, shape (n_points_j,), or None), optional
+        Sample times in seconds, finite and strictly increasing within each
+        demonstration. ``None`` entries mean "no times" for that
+        demonstration; CSV needs times for all demonstrations or none. A 2-D
+        array of shape ``(n_demos, n_points)`` is accepted too.
+    ids : sequence of int or str, optional
+        Demonstration ids, unique (also once written as text: ``7`` and
+        ``"7"`` clash). A ``str`` id must be non-empty, without surrounding
+        whitespace or line breaks, and must not start with ``#``. Defaults to
+        ``0, 1, ..., n_demos - 1``.
+    overwrite : bool
+        Replace an existing file. When false an existing file raises
+        ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written, which :func:`load_demos` reads back.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is unsupported or the inputs are invalid.
+    OutputExistsError, IsADirectoryError, NotRegularFileError
+        As :func:`atomic_write`: the file exists and ``overwrite`` is false
+        (an ``OutputExistsError`` is a ``FileExistsError``), ``path`` is a
+        directory, or a FIFO, device, socket or symbolic link.
+    """
+    fname = os.fspath(path)
+    fmt = format_of(fname, SUPPORTED_SUFFIXES)
+    arrs = check_demos(demos, "demos")
+    n = len(arrs)
+    time_arrs = check_times_list(times, arrs)
+    id_list = check_ids(ids, n)
+
+    check_output_path(fname, overwrite=overwrite)
+
+    if fmt == ".csv":
+        if any(t is None for t in time_arrs) and any(t is not None for t in time_arrs):
+            raise ValueError(
+                f"{fname}: a CSV file stores times for all demonstrations or none; "
+                "times has None for some demonstrations only"
+            )
+
+        return write_text(fname, _csv_text(arrs, time_arrs, id_list), overwrite=overwrite)
+    if fmt == ".npz":
+        arrays: dict[str, np.ndarray] = {}
+        for j, (a, t) in enumerate(zip(arrs, time_arrs, strict=True)):
+            arrays[f"demo_{j}"] = a
+            if t is not None:
+                arrays[f"time_{j}"] = t
+        if ids is not None:
+            arrays["ids"] = np.array([str(i) for i in id_list], dtype=np.str_)
+
+        def write_npz(f: IO[Any]) -> None:
+            np.savez_compressed(f, **arrays)  # float/str arrays only: no pickling
+
+        return atomic_write(fname, write_npz, binary=True, overwrite=overwrite)
+
+    return write_text(fname, _json_text(arrs, time_arrs, id_list), overwrite=overwrite)
+
+
+def path_csv(points: Any) -> str:
+    """One path as CSV text: a header ``x,y[,z]`` (or ``x1,...,xq``), one row per point.
+
+    Floats are written exactly (``repr``), so parsing the text gives back the same array.
+    """
+    arr = check_path(points, "points", min_points=1)
+    rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in arr)
+    return ",".join(_coord_header(arr.shape[1])) + "\n" + rows
+
+
+def save_path(path: PathLike, points: Any, *, overwrite: bool = False) -> Path:
+    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`)."""
+    return write_text(path, path_csv(points), overwrite=overwrite)
+
+
+# --------------------------------------------------------------------------- #
+# Shared helpers
+# --------------------------------------------------------------------------- #
+
+
+def _check_same_dims(arrs: list[np.ndarray], names: list[str], fname: str) -> None:
+    q = arrs[0].shape[1]
+    for a, name in zip(arrs[1:], names[1:], strict=True):
+        if a.shape[1] != q:
+            raise ValueError(
+                f"{fname}: {name} has {a.shape[1]} dimensions but {names[0]} has {q}; "
+                "all demonstrations in a file must have the same number of dimensions"
+            )
+
+
+# --------------------------------------------------------------------------- #
+# CSV
+# --------------------------------------------------------------------------- #
+
+
+def _coord_header(q: int) -> list[str]:
+    return ["x", "y", "z"][:q] if q <= 3 else [f"x{k}" for k in range(1, q + 1)]
+
+
+def _csv_text(
+    demos: list[np.ndarray],
+    times: list[np.ndarray | None],
+    ids: list[DemoId],
+) -> str:
+    f = io.StringIO()
+    q = demos[0].shape[1]
+    has_t = times[0] is not None
+    w = csv.writer(f, lineterminator="\n")
+    w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q)])
+    for a, t, i in zip(demos, times, ids, strict=True):
+        sid = str(i)
+        tl = t.tolist() if t is not None else None
+        for k, row in enumerate(a.tolist()):
+            # repr() of a Python float is the shortest string that reads back exactly.
+            w.writerow([sid, *([repr(tl[k])] if tl is not None else []), *map(repr, row)])
+    return f.getvalue()
+
+
+def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[int], list[str]]:
+    """Locate the demo, time and coordinate columns; return their indices and names."""
+    names = [h.strip() for h in header]
+    found = ", ".join(repr(n) for n in names)
+    keys = [n.lower() for n in names]
+    for k, key in enumerate(keys):
+        if not key:
+            raise ValueError(f"{fname}: header column {k + 1} has no name; found columns: {found}")
+        if keys.index(key) != k:
+            raise ValueError(f"{fname}: duplicate column {names[k]!r}; found columns: {found}")
+    pos = {key: k for k, key in enumerate(keys)}
+
+    if "demo" not in pos:
+        raise ValueError(f"{fname}: missing column 'demo'; found columns: {found}")
+    if "t" in pos and "time" in pos:
+        raise ValueError(
+            f"{fname}: both 't' and 'time' columns present; keep one; found columns: {found}"
+        )
+    t_col = pos.get("t", pos.get("time"))
+
+    xyz = [c for c in ("x", "y", "z") if c in pos]
+    indexed = sorted((int(m.group(1)), key) for key in keys if (m := _INDEXED_COORD.fullmatch(key)))
+    if xyz and indexed:
+        raise ValueError(
+            f"{fname}: mixes coordinate naming 'x, y, z' with 'x1, x2, ...'; "
+            f"use one; found columns: {found}"
+        )
+    if indexed:
+        want = [f"x{k}" for k in range(1, max(2, indexed[-1][0]) + 1)]
+    else:
+        want = ["x", "y", "z"] if "z" in pos else ["x", "y"]
+    for c in want:
+        if c not in pos:
+            raise ValueError(f"{fname}: missing column {c!r}; found columns: {found}")
+    coord_cols = [pos[c] for c in want]
+    return pos["demo"], t_col, coord_cols, [names[k] for k in coord_cols]
+
+
+def _read_csv(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    with io.StringIO(read_text(fname), newline="") as f:
+        lines = content_lines(f)
+        first = next(lines, None)
+        if first is None:
+            raise ValueError(f"{fname}: no header row; the file is empty")
+        header = csv_row(fname, *first)
+        demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
+        colnames = [h.strip() for h in header]
+        t_name = colnames[t_col] if t_col is not None else ""
+
+        groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+        blocks = Blocks(fname, colnames[demo_col])
+        for lineno, row in csv_rows(fname, lines, colnames):
+            did = blocks.id_of(row[demo_col], lineno)
+            row = [c.strip() for c in row]
+            pts, ts, linenos = groups.setdefault(did, ([], [], []))
+            pts.append(
+                [
+                    csv_number(fname, lineno, nm, row[c])
+                    for c, nm in zip(coord_cols, coord_names, strict=True)
+                ]
+            )
+            if t_col is not None:
+                t = csv_number(fname, lineno, t_name, row[t_col])
+                if ts and t <= ts[-1]:
+                    raise ValueError(
+                        f"{fname} line {lineno}, column {t_name!r}: time {t!r} in demo {did!r} "
+                        f"is not after the previous time {ts[-1]!r} (line {linenos[-1]}); "
+                        "times must be strictly increasing within a demonstration"
+                    )
+                ts.append(t)
+            linenos.append(lineno)
+
+    if not groups:
+        raise ValueError(f"{fname}: no data rows after the header")
+    for did, (pts, _, _) in groups.items():
+        if len(pts) < 2:
+            raise ValueError(
+                f"{fname}: demo {did!r} has {len(pts)} row; each demonstration needs at least 2"
+            )
+    demos = check_demos([g[0] for g in groups.values()], fname)
+    times: list[np.ndarray | None] = [
+        np.asarray(g[1], dtype=np.float64) if t_col is not None else None for g in groups.values()
+    ]
+    return demos, times, [parse_id(d) for d in groups]
+
+
+# --------------------------------------------------------------------------- #
+# NPZ
+# --------------------------------------------------------------------------- #
+
+
+_DTYPE_WORDS = {
+    "b": "booleans",
+    "c": "complex numbers",
+    "m": "time intervals",
+    "M": "dates",
+    "O": "Python objects, which lfdkit never unpickles",
+    "S": "bytes",
+    "U": "text",
+    "V": "raw or structured records",
+}
+
+
+class _NpzArchive:
+    """The arrays of an ``.npz`` file, decompressed one at a time and only on request.
+
+    ``np.load`` would decompress any member it is asked for without a size
+    check; here the zip directory's sizes and each array's ``.npy`` header are
+    checked first, so a small archive cannot expand into gigabytes.
+    """
+
+    def __init__(self, fname: str) -> None:
+        self.fname = fname
+        check_input_file(fname)
+        with open(fname, "rb") as f:
+            if f.read(6) == b"\x93NUMPY":
+                raise ValueError(f"{fname}: is a single .npy array, not an .npz archive")
+        try:
+            self.zip = zipfile.ZipFile(fname)
+            infos = self.zip.infolist()
+        except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, EOFError, ValueError) as exc:
+            raise ValueError(f"{fname}: could not read as an .npz archive ({exc})") from None
+        if len(infos) > MAX_NPZ_MEMBERS:
+            self.zip.close()
+            raise ValueError(
+                f"{fname}: has {len(infos)} arrays; lfdkit reads .npz files of at most "
+                f"{MAX_NPZ_MEMBERS}"
+            )
+        self.members: dict[str, zipfile.ZipInfo] = {}
+        for info in infos:
+            key = info.filename.removesuffix(".npy")
+            if key in self.members:
+                self.zip.close()
+                raise ValueError(f"{fname}: array {key!r} is stored twice in the archive")
+            self.members[key] = info
+
+    def __enter__(self) -> _NpzArchive:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.zip.close()
+
+    def read(
+        self, key: str, kinds: str = "fiu", *, refused: Callable[[np.dtype], str] | None = None
+    ) -> np.ndarray:
+        """Read array ``key`` if its dtype kind is one of ``kinds`` (read-only array).
+
+        ``refused(dtype)``, if given, words the error for another dtype.
+        """
+        info = self.members[key]
+        where = f"{self.fname}: array {key!r}"
+        if info.file_size > MAX_NPZ_ARRAY_BYTES:
+            raise ValueError(
+                f"{where} is {info.file_size} bytes once decompressed; lfdkit reads arrays of "
+                f"at most {MAX_NPZ_ARRAY_BYTES} bytes ({MAX_NPZ_ARRAY_BYTES / 1024**3:g} GiB)"
+            )
+        if info.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
+            raise ValueError(
+                f"{where}: compression method {info.compress_type} is not one NumPy writes "
+                "(stored or deflate)"
+            )
+        if info.flag_bits & 0x1:
+            raise ValueError(f"{where}: is encrypted")
+        try:
+            with self.zip.open(info) as fp:
+                version = np.lib.format.read_magic(fp)
+                if version == (1, 0):
+                    shape, fortran, dtype = np.lib.format.read_array_header_1_0(fp)
+                elif version == (2, 0):
+                    shape, fortran, dtype = np.lib.format.read_array_header_2_0(fp)
+                else:
+                    raise ValueError(f".npy format version {version} is not supported")
+                if dtype.kind not in kinds or dtype.hasobject or dtype.names:
+                    if refused is not None:
+                        raise _RefusedArray(refused(dtype))
+                    raise _RefusedArray(
+                        f"{where}: holds {_DTYPE_WORDS.get(dtype.kind, 'values')} (dtype "
+                        f"{dtype}); demonstrations and times must be real numbers (float or "
+                        "integer arrays)"
+                    )
+                nbytes = math.prod(shape) * dtype.itemsize
+                if nbytes > info.file_size:
+                    raise ValueError(
+                        f"header says shape {shape} of {dtype} ({nbytes} bytes) but the "
+                        f"member holds {info.file_size} bytes"
+                    )
+                data = fp.read(nbytes)
+        except _RefusedArray as exc:
+            raise ValueError(str(exc)) from None
+        except (
+            zipfile.BadZipFile,
+            zlib.error,
+            OSError,
+            EOFError,
+            ValueError,
+            TypeError,
+            NotImplementedError,
+            RuntimeError,
+        ) as exc:
+            raise ValueError(f"{where}: could not read array data ({exc})") from None
+        if len(data) != nbytes:
+            raise ValueError(f"{where}: could not read array data (truncated)")
+        return np.frombuffer(data, dtype=dtype).reshape(shape, order="F" if fortran else "C")
+
+
+class _RefusedArray(ValueError):
+    """An array whose dtype lfdkit does not read."""
+
+
+def _read_npz(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    with _NpzArchive(fname) as npz:
+        return _read_npz_arrays(fname, npz)
+
+
+def _read_npz_arrays(
+    fname: str, npz: _NpzArchive
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    data = npz.members  # names only: each array is read when needed
+    found = ", ".join(repr(k) for k in sorted(data)) or "(none)"
+    demo_idx = sorted(int(m.group(1)) for k in data if (m := _NPZ_DEMO.fullmatch(k)))
+    time_idx = sorted(int(m.group(1)) for k in data if (m := _NPZ_TIME.fullmatch(k)))
+
+    if "demos" in data:
+        if demo_idx or time_idx:
+            raise ValueError(
+                f"{fname}: has both a 'demos' array and 'demo_j'/'time_j' arrays; "
+                f"use one layout; found arrays: {found}"
+            )
+        stacked = npz.read("demos")
+        if stacked.ndim != 3:
+            raise ValueError(
+                f"{fname}: array 'demos' must be 3-D, shape (n_demos, n_points, n_dims), "
+                f"got shape {stacked.shape}"
+            )
+        demos = check_demos(stacked, f"{fname}: array 'demos'")
+        if "times" in data:
+            t2 = npz.read("times")
+            if t2.ndim != 2 or t2.shape[0] != len(demos):
+                raise ValueError(
+                    f"{fname}: array 'times' must have shape (n_demos, n_points) = "
+                    f"{stacked.shape[:2]}, got {t2.shape}"
+                )
+            times: list[np.ndarray | None] = [
+                check_times(t2[j], d.shape[0], f"{fname}: array 'times' row {j}")
+                for j, d in enumerate(demos)
+            ]
+        else:
+            times = [None] * len(demos)
+    else:
+        if not demo_idx:
+            raise ValueError(
+                f"{fname}: no demonstrations; expected arrays 'demo_0', 'demo_1', ... "
+                f"or a 3-D array 'demos'; found arrays: {found}"
+            )
+        for j, k in enumerate(demo_idx):
+            if j != k:
+                raise ValueError(
+                    f"{fname}: missing array 'demo_{j}' (found 'demo_{k}'); "
+                    "demonstrations must be numbered 0, 1, 2, ... without gaps"
+                )
+        stray = [k for k in time_idx if k >= len(demo_idx)]
+        if stray:
+            raise ValueError(f"{fname}: array 'time_{stray[0]}' has no matching 'demo_{stray[0]}'")
+        names = [f"array 'demo_{j}'" for j in demo_idx]
+        demos = [
+            check_path(npz.read(f"demo_{j}"), f"{fname}: {nm}")
+            for j, nm in zip(demo_idx, names, strict=True)
+        ]
+        _check_same_dims(demos, names, fname)
+        demos = check_demos(demos, fname)
+        times = [
+            check_times(npz.read(f"time_{j}"), d.shape[0], f"{fname}: array 'time_{j}'")
+            if f"time_{j}" in data
+            else None
+            for j, d in enumerate(demos)
+        ]
+
+    if "ids" in data:
+        ids_rule = (
+            f"{fname}: array 'ids' must be 1-D text or integers with one entry per "
+            f"demonstration ({len(demos)})"
+        )
+        raw = npz.read("ids", "Uiu", refused=lambda dtype: f"{ids_rule}, got dtype {dtype}")
+        if raw.ndim != 1 or raw.shape[0] != len(demos):
+            raise ValueError(f"{ids_rule}, got dtype {raw.dtype} and shape {raw.shape}")
+        ids: list[DemoId] = [
+            parse_id(str(v)) if raw.dtype.kind == "U" else int(v) for v in raw.tolist()
+        ]
+        for j, did in enumerate(ids):
+            check_file_id(did, f"{fname}: array 'ids' entry {j}")
+        if len({str(i) for i in ids}) != len(ids):
+            raise ValueError(f"{fname}: array 'ids' has repeated ids")
+    else:
+        ids = list(range(len(demos)))
+    return demos, times, ids
+
+
+# --------------------------------------------------------------------------- #
+# JSON
+# --------------------------------------------------------------------------- #
+
+
+def _json_text(
+    demos: list[np.ndarray],
+    times: list[np.ndarray | None],
+    ids: list[DemoId],
+) -> str:
+    # One demonstration per line keeps the file readable and diff-friendly.
+    # json writes floats with repr(), so values read back exactly.
+    buf = io.StringIO()
+    buf.write("{\n")
+    buf.write(f'  "format": {json.dumps(JSON_FORMAT)},\n')
+    buf.write(f'  "version": {JSON_VERSION},\n')
+    buf.write(f'  "n_dims": {demos[0].shape[1]},\n')
+    buf.write('  "demos": [\n')
+    for j, (a, t, i) in enumerate(zip(demos, times, ids, strict=True)):
+        item: dict[str, Any] = {"id": i, "points": a.tolist()}
+        if t is not None:
+            item["t"] = t.tolist()
+        sep = "," if j < len(demos) - 1 else ""
+        buf.write(f"    {json.dumps(item, allow_nan=False)}{sep}\n")
+    buf.write("  ]\n}\n")
+    return buf.getvalue()
+
+
+def _read_json(
+    fname: str,
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+    doc = json_document(fname, JSON_FORMAT, JSON_VERSION, "demonstrations")
+    q = doc.get("n_dims")
+    if isinstance(q, bool) or not isinstance(q, int) or q < 2:
+        raise ValueError(f"{fname}: field 'n_dims' must be an integer >= 2, got {q!r}")
+    items = doc.get("demos")
+    if not isinstance(items, list) or not items:
+        raise ValueError(f"{fname}: field 'demos' must be a non-empty list of demonstrations")
+
+    demos: list[np.ndarray] = []
+    times: list[np.ndarray | None] = []
+    ids: list[DemoId] = []
+    seen: dict[str, int] = {}
+    for j, item in enumerate(items):
+        where = f"{fname}: demos[{j}]"
+        if not isinstance(item, dict):
+            raise ValueError(f"{where}: expected an object with 'points' (and optional 'id', 't')")
+        did = item.get("id", j)
+        if isinstance(did, bool) or not isinstance(did, (int, str)):
+            raise TypeError(f"{where}: field 'id' must be an int or str, got {did!r}")
+        check_file_id(did, f"{where}: field 'id'")
+        if str(did) in seen:
+            raise ValueError(f"{where}: id {did!r} repeats demos[{seen[str(did)]}]")
+        seen[str(did)] = j
+        if "points" not in item:
+            raise ValueError(f"{where}: missing field 'points'")
+        raw_points = json_float_array(item["points"], f"{fname}: demos[{j}].points", 2)
+        arr = check_path(raw_points, f"{where} (id {did!r}) field 'points'")
+        if arr.shape[1] != q:
+            raise ValueError(
+                f"{where} (id {did!r}): points have {arr.shape[1]} dimensions but the file "
+                f"declares n_dims = {q}; all demonstrations must have n_dims dimensions"
+            )
+        demos.append(arr)
+        times.append(
+            check_times(
+                json_float_array(item["t"], f"{fname}: demos[{j}].t", 1),
+                arr.shape[0],
+                f"{where} (id {did!r}) field 't'",
+            )
+            if item.get("t") is not None
+            else None
+        )
+        ids.append(did)
+    return check_demos(demos, fname, n_dims=q), times, ids

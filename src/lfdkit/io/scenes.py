@@ -1,0 +1,491 @@
+"""Scene files: the scenes of one or several demonstrations, read and written.
+
+A :class:`~lfdkit.scene.Scene` holds the obstacles of one environment; each
+:class:`~lfdkit.scene.Obstacle` has a class label, a centre of shape ``(q,)`` with
+``q`` 2 or 3, and a radius, both in the units of the paths (metres for
+robot data). A *scene file* gives the scenes of one or several
+demonstrations, keyed by demonstration id (:data:`lfdkit.demos.DemoId`, an
+``int`` or a ``str``), so that they can be matched with a file of
+demonstrations.
+
+Files
+-----
+The format is chosen from the file suffix (case-insensitive). All the
+positions in one file have the same dimension.
+
+``.csv``
+    A header row, then one row per obstacle. Columns: ``demo`` (the
+    demonstration id; optional, a file without it is one scene with id
+    ``0``), ``class`` (the obstacle label), the coordinates ``x, y`` or
+    ``x, y, z`` and optionally ``radius`` (default 0). Column names are
+    case-insensitive; columns with other names are ignored, as are blank
+    lines and lines starting with ``#``. A row with a demo id and empty
+    ``class``, coordinates and radius states that this demonstration was
+    recorded without obstacles (an empty scene). The rows of one
+    demonstration are consecutive; scenes and obstacles keep file order.
+    Ids have no surrounding spaces; an id that is the canonical spelling of
+    an integer (``"7"``, not ``"07"``) is read as ``int``. Numbers are
+    decimal, as in :mod:`lfdkit.io.demos` (no ``0_5``, ``nan`` or ``inf``).
+``.json``
+    ``{"format": "lfdkit-scenes", "version": 1, "scenes": [{"demo": <id>,
+    "obstacles": [{"class": "cup", "position": [x, y], "radius": 0.03},
+    ...]}, ...]}``. ``"radius"`` is optional (default 0); ``"demo"`` is
+    optional in a file with a single scene (id ``0``). Other fields are
+    ignored. Numbers must be JSON numbers (not strings or booleans).
+
+Reading is strict and bounded as in :mod:`lfdkit.io.demos`, with the same
+primitives (:mod:`lfdkit.io.text`: repeated keys, NaN literals, deep nesting
+and files over :data:`lfdkit.io.text.MAX_FILE_BYTES` are errors naming the
+file).
+
+Writing is atomic (:func:`lfdkit.io.atomic.atomic_write`) and floats are written
+with ``repr``, so :func:`load_scenes` after :func:`save_scenes` gives back
+bit-identical positions and radii.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lfdkit.demos import DemoId, PathLike
+from lfdkit.io.atomic import check_output_path, write_text
+from lfdkit.io.text import (
+    Blocks,
+    check_file_id,
+    check_ids,
+    content_lines,
+    csv_number,
+    csv_row,
+    csv_rows,
+    format_of,
+    json_document,
+    parse_id,
+    read_text,
+)
+from lfdkit.scene import Obstacle, Scene
+
+__all__ = [
+    "SCENE_JSON_FORMAT",
+    "SCENE_JSON_VERSION",
+    "SCENE_SUFFIXES",
+    "load_scene",
+    "load_scenes",
+    "save_scenes",
+]
+
+SCENE_SUFFIXES: tuple[str, ...] = (".csv", ".json")
+"""File suffixes understood by :func:`load_scenes` and :func:`save_scenes`."""
+
+SCENE_JSON_FORMAT = "lfdkit-scenes"
+"""Value of the ``"format"`` field of a scenes JSON file."""
+
+SCENE_JSON_VERSION = 1
+"""Newest scenes JSON file-format version this module reads and the one it writes."""
+
+
+# --------------------------------------------------------------------------- #
+# Files
+# --------------------------------------------------------------------------- #
+
+
+def load_scenes(path: PathLike) -> dict[DemoId, Scene]:
+    """Read the scenes of one or several demonstrations from a ``.csv`` or ``.json`` file.
+
+    See the module docstring for the layout of each format.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to read; its suffix selects the format.
+
+    Returns
+    -------
+    dict of {int or str: Scene}
+        One scene per demonstration id, in file order. Positions are float64
+        arrays of shape ``(q,)`` and radii floats, in the units of the paths.
+        A CSV file without a ``demo`` column gives one scene with id ``0``.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not supported or the content is malformed; the
+        message names the file and the line and column (CSV) or the field
+        (JSON, e.g. ``scenes[2].obstacles[0].position``) at fault.
+    FileNotFoundError
+        If the file does not exist.
+    """
+    fname = os.fspath(path)
+    if _scene_format(fname) == ".csv":
+        return _read_scenes_csv(fname)
+    return _read_scenes_json(fname)
+
+
+def load_scene(path: PathLike) -> Scene:
+    """Read a file that holds exactly one scene (with any demonstration id, or none).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.csv`` or ``.json`` scene file (see the module docstring); a CSV
+        file may omit the ``demo`` column.
+
+    Returns
+    -------
+    Scene
+        The scene; positions of shape ``(q,)`` and radii in the units of the paths.
+
+    Raises
+    ------
+    ValueError
+        If the file holds no scene or several (use :func:`load_scenes` for
+        those), or as :func:`load_scenes`.
+    FileNotFoundError
+        If the file does not exist.
+    """
+    fname = os.fspath(path)
+    scenes = load_scenes(fname)
+    if len(scenes) != 1:
+        if not scenes:
+            raise ValueError(f"{fname}: holds no scene; load_scene expects exactly one")
+        shown = ", ".join(repr(i) for i in list(scenes)[:5]) + (", ..." if len(scenes) > 5 else "")
+        raise ValueError(
+            f"{fname}: holds {len(scenes)} scenes (demo ids {shown}); load_scene expects "
+            "exactly one; use load_scenes to read them all"
+        )
+    return next(iter(scenes.values()))
+
+
+def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bool = False) -> Path:
+    """Write the scenes of one or several demonstrations to a ``.csv`` or ``.json`` file.
+
+    The write is atomic (:func:`lfdkit.io.atomic.write_text`) and exact:
+    :func:`load_scenes` gives back bit-identical positions and radii, the
+    labels and the ids in the same order. A CSV file stores ids as text, so
+    a ``str`` id that spells a canonical integer (``"7"``) reads back as
+    ``int``; JSON keeps the type.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; its suffix selects the format.
+    scenes : mapping of {int or str: Scene}
+        One scene per demonstration id; scenes may be empty. Ids follow the
+        rules of :func:`lfdkit.io.demos.save_demos` (unique also as text; a
+        ``str`` id non-empty, without surrounding whitespace or line breaks,
+        not starting with ``#``). All positions share one dimension, 2 or 3.
+        CSV also needs labels without surrounding whitespace or line breaks.
+    overwrite : bool
+        Replace an existing file. When false an existing file raises
+        ``FileExistsError`` and is left untouched.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written, which :func:`load_scenes` reads back.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is unsupported or the scenes cannot be stored.
+    TypeError
+        If ``scenes`` is not a mapping of ids to :class:`Scene`.
+    FileExistsError, IsADirectoryError
+        As :func:`lfdkit.io.atomic.write_text`: the file exists and
+        ``overwrite`` is false, or ``path`` is a directory.
+    """
+    fname = os.fspath(path)
+    fmt = _scene_format(fname)
+    if not isinstance(scenes, Mapping):
+        raise TypeError(
+            f"scenes: expected a mapping of demo ids to Scene, got {type(scenes).__name__}"
+        )
+    keys = list(scenes)
+    try:
+        ids = check_ids(keys, len(keys))
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"scenes: bad demo id among the keys ({exc})") from None
+    values: list[Scene] = []
+    dim: tuple[int, DemoId] | None = None
+    for key, did in zip(keys, ids, strict=True):
+        scene = scenes[key]
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scenes[{did!r}]: expected a Scene, got {type(scene).__name__}")
+        if scene.obstacles:
+            q = scene.obstacles[0].position.size
+            if dim is None:
+                dim = (q, did)
+            elif q != dim[0]:
+                raise ValueError(
+                    f"scenes[{did!r}]: {q}-D positions but scenes[{dim[1]!r}] is {dim[0]}-D; "
+                    "all positions in a scene file must have the same dimension"
+                )
+        if fmt == ".csv":
+            for k, o in enumerate(scene.obstacles):
+                if o.label != o.label.strip() or "\n" in o.label or "\r" in o.label:
+                    raise ValueError(
+                        f"scenes[{did!r}].obstacles[{k}]: label {o.label!r} has surrounding "
+                        "whitespace or a line break, which CSV cannot store exactly; "
+                        "use a .json file or clean the label"
+                    )
+        values.append(scene)
+    q = 2 if dim is None else dim[0]
+
+    check_output_path(fname, overwrite=overwrite)
+
+    if fmt == ".csv":
+        return write_text(fname, _scenes_csv_text(ids, values, q), overwrite=overwrite)
+    return write_text(fname, _scenes_json_text(ids, values), overwrite=overwrite)
+
+
+def _scene_format(fname: str) -> str:
+    return format_of(fname, SCENE_SUFFIXES, "a scene file")
+
+
+def _obstacle(where: str, label: str, position: list[float], radius: float) -> Obstacle:
+    """Build an Obstacle, prefixing its validation errors with ``where`` (file and line/field)."""
+    try:
+        return Obstacle(label, np.array(position, dtype=np.float64), radius)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+
+
+# --------------------------------------------------------------------------- #
+# CSV
+# --------------------------------------------------------------------------- #
+
+_CSV_KNOWN = ("demo", "class", "x", "y", "z", "radius")
+
+
+def _scenes_csv_text(ids: list[DemoId], scenes: list[Scene], q: int) -> str:
+    f = io.StringIO()
+    w = csv.writer(f, lineterminator="\n")
+    w.writerow(["demo", "class", *["x", "y", "z"][:q], "radius"])
+    for did, scene in zip(ids, scenes, strict=True):
+        if not scene.obstacles:
+            # The empty-scene row: an id with empty class, coordinates and radius.
+            w.writerow([str(did), "", *([""] * q), ""])
+        for o in scene.obstacles:
+            # repr() of a Python float is the shortest string that reads back exactly.
+            w.writerow([str(did), o.label, *map(repr, o.position.tolist()), repr(o.radius)])
+    return f.getvalue()
+
+
+def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
+    with io.StringIO(read_text(fname), newline="") as f:
+        lines = content_lines(f)
+        first = next(lines, None)
+        if first is None:
+            raise ValueError(f"{fname}: no header row; the file is empty")
+        header = [h.strip() for h in csv_row(fname, *first)]
+        found = ", ".join(repr(h) for h in header)
+        pos: dict[str, int] = {}
+        for k, name in enumerate(header):
+            key = name.lower()
+            if key in _CSV_KNOWN:
+                if key in pos:
+                    raise ValueError(
+                        f"{fname} line {first[0]}: duplicate column {name!r}; found columns: "
+                        f"{found}"
+                    )
+                pos[key] = k
+        for key in ("class", "x", "y"):
+            if key not in pos:
+                raise ValueError(
+                    f"{fname} line {first[0]}: missing column {key!r}; found columns: {found}"
+                )
+        coord_keys = ["x", "y", "z"] if "z" in pos else ["x", "y"]
+        coord_cols = [(pos[c], header[pos[c]]) for c in coord_keys]
+
+        # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
+        groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
+        blocks = Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
+        for lineno, row in csv_rows(fname, lines, header):
+            if blocks is not None:
+                did = blocks.id_of(row[pos["demo"]], lineno)
+            else:
+                did = "0"
+            row = [c.strip() for c in row]
+            obstacles, obstacle_lines, empty_lines = groups.setdefault(did, ([], [], []))
+            label = row[pos["class"]]
+            cells = [(row[c], name) for c, name in coord_cols]
+            radius_cell = row[pos["radius"]] if "radius" in pos else ""
+            at = f"{fname} line {lineno}"
+
+            if not label:
+                given = [name for cell, name in cells if cell]
+                if given:
+                    raise ValueError(
+                        f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
+                        f"coordinates ({', '.join(given)}); give the obstacle class (a row with "
+                        "an empty class and no coordinates marks a demonstration without "
+                        "obstacles)"
+                    )
+                if radius_cell:
+                    raise ValueError(
+                        f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
+                        f"a radius; give the obstacle class and coordinates"
+                    )
+                if obstacle_lines:
+                    raise ValueError(
+                        f"{at}: marks demo {did!r} as having no obstacles, but line "
+                        f"{obstacle_lines[0]} gives it an obstacle"
+                    )
+                empty_lines.append(lineno)
+                continue
+            if empty_lines:
+                raise ValueError(
+                    f"{at}: gives demo {did!r} an obstacle, but line {empty_lines[0]} marks it "
+                    "as having no obstacles"
+                )
+            for cell, name in cells[:2]:
+                if not cell:
+                    raise ValueError(
+                        f"{at}, column {name!r}: empty value; the row has class {label!r}, "
+                        "so it needs coordinates"
+                    )
+            if len(cells) == 3 and not cells[2][0]:
+                raise ValueError(
+                    f"{at}, column {cells[2][1]!r}: empty value in a file with a "
+                    f"{cells[2][1]!r} column; mixed 2-D and 3-D positions: give z for "
+                    "every obstacle, or drop the column for 2-D"
+                )
+            position = [csv_number(fname, lineno, name, cell) for cell, name in cells]
+            radius = 0.0
+            if radius_cell:
+                rname = header[pos["radius"]]
+                radius = csv_number(fname, lineno, rname, radius_cell)
+                if radius < 0:
+                    raise ValueError(
+                        f"{at}, column {rname!r}: radius {radius_cell!r} is negative; "
+                        "a radius must be >= 0"
+                    )
+            obstacles.append(_obstacle(at, label, position, radius))
+            obstacle_lines.append(lineno)
+
+    if "demo" not in pos and not groups:
+        return {0: Scene()}  # a header-only single-scene file: no obstacles
+    return {parse_id(did): Scene(tuple(g[0])) for did, g in groups.items()}
+
+
+# --------------------------------------------------------------------------- #
+# JSON
+# --------------------------------------------------------------------------- #
+
+
+def _scenes_json_text(ids: list[DemoId], scenes: list[Scene]) -> str:
+    # One obstacle per line keeps the file readable and diff-friendly.
+    # json writes floats with repr(), so values read back exactly.
+    buf = io.StringIO()
+    buf.write("{\n")
+    buf.write(f'  "format": {json.dumps(SCENE_JSON_FORMAT)},\n')
+    buf.write(f'  "version": {SCENE_JSON_VERSION},\n')
+    buf.write('  "scenes": [')
+    for j, (did, scene) in enumerate(zip(ids, scenes, strict=True)):
+        buf.write(",\n" if j else "\n")
+        buf.write(f'    {{"demo": {json.dumps(did)}, "obstacles": [')
+        for k, o in enumerate(scene.obstacles):
+            item = {"class": o.label, "position": o.position.tolist(), "radius": o.radius}
+            buf.write(",\n" if k else "\n")
+            buf.write(f"      {json.dumps(item, allow_nan=False)}")
+        buf.write("\n    ]}" if scene.obstacles else "]}")
+    buf.write("\n  ]\n}\n" if scenes else "]\n}\n")
+    return buf.getvalue()
+
+
+def _json_number(fname: str, where: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{fname}: {where}: expected a number, got {value!r}")
+    try:
+        x = float(value)
+    except OverflowError:
+        x = math.inf
+    if not math.isfinite(x):
+        raise ValueError(
+            f"{fname}: {where}: value {value!r} is not finite; NaN and infinity are not allowed"
+        )
+    return x
+
+
+def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
+    doc = json_document(fname, SCENE_JSON_FORMAT, SCENE_JSON_VERSION, "scene")
+    items = doc.get("scenes")
+    if not isinstance(items, list):
+        raise ValueError(f"{fname}: field 'scenes' must be a list of scenes, got {items!r}")
+
+    out: dict[DemoId, Scene] = {}
+    seen: dict[str, int] = {}
+    dim: tuple[int, str] | None = None
+    for j, item in enumerate(items):
+        where = f"scenes[{j}]"
+        if not isinstance(item, dict):
+            raise ValueError(f"{fname}: {where}: expected an object with 'demo' and 'obstacles'")
+        if "demo" in item:
+            did = item["demo"]
+            if isinstance(did, bool) or not isinstance(did, (int, str)) or did == "":
+                raise ValueError(
+                    f"{fname}: {where}.demo: expected an int or a non-empty str, got {did!r}"
+                )
+            check_file_id(did, f"{fname}: {where}.demo")
+        elif len(items) == 1:
+            did = 0
+        else:
+            raise ValueError(
+                f"{fname}: {where}: missing field 'demo'; it is optional only in a file with "
+                f"a single scene, and this one has {len(items)}"
+            )
+        if str(did) in seen:
+            raise ValueError(
+                f"{fname}: {where}.demo: demo id {did!r} repeats scenes[{seen[str(did)]}]; "
+                "give each demonstration one scene entry"
+            )
+        seen[str(did)] = j
+        raw = item.get("obstacles")
+        if not isinstance(raw, list):
+            raise ValueError(
+                f"{fname}: {where}.obstacles: expected a list of obstacles (empty for a scene "
+                f"without obstacles), got {raw!r}"
+            )
+        obstacles: list[Obstacle] = []
+        for k, ob in enumerate(raw):
+            at = f"{where}.obstacles[{k}]"
+            if not isinstance(ob, dict):
+                raise ValueError(
+                    f"{fname}: {at}: expected an object with 'class', 'position' and "
+                    f"optional 'radius', got {ob!r}"
+                )
+            label = ob.get("class")
+            if not isinstance(label, str) or not label:
+                raise ValueError(f"{fname}: {at}.class: expected a non-empty string, got {label!r}")
+            position = ob.get("position")
+            if not isinstance(position, list) or len(position) not in (2, 3):
+                raise ValueError(
+                    f"{fname}: {at}.position: expected a list of 2 or 3 numbers, got {position!r}"
+                )
+            coords = [_json_number(fname, f"{at}.position[{i}]", v) for i, v in enumerate(position)]
+            if dim is None:
+                dim = (len(coords), f"{at}.position")
+            elif len(coords) != dim[0]:
+                raise ValueError(
+                    f"{fname}: {at}.position: has {len(coords)} coordinates but {dim[1]} has "
+                    f"{dim[0]}; mixed 2-D and 3-D positions in one file"
+                )
+            radius = 0.0
+            if "radius" in ob:
+                radius = _json_number(fname, f"{at}.radius", ob["radius"])
+                if radius < 0:
+                    raise ValueError(
+                        f"{fname}: {at}.radius: radius {ob['radius']!r} is negative; "
+                        "a radius must be >= 0"
+                    )
+            obstacles.append(_obstacle(f"{fname}: {at}", label, coords, radius))
+        out[did] = Scene(tuple(obstacles))
+    return out
