@@ -14,9 +14,9 @@ from lfdkit.datasets import load_emulation_dataset
 from lfdkit.demos import load_demos, save_demos
 from lfdkit.emulate import Reward, Scene, plan_path
 from lfdkit.emulate.scene import load_scenes, save_scenes
-from lfdkit.examples import example_dataset, example_files, write_example_files
 from lfdkit.geometry import resample
 from lfdkit.skill import SKILL_VERSION, Skill, learn, read_training_data
+from lfdkit.tasks.sweeping import example_dataset, example_files
 
 FILES = example_files()
 
@@ -39,12 +39,6 @@ def sweeping():
 
 
 # ------------------------------------------------------------------ learning
-def test_shipped_example_files_are_what_the_demonstrator_writes(tmp_path: Path) -> None:
-    written = write_example_files(tmp_path)
-    for stem, path in FILES.items():
-        assert path.read_bytes() == written[stem].read_bytes(), stem
-
-
 def test_training_data_splits_clean_and_obstacle_demonstrations() -> None:
     data = read_training_data(FILES["demos"], FILES["scenes"])
     assert data.free_ids == [f"free-{j}" for j in range(1, 6)]

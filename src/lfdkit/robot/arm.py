@@ -3,9 +3,10 @@
 A robot is described once, by an :class:`Arm`, and every part of
 :mod:`lfdkit.robot` reads it from there: the kinematics (:mod:`.ur5`) its
 Denavit–Hartenberg table, the timing (:mod:`.timing`) and the URScript checks
-(:mod:`.urscript`) its joint limits, the MuJoCo model (:mod:`.mujoco`,
-:mod:`.sim`) its joint count, masses, link radii and servo gains. A new arm is
-one new :class:`Arm`; no module holds a copy of these numbers.
+(:mod:`.urscript`) its joint limits, the MuJoCo model (:mod:`.mujoco`, and the
+sweeping task's scene, :mod:`lfdkit.tasks.sweeping.sim`) its joint count,
+masses, link radii and servo gains. A new arm is one new :class:`Arm`; no
+module holds a copy of these numbers.
 
 Contents of a description
 -------------------------
@@ -46,8 +47,9 @@ Universal Robots' published DH parameters and link masses, speed limits of
 120°/s on base and shoulder and 180°/s on the other joints, position limits of
 ±360°; UR publishes no joint acceleration limit, so it gets the UR5's
 15 rad/s². Its link radii and servo gains are choices of this module, sized to
-its longer and heavier links (a straight sweep in :mod:`.sim` at 20 % speed
-tracks within 0.5 mm, as the UR5's does).
+its longer and heavier links (a straight sweep of the sweeping task,
+:mod:`lfdkit.tasks.sweeping.sim`, at 20 % speed tracks within 0.5 mm, as the
+UR5's does).
 """
 
 from __future__ import annotations

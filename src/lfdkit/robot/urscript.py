@@ -128,7 +128,8 @@ MAX_ROTATION = np.pi + 1e-9
 
 TABLE_Z = 0.0
 """Height of the table plane in the robot base frame (m): the UR5 stands on the
-table (:mod:`lfdkit.robot.sim`), and sweeps with its tool frame 0.192 m above it."""
+table (the sweeping task, :mod:`lfdkit.tasks.sweeping`), and sweeps with its tool frame
+0.192 m above it."""
 
 SERVO_LOOKAHEAD = 0.1
 """``lookahead_time`` written in every ``servoj`` (s): smooths the stream, adds this much lag."""
@@ -330,7 +331,7 @@ class Workspace:
     tool : array_like, shape (4, 4), optional
         Flange→tool transform of the controller's tool centre point, so that
         poses are tool poses; ``None``: the tool frame is the flange (as in
-        :mod:`lfdkit.robot.sim`).
+        the sweeping task, :mod:`lfdkit.tasks.sweeping`).
 
     Notes
     -----
