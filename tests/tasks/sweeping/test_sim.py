@@ -297,3 +297,16 @@ def test_a_ur10_sweeps_into_the_dustpan():
     with pytest.raises(ValueError, match="timing: expected 6 joints for the UR10, got 5"):
         five = np.array([[0.0] * 5, [0.1] * 5])
         simulate_sweep(time_parameterize(five, max_velocity=1, max_acceleration=1), task, arm=UR10)
+
+
+def test_any_arm_runs_in_the_scene_with_its_own_joint_count():
+    """A planar 3R arm (no sweep IK) follows a 3-joint trajectory in the scene."""
+    timing = time_parameterize(
+        np.array([[0.0, 0.5, 0.2], [0.1, 0.6, 0.25]]), arm=PLANAR, speed_fraction=0.2
+    )
+    task = SweepingTask(np.array([0.5, 0.45]), PAN)
+    result = simulate_sweep(timing, task, arm=PLANAR)
+    assert result.joint_path.shape == (2, 3)
+    assert result.tracking_error < 0.005
+    assert not result.success  # nothing pushed the cube into the dustpan
+    assert result.failures[0].startswith("cube missed the dustpan")
