@@ -23,6 +23,7 @@ import pytest
 from lfdkit.emulate import Obstacle, Scene
 from lfdkit.robot.arm import UR5, UR10
 from lfdkit.robot.timing import time_parameterize
+from lfdkit.tasks.sweeping import sim
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
     CUBE,
@@ -31,15 +32,7 @@ from lfdkit.tasks.sweeping.scenarios import (
     Dustpan,
     SweepingTask,
 )
-from lfdkit.tasks.sweeping.sim import (
-    HOME,
-    SweepResult,
-    build_model,
-    execute_sweep,
-    simulate_sweep,
-    sweep_motion,
-    sweeping_mjcf,
-)
+from lfdkit.tasks.sweeping.sim import HOME, SweepResult
 from tests.robot.arms import PLANAR
 
 START = np.array([-0.3, 0.45])
@@ -61,12 +54,12 @@ def straight_sweep() -> tuple[np.ndarray, SweepingTask, SweepResult]:
     """The free straight sweep into the dustpan, simulated once for the module."""
     path = straight_path()
     task = SweepingTask.for_path(path, PAN)
-    return path, task, execute_sweep(path, task)
+    return path, task, sim.execute_sweep(path, task)
 
 
 # ------------------------------------------------------------------ model
 def test_robot_in_the_scene_has_the_arms_joints_and_limits():
-    model = build_model()
+    model = sim.build_model()
     assert model.njnt == 6 and model.nu == 6
     np.testing.assert_array_equal(model.jnt_range[:6], UR5.joint_limits)
     assert np.all(model.jnt_limited[:6])
@@ -91,7 +84,7 @@ def test_task_adds_free_cube_and_obstacles_as_their_classes_describe():
         )
     )
     task = SweepingTask(np.array([-0.2, 0.45]), PAN, scene, cube_yaw=0.3)
-    model = build_model(task)
+    model = sim.build_model(task)
     assert model.njnt == 6 + 1 + len(scene)
     assert all(int(t) == mujoco.mjtJoint.mjJNT_FREE for t in model.jnt_type[6:])
     np.testing.assert_array_equal(model.jnt_range[:6], UR5.joint_limits)
@@ -113,9 +106,9 @@ def test_task_adds_free_cube_and_obstacles_as_their_classes_describe():
     np.testing.assert_allclose(
         model.geom("dustpan_back").size[2], 0.5 * PAN.wall_height, atol=1e-15
     )
-    xml = sweeping_mjcf(task)
+    xml = sim.sweeping_mjcf(task)
     assert xml.count("<freejoint") == 1 + len(scene)
-    assert "<freejoint" not in sweeping_mjcf()
+    assert "<freejoint" not in sim.sweeping_mjcf()
 
 
 # ------------------------------------------------------------------ sweeps
@@ -146,7 +139,7 @@ def test_straight_sweep_pushes_cube_into_dustpan(straight_sweep):
 def test_cup_on_the_line_is_touched():
     path = straight_path()
     task = SweepingTask.for_path(path, PAN, cup(0.0, 0.45))
-    result = execute_sweep(path, task)
+    result = sim.execute_sweep(path, task)
     assert not result.success
     assert 0 in result.touched
     assert result.obstacle_shift.shape == (1,)
@@ -157,7 +150,7 @@ def test_cup_on_the_line_is_touched():
 def test_cup_beside_the_line_is_not_touched():
     path = straight_path()
     task = SweepingTask.for_path(path, PAN, cup(0.0, 0.6))
-    result = execute_sweep(path, task)
+    result = sim.execute_sweep(path, task)
     assert result.touched == []
     assert result.obstacle_shift[0] < 1e-3
     assert result.success, result.failures
@@ -166,7 +159,7 @@ def test_cup_beside_the_line_is_not_touched():
 def test_dustpan_off_the_path_is_missed():
     pan = Dustpan((0.3, 0.65), 0.0)
     path = straight_path(end=PAN.goal())  # still ends at (0.32, 0.45)
-    result = execute_sweep(path, SweepingTask.for_path(path, pan))
+    result = sim.execute_sweep(path, SweepingTask.for_path(path, pan))
     assert not result.success
     assert not result.cube_in_dustpan
     assert not pan.contains(result.cube_final)
@@ -176,7 +169,7 @@ def test_dustpan_off_the_path_is_missed():
 def test_unreachable_path_is_reported_not_raised():
     path = straight_path(start=(-0.2, 1.1), end=(0.2, 1.1), n=20)
     task = SweepingTask.for_path(path, PAN, cup(0.0, 0.6))
-    result = execute_sweep(path, task)
+    result = sim.execute_sweep(path, task)
     assert not result.success
     assert not result.cube_in_dustpan
     assert len(result.failures) == 1
@@ -190,18 +183,18 @@ def test_simulate_sweep_rejects_bad_arguments(straight_sweep):
     _, task, _ = straight_sweep
     timing = time_parameterize(np.array([HOME, HOME + 0.05]))
     with pytest.raises(TypeError, match="timing"):
-        simulate_sweep(np.array([HOME, HOME + 0.05]), task)
+        sim.simulate_sweep(np.array([HOME, HOME + 0.05]), task)
     with pytest.raises(ValueError, match="timing"):
         five_joints = np.array([[0.0] * 5, [0.1] * 5])
-        simulate_sweep(time_parameterize(five_joints, max_velocity=1, max_acceleration=1), task)
+        sim.simulate_sweep(time_parameterize(five_joints, max_velocity=1, max_acceleration=1), task)
     for tolerance in (0.0, -0.001):
         with pytest.raises(ValueError, match="tolerance"):
-            simulate_sweep(timing, task, tolerance=tolerance)
+            sim.simulate_sweep(timing, task, tolerance=tolerance)
 
 
 def test_tracking_beyond_tolerance_is_a_failure(straight_sweep):
     path, task, reference = straight_sweep
-    result = execute_sweep(path, task, tolerance=1e-6)
+    result = sim.execute_sweep(path, task, tolerance=1e-6)
     assert not result.success
     assert result.cube_in_dustpan
     assert result.touched == []
@@ -215,7 +208,7 @@ def test_tracking_beyond_tolerance_is_a_failure(straight_sweep):
 @pytest.mark.filterwarnings("ignore::UserWarning")  # GLFW's complaints without a display
 def test_render_gives_an_image_or_none():
     path = straight_path(start=(0.0, 0.45), end=(0.05, 0.45), n=5)
-    result = execute_sweep(path, SweepingTask.for_path(path, PAN), render=True, camera="top")
+    result = sim.execute_sweep(path, SweepingTask.for_path(path, PAN), render=True, camera="top")
     assert result.image is None or result.image.shape == (720, 960, 3)
 
 
@@ -245,22 +238,22 @@ def test_a_missing_opengl_backend_leaves_physics_running(tmp_path):
 
 # ------------------------------------------------------------------ other arms
 def test_the_scene_is_built_from_the_arm_description():
-    model = build_model(arm=UR10)
+    model = sim.build_model(arm=UR10)
     assert model.njnt == 6 and model.nu == 6
     for i in range(6):
         assert model.body(f"link{i + 1}").mass[0] == pytest.approx(UR10.link_masses[i])
         assert model.actuator(f"joint{i + 1}").gainprm[0] == UR10.kp[i]
     np.testing.assert_array_equal(model.jnt_range[:6], UR10.joint_limits)
-    assert 'model="lfdkit UR10 sweeping"' in sweeping_mjcf(arm=UR10)
+    assert 'model="lfdkit UR10 sweeping"' in sim.sweeping_mjcf(arm=UR10)
     # Any number of joints: a planar 3R arm among the task's free bodies.
     task = SweepingTask(np.array([-0.2, 0.45]), PAN, cup(0.0, 0.6))
-    model = build_model(task, arm=PLANAR)
+    model = sim.build_model(task, arm=PLANAR)
     assert model.nu == 3
     assert model.njnt == 3 + 1 + 1
     for i in range(3):
         assert model.body(f"link{i + 1}").mass[0] == pytest.approx(PLANAR.link_masses[i])
     with pytest.raises(TypeError, match="arm: expected an Arm"):
-        build_model(arm="UR10")
+        sim.build_model(arm="UR10")
 
 
 def test_the_sweeping_simulation_builds_and_steps_with_a_ur10():
@@ -274,10 +267,10 @@ def test_the_sweeping_simulation_builds_and_steps_with_a_ur10():
         )
     )
     task = SweepingTask.for_path(path, PAN, scene)
-    _, joints = sweep_motion(path, arm=UR10)
+    _, joints = sim.sweep_motion(path, arm=UR10)
     assert joints.shape[1] == UR10.n_joints
     timing = time_parameterize(joints, arm=UR10, speed_fraction=0.2)
-    result = simulate_sweep(timing, task, arm=UR10, sample_rate=100.0)
+    result = sim.simulate_sweep(timing, task, arm=UR10, sample_rate=100.0)
     assert result.timing is timing
     assert result.joint_path.shape[1] == 6
     assert np.all(np.isfinite(result.tool_trace)) and np.all(np.isfinite(result.cube_trace))
@@ -291,12 +284,13 @@ def test_the_sweeping_simulation_builds_and_steps_with_a_ur10():
 def test_a_ur10_sweeps_into_the_dustpan():
     path = straight_path()
     task = SweepingTask.for_path(path, PAN)
-    result = execute_sweep(path, task, arm=UR10)
+    result = sim.execute_sweep(path, task, arm=UR10)
     assert result.success, result.summary()
     np.testing.assert_allclose(result.timing.max_velocity, 0.2 * UR10.max_joint_speed)
     with pytest.raises(ValueError, match="timing: expected 6 joints for the UR10, got 5"):
         five = np.array([[0.0] * 5, [0.1] * 5])
-        simulate_sweep(time_parameterize(five, max_velocity=1, max_acceleration=1), task, arm=UR10)
+        five_joints = time_parameterize(five, max_velocity=1, max_acceleration=1)
+        sim.simulate_sweep(five_joints, task, arm=UR10)
 
 
 def test_any_arm_runs_in_the_scene_with_its_own_joint_count():
@@ -305,7 +299,7 @@ def test_any_arm_runs_in_the_scene_with_its_own_joint_count():
         np.array([[0.0, 0.5, 0.2], [0.1, 0.6, 0.25]]), arm=PLANAR, speed_fraction=0.2
     )
     task = SweepingTask(np.array([0.5, 0.45]), PAN)
-    result = simulate_sweep(timing, task, arm=PLANAR)
+    result = sim.simulate_sweep(timing, task, arm=PLANAR)
     assert result.joint_path.shape == (2, 3)
     assert result.tracking_error < 0.005
     assert not result.success  # nothing pushed the cube into the dustpan
