@@ -23,12 +23,11 @@ import pytest
 
 from lfdkit.cli import main
 from lfdkit.emulate import plan_clearance
-from lfdkit.examples import example_files
-from lfdkit.examples.sweeping_demo import demo_outputs
 from lfdkit.io import SKILL_VERSION
 from lfdkit.io.scenes import save_scenes
 from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn
+from lfdkit.tasks.sweeping import demo_outputs, example_files
 
 SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "bench")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -843,88 +842,13 @@ def test_several_motions_are_one_clean_error(capsys, tmp_path):
 
 
 # --------------------------------------------------------------------------- #
-# 9. lfdkit demo: an interrupted run never looks complete
+# 9. lfdkit demo: an interrupted run never looks complete (run_demo itself:
+#    tests/tasks/sweeping/test_demo.py)
 # --------------------------------------------------------------------------- #
 
 
-def _fake_run_into(fail_after: int | None = None):
-    """Stands in for the demo's work: writes every output, or fails midway."""
-
-    def run_into(out: Path, progress) -> dict:
-        for i, path in enumerate(demo_outputs(out)):
-            if fail_after is not None and i == fail_after:
-                raise RuntimeError("simulated failure midway")
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(f"new {path.name}\n")
-        return {"written": True}
-
-    return run_into
-
-
-def test_demo_failing_midway_leaves_no_output_folder(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into(fail_after=5))
-    out = tmp_path / "demo"
-    with pytest.raises(RuntimeError, match="midway"):
-        sweeping_demo.run_demo(out)
-    assert not out.exists()
-    assert list(tmp_path.iterdir()) == []  # no hidden .partial- folder left either
-
-
-def test_demo_moves_its_outputs_into_place_at_the_end(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
-    out = tmp_path / "demo"
-    assert sweeping_demo.run_demo(out) == {"written": True}
-    for path in demo_outputs(out):
-        assert path.read_text() == f"new {path.name}\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
-
-
-def test_demo_force_keeps_other_files_and_an_interrupted_move_is_marked(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
-    out = tmp_path / "demo"
-    out.mkdir()
-    (out / "mine.txt").write_text("the user's\n")
-    for path in demo_outputs(out):
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text("old\n")
-    with pytest.raises(FileExistsError):
-        sweeping_demo.run_demo(out)
-    assert (out / "report.html").read_text() == "old\n"
-
-    # Interrupted while moving the new files in: marked, and no report to open.
-    moves = []
-    real_replace = os.replace
-
-    def replace(src, dst):
-        if len(moves) == 4:
-            raise KeyboardInterrupt
-        moves.append(dst)
-        real_replace(src, dst)
-
-    monkeypatch.setattr(sweeping_demo.os, "replace", replace)
-    with pytest.raises(KeyboardInterrupt):
-        sweeping_demo.run_demo(out, overwrite=True)
-    assert (out / sweeping_demo.INCOMPLETE_MARKER).is_file()
-    assert not (out / "report.html").exists()
-
-    monkeypatch.setattr(sweeping_demo.os, "replace", real_replace)
-    sweeping_demo.run_demo(out, overwrite=True)
-    assert not (out / sweeping_demo.INCOMPLETE_MARKER).exists()
-    assert (out / "report.html").read_text() == "new report.html\n"
-    assert (out / "mine.txt").read_text() == "the user's\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
-
-
 def test_demo_cli_refuses_existing_outputs_before_the_work(capsys, monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _no_learning)
+    monkeypatch.setattr("lfdkit.tasks.sweeping.demo._run_into", _no_learning)
     out = tmp_path / "demo"
     (out / "figures").mkdir(parents=True)
     (out / "figures" / "mimic.png").write_text("old\n")
@@ -932,16 +856,6 @@ def test_demo_cli_refuses_existing_outputs_before_the_work(capsys, monkeypatch, 
     assert code == 1
     line = error_line(err, "demo")
     assert line.endswith("mimic.png exists; pass --force to overwrite it")
-
-
-def test_demo_output_folder_gets_the_usual_permissions(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
-    plain = tmp_path / "plain"
-    plain.mkdir()
-    sweeping_demo.run_demo(tmp_path / "demo")
-    assert (tmp_path / "demo").stat().st_mode == plain.stat().st_mode
 
 
 def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
@@ -953,7 +867,7 @@ def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
 
 _SLOW_DEMO = """
 import sys, time
-from lfdkit.examples import sweeping_demo
+from lfdkit.tasks.sweeping import demo as sweeping_demo
 from lfdkit.cli import main
 
 def slow(out, progress):

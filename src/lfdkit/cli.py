@@ -226,7 +226,7 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _demo(args: argparse.Namespace) -> None:
-    from lfdkit.examples.sweeping_demo import N_STEPS, demo_outputs, run_demo
+    from lfdkit.tasks.sweeping.demo import N_STEPS, demo_outputs, run_demo
 
     out: Path = args.output
     if out.exists() and not out.is_dir():

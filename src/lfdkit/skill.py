@@ -895,5 +895,3 @@ def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
 
 def _extent(path: np.ndarray) -> float:
     return float(np.max(np.ptp(path, axis=0))) or 1.0
-
-

@@ -9,7 +9,7 @@ import numpy as np
 
 from lfdkit._validation import check_positive
 
-__all__ = ["check_count_at_least", "generate", "smooth_offset"]
+__all__ = ["SizedDemoSet", "check_count_at_least", "generate", "smooth_offset"]
 
 _TWO_PI = 2.0 * np.pi
 
@@ -64,3 +64,20 @@ def generate(
         valid = ", ".join(sorted(registry))
         raise ValueError(f"name: unknown {kind} {name!r}; valid names: {valid}") from None
     return generator(seed=seed, **kwargs)
+
+
+class SizedDemoSet:
+    """``n_demos`` and ``n_dims`` of a data set with ``demos`` and a ``nominal`` (n, q)."""
+
+    demos: list[np.ndarray]
+    nominal: np.ndarray
+
+    @property
+    def n_demos(self) -> int:
+        """Number of demonstrations."""
+        return len(self.demos)
+
+    @property
+    def n_dims(self) -> int:
+        """Spatial dimension ``q`` of the demonstrations."""
+        return int(self.nominal.shape[1])

@@ -42,7 +42,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets._shared import check_count_at_least, generate, smooth_offset
+from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
 from lfdkit.geometry import (
     arc_length,
     left_normals,
@@ -85,7 +85,7 @@ _TWO_PI = 2.0 * np.pi
 
 # --------------------------------------------------------------------- data model
 @dataclass(frozen=True, eq=False)
-class DemoSet:
+class DemoSet(SizedDemoSet):
     """A set of demonstrations with the ground-truth path they were generated around.
 
     Attributes
@@ -139,16 +139,6 @@ class DemoSet:
         object.__setattr__(self, "walls", walls)
         if self.material_side is not None:
             object.__setattr__(self, "material_side", int(self.material_side))
-
-    @property
-    def n_demos(self) -> int:
-        """Number of demonstrations."""
-        return len(self.demos)
-
-    @property
-    def n_dims(self) -> int:
-        """Spatial dimension ``q`` of the demonstrations."""
-        return int(self.nominal.shape[1])
 
 
 # --------------------------------------------------------------------- helpers
@@ -432,6 +422,52 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
     )
 
 
+#: Transport height of the da Vinci pick-and-place nominal (thesis Fig 4.10, §6.3), metres.
+DA_VINCI_TOP = 0.035
+_DA_VINCI_WALL_Y = 0.025  # the walls are the planes y = ±0.025 m
+
+
+def da_vinci_polyline() -> np.ndarray:
+    """The dense 3-D nominal of the da Vinci pick-and-place, before resampling (metres).
+
+    In the plane ``y = 0``: from (0, 0, 0) up to z = 0.02, a 0.015 m radius
+    corner, along ``x`` at the transport height :data:`DA_VINCI_TOP`, a corner
+    down and down to (0.1, 0, 0.005); about 0.152 m long.
+    """
+    rad, top = 0.015, DA_VINCI_TOP
+    a1 = np.linspace(np.pi, np.pi / 2.0, 2001)
+    a2 = np.linspace(np.pi / 2.0, 0.0, 2001)
+    xz = np.vstack(
+        (
+            np.column_stack((np.zeros(2001), np.linspace(0.0, top - rad, 2001))),
+            np.column_stack((rad + rad * np.cos(a1), top - rad + rad * np.sin(a1)))[1:],
+            np.column_stack((np.linspace(rad, 0.1 - rad, 5001), np.full(5001, top)))[1:],
+            np.column_stack((0.1 - rad + rad * np.cos(a2), top - rad + rad * np.sin(a2)))[1:],
+            np.column_stack((np.full(2001, 0.1), np.linspace(top - rad, 0.005, 2001)))[1:],
+        )
+    )
+    return np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1]))
+
+
+def da_vinci_wall_outlines() -> tuple[np.ndarray, ...]:
+    """The da Vinci walls, the planes ``y = ±0.025`` m, as closed rectangles of shape (5, 3).
+
+    ``x`` in [-0.02, 0.12], ``z`` in [-0.01, 0.06] (metres), for drawing and checks.
+    """
+    return tuple(
+        np.array(
+            [
+                [-0.02, y, -0.01],
+                [0.12, y, -0.01],
+                [0.12, y, 0.06],
+                [-0.02, y, 0.06],
+                [-0.02, y, -0.01],
+            ]
+        )
+        for y in (-_DA_VINCI_WALL_Y, _DA_VINCI_WALL_Y)
+    )
+
+
 def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) -> DemoSet:
     """3-D pick-and-place between two parallel walls (thesis Fig 4.10, da Vinci robot).
 
@@ -462,19 +498,7 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
     n_demos = check_count_at_least(n_demos, "n_demos")
     noise = check_positive(noise, "noise", allow_zero=True)
     rng = check_random_state(seed)
-    rad, top = 0.015, 0.035
-    a1 = np.linspace(np.pi, np.pi / 2.0, 2001)
-    a2 = np.linspace(np.pi / 2.0, 0.0, 2001)
-    xz = np.vstack(
-        (
-            np.column_stack((np.zeros(2001), np.linspace(0.0, top - rad, 2001))),
-            np.column_stack((rad + rad * np.cos(a1), top - rad + rad * np.sin(a1)))[1:],
-            np.column_stack((np.linspace(rad, 0.1 - rad, 5001), np.full(5001, top)))[1:],
-            np.column_stack((0.1 - rad + rad * np.cos(a2), top - rad + rad * np.sin(a2)))[1:],
-            np.column_stack((np.full(2001, 0.1), np.linspace(top - rad, 0.005, 2001)))[1:],
-        )
-    )
-    fine = _fine(np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1])))
+    fine = _fine(da_vinci_polyline())
     # The nominal is planar: its normal plane is spanned by the wall normal (y axis)
     # and the in-plane normal (tangent × y axis), an exact parallel-transported frame.
     tangents = point_tangents(fine)
@@ -488,18 +512,6 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
         n_j = int(rng.integers(90, 111))
         path = fine + o1[:, None] * n_wall + o2[:, None] * n_plane
         demos.append(resample(path, n_j) + rng.normal(0.0, 0.1 * noise, (n_j, 3)))
-    walls = tuple(
-        np.array(
-            [
-                [-0.02, y, -0.01],
-                [0.12, y, -0.01],
-                [0.12, y, 0.06],
-                [-0.02, y, 0.06],
-                [-0.02, y, -0.01],
-            ]
-        )
-        for y in (-0.025, 0.025)
-    )
     return _demo_set(
         "da_vinci",
         demos,
@@ -508,7 +520,7 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
         f"Thesis Fig 4.10: {n_demos} 3-D pick-and-place paths from z_I (0, 0, 0) up, along x "
         "between walls y = ±0.025 m and down to z_G (0.1, 0, 0.005); smooth normal "
         f"deviations sd {noise:g} m per normal direction. Ground truth: the nominal.",
-        walls=walls,
+        walls=da_vinci_wall_outlines(),
     )
 
 

@@ -129,7 +129,8 @@ MAX_ROTATION = np.pi + 1e-9
 
 TABLE_Z = 0.0
 """Height of the table plane in the robot base frame (m): the UR5 stands on the
-table (:mod:`lfdkit.robot.sim`), and sweeps with its tool frame 0.192 m above it."""
+table (the sweeping task, :mod:`lfdkit.tasks.sweeping`), and sweeps with its tool frame
+0.192 m above it."""
 
 SERVO_LOOKAHEAD = 0.1
 """``lookahead_time`` written in every ``servoj`` (s): smooths the stream, adds this much lag."""
@@ -331,7 +332,7 @@ class Workspace:
     tool : array_like, shape (4, 4), optional
         Flange→tool transform of the controller's tool centre point, so that
         poses are tool poses; ``None``: the tool frame is the flange (as in
-        :mod:`lfdkit.robot.sim`).
+        the sweeping task, :mod:`lfdkit.tasks.sweeping`).
 
     Notes
     -----
@@ -599,6 +600,17 @@ def _check_header(header: Any) -> list[str]:
     return [f"# {line}".rstrip() for line in lines]
 
 
+def _first(mask: np.ndarray) -> tuple[int, int]:
+    """(sample, joint) of the first true entry of a (samples, joints) mask with one."""
+    i, j = np.argwhere(mask)[0]
+    return int(i), int(j)
+
+
+def _joint_error(sample: int, joint: int, what: str) -> URScriptError:
+    """The error for one joint at one sample of a servoj stream, naming both."""
+    return URScriptError(f"joint_path[{sample}] joint {joint}: {what}", "joint_path", sample)
+
+
 def _check_servo(
     joint_path: Any, times: Any, workspace: Workspace, arm: Arm
 ) -> tuple[np.ndarray, float]:
@@ -630,32 +642,32 @@ def _check_servo(
             "times",
         )
     lower, upper = arm.joint_limits[:, 0], arm.joint_limits[:, 1]
-    bad = (q < lower) | (q > upper)
-    if bad.any():
-        i, j = (int(k) for k in np.argwhere(bad)[0])
-        raise URScriptError(
-            f"joint_path[{i}] joint {j}: {q[i, j]:.6g} rad is outside the {arm.name} joint "
-            f"limits [{lower[j]:.6g}, {upper[j]:.6g}] rad",
-            "joint_path",
+    outside = (q < lower) | (q > upper)
+    if outside.any():
+        i, j = _first(outside)
+        raise _joint_error(
             i,
+            j,
+            f"{q[i, j]:.6g} rad is outside the {arm.name} joint limits "
+            f"[{lower[j]:.6g}, {upper[j]:.6g}] rad",
         )
     # Velocity over each tick; the stream starts and ends at rest.
     velocity = np.diff(q, axis=0) / dt
     speed_limit = arm.max_joint_speed
     fast = np.abs(velocity) > speed_limit * (1.0 + _REL_TOL)
     if fast.any():
-        k, j = (int(v) for v in np.argwhere(fast)[0])
-        raise URScriptError(
-            f"joint_path[{k + 1}] joint {j}: moves at {velocity[k, j]:.6g} rad/s from sample "
-            f"{k}, above the {arm.name} limit of {speed_limit[j]:g} rad/s",
-            "joint_path",
+        k, j = _first(fast)
+        raise _joint_error(
             k + 1,
+            j,
+            f"moves at {velocity[k, j]:.6g} rad/s from sample {k}, above the {arm.name} "
+            f"limit of {speed_limit[j]:g} rad/s",
         )
     rest = np.zeros((1, arm.n_joints))
     acceleration = np.diff(np.vstack((rest, velocity, rest)), axis=0) / dt
     hard = np.abs(acceleration) > arm.max_joint_acceleration * (1.0 + _REL_TOL)
     if hard.any():
-        k, j = (int(v) for v in np.argwhere(hard)[0])
+        k, j = _first(hard)
         a, limit = acceleration[k, j], arm.max_joint_acceleration[j]
         if k == 0:
             i = 1
@@ -666,11 +678,8 @@ def _check_servo(
         else:
             i = k
             what = f"a speed change from {velocity[k - 1, j]:.6g} to {velocity[k, j]:.6g} rad/s"
-        raise URScriptError(
-            f"joint_path[{i}] joint {j}: {what} needs {a:.8g} rad/s^2, above the {arm.name} "
-            f"limit of {limit:g} rad/s^2",
-            "joint_path",
-            i,
+        raise _joint_error(
+            i, j, f"{what} needs {a:.8g} rad/s^2, above the {arm.name} limit of {limit:g} rad/s^2"
         )
     tool = ur5.forward(q, tool=workspace.tool_matrix, arm=arm)[:, :3, 3]
     workspace._refuse_outside(tool, "joint_path", "tool position")  # finite: forward kinematics
