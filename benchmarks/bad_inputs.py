@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 SKILL_SETUP = """
-from lfdkit.examples import example_files
+from lfdkit.tasks.sweeping import example_files
 from lfdkit.skill import learn
 f = example_files()
 skill = learn(f["demos"], f["scenes"])

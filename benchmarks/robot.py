@@ -86,11 +86,11 @@ Target: max position error < 1e-9 m.
 
 S2. The sweeping experiment (thesis §6.4)
 -----------------------------------------
-The skill is learned from the shipped example (``lfdkit.examples``: sweeping
+The skill is learned from the shipped example (``lfdkit.tasks.sweeping``: sweeping
 demonstrations with a cup and with a marker from the synthetic demonstrator,
 seed 0), as ``lfdkit demo`` does. ``random_scenarios(N, seed)`` (60; 10 with
 ``--quick``) moves the dustpan and places a cup and a marker near the straight
-sweep (``lfdkit.examples.sweeping_sim``). Every scenario is planned by each
+sweep (``lfdkit.tasks.sweeping.scenarios``). Every scenario is planned by each
 planner and executed in MuJoCo (``execute_sweep``: corner rounding 1 cm,
 continuous IK, time-parameterised at 20 % of the UR5's joint limits,
 joint position control):
@@ -128,7 +128,7 @@ from _common import git_state, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
 from lfdkit.io import atomic_write
-from lfdkit.robot import sim, ur5
+from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5
 from lfdkit.robot.mujoco import flange_poses
 
@@ -593,14 +593,15 @@ def _failure_kind(failure: str) -> str:
 
 def sweeping_experiment(n_scenarios: int, seed: int, quick: bool, output: Path) -> dict:
     """S2: every planner on the same random unseen scenarios, executed in MuJoCo."""
-    from lfdkit.examples import example_dataset, example_files
-    from lfdkit.examples.sweeping_sim import (
+    from lfdkit.skill import learn, read_training_data
+    from lfdkit.tasks.sweeping import (
         default_planners,
+        example_dataset,
+        example_files,
         random_scenarios,
         run_experiment,
         summarize,
     )
-    from lfdkit.skill import learn, read_training_data
 
     files = example_files()
     start = time.perf_counter()
@@ -646,7 +647,7 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
     """Top views of the first four scenarios; a MuJoCo render where OpenGL is available."""
     from matplotlib.figure import Figure
 
-    from lfdkit.plot import sweep_figure
+    from lfdkit.tasks.sweeping import SweepingTask, execute_sweep, sweep_figure
 
     output.mkdir(parents=True, exist_ok=True)
     shown = ("learned skill", "DMP alone", "DMP + coupling", "replay generalized path")
@@ -685,8 +686,8 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
     fig.savefig(output / names[0], dpi=110)
     scenario = scenarios[0]
     path = learned(scenario.start, scenario.goal, scenario.scene)
-    task = sim.SweepingTask.for_path(path, scenario.dustpan, scenario.scene)
-    image = sim.execute_sweep(path, task, render=True).image
+    task = SweepingTask.for_path(path, scenario.dustpan, scenario.scene)
+    image = execute_sweep(path, task, render=True).image
     if image is not None:
         from matplotlib import pyplot as plt
 

@@ -23,11 +23,11 @@ import pytest
 
 from lfdkit.cli import main
 from lfdkit.emulate import plan_clearance
-from lfdkit.examples import example_files
-from lfdkit.examples.sweeping_demo import demo_outputs
+from lfdkit.io import SKILL_VERSION
 from lfdkit.io.scenes import save_scenes
 from lfdkit.scene import Obstacle, Scene
-from lfdkit.skill import SKILL_VERSION, Skill, learn
+from lfdkit.skill import Skill, learn
+from lfdkit.tasks.sweeping import demo_outputs, example_files
 
 SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "bench")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -146,6 +146,27 @@ def test_help_exits_zero_and_prints_usage(capsys, command):
     if command is None:
         for name in SUBCOMMANDS:
             assert name in out
+
+
+def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
+    """Every option of ``learn`` that sets a Skill parameter defaults to Skill()'s value."""
+    passed = {}
+
+    def fake_learn(demos_path, scenes_path=None, *, progress=None, **params):
+        passed.update(params)
+        raise ValueError("stop here")
+
+    monkeypatch.setattr("lfdkit.skill.learn", fake_learn)
+    code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
+    assert code == 1, err
+    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon"}
+    defaults = Skill().get_params()
+    assert passed == {name: defaults[name] for name in passed}
+    code, out, _ = usage_exit(capsys, "learn", "--help")
+    assert code == 0
+    text = " ".join(out.split())
+    for name in ("mimic", "n_points", "planner", "horizon"):
+        assert f"(default {defaults[name]})" in text, name
 
 
 def test_version(capsys):
@@ -633,6 +654,50 @@ def test_bench_unknown_name_lists_the_available_ones(capsys):
     assert out == ""
 
 
+BENCHMARK = """import pathlib, sys
+here = pathlib.Path(__file__).resolve().parent
+(here / "ran.txt").write_text(f"{pathlib.Path.cwd()} {' '.join(sys.argv[1:])}")
+"""
+
+
+def test_bench_runs_the_benchmarks_of_the_folder_given(capsys, tmp_path):
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    (folder / "hello.py").write_text(BENCHMARK)
+    code, out, err = run_cli(capsys, "bench", "--benchmarks", folder, "hello", "--quick", "-q")
+    assert (code, out) == (0, ""), err
+    assert (folder / "ran.txt").read_text() == f"{tmp_path} --quick"
+
+
+def test_bench_finds_benchmarks_in_the_current_folder(capsys, monkeypatch, tmp_path):
+    (tmp_path / "benchmarks").mkdir()
+    (tmp_path / "benchmarks" / "hello.py").write_text(BENCHMARK)
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run_cli(capsys, "bench", "-q")
+    assert (code, out) == (0, ""), err
+    assert (tmp_path / "benchmarks" / "ran.txt").read_text() == f"{tmp_path} "
+
+
+def test_bench_without_benchmarks_is_a_usage_error_naming_where_it_looked(
+    capsys, monkeypatch, tmp_path
+):
+    import lfdkit.cli
+
+    # An installed package: no source checkout around the module.
+    monkeypatch.setattr(lfdkit.cli, "__file__", str(tmp_path / "site" / "lfdkit" / "cli.py"))
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run_cli(capsys, "bench")
+    assert code == 2
+    line = err.strip()
+    assert line.startswith("lfdkit bench: error: no benchmarks folder: looked for ")
+    assert str(tmp_path / "benchmarks") in line
+    assert "--benchmarks DIR" in line
+    assert out == ""
+    code, out, err = run_cli(capsys, "bench", "--benchmarks", tmp_path / "nowhere")
+    assert code == 2
+    assert err == f"lfdkit bench: error: --benchmarks {tmp_path / 'nowhere'}: no such folder\n"
+
+
 # --------------------------------------------------------------------------- #
 # 8. Never a traceback; outputs checked before the work
 # --------------------------------------------------------------------------- #
@@ -777,88 +842,13 @@ def test_several_motions_are_one_clean_error(capsys, tmp_path):
 
 
 # --------------------------------------------------------------------------- #
-# 9. lfdkit demo: an interrupted run never looks complete
+# 9. lfdkit demo: an interrupted run never looks complete (run_demo itself:
+#    tests/tasks/sweeping/test_demo.py)
 # --------------------------------------------------------------------------- #
 
 
-def _fake_run_into(fail_after: int | None = None):
-    """Stands in for the demo's work: writes every output, or fails midway."""
-
-    def run_into(out: Path, progress) -> dict:
-        for i, path in enumerate(demo_outputs(out)):
-            if fail_after is not None and i == fail_after:
-                raise RuntimeError("simulated failure midway")
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(f"new {path.name}\n")
-        return {"written": True}
-
-    return run_into
-
-
-def test_demo_failing_midway_leaves_no_output_folder(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into(fail_after=5))
-    out = tmp_path / "demo"
-    with pytest.raises(RuntimeError, match="midway"):
-        sweeping_demo.run_demo(out)
-    assert not out.exists()
-    assert list(tmp_path.iterdir()) == []  # no hidden .partial- folder left either
-
-
-def test_demo_moves_its_outputs_into_place_at_the_end(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
-    out = tmp_path / "demo"
-    assert sweeping_demo.run_demo(out) == {"written": True}
-    for path in demo_outputs(out):
-        assert path.read_text() == f"new {path.name}\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
-
-
-def test_demo_force_keeps_other_files_and_an_interrupted_move_is_marked(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
-    out = tmp_path / "demo"
-    out.mkdir()
-    (out / "mine.txt").write_text("the user's\n")
-    for path in demo_outputs(out):
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text("old\n")
-    with pytest.raises(FileExistsError):
-        sweeping_demo.run_demo(out)
-    assert (out / "report.html").read_text() == "old\n"
-
-    # Interrupted while moving the new files in: marked, and no report to open.
-    moves = []
-    real_replace = os.replace
-
-    def replace(src, dst):
-        if len(moves) == 4:
-            raise KeyboardInterrupt
-        moves.append(dst)
-        real_replace(src, dst)
-
-    monkeypatch.setattr(sweeping_demo.os, "replace", replace)
-    with pytest.raises(KeyboardInterrupt):
-        sweeping_demo.run_demo(out, overwrite=True)
-    assert (out / sweeping_demo.INCOMPLETE_MARKER).is_file()
-    assert not (out / "report.html").exists()
-
-    monkeypatch.setattr(sweeping_demo.os, "replace", real_replace)
-    sweeping_demo.run_demo(out, overwrite=True)
-    assert not (out / sweeping_demo.INCOMPLETE_MARKER).exists()
-    assert (out / "report.html").read_text() == "new report.html\n"
-    assert (out / "mine.txt").read_text() == "the user's\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
-
-
 def test_demo_cli_refuses_existing_outputs_before_the_work(capsys, monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _no_learning)
+    monkeypatch.setattr("lfdkit.tasks.sweeping.demo._run_into", _no_learning)
     out = tmp_path / "demo"
     (out / "figures").mkdir(parents=True)
     (out / "figures" / "mimic.png").write_text("old\n")
@@ -866,16 +856,6 @@ def test_demo_cli_refuses_existing_outputs_before_the_work(capsys, monkeypatch, 
     assert code == 1
     line = error_line(err, "demo")
     assert line.endswith("mimic.png exists; pass --force to overwrite it")
-
-
-def test_demo_output_folder_gets_the_usual_permissions(monkeypatch, tmp_path):
-    from lfdkit.examples import sweeping_demo
-
-    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
-    plain = tmp_path / "plain"
-    plain.mkdir()
-    sweeping_demo.run_demo(tmp_path / "demo")
-    assert (tmp_path / "demo").stat().st_mode == plain.stat().st_mode
 
 
 def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
@@ -887,7 +867,7 @@ def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
 
 _SLOW_DEMO = """
 import sys, time
-from lfdkit.examples import sweeping_demo
+from lfdkit.tasks.sweeping import demo as sweeping_demo
 from lfdkit.cli import main
 
 def slow(out, progress):

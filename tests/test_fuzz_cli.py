@@ -24,8 +24,8 @@ from hypothesis import strategies as st
 
 from lfdkit import skill as skill_module
 from lfdkit.cli import main
-from lfdkit.examples import sweeping_demo
 from lfdkit.skill import Skill, read_training_data
+from lfdkit.tasks.sweeping import demo as sweeping_demo
 
 REPO = Path(__file__).resolve().parents[1]
 #: Seconds one command may take here (the stand-ins make every command cheap).

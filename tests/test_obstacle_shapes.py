@@ -8,6 +8,8 @@ contract's methods only.
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass, field
+from typing import ClassVar
 
 import matplotlib
 
@@ -25,6 +27,7 @@ from lfdkit.emulate import IOC, Capsule, Obstacle, Reward, Scene, plan_path
 from lfdkit.geometry import segment_polyline_distance
 from lfdkit.io import load_scenes, save_scenes
 from lfdkit.plot import draw_scene
+from lfdkit.scene import OBSTACLE_SHAPES, register_shape
 
 
 def dense_segment(start: np.ndarray, end: np.ndarray, n: int = 4001) -> np.ndarray:
@@ -257,3 +260,72 @@ def test_bad_shapes_in_json_files_are_named(tmp_path) -> None:
         path.write_text(head + body + "]}]}")
         with pytest.raises(ValueError, match=message):
             load_scenes(path)
+
+
+# A shape defined outside lfdkit: two posts of one radius (a dumbbell's ends).
+@dataclass(frozen=True, eq=False)
+class TwoPosts(Obstacle):
+    other: np.ndarray = field(default_factory=lambda: np.zeros(2))
+
+    shape: ClassVar[str] = "two_posts"
+    field_kinds: ClassVar[dict[str, str]] = {"other": "point"}
+
+    def anchors(self) -> np.ndarray:
+        return np.stack([self.position, np.asarray(self.other, float)])
+
+    def balls(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.anchors(), np.full(2, self.radius)
+
+    def distance(self, path: np.ndarray) -> float:
+        return min(Obstacle(self.label, p, self.radius).distance(path) for p in self.anchors())
+
+    def outline(self, n_points: int = 64) -> np.ndarray:
+        half = n_points // 2
+        circles = [Obstacle(self.label, p, self.radius).outline(half) for p in self.anchors()]
+        return np.vstack(circles)
+
+    def fields(self) -> dict:
+        return {"other": np.asarray(self.other, float)}
+
+    def transformed(self, factor: float, flip: np.ndarray) -> TwoPosts:
+        return TwoPosts(
+            self.label,
+            factor * flip * self.position,
+            factor * self.radius,
+            factor * flip * np.asarray(self.other, float),
+        )
+
+    @classmethod
+    def from_fields(cls, label, position, radius, fields) -> TwoPosts:
+        return cls(label, position, radius, np.asarray(fields["other"], float))
+
+
+def test_a_new_shape_is_one_class_used_unchanged_by_every_layer(tmp_path) -> None:
+    register_shape(TwoPosts)
+    try:
+        posts = TwoPosts("post", [0.45, 0.01], 0.03, [0.6, -0.02])
+        scene = Scene((posts,))
+        # Scene files.
+        back = load_scenes(save_scenes(tmp_path / "s.json", {1: scene}))[1].obstacles[0]
+        assert isinstance(back, TwoPosts)
+        np.testing.assert_array_equal(back.other, posts.other)
+        back = load_scenes(save_scenes(tmp_path / "s.csv", {1: scene}))[1].obstacles[0]
+        np.testing.assert_array_equal(back.other, posts.other)
+        # Planner and metrics: the plan keeps clear of both posts.
+        reward = Reward(5.0, {"post": [900.0, 900.0]})
+        plan = plan_path(reward, straight(), scene, clearance=0.005)
+        assert metrics.clearance(plan.points, scene)[0] >= 0.005 - 1e-9
+        # The second post alone would be hit by the plan around the first one's response only.
+        first_only = Scene((Obstacle("post", posts.position, 0.03),))
+        naive = plan_path(reward, straight(), first_only, clearance=0.005)
+        assert metrics.collisions(naive.points, scene) == 1
+        # IOC scales it (its normalisation) and fits.
+        demos = [plan.points]
+        IOC(n_points=60, max_iter=5).fit(demos, [scene], straight(60))
+        # Plots.
+        fig, ax = plt.subplots()
+        draw_scene(ax, scene)
+        assert len(ax.patches) == 1
+        plt.close(fig)
+    finally:
+        OBSTACLE_SHAPES.pop("two_posts", None)

@@ -12,12 +12,12 @@ import pytest
 from lfdkit import metrics
 from lfdkit.datasets import load_emulation_dataset
 from lfdkit.emulate import Reward, plan_path
-from lfdkit.examples import example_dataset, example_files, write_example_files
 from lfdkit.geometry import resample
-from lfdkit.io import load_demos, save_demos
+from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
 from lfdkit.scene import Scene
-from lfdkit.skill import SKILL_VERSION, Skill, learn, read_training_data
+from lfdkit.skill import Skill, learn, read_training_data
+from lfdkit.tasks.sweeping import example_dataset, example_files
 
 FILES = example_files()
 
@@ -40,12 +40,6 @@ def sweeping():
 
 
 # ------------------------------------------------------------------ learning
-def test_shipped_example_files_are_what_the_demonstrator_writes(tmp_path: Path) -> None:
-    written = write_example_files(tmp_path)
-    for stem, path in FILES.items():
-        assert path.read_bytes() == written[stem].read_bytes(), stem
-
-
 def test_training_data_splits_clean_and_obstacle_demonstrations() -> None:
     data = read_training_data(FILES["demos"], FILES["scenes"])
     assert data.free_ids == [f"free-{j}" for j in range(1, 6)]
@@ -306,10 +300,10 @@ def test_deeply_nested_skill_file(tmp_path: Path, depth: int) -> None:
 
 
 def test_skill_file_over_the_size_cap(skill, tmp_path: Path, monkeypatch) -> None:
-    import lfdkit.skill
+    import lfdkit.io.skill_file
 
     path = skill.save(tmp_path / "skill.json")
-    monkeypatch.setattr(lfdkit.skill, "MAX_SKILL_FILE_BYTES", 1000)
+    monkeypatch.setattr(lfdkit.io.skill_file, "MAX_SKILL_FILE_BYTES", 1000)
     with pytest.raises(ValueError) as info:
         Skill.load(path)
     assert str(info.value) == (

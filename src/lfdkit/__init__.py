@@ -1,9 +1,11 @@
 """lfdkit: robot learning from a few noisy demonstrations.
 
 Layers, each knowing only those below it:
-``geometry`` → ``demos`` → ``mimic`` → ``imitate`` → ``emulate`` → ``robot``
-→ ``skill``, with ``metrics``, ``datasets``, ``evaluation``, ``plot``,
-``report`` and ``cli`` on the side. Each mimicking method registers itself in
+``geometry`` → ``demos``, ``scene`` (the data models) → ``io`` (every file
+read or written) → ``mimic`` → ``imitate`` → ``emulate`` → ``robot`` →
+``skill``, with ``metrics``, ``datasets``, ``evaluation``, ``plot`` and
+``report`` on the side; the tasks built on them (``tasks``: the sweeping
+example) and ``cli`` on top. Each mimicking method registers itself in
 :data:`lfdkit.mimic.MIMIC_METHODS` (the contract is :mod:`lfdkit.mimic.base`);
 each robot arm is one :class:`lfdkit.robot.arm.Arm` description.
 """

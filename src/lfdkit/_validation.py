@@ -8,7 +8,7 @@ input never surfaces as a traceback from deep inside NumPy.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -18,8 +18,12 @@ __all__ = [
     "check_demos",
     "check_finite",
     "check_path",
+    "check_point",
     "check_positive",
     "check_random_state",
+    "check_times",
+    "check_times_list",
+    "check_values",
 ]
 
 #: Most points a caller may ask a function to produce (paths, resamplings,
@@ -143,7 +147,14 @@ def check_demos(
     return out
 
 
-def check_point(value: Any, name: str, q: int, *, batch: str | None = None) -> np.ndarray:
+def check_point(
+    value: Any,
+    name: str,
+    q: int,
+    *,
+    batch: str | None = None,
+    style: Literal["shape", "point"] = "shape",
+) -> np.ndarray:
     """Validate one point of ``q`` coordinates, or with ``batch`` a stack of them.
 
     Parameters
@@ -155,6 +166,11 @@ def check_point(value: Any, name: str, q: int, *, batch: str | None = None) -> n
         Number of coordinates.
     batch : str, optional
         Name of the leading axis when a stack of points is accepted (e.g. "n_rollouts").
+    style : {"shape", "point"}
+        Wording of the errors. ``"shape"``: in array terms ("expected shape (q,)"),
+        ``TypeError`` for what is not numbers. ``"point"``: in the task's terms, for
+        callers whose users give points ("expected a q-D point, got shape ..."),
+        ``ValueError`` for every bad value.
 
     Returns
     -------
@@ -163,13 +179,158 @@ def check_point(value: Any, name: str, q: int, *, batch: str | None = None) -> n
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected {q} numbers, got {value!r}") from exc
-    if batch is None and arr.shape != (q,):
-        raise ValueError(f"{name}: expected shape ({q},), got {arr.shape}")
-    if batch is not None and (arr.ndim not in (1, 2) or arr.shape[-1] != q):
+        error = TypeError if style == "shape" else ValueError
+        raise error(f"{name}: expected {q} numbers, got {value!r}") from exc
+    single = arr.shape == (q,)
+    if not single and not (batch is not None and arr.ndim == 2 and arr.shape[1] == q):
+        if style == "point":
+            raise ValueError(f"{name}: expected a {q}-D point, got shape {arr.shape}")
+        if batch is None:
+            raise ValueError(f"{name}: expected shape ({q},), got {arr.shape}")
         raise ValueError(f"{name}: expected shape ({q},) or ({batch}, {q}), got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name}: contains NaN or infinite values")
+    return arr
+
+
+def check_times(
+    times: Any,
+    n_points: int,
+    name: str = "times",
+    *,
+    of: str = "the demonstration",
+    increasing: bool = True,
+    style: Literal["samples", "shape"] = "samples",
+) -> np.ndarray:
+    """Validate the times (or phases) of the ``n_points`` samples of one path.
+
+    Parameters
+    ----------
+    times : array_like, shape (n_points,)
+    n_points : int
+        Number of samples of the path the times belong to.
+    name : str
+        Argument name used in error messages.
+    of : str
+        The path, as error messages name it ("the demonstration", "path", "demos[2]").
+    increasing : bool
+        Whether the times must increase strictly (phases of GMR need not).
+    style : {"samples", "shape"}
+        Wording of the errors. ``"samples"``: a recorded demonstration's, naming the
+        offending sample and its value (the file readers'). ``"shape"``: in array
+        terms, as :func:`check_point` words them.
+
+    Returns
+    -------
+    ndarray of float64, shape (n_points,)
+        The times as given (not shifted).
+
+    Raises
+    ------
+    TypeError
+        If ``times`` cannot be read as numbers.
+    ValueError
+        For another shape, NaN or infinite values, or (``increasing``) a time
+        that does not come after the one before it.
+    """
+    samples = style == "samples"
+    try:
+        arr = np.asarray(times, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        what = "a 1-D numeric array of times in seconds" if samples else "a 1-D numeric array"
+        raise TypeError(f"{name}: expected {what}") from exc
+    if not samples and arr.shape != (n_points,):
+        raise ValueError(f"{name}: expected shape ({n_points},) to match {of}, got {arr.shape}")
+    if samples and arr.ndim != 1:
+        raise ValueError(f"{name}: expected a 1-D array of times, got shape {arr.shape}")
+    if samples and arr.shape[0] != n_points:
+        raise ValueError(f"{name}: has {arr.shape[0]} times but {of} has {n_points} points")
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size and samples:
+        i = int(bad[0])
+        raise ValueError(f"{name}: time at index {i} is {float(arr[i])!r}; times must be finite")
+    if bad.size:
+        raise ValueError(f"{name}: contains NaN or infinite values")
+    step = np.flatnonzero(np.diff(arr) <= 0) if increasing else ()
+    if len(step) and samples:
+        i = int(step[0]) + 1
+        raise ValueError(
+            f"{name}: times must be strictly increasing; t[{i}] = {float(arr[i])!r} "
+            f"is not after t[{i - 1}] = {float(arr[i - 1])!r}"
+        )
+    if len(step):
+        raise ValueError(f"{name}: must increase strictly (row {int(step[0]) + 1} does not)")
+    return arr
+
+
+def check_times_list(
+    times: Any,
+    demos: Sequence[np.ndarray],
+    *,
+    missing: bool = True,
+    increasing: bool = True,
+    style: Literal["samples", "shape"] = "samples",
+) -> list[np.ndarray | None]:
+    """Validate one time array per demonstration (:func:`check_times` of each).
+
+    Parameters
+    ----------
+    times : sequence of array_like, or ndarray of shape (n_demos, n_points)
+        ``times[j]`` for ``demos[j]``; with ``missing``, ``None`` (all or one) for none.
+    demos : sequence of ndarray
+        The demonstrations, already validated (:func:`check_demos`).
+    missing : bool
+        Whether a demonstration may come without times (``None``).
+    increasing, style
+        As :func:`check_times`; ``style="shape"`` names ``demos[j]`` as the path.
+
+    Returns
+    -------
+    list of ndarray (or None where ``missing`` allows it)
+    """
+    if times is None and missing:
+        return [None] * len(demos)
+    if isinstance(times, np.ndarray) and times.ndim == 2:
+        times = list(times)  # (n_demos, n_points), matching a 3-D demos array
+    if isinstance(times, (str, bytes, np.ndarray)) or not isinstance(times, Sequence):
+        either = " (or None)" if missing else ""
+        raise TypeError(
+            f"times: expected a list with one 1-D array{either} per demonstration, "
+            "or a 2-D array of shape (n_demos, n_points)"
+        )
+    if len(times) != len(demos):
+        raise ValueError(f"times: got {len(times)} entries for {len(demos)} demonstrations")
+    out: list[np.ndarray | None] = []
+    for j, (t, demo) in enumerate(zip(times, demos, strict=True)):
+        of = "the demonstration" if style == "samples" else f"demos[{j}]"
+        given = t is not None or not missing
+        out.append(
+            check_times(t, len(demo), f"times[{j}]", of=of, increasing=increasing, style=style)
+            if given
+            else None
+        )
+    return out
+
+
+def check_values(value: Any, name: str) -> np.ndarray:
+    """Validate a 1-D array of finite numbers (phases, scores) at which to evaluate a model.
+
+    A scalar is read as one value and a column of shape ``(n, 1)`` as its ``n``
+    values. Returns a float64 array of shape ``(n,)``; ``TypeError`` for what
+    is not numbers, ``ValueError`` for another shape or a NaN or infinite value.
+    """
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name}: expected a numeric 1-D array") from exc
+    if arr.ndim == 0:
+        arr = arr.reshape(1)
+    elif arr.ndim == 2 and arr.shape[1] == 1:
+        arr = arr[:, 0]
+    elif arr.ndim != 1:
+        raise ValueError(f"{name}: expected a 1-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or an infinite value")
     return arr
 
 

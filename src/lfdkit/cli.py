@@ -4,12 +4,13 @@ Subcommands: ``demo`` (the whole workflow on the built-in sweeping example),
 ``learn`` (a skill from demonstration files), ``plan`` (a path for a new
 start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
 ``compare`` (the mimicking methods on the built-in data sets) and ``bench``
-(the benchmarks of a source checkout).
+(the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source checkout's).
 
 Exit codes: 0 success, 1 the work failed (the reason on stderr in one line,
 never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
-(argparse), 130 interrupted (Ctrl-C). Progress and warnings go to stderr, one
-line each; ``--quiet`` prints nothing on success. Output files are checked
+(argparse, or a folder given or looked for that is not there), 130
+interrupted (Ctrl-C). Progress and warnings go to stderr, one line each;
+``--quiet`` prints nothing on success. Output files are checked
 (exists without ``--force``, folder missing or not writable) before the work.
 """
 
@@ -33,12 +34,17 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from lfdkit import __version__
+from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SKILL_DEFAULTS
 
 __all__ = ["main"]
 
 
 class CommandError(Exception):
     """A failure to report on one line, with exit code 1."""
+
+
+class UsageError(CommandError):
+    """A wrong use of the command found after parsing (a folder not there): exit code 2."""
 
 
 def _say(args: argparse.Namespace, message: str, *, level: int = 1) -> None:
@@ -220,7 +226,7 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _demo(args: argparse.Namespace) -> None:
-    from lfdkit.examples.sweeping_demo import N_STEPS, demo_outputs, run_demo
+    from lfdkit.tasks.sweeping.demo import N_STEPS, demo_outputs, run_demo
 
     out: Path = args.output
     if out.exists() and not out.is_dir():
@@ -254,10 +260,14 @@ def _demo(args: argparse.Namespace) -> None:
 
 
 def _skill_params(args: argparse.Namespace) -> dict:
-    params = {"mimic": args.mimic, "planner": args.planner, "horizon": args.horizon}
-    params.update(n_points=args.n_points, random_state=args.seed)
-    # Options not given take the Skill's own defaults.
-    return {name: value for name, value in params.items() if value is not None}
+    """The :class:`~lfdkit.skill.Skill` parameters of ``learn``'s options (defaults the Skill's)."""
+    return {
+        "mimic": args.mimic,
+        "n_points": args.n_points,
+        "random_state": args.seed,
+        "planner": args.planner,
+        "horizon": args.horizon,
+    }
 
 
 class _MimicChoices:
@@ -442,14 +452,28 @@ def _plot(args: argparse.Namespace) -> None:
     _say(args, f"wrote {args.output}")
 
 
+def _benchmarks_folder(given: Path | None) -> Path:
+    """``--benchmarks``, else ./benchmarks, else the source checkout's (an editable install)."""
+    if given is not None:
+        if not given.is_dir():
+            raise UsageError(f"--benchmarks {given}: no such folder")
+        return given
+    checkout = Path(__file__).resolve().parents[2]
+    places = [Path("benchmarks")]
+    if (checkout / "pyproject.toml").is_file():  # not in an installed package
+        places.append(checkout / "benchmarks")
+    for folder in places:
+        if folder.is_dir():
+            return folder
+    looked = " or ".join(str(folder.resolve()) for folder in places)
+    raise UsageError(
+        f"no benchmarks folder: looked for {looked}; pass --benchmarks DIR, or run from a "
+        "source checkout of lfdkit"
+    )
+
+
 def _bench(args: argparse.Namespace) -> None:
-    root = Path(__file__).resolve().parents[2]
-    folder = root / "benchmarks"
-    if not folder.is_dir():
-        raise CommandError(
-            "the benchmarks live in the source checkout (benchmarks/); run lfdkit bench from "
-            "an editable install of the repository (pip install -e '.[bench]')"
-        )
+    folder = _benchmarks_folder(args.benchmarks)
     # A benchmark is a script NAME.py or a package NAME/ with a __main__.py.
     scripts = {p.stem: p for p in folder.glob("*.py")}
     scripts.update({p.parent.name: p.parent for p in folder.glob("*/__main__.py")})
@@ -464,7 +488,9 @@ def _bench(args: argparse.Namespace) -> None:
             command.append("--quick")
         _say(args, f"lfdkit bench: {' '.join(command[1:])}")
         done = subprocess.run(
-            command, cwd=root, stdout=subprocess.DEVNULL if args.verbosity < 1 else None
+            command,
+            cwd=folder.resolve().parent,
+            stdout=subprocess.DEVNULL if args.verbosity < 1 else None,
         )
         if done.returncode != 0:
             raise CommandError(f"benchmark {name} failed with exit code {done.returncode}")
@@ -496,29 +522,30 @@ def _force(parser: argparse.ArgumentParser) -> None:
 
 
 def _planner_options(parser: argparse.ArgumentParser, *, defaults: bool) -> None:
+    """``--planner`` and ``--horizon``: with ``defaults`` the Skill's, else the skill file's."""
     parser.add_argument(
         "--planner",
-        choices=("mpc", "full"),
-        default="mpc" if defaults else None,
+        choices=PLANNERS,
+        default=SKILL_DEFAULTS["planner"] if defaults else None,
         help="receding-horizon MPC or the full-horizon optimum"
-        + (" (default mpc)" if defaults else " (default: the skill's)"),
+        + (" (default %(default)s)" if defaults else " (default: the skill's)"),
     )
     parser.add_argument(
         "--horizon",
         type=int,
-        default=8 if defaults else None,
+        default=SKILL_DEFAULTS["horizon"] if defaults else None,
         metavar="H",
-        help="MPC horizon, 4 to 12" + (" (default 8)" if defaults else " (default: the skill's)"),
+        help=f"MPC horizon, {MIN_HORIZON} to {MAX_HORIZON}"
+        + (" (default %(default)s)" if defaults else " (default: the skill's)"),
     )
 
 
-def _scene_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--start", type=_numbers, metavar="X,Y[,Z]", help="start (default: the demonstrations')"
-    )
-    parser.add_argument(
-        "--goal", type=_numbers, metavar="X,Y[,Z]", help="goal (default: the demonstrations')"
-    )
+def _skill_file_options(parser: argparse.ArgumentParser) -> None:
+    """The skill file, and the start, goal and obstacles to use it with (``plan``, ``plot``)."""
+    parser.add_argument("skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn")
+    for end in ("start", "goal"):
+        help = f"{end} (default: the demonstrations')"
+        parser.add_argument(f"--{end}", type=_numbers, metavar="X,Y[,Z]", help=help)
     parser.add_argument(
         "--obstacle",
         type=_obstacle,
@@ -534,6 +561,111 @@ def _scene_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _output_folder(parser: argparse.ArgumentParser, name: str) -> None:
+    """``-o/--output``: the folder a command writes its results in (default ./NAME)."""
+    help = f"output directory (default: ./{name})"
+    parser.add_argument("-o", "--output", type=Path, default=Path(name), help=help)
+
+
+def _seed(parser: argparse.ArgumentParser, default: int | None, help: str) -> None:
+    parser.add_argument("--seed", type=_bounded_int(0, 2**32 - 1), default=default, help=help)
+
+
+def _demo_options(parser: argparse.ArgumentParser) -> None:
+    _output_folder(parser, "lfdkit-demo")
+
+
+def _learn_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"
+    )
+    parser.add_argument(
+        "--scenes",
+        type=Path,
+        metavar="SCENES",
+        help="obstacles of the obstacle demonstrations, by demo id (.csv or .json)",
+    )
+    parser.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="SKILL.json", help="skill file to write"
+    )
+    # The Skill parameters' defaults are the Skill's own (lfdkit._options).
+    parser.add_argument(
+        "--mimic",
+        choices=_MimicChoices(),
+        default=SKILL_DEFAULTS["mimic"],
+        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS (default %(default)s)",
+    )
+    parser.add_argument(
+        "--n-points",
+        type=int,
+        default=SKILL_DEFAULTS["n_points"],
+        help="points of the path and of plans (default %(default)s)",
+    )
+    _seed(parser, SKILL_DEFAULTS["random_state"], "seed of GMR's initialisation")
+    _planner_options(parser, defaults=True)
+
+
+def _plan_options(parser: argparse.ArgumentParser) -> None:
+    _skill_file_options(parser)
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="PATH.csv",
+        help="CSV file to write (default: standard output)",
+    )
+    _planner_options(parser, defaults=False)
+    parser.add_argument(
+        "--goal-approach",
+        type=_goal_approach,
+        default="auto",
+        metavar="LENGTH|auto|none",
+        help="return onto the nominal over this last stretch so the plan ends at the goal "
+        "(path units; default auto: the last tenth of the path; none: the thesis's reward, "
+        "no goal term, the plan may end beside the goal)",
+    )
+    parser.add_argument(
+        "--clearance",
+        type=float,
+        default=0.0,
+        metavar="LENGTH",
+        help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
+        "plus clearance or the command fails (path units; default 0)",
+    )
+
+
+def _plot_options(parser: argparse.ArgumentParser) -> None:
+    _skill_file_options(parser)
+    parser.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
+    parser.add_argument("--title", default="", help="figure title")
+    parser.add_argument(
+        "--dpi",
+        type=_bounded_int(10, 1000),
+        default=110,
+        help="resolution, 10 to 1000 (default 110)",
+    )
+    parser.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
+    )
+
+
+def _compare_options(parser: argparse.ArgumentParser) -> None:
+    _output_folder(parser, "lfdkit-compare")
+    parser.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
+    _seed(parser, 0, "data set seed (default 0)")
+
+
+def _bench_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("names", nargs="*", metavar="NAME", help="benchmarks (default all)")
+    parser.add_argument(
+        "--benchmarks",
+        type=Path,
+        metavar="DIR",
+        help="the benchmarks folder (default: ./benchmarks, else the source checkout's)",
+    )
+    parser.add_argument("--quick", action="store_true", help="smaller, faster runs")
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="lfdkit",
@@ -543,160 +675,69 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"lfdkit {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-
-    demo = sub.add_parser(
-        "demo",
-        help="the whole workflow on the built-in sweeping example, with a report",
-        description="Learn the sweeping skill from the shipped demonstrations (clean sweeps, "
-        "sweeps around a cup and a marker), score it on held-out sweeps, plan to a moved "
-        "dustpan in three unseen scenes, and write figures, the skill, the plans, JSON and "
-        "an HTML report.",
-    )
-    demo.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        default=Path("lfdkit-demo"),
-        help="output directory (default: ./lfdkit-demo)",
-    )
-    _force(demo)
-    _loudness(demo)
-    demo.set_defaults(handler=_demo)
-
-    learn = sub.add_parser(
-        "learn",
-        help="learn a skill from demonstration files",
-        description="Learn a skill: the generalized path and its DMP from the demonstrations "
-        "without obstacles, and the obstacle reward from those the scene file lists. "
-        "If the obstacle reward fit does not converge, nothing is written and the exit "
-        "status is 1.",
-    )
-    learn.add_argument(
-        "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"
-    )
-    learn.add_argument(
-        "--scenes",
-        type=Path,
-        metavar="SCENES",
-        help="obstacles of the obstacle demonstrations, by demo id (.csv or .json)",
-    )
-    learn.add_argument(
-        "-o", "--output", type=Path, required=True, metavar="SKILL.json", help="skill file to write"
-    )
-    learn.add_argument(
-        "--mimic",
-        choices=_MimicChoices(),
-        default=None,
-        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS "
-        "(default: the skill's, mean_path)",
-    )
-    learn.add_argument(
-        "--n-points", type=int, default=100, help="points of the path and of plans (default 100)"
-    )
-    learn.add_argument(
-        "--seed",
-        type=_bounded_int(0, 2**32 - 1),
-        default=None,
-        help="seed of GMR's initialisation",
-    )
-    _planner_options(learn, defaults=True)
-    _force(learn)
-    _loudness(learn)
-    learn.set_defaults(handler=_learn)
-
-    plan = sub.add_parser(
-        "plan",
-        help="plan a path with a learned skill",
-        description="Plan with a learned skill: the DMP carries the path to the new start and "
-        "goal, then the planner moves around the obstacles. Writes x,y[,z] rows as CSV.",
-    )
-    plan.add_argument("skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn")
-    _scene_options(plan)
-    plan.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        metavar="PATH.csv",
-        help="CSV file to write (default: standard output)",
-    )
-    _planner_options(plan, defaults=False)
-    plan.add_argument(
-        "--goal-approach",
-        type=_goal_approach,
-        default="auto",
-        metavar="LENGTH|auto|none",
-        help="return onto the nominal over this last stretch so the plan ends at the goal "
-        "(path units; default auto: the last tenth of the path; none: the thesis's reward, "
-        "no goal term, the plan may end beside the goal)",
-    )
-    plan.add_argument(
-        "--clearance",
-        type=float,
-        default=0.0,
-        metavar="LENGTH",
-        help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
-        "plus clearance or the command fails (path units; default 0)",
-    )
-    _force(plan)
-    _loudness(plan)
-    plan.set_defaults(handler=_plan)
-
-    plot = sub.add_parser(
-        "plot",
-        help="draw a skill: reward contours, demonstrations and a plan",
-        description="Draw a learned skill as a PNG: with an obstacle reward, its contours in "
-        "the scene with the nominal, the demonstrations and the plan; otherwise the path and "
-        "its DMP.",
-    )
-    plot.add_argument("skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn")
-    _scene_options(plot)
-    plot.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
-    plot.add_argument("--title", default="", help="figure title")
-    plot.add_argument(
-        "--dpi",
-        type=_bounded_int(10, 1000),
-        default=110,
-        help="resolution, 10 to 1000 (default 110)",
-    )
-    plot.add_argument(
-        "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
-    )
-    _force(plot)
-    _loudness(plot)
-    plot.set_defaults(handler=_plot)
-
-    compare = sub.add_parser(
-        "compare",
-        help="compare the mimicking methods on the built-in data sets",
-        description="Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in "
-        "data sets (known ground truth); write one figure per data set, a table and JSON.",
-    )
-    compare.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        default=Path("lfdkit-compare"),
-        help="output directory (default: ./lfdkit-compare)",
-    )
-    compare.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
-    compare.add_argument(
-        "--seed", type=_bounded_int(0, 2**32 - 1), default=0, help="data set seed (default 0)"
-    )
-    _force(compare)
-    _loudness(compare)
-    compare.set_defaults(handler=_compare)
-
-    bench = sub.add_parser(
-        "bench",
-        help="run the benchmarks (source checkout)",
-        description="Run benchmarks/NAME.py (or the package benchmarks/NAME/) of the source "
-        "checkout; each prints a table and writes JSON and figures under "
-        "benchmarks/results/NAME/.",
-    )
-    bench.add_argument("names", nargs="*", metavar="NAME", help="benchmarks (default all)")
-    bench.add_argument("--quick", action="store_true", help="smaller, faster runs")
-    _loudness(bench)
-    bench.set_defaults(handler=_bench)
+    # Each command: its handler, its options, whether it writes files (-f/--force),
+    # the line of `lfdkit --help` and the description of `lfdkit COMMAND --help`.
+    commands = {
+        "demo": (
+            _demo,
+            _demo_options,
+            True,
+            "the whole workflow on the built-in sweeping example, with a report",
+            "Learn the sweeping skill from the shipped demonstrations (clean sweeps, sweeps "
+            "around a cup and a marker), score it on held-out sweeps, plan to a moved dustpan "
+            "in three unseen scenes, and write figures, the skill, the plans, JSON and an HTML "
+            "report.",
+        ),
+        "learn": (
+            _learn,
+            _learn_options,
+            True,
+            "learn a skill from demonstration files",
+            "Learn a skill: the generalized path and its DMP from the demonstrations without "
+            "obstacles, and the obstacle reward from those the scene file lists. If the "
+            "obstacle reward fit does not converge, nothing is written and the exit status is 1.",
+        ),
+        "plan": (
+            _plan,
+            _plan_options,
+            True,
+            "plan a path with a learned skill",
+            "Plan with a learned skill: the DMP carries the path to the new start and goal, "
+            "then the planner moves around the obstacles. Writes x,y[,z] rows as CSV.",
+        ),
+        "plot": (
+            _plot,
+            _plot_options,
+            True,
+            "draw a skill: reward contours, demonstrations and a plan",
+            "Draw a learned skill as a PNG: with an obstacle reward, its contours in the scene "
+            "with the nominal, the demonstrations and the plan; otherwise the path and its DMP.",
+        ),
+        "compare": (
+            _compare,
+            _compare_options,
+            True,
+            "compare the mimicking methods on the built-in data sets",
+            "Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in data sets "
+            "(known ground truth); write one figure per data set, a table and JSON.",
+        ),
+        "bench": (
+            _bench,
+            _bench_options,
+            False,
+            "run the benchmarks (source checkout)",
+            "Run NAME.py (or the package NAME/) of the benchmarks folder (--benchmarks: "
+            "./benchmarks, else the source checkout's); each prints a table and writes JSON "
+            "and figures under results/NAME/ beside it.",
+        ),
+    }
+    for name, (handler, options, writes, summary, description) in commands.items():
+        command = sub.add_parser(name, help=summary, description=description)
+        options(command)
+        if writes:
+            _force(command)
+        _loudness(command)
+        command.set_defaults(handler=handler)
     return parser
 
 
@@ -721,7 +762,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     Whatever goes wrong ends as one line on stderr, never a traceback: the
     expected failures as ``lfdkit CMD: error: <why>``, anything unexpected the
     same way plus "run with -v for details" (``-v`` prints the traceback too).
-    Exit codes: 1 failure, 2 usage (argparse, which exits itself), 130 interrupted.
+    Exit codes: 1 failure, 2 usage (argparse, which exits itself, or :class:`UsageError`),
+    130 interrupted.
     """
     if argv is None:  # the real command line: a plain kill cleans up like Ctrl-C
         argv = sys.argv[1:]
@@ -754,7 +796,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if isinstance(exc, FileNotFoundError) and exc.filename:
             message = f"{exc.filename}: no such file"
         print(f"{prefix}: error: {message}", file=sys.stderr)
-        return 1
+        return 2 if isinstance(exc, UsageError) else 1
     except Exception as exc:  # the last resort: a bug or a case nobody foresaw
         if args.verbosity >= 2:
             traceback.print_exc(file=sys.stderr)

@@ -38,44 +38,20 @@ PathLike = str | os.PathLike[str]
 DemoId = int | str
 """Identifier of one demonstration in a file: an ``int`` or a non-empty ``str``."""
 
-# Names that lived here before the file I/O moved to lfdkit.io: name -> home module.
-_MOVED_TO_IO = {
-    **dict.fromkeys(
-        (
-            "STALE_TEMP_SECONDS",
-            "NotRegularFileError",
-            "OutputExistsError",
-            "atomic_write",
-            "check_output_path",
-        ),
-        "lfdkit.io.atomic",
-    ),
-    **dict.fromkeys(
-        ("MAX_FILE_BYTES", "MAX_JSON_DEPTH", "json_float_array", "load_json"), "lfdkit.io.text"
-    ),
-    **dict.fromkeys(
-        (
-            "JSON_FORMAT",
-            "JSON_VERSION",
-            "MAX_NPZ_ARRAY_BYTES",
-            "MAX_NPZ_MEMBERS",
-            "SUPPORTED_SUFFIXES",
-            "load_demos",
-            "path_csv",
-            "save_demos",
-            "save_path",
-        ),
-        "lfdkit.io.demos",
-    ),
-}
+# The public names that lived here before the file I/O moved to lfdkit.io.
+_MOVED_TO_IO = frozenset(
+    """JSON_FORMAT JSON_VERSION MAX_FILE_BYTES MAX_JSON_DEPTH MAX_NPZ_ARRAY_BYTES
+    MAX_NPZ_MEMBERS STALE_TEMP_SECONDS SUPPORTED_SUFFIXES NotRegularFileError
+    OutputExistsError atomic_write check_output_path json_float_array load_demos
+    load_json path_csv save_demos save_path""".split()
+)
 
 
 def __getattr__(name: str) -> Any:
     """Forward the names that moved to :mod:`lfdkit.io` (imported on first access)."""
-    home = _MOVED_TO_IO.get(name)
-    if home is None:
+    if name not in _MOVED_TO_IO:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(home), name)
+    return getattr(importlib.import_module("lfdkit.io"), name)
 
 
 def __dir__() -> list[str]:

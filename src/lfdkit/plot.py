@@ -17,6 +17,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
 from matplotlib.ticker import MaxNLocator
 
+from lfdkit._moved import moved
 from lfdkit._validation import check_path, check_positive
 from lfdkit.mimic import MIMIC_METHODS
 from lfdkit.scene import Scene
@@ -37,8 +38,8 @@ __all__ = [
     "emulation_grid",
     "mean_path_figure",
     "method_color",
+    "plan_colors",
     "retargeting_figure",
-    "sweep_figure",
 ]
 
 #: Colours of the benchmarks' peer libraries; lfdkit's own methods carry theirs in
@@ -605,7 +606,8 @@ def _figure_legend(fig: Figure, axes: Sequence[Axes], max_cols: int) -> None:
         )
 
 
-def _plan_colors(names: Sequence[str]) -> dict[str, str]:
+def plan_colors(names: Sequence[str]) -> dict[str, str]:
+    """Colour per planned path, by name: :data:`PLAN_COLORS` in turn, a name once."""
     unique = list(dict.fromkeys(names))
     return {name: PLAN_COLORS[i % len(PLAN_COLORS)] for i, name in enumerate(unique)}
 
@@ -661,7 +663,7 @@ def emulation_figure(
         scene,
         demos,
         plans,
-        plan_colors=_plan_colors(list(plans)),
+        plan_colors=plan_colors(list(plans)),
         class_colors=_class_colors(scene.classes, None),
         units=units,
         title=title,
@@ -727,7 +729,7 @@ def emulation_grid(
                 str(i),
             )
         )
-    plan_colors = _plan_colors([name for _, _, plans in data for name in plans])
+    colors = plan_colors([name for _, _, plans in data for name in plans])
     class_colors = _class_colors(
         list(dict.fromkeys(c for panel in panels for c in panel["scene"].classes)), None
     )
@@ -748,7 +750,7 @@ def emulation_grid(
             panel["scene"],
             demos,
             plans,
-            plan_colors=plan_colors,
+            plan_colors=colors,
             class_colors=class_colors,
             units=units,
             title=panel.get("title", ""),
@@ -760,84 +762,5 @@ def emulation_grid(
     return fig
 
 
-# --------------------------------------------------------------------- execution
-def _draw_dustpan(ax: Axes, dustpan) -> None:
-    """The dustpan's floor as an outline; its open side dashed."""
-    corners = np.array([[0.0, -0.5], [dustpan.depth, -0.5], [dustpan.depth, 0.5], [0.0, 0.5]]) * [
-        1.0,
-        dustpan.width,
-    ]
-    world = dustpan.position + corners @ dustpan.axes
-    ax.plot(*world.T, color="0.25", linewidth=2.0, label="dustpan", zorder=2)
-    ax.plot(*world[[3, 0]].T, color="0.25", linewidth=1.0, linestyle=":", zorder=2)
-
-
-def sweep_figure(
-    dustpan,
-    scene,
-    runs: Mapping[str, object],
-    *,
-    ax: Axes | None = None,
-    title: str = "",
-    legend: bool = True,
-) -> Figure:
-    """Top view of simulated sweeps: the brush's and the cube's traces, dustpan and obstacles.
-
-    Parameters
-    ----------
-    dustpan : lfdkit.robot.sim.Dustpan
-    scene : Scene
-        Obstacles at their start positions.
-    runs : mapping of str to SweepResult
-        One or more simulated sweeps in this scene, by planner name.
-    ax : Axes, optional
-        Draw into these axes (default: a new figure).
-    title : str
-    legend : bool
-        Draw a legend in the axes (off when a figure collects one legend for
-        several panels).
-
-    Returns
-    -------
-    Figure
-
-    Notes
-    -----
-    Each run's flange trace is a solid line, the cube's a dotted line of the
-    same colour ending in a square where the cube came to rest; the legend
-    says whether the run succeeded.
-    """
-    if ax is None:
-        fig = Figure(figsize=(8.5, 3.4), layout="constrained")
-        ax = fig.add_subplot()
-    else:
-        fig = ax.figure
-    _draw_dustpan(ax, dustpan)
-    draw_scene(ax, scene)
-    colors = _plan_colors(list(runs))
-    for name, result in runs.items():
-        color = colors[name]
-        verdict = "ok" if result.success else "failed"
-        if len(result.tool_trace):
-            ax.plot(
-                *result.tool_trace[:, :2].T,
-                color=color,
-                linewidth=1.6,
-                label=f"{name} ({verdict})",
-                zorder=4,
-            )
-            ax.plot(*result.cube_trace.T, color=color, linewidth=1.0, linestyle=":", zorder=4)
-            ax.plot(
-                *result.cube_final, "s", color=color, markeredgecolor="k", markersize=6, zorder=5
-            )
-        else:
-            ax.plot([], [], color=color, label=f"{name} (not run)")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(True, alpha=0.3)
-    if title:
-        ax.set_title(title, fontsize=10)
-    if legend:
-        ax.legend(fontsize=7, loc="best")
-    return fig
+# sweep_figure moved to the sweeping task; the old name finds it there on first use.
+__getattr__ = moved(__name__, "lfdkit.tasks.sweeping", ["sweep_figure"])

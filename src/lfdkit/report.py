@@ -29,13 +29,13 @@ from collections.abc import Mapping, Sequence
 from datetime import datetime, timezone
 from html import escape
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 import lfdkit
 from lfdkit.demos import PathLike
-from lfdkit.io import atomic_write
+from lfdkit.io import write_text
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -150,9 +150,9 @@ class Report:
     """Builder for one self-contained HTML page showing the results of a run.
 
     Add content in reading order with :meth:`heading`, :meth:`paragraph`,
-    :meth:`figure`, :meth:`table` and :meth:`definition_list` (each returns the
-    report, so calls chain), then get the page with :meth:`html` or save it with
-    :meth:`write`.
+    :meth:`figure`, :meth:`table` and :meth:`definition_list`, then get the page
+    with :meth:`html` or save it with :meth:`write`. Each of the five adding
+    methods returns the report itself, so calls chain.
 
     Parameters
     ----------
@@ -188,11 +188,6 @@ class Report:
         text : str
             Heading text. Its id is a slug of the text, made unique by a numeric
             suffix (``results``, ``results-2``, ...) when headings repeat.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
         """
         text = str(text)
         base = _slug(text)
@@ -213,11 +208,6 @@ class Report:
         text : str
             The text. Runs of blank lines split it into ``<p>`` elements; single
             line breaks are kept as ordinary spaces by the browser.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
         """
         for chunk in re.split(r"\n[ \t\r\f\v]*\n", str(text)):
             chunk = chunk.strip()
@@ -246,11 +236,6 @@ class Report:
             Alternative text for the image; the caption (or ``"Figure N"``) if empty.
         dpi : int
             Resolution used to render a matplotlib figure (ignored for PNG bytes).
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
 
         Raises
         ------
@@ -315,11 +300,6 @@ class Report:
         formats : mapping of str to str, optional
             Format spec per column for floats (e.g. ``{"rmse": ".3g"}``); other
             floats use ``".4g"``. Keys that are not columns are ignored.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
 
         Raises
         ------
@@ -395,11 +375,6 @@ class Report:
             as table cells are (floats with ``".4g"``, booleans as yes/no, ...).
         caption : str
             Text above the list.
-
-        Returns
-        -------
-        Report
-            This report, for chaining.
         """
         parts = ['<div class="kv">']
         if caption:
@@ -467,33 +442,25 @@ class Report:
         return "\n".join(out) + "\n"
 
     def write(self, path: PathLike, *, overwrite: bool = False) -> Path:
-        """Save the page atomically (see :func:`lfdkit.io.atomic_write`).
+        """Save the page atomically, as UTF-8 (:func:`lfdkit.io.write_text`).
 
         Parameters
         ----------
         path : str or os.PathLike
-            Destination file (UTF-8); its directory must exist.
+            Destination file; its directory must exist.
         overwrite : bool
-            Replace an existing file. When false an existing file is left intact.
+            Replace an existing file. When false an existing file is left
+            intact and ``FileExistsError`` is raised.
 
         Returns
         -------
         pathlib.Path
-            The path written.
+            The page's file.
 
         Raises
         ------
-        FileExistsError
-            If ``path`` exists and ``overwrite`` is false.
-        IsADirectoryError
-            If ``path`` is a directory.
-        FileNotFoundError
-            If the directory of ``path`` does not exist.
+        FileExistsError, IsADirectoryError, FileNotFoundError
+            As :func:`lfdkit.io.write_text`: ``path`` exists and ``overwrite``
+            is false, ``path`` is a directory, or its directory does not exist.
         """
-        target = Path(path)
-        document = self.html()
-
-        def _writer(f: Any) -> None:
-            f.write(document)
-
-        return atomic_write(target, _writer, overwrite=overwrite, encoding="utf-8")
+        return write_text(path, self.html(), overwrite=overwrite)

@@ -131,16 +131,27 @@ class Obstacle:
         """The shape's extra fields for scene files (none for a round obstacle)."""
         return {}
 
-    def solid(self, height: float) -> dict[str, str]:
-        """The obstacle standing on the plane ``z = 0`` as MuJoCo geom attributes.
+    def solid(self, height: float) -> tuple[np.ndarray, dict[str, str]]:
+        """The obstacle standing on the plane ``z = 0``, for a physics simulation.
 
-        A round obstacle is a vertical cylinder of its radius and ``height``
-        (units of the paths) on its 2-D centre; the simulation adds names,
-        masses and colours and places the plane.
+        Parameters
+        ----------
+        height : float
+            How tall the obstacle stands (units of the paths), where its shape
+            does not say (a round obstacle's cylinder).
+
+        Returns
+        -------
+        centre : ndarray, shape (3,)
+            Where the solid's centre is (its body's origin), above the plane.
+        geom : dict of str to str
+            MuJoCo geom attributes (``type``, ``size``, ``fromto``...) in a
+            frame at ``centre``; the simulation adds names, mass and colour.
+            A round obstacle is a vertical cylinder of its radius.
         """
-        x, y = (repr(float(v)) for v in self.position[:2])
-        half = repr(0.5 * float(height))
-        return {"type": "cylinder", "size": f"{self.radius!r} {half}", "pos": f"{x} {y} {half}"}
+        half = 0.5 * float(height)
+        centre = np.array([*self.position[:2], half])
+        return centre, {"type": "cylinder", "size": f"{self.radius!r} {half!r}"}
 
     def scaled(self, factor: float) -> Obstacle:
         """The obstacle with every length multiplied by ``factor`` (> 0)."""
@@ -240,11 +251,16 @@ class Capsule(Obstacle):
     def fields(self) -> dict[str, Any]:
         return {"end": self.end}
 
-    def solid(self, height: float) -> dict[str, str]:
+    def solid(self, height: float) -> tuple[np.ndarray, dict[str, str]]:
         """A rod lying on the plane (``height`` is not used: it is as tall as it is wide)."""
-        r = repr(float(self.radius))
-        ends = [f"{float(p[0])!r} {float(p[1])!r} {r}" for p in (self.position, self.end)]
-        return {"type": "capsule", "size": r, "fromto": " ".join(ends)}
+        middle = 0.5 * (self.position[:2] + self.end[:2])
+        hx, hy = (float(v) for v in 0.5 * (self.end[:2] - self.position[:2]))
+        ends = f"{-hx!r} {-hy!r} 0.0 {hx!r} {hy!r} 0.0"
+        return np.array([*middle, self.radius]), {
+            "type": "capsule",
+            "size": repr(float(self.radius)),
+            "fromto": ends,
+        }
 
     def transformed(self, factor: float, flip: np.ndarray) -> Capsule:
         return Capsule(

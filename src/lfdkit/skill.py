@@ -24,25 +24,8 @@ Files
 -----
 :meth:`Skill.save` writes one JSON document, ``{"format": "lfdkit-skill",
 "version": 1, ...}``, with every number written exactly (floats round-trip
-bit for bit) and no pickle:
-
-``params``
-    The constructor parameters.
-``n_dims``, ``units``
-    Dimension of the paths and their unit.
-``path``
-    The generalized path, ``(n_points, n_dims)`` nested lists.
-``mimic``
-    How the path was made: ``{"method": ..., "n_demos": ...}`` and the
-    method's diagnostics.
-``reward``
-    ``null`` or ``{"nominal_weight": Q, "precisions": {class: (q, q) nested
-    lists}}`` in 1/units².
-``ioc``
-    ``null`` or a summary of the reward fit (loss, stages, demonstrations,
-    convergence, classes not learned, identifiability of each parameter).
-``lfdkit``
-    The version that wrote it.
+bit for bit) and no pickle; the format, its limits and its strict reader are
+:mod:`lfdkit.io.skill_file`.
 
 The same fitted skill always writes the same bytes: the file holds no date
 and no run times (those stay on the object, in :attr:`Skill.mimic_info_` and
@@ -57,8 +40,6 @@ field, is refused with a message naming the file and the field.
 
 from __future__ import annotations
 
-import json
-import math
 import os
 import time
 import warnings
@@ -70,17 +51,24 @@ import numpy as np
 from sklearn.base import BaseEstimator
 from sklearn.utils.validation import check_is_fitted
 
-from lfdkit import __version__, metrics
-from lfdkit._validation import check_demos, check_path, check_positive
+from lfdkit import metrics
+from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
+from lfdkit._validation import check_demos, check_path, check_point, check_positive
 from lfdkit.demos import DemoId
 from lfdkit.emulate import IOC, Plan, Reward, plan_path
-from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON
 from lfdkit.imitate import DMP
-from lfdkit.io import atomic_write, json_float_array, load_demos, load_json
+from lfdkit.io import load_demos, skill_file
 from lfdkit.io.scenes import load_scenes
+from lfdkit.io.skill_file import (
+    MAX_SKILL_FILE_BYTES,
+    SKILL_FILE_LIMITS,
+    SKILL_FORMAT,
+    SKILL_VERSION,
+)
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
 from lfdkit.scene import Scene
 
+# The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
     "MAX_SKILL_FILE_BYTES",
     "SKILL_FILE_LIMITS",
@@ -92,43 +80,9 @@ __all__ = [
     "read_training_data",
 ]
 
-SKILL_FORMAT = "lfdkit-skill"
-"""Value of the ``"format"`` field of a skill file."""
-
-SKILL_VERSION = 1
-"""Newest skill-file version this module reads, and the one it writes."""
-
 PlannerKind = Literal["mpc", "full"]
 Progress = Callable[[str], None]
 
-_PLANNERS = ("mpc", "full")
-_TIMINGS = ("minimum_jerk", "uniform")
-_SCALINGS = ("translate", "spatial", "per_dimension")
-# Points of a path or plan: the planner's memory grows linearly with them.
-_MAX_POINTS = 100_000
-
-MAX_SKILL_FILE_BYTES = 32 * 1024**2
-"""Largest skill file :meth:`Skill.load` reads, in bytes (32 MiB).
-
-A skill with the longest path allowed (100 000 points in 3-D) takes about 8 MB."""
-
-SKILL_FILE_LIMITS: dict[str, tuple[float, float]] = {
-    "n_points": (3, _MAX_POINTS),
-    "n_components": (1, 1000),
-    "n_basis": (1, 200),
-    "duration": (0.0, 1e6),
-    "max_slope": (0.0, 1e6),
-}
-"""Ranges :meth:`Skill.load` accepts for the numeric ``params`` of a skill file.
-
-``(low, high)``: integers ``low <= n <= high`` (``n_basis`` may also be
-``"auto"``); ``duration`` (seconds) and ``max_slope`` in ``(low, high]``.
-Far beyond any robot task (DMPs use tens of basis functions), they keep a
-corrupt or hostile file from asking for gigabytes or minutes
-(``n_basis = 10**4``; the DMP fit that loading does grows with
-``n_basis**2``, 200 takes about 0.5 s; ``"auto"`` tries at most 200) or overflowing
-(``duration = 1e300``). The stored ``path`` has at most the ``n_points``
-limit of rows."""
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
@@ -207,19 +161,19 @@ class Skill(BaseEstimator):
     def __init__(
         self,
         *,
-        mimic: str = "mean_path",
-        n_points: int = 100,
-        n_components: int = 10,
-        n_basis: int | Literal["auto"] = "auto",
-        timing: str = "minimum_jerk",
-        duration: float = 1.0,
-        scaling: str = "translate",
-        planner: PlannerKind = "mpc",
-        horizon: int = 8,
-        max_slope: float = 1.0,
-        classes: Sequence[str] | None = None,
-        random_state: int | None = None,
-        units: str = "m",
+        mimic: str = SKILL_DEFAULTS["mimic"],
+        n_points: int = SKILL_DEFAULTS["n_points"],
+        n_components: int = SKILL_DEFAULTS["n_components"],
+        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
+        timing: str = SKILL_DEFAULTS["timing"],
+        duration: float = SKILL_DEFAULTS["duration"],
+        scaling: str = SKILL_DEFAULTS["scaling"],
+        planner: PlannerKind = SKILL_DEFAULTS["planner"],
+        horizon: int = SKILL_DEFAULTS["horizon"],
+        max_slope: float = SKILL_DEFAULTS["max_slope"],
+        classes: Sequence[str] | None = SKILL_DEFAULTS["classes"],
+        random_state: int | None = SKILL_DEFAULTS["random_state"],
+        units: str = SKILL_DEFAULTS["units"],
     ) -> None:
         self.mimic = mimic
         self.n_points = n_points
@@ -238,9 +192,9 @@ class Skill(BaseEstimator):
     # ------------------------------------------------------------ parameters
     def _check_params(self) -> None:
         _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
-        _check_choice(self.planner, "planner", _PLANNERS)
-        _check_choice(self.timing, "timing", _TIMINGS)
-        _check_choice(self.scaling, "scaling", _SCALINGS)
+        _check_choice(self.planner, "planner", PLANNERS)
+        _check_choice(self.timing, "timing", TIMINGS)
+        _check_choice(self.scaling, "scaling", SCALINGS)
         # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
         # code can always be saved and loaded again.
         for name in ("n_points", "n_components", "n_basis"):
@@ -346,7 +300,7 @@ class Skill(BaseEstimator):
         # Recorded as well as passed on, so that the skill file and reports keep them.
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            estimator = method.build(settings).fit(demos)
+            estimator = method.fit(method.build(settings), demos)  # checked above
         path = estimator.path_
         info: dict[str, Any] = method.diagnostics(estimator)
         for warning in caught:
@@ -476,9 +430,9 @@ class Skill(BaseEstimator):
             "converged": bool(ioc.converged_),
             "convergence_message": ioc.convergence_message_,
             "not_learned": list(ioc.not_learned_),
-            "identifiability": _jsonable(ioc.identifiability_),
+            "identifiability": skill_file.jsonable(ioc.identifiability_),
             "seconds": time.perf_counter() - started,
-            "stages": _jsonable(
+            "stages": skill_file.jsonable(
                 [
                     {k: v for k, v in stage.items() if isinstance(v, (int, float, str, bool))}
                     for stage in ioc.stages_
@@ -490,7 +444,7 @@ class Skill(BaseEstimator):
     def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
         """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
         goal = self.path_[-1] if goals is None else goals
-        point = _point(goal, "goals", self.n_dims_, batch=True)
+        point = check_point(goal, "goals", self.n_dims_, batch="n_demos", style="point")
         if point.ndim == 2 and point.shape[0] not in (1, n_demos):
             raise ValueError(f"goals: {point.shape[0]} goals for {n_demos} demonstrations")
         return np.broadcast_to(point, (n_demos, self.n_dims_))
@@ -539,7 +493,8 @@ class Skill(BaseEstimator):
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
-        return self.dmp_.rollout(starts, goals, n_steps=n_steps).positions
+        # Starts and goals come checked (_ends, _goals, check_demos): not again in the DMP.
+        return self.dmp_.rollout(starts, goals, n_steps=n_steps, check_input=False).positions
 
     def nominal(self, start: Any = None, goal: Any = None) -> np.ndarray:
         """The generalized path carried to a new start and goal by the DMP.
@@ -554,9 +509,18 @@ class Skill(BaseEstimator):
         ndarray, shape (4 n_points, q)
             DMP rollout positions (minimum-jerk timing: denser at the ends).
         """
+        return self._nominal(*self._ends(start, goal))
+
+    def _ends(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The start and goal a caller gave, checked (default: the generalized path's)."""
         self._check_fitted()
-        start = self.path_[0] if start is None else _point(start, "start", self.n_dims_)
-        goal = self.path_[-1] if goal is None else _point(goal, "goal", self.n_dims_)
+        q = self.n_dims_
+        start = self.path_[0] if start is None else check_point(start, "start", q, style="point")
+        goal = self.path_[-1] if goal is None else check_point(goal, "goal", q, style="point")
+        return start, goal
+
+    def _nominal(self, start: np.ndarray, goal: np.ndarray) -> np.ndarray:
+        """:meth:`nominal` from a checked start and goal."""
         tol = 1e-12 * _extent(self.path_)
         # A closed skill (an "o") goes from a point back to it; an open one cannot.
         closed = np.allclose(self.path_[0], self.path_[-1], rtol=0.0, atol=tol)
@@ -565,30 +529,15 @@ class Skill(BaseEstimator):
         return self._rollouts(start[None], goal[None])[0]
 
     def plan(
-        self,
-        start: Any = None,
-        goal: Any = None,
-        scene: Scene | None = None,
-        *,
-        planner: PlannerKind | None = None,
-        horizon: int | None = None,
-        goal_approach: float | str | None = "auto",
-        clearance: float = 0.0,
+        self, start: Any = None, goal: Any = None, scene: Scene | None = None, **options: Any
     ) -> np.ndarray:
         """The planned path for a new start, goal and scene: ``plan_details(...).points``.
 
-        ndarray, shape (n_points, q), from ``start``; the parameters, errors and
-        safety guarantees are :meth:`plan_details`'.
+        ndarray, shape (n_points, q), from ``start``; the keyword ``options``
+        (``planner``, ``horizon``, ``goal_approach``, ``clearance``), the errors
+        and the safety guarantees are :meth:`plan_details`'.
         """
-        return self.plan_details(
-            start,
-            goal,
-            scene,
-            planner=planner,
-            horizon=horizon,
-            goal_approach=goal_approach,
-            clearance=clearance,
-        ).points
+        return self.plan_details(start, goal, scene, **options).points
 
     def plan_details(
         self,
@@ -641,12 +590,26 @@ class Skill(BaseEstimator):
             obstacles when no reward is learned), a start or goal inside an
             obstacle, or a horizon outside 4-12.
         """
-        nominal = self.nominal(start, goal)
+        start, goal = self._ends(start, goal)
+        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance)
+
+    def _plan(
+        self,
+        start: np.ndarray,
+        goal: np.ndarray,
+        scene: Scene | None,
+        planner: PlannerKind | None,
+        horizon: int | None,
+        goal_approach: float | str | None,
+        clearance: float,
+    ) -> Plan:
+        """:meth:`plan_details` from a checked start and goal."""
+        nominal = self._nominal(start, goal)
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
         kind = self.planner if planner is None else planner
-        _check_choice(kind, "planner", _PLANNERS)
+        _check_choice(kind, "planner", PLANNERS)
         if kind == "mpc":
             h = int(self.horizon) if horizon is None else horizon
         else:
@@ -699,18 +662,19 @@ class Skill(BaseEstimator):
         if len(scenes) != len(demos):
             raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
         goal = self._goals(goals, len(demos))
+        # The demonstrations' starts and the goals are checked: straight to the planner.
         plans = [
-            self.plan(demo[0], g, scene, goal_approach=goal_approach)
+            self._plan(demo[0], g, scene, None, None, goal_approach, 0.0).points
             for demo, g, scene in zip(demos, goal, scenes, strict=True)
         ]
-        nominals = [self.nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
+        nominals = [self._nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
         mse = metrics.mse_paths(plans, demos)
         replay = metrics.mse_paths(nominals, demos)
         return {"mse": mse, "mse_replay": replay, "improvement": metrics.improvement(replay, mse)}
 
     # ------------------------------------------------------------------ files
     def to_dict(self) -> dict[str, Any]:
-        """The skill as a JSON-ready dict (the file format of the module notes).
+        """The skill as a JSON-ready dict (:func:`lfdkit.io.skill_file.to_document`).
 
         The same fitted skill always gives the same dict: no date, and the
         run times (``"seconds"``) of :attr:`mimic_info_` and :attr:`ioc_info_`
@@ -719,26 +683,24 @@ class Skill(BaseEstimator):
         self._check_fitted()
         reward = None
         if self.reward_ is not None:
-            reward = {
-                "nominal_weight": float(self.reward_.nominal_weight),
-                "precisions": {c: m.tolist() for c, m in self.reward_.precisions.items()},
-            }
-        return {
-            "format": SKILL_FORMAT,
-            "version": SKILL_VERSION,
-            "lfdkit": __version__,
-            "params": _jsonable(self.get_params()),
-            "n_dims": self.n_dims_,
-            "units": self.units,
-            "path": self.path_.tolist(),
-            "mimic": _without_timing(_jsonable(self.mimic_info_)),
-            "reward": reward,
-            "ioc": _without_timing(_jsonable(self.ioc_info_)),
-        }
+            reward = (self.reward_.nominal_weight, self.reward_.precisions)
+        return skill_file.to_document(
+            self.get_params(),
+            n_dims=self.n_dims_,
+            units=self.units,
+            path=self.path_,
+            mimic_info=self.mimic_info_,
+            reward=reward,
+            ioc_info=self.ioc_info_,
+        )
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], *, source: str = "skill") -> Skill:
         """Rebuild a skill from :meth:`to_dict`'s output.
+
+        The fields are read by :class:`lfdkit.io.skill_file.SkillDocument`;
+        the skill checks its parameters, refits the DMP on the path and
+        rebuilds the reward from them, in that order.
 
         Raises
         ------
@@ -746,59 +708,23 @@ class Skill(BaseEstimator):
             For another format, a newer version, or a missing or broken field;
             the message starts with ``source`` and names the field.
         """
-        field = _FieldReader(data, source)
-        if field.get("format", str) != SKILL_FORMAT:
-            raise ValueError(
-                f"{source}: not an lfdkit skill (format {data.get('format')!r}, "
-                f"expected {SKILL_FORMAT!r})"
-            )
-        version = field.get("version", int)
-        if version > SKILL_VERSION:
-            raise ValueError(
-                f"{source}: skill file version {version} was written by a newer lfdkit "
-                f"({data.get('lfdkit', '?')}); this lfdkit {__version__} reads up to version "
-                f"{SKILL_VERSION}. Upgrade lfdkit"
-            )
-        if version < 1:
-            raise ValueError(f"{source}: version: expected >= 1, got {version}")
-        params = field.get("params", dict)
-        known = cls().get_params()
-        unknown = sorted(set(params) - set(known))
-        if unknown:
-            raise ValueError(f"{source}: params.{unknown[0]}: unknown parameter")
-        _check_file_params(params, source)
+        document = skill_file.SkillDocument(data, source)
+        params = document.params(cls().get_params())
         try:
             skill = cls(**params)
             skill._check_params()
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{source}: params: {exc}") from None
-        n_dims = field.get("n_dims", int)
-        if n_dims not in (2, 3):
-            raise ValueError(f"{source}: n_dims: expected 2 or 3, got {n_dims}")
-        raw_path = field.get("path", list)
-        if len(raw_path) > _MAX_POINTS:
-            raise ValueError(
-                f"{source}: path: has {len(raw_path)} points; a skill file holds at most "
-                f"{_MAX_POINTS}"
-            )
-        path = field.array("path", (None, n_dims))
-        reward_data = data.get("reward")
+        n_dims = document.n_dims()
+        path = document.path(n_dims)
         try:
             skill.use_path(path)
-            skill.mimic_info_ = field.get("mimic", dict)
-            if reward_data is not None:
-                sub = _FieldReader(reward_data, source, "reward.")
-                precisions = sub.get("precisions", dict)
-                if any(not str(c) for c in precisions):
-                    raise ValueError("reward.precisions: a class name is empty")
-                matrices = {
-                    str(c): sub.array(f"precisions.{c}", (n_dims, n_dims), value=m)
-                    for c, m in precisions.items()
-                }
-                weight = sub.get("nominal_weight", (int, float))
-                skill.adopt(Reward(float(weight), matrices))
-            info = data.get("ioc")
-            skill.ioc_info_ = dict(info) if isinstance(info, Mapping) else None
+            skill.mimic_info_ = document.mimic()
+            reward = document.reward(n_dims)
+            if reward is not None:
+                weight, matrices = reward
+                skill.adopt(Reward(weight, matrices))
+            skill.ioc_info_ = document.ioc()
         except ValueError as exc:
             if str(exc).startswith(source):
                 raise
@@ -806,20 +732,14 @@ class Skill(BaseEstimator):
         return skill
 
     def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Write the skill to a JSON file, atomically (module notes).
+        """Write the skill to a JSON file, atomically (:mod:`lfdkit.io.skill_file`).
 
-        Raises
-        ------
-        FileExistsError
-            If ``path`` exists and ``overwrite`` is false.
-        IsADirectoryError
-            If ``path`` is a directory.
+        Returns the file written. Raises ``FileExistsError`` if ``path``
+        exists and ``overwrite`` is false, ``IsADirectoryError`` if it is a
+        directory (:func:`lfdkit.io.skill_file.write_skill_file`).
         """
-        target = Path(path)
-        if target.is_dir():
-            raise IsADirectoryError(f"{target}: is a directory; give a file name like skill.json")
-        text = json.dumps(self.to_dict(), indent=1, allow_nan=False)
-        return atomic_write(target, lambda f: f.write(text + "\n"), overwrite=overwrite)
+        target = skill_file.check_skill_path(path)
+        return skill_file.write_skill_file(target, self.to_dict(), overwrite=overwrite)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Skill:
@@ -840,16 +760,13 @@ class Skill(BaseEstimator):
             names the file and field).
         """
         name = os.fspath(path)
-        data = load_json(name, max_bytes=MAX_SKILL_FILE_BYTES)
-        if not isinstance(data, Mapping):
-            raise ValueError(f"{name}: expected a JSON object at the top level")
-        return cls.from_dict(data, source=name)
+        return cls.from_dict(skill_file.read_skill_file(name), source=name)
 
     def _mimic_name(self) -> str:
         return MIMIC_METHODS[self.mimic].label
 
     def __repr__(self) -> str:
-        changed = {k: v for k, v in self.get_params().items() if v != _DEFAULTS.get(k)}
+        changed = {k: v for k, v in self.get_params().items() if v != SKILL_DEFAULTS.get(k)}
         args = ", ".join(f"{k}={v!r}" for k, v in changed.items())
         return f"Skill({args})"
 
@@ -976,108 +893,5 @@ def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
 
 
-def _point(value: Any, name: str, q: int, *, batch: bool = False) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}: expected {q} numbers, got {value!r}") from None
-    ok = arr.shape == (q,) or (batch and arr.ndim == 2 and arr.shape[1] == q)
-    if not ok:
-        raise ValueError(f"{name}: expected a {q}-D point, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: contains NaN or infinite values")
-    return arr
-
-
 def _extent(path: np.ndarray) -> float:
     return float(np.max(np.ptp(path, axis=0))) or 1.0
-
-
-def _jsonable(value: Any) -> Any:
-    """Plain JSON types (NumPy scalars and arrays converted); non-finite floats become None."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    return value
-
-
-def _without_timing(value: Any) -> Any:
-    """``value`` without its ``"seconds"`` entries, at any depth (run times vary run to run)."""
-    if isinstance(value, dict):
-        return {k: _without_timing(v) for k, v in value.items() if k != "seconds"}
-    if isinstance(value, list):
-        return [_without_timing(v) for v in value]
-    return value
-
-
-def _check_file_params(params: Mapping[str, Any], source: str) -> None:
-    """Types and ranges of a skill file's numeric ``params`` (:data:`SKILL_FILE_LIMITS`)."""
-    for key, (low, high) in SKILL_FILE_LIMITS.items():
-        if key not in params:
-            continue
-        value = params[key]
-        where = f"{source}: params.{key}"
-        if key == "n_basis" and value == "auto":
-            continue  # the DMP chooses the count
-        integer = key == "n_basis" or isinstance(_DEFAULTS[key], int)
-        kinds = (int,) if integer else (int, float)
-        if isinstance(value, bool) or not isinstance(value, kinds):
-            kind = "an integer" if integer else "a number"
-            raise ValueError(f"{where}: expected {kind}, got {value!r}")
-        if integer and not low <= value <= high:
-            raise ValueError(f"{where}: expected {int(low)} to {int(high)}, got {value}")
-        if not integer and not (low < value <= high):
-            raise ValueError(f"{where}: expected a value in ({low:g}, {high:g}], got {value!r}")
-    for key in ("horizon", "random_state"):
-        value = params.get(key)
-        if isinstance(value, (bool, float, str)):
-            raise ValueError(f"{source}: params.{key}: expected an integer, got {value!r}")
-
-
-class _FieldReader:
-    """Typed access to the fields of a parsed file, with errors that name the field."""
-
-    def __init__(self, data: Any, source: str, prefix: str = "") -> None:
-        if not isinstance(data, Mapping):
-            raise ValueError(f"{source}: {prefix.rstrip('.') or 'file'}: expected an object")
-        self.data, self.source, self.prefix = data, source, prefix
-
-    def get(self, key: str, kind: Any) -> Any:
-        if key not in self.data:
-            raise ValueError(f"{self.source}: {self.prefix}{key}: missing field")
-        value = self.data[key]
-        kinds = kind if isinstance(kind, tuple) else (kind,)
-        if (isinstance(value, bool) and bool not in kinds) or not isinstance(value, kinds):
-            names = " or ".join(k.__name__ for k in kinds)
-            raise ValueError(
-                f"{self.source}: {self.prefix}{key}: expected {names}, got {type(value).__name__}"
-            )
-        return value
-
-    def array(self, key: str, shape: tuple[int | None, ...], *, value: Any = None) -> np.ndarray:
-        raw = self.get(key, list) if value is None else value
-        where = f"{self.source}: {self.prefix}{key}"
-        try:
-            arr = json_float_array(raw, where, len(shape))
-        except TypeError as exc:
-            raise ValueError(str(exc)) from None
-        if arr.ndim != len(shape) or any(
-            s is not None and s != a for s, a in zip(shape, arr.shape, strict=True)
-        ):
-            want = " x ".join("n" if s is None else str(s) for s in shape)
-            raise ValueError(f"{where}: expected shape {want}, got {arr.shape}")
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"{where}: contains NaN or infinite values")
-        return arr
-
-
-_DEFAULTS = Skill().get_params()

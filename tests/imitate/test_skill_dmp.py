@@ -9,7 +9,7 @@ import pytest
 
 from lfdkit.datasets import load_dataset
 from lfdkit.imitate import BASIS_LADDER, DMP
-from lfdkit.skill import Skill, _check_file_params
+from lfdkit.skill import Skill
 
 
 @pytest.fixture(scope="module")
@@ -40,6 +40,21 @@ def test_the_skill_file_round_trips_auto_and_integer_counts(path, n_basis) -> No
     np.testing.assert_array_equal(loaded.nominal(goal=[0.7, 0.1]), skill.nominal(goal=[0.7, 0.1]))
 
 
+@pytest.fixture(scope="module")
+def skill_file(path) -> dict:
+    """A skill as its file holds it (parsed JSON)."""
+    return json.loads(json.dumps(Skill(n_basis=12).use_path(path).to_dict()))
+
+
+def with_n_basis(data: dict, n_basis: object) -> dict:
+    return {**data, "params": {**data["params"], "n_basis": n_basis}}
+
+
+def test_skill_files_accept_auto_and_counts_up_to_200(skill_file) -> None:
+    assert Skill.from_dict(with_n_basis(skill_file, "auto")).n_basis == "auto"
+    assert Skill.from_dict(with_n_basis(skill_file, 200)).dmp_.n_basis_ == 200
+
+
 @pytest.mark.parametrize(
     ("value", "message"),
     [
@@ -50,18 +65,16 @@ def test_the_skill_file_round_trips_auto_and_integer_counts(path, n_basis) -> No
         (True, "params.n_basis: expected an integer"),
     ],
 )
-def test_skill_files_accept_auto_and_bounded_integers_only(value, message) -> None:
-    _check_file_params({"n_basis": "auto"}, "f.json")
-    _check_file_params({"n_basis": 200}, "f.json")
-    with pytest.raises(ValueError, match=message):
-        _check_file_params({"n_basis": value}, "f.json")
+def test_skill_files_accept_auto_and_bounded_integers_only(skill_file, value, message) -> None:
+    with pytest.raises(ValueError, match=f"^f.json: {message}"):
+        Skill.from_dict(with_n_basis(skill_file, value), source="f.json")
 
 
-def test_a_skill_built_in_code_refuses_a_bad_count() -> None:
+def test_a_skill_built_in_code_refuses_a_bad_count(path) -> None:
     with pytest.raises(TypeError, match="n_basis: expected an integer, got 'many'"):
-        Skill(n_basis="many")._check_params()
+        Skill(n_basis="many").use_path(path)
     with pytest.raises(ValueError, match="n_basis: expected 1 to 200, got 500"):
-        Skill(n_basis=500)._check_params()
+        Skill(n_basis=500).use_path(path)
 
 
 def test_the_progress_message_names_the_chosen_count() -> None:

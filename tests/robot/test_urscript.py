@@ -356,6 +356,25 @@ def test_workspace_unbounded_is_explicit_and_still_refuses_absurd_values():
         urscript_program(origin, workspace=None)
 
 
+def test_workspace_checks_positions_and_poses_on_their_own():
+    desk = Workspace(lower=(0.2, -0.3, 0.15), upper=(0.7, 0.3, 0.5))
+    inside = desk.check_positions([[0.4, 0.0, 0.2]])
+    assert inside.dtype == np.float64 and inside.shape == (1, 3)
+    below = r"^points\[1\]: position .* z = 0.1 m is below 0.15 m$"
+    with pytest.raises(URScriptError, match=below):
+        desk.check_positions([[0.4, 0.0, 0.2], [0.4, 0.0, 0.1]], "points")
+    with pytest.raises(URScriptError, match=r"positions\[0\] z: must be finite, got nan"):
+        desk.check_positions(np.array([[0.4, 0.0, np.nan]]))
+    poses = sweep_poses(8)
+    np.testing.assert_array_equal(desk.check_poses(poses), poses)
+    with pytest.raises(URScriptError, match=r"^poses\[0\]: unreachable .* for the UR5$"):
+        Workspace().check_poses([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0]])
+    with pytest.raises(URScriptError, match=r"^path\[0\]: rotation vector .* degrees\)$"):
+        Workspace().check_poses([[0.4, 0.1, 0.2, 0, 180.0, 0]], name="path")
+    with pytest.raises(URScriptTypeError, match="arm: expected an Arm"):
+        Workspace().check_poses(poses, arm="UR5")
+
+
 def test_workspace_tool_moves_the_checked_point():
     tip = np.eye(4)
     tip[2, 3] = 0.19  # brush tip 0.19 m along the flange z axis (down when sweeping)

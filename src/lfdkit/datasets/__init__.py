@@ -7,72 +7,10 @@ its short name, a key of :data:`MIMIC_DATASETS` or :data:`CLOSED_DATASETS`.
 optional extra ``lfdkit[lasa]``).
 """
 
-from lfdkit.datasets.emulation import (
-    EMULATION_DATASETS,
-    EmulationSet,
-    artificial_obstacles,
-    da_vinci_marker,
-    load_emulation_dataset,
-    sweeping,
-)
-from lfdkit.datasets.lasa import LASA_SHAPES, LasaShape, lasa_available, load_all_lasa, load_lasa
-from lfdkit.datasets.synthetic import (
-    CLOSED_DATASETS,
-    MIMIC_DATASETS,
-    RESIDUAL_SHAPES,
-    DemoSet,
-    Residual,
-    closed_circle,
-    da_vinci_walls,
-    deburring_circular,
-    deburring_linear,
-    different_extents,
-    draw_residuals,
-    figure_eight,
-    letter_a,
-    load_dataset,
-    local_detours,
-    loops,
-    nearly_closed_o,
-    noisy_band,
-    quasi_circular_band,
-    residual_profile,
-    uneven_sampling,
-    walking_corridor,
-)
+from lfdkit.datasets import emulation, lasa, synthetic
+from lfdkit.datasets.emulation import *  # noqa: F403
+from lfdkit.datasets.lasa import *  # noqa: F403
+from lfdkit.datasets.synthetic import *  # noqa: F403
 
-__all__ = [
-    "CLOSED_DATASETS",
-    "EMULATION_DATASETS",
-    "LASA_SHAPES",
-    "MIMIC_DATASETS",
-    "RESIDUAL_SHAPES",
-    "DemoSet",
-    "EmulationSet",
-    "LasaShape",
-    "Residual",
-    "artificial_obstacles",
-    "closed_circle",
-    "da_vinci_marker",
-    "da_vinci_walls",
-    "deburring_circular",
-    "deburring_linear",
-    "different_extents",
-    "draw_residuals",
-    "figure_eight",
-    "lasa_available",
-    "letter_a",
-    "load_all_lasa",
-    "load_dataset",
-    "load_emulation_dataset",
-    "load_lasa",
-    "local_detours",
-    "loops",
-    "nearly_closed_o",
-    "noisy_band",
-    "quasi_circular_band",
-    "residual_profile",
-    "sweeping",
-    "uneven_sampling",
-    "walking_corridor",
-]
+# Each module lists what it offers; the package offers all of it.
+__all__ = sorted([*emulation.__all__, *lasa.__all__, *synthetic.__all__])

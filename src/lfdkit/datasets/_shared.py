@@ -9,7 +9,7 @@ import numpy as np
 
 from lfdkit._validation import check_positive
 
-__all__ = ["check_count_at_least", "generate", "smooth_offset"]
+__all__ = ["SizedDemoSet", "check_count_at_least", "generate", "smooth_offset"]
 
 _TWO_PI = 2.0 * np.pi
 
@@ -28,6 +28,8 @@ def smooth_offset(
     sd: float,
     freq: tuple[float, float] = (0.5, 2.5),
     n_terms: int = 3,
+    *,
+    whole_cycles: bool = False,
 ) -> np.ndarray:
     """Random smooth function of ``u in [0, 1]``: a sum of sinusoids with std about ``sd``.
 
@@ -35,8 +37,13 @@ def smooth_offset(
     amplitude weights uniform in [0.5, 1]; amplitudes are scaled so that
     ``sqrt(sum a_k**2 / 2) = sd``. The magnitude never exceeds
     ``sqrt(2 * n_terms) * sd``. Always consumes the same number of draws.
+    With ``whole_cycles`` the frequencies are whole numbers uniform in ``freq``
+    (inclusive), so the function is periodic: equal at ``u = 0`` and ``1``.
     """
-    f = rng.uniform(freq[0], freq[1], n_terms)
+    if whole_cycles:
+        f = rng.integers(freq[0], freq[1] + 1, n_terms).astype(np.float64)
+    else:
+        f = rng.uniform(freq[0], freq[1], n_terms)
     phase = rng.uniform(0.0, _TWO_PI, n_terms)
     w = rng.uniform(0.5, 1.0, n_terms)
     amp = w * sd * np.sqrt(2.0 / np.sum(w**2))
@@ -57,3 +64,20 @@ def generate(
         valid = ", ".join(sorted(registry))
         raise ValueError(f"name: unknown {kind} {name!r}; valid names: {valid}") from None
     return generator(seed=seed, **kwargs)
+
+
+class SizedDemoSet:
+    """``n_demos`` and ``n_dims`` of a data set with ``demos`` and a ``nominal`` (n, q)."""
+
+    demos: list[np.ndarray]
+    nominal: np.ndarray
+
+    @property
+    def n_demos(self) -> int:
+        """Number of demonstrations."""
+        return len(self.demos)
+
+    @property
+    def n_dims(self) -> int:
+        """Spatial dimension ``q`` of the demonstrations."""
+        return int(self.nominal.shape[1])

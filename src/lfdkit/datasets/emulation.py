@@ -67,14 +67,19 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets._shared import check_count_at_least, generate, smooth_offset
+from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
+from lfdkit.datasets.synthetic import DA_VINCI_TOP, da_vinci_polyline, da_vinci_wall_outlines
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
 from lfdkit.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
 from lfdkit.scene import Scene
 
 __all__ = [
+    "CUP_RADIUS",
     "EMULATION_DATASETS",
+    "MARKER_RADIUS",
+    "SWEEP_GOAL",
+    "SWEEP_START",
     "EmulationSet",
     "artificial_obstacles",
     "da_vinci_marker",
@@ -91,32 +96,16 @@ _NOISE_FREQ = (0.5, 3.0)
 #: Smallest and largest lateral offset of a random obstacle, in response widths.
 _LATERAL = (0.2, 1.0)
 
-# Thesis parameters (precisions P = R⁻¹ in 1/m², world axes).
-_ARTIFICIAL_Q = 10.0
-_ARTIFICIAL_P = (2500.0, 215.0)
-_DA_VINCI_Q = 200.0
-_DA_VINCI_P = (475.8, 8576.3, 8576.3)
-_SWEEPING_Q = 20.0
-_CUP_P = (15.4, 1000.0)
-_MARKER_P = (20.08, 880.0)
-
-# Physical radii, metres.
-_OBSTACLE_RADIUS = 0.02
-_MARKER_RADIUS = 0.01
-# A 6 cm cup: the thesis's cup response is 3.2 cm wide across the path, so the optimum of
-# its reward can graze a wider cup in a cluttered scene.
-_CUP_RADIUS = 0.03
-
 
 # --------------------------------------------------------------------- data model
 @dataclass(frozen=True, eq=False)
-class EmulationSet:
-    """Demonstrations in scenes with obstacles, made by a demonstrator with a known reward.
+class EmulationSet(SizedDemoSet):
+    """Demonstrations in scenes with obstacles, by a demonstrator whose reward is known.
 
     Attributes
     ----------
     name : str
-        Short name of the generator (a key of :data:`EMULATION_DATASETS`).
+        The generator's key in :data:`EMULATION_DATASETS`.
     nominal : ndarray, shape (M, q)
         The true nominal path (``M = 500`` for every generator here, q 2 or 3):
         what the demonstrator follows when there is no obstacle.
@@ -243,16 +232,6 @@ class EmulationSet:
         return out
 
     @property
-    def n_demos(self) -> int:
-        """Number of demonstrations."""
-        return len(self.demos)
-
-    @property
-    def n_dims(self) -> int:
-        """Spatial dimension ``q`` of the demonstrations."""
-        return int(self.nominal.shape[1])
-
-    @property
     def classes(self) -> tuple[str, ...]:
         """Obstacle classes of the demonstration scenes, in order of first appearance."""
         return tuple(dict.fromkeys(c for scene in self.scenes for c in scene.classes))
@@ -356,56 +335,77 @@ def _optimal_plan(reward: Reward, nominal: np.ndarray, scene: Scene, n_points: i
     return plan_path(reward, nominal, scene, n_points=n_points, goal_approach=None).points
 
 
-def _demonstrate(
-    reward: Reward,
-    nominal: np.ndarray,
-    scene: Scene,
-    rng: np.random.Generator,
-    noise: float,
-    n_points: int,
-    plan_points: int,
-) -> np.ndarray:
-    """One demonstration: the true optimal plan, smooth normal noise, resampled."""
-    plan = _optimal_plan(reward, nominal, scene, plan_points)
-    q = plan.shape[1]
-    s = arc_length(plan)
-    u = s / s[-1]
-    if q == 2:
-        normals = left_normals(plan)[:, None, :]
-    else:
-        normals = normal_frames(point_tangents(plan))[:, 1:, :]
-    path = plan.copy()
-    for i in range(q - 1):
-        offset = smooth_offset(rng, u, noise, freq=_NOISE_FREQ)
-        path += offset[:, None] * normals[:, i, :]
-    return resample(path, n_points)
+class _Demonstrator:
+    """The synthetic demonstrator of one data set (see the module notes).
 
-
-def _free_demos(
-    reward: Reward,
-    nominal: np.ndarray,
-    rng: np.random.Generator,
-    noise: float,
-    n_points: int,
-    plan_points: int,
-    n_free: Any,
-) -> list[np.ndarray]:
-    """Demonstrations with no obstacle (the nominal plus noise), for learning the nominal.
-
-    Drawn after everything else, so the other demonstrations do not depend on ``n_free``.
+    Holds the true reward and nominal, the random generator and the noise and
+    sampling settings, checked once; makes the demonstrations and, last, the
+    :class:`EmulationSet`.
     """
-    n_free = check_count_at_least(n_free, "n_free", 0)
-    return [
-        _demonstrate(reward, nominal, Scene(), rng, noise, n_points, plan_points)
-        for _ in range(n_free)
-    ]
 
+    def __init__(
+        self,
+        reward: Reward,
+        nominal: np.ndarray,
+        seed: Any,
+        noise: Any,
+        n_points: Any,
+        plan_points: Any,
+    ) -> None:
+        self.noise = check_positive(noise, "noise", allow_zero=True)
+        self.n_points = check_count_at_least(n_points, "n_points", 2)
+        self.plan_points = check_count_at_least(plan_points, "plan_points", 3)
+        self.rng = check_random_state(seed)
+        self.reward = reward
+        self.nominal = nominal
 
-def _check_common(noise: Any, n_points: Any, plan_points: Any) -> tuple[float, int, int]:
-    noise = check_positive(noise, "noise", allow_zero=True)
-    n_points = check_count_at_least(n_points, "n_points", 2)
-    plan_points = check_count_at_least(plan_points, "plan_points", 3)
-    return noise, n_points, plan_points
+    def demonstrate(self, scene: Scene) -> np.ndarray:
+        """One demonstration: the true optimal plan, smooth normal noise, resampled."""
+        plan = _optimal_plan(self.reward, self.nominal, scene, self.plan_points)
+        q = plan.shape[1]
+        s = arc_length(plan)
+        u = s / s[-1]
+        if q == 2:
+            normals = left_normals(plan)[:, None, :]
+        else:
+            normals = normal_frames(point_tangents(plan))[:, 1:, :]
+        path = plan.copy()
+        for i in range(q - 1):
+            offset = smooth_offset(self.rng, u, self.noise, freq=_NOISE_FREQ)
+            path += offset[:, None] * normals[:, i, :]
+        return resample(path, self.n_points)
+
+    def emulation_set(
+        self,
+        name: str,
+        demos: list[np.ndarray],
+        scenes: list[Scene],
+        split: tuple[np.ndarray, np.ndarray],
+        n_free: Any,
+        **fields: Any,
+    ) -> EmulationSet:
+        """The data set, with ``n_free`` demonstrations with no obstacle drawn last.
+
+        The free demonstrations (the nominal plus noise, for learning the
+        nominal) come after every other draw, so the other demonstrations do
+        not depend on ``n_free``. ``split`` is ``(train, test)``; ``fields``
+        are the remaining :class:`EmulationSet` fields.
+        """
+        n_free = check_count_at_least(n_free, "n_free", 0)
+        free_demos = [self.demonstrate(Scene()) for _ in range(n_free)]
+        train, test = split
+        return EmulationSet(
+            name=name,
+            nominal=self.nominal,
+            demos=demos,
+            scenes=scenes,
+            true_reward=self.reward,
+            units="m",
+            train=train,
+            test=test,
+            free_demos=free_demos,
+            **fields,
+        )
 
 
 def _split(n: int, n_test: int, offset: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -415,6 +415,13 @@ def _split(n: int, n_test: int, offset: int = 0) -> tuple[np.ndarray, np.ndarray
 
 
 # --------------------------------------------------------------------- §5.5 artificial
+# Thesis parameters (precisions P = R⁻¹ in 1/m², world axes, here and below).
+_ARTIFICIAL_Q = 10.0
+_ARTIFICIAL_P = (2500.0, 215.0)
+#: Physical radius of the artificial obstacles, metres.
+_OBSTACLE_RADIUS = 0.02
+
+
 def _artificial_nominal() -> np.ndarray:
     """Fine gentle S from (0, 0) to (1, 0) m: ``y = 0.05 sin(2π x)``, shape (_N_FINE, 2)."""
     x = np.linspace(0.0, 1.0, 20001)
@@ -478,12 +485,13 @@ def artificial_obstacles(
         plan with ``H = 8`` or ``12`` cuts through an obstacle's radius.
     """
     n_demos = check_count_at_least(n_demos, "n_demos")
-    noise, n_points, plan_points = _check_common(noise, n_points, plan_points)
-    rng = check_random_state(seed)
     fine = _artificial_nominal()
-    nominal = resample(fine, _N_NOMINAL)
     track = _Track(fine)
     reward = Reward(_ARTIFICIAL_Q, {"obstacle": _ARTIFICIAL_P})
+    demonstrator = _Demonstrator(
+        reward, resample(fine, _N_NOMINAL), seed, noise, n_points, plan_points
+    )
+    rng, noise = demonstrator.rng, demonstrator.noise
     precision = reward.precisions["obstacle"]
 
     def scene_of(positions: list[np.ndarray]) -> Scene:
@@ -495,7 +503,7 @@ def artificial_obstacles(
     for _ in range(n_demos):
         u = rng.uniform(0.2, 0.8)
         scene = scene_of([track.place(u, _lateral(rng), precision)])
-        demos.append(_demonstrate(reward, nominal, scene, rng, noise, n_points, plan_points))
+        demos.append(demonstrator.demonstrate(scene))
         scenes.append(scene)
     cluttered = scene_of(
         [
@@ -505,65 +513,29 @@ def artificial_obstacles(
     )
     angles = np.deg2rad([90.0, 45.0, 0.0, -45.0, -90.0])
     concave = scene_of([track.local(0.45, 0.08 * np.cos(a), 0.08 * np.sin(a)) for a in angles])
-    train, test = _split(n_demos, n_demos // 4)
-    free_demos = _free_demos(reward, nominal, rng, noise, n_points, plan_points, n_free)
-    return EmulationSet(
-        free_demos=free_demos,
-        name="artificial",
-        nominal=nominal,
-        demos=demos,
-        scenes=scenes,
-        true_reward=reward,
-        units="m",
-        train=train,
-        test=test,
+    return demonstrator.emulation_set(
+        "artificial",
+        demos,
+        scenes,
+        _split(n_demos, n_demos // 4),
+        n_free,
         description=(
             f"Thesis §5.5: {n_demos} demos along the S y = 0.05 sin(2πx) m, x in [0, 1], one "
             "obstacle per scene at u ~ U[0.2, 0.8] and ±U[0.2, 1] response widths off the "
-            f"path; demonstrator = optimal plan ({plan_points} points) of Q = 10, "
+            f"path; demonstrator = optimal plan ({demonstrator.plan_points} points) of Q = 10, "
             f"P = diag(2500, 215) 1/m², plus smooth normal noise sd {noise:g} m, resampled "
-            f"to {n_points} points. Held out: 4-obstacle clutter, 5-obstacle concave pocket."
+            f"to {demonstrator.n_points} points. Held out: 4-obstacle clutter, 5-obstacle "
+            "concave pocket."
         ),
         held_out_scenes=[cluttered, concave],
     )
 
 
 # --------------------------------------------------------------------- §6.3 da Vinci
-#: Transport height of the da Vinci nominal and the wall planes, metres.
-_DV_TOP = 0.035
-_DV_WALL_Y = 0.025
-
-
-def _da_vinci_nominal() -> np.ndarray:
-    """The fine 3-D nominal of :func:`lfdkit.datasets.synthetic.da_vinci_walls`."""
-    rad, top = 0.015, _DV_TOP
-    a1 = np.linspace(np.pi, np.pi / 2.0, 2001)
-    a2 = np.linspace(np.pi / 2.0, 0.0, 2001)
-    xz = np.vstack(
-        (
-            np.column_stack((np.zeros(2001), np.linspace(0.0, top - rad, 2001))),
-            np.column_stack((rad + rad * np.cos(a1), top - rad + rad * np.sin(a1)))[1:],
-            np.column_stack((np.linspace(rad, 0.1 - rad, 5001), np.full(5001, top)))[1:],
-            np.column_stack((0.1 - rad + rad * np.cos(a2), top - rad + rad * np.sin(a2)))[1:],
-            np.column_stack((np.full(2001, 0.1), np.linspace(top - rad, 0.005, 2001)))[1:],
-        )
-    )
-    return resample(np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1])), _N_FINE)
-
-
-def _da_vinci_walls() -> tuple[np.ndarray, ...]:
-    return tuple(
-        np.array(
-            [
-                [-0.02, y, -0.01],
-                [0.12, y, -0.01],
-                [0.12, y, 0.06],
-                [-0.02, y, 0.06],
-                [-0.02, y, -0.01],
-            ]
-        )
-        for y in (-_DV_WALL_Y, _DV_WALL_Y)
-    )
+_DA_VINCI_Q = 200.0
+_DA_VINCI_P = (475.8, 8576.3, 8576.3)
+#: Physical radius of a marker (da Vinci and sweeping), metres.
+MARKER_RADIUS = 0.01
 
 
 def da_vinci_marker(
@@ -634,21 +606,27 @@ def da_vinci_marker(
     arrangement.
     """
     n_demos = check_count_at_least(n_demos, "n_demos")
-    noise, n_points, plan_points = _check_common(noise, n_points, plan_points)
-    rng = check_random_state(seed)
-    nominal = resample(_da_vinci_nominal(), _N_NOMINAL)
     reward = Reward(_DA_VINCI_Q, {"marker": _DA_VINCI_P})
+    demonstrator = _Demonstrator(
+        reward,
+        resample(resample(da_vinci_polyline(), _N_FINE), _N_NOMINAL),
+        seed,
+        noise,
+        n_points,
+        plan_points,
+    )
+    rng, noise = demonstrator.rng, demonstrator.noise
     width = _width(reward.precisions["marker"], np.array([0.0, 1.0, 0.0]))
 
     def scene_of(xy: Sequence[tuple[float, float]]) -> Scene:
-        positions = [[x, y, _DV_TOP] for x, y in xy]
-        return Scene.from_arrays(["marker"] * len(xy), positions, [_MARKER_RADIUS] * len(xy))
+        positions = [[x, y, DA_VINCI_TOP] for x, y in xy]
+        return Scene.from_arrays(["marker"] * len(xy), positions, [MARKER_RADIUS] * len(xy))
 
     demos, scenes = [], []
     for _ in range(n_demos):
         x = rng.uniform(0.03, 0.07)
         scene = scene_of([(x, _lateral(rng) * width)])
-        demos.append(_demonstrate(reward, nominal, scene, rng, noise, n_points, plan_points))
+        demos.append(demonstrator.demonstrate(scene))
         scenes.append(scene)
     held_out = [
         scene_of([(0.035, 0.009)]),
@@ -656,35 +634,37 @@ def da_vinci_marker(
         scene_of([(0.068, 0.0015)]),
         scene_of([(0.035, 0.006), (0.065, 0.004)]),
     ]
-    train, test = _split(n_demos, n_demos // 3)
-    free_demos = _free_demos(reward, nominal, rng, noise, n_points, plan_points, n_free)
-    return EmulationSet(
-        free_demos=free_demos,
-        name="da_vinci_marker",
-        nominal=nominal,
-        demos=demos,
-        scenes=scenes,
-        true_reward=reward,
-        units="m",
-        train=train,
-        test=test,
-        walls=_da_vinci_walls(),
+    return demonstrator.emulation_set(
+        "da_vinci_marker",
+        demos,
+        scenes,
+        _split(n_demos, n_demos // 3),
+        n_free,
+        walls=da_vinci_wall_outlines(),
         description=(
             f"Thesis §6.3: {n_demos} 3-D pick-and-place demos between walls y = ±0.025 m, one "
             "marker per scene at x ~ U[0.03, 0.07], |y| ~ U[0.2, 1] * 1.08 cm, z = 0.035 m; "
-            f"demonstrator = optimal plan ({plan_points} points) of Q = 200, "
+            f"demonstrator = optimal plan ({demonstrator.plan_points} points) of Q = 200, "
             "P = diag(475.8, 8576.3, 8576.3) 1/m² (thesis planar R⁻¹, z repeats y), plus "
             f"smooth normal noise sd {noise:g} m per normal direction, resampled to "
-            f"{n_points} points. Held out: 3 unseen marker positions and 2 markers on one side."
+            f"{demonstrator.n_points} points. Held out: 3 unseen marker positions and 2 markers "
+            "on one side."
         ),
         held_out_scenes=held_out,
     )
 
 
 # --------------------------------------------------------------------- §6.4 sweeping
-#: Start (cube) and goal (dustpan) of the sweeping nominal, UR5 base frame, metres.
-_SWEEP_START = (-0.40, 0.45)
-_SWEEP_GOAL = (0.40, 0.45)
+_SWEEPING_Q = 20.0
+_CUP_P = (15.4, 1000.0)
+_MARKER_P = (20.08, 880.0)
+#: Physical radius of a cup, metres. A 6 cm cup: the thesis's cup response is 3.2 cm wide
+#: across the path, so the optimum of its reward can graze a wider cup in a cluttered scene.
+CUP_RADIUS = 0.03
+#: Start (the cube) of the sweeping nominal, UR5 base frame, metres.
+SWEEP_START = (-0.40, 0.45)
+#: Goal (in the dustpan) of the sweeping nominal, UR5 base frame, metres.
+SWEEP_GOAL = (0.40, 0.45)
 
 
 def sweeping(
@@ -756,14 +736,15 @@ def sweeping(
     """
     n_cup = check_count_at_least(n_cup, "n_cup")
     n_marker = check_count_at_least(n_marker, "n_marker")
-    noise, n_points, plan_points = _check_common(noise, n_points, plan_points)
-    rng = check_random_state(seed)
-    x = np.linspace(_SWEEP_START[0], _SWEEP_GOAL[0], 2001)
-    fine = resample(np.column_stack((x, np.linspace(_SWEEP_START[1], _SWEEP_GOAL[1], 2001))), 2001)
-    nominal = resample(fine, _N_NOMINAL)
+    x = np.linspace(SWEEP_START[0], SWEEP_GOAL[0], 2001)
+    fine = resample(np.column_stack((x, np.linspace(SWEEP_START[1], SWEEP_GOAL[1], 2001))), 2001)
     track = _Track(fine)
     reward = Reward(_SWEEPING_Q, {"cup": _CUP_P, "marker": _MARKER_P})
-    radius = {"cup": _CUP_RADIUS, "marker": _MARKER_RADIUS}
+    demonstrator = _Demonstrator(
+        reward, resample(fine, _N_NOMINAL), seed, noise, n_points, plan_points
+    )
+    rng, noise = demonstrator.rng, demonstrator.noise
+    radius = {"cup": CUP_RADIUS, "marker": MARKER_RADIUS}
 
     def scene_of(items: Sequence[tuple[str, np.ndarray]]) -> Scene:
         return Scene.from_arrays(
@@ -776,7 +757,7 @@ def sweeping(
             u = rng.uniform(0.35, 0.5)
             position = track.place(u, _lateral(rng), reward.precisions[label])
             scene = scene_of([(label, position)])
-            demos.append(_demonstrate(reward, nominal, scene, rng, noise, n_points, plan_points))
+            demos.append(demonstrator.demonstrate(scene))
             scenes.append(scene)
     held_out = [
         scene_of([(label, track.local(u, 0.0, across)) for label, u, across in design])
@@ -794,25 +775,20 @@ def sweeping(
     ]
     cup_train, cup_test = _split(n_cup, n_cup // 3)
     marker_train, marker_test = _split(n_marker, n_marker // 3, offset=n_cup)
-    free_demos = _free_demos(reward, nominal, rng, noise, n_points, plan_points, n_free)
-    return EmulationSet(
-        free_demos=free_demos,
-        name="sweeping",
-        nominal=nominal,
-        demos=demos,
-        scenes=scenes,
-        true_reward=reward,
-        units="m",
-        train=np.concatenate((cup_train, marker_train)),
-        test=np.concatenate((cup_test, marker_test)),
+    return demonstrator.emulation_set(
+        "sweeping",
+        demos,
+        scenes,
+        (np.concatenate((cup_train, marker_train)), np.concatenate((cup_test, marker_test))),
+        n_free,
         description=(
             f"Thesis §6.4: {n_cup} cup + {n_marker} marker sweeping demos along the straight "
             "0.8 m nominal (-0.4, 0.45) -> (0.4, 0.45) m, one obstacle per scene at "
             "u ~ U[0.35, 0.5], ±U[0.2, 1] lateral response widths; demonstrator = optimal "
-            f"plan ({plan_points} points) of Q = 20, cup P = diag(15.4, 1000), marker "
-            f"P = diag(20.08, 880) 1/m², plus smooth normal noise sd {noise:g} m, resampled to "
-            f"{n_points} points. The along-path response (25 cm) spans the whole sweep. "
-            "Held out: 3 cup + marker scenes and a 4-obstacle clutter."
+            f"plan ({demonstrator.plan_points} points) of Q = 20, cup P = diag(15.4, 1000), "
+            f"marker P = diag(20.08, 880) 1/m², plus smooth normal noise sd {noise:g} m, "
+            f"resampled to {demonstrator.n_points} points. The along-path response (25 cm) "
+            "spans the whole sweep. Held out: 3 cup + marker scenes and a 4-obstacle clutter."
         ),
         held_out_scenes=held_out,
     )
@@ -828,23 +804,10 @@ EMULATION_DATASETS: dict[str, Callable[..., EmulationSet]] = {
 
 
 def load_emulation_dataset(name: str, seed: Any = None, **kwargs: Any) -> EmulationSet:
-    """Generate an emulation data set by its short name.
+    """The emulation data set ``name``, a key of :data:`EMULATION_DATASETS`.
 
-    Parameters
-    ----------
-    name : str
-        A key of :data:`EMULATION_DATASETS`.
-    seed : None, int or numpy.random.Generator
-    **kwargs
-        Passed to the generator.
-
-    Returns
-    -------
-    EmulationSet
-
-    Raises
-    ------
-    ValueError
-        If ``name`` is unknown; the message lists the valid names.
+    As :func:`lfdkit.datasets.load_dataset` for the mimicking sets: ``seed`` and
+    ``kwargs`` go to the generator, and an unknown ``name`` raises
+    ``ValueError`` listing the valid names.
     """
     return generate(EMULATION_DATASETS, "emulation data set", name, seed, kwargs)

@@ -37,12 +37,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets._shared import check_count_at_least, generate, smooth_offset
+from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
 from lfdkit.geometry import (
     arc_length,
     left_normals,
@@ -85,7 +85,7 @@ _TWO_PI = 2.0 * np.pi
 
 # --------------------------------------------------------------------- data model
 @dataclass(frozen=True, eq=False)
-class DemoSet:
+class DemoSet(SizedDemoSet):
     """A set of demonstrations with the ground-truth path they were generated around.
 
     Attributes
@@ -140,16 +140,6 @@ class DemoSet:
         if self.material_side is not None:
             object.__setattr__(self, "material_side", int(self.material_side))
 
-    @property
-    def n_demos(self) -> int:
-        """Number of demonstrations."""
-        return len(self.demos)
-
-    @property
-    def n_dims(self) -> int:
-        """Spatial dimension ``q`` of the demonstrations."""
-        return int(self.nominal.shape[1])
-
 
 # --------------------------------------------------------------------- helpers
 def _fine(curve: np.ndarray) -> np.ndarray:
@@ -175,13 +165,73 @@ def _cut(path: np.ndarray, s_path: np.ndarray, s0: float, s1: float) -> np.ndarr
     return np.vstack((ends[:1], path[inside], ends[1:]))
 
 
-def _band_draws(
-    rng: np.random.Generator, u: np.ndarray, n_demos: int, n_points: int, noise: float
-) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """Smooth normal offsets (sd ``noise``) and white noise (sd ``0.05 noise``) per demo."""
-    offsets = [smooth_offset(rng, u, noise) for _ in range(n_demos)]
-    white = [rng.normal(0.0, 0.05 * noise, (n_points, 2)) for _ in range(n_demos)]
-    return offsets, white
+def _arc(fine: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Arc length along ``fine`` and its normalised form ``u in [0, 1]``."""
+    s = arc_length(fine)
+    return s, s / s[-1]
+
+
+def _ramp(x: np.ndarray) -> np.ndarray:
+    """Smooth step from 0 (``x <= 0``) to 1 (``x >= 1``), ``3x² − 2x³`` between."""
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+class _Band(NamedTuple):
+    """A 2-D band set in the making: the fine nominal, its frame and the random draws.
+
+    ``offsets[j]`` is demonstration ``j``'s smooth normal offset (sd ``noise``)
+    and ``white[j]`` its white noise (sd ``0.05 noise``), drawn in that order.
+    """
+
+    fine: np.ndarray
+    normals: np.ndarray
+    s: np.ndarray
+    n_points: int
+    offsets: list[np.ndarray]
+    white: list[np.ndarray]
+
+    @classmethod
+    def draw(
+        cls, rng: np.random.Generator, fine: np.ndarray, n_demos: int, n_points: int, noise: float
+    ) -> _Band:
+        s, u = _arc(fine)
+        offsets = [smooth_offset(rng, u, noise) for _ in range(n_demos)]
+        white = [rng.normal(0.0, 0.05 * noise, (n_points, 2)) for _ in range(n_demos)]
+        return cls(fine, left_normals(fine), s, n_points, offsets, white)
+
+    def paths(self) -> list[np.ndarray]:
+        """The fine nominal moved along its normals by each offset."""
+        return [self.fine + o[:, None] * self.normals for o in self.offsets]
+
+    def demos(self, paths: list[np.ndarray] | None = None) -> list[np.ndarray]:
+        """Each path (default :meth:`paths`) resampled to ``n_points`` points, plus its noise."""
+        paths = self.paths() if paths is None else paths
+        return [resample(p, self.n_points) + w for p, w in zip(paths, self.white, strict=True)]
+
+
+def _demo_set(
+    name: str, demos: list[np.ndarray], fine: np.ndarray, units: str, description: str, **more: Any
+) -> DemoSet:
+    """The :class:`DemoSet` whose ground truth is the fine nominal, resampled to 500 points."""
+    nominal = resample(fine, _N_NOMINAL)
+    return DemoSet(name, demos, nominal, units, description=description, **more)
+
+
+def _at_most(count: Any, name: str, n_demos: int) -> int:
+    """How many of the ``n_demos`` demonstrations get a feature: 0 to ``n_demos``."""
+    count = check_count_at_least(count, name, 0)
+    if count > n_demos:
+        raise ValueError(f"{name}: must be <= n_demos ({n_demos}), got {count}")
+    return count
+
+
+def _noise_below(noise: float, size: float, name: str, divisor: int) -> None:
+    """Refuse a noise that could fold the shape: it must stay below ``size / divisor``."""
+    if noise * divisor >= size:
+        raise ValueError(
+            f"noise: must be smaller than {name} / {divisor} ({size / divisor:g}), got {noise}"
+        )
 
 
 def _check_band(
@@ -234,16 +284,14 @@ def quasi_circular_band(n_points: int = 100, offset: float = 0.6, seed: Any = No
         demo = resample(fine + sign * offset * normals, n_points)
         demo = demo + rng.normal(0.0, jitter_sd, n_points)[:, None] * left_normals(demo)
         demos.append(demo)
-    return DemoSet(
-        name="quasi_circular",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
-        description=(
-            "Thesis Fig 4.5: nominal r = 5(1 + 0.08 sin 3θ) m, θ in [0°, 300°]; two demos at "
-            f"normal offsets ±{offset:g} m with jitter sd {jitter_sd:g} m along the normal, "
-            f"{n_points} points each. Ground truth: the nominal."
-        ),
+    return _demo_set(
+        "quasi_circular",
+        demos,
+        fine,
+        "m",
+        "Thesis Fig 4.5: nominal r = 5(1 + 0.08 sin 3θ) m, θ in [0°, 300°]; two demos at "
+        f"normal offsets ±{offset:g} m with jitter sd {jitter_sd:g} m along the normal, "
+        f"{n_points} points each. Ground truth: the nominal.",
     )
 
 
@@ -273,25 +321,15 @@ def noisy_band(
         shape ``(500, 2)`` (the S-curve ``y = 1.5 sin(2π x / 10)``, ``x`` from 0 to 10).
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
-    rng = check_random_state(seed)
-    fine = _s_curve()
-    normals = left_normals(fine)
-    u = arc_length(fine) / arc_length(fine)[-1]
-    offsets, white = _band_draws(rng, u, n_demos, n_points, noise)
-    demos = [
-        resample(fine + o[:, None] * normals, n_points) + w
-        for o, w in zip(offsets, white, strict=True)
-    ]
-    return DemoSet(
-        name="noisy_band",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
-        description=(
-            f"S-shaped nominal; {n_demos} demos = smooth normal offsets (sd ≈ {noise:g} m) "
-            f"+ white noise (sd {0.05 * noise:g} m), {n_points} points each. "
-            "Ground truth: the nominal."
-        ),
+    band = _Band.draw(check_random_state(seed), _s_curve(), n_demos, n_points, noise)
+    return _demo_set(
+        "noisy_band",
+        band.demos(),
+        band.fine,
+        "m",
+        f"S-shaped nominal; {n_demos} demos = smooth normal offsets (sd ≈ {noise:g} m) "
+        f"+ white noise (sd {0.05 * noise:g} m), {n_points} points each. "
+        "Ground truth: the nominal.",
     )
 
 
@@ -345,14 +383,9 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
     )
     fine = _fine(centre)
     normals = left_normals(fine)
-    u = arc_length(fine) / arc_length(fine)[-1]
-
-    def ramp(x: np.ndarray) -> np.ndarray:
-        x = np.clip(x, 0.0, 1.0)
-        return x * x * (3.0 - 2.0 * x)
-
-    taper = ramp(u / 0.15) * ramp((1.0 - u) / 0.15)
-    w_start, w_goal = 1.0 - ramp(u / 0.2), 1.0 - ramp((1.0 - u) / 0.2)
+    u = _arc(fine)[1]
+    taper = _ramp(u / 0.15) * _ramp((1.0 - u) / 0.15)
+    w_start, w_goal = 1.0 - _ramp(u / 0.2), 1.0 - _ramp((1.0 - u) / 0.2)
 
     def in_disc(radius: float) -> np.ndarray:
         r, ang = radius * np.sqrt(rng.random()), rng.uniform(0.0, _TWO_PI)
@@ -377,17 +410,61 @@ def walking_corridor(n_demos: int = 30, seed: Any = None, *, n_volunteers: int =
         np.array([[-1.0, 0.9], [5.8, 0.9]]),
         np.array([[7.6, 0.9], [8.5, 0.9]]),
     )
-    return DemoSet(
-        name="walking",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
+    return _demo_set(
+        "walking",
+        demos,
+        fine,
+        "m",
+        f"Thesis Fig 4.7: {n_demos} walking paths by {n_volunteers} volunteers from circle A "
+        "(0, 0) along a 1.8 m corridor and through a door to circle B (6.7, 4) in a room "
+        "(radius 0.3 m). Ground truth: the corridor centre line from A to B.",
         walls=walls,
-        description=(
-            f"Thesis Fig 4.7: {n_demos} walking paths by {n_volunteers} volunteers from circle A "
-            "(0, 0) along a 1.8 m corridor and through a door to circle B (6.7, 4) in a room "
-            "(radius 0.3 m). Ground truth: the corridor centre line from A to B."
-        ),
+    )
+
+
+#: Transport height of the da Vinci pick-and-place nominal (thesis Fig 4.10, §6.3), metres.
+DA_VINCI_TOP = 0.035
+_DA_VINCI_WALL_Y = 0.025  # the walls are the planes y = ±0.025 m
+
+
+def da_vinci_polyline() -> np.ndarray:
+    """The dense 3-D nominal of the da Vinci pick-and-place, before resampling (metres).
+
+    In the plane ``y = 0``: from (0, 0, 0) up to z = 0.02, a 0.015 m radius
+    corner, along ``x`` at the transport height :data:`DA_VINCI_TOP`, a corner
+    down and down to (0.1, 0, 0.005); about 0.152 m long.
+    """
+    rad, top = 0.015, DA_VINCI_TOP
+    a1 = np.linspace(np.pi, np.pi / 2.0, 2001)
+    a2 = np.linspace(np.pi / 2.0, 0.0, 2001)
+    xz = np.vstack(
+        (
+            np.column_stack((np.zeros(2001), np.linspace(0.0, top - rad, 2001))),
+            np.column_stack((rad + rad * np.cos(a1), top - rad + rad * np.sin(a1)))[1:],
+            np.column_stack((np.linspace(rad, 0.1 - rad, 5001), np.full(5001, top)))[1:],
+            np.column_stack((0.1 - rad + rad * np.cos(a2), top - rad + rad * np.sin(a2)))[1:],
+            np.column_stack((np.full(2001, 0.1), np.linspace(top - rad, 0.005, 2001)))[1:],
+        )
+    )
+    return np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1]))
+
+
+def da_vinci_wall_outlines() -> tuple[np.ndarray, ...]:
+    """The da Vinci walls, the planes ``y = ±0.025`` m, as closed rectangles of shape (5, 3).
+
+    ``x`` in [-0.02, 0.12], ``z`` in [-0.01, 0.06] (metres), for drawing and checks.
+    """
+    return tuple(
+        np.array(
+            [
+                [-0.02, y, -0.01],
+                [0.12, y, -0.01],
+                [0.12, y, 0.06],
+                [-0.02, y, 0.06],
+                [-0.02, y, -0.01],
+            ]
+        )
+        for y in (-_DA_VINCI_WALL_Y, _DA_VINCI_WALL_Y)
     )
 
 
@@ -421,25 +498,13 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
     n_demos = check_count_at_least(n_demos, "n_demos")
     noise = check_positive(noise, "noise", allow_zero=True)
     rng = check_random_state(seed)
-    rad, top = 0.015, 0.035
-    a1 = np.linspace(np.pi, np.pi / 2.0, 2001)
-    a2 = np.linspace(np.pi / 2.0, 0.0, 2001)
-    xz = np.vstack(
-        (
-            np.column_stack((np.zeros(2001), np.linspace(0.0, top - rad, 2001))),
-            np.column_stack((rad + rad * np.cos(a1), top - rad + rad * np.sin(a1)))[1:],
-            np.column_stack((np.linspace(rad, 0.1 - rad, 5001), np.full(5001, top)))[1:],
-            np.column_stack((0.1 - rad + rad * np.cos(a2), top - rad + rad * np.sin(a2)))[1:],
-            np.column_stack((np.full(2001, 0.1), np.linspace(top - rad, 0.005, 2001)))[1:],
-        )
-    )
-    fine = _fine(np.column_stack((xz[:, 0], np.zeros(len(xz)), xz[:, 1])))
+    fine = _fine(da_vinci_polyline())
     # The nominal is planar: its normal plane is spanned by the wall normal (y axis)
     # and the in-plane normal (tangent × y axis), an exact parallel-transported frame.
     tangents = point_tangents(fine)
     n_wall = np.broadcast_to(np.array([0.0, 1.0, 0.0]), tangents.shape)
     n_plane = np.cross(tangents, n_wall)
-    u = arc_length(fine) / arc_length(fine)[-1]
+    u = _arc(fine)[1]
     demos = []
     for _ in range(n_demos):
         o1 = smooth_offset(rng, u, noise, freq=(0.5, 3.0))
@@ -447,29 +512,15 @@ def da_vinci_walls(n_demos: int = 4, seed: Any = None, *, noise: float = 0.002) 
         n_j = int(rng.integers(90, 111))
         path = fine + o1[:, None] * n_wall + o2[:, None] * n_plane
         demos.append(resample(path, n_j) + rng.normal(0.0, 0.1 * noise, (n_j, 3)))
-    walls = tuple(
-        np.array(
-            [
-                [-0.02, y, -0.01],
-                [0.12, y, -0.01],
-                [0.12, y, 0.06],
-                [-0.02, y, 0.06],
-                [-0.02, y, -0.01],
-            ]
-        )
-        for y in (-0.025, 0.025)
-    )
-    return DemoSet(
-        name="da_vinci",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
-        walls=walls,
-        description=(
-            f"Thesis Fig 4.10: {n_demos} 3-D pick-and-place paths from z_I (0, 0, 0) up, along x "
-            "between walls y = ±0.025 m and down to z_G (0.1, 0, 0.005); smooth normal "
-            f"deviations sd {noise:g} m per normal direction. Ground truth: the nominal."
-        ),
+    return _demo_set(
+        "da_vinci",
+        demos,
+        fine,
+        "m",
+        f"Thesis Fig 4.10: {n_demos} 3-D pick-and-place paths from z_I (0, 0, 0) up, along x "
+        "between walls y = ±0.025 m and down to z_G (0.1, 0, 0.005); smooth normal "
+        f"deviations sd {noise:g} m per normal direction. Ground truth: the nominal.",
+        walls=da_vinci_wall_outlines(),
     )
 
 
@@ -804,9 +855,8 @@ def different_extents(
     rng = check_random_state(seed)
     fine = _s_curve()
     normals = left_normals(fine)
-    s_fine = arc_length(fine)
+    s_fine, u = _arc(fine)
     length = s_fine[-1]
-    u = s_fine / length
     demos, starts, ends = [], [], []
     for _ in range(n_demos):
         s0 = rng.uniform(0.0, 0.15 * length)
@@ -872,38 +922,27 @@ def local_detours(
         Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise, noise_zero=False)
-    n_detours = check_count_at_least(n_detours, "n_detours", 0)
-    if n_detours > n_demos:
-        raise ValueError(f"n_detours: must be <= n_demos ({n_demos}), got {n_detours}")
+    n_detours = _at_most(n_detours, "n_detours", n_demos)
     detour_height = check_positive(detour_height, "detour_height")
     rng = check_random_state(seed)
-    fine = _s_curve()
-    normals = left_normals(fine)
-    s_fine = arc_length(fine)
-    length = s_fine[-1]
-    offsets, white = _band_draws(rng, s_fine / length, n_demos, n_points, noise)
+    band = _Band.draw(rng, _s_curve(), n_demos, n_points, noise)
+    length = band.s[-1]
     chosen = np.sort(rng.choice(n_demos, size=n_detours, replace=False))
     width = 0.08 * length
     for j in chosen:
         centre = rng.uniform(0.2 * length, 0.8 * length)
         sign = 1.0 if rng.random() < 0.5 else -1.0
-        x = (s_fine - centre) / width
+        x = (band.s - centre) / width
         bump = np.where(np.abs(x) < 0.5, 0.5 * (1.0 + np.cos(_TWO_PI * x)), 0.0)
-        offsets[j] = offsets[j] + sign * detour_height * bump
-    demos = [
-        resample(fine + o[:, None] * normals, n_points) + w
-        for o, w in zip(offsets, white, strict=True)
-    ]
-    return DemoSet(
-        name="local_detours",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
-        description=(
-            f"noisy_band with {n_detours} of {n_demos} demos (indices {chosen.tolist()}) swerving "
-            f"once: a bump of width 8 % of the length and height {detour_height:g} m. "
-            "Ground truth: the nominal."
-        ),
+        band.offsets[j] = band.offsets[j] + sign * detour_height * bump
+    return _demo_set(
+        "local_detours",
+        band.demos(),
+        band.fine,
+        "m",
+        f"noisy_band with {n_detours} of {n_demos} demos (indices {chosen.tolist()}) swerving "
+        f"once: a bump of width 8 % of the length and height {detour_height:g} m. "
+        "Ground truth: the nominal.",
     )
 
 
@@ -955,7 +994,7 @@ def uneven_sampling(
     rng = check_random_state(seed)
     fine = _s_curve()
     normals = left_normals(fine)
-    u = arc_length(fine) / arc_length(fine)[-1]
+    u = _arc(fine)[1]
     c = 0.5 * np.log(speed_ratio)
     demos = []
     for _ in range(n_demos):
@@ -971,16 +1010,14 @@ def uneven_sampling(
         demo = _interp_at(path, s_path, s)
         demo[-1] = path[-1]
         demos.append(demo)
-    return DemoSet(
-        name="uneven_sampling",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
-        description=(
-            f"S-shaped band, {n_demos} demos with smooth normal offsets sd ≈ {noise:g} m, "
-            f"{lo}-{hi} points each, sampled with a speed ratio of {speed_ratio:g} between "
-            "fast and slow parts. Ground truth: the nominal."
-        ),
+    return _demo_set(
+        "uneven_sampling",
+        demos,
+        fine,
+        "m",
+        f"S-shaped band, {n_demos} demos with smooth normal offsets sd ≈ {noise:g} m, "
+        f"{lo}-{hi} points each, sampled with a speed ratio of {speed_ratio:g} between "
+        "fast and slow parts. Ground truth: the nominal.",
     )
 
 
@@ -1022,40 +1059,32 @@ def loops(
         Arrays of shape ``(n_points, 2)`` in metres; ``nominal`` of shape ``(500, 2)``.
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise, noise_zero=False)
-    n_loops = check_count_at_least(n_loops, "n_loops", 0)
-    if n_loops > n_demos:
-        raise ValueError(f"n_loops: must be <= n_demos ({n_demos}), got {n_loops}")
+    n_loops = _at_most(n_loops, "n_loops", n_demos)
     rng = check_random_state(seed)
-    fine = _s_curve()
-    normals = left_normals(fine)
-    s_fine = arc_length(fine)
-    length = s_fine[-1]
-    offsets, white = _band_draws(rng, s_fine / length, n_demos, n_points, noise)
+    band = _Band.draw(rng, _s_curve(), n_demos, n_points, noise)
+    length = band.s[-1]
     chosen = np.sort(rng.choice(n_demos, size=n_loops, replace=False))
     radius = 3.0 * noise
     span = np.pi * radius
-    paths = [fine + o[:, None] * normals for o in offsets]
+    paths = band.paths()
     for j in chosen:
         centre = rng.uniform(0.4 * length, 0.6 * length)
         side = 1.0 if rng.random() < 0.5 else -1.0
         path = paths[j]
-        tau = np.clip((s_fine - (centre - 0.5 * span)) / span, 0.0, 1.0)
+        tau = np.clip((band.s - (centre - 0.5 * span)) / span, 0.0, 1.0)
         along = radius * np.sin(_TWO_PI * tau)
         across = side * radius * (1.0 - np.cos(_TWO_PI * tau))
         paths[j] = (
             path + along[:, None] * point_tangents(path) + across[:, None] * left_normals(path)
         )
-    demos = [resample(p, n_points) + w for p, w in zip(paths, white, strict=True)]
-    return DemoSet(
-        name="loops",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="m",
-        description=(
-            f"noisy_band with {n_loops} of {n_demos} demos (indices {chosen.tolist()}) making a "
-            f"closed self-crossing loop of radius ≈ {radius:g} m near mid-path. "
-            "Ground truth: the nominal."
-        ),
+    return _demo_set(
+        "loops",
+        band.demos(paths),
+        band.fine,
+        "m",
+        f"noisy_band with {n_loops} of {n_demos} demos (indices {chosen.tolist()}) making a "
+        f"closed self-crossing loop of radius ≈ {radius:g} m near mid-path. "
+        "Ground truth: the nominal.",
     )
 
 
@@ -1063,23 +1092,6 @@ def loops(
 # Handwriting-sized shapes in millimetres (like LASA), drawn once: a closed circle,
 # a nearly closed "o", a figure-eight and a letter "a" whose bowl comes back to its
 # start before the down-stroke. Seven demonstrations each by default (as in LASA).
-
-
-def _periodic_offset(
-    rng: np.random.Generator, u: np.ndarray, sd: float, cycles: tuple[int, int] = (1, 4)
-) -> np.ndarray:
-    """Like :func:`smooth_offset`, with whole numbers of cycles: equal at ``u = 0`` and ``1``.
-
-    Three sinusoids of ``u in [0, 1]`` with integer frequencies uniform in
-    ``cycles`` (inclusive), random phases and amplitude weights uniform in
-    [0.5, 1], scaled so that ``sqrt(sum a_k**2 / 2) = sd``. Always consumes the
-    same number of draws.
-    """
-    f = rng.integers(cycles[0], cycles[1] + 1, 3).astype(np.float64)
-    phase = rng.uniform(0.0, _TWO_PI, 3)
-    w = rng.uniform(0.5, 1.0, 3)
-    amp = w * sd * np.sqrt(2.0 / np.sum(w**2))
-    return np.sum(amp[:, None] * np.sin(_TWO_PI * f[:, None] * u[None, :] + phase[:, None]), axis=0)
 
 
 def _closed_normals(loop: np.ndarray) -> np.ndarray:
@@ -1102,16 +1114,17 @@ def _closed_demos(
     """Demonstrations of a closed nominal: periodic normal offsets, white noise, closed exactly.
 
     Each is the fine loop offset along its periodic normals by
-    :func:`_periodic_offset` (sd ``noise``, 1-4 cycles per loop), resampled to
+    :func:`~lfdkit.datasets._shared.smooth_offset` with whole cycles (sd
+    ``noise``, 1-4 cycles per loop), resampled to
     ``n_points`` points, plus white noise of sd ``0.05 noise``; its last point
     is then set equal to its first, so every demonstration starts and ends at
     exactly the same point.
     """
     normals = _closed_normals(fine)
-    u = arc_length(fine) / arc_length(fine)[-1]
+    u = _arc(fine)[1]
     demos = []
     for _ in range(n_demos):
-        offset = _periodic_offset(rng, u, noise)
+        offset = smooth_offset(rng, u, noise, (1, 4), whole_cycles=True)
         path = fine + offset[:, None] * normals
         path[-1] = path[0]
         demo = resample(path, n_points) + rng.normal(0.0, 0.05 * noise, (n_points, 2))
@@ -1181,8 +1194,7 @@ def closed_circle(
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
     radius = check_positive(radius, "radius")
-    if noise * 3.0 >= radius:
-        raise ValueError(f"noise: must be smaller than radius / 3 ({radius / 3:g}), got {noise}")
+    _noise_below(noise, radius, "radius", 3)
     rng = check_random_state(seed)
     theta = np.linspace(0.5 * np.pi, 2.5 * np.pi, _N_FINE)
     fine = radius * np.column_stack((np.cos(theta), np.sin(theta)))
@@ -1242,30 +1254,21 @@ def nearly_closed_o(
     coverage = check_positive(coverage, "coverage")
     if not 0.5 < coverage < 1.0:
         raise ValueError(f"coverage: expected a fraction in (0.5, 1), got {coverage!r}")
-    if noise * 3.0 >= radius:
-        raise ValueError(f"noise: must be smaller than radius / 3 ({radius / 3:g}), got {noise}")
+    _noise_below(noise, radius, "radius", 3)
     rng = check_random_state(seed)
     theta = 0.5 * np.pi + np.linspace(0.0, coverage * _TWO_PI, _N_FINE)
     fine = radius * np.column_stack((np.cos(theta), np.sin(theta)))
-    normals = left_normals(fine)
-    u = arc_length(fine) / arc_length(fine)[-1]
-    offsets, white = _band_draws(rng, u, n_demos, n_points, noise)
-    demos = [
-        resample(fine + o[:, None] * normals, n_points) + w
-        for o, w in zip(offsets, white, strict=True)
-    ]
+    band = _Band.draw(rng, fine, n_demos, n_points, noise)
     gap = (1.0 - coverage) * _TWO_PI * radius
-    return DemoSet(
-        name="nearly_closed_o",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="mm",
-        description=(
-            f"Handwritten 'o': {coverage * 100:g} % of a circle of radius {radius:g} mm, "
-            f"counter-clockwise from the top, stopping {gap:.3g} mm (arc) short of its start; "
-            f"{n_demos} demos = smooth normal offsets (sd ≈ {noise:g} mm) + white noise "
-            f"(sd {0.05 * noise:g} mm), {n_points} points each. Ground truth: the arc."
-        ),
+    return _demo_set(
+        "nearly_closed_o",
+        band.demos(),
+        fine,
+        "mm",
+        f"Handwritten 'o': {coverage * 100:g} % of a circle of radius {radius:g} mm, "
+        f"counter-clockwise from the top, stopping {gap:.3g} mm (arc) short of its start; "
+        f"{n_demos} demos = smooth normal offsets (sd ≈ {noise:g} mm) + white noise "
+        f"(sd {0.05 * noise:g} mm), {n_points} points each. Ground truth: the arc.",
     )
 
 
@@ -1311,8 +1314,7 @@ def figure_eight(
     """
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
     size = check_positive(size, "size")
-    if noise * 12.0 >= size:
-        raise ValueError(f"noise: must be smaller than size / 12 ({size / 12:g}), got {noise}")
+    _noise_below(noise, size, "size", 12)
     rng = check_random_state(seed)
     t = np.linspace(0.5 * np.pi, 2.5 * np.pi, 40001)
     fine = _fine(np.column_stack((0.5 * size * np.sin(2.0 * t), size * np.sin(t))))
@@ -1387,8 +1389,7 @@ def letter_a(
     n_demos, n_points, noise = _check_band(n_demos, n_points, noise)
     radius = check_positive(radius, "radius")
     start_spread = check_positive(start_spread, "start_spread", allow_zero=True)
-    if noise * 17.0 >= radius:
-        raise ValueError(f"noise: must be smaller than radius / 17 ({radius / 17:g}), got {noise}")
+    _noise_below(noise, radius, "radius", 17)
     if start_spread > 0.1:
         raise ValueError(f"start_spread: expected a fraction in [0, 0.1], got {start_spread!r}")
     rng = check_random_state(seed)
@@ -1406,15 +1407,9 @@ def letter_a(
     curve = curve - curve[-1]
     fine = _fine(curve)
     normals = left_normals(fine)
-    s_fine = arc_length(fine)
-    u = s_fine / s_fine[-1]
-
-    def ramp(x: np.ndarray) -> np.ndarray:
-        x = np.clip(x, 0.0, 1.0)
-        return x * x * (3.0 - 2.0 * x)
-
-    taper = ramp(u / 0.15) * ramp((1.0 - u) / 0.15)
-    w_start = 1.0 - ramp(u / 0.2)
+    u = _arc(fine)[1]
+    taper = _ramp(u / 0.15) * _ramp((1.0 - u) / 0.15)
+    w_start = 1.0 - _ramp(u / 0.2)
     spread = start_spread * 2.2 * r
     demos = []
     for _ in range(n_demos):
@@ -1427,19 +1422,17 @@ def letter_a(
         demo = resample(path, n_points) + white
         demo[-1] = 0.0
         demos.append(demo)
-    return DemoSet(
-        name="letter_a",
-        demos=demos,
-        nominal=resample(fine, _N_NOMINAL),
-        units="mm",
-        description=(
-            f"Handwritten 'a' (bowl radius {radius:g} mm, height {2.2 * radius:g} mm): from the "
-            "top right once round the bowl counter-clockwise back through the start, a tight "
-            f"turn and a down-stroke to the origin; {n_demos} demos = smooth normal offsets (sd ≈ "
-            f"{noise:g} mm, tapered at both ends) + start displacements within "
-            f"{spread:.3g} mm ({start_spread * 100:g} % of the height) + white noise, all ending "
-            "exactly at the origin. Ground truth: the nominal."
-        ),
+    return _demo_set(
+        "letter_a",
+        demos,
+        fine,
+        "mm",
+        f"Handwritten 'a' (bowl radius {radius:g} mm, height {2.2 * radius:g} mm): from the "
+        "top right once round the bowl counter-clockwise back through the start, a tight "
+        f"turn and a down-stroke to the origin; {n_demos} demos = smooth normal offsets (sd ≈ "
+        f"{noise:g} mm, tapered at both ends) + start displacements within "
+        f"{spread:.3g} mm ({start_spread * 100:g} % of the height) + white noise, all ending "
+        "exactly at the origin. Ground truth: the nominal.",
     )
 
 

@@ -87,6 +87,7 @@ from typing import Any
 
 import numpy as np
 
+from lfdkit._options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.problem import Corridor, Problem, goal_weights
@@ -107,8 +108,6 @@ __all__ = [
     "plan_path",
 ]
 
-#: Horizons the thesis found to work (§5.4).
-MIN_HORIZON, MAX_HORIZON = 4, 12
 #: A plan ends at its goal when its last point is this close (fraction of the path's extent).
 GOAL_TOLERANCE = 1e-3
 

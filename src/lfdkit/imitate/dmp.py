@@ -173,7 +173,14 @@ from scipy.signal import lfilter
 from sklearn.base import BaseEstimator
 from sklearn.exceptions import NotFittedError
 
-from lfdkit._validation import MAX_POINTS, check_count, check_path, check_point, check_positive
+from lfdkit._validation import (
+    MAX_POINTS,
+    check_count,
+    check_path,
+    check_point,
+    check_positive,
+    check_times,
+)
 from lfdkit.geometry import arc_length, path_length, segment_lengths
 
 __all__ = [
@@ -596,7 +603,8 @@ class DMP(BaseEstimator):
         else:
             if duration is not None or dt is not None:
                 raise ValueError("times: give either times or a duration/dt, not both")
-            t = _check_times(times, n)
+            t = check_times(times, n, of="path", style="shape")
+            t = t - t[0]
         span = float(t[-1])
         low, high = DURATION_RANGE
         if not low <= span <= high:
@@ -795,10 +803,17 @@ class DMP(BaseEstimator):
         matrices = self._scale_matrices(starts, goals)
         return matrices if batch else matrices[0]
 
-    def _starts_goals(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray, bool]:
+    def _starts_goals(
+        self, start: Any, goal: Any, check_input: bool = True
+    ) -> tuple[np.ndarray, np.ndarray, bool]:
         arrays = []
         for value, name, default in ((start, "start", self.start_), (goal, "goal", self.goal_)):
-            arrays.append(default if value is None else self._check_position(value, name))
+            if value is None:
+                arrays.append(default)
+            elif check_input:
+                arrays.append(self._check_position(value, name))
+            else:
+                arrays.append(self._within_reach(np.asarray(value), name))
         batch = arrays[0].ndim == 2 or arrays[1].ndim == 2
         starts, goals = (np.atleast_2d(a) for a in arrays)
         if starts.shape[0] != goals.shape[0] and 1 not in (starts.shape[0], goals.shape[0]):
@@ -810,7 +825,10 @@ class DMP(BaseEstimator):
 
     def _check_position(self, value: Any, name: str) -> np.ndarray:
         """A finite state of shape (q,) or (n, q) within reach of the training scale."""
-        arr = check_point(value, name, self.n_dims_, batch="n_rollouts")
+        return self._within_reach(check_point(value, name, self.n_dims_, batch="n_rollouts"), name)
+
+    def _within_reach(self, arr: np.ndarray, name: str) -> np.ndarray:
+        """``arr`` (finite positions) if within reach of the training scale; else refused."""
         limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) > limit:
             raise ValueError(
@@ -942,6 +960,7 @@ class DMP(BaseEstimator):
         n_steps: int | None = None,
         *,
         start_velocity: Any = None,
+        check_input: bool = True,
     ) -> Trajectory:
         """Run the DMP from ``start`` to ``goal``, exactly (module notes), for one or many goals.
 
@@ -958,6 +977,11 @@ class DMP(BaseEstimator):
             training path; at least 2).
         start_velocity : array_like, shape (q,) or (n_rollouts, q), optional
             Initial velocity in units per second (default at rest).
+        check_input : bool
+            False skips checking the form of ``start`` and ``goal``: for a caller
+            that has validated them already (float arrays of shape (q,) or
+            (n_rollouts, q), finite), such as :class:`lfdkit.skill.Skill`. Their
+            bounds below still apply. Do not use it for anything else.
 
         Raises
         ------
@@ -983,7 +1007,7 @@ class DMP(BaseEstimator):
         if n_steps < 2:
             raise ValueError(f"n_steps: needs at least 2 samples, got {n_steps}")
         check_count(n_steps, "n_steps", minimum=2, maximum=MAX_POINTS)
-        starts, goals, batch = self._starts_goals(start, goal)
+        starts, goals, batch = self._starts_goals(start, goal, check_input)
         time_scale = tau * self.duration_
         velocity = np.zeros(self.n_dims_)
         if start_velocity is not None:
@@ -1337,21 +1361,6 @@ def _check_distinct(points: np.ndarray) -> None:
             f"path: points {row} and {row + 1} coincide; remove repeated points "
             "(lfdkit.geometry.remove_repeated_points) or give times"
         )
-
-
-def _check_times(times: Any, n: int) -> np.ndarray:
-    try:
-        t = np.asarray(times, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError("times: expected a 1-D numeric array") from exc
-    if t.shape != (n,):
-        raise ValueError(f"times: expected shape ({n},) to match path, got {t.shape}")
-    if not np.all(np.isfinite(t)):
-        raise ValueError("times: contains NaN or infinite values")
-    if np.any(np.diff(t) <= 0.0):
-        row = int(np.argmax(np.diff(t) <= 0.0))
-        raise ValueError(f"times: must increase strictly (row {row + 1} does not)")
-    return t - t[0]
 
 
 def _check_tau(tau: Any) -> float:

@@ -37,6 +37,7 @@ __all__ = [
     "atomic_write",
     "check_output_path",
     "file_kind",
+    "write_text",
 ]
 
 
@@ -279,6 +280,20 @@ def atomic_write(
         raise
     _fsync_dir(parent)
     return target
+
+
+def write_text(path: PathLike, text: str, *, overwrite: bool = False) -> Path:
+    """Write ``text`` to ``path`` atomically, as UTF-8: :func:`atomic_write` for a whole text.
+
+    The text is written exactly as given (no newline added or translated).
+    Returns the path written; refuses, as :func:`atomic_write` does, an
+    existing file unless ``overwrite`` (:class:`OutputExistsError`, a
+    ``FileExistsError``), a directory (``IsADirectoryError``), a FIFO,
+    device, socket or symbolic link (:class:`NotRegularFileError`) and a
+    missing directory (``FileNotFoundError``). A caller that does much work
+    before writing checks the path first with :func:`check_output_path`.
+    """
+    return atomic_write(path, lambda f: f.write(text), overwrite=overwrite)
 
 
 def _exists_error(target: Path) -> OutputExistsError:

@@ -64,9 +64,9 @@ from typing import IO, Any, Literal, overload
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path
+from lfdkit._validation import check_demos, check_path, check_times, check_times_list
 from lfdkit.demos import DemoId, PathLike
-from lfdkit.io.atomic import atomic_write, check_output_path
+from lfdkit.io.atomic import atomic_write, check_output_path, write_text
 from lfdkit.io.text import (
     Blocks,
     check_file_id,
@@ -75,6 +75,7 @@ from lfdkit.io.text import (
     content_lines,
     csv_number,
     csv_row,
+    csv_rows,
     format_of,
     json_document,
     json_float_array,
@@ -213,7 +214,8 @@ def save_demos(
 ) -> Path:
     """Write a demonstration set to a ``.csv``, ``.npz`` or ``.json`` file.
 
-    The write is atomic (:func:`atomic_write`) and exact: :func:`load_demos`
+    The write is atomic (:func:`lfdkit.io.atomic.write_text`; NPZ
+    :func:`atomic_write`) and exact: :func:`load_demos`
     gives back bit-identical float64 arrays.
 
     Parameters
@@ -239,25 +241,22 @@ def save_demos(
     Returns
     -------
     pathlib.Path
-        The path written.
+        The file written, which :func:`load_demos` reads back.
 
     Raises
     ------
     ValueError
         If the suffix is unsupported or the inputs are invalid.
-    OutputExistsError
-        (a ``FileExistsError``) If the file exists and ``overwrite`` is false.
-    IsADirectoryError
-        If ``path`` is a directory.
-    NotRegularFileError
-        If ``path`` is a FIFO, device, socket or symbolic link
-        (:func:`atomic_write`).
+    OutputExistsError, IsADirectoryError, NotRegularFileError
+        As :func:`atomic_write`: the file exists and ``overwrite`` is false
+        (an ``OutputExistsError`` is a ``FileExistsError``), ``path`` is a
+        directory, or a FIFO, device, socket or symbolic link.
     """
     fname = os.fspath(path)
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
     arrs = check_demos(demos, "demos")
     n = len(arrs)
-    time_arrs = _check_times_list(times, arrs)
+    time_arrs = check_times_list(times, arrs)
     id_list = check_ids(ids, n)
 
     check_output_path(fname, overwrite=overwrite)
@@ -269,10 +268,7 @@ def save_demos(
                 "times has None for some demonstrations only"
             )
 
-        def write_csv(f: IO[Any]) -> None:
-            _write_csv(f, arrs, time_arrs, id_list)
-
-        return atomic_write(fname, write_csv, overwrite=overwrite)
+        return write_text(fname, _csv_text(arrs, time_arrs, id_list), overwrite=overwrite)
     if fmt == ".npz":
         arrays: dict[str, np.ndarray] = {}
         for j, (a, t) in enumerate(zip(arrs, time_arrs, strict=True)):
@@ -287,10 +283,7 @@ def save_demos(
 
         return atomic_write(fname, write_npz, binary=True, overwrite=overwrite)
 
-    def write_json(f: IO[Any]) -> None:
-        _write_json(f, arrs, time_arrs, id_list)
-
-    return atomic_write(fname, write_json, overwrite=overwrite)
+    return write_text(fname, _json_text(arrs, time_arrs, id_list), overwrite=overwrite)
 
 
 def path_csv(points: Any) -> str:
@@ -304,60 +297,13 @@ def path_csv(points: Any) -> str:
 
 
 def save_path(path: PathLike, points: Any, *, overwrite: bool = False) -> Path:
-    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`atomic_write`)."""
-    text = path_csv(points)
-    return atomic_write(path, lambda f: f.write(text), overwrite=overwrite)
+    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`)."""
+    return write_text(path, path_csv(points), overwrite=overwrite)
 
 
 # --------------------------------------------------------------------------- #
 # Shared helpers
 # --------------------------------------------------------------------------- #
-
-
-def _check_times(t: Any, n_points: int, name: str) -> np.ndarray:
-    """Validate one demonstration's times: float64, shape (n_points,), strictly increasing."""
-    try:
-        arr = np.asarray(t, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected a 1-D numeric array of times in seconds") from exc
-    if arr.ndim != 1:
-        raise ValueError(f"{name}: expected a 1-D array of times, got shape {arr.shape}")
-    if arr.shape[0] != n_points:
-        raise ValueError(
-            f"{name}: has {arr.shape[0]} times but the demonstration has {n_points} points"
-        )
-    bad = np.flatnonzero(~np.isfinite(arr))
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(f"{name}: time at index {i} is {float(arr[i])!r}; times must be finite")
-    step = np.flatnonzero(np.diff(arr) <= 0)
-    if step.size:
-        i = int(step[0]) + 1
-        raise ValueError(
-            f"{name}: times must be strictly increasing; t[{i}] = {float(arr[i])!r} "
-            f"is not after t[{i - 1}] = {float(arr[i - 1])!r}"
-        )
-    return arr
-
-
-def _check_times_list(
-    times: Sequence[Any | None] | None, demos: list[np.ndarray]
-) -> list[np.ndarray | None]:
-    if times is None:
-        return [None] * len(demos)
-    if isinstance(times, np.ndarray) and times.ndim == 2:
-        times = list(times)  # (n_demos, n_points), matching a 3-D demos array
-    if isinstance(times, (str, bytes, np.ndarray)) or not isinstance(times, Sequence):
-        raise TypeError(
-            "times: expected a list with one 1-D array (or None) per demonstration, "
-            "or a 2-D array of shape (n_demos, n_points)"
-        )
-    if len(times) != len(demos):
-        raise ValueError(f"times: got {len(times)} entries for {len(demos)} demonstrations")
-    return [
-        None if t is None else _check_times(t, d.shape[0], f"times[{j}]")
-        for j, (t, d) in enumerate(zip(times, demos, strict=True))
-    ]
 
 
 def _check_same_dims(arrs: list[np.ndarray], names: list[str], fname: str) -> None:
@@ -379,12 +325,12 @@ def _coord_header(q: int) -> list[str]:
     return ["x", "y", "z"][:q] if q <= 3 else [f"x{k}" for k in range(1, q + 1)]
 
 
-def _write_csv(
-    f: IO[str],
+def _csv_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
-) -> None:
+) -> str:
+    f = io.StringIO()
     q = demos[0].shape[1]
     has_t = times[0] is not None
     w = csv.writer(f, lineterminator="\n")
@@ -395,6 +341,7 @@ def _write_csv(
         for k, row in enumerate(a.tolist()):
             # repr() of a Python float is the shortest string that reads back exactly.
             w.writerow([sid, *([repr(tl[k])] if tl is not None else []), *map(repr, row)])
+    return f.getvalue()
 
 
 def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[int], list[str]]:
@@ -447,17 +394,10 @@ def _read_csv(
         demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
         colnames = [h.strip() for h in header]
         t_name = colnames[t_col] if t_col is not None else ""
-        n_fields = len(header)
 
         groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
         blocks = Blocks(fname, colnames[demo_col])
-        for lineno, line in lines:
-            row = csv_row(fname, lineno, line)
-            if len(row) != n_fields:
-                raise ValueError(
-                    f"{fname} line {lineno}: expected {n_fields} fields "
-                    f"({', '.join(colnames)}), got {len(row)}"
-                )
+        for lineno, row in csv_rows(fname, lines, colnames):
             did = blocks.id_of(row[demo_col], lineno)
             row = [c.strip() for c in row]
             pts, ts, linenos = groups.setdefault(did, ([], [], []))
@@ -651,7 +591,7 @@ def _read_npz_arrays(
                     f"{stacked.shape[:2]}, got {t2.shape}"
                 )
             times: list[np.ndarray | None] = [
-                _check_times(t2[j], d.shape[0], f"{fname}: array 'times' row {j}")
+                check_times(t2[j], d.shape[0], f"{fname}: array 'times' row {j}")
                 for j, d in enumerate(demos)
             ]
         else:
@@ -679,7 +619,7 @@ def _read_npz_arrays(
         _check_same_dims(demos, names, fname)
         demos = check_demos(demos, fname)
         times = [
-            _check_times(npz.read(f"time_{j}"), d.shape[0], f"{fname}: array 'time_{j}'")
+            check_times(npz.read(f"time_{j}"), d.shape[0], f"{fname}: array 'time_{j}'")
             if f"time_{j}" in data
             else None
             for j, d in enumerate(demos)
@@ -710,12 +650,11 @@ def _read_npz_arrays(
 # --------------------------------------------------------------------------- #
 
 
-def _write_json(
-    f: IO[str],
+def _json_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
-) -> None:
+) -> str:
     # One demonstration per line keeps the file readable and diff-friendly.
     # json writes floats with repr(), so values read back exactly.
     buf = io.StringIO()
@@ -731,7 +670,7 @@ def _write_json(
         sep = "," if j < len(demos) - 1 else ""
         buf.write(f"    {json.dumps(item, allow_nan=False)}{sep}\n")
     buf.write("  ]\n}\n")
-    f.write(buf.getvalue())
+    return buf.getvalue()
 
 
 def _read_json(
@@ -771,7 +710,7 @@ def _read_json(
             )
         demos.append(arr)
         times.append(
-            _check_times(
+            check_times(
                 json_float_array(item["t"], f"{fname}: demos[{j}].t", 1),
                 arr.shape[0],
                 f"{where} (id {did!r}) field 't'",

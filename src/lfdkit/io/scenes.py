@@ -57,12 +57,12 @@ import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import numpy as np
 
 from lfdkit.demos import DemoId, PathLike
-from lfdkit.io.atomic import atomic_write, check_output_path
+from lfdkit.io.atomic import check_output_path, write_text
 from lfdkit.io.text import (
     Blocks,
     check_file_id,
@@ -70,6 +70,7 @@ from lfdkit.io.text import (
     content_lines,
     csv_number,
     csv_row,
+    csv_rows,
     format_of,
     json_document,
     parse_id,
@@ -171,7 +172,7 @@ def load_scene(path: PathLike) -> Scene:
 def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bool = False) -> Path:
     """Write the scenes of one or several demonstrations to a ``.csv`` or ``.json`` file.
 
-    The write is atomic (:func:`lfdkit.io.atomic.atomic_write`) and exact:
+    The write is atomic (:func:`lfdkit.io.atomic.write_text`) and exact:
     :func:`load_scenes` gives back bit-identical positions and radii, the
     labels and the ids in the same order. A CSV file stores ids as text, so
     a ``str`` id that spells a canonical integer (``"7"``) reads back as
@@ -194,7 +195,7 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
     Returns
     -------
     pathlib.Path
-        The path written.
+        The file written, which :func:`load_scenes` reads back.
 
     Raises
     ------
@@ -202,10 +203,9 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
         If the suffix is unsupported or the scenes cannot be stored.
     TypeError
         If ``scenes`` is not a mapping of ids to :class:`Scene`.
-    FileExistsError
-        If the file exists and ``overwrite`` is false.
-    IsADirectoryError
-        If ``path`` is a directory.
+    FileExistsError, IsADirectoryError
+        As :func:`lfdkit.io.atomic.write_text`: the file exists and
+        ``overwrite`` is false, or ``path`` is a directory.
     """
     fname = os.fspath(path)
     fmt = _scene_format(fname)
@@ -247,16 +247,8 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
     check_output_path(fname, overwrite=overwrite)
 
     if fmt == ".csv":
-
-        def write_csv(f: IO[Any]) -> None:
-            _write_scenes_csv(f, ids, values, q)
-
-        return atomic_write(fname, write_csv, overwrite=overwrite)
-
-    def write_json(f: IO[Any]) -> None:
-        _write_scenes_json(f, ids, values)
-
-    return atomic_write(fname, write_json, overwrite=overwrite)
+        return write_text(fname, _scenes_csv_text(ids, values, q), overwrite=overwrite)
+    return write_text(fname, _scenes_json_text(ids, values), overwrite=overwrite)
 
 
 def _scene_format(fname: str) -> str:
@@ -308,7 +300,8 @@ def _field_columns(q: int) -> dict[tuple[str, str], list[str]]:
 _CSV_KNOWN = ("demo", "class", "x", "y", "z", "radius", "shape")
 
 
-def _write_scenes_csv(f: IO[str], ids: list[DemoId], scenes: list[Scene], q: int) -> None:
+def _scenes_csv_text(ids: list[DemoId], scenes: list[Scene], q: int) -> str:
+    f = io.StringIO()
     w = csv.writer(f, lineterminator="\n")
     # Round obstacles only: the plain columns. Other shapes add "shape" and their fields.
     shapes = {type(o) for scene in scenes for o in scene.obstacles} - {Obstacle}
@@ -335,6 +328,7 @@ def _write_scenes_csv(f: IO[str], ids: list[DemoId], scenes: list[Scene], q: int
                     else:
                         row += list(map(repr, np.ravel(o.fields()[name]).tolist()))
             w.writerow(row)
+    return f.getvalue()
 
 
 def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
@@ -364,18 +358,11 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                 )
         coord_keys = ["x", "y", "z"] if "z" in pos else ["x", "y"]
         coord_cols = [(pos[c], header[pos[c]]) for c in coord_keys]
-        n_fields = len(header)
 
         # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
         groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
         blocks = Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
-        for lineno, line in lines:
-            row = csv_row(fname, lineno, line)
-            if len(row) != n_fields:
-                raise ValueError(
-                    f"{fname} line {lineno}: expected {n_fields} fields "
-                    f"({', '.join(header)}), got {len(row)}"
-                )
+        for lineno, row in csv_rows(fname, lines, header):
             if blocks is not None:
                 did = blocks.id_of(row[pos["demo"]], lineno)
             else:
@@ -482,7 +469,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
 # --------------------------------------------------------------------------- #
 
 
-def _write_scenes_json(f: IO[str], ids: list[DemoId], scenes: list[Scene]) -> None:
+def _scenes_json_text(ids: list[DemoId], scenes: list[Scene]) -> str:
     # One obstacle per line keeps the file readable and diff-friendly.
     # json writes floats with repr(), so values read back exactly.
     buf = io.StringIO()
@@ -505,7 +492,7 @@ def _write_scenes_json(f: IO[str], ids: list[DemoId], scenes: list[Scene]) -> No
             buf.write(f"      {json.dumps(item, allow_nan=False)}")
         buf.write("\n    ]}" if scene.obstacles else "]}")
     buf.write("\n  ]\n}\n" if scenes else "]\n}\n")
-    f.write(buf.getvalue())
+    return buf.getvalue()
 
 
 def _json_number(fname: str, where: str, value: Any) -> float:

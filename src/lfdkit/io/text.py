@@ -7,7 +7,7 @@ error with the file name and the line, column or JSON path at fault:
   read regular files only (a FIFO, device or socket is never opened), of at
   most :data:`MAX_FILE_BYTES`, as UTF-8 text;
 * CSV: :func:`content_lines` (blank and ``#`` lines skipped),
-  :func:`csv_row`, :func:`csv_number` (decimal numbers only: no ``0_5``,
+  :func:`csv_row`, :func:`csv_rows`, :func:`csv_number` (decimal numbers only: no ``0_5``,
   ``nan`` or ``inf``), :func:`csv_id` and :class:`Blocks` (ids without
   surrounding spaces, the rows of one id consecutive);
 * demonstration ids: :func:`check_ids`, :func:`check_file_id` and
@@ -48,6 +48,7 @@ __all__ = [
     "csv_id",
     "csv_number",
     "csv_row",
+    "csv_rows",
     "format_of",
     "json_document",
     "json_float_array",
@@ -226,6 +227,25 @@ def content_lines(f: IO[str]) -> Iterator[tuple[int, str]]:
         s = line.strip()
         if s and not s.startswith("#"):
             yield lineno, line
+
+
+def csv_rows(
+    fname: str, lines: Iterator[tuple[int, str]], columns: Sequence[str]
+) -> Iterator[tuple[int, list[str]]]:
+    """(line number, cells) of each data row in ``lines``, which must have one cell per column.
+
+    ``lines`` comes from :func:`content_lines` after the header row;
+    ``columns`` are the header's names, listed in the error for a row with
+    another number of fields.
+    """
+    for lineno, line in lines:
+        row = csv_row(fname, lineno, line)
+        if len(row) != len(columns):
+            raise ValueError(
+                f"{fname} line {lineno}: expected {len(columns)} fields "
+                f"({', '.join(columns)}), got {len(row)}"
+            )
+        yield lineno, row
 
 
 # A decimal number as CSV files spell it: no digit separators ("0_5", which

@@ -13,7 +13,11 @@ constructor, ``fit(demos)`` returns ``self``, and a fitted one has
   demonstration's (:func:`lfdkit.mimic.check_one_motion`);
 * ``converged_`` : bool, whether its fit converged.
 
-:class:`Mimic` states this as a :class:`typing.Protocol`.
+:class:`Mimic` states this as a :class:`typing.Protocol`. A method whose
+``fit`` also takes ``check_input=False`` (every built-in one) says so with
+:attr:`MimicMethod.check_input`: a caller that has validated the
+demonstrations already (:meth:`lfdkit.skill.Skill.fit_path`) then hands them
+over without a second check.
 
 The registry
 ------------
@@ -90,6 +94,11 @@ class MimicMethod:
     uses : tuple of str
         Which :class:`MimicSettings` fields ``build`` reads; a comparison need
         not choose the others (e.g. a number of components) for it.
+    check_input : bool
+        Whether the estimator's ``fit(demos, check_input=False)`` skips checking
+        demonstrations its caller validated already (:func:`lfdkit._validation.check_demos`:
+        a list of finite float64 arrays of one dimension). False (the default): ``fit``
+        is always called with the demonstrations alone.
     """
 
     key: str
@@ -98,6 +107,13 @@ class MimicMethod:
     build: Callable[[MimicSettings], Mimic]
     diagnostics: Callable[[Any], dict[str, Any]] = field(default=lambda fitted: {})
     uses: tuple[str, ...] = ("n_points",)
+    check_input: bool = False
+
+    def fit(self, estimator: Mimic, demos: list[np.ndarray]) -> Mimic:
+        """``estimator.fit(demos)`` for demonstrations validated already (see ``check_input``)."""
+        if self.check_input:
+            return estimator.fit(demos, check_input=False)
+        return estimator.fit(demos)
 
 
 MIMIC_METHODS: dict[str, MimicMethod] = {}

@@ -49,9 +49,15 @@ class ArcLengthAverage(BaseEstimator):
         self.n_points = n_points
         self.orient = orient
 
-    def fit(self, demos: list[np.ndarray], y: None = None) -> ArcLengthAverage:
-        """Average the demonstrations; returns ``self``."""
-        demos = check_demos(demos, "demos")
+    def fit(
+        self, demos: list[np.ndarray], y: None = None, *, check_input: bool = True
+    ) -> ArcLengthAverage:
+        """Average the demonstrations; returns ``self``.
+
+        ``check_input=False``: ``demos`` are already validated (finite float64
+        arrays of one dimension), and are not checked again.
+        """
+        demos = check_demos(demos, "demos") if check_input else list(demos)
         n_points = check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
         if self.orient not in ("auto", "as_given"):
             raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
@@ -67,7 +73,11 @@ class ArcLengthAverage(BaseEstimator):
 
 
 def pointwise_average(
-    demos: list[np.ndarray], n_points: int = 100, *, orient: str = "auto"
+    demos: list[np.ndarray],
+    n_points: int = 100,
+    *,
+    orient: str = "auto",
+    check_input: bool = True,
 ) -> np.ndarray:
     """:class:`ArcLengthAverage`'s path, in one call.
 
@@ -76,12 +86,14 @@ def pointwise_average(
     demos : list of array_like, each shape (n_j, q)
     n_points : int
     orient : {"auto", "as_given"}
+    check_input : bool
+        As :meth:`ArcLengthAverage.fit`.
 
     Returns
     -------
     ndarray, shape (n_points, q)
     """
-    return ArcLengthAverage(n_points, orient=orient).fit(demos).path_
+    return ArcLengthAverage(n_points, orient=orient).fit(demos, check_input=check_input).path_
 
 
 register(
@@ -90,5 +102,6 @@ register(
         label="arc-length average",
         color="#9467bd",
         build=lambda settings: ArcLengthAverage(n_points=settings.n_points),
+        check_input=True,
     )
 )

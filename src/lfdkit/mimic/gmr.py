@@ -27,7 +27,7 @@ and where it is free (large).
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from typing import Any, Literal
 
 import numpy as np
@@ -37,7 +37,14 @@ from sklearn.mixture import GaussianMixture
 from sklearn.utils.validation import check_is_fitted
 
 from lfdkit._threads import one_blas_thread
-from lfdkit._validation import check_count, check_demos, check_positive, check_random_state
+from lfdkit._validation import (
+    check_count,
+    check_demos,
+    check_positive,
+    check_random_state,
+    check_times_list,
+    check_values,
+)
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
@@ -67,34 +74,6 @@ def _phase(demo: np.ndarray, time_mode: str) -> np.ndarray:
         # A demonstration that never moves has no arc length: fall back to
         # equal steps rather than dividing by zero.
     return np.linspace(0.0, 1.0, n)
-
-
-def _check_times(times: Any, demos: list[np.ndarray]) -> list[np.ndarray]:
-    """Validate user-supplied phases: one finite 1-D array per demonstration."""
-    if isinstance(times, np.ndarray) and times.ndim == 2:
-        times = list(times)
-    if isinstance(times, (str, bytes)) or not isinstance(times, (Sequence, np.ndarray)):
-        raise TypeError("times: expected a list of 1-D arrays, one per demonstration")
-    if len(times) != len(demos):
-        raise ValueError(
-            f"times: expected {len(demos)} arrays (one per demonstration), got {len(times)}"
-        )
-    out = []
-    for j, (tj, demo) in enumerate(zip(times, demos, strict=True)):
-        try:
-            arr = np.asarray(tj, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise TypeError(f"times[{j}]: expected a numeric 1-D array") from exc
-        if arr.ndim != 1:
-            raise ValueError(f"times[{j}]: expected a 1-D array, got shape {arr.shape}")
-        if arr.shape[0] != demo.shape[0]:
-            raise ValueError(
-                f"times[{j}]: has {arr.shape[0]} values but demos[{j}] has {demo.shape[0]} points"
-            )
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"times[{j}]: contains NaN or an infinite value")
-        out.append(arr)
-    return out
 
 
 def _sklearn_seed(random_state: Any) -> int:
@@ -235,7 +214,7 @@ class GMR(BaseEstimator):
         if self.n_init > _MAX_INIT:
             raise ValueError(f"n_init: at most {_MAX_INIT} initialisations, got {self.n_init}")
 
-    def fit(self, demos: Any, times: Any = None) -> GMR:
+    def fit(self, demos: Any, times: Any = None, *, check_input: bool = True) -> GMR:
         """Fit the joint mixture of phase and position.
 
         Parameters
@@ -246,6 +225,11 @@ class GMR(BaseEstimator):
         times : list of array_like, each shape (n_i,), optional
             Phase (or time, in any unit) of every sample. When omitted each
             demonstration gets a phase in ``[0, 1]`` chosen by ``time_mode``.
+        check_input : bool
+            False: ``demos`` (finite float64 arrays of one dimension) and
+            ``times`` (one finite 1-D array per demonstration, or None) are
+            already validated, e.g. by :meth:`lfdkit.skill.Skill.fit_path`, and
+            are not checked again.
 
         Returns
         -------
@@ -260,9 +244,12 @@ class GMR(BaseEstimator):
             ``covariance_reg`` does not cure.
         """
         self._check_params()
-        demos = check_demos(demos, "demos", min_dims=1)
-        if times is not None:
-            times = _check_times(times, demos)
+        if check_input:
+            demos = check_demos(demos, "demos", min_dims=1)
+            if times is not None:
+                times = check_times_list(
+                    times, demos, missing=False, increasing=False, style="shape"
+                )
         self.reversed_ = np.zeros(len(demos), dtype=bool)
         if times is None:
             if self.orient == "auto":
@@ -367,18 +354,7 @@ class GMR(BaseEstimator):
             ``return_cov=True``.
         """
         check_is_fitted(self, ("weights_", "means_", "covariances_"))
-        try:
-            tq = np.asarray(t, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise TypeError("t: expected a numeric 1-D array of phases") from exc
-        if tq.ndim == 0:
-            tq = tq.reshape(1)
-        elif tq.ndim == 2 and tq.shape[1] == 1:
-            tq = tq[:, 0]
-        elif tq.ndim != 1:
-            raise ValueError(f"t: expected a 1-D array of shape (T,), got shape {tq.shape}")
-        if not np.all(np.isfinite(tq)):
-            raise ValueError("t: contains NaN or an infinite value")
+        tq = check_values(t, "t")
         mode = self.cov_mode if cov_mode is None else cov_mode
         if mode not in _COV_MODES:
             raise ValueError(f"cov_mode: expected one of {_COV_MODES}, got {mode!r}")
@@ -462,6 +438,8 @@ def select_n_components(
     if criterion not in ("bic", "aic"):
         raise ValueError(f"criterion: expected 'bic' or 'aic', got {criterion!r}")
     demos = check_demos(demos, "demos", min_dims=1)
+    if times is not None:
+        times = check_times_list(times, demos, missing=False, increasing=False, style="shape")
     # At most _MAX_COMPONENTS + 1 read: a huge range is refused, not materialised.
     cand = list(itertools.islice(candidates, _MAX_COMPONENTS + 1))
     if len(cand) > _MAX_COMPONENTS:
@@ -479,7 +457,9 @@ def select_n_components(
     seed = _sklearn_seed(random_state)
     scores: dict[int, float] = {}
     for k in usable:
-        model = GMR(n_components=k, random_state=seed, **gmr_params).fit(demos, times=times)
+        model = GMR(n_components=k, random_state=seed, **gmr_params).fit(
+            demos, times=times, check_input=False
+        )
         scores[k] = model.bic_ if criterion == "bic" else model.aic_
     best_k = min(usable, key=lambda k: (scores[k], k))
     return best_k, scores
@@ -501,5 +481,6 @@ register(
             "n_iter": int(fitted.n_iter_),
         },
         uses=("n_points", "random_state", "n_components"),
+        check_input=True,
     )
 )

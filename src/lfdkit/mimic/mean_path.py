@@ -200,7 +200,7 @@ class MeanPath(BaseEstimator):
         self.max_halvings = max_halvings
 
     # ------------------------------------------------------------------ fit
-    def fit(self, demos: list[np.ndarray], y: None = None) -> MeanPath:
+    def fit(self, demos: list[np.ndarray], y: None = None, *, check_input: bool = True) -> MeanPath:
         """Compute the Mean-Path of the demonstrations.
 
         Parameters
@@ -209,13 +209,17 @@ class MeanPath(BaseEstimator):
             Demonstrations, q >= 2, lengths may differ.
         y : None
             Ignored (scikit-learn convention).
+        check_input : bool
+            False: ``demos`` are already validated (finite float64 arrays of one
+            dimension ``q >= 2``), e.g. by :meth:`lfdkit.skill.Skill.fit_path`, and
+            are not checked again.
 
         Returns
         -------
         self
         """
         self._check_params()
-        demos = check_demos(demos, "demos")
+        demos = check_demos(demos, "demos") if check_input else list(demos)
         for j, demo in enumerate(demos):
             if not np.any(np.diff(demo, axis=0)):
                 raise ValueError(f"demos[{j}]: has zero length (all points coincide)")
@@ -321,7 +325,7 @@ class MeanPath(BaseEstimator):
             from lfdkit.mimic.baselines import pointwise_average
 
             # Already oriented by fit when asked (orient="auto").
-            return pointwise_average(demos, self.n_points, orient="as_given")
+            return pointwise_average(demos, self.n_points, orient="as_given", check_input=False)
         if isinstance(init, (int, np.integer)) and not isinstance(init, bool):
             if not -len(demos) <= init < len(demos):
                 raise ValueError(f"init: demo index {init} out of range for {len(demos)} demos")
@@ -564,5 +568,6 @@ for _key, _label, _center, _color in (
                 n_points=settings.n_points, center=center
             ),
             diagnostics=_diagnostics,
+            check_input=True,
         )
     )

@@ -34,6 +34,7 @@ from lfdkit._validation import (
     check_path,
     check_positive,
     check_random_state,
+    check_values,
 )
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
@@ -230,7 +231,7 @@ class NLPCA(BaseEstimator):
         self.random_state = random_state
         self.orient = orient
 
-    def fit(self, demos: Any) -> NLPCA:
+    def fit(self, demos: Any, *, check_input: bool = True) -> NLPCA:
         """Train the network on all points of all demonstrations.
 
         Parameters
@@ -239,6 +240,9 @@ class NLPCA(BaseEstimator):
             Demonstrations, possibly of different lengths, sharing ``q >= 1``.
             Point order inside a demonstration only matters for its first and
             last point, which orient ``path_``.
+        check_input : bool
+            False: ``demos`` are already validated (finite float64 arrays of one dimension), e.g. by
+            :meth:`lfdkit.skill.Skill.fit_path`, and are not checked again.
 
         Returns
         -------
@@ -259,7 +263,7 @@ class NLPCA(BaseEstimator):
             raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
         rng = check_random_state(self.random_state)
 
-        demos = check_demos(demos, "demos", min_dims=1)
+        demos = check_demos(demos, "demos", min_dims=1) if check_input else list(demos)
         # The network sees the point cloud in the recorded order (scores_ follows it);
         # only the end points that orient the path need the common direction.
         data = np.vstack(demos)
@@ -379,18 +383,7 @@ class NLPCA(BaseEstimator):
             Points in the demonstrations' length units.
         """
         check_is_fitted(self, ("coefs_", "mean_", "scale_"))
-        try:
-            z = np.asarray(scores, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise TypeError("scores: expected a numeric 1-D array") from exc
-        if z.ndim == 0:
-            z = z.reshape(1)
-        elif z.ndim == 2 and z.shape[1] == 1:
-            z = z[:, 0]
-        elif z.ndim != 1:
-            raise ValueError(f"scores: expected a 1-D array, got shape {z.shape}")
-        if not np.all(np.isfinite(z)):
-            raise ValueError("scores: contains NaN or an infinite value")
+        z = check_values(scores, "scores")
         return _decode(self._params(), z) * self.scale_ + self.mean_
 
     def fit_transform(self, demos: Any) -> np.ndarray:
@@ -412,5 +405,6 @@ register(
             "n_iter": int(fitted.n_iter_),
         },
         uses=("n_points", "random_state"),
+        check_input=True,
     )
 )

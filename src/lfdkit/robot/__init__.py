@@ -1,4 +1,4 @@
-"""Robot execution (thesis §6.4, a UR5): kinematics, sweeping poses, timing, URScript, simulation.
+"""Robot execution (thesis §6.4, a UR5): kinematics, tool poses, timing, URScript, MuJoCo models.
 
 An arm is described once, by an :class:`lfdkit.robot.arm.Arm` (DH table, joint
 position/speed/acceleration limits, link masses and radii, servo gains); every
@@ -10,6 +10,7 @@ Submodules: :mod:`.arm` (the descriptions), :mod:`.ur5` (DH forward kinematics,
 Jacobian, analytic inverse kinematics of UR-type arms), :mod:`.poses` (rotation
 vectors, sweeping tool poses), :mod:`.timing` (time parameterisation within the
 arm's joint limits), :mod:`.urscript` (programs for a UR controller),
-:mod:`.mujoco` (MuJoCo bodies and servos of an arm) and :mod:`.sim` (the
-sweeping experiment in MuJoCo).
+:mod:`.mujoco` (MuJoCo bodies, servos and rendering of an arm). The sweeping
+experiment built on them is a task, :mod:`lfdkit.tasks.sweeping`; :mod:`.sim`
+is its old path, kept for old imports.
 """

@@ -3,9 +3,10 @@
 A robot is described once, by an :class:`Arm`, and every part of
 :mod:`lfdkit.robot` reads it from there: the kinematics (:mod:`.ur5`) its
 Denavit–Hartenberg table, the timing (:mod:`.timing`) and the URScript checks
-(:mod:`.urscript`) its joint limits, the MuJoCo model (:mod:`.mujoco`,
-:mod:`.sim`) its joint count, masses, link radii and servo gains. A new arm is
-one new :class:`Arm`; no module holds a copy of these numbers.
+(:mod:`.urscript`) its joint limits, the MuJoCo model (:mod:`.mujoco`, and the
+sweeping task's scene, :mod:`lfdkit.tasks.sweeping.sim`) its joint count,
+masses, link radii and servo gains. A new arm is one new :class:`Arm`; no
+module holds a copy of these numbers.
 
 Contents of a description
 -------------------------
@@ -46,14 +47,15 @@ Universal Robots' published DH parameters and link masses, speed limits of
 120°/s on base and shoulder and 180°/s on the other joints, position limits of
 ±360°; UR publishes no joint acceleration limit, so it gets the UR5's
 15 rad/s². Its link radii and servo gains are choices of this module, sized to
-its longer and heavier links (a straight sweep in :mod:`.sim` at 20 % speed
-tracks within 0.5 mm, as the UR5's does).
+its longer and heavier links (a straight sweep of the sweeping task,
+:mod:`lfdkit.tasks.sweeping.sim`, at 20 % speed tracks within 0.5 mm, as the
+UR5's does).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -257,16 +259,15 @@ UR5 = Arm(
 )
 
 #: The UR10: Universal Robots' published DH parameters, link masses and joint
-#: speed limits (120°/s base and shoulder, 180°/s the others), ±360° position
-#: limits; acceleration limit, link radii and servo gains chosen here.
-UR10 = Arm(
+#: speed limits (120°/s base and shoulder, 180°/s the others); the UR family's
+#: twists and ±360° position limits and, as UR publishes none, the UR5's
+#: acceleration limit come with the UR5; link radii and servo gains chosen here.
+UR10 = replace(
+    UR5,
     name="UR10",
     d=(0.1273, 0.0, 0.0, 0.163941, 0.1157, 0.0922),
     a=(0.0, -0.612, -0.5723, 0.0, 0.0, 0.0),
-    alpha=_UR_ALPHA,
-    joint_limits=[[-2 * math.pi, 2 * math.pi]] * 6,
     max_joint_speed=np.radians([120.0, 120.0, 180.0, 180.0, 180.0, 180.0]),
-    max_joint_acceleration=15.0,
     link_masses=(7.1, 12.7, 4.27, 2.0, 2.0, 0.365),
     link_radii=(0.075, 0.07, 0.055, 0.045, 0.045, 0.035),
     kp=(9000.0, 9000.0, 4000.0, 1200.0, 1200.0, 600.0),

@@ -14,12 +14,16 @@ gravity-compensated. :func:`actuators_xml` gives one position servo per joint
 with the arm's gains ``kp``/``kv``. The joint count, masses, radii, limits and
 gains all come from the description; nothing here knows a particular arm.
 
-:func:`arm_mjcf` is the arm alone on its base; :mod:`lfdkit.robot.sim` puts
-the same bodies, with a brush on the flange, into the sweeping scene.
+:func:`arm_mjcf` is the arm alone on its base; a task's scene puts the same
+bodies, with its tool on the flange, among its objects (the sweeping task,
+:mod:`lfdkit.tasks.sweeping.sim`, a brush). :func:`render_camera` renders a
+scene's camera with traces drawn in.
 
 Collisions: robot geoms carry :data:`ROBOT_CONTACT` (``contype`` 2,
 ``conaffinity`` 0), so they touch only geoms whose ``conaffinity`` has bit 2
-set (a scene's movable objects), never the table or each other.
+set: a scene's movable objects (:data:`OBJECT_CONTACT`), never fixed geoms
+such as a table (:data:`FIXED_CONTACT`) or each other. Objects and fixed geoms
+touch each other.
 
 Loading MuJoCo
 --------------
@@ -43,21 +47,31 @@ import numpy as np
 from lfdkit.robot.arm import UR5, Arm, check_arm
 
 __all__ = [
+    "FIXED_CONTACT",
     "HEADLESS_GL",
+    "OBJECT_CONTACT",
     "ROBOT_CONTACT",
     "actuators_xml",
     "arm_mjcf",
     "flange_poses",
     "load_mujoco",
     "mjcf_numbers",
+    "render_camera",
     "robot_xml",
 ]
 
 #: Collision attributes of robot geoms: they hit objects, not the table or themselves.
 ROBOT_CONTACT = 'contype="2" conaffinity="0"'
+#: Collision attributes of a scene's movable objects: the robot, fixed geoms and each
+#: other hit them.
+OBJECT_CONTACT = 'contype="1" conaffinity="3"'
+#: Collision attributes of fixed scene geoms (a table, walls): objects hit them, the
+#: robot does not.
+FIXED_CONTACT = 'contype="1" conaffinity="1"'
 #: Off-screen OpenGL backend tried when there is no display and MUJOCO_GL is unset.
 HEADLESS_GL = "egl"
 
+_NO_RENDERER = False  # set when MuJoCo could not make an OpenGL context: do not try again
 _ARMATURE = 0.1  # kg·m², reflected rotor inertia: keeps the stiff PD stable
 _JOINT_DAMPING = 0.5  # N·m·s/rad
 _INDENT = "    "
@@ -167,6 +181,68 @@ def load_mujoco() -> Any:
         os.environ["MUJOCO_GL"] = "disable"
         import mujoco
     return mujoco
+
+
+def render_camera(
+    model: Any,
+    data: Any,
+    camera: str,
+    traces: Sequence[tuple[np.ndarray, Sequence[float]]] = (),
+    *,
+    size: tuple[int, int] = (720, 960),
+) -> np.ndarray | None:
+    """An RGB image of a camera's view, with traces drawn as dots; None without OpenGL.
+
+    Parameters
+    ----------
+    model, data
+        ``mujoco.MjModel`` and ``mujoco.MjData`` (the state to show). The model's
+        off-screen buffer (``<visual><global offwidth offheight>``) must hold ``size``.
+    camera : str
+        Name of a camera of the model.
+    traces : sequence of (points, rgba)
+        Points (m, 3) drawn as 4 mm dots (at most about 150 per trace) in the colour
+        ``rgba`` (4 numbers in [0, 1]).
+    size : (int, int)
+        Height and width of the image, pixels.
+
+    Returns
+    -------
+    ndarray, shape (height, width, 3) or None
+        None when MuJoCo has no OpenGL context (no EGL, OSMesa or display;
+        found out once per process) or cannot show the camera: rendering is
+        optional.
+    """
+    global _NO_RENDERER
+    if _NO_RENDERER:
+        return None
+    mujoco = load_mujoco()
+    try:
+        renderer = mujoco.Renderer(model, *size)
+    except Exception:  # no EGL/OSMesa/GLFW context: rendering is optional
+        # A second try would not find one either, and with GLFW it aborts the process.
+        _NO_RENDERER = True
+        return None
+    try:
+        with renderer:
+            renderer.update_scene(data, camera=camera)
+            scene = renderer.scene
+            for points, rgba in traces:
+                for point in points[:: max(1, len(points) // 150)]:
+                    if scene.ngeom >= scene.maxgeom:
+                        break
+                    mujoco.mjv_initGeom(
+                        scene.geoms[scene.ngeom],
+                        mujoco.mjtGeom.mjGEOM_SPHERE,
+                        np.array([0.004, 0.0, 0.0]),
+                        np.asarray(point, dtype=np.float64),
+                        np.eye(3).ravel(),
+                        np.asarray(rgba, dtype=np.float32),
+                    )
+                    scene.ngeom += 1
+            return renderer.render().copy()
+    except Exception:  # e.g. no such camera: no image, as without a context
+        return None
 
 
 def flange_poses(q: Any, *, arm: Arm = UR5) -> np.ndarray:

@@ -278,8 +278,8 @@ def forward(q: Any, *, tool: Any = None, arm: Arm = UR5) -> np.ndarray:
 
     Parameters
     ----------
-    q : array_like, shape (6,) or (n, 6)
-        Joint angles, radians (``arm.n_joints`` per configuration).
+    q : array_like, shape (n_joints,) or (n, n_joints)
+        Joint angles, radians (``arm.n_joints`` per configuration; 6 for a UR arm).
     tool : array_like, shape (4, 4), optional
         Flange→tool rigid transform (metres) appended to the flange pose.
     arm : Arm
@@ -300,14 +300,9 @@ def forward(q: Any, *, tool: Any = None, arm: Arm = UR5) -> np.ndarray:
 
 
 def link_frames(q: Any, *, arm: Arm = UR5) -> np.ndarray:
-    """Poses of all DH frames, ``T_0^0 = I``, ``T_0^1``, …, ``T_0^6``.
+    """Poses of all DH frames, ``T_0^0 = I``, ``T_0^1``, …, ``T_0^6`` (a UR arm).
 
-    Parameters
-    ----------
-    q : array_like, shape (6,) or (n, 6)
-        Joint angles, radians (``arm.n_joints`` per configuration).
-    arm : Arm
-        The arm; any DH table.
+    ``q`` and ``arm`` as in :func:`forward`.
 
     Returns
     -------
@@ -322,14 +317,8 @@ def link_frames(q: Any, *, arm: Arm = UR5) -> np.ndarray:
 def jacobian(q: Any, *, tool: Any = None, arm: Arm = UR5) -> np.ndarray:
     """Geometric Jacobian at the flange (or the tool point), in the base frame.
 
-    Parameters
-    ----------
-    q : array_like, shape (6,) or (n, 6)
-        Joint angles, radians (``arm.n_joints`` per configuration).
-    tool : array_like, shape (4, 4), optional
-        Flange→tool transform; its origin is the reference point of the linear rows.
-    arm : Arm
-        The arm; any DH table.
+    ``q``, ``tool`` and ``arm`` as in :func:`forward`; the tool's origin is the
+    reference point of the linear rows.
 
     Returns
     -------

@@ -81,13 +81,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import IO, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from lfdkit import __version__
 from lfdkit.demos import PathLike
-from lfdkit.io import atomic_write
+from lfdkit.io import write_text
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, Arm
 from lfdkit.robot.poses import pose_matrix
@@ -129,7 +129,8 @@ MAX_ROTATION = np.pi + 1e-9
 
 TABLE_Z = 0.0
 """Height of the table plane in the robot base frame (m): the UR5 stands on the
-table (:mod:`lfdkit.robot.sim`), and sweeps with its tool frame 0.192 m above it."""
+table (the sweeping task, :mod:`lfdkit.tasks.sweeping`), and sweeps with its tool frame
+0.192 m above it."""
 
 SERVO_LOOKAHEAD = 0.1
 """``lookahead_time`` written in every ``servoj`` (s): smooths the stream, adds this much lag."""
@@ -331,7 +332,7 @@ class Workspace:
     tool : array_like, shape (4, 4), optional
         Flange→tool transform of the controller's tool centre point, so that
         poses are tool poses; ``None``: the tool frame is the flange (as in
-        :mod:`lfdkit.robot.sim`).
+        the sweeping task, :mod:`lfdkit.tasks.sweeping`).
 
     Notes
     -----
@@ -393,7 +394,92 @@ class Workspace:
         """``tool`` as a ``(4, 4)`` array, or ``None``."""
         return None if self.tool is None else np.array(self.tool)
 
-    def _check_box(self, positions: np.ndarray, name: str, what: str) -> None:
+    def check_positions(
+        self, positions: Any, name: str = "positions", what: str = "position"
+    ) -> np.ndarray:
+        """Refuse tool positions outside the box (``lower <= position <= upper``).
+
+        Parameters
+        ----------
+        positions : array_like, shape (n, 3)
+            Positions ``(x, y, z)`` in metres, robot base frame.
+        name : str
+            What the positions are called in messages (``name[i]``).
+        what : str
+            What one row is, for messages ("position", "tool position").
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            The positions as float64.
+
+        Raises
+        ------
+        URScriptError
+            For a position that is not 3 finite numbers, or outside the box; the
+            message names the row, the coordinate and the bound, with a hint for
+            millimetres passed as metres.
+        """
+        rows = _real_rows(positions, name, _POSE_COLUMNS[:3], 1)
+        self._refuse_outside(rows, name, what)
+        return rows
+
+    def check_poses(self, poses: Any, arm: Arm = UR5, name: str = "poses") -> np.ndarray:
+        """Refuse tool poses a program must not send: outside the box or (``check_reach``) reach.
+
+        Parameters
+        ----------
+        poses : array_like, shape (n, 6)
+            UR poses ``(x, y, z, rx, ry, rz)``: metres and a rotation vector in
+            radians (norm at most :data:`MAX_ROTATION`), robot base frame.
+        arm : Arm
+            The UR arm whose inverse kinematics decide the reach (with ``tool``).
+        name : str
+            What the poses are called in messages (``name[i]``).
+
+        Returns
+        -------
+        ndarray, shape (n, 6)
+            The poses as float64.
+
+        Raises
+        ------
+        URScriptError
+            For a pose that is not 6 finite numbers, a rotation of more than π
+            (degrees passed as radians), a position outside the box, or a pose
+            with no inverse kinematics solution for ``arm``; the message names
+            the row.
+        """
+        arm = _check_arm(arm)
+        p = _real_rows(poses, name, _POSE_COLUMNS, 1)
+        norm = np.hypot(np.hypot(p[:, 3], p[:, 4]), p[:, 5])  # no overflow for 1e300
+        if (norm > MAX_ROTATION).any():
+            i = int(np.argmax(norm > MAX_ROTATION))
+            raise URScriptError(
+                f"{name}[{i}]: rotation vector {_vec(p[i, 3:])} has norm {norm[i]:.6g} rad, more "
+                "than π; a UR pose takes a rotation vector in radians with norm <= π (a value "
+                "like 180 is degrees)",
+                name,
+                i,
+            )
+        self._refuse_outside(p[:, :3], name, "position")
+        if not self.check_reach:
+            return p
+        frames = pose_matrix(p)
+        sols = ur5.inverse(frames, tool=self.tool_matrix, strict=False, arm=arm)
+        unreachable = np.isnan(sols).all(axis=(1, 2))
+        if unreachable.any():
+            i = int(np.argmax(unreachable))
+            try:
+                ur5.inverse(frames[i], tool=self.tool_matrix, arm=arm)
+                reason = "unreachable"  # pragma: no cover - the batch said so
+            except ur5.UnreachableError as exc:
+                reason = str(exc).removeprefix("pose: ")
+            raise URScriptError(f"{name}[{i}]: {reason} for the {arm.name}", name, i)
+        return p
+
+    def _refuse_outside(self, positions: np.ndarray, name: str, what: str) -> None:
+        """:meth:`check_positions` of positions already read as finite float rows."""
         lo, hi = np.array(self.lower), np.array(self.upper)
         out = (positions < lo) | (positions > hi)
         if out.any():
@@ -411,21 +497,6 @@ class Workspace:
                 name,
                 i,
             )
-
-    def _check_reach(self, poses: np.ndarray, name: str, arm: Arm) -> None:
-        if not self.check_reach:
-            return
-        frames = pose_matrix(poses)
-        sols = ur5.inverse(frames, tool=self.tool_matrix, strict=False, arm=arm)
-        unreachable = np.isnan(sols).all(axis=(1, 2))
-        if unreachable.any():
-            i = int(np.argmax(unreachable))
-            try:
-                ur5.inverse(frames[i], tool=self.tool_matrix, arm=arm)
-                reason = "unreachable"  # pragma: no cover - the batch said so
-            except ur5.UnreachableError as exc:
-                reason = str(exc).removeprefix("pose: ")
-            raise URScriptError(f"{name}[{i}]: {reason} for the {arm.name}", name, i)
 
 
 #: The default :class:`Workspace`: on or above the table, within the arm's reach.
@@ -529,21 +600,15 @@ def _check_header(header: Any) -> list[str]:
     return [f"# {line}".rstrip() for line in lines]
 
 
-def _check_poses(poses: Any, workspace: Workspace, arm: Arm) -> np.ndarray:
-    p = _real_rows(poses, "poses", _POSE_COLUMNS, 1)
-    norm = np.hypot(np.hypot(p[:, 3], p[:, 4]), p[:, 5])  # no overflow for 1e300
-    if (norm > MAX_ROTATION).any():
-        i = int(np.argmax(norm > MAX_ROTATION))
-        raise URScriptError(
-            f"poses[{i}]: rotation vector {_vec(p[i, 3:])} has norm {norm[i]:.6g} rad, more "
-            "than π; a UR pose takes a rotation vector in radians with norm <= π (a value "
-            "like 180 is degrees)",
-            "poses",
-            i,
-        )
-    workspace._check_box(p[:, :3], "poses", "position")
-    workspace._check_reach(p, "poses", arm)
-    return p
+def _first(mask: np.ndarray) -> tuple[int, int]:
+    """(sample, joint) of the first true entry of a (samples, joints) mask with one."""
+    i, j = np.argwhere(mask)[0]
+    return int(i), int(j)
+
+
+def _joint_error(sample: int, joint: int, what: str) -> URScriptError:
+    """The error for one joint at one sample of a servoj stream, naming both."""
+    return URScriptError(f"joint_path[{sample}] joint {joint}: {what}", "joint_path", sample)
 
 
 def _check_servo(
@@ -577,32 +642,32 @@ def _check_servo(
             "times",
         )
     lower, upper = arm.joint_limits[:, 0], arm.joint_limits[:, 1]
-    bad = (q < lower) | (q > upper)
-    if bad.any():
-        i, j = (int(k) for k in np.argwhere(bad)[0])
-        raise URScriptError(
-            f"joint_path[{i}] joint {j}: {q[i, j]:.6g} rad is outside the {arm.name} joint "
-            f"limits [{lower[j]:.6g}, {upper[j]:.6g}] rad",
-            "joint_path",
+    outside = (q < lower) | (q > upper)
+    if outside.any():
+        i, j = _first(outside)
+        raise _joint_error(
             i,
+            j,
+            f"{q[i, j]:.6g} rad is outside the {arm.name} joint limits "
+            f"[{lower[j]:.6g}, {upper[j]:.6g}] rad",
         )
     # Velocity over each tick; the stream starts and ends at rest.
     velocity = np.diff(q, axis=0) / dt
     speed_limit = arm.max_joint_speed
     fast = np.abs(velocity) > speed_limit * (1.0 + _REL_TOL)
     if fast.any():
-        k, j = (int(v) for v in np.argwhere(fast)[0])
-        raise URScriptError(
-            f"joint_path[{k + 1}] joint {j}: moves at {velocity[k, j]:.6g} rad/s from sample "
-            f"{k}, above the {arm.name} limit of {speed_limit[j]:g} rad/s",
-            "joint_path",
+        k, j = _first(fast)
+        raise _joint_error(
             k + 1,
+            j,
+            f"moves at {velocity[k, j]:.6g} rad/s from sample {k}, above the {arm.name} "
+            f"limit of {speed_limit[j]:g} rad/s",
         )
     rest = np.zeros((1, arm.n_joints))
     acceleration = np.diff(np.vstack((rest, velocity, rest)), axis=0) / dt
     hard = np.abs(acceleration) > arm.max_joint_acceleration * (1.0 + _REL_TOL)
     if hard.any():
-        k, j = (int(v) for v in np.argwhere(hard)[0])
+        k, j = _first(hard)
         a, limit = acceleration[k, j], arm.max_joint_acceleration[j]
         if k == 0:
             i = 1
@@ -613,14 +678,11 @@ def _check_servo(
         else:
             i = k
             what = f"a speed change from {velocity[k - 1, j]:.6g} to {velocity[k, j]:.6g} rad/s"
-        raise URScriptError(
-            f"joint_path[{i}] joint {j}: {what} needs {a:.8g} rad/s^2, above the {arm.name} "
-            f"limit of {limit:g} rad/s^2",
-            "joint_path",
-            i,
+        raise _joint_error(
+            i, j, f"{what} needs {a:.8g} rad/s^2, above the {arm.name} limit of {limit:g} rad/s^2"
         )
     tool = ur5.forward(q, tool=workspace.tool_matrix, arm=arm)[:, :3, 3]
-    workspace._check_box(tool, "joint_path", "tool position")
+    workspace._refuse_outside(tool, "joint_path", "tool position")  # finite: forward kinematics
     return q, dt
 
 
@@ -709,7 +771,7 @@ def urscript_program(
             raise URScriptError("times, joint_path: only used with motion='servoj'", extra_arg)
         if poses is None:
             raise URScriptError("poses: required with motion='movel'", "poses")
-        p = _check_poses(poses, workspace, arm)
+        p = workspace.check_poses(poses, arm)
         v = _scalar(speed, "speed", MAX_TOOL_SPEED, "m/s")
         a = _scalar(acceleration, "acceleration", MAX_TOOL_ACCELERATION, "m/s^2")
         r = _scalar(blend_radius, "blend_radius", MAX_BLEND_RADIUS, "m", allow_lower=True)
@@ -759,7 +821,7 @@ def urscript_program(
 
 
 def write_urscript(path: PathLike, program: str, *, overwrite: bool = False) -> Path:
-    """Write a URScript program to a file, atomically.
+    """Write a URScript program to a file, atomically (:func:`lfdkit.io.write_text`).
 
     Parameters
     ----------
@@ -773,16 +835,17 @@ def write_urscript(path: PathLike, program: str, *, overwrite: bool = False) -> 
     Returns
     -------
     pathlib.Path
-        The path written.
+        The script's file.
 
     Raises
     ------
-    FileExistsError
-        If ``path`` exists and ``overwrite`` is false.
     URScriptTypeError
         If ``program`` is not a str.
     URScriptError
         If ``program`` is empty or not ASCII.
+    FileExistsError, IsADirectoryError, FileNotFoundError
+        As :func:`lfdkit.io.write_text`, e.g. ``path`` exists and
+        ``overwrite`` is false.
     """
     if not isinstance(program, str):
         raise URScriptTypeError(f"program: expected a str, got {type(program).__name__}", "program")
@@ -793,8 +856,4 @@ def write_urscript(path: PathLike, program: str, *, overwrite: bool = False) -> 
             "program: must be ASCII text (UR controllers read ASCII scripts)", "program"
         )
     text = program if program.endswith("\n") else program + "\n"
-
-    def writer(f: IO[Any]) -> None:
-        f.write(text)
-
-    return atomic_write(path, writer, overwrite=overwrite)
+    return write_text(path, text, overwrite=overwrite)

@@ -1,31 +1,34 @@
-"""Tests for lfdkit.examples.sweeping_sim: random sweeping scenes and the planner comparison.
+"""Tests for lfdkit.tasks.sweeping.demo: the planner experiment and ``lfdkit demo``'s run.
 
-The scenario generator is checked against its documented geometry (dustpan
-moved within its bounds and facing the start, a cup and a marker near the
-straight line at the stated fractions of the way). The experiment runs the
-default planners of the learned example skill on two scenes in MuJoCo: the
-learned skill must sweep the cube into the dustpan without touching anything,
-while the DMP alone, which ignores the obstacles, must hit one.
+The experiment runs the default planners of the learned example skill on two
+scenes in MuJoCo: the learned skill must sweep the cube into the dustpan
+without touching anything, while the DMP alone, which ignores the obstacles,
+must hit one. :func:`run_demo` writes into a hidden sibling folder and moves
+the outputs into place at the end, so an interrupted run never looks
+complete (its work is replaced by a stand-in here; the whole workflow runs
+in ``tests/test_cli.py``).
 """
 
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from lfdkit.examples import example_files
-from lfdkit.examples.sweeping_sim import (
-    NOMINAL_DUSTPAN,
-    SweepScenario,
+from lfdkit.skill import learn
+from lfdkit.tasks.sweeping import demo as sweeping_demo
+from lfdkit.tasks.sweeping.demo import (
     default_planners,
-    random_scenarios,
+    demo_outputs,
     run_experiment,
     summarize,
 )
-from lfdkit.robot.sim import SweepResult
-from lfdkit.skill import learn
+from lfdkit.tasks.sweeping.examples import example_files
+from lfdkit.tasks.sweeping.scenarios import random_scenarios
+from lfdkit.tasks.sweeping.sim import SweepResult
 
 PLANNERS = ("learned skill", "learned, thesis end", "replay generalized path", "DMP alone")
 
@@ -44,61 +47,6 @@ def experiment(skill):
         random_scenarios(2, seed=0), default_planners(skill), progress=messages.append
     )
     return rows, messages
-
-
-def positions(scenarios: list[SweepScenario]) -> np.ndarray:
-    return np.array(
-        [np.concatenate([s.dustpan.position, s.scene.positions.ravel()]) for s in scenarios]
-    )
-
-
-# ------------------------------------------------------------------ scenarios
-def test_random_scenarios_are_reproducible():
-    first, again = random_scenarios(5, seed=3), random_scenarios(5, seed=3)
-    np.testing.assert_array_equal(positions(first), positions(again))
-    assert [o.label for s in first for o in s.scene] == [o.label for s in again for o in s.scene]
-    other = random_scenarios(5, seed=4)
-    assert not np.any(np.all(np.isclose(positions(first), positions(other)), axis=1))
-    # A Generator seeded alike gives the same scenes.
-    generated = random_scenarios(5, seed=np.random.default_rng(3))
-    np.testing.assert_array_equal(positions(first), positions(generated))
-
-
-def test_random_scenarios_put_a_cup_and_a_marker_near_the_line():
-    lateral = 0.03
-    scenarios = random_scenarios(5, seed=3, lateral=lateral)
-    assert len(scenarios) == 5
-    for s in scenarios:
-        np.testing.assert_array_equal(s.start, [-0.4, 0.45])
-        np.testing.assert_array_equal(s.goal, s.dustpan.goal())
-        assert sorted(o.label for o in s.scene) == ["cup", "marker"]
-        radius = {o.label: o.radius for o in s.scene}
-        assert radius == {"cup": 0.03, "marker": 0.01}
-        line = s.goal - s.start
-        normal = np.array([-line[1], line[0]]) / np.linalg.norm(line)
-        fractions = [(o.position - s.start) @ line / (line @ line) for o in s.scene]
-        offsets = [abs((o.position - s.start) @ normal) for o in s.scene]
-        assert 0.3 <= fractions[0] <= 0.45
-        assert 0.55 <= fractions[1] <= 0.7
-        assert max(offsets) <= lateral
-
-
-def test_random_scenarios_dustpan_faces_the_start_within_its_shift():
-    for s in random_scenarios(5, seed=3):
-        shift = s.dustpan.position - NOMINAL_DUSTPAN
-        assert -0.12 <= shift[0] <= 0.0
-        assert abs(shift[1]) <= 0.08
-        towards = s.dustpan.position - s.start
-        assert s.dustpan.yaw == pytest.approx(math.atan2(towards[1], towards[0]), abs=1e-12)
-        # The start lies straight in front of the opening, on the centre line.
-        local = s.dustpan.local(s.start)
-        assert local[0] < 0
-        assert local[1] == pytest.approx(0.0, abs=1e-12)
-
-
-def test_random_scenarios_rejects_bad_count():
-    with pytest.raises(ValueError, match=r"^n: "):
-        random_scenarios(0)
 
 
 # ------------------------------------------------------------------ experiment
@@ -184,3 +132,80 @@ def test_failing_planner_is_reported_and_the_experiment_goes_on():
     assert summary["broken"]["not_run"] == 1
     assert math.isnan(summary["broken"]["tracking_max_m"])
     assert summary["straight"]["not_run"] == 0
+
+
+# ------------------------------------------------------------------ run_demo
+def _fake_run_into(fail_after: int | None = None):
+    """Stands in for the demo's work: writes every output, or fails midway."""
+
+    def run_into(out: Path, progress) -> dict:
+        for i, path in enumerate(demo_outputs(out)):
+            if fail_after is not None and i == fail_after:
+                raise RuntimeError("simulated failure midway")
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(f"new {path.name}\n")
+        return {"written": True}
+
+    return run_into
+
+
+def test_demo_failing_midway_leaves_no_output_folder(monkeypatch, tmp_path):
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into(fail_after=5))
+    out = tmp_path / "demo"
+    with pytest.raises(RuntimeError, match="midway"):
+        sweeping_demo.run_demo(out)
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == []  # no hidden .partial- folder left either
+
+
+def test_demo_moves_its_outputs_into_place_at_the_end(monkeypatch, tmp_path):
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
+    out = tmp_path / "demo"
+    assert sweeping_demo.run_demo(out) == {"written": True}
+    for path in demo_outputs(out):
+        assert path.read_text() == f"new {path.name}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
+
+
+def test_demo_force_keeps_other_files_and_an_interrupted_move_is_marked(monkeypatch, tmp_path):
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
+    out = tmp_path / "demo"
+    out.mkdir()
+    (out / "mine.txt").write_text("the user's\n")
+    for path in demo_outputs(out):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text("old\n")
+    with pytest.raises(FileExistsError):
+        sweeping_demo.run_demo(out)
+    assert (out / "report.html").read_text() == "old\n"
+
+    # Interrupted while moving the new files in: marked, and no report to open.
+    moves = []
+    real_replace = os.replace
+
+    def replace(src, dst):
+        if len(moves) == 4:
+            raise KeyboardInterrupt
+        moves.append(dst)
+        real_replace(src, dst)
+
+    monkeypatch.setattr(sweeping_demo.os, "replace", replace)
+    with pytest.raises(KeyboardInterrupt):
+        sweeping_demo.run_demo(out, overwrite=True)
+    assert (out / sweeping_demo.INCOMPLETE_MARKER).is_file()
+    assert not (out / "report.html").exists()
+
+    monkeypatch.setattr(sweeping_demo.os, "replace", real_replace)
+    sweeping_demo.run_demo(out, overwrite=True)
+    assert not (out / sweeping_demo.INCOMPLETE_MARKER).exists()
+    assert (out / "report.html").read_text() == "new report.html\n"
+    assert (out / "mine.txt").read_text() == "the user's\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
+
+
+def test_demo_output_folder_gets_the_usual_permissions(monkeypatch, tmp_path):
+    monkeypatch.setattr(sweeping_demo, "_run_into", _fake_run_into())
+    plain = tmp_path / "plain"
+    plain.mkdir()
+    sweeping_demo.run_demo(tmp_path / "demo")
+    assert (tmp_path / "demo").stat().st_mode == plain.stat().st_mode

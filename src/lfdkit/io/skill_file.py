@@ -1,0 +1,402 @@
+"""Skill files: a fitted skill's state as one JSON document, written and read back strictly.
+
+Format
+------
+One JSON object, ``{"format": "lfdkit-skill", "version": 1, ...}``, with
+every number written exactly (floats round-trip bit for bit) and no pickle:
+
+``params``
+    The constructor parameters.
+``n_dims``, ``units``
+    Dimension of the paths and their unit.
+``path``
+    The generalized path, ``(n_points, n_dims)`` nested lists.
+``mimic``
+    How the path was made: ``{"method": ..., "n_demos": ...}`` and the
+    method's diagnostics.
+``reward``
+    ``null`` or ``{"nominal_weight": Q, "precisions": {class: (q, q) nested
+    lists}}`` in 1/units².
+``ioc``
+    ``null`` or a summary of the reward fit (loss, stages, demonstrations,
+    convergence, classes not learned, identifiability of each parameter).
+``lfdkit``
+    The version that wrote it.
+
+The same state always gives the same document and the same bytes: it holds
+no date and no run times (the ``"seconds"`` entries of the diagnostics are
+left out), so skill files can be compared and cached.
+
+This module knows the format only, not :class:`lfdkit.skill.Skill`: it turns
+plain data (the parameters, the path, the reward's weight and matrices, the
+diagnostics) into a document (:func:`to_document`) and reads a document back
+field by field (:class:`SkillDocument`), each field checked and every error
+naming the file and the field. The skill assembles itself from those fields.
+
+Reading is strict (:func:`lfdkit.io.text.load_json`: no repeated keys, no
+NaN, bounded depth), at most :data:`MAX_SKILL_FILE_BYTES`, and the numeric
+parameters must lie in :data:`SKILL_FILE_LIMITS`. A file from a newer format
+version, or one with a missing or broken field, is refused. Writing is
+atomic (:func:`lfdkit.io.atomic.write_text`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Collection, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lfdkit import __version__
+from lfdkit.demos import PathLike
+from lfdkit.io.atomic import write_text
+from lfdkit.io.text import json_float_array, load_json
+
+__all__ = [
+    "MAX_SKILL_FILE_BYTES",
+    "SKILL_FILE_LIMITS",
+    "SKILL_FORMAT",
+    "SKILL_VERSION",
+    "SkillDocument",
+    "check_file_params",
+    "check_skill_path",
+    "jsonable",
+    "read_skill_file",
+    "to_document",
+    "write_skill_file",
+]
+
+SKILL_FORMAT = "lfdkit-skill"
+"""Value of the ``"format"`` field of a skill file."""
+
+SKILL_VERSION = 1
+"""Newest skill-file version this module reads, and the one it writes."""
+
+# Points of a path or plan: the planner's memory grows linearly with them.
+_MAX_POINTS = 100_000
+
+MAX_SKILL_FILE_BYTES = 32 * 1024**2
+"""Largest skill file :func:`read_skill_file` reads, in bytes (32 MiB).
+
+A skill with the longest path allowed (100 000 points in 3-D) takes about 8 MB."""
+
+SKILL_FILE_LIMITS: dict[str, tuple[float, float]] = {
+    "n_points": (3, _MAX_POINTS),
+    "n_components": (1, 1000),
+    "n_basis": (1, 200),
+    "duration": (0.0, 1e6),
+    "max_slope": (0.0, 1e6),
+}
+"""Ranges :meth:`lfdkit.skill.Skill.load` accepts for the numeric ``params`` of a skill file.
+
+``(low, high)``: integers ``low <= n <= high`` (``n_basis`` may also be
+``"auto"``); ``duration`` (seconds) and ``max_slope`` in ``(low, high]``.
+Far beyond any robot task (DMPs use tens of basis functions), they keep a
+corrupt or hostile file from asking for gigabytes or minutes
+(``n_basis = 10**4``; the DMP fit that loading does grows with
+``n_basis**2``, 200 takes about 0.5 s; ``"auto"`` tries at most 200) or overflowing
+(``duration = 1e300``). The stored ``path`` has at most the ``n_points``
+limit of rows."""
+
+# The parameters of SKILL_FILE_LIMITS that are counts (the others are reals).
+_INTEGER_PARAMS = ("n_points", "n_components", "n_basis")
+
+
+# --------------------------------------------------------------------------- #
+# Writing
+# --------------------------------------------------------------------------- #
+
+
+def to_document(
+    params: Mapping[str, Any],
+    *,
+    n_dims: int,
+    units: str,
+    path: np.ndarray,
+    mimic_info: Mapping[str, Any],
+    reward: tuple[float, Mapping[str, np.ndarray]] | None,
+    ioc_info: Mapping[str, Any] | None,
+) -> dict[str, Any]:
+    """A skill's state as a JSON-ready dict (the format of the module notes).
+
+    Parameters
+    ----------
+    params : mapping
+        The skill's constructor parameters.
+    n_dims : int
+        Dimension of the paths, 2 or 3.
+    units : str
+        Unit of the paths.
+    path : ndarray, shape (n_points, n_dims)
+        The generalized path.
+    mimic_info, ioc_info : mapping or None
+        Diagnostics of the path and of the reward fit; their ``"seconds"``
+        entries (run times) are left out at any depth, NumPy values become
+        plain JSON values and non-finite floats ``None``.
+    reward : (float, mapping of {str: ndarray (n_dims, n_dims)}) or None
+        The reward's nominal weight and precision matrix per obstacle class.
+
+    Returns
+    -------
+    dict
+        The document, keys in file order.
+    """
+    reward_doc = None
+    if reward is not None:
+        weight, precisions = reward
+        reward_doc = {
+            "nominal_weight": float(weight),
+            "precisions": {c: m.tolist() for c, m in precisions.items()},
+        }
+    return {
+        "format": SKILL_FORMAT,
+        "version": SKILL_VERSION,
+        "lfdkit": __version__,
+        "params": jsonable(params),
+        "n_dims": n_dims,
+        "units": units,
+        "path": path.tolist(),
+        "mimic": _without_timing(jsonable(mimic_info)),
+        "reward": reward_doc,
+        "ioc": _without_timing(jsonable(ioc_info)),
+    }
+
+
+def check_skill_path(path: PathLike) -> Path:
+    """``path`` as a ``Path``, refused when it is a directory (before any work is done).
+
+    Raises
+    ------
+    IsADirectoryError
+        If ``path`` is a directory.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise IsADirectoryError(f"{target}: is a directory; give a file name like skill.json")
+    return target
+
+
+def write_skill_file(path: PathLike, document: Mapping[str, Any], *, overwrite: bool) -> Path:
+    """Write :func:`to_document`'s output to ``path`` as indented JSON (:func:`write_text`).
+
+    Returns the file written; an existing ``path`` raises
+    :class:`~lfdkit.io.atomic.OutputExistsError` (a ``FileExistsError``)
+    unless ``overwrite``.
+    """
+    text = json.dumps(document, indent=1, allow_nan=False)
+    return write_text(path, text + "\n", overwrite=overwrite)
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` in plain JSON types (NumPy scalars and arrays converted); non-finite floats None.
+
+    Mappings become dicts with ``str`` keys, tuples lists; what a skill keeps
+    in its diagnostics goes through this before it is stored.
+    """
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def _without_timing(value: Any) -> Any:
+    """``value`` without its ``"seconds"`` entries, at any depth (run times vary run to run)."""
+    if isinstance(value, dict):
+        return {k: _without_timing(v) for k, v in value.items() if k != "seconds"}
+    if isinstance(value, list):
+        return [_without_timing(v) for v in value]
+    return value
+
+
+# --------------------------------------------------------------------------- #
+# Reading
+# --------------------------------------------------------------------------- #
+
+
+def read_skill_file(path: PathLike) -> Mapping[str, Any]:
+    """Parse a skill file strictly; the top-level object, its fields not yet checked.
+
+    The file is read with :func:`lfdkit.io.text.load_json` (at most
+    :data:`MAX_SKILL_FILE_BYTES`, UTF-8 text, valid JSON without repeated
+    keys or NaN); anything else, or a document that is not a JSON object,
+    raises ``ValueError`` naming the file. A missing file raises
+    ``FileNotFoundError``.
+    """
+    name = os.fspath(path)
+    data = load_json(name, max_bytes=MAX_SKILL_FILE_BYTES)
+    if not isinstance(data, Mapping):
+        raise ValueError(f"{name}: expected a JSON object at the top level")
+    return data
+
+
+class SkillDocument:
+    """The fields of a parsed skill file, read one at a time, each checked.
+
+    Construction checks the format and the version; each method then reads
+    one field and returns plain data. Errors are ``ValueError`` starting with
+    ``source`` and naming the field (``"f.json: reward.precisions.cup[0][1]:
+    expected a number, got a string"``). A reader calls the methods in the
+    order it needs the fields, so that a file with several faults is reported
+    at the first one met.
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed document (:func:`read_skill_file`, or :func:`to_document`'s
+        output passed through JSON).
+    source : str
+        The file name (or another label) that starts every message.
+    """
+
+    def __init__(self, data: Any, source: str) -> None:
+        field = _FieldReader(data, source)
+        if field.get("format", str) != SKILL_FORMAT:
+            raise ValueError(
+                f"{source}: not an lfdkit skill (format {data.get('format')!r}, "
+                f"expected {SKILL_FORMAT!r})"
+            )
+        version = field.get("version", int)
+        if version > SKILL_VERSION:
+            raise ValueError(
+                f"{source}: skill file version {version} was written by a newer lfdkit "
+                f"({data.get('lfdkit', '?')}); this lfdkit {__version__} reads up to version "
+                f"{SKILL_VERSION}. Upgrade lfdkit"
+            )
+        if version < 1:
+            raise ValueError(f"{source}: version: expected >= 1, got {version}")
+        self.data: Mapping[str, Any] = data
+        self.source = source
+        self._field = field
+
+    def params(self, known: Collection[str]) -> dict[str, Any]:
+        """The constructor parameters, names among ``known``, in :data:`SKILL_FILE_LIMITS`."""
+        params = self._field.get("params", dict)
+        unknown = sorted(set(params) - set(known))
+        if unknown:
+            raise ValueError(f"{self.source}: params.{unknown[0]}: unknown parameter")
+        check_file_params(params, self.source)
+        return params
+
+    def n_dims(self) -> int:
+        """Dimension of the paths, 2 or 3."""
+        n_dims = self._field.get("n_dims", int)
+        if n_dims not in (2, 3):
+            raise ValueError(f"{self.source}: n_dims: expected 2 or 3, got {n_dims}")
+        return n_dims
+
+    def path(self, n_dims: int) -> np.ndarray:
+        """The generalized path, finite float64 ``(n_points, n_dims)``, at most 100 000 points."""
+        raw_path = self._field.get("path", list)
+        if len(raw_path) > _MAX_POINTS:
+            raise ValueError(
+                f"{self.source}: path: has {len(raw_path)} points; a skill file holds at most "
+                f"{_MAX_POINTS}"
+            )
+        return self._field.array("path", (None, n_dims))
+
+    def mimic(self) -> dict[str, Any]:
+        """How the path was made (``method``, ``n_demos`` and diagnostics)."""
+        return self._field.get("mimic", dict)
+
+    def reward(self, n_dims: int) -> tuple[float, dict[str, np.ndarray]] | None:
+        """``(nominal weight, {class: precision matrix (n_dims, n_dims)})``, or None for no reward.
+
+        The matrices are finite float64 arrays of the right shape; whether
+        they make a valid reward is the reward's own check.
+        """
+        reward_data = self.data.get("reward")
+        if reward_data is None:
+            return None
+        sub = _FieldReader(reward_data, self.source, "reward.")
+        precisions = sub.get("precisions", dict)
+        if any(not str(c) for c in precisions):
+            raise ValueError(f"{self.source}: reward.precisions: a class name is empty")
+        matrices = {
+            str(c): sub.array(f"precisions.{c}", (n_dims, n_dims), value=m)
+            for c, m in precisions.items()
+        }
+        weight = sub.get("nominal_weight", (int, float))
+        return float(weight), matrices
+
+    def ioc(self) -> dict[str, Any] | None:
+        """The summary of the reward fit, or None (anything but an object reads as None)."""
+        info = self.data.get("ioc")
+        return dict(info) if isinstance(info, Mapping) else None
+
+
+def check_file_params(params: Mapping[str, Any], source: str) -> None:
+    """Types and ranges of a skill file's numeric ``params`` (:data:`SKILL_FILE_LIMITS`).
+
+    Also refuses a ``horizon`` or ``random_state`` that is not an integer.
+    Parameters not given are not checked. Errors start with ``source``.
+    """
+    for key, (low, high) in SKILL_FILE_LIMITS.items():
+        if key not in params:
+            continue
+        value = params[key]
+        where = f"{source}: params.{key}"
+        if key == "n_basis" and value == "auto":
+            continue  # the DMP chooses the count
+        integer = key in _INTEGER_PARAMS
+        kinds = (int,) if integer else (int, float)
+        if isinstance(value, bool) or not isinstance(value, kinds):
+            kind = "an integer" if integer else "a number"
+            raise ValueError(f"{where}: expected {kind}, got {value!r}")
+        if integer and not low <= value <= high:
+            raise ValueError(f"{where}: expected {int(low)} to {int(high)}, got {value}")
+        if not integer and not (low < value <= high):
+            raise ValueError(f"{where}: expected a value in ({low:g}, {high:g}], got {value!r}")
+    for key in ("horizon", "random_state"):
+        value = params.get(key)
+        if isinstance(value, (bool, float, str)):
+            raise ValueError(f"{source}: params.{key}: expected an integer, got {value!r}")
+
+
+class _FieldReader:
+    """Typed access to the fields of a parsed file, with errors that name the field."""
+
+    def __init__(self, data: Any, source: str, prefix: str = "") -> None:
+        if not isinstance(data, Mapping):
+            raise ValueError(f"{source}: {prefix.rstrip('.') or 'file'}: expected an object")
+        self.data, self.source, self.prefix = data, source, prefix
+
+    def get(self, key: str, kind: Any) -> Any:
+        if key not in self.data:
+            raise ValueError(f"{self.source}: {self.prefix}{key}: missing field")
+        value = self.data[key]
+        kinds = kind if isinstance(kind, tuple) else (kind,)
+        if (isinstance(value, bool) and bool not in kinds) or not isinstance(value, kinds):
+            names = " or ".join(k.__name__ for k in kinds)
+            raise ValueError(
+                f"{self.source}: {self.prefix}{key}: expected {names}, got {type(value).__name__}"
+            )
+        return value
+
+    def array(self, key: str, shape: tuple[int | None, ...], *, value: Any = None) -> np.ndarray:
+        raw = self.get(key, list) if value is None else value
+        where = f"{self.source}: {self.prefix}{key}"
+        try:
+            arr = json_float_array(raw, where, len(shape))
+        except TypeError as exc:
+            raise ValueError(str(exc)) from None
+        if arr.ndim != len(shape) or any(
+            s is not None and s != a for s, a in zip(shape, arr.shape, strict=True)
+        ):
+            want = " x ".join("n" if s is None else str(s) for s in shape)
+            raise ValueError(f"{where}: expected shape {want}, got {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{where}: contains NaN or infinite values")
+        return arr

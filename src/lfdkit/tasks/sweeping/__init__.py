@@ -1,0 +1,138 @@
+"""The sweeping task of thesis §6.4: a UR arm sweeps a cube into a dustpan past cups and markers.
+
+Modules, each depending only on those before it:
+
+* :mod:`.scenarios`: the one description of the scene (table, cube, brush,
+  dustpan, the cup and marker classes: every dimension, mass and colour) and
+  the scenario generators (random unseen scenes, the demo's unseen scenes);
+* :mod:`.examples`: the shipped example files (``data/``) and the data set
+  they come from;
+* :mod:`.sim`: the scene in MuJoCo with any :class:`lfdkit.robot.arm.Arm`
+  (poses, inverse kinematics, timing, simulation, outcome);
+* :mod:`.figures`: top views of simulated sweeps;
+* :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment.
+
+Everything public is importable from here. The names of :mod:`.figures` and
+:mod:`.demo` (which import matplotlib's figures and the whole skill pipeline)
+are loaded on first use.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from lfdkit.tasks.sweeping.examples import (
+    EXAMPLE_SEED,
+    example_dataset,
+    example_files,
+    write_example_files,
+)
+from lfdkit.tasks.sweeping.scenarios import (
+    BRUSH,
+    CUBE,
+    CUBE_SIZE,
+    DEFAULT_OBSTACLE_CLASS,
+    GOAL_DEPTH,
+    NEW_GOAL,
+    NOMINAL_DUSTPAN,
+    OBSTACLE_CLASSES,
+    TABLE,
+    UNSEEN_DESIGNS,
+    Brush,
+    Cube,
+    Dustpan,
+    ObstacleClass,
+    SweepingTask,
+    SweepScenario,
+    Table,
+    obstacle,
+    obstacle_class,
+    random_scenarios,
+    unseen_scenes,
+)
+from lfdkit.tasks.sweeping.sim import (
+    HOME,
+    SETTLE_TIME,
+    TIMESTEP,
+    TRACKING_TOLERANCE,
+    SweepResult,
+    build_model,
+    execute_sweep,
+    simulate_sweep,
+    sweep_motion,
+    sweeping_mjcf,
+)
+
+#: Names loaded on first use, by the submodule that defines them.
+_LAZY = {
+    "draw_dustpan": "figures",
+    "sweep_figure": "figures",
+    "GOAL_APPROACH": "demo",
+    "INCOMPLETE_MARKER": "demo",
+    "N_STEPS": "demo",
+    "default_planners": "demo",
+    "demo_outputs": "demo",
+    "run_demo": "demo",
+    "run_experiment": "demo",
+    "summarize": "demo",
+}
+
+__all__ = [
+    "BRUSH",
+    "CUBE",
+    "CUBE_SIZE",
+    "DEFAULT_OBSTACLE_CLASS",
+    "EXAMPLE_SEED",
+    "GOAL_APPROACH",
+    "GOAL_DEPTH",
+    "HOME",
+    "INCOMPLETE_MARKER",
+    "NEW_GOAL",
+    "NOMINAL_DUSTPAN",
+    "N_STEPS",
+    "OBSTACLE_CLASSES",
+    "SETTLE_TIME",
+    "TABLE",
+    "TIMESTEP",
+    "TRACKING_TOLERANCE",
+    "UNSEEN_DESIGNS",
+    "Brush",
+    "Cube",
+    "Dustpan",
+    "ObstacleClass",
+    "SweepResult",
+    "SweepScenario",
+    "SweepingTask",
+    "Table",
+    "build_model",
+    "default_planners",
+    "demo_outputs",
+    "draw_dustpan",
+    "example_dataset",
+    "example_files",
+    "execute_sweep",
+    "obstacle",
+    "obstacle_class",
+    "random_scenarios",
+    "run_demo",
+    "run_experiment",
+    "simulate_sweep",
+    "summarize",
+    "sweep_figure",
+    "sweep_motion",
+    "sweeping_mjcf",
+    "unseen_scenes",
+    "write_example_files",
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        module = importlib.import_module(f"{__name__}.{_LAZY[name]}")
+        return getattr(module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -1,0 +1,695 @@
+"""The sweeping workflows: what ``lfdkit demo`` runs, and the experiment in MuJoCo.
+
+``lfdkit demo`` (:func:`run_demo`): from the shipped files
+(:mod:`lfdkit.tasks.sweeping.examples`), learn a :class:`lfdkit.skill.Skill`
+(Mean-Path of the clean sweeps, a DMP, the cup and marker reward by inverse
+optimal control), score it on held-out sweeps, then plan a sweep to a new
+dustpan position (:data:`~lfdkit.tasks.sweeping.scenarios.NEW_GOAL`) in three
+unseen scenes holding a cup and a marker
+(:func:`~lfdkit.tasks.sweeping.scenarios.unseen_scenes`), and compare with the
+demonstrator's own plan (its true reward is known) and with the DMP alone;
+sweep the first one with a simulated UR5. Writes figures, the skill, the
+plans, a JSON record and one self-contained HTML report.
+
+The experiment (thesis §6.4): each planner (:func:`default_planners`) turns
+(start, goal, scene) of random unseen scenarios
+(:func:`~lfdkit.tasks.sweeping.scenarios.random_scenarios`) into a table path;
+:func:`run_experiment` executes every path with
+:func:`lfdkit.tasks.sweeping.sim.execute_sweep` and :func:`summarize` counts
+the outcomes per planner.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import secrets
+import shutil
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lfdkit import __version__, metrics
+from lfdkit.emulate import Reward, plan_path
+from lfdkit.geometry import resample
+from lfdkit.io import atomic_write, load_demos, save_path
+from lfdkit.io.scenes import load_scenes
+from lfdkit.report import Report
+from lfdkit.scene import Scene
+from lfdkit.skill import Skill, learn, read_training_data
+from lfdkit.tasks.sweeping.examples import EXAMPLE_SEED, example_dataset, example_files
+from lfdkit.tasks.sweeping.scenarios import (
+    BRUSH,
+    NEW_GOAL,
+    UNSEEN_DESIGNS,
+    Dustpan,
+    SweepingTask,
+    SweepScenario,
+    unseen_scenes,
+)
+from lfdkit.tasks.sweeping.sim import SweepResult, execute_sweep
+
+__all__ = [
+    "GOAL_APPROACH",
+    "INCOMPLETE_MARKER",
+    "N_STEPS",
+    "default_planners",
+    "demo_outputs",
+    "run_demo",
+    "run_experiment",
+    "summarize",
+]
+
+#: Stretch before the dustpan over which plans return to the nominal (m): the dustpan's depth.
+GOAL_APPROACH = 0.1
+_FIGURES = (
+    "mimic.png",
+    "imitate.png",
+    "emulate_test.png",
+    "unseen_scenes.png",
+    "simulation.png",
+)
+#: Written when MuJoCo can render off-screen (EGL, OSMesa or a display).
+_RENDER = "simulation_render.png"
+_RENDER_PATH = Path("figures") / _RENDER
+#: Present in an output folder only while a run is moving its files into it.
+INCOMPLETE_MARKER = "INCOMPLETE"
+_URSCRIPT = "robot/unseen_1.script"
+_PLANNERS = ("learned reward", "true reward", "DMP only")
+
+Progress = Callable[[str], None]
+#: A planner of the experiment: (start, goal, scene) to a table path (n, 2).
+Planner = Callable[[np.ndarray, np.ndarray, Scene], np.ndarray]
+
+
+def demo_outputs(output: str | os.PathLike[str]) -> list[Path]:
+    """Every file :func:`run_demo` writes under ``output``."""
+    out = Path(output)
+    files = [out / "report.html", out / "results.json", out / "skill.json"]
+    files += [out / "figures" / name for name in _FIGURES]
+    files += [out / "plans" / f"unseen_{i + 1}.csv" for i in range(len(UNSEEN_DESIGNS))]
+    files += [out / _URSCRIPT]
+    files += [out / "data" / path.name for path in example_files().values()]
+    return files
+
+
+def run_demo(
+    output: str | os.PathLike[str],
+    *,
+    overwrite: bool = False,
+    progress: Progress | None = None,
+) -> dict[str, Any]:
+    """Run the sweeping workflow and write its outputs under ``output``.
+
+    Parameters
+    ----------
+    output : path
+        Output directory, created if needed.
+    overwrite : bool
+        Replace files of an earlier run; otherwise an existing output file
+        raises ``FileExistsError`` before anything is written. Other files in
+        ``output`` are left alone.
+    progress : callable, optional
+        Called with a short message at each step (:data:`N_STEPS` of them).
+
+    Returns
+    -------
+    dict
+        The results written to ``results.json``.
+
+    Notes
+    -----
+    The outputs are written into a hidden sibling folder
+    (``.NAME.partial-XXXX``, removed on any error or interrupt) and moved into
+    ``output`` only when all are done, so a folder that looks complete is
+    complete (see ``_move_into_place``; a process killed outright can leave
+    the hidden ``.partial-`` folder behind, never a half-written ``output``).
+    """
+    out = Path(output)
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"{out}: exists and is not a directory")
+    clash = [p for p in [*demo_outputs(out), out / _RENDER_PATH] if p.exists()]
+    if clash and not overwrite:
+        raise FileExistsError(
+            f"{clash[0]}: exists; pass overwrite=True to replace the demo's files"
+        )
+    # Everything is written into a hidden sibling folder first and moved into place at
+    # the very end: an interrupted run never leaves a folder that looks complete.
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = _fresh_sibling(out)
+    try:
+        results = _run_into(staging, progress)
+        _move_into_place(staging, out, overwrite)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return results
+
+
+def _run_into(out: Path, progress: Progress | None) -> dict[str, Any]:
+    """The workflow of :func:`run_demo`, writing into the fresh folder ``out``."""
+    overwrite = False
+    for folder in {p.parent for p in demo_outputs(out)}:
+        folder.mkdir(parents=True, exist_ok=True)
+
+    def tell(message: str) -> None:
+        if progress is not None:
+            progress(message)
+
+    started = time.perf_counter()
+    files = example_files()
+    truth = example_dataset()
+    tell("learn the skill from data/demos.csv and data/scenes.csv")
+    t0 = time.perf_counter()
+    skill = learn(files["demos"], files["scenes"])
+    learn_s = time.perf_counter() - t0
+
+    tell("score the held-out sweeps")
+    test_demos, test_ids = load_demos(files["test_demos"], return_ids=True)
+    test_scene_map = load_scenes(files["test_scenes"])
+    test_scenes = [test_scene_map[key] for key in test_ids]
+    scores = skill.evaluate(test_demos, test_scenes)
+    # The demonstrator's reward with the skill's own planner: differences are the reward's.
+    horizon = skill.horizon if skill.planner == "mpc" else None
+    true_plans = [
+        plan_path(truth.true_reward, skill.nominal(demo[0]), scene, horizon=horizon).points
+        for demo, scene in zip(test_demos, test_scenes, strict=True)
+    ]
+    scores["mse_true_reward"] = metrics.mse_paths(true_plans, test_demos)
+
+    tell("plan in three unseen scenes with a new goal")
+    start = skill.path_[0]
+    scenes = unseen_scenes(start, NEW_GOAL)
+    nominal = skill.nominal(start, NEW_GOAL)
+    # The demonstrator's nominal to the new goal is the straight sweep.
+    true_nominal = resample(np.vstack([start, NEW_GOAL]), 500)
+    unseen = []
+    for i, scene in enumerate(scenes):
+        t0 = time.perf_counter()
+        learned = skill.plan(start, NEW_GOAL, scene, clearance=0.5 * BRUSH.width)
+        plan_ms = 1e3 * (time.perf_counter() - t0)
+        reference = plan_path(truth.true_reward, true_nominal, scene, horizon=horizon).points
+        # Drawn in this order: the learned plan on top of the demonstrator's.
+        paths = {
+            _PLANNERS[2]: resample(nominal, len(learned)),
+            _PLANNERS[1]: reference,
+            _PLANNERS[0]: learned,
+        }
+        rows = []
+        for name in _PLANNERS:
+            path = paths[name]
+            rows.append(
+                {
+                    "scene": i + 1,
+                    "planner": name,
+                    "collisions": metrics.collisions(path, scene),
+                    "min_clearance_mm": 1e3 * float(metrics.clearance(path, scene).min()),
+                    "rms_to_true_mm": 1e3 * float(np.sqrt(metrics.mse_paths(path, [reference]))),
+                    "end_to_goal_mm": 1e3 * float(np.linalg.norm(path[-1] - NEW_GOAL)),
+                }
+            )
+        rows[0]["plan_ms"] = plan_ms
+        unseen.append({"scene": scene, "paths": paths, "rows": rows})
+
+    tell("sweep in unseen scene 1 with a simulated UR5 (MuJoCo)")
+    execution = _execute(skill, start, scenes[0])
+
+    tell("draw the figures")
+    figures = _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
+    figures["simulation.png"] = execution.pop("figure")
+    image = execution.pop("image")
+    program = execution.pop("program")
+    results = _results(skill, truth, scores, unseen, learn_s, time.perf_counter() - started)
+    results["execution"] = execution
+    text = json.dumps(results, indent=1, allow_nan=False)
+
+    tell("write the skill, the plans, the figures, the results and the report")
+    for i, item in enumerate(unseen):
+        learned = item["paths"][_PLANNERS[0]]
+        save_path(out / "plans" / f"unseen_{i + 1}.csv", learned, overwrite=overwrite)
+    for name, fig in figures.items():
+        atomic_write(
+            out / "figures" / name,
+            lambda f, fig=fig: fig.savefig(f, format="png", dpi=110),
+            binary=True,
+            overwrite=overwrite,
+        )
+    if image is not None:
+        from matplotlib.image import imsave
+
+        atomic_write(
+            out / "figures" / _RENDER,
+            lambda f: imsave(f, image, format="png"),
+            binary=True,
+            overwrite=overwrite,
+        )
+    atomic_write(out / _URSCRIPT, lambda f: f.write(program), overwrite=overwrite)
+    skill.save(out / "skill.json", overwrite=overwrite)
+    for path in files.values():
+        target = out / "data" / path.name
+        content = path.read_bytes()
+        atomic_write(
+            target, lambda f, content=content: f.write(content), binary=True, overwrite=overwrite
+        )
+    atomic_write(out / "results.json", lambda f: f.write(text + "\n"), overwrite=overwrite)
+    _report(results, figures, image).write(out / "report.html", overwrite=overwrite)
+    return results
+
+
+def _fresh_sibling(out: Path) -> Path:
+    """A new hidden folder next to ``out``, with the permissions a plain mkdir gives."""
+    while True:
+        staging = out.parent / f".{out.name}.partial-{secrets.token_hex(4)}"
+        try:
+            staging.mkdir()  # not tempfile.mkdtemp: its 0o700 would become the output's
+            return staging
+        except FileExistsError:  # pragma: no cover - 32 random bits collided
+            continue
+
+
+def _move_into_place(staging: Path, out: Path, overwrite: bool) -> None:
+    """Move the finished outputs from ``staging`` to ``out``.
+
+    A new ``out`` is the staging folder renamed: atomic. Into an existing
+    folder (which may hold the user's other files, so it is never replaced
+    as a whole) the files are moved one by one, each atomically, under an
+    ``INCOMPLETE`` marker, with ``report.html`` last: a move cut short leaves
+    the marker and no report.
+    """
+    if not out.exists():
+        try:
+            os.rename(staging, out)
+            return
+        except OSError:
+            if not out.is_dir():  # not a folder that appeared meanwhile: a real failure
+                raise
+    files = sorted(p for p in staging.rglob("*") if p.is_file())
+    report = staging / "report.html"
+    files = [p for p in files if p != report] + [report]
+    if not overwrite:
+        clash = [out / p.relative_to(staging) for p in files]
+        clash = [p for p in clash if p.exists()]
+        if clash:
+            raise FileExistsError(
+                f"{clash[0]}: exists; pass overwrite=True to replace the demo's files"
+            )
+    marker = out / INCOMPLETE_MARKER
+    marker.write_text("lfdkit demo was interrupted while writing this folder; run it again.\n")
+    (out / "report.html").unlink(missing_ok=True)
+    for source in files:
+        target = out / source.relative_to(staging)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        os.replace(source, target)
+    marker.unlink()
+
+
+N_STEPS = 6
+"""Number of progress messages :func:`run_demo` sends."""
+
+
+def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen) -> dict:
+    from lfdkit import plot
+    from lfdkit.mimic import GMR
+
+    data = read_training_data(example_files()["demos"]).free_demos
+    # GMR's 2-sd tube shows how far the clean sweeps spread around the path.
+    gmr = GMR(n_components=6, random_state=0).fit(data)
+    figures = {
+        "mimic.png": plot.mean_path_figure(
+            data,
+            skill.mimic_,
+            nominal=truth.nominal,
+            gmr=gmr,
+            title="Clean sweeps, their Mean-Path and GMR's 2-sd tube",
+        )
+    }
+    rollout = skill.dmp_.rollout(goal=NEW_GOAL, n_steps=200)
+    figures["imitate.png"] = plot.retargeting_figure(
+        data,
+        skill.path_,
+        skill.dmp_.times_,
+        [(rollout.times, rollout.positions)],
+        title="DMP: the sweep carried to the moved dustpan",
+        goal_names=["new dustpan"],
+    )
+    panels = []
+    for j, (demo, scene, reference) in enumerate(
+        zip(test_demos, test_scenes, true_plans, strict=True)
+    ):
+        panels.append(
+            {
+                "reward": skill.reward_,
+                "nominal": skill.nominal(demo[0]),
+                "scene": scene,
+                "demos": [demo],
+                "plans": {_PLANNERS[1]: reference, _PLANNERS[0]: skill.plan(demo[0], None, scene)},
+                "title": f"held-out sweep {j + 1} ({scene.labels[0]})",
+            }
+        )
+    figures["emulate_test.png"] = plot.emulation_grid(
+        panels, ncols=2, title="Learned reward on held-out sweeps"
+    )
+    panels = [
+        {
+            "reward": skill.reward_,
+            "nominal": nominal,
+            "scene": item["scene"],
+            "plans": item["paths"],
+            "title": f"unseen scene {i + 1}",
+        }
+        for i, item in enumerate(unseen)
+    ]
+    figures["unseen_scenes.png"] = plot.emulation_grid(
+        panels, ncols=3, title="Unseen scenes, dustpan moved: learned skill vs the demonstrator"
+    )
+    return figures
+
+
+def _execute(skill: Skill, start: np.ndarray, scene: Scene) -> dict:
+    """Plan with the goal approach and sweep in MuJoCo; the dustpan stands at the new goal."""
+    from lfdkit.robot.urscript import urscript_program
+    from lfdkit.tasks.sweeping.figures import sweep_figure
+
+    dustpan = Dustpan.for_sweep(start, NEW_GOAL)
+    path = skill.plan(
+        start, NEW_GOAL, scene, goal_approach=GOAL_APPROACH, clearance=0.5 * BRUSH.width
+    )
+    task = SweepingTask.for_path(path, dustpan, scene)
+    result = execute_sweep(path, task, render=True)
+    figure = sweep_figure(
+        dustpan, scene, {"learned skill": result}, title="Simulated UR5 sweep, unseen scene 1"
+    )
+    program = ""
+    if result.timing is not None:
+        times, q, _, _ = result.timing.resample(125.0)
+        program = urscript_program(
+            motion="servoj",
+            times=times,
+            joint_path=q,
+            header="lfdkit demo: the learned sweep of unseen scene 1 (servoj at 125 Hz)",
+        )
+    return {
+        "success": result.success,
+        "summary": result.summary(),
+        "failures": result.failures,
+        "cube_in_dustpan": result.cube_in_dustpan,
+        "touched": result.touched,
+        "tracking_error_mm": 1e3 * result.tracking_error,
+        "path_error_mm": 1e3 * result.path_error,
+        "motion_s": result.duration,
+        "cube_in_dustpan_frame_m": dustpan.local(result.cube_final).tolist(),
+        "goal_approach_m": GOAL_APPROACH,
+        "rendered": result.image is not None,
+        "figure": figure,
+        "image": result.image,
+        "program": program,
+    }
+
+
+def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float) -> dict:
+    errors = metrics.parameter_errors(skill.reward_, truth.true_reward)
+    parameters = [
+        {
+            "parameter": "Q",
+            "learned": skill.reward_.nominal_weight,
+            "true": truth.true_reward.nominal_weight,
+            "relative_error": errors["Q"],
+        }
+    ]
+    for label, matrix in truth.true_reward.precisions.items():
+        for i, axis in enumerate("xy"):
+            parameters.append(
+                {
+                    "parameter": f"{label} P_{axis}{axis}",
+                    "learned": float(skill.reward_.precisions[label][i, i]),
+                    "true": float(matrix[i, i]),
+                    "relative_error": errors[f"{label}[{i}]"],
+                }
+            )
+    # e2 sums the distances at 100 points along the true path: their mean, in mm.
+    mimic_error = metrics.e2(skill.path_, truth.nominal, n_points=100) / 100
+    return {
+        "lfdkit": __version__,
+        "example": f"sweeping (synthetic demonstrator, seed {EXAMPLE_SEED})",
+        "seconds": {"learn": learn_s, "total": total_s},
+        "mimic": {
+            **skill.mimic_info_,
+            "mean_distance_to_true_path_mm": 1e3 * float(mimic_error),
+        },
+        "imitate": {
+            "n_basis": skill.dmp_.n_basis_,
+            "reproduction_rms_mm": 1e3
+            * float(np.sqrt(metrics.mse_paths(skill.nominal(), [skill.path_]))),
+            "new_goal": NEW_GOAL.tolist(),
+        },
+        "emulate": {"ioc": skill.ioc_info_, "parameters": parameters, "test": scores},
+        "unseen": [row for item in unseen for row in item["rows"]],
+    }
+
+
+def _report(results: dict, figures: dict, image: np.ndarray | None = None) -> Report:
+    report = Report(
+        "lfdkit demo: sweeping a cube into a dustpan",
+        subtitle="Learn from demonstrations, then sweep around a cup and a marker in new scenes",
+    )
+    report.definition_list(
+        {
+            "data": results["example"],
+            "learned in": f"{results['seconds']['learn']:.2f} s",
+            "whole run": f"{results['seconds']['total']:.1f} s",
+            "inputs": "data/demos.csv, data/scenes.csv (clean and obstacle sweeps)",
+        }
+    )
+    mimic = results["mimic"]
+    report.heading("Mimic: the generalized path")
+    report.paragraph(
+        f"Mean-Path of {mimic['n_demos']} clean sweeps: {mimic['n_iter']} "
+        f"iteration{'s' if mimic['n_iter'] != 1 else ''}; "
+        f"mean distance to the demonstrator's true path "
+        f"{mimic['mean_distance_to_true_path_mm']:.2f} mm; its length is "
+        f"{mimic['length_ratio']:.2f} times the median demonstration's."
+    )
+    for text in mimic.get("warnings", []):
+        report.paragraph(f"Warning: {text}")
+    report.figure(
+        figures["mimic.png"],
+        "Demonstrations, the Mean-Path and GMR's covariance tube (left), the Distance-Space "
+        "(middle), the residual per iteration (right).",
+    )
+    imitate = results["imitate"]
+    report.heading("Imitate: a DMP to new goals")
+    report.paragraph(
+        f"DMP with {imitate['n_basis']} basis functions per dimension reproduces the path to "
+        f"{imitate['reproduction_rms_mm']:.3f} mm RMS and is carried to the moved dustpan at "
+        f"{tuple(round(v, 3) for v in imitate['new_goal'])} m."
+    )
+    report.figure(figures["imitate.png"], "The generalized path and the DMP to the new goal.")
+    emulate = results["emulate"]
+    report.heading("Emulate: the obstacle reward")
+    report.table(
+        [
+            {
+                "parameter": row["parameter"],
+                "learned": row["learned"],
+                "true": row["true"],
+                "relative error": row["relative_error"],
+            }
+            for row in emulate["parameters"]
+        ],
+        "Learned reward (1/m²) against the demonstrator's true one.",
+        formats={"learned": ".4g", "true": ".4g", "relative error": ".1%"},
+    )
+    test = emulate["test"]
+    report.table(
+        [
+            {"planner": "learned skill", "MSE_R (mm²)": 1e6 * test["mse"]},
+            {"planner": "true reward", "MSE_R (mm²)": 1e6 * test["mse_true_reward"]},
+            {"planner": "replay the nominal (MSE_Mp)", "MSE_R (mm²)": 1e6 * test["mse_replay"]},
+        ],
+        f"Held-out sweeps: improvement over replaying the nominal Pr = "
+        f"{test['improvement']:.1f} %.",
+    )
+    report.figure(
+        figures["emulate_test.png"],
+        "Reward contours of the learned skill on the held-out sweeps, with the demonstration "
+        "and the plans of the learned and the true reward.",
+    )
+    report.heading("Unseen scenes with a new goal")
+    labels = {
+        "scene": "scene",
+        "planner": "planner",
+        "collisions": "collisions",
+        "min_clearance_mm": "min clearance (mm)",
+        "rms_to_true_mm": "RMS to demonstrator (mm)",
+        "end_to_goal_mm": "end to goal (mm)",
+        "plan_ms": "plan (ms)",
+    }
+    report.table(
+        [{labels[k]: v for k, v in row.items()} for row in results["unseen"]],
+        "Each planner in each unseen scene: collisions, smallest clearance to an obstacle's "
+        "surface, RMS distance to the demonstrator's plan, distance of the end to the goal.",
+        columns=list(labels.values()),
+        formats={
+            labels["min_clearance_mm"]: ".1f",
+            labels["rms_to_true_mm"]: ".2f",
+            labels["end_to_goal_mm"]: ".1f",
+            labels["plan_ms"]: ".0f",
+        },
+    )
+    report.figure(figures["unseen_scenes.png"], "Plans in the unseen scenes.")
+    run = results["execution"]
+    report.heading("Execution: a simulated UR5 sweeps the cube")
+    report.paragraph(
+        f"The learned plan for unseen scene 1, drawn back onto the nominal over the last "
+        f"{run['goal_approach_m']:.2f} m so that it ends in the dustpan, turned into brush "
+        f"poses at {BRUSH.sweep_height:g} m, joint angles (analytic IK on one branch) and a "
+        "trajectory at 20 % "
+        "of the UR5's joint limits, then run in MuJoCo with joint position control. "
+        f"Outcome: {run['summary']}; path deviation {run['path_error_mm']:.2f} mm; "
+        f"{run['motion_s']:.1f} s of motion. The URScript (servoj) is robot/unseen_1.script."
+    )
+    report.figure(
+        figures["simulation.png"],
+        "Top view: the brush (flange) trace, the cube's trace (dotted) and where it came to rest.",
+    )
+    if image is not None:
+        from io import BytesIO
+
+        from matplotlib.image import imsave
+
+        buffer = BytesIO()
+        imsave(buffer, image, format="png")
+        report.figure(
+            buffer.getvalue(),
+            "MuJoCo at the end of the sweep: planned path (red), the cube's trace (green).",
+        )
+    report.heading("Files")
+    report.paragraph(
+        "skill.json (the learned skill: lfdkit plan skill.json ...), plans/unseen_*.csv, "
+        "robot/unseen_1.script (URScript for a UR5), "
+        "figures/*.png, results.json, data/ (the inputs: try lfdkit learn data/demos.csv "
+        "--scenes data/scenes.csv -o my_skill.json)."
+    )
+    return report
+
+
+# ------------------------------------------------------------------ the experiment
+def default_planners(skill: Skill, true_reward: Reward | None = None) -> dict[str, Planner]:
+    """The planners compared in the experiment.
+
+    * ``learned skill``: :meth:`Skill.plan` with the goal approach
+      (:data:`GOAL_APPROACH`), MPC as on the robot;
+    * ``learned, thesis end``: the same without the goal term (the thesis's model);
+    * ``replay generalized path``: the generalized path as demonstrated;
+    * ``DMP alone``: the DMP carried to the new goal, obstacles ignored;
+    * ``true reward`` (when given): the demonstrator's own reward, same planner.
+    """
+
+    def learned(start: np.ndarray, goal: np.ndarray, scene: Scene) -> np.ndarray:
+        return skill.plan(start, goal, scene, goal_approach=GOAL_APPROACH)
+
+    planners: dict[str, Planner] = {
+        "learned skill": learned,
+        "learned, thesis end": lambda start, goal, scene: skill.plan(
+            start, goal, scene, goal_approach=None
+        ),
+        "replay generalized path": lambda start, goal, scene: skill.path_,
+        "DMP alone": lambda start, goal, scene: skill.nominal(start, goal),
+    }
+    if true_reward is not None:
+
+        def true_plan(start: np.ndarray, goal: np.ndarray, scene: Scene) -> np.ndarray:
+            return plan_path(
+                true_reward,
+                skill.nominal(start, goal),
+                scene,
+                horizon=int(skill.horizon),
+                n_points=int(skill.n_points),
+                goal_approach=GOAL_APPROACH,
+            ).points
+
+        planners["true reward"] = true_plan
+    return planners
+
+
+def run_experiment(
+    scenarios: Sequence[SweepScenario],
+    planners: dict[str, Planner],
+    *,
+    speed_fraction: float = 0.2,
+    progress: Progress | None = None,
+) -> list[dict]:
+    """Plan and simulate every scenario with every planner.
+
+    Returns
+    -------
+    list of dict
+        One per (scenario, planner): ``scenario``, ``planner``, ``success``,
+        ``cube_in_dustpan``, ``touched`` (number of obstacles touched),
+        ``tracking_error`` and ``path_error`` (m), ``duration`` (s of robot
+        motion), ``plan_s`` (planning time), ``failures`` (list of str) and
+        ``result`` (the :class:`SweepResult`).
+    """
+    rows = []
+    for index, scenario in enumerate(scenarios):
+        for name, planner in planners.items():
+            begin = time.perf_counter()
+            try:
+                path = np.asarray(planner(scenario.start, scenario.goal, scenario.scene), float)
+                plan_s = time.perf_counter() - begin
+                # A path that is not a path (NaN, wrong shape) fails here, not in the simulator.
+                task = SweepingTask.for_path(path, scenario.dustpan, scenario.scene)
+            except ValueError as exc:
+                rows.append(_row(index, name, None, float("nan"), f"planning failed: {exc}"))
+                continue
+            result = execute_sweep(path, task, speed_fraction=speed_fraction)
+            rows.append(_row(index, name, result, plan_s))
+        if progress is not None:
+            progress(f"scenario {index + 1}/{len(scenarios)}")
+    return rows
+
+
+def _row(
+    index: int, name: str, result: SweepResult | None, plan_s: float, failure: str = ""
+) -> dict:
+    """One row of :func:`run_experiment`; a run that did not happen (``result`` None) failed."""
+    run = result or SweepResult(
+        success=False, cube_in_dustpan=False, touched=[], failures=[failure]
+    )
+    return {
+        "scenario": index,
+        "planner": name,
+        "success": run.success,
+        "cube_in_dustpan": run.cube_in_dustpan,
+        "touched": len(run.touched),
+        "tracking_error": run.tracking_error,
+        "path_error": run.path_error,
+        "duration": run.duration,
+        "plan_s": plan_s,
+        "failures": list(run.failures),
+        "result": result,
+    }
+
+
+def summarize(rows: Sequence[dict]) -> dict[str, dict]:
+    """Per planner: runs, success / cube-in-dustpan / no-touch rates and tracking errors."""
+    out: dict[str, dict] = {}
+    for name in dict.fromkeys(row["planner"] for row in rows):
+        mine = [row for row in rows if row["planner"] == name]
+        tracking = np.array([row["tracking_error"] for row in mine], dtype=float)
+        finite = tracking[np.isfinite(tracking)]
+        out[name] = {
+            "runs": len(mine),
+            "success_rate": float(np.mean([row["success"] for row in mine])),
+            "cube_in_dustpan_rate": float(np.mean([row["cube_in_dustpan"] for row in mine])),
+            "no_touch_rate": float(np.mean([row["touched"] == 0 for row in mine])),
+            "tracking_max_m": float(finite.max()) if finite.size else float("nan"),
+            "tracking_median_m": float(np.median(finite)) if finite.size else float("nan"),
+            "not_run": int(np.sum(~np.isfinite(tracking))),
+            "duration_median_s": float(
+                np.nanmedian([row["duration"] for row in mine]) if finite.size else float("nan")
+            ),
+        }
+    return out

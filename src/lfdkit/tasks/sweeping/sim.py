@@ -1,0 +1,565 @@
+"""MuJoCo simulation of the sweeping experiment (thesis §6.4, Fig 6.14–6.15).
+
+The scene is the one :mod:`.scenarios` describes (table, cube, brush, dustpan,
+cups and markers, every dimension, mass and colour read from there). The robot
+is an :class:`lfdkit.robot.arm.Arm` (``arm=``, default the thesis's UR5),
+built by :mod:`lfdkit.robot.mujoco` from the description's DH table, masses,
+link radii, joint limits and servo gains, so MuJoCo's flange pose equals
+:func:`lfdkit.robot.ur5.forward` to round-off; its joint count, its limits
+(for the timing) and its kinematics all come from the description, so another
+arm (:data:`lfdkit.robot.arm.UR10`) sweeps without a change here. The sweep's
+inverse kinematics is the analytic one of UR-type arms
+(:attr:`lfdkit.robot.arm.Arm.ur_type`); :data:`HOME` picks its branch.
+
+The brush is a box on a handle fixed to the flange; cube, cups and markers are
+free bodies, so physics decides where the cube goes and whether an obstacle is
+hit. An obstacle stands as its shape's solid
+(:meth:`lfdkit.scene.Obstacle.solid`): a round one as an upright cylinder of
+the height its class describes
+(:func:`lfdkit.tasks.sweeping.scenarios.obstacle_class`; a class the task does
+not know stands as a cup), a rod (:class:`lfdkit.scene.Capsule`) lying on the
+table; of the obstacle's own radius (the class's where it is 0).
+
+Control
+-------
+Position actuators (PD, the arm's ``kp``/``kv`` per joint) follow the time-parameterised
+joint trajectory, commanded at every 2 ms physics step with a velocity
+feed-forward (``q_ref + kv/kp · q̇_ref``) that cancels the damping's lag;
+the links are gravity-compensated. The robot starts at the trajectory's first
+configuration (lowering the brush onto the table is not simulated), waits
+:data:`SETTLE_TIME`, sweeps, and waits again for the cube to come to rest.
+
+Outcome
+-------
+:func:`simulate_sweep` never raises for what happens in the scene: a cube that
+misses the dustpan, a touched obstacle, tracking beyond the tolerance, an
+unstable simulation or (in :func:`execute_sweep`) a path the robot cannot
+follow are reported in :class:`SweepResult` (``success``, ``failures``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from html import escape
+from typing import Any
+
+import numpy as np
+
+from lfdkit._validation import check_path, check_positive
+from lfdkit.geometry import path_length, project_onto_polyline, resample, smooth_path
+from lfdkit.robot import ur5
+from lfdkit.robot.arm import UR5, Arm, check_arm
+from lfdkit.robot.mujoco import (
+    FIXED_CONTACT,
+    OBJECT_CONTACT,
+    ROBOT_CONTACT,
+    actuators_xml,
+    load_mujoco,
+    mjcf_numbers,
+    render_camera,
+    robot_xml,
+)
+from lfdkit.robot.poses import sweeping_poses
+from lfdkit.robot.timing import Timing, time_parameterize
+from lfdkit.scene import Scene
+from lfdkit.tasks.sweeping.scenarios import (
+    BRUSH,
+    CUBE,
+    TABLE,
+    Brush,
+    Dustpan,
+    SweepingTask,
+    obstacle_class,
+)
+
+__all__ = [
+    "HOME",
+    "SETTLE_TIME",
+    "TIMESTEP",
+    "TRACKING_TOLERANCE",
+    "SweepResult",
+    "build_model",
+    "execute_sweep",
+    "simulate_sweep",
+    "sweep_motion",
+    "sweeping_mjcf",
+]
+
+#: Physics step (s).
+TIMESTEP = 0.002
+#: Rest before and after the sweep (s).
+SETTLE_TIME = 0.3
+#: Largest accepted distance of the simulated tool from the planned tool path (m).
+TRACKING_TOLERANCE = 0.005
+#: A configuration of a UR-type arm with the brush down in front of it (rad); picks the
+#: IK branch.
+HOME = np.array([0.0, -1.2, 1.6, -1.97, -1.5708, 0.0])
+
+#: Height and width of a rendered image (pixels).
+_IMAGE = (720, 960)
+
+
+@dataclass
+class SweepResult:
+    """What happened in one simulated sweep.
+
+    The fields after ``failures`` default to a sweep that was not simulated
+    (NaN and empty traces).
+
+    Attributes
+    ----------
+    success : bool
+        Cube in the dustpan, no obstacle touched, tracking within tolerance,
+        simulation stable.
+    cube_in_dustpan : bool
+    touched : list of int
+        Indices (in the task's scene) of obstacles anything touched.
+    tracking_error : float
+        Largest distance of the simulated flange from the planned flange
+        position at the same time, m (nan if not simulated).
+    path_error : float
+        Largest distance of the simulated flange from the planned tool path
+        (a polyline), m.
+    failures : list of str
+        One line per failure; empty on success.
+    cube_final : ndarray, shape (2,)
+        Where the cube came to rest (nan if not simulated).
+    duration : float
+        Length of the sweep, s.
+    times : ndarray, shape (m,)
+        Sample times of the traces, s.
+    tool_trace : ndarray, shape (m, 3)
+        Simulated flange positions, m.
+    cube_trace : ndarray, shape (m, 2)
+        Simulated cube centre, m.
+    obstacle_shift : ndarray, shape (L,)
+        How far each obstacle moved, m.
+    joint_path : ndarray, shape (n, n_joints) or None
+        The commanded joint waypoints, rad.
+    timing : Timing or None
+    image : ndarray, shape (720, 960, 3) or None
+        The rendered final scene (with the planned path in red and the cube's
+        trace in green), when asked for and OpenGL is available.
+    """
+
+    success: bool
+    cube_in_dustpan: bool
+    touched: list[int]
+    tracking_error: float = float("nan")
+    path_error: float = float("nan")
+    failures: list[str] = field(default_factory=list)
+    cube_final: np.ndarray = field(default_factory=lambda: np.full(2, np.nan))
+    duration: float = float("nan")
+    times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    tool_trace: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    cube_trace: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    obstacle_shift: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    joint_path: np.ndarray | None = None
+    timing: Timing | None = field(default=None, repr=False)
+    image: np.ndarray | None = field(default=None, repr=False)
+
+    def summary(self) -> str:
+        """One line: success or the failures."""
+        if self.success:
+            return (
+                f"success: cube in the dustpan, no obstacle touched, "
+                f"tracking {self.tracking_error * 1e3:.2f} mm"
+            )
+        return "; ".join(self.failures)
+
+
+# ------------------------------------------------------------------ model
+def _brush_xml(brush: Brush) -> list[str]:
+    """The brush's geoms in the flange body: a handle down the tool ``z`` axis and the head."""
+    return [
+        f'<geom name="handle" type="cylinder" fromto="0 0 0 0 0 {brush.head_centre!r}" '
+        f'size="{brush.handle_radius!r}" mass="{brush.handle_mass!r}" '
+        f'rgba="{mjcf_numbers(brush.handle_rgba)}" {ROBOT_CONTACT}/>',
+        f'<geom name="brush" type="box" pos="0 0 {brush.head_centre!r}" '
+        f'size="{0.5 * brush.thickness!r} {0.5 * brush.width!r} {0.5 * brush.height!r}" '
+        f'mass="{brush.mass!r}" friction="{mjcf_numbers(brush.friction)}" '
+        f'rgba="{mjcf_numbers(brush.rgba)}" {ROBOT_CONTACT}/>',
+    ]
+
+
+def _cube_xml(task: SweepingTask) -> str:
+    half = CUBE.size / 2
+    x, y = (float(v) for v in task.cube)
+    quat = mjcf_numbers([math.cos(0.5 * task.cube_yaw), 0.0, 0.0, math.sin(0.5 * task.cube_yaw)])
+    return (
+        f'    <body name="cube" pos="{x!r} {y!r} {half + 1e-4}" quat="{quat}">\n'
+        '      <freejoint name="cube"/>\n'
+        f'      <geom name="cube" type="box" size="{half} {half} {half}" '
+        f'mass="{CUBE.mass!r}" friction="{mjcf_numbers(CUBE.friction)}" '
+        f'rgba="{mjcf_numbers(CUBE.rgba)}" {OBJECT_CONTACT}/>\n'
+        "    </body>"
+    )
+
+
+def _obstacle_xml(scene: Scene) -> str:
+    lines = []
+    for index, obstacle in enumerate(scene):
+        kind = obstacle_class(obstacle.label)
+        # The obstacle's own shape (the contract's solid), of the class's radius where it has none.
+        solid = replace(obstacle, radius=kind.cylinder_radius(obstacle))
+        centre, geom = solid.solid(kind.height)
+        x, y, z = (float(v) for v in centre)
+        attributes = " ".join(f'{key}="{value}"' for key, value in geom.items())
+        lines.append(
+            f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z + 1e-4}">\n'
+            f'      <freejoint name="obstacle{index}"/>\n'
+            f'      <geom name="obstacle{index}" {attributes} '
+            f'mass="{kind.mass!r}" rgba="{mjcf_numbers(kind.rgba)}" {OBJECT_CONTACT}/>\n'
+            f"    </body>"
+        )
+    return "\n".join(lines)
+
+
+def _dustpan_xml(pan: Dustpan) -> str:
+    t, h, f = pan.wall_thickness, pan.wall_height, 0.5 * pan.floor_thickness
+    x, y = (float(v) for v in pan.position)
+    half_w = 0.5 * pan.width
+    quat = mjcf_numbers([math.cos(0.5 * pan.yaw), 0.0, 0.0, math.sin(0.5 * pan.yaw)])
+    wall = f'rgba="{mjcf_numbers(pan.wall_rgba)}" {OBJECT_CONTACT}'
+    return (
+        f'    <body name="dustpan" pos="{x!r} {y!r} 0" quat="{quat}">\n'
+        f'      <geom name="dustpan_floor" type="box" pos="{0.5 * pan.depth} 0 {f}" '
+        f'size="{0.5 * pan.depth} {half_w} {f}" rgba="{mjcf_numbers(pan.floor_rgba)}" '
+        f'contype="0" conaffinity="0"/>\n'
+        f'      <geom name="dustpan_back" type="box" pos="{pan.depth + 0.5 * t} 0 {0.5 * h}" '
+        f'size="{0.5 * t} {half_w + t} {0.5 * h}" {wall}/>\n'
+        f'      <geom name="dustpan_left" type="box" pos="{0.5 * pan.depth} {half_w + 0.5 * t} '
+        f'{0.5 * h}" size="{0.5 * pan.depth} {0.5 * t} {0.5 * h}" {wall}/>\n'
+        f'      <geom name="dustpan_right" type="box" pos="{0.5 * pan.depth} '
+        f'{-(half_w + 0.5 * t)} {0.5 * h}" size="{0.5 * pan.depth} {0.5 * t} {0.5 * h}" '
+        f"{wall}/>\n"
+        f"    </body>"
+    )
+
+
+def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH, arm: Arm = UR5) -> str:
+    """The MJCF (MuJoCo XML) of the arm with a brush, table and the task's objects.
+
+    With ``task`` None: the robot and the table only (for kinematic checks).
+    """
+    arm = check_arm(arm)
+    objects = ""
+    if task is not None:
+        objects = "\n".join(
+            [_cube_xml(task), _dustpan_xml(task.dustpan), _obstacle_xml(task.scene)]
+        )
+    height, width = _IMAGE
+    return f"""<mujoco model="lfdkit {escape(arm.name)} sweeping">
+  <compiler angle="radian" autolimits="true"/>
+  <option timestep="{TIMESTEP}" integrator="implicitfast" cone="elliptic"/>
+  <visual>
+    <global offwidth="{width}" offheight="{height}"/>
+    <quality shadowsize="2048"/>
+  </visual>
+  <default>
+    <geom friction="0.5 0.01 0.001" solref="0.004 1"/>
+  </default>
+  <worldbody>
+    <light pos="0.3 0.2 2.0" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
+    <camera name="overview" pos="0.0 1.0 1.2" xyaxes="-1 0 0 0 -0.893 0.45" fovy="45"/>
+    <camera name="top" pos="0.0 0.45 1.6" xyaxes="1 0 0 0 1 0"/>
+    <geom name="table" type="plane" size="{TABLE.half_size!r} {TABLE.half_size!r} 0.01"
+          rgba="{mjcf_numbers(TABLE.rgba)}" {FIXED_CONTACT}/>
+    <geom name="base" type="cylinder" size="0.075 0.045" pos="0 0 0.045"
+          rgba="0.3 0.3 0.35 1" contype="0" conaffinity="0"/>
+{robot_xml(arm, _brush_xml(brush))}
+{objects}
+  </worldbody>
+  <actuator>
+{actuators_xml(arm)}
+  </actuator>
+</mujoco>
+"""
+
+
+def build_model(task: SweepingTask | None = None, *, brush: Brush = BRUSH, arm: Arm = UR5) -> Any:
+    """The compiled ``mujoco.MjModel`` of :func:`sweeping_mjcf`."""
+    return load_mujoco().MjModel.from_xml_string(sweeping_mjcf(task, brush=brush, arm=arm))
+
+
+# ------------------------------------------------------------------ running
+@dataclass
+class _Physics:
+    """What stepping the scene along a reference recorded.
+
+    ``tool`` (n, 3) and ``cube`` (n, 2) hold the flange and the cube's centre
+    after each of the ``n`` steps run (fewer than asked for when the
+    simulation became unstable, ``unstable`` then says when); ``touched`` the
+    obstacles anything but the table touched, ``shift`` how far each moved.
+    """
+
+    data: Any
+    tool: np.ndarray
+    cube: np.ndarray
+    touched: set[int]
+    shift: np.ndarray
+    unstable: str
+
+
+def _step(model: Any, n_obstacles: int, q0: np.ndarray, command: np.ndarray) -> _Physics:
+    """Start the arm at ``q0`` and command one row of ``command`` per physics step."""
+    mujoco = load_mujoco()
+    data = mujoco.MjData(model)
+    flange = model.site("flange").id
+    cube = model.body("cube").id
+    obstacle_bodies = [model.body(f"obstacle{i}").id for i in range(n_obstacles)]
+    table = model.geom("table").id
+    obstacle_of = np.full(model.ngeom, -1)  # obstacle index of each geom, -1 for others
+    for index in range(n_obstacles):
+        obstacle_of[model.geom(f"obstacle{index}").id] = index
+
+    data.qpos[: len(q0)] = q0
+    data.ctrl[:] = q0
+    mujoco.mj_forward(model, data)
+    obstacle_start = np.array([data.xpos[b, :2] for b in obstacle_bodies]).reshape(-1, 2)
+    n_steps = len(command)
+    touched: set[int] = set()
+    tool = np.full((n_steps, 3), np.nan)
+    cube_xy = np.full((n_steps, 2), np.nan)
+    unstable = ""
+    for k in range(n_steps):
+        data.ctrl[:] = command[k]
+        mujoco.mj_step(model, data)
+        if not np.all(np.isfinite(data.qpos)):
+            unstable = f"simulation became unstable at t = {data.time:.3f} s"
+            break
+        tool[k] = data.site_xpos[flange]
+        cube_xy[k] = data.xpos[cube, :2]
+        if data.ncon:
+            pairs = data.contact.geom[: data.ncon]
+            hit = obstacle_of[pairs]
+            # an obstacle resting on the table is not touched; anything else is
+            for side in (0, 1):
+                mask = (hit[:, side] >= 0) & (pairs[:, 1 - side] != table)
+                touched.update(int(i) for i in hit[mask, side])
+    n_done = k + 1 if not unstable else k
+    shift = np.linalg.norm(data.xpos[obstacle_bodies, :2] - obstacle_start, axis=1)
+    return _Physics(data, tool[:n_done], cube_xy[:n_done], touched, shift, unstable)
+
+
+def _traces(physics: _Physics, step_times: np.ndarray, every: int) -> dict[str, np.ndarray]:
+    """The recorded traces, as :class:`SweepResult` fields: every ``every``-th step and the last."""
+    n_done = len(physics.tool)
+    recorded = np.arange(0, n_done, every)
+    if n_done and recorded[-1] != n_done - 1:
+        recorded = np.append(recorded, n_done - 1)
+    cube_trace = physics.cube[recorded]
+    return {
+        "times": step_times[recorded],
+        "tool_trace": physics.tool[recorded],
+        "cube_trace": cube_trace,
+        "cube_final": cube_trace[-1] if len(cube_trace) else np.full(2, np.nan),
+        "obstacle_shift": physics.shift,
+    }
+
+
+def simulate_sweep(
+    timing: Timing,
+    task: SweepingTask,
+    *,
+    brush: Brush = BRUSH,
+    tolerance: float = TRACKING_TOLERANCE,
+    render: bool = False,
+    camera: str = "overview",
+    sample_rate: float = 50.0,
+    arm: Arm = UR5,
+) -> SweepResult:
+    """Run a joint trajectory in the sweeping scene and report what happened.
+
+    Parameters
+    ----------
+    timing : Timing
+        The joint trajectory (:func:`lfdkit.robot.timing.time_parameterize`).
+    task : SweepingTask
+    brush : Brush
+    tolerance : float
+        Largest accepted tracking error, m.
+    render : bool
+        Also render the final scene (``SweepResult.image``; None without OpenGL).
+    camera : {"overview", "top"}
+    sample_rate : float
+        Rate of the recorded traces, Hz.
+    arm : Arm
+        The arm that runs ``timing`` (as many joints).
+
+    Returns
+    -------
+    SweepResult
+        With ``image`` (ndarray (720, 960, 3) or None) added when ``render``.
+    """
+    arm = check_arm(arm)
+    if not isinstance(timing, Timing):
+        raise TypeError(f"timing: expected a Timing, got {type(timing).__name__}")
+    if timing.n_joints != arm.n_joints:
+        raise ValueError(
+            f"timing: expected {arm.n_joints} joints for the {arm.name}, got {timing.n_joints}"
+        )
+    tolerance = check_positive(tolerance, "tolerance")
+    model = build_model(task, brush=brush, arm=arm)
+    duration = timing.duration
+    n_steps = math.ceil((duration + 2 * SETTLE_TIME) / TIMESTEP)
+    step_times = np.arange(1, n_steps + 1) * TIMESTEP
+    q_ref, qd_ref, _ = timing.sample(step_times - SETTLE_TIME)
+    planned = ur5.forward(q_ref, arm=arm)[:, :3, 3]
+    # Velocity feed-forward: the servo's damping then pulls towards the reference speed.
+    command = q_ref + arm.kv / arm.kp * qd_ref
+    physics = _step(model, len(task.scene), timing.sample(0.0)[0], command)
+    traces = _traces(physics, step_times, max(1, round(1.0 / (sample_rate * TIMESTEP))))
+
+    n_done, unstable = len(physics.tool), physics.unstable
+    worst = float(np.linalg.norm(physics.tool - planned[:n_done], axis=1).max())
+    times = traces["times"]
+    sweeping = (times >= SETTLE_TIME) & (times <= SETTLE_TIME + duration)
+    path_error = (
+        float(project_onto_polyline(traces["tool_trace"][sweeping], planned)[2].max())
+        if sweeping.any() and not unstable
+        else float("nan")
+    )
+    cube_final = traces["cube_final"]
+    in_pan = bool(not unstable and task.dustpan.contains(cube_final))
+    failures = []
+    if unstable:
+        failures.append(unstable)
+        worst = float("nan")
+    if not in_pan and not unstable:
+        x, y = task.dustpan.local(cube_final)
+        failures.append(
+            f"cube missed the dustpan: rests at ({x:+.3f}, {y:+.3f}) m in the dustpan's frame"
+        )
+    shift = physics.shift
+    for i in sorted(physics.touched):
+        obstacle = task.scene.obstacles[i]
+        failures.append(f"touched obstacle {i} ({obstacle.label}), moved {shift[i] * 1e3:.1f} mm")
+    if not unstable and worst > tolerance:
+        failures.append(f"tracking error {worst * 1e3:.3g} mm exceeds {tolerance * 1e3:.3g} mm")
+    result = SweepResult(
+        success=not failures,
+        cube_in_dustpan=in_pan,
+        touched=sorted(physics.touched),
+        tracking_error=worst,
+        path_error=path_error,
+        failures=failures,
+        duration=duration,
+        joint_path=timing.waypoints,
+        timing=timing,
+        **traces,
+    )
+    if render:
+        ground = np.column_stack([planned[:, :2], np.full(len(planned), 0.003)])
+        cube_path = np.column_stack([traces["cube_trace"], np.full(len(times), 0.003)])
+        trace_colours = [(ground, (0.9, 0.1, 0.1, 1.0)), (cube_path, (0.1, 0.7, 0.1, 1.0))]
+        result.image = render_camera(model, physics.data, camera, trace_colours, size=_IMAGE)
+    return result
+
+
+def sweep_motion(
+    path: Any,
+    *,
+    brush: Brush = BRUSH,
+    smoothing: float = 0.01,
+    q_home: Any = HOME,
+    arm: Arm = UR5,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tool poses and the continuous joint path that sweep along a table path.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, 2)
+        The brush's path on the table, m.
+    brush : Brush
+        Gives the sweeping height.
+    smoothing : float
+        Width (m) of the corner rounding (:func:`lfdkit.geometry.smooth_path`);
+        0 leaves the path as it is.
+    q_home : array_like, shape (arm.n_joints,)
+        Configuration that picks the IK branch (:data:`HOME` for a UR-type arm).
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+
+    Returns
+    -------
+    poses : ndarray, shape (m, 4, 4)
+        Flange poses, one every 2 mm of path (so that a sharp but real turn of
+        the brush stays below the IK's branch-flip threshold between poses).
+    joints : ndarray, shape (m, arm.n_joints)
+        Joint angles, rad, on one continuous IK branch.
+
+    Raises
+    ------
+    lfdkit.robot.ur5.KinematicsError
+        Unreachable poses, joint limits or a singularity, naming the pose.
+    """
+    path = check_path(path, "path", n_dims=2, min_points=2)
+    n_poses = max(len(path), math.ceil(path_length(path) / 0.002) + 1)
+    if smoothing:
+        path = smooth_path(path, check_positive(smoothing, "smoothing"), n_poses)
+    else:
+        path = resample(path, n_poses)
+    frames = sweeping_poses(path, height=brush.sweep_height)
+    q_start = ur5.nearest_solution(frames[0], q_home, arm=arm)
+    return frames, ur5.inverse_path(frames, q_start, arm=arm)
+
+
+def execute_sweep(
+    path: Any,
+    task: SweepingTask,
+    *,
+    brush: Brush = BRUSH,
+    smoothing: float = 0.01,
+    speed_fraction: float = 0.2,
+    q_home: Any = HOME,
+    tolerance: float = TRACKING_TOLERANCE,
+    render: bool = False,
+    camera: str = "overview",
+    arm: Arm = UR5,
+) -> SweepResult:
+    """Sweep along a planned table path in MuJoCo: poses, IK, timing, simulation.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, 2)
+        The planned path of the brush on the table (e.g. :meth:`lfdkit.skill.Skill.plan`), m.
+    task : SweepingTask
+    brush : Brush
+    smoothing : float
+        Width (m) of the corner rounding (:func:`lfdkit.geometry.smooth_path`)
+        applied before the poses are made: a plan's corners would otherwise
+        turn the brush abruptly. 0 leaves the path as it is.
+    speed_fraction : float
+        Fraction of the arm's joint speed limits (thesis: playback at 0.2).
+    q_home : array_like, shape (arm.n_joints,)
+        Configuration that picks the IK branch.
+    tolerance : float
+        Largest accepted tracking error, m.
+    render : bool
+        Render the final scene (``SweepResult.image``).
+    camera : {"overview", "top"}
+    arm : Arm
+        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`); its limits time the motion.
+
+    Returns
+    -------
+    SweepResult
+        A path the robot cannot follow (unreachable, joint limits, a
+        singularity) is reported as a failure, not raised.
+    """
+    try:
+        _, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm)
+    except ur5.KinematicsError as exc:
+        return SweepResult(
+            success=False,
+            cube_in_dustpan=False,
+            touched=[],
+            failures=[f"the robot cannot follow the path: {exc}"],
+            obstacle_shift=np.zeros(len(task.scene)),
+        )
+    timing = time_parameterize(joints, arm=arm, speed_fraction=speed_fraction)
+    return simulate_sweep(
+        timing, task, brush=brush, tolerance=tolerance, render=render, camera=camera, arm=arm
+    )
