@@ -393,7 +393,9 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
                 )
             )
         else:
-            ax.plot(*obstacle.outline(2).T, "-", color=color, linewidth=1.5, zorder=3)
+            axis = obstacle.outline(4)
+            if np.ptp(axis, axis=0).max() > 0:  # a rod of radius 0: its axis
+                ax.plot(*axis.T, "-", color=color, linewidth=1.5, zorder=3)
             ax.plot(
                 *obstacle.position,
                 "X",
