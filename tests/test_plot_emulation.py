@@ -64,8 +64,10 @@ def test_draw_scene_2d_one_legend_entry_per_class():
     draw_scene(ax, scene)
     assert len(ax.patches) == 3  # filled circles; the radius-0 marker is a line
     assert len(ax.lines) == 1
-    radii = sorted(p.get_radius() for p in ax.patches)
-    assert radii == pytest.approx([0.05, 0.05, 0.1])
+    # Each outline is its obstacle's circle: every vertex at the radius from the centre.
+    for patch, obstacle in zip(ax.patches, [o for o in scene if o.radius > 0], strict=True):
+        distance = np.linalg.norm(patch.get_xy() - obstacle.position, axis=1)
+        np.testing.assert_allclose(distance, obstacle.radius)
     _, labels = ax.get_legend_handles_labels()
     assert sorted(labels) == ["bowl", "cup", "marker"]
     cup, _, bowl = ax.patches
