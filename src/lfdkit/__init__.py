@@ -7,7 +7,9 @@ read or written) → ``mimic`` → ``imitate`` → ``emulate`` → ``robot`` →
 ``report`` on the side; the tasks built on them (``tasks``: the sweeping
 example) and ``cli`` on top. Each mimicking method registers itself in
 :data:`lfdkit.mimic.MIMIC_METHODS` (the contract is :mod:`lfdkit.mimic.base`);
-each robot arm is one :class:`lfdkit.robot.arm.Arm` description.
+each obstacle shape is one subclass of :class:`lfdkit.scene.Obstacle` (the
+obstacle contract) in :data:`lfdkit.scene.OBSTACLE_SHAPES`; each robot arm is
+one :class:`lfdkit.robot.arm.Arm` description.
 """
 
 __version__ = "0.1.0"
