@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -99,17 +99,8 @@ class MethodRun:
     error: str | None = None
 
     def record(self) -> dict:
-        """JSON-ready dictionary (without the path)."""
-        return {
-            "dataset": self.dataset,
-            "method": self.method,
-            "seed": self.seed,
-            "e1": self.e1,
-            "e2": self.e2,
-            "penetration": self.penetration,
-            "runtime_s": self.runtime_s,
-            "error": self.error,
-        }
+        """JSON-ready dictionary: every field but the path, in field order."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "path"}
 
 
 def run_comparison(

@@ -148,6 +148,16 @@ def _mpc_with_sensitivity(
     return offsets, sensitivity
 
 
+def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
+    """Gradient of the scalar ``loss`` at ``theta`` by central differences of step ``eps``."""
+    out = np.empty_like(theta)
+    for i in range(theta.size):
+        step = np.zeros_like(theta)
+        step[i] = eps
+        out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
+    return out
+
+
 def effective_count(residuals: Sequence[np.ndarray]) -> float:
     """Independent residuals among correlated ones: ``Σ length / τ`` per sequence and component.
 
@@ -859,7 +869,7 @@ class IOC:
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = self._training_loss(data).full_horizon(theta, warm)
             if self.gradient == "finite_difference":
-                grad = self._finite_difference(
+                grad = _finite_difference(
                     lambda t: self._training_loss(data).full_horizon(t, [w.copy() for w in warm])[
                         0
                     ],
@@ -882,15 +892,6 @@ class IOC:
         sub = Reward(self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_})
         # The data are in units of the length scale: Q and P scale as length².
         return sub.theta + 2.0 * np.log(self.length_scale_)
-
-    @staticmethod
-    def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
-        out = np.empty_like(theta)
-        for i in range(theta.size):
-            step = np.zeros_like(theta)
-            step[i] = eps
-            out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
-        return out
 
     def training_loss(self, reward: Reward) -> float:
         """Full-horizon training loss (units²) of any reward on the fitted data.
@@ -972,7 +973,7 @@ class IOC:
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
             loss, grad = self._training_loss(data).mpc(value, int(self.horizon))
             if self.gradient == "finite_difference":
-                grad = self._finite_difference(
+                grad = _finite_difference(
                     lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
                 )
             history.append(loss)

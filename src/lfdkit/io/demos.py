@@ -72,15 +72,13 @@ from lfdkit.io.text import (
     check_file_id,
     check_ids,
     check_input_file,
-    content_lines,
+    csv_header,
     csv_number,
-    csv_row,
     csv_rows,
     format_of,
     json_document,
     json_float_array,
     parse_id,
-    read_text,
 )
 
 __all__ = [
@@ -385,38 +383,33 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
 def _read_csv(
     fname: str,
 ) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
-    with io.StringIO(read_text(fname), newline="") as f:
-        lines = content_lines(f)
-        first = next(lines, None)
-        if first is None:
-            raise ValueError(f"{fname}: no header row; the file is empty")
-        header = csv_row(fname, *first)
-        demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
-        colnames = [h.strip() for h in header]
-        t_name = colnames[t_col] if t_col is not None else ""
+    _, header, lines = csv_header(fname)
+    demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
+    colnames = [h.strip() for h in header]
+    t_name = colnames[t_col] if t_col is not None else ""
 
-        groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
-        blocks = Blocks(fname, colnames[demo_col])
-        for lineno, row in csv_rows(fname, lines, colnames):
-            did = blocks.id_of(row[demo_col], lineno)
-            row = [c.strip() for c in row]
-            pts, ts, linenos = groups.setdefault(did, ([], [], []))
-            pts.append(
-                [
-                    csv_number(fname, lineno, nm, row[c])
-                    for c, nm in zip(coord_cols, coord_names, strict=True)
-                ]
-            )
-            if t_col is not None:
-                t = csv_number(fname, lineno, t_name, row[t_col])
-                if ts and t <= ts[-1]:
-                    raise ValueError(
-                        f"{fname} line {lineno}, column {t_name!r}: time {t!r} in demo {did!r} "
-                        f"is not after the previous time {ts[-1]!r} (line {linenos[-1]}); "
-                        "times must be strictly increasing within a demonstration"
-                    )
-                ts.append(t)
-            linenos.append(lineno)
+    groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+    blocks = Blocks(fname, colnames[demo_col])
+    for lineno, row in csv_rows(fname, lines, colnames):
+        did = blocks.id_of(row[demo_col], lineno)
+        row = [c.strip() for c in row]
+        pts, ts, linenos = groups.setdefault(did, ([], [], []))
+        pts.append(
+            [
+                csv_number(fname, lineno, nm, row[c])
+                for c, nm in zip(coord_cols, coord_names, strict=True)
+            ]
+        )
+        if t_col is not None:
+            t = csv_number(fname, lineno, t_name, row[t_col])
+            if ts and t <= ts[-1]:
+                raise ValueError(
+                    f"{fname} line {lineno}, column {t_name!r}: time {t!r} in demo {did!r} "
+                    f"is not after the previous time {ts[-1]!r} (line {linenos[-1]}); "
+                    "times must be strictly increasing within a demonstration"
+                )
+            ts.append(t)
+        linenos.append(lineno)
 
     if not groups:
         raise ValueError(f"{fname}: no data rows after the header")
