@@ -79,11 +79,17 @@ def scene_of(*obstacles: tuple[str, tuple[float, float], float]) -> Scene:
     return Scene(tuple(Obstacle(label, np.array(pos), r) for label, pos, r in obstacles))
 
 
-def read_plan_csv(text: str) -> tuple[str, np.ndarray]:
-    """(header line, float rows) of a plan CSV."""
+def read_plan_table(text: str) -> dict[str, np.ndarray]:
+    """The columns of a plan CSV by name (``t``, ``x``, ``y``, ``vx``, ...), in file order."""
     lines = text.splitlines()
-    rows = [[float(v) for v in line.split(",")] for line in lines[1:]]
-    return lines[0], np.array(rows, dtype=np.float64)
+    rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]], dtype=np.float64)
+    return dict(zip(lines[0].split(","), rows.T, strict=True))
+
+
+def read_plan_csv(text: str) -> tuple[str, np.ndarray]:
+    """(header line, positions: the x,y[,z] columns as rows) of a plan CSV."""
+    table = read_plan_table(text)
+    return text.splitlines()[0], np.column_stack([table[c] for c in "xyz" if c in table])
 
 
 def comparable(skill_dict: dict) -> dict:
@@ -265,7 +271,7 @@ def test_plan_csv_equals_the_python_plan(capsys, tmp_path, skill_path):
     assert code == 0, err
     assert stdout == ""
     header, rows = read_plan_csv(out.read_text())
-    assert header == "x,y"
+    assert header == "t,x,y"
     assert rows.shape == (100, 2)
     skill = Skill.load(skill_path)
     assert np.array_equal(rows, skill.plan(START, GOAL, scene_of(CUP)))
@@ -323,7 +329,7 @@ def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):
     assert code == 0, err
     assert err == ""
     header, rows = read_plan_csv(stdout)
-    assert header == "x,y"
+    assert header == "t,x,y"
     assert rows.shape == (100, 2)
     skill = Skill.load(skill_path)
     assert np.array_equal(rows, skill.plan(None, None, scene_of(MARKER)))

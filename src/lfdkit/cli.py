@@ -369,6 +369,21 @@ def _goal_approach(text: str) -> float | str | None:
     return value
 
 
+def _positive(what: str) -> Callable[[str], float]:
+    """An argparse type: a positive, finite number (``what`` words the error)."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
+        if not math.isfinite(value) or value <= 0.0:
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
+        return value
+
+    return parse
+
+
 def _skill_and_scene(args: argparse.Namespace):
     """The skill of ``plan``/``plot`` with the scene, start and goal of the command line."""
     skill = _load_skill(args.skill)
@@ -384,31 +399,38 @@ def _plan(args: argparse.Namespace) -> None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
     started = time.perf_counter()
-    plan = skill.plan_details(
-        start,
-        goal,
-        scene,
-        planner=args.planner,
-        horizon=args.horizon,
-        goal_approach=args.goal_approach,
-        clearance=args.clearance,
-    )
-    path = plan.points
+    try:
+        timed = skill.plan(
+            start,
+            goal,
+            scene,
+            duration=args.duration,
+            speed=args.speed,
+            planner=args.planner,
+            horizon=args.horizon,
+            goal_approach=args.goal_approach,
+            clearance=args.clearance,
+        )
+    except ValueError as exc:  # the library names the argument, the command its option
+        raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
+    plan = timed.details
     clear = (
         f"; closest obstacle {plan.clearance.min():.4g} beyond radius + clearance"
         if len(scene)
         else ""
     )
     summary = (
-        f"planned {len(path)} points around {len(scene)} obstacles in "
+        f"planned {len(timed)} points around {len(scene)} obstacles in "
         f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} from the "
-        f"goal{clear}"
+        f"goal{clear}; lasts {timed.duration:.4g} s, peak speed {timed.speeds.max():.4g} "
+        f"{skill.units}/s"
     )
+    columns = {"times": timed.times, "velocities": timed.velocities if args.velocities else None}
     if args.output is None:
-        sys.stdout.write(path_csv(path))
+        sys.stdout.write(path_csv(timed.points, **columns))
         _say(args, summary, level=2)  # standard output carries the plan: details at -v only
         return
-    save_path(args.output, path, overwrite=args.force)
+    save_path(args.output, timed.points, **columns, overwrite=args.force)
     _say(args, f"{summary}; wrote {args.output}")
 
 
@@ -422,7 +444,7 @@ def _plot(args: argparse.Namespace) -> None:
     nominal = skill.nominal(start, goal)
     plans = {}
     if len(scene) or start is not None or goal is not None:
-        plans["plan"] = skill.plan(start, goal, scene)
+        plans["plan"] = skill.plan(start, goal, scene).points
     if skill.reward_ is not None:
         fig = plot.emulation_figure(
             skill.reward_,
@@ -632,6 +654,25 @@ def _plan_options(parser: argparse.ArgumentParser) -> None:
         help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
         "plus clearance or the command fails (path units; default 0)",
     )
+    timing = parser.add_mutually_exclusive_group()
+    timing.add_argument(
+        "--duration",
+        type=_positive("a positive number of seconds"),
+        metavar="S",
+        help="seconds the plan lasts (default: the skill's, learned from the demonstrations' "
+        "times, else its duration parameter)",
+    )
+    timing.add_argument(
+        "--speed",
+        type=_positive("a positive speed factor"),
+        metavar="FACTOR",
+        help="run the skill's timing FACTOR times as fast (0.5: twice as long)",
+    )
+    parser.add_argument(
+        "--velocities",
+        action="store_true",
+        help="add the velocity columns vx,vy[,vz] (path units per second)",
+    )
 
 
 def _plot_options(parser: argparse.ArgumentParser) -> None:
@@ -703,7 +744,10 @@ def _parser() -> argparse.ArgumentParser:
             True,
             "plan a path with a learned skill",
             "Plan with a learned skill: the DMP carries the path to the new start and goal, "
-            "then the planner moves around the obstacles. Writes x,y[,z] rows as CSV.",
+            "then the planner moves around the obstacles. Writes t,x,y[,z] rows as CSV "
+            "(t in seconds: the plan timed along its length with the speed profile learned "
+            "from the demonstrations' times, at rest at both ends; with --velocities also "
+            "vx,vy[,vz]).",
         ),
         "plot": (
             _plot,
