@@ -532,10 +532,10 @@ def _fractions(points: np.ndarray) -> np.ndarray:
             f"path: points {row} and {row + 1} coincide; a timed path needs distinct "
             "consecutive points (lfdkit.geometry.remove_repeated_points)"
         )
-    total = float(lengths.sum())
-    if total <= 0.0:
+    along = np.concatenate([[0.0], np.cumsum(lengths)])
+    if not along[-1] > 0.0:
         raise ValueError("path: has zero length")
-    return np.concatenate([[0.0], np.cumsum(lengths)]) / total
+    return along / along[-1]  # ends at 1.0 exactly: σ⁻¹ is steep at a rest-to-rest end
 
 
 def _thinned(n: int) -> np.ndarray:
