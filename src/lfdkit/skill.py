@@ -14,7 +14,11 @@ A :class:`Skill` learns, in order,
 :meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
 DMP retargets the generalized path to the new start and goal (the *nominal*),
 and the planner (receding-horizon MPC by default, or the full-horizon
-optimum) moves along it around the scene's obstacles.
+optimum) moves along it around the scene's obstacles. The plan comes timed
+(:class:`TimedPlan`: times, points, velocities): by its own arc length with
+the duration and speed profile the skill learned from the demonstrations'
+times (:attr:`Skill.timing_`, :mod:`lfdkit.imitate.timing`), or with the
+``timing`` law over ``duration`` when they had none.
 
 Each layer can be learned on its own (:meth:`Skill.fit_path`,
 :meth:`Skill.fit_reward`) or taken from elsewhere (:meth:`Skill.use_path`,
@@ -670,7 +674,8 @@ class Skill(BaseEstimator):
         Returns
         -------
         ndarray, shape (4 n_points, q)
-            DMP rollout positions (minimum-jerk timing: denser at the ends).
+            DMP rollout positions at equal time steps (denser where the
+            skill's speed profile is slow, e.g. at the ends).
         """
         return self._nominal(*self._ends(start, goal))
 

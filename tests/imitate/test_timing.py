@@ -220,8 +220,12 @@ def test_learning_refuses_bad_times_naming_them() -> None:
         learn_timing(demos, [times[0], times[1][:-1]], path)
     with pytest.raises(ValueError, match="times: got 1 entries for 2 demonstrations"):
         learn_timing(demos, times[:1], path)
-    with pytest.raises(ValueError, match=r"demos\[0\]: covers \d+% of the path"):
+    with pytest.raises(ValueError, match=r"demos: demos\[0\] covers \d+% of the path"):
         learn_timing([demos[0][:40]], [times[0][:40]], path)
+    # A partial demonstration among others is left out, with a warning.
+    with pytest.warns(UserWarning, match=r"timing: left out demos\[1\] covers \d+%"):
+        learned = learn_timing([demos[0], demos[1][:40]], [times[0], times[1][:40]], path)
+    assert learned.demo_durations == pytest.approx((2.0,))
     with pytest.raises(ValueError, match="n_coefficients: expected 6 to 200"):
         learn_timing(demos, times, path, n_coefficients=5)
 

@@ -183,7 +183,7 @@ from lfdkit._validation import (
     check_times,
 )
 from lfdkit.geometry import arc_length, path_length, segment_lengths
-from lfdkit.imitate.timing import SpeedProfile
+from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
 __all__ = [
     "BASIS_LADDER",
@@ -227,8 +227,6 @@ MAX_RELATIVE_MAGNITUDE = 1e6
 MAX_TAU = 1e6
 #: A step of :meth:`DMP.step` may span at most this many movement durations.
 MAX_STEP_DURATIONS = 1e3
-#: Training durations (seconds) outside this range are refused.
-DURATION_RANGE = (1e-6, 1e9)
 
 
 class Trajectory(NamedTuple):

@@ -67,6 +67,7 @@ sweeping example, against the 7 % by which that plan is longer.)
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -97,7 +98,7 @@ __all__ = [
 DEGREE = 4
 #: Most coefficients a speed profile may have (a skill file holds at most this many).
 MAX_COEFFICIENTS = 200
-#: Durations (seconds) a speed profile accepts, as :class:`lfdkit.imitate.DMP` does.
+#: Durations (seconds) a speed profile and a :class:`lfdkit.imitate.DMP` accept.
 DURATION_RANGE = (1e-6, 1e9)
 #: Phases on which the demonstrations' progress is compared and fitted.
 _N_PHASES = 201
@@ -452,12 +453,17 @@ def learn_timing(
         ``source="demonstrations"``; ``duration`` the median demonstration's,
         ``demo_durations`` each one's.
 
+    Warns
+    -----
+    UserWarning
+        When a demonstration covers less than half of ``path`` (it is left out).
+
     Raises
     ------
     ValueError
         For NaN, infinite or non-increasing times (naming ``times[j]``), times
-        that do not match their demonstration, a demonstration that covers
-        less than half of ``path``, or durations outside 1e-6 to 1e9 s.
+        that do not match their demonstration, durations outside 1e-6 to
+        1e9 s, or when no demonstration covers half of ``path``.
     """
     demos = check_demos(demos, "demos", min_demos=1, min_points=3)
     stamps = check_times_list(times, demos, missing=False, style="shape")
@@ -465,7 +471,7 @@ def learn_timing(
         n_coefficients, "n_coefficients", minimum=DEGREE + 2, maximum=MAX_COEFFICIENTS
     )
     phases = np.linspace(0.0, 1.0, _N_PHASES)
-    curves, durations = [], []
+    curves, durations, partial = [], [], []
     for j, (demo, t) in enumerate(zip(demos, stamps, strict=True)):
         t = np.asarray(t, dtype=np.float64)
         duration = float(t[-1] - t[0])
@@ -479,13 +485,19 @@ def learn_timing(
         progress = path_progress(demo[keep], path)
         covered = progress[-1] - progress[0]
         if covered < _MIN_COVERAGE:
-            raise ValueError(
-                f"demos[{j}]: covers {covered:.0%} of the path; a demonstration must cover at "
-                f"least {_MIN_COVERAGE:.0%} of it to give its timing"
-            )
+            partial.append(f"demos[{j}] covers {covered:.0%}")
+            continue
         fraction = (progress - progress[0]) / covered
         curves.append(np.interp(phases, (t[keep] - t[0]) / duration, fraction))
         durations.append(duration)
+    if partial:
+        message = (
+            f"{', '.join(partial)} of the path; a demonstration must cover at least "
+            f"{_MIN_COVERAGE:.0%} of it to give its timing"
+        )
+        if not curves:
+            raise ValueError(f"demos: {message}")
+        warnings.warn(f"timing: left out {message}", UserWarning, stacklevel=2)
     median = np.median(np.array(curves), axis=0)
     coefficients = _fit_speed(phases, median, n_coefficients)
     return SpeedProfile(
