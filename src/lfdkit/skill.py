@@ -132,8 +132,9 @@ class TimedPlan(NDArrayOperatorsMixin):
     arithmetic and comparisons act on the points and return arrays
     (``plan - start``, ``plan == other``), and ``len(plan)``,
     ``plan[i]``, iteration, ``plan.shape`` and ``plan.ndim`` are the
-    points'. It is immutable: for a writable array use
-    ``np.array(plan)``, for other array methods ``plan.points``.
+    points'. Its fields cannot be reassigned and in-place arithmetic
+    (``plan += 1``) raises ``TypeError``: ``np.array(plan)`` is a copy to
+    change, ``plan.points`` has the other array methods.
     """
 
     times: np.ndarray
@@ -712,9 +713,10 @@ class Skill(BaseEstimator):
         ``planner``, ``horizon``, ``goal_approach``, ``clearance``; its errors
         and safety guarantees), timed by its own arc length with the skill's
         speed profile :attr:`timing_` (learned from the demonstrations' times,
-        or the ``timing`` law): it starts and ends at rest and lasts the
-        skill's duration, so a plan that swerves (and is longer) runs
-        uniformly faster, never in a burst where it swerves.
+        or the ``timing`` law): it starts and ends at rest (unless the timing
+        is ``"uniform"``) and lasts the skill's duration, so a plan that
+        swerves (and is longer) runs uniformly faster, never in a burst where
+        it swerves.
 
         Parameters
         ----------
