@@ -463,25 +463,27 @@ def test_plan_follows_the_timing_learned_from_a_timed_demonstrations_file(capsys
 
 
 @pytest.mark.parametrize(
-    "bad",
+    ("bad", "message"),
     [
-        ("--duration", "-1"),
-        ("--duration", "0"),
-        ("--duration", "nan"),
-        ("--duration", "soon"),
-        ("--speed", "0"),
-        ("--speed", "-2"),
-        ("--speed", "inf"),
-        ("--duration", "2", "--speed", "2"),
+        (("--duration", "-1"), "--duration: expected a positive number of seconds, got '-1'"),
+        (("--duration", "-1e3"), "--duration: expected a positive number of seconds"),
+        (("--duration", "0"), "--duration: expected a positive number of seconds, got '0'"),
+        (("--duration", "nan"), "--duration: expected a positive number of seconds"),
+        (("--duration", "soon"), "--duration: expected a positive number of seconds"),
+        (("--speed", "0"), "--speed: expected a positive speed factor, got '0'"),
+        (("--speed", "-2"), "--speed: expected a positive speed factor, got '-2'"),
+        (("--speed", "inf"), "--speed: expected a positive speed factor, got 'inf'"),
+        (("--duration", "2", "--speed", "2"), "--speed: give --duration or --speed, not both"),
     ],
 )
-def test_plan_refuses_a_bad_duration_or_speed_naming_the_option(capsys, skill_path, bad):
-    code, stdout, err = usage_exit(capsys, "plan", skill_path, *bad)
+def test_plan_refuses_a_bad_duration_or_speed_naming_the_option(
+    capsys, tmp_path, skill_path, bad, message
+):
+    out = tmp_path / "plan.csv"
+    code, stdout, err = run_cli(capsys, "plan", skill_path, *bad, "-o", out)
     assert code == 2
-    assert stdout == ""
-    last = err.strip().splitlines()[-1]
-    assert last.startswith("lfdkit plan: error: argument ")
-    assert bad[-2] in last
+    assert stdout == "" and not out.exists()
+    assert error_line(err, "plan").startswith(f"lfdkit plan: error: {message}")
 
 
 def test_plan_refuses_a_duration_out_of_range_on_one_line(capsys, skill_path):

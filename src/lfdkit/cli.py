@@ -369,19 +369,17 @@ def _goal_approach(text: str) -> float | str | None:
     return value
 
 
-def _positive(what: str) -> Callable[[str], float]:
-    """An argparse type: a positive, finite number (``what`` words the error)."""
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
-        if not math.isfinite(value) or value <= 0.0:
-            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
-        return value
-
-    return parse
+def _positive(text: str | None, option: str, what: str) -> float | None:
+    """``text`` as a positive, finite number; a one-line usage error naming ``option``."""
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value <= 0.0:
+        raise UsageError(f"{option}: expected {what}, got {text!r}")
+    return value
 
 
 def _skill_and_scene(args: argparse.Namespace):
@@ -395,6 +393,11 @@ def _skill_and_scene(args: argparse.Namespace):
 def _plan(args: argparse.Namespace) -> None:
     from lfdkit.io import path_csv, save_path
 
+    # Checked here, not by argparse, so that a bad value is one line (exit 2).
+    duration = _positive(args.duration, "--duration", "a positive number of seconds")
+    speed = _positive(args.speed, "--speed", "a positive speed factor")
+    if duration is not None and speed is not None:
+        raise UsageError("--speed: give --duration or --speed, not both")
     if args.output is not None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
@@ -404,8 +407,8 @@ def _plan(args: argparse.Namespace) -> None:
             start,
             goal,
             scene,
-            duration=args.duration,
-            speed=args.speed,
+            duration=duration,
+            speed=speed,
             planner=args.planner,
             horizon=args.horizon,
             goal_approach=args.goal_approach,
@@ -654,19 +657,17 @@ def _plan_options(parser: argparse.ArgumentParser) -> None:
         help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
         "plus clearance or the command fails (path units; default 0)",
     )
-    timing = parser.add_mutually_exclusive_group()
-    timing.add_argument(
+    parser.add_argument(
         "--duration",
-        type=_positive("a positive number of seconds"),
         metavar="S",
         help="seconds the plan lasts (default: the skill's, learned from the demonstrations' "
         "times, else its duration parameter)",
     )
-    timing.add_argument(
+    parser.add_argument(
         "--speed",
-        type=_positive("a positive speed factor"),
         metavar="FACTOR",
-        help="run the skill's timing FACTOR times as fast (0.5: twice as long)",
+        help="run the skill's timing FACTOR times as fast (0.5: twice as long; not with "
+        "--duration)",
     )
     parser.add_argument(
         "--velocities",
@@ -785,15 +786,19 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-_POINT_OPTIONS = ("--start", "--goal")
+_NUMBER_OPTIONS = ("--start", "--goal", "--duration", "--speed")
 _NEGATIVE = re.compile(r"^-[0-9.]")
 
 
 def _join_negative_points(argv: Sequence[str]) -> list[str]:
-    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option."""
+    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option.
+
+    The same for ``--duration`` and ``--speed``, whose negative values are refused
+    with a message of their own (``-1e3`` too).
+    """
     out: list[str] = []
     for token in argv:
-        if out and out[-1] in _POINT_OPTIONS and _NEGATIVE.match(token):
+        if out and out[-1] in _NUMBER_OPTIONS and _NEGATIVE.match(token):
             out[-1] = f"{out[-1]}={token}"
         else:
             out.append(token)
