@@ -72,7 +72,7 @@ VALUED = {
     "learn": ["--scenes", "--mimic", "--n-points", "--seed", "--planner", "--horizon"],
     "plan": [
         *["--start", "--goal", "--obstacle", "--scene", "--planner", "--horizon"],
-        *["--goal-approach", "-o"],
+        *["--goal-approach", "-o", "--duration", "--speed"],
     ],
     "plot": ["--start", "--goal", "--obstacle", "--scene", "--demos", "--title", "--dpi"],
 }

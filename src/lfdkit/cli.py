@@ -369,6 +369,19 @@ def _goal_approach(text: str) -> float | str | None:
     return value
 
 
+def _positive(text: str | None, option: str, what: str) -> float | None:
+    """``text`` as a positive, finite number; a one-line usage error naming ``option``."""
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value <= 0.0:
+        raise UsageError(f"{option}: expected {what}, got {text!r}")
+    return value
+
+
 def _skill_and_scene(args: argparse.Namespace):
     """The skill of ``plan``/``plot`` with the scene, start and goal of the command line."""
     skill = _load_skill(args.skill)
@@ -380,35 +393,47 @@ def _skill_and_scene(args: argparse.Namespace):
 def _plan(args: argparse.Namespace) -> None:
     from lfdkit.io import path_csv, save_path
 
+    # Checked here, not by argparse, so that a bad value is one line (exit 2).
+    duration = _positive(args.duration, "--duration", "a positive number of seconds")
+    speed = _positive(args.speed, "--speed", "a positive speed factor")
+    if duration is not None and speed is not None:
+        raise UsageError("--speed: give --duration or --speed, not both")
     if args.output is not None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
     started = time.perf_counter()
-    plan = skill.plan_details(
-        start,
-        goal,
-        scene,
-        planner=args.planner,
-        horizon=args.horizon,
-        goal_approach=args.goal_approach,
-        clearance=args.clearance,
-    )
-    path = plan.points
+    try:
+        timed = skill.plan(
+            start,
+            goal,
+            scene,
+            duration=duration,
+            speed=speed,
+            planner=args.planner,
+            horizon=args.horizon,
+            goal_approach=args.goal_approach,
+            clearance=args.clearance,
+        )
+    except ValueError as exc:  # the library names the argument, the command its option
+        raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
+    plan = timed.details
     clear = (
         f"; closest obstacle {plan.clearance.min():.4g} beyond radius + clearance"
         if len(scene)
         else ""
     )
     summary = (
-        f"planned {len(path)} points around {len(scene)} obstacles in "
+        f"planned {len(timed)} points around {len(scene)} obstacles in "
         f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} from the "
-        f"goal{clear}"
+        f"goal{clear}; lasts {timed.duration:.4g} s, peak speed {timed.speeds.max():.4g} "
+        f"{skill.units}/s"
     )
+    columns = {"times": timed.times, "velocities": timed.velocities if args.velocities else None}
     if args.output is None:
-        sys.stdout.write(path_csv(path))
+        sys.stdout.write(path_csv(timed.points, **columns))
         _say(args, summary, level=2)  # standard output carries the plan: details at -v only
         return
-    save_path(args.output, path, overwrite=args.force)
+    save_path(args.output, timed.points, **columns, overwrite=args.force)
     _say(args, f"{summary}; wrote {args.output}")
 
 
@@ -422,7 +447,7 @@ def _plot(args: argparse.Namespace) -> None:
     nominal = skill.nominal(start, goal)
     plans = {}
     if len(scene) or start is not None or goal is not None:
-        plans["plan"] = skill.plan(start, goal, scene)
+        plans["plan"] = skill.plan(start, goal, scene).points
     if skill.reward_ is not None:
         fig = plot.emulation_figure(
             skill.reward_,
@@ -632,6 +657,23 @@ def _plan_options(parser: argparse.ArgumentParser) -> None:
         help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
         "plus clearance or the command fails (path units; default 0)",
     )
+    parser.add_argument(
+        "--duration",
+        metavar="S",
+        help="seconds the plan lasts (default: the skill's, learned from the demonstrations' "
+        "times, else its duration parameter)",
+    )
+    parser.add_argument(
+        "--speed",
+        metavar="FACTOR",
+        help="run the skill's timing FACTOR times as fast (0.5: twice as long; not with "
+        "--duration)",
+    )
+    parser.add_argument(
+        "--velocities",
+        action="store_true",
+        help="add the velocity columns vx,vy[,vz] (path units per second)",
+    )
 
 
 def _plot_options(parser: argparse.ArgumentParser) -> None:
@@ -703,7 +745,10 @@ def _parser() -> argparse.ArgumentParser:
             True,
             "plan a path with a learned skill",
             "Plan with a learned skill: the DMP carries the path to the new start and goal, "
-            "then the planner moves around the obstacles. Writes x,y[,z] rows as CSV.",
+            "then the planner moves around the obstacles. Writes t,x,y[,z] rows as CSV "
+            "(t in seconds: the plan timed along its length with the speed profile learned "
+            "from the demonstrations' times, at rest at both ends; with --velocities also "
+            "vx,vy[,vz]).",
         ),
         "plot": (
             _plot,
@@ -741,15 +786,19 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-_POINT_OPTIONS = ("--start", "--goal")
+_NUMBER_OPTIONS = ("--start", "--goal", "--duration", "--speed")
 _NEGATIVE = re.compile(r"^-[0-9.]")
 
 
 def _join_negative_points(argv: Sequence[str]) -> list[str]:
-    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option."""
+    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option.
+
+    The same for ``--duration`` and ``--speed``, whose negative values are refused
+    with a message of their own (``-1e3`` too).
+    """
     out: list[str] = []
     for token in argv:
-        if out and out[-1] in _POINT_OPTIONS and _NEGATIVE.match(token):
+        if out and out[-1] in _NUMBER_OPTIONS and _NEGATIVE.match(token):
             out[-1] = f"{out[-1]}={token}"
         else:
             out.append(token)

@@ -284,19 +284,62 @@ def save_demos(
     return write_text(fname, _json_text(arrs, time_arrs, id_list), overwrite=overwrite)
 
 
-def path_csv(points: Any) -> str:
-    """One path as CSV text: a header ``x,y[,z]`` (or ``x1,...,xq``), one row per point.
+def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
+    """One path as CSV text: a header ``[t,]x,y[,z][,vx,vy[,vz]]``, one row per point.
 
-    Floats are written exactly (``repr``), so parsing the text gives back the same array.
+    Parameters
+    ----------
+    points : array_like, shape (n, q)
+        Positions (``x1,...,xq`` in the header beyond 3 dimensions).
+    times : array_like, shape (n,), optional
+        Seconds, finite and non-decreasing: a first column ``t``.
+    velocities : array_like, shape (n, q), optional
+        Units per second: last columns ``vx,vy[,vz]`` (``v1,...,vq`` beyond 3).
+
+    Returns
+    -------
+    str
+        Floats written exactly (``repr``), so parsing the text gives back the
+        same arrays.
     """
     arr = check_path(points, "points", min_points=1)
-    rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in arr)
-    return ",".join(_coord_header(arr.shape[1])) + "\n" + rows
+    n, q = arr.shape
+    header = _coord_header(q)
+    columns = [arr]
+    if times is not None:
+        t = check_times(times, n, "times", of="points", increasing=False, style="shape")
+        if np.any(np.diff(t) < 0):
+            raise ValueError("times: must not decrease")
+        header = ["t", *header]
+        columns.insert(0, t[:, None])
+    if velocities is not None:
+        v = check_path(velocities, "velocities", min_points=1, n_dims=q)
+        if v.shape[0] != n:
+            raise ValueError(
+                f"velocities: expected shape ({n}, {q}) to match points, got {v.shape}"
+            )
+        header += ["v" + c if q <= 3 else f"v{k}" for k, c in enumerate(_coord_header(q), 1)]
+        columns.append(v)
+    table = np.hstack(columns)
+    rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in table)
+    return ",".join(header) + "\n" + rows
 
 
-def save_path(path: PathLike, points: Any, *, overwrite: bool = False) -> Path:
-    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`)."""
-    return write_text(path, path_csv(points), overwrite=overwrite)
+def save_path(
+    path: PathLike,
+    points: Any,
+    *,
+    times: Any = None,
+    velocities: Any = None,
+    overwrite: bool = False,
+) -> Path:
+    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`).
+
+    ``times`` (n,) s and ``velocities`` (n, q) units/s add the columns ``t``
+    and ``vx,vy[,vz]``; an existing file is replaced only with ``overwrite``.
+    """
+    text = path_csv(points, times=times, velocities=velocities)
+    return write_text(path, text, overwrite=overwrite)
 
 
 # --------------------------------------------------------------------------- #

@@ -188,7 +188,7 @@ def _run_into(out: Path, progress: Progress | None) -> dict[str, Any]:
     unseen = []
     for i, scene in enumerate(scenes):
         t0 = time.perf_counter()
-        learned = skill.plan(start, NEW_GOAL, scene, clearance=0.5 * BRUSH.width)
+        learned = skill.plan(start, NEW_GOAL, scene, clearance=0.5 * BRUSH.width).points
         plan_ms = 1e3 * (time.perf_counter() - t0)
         reference = plan_path(truth.true_reward, true_nominal, scene, horizon=horizon).points
         # Drawn in this order: the learned plan on top of the demonstrator's.
@@ -344,7 +344,10 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
                 "nominal": skill.nominal(demo[0]),
                 "scene": scene,
                 "demos": [demo],
-                "plans": {_PLANNERS[1]: reference, _PLANNERS[0]: skill.plan(demo[0], None, scene)},
+                "plans": {
+                    _PLANNERS[1]: reference,
+                    _PLANNERS[0]: skill.plan(demo[0], None, scene).points,
+                },
                 "title": f"held-out sweep {j + 1} ({scene.labels[0]})",
             }
         )
@@ -375,7 +378,7 @@ def _execute(skill: Skill, start: np.ndarray, scene: Scene) -> dict:
     dustpan = Dustpan.for_sweep(start, NEW_GOAL)
     path = skill.plan(
         start, NEW_GOAL, scene, goal_approach=GOAL_APPROACH, clearance=0.5 * BRUSH.width
-    )
+    ).points
     task = SweepingTask.for_path(path, dustpan, scene)
     result = execute_sweep(path, task, render=True)
     figure = sweep_figure(
@@ -588,12 +591,12 @@ def default_planners(skill: Skill, true_reward: Reward | None = None) -> dict[st
     """
 
     def learned(start: np.ndarray, goal: np.ndarray, scene: Scene) -> np.ndarray:
-        return skill.plan(start, goal, scene, goal_approach=GOAL_APPROACH)
+        return skill.plan(start, goal, scene, goal_approach=GOAL_APPROACH).points
 
     planners: dict[str, Planner] = {
         "learned skill": learned,
-        "learned, thesis end": lambda start, goal, scene: skill.plan(
-            start, goal, scene, goal_approach=None
+        "learned, thesis end": lambda start, goal, scene: (
+            skill.plan(start, goal, scene, goal_approach=None).points
         ),
         "replay generalized path": lambda start, goal, scene: skill.path_,
         "DMP alone": lambda start, goal, scene: skill.nominal(start, goal),
