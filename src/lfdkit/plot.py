@@ -36,6 +36,7 @@ __all__ = [
     "draw_scene",
     "emulation_figure",
     "emulation_grid",
+    "label_axes",
     "mean_path_figure",
     "method_color",
     "plan_colors",
@@ -94,7 +95,18 @@ def draw_paths(
         ax.plot(*_xy(path), color=method_color(name), linewidth=1.6, label=name)
 
 
-def _axis_labels(ax: Axes, q: int, units: str) -> None:
+def label_axes(ax: Axes, q: int, units: str) -> None:
+    """Name the axes of a ``q``-D plot of positions with their unit: ``x [mm]``, ``y [mm]``.
+
+    Parameters
+    ----------
+    ax : Axes
+        2-D axes, or 3-D axes when ``q`` is 3.
+    q : int
+        Dimension of the positions drawn, 2 or 3.
+    units : str
+        Their unit (:data:`lfdkit.units.UNITS`).
+    """
     names = ("x", "y", "z")
     ax.set_xlabel(f"{names[0]} [{units}]")
     ax.set_ylabel(f"{names[1]} [{units}]")
@@ -128,7 +140,7 @@ def comparison_figure(
     ax = fig.add_subplot(projection="3d" if q == 3 else None)
     draw_demos(ax, demos)
     draw_paths(ax, paths, nominal=nominal, walls=walls)
-    _axis_labels(ax, q, units)
+    label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title)
@@ -136,15 +148,15 @@ def comparison_figure(
     return fig
 
 
-def draw_residual_history(ax: Axes, mean_path) -> None:
-    """e1 per accepted iteration (left axis) and e3 (right axis), like thesis Fig 4.9."""
+def draw_residual_history(ax: Axes, mean_path, units: str = "m") -> None:
+    """e1 per accepted iteration (left axis, units²) and e3 (right axis, units), thesis Fig 4.9."""
     it = np.arange(len(mean_path.residual_history_))
     ax.plot(it, mean_path.residual_history_, "o-", color="#d62728", label="e1 (residual)")
     ax.set_xlabel("iteration")
-    ax.set_ylabel("e1 [units²]", color="#d62728")
+    ax.set_ylabel(f"e1 [{units}²]", color="#d62728")
     twin = ax.twinx()
     twin.plot(it, mean_path.innovation_history_, "s--", color="k", label="e3 (update size)")
-    twin.set_ylabel("e3 [units]")
+    twin.set_ylabel(f"e3 [{units}]")
     twin.set_yscale("log")
     ax.set_title("Mean-Path convergence")
 
@@ -209,14 +221,14 @@ def mean_path_figure(
     to_scale = span.min() >= 0.1 * span.max()
     if to_scale:
         ax0.set_aspect("equal", adjustable="datalim")
-    _axis_labels(ax0, 2, units)
+    label_axes(ax0, 2, units)
     ax0.set_title(
         (title or "Demonstrations and generalized path")
         + ("" if to_scale else "\n(axes not to scale)")
     )
     ax0.legend(fontsize=8)
     draw_distance_space(ax1, mean_path, units)
-    draw_residual_history(ax2, mean_path)
+    draw_residual_history(ax2, mean_path, units)
     return fig
 
 
@@ -291,7 +303,7 @@ def retargeting_figure(
     if demos:
         draw_demos(ax, demos)
     draw_rollouts(ax, path, [positions for _, positions in rollouts], goal_names=goal_names)
-    _axis_labels(ax, q, units)
+    label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize=8, loc="best")
@@ -570,7 +582,7 @@ def _emulation_panel(
             zorder=4,
             path_effects=halo,
         )
-    _axis_labels(ax, q, units)
+    label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="box")
     else:

@@ -80,6 +80,7 @@ from lfdkit.io.skill_file import (
 )
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
 from lfdkit.scene import Scene
+from lfdkit.units import check_units, conversion_factor
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
@@ -241,8 +242,15 @@ class Skill(BaseEstimator):
     random_state : int, optional
         Seed of the mimic method's random initialisation (GMR, NLPCA; the
         other layers are deterministic).
-    units : str
-        Unit of every coordinate (for files and figures).
+    units : {"m", "cm", "mm"}
+        Unit of every length the skill takes and gives: demonstrations,
+        paths, starts and goals, obstacles, clearances (:mod:`lfdkit.units`).
+        The reward's nominal weight and precisions are in 1/units². Learning
+        is scale-invariant: the same demonstrations in millimetres (with
+        ``units="mm"``) give the path in metres times 1000, the weight and
+        precisions divided by 1e6, and the same plans times 1000 (to about
+        1e-7 of the path's extent). Shown on figures and stored in the skill
+        file; :meth:`to_units` converts a fitted skill.
 
     Attributes
     ----------
@@ -336,8 +344,7 @@ class Skill(BaseEstimator):
             isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
         ):
             raise ValueError(f"classes: expected a list of class names, got {self.classes!r}")
-        if not isinstance(self.units, str) or not self.units:
-            raise ValueError(f"units: expected a non-empty string, got {self.units!r}")
+        check_units(self.units)
 
     @property
     def _horizon(self) -> int | None:
@@ -435,6 +442,9 @@ class Skill(BaseEstimator):
             n_points=int(self.n_points),
             random_state=self.random_state,
             n_components=int(self.n_components),
+            # One metre in the skill's units: a method that is not scale-invariant
+            # (GMR) fits in metres, so the path does not depend on the units.
+            length_scale=conversion_factor("m", self.units),
         )
         # Recorded as well as passed on, so that the skill file and reports keep them.
         with warnings.catch_warnings(record=True) as caught:
@@ -901,6 +911,51 @@ class Skill(BaseEstimator):
         replay = metrics.mse_paths(nominals, demos)
         return {"mse": mse, "mse_replay": replay, "improvement": metrics.improvement(replay, mse)}
 
+    def to_units(self, units: str) -> Skill:
+        """The same skill with every length in ``units`` (``"m"``, ``"cm"`` or ``"mm"``).
+
+        The generalized path is multiplied by the conversion factor ``f``
+        (:func:`lfdkit.units.conversion_factor`, 1000 from metres to
+        millimetres) and the DMP is fitted on it again (a linear fit: the same
+        movement, scaled); the reward's nominal weight and precisions, in
+        1/units², are divided by ``f²``. Plans of the converted skill are the
+        original's times ``f``, to the planner's tolerance (about 1e-7 of the
+        path's extent).
+
+        Parameters
+        ----------
+        units : {"m", "cm", "mm"}
+            The new unit.
+
+        Returns
+        -------
+        Skill
+            ``self`` when ``units`` is already the skill's; otherwise a new
+            fitted skill with the same parameters but ``units``. The fit's
+            diagnostics are not carried over: its ``mimic_info_`` says where
+            the path came from, ``ioc_info_``, ``mimic_`` and ``ioc_`` are None.
+
+        Raises
+        ------
+        ValueError
+            If ``units`` is not a known unit (the message lists them).
+        sklearn.exceptions.NotFittedError
+            If the skill is not fitted.
+        """
+        self._check_fitted()
+        check_units(units)
+        if units == self.units:
+            return self
+        factor = conversion_factor(self.units, units)
+        skill = type(self)(**{**self.get_params(), "units": units})
+        method = self.mimic_info_.get("method", "given")
+        skill.use_path(self.path_ * factor, source=f"{method} path in {self.units}")
+        if self.reward_ is not None:
+            area = factor**2
+            precisions = {c: m / area for c, m in self.reward_.precisions.items()}
+            skill.adopt(Reward(self.reward_.nominal_weight / area, precisions))
+        return skill
+
     # ------------------------------------------------------------------ files
     def to_dict(self) -> dict[str, Any]:
         """The skill as a JSON-ready dict (:func:`lfdkit.io.skill_file.to_document`).
@@ -943,6 +998,13 @@ class Skill(BaseEstimator):
         """
         document = skill_file.SkillDocument(data, source)
         params = document.params(cls().get_params())
+        units = document.units()
+        if units is not None:  # a file without it (or without params.units) is in metres
+            stated = params.setdefault("units", units)
+            if stated != units:
+                raise ValueError(
+                    f"{source}: units: {units!r} does not match params.units {stated!r}"
+                )
         try:
             skill = cls(**params)
             skill._check_params()

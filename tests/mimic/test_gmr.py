@@ -244,6 +244,29 @@ def test_seed_determinism_and_sklearn_api():
     assert a.weights_.sum() == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("scale", [1000.0, 0.01])
+def test_length_scale_makes_the_fit_independent_of_the_units(scale):
+    # The same demonstrations in millimetres (or hectometres), EM in the original unit.
+    demos, _, _ = sine_demos(seed=3, noise=0.05)
+    base = GMR(n_components=6, random_state=2).fit(demos)
+    scaled = GMR(n_components=6, random_state=2, length_scale=scale).fit([scale * d for d in demos])
+    np.testing.assert_allclose(scaled.path_, scale * base.path_, rtol=1e-9, atol=1e-12 * scale)
+    to_data = np.array([1.0, scale, scale])
+    np.testing.assert_allclose(scaled.means_, base.means_ * to_data, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        scaled.covariances_, base.covariances_ * np.outer(to_data, to_data), rtol=1e-7, atol=1e-15
+    )
+    # Densities of positions in the new unit: divided by scale**q (q = 2).
+    shift = 2.0 * np.log(scale)
+    assert scaled.log_likelihood_ == pytest.approx(base.log_likelihood_ - shift, abs=1e-9)
+    n = scaled.n_samples_
+    assert scaled.bic_ == pytest.approx(base.bic_ + 2.0 * n * shift, rel=1e-9, abs=1e-6)
+    assert scaled.aic_ == pytest.approx(base.aic_ + 2.0 * n * shift, rel=1e-9, abs=1e-6)
+    # Without it, EM weighs phase against positions differently: another path.
+    plain = GMR(n_components=6, random_state=2).fit([scale * d for d in demos])
+    assert not np.allclose(plain.path_, scale * base.path_, rtol=1e-6, atol=1e-6 * scale)
+
+
 def test_select_n_components_finds_true_mixture_size():
     rng = np.random.default_rng(0)
     # samples (t, s) from a known 3-component mixture, split into "demos"
@@ -305,6 +328,8 @@ def test_bad_demos_type():
         ({"time_mode": "speed"}, ValueError, "time_mode"),
         ({"cov_mode": "bogus"}, ValueError, "cov_mode"),
         ({"random_state": "seed"}, TypeError, "seed"),
+        ({"length_scale": 0.0}, ValueError, "length_scale"),
+        ({"length_scale": float("inf")}, ValueError, "length_scale"),
     ],
 )
 def test_bad_parameters(params, exc, match):

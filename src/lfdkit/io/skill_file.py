@@ -8,7 +8,8 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
 ``params``
     The constructor parameters.
 ``n_dims``, ``units``
-    Dimension of the paths and their unit.
+    Dimension of the paths and their unit (``"m"``, ``"cm"`` or ``"mm"``,
+    also in ``params``); a file without ``units`` is in metres.
 ``path``
     The generalized path, ``(n_points, n_dims)`` nested lists.
 ``timing``
@@ -306,6 +307,16 @@ class SkillDocument:
             raise ValueError(f"{self.source}: params.{unknown[0]}: unknown parameter")
         check_file_params(params, self.source)
         return params
+
+    def units(self) -> str | None:
+        """The ``"units"`` field (the unit of every length), or None where the file has none.
+
+        Which units are known is the skill's check, not the format's; a file
+        without the field (or with ``null``) is read as one in metres.
+        """
+        if self.data.get("units") is None:
+            return None
+        return self._field.get("units", str)
 
     def n_dims(self) -> int:
         """Dimension of the paths, 2 or 3."""

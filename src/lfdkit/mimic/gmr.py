@@ -95,9 +95,9 @@ class GMR(BaseEstimator):
         Number of Gaussian components ``K`` (at most 1000).
     covariance_reg : float, default 1e-6
         Non-negative value added to the diagonal of every covariance during EM
-        (scikit-learn's ``reg_covar``), in squared data units (phase and
-        spatial units alike). Raise it when the data are degenerate (for
-        example, a demonstration that stands still).
+        (scikit-learn's ``reg_covar``): squared phase units, and squared
+        ``length_scale`` units for the positions. Raise it when the data are
+        degenerate (for example, a demonstration that stands still).
     max_iter : int, default 500
         Maximum number of EM iterations per initialisation.
     tol : float, default 1e-4
@@ -127,6 +127,17 @@ class GMR(BaseEstimator):
         ``"as_given"``: trust the recorded directions. Either way a path
         shorter than 0.3 times the median demonstration is refused
         (:func:`lfdkit.mimic.check_one_motion`).
+    n_points : int, default 100
+        Points of :attr:`path_`.
+    length_scale : float, default 1.0
+        The unit of length EM works in, in the demonstrations' units: the
+        positions are divided by it before fitting and every fitted quantity
+        is converted back. A mixture of phase and position is not
+        scale-invariant (``covariance_reg`` and the k-means initialisation
+        weigh the phase against the positions), so the same demonstrations
+        in metres and in millimetres give the same path only when EM sees
+        them in one unit: :class:`lfdkit.skill.Skill` passes one metre in
+        its units (1000 for millimetres). The default fits the data as given.
 
     Attributes
     ----------
@@ -181,6 +192,7 @@ class GMR(BaseEstimator):
         cov_mode: CovMode = "thesis",
         orient: Literal["auto", "as_given"] = "auto",
         n_points: int = 100,
+        length_scale: float = 1.0,
     ) -> None:
         self.n_components = n_components
         self.covariance_reg = covariance_reg
@@ -192,6 +204,7 @@ class GMR(BaseEstimator):
         self.cov_mode = cov_mode
         self.orient = orient
         self.n_points = n_points
+        self.length_scale = length_scale
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> None:
@@ -201,6 +214,7 @@ class GMR(BaseEstimator):
         check_positive(self.max_iter, "max_iter", integer=True)
         check_positive(self.tol, "tol", allow_zero=True)
         check_positive(self.n_init, "n_init", integer=True)
+        check_positive(self.length_scale, "length_scale")
         if self.time_mode not in _TIME_MODES:
             raise ValueError(f"time_mode: expected one of {_TIME_MODES}, got {self.time_mode!r}")
         if self.cov_mode not in _COV_MODES:
@@ -258,6 +272,9 @@ class GMR(BaseEstimator):
         else:
             phases = times  # the times say which way each demonstration runs
         data = np.vstack([np.column_stack((tj, d)) for tj, d in zip(phases, demos, strict=True)])
+        scale = float(self.length_scale)
+        if scale != 1.0:
+            data[:, 1:] /= scale  # EM in units of length_scale
         n_samples = data.shape[0]
         if self.n_components > n_samples:
             raise ValueError(
@@ -292,17 +309,24 @@ class GMR(BaseEstimator):
             raise ValueError(
                 "GMR.fit: EM produced a singular covariance matrix; increase covariance_reg"
             )
+        q = int(data.shape[1] - 1)
+        # Back to the demonstrations' units: positions times the scale, and the
+        # density of the positions divided by scale**q.
+        to_data = np.concatenate(([1.0], np.full(q, scale)))
         self.weights_ = np.asarray(gm.weights_, dtype=np.float64)
-        self.means_ = np.asarray(gm.means_, dtype=np.float64)
-        self.covariances_ = np.asarray(gm.covariances_, dtype=np.float64)
-        self.n_dims_ = int(data.shape[1] - 1)
+        self.means_ = np.asarray(gm.means_, dtype=np.float64) * to_data
+        self.covariances_ = (
+            np.asarray(gm.covariances_, dtype=np.float64) * to_data[:, None] * to_data[None, :]
+        )
+        self.n_dims_ = q
         self.n_samples_ = int(n_samples)
         self.time_range_ = (float(data[:, 0].min()), float(data[:, 0].max()))
-        self.log_likelihood_ = float(gm.score(data))
+        log_scale = q * np.log(scale)
+        self.log_likelihood_ = float(gm.score(data) - log_scale)
         self.converged_ = bool(gm.converged_)
         self.n_iter_ = int(gm.n_iter_)
-        self.bic_ = float(gm.bic(data))
-        self.aic_ = float(gm.aic(data))
+        self.bic_ = float(gm.bic(data) + 2.0 * n_samples * log_scale)
+        self.aic_ = float(gm.aic(data) + 2.0 * n_samples * log_scale)
         self.length_ratio_ = check_one_motion(
             self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times
         )
@@ -474,13 +498,14 @@ register(
             n_components=settings.n_components,
             random_state=settings.random_state,
             n_points=settings.n_points,
+            length_scale=settings.length_scale,
         ),
         diagnostics=lambda fitted: {
             "log_likelihood": float(fitted.log_likelihood_),
             "converged": bool(fitted.converged_),
             "n_iter": int(fitted.n_iter_),
         },
-        uses=("n_points", "random_state", "n_components"),
+        uses=("n_points", "random_state", "n_components", "length_scale"),
         check_input=True,
     )
 )
