@@ -711,6 +711,12 @@ def test_demo_command_end_to_end(tmp_path):
         results = json.loads(results_text)
         assert results["emulate"]["test"]["improvement"] > 90
         Skill.load(out / "skill.json")
+        # The terminal's whole-run time is the report's: one clock, one span.
+        said = re.search(r"^done in (\d+\.\d) s; open ", first.stderr, re.M)
+        assert said, first.stderr
+        assert said.group(1) == f"{results['seconds']['total']:.1f}"
+        reported = re.search(r"whole run</dt><dd[^>]*>([0-9.]+) s<", html)
+        assert reported and reported.group(1) == said.group(1)
 
         again = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=tmp_path)
         assert again.returncode == 1
@@ -721,10 +727,25 @@ def test_demo_command_end_to_end(tmp_path):
         assert (out / "results.json").read_text() == results_text
 
         forced = subprocess.run(
-            [*command, "--force"], capture_output=True, text=True, timeout=300, cwd=tmp_path
+            [*command, "--force", "-v"], capture_output=True, text=True, timeout=300, cwd=tmp_path
         )
         assert forced.returncode == 0, forced.stderr[-2000:]
-        assert json.loads((out / "results.json").read_text())["lfdkit"] == "0.1.0"
+        forced_results = json.loads((out / "results.json").read_text())
+        assert forced_results["lfdkit"] == "0.1.0"
+        # -v: every step of the demo, and the stages inside them, with their wall times.
+        for stage in (
+            "learn the skill from data/demos.csv and data/scenes.csv",
+            "IOC MPC H=8: refining",
+            "score the held-out sweeps",
+            "plan in 3 unseen scenes with a new goal",
+            "simulate the sweep in MuJoCo (UR5)",
+            "draw the figures",
+            "write the skill, the plans, the figures, the results and the report",
+        ):
+            line = rf"\] +{re.escape(stage)}: done in [0-9.]+ s$"
+            assert re.search(line, forced.stderr, re.M), stage
+        total = f"{forced_results['seconds']['total']:.1f}"
+        assert f"\ndone in {total} s; open " in forced.stderr
 
         stdout, stderr = quiet_run.communicate(timeout=300)
     finally:
@@ -974,7 +995,7 @@ import sys, time
 from lfdkit.tasks.sweeping import demo as sweeping_demo
 from lfdkit.cli import main
 
-def slow(out, progress):
+def slow(out, progress, started):
     (out / "figures").mkdir()
     (out / "figures" / "mimic.png").write_text("half\\n")
     print("started", flush=True)

@@ -54,7 +54,7 @@ def _fake_learn(demos_path, scenes_path=None, *, progress=None, **params):
     return skill.use_path(np.c_[_U, 0.1 * np.sin(np.pi * _U)], source=str(data.free_ids))
 
 
-def _fake_run_into(out: Path, progress) -> dict:
+def _fake_run_into(out: Path, progress, started) -> dict:
     """The demo's work replaced by writing its files."""
     for path in sweeping_demo.demo_outputs(out):
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -3,6 +3,7 @@
 Subcommands: ``demo`` (the whole workflow on the built-in sweeping example),
 ``learn`` (a skill from demonstration files), ``plan`` (a path for a new
 start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
+``execute`` (a skill on a UR arm: poses, joints, URScript, a MuJoCo check),
 ``compare`` (the mimicking methods on the built-in data sets), ``datasets``
 (list the built-in data sets, or export one as files ``learn`` reads) and
 ``bench`` (the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source
@@ -16,9 +17,12 @@ skill's); for ``compare`` the table and figures (default each data set's own).
 Exit codes: 0 success, 1 the work failed (the reason on stderr in one line,
 never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
 (argparse, or a folder given or looked for that is not there), 130
-interrupted (Ctrl-C). Progress and warnings go to stderr, one line each;
-``--quiet`` prints nothing on success. Output files are checked
-(exists without ``--force``, folder missing or not writable) before the work.
+interrupted (Ctrl-C). Progress and warnings go to stderr: on a terminal a
+bar per stage of the work under a clock of the whole command
+(:mod:`lfdkit.progress`), with ``--verbose`` a line per stage with its wall
+time; ``--quiet`` prints nothing on success. Every time a command reports is
+counted from the start of :func:`main`. Output files are checked (exists
+without ``--force``, folder missing or not writable) before the work.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import logging
 import math
 import os
 import re
@@ -42,6 +47,7 @@ from pathlib import Path
 
 from lfdkit import __version__
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SKILL_DEFAULTS
+from lfdkit.progress import LOGGER, Progress
 from lfdkit.units import UNITS
 
 __all__ = ["main"]
@@ -58,40 +64,72 @@ class UsageError(CommandError):
 def _say(args: argparse.Namespace, message: str, *, level: int = 1) -> None:
     """Progress on stderr: level 1 is shown by default, level 2 only with --verbose."""
     if args.verbosity >= level:
-        print(message, file=sys.stderr, flush=True)
+        progress = getattr(args, "progress", None)
+        if progress is not None:  # above the bars, without tearing them
+            progress.write(message)
+        else:
+            print(message, file=sys.stderr, flush=True)
+
+
+def _elapsed(args: argparse.Namespace) -> float:
+    """Seconds since the command started (the clock of every time it reports)."""
+    return time.perf_counter() - args.started
+
+
+class _StageLines(logging.Handler):
+    """``--verbose``: each stage record as one line on stderr, after the command's clock."""
+
+    def __init__(self, args: argparse.Namespace) -> None:
+        super().__init__(logging.INFO)
+        self.args = args
+
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            indent = "  " * int(getattr(record, "depth", 0))
+            line = f"[{_elapsed(self.args):6.1f} s] {indent}{record.getMessage()}"
+            self.args.progress.write(line)
+        except Exception:  # a log line must never end the work
+            self.handleError(record)
 
 
 @contextmanager
-def _progress(args: argparse.Namespace, total: int, unit: str = "step") -> Iterator[Callable]:
-    """A progress bar on stderr (tqdm); yields ``step(message)`` to call as each step starts."""
-    from tqdm import tqdm
+def _working(args: argparse.Namespace, label: str | None = None) -> Iterator[Progress]:
+    """The command's progress while it works: yields the :class:`~lfdkit.progress.Progress`.
 
+    On a terminal (stderr a TTY, not ``--quiet``) a bar per stage, under a
+    clock of the whole command (``label``, default ``lfdkit COMMAND``),
+    redrawn twice a second; with ``--verbose`` each stage's start and wall
+    time, and every 2 s how far a long stage has come, as lines
+    (:data:`lfdkit.progress.LOGGER` records). ``--quiet``: nothing.
+    """
     # A bar only on a terminal: in a log file its carriage returns would garble the lines.
-    bar = tqdm(
-        total=total,
-        unit=unit,
-        file=sys.stderr,
-        disable=args.verbosity < 1 or not sys.stderr.isatty(),
-        leave=False,
-        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}]",
-        dynamic_ncols=True,
-    )
-    started = [False]
-
-    def step(message: str) -> None:
-        if started[0]:
-            bar.update(1)
-        started[0] = True
-        bar.set_description_str(message)
-        if args.verbosity >= 2:
-            bar.write(message, file=sys.stderr)
-
+    bars = args.verbosity >= 1 and _is_terminal(sys.stderr)
+    progress = Progress(bars=bars, log=args.verbosity >= 2)
+    args.progress = progress
+    handler, saved = None, (LOGGER.level, LOGGER.propagate)
+    if args.verbosity >= 2:
+        handler = _StageLines(args)
+        LOGGER.addHandler(handler)
+        LOGGER.setLevel(logging.INFO)
+        LOGGER.propagate = False  # the lines are the command's; not twice through the root
     try:
-        yield step
-        if started[0]:
-            bar.update(1)
+        with progress.stage(label or f"lfdkit {args.command}", announce=False):
+            yield progress
     finally:
-        bar.close()
+        progress.close()
+        if handler is not None:
+            LOGGER.removeHandler(handler)
+            LOGGER.setLevel(saved[0])
+            LOGGER.propagate = saved[1]
+        args.progress = None
+
+
+def _is_terminal(stream: object) -> bool:
+    isatty = getattr(stream, "isatty", None)
+    try:
+        return bool(isatty()) if callable(isatty) else False
+    except (OSError, ValueError):  # closed or detached
+        return False
 
 
 def _refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
@@ -239,8 +277,28 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _demo(args: argparse.Namespace) -> None:
-    from lfdkit.tasks.sweeping.demo import N_STEPS, demo_outputs, run_demo
+    with _working(args) as progress:
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
+            from lfdkit.tasks.sweeping.demo import demo_outputs, run_demo
+        out = _demo_folder(args, demo_outputs)
+        title = "the sweeping example, from demonstrations to new scenes"
+        _say(args, f"lfdkit {__version__}: {title}")
+        results = run_demo(out, overwrite=args.force, progress=progress, started=args.started)
+    if args.verbosity >= 1:
+        test = results["emulate"]["test"]
+        unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
+        print(
+            f"held-out sweeps: Pr {test['improvement']:.1f} % over replaying the nominal; "
+            f"unseen scenes: {sum(r['collisions'] for r in unseen)} collisions in {len(unseen)}"
+        )
+        print(f"simulated UR5 sweep (MuJoCo): {results['execution']['summary']}")
+        # The report's whole-run time: the same clock, from the command's start.
+        total = results["seconds"]["total"]
+        _say(args, f"done in {total:.1f} s; open {out / 'report.html'}")
 
+
+def _demo_folder(args: argparse.Namespace, demo_outputs: Callable[[Path], list[Path]]) -> Path:
+    """``--output`` of ``demo``, checked before the work: a folder, writable, no clash."""
     out: Path = args.output
     if out.exists() and not out.is_dir():
         raise CommandError(f"--output {out}: exists and is not a directory")
@@ -257,19 +315,7 @@ def _demo(args: argparse.Namespace) -> None:
     _check_writable(out.parent, "--output", out)
     if out.is_dir():
         _check_writable(out, "--output", out)
-    started = time.perf_counter()
-    _say(args, f"lfdkit {__version__}: the sweeping example, from demonstrations to new scenes")
-    with _progress(args, N_STEPS) as step:
-        results = run_demo(out, overwrite=args.force, progress=step)
-    if args.verbosity >= 1:
-        test = results["emulate"]["test"]
-        unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
-        print(
-            f"held-out sweeps: Pr {test['improvement']:.1f} % over replaying the nominal; "
-            f"unseen scenes: {sum(r['collisions'] for r in unseen)} collisions in {len(unseen)}"
-        )
-        print(f"simulated UR5 sweep (MuJoCo): {results['execution']['summary']}")
-        _say(args, f"done in {time.perf_counter() - started:.1f} s; open {out / 'report.html'}")
+    return out
 
 
 def _skill_params(args: argparse.Namespace) -> dict:
@@ -304,15 +350,12 @@ class _MimicChoices:
 
 
 def _learn(args: argparse.Namespace) -> None:
-    import warnings
-
-    from lfdkit.skill import learn
-
     _refuse_existing(args.output, args.force)
-    started = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught, _progress(args, 4) as step:
+    with warnings.catch_warnings(record=True) as caught, _working(args) as progress:
         warnings.simplefilter("always", UserWarning)
-        skill = learn(args.demos, args.scenes, progress=step, **_skill_params(args))
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
+            from lfdkit.skill import learn
+        skill = learn(args.demos, args.scenes, progress=progress, **_skill_params(args))
     fit = skill.ioc_info_ or {}
     if not fit.get("converged", True):
         raise CommandError(
@@ -330,7 +373,7 @@ def _learn(args: argparse.Namespace) -> None:
             f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
             + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
             + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
-            f"{time.perf_counter() - started:.1f} s; wrote {args.output}",
+            f"{_elapsed(args):.1f} s; wrote {args.output}",
         )
 
 
@@ -343,8 +386,9 @@ def _scene_from_args(args: argparse.Namespace, n_dims: int):
         obstacles += list(load_scene(args.scene))
     for label, position, radius in args.obstacle or ():
         if len(position) != n_dims:
+            hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
             raise CommandError(
-                f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill"
+                f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill{hint}"
             )
         obstacles.append(Obstacle(label, position, radius))
     scene = Scene(tuple(obstacles))
@@ -407,6 +451,11 @@ def _skill_and_scene(args: argparse.Namespace):
 
 
 def _plan(args: argparse.Namespace) -> None:
+    with _working(args) as progress:
+        _plan_with(args, progress)
+
+
+def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     from lfdkit.io import path_csv, save_path
 
     # Checked here, not by argparse, so that a bad value is one line (exit 2).
@@ -429,6 +478,7 @@ def _plan(args: argparse.Namespace) -> None:
             horizon=args.horizon,
             goal_approach=args.goal_approach,
             clearance=args.clearance,
+            progress=progress,
         )
     except ValueError as exc:  # the library names the argument, the command its option
         raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
@@ -455,6 +505,11 @@ def _plan(args: argparse.Namespace) -> None:
 
 
 def _plot(args: argparse.Namespace) -> None:
+    with _working(args) as progress:
+        _plot_with(args, progress)
+
+
+def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     from lfdkit import plot
     from lfdkit.io import atomic_write, load_demos
 
@@ -464,7 +519,7 @@ def _plot(args: argparse.Namespace) -> None:
     nominal = skill.nominal(start, goal)
     plans = {}
     if len(scene) or start is not None or goal is not None:
-        plans["plan"] = skill.plan(start, goal, scene).points
+        plans["plan"] = skill.plan(start, goal, scene, progress=progress).points
     if skill.reward_ is not None:
         fig = plot.emulation_figure(
             skill.reward_,
@@ -597,6 +652,112 @@ def _export_dataset(args: argparse.Namespace) -> None:
         )
         learn += f" --scenes {args.scenes}"
     _say(args, f"{wrote}; learn with: {learn} --units {info.units} -o skill.json")
+
+
+def _execute(args: argparse.Namespace) -> None:
+    simulate = not args.no_sim
+    with _working(args) as progress:
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
+            from lfdkit.robot.arm import ARMS
+            from lfdkit.tasks.sweeping.execution import (
+                ExecutionError,
+                execute_skill,
+                execution_outputs,
+                write_execution,
+            )
+        out = _output_folder_checked(
+            args, execution_outputs(args.output, simulate=simulate, render=args.render)
+        )
+        skill, scene, start, goal = _skill_and_scene(args)
+        arm = ARMS[args.arm]
+        # The program's header comment is ASCII, whatever the skill file is called.
+        name = args.skill.name.encode("ascii", "replace").decode("ascii")
+        try:
+            run = execute_skill(
+                skill,
+                start,
+                goal,
+                scene,
+                arm=arm,
+                speed_fraction=args.speed_fraction,
+                simulate=simulate,
+                render=args.render,
+                header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
+                "joint limits",
+                progress=progress,
+            )
+        except ExecutionError as exc:
+            raise CommandError(f"{exc}; wrote nothing") from None
+        with progress.stage(f"write the files in {out}"):
+            out.mkdir(parents=True, exist_ok=True)
+            written = write_execution(
+                out, run, overwrite=args.force, extra={"skill": str(args.skill)}
+            )
+    summary = run.summary()
+    plan, robot = summary["plan"], summary["robot"]
+    clear = (
+        f", closest obstacle {1e3 * plan['clearance_m']:.1f} mm beyond the brush"
+        if plan["clearance_m"] is not None
+        else ""
+    )
+    _say(
+        args,
+        f"planned a {plan['length_m']:.3f} m sweep around {len(run.scene)} obstacles{clear}; "
+        f"{arm.name}: {robot['poses']} poses, {robot['motion_s']:.1f} s at "
+        f"{args.speed_fraction:.0%} of its joint limits, tool at most "
+        f"{robot['tool_speed_max_m_s']:.2f} m/s",
+    )
+    if run.result is not None:
+        _say(args, f"simulated in MuJoCo: {run.result.summary()}")
+        if not run.result.success:
+            warnings.warn(f"the simulated sweep failed: {run.result.summary()}", stacklevel=1)
+    elif simulate:
+        warnings.warn(f"skipped the simulation: {run.skipped}", stacklevel=1)
+    _say(args, " ".join(f"{name} {t:.2f} s;" for name, t in run.seconds.items()), level=2)
+    _say(args, f"wrote {len(written)} files in {out}/ in {_elapsed(args):.1f} s")
+
+
+def _output_folder_checked(args: argparse.Namespace, planned: list[Path]) -> Path:
+    """``--output`` (a folder), checked before the work.
+
+    Not a file, none of the ``planned`` files there without ``--force``, and
+    writable where it is (or will be) made.
+    """
+    out: Path = args.output
+    if out.exists() and not out.is_dir():
+        raise CommandError(f"--output {out}: exists and is not a directory")
+    clash = [p for p in planned if p.exists()]
+    if clash and not args.force:
+        raise CommandError(f"--output {out}: {clash[0]} exists; pass --force to overwrite it")
+    parent = out if out.is_dir() else next(p for p in out.parents if p.is_dir())
+    _check_writable(parent, "--output", out)
+    return out
+
+
+def _fraction(text: str) -> float:
+    """``--speed-fraction``: a number in (0, 1]."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}") from None
+    if not 0.0 < value <= 1.0:  # also NaN
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}")
+    return value
+
+
+class _ArmChoices:
+    """The arm names of :data:`lfdkit.robot.arm.ARMS`, read when argparse first needs them."""
+
+    def _keys(self) -> tuple[str, ...]:
+        from lfdkit.robot.arm import ARMS
+
+        return tuple(ARMS)
+
+    def __contains__(self, value: object) -> bool:
+        return value in self._keys()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys())
 
 
 def _benchmarks_folder(given: Path | None) -> Path:
@@ -744,6 +905,8 @@ def _learn_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--mimic",
         choices=_MimicChoices(),
+        # A metavar, or argparse lists the choices as the parser is built (seconds).
+        metavar="METHOD",
         default=SKILL_DEFAULTS["mimic"],
         help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS (default %(default)s)",
     )
@@ -832,6 +995,43 @@ def _plot_options(parser: argparse.ArgumentParser) -> None:
         None,
         "unit of the start, goal, obstacles, scene and demonstrations files and of the "
         "figure (default: the skill's; the skill is converted)",
+    )
+
+
+def _execute_options(parser: argparse.ArgumentParser) -> None:
+    _skill_file_options(parser)
+    parser.add_argument(
+        "--arm",
+        choices=_ArmChoices(),
+        metavar="ARM",
+        default="ur5",
+        help="the robot arm: ur5 or ur10, a key of lfdkit.robot.arm.ARMS (default %(default)s)",
+    )
+    parser.add_argument(
+        "--speed-fraction",
+        type=_fraction,
+        default=0.2,
+        metavar="F",
+        help="fraction of the arm's joint speed limits, in (0, 1] (default %(default)s, the "
+        "thesis's playback speed)",
+    )
+    parser.add_argument(
+        "--no-sim", action="store_true", help="skip the MuJoCo simulation of the sweep"
+    )
+    parser.add_argument(
+        "--render",
+        action="store_true",
+        help="also render the end of the simulated sweep as render.png (needs OpenGL: EGL, "
+        "OSMesa or a display)",
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        metavar="DIR",
+        help="folder for the plan, poses, joints, URScript, summary and pictures "
+        "(created if missing)",
     )
 
 
@@ -934,6 +1134,19 @@ def _parser() -> argparse.ArgumentParser:
             "Draw a learned skill as a PNG: with an obstacle reward, its contours in the scene "
             "with the nominal, the demonstrations and the plan; otherwise the path and its DMP.",
         ),
+        "execute": (
+            _execute,
+            _execute_options,
+            True,
+            "run a skill on a UR arm: poses, joints, URScript and a MuJoCo check",
+            "Plan with a learned 2-D skill (metres) to the goal, turn the plan into the "
+            "arm's tool poses and one continuous joint path within its limits, time it, write "
+            "a URScript servoj program, and sweep it in MuJoCo (the sweeping task: the dustpan "
+            "at the goal, the cube in front of the brush). What the arm cannot do (a pose out "
+            "of reach, a joint limit, a speed) is refused on one line, exit status 1, and "
+            "nothing is written. Writes plan.csv, poses.csv, joints.csv, program.script, "
+            "summary.json and the pictures sweep.png and render.png in DIR.",
+        ),
         "compare": (
             _compare,
             _compare_options,
@@ -1000,11 +1213,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     Exit codes: 1 failure, 2 usage (argparse, which exits itself, or :class:`UsageError`),
     130 interrupted.
     """
+    started = time.perf_counter()  # every time a command reports is counted from here
     if argv is None:  # the real command line: a plain kill cleans up like Ctrl-C
         argv = sys.argv[1:]
         with contextlib.suppress(ValueError, AttributeError):  # not the main thread / Windows
             signal.signal(signal.SIGTERM, _interrupt)
     args = _parser().parse_args(_join_negative_points(list(argv)))
+    args.started = started
+    args.progress = None
     prefix = f"lfdkit {args.command}"
     try:
         with _warnings_as_lines(args, prefix):

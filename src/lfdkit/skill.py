@@ -47,7 +47,7 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, NamedTuple
@@ -79,6 +79,7 @@ from lfdkit.io.skill_file import (
     SKILL_VERSION,
 )
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
+from lfdkit.progress import Progress, ProgressLike, as_progress
 from lfdkit.scene import Scene
 from lfdkit.units import check_units, conversion_factor
 
@@ -96,7 +97,6 @@ __all__ = [
 ]
 
 PlannerKind = Literal["mpc", "full"]
-Progress = Callable[[str], None]
 
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
@@ -359,7 +359,7 @@ class Skill(BaseEstimator):
         *,
         goals: Any = None,
         times: Sequence[Any] | None = None,
-        progress: Progress | None = None,
+        progress: ProgressLike = None,
     ) -> Skill:
         """Learn every layer: path and DMP from ``demos``, the reward from the rest.
 
@@ -376,8 +376,11 @@ class Skill(BaseEstimator):
         times : sequence of (array_like (n_j,) or None), optional
             Sample times of ``demos`` in seconds: the timing is learned from
             them (:meth:`fit_path`).
-        progress : callable, optional
-            Called with a short message as each stage starts.
+        progress : Progress, callable, bool or None
+            Reports each stage (mimic, imitate, emulate) and the inverse
+            optimal control's own stages and iterations: True for bars on a
+            terminal, a callable for one line per stage as it starts
+            (:func:`lfdkit.progress.as_progress`). Default: silent.
 
         Returns
         -------
@@ -386,6 +389,7 @@ class Skill(BaseEstimator):
         """
         if (obstacle_demos is None) != (scenes is None):
             raise ValueError("scenes: give obstacle_demos and scenes together, or neither")
+        progress = as_progress(progress)
         self.fit_path(demos, times=times, progress=progress)
         self.reward_ = None
         self.ioc_ = None
@@ -401,7 +405,7 @@ class Skill(BaseEstimator):
         demos: Sequence[Any],
         *,
         times: Sequence[Any] | None = None,
-        progress: Progress | None = None,
+        progress: ProgressLike = None,
     ) -> Skill:
         """Learn the generalized path (mimic), its timing and the DMP on it (imitate).
 
@@ -416,7 +420,8 @@ class Skill(BaseEstimator):
             (:func:`lfdkit.imitate.learn_timing`: median over the
             demonstrations, smoothed, at rest at both ends); without any,
             the ``timing`` law over ``duration``.
-        progress : callable, optional
+        progress : Progress, callable, bool or None
+            As in :meth:`fit`.
 
         Returns
         -------
@@ -434,8 +439,8 @@ class Skill(BaseEstimator):
         q = demos[0].shape[1]
         if q not in (2, 3):
             raise ValueError(f"demos: expected 2-D or 3-D points, got {q} dimensions")
+        progress = as_progress(progress)
         stamps = check_times_list(times, demos, style="shape")
-        _tell(progress, f"mimic: {self._mimic_name()} of {len(demos)} demonstrations")
         started = time.perf_counter()
         method = MIMIC_METHODS[self.mimic]
         settings = MimicSettings(
@@ -447,7 +452,8 @@ class Skill(BaseEstimator):
             length_scale=conversion_factor("m", self.units),
         )
         # Recorded as well as passed on, so that the skill file and reports keep them.
-        with warnings.catch_warnings(record=True) as caught:
+        label = f"mimic: {self._mimic_name()} of {len(demos)} demonstrations"
+        with warnings.catch_warnings(record=True) as caught, progress.stage(label):
             warnings.simplefilter("always")
             estimator = method.fit(method.build(settings), demos)  # checked above
         path = estimator.path_
@@ -466,7 +472,7 @@ class Skill(BaseEstimator):
         timing = None
         timed = [j for j, t in enumerate(stamps) if t is not None]
         if timed:
-            _tell(progress, f"imitate: timing of {len(timed)} timed demonstrations")
+            progress.note(f"imitate: timing of {len(timed)} timed demonstrations")
             # Demonstrations the mimic method turned round run backwards in time too.
             turned = set(info["reversed"])
             runs = [demos[j][::-1] if j in turned else demos[j] for j in timed]
@@ -518,13 +524,14 @@ class Skill(BaseEstimator):
         if timing is None:
             timing = SpeedProfile.from_law(self.timing, float(self.duration))
         self.timing_ = timing
-        self.dmp_ = self._fit_dmp(self.path_)
-        chosen = " (n_basis='auto')" if isinstance(self.n_basis, str) else ""
-        _tell(
-            progress,
-            f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
-            f"reproducing the path within {self.dmp_.reproduction_error_:.2%} of its extent",
-        )
+        # The stage says what it did once the DMP has chosen its basis count.
+        with as_progress(progress).stage("imitate: DMP", announce=False) as stage:
+            self.dmp_ = self._fit_dmp(self.path_)
+            chosen = " (n_basis='auto')" if isinstance(self.n_basis, str) else ""
+            stage.describe(
+                f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
+                f"reproducing the path within {self.dmp_.reproduction_error_:.2%} of its extent"
+            )
         self.n_dims_ = int(self.path_.shape[1])
         if not hasattr(self, "reward_"):
             self.reward_ = None
@@ -545,7 +552,7 @@ class Skill(BaseEstimator):
         scenes: Sequence[Scene],
         *,
         goals: Any = None,
-        progress: Progress | None = None,
+        progress: ProgressLike = None,
     ) -> Skill:
         """Learn the obstacle reward by inverse optimal control (emulate).
 
@@ -563,7 +570,9 @@ class Skill(BaseEstimator):
             One per demonstration.
         goals : array_like, shape (q,) or (n_demos, q), optional
             Goal of each demonstration's nominal (default: the generalized path's goal).
-        progress : callable, optional
+        progress : Progress, callable, bool or None
+            As in :meth:`fit`; the inverse optimal control reports its
+            starting search, each L-BFGS run's iterations and the MPC stage.
 
         Returns
         -------
@@ -587,18 +596,21 @@ class Skill(BaseEstimator):
                     f"{self.n_dims_}-D demonstrations"
                 )
         goal = self._goals(goals, len(demos))
-        _tell(progress, "emulate: nominal of each obstacle demonstration (DMP)")
-        starts = np.array([demo[0] for demo in demos])
-        nominals = list(self._rollouts(starts, goal))
+        progress = as_progress(progress)
+        with progress.stage("emulate: nominal of each obstacle demonstration (DMP)"):
+            starts = np.array([demo[0] for demo in demos])
+            nominals = list(self._rollouts(starts, goal))
         stages = "full horizon, then MPC" if self.planner == "mpc" else "full horizon"
-        _tell(progress, f"emulate: inverse optimal control on {len(demos)} demos ({stages})")
         started = time.perf_counter()
-        ioc = IOC(
-            self.classes,
-            n_points=int(self.n_points),
-            horizon=self._horizon,
-            max_slope=float(self.max_slope),
-        ).fit(demos, scenes, nominals)
+        label = f"emulate: inverse optimal control on {len(demos)} demos ({stages})"
+        with progress.stage(label):
+            ioc = IOC(
+                self.classes,
+                n_points=int(self.n_points),
+                horizon=self._horizon,
+                max_slope=float(self.max_slope),
+                progress=progress,
+            ).fit(demos, scenes, nominals)
         self.ioc_ = ioc
         self.reward_ = ioc.reward_
         self.ioc_info_ = {
@@ -788,6 +800,7 @@ class Skill(BaseEstimator):
         horizon: int | None = None,
         goal_approach: float | str | None = "auto",
         clearance: float = 0.0,
+        progress: ProgressLike = None,
     ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -810,6 +823,9 @@ class Skill(BaseEstimator):
         clearance : float
             Tool clearance (units) added to every obstacle's radius; the plan
             keeps out of radius plus clearance (a hard constraint).
+        progress : Progress, callable, bool or None
+            Reports the planner's global search and its MPC steps over the
+            plan's points (:func:`lfdkit.progress.as_progress`); default silent.
 
         Returns
         -------
@@ -830,7 +846,7 @@ class Skill(BaseEstimator):
             obstacle, or a horizon outside 4-12.
         """
         start, goal = self._ends(start, goal)
-        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance)
+        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance, progress)
 
     def _plan(
         self,
@@ -841,6 +857,7 @@ class Skill(BaseEstimator):
         horizon: int | None,
         goal_approach: float | str | None,
         clearance: float,
+        progress: ProgressLike = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal."""
         nominal = self._nominal(start, goal)
@@ -870,6 +887,7 @@ class Skill(BaseEstimator):
             max_slope=float(self.max_slope),
             goal_approach=goal_approach,
             clearance=clearance,
+            progress=progress,
         )
 
     def evaluate(
@@ -879,6 +897,7 @@ class Skill(BaseEstimator):
         *,
         goals: Any = None,
         goal_approach: float | str | None = "auto",
+        progress: ProgressLike = None,
     ) -> dict[str, float]:
         """Scores on held-out demonstrations in their scenes (thesis MSE_R and Pr).
 
@@ -887,7 +906,8 @@ class Skill(BaseEstimator):
         the nominal replayed without the obstacle term. ``goal_approach`` is
         :meth:`plan`'s: by default the plan the robot would execute, which
         ends at the goal; None scores the thesis's model, which matches
-        demonstrators that swerve late and end beside the goal.
+        demonstrators that swerve late and end beside the goal. ``progress``
+        counts the plans (:func:`lfdkit.progress.as_progress`).
 
         Returns
         -------
@@ -902,10 +922,12 @@ class Skill(BaseEstimator):
             raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
         goal = self._goals(goals, len(demos))
         # The demonstrations' starts and the goals are checked: straight to the planner.
-        plans = [
-            self._plan(demo[0], g, scene, None, None, goal_approach, 0.0).points
-            for demo, g, scene in zip(demos, goal, scenes, strict=True)
-        ]
+        plans = []
+        label = f"evaluate: plan each of {len(demos)} held-out demonstrations"
+        with as_progress(progress).stage(label, total=len(demos)) as stage:
+            for demo, g, scene in zip(demos, goal, scenes, strict=True):
+                plans.append(self._plan(demo[0], g, scene, None, None, goal_approach, 0.0).points)
+                stage.advance()
         nominals = [self._nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
         mse = metrics.mse_paths(plans, demos)
         replay = metrics.mse_paths(nominals, demos)
@@ -1170,7 +1192,7 @@ def learn(
     demos_path: str | os.PathLike[str],
     scenes_path: str | os.PathLike[str] | None = None,
     *,
-    progress: Progress | None = None,
+    progress: ProgressLike = None,
     **params: Any,
 ) -> Skill:
     """Learn a skill from files: :func:`read_training_data`, then :meth:`Skill.fit`.
@@ -1178,8 +1200,11 @@ def learn(
     ``params`` are :class:`Skill`'s parameters. When the demonstrations file
     has times (a ``t`` column), the skill's timing is learned from those of
     the clean demonstrations. The ``lfdkit learn`` command calls exactly this.
+    ``progress`` is :meth:`Skill.fit`'s (default silent).
     """
-    data = read_training_data(demos_path, scenes_path)
+    progress = as_progress(progress)
+    with progress.stage("read the demonstration and scene files"):
+        data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
     obstacle = data.obstacle_demos or None
     return skill.fit(
@@ -1192,11 +1217,6 @@ def learn(
 
 
 # ------------------------------------------------------------------ helpers
-def _tell(progress: Progress | None, message: str) -> None:
-    if progress is not None:
-        progress(message)
-
-
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
     if value not in choices:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
