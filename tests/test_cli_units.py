@@ -85,9 +85,10 @@ def test_plan_in_other_units_is_the_plan_in_the_skills_units_converted(capsys, s
     assert code == 0, err
     assert " mm from the goal" in err and " mm beyond radius + clearance" in err
     plan_m, plan_mm = rows_of(in_m), rows_of(in_mm)
-    assert plan_mm.shape == plan_m.shape == (100, 2)
+    assert plan_mm.shape == plan_m.shape == (100, 3)  # t, x, y
+    np.testing.assert_allclose(plan_mm[:, 0], plan_m[:, 0], rtol=1e-9)  # seconds either way
     # 1e-6 of the 0.8 m sweep.
-    np.testing.assert_allclose(plan_mm / 1000.0, plan_m, rtol=0.0, atol=1e-6 * 0.8)
+    np.testing.assert_allclose(plan_mm[:, 1:] / 1000.0, plan_m[:, 1:], rtol=0.0, atol=1e-6 * 0.8)
 
 
 def test_plot_draws_in_the_units_asked_for(capsys, tmp_path, skill_path, monkeypatch) -> None:

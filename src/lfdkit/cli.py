@@ -668,6 +668,8 @@ def _execute(args: argparse.Namespace) -> None:
         out = _output_folder_checked(
             args, execution_outputs(args.output, simulate=simulate, render=args.render)
         )
+        # The robot works in metres: the command line's lengths are metres, the skill converted.
+        args.units = "m"
         skill, scene, start, goal = _skill_and_scene(args)
         arm = ARMS[args.arm]
         # The program's header comment is ASCII, whatever the skill file is called.
