@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import lfdkit.datasets
-from lfdkit.cli import main
 from lfdkit.datasets import (
     CLOSED_DATASETS,
     EMULATION_DATASETS,
@@ -20,21 +19,9 @@ from lfdkit.datasets import (
 )
 from lfdkit.io import load_demos, load_scenes
 from lfdkit.skill import Skill
+from tests.test_cli import run_cli, usage_exit
 
 GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS]
-
-
-def run_cli(capsys, *argv) -> tuple[int, str, str]:
-    code = main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def usage_exit(capsys, *argv) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as exc:
-        main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return exc.value.code, captured.out, captured.err
 
 
 def error_line(err: str) -> str:

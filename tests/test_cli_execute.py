@@ -20,18 +20,13 @@ from lfdkit.cli import main
 from lfdkit.skill import learn
 from lfdkit.tasks.sweeping.examples import example_files
 from tests.robot.test_urscript import read_program
+from tests.test_cli import run_cli
 
 GOAL = "0.36,0.5"
 SCENE = ["--obstacle", "cup:-0.05,0.49", "--obstacle", "marker:0.15,0.455"]
 #: Beyond the UR5's reach at the sweeping height, within the UR10's.
 FAR_GOAL = "0.9,0.45"
 FILES = ("plan.csv", "poses.csv", "joints.csv", "program.script", "summary.json")
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    code = main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def one_error_line(err: str) -> str:

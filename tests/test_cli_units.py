@@ -9,27 +9,14 @@ import pytest
 
 import lfdkit.evaluation
 import lfdkit.plot
-from lfdkit.cli import main
 from lfdkit.io import save_demos
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import example_files
+from tests.test_cli import run_cli, usage_exit
 
 SMALL = [
     np.c_[np.linspace(0, 1, 20), 0.1 * np.sin(np.linspace(0, np.pi, 20)) + dy] for dy in (0, 0.01)
 ]
-
-
-def run_cli(capsys, *argv) -> tuple[int, str, str]:
-    code = main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def usage_exit(capsys, *argv) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as exc:
-        main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return exc.value.code, captured.out, captured.err
 
 
 def rows_of(text: str) -> np.ndarray:
