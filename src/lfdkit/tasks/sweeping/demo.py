@@ -165,7 +165,7 @@ def _run_into(out: Path, progress: Progress, started: float) -> dict[str, Any]:
     overwrite = False
     for folder in {p.parent for p in demo_outputs(out)}:
         folder.mkdir(parents=True, exist_ok=True)
-    steps = progress.stage("lfdkit demo", total=N_STEPS, announce=False)
+    steps = progress.stage("the sweeping demo: steps", total=N_STEPS, announce=False)
     with steps:
         files = example_files()
         with progress.stage("learn the skill from data/demos.csv and data/scenes.csv") as stage:
@@ -358,7 +358,7 @@ def _move_into_place(staging: Path, out: Path, overwrite: bool) -> None:
 
 
 N_STEPS = 6
-"""Number of progress messages :func:`run_demo` sends."""
+"""Number of steps of :func:`run_demo` (its stages at the top; each has stages inside)."""
 
 
 def _figures(
