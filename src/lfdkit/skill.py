@@ -48,10 +48,9 @@ from pathlib import Path
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from sklearn.base import BaseEstimator
-from sklearn.utils.validation import check_is_fitted
 
 from lfdkit import metrics
+from lfdkit._estimator import Estimator, check_fitted
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
 from lfdkit._validation import check_demos, check_path, check_point, check_positive
 from lfdkit.demos import DemoId
@@ -88,7 +87,7 @@ Progress = Callable[[str], None]
 _NOMINAL_OVERSAMPLING = 4
 
 
-class Skill(BaseEstimator):
+class Skill(Estimator):
     """A task learned from demonstrations: generalized path, DMP and obstacle reward.
 
     Parameters
@@ -489,7 +488,7 @@ class Skill(BaseEstimator):
 
     # ------------------------------------------------------------------ use
     def _check_fitted(self) -> None:
-        check_is_fitted(self, "path_", msg="skill: not fitted; call fit() or fit_path() first")
+        check_fitted(self, "path_", "skill: not fitted; call fit() or fit_path() first")
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)

@@ -42,7 +42,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
@@ -431,6 +430,8 @@ def lbfgs_stage(
         value, grad = fun(theta)
         history_last[0] = value
         return value, grad
+
+    from scipy.optimize import minimize  # here: lfdkit.emulate loads fast
 
     run_started = time.perf_counter()
     result = minimize(

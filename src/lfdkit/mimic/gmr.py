@@ -32,11 +32,8 @@ from collections.abc import Iterable
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from scipy.special import logsumexp
-from sklearn.base import BaseEstimator
-from sklearn.mixture import GaussianMixture
-from sklearn.utils.validation import check_is_fitted
 
+from lfdkit._estimator import Estimator, check_fitted
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import (
     check_count,
@@ -87,7 +84,7 @@ def _sklearn_seed(random_state: Any) -> int:
     return int(rng.integers(0, 2**32 - 1))
 
 
-class GMR(BaseEstimator):
+class GMR(Estimator):
     """Generalized path by Gaussian mixture model / regression (thesis §3.2).
 
     Parameters
@@ -286,11 +283,13 @@ class GMR(BaseEstimator):
 
     def _mixture(
         self, data: np.ndarray, seed: int, start: tuple[np.ndarray, ...] | None = None
-    ) -> GaussianMixture:
+    ) -> Any:
         """EM on the samples: from k-means (``n_init`` times), or once from ``start``.
 
         ``start`` = (weights, means, covariances) of ``n_components`` components.
         """
+        from sklearn.mixture import GaussianMixture  # imported here: lfdkit.mimic loads fast
+
         n_samples = data.shape[0]
         if self.n_components > n_samples:
             raise ValueError(
@@ -351,6 +350,8 @@ class GMR(BaseEstimator):
         with np.errstate(divide="ignore"):
             log_w = np.log(self.weights_)
         log_p = log_w[None, :] - 0.5 * (_LOG_2PI + np.log(var_t)[None, :] + diff**2 / var_t)
+        from scipy.special import logsumexp  # imported here: lfdkit.mimic loads fast
+
         log_beta = log_p - logsumexp(log_p, axis=1, keepdims=True)
         return np.exp(log_beta), diff
 
@@ -381,7 +382,7 @@ class GMR(BaseEstimator):
             Conditional covariance (squared spatial units); only with
             ``return_cov=True``.
         """
-        check_is_fitted(self, ("weights_", "means_", "covariances_"))
+        check_fitted(self, ("weights_", "means_", "covariances_"))
         tq = check_values(t, "t")
         mode = self.cov_mode if cov_mode is None else cov_mode
         if mode not in _COV_MODES:
@@ -424,7 +425,7 @@ class GMR(BaseEstimator):
         -------
         ndarray, shape (n_points, q)
         """
-        check_is_fitted(self, ("weights_", "means_", "covariances_"))
+        check_fitted(self, ("weights_", "means_", "covariances_"))
         n_points = check_count(n_points, "n_points")  # at most MAX_POINTS
         t0, t1 = getattr(self, "time_range_", (0.0, 1.0))
         return self.predict(np.linspace(t0, t1, n_points))

@@ -64,8 +64,8 @@ import warnings
 from typing import Literal
 
 import numpy as np
-from sklearn.base import BaseEstimator
 
+from lfdkit._estimator import Estimator
 from lfdkit._validation import check_count, check_demos, check_path, check_positive
 from lfdkit.geometry import (
     FoldedPathError,
@@ -97,7 +97,7 @@ __all__ = ["MeanPath"]
 Center = Literal["adaptive", "mean", "median", "biweight"]
 
 
-class MeanPath(BaseEstimator):
+class MeanPath(Estimator):
     """Mean-Path estimator of a generalized path from demonstrations of any length.
 
     Parameters
