@@ -94,7 +94,8 @@ class Skill(Estimator):
     ----------
     mimic : str
         How the generalized path is computed from the clean demonstrations: a
-        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default;
+        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default,
+        Mean-Path with its default adaptive centre; "mean_path_mean",
         "mean_path_median", "mean_path_biweight", "gmr", "nlpca", "average").
     n_points : int
         Points of the generalized path and of every plan (thesis: 100).
