@@ -54,10 +54,9 @@ from typing import Any, Literal, NamedTuple
 
 import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
-from sklearn.base import BaseEstimator
-from sklearn.utils.validation import check_is_fitted
 
 from lfdkit import metrics
+from lfdkit._estimator import Estimator, check_fitted
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
 from lfdkit._validation import (
     check_demos,
@@ -196,14 +195,15 @@ class TimedPlan(NDArrayOperatorsMixin):
         )
 
 
-class Skill(BaseEstimator):
+class Skill(Estimator):
     """A task learned from demonstrations: generalized path, DMP and obstacle reward.
 
     Parameters
     ----------
     mimic : str
         How the generalized path is computed from the clean demonstrations: a
-        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default;
+        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default,
+        Mean-Path with its default adaptive centre; "mean_path_mean",
         "mean_path_median", "mean_path_biweight", "gmr", "nlpca", "average").
     n_points : int
         Points of the generalized path and of every plan (thesis: 100).
@@ -679,7 +679,7 @@ class Skill(BaseEstimator):
 
     # ------------------------------------------------------------------ use
     def _check_fitted(self) -> None:
-        check_is_fitted(self, "path_", msg="skill: not fitted; call fit() or fit_path() first")
+        check_fitted(self, "path_", "skill: not fitted; call fit() or fit_path() first")
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)

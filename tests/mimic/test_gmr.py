@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -9,7 +11,7 @@ from hypothesis import strategies as st
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 
-from lfdkit.mimic.gmr import GMR, select_n_components
+from lfdkit.mimic.gmr import GMR, ComponentLimitWarning, _Mixture, select_n_components
 
 gmr_pkg = pytest.importorskip("gmr")
 
@@ -275,13 +277,21 @@ def test_select_n_components_finds_true_mixture_size():
     rng.shuffle(pts)
     demos = [pts[i::4, 1:] for i in range(4)]
     times = [pts[i::4, 0] for i in range(4)]
-    best, scores = select_n_components(demos, candidates=range(1, 7), random_state=0, times=times)
+    best, scores = select_n_components(
+        demos, candidates=range(1, 7), random_state=0, times=times, search="exhaustive"
+    )
     assert best == 3
     assert set(scores) == set(range(1, 7))
     assert scores[3] == min(scores.values())
-    best_aic, aic = select_n_components(
-        demos, candidates=[1, 3], criterion="aic", random_state=0, times=times
-    )
+    # The ladder visits fewer counts and makes the same choice.
+    fast, visited = select_n_components(demos, candidates=range(1, 7), random_state=0, times=times)
+    assert fast == 3
+    assert set(visited) <= set(range(1, 7))
+    assert visited[3] == min(visited.values())
+    with pytest.warns(ComponentLimitWarning, match="AIC"):
+        best_aic, aic = select_n_components(
+            demos, candidates=[1, 3], criterion="aic", random_state=0, times=times
+        )
     assert best_aic == 3 and aic[3] < aic[1]
 
 
@@ -372,10 +382,57 @@ def test_singular_covariance():
     assert np.all(np.isfinite(cov))
 
 
+def test_ladder_search_visits_a_ladder_and_warns_at_the_bound():
+    demos, _, _ = sine_demos(n_demos=4, n=100, noise=0.02)
+    with pytest.warns(ComponentLimitWarning, match="largest candidate, 3 components"):
+        best, scores = select_n_components(demos, candidates=[1, 2, 3], random_state=0)
+    assert best == 3
+    # Twenty candidates: the coarse ladder 2, 3, 5, 8, 12, 18, 21, then a bracket search.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ComponentLimitWarning)
+        best, scores = select_n_components(demos, candidates=range(2, 22), random_state=0)
+    assert {2, 3, 5, 8, 12} <= set(scores)
+    assert len(scores) < 20
+    assert scores[best] == min(scores.values())
+
+
+def test_compiled_em_agrees_with_scikit_learn():
+    """The ladder's EM (compiled) is scikit-learn's iteration: same start, same mixture."""
+    from sklearn.mixture import GaussianMixture
+
+    from lfdkit.mimic.gmr import _em, _split_start
+
+    demos, _, _ = sine_demos(n_demos=5, n=80, noise=0.02)
+    model = GMR(n_components=3, random_state=0)
+    _, _, data = model._samples(demos, None)
+    gm = model._mixture(data, 0)
+    start = _split_start(_Mixture(gm.weights_, gm.means_, gm.covariances_, 0.0), 5)
+    ours = _em(data, start, reg=1e-6, tol=1e-4, max_iter=500)
+    theirs = GaussianMixture(
+        5,
+        reg_covar=1e-6,
+        tol=1e-4,
+        max_iter=500,
+        init_params="random_from_data",
+        weights_init=start[0],
+        means_init=start[1],
+        precisions_init=np.linalg.inv(start[2]),
+        random_state=0,
+    ).fit(data)
+    np.testing.assert_allclose(ours.means, theirs.means_, rtol=1e-7, atol=1e-9)
+    np.testing.assert_allclose(ours.covariances, theirs.covariances_, rtol=1e-6, atol=1e-12)
+    assert ours.criterion("bic", len(data)) == pytest.approx(theirs.bic(data), rel=1e-9)
+    assert ours.criterion("aic", len(data)) == pytest.approx(theirs.aic(data), rel=1e-9)
+
+
 def test_select_n_components_errors():
     demos, _, _ = sine_demos(n_demos=2, n=20)
     with pytest.raises(ValueError, match="criterion"):
         select_n_components(demos, candidates=[2], criterion="e1")
+    with pytest.raises(ValueError, match="search"):
+        select_n_components(demos, candidates=[2], search="all")
+    with pytest.raises(ValueError, match="patience"):
+        select_n_components(demos, candidates=[2], patience=0)
     with pytest.raises(ValueError, match="candidates"):
         select_n_components(demos, candidates=[])
     with pytest.raises(ValueError, match="candidates"):

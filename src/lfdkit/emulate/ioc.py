@@ -42,7 +42,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
@@ -439,6 +438,8 @@ def lbfgs_stage(
         stationary point (projected gradient above ``STATIONARY_GRADIENT``),
         the iteration limit, or a parameter at a bound of ``THETA_BOUNDS``.
     """
+    from scipy.optimize import minimize  # here: lfdkit.emulate loads fast
+
     history_last = [np.nan]
     run_started = time.perf_counter()
     text = f"IOC {label}" if description is None else description

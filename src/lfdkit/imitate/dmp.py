@@ -168,12 +168,8 @@ from functools import lru_cache
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from scipy import linalg
-from scipy.interpolate import make_interp_spline
-from scipy.signal import lfilter
-from sklearn.base import BaseEstimator
-from sklearn.exceptions import NotFittedError
 
+from lfdkit._estimator import Estimator, not_fitted
 from lfdkit._validation import (
     MAX_POINTS,
     check_count,
@@ -372,6 +368,8 @@ def _propagate(phi: np.ndarray, x0: np.ndarray, inputs: np.ndarray) -> np.ndarra
     """
     sequence = np.concatenate([x0[None], inputs], axis=0)
     denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
+
     filtered = lfilter([1.0], denominator, sequence, axis=0)
     adjugate = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
     states = filtered.copy()
@@ -423,7 +421,7 @@ class _Solution(NamedTuple):
     error: float
 
 
-class DMP(BaseEstimator):
+class DMP(Estimator):
     """Discrete Dynamic Movement Primitive with one phase shared by all dimensions.
 
     Parameters
@@ -689,6 +687,8 @@ class DMP(BaseEstimator):
         ridge = float(self.regularization) * max(float(np.mean(np.diag(gram))), 1e-300)
         gram[np.diag_indices_from(gram)] += ridge
         rhs = design.T @ target
+        from scipy import linalg  # here: lfdkit.imitate loads fast
+
         if self.end == "rest":
             # At s = 1: y = g and y' = 0 (the state), and f = 0 so y'' = 0 too.
             constraint = np.vstack([self._end_response(), self._design(np.array([1.0]))])
@@ -759,7 +759,7 @@ class DMP(BaseEstimator):
     def _check_fitted(self) -> None:
         # sklearn's check_is_fitted scans every attribute: too slow for a 100 µs rollout.
         if not hasattr(self, "weights_"):
-            raise NotFittedError("This DMP instance is not fitted yet; call fit(path) first")
+            raise not_fitted("This DMP instance is not fitted yet; call fit(path) first")
 
     def _design(self, s: np.ndarray) -> np.ndarray:
         """Design matrix ``X[t, i] = Z ψᵢ(Z) / Σ ψ(Z)``, shape (len(s), n_basis)."""
@@ -1318,6 +1318,8 @@ def _dense_sampler(s: np.ndarray | None, points: np.ndarray, law: Any = None) ->
         return np.linspace(0.0, 1.0, max(2 * n, 20 * n_basis, 1000))
 
     if s is not None:
+        from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
+
         timed = make_interp_spline(s, points, k=degree, axis=0)
 
         def sample_timed(n_basis: int) -> tuple[np.ndarray, ...]:
@@ -1326,6 +1328,8 @@ def _dense_sampler(s: np.ndarray | None, points: np.ndarray, law: Any = None) ->
 
         return sample_timed
     fraction = arc_length(points) / path_length(points)
+    from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
+
     spline = make_interp_spline(fraction, points, k=degree, axis=0)
     law = _minimum_jerk_law if law is None else law
 
@@ -1374,6 +1378,8 @@ def _reproduction_departure(
     combined = drive[0].copy()
     combined[:, 1:] += -phi[1, 1] * drive[0, :, :-1] + phi[0, 1] * drive[1, :, :-1]
     denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
+
     return lfilter([1.0], denominator, combined, axis=1).T
 
 

@@ -73,8 +73,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import BSpline, make_interp_spline
-from scipy.optimize import nnls
 
 from lfdkit._validation import (
     check_count,
@@ -174,6 +172,8 @@ class SpeedProfile:
         if not all(np.isfinite(d) and d > 0 for d in demo_durations):
             raise ValueError("demo_durations: expected positive, finite durations in seconds")
         coefficients.setflags(write=False)
+        from scipy.interpolate import BSpline  # here: lfdkit.skill loads fast
+
         speed = BSpline(_knots(coefficients.size), coefficients, DEGREE, extrapolate=False)
         progress = speed.antiderivative()
         total = float(progress(1.0))
@@ -294,6 +294,8 @@ class SpeedProfile:
         fractions = _fractions(points)
         u = self.phase(fractions)
         degree = min(3, len(points) - 1)
+        from scipy.interpolate import make_interp_spline
+
         tangent = make_interp_spline(fractions, points, k=degree, axis=0)(fractions, 1)
         norms = np.linalg.norm(tangent, axis=1)
         flat = norms <= 1e-12 * float(lengths.sum())
@@ -508,6 +510,9 @@ def learn_timing(
 def _fit_speed(phases: np.ndarray, progress: np.ndarray, n_coefficients: int) -> np.ndarray:
     """Non-negative B-spline coefficients of ``ν`` whose integral fits ``progress`` (at rest at
     both ends: the two first and two last coefficients zero), scaled so that ``σ(1) = 1``."""
+    from scipy.interpolate import BSpline
+    from scipy.optimize import nnls
+
     knots = _knots(n_coefficients)
     free = np.arange(2, n_coefficients - 2)
     basis = BSpline(knots, np.eye(n_coefficients)[:, free], DEGREE).antiderivative()
