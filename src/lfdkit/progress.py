@@ -272,6 +272,11 @@ class Progress:
             return _SilentStage(self, label, total, unit, announce)
         return Stage(self, label, total, unit, announce)
 
+    def note(self, message: str) -> None:
+        """One line outside any stage's count: logged, and told to the callback."""
+        self._tell(message)
+        self._record(message, len(self._stack))
+
     def write(self, text: str) -> None:
         """Print ``text`` on the bars' file without tearing the bars (``tqdm.write``)."""
         stream = self._stream()
