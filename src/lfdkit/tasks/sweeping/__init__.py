@@ -67,6 +67,7 @@ from lfdkit.tasks.sweeping.sim import (
 #: Names loaded on first use, by the submodule that defines them.
 _LAZY = {
     "draw_dustpan": "figures",
+    "dustpan_outline": "figures",
     "sweep_figure": "figures",
     "GOAL_APPROACH": "demo",
     "INCOMPLETE_MARKER": "demo",
@@ -109,6 +110,7 @@ __all__ = [
     "default_planners",
     "demo_outputs",
     "draw_dustpan",
+    "dustpan_outline",
     "example_dataset",
     "example_files",
     "execute_sweep",
