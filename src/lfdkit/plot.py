@@ -424,8 +424,6 @@ GOAL_STYLE = {
 }
 #: Fixed objects of a task that are not obstacles (a dustpan), as dark lines.
 OUTLINE_STYLE = {"color": "0.15", "linewidth": 2.2, "zorder": 3}
-#: Grid points per call when a reward is evaluated on a grid (see :func:`draw_reward`).
-_GRID_CHUNK = 256
 _PANEL_KEYS = ("reward", "nominal", "scene", "demos", "plans", "title", "goal", "outlines")
 
 
@@ -590,14 +588,8 @@ def draw_reward(
     if not (x1 > x0 and y1 > y0):
         raise ValueError(f"extent: expected xmin < xmax and ymin < ymax, got {extent}")
     gx, gy = np.meshgrid(np.linspace(x0, x1, resolution), np.linspace(y0, y1, resolution))
-    grid = np.column_stack((gx.ravel(), gy.ravel()))
-    # In chunks: the projection onto the nominal makes (points × segments) temporaries,
-    # which stay in the processor's cache when the points are a few hundred at a time
-    # (several times faster than all at once, the same values).
-    chunk = _GRID_CHUNK
-    values = np.concatenate(
-        [reward.value(grid[i : i + chunk], nominal, scene) for i in range(0, len(grid), chunk)]
-    ).reshape(gx.shape)
+    values = reward.value(np.column_stack((gx.ravel(), gy.ravel())), nominal, scene)
+    values = values.reshape(gx.shape)
     top, bottom = float(values.max()), float(values.min())
     if vmin is None:
         vmin = bottom
