@@ -128,18 +128,22 @@ def _browser():
 
 
 @pytest.fixture(scope="module")
-def page(demo, tmp_path_factory):
-    browser = _browser()
-    try:
-        browser.get((demo / "report.html").resolve().as_uri())
-        browser.execute_async_script(
-            "const done = arguments[arguments.length - 1];"
-            "Promise.all([...document.images].map(img => img.decode().catch(() => null)))"
-            ".then(() => done(true));"
-        )
-        yield browser, tmp_path_factory.mktemp("browser")
-    finally:
-        browser.quit()
+def browser():
+    driver = _browser()
+    yield driver
+    driver.quit()
+
+
+@pytest.fixture(scope="module")
+def page(browser, demo, tmp_path_factory):
+    """The report open in the browser, its images decoded (the browser first: skip early)."""
+    browser.get((demo / "report.html").resolve().as_uri())
+    browser.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "Promise.all([...document.images].map(img => img.decode().catch(() => null)))"
+        ".then(() => done(true));"
+    )
+    return browser, tmp_path_factory.mktemp("browser")
 
 
 def test_report_in_a_browser_has_every_section(page):
