@@ -43,7 +43,7 @@ the average), and the task is left out when the average completed none.
 Methods (every path 100 points)
 -------------------------------
 * ``Mean-Path <center>/<ends>``: ``MeanPath(center=..., ends=...)`` for center
-  in {mean, median, biweight} and ends in {consensus, normal}, every other
+  in {adaptive, mean, median, biweight} and ends in {consensus, normal}, every other
   parameter at its default. The variant whose parameters equal ``MeanPath()``'s
   is marked ``(default)``.
 * ``GMR (K=10)``: lfdkit ``GMR(n_components=10, random_state=0)``, ``path(100)``.
@@ -163,10 +163,10 @@ def _is_default(center: str, ends: str) -> bool:
 
 
 def mean_path_variants() -> dict[str, Method]:
-    """The six Mean-Path variants by display name; the default one is marked."""
+    """The eight Mean-Path variants by display name; the default one is marked."""
     out = {}
     for ends in ("consensus", "normal"):
-        for center in ("mean", "median", "biweight"):
+        for center in ("adaptive", "mean", "median", "biweight"):
             name = f"Mean-Path {center}/{ends}"
             if _is_default(center, ends):
                 name += " (default)"

@@ -128,6 +128,7 @@ from _common import git_state, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
 from lfdkit.io import atomic_write
+from lfdkit.io.skill_file import jsonable
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5
 from lfdkit.robot.mujoco import flange_poses
@@ -771,26 +772,11 @@ def simulation_targets(results: dict) -> list[dict]:
 # ------------------------------------------------------------------------------ output
 
 
-def _clean(value):
-    """JSON-ready copy: arrays and numpy scalars converted, non-finite floats to null."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _clean(value.tolist())
-    if isinstance(value, np.generic):
-        return _clean(value.item())
-    if isinstance(value, float) and not np.isfinite(value):
-        return None
-    return value
-
-
 def write_json(path: Path, sections: dict, targets: list[dict], meta: dict) -> None:
     """Write ``meta``, the sections' results and the targets to ``path`` atomically."""
     result = {**meta, **sections, "targets": targets}
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(_clean(result), indent=2, ensure_ascii=False) + "\n"
+    text = json.dumps(jsonable(result), indent=2, ensure_ascii=False) + "\n"
     atomic_write(path, lambda f: f.write(text), overwrite=True, encoding="utf-8")
 
 

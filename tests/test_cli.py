@@ -23,13 +23,14 @@ import pytest
 
 from lfdkit.cli import main
 from lfdkit.emulate import plan_clearance
-from lfdkit.io import SKILL_VERSION
+from lfdkit.imitate import SpeedProfile
+from lfdkit.io import SKILL_VERSION, save_demos
 from lfdkit.io.scenes import save_scenes
 from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import demo_outputs, example_files
 
-SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "bench")
+SUBCOMMANDS = ("demo", "learn", "plan", "plot", "compare", "datasets", "bench")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 REPO = Path(__file__).resolve().parents[1]
 
@@ -79,11 +80,17 @@ def scene_of(*obstacles: tuple[str, tuple[float, float], float]) -> Scene:
     return Scene(tuple(Obstacle(label, np.array(pos), r) for label, pos, r in obstacles))
 
 
-def read_plan_csv(text: str) -> tuple[str, np.ndarray]:
-    """(header line, float rows) of a plan CSV."""
+def read_plan_table(text: str) -> dict[str, np.ndarray]:
+    """The columns of a plan CSV by name (``t``, ``x``, ``y``, ``vx``, ...), in file order."""
     lines = text.splitlines()
-    rows = [[float(v) for v in line.split(",")] for line in lines[1:]]
-    return lines[0], np.array(rows, dtype=np.float64)
+    rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]], dtype=np.float64)
+    return dict(zip(lines[0].split(","), rows.T, strict=True))
+
+
+def read_plan_csv(text: str) -> tuple[str, np.ndarray]:
+    """(header line, positions: the x,y[,z] columns as rows) of a plan CSV."""
+    table = read_plan_table(text)
+    return text.splitlines()[0], np.column_stack([table[c] for c in "xyz" if c in table])
 
 
 def comparable(skill_dict: dict) -> dict:
@@ -159,13 +166,13 @@ def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
     monkeypatch.setattr("lfdkit.skill.learn", fake_learn)
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 1, err
-    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon"}
+    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon", "units"}
     defaults = Skill().get_params()
     assert passed == {name: defaults[name] for name in passed}
     code, out, _ = usage_exit(capsys, "learn", "--help")
     assert code == 0
     text = " ".join(out.split())
-    for name in ("mimic", "n_points", "planner", "horizon"):
+    for name in ("mimic", "n_points", "planner", "horizon", "units"):
         assert f"(default {defaults[name]})" in text, name
 
 
@@ -265,7 +272,7 @@ def test_plan_csv_equals_the_python_plan(capsys, tmp_path, skill_path):
     assert code == 0, err
     assert stdout == ""
     header, rows = read_plan_csv(out.read_text())
-    assert header == "x,y"
+    assert header == "t,x,y"
     assert rows.shape == (100, 2)
     skill = Skill.load(skill_path)
     assert np.array_equal(rows, skill.plan(START, GOAL, scene_of(CUP)))
@@ -323,7 +330,7 @@ def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):
     assert code == 0, err
     assert err == ""
     header, rows = read_plan_csv(stdout)
-    assert header == "x,y"
+    assert header == "t,x,y"
     assert rows.shape == (100, 2)
     skill = Skill.load(skill_path)
     assert np.array_equal(rows, skill.plan(None, None, scene_of(MARKER)))
@@ -399,6 +406,103 @@ def test_plan_accepts_a_negative_start_as_a_separate_argument(capsys, skill_path
     assert code == 0, captured.err
     _, rows = read_plan_csv(captured.out)
     assert np.array_equal(rows[0], START)
+
+
+def test_plan_writes_times_in_seconds_and_with_velocities_the_velocities(capsys, skill_path):
+    # The example has no times: the skill's law, minimum jerk over its duration (1 s).
+    skill = Skill.load(skill_path)
+    expected = skill.plan(None, GOAL, scene_of(CUP))
+    args = ("plan", skill_path, "--goal", f"{GOAL[0]},{GOAL[1]}", "--obstacle", obstacle_arg(CUP))
+    code, stdout, err = run_cli(capsys, *args, "--velocities")
+    assert code == 0, err
+    assert stdout.splitlines()[0] == "t,x,y,vx,vy"
+    table = read_plan_table(stdout)
+    assert table["t"][0] == 0.0 and table["t"][-1] == skill.timing_.duration == 1.0
+    assert np.all(np.diff(table["t"]) > 0)
+    np.testing.assert_array_equal(table["t"], expected.times)
+    np.testing.assert_array_equal(np.c_[table["x"], table["y"]], expected.points)
+    np.testing.assert_array_equal(np.c_[table["vx"], table["vy"]], expected.velocities)
+    assert table["vx"][0] == table["vy"][0] == table["vx"][-1] == table["vy"][-1] == 0.0
+    # --duration and --speed rescale the times (and the velocities), not the path.
+    for option, value, total in (("--duration", "3", 3.0), ("--speed", "2", 0.5)):
+        code, stdout, err = run_cli(capsys, *args, "--velocities", option, value)
+        assert code == 0, err
+        scaled = read_plan_table(stdout)
+        assert scaled["t"][-1] == total
+        np.testing.assert_allclose(scaled["t"], total * table["t"], rtol=1e-12)
+        np.testing.assert_allclose(scaled["vx"], table["vx"] / total, rtol=1e-12, atol=1e-15)
+        np.testing.assert_array_equal(scaled["x"], table["x"])
+    code, _, err = run_cli(capsys, *args, "-v")
+    assert code == 0, err
+    assert "lasts 1 s, peak speed" in err and "m/s" in err
+
+
+def test_plan_follows_the_timing_learned_from_a_timed_demonstrations_file(capsys, tmp_path):
+    # Three sweeps recorded over 2, 3 and 4 s, at minimum jerk along the path.
+    x = np.linspace(0.0, 1.0, 2000)
+    path = np.c_[x, 0.1 * np.sin(np.pi * x)]
+    along = np.r_[0.0, np.cumsum(np.hypot(*np.diff(path, axis=0).T))]
+    law = SpeedProfile.minimum_jerk()
+    demos, times = [], []
+    for duration in (2.0, 3.0, 4.0):
+        t = np.linspace(0.0, duration, 120)
+        s = law.progress(t / duration) * along[-1]
+        demos.append(np.c_[np.interp(s, along, path[:, 0]), np.interp(s, along, path[:, 1])])
+        times.append(t)
+    demos_file = save_demos(tmp_path / "timed.csv", demos, times=times)
+    skill_file = tmp_path / "timed.json"
+    code, _, err = run_cli(capsys, "learn", demos_file, "-o", skill_file, "-q")
+    assert code == 0, err
+    code, stdout, err = run_cli(capsys, "plan", skill_file, "--velocities")
+    assert code == 0, err
+    table = read_plan_table(stdout)
+    assert table["t"][-1] == pytest.approx(3.0)  # the median duration, in seconds
+    speed = np.hypot(table["vx"], table["vy"])
+    peak = 1.875 * np.sum(np.hypot(np.diff(table["x"]), np.diff(table["y"]))) / 3.0
+    assert speed.max() == pytest.approx(peak, rel=0.01)
+
+
+@pytest.mark.parametrize(
+    ("bad", "message"),
+    [
+        (("--duration", "-1"), "--duration: expected a positive number of seconds, got '-1'"),
+        (("--duration", "-1e3"), "--duration: expected a positive number of seconds"),
+        (("--duration", "0"), "--duration: expected a positive number of seconds, got '0'"),
+        (("--duration", "nan"), "--duration: expected a positive number of seconds"),
+        (("--duration", "soon"), "--duration: expected a positive number of seconds"),
+        (("--speed", "0"), "--speed: expected a positive speed factor, got '0'"),
+        (("--speed", "-2"), "--speed: expected a positive speed factor, got '-2'"),
+        (("--speed", "inf"), "--speed: expected a positive speed factor, got 'inf'"),
+        (("--duration", "2", "--speed", "2"), "--speed: give --duration or --speed, not both"),
+    ],
+)
+def test_plan_refuses_a_bad_duration_or_speed_naming_the_option(
+    capsys, tmp_path, skill_path, bad, message
+):
+    out = tmp_path / "plan.csv"
+    code, stdout, err = run_cli(capsys, "plan", skill_path, *bad, "-o", out)
+    assert code == 2
+    assert stdout == "" and not out.exists()
+    assert error_line(err, "plan").startswith(f"lfdkit plan: error: {message}")
+
+
+def test_plan_refuses_a_duration_out_of_range_on_one_line(capsys, skill_path):
+    for option, value in (("--speed", "1e-12"), ("--duration", "1e12")):
+        code, stdout, err = run_cli(capsys, "plan", skill_path, option, value)
+        assert code == 1 and stdout == ""
+        assert f"{option}: the plan would last" in error_line(err, "plan") or (
+            f"{option}: expected" in error_line(err, "plan")
+        )
+
+
+def test_learn_refuses_nan_times_naming_the_file(capsys, tmp_path):
+    demos = tmp_path / "nan.csv"
+    demos.write_text("demo,t,x,y\n1,0,0,0\n1,nan,0.5,0.1\n1,2,1,0\n2,0,0,0\n2,1,0.5,0\n2,2,1,0\n")
+    code, stdout, err = run_cli(capsys, "learn", demos, "-o", tmp_path / "s.json")
+    assert code == 1 and stdout == ""
+    line = error_line(err, "learn")
+    assert "nan.csv" in line and "nan" in line.split("nan.csv", 1)[1]
+    assert not (tmp_path / "s.json").exists()
 
 
 # --------------------------------------------------------------------------- #
@@ -607,6 +711,12 @@ def test_demo_command_end_to_end(tmp_path):
         results = json.loads(results_text)
         assert results["emulate"]["test"]["improvement"] > 90
         Skill.load(out / "skill.json")
+        # The terminal's whole-run time is the report's: one clock, one span.
+        said = re.search(r"^done in (\d+\.\d) s; open ", first.stderr, re.M)
+        assert said, first.stderr
+        assert said.group(1) == f"{results['seconds']['total']:.1f}"
+        reported = re.search(r"whole run</dt><dd[^>]*>([0-9.]+) s<", html)
+        assert reported and reported.group(1) == said.group(1)
 
         again = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=tmp_path)
         assert again.returncode == 1
@@ -617,10 +727,25 @@ def test_demo_command_end_to_end(tmp_path):
         assert (out / "results.json").read_text() == results_text
 
         forced = subprocess.run(
-            [*command, "--force"], capture_output=True, text=True, timeout=300, cwd=tmp_path
+            [*command, "--force", "-v"], capture_output=True, text=True, timeout=300, cwd=tmp_path
         )
         assert forced.returncode == 0, forced.stderr[-2000:]
-        assert json.loads((out / "results.json").read_text())["lfdkit"] == "0.1.0"
+        forced_results = json.loads((out / "results.json").read_text())
+        assert forced_results["lfdkit"] == "0.1.0"
+        # -v: every step of the demo, and the stages inside them, with their wall times.
+        for stage in (
+            "learn the skill from data/demos.csv and data/scenes.csv",
+            "IOC MPC H=8: refining",
+            "score the held-out sweeps",
+            "plan in 3 unseen scenes with a new goal",
+            "simulate the sweep in MuJoCo (UR5)",
+            "draw the figures",
+            "write the skill, the plans, the figures, the results and the report",
+        ):
+            line = rf"\] +{re.escape(stage)}: done in [0-9.]+ s$"
+            assert re.search(line, forced.stderr, re.M), stage
+        total = f"{forced_results['seconds']['total']:.1f}"
+        assert f"\ndone in {total} s; open " in forced.stderr
 
         stdout, stderr = quiet_run.communicate(timeout=300)
     finally:
@@ -870,7 +995,7 @@ import sys, time
 from lfdkit.tasks.sweeping import demo as sweeping_demo
 from lfdkit.cli import main
 
-def slow(out, progress):
+def slow(out, progress, started):
     (out / "figures").mkdir()
     (out / "figures" / "mimic.png").write_text("half\\n")
     print("started", flush=True)

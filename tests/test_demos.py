@@ -1237,6 +1237,34 @@ def test_long_file_name_still_writes(tmp_path: Path) -> None:
     assert _leftovers(tmp_path) == []
 
 
+def test_path_csv_with_times_and_velocities(tmp_path) -> None:
+    rng = np.random.default_rng(4)
+    for q, header in (
+        (2, "t,x,y,vx,vy"),
+        (3, "t,x,y,z,vx,vy,vz"),
+        (4, "t,x1,x2,x3,x4,v1,v2,v3,v4"),
+    ):
+        points, velocities = rng.normal(size=(6, q)), rng.normal(size=(6, q))
+        times = np.cumsum(rng.uniform(0.1, 1.0, 6)) - 0.1
+        lines = path_csv(points, times=times, velocities=velocities).splitlines()
+        assert lines[0] == header
+        parsed = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+        np.testing.assert_array_equal(parsed, np.c_[times, points, velocities])
+    assert path_csv(points, times=times).splitlines()[0] == "t,x1,x2,x3,x4"
+    target = save_path(tmp_path / "timed.csv", points, times=times, velocities=velocities)
+    assert target.read_text() == path_csv(points, times=times, velocities=velocities)
+    with pytest.raises(FileExistsError):
+        save_path(target, points, times=times)
+    with pytest.raises(ValueError, match="times: contains NaN"):
+        path_csv(points, times=np.r_[times[:-1], np.nan])
+    with pytest.raises(ValueError, match="times: must not decrease"):
+        path_csv(points, times=times[::-1])
+    with pytest.raises(ValueError, match=r"times: expected shape \(6,\)"):
+        path_csv(points, times=times[:3])
+    with pytest.raises(ValueError, match=r"velocities: expected shape \(6, 4\)"):
+        path_csv(points, velocities=velocities[:3])
+
+
 def test_path_csv_is_exact_and_save_path_never_overwrites(tmp_path) -> None:
     rng = np.random.default_rng(3)
     for q, header in ((2, "x,y"), (3, "x,y,z"), (4, "x1,x2,x3,x4")):

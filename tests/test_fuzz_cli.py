@@ -54,7 +54,7 @@ def _fake_learn(demos_path, scenes_path=None, *, progress=None, **params):
     return skill.use_path(np.c_[_U, 0.1 * np.sin(np.pi * _U)], source=str(data.free_ids))
 
 
-def _fake_run_into(out: Path, progress) -> dict:
+def _fake_run_into(out: Path, progress, started) -> dict:
     """The demo's work replaced by writing its files."""
     for path in sweeping_demo.demo_outputs(out):
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -69,13 +69,24 @@ def _fake_run_into(out: Path, progress) -> dict:
 # The real options of each command (those taking a value, then flags), and values.
 VALUED = {
     "demo": ["-o", "--output"],
-    "learn": ["--scenes", "--mimic", "--n-points", "--seed", "--planner", "--horizon"],
+    "learn": ["--scenes", "--mimic", "--n-points", "--seed", "--planner", "--horizon", "--units"],
     "plan": [
         *["--start", "--goal", "--obstacle", "--scene", "--planner", "--horizon"],
-        *["--goal-approach", "-o"],
+        *["--goal-approach", "-o", "--duration", "--speed", "--units"],
     ],
-    "plot": ["--start", "--goal", "--obstacle", "--scene", "--demos", "--title", "--dpi"],
+    "plot": [
+        "--start",
+        "--goal",
+        "--obstacle",
+        "--scene",
+        "--demos",
+        "--title",
+        "--dpi",
+        "--units",
+    ],
+    "datasets": ["-o", "--scenes", "--seed"],
 }
+DATASET_WORDS = ["list", "export", "walking", "sweeping", "nosuch", "lasa:Angle", "lasa:x"]
 FLAGS = ["-q", "-v", "-f", "--force", "--quiet", "--verbose", "--help"]
 INPUTS = ["demos.csv", "skill.json", "scene.csv", "missing.csv", "empty.csv", "garbage.json"]
 INPUTS += ["a\x00b", "dém😀.csv", "outdir", "blocker", "blocker/x.csv", ""]
@@ -87,6 +98,7 @@ VALUES = [
     *["0.5,0.1", "0.2,0.05", "-0.4,0.45", "1,2,3", "1,2,3,4", "nan,1", "1e308,1e308"],
     *["1e300,0", "1e7,1e7", "cup:0.5,0.06", "cup:0.5,0.06,r=0.03", "cup:", ":1,2"],
     *["cup:1,2,r=-1", "cup:1,2,r=inf", "x" * 300, "full", "mpc", "gmr", "mean_path"],
+    *["m", "cm", "mm", "inch"],
     *INPUTS,
     *OUTPUTS,
 ]
@@ -102,6 +114,8 @@ def argument_lists(draw) -> list[str]:
     # Mostly well-formed (so the commands run and fail late), sometimes not.
     good_inputs = st.sampled_from(INPUTS[:2] * 6 + INPUTS)
     argv = [command]
+    if command == "datasets":
+        argv += draw(st.lists(st.sampled_from(DATASET_WORDS), max_size=2))
     if command == "learn":
         argv.append(draw(good_inputs))
     if command in ("plan", "plot"):

@@ -6,6 +6,8 @@ against an independent brute-force NumPy reference written here.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -209,8 +211,8 @@ def test_chunk_size_does_not_change_result():
 
 
 def test_large_batches_match_small_batches_and_brute_force():
-    # Many (query, polyline) pairs take the parallel loop, few the serial one:
-    # both must give the same answers.
+    # Many (query, polyline) pairs are split over threads, few run in the calling
+    # thread: the same compiled loop, so the same answers.
     rng = np.random.default_rng(21)
     polys = [make_polyline(rng, kind, 3, n) for kind, n in (("smooth", 400), ("jagged", 90))]
     polys += [make_polyline(rng, "repeats", 3, 30), make_polyline(rng, "uneven", 3, 200)]
@@ -221,8 +223,8 @@ def test_large_batches_match_small_batches_and_brute_force():
              for i in range(0, len(pts), 500)]  # fmt: skip
     small_seg = np.concatenate([h.segment for h in parts])
     np.testing.assert_array_equal(big.found, small_seg >= 0)
-    # Up to rounding (the two compiled loops may round differently, which decides
-    # ties such as a crossing at the vertex shared by two segments).
+    # Up to rounding: the on-plane tolerance scales with the batch's coordinates,
+    # which decides ties such as a crossing at the vertex shared by two segments.
     np.testing.assert_allclose(
         big.distance, np.concatenate([h.distance for h in parts]), rtol=1e-12
     )
@@ -233,6 +235,58 @@ def test_large_batches_match_small_batches_and_brute_force():
     ref = reference_crossings(pts[idx], tan[idx], polys, True)
     sub = type(big)(big.points[idx], big.segment[idx], big.distance[idx])
     assert_hits_match(sub, ref, pts[idx], tan[idx], polys)
+
+
+def test_threads_give_the_answers_of_one_thread(monkeypatch):
+    import lfdkit._geometry_kernels as kernels
+
+    rng = np.random.default_rng(5)
+    polys = [make_polyline(rng, "jagged", 2, n) for n in (300, 40, 900)]
+    pts, tan = make_queries(rng, polys, 9000, "near")
+    pset = PolylineSet(polys)
+    monkeypatch.setattr(kernels, "_n_threads", lambda: 3)
+    threaded = pset.intersect(pts, tan)
+    monkeypatch.setattr(kernels, "_THREADED_PAIRS", 10**12)
+    single = pset.intersect(pts, tan)
+    np.testing.assert_array_equal(threaded.segment, single.segment)
+    np.testing.assert_array_equal(threaded.distance, single.distance)
+    np.testing.assert_array_equal(threaded.points, single.points)
+    assert threaded.found.mean() > 0.2
+
+
+def test_kernels_compile_without_a_writable_cache(tmp_path):
+    """Where numba can write no cache (read-only install, no user cache), compile silently."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import lfdkit._geometry_kernels as kernels
+
+    (tmp_path / "kernels.py").write_text(Path(kernels.__file__).read_text())
+    (tmp_path / "__pycache__").write_text("")  # a file: no cache folder next to the source
+    (tmp_path / "blocker").write_text("")
+    code = (
+        "import numpy as np, kernels\n"
+        "out = (np.full((1, 1, 2), np.nan), np.full((1, 1), -1), np.full((1, 1), np.inf))\n"
+        "verts = np.array([[0.0, -1.0], [0.0, 1.0]])\n"
+        "polylines = (verts, np.array([0]), np.array([1]), np.zeros((1, 2)), np.array([1.0]),\n"
+        "             np.array([0]), np.array([1]))\n"
+        "kernels.nearest_crossings(np.zeros((1, 2)), np.array([[0.0, 1.0]]), polylines, 4,\n"
+        "                          False, 1e-12, out)\n"
+        "assert out[2][0, 0] == 0.0 and out[1][0, 0] == 0, out\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "blocker" / "cache")}
+    env["PYTHONPATH"] = os.pathsep.join((str(tmp_path), env.get("PYTHONPATH", "")))
+    result = subprocess.run(
+        [sys.executable, "-W", "error", "-c", code],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert result.stderr == ""
 
 
 def test_long_polyline_default_chunks_match_brute_force():

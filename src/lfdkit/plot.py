@@ -36,6 +36,7 @@ __all__ = [
     "draw_scene",
     "emulation_figure",
     "emulation_grid",
+    "label_axes",
     "mean_path_figure",
     "method_color",
     "plan_colors",
@@ -94,7 +95,18 @@ def draw_paths(
         ax.plot(*_xy(path), color=method_color(name), linewidth=1.6, label=name)
 
 
-def _axis_labels(ax: Axes, q: int, units: str) -> None:
+def label_axes(ax: Axes, q: int, units: str) -> None:
+    """Name the axes of a ``q``-D plot of positions with their unit: ``x [mm]``, ``y [mm]``.
+
+    Parameters
+    ----------
+    ax : Axes
+        2-D axes, or 3-D axes when ``q`` is 3.
+    q : int
+        Dimension of the positions drawn, 2 or 3.
+    units : str
+        Their unit (:data:`lfdkit.units.UNITS`).
+    """
     names = ("x", "y", "z")
     ax.set_xlabel(f"{names[0]} [{units}]")
     ax.set_ylabel(f"{names[1]} [{units}]")
@@ -128,7 +140,7 @@ def comparison_figure(
     ax = fig.add_subplot(projection="3d" if q == 3 else None)
     draw_demos(ax, demos)
     draw_paths(ax, paths, nominal=nominal, walls=walls)
-    _axis_labels(ax, q, units)
+    label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title)
@@ -296,7 +308,7 @@ def mean_path_figure(
         draw_gmr_tube(ax0, gmr)
     draw_paths(ax0, {"Mean-Path": mean_path.path_}, nominal=nominal)
     to_scale = _scale_axes(ax0, demos)
-    _axis_labels(ax0, 2, units)
+    label_axes(ax0, 2, units)
     ax0.set_title(
         (title or "Demonstrations and generalized path")
         + ("" if to_scale else "\n(axes not to scale)")
@@ -378,7 +390,7 @@ def retargeting_figure(
     if demos:
         draw_demos(ax, demos)
     draw_rollouts(ax, path, [positions for _, positions in rollouts], goal_names=goal_names)
-    _axis_labels(ax, q, units)
+    label_axes(ax, q, units)
     to_scale = True
     if q == 2:
         to_scale = _scale_axes(ax, [path, *(demos or ()), *(p for _, p in rollouts)])
@@ -691,7 +703,7 @@ def _emulation_panel(
         ax.plot(*_xy(path), label=name, path_effects=halo, **style)
     if goal is not None:
         ax.plot(*_xy(goal), **GOAL_STYLE)
-    _axis_labels(ax, q, units)
+    label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="box")
     else:

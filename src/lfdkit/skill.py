@@ -14,7 +14,11 @@ A :class:`Skill` learns, in order,
 :meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
 DMP retargets the generalized path to the new start and goal (the *nominal*),
 and the planner (receding-horizon MPC by default, or the full-horizon
-optimum) moves along it around the scene's obstacles.
+optimum) moves along it around the scene's obstacles. The plan comes timed
+(:class:`TimedPlan`: times, points, velocities): by its own arc length with
+the duration and speed profile the skill learned from the demonstrations'
+times (:attr:`Skill.timing_`, :mod:`lfdkit.imitate.timing`), or with the
+``timing`` law over ``duration`` when they had none.
 
 Each layer can be learned on its own (:meth:`Skill.fit_path`,
 :meth:`Skill.fit_reward`) or taken from elsewhere (:meth:`Skill.use_path`,
@@ -43,20 +47,28 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from sklearn.base import BaseEstimator
-from sklearn.utils.validation import check_is_fitted
+from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from lfdkit import metrics
+from lfdkit._estimator import Estimator, check_fitted
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
-from lfdkit._validation import check_demos, check_path, check_point, check_positive
+from lfdkit._validation import (
+    check_demos,
+    check_path,
+    check_point,
+    check_positive,
+    check_times_list,
+)
 from lfdkit.demos import DemoId
 from lfdkit.emulate import IOC, Plan, Reward, plan_path
-from lfdkit.imitate import DMP
+from lfdkit.imitate import DMP, SpeedProfile, learn_timing
+from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.io import load_demos, skill_file
 from lfdkit.io.scenes import load_scenes
 from lfdkit.io.skill_file import (
@@ -66,7 +78,9 @@ from lfdkit.io.skill_file import (
     SKILL_VERSION,
 )
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
+from lfdkit.progress import Progress, ProgressLike, as_progress
 from lfdkit.scene import Scene
+from lfdkit.units import check_units, conversion_factor
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
@@ -75,27 +89,121 @@ __all__ = [
     "SKILL_FORMAT",
     "SKILL_VERSION",
     "Skill",
+    "TimedPlan",
     "TrainingData",
     "learn",
     "read_training_data",
 ]
 
 PlannerKind = Literal["mpc", "full"]
-Progress = Callable[[str], None]
 
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
 
 
-class Skill(BaseEstimator):
+@dataclass(frozen=True, eq=False, repr=False)
+class TimedPlan(NDArrayOperatorsMixin):
+    """A planned path with its timing: what :meth:`Skill.plan` returns, what a robot runs.
+
+    The path is timed by its own arc length with the skill's speed profile
+    (:attr:`Skill.timing_`, :meth:`lfdkit.imitate.SpeedProfile.time_path`):
+    a plan that swerves around an obstacle is longer than the nominal, and
+    runs a little faster all along rather than fast where it swerves.
+
+    Attributes
+    ----------
+    times : ndarray, shape (n_points,)
+        Seconds, from 0 to :attr:`duration`.
+    points : ndarray, shape (n_points, q)
+        The path, first point the start (units of the skill).
+    velocities : ndarray, shape (n_points, q)
+        Units per second; zero at both ends (rest to rest) unless the skill's
+        timing is ``"uniform"``.
+    details : lfdkit.emulate.Plan
+        The planner's result (:meth:`Skill.plan_details`): ``clearance``,
+        ``goal_error``, ``cost``, ``offsets``, ...
+
+    Notes
+    -----
+    Before timing was added, :meth:`Skill.plan` returned the points as an
+    ndarray. A ``TimedPlan`` still stands for its points wherever NumPy
+    takes an array: ``np.asarray(plan)`` is ``plan.points`` (``__array__``),
+    arithmetic and comparisons act on the points and return arrays
+    (``plan - start``, ``plan == other``), and ``len(plan)``,
+    ``plan[i]``, iteration, ``plan.shape`` and ``plan.ndim`` are the
+    points'. Its fields cannot be reassigned and in-place arithmetic
+    (``plan += 1``) raises ``TypeError``: ``np.array(plan)`` is a copy to
+    change, ``plan.points`` has the other array methods.
+    """
+
+    times: np.ndarray
+    points: np.ndarray
+    velocities: np.ndarray
+    details: Plan
+
+    @property
+    def positions(self) -> np.ndarray:
+        """The points, (n_points, q): the name :class:`lfdkit.imitate.Trajectory` uses."""
+        return self.points
+
+    @property
+    def duration(self) -> float:
+        """Seconds from the first point to the last."""
+        return float(self.times[-1])
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """Speed along the path at each point, units per second, (n_points,)."""
+        return np.linalg.norm(self.velocities, axis=1)
+
+    # ----------------------------------------------- the points as an array
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
+        points = self.points if dtype is None else self.points.astype(dtype, copy=False)
+        return points.copy() if copy else points
+
+    def __array_ufunc__(self, ufunc: Any, method: str, *inputs: Any, **kwargs: Any) -> Any:
+        if any(isinstance(o, TimedPlan) for o in kwargs.get("out", ())):
+            return NotImplemented  # immutable: no in-place arithmetic
+        args = [x.points if isinstance(x, TimedPlan) else x for x in inputs]
+        return getattr(ufunc, method)(*args, **kwargs)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    def __getitem__(self, key: Any) -> Any:
+        return self.points[key]
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return iter(self.points)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The points' shape, (n_points, q)."""
+        return self.points.shape
+
+    @property
+    def ndim(self) -> int:
+        """2, as the points'."""
+        return self.points.ndim
+
+    def __repr__(self) -> str:
+        n, q = self.points.shape
+        return (
+            f"TimedPlan({n} points in {q}-D over {self.duration:.4g} s, "
+            f"peak speed {float(np.max(self.speeds)):.4g} units/s)"
+        )
+
+
+class Skill(Estimator):
     """A task learned from demonstrations: generalized path, DMP and obstacle reward.
 
     Parameters
     ----------
     mimic : str
         How the generalized path is computed from the clean demonstrations: a
-        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default;
+        key of :data:`lfdkit.mimic.MIMIC_METHODS` ("mean_path", the default,
+        Mean-Path with its default adaptive centre; "mean_path_mean",
         "mean_path_median", "mean_path_biweight", "gmr", "nlpca", "average").
     n_points : int
         Points of the generalized path and of every plan (thesis: 100).
@@ -106,10 +214,13 @@ class Skill(BaseEstimator):
         fewest that reproduce the path within 1 % of its extent
         (:class:`lfdkit.imitate.DMP`; the count used is ``dmp_.n_basis_``).
     timing : {"minimum_jerk", "uniform"}
-        Times assigned to the generalized path for the DMP fit
-        (:meth:`lfdkit.imitate.DMP.fit`).
+        The speed law along the path when the demonstrations carry no times
+        (:class:`lfdkit.imitate.SpeedProfile`): the DMP is trained with it
+        and plans are timed with it. Demonstrations with times replace it by
+        their learned speed profile (:attr:`timing_`).
     duration : float
-        Duration of the movement, seconds.
+        Duration of the movement in seconds when the demonstrations carry no
+        times (timed demonstrations give their median duration instead).
     scaling : {"translate", "spatial", "per_dimension"}
         How the DMP carries the path to a new start and goal
         (:class:`lfdkit.imitate.DMP`). ``"translate"`` keeps the shape and
@@ -131,8 +242,15 @@ class Skill(BaseEstimator):
     random_state : int, optional
         Seed of the mimic method's random initialisation (GMR, NLPCA; the
         other layers are deterministic).
-    units : str
-        Unit of every coordinate (for files and figures).
+    units : {"m", "cm", "mm"}
+        Unit of every length the skill takes and gives: demonstrations,
+        paths, starts and goals, obstacles, clearances (:mod:`lfdkit.units`).
+        The reward's nominal weight and precisions are in 1/units². Learning
+        is scale-invariant: the same demonstrations in millimetres (with
+        ``units="mm"``) give the path in metres times 1000, the weight and
+        precisions divided by 1e6, and the same plans times 1000 (to about
+        1e-7 of the path's extent). Shown on figures and stored in the skill
+        file; :meth:`to_units` converts a fitted skill.
 
     Attributes
     ----------
@@ -147,7 +265,12 @@ class Skill(BaseEstimator):
         ``"length_ratio"``, the mimic method's warnings as text under
         ``"warnings"``, diagnostics).
     dmp_ : DMP
-        The DMP trained on ``path_``.
+        The DMP trained on ``path_``, timed by ``timing_``.
+    timing_ : SpeedProfile
+        Duration (s) and speed profile along the path, which the DMP and
+        every plan follow: learned from the demonstrations' times
+        (:func:`lfdkit.imitate.learn_timing`, ``source="demonstrations"``),
+        or the ``timing`` law over ``duration``.
     reward_ : Reward or None
         The obstacle reward (None until :meth:`fit_reward` or :meth:`adopt`).
     ioc_ : IOC or None
@@ -221,8 +344,7 @@ class Skill(BaseEstimator):
             isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
         ):
             raise ValueError(f"classes: expected a list of class names, got {self.classes!r}")
-        if not isinstance(self.units, str) or not self.units:
-            raise ValueError(f"units: expected a non-empty string, got {self.units!r}")
+        check_units(self.units)
 
     @property
     def _horizon(self) -> int | None:
@@ -236,7 +358,8 @@ class Skill(BaseEstimator):
         scenes: Sequence[Scene] | None = None,
         *,
         goals: Any = None,
-        progress: Progress | None = None,
+        times: Sequence[Any] | None = None,
+        progress: ProgressLike = None,
     ) -> Skill:
         """Learn every layer: path and DMP from ``demos``, the reward from the rest.
 
@@ -250,8 +373,14 @@ class Skill(BaseEstimator):
             One per obstacle demonstration.
         goals : array_like, shape (q,) or (n_obstacle_demos, q), optional
             Passed to :meth:`fit_reward`.
-        progress : callable, optional
-            Called with a short message as each stage starts.
+        times : sequence of (array_like (n_j,) or None), optional
+            Sample times of ``demos`` in seconds: the timing is learned from
+            them (:meth:`fit_path`).
+        progress : Progress, callable, bool or None
+            Reports each stage (mimic, imitate, emulate) and the inverse
+            optimal control's own stages and iterations: True for bars on a
+            terminal, a callable for one line per stage as it starts
+            (:func:`lfdkit.progress.as_progress`). Default: silent.
 
         Returns
         -------
@@ -260,7 +389,8 @@ class Skill(BaseEstimator):
         """
         if (obstacle_demos is None) != (scenes is None):
             raise ValueError("scenes: give obstacle_demos and scenes together, or neither")
-        self.fit_path(demos, progress=progress)
+        progress = as_progress(progress)
+        self.fit_path(demos, times=times, progress=progress)
         self.reward_ = None
         self.ioc_ = None
         self.ioc_info_ = None
@@ -270,35 +400,60 @@ class Skill(BaseEstimator):
             raise ValueError(f"scenes: {len(scenes)} scenes for 0 obstacle demonstrations")
         return self
 
-    def fit_path(self, demos: Sequence[Any], *, progress: Progress | None = None) -> Skill:
-        """Learn the generalized path (mimic) and the DMP on it (imitate).
+    def fit_path(
+        self,
+        demos: Sequence[Any],
+        *,
+        times: Sequence[Any] | None = None,
+        progress: ProgressLike = None,
+    ) -> Skill:
+        """Learn the generalized path (mimic), its timing and the DMP on it (imitate).
 
         Parameters
         ----------
         demos : sequence of array_like, each (n_j, q)
             Clean demonstrations, at least 2, all of the same dimension 2 or 3.
-        progress : callable, optional
+        times : sequence of (array_like (n_j,) or None), optional
+            Sample times of each demonstration in seconds (finite, strictly
+            increasing; ``None`` for one without). The duration and speed
+            profile along the path are learned from those given
+            (:func:`lfdkit.imitate.learn_timing`: median over the
+            demonstrations, smoothed, at rest at both ends); without any,
+            the ``timing`` law over ``duration``.
+        progress : Progress, callable, bool or None
+            As in :meth:`fit`.
 
         Returns
         -------
         Skill
             ``self``; an obstacle reward learned before is kept.
+
+        Raises
+        ------
+        ValueError
+            For NaN, infinite or non-increasing times, or times that do not
+            match their demonstration (the message names ``times[j]``).
         """
         self._check_params()
         demos = check_demos(demos, "demos", min_demos=2, min_points=3)
         q = demos[0].shape[1]
         if q not in (2, 3):
             raise ValueError(f"demos: expected 2-D or 3-D points, got {q} dimensions")
-        _tell(progress, f"mimic: {self._mimic_name()} of {len(demos)} demonstrations")
+        progress = as_progress(progress)
+        stamps = check_times_list(times, demos, style="shape")
         started = time.perf_counter()
         method = MIMIC_METHODS[self.mimic]
         settings = MimicSettings(
             n_points=int(self.n_points),
             random_state=self.random_state,
             n_components=int(self.n_components),
+            # One metre in the skill's units: a method that is not scale-invariant
+            # (GMR) fits in metres, so the path does not depend on the units.
+            length_scale=conversion_factor("m", self.units),
         )
         # Recorded as well as passed on, so that the skill file and reports keep them.
-        with warnings.catch_warnings(record=True) as caught:
+        label = f"mimic: {self._mimic_name()} of {len(demos)} demonstrations"
+        with warnings.catch_warnings(record=True) as caught, progress.stage(label):
             warnings.simplefilter("always")
             estimator = method.fit(method.build(settings), demos)  # checked above
         path = estimator.path_
@@ -314,10 +469,21 @@ class Skill(BaseEstimator):
         info = {"method": self.mimic, "n_demos": len(demos), **info}
         info["seconds"] = time.perf_counter() - started
         self.mimic_ = estimator
-        self._set_path(path, info, progress)
+        timing = None
+        timed = [j for j, t in enumerate(stamps) if t is not None]
+        if timed:
+            progress.note(f"imitate: timing of {len(timed)} timed demonstrations")
+            # Demonstrations the mimic method turned round run backwards in time too.
+            turned = set(info["reversed"])
+            runs = [demos[j][::-1] if j in turned else demos[j] for j in timed]
+            clocks = [stamps[j][-1] - stamps[j][::-1] if j in turned else stamps[j] for j in timed]
+            timing = learn_timing(runs, clocks, path)
+        self._set_path(path, info, progress, timing)
         return self
 
-    def use_path(self, path: Any, *, source: str = "given") -> Skill:
+    def use_path(
+        self, path: Any, *, source: str = "given", timing: SpeedProfile | None = None
+    ) -> Skill:
         """Take a generalized path from elsewhere and train the DMP on it.
 
         Parameters
@@ -326,16 +492,28 @@ class Skill(BaseEstimator):
             The path, q 2 or 3, at least 3 points.
         source : str
             Recorded in :attr:`mimic_info_` (e.g. where the path came from).
+        timing : SpeedProfile, optional
+            Its duration and speed profile (e.g. another skill's
+            :attr:`timing_`, or :func:`lfdkit.imitate.learn_timing`);
+            default the ``timing`` law over ``duration``.
         """
         self._check_params()
         path = check_path(path, "path", min_points=3)
         if path.shape[1] not in (2, 3):
             raise ValueError(f"path: expected 2-D or 3-D points, got {path.shape[1]} dimensions")
+        if timing is not None and not isinstance(timing, SpeedProfile):
+            raise TypeError(f"timing: expected a SpeedProfile, got {type(timing).__name__}")
         self.mimic_ = None
-        self._set_path(path, {"method": "given", "source": str(source)}, None)
+        self._set_path(path, {"method": "given", "source": str(source)}, None, timing)
         return self
 
-    def _set_path(self, path: np.ndarray, info: dict[str, Any], progress: Progress | None) -> None:
+    def _set_path(
+        self,
+        path: np.ndarray,
+        info: dict[str, Any],
+        progress: Progress | None,
+        timing: SpeedProfile | None = None,
+    ) -> None:
         reward = getattr(self, "reward_", None)
         if reward is not None and reward.n_dims not in (None, path.shape[1]):
             raise ValueError(
@@ -343,13 +521,17 @@ class Skill(BaseEstimator):
             )
         self.path_ = np.array(path, dtype=np.float64)
         self.mimic_info_ = info
-        self.dmp_ = self._fit_dmp(self.path_)
-        chosen = " (n_basis='auto')" if isinstance(self.n_basis, str) else ""
-        _tell(
-            progress,
-            f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
-            f"reproducing the path within {self.dmp_.reproduction_error_:.2%} of its extent",
-        )
+        if timing is None:
+            timing = SpeedProfile.from_law(self.timing, float(self.duration))
+        self.timing_ = timing
+        # The stage says what it did once the DMP has chosen its basis count.
+        with as_progress(progress).stage("imitate: DMP", announce=False) as stage:
+            self.dmp_ = self._fit_dmp(self.path_)
+            chosen = " (n_basis='auto')" if isinstance(self.n_basis, str) else ""
+            stage.describe(
+                f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
+                f"reproducing the path within {self.dmp_.reproduction_error_:.2%} of its extent"
+            )
         self.n_dims_ = int(self.path_.shape[1])
         if not hasattr(self, "reward_"):
             self.reward_ = None
@@ -359,7 +541,10 @@ class Skill(BaseEstimator):
     def _fit_dmp(self, path: np.ndarray) -> DMP:
         n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
         dmp = DMP(n_basis=n_basis, scaling=self.scaling)
-        return dmp.fit(path, duration=float(self.duration), timing=self.timing)
+        if self.timing_.source in ("minimum_jerk", "uniform"):
+            # The law by name: the fit skills made before timings were learned.
+            return dmp.fit(path, duration=self.timing_.duration, timing=self.timing_.source)
+        return dmp.fit(path, timing=self.timing_)
 
     def fit_reward(
         self,
@@ -367,7 +552,7 @@ class Skill(BaseEstimator):
         scenes: Sequence[Scene],
         *,
         goals: Any = None,
-        progress: Progress | None = None,
+        progress: ProgressLike = None,
     ) -> Skill:
         """Learn the obstacle reward by inverse optimal control (emulate).
 
@@ -385,7 +570,9 @@ class Skill(BaseEstimator):
             One per demonstration.
         goals : array_like, shape (q,) or (n_demos, q), optional
             Goal of each demonstration's nominal (default: the generalized path's goal).
-        progress : callable, optional
+        progress : Progress, callable, bool or None
+            As in :meth:`fit`; the inverse optimal control reports its
+            starting search, each L-BFGS run's iterations and the MPC stage.
 
         Returns
         -------
@@ -409,18 +596,21 @@ class Skill(BaseEstimator):
                     f"{self.n_dims_}-D demonstrations"
                 )
         goal = self._goals(goals, len(demos))
-        _tell(progress, "emulate: nominal of each obstacle demonstration (DMP)")
-        starts = np.array([demo[0] for demo in demos])
-        nominals = list(self._rollouts(starts, goal))
+        progress = as_progress(progress)
+        with progress.stage("emulate: nominal of each obstacle demonstration (DMP)"):
+            starts = np.array([demo[0] for demo in demos])
+            nominals = list(self._rollouts(starts, goal))
         stages = "full horizon, then MPC" if self.planner == "mpc" else "full horizon"
-        _tell(progress, f"emulate: inverse optimal control on {len(demos)} demos ({stages})")
         started = time.perf_counter()
-        ioc = IOC(
-            self.classes,
-            n_points=int(self.n_points),
-            horizon=self._horizon,
-            max_slope=float(self.max_slope),
-        ).fit(demos, scenes, nominals)
+        label = f"emulate: inverse optimal control on {len(demos)} demos ({stages})"
+        with progress.stage(label):
+            ioc = IOC(
+                self.classes,
+                n_points=int(self.n_points),
+                horizon=self._horizon,
+                max_slope=float(self.max_slope),
+                progress=progress,
+            ).fit(demos, scenes, nominals)
         self.ioc_ = ioc
         self.reward_ = ioc.reward_
         self.ioc_info_ = {
@@ -489,7 +679,7 @@ class Skill(BaseEstimator):
 
     # ------------------------------------------------------------------ use
     def _check_fitted(self) -> None:
-        check_is_fitted(self, "path_", msg="skill: not fitted; call fit() or fit_path() first")
+        check_fitted(self, "path_", "skill: not fitted; call fit() or fit_path() first")
 
     def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
         n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
@@ -507,7 +697,8 @@ class Skill(BaseEstimator):
         Returns
         -------
         ndarray, shape (4 n_points, q)
-            DMP rollout positions (minimum-jerk timing: denser at the ends).
+            DMP rollout positions at equal time steps (denser where the
+            skill's speed profile is slow, e.g. at the ends).
         """
         return self._nominal(*self._ends(start, goal))
 
@@ -529,15 +720,75 @@ class Skill(BaseEstimator):
         return self._rollouts(start[None], goal[None])[0]
 
     def plan(
-        self, start: Any = None, goal: Any = None, scene: Scene | None = None, **options: Any
-    ) -> np.ndarray:
-        """The planned path for a new start, goal and scene: ``plan_details(...).points``.
+        self,
+        start: Any = None,
+        goal: Any = None,
+        scene: Scene | None = None,
+        *,
+        duration: float | None = None,
+        speed: float | None = None,
+        **options: Any,
+    ) -> TimedPlan:
+        """The timed plan for a new start, goal and scene: positions, times and velocities.
 
-        ndarray, shape (n_points, q), from ``start``; the keyword ``options``
-        (``planner``, ``horizon``, ``goal_approach``, ``clearance``), the errors
-        and the safety guarantees are :meth:`plan_details`'.
+        The path is :meth:`plan_details`' (its keyword ``options``:
+        ``planner``, ``horizon``, ``goal_approach``, ``clearance``; its errors
+        and safety guarantees), timed by its own arc length with the skill's
+        speed profile :attr:`timing_` (learned from the demonstrations' times,
+        or the ``timing`` law): it starts and ends at rest (unless the timing
+        is ``"uniform"``) and lasts the skill's duration, so a plan that
+        swerves (and is longer) runs uniformly faster, never in a burst where
+        it swerves.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+        scene : Scene, optional
+            Obstacles (default none).
+        duration : float, optional
+            Seconds the plan lasts (default ``timing_.duration``).
+        speed : float, optional
+            Or a speed factor: the plan lasts ``timing_.duration / speed``
+            (2 runs twice as fast). Not with ``duration``.
+
+        Returns
+        -------
+        TimedPlan
+            ``times`` (n_points,) s, ``points`` (n_points, q), ``velocities``
+            (n_points, q) units/s, ``details`` (:meth:`plan_details`' Plan).
+            It stands for its points in NumPy expressions (``np.asarray(plan)``
+            is ``plan.points``), as the ndarray this method used to return.
+
+        Raises
+        ------
+        ValueError
+            For a ``duration`` or ``speed`` that is not a positive, finite
+            number, both given, or a duration outside 1e-6 to 1e9 s; and
+            :meth:`plan_details`' errors.
         """
-        return self.plan_details(start, goal, scene, **options).points
+        total = self._plan_duration(duration, speed)
+        details = self.plan_details(start, goal, scene, **options)
+        times, velocities = self.timing_.time_path(details.points, total)
+        return TimedPlan(times, details.points, velocities, details)
+
+    def _plan_duration(self, duration: float | None, speed: float | None) -> float:
+        """Seconds a plan lasts: ``duration``, or the skill's divided by ``speed``."""
+        self._check_fitted()
+        if duration is not None and speed is not None:
+            raise ValueError("speed: give duration or speed, not both")
+        if duration is not None:
+            total = check_positive(duration, "duration")
+        else:
+            factor = 1.0 if speed is None else check_positive(speed, "speed")
+            total = self.timing_.duration / factor
+        low, high = DURATION_RANGE
+        if not low <= total <= high:
+            what = "duration" if duration is not None else "speed"
+            raise ValueError(
+                f"{what}: the plan would last {total:g} s; expected {low:g} to {high:g} s"
+            )
+        return total
 
     def plan_details(
         self,
@@ -549,6 +800,7 @@ class Skill(BaseEstimator):
         horizon: int | None = None,
         goal_approach: float | str | None = "auto",
         clearance: float = 0.0,
+        progress: ProgressLike = None,
     ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -571,6 +823,9 @@ class Skill(BaseEstimator):
         clearance : float
             Tool clearance (units) added to every obstacle's radius; the plan
             keeps out of radius plus clearance (a hard constraint).
+        progress : Progress, callable, bool or None
+            Reports the planner's global search and its MPC steps over the
+            plan's points (:func:`lfdkit.progress.as_progress`); default silent.
 
         Returns
         -------
@@ -591,7 +846,7 @@ class Skill(BaseEstimator):
             obstacle, or a horizon outside 4-12.
         """
         start, goal = self._ends(start, goal)
-        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance)
+        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance, progress)
 
     def _plan(
         self,
@@ -602,6 +857,7 @@ class Skill(BaseEstimator):
         horizon: int | None,
         goal_approach: float | str | None,
         clearance: float,
+        progress: ProgressLike = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal."""
         nominal = self._nominal(start, goal)
@@ -631,6 +887,7 @@ class Skill(BaseEstimator):
             max_slope=float(self.max_slope),
             goal_approach=goal_approach,
             clearance=clearance,
+            progress=progress,
         )
 
     def evaluate(
@@ -640,6 +897,7 @@ class Skill(BaseEstimator):
         *,
         goals: Any = None,
         goal_approach: float | str | None = "auto",
+        progress: ProgressLike = None,
     ) -> dict[str, float]:
         """Scores on held-out demonstrations in their scenes (thesis MSE_R and Pr).
 
@@ -648,7 +906,8 @@ class Skill(BaseEstimator):
         the nominal replayed without the obstacle term. ``goal_approach`` is
         :meth:`plan`'s: by default the plan the robot would execute, which
         ends at the goal; None scores the thesis's model, which matches
-        demonstrators that swerve late and end beside the goal.
+        demonstrators that swerve late and end beside the goal. ``progress``
+        counts the plans (:func:`lfdkit.progress.as_progress`).
 
         Returns
         -------
@@ -663,14 +922,61 @@ class Skill(BaseEstimator):
             raise ValueError(f"scenes: {len(scenes)} scenes for {len(demos)} demonstrations")
         goal = self._goals(goals, len(demos))
         # The demonstrations' starts and the goals are checked: straight to the planner.
-        plans = [
-            self._plan(demo[0], g, scene, None, None, goal_approach, 0.0).points
-            for demo, g, scene in zip(demos, goal, scenes, strict=True)
-        ]
+        plans = []
+        label = f"evaluate: plan each of {len(demos)} held-out demonstrations"
+        with as_progress(progress).stage(label, total=len(demos)) as stage:
+            for demo, g, scene in zip(demos, goal, scenes, strict=True):
+                plans.append(self._plan(demo[0], g, scene, None, None, goal_approach, 0.0).points)
+                stage.advance()
         nominals = [self._nominal(demo[0], g) for demo, g in zip(demos, goal, strict=True)]
         mse = metrics.mse_paths(plans, demos)
         replay = metrics.mse_paths(nominals, demos)
         return {"mse": mse, "mse_replay": replay, "improvement": metrics.improvement(replay, mse)}
+
+    def to_units(self, units: str) -> Skill:
+        """The same skill with every length in ``units`` (``"m"``, ``"cm"`` or ``"mm"``).
+
+        The generalized path is multiplied by the conversion factor ``f``
+        (:func:`lfdkit.units.conversion_factor`, 1000 from metres to
+        millimetres) and the DMP is fitted on it again (a linear fit: the same
+        movement, scaled); the reward's nominal weight and precisions, in
+        1/units², are divided by ``f²``. Plans of the converted skill are the
+        original's times ``f``, to the planner's tolerance (about 1e-7 of the
+        path's extent).
+
+        Parameters
+        ----------
+        units : {"m", "cm", "mm"}
+            The new unit.
+
+        Returns
+        -------
+        Skill
+            ``self`` when ``units`` is already the skill's; otherwise a new
+            fitted skill with the same parameters but ``units``. The fit's
+            diagnostics are not carried over: its ``mimic_info_`` says where
+            the path came from, ``ioc_info_``, ``mimic_`` and ``ioc_`` are None.
+
+        Raises
+        ------
+        ValueError
+            If ``units`` is not a known unit (the message lists them).
+        sklearn.exceptions.NotFittedError
+            If the skill is not fitted.
+        """
+        self._check_fitted()
+        check_units(units)
+        if units == self.units:
+            return self
+        factor = conversion_factor(self.units, units)
+        skill = type(self)(**{**self.get_params(), "units": units})
+        method = self.mimic_info_.get("method", "given")
+        skill.use_path(self.path_ * factor, source=f"{method} path in {self.units}")
+        if self.reward_ is not None:
+            area = factor**2
+            precisions = {c: m / area for c, m in self.reward_.precisions.items()}
+            skill.adopt(Reward(self.reward_.nominal_weight / area, precisions))
+        return skill
 
     # ------------------------------------------------------------------ files
     def to_dict(self) -> dict[str, Any]:
@@ -684,6 +990,9 @@ class Skill(BaseEstimator):
         reward = None
         if self.reward_ is not None:
             reward = (self.reward_.nominal_weight, self.reward_.precisions)
+        timing = self.timing_
+        # Stored unless it is the law the parameters give (as in files before timings).
+        learned = timing != SpeedProfile.from_law(self.timing, float(self.duration))
         return skill_file.to_document(
             self.get_params(),
             n_dims=self.n_dims_,
@@ -692,6 +1001,7 @@ class Skill(BaseEstimator):
             mimic_info=self.mimic_info_,
             reward=reward,
             ioc_info=self.ioc_info_,
+            timing=timing.to_dict() if learned else None,
         )
 
     @classmethod
@@ -710,6 +1020,13 @@ class Skill(BaseEstimator):
         """
         document = skill_file.SkillDocument(data, source)
         params = document.params(cls().get_params())
+        units = document.units()
+        if units is not None:  # a file without it (or without params.units) is in metres
+            stated = params.setdefault("units", units)
+            if stated != units:
+                raise ValueError(
+                    f"{source}: units: {units!r} does not match params.units {stated!r}"
+                )
         try:
             skill = cls(**params)
             skill._check_params()
@@ -717,8 +1034,12 @@ class Skill(BaseEstimator):
             raise ValueError(f"{source}: params: {exc}") from None
         n_dims = document.n_dims()
         path = document.path(n_dims)
+        raw_timing = document.timing()
+        timing = None
+        if raw_timing is not None:
+            timing = SpeedProfile.from_dict(raw_timing, f"{source}: timing")
         try:
-            skill.use_path(path)
+            skill.use_path(path, timing=timing)
             skill.mimic_info_ = document.mimic()
             reward = document.reward(n_dims)
             if reward is not None:
@@ -786,6 +1107,9 @@ class TrainingData(NamedTuple):
     obstacle_ids : list of int or str
     scenes : list of Scene
         One per obstacle demonstration.
+    free_times : list of (ndarray (n_j,) or None)
+        Sample times of the clean demonstrations in seconds (None where the
+        file has none): the skill learns its timing from them.
     """
 
     free_demos: list[np.ndarray]
@@ -793,6 +1117,7 @@ class TrainingData(NamedTuple):
     obstacle_demos: list[np.ndarray]
     obstacle_ids: list[DemoId]
     scenes: list[Scene]
+    free_times: list[np.ndarray | None]
 
 
 def read_training_data(
@@ -816,7 +1141,7 @@ def read_training_data(
         demonstrations mix dimensions, or the scene file names a
         demonstration id that the demonstrations file does not have.
     """
-    demos, ids = load_demos(demos_path, return_ids=True)
+    demos, times, ids = load_demos(demos_path, return_times=True, return_ids=True)
     dims = {demo.shape[1] for demo in demos}
     if len(dims) > 1:
         first = demos[0].shape[1]
@@ -839,12 +1164,13 @@ def read_training_data(
             f"{os.fspath(demos_path)}: demonstration {short[0][0]!r} has {short[0][1]} "
             "points; a path needs at least 3"
         )
-    data = TrainingData([], [], [], [], [])
-    for demo, key in zip(demos, ids, strict=True):
+    data = TrainingData([], [], [], [], [], [])
+    for demo, stamps, key in zip(demos, times, ids, strict=True):
         scene = scenes.get(key)
         if scene is None or not len(scene):
             data.free_demos.append(demo)
             data.free_ids.append(key)
+            data.free_times.append(stamps)
         else:
             if scene.positions.shape[1] != demo.shape[1]:
                 raise ValueError(
@@ -866,28 +1192,31 @@ def learn(
     demos_path: str | os.PathLike[str],
     scenes_path: str | os.PathLike[str] | None = None,
     *,
-    progress: Progress | None = None,
+    progress: ProgressLike = None,
     **params: Any,
 ) -> Skill:
     """Learn a skill from files: :func:`read_training_data`, then :meth:`Skill.fit`.
 
-    ``params`` are :class:`Skill`'s parameters. The ``lfdkit learn`` command
-    calls exactly this.
+    ``params`` are :class:`Skill`'s parameters. When the demonstrations file
+    has times (a ``t`` column), the skill's timing is learned from those of
+    the clean demonstrations. The ``lfdkit learn`` command calls exactly this.
+    ``progress`` is :meth:`Skill.fit`'s (default silent).
     """
-    data = read_training_data(demos_path, scenes_path)
+    progress = as_progress(progress)
+    with progress.stage("read the demonstration and scene files"):
+        data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
     obstacle = data.obstacle_demos or None
     return skill.fit(
-        data.free_demos, obstacle, data.scenes if obstacle else None, progress=progress
+        data.free_demos,
+        obstacle,
+        data.scenes if obstacle else None,
+        times=data.free_times,
+        progress=progress,
     )
 
 
 # ------------------------------------------------------------------ helpers
-def _tell(progress: Progress | None, message: str) -> None:
-    if progress is not None:
-        progress(message)
-
-
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
     if value not in choices:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")

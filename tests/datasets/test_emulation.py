@@ -364,7 +364,7 @@ def _other_obstacle(label: str = "obstacle", q: int = 2) -> Scene:
         ({"name": ""}, "name"),
         ({"nominal": np.zeros((10, 4))}, "nominal"),
         ({"demos": []}, "demos"),
-        ({"units": "cm"}, "units"),
+        ({"units": "inch"}, "units: expected one of"),
         ({"train": np.array([0, 1]), "test": np.array([2, 1])}, "test: indices"),
         ({"train": np.array([0]), "test": np.array([2])}, "neither"),
         ({"train": np.array([0, 1, 3]), "test": np.array([2])}, "train: indices must lie"),

@@ -117,8 +117,8 @@ def test_load_dataset_unknown_name():
 
 def test_demoset_validation():
     line = np.c_[np.linspace(0, 1, 5), np.zeros(5)]
-    with pytest.raises(ValueError, match="units"):
-        DemoSet("x", [line], line, units="cm")
+    with pytest.raises(ValueError, match="units: expected one of 'm', 'cm', 'mm'"):
+        DemoSet("x", [line], line, units="inch")
     with pytest.raises(ValueError, match="material_side"):
         DemoSet("x", [line], line, units="m", material_side=0)
     with pytest.raises(ValueError, match="columns"):

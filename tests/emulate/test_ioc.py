@@ -10,6 +10,7 @@ from lfdkit.emulate import IOC, Reward, plan_path
 from lfdkit.emulate.ioc import (
     THETA_BOUNDS,
     TrainingLoss,
+    _finite_difference,
     effective_count,
     lbfgs_stage,
     prepare_demos,
@@ -45,17 +46,6 @@ def training_loss(demos, scenes) -> TrainingLoss:
     return TrainingLoss(prepare_demos(demos, scenes, nominal(), 100), ("obstacle",), 1.0)
 
 
-def finite_difference(fun, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
-    # Central differences: truncation O(eps²) about 1e-8 here; smaller steps meet the
-    # inner solver's tolerance.
-    out = np.empty_like(theta)
-    for i in range(theta.size):
-        step = np.zeros_like(theta)
-        step[i] = eps
-        out[i] = (fun(theta + step) - fun(theta - step)) / (2 * eps)
-    return out
-
-
 def test_full_horizon_gradient_matches_finite_differences() -> None:
     demos, scenes = demonstrations(4)
     loss = training_loss(demos, scenes)
@@ -64,7 +54,7 @@ def test_full_horizon_gradient_matches_finite_differences() -> None:
     _, gradient = loss.full_horizon(theta, [w.copy() for w in warm])
     # A step of 1e-3: truncation about 2e-7 here, while at 1e-4 the difference of two
     # losses meets the inner solver's tolerance (1e-11 on the gradient).
-    fd = finite_difference(
+    fd = _finite_difference(
         lambda t: loss.full_horizon(t, [w.copy() for w in warm])[0], theta, eps=1e-3
     )
     np.testing.assert_allclose(gradient, fd, rtol=1e-6)
@@ -75,7 +65,9 @@ def test_mpc_gradient_matches_finite_differences() -> None:
     loss = training_loss(demos, scenes)
     theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
     _, gradient = loss.mpc(theta, 8)
-    fd = finite_difference(lambda t: loss.mpc(t, 8)[0], theta)
+    # Central differences of step 1e-4: truncation O(eps²) about 1e-8 here; smaller
+    # steps meet the inner solver's tolerance.
+    fd = _finite_difference(lambda t: loss.mpc(t, 8)[0], theta)
     np.testing.assert_allclose(gradient, fd, rtol=1e-5)
 
 
@@ -365,5 +357,5 @@ def test_3d_gradients_match_finite_differences() -> None:
                 return training.mpc(t, 6)
 
         gradient = loss(theta)[1]
-        fd = finite_difference(lambda t, loss=loss: loss(t)[0], theta)
+        fd = _finite_difference(lambda t, loss=loss: loss(t)[0], theta)
         np.testing.assert_allclose(gradient, fd, rtol=1e-5, atol=1e-12 * np.abs(fd).max())

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -9,7 +11,7 @@ from hypothesis import strategies as st
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 
-from lfdkit.mimic.gmr import GMR, select_n_components
+from lfdkit.mimic.gmr import GMR, ComponentLimitWarning, _Mixture, select_n_components
 
 gmr_pkg = pytest.importorskip("gmr")
 
@@ -244,6 +246,29 @@ def test_seed_determinism_and_sklearn_api():
     assert a.weights_.sum() == pytest.approx(1.0)
 
 
+@pytest.mark.parametrize("scale", [1000.0, 0.01])
+def test_length_scale_makes_the_fit_independent_of_the_units(scale):
+    # The same demonstrations in millimetres (or hectometres), EM in the original unit.
+    demos, _, _ = sine_demos(seed=3, noise=0.05)
+    base = GMR(n_components=6, random_state=2).fit(demos)
+    scaled = GMR(n_components=6, random_state=2, length_scale=scale).fit([scale * d for d in demos])
+    np.testing.assert_allclose(scaled.path_, scale * base.path_, rtol=1e-9, atol=1e-12 * scale)
+    to_data = np.array([1.0, scale, scale])
+    np.testing.assert_allclose(scaled.means_, base.means_ * to_data, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        scaled.covariances_, base.covariances_ * np.outer(to_data, to_data), rtol=1e-7, atol=1e-15
+    )
+    # Densities of positions in the new unit: divided by scale**q (q = 2).
+    shift = 2.0 * np.log(scale)
+    assert scaled.log_likelihood_ == pytest.approx(base.log_likelihood_ - shift, abs=1e-9)
+    n = scaled.n_samples_
+    assert scaled.bic_ == pytest.approx(base.bic_ + 2.0 * n * shift, rel=1e-9, abs=1e-6)
+    assert scaled.aic_ == pytest.approx(base.aic_ + 2.0 * n * shift, rel=1e-9, abs=1e-6)
+    # Without it, EM weighs phase against positions differently: another path.
+    plain = GMR(n_components=6, random_state=2).fit([scale * d for d in demos])
+    assert not np.allclose(plain.path_, scale * base.path_, rtol=1e-6, atol=1e-6 * scale)
+
+
 def test_select_n_components_finds_true_mixture_size():
     rng = np.random.default_rng(0)
     # samples (t, s) from a known 3-component mixture, split into "demos"
@@ -252,13 +277,21 @@ def test_select_n_components_finds_true_mixture_size():
     rng.shuffle(pts)
     demos = [pts[i::4, 1:] for i in range(4)]
     times = [pts[i::4, 0] for i in range(4)]
-    best, scores = select_n_components(demos, candidates=range(1, 7), random_state=0, times=times)
+    best, scores = select_n_components(
+        demos, candidates=range(1, 7), random_state=0, times=times, search="exhaustive"
+    )
     assert best == 3
     assert set(scores) == set(range(1, 7))
     assert scores[3] == min(scores.values())
-    best_aic, aic = select_n_components(
-        demos, candidates=[1, 3], criterion="aic", random_state=0, times=times
-    )
+    # The ladder visits fewer counts and makes the same choice.
+    fast, visited = select_n_components(demos, candidates=range(1, 7), random_state=0, times=times)
+    assert fast == 3
+    assert set(visited) <= set(range(1, 7))
+    assert visited[3] == min(visited.values())
+    with pytest.warns(ComponentLimitWarning, match="AIC"):
+        best_aic, aic = select_n_components(
+            demos, candidates=[1, 3], criterion="aic", random_state=0, times=times
+        )
     assert best_aic == 3 and aic[3] < aic[1]
 
 
@@ -305,6 +338,8 @@ def test_bad_demos_type():
         ({"time_mode": "speed"}, ValueError, "time_mode"),
         ({"cov_mode": "bogus"}, ValueError, "cov_mode"),
         ({"random_state": "seed"}, TypeError, "seed"),
+        ({"length_scale": 0.0}, ValueError, "length_scale"),
+        ({"length_scale": float("inf")}, ValueError, "length_scale"),
     ],
 )
 def test_bad_parameters(params, exc, match):
@@ -347,10 +382,57 @@ def test_singular_covariance():
     assert np.all(np.isfinite(cov))
 
 
+def test_ladder_search_visits_a_ladder_and_warns_at_the_bound():
+    demos, _, _ = sine_demos(n_demos=4, n=100, noise=0.02)
+    with pytest.warns(ComponentLimitWarning, match="largest candidate, 3 components"):
+        best, scores = select_n_components(demos, candidates=[1, 2, 3], random_state=0)
+    assert best == 3
+    # Twenty candidates: the coarse ladder 2, 3, 5, 8, 12, 18, 21, then a bracket search.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ComponentLimitWarning)
+        best, scores = select_n_components(demos, candidates=range(2, 22), random_state=0)
+    assert {2, 3, 5, 8, 12} <= set(scores)
+    assert len(scores) < 20
+    assert scores[best] == min(scores.values())
+
+
+def test_compiled_em_agrees_with_scikit_learn():
+    """The ladder's EM (compiled) is scikit-learn's iteration: same start, same mixture."""
+    from sklearn.mixture import GaussianMixture
+
+    from lfdkit.mimic.gmr import _em, _split_start
+
+    demos, _, _ = sine_demos(n_demos=5, n=80, noise=0.02)
+    model = GMR(n_components=3, random_state=0)
+    _, _, data = model._samples(demos, None)
+    gm = model._mixture(data, 0)
+    start = _split_start(_Mixture(gm.weights_, gm.means_, gm.covariances_, 0.0), 5)
+    ours = _em(data, start, reg=1e-6, tol=1e-4, max_iter=500)
+    theirs = GaussianMixture(
+        5,
+        reg_covar=1e-6,
+        tol=1e-4,
+        max_iter=500,
+        init_params="random_from_data",
+        weights_init=start[0],
+        means_init=start[1],
+        precisions_init=np.linalg.inv(start[2]),
+        random_state=0,
+    ).fit(data)
+    np.testing.assert_allclose(ours.means, theirs.means_, rtol=1e-7, atol=1e-9)
+    np.testing.assert_allclose(ours.covariances, theirs.covariances_, rtol=1e-6, atol=1e-12)
+    assert ours.criterion("bic", len(data)) == pytest.approx(theirs.bic(data), rel=1e-9)
+    assert ours.criterion("aic", len(data)) == pytest.approx(theirs.aic(data), rel=1e-9)
+
+
 def test_select_n_components_errors():
     demos, _, _ = sine_demos(n_demos=2, n=20)
     with pytest.raises(ValueError, match="criterion"):
         select_n_components(demos, candidates=[2], criterion="e1")
+    with pytest.raises(ValueError, match="search"):
+        select_n_components(demos, candidates=[2], search="all")
+    with pytest.raises(ValueError, match="patience"):
+        select_n_components(demos, candidates=[2], patience=0)
     with pytest.raises(ValueError, match="candidates"):
         select_n_components(demos, candidates=[])
     with pytest.raises(ValueError, match="candidates"):

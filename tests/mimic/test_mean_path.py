@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 from sklearn.base import clone
 
+from lfdkit.datasets import load_dataset
 from lfdkit.geometry import (
     arc_length,
     left_normals,
@@ -29,6 +30,7 @@ from lfdkit.mimic import (
     SeveralMotionsError,
     pointwise_average,
 )
+from lfdkit.mimic.mean_path import _adaptive
 
 SETTINGS = settings(max_examples=12, deadline=None)
 
@@ -127,7 +129,7 @@ def test_symmetric_demos_about_sine_recover_it(d):
     assert mp.residual_ == pytest.approx(e1(mp.path_, demos), rel=1e-9)
 
 
-@pytest.mark.parametrize("center", ["mean", "median"])
+@pytest.mark.parametrize("center", ["adaptive", "mean", "median"])
 def test_symmetric_demos_about_arc_recover_it(center):
     arc = semicircle(3.0)
     demos = [resample(offset(arc, d), n) for d, n in ((0.4, 120), (-0.4, 90), (0.0, 75))]
@@ -225,7 +227,7 @@ def _assert_equivariant(demos, f, k, **params):
     seed=st.integers(0, 2**32 - 1),
     q=st.sampled_from([2, 3]),
     kind=st.sampled_from(["translate", "rotate", "scale", "similarity"]),
-    center=st.sampled_from(["mean", "median"]),
+    center=st.sampled_from(["adaptive", "mean", "median"]),
 )
 def test_equivariance_with_common_ends(seed, q, kind, center):
     """Demos sharing start and end points (consensus ends = those points)."""
@@ -239,7 +241,7 @@ def test_equivariance_with_common_ends(seed, q, kind, center):
     seed=st.integers(0, 2**32 - 1),
     q=st.sampled_from([2, 3]),
     kind=st.sampled_from(["translate", "rotate", "scale", "similarity"]),
-    center=st.sampled_from(["mean", "median"]),
+    center=st.sampled_from(["adaptive", "mean", "median"]),
     ends=st.sampled_from(["consensus", "normal"]),
 )
 def test_equivariance_with_free_ends(seed, q, kind, center, ends):
@@ -249,11 +251,13 @@ def test_equivariance_with_free_ends(seed, q, kind, center, ends):
     _assert_equivariant(demos, f, k, center=center, ends=ends)
 
 
-def test_consensus_end_does_not_depend_on_rotation():
+@pytest.mark.parametrize(("center", "expected"), [("mean", 11.0), ("adaptive", 10.0)])
+def test_consensus_end_does_not_depend_on_rotation(center, expected):
     # Regression: demo ends beyond the path's end were sometimes clamped to it
     # (exact comparison of two differently rounded path lengths), so the
     # consensus end depended on how the data were rotated.
-    # Demos end at x = 10, 10 and 13: the consensus (mean) end is at x = 11.
+    # Demos end at x = 10, 10 and 13: the consensus end is their mean, x = 11,
+    # or, adaptive, x = 10, where two of the three agree (the shortest half).
     base = []
     for length, y in ((10.0, 0.1), (10.0, -0.1), (13.0, 0.0)):
         x = np.linspace(0.0, length, 40)
@@ -261,10 +265,10 @@ def test_consensus_end_does_not_depend_on_rotation():
     ends = []
     for angle in np.linspace(0.0, 3.0, 7):
         rot = rotation_2d(angle)
-        mp = MeanPath(n_points=30).fit([d @ rot.T for d in base])
+        mp = MeanPath(n_points=30, center=center).fit([d @ rot.T for d in base])
         ends.append(mp.path_[-1] @ rot)
     ends = np.array(ends)
-    np.testing.assert_allclose(ends[:, 0], 11.0, atol=0.05)
+    np.testing.assert_allclose(ends[:, 0], expected, atol=0.05)
 
 
 @SETTINGS
@@ -334,6 +338,68 @@ def test_median_ignores_local_detours():
     # Away from the detour both agree with the nominal.
     far = np.abs(med.path_[:, 0] - 5.0) > 2.0
     assert dist_to(med.path_[far], nominal).max() < 0.08
+
+
+def test_adaptive_ignores_local_detours_like_the_median():
+    demos, nominal = _detour_demos()
+    mp = MeanPath(n_points=100).fit(demos)  # center="adaptive", the default
+    near = np.abs(mp.path_[:, 0] - 5.0) < 0.3
+    assert dist_to(mp.path_[near], nominal).max() < 0.08
+    far = np.abs(mp.path_[:, 0] - 5.0) > 2.0
+    assert dist_to(mp.path_[far], nominal).max() < 0.08
+
+
+# ------------------------------------------------------------- adaptive centre
+def _centre(points, found=None):
+    points = np.asarray(points, dtype=float)
+    if points.ndim == 2:  # one row of values on a line
+        points = points[None]
+    found = np.ones(points.shape[:2], bool) if found is None else found
+    return _adaptive(points, found)
+
+
+def test_adaptive_centre_is_the_mean_without_outliers():
+    rng = np.random.default_rng(0)
+    # Evenly spread values (jittered), shifted and scaled at random: every one within
+    # 4 robust standard deviations of the centre, so every one has full weight.
+    spread = np.linspace(-1.0, 1.0, 10) + rng.uniform(-0.05, 0.05, (50, 10))
+    values = rng.normal(size=(50, 1)) + rng.uniform(0.1, 10.0, (50, 1)) * spread
+    for q, points in (
+        (1, values[..., None]),
+        (2, values[..., None] * np.array([0.6, 0.8])),  # on a normal line
+        (3, values[..., None] * np.array([0.6, 0.8, 0.0]) + spread[..., None] * [0, 0, 1]),
+    ):
+        np.testing.assert_allclose(_centre(points), points.mean(axis=1), atol=1e-12, err_msg=q)
+
+
+def test_adaptive_centre_gives_gross_outliers_no_weight():
+    rng = np.random.default_rng(1)
+    values = rng.normal(0.0, 0.01, size=(1, 10, 1))
+    clean = values[0, :8, 0].mean()
+    values[0, 8:, 0] = [1.0, -2.0]  # 100 and 200 standard deviations away
+    assert _centre(values)[0, 0] == pytest.approx(clean, abs=1e-15)
+    plane = np.concatenate((rng.normal(0, 0.01, (1, 9, 3)), [[[5.0, 5.0, 0.0]]]), axis=1)
+    np.testing.assert_allclose(_centre(plane)[0], plane[0, :9].mean(axis=0), atol=1e-15)
+
+
+def test_adaptive_centre_finds_where_half_agree():
+    # Deburring: half the profiles exact, the other half carrying residuals of
+    # different heights on one side. The median lands halfway up the lowest one.
+    values = np.array([[0.0] * 5 + [0.57, 0.73, 1.35, 1.38, 1.91]])[..., None]
+    assert _centre(values)[0, 0] == 0.0
+    assert np.median(values) == pytest.approx(0.285)
+    # Two values: their mean; one value: itself; missing values are ignored.
+    assert _centre([[[1.0], [3.0]]])[0, 0] == 2.0
+    found = np.array([[True, False, False]])
+    assert _centre(np.array([[[4.0], [np.nan], [np.nan]]]), found)[0, 0] == 4.0
+
+
+def test_adaptive_recovers_deburring_profiles_where_half_are_exact():
+    data = load_dataset("deburring_linear", seed=0)
+    adaptive = MeanPath(n_points=100).fit(data.demos)
+    median = MeanPath(n_points=100, center="median").fit(data.demos)
+    assert np.abs(adaptive.path_[:, 1]).max() < 1e-9  # on the nominal y = 0
+    assert np.abs(median.path_[:, 1]).max() > 0.1  # pulled up where half carry residuals
 
 
 @pytest.mark.parametrize("flip", [[1, 4], [0, 4], [0, 3, 6]])
@@ -693,10 +759,19 @@ def test_two_motions_into_one_goal_are_refused_not_averaged() -> None:
     top = [np.array([11.0, 25.0]) * (1 - u) + rng.normal(0, 0.3, 2) for _ in range(3)]
     with pytest.raises(SeveralMotionsError, match=r"demonstration\(s\) 4, 5, 6 fit the others"):
         MeanPath(n_points=200).fit(left + top)
-    # Trusted as given, the directions agree, and the support warning still speaks.
+    # Trusted as given, the directions agree. The mean is pulled between the two
+    # motions, and the support warning speaks.
     with pytest.warns(RuntimeWarning, match="may not follow one common path"):
-        model = MeanPath(n_points=200, orient="as_given").fit(left + top)
+        model = MeanPath(n_points=200, center="mean", orient="as_given").fit(left + top)
     assert model.stop_reason_ == "stationary"
+    # The adaptive centre (default) follows the majority, the four from the left: the
+    # three from above are outliers at every normal, and support_ shows it.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        model = MeanPath(n_points=200, orient="as_given").fit(left + top)
+    assert model.converged_
+    assert np.median(model.support_) == 4
+    assert np.abs(model.path_[:, 1] - model.path_[:, 0] * 2.0 / 30.0).max() < 0.5
 
 
 # ------------------------------------------------------ closed and returning shapes
@@ -716,7 +791,7 @@ def _circle_demos(seed: int, fraction: float, n_demos: int = 7) -> list[np.ndarr
     return demos
 
 
-@pytest.mark.parametrize("center", ["mean", "median", "biweight"])
+@pytest.mark.parametrize("center", ["adaptive", "mean", "median", "biweight"])
 @pytest.mark.parametrize("ends", ["consensus", "normal"])
 @pytest.mark.parametrize("fraction", [1.0, 0.97])
 def test_closed_and_nearly_closed_circles(center, ends, fraction):
@@ -784,7 +859,7 @@ def _returning_stroke(seed: int) -> tuple[list[np.ndarray], np.ndarray]:
     return demos, corners
 
 
-@pytest.mark.parametrize("center", ["mean", "median", "biweight"])
+@pytest.mark.parametrize("center", ["adaptive", "mean", "median", "biweight"])
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_stroke_that_returns_beside_its_start_is_not_cut(center, seed):
     # Projected onto the whole path, seed 0's starts landed on the up-stroke: a stub.

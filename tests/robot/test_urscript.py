@@ -871,3 +871,13 @@ def test_arm_must_be_a_ur_arm():
     assert info.value.argument == "arm"
     with pytest.raises(URScriptError, match="arm: URScript drives UR arms; planar 3R does not"):
         urscript_program(sweep_poses(), arm=PLANAR)
+
+
+def test_a_500_hz_stream_whose_step_rounds_just_under_2_ms_is_accepted():
+    # Times from a resampler: the mean step can land a rounding error below 0.002 s.
+    times = np.arange(40) * (0.002 * (1 - 1e-12))
+    q = np.repeat(Q_ABOVE[None], 40, axis=0)
+    prog = read_program(urscript_program(motion="servoj", joint_path=q, times=times))
+    assert len(prog.servoj) == 40
+    with pytest.raises(URScriptError, match=r"times: step 0\.0019 s is outside"):
+        urscript_program(motion="servoj", joint_path=q, times=np.arange(40) * 0.0019)

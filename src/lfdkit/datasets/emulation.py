@@ -73,6 +73,7 @@ from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
 from lfdkit.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
 from lfdkit.scene import Scene
+from lfdkit.units import check_units
 
 __all__ = [
     "CUP_RADIUS",
@@ -117,7 +118,8 @@ class EmulationSet(SizedDemoSet):
         The reward the demonstrator maximises (its ``nominal_weight`` and one
         precision per obstacle class).
     units : str
-        Unit of every coordinate: ``"m"`` or ``"mm"``.
+        Unit of every coordinate, one of :data:`lfdkit.units.UNITS` (the
+        generators here use ``"m"`` or ``"mm"``).
     train, test : ndarray of int, shape (n_train,), (n_test,)
         Indices into ``demos``: disjoint, together every demonstration once;
         ``train`` non-empty.
@@ -182,8 +184,7 @@ class EmulationSet(SizedDemoSet):
                 f"scenes: expected one scene per demonstration ({len(demos)}), got {len(scenes)}"
             )
         held_out = self._check_scenes(self.held_out_scenes, "held_out_scenes", q)
-        if self.units not in ("m", "mm"):
-            raise ValueError(f"units: expected 'm' or 'mm', got {self.units!r}")
+        check_units(self.units)
         train = _check_indices(self.train, "train", len(demos))
         test = _check_indices(self.test, "test", len(demos))
         if not train.size:

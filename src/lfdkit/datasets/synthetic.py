@@ -50,6 +50,7 @@ from lfdkit.geometry import (
     resample,
     resample_between,
 )
+from lfdkit.units import check_units
 
 __all__ = [
     "CLOSED_DATASETS",
@@ -98,7 +99,8 @@ class DemoSet(SizedDemoSet):
         Ground-truth generalized path, densely sampled (``M = 500`` for every
         generator here), running in the same direction as the demonstrations.
     units : str
-        Unit of every coordinate: ``"m"`` or ``"mm"``.
+        Unit of every coordinate, one of :data:`lfdkit.units.UNITS` (the
+        generators here use ``"m"`` or ``"mm"``).
     material_side : int or None
         2-D deburring only: ``+1`` if the workpiece material lies on the left of
         ``nominal`` with respect to its direction of travel (the side of
@@ -127,8 +129,7 @@ class DemoSet(SizedDemoSet):
         demos = check_demos(self.demos, "demos")
         q = demos[0].shape[1]
         nominal = check_path(self.nominal, "nominal", n_dims=q)
-        if self.units not in ("m", "mm"):
-            raise ValueError(f"units: expected 'm' or 'mm', got {self.units!r}")
+        check_units(self.units)
         if self.material_side not in (None, 1, -1):
             raise ValueError(f"material_side: expected +1, -1 or None, got {self.material_side!r}")
         if self.material_side is not None and q != 2:

@@ -42,13 +42,13 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON, plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
+from lfdkit.progress import ProgressLike, as_progress
 from lfdkit.scene import Scene
 
 __all__ = [
@@ -148,6 +148,16 @@ def _mpc_with_sensitivity(
     return offsets, sensitivity
 
 
+def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
+    """Gradient of the scalar ``loss`` at ``theta`` by central differences of step ``eps``."""
+    out = np.empty_like(theta)
+    for i in range(theta.size):
+        step = np.zeros_like(theta)
+        step[i] = eps
+        out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
+    return out
+
+
 def effective_count(residuals: Sequence[np.ndarray]) -> float:
     """Independent residuals among correlated ones: ``Σ length / τ`` per sequence and component.
 
@@ -187,8 +197,6 @@ INFLUENCE_FLOOR = 1e-6
 STATIONARY_GRADIENT = 1e-5
 #: A parameter whose relative standard error exceeds this is reported as not identified.
 IDENTIFIED_ERROR = 0.5
-
-Progress = Callable[[str], None]
 
 
 def prepare_demos(demos: Any, scenes: Any, nominal: Any, n_points: int) -> list[DemoInScene]:
@@ -341,7 +349,11 @@ class TrainingLoss:
 
 
 def search_starts(
-    loss: Callable[[np.ndarray], float], n_theta: int, n_starts: int
+    loss: Callable[[np.ndarray], float],
+    n_theta: int,
+    n_starts: int,
+    *,
+    progress: ProgressLike = None,
 ) -> list[np.ndarray]:
     """The ``n_starts`` best distinct points of a coarse grid and a Latin hypercube.
 
@@ -350,7 +362,9 @@ def search_starts(
     points over ``log Q'`` in ``SEARCH_WEIGHTS`` and every class's log width
     per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
     Distinct: more than 1 apart in some log-parameter. ``loss`` maps ``θ``
-    (``n_theta``,) to the loss (e.g. :meth:`TrainingLoss.plans_only`).
+    (``n_theta``,) to the loss (e.g. :meth:`TrainingLoss.plans_only`);
+    ``progress`` (:func:`lfdkit.progress.as_progress`) counts the candidates
+    as they are scored.
     """
     candidates = []
     for stiffness in (0.1, 0.3, 1.0, 3.0, 10.0):
@@ -368,7 +382,13 @@ def search_starts(
     low = np.array([np.log(SEARCH_WEIGHTS[0])] + [-2.0 * np.log(SEARCH_WIDTHS[1])] * (n_theta - 1))
     high = np.array([np.log(SEARCH_WEIGHTS[1])] + [-2.0 * np.log(SEARCH_WIDTHS[0])] * (n_theta - 1))
     candidates += list(low + cells * (high - low))
-    losses = np.array([loss(theta) for theta in candidates])
+    values = []
+    label = f"IOC: scoring {len(candidates)} starting parameters (plans only)"
+    with as_progress(progress).stage(label, total=len(candidates)) as stage:
+        for theta in candidates:
+            values.append(loss(theta))
+            stage.advance()
+    losses = np.array(values)
     order = np.argsort(np.where(np.isfinite(losses), losses, np.inf), kind="stable")
     chosen: list[np.ndarray] = []
     for i in order:
@@ -387,8 +407,8 @@ def lbfgs_stage(
     max_iter: int = 200,
     tol: float = 1e-10,
     label: str = "",
-    started: float | None = None,
-    tell: Progress | None = None,
+    progress: ProgressLike = None,
+    description: str | None = None,
 ) -> tuple[np.ndarray, dict]:
     """One bounded L-BFGS-B run on ``θ``; the stage record says honestly whether it converged.
 
@@ -402,10 +422,11 @@ def lbfgs_stage(
     max_iter, tol : int, float
         L-BFGS-B's iteration limit and relative tolerance on the loss.
     label : str
-        The stage's ``planner`` entry and the prefix of progress messages.
-    started, tell : float and callable, optional
-        With ``tell``, each iteration is reported once ``perf_counter()`` is
-        more than 2 s past ``started``.
+        The stage's ``planner`` entry and the label of its progress stage.
+    progress : Progress, callable, bool or None
+        Counts the iterations, with the loss (:func:`lfdkit.progress.as_progress`).
+    description : str, optional
+        The progress stage's label (default ``"IOC <label>"``).
 
     Returns
     -------
@@ -417,31 +438,30 @@ def lbfgs_stage(
         stationary point (projected gradient above ``STATIONARY_GRADIENT``),
         the iteration limit, or a parameter at a bound of ``THETA_BOUNDS``.
     """
-    iterations = [0]
-    started = time.perf_counter() if started is None else started
-
-    def callback(*_: Any) -> None:
-        iterations[0] += 1
-        if tell is not None and time.perf_counter() - started > 2.0:
-            tell(f"IOC {label}: iteration {iterations[0]}, loss {history_last[0]:.4g}")
+    from scipy.optimize import minimize  # here: lfdkit.emulate loads fast
 
     history_last = [np.nan]
-
-    def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
-        value, grad = fun(theta)
-        history_last[0] = value
-        return value, grad
-
     run_started = time.perf_counter()
-    result = minimize(
-        wrapped,
-        theta0,
-        jac=True,
-        method="L-BFGS-B",
-        bounds=[THETA_BOUNDS] * theta0.size,
-        callback=callback,
-        options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
-    )
+    text = f"IOC {label}" if description is None else description
+    with as_progress(progress).stage(text, unit="iteration") as stage:
+
+        def callback(*_: Any) -> None:
+            stage.advance(detail=f"loss {history_last[0]:.4g}")
+
+        def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
+            value, grad = fun(theta)
+            history_last[0] = value
+            return value, grad
+
+        result = minimize(
+            wrapped,
+            theta0,
+            jac=True,
+            method="L-BFGS-B",
+            bounds=[THETA_BOUNDS] * theta0.size,
+            callback=callback,
+            options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
+        )
     theta = np.asarray(result.x, float)
     converged, reason = bool(result.success), str(result.message)
     at_bound = np.flatnonzero((theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6))
@@ -513,9 +533,10 @@ class IOC:
     gradient : {"implicit", "finite_difference"}
         Exact implicit gradients (default), or central finite differences of the
         loss (two extra plans per parameter and demonstration; for comparison).
-    progress : callable, optional
-        Called with a one-line message at every stage, and at every L-BFGS
-        iteration once a stage has run for more than 2 s.
+    progress : Progress, callable, bool or None
+        Reports the fit's stages (the starting search, each L-BFGS run with
+        its iterations and loss, the MPC refinement, the checks after it);
+        see :func:`lfdkit.progress.as_progress`. Default: silent.
 
     Attributes
     ----------
@@ -561,7 +582,7 @@ class IOC:
         max_iter: int = 200,
         tol: float = 1e-10,
         gradient: str = "implicit",
-        progress: Progress | None = None,
+        progress: ProgressLike = None,
     ) -> None:
         self.classes = classes
         self.n_points = n_points
@@ -637,10 +658,14 @@ class IOC:
             the fit did not converge.
         """
         self._check_params()
+        self._progress = as_progress(self.progress)
         # One BLAS thread, as the planner: the 3-D solves are many small
         # eigen-decompositions, which threads make many times slower.
-        with one_blas_thread():
-            return self._fit(list(demos), list(scenes), nominal)
+        try:
+            with one_blas_thread():
+                return self._fit(list(demos), list(scenes), nominal)
+        finally:
+            del self._progress
 
     def _fit(self, demos: list, scenes: list, nominal: Any) -> IOC:
         length, scaled_demos, scaled_scenes, scaled_nominal = self._normalised(
@@ -684,7 +709,13 @@ class IOC:
             theta = self._refine_mpc(theta, data, history)
         # After the fit: a class whose learned response does not move the plans
         # did not shape the demonstrations either.
-        weak = [label for label in self.classes_ if not self._moves_plans(theta, data, label)]
+        label = "IOC: checking that each class's learned response moves the plans"
+        with self._progress.stage(label, total=len(self.classes_)) as check:
+            weak = []
+            for label in self.classes_:
+                if not self._moves_plans(theta, data, label):
+                    weak.append(label)
+                check.advance()
         self.not_learned_ = tuple(c for c in wanted if c in far or c in weak)
         keep = [i for i, c in enumerate(self.classes_) if c not in weak]
         columns = [0] + [1 + i * self._q + a for i in keep for a in range(self._q)]
@@ -717,10 +748,6 @@ class IOC:
                 stacklevel=3,
             )
         return self
-
-    def _tell(self, message: str) -> None:
-        if self.progress is not None:
-            self.progress(message)
 
     def _influence(self, data: list[DemoInScene], label: str, precision: Any) -> float | None:
         """Largest obstacle term of class ``label`` at a demonstration point (None: no obstacle).
@@ -783,7 +810,7 @@ class IOC:
         return TrainingLoss(data, self.classes_, self.max_slope)
 
     def _lbfgs(
-        self, fun: Callable, theta0: np.ndarray, name: str, started: float
+        self, fun: Callable, theta0: np.ndarray, name: str, description: str
     ) -> tuple[np.ndarray, dict]:
         """One bounded L-BFGS run (:func:`lbfgs_stage`), its loss in the data's units²."""
         theta, stage = lbfgs_stage(
@@ -793,8 +820,8 @@ class IOC:
             max_iter=self.max_iter,
             tol=self.tol,
             label=name,
-            started=started,
-            tell=self._tell,
+            progress=self._progress,
+            description=description,
         )
         stage["loss"] = stage["loss"] * self._scale * self.length_scale_**2
         return theta, stage
@@ -808,13 +835,13 @@ class IOC:
             starts = [self._init_theta()]
             message = "init given"
         else:
-            self._tell("IOC: searching starting parameters (plans only)")
             warm = self._demo_offsets(coarse)
             loss = self._training_loss(coarse)
             starts = search_starts(
                 lambda theta: loss.plans_only(theta, warm),
                 1 + len(self.classes_) * self._q,
                 self.n_starts,
+                progress=self._progress,
             )
             message = f"best {len(starts)} distinct of the starting search"
         self.stages_.append(
@@ -829,13 +856,13 @@ class IOC:
         )
         best = None
         for r, theta0 in enumerate(starts):
-            self._tell(f"IOC full horizon: run {r + 1} of {len(starts)}")
-            run = self._full_horizon_run(theta0, coarse, started)
+            text = f"IOC full horizon: run {r + 1} of {len(starts)}"
+            run = self._full_horizon_run(theta0, coarse, text)
             if best is None or run[0] < best[0]:
                 best = run
         if coarse is not data:
-            self._tell("IOC full horizon: refining the best run on the full corridor")
-            best = self._full_horizon_run(best[1], data, started)
+            text = "IOC full horizon: the best run refined on the full corridor"
+            best = self._full_horizon_run(best[1], data, text)
             best[2]["search_points"] = coarse[0].corridor.n_points
         _, theta, stage, run_history = best
         stage["starts"] = len(starts)
@@ -850,7 +877,7 @@ class IOC:
         return [np.where(item.found[1:, None], item.target[1:], 0.0) for item in data]
 
     def _full_horizon_run(
-        self, theta0: np.ndarray, data: list[DemoInScene], started: float
+        self, theta0: np.ndarray, data: list[DemoInScene], description: str
     ) -> tuple[float, np.ndarray, dict, list[float]]:
         """One L-BFGS run: its loss (plans started from the demos), θ, stage record, history."""
         warm = self._demo_offsets(data)
@@ -859,7 +886,7 @@ class IOC:
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = self._training_loss(data).full_horizon(theta, warm)
             if self.gradient == "finite_difference":
-                grad = self._finite_difference(
+                grad = _finite_difference(
                     lambda t: self._training_loss(data).full_horizon(t, [w.copy() for w in warm])[
                         0
                     ],
@@ -868,7 +895,7 @@ class IOC:
             run_history.append(value)
             return value / self._scale, grad / self._scale
 
-        theta, stage = self._lbfgs(fun, theta0, "full horizon", started)
+        theta, stage = self._lbfgs(fun, theta0, "full horizon", description)
         # Rank runs by the loss of plans started from the demonstrations, the
         # same for every run (an L-BFGS run warm-starts from its last plans).
         final = self._training_loss(data).plans_only(theta, self._demo_offsets(data))
@@ -882,15 +909,6 @@ class IOC:
         sub = Reward(self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_})
         # The data are in units of the length scale: Q and P scale as length².
         return sub.theta + 2.0 * np.log(self.length_scale_)
-
-    @staticmethod
-    def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
-        out = np.empty_like(theta)
-        for i in range(theta.size):
-            step = np.zeros_like(theta)
-            step[i] = eps
-            out[i] = (loss(theta + step) - loss(theta - step)) / (2.0 * eps)
-        return out
 
     def training_loss(self, reward: Reward) -> float:
         """Full-horizon training loss (units²) of any reward on the fitted data.
@@ -939,10 +957,13 @@ class IOC:
         eps = 1e-4
         n = theta.size
         hessian = np.empty((n, n))
-        for i in range(n):
-            step = np.zeros(n)
-            step[i] = eps
-            hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
+        label = "IOC: identifiability (curvature of the loss)"
+        with self._progress.stage(label, total=n) as stage:
+            for i in range(n):
+                step = np.zeros(n)
+                step[i] = eps
+                hessian[:, i] = (grad(theta + step) - grad(theta - step)) / (2.0 * eps)
+                stage.advance()
         hessian = 0.5 * (hessian + hessian.T)
         variance_scale = 2.0 * loss / effective_count(residuals)
         diag = np.diag(hessian)
@@ -966,19 +987,17 @@ class IOC:
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
     ) -> np.ndarray:
-        started = time.perf_counter()
-        self._tell(f"IOC MPC H={int(self.horizon)}: refining")
-
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
             loss, grad = self._training_loss(data).mpc(value, int(self.horizon))
             if self.gradient == "finite_difference":
-                grad = self._finite_difference(
+                grad = _finite_difference(
                     lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
                 )
             history.append(loss)
             return loss / self._scale, grad / self._scale
 
-        theta, stage = self._lbfgs(fun, theta, f"MPC H={int(self.horizon)}", started)
+        name = f"MPC H={int(self.horizon)}"
+        theta, stage = self._lbfgs(fun, theta, name, f"IOC {name}: refining")
         self.stages_.append(stage)
         return theta
 

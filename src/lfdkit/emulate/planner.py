@@ -82,6 +82,7 @@ A plan a robot can execute must reach its goal and keep out of obstacles:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -92,6 +93,7 @@ from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
 from lfdkit.emulate.problem import Corridor, Problem, goal_weights
 from lfdkit.emulate.reward import Reward
+from lfdkit.progress import Progress, ProgressLike, as_progress
 from lfdkit.scene import Scene
 
 # goal_weights is the problem's (lfdkit.emulate.problem); listed here too, as the
@@ -308,6 +310,7 @@ def plan_path(
     goal_approach: float | str | None = "auto",
     clearance: float = 0.0,
     lookahead: bool = True,
+    progress: ProgressLike = None,
 ) -> Plan:
     """The path maximising the reward along a nominal path in a scene, safely.
 
@@ -347,6 +350,10 @@ def plan_path(
         into a concave pocket deeper than the horizon. False: the thesis's
         receding horizon, each window's globally best optimum (what the IOC's
         MPC stage fits); both skip candidates that lead into a dead end.
+    progress : Progress, callable, bool or None
+        Reports the global search and the MPC steps over the plan's points (or
+        the polished starts of the full horizon); default silent
+        (:func:`lfdkit.progress.as_progress`).
 
     Returns
     -------
@@ -366,6 +373,7 @@ def plan_path(
     """
     # One BLAS thread: the 3-D solver's eigen-solves are many and small, and
     # threaded BLAS makes them many times slower on a busy machine.
+    tracker = as_progress(progress)
     with one_blas_thread():
         return _plan(
             reward,
@@ -379,6 +387,7 @@ def plan_path(
             goal_approach,
             clearance,
             lookahead,
+            tracker,
         )
 
 
@@ -394,6 +403,7 @@ def _plan(
     goal_approach: float | str | None,
     clearance: float,
     lookahead: bool,
+    progress: Progress,
 ) -> Plan:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
@@ -420,10 +430,13 @@ def _plan(
                 raise ValueError(f"init: expected {problem.n + 1}x{m} finite offsets")
             starts = [init.reshape(problem.n + 1, m)[1:]]
         else:
-            starts = _full_starts(problem, d0, reach_goal)
-        d, n_iter, ok = _best_of(problem, d0, starts)
+            with progress.stage(f"plan: global search over {problem.n + 1} points"):
+                starts = _full_starts(problem, d0, reach_goal)
+        label = f"plan: full horizon, polishing {len(starts)} starts"
+        with progress.stage(label, total=len(starts)) as stage:
+            d, n_iter, ok = _best_of(problem, d0, starts, stage.advance)
     else:
-        d, n_iter, ok = _receding_horizon(problem, d0, horizon, reach_goal, lookahead)
+        d, n_iter, ok = _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
     offsets = np.vstack([d0[None], d])
     plan = Plan(corridor.to_points(offsets), offsets, problem.cost(d), horizon, n_iter, ok)
     return _verified(plan, corridor, scene, clearance, reach_goal)
@@ -467,13 +480,21 @@ def _blocked_message(problem: Problem, reach_goal: bool) -> str:
 
 
 def _best_of(
-    problem: Problem, d0: np.ndarray, starts: list[np.ndarray]
+    problem: Problem,
+    d0: np.ndarray,
+    starts: list[np.ndarray],
+    done: Callable[[], None] | None = None,
 ) -> tuple[np.ndarray, int, bool]:
-    """The lowest-cost optimum polished from ``starts`` (skipping those inside a hard radius)."""
+    """The lowest-cost optimum polished from ``starts`` (skipping those inside a hard radius).
+
+    ``done`` is called after each start is polished.
+    """
     best, total_iter = None, 0
     for guess in starts:
         d, cost, n_iter, ok = problem.solve(d0, guess)
         total_iter += n_iter
+        if done is not None:
+            done()
         if np.isfinite(cost) and (best is None or cost < best[1] - 1e-12 * abs(best[1])):
             best = (d, cost, ok)
     if best is None:
@@ -482,7 +503,12 @@ def _best_of(
 
 
 def _receding_horizon(
-    problem: Problem, d0: np.ndarray, horizon: int, reach_goal: bool, lookahead: bool = True
+    problem: Problem,
+    d0: np.ndarray,
+    horizon: int,
+    reach_goal: bool,
+    lookahead: bool = True,
+    progress: ProgressLike = None,
 ) -> tuple[np.ndarray, int, bool]:
     """MPC: each window's best optimum, judged with the grid's cost-to-go after the window.
 
@@ -495,58 +521,64 @@ def _receding_horizon(
     route itself) are ranked by window cost plus cost-to-go, without it the
     grid path is the window's own optimum and the least window cost wins
     (:func:`_ranked`). A candidate leading into a dead end is never executed.
+    ``progress`` counts the steps.
     """
     from lfdkit.emulate._planner_kernels import grid_cost_to_go, grid_walk
 
+    tracker = as_progress(progress)
     n, m = problem.n, problem.m
     offsets = np.zeros((n + 1, m))
     offsets[0] = d0
     guess = np.zeros((min(horizon, n), m))
     table = levels = None
     if problem.has_obstacles:
-        levels, cells = _lateral_levels(problem, d0)
-        table = np.empty((n, levels.size**m))
-        grid_cost_to_go(
-            *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
-        )
+        with tracker.stage("plan: the grid's cost-to-go (global route)"):
+            levels, cells = _lateral_levels(problem, d0)
+            table = np.empty((n, levels.size**m))
+            grid_cost_to_go(
+                *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
+            )
         if not np.isfinite(grid_walk(table, levels, cells, problem.max_step, d0, np.zeros((1, m)))):
             raise UnsafePlanError(_blocked_message(problem, reach_goal))
     total_iter, all_ok = 0, True
-    for k in range(n):
-        stop = min(k + horizon, n)
-        window = problem.window(k, stop)
-        guess = guess[: stop - k]
-        if guess.shape[0] < stop - k:
-            guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
-        anchor = offsets[k]
-        if table is None or not _obstacle_near(window, anchor):
-            d, cost, n_iter, ok = best_window(window, anchor, guess, sides=False)
-        else:
-            grid = np.zeros((stop - k, m))
-            blocked = not np.isfinite(
-                grid_walk(table[k:stop], levels, cells, problem.max_step, anchor, grid)
-            )
-            if not lookahead and not blocked:  # the window's own best grid path
-                own = _global_start(window, anchor, reach_goal and stop == n)
-                grid = grid if own is None else own
-            polished = []
-            for start in [guess] if blocked else [guess, grid]:
-                d, cost, n_iter, ok = window.solve(anchor, start)
-                total_iter += n_iter
-                polished.append((d, ok))
-            d, cost, ok = _ranked(
-                window, polished, None if blocked else grid, table, levels, stop, problem, lookahead
-            )
-            n_iter = 0  # counted per polish above
-        if not np.isfinite(cost):
-            raise UnsafePlanError(
-                f"no collision-free plan: at point {k + 1} of {n + 1} every move within the "
-                "action bound enters an obstacle's radius plus clearance"
-            )
-        total_iter += n_iter
-        all_ok &= ok
-        offsets[k + 1] = d[0]
-        guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
+    with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
+        for k in range(n):
+            stop = min(k + horizon, n)
+            window = problem.window(k, stop)
+            guess = guess[: stop - k]
+            if guess.shape[0] < stop - k:
+                guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
+            anchor = offsets[k]
+            if table is None or not _obstacle_near(window, anchor):
+                d, cost, n_iter, ok = best_window(window, anchor, guess, sides=False)
+            else:
+                grid = np.zeros((stop - k, m))
+                blocked = not np.isfinite(
+                    grid_walk(table[k:stop], levels, cells, problem.max_step, anchor, grid)
+                )
+                if not lookahead and not blocked:  # the window's own best grid path
+                    own = _global_start(window, anchor, reach_goal and stop == n)
+                    grid = grid if own is None else own
+                polished = []
+                for start in [guess] if blocked else [guess, grid]:
+                    d, cost, n_iter, ok = window.solve(anchor, start)
+                    total_iter += n_iter
+                    polished.append((d, ok))
+                route = None if blocked else grid
+                d, cost, ok = _ranked(
+                    window, polished, route, table, levels, stop, problem, lookahead
+                )
+                n_iter = 0  # counted per polish above
+            if not np.isfinite(cost):
+                raise UnsafePlanError(
+                    f"no collision-free plan: at point {k + 1} of {n + 1} every move within the "
+                    "action bound enters an obstacle's radius plus clearance"
+                )
+            total_iter += n_iter
+            all_ok &= ok
+            offsets[k + 1] = d[0]
+            guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
+            stage.advance()
     return offsets[1:], total_iter, all_ok
 
 

@@ -72,8 +72,9 @@ and ``τ`` rescales time only, never the path's shape (the thesis's eq. 3.6 uses
 Learning (thesis eq. 3.13–3.14): the target forcing ``F = y_d'' − k (g_d − y_d)
 + c y_d'`` of the training path, with velocities and accelerations of an
 interpolating cubic spline on a dense even grid (non-uniform times allowed;
-with minimum-jerk timing the law is composed with a spline in arc length
-exactly); weights by ridge-regularised linear least squares on the design
+with minimum-jerk timing, or a speed profile learned from timed
+demonstrations (:mod:`lfdkit.imitate.timing`), the law is composed with a
+spline in arc length exactly); weights by ridge-regularised linear least squares on the design
 matrix ``X[t, i] = Z_t ψᵢ(Z_t) / Σⱼ ψⱼ(Z_t)``. The weights are stored in
 absolute units (``weights_``); the thesis's ``wᵢ`` for its input ``u`` equal
 ``weights_ / (g_d − y0_d)``.
@@ -167,12 +168,8 @@ from functools import lru_cache
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from scipy import linalg
-from scipy.interpolate import make_interp_spline
-from scipy.signal import lfilter
-from sklearn.base import BaseEstimator
-from sklearn.exceptions import NotFittedError
 
+from lfdkit._estimator import Estimator, not_fitted
 from lfdkit._validation import (
     MAX_POINTS,
     check_count,
@@ -182,6 +179,7 @@ from lfdkit._validation import (
     check_times,
 )
 from lfdkit.geometry import arc_length, path_length, segment_lengths
+from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
 __all__ = [
     "BASIS_LADDER",
@@ -225,8 +223,6 @@ MAX_RELATIVE_MAGNITUDE = 1e6
 MAX_TAU = 1e6
 #: A step of :meth:`DMP.step` may span at most this many movement durations.
 MAX_STEP_DURATIONS = 1e3
-#: Training durations (seconds) outside this range are refused.
-DURATION_RANGE = (1e-6, 1e9)
 
 
 class Trajectory(NamedTuple):
@@ -372,6 +368,8 @@ def _propagate(phi: np.ndarray, x0: np.ndarray, inputs: np.ndarray) -> np.ndarra
     """
     sequence = np.concatenate([x0[None], inputs], axis=0)
     denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
+
     filtered = lfilter([1.0], denominator, sequence, axis=0)
     adjugate = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
     states = filtered.copy()
@@ -423,7 +421,7 @@ class _Solution(NamedTuple):
     error: float
 
 
-class DMP(BaseEstimator):
+class DMP(Estimator):
     """Discrete Dynamic Movement Primitive with one phase shared by all dimensions.
 
     Parameters
@@ -482,6 +480,9 @@ class DMP(BaseEstimator):
         Duration ``D`` of the training path in seconds.
     times_ : ndarray, shape (n_points,)
         Training times in seconds, starting at 0.
+    timing_ : SpeedProfile or None
+        The speed law the training times follow along the path's arc length
+        (``timing`` over ``duration_``); None when ``times`` were given.
     path_ : ndarray, shape (n_points, q)
         The training path.
     forcing_times_ : ndarray, shape (n_fit,)
@@ -550,7 +551,7 @@ class DMP(BaseEstimator):
         *,
         duration: float | None = None,
         dt: float | None = None,
-        timing: Timing = "uniform",
+        timing: Timing | SpeedProfile = "uniform",
     ) -> DMP:
         """Learn the forcing weights from one path.
 
@@ -567,12 +568,16 @@ class DMP(BaseEstimator):
             Total duration in seconds when ``times`` is not given (default 1).
         dt : float, optional
             Or the time step in seconds: the duration is ``dt * (n_points − 1)``.
-        timing : {"uniform", "minimum_jerk"}
+        timing : {"uniform", "minimum_jerk"} or SpeedProfile
             How times are assigned when ``times`` is not given. ``"uniform"``:
             equal steps (the thesis; with points equally spaced along the path
             this is constant speed, which a DMP starting at rest cannot follow
             at the ends). ``"minimum_jerk"``: :func:`minimum_jerk_times`, a
             rest-to-rest motion along the path, reproduced far more closely.
+            A :class:`lfdkit.imitate.SpeedProfile` (e.g. learned from timed
+            demonstrations by :func:`lfdkit.imitate.learn_timing`): the path is
+            run along its arc length with that speed law, composed exactly as
+            minimum jerk is, over ``duration`` (default the profile's own).
 
         Returns
         -------
@@ -588,15 +593,23 @@ class DMP(BaseEstimator):
         self._check_params()
         points = check_path(path, "path", min_points=3, min_dims=1)
         n = points.shape[0]
-        if timing not in _TIMINGS:
-            raise ValueError(f"timing: expected one of {_TIMINGS}, got {timing!r}")
+        profile = timing if isinstance(timing, SpeedProfile) else None
+        if profile is None and timing not in _TIMINGS:
+            raise ValueError(
+                f"timing: expected one of {_TIMINGS} or a SpeedProfile, got {timing!r}"
+            )
         if duration is not None and dt is not None:
             raise ValueError("dt: give either duration or dt, not both")
         if times is None:
-            total = 1.0 if duration is None else check_positive(duration, "duration")
+            total = 1.0 if profile is None else profile.duration
+            if duration is not None:
+                total = check_positive(duration, "duration")
             if dt is not None:
                 total = check_positive(dt, "dt") * (n - 1)
-            if timing == "uniform":
+            if profile is not None:
+                _check_distinct(points)
+                t = profile.times(points, total)
+            elif timing == "uniform":
                 t = np.linspace(0.0, total, n)
             else:
                 t = minimum_jerk_times(points, total)
@@ -612,8 +625,9 @@ class DMP(BaseEstimator):
                 f"{'times' if times is not None else 'duration'}: the path must last "
                 f"{low:g} to {high:g} s, got {span:g} s"
             )
-        composed = times is None and timing == "minimum_jerk"
-        sample = _dense_sampler(None if composed else t / span, points)
+        composed = times is None and timing != "uniform"
+        law = _minimum_jerk_law if profile is None else profile.law
+        sample = _dense_sampler(None if composed else t / span, points, law)
         start, goal = points[0].copy(), points[-1].copy()
         extent = float(np.max(np.ptp(points, axis=0)))
         self.alpha_ = float(np.log(100.0) if self.alpha is None else self.alpha)
@@ -627,6 +641,12 @@ class DMP(BaseEstimator):
         self.start_, self.goal_ = start, goal
         self.duration_ = span
         self.times_ = t
+        if times is not None:
+            self.timing_ = None
+        elif profile is not None:
+            self.timing_ = profile.with_duration(span)
+        else:
+            self.timing_ = SpeedProfile.from_law(timing, span)
         self.path_ = points.copy()
         self.forcing_times_ = solution.s * span
         self.forcing_target_ = solution.target
@@ -667,6 +687,8 @@ class DMP(BaseEstimator):
         ridge = float(self.regularization) * max(float(np.mean(np.diag(gram))), 1e-300)
         gram[np.diag_indices_from(gram)] += ridge
         rhs = design.T @ target
+        from scipy import linalg  # here: lfdkit.imitate loads fast
+
         if self.end == "rest":
             # At s = 1: y = g and y' = 0 (the state), and f = 0 so y'' = 0 too.
             constraint = np.vstack([self._end_response(), self._design(np.array([1.0]))])
@@ -737,7 +759,7 @@ class DMP(BaseEstimator):
     def _check_fitted(self) -> None:
         # sklearn's check_is_fitted scans every attribute: too slow for a 100 µs rollout.
         if not hasattr(self, "weights_"):
-            raise NotFittedError("This DMP instance is not fitted yet; call fit(path) first")
+            raise not_fitted("This DMP instance is not fitted yet; call fit(path) first")
 
     def _design(self, s: np.ndarray) -> np.ndarray:
         """Design matrix ``X[t, i] = Z ψᵢ(Z) / Σ ψ(Z)``, shape (len(s), n_basis)."""
@@ -1271,7 +1293,7 @@ def _minimum_jerk_law(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray
     )
 
 
-def _dense_sampler(s: np.ndarray | None, points: np.ndarray) -> Any:
+def _dense_sampler(s: np.ndarray | None, points: np.ndarray, law: Any = None) -> Any:
     """Positions and their first two derivatives on a dense, even grid of ``s ∈ [0, 1]``.
 
     Returns ``sample(n_basis) -> (grid, positions, velocities, accelerations)``,
@@ -1280,10 +1302,11 @@ def _dense_sampler(s: np.ndarray | None, points: np.ndarray) -> Any:
 
     With sample times ``s``, a cubic interpolating spline (not-a-knot ends)
     through every sample is differentiated analytically. With ``s=None`` the
-    minimum-jerk timing is composed exactly: a cubic spline of the path in its
-    arc-length fraction ``ℓ``, moved along by ``ℓ(s)`` of
-    :func:`_minimum_jerk_law` (chain rule), so the motion is at rest at both
-    ends without the spline having to guess it from sparse end samples.
+    timing law is composed exactly: a cubic spline of the path in its
+    arc-length fraction ``ℓ``, moved along by ``ℓ(s)`` of ``law`` (default
+    :func:`_minimum_jerk_law`; or a :meth:`SpeedProfile.law`; it returns
+    ``ℓ``, ``ℓ'`` and ``ℓ''``) by the chain rule, so the motion is at rest at
+    both ends without the spline having to guess it from sparse end samples.
 
     The dense even grid matters when samples are uneven in time: a basis
     function with no sample under it would otherwise get an arbitrary weight.
@@ -1295,6 +1318,8 @@ def _dense_sampler(s: np.ndarray | None, points: np.ndarray) -> Any:
         return np.linspace(0.0, 1.0, max(2 * n, 20 * n_basis, 1000))
 
     if s is not None:
+        from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
+
         timed = make_interp_spline(s, points, k=degree, axis=0)
 
         def sample_timed(n_basis: int) -> tuple[np.ndarray, ...]:
@@ -1303,11 +1328,14 @@ def _dense_sampler(s: np.ndarray | None, points: np.ndarray) -> Any:
 
         return sample_timed
     fraction = arc_length(points) / path_length(points)
+    from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
+
     spline = make_interp_spline(fraction, points, k=degree, axis=0)
+    law = _minimum_jerk_law if law is None else law
 
     def sample_composed(n_basis: int) -> tuple[np.ndarray, ...]:
         grid = grid_for(n_basis)
-        where, speed, rate = _minimum_jerk_law(grid)
+        where, speed, rate = law(grid)
         slope, bend = spline(where, 1), spline(where, 2)
         return (
             grid,
@@ -1350,6 +1378,8 @@ def _reproduction_departure(
     combined = drive[0].copy()
     combined[:, 1:] += -phi[1, 1] * drive[0, :, :-1] + phi[0, 1] * drive[1, :, :-1]
     denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
+
     return lfilter([1.0], denominator, combined, axis=1).T
 
 

@@ -78,21 +78,20 @@ _TEMP_NAME_CHARS = 200
 _TEMP_PATTERN = r"[0-9a-f]{12}(?:\.lfdkit)?\.tmp"
 
 
+# Words for the file types other than a regular file, by their ``stat.S_IFMT`` value.
+_FILE_KINDS = {
+    stat.S_IFDIR: "a directory",
+    stat.S_IFIFO: "a named pipe (FIFO)",
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+    stat.S_IFLNK: "a symbolic link",
+}
+
+
 def file_kind(mode: int) -> str:
     """Words for a file type from ``st_mode`` (for messages)."""
-    if stat.S_ISDIR(mode):
-        return "a directory"
-    if stat.S_ISFIFO(mode):
-        return "a named pipe (FIFO)"
-    if stat.S_ISCHR(mode):
-        return "a character device"
-    if stat.S_ISBLK(mode):
-        return "a block device"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    if stat.S_ISLNK(mode):
-        return "a symbolic link"
-    return "not a regular file"
+    return _FILE_KINDS.get(stat.S_IFMT(mode), "not a regular file")
 
 
 def _check_output_target(target: Path) -> os.stat_result | None:

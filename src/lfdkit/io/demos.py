@@ -72,15 +72,13 @@ from lfdkit.io.text import (
     check_file_id,
     check_ids,
     check_input_file,
-    content_lines,
+    csv_header,
     csv_number,
-    csv_row,
     csv_rows,
     format_of,
     json_document,
     json_float_array,
     parse_id,
-    read_text,
 )
 
 __all__ = [
@@ -286,19 +284,62 @@ def save_demos(
     return write_text(fname, _json_text(arrs, time_arrs, id_list), overwrite=overwrite)
 
 
-def path_csv(points: Any) -> str:
-    """One path as CSV text: a header ``x,y[,z]`` (or ``x1,...,xq``), one row per point.
+def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
+    """One path as CSV text: a header ``[t,]x,y[,z][,vx,vy[,vz]]``, one row per point.
 
-    Floats are written exactly (``repr``), so parsing the text gives back the same array.
+    Parameters
+    ----------
+    points : array_like, shape (n, q)
+        Positions (``x1,...,xq`` in the header beyond 3 dimensions).
+    times : array_like, shape (n,), optional
+        Seconds, finite and non-decreasing: a first column ``t``.
+    velocities : array_like, shape (n, q), optional
+        Units per second: last columns ``vx,vy[,vz]`` (``v1,...,vq`` beyond 3).
+
+    Returns
+    -------
+    str
+        Floats written exactly (``repr``), so parsing the text gives back the
+        same arrays.
     """
     arr = check_path(points, "points", min_points=1)
-    rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in arr)
-    return ",".join(_coord_header(arr.shape[1])) + "\n" + rows
+    n, q = arr.shape
+    header = _coord_header(q)
+    columns = [arr]
+    if times is not None:
+        t = check_times(times, n, "times", of="points", increasing=False, style="shape")
+        if np.any(np.diff(t) < 0):
+            raise ValueError("times: must not decrease")
+        header = ["t", *header]
+        columns.insert(0, t[:, None])
+    if velocities is not None:
+        v = check_path(velocities, "velocities", min_points=1, n_dims=q)
+        if v.shape[0] != n:
+            raise ValueError(
+                f"velocities: expected shape ({n}, {q}) to match points, got {v.shape}"
+            )
+        header += ["v" + c if q <= 3 else f"v{k}" for k, c in enumerate(_coord_header(q), 1)]
+        columns.append(v)
+    table = np.hstack(columns)
+    rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in table)
+    return ",".join(header) + "\n" + rows
 
 
-def save_path(path: PathLike, points: Any, *, overwrite: bool = False) -> Path:
-    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`)."""
-    return write_text(path, path_csv(points), overwrite=overwrite)
+def save_path(
+    path: PathLike,
+    points: Any,
+    *,
+    times: Any = None,
+    velocities: Any = None,
+    overwrite: bool = False,
+) -> Path:
+    """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`).
+
+    ``times`` (n,) s and ``velocities`` (n, q) units/s add the columns ``t``
+    and ``vx,vy[,vz]``; an existing file is replaced only with ``overwrite``.
+    """
+    text = path_csv(points, times=times, velocities=velocities)
+    return write_text(path, text, overwrite=overwrite)
 
 
 # --------------------------------------------------------------------------- #
@@ -385,38 +426,33 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
 def _read_csv(
     fname: str,
 ) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
-    with io.StringIO(read_text(fname), newline="") as f:
-        lines = content_lines(f)
-        first = next(lines, None)
-        if first is None:
-            raise ValueError(f"{fname}: no header row; the file is empty")
-        header = csv_row(fname, *first)
-        demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
-        colnames = [h.strip() for h in header]
-        t_name = colnames[t_col] if t_col is not None else ""
+    _, header, lines = csv_header(fname)
+    demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
+    colnames = [h.strip() for h in header]
+    t_name = colnames[t_col] if t_col is not None else ""
 
-        groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
-        blocks = Blocks(fname, colnames[demo_col])
-        for lineno, row in csv_rows(fname, lines, colnames):
-            did = blocks.id_of(row[demo_col], lineno)
-            row = [c.strip() for c in row]
-            pts, ts, linenos = groups.setdefault(did, ([], [], []))
-            pts.append(
-                [
-                    csv_number(fname, lineno, nm, row[c])
-                    for c, nm in zip(coord_cols, coord_names, strict=True)
-                ]
-            )
-            if t_col is not None:
-                t = csv_number(fname, lineno, t_name, row[t_col])
-                if ts and t <= ts[-1]:
-                    raise ValueError(
-                        f"{fname} line {lineno}, column {t_name!r}: time {t!r} in demo {did!r} "
-                        f"is not after the previous time {ts[-1]!r} (line {linenos[-1]}); "
-                        "times must be strictly increasing within a demonstration"
-                    )
-                ts.append(t)
-            linenos.append(lineno)
+    groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+    blocks = Blocks(fname, colnames[demo_col])
+    for lineno, row in csv_rows(fname, lines, colnames):
+        did = blocks.id_of(row[demo_col], lineno)
+        row = [c.strip() for c in row]
+        pts, ts, linenos = groups.setdefault(did, ([], [], []))
+        pts.append(
+            [
+                csv_number(fname, lineno, nm, row[c])
+                for c, nm in zip(coord_cols, coord_names, strict=True)
+            ]
+        )
+        if t_col is not None:
+            t = csv_number(fname, lineno, t_name, row[t_col])
+            if ts and t <= ts[-1]:
+                raise ValueError(
+                    f"{fname} line {lineno}, column {t_name!r}: time {t!r} in demo {did!r} "
+                    f"is not after the previous time {ts[-1]!r} (line {linenos[-1]}); "
+                    "times must be strictly increasing within a demonstration"
+                )
+            ts.append(t)
+        linenos.append(lineno)
 
     if not groups:
         raise ValueError(f"{fname}: no data rows after the header")

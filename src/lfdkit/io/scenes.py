@@ -67,14 +67,12 @@ from lfdkit.io.text import (
     Blocks,
     check_file_id,
     check_ids,
-    content_lines,
+    csv_header,
     csv_number,
-    csv_row,
     csv_rows,
     format_of,
     json_document,
     parse_id,
-    read_text,
 )
 from lfdkit.scene import OBSTACLE_SHAPES, Obstacle, Scene
 
@@ -332,132 +330,127 @@ def _scenes_csv_text(ids: list[DemoId], scenes: list[Scene], q: int) -> str:
 
 
 def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
-    with io.StringIO(read_text(fname), newline="") as f:
-        lines = content_lines(f)
-        first = next(lines, None)
-        if first is None:
-            raise ValueError(f"{fname}: no header row; the file is empty")
-        header = [h.strip() for h in csv_row(fname, *first)]
-        found = ", ".join(repr(h) for h in header)
-        pos: dict[str, int] = {}
-        field_columns = _field_columns(3 if any(h.lower() == "z" for h in header) else 2)
-        known = {*_CSV_KNOWN, *(c for cols in field_columns.values() for c in cols)}
-        for k, name in enumerate(header):
-            key = name.lower()
-            if key in known:
-                if key in pos:
-                    raise ValueError(
-                        f"{fname} line {first[0]}: duplicate column {name!r}; found columns: "
-                        f"{found}"
-                    )
-                pos[key] = k
-        for key in ("class", "x", "y"):
-            if key not in pos:
+    header_line, header, lines = csv_header(fname)
+    header = [h.strip() for h in header]
+    found = ", ".join(repr(h) for h in header)
+    pos: dict[str, int] = {}
+    field_columns = _field_columns(3 if any(h.lower() == "z" for h in header) else 2)
+    known = {*_CSV_KNOWN, *(c for cols in field_columns.values() for c in cols)}
+    for k, name in enumerate(header):
+        key = name.lower()
+        if key in known:
+            if key in pos:
                 raise ValueError(
-                    f"{fname} line {first[0]}: missing column {key!r}; found columns: {found}"
+                    f"{fname} line {header_line}: duplicate column {name!r}; found columns: {found}"
                 )
-        coord_keys = ["x", "y", "z"] if "z" in pos else ["x", "y"]
-        coord_cols = [(pos[c], header[pos[c]]) for c in coord_keys]
+            pos[key] = k
+    for key in ("class", "x", "y"):
+        if key not in pos:
+            raise ValueError(
+                f"{fname} line {header_line}: missing column {key!r}; found columns: {found}"
+            )
+    coord_keys = ["x", "y", "z"] if "z" in pos else ["x", "y"]
+    coord_cols = [(pos[c], header[pos[c]]) for c in coord_keys]
 
-        # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
-        groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
-        blocks = Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
-        for lineno, row in csv_rows(fname, lines, header):
-            if blocks is not None:
-                did = blocks.id_of(row[pos["demo"]], lineno)
-            else:
-                did = "0"
-            row = [c.strip() for c in row]
-            obstacles, obstacle_lines, empty_lines = groups.setdefault(did, ([], [], []))
-            label = row[pos["class"]]
-            cells = [(row[c], name) for c, name in coord_cols]
-            radius_cell = row[pos["radius"]] if "radius" in pos else ""
-            shape_cell = row[pos["shape"]] if "shape" in pos else ""
-            given_fields = {
-                key: [row[pos[c]] for c in cols if c in pos] for key, cols in field_columns.items()
-            }
-            at = f"{fname} line {lineno}"
+    # Demo-id text -> (obstacles, line of the first obstacle, line of an empty-scene row).
+    groups: dict[str, tuple[list[Obstacle], list[int], list[int]]] = {}
+    blocks = Blocks(fname, header[pos["demo"]]) if "demo" in pos else None
+    for lineno, row in csv_rows(fname, lines, header):
+        if blocks is not None:
+            did = blocks.id_of(row[pos["demo"]], lineno)
+        else:
+            did = "0"
+        row = [c.strip() for c in row]
+        obstacles, obstacle_lines, empty_lines = groups.setdefault(did, ([], [], []))
+        label = row[pos["class"]]
+        cells = [(row[c], name) for c, name in coord_cols]
+        radius_cell = row[pos["radius"]] if "radius" in pos else ""
+        shape_cell = row[pos["shape"]] if "shape" in pos else ""
+        given_fields = {
+            key: [row[pos[c]] for c in cols if c in pos] for key, cols in field_columns.items()
+        }
+        at = f"{fname} line {lineno}"
 
-            if not label:
-                given = [name for cell, name in cells if cell]
-                if given:
+        if not label:
+            given = [name for cell, name in cells if cell]
+            if given:
+                raise ValueError(
+                    f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
+                    f"coordinates ({', '.join(given)}); give the obstacle class (a row with "
+                    "an empty class and no coordinates marks a demonstration without "
+                    "obstacles)"
+                )
+            if radius_cell or shape_cell or any(any(v) for v in given_fields.values()):
+                raise ValueError(
+                    f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
+                    f"a radius; give the obstacle class and coordinates"
+                    if radius_cell
+                    else f"{at}, column {header[pos['class']]!r}: empty value, but the row "
+                    "has a shape or shape fields; give the obstacle class and coordinates"
+                )
+            if obstacle_lines:
+                raise ValueError(
+                    f"{at}: marks demo {did!r} as having no obstacles, but line "
+                    f"{obstacle_lines[0]} gives it an obstacle"
+                )
+            empty_lines.append(lineno)
+            continue
+        if empty_lines:
+            raise ValueError(
+                f"{at}: gives demo {did!r} an obstacle, but line {empty_lines[0]} marks it "
+                "as having no obstacles"
+            )
+        for cell, name in cells[:2]:
+            if not cell:
+                raise ValueError(
+                    f"{at}, column {name!r}: empty value; the row has class {label!r}, "
+                    "so it needs coordinates"
+                )
+        if len(cells) == 3 and not cells[2][0]:
+            raise ValueError(
+                f"{at}, column {cells[2][1]!r}: empty value in a file with a "
+                f"{cells[2][1]!r} column; mixed 2-D and 3-D positions: give z for "
+                "every obstacle, or drop the column for 2-D"
+            )
+        position = [csv_number(fname, lineno, name, cell) for cell, name in cells]
+        radius = 0.0
+        if radius_cell:
+            rname = header[pos["radius"]]
+            radius = csv_number(fname, lineno, rname, radius_cell)
+            if radius < 0:
+                raise ValueError(
+                    f"{at}, column {rname!r}: radius {radius_cell!r} is negative; "
+                    "a radius must be >= 0"
+                )
+        shape_column = header[pos["shape"]] if "shape" in pos else "shape"
+        shape = _shape_named(f"{at}, column {shape_column!r}", shape_cell)
+        fields = {}
+        own_columns = {
+            c for (o, _), cols in field_columns.items() if o == shape.shape for c in cols
+        }
+        for (owner, name), cells_given in given_fields.items():
+            columns = [header[pos[c]] for c in field_columns[(owner, name)] if c in pos]
+            if owner != shape.shape:
+                shared = set(field_columns[(owner, name)]) <= own_columns
+                if any(cells_given) and not shared:
                     raise ValueError(
-                        f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
-                        f"coordinates ({', '.join(given)}); give the obstacle class (a row with "
-                        "an empty class and no coordinates marks a demonstration without "
-                        "obstacles)"
+                        f"{at}, column {columns[0]!r}: a {owner} field, but the obstacle "
+                        f"is {shape.shape}; leave it empty or set the shape"
                     )
-                if radius_cell or shape_cell or any(any(v) for v in given_fields.values()):
-                    raise ValueError(
-                        f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
-                        f"a radius; give the obstacle class and coordinates"
-                        if radius_cell
-                        else f"{at}, column {header[pos['class']]!r}: empty value, but the row "
-                        "has a shape or shape fields; give the obstacle class and coordinates"
-                    )
-                if obstacle_lines:
-                    raise ValueError(
-                        f"{at}: marks demo {did!r} as having no obstacles, but line "
-                        f"{obstacle_lines[0]} gives it an obstacle"
-                    )
-                empty_lines.append(lineno)
                 continue
-            if empty_lines:
+            wanted = field_columns[(owner, name)]
+            if len(columns) != len(wanted) or not all(cells_given):
                 raise ValueError(
-                    f"{at}: gives demo {did!r} an obstacle, but line {empty_lines[0]} marks it "
-                    "as having no obstacles"
+                    f"{at}: a {owner} obstacle needs columns {', '.join(map(repr, wanted))} "
+                    f"({name}), each with a value"
                 )
-            for cell, name in cells[:2]:
-                if not cell:
-                    raise ValueError(
-                        f"{at}, column {name!r}: empty value; the row has class {label!r}, "
-                        "so it needs coordinates"
-                    )
-            if len(cells) == 3 and not cells[2][0]:
-                raise ValueError(
-                    f"{at}, column {cells[2][1]!r}: empty value in a file with a "
-                    f"{cells[2][1]!r} column; mixed 2-D and 3-D positions: give z for "
-                    "every obstacle, or drop the column for 2-D"
-                )
-            position = [csv_number(fname, lineno, name, cell) for cell, name in cells]
-            radius = 0.0
-            if radius_cell:
-                rname = header[pos["radius"]]
-                radius = csv_number(fname, lineno, rname, radius_cell)
-                if radius < 0:
-                    raise ValueError(
-                        f"{at}, column {rname!r}: radius {radius_cell!r} is negative; "
-                        "a radius must be >= 0"
-                    )
-            shape_column = header[pos["shape"]] if "shape" in pos else "shape"
-            shape = _shape_named(f"{at}, column {shape_column!r}", shape_cell)
-            fields = {}
-            own_columns = {
-                c for (o, _), cols in field_columns.items() if o == shape.shape for c in cols
-            }
-            for (owner, name), cells_given in given_fields.items():
-                columns = [header[pos[c]] for c in field_columns[(owner, name)] if c in pos]
-                if owner != shape.shape:
-                    shared = set(field_columns[(owner, name)]) <= own_columns
-                    if any(cells_given) and not shared:
-                        raise ValueError(
-                            f"{at}, column {columns[0]!r}: a {owner} field, but the obstacle "
-                            f"is {shape.shape}; leave it empty or set the shape"
-                        )
-                    continue
-                wanted = field_columns[(owner, name)]
-                if len(columns) != len(wanted) or not all(cells_given):
-                    raise ValueError(
-                        f"{at}: a {owner} obstacle needs columns {', '.join(map(repr, wanted))} "
-                        f"({name}), each with a value"
-                    )
-                values = [
-                    csv_number(fname, lineno, column, cell)
-                    for column, cell in zip(columns, cells_given, strict=True)
-                ]
-                fields[name] = values if shape.field_kinds[name] == "point" else values[0]
-            obstacles.append(_obstacle(at, label, position, radius, shape, fields))
-            obstacle_lines.append(lineno)
+            values = [
+                csv_number(fname, lineno, column, cell)
+                for column, cell in zip(columns, cells_given, strict=True)
+            ]
+            fields[name] = values if shape.field_kinds[name] == "point" else values[0]
+        obstacles.append(_obstacle(at, label, position, radius, shape, fields))
+        obstacle_lines.append(lineno)
 
     if "demo" not in pos and not groups:
         return {0: Scene()}  # a header-only single-scene file: no obstacles

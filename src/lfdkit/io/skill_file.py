@@ -8,9 +8,18 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
 ``params``
     The constructor parameters.
 ``n_dims``, ``units``
-    Dimension of the paths and their unit.
+    Dimension of the paths and their unit (``"m"``, ``"cm"`` or ``"mm"``,
+    also in ``params``); a file without ``units`` is in metres.
 ``path``
     The generalized path, ``(n_points, n_dims)`` nested lists.
+``timing``
+    Only when the timing was learned from timed demonstrations (or given):
+    ``{"source": ..., "duration": T, "speed": [B-spline coefficients of the
+    normalised speed], "demo_durations": [...]}``
+    (:meth:`lfdkit.imitate.SpeedProfile.to_dict`). Without it the timing is
+    the ``timing`` law over ``duration`` of ``params``; a file without it
+    reads as before timings were learned (and an older lfdkit reading a file
+    with it plans the same path with that law's timing).
 ``mimic``
     How the path was made: ``{"method": ..., "n_demos": ...}`` and the
     method's diagnostics.
@@ -120,6 +129,7 @@ def to_document(
     mimic_info: Mapping[str, Any],
     reward: tuple[float, Mapping[str, np.ndarray]] | None,
     ioc_info: Mapping[str, Any] | None,
+    timing: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """A skill's state as a JSON-ready dict (the format of the module notes).
 
@@ -139,6 +149,9 @@ def to_document(
         plain JSON values and non-finite floats ``None``.
     reward : (float, mapping of {str: ndarray (n_dims, n_dims)}) or None
         The reward's nominal weight and precision matrix per obstacle class.
+    timing : mapping or None
+        A learned timing (:meth:`lfdkit.imitate.SpeedProfile.to_dict`), or
+        None when it is the law of ``params`` (then no ``timing`` field).
 
     Returns
     -------
@@ -152,7 +165,7 @@ def to_document(
             "nominal_weight": float(weight),
             "precisions": {c: m.tolist() for c, m in precisions.items()},
         }
-    return {
+    document = {
         "format": SKILL_FORMAT,
         "version": SKILL_VERSION,
         "lfdkit": __version__,
@@ -160,10 +173,15 @@ def to_document(
         "n_dims": n_dims,
         "units": units,
         "path": path.tolist(),
+    }
+    if timing is not None:
+        document["timing"] = jsonable(timing)
+    document |= {
         "mimic": _without_timing(jsonable(mimic_info)),
         "reward": reward_doc,
         "ioc": _without_timing(jsonable(ioc_info)),
     }
+    return document
 
 
 def check_skill_path(path: PathLike) -> Path:
@@ -290,6 +308,16 @@ class SkillDocument:
         check_file_params(params, self.source)
         return params
 
+    def units(self) -> str | None:
+        """The ``"units"`` field (the unit of every length), or None where the file has none.
+
+        Which units are known is the skill's check, not the format's; a file
+        without the field (or with ``null``) is read as one in metres.
+        """
+        if self.data.get("units") is None:
+            return None
+        return self._field.get("units", str)
+
     def n_dims(self) -> int:
         """Dimension of the paths, 2 or 3."""
         n_dims = self._field.get("n_dims", int)
@@ -306,6 +334,16 @@ class SkillDocument:
                 f"{_MAX_POINTS}"
             )
         return self._field.array("path", (None, n_dims))
+
+    def timing(self) -> Mapping[str, Any] | None:
+        """The learned timing's fields, not yet checked, or None when the file has none.
+
+        :meth:`lfdkit.imitate.SpeedProfile.from_dict` reads and checks them.
+        """
+        value = self.data.get("timing")
+        if value is not None and not isinstance(value, Mapping):
+            raise ValueError(f"{self.source}: timing: expected an object")
+        return value
 
     def mimic(self) -> dict[str, Any]:
         """How the path was made (``method``, ``n_demos`` and diagnostics)."""

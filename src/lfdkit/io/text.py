@@ -6,7 +6,7 @@ error with the file name and the line, column or JSON path at fault:
 * files: :func:`read_bytes`, :func:`read_text` and :func:`check_input_file`
   read regular files only (a FIFO, device or socket is never opened), of at
   most :data:`MAX_FILE_BYTES`, as UTF-8 text;
-* CSV: :func:`content_lines` (blank and ``#`` lines skipped),
+* CSV: :func:`csv_header`, :func:`content_lines` (blank and ``#`` lines skipped),
   :func:`csv_row`, :func:`csv_rows`, :func:`csv_number` (decimal numbers only: no ``0_5``,
   ``nan`` or ``inf``), :func:`csv_id` and :class:`Blocks` (ids without
   surrounding spaces, the rows of one id consecutive);
@@ -22,6 +22,7 @@ error with the file name and the line, column or JSON path at fault:
 from __future__ import annotations
 
 import csv
+import io
 import itertools
 import json
 import math
@@ -45,6 +46,7 @@ __all__ = [
     "check_ids",
     "check_input_file",
     "content_lines",
+    "csv_header",
     "csv_id",
     "csv_number",
     "csv_row",
@@ -227,6 +229,19 @@ def content_lines(f: IO[str]) -> Iterator[tuple[int, str]]:
         s = line.strip()
         if s and not s.startswith("#"):
             yield lineno, line
+
+
+def csv_header(fname: str) -> tuple[int, list[str], Iterator[tuple[int, str]]]:
+    """Read a CSV file: its header row (line number, cells) and the content lines after it.
+
+    The lines are :func:`content_lines` (blank and ``#`` lines skipped), for
+    :func:`csv_rows`; a file without a header row is an error.
+    """
+    lines = content_lines(io.StringIO(read_text(fname), newline=""))
+    first = next(lines, None)
+    if first is None:
+        raise ValueError(f"{fname}: no header row; the file is empty")
+    return first[0], csv_row(fname, *first), lines
 
 
 def csv_rows(

@@ -10,7 +10,7 @@ from lfdkit.mimic.base import MIMIC_METHODS, Mimic, MimicMethod, MimicSettings, 
 # isort: off
 # In the order the methods are listed (MIMIC_METHODS, tables, --mimic).
 from lfdkit.mimic.mean_path import MeanPath
-from lfdkit.mimic.gmr import GMR, select_n_components
+from lfdkit.mimic.gmr import GMR, ComponentLimitWarning, select_n_components
 from lfdkit.mimic.nlpca import NLPCA
 from lfdkit.mimic.baselines import ArcLengthAverage, pointwise_average
 
@@ -28,6 +28,7 @@ __all__ = [
     "MIMIC_METHODS",
     "NLPCA",
     "ArcLengthAverage",
+    "ComponentLimitWarning",
     "DemoOrientationWarning",
     "MeanPath",
     "Mimic",

@@ -67,11 +67,16 @@ class MimicSettings:
         Seed of any random initialisation.
     n_components : int
         Mixture components, for methods that have them (GMR).
+    length_scale : float
+        One metre in the demonstrations' units (1000 for millimetres), for
+        methods that are not scale-invariant and fit in a fixed unit (GMR's
+        ``length_scale``); the others are scale-invariant and ignore it.
     """
 
     n_points: int = 100
     random_state: int | None = None
     n_components: int = 10
+    length_scale: float = 1.0
 
 
 @dataclass(frozen=True)

@@ -10,8 +10,8 @@ from local detours.
 from __future__ import annotations
 
 import numpy as np
-from sklearn.base import BaseEstimator
 
+from lfdkit._estimator import Estimator
 from lfdkit._validation import check_count, check_demos
 from lfdkit.geometry import resample
 from lfdkit.mimic.base import MimicMethod, register
@@ -20,7 +20,7 @@ from lfdkit.mimic.orientation import check_one_motion, orient_demos
 __all__ = ["ArcLengthAverage", "pointwise_average"]
 
 
-class ArcLengthAverage(BaseEstimator):
+class ArcLengthAverage(Estimator):
     """Average of the demonstrations after resampling each evenly in arc length.
 
     Parameters

@@ -27,15 +27,13 @@ and where it is free (large).
 from __future__ import annotations
 
 import itertools
+import warnings
 from collections.abc import Iterable
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from scipy.special import logsumexp
-from sklearn.base import BaseEstimator
-from sklearn.mixture import GaussianMixture
-from sklearn.utils.validation import check_is_fitted
 
+from lfdkit._estimator import Estimator, check_fitted
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import (
     check_count,
@@ -48,7 +46,7 @@ from lfdkit._validation import (
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
-__all__ = ["GMR", "select_n_components"]
+__all__ = ["GMR", "ComponentLimitWarning", "select_n_components"]
 
 TimeMode = Literal["index", "arclength"]
 CovMode = Literal["thesis", "law_of_total_covariance"]
@@ -86,7 +84,7 @@ def _sklearn_seed(random_state: Any) -> int:
     return int(rng.integers(0, 2**32 - 1))
 
 
-class GMR(BaseEstimator):
+class GMR(Estimator):
     """Generalized path by Gaussian mixture model / regression (thesis §3.2).
 
     Parameters
@@ -95,9 +93,9 @@ class GMR(BaseEstimator):
         Number of Gaussian components ``K`` (at most 1000).
     covariance_reg : float, default 1e-6
         Non-negative value added to the diagonal of every covariance during EM
-        (scikit-learn's ``reg_covar``), in squared data units (phase and
-        spatial units alike). Raise it when the data are degenerate (for
-        example, a demonstration that stands still).
+        (scikit-learn's ``reg_covar``): squared phase units, and squared
+        ``length_scale`` units for the positions. Raise it when the data are
+        degenerate (for example, a demonstration that stands still).
     max_iter : int, default 500
         Maximum number of EM iterations per initialisation.
     tol : float, default 1e-4
@@ -127,6 +125,17 @@ class GMR(BaseEstimator):
         ``"as_given"``: trust the recorded directions. Either way a path
         shorter than 0.3 times the median demonstration is refused
         (:func:`lfdkit.mimic.check_one_motion`).
+    n_points : int, default 100
+        Points of :attr:`path_`.
+    length_scale : float, default 1.0
+        The unit of length EM works in, in the demonstrations' units: the
+        positions are divided by it before fitting and every fitted quantity
+        is converted back. A mixture of phase and position is not
+        scale-invariant (``covariance_reg`` and the k-means initialisation
+        weigh the phase against the positions), so the same demonstrations
+        in metres and in millimetres give the same path only when EM sees
+        them in one unit: :class:`lfdkit.skill.Skill` passes one metre in
+        its units (1000 for millimetres). The default fits the data as given.
 
     Attributes
     ----------
@@ -181,6 +190,7 @@ class GMR(BaseEstimator):
         cov_mode: CovMode = "thesis",
         orient: Literal["auto", "as_given"] = "auto",
         n_points: int = 100,
+        length_scale: float = 1.0,
     ) -> None:
         self.n_components = n_components
         self.covariance_reg = covariance_reg
@@ -192,6 +202,7 @@ class GMR(BaseEstimator):
         self.cov_mode = cov_mode
         self.orient = orient
         self.n_points = n_points
+        self.length_scale = length_scale
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> None:
@@ -201,6 +212,7 @@ class GMR(BaseEstimator):
         check_positive(self.max_iter, "max_iter", integer=True)
         check_positive(self.tol, "tol", allow_zero=True)
         check_positive(self.n_init, "n_init", integer=True)
+        check_positive(self.length_scale, "length_scale")
         if self.time_mode not in _TIME_MODES:
             raise ValueError(f"time_mode: expected one of {_TIME_MODES}, got {self.time_mode!r}")
         if self.cov_mode not in _COV_MODES:
@@ -250,29 +262,87 @@ class GMR(BaseEstimator):
                 times = check_times_list(
                     times, demos, missing=False, increasing=False, style="shape"
                 )
-        self.reversed_ = np.zeros(len(demos), dtype=bool)
+        demos, self.reversed_, data = self._samples(demos, times)
+        gm = self._mixture(data, _sklearn_seed(self.random_state))
+        n_samples, q = data.shape[0], int(data.shape[1] - 1)
+        # Back to the demonstrations' units: positions times the scale, and the
+        # density of the positions divided by scale**q.
+        to_data = np.concatenate(([1.0], np.full(q, float(self.length_scale))))
+        self.weights_ = np.asarray(gm.weights_, dtype=np.float64)
+        self.means_ = np.asarray(gm.means_, dtype=np.float64) * to_data
+        self.covariances_ = (
+            np.asarray(gm.covariances_, dtype=np.float64) * to_data[:, None] * to_data[None, :]
+        )
+        self.n_dims_ = q
+        self.n_samples_ = int(n_samples)
+        self.time_range_ = (float(data[:, 0].min()), float(data[:, 0].max()))
+        log_scale = self._log_scale(q)
+        self.log_likelihood_ = float(gm.score(data) - log_scale)
+        self.converged_ = bool(gm.converged_)
+        self.n_iter_ = int(gm.n_iter_)
+        self.bic_ = float(gm.bic(data) + 2.0 * n_samples * log_scale)
+        self.aic_ = float(gm.aic(data) + 2.0 * n_samples * log_scale)
+        self.length_ratio_ = check_one_motion(
+            self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times
+        )
+        self.path_ = self.path(self.n_points)
+        return self
+
+    def _samples(
+        self, demos: list[np.ndarray], times: list[np.ndarray] | None
+    ) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+        """Oriented demonstrations, which were reversed, and the ``(t, s)`` samples."""
+        reversed_ = np.zeros(len(demos), dtype=bool)
         if times is None:
             if self.orient == "auto":
-                demos, self.reversed_ = orient_demos(demos, method="GMR")
+                demos, reversed_ = orient_demos(demos, method="GMR")
             phases = [_phase(d, self.time_mode) for d in demos]
         else:
             phases = times  # the times say which way each demonstration runs
         data = np.vstack([np.column_stack((tj, d)) for tj, d in zip(phases, demos, strict=True)])
+        scale = float(self.length_scale)
+        if scale != 1.0:
+            data[:, 1:] /= scale  # EM in units of length_scale
+        return demos, reversed_, data
+
+    def _log_scale(self, q: int) -> float:
+        """Log of the positions' density factor between EM's units and the data's."""
+        return q * float(np.log(float(self.length_scale)))
+
+    def _mixture(
+        self, data: np.ndarray, seed: int, start: tuple[np.ndarray, ...] | None = None
+    ) -> Any:
+        """EM on the samples: from k-means (``n_init`` times), or once from ``start``.
+
+        ``start`` = (weights, means, covariances) of ``n_components`` components.
+        """
+        from sklearn.mixture import GaussianMixture  # imported here: lfdkit.mimic loads fast
+
         n_samples = data.shape[0]
         if self.n_components > n_samples:
             raise ValueError(
                 f"n_components: {self.n_components} components need at least as many "
                 f"data points, but the demonstrations hold only {n_samples}"
             )
+        options: dict[str, Any] = {"n_init": self.n_init, "init_params": "kmeans"}
+        if start is not None:
+            weights, means, covariances = start
+            options = {
+                "n_init": 1,
+                # Every parameter is given: the initial responsibilities are not used.
+                "init_params": "random_from_data",
+                "weights_init": weights,
+                "means_init": means,
+                "precisions_init": _symmetric_inverse(covariances),
+            }
         gm = GaussianMixture(
             n_components=self.n_components,
             covariance_type="full",
             tol=self.tol,
             reg_covar=self.covariance_reg,
             max_iter=self.max_iter,
-            n_init=self.n_init,
-            init_params="kmeans",
-            random_state=_sklearn_seed(self.random_state),
+            random_state=seed,
+            **options,
         )
         try:
             # The matrices are tiny ((1+q) x (1+q)): BLAS/OpenMP threads only add
@@ -292,22 +362,7 @@ class GMR(BaseEstimator):
             raise ValueError(
                 "GMR.fit: EM produced a singular covariance matrix; increase covariance_reg"
             )
-        self.weights_ = np.asarray(gm.weights_, dtype=np.float64)
-        self.means_ = np.asarray(gm.means_, dtype=np.float64)
-        self.covariances_ = np.asarray(gm.covariances_, dtype=np.float64)
-        self.n_dims_ = int(data.shape[1] - 1)
-        self.n_samples_ = int(n_samples)
-        self.time_range_ = (float(data[:, 0].min()), float(data[:, 0].max()))
-        self.log_likelihood_ = float(gm.score(data))
-        self.converged_ = bool(gm.converged_)
-        self.n_iter_ = int(gm.n_iter_)
-        self.bic_ = float(gm.bic(data))
-        self.aic_ = float(gm.aic(data))
-        self.length_ratio_ = check_one_motion(
-            self.path(_LENGTH_CHECK_POINTS), demos, "GMR", times=times
-        )
-        self.path_ = self.path(self.n_points)
-        return self
+        return gm
 
     # -------------------------------------------------------------- predict
     def _responsibilities(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -323,6 +378,8 @@ class GMR(BaseEstimator):
         with np.errstate(divide="ignore"):
             log_w = np.log(self.weights_)
         log_p = log_w[None, :] - 0.5 * (_LOG_2PI + np.log(var_t)[None, :] + diff**2 / var_t)
+        from scipy.special import logsumexp  # imported here: lfdkit.mimic loads fast
+
         log_beta = log_p - logsumexp(log_p, axis=1, keepdims=True)
         return np.exp(log_beta), diff
 
@@ -353,7 +410,7 @@ class GMR(BaseEstimator):
             Conditional covariance (squared spatial units); only with
             ``return_cov=True``.
         """
-        check_is_fitted(self, ("weights_", "means_", "covariances_"))
+        check_fitted(self, ("weights_", "means_", "covariances_"))
         tq = check_values(t, "t")
         mode = self.cov_mode if cov_mode is None else cov_mode
         if mode not in _COV_MODES:
@@ -396,10 +453,18 @@ class GMR(BaseEstimator):
         -------
         ndarray, shape (n_points, q)
         """
-        check_is_fitted(self, ("weights_", "means_", "covariances_"))
+        check_fitted(self, ("weights_", "means_", "covariances_"))
         n_points = check_count(n_points, "n_points")  # at most MAX_POINTS
         t0, t1 = getattr(self, "time_range_", (0.0, 1.0))
         return self.predict(np.linspace(t0, t1, n_points))
+
+
+class ComponentLimitWarning(UserWarning):
+    """:func:`select_n_components` chose its largest candidate count.
+
+    The criterion was still falling there: more components may describe the
+    demonstrations better. Try larger candidates, or take the count as a cap.
+    """
 
 
 def select_n_components(
@@ -408,6 +473,9 @@ def select_n_components(
     criterion: Literal["bic", "aic"] = "bic",
     random_state: Any = None,
     times: Any = None,
+    *,
+    search: Literal["ladder", "exhaustive"] = "ladder",
+    patience: int = 2,
     **gmr_params: Any,
 ) -> tuple[int, dict[int, float]]:
     """Choose the number of GMR components by an information criterion.
@@ -417,14 +485,27 @@ def select_n_components(
     demos : list of array_like, each shape (n_i, q)
         Demonstrations, as for ``GMR.fit``.
     candidates : iterable of int, default range(2, 31)
-        Component counts to try. Counts larger than the number of samples are
-        skipped (they cannot be fitted).
+        Component counts to choose from. Counts larger than the number of
+        samples are skipped (they cannot be fitted).
     criterion : {"bic", "aic"}, default "bic"
         Criterion to minimise.
     random_state : None, int or numpy.random.Generator
-        Seed; every candidate is fitted with the same derived seed.
+        Seed; every k-means initialisation uses the same derived seed.
     times : list of array_like, each shape (n_i,), optional
         Explicit phases, as for ``GMR.fit``.
+    search : {"ladder", "exhaustive"}, default "ladder"
+        ``"exhaustive"`` fits every candidate from its own k-means start.
+        ``"ladder"`` fits a coarse ladder of candidates (each at least 1.5
+        times the previous, the smallest and the largest included) in
+        increasing order, each EM started from the previous rung's mixture
+        with its widest components split in two; it stops climbing once the
+        criterion has risen on ``patience`` rungs in a row, then narrows down
+        between the best rung's neighbours by a bracketing search, each fit
+        started from the nearest smaller count fitted. Several times faster,
+        and usually the same choice (``benchmarks/mimic.py --sections gmr``).
+    patience : int, default 2
+        ``search="ladder"``: rungs on which the criterion may rise above its
+        best before the climb stops.
     **gmr_params
         Further ``GMR`` parameters (``covariance_reg``, ``time_mode``, ...).
 
@@ -433,10 +514,18 @@ def select_n_components(
     best_k : int
         Candidate with the smallest criterion (the smallest such ``k`` on ties).
     scores : dict of int to float
-        Criterion value for every fitted candidate.
+        Criterion value of every candidate fitted (with ``"ladder"``, a subset).
+
+    Warns
+    -----
+    ComponentLimitWarning
+        When the choice is the largest of several candidates.
     """
     if criterion not in ("bic", "aic"):
         raise ValueError(f"criterion: expected 'bic' or 'aic', got {criterion!r}")
+    if search not in ("ladder", "exhaustive"):
+        raise ValueError(f"search: expected 'ladder' or 'exhaustive', got {search!r}")
+    check_positive(patience, "patience", integer=True)
     demos = check_demos(demos, "demos", min_dims=1)
     if times is not None:
         times = check_times_list(times, demos, missing=False, increasing=False, style="shape")
@@ -455,14 +544,167 @@ def select_n_components(
             f"candidates: every candidate exceeds the {n_samples} available data points"
         )
     seed = _sklearn_seed(random_state)
-    scores: dict[int, float] = {}
-    for k in usable:
-        model = GMR(n_components=k, random_state=seed, **gmr_params).fit(
-            demos, times=times, check_input=False
+    if search == "exhaustive":
+        scores: dict[int, float] = {}
+        for k in usable:
+            model = GMR(n_components=k, random_state=seed, **gmr_params).fit(
+                demos, times=times, check_input=False
+            )
+            scores[k] = model.bic_ if criterion == "bic" else model.aic_
+    else:
+        scores = _ladder_search(demos, times, usable, criterion, seed, patience, gmr_params)
+    best_k = min(scores, key=lambda k: (scores[k], k))
+    if best_k == usable[-1] and len(usable) > 1:
+        warnings.warn(
+            f"select_n_components: the {criterion.upper()} is smallest at the largest "
+            f"candidate, {best_k} components; more may fit better (give larger candidates)",
+            ComponentLimitWarning,
+            stacklevel=2,
         )
-        scores[k] = model.bic_ if criterion == "bic" else model.aic_
-    best_k = min(usable, key=lambda k: (scores[k], k))
     return best_k, scores
+
+
+#: ``search="ladder"``: each rung at least this many times the previous one.
+_LADDER_RATIO = 1.5
+
+
+def _ladder_search(
+    demos: list[np.ndarray],
+    times: list[np.ndarray] | None,
+    usable: list[int],
+    criterion: str,
+    seed: int,
+    patience: int,
+    gmr_params: dict[str, Any],
+) -> dict[int, float]:
+    """Criterion values of the candidates :func:`select_n_components` visits (``"ladder"``)."""
+    template = GMR(random_state=seed, **gmr_params)
+    template._check_params()
+    _, _, data = template._samples(demos, times)
+    mixtures: dict[int, _Mixture] = {}
+    scores: dict[int, float] = {}
+
+    def score(i: int) -> float:
+        k = usable[i]
+        if k not in scores:
+            below = [j for j in mixtures if j < k]
+            mixture = None
+            if below:
+                start = _split_start(mixtures[max(below)], k)
+                mixture = _em(data, start, template.covariance_reg, template.tol, template.max_iter)
+            if mixture is None:  # the smallest count, or EM from the split start collapsed
+                model = GMR(n_components=k, random_state=seed, **gmr_params)
+                gm = model._mixture(data, seed)
+                mixture = _Mixture(gm.weights_, gm.means_, gm.covariances_, gm.score(data))
+            mixtures[k] = mixture
+            # In the demonstrations' units, as GMR.bic_ / aic_ (EM ran in length_scale's).
+            shift = 2.0 * len(data) * template._log_scale(data.shape[1] - 1)
+            scores[k] = mixture.criterion(criterion, len(data)) + shift
+        return scores[k]
+
+    rungs = [0]
+    for i, k in enumerate(usable[1:], start=1):
+        if k >= _LADDER_RATIO * usable[rungs[-1]] or i == len(usable) - 1:
+            rungs.append(i)
+    best, worse = 0, 0
+    for r, i in enumerate(rungs):
+        if score(i) < score(rungs[best]):
+            best, worse = r, 0
+        elif r > 0:
+            worse += 1
+            if worse >= patience:
+                break
+    # Bracket search between the best rung's neighbours (the criterion taken as
+    # unimodal there): probe the middle of the wider side, keep the best point.
+    lo = rungs[best - 1] if best > 0 else rungs[best]
+    hi = rungs[best + 1] if best + 1 < len(rungs) else rungs[best]
+    mid = rungs[best]
+    while hi - lo > 2:
+        if mid - lo >= hi - mid:
+            probe = (lo + mid) // 2
+            if score(probe) < score(mid):
+                hi, mid = mid, probe
+            else:
+                lo = probe
+        else:
+            probe = (mid + hi + 1) // 2
+            if score(probe) < score(mid):
+                lo, mid = mid, probe
+            else:
+                hi = probe
+    for i in (mid - 1, mid + 1):
+        if lo <= i <= hi:
+            score(i)
+    return scores
+
+
+class _Mixture(NamedTuple):
+    """A fitted full-covariance mixture and its mean log-likelihood per sample."""
+
+    weights: np.ndarray
+    means: np.ndarray
+    covariances: np.ndarray
+    log_likelihood: float
+
+    def criterion(self, name: str, n_samples: int) -> float:
+        """BIC or AIC, as scikit-learn's ``GaussianMixture.bic`` / ``aic``."""
+        k, d = self.means.shape
+        n_params = k * (d + d * (d + 1) / 2) + k - 1
+        penalty = n_params * (np.log(n_samples) if name == "bic" else 2.0)
+        return float(-2.0 * self.log_likelihood * n_samples + penalty)
+
+
+def _em(
+    data: np.ndarray,
+    start: tuple[np.ndarray, np.ndarray, np.ndarray],
+    reg: float,
+    tol: float,
+    max_iter: int,
+) -> _Mixture | None:
+    """EM for a full-covariance mixture from given parameters (compiled; None if singular).
+
+    The same iteration, regularisation (``reg`` on every covariance's
+    diagonal) and stopping rule (gain in mean log-likelihood below ``tol``,
+    at most ``max_iter`` iterations) as scikit-learn's ``GaussianMixture``,
+    whose per-component Python loops cost several times more on the few
+    dimensions of a path (:mod:`lfdkit.mimic._gmr_kernels`).
+    """
+    from lfdkit.mimic._gmr_kernels import em  # numba compiles on first use
+
+    weights, means, covariances = (np.array(a, dtype=np.float64) for a in start)
+    data = np.ascontiguousarray(data, dtype=np.float64)
+    log_likelihood, _, ok = em(data, weights, means, covariances, reg, tol, max_iter)
+    return _Mixture(weights, means, covariances, float(log_likelihood)) if ok else None
+
+
+def _symmetric_inverse(covariances: np.ndarray) -> np.ndarray:
+    """Inverses of symmetric positive definite matrices, exactly symmetric."""
+    inverse = np.linalg.inv(covariances)
+    return 0.5 * (inverse + np.swapaxes(inverse, -1, -2))
+
+
+def _split_start(mixture: _Mixture, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``k`` components from a fitted mixture's: the widest split in two until there are ``k``.
+
+    The widest is the component of largest weight times variance along its main
+    axis; its halves sit half a standard deviation either side of its mean along
+    that axis, each with the variance there quartered and half the weight.
+    """
+    weights = list(np.asarray(mixture.weights, dtype=np.float64))
+    means = list(np.asarray(mixture.means, dtype=np.float64))
+    covs = list(np.asarray(mixture.covariances, dtype=np.float64))
+    while len(weights) < k:
+        spread = [np.linalg.eigh(c) for c in covs]
+        j = int(np.argmax([w * vals[-1] for w, (vals, _) in zip(weights, spread, strict=True)]))
+        vals, vecs = spread[j]
+        axis = np.sqrt(max(vals[-1], 0.0)) * vecs[:, -1]
+        cov = covs[j] - 0.75 * np.outer(axis, axis)
+        mean, weight = means[j], 0.5 * weights[j]
+        weights[j], means[j], covs[j] = weight, mean - 0.5 * axis, cov
+        weights.append(weight)
+        means.append(mean + 0.5 * axis)
+        covs.append(cov.copy())
+    return np.array(weights), np.array(means), np.array(covs)
 
 
 register(
@@ -474,13 +716,14 @@ register(
             n_components=settings.n_components,
             random_state=settings.random_state,
             n_points=settings.n_points,
+            length_scale=settings.length_scale,
         ),
         diagnostics=lambda fitted: {
             "log_likelihood": float(fitted.log_likelihood_),
             "converged": bool(fitted.converged_),
             "n_iter": int(fitted.n_iter_),
         },
-        uses=("n_points", "random_state", "n_components"),
+        uses=("n_points", "random_state", "n_components", "length_scale"),
         check_input=True,
     )
 )

@@ -23,10 +23,8 @@ from __future__ import annotations
 from typing import Any, Literal
 
 import numpy as np
-from scipy.optimize import minimize
-from sklearn.base import BaseEstimator
-from sklearn.utils.validation import check_is_fitted
 
+from lfdkit._estimator import Estimator, check_fitted
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import (
     check_count,
@@ -148,7 +146,7 @@ def _init_params(n_in: int, n_hidden: int, rng: np.random.Generator) -> np.ndarr
     return np.concatenate([p.ravel() for p in parts])
 
 
-class NLPCA(BaseEstimator):
+class NLPCA(Estimator):
     """Nonlinear first principal component by an auto-associative network.
 
     Parameters
@@ -334,6 +332,8 @@ class NLPCA(BaseEstimator):
         rng: np.random.Generator,
     ) -> Any:
         """Run L-BFGS-B from ``n_restarts`` random starts; return the best result."""
+        from scipy.optimize import minimize  # imported here: lfdkit.mimic loads fast
+
         best = None
         for _ in range(n_restarts):
             theta0 = _init_params(q, n_hidden, rng)
@@ -365,7 +365,7 @@ class NLPCA(BaseEstimator):
         ndarray, shape (n,)
             Scores (dimensionless); increasing from start to end.
         """
-        check_is_fitted(self, ("coefs_", "mean_", "scale_"))
+        check_fitted(self, ("coefs_", "mean_", "scale_"))
         arr = check_path(X, "X", min_points=1, n_dims=self.n_dims_)
         return _encode(self._params(), (arr - self.mean_) / self.scale_)
 
@@ -382,7 +382,7 @@ class NLPCA(BaseEstimator):
         ndarray, shape (n, q)
             Points in the demonstrations' length units.
         """
-        check_is_fitted(self, ("coefs_", "mean_", "scale_"))
+        check_fitted(self, ("coefs_", "mean_", "scale_"))
         z = check_values(scores, "scores")
         return _decode(self._params(), z) * self.scale_ + self.mean_
 

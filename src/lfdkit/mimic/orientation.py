@@ -37,6 +37,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from lfdkit._threads import one_blas_thread
 from lfdkit.geometry import arc_length, path_length
 
 __all__ = [
@@ -139,12 +140,15 @@ def orient_demos(
     index = np.flatnonzero(moving)
     if index.size >= 2:
         m = index.size
+        stack = np.array([sampled[j] for j in index])  # (m, samples, q)
         fwd = np.zeros((m, m))
         bwd = np.zeros((m, m))
-        for a, b in itertools.combinations(range(m), 2):
-            one, two = sampled[index[a]], sampled[index[b]]
-            fwd[a, b] = fwd[b, a] = _mean_distance(one, two)
-            bwd[a, b] = bwd[b, a] = _mean_distance(one, two[::-1])
+        for a in range(m - 1):
+            # Demonstration a against every later one, forwards and backwards.
+            fwd[a, a + 1 :] = _mean_distances(stack[a], stack[a + 1 :])
+            bwd[a, a + 1 :] = _mean_distances(stack[a], stack[a + 1 :, ::-1])
+        fwd += fwd.T
+        bwd += bwd.T
         x = _best_signs(bwd - fwd)
         n_flipped = np.count_nonzero(x < 0)
         if n_flipped * 2 > m or (n_flipped * 2 == m and x[0] < 0):
@@ -292,6 +296,11 @@ def _mean_distance(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.mean(np.linalg.norm(a - b, axis=1)))
 
 
+def _mean_distances(a: np.ndarray, others: np.ndarray) -> np.ndarray:
+    """:func:`_mean_distance` of ``a`` (samples, q) to each of ``others`` (k, samples, q)."""
+    return np.mean(np.linalg.norm(others - a[None], axis=2), axis=1)
+
+
 def _best_signs(gain: np.ndarray) -> np.ndarray:
     """Signs ``x`` maximising ``xᵀ G x`` (``G`` symmetric, zero diagonal), ``x[0] = +1``.
 
@@ -309,7 +318,8 @@ def _best_signs(gain: np.ndarray) -> np.ndarray:
             if value > best_value + 1e-12 * max(1.0, abs(best_value)):
                 best, best_value = x, value
         return best
-    _, vectors = np.linalg.eigh(gain)
+    with one_blas_thread():  # threaded BLAS stalls on a small matrix when cores are busy
+        _, vectors = np.linalg.eigh(gain)
     x = np.where(vectors[:, -1] >= 0, 1.0, -1.0)
     for _ in range(n):
         # Flipping x_i changes xᵀGx by −4 x_i (G x)_i.
@@ -338,7 +348,8 @@ def _refuse_split(
         bits = (np.arange(1, 2 ** (m - 1))[:, None] >> np.arange(m - 1)[None, :]) & 1
         groups = np.column_stack((np.zeros(len(bits), dtype=int), bits)).astype(float)
     else:
-        _, vectors = np.linalg.eigh(agreement)
+        with one_blas_thread():
+            _, vectors = np.linalg.eigh(agreement)
         groups = np.vstack(((vectors[:, -2] >= 0).astype(float), np.eye(m)))
         groups = groups[(groups.sum(axis=1) > 0) & (groups.sum(axis=1) < m)]
     if not len(groups):

@@ -55,12 +55,14 @@ UR5's does).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
-__all__ = ["UR5", "UR10", "Arm", "check_arm"]
+__all__ = ["ARMS", "UR5", "UR10", "Arm", "check_arm"]
 
 _UR_ALPHA = (math.pi / 2, 0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0)
 _UR_TOL = 1e-12  # slack on the zero and twist entries of a UR-type DH table
@@ -273,3 +275,6 @@ UR10 = replace(
     kp=(9000.0, 9000.0, 4000.0, 1200.0, 1200.0, 600.0),
     kv=(360.0, 360.0, 160.0, 40.0, 40.0, 15.0),
 )
+
+#: The arms described here, by lower-case name (the ``--arm`` of ``lfdkit execute``).
+ARMS: Mapping[str, Arm] = MappingProxyType({"ur5": UR5, "ur10": UR10})

@@ -635,7 +635,8 @@ def _check_servo(
             "e.g. Timing.resample(125))",
             "times",
         )
-    if not MIN_SERVO_DT <= dt <= MAX_SERVO_DT:
+    # A 500 Hz stream's mean step may round to just under 2 ms: the bounds take the same slack.
+    if not MIN_SERVO_DT * (1 - _REL_DT_TOL) <= dt <= MAX_SERVO_DT * (1 + _REL_DT_TOL):
         raise URScriptError(
             f"times: step {dt:.6g} s is outside [{MIN_SERVO_DT:g}, {MAX_SERVO_DT:g}] s "
             f"(one controller period is {MIN_SERVO_DT:g} s; a stream ticks every 2 to 8 ms)",

@@ -138,7 +138,7 @@ def test_failing_planner_is_reported_and_the_experiment_goes_on():
 def _fake_run_into(fail_after: int | None = None):
     """Stands in for the demo's work: writes every output, or fails midway."""
 
-    def run_into(out: Path, progress) -> dict:
+    def run_into(out: Path, progress, started) -> dict:
         for i, path in enumerate(demo_outputs(out)):
             if fail_after is not None and i == fail_after:
                 raise RuntimeError("simulated failure midway")

@@ -10,11 +10,13 @@ Modules, each depending only on those before it:
 * :mod:`.sim`: the scene in MuJoCo with any :class:`lfdkit.robot.arm.Arm`
   (poses, inverse kinematics, timing, simulation, outcome);
 * :mod:`.figures`: top views of simulated sweeps;
+* :mod:`.execution`: a learned skill on the robot, ``lfdkit execute``: plan,
+  tool poses, inverse kinematics, timing, URScript and the MuJoCo check;
 * :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment.
 
-Everything public is importable from here. The names of :mod:`.figures` and
-:mod:`.demo` (which import matplotlib's figures and the whole skill pipeline)
-are loaded on first use.
+Everything public is importable from here. The names of :mod:`.figures`,
+:mod:`.execution` and :mod:`.demo` (which import matplotlib's figures and the
+whole skill pipeline) are loaded on first use.
 """
 
 from __future__ import annotations
@@ -69,7 +71,13 @@ _LAZY = {
     "draw_dustpan": "figures",
     "dustpan_outline": "figures",
     "sweep_figure": "figures",
-    "GOAL_APPROACH": "demo",
+    "GOAL_APPROACH": "execution",
+    "SERVO_RATE": "execution",
+    "ExecutionError": "execution",
+    "SweepExecution": "execution",
+    "execute_skill": "execution",
+    "execution_outputs": "execution",
+    "write_execution": "execution",
     "INCOMPLETE_MARKER": "demo",
     "N_STEPS": "demo",
     "default_planners": "demo",
@@ -93,6 +101,7 @@ __all__ = [
     "NOMINAL_DUSTPAN",
     "N_STEPS",
     "OBSTACLE_CLASSES",
+    "SERVO_RATE",
     "SETTLE_TIME",
     "TABLE",
     "TIMESTEP",
@@ -101,7 +110,9 @@ __all__ = [
     "Brush",
     "Cube",
     "Dustpan",
+    "ExecutionError",
     "ObstacleClass",
+    "SweepExecution",
     "SweepResult",
     "SweepScenario",
     "SweepingTask",
@@ -113,7 +124,9 @@ __all__ = [
     "dustpan_outline",
     "example_dataset",
     "example_files",
+    "execute_skill",
     "execute_sweep",
+    "execution_outputs",
     "obstacle",
     "obstacle_class",
     "random_scenarios",
@@ -126,6 +139,7 @@ __all__ = [
     "sweeping_mjcf",
     "unseen_scenes",
     "write_example_files",
+    "write_execution",
 ]
 
 

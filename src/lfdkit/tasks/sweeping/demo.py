@@ -21,6 +21,7 @@ the outcomes per planner.
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import secrets
@@ -37,10 +38,12 @@ from lfdkit.emulate import Reward, plan_path
 from lfdkit.geometry import resample
 from lfdkit.io import atomic_write, load_demos, save_path
 from lfdkit.io.scenes import load_scenes
+from lfdkit.progress import Progress, ProgressLike, Stage, as_progress
 from lfdkit.report import Report
 from lfdkit.scene import Scene
 from lfdkit.skill import Skill, learn, read_training_data
 from lfdkit.tasks.sweeping.examples import EXAMPLE_SEED, example_dataset, example_files
+from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, PLAN_SETTINGS, execute_skill
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
     NEW_GOAL,
@@ -63,8 +66,6 @@ __all__ = [
     "summarize",
 ]
 
-#: Stretch before the dustpan over which plans return to the nominal (m): the dustpan's depth.
-GOAL_APPROACH = 0.1
 _FIGURES = (
     "mimic.png",
     "imitate.png",
@@ -80,7 +81,6 @@ INCOMPLETE_MARKER = "INCOMPLETE"
 _URSCRIPT = "robot/unseen_1.script"
 _PLANNERS = ("learned reward", "true reward", "DMP only")
 
-Progress = Callable[[str], None]
 #: A planner of the experiment: (start, goal, scene) to a table path (n, 2).
 Planner = Callable[[np.ndarray, np.ndarray, Scene], np.ndarray]
 
@@ -100,7 +100,8 @@ def run_demo(
     output: str | os.PathLike[str],
     *,
     overwrite: bool = False,
-    progress: Progress | None = None,
+    progress: ProgressLike = None,
+    started: float | None = None,
 ) -> dict[str, Any]:
     """Run the sweeping workflow and write its outputs under ``output``.
 
@@ -112,8 +113,19 @@ def run_demo(
         Replace files of an earlier run; otherwise an existing output file
         raises ``FileExistsError`` before anything is written. Other files in
         ``output`` are left alone.
-    progress : callable, optional
-        Called with a short message at each step (:data:`N_STEPS` of them).
+    progress : Progress, callable, bool or None
+        Reports each of the :data:`N_STEPS` steps and the stages inside them
+        (learning, planning, the simulation, the figures); a callable gets a
+        short message as each starts (:func:`lfdkit.progress.as_progress`).
+        Default: silent.
+    started : float, optional
+        ``time.perf_counter()`` when the run started for the caller (the
+        ``lfdkit demo`` command passes its own start); default: now. The
+        report's and ``results.json``'s whole-run time (``seconds.total``)
+        is counted from it up to the moment the outputs are complete but for
+        being written: everything slow (figures rendered to PNG) comes
+        before, only writing the finished bytes and moving them into place
+        after.
 
     Returns
     -------
@@ -138,124 +150,170 @@ def run_demo(
         )
     # Everything is written into a hidden sibling folder first and moved into place at
     # the very end: an interrupted run never leaves a folder that looks complete.
+    started = time.perf_counter() if started is None else float(started)
     out.parent.mkdir(parents=True, exist_ok=True)
     staging = _fresh_sibling(out)
     try:
-        results = _run_into(staging, progress)
+        results = _run_into(staging, as_progress(progress), started)
         _move_into_place(staging, out, overwrite)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     return results
 
 
-def _run_into(out: Path, progress: Progress | None) -> dict[str, Any]:
+def _run_into(out: Path, progress: Progress, started: float) -> dict[str, Any]:
     """The workflow of :func:`run_demo`, writing into the fresh folder ``out``."""
     overwrite = False
     for folder in {p.parent for p in demo_outputs(out)}:
         folder.mkdir(parents=True, exist_ok=True)
+    steps = progress.stage("the sweeping demo: steps", total=N_STEPS, announce=False)
+    with steps:
+        files = example_files()
+        with progress.stage("learn the skill from data/demos.csv and data/scenes.csv") as stage:
+            truth = example_dataset()
+            skill = learn(files["demos"], files["scenes"], progress=progress)
+        learn_s = stage.seconds
+        steps.advance()
 
-    def tell(message: str) -> None:
-        if progress is not None:
-            progress(message)
+        with progress.stage("score the held-out sweeps"):
+            test_demos, test_ids = load_demos(files["test_demos"], return_ids=True)
+            test_scene_map = load_scenes(files["test_scenes"])
+            test_scenes = [test_scene_map[key] for key in test_ids]
+            scores = skill.evaluate(test_demos, test_scenes, progress=progress)
+            # The demonstrator's reward with the skill's own planner: differences are the reward's.
+            horizon = skill.horizon if skill.planner == "mpc" else None
+            true_plans = []
+            label = "the demonstrator's plans of the held-out sweeps (true reward)"
+            with progress.stage(label, total=len(test_demos)) as stage:
+                for demo, scene in zip(test_demos, test_scenes, strict=True):
+                    nominal = skill.nominal(demo[0])
+                    true_plans.append(
+                        plan_path(truth.true_reward, nominal, scene, horizon=horizon).points
+                    )
+                    stage.advance()
+            scores["mse_true_reward"] = metrics.mse_paths(true_plans, test_demos)
+        steps.advance()
 
-    started = time.perf_counter()
-    files = example_files()
-    truth = example_dataset()
-    tell("learn the skill from data/demos.csv and data/scenes.csv")
+        start = skill.path_[0]
+        scenes = unseen_scenes(start, NEW_GOAL)
+        label = f"plan in {len(scenes)} unseen scenes with a new goal"
+        with progress.stage(label, total=len(scenes)) as stage:
+            nominal = skill.nominal(start, NEW_GOAL)
+            unseen = [
+                _unseen(skill, truth.true_reward, scene, i, start, nominal, horizon, stage)
+                for i, scene in enumerate(scenes)
+            ]
+        steps.advance()
+
+        with progress.stage("sweep in unseen scene 1 with a simulated UR5 (MuJoCo)"):
+            execution = _execute(skill, start, scenes[0], progress)
+        executed = execution.pop("plan_points")
+        if not np.array_equal(executed, unseen[0]["paths"][_PLANNERS[0]]):
+            raise RuntimeError("the demo's executed plan differs from the table's plan of scene 1")
+        steps.advance()
+
+        # Every figure is rendered to PNG once, for its file and the report, before the
+        # whole run's time is taken: what remains is writing finished bytes.
+        # Drawn (all but the simulation's, which came with the sweep), rendered, and the picture.
+        total = 2 * len(_FIGURES)
+        with progress.stage("draw the figures", total=total) as stage:
+            figures = _figures(
+                skill, truth, test_demos, test_scenes, true_plans, nominal, unseen, stage.advance
+            )
+            figures["simulation.png"] = execution.pop("figure")
+            pngs = {}
+            for name, figure in figures.items():
+                pngs[name] = _png(figure)
+                stage.advance()
+            image = execution.pop("image")
+            image_png = None if image is None else _image_png(image)
+            stage.advance()
+        steps.advance()
+
+        program = execution.pop("program")
+        results = _results(skill, truth, scores, unseen, learn_s, time.perf_counter() - started)
+        results["execution"] = execution
+        text = json.dumps(results, indent=1, allow_nan=False)
+        with progress.stage("write the skill, the plans, the figures, the results and the report"):
+            for i, item in enumerate(unseen):
+                learned = item["paths"][_PLANNERS[0]]
+                save_path(out / "plans" / f"unseen_{i + 1}.csv", learned, overwrite=overwrite)
+            for name, png in pngs.items():
+                _write_bytes(out / "figures" / name, png)
+            if image_png is not None:
+                _write_bytes(out / "figures" / _RENDER, image_png)
+            atomic_write(out / _URSCRIPT, lambda f: f.write(program), overwrite=overwrite)
+            skill.save(out / "skill.json", overwrite=overwrite)
+            for path in files.values():
+                _write_bytes(out / "data" / path.name, path.read_bytes())
+            atomic_write(out / "results.json", lambda f: f.write(text + "\n"), overwrite=overwrite)
+            _report(results, pngs, image_png).write(out / "report.html", overwrite=overwrite)
+        steps.advance()
+    return results
+
+
+def _unseen(
+    skill: Skill,
+    true_reward: Reward,
+    scene: Scene,
+    i: int,
+    start: np.ndarray,
+    nominal: np.ndarray,
+    horizon: int | None,
+    stage: Stage,
+) -> dict[str, Any]:
+    """The plans of unseen scene ``i``: the learned skill's, the demonstrator's, the DMP's."""
     t0 = time.perf_counter()
-    skill = learn(files["demos"], files["scenes"])
-    learn_s = time.perf_counter() - t0
-
-    tell("score the held-out sweeps")
-    test_demos, test_ids = load_demos(files["test_demos"], return_ids=True)
-    test_scene_map = load_scenes(files["test_scenes"])
-    test_scenes = [test_scene_map[key] for key in test_ids]
-    scores = skill.evaluate(test_demos, test_scenes)
-    # The demonstrator's reward with the skill's own planner: differences are the reward's.
-    horizon = skill.horizon if skill.planner == "mpc" else None
-    true_plans = [
-        plan_path(truth.true_reward, skill.nominal(demo[0]), scene, horizon=horizon).points
-        for demo, scene in zip(test_demos, test_scenes, strict=True)
-    ]
-    scores["mse_true_reward"] = metrics.mse_paths(true_plans, test_demos)
-
-    tell("plan in three unseen scenes with a new goal")
-    start = skill.path_[0]
-    scenes = unseen_scenes(start, NEW_GOAL)
-    nominal = skill.nominal(start, NEW_GOAL)
+    # Every plan of the unseen scenes is planned as the robot's (PLAN_SETTINGS): the learned
+    # plan of scene 1 in the table is the one the simulated UR5 executes.
+    learned = skill.plan(start, NEW_GOAL, scene, **PLAN_SETTINGS).points
+    plan_ms = 1e3 * (time.perf_counter() - t0)
     # The demonstrator's nominal to the new goal is the straight sweep.
     true_nominal = resample(np.vstack([start, NEW_GOAL]), 500)
-    # One set of planner settings for every plan of the unseen scenes: the learned plan of
-    # scene 1 in the table is the one the robot executes.
-    settings = {"goal_approach": GOAL_APPROACH, "clearance": 0.5 * BRUSH.width}
-    unseen = []
-    for i, scene in enumerate(scenes):
-        t0 = time.perf_counter()
-        learned = skill.plan(start, NEW_GOAL, scene, **settings)
-        plan_ms = 1e3 * (time.perf_counter() - t0)
-        reference = plan_path(
-            truth.true_reward, true_nominal, scene, horizon=horizon, **settings
-        ).points
-        # Drawn in this order: the learned plan on top of the demonstrator's.
-        paths = {
-            _PLANNERS[2]: resample(nominal, len(learned)),
-            _PLANNERS[1]: reference,
-            _PLANNERS[0]: learned,
-        }
-        rows = []
-        for name in _PLANNERS:
-            path = paths[name]
-            rows.append(
-                {
-                    "scene": i + 1,
-                    "planner": name,
-                    "collisions": metrics.collisions(path, scene),
-                    "min_clearance_mm": 1e3 * float(metrics.clearance(path, scene).min()),
-                    "rms_to_true_mm": 1e3 * float(np.sqrt(metrics.mse_paths(path, [reference]))),
-                    "end_to_goal_mm": 1e3 * float(np.linalg.norm(path[-1] - NEW_GOAL)),
-                }
-            )
-        rows[0]["plan_ms"] = plan_ms
-        unseen.append({"scene": scene, "paths": paths, "rows": rows})
-
-    tell("sweep in unseen scene 1 with a simulated UR5 (MuJoCo)")
-    execution = _execute(unseen[0]["paths"][_PLANNERS[0]], start, scenes[0])
-
-    tell("draw the figures")
-    figures = _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
-    figures["simulation.png"] = execution.pop("figure")
-    # Each figure is rendered once: the same PNG goes to figures/ and into the report.
-    figures = {name: _render(fig) for name, fig in figures.items()}
-    image = execution.pop("image")
-    if image is not None:
-        image = _png(image)
-    program = execution.pop("program")
-    results = _results(skill, truth, scores, unseen, learn_s, time.perf_counter() - started)
-    results["execution"] = execution
-    text = json.dumps(results, indent=1, allow_nan=False)
-
-    tell("write the skill, the plans, the figures, the results and the report")
-    for i, item in enumerate(unseen):
-        learned = item["paths"][_PLANNERS[0]]
-        save_path(out / "plans" / f"unseen_{i + 1}.csv", learned, overwrite=overwrite)
-    for name, png in [*figures.items(), *([(_RENDER, image)] if image is not None else [])]:
-        atomic_write(
-            out / "figures" / name,
-            lambda f, png=png: f.write(png),
-            binary=True,
-            overwrite=overwrite,
+    reference = plan_path(true_reward, true_nominal, scene, horizon=horizon, **PLAN_SETTINGS).points
+    # Drawn in this order: the learned plan on top of the demonstrator's.
+    paths = {
+        _PLANNERS[2]: resample(nominal, len(learned)),
+        _PLANNERS[1]: reference,
+        _PLANNERS[0]: learned,
+    }
+    rows = []
+    for name in _PLANNERS:
+        path = paths[name]
+        rows.append(
+            {
+                "scene": i + 1,
+                "planner": name,
+                "collisions": metrics.collisions(path, scene),
+                "min_clearance_mm": 1e3 * float(metrics.clearance(path, scene).min()),
+                "rms_to_true_mm": 1e3 * float(np.sqrt(metrics.mse_paths(path, [reference]))),
+                "end_to_goal_mm": 1e3 * float(np.linalg.norm(path[-1] - NEW_GOAL)),
+            }
         )
-    atomic_write(out / _URSCRIPT, lambda f: f.write(program), overwrite=overwrite)
-    skill.save(out / "skill.json", overwrite=overwrite)
-    for path in files.values():
-        target = out / "data" / path.name
-        content = path.read_bytes()
-        atomic_write(
-            target, lambda f, content=content: f.write(content), binary=True, overwrite=overwrite
-        )
-    atomic_write(out / "results.json", lambda f: f.write(text + "\n"), overwrite=overwrite)
-    _report(results, figures, image).write(out / "report.html", overwrite=overwrite)
-    return results
+    rows[0]["plan_ms"] = plan_ms
+    stage.advance()
+    return {"scene": scene, "paths": paths, "rows": rows}
+
+
+def _png(figure: Any) -> bytes:
+    """A matplotlib figure as PNG bytes (110 dpi)."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=110)
+    return buffer.getvalue()
+
+
+def _image_png(image: np.ndarray) -> bytes:
+    """An RGB image as PNG bytes."""
+    from matplotlib.image import imsave
+
+    buffer = io.BytesIO()
+    imsave(buffer, image, format="png")
+    return buffer.getvalue()
+
+
+def _write_bytes(path: Path, content: bytes) -> None:
+    """Write ``content`` to a new file ``path``, atomically."""
+    atomic_write(path, lambda f: f.write(content), binary=True)
 
 
 def _fresh_sibling(out: Path) -> Path:
@@ -306,7 +364,7 @@ def _move_into_place(staging: Path, out: Path, overwrite: bool) -> None:
 
 
 N_STEPS = 6
-"""Number of progress messages :func:`run_demo` sends."""
+"""Number of steps of :func:`run_demo` (its stages at the top; each has stages inside)."""
 
 
 #: How the demonstrator's plans are drawn: a wide pale band under the learned plan, so that
@@ -314,7 +372,10 @@ N_STEPS = 6
 _PLAN_STYLES = {_PLANNERS[1]: {"linewidth": 6.0, "alpha": 0.45, "solid_capstyle": "round"}}
 
 
-def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen) -> dict:
+def _figures(
+    skill, truth, test_demos, test_scenes, true_plans, nominal, unseen, made: Callable[[], None]
+) -> dict:
+    """The demo's figures but the simulation's; ``made()`` is called as each is done."""
     from lfdkit import plot
     from lfdkit.mimic import GMR
     from lfdkit.tasks.sweeping.figures import dustpan_outline
@@ -334,6 +395,7 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
             layout="stacked",
         )
     }
+    made()
     rollout = skill.dmp_.rollout(goal=NEW_GOAL, n_steps=200)
     figures["imitate.png"] = plot.retargeting_figure(
         data,
@@ -343,6 +405,7 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
         title="DMP: the sweep carried to the moved dustpan",
         goal_names=["new dustpan"],
     )
+    made()
     panels = []
     for j, (demo, scene, reference) in enumerate(
         zip(test_demos, test_scenes, true_plans, strict=True)
@@ -353,7 +416,10 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
                 "nominal": skill.nominal(demo[0]),
                 "scene": scene,
                 "demos": [demo],
-                "plans": {_PLANNERS[1]: reference, _PLANNERS[0]: skill.plan(demo[0], None, scene)},
+                "plans": {
+                    _PLANNERS[1]: reference,
+                    _PLANNERS[0]: skill.plan(demo[0], None, scene).points,
+                },
                 "title": f"held-out sweep {j + 1} ({scene.labels[0]})",
             }
         )
@@ -364,6 +430,7 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
         plan_styles=_PLAN_STYLES,
         panel_width=4.8,
     )
+    made()
     walls = dustpan_outline(Dustpan.for_sweep(skill.path_[0], NEW_GOAL))
     panels = [
         {
@@ -385,29 +452,28 @@ def _figures(skill, truth, test_demos, test_scenes, true_plans, nominal, unseen)
         plan_styles=_PLAN_STYLES,
         panel_width=9.6,
     )
+    made()
     return figures
 
 
-def _execute(path: np.ndarray, start: np.ndarray, scene: Scene) -> dict:
-    """Sweep ``path`` in MuJoCo; the dustpan stands at the new goal."""
-    from lfdkit.robot.urscript import urscript_program
-    from lfdkit.tasks.sweeping.figures import sweep_figure
+def _execute(skill: Skill, start: np.ndarray, scene: Scene, progress: Progress) -> dict:
+    """Plan with the goal approach and sweep in MuJoCo; the dustpan stands at the new goal.
 
-    dustpan = Dustpan.for_sweep(start, NEW_GOAL)
-    task = SweepingTask.for_path(path, dustpan, scene)
-    result = execute_sweep(path, task, render=True)
-    figure = sweep_figure(
-        dustpan, scene, {"learned skill": result}, title="Simulated UR5 sweep, unseen scene 1"
+    The chain of ``lfdkit execute`` (:func:`execute_skill`), with a picture.
+    """
+    run = execute_skill(
+        skill,
+        start,
+        NEW_GOAL,
+        scene,
+        render=True,
+        header="lfdkit demo: the learned sweep of unseen scene 1 (servoj at 125 Hz)",
+        progress=progress,
     )
-    program = ""
-    if result.timing is not None:
-        times, q, _, _ = result.timing.resample(125.0)
-        program = urscript_program(
-            motion="servoj",
-            times=times,
-            joint_path=q,
-            header="lfdkit demo: the learned sweep of unseen scene 1 (servoj at 125 Hz)",
-        )
+    result, dustpan, program = run.result, run.dustpan, run.program
+    if result is None:  # MuJoCo missing: the demo's report needs the simulated sweep
+        raise RuntimeError(f"the demo needs MuJoCo to simulate its sweep: {run.skipped}")
+    figure = run.top_view("Simulated UR5 sweep, unseen scene 1")
     return {
         "success": result.success,
         "summary": result.summary(),
@@ -419,7 +485,8 @@ def _execute(path: np.ndarray, start: np.ndarray, scene: Scene) -> dict:
         "motion_s": result.duration,
         "cube_in_dustpan_frame_m": dustpan.local(result.cube_final).tolist(),
         "goal_approach_m": GOAL_APPROACH,
-        "clearance_m": 0.5 * BRUSH.width,
+        "clearance_m": PLAN_SETTINGS["clearance"],
+        "plan_points": run.plan.points,
         "plan": "plans/unseen_1.csv",
         "rendered": result.image is not None,
         "figure": figure,
@@ -512,8 +579,8 @@ GLOSSARY = {
 }
 
 
-def _report(results: dict, figures: dict, image: np.ndarray | bytes | None = None) -> Report:
-    """The report page; ``figures`` are matplotlib figures or their PNG bytes."""
+def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
+    """The HTML report; ``figures`` and ``image`` (MuJoCo's picture) as PNG bytes."""
     report = Report(
         "lfdkit demo: sweeping a cube into a dustpan",
         subtitle="Learn from demonstrations, then sweep around a cup and a marker in new scenes",
@@ -641,8 +708,6 @@ def _report(results: dict, figures: dict, image: np.ndarray | bytes | None = Non
         "Top view: the brush (flange) trace, the cube's trace (dotted) and where it came to rest.",
     )
     if image is not None:
-        if not isinstance(image, bytes):
-            image = _png(image)
         report.figure(
             image,
             "MuJoCo at the end of the sweep: planned path (red), the cube's trace (green).",
@@ -659,26 +724,6 @@ def _report(results: dict, figures: dict, image: np.ndarray | bytes | None = Non
     return report
 
 
-def _render(fig) -> bytes:
-    """A matplotlib figure as PNG bytes, at the report's resolution."""
-    from io import BytesIO
-
-    buffer = BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    return buffer.getvalue()
-
-
-def _png(image: np.ndarray) -> bytes:
-    """An RGB(A) image array as PNG bytes."""
-    from io import BytesIO
-
-    from matplotlib.image import imsave
-
-    buffer = BytesIO()
-    imsave(buffer, image, format="png")
-    return buffer.getvalue()
-
-
 # ------------------------------------------------------------------ the experiment
 def default_planners(skill: Skill, true_reward: Reward | None = None) -> dict[str, Planner]:
     """The planners compared in the experiment.
@@ -692,12 +737,12 @@ def default_planners(skill: Skill, true_reward: Reward | None = None) -> dict[st
     """
 
     def learned(start: np.ndarray, goal: np.ndarray, scene: Scene) -> np.ndarray:
-        return skill.plan(start, goal, scene, goal_approach=GOAL_APPROACH)
+        return skill.plan(start, goal, scene, goal_approach=GOAL_APPROACH).points
 
     planners: dict[str, Planner] = {
         "learned skill": learned,
-        "learned, thesis end": lambda start, goal, scene: skill.plan(
-            start, goal, scene, goal_approach=None
+        "learned, thesis end": lambda start, goal, scene: (
+            skill.plan(start, goal, scene, goal_approach=None).points
         ),
         "replay generalized path": lambda start, goal, scene: skill.path_,
         "DMP alone": lambda start, goal, scene: skill.nominal(start, goal),
@@ -723,9 +768,11 @@ def run_experiment(
     planners: dict[str, Planner],
     *,
     speed_fraction: float = 0.2,
-    progress: Progress | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> list[dict]:
     """Plan and simulate every scenario with every planner.
+
+    ``progress`` is called with ``"scenario i/n"`` after each scenario.
 
     Returns
     -------

@@ -14,7 +14,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from lfdkit.plot import draw_scene, plan_colors
+from lfdkit.plot import draw_scene, label_axes, plan_colors
 from lfdkit.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import Dustpan
 
@@ -104,8 +104,7 @@ def sweep_figure(
         else:
             ax.plot([], [], color=color, label=f"{name} (not run)")
     ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    label_axes(ax, 2, "m")  # the simulation's unit
     ax.grid(True, alpha=0.3)
     if title:
         ax.set_title(title, fontsize=10)

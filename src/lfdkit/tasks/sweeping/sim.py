@@ -48,6 +48,7 @@ import numpy as np
 
 from lfdkit._validation import check_path, check_positive
 from lfdkit.geometry import path_length, project_onto_polyline, resample, smooth_path
+from lfdkit.progress import ProgressLike, Stage, as_progress
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, Arm, check_arm
 from lfdkit.robot.mujoco import (
@@ -98,6 +99,8 @@ HOME = np.array([0.0, -1.2, 1.6, -1.97, -1.5708, 0.0])
 
 #: Height and width of a rendered image (pixels).
 _IMAGE = (720, 960)
+#: Physics steps between two counts of the simulation's progress.
+_STEPS_PER_COUNT = 100
 
 
 @dataclass
@@ -302,8 +305,13 @@ class _Physics:
     unstable: str
 
 
-def _step(model: Any, n_obstacles: int, q0: np.ndarray, command: np.ndarray) -> _Physics:
-    """Start the arm at ``q0`` and command one row of ``command`` per physics step."""
+def _step(
+    model: Any, n_obstacles: int, q0: np.ndarray, command: np.ndarray, stage: Stage
+) -> _Physics:
+    """Start the arm at ``q0`` and command one row of ``command`` per physics step.
+
+    ``stage`` counts the steps, :data:`_STEPS_PER_COUNT` at a time.
+    """
     mujoco = load_mujoco()
     data = mujoco.MjData(model)
     flange = model.site("flange").id
@@ -326,6 +334,8 @@ def _step(model: Any, n_obstacles: int, q0: np.ndarray, command: np.ndarray) -> 
     for k in range(n_steps):
         data.ctrl[:] = command[k]
         mujoco.mj_step(model, data)
+        if (k + 1) % _STEPS_PER_COUNT == 0 or k + 1 == n_steps:
+            stage.advance((k + 1) - stage.done)
         if not np.all(np.isfinite(data.qpos)):
             unstable = f"simulation became unstable at t = {data.time:.3f} s"
             break
@@ -369,6 +379,7 @@ def simulate_sweep(
     camera: str = "overview",
     sample_rate: float = 50.0,
     arm: Arm = UR5,
+    progress: ProgressLike = None,
 ) -> SweepResult:
     """Run a joint trajectory in the sweeping scene and report what happened.
 
@@ -387,6 +398,9 @@ def simulate_sweep(
         Rate of the recorded traces, Hz.
     arm : Arm
         The arm that runs ``timing`` (as many joints).
+    progress : Progress, callable, bool or None
+        Counts the physics steps and reports the rendering
+        (:func:`lfdkit.progress.as_progress`); default silent.
 
     Returns
     -------
@@ -401,7 +415,9 @@ def simulate_sweep(
             f"timing: expected {arm.n_joints} joints for the {arm.name}, got {timing.n_joints}"
         )
     tolerance = check_positive(tolerance, "tolerance")
-    model = build_model(task, brush=brush, arm=arm)
+    progress = as_progress(progress)
+    with progress.stage(f"simulate: build the MuJoCo scene ({arm.name})"):
+        model = build_model(task, brush=brush, arm=arm)
     duration = timing.duration
     n_steps = math.ceil((duration + 2 * SETTLE_TIME) / TIMESTEP)
     step_times = np.arange(1, n_steps + 1) * TIMESTEP
@@ -409,7 +425,9 @@ def simulate_sweep(
     planned = ur5.forward(q_ref, arm=arm)[:, :3, 3]
     # Velocity feed-forward: the servo's damping then pulls towards the reference speed.
     command = q_ref + arm.kv / arm.kp * qd_ref
-    physics = _step(model, len(task.scene), timing.sample(0.0)[0], command)
+    label = f"simulate: {n_steps} physics steps ({n_steps * TIMESTEP:.1f} s of motion)"
+    with progress.stage(label, total=n_steps) as stage:
+        physics = _step(model, len(task.scene), timing.sample(0.0)[0], command, stage)
     traces = _traces(physics, step_times, max(1, round(1.0 / (sample_rate * TIMESTEP))))
 
     n_done, unstable = len(physics.tool), physics.unstable
@@ -454,7 +472,8 @@ def simulate_sweep(
         ground = np.column_stack([planned[:, :2], np.full(len(planned), 0.003)])
         cube_path = np.column_stack([traces["cube_trace"], np.full(len(times), 0.003)])
         trace_colours = [(ground, (0.9, 0.1, 0.1, 1.0)), (cube_path, (0.1, 0.7, 0.1, 1.0))]
-        result.image = render_camera(model, physics.data, camera, trace_colours, size=_IMAGE)
+        with progress.stage(f"simulate: render the {camera} camera"):
+            result.image = render_camera(model, physics.data, camera, trace_colours, size=_IMAGE)
     return result
 
 
@@ -518,6 +537,7 @@ def execute_sweep(
     render: bool = False,
     camera: str = "overview",
     arm: Arm = UR5,
+    progress: ProgressLike = None,
 ) -> SweepResult:
     """Sweep along a planned table path in MuJoCo: poses, IK, timing, simulation.
 
@@ -542,6 +562,8 @@ def execute_sweep(
     camera : {"overview", "top"}
     arm : Arm
         A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`); its limits time the motion.
+    progress : Progress, callable, bool or None
+        As in :func:`simulate_sweep`.
 
     Returns
     -------
@@ -561,5 +583,12 @@ def execute_sweep(
         )
     timing = time_parameterize(joints, arm=arm, speed_fraction=speed_fraction)
     return simulate_sweep(
-        timing, task, brush=brush, tolerance=tolerance, render=render, camera=camera, arm=arm
+        timing,
+        task,
+        brush=brush,
+        tolerance=tolerance,
+        render=render,
+        camera=camera,
+        arm=arm,
+        progress=progress,
     )

@@ -1,0 +1,65 @@
+"""Importing lfdkit, its estimators and its command line loads no heavy dependency.
+
+numba (compiling), MuJoCo, matplotlib, scikit-learn and SciPy each take from a
+fraction of a second to seconds to import: they are imported where they are
+used, so ``import lfdkit``, ``import lfdkit.skill`` and ``lfdkit --help``
+start in well under a second. Each check runs in a fresh interpreter (not a
+timing test: it lists the modules loaded).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+HEAVY = ("numba", "mujoco", "matplotlib", "sklearn", "scipy")
+
+_HELP = "from lfdkit.cli import main\ntry:\n    main({})\nexcept SystemExit:\n    pass"
+
+#: Statements to run in a fresh interpreter; none may load any of HEAVY.
+STATEMENTS = (
+    "import lfdkit",
+    "import lfdkit.mimic",
+    "import lfdkit.skill",
+    "from lfdkit.mimic import MIMIC_METHODS, MeanPath, GMR, NLPCA",
+    "import lfdkit.cli",
+    _HELP.format("['--help']"),
+    _HELP.format("['learn', '--help']"),
+)
+
+
+def _loaded(statement: str) -> set[str]:
+    code = (
+        "import contextlib, io, json, sys\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        + "".join(f"    {line}\n" for line in statement.splitlines())
+        + "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules})))\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    return set(json.loads(result.stdout))
+
+
+@pytest.mark.parametrize("statement", STATEMENTS)
+def test_no_heavy_dependency_is_imported(statement: str) -> None:
+    loaded = _loaded(statement)
+    assert "lfdkit" in loaded
+    assert not loaded & set(HEAVY), sorted(loaded & set(HEAVY))
+
+
+def test_the_heavy_parts_still_load_when_used() -> None:
+    """The check above would pass on a broken import: the estimators still fit."""
+    loaded = _loaded(
+        "import numpy as np\n"
+        "from lfdkit.mimic import GMR, MeanPath\n"
+        "t = np.linspace(0, 1, 50)\n"
+        "demos = [np.c_[t, np.sin(t) + 0.01 * k] for k in range(3)]\n"
+        "MeanPath(n_points=20).fit(demos)\n"
+        "GMR(n_components=2, random_state=0).fit(demos)"
+    )
+    assert {"numba", "sklearn", "scipy"} <= loaded
+    assert not loaded & {"mujoco", "matplotlib"}
