@@ -299,3 +299,53 @@ def test_emulation_grid_single_row_and_bad_panels(setting):
         emulation_grid([panel, {**panel, "demos": [np.zeros((4, 3))]}])
     with pytest.raises(ValueError, match="ncols"):
         emulation_grid([panel], ncols=0)
+
+
+def test_plan_styles_goal_and_outlines(setting, tmp_path):
+    """A reference plan drawn as a wide band under the plan drawn after it; goal and fixtures."""
+    reward, nominal, scene, plan, mpc, _ = setting
+    walls = np.array([[0.95, 0.05], [1.1, 0.05], [1.1, 0.2], [0.95, 0.2]])
+    styles = {"reference": {"linewidth": 6.0, "alpha": 0.4}}
+    panel = {
+        "reward": reward,
+        "nominal": nominal,
+        "scene": scene,
+        "plans": {"reference": plan.points, "MPC": mpc},
+        "goal": nominal[-1],
+        "outlines": {"dustpan": walls},
+    }
+    fig = emulation_grid([panel, panel], ncols=1, plan_styles=styles, panel_width=8.0)
+    fig.savefig(tmp_path / "styled.png", dpi=40)
+    assert fig.get_size_inches()[0] == pytest.approx(8.0)
+    ax = fig.axes[0]
+    lines = {line.get_label(): line for line in ax.lines}
+    assert lines["reference"].get_linewidth() == 6.0 and lines["reference"].get_alpha() == 0.4
+    assert lines["MPC"].get_linewidth() == 1.8
+    # The later plan is drawn over the band.
+    assert lines["MPC"].get_zorder() >= lines["reference"].get_zorder()
+    np.testing.assert_allclose(lines["goal"].get_xydata(), nominal[-1:])
+    np.testing.assert_allclose(lines["dustpan"].get_xydata(), walls)
+    # The reward is drawn over the outline too: the contours cover it.
+    x0, x1 = ax.get_xlim()
+    assert x0 <= walls[:, 0].min() and x1 >= walls[:, 0].max()
+    assert set(_legend_labels(fig)) == {
+        "cup",
+        "marker",
+        "nominal",
+        "reference",
+        "MPC",
+        "goal",
+        "dustpan",
+    }
+    with pytest.raises(ValueError, match=r"panels\[1\]\.goal"):
+        emulation_grid([panel, {**panel, "goal": [1.0, 2.0, 3.0]}])
+    with pytest.raises(ValueError, match="panel_width"):
+        emulation_grid([panel], panel_width=0.0)
+
+
+def test_demonstrations_are_drawn_over_the_plans(setting):
+    reward, nominal, scene, plan, _, demos = setting
+    fig = emulation_figure(reward, nominal, scene, demos=demos, plans={"plan": plan})
+    (ax,) = fig.axes
+    lines = {line.get_label(): line for line in ax.lines}
+    assert lines["demonstrations"].get_zorder() > lines["plan"].get_zorder()

@@ -148,17 +148,51 @@ def comparison_figure(
     return fig
 
 
-def draw_residual_history(ax: Axes, mean_path, units: str = "m") -> None:
-    """e1 per accepted iteration (left axis, units²) and e3 (right axis, units), thesis Fig 4.9."""
-    it = np.arange(len(mean_path.residual_history_))
-    ax.plot(it, mean_path.residual_history_, "o-", color="#d62728", label="e1 (residual)")
-    ax.set_xlabel("iteration")
-    ax.set_ylabel(f"e1 [{units}²]", color="#d62728")
-    twin = ax.twinx()
-    twin.plot(it, mean_path.innovation_history_, "s--", color="k", label="e3 (update size)")
-    twin.set_ylabel(f"e3 [{units}]")
-    twin.set_yscale("log")
+def draw_residual_history(
+    ax: Axes, mean_path, units: str = "m", *, ax_update: Axes | None = None
+) -> None:
+    """How the Mean-Path settled, per iteration, on log scales (compare thesis Fig 4.9).
+
+    In ``ax`` (red): the relative change of the residual e1 (the sum of squared
+    normal distances to the demonstrations) from one iteration to the next,
+    with the stopping tolerance ``tol`` dotted; iteration 0, the initial path,
+    has no change yet. In ``ax_update`` (black; default a second y axis on
+    the right of ``ax``): the mean length of the update the iteration
+    computes at each path point (e3 divided by the number of points), in
+    ``units``; it goes to zero at convergence.
+    """
+    e1 = np.asarray(mean_path.residual_history_, dtype=np.float64)
+    e3 = np.asarray(mean_path.innovation_history_, dtype=np.float64)
+    it = np.arange(len(e1))
+    # Nothing below one rounding error can be told apart (and log scales refuse zeros).
+    floor = np.finfo(np.float64).eps
+    red = "#d62728"
+    if len(e1) > 1:
+        change = np.abs(np.diff(e1)) / np.maximum(np.abs(e1[1:]), floor)
+        ax.plot(it[1:], np.maximum(change, floor), "o-", color=red, label="relative change of e1")
+    tol = getattr(mean_path, "tol", None)
+    if tol:
+        ax.axhline(tol, color=red, linestyle=":", linewidth=1.2, label=f"tol {tol:g} (stop below)")
+    ax.set_yscale("log")
+    ax.set_ylabel("relative change of e1", color=red)
     ax.set_title("Mean-Path convergence")
+    twin = ax.twinx() if ax_update is None else ax_update
+    twin.plot(it, np.maximum(e3 / len(mean_path.path_), floor), "s--", color="k", label="e3/n")
+    twin.set_yscale("log")
+    twin.set_ylabel(f"mean update e3/n [{units}]")
+    for axis in (ax, twin):
+        axis.xaxis.set_major_locator(MaxNLocator(integer=True))
+        axis.set_xlim(-0.3, max(len(e1) - 1, 1) + 0.3)
+        axis.grid(True, which="major", alpha=0.3)
+    if ax_update is None:
+        ax.set_xlabel("iteration")
+        handles, labels = ax.get_legend_handles_labels()
+        more, more_labels = twin.get_legend_handles_labels()
+        twin.legend(handles + more, labels + more_labels, fontsize=8, loc="upper right")
+    else:
+        ax.tick_params(labelbottom=False)
+        ax.legend(fontsize=8, loc="best")
+        ax_update.set_xlabel("iteration")
 
 
 def draw_distance_space(ax: Axes, mean_path, units: str = "m") -> None:
@@ -175,7 +209,8 @@ def draw_distance_space(ax: Axes, mean_path, units: str = "m") -> None:
         )
     ax.axhline(0.0, color=MIMIC_METHODS["mean_path"].color, linewidth=1.6, label="Mean-Path")
     ax.set_xlabel("Mean-Path point index")
-    ax.set_ylabel(f"normal distance [{units}]")
+    ax.set_ylabel(f"signed normal distance [{units}]")
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     ax.set_title("Distance-Space")
     ax.legend(fontsize=8)
 
@@ -200,6 +235,22 @@ def draw_gmr_tube(ax: Axes, gmr, n_points: int = 200, n_std: float = 2.0) -> Non
     ax.plot(mean[:, 0], mean[:, 1], color=MIMIC_METHODS["gmr"].color, linewidth=1.4)
 
 
+def _scale_axes(ax: Axes, arrays: Sequence[np.ndarray]) -> bool:
+    """Equal scale on 2-D axes, unless the data are so thin (a straight sweep) that their
+    spread would vanish; then no offset on the ticks. Returns whether drawn to scale."""
+    span = np.ptp(np.vstack([np.asarray(a)[:, :2] for a in arrays]), axis=0)
+    to_scale = bool(span.min() >= 0.1 * span.max())
+    if to_scale:
+        ax.set_aspect("equal", adjustable="datalim")
+    else:
+        ax.ticklabel_format(style="plain", useOffset=False)
+    return to_scale
+
+
+#: Figure size (inches) of each :func:`mean_path_figure` layout.
+_MEAN_PATH_LAYOUTS = {"row": (15.0, 4.6), "stacked": (9.6, 7.4)}
+
+
 def mean_path_figure(
     demos: Sequence[np.ndarray],
     mean_path,
@@ -208,19 +259,55 @@ def mean_path_figure(
     nominal: np.ndarray | None = None,
     gmr=None,
     title: str = "",
+    layout: str = "row",
 ) -> Figure:
-    """Three panels: demos with the Mean-Path (and GMR tube), Distance-Space, convergence."""
-    fig = Figure(figsize=(15.0, 4.6), layout="constrained")
-    ax0, ax1, ax2 = fig.subplots(1, 3)
+    """Demos with the Mean-Path (and GMR tube), the Distance-Space, the convergence.
+
+    Parameters
+    ----------
+    demos : sequence of ndarray, each (n_j, 2)
+        The demonstrations the Mean-Path was computed from.
+    mean_path : fitted :class:`lfdkit.mimic.MeanPath`
+    units : str
+        Unit of the coordinates.
+    nominal : ndarray (n, 2), optional
+        The ground truth, dashed.
+    gmr : fitted :class:`lfdkit.mimic.GMR`, optional
+        Its ±2 sd tube is drawn.
+    title : str
+        Title of the first panel.
+    layout : {"row", "stacked"}
+        ``"row"``: the three side by side (15 in wide); ``"stacked"``: the
+        demonstrations across the top, the other two below (9.6 in wide, for
+        a long thin task or a page of limited width). The convergence is two
+        panels, one above the other (:func:`draw_residual_history`).
+
+    Notes
+    -----
+    The first panel is drawn to scale unless the demonstrations are so thin
+    (a straight sweep) that their spread would vanish; its title then says
+    that the axes are not to scale.
+    """
+    if layout not in _MEAN_PATH_LAYOUTS:
+        raise ValueError(
+            f"layout: expected one of {', '.join(map(repr, _MEAN_PATH_LAYOUTS))}, got {layout!r}"
+        )
+    fig = Figure(figsize=_MEAN_PATH_LAYOUTS[layout], layout="constrained")
+    if layout == "row":
+        grid = fig.add_gridspec(2, 3)
+        ax0, ax1 = fig.add_subplot(grid[:, 0]), fig.add_subplot(grid[:, 1])
+        ax2 = fig.add_subplot(grid[0, 2])
+        ax3 = fig.add_subplot(grid[1, 2], sharex=ax2)
+    else:
+        grid = fig.add_gridspec(3, 2, height_ratios=(2.0, 1.0, 1.0))
+        ax0, ax1 = fig.add_subplot(grid[0, :]), fig.add_subplot(grid[1:, 0])
+        ax2 = fig.add_subplot(grid[1, 1])
+        ax3 = fig.add_subplot(grid[2, 1], sharex=ax2)
     draw_demos(ax0, demos)
     if gmr is not None and demos[0].shape[1] == 2:
         draw_gmr_tube(ax0, gmr)
     draw_paths(ax0, {"Mean-Path": mean_path.path_}, nominal=nominal)
-    span = np.ptp(np.vstack(demos)[:, :2], axis=0)
-    # Equal scale, unless the task is so thin (a straight sweep) that the spread would vanish.
-    to_scale = span.min() >= 0.1 * span.max()
-    if to_scale:
-        ax0.set_aspect("equal", adjustable="datalim")
+    to_scale = _scale_axes(ax0, demos)
     label_axes(ax0, 2, units)
     ax0.set_title(
         (title or "Demonstrations and generalized path")
@@ -228,7 +315,7 @@ def mean_path_figure(
     )
     ax0.legend(fontsize=8)
     draw_distance_space(ax1, mean_path, units)
-    draw_residual_history(ax2, mean_path, units)
+    draw_residual_history(ax2, mean_path, units, ax_update=ax3)
     return fig
 
 
@@ -304,10 +391,12 @@ def retargeting_figure(
         draw_demos(ax, demos)
     draw_rollouts(ax, path, [positions for _, positions in rollouts], goal_names=goal_names)
     label_axes(ax, q, units)
+    to_scale = True
     if q == 2:
-        ax.set_aspect("equal", adjustable="datalim")
+        to_scale = _scale_axes(ax, [path, *(demos or ()), *(p for _, p in rollouts)])
     ax.legend(fontsize=8, loc="best")
-    ax.set_title(title)
+    note = "" if to_scale else "(axes not to scale)"
+    ax.set_title("\n".join(t for t in (title, note) if t))
     names = ("x", "y", "z")
     for k in range(q):
         axk = fig.add_subplot(grid[k, 1])
@@ -332,8 +421,22 @@ PLAN_COLORS = ("#1f77b4", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#ff7f0e")
 #: Colour map of the reward: hot (bright yellow) is high, dark is low.
 REWARD_CMAP = "inferno"
 EMULATION_NOMINAL_STYLE = {"color": "k", "linestyle": "--", "linewidth": 1.6, "label": "nominal"}
-EMULATION_DEMO_STYLE = {"color": "k", "linestyle": (0, (3, 2)), "linewidth": 0.7, "alpha": 0.8}
-_PANEL_KEYS = ("reward", "nominal", "scene", "demos", "plans", "title")
+#: Demonstrations are drawn over the plans (dotted), so that a plan that reproduces one
+#: does not hide it.
+EMULATION_DEMO_STYLE = {"color": "k", "linestyle": (0, (1, 1.5)), "linewidth": 1.3, "zorder": 5}
+#: The goal, where one is marked.
+GOAL_STYLE = {
+    "marker": "*",
+    "markersize": 14,
+    "color": "w",
+    "markeredgecolor": "k",
+    "linestyle": "none",
+    "zorder": 6,
+    "label": "goal",
+}
+#: Fixed objects of a task that are not obstacles (a dustpan), as dark lines.
+OUTLINE_STYLE = {"color": "0.15", "linewidth": 2.2, "zorder": 3}
+_PANEL_KEYS = ("reward", "nominal", "scene", "demos", "plans", "title", "goal", "outlines")
 
 
 def _is_3d(ax: Axes) -> bool:
@@ -536,6 +639,17 @@ def _panel_data(reward, nominal, scene, demos, plans, index: str = ""):
     return nominal, demos, plans
 
 
+def _panel_marks(goal, outlines, q: int, where: str = ""):
+    """Validated goal (1, q) or None and outlines by name of one emulation panel."""
+    if goal is not None:
+        goal = check_path(np.atleast_2d(goal), f"{where}goal", min_points=1, n_dims=q)
+    outlines = {
+        str(name): check_path(points, f"{where}outlines[{name!r}]", n_dims=q)
+        for name, points in dict(outlines or {}).items()
+    }
+    return goal, outlines
+
+
 def _equal_3d(ax: Axes, arrays: Sequence[np.ndarray]) -> None:
     """Equal scale on the three axes: a cube of limits around all the data."""
     pts = np.vstack(arrays)
@@ -561,27 +675,34 @@ def _emulation_panel(
     class_colors: Mapping[str, str],
     units: str,
     title: str,
+    plan_styles: Mapping[str, Mapping] | None = None,
+    goal: np.ndarray | None = None,
+    outlines: Mapping[str, np.ndarray] | None = None,
 ) -> None:
     q = nominal.shape[1]
+    outlines = dict(outlines or {})
     if q == 2:
-        extent = _reward_extent([nominal, *demos, *plans.values()], scene, 0.15)
+        marks = [*outlines.values(), *([] if goal is None else [goal])]
+        extent = _reward_extent([nominal, *demos, *plans.values(), *marks], scene, 0.15)
         mappable = draw_reward(ax, reward, nominal, scene, extent=extent)
         cax = ax.inset_axes([1.03, 0.0, 0.035, 1.0])
         fig.colorbar(mappable, cax=cax, label="reward", ticks=MaxNLocator(6))
     draw_scene(ax, scene, colors=class_colors)
+    for name, points in outlines.items():
+        ax.plot(*_xy(points), **OUTLINE_STYLE, label=name)
     for j, demo in enumerate(demos):
         ax.plot(*_xy(demo), **EMULATION_DEMO_STYLE, label="demonstrations" if j == 0 else None)
     ax.plot(*_xy(nominal), **EMULATION_NOMINAL_STYLE)
-    halo = [patheffects.withStroke(linewidth=3.6, foreground="w")] if q == 2 else None
     for name, path in plans.items():
-        ax.plot(
-            *_xy(path),
-            color=plan_colors[name],
-            linewidth=1.8,
-            label=name,
-            zorder=4,
-            path_effects=halo,
-        )
+        style = {"color": plan_colors[name], "linewidth": 1.8, "zorder": 4}
+        style.update((plan_styles or {}).get(name, {}))
+        halo = None
+        if q == 2:  # a white rim, wider than the line, keeps it apart from the contours
+            rim = float(style["linewidth"]) + 1.8
+            halo = [patheffects.withStroke(linewidth=rim, foreground="w", alpha=0.9)]
+        ax.plot(*_xy(path), label=name, path_effects=halo, **style)
+    if goal is not None:
+        ax.plot(*_xy(goal), **GOAL_STYLE)
     label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="box")
@@ -591,16 +712,20 @@ def _emulation_panel(
     ax.set_title(title)
 
 
-def _panel_height(panels: Sequence[Mapping], data: Sequence[tuple]) -> float:
-    """Inches per panel row: 2-D panels are drawn at equal scale, so wide scenes need less."""
-    if any(nominal.shape[1] == 3 for nominal, _, _ in data):
+def _panel_height(panels: Sequence[Mapping], data: Sequence[tuple], width: float = 5.6) -> float:
+    """Inches per panel row: 2-D panels are drawn at equal scale, so wide scenes need less.
+
+    ``data`` holds per panel the nominal and a list of every array drawn.
+    """
+    if any(nominal.shape[1] == 3 for nominal, _ in data):
         return 3.9
     aspects = []
-    for panel, (nominal, demos, plans) in zip(panels, data, strict=True):
-        x0, x1, y0, y1 = _reward_extent([nominal, *demos, *plans.values()], panel["scene"], 0.15)
+    for panel, (_, arrays) in zip(panels, data, strict=True):
+        x0, x1, y0, y1 = _reward_extent(arrays, panel["scene"], 0.15)
         aspects.append((y1 - y0) / (x1 - x0))
-    # About 4.3 in of axes width beside the colour bar, plus room for title and labels.
-    return float(np.clip(4.3 * max(aspects) + 1.3, 2.4, 3.9))
+    # The axes' width is the panel's less about 1.5 in for the colour bar and the labels;
+    # the height adds about 0.9 in for the title, the tick labels and the x label.
+    return float(np.clip((width - 1.5) * max(aspects) + 0.9, 2.0, max(3.9, 0.7 * width)))
 
 
 def _figure_legend(fig: Figure, axes: Sequence[Axes], max_cols: int) -> None:
@@ -635,13 +760,16 @@ def emulation_figure(
     plans: Mapping[str, np.ndarray] | None = None,
     units: str = "m",
     title: str = "",
+    plan_styles: Mapping[str, Mapping] | None = None,
+    goal: np.ndarray | None = None,
+    outlines: Mapping[str, np.ndarray] | None = None,
 ) -> Figure:
     """A learned reward in a scene with demonstrations and planned paths (thesis Fig 5.7, 6.11).
 
     2-D: filled contours of the reward (hot is high) with a colour bar, the
-    obstacles, the nominal path dashed, the demonstrations thin black dashed and
-    each planned path in its own colour; a legend below. 3-D: the same paths and
-    the obstacles as spheres, without contours.
+    obstacles, the nominal path dashed, each planned path in its own colour
+    and the demonstrations black dotted over them; a legend below. 3-D: the
+    same paths and the obstacles as spheres, without contours.
 
     Parameters
     ----------
@@ -651,10 +779,21 @@ def emulation_figure(
     scene : Scene
     demos : sequence of array_like, each (n_j, q), optional
     plans : mapping of name to array_like (K, q) or Plan, optional
-        Planned paths, e.g. ``{"MPC H=8": plan.points}``, in :data:`PLAN_COLORS`.
+        Planned paths, e.g. ``{"MPC H=8": plan.points}``, in :data:`PLAN_COLORS`,
+        drawn in this order.
     units : str
         Axis unit label.
     title : str
+    plan_styles : mapping of plan name to mapping, optional
+        Line properties that replace a plan's defaults (``color``,
+        ``linewidth`` 1.8, ``zorder`` 4), e.g. ``{"reference": {"linewidth":
+        5, "alpha": 0.5}}``: a wide band under a plan drawn after it, so that
+        both stay visible where they coincide.
+    goal : array_like, shape (q,), optional
+        Marked with a star (legend ``goal``).
+    outlines : mapping of name to array_like (k, q), optional
+        Fixed objects of the task that are not obstacles (e.g. a dustpan's
+        walls), drawn as dark lines under their names.
 
     Returns
     -------
@@ -662,8 +801,11 @@ def emulation_figure(
     """
     nominal, demos, plans = _panel_data(reward, nominal, scene, demos, plans)
     q = nominal.shape[1]
+    goal, outlines = _panel_marks(goal, outlines, q)
     if q == 2:
-        x0, x1, y0, y1 = _reward_extent([nominal, *demos, *plans.values()], scene, 0.15)
+        arrays = [nominal, *demos, *plans.values(), *outlines.values()]
+        arrays += [] if goal is None else [goal]
+        x0, x1, y0, y1 = _reward_extent(arrays, scene, 0.15)
         height = float(np.clip(5.6 * (y1 - y0) / (x1 - x0) + 1.9, 3.4, 8.0))
     else:
         height = 6.4
@@ -681,13 +823,22 @@ def emulation_figure(
         class_colors=_class_colors(scene.classes, None),
         units=units,
         title=title,
+        plan_styles=plan_styles,
+        goal=goal,
+        outlines=outlines,
     )
     _figure_legend(fig, [ax], max_cols=4)
     return fig
 
 
 def emulation_grid(
-    panels: Sequence[Mapping], *, ncols: int = 3, units: str = "m", title: str = ""
+    panels: Sequence[Mapping],
+    *,
+    ncols: int = 3,
+    units: str = "m",
+    title: str = "",
+    plan_styles: Mapping[str, Mapping] | None = None,
+    panel_width: float = 5.6,
 ) -> Figure:
     """Several emulation panels in one figure, e.g. transfer scenes (thesis Fig 6.12–6.13).
 
@@ -699,13 +850,18 @@ def emulation_grid(
     panels : sequence of mapping
         One per panel, with the arguments of :func:`emulation_figure`: required
         ``"reward"``, ``"nominal"``, ``"scene"``; optional ``"demos"``,
-        ``"plans"`` and ``"title"``.
+        ``"plans"``, ``"title"``, ``"goal"`` and ``"outlines"``.
     ncols : int
         Panels per row.
     units : str
         Axis unit label.
     title : str
         Figure title.
+    plan_styles : mapping of plan name to mapping, optional
+        As :func:`emulation_figure`'s, for every panel.
+    panel_width : float
+        Width of one panel in inches, its colour bar included (the figure is
+        ``ncols`` of them wide).
 
     Returns
     -------
@@ -717,10 +873,11 @@ def emulation_grid(
         For no panels, or a panel with a missing or unknown key.
     """
     ncols = check_positive(ncols, "ncols", integer=True)
+    panel_width = check_positive(panel_width, "panel_width")
     panels = list(panels)
     if not panels:
         raise ValueError("panels: needs at least one panel")
-    data = []
+    data, marks = [], []
     for i, panel in enumerate(panels):
         if not isinstance(panel, Mapping):
             raise TypeError(f"panels[{i}]: expected a mapping, got {type(panel).__name__}")
@@ -743,17 +900,27 @@ def emulation_grid(
                 str(i),
             )
         )
+        q = data[-1][0].shape[1]
+        marks.append(_panel_marks(panel.get("goal"), panel.get("outlines"), q, f"panels[{i}]."))
     colors = plan_colors([name for _, _, plans in data for name in plans])
     class_colors = _class_colors(
         list(dict.fromkeys(c for panel in panels for c in panel["scene"].classes)), None
     )
     ncols = min(ncols, len(panels))
     nrows = -(-len(panels) // ncols)
-    fig = Figure(
-        figsize=(5.6 * ncols, _panel_height(panels, data) * nrows + 0.8), layout="constrained"
-    )
+    drawn = [
+        (
+            nominal,
+            [nominal, *demos, *plans.values(), *outlines.values(), *([] if g is None else [g])],
+        )
+        for (nominal, demos, plans), (g, outlines) in zip(data, marks, strict=True)
+    ]
+    height = _panel_height(panels, drawn, panel_width)
+    fig = Figure(figsize=(panel_width * ncols, height * nrows + 0.8), layout="constrained")
     axes = []
-    for i, (panel, (nominal, demos, plans)) in enumerate(zip(panels, data, strict=True)):
+    for i, (panel, (nominal, demos, plans), (goal, outlines)) in enumerate(
+        zip(panels, data, marks, strict=True)
+    ):
         q = nominal.shape[1]
         ax = fig.add_subplot(nrows, ncols, i + 1, projection="3d" if q == 3 else None)
         _emulation_panel(
@@ -768,6 +935,9 @@ def emulation_grid(
             class_colors=class_colors,
             units=units,
             title=panel.get("title", ""),
+            plan_styles=plan_styles,
+            goal=goal,
+            outlines=outlines,
         )
         axes.append(ax)
     _figure_legend(fig, axes, max_cols=8)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from lfdkit.emulate import Reward
+from lfdkit.geometry import project_onto_polyline
 from lfdkit.scene import Obstacle, Scene
 
 
@@ -25,6 +26,26 @@ def test_value_is_zero_on_the_nominal_far_from_obstacles(setting) -> None:
     assert reward.value(nominal[[5, 20]], nominal, Scene()) == pytest.approx([0.0, 0.0], abs=1e-12)
     off = nominal[10] + np.array([-0.1, 1.0]) * 0.02 / np.hypot(0.1, 1.0)
     assert reward.value(off, nominal, Scene())[0] == pytest.approx(-10.0 * 0.02**2)
+
+
+@pytest.mark.parametrize(
+    "nominal",
+    [
+        np.column_stack([np.linspace(0, 1, 400), 0.05 * np.sin(np.linspace(0, 9, 400))]),
+        np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 1.0], [1.0, 1.0], [0.5, 0.0]]),  # repeats, a turn
+        np.array([[0.3, 0.2], [0.3, 0.2]]),  # a single point, twice
+        np.random.default_rng(1).uniform(-1, 1, (30, 3)),  # 3-D
+    ],
+)
+def test_value_uses_the_distance_to_the_nominal_polyline(nominal) -> None:
+    """value() finds the distance a segment at a time: the projection's, to rounding."""
+    q = nominal.shape[1]
+    reward = Reward(7.0, {"cup": [300.0] * q})
+    scene = Scene((Obstacle("cup", [0.5] * q),))
+    points = np.random.default_rng(0).uniform(-1.5, 1.5, (5000, q))
+    distance = project_onto_polyline(points, nominal)[2]
+    expected = -7.0 * distance**2 - reward.obstacle_cost(points, scene)
+    np.testing.assert_allclose(reward.value(points, nominal, scene), expected, rtol=0, atol=1e-12)
 
 
 def test_obstacle_term_is_a_unit_gaussian(setting) -> None:

@@ -69,6 +69,7 @@ from lfdkit.tasks.sweeping.sim import (
 #: Names loaded on first use, by the submodule that defines them.
 _LAZY = {
     "draw_dustpan": "figures",
+    "dustpan_outline": "figures",
     "sweep_figure": "figures",
     "GOAL_APPROACH": "execution",
     "SERVO_RATE": "execution",
@@ -120,6 +121,7 @@ __all__ = [
     "default_planners",
     "demo_outputs",
     "draw_dustpan",
+    "dustpan_outline",
     "example_dataset",
     "example_files",
     "execute_skill",

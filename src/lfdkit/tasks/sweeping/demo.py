@@ -43,11 +43,12 @@ from lfdkit.report import Report
 from lfdkit.scene import Scene
 from lfdkit.skill import Skill, learn, read_training_data
 from lfdkit.tasks.sweeping.examples import EXAMPLE_SEED, example_dataset, example_files
-from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, execute_skill
+from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, PLAN_SETTINGS, execute_skill
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
     NEW_GOAL,
     UNSEEN_DESIGNS,
+    Dustpan,
     SweepingTask,
     SweepScenario,
     unseen_scenes,
@@ -206,6 +207,9 @@ def _run_into(out: Path, progress: Progress, started: float) -> dict[str, Any]:
 
         with progress.stage("sweep in unseen scene 1 with a simulated UR5 (MuJoCo)"):
             execution = _execute(skill, start, scenes[0], progress)
+        executed = execution.pop("plan_points")
+        if not np.array_equal(executed, unseen[0]["paths"][_PLANNERS[0]]):
+            raise RuntimeError("the demo's executed plan differs from the table's plan of scene 1")
         steps.advance()
 
         # Every figure is rendered to PNG once, for its file and the report, before the
@@ -260,11 +264,13 @@ def _unseen(
 ) -> dict[str, Any]:
     """The plans of unseen scene ``i``: the learned skill's, the demonstrator's, the DMP's."""
     t0 = time.perf_counter()
-    learned = skill.plan(start, NEW_GOAL, scene, clearance=0.5 * BRUSH.width).points
+    # Every plan of the unseen scenes is planned as the robot's (PLAN_SETTINGS): the learned
+    # plan of scene 1 in the table is the one the simulated UR5 executes.
+    learned = skill.plan(start, NEW_GOAL, scene, **PLAN_SETTINGS).points
     plan_ms = 1e3 * (time.perf_counter() - t0)
     # The demonstrator's nominal to the new goal is the straight sweep.
     true_nominal = resample(np.vstack([start, NEW_GOAL]), 500)
-    reference = plan_path(true_reward, true_nominal, scene, horizon=horizon).points
+    reference = plan_path(true_reward, true_nominal, scene, horizon=horizon, **PLAN_SETTINGS).points
     # Drawn in this order: the learned plan on top of the demonstrator's.
     paths = {
         _PLANNERS[2]: resample(nominal, len(learned)),
@@ -361,14 +367,22 @@ N_STEPS = 6
 """Number of steps of :func:`run_demo` (its stages at the top; each has stages inside)."""
 
 
+#: How the demonstrator's plans are drawn: a wide pale band under the learned plan, so that
+#: both stay visible where they coincide.
+_PLAN_STYLES = {_PLANNERS[1]: {"linewidth": 6.0, "alpha": 0.45, "solid_capstyle": "round"}}
+
+
 def _figures(
     skill, truth, test_demos, test_scenes, true_plans, nominal, unseen, made: Callable[[], None]
 ) -> dict:
     """The demo's figures but the simulation's; ``made()`` is called as each is done."""
     from lfdkit import plot
     from lfdkit.mimic import GMR
+    from lfdkit.tasks.sweeping.figures import dustpan_outline
 
-    data = read_training_data(example_files()["demos"]).free_demos
+    files = example_files()
+    # The clean sweeps: the demonstrations the Mean-Path is computed from.
+    data = read_training_data(files["demos"], files["scenes"]).free_demos
     # GMR's 2-sd tube shows how far the clean sweeps spread around the path.
     gmr = GMR(n_components=6, random_state=0).fit(data)
     figures = {
@@ -377,7 +391,8 @@ def _figures(
             skill.mimic_,
             nominal=truth.nominal,
             gmr=gmr,
-            title="Clean sweeps, their Mean-Path and GMR's 2-sd tube",
+            title=f"The {len(data)} clean sweeps, their Mean-Path and GMR's 2-sd tube",
+            layout="stacked",
         )
     }
     made()
@@ -409,21 +424,33 @@ def _figures(
             }
         )
     figures["emulate_test.png"] = plot.emulation_grid(
-        panels, ncols=2, title="Learned reward on held-out sweeps"
+        panels,
+        ncols=2,
+        title="Learned reward on held-out sweeps",
+        plan_styles=_PLAN_STYLES,
+        panel_width=4.8,
     )
     made()
+    walls = dustpan_outline(Dustpan.for_sweep(skill.path_[0], NEW_GOAL))
     panels = [
         {
             "reward": skill.reward_,
             "nominal": nominal,
             "scene": item["scene"],
-            "plans": item["paths"],
+            # The DMP alone is the nominal, drawn as such.
+            "plans": {name: path for name, path in item["paths"].items() if name != _PLANNERS[2]},
             "title": f"unseen scene {i + 1}",
+            "goal": NEW_GOAL,
+            "outlines": {"dustpan": walls},
         }
         for i, item in enumerate(unseen)
     ]
     figures["unseen_scenes.png"] = plot.emulation_grid(
-        panels, ncols=3, title="Unseen scenes, dustpan moved: learned skill vs the demonstrator"
+        panels,
+        ncols=1,
+        title="Unseen scenes, dustpan moved: learned skill vs the demonstrator",
+        plan_styles=_PLAN_STYLES,
+        panel_width=9.6,
     )
     made()
     return figures
@@ -458,6 +485,9 @@ def _execute(skill: Skill, start: np.ndarray, scene: Scene, progress: Progress) 
         "motion_s": result.duration,
         "cube_in_dustpan_frame_m": dustpan.local(result.cube_final).tolist(),
         "goal_approach_m": GOAL_APPROACH,
+        "clearance_m": PLAN_SETTINGS["clearance"],
+        "plan_points": run.plan.points,
+        "plan": "plans/unseen_1.csv",
         "rendered": result.image is not None,
         "figure": figure,
         "image": result.image,
@@ -506,6 +536,49 @@ def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float
     }
 
 
+#: What the report's abbreviations and terms mean, in its glossary.
+GLOSSARY = {
+    "nominal": "The path the robot follows when nothing is in the way: the generalized path "
+    "carried to the scene's start and goal by the DMP (for the demonstrator, the straight "
+    "sweep). The reward measures every plan against it.",
+    "Mean-Path": "The generalized path of the clean sweeps (thesis ch. 4): a curve whose every "
+    "point is the mean of the demonstrations where they cross its normal there. It is found "
+    "iteratively from their average.",
+    "Distance-Space": "Each demonstration drawn as its signed distance from the Mean-Path, "
+    "measured along the path's normals, against the position along the path: zero is the "
+    "Mean-Path itself, so the spread of the demonstrations is seen at full scale.",
+    "e1, e3": "The Mean-Path's iteration measures: e1 is the sum of the squared normal "
+    "distances from the path to the demonstrations (m²), e3 the summed length of the update "
+    "the iteration computes at the path's points (m). The iteration stops when e1 changes "
+    "by less than tol (1e-4) of its value; e3 goes to zero at convergence.",
+    "GMR": "Gaussian mixture regression: a second way to mimic, drawn as its mean and a tube "
+    "of ±2 standard deviations across it.",
+    "DMP": "Dynamic movement primitive: the learned path as a dynamical system that can be "
+    "started and ended anywhere (imitate).",
+    "reward": "What the demonstrator is taken to maximize along a path (thesis ch. 5): "
+    "-Q·d² - Σ exp(-(x - o)ᵀ P (x - o)), with d the distance to the nominal and o each "
+    "obstacle; higher (brighter in the figures) is better.",
+    "Q": "Weight of staying on the nominal (1/m²): the reward's cost of a squared distance "
+    "from it.",
+    "P": "Precision matrix of an obstacle class (1/m², here diagonal P_xx, P_yy): how fast "
+    "the class's penalty falls off with distance along x and y; larger is narrower.",
+    "IOC": "Inverse optimal control: learning Q and P from the obstacle sweeps, so that the "
+    "planner's paths under the learned reward reproduce them.",
+    "MPC": "Model predictive control: the planner optimizes the reward over a window of "
+    "the next few steps, executes one and moves on.",
+    "MSE_R": "Mean squared distance between the plans of a reward and the held-out "
+    "demonstrations (mm²), point by point over 100 points spaced equally along each path.",
+    "MSE_Mp": "The same for replaying the nominal without the obstacle term (mm²): what "
+    "mimicking alone would score.",
+    "Pr": "Improvement over replaying the nominal: (MSE_Mp - MSE_R) / MSE_Mp, in percent; "
+    "100 % is a perfect reproduction, 0 % no better than replaying.",
+    "goal approach": "The last stretch before the goal (here the dustpan's depth) over "
+    "which a plan is drawn back onto the nominal so that it ends at the goal.",
+    "clearance": "Distance from a path to an obstacle's surface; plans keep at least the "
+    "brush's half-width.",
+}
+
+
 def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     """The HTML report; ``figures`` and ``image`` (MuJoCo's picture) as PNG bytes."""
     report = Report(
@@ -523,8 +596,9 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     mimic = results["mimic"]
     report.heading("Mimic: the generalized path")
     report.paragraph(
-        f"Mean-Path of {mimic['n_demos']} clean sweeps: {mimic['n_iter']} "
-        f"iteration{'s' if mimic['n_iter'] != 1 else ''}; "
+        f"Mean-Path of the {mimic['n_demos']} clean sweeps (the demonstrations without an "
+        f"obstacle; the {results['emulate']['ioc']['n_demos']} obstacle sweeps teach the "
+        f"reward, below): {mimic['n_iter']} iteration{'s' if mimic['n_iter'] != 1 else ''}; "
         f"mean distance to the demonstrator's true path "
         f"{mimic['mean_distance_to_true_path_mm']:.2f} mm; its length is "
         f"{mimic['length_ratio']:.2f} times the median demonstration's."
@@ -533,8 +607,12 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
         report.paragraph(f"Warning: {text}")
     report.figure(
         figures["mimic.png"],
-        "Demonstrations, the Mean-Path and GMR's covariance tube (left), the Distance-Space "
-        "(middle), the residual per iteration (right).",
+        "Top: the clean sweeps (grey), their Mean-Path (red), GMR's mean and ±2 sd tube (blue) "
+        "and the demonstrator's true path (dashed); the y axis is stretched to show the "
+        "millimetre spread. Bottom left: the sweeps in the Distance-Space of the Mean-Path. "
+        "Bottom right: the iteration, on log scales: the relative change of the residual e1 "
+        "per iteration (red) against the stopping tolerance, and the mean update per path "
+        "point e3/n (black).",
     )
     imitate = results["imitate"]
     report.heading("Imitate: a DMP to new goals")
@@ -543,7 +621,11 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
         f"{imitate['reproduction_rms_mm']:.3f} mm RMS and is carried to the moved dustpan at "
         f"{tuple(round(v, 3) for v in imitate['new_goal'])} m."
     )
-    report.figure(figures["imitate.png"], "The generalized path and the DMP to the new goal.")
+    report.figure(
+        figures["imitate.png"],
+        "The clean sweeps, the generalized path (blue) and the DMP to the new goal (red dashed); "
+        "right: x and y over time.",
+    )
     emulate = results["emulate"]
     report.heading("Emulate: the obstacle reward")
     report.table(
@@ -571,10 +653,18 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     )
     report.figure(
         figures["emulate_test.png"],
-        "Reward contours of the learned skill on the held-out sweeps, with the demonstration "
-        "and the plans of the learned and the true reward.",
+        "Reward of the learned skill on the held-out sweeps (brighter is higher), with the "
+        "demonstration (black dotted), the plan of the learned reward (red) and that of the "
+        "true reward (pale blue band, under the red where they agree).",
     )
+    run = results["execution"]
     report.heading("Unseen scenes with a new goal")
+    report.paragraph(
+        f"Every plan here uses the settings of the execution below: it returns to the nominal "
+        f"over the last {run['goal_approach_m']:.2f} m (the goal approach), so it ends at the "
+        f"goal, and keeps {1e3 * run['clearance_m']:.0f} mm (the brush's half-width) from every "
+        "obstacle. The learned plan of scene 1 is the one the simulated UR5 executes."
+    )
     labels = {
         "scene": "scene",
         "planner": "planner",
@@ -587,26 +677,31 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     report.table(
         [{labels[k]: v for k, v in row.items()} for row in results["unseen"]],
         "Each planner in each unseen scene: collisions, smallest clearance to an obstacle's "
-        "surface, RMS distance to the demonstrator's plan, distance of the end to the goal.",
+        "surface, RMS distance to the demonstrator's plan, distance of the end to the goal. "
+        "The DMP alone ignores the obstacles.",
         columns=list(labels.values()),
         formats={
             labels["min_clearance_mm"]: ".1f",
             labels["rms_to_true_mm"]: ".2f",
-            labels["end_to_goal_mm"]: ".1f",
+            labels["end_to_goal_mm"]: ".2f",
             labels["plan_ms"]: ".0f",
         },
     )
-    report.figure(figures["unseen_scenes.png"], "Plans in the unseen scenes.")
-    run = results["execution"]
+    report.figure(
+        figures["unseen_scenes.png"],
+        "Plans in the unseen scenes over the learned reward (brighter is higher): the "
+        "demonstrator's plan with the true reward (pale band) and the learned skill's (line "
+        "on it), from the cube on the left to the goal (star) in the moved dustpan. The "
+        "nominal (dashed) is the DMP alone, which ignores the obstacles.",
+    )
     report.heading("Execution: a simulated UR5 sweeps the cube")
     report.paragraph(
-        f"The learned plan for unseen scene 1, drawn back onto the nominal over the last "
-        f"{run['goal_approach_m']:.2f} m so that it ends in the dustpan, turned into brush "
-        f"poses at {BRUSH.sweep_height:g} m, joint angles (analytic IK on one branch) and a "
-        "trajectory at 20 % "
-        "of the UR5's joint limits, then run in MuJoCo with joint position control. "
-        f"Outcome: {run['summary']}; path deviation {run['path_error_mm']:.2f} mm; "
-        f"{run['motion_s']:.1f} s of motion. The URScript (servoj) is robot/unseen_1.script."
+        f"The learned plan of unseen scene 1 ({run['plan']}, the table's first row), turned "
+        f"into brush poses at {BRUSH.sweep_height:g} m, joint angles (analytic IK on one "
+        "branch) and a trajectory at 20 % of the UR5's joint limits, then run in MuJoCo with "
+        f"joint position control. Outcome: {run['summary']}; path deviation "
+        f"{run['path_error_mm']:.2f} mm; {run['motion_s']:.1f} s of motion. The URScript "
+        "(servoj) is robot/unseen_1.script."
     )
     report.figure(
         figures["simulation.png"],
@@ -617,6 +712,8 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
             image,
             "MuJoCo at the end of the sweep: planned path (red), the cube's trace (green).",
         )
+    report.heading("Glossary")
+    report.definition_list(GLOSSARY)
     report.heading("Files")
     report.paragraph(
         "skill.json (the learned skill: lfdkit plan skill.json ...), plans/unseen_*.csv, "

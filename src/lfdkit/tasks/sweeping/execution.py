@@ -61,6 +61,7 @@ from lfdkit.tasks.sweeping.sim import SweepResult, simulate_sweep, sweep_motion
 
 __all__ = [
     "GOAL_APPROACH",
+    "PLAN_SETTINGS",
     "SERVO_RATE",
     "ExecutionError",
     "SweepExecution",
@@ -71,6 +72,9 @@ __all__ = [
 
 #: Stretch before the dustpan over which plans return to the nominal (m): the dustpan's depth.
 GOAL_APPROACH = 0.1
+#: How every sweep is planned (:meth:`lfdkit.skill.Skill.plan` keywords): back on the
+#: nominal over the goal approach, and the brush's half-width from every obstacle.
+PLAN_SETTINGS = {"goal_approach": GOAL_APPROACH, "clearance": 0.5 * BRUSH.width}
 #: Rate of the ``servoj`` stream (Hz): one tick of a CB-series controller, 8 ms.
 SERVO_RATE = 125.0
 
@@ -316,8 +320,7 @@ def execute_skill(
             start,
             goal,
             scene,
-            goal_approach=GOAL_APPROACH,
-            clearance=0.5 * BRUSH.width,
+            **PLAN_SETTINGS,
             progress=progress,
         )
     seconds["plan"] = stage.seconds

@@ -21,16 +21,24 @@ from lfdkit.tasks.sweeping.scenarios import Dustpan
 if TYPE_CHECKING:
     from lfdkit.tasks.sweeping.sim import SweepResult
 
-__all__ = ["draw_dustpan", "sweep_figure"]
+__all__ = ["draw_dustpan", "dustpan_outline", "sweep_figure"]
 
 
-def draw_dustpan(ax: Axes, dustpan: Dustpan) -> None:
-    """The dustpan's floor as an outline; its open side dashed."""
+def dustpan_outline(dustpan: Dustpan) -> np.ndarray:
+    """The dustpan floor's walls in the world, (4, 2): one side, the back, the other side.
+
+    The open side (from the last corner back to the first) is left out.
+    """
     corners = np.array([[0.0, -0.5], [dustpan.depth, -0.5], [dustpan.depth, 0.5], [0.0, 0.5]]) * [
         1.0,
         dustpan.width,
     ]
-    world = dustpan.position + corners @ dustpan.axes
+    return dustpan.position + corners @ dustpan.axes
+
+
+def draw_dustpan(ax: Axes, dustpan: Dustpan) -> None:
+    """The dustpan's floor as an outline; its open side dashed."""
+    world = dustpan_outline(dustpan)
     ax.plot(*world.T, color="0.25", linewidth=2.0, label="dustpan", zorder=2)
     ax.plot(*world[[3, 0]].T, color="0.25", linewidth=1.0, linestyle=":", zorder=2)
 
