@@ -50,8 +50,14 @@ implementation decides as follows (each is a constructor option):
   and where half the intersections coincide (deburring profiles, exact except
   for one-sided residuals) the scale is zero and the centre is that common
   point, even where the other half all carry residuals and the median lands
-  halfway up the lowest. The step control then compares the same loss, each
-  normal on the accepted path's scale. Chosen by measurement on the ten
+  halfway up the lowest. From a handful of values the robust scale is itself
+  noisy (of five Gaussian values, one lies past the cutoff of their own scale
+  14 % of the time: ``benchmarks/adaptive_thresholds.py``), so a normal met by
+  fewer than 8 demonstrations (4 in 3-D) takes their mean, and no normal's
+  scale goes below the median along the path, where the demonstrator's spread
+  varies slowly: a normal where some values bunch by chance does not cut the
+  others, and the path does not jump there. The step control then compares the
+  same loss, each normal on the accepted path's scale. Chosen by measurement on the ten
   synthetic sets (``benchmarks/mimic.py --sections centres``): within 1.03
   times the best of the other centres on every set, 0.8 times the median's
   error on the deburring sets, 0.92 times the biweight's on local detours.
@@ -103,6 +109,13 @@ _UNSUPPORTED_WARNING = 0.1
 #: ``center="adaptive"``: full weight within ``_CORE`` robust scales of the centre,
 #: falling smoothly to none at ``_CUTOFF`` (see the module notes).
 _CORE, _CUTOFF = 4.0, 8.0
+#: ``center="adaptive"``: with fewer intersections than this on a normal (on a normal
+#: line, q <= 2; in a normal plane, q = 3) their robust scale is too noisy to tell a
+#: swerve from spread, and the centre there is their mean. From five Gaussian values
+#: on a line, 14 % of the time one lies past the cutoff of the scale estimated from
+#: them; from eight, 2 % (``benchmarks/adaptive_thresholds.py``).
+_FEWEST_TO_CUT = {"line": 8, "plane": 4}
+_NO_CUT = 1e6
 #: Spreads below this fraction of the coordinates' magnitude count as zero.
 _TINY = 1e-12
 
@@ -611,6 +624,26 @@ def _shortest_half(values: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, n
 
 def _robust_start(offsets: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Start (m, q) and robust scale (m,) of each row's found vectors for ``"adaptive"``.
+
+    Each row's own (:func:`_own_start_and_scale`), then: rows with fewer than
+    :data:`_FEWEST_TO_CUT` values get a scale no distance comes near (their
+    centre is their mean), and the others' scales are at least their median
+    along the path.
+    """
+    start, scale = _own_start_and_scale(offsets, found)
+    few = found.sum(axis=1) < _FEWEST_TO_CUT["plane" if offsets.shape[2] > 2 else "line"]
+    # Weights all 1 and the loss the squared distance's: the mean.
+    scale = np.where(few & (scale > 0.0), _NO_CUT * scale, scale)
+    # The demonstrator's spread varies slowly along the path: a normal where some
+    # values bunch by chance would otherwise cut the others, and the path jump there.
+    estimated = ~few & (scale > 0.0)
+    if estimated.sum() > 1:
+        scale = np.where(estimated, np.maximum(scale, np.median(scale[estimated])), scale)
+    return start, scale
+
+
+def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start (m, q) and robust scale (m,) of each row's found vectors, row by row.
 
     On a line (q <= 2) the start is the midpoint of the shortest half of the
     values; in a plane or more the geometric median. The scale is 1.4826 times
