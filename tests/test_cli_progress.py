@@ -18,6 +18,7 @@ from types import SimpleNamespace
 
 import pytest
 
+import lfdkit.evaluation
 import lfdkit.progress
 from lfdkit.cli import main
 from lfdkit.tasks.sweeping import example_files
@@ -185,6 +186,23 @@ def test_plan_verbose_lines_carry_times_and_quiet_says_nothing(
         )
         assert code == 0
         assert (stdout, err) == ("", "")
+
+
+@pytest.mark.slow
+def test_compare_on_a_terminal_shows_a_bar_of_the_fits(tmp_path, monkeypatch):
+    monkeypatch.setattr(lfdkit.progress, "MIN_INTERVAL", 0.0)  # draw every count
+    code, _, err = run_on(
+        FakeTerminal(), "compare", "--datasets", "noisy_band", "-o", tmp_path / "cmp", "-v"
+    )
+    assert code == 0, err
+    text = ANSI.sub("", err)
+    # One bar over every method's fit, counted, with the last fit's name.
+    n_methods = len(lfdkit.evaluation.lfdkit_methods())
+    label = f"{n_methods} methods on 1 data sets"
+    assert re.search(rf"{label}.*{n_methods}/{n_methods}", text)
+    records = [record for _, record in verbose_lines(err)]
+    assert f"{label} ..." in records
+    assert any(r.startswith(f"{label}: done in ") for r in records)
 
 
 def test_building_the_parser_loads_nothing_heavy():

@@ -240,16 +240,17 @@ def _compare(args: argparse.Namespace) -> None:
 
     methods = lfdkit_methods()
     total = len(names) * len(methods)
-    count = [0]
     started = time.perf_counter()
-
-    def progress(run) -> None:
-        count[0] += 1
-        detail = f"failed: {run.error}" if run.error else f"{run.runtime_s * 1000:.0f} ms"
-        _say(args, f"[{count[0]:>2}/{total}] {run.dataset:<20} {run.method:<20} {detail}")
-
     _say(args, f"lfdkit {__version__}: comparing generalized paths on {len(names)} data sets")
-    runs = run_comparison(names, [args.seed], methods, on_result=progress, units=args.units)
+    with _working(args) as progress:
+        label = f"{len(methods)} methods on {len(names)} data sets"
+        with progress.stage(label, total=total, unit="fit") as stage:
+
+            def advance(run) -> None:
+                detail = f"failed: {run.error}" if run.error else f"{run.runtime_s * 1000:.0f} ms"
+                stage.advance(detail=f"{run.dataset} {run.method}: {detail}")
+
+            runs = run_comparison(names, [args.seed], methods, on_result=advance, units=args.units)
     rows = summarize(runs)
     table = format_table(rows)
 
