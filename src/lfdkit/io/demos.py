@@ -80,12 +80,14 @@ from lfdkit.io.text import (
     json_float_array,
     parse_id,
 )
+from lfdkit.rotations import check_quaternions
 
 __all__ = [
     "JSON_FORMAT",
     "JSON_VERSION",
     "MAX_NPZ_ARRAY_BYTES",
     "MAX_NPZ_MEMBERS",
+    "QUATERNION_COLUMNS",
     "SUPPORTED_SUFFIXES",
     "load_demos",
     "path_csv",
@@ -95,6 +97,9 @@ __all__ = [
 
 SUPPORTED_SUFFIXES: tuple[str, ...] = (".csv", ".json", ".npz")
 """File suffixes understood by :func:`load_demos` and :func:`save_demos`."""
+
+QUATERNION_COLUMNS: tuple[str, ...] = ("qx", "qy", "qz", "qw")
+"""CSV columns of the optional tool orientation, a unit quaternion (scalar last)."""
 
 JSON_FORMAT = "lfdkit-demos"
 """Value of the ``"format"`` field of a demonstrations JSON file."""
@@ -145,7 +150,23 @@ def load_demos(
 ) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]: ...
 
 
-def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool = False) -> Any:
+@overload
+def load_demos(
+    path: PathLike,
+    *,
+    return_times: bool = ...,
+    return_ids: bool = ...,
+    return_orientations: Literal[True],
+) -> tuple[Any, ...]: ...
+
+
+def load_demos(
+    path: PathLike,
+    *,
+    return_times: bool = False,
+    return_ids: bool = False,
+    return_orientations: bool = False,
+) -> Any:
     """Read a demonstration set from a ``.csv``, ``.npz`` or ``.json`` file.
 
     See the module docstring for the layout of each format.
@@ -161,6 +182,8 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
         id that is the canonical spelling of an integer (``"7"``, ``"-2"``,
         not ``"07"``) is returned as ``int``, others as ``str``. Files without
         ids give ``0, 1, ..., n_demos - 1``.
+    return_orientations : bool
+        Also return the tool orientations (CSV columns ``qx, qy, qz, qw``).
 
     Returns
     -------
@@ -171,6 +194,11 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
         demonstration stored without times.
     ids : list of int or str
         Only if ``return_ids``: one id per demonstration.
+    orientations : list of (ndarray, shape (n_points_j, 4), or None)
+        Only if ``return_orientations``: unit quaternions ``[x, y, z, w]``
+        (normalised; a row whose norm is off 1 by more than
+        :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is an error), ``None``
+        for a file without them (NPZ and JSON files hold none).
 
     Raises
     ------
@@ -188,17 +216,22 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
     """
     fname = os.fspath(path)
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
+    quats: list[np.ndarray | None]
     if fmt == ".csv":
-        demos, times, ids = _read_csv(fname)
+        demos, times, ids, quats = _read_csv(fname)
     elif fmt == ".npz":
         demos, times, ids = _read_npz(fname)
+        quats = [None] * len(demos)
     else:
         demos, times, ids = _read_json(fname)
+        quats = [None] * len(demos)
     out: list[Any] = [demos]
     if return_times:
         out.append(times)
     if return_ids:
         out.append(ids)
+    if return_orientations:
+        out.append(quats)
     return demos if len(out) == 1 else tuple(out)
 
 
@@ -208,6 +241,7 @@ def save_demos(
     *,
     times: Sequence[Any | None] | None = None,
     ids: Sequence[DemoId] | None = None,
+    orientations: Sequence[Any | None] | None = None,
     overwrite: bool = False,
 ) -> Path:
     """Write a demonstration set to a ``.csv``, ``.npz`` or ``.json`` file.
@@ -232,6 +266,11 @@ def save_demos(
         ``"7"`` clash). A ``str`` id must be non-empty, without surrounding
         whitespace or line breaks, and must not start with ``#``. Defaults to
         ``0, 1, ..., n_demos - 1``.
+    orientations : sequence of array_like, each shape (n_points_j, 4), optional
+        Tool orientations as unit quaternions ``[x, y, z, w]``, one per
+        sample, for every demonstration: CSV columns ``qx, qy, qz, qw``
+        (CSV only). Each row is normalised; NaN/inf or a norm off 1 by more
+        than :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is refused.
     overwrite : bool
         Replace an existing file. When false an existing file raises
         ``FileExistsError``.
@@ -256,6 +295,7 @@ def save_demos(
     n = len(arrs)
     time_arrs = check_times_list(times, arrs)
     id_list = check_ids(ids, n)
+    quats = _check_orientations(orientations, arrs, fmt)
 
     check_output_path(fname, overwrite=overwrite)
 
@@ -266,7 +306,7 @@ def save_demos(
                 "times has None for some demonstrations only"
             )
 
-        return write_text(fname, _csv_text(arrs, time_arrs, id_list), overwrite=overwrite)
+        return write_text(fname, _csv_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
     if fmt == ".npz":
         arrays: dict[str, np.ndarray] = {}
         for j, (a, t) in enumerate(zip(arrs, time_arrs, strict=True)):
@@ -370,19 +410,50 @@ def _csv_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
+    quats: list[np.ndarray] | None = None,
 ) -> str:
     f = io.StringIO()
     q = demos[0].shape[1]
     has_t = times[0] is not None
     w = csv.writer(f, lineterminator="\n")
-    w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q)])
-    for a, t, i in zip(demos, times, ids, strict=True):
+    extra = list(QUATERNION_COLUMNS) if quats is not None else []
+    w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q), *extra])
+    for j, (a, t, i) in enumerate(zip(demos, times, ids, strict=True)):
         sid = str(i)
         tl = t.tolist() if t is not None else None
+        ql = quats[j].tolist() if quats is not None else None
         for k, row in enumerate(a.tolist()):
             # repr() of a Python float is the shortest string that reads back exactly.
-            w.writerow([sid, *([repr(tl[k])] if tl is not None else []), *map(repr, row)])
+            w.writerow(
+                [
+                    sid,
+                    *([repr(tl[k])] if tl is not None else []),
+                    *map(repr, row),
+                    *(map(repr, ql[k]) if ql is not None else []),
+                ]
+            )
     return f.getvalue()
+
+
+def _check_orientations(
+    orientations: Sequence[Any | None] | None, demos: list[np.ndarray], fmt: str
+) -> list[np.ndarray] | None:
+    """Unit quaternions per demonstration (normalised), or None; CSV files only."""
+    if orientations is None:
+        return None
+    if fmt != ".csv":
+        raise ValueError(
+            f"orientations: stored in .csv files only (columns qx, qy, qz, qw), not {fmt}"
+        )
+    if len(orientations) != len(demos) or any(o is None for o in orientations):
+        raise ValueError(
+            f"orientations: expected one (n_points_j, 4) array for each of the {len(demos)} "
+            "demonstrations"
+        )
+    return [
+        check_quaternions(o, f"orientations[{j}]", n=len(d))
+        for j, (o, d) in enumerate(zip(orientations, demos, strict=True))
+    ]
 
 
 def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[int], list[str]]:
@@ -423,15 +494,31 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
     return pos["demo"], t_col, coord_cols, [names[k] for k in coord_cols]
 
 
+def _quaternion_columns(fname: str, header: list[str]) -> list[int] | None:
+    """Indices of the qx, qy, qz, qw columns: all four or none."""
+    keys = [h.strip().lower() for h in header]
+    present = [c for c in QUATERNION_COLUMNS if c in keys]
+    if not present:
+        return None
+    if len(present) != 4:
+        missing = ", ".join(c for c in QUATERNION_COLUMNS if c not in keys)
+        raise ValueError(
+            f"{fname}: orientation columns need all of qx, qy, qz, qw; missing {missing}"
+        )
+    return [keys.index(c) for c in QUATERNION_COLUMNS]
+
+
 def _read_csv(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
     _, header, lines = csv_header(fname)
     demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
+    q_cols = _quaternion_columns(fname, header)
     colnames = [h.strip() for h in header]
     t_name = colnames[t_col] if t_col is not None else ""
 
     groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+    quats: dict[str, list[list[float]]] = {}
     blocks = Blocks(fname, colnames[demo_col])
     for lineno, row in csv_rows(fname, lines, colnames):
         did = blocks.id_of(row[demo_col], lineno)
@@ -443,6 +530,10 @@ def _read_csv(
                 for c, nm in zip(coord_cols, coord_names, strict=True)
             ]
         )
+        if q_cols is not None:
+            quats.setdefault(did, []).append(
+                [csv_number(fname, lineno, colnames[c], row[c]) for c in q_cols]
+            )
         if t_col is not None:
             t = csv_number(fname, lineno, t_name, row[t_col])
             if ts and t <= ts[-1]:
@@ -465,7 +556,19 @@ def _read_csv(
     times: list[np.ndarray | None] = [
         np.asarray(g[1], dtype=np.float64) if t_col is not None else None for g in groups.values()
     ]
-    return demos, times, [parse_id(d) for d in groups]
+    orientations: list[np.ndarray | None] = [None] * len(groups)
+    if q_cols is not None:
+        orientations = []
+        for did, (_, _, linenos) in groups.items():
+            try:
+                orientations.append(check_quaternions(quats[did], "q"))
+            except ValueError as exc:  # "q: row k ...": name the file's line instead
+                row, _, why = str(exc).removeprefix("q: row ").partition(" ")
+                raise ValueError(
+                    f"{fname} line {linenos[int(row)]}, columns qx, qy, qz, qw: "
+                    f"the orientation of demo {did!r} {why}"
+                ) from None
+    return demos, times, [parse_id(d) for d in groups], orientations
 
 
 # --------------------------------------------------------------------------- #
