@@ -146,9 +146,16 @@ def exp(v: np.ndarray) -> np.ndarray:
 
 
 def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Geodesic distance between rotations (radians, 0 to π), broadcast over leading axes."""
-    dot = np.abs(np.sum(np.asarray(a) * np.asarray(b), axis=-1))
-    return 2.0 * np.arccos(np.clip(dot, 0.0, 1.0))
+    """Geodesic distance between rotations (radians, 0 to π), broadcast over leading axes.
+
+    ``4 atan2(|a − b|, |a + b|)`` with ``b``'s sign on ``a``'s hemisphere:
+    accurate to rounding for tiny angles too (``2 arccos |a · b|`` loses half
+    the digits there).
+    """
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    b = np.where(np.sum(a * b, axis=-1, keepdims=True) < 0.0, -b, b)
+    return 4.0 * np.arctan2(np.linalg.norm(a - b, axis=-1), np.linalg.norm(a + b, axis=-1))
 
 
 def continuous(q: np.ndarray) -> np.ndarray:
