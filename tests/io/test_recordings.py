@@ -423,3 +423,27 @@ def test_import_then_learn(tmp_path: Path) -> None:
     learn = _lfdkit("learn", "d.csv", "-o", "skill.json", "-q", cwd=tmp_path)
     assert learn.returncode == 0, learn.stderr
     assert (tmp_path / "skill.json").exists()
+
+
+def test_a_humble_sqlite3_bag_without_message_definitions(tmp_path: Path) -> None:
+    """rosbag2 before Iron stores no definitions: the standard ROS 2 types are used."""
+    import sqlite3
+
+    ns, pos, q = random_trajectory(8, seed=12)
+    out = write_recording(
+        tmp_path / "r", "sqlite3", {"/p": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q))}
+    )
+    (db,) = out.glob("*.db3")
+    with sqlite3.connect(db) as con:
+        con.execute("DELETE FROM message_definitions")
+    np.testing.assert_allclose(read_poses(out, "/p").positions, pos, atol=1e-9)
+
+
+def test_without_rosbags_the_error_says_how_to_install(tmp_path: Path, monkeypatch) -> None:
+    ns, pos, q = random_trajectory(3, seed=13)
+    out = write_recording(
+        tmp_path / "r", "ros1", {"/p": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q))}
+    )
+    monkeypatch.setitem(sys.modules, "rosbags.highlevel", None)  # import fails
+    with pytest.raises(RecordingError, match=r'^reading ROS bags .* pip install "lfdkit\[ros\]"$'):
+        list_topics(out)

@@ -167,13 +167,19 @@ class JointRecording:
 # --------------------------------------------------------------------------- #
 
 
-def _any_reader() -> Any:
-    """rosbags' AnyReader class, imported on first use (an optional dependency)."""
+def _any_reader(path: Path) -> Any:
+    """rosbags' AnyReader for ``path``, imported on first use (an optional dependency).
+
+    ROS 2 bags written before Iron (Humble's sqlite3 storage) hold no message
+    definitions; they are read with ROS 2 Humble's standard types, whose
+    geometry_msgs, nav_msgs, sensor_msgs and tf2_msgs every ROS 2 release shares.
+    """
     try:
         from rosbags.highlevel import AnyReader
+        from rosbags.typesys import Stores, get_typestore
     except ImportError:
         raise RecordingError(INSTALL_HINT) from None
-    return AnyReader
+    return AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
 
 
 @contextmanager
@@ -188,18 +194,17 @@ def _open(path: PathLike) -> Iterator[Any]:
             f"{name}: a folder without metadata.yaml is not a ROS 2 bag "
             "(give the bag folder, or its .db3/.mcap file)"
         )
-    if p.is_file() and p.suffix.lower() not in (".bag", ".mcap", ".db3"):
+    if p.is_file() and p.suffix not in (".bag", ".mcap", ".db3"):
         raise RecordingError(
             f"{name}: unknown recording type {p.suffix!r}; expected a ROS 1 .bag, a ROS 2 bag "
             "folder, or an .mcap or .db3 file"
         )
     if p.is_file() and p.stat().st_size == 0:
         raise RecordingError(f"{name}: is empty (0 bytes)")
-    AnyReader = _any_reader()
     try:
-        reader = AnyReader([p])
+        reader = _any_reader(p)
         reader.open()
-    except FileNotFoundError:
+    except (FileNotFoundError, RecordingError):
         raise
     except Exception as exc:  # rosbags' own errors, struct/zstd/sqlite errors on damaged files
         raise RecordingError(f"{name}: cannot read the recording ({_reason(exc)})") from None
