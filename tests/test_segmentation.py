@@ -30,7 +30,7 @@ def _strokes(rest: list[float], moves: list[float], dt: float = 0.01, noise: flo
 
 def test_a_recording_is_split_at_its_pauses_and_trimmed() -> None:
     t, p, intervals = _strokes([1.0, 0.8, 1.5, 2.0], [2.0, 1.0, 1.5], noise=1e-5)
-    seg = segment_recording(t, p, speed=0.05, pause=0.5)
+    seg = segment_recording(t, p, speed=0.05, pause=0.5, window=0.02)
     assert len(seg.segments) == 3 and len(seg.pauses) == 2
     for (a, b), (start, stop) in zip(seg.segments, intervals, strict=True):
         assert abs(t[a] - start) <= 0.011 and abs(t[b - 1] - stop) <= 0.011
@@ -60,3 +60,31 @@ def test_no_motion_is_an_error_with_the_top_speed() -> None:
         segment_recording(t, np.zeros((50, 3)))
     with pytest.raises(ValueError, match="speed"):
         segment_recording(t, np.zeros((50, 3)), speed=-1.0)
+
+
+def test_sensor_noise_at_rest_is_not_motion() -> None:
+    """0.2 mm of noise at 100 Hz reads as 2.5 cm/s between samples, 1.4 mm/s over 0.2 s."""
+    t, p, intervals = _strokes([1.0, 1.0, 1.0], [0.5, 0.5], noise=2e-4)
+    p = p * 0.2  # strokes at 0.2 m/s
+    seg = segment_recording(t, p)  # defaults: 1 cm/s, 0.5 s, over 0.2 s
+    assert len(seg.segments) == 2
+    for (a, b), (start, stop) in zip(seg.segments, intervals, strict=True):
+        assert abs(t[a] - start) < 0.12 and abs(t[b - 1] - stop) < 0.12  # window/2 + a sample
+    jittery = segment_recording(t, p, window=0.01)  # neighbouring samples only
+    assert len(jittery.pauses) == 0 and jittery.trimmed == (0, 0)
+
+
+def test_moves_back_to_the_start_are_left_out_and_listed() -> None:
+    t = np.arange(0.0, 12.0, 0.01)
+    x = np.zeros_like(t)
+    for a, sign in ((1.0, 1), (3.5, -1), (6.0, 1), (8.5, -1)):  # out, back, out, back
+        x += sign * np.clip(t - a, 0.0, 1.0)
+    p = np.c_[x, 0 * x]
+    seg = segment_recording(t, p, returns="drop", window=0.02)
+    assert len(seg.segments) == 2 and len(seg.returns) == 2
+    for a, b in seg.segments:
+        assert p[b - 1, 0] - p[a, 0] > 0.99
+    assert seg.accounted() == len(t)
+    assert seg.table().count("left out a move back to the start") == 2
+    with pytest.raises(ValueError, match="returns: expected 'keep' or 'drop'"):
+        segment_recording(t, p, returns="skip")

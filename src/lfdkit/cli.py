@@ -392,7 +392,7 @@ def _import(args: argparse.Namespace) -> None:
     from lfdkit.segmentation import segment_recording
 
     demos, times, quats = [], [], []
-    total_pauses = 0
+    total_pauses = total_returns = 0
     for path in args.recordings:
         topics = list_topics(path)
         listing = "; ".join(str(t) for t in topics) or "none (the recording is empty)"
@@ -418,6 +418,7 @@ def _import(args: argparse.Namespace) -> None:
             pause=args.pause_time,
             split=args.split,
             trim=not args.no_trim,
+            returns="drop" if args.drop_returns else "keep",
         )
         start = time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(rec.start_ns // 10**9))
         _say(
@@ -429,6 +430,7 @@ def _import(args: argparse.Namespace) -> None:
             level=2,
         )
         total_pauses += len(seg.pauses)
+        total_returns += len(seg.returns)
         for a, b in seg.segments:
             demos.append(positions[a:b])
             times.append(rec.times[a:b])
@@ -440,6 +442,7 @@ def _import(args: argparse.Namespace) -> None:
         args,
         f"imported {len(demos)} demonstrations ({n} samples, {duration:.2f} s"
         + (f", split at {total_pauses} pauses" if args.split else "")
+        + (f", {total_returns} moves back to the start left out" if total_returns else "")
         + f") from {len(args.recordings)} recording{'s' * (len(args.recordings) > 1)}; "
         f"wrote {args.output}",
     )
@@ -1042,6 +1045,12 @@ def _import_options(parser: argparse.ArgumentParser) -> None:
         default=0.5,
         metavar="S",
         help="shortest pause that splits, seconds (default %(default)s)",
+    )
+    parser.add_argument(
+        "--drop-returns",
+        action="store_true",
+        help="with --split: leave out the pieces heading against the first one (moving back "
+        "to the start between demonstrations); -v lists them",
     )
     parser.add_argument(
         "--no-trim", action="store_true", help="keep the rest at both ends of each recording"

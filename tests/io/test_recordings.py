@@ -372,6 +372,7 @@ def test_import_splits_a_recording_at_its_pauses(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert "split at a pause of" in done.stderr
     assert "imported 3 demonstrations" in done.stderr
+    assert "moves back" not in done.stderr
     from lfdkit.io import load_demos
 
     demos, times, quats = load_demos(
