@@ -64,8 +64,8 @@ def test_no_motion_is_an_error_with_the_top_speed() -> None:
 
 def test_sensor_noise_at_rest_is_not_motion() -> None:
     """0.2 mm of noise at 100 Hz reads as 2.5 cm/s between samples, 1.4 mm/s over 0.2 s."""
-    t, p, intervals = _strokes([1.0, 1.0, 1.0], [0.5, 0.5], noise=2e-4)
-    p = p * 0.2  # strokes at 0.2 m/s
+    t, p, intervals = _strokes([1.0, 1.0, 1.0], [0.5, 0.5])
+    p = 0.2 * p + np.random.default_rng(1).normal(0, 2e-4, p.shape)  # strokes at 0.2 m/s
     seg = segment_recording(t, p)  # defaults: 1 cm/s, 0.5 s, over 0.2 s
     assert len(seg.segments) == 2
     for (a, b), (start, stop) in zip(seg.segments, intervals, strict=True):
