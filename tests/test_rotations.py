@@ -117,8 +117,13 @@ def test_orientation_columns_round_trip(tmp_path) -> None:
     plain = save_demos(tmp_path / "p.csv", demos, times=times)
     assert load_demos(plain, return_orientations=True)[1] == [None, None]
     assert len(load_demos(path)) == 2
-    with pytest.raises(ValueError, match=r"\.csv files only"):
-        save_demos(tmp_path / "d.json", demos, orientations=quats)
+    for suffix in (".npz", ".json"):  # per demonstration there: one may have none
+        f = save_demos(tmp_path / f"d{suffix}", demos, times=times, orientations=[None, quats[1]])
+        back = load_demos(f, return_orientations=True)[1]
+        assert back[0] is None
+        np.testing.assert_allclose(back[1], quats[1], rtol=0, atol=1e-15)
+    with pytest.raises(ValueError, match="all demonstrations or none"):
+        save_demos(tmp_path / "some.csv", demos, orientations=[None, quats[1]])
     bad = [quats[0], quats[1] * 3.0]
     with pytest.raises(ValueError, match=r"orientations\[1\]: row 0 has norm 3"):
         save_demos(tmp_path / "bad.csv", demos, orientations=bad)
@@ -139,3 +144,20 @@ def test_bad_orientation_cells_name_the_line(tmp_path) -> None:
     f.write_text("demo,x,y,qx,qy,qz,qw\n0,0,0,0,0,0,nan\n0,1,0,0,0,0,1\n")
     with pytest.raises(ValueError, match="line 2"):
         load_demos(f)
+
+
+def test_bad_orientations_in_npz_and_json(tmp_path) -> None:
+    f = tmp_path / "d.npz"
+    np.savez(f, demo_0=np.array([[0.0, 0], [1, 0], [2, 0]]), quat_0=np.ones((3, 4)))
+    with pytest.raises(ValueError, match=r"array 'quat_0': row 0 has norm 2"):
+        load_demos(f)
+    np.savez(f, demo_0=np.array([[0.0, 0], [1, 0]]), quat_1=np.array([[0, 0, 0, 1.0]] * 2))
+    with pytest.raises(ValueError, match="'quat_1' has no matching 'demo_1'"):
+        load_demos(f)
+    j = tmp_path / "d.json"
+    j.write_text(
+        '{"format": "lfdkit-demos", "version": 1, "n_dims": 2, "demos": '
+        '[{"points": [[0, 0], [1, 0]], "q": [[0, 0, 0, 1]]}]}'
+    )
+    with pytest.raises(ValueError, match=r"demos\[0\] \(id 0\) field 'q': expected 2 quaternions"):
+        load_demos(j)

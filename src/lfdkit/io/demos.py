@@ -13,14 +13,16 @@ The format is chosen from the file suffix (case-insensitive):
     A header row, then one row per sample. Columns: ``demo`` (the
     demonstration id, integer or string, without surrounding spaces),
     optionally ``t`` or ``time`` (seconds), and the coordinates, named
-    ``x, y[, z]`` or ``x1, x2, ..., xq``. The rows of one demonstration are
+    ``x, y[, z]`` or ``x1, x2, ..., xq``, optionally the tool orientation
+    ``qx, qy, qz, qw`` (a unit quaternion, all four or none). The rows of one demonstration are
     consecutive, in time order; demonstrations are in file order. Numbers are
     decimal (``-0.5``, ``1e-3``; not ``0_5``, ``nan`` or ``inf``). Blank lines
     and lines starting with ``#`` are ignored. Columns with other names are
     ignored.
 ``.npz``
     Arrays ``demo_0, demo_1, ...`` (each ``(n_points_j, n_dims)``), optionally
-    ``time_j`` for any ``j`` and ``ids`` (1-D, one per demonstration); or a
+    ``time_j`` and ``quat_j`` (orientations, ``(n_points_j, 4)``) for any
+    ``j`` and ``ids`` (1-D, one per demonstration); or a
     single 3-D array ``demos`` of shape ``(n_demos, n_points, n_dims)`` with an
     optional 2-D ``times`` of shape ``(n_demos, n_points)``. Coordinates and
     times are real (float or integer dtype; complex, boolean, date and text
@@ -29,8 +31,9 @@ The format is chosen from the file suffix (case-insensitive):
     array needed is read once, after its size is checked.)
 ``.json``
     ``{"format": "lfdkit-demos", "version": 1, "n_dims": q, "demos":
-    [{"id": ..., "points": [[x, y], ...], "t": [...]}, ...]}`` with ``"t"``
-    (and ``"id"``) optional per demonstration.
+    [{"id": ..., "points": [[x, y], ...], "t": [...], "q": [[qx, qy, qz, qw],
+    ...]}, ...]}`` with ``"t"``, ``"q"`` (and ``"id"``) optional per
+    demonstration.
 
 Writing is atomic (see :func:`lfdkit.io.atomic.atomic_write`) and floats
 are written so that a load after a save gives back bit-identical arrays in
@@ -119,6 +122,7 @@ that are not demonstrations, times or ids are never decompressed."""
 _INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
 _NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
 _NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
+_NPZ_QUAT = re.compile(r"quat_(0|[1-9][0-9]*)")
 
 
 # --------------------------------------------------------------------------- #
@@ -198,7 +202,7 @@ def load_demos(
         Only if ``return_orientations``: unit quaternions ``[x, y, z, w]``
         (normalised; a row whose norm is off 1 by more than
         :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is an error), ``None``
-        for a file without them (NPZ and JSON files hold none).
+        for a demonstration stored without them.
 
     Raises
     ------
@@ -220,11 +224,9 @@ def load_demos(
     if fmt == ".csv":
         demos, times, ids, quats = _read_csv(fname)
     elif fmt == ".npz":
-        demos, times, ids = _read_npz(fname)
-        quats = [None] * len(demos)
+        demos, times, ids, quats = _read_npz(fname)
     else:
-        demos, times, ids = _read_json(fname)
-        quats = [None] * len(demos)
+        demos, times, ids, quats = _read_json(fname)
     out: list[Any] = [demos]
     if return_times:
         out.append(times)
@@ -266,11 +268,12 @@ def save_demos(
         ``"7"`` clash). A ``str`` id must be non-empty, without surrounding
         whitespace or line breaks, and must not start with ``#``. Defaults to
         ``0, 1, ..., n_demos - 1``.
-    orientations : sequence of array_like, each shape (n_points_j, 4), optional
+    orientations : sequence of (array_like, shape (n_points_j, 4), or None), optional
         Tool orientations as unit quaternions ``[x, y, z, w]``, one per
-        sample, for every demonstration: CSV columns ``qx, qy, qz, qw``
-        (CSV only). Each row is normalised; NaN/inf or a norm off 1 by more
-        than :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is refused.
+        sample: CSV columns ``qx, qy, qz, qw`` (for all demonstrations or
+        none), NPZ arrays ``quat_j``, JSON fields ``"q"``. Each row is
+        normalised; NaN/inf or a norm off 1 by more than
+        :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is refused.
     overwrite : bool
         Replace an existing file. When false an existing file raises
         ``FileExistsError``.
@@ -313,6 +316,8 @@ def save_demos(
             arrays[f"demo_{j}"] = a
             if t is not None:
                 arrays[f"time_{j}"] = t
+            if quats is not None and quats[j] is not None:
+                arrays[f"quat_{j}"] = quats[j]
         if ids is not None:
             arrays["ids"] = np.array([str(i) for i in id_list], dtype=np.str_)
 
@@ -321,7 +326,7 @@ def save_demos(
 
         return atomic_write(fname, write_npz, binary=True, overwrite=overwrite)
 
-    return write_text(fname, _json_text(arrs, time_arrs, id_list), overwrite=overwrite)
+    return write_text(fname, _json_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
 
 
 def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
@@ -410,7 +415,7 @@ def _csv_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
-    quats: list[np.ndarray] | None = None,
+    quats: list[np.ndarray | None] | None = None,
 ) -> str:
     f = io.StringIO()
     q = demos[0].shape[1]
@@ -421,7 +426,7 @@ def _csv_text(
     for j, (a, t, i) in enumerate(zip(demos, times, ids, strict=True)):
         sid = str(i)
         tl = t.tolist() if t is not None else None
-        ql = quats[j].tolist() if quats is not None else None
+        ql = quats[j].tolist() if quats is not None and quats[j] is not None else None
         for k, row in enumerate(a.tolist()):
             # repr() of a Python float is the shortest string that reads back exactly.
             w.writerow(
@@ -437,21 +442,25 @@ def _csv_text(
 
 def _check_orientations(
     orientations: Sequence[Any | None] | None, demos: list[np.ndarray], fmt: str
-) -> list[np.ndarray] | None:
-    """Unit quaternions per demonstration (normalised), or None; CSV files only."""
+) -> list[np.ndarray | None] | None:
+    """Unit quaternions per demonstration (normalised) or None; CSV needs all or none."""
     if orientations is None:
         return None
-    if fmt != ".csv":
+    if len(orientations) != len(demos):
         raise ValueError(
-            f"orientations: stored in .csv files only (columns qx, qy, qz, qw), not {fmt}"
+            f"orientations: expected one (n_points_j, 4) array or None for each of the "
+            f"{len(demos)} demonstrations, got {len(orientations)}"
         )
-    if len(orientations) != len(demos) or any(o is None for o in orientations):
+    given = [o is not None for o in orientations]
+    if not any(given):
+        return None
+    if fmt == ".csv" and not all(given):
         raise ValueError(
-            f"orientations: expected one (n_points_j, 4) array for each of the {len(demos)} "
-            "demonstrations"
+            "orientations: a CSV file stores orientations for all demonstrations or none; "
+            "orientations has None for some demonstrations only"
         )
     return [
-        check_quaternions(o, f"orientations[{j}]", n=len(d))
+        None if o is None else check_quaternions(o, f"orientations[{j}]", n=len(d))
         for j, (o, d) in enumerate(zip(orientations, demos, strict=True))
     ]
 
@@ -696,9 +705,19 @@ class _RefusedArray(ValueError):
 
 def _read_npz(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
     with _NpzArchive(fname) as npz:
-        return _read_npz_arrays(fname, npz)
+        demos, times, ids = _read_npz_arrays(fname, npz)
+        quat_idx = sorted(int(m.group(1)) for k in npz.members if (m := _NPZ_QUAT.fullmatch(k)))
+        stray = [k for k in quat_idx if k >= len(demos)]
+        if stray:
+            raise ValueError(f"{fname}: array 'quat_{stray[0]}' has no matching 'demo_{stray[0]}'")
+        quats: list[np.ndarray | None] = [None] * len(demos)
+        for j in quat_idx:
+            quats[j] = check_quaternions(
+                npz.read(f"quat_{j}"), f"{fname}: array 'quat_{j}'", n=len(demos[j])
+            )
+    return demos, times, ids, quats
 
 
 def _read_npz_arrays(
@@ -793,6 +812,7 @@ def _json_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
+    quats: list[np.ndarray | None] | None = None,
 ) -> str:
     # One demonstration per line keeps the file readable and diff-friendly.
     # json writes floats with repr(), so values read back exactly.
@@ -806,6 +826,8 @@ def _json_text(
         item: dict[str, Any] = {"id": i, "points": a.tolist()}
         if t is not None:
             item["t"] = t.tolist()
+        if quats is not None and quats[j] is not None:
+            item["q"] = quats[j].tolist()
         sep = "," if j < len(demos) - 1 else ""
         buf.write(f"    {json.dumps(item, allow_nan=False)}{sep}\n")
     buf.write("  ]\n}\n")
@@ -814,7 +836,7 @@ def _json_text(
 
 def _read_json(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
     doc = json_document(fname, JSON_FORMAT, JSON_VERSION, "demonstrations")
     q = doc.get("n_dims")
     if isinstance(q, bool) or not isinstance(q, int) or q < 2:
@@ -826,6 +848,7 @@ def _read_json(
     demos: list[np.ndarray] = []
     times: list[np.ndarray | None] = []
     ids: list[DemoId] = []
+    quats: list[np.ndarray | None] = []
     seen: dict[str, int] = {}
     for j, item in enumerate(items):
         where = f"{fname}: demos[{j}]"
@@ -857,5 +880,14 @@ def _read_json(
             if item.get("t") is not None
             else None
         )
+        quats.append(
+            check_quaternions(
+                json_float_array(item["q"], f"{fname}: demos[{j}].q", 2),
+                f"{where} (id {did!r}) field 'q'",
+                n=arr.shape[0],
+            )
+            if item.get("q") is not None
+            else None
+        )
         ids.append(did)
-    return check_demos(demos, fname, n_dims=q), times, ids
+    return check_demos(demos, fname, n_dims=q), times, ids, quats
