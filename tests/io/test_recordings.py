@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from lfdkit import rotations as rot
 from lfdkit.io.recordings import (
     RecordingError,
     list_topics,
@@ -448,3 +449,90 @@ def test_without_rosbags_the_error_says_how_to_install(tmp_path: Path, monkeypat
     monkeypatch.setitem(sys.modules, "rosbags.highlevel", None)  # import fails
     with pytest.raises(RecordingError, match=r'^reading ROS bags .* pip install "lfdkit\[ros\]"$'):
         list_topics(out)
+
+
+def test_two_moving_links_are_interpolated_exactly_where_the_motion_is_linear(
+    tmp_path: Path,
+) -> None:
+    """world->base at 10 Hz (straight line, constant turn about z), base->tool at 100 Hz.
+
+    Linear interpolation of a straight-line translation and slerp of a
+    constant-rate turn about a fixed axis are exact, so the chain is known in
+    closed form at the tool's stamps; the tool's samples outside the base's
+    span are left out, with a note.
+    """
+    t0 = 1_700_000_000 * 10**9
+
+    def base_at(ns):
+        s = (ns - t0) * 1e-9
+        return np.c_[0.1 * s, -0.2 * s, 0 * s], rot.exp(np.c_[0 * s, 0 * s, 0.15 * s])
+
+    base_ns = t0 + np.arange(0, 21) * 100_000_000  # 0 .. 2 s
+    tool_ns = t0 - 50_000_000 + np.arange(0, 220) * 10_000_000  # -0.05 .. 2.14 s
+    bp, bq = base_at(base_ns)
+    rng = np.random.default_rng(14)
+    tp = rng.normal(0, 0.1, (len(tool_ns), 3))
+    tq = rot.exp(rng.normal(0, 0.3, (len(tool_ns), 3)))
+
+    def tf(ns, p, q, parent, child):
+        return [
+            Sample(int(n), int(n), transforms=[Sample(int(n), int(n), pp, qq, parent, child)])
+            for n, pp, qq in zip(ns, p, q, strict=True)
+        ]
+
+    out = write_recording(
+        tmp_path / "two",
+        "mcap",
+        {
+            "/tf": (
+                "tf2_msgs/msg/TFMessage",
+                tf(base_ns, bp, bq, "world", "base") + tf(tool_ns, tp, tq, "base", "tool"),
+            )
+        },
+    )
+    rec = read_poses(out, "/tf", frame=("world", "tool"))
+    inside = (tool_ns >= base_ns[0]) & (tool_ns <= base_ns[-1])
+    assert len(rec.times) == inside.sum() == 201
+    assert any("outside the time span" in n for n in rec.notes)
+    wp, wq = base_at(tool_ns[inside])
+    want_p = wp + np.einsum("nij,nj->ni", rot.matrix_from_quaternion(wq), tp[inside])
+    np.testing.assert_allclose(rec.positions, want_p, atol=1e-12)
+    assert rot.angle_between(rec.orientations, rot.multiply(wq, tq[inside])).max() < 1e-12
+    np.testing.assert_allclose(rec.times, (tool_ns[inside] - t0) * 1e-9, atol=1e-9)
+
+
+def test_import_joint_states_on_the_command_line(tmp_path: Path) -> None:
+    from lfdkit.robot.ur5 import forward
+
+    ns, _, _ = random_trajectory(30, seed=15)
+    u = np.linspace(0, 1, 30)[:, None]
+    qs = np.array([0.0, -1.2, 1.4, -1.8, -1.57, 0.0]) + u * [0.6, 0.2, -0.3, 0.1, 0.0, 0.4]
+    samples = [
+        Sample(int(n), int(n), joints=dict(zip(UR, map(float, row), strict=True)))
+        for n, row in zip(ns, qs, strict=True)
+    ]
+    out = write_recording(
+        tmp_path / "js", "ros1", {"/joint_states": ("sensor_msgs/msg/JointState", samples)}
+    )
+    done = _lfdkit(
+        "import", str(out), "--topic", "/joint_states", "--no-trim", "-o", "d.csv", cwd=tmp_path
+    )
+    assert done.returncode == 0, done.stderr
+    from lfdkit.io import load_demos
+
+    (d,), (q,) = load_demos(tmp_path / "d.csv", return_orientations=True)
+    T = forward(qs)
+    np.testing.assert_allclose(d, T[:, :3, 3], atol=1e-12)
+    assert rot.angle_between(q, rot.quaternion_from_matrix(T[:, :3, :3])).max() < 1e-9
+    frame = _lfdkit(
+        "import",
+        str(out),
+        "--topic",
+        "/joint_states",
+        "--frame",
+        "a:b",
+        "-o",
+        "e.csv",
+        cwd=tmp_path,
+    )
+    assert frame.returncode == 2 and "--frame applies to tf topics" in frame.stderr

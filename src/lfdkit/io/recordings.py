@@ -585,10 +585,11 @@ def _edge_at(
     if edge is main:
         return t[keep], q[keep]
     k, e_ns, _, _ = _order(edge.ns, edge.from_header)
-    t, q, e_ns = t[k], continuous(q[k]), e_ns.astype(np.float64)
+    t, q = t[k], continuous(q[k])
     j = np.clip(np.searchsorted(e_ns, ns, side="right") - 1, 0, max(len(e_ns) - 2, 0))
     if len(e_ns) == 1:
         return np.repeat(t, len(ns), axis=0), np.repeat(q, len(ns), axis=0)
+    # differences in integer nanoseconds: as floats, epoch times carry 256 ns of rounding
     u = np.clip((ns - e_ns[j]) / (e_ns[j + 1] - e_ns[j]), 0.0, 1.0)
     return t[j] + u[:, None] * (t[j + 1] - t[j]), slerp(q[j], q[j + 1], u)
 
