@@ -329,13 +329,13 @@ def _need_samples(n: int, name: str, topic: str) -> None:
 # --------------------------------------------------------------------------- #
 
 
-def _pose_of(msg: Any, msgtype: str) -> tuple[Any, Any]:
-    """(position-like, quaternion-like) of a pose message."""
-    if msgtype.endswith("/TransformStamped"):
-        return msg.transform.translation, msg.transform.rotation
-    if msgtype.endswith("/PoseStamped"):
-        return msg.pose.position, msg.pose.orientation
-    return msg.pose.pose.position, msg.pose.pose.orientation  # Odometry, ...WithCovariance
+#: (position-like, quaternion-like) of each pose message type, by its short name.
+_POSE_OF = {
+    "PoseStamped": lambda m: (m.pose.position, m.pose.orientation),
+    "PoseWithCovarianceStamped": lambda m: (m.pose.pose.position, m.pose.pose.orientation),
+    "Odometry": lambda m: (m.pose.pose.position, m.pose.pose.orientation),
+    "TransformStamped": lambda m: (m.transform.translation, m.transform.rotation),
+}
 
 
 def _xyz(v: Any) -> list[float]:
@@ -391,19 +391,22 @@ def read_poses(
                 f"{name}: a frame pair applies to tf2_msgs/TFMessage topics; "
                 f"{topic!r} holds {msgtype}"
             )
-        stamps, headers, pos, quat = [], [], [], []
+        # One flat row per message, built inline: this loop is the import's own cost
+        # beside rosbags' deserialisation (benchmarks/recordings.py).
+        rows: list[tuple] = []
+        add = rows.append
+        pose_of = {c.msgtype: _POSE_OF[c.msgtype.rsplit("/", 1)[-1]] for c in conns}
         for conn, received, msg in _messages(reader, conns, name):
-            ns, has = _stamp_ns(msg, received)
-            p, q = _pose_of(msg, conn.msgtype)
-            stamps.append(ns)
-            headers.append(has)
-            pos.append(_xyz(p))
-            quat.append(_xyzw(q))
-    _need_samples(len(stamps), name, topic)
-    keep, ns, source, notes = _order(stamps, headers)
+            stamp = msg.header.stamp
+            ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+            p, q = pose_of[conn.msgtype](msg)
+            add((ns or received, ns != 0, p.x, p.y, p.z, q.x, q.y, q.z, q.w))
+    _need_samples(len(rows), name, topic)
+    keep, ns, source, notes = _order([r[0] for r in rows], [r[1] for r in rows])
     _need_samples(len(keep), name, topic)
-    positions = np.asarray(pos, dtype=np.float64)[keep]
-    orientations = _unit(np.asarray(quat, dtype=np.float64)[keep], name, topic)
+    table = np.array([r[2:] for r in rows], dtype=np.float64)[keep]
+    positions = np.ascontiguousarray(table[:, :3])
+    orientations = _unit(table[:, 3:], name, topic)
     times, start = _seconds(ns)
     _finite(positions, name, topic)
     return PoseRecording(
