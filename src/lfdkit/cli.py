@@ -386,6 +386,8 @@ def _frame_pair(text: str) -> tuple[str, str]:
 
 
 def _import(args: argparse.Namespace) -> None:
+    speed = _positive(args.pause_speed, "--pause-speed", "a positive speed (units/s)")
+    pause = _positive(args.pause_time, "--pause-time", "a positive number of seconds")
     _refuse_existing(args.output, args.force)
     from lfdkit.io import save_demos
     from lfdkit.io.recordings import JOINT_STATE, list_topics, read_poses
@@ -411,15 +413,24 @@ def _import(args: argparse.Namespace) -> None:
         for note in rec.notes:
             _say(args, f"{path}: {note}")
         positions = rec.positions[:, :2] if args.planar else rec.positions
-        seg = segment_recording(
-            rec.times,
-            positions,
-            speed=args.pause_speed,
-            pause=args.pause_time,
-            split=args.split,
-            trim=not args.no_trim,
-            returns="drop" if args.drop_returns else "keep",
-        )
+        try:
+            seg = segment_recording(
+                rec.times,
+                positions,
+                speed=speed,
+                pause=pause,
+                split=args.split,
+                trim=not args.no_trim,
+                returns="drop" if args.drop_returns else "keep",
+            )
+        except ValueError as exc:
+            if "never move" not in str(exc):
+                raise
+            top = str(exc).split("top speed ", 1)[1].split(")")[0]
+            raise CommandError(
+                f"{path}: the tool never moves faster than --pause-speed {speed:g} units/s "
+                f"(top speed {top}): nothing to import; lower --pause-speed"
+            ) from None
         start = time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(rec.start_ns // 10**9))
         _say(
             args,
@@ -1034,15 +1045,13 @@ def _import_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--pause-speed",
-        type=float,
-        default=0.01,
+        default="0.01",
         metavar="V",
         help="at rest below this speed, recording units/s (default %(default)s: 1 cm/s)",
     )
     parser.add_argument(
         "--pause-time",
-        type=float,
-        default=0.5,
+        default="0.5",
         metavar="S",
         help="shortest pause that splits, seconds (default %(default)s)",
     )

@@ -536,3 +536,53 @@ def test_import_joint_states_on_the_command_line(tmp_path: Path) -> None:
         cwd=tmp_path,
     )
     assert frame.returncode == 2 and "--frame applies to tf topics" in frame.stderr
+
+
+def test_import_options_and_a_recording_at_rest(tmp_path: Path) -> None:
+    ns, pos, q = random_trajectory(20, seed=16)
+    still = np.tile(pos[:1], (20, 1))
+    out = write_recording(
+        tmp_path / "r", "mcap", {"/p": ("geometry_msgs/msg/PoseStamped", _samples(ns, still, q))}
+    )
+    done = _lfdkit("import", str(out), "--topic", "/p", "-o", "d.csv", cwd=tmp_path)
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines() == [
+        f"lfdkit import: error: {out}: the tool never moves faster than --pause-speed 0.01 "
+        "units/s (top speed 0): nothing to import; lower --pause-speed"
+    ]
+    bad = _lfdkit(
+        "import", str(out), "--topic", "/p", "--pause-time", "-1", "-o", "d.csv", cwd=tmp_path
+    )
+    assert bad.returncode == 2 and "--pause-time: expected a positive number" in bad.stderr
+
+
+@pytest.mark.parametrize(
+    "kind", ["ros1-lz4", "ros1-bz2", "mcap-message", "sqlite3-message", "mcap-file"]
+)
+def test_compressed_recordings(tmp_path: Path, kind: str, monkeypatch) -> None:
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.rosbag2 import Writer as Writer2
+    from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
+
+    fmt, algo = kind.split("-")
+    if fmt == "ros1":
+        setup = Writer1.open
+
+        def compressed(self):
+            self.set_compression(getattr(Writer1.CompressionFormat, algo.upper()))
+            setup(self)
+
+        monkeypatch.setattr(Writer1, "open", compressed)
+    else:
+        setup2 = Writer2.open
+
+        def compressed2(self):
+            self.set_compression(getattr(CompressionMode, algo.upper()), CompressionFormat.ZSTD)
+            setup2(self)
+
+        monkeypatch.setattr(Writer2, "open", compressed2)
+    ns, pos, q = random_trajectory(30, seed=17)
+    out = write_recording(
+        tmp_path / "c", fmt, {"/p": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q))}
+    )
+    np.testing.assert_allclose(read_poses(out, "/p").positions, pos, atol=1e-12)
