@@ -586,3 +586,28 @@ def test_compressed_recordings(tmp_path: Path, kind: str, monkeypatch) -> None:
         tmp_path / "c", fmt, {"/p": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q))}
     )
     np.testing.assert_allclose(read_poses(out, "/p").positions, pos, atol=1e-12)
+
+
+def test_joint_states_of_two_publishers_on_one_topic(tmp_path: Path) -> None:
+    """An arm and its gripper publish /joint_states: the gripper's messages are left out."""
+    from lfdkit.io.recordings import joint_names
+    from lfdkit.robot.recordings import tool_poses_from_joint_states
+
+    ns, _, _ = random_trajectory(12, seed=18)
+    samples = []
+    for k, n in enumerate(ns):
+        if k % 3 == 1:
+            samples.append(Sample(int(n), int(n), joints={"finger_joint": 0.02}))
+        else:
+            samples.append(Sample(int(n), int(n), joints={j: 0.1 * k for j in UR}))
+    out = write_recording(
+        tmp_path / "js", "sqlite3", {"/joint_states": ("sensor_msgs/msg/JointState", samples)}
+    )
+    assert joint_names(out, "/joint_states") == (*UR, "finger_joint")
+    rec = tool_poses_from_joint_states(out, "/joint_states")
+    assert len(rec.times) == 8
+    assert rec.notes == (
+        "4 messages without the joints read (another publisher's, e.g. finger_joint) left out",
+    )
+    with pytest.raises(RecordingError, match="no message has the joints elbow"):
+        read_joint_states(out, "/joint_states", joints=("elbow",))

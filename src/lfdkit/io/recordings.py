@@ -67,6 +67,7 @@ __all__ = [
     "PoseRecording",
     "RecordingError",
     "Topic",
+    "joint_names",
     "list_topics",
     "read_joint_states",
     "read_poses",
@@ -602,6 +603,21 @@ def _edge_at(
 # --------------------------------------------------------------------------- #
 
 
+def joint_names(path: PathLike, topic: str) -> tuple[str, ...]:
+    """Every joint named on a ``sensor_msgs/JointState`` topic, in order of first appearance.
+
+    Several publishers may share the topic (an arm and its gripper); this is
+    the union of their joints.
+    """
+    name = os.fspath(path)
+    names: dict[str, None] = {}
+    with _open(path) as reader:
+        conns = _connections(reader, path, topic, (JOINT_STATE,))
+        for _, _, msg in _messages(reader, conns, name):
+            names.update(dict.fromkeys(str(n) for n in msg.name))
+    return tuple(names)
+
+
 def read_joint_states(
     path: PathLike, topic: str, *, joints: tuple[str, ...] | None = None
 ) -> JointRecording:
@@ -616,17 +632,21 @@ def read_joint_states(
     joints : tuple of str, optional
         The joints to read, in this column order (other joints of the
         messages, a gripper's, are left out). By default the names of the
-        first message. Messages that name no joints are read by position.
+        first message. Messages that name no joints are read by position;
+        messages without all of ``joints`` (another publisher's on the same
+        topic) are left out, with a note.
 
     Raises
     ------
     RecordingError
-        As :func:`read_poses`, and if a message lacks one of ``joints``.
+        As :func:`read_poses`, and if no message has all of ``joints``.
     """
     name = os.fspath(path)
     with _open(path) as reader:
         conns = _connections(reader, path, topic, (JOINT_STATE,))
         stamps, headers, rows = [], [], []
+        others: list[int] = []
+        other_names: tuple[str, ...] = ()
         wanted = None if joints is None else tuple(joints)
         for k, (_, received, msg) in enumerate(_messages(reader, conns, name)):
             names = tuple(str(n) for n in msg.name)
@@ -636,11 +656,11 @@ def read_joint_states(
             if names:
                 index = {n: i for i, n in enumerate(names)}
                 missing = [j for j in wanted if j not in index]
-                if missing:
-                    raise RecordingError(
-                        f"{name}: topic {topic!r} message {k} has no joint {missing[0]!r}; "
-                        f"its joints: {', '.join(names)}"
-                    )
+                if missing:  # another publisher's joints on the same topic (a gripper's)
+                    others.append(k)
+                    if len(others) == 1:
+                        other_names = names
+                    continue
                 if len(values) != len(names):
                     raise RecordingError(
                         f"{name}: topic {topic!r} message {k} names {len(names)} joints but "
@@ -656,8 +676,19 @@ def read_joint_states(
             stamps.append(ns)
             headers.append(has)
             rows.append(values)
+    if others and not stamps:
+        raise RecordingError(
+            f"{name}: topic {topic!r}: no message has the joints {', '.join(wanted or ())}; "
+            f"message {others[0]} has {', '.join(other_names)}"
+        )
     _need_samples(len(stamps), name, topic)
     keep, ns, source, notes = _order(stamps, headers)
+    if others:
+        notes.insert(
+            0,
+            f"{len(others)} messages without the joints read (another publisher's, e.g. "
+            f"{', '.join(other_names)}) left out",
+        )
     positions = np.asarray(rows, dtype=np.float64)[keep]
     _finite(positions, name, topic)
     times, start = _seconds(ns)

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.demos import PathLike
-from lfdkit.io.recordings import PoseRecording, RecordingError, read_joint_states
+from lfdkit.io.recordings import PoseRecording, RecordingError, joint_names, read_joint_states
 from lfdkit.robot.arm import UR5, Arm
 from lfdkit.robot.ur5 import forward
 from lfdkit.rotations import continuous, quaternion_from_matrix
@@ -72,8 +72,7 @@ def tool_poses_from_joint_states(
     """
     wanted = joints
     if wanted is None:
-        raw = read_joint_states(path, topic)
-        wanted = _ur_names(raw.names, arm, path, topic)
+        wanted = _ur_names(joint_names(path, topic), arm, path, topic)
     rec = read_joint_states(path, topic, joints=wanted)
     if rec.positions.shape[1] != arm.n_joints:
         raise RecordingError(
