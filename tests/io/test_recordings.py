@@ -174,6 +174,8 @@ def test_tf_errors_name_the_frames(tmp_path: Path) -> None:
         read_poses(out, "/tf")
     with pytest.raises(RecordingError, match=r"no frame 'map'.*frames present: base, tool"):
         read_poses(out, "/tf", frame=("map", "tool"))
+    with pytest.raises(RecordingError, match="names 'tool' twice"):
+        read_poses(out, "/tf", frame=("/tool", "tool"))
     with pytest.raises(RecordingError, match="applies to tf2_msgs/TFMessage"):
         write = write_recording(
             tmp_path / "p",

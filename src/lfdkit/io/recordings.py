@@ -451,14 +451,12 @@ def _frame(name: str) -> str:
     return name.lstrip("/")  # ROS 1 tf wrote "/base_link"
 
 
-def _collect_tf(
-    reader: Any, conns: list[Any], name: str, topic: str
-) -> tuple[dict[str, _Edge], list[str]]:
+def _collect_tf(reader: Any, conns: list[Any], name: str) -> dict[str, _Edge]:
+    """Every transform of ``conns`` and of /tf_static, by child frame."""
     static_conns = [
         c for c in reader.connections if c.topic == _TF_STATIC and c.msgtype.endswith("/TFMessage")
     ]
     edges: dict[str, _Edge] = {}
-    notes: list[str] = []
     wanted = {id(c) for c in conns} | {id(c) for c in static_conns}
     every = [c for c in reader.connections if id(c) in wanted]
     for conn, received, msg in _messages(reader, every, name):
@@ -482,11 +480,11 @@ def _collect_tf(
                 edge.from_header.append(has)
             edge.t.append(_xyz(tr.transform.translation))
             edge.q.append(_xyzw(tr.transform.rotation))
-    return edges, notes
+    return edges
 
 
 def _frame_pairs(reader: Any, conns: list[Any], name: str) -> str:
-    edges, _ = _collect_tf(reader, conns, name, "")
+    edges = _collect_tf(reader, conns, name)
     pairs = [f"{e.parent}:{child}" for child, e in sorted(edges.items())]
     return ", ".join(pairs[:20]) + (f" and {len(pairs) - 20} more" if len(pairs) > 20 else "")
 
@@ -505,7 +503,10 @@ def _read_tf(
     reader: Any, conns: list[Any], name: str, topic: str, frame: tuple[str, str]
 ) -> PoseRecording:
     parent, child = (_frame(f) for f in frame)
-    edges, notes = _collect_tf(reader, conns, name, topic)
+    if parent == child:
+        raise RecordingError(f"{name}: the frame pair names {parent!r} twice; give PARENT:CHILD")
+    edges = _collect_tf(reader, conns, name)
+    notes: list[str] = []
     known = sorted({*edges, *(e.parent for e in edges.values())})
     for f in (parent, child):
         if f not in known:
