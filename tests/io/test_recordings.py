@@ -613,3 +613,71 @@ def test_joint_states_of_two_publishers_on_one_topic(tmp_path: Path) -> None:
     )
     with pytest.raises(RecordingError, match="no message has the joints elbow"):
         read_joint_states(out, "/joint_states", joints=("elbow",))
+
+
+POSE_STAMPED_MSG = """std_msgs/Header header
+geometry_msgs/Pose pose
+================================================================================
+MSG: std_msgs/Header
+builtin_interfaces/Time stamp
+string frame_id
+================================================================================
+MSG: builtin_interfaces/Time
+int32 sec
+uint32 nanosec
+================================================================================
+MSG: geometry_msgs/Pose
+geometry_msgs/Point position
+geometry_msgs/Quaternion orientation
+================================================================================
+MSG: geometry_msgs/Point
+float64 x
+float64 y
+float64 z
+================================================================================
+MSG: geometry_msgs/Quaternion
+float64 x
+float64 y
+float64 z
+float64 w
+"""
+
+
+def test_a_plain_mcap_written_by_the_mcap_tools(tmp_path: Path) -> None:
+    """Foxglove's mcap-ros2 writer: types spelt pkg/Name, no rosbag2 metadata."""
+    writer_module = pytest.importorskip("mcap_ros2.writer", reason="pip install mcap-ros2-support")
+    ns, pos, q = random_trajectory(12, seed=19)
+    path = tmp_path / "plain.mcap"
+    with open(path, "wb") as f:
+        w = writer_module.Writer(f)
+        schema = w.register_msgdef("geometry_msgs/PoseStamped", POSE_STAMPED_MSG)
+        for n, p, o in zip(ns.tolist(), pos.tolist(), q.tolist(), strict=True):
+            message = {
+                "header": {"stamp": {"sec": n // 10**9, "nanosec": n % 10**9}, "frame_id": "b"},
+                "pose": {
+                    "position": dict(zip("xyz", p, strict=True)),
+                    "orientation": dict(zip("xyzw", o, strict=True)),
+                },
+            }
+            w.write_message("/tool_pose", schema, message, log_time=n + 5, publish_time=n)
+        w.finish()
+    assert list_topics(path)[0].msgtype == "geometry_msgs/msg/PoseStamped"
+    rec = read_poses(path, "/tool_pose")
+    np.testing.assert_allclose(rec.positions, pos, atol=1e-12)
+    np.testing.assert_allclose(rec.times, (ns - ns[0]) * 1e-9, atol=1e-9)
+
+
+def test_an_mcap_of_json_messages_is_refused_with_the_reason(tmp_path: Path) -> None:
+    mcap_writer = pytest.importorskip("mcap.writer", reason="pip install mcap")
+    path = tmp_path / "json.mcap"
+    with open(path, "wb") as f:
+        w = mcap_writer.Writer(f)
+        w.start()
+        sid = w.register_schema(name="Pose", encoding="jsonschema", data=b'{"type":"object"}')
+        cid = w.register_channel(topic="/tool_pose", message_encoding="json", schema_id=sid)
+        for i in range(3):
+            w.add_message(channel_id=cid, log_time=i, data=b'{"x": 1}', publish_time=i)
+        w.finish()
+    with pytest.raises(RecordingError, match="an MCAP file without ROS 2 messages") as exc:
+        read_poses(path, "/tool_pose")
+    _one_line(exc)

@@ -14,8 +14,9 @@ Recordings
 ``NAME.mcap`` / ``NAME.db3``
     One storage file of a ROS 2 bag, or a plain MCAP file with ROS 2 (CDR)
     messages and their ``ros2msg``/``ros2idl`` schemas, as the ``mcap`` tools
-    and Foxglove write them. MCAP files with other encodings (JSON,
-    Protobuf, ROS 1 messages) are refused with the reason.
+    and Foxglove write them (types spelt ``pkg/Name`` are read as
+    ``pkg/msg/Name``). MCAP files with other encodings (JSON, Protobuf, ROS 1
+    messages) are refused with the reason.
 
 Messages
 --------
@@ -208,6 +209,12 @@ def _open(path: PathLike) -> Iterator[Any]:
     except (FileNotFoundError, RecordingError):
         raise
     except Exception as exc:  # rosbags' own errors, struct/zstd/sqlite errors on damaged files
+        if "Profile is not ros2" in str(exc):
+            raise RecordingError(
+                f"{name}: an MCAP file without ROS 2 messages (its profile is not ros2: "
+                "JSON, Protobuf or ROS 1 encoded?); lfdkit reads MCAP files of ROS 2 (CDR) "
+                "messages"
+            ) from None
         raise RecordingError(f"{name}: cannot read the recording ({_reason(exc)})") from None
     try:
         yield reader
@@ -222,7 +229,9 @@ def _reason(exc: BaseException) -> str:
 
 def _topics(reader: Any) -> list[Topic]:
     return [
-        Topic(name, info.msgtype or "(several types)", int(info.msgcount))
+        Topic(
+            name, _normal(info.msgtype) if info.msgtype else "(several types)", int(info.msgcount)
+        )
         for name, info in sorted(reader.topics.items())
     ]
 
@@ -246,6 +255,12 @@ def _present(topics: list[Topic]) -> str:
     return "; ".join(str(t) for t in topics) or "none (the recording is empty)"
 
 
+def _normal(msgtype: str) -> str:
+    """``pkg/msg/Name`` also for ``pkg/Name`` (plain MCAP files and ROS 1 spell it so)."""
+    parts = msgtype.split("/")
+    return f"{parts[0]}/msg/{parts[1]}" if len(parts) == 2 else msgtype
+
+
 def _connections(reader: Any, path: PathLike, topic: str, wanted: tuple[str, ...]) -> list[Any]:
     name = os.fspath(path)
     topics = _topics(reader)
@@ -253,7 +268,7 @@ def _connections(reader: Any, path: PathLike, topic: str, wanted: tuple[str, ...
     if not conns:
         raise RecordingError(f"{name}: no topic {topic!r}; topics present: {_present(topics)}")
     types = sorted({c.msgtype for c in conns})
-    wrong = [t for t in types if t not in wanted]
+    wrong = [t for t in types if _normal(t) not in wanted]
     if wrong:
         short = ", ".join(w.rsplit("/", 1)[-1] for w in wanted)
         raise RecordingError(
@@ -263,9 +278,12 @@ def _connections(reader: Any, path: PathLike, topic: str, wanted: tuple[str, ...
 
 
 def _messages(reader: Any, conns: list[Any], name: str) -> Iterator[tuple[Any, int, Any]]:
+    # rosbags registers the types of a plain MCAP schema ("pkg/Name") as "pkg/msg/Name"
+    known = reader.typestore.types
+    names = {id(c): c.msgtype if c.msgtype in known else _normal(c.msgtype) for c in conns}
     try:
         for conn, received, raw in reader.messages(connections=conns):
-            yield conn, received, reader.deserialize(raw, conn.msgtype)
+            yield conn, received, reader.deserialize(raw, names[id(conn)])
     except RecordingError:
         raise
     except Exception as exc:  # damaged chunk, bad CDR, truncated file part-way
@@ -379,7 +397,7 @@ def read_poses(
     name = os.fspath(path)
     with _open(path) as reader:
         conns = _connections(reader, path, topic, POSE_TYPES)
-        msgtype = conns[0].msgtype
+        msgtype = _normal(conns[0].msgtype)
         if msgtype.endswith("/TFMessage"):
             if frame is None:
                 raise RecordingError(
