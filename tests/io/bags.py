@@ -43,12 +43,11 @@ class Sample:
 def _typestore(kind: str):
     if kind == "ros1":
         ts = get_typestore(Stores.ROS1_NOETIC)
-        if "tf2_msgs/msg/TFMessage" not in ts.types:
-            ts.register(
-                get_types_from_msg(
-                    "geometry_msgs/TransformStamped[] transforms", "tf2_msgs/msg/TFMessage"
+        for tf_type in ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage"):  # tf: ROS 1's older
+            if tf_type not in ts.types:
+                ts.register(
+                    get_types_from_msg("geometry_msgs/TransformStamped[] transforms", tf_type)
                 )
-            )
         return ts
     return get_typestore(Stores.ROS2_HUMBLE)
 
@@ -91,7 +90,7 @@ def _message(ts, kind: str, msgtype: str, s: Sample):
         return ts.types[msgtype](_header(ts, kind, s.stamp, s.parent), s.child, pwc, twc)
     if short == "TransformStamped":
         return _transform(ts, kind, s)
-    if short == "TFMessage":
+    if short in ("TFMessage", "tfMessage"):
         return ts.types[msgtype]([_transform(ts, kind, t) for t in s.transforms])
     if short == "JointState":
         names = list(s.joints)

@@ -159,6 +159,24 @@ def test_tf_chains_static_and_dynamic_transforms(tmp_path: Path, kind: str) -> N
     )
 
 
+def test_ros1_tf_messages_of_the_older_tf_package(tmp_path: Path) -> None:
+    ns, pos, q = random_trajectory(10, seed=20)
+    dynamic = [
+        Sample(
+            s.received,
+            s.stamp,
+            transforms=[
+                Sample(s.received, s.stamp, s.position, s.orientation, "/odom", "/base_link")
+            ],
+        )
+        for s in _samples(ns, pos, q)
+    ]
+    out = write_recording(tmp_path / "tf", "ros1", {"/tf": ("tf/msg/tfMessage", dynamic)})
+    rec = read_poses(out, "/tf", frame=("odom", "/base_link"))  # ROS 1's leading slashes
+    assert rec.msgtype == "tf/msg/tfMessage" and rec.frame == ("odom", "base_link")
+    np.testing.assert_allclose(rec.positions, pos, atol=1e-12)
+
+
 def test_tf_errors_name_the_frames(tmp_path: Path) -> None:
     ns, pos, q = random_trajectory(5, seed=6)
     dynamic = [

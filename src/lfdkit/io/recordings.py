@@ -22,7 +22,8 @@ Messages
 --------
 Poses (:func:`read_poses`) from ``geometry_msgs/PoseStamped``,
 ``PoseWithCovarianceStamped``, ``TransformStamped``, ``nav_msgs/Odometry``,
-and ``tf2_msgs/TFMessage`` (``/tf``) with a frame pair ``(parent, child)``:
+and ``tf2_msgs/TFMessage`` (``/tf``; ROS 1's ``tf/tfMessage`` too) with a
+frame pair ``(parent, child)``:
 the child's pose in the parent, chained through the frame tree over the
 dynamic transforms of the topic and the static ones of ``/tf_static`` (both
 directions: a frame pair that is not parent-first is inverted). Joint
@@ -83,6 +84,7 @@ POSE_TYPES = (
     "geometry_msgs/msg/TransformStamped",
     "nav_msgs/msg/Odometry",
     "tf2_msgs/msg/TFMessage",
+    "tf/msg/tfMessage",  # ROS 1's older tf package
 )
 JOINT_STATE = "sensor_msgs/msg/JointState"
 _TF_STATIC = "/tf_static"
@@ -255,6 +257,11 @@ def _present(topics: list[Topic]) -> str:
     return "; ".join(str(t) for t in topics) or "none (the recording is empty)"
 
 
+def _is_tf(msgtype: str) -> bool:
+    """tf2_msgs/TFMessage, or tf/tfMessage of ROS 1's older tf package."""
+    return msgtype.lower().endswith("/tfmessage")
+
+
 def _normal(msgtype: str) -> str:
     """``pkg/msg/Name`` also for ``pkg/Name`` (plain MCAP files and ROS 1 spell it so)."""
     parts = msgtype.split("/")
@@ -270,7 +277,7 @@ def _connections(reader: Any, path: PathLike, topic: str, wanted: tuple[str, ...
     types = sorted({c.msgtype for c in conns})
     wrong = [t for t in types if _normal(t) not in wanted]
     if wrong:
-        short = ", ".join(w.rsplit("/", 1)[-1] for w in wanted)
+        short = ", ".join(dict.fromkeys(w.rsplit("/", 1)[-1].replace("tfM", "TFM") for w in wanted))
         raise RecordingError(
             f"{name}: topic {topic!r} holds {', '.join(wrong)}; lfdkit reads {short} here"
         )
@@ -398,7 +405,7 @@ def read_poses(
     with _open(path) as reader:
         conns = _connections(reader, path, topic, POSE_TYPES)
         msgtype = _normal(conns[0].msgtype)
-        if msgtype.endswith("/TFMessage"):
+        if _is_tf(msgtype):
             if frame is None:
                 raise RecordingError(
                     f"{name}: topic {topic!r} holds transforms between frames; name the pair "
@@ -471,9 +478,7 @@ def _frame(name: str) -> str:
 
 def _collect_tf(reader: Any, conns: list[Any], name: str) -> dict[str, _Edge]:
     """Every transform of ``conns`` and of /tf_static, by child frame."""
-    static_conns = [
-        c for c in reader.connections if c.topic == _TF_STATIC and c.msgtype.endswith("/TFMessage")
-    ]
+    static_conns = [c for c in reader.connections if c.topic == _TF_STATIC and _is_tf(c.msgtype)]
     edges: dict[str, _Edge] = {}
     wanted = {id(c) for c in conns} | {id(c) for c in static_conns}
     every = [c for c in reader.connections if id(c) in wanted]
@@ -590,7 +595,7 @@ def _read_tf(
         orientations,
         start,
         topic,
-        "tf2_msgs/msg/TFMessage",
+        _normal(conns[0].msgtype),
         (parent, child),
         source,
         tuple(notes),
