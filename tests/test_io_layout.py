@@ -27,7 +27,13 @@ ALLOWED = {
     "demos.py": set(),
     "io/atomic.py": {"lfdkit.demos"},
     "io/text.py": {"lfdkit.demos", "lfdkit.io.atomic"},
-    "io/demos.py": {"lfdkit._validation", "lfdkit.demos", "lfdkit.io.atomic", "lfdkit.io.text"},
+    "io/demos.py": {
+        "lfdkit._validation",
+        "lfdkit.demos",
+        "lfdkit.io.atomic",
+        "lfdkit.io.text",
+        "lfdkit.rotations",
+    },
     "io/scenes.py": {"lfdkit.demos", "lfdkit.io.atomic", "lfdkit.io.text", "lfdkit.scene"},
     "io/skill_file.py": {"lfdkit", "lfdkit.demos", "lfdkit.io.atomic", "lfdkit.io.text"},
 }

@@ -3,7 +3,8 @@
 Subcommands: ``demo`` (the whole workflow on the built-in sweeping example),
 ``learn`` (a skill from demonstration files), ``plan`` (a path for a new
 start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
-``execute`` (a skill on a UR arm: poses, joints, URScript, a MuJoCo check),
+``import`` (demonstrations from ROS bags and MCAP recordings), ``execute``
+(a skill on a UR arm: poses, joints, URScript, a MuJoCo check),
 ``compare`` (the mimicking methods on the built-in data sets), ``datasets``
 (list the built-in data sets, or export one as files ``learn`` reads) and
 ``bench`` (the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source
@@ -376,6 +377,87 @@ def _learn(args: argparse.Namespace) -> None:
             + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
             f"{_elapsed(args):.1f} s; wrote {args.output}",
         )
+
+
+def _frame_pair(text: str) -> tuple[str, str]:
+    parent, sep, child = text.partition(":")
+    if not sep or not parent.strip() or not child.strip():
+        raise argparse.ArgumentTypeError(f"expected PARENT:CHILD frames, got {text!r}")
+    return parent.strip(), child.strip()
+
+
+def _import(args: argparse.Namespace) -> None:
+    speed = _positive(args.pause_speed, "--pause-speed", "a positive speed (units/s)")
+    pause = _positive(args.pause_time, "--pause-time", "a positive number of seconds")
+    _refuse_existing(args.output, args.force)
+    from lfdkit.io import save_demos
+    from lfdkit.io.recordings import JOINT_STATE, list_topics, read_poses
+    from lfdkit.segmentation import segment_recording
+
+    demos, times, quats = [], [], []
+    total_pauses = total_returns = 0
+    for path in args.recordings:
+        topics = list_topics(path)
+        listing = "; ".join(str(t) for t in topics) or "none (the recording is empty)"
+        if args.topic is None:
+            raise UsageError(f"{path}: name the topic with --topic; topics present: {listing}")
+        msgtype = next((t.msgtype for t in topics if t.name == args.topic), None)
+        if msgtype == JOINT_STATE:
+            if args.frame is not None:
+                raise UsageError(f"--frame applies to tf topics; {args.topic} holds {msgtype}")
+            from lfdkit.robot.arm import ARMS
+            from lfdkit.robot.recordings import tool_poses_from_joint_states
+
+            rec = tool_poses_from_joint_states(path, args.topic, arm=ARMS[args.arm])
+        else:
+            rec = read_poses(path, args.topic, frame=args.frame)
+        for note in rec.notes:
+            _say(args, f"{path}: {note}")
+        positions = rec.positions[:, :2] if args.planar else rec.positions
+        try:
+            seg = segment_recording(
+                rec.times,
+                positions,
+                speed=speed,
+                pause=pause,
+                split=args.split,
+                trim=not args.no_trim,
+                returns="drop" if args.drop_returns else "keep",
+            )
+        except ValueError as exc:
+            if "never move" not in str(exc):
+                raise
+            top = str(exc).split("top speed ", 1)[1].split(")")[0]
+            raise CommandError(
+                f"{path}: the tool never moves faster than --pause-speed {speed:g} units/s "
+                f"(top speed {top}): nothing to import; lower --pause-speed"
+            ) from None
+        start = time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(rec.start_ns // 10**9))
+        _say(
+            args,
+            f"{seg.table(str(path))}\n  {rec.msgtype} on {rec.topic}"
+            + (f" ({rec.frame[0]} -> {rec.frame[1]})" if rec.frame else "")
+            + f", times from the {rec.stamps} stamps, t = 0 at {start} UTC "
+            f"+ {rec.start_ns % 10**9} ns",
+            level=2,
+        )
+        total_pauses += len(seg.pauses)
+        total_returns += len(seg.returns)
+        for a, b in seg.segments:
+            demos.append(positions[a:b])
+            times.append(rec.times[a:b])
+            quats.append(rec.orientations[a:b])
+    save_demos(args.output, demos, times=times, orientations=quats, overwrite=args.force)
+    n = sum(len(d) for d in demos)
+    duration = sum(float(t[-1] - t[0]) for t in times)
+    _say(
+        args,
+        f"imported {len(demos)} demonstrations ({n} samples, {duration:.2f} s"
+        + (f", split at {total_pauses} pauses" if args.split else "")
+        + (f", {total_returns} moves back to the start left out" if total_returns else "")
+        + f") from {len(args.recordings)} recording{'s' * (len(args.recordings) > 1)}; "
+        f"wrote {args.output}",
+    )
 
 
 def _scene_from_args(args: argparse.Namespace, n_dims: int):
@@ -928,6 +1010,74 @@ def _learn_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _import_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "recordings",
+        type=Path,
+        nargs="+",
+        metavar="RECORDING",
+        help="a ROS 1 .bag, a ROS 2 bag folder, or an .mcap/.db3 file (one demonstration "
+        "each, or several with --split)",
+    )
+    parser.add_argument(
+        "--topic",
+        metavar="T",
+        help="the topic: PoseStamped, PoseWithCovarianceStamped, TransformStamped, Odometry, "
+        "JointState (tool poses by the arm's kinematics) or /tf with --frame; without it the "
+        "topics present are listed",
+    )
+    parser.add_argument(
+        "--frame",
+        type=_frame_pair,
+        metavar="PARENT:CHILD",
+        help="for /tf: the child's pose in the parent, chained with /tf_static",
+    )
+    parser.add_argument(
+        "--arm",
+        choices=_ArmChoices(),
+        metavar="ARM",
+        default="ur5",
+        help="for JointState: the arm (ur5 or ur10, default %(default)s)",
+    )
+    parser.add_argument(
+        "--split",
+        action="store_true",
+        help="split each recording into demonstrations at pauses (see --pause-speed, --pause-time)",
+    )
+    parser.add_argument(
+        "--pause-speed",
+        default="0.01",
+        metavar="V",
+        help="at rest below this speed, recording units/s (default %(default)s: 1 cm/s)",
+    )
+    parser.add_argument(
+        "--pause-time",
+        default="0.5",
+        metavar="S",
+        help="shortest pause that splits, seconds (default %(default)s)",
+    )
+    parser.add_argument(
+        "--drop-returns",
+        action="store_true",
+        help="with --split: leave out the pieces heading against the first one (moving back "
+        "to the start between demonstrations); -v lists them",
+    )
+    parser.add_argument(
+        "--no-trim", action="store_true", help="keep the rest at both ends of each recording"
+    )
+    parser.add_argument(
+        "--planar", action="store_true", help="write x, y only (a task on a table), not z"
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        metavar="DEMOS.csv",
+        help="demonstrations file to write: demo, t, x, y[, z], qx, qy, qz, qw",
+    )
+
+
 def _plan_options(parser: argparse.ArgumentParser) -> None:
     _skill_file_options(parser)
     parser.add_argument(
@@ -1108,6 +1258,20 @@ def _parser() -> argparse.ArgumentParser:
             "around a cup and a marker), score it on held-out sweeps, plan to a moved dustpan "
             "in three unseen scenes, and write figures, the skill, the plans, JSON and an HTML "
             "report.",
+        ),
+        "import": (
+            _import,
+            _import_options,
+            True,
+            "demonstrations from robot recordings: ROS 1/2 bags and MCAP",
+            "Read tool poses from recordings (ROS 1 .bag, ROS 2 bag folders with sqlite3 or MCAP "
+            "storage, .mcap files) and write them as a demonstrations file lfdkit learn reads, "
+            "with the orientation as qx, qy, qz, qw. Times are the header stamps (the receive "
+            "time where a message has none), in seconds from the recording's first sample. "
+            "One recording is one demonstration, or several with --split (at pauses: slower "
+            "than --pause-speed for --pause-time); rest at both ends is trimmed unless "
+            "--no-trim. -v prints per recording what was split and trimmed. Needs rosbags: "
+            'pip install "lfdkit[ros]".',
         ),
         "learn": (
             _learn,

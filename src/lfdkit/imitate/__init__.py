@@ -1,17 +1,20 @@
 """Imitation: carry a generalized path to new starts and goals (Dynamic Movement Primitives).
 
-:mod:`.dmp` is the DMP; :mod:`.timing` the duration and speed profile of a
-movement along its path (learned from timed demonstrations, or a law), with
-which the DMP is trained and any path (a plan) is timed.
+:mod:`.dmp` is the DMP (:mod:`.orientation_dmp` the same for unit quaternions);
+:mod:`.timing` the duration and speed profile of a movement along its path
+(learned from timed demonstrations, or a law), with which the DMP is trained
+and any path (a plan) is timed.
 """
 
 from lfdkit.imitate.dmp import BASIS_LADDER, DMP, Trajectory, minimum_jerk_times
+from lfdkit.imitate.orientation_dmp import QuaternionDMP
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
 from lfdkit.imitate.warp import warp_path
 
 __all__ = [
     "BASIS_LADDER",
     "DMP",
+    "QuaternionDMP",
     "SpeedProfile",
     "Trajectory",
     "learn_timing",

@@ -13,14 +13,16 @@ The format is chosen from the file suffix (case-insensitive):
     A header row, then one row per sample. Columns: ``demo`` (the
     demonstration id, integer or string, without surrounding spaces),
     optionally ``t`` or ``time`` (seconds), and the coordinates, named
-    ``x, y[, z]`` or ``x1, x2, ..., xq``. The rows of one demonstration are
+    ``x, y[, z]`` or ``x1, x2, ..., xq``, optionally the tool orientation
+    ``qx, qy, qz, qw`` (a unit quaternion, all four or none). The rows of one demonstration are
     consecutive, in time order; demonstrations are in file order. Numbers are
     decimal (``-0.5``, ``1e-3``; not ``0_5``, ``nan`` or ``inf``). Blank lines
     and lines starting with ``#`` are ignored. Columns with other names are
     ignored.
 ``.npz``
     Arrays ``demo_0, demo_1, ...`` (each ``(n_points_j, n_dims)``), optionally
-    ``time_j`` for any ``j`` and ``ids`` (1-D, one per demonstration); or a
+    ``time_j`` and ``quat_j`` (orientations, ``(n_points_j, 4)``) for any
+    ``j`` and ``ids`` (1-D, one per demonstration); or a
     single 3-D array ``demos`` of shape ``(n_demos, n_points, n_dims)`` with an
     optional 2-D ``times`` of shape ``(n_demos, n_points)``. Coordinates and
     times are real (float or integer dtype; complex, boolean, date and text
@@ -29,8 +31,9 @@ The format is chosen from the file suffix (case-insensitive):
     array needed is read once, after its size is checked.)
 ``.json``
     ``{"format": "lfdkit-demos", "version": 1, "n_dims": q, "demos":
-    [{"id": ..., "points": [[x, y], ...], "t": [...]}, ...]}`` with ``"t"``
-    (and ``"id"``) optional per demonstration.
+    [{"id": ..., "points": [[x, y], ...], "t": [...], "q": [[qx, qy, qz, qw],
+    ...]}, ...]}`` with ``"t"``, ``"q"`` (and ``"id"``) optional per
+    demonstration.
 
 Writing is atomic (see :func:`lfdkit.io.atomic.atomic_write`) and floats
 are written so that a load after a save gives back bit-identical arrays in
@@ -80,12 +83,14 @@ from lfdkit.io.text import (
     json_float_array,
     parse_id,
 )
+from lfdkit.rotations import check_quaternions
 
 __all__ = [
     "JSON_FORMAT",
     "JSON_VERSION",
     "MAX_NPZ_ARRAY_BYTES",
     "MAX_NPZ_MEMBERS",
+    "QUATERNION_COLUMNS",
     "SUPPORTED_SUFFIXES",
     "load_demos",
     "path_csv",
@@ -95,6 +100,9 @@ __all__ = [
 
 SUPPORTED_SUFFIXES: tuple[str, ...] = (".csv", ".json", ".npz")
 """File suffixes understood by :func:`load_demos` and :func:`save_demos`."""
+
+QUATERNION_COLUMNS: tuple[str, ...] = ("qx", "qy", "qz", "qw")
+"""CSV columns of the optional tool orientation, a unit quaternion (scalar last)."""
 
 JSON_FORMAT = "lfdkit-demos"
 """Value of the ``"format"`` field of a demonstrations JSON file."""
@@ -114,6 +122,7 @@ that are not demonstrations, times or ids are never decompressed."""
 _INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
 _NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
 _NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
+_NPZ_QUAT = re.compile(r"quat_(0|[1-9][0-9]*)")
 
 
 # --------------------------------------------------------------------------- #
@@ -145,7 +154,23 @@ def load_demos(
 ) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]: ...
 
 
-def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool = False) -> Any:
+@overload
+def load_demos(
+    path: PathLike,
+    *,
+    return_times: bool = ...,
+    return_ids: bool = ...,
+    return_orientations: Literal[True],
+) -> tuple[Any, ...]: ...
+
+
+def load_demos(
+    path: PathLike,
+    *,
+    return_times: bool = False,
+    return_ids: bool = False,
+    return_orientations: bool = False,
+) -> Any:
     """Read a demonstration set from a ``.csv``, ``.npz`` or ``.json`` file.
 
     See the module docstring for the layout of each format.
@@ -161,6 +186,8 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
         id that is the canonical spelling of an integer (``"7"``, ``"-2"``,
         not ``"07"``) is returned as ``int``, others as ``str``. Files without
         ids give ``0, 1, ..., n_demos - 1``.
+    return_orientations : bool
+        Also return the tool orientations (CSV columns ``qx, qy, qz, qw``).
 
     Returns
     -------
@@ -171,6 +198,11 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
         demonstration stored without times.
     ids : list of int or str
         Only if ``return_ids``: one id per demonstration.
+    orientations : list of (ndarray, shape (n_points_j, 4), or None)
+        Only if ``return_orientations``: unit quaternions ``[x, y, z, w]``
+        (normalised; a row whose norm is off 1 by more than
+        :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is an error), ``None``
+        for a demonstration stored without them.
 
     Raises
     ------
@@ -188,17 +220,20 @@ def load_demos(path: PathLike, *, return_times: bool = False, return_ids: bool =
     """
     fname = os.fspath(path)
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
+    quats: list[np.ndarray | None]
     if fmt == ".csv":
-        demos, times, ids = _read_csv(fname)
+        demos, times, ids, quats = _read_csv(fname)
     elif fmt == ".npz":
-        demos, times, ids = _read_npz(fname)
+        demos, times, ids, quats = _read_npz(fname)
     else:
-        demos, times, ids = _read_json(fname)
+        demos, times, ids, quats = _read_json(fname)
     out: list[Any] = [demos]
     if return_times:
         out.append(times)
     if return_ids:
         out.append(ids)
+    if return_orientations:
+        out.append(quats)
     return demos if len(out) == 1 else tuple(out)
 
 
@@ -208,6 +243,7 @@ def save_demos(
     *,
     times: Sequence[Any | None] | None = None,
     ids: Sequence[DemoId] | None = None,
+    orientations: Sequence[Any | None] | None = None,
     overwrite: bool = False,
 ) -> Path:
     """Write a demonstration set to a ``.csv``, ``.npz`` or ``.json`` file.
@@ -232,6 +268,12 @@ def save_demos(
         ``"7"`` clash). A ``str`` id must be non-empty, without surrounding
         whitespace or line breaks, and must not start with ``#``. Defaults to
         ``0, 1, ..., n_demos - 1``.
+    orientations : sequence of (array_like, shape (n_points_j, 4), or None), optional
+        Tool orientations as unit quaternions ``[x, y, z, w]``, one per
+        sample: CSV columns ``qx, qy, qz, qw`` (for all demonstrations or
+        none), NPZ arrays ``quat_j``, JSON fields ``"q"``. Each row is
+        normalised; NaN/inf or a norm off 1 by more than
+        :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is refused.
     overwrite : bool
         Replace an existing file. When false an existing file raises
         ``FileExistsError``.
@@ -256,6 +298,7 @@ def save_demos(
     n = len(arrs)
     time_arrs = check_times_list(times, arrs)
     id_list = check_ids(ids, n)
+    quats = _check_orientations(orientations, arrs, fmt)
 
     check_output_path(fname, overwrite=overwrite)
 
@@ -266,13 +309,15 @@ def save_demos(
                 "times has None for some demonstrations only"
             )
 
-        return write_text(fname, _csv_text(arrs, time_arrs, id_list), overwrite=overwrite)
+        return write_text(fname, _csv_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
     if fmt == ".npz":
         arrays: dict[str, np.ndarray] = {}
         for j, (a, t) in enumerate(zip(arrs, time_arrs, strict=True)):
             arrays[f"demo_{j}"] = a
             if t is not None:
                 arrays[f"time_{j}"] = t
+            if quats is not None and quats[j] is not None:
+                arrays[f"quat_{j}"] = quats[j]
         if ids is not None:
             arrays["ids"] = np.array([str(i) for i in id_list], dtype=np.str_)
 
@@ -281,7 +326,7 @@ def save_demos(
 
         return atomic_write(fname, write_npz, binary=True, overwrite=overwrite)
 
-    return write_text(fname, _json_text(arrs, time_arrs, id_list), overwrite=overwrite)
+    return write_text(fname, _json_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
 
 
 def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
@@ -370,19 +415,54 @@ def _csv_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
+    quats: list[np.ndarray | None] | None = None,
 ) -> str:
     f = io.StringIO()
     q = demos[0].shape[1]
     has_t = times[0] is not None
     w = csv.writer(f, lineterminator="\n")
-    w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q)])
-    for a, t, i in zip(demos, times, ids, strict=True):
+    extra = list(QUATERNION_COLUMNS) if quats is not None else []
+    w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q), *extra])
+    for j, (a, t, i) in enumerate(zip(demos, times, ids, strict=True)):
         sid = str(i)
         tl = t.tolist() if t is not None else None
+        ql = quats[j].tolist() if quats is not None and quats[j] is not None else None
         for k, row in enumerate(a.tolist()):
             # repr() of a Python float is the shortest string that reads back exactly.
-            w.writerow([sid, *([repr(tl[k])] if tl is not None else []), *map(repr, row)])
+            w.writerow(
+                [
+                    sid,
+                    *([repr(tl[k])] if tl is not None else []),
+                    *map(repr, row),
+                    *(map(repr, ql[k]) if ql is not None else []),
+                ]
+            )
     return f.getvalue()
+
+
+def _check_orientations(
+    orientations: Sequence[Any | None] | None, demos: list[np.ndarray], fmt: str
+) -> list[np.ndarray | None] | None:
+    """Unit quaternions per demonstration (normalised) or None; CSV needs all or none."""
+    if orientations is None:
+        return None
+    if len(orientations) != len(demos):
+        raise ValueError(
+            f"orientations: expected one (n_points_j, 4) array or None for each of the "
+            f"{len(demos)} demonstrations, got {len(orientations)}"
+        )
+    given = [o is not None for o in orientations]
+    if not any(given):
+        return None
+    if fmt == ".csv" and not all(given):
+        raise ValueError(
+            "orientations: a CSV file stores orientations for all demonstrations or none; "
+            "orientations has None for some demonstrations only"
+        )
+    return [
+        None if o is None else check_quaternions(o, f"orientations[{j}]", n=len(d))
+        for j, (o, d) in enumerate(zip(orientations, demos, strict=True))
+    ]
 
 
 def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[int], list[str]]:
@@ -423,15 +503,31 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
     return pos["demo"], t_col, coord_cols, [names[k] for k in coord_cols]
 
 
+def _quaternion_columns(fname: str, header: list[str]) -> list[int] | None:
+    """Indices of the qx, qy, qz, qw columns: all four or none."""
+    keys = [h.strip().lower() for h in header]
+    present = [c for c in QUATERNION_COLUMNS if c in keys]
+    if not present:
+        return None
+    if len(present) != 4:
+        missing = ", ".join(c for c in QUATERNION_COLUMNS if c not in keys)
+        raise ValueError(
+            f"{fname}: orientation columns need all of qx, qy, qz, qw; missing {missing}"
+        )
+    return [keys.index(c) for c in QUATERNION_COLUMNS]
+
+
 def _read_csv(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
     _, header, lines = csv_header(fname)
     demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
+    q_cols = _quaternion_columns(fname, header)
     colnames = [h.strip() for h in header]
     t_name = colnames[t_col] if t_col is not None else ""
 
     groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
+    quats: dict[str, list[list[float]]] = {}
     blocks = Blocks(fname, colnames[demo_col])
     for lineno, row in csv_rows(fname, lines, colnames):
         did = blocks.id_of(row[demo_col], lineno)
@@ -443,6 +539,10 @@ def _read_csv(
                 for c, nm in zip(coord_cols, coord_names, strict=True)
             ]
         )
+        if q_cols is not None:
+            quats.setdefault(did, []).append(
+                [csv_number(fname, lineno, colnames[c], row[c]) for c in q_cols]
+            )
         if t_col is not None:
             t = csv_number(fname, lineno, t_name, row[t_col])
             if ts and t <= ts[-1]:
@@ -465,7 +565,19 @@ def _read_csv(
     times: list[np.ndarray | None] = [
         np.asarray(g[1], dtype=np.float64) if t_col is not None else None for g in groups.values()
     ]
-    return demos, times, [parse_id(d) for d in groups]
+    orientations: list[np.ndarray | None] = [None] * len(groups)
+    if q_cols is not None:
+        orientations = []
+        for did, (_, _, linenos) in groups.items():
+            try:
+                orientations.append(check_quaternions(quats[did], "q"))
+            except ValueError as exc:  # "q: row k ...": name the file's line instead
+                row, _, why = str(exc).removeprefix("q: row ").partition(" ")
+                raise ValueError(
+                    f"{fname} line {linenos[int(row)]}, columns qx, qy, qz, qw: "
+                    f"the orientation of demo {did!r} {why}"
+                ) from None
+    return demos, times, [parse_id(d) for d in groups], orientations
 
 
 # --------------------------------------------------------------------------- #
@@ -593,9 +705,19 @@ class _RefusedArray(ValueError):
 
 def _read_npz(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
     with _NpzArchive(fname) as npz:
-        return _read_npz_arrays(fname, npz)
+        demos, times, ids = _read_npz_arrays(fname, npz)
+        quat_idx = sorted(int(m.group(1)) for k in npz.members if (m := _NPZ_QUAT.fullmatch(k)))
+        stray = [k for k in quat_idx if k >= len(demos)]
+        if stray:
+            raise ValueError(f"{fname}: array 'quat_{stray[0]}' has no matching 'demo_{stray[0]}'")
+        quats: list[np.ndarray | None] = [None] * len(demos)
+        for j in quat_idx:
+            quats[j] = check_quaternions(
+                npz.read(f"quat_{j}"), f"{fname}: array 'quat_{j}'", n=len(demos[j])
+            )
+    return demos, times, ids, quats
 
 
 def _read_npz_arrays(
@@ -690,6 +812,7 @@ def _json_text(
     demos: list[np.ndarray],
     times: list[np.ndarray | None],
     ids: list[DemoId],
+    quats: list[np.ndarray | None] | None = None,
 ) -> str:
     # One demonstration per line keeps the file readable and diff-friendly.
     # json writes floats with repr(), so values read back exactly.
@@ -703,6 +826,8 @@ def _json_text(
         item: dict[str, Any] = {"id": i, "points": a.tolist()}
         if t is not None:
             item["t"] = t.tolist()
+        if quats is not None and quats[j] is not None:
+            item["q"] = quats[j].tolist()
         sep = "," if j < len(demos) - 1 else ""
         buf.write(f"    {json.dumps(item, allow_nan=False)}{sep}\n")
     buf.write("  ]\n}\n")
@@ -711,7 +836,7 @@ def _json_text(
 
 def _read_json(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
     doc = json_document(fname, JSON_FORMAT, JSON_VERSION, "demonstrations")
     q = doc.get("n_dims")
     if isinstance(q, bool) or not isinstance(q, int) or q < 2:
@@ -723,6 +848,7 @@ def _read_json(
     demos: list[np.ndarray] = []
     times: list[np.ndarray | None] = []
     ids: list[DemoId] = []
+    quats: list[np.ndarray | None] = []
     seen: dict[str, int] = {}
     for j, item in enumerate(items):
         where = f"{fname}: demos[{j}]"
@@ -754,5 +880,14 @@ def _read_json(
             if item.get("t") is not None
             else None
         )
+        quats.append(
+            check_quaternions(
+                json_float_array(item["q"], f"{fname}: demos[{j}].q", 2),
+                f"{where} (id {did!r}) field 'q'",
+                n=arr.shape[0],
+            )
+            if item.get("q") is not None
+            else None
+        )
         ids.append(did)
-    return check_demos(demos, fname, n_dims=q), times, ids
+    return check_demos(demos, fname, n_dims=q), times, ids, quats

@@ -22,6 +22,7 @@ from lfdkit.mimic.orientation import (
     check_one_motion,
     orient_demos,
 )
+from lfdkit.mimic.rotation_mean import PathOrientations, mean_orientations
 
 __all__ = [
     "GMR",
@@ -35,8 +36,10 @@ __all__ = [
     "MimicMethod",
     "MimicSettings",
     "PathLengthWarning",
+    "PathOrientations",
     "SeveralMotionsError",
     "check_one_motion",
+    "mean_orientations",
     "orient_demos",
     "pointwise_average",
     "register",

@@ -39,6 +39,7 @@ import numpy as np
 
 from lfdkit._validation import check_finite, check_path
 from lfdkit.geometry import point_tangents
+from lfdkit.rotations import check_quaternions, matrix_from_quaternion
 
 __all__ = [
     "matrix_from_rotvec",
@@ -48,6 +49,7 @@ __all__ = [
     "rotvec_from_matrix",
     "sweeping_poses",
     "unwrap_rotvecs",
+    "yaw_from_quaternions",
 ]
 
 SWEEP_HEIGHT = 0.192
@@ -375,12 +377,48 @@ def path_yaw(path: Any, *, yaw_offset: float = 0.0) -> np.ndarray:
     return np.unwrap(np.arctan2(t[:, 1], t[:, 0])) + offset
 
 
+def yaw_from_quaternions(quaternions: Any) -> np.ndarray:
+    """The heading of demonstrated tool orientations: the yaw to sweep with.
+
+    Parameters
+    ----------
+    quaternions : array_like, shape (n, 4)
+        Tool orientations in the base frame, unit quaternions ``[x, y, z, w]``
+        (a demonstrations file's ``qx, qy, qz, qw``, or
+        :func:`lfdkit.mimic.rotation_mean.mean_orientations` along a path).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Angle (rad, about the base +z axis from +x) of the tool x axis
+        projected on the table, unwrapped: the ψ of :func:`sweeping_poses`
+        (tool down or up alike), so ``sweeping_poses(path, yaw=...)`` holds
+        the tool as demonstrated instead of along the path's tangent.
+
+    Raises
+    ------
+    ValueError
+        If a quaternion is NaN or not unit, or a tool x axis is vertical
+        (no heading).
+    """
+    R = matrix_from_quaternion(check_quaternions(quaternions, "quaternions"))
+    x, y = R[:, 0, 0], R[:, 1, 0]
+    flat = np.hypot(x, y) < 1e-6
+    if flat.any():
+        raise ValueError(
+            f"quaternions: row {int(np.argmax(flat))} points the tool x axis vertically; "
+            "it has no heading on the table"
+        )
+    return np.unwrap(np.arctan2(y, x))
+
+
 def sweeping_poses(
     path: Any,
     *,
     height: float = SWEEP_HEIGHT,
     tool_down: bool = True,
     yaw_offset: float = 0.0,
+    yaw: Any = None,
 ) -> np.ndarray:
     """Tool poses for sweeping along a planar path at a fixed height (thesis §6.4).
 
@@ -402,12 +440,16 @@ def sweeping_poses(
     yaw_offset : float
         Extra rotation (rad) about the vertical, e.g. for a brush mounted at an
         angle on the flange.
+    yaw : array_like, shape (n,), optional
+        The tool's heading at each point (rad), e.g. the demonstrated one
+        (:func:`yaw_from_quaternions`), instead of the path's tangent;
+        ``yaw_offset`` is added to it.
 
     Returns
     -------
     ndarray, shape (n, 4, 4)
         Homogeneous transforms of the tool in the base frame. The yaw ψ comes
-        from :func:`path_yaw`, so it is continuous along the path. Every
+        from :func:`path_yaw` (or ``yaw``), so it is continuous along the path. Every
         tool-down pose is a rotation by π (about a horizontal axis), where
         rotation vectors flip sign: convert with :func:`pose_vector` and then
         :func:`unwrap_rotvecs` before sending them to the robot.
@@ -420,6 +462,14 @@ def sweeping_poses(
     """
     psi = path_yaw(path, yaw_offset=yaw_offset)
     arr = np.asarray(path, dtype=np.float64)
+    if yaw is not None:
+        given = _as_float_array(yaw, "yaw", f"({len(arr)},)")
+        if given.shape != (len(arr),):
+            raise ValueError(
+                f"yaw: expected shape ({len(arr)},), one per path point, got {given.shape}"
+            )
+        _check_finite(given, "yaw")
+        psi = given + check_finite(yaw_offset, "yaw_offset")
     z = check_finite(height, "height")
     c, s = np.cos(psi), np.sin(psi)
     T = np.zeros((len(psi), 4, 4))

@@ -1,0 +1,172 @@
+"""A DMP of the tool's orientation on the rotation manifold (unit quaternions).
+
+Formulation (Koutras & Doulgeri 2020, "A correct formulation for the
+orientation dynamic movement primitives for robot control in the Cartesian
+space"): the state is the orientation error to the goal in the tangent
+space, ``e(t) = log(q(t) ⊗ g⁻¹)`` (:func:`lfdkit.rotations.log`: ``θ/2 ·
+axis``), and ``e`` obeys the position DMP's transformation system with goal
+``0``::
+
+    e'' = k (0 − e) − c e' + f(s),        q(t) = exp(e(t)) ⊗ g.
+
+Its forcing, canonical system, basis and fit are those of
+:class:`lfdkit.imitate.DMP` (one implementation; ``scaling="translate"``,
+``end="rest"``). As ``e`` returns to exactly ``0`` at rest at the end of
+every rollout (the position DMP's end condition), the orientation reaches
+the new goal ``g`` *exactly*, whatever the start; and ``q = exp(e) ⊗ g`` is
+unit by construction. Unlike Ude et al. 2014 (whose error ``2 log(g ⊗ q̄)``
+is integrated through quaternion kinematics), the learned forcing acts in a
+frame attached to the goal, so a new goal rotates the whole movement with
+it, and the reproduction is exact in the same sense as for positions.
+
+The training orientations must stay less than π from their goal (``|e|``
+below π/2) so the logarithm is continuous; a movement that turns further
+is refused with the sample at fault.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from lfdkit._estimator import Estimator
+from lfdkit.imitate.dmp import DMP
+from lfdkit.rotations import check_quaternions, conjugate, continuous, exp, log, multiply
+
+__all__ = ["QuaternionDMP"]
+
+#: Largest |e| (θ/2 to the goal, radians) accepted in training: just under π/2.
+_MAX_HALF_ANGLE = 0.5 * np.pi - 1e-6
+
+
+class QuaternionDMP(Estimator):
+    """Orientation DMP: unit quaternions to a new start and goal orientation.
+
+    Parameters
+    ----------
+    n_basis : int or "auto"
+        Basis functions per rotation axis, as :class:`lfdkit.imitate.DMP`.
+    k, c, alpha, tau, regularization, basis_tol
+        As :class:`lfdkit.imitate.DMP`.
+
+    Attributes
+    ----------
+    dmp_ : DMP
+        The position DMP of the error ``e = log(q ⊗ g⁻¹)`` (shape (n, 3)).
+    start_, goal_ : ndarray, shape (4,)
+        The training start and goal orientations.
+    times_ : ndarray, shape (n_points,)
+        Training times in seconds.
+    """
+
+    def __init__(
+        self,
+        n_basis: int | str = "auto",
+        k: float = 156.25,
+        c: float = 25.0,
+        alpha: float | None = None,
+        tau: float = 1.0,
+        regularization: float = 1e-8,
+        basis_tol: float = 0.01,
+    ) -> None:
+        self.n_basis = n_basis
+        self.k = k
+        self.c = c
+        self.alpha = alpha
+        self.tau = tau
+        self.regularization = regularization
+        self.basis_tol = basis_tol
+
+    def fit(self, quaternions: Any, times: Any = None) -> QuaternionDMP:
+        """Learn from one orientation trajectory.
+
+        Parameters
+        ----------
+        quaternions : array_like, shape (n_points, 4)
+            Unit quaternions ``[x, y, z, w]`` (signs may flip between samples).
+        times : array_like, shape (n_points,), optional
+            Sample times in seconds, strictly increasing; default evenly over 1 s.
+
+        Raises
+        ------
+        ValueError
+            If a quaternion is not unit or NaN, the times are malformed, or the
+            orientation turns π or more away from its goal.
+        """
+        q = continuous(check_quaternions(quaternions, "quaternions"))
+        if len(q) < 2:
+            raise ValueError("quaternions: need at least 2 samples")
+        t = np.linspace(0.0, 1.0, len(q)) if times is None else times
+        goal = q[-1]
+        e = self._error(q, goal)
+        far = np.linalg.norm(e, axis=1) >= _MAX_HALF_ANGLE
+        if far.any():
+            raise ValueError(
+                f"quaternions: sample {int(np.argmax(far))} is π or more away from the goal "
+                "orientation; an orientation DMP learns movements within π of their goal"
+            )
+        dmp = DMP(
+            n_basis=self.n_basis,  # type: ignore[arg-type]
+            k=self.k,
+            c=self.c,
+            alpha=self.alpha,
+            tau=self.tau,
+            scaling="translate",
+            end="rest",
+            regularization=self.regularization,
+            basis_tol=self.basis_tol,
+        )
+        self.dmp_ = dmp.fit(e, t)
+        self.start_ = q[0].copy()
+        self.goal_ = goal.copy()
+        self.times_ = self.dmp_.times_
+        return self
+
+    @staticmethod
+    def _error(q: np.ndarray, goal: np.ndarray) -> np.ndarray:
+        """``log(q ⊗ g⁻¹)`` with the sign of ``q ⊗ g⁻¹`` kept continuous from the goal."""
+        rel = multiply(q, conjugate(goal))
+        rel = continuous(rel[::-1])[::-1]  # the goal's row is the identity, w = 1
+        rel = rel * np.sign(rel[-1:, 3:4])
+        v = rel[..., :3]
+        s = np.linalg.norm(v, axis=-1)
+        half = np.arctan2(s, rel[..., 3])  # in [0, π]: continuous along the movement
+        scale = np.where(s > 1e-12, half / np.where(s > 1e-12, s, 1.0), 1.0)
+        return v * scale[..., None]
+
+    def rollout(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        tau: float | None = None,
+        n_steps: int | None = None,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The orientation movement from ``start`` to ``goal``.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (4,), optional
+            Unit quaternions; default the training start and goal.
+        tau : float, optional
+            Temporal scaling (default ``self.tau``).
+        n_steps : int, optional
+            Samples, ends included (default as many as the training).
+
+        Returns
+        -------
+        times : ndarray, shape (n_steps,)
+            Seconds from 0 to ``tau * duration``.
+        quaternions : ndarray, shape (n_steps, 4)
+            Unit quaternions, signs continuous; the last is ``goal`` (to
+            rounding: the error ``e`` ends at exactly 0).
+        """
+        if not hasattr(self, "dmp_"):
+            raise ValueError("QuaternionDMP: call fit before rollout")
+        q0 = self.start_ if start is None else check_quaternions(start, "start")[0]
+        g = self.goal_ if goal is None else check_quaternions(goal, "goal")[0]
+        e0 = log(multiply(q0, conjugate(g)))
+        traj = self.dmp_.rollout(start=e0, goal=np.zeros(3), tau=tau, n_steps=n_steps)
+        q = multiply(exp(traj.positions), g)
+        q = continuous(q if q[0] @ q0 >= 0.0 else -q)
+        return traj.times, q
