@@ -724,7 +724,8 @@ def plan_response(session: Session, payload: Any) -> dict[str, Any]:
     }
     out["collision_free"] = out["collisions"] == 0
     if request.heat is not None:
-        out["heat"] = heat_map(skill, nominal, request.scene, request.heat)
+        # A picture: the nominal at 60 points is close enough and twice as fast.
+        out["heat"] = heat_map(skill, _downsample(nominal, 60), request.scene, request.heat)
     return out
 
 

@@ -19,7 +19,7 @@
     [245, 125, 21], [250, 193, 39], [252, 255, 164]];
   const MIN_STEP_PX = 1.5;
   const MIN_POINTS = 5;
-  const HEAT_NX = 98, HEAT_NY = 56;
+  const HEAT_NX = 84, HEAT_NY = 48;
 
   const $ = (id) => document.getElementById(id);
   const canvas = $("canvas");
