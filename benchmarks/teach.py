@@ -28,9 +28,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import git_state, machine_info, package_versions  # noqa: E402
+from _common import git_state, machine_info, package_versions
 
-from lfdkit.io import atomic_write  # noqa: E402
+from lfdkit.io import atomic_write
 
 TARGET_MS = 100.0
 
@@ -65,9 +65,7 @@ def _stats(values: list[float]) -> dict[str, float]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument(
-        "--output", type=Path, default=Path(__file__).parent / "results" / "teach"
-    )
+    parser.add_argument("--output", type=Path, default=Path(__file__).parent / "results" / "teach")
     parser.add_argument("--requests", type=int, default=200, help="plans per case")
     args = parser.parse_args(argv)
 

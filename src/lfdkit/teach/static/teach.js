@@ -206,9 +206,10 @@
     ctx.fillText("10 cm", bx + len / 2 - 14, by - 6);
     // The robot's base at the origin.
     const [ox, oy] = toPx(0, 0);
-    ctx.fillStyle = "#dde2e8";
-    ctx.beginPath(); ctx.arc(ox, oy, 0.05 * pxPerMetre(), Math.PI, 2 * Math.PI); ctx.fill();
-    ctx.fillStyle = "#66707c";
+    ctx.strokeStyle = dark ? "rgba(255,255,255,0.5)" : "#b9c1ca";
+    ctx.lineWidth = 1.5;
+    ctx.beginPath(); ctx.arc(ox, oy, 0.05 * pxPerMetre(), Math.PI, 2 * Math.PI); ctx.stroke();
+    ctx.fillStyle = dark ? "#d0d4da" : "#66707c";
     ctx.fillText("robot base", ox - 26, oy - 0.05 * pxPerMetre() - 4);
     ctx.restore();
   }
