@@ -84,7 +84,7 @@ STATE = """
 const s = window.lfdkitTeach.state;
 return JSON.stringify({demos: s.demos, obstacles: s.obstacles, layers: s.layers !== null,
   learning: s.learning, plan: s.plan, planError: s.planError, planBusy: s.planBusy,
-  planCount: s.planCount, trial: s.trial, mode: s.mode,
+  planCount: s.planCount, trial: s.trial, mode: s.mode, heat: s.heat !== null,
   message: document.getElementById('message').hidden ? null :
     document.getElementById('message-text').textContent});
 """
@@ -242,7 +242,8 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
     assert on["min_clearance"] >= 0.0
     change = np.abs(np.array(on["points"]) - np.array(off["points"])).max()
     assert change > 0.02, f"the plan moved only {change:.4f} m"
-    time.sleep(0.3)  # the heat map of the last plan is drawn
+    _wait(driver, lambda s: s["heat"] and not s["planBusy"], "the heat map", 30)
+    time.sleep(0.3)  # drawn
     shot = _screenshot(driver, tmp_path, "2-tried")
     assert shot.stat().st_size > 20_000
     if os.environ.get("LFDKIT_UPDATE_SCREENSHOT") == "1":
@@ -266,3 +267,20 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
     )
     assert answer["ok"], answer["text"]
     assert answer["text"].splitlines()[0] == "t,x,y"
+
+    # A second tab has a session of its own: nothing drawn, nothing learned.
+    first = driver.current_window_handle
+    driver.switch_to.new_window("tab")
+    driver.get(server)
+    end = time.monotonic() + 10
+    while driver.execute_script("return document.body.dataset.ready") != "yes":
+        assert time.monotonic() < end, "the second tab did not get a session"
+        time.sleep(0.05)
+    other = _state(driver)
+    assert other["demos"] == [] and not other["layers"]
+    answer = driver.execute_async_script(FETCH, "/api/export/skill", None)
+    assert not answer["ok"] and "no skill learned yet in this tab" in answer["text"]
+    driver.close()
+    driver.switch_to.window(first)
+    answer = driver.execute_async_script(FETCH, "/api/export/skill", None)
+    assert answer["ok"]

@@ -632,7 +632,11 @@
       else if (distPx(world, state.trial.goal) < 12) target = { kind: "goal" };
       else {
         const o = hitObstacle(state.trial.obstacles, world);
-        if (o) { target = { kind: "trial", obstacle: o }; state.selected = { kind: "trial", id: o.id }; }
+        if (o) {
+          target = { kind: "trial", obstacle: o };
+          state.selected = { kind: "trial", id: o.id };
+          $("try-radius").value = round(o.radius * 100, 1);
+        }
       }
       if (!target) return;
       snapshot();
@@ -802,7 +806,7 @@
   // One plan in flight at a time; the latest position wins.
   async function requestPlan(final) {
     if (!state.layers) return;
-    if (state.planBusy) { state.planAgain = state.planAgain || (final ? "final" : true); return; }
+    if (state.planBusy) { state.planAgain = final ? "final" : state.planAgain || true; return; }
     state.planBusy = true;
     const sent = performance.now();
     try {
@@ -832,8 +836,8 @@
     snapshot();
     const path = state.plan ? state.plan.points : state.layers.path;
     const mid = path[Math.floor(path.length / 2)];
-    let radius = 0.03;
-    try { radius = obstacleInputs().radius; } catch (err) { /* keep 3 cm */ }
+    const radius = Number($("try-radius").value) / 100;
+    if (!(radius > 0 && radius <= 0.5)) { fail(new Error("obstacle radius: 0.5 to 50 cm")); return; }
     // Beside the path, for the user to drag onto it.
     const o = { id: newObstacleId(state.trial.obstacles.concat(state.obstacles)), class: name, x: mid[0], y: mid[1] + 0.15, radius };
     state.trial.obstacles.push(o);
@@ -965,6 +969,16 @@
     $("export-skill").onclick = () => download("GET", "/api/export/skill", undefined, "skill.json");
     $("export-plan").onclick = () => download("POST", "/api/export/plan", planRequest(false), "plan.csv");
     $("export-urscript").onclick = () => download("POST", "/api/export/urscript", planRequest(false), "program.script");
+    $("try-radius").onchange = () => {
+      const s = state.selected;
+      const o = s && s.kind === "trial" && state.trial.obstacles.find((x) => x.id === s.id);
+      const radius = Number($("try-radius").value) / 100;
+      if (!o) return;
+      if (!(radius > 0 && radius <= 0.5)) { fail(new Error("obstacle radius: 0.5 to 50 cm")); return; }
+      snapshot();
+      o.radius = radius;
+      requestPlan(true);
+    };
     $("obstacle-radius").onchange = () => {
       const s = state.selected;
       const list = s && s.kind === "obstacle" ? state.obstacles : s && s.kind === "trial" ? state.trial.obstacles : null;
