@@ -466,3 +466,61 @@ def test_the_example_is_the_shipped_sweeping_data() -> None:
     assert "free-1" in ids and "cup-1" in ids and len(ids) == 13
     assert example["marks"]["cup-1"] and "free-1" not in example["marks"]
     assert {o["class"] for o in example["obstacles"]} == {"cup", "marker"}
+
+
+# ------------------------------------------------------------------ fuzz
+def _json_values():
+    from hypothesis import strategies as st
+
+    scalars = st.none() | st.booleans() | st.integers(-(10**12), 10**12) | st.text(max_size=8)
+    scalars = scalars | st.floats(allow_nan=False, allow_infinity=False)
+    return st.recursive(
+        scalars,
+        lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner),
+        max_leaves=12,
+    )
+
+
+def _near_valid_drawings():
+    """Drawings with a field or two replaced by anything JSON can hold."""
+    from hypothesis import strategies as st
+
+    keys = st.sampled_from(["demos", "obstacles", "id", "points", "times", "class", "x", "radius"])
+    return st.tuples(st.lists(st.tuples(keys, _json_values()), max_size=3), st.integers(0, 4))
+
+
+def _spoil(payload: dict, changes, index: int) -> dict:
+    for key, value in changes:
+        demos, obstacles = payload["demos"], payload["obstacles"]
+        if key in ("demos", "obstacles"):
+            payload[key] = value
+        elif key in ("id", "points", "times"):
+            if isinstance(demos, list) and demos and isinstance(demos[0], dict):
+                demos[index % len(demos)][key] = value
+        elif isinstance(obstacles, list) and obstacles and isinstance(obstacles[0], dict):
+            obstacles[0][key] = value
+    return payload
+
+
+def test_random_requests_get_an_answer_or_one_line(learned) -> None:
+    """Any JSON to the plan and export endpoints: a result or a 4xx line, never a 500."""
+    from hypothesis import HealthCheck, given, settings
+
+    client, headers, _ = learned
+
+    @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(body=_json_values(), spoil=_near_valid_drawings())
+    def check(body, spoil) -> None:
+        for path, payload in (
+            ("/api/plan", body),
+            ("/api/export/demos", body),
+            ("/api/export/demos", _spoil(drawing(2, 1), *spoil)),
+            ("/api/plan", {"start": body, "obstacles": [{**OBSTACLE, "x": body}]}),
+        ):
+            answer = client.post(path, json=payload, headers=headers)
+            assert answer.status_code in (200, 400, 422), (path, payload, answer.text)
+            if answer.status_code != 200:
+                error = answer.json()["error"]
+                assert error and "\n" not in error and "Traceback" not in error
+
+    check()

@@ -196,6 +196,11 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
         assert time.monotonic() < end, "the page did not get a session"
         time.sleep(0.05)
 
+    # Learning from nothing: a readable line in the page.
+    driver.find_element("id", "learn").click()
+    message = _wait(driver, lambda s: s["message"], "the page's message", 20)["message"]
+    assert message.startswith("demos: 0 clean demonstrations"), message
+
     # Three clean strokes, then an obstacle on the path, then two strokes around it.
     driver.execute_async_script(DRAW, [_stroke(False, k) for k in range(3)], 12)
     driver.find_element("css selector", 'input[name="tool"][value="obstacle"]').click()

@@ -464,8 +464,12 @@
       const meta = el("span", { className: "meta" },
         `${d.points.length} pts${duration !== null ? `, ${round(duration, 2)} s` : ""}`);
       li.append(sw, name, meta);
+      // Every obstacle's chip on the selected demonstration (or with few obstacles);
+      // on the others only the marked ones, so that long lists stay short.
+      const open = state.obstacles.length <= 3 || (state.selected && state.selected.kind === "demo" && state.selected.id === d.id);
       state.obstacles.forEach((o) => {
         const on = d.obstacles.includes(o.id);
+        if (!on && !open) return;
         const chip = el("button", { type: "button", className: on ? "chip on" : "chip", title: `swerved around ${o.id}?` }, o.id);
         if (on) { chip.style.background = classColor(o.class); chip.style.borderColor = classColor(o.class); }
         chip.onclick = () => {
