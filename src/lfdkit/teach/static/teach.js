@@ -30,6 +30,7 @@
     session: null,
     limits: null,
     view: [-0.7, 0.7, 0.0, 0.8],
+    defaultView: [-0.7, 0.7, 0.0, 0.8],
     mode: "teach",
     tool: "draw",
     demos: [], // {id, points: [[x, y]], times: [s] | null, obstacles: [ids]}
@@ -172,45 +173,68 @@
     ctx.restore();
   }
 
+  // A round grid step for the view: about 14 lines across (1, 2 or 5 times a power of ten).
+  function gridStep() {
+    const raw = (state.view[1] - state.view[0]) / 14;
+    const power = 10 ** Math.floor(Math.log10(raw));
+    return [1, 2, 5, 10].map((m) => m * power).find((v) => v >= raw);
+  }
+  function lengthLabel(metres) {
+    if (metres >= 1) return `${round(metres, 3)} m`;
+    if (metres >= 0.01) return `${round(metres * 100, 3)} cm`;
+    return `${round(metres * 1000, 3)} mm`;
+  }
+
   function drawGrid(dark) {
     const [x0, x1, y0, y1] = state.view;
     const minor = dark ? "rgba(255,255,255,0.06)" : "#f1f3f5";
     const majorColor = dark ? "rgba(255,255,255,0.14)" : "#e3e7eb";
+    const step = gridStep();
+    const digits = Math.max(0, -Math.floor(Math.log10(step * 2)) + 1);
     ctx.save();
     ctx.font = "11px system-ui, sans-serif";
-    ctx.fillStyle = dark ? "#d0d4da" : "#8a939e";
-    for (let x = Math.ceil(x0 * 10) / 10; x <= x1 + 1e-9; x += 0.1) {
-      const [px] = toPx(x, 0);
-      const major = Math.abs(x * 10 - Math.round(x * 10)) < 1e-6 && Math.round(x * 10) % 2 === 0;
+    // Text on a light patch over the heat map: readable on any of its colours.
+    const label = (text, x, y) => {
+      if (dark) {
+        ctx.fillStyle = "rgba(255,255,255,0.7)";
+        ctx.fillRect(x - 2, y - 10, ctx.measureText(text).width + 4, 13);
+      }
+      ctx.fillStyle = dark ? "#1d232b" : "#8a939e";
+      ctx.fillText(text, x, y);
+    };
+    for (let k = Math.ceil(x0 / step); k * step <= x1 + 1e-12; k++) {
+      const [px] = toPx(k * step, 0);
+      const major = k % 2 === 0;
       ctx.strokeStyle = major ? majorColor : minor;
       ctx.beginPath(); ctx.moveTo(px, 0); ctx.lineTo(px, H()); ctx.stroke();
-      if (major) ctx.fillText(`${round(x, 1)}`, px + 3, H() - 4);
+      if (major) label(`${round(k * step, digits)}`, px + 3, H() - 4);
     }
-    for (let y = Math.ceil(y0 * 10) / 10; y <= y1 + 1e-9; y += 0.1) {
-      const [, py] = toPx(0, y);
-      const major = Math.round(y * 10) % 2 === 0;
+    for (let k = Math.ceil(y0 / step); k * step <= y1 + 1e-12; k++) {
+      const [, py] = toPx(0, k * step);
+      const major = k % 2 === 0;
       ctx.strokeStyle = major ? majorColor : minor;
       ctx.beginPath(); ctx.moveTo(0, py); ctx.lineTo(W(), py); ctx.stroke();
-      if (major && y > y0 + 1e-9) ctx.fillText(`${round(y, 1)}`, 3, py - 3);
+      if (major && k * step > y0 + 1e-12) label(`${round(k * step, digits)}`, 3, py - 3);
     }
-    ctx.fillText("x, y in metres", W() - 88, 14);
-    // Scale bar: 10 cm.
+    label("x, y in metres", W() - 88, 14);
+    // Scale bar: one grid step.
     const [bx, by] = [16, H() - 24];
-    const len = 0.1 * pxPerMetre();
-    ctx.strokeStyle = dark ? "#ffffff" : "#1d232b";
+    const len = step * pxPerMetre();
+    ctx.fillStyle = "rgba(255,255,255,0.8)";
+    ctx.fillRect(bx - 6, by - 19, len + 12, 25);
+    ctx.strokeStyle = "#1d232b";
     ctx.lineWidth = 2;
     ctx.beginPath();
     ctx.moveTo(bx, by - 4); ctx.lineTo(bx, by); ctx.lineTo(bx + len, by); ctx.lineTo(bx + len, by - 4);
     ctx.stroke();
-    ctx.fillStyle = dark ? "#ffffff" : "#1d232b";
-    ctx.fillText("10 cm", bx + len / 2 - 14, by - 6);
+    ctx.fillStyle = "#1d232b";
+    ctx.fillText(lengthLabel(step), bx + len / 2 - 14, by - 6);
     // The robot's base at the origin.
     const [ox, oy] = toPx(0, 0);
     ctx.strokeStyle = dark ? "rgba(255,255,255,0.5)" : "#b9c1ca";
     ctx.lineWidth = 1.5;
     ctx.beginPath(); ctx.arc(ox, oy, 0.05 * pxPerMetre(), Math.PI, 2 * Math.PI); ctx.stroke();
-    ctx.fillStyle = dark ? "#d0d4da" : "#66707c";
-    ctx.fillText("robot base", ox - 26, oy - 0.05 * pxPerMetre() - 4);
+    label("robot base", ox - 26, oy - 0.05 * pxPerMetre() - 4);
     ctx.restore();
   }
 
@@ -866,6 +890,25 @@
     } catch (err) { fail(err); }
   }
 
+  // Widen the view (keeping its shape) when imported data lie outside it.
+  function fitView(points) {
+    if (!points.length) return;
+    const [x0, x1, y0, y1] = state.view;
+    if (points.every(([x, y]) => x >= x0 && x <= x1 && y >= y0 && y <= y1)) return;
+    const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
+    const lo = [Math.min(...xs), Math.min(...ys)], hi = [Math.max(...xs), Math.max(...ys)];
+    const aspect = (x1 - x0) / (y1 - y0);
+    const width = Math.max((hi[0] - lo[0]) * 1.2, (hi[1] - lo[1]) * 1.2 * aspect, 1e-3);
+    const cx = (lo[0] + hi[0]) / 2, cy = (lo[1] + hi[1]) / 2;
+    state.view = [cx - width / 2, cx + width / 2, cy - width / aspect / 2, cy + width / aspect / 2];
+  }
+  function fitAll() {
+    const points = [];
+    state.demos.forEach((d) => d.points.forEach((p) => points.push(p)));
+    state.obstacles.forEach((o) => points.push([o.x, o.y]));
+    fitView(points);
+  }
+
   function mergeDemos(demos) {
     snapshot();
     const renamed = [];
@@ -910,10 +953,12 @@
       if (kind === "demos") {
         if (state.demos.length + data.demos.length > state.limits.max_demos) throw new Error(`at most ${state.limits.max_demos} demonstrations`);
         const renamed = mergeDemos(data.demos);
+        fitAll();
         showMessage(`${file.name}: ${data.demos.length} demonstrations` + (renamed.length ? ` (renamed: ${renamed.join(", ")})` : ""), "info");
       } else {
         snapshot();
         const missing = mergeScenes(data);
+        fitAll();
         showMessage(`${file.name}: ${data.obstacles.length} obstacles` + (missing.length ? `; no demonstration ${missing.join(", ")} to mark` : ""), missing.length ? "error" : "info");
       }
       refresh();
@@ -962,7 +1007,14 @@
     });
     $("message-close").onclick = clearMessage;
     $("undo").onclick = undo;
-    $("clear").onclick = () => { snapshot(); state.demos = []; state.obstacles = []; state.selected = null; refresh(); };
+    $("clear").onclick = () => {
+      snapshot();
+      state.demos = [];
+      state.obstacles = [];
+      state.selected = null;
+      state.view = state.defaultView.slice();
+      refresh();
+    };
     $("example").onclick = loadExample;
     $("learn").onclick = learn;
     $("add-obstacle").onclick = addTrialObstacle;
@@ -1007,6 +1059,7 @@
       state.session = info.session;
       state.limits = info.limits;
       state.view = info.view;
+      state.defaultView = info.view.slice();
       refresh();
       document.body.dataset.ready = "yes";
     } catch (err) {
