@@ -50,7 +50,8 @@ DRIVER = next(
     None,
 )
 
-# Dispatch pointer events along strokes given in metres, spaced `gap` ms apart.
+# Dispatch pointer events along strokes given in metres, spaced `gap` ms apart; the
+# strokes come from a pen, a mouse and a finger in turn.
 DRAW = """
 const [strokes, gap, done] = arguments;
 const T = window.lfdkitTeach, c = document.getElementById('canvas');
@@ -59,23 +60,25 @@ function client(p) {
   const h = c.height / window.devicePixelRatio, [px, py] = T.toPx(p[0], p[1]);
   return [r.left + px / w * r.width, r.top + py / h * r.height];
 }
-function fire(type, p) {
+function fire(type, p, kind) {
   const [x, y] = client(p);
   c.dispatchEvent(new PointerEvent(type, {clientX: x, clientY: y, pointerId: 7,
-    pointerType: 'pen', isPrimary: true, bubbles: true, cancelable: true,
+    pointerType: kind, isPrimary: true, bubbles: true, cancelable: true,
     button: type === 'pointermove' ? -1 : 0, buttons: type === 'pointerup' ? 0 : 1}));
 }
 const events = [];
-for (const stroke of strokes) {
-  events.push(['pointerdown', stroke[0]]);
-  for (const p of stroke.slice(1)) events.push(['pointermove', p]);
-  events.push(['pointerup', stroke[stroke.length - 1]]);
+const kinds = ['pen', 'mouse', 'touch'];
+for (const [j, stroke] of strokes.entries()) {
+  const kind = kinds[j % 3];
+  events.push(['pointerdown', stroke[0], kind]);
+  for (const p of stroke.slice(1)) events.push(['pointermove', p, kind]);
+  events.push(['pointerup', stroke[stroke.length - 1], kind]);
 }
 let i = 0;
 (function next() {
   if (i >= events.length) { done(true); return; }
-  const [type, p] = events[i++];
-  fire(type, p);
+  const [type, p, kind] = events[i++];
+  fire(type, p, kind);
   setTimeout(next, type === 'pointerup' ? 5 : gap);
 })();
 """
@@ -83,6 +86,7 @@ let i = 0;
 STATE = """
 const s = window.lfdkitTeach.state;
 return JSON.stringify({demos: s.demos, obstacles: s.obstacles, layers: s.layers !== null,
+  timing: s.layers && s.layers.timing,
   learning: s.learning, plan: s.plan, planError: s.planError, planBusy: s.planBusy,
   planCount: s.planCount, trial: s.trial, mode: s.mode, heat: s.heat !== null,
   message: document.getElementById('message').hidden ? null :
@@ -226,6 +230,10 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
     state = _wait(driver, lambda s: s["layers"] and s["plan"] is not None, "learning", 120)
     assert state["mode"] == "try" and state["planError"] is None, state["planError"]
     assert len(state["trial"]["obstacles"]) == 1
+    # The skill keeps the drawn speed: its duration is the strokes' median.
+    durations = [d["times"][-1] for d in _state(driver)["demos"][:3]]
+    assert state["timing"]["source"] == "demonstrations"
+    assert state["timing"]["duration"] == pytest.approx(np.median(durations), rel=0.05)
     log = driver.find_element("id", "learn-log").text
     assert "emulate" in log and "done in" in log
 
