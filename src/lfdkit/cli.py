@@ -6,9 +6,10 @@ start, goal and scene), ``plot`` (a skill's reward, demonstrations and plan),
 ``import`` (demonstrations from ROS bags and MCAP recordings), ``execute``
 (a skill on a UR arm: poses, joints, URScript, a MuJoCo check),
 ``compare`` (the mimicking methods on the built-in data sets), ``datasets``
-(list the built-in data sets, or export one as files ``learn`` reads) and
+(list the built-in data sets, or export one as files ``learn`` reads),
 ``bench`` (the benchmarks: ``--benchmarks DIR``, ./benchmarks or the source
-checkout's).
+checkout's) and ``teach`` (a local web page to draw demonstrations, learn and
+try the skill live; the optional extra ``teach``).
 
 Lengths are in the unit ``--units`` names (``m``, ``cm`` or ``mm``): for
 ``learn`` the demonstrations' (stored in the skill, default metres); for
@@ -889,6 +890,34 @@ def _bench(args: argparse.Namespace) -> None:
             raise CommandError(f"benchmark {name} failed with exit code {done.returncode}")
 
 
+def _teach(args: argparse.Namespace) -> None:
+    try:  # the optional extra `teach`, imported only here
+        import starlette  # noqa: F401
+        import uvicorn  # noqa: F401
+    except ImportError as exc:
+        raise CommandError(
+            f"the teach page needs Starlette and uvicorn ({exc.name} is missing); "
+            'install them with: pip install "lfdkit[teach]"'
+        ) from None
+    from lfdkit.teach.server import is_loopback, serve
+
+    if not is_loopback(args.host):
+        _say(
+            args,
+            f"lfdkit teach: warning: listening on {args.host}: anyone who can reach this "
+            "machine on port "
+            f"{args.port} can use the page and make it learn; use the default 127.0.0.1 "
+            "unless you mean that",
+            level=0,
+        )
+    serve(
+        args.host,
+        args.port,
+        open_browser=args.open,
+        say=lambda line: _say(args, f"lfdkit teach: {line}"),
+    )
+
+
 def _loudness(parser: argparse.ArgumentParser) -> None:
     loud = parser.add_mutually_exclusive_group()
     loud.add_argument(
@@ -1226,6 +1255,24 @@ def _datasets_options(parser: argparse.ArgumentParser) -> None:
     _seed(parser, None, "export: seed of a generated data set (default 0)")
 
 
+def _teach_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--port",
+        type=_bounded_int(0, 65535),
+        default=8765,
+        help="port to listen on (default %(default)s; 0: a free one, printed)",
+    )
+    parser.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to listen on (default %(default)s, this machine only; another "
+        "address exposes the page to the network and prints a warning)",
+    )
+    parser.add_argument(
+        "--open", action="store_true", help="open the page in the default web browser"
+    )
+
+
 def _bench_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("names", nargs="*", metavar="NAME", help="benchmarks (default all)")
     parser.add_argument(
@@ -1340,6 +1387,19 @@ def _parser() -> argparse.ArgumentParser:
             "Run NAME.py (or the package NAME/) of the benchmarks folder (--benchmarks: "
             "./benchmarks, else the source checkout's); each prints a table and writes JSON "
             "and figures under results/NAME/ beside it.",
+        ),
+        "teach": (
+            _teach,
+            _teach_options,
+            False,
+            "a local web page: draw demonstrations, learn, try the skill live",
+            "Serve a web page on this machine (http://127.0.0.1:8765/ by default; it works "
+            "offline) where you draw demonstrations with a mouse, pen or finger, place "
+            "obstacles and mark which demonstrations swerved around them, learn the skill "
+            "(as lfdkit learn does), look at its layers and drag the start, goal and "
+            "obstacles while the plan follows; it exports demos.csv, scenes.csv, the skill, "
+            "the plan and the URScript program. Ctrl-C stops it. Needs the extra: "
+            'pip install "lfdkit[teach]".',
         ),
     }
     for name, (handler, options, writes, summary, description) in commands.items():

@@ -1,6 +1,6 @@
 """Tests for the place of lfdkit.tasks: on top of the layers, and the old paths into it.
 
-No module below the tasks imports one (the command line, on top, does); the
+No module below the tasks imports one (the command line and the teach page, on top, do); the
 modules of the sweeping task import only the ones before them
 (scenarios → examples → sim → figures → execution → demo) and no private name of another
 module. The old import paths of the sweeping task (``lfdkit.robot.sim``,
@@ -39,7 +39,7 @@ def imported_modules(path: Path) -> list[tuple[str, list[str]]]:
 def test_no_module_below_the_tasks_imports_one():
     for path in SRC.rglob("*.py"):
         relative = path.relative_to(SRC)
-        if relative.parts[0] == "tasks" or relative == Path("cli.py"):
+        if relative.parts[0] in ("tasks", "teach") or relative == Path("cli.py"):
             continue
         for module, _ in imported_modules(path):
             assert not module.startswith("lfdkit.tasks"), f"{relative} imports {module}"
