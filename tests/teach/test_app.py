@@ -412,8 +412,6 @@ def test_exports_load_with_lfdkit_readers(learned, tmp_path) -> None:
 
 
 def test_plan_csv_and_urscript_exports(learned) -> None:
-    from lfdkit.io import load_demos
-
     client, headers, _ = learned
     request = _plan_request((0.1, 0.52))
     plan = client.post("/api/plan", json=request, headers=headers).json()
@@ -422,7 +420,6 @@ def test_plan_csv_and_urscript_exports(learned) -> None:
     rows = np.loadtxt(answer.text.splitlines()[1:], delimiter=",")
     np.testing.assert_allclose(rows[:, 0], plan["times"], atol=1e-12)
     np.testing.assert_allclose(rows[:, 1:], plan["points"], atol=1e-12)
-    assert load_demos  # the CSV is the one `lfdkit plan` writes (path_csv)
     program = client.post("/api/export/urscript", json=request, headers=headers)
     assert program.status_code == 200, program.text
     assert program.text.startswith("# URScript program written by lfdkit")
@@ -430,6 +427,25 @@ def test_plan_csv_and_urscript_exports(learned) -> None:
     far = {**request, "goal": [5.0, 5.0]}
     answer = client.post("/api/export/urscript", json=far, headers=headers)
     assert answer.status_code == 422 and "\n" not in answer.json()["error"]
+
+
+def test_a_skill_whose_reward_fit_did_not_converge_is_tried_but_not_exported() -> None:
+    import copy
+
+    client = new_client()
+    headers = session(client)
+    status = learn(client, headers, drawing())
+    assert status["state"] == "done", status
+    tab = client.app.state.sessions.get(headers[SESSION_HEADER])
+    skill = copy.deepcopy(tab.skill)
+    skill.ioc_info_ = {**skill.ioc_info_, "converged": False}
+    tab.skill = skill
+    request = _plan_request((0.1, 0.52))
+    assert client.post("/api/plan", json=request, headers=headers).status_code == 200
+    refused = r"did not converge.*not exported.*lfdkit learn"
+    assert_readable(client.get("/api/export/skill", headers=headers), 400, refused)
+    for url in ("/api/export/plan", "/api/export/urscript"):
+        assert_readable(client.post(url, json=request, headers=headers), 400, refused)
 
 
 def test_imports_read_uploaded_bytes_without_paths(learned) -> None:

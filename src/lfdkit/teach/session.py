@@ -440,6 +440,22 @@ class Session:
             raise RequestError("no skill learned yet in this tab; draw demonstrations and learn")
         return self.skill
 
+    def exportable(self) -> Any:
+        """The skill, for a file that leaves the page: refused where ``lfdkit learn`` refuses it.
+
+        A reward fit that did not converge can be tried in the page (its
+        warning shows), but no skill, plan or robot program is written from it.
+        """
+        skill = self.fitted()
+        fit = skill.ioc_info_ or {}
+        if not fit.get("converged", True):
+            raise RequestError(
+                "the obstacle reward fit did not converge, so this skill is not exported "
+                "(`lfdkit learn` refuses it too): add demonstrations around the obstacles "
+                "and learn again"
+            )
+        return skill
+
 
 class SessionStore:
     """The sessions of the tabs served, at most ``max_sessions`` (least recently used go)."""
@@ -535,7 +551,8 @@ def _learn_worker(
         if not fit.get("converged", True):
             job.warnings.append(
                 f"the obstacle reward fit did not converge ({fit.get('convergence_message')}); "
-                "`lfdkit learn` would refuse this skill: add demonstrations around the obstacles"
+                "`lfdkit learn` would refuse this skill: try it here, but it is not exported; "
+                "add demonstrations around the obstacles"
             )
         job.warnings += [str(w) for w in skill.mimic_info_.get("warnings", [])]
         job.say("layers: distance space, classes; first plan (compiles the planner once)")
@@ -732,7 +749,7 @@ def plan_response(session: Session, payload: Any) -> dict[str, Any]:
 # ----------------------------------------------------------------- exports
 def export_skill(session: Session) -> bytes:
     """The skill file :meth:`Skill.save` writes, byte for byte."""
-    skill = session.fitted()
+    skill = session.exportable()
     with tempfile.TemporaryDirectory(prefix="lfdkit-teach-") as folder:
         return skill.save(Path(folder) / "skill.json").read_bytes()
 
@@ -742,7 +759,7 @@ def export_plan_csv(session: Session, payload: Any) -> str:
     from lfdkit.io import path_csv
 
     request = parse_plan_request(payload)
-    timed = session.fitted().plan(request.start, request.goal, request.scene)
+    timed = session.exportable().plan(request.start, request.goal, request.scene)
     return path_csv(timed.points, times=timed.times)
 
 
@@ -757,7 +774,7 @@ def export_urscript(session: Session, payload: Any) -> str:
 
     request = parse_plan_request(payload)
     execution = execute_skill(
-        session.fitted(),
+        session.exportable(),
         request.start,
         request.goal,
         request.scene,
