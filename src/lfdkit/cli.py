@@ -43,7 +43,7 @@ import tempfile
 import time
 import traceback
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -333,23 +333,33 @@ def _skill_params(args: argparse.Namespace) -> dict:
     }
 
 
-class _MimicChoices:
-    """The registered mimic methods' keys, read when argparse first needs them.
+class _LazyChoices:
+    """argparse choices read from a registry when argparse first needs them.
 
-    Importing the registry loads scikit-learn (seconds), which ``lfdkit --help``
-    and every other command should not wait for.
+    ``keys`` returns the names; the registries (mimic methods, arms) import
+    modules that ``lfdkit --help`` and the other commands should not wait for.
     """
 
-    def _keys(self) -> tuple[str, ...]:
-        from lfdkit.mimic import MIMIC_METHODS
-
-        return tuple(MIMIC_METHODS)
+    def __init__(self, keys: Callable[[], Iterable[str]]) -> None:
+        self._keys = keys
 
     def __contains__(self, value: object) -> bool:
-        return value in self._keys()
+        return value in tuple(self._keys())
 
     def __iter__(self) -> Iterator[str]:
-        return iter(self._keys())
+        return iter(tuple(self._keys()))
+
+
+def _mimic_keys() -> tuple[str, ...]:
+    from lfdkit.mimic import MIMIC_METHODS
+
+    return tuple(MIMIC_METHODS)
+
+
+def _arm_keys() -> tuple[str, ...]:
+    from lfdkit.robot.arm import ARMS
+
+    return tuple(ARMS)
 
 
 def _learn(args: argparse.Namespace) -> None:
@@ -831,21 +841,6 @@ def _fraction(text: str) -> float:
     return value
 
 
-class _ArmChoices:
-    """The arm names of :data:`lfdkit.robot.arm.ARMS`, read when argparse first needs them."""
-
-    def _keys(self) -> tuple[str, ...]:
-        from lfdkit.robot.arm import ARMS
-
-        return tuple(ARMS)
-
-    def __contains__(self, value: object) -> bool:
-        return value in self._keys()
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._keys())
-
-
 def _benchmarks_folder(given: Path | None) -> Path:
     """``--benchmarks``, else ./benchmarks, else the source checkout's (an editable install)."""
     if given is not None:
@@ -1018,7 +1013,7 @@ def _learn_options(parser: argparse.ArgumentParser) -> None:
     # The Skill parameters' defaults are the Skill's own (lfdkit._options).
     parser.add_argument(
         "--mimic",
-        choices=_MimicChoices(),
+        choices=_LazyChoices(_mimic_keys),
         # A metavar, or argparse lists the choices as the parser is built (seconds).
         metavar="METHOD",
         default=SKILL_DEFAULTS["mimic"],
@@ -1063,7 +1058,7 @@ def _import_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--arm",
-        choices=_ArmChoices(),
+        choices=_LazyChoices(_arm_keys),
         metavar="ARM",
         default="ur5",
         help="for JointState: the arm (ur5 or ur10, default %(default)s)",
@@ -1184,7 +1179,7 @@ def _execute_options(parser: argparse.ArgumentParser) -> None:
     _skill_file_options(parser)
     parser.add_argument(
         "--arm",
-        choices=_ArmChoices(),
+        choices=_LazyChoices(_arm_keys),
         metavar="ARM",
         default="ur5",
         help="the robot arm: ur5 or ur10, a key of lfdkit.robot.arm.ARMS (default %(default)s)",
