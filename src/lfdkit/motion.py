@@ -17,7 +17,8 @@ Motions
   interpolated and held at its ends (a scripted obstacle, a replayed log);
 * :class:`Observations` — noisy observations of the position up to now; a
   tracker (by default :class:`ConstantVelocityKalman`) estimates the state
-  and predicts the position, with its covariance, at any later time.
+  and predicts the position, with its covariance, at any later time;
+* :class:`Tracked` — a live tracker fed by a control loop (not stored in files).
 
 Trackers
 --------
@@ -47,6 +48,7 @@ __all__ = [
     "ConstantVelocityKalman",
     "Motion",
     "Observations",
+    "Tracked",
     "Tracker",
     "Trajectory",
 ]
@@ -237,6 +239,35 @@ class Observations(Motion):
         return f"Observations(<{self.times.size} samples>, noise={self.noise:g})"
 
 
+class Tracked(Motion):
+    """A live tracker's prediction (the closed loop: the tracker takes observations as they come).
+
+    Not written to scene files (it has no fixed data); :class:`Observations`
+    is the file form.
+
+    Parameters
+    ----------
+    tracker : Tracker
+        With at least one observation before the first prediction.
+    """
+
+    kind = "tracked"
+
+    def __init__(self, tracker: Tracker) -> None:
+        if not isinstance(tracker, Tracker):
+            raise TypeError(f"tracker: expected an update/predict tracker, got {tracker!r}")
+        self.tracker = tracker
+
+    def predict(self, origin: np.ndarray, times: Any) -> tuple[np.ndarray, np.ndarray]:
+        return self.tracker.predict(_times(times))
+
+    def transformed(self, factor: float, flip: np.ndarray) -> Motion:
+        raise ValueError("a live tracker cannot be scaled or mirrored; use Observations")
+
+    def __repr__(self) -> str:
+        return f"Tracked({type(self.tracker).__name__})"
+
+
 class ConstantVelocityKalman:
     """A constant-velocity Kalman filter of a point in 2-D or 3-D (state ``[p, v]``).
 
@@ -270,7 +301,7 @@ class ConstantVelocityKalman:
     n_updates : int
     """
 
-    def __init__(self, noise: float, acceleration: float = 0.05, velocity_std: float = 0.5) -> None:
+    def __init__(self, noise: float, acceleration: float = 0.02, velocity_std: float = 0.5) -> None:
         for name, value in (("noise", noise), ("velocity_std", velocity_std)):
             if not (np.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name}: must be a positive number, got {value!r}")
@@ -329,12 +360,16 @@ class ConstantVelocityKalman:
             raise ValueError("predict: the tracker has no observation yet")
         t = _times(times)
         dt = t - self.time
-        means = self.mean[0][None] + dt[:, None] * self.mean[1][None]
-        (p, c), (_, v) = self.cov
+        means = self.mean[0] + dt[:, None] * self.mean[1]
+        cov = self.cov
         a = np.abs(dt)
-        var = p + 2.0 * dt * c + dt * dt * v + self.acceleration**2 * a**3 / 3.0
+        var = cov[0, 0] + dt * (2.0 * cov[0, 1] + dt * cov[1, 1])
+        var += (self.acceleration**2 / 3.0) * a * a * a
         q = self.mean.shape[1]
-        return means, var[:, None, None] * np.eye(q)[None]
+        covs = np.zeros((t.size, q, q))
+        for i in range(q):
+            covs[:, i, i] = var
+        return means, covs
 
     @property
     def velocity(self) -> np.ndarray:

@@ -361,7 +361,6 @@ class Problem:
             shifts, grow = _predicted_shifts(scene, corridor, times, margin)  # (n, O, q), (n, O)
             anchors = anchors[None] + shifts[:, scene.anchors()[1]]
             if hard_centres is not None:
-                owner = scene.balls()[2]
                 hard_centres = hard_centres[None] + shifts[:, owner]
                 hard_radius = np.where(hard_radius > 0.0, hard_radius[None] + grow[:, owner], 0.0)
         return cls(
@@ -529,7 +528,12 @@ def predicted_sigma(covs: np.ndarray) -> np.ndarray:
     """The largest standard deviation of each covariance (n, q, q): shape (n,), units."""
     if not covs.size:
         return np.zeros(covs.shape[0])
-    return np.sqrt(np.maximum(np.linalg.eigvalsh(covs)[:, -1], 0.0))
+    if covs.shape[1] == 2:  # closed form: (a + d)/2 + √(((a − d)/2)² + b²)
+        a, b, d = covs[:, 0, 0], covs[:, 0, 1], covs[:, 1, 1]
+        largest = 0.5 * (a + d) + np.sqrt(0.25 * (a - d) ** 2 + b * b)
+    else:
+        largest = np.linalg.eigvalsh(covs)[:, -1]
+    return np.sqrt(np.maximum(largest, 0.0))
 
 
 def _predicted_shifts(
@@ -543,14 +547,18 @@ def _predicted_shifts(
     """
     times = check_times(times, corridor.n_points)
     margin = check_positive(margin, "margin", allow_zero=True)
-    shifts, grow = [], []
-    for obstacle in scene.obstacles:
+    n, q = times.size - 1, corridor.n_dims
+    shifts, grow = np.zeros((n, len(scene), q)), np.zeros((n, len(scene)))
+    for o, obstacle in enumerate(scene.obstacles):
+        if obstacle.motion is None:
+            continue
         means, covs = obstacle.predict(times)
-        move = np.linalg.norm(np.diff(means, axis=0), axis=1)  # (K − 1,)
+        step = means[1:] - means[:-1]
+        move = np.sqrt(np.einsum("kq,kq->k", step, step))  # (K − 1,)
         ahead = np.append(move[1:], move[-1])
-        shifts.append(means[1:] - obstacle.position)
-        grow.append(margin * predicted_sigma(covs[1:]) + 0.5 * np.maximum(move, ahead))
-    return np.stack(shifts, axis=1), np.stack(grow, axis=1)
+        shifts[:, o] = means[1:] - obstacle.position
+        grow[:, o] = margin * predicted_sigma(covs[1:]) + 0.5 * np.maximum(move, ahead)
+    return shifts, grow
 
 
 def _step_of(base: np.ndarray) -> float:
