@@ -103,7 +103,7 @@ def test_csv_refuses_a_partial_velocity_and_a_trajectory(tmp_path):
     with pytest.raises(ValueError, match="'vx', 'vy'"):
         load_scenes(tmp_path / "bad.csv")
     track = Obstacle("cup", [0, 0], motion=Trajectory([0, 1], [[0, 0], [1, 1]]))
-    with pytest.raises(ValueError, match="use a .json file"):
+    with pytest.raises(ValueError, match=r"use a \.json file"):
         save_scenes(tmp_path / "track.csv", {0: Scene((track,))})
 
 
