@@ -31,6 +31,16 @@ method                    used by
 ``scaled``/``mirrored``   the IOC's normalisation, symmetry checks
 ========================  ====================================================
 
+Moving obstacles
+----------------
+An obstacle may carry a :class:`lfdkit.motion.Motion` (``motion=``, keyword
+only): a known velocity, a trajectory, or noisy observations with a tracker.
+Its ``position`` is then where it is at ``t = 0`` (the plan's start),
+:meth:`Obstacle.predict` gives where it will be (mean and covariance) and
+:meth:`Obstacle.at` the static obstacle at a time; :attr:`Scene.moving` says
+whether anything moves. A static obstacle (``motion=None``, the default) is
+exactly as before: same geometry, repr and files.
+
 Scene files (the scenes of several demonstrations keyed by demonstration
 id) are read and written by :mod:`lfdkit.io.scenes`.
 """
