@@ -254,7 +254,9 @@ class Tracked(Motion):
     kind = "tracked"
 
     def __init__(self, tracker: Tracker) -> None:
-        if not isinstance(tracker, Tracker):
+        # (duck-typed: a runtime Protocol check costs more than a prediction)
+        methods = (getattr(tracker, name, None) for name in ("update", "predict"))
+        if not all(callable(method) for method in methods):
             raise TypeError(f"tracker: expected an update/predict tracker, got {tracker!r}")
         self.tracker = tracker
 
