@@ -77,7 +77,6 @@ def test_run_moving_refuses_an_unknown_method(skill, setting):
         run_moving(skill, scenario, "teleport")
 
 
-@pytest.mark.slow
 def test_mujoco_replay_sweeps_the_cube_past_the_sliding_obstacle(skill, setting):
     pytest.importorskip("mujoco", reason="pip install mujoco")
     nominal, times = setting
