@@ -215,19 +215,22 @@ class Problem:
         Nominal points of the offsets (points 1 … K−1 of the corridor), in units.
     normals : ndarray, shape (n, m, q)
         Their orthonormal normals.
-    obstacles : ndarray, shape (L, q)
+    obstacles : ndarray, shape (L, q) or (n, L, q)
         Centres of the reward's obstacle terms (a round obstacle's centre; a
-        shape's anchors, :meth:`lfdkit.scene.Obstacle.anchors`), in units.
+        shape's anchors, :meth:`lfdkit.scene.Obstacle.anchors`), in units;
+        with moving obstacles a centre per point (where each is predicted
+        when the tool reaches that point).
     precision : ndarray, shape (L, q, q)
         Each term's precision ``P`` (1/units²).
     weight : float or ndarray, shape (n,)
         Nominal weight ``Q`` per offset (1/units²).
     max_step : float
         Action bound: largest change of an offset component per point (units).
-    hard_radius : ndarray, shape (L,) or (B,), optional
-        Radius plus clearance (units) of each ball the plan must keep out of;
-        0 or None: no barrier.
-    hard_centres : ndarray, shape (B, q), optional
+    hard_radius : ndarray, shape (L,) or (B,), or (n, B), optional
+        Radius plus clearance (units) of each ball the plan must keep out of,
+        or of each ball at each point (moving obstacles: the margin grows with
+        the prediction's uncertainty); 0 or None: no barrier.
+    hard_centres : ndarray, shape (B, q) or (n, B, q), optional
         Centres of those balls (the obstacles' covering balls,
         :meth:`lfdkit.scene.Obstacle.balls`); None: the term centres
         ``obstacles``, with ``hard_radius`` of shape (L,).
@@ -250,9 +253,13 @@ class Problem:
     inner2, outer2 : ndarray, shape (H,)
         Squared radii (units²) where the barrier is infinite and where it
         starts: the hard radius widened by half a segment's length, and a
-        thin zone outside it.
+        thin zone outside it (the smallest over the points when it varies).
     rr : ndarray, shape (n, H)
-        ``|r|²`` of the obstacles with a barrier (units²).
+        ``|r|²`` of the obstacles with a barrier (units²), less
+        ``r_k² − inner2`` where the radius ``r_k`` varies from point to point
+        (so the barrier meets each point's own radius).
+    moving : bool
+        Whether the obstacle centres are given per point.
     nr : ndarray, shape (n, H, m)
         ``N r`` of the obstacles with a barrier (units).
     """
