@@ -66,9 +66,11 @@ from lfdkit.tasks.sweeping.scenarios import (
 from lfdkit.tasks.sweeping.sim import SweepResult, simulate_timed_path
 
 __all__ = [
+    "BASE_CLEARANCE",
     "METHODS",
     "OBSERVATION_NOISE",
     "PRE_ROLL",
+    "SLIDE_PAST",
     "SLIDE_SPEEDS",
     "SWEEP_DURATION",
     "WAIT",
@@ -84,6 +86,10 @@ __all__ = [
 METHODS = ("predictive MPC", "static MPC", "DMP", "DMP + coupling")
 #: Speeds of the sliding obstacle (m/s).
 SLIDE_SPEEDS = (0.02, 0.10)
+#: How far past the sweep the obstacle slides before it stops (m).
+SLIDE_PAST = 0.15
+#: Least distance of the obstacle's track ends from the robot's base, the origin (m).
+BASE_CLEARANCE = 0.2
 #: Standard deviation of each coordinate of an observation of the obstacle (m).
 OBSERVATION_NOISE = 0.003
 #: Seconds the sweep lasts (the skill's speed profile stretched to it).
@@ -158,8 +164,10 @@ def moving_scenarios(
     30°, the speed ``U[speeds]``, the crossing ``U[−slack, slack]`` s from the
     moment the brush is there; the obstacle starts sliding at ``U[0, 0.5]`` of
     the sweep's duration, from where it must start to cross then (at least
-    8 cm from the path plus its radius, redrawn otherwise), and slides 0.4 m
-    past the path.
+    8 cm from the path plus its radius, redrawn otherwise), and stops
+    :data:`SLIDE_PAST` beyond the path; a track that starts or stops within
+    :data:`BASE_CLEARANCE` of the robot's base (the origin, 45 cm from the
+    sweep) is redrawn.
 
     Parameters
     ----------
@@ -200,8 +208,11 @@ def moving_scenarios(
         if distance < 0.08 + base.radius:
             continue
         origin = nominal[k] - distance * heading
-        finish = start_time + (distance + 0.4) / speed
-        motion = Trajectory([start_time, finish], [origin, origin + (distance + 0.4) * heading])
+        finish = start_time + (distance + SLIDE_PAST) / speed
+        end = origin + (distance + SLIDE_PAST) * heading
+        if min(np.linalg.norm(origin), np.linalg.norm(end)) < BASE_CLEARANCE:
+            continue  # it would stand on the robot's base
+        motion = Trajectory([start_time, finish], [origin, end])
         sliding = Obstacle(label, origin, base.radius, motion=motion)
         out.append(
             MovingScenario(
