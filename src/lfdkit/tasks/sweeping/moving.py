@@ -571,7 +571,7 @@ def moving_figure(
         f"{scenario.obstacle.label} sliding at {100 * scenario.speed:.1f} cm/s from "
         f"t = {scenario.start_time:.1f} s"
     )
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)
     # Distance in time: brush–obstacle surface gap for each method.
     for name, run in runs.items():
         grid = np.arange(run.times[0], run.times[-1], 0.02)
