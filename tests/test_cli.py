@@ -325,6 +325,24 @@ def test_plan_keeps_out_of_the_radius_plus_clearance(capsys, skill_path):
     assert "no collision-free plan" in err and len(err.strip().splitlines()) == 1
 
 
+def test_plan_with_a_moving_obstacle(capsys, skill_path):
+    # vx, vy: the plan keeps clear of where the cup is when the brush passes.
+    from lfdkit.motion import ConstantVelocity
+
+    cup = "cup:0.0,0.30,r=0.03,vx=0,vy=0.3"
+    args = ("plan", skill_path, "--obstacle", cup, "--clearance", "0.02", "--duration", "1")
+    code, stdout, err = run_cli(capsys, *args, "-v")
+    assert code == 0, err
+    rows = read_plan_csv(stdout)[1]
+    skill = Skill.load(skill_path)
+    moving = Obstacle("cup", [0.0, 0.30], 0.03, motion=ConstantVelocity([0.0, 0.3]))
+    plan = skill.plan(scene=Scene((moving,)), clearance=0.02, duration=1.0)
+    assert np.array_equal(rows, plan.points)
+    assert not np.array_equal(rows, skill.plan(scene=Scene((moving.at(0.0),)), clearance=0.02))
+    code, _, err = usage_exit(capsys, "plan", skill_path, "--obstacle", "cup:0,0.3,vx=0.1")
+    assert code == 2 and "vy=" in err
+
+
 def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):
     code, stdout, err = run_cli(capsys, "plan", skill_path, "--obstacle", obstacle_arg(MARKER))
     assert code == 0, err

@@ -621,3 +621,26 @@ def test_learn_reads_the_times_of_a_demonstrations_file(tmp_path) -> None:
     bad.write_text(path.read_text().replace("\n0,0.0,", "\n0,nan,", 1))
     with pytest.raises(ValueError, match=r"nan\.csv.*(time|t)"):
         learn(bad)
+
+
+# ------------------------------------------------------------------ moving obstacles
+def test_plan_avoids_a_moving_obstacle_where_it_is_when_the_tool_passes(skill) -> None:
+    from lfdkit.motion import ConstantVelocity
+    from lfdkit.scene import Obstacle
+
+    duration = 8.0
+    times = skill.point_times(duration)
+    assert times[0] == 0.0 and times[-1] == pytest.approx(duration)
+    assert np.all(np.diff(times) > 0)
+    nominal = np.asarray(skill.plan(duration=duration).points)
+    k = len(nominal) // 2  # a cup crossing the sweep at its middle when the tool is there
+    velocity = np.array([0.0, 0.05])
+    cup = Obstacle("cup", nominal[k] - velocity * times[k], 0.03, motion=ConstantVelocity(velocity))
+    plan = skill.plan(scene=Scene((cup,)), duration=duration, clearance=0.025)
+    centres = cup.predict(plan.times)[0]
+    assert np.linalg.norm(plan.points - centres, axis=1).min() >= 0.03 + 0.025 - 1e-3
+    # the assumption: the swerving plan reaches each point at nearly the nominal's time
+    assert np.abs(plan.times - times).max() < 0.05 * duration
+    # planned for where the cup is now, the sweep runs into it later
+    static = skill.plan(scene=Scene((cup.at(0.0),)), duration=duration, clearance=0.025)
+    assert np.linalg.norm(static.points - cup.predict(static.times)[0], axis=1).min() < 0.03

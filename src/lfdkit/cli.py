@@ -191,15 +191,32 @@ def _bounded_int(low: int, high: int) -> Callable[[str], int]:
 
 
 def _obstacle(text: str):
-    """``CLASS:X,Y[,Z][,r=RADIUS]`` as (label, position, radius)."""
+    """``CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY[,vz=VZ]]`` as (label, position, radius, velocity).
+
+    ``velocity`` is None for a static obstacle, else the list of the given
+    components (units/s).
+    """
     label, sep, rest = text.partition(":")
     if not sep or not label.strip():
-        raise argparse.ArgumentTypeError(f"expected CLASS:X,Y[,Z][,r=RADIUS], got {text!r}")
+        raise argparse.ArgumentTypeError(
+            f"expected CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY], got {text!r}"
+        )
     radius = 0.0
     coords = []
+    velocity: dict[str, float] = {}
     for token in rest.split(","):
         token = token.strip()
-        if token.startswith("r="):
+        if token[:3] in ("vx=", "vy=", "vz="):
+            try:
+                value = float(token[3:])
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise argparse.ArgumentTypeError(
+                    f"{token[:2]} in {text!r} is not a finite number"
+                ) from None
+            velocity[token[:2]] = value
+        elif token.startswith("r="):
             try:
                 radius = float(token[2:])
             except ValueError:
@@ -208,7 +225,16 @@ def _obstacle(text: str):
                 raise argparse.ArgumentTypeError(f"radius in {text!r} must be finite and >= 0")
         else:
             coords.append(token)
-    return label.strip(), _numbers(",".join(coords)), radius
+    position = _numbers(",".join(coords))
+    if not velocity:
+        return label.strip(), position, radius, None
+    wanted = ["vx", "vy", "vz"][: len(position)]
+    if sorted(velocity) != wanted:
+        raise argparse.ArgumentTypeError(
+            f"velocity in {text!r}: give {', '.join(w + '=' for w in wanted)} "
+            f"for a {len(position)}-D position"
+        )
+    return label.strip(), position, radius, [velocity[w] for w in wanted]
 
 
 def _compare(args: argparse.Namespace) -> None:
@@ -473,18 +499,20 @@ def _import(args: argparse.Namespace) -> None:
 
 def _scene_from_args(args: argparse.Namespace, n_dims: int):
     from lfdkit.io.scenes import load_scene
+    from lfdkit.motion import ConstantVelocity
     from lfdkit.scene import Obstacle, Scene
 
     obstacles = []
     if args.scene is not None:
         obstacles += list(load_scene(args.scene))
-    for label, position, radius in args.obstacle or ():
+    for label, position, radius, velocity in args.obstacle or ():
         if len(position) != n_dims:
             hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
             raise CommandError(
                 f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill{hint}"
             )
-        obstacles.append(Obstacle(label, position, radius))
+        motion = None if velocity is None else ConstantVelocity(velocity)
+        obstacles.append(Obstacle(label, position, radius, motion=motion))
     scene = Scene(tuple(obstacles))
     if len(scene) and scene.positions.shape[1] != n_dims:
         raise CommandError(
@@ -967,8 +995,10 @@ def _skill_file_options(parser: argparse.ArgumentParser) -> None:
         "--obstacle",
         type=_obstacle,
         action="append",
-        metavar="CLASS:X,Y[,Z][,r=R]",
-        help="an obstacle of a learned class, optionally with its radius (repeatable)",
+        metavar="CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY]",
+        help="an obstacle of a learned class, optionally with its radius and, for one "
+        "moving at constant velocity, its velocity in units/s (the plan keeps clear of "
+        "where it will be when the tool passes; repeatable)",
     )
     parser.add_argument(
         "--scene",

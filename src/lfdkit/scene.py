@@ -31,6 +31,16 @@ method                    used by
 ``scaled``/``mirrored``   the IOC's normalisation, symmetry checks
 ========================  ====================================================
 
+Moving obstacles
+----------------
+An obstacle may carry a :class:`lfdkit.motion.Motion` (``motion=``, keyword
+only): a known velocity, a trajectory, or noisy observations with a tracker.
+Its ``position`` is then where it is at ``t = 0`` (the plan's start),
+:meth:`Obstacle.predict` gives where it will be (mean and covariance) and
+:meth:`Obstacle.at` the static obstacle at a time; :attr:`Scene.moving` says
+whether anything moves. A static obstacle (``motion=None``, the default) is
+exactly as before: same geometry, repr and files.
+
 Scene files (the scenes of several demonstrations keyed by demonstration
 id) are read and written by :mod:`lfdkit.io.scenes`.
 """
@@ -38,12 +48,13 @@ id) are read and written by :mod:`lfdkit.io.scenes`.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
 import numpy as np
 
 from lfdkit.geometry import polyline_distances, segment_polyline_distance
+from lfdkit.motion import Motion
 
 __all__ = ["OBSTACLE_SHAPES", "Capsule", "Obstacle", "Scene", "register_shape"]
 
@@ -78,11 +89,16 @@ class Obstacle:
     radius : float
         Physical radius (units of the paths) for collision and clearance checks;
         the reward does not use it (the learned precision sets the response).
+    motion : lfdkit.motion.Motion or None
+        How the obstacle moves (keyword only): ``position`` is then where it is
+        at ``t = 0`` (the plan's start) and :meth:`predict` where it will be;
+        None (the default) for a static obstacle.
     """
 
     label: str
     position: np.ndarray
     radius: float = 0.0
+    motion: Motion | None = field(default=None, kw_only=True, repr=False)
 
     #: Name of the shape in scene files.
     shape: ClassVar[str] = "round"
@@ -97,11 +113,53 @@ class Obstacle:
         if not np.isfinite(radius) or radius < 0:
             raise ValueError(f"radius: must be finite and >= 0, got {self.radius!r}")
         object.__setattr__(self, "radius", radius)
+        if self.motion is not None and not isinstance(self.motion, Motion):
+            raise TypeError(
+                f"motion: expected an lfdkit.motion.Motion, got {type(self.motion).__name__}"
+            )
+        if self.motion is not None:
+            self.predict([0.0])  # a motion of another dimension is refused here
 
     @property
     def n_dims(self) -> int:
         """Dimension ``q`` of the obstacle's coordinates."""
         return int(self.position.size)
+
+    # ------------------------------------------------------------ motion
+    @property
+    def moving(self) -> bool:
+        """Whether the obstacle has a motion."""
+        return self.motion is not None
+
+    def predict(self, times: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Where the reference point will be: means (n, q) and covariances (n, q, q).
+
+        A static obstacle stays at its position with zero covariance.
+        """
+        t = np.asarray(times, dtype=np.float64).reshape(-1)
+        if self.motion is None:
+            q = self.n_dims
+            return np.repeat(self.position[None], t.size, axis=0), np.zeros((t.size, q, q))
+        try:
+            means, covs = self.motion.predict(self.position, t)
+        except ValueError as exc:  # a broadcast of mismatched dimensions
+            raise ValueError(f"motion: {exc} ({self.label!r})") from None
+        if means.shape[1] != self.n_dims:
+            raise ValueError(
+                f"motion: predicts {means.shape[1]}-D positions for a {self.n_dims}-D "
+                f"obstacle ({self.label!r})"
+            )
+        return means, covs
+
+    def at(self, t: float) -> Obstacle:
+        """The static obstacle where its motion's mean puts it at time ``t`` (s)."""
+        if self.motion is None:
+            return self
+        return self.translated(self.predict([t])[0][0] - self.position)
+
+    def translated(self, shift: Any) -> Obstacle:
+        """The static obstacle moved by ``shift`` (q,) (its motion dropped)."""
+        return replace(self, position=self.position + np.asarray(shift, float), motion=None)
 
     # ------------------------------------------------------------ the contract
     def anchors(self) -> np.ndarray:
@@ -165,7 +223,12 @@ class Obstacle:
 
     def transformed(self, factor: float, flip: np.ndarray) -> Obstacle:
         """Every point ``p`` mapped to ``factor · flip · p`` (``flip`` of ±1 per axis)."""
-        return type(self)(self.label, factor * flip * self.position, factor * self.radius)
+        return type(self)(
+            self.label,
+            factor * flip * self.position,
+            factor * self.radius,
+            motion=None if self.motion is None else self.motion.transformed(factor, flip),
+        )
 
     @classmethod
     def from_fields(
@@ -268,7 +331,12 @@ class Capsule(Obstacle):
             factor * flip * self.position,
             factor * self.radius,
             factor * flip * self.end,
+            motion=None if self.motion is None else self.motion.transformed(factor, flip),
         )
+
+    def translated(self, shift: Any) -> Capsule:
+        shift = np.asarray(shift, float)
+        return replace(self, position=self.position + shift, end=self.end + shift, motion=None)
 
     @classmethod
     def from_fields(
@@ -411,6 +479,17 @@ class Scene:
     def mirrored(self, axis: int = 1) -> Scene:
         """The scene reflected in coordinate ``axis`` (for symmetry checks)."""
         return Scene(tuple(o.mirrored(axis) for o in self.obstacles))
+
+    @property
+    def moving(self) -> bool:
+        """Whether any obstacle moves (has a :attr:`Obstacle.motion`)."""
+        return any(o.motion is not None for o in self.obstacles)
+
+    def at(self, t: float) -> Scene:
+        """The static scene at time ``t`` (s): every moving obstacle at its predicted mean."""
+        if not self.moving:
+            return self
+        return Scene(tuple(o.at(t) for o in self.obstacles))
 
     def with_obstacles(self, obstacles: Iterable[Obstacle]) -> Scene:
         """A new scene with more obstacles."""

@@ -768,6 +768,8 @@ class Skill(Estimator):
             :meth:`plan_details`' errors.
         """
         total = self._plan_duration(duration, speed)
+        if scene is not None and isinstance(scene, Scene) and scene.moving:
+            options.setdefault("duration", total)  # where the tool is when: this plan's timing
         details = self.plan_details(start, goal, scene, **options)
         times, velocities = self.timing_.time_path(details.points, total)
         return TimedPlan(times, details.points, velocities, details)
@@ -801,6 +803,7 @@ class Skill(Estimator):
         goal_approach: float | str | None = "auto",
         clearance: float = 0.0,
         progress: ProgressLike = None,
+        duration: float | None = None,
     ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -826,6 +829,12 @@ class Skill(Estimator):
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
             plan's points (:func:`lfdkit.progress.as_progress`); default silent.
+        duration : float, optional
+            Seconds the plan lasts (default ``timing_.duration``): with moving
+            obstacles in ``scene``, the tool reaches plan point ``k`` at
+            ``point_times()[k]`` and each obstacle is avoided where it
+            is predicted then (:func:`lfdkit.emulate.plan_path`'s ``times``).
+            Not used for a static scene.
 
         Returns
         -------
@@ -846,7 +855,35 @@ class Skill(Estimator):
             obstacle, or a horizon outside 4-12.
         """
         start, goal = self._ends(start, goal)
-        return self._plan(start, goal, scene, planner, horizon, goal_approach, clearance, progress)
+        times = None
+        if isinstance(scene, Scene) and scene.moving:
+            times = self.point_times(duration)
+        return self._plan(
+            start, goal, scene, planner, horizon, goal_approach, clearance, progress, times
+        )
+
+    def point_times(self, duration: float | None = None) -> np.ndarray:
+        """When the tool reaches each of the plan's ``n_points`` points (s), on the nominal.
+
+        The skill's speed profile (:attr:`timing_`) along a path sampled at
+        constant arc length: point ``k`` is reached at
+        ``duration · phase(k / (n_points − 1))``
+        (:meth:`lfdkit.imitate.SpeedProfile.phase`). A plan that swerves is a
+        little longer; timed by its own length it runs uniformly faster, so
+        point ``k`` is reached at nearly the same time (the assumption with
+        which moving obstacles are predicted).
+
+        Parameters
+        ----------
+        duration : float, optional
+            Seconds (default ``timing_.duration``).
+
+        Returns
+        -------
+        ndarray, shape (n_points,)
+        """
+        total = self._plan_duration(duration, None)
+        return total * self.timing_.phase(np.linspace(0.0, 1.0, int(self.n_points)))
 
     def _plan(
         self,
@@ -858,6 +895,7 @@ class Skill(Estimator):
         goal_approach: float | str | None,
         clearance: float,
         progress: ProgressLike = None,
+        times: np.ndarray | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal."""
         nominal = self._nominal(start, goal)
@@ -888,6 +926,7 @@ class Skill(Estimator):
             goal_approach=goal_approach,
             clearance=clearance,
             progress=progress,
+            times=times,
         )
 
     def evaluate(

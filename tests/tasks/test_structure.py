@@ -22,7 +22,7 @@ import lfdkit
 import lfdkit.tasks.sweeping as sweeping
 
 SRC = Path(lfdkit.__file__).parent
-ORDER = ("scenarios", "examples", "sim", "figures", "execution", "demo")
+ORDER = ("scenarios", "examples", "sim", "figures", "execution", "demo", "moving")
 
 
 def imported_modules(path: Path) -> list[tuple[str, list[str]]]:

@@ -13,11 +13,14 @@ Layout, each module with its compiled loops beside it:
   (``_problem_kernels``);
 * :mod:`.planner`: global grid search, receding horizon and safety checks,
   :func:`plan_path` (``_planner_kernels``);
+* :mod:`.moving`: moving obstacles in closed loop, :class:`RecedingPlanner`
+  (one MPC window per control step, the obstacles where they are predicted);
 * :mod:`.ioc`: the reward fitted to demonstrations, :class:`IOC`, with exact
   gradients (``_ioc_kernels``).
 """
 
 from lfdkit.emulate.ioc import IOC
+from lfdkit.emulate.moving import RecedingPlanner
 from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_path
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
@@ -30,6 +33,7 @@ __all__ = [
     "Corridor",
     "Obstacle",
     "Plan",
+    "RecedingPlanner",
     "Reward",
     "Scene",
     "UnsafePlanError",

@@ -91,7 +91,14 @@ import numpy as np
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit._threads import one_blas_thread
 from lfdkit._validation import check_path, check_positive
-from lfdkit.emulate.problem import Corridor, Problem, goal_weights
+from lfdkit.emulate.problem import (
+    UNCERTAINTY_MARGIN,
+    Corridor,
+    Problem,
+    check_times,
+    goal_weights,
+    predicted_sigma,
+)
 from lfdkit.emulate.reward import Reward
 from lfdkit.progress import Progress, ProgressLike, as_progress
 from lfdkit.scene import Scene
@@ -106,6 +113,7 @@ __all__ = [
     "UnsafePlanError",
     "best_window",
     "goal_weights",
+    "moving_clearance",
     "plan_clearance",
     "plan_path",
 ]
@@ -170,7 +178,7 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
             width = 1.0 / np.sqrt(max(float(np.linalg.eigvalsh(across).min()), 1e-300))
             if float(np.linalg.norm(lateral)) < 4.0 * width:
                 span = max(span, float(np.abs(lateral).max()) + 4.0 * width)
-        hard = problem.hard_centres[problem.hard]
+        hard = problem.hard_centres[..., problem.hard, :]
         for (_, lateral), reach in zip(
             _nearest_laterals(problem, hard), np.sqrt(problem.outer2), strict=True
         ):
@@ -187,8 +195,15 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
 
 
 def _nearest_laterals(problem: Problem, centres: np.ndarray) -> list[tuple[int, np.ndarray]]:
-    """For each centre (L, q): its nearest nominal point ``k`` and its lateral offset there."""
-    rel = centres[:, None, :] - problem.base[None]  # (L, n, q)
+    """For each centre (L, q): its nearest nominal point ``k`` and its lateral offset there.
+
+    Moving obstacles have a centre per point, (n, L, q): the nearest point is
+    where the point and that point's centre are closest.
+    """
+    if centres.ndim == 3:
+        rel = np.swapaxes(centres, 0, 1) - problem.base[None]  # (L, n, q)
+    else:
+        rel = centres[:, None, :] - problem.base[None]  # (L, n, q)
     nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
     return [(int(k), problem.normals[k] @ rel[o, k]) for o, k in enumerate(nearest)]
 
@@ -279,11 +294,14 @@ class _GridSearch:
             if m == 1
             else np.stack(np.meshgrid(levels, levels, indexing="ij"), axis=-1).reshape(-1, 2)
         )
-        near = problem.obstacles[problem.bumps(best)[0].max(axis=0) > 1e-9]
-        hard = problem.hard_centres[problem.hard]
+        near = problem.obstacles[..., problem.bumps(best)[0].max(axis=0) > 1e-9, :]
+        hard = problem.hard_centres[..., problem.hard, :]
         # A round obstacle's ball and anchor coincide: flip round it once.
-        hard = hard[~(hard[:, None, :] == near[None]).all(axis=2).any(axis=1)]
-        centres = np.concatenate([near, hard])
+        same = (hard[..., :, None, :] == near[..., None, :, :]).all(axis=-1)
+        if same.ndim == 3:  # moving: a centre per point, the same at every point
+            same = same.all(axis=0)
+        hard = hard[..., ~same.any(axis=1), :]
+        centres = np.concatenate([near, hard], axis=-2)
         starts = []
         for k, lateral in _nearest_laterals(problem, centres):
             side = best[k] - lateral
@@ -311,6 +329,8 @@ def plan_path(
     clearance: float = 0.0,
     lookahead: bool = True,
     progress: ProgressLike = None,
+    times: Any = None,
+    margin: float = UNCERTAINTY_MARGIN,
 ) -> Plan:
     """The path maximising the reward along a nominal path in a scene, safely.
 
@@ -354,6 +374,17 @@ def plan_path(
         Reports the global search and the MPC steps over the plan's points (or
         the polished starts of the full horizon); default silent
         (:func:`lfdkit.progress.as_progress`).
+    times : array_like, shape (K,), optional
+        Seconds from the start at which the tool reaches each of the plan's
+        ``K`` points (e.g. the skill's speed profile along the nominal);
+        required when ``scene`` has moving obstacles, whose reward terms and
+        hard radii at point ``k`` are then at their predicted positions at
+        ``times[k]`` (an open-loop plan: the prediction made now; the closed
+        loop is :class:`lfdkit.emulate.moving.MovingObstaclePlanner`).
+        Ignored for a static scene.
+    margin : float
+        Moving obstacles: the hard radius grows by ``margin`` standard
+        deviations of the prediction (:data:`~lfdkit.emulate.problem.UNCERTAINTY_MARGIN`).
 
     Returns
     -------
@@ -388,6 +419,8 @@ def plan_path(
             clearance,
             lookahead,
             tracker,
+            times,
+            margin,
         )
 
 
@@ -404,6 +437,8 @@ def _plan(
     clearance: float,
     lookahead: bool,
     progress: Progress,
+    times: Any = None,
+    margin: float = UNCERTAINTY_MARGIN,
 ) -> Plan:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
@@ -419,10 +454,24 @@ def _plan(
                 f"got {horizon}"
             )
     reach_goal = goal_approach is not None
+    times = check_times(times, corridor.n_points) if scene.moving else None
     problem = Problem.from_scene(
-        reward, corridor, scene, check_positive(max_slope, "max_slope"), goal_approach, clearance
+        reward,
+        corridor,
+        scene,
+        check_positive(max_slope, "max_slope"),
+        goal_approach,
+        clearance,
+        times,
+        margin,
     )
-    _check_ends(corridor, d0, problem, scene, clearance, reach_goal)
+    if times is None:
+        _check_ends(corridor, d0, problem, scene, clearance, reach_goal)
+    else:  # each end against the obstacles where they are when the tool is there
+        for end, at in (("start", times[0]), ("goal", times[-1])):
+            static = scene.at(at)
+            end_problem = Problem.from_scene(reward, corridor, static, max_slope, None, clearance)
+            _check_ends(corridor, d0, end_problem, static, clearance, reach_goal, (end,))
     if horizon is None:
         if init is not None:
             init = np.asarray(init, dtype=np.float64)
@@ -439,7 +488,7 @@ def _plan(
         d, n_iter, ok = _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
     offsets = np.vstack([d0[None], d])
     plan = Plan(corridor.to_points(offsets), offsets, problem.cost(d), horizon, n_iter, ok)
-    return _verified(plan, corridor, scene, clearance, reach_goal)
+    return _verified(plan, corridor, scene, clearance, reach_goal, times, margin)
 
 
 def _vector(value: Any, name: str, size: int) -> np.ndarray:
@@ -691,7 +740,8 @@ def _obstacle_near(window: Problem, anchor: np.ndarray) -> bool:
     lowest = window.c - 2.0 * np.linalg.norm(window.b, axis=2) * reach
     if bool(np.any(lowest < 28.0)):
         return True
-    return bool(np.any(np.sqrt(window.rr) - reach < np.sqrt(window.outer2)[None]))
+    # rr may be below 0 for a moving obstacle's widened radius (problem.Problem): inside.
+    return bool(np.any(np.sqrt(np.maximum(window.rr, 0.0)) - reach < np.sqrt(window.outer2)[None]))
 
 
 def _check_ends(
@@ -701,6 +751,7 @@ def _check_ends(
     scene: Scene,
     clearance: float,
     reach_goal: bool,
+    which: tuple[str, ...] = ("start", "goal"),
 ) -> None:
     """Refuse a start (or, when the plan must reach it, a goal) inside an obstacle.
 
@@ -711,8 +762,8 @@ def _check_ends(
         return
     radius = scene.radii + clearance
     anchor_owner = scene.anchors()[1]
-    ends = [("start", corridor.points[0] + d0 @ corridor.normals[0])]
-    if reach_goal:
+    ends = [("start", corridor.points[0] + d0 @ corridor.normals[0])] if "start" in which else []
+    if reach_goal and "goal" in which:
         ends.append(("goal", corridor.points[-1]))
     for name, point in ends:
         rel = point[None] - problem.obstacles
@@ -772,11 +823,61 @@ def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
     return scene.distances(path) - clearance
 
 
+def moving_clearance(
+    points: np.ndarray, times: np.ndarray, scene: Scene, clearance: float, margin: float
+) -> np.ndarray:
+    """Distance of a timed path to each (moving) obstacle's surface, minus the margins.
+
+    Each segment ``k → k+1`` is measured against the obstacle halfway between
+    its predicted means at the segment's two times (the planner widens each
+    point's radius by half the obstacle's move to its neighbours for this),
+    minus ``clearance`` and ``margin`` times the smaller standard deviation of
+    the two predictions.
+
+    Parameters
+    ----------
+    points : ndarray, shape (K, q)
+    times : ndarray, shape (K,)
+        Seconds at each point.
+    scene : Scene
+    clearance, margin : float
+
+    Returns
+    -------
+    ndarray, shape (n_obstacles,)
+        Negative where the path comes within the obstacle's radius plus margins.
+    """
+    out = np.empty(len(scene))
+    for o, obstacle in enumerate(scene.obstacles):
+        means, covs = obstacle.predict(times)
+        sigma = margin * predicted_sigma(covs)
+        middle = 0.5 * (means[1:] + means[:-1]) - obstacle.position
+        gaps = [
+            obstacle.translated(middle[k]).distance(points[k : k + 2]) - min(sigma[k], sigma[k + 1])
+            for k in range(len(points) - 1)
+        ]
+        out[o] = min(gaps) - clearance
+    return out
+
+
 def _verified(
-    plan: Plan, corridor: Corridor, scene: Scene, clearance: float, reach_goal: bool
+    plan: Plan,
+    corridor: Corridor,
+    scene: Scene,
+    clearance: float,
+    reach_goal: bool,
+    times: np.ndarray | None = None,
+    margin: float = UNCERTAINTY_MARGIN,
 ) -> Plan:
-    """Check the finished plan against every obstacle and the goal; raise if it fails."""
-    plan.clearance = _clearance(plan.points, scene, clearance)  # checked by plan_path
+    """Check the finished plan against every obstacle and the goal; raise if it fails.
+
+    With ``times`` (a scene with moving obstacles) against where each
+    obstacle is predicted when the tool is there (:func:`moving_clearance`).
+    """
+    if times is None:
+        plan.clearance = _clearance(plan.points, scene, clearance)  # checked by plan_path
+    else:
+        plan.clearance = moving_clearance(plan.points, times, scene, clearance, margin)
     plan.goal_error = float(np.linalg.norm(plan.points[-1] - corridor.points[-1]))
     tolerance = 1e-9 * max(corridor.extent, corridor.length)
     hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.radii + clearance > 0))

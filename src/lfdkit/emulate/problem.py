@@ -57,9 +57,12 @@ __all__ = [
     "GOAL_APPROACH_FRACTION",
     "GOAL_GAIN",
     "MAX_POINTS",
+    "UNCERTAINTY_MARGIN",
     "Corridor",
     "Problem",
+    "check_times",
     "goal_weights",
+    "predicted_sigma",
 ]
 
 #: Most points a plan may have (memory and time grow linearly).
@@ -189,6 +192,9 @@ class Corridor:
         return np.einsum("kmq,kq->km", self.normals, rel), found
 
 
+#: Moving obstacles: standard deviations of the prediction added to the hard radius.
+UNCERTAINTY_MARGIN = 2.0
+
 #: Scale of the clearance barrier (an obstacle's reward term is at most 1).
 BARRIER_WEIGHT = 1.0
 
@@ -209,19 +215,22 @@ class Problem:
         Nominal points of the offsets (points 1 … K−1 of the corridor), in units.
     normals : ndarray, shape (n, m, q)
         Their orthonormal normals.
-    obstacles : ndarray, shape (L, q)
+    obstacles : ndarray, shape (L, q) or (n, L, q)
         Centres of the reward's obstacle terms (a round obstacle's centre; a
-        shape's anchors, :meth:`lfdkit.scene.Obstacle.anchors`), in units.
+        shape's anchors, :meth:`lfdkit.scene.Obstacle.anchors`), in units;
+        with moving obstacles a centre per point (where each is predicted
+        when the tool reaches that point).
     precision : ndarray, shape (L, q, q)
         Each term's precision ``P`` (1/units²).
     weight : float or ndarray, shape (n,)
         Nominal weight ``Q`` per offset (1/units²).
     max_step : float
         Action bound: largest change of an offset component per point (units).
-    hard_radius : ndarray, shape (L,) or (B,), optional
-        Radius plus clearance (units) of each ball the plan must keep out of;
-        0 or None: no barrier.
-    hard_centres : ndarray, shape (B, q), optional
+    hard_radius : ndarray, shape (L,) or (B,), or (n, B), optional
+        Radius plus clearance (units) of each ball the plan must keep out of,
+        or of each ball at each point (moving obstacles: the margin grows with
+        the prediction's uncertainty); 0 or None: no barrier.
+    hard_centres : ndarray, shape (B, q) or (n, B, q), optional
         Centres of those balls (the obstacles' covering balls,
         :meth:`lfdkit.scene.Obstacle.balls`); None: the term centres
         ``obstacles``, with ``hard_radius`` of shape (L,).
@@ -244,9 +253,13 @@ class Problem:
     inner2, outer2 : ndarray, shape (H,)
         Squared radii (units²) where the barrier is infinite and where it
         starts: the hard radius widened by half a segment's length, and a
-        thin zone outside it.
+        thin zone outside it (the smallest over the points when it varies).
     rr : ndarray, shape (n, H)
-        ``|r|²`` of the obstacles with a barrier (units²).
+        ``|r|²`` of the obstacles with a barrier (units²), less
+        ``r_k² − inner2`` where the radius ``r_k`` varies from point to point
+        (so the barrier meets each point's own radius).
+    moving : bool
+        Whether the obstacle centres are given per point.
     nr : ndarray, shape (n, H, m)
         ``N r`` of the obstacles with a barrier (units).
     """
@@ -267,24 +280,34 @@ class Problem:
         # Nominal weight per offset: Q, or Q ramped up towards the goal.
         self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
         self.max_step = float(max_step)
-        rel = base[:, None, :] - obstacles[None]  # (n, L, q)
+        # Moving obstacles: a centre per point, (n, L, q); static ones: (L, q).
+        self.moving = obstacles.ndim == 3
+        rel = base[:, None, :] - (obstacles if self.moving else obstacles[None])  # (n, L, q)
         pr = np.einsum("lij,klj->kli", precision, rel)
         self.c = np.einsum("kli,kli->kl", rel, pr)
         self.b = np.einsum("kmq,klq->klm", normals, pr)
         self.a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
         self.hard_centres = obstacles if hard_centres is None else hard_centres
-        radius = np.zeros(self.hard_centres.shape[0]) if hard_radius is None else hard_radius
-        self.hard = np.flatnonzero(radius > 0.0)  # balls with a barrier
+        radius = np.zeros(self.hard_centres.shape[-2]) if hard_radius is None else hard_radius
+        # balls with a barrier (a radius per point for moving obstacles: (n, B))
+        self.hard = np.flatnonzero((radius if radius.ndim == 1 else radius.max(axis=0)) > 0.0)
         # A segment of length L whose ends keep √(r² + L²/4) from a centre keeps r from
         # it; L is at most the nominal step and the largest sideways step (10 % slack
         # for the normals turning on a curved nominal).
         step = _step_of(base)
         segment = 1.1 * np.sqrt(step**2 + normals.shape[1] * max_step**2)
-        inner = np.sqrt(radius[self.hard] ** 2 + 0.25 * segment**2)
-        self.inner2 = inner**2
-        self.outer2 = (inner + 0.25 * np.maximum(inner, step)) ** 2
-        hard_rel = base[:, None, :] - self.hard_centres[self.hard][None]  # (n, H, q)
+        inner = np.sqrt(radius[..., self.hard] ** 2 + 0.25 * segment**2)  # (H,) or (n, H)
+        smallest = inner if inner.ndim == 1 else inner.min(axis=0, initial=np.inf)
+        self.inner2 = smallest**2
+        self.outer2 = (smallest + 0.25 * np.maximum(smallest, step)) ** 2
+        centres = self.hard_centres[..., self.hard, :]
+        hard_rel = base[:, None, :] - (centres if centres.ndim == 3 else centres[None])  # (n, H, q)
         self.rr = np.einsum("khq,khq->kh", hard_rel, hard_rel)
+        if inner.ndim == 2:
+            # A radius growing from point to point with the same kernels: the barrier
+            # acts on u = |x − O|² against the smallest radius², so u − (r_k² − r²)
+            # meets it exactly at r_k (the zone beyond keeps its width in u).
+            self.rr = self.rr - (inner**2 - self.inner2[None])
         self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
 
     @classmethod
@@ -296,6 +319,8 @@ class Problem:
         max_slope: float = 1.0,
         goal_approach: float | str | None = None,
         clearance: float | None = None,
+        times: Any = None,
+        margin: float = UNCERTAINTY_MARGIN,
     ) -> Problem:
         """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step.
 
@@ -313,6 +338,16 @@ class Problem:
         clearance : float, optional
             None: no hard radii (the thesis's model, as the IOC fits it); a
             number (units): each obstacle's radius plus it is a hard constraint.
+        times : array_like, shape (K,), optional
+            When the tool reaches each corridor point (s from the plan's start);
+            needed for a scene with moving obstacles: point ``k``'s obstacle
+            terms and hard radii are at the obstacles' predicted positions at
+            ``times[k]`` (:meth:`lfdkit.scene.Obstacle.predict`). Ignored for
+            a static scene (whose problem is the same as without it).
+        margin : float
+            Moving obstacles: the hard radius at point ``k`` grows by
+            ``margin · σ_k`` (σ the prediction's largest standard deviation)
+            plus half the obstacle's predicted move between neighbouring points.
 
         Raises
         ------
@@ -329,10 +364,16 @@ class Problem:
             hard_centres, radii, owner = scene.balls()
             # An obstacle of radius 0 has a barrier only with a clearance, as a point.
             hard_radius = np.where(scene.radii[owner] + clearance > 0.0, radii + clearance, 0.0)
+        if scene.moving:
+            shifts, grow = _predicted_shifts(scene, corridor, times, margin)  # (n, O, q), (n, O)
+            anchors = anchors[None] + shifts[:, scene.anchors()[1]]
+            if hard_centres is not None:
+                hard_centres = hard_centres[None] + shifts[:, owner]
+                hard_radius = np.where(hard_radius > 0.0, hard_radius[None] + grow[:, owner], 0.0)
         return cls(
             corridor.points[1:],
             corridor.normals[1:],
-            anchors.reshape(-1, q),
+            anchors if anchors.ndim == 3 else anchors.reshape(-1, q),
             precision.reshape(-1, q, q),
             goal_weights(corridor, reward.nominal_weight, goal_approach),
             max_slope * corridor.step,
@@ -353,7 +394,7 @@ class Problem:
     @property
     def has_obstacles(self) -> bool:
         """Whether the scene has obstacles (each has at least one term)."""
-        return bool(self.obstacles.shape[0])
+        return bool(self.obstacles.shape[-2])
 
     @property
     def step(self) -> float:
@@ -364,11 +405,16 @@ class Problem:
         """The sub-problem of offsets ``start … stop − 1`` (precomputed terms sliced)."""
         sub = object.__new__(Problem)
         sub.base, sub.normals = self.base[start:stop], self.normals[start:stop]
+        sub.moving = self.moving
         sub.obstacles, sub.precision = self.obstacles, self.precision
+        if self.moving:  # a centre per point
+            sub.obstacles = self.obstacles[start:stop]
         sub.weight, sub.max_step = self.weight[start:stop], self.max_step
         sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
         sub.hard, sub.inner2, sub.outer2 = self.hard, self.inner2, self.outer2
         sub.hard_centres = self.hard_centres
+        if self.hard_centres.ndim == 3:
+            sub.hard_centres = self.hard_centres[start:stop]
         sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
         return sub
 
@@ -468,6 +514,58 @@ class Problem:
             max_iter,
         )
         return d, float(cost), int(n_iter), bool(ok)
+
+
+def check_times(times: Any, n_points: int) -> np.ndarray:
+    """The times (K,) of a plan's points: finite, non-decreasing, one per point."""
+    if times is None:
+        raise ValueError(
+            "times: a scene with moving obstacles needs the time (s) at which the tool "
+            "reaches each point of the plan"
+        )
+    out = np.asarray(times, dtype=np.float64).reshape(-1)
+    if out.size != n_points:
+        raise ValueError(f"times: expected {n_points} times (one per plan point), got {out.size}")
+    if not np.all(np.isfinite(out)) or np.any(np.diff(out) < 0.0):
+        raise ValueError("times: must be finite and non-decreasing")
+    return out
+
+
+def predicted_sigma(covs: np.ndarray) -> np.ndarray:
+    """The largest standard deviation of each covariance (n, q, q): shape (n,), units."""
+    if not covs.size:
+        return np.zeros(covs.shape[0])
+    if covs.shape[1] == 2:  # closed form: (a + d)/2 + √(((a − d)/2)² + b²)
+        a, b, d = covs[:, 0, 0], covs[:, 0, 1], covs[:, 1, 1]
+        largest = 0.5 * (a + d) + np.sqrt(0.25 * (a - d) ** 2 + b * b)
+    else:
+        largest = np.linalg.eigvalsh(covs)[:, -1]
+    return np.sqrt(np.maximum(largest, 0.0))
+
+
+def _predicted_shifts(
+    scene: Scene, corridor: Corridor, times: Any, margin: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each obstacle's predicted move from its position (n, O, q) and radius growth (n, O).
+
+    At corridor points 1 … K−1 (at ``times[1:]``): the growth is ``margin · σ``
+    plus half the larger of the mean's moves to the neighbouring points (the
+    obstacle moves while the tool runs a segment).
+    """
+    times = check_times(times, corridor.n_points)
+    margin = check_positive(margin, "margin", allow_zero=True)
+    n, q = times.size - 1, corridor.n_dims
+    shifts, grow = np.zeros((n, len(scene), q)), np.zeros((n, len(scene)))
+    for o, obstacle in enumerate(scene.obstacles):
+        if obstacle.motion is None:
+            continue
+        means, covs = obstacle.predict(times)
+        step = means[1:] - means[:-1]
+        move = np.sqrt(np.einsum("kq,kq->k", step, step))  # (K − 1,)
+        ahead = np.append(move[1:], move[-1])
+        shifts[:, o] = means[1:] - obstacle.position
+        grow[:, o] = margin * predicted_sigma(covs[1:]) + 0.5 * np.maximum(move, ahead)
+    return shifts, grow
 
 
 def _step_of(base: np.ndarray) -> float:

@@ -22,7 +22,10 @@ positions in one file have the same dimension.
     ``shape`` column (empty: round) and their fields in columns named after
     them: a capsule's axis end in ``end_x, end_y[, end_z]``. Column names are
     case-insensitive; columns with other names are ignored, as are blank
-    lines and lines starting with ``#``. A row with a demo id and empty
+    lines and lines starting with ``#``. A moving obstacle of constant
+    velocity gives it in ``vx, vy[, vz]`` (units/s; empty or absent: static;
+    :class:`lfdkit.motion.ConstantVelocity`), columns written only when an
+    obstacle moves. A row with a demo id and empty
     ``class``, coordinates and radius states that this demonstration was
     recorded without obstacles (an empty scene). The rows of one
     demonstration are consecutive; scenes and obstacles keep file order.
@@ -34,7 +37,10 @@ positions in one file have the same dimension.
     "obstacles": [{"class": "cup", "position": [x, y], "radius": 0.03},
     ...]}, ...]}``. ``"radius"`` is optional (default 0); another shape
     gives ``"shape"`` and its fields (a capsule: ``"shape": "capsule",
-    "end": [x, y]``); ``"demo"`` is
+    "end": [x, y]``); a moving obstacle gives one of ``"velocity": [vx, vy]``,
+    ``"trajectory": {"times": [...], "positions": [[x, y], ...]}`` or
+    ``"observations": {"times": [...], "positions": [...], "noise": s}``
+    (:mod:`lfdkit.motion`); ``"demo"`` is
     optional in a file with a single scene (id ``0``). Other fields are
     ignored. Numbers must be JSON numbers (not strings or booleans).
 
@@ -56,6 +62,7 @@ import json
 import math
 import os
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -74,6 +81,7 @@ from lfdkit.io.text import (
     json_document,
     parse_id,
 )
+from lfdkit.motion import ConstantVelocity, Motion, Observations, Trajectory
 from lfdkit.scene import OBSTACLE_SHAPES, Obstacle, Scene
 
 __all__ = [
@@ -233,6 +241,11 @@ def save_scenes(path: PathLike, scenes: Mapping[DemoId, Scene], *, overwrite: bo
                 )
         if fmt == ".csv":
             for k, o in enumerate(scene.obstacles):
+                if o.motion is not None and not isinstance(o.motion, ConstantVelocity):
+                    raise ValueError(
+                        f"scenes[{did!r}].obstacles[{k}]: a {o.motion.kind} motion, which CSV "
+                        "cannot store (only a constant velocity, vx, vy); use a .json file"
+                    )
                 if o.label != o.label.strip() or "\n" in o.label or "\r" in o.label:
                     raise ValueError(
                         f"scenes[{did!r}].obstacles[{k}]: label {o.label!r} has surrounding "
@@ -260,10 +273,12 @@ def _obstacle(
     radius: float,
     shape: type[Obstacle] = Obstacle,
     fields: Mapping[str, Any] | None = None,
+    motion: Motion | None = None,
 ) -> Obstacle:
     """Build an obstacle, prefixing its validation errors with ``where`` (file and line/field)."""
     try:
-        return shape.from_fields(label, np.array(position, dtype=np.float64), radius, fields or {})
+        built = shape.from_fields(label, np.array(position, dtype=np.float64), radius, fields or {})
+        return built if motion is None else replace(built, motion=motion)
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from None
 
@@ -295,7 +310,7 @@ def _field_columns(q: int) -> dict[tuple[str, str], list[str]]:
 # CSV
 # --------------------------------------------------------------------------- #
 
-_CSV_KNOWN = ("demo", "class", "x", "y", "z", "radius", "shape")
+_CSV_KNOWN = ("demo", "class", "x", "y", "z", "radius", "shape", "vx", "vy", "vz")
 
 
 def _scenes_csv_text(ids: list[DemoId], scenes: list[Scene], q: int) -> str:
@@ -310,11 +325,15 @@ def _scenes_csv_text(ids: list[DemoId], scenes: list[Scene], q: int) -> str:
         if shape.shape == shape_name
     ]
     shape_columns = ["shape", *[c for _, _, cols in extra for c in cols]] if shapes else []
-    w.writerow(["demo", "class", *["x", "y", "z"][:q], "radius", *shape_columns])
+    # Velocity columns only when something moves: static files stay as they were.
+    moving = any(o.motion is not None for scene in scenes for o in scene.obstacles)
+    velocity_columns = ["vx", "vy", "vz"][:q] if moving else []
+    w.writerow(["demo", "class", *["x", "y", "z"][:q], "radius", *shape_columns, *velocity_columns])
+    blank = [""] * (len(shape_columns) + len(velocity_columns))
     for did, scene in zip(ids, scenes, strict=True):
         if not scene.obstacles:
             # The empty-scene row: an id with empty class, coordinates and radius.
-            w.writerow([str(did), "", *([""] * q), "", *([""] * len(shape_columns))])
+            w.writerow([str(did), "", *([""] * q), "", *blank])
         for o in scene.obstacles:
             # repr() of a Python float is the shortest string that reads back exactly.
             row = [str(did), o.label, *map(repr, o.position.tolist()), repr(o.radius)]
@@ -325,6 +344,9 @@ def _scenes_csv_text(ids: list[DemoId], scenes: list[Scene], q: int) -> str:
                         row += [""] * len(cols)
                     else:
                         row += list(map(repr, np.ravel(o.fields()[name]).tolist()))
+            if moving:
+                velocity = o.motion.velocity.tolist() if o.motion is not None else [""] * q
+                row += [v if v == "" else repr(v) for v in velocity]
             w.writerow(row)
     return f.getvalue()
 
@@ -365,6 +387,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
         label = row[pos["class"]]
         cells = [(row[c], name) for c, name in coord_cols]
         radius_cell = row[pos["radius"]] if "radius" in pos else ""
+        velocity_cells = [(row[pos[c]], header[pos[c]]) for c in ("vx", "vy", "vz") if c in pos]
         shape_cell = row[pos["shape"]] if "shape" in pos else ""
         given_fields = {
             key: [row[pos[c]] for c in cols if c in pos] for key, cols in field_columns.items()
@@ -379,6 +402,11 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                     f"coordinates ({', '.join(given)}); give the obstacle class (a row with "
                     "an empty class and no coordinates marks a demonstration without "
                     "obstacles)"
+                )
+            if any(cell for cell, _ in velocity_cells):
+                raise ValueError(
+                    f"{at}, column {header[pos['class']]!r}: empty value, but the row has "
+                    "a velocity; give the obstacle class and coordinates"
                 )
             if radius_cell or shape_cell or any(any(v) for v in given_fields.values()):
                 raise ValueError(
@@ -449,7 +477,22 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
                 for column, cell in zip(columns, cells_given, strict=True)
             ]
             fields[name] = values if shape.field_kinds[name] == "point" else values[0]
-        obstacles.append(_obstacle(at, label, position, radius, shape, fields))
+        motion = None
+        if any(cell for cell, _ in velocity_cells):
+            wanted = ["vx", "vy", "vz"][: len(position)]
+            given = [cell for cell, _ in velocity_cells[: len(position)]]
+            if len(given) != len(wanted) or not all(given):
+                raise ValueError(
+                    f"{at}: a moving obstacle needs columns {', '.join(map(repr, wanted))}, "
+                    "each with a value (all empty: static)"
+                )
+            motion = ConstantVelocity(
+                [
+                    csv_number(fname, lineno, name, cell)
+                    for cell, name in velocity_cells[: len(position)]
+                ]
+            )
+        obstacles.append(_obstacle(at, label, position, radius, shape, fields, motion))
         obstacle_lines.append(lineno)
 
     if "demo" not in pos and not groups:
@@ -481,11 +524,75 @@ def _scenes_json_text(ids: list[DemoId], scenes: list[Scene]) -> str:
                 for key, kind in o.field_kinds.items():
                     if kind != "point":
                         item[key] = item[key][0]
+            if o.motion is not None:
+                item.update(_motion_json(o.motion))
             buf.write(",\n" if k else "\n")
             buf.write(f"      {json.dumps(item, allow_nan=False)}")
         buf.write("\n    ]}" if scene.obstacles else "]}")
     buf.write("\n  ]\n}\n" if scenes else "]\n}\n")
     return buf.getvalue()
+
+
+_MOTION_KEYS = ("velocity", "trajectory", "observations")
+
+
+def _motion_json(motion: Motion) -> dict[str, Any]:
+    """A motion's JSON field (floats exact)."""
+    if isinstance(motion, ConstantVelocity):
+        return {"velocity": motion.velocity.tolist()}
+    if isinstance(motion, Trajectory):
+        return {
+            "trajectory": {"times": motion.times.tolist(), "positions": motion.positions.tolist()}
+        }
+    if isinstance(motion, Observations):
+        return {
+            "observations": {
+                "times": motion.times.tolist(),
+                "positions": motion.positions.tolist(),
+                "noise": motion.noise,
+            }
+        }
+    raise ValueError(f"motion: a {type(motion).__name__} cannot be written to a scene file")
+
+
+def _motion_of(fname: str, at: str, ob: Mapping[str, Any], q: int) -> Motion | None:
+    """The motion of a JSON obstacle (None: static)."""
+    given = [key for key in _MOTION_KEYS if key in ob]
+    if not given:
+        return None
+    if len(given) > 1:
+        raise ValueError(f"{fname}: {at}: give one of {', '.join(given)}, not several")
+    key = given[0]
+    value = ob[key]
+    where = f"{fname}: {at}.{key}"
+
+    def numbers(items: Any, name: str) -> list[float]:
+        if not isinstance(items, list):
+            raise ValueError(f"{where}.{name}: expected a list of numbers, got {items!r}")
+        return [_json_number(fname, f"{at}.{key}.{name}[{i}]", v) for i, v in enumerate(items)]
+
+    try:
+        if key == "velocity":
+            velocity = numbers(value, "")
+            if len(velocity) != q:
+                raise ValueError(f"expected {q} numbers, got {len(velocity)}")
+            return ConstantVelocity(velocity)
+        if not isinstance(value, dict) or "times" not in value or "positions" not in value:
+            raise ValueError("expected an object with 'times' and 'positions'")
+        times = numbers(value["times"], "times")
+        raw = value["positions"]
+        if not isinstance(raw, list) or not all(isinstance(p, list) and len(p) == q for p in raw):
+            raise ValueError(f"positions: expected a list of {q}-number lists")
+        positions = [numbers(p, f"positions[{i}]") for i, p in enumerate(raw)]
+        if key == "trajectory":
+            return Trajectory(times, positions)
+        if "noise" not in value:
+            raise ValueError("missing 'noise' (the observations' standard deviation)")
+        noise = _json_number(fname, f"{at}.{key}.noise", value["noise"])
+        return Observations(times, positions, noise)
+    except ValueError as exc:
+        message = str(exc)
+        raise ValueError(message if message.startswith(fname) else f"{where}: {message}") from None
 
 
 def _json_number(fname: str, where: str, value: Any) -> float:
@@ -593,6 +700,9 @@ def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
                     ]
                 else:
                     fields[name] = _json_number(fname, f"{at}.{name}", value)
-            obstacles.append(_obstacle(f"{fname}: {at}", label, coords, radius, shape, fields))
+            motion = _motion_of(fname, at, ob, len(coords))
+            obstacles.append(
+                _obstacle(f"{fname}: {at}", label, coords, radius, shape, fields, motion)
+            )
         out[did] = Scene(tuple(obstacles))
     return out

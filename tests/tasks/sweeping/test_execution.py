@@ -200,3 +200,11 @@ def test_bad_arguments_are_refused_naming_them(skill):
         execute_skill("skill.json")
     with pytest.raises(TypeError, match=r"^scene: expected a Scene"):
         execute_skill(skill, scene=[("cup", 0.0, 0.4)])
+
+
+def test_a_moving_obstacle_is_refused_with_the_way_to_run_it(skill):
+    from lfdkit.motion import ConstantVelocity
+
+    cup = Obstacle("cup", [0.0, 0.3], 0.03, motion=ConstantVelocity([0.0, 0.05]))
+    with pytest.raises(ValueError, match=r"moving obstacles.*run_moving"):
+        execute_skill(skill, scene=Scene((cup,)), simulate=False)

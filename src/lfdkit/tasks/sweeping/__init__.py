@@ -12,10 +12,13 @@ Modules, each depending only on those before it:
 * :mod:`.figures`: top views of simulated sweeps;
 * :mod:`.execution`: a learned skill on the robot, ``lfdkit execute``: plan,
   tool poses, inverse kinematics, timing, URScript and the MuJoCo check;
-* :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment.
+* :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment;
+* :mod:`.moving`: a cup or marker sliding across the sweep, the predictive
+  MPC against re-planning around where it is now and the DMPs
+  (``benchmarks/moving.py``).
 
 Everything public is importable from here. The names of :mod:`.figures`,
-:mod:`.execution` and :mod:`.demo` (which import matplotlib's figures and the
+:mod:`.execution`, :mod:`.demo` and :mod:`.moving` (which import matplotlib's figures and the
 whole skill pipeline) are loaded on first use.
 """
 
@@ -62,6 +65,7 @@ from lfdkit.tasks.sweeping.sim import (
     build_model,
     execute_sweep,
     simulate_sweep,
+    simulate_timed_path,
     sweep_motion,
     sweeping_mjcf,
 )
@@ -85,6 +89,12 @@ _LAZY = {
     "run_demo": "demo",
     "run_experiment": "demo",
     "summarize": "demo",
+    "MovingRun": "moving",
+    "MovingScenario": "moving",
+    "moving_figure": "moving",
+    "moving_scenarios": "moving",
+    "run_moving": "moving",
+    "simulate_run": "moving",
 }
 
 __all__ = [
@@ -111,6 +121,8 @@ __all__ = [
     "Cube",
     "Dustpan",
     "ExecutionError",
+    "MovingRun",
+    "MovingScenario",
     "ObstacleClass",
     "SweepExecution",
     "SweepResult",
@@ -127,12 +139,17 @@ __all__ = [
     "execute_skill",
     "execute_sweep",
     "execution_outputs",
+    "moving_figure",
+    "moving_scenarios",
     "obstacle",
     "obstacle_class",
     "random_scenarios",
     "run_demo",
     "run_experiment",
+    "run_moving",
+    "simulate_run",
     "simulate_sweep",
+    "simulate_timed_path",
     "summarize",
     "sweep_figure",
     "sweep_motion",

@@ -292,7 +292,8 @@ def execute_skill(
         When no plan keeps out of the obstacles.
     ValueError
         For a skill that is not 2-D in metres, bad points, a scene with a
-        class the skill has not learned, ``speed_fraction`` outside ``(0, 1]``.
+        class the skill has not learned or with moving obstacles,
+        ``speed_fraction`` outside ``(0, 1]``.
     """
     arm = check_arm(arm)
     if not arm.ur_type:
@@ -312,6 +313,14 @@ def execute_skill(
     start = skill.path_[0] if start is None else np.asarray(start, dtype=np.float64)
     goal = skill.path_[-1] if goal is None else np.asarray(goal, dtype=np.float64)
     scene = _standing(Scene() if scene is None else scene)
+    if scene.moving:
+        # The robot's time-optimal timing is not the plan's: a moving obstacle would be
+        # avoided where it is at the wrong moment.
+        raise ValueError(
+            "scene: has moving obstacles; execute_skill times the sweep by the arm's limits, "
+            "not by the plan the obstacles were predicted for. Run the closed loop of "
+            "lfdkit.tasks.sweeping.moving (run_moving, simulate_run) instead"
+        )
     progress = as_progress(progress)
     seconds: dict[str, float] = {}
 

@@ -83,6 +83,7 @@ __all__ = [
     "build_model",
     "execute_sweep",
     "simulate_sweep",
+    "simulate_timed_path",
     "sweep_motion",
     "sweeping_mjcf",
 ]
@@ -209,10 +210,15 @@ def _obstacle_xml(scene: Scene) -> str:
         centre, geom = solid.solid(kind.height)
         x, y, z = (float(v) for v in centre)
         attributes = " ".join(f'{key}="{value}"' for key, value in geom.items())
-        lines.append(
-            f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z + 1e-4}">\n'
+        # A moving obstacle is a mocap body, driven along its motion (it pushes, is not pushed).
+        body = (
+            f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z + 1e-4}" mocap="true">\n'
+            if obstacle.moving
+            else f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z + 1e-4}">\n'
             f'      <freejoint name="obstacle{index}"/>\n'
-            f'      <geom name="obstacle{index}" {attributes} '
+        )
+        lines.append(
+            body + f'      <geom name="obstacle{index}" {attributes} '
             f'mass="{kind.mass!r}" rgba="{mjcf_numbers(kind.rgba)}" {OBJECT_CONTACT}/>\n'
             f"    </body>"
         )
@@ -306,11 +312,17 @@ class _Physics:
 
 
 def _step(
-    model: Any, n_obstacles: int, q0: np.ndarray, command: np.ndarray, stage: Stage
+    model: Any,
+    n_obstacles: int,
+    q0: np.ndarray,
+    command: np.ndarray,
+    stage: Stage,
+    mocap: dict[int, np.ndarray] | None = None,
 ) -> _Physics:
     """Start the arm at ``q0`` and command one row of ``command`` per physics step.
 
-    ``stage`` counts the steps, :data:`_STEPS_PER_COUNT` at a time.
+    ``stage`` counts the steps, :data:`_STEPS_PER_COUNT` at a time. ``mocap``
+    maps a moving obstacle's index to its (x, y) at every step (n_steps, 2).
     """
     mujoco = load_mujoco()
     data = mujoco.MjData(model)
@@ -324,6 +336,11 @@ def _step(
 
     data.qpos[: len(q0)] = q0
     data.ctrl[:] = q0
+    driven = [
+        (int(model.body_mocapid[obstacle_bodies[i]]), track) for i, track in (mocap or {}).items()
+    ]
+    for slot, track in driven:
+        data.mocap_pos[slot, :2] = track[0]
     mujoco.mj_forward(model, data)
     obstacle_start = np.array([data.xpos[b, :2] for b in obstacle_bodies]).reshape(-1, 2)
     n_steps = len(command)
@@ -333,6 +350,8 @@ def _step(
     unstable = ""
     for k in range(n_steps):
         data.ctrl[:] = command[k]
+        for slot, track in driven:
+            data.mocap_pos[slot, :2] = track[k]
         mujoco.mj_step(model, data)
         if (k + 1) % _STEPS_PER_COUNT == 0 or k + 1 == n_steps:
             stage.advance((k + 1) - stage.done)
@@ -415,19 +434,61 @@ def simulate_sweep(
             f"timing: expected {arm.n_joints} joints for the {arm.name}, got {timing.n_joints}"
         )
     tolerance = check_positive(tolerance, "tolerance")
-    progress = as_progress(progress)
-    with progress.stage(f"simulate: build the MuJoCo scene ({arm.name})"):
-        model = build_model(task, brush=brush, arm=arm)
     duration = timing.duration
     n_steps = math.ceil((duration + 2 * SETTLE_TIME) / TIMESTEP)
     step_times = np.arange(1, n_steps + 1) * TIMESTEP
     q_ref, qd_ref, _ = timing.sample(step_times - SETTLE_TIME)
+    result = _simulate(
+        q_ref,
+        qd_ref,
+        timing.sample(0.0)[0],
+        step_times,
+        duration,
+        task,
+        brush,
+        tolerance,
+        render,
+        camera,
+        sample_rate,
+        arm,
+        progress,
+    )
+    result.joint_path, result.timing = timing.waypoints, timing
+    return result
+
+
+def _simulate(
+    q_ref: np.ndarray,
+    qd_ref: np.ndarray,
+    q0: np.ndarray,
+    step_times: np.ndarray,
+    duration: float,
+    task: SweepingTask,
+    brush: Brush,
+    tolerance: float,
+    render: bool,
+    camera: str,
+    sample_rate: float,
+    arm: Arm,
+    progress: ProgressLike,
+) -> SweepResult:
+    """Follow the joint reference (one row per physics step) in the task's scene."""
+    progress = as_progress(progress)
+    with progress.stage(f"simulate: build the MuJoCo scene ({arm.name})"):
+        model = build_model(task, brush=brush, arm=arm)
+    n_steps = len(step_times)
     planned = ur5.forward(q_ref, arm=arm)[:, :3, 3]
     # Velocity feed-forward: the servo's damping then pulls towards the reference speed.
     command = q_ref + arm.kv / arm.kp * qd_ref
+    # Moving obstacles follow their motion's mean, in the sweep's time (0 when it starts).
+    mocap = {
+        i: o.predict(step_times - SETTLE_TIME)[0][:, :2]
+        for i, o in enumerate(task.scene.obstacles)
+        if o.moving
+    }
     label = f"simulate: {n_steps} physics steps ({n_steps * TIMESTEP:.1f} s of motion)"
     with progress.stage(label, total=n_steps) as stage:
-        physics = _step(model, len(task.scene), timing.sample(0.0)[0], command, stage)
+        physics = _step(model, len(task.scene), q0, command, stage, mocap)
     traces = _traces(physics, step_times, max(1, round(1.0 / (sample_rate * TIMESTEP))))
 
     n_done, unstable = len(physics.tool), physics.unstable
@@ -464,14 +525,15 @@ def simulate_sweep(
         path_error=path_error,
         failures=failures,
         duration=duration,
-        joint_path=timing.waypoints,
-        timing=timing,
         **traces,
     )
     if render:
         ground = np.column_stack([planned[:, :2], np.full(len(planned), 0.003)])
         cube_path = np.column_stack([traces["cube_trace"], np.full(len(times), 0.003)])
         trace_colours = [(ground, (0.9, 0.1, 0.1, 1.0)), (cube_path, (0.1, 0.7, 0.1, 1.0))]
+        for track in mocap.values():  # a moving obstacle's track, blue
+            dots = np.column_stack([track[::25], np.full(len(track[::25]), 0.003)])
+            trace_colours.append((dots, (0.1, 0.3, 0.9, 1.0)))
         with progress.stage(f"simulate: render the {camera} camera"):
             result.image = render_camera(model, physics.data, camera, trace_colours, size=_IMAGE)
     return result
@@ -523,6 +585,90 @@ def sweep_motion(
     frames = sweeping_poses(path, height=brush.sweep_height)
     q_start = ur5.nearest_solution(frames[0], q_home, arm=arm)
     return frames, ur5.inverse_path(frames, q_start, arm=arm)
+
+
+def simulate_timed_path(
+    times: Any,
+    points: Any,
+    task: SweepingTask,
+    *,
+    brush: Brush = BRUSH,
+    smoothing: float = 0.01,
+    q_home: Any = HOME,
+    tolerance: float = TRACKING_TOLERANCE,
+    render: bool = False,
+    camera: str = "overview",
+    sample_rate: float = 50.0,
+    arm: Arm = UR5,
+    progress: ProgressLike = None,
+) -> SweepResult:
+    """Sweep along a table path *with its own timing* in MuJoCo: the brush at ``points[k]`` at
+    ``times[k]``.
+
+    What a closed loop executed (e.g. :class:`lfdkit.emulate.RecedingPlanner`
+    among moving obstacles, whose moves were timed by the skill), replayed on
+    the arm: the flange poses and inverse kinematics of :func:`sweep_motion`,
+    the joints interpolated in time along the path's arc length (the brush
+    runs the path as ``(times, points)`` say, not as a time-optimal law would),
+    and moving obstacles of ``task.scene`` driven along their motion as mocap
+    bodies (``t = 0`` when the sweep starts).
+
+    Parameters
+    ----------
+    times : array_like, shape (n,)
+        Seconds from the sweep's start, non-decreasing, starting at 0.
+    points : array_like, shape (n, 2)
+        The brush's path on the table, m.
+    task, brush, smoothing, q_home, tolerance, render, camera, sample_rate, arm, progress
+        As :func:`execute_sweep` and :func:`simulate_sweep`.
+
+    Returns
+    -------
+    SweepResult
+        A path the robot cannot follow is reported as a failure.
+    """
+    path = check_path(points, "points", n_dims=2, min_points=2)
+    t = np.asarray(times, dtype=np.float64).reshape(-1)
+    if t.size != len(path) or not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0.0):
+        raise ValueError(f"times: expected {len(path)} finite, non-decreasing times")
+    try:
+        poses, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm)
+    except ur5.KinematicsError as exc:
+        return SweepResult(
+            success=False,
+            cube_in_dustpan=False,
+            touched=[],
+            failures=[f"the robot cannot follow the path: {exc}"],
+            obstacle_shift=np.zeros(len(task.scene)),
+        )
+    # Fraction of arc length reached at each time, then the poses' joints at that fraction.
+    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+    flange = poses[:, :2, 3]
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(flange, axis=0), axis=1))])
+    duration = float(t[-1] - t[0])
+    n_steps = math.ceil((duration + 2 * SETTLE_TIME) / TIMESTEP)
+    step_times = np.arange(1, n_steps + 1) * TIMESTEP
+    fraction = np.interp(step_times - SETTLE_TIME + t[0], t, run) / max(run[-1], 1e-12)
+    where = fraction * along[-1]
+    q_ref = np.column_stack([np.interp(where, along, joints[:, j]) for j in range(joints.shape[1])])
+    qd_ref = np.gradient(q_ref, TIMESTEP, axis=0)
+    result = _simulate(
+        q_ref,
+        qd_ref,
+        joints[0],
+        step_times,
+        duration,
+        task,
+        brush,
+        check_positive(tolerance, "tolerance"),
+        render,
+        camera,
+        sample_rate,
+        check_arm(arm),
+        progress,
+    )
+    result.joint_path = joints
+    return result
 
 
 def execute_sweep(
