@@ -511,8 +511,9 @@ def _spoil(payload: dict, changes, index: int) -> dict:
         if key in ("demos", "obstacles"):
             payload[key] = value
         elif key in ("id", "points", "times"):
-            if isinstance(demos, list) and demos and isinstance(demos[0], dict):
-                demos[index % len(demos)][key] = value
+            target = demos[index % len(demos)] if isinstance(demos, list) and demos else None
+            if isinstance(target, dict):
+                target[key] = value
         elif isinstance(obstacles, list) and obstacles and isinstance(obstacles[0], dict):
             obstacles[0][key] = value
     return payload
