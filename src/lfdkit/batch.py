@@ -584,7 +584,8 @@ def run_batch(
                         summary.done += 1
                     ran = summary.done + summary.failed
                     rate = ran / (time.perf_counter() - started)
-                    detail = f"{rate:.3g} tasks/s" + (
+                    shown = f"{rate:.1f}" if rate >= 1 else f"{rate:.3f}"
+                    detail = f"{shown} tasks/s" + (
                         f", {summary.failed} failed" if summary.failed else ""
                     )
                     stage.advance(detail=detail)
