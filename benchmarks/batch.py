@@ -22,6 +22,13 @@ the batch itself (tasks/s), with its ratio to serial. Every run's rows are
 compared with the serial run's (they must be equal). On a 2-core machine
 two workers can at best double the throughput; the machine may be shared.
 
+Per-task overhead
+-----------------
+``--overhead-tasks`` (2,000) tasks that do nothing (``dict`` of a small
+mapping) through :func:`lfdkit.batch.run_batch` on each executor: what one
+task costs the machinery (submit, pickle, schedule, return, write one line),
+in milliseconds per task of the batch's wall time.
+
 Memory
 ------
 ``lfdkit batch evaluate SKILL --random N --check plan --workers 2`` run as a
@@ -122,6 +129,24 @@ def throughput(skill: Path, out: Path, n: int, check: str) -> list[dict]:
     return table
 
 
+def overhead(out: Path, n: int) -> list[dict]:
+    from lfdkit.batch import make_executor, run_batch
+
+    table = []
+    for name, kwargs in EXECUTORS:
+        with make_executor(**kwargs) as executor:
+            work = [(i, ({"i": i},)) for i in range(2 * executor.workers)]
+            run_batch(executor, dict, work, out / "warm.jsonl", spec={}, overwrite=True)
+            work = ((i, ({"i": i},)) for i in range(n))
+            summary = run_batch(
+                executor, dict, work, out / "overhead.jsonl", spec={}, total=n, overwrite=True
+            )
+        row = {"executor": name, "tasks": n, "ms_per_task": 1e3 * summary.seconds / n}
+        table.append(row)
+        print(f"{name:<30} {row['ms_per_task']:8.3f}", flush=True)
+    return table
+
+
 _CHILD = """
 import json, resource, sys, time
 from lfdkit.cli import main
@@ -181,7 +206,9 @@ def main() -> None:
         "--check", default="mujoco", choices=("plan", "kinematics", "robot", "mujoco")
     )
     parser.add_argument("--memory-scenes", type=int, default=None, help="(10,000)")
+    parser.add_argument("--overhead-tasks", type=int, default=2000)
     parser.add_argument("--skip-memory", action="store_true")
+    parser.add_argument("--skip-overhead", action="store_true")
     parser.add_argument("--skip-throughput", action="store_true")
     parser.add_argument("--quick", action="store_true", help="6 scenes, 1,000 for memory")
     parser.add_argument("--output", type=Path, default=Path("benchmarks/results/batch"))
@@ -199,6 +226,10 @@ def main() -> None:
         print(f"\nThroughput: {scenes} random scenes, check {args.check}")
         print(f"{'executor':<30} {'start s':>8} {'batch s':>8} {'tasks/s':>8} {'ratio':>7} equal")
         record["throughput"] = throughput(skill, args.output, scenes, args.check)
+    if not args.skip_overhead:
+        print(f"\nPer-task overhead: {args.overhead_tasks:,} tasks that do nothing")
+        print(f"{'executor':<30} {'ms/task':>8}")
+        record["overhead"] = overhead(args.output, args.overhead_tasks)
     if not args.skip_memory:
         print("\nMemory: lfdkit batch evaluate --random N --check plan --workers 2 (client RSS)")
         print(f"{'scenes':>8} {'rows':>8} {'s':>8} {'peak MB':>10} {'file MB':>8}")

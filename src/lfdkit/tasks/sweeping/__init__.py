@@ -12,11 +12,13 @@ Modules, each depending only on those before it:
 * :mod:`.figures`: top views of simulated sweeps;
 * :mod:`.execution`: a learned skill on the robot, ``lfdkit execute``: plan,
   tool poses, inverse kinematics, timing, URScript and the MuJoCo check;
-* :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment.
+* :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment;
+* :mod:`.batch`: a skill evaluated over many scenes in batch, ``lfdkit batch
+  evaluate`` (on any executor of :func:`lfdkit.batch.make_executor`).
 
 Everything public is importable from here. The names of :mod:`.figures`,
-:mod:`.execution` and :mod:`.demo` (which import matplotlib's figures and the
-whole skill pipeline) are loaded on first use.
+:mod:`.execution`, :mod:`.demo` and :mod:`.batch` (which import matplotlib's
+figures and the whole skill pipeline) are loaded on first use.
 """
 
 from __future__ import annotations
@@ -84,6 +86,8 @@ _LAZY = {
     "run_demo": "demo",
     "run_experiment": "demo",
     "summarize": "demo",
+    "evaluate_batch": "batch",
+    "evaluate_scenario": "batch",
 }
 
 __all__ = [
@@ -120,6 +124,8 @@ __all__ = [
     "default_planners",
     "demo_outputs",
     "draw_dustpan",
+    "evaluate_batch",
+    "evaluate_scenario",
     "example_dataset",
     "example_files",
     "execute_skill",

@@ -343,6 +343,14 @@ def evaluate_batch(
 
         found = load_scenes(scenes)
         flat = [key for key, scene in found.items() if len(scene) and scene.positions.shape[1] != 2]
+        shaped = [
+            (key, o.shape) for key, scene in found.items() for o in scene if o.shape != "round"
+        ]
+        if shaped:
+            raise ValueError(
+                f"{os.fspath(scenes)}: scene {shaped[0][0]!r} has a {shaped[0][1]} obstacle; the "
+                "sweeping scene stands every obstacle as an upright cylinder (round ones only)"
+            )
         if flat:
             raise ValueError(
                 f"{os.fspath(scenes)}: scene {flat[0]!r} is not 2-D (x, y on the table)"
