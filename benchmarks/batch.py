@@ -9,7 +9,7 @@ as ``skill.json`` in the output folder.
 
 Throughput
 ----------
-``--scenes`` random sweeping scenes (default 24, checked with ``--check``,
+``--scenes`` random sweeping scenes (default 8, checked with ``--check``,
 default ``mujoco``: plan, poses, IK, timing, URScript and the MuJoCo sweep at
 0.2 of the UR5's joint limits) evaluated by
 :func:`lfdkit.tasks.sweeping.batch.evaluate_batch` on each executor of
@@ -18,8 +18,11 @@ with 1 and 2 workers, a Dask LocalCluster with 1 and 2 worker processes.
 Each executor is started and warmed up first (one ``plan`` task per worker
 slot, twice over: the imports, numba's cached kernels and MuJoCo load once
 per process); the table gives the start-up time apart and the throughput of
-the batch itself (tasks/s), with its ratio to serial. Every run's rows are
-compared with the serial run's (they must be equal). On a 2-core machine
+the batch itself (tasks/s), with its ratio to serial. The executors run in
+turn, ``--rounds`` times (3); the table gives medians over the rounds (the
+ratio: the median of the per-round ratios, each against that round's serial
+run), as the machine may be shared. Every run's rows are compared with the
+first serial run's (they must be equal). On a 2-core machine
 two workers can at best double the throughput; the machine may be shared.
 
 Per-task overhead
@@ -43,6 +46,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import statistics
 import subprocess
 import sys
 import time
@@ -87,41 +91,70 @@ def warm_up(executor, skill_text: str) -> None:
         future.result()
 
 
-def throughput(skill: Path, out: Path, n: int, check: str) -> list[dict]:
+def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[dict]:
+    """Each executor in turn, ``rounds`` times; throughput and ratio to serial per round.
+
+    The machine is shared: a round times every executor within a few minutes of
+    each other, and the table gives medians of the rounds (ratios: medians of
+    the per-round ratios).
+    """
     from lfdkit.batch import make_executor
     from lfdkit.tasks.sweeping.batch import evaluate_batch
 
     text = skill.read_text()
-    table, reference = [], None
-    for name, kwargs in EXECUTORS:
-        results = (
-            out / f"throughput_{'_'.join(f'{k}{v}' for k, v in kwargs.items()) or 'serial'}.jsonl"
-        )
-        begin = time.perf_counter()
-        with make_executor(**kwargs) as executor:
-            warm_up(executor, text)
-            startup = time.perf_counter() - begin
-            summary = evaluate_batch(
-                skill, results, random=n, seed=0, check=check, executor=executor, overwrite=True
+    runs: dict[str, list[dict]] = {name: [] for name, _ in EXECUTORS}
+    reference = None
+    for k in range(rounds):
+        serial_rate = None
+        for name, kwargs in EXECUTORS:
+            tag = "_".join(f"{key}{v}" for key, v in kwargs.items()) or "serial"
+            results = out / f"throughput_{tag}.jsonl"
+            begin = time.perf_counter()
+            with make_executor(**kwargs) as executor:
+                warm_up(executor, text)
+                startup = time.perf_counter() - begin
+                summary = evaluate_batch(
+                    skill, results, random=n, seed=0, check=check, executor=executor, overwrite=True
+                )
+            got = rows(results)
+            if reference is None:
+                reference = got
+            rate = summary.throughput
+            serial_rate = serial_rate or rate
+            runs[name].append(
+                {
+                    "round": k,
+                    "workers": int(getattr(executor, "workers", 1)),
+                    "startup_s": startup,
+                    "batch_s": summary.seconds,
+                    "tasks_per_s": rate,
+                    "ratio_vs_serial": rate / serial_rate,
+                    "errors": summary.failed,
+                    "equal_to_serial": got == reference,
+                }
             )
-        got = rows(results)
-        if reference is None:
-            reference = got
+            print(f"  round {k + 1}/{rounds}: {name:<30} {rate:7.3f} tasks/s", flush=True)
+    table = []
+    for name, done in runs.items():
         row = {
             "executor": name,
-            "workers": int(getattr(executor, "workers", 1)),
+            "workers": done[0]["workers"],
             "tasks": n,
             "check": check,
-            "startup_s": startup,
-            "batch_s": summary.seconds,
-            "tasks_per_s": summary.throughput,
-            "errors": summary.failed,
-            "equal_to_serial": got == reference,
+            "rounds": rounds,
+            "startup_s": statistics.median(r["startup_s"] for r in done),
+            "batch_s": statistics.median(r["batch_s"] for r in done),
+            "tasks_per_s": statistics.median(r["tasks_per_s"] for r in done),
+            "ratio_vs_serial": statistics.median(r["ratio_vs_serial"] for r in done),
+            "equal_to_serial": all(r["equal_to_serial"] for r in done),
+            "errors": sum(r["errors"] for r in done),
+            "runs": done,
         }
-        row["ratio_vs_serial"] = row["tasks_per_s"] / table[0]["tasks_per_s"] if table else 1.0
         table.append(row)
+    print(f"{'executor':<30} {'start s':>8} {'batch s':>8} {'tasks/s':>8} {'ratio':>7} equal")
+    for row in table:
         print(
-            f"{name:<30} {row['startup_s']:8.1f} {row['batch_s']:8.1f} "
+            f"{row['executor']:<30} {row['startup_s']:8.1f} {row['batch_s']:8.1f} "
             f"{row['tasks_per_s']:8.3f} {row['ratio_vs_serial']:6.2f}x "
             f"{'yes' if row['equal_to_serial'] else 'NO'}",
             flush=True,
@@ -207,7 +240,8 @@ def memory(skill: Path, out: Path, n: int) -> list[dict]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenes", type=int, default=None, help="throughput scenes (24)")
+    parser.add_argument("--scenes", type=int, default=None, help="throughput scenes (8)")
+    parser.add_argument("--rounds", type=int, default=None, help="throughput rounds (3)")
     parser.add_argument(
         "--check", default="mujoco", choices=("plan", "kinematics", "robot", "mujoco")
     )
@@ -219,7 +253,8 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="6 scenes, 1,000 for memory")
     parser.add_argument("--output", type=Path, default=Path("benchmarks/results/batch"))
     args = parser.parse_args()
-    scenes = args.scenes or (6 if args.quick else 24)
+    scenes = args.scenes or (4 if args.quick else 8)
+    rounds = args.rounds or (1 if args.quick else 3)
     memory_scenes = args.memory_scenes or (1000 if args.quick else 10_000)
     args.output.mkdir(parents=True, exist_ok=True)
     skill = learned_skill(args.output)
@@ -229,9 +264,8 @@ def main() -> None:
         "versions": package_versions(["lfdkit", "numpy", "mujoco", "dask", "distributed"]),
     }
     if not args.skip_throughput:
-        print(f"\nThroughput: {scenes} random scenes, check {args.check}")
-        print(f"{'executor':<30} {'start s':>8} {'batch s':>8} {'tasks/s':>8} {'ratio':>7} equal")
-        record["throughput"] = throughput(skill, args.output, scenes, args.check)
+        print(f"\nThroughput: {scenes} random scenes, check {args.check}, {rounds} rounds")
+        record["throughput"] = throughput(skill, args.output, scenes, args.check, rounds)
     if not args.skip_overhead:
         print(f"\nPer-task overhead: {args.overhead_tasks:,} tasks that do nothing")
         print(f"{'executor':<30} {'ms/task':>8}")

@@ -287,7 +287,7 @@ def _dask_client(scheduler: str | None, dask_local: int | None, timeout: float) 
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
-                silence_logs=logging.ERROR,
+                silence_logs=logging.CRITICAL,  # workers outliving the scheduler log errors
             ) as cluster,
             Client(cluster) as client,
         ):
