@@ -30,7 +30,7 @@ from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import demo_outputs, example_files
 
-SUBCOMMANDS = ("demo", "import", "learn", "plan", "plot", "compare", "datasets", "bench")
+SUBCOMMANDS = ("demo", "import", "learn", "plan", "plot", "compare", "datasets", "batch", "bench")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 REPO = Path(__file__).resolve().parents[1]
 

@@ -1,6 +1,6 @@
 """Importing lfdkit, its estimators and its command line loads no heavy dependency.
 
-numba (compiling), MuJoCo, matplotlib, scikit-learn and SciPy each take from a
+numba (compiling), MuJoCo, matplotlib, scikit-learn, SciPy and Dask each take from a
 fraction of a second to seconds to import: they are imported where they are
 used, so ``import lfdkit``, ``import lfdkit.skill`` and ``lfdkit --help``
 start in well under a second. Each check runs in a fresh interpreter (not a
@@ -15,7 +15,7 @@ import sys
 
 import pytest
 
-HEAVY = ("numba", "mujoco", "matplotlib", "sklearn", "scipy")
+HEAVY = ("numba", "mujoco", "matplotlib", "sklearn", "scipy", "dask", "distributed")
 
 _HELP = "from lfdkit.cli import main\ntry:\n    main({})\nexcept SystemExit:\n    pass"
 
@@ -28,6 +28,8 @@ STATEMENTS = (
     "import lfdkit.cli",
     _HELP.format("['--help']"),
     _HELP.format("['learn', '--help']"),
+    "import lfdkit.batch",
+    _HELP.format("['batch', 'evaluate', '--help']"),
 )
 
 

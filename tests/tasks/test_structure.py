@@ -2,7 +2,7 @@
 
 No module below the tasks imports one (the command line and the teach page, on top, do); the
 modules of the sweeping task import only the ones before them
-(scenarios → examples → sim → figures → execution → demo) and no private name of another
+(scenarios → examples → sim → figures → execution → demo → batch) and no private name of another
 module. The old import paths of the sweeping task (``lfdkit.robot.sim``,
 ``lfdkit.examples``, ``lfdkit.plot.sweep_figure``) find the moved names with a
 ``DeprecationWarning`` and import nothing of the task until then.
@@ -22,7 +22,7 @@ import lfdkit
 import lfdkit.tasks.sweeping as sweeping
 
 SRC = Path(lfdkit.__file__).parent
-ORDER = ("scenarios", "examples", "sim", "figures", "execution", "demo", "moving")
+ORDER = ("scenarios", "examples", "sim", "figures", "execution", "demo", "moving", "batch")
 
 
 def imported_modules(path: Path) -> list[tuple[str, list[str]]]:

@@ -17,9 +17,12 @@ Modules, each depending only on those before it:
   MPC against re-planning around where it is now and the DMPs
   (``benchmarks/moving.py``).
 
+* :mod:`.batch`: a skill evaluated over many scenes in batch, ``lfdkit batch
+  evaluate`` (on any executor of :func:`lfdkit.batch.make_executor`).
+
 Everything public is importable from here. The names of :mod:`.figures`,
-:mod:`.execution`, :mod:`.demo` and :mod:`.moving` (which import matplotlib's figures and the
-whole skill pipeline) are loaded on first use.
+:mod:`.execution`, :mod:`.demo`, :mod:`.moving` and :mod:`.batch` (which import
+matplotlib's figures and the whole skill pipeline) are loaded on first use.
 """
 
 from __future__ import annotations
@@ -89,6 +92,8 @@ _LAZY = {
     "run_demo": "demo",
     "run_experiment": "demo",
     "summarize": "demo",
+    "evaluate_batch": "batch",
+    "evaluate_scenario": "batch",
     "MovingRun": "moving",
     "MovingScenario": "moving",
     "moving_figure": "moving",
@@ -134,6 +139,8 @@ __all__ = [
     "demo_outputs",
     "draw_dustpan",
     "dustpan_outline",
+    "evaluate_batch",
+    "evaluate_scenario",
     "example_dataset",
     "example_files",
     "execute_skill",

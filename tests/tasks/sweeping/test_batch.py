@@ -1,0 +1,179 @@
+"""Tests for the sweeping task in batch: ``evaluate_scenario`` and ``lfdkit batch evaluate``.
+
+The example skill (learned once for the module) is evaluated on random and
+given scenes. The four checks nest (the plan is the same whether or not the
+robot and MuJoCo follow, and the simulated outcome is the one
+``execute_skill`` finds); random scene ``i`` of a seed is the same in any
+batch; a grown batch only adds scenes; a scene the skill cannot plan for is
+an error recorded in the file, not the end of the batch. The slow tests run
+200 sweeping scenarios on a Dask LocalCluster of 2 worker processes, and
+simulated MuJoCo sweeps on 2 local processes and on the Dask cluster, each equal to the
+serial run.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lfdkit.batch import make_executor, read_results
+from lfdkit.datasets.emulation import CUP_RADIUS
+from lfdkit.skill import Skill, learn
+from lfdkit.tasks.sweeping.batch import CHECKS, evaluate_batch, evaluate_scenario, scenario
+from lfdkit.tasks.sweeping.examples import example_files
+from lfdkit.tasks.sweeping.execution import execute_skill
+from lfdkit.tasks.sweeping.scenarios import random_scenarios
+from tests.test_cli import run_cli
+
+
+@pytest.fixture(scope="module")
+def skill_path(tmp_path_factory) -> Path:
+    files = example_files()
+    path = tmp_path_factory.mktemp("skill") / "skill.json"
+    learn(files["demos"], files["scenes"], random_state=0).save(path)
+    return path
+
+
+def rows(path: Path) -> list[dict]:
+    return sorted(read_results(path), key=lambda r: r["task"])
+
+
+def test_random_scene_i_depends_on_the_seed_and_i_only():
+    first = scenario(5, 3)
+    again = scenario(5, 3)
+    assert np.array_equal(first.scene.positions, again.scene.positions)
+    assert np.array_equal(first.goal, again.goal)
+    rng = np.random.default_rng(np.random.SeedSequence(5).spawn(4)[3])
+    spawned = random_scenarios(1, rng)[0]
+    assert np.array_equal(first.scene.positions, spawned.scene.positions)
+    assert not np.array_equal(first.scene.positions, scenario(5, 4).scene.positions)
+    assert not np.array_equal(first.scene.positions, scenario(6, 3).scene.positions)
+
+
+def test_the_checks_nest(skill_path):
+    text = skill_path.read_text()
+    where = {"seed": 0, "index": 1}
+    got = {check: evaluate_scenario(text, where, check) for check in CHECKS[:3]}
+    assert all(row["plan"] == got["plan"]["plan"] for row in got.values())
+    assert all(row["ok"] and row["failure"] is None for row in got.values())
+    assert "robot" not in got["plan"]
+    assert got["kinematics"]["robot"] == {"poses": got["robot"]["robot"]["poses"]}
+    assert "simulation" not in got["robot"]
+    assert got["robot"]["goal"] == scenario(0, 1).goal.tolist()
+    assert json.loads(json.dumps(got["robot"])) == got["robot"]  # JSON-ready
+    with pytest.raises(ValueError, match="check: expected one of"):
+        evaluate_scenario(text, where, "teleport")
+
+
+@pytest.mark.slow  # two MuJoCo sweeps
+def test_the_simulated_check_is_what_execute_skill_finds(skill_path):
+    text = skill_path.read_text()
+    where = {"seed": 0, "index": 1}
+    robot = evaluate_scenario(text, where, "robot")
+    simulated = evaluate_scenario(text, where, "mujoco")
+    same = {k: simulated[k] for k in robot if k not in ("check", "ok")}
+    assert same == {k: v for k, v in robot.items() if k not in ("check", "ok")}
+    assert simulated["check"] == "mujoco"
+    drawn = scenario(0, 1)
+    run = execute_skill(Skill.load(skill_path), drawn.start, drawn.goal, drawn.scene)
+    found = simulated["simulation"]
+    assert found["success"] == run.result.success == simulated["ok"]
+    assert found["tracking_error_m"] == run.result.tracking_error
+    assert found["touched"] == [int(i) for i in run.result.touched]
+
+
+def test_a_grown_random_batch_only_adds_scenes(skill_path, tmp_path, capsys):
+    argv = ["batch", "evaluate", skill_path, "--check", "plan", "--seed", 4]
+    code, _, err = run_cli(capsys, *argv, "--random", 3, "-o", tmp_path / "grown.jsonl")
+    assert code == 0, err
+    assert "ran 3 of 3 scenes" in err
+    code, _, err = run_cli(capsys, *argv, "--random", 5, "-o", tmp_path / "grown.jsonl")
+    assert code == 0, err
+    assert "ran 2 of 5 scenes" in err and "3 done before, skipped" in err
+    code, _, err = run_cli(capsys, *argv, "--random", 5, "-o", tmp_path / "whole.jsonl")
+    assert rows(tmp_path / "grown.jsonl") == rows(tmp_path / "whole.jsonl")
+    assert [r["scenario"] for r in rows(tmp_path / "whole.jsonl")] == [
+        {"seed": 4, "index": i} for i in range(5)
+    ]
+
+
+def test_scenes_of_a_file_with_one_the_skill_cannot_plan_for(skill_path, tmp_path, capsys):
+    scenes = tmp_path / "scenes.csv"
+    scenes.write_text(
+        "demo,class,x,y,radius\n"
+        "a,cup,-0.05,0.49,0\n"
+        "a,marker,0.15,0.455,0\n"
+        "b,cup,0.0,0.52,0.035\n"
+        "c,bowl,0.0,0.47,0.04\n"
+    )
+    results = tmp_path / "r.jsonl"
+    argv = ["batch", "evaluate", skill_path, "--scenes", scenes, "--goal", "0.36,0.5"]
+    code, _, err = run_cli(capsys, *argv, "--check", "plan", "-o", results)
+    assert code == 1
+    assert "1 of 3 tasks failed (first: c: ValueError: " in err
+    got = {r["task"]: r for r in read_results(results)}
+    assert set(got) == {"a", "b", "c"}
+    assert "bowl" in got["c"]["error"]
+    assert got["a"]["ok"] and got["b"]["ok"]
+    assert got["a"]["obstacles"][0] == ["cup", -0.05, 0.49, CUP_RADIUS]  # the class's radius
+    assert got["b"]["obstacles"] == [["cup", 0.0, 0.52, 0.035]]
+    assert got["a"]["goal"] == [0.36, 0.5]
+    skill = Skill.load(skill_path)
+    assert got["b"]["start"] == skill.path_[0].tolist()
+
+
+def test_evaluate_usage_errors(skill_path, tmp_path, capsys):
+    out = ["-o", tmp_path / "r.jsonl"]
+    code, _, err = run_cli(capsys, "batch", "evaluate", skill_path, *out)
+    assert code == 2 and "--scenes FILE or --random N" in err
+    code, _, err = run_cli(
+        capsys, "batch", "evaluate", skill_path, "--random", 2, "--start", "0,0", *out
+    )
+    assert code == 2 and "--start/--goal are for --scenes" in err
+    mm = tmp_path / "mm.json"
+    Skill.load(skill_path).to_units("mm").save(mm)
+    code, _, err = run_cli(capsys, "batch", "evaluate", mm, "--random", 2, *out)
+    assert code == 1 and "a 2-D skill in metres" in err
+    assert not (tmp_path / "r.jsonl").exists()
+
+
+@pytest.mark.slow
+def test_200_scenarios_on_a_dask_local_cluster_equal_the_serial_run(skill_path, tmp_path):
+    """200 random sweeping scenarios, each planned around its cup and marker to its dustpan
+    (the ``plan`` check, ~30 ms a scene: a full MuJoCo sweep takes 1.5-3 s, too slow for 200
+    twice on 2 cores; the next test compares simulated sweeps, ``benchmarks/batch.py`` times
+    them)."""
+    pytest.importorskip("distributed", reason='pip install "lfdkit[dask]"')
+    n = 200
+    serial = evaluate_batch(skill_path, tmp_path / "serial.jsonl", random=n, check="plan")
+    with make_executor(dask_local=2) as executor:
+        assert executor.workers == 2
+        dask = evaluate_batch(
+            skill_path, tmp_path / "dask.jsonl", random=n, check="plan", executor=executor
+        )
+    assert (serial.done, serial.failed, dask.done, dask.failed) == (n, 0, n, 0)
+    expected = rows(tmp_path / "serial.jsonl")
+    assert len(expected) == n
+    assert rows(tmp_path / "dask.jsonl") == expected
+    assert sum(r["ok"] for r in expected) > n // 2  # most random scenes can be planned
+    assert len({json.dumps(r["obstacles"]) for r in expected}) == n  # 200 different scenes
+
+
+@pytest.mark.slow
+def test_simulated_sweeps_on_dask_and_processes_equal_the_serial_run(skill_path, tmp_path):
+    """Full MuJoCo sweeps, at 0.6 of the joint limits (3 times shorter than the thesis's
+    0.2) so that the test stays short."""
+    pytest.importorskip("distributed", reason='pip install "lfdkit[dask]"')
+    n = 4
+    settings = {"random": n, "seed": 1, "check": "mujoco", "speed_fraction": 0.6}
+    serial = evaluate_batch(skill_path, tmp_path / "serial.jsonl", **settings)
+    assert serial.done == n
+    expected = rows(tmp_path / "serial.jsonl")
+    assert all("simulation" in r for r in expected)
+    for name, kwargs in (("processes", {"workers": 2}), ("dask", {"dask_local": 2})):
+        with make_executor(**kwargs) as executor:
+            evaluate_batch(skill_path, tmp_path / f"{name}.jsonl", executor=executor, **settings)
+        assert rows(tmp_path / f"{name}.jsonl") == expected, name
