@@ -175,6 +175,22 @@ def _numbers(text: str) -> list[float]:
     return values
 
 
+def _quaternion(text: str) -> list[float]:
+    """``--start-orientation``/``--goal-orientation``: ``qx,qy,qz,qw``, normalised."""
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(
+            f"expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), got {text!r}"
+        )
+    norm = math.sqrt(sum(v * v for v in values))
+    if norm < 1e-9:
+        raise argparse.ArgumentTypeError(f"a zero quaternion is no orientation, got {text!r}")
+    return [v / norm for v in values]
+
+
 def _bounded_int(low: int, high: int) -> Callable[[str], int]:
     """An argparse type: an integer from ``low`` to ``high`` (a usage error otherwise)."""
 
@@ -558,6 +574,8 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             scene,
             duration=duration,
             speed=speed,
+            start_orientation=args.start_orientation,
+            goal_orientation=args.goal_orientation,
             planner=args.planner,
             horizon=args.horizon,
             goal_approach=args.goal_approach,
@@ -565,7 +583,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             progress=progress,
         )
     except ValueError as exc:  # the library names the argument, the command its option
-        raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
+        raise CommandError(_option_named(str(exc))) from None
     plan = timed.details
     units = skill.units
     clear = (
@@ -579,13 +597,26 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
         f"{timed.speeds.max():.4g} {units}/s"
     )
-    columns = {"times": timed.times, "velocities": timed.velocities if args.velocities else None}
+    columns = {
+        "times": timed.times,
+        "velocities": timed.velocities if args.velocities else None,
+        "orientations": timed.orientations,
+    }
     if args.output is None:
         sys.stdout.write(path_csv(timed.points, **columns))
         _say(args, summary, level=2)  # standard output carries the plan: details at -v only
         return
     save_path(args.output, timed.points, **columns, overwrite=args.force)
     _say(args, f"{summary}; wrote {args.output}")
+
+
+def _option_named(message: str) -> str:
+    """A library error naming an argument (``start_orientation: ...``) as its option."""
+    return re.sub(
+        r"^(duration|speed|start_orientation|goal_orientation):",
+        lambda m: "--" + m.group(1).replace("_", "-") + ":",
+        message,
+    )
 
 
 def _plot(args: argparse.Namespace) -> None:
@@ -768,12 +799,20 @@ def _execute(args: argparse.Namespace) -> None:
                 speed_fraction=args.speed_fraction,
                 simulate=simulate,
                 render=args.render,
+                yaw=args.yaw,
+                start_orientation=args.start_orientation,
+                goal_orientation=args.goal_orientation,
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
             )
         except ExecutionError as exc:
             raise CommandError(f"{exc}; wrote nothing") from None
+        except ValueError as exc:  # the library names the argument, the command its option
+            message = _option_named(str(exc))
+            if message.startswith("yaw:"):
+                message = "--" + message
+            raise CommandError(message) from None
         with progress.stage(f"write the files in {out}"):
             out.mkdir(parents=True, exist_ok=True)
             written = write_execution(
@@ -983,6 +1022,18 @@ def _skill_file_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _orientation_options(parser: argparse.ArgumentParser) -> None:
+    """``--start-orientation``/``--goal-orientation`` of a skill learned with orientation."""
+    for end in ("start", "goal"):
+        parser.add_argument(
+            f"--{end}-orientation",
+            type=_quaternion,
+            metavar="QX,QY,QZ,QW",
+            help=f"tool orientation at the {end}, a quaternion (scalar last, normalised); only "
+            "for a skill learned with orientations (default: the demonstrations')",
+        )
+
+
 def _output_folder(parser: argparse.ArgumentParser, name: str) -> None:
     """``-o/--output``: the folder a command writes its results in (default ./NAME)."""
     help = f"output directory (default: ./{name})"
@@ -1109,6 +1160,7 @@ def _import_options(parser: argparse.ArgumentParser) -> None:
 
 def _plan_options(parser: argparse.ArgumentParser) -> None:
     _skill_file_options(parser)
+    _orientation_options(parser)
     parser.add_argument(
         "-o",
         "--output",
@@ -1182,6 +1234,14 @@ def _plot_options(parser: argparse.ArgumentParser) -> None:
 
 def _execute_options(parser: argparse.ArgumentParser) -> None:
     _skill_file_options(parser)
+    _orientation_options(parser)
+    parser.add_argument(
+        "--yaw",
+        choices=("demonstrated", "tangent"),
+        default=None,
+        help="the brush's heading: the demonstrated orientation (the default for a skill "
+        "learned with orientations) or along the path's tangent (the default otherwise)",
+    )
     parser.add_argument(
         "--arm",
         choices=_ArmChoices(),
