@@ -175,20 +175,36 @@ def _numbers(text: str) -> list[float]:
     return values
 
 
-def _quaternion(text: str) -> list[float]:
-    """``--start-orientation``/``--goal-orientation``: ``qx,qy,qz,qw``, normalised."""
+def _quaternion(text: str | None, option: str) -> list[float] | None:
+    """``--start-orientation``/``--goal-orientation``: ``qx,qy,qz,qw``, normalised.
+
+    Checked by the command, not by argparse, so that a bad value is one line (exit 2).
+    """
+    if text is None:
+        return None
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
         values = []
     if len(values) != 4 or not all(math.isfinite(v) for v in values):
-        raise argparse.ArgumentTypeError(
-            f"expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), got {text!r}"
+        raise UsageError(
+            f"{option}: expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), "
+            f"got {text!r}"
         )
     norm = math.sqrt(sum(v * v for v in values))
     if norm < 1e-9:
-        raise argparse.ArgumentTypeError(f"a zero quaternion is no orientation, got {text!r}")
+        raise UsageError(f"{option}: a zero quaternion is no orientation, got {text!r}")
     return [v / norm for v in values]
+
+
+def _orientations(args: argparse.Namespace) -> dict[str, list[float] | None]:
+    """The start and goal orientation options, checked, as :meth:`Skill.plan`'s keywords."""
+    return {
+        f"{end}_orientation": _quaternion(
+            getattr(args, f"{end}_orientation"), f"--{end}-orientation"
+        )
+        for end in ("start", "goal")
+    }
 
 
 def _bounded_int(low: int, high: int) -> Callable[[str], int]:
@@ -563,6 +579,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     speed = _positive(args.speed, "--speed", "a positive speed factor")
     if duration is not None and speed is not None:
         raise UsageError("--speed: give --duration or --speed, not both")
+    orientations = _orientations(args)
     if args.output is not None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
@@ -574,8 +591,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             scene,
             duration=duration,
             speed=speed,
-            start_orientation=args.start_orientation,
-            goal_orientation=args.goal_orientation,
+            **orientations,
             planner=args.planner,
             horizon=args.horizon,
             goal_approach=args.goal_approach,
@@ -771,6 +787,7 @@ def _export_dataset(args: argparse.Namespace) -> None:
 
 def _execute(args: argparse.Namespace) -> None:
     simulate = not args.no_sim
+    orientations = _orientations(args)
     with _working(args) as progress:
         with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
             from lfdkit.robot.arm import ARMS
@@ -800,8 +817,7 @@ def _execute(args: argparse.Namespace) -> None:
                 simulate=simulate,
                 render=args.render,
                 yaw=args.yaw,
-                start_orientation=args.start_orientation,
-                goal_orientation=args.goal_orientation,
+                **orientations,
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
@@ -1027,7 +1043,6 @@ def _orientation_options(parser: argparse.ArgumentParser) -> None:
     for end in ("start", "goal"):
         parser.add_argument(
             f"--{end}-orientation",
-            type=_quaternion,
             metavar="QX,QY,QZ,QW",
             help=f"tool orientation at the {end}, a quaternion (scalar last, normalised); only "
             "for a skill learned with orientations (default: the demonstrations')",
