@@ -78,6 +78,7 @@ def _truth_at(skill: Skill, points: np.ndarray, scale: float) -> np.ndarray:
 # ------------------------------------------------------------------ learning
 def test_the_mean_orientation_is_close_to_the_truth(skill3: Skill) -> None:
     assert skill3.orientations_.shape == (skill3.n_points, 4)
+    assert skill3.orientations_[0, 3] >= 0.0  # the sign that starts with w >= 0
     error = np.degrees(angle_between(skill3.orientations_, _truth_at(skill3, skill3.path_, 100)))
     assert np.median(error) < 2.0 and error.max() < 3.5, error
     assert np.allclose(np.linalg.norm(skill3.orientations_, axis=1), 1.0, atol=1e-12)

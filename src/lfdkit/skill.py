@@ -598,7 +598,9 @@ class Skill(Estimator):
         self.orientation_dmp_ = None
         if orientations is not None:
             with as_progress(progress).stage("imitate: orientation DMP"):
-                self.orientations_ = continuous(orientations)
+                turned = continuous(orientations)
+                # q and -q are one rotation: the sign that starts with w >= 0, for readers.
+                self.orientations_ = -turned if turned[0, 3] < 0.0 else turned
                 self.orientation_dmp_ = self._fit_orientation_dmp(self.orientations_)
         self.n_dims_ = int(self.path_.shape[1])
         if not hasattr(self, "reward_"):
