@@ -67,6 +67,7 @@ from lfdkit._validation import (
 )
 from lfdkit.demos import DemoId
 from lfdkit.emulate import IOC, Plan, Reward, plan_path
+from lfdkit.geometry import arc_length, path_length
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.io import load_demos, skill_file
@@ -79,7 +80,7 @@ from lfdkit.io.skill_file import (
 )
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
 from lfdkit.progress import Progress, ProgressLike, as_progress
-from lfdkit.rotations import angle_between, check_quaternions, continuous, slerp
+from lfdkit.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
 from lfdkit.scene import Scene
 from lfdkit.units import check_units, conversion_factor
 
@@ -103,7 +104,7 @@ PlannerKind = Literal["mpc", "full"]
 _NOMINAL_OVERSAMPLING = 4
 
 #: How closely (a rotation angle, degrees) the orientation DMP must reproduce the mean orientation.
-_ORIENTATION_TOLERANCE_DEG = 2.0
+_ORIENTATION_TOLERANCE_DEG = 0.5
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -617,27 +618,38 @@ class Skill(Estimator):
         return dmp.fit(path, timing=self.timing_)
 
     def _fit_orientation_dmp(self, orientations: np.ndarray) -> QuaternionDMP:
-        """The orientation DMP on the mean orientations, at the times the path DMP gave its points.
+        """The orientation DMP on the mean orientations, on the path DMP's clock.
 
-        Both DMPs then share one clock: phase ``u = t / T`` of the position
-        DMP is phase ``u`` of the orientation DMP. With ``n_basis="auto"``
-        the basis count is the fewest that reproduce the mean orientation
-        within :data:`_ORIENTATION_TOLERANCE_DEG` (a rotation angle: a mean
-        of a few demonstrations is rough at the degree level, which a
-        tolerance relative to a small turn would chase), or 1 % of the turn
-        if that is looser.
+        The mean orientation is a function of the path's arc-length fraction
+        ``ℓ`` (one per path point); the DMP learns it composed with the
+        skill's speed law, ``q(t) = Q(ℓ(t / T))`` (as the position DMP
+        composes the path with it), sampled densely in time: the movement is
+        at rest at both ends without the roughness of a few demonstrations'
+        mean being magnified where the path starts and ends slowly. A plan's
+        point reached at ``t`` then gets the mean orientation of the path
+        point at the same fraction of the way. With ``n_basis="auto"`` the
+        basis count is the fewest that reproduce it within 1 % of the turn,
+        or :data:`_ORIENTATION_TOLERANCE_DEG` (a rotation angle) if looser.
         """
+        from scipy.interpolate import make_interp_spline  # here: lfdkit.skill loads fast
+
         n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
-        # The error the DMP learns is half the rotation angle to the goal (radians).
-        half = QuaternionDMP._error(orientations, orientations[-1])
+        goal = orientations[-1]
+        # The error the DMP learns: half the rotation angle to the goal (radians).
+        half = QuaternionDMP._error(orientations, goal)
         extent = float(np.max(np.ptp(half, axis=0)))
         tolerance = 0.5 * np.radians(_ORIENTATION_TOLERANCE_DEG)
         basis_tol = min(1.0, max(0.01, tolerance / extent)) if extent > 0.0 else 1.0
+        fraction = arc_length(self.path_) / path_length(self.path_)
+        phase = np.linspace(0.0, 1.0, max(1000, 10 * len(fraction)))
+        spline = make_interp_spline(fraction, half, k=min(3, len(fraction) - 1), axis=0)
+        dense = multiply(exp(spline(self.timing_.progress(phase))), goal)
+        dense[-1] = goal  # the spline passes through it: exactly, not to rounding
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", RuntimeWarning)
             try:
                 dmp = QuaternionDMP(n_basis=n_basis, basis_tol=basis_tol).fit(
-                    orientations, self.dmp_.times_
+                    dense, phase * self.timing_.duration
                 )
             except ValueError as exc:
                 message = str(exc).removeprefix("quaternions: ")
@@ -1166,6 +1178,7 @@ class Skill(Estimator):
         skill.use_path(
             self.path_ * factor,
             source=f"{method} path in {self.units}",
+            timing=self.timing_,  # seconds and a normalised speed law: no unit to convert
             orientations=self.orientations_,
         )
         if self.reward_ is not None:
