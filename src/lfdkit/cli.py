@@ -1401,8 +1401,10 @@ def _parser() -> argparse.ArgumentParser:
             True,
             "learn a skill from demonstration files",
             "Learn a skill: the generalized path and its DMP from the demonstrations without "
-            "obstacles, and the obstacle reward from those the scene file lists. If the "
-            "obstacle reward fit does not converge, nothing is written and the exit status is 1.",
+            "obstacles (with their mean tool orientation and an orientation DMP when the file "
+            "has qx,qy,qz,qw columns), and the obstacle reward from those the scene file lists. "
+            "If the obstacle reward fit does not converge, nothing is written and the exit "
+            "status is 1.",
         ),
         "plan": (
             _plan,
@@ -1412,8 +1414,9 @@ def _parser() -> argparse.ArgumentParser:
             "Plan with a learned skill: the DMP carries the path to the new start and goal, "
             "then the planner moves around the obstacles. Writes t,x,y[,z] rows as CSV "
             "(t in seconds: the plan timed along its length with the speed profile learned "
-            "from the demonstrations' times, at rest at both ends; with --velocities also "
-            "vx,vy[,vz]).",
+            "from the demonstrations' times, at rest at both ends; for a skill learned with "
+            "orientations also qx,qy,qz,qw, the tool's orientation, ending exactly at "
+            "--goal-orientation; with --velocities also vx,vy[,vz]).",
         ),
         "plot": (
             _plot,

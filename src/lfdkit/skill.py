@@ -20,6 +20,12 @@ the duration and speed profile the skill learned from the demonstrations'
 times (:attr:`Skill.timing_`, :mod:`lfdkit.imitate.timing`), or with the
 ``timing`` law over ``duration`` when they had none.
 
+Demonstrations with the tool's orientation (``orientations=``, unit
+quaternions) also give the mean orientation along the path and an
+orientation DMP (:class:`lfdkit.imitate.QuaternionDMP`): plans then carry
+the orientation from a start to a goal orientation, reached exactly
+(:attr:`TimedPlan.orientations`).
+
 Each layer can be learned on its own (:meth:`Skill.fit_path`,
 :meth:`Skill.fit_reward`) or taken from elsewhere (:meth:`Skill.use_path`,
 :meth:`Skill.adopt`, e.g. an obstacle class learned in another skill).
