@@ -175,6 +175,38 @@ def _numbers(text: str) -> list[float]:
     return values
 
 
+def _quaternion(text: str | None, option: str) -> list[float] | None:
+    """``--start-orientation``/``--goal-orientation``: ``qx,qy,qz,qw``, normalised.
+
+    Checked by the command, not by argparse, so that a bad value is one line (exit 2).
+    """
+    if text is None:
+        return None
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise UsageError(
+            f"{option}: expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), "
+            f"got {text!r}"
+        )
+    norm = math.sqrt(sum(v * v for v in values))
+    if norm < 1e-9:
+        raise UsageError(f"{option}: a zero quaternion is no orientation, got {text!r}")
+    return [v / norm for v in values]
+
+
+def _orientations(args: argparse.Namespace) -> dict[str, list[float] | None]:
+    """The start and goal orientation options, checked, as :meth:`Skill.plan`'s keywords."""
+    return {
+        f"{end}_orientation": _quaternion(
+            getattr(args, f"{end}_orientation"), f"--{end}-orientation"
+        )
+        for end in ("start", "goal")
+    }
+
+
 def _bounded_int(low: int, high: int) -> Callable[[str], int]:
     """An argparse type: an integer from ``low`` to ``high`` (a usage error otherwise)."""
 
@@ -585,6 +617,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     speed = _positive(args.speed, "--speed", "a positive speed factor")
     if duration is not None and speed is not None:
         raise UsageError("--speed: give --duration or --speed, not both")
+    orientations = _orientations(args)
     if args.output is not None:
         _refuse_existing(args.output, args.force)
     skill, scene, start, goal = _skill_and_scene(args)
@@ -596,6 +629,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             scene,
             duration=duration,
             speed=speed,
+            **orientations,
             planner=args.planner,
             horizon=args.horizon,
             goal_approach=args.goal_approach,
@@ -603,7 +637,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             progress=progress,
         )
     except ValueError as exc:  # the library names the argument, the command its option
-        raise CommandError(re.sub(r"^(duration|speed):", r"--\1:", str(exc))) from None
+        raise CommandError(_option_named(str(exc))) from None
     plan = timed.details
     units = skill.units
     clear = (
@@ -617,13 +651,26 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
         f"{timed.speeds.max():.4g} {units}/s"
     )
-    columns = {"times": timed.times, "velocities": timed.velocities if args.velocities else None}
+    columns = {
+        "times": timed.times,
+        "velocities": timed.velocities if args.velocities else None,
+        "orientations": timed.orientations,
+    }
     if args.output is None:
         sys.stdout.write(path_csv(timed.points, **columns))
         _say(args, summary, level=2)  # standard output carries the plan: details at -v only
         return
     save_path(args.output, timed.points, **columns, overwrite=args.force)
     _say(args, f"{summary}; wrote {args.output}")
+
+
+def _option_named(message: str) -> str:
+    """A library error naming an argument (``start_orientation: ...``) as its option."""
+    return re.sub(
+        r"^(duration|speed|start_orientation|goal_orientation):",
+        lambda m: "--" + m.group(1).replace("_", "-") + ":",
+        message,
+    )
 
 
 def _plot(args: argparse.Namespace) -> None:
@@ -778,6 +825,7 @@ def _export_dataset(args: argparse.Namespace) -> None:
 
 def _execute(args: argparse.Namespace) -> None:
     simulate = not args.no_sim
+    orientations = _orientations(args)
     with _working(args) as progress:
         with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
             from lfdkit.robot.arm import ARMS
@@ -806,12 +854,19 @@ def _execute(args: argparse.Namespace) -> None:
                 speed_fraction=args.speed_fraction,
                 simulate=simulate,
                 render=args.render,
+                yaw=args.yaw,
+                **orientations,
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
             )
         except ExecutionError as exc:
             raise CommandError(f"{exc}; wrote nothing") from None
+        except ValueError as exc:  # the library names the argument, the command its option
+            message = _option_named(str(exc))
+            if message.startswith("yaw:"):
+                message = "--" + message
+            raise CommandError(message) from None
         with progress.stage(f"write the files in {out}"):
             out.mkdir(parents=True, exist_ok=True)
             written = write_execution(
@@ -1126,6 +1181,17 @@ def _skill_file_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _orientation_options(parser: argparse.ArgumentParser) -> None:
+    """``--start-orientation``/``--goal-orientation`` of a skill learned with orientation."""
+    for end in ("start", "goal"):
+        parser.add_argument(
+            f"--{end}-orientation",
+            metavar="QX,QY,QZ,QW",
+            help=f"tool orientation at the {end}, a quaternion (scalar last, normalised); only "
+            "for a skill learned with orientations (default: the demonstrations')",
+        )
+
+
 def _output_folder(parser: argparse.ArgumentParser, name: str) -> None:
     """``-o/--output``: the folder a command writes its results in (default ./NAME)."""
     help = f"output directory (default: ./{name})"
@@ -1256,6 +1322,7 @@ def _import_options(parser: argparse.ArgumentParser) -> None:
 
 def _plan_options(parser: argparse.ArgumentParser) -> None:
     _skill_file_options(parser)
+    _orientation_options(parser)
     parser.add_argument(
         "-o",
         "--output",
@@ -1329,6 +1396,14 @@ def _plot_options(parser: argparse.ArgumentParser) -> None:
 
 def _execute_options(parser: argparse.ArgumentParser) -> None:
     _skill_file_options(parser)
+    _orientation_options(parser)
+    parser.add_argument(
+        "--yaw",
+        choices=("demonstrated", "tangent"),
+        default=None,
+        help="the brush's heading: the demonstrated orientation (the default for a skill "
+        "learned with orientations) or along the path's tangent (the default otherwise)",
+    )
     parser.add_argument(
         "--arm",
         choices=_LazyChoices(_arm_keys),
@@ -1582,8 +1657,10 @@ def _parser() -> argparse.ArgumentParser:
             True,
             "learn a skill from demonstration files",
             "Learn a skill: the generalized path and its DMP from the demonstrations without "
-            "obstacles, and the obstacle reward from those the scene file lists. If the "
-            "obstacle reward fit does not converge, nothing is written and the exit status is 1.",
+            "obstacles (with their mean tool orientation and an orientation DMP when the file "
+            "has qx,qy,qz,qw columns), and the obstacle reward from those the scene file lists. "
+            "If the obstacle reward fit does not converge, nothing is written and the exit "
+            "status is 1.",
         ),
         "plan": (
             _plan,
@@ -1593,8 +1670,9 @@ def _parser() -> argparse.ArgumentParser:
             "Plan with a learned skill: the DMP carries the path to the new start and goal, "
             "then the planner moves around the obstacles. Writes t,x,y[,z] rows as CSV "
             "(t in seconds: the plan timed along its length with the speed profile learned "
-            "from the demonstrations' times, at rest at both ends; with --velocities also "
-            "vx,vy[,vz]).",
+            "from the demonstrations' times, at rest at both ends; for a skill learned with "
+            "orientations also qx,qy,qz,qw, the tool's orientation, ending exactly at "
+            "--goal-orientation; with --velocities also vx,vy[,vz]).",
         ),
         "plot": (
             _plot,

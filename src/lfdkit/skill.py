@@ -20,6 +20,12 @@ the duration and speed profile the skill learned from the demonstrations'
 times (:attr:`Skill.timing_`, :mod:`lfdkit.imitate.timing`), or with the
 ``timing`` law over ``duration`` when they had none.
 
+Demonstrations with the tool's orientation (``orientations=``, unit
+quaternions) also give the mean orientation along the path and an
+orientation DMP (:class:`lfdkit.imitate.QuaternionDMP`): plans then carry
+the orientation from a start to a goal orientation, reached exactly
+(:attr:`TimedPlan.orientations`).
+
 Each layer can be learned on its own (:meth:`Skill.fit_path`,
 :meth:`Skill.fit_reward`) or taken from elsewhere (:meth:`Skill.use_path`,
 :meth:`Skill.adopt`, e.g. an obstacle class learned in another skill).
@@ -67,7 +73,8 @@ from lfdkit._validation import (
 )
 from lfdkit.demos import DemoId
 from lfdkit.emulate import IOC, Plan, Reward, plan_path
-from lfdkit.imitate import DMP, SpeedProfile, learn_timing
+from lfdkit.geometry import arc_length, path_length
+from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.io import load_demos, skill_file
 from lfdkit.io.scenes import load_scenes
@@ -77,8 +84,9 @@ from lfdkit.io.skill_file import (
     SKILL_FORMAT,
     SKILL_VERSION,
 )
-from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings
+from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
 from lfdkit.progress import Progress, ProgressLike, as_progress
+from lfdkit.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
 from lfdkit.scene import Scene
 from lfdkit.units import check_units, conversion_factor
 
@@ -100,6 +108,9 @@ PlannerKind = Literal["mpc", "full"]
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
+
+#: How closely (a rotation angle, degrees) the orientation DMP must reproduce the mean orientation.
+_ORIENTATION_TOLERANCE_DEG = 0.5
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -123,6 +134,11 @@ class TimedPlan(NDArrayOperatorsMixin):
     details : lfdkit.emulate.Plan
         The planner's result (:meth:`Skill.plan_details`): ``clearance``,
         ``goal_error``, ``cost``, ``offsets``, ...
+    orientations : ndarray, shape (n_points, 4), or None
+        The tool's orientation at each point, unit quaternions ``[x, y, z,
+        w]`` with continuous signs, when the skill learned one
+        (:attr:`Skill.orientation_dmp_`); None otherwise. The first is the
+        start orientation, the last the goal orientation.
 
     Notes
     -----
@@ -141,6 +157,7 @@ class TimedPlan(NDArrayOperatorsMixin):
     points: np.ndarray
     velocities: np.ndarray
     details: Plan
+    orientations: np.ndarray | None = None
 
     @property
     def positions(self) -> np.ndarray:
@@ -189,9 +206,13 @@ class TimedPlan(NDArrayOperatorsMixin):
 
     def __repr__(self) -> str:
         n, q = self.points.shape
+        turned = ""
+        if self.orientations is not None:
+            turn = float(angle_between(self.orientations[0], self.orientations[-1]))
+            turned = f", turning {np.degrees(turn):.4g} deg"
         return (
             f"TimedPlan({n} points in {q}-D over {self.duration:.4g} s, "
-            f"peak speed {float(np.max(self.speeds)):.4g} units/s)"
+            f"peak speed {float(np.max(self.speeds)):.4g} units/s{turned})"
         )
 
 
@@ -279,6 +300,14 @@ class Skill(Estimator):
         Summary of the reward fit: loss, stages, classes, demonstrations.
     n_dims_ : int
         Dimension ``q`` of the paths.
+    orientations_ : ndarray, shape (n_points, 4), or None
+        The demonstrations' mean tool orientation at each point of ``path_``
+        (:func:`lfdkit.mimic.mean_orientations`, robust), unit quaternions
+        ``[x, y, z, w]``; None when the demonstrations gave no orientations.
+    orientation_dmp_ : QuaternionDMP or None
+        The orientation DMP trained on ``orientations_`` at the path's times
+        (those of ``dmp_``, i.e. the same timing ``timing_``): plans carry its
+        rollout to a new start and goal orientation (:meth:`plan`).
     """
 
     def __init__(
@@ -359,6 +388,7 @@ class Skill(Estimator):
         *,
         goals: Any = None,
         times: Sequence[Any] | None = None,
+        orientations: Sequence[Any] | None = None,
         progress: ProgressLike = None,
     ) -> Skill:
         """Learn every layer: path and DMP from ``demos``, the reward from the rest.
@@ -376,6 +406,10 @@ class Skill(Estimator):
         times : sequence of (array_like (n_j,) or None), optional
             Sample times of ``demos`` in seconds: the timing is learned from
             them (:meth:`fit_path`).
+        orientations : sequence of array_like, each (n_j, 4), optional
+            Tool orientations of ``demos`` (unit quaternions ``[x, y, z, w]``,
+            one per sample): the skill learns their mean along the path and
+            an orientation DMP (:meth:`fit_path`).
         progress : Progress, callable, bool or None
             Reports each stage (mimic, imitate, emulate) and the inverse
             optimal control's own stages and iterations: True for bars on a
@@ -390,7 +424,7 @@ class Skill(Estimator):
         if (obstacle_demos is None) != (scenes is None):
             raise ValueError("scenes: give obstacle_demos and scenes together, or neither")
         progress = as_progress(progress)
-        self.fit_path(demos, times=times, progress=progress)
+        self.fit_path(demos, times=times, orientations=orientations, progress=progress)
         self.reward_ = None
         self.ioc_ = None
         self.ioc_info_ = None
@@ -405,6 +439,7 @@ class Skill(Estimator):
         demos: Sequence[Any],
         *,
         times: Sequence[Any] | None = None,
+        orientations: Sequence[Any] | None = None,
         progress: ProgressLike = None,
     ) -> Skill:
         """Learn the generalized path (mimic), its timing and the DMP on it (imitate).
@@ -420,6 +455,13 @@ class Skill(Estimator):
             (:func:`lfdkit.imitate.learn_timing`: median over the
             demonstrations, smoothed, at rest at both ends); without any,
             the ``timing`` law over ``duration``.
+        orientations : sequence of array_like, each (n_j, 4), optional
+            The tool's orientation at each sample of each demonstration, unit
+            quaternions ``[x, y, z, w]`` (signs may flip); all demonstrations
+            or none (None entries for all is none). The skill learns
+            :attr:`orientations_`, their robust mean at each path point
+            (:func:`lfdkit.mimic.mean_orientations`, on the same
+            correspondence as Mean-Path), and :attr:`orientation_dmp_`.
         progress : Progress, callable, bool or None
             As in :meth:`fit`.
 
@@ -432,7 +474,10 @@ class Skill(Estimator):
         ------
         ValueError
             For NaN, infinite or non-increasing times, or times that do not
-            match their demonstration (the message names ``times[j]``).
+            match their demonstration (the message names ``times[j]``);
+            orientations that are not unit, do not match their demonstration,
+            are given for some demonstrations only, or whose mean turns π or
+            more away from its last (the message names ``orientations``).
         """
         self._check_params()
         demos = check_demos(demos, "demos", min_demos=2, min_points=3)
@@ -441,6 +486,7 @@ class Skill(Estimator):
             raise ValueError(f"demos: expected 2-D or 3-D points, got {q} dimensions")
         progress = as_progress(progress)
         stamps = check_times_list(times, demos, style="shape")
+        quats = _check_orientations_list(orientations, demos)
         started = time.perf_counter()
         method = MIMIC_METHODS[self.mimic]
         settings = MimicSettings(
@@ -478,11 +524,22 @@ class Skill(Estimator):
             runs = [demos[j][::-1] if j in turned else demos[j] for j in timed]
             clocks = [stamps[j][-1] - stamps[j][::-1] if j in turned else stamps[j] for j in timed]
             timing = learn_timing(runs, clocks, path)
-        self._set_path(path, info, progress, timing)
+        means = None
+        if quats is not None:
+            progress.note(f"mimic: mean orientation of {len(quats)} demonstrations")
+            found = mean_orientations(path, demos, quats, robust=True)
+            means = found.orientations
+            info["orientation_spread_deg"] = float(np.degrees(np.median(found.spread)))
+        self._set_path(path, info, progress, timing, means)
         return self
 
     def use_path(
-        self, path: Any, *, source: str = "given", timing: SpeedProfile | None = None
+        self,
+        path: Any,
+        *,
+        source: str = "given",
+        timing: SpeedProfile | None = None,
+        orientations: Any = None,
     ) -> Skill:
         """Take a generalized path from elsewhere and train the DMP on it.
 
@@ -496,6 +553,10 @@ class Skill(Estimator):
             Its duration and speed profile (e.g. another skill's
             :attr:`timing_`, or :func:`lfdkit.imitate.learn_timing`);
             default the ``timing`` law over ``duration``.
+        orientations : array_like, shape (n, 4), optional
+            The tool's orientation at each point of the path (unit
+            quaternions ``[x, y, z, w]``): the skill learns an orientation DMP
+            on them (:attr:`orientation_dmp_`). Default: no orientation.
         """
         self._check_params()
         path = check_path(path, "path", min_points=3)
@@ -503,8 +564,15 @@ class Skill(Estimator):
             raise ValueError(f"path: expected 2-D or 3-D points, got {path.shape[1]} dimensions")
         if timing is not None and not isinstance(timing, SpeedProfile):
             raise TypeError(f"timing: expected a SpeedProfile, got {type(timing).__name__}")
+        if orientations is not None:
+            unit = check_quaternions(orientations, "orientations", n=len(path))
+            given = np.array(orientations, dtype=np.float64)
+            # Kept as given when unit to rounding, so a skill file reads back bit for bit.
+            close = np.abs(np.linalg.norm(given, axis=1) - 1.0).max() <= 1e-12
+            orientations = given if close else unit
         self.mimic_ = None
-        self._set_path(path, {"method": "given", "source": str(source)}, None, timing)
+        info = {"method": "given", "source": str(source)}
+        self._set_path(path, info, None, timing, orientations)
         return self
 
     def _set_path(
@@ -513,6 +581,7 @@ class Skill(Estimator):
         info: dict[str, Any],
         progress: Progress | None,
         timing: SpeedProfile | None = None,
+        orientations: np.ndarray | None = None,
     ) -> None:
         reward = getattr(self, "reward_", None)
         if reward is not None and reward.n_dims not in (None, path.shape[1]):
@@ -532,6 +601,14 @@ class Skill(Estimator):
                 f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
                 f"reproducing the path within {self.dmp_.reproduction_error_:.2%} of its extent"
             )
+        self.orientations_ = None
+        self.orientation_dmp_ = None
+        if orientations is not None:
+            with as_progress(progress).stage("imitate: orientation DMP"):
+                turned = continuous(orientations)
+                # q and -q are one rotation: the sign that starts with w >= 0, for readers.
+                self.orientations_ = -turned if turned[0, 3] < 0.0 else turned
+                self.orientation_dmp_ = self._fit_orientation_dmp(self.orientations_)
         self.n_dims_ = int(self.path_.shape[1])
         if not hasattr(self, "reward_"):
             self.reward_ = None
@@ -545,6 +622,54 @@ class Skill(Estimator):
             # The law by name: the fit skills made before timings were learned.
             return dmp.fit(path, duration=self.timing_.duration, timing=self.timing_.source)
         return dmp.fit(path, timing=self.timing_)
+
+    def _fit_orientation_dmp(self, orientations: np.ndarray) -> QuaternionDMP:
+        """The orientation DMP on the mean orientations, on the path DMP's clock.
+
+        The mean orientation is a function of the path's arc-length fraction
+        ``ℓ`` (one per path point); the DMP learns it composed with the
+        skill's speed law, ``q(t) = Q(ℓ(t / T))`` (as the position DMP
+        composes the path with it), sampled densely in time: the movement is
+        at rest at both ends without the roughness of a few demonstrations'
+        mean being magnified where the path starts and ends slowly. A plan's
+        point reached at ``t`` then gets the mean orientation of the path
+        point at the same fraction of the way. With ``n_basis="auto"`` the
+        basis count is the fewest that reproduce it within 1 % of the turn,
+        or :data:`_ORIENTATION_TOLERANCE_DEG` (a rotation angle) if looser.
+        """
+        from scipy.interpolate import make_interp_spline  # here: lfdkit.skill loads fast
+
+        n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
+        goal = orientations[-1]
+        # The error the DMP learns: half the rotation angle to the goal (radians).
+        half = QuaternionDMP._error(orientations, goal)
+        extent = float(np.max(np.ptp(half, axis=0)))
+        tolerance = 0.5 * np.radians(_ORIENTATION_TOLERANCE_DEG)
+        basis_tol = min(1.0, max(0.01, tolerance / extent)) if extent > 0.0 else 1.0
+        fraction = arc_length(self.path_) / path_length(self.path_)
+        phase = np.linspace(0.0, 1.0, max(1000, 10 * len(fraction)))
+        spline = make_interp_spline(fraction, half, k=min(3, len(fraction) - 1), axis=0)
+        dense = multiply(exp(spline(self.timing_.progress(phase))), goal)
+        dense[-1] = goal  # the spline passes through it: exactly, not to rounding
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", RuntimeWarning)
+            try:
+                dmp = QuaternionDMP(n_basis=n_basis, basis_tol=basis_tol).fit(
+                    dense, phase * self.timing_.duration
+                )
+            except ValueError as exc:
+                message = str(exc).removeprefix("quaternions: ")
+                raise ValueError(f"orientations: the mean along the path: {message}") from None
+        if caught:  # said for the orientation, in degrees, not the DMP's words for a path
+            departure = 2.0 * dmp.dmp_.reproduction_error_ * extent
+            warnings.warn(
+                f"orientation DMP: reproduces the demonstrations' mean orientation within "
+                f"{np.degrees(departure):.2g} deg at best ({dmp.dmp_.n_basis_} basis functions); "
+                "the mean is rough where the demonstrations disagree or are noisy",
+                RuntimeWarning,
+                stacklevel=4,
+            )
+        return dmp
 
     def fit_reward(
         self,
@@ -727,6 +852,8 @@ class Skill(Estimator):
         *,
         duration: float | None = None,
         speed: float | None = None,
+        start_orientation: Any = None,
+        goal_orientation: Any = None,
         **options: Any,
     ) -> TimedPlan:
         """The timed plan for a new start, goal and scene: positions, times and velocities.
@@ -751,12 +878,22 @@ class Skill(Estimator):
         speed : float, optional
             Or a speed factor: the plan lasts ``timing_.duration / speed``
             (2 runs twice as fast). Not with ``duration``.
+        start_orientation, goal_orientation : array_like, shape (4,), optional
+            Only for a skill with orientation (:attr:`orientation_dmp_`): the
+            tool's orientation at the start and at the goal, unit quaternions
+            ``[x, y, z, w]``; default the first and last of
+            :attr:`orientations_`.
 
         Returns
         -------
         TimedPlan
             ``times`` (n_points,) s, ``points`` (n_points, q), ``velocities``
-            (n_points, q) units/s, ``details`` (:meth:`plan_details`' Plan).
+            (n_points, q) units/s, ``details`` (:meth:`plan_details`' Plan),
+            and for a skill with orientation ``orientations`` (n_points, 4):
+            the orientation DMP's movement from ``start_orientation`` to
+            ``goal_orientation``, sampled at each point's normalised time
+            ``t / duration`` (the phase the position DMP and the speed
+            profile share), so it ends *exactly* at the goal orientation.
             It stands for its points in NumPy expressions (``np.asarray(plan)``
             is ``plan.points``), as the ndarray this method used to return.
 
@@ -764,15 +901,88 @@ class Skill(Estimator):
         ------
         ValueError
             For a ``duration`` or ``speed`` that is not a positive, finite
-            number, both given, or a duration outside 1e-6 to 1e9 s; and
-            :meth:`plan_details`' errors.
+            number, both given, or a duration outside 1e-6 to 1e9 s; an
+            orientation that is not a unit quaternion, or one given to a
+            skill without orientation; and :meth:`plan_details`' errors.
         """
         total = self._plan_duration(duration, speed)
         if scene is not None and isinstance(scene, Scene) and scene.moving:
             options.setdefault("duration", total)  # where the tool is when: this plan's timing
+        ends = self._orientation_ends(start_orientation, goal_orientation)
         details = self.plan_details(start, goal, scene, **options)
         times, velocities = self.timing_.time_path(details.points, total)
-        return TimedPlan(times, details.points, velocities, details)
+        orientations = None
+        if ends is not None:
+            orientations = self._orientations_at(times / total, *ends)
+        return TimedPlan(times, details.points, velocities, details, orientations)
+
+    def _orientation_ends(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray] | None:
+        """The start and goal orientations checked (default the learned ones); None without."""
+        self._check_fitted()
+        if getattr(self, "orientation_dmp_", None) is None:
+            for value, name in ((start, "start_orientation"), (goal, "goal_orientation")):
+                if value is not None:
+                    raise ValueError(
+                        f"{name}: this skill has no orientation; learn it from demonstrations "
+                        "with orientations (qx, qy, qz, qw)"
+                    )
+            return None
+        first = self.orientations_[0] if start is None else None
+        last = self.orientations_[-1] if goal is None else None
+        if first is None:
+            first = check_quaternions(start, "start_orientation", n=1)[0]
+        if last is None:
+            last = check_quaternions(goal, "goal_orientation", n=1)[0]
+        return first, last
+
+    def orientations_at(
+        self, phases: Any, start_orientation: Any = None, goal_orientation: Any = None
+    ) -> np.ndarray:
+        """The orientation DMP's movement at normalised times ``phases`` (0 start, 1 goal).
+
+        Parameters
+        ----------
+        phases : array_like, shape (n,)
+            Fractions of the movement's duration, in [0, 1] (clipped).
+        start_orientation, goal_orientation : array_like, shape (4,), optional
+            Unit quaternions ``[x, y, z, w]``; default the learned first and last.
+
+        Returns
+        -------
+        ndarray, shape (n, 4)
+            Unit quaternions, signs continuous from the start's. At phase 0
+            the start orientation, at phase 1 exactly the goal orientation;
+            between, the rollout (exact at its samples, 8 per plan point and
+            at least 1001) interpolated by slerp.
+
+        Raises
+        ------
+        ValueError
+            For a skill without orientation, or an orientation that is not a
+            unit quaternion.
+        """
+        ends = self._orientation_ends(start_orientation, goal_orientation)
+        if ends is None:
+            raise ValueError("skill: has no orientation (orientation_dmp_ is None)")
+        u = np.clip(np.asarray(phases, dtype=np.float64).ravel(), 0.0, 1.0)
+        if not np.all(np.isfinite(u)):
+            raise ValueError("phases: contains NaN")
+        return self._orientations_at(u, *ends)
+
+    def _orientations_at(
+        self, phases: np.ndarray, start: np.ndarray, goal: np.ndarray
+    ) -> np.ndarray:
+        """:meth:`orientations_at` from checked phases, start and goal."""
+        n_steps = max(1001, 8 * int(self.n_points))
+        _, rollout = self.orientation_dmp_.rollout(start=start, goal=goal, n_steps=n_steps)
+        position = np.clip(phases, 0.0, 1.0) * (n_steps - 1)
+        k = np.minimum(np.floor(position).astype(int), n_steps - 2)
+        out = slerp(rollout[k], rollout[k + 1], position - k)
+        # The DMP's error ends at exactly 0: the last sample is the goal itself.
+        end = phases >= 1.0
+        out[end] = goal if goal @ rollout[-1] >= 0.0 else -goal
+        out = continuous(out)
+        return out if out[0] @ start >= 0.0 else -out
 
     def _plan_duration(self, duration: float | None, speed: float | None) -> float:
         """Seconds a plan lasts: ``duration``, or the skill's divided by ``speed``."""
@@ -1010,7 +1220,12 @@ class Skill(Estimator):
         factor = conversion_factor(self.units, units)
         skill = type(self)(**{**self.get_params(), "units": units})
         method = self.mimic_info_.get("method", "given")
-        skill.use_path(self.path_ * factor, source=f"{method} path in {self.units}")
+        skill.use_path(
+            self.path_ * factor,
+            source=f"{method} path in {self.units}",
+            timing=self.timing_,  # seconds and a normalised speed law: no unit to convert
+            orientations=self.orientations_,
+        )
         if self.reward_ is not None:
             area = factor**2
             precisions = {c: m / area for c, m in self.reward_.precisions.items()}
@@ -1041,6 +1256,7 @@ class Skill(Estimator):
             reward=reward,
             ioc_info=self.ioc_info_,
             timing=timing.to_dict() if learned else None,
+            orientations=self.orientations_,
         )
 
     @classmethod
@@ -1077,8 +1293,9 @@ class Skill(Estimator):
         timing = None
         if raw_timing is not None:
             timing = SpeedProfile.from_dict(raw_timing, f"{source}: timing")
+        orientations = document.orientations(len(path))
         try:
-            skill.use_path(path, timing=timing)
+            skill.use_path(path, timing=timing, orientations=orientations)
             skill.mimic_info_ = document.mimic()
             reward = document.reward(n_dims)
             if reward is not None:
@@ -1149,6 +1366,10 @@ class TrainingData(NamedTuple):
     free_times : list of (ndarray (n_j,) or None)
         Sample times of the clean demonstrations in seconds (None where the
         file has none): the skill learns its timing from them.
+    free_orientations : list of (ndarray (n_j, 4) or None)
+        Tool orientations of the clean demonstrations, unit quaternions
+        (None where the file has none): the skill learns its orientation
+        from them.
     """
 
     free_demos: list[np.ndarray]
@@ -1157,6 +1378,7 @@ class TrainingData(NamedTuple):
     obstacle_ids: list[DemoId]
     scenes: list[Scene]
     free_times: list[np.ndarray | None]
+    free_orientations: list[np.ndarray | None]
 
 
 def read_training_data(
@@ -1180,7 +1402,9 @@ def read_training_data(
         demonstrations mix dimensions, or the scene file names a
         demonstration id that the demonstrations file does not have.
     """
-    demos, times, ids = load_demos(demos_path, return_times=True, return_ids=True)
+    demos, times, ids, quats = load_demos(
+        demos_path, return_times=True, return_ids=True, return_orientations=True
+    )
     dims = {demo.shape[1] for demo in demos}
     if len(dims) > 1:
         first = demos[0].shape[1]
@@ -1203,13 +1427,14 @@ def read_training_data(
             f"{os.fspath(demos_path)}: demonstration {short[0][0]!r} has {short[0][1]} "
             "points; a path needs at least 3"
         )
-    data = TrainingData([], [], [], [], [], [])
-    for demo, stamps, key in zip(demos, times, ids, strict=True):
+    data = TrainingData([], [], [], [], [], [], [])
+    for demo, stamps, key, quat in zip(demos, times, ids, quats, strict=True):
         scene = scenes.get(key)
         if scene is None or not len(scene):
             data.free_demos.append(demo)
             data.free_ids.append(key)
             data.free_times.append(stamps)
+            data.free_orientations.append(quat)
         else:
             if scene.positions.shape[1] != demo.shape[1]:
                 raise ValueError(
@@ -1223,6 +1448,13 @@ def read_training_data(
         raise ValueError(
             f"{os.fspath(demos_path)}: needs at least 2 demonstrations without obstacles to "
             f"learn the path from, found {len(data.free_demos)}"
+        )
+    given = [quat is not None for quat in data.free_orientations]
+    if any(given) and not all(given):
+        missing = data.free_ids[given.index(False)]
+        raise ValueError(
+            f"{os.fspath(demos_path)}: demonstration {missing!r} has no orientation (qx, qy, "
+            "qz, qw) but others have; give them for all clean demonstrations or none"
         )
     return data
 
@@ -1238,7 +1470,9 @@ def learn(
 
     ``params`` are :class:`Skill`'s parameters. When the demonstrations file
     has times (a ``t`` column), the skill's timing is learned from those of
-    the clean demonstrations. The ``lfdkit learn`` command calls exactly this.
+    the clean demonstrations; when it has orientations (``qx, qy, qz, qw``),
+    the skill's orientation (:attr:`Skill.orientations_`, its DMP) from
+    theirs. The ``lfdkit learn`` command calls exactly this.
     ``progress`` is :meth:`Skill.fit`'s (default silent).
     """
     progress = as_progress(progress)
@@ -1251,6 +1485,7 @@ def learn(
         obstacle,
         data.scenes if obstacle else None,
         times=data.free_times,
+        orientations=data.free_orientations if data.free_orientations[0] is not None else None,
         progress=progress,
     )
 
@@ -1259,6 +1494,36 @@ def learn(
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
     if value not in choices:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
+
+
+def _check_orientations_list(
+    orientations: Sequence[Any] | None, demos: list[np.ndarray]
+) -> list[np.ndarray] | None:
+    """One (n_j, 4) unit-quaternion array per demonstration, or None for none at all."""
+    if orientations is None:
+        return None
+    if isinstance(orientations, np.ndarray) and orientations.ndim == 2:
+        raise TypeError(
+            "orientations: expected a sequence of (n_j, 4) arrays, one per demonstration"
+        )
+    orientations = list(orientations)
+    if len(orientations) != len(demos):
+        raise ValueError(
+            f"orientations: {len(orientations)} arrays for {len(demos)} demonstrations; "
+            "give one (n_j, 4) array per demonstration"
+        )
+    given = [o is not None for o in orientations]
+    if not any(given):
+        return None
+    if not all(given):
+        raise ValueError(
+            f"orientations: orientations[{given.index(False)}] is None; give orientations for "
+            "every demonstration or none"
+        )
+    return [
+        check_quaternions(o, f"orientations[{j}]", n=len(demo))
+        for j, (o, demo) in enumerate(zip(orientations, demos, strict=True))
+    ]
 
 
 def _extent(path: np.ndarray) -> float:

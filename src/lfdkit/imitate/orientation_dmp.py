@@ -118,6 +118,10 @@ class QuaternionDMP(Estimator):
             basis_tol=self.basis_tol,
         )
         self.dmp_ = dmp.fit(e, t)
+        # The error is bounded (|e| <= π/2), so the position DMP's overflow guard, scaled
+        # by the training movement, must not refuse a new start when the demonstrated
+        # orientation barely turned (a constant orientation has scale 0).
+        self.dmp_._scale = max(self.dmp_._scale, 0.5 * np.pi)
         self.start_ = q[0].copy()
         self.goal_ = goal.copy()
         self.times_ = self.dmp_.times_

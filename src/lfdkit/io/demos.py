@@ -329,8 +329,10 @@ def save_demos(
     return write_text(fname, _json_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
 
 
-def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
-    """One path as CSV text: a header ``[t,]x,y[,z][,vx,vy[,vz]]``, one row per point.
+def path_csv(
+    points: Any, *, times: Any = None, velocities: Any = None, orientations: Any = None
+) -> str:
+    """One path as CSV text: a header ``[t,]x,y[,z][,qx,qy,qz,qw][,vx,vy[,vz]]``, one row a point.
 
     Parameters
     ----------
@@ -340,6 +342,9 @@ def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
         Seconds, finite and non-decreasing: a first column ``t``.
     velocities : array_like, shape (n, q), optional
         Units per second: last columns ``vx,vy[,vz]`` (``v1,...,vq`` beyond 3).
+    orientations : array_like, shape (n, 4), optional
+        Tool orientations, unit quaternions ``[x, y, z, w]``: columns
+        ``qx,qy,qz,qw`` after the positions (as a demonstrations file has them).
 
     Returns
     -------
@@ -357,6 +362,9 @@ def path_csv(points: Any, *, times: Any = None, velocities: Any = None) -> str:
             raise ValueError("times: must not decrease")
         header = ["t", *header]
         columns.insert(0, t[:, None])
+    if orientations is not None:
+        header += list(QUATERNION_COLUMNS)
+        columns.append(check_quaternions(orientations, "orientations", n=n))
     if velocities is not None:
         v = check_path(velocities, "velocities", min_points=1, n_dims=q)
         if v.shape[0] != n:
@@ -376,14 +384,16 @@ def save_path(
     *,
     times: Any = None,
     velocities: Any = None,
+    orientations: Any = None,
     overwrite: bool = False,
 ) -> Path:
     """Write one path (e.g. a plan) as :func:`path_csv` text, atomically (:func:`write_text`).
 
     ``times`` (n,) s and ``velocities`` (n, q) units/s add the columns ``t``
-    and ``vx,vy[,vz]``; an existing file is replaced only with ``overwrite``.
+    and ``vx,vy[,vz]``, ``orientations`` (n, 4) the columns ``qx,qy,qz,qw``;
+    an existing file is replaced only with ``overwrite``.
     """
-    text = path_csv(points, times=times, velocities=velocities)
+    text = path_csv(points, times=times, velocities=velocities, orientations=orientations)
     return write_text(path, text, overwrite=overwrite)
 
 

@@ -20,6 +20,14 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     the ``timing`` law over ``duration`` of ``params``; a file without it
     reads as before timings were learned (and an older lfdkit reading a file
     with it plans the same path with that law's timing).
+``orientation``
+    Only for a skill with the tool's orientation: ``{"mean": [[qx, qy, qz,
+    qw], ...]}``, the mean orientation at each point of ``path`` (unit
+    quaternions, one per row of ``path``). The orientation DMP is fitted on
+    them again when the file is read (a deterministic fit, as the position
+    DMP from ``path``), so the loaded skill plans the same orientations. A
+    file without it is a skill without orientation; an older lfdkit reading
+    a file with it ignores the field and plans positions only.
 ``mimic``
     How the path was made: ``{"method": ..., "n_demos": ...}`` and the
     method's diagnostics.
@@ -130,6 +138,7 @@ def to_document(
     reward: tuple[float, Mapping[str, np.ndarray]] | None,
     ioc_info: Mapping[str, Any] | None,
     timing: Mapping[str, Any] | None = None,
+    orientations: np.ndarray | None = None,
 ) -> dict[str, Any]:
     """A skill's state as a JSON-ready dict (the format of the module notes).
 
@@ -152,6 +161,9 @@ def to_document(
     timing : mapping or None
         A learned timing (:meth:`lfdkit.imitate.SpeedProfile.to_dict`), or
         None when it is the law of ``params`` (then no ``timing`` field).
+    orientations : ndarray, shape (n_points, 4), or None
+        The mean orientation at each path point (unit quaternions), or None
+        (then no ``orientation`` field).
 
     Returns
     -------
@@ -176,6 +188,8 @@ def to_document(
     }
     if timing is not None:
         document["timing"] = jsonable(timing)
+    if orientations is not None:
+        document["orientation"] = {"mean": np.asarray(orientations, dtype=np.float64).tolist()}
     document |= {
         "mimic": _without_timing(jsonable(mimic_info)),
         "reward": reward_doc,
@@ -344,6 +358,17 @@ class SkillDocument:
         if value is not None and not isinstance(value, Mapping):
             raise ValueError(f"{self.source}: timing: expected an object")
         return value
+
+    def orientations(self, n_points: int) -> np.ndarray | None:
+        """The mean orientation at each path point, finite (``n_points``, 4); None without.
+
+        Whether the rows are unit quaternions is the skill's check.
+        """
+        value = self.data.get("orientation")
+        if value is None:
+            return None
+        sub = _FieldReader(value, self.source, "orientation.")
+        return sub.array("mean", (n_points, 4))
 
     def mimic(self) -> dict[str, Any]:
         """How the path was made (``method``, ``n_demos`` and diagnostics)."""

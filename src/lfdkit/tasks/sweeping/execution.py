@@ -51,7 +51,7 @@ from lfdkit.io import atomic_write, save_path, write_text
 from lfdkit.progress import ProgressLike, as_progress
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, Arm, check_arm
-from lfdkit.robot.poses import pose_vector, unwrap_rotvecs
+from lfdkit.robot.poses import pose_vector, unwrap_rotvecs, yaw_from_quaternions
 from lfdkit.robot.timing import Timing, time_parameterize
 from lfdkit.robot.urscript import MAX_TOOL_SPEED, TABLE_Z, Workspace, urscript_program
 from lfdkit.scene import Scene
@@ -124,6 +124,11 @@ class SweepExecution:
         Why it was not simulated ("" when it was).
     seconds : dict of str to float
         Wall time of each step: plan, poses, timing, program, simulation.
+    yaw : {"tangent", "demonstrated"}
+        Where the brush's heading came from: the path's tangent, or the
+        orientation the skill learned from the demonstrations.
+    orientations : ndarray, shape (n_points, 4), or None
+        The plan's tool orientations (the skill's, when it has them).
     """
 
     plan: Plan
@@ -142,6 +147,8 @@ class SweepExecution:
     result: SweepResult | None = None
     skipped: str = ""
     seconds: dict[str, float] = field(default_factory=dict)
+    yaw: str = "tangent"
+    orientations: np.ndarray | None = field(default=None, repr=False)
 
     def pose_table(self) -> np.ndarray:
         """Rows ``t, x, y, z, rx, ry, rz``: when the flange passes each pose, and the pose.
@@ -188,6 +195,7 @@ class SweepExecution:
             },
             "robot": {
                 "poses": len(self.poses),
+                "yaw": self.yaw,
                 "motion_s": float(self.timing.duration),
                 "servo_rate_hz": SERVO_RATE,
                 "samples": len(self.stream),
@@ -248,6 +256,9 @@ def execute_skill(
     render: bool = False,
     header: str | None = None,
     progress: ProgressLike = None,
+    yaw: str | None = None,
+    start_orientation: Any = None,
+    goal_orientation: Any = None,
 ) -> SweepExecution:
     """Plan a sweep with a skill and carry it to the robot, checked and simulated.
 
@@ -275,6 +286,16 @@ def execute_skill(
         A comment line for the URScript program.
     progress : Progress, callable, bool or None
         Reports each step (:func:`lfdkit.progress.as_progress`); default silent.
+    yaw : {"demonstrated", "tangent"}, optional
+        The brush's heading along the sweep: ``"demonstrated"`` follows the
+        orientation the skill learned (the heading of the plan's
+        orientations, :func:`lfdkit.robot.poses.yaw_from_quaternions`),
+        ``"tangent"`` the path's tangent. Default: demonstrated for a skill
+        with orientation (:attr:`lfdkit.skill.Skill.orientation_dmp_`),
+        else tangent.
+    start_orientation, goal_orientation : array_like, shape (4,), optional
+        The tool's orientation at the start and goal, for a skill with
+        orientation (:meth:`lfdkit.skill.Skill.plan`); default the learned ones.
 
     Returns
     -------
@@ -310,6 +331,16 @@ def execute_skill(
     fraction = float(speed_fraction)
     if not 0.0 < fraction <= 1.0:
         raise ValueError(f"speed_fraction: must be in (0, 1], got {speed_fraction!r}")
+    oriented = getattr(skill, "orientation_dmp_", None) is not None
+    if yaw is None:
+        yaw = "demonstrated" if oriented else "tangent"
+    if yaw not in ("demonstrated", "tangent"):
+        raise ValueError(f"yaw: expected 'demonstrated' or 'tangent', got {yaw!r}")
+    if yaw == "demonstrated" and not oriented:
+        raise ValueError(
+            "yaw: 'demonstrated' needs a skill learned with orientations (qx, qy, qz, qw); "
+            "this one has none"
+        )
     start = skill.path_[0] if start is None else np.asarray(start, dtype=np.float64)
     goal = skill.path_[-1] if goal is None else np.asarray(goal, dtype=np.float64)
     scene = _standing(Scene() if scene is None else scene)
@@ -325,17 +356,26 @@ def execute_skill(
     seconds: dict[str, float] = {}
 
     with progress.stage(f"plan the sweep around {len(scene)} obstacles") as stage:
-        plan = skill.plan_details(
+        timed = skill.plan(
             start,
             goal,
             scene,
+            start_orientation=start_orientation,
+            goal_orientation=goal_orientation,
             **PLAN_SETTINGS,
             progress=progress,
         )
+        plan = timed.details
     seconds["plan"] = stage.seconds
+    headings = None
+    if yaw == "demonstrated":
+        try:
+            headings = yaw_from_quaternions(timed.orientations)
+        except ValueError as exc:
+            raise ExecutionError(f"the demonstrated orientation: {exc}") from None
     with progress.stage(f"robot: flange poses and inverse kinematics ({arm.name})") as stage:
         try:
-            poses, joints = sweep_motion(plan.points, arm=arm)
+            poses, joints = sweep_motion(plan.points, arm=arm, yaw=headings)
         except ur5.KinematicsError as exc:
             raise ExecutionError(_where(exc, arm, plan.points)) from None
     seconds["poses"] = stage.seconds
@@ -375,6 +415,8 @@ def execute_skill(
         stream=stream,
         program=program,
         seconds=seconds,
+        yaw=yaw,
+        orientations=timed.orientations,
     )
     if not simulate:
         execution.skipped = "not asked for"
@@ -413,7 +455,8 @@ def write_execution(
 ) -> list[Path]:
     """Write an execution's files in ``folder`` (which must exist), each atomically.
 
-    ``plan.csv`` (``x,y``, m), ``poses.csv`` (:meth:`SweepExecution.pose_table`),
+    ``plan.csv`` (``x,y``, m, and ``qx,qy,qz,qw`` for a skill with
+    orientation), ``poses.csv`` (:meth:`SweepExecution.pose_table`),
     ``joints.csv`` (``t, q1 … qn``: the streamed samples, s and rad),
     ``program.script`` (URScript), ``summary.json``
     (:meth:`SweepExecution.summary` with ``extra`` and the list of files) and,
@@ -442,7 +485,12 @@ def write_execution(
     if clash and not overwrite:
         raise FileExistsError(f"{clash[0]}: exists; pass overwrite=True to replace it")
 
-    save_path(out / _PLAN, execution.plan.points, overwrite=overwrite)
+    save_path(
+        out / _PLAN,
+        execution.plan.points,
+        orientations=execution.orientations,
+        overwrite=overwrite,
+    )
     columns = ["t", "x", "y", "z", "rx", "ry", "rz"]
     write_text(out / _POSES, _table(columns, execution.pose_table()), overwrite=overwrite)
     joints = np.column_stack([execution.times, execution.stream])

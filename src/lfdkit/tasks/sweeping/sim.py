@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit._validation import check_path, check_positive
-from lfdkit.geometry import path_length, project_onto_polyline, resample, smooth_path
+from lfdkit.geometry import arc_length, path_length, project_onto_polyline, resample, smooth_path
 from lfdkit.progress import ProgressLike, Stage, as_progress
 from lfdkit.robot import ur5
 from lfdkit.robot.arm import UR5, Arm, check_arm
@@ -546,6 +546,7 @@ def sweep_motion(
     smoothing: float = 0.01,
     q_home: Any = HOME,
     arm: Arm = UR5,
+    yaw: Any = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Tool poses and the continuous joint path that sweep along a table path.
 
@@ -562,6 +563,11 @@ def sweep_motion(
         Configuration that picks the IK branch (:data:`HOME` for a UR-type arm).
     arm : Arm
         A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+    yaw : array_like, shape (n,), optional
+        The brush's heading at each point of ``path`` (rad, unwrapped; e.g.
+        :func:`lfdkit.robot.poses.yaw_from_quaternions` of a plan's
+        orientations), carried to the poses by arc-length fraction; default
+        along the path's tangent.
 
     Returns
     -------
@@ -578,11 +584,21 @@ def sweep_motion(
     """
     path = check_path(path, "path", n_dims=2, min_points=2)
     n_poses = max(len(path), math.ceil(path_length(path) / 0.002) + 1)
+    given = path
     if smoothing:
         path = smooth_path(path, check_positive(smoothing, "smoothing"), n_poses)
     else:
         path = resample(path, n_poses)
-    frames = sweeping_poses(path, height=brush.sweep_height)
+    headings = None
+    if yaw is not None:
+        headings = np.asarray(yaw, dtype=np.float64)
+        if headings.shape != (len(given),) or not np.all(np.isfinite(headings)):
+            raise ValueError(f"yaw: expected {len(given)} finite angles, one per path point")
+        # Both paths run from the same start to the same end: match them by arc-length fraction.
+        headings = np.interp(
+            arc_length(path) / path_length(path), arc_length(given) / path_length(given), headings
+        )
+    frames = sweeping_poses(path, height=brush.sweep_height, yaw=headings)
     q_start = ur5.nearest_solution(frames[0], q_home, arm=arm)
     return frames, ur5.inverse_path(frames, q_start, arm=arm)
 
