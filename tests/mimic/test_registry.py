@@ -58,7 +58,7 @@ def test_every_builtin_follows_the_contract() -> None:
 
 
 def test_a_registered_method_is_found_by_skill_cli_evaluation_and_plots(first_demo) -> None:
-    from lfdkit.cli import _MimicChoices
+    from lfdkit.cli import _LazyChoices, _mimic_keys
     from lfdkit.evaluation import lfdkit_methods
     from lfdkit.plot import method_color
     from lfdkit.skill import Skill
@@ -66,7 +66,8 @@ def test_a_registered_method_is_found_by_skill_cli_evaluation_and_plots(first_de
     skill = Skill(mimic="first_demo").fit_path(_demos())
     np.testing.assert_allclose(skill.path_[0], _demos()[0][0])
     assert skill.mimic_info_["method"] == "first_demo"
-    assert "first_demo" in _MimicChoices() and "first_demo" in list(_MimicChoices())
+    choices = _LazyChoices(_mimic_keys)  # what `lfdkit learn --mimic` accepts
+    assert "first_demo" in choices and "first_demo" in list(choices)
     assert "first demonstration" in lfdkit_methods()
     assert method_color("first demonstration") == "#123456"
 
