@@ -603,6 +603,17 @@ def sweep_motion(
     return frames, ur5.inverse_path(frames, q_start, arm=arm)
 
 
+def _cannot_follow(task: SweepingTask, exc: Exception) -> SweepResult:
+    """The result of a path the arm cannot follow (unreachable, limits, a singularity)."""
+    return SweepResult(
+        success=False,
+        cube_in_dustpan=False,
+        touched=[],
+        failures=[f"the robot cannot follow the path: {exc}"],
+        obstacle_shift=np.zeros(len(task.scene)),
+    )
+
+
 def simulate_timed_path(
     times: Any,
     points: Any,
@@ -650,13 +661,7 @@ def simulate_timed_path(
     try:
         poses, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm)
     except ur5.KinematicsError as exc:
-        return SweepResult(
-            success=False,
-            cube_in_dustpan=False,
-            touched=[],
-            failures=[f"the robot cannot follow the path: {exc}"],
-            obstacle_shift=np.zeros(len(task.scene)),
-        )
+        return _cannot_follow(task, exc)
     # Fraction of arc length reached at each time, then the poses' joints at that fraction.
     run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
     flange = poses[:, :2, 3]
@@ -736,13 +741,7 @@ def execute_sweep(
     try:
         _, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm)
     except ur5.KinematicsError as exc:
-        return SweepResult(
-            success=False,
-            cube_in_dustpan=False,
-            touched=[],
-            failures=[f"the robot cannot follow the path: {exc}"],
-            obstacle_shift=np.zeros(len(task.scene)),
-        )
+        return _cannot_follow(task, exc)
     timing = time_parameterize(joints, arm=arm, speed_fraction=speed_fraction)
     return simulate_sweep(
         timing,
