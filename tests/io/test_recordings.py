@@ -32,6 +32,18 @@ def _samples(ns, pos, q, *, received_offset=1000, **kw):
     ]
 
 
+def _tf_messages(ns, pos, q, parent: str, child: str) -> list[Sample]:
+    """One TFMessage per sample, holding the parent -> child transform."""
+    return [
+        Sample(
+            s.received,
+            s.stamp,
+            transforms=[Sample(s.received, s.stamp, s.position, s.orientation, parent, child)],
+        )
+        for s in _samples(ns, pos, q)
+    ]
+
+
 def _same_rotation(a: np.ndarray, b: np.ndarray) -> float:
     """Largest quaternion difference up to sign, row by row."""
     return float(np.minimum(np.abs(a - b).max(1), np.abs(a + b).max(1)).max())
@@ -119,14 +131,7 @@ def test_tf_chains_static_and_dynamic_transforms(tmp_path: Path, kind: str) -> N
         Sample(5, 5, (0.0, 0.0, 0.12), _rot([1, 1, 0], 0.3), "tool", "tip"),
     ]
     other = Sample(6, 6, (9.0, 9.0, 9.0), _rot([0, 1, 0], 1.0), "world", "camera")
-    dynamic = [
-        Sample(
-            s.received,
-            s.stamp,
-            transforms=[Sample(s.received, s.stamp, s.position, s.orientation, "base", "tool")],
-        )
-        for s in _samples(ns, pos, q)
-    ]
+    dynamic = _tf_messages(ns, pos, q, "base", "tool")
     out = write_recording(
         tmp_path / "tf",
         kind,
@@ -179,14 +184,7 @@ def test_ros1_tf_messages_of_the_older_tf_package(tmp_path: Path) -> None:
 
 def test_tf_errors_name_the_frames(tmp_path: Path) -> None:
     ns, pos, q = random_trajectory(5, seed=6)
-    dynamic = [
-        Sample(
-            s.received,
-            s.stamp,
-            transforms=[Sample(s.received, s.stamp, s.position, s.orientation, "base", "tool")],
-        )
-        for s in _samples(ns, pos, q)
-    ]
+    dynamic = _tf_messages(ns, pos, q, "base", "tool")
     out = write_recording(tmp_path / "tf", "mcap", {"/tf": ("tf2_msgs/msg/TFMessage", dynamic)})
     with pytest.raises(RecordingError, match=r"name the pair.*recorded: base:tool"):
         read_poses(out, "/tf")
