@@ -22,6 +22,42 @@ positions are those of the right moments. Obstacles are assumed to follow the
 tracker's motion model (constant velocity by default) over the horizon; the
 uncertainty margin and the re-planning at every step absorb what it misses.
 
+Holding safely
+--------------
+When every move in the window is blocked, :meth:`RecedingPlanner.step`
+raises and the caller holds the tool with :meth:`RecedingPlanner.hold`. A
+hold is not "stop where you are": an obstacle coming at a standing tool
+hits it all the same (the issue-27 battery: 4 of 5 collisions were of a held
+brush). The hold ranks the reachable actions — stay, step aside along the
+normal (up to one action bound ``max_step`` each way, on a grid of
+:data:`HOLD_CHOICES` each side), or retreat one point along the path with
+the same sideways choices — by the *predicted clearance over the horizon*:
+the tool moving straight to the candidate in ``wait`` s and standing there
+until :data:`HOLD_LOOKAHEAD` waits have passed (the loop observes and
+re-plans at each; further ahead the worst-case allowance of a manoeuvring
+obstacle, growing as ``τ²``, would call every spot unsafe and walk the tool
+back along the whole path), measured against every obstacle
+moving as predicted (:func:`lfdkit.emulate.planner.timed_gaps`: tool and
+obstacle both moving, radius plus clearance plus ``margin`` σ). Staying
+wins whenever it is clear over that span; otherwise the candidate of
+largest predicted clearance. If even that one is predicted inside an
+obstacle's allowance before the loop can act twice more (``2 · wait``),
+the hold raises :class:`~lfdkit.emulate.planner.UnsafePlanError` with the
+predicted time of contact: the verdict comes *before* the contact.
+
+What is guaranteed, given the tracker's allowance covers the truth (with
+:class:`lfdkit.motion.ConstantVelocityKalman`'s ``max_acceleration`` ``A``:
+any obstacle accelerating, braking or turning at most ``A``; observation
+noise within ``margin`` σ): the executed steps stay out of radius plus
+clearance, and a blocked tool either moves out of the predicted path of an
+obstacle whose speed *relative to the tool's escape* is below
+``max_step / wait`` (per axis: one action bound per hold; with the sweeping
+task's 0.5 slope, 6.3 mm steps and ``wait`` 0.1 s, 3 cm/s sideways — so an
+obstacle at 30 cm/s is escaped only when the window sees it coming early
+enough, ``H`` points ahead), or the run stops with a verdict before the
+predicted contact. Nothing is promised for an obstacle whose motion the
+allowance does not cover (faster manoeuvres than ``A``, teleports).
+
 Each window is solved as :func:`lfdkit.emulate.planner.best_window` solves the
 thesis's MPC window (the warm start and, near an obstacle, the window's best
 path on the lateral grid, polished by Newton); with a static scene this is the
@@ -38,7 +74,7 @@ import numpy as np
 
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON
 from lfdkit._validation import check_positive
-from lfdkit.emulate.planner import UnsafePlanError, best_window
+from lfdkit.emulate.planner import UnsafePlanError, best_window, timed_gaps
 from lfdkit.emulate.problem import (
     UNCERTAINTY_MARGIN,
     Corridor,
@@ -49,7 +85,12 @@ from lfdkit.emulate.problem import (
 from lfdkit.emulate.reward import Reward
 from lfdkit.scene import Scene
 
-__all__ = ["RecedingPlanner"]
+__all__ = ["HOLD_CHOICES", "HOLD_LOOKAHEAD", "RecedingPlanner"]
+
+#: Sideways choices of a hold on each side (the action bound split into this many steps).
+HOLD_CHOICES = 4
+#: Holds look this many waits ahead (the next observations and the re-plans they allow).
+HOLD_LOOKAHEAD = 3
 
 
 class RecedingPlanner:
@@ -209,4 +250,104 @@ class RecedingPlanner:
             ]
         )
         self.step_index = k + 1
+        return self.point
+
+    def hold(self, scene: Scene, wait: float, position: Any = None) -> np.ndarray:
+        """Hold the tool ``wait`` s where the predicted clearance is largest; returns where (q,).
+
+        Candidates (module notes): stay, step aside up to ``max_step`` along
+        the normal, or retreat one point along the path (same sideways
+        choices); each scored by its least predicted clearance while the tool
+        moves there in ``wait`` s and stands there until
+        :data:`HOLD_LOOKAHEAD` waits have passed.
+        The rest of the plan's times move later so that the tool is at its
+        point at ``times[step_index] + wait`` (the planner's own copy; the
+        caller's array is never written to).
+
+        Parameters
+        ----------
+        scene : Scene
+            The obstacles, as for :meth:`step`.
+        wait : float
+            Seconds until the next observation (> 0).
+        position : array_like, shape (q,), optional
+            Where the tool is, if not at :attr:`point` (stopped inside a long
+            step): the candidates are then those of the point it was heading
+            to and the one before, within reach of ``position``.
+
+        Returns
+        -------
+        ndarray, shape (q,)
+            Where the tool is after the hold.
+
+        Raises
+        ------
+        UnsafePlanError
+            When even the best candidate is predicted to come inside an
+            obstacle's radius plus clearance (and margin) within ``2 · wait``
+            s: the contact cannot be avoided within the action bound; the
+            message gives the predicted time. The tool has not moved.
+        """
+        wait = check_positive(wait, "wait")
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scene: expected an lfdkit.scene.Scene, got {type(scene).__name__}")
+        c, k = self.corridor, self.step_index
+        here = self.point if position is None else np.asarray(position, dtype=np.float64)
+        now = float(self.times[k])
+        span = HOLD_LOOKAHEAD * wait
+        m = c.n_dims - 1
+        steps = self.max_slope * c.step * np.linspace(-1.0, 1.0, 2 * HOLD_CHOICES + 1)
+        if m == 1:
+            sideways = steps[:, None]
+        else:
+            sideways = np.stack(np.meshgrid(steps, steps, indexing="ij"), axis=-1).reshape(-1, 2)
+        reach = float(np.hypot(c.step, self.max_slope * c.step * np.sqrt(m))) * (1.0 + 1e-9)
+        candidates = []
+        for index in (k, k - 1) if k > 0 else (k,):
+            offsets = self.offsets[k] + sideways
+            points = c.points[index] + offsets @ c.normals[index]
+            for offset, point in zip(offsets, points, strict=True):
+                if np.linalg.norm(point - here) <= reach:
+                    candidates.append((index, offset, point))
+        # the tool moves to the candidate in `wait`, then stands there until `span`
+        grid = now + np.concatenate([np.linspace(0.0, wait, 5), np.linspace(wait, span, 9)[1:]])
+        early = grid <= now + 2.0 * wait + 1e-12
+        scores = []
+        for _, _, point in candidates:
+            path = np.vstack([np.linspace(here, point, 5), np.repeat(point[None], 8, axis=0)])
+            gaps = np.full(len(grid) - 1, np.inf)
+            for obstacle in scene.obstacles:
+                if obstacle.radius + self.clearance <= 0.0:
+                    continue
+                gap = timed_gaps(obstacle, path, grid, self.margin if obstacle.moving else 0.0)
+                gaps = np.minimum(gaps, gap - self.clearance)
+            scores.append(gaps)
+        overall = np.array([g.min() for g in scores])
+        stay = next(
+            (
+                i
+                for i, (index, offset, _) in enumerate(candidates)
+                if index == k and np.array_equal(offset, self.offsets[k])
+            ),
+            None,
+        )
+        if stay is not None and overall[stay] >= 0.0:
+            best = stay
+        else:  # the largest clearance; among equals, the smallest move
+            moves = np.array([np.linalg.norm(p - here) for _, _, p in candidates])
+            best = int(np.lexsort((moves, -np.round(overall, 12)))[0])
+        soon = scores[best][early[1:]].min()
+        if soon < 0.0:
+            when = grid[1:][int(np.argmax(scores[best] < 0.0))]
+            raise UnsafePlanError(
+                f"contact predicted at t = {when:.3g} s (now {now:.3g} s): no reachable hold "
+                f"(stay, step aside or retreat within the action bound) keeps out of an "
+                f"obstacle's predicted radius plus clearance and margin; stop the robot"
+            )
+        index, offset, point = candidates[best]
+        self.step_index = index
+        self.offsets[index] = offset
+        self.times[index:] += now + wait - self.times[index]
+        self._guess = np.zeros((0, m))
+        self.window = point[None].copy()
         return self.point

@@ -101,7 +101,10 @@ from lfdkit.emulate.problem import (
 )
 from lfdkit.emulate.reward import Reward
 from lfdkit.progress import Progress, ProgressLike, as_progress
-from lfdkit.scene import Scene
+from lfdkit.scene import Obstacle, Scene
+
+#: A round obstacle's distance (shapes override it): :func:`timed_gaps` has its closed form.
+_ROUND_DISTANCE = Obstacle.distance
 
 # goal_weights is the problem's (lfdkit.emulate.problem); listed here too, as the
 # planner's goal approach that plan_path documents.
@@ -116,6 +119,7 @@ __all__ = [
     "moving_clearance",
     "plan_clearance",
     "plan_path",
+    "timed_gaps",
 ]
 
 #: A plan ends at its goal when its last point is this close (fraction of the path's extent).
@@ -823,16 +827,57 @@ def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
     return scene.distances(path) - clearance
 
 
+def timed_gaps(
+    obstacle: Any, points: np.ndarray, times: np.ndarray, margin: float = 0.0
+) -> np.ndarray:
+    """Surface distance of each segment of a timed path to a moving obstacle (units).
+
+    Between two points the tool and the obstacle's predicted mean are taken
+    to move linearly, so segment ``k → k+1`` is measured in the obstacle's
+    frame: the tool's position *relative* to the mean moves on a straight
+    segment, whose distance to the obstacle is exact for that motion (not
+    the obstacle frozen at a midpoint). ``margin`` times the smaller of the
+    two predictions' standard deviations is subtracted.
+
+    Parameters
+    ----------
+    obstacle : lfdkit.scene.Obstacle
+    points : ndarray, shape (K, q)
+    times : ndarray, shape (K,)
+        Seconds at each point (K ≥ 2).
+    margin : float
+
+    Returns
+    -------
+    ndarray, shape (K − 1,)
+        Negative where the segment comes within the radius plus margin.
+    """
+    means, covs = obstacle.predict(times)
+    sigma = margin * predicted_sigma(covs) if margin else np.zeros(len(times))
+    rel = points - means  # the tool in the obstacle's frame (its reference at the origin)
+    if type(obstacle).distance is _ROUND_DISTANCE:
+        a, d = rel[:-1], rel[1:] - rel[:-1]
+        dd = np.einsum("kq,kq->k", d, d)
+        s = np.clip(-np.einsum("kq,kq->k", a, d) / np.where(dd > 0.0, dd, 1.0), 0.0, 1.0)
+        closest = a + s[:, None] * d
+        gaps = np.sqrt(np.einsum("kq,kq->k", closest, closest)) - obstacle.radius
+    else:  # any shape: its own distance to each relative segment
+        framed = rel + obstacle.position
+        gaps = np.array([obstacle.distance(framed[k : k + 2]) for k in range(len(points) - 1)])
+    return gaps - np.minimum(sigma[1:], sigma[:-1])
+
+
 def moving_clearance(
     points: np.ndarray, times: np.ndarray, scene: Scene, clearance: float, margin: float
 ) -> np.ndarray:
     """Distance of a timed path to each (moving) obstacle's surface, minus the margins.
 
-    Each segment ``k → k+1`` is measured against the obstacle halfway between
-    its predicted means at the segment's two times (the planner widens each
-    point's radius by half the obstacle's move to its neighbours for this),
-    minus ``clearance`` and ``margin`` times the smaller standard deviation of
-    the two predictions.
+    Each segment ``k → k+1`` is measured with the tool and the obstacle's
+    predicted mean both moving linearly over it (:func:`timed_gaps`), minus
+    ``clearance`` and ``margin`` times the smaller standard deviation of the
+    two predictions. (The planner's hard radius at a point, widened by half
+    the obstacle's move to its neighbours and half a segment, keeps this
+    positive whenever radius plus clearance is at least half a segment.)
 
     Parameters
     ----------
@@ -849,14 +894,7 @@ def moving_clearance(
     """
     out = np.empty(len(scene))
     for o, obstacle in enumerate(scene.obstacles):
-        means, covs = obstacle.predict(times)
-        sigma = margin * predicted_sigma(covs)
-        middle = 0.5 * (means[1:] + means[:-1]) - obstacle.position
-        gaps = [
-            obstacle.translated(middle[k]).distance(points[k : k + 2]) - min(sigma[k], sigma[k + 1])
-            for k in range(len(points) - 1)
-        ]
-        out[o] = min(gaps) - clearance
+        out[o] = timed_gaps(obstacle, points, times, margin).min() - clearance
     return out
 
 

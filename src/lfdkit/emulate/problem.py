@@ -517,13 +517,17 @@ class Problem:
 
 
 def check_times(times: Any, n_points: int) -> np.ndarray:
-    """The times (K,) of a plan's points: finite, non-decreasing, one per point."""
+    """The times (K,) of a plan's points: finite, non-decreasing, one per point.
+
+    Always a new array (the caller's is never written to, nor aliased: a
+    closed loop shifts its own copy when it holds the tool).
+    """
     if times is None:
         raise ValueError(
             "times: a scene with moving obstacles needs the time (s) at which the tool "
             "reaches each point of the plan"
         )
-    out = np.asarray(times, dtype=np.float64).reshape(-1)
+    out = np.array(times, dtype=np.float64).reshape(-1)  # a copy, writable
     if out.size != n_points:
         raise ValueError(f"times: expected {n_points} times (one per plan point), got {out.size}")
     if not np.all(np.isfinite(out)) or np.any(np.diff(out) < 0.0):

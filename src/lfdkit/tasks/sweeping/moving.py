@@ -54,6 +54,7 @@ import numpy as np
 
 from lfdkit._validation import check_positive, check_random_state
 from lfdkit.emulate import Corridor, RecedingPlanner, UnsafePlanError
+from lfdkit.emulate.planner import timed_gaps
 from lfdkit.motion import ConstantVelocityKalman, Tracked, Trajectory
 from lfdkit.scene import Obstacle, Scene
 from lfdkit.skill import Skill
@@ -100,6 +101,13 @@ PRE_ROLL = 1.0
 WAIT = 0.1
 #: Most seconds of waiting before a run gives up.
 MAX_WAIT = 10.0
+#: Longest time between observations while the tool moves (s): longer steps are cut.
+MAX_PERIOD = 0.1
+#: The trackers' acceleration bound (m/s²): the allowance covers obstacles that
+#: speed up, brake or turn (v²/R) at most this hard (lfdkit.motion.ConstantVelocityKalman).
+TRACKER_MAX_ACCELERATION = 0.3
+#: How far ahead (s) the trackers' acceleration bound is carried (then held).
+TRACKER_BOUND_HORIZON = 0.3
 #: Rate at which collisions are checked (Hz).
 CHECK_RATE = 200.0
 #: The MPCs' largest sideways step per nominal step: turns gentle enough that the cube
@@ -132,6 +140,10 @@ class MovingScenario:
         When its centre crosses the nominal sweep (s).
     seed : int
         Of the observation noise.
+    others : tuple of Obstacle
+        Further moving obstacles (:mod:`lfdkit.tasks.sweeping.manoeuvres`).
+    kind : str
+        The scenario family ("crossing" here; :data:`~lfdkit.tasks.sweeping.manoeuvres.KINDS`).
     """
 
     start: np.ndarray
@@ -142,6 +154,13 @@ class MovingScenario:
     start_time: float
     crossing_time: float
     seed: int
+    others: tuple[Obstacle, ...] = ()
+    kind: str = "crossing"
+
+    @property
+    def obstacles(self) -> tuple[Obstacle, ...]:
+        """Every moving obstacle: :attr:`obstacle` first, then :attr:`others`."""
+        return (self.obstacle, *self.others)
 
     def truth(self, times: Any) -> np.ndarray:
         """Where the obstacle's centre is at ``times`` (n,), shape (n, 2)."""
@@ -256,7 +275,16 @@ class MovingRun:
         For the MPCs: at each step its time, the planned window (h + 1, 2)
         and the predicted obstacle means (h, 2) and standard deviations (h,).
     failure : str
-        Why a run stopped early ("" when it did not).
+        Why a run stopped early ("" when it did not): gave up after
+        :data:`MAX_WAIT` s of holds, or stopped with a verdict before a
+        predicted contact (:meth:`lfdkit.emulate.RecedingPlanner.hold`).
+    holds : int
+        Control steps the tool was held (each :data:`WAIT` s).
+    prediction_errors : ndarray, shape (j, 3)
+        Predictive MPC: for every obstacle at every planned window point, the
+        distance of the window point to the predicted obstacle, the true
+        position's distance from the prediction and the allowance
+        (``margin`` σ) (m): the allowance's coverage.
     """
 
     method: str
@@ -270,32 +298,80 @@ class MovingRun:
     observations: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     windows: list = field(default_factory=list, repr=False)
     failure: str = ""
+    holds: int = 0
+    prediction_errors: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)), repr=False)
 
 
 class _Sensor:
-    """The noisy observations of the obstacle and their Kalman filter."""
+    """The noisy observations of each obstacle and a Kalman filter per obstacle.
 
-    def __init__(self, scenario: MovingScenario, noise: float) -> None:
+    (Which observation belongs to which obstacle is known: data association
+    is not this experiment's subject.)
+    """
+
+    def __init__(self, scenario: MovingScenario, noise: float, max_acceleration: float) -> None:
         self.scenario, self.noise = scenario, noise
         self.rng = np.random.default_rng(scenario.seed)
-        self.filter = ConstantVelocityKalman(
-            noise, acceleration=TRACKER_ACCELERATION, velocity_std=TRACKER_VELOCITY
-        )
+        self.filters = [
+            ConstantVelocityKalman(
+                noise,
+                acceleration=TRACKER_ACCELERATION,
+                velocity_std=TRACKER_VELOCITY,
+                max_acceleration=max_acceleration,
+                bound_horizon=TRACKER_BOUND_HORIZON,
+            )
+            for _ in scenario.obstacles
+        ]
+        self.filter = self.filters[0]
         self.log: list[tuple[float, float, float]] = []
 
-    def observe(self, t: float) -> np.ndarray:
-        z = self.scenario.truth([t])[0] + self.noise * self.rng.standard_normal(2)
-        self.filter.update(t, z)
-        self.log.append((t, *z))
-        return self.filter.predict([t])[0][0]  # the filtered position now
+    def observe(self, t: float) -> list[np.ndarray]:
+        """Observe every obstacle at ``t``; the filtered positions now, one (2,) each."""
+        out = []
+        for o, (item, kf) in enumerate(zip(self.scenario.obstacles, self.filters, strict=True)):
+            z = item.predict([t])[0][0] + self.noise * self.rng.standard_normal(2)
+            kf.update(t, z)
+            if o == 0:
+                self.log.append((t, *z))
+            out.append(kf.predict([t])[0][0])
+        return out
+
+    def scene(self, estimates: list[np.ndarray], predictive: bool) -> Scene:
+        """The obstacles where estimated, with the trackers' predictions when ``predictive``."""
+        return Scene(
+            tuple(
+                Obstacle(o.label, e, o.radius, motion=Tracked(kf) if predictive else None)
+                for o, e, kf in zip(self.scenario.obstacles, estimates, self.filters, strict=True)
+            )
+        )
+
+
+def true_clearance(
+    scenario: MovingScenario, times: Any, points: Any, rate: float = CHECK_RATE
+) -> tuple[float, float]:
+    """Least brush–obstacle surface distance against the TRUE tracks, and when (m, s).
+
+    Independent of the planner's checks: the executed path ``points`` (m, 2)
+    at ``times`` (m,) and every obstacle's true track are interpolated on a
+    grid of ``rate`` Hz (and the executed times themselves); the brush is a
+    disc of half its width.
+    """
+    times = np.asarray(times, dtype=np.float64)
+    points = np.asarray(points, dtype=np.float64)
+    grid = np.union1d(np.arange(times[0], times[-1], 1.0 / rate), times)
+    brush = np.column_stack([np.interp(grid, times, points[:, i]) for i in range(2)])
+    best, when = np.inf, float(grid[0])
+    for o in scenario.obstacles:
+        gap = np.linalg.norm(brush - o.predict(grid)[0], axis=1) - o.radius - 0.5 * BRUSH.width
+        i = int(np.argmin(gap))
+        if gap[i] < best:
+            best, when = float(gap[i]), float(grid[i])
+    return best, when
 
 
 def _clearance(scenario: MovingScenario, times: np.ndarray, points: np.ndarray) -> float:
     """Least brush–obstacle surface distance over the sweep, on a fine time grid (m)."""
-    grid = np.arange(times[0], times[-1] + 1.0 / CHECK_RATE, 1.0 / CHECK_RATE)
-    brush = np.column_stack([np.interp(grid, times, points[:, i]) for i in range(2)])
-    gap = np.linalg.norm(brush - scenario.truth(grid), axis=1)
-    return float(gap.min() - scenario.obstacle.radius - 0.5 * BRUSH.width)
+    return true_clearance(scenario, times, points)[0]
 
 
 def run_moving(
@@ -310,6 +386,7 @@ def run_moving(
     coupling_gain: float = 1000.0,
     max_slope: float = MAX_SLOPE,
     goal_approach: float = GOAL_APPROACH,
+    max_acceleration: float = TRACKER_MAX_ACCELERATION,
 ) -> MovingRun:
     """One closed-loop sweep of ``scenario`` with ``method`` (one of :data:`METHODS`).
 
@@ -333,15 +410,19 @@ def run_moving(
         The MPCs' largest sideways step per nominal step (:data:`MAX_SLOPE`).
     goal_approach : float
         The MPCs' return to the nominal before the goal (m, :data:`GOAL_APPROACH`).
+    max_acceleration : float
+        The trackers' acceleration bound (m/s², :data:`TRACKER_MAX_ACCELERATION`;
+        0: the plain constant-velocity filter).
     """
     if method not in METHODS:
         raise ValueError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
     times = skill.point_times(duration)
     nominal = skill.nominal(scenario.start, scenario.goal)
-    sensor = _Sensor(scenario, noise)
+    sensor = _Sensor(scenario, noise, max_acceleration)
     period = float(np.median(np.diff(times)))
     for t in np.arange(-PRE_ROLL, 0.0, period):
         sensor.observe(float(t))
+    holds, errors = 0, np.zeros((0, 3))
     if method == "DMP":
         points = Corridor.from_path(nominal, int(skill.n_points)).points
         out_times, waited, step_ms, windows, failure = times, 0.0, np.zeros(0), [], ""
@@ -351,7 +432,7 @@ def run_moving(
         out_times, points = _coupled_dmp(nominal, times, sensor, coupling_gain)
         waited, step_ms, windows, failure = 0.0, np.zeros(0), [], ""
     else:
-        out_times, points, waited, step_ms, windows, failure = _mpc(
+        loop = _Loop(
             skill,
             scenario,
             nominal,
@@ -363,6 +444,15 @@ def run_moving(
             max_slope,
             goal_approach,
         )
+        loop.run()
+        out_times, points = np.array(loop.times), np.array(loop.points)
+        waited, step_ms, windows, failure = (
+            loop.waited,
+            np.array(loop.step_ms),
+            loop.windows,
+            loop.failure,
+        )
+        holds, errors = loop.holds, np.array(loop.errors).reshape(-1, 3)
     clearance = _clearance(scenario, out_times, points)
     return MovingRun(
         method=method,
@@ -376,71 +466,137 @@ def run_moving(
         observations=np.array(sensor.log),
         windows=windows,
         failure=failure,
+        holds=holds,
+        prediction_errors=errors,
     )
 
 
-def _mpc(
-    skill: Skill,
-    scenario: MovingScenario,
-    nominal: np.ndarray,
-    times: np.ndarray,
-    sensor: _Sensor,
-    predictive: bool,
-    horizon: int,
-    margin: float,
-    max_slope: float,
-    goal_approach: float,
-) -> tuple[np.ndarray, np.ndarray, float, np.ndarray, list, str]:
-    planner = RecedingPlanner(
-        skill.reward_,
-        nominal,
-        times,
-        horizon=horizon,
-        max_slope=max_slope,
-        n_points=int(skill.n_points),
-        goal_approach=goal_approach,
-        clearance=0.5 * BRUSH.width,
-        margin=margin,
-    )
-    label, radius = scenario.obstacle.label, scenario.obstacle.radius
-    out_times, points, step_ms, windows = [0.0], [planner.point], [], []
-    waited, now, failure = 0.0, 0.0, ""
-    while not planner.done:
-        estimate = sensor.observe(now)
-        motion = Tracked(sensor.filter) if predictive else None
-        scene = Scene((Obstacle(label, estimate, radius, motion=motion),))
-        began = time.perf_counter()
+class _Loop:
+    """The MPCs' closed loop: observe, plan a window, move; hold safely when blocked.
+
+    A step longer than :data:`MAX_PERIOD` (the rest-to-rest profile's first
+    and last, 0.64 s at 6 s) is cut into sub-steps: at each the obstacles
+    are observed and the rest of the step is checked against the new
+    predictions; where it would enter an allowance the tool stops there and
+    holds (:meth:`lfdkit.emulate.RecedingPlanner.hold`).
+    """
+
+    def __init__(
+        self,
+        skill: Skill,
+        scenario: MovingScenario,
+        nominal: np.ndarray,
+        times: np.ndarray,
+        sensor: _Sensor,
+        predictive: bool,
+        horizon: int,
+        margin: float,
+        max_slope: float,
+        goal_approach: float,
+    ) -> None:
+        self.planner = RecedingPlanner(
+            skill.reward_,
+            nominal,
+            times,
+            horizon=horizon,
+            max_slope=max_slope,
+            n_points=int(skill.n_points),
+            goal_approach=goal_approach,
+            clearance=0.5 * BRUSH.width,
+            margin=margin,
+        )
+        self.scenario, self.sensor, self.predictive = scenario, sensor, predictive
+        self.times, self.points = [0.0], [self.planner.point]
+        self.step_ms: list[float] = []
+        self.windows: list = []
+        self.errors: list[tuple[float, float, float]] = []
+        self.waited, self.holds, self.failure = 0.0, 0, ""
+
+    def run(self) -> None:
+        planner, sensor = self.planner, self.sensor
+        now = 0.0
+        while not planner.done:
+            scene = sensor.scene(sensor.observe(now), self.predictive)
+            began = time.perf_counter()
+            try:
+                planner.step(scene)
+            except UnsafePlanError as exc:
+                self.step_ms.append(1e3 * (time.perf_counter() - began))
+                if not self._hold(scene, now, exc):
+                    return
+                now = float(planner.times[planner.step_index])
+                continue
+            self.step_ms.append(1e3 * (time.perf_counter() - began))
+            self._record_window(scene, now)
+            if not self._move(now):
+                return
+            now = float(planner.times[planner.step_index])
+
+    def _hold(self, scene: Scene, now: float, reason: Exception, position: Any = None) -> bool:
+        """Hold the tool safely for :data:`WAIT` s; False (and a failure) when the run stops."""
+        if self.waited >= MAX_WAIT:
+            self.failure = f"gave up after waiting {self.waited:.1f} s: {reason}"
+            return False
         try:
-            planner.step(scene)
-        except UnsafePlanError as exc:
-            step_ms.append(1e3 * (time.perf_counter() - began))
-            if waited >= MAX_WAIT:
-                failure = f"gave up after waiting {waited:.1f} s: {exc}"
-                break
-            # Hold the brush: the rest of the plan runs WAIT s later.
-            planner.times[planner.step_index :] += WAIT
-            waited += WAIT
-            now += WAIT
-            out_times.append(now)
-            points.append(planner.point)
-            continue
-        step_ms.append(1e3 * (time.perf_counter() - began))
+            point = self.planner.hold(scene, WAIT, position)
+        except UnsafePlanError as verdict:
+            self.failure = f"stopped at t = {now:.2f} s before contact: {verdict}"
+            return False
+        self.waited += WAIT
+        self.holds += 1
+        self.times.append(float(self.planner.times[self.planner.step_index]))
+        self.points.append(point)
+        return True
+
+    def _move(self, now: float) -> bool:
+        """Run the step to the planner's new point, observing every :data:`MAX_PERIOD` s."""
+        planner, sensor = self.planner, self.sensor
+        k = planner.step_index
+        end_time, end = float(planner.times[k]), planner.point
+        start = self.points[-1]
+        pieces = int(np.ceil((end_time - now) / MAX_PERIOD - 1e-9))
+        for j in range(1, max(pieces, 1)):
+            t = now + (end_time - now) * j / pieces
+            here = start + (end - start) * (j / pieces)
+            scene = sensor.scene(sensor.observe(t), self.predictive)
+            rest = np.vstack([here, end])
+            gap = min(
+                (
+                    timed_gaps(
+                        o, rest, np.array([t, end_time]), planner.margin if o.moving else 0.0
+                    ).min()
+                    for o in scene.obstacles
+                ),
+                default=np.inf,
+            )
+            self.times.append(t)
+            self.points.append(here)
+            if gap < planner.clearance:  # the rest of the step would enter an allowance
+                planner.times[k:] += t - planner.times[k]
+                return self._hold(scene, t, UnsafePlanError("a step's rest was blocked"), here)
+        self.times.append(end_time)
+        self.points.append(end)
+        return True
+
+    def _record_window(self, scene: Scene, now: float) -> None:
+        """The window drawn in the figure, and the predictions' errors against the truth."""
+        planner = self.planner
         k = planner.step_index
         window_times = planner.times[k : k + len(planner.window) - 1]
-        means, covs = scene.obstacles[0].predict(window_times)
-        sigma = np.sqrt(np.maximum(covs[:, 0, 0], 0.0))
-        windows.append((now, planner.window.copy(), means, sigma))
-        now = float(planner.times[k])
-        out_times.append(now)
-        points.append(planner.point)
-    return (
-        np.array(out_times),
-        np.array(points),
-        waited,
-        np.array(step_ms),
-        windows,
-        failure,
-    )
+        first = None
+        for o, (seen, true) in enumerate(
+            zip(scene.obstacles, self.scenario.obstacles, strict=True)
+        ):
+            means, covs = seen.predict(window_times)
+            sigma = np.sqrt(np.maximum(covs[:, 0, 0], 0.0))
+            if o == 0:
+                first = (means, sigma)
+            if self.predictive:
+                error = np.linalg.norm(true.predict(window_times)[0] - means, axis=1)
+                near = np.linalg.norm(planner.window[1:] - means, axis=1)
+                allowance = planner.margin * sigma
+                self.errors.extend(zip(near, error, allowance, strict=True))
+        self.windows.append((now, planner.window.copy(), *first))
 
 
 def _coupled_dmp(
