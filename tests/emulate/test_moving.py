@@ -142,3 +142,130 @@ def test_receding_planner_refuses_bad_input():
     planner = RecedingPlanner(REWARD, NOMINAL, TIMES, n_points=K)
     with pytest.raises(TypeError, match="scene"):
         planner.step([CROSSING])
+
+
+# ------------------------------------------------------------------ issue 27
+def test_static_plans_are_bit_identical_to_the_base_commit():
+    # SHA-256 (first 16 hex digits) of plan.points computed on 0f01d8e, before the
+    # moving-obstacle changes of issue 27: static plans must not move by a bit.
+    import hashlib
+
+    nominal = np.column_stack([np.linspace(0.0, 1.0, 50), 0.1 * np.sin(np.linspace(0, 3, 50))])
+    scenes = [
+        Scene((Obstacle("cup", [0.5, 0.12], 0.03), Obstacle("marker", [0.7, 0.03], 0.01))),
+        Scene((Capsule("cup", [0.3, 0.0], 0.02, [0.35, 0.1]),)),
+    ]
+    expected = [
+        "69b099725aba982d",
+        "6fba73975004a522",
+        "6dfac64b5a916978",
+        "ba35566501445826",
+        "89d3953721ac8821",
+        "aa0aeb96dd917c50",
+    ]
+    got = [
+        hashlib.sha256(
+            plan_path(
+                REWARD, nominal, scene, horizon=h, n_points=60, clearance=0.01
+            ).points.tobytes()
+        ).hexdigest()[:16]
+        for scene in scenes
+        for h in (None, 8, 12)
+    ]
+    assert got == expected
+
+
+def test_the_callers_times_are_never_written():
+    frozen = TIMES.copy()
+    frozen.setflags(write=False)  # a write would raise
+    rod = Obstacle("cup", [0.3, 0.2], 0.03, motion=ConstantVelocity([0.0, -0.2]))
+    planner = RecedingPlanner(REWARD, NOMINAL, frozen, n_points=K, clearance=0.02)
+    planner.step(Scene((rod,)))
+    planner.hold(Scene((rod,)), 0.1)
+    assert planner.times[1] == pytest.approx(TIMES[1] + 0.1)  # the planner's copy moved
+    np.testing.assert_array_equal(frozen, TIMES)
+    plain = TIMES.copy()
+    plan_path(REWARD, NOMINAL, Scene((CROSSING,)), n_points=K, times=plain, clearance=0.02)
+    np.testing.assert_array_equal(plain, TIMES)
+
+
+def _gap_to_truth(times, points, obstacle, rate=1000.0):
+    """Least tool–surface distance against the obstacle's true motion, densely in time."""
+    grid = np.union1d(np.arange(times[0], times[-1], 1.0 / rate), times)
+    tool = np.column_stack([np.interp(grid, times, points[:, i]) for i in range(2)])
+    return float((np.linalg.norm(tool - obstacle.predict(grid)[0], axis=1) - obstacle.radius).min())
+
+
+def test_a_held_tool_steps_aside_from_an_obstacle_driving_at_it():
+    # The tool is held at x = 0.5 (every window blocked, say); a cup comes straight at
+    # it along the path at 10 cm/s. Standing still it would be hit; holding safely, it
+    # steps aside and is never touched.
+    planner = RecedingPlanner(REWARD, NOMINAL, TIMES, n_points=K, clearance=0.02, margin=0.0)
+    k = 30
+    planner.step_index = k
+    here, now = planner.point.copy(), TIMES[k]
+    velocity = np.array([-0.1, 0.0])  # 20 cm ahead at `now`: at the tool's spot 2 s later
+    cup = Obstacle(
+        "cup", here + np.array([0.2, 0.0]) - now * velocity, 0.03, motion=ConstantVelocity(velocity)
+    )
+    times, points = [now], [here]
+    moved = False
+    while times[-1] < now + 4.0:
+        point = planner.hold(Scene((cup,)), 0.1)
+        times.append(float(planner.times[planner.step_index]))
+        points.append(point)
+        moved |= not np.allclose(point, here)
+    times, points = np.array(times), np.array(points)
+    assert moved
+    assert _gap_to_truth(times, points, cup) >= 0.02 - 1e-9  # radius plus clearance kept
+    standing = np.repeat(here[None], len(times), axis=0)
+    assert _gap_to_truth(times, standing, cup) < -0.02  # where it stood, it would be hit
+
+
+def test_a_hold_that_cannot_escape_says_so_before_the_contact():
+    # A 30 cm wide rod sweeping at 1 m/s over the held tool: no hold within the action
+    # bound escapes it; the verdict comes while the rod is still clear of the tool.
+    planner = RecedingPlanner(REWARD, NOMINAL, TIMES, n_points=K, clearance=0.02, margin=0.0)
+    planner.step_index = 30
+    here, now = planner.point.copy(), TIMES[30]
+    rod = Capsule(
+        "cup",
+        here + np.array([-0.3, 0.5 + now]),
+        0.05,
+        here + np.array([0.3, 0.5 + now]),
+        motion=ConstantVelocity([0.0, -1.0]),
+    )  # its edge reaches the tool 0.45 s from now
+    with pytest.raises(UnsafePlanError, match="contact predicted at t = ") as verdict:
+        while True:
+            planner.hold(Scene((rod,)), 0.1)
+    stopped = float(planner.times[planner.step_index])
+    contact = now + 0.5 - 0.05  # the rod's surface at the tool's line
+    assert stopped < contact
+    assert rod.at(stopped).distance(planner.point[None]) > 0.0
+    said = float(str(verdict.value).split("t = ")[1].split(" s")[0])
+    assert stopped < said <= contact + 0.02
+
+
+def test_timed_clearance_follows_both_motions_within_a_segment():
+    # The tool stands at the origin; in one segment the obstacle's mean passes from
+    # (-1, 0) to (0.2, 0): frozen at the segment's middle, (-0.4, 0), it seems 0.4 clear;
+    # moving with it, it runs through the tool.
+    from lfdkit.emulate.planner import timed_gaps
+
+    cup = Obstacle(
+        "cup", [-1.0, 0.0], 0.03, motion=Trajectory([0.0, 1.0], [[-1.0, 0.0], [0.2, 0.0]])
+    )
+    points = np.zeros((2, 2))
+    gap = timed_gaps(cup, points, np.array([0.0, 1.0]))
+    assert gap[0] == pytest.approx(-0.03)
+    passing = np.array([[0.0, 0.1], [0.0, 0.1]])  # 10 cm to the side: 7 cm clear
+    assert timed_gaps(cup, passing, np.array([0.0, 1.0]))[0] == pytest.approx(0.07)
+    # a capsule (its own distance) agrees with the round closed form for a point-like rod
+    rod = Capsule(
+        "cup",
+        [-1.0, 0.0],
+        0.03,
+        [-1.0, 1e-9],
+        motion=Trajectory([0.0, 1.0], [[-1.0, 0.0], [0.2, 0.0]]),
+    )
+    assert timed_gaps(rod, passing, np.array([0.0, 1.0]))[0] == pytest.approx(0.07, abs=1e-6)

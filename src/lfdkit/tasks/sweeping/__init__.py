@@ -15,7 +15,8 @@ Modules, each depending only on those before it:
 * :mod:`.demo`: the workflow of ``lfdkit demo`` and the planner experiment;
 * :mod:`.moving`: a cup or marker sliding across the sweep, the predictive
   MPC against re-planning around where it is now and the DMPs
-  (``benchmarks/moving.py``).
+  (``benchmarks/moving.py``); :mod:`.manoeuvres`: obstacles that
+  accelerate, stop and go, turn, come in pairs, head-on or fast.
 
 * :mod:`.batch`: a skill evaluated over many scenes in batch, ``lfdkit batch
   evaluate`` (on any executor of :func:`lfdkit.batch.make_executor`).
@@ -100,6 +101,7 @@ _LAZY = {
     "moving_scenarios": "moving",
     "run_moving": "moving",
     "simulate_run": "moving",
+    "manoeuvre_scenarios": "manoeuvres",
 }
 
 __all__ = [
@@ -146,6 +148,7 @@ __all__ = [
     "execute_skill",
     "execute_sweep",
     "execution_outputs",
+    "manoeuvre_scenarios",
     "moving_figure",
     "moving_scenarios",
     "obstacle",

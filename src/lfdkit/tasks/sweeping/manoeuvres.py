@@ -41,7 +41,12 @@ import numpy as np
 from lfdkit._validation import check_positive, check_random_state
 from lfdkit.motion import Trajectory
 from lfdkit.scene import Obstacle
-from lfdkit.tasks.sweeping.moving import BASE_CLEARANCE, SLIDE_PAST, MovingScenario
+from lfdkit.tasks.sweeping.moving import (
+    BASE_CLEARANCE,
+    SLIDE_PAST,
+    TRACKER_MAX_ACCELERATION,
+    MovingScenario,
+)
 from lfdkit.tasks.sweeping.scenarios import Dustpan, obstacle
 
 __all__ = ["KINDS", "MAX_ACCELERATION", "TRACK_RATE", "manoeuvre_scenarios"]
@@ -49,7 +54,7 @@ __all__ = ["KINDS", "MAX_ACCELERATION", "TRACK_RATE", "manoeuvre_scenarios"]
 #: The scenario kinds.
 KINDS = ("accelerating", "stop-and-go", "turning", "two crossing", "head-on", "fast")
 #: Largest acceleration of any track (m/s²): speeding up, braking and turning.
-MAX_ACCELERATION = 0.3
+MAX_ACCELERATION = TRACKER_MAX_ACCELERATION
 #: Least distance (m, plus the radius) from the goal of an obstacle standing near the path:
 #: the brush passes it and returns to the nominal (its 0.25 m goal approach) before the goal.
 STANDING_FROM_GOAL = 0.35

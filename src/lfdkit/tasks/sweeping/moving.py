@@ -11,8 +11,10 @@ proves the prediction in :mod:`lfdkit.emulate.moving` works where it matters:
   when the sweep starts, but will be;
 * :func:`run_moving` — one closed loop with one of :data:`METHODS`: the
   obstacle is observed with noise (:data:`OBSERVATION_NOISE`) at every control
-  step (a plan point; also during :data:`PRE_ROLL` s before the sweep), a
-  constant-velocity Kalman filter tracks it, and
+  step (a plan point, and at least every :data:`MAX_PERIOD` s; also during
+  :data:`PRE_ROLL` s before the sweep), a constant-velocity Kalman filter
+  whose allowance covers accelerations up to :data:`TRACKER_MAX_ACCELERATION`
+  tracks it (one filter per obstacle), and
 
   - ``"predictive MPC"``: :class:`lfdkit.emulate.RecedingPlanner` with the
     tracker's predictions over the horizon, the margin growing with their
@@ -27,8 +29,15 @@ proves the prediction in :mod:`lfdkit.emulate.moving` works where it matters:
 
   the brush runs the plan with the skill's timing (point ``k`` at
   ``times[k]``, :meth:`lfdkit.skill.Skill.point_times`). When every move in
-  the window is blocked, an MPC holds the brush for :data:`WAIT` s and tries
-  again (its remaining times move later); the obstacle keeps moving.
+  the window is blocked, an MPC holds the brush for :data:`WAIT` s —
+  staying, stepping aside or retreating, whichever keeps the largest
+  predicted clearance (:meth:`lfdkit.emulate.RecedingPlanner.hold`) — and
+  tries again (its remaining times move later); the obstacle keeps moving. A
+  run stops with a verdict when no hold keeps clear of a predicted contact,
+  and gives up after :data:`MAX_WAIT` s of holds. Steps longer than
+  :data:`MAX_PERIOD` (the first and last, 0.64 s on the rest-to-rest
+  profile) are observed and re-checked every :data:`MAX_PERIOD` s, the tool
+  stopping and holding where the rest of a step is no longer clear.
 * :func:`simulate_run` — the executed, timed sweep replayed on the UR5 in
   MuJoCo (:func:`lfdkit.tasks.sweeping.sim.simulate_timed_path`), the
   obstacle a mocap body on its true track: cube in the dustpan, obstacles
@@ -40,7 +49,11 @@ so the controller sees exactly what a loop on the robot would, as long as the
 brush does not touch the obstacle; a touch is a failure either way.
 
 A collision is the brush, a disc of half its width, coming closer to the
-obstacle's true centre than its radius at any time (checked at 200 Hz).
+obstacle's true centre than its radius at any time (:func:`true_clearance`:
+the executed path and every true track interpolated at 200 Hz, independent
+of the planner's own checks). :mod:`lfdkit.tasks.sweeping.manoeuvres` draws
+obstacles that accelerate, stop and go, turn, come in pairs, head-on or
+fast.
 """
 
 from __future__ import annotations
@@ -68,12 +81,14 @@ from lfdkit.tasks.sweeping.sim import SweepResult, simulate_timed_path
 
 __all__ = [
     "BASE_CLEARANCE",
+    "MAX_PERIOD",
     "METHODS",
     "OBSERVATION_NOISE",
     "PRE_ROLL",
     "SLIDE_PAST",
     "SLIDE_SPEEDS",
     "SWEEP_DURATION",
+    "TRACKER_MAX_ACCELERATION",
     "WAIT",
     "MovingRun",
     "MovingScenario",
@@ -81,6 +96,7 @@ __all__ = [
     "moving_scenarios",
     "run_moving",
     "simulate_run",
+    "true_clearance",
 ]
 
 #: The closed-loop methods compared.
@@ -116,8 +132,10 @@ MAX_SLOPE = 0.5
 #: The MPCs' return to the nominal before the goal (m): room to come back from a swerve
 #: at :data:`MAX_SLOPE`.
 GOAL_APPROACH = 0.25
-#: The tracker's process noise (m/s^1.5) and velocity prior (m/s).
-TRACKER_ACCELERATION, TRACKER_VELOCITY = 0.02, 0.2
+#: The tracker's process noise (m/s^1.5) and velocity prior (m/s). With the acceleration
+#: bound, 0.05 gives the narrowest allowance 0.06–0.3 s ahead (0.02: a longer memory,
+#: a larger lag bound; 0.1 and more: a noisier estimate).
+TRACKER_ACCELERATION, TRACKER_VELOCITY = 0.05, 0.2
 
 
 @dataclass(frozen=True)
