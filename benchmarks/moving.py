@@ -127,7 +127,13 @@ def step_times(skill, duration: float, repeats: int = 5) -> dict:
     from lfdkit.emulate import RecedingPlanner, UnsafePlanError
     from lfdkit.motion import ConstantVelocityKalman, Tracked
     from lfdkit.scene import Obstacle, Scene
-    from lfdkit.tasks.sweeping.moving import WAIT
+    from lfdkit.tasks.sweeping.moving import (
+        TRACKER_ACCELERATION,
+        TRACKER_BOUND_HORIZON,
+        TRACKER_MAX_ACCELERATION,
+        TRACKER_VELOCITY,
+        WAIT,
+    )
 
     # (The planner keeps its own copy of `times`: a hold shifts that copy, never this
     # array; the issue-27 run shared one array across the ten planners.)
@@ -144,7 +150,13 @@ def step_times(skill, duration: float, repeats: int = 5) -> dict:
             for i in range(4):
                 start = np.array([-0.3 + 0.2 * i, 0.3 + rng.uniform(-0.02, 0.02)])
                 velocity = np.array([rng.uniform(-0.01, 0.01), rng.uniform(0.01, 0.04)])
-                kf = ConstantVelocityKalman(0.003, acceleration=0.02, velocity_std=0.2)
+                kf = ConstantVelocityKalman(  # the experiment's tracker
+                    0.003,
+                    acceleration=TRACKER_ACCELERATION,
+                    velocity_std=TRACKER_VELOCITY,
+                    max_acceleration=TRACKER_MAX_ACCELERATION,
+                    bound_horizon=TRACKER_BOUND_HORIZON,
+                )
                 for t in np.arange(-1.0, 0.0, 0.06):
                     kf.update(t, start + velocity * t + 0.003 * rng.standard_normal(2))
                 obstacles.append(("cup" if i % 2 else "marker", start, velocity, kf))

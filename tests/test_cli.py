@@ -343,6 +343,33 @@ def test_plan_with_a_moving_obstacle(capsys, skill_path):
     assert code == 2 and "vy=" in err
 
 
+def test_plan_with_a_fast_marker_is_clear_at_the_plans_own_times(capsys, skill_path):
+    # Issue 27: a standing cup forces a detour, a marker crosses at 4 m/s; the plan's CSV
+    # times are the ones it is clear at (the planner's were the nominal's).
+    from lfdkit.emulate.planner import moving_clearance
+    from lfdkit.motion import ConstantVelocity
+
+    args = (
+        "plan",
+        skill_path,
+        "--goal",
+        "0.36,0.5",
+        "--obstacle",
+        "cup:0.0,0.46,r=0.1",
+        "--obstacle",
+        "marker:-0.327,-0.893,r=0.01,vx=0.283,vy=3.99",
+        "--duration",
+        "1",
+    )
+    code, stdout, err = run_cli(capsys, *args)
+    assert code == 0, err
+    table = read_plan_table(stdout)
+    times, points = table["t"], np.column_stack([table["x"], table["y"]])
+    marker = Obstacle("marker", [-0.327, -0.893], 0.01, motion=ConstantVelocity([0.283, 3.99]))
+    scene = Scene((Obstacle("cup", [0.0, 0.46], 0.1), marker))
+    assert np.all(moving_clearance(points, times, scene, 0.0, 2.0) >= -1e-6)
+
+
 def test_plan_without_output_writes_csv_to_stdout(capsys, skill_path):
     code, stdout, err = run_cli(capsys, "plan", skill_path, "--obstacle", obstacle_arg(MARKER))
     assert code == 0, err

@@ -644,3 +644,34 @@ def test_plan_avoids_a_moving_obstacle_where_it_is_when_the_tool_passes(skill) -
     # planned for where the cup is now, the sweep runs into it later
     static = skill.plan(scene=Scene((cup.at(0.0),)), duration=duration, clearance=0.025)
     assert np.linalg.norm(static.points - cup.predict(static.times)[0], axis=1).min() < 0.03
+
+
+#: Issue 27: a standing 10 cm cup forces a detour; a marker crosses it at 4 m/s. Planned
+#: at the nominal's point times, the plan re-timed by its own arc length ran into it.
+DETOUR_CUP = ([0.0, 0.46], 0.1)
+FAST_MARKER = ([-0.327, -0.893], 0.01, [0.283, 3.99])
+
+
+def _detour_scene() -> Scene:
+    from lfdkit.motion import ConstantVelocity
+    from lfdkit.scene import Obstacle
+
+    (at, radius), (start, r, velocity) = DETOUR_CUP, FAST_MARKER
+    marker = Obstacle("marker", start, r, motion=ConstantVelocity(velocity))
+    return Scene((Obstacle("cup", at, radius), marker))
+
+
+def test_moving_plans_are_checked_at_the_times_they_are_run(skill) -> None:
+    from lfdkit.emulate.planner import moving_clearance
+
+    goal, scene = [0.36, 0.5], _detour_scene()
+    # The old way: the planner's plan (safe at the nominal's times), timed by its length.
+    details = skill.plan_details(goal=goal, scene=scene, duration=1.0)
+    own, _ = skill.timing_.time_path(details.points, 1.0)
+    assert moving_clearance(details.points, skill.point_times(1.0), scene, 0.0, 2.0)[1] > 0.0
+    assert moving_clearance(details.points, own, scene, 0.0, 2.0)[1] < -1e-3  # inside
+    # Skill.plan checks at its own times and re-plans at them.
+    plan = skill.plan(goal=goal, scene=scene, duration=1.0)
+    assert np.all(moving_clearance(plan.points, plan.times, scene, 0.0, 2.0) >= 0.0)
+    assert plan.details.clearance.min() >= 0.0
+    assert plan.times[-1] == pytest.approx(1.0) and plan.details.goal_error < 1e-3

@@ -431,7 +431,9 @@ class ConstantVelocityKalman:
         position = m[:, 0].copy()
         m[:, 0] = (1.0 - gain[0]) * position
         m[:, 1] -= gain[1] * position
-        self.influence = m[-self.MEMORY :]
+        # old intervals' influence decays geometrically: drop what no longer counts
+        size = np.abs(m).sum(axis=1)
+        self.influence = m[size > 1e-12 * size.max()][-self.MEMORY :]
 
     def bias_bound(self, ahead: Any) -> np.ndarray:
         """The largest position error (units) an acceleration up to ``max_acceleration`` causes.

@@ -869,7 +869,10 @@ class Skill(Estimator):
         or the ``timing`` law): it starts and ends at rest (unless the timing
         is ``"uniform"``) and lasts the skill's duration, so a plan that
         swerves (and is longer) runs uniformly faster, never in a burst where
-        it swerves.
+        it swerves. With moving obstacles the timed plan is checked again at
+        its own times (the planner used the nominal's) and re-planned at them
+        where it is not clear (:meth:`_checked_at_own_times`); its
+        ``details.clearance`` is then the clearance at its own times.
 
         Parameters
         ----------

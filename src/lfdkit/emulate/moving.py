@@ -15,12 +15,17 @@ observation.
 Timing assumption
 -----------------
 The tool reaches plan point ``k`` at ``times[k]``: the nominal's timing (a
-skill's speed profile along the nominal, :meth:`lfdkit.skill.Skill.point_times`).
+skill's speed profile along the nominal, :meth:`lfdkit.skill.Skill.point_times`),
+from the planner's own copy of ``times`` (a hold moves the rest of it later;
+the caller's array is never written to).
 A plan that swerves is a little longer than the nominal; run with the
 nominal's times, the swerve is slightly faster, not later, so the predicted
 positions are those of the right moments. Obstacles are assumed to follow the
 tracker's motion model (constant velocity by default) over the horizon; the
-uncertainty margin and the re-planning at every step absorb what it misses.
+uncertainty margin and the re-planning at every step absorb what it misses,
+and with an acceleration bound in the tracker
+(:class:`lfdkit.motion.ConstantVelocityKalman`'s ``max_acceleration``) the
+margin also covers obstacles that speed up, brake or turn up to that bound.
 
 Holding safely
 --------------

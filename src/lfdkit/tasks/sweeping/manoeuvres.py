@@ -108,7 +108,9 @@ def _speeds(kind: str, rng: np.random.Generator, before: float) -> tuple[np.ndar
         return profile, len(head), v
     speeds = {"fast": (0.15, 0.30)}.get(kind, (0.02, 0.10))
     v = rng.uniform(*speeds)
-    ramp = _ramp(v, a_max)
+    # a turning track speeds up and slows down at half the bound: with its centripetal
+    # acceleration (at most 0.8 of it) the total stays within it
+    ramp = _ramp(v, 0.5 * a_max if kind == "turning" else a_max)
     lead = max(int(before / (v * _DT)), 1)
     tail = int(SLIDE_PAST / (v * _DT))
     profile = np.concatenate([ramp, np.full(lead + tail, v), ramp[::-1]])
@@ -163,7 +165,7 @@ def _draw_one(
     speeds, cross, top = _speeds(kind, rng, before)
     curvature = 0.0
     if kind == "turning":
-        smallest = max(0.1, top * top / MAX_ACCELERATION)
+        smallest = max(0.1, top * top / (0.8 * MAX_ACCELERATION))
         curvature = (1.0 if rng.random() < 0.5 else -1.0) / rng.uniform(smallest, 4 * smallest)
     track = _track(nominal[k], heading, speeds, cross, curvature)
     crossing_time = times[k] + rng.uniform(-slack, slack)
