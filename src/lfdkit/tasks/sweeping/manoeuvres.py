@@ -187,10 +187,14 @@ def _draw_one(
     still = track[speeds == 0.0]
     near = np.linalg.norm(nominal[None] - still[:, None], axis=2).min(axis=1) < 0.15 + radius
     still = still[near]
-    if len(still) and min(
-        np.linalg.norm(still - nominal[-1], axis=1).min() - STANDING_FROM_GOAL,
-        np.linalg.norm(still - nominal[0], axis=1).min() - 0.15,
-    ) < radius:
+    if (
+        len(still)
+        and min(
+            np.linalg.norm(still - nominal[-1], axis=1).min() - STANDING_FROM_GOAL,
+            np.linalg.norm(still - nominal[0], axis=1).min() - 0.15,
+        )
+        < radius
+    ):
         return None
     motion = Trajectory(stamps, track)
     at_zero = motion.predict(track[0], [0.0])[0][0]
