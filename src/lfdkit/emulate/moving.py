@@ -44,8 +44,10 @@ obstacle, growing as ``τ²``, would call every spot unsafe and walk the tool
 back along the whole path), measured against every obstacle
 moving as predicted (:func:`lfdkit.emulate.planner.timed_gaps`: tool and
 obstacle both moving, radius plus clearance plus ``margin`` σ). Staying
-wins whenever it is clear over that span; otherwise the candidate of
-largest predicted clearance. If even that one is predicted inside an
+wins whenever it is clear over that span; otherwise the smallest move that
+is, sideways before backwards (a retreat reverses the tool's direction,
+which a tool whose heading follows the path turns round for); when none
+is, the candidate of largest predicted clearance. If even that one is predicted inside an
 obstacle's allowance before the loop can act twice more (``2 · wait``),
 the hold raises :class:`~lfdkit.emulate.planner.UnsafePlanError` with the
 predicted time of contact: the verdict comes *before* the contact.
@@ -162,6 +164,7 @@ class RecedingPlanner:
             nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
         )
         self.times = check_times(times, self.corridor.n_points)
+        self._pace = self.times - self.times[0]  # the nominal's timing, for after a hold
         self.horizon = horizon
         self.max_slope = check_positive(max_slope, "max_slope")
         self.clearance = check_positive(clearance, "clearance", allow_zero=True)
@@ -336,10 +339,14 @@ class RecedingPlanner:
             ),
             None,
         )
+        moves = np.array([np.linalg.norm(p - here) for _, _, p in candidates])
+        aside = [i for i, c in enumerate(candidates) if c[0] == k and overall[i] >= 0.0]
+        back = [i for i, c in enumerate(candidates) if c[0] < k and overall[i] >= 0.0]
         if stay is not None and overall[stay] >= 0.0:
             best = stay
+        elif aside or back:  # the smallest safe move; sideways before backwards
+            best = min(aside or back, key=lambda i: moves[i])
         else:  # the largest clearance; among equals, the smallest move
-            moves = np.array([np.linalg.norm(p - here) for _, _, p in candidates])
             best = int(np.lexsort((moves, -np.round(overall, 12)))[0])
         soon = scores[best][early[1:]].min()
         if soon < 0.0:
@@ -352,7 +359,9 @@ class RecedingPlanner:
         index, offset, point = candidates[best]
         self.step_index = index
         self.offsets[index] = offset
-        self.times[index:] += now + wait - self.times[index]
+        # the rest runs at the nominal's pace from the hold's end (after a retreat too:
+        # the step back to where the tool was is a step of the nominal's, not the hold)
+        self.times[index:] = now + wait + self._pace[index:] - self._pace[index]
         self._guess = np.zeros((0, m))
         self.window = point[None].copy()
         return self.point
