@@ -128,6 +128,7 @@ def step_times(skill, duration: float, repeats: int = 5) -> dict:
     from lfdkit.motion import ConstantVelocityKalman, Tracked
     from lfdkit.scene import Obstacle, Scene
     from lfdkit.tasks.sweeping.moving import (
+        MAX_WAIT,
         TRACKER_ACCELERATION,
         TRACKER_BOUND_HORIZON,
         TRACKER_MAX_ACCELERATION,
@@ -164,7 +165,8 @@ def step_times(skill, duration: float, repeats: int = 5) -> dict:
                 skill.reward_, nominal, times, horizon=12, max_slope=0.5, clearance=0.025
             )
             name = "predictive" if predictive else "static"
-            while not planner.done:
+            held = 0.0
+            while not planner.done and held < MAX_WAIT:  # as the experiment: give up then
                 t = float(planner.times[planner.step_index])
                 scene = []
                 for label, start, velocity, kf in obstacles:
@@ -177,6 +179,7 @@ def step_times(skill, duration: float, repeats: int = 5) -> dict:
                     planner.step(Scene(tuple(scene)))
                 except UnsafePlanError:  # blocked: hold the brush, as the experiment does
                     refused[name] += 1
+                    held += WAIT
                     try:
                         planner.hold(Scene(tuple(scene)), WAIT)
                     except UnsafePlanError:

@@ -320,14 +320,15 @@ class RecedingPlanner:
         # the tool moves to the candidate in `wait`, then stands there until `span`
         grid = now + np.concatenate([np.linspace(0.0, wait, 5), np.linspace(wait, span, 9)[1:]])
         early = grid <= now + 2.0 * wait + 1e-12
+        hard = [o for o in scene.obstacles if o.radius + self.clearance > 0.0]
+        predictions = [o.predict(grid) for o in hard]  # the same for every candidate
         scores = []
         for _, _, point in candidates:
             path = np.vstack([np.linspace(here, point, 5), np.repeat(point[None], 8, axis=0)])
             gaps = np.full(len(grid) - 1, np.inf)
-            for obstacle in scene.obstacles:
-                if obstacle.radius + self.clearance <= 0.0:
-                    continue
-                gap = timed_gaps(obstacle, path, grid, self.margin if obstacle.moving else 0.0)
+            for obstacle, prediction in zip(hard, predictions, strict=True):
+                margin = self.margin if obstacle.moving else 0.0
+                gap = timed_gaps(obstacle, path, grid, margin, prediction)
                 gaps = np.minimum(gaps, gap - self.clearance)
             scores.append(gaps)
         overall = np.array([g.min() for g in scores])

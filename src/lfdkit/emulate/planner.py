@@ -828,7 +828,11 @@ def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
 
 
 def timed_gaps(
-    obstacle: Any, points: np.ndarray, times: np.ndarray, margin: float = 0.0
+    obstacle: Any,
+    points: np.ndarray,
+    times: np.ndarray,
+    margin: float = 0.0,
+    prediction: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> np.ndarray:
     """Surface distance of each segment of a timed path to a moving obstacle (units).
 
@@ -846,13 +850,15 @@ def timed_gaps(
     times : ndarray, shape (K,)
         Seconds at each point (K ≥ 2).
     margin : float
+    prediction : (ndarray (K, q), ndarray (K, q, q)), optional
+        ``obstacle.predict(times)``, when the caller has it already.
 
     Returns
     -------
     ndarray, shape (K − 1,)
         Negative where the segment comes within the radius plus margin.
     """
-    means, covs = obstacle.predict(times)
+    means, covs = obstacle.predict(times) if prediction is None else prediction
     sigma = margin * predicted_sigma(covs) if margin else np.zeros(len(times))
     rel = points - means  # the tool in the obstacle's frame (its reference at the origin)
     if type(obstacle).distance is _ROUND_DISTANCE:

@@ -303,6 +303,11 @@ class MovingRun:
         distance of the window point to the predicted obstacle, the true
         position's distance from the prediction and the allowance
         (``margin`` σ) (m): the allowance's coverage.
+    headings : ndarray, shape (m,) or None
+        MPCs: the brush's heading at each executed point (rad, unwrapped): the
+        nominal's direction at the plan point it belongs to, so that a hold's
+        sideways or backward step does not turn the brush round; None: along
+        the path.
     """
 
     method: str
@@ -318,6 +323,7 @@ class MovingRun:
     failure: str = ""
     holds: int = 0
     prediction_errors: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)), repr=False)
+    headings: np.ndarray | None = field(default=None, repr=False)
 
 
 class _Sensor:
@@ -440,7 +446,7 @@ def run_moving(
     period = float(np.median(np.diff(times)))
     for t in np.arange(-PRE_ROLL, 0.0, period):
         sensor.observe(float(t))
-    holds, errors = 0, np.zeros((0, 3))
+    holds, errors, headings = 0, np.zeros((0, 3)), None
     if method == "DMP":
         points = Corridor.from_path(nominal, int(skill.n_points)).points
         out_times, waited, step_ms, windows, failure = times, 0.0, np.zeros(0), [], ""
@@ -471,6 +477,8 @@ def run_moving(
             loop.failure,
         )
         holds, errors = loop.holds, np.array(loop.errors).reshape(-1, 3)
+        tangents = loop.planner.corridor.tangents[loop.index]
+        headings = np.unwrap(np.arctan2(tangents[:, 1], tangents[:, 0]))
     clearance = _clearance(scenario, out_times, points)
     return MovingRun(
         method=method,
@@ -486,6 +494,7 @@ def run_moving(
         failure=failure,
         holds=holds,
         prediction_errors=errors,
+        headings=headings,
     )
 
 
@@ -525,6 +534,7 @@ class _Loop:
         )
         self.scenario, self.sensor, self.predictive = scenario, sensor, predictive
         self.times, self.points = [0.0], [self.planner.point]
+        self.index = [0]  # the plan point each executed point belongs to (its heading's)
         self.step_ms: list[float] = []
         self.windows: list = []
         self.errors: list[tuple[float, float, float]] = []
@@ -564,6 +574,7 @@ class _Loop:
         self.holds += 1
         self.times.append(float(self.planner.times[self.planner.step_index]))
         self.points.append(point)
+        self.index.append(self.planner.step_index)
         return True
 
     def _move(self, now: float) -> bool:
@@ -589,11 +600,13 @@ class _Loop:
             )
             self.times.append(t)
             self.points.append(here)
+            self.index.append(k)
             if gap < planner.clearance:  # the rest of the step would enter an allowance
                 planner.times[k:] += t - planner.times[k]
                 return self._hold(scene, t, UnsafePlanError("a step's rest was blocked"), here)
         self.times.append(end_time)
         self.points.append(end)
+        self.index.append(k)
         return True
 
     def _record_window(self, scene: Scene, now: float) -> None:
@@ -655,8 +668,9 @@ def simulate_run(
     """
     keep = np.concatenate([[True], np.diff(run.times) > 0])  # waits: a point per time
     times, points = run.times[keep], run.points[keep]
-    task = SweepingTask.for_path(points, scenario.dustpan, Scene((scenario.obstacle,)))
-    return simulate_timed_path(times, points, task, render=render, camera=camera)
+    yaw = None if run.headings is None else run.headings[keep]
+    task = SweepingTask.for_path(points, scenario.dustpan, Scene(scenario.obstacles))
+    return simulate_timed_path(times, points, task, render=render, camera=camera, yaw=yaw)
 
 
 def moving_figure(

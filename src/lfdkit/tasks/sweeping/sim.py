@@ -628,6 +628,7 @@ def simulate_timed_path(
     sample_rate: float = 50.0,
     arm: Arm = UR5,
     progress: ProgressLike = None,
+    yaw: Any = None,
 ) -> SweepResult:
     """Sweep along a table path *with its own timing* in MuJoCo: the brush at ``points[k]`` at
     ``times[k]``.
@@ -648,6 +649,9 @@ def simulate_timed_path(
         The brush's path on the table, m.
     task, brush, smoothing, q_home, tolerance, render, camera, sample_rate, arm, progress
         As :func:`execute_sweep` and :func:`simulate_sweep`.
+    yaw : array_like, shape (n,), optional
+        The brush's heading at each point (rad, unwrapped), as :func:`sweep_motion`;
+        default along the path's tangent.
 
     Returns
     -------
@@ -659,7 +663,9 @@ def simulate_timed_path(
     if t.size != len(path) or not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0.0):
         raise ValueError(f"times: expected {len(path)} finite, non-decreasing times")
     try:
-        poses, joints = sweep_motion(path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm)
+        poses, joints = sweep_motion(
+            path, brush=brush, smoothing=smoothing, q_home=q_home, arm=arm, yaw=yaw
+        )
     except ur5.KinematicsError as exc:
         return _cannot_follow(task, exc)
     # Fraction of arc length reached at each time, then the poses' joints at that fraction.
