@@ -59,11 +59,18 @@ noise within ``margin`` σ): the executed steps stay out of radius plus
 clearance, and a blocked tool either moves out of the predicted path of an
 obstacle whose speed *relative to the tool's escape* is below
 ``max_step / wait`` (per axis: one action bound per hold; with the sweeping
-task's 0.5 slope, 6.3 mm steps and ``wait`` 0.1 s, 3 cm/s sideways — so an
+task's 0.5 slope, 7.9 mm steps and ``wait`` 0.1 s, 3.9 cm/s sideways — so an
 obstacle at 30 cm/s is escaped only when the window sees it coming early
 enough, ``H`` points ahead), or the run stops with a verdict before the
 predicted contact. Nothing is promised for an obstacle whose motion the
-allowance does not cover (faster manoeuvres than ``A``, teleports).
+allowance does not cover (faster manoeuvres than ``A``, teleports), nor
+once the run has stopped (a robot standing still can still be hit; the
+verdict is the caller's cue to retract or halt the obstacle's source). The
+allowance itself is a bound only up to the tracker's ``bound_horizon`` (the
+sweeping loop: 0.3 s); further ahead it is the noise's σ plus the bound
+there, measured, not guaranteed (``benchmarks/moving.py``: ≥ 99.9 % of
+window points near the tool covered for obstacles accelerating, braking,
+stopping and going or turning at up to 0.3 m/s²).
 
 Each window is solved as :func:`lfdkit.emulate.planner.best_window` solves the
 thesis's MPC window (the warm start and, near an obstacle, the window's best
