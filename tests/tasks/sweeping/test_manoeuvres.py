@@ -5,29 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.emulate import Corridor
-from lfdkit.skill import learn
-from lfdkit.tasks.sweeping import example_files
 from lfdkit.tasks.sweeping.manoeuvres import KINDS, MAX_ACCELERATION, manoeuvre_scenarios
-from lfdkit.tasks.sweeping.moving import (
-    MAX_PERIOD,
-    SWEEP_DURATION,
-    run_moving,
-    true_clearance,
-)
+from lfdkit.tasks.sweeping.moving import MAX_PERIOD, run_moving, true_clearance
 
-
-@pytest.fixture(scope="module")
-def skill():
-    files = example_files()
-    return learn(files["demos"], files["scenes"])
-
-
-@pytest.fixture(scope="module")
-def setting(skill):
-    times = skill.point_times(SWEEP_DURATION)
-    nominal = Corridor.from_path(skill.nominal(), int(skill.n_points)).points
-    return nominal, times
+# fixtures `skill` and `setting`: conftest.py
 
 
 def _kinematics(obstacle) -> tuple[np.ndarray, np.ndarray]:

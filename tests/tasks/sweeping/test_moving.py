@@ -5,30 +5,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.emulate import Corridor
-from lfdkit.skill import learn
-from lfdkit.tasks.sweeping import SETTLE_TIME, example_files
+from lfdkit.tasks.sweeping import SETTLE_TIME
 from lfdkit.tasks.sweeping.moving import (
     METHODS,
     SLIDE_SPEEDS,
-    SWEEP_DURATION,
     moving_scenarios,
     run_moving,
     simulate_run,
 )
 
-
-@pytest.fixture(scope="module")
-def skill():
-    files = example_files()
-    return learn(files["demos"], files["scenes"])
-
-
-@pytest.fixture(scope="module")
-def setting(skill):
-    times = skill.point_times(SWEEP_DURATION)
-    nominal = Corridor.from_path(skill.nominal(), int(skill.n_points)).points
-    return nominal, times
+# fixtures `skill` and `setting`: conftest.py
 
 
 def test_scenarios_cross_the_sweep_near_when_the_brush_is_there(setting):
