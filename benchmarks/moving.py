@@ -1,7 +1,8 @@
 """Moving obstacles: predictive MPC against re-planning around where the obstacle is now.
 
 Run ``python benchmarks/moving.py`` (``--help``; ``--quick`` for a smoke run of
-about two minutes; the full run takes about ten on a busy two-core machine).
+under a minute; the full run takes 4–6 minutes per ``--seed`` on a busy
+two-core machine).
 Prints the comparison table, the step-time table and the targets (PASS/FAIL),
 writes ``moving.json`` to ``--output`` (``benchmarks/results/moving`` by
 default), the figure ``--figure`` (``docs/moving.png``) and, where OpenGL
@@ -48,7 +49,9 @@ Step time: the predictive MPC's step (prediction, window problem and solve)
 at H = 12 with four tracked obstacles, over a whole sweep, five repeats, as
 wall time and as the thread's CPU time (on a shared machine the wall time
 includes waiting for a core; the target is judged on CPU time, both are
-printed), next to the static MPC's under the same conditions.
+printed), next to the static MPC's under the same conditions. A refused step
+(every move blocked) is held as the experiment holds it and not timed; each
+planner keeps its own copy of the shared ``times`` (read-only here).
 """
 
 from __future__ import annotations
