@@ -142,6 +142,11 @@ def test_receding_planner_refuses_bad_input():
     planner = RecedingPlanner(REWARD, NOMINAL, TIMES, n_points=K)
     with pytest.raises(TypeError, match="scene"):
         planner.step([CROSSING])
+    with pytest.raises(TypeError, match="scene"):
+        planner.hold([CROSSING], 0.1)
+    for wait in (0.0, -1.0, float("nan")):
+        with pytest.raises(ValueError, match="wait"):
+            planner.hold(Scene((CROSSING,)), wait)
 
 
 # ------------------------------------------------------------------ issue 27
