@@ -1,4 +1,4 @@
-"""Fixtures of the moving-obstacle tests: the example skill and its nominal sweep's timing."""
+"""Fixtures of the moving-obstacle tests: the example skill (learned once), its sweep timing."""
 
 from __future__ import annotations
 
@@ -10,13 +10,13 @@ from lfdkit.tasks.sweeping import example_files
 from lfdkit.tasks.sweeping.moving import SWEEP_DURATION
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def skill():
     files = example_files()
     return learn(files["demos"], files["scenes"])
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def setting(skill):
     """The nominal sweep (K, 2) and when the brush is at each of its points (K,)."""
     times = skill.point_times(SWEEP_DURATION)
