@@ -946,10 +946,15 @@ def _benchmarks_folder(given: Path | None) -> Path:
 
 def _batch(args: argparse.Namespace) -> None:
     from lfdkit.batch import describe_executor, make_executor
+    from lfdkit.io.atomic import check_output_path
 
     out: Path = args.output
     if out.is_dir():
         raise CommandError(f"--output {out}: is a directory; give a results file (.jsonl)")
+    try:  # a FIFO would hang the batch, a link be written through: refused with or without --force
+        check_output_path(out, overwrite=True)
+    except OSError as exc:
+        raise UsageError(f"--output {exc}") from None
     if not out.parent.exists():
         raise CommandError(f"--output {out}: folder {out.parent} does not exist")
     _check_writable(out.parent, "--output", out)
