@@ -192,7 +192,7 @@ def _quaternion(text: str | None, option: str) -> list[float] | None:
             f"{option}: expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), "
             f"got {text!r}"
         )
-    norm = math.sqrt(sum(v * v for v in values))
+    norm = math.hypot(*values)  # scaled inside: 1e200 components do not overflow
     if norm < 1e-9:
         raise UsageError(f"{option}: a zero quaternion is no orientation, got {text!r}")
     return [v / norm for v in values]
