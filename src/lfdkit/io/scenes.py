@@ -358,6 +358,10 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
     pos: dict[str, int] = {}
     field_columns = _field_columns(3 if any(h.lower() == "z" for h in header) else 2)
     known = {*_CSV_KNOWN, *(c for cols in field_columns.values() for c in cols)}
+    # Shape columns of the other dimension (end_z in a 2-D file): a value there is refused,
+    # not dropped.
+    other_dim = {c for cols in _field_columns(3).values() for c in cols} - known
+    stray = [(k, name) for k, name in enumerate(header) if name.lower() in other_dim]
     for k, name in enumerate(header):
         key = name.lower()
         if key in known:
@@ -393,6 +397,12 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
             key: [row[pos[c]] for c in cols if c in pos] for key, cols in field_columns.items()
         }
         at = f"{fname} line {lineno}"
+        for k, name in stray:
+            if row[k]:
+                raise ValueError(
+                    f"{at}, column {name!r}: a value in a 2-D scene (the file has no 'z' "
+                    "column); give z for every obstacle, or leave the column empty"
+                )
 
         if not label:
             given = [name for cell, name in cells if cell]
@@ -700,6 +710,13 @@ def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
                     ]
                 else:
                     fields[name] = _json_number(fname, f"{at}.{name}", value)
+            for owner in OBSTACLE_SHAPES.values():
+                for name in owner.field_kinds:
+                    if name in ob and name not in shape.field_kinds:
+                        raise ValueError(
+                            f"{fname}: {at}.{name}: a {owner.shape} field, but the obstacle is "
+                            f"{shape.shape}; leave it out or set the shape"
+                        )
             motion = _motion_of(fname, at, ob, len(coords))
             obstacles.append(
                 _obstacle(f"{fname}: {at}", label, coords, radius, shape, fields, motion)
