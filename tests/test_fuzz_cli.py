@@ -251,3 +251,16 @@ def test_numbers_are_read_strictly_and_keys_once(capsys, argv, message):
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert message in err and "Traceback" not in err
+
+
+def test_quiet_silences_progress_not_warnings(capsys):
+    import argparse
+    import warnings
+
+    from lfdkit.cli import _warnings_as_lines
+
+    args = argparse.Namespace(verbosity=0)
+    with _warnings_as_lines(args, "lfdkit learn"):
+        warnings.warn("obstacle 'cup' is never near any demonstration", UserWarning, stacklevel=1)
+    err = capsys.readouterr().err
+    assert err == "lfdkit learn: warning: obstacle 'cup' is never near any demonstration\n"

@@ -1897,15 +1897,16 @@ def _warnings_as_lines(args: argparse.Namespace, prefix: str) -> Iterator[None]:
     """Show each warning once as ``lfdkit CMD: warning: <message>``, not Python's two lines.
 
     Notes (:class:`lfdkit.mimic.DemoOrientationWarning`, e.g. a demonstration
-    flipped to the common direction) only with ``-v``; other warnings unless
-    ``-q``.
+    flipped to the common direction) only with ``-v``; other warnings always,
+    ``-q`` included (it silences progress and summaries, not poor results).
     """
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
         # Imported here, when a warning comes: lfdkit.mimic pulls in scikit-learn.
         from lfdkit.mimic import DemoOrientationWarning
 
-        level = 2 if issubclass(category, DemoOrientationWarning) else 1
+        # A warning says a result may be poor: -q silences progress, never that.
+        level = 2 if issubclass(category, DemoOrientationWarning) else 0
         text = str(message).splitlines()[0] if str(message) else category.__name__
         _say(args, f"{prefix}: warning: {text}", level=level)
 
