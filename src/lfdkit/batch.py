@@ -24,6 +24,13 @@ run the same batch again and the tasks already in the file are skipped, so an
 interrupted batch resumes where it stopped. A task that raises is recorded as
 ``{"task": ID, "error": "Type: message"}`` and the batch goes on.
 
+The results file is a regular file or nothing: a FIFO, device or symbolic
+link is refused (with ``overwrite`` too; a link is never written through).
+One batch writes it at a time: the file is locked (``flock``) while a batch
+runs and a second one is refused, naming the first one's pid. Rows written
+twice for one task (by an older, unlocked run) are kept once on resume, with
+a warning.
+
 :func:`learn_task` is the generic work unit of ``lfdkit batch learn`` (one
 skill per folder of demonstrations); the sweeping task's scenario evaluation
 is :func:`lfdkit.tasks.sweeping.batch.evaluate_scenario`.
