@@ -44,7 +44,8 @@ positions in one file have the same dimension.
     optional in a file with a single scene (id ``0``). A field of another
     shape than the obstacle's (``"end"`` on a round one) is refused, as in
     CSV, where a shape column of the other dimension (``end_z`` in a 2-D
-    file) with a value is refused too. Other fields are ignored. Numbers must be JSON numbers (not strings or booleans).
+    file) with a value is refused too. Other fields are ignored. Numbers must
+    be JSON numbers (not strings or booleans).
 
 Reading is strict and bounded as in :mod:`lfdkit.io.demos`, with the same
 primitives (:mod:`lfdkit.io.text`: repeated keys, NaN literals, deep nesting
