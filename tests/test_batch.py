@@ -317,3 +317,72 @@ def test_batch_usage_errors(capsys, tmp_path):
         main(["batch", "learn", str(tmp_path), "--workers", "2", "--dask-local", "2", "-o", "r"])
     assert exc.value.code == 2
     assert "not allowed with argument" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ hostile results files
+def test_a_special_file_or_link_as_results_is_refused_never_written_through(tmp_path):
+    import os
+
+    fifo = tmp_path / "fifo.jsonl"
+    os.mkfifo(fifo)
+    for overwrite in (False, True):  # would block forever if opened
+        with pytest.raises(OSError, match="named pipe"):
+            run_batch(SerialExecutor(), dict, tasks(2), fifo, spec=SPEC, overwrite=overwrite)
+    target = tmp_path / "precious.txt"
+    target.write_text("keep me\n")
+    link = tmp_path / "link.jsonl"
+    link.symlink_to(target)
+    for overwrite in (False, True):
+        with pytest.raises(OSError, match="symbolic link"):
+            run_batch(SerialExecutor(), dict, tasks(2), link, spec=SPEC, overwrite=overwrite)
+    assert target.read_text() == "keep me\n" and link.is_symlink()
+
+
+def test_the_command_refuses_a_fifo_or_link_output_with_and_without_force(capsys, tmp_path):
+    import os
+
+    fifo = tmp_path / "fifo.jsonl"
+    os.mkfifo(fifo)
+    target = tmp_path / "precious.txt"
+    target.write_text("keep me\n")
+    link = tmp_path / "link.jsonl"
+    link.symlink_to(target)
+    for out, what in ((fifo, "named pipe"), (link, "symbolic link")):
+        for force in ((), ("--force",)):
+            code, _, err = run_cli(capsys, "batch", "learn", tmp_path, "-o", out, *force)
+            assert code == 2, err
+            assert f"error: --output {out}: is a {what}" in err and err.count("\n") == 1
+    assert target.read_text() == "keep me\n"
+
+
+def test_a_second_writer_of_one_results_file_is_refused(tmp_path):
+    path = tmp_path / "r.jsonl"
+    inner = []
+
+    def second(item):  # runs while the first batch holds the file
+        if not inner:
+            inner.append(True)
+            with pytest.raises(RuntimeError, match=r"in use by another batch \(pid \d+\)"):
+                run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC)
+            with pytest.raises(RuntimeError, match="in use by another batch"):
+                run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC, overwrite=True)
+        return item
+
+    summary = run_batch(SerialExecutor(), second, tasks(4), path, spec=SPEC)
+    assert inner and summary.done == 4
+    assert records(path) == [{"task": i, "square": i * i} for i in range(4)]
+    assert not (tmp_path / ".r.jsonl.pid").exists()  # the pid note goes with the lock
+    # Released: a later run resumes the file.
+    assert run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC).skipped == 4
+
+
+def test_a_task_written_twice_is_kept_once_on_resume(tmp_path):
+    path = tmp_path / "r.jsonl"
+    run_batch(SerialExecutor(), dict, tasks(16), path, spec=SPEC)
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join([*lines, lines[5]]))  # task 4 twice: 17 rows for 16 tasks
+    with pytest.warns(UserWarning, match="1 task row appeared twice; kept the first"):
+        summary = run_batch(SerialExecutor(), dict, tasks(16), path, spec=SPEC)
+    assert (summary.skipped, summary.done) == (16, 0)
+    got = list(read_results(path))
+    assert len(got) == 16 and sorted(r["task"] for r in got) == list(range(16))

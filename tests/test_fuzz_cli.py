@@ -219,3 +219,48 @@ def test_write_outside_is_only_where_asked(monkeypatch, tmp_path, skill_text):
     with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
         assert main(["plan", "skill.json", "-o", os.path.join("..", "x.csv")]) == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["work", "x.csv"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (
+            ["--goal", "1_0,0.5"],
+            "argument --goal: expected numbers separated by commas, got "
+            "'1_0,0.5' ('1_0' is not a number: digit separators ('_') are not allowed)",
+        ),
+        (["--goal", "0.5,nan"], "'nan' is not finite"),
+        (
+            ["--obstacle", "cup:0.1,0.45,r=0.03,r=0.05"],
+            "argument --obstacle: r= is given twice in 'cup:0.1,0.45,r=0.03,r=0.05'; give it once",
+        ),
+        (
+            ["--obstacle", "cup:0,0.7,r=0.03,vx=0,vx=1,vy=0"],
+            "argument --obstacle: vx= is given twice in",
+        ),
+        (["--obstacle", "cup:0,0.7,r=0_3"], "argument --obstacle: radius in 'cup:0,0.7,r=0_3'"),
+        (["--obstacle", "cup:0,0.7,q=3"], "argument --obstacle: unknown key q= in"),
+        (["--horizon", "1_0"], "argument --horizon: '1_0' is not a whole number: digit separators"),
+        (["--clearance", "1_0"], "argument --clearance: '1_0' is not a number: digit separators"),
+    ],
+    ids=["separator", "nan", "radius-twice", "vx-twice", "radius-separator", "key", "int", "float"],
+)
+def test_numbers_are_read_strictly_and_keys_once(capsys, argv, message):
+    with pytest.raises(SystemExit) as exc:
+        main(["plan", "skill.json", *argv])
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert message in err and "Traceback" not in err
+
+
+def test_quiet_silences_progress_not_warnings(capsys):
+    import argparse
+    import warnings
+
+    from lfdkit.cli import _warnings_as_lines
+
+    args = argparse.Namespace(verbosity=0)
+    with _warnings_as_lines(args, "lfdkit learn"):
+        warnings.warn("obstacle 'cup' is never near any demonstration", UserWarning, stacklevel=1)
+    err = capsys.readouterr().err
+    assert err == "lfdkit learn: warning: obstacle 'cup' is never near any demonstration\n"

@@ -329,3 +329,81 @@ def test_a_new_shape_is_one_class_used_unchanged_by_every_layer(tmp_path) -> Non
         plt.close(fig)
     finally:
         OBSTACLE_SHAPES.pop("two_posts", None)
+
+
+def _shape_class(name: str, kinds: dict) -> type:
+    return type("Bad", (TwoPosts,), {"shape": name, "field_kinds": kinds, "__annotations__": {}})
+
+
+@pytest.mark.parametrize(
+    ("name", "kinds", "message"),
+    [
+        ("round", {"other": "point"}, r"shape: 'round' is a built-in shape; give Bad another"),
+        ("capsule", {"other": "point"}, r"shape: 'capsule' is a built-in shape"),
+        ("posts", {"radius": "number"}, r"field_kinds\['radius'\]: 'radius' is a column every"),
+        ("posts", {"vx": "number"}, r"field_kinds\['vx'\]: 'vx' is a column every"),
+        ("posts", {"position": "point"}, r"field_kinds\['position'\]: 'position' is a column"),
+        ("posts", {"demo": "number"}, r"field_kinds\['demo'\]: 'demo' is a column every"),
+        ("posts", {"a": "point", "a_x": "number"}, r"its column 'a_x' is also field 'a'"),
+        ("posts", {"end_x": "number"}, r"'end_x' is the capsule shape's field 'end'"),
+        ("posts", {"other": "vector"}, r"kind must be 'point' or 'number'"),
+        ("Posts", {"other": "point"}, r"must be a lowercase identifier"),
+    ],
+)
+def test_register_shape_refuses_names_that_would_not_round_trip(name, kinds, message) -> None:
+    with pytest.raises(ValueError, match=message):
+        register_shape(_shape_class(name, kinds))
+    assert set(OBSTACLE_SHAPES) >= {"round", "capsule"} and "posts" not in OBSTACLE_SHAPES
+
+
+def test_fields_of_another_shape_or_dimension_are_refused_not_dropped(tmp_path) -> None:
+    path = tmp_path / "s.csv"
+    path.write_text("class,x,y,shape,end_x,end_y,end_z\nrod,0,0,capsule,1,0,0.5\n")
+    with pytest.raises(ValueError, match=r"line 2, column 'end_z': a value in a 2-D scene"):
+        load_scenes(path)
+    path.write_text("class,x,y,shape,end_x,end_y,end_z\nrod,0,0,capsule,1,0,\n")
+    assert load_scenes(path)[0].obstacles[0].shape == "capsule"  # an empty end_z is fine
+    path = tmp_path / "s.json"
+    path.write_text(
+        '{"format": "lfdkit-scenes", "version": 1, "scenes": [{"demo": 1, "obstacles": '
+        '[{"class": "cup", "position": [0, 0], "radius": 0.03, "end": [1, 0]}]}]}'
+    )
+    with pytest.raises(ValueError, match=r"obstacles\[0\]\.end: a capsule field, but the "):
+        load_scenes(path)
+
+
+_coord = st.floats(-10, 10, allow_nan=False, width=64)
+
+
+@given(data=st.data(), q=st.sampled_from([2, 3]), suffix=st.sampled_from([".csv", ".json"]))
+@settings(max_examples=40, deadline=None)
+def test_any_registered_shapes_scene_file_reads_back_equal(tmp_path_factory, data, q, suffix):
+    register_shape(TwoPosts)
+    try:
+        obstacles = []
+        for _ in range(data.draw(st.integers(1, 4))):
+            shape = data.draw(st.sampled_from(sorted(OBSTACLE_SHAPES)))
+            cls = OBSTACLE_SHAPES[shape]
+            fields = {
+                name: data.draw(st.lists(_coord, min_size=q, max_size=q))
+                if kind == "point"
+                else data.draw(_coord)
+                for name, kind in cls.field_kinds.items()
+            }
+            position = data.draw(st.lists(_coord, min_size=q, max_size=q))
+            radius = data.draw(st.floats(0, 1, allow_nan=False))
+            try:
+                obstacles.append(cls.from_fields("c", np.array(position), radius, fields))
+            except ValueError:
+                continue
+        scene = Scene(tuple(obstacles))
+        path = tmp_path_factory.mktemp("rt") / f"s{suffix}"
+        back = load_scenes(save_scenes(path, {1: scene}))[1]
+        assert [type(o) for o in back] == [type(o) for o in scene]
+        for got, want in zip(back, scene, strict=True):
+            np.testing.assert_array_equal(got.position, want.position)
+            assert got.radius == want.radius
+            for name, value in want.fields().items():
+                np.testing.assert_array_equal(got.fields()[name], value)
+    finally:
+        OBSTACLE_SHAPES.pop("two_posts", None)

@@ -161,3 +161,27 @@ def test_bad_orientations_in_npz_and_json(tmp_path) -> None:
     )
     with pytest.raises(ValueError, match=r"demos\[0\] \(id 0\) field 'q': expected 2 quaternions"):
         load_demos(j)
+
+
+def test_normalisation_neither_overflows_nor_underflows() -> None:
+    from lfdkit.robot.poses import matrix_from_rotvec
+
+    big = np.array([1e200, 0.0, 0.0, 1e200])
+    assert rot.stable_norm(big) == pytest.approx(np.sqrt(2.0) * 1e200)
+    assert rot.stable_norm(np.full(4, 1e-200)) == pytest.approx(2e-200)
+    assert rot.stable_norm(np.zeros(4)) == 0.0
+    with pytest.raises(ValueError, match=r"q: row 0 has norm 1.41421e\+200; a unit quaternion"):
+        rot.check_quaternions(big, "q")
+    # Huge angles: one line naming r, never NaN; big but resolvable angles give rotations.
+    with pytest.raises(ValueError, match=r"r: a rotation vector of norm 1.73e\+300 rad; beyond"):
+        matrix_from_rotvec([1e300, 1e300, 1e300])
+    R = matrix_from_rotvec([1e8, 0.0, 0.0])
+    assert np.allclose(R @ R.T, np.eye(3)) and np.isclose(np.linalg.det(R), 1.0)
+    np.testing.assert_allclose(R, matrix_from_rotvec([np.mod(1e8, 2 * np.pi), 0, 0]), atol=1e-6)
+
+
+def test_the_cli_normalises_a_huge_quaternion(capsys) -> None:
+    from lfdkit.cli import _quaternion
+
+    q = _quaternion("1e200,0,0,1e200", "--goal-orientation")
+    np.testing.assert_allclose(q, [np.sqrt(0.5), 0.0, 0.0, np.sqrt(0.5)])

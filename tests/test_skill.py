@@ -243,6 +243,10 @@ def _edited(skill: Skill, tmp_path: Path, edit) -> Path:
         ),
         (lambda d: d["path"][0].__setitem__(0, False), r"path\[0\]\[0\]: expected a number"),
         (
+            lambda d: d["params"].update(classes=["bowl"]),
+            r"params.classes: \['bowl'\] contradicts the classes the reward learned",
+        ),
+        (
             lambda d: d["reward"]["precisions"].update(cup=[[1.0, "0"], [0.0, 1.0]]),
             r"reward.precisions.cup\[0\]\[1\]: expected a number",
         ),
@@ -322,6 +326,9 @@ def test_plan_errors(skill) -> None:
         skill.plan(scene=Scene.from_arrays(["cup"], [[0.0, 0.47]]), horizon=20)
     with pytest.raises(ValueError, match="goal: expected a 2-D point"):
         skill.plan(goal=[1.0, 2.0, 3.0])
+    for goal in (["0.36", "0.5"], [True, False], np.array([1, 0], dtype=bool)):
+        with pytest.raises(ValueError, match="goal: expected 2 numbers, got strings or booleans"):
+            skill.plan(goal=goal)
     with pytest.raises(ValueError, match="start: contains NaN"):
         skill.plan(start=[np.nan, 0.0])
     with pytest.raises(ValueError, match="goal: coincides with start"):

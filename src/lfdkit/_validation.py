@@ -176,10 +176,14 @@ def check_point(
     -------
     ndarray of float64
     """
+    error = TypeError if style == "shape" else ValueError
+    if _not_numbers(value):
+        # NumPy reads "0.36" and True as numbers; a coordinate given as text or a
+        # flag is a mistake the caller should hear about, not a goal at (1, 0).
+        raise error(f"{name}: expected {q} numbers, got strings or booleans: {value!r}")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        error = TypeError if style == "shape" else ValueError
         raise error(f"{name}: expected {q} numbers, got {value!r}") from exc
     single = arr.shape == (q,)
     if not single and not (batch is not None and arr.ndim == 2 and arr.shape[1] == q):
@@ -191,6 +195,19 @@ def check_point(
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name}: contains NaN or infinite values")
     return arr
+
+
+def _not_numbers(value: Any) -> bool:
+    """Whether ``value`` holds text or booleans, which NumPy would read as numbers."""
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind in "bUSO" and (
+            value.dtype.kind != "O" or any(_not_numbers(v) for v in value.ravel().tolist())
+        )
+    if isinstance(value, (list, tuple)):
+        return any(_not_numbers(v) for v in value)
+    return False
 
 
 def check_times(

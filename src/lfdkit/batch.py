@@ -24,6 +24,13 @@ run the same batch again and the tasks already in the file are skipped, so an
 interrupted batch resumes where it stopped. A task that raises is recorded as
 ``{"task": ID, "error": "Type: message"}`` and the batch goes on.
 
+The results file is a regular file or nothing: a FIFO, device or symbolic
+link is refused (with ``overwrite`` too; a link is never written through).
+One batch writes it at a time: the file is locked (``flock``) while a batch
+runs and a second one is refused, naming the first one's pid. Rows written
+twice for one task (by an older, unlocked run) are kept once on resume, with
+a warning.
+
 :func:`learn_task` is the generic work unit of ``lfdkit batch learn`` (one
 skill per folder of demonstrations); the sweeping task's scenario evaluation
 is :func:`lfdkit.tasks.sweeping.batch.evaluate_scenario`.
@@ -39,7 +46,9 @@ import hashlib
 import json
 import math
 import os
+import stat
 import time
+import warnings
 from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
 from concurrent.futures import (
     FIRST_COMPLETED,
@@ -61,6 +70,7 @@ __all__ = [
     "DaskExecutor",
     "ExecutorBrokenError",
     "ProcessExecutor",
+    "ResultsInUseError",
     "SerialExecutor",
     "describe_executor",
     "learn_batch",
@@ -370,24 +380,84 @@ def _jsonable(value: Any) -> Any:
     raise TypeError(f"cannot write a {type(value).__name__} to a results file")
 
 
+class ResultsInUseError(RuntimeError):
+    """Another batch is writing the same results file (it holds the file's lock)."""
+
+
+def _lock_path(path: Path) -> Path:
+    """The sidecar naming the pid of the batch that holds ``path``'s lock (for the message)."""
+    return path.with_name(f".{path.name}.pid")
+
+
 class _ResultsFile:
-    """A results file open for appending: the header checked, the tasks done known."""
+    """A results file open for appending: checked, locked, the tasks done known.
+
+    Only a missing path or a regular file is opened (a FIFO would block the
+    batch forever, a link would be written through): the path is refused as
+    :func:`lfdkit.io.atomic.check_output_path` refuses it, whatever
+    ``overwrite`` says, and opened with ``O_NOFOLLOW``. The open file is
+    locked (``flock``, exclusive, not waiting) before anything is read or
+    truncated, so a second batch on the same file is refused instead of
+    interleaving its rows with the first one's.
+    """
 
     def __init__(self, path: Path, spec: Mapping[str, Any], *, overwrite: bool) -> None:
+        from lfdkit.io.atomic import check_output_path
+
         self.path = path
         self.hash = spec_hash(spec)
         self.done: set[Hashable] = set()
         self.failed_before = 0
-        resume = path.exists() and not overwrite
-        if resume:
-            self._read_existing()
-            self.file = open(path, "a", encoding="utf-8")
-        else:
-            self.file = open(path, "w", encoding="utf-8")
-            header = {FORMAT: FORMAT_VERSION, "hash": self.hash, "spec": _jsonable(spec)}
-            self.file.write(json.dumps(header) + "\n")
-            self.file.flush()
-        self.resumed = resume
+        self.duplicates = 0
+        existing = check_output_path(path, overwrite=True)  # special files and links refused
+        self.file = self._open_locked(path)
+        try:
+            resume = existing is not None and not overwrite and os.fstat(self.file.fileno()).st_size
+            if resume:
+                self._read_existing()
+                self.file.seek(0, os.SEEK_END)
+            else:
+                self.file.truncate(0)
+                header = {FORMAT: FORMAT_VERSION, "hash": self.hash, "spec": _jsonable(spec)}
+                self.file.write(json.dumps(header) + "\n")
+                self.file.flush()
+        except BaseException:
+            self.close()
+            raise
+        self.resumed = bool(resume)
+
+    def _open_locked(self, path: Path) -> Any:
+        flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+        fd = os.open(path, flags, 0o666)  # O_NONBLOCK: a FIFO put there meanwhile cannot hang us
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                from lfdkit.io.atomic import NotRegularFileError, file_kind
+
+                raise NotRegularFileError(
+                    f"{path}: is {file_kind(os.fstat(fd).st_mode)}, not a regular file; "
+                    "give another results file"
+                )
+            try:
+                import fcntl
+            except ImportError:  # pragma: no cover - Windows: no lock
+                fcntl = None
+            if fcntl is not None:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                except BlockingIOError:
+                    holder = _read_pid(_lock_path(path))
+                    who = f" (pid {holder})" if holder else ""
+                    raise ResultsInUseError(
+                        f"{path}: results file is in use by another batch{who}; wait for it to "
+                        "finish, or write to another file"
+                    ) from None
+            self._pid_file = _lock_path(path)
+            with contextlib.suppress(OSError):
+                self._pid_file.write_text(f"{os.getpid()}\n", encoding="utf-8")
+            return os.fdopen(fd, "r+", encoding="utf-8", newline="")
+        except BaseException:
+            os.close(fd)
+            raise
 
     def _read_existing(self) -> None:
         header = results_header(self.path)
@@ -397,23 +467,46 @@ class _ResultsFile:
                 f"{header.get('hash')}, this one {self.hash}); pass --force (overwrite=True) to "
                 "start over, or write to another file"
             )
-        good = 0  # bytes up to the end of the last complete line
+        keep: list[bytes] = []
         with open(self.path, "rb") as f:
-            f.readline()
-            good = f.tell()
+            head = f.readline()
+            size = len(head)
             for raw in f:
                 if not raw.endswith(b"\n"):
                     break
                 try:
                     record = json.loads(raw)
-                except json.JSONDecodeError:
+                    key = _key(record["task"])
+                except (json.JSONDecodeError, KeyError, TypeError):
                     break
-                self.done.add(_key(record["task"]))
+                size += len(raw)
+                if key in self.done:  # written twice (e.g. by an older, unlocked run)
+                    self.duplicates += 1
+                    continue
+                self.done.add(key)
                 self.failed_before += "error" in record
-                good += len(raw)
-        if good < self.path.stat().st_size:  # a line cut short by a kill: drop it
-            with open(self.path, "r+b") as f:
-                f.truncate(good)
+                keep.append(raw)
+        if self.duplicates:
+            # Rewrite the file with one row per task, atomically (under our lock).
+            from lfdkit.io.atomic import atomic_write
+
+            def write(f: Any) -> None:
+                f.write(head)
+                f.writelines(keep)
+
+            os.fsync(self.file.fileno())
+            atomic_write(self.path, write, binary=True, overwrite=True)
+            # The rename replaced the inode we hold locked: lock the new one.
+            old = self.file
+            self.file = self._open_locked(self.path)
+            old.close()
+            warnings.warn(
+                f"{self.path}: {self.duplicates} task row{'s' * (self.duplicates > 1)} "
+                "appeared twice; kept the first of each (the file now has one row per task)",
+                stacklevel=4,
+            )
+        elif size < self.path.stat().st_size:  # a line cut short by a kill: drop it
+            self.file.truncate(size)
 
     def write(self, record: Mapping[str, Any]) -> None:
         self.file.write(json.dumps(_jsonable(record), allow_nan=False) + "\n")
@@ -423,7 +516,19 @@ class _ResultsFile:
         with contextlib.suppress(OSError):
             self.file.flush()
             os.fsync(self.file.fileno())
-        self.file.close()
+        if _read_pid(getattr(self, "_pid_file", None)) == os.getpid():
+            with contextlib.suppress(OSError):
+                self._pid_file.unlink()
+        self.file.close()  # releases the lock
+
+
+def _read_pid(path: Path | None) -> int | None:
+    if path is None:
+        return None
+    try:
+        return int(path.read_text(encoding="utf-8").strip())
+    except (OSError, ValueError):
+        return None
 
 
 def _key(task_id: Any) -> Hashable:

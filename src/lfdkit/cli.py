@@ -48,6 +48,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from lfdkit import __version__
+from lfdkit._numbers import parse_decimal, parse_whole
 from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SKILL_DEFAULTS
 from lfdkit.progress import LOGGER, Progress
 from lfdkit.units import UNITS
@@ -163,10 +164,10 @@ def _check_writable(folder: Path, option: str, shown: Path) -> None:
 
 def _numbers(text: str) -> list[float]:
     try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
+        values = [parse_decimal(v, finite=False) for v in text.split(",")]
+    except ValueError as exc:
         raise argparse.ArgumentTypeError(
-            f"expected numbers separated by commas, got {text!r}"
+            f"expected numbers separated by commas, got {text!r} ({exc})"
         ) from None
     if len(values) not in (2, 3) or not all(v == v and abs(v) != float("inf") for v in values):
         raise argparse.ArgumentTypeError(
@@ -183,7 +184,7 @@ def _quaternion(text: str | None, option: str) -> list[float] | None:
     if text is None:
         return None
     try:
-        values = [float(v) for v in text.split(",")]
+        values = [parse_decimal(v, finite=False) for v in text.split(",")]
     except ValueError:
         values = []
     if len(values) != 4 or not all(math.isfinite(v) for v in values):
@@ -191,7 +192,7 @@ def _quaternion(text: str | None, option: str) -> list[float] | None:
             f"{option}: expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), "
             f"got {text!r}"
         )
-    norm = math.sqrt(sum(v * v for v in values))
+    norm = math.hypot(*values)  # scaled inside: 1e200 components do not overflow
     if norm < 1e-9:
         raise UsageError(f"{option}: a zero quaternion is no orientation, got {text!r}")
     return [v / norm for v in values]
@@ -207,12 +208,28 @@ def _orientations(args: argparse.Namespace) -> dict[str, list[float] | None]:
     }
 
 
+def _decimal(text: str) -> float:
+    """An argparse type: a decimal number, strictly (``lfdkit._numbers``; no ``1_0``, nan, inf)."""
+    try:
+        return parse_decimal(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _whole(text: str) -> int:
+    """An argparse type: a whole number in decimal digits (no ``1_000``)."""
+    try:
+        return parse_whole(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def _bounded_int(low: int, high: int) -> Callable[[str], int]:
     """An argparse type: an integer from ``low`` to ``high`` (a usage error otherwise)."""
 
     def parse(text: str) -> int:
         try:
-            value = int(text)
+            value = parse_whole(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
         if not low <= value <= high:
@@ -236,25 +253,33 @@ def _obstacle(text: str):
     radius = 0.0
     coords = []
     velocity: dict[str, float] = {}
+    seen: set[str] = set()
     for token in rest.split(","):
         token = token.strip()
-        if token[:3] in ("vx=", "vy=", "vz="):
+        key = token.partition("=")[0].strip() if "=" in token else None
+        if key is not None:
+            if key in seen:  # the later one would silently win
+                raise argparse.ArgumentTypeError(f"{key}= is given twice in {text!r}; give it once")
+            seen.add(key)
+        if key in ("vx", "vy", "vz"):
             try:
-                value = float(token[3:])
+                value = parse_decimal(token.partition("=")[2])
             except ValueError:
                 value = math.nan
             if not math.isfinite(value):
-                raise argparse.ArgumentTypeError(
-                    f"{token[:2]} in {text!r} is not a finite number"
-                ) from None
-            velocity[token[:2]] = value
-        elif token.startswith("r="):
+                raise argparse.ArgumentTypeError(f"{key} in {text!r} is not a finite number")
+            velocity[key] = value
+        elif key == "r":
             try:
-                radius = float(token[2:])
+                radius = parse_decimal(token.partition("=")[2], finite=False)
             except ValueError:
                 raise argparse.ArgumentTypeError(f"radius in {text!r} is not a number") from None
             if not radius >= 0 or radius == float("inf"):
                 raise argparse.ArgumentTypeError(f"radius in {text!r} must be finite and >= 0")
+        elif key is not None:
+            raise argparse.ArgumentTypeError(
+                f"unknown key {key}= in {text!r}; expected r=, vx=, vy= or vz="
+            )
         else:
             coords.append(token)
     position = _numbers(",".join(coords))
@@ -571,7 +596,7 @@ def _goal_approach(text: str) -> float | str | None:
     if word in ("auto", "none"):
         return None if word == "none" else "auto"
     try:
-        value = float(text)
+        value = parse_decimal(text, finite=False)
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected a length, 'auto' or 'none', got {text!r}"
@@ -586,7 +611,7 @@ def _positive(text: str | None, option: str, what: str) -> float | None:
     if text is None:
         return None
     try:
-        value = float(text)
+        value = parse_decimal(text, finite=False)
     except ValueError:
         value = math.nan
     if not math.isfinite(value) or value <= 0.0:
@@ -916,7 +941,7 @@ def _output_folder_checked(args: argparse.Namespace, planned: list[Path]) -> Pat
 def _fraction(text: str) -> float:
     """``--speed-fraction``: a number in (0, 1]."""
     try:
-        value = float(text)
+        value = parse_decimal(text, finite=False)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}") from None
     if not 0.0 < value <= 1.0:  # also NaN
@@ -946,10 +971,15 @@ def _benchmarks_folder(given: Path | None) -> Path:
 
 def _batch(args: argparse.Namespace) -> None:
     from lfdkit.batch import describe_executor, make_executor
+    from lfdkit.io.atomic import check_output_path
 
     out: Path = args.output
     if out.is_dir():
         raise CommandError(f"--output {out}: is a directory; give a results file (.jsonl)")
+    try:  # a FIFO would hang the batch, a link be written through: refused with or without --force
+        check_output_path(out, overwrite=True)
+    except OSError as exc:
+        raise UsageError(f"--output {exc}") from None
     if not out.parent.exists():
         raise CommandError(f"--output {out}: folder {out.parent} does not exist")
     _check_writable(out.parent, "--output", out)
@@ -1150,7 +1180,7 @@ def _planner_options(parser: argparse.ArgumentParser, *, defaults: bool) -> None
     )
     parser.add_argument(
         "--horizon",
-        type=int,
+        type=_whole,
         default=SKILL_DEFAULTS["horizon"] if defaults else None,
         metavar="H",
         help=f"MPC horizon, {MIN_HORIZON} to {MAX_HORIZON}"
@@ -1239,7 +1269,7 @@ def _skill_param_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--n-points",
-        type=int,
+        type=_whole,
         default=SKILL_DEFAULTS["n_points"],
         help="points of the path and of plans (default %(default)s)",
     )
@@ -1342,7 +1372,7 @@ def _plan_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--clearance",
-        type=float,
+        type=_decimal,
         default=0.0,
         metavar="LENGTH",
         help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
@@ -1867,15 +1897,16 @@ def _warnings_as_lines(args: argparse.Namespace, prefix: str) -> Iterator[None]:
     """Show each warning once as ``lfdkit CMD: warning: <message>``, not Python's two lines.
 
     Notes (:class:`lfdkit.mimic.DemoOrientationWarning`, e.g. a demonstration
-    flipped to the common direction) only with ``-v``; other warnings unless
-    ``-q``.
+    flipped to the common direction) only with ``-v``; other warnings always,
+    ``-q`` included (it silences progress and summaries, not poor results).
     """
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
         # Imported here, when a warning comes: lfdkit.mimic pulls in scikit-learn.
         from lfdkit.mimic import DemoOrientationWarning
 
-        level = 2 if issubclass(category, DemoOrientationWarning) else 1
+        # A warning says a result may be poor: -q silences progress, never that.
+        level = 2 if issubclass(category, DemoOrientationWarning) else 0
         text = str(message).splitlines()[0] if str(message) else category.__name__
         _say(args, f"{prefix}: warning: {text}", level=level)
 

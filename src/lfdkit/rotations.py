@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "MAX_ROTATION_ANGLE",
     "UNIT_NORM_TOLERANCE",
     "angle_between",
     "check_quaternions",
@@ -41,6 +42,7 @@ __all__ = [
     "quaternion_from_matrix",
     "robust_mean_quaternion",
     "slerp",
+    "stable_norm",
 ]
 
 #: A quaternion whose norm differs from 1 by more than this is refused, not normalised
@@ -50,6 +52,27 @@ UNIT_NORM_TOLERANCE = 1e-3
 #: Robust mean: full weight within this many robust scales of the mean, none beyond _OUTER.
 _CORE = 4.0
 _OUTER = 8.0
+
+
+#: Largest rotation angle (rad) accepted as a rotation vector's norm: beyond it the
+#: spacing of float64 numbers exceeds 1e-7 rad, so the angle modulo 2π is noise.
+MAX_ROTATION_ANGLE = 1e9
+
+
+def stable_norm(x: Any, axis: int = -1, *, keepdims: bool = False) -> np.ndarray:
+    """Euclidean norm along ``axis`` that neither overflows nor underflows.
+
+    Each vector is divided by its largest absolute component before the sum of
+    squares (``[1e200, 0, 0, 1e200]`` has norm ``1.41e200``, not inf; ``1e-200``
+    components give ``1e-200``, not 0). Zero vectors have norm 0.
+    Every quaternion and rotation vector in lfdkit is normalised with it.
+    """
+    x = np.asarray(x, dtype=np.float64)
+    scale = np.max(np.abs(x), axis=axis, keepdims=True)
+    safe = np.where(scale > 0, scale, 1.0)
+    norm = safe * np.sqrt(np.sum((x / safe) ** 2, axis=axis, keepdims=True))
+    norm = np.where(scale > 0, norm, 0.0)
+    return norm if keepdims else np.squeeze(norm, axis=axis)
 
 
 def check_quaternions(value: Any, name: str, *, n: int | None = None) -> np.ndarray:
@@ -88,7 +111,7 @@ def check_quaternions(value: Any, name: str, *, n: int | None = None) -> np.ndar
     bad = ~np.isfinite(arr).all(axis=1)
     if bad.any():
         raise ValueError(f"{name}: row {int(np.argmax(bad))} is not finite (NaN or inf)")
-    norm = np.linalg.norm(arr, axis=1)
+    norm = stable_norm(arr, axis=1)
     off = np.abs(norm - 1.0) > UNIT_NORM_TOLERANCE
     if off.any():
         j = int(np.argmax(off))
@@ -130,7 +153,7 @@ def log(q: np.ndarray) -> np.ndarray:
     q = np.asarray(q, dtype=np.float64)
     q = np.where(q[..., 3:4] < 0.0, -q, q)
     v = q[..., :3]
-    s = np.linalg.norm(v, axis=-1)
+    s = stable_norm(v, axis=-1)
     half = np.arctan2(s, q[..., 3])
     # half / s -> 1 as s -> 0 (series 1 + s²/6 ...): exact for the identity
     scale = np.where(s > 1e-12, half / np.where(s > 1e-12, s, 1.0), 1.0)
@@ -140,7 +163,7 @@ def log(q: np.ndarray) -> np.ndarray:
 def exp(v: np.ndarray) -> np.ndarray:
     """Exponential map: the unit quaternion ``[sin|v| v/|v|, cos|v|]``, shape (..., 4)."""
     v = np.asarray(v, dtype=np.float64)
-    n = np.linalg.norm(v, axis=-1)
+    n = stable_norm(v, axis=-1)
     sinc = np.where(n > 1e-12, np.sin(n) / np.where(n > 1e-12, n, 1.0), 1.0 - n * n / 6.0)
     return np.concatenate((v * sinc[..., None], np.cos(n)[..., None]), axis=-1)
 
@@ -187,7 +210,7 @@ def slerp(q0: np.ndarray, q1: np.ndarray, t: Any) -> np.ndarray:
     w0 = np.where(near, 1.0 - t, np.sin((1.0 - t) * theta) / safe)
     w1 = np.where(near, t, np.sin(t * theta) / safe)
     out = w0 * q0 + w1 * q1
-    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+    return out / stable_norm(out, axis=-1, keepdims=True)
 
 
 def matrix_from_quaternion(q: np.ndarray) -> np.ndarray:
@@ -242,7 +265,7 @@ def quaternion_from_matrix(R: np.ndarray) -> np.ndarray:
             part[:, 3] = (r[:, m, j] - r[:, j, m]) / (4 * big)
             q[rows] = part
     q = np.where(q[:, 3:4] < 0.0, -q, q)
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q /= stable_norm(q, axis=1, keepdims=True)
     return q.reshape((*shape, 4))
 
 

@@ -47,6 +47,7 @@ id) are read and written by :mod:`lfdkit.io.scenes`.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
@@ -351,11 +352,84 @@ class Capsule(Obstacle):
 OBSTACLE_SHAPES: dict[str, type[Obstacle]] = {}
 
 
+#: Names a shape's fields cannot take: the columns and keys every scene file
+#: already uses (CSV and JSON), so that a field can never be read as one of them.
+RESERVED_FIELD_NAMES = frozenset(
+    {"demo", "class", "x", "y", "z", "radius", "shape", "position", "vx", "vy", "vz"}
+    | {"velocity", "trajectory", "observations", "format", "version", "scenes", "obstacles"}
+)
+_FIELD_KINDS = ("point", "number")
+_BUILT_IN_SHAPES = ("round", "capsule")
+
+
+def _field_columns(name: str, kind: str) -> list[str]:
+    """A field's CSV columns, 2-D and 3-D: ``end`` (point) → end_x, end_y, end_z."""
+    return [f"{name}_{c}" for c in "xyz"] if kind == "point" else [name]
+
+
 def register_shape(shape: type[Obstacle]) -> type[Obstacle]:
-    """Make an obstacle class known to the scene files under its ``shape`` name."""
+    """Make an obstacle class known to the scene files under its ``shape`` name.
+
+    The name and the field names are checked so that every scene file
+    round-trips: the name is a lowercase identifier, not a built-in shape's
+    (``round``, ``capsule``) unless it is that class; each field is a
+    lowercase identifier of kind ``"point"`` or ``"number"`` whose name and
+    CSV columns (``NAME_x, NAME_y, NAME_z`` for a point) collide neither
+    with :data:`RESERVED_FIELD_NAMES` nor with each other, nor with another
+    registered shape's columns of another meaning. Registering the same name
+    again replaces the shape (a class redefined in a notebook).
+
+    Raises
+    ------
+    TypeError
+        If ``shape`` is not a subclass of :class:`Obstacle`.
+    ValueError
+        For a bad or protected name, or colliding fields (the message names them).
+    """
     if not (isinstance(shape, type) and issubclass(shape, Obstacle)):
         raise TypeError(f"shape: expected a subclass of Obstacle, got {shape!r}")
-    OBSTACLE_SHAPES[shape.shape] = shape
+    name = shape.shape
+    if not isinstance(name, str) or not re.fullmatch(r"[a-z][a-z0-9_]*", name):
+        raise ValueError(
+            f"shape: {shape.__name__}.shape must be a lowercase identifier, got {name!r}"
+        )
+    if name in _BUILT_IN_SHAPES and name in OBSTACLE_SHAPES and OBSTACLE_SHAPES[name] is not shape:
+        raise ValueError(
+            f"shape: {name!r} is a built-in shape; give {shape.__name__} another shape name"
+        )
+    kinds = dict(shape.field_kinds)
+    columns: dict[str, str] = {}  # column -> field
+    for field_name, kind in kinds.items():
+        where = f"shape: {shape.__name__}.field_kinds[{field_name!r}]"
+        if not isinstance(field_name, str) or not re.fullmatch(r"[a-z][a-z0-9_]*", field_name):
+            raise ValueError(f"{where}: a field name must be a lowercase identifier")
+        if kind not in _FIELD_KINDS:
+            raise ValueError(f"{where}: kind must be 'point' or 'number', got {kind!r}")
+        for column in {field_name, *_field_columns(field_name, kind)}:
+            if column in RESERVED_FIELD_NAMES:
+                raise ValueError(
+                    f"{where}: {column!r} is a column every scene file uses (reserved: "
+                    f"{', '.join(sorted(RESERVED_FIELD_NAMES))}); rename the field"
+                )
+            if column in columns and columns[column] != field_name:
+                raise ValueError(
+                    f"{where}: its column {column!r} is also field {columns[column]!r}'s; "
+                    "rename one of them"
+                )
+            columns[column] = field_name
+    for other in OBSTACLE_SHAPES.values():
+        if other.shape == name:
+            continue
+        for other_name, other_kind in other.field_kinds.items():
+            for column in {other_name, *_field_columns(other_name, other_kind)}:
+                mine = columns.get(column)
+                if mine is not None and (mine, kinds[mine]) != (other_name, other_kind):
+                    raise ValueError(
+                        f"shape: {shape.__name__}.field_kinds[{mine!r}]: its column {column!r} "
+                        f"is the {other.shape} shape's field {other_name!r} ({other_kind}); "
+                        "rename the field"
+                    )
+    OBSTACLE_SHAPES[name] = shape
     return shape
 
 

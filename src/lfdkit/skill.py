@@ -220,6 +220,26 @@ class TimedPlan(NDArrayOperatorsMixin):
         )
 
 
+def _check_learned_classes(skill: Skill) -> None:
+    """Refuse a skill whose ``params.classes`` contradicts the classes its reward learned.
+
+    The reward fit (``ioc`` summary) learned its classes with ``params.classes``:
+    each of them is one of those and is in the reward. Classes adopted from
+    another skill are in the reward but not in the summary, so they pass.
+    """
+    learned = (skill.ioc_info_ or {}).get("classes")
+    if skill.classes is None or not isinstance(learned, list):
+        return
+    reward = tuple(skill.reward_.classes) if getattr(skill, "reward_", None) is not None else ()
+    stray = [c for c in learned if c not in skill.classes or c not in reward]
+    if stray:
+        raise ValueError(
+            f"params.classes: {list(skill.classes)} contradicts the classes the reward learned "
+            f"({learned}; reward: {list(reward)}): class {stray[0]!r}; the file was edited or "
+            "damaged: learn the skill again"
+        )
+
+
 class Skill(Estimator):
     """A task learned from demonstrations: generalized path, DMP and obstacle reward.
 
@@ -1368,6 +1388,7 @@ class Skill(Estimator):
                 weight, matrices = reward
                 skill.adopt(Reward(weight, matrices))
             skill.ioc_info_ = document.ioc()
+            _check_learned_classes(skill)
         except ValueError as exc:
             if str(exc).startswith(source):
                 raise

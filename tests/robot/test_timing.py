@@ -234,7 +234,7 @@ def test_other_joint_counts():
             np.eye(6)[:2],
             {"speed_fraction": 0.0},
             ValueError,
-            r"speed_fraction: must be in \(0, 1\]",
+            r"speed_fraction: must be in \[0.001, 1\]",
         ),
         (np.eye(6)[:2], {"speed_fraction": 1.5}, ValueError, "speed_fraction: must be in"),
         (np.eye(6)[:2], {"speed_fraction": np.nan}, ValueError, "speed_fraction: must be in"),
@@ -293,3 +293,19 @@ def test_joint_count_must_match_the_arm_whose_limits_are_used():
     assert time_parameterize(q, max_velocity=1.0, max_acceleration=2.0).n_joints == 5
     with pytest.raises(TypeError, match="arm: expected an Arm"):
         time_parameterize(np.eye(6)[:2], arm="UR10")
+
+
+def test_absurd_sizes_and_speeds_are_one_line_refusals_not_memory_errors():
+    q = np.zeros((2, 6))
+    q[1, 0] = 1e6  # a million radians: the timing exists, 125 Hz samples of it would not fit
+    timing = time_parameterize(q)
+    with pytest.raises(
+        ValueError, match=r"rate_hz: 125 Hz over the trajectory's .* at most 1,000,000"
+    ):
+        timing.resample(125)
+    short = time_parameterize(np.eye(6)[:2])
+    with pytest.raises(ValueError, match=r"rate_hz: 1000000000.0 Hz over the trajectory's"):
+        short.resample(1e9)
+    assert len(short.resample(125)[0]) == int(np.ceil(short.duration * 125 - 1e-9)) + 1
+    with pytest.raises(ValueError, match=r"speed_fraction: must be in \[0.001, 1\], got 1e-300; a"):
+        time_parameterize(np.eye(6)[:2], speed_fraction=1e-300)

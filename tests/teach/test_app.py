@@ -541,3 +541,18 @@ def test_random_requests_get_an_answer_or_one_line(learned) -> None:
                 assert error and "\n" not in error and "Traceback" not in error
 
     check()
+
+
+def test_imports_refuse_what_learning_would_refuse_with_its_message() -> None:
+    client = new_client()
+    headers = session(client)
+    rows = "".join(f"d1,{i * 1e-4!r},0.0\n" for i in range(6000))
+    long = ("demo,x,y\n" + rows).encode()
+    answer = client.post("/api/import/demos?format=csv", content=long, headers=headers)
+    assert_readable(answer, 400, r"^demos\[0\]\.points: ")
+    spaced = b"demo,x,y\nmy demo,0,0\nmy demo,0.1,0\nmy demo,0.2,0\n"
+    answer = client.post("/api/import/demos?format=csv", content=spaced, headers=headers)
+    assert_readable(answer, 400, r"^demos\[0\]\.id: 'my demo' is not a plain name")
+    big = b"demo,class,x,y,radius\nd1,cup,0.1,0.4,2.5\n"
+    answer = client.post("/api/import/scenes?format=csv", content=big, headers=headers)
+    assert_readable(answer, 400, r"^obstacles\[0\]\.radius: expected 0 to ")

@@ -41,8 +41,11 @@ positions in one file have the same dimension.
     ``"trajectory": {"times": [...], "positions": [[x, y], ...]}`` or
     ``"observations": {"times": [...], "positions": [...], "noise": s}``
     (:mod:`lfdkit.motion`); ``"demo"`` is
-    optional in a file with a single scene (id ``0``). Other fields are
-    ignored. Numbers must be JSON numbers (not strings or booleans).
+    optional in a file with a single scene (id ``0``). A field of another
+    shape than the obstacle's (``"end"`` on a round one) is refused, as in
+    CSV, where a shape column of the other dimension (``end_z`` in a 2-D
+    file) with a value is refused too. Other fields are ignored. Numbers must
+    be JSON numbers (not strings or booleans).
 
 Reading is strict and bounded as in :mod:`lfdkit.io.demos`, with the same
 primitives (:mod:`lfdkit.io.text`: repeated keys, NaN literals, deep nesting
@@ -358,6 +361,10 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
     pos: dict[str, int] = {}
     field_columns = _field_columns(3 if any(h.lower() == "z" for h in header) else 2)
     known = {*_CSV_KNOWN, *(c for cols in field_columns.values() for c in cols)}
+    # Shape columns of the other dimension (end_z in a 2-D file): a value there is refused,
+    # not dropped.
+    other_dim = {c for cols in _field_columns(3).values() for c in cols} - known
+    stray = [(k, name) for k, name in enumerate(header) if name.lower() in other_dim]
     for k, name in enumerate(header):
         key = name.lower()
         if key in known:
@@ -393,6 +400,12 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
             key: [row[pos[c]] for c in cols if c in pos] for key, cols in field_columns.items()
         }
         at = f"{fname} line {lineno}"
+        for k, name in stray:
+            if row[k]:
+                raise ValueError(
+                    f"{at}, column {name!r}: a value in a 2-D scene (the file has no 'z' "
+                    "column); give z for every obstacle, or leave the column empty"
+                )
 
         if not label:
             given = [name for cell, name in cells if cell]
@@ -700,6 +713,13 @@ def _read_scenes_json(fname: str) -> dict[DemoId, Scene]:
                     ]
                 else:
                     fields[name] = _json_number(fname, f"{at}.{name}", value)
+            for owner in OBSTACLE_SHAPES.values():
+                for name in owner.field_kinds:
+                    if name in ob and name not in shape.field_kinds:
+                        raise ValueError(
+                            f"{fname}: {at}.{name}: a {owner.shape} field, but the obstacle is "
+                            f"{shape.shape}; leave it out or set the shape"
+                        )
             motion = _motion_of(fname, at, ob, len(coords))
             obstacles.append(
                 _obstacle(f"{fname}: {at}", label, coords, radius, shape, fields, motion)

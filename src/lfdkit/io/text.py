@@ -35,6 +35,7 @@ from typing import IO, Any
 
 import numpy as np
 
+from lfdkit._numbers import DECIMAL
 from lfdkit.demos import DemoId
 from lfdkit.io.atomic import NotRegularFileError, file_kind
 
@@ -265,7 +266,7 @@ def csv_rows(
 
 # A decimal number as CSV files spell it: no digit separators ("0_5", which
 # Python's float reads as 5), no inner spaces, no hexadecimal, no nan/inf words.
-_CSV_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_CSV_NUMBER = DECIMAL  # the one strict spelling (lfdkit._numbers), shared with the CLI
 
 
 def csv_number(fname: str, lineno: int, column: str, cell: str) -> float:

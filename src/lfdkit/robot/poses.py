@@ -39,7 +39,12 @@ import numpy as np
 
 from lfdkit._validation import check_finite, check_path
 from lfdkit.geometry import point_tangents
-from lfdkit.rotations import check_quaternions, matrix_from_quaternion
+from lfdkit.rotations import (
+    MAX_ROTATION_ANGLE,
+    check_quaternions,
+    matrix_from_quaternion,
+    stable_norm,
+)
 
 __all__ = [
     "matrix_from_rotvec",
@@ -133,8 +138,8 @@ def _skew(r: np.ndarray) -> np.ndarray:
 
 def _matrix_from_rotvec(r: np.ndarray) -> np.ndarray:
     """Rodrigues' formula ``I + A [r]× + B [r]×²`` for validated ``r`` of shape (n, 3)."""
-    theta2 = np.einsum("ij,ij->i", r, r)
-    theta = np.sqrt(theta2)
+    theta = stable_norm(r, axis=1)  # no overflow: |r| up to MAX_ROTATION_ANGLE is checked
+    theta2 = theta * theta
     small = theta < _SMALL_ANGLE
     safe = np.where(small, 1.0, theta)
     # A = sin θ / θ, B = (1 − cos θ) / θ² = 2 (sin(θ/2) / θ)²: the half-angle form has
@@ -172,7 +177,7 @@ def _quaternion_from_matrix(R: np.ndarray) -> np.ndarray:
         mask = pivot == p
         for c in range(4):
             q[mask, c] = comps[c][mask]
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q /= stable_norm(q, axis=1, keepdims=True)
     q[q[:, 0] < 0] *= -1.0  # same rotation; w >= 0 puts θ in [0, π]
     return q
 
@@ -181,7 +186,7 @@ def _rotvec_from_matrix(R: np.ndarray) -> np.ndarray:
     """Rotation vectors (n, 3) of validated rotations (n, 3, 3); see the module notes."""
     q = _quaternion_from_matrix(R)
     w, v = q[:, 0], q[:, 1:]
-    s = np.linalg.norm(v, axis=1)  # sin(θ/2)
+    s = stable_norm(v, axis=1)  # sin(θ/2)
     at_pi = w <= 0.5 * _AT_PI  # w = cos(θ/2) ≈ (π − θ)/2
     w = np.where(at_pi, 0.0, w)
     small = s < 1e-6
@@ -243,6 +248,15 @@ def matrix_from_rotvec(r: Any) -> np.ndarray:
     ndarray, shape (3, 3) or (n, 3, 3)
     """
     arr, single = _check_stack(r, "r", (3,))
+    angle = stable_norm(arr, axis=1)
+    if np.any(angle > MAX_ROTATION_ANGLE):
+        j = int(np.argmax(angle > MAX_ROTATION_ANGLE))
+        where = "" if single else f" (row {j})"
+        raise ValueError(
+            f"r: a rotation vector of norm {angle[j]:.3g} rad{where}; beyond "
+            f"{MAX_ROTATION_ANGLE:g} rad a float64 cannot resolve the angle; reduce it modulo "
+            "2π first"
+        )
     R = _matrix_from_rotvec(arr)
     return R[0] if single else R
 
@@ -274,11 +288,11 @@ def unwrap_rotvecs(r: Any) -> np.ndarray:
     out = arr.copy()
     for i in range(1, len(out)):
         prev = out[i - 1]
-        theta = float(np.linalg.norm(arr[i]))
+        theta = float(stable_norm(arr[i]))
         if theta > 0:
             axis = arr[i] / theta
         else:
-            n_prev = float(np.linalg.norm(prev))
+            n_prev = float(stable_norm(prev))
             if n_prev == 0:
                 continue
             axis = prev / n_prev

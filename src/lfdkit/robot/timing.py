@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from lfdkit._validation import check_path, check_positive
+from lfdkit._validation import MAX_POINTS, check_path, check_positive
 from lfdkit.geometry import arc_length
 from lfdkit.robot.arm import UR5, Arm, check_arm
 
@@ -64,6 +64,10 @@ SAFETY_MARGIN = 0.01
 DUPLICATE_TOL = 1e-9
 """Consecutive waypoints closer than this (rad, Euclidean in joint space) are merged."""
 
+#: Slowest speed setting accepted: 0.1 % of the limits (the UR slider's lowest step is 1 %);
+#: below it the acceleration limits (scaled by its square) underflow toward 0 and the
+#: profile stalls.
+MIN_SPEED_FRACTION = 1e-3
 _GRID_INTERVALS = 2000  # about this many s-intervals over the whole path
 _MIN_PER_SEGMENT = 4  # and at least this many between two waypoints
 _CHECK_FRACTIONS = np.array([0.0, 0.25, 0.5, 0.75, 1.0])  # where each interval is verified
@@ -158,7 +162,13 @@ class Timing:
             See :meth:`sample`.
         """
         rate = check_positive(rate_hz, "rate_hz")
-        m = int(np.ceil(self.duration * rate - 1e-9)) + 1
+        wanted = self.duration * rate
+        if not wanted < MAX_POINTS:  # decided before any array is made (also inf)
+            raise ValueError(
+                f"rate_hz: {rate_hz!r} Hz over the trajectory's {self.duration:.6g} s gives "
+                f"{wanted:.3g} samples; at most {MAX_POINTS:,}: lower the rate or split the motion"
+            )
+        m = int(np.ceil(wanted - 1e-9)) + 1
         times = np.arange(m) / rate
         q, qd, qdd = self.sample(times)
         return times, q, qd, qdd
@@ -227,8 +237,11 @@ def _check_speed_fraction(value: Any) -> float:
         f = float(value)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"speed_fraction: expected a number, got {value!r}") from exc
-    if not (0.0 < f <= 1.0):  # also rejects NaN
-        raise ValueError(f"speed_fraction: must be in (0, 1], got {value!r}")
+    if not (MIN_SPEED_FRACTION <= f <= 1.0):  # also rejects NaN
+        raise ValueError(
+            f"speed_fraction: must be in [{MIN_SPEED_FRACTION:g}, 1], got {value!r}"
+            + ("; a smaller fraction stops the arm (its squared limits vanish)" if 0 < f else "")
+        )
     return f
 
 

@@ -342,7 +342,11 @@ def import_demos(body: bytes, fmt: Any) -> dict[str, Any]:
         lambda path: load_demos(path, return_times=True, return_ids=True),
         "demonstrations",
     )
-    return {"demos": _demos_json(demos, times, ids)}
+    result = {"demos": _demos_json(demos, times, ids)}
+    # The page's learning checks (parse_teach_data) at import: a file the page
+    # would refuse to learn from is refused now, with the same message.
+    parse_teach_data({"demos": result["demos"], "obstacles": []})
+    return result
 
 
 def _scenes_json(scenes: Mapping[Any, Any]) -> dict[str, Any]:
@@ -369,6 +373,7 @@ def _scenes_json(scenes: Mapping[Any, Any]) -> dict[str, Any]:
         _obstacle_json(name, Obstacle(spot[0], spot[1:3], spot[3]))
         for spot, name in obstacles.items()
     ]
+    parse_obstacles(listed)  # the page's learning checks (size, position), at import
     return {"obstacles": listed, "marks": marks}
 
 

@@ -140,6 +140,20 @@ def test_evaluate_usage_errors(skill_path, tmp_path, capsys):
     assert not (tmp_path / "r.jsonl").exists()
 
 
+def test_a_scene_with_a_moving_obstacle_is_refused_with_the_reason(skill_path, tmp_path, capsys):
+    scenes = tmp_path / "moving.csv"
+    scenes.write_text(
+        "demo,class,x,y,radius,vx,vy\na,cup,0.0,0.5,0.03,,\nb,cup,0.1,0.6,0.03,0,-0.1\n"
+    )
+    results = tmp_path / "r.jsonl"
+    argv = ["batch", "evaluate", skill_path, "--scenes", scenes, "--check", "plan"]
+    code, _, err = run_cli(capsys, *argv, "-o", results)
+    assert code == 1 and err.count("\n") == 1
+    assert f"{scenes}: scene 'b' has a moving obstacle; batch evaluate checks standing" in err
+    assert "lfdkit plan" in err
+    assert not results.exists()
+
+
 @pytest.mark.slow
 def test_200_scenarios_on_a_dask_local_cluster_equal_the_serial_run(skill_path, tmp_path):
     """200 random sweeping scenarios, each planned around its cup and marker to its dustpan

@@ -355,6 +355,15 @@ def evaluate_batch(
             raise ValueError(
                 f"{os.fspath(scenes)}: scene {flat[0]!r} is not 2-D (x, y on the table)"
             )
+        moving = [key for key, scene in found.items() if scene.moving]
+        if moving:
+            # The batch stands each obstacle still at its place (an upright cylinder in the
+            # simulation); evaluating a moving one there would report a run that never happened.
+            raise ValueError(
+                f"{os.fspath(scenes)}: scene {moving[0]!r} has a moving obstacle; batch "
+                "evaluate checks standing obstacles only; evaluate moving scenes one by one "
+                "with lfdkit plan (it plans against the motion), or drop the velocities"
+            )
         spec["scenes"] = hashlib.sha256(Path(scenes).read_bytes()).hexdigest()
         spec["start"] = None if start is None else [float(v) for v in start]
         spec["goal"] = None if goal is None else [float(v) for v in goal]
