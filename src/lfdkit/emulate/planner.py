@@ -339,7 +339,7 @@ def plan_path(
     init: Any = None,
     max_slope: float = 1.0,
     goal_approach: float | str | None = "auto",
-    clearance: float = 0.0,
+    clearance: float | Any = 0.0,
     lookahead: bool = True,
     progress: ProgressLike = None,
     times: Any = None,
@@ -373,9 +373,11 @@ def plan_path(
         nominal's length.
         None is the thesis's model, which has no goal term: a plan that swerves
         may end beside the goal.
-    clearance : float
-        Tool clearance (units) added to every obstacle's radius; radius plus
-        clearance is a hard constraint (obstacles where both are 0 have none).
+    clearance : float or array_like, shape (n_obstacles,)
+        Clearance (units) added to every obstacle's radius, or to each
+        obstacle's (e.g. the tool's margin plus the clearance the
+        demonstrations kept from its class); radius plus clearance is a hard
+        constraint (obstacles where both are 0 have none).
     lookahead : bool
         MPC only. True (default): each step executes the candidate (window
         optima, and the grid's global path) of least window cost plus the
@@ -458,7 +460,7 @@ def _plan(
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = _vector(start_offset, "start_offset", m)
-    clearance = check_positive(clearance, "clearance", allow_zero=True)
+    clearance = _clearances(clearance, scene)
     if horizon is not None:
         horizon = check_positive(horizon, "horizon", integer=True)
         if not MIN_HORIZON <= horizon <= MAX_HORIZON:
@@ -906,7 +908,7 @@ def _check_ends(
     d0: np.ndarray,
     problem: Problem,
     scene: Scene,
-    clearance: float,
+    clearance: np.ndarray,
     reach_goal: bool,
     which: tuple[str, ...] = ("start", "goal"),
 ) -> None:
@@ -937,7 +939,7 @@ def _check_ends(
             o = int(inside[0])
             obstacle = scene.obstacles[o]
             what = (
-                f"its radius {scene.radii[o]:g} plus clearance {clearance:g}"
+                f"its radius {scene.radii[o]:g} plus clearance {clearance[o]:g}"
                 if radius[o] > 0
                 else "one width of its response"
             )
@@ -946,6 +948,20 @@ def _check_ends(
                 f"{_coordinates(obstacle.position)}; within {what}); move the {name} or the "
                 "obstacle"
             )
+
+
+def _clearances(value: Any, scene: Scene) -> np.ndarray:
+    """The clearance of each obstacle (n_obstacles,): one number for all, or one each."""
+    if np.ndim(value) == 0:
+        return np.full(len(scene), check_positive(value, "clearance", allow_zero=True))
+    out = np.asarray(value, dtype=np.float64).reshape(-1)
+    if out.size != len(scene):
+        raise ValueError(
+            f"clearance: expected one number or one per obstacle ({len(scene)}), got {out.size}"
+        )
+    if not np.all(np.isfinite(out)) or np.any(out < 0.0):
+        raise ValueError(f"clearance: expected finite values >= 0, got {value!r}")
+    return out
 
 
 def _coordinates(point: np.ndarray) -> str:
@@ -977,7 +993,7 @@ def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndar
     return _clearance(path, scene, clearance)
 
 
-def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
+def _clearance(path: np.ndarray, scene: Scene, clearance: float | np.ndarray) -> np.ndarray:
     """:func:`plan_clearance` of a path and clearance already checked."""
     if not len(scene):
         return np.zeros(0)
@@ -985,7 +1001,11 @@ def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
 
 
 def moving_clearance(
-    points: np.ndarray, times: np.ndarray, scene: Scene, clearance: float, margin: float
+    points: np.ndarray,
+    times: np.ndarray,
+    scene: Scene,
+    clearance: float | np.ndarray,
+    margin: float,
 ) -> np.ndarray:
     """Distance of a timed path to each (moving) obstacle's surface, minus the margins.
 
@@ -1001,7 +1021,8 @@ def moving_clearance(
     times : ndarray, shape (K,)
         Seconds at each point.
     scene : Scene
-    clearance, margin : float
+    clearance : float or ndarray, shape (n_obstacles,)
+    margin : float
 
     Returns
     -------
@@ -1017,7 +1038,7 @@ def moving_clearance(
             obstacle.translated(middle[k]).distance(points[k : k + 2]) - min(sigma[k], sigma[k + 1])
             for k in range(len(points) - 1)
         ]
-        out[o] = min(gaps) - clearance
+        out[o] = min(gaps) - (clearance[o] if np.ndim(clearance) else clearance)
     return out
 
 
@@ -1025,7 +1046,7 @@ def _verified(
     plan: Plan,
     corridor: Corridor,
     scene: Scene,
-    clearance: float,
+    clearance: np.ndarray,
     reach_goal: bool,
     times: np.ndarray | None = None,
     margin: float = UNCERTAINTY_MARGIN,
@@ -1048,7 +1069,7 @@ def _verified(
         raise UnsafePlanError(
             f"no collision-free plan: the best plan passes {-plan.clearance[o]:.3g} inside "
             f"obstacle {o} ({obstacle.label!r} at {_coordinates(obstacle.position)}, radius "
-            f"{obstacle.radius:g} plus clearance {clearance:g})"
+            f"{obstacle.radius:g} plus clearance {clearance[o]:g})"
         )
     if reach_goal and plan.goal_error > GOAL_TOLERANCE * corridor.extent:
         raise UnsafePlanError(
