@@ -835,7 +835,8 @@ class Skill(Estimator):
     def _select_route(self, demos: list[np.ndarray], scenes: list[Scene], goal: np.ndarray) -> None:
         """Replan every training scene with each candidate route; keep the closest.
 
-        Closest: fewest demonstrations refused, then the smallest mean squared
+        Closest: fewest demonstrations refused, then fewest planned without
+        all of the demonstrated clearance, then the smallest mean squared
         distance to the demonstrations (MSE_R over them, what Pr measures);
         the first candidate unless another is closer by more than 1 %.
         Sets :attr:`route_`, :attr:`training_fidelity_` and
@@ -847,19 +848,23 @@ class Skill(Estimator):
         for route in self._route_candidates():
             rows = []
             for j, (demo, g, scene) in enumerate(zip(demos, goal, scenes, strict=True)):
-                try:
-                    plan = self._plan(demo[0], g, scene, None, None, "auto", 0.0, route=route)
-                except UnsafePlanError as exc:
-                    rows.append({"demo": j, "refused": str(exc)})
-                    continue
+                with warnings.catch_warnings(record=True) as relaxed:
+                    warnings.simplefilter("always", UserWarning)
+                    try:
+                        plan = self._plan(demo[0], g, scene, None, None, "auto", 0.0, route=route)
+                    except UnsafePlanError as exc:
+                        rows.append({"demo": j, "refused": str(exc)})
+                        continue
                 nominal = self._nominal(demo[0], g)
                 row = replanning_fidelity(plan.points, nominal, demo, scene)
-                rows.append({"demo": j, **row})
+                # The demonstrated clearance could not all be kept (_plan warned).
+                rows.append({"demo": j, **row, "clearance_relaxed": bool(relaxed)})
             fidelity[route] = rows
             planned = [r for r in rows if "refused" not in r]
             pr = [r["improvement"] for r in planned]
             scores[route] = {
                 "refused": len(rows) - len(planned),
+                "clearance_relaxed": sum(r["clearance_relaxed"] for r in planned),
                 "mse": float(np.mean([r["mse"] for r in planned])) if planned else np.inf,
                 "improvement_median": float(np.median(pr)) if pr else None,
                 "improvement_mean": float(np.mean(pr)) if pr else None,
@@ -872,7 +877,11 @@ class Skill(Estimator):
         first = next(iter(scores))
         ranked = sorted(
             scores,
-            key=lambda r: (scores[r]["refused"], scores[r]["mse"] * (0.99 if r == first else 1.0)),
+            key=lambda r: (
+                scores[r]["refused"],
+                scores[r]["clearance_relaxed"],
+                scores[r]["mse"] * (0.99 if r == first else 1.0),
+            ),
         )
         self.route_ = ranked[0]
         self.training_fidelity_ = fidelity[self.route_]
