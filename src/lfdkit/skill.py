@@ -11,6 +11,14 @@ A :class:`Skill` learns, in order,
    :class:`lfdkit.emulate.Reward` term per obstacle class, by inverse optimal
    control (:class:`lfdkit.emulate.IOC`).
 
+After the reward, the skill replans every training scene with the planner
+it will plan with and keeps the result per demonstration
+(:attr:`Skill.training_fidelity_`: Pr over the nominal, passing sides,
+clearance against the demonstrated one), chooses the MPC's window choice
+that replans them closest (:attr:`Skill.model_selection_`) and learns the
+clearance the demonstrations kept per obstacle class
+(:attr:`Skill.clearances_`), unless ``model="thesis"`` (issue 26).
+
 :meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
 DMP retargets the generalized path to the new start and goal (the *nominal*),
 and the planner (receding-horizon MPC by default, or the full-horizon
@@ -1200,7 +1208,12 @@ class Skill(Estimator):
             the goal. See :func:`lfdkit.emulate.planner.goal_weights`.
         clearance : float
             Tool clearance (units) added to every obstacle's radius; the plan
-            keeps out of radius plus clearance (a hard constraint).
+            keeps out of radius plus clearance (a hard constraint). With
+            ``model="auto"`` the clearance the demonstrations kept from the
+            obstacle's class (:attr:`clearances_`) comes on top (halved for
+            an obstacle nearer the start or goal than that; where no plan
+            keeps it, half of it and then none, with a warning), and the
+            plan's ``clearance`` is measured beyond both.
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
             plan's points (:func:`lfdkit.progress.as_progress`); default silent.
@@ -1705,7 +1718,7 @@ def learn(
         data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
     obstacle = data.obstacle_demos or None
-    return skill.fit(
+    skill.fit(
         data.free_demos,
         obstacle,
         data.scenes if obstacle else None,
@@ -1713,6 +1726,12 @@ def learn(
         orientations=data.free_orientations if data.free_orientations[0] is not None else None,
         progress=progress,
     )
+    # Each replanned training scene by its demonstration's id in the file.
+    stored = (skill.ioc_info_ or {}).get("training_fidelity") or []
+    for rows in (skill.training_fidelity_ or [], stored):
+        for row in rows:
+            row["id"] = data.obstacle_ids[row["demo"]]
+    return skill
 
 
 # ------------------------------------------------------------------ helpers

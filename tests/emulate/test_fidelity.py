@@ -141,3 +141,39 @@ def test_thesis_model_plans_with_the_thesis_mpc(learned) -> None:
     assert thesis.model_selection_["runner_up"] is None
     with pytest.raises(ValueError, match="model: expected one of 'auto', 'thesis'"):
         Skill(model="person").fit(FREE)
+
+
+def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
+    from types import SimpleNamespace
+
+    from lfdkit.cli import _fidelity_lines
+
+    good = {"demo": 0, "id": 3, "improvement": 95.0, "sides_agree": True, "other_side": 0}
+    worse = {"demo": 1, "id": 7, "improvement": -13.0, "sides_agree": False, "other_side": 2}
+    refused = {"demo": 2, "id": "c", "refused": "no collision-free plan: ..."}
+    scores = {
+        "refused": 1,
+        "improvement_median": 41.0,
+        "improvement_mean": 27.3,
+        "sides_agree": 0.5,
+    }
+    skill = SimpleNamespace(
+        model_selection_={
+            "chosen": "window",
+            "runner_up": "lookahead",
+            "candidates": {"window": scores, "lookahead": scores},
+        },
+        training_fidelity_=[good, worse, refused],
+        clearances_={"cup": 0.025},
+        units="m",
+    )
+    lines = _fidelity_lines(skill)
+    assert lines[0].startswith("obstacle behaviour planned with the thesis's MPC")
+    assert "runner-up MPC with lookahead" in lines[0]
+    assert "Pr median 41 %, mean 27 %, sides kept in 50%" in lines[0]
+    assert lines[1] == "plans keep at least the clearance the demonstrations kept: cup 0.025 m"
+    assert lines[2:] == [
+        "obstacle demonstration 7: replanned worse than its nominal (Pr -13 %) and passes 2 "
+        "obstacle(s) on the other side",
+        "obstacle demonstration 'c': no plan in its own scene (no collision-free plan: ...)",
+    ]
