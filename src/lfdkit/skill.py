@@ -278,7 +278,8 @@ class Skill(Estimator):
         ``"thesis"``: the thesis's model exactly, the reward fitted through
         its receding horizon (no goal term) and planned with the same MPC
         (each window's best optimum, ``lookahead=False``), no learned
-        clearance. ``"auto"`` (default): the same fitted reward, and
+        clearance; only where that MPC walks into a dead end (no plan) is
+        the plan the lookahead MPC's. ``"auto"`` (default): the same fitted reward, and
 
         * the planner's window choice is chosen from the demonstrations
           (:attr:`model_selection_`): the thesis's MPC or the MPC that also
@@ -1317,20 +1318,25 @@ class Skill(Estimator):
             lookahead=route != "window",
         )
         margins = self._margins(scene, start, goal, clearance)
-        if margins is None:
-            return plan_path(reward, nominal, scene, clearance=clearance, **options)
+        # The thesis's MPC can walk into a dead end the lookahead sees: then that.
+        routes = [route] + (["lookahead"] if route == "window" and h is not None else [])
+        shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
-        for share in (1.0, 0.5, 0.0):
-            try:
-                plan = plan_path(
-                    reward, nominal, scene, clearance=clearance + share * margins, **options
-                )
-            except UnsafePlanError:
-                if share == 0.0:
-                    raise
+        for share in shares:
+            plan = None
+            for way in routes:
+                options["lookahead"] = way != "window"
+                extra = clearance if margins is None else clearance + share * margins
+                try:
+                    plan = plan_path(reward, nominal, scene, clearance=extra, **options)
+                    break
+                except UnsafePlanError:
+                    if share == 0.0 and way == routes[-1]:
+                        raise
+            if plan is None:
                 continue
-            if share < 1.0:
+            if margins is not None and share < 1.0:
                 warnings.warn(
                     "plan: no plan keeps the clearance the demonstrations kept from the "
                     f"obstacles (up to {margins.max():.3g} {self.units}); planned with "
