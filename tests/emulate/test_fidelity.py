@@ -177,3 +177,19 @@ def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
         "obstacle(s) on the other side",
         "obstacle demonstration 'c': no plan in its own scene (no collision-free plan: ...)",
     ]
+
+
+def test_the_same_demonstrations_in_millimetres_give_the_same_behaviour(learned) -> None:
+    skill, demos, scenes = learned
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mm = Skill(units="mm").fit(
+            [1e3 * d for d in FREE], [1e3 * d for d in demos], [s.scaled(1e3) for s in scenes]
+        )
+    assert mm.route_ == skill.route_
+    assert mm.clearances_["cup"] == pytest.approx(1e3 * skill.clearances_["cup"], rel=1e-9)
+    plan_mm = mm.plan(scene=GAP.scaled(1e3)).points
+    np.testing.assert_allclose(plan_mm, 1e3 * skill.plan(scene=GAP).points, atol=1e-3)
+    converted = skill.to_units("mm")
+    assert converted.clearances_["cup"] == pytest.approx(mm.clearances_["cup"], rel=1e-9)
+    assert converted.route_ == skill.route_
