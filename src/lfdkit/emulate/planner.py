@@ -489,8 +489,18 @@ def _plan(
         init = init.reshape(problem.n + 1, m)[1:]
     else:
         init = None  # the receding horizon has no initial plan
-    d, n_iter, ok = _route(problem, d0, horizon, False, init, lookahead, progress)
-    if reach_goal:
+    try:
+        d, n_iter, ok = _route(problem, d0, horizon, False, init, lookahead, progress)
+    except UnsafePlanError:
+        if not reach_goal:
+            raise
+        # The receding horizon can corner itself where the goal's pull keeps it
+        # clear: then the goal-reaching plan (which raises if it finds none).
+        d = None
+    if reach_goal and d is None:
+        problem.weight = goal_w.copy()
+        d, n_iter, ok = _route(problem, d0, horizon, True, init, lookahead, progress)
+    elif reach_goal:
         joined = _connect_to_goal(problem, d0, d, goal_w, GOAL_TOLERANCE * corridor.extent)
         if joined is not None:
             d, more, joined_ok = joined
@@ -828,9 +838,15 @@ def _ranked(
 def _cost_to_go(
     table: np.ndarray, levels: np.ndarray, stop: int, end: np.ndarray, max_step: float
 ) -> float:
-    """Least grid cost of points ``stop …`` reached in one step from offset ``end``."""
+    """Least grid cost of points ``stop …`` reached in one step from offset ``end``.
+
+    An offset beyond the grid (which spans every obstacle's reach, so nothing
+    is in the way out there) is judged from the grid's edge: a plan that drifts
+    wide, e.g. with a weak nominal weight, is not taken for blocked.
+    """
     if stop >= table.shape[0]:
         return 0.0
+    end = np.clip(end, levels[0], levels[-1])
     near = np.abs(levels - end[0]) <= max_step * (1.0 + 1e-12)
     row = table[stop]
     if end.size == 2:
