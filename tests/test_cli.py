@@ -166,7 +166,15 @@ def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
     monkeypatch.setattr("lfdkit.skill.learn", fake_learn)
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 1, err
-    assert set(passed) == {"mimic", "n_points", "random_state", "planner", "horizon", "units"}
+    assert set(passed) == {
+        "mimic",
+        "n_points",
+        "random_state",
+        "planner",
+        "horizon",
+        "model",
+        "units",
+    }
     defaults = Skill().get_params()
     assert passed == {name: defaults[name] for name in passed}
     code, out, _ = usage_exit(capsys, "learn", "--help")

@@ -11,13 +11,23 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-__all__ = ["MAX_HORIZON", "MIN_HORIZON", "PLANNERS", "SCALINGS", "SKILL_DEFAULTS", "TIMINGS"]
+__all__ = [
+    "MAX_HORIZON",
+    "MIN_HORIZON",
+    "MODELS",
+    "PLANNERS",
+    "SCALINGS",
+    "SKILL_DEFAULTS",
+    "TIMINGS",
+]
 
 #: Horizons of the receding-horizon planner, inclusive (the thesis found 4 to 12 to work, §5.4).
 MIN_HORIZON, MAX_HORIZON = 4, 12
 
 #: :class:`~lfdkit.skill.Skill`'s ``planner`` choices: receding horizon or full-horizon optimum.
 PLANNERS = ("mpc", "full")
+#: :class:`~lfdkit.skill.Skill`'s ``model`` choices: from the demonstrations, or the thesis's.
+MODELS = ("auto", "thesis")
 #: :class:`~lfdkit.skill.Skill`'s ``timing`` choices (:meth:`lfdkit.imitate.DMP.fit`).
 TIMINGS = ("minimum_jerk", "uniform")
 #: :class:`~lfdkit.skill.Skill`'s ``scaling`` choices (:class:`lfdkit.imitate.DMP`).
@@ -35,6 +45,7 @@ SKILL_DEFAULTS = MappingProxyType(
         "scaling": "translate",
         "planner": "mpc",
         "horizon": 8,
+        "model": "auto",
         "max_slope": 1.0,
         "classes": None,
         "random_state": None,

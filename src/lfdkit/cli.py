@@ -49,7 +49,7 @@ from pathlib import Path
 
 from lfdkit import __version__
 from lfdkit._numbers import parse_decimal, parse_whole
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SKILL_DEFAULTS
+from lfdkit._options import MAX_HORIZON, MIN_HORIZON, MODELS, PLANNERS, SKILL_DEFAULTS
 from lfdkit.progress import LOGGER, Progress
 from lfdkit.units import UNITS
 
@@ -412,6 +412,7 @@ def _skill_params(args: argparse.Namespace) -> dict:
         "random_state": args.seed,
         "planner": args.planner,
         "horizon": args.horizon,
+        "model": args.model,
         "units": args.units,
     }
 
@@ -471,6 +472,53 @@ def _learn(args: argparse.Namespace) -> None:
             + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
             f"{_elapsed(args):.1f} s; wrote {args.output}",
         )
+    for line in _fidelity_lines(skill):
+        _say(args, line)
+
+
+_ROUTE_NAMES = {
+    "lookahead": "MPC with lookahead along the global route",
+    "window": "the thesis's MPC (each window's best)",
+    "full": "the full-horizon optimum",
+}
+
+
+def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
+    """The model chosen, and one line per obstacle demonstration replanned badly (issue 26)."""
+    selection = getattr(skill, "model_selection_", None)
+    if not selection:
+        return []
+
+    def scores(route: str) -> str:
+        row = selection["candidates"][route]
+        if row["improvement_median"] is None:
+            return "no scene planned"
+        return (
+            f"training replanning Pr median {row['improvement_median']:.0f} %, mean "
+            f"{row['improvement_mean']:.0f} %, sides kept in {row['sides_agree']:.0%}"
+        )
+
+    chosen, runner = selection["chosen"], selection["runner_up"]
+    line = f"obstacle behaviour planned with {_ROUTE_NAMES[chosen]} ({scores(chosen)})"
+    if runner is not None:
+        line += f"; runner-up {_ROUTE_NAMES[runner]} ({scores(runner)})"
+    lines = [line]
+    if skill.clearances_:
+        kept = ", ".join(f"{c} {m:.3g} {skill.units}" for c, m in skill.clearances_.items())
+        lines.append(f"plans keep at least the clearance the demonstrations kept: {kept}")
+    for row in skill.training_fidelity_ or []:
+        name = f"obstacle demonstration {row.get('id', row['demo'])!r}"
+        if "refused" in row:
+            lines.append(f"{name}: no plan in its own scene ({row['refused']})")
+            continue
+        faults = []
+        if row["improvement"] < 0.0:
+            faults.append(f"replanned worse than its nominal (Pr {row['improvement']:.0f} %)")
+        if not row["sides_agree"]:
+            faults.append(f"passes {row['other_side']} obstacle(s) on the other side")
+        if faults:
+            lines.append(f"{name}: " + " and ".join(faults))
+    return lines
 
 
 def _frame_pair(text: str) -> tuple[str, str]:
@@ -1275,6 +1323,14 @@ def _skill_param_options(parser: argparse.ArgumentParser) -> None:
     )
     _seed(parser, SKILL_DEFAULTS["random_state"], "seed of GMR's initialisation")
     _planner_options(parser, defaults=True)
+    parser.add_argument(
+        "--model",
+        choices=MODELS,
+        default=SKILL_DEFAULTS["model"],
+        help="obstacle behaviour: 'auto' chooses the planner's window choice from the "
+        "demonstrations and keeps the clearance they kept; 'thesis' is the thesis's model "
+        "exactly (default %(default)s)",
+    )
     _units(
         parser,
         SKILL_DEFAULTS["units"],

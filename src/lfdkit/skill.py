@@ -11,6 +11,14 @@ A :class:`Skill` learns, in order,
    :class:`lfdkit.emulate.Reward` term per obstacle class, by inverse optimal
    control (:class:`lfdkit.emulate.IOC`).
 
+After the reward, the skill replans every training scene with the planner
+it will plan with and keeps the result per demonstration
+(:attr:`Skill.training_fidelity_`: Pr over the nominal, passing sides,
+clearance against the demonstrated one), chooses the MPC's window choice
+that replans them closest (:attr:`Skill.model_selection_`) and learns the
+clearance the demonstrations kept per obstacle class
+(:attr:`Skill.clearances_`), unless ``model="thesis"`` (issue 26).
+
 :meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
 DMP retargets the generalized path to the new start and goal (the *nominal*),
 and the planner (receding-horizon MPC by default, or the full-horizon
@@ -63,7 +71,15 @@ from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from lfdkit import metrics
 from lfdkit._estimator import Estimator, check_fitted
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
+from lfdkit._options import (
+    MAX_HORIZON,
+    MIN_HORIZON,
+    MODELS,
+    PLANNERS,
+    SCALINGS,
+    SKILL_DEFAULTS,
+    TIMINGS,
+)
 from lfdkit._validation import (
     check_demos,
     check_path,
@@ -72,7 +88,8 @@ from lfdkit._validation import (
     check_times_list,
 )
 from lfdkit.demos import DemoId
-from lfdkit.emulate import IOC, Plan, Reward, plan_path
+from lfdkit.emulate import IOC, Plan, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.geometry import arc_length, path_length
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
@@ -280,6 +297,30 @@ class Skill(Estimator):
         reward fit is staged (full horizon, then MPC) for ``"mpc"``.
     horizon : int
         MPC horizon ``H``, 4 to 12.
+    model : {"auto", "thesis"}
+        How the obstacle behaviour is modelled and planned (issue 26).
+        ``"thesis"``: the thesis's model exactly, the reward fitted through
+        its receding horizon (no goal term) and planned with the same MPC
+        (each window's best optimum, ``lookahead=False``), no learned
+        clearance; only where that MPC walks into a dead end (no plan) is
+        the plan the lookahead MPC's. ``"auto"`` (default): the same fitted reward, and
+
+        * the planner's window choice is chosen from the demonstrations
+          (:attr:`model_selection_`): the thesis's MPC, which the reward is
+          fitted through, unless the MPC that also looks along the global
+          route (``lookahead``, which does not walk into a concave pocket)
+          replans the training demonstrations closer by more than 1 %
+          (held out, the thesis's MPC reproduced a thesis-model person on
+          new tasks at 98 % median Pr where the lookahead gave 40 %);
+        * plans keep at least the clearance the demonstrations kept from each
+          class's obstacles (:attr:`clearances_`), on top of ``clearance``.
+
+        Either way the reward is fitted through exactly the route planner the
+        skill plans with (the receding horizon ``H`` without goal term: the
+        goal is joined to the route afterwards, leaving it alone,
+        :mod:`lfdkit.emulate.planner`), and the learned clearance is below
+        what every demonstration kept, so the training demonstrations are
+        replanned with the model they were fitted with (:attr:`training_fidelity_`).
     max_slope : float
         Largest sideways step per step along the nominal (the action box).
     classes : sequence of str, optional
@@ -332,6 +373,26 @@ class Skill(Estimator):
         The orientation DMP trained on ``orientations_`` at the path's times
         (those of ``dmp_``, i.e. the same timing ``timing_``): plans carry its
         rollout to a new start and goal orientation (:meth:`plan`).
+    clearances_ : dict
+        Per obstacle class, the clearance (units, from the obstacle's
+        surface) plans keep at least: the demonstrations' own
+        (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`), with
+        ``model="auto"``; empty otherwise (and for a reward only adopted).
+    route_ : {"lookahead", "window", "full"} or None
+        The route planner plans use: the MPC with ``lookahead``, the thesis's
+        MPC (``"window"``) or the full horizon; None before a reward is
+        fitted (then ``"lookahead"`` for ``planner="mpc"``).
+    training_fidelity_ : list of dict or None
+        Per obstacle demonstration, how its own scene is replanned
+        (:func:`lfdkit.emulate.fidelity.replanning_fidelity`: ``improvement``
+        Pr %, ``sides_agree``, ``other_side``, ``clearance``,
+        ``demonstrated_clearance``; ``demo`` its index, ``refused`` the
+        planner's reason where it found no plan). Also in :attr:`ioc_info_`.
+    model_selection_ : dict or None
+        The route planners tried, each one's training replanning scores
+        (median and mean Pr, share of demonstrations on their sides), the
+        ``chosen`` one and the ``runner_up`` (``model="auto"``, planner
+        ``"mpc"``). Also in :attr:`ioc_info_`.
     """
 
     def __init__(
@@ -346,6 +407,7 @@ class Skill(Estimator):
         scaling: str = SKILL_DEFAULTS["scaling"],
         planner: PlannerKind = SKILL_DEFAULTS["planner"],
         horizon: int = SKILL_DEFAULTS["horizon"],
+        model: str = SKILL_DEFAULTS["model"],
         max_slope: float = SKILL_DEFAULTS["max_slope"],
         classes: Sequence[str] | None = SKILL_DEFAULTS["classes"],
         random_state: int | None = SKILL_DEFAULTS["random_state"],
@@ -360,6 +422,7 @@ class Skill(Estimator):
         self.scaling = scaling
         self.planner = planner
         self.horizon = horizon
+        self.model = model
         self.max_slope = max_slope
         self.classes = classes
         self.random_state = random_state
@@ -369,6 +432,7 @@ class Skill(Estimator):
     def _check_params(self) -> None:
         _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
         _check_choice(self.planner, "planner", PLANNERS)
+        _check_choice(self.model, "model", MODELS)
         _check_choice(self.timing, "timing", TIMINGS)
         _check_choice(self.scaling, "scaling", SCALINGS)
         # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
@@ -452,6 +516,7 @@ class Skill(Estimator):
         self.reward_ = None
         self.ioc_ = None
         self.ioc_info_ = None
+        self._reset_emulation()
         if obstacle_demos is not None and len(obstacle_demos):
             self.fit_reward(obstacle_demos, scenes, goals=goals, progress=progress)
         elif obstacle_demos is not None and scenes is not None and len(scenes):
@@ -638,6 +703,14 @@ class Skill(Estimator):
             self.reward_ = None
             self.ioc_ = None
             self.ioc_info_ = None
+            self._reset_emulation()
+
+    def _reset_emulation(self) -> None:
+        """No learned clearance, route or fidelity (a skill without a fitted reward)."""
+        self.clearances_: dict[str, float] = {}
+        self.route_: str | None = None
+        self.training_fidelity_: list[dict[str, Any]] | None = None
+        self.model_selection_: dict[str, Any] | None = None
 
     def _fit_dmp(self, path: np.ndarray) -> DMP:
         n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
@@ -778,7 +851,111 @@ class Skill(Estimator):
                 ]
             ),
         }
+        self._reset_emulation()
+        if self.model == "auto":
+            self.clearances_ = demonstrated_clearances(demos, scenes, nominals, ioc.classes_)
+        with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
+            self._select_route(demos, scenes, goal)
+        self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
+        self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
+        self._warn_fidelity()
         return self
+
+    def _route_candidates(self) -> tuple[str, ...]:
+        """The route planners :meth:`_select_route` chooses from (the first is the default)."""
+        if self.planner == "full":
+            return ("full",)
+        # The window MPC first: it is what the reward was fitted through (the
+        # IOC's MPC stage), so it wins ties; the lookahead only where it
+        # replans the training scenes closer.
+        return ("window", "lookahead") if self.model == "auto" else ("window",)
+
+    def _unfitted_route(self) -> str:
+        """The route of a skill whose reward was not fitted here (as before routes were chosen)."""
+        return "full" if self.planner == "full" else "lookahead"
+
+    def _select_route(self, demos: list[np.ndarray], scenes: list[Scene], goal: np.ndarray) -> None:
+        """Replan every training scene with each candidate route; keep the closest.
+
+        Closest: fewest demonstrations refused, then fewest planned without
+        all of the demonstrated clearance, then the smallest mean squared
+        distance to the demonstrations (MSE_R over them, what Pr measures);
+        the first candidate unless another is closer by more than 1 %.
+        Sets :attr:`route_`, :attr:`training_fidelity_` and
+        :attr:`model_selection_`. Not cross-validated: every candidate plans
+        with the reward fitted on all of them (the route has no parameter
+        to fit, but the choice is still made on the training scenes).
+        """
+        scores, fidelity = {}, {}
+        for route in self._route_candidates():
+            rows = []
+            for j, (demo, g, scene) in enumerate(zip(demos, goal, scenes, strict=True)):
+                with warnings.catch_warnings(record=True) as relaxed:
+                    warnings.simplefilter("always", UserWarning)
+                    try:
+                        plan = self._plan(demo[0], g, scene, None, None, "auto", 0.0, route=route)
+                    except UnsafePlanError as exc:
+                        rows.append({"demo": j, "refused": str(exc)})
+                        continue
+                nominal = self._nominal(demo[0], g)
+                row = replanning_fidelity(plan.points, nominal, demo, scene)
+                # The demonstrated clearance could not all be kept (_plan warned).
+                rows.append({"demo": j, **row, "clearance_relaxed": bool(relaxed)})
+            fidelity[route] = rows
+            planned = [r for r in rows if "refused" not in r]
+            pr = [r["improvement"] for r in planned]
+            scores[route] = {
+                "refused": len(rows) - len(planned),
+                "clearance_relaxed": sum(r["clearance_relaxed"] for r in planned),
+                "mse": float(np.mean([r["mse"] for r in planned])) if planned else np.inf,
+                "improvement_median": float(np.median(pr)) if pr else None,
+                "improvement_mean": float(np.mean(pr)) if pr else None,
+                "sides_agree": (
+                    float(np.mean([r["sides_agree"] for r in planned])) if planned else None
+                ),
+            }
+        # The default (first) unless another is closer by more than 1 %: ties
+        # (no training scene where the two differ) keep the model fitted.
+        first = next(iter(scores))
+        ranked = sorted(
+            scores,
+            key=lambda r: (
+                scores[r]["refused"],
+                scores[r]["clearance_relaxed"],
+                scores[r]["mse"] * (0.99 if r == first else 1.0),
+            ),
+        )
+        self.route_ = ranked[0]
+        self.training_fidelity_ = fidelity[self.route_]
+        self.model_selection_ = {
+            "criterion": "training replanning MSE (not cross-validated)",
+            "chosen": self.route_,
+            "runner_up": ranked[1] if len(ranked) > 1 else None,
+            "candidates": scores,
+        }
+
+    def _warn_fidelity(self) -> None:
+        """Warn when the training demonstrations are replanned poorly, saying what to do."""
+        rows = self.training_fidelity_ or []
+        pr = [r["improvement"] for r in rows if "refused" not in r]
+        refused = [r["demo"] for r in rows if "refused" in r]
+        if refused:
+            warnings.warn(
+                f"the learned skill finds no plan in the scene of obstacle demonstration(s) "
+                f"{', '.join(map(str, refused))}; check that they pass clear of the obstacles' "
+                "radii, or lower --clearance",
+                UserWarning,
+                stacklevel=3,
+            )
+        if pr and float(np.median(pr)) < 50.0:
+            warnings.warn(
+                f"the learned skill replans its own training demonstrations poorly (median Pr "
+                f"{np.median(pr):.0f} % over the nominal); add demonstrations with the obstacles "
+                "at several distances from the path, check that the clean demonstrations give "
+                "the path the obstacle demonstrations deviate from, or try --planner full",
+                UserWarning,
+                stacklevel=3,
+            )
 
     def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
         """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
@@ -824,6 +1001,12 @@ class Skill(Estimator):
         if not hasattr(self, "ioc_"):
             self.ioc_ = None
             self.ioc_info_ = None
+        if not hasattr(self, "clearances_"):
+            self._reset_emulation()
+        # A class's learned clearance comes with it (none where the source has none).
+        theirs = getattr(source, "clearances_", {}) if isinstance(source, Skill) else {}
+        self.clearances_ = {c: m for c, m in self.clearances_.items() if c not in wanted}
+        self.clearances_ |= {c: theirs[c] for c in wanted if c in theirs}
         return self
 
     # ------------------------------------------------------------------ use
@@ -1121,7 +1304,12 @@ class Skill(Estimator):
             the goal. See :func:`lfdkit.emulate.planner.goal_weights`.
         clearance : float
             Tool clearance (units) added to every obstacle's radius; the plan
-            keeps out of radius plus clearance (a hard constraint).
+            keeps out of radius plus clearance (a hard constraint). With
+            ``model="auto"`` the clearance the demonstrations kept from the
+            obstacle's class (:attr:`clearances_`) comes on top (halved for
+            an obstacle nearer the start or goal than that; where no plan
+            keeps it, half of it and then none, with a warning), and the
+            plan's ``clearance`` is measured beyond both.
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
             plan's points (:func:`lfdkit.progress.as_progress`); default silent.
@@ -1192,8 +1380,10 @@ class Skill(Estimator):
         clearance: float,
         progress: ProgressLike = None,
         times: np.ndarray | None = None,
+        *,
+        route: str | None = None,
     ) -> Plan:
-        """:meth:`plan_details` from a checked start and goal."""
+        """:meth:`plan_details` from a checked start and goal (``route`` default :attr:`route_`)."""
         nominal = self._nominal(start, goal)
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
@@ -1212,18 +1402,65 @@ class Skill(Estimator):
                     "with fit_reward() (demonstrations around obstacles) or adopt() it"
                 )
             reward = Reward(1.0, {})
-        return plan_path(
-            reward,
-            nominal,
-            scene,
+        # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
+        route = route or getattr(self, "route_", None) or self._unfitted_route()
+        options = dict(
             horizon=h,
             n_points=int(self.n_points),
             max_slope=float(self.max_slope),
             goal_approach=goal_approach,
-            clearance=clearance,
             progress=progress,
             times=times,
+            lookahead=route != "window",
         )
+        margins = self._margins(scene, start, goal, clearance)
+        # The thesis's MPC can walk into a dead end the lookahead sees: then that.
+        routes = [route] + (["lookahead"] if route == "window" and h is not None else [])
+        shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
+        # At least the clearance the demonstrations kept; where no plan keeps it
+        # all (a narrow passage every way round), half of it, then none, said.
+        for share in shares:
+            plan = None
+            for way in routes:
+                options["lookahead"] = way != "window"
+                extra = clearance if margins is None else clearance + share * margins
+                try:
+                    plan = plan_path(reward, nominal, scene, clearance=extra, **options)
+                    break
+                except UnsafePlanError:
+                    if share == 0.0 and way == routes[-1]:
+                        raise
+            if plan is None:
+                continue
+            if margins is not None and share < 1.0:
+                warnings.warn(
+                    "plan: no plan keeps the clearance the demonstrations kept from the "
+                    f"obstacles (up to {margins.max():.3g} {self.units}); planned with "
+                    f"{share:.0%} of it",
+                    UserWarning,
+                    stacklevel=4,
+                )
+            return plan
+        raise AssertionError("unreachable")  # pragma: no cover
+
+    def _margins(
+        self, scene: Scene, start: np.ndarray, goal: np.ndarray, clearance: float
+    ) -> np.ndarray | None:
+        """The learned clearance of each obstacle of ``scene`` (units), or None for none.
+
+        Where the task's own start or goal is nearer an obstacle than its
+        class's learned clearance, that obstacle keeps half the distance (the
+        plan must start and end there).
+        """
+        learned = getattr(self, "clearances_", None)
+        if not learned or not len(scene) or scene.moving:
+            return None
+        margins = np.array([learned.get(label, 0.0) for label in scene.labels])
+        if not margins.any():
+            return None
+        ends = np.minimum(scene.distances(start[None]), scene.distances(goal[None]))
+        room = 0.5 * np.maximum(ends - check_positive(clearance, "clearance", allow_zero=True), 0.0)
+        return np.minimum(margins, room)
 
     def evaluate(
         self,
@@ -1316,6 +1553,8 @@ class Skill(Estimator):
             area = factor**2
             precisions = {c: m / area for c, m in self.reward_.precisions.items()}
             skill.adopt(Reward(self.reward_.nominal_weight / area, precisions))
+            skill.route_ = getattr(self, "route_", None)
+            skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
         return skill
 
     # ------------------------------------------------------------------ files
@@ -1333,8 +1572,16 @@ class Skill(Estimator):
         timing = self.timing_
         # Stored unless it is the law the parameters give (as in files before timings).
         learned = timing != SpeedProfile.from_law(self.timing, float(self.duration))
+        params = self.get_params()
+        if params["model"] == SKILL_DEFAULTS["model"]:
+            del params["model"]  # as in files before models: they read back the same
+        emulation = None
+        route = getattr(self, "route_", None)
+        if self.reward_ is not None and (route is not None or self.clearances_):
+            route = route or self._unfitted_route()
+            emulation = {"route": route, "clearances": dict(self.clearances_)}
         return skill_file.to_document(
-            self.get_params(),
+            params,
             n_dims=self.n_dims_,
             units=self.units,
             path=self.path_,
@@ -1343,6 +1590,7 @@ class Skill(Estimator):
             ioc_info=self.ioc_info_,
             timing=timing.to_dict() if learned else None,
             orientations=self.orientations_,
+            emulation=emulation,
         )
 
     @classmethod
@@ -1388,6 +1636,12 @@ class Skill(Estimator):
                 weight, matrices = reward
                 skill.adopt(Reward(weight, matrices))
             skill.ioc_info_ = document.ioc()
+            emulation = document.emulation()
+            if emulation is not None and skill.reward_ is not None:
+                skill.route_, skill.clearances_ = emulation
+                fit = skill.ioc_info_ or {}
+                skill.training_fidelity_ = fit.get("training_fidelity")
+                skill.model_selection_ = fit.get("model_selection")
             _check_learned_classes(skill)
         except ValueError as exc:
             if str(exc).startswith(source):
@@ -1567,7 +1821,7 @@ def learn(
         data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
     obstacle = data.obstacle_demos or None
-    return skill.fit(
+    skill.fit(
         data.free_demos,
         obstacle,
         data.scenes if obstacle else None,
@@ -1575,6 +1829,12 @@ def learn(
         orientations=data.free_orientations if data.free_orientations[0] is not None else None,
         progress=progress,
     )
+    # Each replanned training scene by its demonstration's id in the file.
+    stored = (skill.ioc_info_ or {}).get("training_fidelity") or []
+    for rows in (skill.training_fidelity_ or [], stored):
+        for row in rows:
+            row["id"] = data.obstacle_ids[row["demo"]]
+    return skill
 
 
 # ------------------------------------------------------------------ helpers

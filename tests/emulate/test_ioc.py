@@ -359,3 +359,39 @@ def test_3d_gradients_match_finite_differences() -> None:
         gradient = loss(theta)[1]
         fd = _finite_difference(lambda t, loss=loss: loss(t)[0], theta)
         np.testing.assert_allclose(gradient, fd, rtol=1e-5, atol=1e-12 * np.abs(fd).max())
+
+
+# ------------------------------------------------------------- honest reasons
+def test_an_empty_optimiser_message_is_said_in_words() -> None:
+    from types import SimpleNamespace
+
+    from lfdkit.emulate.ioc import stated_reason
+
+    # SciPy's "ABNORMAL: " (and older SciPy's bytes) carry no reason of their own.
+    for message in ("ABNORMAL: ", b"ABNORMAL_TERMINATION_IN_LNSRCH", ""):
+        result = SimpleNamespace(message=message, status=2, nit=7, jac=np.array([0.5, -2.0]))
+        reason = stated_reason(result)
+        assert reason.startswith("the line search found no lower loss after 7 iterations")
+        assert "largest gradient component 2" in reason and "help" in reason
+    result = SimpleNamespace(message=b"", status=1, nit=3, jac=np.array([1e-3]))
+    assert stated_reason(result) == (
+        "the optimiser stopped after 3 iterations, largest gradient component 0.001 without "
+        "saying why"
+    )
+
+
+def test_parameters_not_identified_are_said_with_what_to_demonstrate() -> None:
+    from lfdkit.emulate.ioc import unidentified_advice
+
+    entry = {"identified": True}
+    assert unidentified_advice({"Q": entry, "P[cup][x]": entry}) is None
+    advice = unidentified_advice(
+        {"Q": entry, "P[cup][x]": {"identified": False}, "P[cup][y]": entry}
+    )
+    assert advice.startswith("not identified by these demonstrations: P[cup][x]")
+    assert "show a demonstration with the cup nearer the path" in advice
+    # A fit whose every parameter is free is not reported as converged in silence.
+    path = nominal()
+    scenes = [Scene((Obstacle("cup", path[100 + 40 * j] + [0.0, 0.08]),)) for j in range(3)]
+    with pytest.warns(UserWarning, match="none of the reward's parameters is identified"):
+        IOC().fit([path] * 3, scenes, path)

@@ -60,6 +60,8 @@ __all__ = [
     "lbfgs_stage",
     "prepare_demos",
     "search_starts",
+    "stated_reason",
+    "unidentified_advice",
 ]
 
 
@@ -463,7 +465,7 @@ def lbfgs_stage(
             options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
         )
     theta = np.asarray(result.x, float)
-    converged, reason = bool(result.success), str(result.message)
+    converged, reason = bool(result.success), stated_reason(result)
     at_bound = np.flatnonzero((theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6))
     if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
         converged, reason = False, "non-finite loss or gradient"
@@ -487,11 +489,75 @@ def lbfgs_stage(
         "iterations": int(result.nit),
         "loss": float(result.fun),
         "seconds": time.perf_counter() - run_started,
-        "message": str(result.message),
+        "message": _message_text(result.message) or reason,
         "converged": converged,
         "reason": reason,
     }
     return theta, stage
+
+
+def unidentified_advice(identifiability: dict) -> str | None:
+    """What to demonstrate so that the parameters not identified are (None: all are).
+
+    ``identifiability`` is :attr:`IOC.identifiability_`. The nominal weight
+    ``Q`` is set by how far the demonstrations swerve and come back; a
+    class's width along an axis by how the swerve changes with the distance
+    of its obstacles along that axis.
+    """
+    missing = [name for name, entry in identifiability.items() if not entry["identified"]]
+    if not missing:
+        return None
+    hints = []
+    if "Q" in missing:
+        hints.append(
+            "Q (how strongly the path is held): show demonstrations that swerve and come back "
+            "to the path, with obstacles at several distances from it"
+        )
+    classes = dict.fromkeys(name[2:].rsplit("][", 1)[0] for name in missing if name != "Q")
+    for label in classes:
+        axes = ", ".join(
+            n.rsplit("[", 1)[1].rstrip("]") for n in missing if n[2:].startswith(f"{label}]")
+        )
+        hints.append(
+            f"the width of the {label}'s response along {axes}: show a demonstration with the "
+            f"{label} nearer the path, and one with it further aside"
+        )
+    every = len(missing) == len(identifiability)
+    head = (
+        "none of the reward's parameters is identified by these demonstrations (many rewards "
+        "reproduce them equally well; plans in new scenes are a guess)"
+        if every
+        else f"not identified by these demonstrations: {', '.join(missing)}"
+    )
+    return f"{head}; to identify " + "; ".join(hints)
+
+
+def _message_text(message: Any) -> str:
+    """SciPy's message as text (older SciPy gives bytes), without a dangling ``": "``."""
+    text = message.decode("ascii", "replace") if isinstance(message, bytes) else str(message)
+    return text.strip().rstrip(":").strip()
+
+
+def stated_reason(result: Any) -> str:
+    """Why an L-BFGS-B run stopped, never empty: SciPy's message, iterations and gradient norm.
+
+    SciPy may stop with an empty detail (``"ABNORMAL: "``, a failed line
+    search): that is said in words, with what to try.
+    """
+    text = _message_text(result.message)
+    jac = np.asarray(getattr(result, "jac", np.zeros(0)), dtype=np.float64)
+    norm = float(np.max(np.abs(jac))) if jac.size else float("nan")
+    detail = f"after {int(result.nit)} iterations, largest gradient component {norm:.3g}"
+    if result.status == 2 or text.upper().startswith("ABNORMAL"):
+        said = f"; L-BFGS-B: {text}" if text else ""
+        return (
+            f"the line search found no lower loss {detail} (ABNORMAL{said}): the loss is "
+            "rough in the parameters, e.g. a plan switching sides of an obstacle; more or "
+            "smoother demonstrations, or the full-horizon planner, usually help"
+        )
+    if not text:
+        return f"the optimiser stopped {detail} without saying why"
+    return f"{text} ({detail})"
 
 
 class IOC:
@@ -747,6 +813,9 @@ class IOC:
                 UserWarning,
                 stacklevel=3,
             )
+        advice = unidentified_advice(self.identifiability_)
+        if advice:
+            warnings.warn(advice, UserWarning, stacklevel=3)
         return self
 
     def _influence(self, data: list[DemoInScene], label: str, precision: Any) -> float | None:

@@ -63,12 +63,25 @@ Safety
 ------
 A plan a robot can execute must reach its goal and keep out of obstacles:
 
-* **Goal.** By default the nominal weight rises smoothly to
-  ``Q (1 + GOAL_GAIN)`` over the last stretch of the path
-  (:func:`~lfdkit.emulate.problem.goal_weights`, re-exported here), and the
-  grid search must end on the nominal, so the plan ends at the goal; the
-  thesis's model (no goal term, the plan may end beside the goal) is
-  ``goal_approach=None``.
+* **Goal.** Reaching the goal leaves the route alone. The route is
+  planned without the goal term (the thesis's model, ``goal_approach=None``,
+  which may end beside the goal), then joined to the goal
+  (:func:`_connect_to_goal`): the nominal weight rises smoothly to
+  ``Q (1 + GOAL_GAIN)`` (:func:`~lfdkit.emulate.problem.goal_weights`,
+  re-exported here) only over the tail after the last obstacle that shapes
+  the route (or the default stretch, where that is later), and the tail
+  must pass every obstacle on the route's side. Only where the way back
+  does not fit there (the action bound) does the tail start earlier; only
+  where no tail keeps the route is the goal-reaching optimum planned from
+  the start. So the goal never changes a passing side it can keep, never
+  moves the plan before the last obstacle when the way back fits after it,
+  and never refuses a scene the route passes (issue 26: with the goal term
+  in the search, a curved task with four obstacles was passed on the other
+  side, or ran into a dead end 22 points before the goal). On 100 random
+  scenes with curved nominals and obstacles near the goal
+  (``tests/emulate/test_planner_goal.py``) the sides are the route's in 99
+  (the other: an obstacle too far aside, two steps before the goal, for
+  any way back on its side), and none is refused.
 * **Clearance.** With ``clearance`` given, every obstacle's physical radius
   plus the clearance is a hard constraint on the plan, on top of the learned
   reward: a barrier ``μ t³/(1 − t)`` that is exactly zero outside a thin zone
@@ -330,7 +343,7 @@ def plan_path(
     init: Any = None,
     max_slope: float = 1.0,
     goal_approach: float | str | None = "auto",
-    clearance: float = 0.0,
+    clearance: float | Any = 0.0,
     lookahead: bool = True,
     progress: ProgressLike = None,
     times: Any = None,
@@ -364,9 +377,11 @@ def plan_path(
         nominal's length.
         None is the thesis's model, which has no goal term: a plan that swerves
         may end beside the goal.
-    clearance : float
-        Tool clearance (units) added to every obstacle's radius; radius plus
-        clearance is a hard constraint (obstacles where both are 0 have none).
+    clearance : float or array_like, shape (n_obstacles,)
+        Clearance (units) added to every obstacle's radius, or to each
+        obstacle's (e.g. the tool's margin plus the clearance the
+        demonstrations kept from its class); radius plus clearance is a hard
+        constraint (obstacles where both are 0 have none).
     lookahead : bool
         MPC only. True (default): each step executes the candidate (window
         optima, and the grid's global path) of least window cost plus the
@@ -449,7 +464,7 @@ def _plan(
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = _vector(start_offset, "start_offset", m)
-    clearance = check_positive(clearance, "clearance", allow_zero=True)
+    clearance = _clearances(clearance, scene)
     if horizon is not None:
         horizon = check_positive(horizon, "horizon", integer=True)
         if not MIN_HORIZON <= horizon <= MAX_HORIZON:
@@ -459,16 +474,11 @@ def _plan(
             )
     reach_goal = goal_approach is not None
     times = check_times(times, corridor.n_points) if scene.moving else None
-    problem = Problem.from_scene(
-        reward,
-        corridor,
-        scene,
-        check_positive(max_slope, "max_slope"),
-        goal_approach,
-        clearance,
-        times,
-        margin,
-    )
+    max_slope = check_positive(max_slope, "max_slope")
+    goal_w = goal_weights(corridor, reward.nominal_weight, goal_approach)  # checks it
+    # The route is planned without the goal term (the thesis's model); the goal
+    # is then joined within the route (_connect_to_goal).
+    problem = Problem.from_scene(reward, corridor, scene, max_slope, None, clearance, times, margin)
     if times is None:
         _check_ends(corridor, d0, problem, scene, clearance, reach_goal)
     else:  # each end against the obstacles where they are when the tool is there
@@ -476,23 +486,182 @@ def _plan(
             static = scene.at(at)
             end_problem = Problem.from_scene(reward, corridor, static, max_slope, None, clearance)
             _check_ends(corridor, d0, end_problem, static, clearance, reach_goal, (end,))
-    if horizon is None:
-        if init is not None:
-            init = np.asarray(init, dtype=np.float64)
-            if init.size != (problem.n + 1) * m or not np.all(np.isfinite(init)):
-                raise ValueError(f"init: expected {problem.n + 1}x{m} finite offsets")
-            starts = [init.reshape(problem.n + 1, m)[1:]]
-        else:
-            with progress.stage(f"plan: global search over {problem.n + 1} points"):
-                starts = _full_starts(problem, d0, reach_goal)
-        label = f"plan: full horizon, polishing {len(starts)} starts"
-        with progress.stage(label, total=len(starts)) as stage:
-            d, n_iter, ok = _best_of(problem, d0, starts, stage.advance)
+    if init is not None and horizon is None:
+        init = np.asarray(init, dtype=np.float64)
+        if init.size != (problem.n + 1) * m or not np.all(np.isfinite(init)):
+            raise ValueError(f"init: expected {problem.n + 1}x{m} finite offsets")
+        init = init.reshape(problem.n + 1, m)[1:]
     else:
-        d, n_iter, ok = _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
+        init = None  # the receding horizon has no initial plan
+    try:
+        d, n_iter, ok = _route(problem, d0, horizon, False, init, lookahead, progress)
+    except UnsafePlanError:
+        if not reach_goal:
+            raise
+        # The receding horizon can corner itself where the goal's pull keeps it
+        # clear: then the goal-reaching plan (which raises if it finds none).
+        d = None
+    if reach_goal and d is None:
+        problem.weight = goal_w.copy()
+        d, n_iter, ok = _route(problem, d0, horizon, True, init, lookahead, progress)
+    elif reach_goal:
+        joined = _connect_to_goal(problem, d0, d, goal_w, GOAL_TOLERANCE * corridor.extent)
+        if joined is not None:
+            d, more, joined_ok = joined
+            n_iter, ok = n_iter + more, ok and joined_ok
+        else:
+            # No goal-reaching plan keeps the route (e.g. a hard radius beside the
+            # goal blocks the way back): the best plan that reaches the goal.
+            problem.weight = goal_w.copy()
+            d, more, ok = _route(problem, d0, horizon, True, init, lookahead, progress)
+            n_iter += more
+    problem.weight = goal_w  # the plan's cost includes the goal term, if any
     offsets = np.vstack([d0[None], d])
     plan = Plan(corridor.to_points(offsets), offsets, problem.cost(d), horizon, n_iter, ok)
     return _verified(plan, corridor, scene, clearance, reach_goal, times, margin)
+
+
+def _route(
+    problem: Problem,
+    d0: np.ndarray,
+    horizon: int | None,
+    reach_goal: bool,
+    init: np.ndarray | None,
+    lookahead: bool,
+    progress: Progress,
+) -> tuple[np.ndarray, int, bool]:
+    """The plan of ``problem`` (its weights as they are): full horizon or receding horizon."""
+    if horizon is not None:
+        return _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
+    if init is not None:
+        starts = [init]
+    else:
+        with progress.stage(f"plan: global search over {problem.n + 1} points"):
+            starts = _full_starts(problem, d0, reach_goal)
+    label = f"plan: full horizon, polishing {len(starts)} starts"
+    with progress.stage(label, total=len(starts)) as stage:
+        return _best_of(problem, d0, starts, stage.advance)
+
+
+def _side_anchors(problem: Problem, d: np.ndarray) -> list[tuple[int, np.ndarray]]:
+    """Where plan ``d`` passes each obstacle that shapes it: nearest point and lateral offset.
+
+    The obstacles whose term is above 1e-9 somewhere on ``d``, and the balls
+    with a hard radius (a round obstacle's ball and anchor coincide: once).
+    """
+    near = problem.obstacles[..., problem.bumps(d)[0].max(axis=0) > 1e-9, :]
+    hard = problem.hard_centres[..., problem.hard, :]
+    same = (hard[..., :, None, :] == near[..., None, :, :]).all(axis=-1)
+    if same.ndim == 3:  # moving: a centre per point, the same at every point
+        same = same.all(axis=0)
+    hard = hard[..., ~same.any(axis=1), :]
+    return _nearest_laterals(problem, np.concatenate([near, hard], axis=-2))
+
+
+def _sides(d: np.ndarray, anchors: list[tuple[int, np.ndarray]], start: int = 0) -> list:
+    """The side ``d[k − start] − lateral`` of each anchor at or after ``start``."""
+    return [d[k - start] - lateral for k, lateral in anchors if k >= start]
+
+
+def _connect_to_goal(
+    problem: Problem,
+    d0: np.ndarray,
+    route: np.ndarray,
+    goal_w: np.ndarray,
+    tolerance: float,
+) -> tuple[np.ndarray, int, bool] | None:
+    """Join the route (planned without goal term) to the goal without changing its way round.
+
+    The goal term is a terminal ramp of the nominal weight (``goal_w``) that
+    acts only on the tail of the plan after ``s``: first after the last
+    obstacle that shapes the route (so nothing before it moves), then, where
+    the way back does not fit there (the action bound), from the start of the
+    ramp, then over the whole path. Within the tail the plan must pass every
+    obstacle on the route's side: the tail is polished from the route itself
+    and from the best grid path that ends on the nominal with the other side
+    of each obstacle forbidden, and a result on another side is rejected
+    (where every polished tail is, the grid path itself is taken). An
+    obstacle that no way back to the goal can pass on the route's side (too
+    far aside for the steps left, or beyond the goal) is passed as the goal
+    allows. Returns offsets, Newton iterations and convergence; None when no
+    tail keeps the route (the caller then plans for the goal from the start).
+    """
+    n = problem.n
+    if float(np.linalg.norm(route[-1])) <= 1e-6 * tolerance:  # 1e-9 of the extent
+        return route, 0, True
+    weight = problem.weight  # Q everywhere (the route's problem)
+    ramp = int(np.count_nonzero(goal_w > weight * (1.0 + 1e-12)))
+    anchors = _side_anchors(problem, route)
+    last = max((k for k, _ in anchors if k < n - 1), default=-1)
+    wanted = _sides(route, anchors)
+    tried, fallback = set(), None
+    for s in (max(n - ramp, last + 1), n - ramp, 0):
+        s = max(s, 0)
+        if s >= n or s in tried:
+            continue
+        tried.add(s)
+        anchor = d0 if s == 0 else route[s - 1]
+        if float(np.abs(anchor).max()) > (n - s) * problem.max_step * (1.0 + 1e-9):
+            continue  # the way back is longer than the tail
+        tail = problem.window(s, n)
+        length = min(n - s, ramp)
+        tail.weight = weight[s:].copy()
+        tail.weight[n - s - length :] = (
+            goal_w[n - length :]
+            if length == ramp
+            else _ramp(weight[n - length :], goal_w[-1] / weight[-1] - 1.0)
+        )
+        # An obstacle passed where no way back to the goal fits (nearest to the goal
+        # itself, or too far aside for the steps left) is passed as the goal allows.
+        sides = [
+            (k - s, lat, side)
+            for (k, lat), side in zip(anchors, wanted, strict=True)
+            if s <= k < n - 1
+            and (n - 1 - k) * problem.max_step * float(np.abs(side).sum()) > float(lat @ side)
+        ]
+        starts = [route[s:]]
+        grid = _grid_on_sides(tail, anchor, sides)
+        if grid is not None:
+            starts.append(grid)
+        best, total = None, 0
+        for guess in starts:
+            d, cost, n_iter, ok = tail.solve(anchor, guess)
+            total += n_iter
+            if not np.isfinite(cost) or float(np.linalg.norm(d[-1])) > tolerance:
+                continue
+            if any(float((d[k] - lat) @ side) <= 0.0 for k, lat, side in sides):
+                continue  # another way round an obstacle
+            if best is None or cost < best[1]:
+                best = (d, cost, ok)
+        if best is not None:
+            return np.vstack([route[:s], best[0]]), total, best[2]
+        if grid is not None and fallback is None and np.isfinite(tail.total_cost(grid)):
+            # Polishing crossed an obstacle (the ramp outweighs a soft response):
+            # the grid path itself keeps the route (not an optimum, so not converged).
+            fallback = (np.vstack([route[:s], grid]), total, False)
+    return fallback
+
+
+def _ramp(weight: np.ndarray, gain: float) -> np.ndarray:
+    """The goal ramp of :func:`goal_weights` over these offsets: ``Q (1 + gain r²(3 − 2r))``."""
+    r = np.arange(1, weight.size + 1) / weight.size
+    return weight * (1.0 + gain * r * r * (3.0 - 2.0 * r))
+
+
+def _grid_on_sides(
+    problem: Problem, anchor: np.ndarray, sides: list[tuple[int, np.ndarray, np.ndarray]]
+) -> np.ndarray | None:
+    """The best grid path ending on the nominal, passing each ``(k, lateral, side)`` on ``side``."""
+    levels, cells = _lateral_levels(problem, anchor)
+    states = (
+        levels[:, None]
+        if problem.m == 1
+        else np.stack(np.meshgrid(levels, levels, indexing="ij"), axis=-1).reshape(-1, 2)
+    )
+    extra = np.zeros((problem.n, states.shape[0]))
+    for k, lateral, side in sides:
+        extra[k, (states - lateral) @ side <= 0.0] = np.inf
+    return _global_start(problem, anchor, True, (levels, cells), extra)
 
 
 def _vector(value: Any, name: str, size: int) -> np.ndarray:
@@ -673,9 +842,15 @@ def _ranked(
 def _cost_to_go(
     table: np.ndarray, levels: np.ndarray, stop: int, end: np.ndarray, max_step: float
 ) -> float:
-    """Least grid cost of points ``stop …`` reached in one step from offset ``end``."""
+    """Least grid cost of points ``stop …`` reached in one step from offset ``end``.
+
+    An offset beyond the grid (which spans every obstacle's reach, so nothing
+    is in the way out there) is judged from the grid's edge: a plan that drifts
+    wide, e.g. with a weak nominal weight, is not taken for blocked.
+    """
     if stop >= table.shape[0]:
         return 0.0
+    end = np.clip(end, levels[0], levels[-1])
     near = np.abs(levels - end[0]) <= max_step * (1.0 + 1e-12)
     row = table[stop]
     if end.size == 2:
@@ -753,14 +928,15 @@ def _check_ends(
     d0: np.ndarray,
     problem: Problem,
     scene: Scene,
-    clearance: float,
+    clearance: np.ndarray,
     reach_goal: bool,
     which: tuple[str, ...] = ("start", "goal"),
 ) -> None:
     """Refuse a start (or, when the plan must reach it, a goal) inside an obstacle.
 
-    Inside means within the radius plus clearance, or within one width of the
-    obstacle's response for an obstacle with neither.
+    Inside means within the radius plus clearance, or, for a start, within
+    one width of the response of an obstacle with neither (a goal may lie in
+    a point obstacle's response: the plan passes through it to the goal).
     """
     if not problem.has_obstacles:
         return
@@ -775,12 +951,15 @@ def _check_ends(
         within_response = np.zeros(len(scene), bool)
         within_response[anchor_owner[depth < 1.0]] = True
         surface = scene.distances(point[None])
-        inside = np.flatnonzero(np.where(radius > 0, surface < clearance, within_response))
+        # A start within a point obstacle's response is refused; the goal only
+        # within a radius plus clearance (the way to it may pass through a response).
+        response = within_response if name == "start" else np.zeros_like(within_response)
+        inside = np.flatnonzero(np.where(radius > 0, surface < clearance, response))
         if inside.size:
             o = int(inside[0])
             obstacle = scene.obstacles[o]
             what = (
-                f"its radius {scene.radii[o]:g} plus clearance {clearance:g}"
+                f"its radius {scene.radii[o]:g} plus clearance {clearance[o]:g}"
                 if radius[o] > 0
                 else "one width of its response"
             )
@@ -789,6 +968,20 @@ def _check_ends(
                 f"{_coordinates(obstacle.position)}; within {what}); move the {name} or the "
                 "obstacle"
             )
+
+
+def _clearances(value: Any, scene: Scene) -> np.ndarray:
+    """The clearance of each obstacle (n_obstacles,): one number for all, or one each."""
+    if np.ndim(value) == 0:
+        return np.full(len(scene), check_positive(value, "clearance", allow_zero=True))
+    out = np.asarray(value, dtype=np.float64).reshape(-1)
+    if out.size != len(scene):
+        raise ValueError(
+            f"clearance: expected one number or one per obstacle ({len(scene)}), got {out.size}"
+        )
+    if not np.all(np.isfinite(out)) or np.any(out < 0.0):
+        raise ValueError(f"clearance: expected finite values >= 0, got {value!r}")
+    return out
 
 
 def _coordinates(point: np.ndarray) -> str:
@@ -820,7 +1013,7 @@ def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndar
     return _clearance(path, scene, clearance)
 
 
-def _clearance(path: np.ndarray, scene: Scene, clearance: float) -> np.ndarray:
+def _clearance(path: np.ndarray, scene: Scene, clearance: float | np.ndarray) -> np.ndarray:
     """:func:`plan_clearance` of a path and clearance already checked."""
     if not len(scene):
         return np.zeros(0)
@@ -874,7 +1067,11 @@ def timed_gaps(
 
 
 def moving_clearance(
-    points: np.ndarray, times: np.ndarray, scene: Scene, clearance: float, margin: float
+    points: np.ndarray,
+    times: np.ndarray,
+    scene: Scene,
+    clearance: float | np.ndarray,
+    margin: float,
 ) -> np.ndarray:
     """Distance of a timed path to each (moving) obstacle's surface, minus the margins.
 
@@ -891,7 +1088,8 @@ def moving_clearance(
     times : ndarray, shape (K,)
         Seconds at each point.
     scene : Scene
-    clearance, margin : float
+    clearance : float or ndarray, shape (n_obstacles,)
+    margin : float
 
     Returns
     -------
@@ -900,7 +1098,9 @@ def moving_clearance(
     """
     out = np.empty(len(scene))
     for o, obstacle in enumerate(scene.obstacles):
-        out[o] = timed_gaps(obstacle, points, times, margin).min() - clearance
+        out[o] = timed_gaps(obstacle, points, times, margin).min() - (
+            clearance[o] if np.ndim(clearance) else clearance
+        )
     return out
 
 
@@ -908,7 +1108,7 @@ def _verified(
     plan: Plan,
     corridor: Corridor,
     scene: Scene,
-    clearance: float,
+    clearance: np.ndarray,
     reach_goal: bool,
     times: np.ndarray | None = None,
     margin: float = UNCERTAINTY_MARGIN,
@@ -931,7 +1131,7 @@ def _verified(
         raise UnsafePlanError(
             f"no collision-free plan: the best plan passes {-plan.clearance[o]:.3g} inside "
             f"obstacle {o} ({obstacle.label!r} at {_coordinates(obstacle.position)}, radius "
-            f"{obstacle.radius:g} plus clearance {clearance:g})"
+            f"{obstacle.radius:g} plus clearance {clearance[o]:g})"
         )
     if reach_goal and plan.goal_error > GOAL_TOLERANCE * corridor.extent:
         raise UnsafePlanError(

@@ -318,7 +318,7 @@ class Problem:
         scene: Scene,
         max_slope: float = 1.0,
         goal_approach: float | str | None = None,
-        clearance: float | None = None,
+        clearance: float | np.ndarray | None = None,
         times: Any = None,
         margin: float = UNCERTAINTY_MARGIN,
     ) -> Problem:
@@ -335,9 +335,10 @@ class Problem:
             Largest sideways step per nominal step (positive; not checked here).
         goal_approach : float, "auto" or None
             See :func:`goal_weights`; None (the default) is the thesis's model.
-        clearance : float, optional
+        clearance : float or ndarray (n_obstacles,), optional
             None: no hard radii (the thesis's model, as the IOC fits it); a
-            number (units): each obstacle's radius plus it is a hard constraint.
+            number (units), or one per obstacle: each obstacle's radius plus
+            it is a hard constraint.
         times : array_like, shape (K,), optional
             When the tool reaches each corridor point (s from the plan's start);
             needed for a scene with moving obstacles: point ``k``'s obstacle
@@ -363,7 +364,8 @@ class Problem:
         if clearance is not None and len(scene):
             hard_centres, radii, owner = scene.balls()
             # An obstacle of radius 0 has a barrier only with a clearance, as a point.
-            hard_radius = np.where(scene.radii[owner] + clearance > 0.0, radii + clearance, 0.0)
+            extra = np.broadcast_to(np.asarray(clearance, dtype=np.float64), (len(scene),))[owner]
+            hard_radius = np.where(scene.radii[owner] + extra > 0.0, radii + extra, 0.0)
         if scene.moving:
             shifts, grow = _predicted_shifts(scene, corridor, times, margin)  # (n, O, q), (n, O)
             anchors = anchors[None] + shifts[:, scene.anchors()[1]]

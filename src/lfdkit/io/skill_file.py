@@ -28,6 +28,14 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     DMP from ``path``), so the loaded skill plans the same orientations. A
     file without it is a skill without orientation; an older lfdkit reading
     a file with it ignores the field and plans positions only.
+``emulation``
+    Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
+    "lookahead" | "window" | "full", "clearances": {class: units}}``, the
+    route planner its plans use and the clearance kept at least from each
+    class's obstacles (:attr:`lfdkit.skill.Skill.route_`,
+    :attr:`lfdkit.skill.Skill.clearances_`). A file without it plans as
+    before (MPC with lookahead, no learned clearance); an older lfdkit
+    reading a file with it ignores it.
 ``mimic``
     How the path was made: ``{"method": ..., "n_demos": ...}`` and the
     method's diagnostics.
@@ -75,6 +83,7 @@ from lfdkit.io.text import json_float_array, load_json
 
 __all__ = [
     "MAX_SKILL_FILE_BYTES",
+    "ROUTES",
     "SKILL_FILE_LIMITS",
     "SKILL_FORMAT",
     "SKILL_VERSION",
@@ -92,6 +101,9 @@ SKILL_FORMAT = "lfdkit-skill"
 
 SKILL_VERSION = 1
 """Newest skill-file version this module reads, and the one it writes."""
+
+#: Route planners a skill file may name (:attr:`lfdkit.skill.Skill.route_`).
+ROUTES = ("lookahead", "window", "full")
 
 # Points of a path or plan: the planner's memory grows linearly with them.
 _MAX_POINTS = 100_000
@@ -139,6 +151,7 @@ def to_document(
     ioc_info: Mapping[str, Any] | None,
     timing: Mapping[str, Any] | None = None,
     orientations: np.ndarray | None = None,
+    emulation: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """A skill's state as a JSON-ready dict (the format of the module notes).
 
@@ -164,6 +177,9 @@ def to_document(
     orientations : ndarray, shape (n_points, 4), or None
         The mean orientation at each path point (unit quaternions), or None
         (then no ``orientation`` field).
+    emulation : mapping or None
+        ``{"route": str, "clearances": {class: float}}``, or None (then no
+        ``emulation`` field).
 
     Returns
     -------
@@ -190,6 +206,8 @@ def to_document(
         document["timing"] = jsonable(timing)
     if orientations is not None:
         document["orientation"] = {"mean": np.asarray(orientations, dtype=np.float64).tolist()}
+    if emulation is not None:
+        document["emulation"] = jsonable(emulation)
     document |= {
         "mimic": _without_timing(jsonable(mimic_info)),
         "reward": reward_doc,
@@ -369,6 +387,33 @@ class SkillDocument:
             return None
         sub = _FieldReader(value, self.source, "orientation.")
         return sub.array("mean", (n_points, 4))
+
+    def emulation(self) -> tuple[str, dict[str, float]] | None:
+        """``(route, {class: clearance})`` of a fitted reward, or None where the file has none."""
+        value = self.data.get("emulation")
+        if value is None:
+            return None
+        sub = _FieldReader(value, self.source, "emulation.")
+        route = sub.get("route", str)
+        if route not in ROUTES:
+            raise ValueError(
+                f"{self.source}: emulation.route: expected one of {', '.join(ROUTES)}, "
+                f"got {route!r}"
+            )
+        clearances = {}
+        for label, margin in sub.get("clearances", dict).items():
+            if isinstance(margin, bool) or not isinstance(margin, (int, float)):
+                raise ValueError(
+                    f"{self.source}: emulation.clearances.{label}: expected a number, "
+                    f"got {margin!r}"
+                )
+            if not math.isfinite(margin) or margin < 0.0:
+                raise ValueError(
+                    f"{self.source}: emulation.clearances.{label}: expected a finite number "
+                    f">= 0, got {margin!r}"
+                )
+            clearances[str(label)] = float(margin)
+        return route, clearances
 
     def mimic(self) -> dict[str, Any]:
         """How the path was made (``method``, ``n_demos`` and diagnostics)."""

@@ -641,6 +641,42 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
         "Learned reward (1/m²) against the demonstrator's true one.",
         formats={"learned": ".4g", "true": ".4g", "relative error": ".1%"},
     )
+    fidelity = (emulate["ioc"] or {}).get("training_fidelity") or []
+    if fidelity:
+        selection = emulate["ioc"].get("model_selection") or {}
+        bad = [
+            r for r in fidelity if "refused" in r or r["improvement"] < 0 or not r["sides_agree"]
+        ]
+        report.table(
+            [
+                {
+                    "demonstration": r.get("id", r["demo"]),
+                    "Pr (%)": r.get("improvement"),
+                    "sides kept": r.get("sides_agree"),
+                    "clearance (mm)": None if r.get("clearance") is None else 1e3 * r["clearance"],
+                    "demonstrated (mm)": (
+                        None
+                        if r.get("demonstrated_clearance") is None
+                        else 1e3 * r["demonstrated_clearance"]
+                    ),
+                }
+                for r in fidelity
+            ],
+            f"Each training sweep replanned in its own scene (planner: "
+            f"{selection.get('chosen', '?')}, runner-up {selection.get('runner_up') or 'none'}): "
+            + (
+                f"{len(bad)} replanned worse than its nominal or on another side."
+                if bad
+                else "every one closer than its nominal and on its sides."
+            ),
+            formats={"Pr (%)": ".1f", "clearance (mm)": ".1f", "demonstrated (mm)": ".1f"},
+        )
+        median = float(np.median([r["improvement"] for r in fidelity if "refused" not in r]))
+        if median < 50.0:
+            report.paragraph(
+                f"Warning: the training sweeps are replanned poorly (median Pr {median:.0f} %): "
+                "the learned reward does not explain the demonstrations."
+            )
     test = emulate["test"]
     report.table(
         [

@@ -1,0 +1,195 @@
+"""Emulating the person (issue 26): learned clearance, training fidelity, the model chosen.
+
+The demonstrations here are a fixed-margin person's, drawn by hand: a smooth
+detour that keeps 5–7 cm from the surface of one cup on the path, on the side
+away from it. Known answers: the learned clearance is 0.8 times the 10 %
+quantile of what they kept; a plan with it does not pass between two cups
+2 cm apart; every training scene is replanned and scored.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from lfdkit.emulate import Corridor, Reward
+from lfdkit.emulate.fidelity import (
+    CLEARANCE_FACTOR,
+    demonstrated_clearances,
+    passing_sides,
+    replanning_fidelity,
+)
+from lfdkit.scene import Obstacle, Scene
+from lfdkit.skill import Skill
+
+X = np.linspace(0.0, 1.0, 100)
+FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
+GAP = Scene((Obstacle("cup", [0.5, 0.02], radius=0.01), Obstacle("cup", [0.5, -0.02], radius=0.01)))
+
+
+def margin_demos(n: int = 6, seed: int = 0) -> tuple[list[np.ndarray], list[Scene]]:
+    """A person keeping about 5 cm from a cup's surface (radius 1 cm) on a straight sweep."""
+    rng = np.random.default_rng(seed)
+    demos, scenes = [], []
+    for j in range(n):
+        cx, cy = 0.3 + 0.4 * j / max(n - 1, 1), rng.uniform(-0.01, 0.01)
+        u = np.clip((X - cx) / 0.2, -1.0, 1.0)
+        y = -np.sign(cy) * (0.06 + abs(cy)) * np.cos(0.5 * np.pi * u) ** 2
+        demos.append(np.column_stack([X, y]))
+        scenes.append(Scene((Obstacle("cup", [cx, cy], radius=0.01),)))
+    return demos, scenes
+
+
+@pytest.fixture(scope="module")
+def learned() -> tuple[Skill, list[np.ndarray], list[Scene]]:
+    demos, scenes = margin_demos()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return Skill().fit(FREE, demos, scenes), demos, scenes
+
+
+def test_the_clearance_kept_is_learned_per_class(learned) -> None:
+    skill, demos, scenes = learned
+    kept = [float(s.distances(d)[0]) for d, s in zip(demos, scenes, strict=True)]
+    assert min(kept) > 0.05
+    # 10 % quantile ("lower") of six values is the smallest.
+    assert skill.clearances_ == {"cup": pytest.approx(CLEARANCE_FACTOR * min(kept), rel=1e-12)}
+    # An obstacle off to the side, which the demonstration did not go around, says nothing.
+    far = [Scene((*s.obstacles, Obstacle("marker", [0.5, 0.4]))) for s in scenes]
+    nominals = [X[:, None] * [1.0, 0.0] for _ in demos]
+    found = demonstrated_clearances(demos, far, nominals, ["cup", "marker"])
+    assert set(found) == {"cup"}
+
+
+def test_no_gap_a_person_would_not_take() -> None:
+    # A stiff, narrow reward threads the 2 cm gap between two cups; with the
+    # clearance the demonstrations kept (5 cm) the plan goes around both.
+    skill = Skill().fit(FREE)
+    skill.adopt(Reward(400.0, {"cup": [400.0, 4000.0]}))
+    threads = skill.plan(scene=GAP)
+    assert abs(np.interp(0.5, *threads.points.T)) < 0.01  # between the cups
+    skill.clearances_ = {"cup": 0.04}
+    plan = skill.plan(scene=GAP)
+    corridor = Corridor.from_path(skill.nominal(), 100)
+    sides = passing_sides(plan.points, corridor, GAP)[:, 0]
+    assert np.sign(sides[0]) == np.sign(sides[1]) != 0  # both on one side: around
+    assert GAP.distances(plan.points).min() >= 0.04 - 1e-9
+    # The tool's own clearance comes on top, and is reported beyond both.
+    wider = skill.plan(scene=GAP, clearance=0.01)
+    assert GAP.distances(wider.points).min() >= 0.05 - 1e-9
+    assert wider.details.clearance.min() >= 0.0
+
+
+def test_learned_skill_goes_around_the_gap_the_demonstrations_never_took(learned) -> None:
+    skill, _, _ = learned
+    plan = skill.plan(scene=GAP)
+    assert GAP.distances(plan.points).min() >= skill.clearances_["cup"] - 1e-9
+    thesis = Skill(model="thesis").fit(FREE).adopt(skill.reward_)
+    assert thesis.clearances_ == {}
+
+
+def test_every_training_scene_is_replanned_and_scored(learned, tmp_path) -> None:
+    skill, demos, scenes = learned
+    rows = skill.training_fidelity_
+    assert [r["demo"] for r in rows] == list(range(len(demos)))
+    for row, demo, scene in zip(rows, demos, scenes, strict=True):
+        plan = skill.plan(demo[0], None, scene)
+        again = replanning_fidelity(plan.points, skill.nominal(demo[0]), demo, scene)
+        assert row["improvement"] == pytest.approx(again["improvement"], abs=1e-9)
+        assert row["sides_agree"] and row["other_side"] == 0
+        assert row["demonstrated_clearance"] == pytest.approx(float(scene.distances(demo)[0]))
+        assert row["clearance"] >= skill.clearances_["cup"] - 1e-9
+    assert np.median([r["improvement"] for r in rows]) > 80.0
+    selection = skill.model_selection_
+    assert selection["chosen"] == skill.route_ in ("lookahead", "window")
+    assert selection["runner_up"] in ("lookahead", "window")
+    assert selection["runner_up"] != skill.route_
+    # Saved and read back: the same plans, fidelity and choice.
+    path = skill.save(tmp_path / "skill.json")
+    document = json.loads(path.read_text())
+    assert document["emulation"]["route"] == skill.route_
+    assert "model" not in document["params"]  # the default is not written
+    loaded = Skill.load(path)
+    assert loaded.clearances_ == skill.clearances_
+    assert loaded.training_fidelity_ == json.loads(json.dumps(skill.training_fidelity_))
+    np.testing.assert_array_equal(loaded.plan(scene=GAP).points, skill.plan(scene=GAP).points)
+
+
+def test_a_file_without_the_emulation_field_plans_as_before(learned, tmp_path) -> None:
+    skill, _, _ = learned
+    document = skill.to_dict()
+    del document["emulation"]
+    old = Skill.from_dict(json.loads(json.dumps(document)))
+    assert old.clearances_ == {} and old.route_ is None
+    plain = Skill(model="auto").fit(FREE).adopt(skill.reward_)
+    np.testing.assert_array_equal(old.plan(scene=GAP).points, plain.plan(scene=GAP).points)
+    document["emulation"] = {"route": "sideways", "clearances": {}}
+    with pytest.raises(ValueError, match=r"emulation\.route: expected one of"):
+        Skill.from_dict(document, source="f.json")
+    document["emulation"] = {"route": "window", "clearances": {"cup": -1.0}}
+    with pytest.raises(ValueError, match=r"f.json: emulation.clearances.cup: expected a finite"):
+        Skill.from_dict(document, source="f.json")
+
+
+def test_thesis_model_plans_with_the_thesis_mpc(learned) -> None:
+    _, demos, scenes = learned
+    thesis = Skill(model="thesis").fit(FREE, demos[:3], scenes[:3])
+    assert thesis.route_ == "window" and thesis.clearances_ == {}
+    assert thesis.model_selection_["runner_up"] is None
+    with pytest.raises(ValueError, match="model: expected one of 'auto', 'thesis'"):
+        Skill(model="person").fit(FREE)
+
+
+def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
+    from types import SimpleNamespace
+
+    from lfdkit.cli import _fidelity_lines
+
+    good = {"demo": 0, "id": 3, "improvement": 95.0, "sides_agree": True, "other_side": 0}
+    worse = {"demo": 1, "id": 7, "improvement": -13.0, "sides_agree": False, "other_side": 2}
+    refused = {"demo": 2, "id": "c", "refused": "no collision-free plan: ..."}
+    scores = {
+        "refused": 1,
+        "improvement_median": 41.0,
+        "improvement_mean": 27.3,
+        "sides_agree": 0.5,
+    }
+    skill = SimpleNamespace(
+        model_selection_={
+            "chosen": "window",
+            "runner_up": "lookahead",
+            "candidates": {"window": scores, "lookahead": scores},
+        },
+        training_fidelity_=[good, worse, refused],
+        clearances_={"cup": 0.025},
+        units="m",
+    )
+    lines = _fidelity_lines(skill)
+    assert lines[0].startswith("obstacle behaviour planned with the thesis's MPC")
+    assert "runner-up MPC with lookahead" in lines[0]
+    assert "Pr median 41 %, mean 27 %, sides kept in 50%" in lines[0]
+    assert lines[1] == "plans keep at least the clearance the demonstrations kept: cup 0.025 m"
+    assert lines[2:] == [
+        "obstacle demonstration 7: replanned worse than its nominal (Pr -13 %) and passes 2 "
+        "obstacle(s) on the other side",
+        "obstacle demonstration 'c': no plan in its own scene (no collision-free plan: ...)",
+    ]
+
+
+def test_the_same_demonstrations_in_millimetres_give_the_same_behaviour(learned) -> None:
+    skill, demos, scenes = learned
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mm = Skill(units="mm").fit(
+            [1e3 * d for d in FREE], [1e3 * d for d in demos], [s.scaled(1e3) for s in scenes]
+        )
+    assert mm.route_ == skill.route_
+    assert mm.clearances_["cup"] == pytest.approx(1e3 * skill.clearances_["cup"], rel=1e-9)
+    plan_mm = mm.plan(scene=GAP.scaled(1e3)).points
+    np.testing.assert_allclose(plan_mm, 1e3 * skill.plan(scene=GAP).points, atol=1e-3)
+    converted = skill.to_units("mm")
+    assert converted.clearances_["cup"] == pytest.approx(mm.clearances_["cup"], rel=1e-9)
+    assert converted.route_ == skill.route_
