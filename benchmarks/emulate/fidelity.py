@@ -33,7 +33,7 @@ arc of 4-5 cups), ``near_goal``, ``moved_goal`` (start and goal moved; the
 person's own nominal is the task's, blended to the new ends) and ``new_task``
 (an arc, an S-curve or a diagonal, 1-3 obstacles; the skill is
 ``copy.deepcopy(skill).fit_path(<5 free demonstrations of that task>)``, which
-keeps the learned obstacle model). 3 scenes per family (quick: 1), the held-out
+keeps the learned obstacle model). 4 scenes per family (quick: 1), the held-out
 demonstrations with the same noise level as the training ones.
 
 Each held-out scene is planned with ``skill.plan(start, goal, scene,
@@ -549,7 +549,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--units", choices=("m", "mm"), default="m")
     parser.add_argument("--people", nargs="*", default=list(P.KINDS), choices=P.KINDS)
     parser.add_argument("--sizes", nargs="*", type=int, default=None)
-    parser.add_argument("--per-family", type=int, default=None, help="scenes per family (3)")
+    parser.add_argument(
+        "--per-family", type=int, default=None, help="scenes per family (4; quick 1)"
+    )
     parser.add_argument("--skill-option", action="append", metavar="KEY=VALUE")
     parser.add_argument("--plan-option", action="append", metavar="KEY=VALUE")
     parser.add_argument("--fit-option", action="append", metavar="KEY=VALUE")
@@ -561,7 +563,7 @@ def main(argv: list[str] | None = None) -> int:
         parse_options(args.fit_option, "--fit-option"),
     )
     sizes = args.sizes or (QUICK_SIZES if args.quick else SIZES)
-    per_family = args.per_family or (1 if args.quick else 3)
+    per_family = args.per_family or (1 if args.quick else 4)
     scale = 1000.0 if args.units == "mm" else 1.0
     args.output.mkdir(parents=True, exist_ok=True)
     wall = time.perf_counter()

@@ -659,7 +659,8 @@ def draw_case(family: str, rng: np.random.Generator, scale: float = 1.0, label: 
             items.append((_label(rng), frame.place(u, side() * rng.uniform(0.0, 0.08) * m)))
     elif family == "pocket":
         n = int(rng.integers(5, 7))  # 5 or 6 cups on a half circle: gaps of 2 cm or less
-        centre_u, lateral = rng.uniform(0.45, 0.6), rng.uniform(-0.03, 0.03) * m
+        # Its mouth faces the start; across the path, or a little beside it.
+        centre_u, lateral = rng.uniform(0.45, 0.6), side() * rng.uniform(0.0, 0.12) * m
         radius = 0.1 * m
         for a in np.deg2rad(np.linspace(-90.0, 90.0, n)):
             items.append(
