@@ -44,6 +44,10 @@ with the person's path:
   ``MSE_Mp = mse_paths(skill.nominal(start, goal), person)`` and ``MSE_R`` the
   plan's; pooled (sums over the scenes, the thesis's), and per scene mean
   and median. 100 % is the person's path, 0 % no better than the nominal.
+  Per-scene figures leave out *quiet* scenes, where the person's RMS distance
+  from the nominal is below 5 mm (it hardly reacted, and Pr would divide by
+  about the noise); for those the plan's largest RMS distance from the person
+  is given instead (a plan that swerves where the person did not).
 * Sides: per obstacle the person passes within 10 cm of, the side of the
   obstacle seen from the path at its closest point; agreement = same side.
 * Collisions (``lfdkit.metrics.collisions``); clearance ratio = median over
@@ -95,6 +99,7 @@ POOL = 10
 N_FREE = 5
 ENCOUNTER = 0.10  # m: obstacles the person passes this close count for sides
 GAP = 0.15  # m: pairs closer than this (surface to surface) count for gaps
+QUIET = 0.005  # m: a person this close to the nominal (RMS) hardly reacted
 GAMMAS = (0.0, 10.0, 30.0, 100.0, 300.0, 1000.0)
 BETAS = (1.0, 20.0 / np.pi, 10.0)
 QUICK_GAMMAS = (0.0, 100.0, 1000.0)
@@ -208,6 +213,8 @@ def compare(plan: np.ndarray, person: np.ndarray, nominal: np.ndarray, scene: Sc
         "mse_r": mse_r,
         "pr": improvement(mse_mp, mse_r) if mse_mp > 0 else None,
         "collisions": collisions(plan, scene),
+        # The person hardly reacted: a per-scene Pr would divide by about the noise.
+        "quiet": bool(np.sqrt(mse_mp) < QUIET * scale),
     }
     gaps_person = clearance(person, scene)
     gaps_plan = clearance(plan, scene)
@@ -239,7 +246,8 @@ def summary(scores: list[dict]) -> dict:
     done = [s for s in scores if s is not None and "mse_r" in s]
     if not done:
         return {"n": 0}
-    prs = [s["pr"] for s in done if s["pr"] is not None]
+    prs = [s["pr"] for s in done if s["pr"] is not None and not s["quiet"]]
+    quiet = [np.sqrt(s["mse_r"]) for s in done if s["quiet"]]
     enc = sum(s["encounters"] for s in done)
     ratios = [
         s["clear_plan"] / s["clear_person"]
@@ -251,6 +259,8 @@ def summary(scores: list[dict]) -> dict:
         "pr_pooled": improvement(sum(s["mse_mp"] for s in done), sum(s["mse_r"] for s in done)),
         "pr_mean": float(np.mean(prs)) if prs else None,
         "pr_median": float(np.median(prs)) if prs else None,
+        "quiet": len(quiet),
+        "quiet_rms_max": float(np.max(quiet)) if quiet else None,
         "sides": sum(s["agree"] for s in done) / enc if enc else None,
         "encounters": enc,
         "collisions": int(sum(s["collisions"] for s in done)),
@@ -418,16 +428,19 @@ def _f(x, fmt="{:.0f}", none="—"):
     return none if x is None or (isinstance(x, float) and not np.isfinite(x)) else fmt.format(x)
 
 
-def print_table(rows: list[dict]) -> None:
+def print_table(rows: list[dict], scale: float) -> None:
     print(
-        "\nFidelity on held-out scenes (Pr %: pooled / mean / median per scene; sides: agreement"
+        "\nFidelity on held-out scenes (Pr %: pooled / mean / median per scene where the person"
+        " reacted; quiet: scenes where it did not (RMS from the nominal < 5 mm), and the plan's"
+        " largest RMS distance from the person there; sides: agreement"
         " with the person; coll: collisions; gaps: threaded where the person went round;"
         " clear: plan / person smallest clearance, median; DMP: the skill's DMP with"
         " movement_primitives' coupling term)"
     )
     head = (
         f"{'person':<7} {'n':>2} {'noise':>5} {'scenes':>6} {'Pr pooled':>9} {'mean':>6} "
-        f"{'median':>6} {'sides':>6} {'coll':>4} {'gaps':>4} {'clear':>5} {'refused':>7} "
+        f"{'median':>6} {'quiet':>9} {'sides':>6} {'coll':>4} {'gaps':>4} {'clear':>5} "
+        f"{'refused':>7} "
         f"{'fit s':>6} {'plan ms':>7} {'train Pr':>8} {'DMP Pr':>7} {'DMP med':>7} "
         f"{'DMP sides':>9} {'DMP coll':>8}"
     )
@@ -440,9 +453,11 @@ def print_table(rows: list[dict]) -> None:
             )
             continue
         h, d, t = r["held"], r["dmp"], r["train"]
+        quiet_mm = h.get("quiet_rms_max") and 1e3 * h["quiet_rms_max"] / scale
         print(
             f"{r['kind']:<7} {r['n_train']:>2} {r['noise']:>4.0f}x {h.get('n', 0):>6} "
             f"{_f(h.get('pr_pooled')):>8}% {_f(h.get('pr_mean')):>5}% {_f(h.get('pr_median')):>5}% "
+            f"{h.get('quiet', 0):>2} {_f(quiet_mm):>3} mm "
             f"{_f(h.get('sides') and 100 * h['sides']):>5}% {h.get('collisions', 0):>4} "
             f"{h.get('gaps_threaded', 0):>4} {_f(h.get('clearance_ratio'), '{:.2f}'):>5} "
             f"{len(r['refused']):>7} {r['fit_s']:>6.1f} {_f(r['plan_ms'], '{:.1f}'):>7} "
@@ -505,15 +520,21 @@ def figure(rows: list[dict], path: Path, scale: float) -> str | None:
             ax.plot(*person.T, "k-", lw=2, label="held-out person")
             ax.plot(*plan.T, "C3-", label="lfdkit plan")
             ax.plot(*dmp.T, "C0--", label="DMP + coupling")
-            ax.set_title(f"{kind}: {family} ({case.task})")
+            ax.set_title(f"{kind}: {family}, {case.task} task")
         for ax in ax_row[: 1 + len(families)]:
             ax.set_aspect("equal")
             ax.set_xlabel(f"x [{unit}]")
             ax.set_ylabel(f"y [{unit}]")
             ax.autoscale_view()
-    axes[0, 1].legend(loc="best", fontsize=7)
-    fig.suptitle("Emulation fidelity: cups light grey (r 3 cm), boxes dark grey (r 5 cm)")
-    fig.tight_layout()
+    handles, labels = next(
+        ax.get_legend_handles_labels() for ax in axes[:, 1:].ravel() if ax.get_lines()
+    )
+    fig.legend(handles, labels, loc="lower center", ncol=4)
+    fig.suptitle(
+        "Emulation fidelity (1x noise, largest training set): cups light grey (r 3 cm), "
+        "boxes dark grey (r 5 cm); first column: the training demonstrations and their obstacles"
+    )
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
     fig.savefig(path, dpi=80)
     plt.close(fig)
     return path.name
@@ -586,7 +607,7 @@ def main(argv: list[str] | None = None) -> int:
                 for level in NOISES:
                     progress(f"{kind}: {n} demonstrations, {level:g}x noise ...")
                     rows.append(run_setting(data, n, level, scale, args, options))
-    print_table(rows)
+    print_table(rows, scale)
     suffix = f"_{args.label}" if args.label else ""
     fig_name = figure(rows, args.output / f"fidelity{suffix}.png", scale)
     wall = time.perf_counter() - wall
