@@ -9,7 +9,9 @@ Options: ``--seed N``; ``--units mm`` (the same study in millimetres);
 emulation layer can be compared side by side; ``--label`` names the run's
 files. Prints one table and writes ``fidelity[_<label>].json`` and
 ``fidelity[_<label>].png`` to ``--output`` (``benchmarks/results/emulate``).
-All work runs under ``threadpool_limits(1)``. Only lfdkit's public API is used
+Ends with the targets of issue 26 as PASS/FAIL (worst
+over the settings run; exits 0 either way). All work runs under
+``threadpool_limits(1)``. Only lfdkit's public API is used
 (``Skill``, ``lfdkit.metrics``, the scene classes), so the same command runs on
 a changed emulation layer.
 
@@ -502,6 +504,69 @@ def print_table(rows: list[dict], scale: float) -> None:
             print(f"  refused ({r['kind']} n={r['n_train']} {r['noise']:.0f}x) {message}")
 
 
+def check_targets(rows: list[dict]) -> list[dict]:
+    """The issue's targets (issue 26), each with the worst value over the settings run."""
+    fitted = [r for r in rows if "held" in r]
+    checks = []
+
+    def add(name, value, ok, note=""):
+        checks.append({"target": name, "value": value, "pass": bool(ok), "note": note})
+
+    failed = [f"{r['kind']} n={r['n_train']} {r['noise']:g}x" for r in rows if "fit_error" in r]
+    add("every fit succeeds", len(failed), not failed, "; ".join(failed))
+    thesis = [
+        (r["by_family"][f].get("pr_pooled"), f, r)
+        for r in fitted
+        if r["kind"] == "thesis"
+        for f in P.FAMILIES
+        if r["by_family"][f].get("n")
+    ]
+    if thesis:
+        worst, family, r = min(thesis, key=lambda t: t[0])
+        add(
+            "thesis person: pooled Pr >= 90 % in every family",
+            worst,
+            worst >= 90.0,
+            f"worst: {family}, n={r['n_train']}, {r['noise']:g}x",
+        )
+    others = [r for r in fitted if r["kind"] != "thesis" and r["held"].get("n")]
+    if others:
+        r = min(others, key=lambda r: r["held"]["pr_median"] or -np.inf)
+        value = r["held"]["pr_median"]
+        add(
+            "other people: median Pr >= 80 %",
+            value,
+            value is not None and value >= 80.0,
+            f"worst: {r['kind']} n={r['n_train']} {r['noise']:g}x",
+        )
+        r = min(others, key=lambda r: r["held"]["sides"] or 0.0)
+        add(
+            "other people: side agreement >= 90 %",
+            100 * (r["held"]["sides"] or 0.0),
+            (r["held"]["sides"] or 0.0) >= 0.9,
+            f"worst: {r['kind']} n={r['n_train']} {r['noise']:g}x",
+        )
+    add("0 collisions", sum(r["held"].get("collisions", 0) for r in fitted), True)
+    checks[-1]["pass"] = checks[-1]["value"] == 0
+    gaps = sum(r["held"].get("gaps_threaded", 0) for r in fitted)
+    add("0 gaps threaded the person went round", gaps, gaps == 0)
+    refused = sum(len(r["refused"]) for r in fitted)
+    add("no plan refused (the person got through)", refused, refused == 0)
+    ten = [r["fit_s"] for r in fitted if r["n_train"] == 10]
+    if ten:
+        add("fit <= 5 s with 10 demonstrations", max(ten), max(ten) <= 5.0, "includes the path")
+    return checks
+
+
+def print_targets(checks: list[dict]) -> None:
+    print("\nTargets of issue 26 (worst over the settings run):")
+    for c in checks:
+        value = c["value"]
+        shown = f"{value:.1f}" if isinstance(value, float) else str(value)
+        note = f"  ({c['note']})" if c["note"] else ""
+        print(f"  {'PASS' if c['pass'] else 'FAIL'}  {c['target']}: {shown}{note}")
+
+
 def figure(rows: list[dict], path: Path, scale: float) -> str | None:
     import matplotlib
 
@@ -627,6 +692,8 @@ def main(argv: list[str] | None = None) -> int:
                     progress(f"{kind}: {n} demonstrations, {level:g}x noise ...")
                     rows.append(run_setting(data, n, level, scale, args, options))
     print_table(rows, scale)
+    checks = check_targets(rows)
+    print_targets(checks)
     suffix = f"_{args.label}" if args.label else ""
     fig_name = figure(rows, args.output / f"fidelity{suffix}.png", scale)
     wall = time.perf_counter() - wall
@@ -645,6 +712,7 @@ def main(argv: list[str] | None = None) -> int:
         "wall_time_s": wall,
         "people": people,
         "rows": rows,
+        "targets": checks,
         "figure": fig_name,
     }
     out = args.output / f"fidelity{suffix}.json"
