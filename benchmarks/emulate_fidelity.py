@@ -1,6 +1,6 @@
-"""Emulation fidelity: ``python benchmarks/emulate_fidelity.py --quick`` (about 3 min).
+"""Emulation fidelity: ``python benchmarks/emulate_fidelity.py --quick`` (about 1 min).
 
-The full run drops ``--quick`` (about 15 min). Compare variants of the
+The full run drops ``--quick`` (about 5 min). Compare variants of the
 emulation layer side by side with ``--skill-option key=value`` (to
 ``lfdkit.Skill``), ``--plan-option key=value`` (to ``Skill.plan``),
 ``--fit-option key=value`` (to ``Skill.fit``), each repeatable, and ``--label``

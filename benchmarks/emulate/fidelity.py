@@ -1,19 +1,21 @@
 """Fidelity of emulation: does a learned skill move around new obstacles as its person would?
 
-Run ``python benchmarks/emulate_fidelity.py --quick`` (about 3 min; the full run
-``python benchmarks/emulate_fidelity.py`` about 15 min on the 2-core machine).
-Options: ``--seed N``; ``--units mm`` (the same study in millimetres);
-``--skill-option key=value`` (repeatable, passed to ``lfdkit.Skill(...)``),
-``--plan-option key=value`` (to ``Skill.plan``) and ``--fit-option key=value``
-(to ``Skill.fit``), values read as Python literals, so variants of the
+Run ``python benchmarks/emulate_fidelity.py --quick`` (about 1 min with a warm
+numba cache; the full run ``python benchmarks/emulate_fidelity.py`` about
+5 min on the shared 2-core machine). Options: ``--seed N``; ``--units mm``
+(the same study in millimetres); ``--people``, ``--sizes``, ``--per-family``;
+``--skill-option key=value`` (repeatable, passed to
+``lfdkit.skill.Skill(...)``), ``--plan-option key=value`` (to ``Skill.plan``)
+and ``--fit-option key=value`` (to ``Skill.fit``), values read as Python
+literals (``goal_approach=None``, ``planner='full'``), so variants of the
 emulation layer can be compared side by side; ``--label`` names the run's
-files. Prints one table and writes ``fidelity[_<label>].json`` and
-``fidelity[_<label>].png`` to ``--output`` (``benchmarks/results/emulate``).
-Ends with the targets of issue 26 as PASS/FAIL (worst
-over the settings run; exits 0 either way). All work runs under
-``threadpool_limits(1)``. Only lfdkit's public API is used
-(``Skill``, ``lfdkit.metrics``, the scene classes), so the same command runs on
-a changed emulation layer.
+files. Prints one table, the median Pr per held-out family and the targets of
+issue 26 as PASS/FAIL (worst over the settings run; exits 0 either way), and
+writes ``fidelity[_<label>].json`` and ``fidelity[_<label>].png`` to
+``--output`` (``benchmarks/results/emulate``). All work runs under
+``threadpool_limits(1)``. Only lfdkit's public API is used (``Skill``,
+``lfdkit.metrics``, the scene classes), so the same command runs on a changed
+emulation layer.
 
 Design
 ------
