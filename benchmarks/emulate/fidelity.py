@@ -55,7 +55,8 @@ with the person's path:
 * Sides: per obstacle the person passes within 10 cm of, the side of the
   obstacle seen from the path at its closest point; agreement = same side.
 * Collisions (``lfdkit.metrics.collisions``); clearance ratio = median over
-  scenes of the plan's smallest clearance over the person's.
+  scenes of the plan's smallest clearance over the person's, and the
+  smallest such ratio (``worst``).
 * Gaps threaded: pairs of obstacles less than 15 cm apart (surface to surface)
   whose joining segment the plan crosses and the person's path does not.
 * Fit seconds (``Skill.fit``), plan milliseconds (median per scene), refused
@@ -295,6 +296,7 @@ def summary(scores: list[dict]) -> dict:
         "gaps_threaded": int(sum(s.get("gaps_threaded", 0) for s in done)),
         "person_threads": int(sum(s.get("person_threads", 0) for s in done)),
         "clearance_ratio": float(np.median(ratios)) if ratios else None,
+        "clearance_ratio_min": float(np.min(ratios)) if ratios else None,
     }
 
 
@@ -462,12 +464,13 @@ def print_table(rows: list[dict], scale: float) -> None:
         " reacted; quiet: scenes where it did not (RMS from the nominal < 5 mm), and the plan's"
         " largest RMS distance from the person there; sides: agreement"
         " with the person; coll: collisions; gaps: threaded where the person went round;"
-        " clear: plan / person smallest clearance, median; DMP: the skill's DMP with"
-        " movement_primitives' coupling term)"
+        " clear: plan / person smallest clearance, median over the scenes, worst: the smallest;"
+        " DMP: the skill's DMP with movement_primitives' coupling term)"
     )
     head = (
         f"{'person':<7} {'n':>2} {'noise':>5} {'scenes':>6} {'Pr pooled':>9} {'mean':>6} "
         f"{'median':>6} {'quiet':>9} {'sides':>6} {'coll':>4} {'gaps':>4} {'clear':>5} "
+        f"{'worst':>5} "
         f"{'refused':>7} "
         f"{'fit s':>6} {'plan ms':>7} {'train Pr':>8} {'DMP Pr':>7} {'DMP med':>7} "
         f"{'DMP sides':>9} {'DMP coll':>8}"
@@ -488,6 +491,7 @@ def print_table(rows: list[dict], scale: float) -> None:
             f"{h.get('quiet', 0):>2} {_f(quiet_mm):>3} mm "
             f"{_f(h.get('sides') and 100 * h['sides']):>5}% {h.get('collisions', 0):>4} "
             f"{h.get('gaps_threaded', 0):>4} {_f(h.get('clearance_ratio'), '{:.2f}'):>5} "
+            f"{_f(h.get('clearance_ratio_min'), '{:.2f}'):>5} "
             f"{len(r['refused']):>7} {r['fit_s']:>6.1f} {_f(r['plan_ms'], '{:.1f}'):>7} "
             f"{_f(t.get('pr_pooled')):>7}% {_f(d.get('pr_pooled')):>6}% "
             f"{_f(d.get('pr_median')):>6}% "
