@@ -129,7 +129,10 @@ thresholds, the thesis's values), :mod:`.common` (helpers), the sections
 :mod:`.run` (``__main__`` calls its ``main``). The names below are what the
 other benchmarks use (``import emulate`` from ``benchmarks/``):
 ``benchmarks/robot.py`` the DMP baseline, ``benchmarks/emulate_robustness.py``
-the SciPy reference.
+the SciPy reference. The fidelity study (does a learned skill move round new
+obstacles as its person would?) is a separate command,
+``python benchmarks/emulate_fidelity.py``: :mod:`.fidelity`, with its
+demonstrators in :mod:`.people`.
 """
 
 from .baseline import dmp_rollout, dmp_score, peer_dmp
