@@ -39,6 +39,8 @@ def test_scenarios_cross_the_sweep_near_when_the_brush_is_there(setting):
 
 
 def test_closed_loops_predictive_mpc_keeps_clear_where_the_blind_dmp_collides(skill, setting):
+    # the "DMP + coupling" baseline is movement_primitives' own DMP
+    pytest.importorskip("movement_primitives.dmp", reason="pip install movement_primitives")
     nominal, times = setting
     scenarios = moving_scenarios(3, 1, nominal, times)
     dmp_collisions = 0
