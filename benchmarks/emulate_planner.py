@@ -40,15 +40,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the tests' refer
 from _common import git_state, machine_info, package_versions
 
 from lfdkit.datasets.emulation import artificial_obstacles, da_vinci_marker
-from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_clearance, plan_path
-from lfdkit.io import atomic_write
-from lfdkit.scene import Obstacle, Scene
-from tests.emulate.test_planner_safety import (
+from lfdkit.datasets.planning import (
     N_POINTS,
     random_case,
     random_case_with_radii,
     reference_cost,
 )
+from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.io import atomic_write
+from lfdkit.model.scene import Obstacle, Scene
 
 
 def progress(message: str) -> None:

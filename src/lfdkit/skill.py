@@ -61,20 +61,29 @@ from typing import Any, Literal, NamedTuple
 import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
-from lfdkit import metrics
-from lfdkit._estimator import Estimator, check_fitted
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON, PLANNERS, SCALINGS, SKILL_DEFAULTS, TIMINGS
-from lfdkit._validation import (
+from lfdkit.core.estimator import Estimator, check_fitted
+from lfdkit.core.geometry import arc_length, path_length
+from lfdkit.core.options import (
+    MAX_HORIZON,
+    MIN_HORIZON,
+    PLANNERS,
+    SCALINGS,
+    SKILL_DEFAULTS,
+    TIMINGS,
+)
+from lfdkit.core.progress import Progress, ProgressLike, as_progress
+from lfdkit.core.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
+from lfdkit.core.units import check_units, conversion_factor
+from lfdkit.core.validation import (
     check_demos,
     check_path,
     check_point,
     check_positive,
     check_times_list,
 )
-from lfdkit.demos import DemoId
-from lfdkit.emulate import IOC, Plan, Reward, plan_path
-from lfdkit.geometry import arc_length, path_length
+from lfdkit.emulate import IOC, Plan, Reward, metrics, plan_path
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
+from lfdkit.imitate.orientation_dmp import orientation_error
 from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.io import load_demos, skill_file
 from lfdkit.io.scenes import load_scenes
@@ -85,10 +94,8 @@ from lfdkit.io.skill_file import (
     SKILL_VERSION,
 )
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
-from lfdkit.progress import Progress, ProgressLike, as_progress
-from lfdkit.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
-from lfdkit.scene import Scene
-from lfdkit.units import check_units, conversion_factor
+from lfdkit.model.demos import DemoId
+from lfdkit.model.scene import Scene
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
@@ -642,7 +649,7 @@ class Skill(Estimator):
         n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
         goal = orientations[-1]
         # The error the DMP learns: half the rotation angle to the goal (radians).
-        half = QuaternionDMP._error(orientations, goal)
+        half = orientation_error(orientations, goal)
         extent = float(np.max(np.ptp(half, axis=0)))
         tolerance = 0.5 * np.radians(_ORIENTATION_TOLERANCE_DEG)
         basis_tol = min(1.0, max(0.01, tolerance / extent)) if extent > 0.0 else 1.0

@@ -66,14 +66,14 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
+from lfdkit.core.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
+from lfdkit.core.units import check_units
+from lfdkit.core.validation import check_demos, check_path, check_positive, check_random_state
 from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
 from lfdkit.datasets.synthetic import DA_VINCI_TOP, da_vinci_polyline, da_vinci_wall_outlines
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
-from lfdkit.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
-from lfdkit.scene import Scene
-from lfdkit.units import check_units
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "CUP_RADIUS",

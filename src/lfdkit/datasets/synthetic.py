@@ -41,16 +41,16 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
-from lfdkit.geometry import (
+from lfdkit.core.geometry import (
     arc_length,
     left_normals,
     point_tangents,
     resample,
     resample_between,
 )
-from lfdkit.units import check_units
+from lfdkit.core.units import check_units
+from lfdkit.core.validation import check_demos, check_path, check_positive, check_random_state
+from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
 
 __all__ = [
     "CLOSED_DATASETS",

@@ -25,7 +25,7 @@ from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_p
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
 from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
-from lfdkit.scene import Capsule, Obstacle, Scene
+from lfdkit.model.scene import Capsule, Obstacle, Scene
 
 __all__ = [
     "IOC",

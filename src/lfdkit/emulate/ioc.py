@@ -43,13 +43,13 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._threads import one_blas_thread
-from lfdkit._validation import check_path, check_positive
+from lfdkit.core.progress import ProgressLike, as_progress
+from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.validation import check_path, check_positive
 from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON, plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
-from lfdkit.progress import ProgressLike, as_progress
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "IOC",

@@ -36,8 +36,8 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON
-from lfdkit._validation import check_positive
+from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON
+from lfdkit.core.validation import check_positive
 from lfdkit.emulate.planner import UnsafePlanError, best_window
 from lfdkit.emulate.problem import (
     UNCERTAINTY_MARGIN,
@@ -47,7 +47,7 @@ from lfdkit.emulate.problem import (
     goal_weights,
 )
 from lfdkit.emulate.reward import Reward
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = ["RecedingPlanner"]
 
@@ -182,7 +182,7 @@ class RecedingPlanner:
         if self.done:
             raise ValueError("step: the tool is at the goal; nothing left to plan")
         if not isinstance(scene, Scene):
-            raise TypeError(f"scene: expected an lfdkit.scene.Scene, got {type(scene).__name__}")
+            raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
         window = self.window_problem(scene)
         h = window.n
         guess = self._guess[:h]

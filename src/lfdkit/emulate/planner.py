@@ -88,9 +88,10 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
-from lfdkit._threads import one_blas_thread
-from lfdkit._validation import check_path, check_positive
+from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
+from lfdkit.core.progress import Progress, ProgressLike, as_progress
+from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.validation import check_path, check_positive
 from lfdkit.emulate.problem import (
     UNCERTAINTY_MARGIN,
     Corridor,
@@ -100,8 +101,7 @@ from lfdkit.emulate.problem import (
     predicted_sigma,
 )
 from lfdkit.emulate.reward import Reward
-from lfdkit.progress import Progress, ProgressLike, as_progress
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 # goal_weights is the problem's (lfdkit.emulate.problem); listed here too, as the
 # planner's goal approach that plan_path documents.

@@ -47,10 +47,10 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_positive
+from lfdkit.core.geometry import PolylineSet, normal_frames, point_tangents, resample
+from lfdkit.core.validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
-from lfdkit.geometry import PolylineSet, normal_frames, point_tangents, resample
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "BARRIER_WEIGHT",

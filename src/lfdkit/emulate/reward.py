@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_positive
-from lfdkit.geometry import project_onto_polyline, segment_tangents
-from lfdkit.scene import Scene
+from lfdkit.core.geometry import project_onto_polyline, segment_tangents
+from lfdkit.core.validation import check_positive
+from lfdkit.model.scene import Scene
 
 __all__ = ["Reward"]
 

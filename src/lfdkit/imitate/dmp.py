@@ -169,8 +169,9 @@ from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
-from lfdkit._estimator import Estimator, not_fitted
-from lfdkit._validation import (
+from lfdkit.core.estimator import Estimator, not_fitted
+from lfdkit.core.geometry import arc_length, path_length, segment_lengths
+from lfdkit.core.validation import (
     MAX_POINTS,
     check_count,
     check_path,
@@ -178,7 +179,6 @@ from lfdkit._validation import (
     check_positive,
     check_times,
 )
-from lfdkit.geometry import arc_length, path_length, segment_lengths
 from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
 __all__ = [
@@ -653,7 +653,7 @@ class DMP(Estimator):
         self.n_dims_ = points.shape[1]
         self._extent = extent
         # The scale against which absurd starts, goals and states are judged.
-        self._scale = max(extent, float(np.max(np.abs(points))), 1e-300)
+        self.scale_ = max(extent, float(np.max(np.abs(points))), 1e-300)
         self._grid_cache: dict[int, tuple[np.ndarray, ...]] = {}
         self._knots = self._response_knots()
         self._left_cache: dict[tuple[int, float, bool], np.ndarray] = {}
@@ -731,7 +731,7 @@ class DMP(Estimator):
             f"basis_tol={tol:g} of its extent; kept the closest, {best.n_basis} basis "
             f"functions ({best.error:.2%} of the extent). Raise basis_tol, fit with "
             "timing='minimum_jerk' (a path timed at constant speed cannot be followed from "
-            "rest), or smooth the path (lfdkit.geometry.smooth_path) if it is noisy or has "
+            "rest), or smooth the path (lfdkit.core.geometry.smooth_path) if it is noisy or has "
             "sharp corners",
             RuntimeWarning,
             stacklevel=3,
@@ -851,7 +851,7 @@ class DMP(Estimator):
 
     def _within_reach(self, arr: np.ndarray, name: str) -> np.ndarray:
         """``arr`` (finite positions) if within reach of the training scale; else refused."""
-        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
+        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "scale_", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) > limit:
             raise ValueError(
                 f"{name}: {np.max(np.abs(arr)):.3g} is beyond {MAX_RELATIVE_MAGNITUDE:g} times "
@@ -862,7 +862,7 @@ class DMP(Estimator):
     def _check_velocity(self, value: Any, name: str, time_scale: float) -> np.ndarray:
         """A finite velocity that does not carry past the position bound in one movement."""
         arr = check_point(value, name, self.n_dims_, batch="n_rollouts")
-        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
+        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "scale_", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) * time_scale > limit:
             raise ValueError(
                 f"{name}: {np.max(np.abs(arr)):.3g} units/s would carry beyond "
@@ -1389,7 +1389,7 @@ def _check_distinct(points: np.ndarray) -> None:
         row = int(np.argmax(steps == 0.0))
         raise ValueError(
             f"path: points {row} and {row + 1} coincide; remove repeated points "
-            "(lfdkit.geometry.remove_repeated_points) or give times"
+            "(lfdkit.core.geometry.remove_repeated_points) or give times"
         )
 
 

@@ -74,14 +74,14 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import (
+from lfdkit.core.geometry import arc_length, segment_lengths
+from lfdkit.core.validation import (
     check_count,
     check_demos,
     check_path,
     check_positive,
     check_times_list,
 )
-from lfdkit.geometry import arc_length, segment_lengths
 
 __all__ = [
     "DEGREE",
@@ -547,7 +547,7 @@ def _fractions(points: np.ndarray) -> np.ndarray:
         row = int(np.argmax(lengths == 0.0))
         raise ValueError(
             f"path: points {row} and {row + 1} coincide; a timed path needs distinct "
-            "consecutive points (lfdkit.geometry.remove_repeated_points)"
+            "consecutive points (lfdkit.core.geometry.remove_repeated_points)"
         )
     along = np.concatenate([[0.0], np.cumsum(lengths)])
     if not along[-1] > 0.0:

@@ -67,8 +67,8 @@ from typing import IO, Any, Literal, overload
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_times, check_times_list
-from lfdkit.demos import DemoId, PathLike
+from lfdkit.core.rotations import check_quaternions
+from lfdkit.core.validation import check_demos, check_path, check_times, check_times_list
 from lfdkit.io.atomic import atomic_write, check_output_path, write_text
 from lfdkit.io.text import (
     Blocks,
@@ -83,7 +83,7 @@ from lfdkit.io.text import (
     json_float_array,
     parse_id,
 )
-from lfdkit.rotations import check_quaternions
+from lfdkit.model.demos import DemoId, PathLike
 
 __all__ = [
     "JSON_FORMAT",

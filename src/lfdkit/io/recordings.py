@@ -52,8 +52,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.demos import PathLike
-from lfdkit.rotations import (
+from lfdkit.core.rotations import (
     check_quaternions,
     conjugate,
     continuous,
@@ -61,6 +60,7 @@ from lfdkit.rotations import (
     multiply,
     slerp,
 )
+from lfdkit.model.demos import PathLike
 
 __all__ = [
     "INSTALL_HINT",

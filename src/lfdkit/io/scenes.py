@@ -68,7 +68,6 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.demos import DemoId, PathLike
 from lfdkit.io.atomic import check_output_path, write_text
 from lfdkit.io.text import (
     Blocks,
@@ -81,8 +80,9 @@ from lfdkit.io.text import (
     json_document,
     parse_id,
 )
-from lfdkit.motion import ConstantVelocity, Motion, Observations, Trajectory
-from lfdkit.scene import OBSTACLE_SHAPES, Obstacle, Scene
+from lfdkit.model.demos import DemoId, PathLike
+from lfdkit.model.motion import ConstantVelocity, Motion, Observations, Trajectory
+from lfdkit.model.scene import OBSTACLE_SHAPES, Obstacle, Scene
 
 __all__ = [
     "SCENE_JSON_FORMAT",

@@ -35,8 +35,8 @@ from typing import IO, Any
 
 import numpy as np
 
-from lfdkit.demos import DemoId
 from lfdkit.io.atomic import NotRegularFileError, file_kind
+from lfdkit.model.demos import DemoId
 
 __all__ = [
     "MAX_FILE_BYTES",

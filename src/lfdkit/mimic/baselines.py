@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit._estimator import Estimator
-from lfdkit._validation import check_count, check_demos
-from lfdkit.geometry import resample
+from lfdkit.core.estimator import Estimator
+from lfdkit.core.geometry import resample
+from lfdkit.core.validation import check_count, check_demos
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 

@@ -31,10 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path
-from lfdkit.geometry import PolylineSet, arc_length, point_tangents, project_onto_polyline
-from lfdkit.mimic.orientation import orient_demos
-from lfdkit.rotations import (
+from lfdkit.core.geometry import PolylineSet, arc_length, point_tangents, project_onto_polyline
+from lfdkit.core.rotations import (
     angle_between,
     check_quaternions,
     continuous,
@@ -42,6 +40,8 @@ from lfdkit.rotations import (
     robust_mean_quaternion,
     slerp,
 )
+from lfdkit.core.validation import check_demos, check_path
+from lfdkit.mimic.orientation import orient_demos
 
 __all__ = ["PathOrientations", "mean_orientations"]
 

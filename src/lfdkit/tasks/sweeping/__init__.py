@@ -27,9 +27,7 @@ matplotlib's figures and the whole skill pipeline) are loaded on first use.
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
-
+from lfdkit.core.lazy import lazy_names
 from lfdkit.tasks.sweeping.examples import (
     EXAMPLE_SEED,
     example_dataset,
@@ -167,12 +165,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        module = importlib.import_module(f"{__name__}.{_LAZY[name]}")
-        return getattr(module, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())

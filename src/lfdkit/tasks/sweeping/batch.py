@@ -43,9 +43,9 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__
-from lfdkit.batch import BatchSummary, SerialExecutor, run_batch
-from lfdkit.progress import ProgressLike
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.app.batch import BatchSummary, SerialExecutor, run_batch
+from lfdkit.core.progress import ProgressLike
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.tasks.sweeping.scenarios import BRUSH, SweepScenario, obstacle_class, random_scenarios
 
 __all__ = [
@@ -134,10 +134,10 @@ def evaluate_scenario(
         ``path_error_m``, ``failures``). No wall times: the row depends on
         the inputs only.
     """
-    from lfdkit._threads import one_blas_thread
+    from lfdkit.core.geometry import path_length
+    from lfdkit.core.threads import one_blas_thread
     from lfdkit.emulate import UnsafePlanError
-    from lfdkit.geometry import path_length
-    from lfdkit.robot import ur5
+    from lfdkit.execute import ur5
     from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, ExecutionError, execute_skill
     from lfdkit.tasks.sweeping.sim import sweep_motion
 

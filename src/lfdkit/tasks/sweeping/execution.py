@@ -45,16 +45,16 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__
+from lfdkit.core.geometry import path_length
+from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.emulate import Plan
-from lfdkit.geometry import path_length
+from lfdkit.execute import ur5
+from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.poses import pose_vector, unwrap_rotvecs, yaw_from_quaternions
+from lfdkit.execute.timing import Timing, time_parameterize
+from lfdkit.execute.urscript import MAX_TOOL_SPEED, TABLE_Z, Workspace, urscript_program
 from lfdkit.io import atomic_write, save_path, write_text
-from lfdkit.progress import ProgressLike, as_progress
-from lfdkit.robot import ur5
-from lfdkit.robot.arm import UR5, Arm, check_arm
-from lfdkit.robot.poses import pose_vector, unwrap_rotvecs, yaw_from_quaternions
-from lfdkit.robot.timing import Timing, time_parameterize
-from lfdkit.robot.urscript import MAX_TOOL_SPEED, TABLE_Z, Workspace, urscript_program
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.scenarios import BRUSH, Dustpan, SweepingTask, obstacle_class
 from lfdkit.tasks.sweeping.sim import SweepResult, simulate_sweep, sweep_motion

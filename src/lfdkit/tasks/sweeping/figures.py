@@ -14,8 +14,8 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from lfdkit.plot import draw_scene, label_axes, plan_colors
-from lfdkit.scene import Scene
+from lfdkit.app.plot import draw_scene, label_axes, plan_colors
+from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import Dustpan
 
 if TYPE_CHECKING:

@@ -52,10 +52,10 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_positive, check_random_state
+from lfdkit.core.validation import check_positive, check_random_state
 from lfdkit.emulate import Corridor, RecedingPlanner, UnsafePlanError
-from lfdkit.motion import ConstantVelocityKalman, Tracked, Trajectory
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.motion import ConstantVelocityKalman, Tracked, Trajectory
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
@@ -449,7 +449,7 @@ def _coupled_dmp(
     """A ``movement_primitives`` DMP of the nominal with the obstacle coupling term."""
     from movement_primitives.dmp import DMP, CouplingTermObstacleAvoidance2D
 
-    from lfdkit.geometry import resample
+    from lfdkit.core.geometry import resample
 
     dt = 0.02
     grid = np.arange(0.0, times[-1] + 0.5 * dt, dt)

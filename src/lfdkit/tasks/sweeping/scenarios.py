@@ -61,11 +61,11 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_finite, check_path, check_positive, check_random_state
+from lfdkit.core.geometry import left_normals, path_length, resample_between
+from lfdkit.core.validation import check_finite, check_path, check_positive, check_random_state
 from lfdkit.datasets.emulation import CUP_RADIUS, MARKER_RADIUS, SWEEP_GOAL, SWEEP_START
-from lfdkit.geometry import left_normals, path_length, resample_between
-from lfdkit.robot.poses import SWEEP_HEIGHT
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.execute.poses import SWEEP_HEIGHT
+from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
     "BRUSH",

@@ -46,12 +46,18 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_positive
-from lfdkit.geometry import arc_length, path_length, project_onto_polyline, resample, smooth_path
-from lfdkit.progress import ProgressLike, Stage, as_progress
-from lfdkit.robot import ur5
-from lfdkit.robot.arm import UR5, Arm, check_arm
-from lfdkit.robot.mujoco import (
+from lfdkit.core.geometry import (
+    arc_length,
+    path_length,
+    project_onto_polyline,
+    resample,
+    smooth_path,
+)
+from lfdkit.core.progress import ProgressLike, Stage, as_progress
+from lfdkit.core.validation import check_path, check_positive
+from lfdkit.execute import ur5
+from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.mujoco import (
     FIXED_CONTACT,
     OBJECT_CONTACT,
     ROBOT_CONTACT,
@@ -61,9 +67,9 @@ from lfdkit.robot.mujoco import (
     render_camera,
     robot_xml,
 )
-from lfdkit.robot.poses import sweeping_poses
-from lfdkit.robot.timing import Timing, time_parameterize
-from lfdkit.scene import Scene
+from lfdkit.execute.poses import sweeping_poses
+from lfdkit.execute.timing import Timing, time_parameterize
+from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
     CUBE,
