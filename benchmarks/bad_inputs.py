@@ -99,7 +99,8 @@ CASES: list[tuple[str, str, str, str]] = [
 HELPERS = """
 import numpy as np
 from lfdkit.io import load_demos
-from lfdkit.emulate import Reward, plan_path, plan_clearance
+from lfdkit.emulate import Reward, plan_path
+from lfdkit.emulate.metrics import clearance as path_clearance
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 
@@ -119,7 +120,7 @@ REWARD = Reward(10.0, {"cup": [2500.0, 4000.0]})
 
 def plan_big_cup():
     scene = Scene((Obstacle("cup", [0.5, 0.03], radius=0.1),))
-    return plan_clearance(plan_path(REWARD, straight(), scene).points, scene)[0]
+    return path_clearance(plan_path(REWARD, straight(), scene).points, scene)[0]
 
 def plan_wall():
     wall = Scene(tuple(Obstacle("cup", [0.5, y], radius=0.03) for y in np.arange(-0.6, 0.61, 0.05)))

@@ -46,7 +46,8 @@ from lfdkit.datasets.planning import (
     random_case_with_radii,
     reference_cost,
 )
-from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate.metrics import clearance as path_clearance
 from lfdkit.io import atomic_write
 from lfdkit.model.scene import Obstacle, Scene
 
@@ -93,7 +94,7 @@ def clearance_and_goal(n_scenes: int) -> dict:
                 refused += 1
                 continue
             planned += 1
-            margin = plan_clearance(plan.points, scene, clearance)
+            margin = path_clearance(plan.points, scene, clearance)
             smallest = min(smallest, float(margin.min()))
             violations += int(np.sum(margin < -1e-12))
             worst_goal = max(worst_goal, plan.goal_error / extent)

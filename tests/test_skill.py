@@ -344,7 +344,7 @@ def test_fit_errors(sweeping) -> None:
         Skill().fit(free[:1])
     with pytest.raises(ValueError, match="mimic: expected one of"):
         Skill(mimic="dtw").fit(free)
-    with pytest.raises(ValueError, match="horizon: expected an integer 4 <= H <= 12"):
+    with pytest.raises(ValueError, match="horizon: expected 4 <= H <= 12"):
         Skill(horizon=3).fit(free)
     with pytest.raises(ValueError, match="contains NaN"):
         Skill().fit([free[0], np.full_like(free[1], np.nan)])

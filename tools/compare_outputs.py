@@ -3,7 +3,8 @@
 ``python tools/compare_outputs.py BEFORE AFTER`` prints one line per file and
 exits 1 when a file differs beyond round-off. Text files (CSV, URScript,
 HTML, logs) must be byte-identical; JSON documents equal with numbers within
-``--tol`` (relative to max(1, |x|)); PNGs equal pixel for pixel (decoded
+``--tol`` (relative to max(1, |x|)); CSV files whose text differs are
+compared number by number within ``--tol`` (and say so); PNGs equal pixel for pixel (decoded
 with matplotlib); NPZ archives array for array within ``--tol``. Lines
 matching ``--ignore`` (a regular expression; default: wall-clock timings and
 dates, see :data:`TIMING`) are masked in text files before comparing, and JSON
@@ -55,6 +56,24 @@ def _json_equal(a, b, tol: float, skip: frozenset[str], where: str = "") -> str 
     return None if a == b else f"{where}: {a!r} vs {b!r}"
 
 
+def _csv_difference(lines_a: list[str], lines_b: list[str]) -> float | None:
+    """Largest relative difference of two CSV texts' numbers; None if they differ otherwise."""
+    worst = 0.0
+    for x, y in zip(lines_a, lines_b, strict=True):
+        cells_a, cells_b = x.split(","), y.split(",")
+        if len(cells_a) != len(cells_b):
+            return None
+        for a, b in zip(cells_a, cells_b, strict=True):
+            if a == b:
+                continue
+            try:
+                u, v = float(a), float(b)
+            except ValueError:
+                return None
+            worst = max(worst, abs(u - v) / max(1.0, abs(u), abs(v)))
+    return worst
+
+
 def compare(before: Path, after: Path, tol: float, ignore: str, skip: frozenset[str]) -> str:
     """'identical', 'equal within tol' or what differs, for one pair of files."""
     raw_a, raw_b = before.read_bytes(), after.read_bytes()
@@ -94,6 +113,10 @@ def compare(before: Path, after: Path, tol: float, ignore: str, skip: frozenset[
         lines_a, lines_b = raw_a.decode().splitlines(), raw_b.decode().splitlines()
     except UnicodeDecodeError:
         return "DIFFERS (binary)"
+    if suffix == ".csv" and len(lines_a) == len(lines_b):
+        worst = _csv_difference(lines_a, lines_b)
+        if worst is not None and worst <= tol:
+            return f"numbers within {worst:.1e} (relative; text differs)"
     drop = re.compile(ignore)
     kept_a = [re.sub(drop, "#", x) for x in lines_a]
     kept_b = [re.sub(drop, "#", x) for x in lines_b]

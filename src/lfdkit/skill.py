@@ -64,8 +64,6 @@ from numpy.lib.mixins import NDArrayOperatorsMixin
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.geometry import arc_length, path_length
 from lfdkit.core.options import (
-    MAX_HORIZON,
-    MIN_HORIZON,
     PLANNERS,
     SCALINGS,
     SKILL_DEFAULTS,
@@ -76,6 +74,7 @@ from lfdkit.core.rotations import angle_between, check_quaternions, continuous, 
 from lfdkit.core.units import check_units, conversion_factor
 from lfdkit.core.validation import (
     check_demos,
+    check_horizon,
     check_path,
     check_point,
     check_positive,
@@ -369,13 +368,7 @@ class Skill(Estimator):
                 raise ValueError(
                     f"{name}: expected at most {SKILL_FILE_LIMITS[name][1]:g}, got {value:g}"
                 )
-        if not isinstance(self.horizon, (int, np.integer)) or not (
-            MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON
-        ):
-            raise ValueError(
-                f"horizon: expected an integer {MIN_HORIZON} <= H <= {MAX_HORIZON}, "
-                f"got {self.horizon!r}"
-            )
+        check_horizon(self.horizon)
         if self.classes is not None and (
             isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
         ):

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from lfdkit.app.cli import main
-from lfdkit.emulate import plan_clearance
+from lfdkit.emulate.metrics import clearance as path_clearance
 from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, save_demos
 from lfdkit.io.scenes import save_scenes
@@ -310,7 +310,7 @@ def test_plan_keeps_out_of_the_radius_plus_clearance(capsys, skill_path):
         code, stdout, err = run_cli(capsys, *args, "--clearance", clearance, "-v")
         assert code == 0, err
         rows = read_plan_csv(stdout)[1]
-        assert plan_clearance(rows, scene, float(clearance))[0] >= 0.0
+        assert path_clearance(rows, scene, float(clearance))[0] >= 0.0
         assert "from the goal" in err and "beyond radius + clearance" in err
     # No way round within the action bound: refused on one line, exit 1.
     nominal = Skill.load(skill_path).nominal(None, [0.36, 0.5])

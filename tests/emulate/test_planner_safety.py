@@ -22,7 +22,8 @@ from lfdkit.datasets.planning import (
     reference_cost,
 )
 from lfdkit.emulate import Corridor, Reward, plan_path
-from lfdkit.emulate.planner import UnsafePlanError, plan_clearance
+from lfdkit.emulate.metrics import clearance as path_clearance
+from lfdkit.emulate.planner import UnsafePlanError
 from lfdkit.model.scene import Obstacle, Scene
 
 
@@ -99,11 +100,11 @@ def test_a_large_obstacle_is_kept_out_of_with_its_radius_and_the_clearance(horiz
     # The learned response alone passes well inside a 10 cm cup (the example).
     scene = Scene((Obstacle("cup", [0.5, 0.03], radius=0.1),))
     soft = plan_path(NARROW, straight(), Scene((Obstacle("cup", [0.5, 0.03]),)), horizon=horizon)
-    assert plan_clearance(soft.points, scene)[0] < -0.03
+    assert path_clearance(soft.points, scene)[0] < -0.03
     for clearance in (0.0, 0.025):
         plan = plan_path(NARROW, straight(), scene, horizon=horizon, clearance=clearance)
-        assert plan_clearance(plan.points, scene, clearance)[0] >= 0.0
-        np.testing.assert_allclose(plan.clearance, plan_clearance(plan.points, scene, clearance))
+        assert path_clearance(plan.points, scene, clearance)[0] >= 0.0
+        np.testing.assert_allclose(plan.clearance, path_clearance(plan.points, scene, clearance))
         assert plan.goal_error < 1e-3
 
 
@@ -114,7 +115,7 @@ def test_clearance_in_three_dimensions() -> None:
     scene = Scene((Obstacle("cup", [0.5, 0.1, 0.01], radius=0.06),))
     for horizon in (None, 10):
         plan = plan_path(reward, nominal, scene, horizon=horizon, clearance=0.01)
-        assert plan_clearance(plan.points, scene, 0.01)[0] >= 0.0
+        assert path_clearance(plan.points, scene, 0.01)[0] >= 0.0
         assert plan.goal_error < 1e-3
 
 
@@ -139,7 +140,7 @@ def test_random_scenes_with_radii_are_clear_or_refused() -> None:
                 assert "lies inside obstacle" in str(exc)
                 refused += 1
                 continue
-            assert np.all(plan_clearance(plan.points, with_radii, clearance) >= -1e-12)
+            assert np.all(path_clearance(plan.points, with_radii, clearance) >= -1e-12)
     assert refused < 40  # most scenes have a way through
 
 

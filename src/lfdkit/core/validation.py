@@ -12,6 +12,8 @@ from typing import Any, Literal
 
 import numpy as np
 
+from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON
+
 __all__ = [
     "MAX_POINTS",
     "check_count",
@@ -378,3 +380,18 @@ def check_random_state(seed: Any) -> np.random.Generator:
     if seed is None or isinstance(seed, (int, np.integer)):
         return np.random.default_rng(seed)
     raise TypeError(f"seed: expected None, an int or a numpy Generator, got {type(seed).__name__}")
+
+
+def check_horizon(value: Any, name: str = "horizon") -> int:
+    """Check a receding horizon: an integer from ``MIN_HORIZON`` to ``MAX_HORIZON``; return it.
+
+    The one check of the horizon (:mod:`lfdkit.core.options` holds the bounds,
+    4 to 12, the horizons the thesis found to work, §5.4): the skill, the
+    planner, the moving-obstacle planner and IOC call it where the value enters.
+    """
+    horizon = check_positive(value, name, integer=True)
+    if not MIN_HORIZON <= horizon <= MAX_HORIZON:
+        raise ValueError(
+            f"{name}: expected {MIN_HORIZON} <= H <= {MAX_HORIZON} (thesis §5.4), got {horizon}"
+        )
+    return horizon

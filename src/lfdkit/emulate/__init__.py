@@ -21,7 +21,7 @@ Layout, each module with its compiled loops beside it:
 
 from lfdkit.emulate.ioc import IOC
 from lfdkit.emulate.moving import RecedingPlanner
-from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_path
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
 from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
@@ -39,7 +39,6 @@ __all__ = [
     "UnsafePlanError",
     "load_scene",
     "load_scenes",
-    "plan_clearance",
     "plan_path",
     "save_scenes",
 ]

@@ -45,8 +45,8 @@ import numpy as np
 
 from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
-from lfdkit.core.validation import check_path, check_positive
-from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON, plan_path
+from lfdkit.core.validation import check_horizon, check_path, check_positive
+from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
@@ -625,10 +625,8 @@ class IOC:
             raise ValueError(
                 f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
             )
-        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
-            )
+        if self.horizon is not None:
+            check_horizon(self.horizon)
         if self.init is not None and not isinstance(self.init, Reward):
             raise TypeError(f"init: expected a Reward, got {type(self.init).__name__}")
 

@@ -356,8 +356,8 @@ def _check_scene(scene, name: str = "scene") -> Scene:
     return scene
 
 
-def clearance(path, scene) -> np.ndarray:
-    """Distance from a path to the surface of every obstacle (negative inside).
+def clearance(path, scene, margin: float = 0.0) -> np.ndarray:
+    """Distance from a path to the surface of every obstacle, minus a margin (negative inside).
 
     The path is taken as a polyline: the distance to an obstacle is the
     smallest over its segments, not only its vertices, so a coarse path that
@@ -369,24 +369,29 @@ def clearance(path, scene) -> np.ndarray:
         One point is accepted (its distance to each centre).
     scene : Scene
         Obstacles of the same dimension as the path.
+    margin : float, default 0
+        Subtracted from every distance: the tool's clearance (the planner's
+        ``clearance``), in the path's units.
 
     Returns
     -------
     ndarray, shape (n_obstacles,)
         Smallest distance from the polyline to each obstacle's surface
-        (:meth:`lfdkit.scene.Obstacle.distance`; for a round obstacle its
-        centre's distance minus its radius), in units: negative where the
-        path enters the obstacle.
+        (:meth:`lfdkit.model.scene.Obstacle.distance`; for a round obstacle its
+        centre's distance minus its radius) minus ``margin``, in units: negative
+        where the path comes closer than radius plus margin. The planner's
+        :attr:`lfdkit.emulate.Plan.clearance` is this, for its own clearance.
     """
     path = check_path(path, "path", min_points=1)
     scene = _check_scene(scene)
+    margin = check_positive(margin, "margin", allow_zero=True)
     if not len(scene.obstacles):
         return np.zeros(0)
     if scene.positions.shape[1] != path.shape[1]:
         raise ValueError(
             f"scene: {scene.positions.shape[1]}-D obstacles for a {path.shape[1]}-D path"
         )
-    return scene.distances(path)
+    return scene.distances(path) - margin
 
 
 def collisions(path, scene) -> int:

@@ -36,8 +36,8 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON
-from lfdkit.core.validation import check_positive
+from lfdkit.core.options import MAX_HORIZON
+from lfdkit.core.validation import check_horizon, check_positive
 from lfdkit.emulate.planner import UnsafePlanError, best_window
 from lfdkit.emulate.problem import (
     UNCERTAINTY_MARGIN,
@@ -106,11 +106,7 @@ class RecedingPlanner:
     ) -> None:
         if not isinstance(reward, Reward):
             raise TypeError(f"reward: expected an lfdkit.emulate.Reward, got {type(reward)}")
-        horizon = check_positive(horizon, "horizon", integer=True)
-        if not MIN_HORIZON <= horizon <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {horizon}"
-            )
+        horizon = check_horizon(horizon)
         self.reward = reward
         self.corridor = (
             nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)

@@ -17,7 +17,8 @@ Accuracy
 Eq. 6.3, ``θ = arccos((tr R − 1) / 2)`` and ``ω = vee(R − Rᵀ) / (2 sin θ)``,
 loses half the digits near θ = 0 and θ = π (``arccos`` has an infinite slope
 at ±1) and divides by ``sin θ → 0`` there. :func:`rotvec_from_matrix` instead
-goes through the unit quaternion, taking its largest component from the
+goes through the unit quaternion of :func:`lfdkit.core.rotations.quaternion_from_matrix`
+(``[x, y, z, w]``, the one convention of lfdkit), taking its largest component from the
 diagonal (Shepperd's method, so the axis at θ ≈ π comes from the symmetric
 part of ``R``), and ``θ / sin(θ/2)`` from ``atan2`` with a series expansion
 for tiny angles. Both directions are accurate to about 1e-15 for any angle.
@@ -38,7 +39,11 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.geometry import point_tangents
-from lfdkit.core.rotations import check_quaternions, matrix_from_quaternion
+from lfdkit.core.rotations import (
+    check_quaternions,
+    matrix_from_quaternion,
+    quaternion_from_matrix,
+)
 from lfdkit.core.validation import check_finite, check_path
 
 __all__ = [
@@ -146,41 +151,10 @@ def _matrix_from_rotvec(r: np.ndarray) -> np.ndarray:
     return np.eye(3) + a[:, None, None] * k + b[:, None, None] * (k @ k)
 
 
-def _quaternion_from_matrix(R: np.ndarray) -> np.ndarray:
-    """Unit quaternions ``[w, x, y, z]`` with ``w >= 0`` for rotations of shape (n, 3, 3)."""
-    d0, d1, d2 = R[:, 0, 0], R[:, 1, 1], R[:, 2, 2]
-    tr = d0 + d1 + d2
-    # 4w², 4x², 4y², 4z²: take the largest as the pivot, so nothing small is divided by.
-    four_sq = np.stack((1.0 + tr, 1.0 + 2 * d0 - tr, 1.0 + 2 * d1 - tr, 1.0 + 2 * d2 - tr), axis=1)
-    pivot = np.argmax(four_sq, axis=1)
-    big = 0.5 * np.sqrt(np.maximum(four_sq[np.arange(len(R)), pivot], 0.0))
-    inv = 0.25 / big  # big >= 1/2 always, since the four squares sum to 4
-    skew_x = R[:, 2, 1] - R[:, 1, 2]
-    skew_y = R[:, 0, 2] - R[:, 2, 0]
-    skew_z = R[:, 1, 0] - R[:, 0, 1]
-    sym_xy = R[:, 0, 1] + R[:, 1, 0]
-    sym_xz = R[:, 0, 2] + R[:, 2, 0]
-    sym_yz = R[:, 1, 2] + R[:, 2, 1]
-    q = np.empty((len(R), 4))
-    cases = (
-        (big, skew_x * inv, skew_y * inv, skew_z * inv),  # pivot w
-        (skew_x * inv, big, sym_xy * inv, sym_xz * inv),  # pivot x
-        (skew_y * inv, sym_xy * inv, big, sym_yz * inv),  # pivot y
-        (skew_z * inv, sym_xz * inv, sym_yz * inv, big),  # pivot z
-    )
-    for p, comps in enumerate(cases):
-        mask = pivot == p
-        for c in range(4):
-            q[mask, c] = comps[c][mask]
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    q[q[:, 0] < 0] *= -1.0  # same rotation; w >= 0 puts θ in [0, π]
-    return q
-
-
 def _rotvec_from_matrix(R: np.ndarray) -> np.ndarray:
     """Rotation vectors (n, 3) of validated rotations (n, 3, 3); see the module notes."""
-    q = _quaternion_from_matrix(R)
-    w, v = q[:, 0], q[:, 1:]
+    q = quaternion_from_matrix(R)  # [x, y, z, w], w >= 0
+    w, v = q[:, 3], q[:, :3]
     s = np.linalg.norm(v, axis=1)  # sin(θ/2)
     at_pi = w <= 0.5 * _AT_PI  # w = cos(θ/2) ≈ (π − θ)/2
     w = np.where(at_pi, 0.0, w)

@@ -171,6 +171,7 @@ import numpy as np
 
 from lfdkit.core.estimator import Estimator, not_fitted
 from lfdkit.core.geometry import arc_length, path_length, segment_lengths
+from lfdkit.core.options import SCALINGS, TIMINGS
 from lfdkit.core.validation import (
     MAX_POINTS,
     check_count,
@@ -191,13 +192,11 @@ __all__ = [
     "minimum_jerk_times",
 ]
 
-Scaling = Literal["per_dimension", "spatial", "translate"]
+Scaling = Literal["translate", "spatial", "per_dimension"]
 EndCondition = Literal["rest", "free"]
-Timing = Literal["uniform", "minimum_jerk"]
+Timing = Literal["minimum_jerk", "uniform"]
 
-_SCALINGS = ("per_dimension", "spatial", "translate")
 _END_CONDITIONS = ("rest", "free")
-_TIMINGS = ("uniform", "minimum_jerk")
 #: Gauss–Legendre nodes per quadrature panel and the longest panel (normalised time).
 _GAUSS_NODES = 4
 _MAX_PANEL = 0.01
@@ -534,8 +533,8 @@ class DMP(Estimator):
             check_positive(self.alpha, "alpha")
         _check_tau(self.tau)
         check_positive(self.regularization, "regularization", allow_zero=True)
-        if self.scaling not in _SCALINGS:
-            raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
+        if self.scaling not in SCALINGS:
+            raise ValueError(f"scaling: expected one of {SCALINGS}, got {self.scaling!r}")
         if self.end not in _END_CONDITIONS:
             raise ValueError(f"end: expected one of {_END_CONDITIONS}, got {self.end!r}")
         if self.end == "rest" and not auto and self.n_basis < 4:
@@ -594,10 +593,8 @@ class DMP(Estimator):
         points = check_path(path, "path", min_points=3, min_dims=1)
         n = points.shape[0]
         profile = timing if isinstance(timing, SpeedProfile) else None
-        if profile is None and timing not in _TIMINGS:
-            raise ValueError(
-                f"timing: expected one of {_TIMINGS} or a SpeedProfile, got {timing!r}"
-            )
+        if profile is None and timing not in TIMINGS:
+            raise ValueError(f"timing: expected one of {TIMINGS} or a SpeedProfile, got {timing!r}")
         if duration is not None and dt is not None:
             raise ValueError("dt: give either duration or dt, not both")
         if times is None:

@@ -146,10 +146,7 @@ class SpeedProfile:
     demo_durations: tuple[float, ...] = field(default=())
 
     def __post_init__(self) -> None:
-        duration = check_positive(self.duration, "duration")
-        low, high = DURATION_RANGE
-        if not low <= duration <= high:
-            raise ValueError(f"duration: expected {low:g} to {high:g} s, got {duration:g}")
+        duration = _check_duration(self.duration)
         try:
             coefficients = np.array(self.coefficients, dtype=np.float64)
         except (TypeError, ValueError) as exc:
@@ -533,6 +530,7 @@ def _phase(u: Any) -> np.ndarray:
 
 
 def _check_duration(duration: Any) -> float:
+    """The one check of a given duration (seconds, within :data:`DURATION_RANGE`)."""
     value = check_positive(duration, "duration")
     low, high = DURATION_RANGE
     if not low <= value <= high:
