@@ -303,7 +303,9 @@ def reproduction(paths: dict[str, dict]) -> list[dict]:
         path, extent = info["path"], extent_of(info["path"])
         for timing in TIMINGS:
             for n in N_BASIS:
-                dmp = DMP(n_basis=n).fit(path, duration=info["duration"], timing=timing)
+                dmp = DMP(n_basis=n, scaling="per_dimension").fit(
+                    path, duration=info["duration"], timing=timing
+                )
                 roll = dmp.rollout(n_steps=REPRODUCTION_STEPS)
                 aligned = at_times(roll.times, roll.positions, dmp.times_)
                 rows.append(
@@ -1144,10 +1146,10 @@ def speed(walking_path: np.ndarray, repeats: int, seed: int) -> dict:
         return rms(at_times(t, positions, times), path) / extent
 
     def ours_fit():
-        return DMP(n_basis=20).fit(path, times)
+        return DMP(n_basis=20, scaling="per_dimension").fit(path, times)
 
     def ours_auto_fit():
-        return DMP(n_basis="auto").fit(path, times)
+        return DMP(n_basis="auto", scaling="per_dimension").fit(path, times)
 
     def mp_fit():
         peer = PeerDMP(n_dims=2, execution_time=1.0, dt=1.0 / 999, n_weights_per_dim=20)

@@ -11,7 +11,15 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-__all__ = ["MAX_HORIZON", "MIN_HORIZON", "PLANNERS", "SCALINGS", "SKILL_DEFAULTS", "TIMINGS"]
+__all__ = [
+    "MAX_HORIZON",
+    "MIN_HORIZON",
+    "PLANNERS",
+    "SCALINGS",
+    "SKILL_DEFAULTS",
+    "THESIS_DMP",
+    "TIMINGS",
+]
 
 #: Horizons of the receding-horizon planner, inclusive (the thesis found 4 to 12 to work, §5.4).
 MIN_HORIZON, MAX_HORIZON = 4, 12
@@ -41,3 +49,9 @@ SKILL_DEFAULTS = MappingProxyType(
         "units": "m",
     }
 )
+
+#: The thesis's DMP settings (10 basis functions per dimension, each dimension's forcing
+#: scaled by its own start-to-goal change), one named option away from the defaults:
+#: ``DMP(**THESIS_DMP)``. The defaults are the Skill's (``SKILL_DEFAULTS``): on held-out
+#: starts and goals per-dimension factors blow up where a dimension barely moved.
+THESIS_DMP = MappingProxyType({"n_basis": 10, "scaling": "per_dimension"})

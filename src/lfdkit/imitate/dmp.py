@@ -171,7 +171,7 @@ import numpy as np
 
 from lfdkit.core.estimator import Estimator, not_fitted
 from lfdkit.core.geometry import arc_length, path_length, segment_lengths
-from lfdkit.core.options import SCALINGS, TIMINGS
+from lfdkit.core.options import SCALINGS, SKILL_DEFAULTS, TIMINGS
 from lfdkit.core.validation import (
     MAX_POINTS,
     check_count,
@@ -425,11 +425,12 @@ class DMP(Estimator):
 
     Parameters
     ----------
-    n_basis : int or "auto"
+    n_basis : int or "auto", default "auto"
         Number of Gaussian basis functions (weights per dimension), 1 to
         :data:`MAX_BASIS` (1000), or ``"auto"``: the smallest count of
         :data:`BASIS_LADDER` whose reproduction is within ``basis_tol`` of the
-        path (module notes; the count chosen is ``n_basis_``).
+        path (module notes; the count chosen is ``n_basis_``). The thesis's 10
+        is ``DMP(**THESIS_DMP)`` (:data:`lfdkit.core.options.THESIS_DMP`).
     k : float
         Spring constant, in units of the normalised time (see the module notes).
     c : float
@@ -440,10 +441,14 @@ class DMP(Estimator):
     tau : float
         Default temporal scaling of rollouts: 1 reproduces the training path's
         duration, 2 takes twice as long along the same path (1e-6 to 1e6).
-    scaling : {"per_dimension", "spatial", "translate"}
+    scaling : {"translate", "spatial", "per_dimension"}, default "translate"
         How the learned forcing is carried to a new start and goal (module
         notes). ``"translate"`` keeps the shape and works for closed and nearly
-        closed paths, which the other two cannot stretch.
+        closed paths, which the other two cannot stretch; the thesis's
+        ``"per_dimension"`` is :data:`~lfdkit.core.options.THESIS_DMP`'s. The
+        defaults are those :class:`lfdkit.skill.Skill` builds
+        (:data:`~lfdkit.core.options.SKILL_DEFAULTS`), so a DMP used on its own
+        behaves as inside a skill.
     end : {"rest", "free"}
         ``"rest"``: constrain the fit so every rollout ends at its goal at rest,
         with zero acceleration, at ``t = τ D``; ``"free"``: the thesis's
@@ -494,12 +499,12 @@ class DMP(Estimator):
 
     def __init__(
         self,
-        n_basis: int | Literal["auto"] = 10,
+        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
         k: float = 156.25,
         c: float = 25.0,
         alpha: float | None = None,
         tau: float = 1.0,
-        scaling: Scaling = "per_dimension",
+        scaling: Scaling = SKILL_DEFAULTS["scaling"],
         end: EndCondition = "rest",
         regularization: float = 1e-8,
         basis_tol: float = 0.01,
@@ -550,7 +555,7 @@ class DMP(Estimator):
         *,
         duration: float | None = None,
         dt: float | None = None,
-        timing: Timing | SpeedProfile = "uniform",
+        timing: Timing | SpeedProfile = SKILL_DEFAULTS["timing"],
     ) -> DMP:
         """Learn the forcing weights from one path.
 
@@ -567,8 +572,9 @@ class DMP(Estimator):
             Total duration in seconds when ``times`` is not given (default 1).
         dt : float, optional
             Or the time step in seconds: the duration is ``dt * (n_points − 1)``.
-        timing : {"uniform", "minimum_jerk"} or SpeedProfile
-            How times are assigned when ``times`` is not given. ``"uniform"``:
+        timing : {"minimum_jerk", "uniform"} or SpeedProfile, default "minimum_jerk"
+            How times are assigned when ``times`` is not given (the default is
+            the Skill's, :data:`~lfdkit.core.options.SKILL_DEFAULTS`). ``"uniform"``:
             equal steps (the thesis; with points equally spaced along the path
             this is constant speed, which a DMP starting at rest cannot follow
             at the ends). ``"minimum_jerk"``: :func:`minimum_jerk_times`, a
