@@ -824,11 +824,13 @@ def test_bench_finds_benchmarks_in_the_current_folder(capsys, monkeypatch, tmp_p
 def test_bench_without_benchmarks_is_a_usage_error_naming_where_it_looked(
     capsys, monkeypatch, tmp_path
 ):
-    import lfdkit.app.cli
+    import lfdkit.app.cli.bench
 
     # An installed package: no source checkout around the module.
     monkeypatch.setattr(
-        lfdkit.app.cli, "__file__", str(tmp_path / "site" / "lfdkit" / "app" / "cli.py")
+        lfdkit.app.cli.bench,
+        "__file__",
+        str(tmp_path / "site" / "lfdkit" / "app" / "cli" / "bench.py"),
     )
     monkeypatch.chdir(tmp_path)
     code, out, err = run_cli(capsys, "bench")
@@ -856,7 +858,9 @@ def _raiser(exc: BaseException):
 
 
 def test_unexpected_exception_is_one_line_without_traceback(capsys, monkeypatch, small_demos):
-    monkeypatch.setattr("lfdkit.app.cli._learn", _raiser(RuntimeError("boom\nsecond line")))
+    monkeypatch.setattr(
+        "lfdkit.app.cli.learn.run_command", _raiser(RuntimeError("boom\nsecond line"))
+    )
     code, out, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 1
     line = error_line(err, "learn")
@@ -866,7 +870,7 @@ def test_unexpected_exception_is_one_line_without_traceback(capsys, monkeypatch,
 
 
 def test_unexpected_exception_with_verbose_shows_the_traceback(capsys, monkeypatch, small_demos):
-    monkeypatch.setattr("lfdkit.app.cli._learn", _raiser(KeyError("deep")))
+    monkeypatch.setattr("lfdkit.app.cli.learn.run_command", _raiser(KeyError("deep")))
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json", "-v")
     assert code == 1
     assert err.startswith("Traceback (most recent call last):")
@@ -875,7 +879,7 @@ def test_unexpected_exception_with_verbose_shows_the_traceback(capsys, monkeypat
 
 
 def test_interrupt_exits_130_with_one_line(capsys, monkeypatch, small_demos):
-    monkeypatch.setattr("lfdkit.app.cli._learn", _raiser(KeyboardInterrupt()))
+    monkeypatch.setattr("lfdkit.app.cli.learn.run_command", _raiser(KeyboardInterrupt()))
     code, out, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 130
     assert err == "lfdkit learn: interrupted\n"
@@ -883,7 +887,7 @@ def test_interrupt_exits_130_with_one_line(capsys, monkeypatch, small_demos):
 
 
 def test_memory_error_names_the_inputs_to_check(capsys, monkeypatch, small_demos):
-    monkeypatch.setattr("lfdkit.app.cli._learn", _raiser(MemoryError()))
+    monkeypatch.setattr("lfdkit.app.cli.learn.run_command", _raiser(MemoryError()))
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json", "--n-points", "77")
     assert code == 1
     line = error_line(err, "learn")
@@ -912,7 +916,7 @@ def _no_learning(*args, **kwargs):
 @pytest.mark.parametrize("command", ["learn", "plan", "plot"])
 def test_unwritable_output_folder_fails_before_the_work(capsys, monkeypatch, tmp_path, command):
     monkeypatch.setattr("lfdkit.skill.learn", _no_learning)
-    monkeypatch.setattr("lfdkit.app.cli._load_skill", _no_learning)
+    monkeypatch.setattr("lfdkit.app.cli.common._load_skill", _no_learning)
     blocker = tmp_path / "a_file"
     blocker.write_text("not a folder\n")
     out = blocker / "out.json"
@@ -1004,7 +1008,9 @@ def test_demo_cli_refuses_existing_outputs_before_the_work(capsys, monkeypatch, 
 
 
 def test_broken_pipe_is_one_line(capsys, monkeypatch, small_demos):
-    monkeypatch.setattr("lfdkit.app.cli._learn", _raiser(BrokenPipeError(32, "Broken pipe")))
+    monkeypatch.setattr(
+        "lfdkit.app.cli.learn.run_command", _raiser(BrokenPipeError(32, "Broken pipe"))
+    )
     code, _, err = run_cli(capsys, "learn", small_demos, "-o", "never.json")
     assert code == 1
     assert error_line(err, "learn").endswith("standard output closed early (broken pipe)")

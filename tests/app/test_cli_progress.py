@@ -211,7 +211,7 @@ def test_building_the_parser_loads_nothing_heavy():
     import subprocess
 
     code = (
-        "import sys, lfdkit.app.cli as c; c._parser(); "
+        "import sys, lfdkit.app.cli.entry as c; c._parser(); "
         "print(sorted(m for m in ('numpy', 'sklearn', 'numba', 'scipy') if m in sys.modules))"
     )
     env = {**os.environ, "PYTHONPATH": str(REPO / "src")}

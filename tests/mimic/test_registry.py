@@ -58,7 +58,8 @@ def test_every_builtin_follows_the_contract() -> None:
 
 
 def test_a_registered_method_is_found_by_skill_cli_evaluation_and_plots(first_demo) -> None:
-    from lfdkit.app.cli import _LazyChoices, _mimic_keys
+    from lfdkit.app.cli.common import LazyChoices as _LazyChoices
+    from lfdkit.app.cli.common import _mimic_keys
     from lfdkit.app.evaluation import lfdkit_methods
     from lfdkit.app.plot import method_color
     from lfdkit.skill import Skill

@@ -143,7 +143,7 @@ def test_json_refuses_two_motions(tmp_path):
 
 # ------------------------------------------------------------------ the CLI's form
 def test_cli_obstacle_with_a_velocity():
-    from lfdkit.app.cli import _obstacle
+    from lfdkit.app.cli.common import _obstacle
 
     assert _obstacle("cup:0.1,0.2,r=0.03,vx=0.05,vy=-0.02") == (
         "cup",
