@@ -271,7 +271,7 @@ class Skill(Estimator):
         other layers are deterministic).
     units : {"m", "cm", "mm"}
         Unit of every length the skill takes and gives: demonstrations,
-        paths, starts and goals, obstacles, clearances (:mod:`lfdkit.units`).
+        paths, starts and goals, obstacles, clearances (:mod:`lfdkit.core.units`).
         The reward's nominal weight and precisions are in 1/units². Learning
         is scale-invariant: the same demonstrations in millimetres (with
         ``units="mm"``) give the path in metres times 1000, the weight and
@@ -414,7 +414,7 @@ class Skill(Estimator):
             Reports each stage (mimic, imitate, emulate) and the inverse
             optimal control's own stages and iterations: True for bars on a
             terminal, a callable for one line per stage as it starts
-            (:func:`lfdkit.progress.as_progress`). Default: silent.
+            (:func:`lfdkit.core.progress.as_progress`). Default: silent.
 
         Returns
         -------
@@ -1038,7 +1038,7 @@ class Skill(Estimator):
             keeps out of radius plus clearance (a hard constraint).
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
-            plan's points (:func:`lfdkit.progress.as_progress`); default silent.
+            plan's points (:func:`lfdkit.core.progress.as_progress`); default silent.
         duration : float, optional
             Seconds the plan lasts (default ``timing_.duration``): with moving
             obstacles in ``scene``, the tool reaches plan point ``k`` at
@@ -1156,7 +1156,7 @@ class Skill(Estimator):
         :meth:`plan`'s: by default the plan the robot would execute, which
         ends at the goal; None scores the thesis's model, which matches
         demonstrators that swerve late and end beside the goal. ``progress``
-        counts the plans (:func:`lfdkit.progress.as_progress`).
+        counts the plans (:func:`lfdkit.core.progress.as_progress`).
 
         Returns
         -------
@@ -1186,7 +1186,7 @@ class Skill(Estimator):
         """The same skill with every length in ``units`` (``"m"``, ``"cm"`` or ``"mm"``).
 
         The generalized path is multiplied by the conversion factor ``f``
-        (:func:`lfdkit.units.conversion_factor`, 1000 from metres to
+        (:func:`lfdkit.core.units.conversion_factor`, 1000 from metres to
         millimetres) and the DMP is fitted on it again (a linear fit: the same
         movement, scaled); the reward's nominal weight and precisions, in
         1/units², are divided by ``f²``. Plans of the converted skill are the

@@ -104,7 +104,7 @@ def label_axes(ax: Axes, q: int, units: str) -> None:
     q : int
         Dimension of the positions drawn, 2 or 3.
     units : str
-        Their unit (:data:`lfdkit.units.UNITS`).
+        Their unit (:data:`lfdkit.core.units.UNITS`).
     """
     names = ("x", "y", "z")
     ax.set_xlabel(f"{names[0]} [{units}]")
@@ -471,7 +471,7 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
     -----
     An obstacle of radius 0 is drawn as a marker at its centre (and a line
     along a rod's axis). In 3-D each obstacle is drawn as its covering balls
-    (:meth:`lfdkit.scene.Obstacle.balls`).
+    (:meth:`lfdkit.model.scene.Obstacle.balls`).
     """
     palette = _class_colors(scene.classes, colors)
     if _is_3d(ax):

@@ -10,7 +10,7 @@ Everything given to the builder is treated as plain text and HTML-escaped.
 
 Examples
 --------
->>> from lfdkit.report import Report
+>>> from lfdkit.app.report import Report
 >>> report = Report("Reaching task", subtitle="5 demonstrations, 2-D")
 >>> _ = report.heading("Settings").definition_list({"method": "GMR", "n_components": 5})
 >>> _ = report.heading("Errors").table([{"method": "GMR", "rmse": 0.01234}])

@@ -1,8 +1,8 @@
-"""Compiled inner loop of :class:`lfdkit.geometry.PolylineSet` (numba).
+"""Compiled inner loop of :class:`lfdkit.core.geometry.PolylineSet` (numba).
 
 The nearest crossing of every query point's normal hyperplane with every
 polyline, pruned by bounding balls over chunks of segments. Imported lazily
-by :mod:`lfdkit.geometry`.
+by :mod:`lfdkit.core.geometry`.
 
 One compiled function serves every size: it releases the GIL, so a large
 problem is split over threads by plain Python threads rather than a second,
@@ -150,7 +150,7 @@ def _n_threads() -> int:
 def nearest_crossings(points, tangents, polylines, b, same_direction, tol, out) -> None:
     """Nearest crossing of each query's normal hyperplane with each polyline.
 
-    See :class:`lfdkit.geometry.PolylineSet` for the method. ``polylines`` is the
+    See :class:`lfdkit.core.geometry.PolylineSet` for the method. ``polylines`` is the
     tuple (verts, vert_offset, n_seg, centres, radii, chunk_offset, n_chunks);
     results are written in place into ``out`` = (points (m, n, q), segment
     (m, n), distance (m, n)). Large problems are split over the available

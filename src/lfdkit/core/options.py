@@ -2,7 +2,7 @@
 
 :class:`lfdkit.skill.Skill` takes its constructor defaults and its choices from
 here, :mod:`lfdkit.emulate.planner` its horizon bounds, and the command line
-(:mod:`lfdkit.cli`) the defaults, choices and ranges it shows and applies, so
+(:mod:`lfdkit.app.cli`) the defaults, choices and ranges it shows and applies, so
 that none of them repeats another's numbers. The module imports nothing, so
 ``lfdkit --help`` shows them without loading the library (seconds).
 """

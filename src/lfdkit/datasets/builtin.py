@@ -82,7 +82,7 @@ class DatasetInfo:
     n_obstacle_demos : int
         Demonstrations recorded around obstacles (emulation sets; 0 otherwise).
     units : str
-        Unit of the coordinates (:data:`lfdkit.units.UNITS`).
+        Unit of the coordinates (:data:`lfdkit.core.units.UNITS`).
     summary : str
         What it is, in one line.
     """

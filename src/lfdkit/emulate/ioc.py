@@ -363,7 +363,7 @@ def search_starts(
     per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
     Distinct: more than 1 apart in some log-parameter. ``loss`` maps ``θ``
     (``n_theta``,) to the loss (e.g. :meth:`TrainingLoss.plans_only`);
-    ``progress`` (:func:`lfdkit.progress.as_progress`) counts the candidates
+    ``progress`` (:func:`lfdkit.core.progress.as_progress`) counts the candidates
     as they are scored.
     """
     candidates = []
@@ -424,7 +424,7 @@ def lbfgs_stage(
     label : str
         The stage's ``planner`` entry and the label of its progress stage.
     progress : Progress, callable, bool or None
-        Counts the iterations, with the loss (:func:`lfdkit.progress.as_progress`).
+        Counts the iterations, with the loss (:func:`lfdkit.core.progress.as_progress`).
     description : str, optional
         The progress stage's label (default ``"IOC <label>"``).
 
@@ -536,7 +536,7 @@ class IOC:
     progress : Progress, callable, bool or None
         Reports the fit's stages (the starting search, each L-BFGS run with
         its iterations and loss, the MPC refinement, the checks after it);
-        see :func:`lfdkit.progress.as_progress`. Default: silent.
+        see :func:`lfdkit.core.progress.as_progress`. Default: silent.
 
     Attributes
     ----------

@@ -4,7 +4,7 @@ Conventions
 -----------
 * Distances are measured along normals, as in the thesis: the normal
   hyperplane at a point of one path is intersected with the other polyline and
-  the nearest crossing is taken (:mod:`lfdkit.geometry`). Where a normal meets
+  the nearest crossing is taken (:mod:`lfdkit.core.geometry`). Where a normal meets
   nothing, the point is left out of :func:`e1` (reported by ``return_misses``)
   and, in :func:`e2`, replaced by the Euclidean distance to the closest point of
   the estimate, so that an estimate that stops short is still penalised.

@@ -5,8 +5,8 @@ over the horizon, are its future work. :class:`RecedingPlanner` runs that
 loop: at control step ``k`` the tool is at plan point ``k`` (time
 ``times[k]``); the window of points ``k+1 … k+H`` is planned with each
 obstacle's reward terms and hard radius at its *predicted* position at the
-time the tool reaches each point (:meth:`lfdkit.scene.Obstacle.predict`, e.g.
-a :class:`lfdkit.motion.Tracked` Kalman tracker fed with the latest
+time the tool reaches each point (:meth:`lfdkit.model.scene.Obstacle.predict`, e.g.
+a :class:`lfdkit.model.motion.Tracked` Kalman tracker fed with the latest
 observation), the hard radius widened by ``margin`` standard deviations of the
 prediction (:data:`~lfdkit.emulate.problem.UNCERTAINTY_MARGIN`); the tool
 moves to the window's first point, and the next step re-plans with the next
@@ -26,7 +26,7 @@ Each window is solved as :func:`lfdkit.emulate.planner.best_window` solves the
 thesis's MPC window (the warm start and, near an obstacle, the window's best
 path on the lateral grid, polished by Newton); with a static scene this is the
 thesis's MPC re-planned at every step. A known motion without observations
-(:class:`lfdkit.motion.ConstantVelocity`) can also be planned open loop, over
+(:class:`lfdkit.model.motion.ConstantVelocity`) can also be planned open loop, over
 the whole path at once: ``plan_path(..., times=...)``.
 """
 

@@ -372,7 +372,7 @@ def plan_path(
     progress : Progress, callable, bool or None
         Reports the global search and the MPC steps over the plan's points (or
         the polished starts of the full horizon); default silent
-        (:func:`lfdkit.progress.as_progress`).
+        (:func:`lfdkit.core.progress.as_progress`).
     times : array_like, shape (K,), optional
         Seconds from the start at which the tool reaches each of the plan's
         ``K`` points (e.g. the skill's speed profile along the nominal);

@@ -1,7 +1,7 @@
 """Arm descriptions: one immutable object holds everything lfdkit knows about a robot arm.
 
 A robot is described once, by an :class:`Arm`, and every part of
-:mod:`lfdkit.robot` reads it from there: the kinematics (:mod:`.ur5`) its
+:mod:`lfdkit.execute` reads it from there: the kinematics (:mod:`.ur5`) its
 Denavit–Hartenberg table, the timing (:mod:`.timing`) and the URScript checks
 (:mod:`.urscript`) its joint limits, the MuJoCo model (:mod:`.mujoco`, and the
 sweeping task's scene, :mod:`lfdkit.tasks.sweeping.sim`) its joint count,
@@ -14,7 +14,7 @@ Contents of a description
   joint; link transform ``T_{i-1}^i = Rot_z(θ_i) Trans_z(d_i) Trans_x(a_i)
   Rot_x(α_i)``, metres and radians). The number of joints is the length of
   the table. The flange is the last DH frame; a tool is not part of the arm
-  but passed where it is used (``tool=`` of :func:`lfdkit.robot.ur5.forward`).
+  but passed where it is used (``tool=`` of :func:`lfdkit.execute.ur5.forward`).
 * *Limits*: joint position limits ``(lower, upper)`` (rad), speed limits
   (rad/s) and acceleration limits (rad/s²), one per joint.
 * *Simulation*: link masses (kg), the radius of each link's capsule (m, the
@@ -153,7 +153,7 @@ class Arm:
         6e-17), so that link transforms of UR-type arms have exact zeros.
     ur_type : bool
         Whether the arm has the UR joint structure (see the module notes), so
-        that the analytic inverse kinematics of :mod:`lfdkit.robot.ur5` applies.
+        that the analytic inverse kinematics of :mod:`lfdkit.execute.ur5` applies.
 
     Raises
     ------

@@ -1,11 +1,11 @@
 """MuJoCo models of an arm description: nested link bodies from the DH table, servos, loading.
 
-:func:`robot_xml` turns an :class:`lfdkit.robot.arm.Arm` into MJCF: body ``i``
+:func:`robot_xml` turns an :class:`lfdkit.execute.arm.Arm` into MJCF: body ``i``
 turns about its ``z`` axis by ``θ_i`` (hinge ``joint{i}``, range
 ``arm.joint_limits``); the next body sits at the link's fixed transform
 ``Tz(d_i) Tx(a_i) Rx(α_i)``, i.e. at position ``(a_i, 0, d_i)`` with the
 rotation ``Rx(α_i)``; a body ``flange`` with a site ``flange`` ends the chain.
-MuJoCo's flange pose therefore equals :func:`lfdkit.robot.ur5.forward` to
+MuJoCo's flange pose therefore equals :func:`lfdkit.execute.ur5.forward` to
 round-off for any DH table (:func:`flange_poses` computes it with MuJoCo's own
 kinematics, an independent check of the forward kinematics). Each link is a
 capsule from its joint to the next body (a sphere where the two coincide) of

@@ -334,7 +334,7 @@ def path_yaw(path: Any, *, yaw_offset: float = 0.0) -> np.ndarray:
     -------
     ndarray, shape (n,)
         Angle (rad, counter-clockwise about the base +z axis from +x) of the
-        path tangent at each point (:func:`lfdkit.geometry.point_tangents`,
+        path tangent at each point (:func:`lfdkit.core.geometry.point_tangents`,
         the bisector of the adjacent segments) plus ``yaw_offset``. Unwrapped:
         consecutive values differ by the turning angle between the samples,
         never by a 2π jump, so a closed loop ends about ±2π from its start.

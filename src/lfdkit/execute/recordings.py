@@ -3,7 +3,7 @@
 A kinesthetic-teaching log records ``sensor_msgs/JointState``;
 :func:`tool_poses_from_joint_states` reads it (:func:`lfdkit.io.recordings.read_joint_states`)
 and turns each configuration into the flange (or tool) pose in the base
-frame with :func:`lfdkit.robot.ur5.forward`. The joints are found by the UR
+frame with :func:`lfdkit.execute.ur5.forward`. The joints are found by the UR
 drivers' names (:data:`UR_JOINT_NAMES`, with or without a prefix such as
 ``ur5_``), else, for messages without names, by position.
 """
@@ -50,7 +50,7 @@ def tool_poses_from_joint_states(
     topic : str
         The joint-state topic, e.g. ``"/joint_states"``.
     arm : Arm
-        The arm description (:data:`lfdkit.robot.arm.UR5` by default).
+        The arm description (:data:`lfdkit.execute.arm.UR5` by default).
     tool : array_like, shape (4, 4), optional
         Flange→tool transform (metres); the flange pose without it.
     joints : tuple of str, optional

@@ -3,7 +3,7 @@
 The robot has to follow waypoints ``q_0 .. q_{n-1}`` (joint angles, rad) as
 fast as its joints allow, starting and ending at rest. The limits are the
 arm's (``arm.max_joint_speed`` and ``arm.max_joint_acceleration`` of an
-:class:`lfdkit.robot.arm.Arm`; by default the UR5 of the thesis, §6.4,
+:class:`lfdkit.execute.arm.Arm`; by default the UR5 of the thesis, §6.4,
 Table 6.2: 3.2 rad/s and 15 rad/s² on every joint) unless given explicitly,
 one number for all joints or one per joint. The path-parameter method:
 
@@ -367,7 +367,7 @@ def time_parameterize(
         number of joints than the arm whose limits are used, or
         ``speed_fraction`` is outside ``(0, 1]``.
     TypeError
-        If ``arm`` is not an :class:`~lfdkit.robot.arm.Arm`.
+        If ``arm`` is not an :class:`~lfdkit.execute.arm.Arm`.
     """
     arm = check_arm(arm)
     arr = check_path(q, "q", min_dims=1)

@@ -2,8 +2,8 @@
 
 Conventions
 -----------
-* The arm is an :class:`lfdkit.robot.arm.Arm` passed as ``arm=`` (default
-  :data:`lfdkit.robot.arm.UR5`, the thesis's); this module holds no arm's numbers.
+* The arm is an :class:`lfdkit.execute.arm.Arm` passed as ``arm=`` (default
+  :data:`lfdkit.execute.arm.UR5`, the thesis's); this module holds no arm's numbers.
   Standard Denavit–Hartenberg parameters (``arm.d``, ``arm.a``, ``arm.alpha``); the
   link transform is ``T_{i-1}^i = Rot_z(θ_i) Trans_z(d_i) Trans_x(a_i) Rot_x(α_i)``
   and the flange pose is ``T_0^6 = T_0^1 … T_5^6``. Lengths are in metres, angles in
@@ -11,7 +11,7 @@ Conventions
 * :func:`forward`, :func:`link_frames` and :func:`jacobian` take any DH table (``n``
   joints); the closed-form :func:`inverse` and everything built on it
   (:func:`nearest_solution`, :func:`inverse_path`, :func:`singularity`,
-  :func:`branch`) need the UR joint structure (:attr:`~lfdkit.robot.arm.Arm.ur_type`:
+  :func:`branch`) need the UR joint structure (:attr:`~lfdkit.execute.arm.Arm.ur_type`:
   6 joints, the UR5's twists and zero entries), whatever its lengths: the UR10's
   table works as the UR5's does.
 * Every function takes one configuration ``q`` of shape ``(6,)`` or a batch of shape
@@ -20,7 +20,7 @@ Conventions
 * An optional ``tool`` is the ``(4, 4)`` flange→tool transform (e.g. a brush's tool
   centre point); poses given to :func:`inverse` are then tool poses.
 * Inputs are checked once, by the public function they enter; the arm only for its
-  kind (:class:`~lfdkit.robot.arm.Arm` checked its own numbers when it was made).
+  kind (:class:`~lfdkit.execute.arm.Arm` checked its own numbers when it was made).
   The default joint limits are ``arm.joint_limits``.
 
 Inverse kinematics
@@ -415,7 +415,7 @@ def singularity(
     tool : array_like, shape (4, 4), optional
         Reference point for ``sigma_min`` (the flags do not depend on it).
     arm : Arm
-        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+        A UR-type arm (:attr:`lfdkit.execute.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -607,7 +607,7 @@ def inverse(
         Raise :class:`UnreachableError` for a pose with no solution (the first one, for
         a batch). With ``False`` such a pose gets eight NaN rows.
     arm : Arm
-        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+        A UR-type arm (:attr:`lfdkit.execute.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -695,7 +695,7 @@ def nearest_solution(
     tool : array_like, shape (4, 4), optional
         Flange→tool transform; ``pose`` is then the tool pose.
     arm : Arm
-        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+        A UR-type arm (:attr:`lfdkit.execute.arm.Arm.ur_type`).
 
     Returns
     -------
@@ -785,7 +785,7 @@ def inverse_path(
     tool : array_like, shape (4, 4), optional
         Flange→tool transform; ``poses`` are then tool poses.
     arm : Arm
-        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+        A UR-type arm (:attr:`lfdkit.execute.arm.Arm.ur_type`).
 
     Returns
     -------

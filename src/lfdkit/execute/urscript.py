@@ -13,7 +13,7 @@ Two kinds of program:
     acceleration 1.4 rad/s² and speed 1.05 rad/s), then one
     ``servoj([q1, ..., q6], t=dt, lookahead_time=0.1, gain=300)`` line per
     sample of a uniformly resampled trajectory
-    (:meth:`lfdkit.robot.timing.Timing.resample`): the controller tracks the
+    (:meth:`lfdkit.execute.timing.Timing.resample`): the controller tracks the
     stream, each command holding for ``dt`` seconds. Lines are written out
     one per sample rather than as a list and a loop, so the program shows
     exactly what is sent; at 125 Hz a minute of motion is 7,500 lines (for
@@ -38,17 +38,17 @@ and the offending value:
 * *Rotations.* A rotation vector ``[rx, ry, rz]`` has norm at most π (plus
   1e-9): every rotation has one, and a larger norm is most likely degrees
   passed as radians (``[0, 180, 0]``). Tool-down sweeping poses are
-  rotations by π, so :func:`lfdkit.robot.poses.unwrap_rotvecs` keeps them at
+  rotations by π, so :func:`lfdkit.execute.poses.unwrap_rotvecs` keeps them at
   norm π (it only picks between ``±π a``); a sequence it unwraps past π is
   refused.
 * *Arm.* The program is for one arm, ``arm=`` (an
-  :class:`lfdkit.robot.arm.Arm` of UR type, :attr:`~lfdkit.robot.arm.Arm.ur_type`;
+  :class:`lfdkit.execute.arm.Arm` of UR type, :attr:`~lfdkit.execute.arm.Arm.ur_type`;
   default the UR5 of the thesis): its reach, joint limits and forward
   kinematics are what the checks below use; messages name it.
 * *Positions.* Every tool position lies in the :class:`Workspace` box
   (default: on or above the table plane ``z = 0``, where the UR5 of the
   sweeping set-up stands) and, unless the workspace says otherwise, has an
-  inverse kinematics solution for the arm (:func:`lfdkit.robot.ur5.inverse`).
+  inverse kinematics solution for the arm (:func:`lfdkit.execute.ur5.inverse`).
   Only the poses are checked, not the straight lines ``movel`` draws between
   them. ``servoj`` samples are checked through their forward kinematics.
 * *Joint streams* (``servoj``): joint angles within the arm's
@@ -328,7 +328,7 @@ class Workspace:
         reaching down to 2 mm above it.
     check_reach : bool
         Also require every pose to have an inverse kinematics solution for
-        the program's arm (:func:`lfdkit.robot.ur5.inverse`, with ``tool``).
+        the program's arm (:func:`lfdkit.execute.ur5.inverse`, with ``tool``).
     tool : array_like, shape (4, 4), optional
         Flange→tool transform of the controller's tool centre point, so that
         poses are tool poses; ``None``: the tool frame is the flange (as in
@@ -709,7 +709,7 @@ def urscript_program(
     poses : array_like, shape (n, 6), optional
         Tool poses ``[x, y, z, rx, ry, rz]`` in the base frame (metres, and a
         rotation vector in radians with norm <= π), e.g. from
-        :func:`lfdkit.robot.poses.pose_vector`. Required for ``"movel"``,
+        :func:`lfdkit.execute.poses.pose_vector`. Required for ``"movel"``,
         must be omitted for ``"servoj"``.
     name : str
         Name of the URScript function; a valid identifier, not a URScript
@@ -725,7 +725,7 @@ def urscript_program(
         distance between consecutive positions. The last move always has 0.
     times : array_like, shape (n,), optional
         ``servoj`` only: equally spaced sample times (s), as returned by
-        :meth:`lfdkit.robot.timing.Timing.resample`; their spacing is the
+        :meth:`lfdkit.execute.timing.Timing.resample`; their spacing is the
         ``t`` of every ``servoj``, in ``[0.002, 1]`` s.
     joint_path : array_like, shape (n, 6), optional
         ``servoj`` only: joint angles (rad) at ``times``, ``n >= 2``, starting

@@ -3,7 +3,7 @@
 Formulation (Koutras & Doulgeri 2020, "A correct formulation for the
 orientation dynamic movement primitives for robot control in the Cartesian
 space"): the state is the orientation error to the goal in the tangent
-space, ``e(t) = log(q(t) ⊗ g⁻¹)`` (:func:`lfdkit.rotations.log`: ``θ/2 ·
+space, ``e(t) = log(q(t) ⊗ g⁻¹)`` (:func:`lfdkit.core.rotations.log`: ``θ/2 ·
 axis``), and ``e`` obeys the position DMP's transformation system with goal
 ``0``::
 

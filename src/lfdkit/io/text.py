@@ -11,7 +11,7 @@ error with the file name and the line, column or JSON path at fault:
   ``nan`` or ``inf``), :func:`csv_id` and :class:`Blocks` (ids without
   surrounding spaces, the rows of one id consecutive);
 * demonstration ids: :func:`check_ids`, :func:`check_file_id` and
-  :func:`parse_id`, the rules of a :data:`lfdkit.demos.DemoId` in a file;
+  :func:`parse_id`, the rules of a :data:`lfdkit.model.demos.DemoId` in a file;
 * JSON: :func:`load_json` (no repeated keys, ``NaN`` literals or nesting
   deeper than :data:`MAX_JSON_DEPTH`), :func:`json_document` (the
   ``format`` and ``version`` fields of a versioned lfdkit file) and

@@ -27,7 +27,7 @@ class ArcLengthAverage(Estimator):
     ----------
     n_points : int
         Points per resampled demonstration and in the result, 2 to
-        1,000,000 (:data:`lfdkit._validation.MAX_POINTS`).
+        1,000,000 (:data:`lfdkit.core.validation.MAX_POINTS`).
     orient : {"auto", "as_given"}
         ``"auto"``: reverse demonstrations recorded against the majority's
         direction first (:func:`lfdkit.mimic.orient_demos`) and refuse an

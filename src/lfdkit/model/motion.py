@@ -2,7 +2,7 @@
 
 The thesis plans around static obstacles and names moving ones, predicted
 over the MPC horizon, as future work. Here an obstacle may carry a
-:class:`Motion` (:attr:`lfdkit.scene.Obstacle.motion`): where its reference
+:class:`Motion` (:attr:`lfdkit.model.scene.Obstacle.motion`): where its reference
 point (its ``position``) is at a time, as a mean and a covariance, so the
 planner can keep clear of where it *will* be and widen its margin with the
 uncertainty.

@@ -33,7 +33,7 @@ method                    used by
 
 Moving obstacles
 ----------------
-An obstacle may carry a :class:`lfdkit.motion.Motion` (``motion=``, keyword
+An obstacle may carry a :class:`lfdkit.model.motion.Motion` (``motion=``, keyword
 only): a known velocity, a trajectory, or noisy observations with a tracker.
 Its ``position`` is then where it is at ``t = 0`` (the plan's start),
 :meth:`Obstacle.predict` gives where it will be (mean and covariance) and
@@ -89,7 +89,7 @@ class Obstacle:
     radius : float
         Physical radius (units of the paths) for collision and clearance checks;
         the reward does not use it (the learned precision sets the response).
-    motion : lfdkit.motion.Motion or None
+    motion : lfdkit.model.motion.Motion or None
         How the obstacle moves (keyword only): ``position`` is then where it is
         at ``t = 0`` (the plan's start) and :meth:`predict` where it will be;
         None (the default) for a static obstacle.

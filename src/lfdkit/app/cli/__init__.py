@@ -21,7 +21,7 @@ never a traceback; ``-v`` adds it for an unexpected failure), 2 wrong usage
 (argparse, or a folder given or looked for that is not there), 130
 interrupted (Ctrl-C). Progress and warnings go to stderr: on a terminal a
 bar per stage of the work under a clock of the whole command
-(:mod:`lfdkit.progress`), with ``--verbose`` a line per stage with its wall
+(:mod:`lfdkit.core.progress`), with ``--verbose`` a line per stage with its wall
 time; ``--quiet`` prints nothing on success. Every time a command reports is
 counted from the start of :func:`main`. Output files are checked (exists
 without ``--force``, folder missing or not writable) before the work.

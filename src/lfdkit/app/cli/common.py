@@ -89,13 +89,13 @@ class _StageLines(logging.Handler):
 
 @contextmanager
 def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Progress]:
-    """The command's progress while it works: yields the :class:`~lfdkit.progress.Progress`.
+    """The command's progress while it works: yields the :class:`~lfdkit.core.progress.Progress`.
 
     On a terminal (stderr a TTY, not ``--quiet``) a bar per stage, under a
     clock of the whole command (``label``, default ``lfdkit COMMAND``),
     redrawn twice a second; with ``--verbose`` each stage's start and wall
     time, and every 2 s how far a long stage has come, as lines
-    (:data:`lfdkit.progress.LOGGER` records). ``--quiet``: nothing.
+    (:data:`lfdkit.core.progress.LOGGER` records). ``--quiet``: nothing.
     """
     # A bar only on a terminal: in a log file its carriage returns would garble the lines.
     bars = args.verbosity >= 1 and _is_terminal(sys.stderr)

@@ -47,7 +47,7 @@ def make_server(host: str = DEFAULT_HOST, port: int = DEFAULT_PORT) -> tuple[Any
     """A uvicorn server of the page and its bound socket (not started yet).
 
     The application answers only to the loopback's host names when ``host``
-    is a loopback address (:data:`lfdkit.teach.app.LOOPBACK_HOSTS`).
+    is a loopback address (:data:`lfdkit.app.teach.app.LOOPBACK_HOSTS`).
     """
     import uvicorn
 

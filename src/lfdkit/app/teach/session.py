@@ -12,7 +12,7 @@ which the page shows as one line.
 Everything is lfdkit's own code: learning is :func:`lfdkit.skill.learn` (what
 ``lfdkit learn`` runs) on the files :func:`lfdkit.io.save_demos` and
 :func:`lfdkit.io.save_scenes` write in a private temporary folder, planning
-is :meth:`lfdkit.skill.Skill.plan` with :func:`lfdkit.metrics.clearance`, the
+is :meth:`lfdkit.skill.Skill.plan` with :func:`lfdkit.emulate.metrics.clearance`, the
 URScript program is :func:`lfdkit.tasks.sweeping.execution.execute_skill`'s.
 No file path ever comes from the browser: uploads are written to a private
 temporary file whose name the server chooses.
@@ -175,7 +175,7 @@ def parse_obstacles(value: Any, name: str = "obstacles") -> list[tuple[str, Any]
 
 
 def parse_scene(value: Any, name: str = "obstacles") -> Any:
-    """The obstacles of a request as a :class:`lfdkit.scene.Scene`."""
+    """The obstacles of a request as a :class:`lfdkit.model.scene.Scene`."""
     from lfdkit.model.scene import Scene
 
     return Scene(tuple(obstacle for _, obstacle in parse_obstacles(value, name)))
@@ -186,7 +186,7 @@ class TeachData:
     """The page's drawing: demonstrations with their times and ids, and each one's scene.
 
     ``scenes`` maps the id of every demonstration marked as swerving around
-    obstacles to the :class:`~lfdkit.scene.Scene` of those obstacles; the
+    obstacles to the :class:`~lfdkit.model.scene.Scene` of those obstacles; the
     others are clean demonstrations.
     """
 
@@ -586,7 +586,7 @@ def skill_layers(skill: Any, data: TeachData) -> dict[str, Any]:
 
     The Distance-Space (thesis Fig 4.7b) is each clean demonstration's signed
     distance along the generalized path's left normal
-    (:func:`lfdkit.metrics.distance_space`), None where the normal misses it.
+    (:func:`lfdkit.emulate.metrics.distance_space`), None where the normal misses it.
     Each class's reward term is ``exp(-(x - O)ᵀ P (x - O))``: its ``reach``
     is ``1/sqrt(λ)`` along each eigenvector of ``P`` (where the term has
     fallen to 1/e), in metres.
@@ -688,7 +688,7 @@ def _downsample(points: np.ndarray, most: int = 120) -> np.ndarray:
 def heat_map(skill: Any, nominal: np.ndarray, scene: Any, grid: tuple) -> dict[str, Any]:
     """The learned reward on a grid (row by row from ``ymin``), scaled to 0..1.
 
-    As :func:`lfdkit.plot.draw_reward`, the colour scale starts one unit (an
+    As :func:`lfdkit.app.plot.draw_reward`, the colour scale starts one unit (an
     obstacle's height) below the lowest reward at an obstacle centre, so the
     steep nominal term far from the path does not wash out the obstacles.
     """

@@ -7,7 +7,7 @@ Modules, each depending only on those before it:
   the scenario generators (random unseen scenes, the demo's unseen scenes);
 * :mod:`.examples`: the shipped example files (``data/``) and the data set
   they come from;
-* :mod:`.sim`: the scene in MuJoCo with any :class:`lfdkit.robot.arm.Arm`
+* :mod:`.sim`: the scene in MuJoCo with any :class:`lfdkit.execute.arm.Arm`
   (poses, inverse kinematics, timing, simulation, outcome);
 * :mod:`.figures`: top views of simulated sweeps;
 * :mod:`.execution`: a learned skill on the robot, ``lfdkit execute``: plan,
@@ -18,7 +18,7 @@ Modules, each depending only on those before it:
   (``benchmarks/moving.py``).
 
 * :mod:`.batch`: a skill evaluated over many scenes in batch, ``lfdkit batch
-  evaluate`` (on any executor of :func:`lfdkit.batch.make_executor`).
+  evaluate`` (on any executor of :func:`lfdkit.app.batch.make_executor`).
 
 Everything public is importable from here. The names of :mod:`.figures`,
 :mod:`.execution`, :mod:`.demo`, :mod:`.moving` and :mod:`.batch` (which import

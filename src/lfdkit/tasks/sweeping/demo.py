@@ -116,7 +116,7 @@ def run_demo(
     progress : Progress, callable, bool or None
         Reports each of the :data:`N_STEPS` steps and the stages inside them
         (learning, planning, the simulation, the figures); a callable gets a
-        short message as each starts (:func:`lfdkit.progress.as_progress`).
+        short message as each starts (:func:`lfdkit.core.progress.as_progress`).
         Default: silent.
     started : float, optional
         ``time.perf_counter()`` when the run started for the caller (the

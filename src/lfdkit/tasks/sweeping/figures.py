@@ -1,7 +1,7 @@
 """Figures of the sweeping task: top views of simulated sweeps.
 
 Drawing that is not particular to sweeping (scenes, plans, rewards, colours)
-is :mod:`lfdkit.plot`'s; this module adds the dustpan and the brush's and the
+is :mod:`lfdkit.app.plot`'s; this module adds the dustpan and the brush's and the
 cube's traces of :class:`~lfdkit.tasks.sweeping.sim.SweepResult`.
 """
 

@@ -122,7 +122,7 @@ class MovingScenario:
         The sweep's ends (m); the dustpan is at the goal.
     dustpan : Dustpan
     obstacle : Obstacle
-        The sliding cup or marker; its motion (a :class:`lfdkit.motion.Trajectory`)
+        The sliding cup or marker; its motion (a :class:`lfdkit.model.motion.Trajectory`)
         is the truth: at rest until :attr:`start_time`, then sliding.
     speed : float
         m/s.
