@@ -17,7 +17,7 @@ from sklearn.exceptions import NotFittedError
 
 from lfdkit.core.options import THESIS_DMP
 from lfdkit.imitate import DMP, minimum_jerk_times
-from lfdkit.imitate.dmp import _transition
+from lfdkit.imitate._dmp_numerics import transition as _transition
 
 OMEGA = 12.5  # sqrt(156.25): the thesis's gains, critically damped
 
@@ -508,7 +508,7 @@ def test_minimum_jerk_times_follow_the_quintic_law() -> None:
 
 @pytest.mark.parametrize("q", [1, 2, 3, 5])
 def test_rotations_between_are_proper_and_map_u_onto_v(q: int) -> None:
-    from lfdkit.imitate.dmp import _rotations_between
+    from lfdkit.imitate._dmp_numerics import rotations_between as _rotations_between
 
     rng = np.random.default_rng(q)
     u = rng.normal(size=q)
@@ -530,7 +530,8 @@ def test_rotations_between_are_proper_and_map_u_onto_v(q: int) -> None:
 
 
 def test_piecewise_quintic_is_exact_for_quintic_polynomials() -> None:
-    from lfdkit.imitate.dmp import _evaluate_pieces, _quintic_pieces
+    from lfdkit.imitate._dmp_numerics import evaluate_pieces as _evaluate_pieces
+    from lfdkit.imitate._dmp_numerics import quintic_pieces as _quintic_pieces
 
     rng = np.random.default_rng(7)
     polys = [np.polynomial.Polynomial(rng.normal(size=6)) for _ in range(2)]

@@ -164,7 +164,6 @@ exactly with the quadrature, the forcing ``b`` included, and agrees with
 from __future__ import annotations
 
 import warnings
-from functools import lru_cache
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
@@ -179,6 +178,22 @@ from lfdkit.core.validation import (
     check_point,
     check_positive,
     check_times,
+)
+from lfdkit.imitate._dmp_numerics import (
+    END_NODES,
+    MAX_PANEL,
+    basis,
+    dense_sampler,
+    evaluate_pieces,
+    minimum_jerk_law,
+    propagate,
+    quadrature,
+    quintic_pieces,
+    remember,
+    reproduction_departure,
+    rotations_between,
+    step_operators,
+    transition,
 )
 from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
@@ -197,16 +212,10 @@ EndCondition = Literal["rest", "free"]
 Timing = Literal["minimum_jerk", "uniform"]
 
 _END_CONDITIONS = ("rest", "free")
-#: Gauss–Legendre nodes per quadrature panel and the longest panel (normalised time).
-_GAUSS_NODES = 4
-_MAX_PANEL = 0.01
-#: Panels of the once-per-fit end-state integral: fine and of high order.
-_END_NODES = 6
 #: A training displacement below this fraction of the path's extent counts as zero.
 _ZERO_DISPLACEMENT = 1e-9
 #: Per-dimension scale factors beyond this magnitude trigger a warning.
 _LARGE_SCALE = 10.0
-_MAX_CACHED_GRIDS = 8
 #: Basis counts ``n_basis="auto"`` tries, smallest first (module notes).
 BASIS_LADDER = (10, 15, 20, 30, 40, 60, 80, 100, 150, 200)
 #: Caps on what a caller may ask for, so that a typo is an error naming the
@@ -272,142 +281,12 @@ def minimum_jerk_times(path: Any, duration: float = 1.0) -> np.ndarray:
     low, high = np.zeros_like(fraction), np.ones_like(fraction)
     for _ in range(60):
         mid = 0.5 * (low + high)
-        below = _minimum_jerk_law(mid)[0] < fraction
+        below = minimum_jerk_law(mid)[0] < fraction
         low = np.where(below, mid, low)
         high = np.where(below, high, mid)
     times = 0.5 * (low + high) * duration
     times[0], times[-1] = 0.0, duration
     return times
-
-
-def _transition(k: float, c: float, t: np.ndarray) -> np.ndarray:
-    """``e^{A t}`` for ``A = [[0, 1], [−k, −c]]``, closed form, shape (2, 2, len(t)).
-
-    Entry ``[i, j]`` is a contiguous array over ``t`` (the rollout reads whole rows).
-
-    ``e^{At} = e^{μt} (C(t) I + S(t) (A − μI))`` with ``μ = −c/2``,
-    ``δ² = μ² − k``, ``C = cosh δt``, ``S = sinh(δt)/δ`` (``cos``/``sin``
-    when under-damped; ``C = 1``, ``S = t`` when critically damped, as the
-    thesis's gains are).
-    """
-    t = np.asarray(t, dtype=np.float64)
-    mu = -0.5 * c
-    delta2 = mu * mu - k
-    root = np.sqrt(abs(delta2))
-    x = root * t
-    if abs(delta2) <= 1e-12 * k or np.all(np.abs(x) < 1e-4):
-        series = 1.0 + np.sign(delta2) * x * x / 6.0
-        cosine, sine = 1.0 + np.sign(delta2) * x * x / 2.0, t * series
-    elif delta2 > 0:
-        cosine, sine = np.cosh(x), np.sinh(x) / root
-    else:
-        cosine, sine = np.cos(x), np.sin(x) / root
-    decay = np.exp(mu * t)
-    out = np.empty((2, 2, *t.shape))
-    out[0, 0] = decay * (cosine - mu * sine)
-    out[0, 1] = decay * sine
-    out[1, 0] = -k * decay * sine
-    out[1, 1] = decay * (cosine - (c + mu) * sine)
-    return out
-
-
-@lru_cache(maxsize=16)
-def _legendre(n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
-    return np.polynomial.legendre.leggauss(n_nodes)
-
-
-def _quadrature(
-    h: float, max_panel: float = _MAX_PANEL, n_nodes: int = _GAUSS_NODES
-) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre nodes in ``[0, h]`` and their weights, panels ``<= max_panel``."""
-    n_panels = max(1, int(np.ceil(h / max_panel - 1e-9)))
-    x, w = _legendre(n_nodes)
-    width = h / n_panels
-    starts = width * np.arange(n_panels)[:, None]
-    nodes = (starts + 0.5 * width * (x + 1.0)).ravel()
-    weights = np.tile(0.5 * width * w, n_panels)
-    return nodes, weights
-
-
-def _step_operators(
-    k: float, c: float, h: float, max_panel: float = _MAX_PANEL
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Exact one-step operators for the spring over a normalised step ``h``.
-
-    Returns ``Φ = e^{Ah}`` (2, 2), the quadrature nodes ``σ`` (m,), and
-    ``Γ`` (m, 2) with ``Γ_m = w_m e^{A(h − σ_m)} B``, so that
-    ``x(s+h) = Φ x(s) + Σ_m Γ_m f(s + σ_m)``.
-    """
-    # Steps far shorter than a panel need one node fewer for the same accuracy.
-    n_nodes = _GAUSS_NODES - 1 if h <= 0.2 * max_panel else _GAUSS_NODES
-    nodes, weights = _quadrature(h, max_panel, n_nodes)
-    phi = _transition(k, c, np.array([h]))[:, :, 0]
-    gamma = _transition(k, c, h - nodes)[:, 1, :].T * weights[:, None]
-    return phi, nodes, gamma
-
-
-def _propagate(phi: np.ndarray, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-    """Run ``x_{j+1} = Φ x_j + v_j`` as a second-order IIR filter.
-
-    Parameters
-    ----------
-    phi : ndarray, shape (2, 2)
-    x0 : ndarray, shape (2, m)
-    inputs : ndarray, shape (n - 1, 2, m)
-
-    Returns
-    -------
-    ndarray, shape (n, 2, m)
-
-    Notes
-    -----
-    ``(I − Φ z⁻¹)⁻¹ = (I − adj(Φ) z⁻¹) / (1 − tr(Φ) z⁻¹ + det(Φ) z⁻²)`` for a
-    2×2 ``Φ``, so each state is one call of :func:`scipy.signal.lfilter` on
-    the sequence ``(x0, v_0, v_1, …)`` followed by one matrix product.
-    """
-    sequence = np.concatenate([x0[None], inputs], axis=0)
-    denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
-    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
-
-    filtered = lfilter([1.0], denominator, sequence, axis=0)
-    adjugate = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
-    states = filtered.copy()
-    states[1:] -= adjugate @ filtered[:-1]
-    return states
-
-
-def _rotations_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Smallest rotations taking unit vector ``u`` (q,) onto each row of ``v`` (r, q).
-
-    Each rotates in the plane spanned by ``u`` and ``v`` and leaves its
-    orthogonal complement fixed (Rodrigues' formula in that plane). For
-    ``v = −u`` the plane is not defined: the rotation by π is taken in the
-    plane of ``u`` and the coordinate axis least aligned with it (in 2-D this
-    is the unique rotation, ``−I``). In 1-D the "rotation" is the sign.
-    """
-    q = u.size
-    if q == 1:
-        return np.where(v * u[0] > 0, 1.0, -1.0)[:, :, None]
-    cos = np.clip(v @ u, -1.0, 1.0)
-    ortho = v - cos[:, None] * u
-    sin = np.linalg.norm(ortho, axis=1)
-    opposite = sin < 1e-12
-    if np.any(opposite):
-        axis = np.zeros(q)
-        axis[int(np.argmin(np.abs(u)))] = 1.0
-        axis -= (axis @ u) * u
-        ortho[opposite] = axis / np.linalg.norm(axis)
-        sin[opposite] = 0.0
-        cos[opposite] = np.where(cos[opposite] > 0, 1.0, -1.0)
-    ortho[~opposite] /= sin[~opposite, None]
-    uu = np.outer(u, u)
-    oo = ortho[:, :, None] * ortho[:, None, :]
-    ou = ortho[:, :, None] * u[None, None, :]
-    return (
-        np.eye(q)
-        + sin[:, None, None] * (ou - ou.transpose(0, 2, 1))
-        + (cos - 1.0)[:, None, None] * (uu + oo)
-    )
 
 
 class _Solution(NamedTuple):
@@ -629,8 +508,8 @@ class DMP(Estimator):
                 f"{low:g} to {high:g} s, got {span:g} s"
             )
         composed = times is None and timing != "uniform"
-        law = _minimum_jerk_law if profile is None else profile.law
-        sample = _dense_sampler(None if composed else t / span, points, law)
+        law = minimum_jerk_law if profile is None else profile.law
+        sample = dense_sampler(None if composed else t / span, points, law)
         start, goal = points[0].copy(), points[-1].copy()
         extent = float(np.max(np.ptp(points, axis=0)))
         self.alpha_ = float(np.log(100.0) if self.alpha is None else self.alpha)
@@ -665,9 +544,9 @@ class DMP(Estimator):
 
     def _use_basis(self, n_basis: int) -> None:
         """Set the basis functions and the quadrature panel for ``n_basis`` of them."""
-        self.centers_, self.widths_ = _basis(n_basis, self.alpha_)
+        self.centers_, self.widths_ = basis(n_basis, self.alpha_)
         # Quadrature panels resolve the narrowest basis function (spacing 1/(n−1) in s).
-        self._panel = min(_MAX_PANEL, 0.5 / max(n_basis - 1, 1))
+        self._panel = min(MAX_PANEL, 0.5 / max(n_basis - 1, 1))
 
     def _solve(
         self,
@@ -695,7 +574,7 @@ class DMP(Estimator):
         if self.end == "rest":
             # At s = 1: y = g and y' = 0 (the state), and f = 0 so y'' = 0 too.
             constraint = np.vstack([self._end_response(), self._design(np.array([1.0]))])
-            homogeneous = _transition(self.k, self.c, np.array([1.0]))[:, 0, 0]
+            homogeneous = transition(self.k, self.c, np.array([1.0]))[:, 0, 0]
             wanted = np.vstack([-np.outer(homogeneous, start - goal), np.zeros((1, start.size))])
             m, n_constraints = gram.shape[0], constraint.shape[0]
             kkt = np.zeros((m + n_constraints, m + n_constraints))
@@ -711,7 +590,7 @@ class DMP(Estimator):
             )
         # The reproduction departs from the path as the spring filters the forcing
         # residual (module notes): one IIR pass on the grid, no rollout needed.
-        departure = _reproduction_departure(
+        departure = reproduction_departure(
             self.k, self.c, s, velocity[0], design @ weights - target
         )
         error = float(np.max(np.linalg.norm(departure, axis=1))) / max(extent, 1e-300)
@@ -757,7 +636,7 @@ class DMP(Estimator):
         forcing = self._design(knots) @ self.weights_
         curvature = -self.k * states[:, 0] - self.c * states[:, 1] + forcing
         spacing = 1.0 / (n_knots - 1)
-        return spacing, _quintic_pieces(states[:, 0], states[:, 1], curvature, spacing)
+        return spacing, quintic_pieces(states[:, 0], states[:, 1], curvature, spacing)
 
     def _check_fitted(self) -> None:
         # sklearn's check_is_fitted scans every attribute: too slow for a 100 µs rollout.
@@ -783,8 +662,8 @@ class DMP(Estimator):
 
     def _end_response(self) -> np.ndarray:
         """State at ``s = 1`` driven by each basis forcing from rest, shape (2, n_basis)."""
-        nodes, weights = _quadrature(1.0, 0.5 * self._panel, _END_NODES)
-        kernels = _transition(self.k, self.c, 1.0 - nodes)[:, 1, :].T
+        nodes, weights = quadrature(1.0, 0.5 * self._panel, END_NODES)
+        kernels = transition(self.k, self.c, 1.0 - nodes)[:, 1, :].T
         return (kernels * weights[:, None]).T @ self._design(nodes)
 
     def forcing(self, times: Any) -> np.ndarray:
@@ -920,7 +799,7 @@ class DMP(Estimator):
         still = norms <= tiny
         directions = wanted / np.where(still, 1.0, norms)[:, None]
         directions[still] = trained / length  # any rotation: the scale is 0
-        matrices = _rotations_between(trained / length, directions)
+        matrices = rotations_between(trained / length, directions)
         sigma = np.where(still, 0.0, norms / length)
         matrices *= sigma[:, None, None]
         if np.max(sigma) > _LARGE_SCALE:
@@ -956,10 +835,10 @@ class DMP(Estimator):
         if cached is not None:
             return cached
         s = np.linspace(0.0, 1.0, n_steps)
-        forced = _evaluate_pieces(s, *self._knots)
-        powers = _transition(self.k, self.c, s)
+        forced = evaluate_pieces(s, *self._knots)
+        powers = transition(self.k, self.c, s)
         pieces = (s, powers, forced)
-        _remember(self._grid_cache, n_steps, pieces)
+        remember(self._grid_cache, n_steps, pieces)
         return pieces
 
     def _forced_response(self, n_steps: int) -> np.ndarray:
@@ -969,13 +848,13 @@ class DMP(Estimator):
         its derivative in normalised time.
         """
         s = np.linspace(0.0, 1.0, n_steps)
-        phi, nodes, gamma = _step_operators(self.k, self.c, s[1], self._panel)
+        phi, nodes, gamma = step_operators(self.k, self.c, s[1], self._panel)
         node_times = (s[:-1, None] + nodes[None, :]).ravel()
         node_forcing = (self._design(node_times) @ self.weights_).reshape(
             n_steps - 1, nodes.size, self.n_dims_
         )
         inputs = np.einsum("mk,jmq->jkq", gamma, node_forcing)
-        return _propagate(phi, np.zeros((2, self.n_dims_)), inputs)
+        return propagate(phi, np.zeros((2, self.n_dims_)), inputs)
 
     def rollout(
         self,
@@ -1100,13 +979,13 @@ class DMP(Estimator):
         columns[2 + q, 0] = 1.0  # position = goal + error
         if blend:
             # φ = e^{As}[0, 0], the response to a unit start error: χ = w − 1 + φ.
-            columns[-1] = _minimum_jerk_law(s)
+            columns[-1] = minimum_jerk_law(s)
             columns[-1, 0] -= 1.0
             columns[-1] += columns[0]  # (φ, φ', φ'')
         columns[:, 1] /= time_scale
         columns[:, 2] /= time_scale**2
         left = columns.reshape(3 + q + blend, 3 * n).T
-        _remember(self._left_cache, key, left)
+        remember(self._left_cache, key, left)
         return left
 
     def step(
@@ -1194,7 +1073,7 @@ class DMP(Estimator):
         The forcing per unit change of the start→goal vector under
         ``scaling="translate"``: it makes the response ``χ = w − 1 + φ``.
         """
-        w, slope, bend = _minimum_jerk_law(np.minimum(s, 1.0))
+        w, slope, bend = minimum_jerk_law(np.minimum(s, 1.0))
         return np.where(s > 1.0 + 1e-12, 0.0, bend + self.c * slope + self.k * (w - 1.0))
 
     def _advance(
@@ -1213,177 +1092,18 @@ class DMP(Estimator):
         if s >= 1.0:
             # No forcing after the movement: the spring alone, no quadrature (whose
             # panels would grow with a long step).
-            phi = _transition(self.k, self.c, np.array([h]))[:, :, 0]
+            phi = transition(self.k, self.c, np.array([h]))[:, :, 0]
             return np.einsum("ab,rbq->raq", phi, x)
         operators = self._step_cache.get(h)
         if operators is None:
-            operators = _step_operators(self.k, self.c, h, self._panel)
-            _remember(self._step_cache, h, operators)
+            operators = step_operators(self.k, self.c, h, self._panel)
+            remember(self._step_cache, h, operators)
         phi, nodes, gamma = operators
         forcing_nodes = self._design(s + nodes) @ self.weights_  # (m, q)
         drive = np.einsum("mk,mp,rqp->rkq", gamma, forcing_nodes, matrices)
         if offsets is not None:
             drive += np.einsum("mk,m,rq->rkq", gamma, self._blend_forcing(s + nodes), offsets)
         return np.einsum("ab,rbq->raq", phi, x) + drive
-
-
-def _quintic_pieces(
-    values: np.ndarray, slopes: np.ndarray, curvatures: np.ndarray, spacing: float
-) -> np.ndarray:
-    """Coefficients of the C² piecewise quintic through knot values, slopes, curvatures.
-
-    Knots at ``0, spacing, 2 spacing, …``; inputs (n_knots, q). Returns
-    ``c`` (n_knots − 1, 6, q): on piece ``i`` the quintic is ``Σ_m c[i, m] t^m``
-    with ``t = s / spacing − i`` in ``[0, 1]`` (quintic Hermite interpolation).
-    """
-    p0, p1 = values[:-1], values[1:]
-    v0, v1 = slopes[:-1] * spacing, slopes[1:] * spacing
-    a0, a1 = curvatures[:-1] * spacing**2, curvatures[1:] * spacing**2
-    return np.stack(
-        [
-            p0,
-            v0,
-            0.5 * a0,
-            10.0 * (p1 - p0) - 6.0 * v0 - 4.0 * v1 - 1.5 * a0 + 0.5 * a1,
-            15.0 * (p0 - p1) + 8.0 * v0 + 7.0 * v1 + 1.5 * a0 - a1,
-            6.0 * (p1 - p0) - 3.0 * (v0 + v1) - 0.5 * (a0 - a1),
-        ],
-        axis=1,
-    )
-
-
-def _evaluate_pieces(s: np.ndarray, spacing: float, pieces: np.ndarray) -> np.ndarray:
-    """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (q, 3, len(s))."""
-    from lfdkit.imitate._dmp_kernels import evaluate_quintic_pieces  # numba compiles on first use
-
-    out = np.empty((pieces.shape[2], 3, s.size))
-    evaluate_quintic_pieces(np.ascontiguousarray(s, dtype=np.float64), spacing, pieces, out)
-    return out
-
-
-def _remember(cache: dict, key: Any, value: Any) -> None:
-    """Insert into a small first-in-first-out cache."""
-    if len(cache) >= _MAX_CACHED_GRIDS:
-        cache.pop(next(iter(cache)))
-    cache[key] = value
-
-
-@lru_cache(maxsize=32)
-def _basis_cached(n_basis: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
-    centers = np.exp(-alpha * np.linspace(0.0, 1.0, n_basis))
-    if n_basis == 1:
-        return centers, np.array([1.0])
-    gaps = np.abs(np.diff(centers))
-    gaps = np.append(gaps, gaps[-1])
-    # Neighbouring Gaussians cross at 1/√2 of their height, exp(−h (Δ/2)²) = 2^(−1/2):
-    # wider than the usual half height, which reproduced paths measurably worse.
-    widths = 2.0 * np.log(2.0) / gaps**2
-    centers.setflags(write=False)
-    widths.setflags(write=False)
-    return centers, widths
-
-
-def _basis(n_basis: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
-    return _basis_cached(n_basis, float(alpha))
-
-
-def _minimum_jerk_law(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Fraction of the way ``10u³ − 15u⁴ + 6u⁵`` and its first two derivatives in ``u``."""
-    return (
-        u**3 * (10.0 - 15.0 * u + 6.0 * u**2),
-        30.0 * u**2 * (1.0 - u) ** 2,
-        60.0 * u * (1.0 - u) * (1.0 - 2.0 * u),
-    )
-
-
-def _dense_sampler(s: np.ndarray | None, points: np.ndarray, law: Any = None) -> Any:
-    """Positions and their first two derivatives on a dense, even grid of ``s ∈ [0, 1]``.
-
-    Returns ``sample(n_basis) -> (grid, positions, velocities, accelerations)``,
-    the grid as fine as ``n_basis`` basis functions need; the spline is built
-    once, so ``n_basis="auto"`` samples every count of its ladder cheaply.
-
-    With sample times ``s``, a cubic interpolating spline (not-a-knot ends)
-    through every sample is differentiated analytically. With ``s=None`` the
-    timing law is composed exactly: a cubic spline of the path in its
-    arc-length fraction ``ℓ``, moved along by ``ℓ(s)`` of ``law`` (default
-    :func:`_minimum_jerk_law`; or a :meth:`SpeedProfile.law`; it returns
-    ``ℓ``, ``ℓ'`` and ``ℓ''``) by the chain rule, so the motion is at rest at
-    both ends without the spline having to guess it from sparse end samples.
-
-    The dense even grid matters when samples are uneven in time: a basis
-    function with no sample under it would otherwise get an arbitrary weight.
-    """
-    n = points.shape[0]
-    degree = min(3, n - 1)
-
-    def grid_for(n_basis: int) -> np.ndarray:
-        return np.linspace(0.0, 1.0, max(2 * n, 20 * n_basis, 1000))
-
-    if s is not None:
-        from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
-
-        timed = make_interp_spline(s, points, k=degree, axis=0)
-
-        def sample_timed(n_basis: int) -> tuple[np.ndarray, ...]:
-            grid = grid_for(n_basis)
-            return grid, timed(grid), timed(grid, 1), timed(grid, 2)
-
-        return sample_timed
-    fraction = arc_length(points) / path_length(points)
-    from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
-
-    spline = make_interp_spline(fraction, points, k=degree, axis=0)
-    law = _minimum_jerk_law if law is None else law
-
-    def sample_composed(n_basis: int) -> tuple[np.ndarray, ...]:
-        grid = grid_for(n_basis)
-        where, speed, rate = law(grid)
-        slope, bend = spline(where, 1), spline(where, 2)
-        return (
-            grid,
-            spline(where),
-            slope * speed[:, None],
-            bend * speed[:, None] ** 2 + slope * rate[:, None],
-        )
-
-    return sample_composed
-
-
-def _reproduction_departure(
-    k: float, c: float, s: np.ndarray, velocity0: np.ndarray, mismatch: np.ndarray
-) -> np.ndarray:
-    """Reproduction minus path on the even grid ``s``, shape (len(s), q).
-
-    The path obeys the transformation system exactly with its target forcing
-    ``F``, the reproduction with the fitted ``X w``; their difference ``e``
-    obeys ``e'' = −k e − c e' + (X w − F)`` from ``e(0) = 0``,
-    ``e'(0) = −y'(0)`` (the reproduction starts at rest). The mismatch
-    ``X w − F`` (len(s), q) is held linear between grid points and the
-    spring integrated exactly over each step, as :func:`_propagate` does but
-    for the position only: one second-order IIR filter per dimension.
-    """
-    h = float(s[1] - s[0])
-    x, w = _legendre(_GAUSS_NODES)
-    nodes, weights = 0.5 * h * (x + 1.0), 0.5 * h * w
-    kernel = _transition(k, c, h - nodes)[:, 1, :]  # e^{A(h − σ)} B, (2, m)
-    later = nodes / h
-    now_weights, next_weights = kernel @ (weights * (1.0 - later)), kernel @ (weights * later)
-    phi = _transition(k, c, np.array([h]))[:, :, 0]
-    # The state sequence (x0, v_0, v_1, …) of _propagate, both components, (n, q) each.
-    u = np.ascontiguousarray(mismatch.T)  # (q, n): filter along contiguous rows
-    drive = np.empty((2, *u.shape))
-    drive[:, :, 0] = np.stack([np.zeros_like(velocity0), -velocity0])
-    drive[:, :, 1:] = (
-        now_weights[:, None, None] * u[None, :, :-1] + next_weights[:, None, None] * u[None, :, 1:]
-    )
-    # Position row of (I − Φ z⁻¹)⁻¹ = adj(I − Φ z⁻¹) / det(I − Φ z⁻¹).
-    combined = drive[0].copy()
-    combined[:, 1:] += -phi[1, 1] * drive[0, :, :-1] + phi[0, 1] * drive[1, :, :-1]
-    denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
-    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
-
-    return lfilter([1.0], denominator, combined, axis=1).T
 
 
 def _check_distinct(points: np.ndarray) -> None:
