@@ -261,8 +261,8 @@ def main() -> int:
             + all_line
             + body
         )
-        if module == "bench":  # one folder deeper than cli.py was: the checkout is a level up
-            text = text.replace(".resolve().parents[3]", ".resolve().parents[4]")
+        if module == "bench":  # src/lfdkit/app/cli/bench.py: the checkout is 4 folders up
+            text = re.sub(r"\.resolve\(\)\.parents\[\d\]", ".resolve().parents[4]", text)
         (PACKAGE / f"{module}.py").write_text(text, encoding="utf-8")
     (PACKAGE / "__init__.py").write_text(
         f'"""{module_doc.rstrip()}\n\n'
