@@ -99,8 +99,9 @@ CASES: list[tuple[str, str, str, str]] = [
 HELPERS = """
 import numpy as np
 from lfdkit.io import load_demos
-from lfdkit.emulate import Reward, plan_path, plan_clearance
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.emulate import Reward, plan_path
+from lfdkit.emulate.metrics import clearance as path_clearance
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 
 def fit_gmr_reversed():
@@ -119,7 +120,7 @@ REWARD = Reward(10.0, {"cup": [2500.0, 4000.0]})
 
 def plan_big_cup():
     scene = Scene((Obstacle("cup", [0.5, 0.03], radius=0.1),))
-    return plan_clearance(plan_path(REWARD, straight(), scene).points, scene)[0]
+    return path_clearance(plan_path(REWARD, straight(), scene).points, scene)[0]
 
 def plan_wall():
     wall = Scene(tuple(Obstacle("cup", [0.5, y], radius=0.03) for y in np.arange(-0.6, 0.61, 0.05)))
@@ -139,12 +140,12 @@ def dmp_goal(value):
     return DMP().fit(straight(), duration=1.0).rollout(goal=[value, value])
 
 def urscript(poses, **kw):
-    from lfdkit.robot.urscript import urscript_program
+    from lfdkit.execute.urscript import urscript_program
     return urscript_program(poses=poses, **kw)
 
 def servoj_jump():
-    from lfdkit.robot.urscript import urscript_program
-    from lfdkit.robot.ur5 import inverse
+    from lfdkit.execute.urscript import urscript_program
+    from lfdkit.execute.ur5 import inverse
     q = np.zeros((3, 6))
     q[:, 1] = -1.2; q[:, 2] = 1.5; q[:, 3] = -1.9; q[:, 4] = -1.57
     q[1:, 0] = 0.025
@@ -201,7 +202,7 @@ def make_files(work: Path) -> None:
 def run_case(work: Path, kind: str, what: str, expect: str, limit: float) -> dict:
     if kind == "cli":
         argv = what.format(w=work).split()
-        code = [sys.executable, "-m", "lfdkit.cli", *argv]
+        code = [sys.executable, "-m", "lfdkit.app.cli", *argv]
     else:
         script = (
             f"from pathlib import Path\nWORK = Path({str(work)!r})\n{HELPERS}\n"

@@ -13,7 +13,7 @@ Throughput
 default ``mujoco``: plan, poses, IK, timing, URScript and the MuJoCo sweep at
 0.2 of the UR5's joint limits) evaluated by
 :func:`lfdkit.tasks.sweeping.batch.evaluate_batch` on each executor of
-:func:`lfdkit.batch.make_executor`: serial (this process), local processes
+:func:`lfdkit.app.batch.make_executor`: serial (this process), local processes
 with 1 and 2 workers, a Dask LocalCluster with 1 and 2 worker processes.
 Each executor is started and warmed up first (one ``plan`` task per worker
 slot, twice over: the imports, numba's cached kernels and MuJoCo load once
@@ -28,7 +28,7 @@ two workers can at best double the throughput; the machine may be shared.
 Per-task overhead
 -----------------
 ``--overhead-tasks`` (2,000) tasks that do nothing (``dict`` of a small
-mapping) through :func:`lfdkit.batch.run_batch` on each executor: what one
+mapping) through :func:`lfdkit.app.batch.run_batch` on each executor: what one
 task costs the machinery (submit, pickle, schedule, return, write one line),
 in milliseconds per task of the batch's wall time.
 
@@ -76,7 +76,7 @@ def learned_skill(folder: Path) -> Path:
 
 
 def rows(path: Path) -> list[dict]:
-    from lfdkit.batch import read_results
+    from lfdkit.app.batch import read_results
 
     return sorted(read_results(path), key=lambda r: r["task"])
 
@@ -98,7 +98,7 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
     each other, and the table gives medians of the rounds (ratios: medians of
     the per-round ratios).
     """
-    from lfdkit.batch import make_executor
+    from lfdkit.app.batch import make_executor
     from lfdkit.tasks.sweeping.batch import evaluate_batch
 
     text = skill.read_text()
@@ -163,7 +163,7 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
 
 
 def overhead(out: Path, n: int) -> list[dict]:
-    from lfdkit.batch import make_executor, run_batch
+    from lfdkit.app.batch import make_executor, run_batch
 
     table = []
     for name, kwargs in EXECUTORS:
@@ -184,7 +184,7 @@ def overhead(out: Path, n: int) -> list[dict]:
 # benchmark process it was forked from, hundreds of MB, across the exec).
 _CHILD = """
 import json, resource, sys, time
-from lfdkit.cli import main
+from lfdkit.app.cli import main
 begin = time.perf_counter()
 rc = main(sys.argv[1:])
 try:

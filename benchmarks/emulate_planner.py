@@ -42,16 +42,17 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the tests' refer
 from _common import git_state, machine_info, package_versions
 
 from lfdkit.datasets.emulation import artificial_obstacles, da_vinci_marker
-from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_clearance, plan_path
-from lfdkit.emulate.fidelity import passing_sides
-from lfdkit.io import atomic_write
-from lfdkit.scene import Obstacle, Scene
-from tests.emulate.test_planner_safety import (
+from lfdkit.datasets.planning import (
     N_POINTS,
     random_case,
     random_case_with_radii,
     reference_cost,
 )
+from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate.fidelity import passing_sides
+from lfdkit.emulate.metrics import clearance as path_clearance
+from lfdkit.io import atomic_write
+from lfdkit.model.scene import Obstacle, Scene
 
 
 def progress(message: str) -> None:
@@ -106,7 +107,7 @@ def clearance_and_goal(n_scenes: int) -> dict:
                 refused += 1
                 continue
             planned += 1
-            margin = plan_clearance(plan.points, scene, clearance)
+            margin = path_clearance(plan.points, scene, clearance)
             smallest = min(smallest, float(margin.min()))
             violations += int(np.sum(margin < -1e-12))
             worst_goal = max(worst_goal, plan.goal_error / extent)

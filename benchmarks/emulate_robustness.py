@@ -58,9 +58,9 @@ from threadpoolctl import threadpool_limits
 
 from lfdkit.datasets.emulation import artificial_obstacles, load_emulation_dataset
 from lfdkit.emulate import IOC, Reward, plan_path
-from lfdkit.metrics import collisions, improvement, mse_paths, parameter_errors
+from lfdkit.emulate.metrics import collisions, improvement, mse_paths, parameter_errors
 from lfdkit.mimic import MeanPath
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 BASE_NOISE = 0.0015  # artificial_obstacles' default, metres
 N_TEST = 8

@@ -58,7 +58,7 @@ start = training start, one batch call ``rollout(goal=goals, n_steps=1000)``.
 
 Figures: ``imitate_retargeting.png`` (walking demos, Mean-Path and spatial
 DMP rollouts to B and to B moved ±50 % of the extent across A→B, via
-``lfdkit.plot.retargeting_figure``); ``imitate_scaling.png`` (walking, goals
+``lfdkit.app.plot.retargeting_figure``); ``imitate_scaling.png`` (walking, goals
 at the start plus the training displacement rotated by ±150°: per-dimension
 vs spatial scaling).
 
@@ -76,7 +76,7 @@ n_weights_per_dim=N)`` imitating the same timed path
 
 * distance [mm]: mean over the 7 demos of the mean, over the demo's points,
   of the distance to the closest point of the rollout polyline
-  (``lfdkit.geometry.project_onto_polyline``). The same metric for the
+  (``lfdkit.core.geometry.project_onto_polyline``). The same metric for the
   Mean-Path itself is the floor a DMP reproducing it could reach.
 * end error [mm]: ``|y(end) − path[-1]|`` of each DMP.
 * ratio: lfdkit / movement_primitives distance (< 1: lfdkit closer).
@@ -129,7 +129,7 @@ How far a generalized path carried to a new start and goal lands from a
 demonstration it never saw. For each data group and each fold (leave one
 demonstration out): the generalized path of the others, then every method
 carried to the held-out demonstration's own first and last point, scored
-against it by ``lfdkit.metrics.held_out_distances(method, demo)``: ``mean``
+against it by ``lfdkit.emulate.metrics.held_out_distances(method, demo)``: ``mean``
 (symmetric mean closest-point distance), ``max`` (Hausdorff) and ``frechet``
 (discrete Fréchet), both resampled to 200 points, in the data's units.
 
@@ -193,12 +193,12 @@ from _common import machine_info, package_versions
 from matplotlib.figure import Figure
 from scipy.interpolate import make_interp_spline
 
+from lfdkit.app.plot import DEMO_COLOR, draw_demos, draw_rollouts, retargeting_figure
+from lfdkit.core.geometry import arc_length, left_normals, project_onto_polyline, resample
 from lfdkit.datasets import LASA_SHAPES, load_dataset, load_lasa
-from lfdkit.geometry import arc_length, left_normals, project_onto_polyline, resample
+from lfdkit.emulate.metrics import held_out_distances
 from lfdkit.imitate import DMP, minimum_jerk_times, warp_path
-from lfdkit.metrics import held_out_distances
 from lfdkit.mimic import MeanPath
-from lfdkit.plot import DEMO_COLOR, draw_demos, draw_rollouts, retargeting_figure
 
 N_BASIS = (10, 20, 30, 50)
 TIMINGS = ("minimum_jerk", "uniform")
@@ -303,7 +303,9 @@ def reproduction(paths: dict[str, dict]) -> list[dict]:
         path, extent = info["path"], extent_of(info["path"])
         for timing in TIMINGS:
             for n in N_BASIS:
-                dmp = DMP(n_basis=n).fit(path, duration=info["duration"], timing=timing)
+                dmp = DMP(n_basis=n, scaling="per_dimension").fit(
+                    path, duration=info["duration"], timing=timing
+                )
                 roll = dmp.rollout(n_steps=REPRODUCTION_STEPS)
                 aligned = at_times(roll.times, roll.positions, dmp.times_)
                 rows.append(
@@ -1144,10 +1146,10 @@ def speed(walking_path: np.ndarray, repeats: int, seed: int) -> dict:
         return rms(at_times(t, positions, times), path) / extent
 
     def ours_fit():
-        return DMP(n_basis=20).fit(path, times)
+        return DMP(n_basis=20, scaling="per_dimension").fit(path, times)
 
     def ours_auto_fit():
-        return DMP(n_basis="auto").fit(path, times)
+        return DMP(n_basis="auto", scaling="per_dimension").fit(path, times)
 
     def mp_fit():
         peer = PeerDMP(n_dims=2, execution_time=1.0, dt=1.0 / 999, n_weights_per_dim=20)

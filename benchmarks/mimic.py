@@ -45,9 +45,7 @@ import numpy as np
 from _common import git_state, machine_info
 
 import lfdkit
-from lfdkit import metrics
-from lfdkit.datasets import MIMIC_DATASETS, load_dataset
-from lfdkit.evaluation import (
+from lfdkit.app.evaluation import (
     comparison_figures,
     format_table,
     gmr_components,
@@ -55,7 +53,9 @@ from lfdkit.evaluation import (
     run_comparison,
     summarize,
 )
-from lfdkit.geometry import resample
+from lfdkit.core.geometry import resample
+from lfdkit.datasets import MIMIC_DATASETS, load_dataset
+from lfdkit.emulate import metrics
 from lfdkit.mimic import GMR, ComponentLimitWarning, MeanPath, select_n_components
 
 #: Data sets with outliers, where the issue asks the default Mean-Path for half
@@ -103,7 +103,7 @@ def _soft_dtw(demoset, seed):
     # soft-DTW's gamma is in squared data units: scale the data to unit spread.
     stacked = np.vstack(demoset.demos)
     centre, scale = stacked.mean(axis=0), stacked.std()
-    from lfdkit.geometry import resample
+    from lfdkit.core.geometry import resample
 
     demos = [resample((d - centre) / scale, 100) for d in demoset.demos]
     init = np.mean(demos, axis=0)
@@ -363,8 +363,8 @@ _IMPORTS = {
     "import lfdkit": "import lfdkit",
     "import lfdkit.mimic": "import lfdkit.mimic",
     "import lfdkit.skill": "import lfdkit.skill",
-    "lfdkit --help": "from lfdkit.cli import main\ntry:\n    main(['--help'])\nexcept SystemExit:\n"
-    "    pass",
+    "lfdkit --help": "from lfdkit.app.cli import main\n"
+    "try:\n    main(['--help'])\nexcept SystemExit:\n    pass",
 }
 
 

@@ -17,7 +17,7 @@ What is measured
 A *task* is one set of N demonstrations. For every task and every fold
 ``j = 0..N-1`` each method is fitted on the N−1 other demonstrations, and its
 generalized path is compared with the held-out demonstration ``j`` by
-:func:`lfdkit.metrics.held_out_distances` (both resampled to 200 points evenly
+:func:`lfdkit.emulate.metrics.held_out_distances` (both resampled to 200 points evenly
 in arc length), in the data's units:
 
 * ``mean``: symmetric mean closest-point distance (half the mean distance from
@@ -128,9 +128,9 @@ from pathlib import Path
 import numpy as np
 from _common import git_state, machine_info, package_versions
 
+from lfdkit.core.geometry import path_length, polyline_distances, resample
 from lfdkit.datasets import CLOSED_DATASETS, LASA_SHAPES, MIMIC_DATASETS, load_dataset, load_lasa
-from lfdkit.geometry import path_length, polyline_distances, resample
-from lfdkit.metrics import held_out_distances
+from lfdkit.emulate.metrics import held_out_distances
 from lfdkit.mimic import GMR, MeanPath, pointwise_average, select_n_components
 
 #: Points of every generalized path.

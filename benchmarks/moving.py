@@ -128,8 +128,8 @@ def tune_gain(skill, nominal, times, duration, seed, n: int = 20) -> tuple[float
 def step_times(skill, duration: float, repeats: int = 5) -> dict:
     """Predictive MPC step time at H = 12 with four tracked obstacles (ms)."""
     from lfdkit.emulate import RecedingPlanner, UnsafePlanError
-    from lfdkit.motion import ConstantVelocityKalman, Tracked
-    from lfdkit.scene import Obstacle, Scene
+    from lfdkit.model.motion import ConstantVelocityKalman, Tracked
+    from lfdkit.model.scene import Obstacle, Scene
     from lfdkit.tasks.sweeping.moving import (
         MAX_WAIT,
         TRACKER_ACCELERATION,

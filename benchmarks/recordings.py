@@ -37,7 +37,7 @@ from _common import git_state, machine_info, package_versions
 
 from lfdkit.io import atomic_write
 from lfdkit.io.recordings import read_poses
-from lfdkit.segmentation import segment_recording
+from lfdkit.io.segmentation import segment_recording
 
 N_FULL, N_QUICK = 20_000, 2_000
 FORMATS = ("ros1", "sqlite3", "mcap")

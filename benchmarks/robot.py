@@ -7,8 +7,8 @@ table per section and a final targets table (PASS/FAIL/SKIP), writes ``robot.jso
 All work runs under ``threadpoolctl.threadpool_limits(1)`` (one BLAS thread:
 the machine has two cores and may be shared).
 
-The model is :data:`lfdkit.robot.arm.UR5` with the kinematics of
-:mod:`lfdkit.robot.ur5`: the thesis's standard DH table
+The model is :data:`lfdkit.execute.arm.UR5` with the kinematics of
+:mod:`lfdkit.execute.ur5`: the thesis's standard DH table
 (Table 6.3; ``d = (0.08916, 0, 0, 0.10915, 0.09465, 0.0823)`` m,
 ``a = (0, -0.425, -0.39225, 0, 0, 0)`` m, ``alpha = (π/2, 0, 0, π/2, -π/2, 0)``,
 link transform ``Rz(θ) Tz(d) Tx(a) Rx(α)``), ``forward`` (FK) and ``inverse``
@@ -25,7 +25,7 @@ Kinematics
 K1. FK cross-check
 ------------------
 ``N`` random configurations (10,000; 1,000 with ``--quick``), uniform in
-``[-π, π]^6``. ``lfdkit.robot.ur5.forward`` against two independent
+``[-π, π]^6``. ``lfdkit.execute.ur5.forward`` against two independent
 implementations of the same DH chain:
 
 * roboticstoolbox-python: ``rtb.DHRobot([rtb.RevoluteDH(d, a, alpha), ...])``
@@ -79,7 +79,7 @@ Simulation
 
 S1. MuJoCo kinematics
 ---------------------
-``lfdkit.robot.mujoco`` builds the MuJoCo model from the same description; MuJoCo's
+``lfdkit.execute.mujoco`` builds the MuJoCo model from the same description; MuJoCo's
 own flange pose (``flange_poses``, ``mj_kinematics``) is compared with
 ``ur5.forward`` on 2,000 random configurations (500 with ``--quick``).
 Target: max position error < 1e-9 m.
@@ -127,11 +127,11 @@ import numpy as np
 from _common import git_state, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
+from lfdkit.execute import ur5
+from lfdkit.execute.arm import UR5
+from lfdkit.execute.mujoco import flange_poses
 from lfdkit.io import atomic_write
 from lfdkit.io.skill_file import jsonable
-from lfdkit.robot import ur5
-from lfdkit.robot.arm import UR5
-from lfdkit.robot.mujoco import flange_poses
 
 #: Packages whose versions go into the JSON (later sections may append theirs).
 VERSION_PACKAGES = [

@@ -69,10 +69,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--requests", type=int, default=200, help="plans per case")
     args = parser.parse_args(argv)
 
-    from lfdkit.scene import Obstacle, Scene
+    from lfdkit.app.teach.app import SESSION_HEADER
+    from lfdkit.app.teach.server import make_server
+    from lfdkit.model.scene import Obstacle, Scene
     from lfdkit.skill import Skill
-    from lfdkit.teach.app import SESSION_HEADER
-    from lfdkit.teach.server import make_server
 
     server, sock = make_server("127.0.0.1", 0)
     thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)

@@ -17,7 +17,7 @@ import pytest
 
 HEAVY = ("numba", "mujoco", "matplotlib", "sklearn", "scipy", "dask", "distributed")
 
-_HELP = "from lfdkit.cli import main\ntry:\n    main({})\nexcept SystemExit:\n    pass"
+_HELP = "from lfdkit.app.cli import main\ntry:\n    main({})\nexcept SystemExit:\n    pass"
 
 #: Statements to run in a fresh interpreter; none may load any of HEAVY.
 STATEMENTS = (
@@ -25,10 +25,10 @@ STATEMENTS = (
     "import lfdkit.mimic",
     "import lfdkit.skill",
     "from lfdkit.mimic import MIMIC_METHODS, MeanPath, GMR, NLPCA",
-    "import lfdkit.cli",
+    "import lfdkit.app.cli",
     _HELP.format("['--help']"),
     _HELP.format("['learn', '--help']"),
-    "import lfdkit.batch",
+    "import lfdkit.app.batch",
     _HELP.format("['batch', 'evaluate', '--help']"),
 )
 

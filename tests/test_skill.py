@@ -9,15 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit import metrics
+from lfdkit.core.geometry import arc_length, path_length, resample
 from lfdkit.datasets import load_emulation_dataset
-from lfdkit.emulate import Reward, plan_path
-from lfdkit.geometry import arc_length, path_length, resample
+from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
 from lfdkit.mimic import DemoOrientationWarning
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 from lfdkit.skill import Skill, TimedPlan, learn, read_training_data
 from lfdkit.tasks.sweeping import example_dataset, example_files
 
@@ -352,7 +351,7 @@ def test_fit_errors(sweeping) -> None:
         Skill().fit(free[:1])
     with pytest.raises(ValueError, match="mimic: expected one of"):
         Skill(mimic="dtw").fit(free)
-    with pytest.raises(ValueError, match="horizon: expected an integer 4 <= H <= 12"):
+    with pytest.raises(ValueError, match="horizon: expected 4 <= H <= 12"):
         Skill(horizon=3).fit(free)
     with pytest.raises(ValueError, match="contains NaN"):
         Skill().fit([free[0], np.full_like(free[1], np.nan)])
@@ -632,8 +631,8 @@ def test_learn_reads_the_times_of_a_demonstrations_file(tmp_path) -> None:
 
 # ------------------------------------------------------------------ moving obstacles
 def test_plan_avoids_a_moving_obstacle_where_it_is_when_the_tool_passes(skill) -> None:
-    from lfdkit.motion import ConstantVelocity
-    from lfdkit.scene import Obstacle
+    from lfdkit.model.motion import ConstantVelocity
+    from lfdkit.model.scene import Obstacle
 
     duration = 8.0
     times = skill.point_times(duration)
@@ -660,8 +659,8 @@ FAST_MARKER = ([-0.327, -0.893], 0.01, [0.283, 3.99])
 
 
 def _detour_scene() -> Scene:
-    from lfdkit.motion import ConstantVelocity
-    from lfdkit.scene import Obstacle
+    from lfdkit.model.motion import ConstantVelocity
+    from lfdkit.model.scene import Obstacle
 
     (at, radius), (start, r, velocity) = DETOUR_CUP, FAST_MARKER
     marker = Obstacle("marker", start, r, motion=ConstantVelocity(velocity))

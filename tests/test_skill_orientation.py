@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 import pytransform3d.rotations as pr
 
-from lfdkit.robot.poses import path_yaw, yaw_from_quaternions
-from lfdkit.rotations import angle_between, exp, multiply
+from lfdkit.core.rotations import angle_between, exp, multiply
+from lfdkit.execute.poses import path_yaw, yaw_from_quaternions
 from lfdkit.skill import Skill
 
 #: The truth's yaw and pitch along the movement's fraction u (rad).

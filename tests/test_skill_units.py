@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from lfdkit.io import load_demos, load_scenes
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill, read_training_data
 from lfdkit.tasks.sweeping import example_files
 

@@ -33,7 +33,7 @@ Each table row says which. ``--figure-nominal`` (default ``free``, else
 -------------------
 ``IOC()`` (full horizon) and ``IOC(horizon=8)`` (staged: full horizon, then
 MPC) on the training demonstrations in their scenes. Reported: fitted and
-true ``Q`` and diagonal precisions, ``lfdkit.metrics.parameter_errors``
+true ``Q`` and diagonal precisions, ``lfdkit.emulate.metrics.parameter_errors``
 (target: every parameter within 10 % of the truth), seconds of the initial
 grid (the fit's total time minus its stages), of each stage, L-BFGS
 iterations, training loss (mean squared lateral distance, m²). For reference

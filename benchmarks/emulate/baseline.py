@@ -10,9 +10,9 @@ import time
 import numpy as np
 from scipy.interpolate import make_interp_spline
 
-from lfdkit.geometry import arc_length
-from lfdkit.metrics import collisions, mse_paths
-from lfdkit.scene import Scene
+from lfdkit.core.geometry import arc_length
+from lfdkit.emulate.metrics import collisions, mse_paths
+from lfdkit.model.scene import Scene
 
 from .common import progress, sci
 from .spec import (

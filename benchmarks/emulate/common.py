@@ -8,11 +8,11 @@ import warnings
 
 import numpy as np
 
+from lfdkit.core.geometry import project_onto_polyline
 from lfdkit.emulate import Reward
-from lfdkit.geometry import project_onto_polyline
-from lfdkit.metrics import clearance, collisions, mse_paths
+from lfdkit.emulate.metrics import clearance, collisions, mse_paths
 from lfdkit.mimic import MeanPath
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 from .spec import HELD_OUT_NAMES
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from lfdkit.emulate import plan_path
-from lfdkit.metrics import collisions, improvement, mse_paths
+from lfdkit.emulate.metrics import collisions, improvement, mse_paths
 
 from .common import held_out_names, progress, safe_plan, scene_metrics, sci
 from .spec import HORIZON, PLAN_NAMES, THESIS

@@ -14,7 +14,7 @@ issue 26 as PASS/FAIL (worst over the settings run; exits 0 either way), and
 writes ``fidelity[_<label>].json`` and ``fidelity[_<label>].png`` to
 ``--output`` (``benchmarks/results/emulate``). All work runs under
 ``threadpool_limits(1)``. Only lfdkit's public API is used (``Skill``,
-``lfdkit.metrics``, the scene classes), so the same command runs on a changed
+``lfdkit.emulate.metrics``, the scene classes), so the same command runs on a changed
 emulation layer.
 
 Design
@@ -44,7 +44,7 @@ Each held-out scene is planned with ``skill.plan(start, goal, scene,
 **plan_options)`` from the person's start to the task's goal and compared
 with the person's path:
 
-* Pr (thesis, SPEC §3): ``lfdkit.metrics.improvement(MSE_Mp, MSE_R)`` with
+* Pr (thesis, SPEC §3): ``lfdkit.emulate.metrics.improvement(MSE_Mp, MSE_R)`` with
   ``MSE_Mp = mse_paths(skill.nominal(start, goal), person)`` and ``MSE_R`` the
   plan's; pooled (sums over the scenes, the thesis's), and per scene mean
   and median. 100 % is the person's path, 0 % no better than the nominal.
@@ -54,7 +54,7 @@ with the person's path:
   is given instead (a plan that swerves where the person did not).
 * Sides: per obstacle the person passes within 10 cm of, the side of the
   obstacle seen from the path at its closest point; agreement = same side.
-* Collisions (``lfdkit.metrics.collisions``); clearance ratio = median over
+* Collisions (``lfdkit.emulate.metrics.collisions``); clearance ratio = median over
   scenes of the plan's smallest clearance over the person's, and the
   smallest such ratio (``worst``).
 * Gaps threaded: pairs of obstacles less than 15 cm apart (surface to surface)
@@ -114,9 +114,9 @@ from pathlib import Path
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from lfdkit.geometry import resample
-from lfdkit.metrics import clearance, collisions, improvement, mse_paths
-from lfdkit.scene import Scene
+from lfdkit.core.geometry import resample
+from lfdkit.emulate.metrics import clearance, collisions, improvement, mse_paths
+from lfdkit.model.scene import Scene
 
 from . import people as P
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from lfdkit.plot import emulation_grid
+from lfdkit.app.plot import emulation_grid
 
 from .common import held_out_names, reward_text, safe_plan, sci
 from .spec import HORIZON, PLAN_NAMES

@@ -3,7 +3,7 @@
 Each *person* turns a task's nominal path and a scene into the path a person of
 that kind would demonstrate. None of them calls lfdkit's planner or reward, so
 the benchmark's ground truth stays the same while the emulation layer changes;
-only :mod:`lfdkit.geometry` (resampling, normals) and the scene classes are used.
+only :mod:`lfdkit.core.geometry` (resampling, normals) and the scene classes are used.
 
 Kinds (two obstacle classes, ``cup`` of radius 3 cm and ``box`` of 5 cm, each
 with its own behaviour):
@@ -46,8 +46,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.ndimage import gaussian_filter1d, maximum_filter1d
 
-from lfdkit.geometry import arc_length, left_normals, resample
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.core.geometry import arc_length, left_normals, resample
+from lfdkit.model.scene import Obstacle, Scene
 
 CLASSES = ("cup", "box")
 #: Physical radius of each class, metres.

@@ -6,7 +6,7 @@ import numpy as np
 
 from lfdkit.datasets.emulation import load_emulation_dataset
 from lfdkit.emulate import IOC
-from lfdkit.metrics import parameter_errors
+from lfdkit.emulate.metrics import parameter_errors
 
 from .common import progress, reward_record, reward_text, timed
 from .spec import HORIZON, RECOVERY_TARGET

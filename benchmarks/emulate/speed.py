@@ -8,10 +8,10 @@ import numpy as np
 
 from lfdkit.datasets.emulation import load_emulation_dataset
 from lfdkit.emulate import IOC, Corridor, Reward, plan_path
+from lfdkit.emulate.metrics import parameter_errors
 from lfdkit.emulate.planner import best_window
 from lfdkit.emulate.problem import Problem
-from lfdkit.metrics import parameter_errors
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 from .common import pct, progress, reward_record, reward_text, timed
 from .reference import default_start, demo_targets, scipy_ioc, scipy_plan

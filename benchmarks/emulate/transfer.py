@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from lfdkit.core.geometry import arc_length, left_normals
 from lfdkit.emulate import IOC, Reward, plan_path
-from lfdkit.geometry import arc_length, left_normals
-from lfdkit.metrics import mse_paths, parameter_errors
-from lfdkit.scene import Scene
+from lfdkit.emulate.metrics import mse_paths, parameter_errors
+from lfdkit.model.scene import Scene
 
 from .common import held_out_names, reward_record, reward_text, safe_plan, scene_metrics, sci
 from .spec import HORIZON

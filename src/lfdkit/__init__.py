@@ -1,17 +1,28 @@
 """lfdkit: robot learning from a few noisy demonstrations.
 
-Layers, each knowing only those below it:
-``geometry`` → ``demos``, ``scene`` (the data models) → ``io`` (every file
-read or written) → ``mimic`` → ``imitate`` → ``emulate`` → ``robot`` →
-``skill``, with ``metrics``, ``datasets``, ``evaluation``, ``plot`` and
-``report`` on the side; the tasks built on them (``tasks``: the sweeping
-example) and ``cli`` on top. ``progress`` (what long work reports: bars,
-timed log records, or nothing) imports no other module and serves them all.
+The folders are the architecture, a ladder whose floors import only their own
+floor and those below (``tests/test_architecture.py`` holds it)::
+
+    core       geometry, rotations (x, y, z, w), units, validation, the estimator base,
+               options, progress, threads
+    model      the data records: demonstrations, Scene and the obstacle contract, motion
+    io         every file read or written (demonstrations, scenes, skills, recordings)
+    mimic      one generalized path from noisy demonstrations (the MIMIC_METHODS registry)
+    imitate    DMPs: the path carried to new starts and goals, with the learned timing
+    emulate    the reward learned from demonstrations, the planner, metrics
+    datasets   synthetic, emulation and LASA data sets
+    execute    robot arms: kinematics, tool poses, timing, URScript, MuJoCo
+    skill      the layered estimator, mimic -> imitate -> emulate (:class:`lfdkit.skill.Skill`)
+    app        figures, the HTML report, batch runs, the method comparison
+    tasks      complete tasks built on all of the above (the sweeping example)
+    app.cli, app.teach   the ``lfdkit`` command and the teach page, on top
+
 Each mimicking method registers itself in
 :data:`lfdkit.mimic.MIMIC_METHODS` (the contract is :mod:`lfdkit.mimic.base`);
-each obstacle shape is one subclass of :class:`lfdkit.scene.Obstacle` (the
-obstacle contract) in :data:`lfdkit.scene.OBSTACLE_SHAPES`; each robot arm is
-one :class:`lfdkit.robot.arm.Arm` description.
+each obstacle shape is one subclass of :class:`lfdkit.model.scene.Obstacle`
+(the obstacle contract) in :data:`lfdkit.model.scene.OBSTACLE_SHAPES`; each
+robot arm is one :class:`lfdkit.execute.arm.Arm` description. The package
+root imports nothing, so ``import lfdkit`` is instant.
 """
 
 __version__ = "0.1.0"

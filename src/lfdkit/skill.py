@@ -69,30 +69,31 @@ from typing import Any, Literal, NamedTuple
 import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
-from lfdkit import metrics
-from lfdkit._estimator import Estimator, check_fitted
-from lfdkit._options import (
-    MAX_HORIZON,
-    MIN_HORIZON,
+from lfdkit.core.estimator import Estimator, check_fitted
+from lfdkit.core.geometry import arc_length, path_length
+from lfdkit.core.options import (
     MODELS,
     PLANNERS,
     SCALINGS,
     SKILL_DEFAULTS,
     TIMINGS,
 )
-from lfdkit._validation import (
+from lfdkit.core.progress import Progress, ProgressLike, as_progress
+from lfdkit.core.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
+from lfdkit.core.units import check_units, conversion_factor
+from lfdkit.core.validation import (
     check_demos,
+    check_horizon,
     check_path,
     check_point,
     check_positive,
     check_times_list,
 )
-from lfdkit.demos import DemoId
-from lfdkit.emulate import IOC, Plan, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate import IOC, Plan, Reward, UnsafePlanError, metrics, plan_path
 from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
-from lfdkit.geometry import arc_length, path_length
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
+from lfdkit.imitate.orientation_dmp import orientation_error
 from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.io import load_demos, skill_file
 from lfdkit.io.scenes import load_scenes
@@ -103,10 +104,8 @@ from lfdkit.io.skill_file import (
     SKILL_VERSION,
 )
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
-from lfdkit.progress import Progress, ProgressLike, as_progress
-from lfdkit.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
-from lfdkit.scene import Scene
-from lfdkit.units import check_units, conversion_factor
+from lfdkit.model.demos import DemoId
+from lfdkit.model.scene import Scene
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
@@ -330,7 +329,7 @@ class Skill(Estimator):
         other layers are deterministic).
     units : {"m", "cm", "mm"}
         Unit of every length the skill takes and gives: demonstrations,
-        paths, starts and goals, obstacles, clearances (:mod:`lfdkit.units`).
+        paths, starts and goals, obstacles, clearances (:mod:`lfdkit.core.units`).
         The reward's nominal weight and precisions are in 1/units². Learning
         is scale-invariant: the same demonstrations in millimetres (with
         ``units="mm"``) give the path in metres times 1000, the weight and
@@ -450,13 +449,7 @@ class Skill(Estimator):
                 raise ValueError(
                     f"{name}: expected at most {SKILL_FILE_LIMITS[name][1]:g}, got {value:g}"
                 )
-        if not isinstance(self.horizon, (int, np.integer)) or not (
-            MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON
-        ):
-            raise ValueError(
-                f"horizon: expected an integer {MIN_HORIZON} <= H <= {MAX_HORIZON}, "
-                f"got {self.horizon!r}"
-            )
+        check_horizon(self.horizon)
         if self.classes is not None and (
             isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
         ):
@@ -502,7 +495,7 @@ class Skill(Estimator):
             Reports each stage (mimic, imitate, emulate) and the inverse
             optimal control's own stages and iterations: True for bars on a
             terminal, a callable for one line per stage as it starts
-            (:func:`lfdkit.progress.as_progress`). Default: silent.
+            (:func:`lfdkit.core.progress.as_progress`). Default: silent.
 
         Returns
         -------
@@ -739,7 +732,7 @@ class Skill(Estimator):
         n_basis = self.n_basis if isinstance(self.n_basis, str) else int(self.n_basis)
         goal = orientations[-1]
         # The error the DMP learns: half the rotation angle to the goal (radians).
-        half = QuaternionDMP._error(orientations, goal)
+        half = orientation_error(orientations, goal)
         extent = float(np.max(np.ptp(half, axis=0)))
         tolerance = 0.5 * np.radians(_ORIENTATION_TOLERANCE_DEG)
         basis_tol = min(1.0, max(0.01, tolerance / extent)) if extent > 0.0 else 1.0
@@ -1312,7 +1305,7 @@ class Skill(Estimator):
             plan's ``clearance`` is measured beyond both.
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
-            plan's points (:func:`lfdkit.progress.as_progress`); default silent.
+            plan's points (:func:`lfdkit.core.progress.as_progress`); default silent.
         duration : float, optional
             Seconds the plan lasts (default ``timing_.duration``): with moving
             obstacles in ``scene``, the tool reaches plan point ``k`` at
@@ -1479,7 +1472,7 @@ class Skill(Estimator):
         :meth:`plan`'s: by default the plan the robot would execute, which
         ends at the goal; None scores the thesis's model, which matches
         demonstrators that swerve late and end beside the goal. ``progress``
-        counts the plans (:func:`lfdkit.progress.as_progress`).
+        counts the plans (:func:`lfdkit.core.progress.as_progress`).
 
         Returns
         -------
@@ -1509,7 +1502,7 @@ class Skill(Estimator):
         """The same skill with every length in ``units`` (``"m"``, ``"cm"`` or ``"mm"``).
 
         The generalized path is multiplied by the conversion factor ``f``
-        (:func:`lfdkit.units.conversion_factor`, 1000 from metres to
+        (:func:`lfdkit.core.units.conversion_factor`, 1000 from metres to
         millimetres) and the DMP is fitted on it again (a linear fit: the same
         movement, scaled); the reward's nominal weight and precisions, in
         1/units², are divided by ``f²``. Plans of the converted skill are the

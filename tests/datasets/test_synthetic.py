@@ -5,6 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.core.geometry import (
+    arc_length,
+    intersect_normals,
+    left_normals,
+    path_length,
+    point_tangents,
+    project_onto_polyline,
+    segment_lengths,
+)
 from lfdkit.datasets import (
     CLOSED_DATASETS,
     MIMIC_DATASETS,
@@ -27,15 +36,6 @@ from lfdkit.datasets import (
     residual_profile,
     uneven_sampling,
     walking_corridor,
-)
-from lfdkit.geometry import (
-    arc_length,
-    intersect_normals,
-    left_normals,
-    path_length,
-    point_tangents,
-    project_onto_polyline,
-    segment_lengths,
 )
 
 

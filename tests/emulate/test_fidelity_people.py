@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit.metrics import clearance
-from lfdkit.scene import Scene
+from lfdkit.emulate.metrics import clearance
+from lfdkit.model.scene import Scene
 
 _FILE = Path(__file__).resolve().parents[2] / "benchmarks" / "emulate" / "people.py"
 

@@ -16,7 +16,7 @@ from lfdkit.emulate.ioc import (
     prepare_demos,
     search_starts,
 )
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 TRUE = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 

@@ -8,8 +8,8 @@ import pytest
 from lfdkit.emulate import Corridor, RecedingPlanner, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.planner import moving_clearance
 from lfdkit.emulate.problem import Problem, predicted_sigma
-from lfdkit.motion import ConstantVelocity, ConstantVelocityKalman, Tracked, Trajectory
-from lfdkit.scene import Capsule, Obstacle, Scene
+from lfdkit.model.motion import ConstantVelocity, ConstantVelocityKalman, Tracked, Trajectory
+from lfdkit.model.scene import Capsule, Obstacle, Scene
 
 REWARD = Reward(100.0, {"cup": 400.0 * np.eye(2), "marker": np.diag([50.0, 900.0])})
 NOMINAL = np.column_stack([np.linspace(0.0, 1.0, 50), np.zeros(50)])

@@ -8,7 +8,7 @@ from scipy.optimize import minimize
 
 from lfdkit.emulate import Corridor, Reward, plan_path
 from lfdkit.emulate.problem import Problem
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 REWARD = Reward(10.0, {"obstacle": [2500.0, 215.0]})
 

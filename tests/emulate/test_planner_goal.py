@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from lfdkit.emulate import Corridor, Reward, UnsafePlanError, plan_path
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 N_POINTS = 60
 

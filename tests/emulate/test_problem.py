@@ -8,7 +8,7 @@ import pytest
 from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate._problem_kernels import planner_derivatives
 from lfdkit.emulate.problem import Problem
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 
 def case(q: int, seed: int) -> tuple[Problem, np.ndarray]:

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.core.geometry import project_onto_polyline
 from lfdkit.emulate import Reward
-from lfdkit.geometry import project_onto_polyline
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 
 @pytest.fixture

@@ -20,7 +20,7 @@ from lfdkit.io.scenes import (
     load_scenes,
     save_scenes,
 )
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 SUFFIXES = (".csv", ".json")
 

@@ -9,9 +9,9 @@ import pytest
 from scipy.integrate import solve_ivp
 from sklearn.base import clone
 
+from lfdkit.emulate.metrics import held_out_distances
 from lfdkit.imitate import BASIS_LADDER, DMP, warp_path
-from lfdkit.imitate.dmp import _minimum_jerk_law
-from lfdkit.metrics import held_out_distances
+from lfdkit.imitate._dmp_numerics import minimum_jerk_law as _minimum_jerk_law
 
 
 def extent(path: np.ndarray) -> float:

@@ -15,8 +15,9 @@ from scipy.interpolate import interp1d
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 
+from lfdkit.core.options import THESIS_DMP
 from lfdkit.imitate import DMP, minimum_jerk_times
-from lfdkit.imitate.dmp import _transition
+from lfdkit.imitate._dmp_numerics import transition as _transition
 
 OMEGA = 12.5  # sqrt(156.25): the thesis's gains, critically damped
 
@@ -67,7 +68,7 @@ def test_unforced_path_gives_the_critically_damped_spring_for_a_new_goal() -> No
     s = np.linspace(0.0, 1.0, 400)
     y0, goal = np.array([0.0, 1.0]), np.array([2.0, -1.0])
     path = spring(y0, goal, s)[0]
-    dmp = DMP(n_basis=20, end="free").fit(path)
+    dmp = DMP(n_basis=20, scaling="per_dimension", end="free").fit(path, timing="uniform")
     # The path is the spring's own response: next to the spring force k |y0 - g| there is
     # nothing to learn (what is left comes from differentiating samples).
     spring_force = dmp.k * np.abs(y0 - goal).max()
@@ -123,11 +124,11 @@ def test_more_basis_functions_reproduce_better() -> None:
 def test_uniform_timing_starts_at_rest_and_so_lags_the_constant_speed_path() -> None:
     # The thesis's equal time steps give the path its speed at t = 0; the DMP starts at rest.
     path = s_curve()
-    uniform = reproduction_rms(DMP(n_basis=20).fit(path))
+    uniform = reproduction_rms(DMP(n_basis=20).fit(path, timing="uniform"))
     jerk = reproduction_rms(DMP(n_basis=20).fit(path, timing="minimum_jerk"))
     assert jerk < 0.5 * uniform
     # Given the path's initial velocity the DMP follows it from the start.
-    dmp = DMP(n_basis=20, end="free").fit(path)
+    dmp = DMP(n_basis=20, end="free").fit(path, timing="uniform")
     initial_velocity = (path[1] - path[0]) / (dmp.times_[1] - dmp.times_[0])
     moving = dmp.rollout(start_velocity=initial_velocity, n_steps=path.shape[0])
     at_rest = dmp.rollout(n_steps=path.shape[0])
@@ -207,7 +208,7 @@ def test_spatial_scaling_rotates_and_scales_the_shape_rigidly() -> None:
 
 
 def test_per_dimension_scaling_is_the_thesis_factor_per_axis() -> None:
-    dmp = DMP(n_basis=20).fit(s_curve(), timing="minimum_jerk")
+    dmp = DMP(n_basis=20, scaling="per_dimension").fit(s_curve(), timing="minimum_jerk")
     reproduction = dmp.rollout().positions
     start = np.array([1.0, -1.0])
     goal = start + np.array([2.0, 3.0]) * (dmp.goal_ - dmp.start_)
@@ -219,7 +220,7 @@ def test_per_dimension_scaling_is_the_thesis_factor_per_axis() -> None:
 def test_per_dimension_scaling_refuses_a_dimension_with_no_training_displacement() -> None:
     u = np.linspace(0.0, 1.0, 80)
     bump = np.column_stack([u, np.sin(np.pi * u)])  # starts and ends at y = 0
-    dmp = DMP().fit(bump)
+    dmp = DMP(**THESIS_DMP).fit(bump)
     dmp.rollout(goal=[2.0, 0.0])  # the flat dimension stays flat: fine
     with pytest.raises(ValueError, match=r"dimension 1.*scaling='spatial'"):
         dmp.rollout(goal=[1.0, 0.5])
@@ -242,7 +243,7 @@ def test_a_closed_movement_can_be_moved_but_not_stretched(scaling: str) -> None:
 def test_per_dimension_scaling_warns_when_it_amplifies_a_tiny_displacement() -> None:
     u = np.linspace(0.0, 1.0, 80)
     nearly_flat = np.column_stack([u, np.sin(np.pi * u) + 0.01 * u])
-    dmp = DMP().fit(nearly_flat)
+    dmp = DMP(**THESIS_DMP).fit(nearly_flat)
     with pytest.warns(RuntimeWarning, match="multiplies the shape of dimension 1"):
         dmp.rollout(goal=[1.0, 0.5])
     with warnings.catch_warnings():
@@ -252,7 +253,9 @@ def test_per_dimension_scaling_warns_when_it_amplifies_a_tiny_displacement() -> 
 
 # -------------------------------------------------------- exactness and agreement
 def test_rollout_matches_a_high_accuracy_ode_solution() -> None:
-    dmp = DMP(n_basis=25).fit(s_curve(), timing="minimum_jerk", duration=2.0)
+    dmp = DMP(n_basis=25, scaling="per_dimension").fit(
+        s_curve(), timing="minimum_jerk", duration=2.0
+    )
     start, goal = np.array([0.3, -0.2]), np.array([5.0, 2.0])
     velocity0 = np.array([0.4, -1.0])
     matrix = dmp.scale_matrix(start, goal)
@@ -505,7 +508,7 @@ def test_minimum_jerk_times_follow_the_quintic_law() -> None:
 
 @pytest.mark.parametrize("q", [1, 2, 3, 5])
 def test_rotations_between_are_proper_and_map_u_onto_v(q: int) -> None:
-    from lfdkit.imitate.dmp import _rotations_between
+    from lfdkit.imitate._dmp_numerics import rotations_between as _rotations_between
 
     rng = np.random.default_rng(q)
     u = rng.normal(size=q)
@@ -527,7 +530,8 @@ def test_rotations_between_are_proper_and_map_u_onto_v(q: int) -> None:
 
 
 def test_piecewise_quintic_is_exact_for_quintic_polynomials() -> None:
-    from lfdkit.imitate.dmp import _evaluate_pieces, _quintic_pieces
+    from lfdkit.imitate._dmp_numerics import evaluate_pieces as _evaluate_pieces
+    from lfdkit.imitate._dmp_numerics import quintic_pieces as _quintic_pieces
 
     rng = np.random.default_rng(7)
     polys = [np.polynomial.Polynomial(rng.normal(size=6)) for _ in range(2)]
@@ -539,3 +543,15 @@ def test_piecewise_quintic_is_exact_for_quintic_polynomials() -> None:
     for d, poly in enumerate(polys):
         for m in range(3):
             np.testing.assert_allclose(out[d, m], poly.deriv(m)(s), atol=1e-10)
+
+
+def test_a_dmp_on_its_own_has_the_skills_defaults_and_the_thesis_is_one_option_away() -> None:
+    from lfdkit.skill import Skill
+
+    ours, skill = DMP().get_params(), Skill().get_params()
+    assert (ours["n_basis"], ours["scaling"]) == (skill["n_basis"], skill["scaling"])
+    assert (ours["n_basis"], ours["scaling"]) == ("auto", "translate")
+    thesis = DMP(**THESIS_DMP).fit(s_curve())
+    assert (thesis.n_basis_, thesis.scaling) == (10, "per_dimension")
+    # The default chooses its basis count: the S curve is reproduced within 1 % of its extent.
+    assert DMP().fit(s_curve()).reproduction_error_ <= 0.01

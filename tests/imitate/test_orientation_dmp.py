@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit import rotations as rot
+from lfdkit.core import rotations as rot
 from lfdkit.imitate.orientation_dmp import QuaternionDMP
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.geometry import arc_length, path_length, resample
+from lfdkit.core.geometry import arc_length, path_length, resample
 from lfdkit.imitate import DMP, SpeedProfile, learn_timing, path_progress
 from lfdkit.imitate.timing import MAX_COEFFICIENTS
 

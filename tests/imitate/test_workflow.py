@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.core.geometry import project_onto_polyline
 from lfdkit.datasets import load_dataset
-from lfdkit.geometry import project_onto_polyline
 from lfdkit.imitate import DMP
 from lfdkit.mimic import GMR, MeanPath
 

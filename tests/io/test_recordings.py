@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit import rotations as rot
+from lfdkit.core import rotations as rot
 from lfdkit.io.recordings import (
     RecordingError,
     list_topics,
@@ -213,8 +213,8 @@ UR = (
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_joint_states_become_ur5_tool_poses(tmp_path: Path, kind: str) -> None:
-    from lfdkit.robot.recordings import tool_poses_from_joint_states
-    from lfdkit.robot.ur5 import forward
+    from lfdkit.execute.recordings import tool_poses_from_joint_states
+    from lfdkit.execute.ur5 import forward
 
     rng = np.random.default_rng(7)
     ns, _, _ = random_trajectory(15, seed=7)
@@ -238,7 +238,7 @@ def test_joint_states_become_ur5_tool_poses(tmp_path: Path, kind: str) -> None:
 
 
 def test_joint_states_without_the_arms_joints_are_refused(tmp_path: Path) -> None:
-    from lfdkit.robot.recordings import tool_poses_from_joint_states
+    from lfdkit.execute.recordings import tool_poses_from_joint_states
 
     samples = [Sample(k + 1, k + 1, joints={"a": 0.0, "b": 1.0}) for k in range(3)]
     out = write_recording(tmp_path / "js", "mcap", {"/js": ("sensor_msgs/msg/JointState", samples)})
@@ -353,7 +353,7 @@ def test_not_a_recording(tmp_path: Path) -> None:
 def _lfdkit(*argv: str, cwd: Path) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONPATH": str(SRC)}
     return subprocess.run(
-        [sys.executable, "-m", "lfdkit.cli", *argv],
+        [sys.executable, "-m", "lfdkit.app.cli", *argv],
         capture_output=True,
         text=True,
         cwd=cwd,
@@ -520,7 +520,7 @@ def test_two_moving_links_are_interpolated_exactly_where_the_motion_is_linear(
 
 
 def test_import_joint_states_on_the_command_line(tmp_path: Path) -> None:
-    from lfdkit.robot.ur5 import forward
+    from lfdkit.execute.ur5 import forward
 
     ns, _, _ = random_trajectory(30, seed=15)
     u = np.linspace(0, 1, 30)[:, None]
@@ -608,8 +608,8 @@ def test_compressed_recordings(tmp_path: Path, kind: str, monkeypatch) -> None:
 
 def test_joint_states_of_two_publishers_on_one_topic(tmp_path: Path) -> None:
     """An arm and its gripper publish /joint_states: the gripper's messages are left out."""
+    from lfdkit.execute.recordings import tool_poses_from_joint_states
     from lfdkit.io.recordings import joint_names
-    from lfdkit.robot.recordings import tool_poses_from_joint_states
 
     ns, _, _ = random_trajectory(12, seed=18)
     samples = []

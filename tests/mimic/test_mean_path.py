@@ -12,8 +12,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 from sklearn.base import clone
 
-from lfdkit.datasets import load_dataset
-from lfdkit.geometry import (
+from lfdkit.core.geometry import (
     arc_length,
     left_normals,
     normal_frames,
@@ -22,7 +21,8 @@ from lfdkit.geometry import (
     project_onto_polyline,
     resample,
 )
-from lfdkit.metrics import e1, e2
+from lfdkit.datasets import load_dataset
+from lfdkit.emulate.metrics import e1, e2
 from lfdkit.mimic import (
     DemoOrientationWarning,
     MeanPath,

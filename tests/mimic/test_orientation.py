@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lfdkit.geometry import path_length
+from lfdkit.core.geometry import path_length
 from lfdkit.mimic import (
     GMR,
     NLPCA,

@@ -17,7 +17,7 @@ class FirstDemo(BaseEstimator):
         self.n_points = n_points
 
     def fit(self, demos, y=None) -> FirstDemo:
-        from lfdkit.geometry import resample
+        from lfdkit.core.geometry import resample
 
         self.path_ = resample(np.asarray(demos[0], dtype=float), self.n_points)
         self.reversed_ = np.zeros(len(demos), dtype=bool)
@@ -58,9 +58,10 @@ def test_every_builtin_follows_the_contract() -> None:
 
 
 def test_a_registered_method_is_found_by_skill_cli_evaluation_and_plots(first_demo) -> None:
-    from lfdkit.cli import _LazyChoices, _mimic_keys
-    from lfdkit.evaluation import lfdkit_methods
-    from lfdkit.plot import method_color
+    from lfdkit.app.cli.common import LazyChoices as _LazyChoices
+    from lfdkit.app.cli.common import _mimic_keys
+    from lfdkit.app.evaluation import lfdkit_methods
+    from lfdkit.app.plot import method_color
     from lfdkit.skill import Skill
 
     skill = Skill(mimic="first_demo").fit_path(_demos())

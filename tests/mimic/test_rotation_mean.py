@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit import rotations as rot
-from lfdkit.geometry import point_tangents
+from lfdkit.core import rotations as rot
+from lfdkit.core.geometry import point_tangents
 from lfdkit.mimic.rotation_mean import mean_orientations
 
 pr = pytest.importorskip("pytransform3d.rotations", reason="pip install pytransform3d")

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_positive
+from lfdkit.core.validation import check_positive
 
 __all__ = ["SizedDemoSet", "check_count_at_least", "generate", "smooth_offset"]
 

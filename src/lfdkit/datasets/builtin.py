@@ -42,9 +42,9 @@ import numpy as np
 from lfdkit.datasets.emulation import EMULATION_DATASETS, load_emulation_dataset
 from lfdkit.datasets.lasa import LASA_SHAPES, lasa_available, load_lasa
 from lfdkit.datasets.synthetic import CLOSED_DATASETS, MIMIC_DATASETS, load_dataset
-from lfdkit.demos import DemoId
 from lfdkit.io import check_output_path, save_demos, save_scenes
-from lfdkit.scene import Scene
+from lfdkit.model.demos import DemoId
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "LASA_PREFIX",
@@ -82,7 +82,7 @@ class DatasetInfo:
     n_obstacle_demos : int
         Demonstrations recorded around obstacles (emulation sets; 0 otherwise).
     units : str
-        Unit of the coordinates (:data:`lfdkit.units.UNITS`).
+        Unit of the coordinates (:data:`lfdkit.core.units.UNITS`).
     summary : str
         What it is, in one line.
     """

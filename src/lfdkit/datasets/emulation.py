@@ -17,8 +17,8 @@ A demonstration in a scene is made in three steps.
    100`` by default, the thesis's "one hundred time steps"). It starts exactly
    at the nominal's start.
 2. **Noise.** Each plan point is moved along the plan's own normals
-   (:func:`lfdkit.geometry.left_normals` in 2-D; in 3-D the two rows of the
-   parallel-transported :func:`lfdkit.geometry.normal_frames`) by smooth random
+   (:func:`lfdkit.core.geometry.left_normals` in 2-D; in 3-D the two rows of the
+   parallel-transported :func:`lfdkit.core.geometry.normal_frames`) by smooth random
    functions of the plan's normalised arc length ``u``: sums of three
    sinusoids with frequencies uniform in 0.5-3 cycles per path, random phases
    and amplitudes, scaled so that their standard deviation over ``u`` is
@@ -43,7 +43,7 @@ sweeping         0.80 m     1.0 mm          32 / 34 mm    3.2 % / 3.0 %
 Conventions
 -----------
 * Every random draw comes from one ``numpy.random.Generator`` built by
-  :func:`lfdkit._validation.check_random_state` from ``seed``; the same integer
+  :func:`lfdkit.core.validation.check_random_state` from ``seed``; the same integer
   seed gives bit-identical arrays. Draws are made demonstration by
   demonstration (its obstacle, then its noise), so the first ``k``
   demonstrations of a seed do not depend on how many follow (within a class
@@ -66,14 +66,14 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
+from lfdkit.core.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
+from lfdkit.core.units import check_units
+from lfdkit.core.validation import check_demos, check_path, check_positive, check_random_state
 from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
 from lfdkit.datasets.synthetic import DA_VINCI_TOP, da_vinci_polyline, da_vinci_wall_outlines
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.reward import Reward
-from lfdkit.geometry import arc_length, left_normals, normal_frames, point_tangents, resample
-from lfdkit.scene import Scene
-from lfdkit.units import check_units
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "CUP_RADIUS",
@@ -118,7 +118,7 @@ class EmulationSet(SizedDemoSet):
         The reward the demonstrator maximises (its ``nominal_weight`` and one
         precision per obstacle class).
     units : str
-        Unit of every coordinate, one of :data:`lfdkit.units.UNITS` (the
+        Unit of every coordinate, one of :data:`lfdkit.core.units.UNITS` (the
         generators here use ``"m"`` or ``"mm"``).
     train, test : ndarray of int, shape (n_train,), (n_test,)
         Indices into ``demos``: disjoint, together every demonstration once;

@@ -9,12 +9,12 @@ returns a :class:`DemoSet`.
 Conventions
 -----------
 * Every random draw comes from ``numpy.random.Generator`` built by
-  :func:`lfdkit._validation.check_random_state` from ``seed`` (``None``, an
+  :func:`lfdkit.core.validation.check_random_state` from ``seed`` (``None``, an
   ``int`` or a ``Generator``); the same integer seed gives bit-identical arrays.
 * Nominal curves are first built on a fine polyline (``4001`` points equally
   spaced in arc length, far finer than any demonstration); demonstrations are
   offsets of that fine polyline along its vertex normals
-  (:func:`lfdkit.geometry.left_normals` in 2-D; in 3-D the planar da Vinci
+  (:func:`lfdkit.core.geometry.left_normals` in 2-D; in 3-D the planar da Vinci
   nominal's wall normal and in-plane normal), and are then resampled. The
   ``nominal`` returned in the :class:`DemoSet` is the same fine curve
   resampled to ``500`` points (its chord error is below ``1e-4`` of the noise).
@@ -41,16 +41,16 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_positive, check_random_state
-from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
-from lfdkit.geometry import (
+from lfdkit.core.geometry import (
     arc_length,
     left_normals,
     point_tangents,
     resample,
     resample_between,
 )
-from lfdkit.units import check_units
+from lfdkit.core.units import check_units
+from lfdkit.core.validation import check_demos, check_path, check_positive, check_random_state
+from lfdkit.datasets._shared import SizedDemoSet, check_count_at_least, generate, smooth_offset
 
 __all__ = [
     "CLOSED_DATASETS",
@@ -99,12 +99,12 @@ class DemoSet(SizedDemoSet):
         Ground-truth generalized path, densely sampled (``M = 500`` for every
         generator here), running in the same direction as the demonstrations.
     units : str
-        Unit of every coordinate, one of :data:`lfdkit.units.UNITS` (the
+        Unit of every coordinate, one of :data:`lfdkit.core.units.UNITS` (the
         generators here use ``"m"`` or ``"mm"``).
     material_side : int or None
         2-D deburring only: ``+1`` if the workpiece material lies on the left of
         ``nominal`` with respect to its direction of travel (the side of
-        :func:`lfdkit.geometry.left_normals`), ``-1`` if on the right; ``None``
+        :func:`lfdkit.core.geometry.left_normals`), ``-1`` if on the right; ``None``
         for every other set.
     walls : tuple of ndarray, each shape (n_w, q)
         Polylines of environment constraints, for drawing and checks; may be empty.

@@ -2,9 +2,8 @@
 
 Layout, each module with its compiled loops beside it:
 
-* the scenes it works in are :mod:`lfdkit.scene` (data model) and
-  :mod:`lfdkit.io.scenes` (files), re-exported here; :mod:`.scene` is kept
-  as a compatibility alias;
+* the scenes it works in are :mod:`lfdkit.model.scene` (data model) and
+  :mod:`lfdkit.io.scenes` (files), re-exported here;
 * :mod:`.reward`: the reward ``R(x)`` of a point (nominal weight, one
   precision per obstacle class) and its parameters;
 * :mod:`.problem`: the planning problem both the planner and the IOC solve,
@@ -15,17 +14,19 @@ Layout, each module with its compiled loops beside it:
   :func:`plan_path` (``_planner_kernels``);
 * :mod:`.moving`: moving obstacles in closed loop, :class:`RecedingPlanner`
   (one MPC window per control step, the obstacles where they are predicted);
+* :mod:`.metrics`: measures of paths against demonstrations and scenes
+  (e1, e2, clearance, MSE_R, ...);
 * :mod:`.ioc`: the reward fitted to demonstrations, :class:`IOC`, with exact
   gradients (``_ioc_kernels``).
 """
 
 from lfdkit.emulate.ioc import IOC
 from lfdkit.emulate.moving import RecedingPlanner
-from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_clearance, plan_path
+from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_path
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
 from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
-from lfdkit.scene import Capsule, Obstacle, Scene
+from lfdkit.model.scene import Capsule, Obstacle, Scene
 
 __all__ = [
     "IOC",
@@ -39,7 +40,6 @@ __all__ = [
     "UnsafePlanError",
     "load_scene",
     "load_scenes",
-    "plan_clearance",
     "plan_path",
     "save_scenes",
 ]

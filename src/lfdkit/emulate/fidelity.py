@@ -4,7 +4,7 @@ Three measures a learned skill is judged by (issue 26), each per
 demonstration and in the demonstration's own scene:
 
 * **Pr** (thesis §5.5): ``(MSE_Mp − MSE_R) / MSE_Mp · 100 %`` of the plan
-  against the nominal replayed (:func:`lfdkit.metrics.improvement`); below
+  against the nominal replayed (:func:`lfdkit.emulate.metrics.improvement`); below
   0 the plan is further from the demonstration than the nominal is.
 * **Passing sides** (:func:`passing_sides`): on which side of each obstacle
   a path passes, at the obstacle's nearest nominal point, along the
@@ -12,7 +12,7 @@ demonstration and in the demonstration's own scene:
   :class:`lfdkit.emulate.problem.Corridor`). Two paths agree on an obstacle
   when their sides there point the same way.
 * **Clearance**: the smallest distance from the path to an obstacle's
-  surface (:meth:`lfdkit.scene.Scene.distances`), against the
+  surface (:meth:`lfdkit.model.scene.Scene.distances`), against the
   demonstration's.
 
 :func:`demonstrated_clearances` learns, per obstacle class, the clearance
@@ -43,9 +43,9 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit import metrics
+from lfdkit.emulate import metrics
 from lfdkit.emulate.problem import Corridor
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "AROUND_FACTOR",

@@ -43,13 +43,13 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._threads import one_blas_thread
-from lfdkit._validation import check_path, check_positive
-from lfdkit.emulate.planner import MAX_HORIZON, MIN_HORIZON, plan_path
+from lfdkit.core.progress import ProgressLike, as_progress
+from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.validation import check_horizon, check_path, check_positive
+from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
-from lfdkit.progress import ProgressLike, as_progress
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "IOC",
@@ -365,7 +365,7 @@ def search_starts(
     per axis in ``SEARCH_WIDTHS`` (fixed seed: the fit is deterministic).
     Distinct: more than 1 apart in some log-parameter. ``loss`` maps ``θ``
     (``n_theta``,) to the loss (e.g. :meth:`TrainingLoss.plans_only`);
-    ``progress`` (:func:`lfdkit.progress.as_progress`) counts the candidates
+    ``progress`` (:func:`lfdkit.core.progress.as_progress`) counts the candidates
     as they are scored.
     """
     candidates = []
@@ -426,7 +426,7 @@ def lbfgs_stage(
     label : str
         The stage's ``planner`` entry and the label of its progress stage.
     progress : Progress, callable, bool or None
-        Counts the iterations, with the loss (:func:`lfdkit.progress.as_progress`).
+        Counts the iterations, with the loss (:func:`lfdkit.core.progress.as_progress`).
     description : str, optional
         The progress stage's label (default ``"IOC <label>"``).
 
@@ -602,7 +602,7 @@ class IOC:
     progress : Progress, callable, bool or None
         Reports the fit's stages (the starting search, each L-BFGS run with
         its iterations and loss, the MPC refinement, the checks after it);
-        see :func:`lfdkit.progress.as_progress`. Default: silent.
+        see :func:`lfdkit.core.progress.as_progress`. Default: silent.
 
     Attributes
     ----------
@@ -691,10 +691,8 @@ class IOC:
             raise ValueError(
                 f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
             )
-        if self.horizon is not None and not MIN_HORIZON <= int(self.horizon) <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {self.horizon}"
-            )
+        if self.horizon is not None:
+            check_horizon(self.horizon)
         if self.init is not None and not isinstance(self.init, Reward):
             raise TypeError(f"init: expected a Reward, got {type(self.init).__name__}")
 

@@ -5,8 +5,8 @@ over the horizon, are its future work. :class:`RecedingPlanner` runs that
 loop: at control step ``k`` the tool is at plan point ``k`` (time
 ``times[k]``); the window of points ``k+1 … k+H`` is planned with each
 obstacle's reward terms and hard radius at its *predicted* position at the
-time the tool reaches each point (:meth:`lfdkit.scene.Obstacle.predict`, e.g.
-a :class:`lfdkit.motion.Tracked` Kalman tracker fed with the latest
+time the tool reaches each point (:meth:`lfdkit.model.scene.Obstacle.predict`, e.g.
+a :class:`lfdkit.model.motion.Tracked` Kalman tracker fed with the latest
 observation), the hard radius widened by ``margin`` standard deviations of the
 prediction (:data:`~lfdkit.emulate.problem.UNCERTAINTY_MARGIN`); the tool
 moves to the window's first point, and the next step re-plans with the next
@@ -24,7 +24,7 @@ positions are those of the right moments. Obstacles are assumed to follow the
 tracker's motion model (constant velocity by default) over the horizon; the
 uncertainty margin and the re-planning at every step absorb what it misses,
 and with an acceleration bound in the tracker
-(:class:`lfdkit.motion.ConstantVelocityKalman`'s ``max_acceleration``) the
+(:class:`lfdkit.model.motion.ConstantVelocityKalman`'s ``max_acceleration``) the
 margin also covers obstacles that speed up, brake or turn up to that bound.
 
 Holding safely
@@ -53,7 +53,7 @@ the hold raises :class:`~lfdkit.emulate.planner.UnsafePlanError` with the
 predicted time of contact: the verdict comes *before* the contact.
 
 What is guaranteed, given the tracker's allowance covers the truth (with
-:class:`lfdkit.motion.ConstantVelocityKalman`'s ``max_acceleration`` ``A``:
+:class:`lfdkit.model.motion.ConstantVelocityKalman`'s ``max_acceleration`` ``A``:
 any obstacle accelerating, braking or turning at most ``A``; observation
 noise within ``margin`` σ): the executed steps stay out of radius plus
 clearance, and a blocked tool either moves out of the predicted path of an
@@ -76,7 +76,7 @@ Each window is solved as :func:`lfdkit.emulate.planner.best_window` solves the
 thesis's MPC window (the warm start and, near an obstacle, the window's best
 path on the lateral grid, polished by Newton); with a static scene this is the
 thesis's MPC re-planned at every step. A known motion without observations
-(:class:`lfdkit.motion.ConstantVelocity`) can also be planned open loop, over
+(:class:`lfdkit.model.motion.ConstantVelocity`) can also be planned open loop, over
 the whole path at once: ``plan_path(..., times=...)``.
 """
 
@@ -86,8 +86,8 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON
-from lfdkit._validation import check_positive
+from lfdkit.core.options import MAX_HORIZON
+from lfdkit.core.validation import check_horizon, check_positive
 from lfdkit.emulate.planner import UnsafePlanError, best_window, timed_gaps
 from lfdkit.emulate.problem import (
     UNCERTAINTY_MARGIN,
@@ -97,7 +97,7 @@ from lfdkit.emulate.problem import (
     goal_weights,
 )
 from lfdkit.emulate.reward import Reward
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = ["HOLD_CHOICES", "HOLD_LOOKAHEAD", "RecedingPlanner"]
 
@@ -161,11 +161,7 @@ class RecedingPlanner:
     ) -> None:
         if not isinstance(reward, Reward):
             raise TypeError(f"reward: expected an lfdkit.emulate.Reward, got {type(reward)}")
-        horizon = check_positive(horizon, "horizon", integer=True)
-        if not MIN_HORIZON <= horizon <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON}, got {horizon}"
-            )
+        horizon = check_horizon(horizon)
         self.reward = reward
         self.corridor = (
             nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
@@ -238,7 +234,7 @@ class RecedingPlanner:
         if self.done:
             raise ValueError("step: the tool is at the goal; nothing left to plan")
         if not isinstance(scene, Scene):
-            raise TypeError(f"scene: expected an lfdkit.scene.Scene, got {type(scene).__name__}")
+            raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
         window = self.window_problem(scene)
         h = window.n
         guess = self._guess[:h]
@@ -305,7 +301,9 @@ class RecedingPlanner:
         """
         wait = check_positive(wait, "wait")
         if not isinstance(scene, Scene):
-            raise TypeError(f"scene: expected an lfdkit.scene.Scene, got {type(scene).__name__}")
+            raise TypeError(
+                f"scene: expected an lfdkit.model.scene.Scene, got {type(scene).__name__}"
+            )
         c, k = self.corridor, self.step_index
         here = self.point if position is None else np.asarray(position, dtype=np.float64)
         now = float(self.times[k])

@@ -101,9 +101,10 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
-from lfdkit._threads import one_blas_thread
-from lfdkit._validation import check_path, check_positive
+from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
+from lfdkit.core.progress import Progress, ProgressLike, as_progress
+from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.validation import check_horizon, check_positive
 from lfdkit.emulate.problem import (
     UNCERTAINTY_MARGIN,
     Corridor,
@@ -113,8 +114,7 @@ from lfdkit.emulate.problem import (
     predicted_sigma,
 )
 from lfdkit.emulate.reward import Reward
-from lfdkit.progress import Progress, ProgressLike, as_progress
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 
 #: A round obstacle's distance (shapes override it): :func:`timed_gaps` has its closed form.
 _ROUND_DISTANCE = Obstacle.distance
@@ -130,7 +130,6 @@ __all__ = [
     "best_window",
     "goal_weights",
     "moving_clearance",
-    "plan_clearance",
     "plan_path",
     "timed_gaps",
 ]
@@ -392,7 +391,7 @@ def plan_path(
     progress : Progress, callable, bool or None
         Reports the global search and the MPC steps over the plan's points (or
         the polished starts of the full horizon); default silent
-        (:func:`lfdkit.progress.as_progress`).
+        (:func:`lfdkit.core.progress.as_progress`).
     times : array_like, shape (K,), optional
         Seconds from the start at which the tool reaches each of the plan's
         ``K`` points (e.g. the skill's speed profile along the nominal);
@@ -466,12 +465,7 @@ def _plan(
     d0 = _vector(start_offset, "start_offset", m)
     clearance = _clearances(clearance, scene)
     if horizon is not None:
-        horizon = check_positive(horizon, "horizon", integer=True)
-        if not MIN_HORIZON <= horizon <= MAX_HORIZON:
-            raise ValueError(
-                f"horizon: expected {MIN_HORIZON} <= H <= {MAX_HORIZON} (thesis §5.4), "
-                f"got {horizon}"
-            )
+        horizon = check_horizon(horizon)
     reach_goal = goal_approach is not None
     times = check_times(times, corridor.n_points) if scene.moving else None
     max_slope = check_positive(max_slope, "max_slope")
@@ -988,33 +982,8 @@ def _coordinates(point: np.ndarray) -> str:
     return "(" + ", ".join(f"{v:.6g}" for v in point) + ")"
 
 
-def plan_clearance(points: Any, scene: Scene, clearance: float = 0.0) -> np.ndarray:
-    """Distance from a path's segments to each obstacle's surface, minus ``clearance``.
-
-    Parameters
-    ----------
-    points : array_like, shape (n, q)
-        The path (a polyline; its segments are checked, not only its points).
-    scene : Scene
-    clearance : float
-        Tool clearance, in the path's units.
-
-    Returns
-    -------
-    ndarray, shape (n_obstacles,)
-        Negative where the path comes closer than radius plus clearance.
-    """
-    path = check_path(points, "points", min_points=1)
-    clearance = check_positive(clearance, "clearance", allow_zero=True)
-    if len(scene) and scene.positions.shape[1] != path.shape[1]:
-        raise ValueError(
-            f"scene: {scene.positions.shape[1]}-D obstacles for a {path.shape[1]}-D path"
-        )
-    return _clearance(path, scene, clearance)
-
-
 def _clearance(path: np.ndarray, scene: Scene, clearance: float | np.ndarray) -> np.ndarray:
-    """:func:`plan_clearance` of a path and clearance already checked."""
+    """:func:`lfdkit.emulate.metrics.clearance` of a path and clearance already checked."""
     if not len(scene):
         return np.zeros(0)
     return scene.distances(path) - clearance
@@ -1038,7 +1007,7 @@ def timed_gaps(
 
     Parameters
     ----------
-    obstacle : lfdkit.scene.Obstacle
+    obstacle : lfdkit.model.scene.Obstacle
     points : ndarray, shape (K, q)
     times : ndarray, shape (K,)
         Seconds at each point (K ≥ 2).

@@ -47,10 +47,10 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_positive
+from lfdkit.core.geometry import PolylineSet, normal_frames, point_tangents, resample
+from lfdkit.core.validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
-from lfdkit.geometry import PolylineSet, normal_frames, point_tangents, resample
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "BARRIER_WEIGHT",
@@ -217,7 +217,7 @@ class Problem:
         Their orthonormal normals.
     obstacles : ndarray, shape (L, q) or (n, L, q)
         Centres of the reward's obstacle terms (a round obstacle's centre; a
-        shape's anchors, :meth:`lfdkit.scene.Obstacle.anchors`), in units;
+        shape's anchors, :meth:`lfdkit.model.scene.Obstacle.anchors`), in units;
         with moving obstacles a centre per point (where each is predicted
         when the tool reaches that point).
     precision : ndarray, shape (L, q, q)
@@ -232,7 +232,7 @@ class Problem:
         the prediction's uncertainty); 0 or None: no barrier.
     hard_centres : ndarray, shape (B, q) or (n, B, q), optional
         Centres of those balls (the obstacles' covering balls,
-        :meth:`lfdkit.scene.Obstacle.balls`); None: the term centres
+        :meth:`lfdkit.model.scene.Obstacle.balls`); None: the term centres
         ``obstacles``, with ``hard_radius`` of shape (L,).
 
     Attributes
@@ -343,7 +343,7 @@ class Problem:
             When the tool reaches each corridor point (s from the plan's start);
             needed for a scene with moving obstacles: point ``k``'s obstacle
             terms and hard radii are at the obstacles' predicted positions at
-            ``times[k]`` (:meth:`lfdkit.scene.Obstacle.predict`). Ignored for
+            ``times[k]`` (:meth:`lfdkit.model.scene.Obstacle.predict`). Ignored for
             a static scene (whose problem is the same as without it).
         margin : float
             Moving obstacles: the hard radius at point ``k`` grows by

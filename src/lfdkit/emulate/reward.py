@@ -5,12 +5,12 @@ For a state ``x`` (a point of the path, units of the demonstrations)::
     R(x) = −Q |x − x_N|² − Σ_o exp(−(x − O_o)ᵀ P_c(o) (x − O_o))
 
 (a shape other than a round obstacle contributes its class's term at each of
-its anchors, :meth:`lfdkit.scene.Obstacle.anchors`)
+its anchors, :meth:`lfdkit.model.scene.Obstacle.anchors`)
 
 * ``x_N`` is the point of the nominal path whose normal passes through ``x``
   (thesis §5.3: the segment ``x_N x`` is perpendicular to the nominal). For a
   point in the plane this is the foot of the perpendicular onto the nominal
-  polyline (:func:`lfdkit.geometry.project_onto_polyline`); the planner
+  polyline (:func:`lfdkit.core.geometry.project_onto_polyline`); the planner
   instead moves each planned point along its own nominal point's normal, so
   that the match holds by construction.
 * ``Q > 0`` is the thesis's nominal weight (a scalar: only the distance
@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_positive
-from lfdkit.geometry import project_onto_polyline, segment_tangents
-from lfdkit.scene import Scene
+from lfdkit.core.geometry import project_onto_polyline, segment_tangents
+from lfdkit.core.validation import check_positive
+from lfdkit.model.scene import Scene
 
 __all__ = ["Reward"]
 
@@ -168,7 +168,7 @@ class Reward:
         """The scene's reward anchors (A, q) and each one's precision (A, q, q).
 
         An obstacle's term is its class's Gaussian at each of its anchors
-        (:meth:`lfdkit.scene.Obstacle.anchors`; a round obstacle's centre).
+        (:meth:`lfdkit.model.scene.Obstacle.anchors`; a round obstacle's centre).
 
         Raises
         ------
@@ -203,7 +203,7 @@ class Reward:
         Notes
         -----
         The distance to the nominal is that of
-        :func:`~lfdkit.geometry.project_onto_polyline` (to rounding), found one
+        :func:`~lfdkit.core.geometry.project_onto_polyline` (to rounding), found one
         segment at a time: a grid of many points (a figure's contours) costs
         memory in proportion to the points only.
         """
@@ -258,7 +258,7 @@ def _distances_to_polyline(points: np.ndarray, polyline: np.ndarray) -> np.ndarr
 
     Loops over the segments with one array of the points' size per coordinate:
     for many points (a grid) several times faster than the (points × segments)
-    arrays of :func:`~lfdkit.geometry.project_onto_polyline`, which it matches
+    arrays of :func:`~lfdkit.core.geometry.project_onto_polyline`, which it matches
     to rounding.
     """
     if len(polyline) == 1:

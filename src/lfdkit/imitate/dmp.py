@@ -164,13 +164,14 @@ exactly with the quadrature, the forcing ``b`` included, and agrees with
 from __future__ import annotations
 
 import warnings
-from functools import lru_cache
 from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
-from lfdkit._estimator import Estimator, not_fitted
-from lfdkit._validation import (
+from lfdkit.core.estimator import Estimator, not_fitted
+from lfdkit.core.geometry import arc_length, path_length, segment_lengths
+from lfdkit.core.options import SCALINGS, SKILL_DEFAULTS, TIMINGS
+from lfdkit.core.validation import (
     MAX_POINTS,
     check_count,
     check_path,
@@ -178,7 +179,22 @@ from lfdkit._validation import (
     check_positive,
     check_times,
 )
-from lfdkit.geometry import arc_length, path_length, segment_lengths
+from lfdkit.imitate._dmp_numerics import (
+    END_NODES,
+    MAX_PANEL,
+    basis,
+    dense_sampler,
+    evaluate_pieces,
+    minimum_jerk_law,
+    propagate,
+    quadrature,
+    quintic_pieces,
+    remember,
+    reproduction_departure,
+    rotations_between,
+    step_operators,
+    transition,
+)
 from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
 __all__ = [
@@ -191,23 +207,15 @@ __all__ = [
     "minimum_jerk_times",
 ]
 
-Scaling = Literal["per_dimension", "spatial", "translate"]
+Scaling = Literal["translate", "spatial", "per_dimension"]
 EndCondition = Literal["rest", "free"]
-Timing = Literal["uniform", "minimum_jerk"]
+Timing = Literal["minimum_jerk", "uniform"]
 
-_SCALINGS = ("per_dimension", "spatial", "translate")
 _END_CONDITIONS = ("rest", "free")
-_TIMINGS = ("uniform", "minimum_jerk")
-#: Gauss–Legendre nodes per quadrature panel and the longest panel (normalised time).
-_GAUSS_NODES = 4
-_MAX_PANEL = 0.01
-#: Panels of the once-per-fit end-state integral: fine and of high order.
-_END_NODES = 6
 #: A training displacement below this fraction of the path's extent counts as zero.
 _ZERO_DISPLACEMENT = 1e-9
 #: Per-dimension scale factors beyond this magnitude trigger a warning.
 _LARGE_SCALE = 10.0
-_MAX_CACHED_GRIDS = 8
 #: Basis counts ``n_basis="auto"`` tries, smallest first (module notes).
 BASIS_LADDER = (10, 15, 20, 30, 40, 60, 80, 100, 150, 200)
 #: Caps on what a caller may ask for, so that a typo is an error naming the
@@ -273,142 +281,12 @@ def minimum_jerk_times(path: Any, duration: float = 1.0) -> np.ndarray:
     low, high = np.zeros_like(fraction), np.ones_like(fraction)
     for _ in range(60):
         mid = 0.5 * (low + high)
-        below = _minimum_jerk_law(mid)[0] < fraction
+        below = minimum_jerk_law(mid)[0] < fraction
         low = np.where(below, mid, low)
         high = np.where(below, high, mid)
     times = 0.5 * (low + high) * duration
     times[0], times[-1] = 0.0, duration
     return times
-
-
-def _transition(k: float, c: float, t: np.ndarray) -> np.ndarray:
-    """``e^{A t}`` for ``A = [[0, 1], [−k, −c]]``, closed form, shape (2, 2, len(t)).
-
-    Entry ``[i, j]`` is a contiguous array over ``t`` (the rollout reads whole rows).
-
-    ``e^{At} = e^{μt} (C(t) I + S(t) (A − μI))`` with ``μ = −c/2``,
-    ``δ² = μ² − k``, ``C = cosh δt``, ``S = sinh(δt)/δ`` (``cos``/``sin``
-    when under-damped; ``C = 1``, ``S = t`` when critically damped, as the
-    thesis's gains are).
-    """
-    t = np.asarray(t, dtype=np.float64)
-    mu = -0.5 * c
-    delta2 = mu * mu - k
-    root = np.sqrt(abs(delta2))
-    x = root * t
-    if abs(delta2) <= 1e-12 * k or np.all(np.abs(x) < 1e-4):
-        series = 1.0 + np.sign(delta2) * x * x / 6.0
-        cosine, sine = 1.0 + np.sign(delta2) * x * x / 2.0, t * series
-    elif delta2 > 0:
-        cosine, sine = np.cosh(x), np.sinh(x) / root
-    else:
-        cosine, sine = np.cos(x), np.sin(x) / root
-    decay = np.exp(mu * t)
-    out = np.empty((2, 2, *t.shape))
-    out[0, 0] = decay * (cosine - mu * sine)
-    out[0, 1] = decay * sine
-    out[1, 0] = -k * decay * sine
-    out[1, 1] = decay * (cosine - (c + mu) * sine)
-    return out
-
-
-@lru_cache(maxsize=16)
-def _legendre(n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
-    return np.polynomial.legendre.leggauss(n_nodes)
-
-
-def _quadrature(
-    h: float, max_panel: float = _MAX_PANEL, n_nodes: int = _GAUSS_NODES
-) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre nodes in ``[0, h]`` and their weights, panels ``<= max_panel``."""
-    n_panels = max(1, int(np.ceil(h / max_panel - 1e-9)))
-    x, w = _legendre(n_nodes)
-    width = h / n_panels
-    starts = width * np.arange(n_panels)[:, None]
-    nodes = (starts + 0.5 * width * (x + 1.0)).ravel()
-    weights = np.tile(0.5 * width * w, n_panels)
-    return nodes, weights
-
-
-def _step_operators(
-    k: float, c: float, h: float, max_panel: float = _MAX_PANEL
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Exact one-step operators for the spring over a normalised step ``h``.
-
-    Returns ``Φ = e^{Ah}`` (2, 2), the quadrature nodes ``σ`` (m,), and
-    ``Γ`` (m, 2) with ``Γ_m = w_m e^{A(h − σ_m)} B``, so that
-    ``x(s+h) = Φ x(s) + Σ_m Γ_m f(s + σ_m)``.
-    """
-    # Steps far shorter than a panel need one node fewer for the same accuracy.
-    n_nodes = _GAUSS_NODES - 1 if h <= 0.2 * max_panel else _GAUSS_NODES
-    nodes, weights = _quadrature(h, max_panel, n_nodes)
-    phi = _transition(k, c, np.array([h]))[:, :, 0]
-    gamma = _transition(k, c, h - nodes)[:, 1, :].T * weights[:, None]
-    return phi, nodes, gamma
-
-
-def _propagate(phi: np.ndarray, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-    """Run ``x_{j+1} = Φ x_j + v_j`` as a second-order IIR filter.
-
-    Parameters
-    ----------
-    phi : ndarray, shape (2, 2)
-    x0 : ndarray, shape (2, m)
-    inputs : ndarray, shape (n - 1, 2, m)
-
-    Returns
-    -------
-    ndarray, shape (n, 2, m)
-
-    Notes
-    -----
-    ``(I − Φ z⁻¹)⁻¹ = (I − adj(Φ) z⁻¹) / (1 − tr(Φ) z⁻¹ + det(Φ) z⁻²)`` for a
-    2×2 ``Φ``, so each state is one call of :func:`scipy.signal.lfilter` on
-    the sequence ``(x0, v_0, v_1, …)`` followed by one matrix product.
-    """
-    sequence = np.concatenate([x0[None], inputs], axis=0)
-    denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
-    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
-
-    filtered = lfilter([1.0], denominator, sequence, axis=0)
-    adjugate = np.array([[phi[1, 1], -phi[0, 1]], [-phi[1, 0], phi[0, 0]]])
-    states = filtered.copy()
-    states[1:] -= adjugate @ filtered[:-1]
-    return states
-
-
-def _rotations_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Smallest rotations taking unit vector ``u`` (q,) onto each row of ``v`` (r, q).
-
-    Each rotates in the plane spanned by ``u`` and ``v`` and leaves its
-    orthogonal complement fixed (Rodrigues' formula in that plane). For
-    ``v = −u`` the plane is not defined: the rotation by π is taken in the
-    plane of ``u`` and the coordinate axis least aligned with it (in 2-D this
-    is the unique rotation, ``−I``). In 1-D the "rotation" is the sign.
-    """
-    q = u.size
-    if q == 1:
-        return np.where(v * u[0] > 0, 1.0, -1.0)[:, :, None]
-    cos = np.clip(v @ u, -1.0, 1.0)
-    ortho = v - cos[:, None] * u
-    sin = np.linalg.norm(ortho, axis=1)
-    opposite = sin < 1e-12
-    if np.any(opposite):
-        axis = np.zeros(q)
-        axis[int(np.argmin(np.abs(u)))] = 1.0
-        axis -= (axis @ u) * u
-        ortho[opposite] = axis / np.linalg.norm(axis)
-        sin[opposite] = 0.0
-        cos[opposite] = np.where(cos[opposite] > 0, 1.0, -1.0)
-    ortho[~opposite] /= sin[~opposite, None]
-    uu = np.outer(u, u)
-    oo = ortho[:, :, None] * ortho[:, None, :]
-    ou = ortho[:, :, None] * u[None, None, :]
-    return (
-        np.eye(q)
-        + sin[:, None, None] * (ou - ou.transpose(0, 2, 1))
-        + (cos - 1.0)[:, None, None] * (uu + oo)
-    )
 
 
 class _Solution(NamedTuple):
@@ -426,11 +304,12 @@ class DMP(Estimator):
 
     Parameters
     ----------
-    n_basis : int or "auto"
+    n_basis : int or "auto", default "auto"
         Number of Gaussian basis functions (weights per dimension), 1 to
         :data:`MAX_BASIS` (1000), or ``"auto"``: the smallest count of
         :data:`BASIS_LADDER` whose reproduction is within ``basis_tol`` of the
-        path (module notes; the count chosen is ``n_basis_``).
+        path (module notes; the count chosen is ``n_basis_``). The thesis's 10
+        is ``DMP(**THESIS_DMP)`` (:data:`lfdkit.core.options.THESIS_DMP`).
     k : float
         Spring constant, in units of the normalised time (see the module notes).
     c : float
@@ -441,10 +320,14 @@ class DMP(Estimator):
     tau : float
         Default temporal scaling of rollouts: 1 reproduces the training path's
         duration, 2 takes twice as long along the same path (1e-6 to 1e6).
-    scaling : {"per_dimension", "spatial", "translate"}
+    scaling : {"translate", "spatial", "per_dimension"}, default "translate"
         How the learned forcing is carried to a new start and goal (module
         notes). ``"translate"`` keeps the shape and works for closed and nearly
-        closed paths, which the other two cannot stretch.
+        closed paths, which the other two cannot stretch; the thesis's
+        ``"per_dimension"`` is :data:`~lfdkit.core.options.THESIS_DMP`'s. The
+        defaults are those :class:`lfdkit.skill.Skill` builds
+        (:data:`~lfdkit.core.options.SKILL_DEFAULTS`), so a DMP used on its own
+        behaves as inside a skill.
     end : {"rest", "free"}
         ``"rest"``: constrain the fit so every rollout ends at its goal at rest,
         with zero acceleration, at ``t = τ D``; ``"free"``: the thesis's
@@ -495,12 +378,12 @@ class DMP(Estimator):
 
     def __init__(
         self,
-        n_basis: int | Literal["auto"] = 10,
+        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
         k: float = 156.25,
         c: float = 25.0,
         alpha: float | None = None,
         tau: float = 1.0,
-        scaling: Scaling = "per_dimension",
+        scaling: Scaling = SKILL_DEFAULTS["scaling"],
         end: EndCondition = "rest",
         regularization: float = 1e-8,
         basis_tol: float = 0.01,
@@ -534,8 +417,8 @@ class DMP(Estimator):
             check_positive(self.alpha, "alpha")
         _check_tau(self.tau)
         check_positive(self.regularization, "regularization", allow_zero=True)
-        if self.scaling not in _SCALINGS:
-            raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
+        if self.scaling not in SCALINGS:
+            raise ValueError(f"scaling: expected one of {SCALINGS}, got {self.scaling!r}")
         if self.end not in _END_CONDITIONS:
             raise ValueError(f"end: expected one of {_END_CONDITIONS}, got {self.end!r}")
         if self.end == "rest" and not auto and self.n_basis < 4:
@@ -551,7 +434,7 @@ class DMP(Estimator):
         *,
         duration: float | None = None,
         dt: float | None = None,
-        timing: Timing | SpeedProfile = "uniform",
+        timing: Timing | SpeedProfile = SKILL_DEFAULTS["timing"],
     ) -> DMP:
         """Learn the forcing weights from one path.
 
@@ -568,8 +451,9 @@ class DMP(Estimator):
             Total duration in seconds when ``times`` is not given (default 1).
         dt : float, optional
             Or the time step in seconds: the duration is ``dt * (n_points − 1)``.
-        timing : {"uniform", "minimum_jerk"} or SpeedProfile
-            How times are assigned when ``times`` is not given. ``"uniform"``:
+        timing : {"minimum_jerk", "uniform"} or SpeedProfile, default "minimum_jerk"
+            How times are assigned when ``times`` is not given (the default is
+            the Skill's, :data:`~lfdkit.core.options.SKILL_DEFAULTS`). ``"uniform"``:
             equal steps (the thesis; with points equally spaced along the path
             this is constant speed, which a DMP starting at rest cannot follow
             at the ends). ``"minimum_jerk"``: :func:`minimum_jerk_times`, a
@@ -594,10 +478,8 @@ class DMP(Estimator):
         points = check_path(path, "path", min_points=3, min_dims=1)
         n = points.shape[0]
         profile = timing if isinstance(timing, SpeedProfile) else None
-        if profile is None and timing not in _TIMINGS:
-            raise ValueError(
-                f"timing: expected one of {_TIMINGS} or a SpeedProfile, got {timing!r}"
-            )
+        if profile is None and timing not in TIMINGS:
+            raise ValueError(f"timing: expected one of {TIMINGS} or a SpeedProfile, got {timing!r}")
         if duration is not None and dt is not None:
             raise ValueError("dt: give either duration or dt, not both")
         if times is None:
@@ -626,8 +508,8 @@ class DMP(Estimator):
                 f"{low:g} to {high:g} s, got {span:g} s"
             )
         composed = times is None and timing != "uniform"
-        law = _minimum_jerk_law if profile is None else profile.law
-        sample = _dense_sampler(None if composed else t / span, points, law)
+        law = minimum_jerk_law if profile is None else profile.law
+        sample = dense_sampler(None if composed else t / span, points, law)
         start, goal = points[0].copy(), points[-1].copy()
         extent = float(np.max(np.ptp(points, axis=0)))
         self.alpha_ = float(np.log(100.0) if self.alpha is None else self.alpha)
@@ -653,7 +535,7 @@ class DMP(Estimator):
         self.n_dims_ = points.shape[1]
         self._extent = extent
         # The scale against which absurd starts, goals and states are judged.
-        self._scale = max(extent, float(np.max(np.abs(points))), 1e-300)
+        self.scale_ = max(extent, float(np.max(np.abs(points))), 1e-300)
         self._grid_cache: dict[int, tuple[np.ndarray, ...]] = {}
         self._knots = self._response_knots()
         self._left_cache: dict[tuple[int, float, bool], np.ndarray] = {}
@@ -662,9 +544,9 @@ class DMP(Estimator):
 
     def _use_basis(self, n_basis: int) -> None:
         """Set the basis functions and the quadrature panel for ``n_basis`` of them."""
-        self.centers_, self.widths_ = _basis(n_basis, self.alpha_)
+        self.centers_, self.widths_ = basis(n_basis, self.alpha_)
         # Quadrature panels resolve the narrowest basis function (spacing 1/(n−1) in s).
-        self._panel = min(_MAX_PANEL, 0.5 / max(n_basis - 1, 1))
+        self._panel = min(MAX_PANEL, 0.5 / max(n_basis - 1, 1))
 
     def _solve(
         self,
@@ -692,7 +574,7 @@ class DMP(Estimator):
         if self.end == "rest":
             # At s = 1: y = g and y' = 0 (the state), and f = 0 so y'' = 0 too.
             constraint = np.vstack([self._end_response(), self._design(np.array([1.0]))])
-            homogeneous = _transition(self.k, self.c, np.array([1.0]))[:, 0, 0]
+            homogeneous = transition(self.k, self.c, np.array([1.0]))[:, 0, 0]
             wanted = np.vstack([-np.outer(homogeneous, start - goal), np.zeros((1, start.size))])
             m, n_constraints = gram.shape[0], constraint.shape[0]
             kkt = np.zeros((m + n_constraints, m + n_constraints))
@@ -708,7 +590,7 @@ class DMP(Estimator):
             )
         # The reproduction departs from the path as the spring filters the forcing
         # residual (module notes): one IIR pass on the grid, no rollout needed.
-        departure = _reproduction_departure(
+        departure = reproduction_departure(
             self.k, self.c, s, velocity[0], design @ weights - target
         )
         error = float(np.max(np.linalg.norm(departure, axis=1))) / max(extent, 1e-300)
@@ -731,7 +613,7 @@ class DMP(Estimator):
             f"basis_tol={tol:g} of its extent; kept the closest, {best.n_basis} basis "
             f"functions ({best.error:.2%} of the extent). Raise basis_tol, fit with "
             "timing='minimum_jerk' (a path timed at constant speed cannot be followed from "
-            "rest), or smooth the path (lfdkit.geometry.smooth_path) if it is noisy or has "
+            "rest), or smooth the path (lfdkit.core.geometry.smooth_path) if it is noisy or has "
             "sharp corners",
             RuntimeWarning,
             stacklevel=3,
@@ -754,7 +636,7 @@ class DMP(Estimator):
         forcing = self._design(knots) @ self.weights_
         curvature = -self.k * states[:, 0] - self.c * states[:, 1] + forcing
         spacing = 1.0 / (n_knots - 1)
-        return spacing, _quintic_pieces(states[:, 0], states[:, 1], curvature, spacing)
+        return spacing, quintic_pieces(states[:, 0], states[:, 1], curvature, spacing)
 
     def _check_fitted(self) -> None:
         # sklearn's check_is_fitted scans every attribute: too slow for a 100 µs rollout.
@@ -780,8 +662,8 @@ class DMP(Estimator):
 
     def _end_response(self) -> np.ndarray:
         """State at ``s = 1`` driven by each basis forcing from rest, shape (2, n_basis)."""
-        nodes, weights = _quadrature(1.0, 0.5 * self._panel, _END_NODES)
-        kernels = _transition(self.k, self.c, 1.0 - nodes)[:, 1, :].T
+        nodes, weights = quadrature(1.0, 0.5 * self._panel, END_NODES)
+        kernels = transition(self.k, self.c, 1.0 - nodes)[:, 1, :].T
         return (kernels * weights[:, None]).T @ self._design(nodes)
 
     def forcing(self, times: Any) -> np.ndarray:
@@ -851,7 +733,7 @@ class DMP(Estimator):
 
     def _within_reach(self, arr: np.ndarray, name: str) -> np.ndarray:
         """``arr`` (finite positions) if within reach of the training scale; else refused."""
-        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
+        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "scale_", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) > limit:
             raise ValueError(
                 f"{name}: {np.max(np.abs(arr)):.3g} is beyond {MAX_RELATIVE_MAGNITUDE:g} times "
@@ -862,7 +744,7 @@ class DMP(Estimator):
     def _check_velocity(self, value: Any, name: str, time_scale: float) -> np.ndarray:
         """A finite velocity that does not carry past the position bound in one movement."""
         arr = check_point(value, name, self.n_dims_, batch="n_rollouts")
-        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "_scale", _training_scale(self.path_))
+        limit = MAX_RELATIVE_MAGNITUDE * getattr(self, "scale_", _training_scale(self.path_))
         if np.max(np.abs(arr), initial=0.0) * time_scale > limit:
             raise ValueError(
                 f"{name}: {np.max(np.abs(arr)):.3g} units/s would carry beyond "
@@ -917,7 +799,7 @@ class DMP(Estimator):
         still = norms <= tiny
         directions = wanted / np.where(still, 1.0, norms)[:, None]
         directions[still] = trained / length  # any rotation: the scale is 0
-        matrices = _rotations_between(trained / length, directions)
+        matrices = rotations_between(trained / length, directions)
         sigma = np.where(still, 0.0, norms / length)
         matrices *= sigma[:, None, None]
         if np.max(sigma) > _LARGE_SCALE:
@@ -953,10 +835,10 @@ class DMP(Estimator):
         if cached is not None:
             return cached
         s = np.linspace(0.0, 1.0, n_steps)
-        forced = _evaluate_pieces(s, *self._knots)
-        powers = _transition(self.k, self.c, s)
+        forced = evaluate_pieces(s, *self._knots)
+        powers = transition(self.k, self.c, s)
         pieces = (s, powers, forced)
-        _remember(self._grid_cache, n_steps, pieces)
+        remember(self._grid_cache, n_steps, pieces)
         return pieces
 
     def _forced_response(self, n_steps: int) -> np.ndarray:
@@ -966,13 +848,13 @@ class DMP(Estimator):
         its derivative in normalised time.
         """
         s = np.linspace(0.0, 1.0, n_steps)
-        phi, nodes, gamma = _step_operators(self.k, self.c, s[1], self._panel)
+        phi, nodes, gamma = step_operators(self.k, self.c, s[1], self._panel)
         node_times = (s[:-1, None] + nodes[None, :]).ravel()
         node_forcing = (self._design(node_times) @ self.weights_).reshape(
             n_steps - 1, nodes.size, self.n_dims_
         )
         inputs = np.einsum("mk,jmq->jkq", gamma, node_forcing)
-        return _propagate(phi, np.zeros((2, self.n_dims_)), inputs)
+        return propagate(phi, np.zeros((2, self.n_dims_)), inputs)
 
     def rollout(
         self,
@@ -1097,13 +979,13 @@ class DMP(Estimator):
         columns[2 + q, 0] = 1.0  # position = goal + error
         if blend:
             # φ = e^{As}[0, 0], the response to a unit start error: χ = w − 1 + φ.
-            columns[-1] = _minimum_jerk_law(s)
+            columns[-1] = minimum_jerk_law(s)
             columns[-1, 0] -= 1.0
             columns[-1] += columns[0]  # (φ, φ', φ'')
         columns[:, 1] /= time_scale
         columns[:, 2] /= time_scale**2
         left = columns.reshape(3 + q + blend, 3 * n).T
-        _remember(self._left_cache, key, left)
+        remember(self._left_cache, key, left)
         return left
 
     def step(
@@ -1191,7 +1073,7 @@ class DMP(Estimator):
         The forcing per unit change of the start→goal vector under
         ``scaling="translate"``: it makes the response ``χ = w − 1 + φ``.
         """
-        w, slope, bend = _minimum_jerk_law(np.minimum(s, 1.0))
+        w, slope, bend = minimum_jerk_law(np.minimum(s, 1.0))
         return np.where(s > 1.0 + 1e-12, 0.0, bend + self.c * slope + self.k * (w - 1.0))
 
     def _advance(
@@ -1210,12 +1092,12 @@ class DMP(Estimator):
         if s >= 1.0:
             # No forcing after the movement: the spring alone, no quadrature (whose
             # panels would grow with a long step).
-            phi = _transition(self.k, self.c, np.array([h]))[:, :, 0]
+            phi = transition(self.k, self.c, np.array([h]))[:, :, 0]
             return np.einsum("ab,rbq->raq", phi, x)
         operators = self._step_cache.get(h)
         if operators is None:
-            operators = _step_operators(self.k, self.c, h, self._panel)
-            _remember(self._step_cache, h, operators)
+            operators = step_operators(self.k, self.c, h, self._panel)
+            remember(self._step_cache, h, operators)
         phi, nodes, gamma = operators
         forcing_nodes = self._design(s + nodes) @ self.weights_  # (m, q)
         drive = np.einsum("mk,mp,rqp->rkq", gamma, forcing_nodes, matrices)
@@ -1224,172 +1106,13 @@ class DMP(Estimator):
         return np.einsum("ab,rbq->raq", phi, x) + drive
 
 
-def _quintic_pieces(
-    values: np.ndarray, slopes: np.ndarray, curvatures: np.ndarray, spacing: float
-) -> np.ndarray:
-    """Coefficients of the C² piecewise quintic through knot values, slopes, curvatures.
-
-    Knots at ``0, spacing, 2 spacing, …``; inputs (n_knots, q). Returns
-    ``c`` (n_knots − 1, 6, q): on piece ``i`` the quintic is ``Σ_m c[i, m] t^m``
-    with ``t = s / spacing − i`` in ``[0, 1]`` (quintic Hermite interpolation).
-    """
-    p0, p1 = values[:-1], values[1:]
-    v0, v1 = slopes[:-1] * spacing, slopes[1:] * spacing
-    a0, a1 = curvatures[:-1] * spacing**2, curvatures[1:] * spacing**2
-    return np.stack(
-        [
-            p0,
-            v0,
-            0.5 * a0,
-            10.0 * (p1 - p0) - 6.0 * v0 - 4.0 * v1 - 1.5 * a0 + 0.5 * a1,
-            15.0 * (p0 - p1) + 8.0 * v0 + 7.0 * v1 + 1.5 * a0 - a1,
-            6.0 * (p1 - p0) - 3.0 * (v0 + v1) - 0.5 * (a0 - a1),
-        ],
-        axis=1,
-    )
-
-
-def _evaluate_pieces(s: np.ndarray, spacing: float, pieces: np.ndarray) -> np.ndarray:
-    """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (q, 3, len(s))."""
-    from lfdkit.imitate._dmp_kernels import evaluate_quintic_pieces  # numba compiles on first use
-
-    out = np.empty((pieces.shape[2], 3, s.size))
-    evaluate_quintic_pieces(np.ascontiguousarray(s, dtype=np.float64), spacing, pieces, out)
-    return out
-
-
-def _remember(cache: dict, key: Any, value: Any) -> None:
-    """Insert into a small first-in-first-out cache."""
-    if len(cache) >= _MAX_CACHED_GRIDS:
-        cache.pop(next(iter(cache)))
-    cache[key] = value
-
-
-@lru_cache(maxsize=32)
-def _basis_cached(n_basis: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
-    centers = np.exp(-alpha * np.linspace(0.0, 1.0, n_basis))
-    if n_basis == 1:
-        return centers, np.array([1.0])
-    gaps = np.abs(np.diff(centers))
-    gaps = np.append(gaps, gaps[-1])
-    # Neighbouring Gaussians cross at 1/√2 of their height, exp(−h (Δ/2)²) = 2^(−1/2):
-    # wider than the usual half height, which reproduced paths measurably worse.
-    widths = 2.0 * np.log(2.0) / gaps**2
-    centers.setflags(write=False)
-    widths.setflags(write=False)
-    return centers, widths
-
-
-def _basis(n_basis: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
-    return _basis_cached(n_basis, float(alpha))
-
-
-def _minimum_jerk_law(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Fraction of the way ``10u³ − 15u⁴ + 6u⁵`` and its first two derivatives in ``u``."""
-    return (
-        u**3 * (10.0 - 15.0 * u + 6.0 * u**2),
-        30.0 * u**2 * (1.0 - u) ** 2,
-        60.0 * u * (1.0 - u) * (1.0 - 2.0 * u),
-    )
-
-
-def _dense_sampler(s: np.ndarray | None, points: np.ndarray, law: Any = None) -> Any:
-    """Positions and their first two derivatives on a dense, even grid of ``s ∈ [0, 1]``.
-
-    Returns ``sample(n_basis) -> (grid, positions, velocities, accelerations)``,
-    the grid as fine as ``n_basis`` basis functions need; the spline is built
-    once, so ``n_basis="auto"`` samples every count of its ladder cheaply.
-
-    With sample times ``s``, a cubic interpolating spline (not-a-knot ends)
-    through every sample is differentiated analytically. With ``s=None`` the
-    timing law is composed exactly: a cubic spline of the path in its
-    arc-length fraction ``ℓ``, moved along by ``ℓ(s)`` of ``law`` (default
-    :func:`_minimum_jerk_law`; or a :meth:`SpeedProfile.law`; it returns
-    ``ℓ``, ``ℓ'`` and ``ℓ''``) by the chain rule, so the motion is at rest at
-    both ends without the spline having to guess it from sparse end samples.
-
-    The dense even grid matters when samples are uneven in time: a basis
-    function with no sample under it would otherwise get an arbitrary weight.
-    """
-    n = points.shape[0]
-    degree = min(3, n - 1)
-
-    def grid_for(n_basis: int) -> np.ndarray:
-        return np.linspace(0.0, 1.0, max(2 * n, 20 * n_basis, 1000))
-
-    if s is not None:
-        from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
-
-        timed = make_interp_spline(s, points, k=degree, axis=0)
-
-        def sample_timed(n_basis: int) -> tuple[np.ndarray, ...]:
-            grid = grid_for(n_basis)
-            return grid, timed(grid), timed(grid, 1), timed(grid, 2)
-
-        return sample_timed
-    fraction = arc_length(points) / path_length(points)
-    from scipy.interpolate import make_interp_spline  # here: lfdkit.imitate loads fast
-
-    spline = make_interp_spline(fraction, points, k=degree, axis=0)
-    law = _minimum_jerk_law if law is None else law
-
-    def sample_composed(n_basis: int) -> tuple[np.ndarray, ...]:
-        grid = grid_for(n_basis)
-        where, speed, rate = law(grid)
-        slope, bend = spline(where, 1), spline(where, 2)
-        return (
-            grid,
-            spline(where),
-            slope * speed[:, None],
-            bend * speed[:, None] ** 2 + slope * rate[:, None],
-        )
-
-    return sample_composed
-
-
-def _reproduction_departure(
-    k: float, c: float, s: np.ndarray, velocity0: np.ndarray, mismatch: np.ndarray
-) -> np.ndarray:
-    """Reproduction minus path on the even grid ``s``, shape (len(s), q).
-
-    The path obeys the transformation system exactly with its target forcing
-    ``F``, the reproduction with the fitted ``X w``; their difference ``e``
-    obeys ``e'' = −k e − c e' + (X w − F)`` from ``e(0) = 0``,
-    ``e'(0) = −y'(0)`` (the reproduction starts at rest). The mismatch
-    ``X w − F`` (len(s), q) is held linear between grid points and the
-    spring integrated exactly over each step, as :func:`_propagate` does but
-    for the position only: one second-order IIR filter per dimension.
-    """
-    h = float(s[1] - s[0])
-    x, w = _legendre(_GAUSS_NODES)
-    nodes, weights = 0.5 * h * (x + 1.0), 0.5 * h * w
-    kernel = _transition(k, c, h - nodes)[:, 1, :]  # e^{A(h − σ)} B, (2, m)
-    later = nodes / h
-    now_weights, next_weights = kernel @ (weights * (1.0 - later)), kernel @ (weights * later)
-    phi = _transition(k, c, np.array([h]))[:, :, 0]
-    # The state sequence (x0, v_0, v_1, …) of _propagate, both components, (n, q) each.
-    u = np.ascontiguousarray(mismatch.T)  # (q, n): filter along contiguous rows
-    drive = np.empty((2, *u.shape))
-    drive[:, :, 0] = np.stack([np.zeros_like(velocity0), -velocity0])
-    drive[:, :, 1:] = (
-        now_weights[:, None, None] * u[None, :, :-1] + next_weights[:, None, None] * u[None, :, 1:]
-    )
-    # Position row of (I − Φ z⁻¹)⁻¹ = adj(I − Φ z⁻¹) / det(I − Φ z⁻¹).
-    combined = drive[0].copy()
-    combined[:, 1:] += -phi[1, 1] * drive[0, :, :-1] + phi[0, 1] * drive[1, :, :-1]
-    denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
-    from scipy.signal import lfilter  # here: lfdkit.imitate loads fast
-
-    return lfilter([1.0], denominator, combined, axis=1).T
-
-
 def _check_distinct(points: np.ndarray) -> None:
     steps = segment_lengths(points)
     if np.any(steps == 0.0):
         row = int(np.argmax(steps == 0.0))
         raise ValueError(
             f"path: points {row} and {row + 1} coincide; remove repeated points "
-            "(lfdkit.geometry.remove_repeated_points) or give times"
+            "(lfdkit.core.geometry.remove_repeated_points) or give times"
         )
 
 

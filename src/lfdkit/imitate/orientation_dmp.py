@@ -3,7 +3,7 @@
 Formulation (Koutras & Doulgeri 2020, "A correct formulation for the
 orientation dynamic movement primitives for robot control in the Cartesian
 space"): the state is the orientation error to the goal in the tangent
-space, ``e(t) = log(q(t) ⊗ g⁻¹)`` (:func:`lfdkit.rotations.log`: ``θ/2 ·
+space, ``e(t) = log(q(t) ⊗ g⁻¹)`` (:func:`lfdkit.core.rotations.log`: ``θ/2 ·
 axis``), and ``e`` obeys the position DMP's transformation system with goal
 ``0``::
 
@@ -30,11 +30,11 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._estimator import Estimator
+from lfdkit.core.estimator import Estimator
+from lfdkit.core.rotations import check_quaternions, conjugate, continuous, exp, log, multiply
 from lfdkit.imitate.dmp import DMP
-from lfdkit.rotations import check_quaternions, conjugate, continuous, exp, log, multiply
 
-__all__ = ["QuaternionDMP"]
+__all__ = ["QuaternionDMP", "orientation_error"]
 
 #: Largest |e| (θ/2 to the goal, radians) accepted in training: just under π/2.
 _MAX_HALF_ANGLE = 0.5 * np.pi - 1e-6
@@ -99,7 +99,7 @@ class QuaternionDMP(Estimator):
             raise ValueError("quaternions: need at least 2 samples")
         t = np.linspace(0.0, 1.0, len(q)) if times is None else times
         goal = q[-1]
-        e = self._error(q, goal)
+        e = orientation_error(q, goal)
         far = np.linalg.norm(e, axis=1) >= _MAX_HALF_ANGLE
         if far.any():
             raise ValueError(
@@ -121,23 +121,11 @@ class QuaternionDMP(Estimator):
         # The error is bounded (|e| <= π/2), so the position DMP's overflow guard, scaled
         # by the training movement, must not refuse a new start when the demonstrated
         # orientation barely turned (a constant orientation has scale 0).
-        self.dmp_._scale = max(self.dmp_._scale, 0.5 * np.pi)
+        self.dmp_.scale_ = max(self.dmp_.scale_, 0.5 * np.pi)
         self.start_ = q[0].copy()
         self.goal_ = goal.copy()
         self.times_ = self.dmp_.times_
         return self
-
-    @staticmethod
-    def _error(q: np.ndarray, goal: np.ndarray) -> np.ndarray:
-        """``log(q ⊗ g⁻¹)`` with the sign of ``q ⊗ g⁻¹`` kept continuous from the goal."""
-        rel = multiply(q, conjugate(goal))
-        rel = continuous(rel[::-1])[::-1]  # the goal's row is the identity, w = 1
-        rel = rel * np.sign(rel[-1:, 3:4])
-        v = rel[..., :3]
-        s = np.linalg.norm(v, axis=-1)
-        half = np.arctan2(s, rel[..., 3])  # in [0, π]: continuous along the movement
-        scale = np.where(s > 1e-12, half / np.where(s > 1e-12, s, 1.0), 1.0)
-        return v * scale[..., None]
 
     def rollout(
         self,
@@ -174,3 +162,29 @@ class QuaternionDMP(Estimator):
         q = multiply(exp(traj.positions), g)
         q = continuous(q if q[0] @ q0 >= 0.0 else -q)
         return traj.times, q
+
+
+def orientation_error(q: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    """The error an orientation DMP learns: ``log(q ⊗ g⁻¹)``, half the rotation to the goal.
+
+    Parameters
+    ----------
+    q : ndarray of shape (n_samples, 4)
+        Unit quaternions (x, y, z, w), in the order of the movement.
+    goal : ndarray of shape (4,)
+        The goal orientation.
+
+    Returns
+    -------
+    ndarray of shape (n_samples, 3)
+        Rotation vectors of half the angle (radians), the sign of ``q ⊗ g⁻¹`` kept
+        continuous from the goal.
+    """
+    rel = multiply(q, conjugate(goal))
+    rel = continuous(rel[::-1])[::-1]  # the goal's row is the identity, w = 1
+    rel = rel * np.sign(rel[-1:, 3:4])
+    v = rel[..., :3]
+    s = np.linalg.norm(v, axis=-1)
+    half = np.arctan2(s, rel[..., 3])  # in [0, π]: continuous along the movement
+    scale = np.where(s > 1e-12, half / np.where(s > 1e-12, s, 1.0), 1.0)
+    return v * scale[..., None]

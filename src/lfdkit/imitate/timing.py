@@ -74,14 +74,14 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import (
+from lfdkit.core.geometry import arc_length, segment_lengths
+from lfdkit.core.validation import (
     check_count,
     check_demos,
     check_path,
     check_positive,
     check_times_list,
 )
-from lfdkit.geometry import arc_length, segment_lengths
 
 __all__ = [
     "DEGREE",
@@ -146,10 +146,7 @@ class SpeedProfile:
     demo_durations: tuple[float, ...] = field(default=())
 
     def __post_init__(self) -> None:
-        duration = check_positive(self.duration, "duration")
-        low, high = DURATION_RANGE
-        if not low <= duration <= high:
-            raise ValueError(f"duration: expected {low:g} to {high:g} s, got {duration:g}")
+        duration = _check_duration(self.duration)
         try:
             coefficients = np.array(self.coefficients, dtype=np.float64)
         except (TypeError, ValueError) as exc:
@@ -533,6 +530,7 @@ def _phase(u: Any) -> np.ndarray:
 
 
 def _check_duration(duration: Any) -> float:
+    """The one check of a given duration (seconds, within :data:`DURATION_RANGE`)."""
     value = check_positive(duration, "duration")
     low, high = DURATION_RANGE
     if not low <= value <= high:
@@ -547,7 +545,7 @@ def _fractions(points: np.ndarray) -> np.ndarray:
         row = int(np.argmax(lengths == 0.0))
         raise ValueError(
             f"path: points {row} and {row + 1} coincide; a timed path needs distinct "
-            "consecutive points (lfdkit.geometry.remove_repeated_points)"
+            "consecutive points (lfdkit.core.geometry.remove_repeated_points)"
         )
     along = np.concatenate([[0.0], np.cumsum(lengths)])
     if not along[-1] > 0.0:

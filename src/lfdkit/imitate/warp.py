@@ -23,8 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_point
-from lfdkit.geometry import arc_length
+from lfdkit.core.geometry import arc_length
+from lfdkit.core.validation import check_path, check_point
 
 __all__ = ["warp_path"]
 

@@ -15,7 +15,7 @@
   :class:`SkillDocument`, :func:`~.skill_file.to_document`), used by
   :meth:`lfdkit.skill.Skill.save` and :meth:`~lfdkit.skill.Skill.load`.
 
-The data these files hold are :mod:`lfdkit.demos` and :mod:`lfdkit.scene`
+The data these files hold are :mod:`lfdkit.model.demos` and :mod:`lfdkit.model.scene`
 (and the skill's state).
 """
 

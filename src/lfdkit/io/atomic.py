@@ -28,7 +28,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import IO, Any
 
-from lfdkit.demos import PathLike
+from lfdkit.model.demos import PathLike
 
 __all__ = [
     "STALE_TEMP_SECONDS",

@@ -1,8 +1,8 @@
 """Demonstration files: a demonstration set read and written in CSV, NPZ or JSON.
 
-A demonstration set is the data model of :mod:`lfdkit.demos`: a list of
+A demonstration set is the data model of :mod:`lfdkit.model.demos`: a list of
 float64 arrays of shape ``(n_points_j, n_dims)``, optionally with sample
-times in seconds and with one id (:data:`lfdkit.demos.DemoId`) per
+times in seconds and with one id (:data:`lfdkit.model.demos.DemoId`) per
 demonstration.
 
 Files
@@ -67,8 +67,8 @@ from typing import IO, Any, Literal, overload
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path, check_times, check_times_list
-from lfdkit.demos import DemoId, PathLike
+from lfdkit.core.rotations import check_quaternions
+from lfdkit.core.validation import check_demos, check_path, check_times, check_times_list
 from lfdkit.io.atomic import atomic_write, check_output_path, write_text
 from lfdkit.io.text import (
     Blocks,
@@ -83,7 +83,7 @@ from lfdkit.io.text import (
     json_float_array,
     parse_id,
 )
-from lfdkit.rotations import check_quaternions
+from lfdkit.model.demos import DemoId, PathLike
 
 __all__ = [
     "JSON_FORMAT",
@@ -201,7 +201,7 @@ def load_demos(
     orientations : list of (ndarray, shape (n_points_j, 4), or None)
         Only if ``return_orientations``: unit quaternions ``[x, y, z, w]``
         (normalised; a row whose norm is off 1 by more than
-        :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is an error), ``None``
+        :data:`lfdkit.core.rotations.UNIT_NORM_TOLERANCE` is an error), ``None``
         for a demonstration stored without them.
 
     Raises
@@ -273,7 +273,7 @@ def save_demos(
         sample: CSV columns ``qx, qy, qz, qw`` (for all demonstrations or
         none), NPZ arrays ``quat_j``, JSON fields ``"q"``. Each row is
         normalised; NaN/inf or a norm off 1 by more than
-        :data:`lfdkit.rotations.UNIT_NORM_TOLERANCE` is refused.
+        :data:`lfdkit.core.rotations.UNIT_NORM_TOLERANCE` is refused.
     overwrite : bool
         Replace an existing file. When false an existing file raises
         ``FileExistsError``.

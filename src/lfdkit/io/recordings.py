@@ -28,7 +28,7 @@ the child's pose in the parent, chained through the frame tree over the
 dynamic transforms of the topic and the static ones of ``/tf_static`` (both
 directions: a frame pair that is not parent-first is inverted). Joint
 positions (:func:`read_joint_states`) from ``sensor_msgs/JointState``;
-:mod:`lfdkit.robot.recordings` turns them into tool poses.
+:mod:`lfdkit.execute.recordings` turns them into tool poses.
 
 Timestamps
 ----------
@@ -52,8 +52,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.demos import PathLike
-from lfdkit.rotations import (
+from lfdkit.core.rotations import (
     check_quaternions,
     conjugate,
     continuous,
@@ -61,6 +60,7 @@ from lfdkit.rotations import (
     multiply,
     slerp,
 )
+from lfdkit.model.demos import PathLike
 
 __all__ = [
     "INSTALL_HINT",

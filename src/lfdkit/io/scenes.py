@@ -1,10 +1,10 @@
 """Scene files: the scenes of one or several demonstrations, read and written.
 
-A :class:`~lfdkit.scene.Scene` holds the obstacles of one environment; each
-:class:`~lfdkit.scene.Obstacle` has a class label, a centre of shape ``(q,)`` with
+A :class:`~lfdkit.model.scene.Scene` holds the obstacles of one environment; each
+:class:`~lfdkit.model.scene.Obstacle` has a class label, a centre of shape ``(q,)`` with
 ``q`` 2 or 3, and a radius, both in the units of the paths (metres for
 robot data). A *scene file* gives the scenes of one or several
-demonstrations, keyed by demonstration id (:data:`lfdkit.demos.DemoId`, an
+demonstrations, keyed by demonstration id (:data:`lfdkit.model.demos.DemoId`, an
 ``int`` or a ``str``), so that they can be matched with a file of
 demonstrations.
 
@@ -18,13 +18,13 @@ positions in one file have the same dimension.
     demonstration id; optional, a file without it is one scene with id
     ``0``), ``class`` (the obstacle label), the coordinates ``x, y`` or
     ``x, y, z`` and optionally ``radius`` (default 0). Obstacles of another
-    shape than round (:data:`lfdkit.scene.OBSTACLE_SHAPES`) give it in a
+    shape than round (:data:`lfdkit.model.scene.OBSTACLE_SHAPES`) give it in a
     ``shape`` column (empty: round) and their fields in columns named after
     them: a capsule's axis end in ``end_x, end_y[, end_z]``. Column names are
     case-insensitive; columns with other names are ignored, as are blank
     lines and lines starting with ``#``. A moving obstacle of constant
     velocity gives it in ``vx, vy[, vz]`` (units/s; empty or absent: static;
-    :class:`lfdkit.motion.ConstantVelocity`), columns written only when an
+    :class:`lfdkit.model.motion.ConstantVelocity`), columns written only when an
     obstacle moves. A row with a demo id and empty
     ``class``, coordinates and radius states that this demonstration was
     recorded without obstacles (an empty scene). The rows of one
@@ -40,7 +40,7 @@ positions in one file have the same dimension.
     "end": [x, y]``); a moving obstacle gives one of ``"velocity": [vx, vy]``,
     ``"trajectory": {"times": [...], "positions": [[x, y], ...]}`` or
     ``"observations": {"times": [...], "positions": [...], "noise": s}``
-    (:mod:`lfdkit.motion`); ``"demo"`` is
+    (:mod:`lfdkit.model.motion`); ``"demo"`` is
     optional in a file with a single scene (id ``0``). A field of another
     shape than the obstacle's (``"end"`` on a round one) is refused, as in
     CSV, where a shape column of the other dimension (``end_z`` in a 2-D
@@ -71,7 +71,6 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.demos import DemoId, PathLike
 from lfdkit.io.atomic import check_output_path, write_text
 from lfdkit.io.text import (
     Blocks,
@@ -84,8 +83,9 @@ from lfdkit.io.text import (
     json_document,
     parse_id,
 )
-from lfdkit.motion import ConstantVelocity, Motion, Observations, Trajectory
-from lfdkit.scene import OBSTACLE_SHAPES, Obstacle, Scene
+from lfdkit.model.demos import DemoId, PathLike
+from lfdkit.model.motion import ConstantVelocity, Motion, Observations, Trajectory
+from lfdkit.model.scene import OBSTACLE_SHAPES, Obstacle, Scene
 
 __all__ = [
     "SCENE_JSON_FORMAT",

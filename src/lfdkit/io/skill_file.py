@@ -77,9 +77,9 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__
-from lfdkit.demos import PathLike
 from lfdkit.io.atomic import write_text
 from lfdkit.io.text import json_float_array, load_json
+from lfdkit.model.demos import PathLike
 
 __all__ = [
     "MAX_SKILL_FILE_BYTES",

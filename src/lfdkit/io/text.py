@@ -11,7 +11,7 @@ error with the file name and the line, column or JSON path at fault:
   ``nan`` or ``inf``), :func:`csv_id` and :class:`Blocks` (ids without
   surrounding spaces, the rows of one id consecutive);
 * demonstration ids: :func:`check_ids`, :func:`check_file_id` and
-  :func:`parse_id`, the rules of a :data:`lfdkit.demos.DemoId` in a file;
+  :func:`parse_id`, the rules of a :data:`lfdkit.model.demos.DemoId` in a file;
 * JSON: :func:`load_json` (no repeated keys, ``NaN`` literals or nesting
   deeper than :data:`MAX_JSON_DEPTH`), :func:`json_document` (the
   ``format`` and ``version`` fields of a versioned lfdkit file) and
@@ -35,9 +35,9 @@ from typing import IO, Any
 
 import numpy as np
 
-from lfdkit._numbers import DECIMAL
-from lfdkit.demos import DemoId
+from lfdkit.core.numbers import DECIMAL
 from lfdkit.io.atomic import NotRegularFileError, file_kind
+from lfdkit.model.demos import DemoId
 
 __all__ = [
     "MAX_FILE_BYTES",
@@ -266,7 +266,7 @@ def csv_rows(
 
 # A decimal number as CSV files spell it: no digit separators ("0_5", which
 # Python's float reads as 5), no inner spaces, no hexadecimal, no nan/inf words.
-_CSV_NUMBER = DECIMAL  # the one strict spelling (lfdkit._numbers), shared with the CLI
+_CSV_NUMBER = DECIMAL  # the one strict spelling (lfdkit.core.numbers), shared with the CLI
 
 
 def csv_number(fname: str, lineno: int, column: str, cell: str) -> float:

@@ -26,8 +26,8 @@ The registry
 the name shown in tables, legends and messages, its colour in every figure,
 and which of its fitted values a skill records. The skill
 (:class:`lfdkit.skill.Skill`, its ``mimic`` parameter), the command line's
-``--mimic`` choices, the method comparison (:mod:`lfdkit.evaluation`) and the
-figures' colours (:mod:`lfdkit.plot`) all read it, so a new method is its
+``--mimic`` choices, the method comparison (:mod:`lfdkit.app.evaluation`) and the
+figures' colours (:mod:`lfdkit.app.plot`) all read it, so a new method is its
 module plus one :func:`register` call there, and the import of that module in
 :mod:`lfdkit.mimic`.
 """
@@ -101,7 +101,7 @@ class MimicMethod:
         not choose the others (e.g. a number of components) for it.
     check_input : bool
         Whether the estimator's ``fit(demos, check_input=False)`` skips checking
-        demonstrations its caller validated already (:func:`lfdkit._validation.check_demos`:
+        demonstrations its caller validated already (:func:`lfdkit.core.validation.check_demos`:
         a list of finite float64 arrays of one dimension). False (the default): ``fit``
         is always called with the demonstrations alone.
     """

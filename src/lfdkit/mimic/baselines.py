@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit._estimator import Estimator
-from lfdkit._validation import check_count, check_demos
-from lfdkit.geometry import resample
+from lfdkit.core.estimator import Estimator
+from lfdkit.core.geometry import resample
+from lfdkit.core.validation import check_count, check_demos
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
@@ -27,7 +27,7 @@ class ArcLengthAverage(Estimator):
     ----------
     n_points : int
         Points per resampled demonstration and in the result, 2 to
-        1,000,000 (:data:`lfdkit._validation.MAX_POINTS`).
+        1,000,000 (:data:`lfdkit.core.validation.MAX_POINTS`).
     orient : {"auto", "as_given"}
         ``"auto"``: reverse demonstrations recorded against the majority's
         direction first (:func:`lfdkit.mimic.orient_demos`) and refuse an

@@ -85,9 +85,8 @@ from typing import Literal
 
 import numpy as np
 
-from lfdkit._estimator import Estimator
-from lfdkit._validation import check_count, check_demos, check_path, check_positive
-from lfdkit.geometry import (
+from lfdkit.core.estimator import Estimator
+from lfdkit.core.geometry import (
     FoldedPathError,
     PolylineSet,
     arc_length,
@@ -97,6 +96,7 @@ from lfdkit.geometry import (
     resample,
     resample_between,
 )
+from lfdkit.core.validation import check_count, check_demos, check_path, check_positive
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 

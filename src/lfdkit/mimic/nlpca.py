@@ -24,9 +24,9 @@ from typing import Any, Literal
 
 import numpy as np
 
-from lfdkit._estimator import Estimator, check_fitted
-from lfdkit._threads import one_blas_thread
-from lfdkit._validation import (
+from lfdkit.core.estimator import Estimator, check_fitted
+from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.validation import (
     check_count,
     check_demos,
     check_path,

@@ -37,8 +37,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from lfdkit._threads import one_blas_thread
-from lfdkit.geometry import arc_length, path_length
+from lfdkit.core.geometry import arc_length, path_length
+from lfdkit.core.threads import one_blas_thread
 
 __all__ = [
     "LENGTH_WARNING_RANGE",

@@ -8,14 +8,14 @@ averages the demonstrations' orientations there:
 
 * **Correspondence.** The same as Mean-Path's: the nearest crossing of the
   path's normal hyperplane at the point with the demonstration, on a segment
-  traversed in the path's direction (:class:`lfdkit.geometry.PolylineSet`);
+  traversed in the path's direction (:class:`lfdkit.core.geometry.PolylineSet`);
   demonstrations recorded the other way round are reversed first
   (:func:`lfdkit.mimic.orientation.orient_demos`). Where the normal misses a
   demonstration (near the ends) its closest point is used instead. The
   orientation there is the slerp of the segment's end orientations at the
   crossing's fraction of the segment.
 * **Average.** A proper rotation average: with ``robust=True`` (default)
-  :func:`lfdkit.rotations.robust_mean_quaternion` (Markley's eigenvector
+  :func:`lfdkit.core.rotations.robust_mean_quaternion` (Markley's eigenvector
   mean, iteratively reweighted by each rotation's geodesic distance to it,
   full weight within 4 robust scales, none beyond 8: the redescending rule of
   Mean-Path's adaptive centre), else the plain Markley mean.
@@ -31,10 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_demos, check_path
-from lfdkit.geometry import PolylineSet, arc_length, point_tangents, project_onto_polyline
-from lfdkit.mimic.orientation import orient_demos
-from lfdkit.rotations import (
+from lfdkit.core.geometry import PolylineSet, arc_length, point_tangents, project_onto_polyline
+from lfdkit.core.rotations import (
     angle_between,
     check_quaternions,
     continuous,
@@ -42,6 +40,8 @@ from lfdkit.rotations import (
     robust_mean_quaternion,
     slerp,
 )
+from lfdkit.core.validation import check_demos, check_path
+from lfdkit.mimic.orientation import orient_demos
 
 __all__ = ["PathOrientations", "mean_orientations"]
 

@@ -19,14 +19,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit.batch import make_executor, read_results
+from lfdkit.app.batch import make_executor, read_results
 from lfdkit.datasets.emulation import CUP_RADIUS
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping.batch import CHECKS, evaluate_batch, evaluate_scenario, scenario
 from lfdkit.tasks.sweeping.examples import example_files
 from lfdkit.tasks.sweeping.execution import execute_skill
 from lfdkit.tasks.sweeping.scenarios import random_scenarios
-from tests.test_cli import run_cli
+from tests.app.test_cli import run_cli
 
 
 @pytest.fixture(scope="module")

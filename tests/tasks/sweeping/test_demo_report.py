@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit.report import PNG_SIGNATURE
+from lfdkit.app.report import PNG_SIGNATURE
 from lfdkit.tasks.sweeping import NEW_GOAL, run_demo
 from lfdkit.tasks.sweeping.demo import GLOSSARY
 

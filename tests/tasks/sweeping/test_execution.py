@@ -15,9 +15,9 @@ import json
 import numpy as np
 import pytest
 
-from lfdkit.robot import ur5
-from lfdkit.robot.arm import UR5, UR10
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.execute import ur5
+from lfdkit.execute.arm import UR5, UR10
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import execution
 from lfdkit.tasks.sweeping.examples import example_files
@@ -30,7 +30,7 @@ from lfdkit.tasks.sweeping.execution import (
     write_execution,
 )
 from lfdkit.tasks.sweeping.scenarios import BRUSH, NEW_GOAL, unseen_scenes
-from tests.robot.test_urscript import read_program
+from tests.execute.test_urscript import read_program
 
 #: A goal the UR10 reaches and the UR5 does not (about 0.95 m from the base).
 FAR_GOAL = (0.9, 0.45)
@@ -169,12 +169,12 @@ def test_a_tool_too_fast_is_refused_naming_when_and_where(skill, monkeypatch):
 
 def test_without_mujoco_the_simulation_is_skipped_with_the_reason(skill, monkeypatch):
     def missing():
-        raise ImportError("lfdkit.robot needs MuJoCo: python -m pip install mujoco")
+        raise ImportError("lfdkit.execute needs MuJoCo: python -m pip install mujoco")
 
     monkeypatch.setattr("lfdkit.tasks.sweeping.sim.load_mujoco", missing)
     done = execute_skill(skill)
     assert done.result is None
-    assert done.skipped.startswith("MuJoCo is not available (lfdkit.robot needs MuJoCo")
+    assert done.skipped.startswith("MuJoCo is not available (lfdkit.execute needs MuJoCo")
     assert done.summary()["simulation"] == {"skipped": done.skipped}
     assert done.program  # everything but the simulation is there
     assert execute_skill(skill, simulate=False).skipped == "not asked for"
@@ -203,7 +203,7 @@ def test_bad_arguments_are_refused_naming_them(skill):
 
 
 def test_a_moving_obstacle_is_refused_with_the_way_to_run_it(skill):
-    from lfdkit.motion import ConstantVelocity
+    from lfdkit.model.motion import ConstantVelocity
 
     cup = Obstacle("cup", [0.0, 0.3], 0.03, motion=ConstantVelocity([0.0, 0.05]))
     with pytest.raises(ValueError, match=r"moving obstacles.*run_moving"):

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from lfdkit.plot import PLAN_COLORS
-from lfdkit.scene import Scene
+from lfdkit.app.plot import PLAN_COLORS
+from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.figures import sweep_figure
 from lfdkit.tasks.sweeping.scenarios import Dustpan, obstacle
 from lfdkit.tasks.sweeping.sim import SweepResult

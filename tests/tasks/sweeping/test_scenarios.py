@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from lfdkit.datasets.emulation import SWEEP_GOAL, SWEEP_START, sweeping
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
     CUBE,

@@ -20,9 +20,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from lfdkit.robot.arm import UR5, UR10
-from lfdkit.robot.timing import time_parameterize
-from lfdkit.scene import Capsule, Obstacle, Scene
+from lfdkit.execute.arm import UR5, UR10
+from lfdkit.execute.timing import time_parameterize
+from lfdkit.model.scene import Capsule, Obstacle, Scene
 from lfdkit.tasks.sweeping import sim
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
@@ -33,7 +33,7 @@ from lfdkit.tasks.sweeping.scenarios import (
     SweepingTask,
 )
 from lfdkit.tasks.sweeping.sim import HOME, SweepResult
-from tests.robot.arms import PLANAR
+from tests.execute.arms import PLANAR
 
 START = np.array([-0.3, 0.45])
 PAN = Dustpan((0.3, 0.45), 0.0)
@@ -220,7 +220,7 @@ def test_a_missing_opengl_backend_leaves_physics_running(tmp_path):
 
     script = (
         "import numpy as np\n"
-        "from lfdkit.robot import mujoco\n"
+        "from lfdkit.execute import mujoco\n"
         "from lfdkit.tasks import sweeping as sim\n"
         "mujoco.HEADLESS_GL = 'no-such-backend'  # MuJoCo refuses it on import, as without EGL\n"
         "p = np.column_stack([np.linspace(-0.3, 0.32, 50), np.full(50, 0.45)])\n"

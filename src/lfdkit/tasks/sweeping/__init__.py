@@ -7,7 +7,7 @@ Modules, each depending only on those before it:
   the scenario generators (random unseen scenes, the demo's unseen scenes);
 * :mod:`.examples`: the shipped example files (``data/``) and the data set
   they come from;
-* :mod:`.sim`: the scene in MuJoCo with any :class:`lfdkit.robot.arm.Arm`
+* :mod:`.sim`: the scene in MuJoCo with any :class:`lfdkit.execute.arm.Arm`
   (poses, inverse kinematics, timing, simulation, outcome);
 * :mod:`.figures`: top views of simulated sweeps;
 * :mod:`.execution`: a learned skill on the robot, ``lfdkit execute``: plan,
@@ -19,7 +19,7 @@ Modules, each depending only on those before it:
   accelerate, stop and go, turn, come in pairs, head-on or fast.
 
 * :mod:`.batch`: a skill evaluated over many scenes in batch, ``lfdkit batch
-  evaluate`` (on any executor of :func:`lfdkit.batch.make_executor`).
+  evaluate`` (on any executor of :func:`lfdkit.app.batch.make_executor`).
 
 Everything public is importable from here. The names of :mod:`.figures`,
 :mod:`.execution`, :mod:`.demo`, :mod:`.moving` and :mod:`.batch` (which import
@@ -28,9 +28,7 @@ matplotlib's figures and the whole skill pipeline) are loaded on first use.
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
-
+from lfdkit.core.lazy import lazy_names
 from lfdkit.tasks.sweeping.examples import (
     EXAMPLE_SEED,
     example_dataset,
@@ -170,12 +168,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        module = importlib.import_module(f"{__name__}.{_LAZY[name]}")
-        return getattr(module, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())

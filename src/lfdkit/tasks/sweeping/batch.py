@@ -26,8 +26,8 @@ is the same scene in any batch, on any worker) or one scene of a scene file.
 The unit returns a JSON-ready row; what the robot cannot do, or a plan that
 cannot keep clear, is an outcome (``ok`` false, ``failure``), not an error.
 
-:func:`evaluate_batch` runs the units with :func:`lfdkit.batch.run_batch` on
-any executor of :func:`lfdkit.batch.make_executor`.
+:func:`evaluate_batch` runs the units with :func:`lfdkit.app.batch.run_batch` on
+any executor of :func:`lfdkit.app.batch.make_executor`.
 """
 
 from __future__ import annotations
@@ -43,9 +43,9 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__
-from lfdkit.batch import BatchSummary, SerialExecutor, run_batch
-from lfdkit.progress import ProgressLike
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.app.batch import BatchSummary, SerialExecutor, run_batch
+from lfdkit.core.progress import ProgressLike
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.tasks.sweeping.scenarios import BRUSH, SweepScenario, obstacle_class, random_scenarios
 
 __all__ = [
@@ -134,10 +134,10 @@ def evaluate_scenario(
         ``path_error_m``, ``failures``). No wall times: the row depends on
         the inputs only.
     """
-    from lfdkit._threads import one_blas_thread
+    from lfdkit.core.geometry import path_length
+    from lfdkit.core.threads import one_blas_thread
     from lfdkit.emulate import UnsafePlanError
-    from lfdkit.geometry import path_length
-    from lfdkit.robot import ur5
+    from lfdkit.execute import ur5
     from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, ExecutionError, execute_skill
     from lfdkit.tasks.sweeping.sim import sweep_motion
 
@@ -285,7 +285,7 @@ def evaluate_batch(
     skill : path
         A 2-D skill in metres (``lfdkit learn``).
     results : path
-        The JSON-lines results file (:func:`lfdkit.batch.run_batch`): resumed
+        The JSON-lines results file (:func:`lfdkit.app.batch.run_batch`): resumed
         when it holds this batch, refused when it holds another.
     random : int, optional
         Evaluate random scenes ``0 … random-1`` of ``seed`` (:func:`scenario`).
@@ -299,13 +299,13 @@ def evaluate_batch(
     check : {"plan", "kinematics", "robot", "mujoco"}
     speed_fraction : float
     executor : Executor, optional
-        Default :class:`lfdkit.batch.SerialExecutor`.
+        Default :class:`lfdkit.app.batch.SerialExecutor`.
     overwrite, window, progress
-        As in :func:`lfdkit.batch.run_batch`.
+        As in :func:`lfdkit.app.batch.run_batch`.
 
     Returns
     -------
-    lfdkit.batch.BatchSummary
+    lfdkit.app.batch.BatchSummary
     """
     from lfdkit.skill import Skill
 

@@ -33,14 +33,14 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit import __version__, metrics
-from lfdkit.emulate import Reward, plan_path
-from lfdkit.geometry import resample
+from lfdkit import __version__
+from lfdkit.app.report import Report
+from lfdkit.core.geometry import resample
+from lfdkit.core.progress import Progress, ProgressLike, Stage, as_progress
+from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.io import atomic_write, load_demos, save_path
 from lfdkit.io.scenes import load_scenes
-from lfdkit.progress import Progress, ProgressLike, Stage, as_progress
-from lfdkit.report import Report
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 from lfdkit.skill import Skill, learn, read_training_data
 from lfdkit.tasks.sweeping.examples import EXAMPLE_SEED, example_dataset, example_files
 from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, PLAN_SETTINGS, execute_skill
@@ -116,7 +116,7 @@ def run_demo(
     progress : Progress, callable, bool or None
         Reports each of the :data:`N_STEPS` steps and the stages inside them
         (learning, planning, the simulation, the figures); a callable gets a
-        short message as each starts (:func:`lfdkit.progress.as_progress`).
+        short message as each starts (:func:`lfdkit.core.progress.as_progress`).
         Default: silent.
     started : float, optional
         ``time.perf_counter()`` when the run started for the caller (the
@@ -376,7 +376,7 @@ def _figures(
     skill, truth, test_demos, test_scenes, true_plans, nominal, unseen, made: Callable[[], None]
 ) -> dict:
     """The demo's figures but the simulation's; ``made()`` is called as each is done."""
-    from lfdkit import plot
+    from lfdkit.app import plot
     from lfdkit.mimic import GMR
     from lfdkit.tasks.sweeping.figures import dustpan_outline
 

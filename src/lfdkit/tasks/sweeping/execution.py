@@ -9,14 +9,14 @@ table:
    brush's half width as the hard clearance around every obstacle;
 2. **tool poses**: the brush's flange poses every 2 mm along the plan, corners
    rounded (:func:`lfdkit.tasks.sweeping.sim.sweep_motion`,
-   :func:`lfdkit.robot.poses.sweeping_poses`);
+   :func:`lfdkit.execute.poses.sweeping_poses`);
 3. **inverse kinematics**: one continuous branch within the joint limits
-   (:func:`lfdkit.robot.ur5.inverse_path`) for any UR-type
-   :class:`lfdkit.robot.arm.Arm`;
+   (:func:`lfdkit.execute.ur5.inverse_path`) for any UR-type
+   :class:`lfdkit.execute.arm.Arm`;
 4. **timing**: time-optimal within the arm's joint speed and acceleration
-   limits times a speed fraction (:func:`lfdkit.robot.timing.time_parameterize`);
+   limits times a speed fraction (:func:`lfdkit.execute.timing.time_parameterize`);
 5. **URScript**: a ``servoj`` stream at :data:`SERVO_RATE`
-   (:func:`lfdkit.robot.urscript.urscript_program`, which checks every sample
+   (:func:`lfdkit.execute.urscript.urscript_program`, which checks every sample
    against the arm's limits);
 6. **MuJoCo**: the same trajectory in the sweeping scene, the dustpan at the
    goal and the cube in front of the brush
@@ -25,7 +25,7 @@ table:
 
 What the robot cannot do is refused with an :class:`ExecutionError` naming
 what and where (an unreachable pose and its position, a joint limit, a tool
-faster than :data:`lfdkit.robot.urscript.MAX_TOOL_SPEED`), before any file is
+faster than :data:`lfdkit.execute.urscript.MAX_TOOL_SPEED`), before any file is
 written; what happens in the simulated scene (the cube misses the dustpan, an
 obstacle is touched) is an outcome, reported in the result. MuJoCo missing
 skips the simulation with a reason.
@@ -45,16 +45,16 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__
+from lfdkit.core.geometry import path_length
+from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.emulate import Plan
-from lfdkit.geometry import path_length
+from lfdkit.execute import ur5
+from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.poses import pose_vector, unwrap_rotvecs, yaw_from_quaternions
+from lfdkit.execute.timing import Timing, time_parameterize
+from lfdkit.execute.urscript import MAX_TOOL_SPEED, TABLE_Z, Workspace, urscript_program
 from lfdkit.io import atomic_write, save_path, write_text
-from lfdkit.progress import ProgressLike, as_progress
-from lfdkit.robot import ur5
-from lfdkit.robot.arm import UR5, Arm, check_arm
-from lfdkit.robot.poses import pose_vector, unwrap_rotvecs, yaw_from_quaternions
-from lfdkit.robot.timing import Timing, time_parameterize
-from lfdkit.robot.urscript import MAX_TOOL_SPEED, TABLE_Z, Workspace, urscript_program
-from lfdkit.scene import Scene
+from lfdkit.model.scene import Scene
 from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.scenarios import BRUSH, Dustpan, SweepingTask, obstacle_class
 from lfdkit.tasks.sweeping.sim import SweepResult, simulate_sweep, sweep_motion
@@ -154,7 +154,7 @@ class SweepExecution:
         """Rows ``t, x, y, z, rx, ry, rz``: when the flange passes each pose, and the pose.
 
         Positions in metres, orientation as a rotation vector (rad) kept
-        continuous along the path (:func:`lfdkit.robot.poses.unwrap_rotvecs`),
+        continuous along the path (:func:`lfdkit.execute.poses.unwrap_rotvecs`),
         as ``movel`` takes it; ``t`` in seconds from the start of the motion.
         """
         vectors = pose_vector(self.poses)
@@ -274,7 +274,7 @@ def execute_skill(
         with radius 0 gets its class's (:func:`obstacle_class`): that is how
         it stands in the simulation, so the plan keeps clear of it.
     arm : Arm
-        A UR-type arm (default the UR5; :data:`lfdkit.robot.arm.UR10`).
+        A UR-type arm (default the UR5; :data:`lfdkit.execute.arm.UR10`).
     speed_fraction : float
         In ``(0, 1]``: the fraction of the arm's joint speed limits (and its
         square of the acceleration limits) the motion is timed at.
@@ -285,11 +285,11 @@ def execute_skill(
     header : str, optional
         A comment line for the URScript program.
     progress : Progress, callable, bool or None
-        Reports each step (:func:`lfdkit.progress.as_progress`); default silent.
+        Reports each step (:func:`lfdkit.core.progress.as_progress`); default silent.
     yaw : {"demonstrated", "tangent"}, optional
         The brush's heading along the sweep: ``"demonstrated"`` follows the
         orientation the skill learned (the heading of the plan's
-        orientations, :func:`lfdkit.robot.poses.yaw_from_quaternions`),
+        orientations, :func:`lfdkit.execute.poses.yaw_from_quaternions`),
         ``"tangent"`` the path's tangent. Default: demonstrated for a skill
         with orientation (:attr:`lfdkit.skill.Skill.orientation_dmp_`),
         else tangent.
@@ -307,7 +307,7 @@ def execute_skill(
         When the robot cannot follow the plan: a pose out of reach, no
         solution within the joint limits, a singularity or branch flip, a
         sample over the arm's limits, the tool faster than
-        :data:`~lfdkit.robot.urscript.MAX_TOOL_SPEED`; the message names the
+        :data:`~lfdkit.execute.urscript.MAX_TOOL_SPEED`; the message names the
         pose or sample and where it is.
     lfdkit.emulate.UnsafePlanError
         When no plan keeps out of the obstacles.

@@ -1,7 +1,7 @@
 """Figures of the sweeping task: top views of simulated sweeps.
 
 Drawing that is not particular to sweeping (scenes, plans, rewards, colours)
-is :mod:`lfdkit.plot`'s; this module adds the dustpan and the brush's and the
+is :mod:`lfdkit.app.plot`'s; this module adds the dustpan and the brush's and the
 cube's traces of :class:`~lfdkit.tasks.sweeping.sim.SweepResult`.
 """
 
@@ -14,8 +14,8 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from lfdkit.plot import draw_scene, label_axes, plan_colors
-from lfdkit.scene import Scene
+from lfdkit.app.plot import draw_scene, label_axes, plan_colors
+from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import Dustpan
 
 if TYPE_CHECKING:

@@ -17,9 +17,9 @@ draws those, :data:`KINDS`:
 
 Every track accelerates, brakes and turns at most :data:`MAX_ACCELERATION`
 (0.3 m/s², centripetal ``v²/R`` included): the figure the tracker's
-allowance covers (:class:`lfdkit.motion.ConstantVelocityKalman`'s
+allowance covers (:class:`lfdkit.model.motion.ConstantVelocityKalman`'s
 ``max_acceleration``). A track starts and ends at rest (ramps at that
-acceleration), is stored as a :class:`lfdkit.motion.Trajectory` sampled at
+acceleration), is stored as a :class:`lfdkit.model.motion.Trajectory` sampled at
 :data:`TRACK_RATE` (linear in between), starts at least 8 cm plus its radius
 off the path (head-on: 10 cm ahead of the start), keeps
 :data:`~lfdkit.tasks.sweeping.moving.BASE_CLEARANCE` from the robot's base
@@ -38,9 +38,9 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_positive, check_random_state
-from lfdkit.motion import Trajectory
-from lfdkit.scene import Obstacle
+from lfdkit.core.validation import check_positive, check_random_state
+from lfdkit.model.motion import Trajectory
+from lfdkit.model.scene import Obstacle
 from lfdkit.tasks.sweeping.moving import (
     BASE_CLEARANCE,
     SLIDE_PAST,

@@ -65,11 +65,11 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_positive, check_random_state
+from lfdkit.core.validation import check_positive, check_random_state
 from lfdkit.emulate import Corridor, RecedingPlanner, UnsafePlanError
 from lfdkit.emulate.planner import timed_gaps
-from lfdkit.motion import ConstantVelocityKalman, Tracked, Trajectory
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.model.motion import ConstantVelocityKalman, Tracked, Trajectory
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
@@ -120,7 +120,7 @@ MAX_WAIT = 10.0
 #: Longest time between observations while the tool moves (s): longer steps are cut.
 MAX_PERIOD = 0.1
 #: The trackers' acceleration bound (m/s²): the allowance covers obstacles that
-#: speed up, brake or turn (v²/R) at most this hard (lfdkit.motion.ConstantVelocityKalman).
+#: speed up, brake or turn (v²/R) at most this hard (lfdkit.model.motion.ConstantVelocityKalman).
 TRACKER_MAX_ACCELERATION = 0.3
 #: How far ahead (s) the trackers' acceleration bound is carried (then held).
 TRACKER_BOUND_HORIZON = 0.3
@@ -148,7 +148,7 @@ class MovingScenario:
         The sweep's ends (m); the dustpan is at the goal.
     dustpan : Dustpan
     obstacle : Obstacle
-        The sliding cup or marker; its motion (a :class:`lfdkit.motion.Trajectory`)
+        The sliding cup or marker; its motion (a :class:`lfdkit.model.motion.Trajectory`)
         is the truth: at rest until :attr:`start_time`, then sliding.
     speed : float
         m/s.
@@ -639,7 +639,7 @@ def _coupled_dmp(
     """A ``movement_primitives`` DMP of the nominal with the obstacle coupling term."""
     from movement_primitives.dmp import DMP, CouplingTermObstacleAvoidance2D
 
-    from lfdkit.geometry import resample
+    from lfdkit.core.geometry import resample
 
     dt = 0.02
     grid = np.arange(0.0, times[-1] + 0.5 * dt, dt)

@@ -18,7 +18,7 @@ The objects
 * :data:`CUBE` (:class:`Cube`): the green cube that is swept, a free body.
 * :data:`BRUSH` (:class:`Brush`): the tool, a box head on a handle below the
   flange; its flange height while sweeping is the thesis's
-  :data:`lfdkit.robot.poses.SWEEP_HEIGHT` (0.192 m, the default of the robot
+  :data:`lfdkit.execute.poses.SWEEP_HEIGHT` (0.192 m, the default of the robot
   layer's sweeping poses, so it is written there).
 * :class:`Dustpan`: a floor flush with the table and three low walls, placed
   per scene.
@@ -61,11 +61,11 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_finite, check_path, check_positive, check_random_state
+from lfdkit.core.geometry import left_normals, path_length, resample_between
+from lfdkit.core.validation import check_finite, check_path, check_positive, check_random_state
 from lfdkit.datasets.emulation import CUP_RADIUS, MARKER_RADIUS, SWEEP_GOAL, SWEEP_START
-from lfdkit.geometry import left_normals, path_length, resample_between
-from lfdkit.robot.poses import SWEEP_HEIGHT
-from lfdkit.scene import Obstacle, Scene
+from lfdkit.execute.poses import SWEEP_HEIGHT
+from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
     "BRUSH",
@@ -139,7 +139,7 @@ class Brush:
     """A box brush head on a handle below the flange.
 
     The tool frame is the flange: sweeping poses
-    (:func:`lfdkit.robot.poses.sweeping_poses`) put it at ``sweep_height`` with
+    (:func:`lfdkit.execute.poses.sweeping_poses`) put it at ``sweep_height`` with
     its ``z`` axis down, its ``x`` axis along the path and the brush's long
     edge along its ``y`` axis; the handle runs down the tool ``z`` axis to the
     head, whose bottom is ``clearance`` above the table.

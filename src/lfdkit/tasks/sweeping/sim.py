@@ -2,22 +2,22 @@
 
 The scene is the one :mod:`.scenarios` describes (table, cube, brush, dustpan,
 cups and markers, every dimension, mass and colour read from there). The robot
-is an :class:`lfdkit.robot.arm.Arm` (``arm=``, default the thesis's UR5),
-built by :mod:`lfdkit.robot.mujoco` from the description's DH table, masses,
+is an :class:`lfdkit.execute.arm.Arm` (``arm=``, default the thesis's UR5),
+built by :mod:`lfdkit.execute.mujoco` from the description's DH table, masses,
 link radii, joint limits and servo gains, so MuJoCo's flange pose equals
-:func:`lfdkit.robot.ur5.forward` to round-off; its joint count, its limits
+:func:`lfdkit.execute.ur5.forward` to round-off; its joint count, its limits
 (for the timing) and its kinematics all come from the description, so another
-arm (:data:`lfdkit.robot.arm.UR10`) sweeps without a change here. The sweep's
+arm (:data:`lfdkit.execute.arm.UR10`) sweeps without a change here. The sweep's
 inverse kinematics is the analytic one of UR-type arms
-(:attr:`lfdkit.robot.arm.Arm.ur_type`); :data:`HOME` picks its branch.
+(:attr:`lfdkit.execute.arm.Arm.ur_type`); :data:`HOME` picks its branch.
 
 The brush is a box on a handle fixed to the flange; cube, cups and markers are
 free bodies, so physics decides where the cube goes and whether an obstacle is
 hit. An obstacle stands as its shape's solid
-(:meth:`lfdkit.scene.Obstacle.solid`): a round one as an upright cylinder of
+(:meth:`lfdkit.model.scene.Obstacle.solid`): a round one as an upright cylinder of
 the height its class describes
 (:func:`lfdkit.tasks.sweeping.scenarios.obstacle_class`; a class the task does
-not know stands as a cup), a rod (:class:`lfdkit.scene.Capsule`) lying on the
+not know stands as a cup), a rod (:class:`lfdkit.model.scene.Capsule`) lying on the
 table; of the obstacle's own radius (the class's where it is 0).
 
 Control
@@ -46,12 +46,18 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit._validation import check_path, check_positive
-from lfdkit.geometry import arc_length, path_length, project_onto_polyline, resample, smooth_path
-from lfdkit.progress import ProgressLike, Stage, as_progress
-from lfdkit.robot import ur5
-from lfdkit.robot.arm import UR5, Arm, check_arm
-from lfdkit.robot.mujoco import (
+from lfdkit.core.geometry import (
+    arc_length,
+    path_length,
+    project_onto_polyline,
+    resample,
+    smooth_path,
+)
+from lfdkit.core.progress import ProgressLike, Stage, as_progress
+from lfdkit.core.validation import check_path, check_positive
+from lfdkit.execute import ur5
+from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.mujoco import (
     FIXED_CONTACT,
     OBJECT_CONTACT,
     ROBOT_CONTACT,
@@ -61,9 +67,9 @@ from lfdkit.robot.mujoco import (
     render_camera,
     robot_xml,
 )
-from lfdkit.robot.poses import sweeping_poses
-from lfdkit.robot.timing import Timing, time_parameterize
-from lfdkit.scene import Scene
+from lfdkit.execute.poses import sweeping_poses
+from lfdkit.execute.timing import Timing, time_parameterize
+from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
     CUBE,
@@ -405,7 +411,7 @@ def simulate_sweep(
     Parameters
     ----------
     timing : Timing
-        The joint trajectory (:func:`lfdkit.robot.timing.time_parameterize`).
+        The joint trajectory (:func:`lfdkit.execute.timing.time_parameterize`).
     task : SweepingTask
     brush : Brush
     tolerance : float
@@ -419,7 +425,7 @@ def simulate_sweep(
         The arm that runs ``timing`` (as many joints).
     progress : Progress, callable, bool or None
         Counts the physics steps and reports the rendering
-        (:func:`lfdkit.progress.as_progress`); default silent.
+        (:func:`lfdkit.core.progress.as_progress`); default silent.
 
     Returns
     -------
@@ -557,15 +563,15 @@ def sweep_motion(
     brush : Brush
         Gives the sweeping height.
     smoothing : float
-        Width (m) of the corner rounding (:func:`lfdkit.geometry.smooth_path`);
+        Width (m) of the corner rounding (:func:`lfdkit.core.geometry.smooth_path`);
         0 leaves the path as it is.
     q_home : array_like, shape (arm.n_joints,)
         Configuration that picks the IK branch (:data:`HOME` for a UR-type arm).
     arm : Arm
-        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`).
+        A UR-type arm (:attr:`lfdkit.execute.arm.Arm.ur_type`).
     yaw : array_like, shape (n,), optional
         The brush's heading at each point of ``path`` (rad, unwrapped; e.g.
-        :func:`lfdkit.robot.poses.yaw_from_quaternions` of a plan's
+        :func:`lfdkit.execute.poses.yaw_from_quaternions` of a plan's
         orientations), carried to the poses by arc-length fraction; default
         along the path's tangent.
 
@@ -579,7 +585,7 @@ def sweep_motion(
 
     Raises
     ------
-    lfdkit.robot.ur5.KinematicsError
+    lfdkit.execute.ur5.KinematicsError
         Unreachable poses, joint limits or a singularity, naming the pose.
     """
     path = check_path(path, "path", n_dims=2, min_points=2)
@@ -721,7 +727,7 @@ def execute_sweep(
     task : SweepingTask
     brush : Brush
     smoothing : float
-        Width (m) of the corner rounding (:func:`lfdkit.geometry.smooth_path`)
+        Width (m) of the corner rounding (:func:`lfdkit.core.geometry.smooth_path`)
         applied before the poses are made: a plan's corners would otherwise
         turn the brush abruptly. 0 leaves the path as it is.
     speed_fraction : float
@@ -734,7 +740,7 @@ def execute_sweep(
         Render the final scene (``SweepResult.image``).
     camera : {"overview", "top"}
     arm : Arm
-        A UR-type arm (:attr:`lfdkit.robot.arm.Arm.ur_type`); its limits time the motion.
+        A UR-type arm (:attr:`lfdkit.execute.arm.Arm.ur_type`); its limits time the motion.
     progress : Progress, callable, bool or None
         As in :func:`simulate_sweep`.
 

@@ -1,0 +1,895 @@
+"""Batch runs: many independent tasks on one process, local processes or a Dask cluster.
+
+One seam, the :class:`concurrent.futures.Executor` protocol, runs the work
+units (:func:`make_executor`):
+
+* serial (the default): :class:`SerialExecutor`, in this process;
+* local processes (``workers=N``): a :class:`~concurrent.futures.ProcessPoolExecutor`
+  started with ``spawn`` (MuJoCo and numba's threads do not survive a fork);
+* a Dask distributed cluster (``scheduler="tcp://HOST:PORT"``, or
+  ``dask_local=N`` to start a :class:`distributed.LocalCluster` of N
+  single-threaded worker processes): ``Client.get_executor()``.
+
+Work units are pure top-level functions of picklable inputs (their random
+numbers derive from a base seed and the task's index only, and they run with
+one BLAS thread), so the results are the same whatever the executor and
+however many workers run them.
+
+:func:`run_batch` submits tasks with a bounded number in flight (a window of
+a few tasks per worker, never all of them at once), writes each result as one
+JSON line as soon as it finishes (flushed), and keeps nothing else: the
+caller's memory does not grow with the number of tasks. The results file
+starts with a header line naming the batch (its ``spec`` and a hash of it);
+run the same batch again and the tasks already in the file are skipped, so an
+interrupted batch resumes where it stopped. A task that raises is recorded as
+``{"task": ID, "error": "Type: message"}`` and the batch goes on.
+
+The results file is a regular file or nothing: a FIFO, device or symbolic
+link is refused (with ``overwrite`` too; a link is never written through).
+One batch writes it at a time: the file is locked (``flock``) while a batch
+runs and a second one is refused, naming the first one's pid. Rows written
+twice for one task (by an older, unlocked run) are kept once on resume, with
+a warning.
+
+:func:`learn_task` is the generic work unit of ``lfdkit batch learn`` (one
+skill per folder of demonstrations); the sweeping task's scenario evaluation
+is :func:`lfdkit.tasks.sweeping.batch.evaluate_scenario`.
+
+This module imports only the standard library at import time; NumPy, the
+skill and Dask are imported where they are used.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import math
+import os
+import stat
+import time
+import warnings
+from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
+from concurrent.futures import (
+    FIRST_COMPLETED,
+    Executor,
+    Future,
+    ProcessPoolExecutor,
+    wait,
+)
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from lfdkit.core.progress import ProgressLike, as_progress
+
+__all__ = [
+    "FORMAT",
+    "BatchSummary",
+    "DaskExecutor",
+    "ExecutorBrokenError",
+    "ProcessExecutor",
+    "ResultsInUseError",
+    "SerialExecutor",
+    "describe_executor",
+    "learn_batch",
+    "learn_outputs",
+    "learn_task",
+    "make_executor",
+    "read_results",
+    "results_header",
+    "run_batch",
+    "spec_hash",
+]
+
+#: The first key of a results file's header line, and its format version.
+FORMAT = "lfdkit-batch"
+FORMAT_VERSION = 1
+#: Tasks in flight per worker: enough to keep every worker busy while the
+#: client writes results, few enough that the client holds almost nothing.
+WINDOW_PER_WORKER = 4
+#: Environment that keeps BLAS and OpenMP to one thread in a worker process.
+ONE_THREAD_ENV = {
+    name: "1"
+    for name in (
+        "OMP_NUM_THREADS",
+        "OPENBLAS_NUM_THREADS",
+        "MKL_NUM_THREADS",
+        "NUMBA_NUM_THREADS",
+        "VECLIB_MAXIMUM_THREADS",
+    )
+}
+
+
+# ------------------------------------------------------------------ executors
+class SerialExecutor(Executor):
+    """Runs each task in this process as it is submitted: the default, and the reference.
+
+    :meth:`submit` returns a finished :class:`~concurrent.futures.Future`
+    holding the result or the exception.
+    """
+
+    workers = 1
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        future: Future = Future()
+        try:
+            result = fn(*args, **kwargs)
+        except BaseException as exc:
+            if not isinstance(exc, Exception):  # Ctrl-C, SystemExit: end the batch
+                raise
+            future.set_exception(exc)
+        else:
+            future.set_result(result)
+        return future
+
+    def __repr__(self) -> str:
+        return "SerialExecutor()"
+
+
+class ProcessExecutor(ProcessPoolExecutor):
+    """Local worker processes, started with ``spawn``, one BLAS thread each.
+
+    Parameters
+    ----------
+    workers : int
+        Number of worker processes.
+    """
+
+    def __init__(self, workers: int) -> None:
+        import multiprocessing
+
+        super().__init__(
+            max_workers=workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=_one_thread_worker,
+        )
+        self.workers = workers
+
+    def __repr__(self) -> str:
+        return f"ProcessExecutor(workers={self.workers})"
+
+
+class DaskExecutor(Executor):
+    """A Dask distributed client as an :class:`~concurrent.futures.Executor`.
+
+    Wraps ``client.get_executor(pure=False)``: :meth:`submit` returns
+    :class:`concurrent.futures.Future` objects.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        Connected to a scheduler with at least one worker.
+
+    Attributes
+    ----------
+    client : distributed.Client
+    workers : int
+        Threads of the cluster's workers when it was wrapped (its capacity).
+    """
+
+    def __init__(self, client: Any) -> None:
+        self.client = client
+        self._executor = client.get_executor(pure=False)
+        self.workers = max(1, sum(client.nthreads().values()))
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._executor.shutdown(wait=wait)
+
+    def __repr__(self) -> str:
+        return f"DaskExecutor({self.client.scheduler.address}, workers={self.workers})"
+
+
+def _one_thread_worker() -> None:
+    """Initializer of a worker process: one BLAS/OpenMP thread (set before NumPy loads)."""
+    os.environ.update(ONE_THREAD_ENV)
+
+
+def _check_count(value: Any, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ValueError(f"{name}: expected a whole number of workers >= 1, got {value!r}")
+    return value
+
+
+def describe_executor(
+    workers: int | None = None, scheduler: str | None = None, dask_local: int | None = None
+) -> str:
+    """A few words for the executor :func:`make_executor` makes from the same arguments."""
+    if scheduler is not None:
+        return f"the Dask cluster at {scheduler}"
+    if dask_local is not None:
+        return f"a local Dask cluster of {dask_local} worker process{'es' * (dask_local > 1)}"
+    if workers is not None:
+        return f"{workers} local worker process{'es' * (workers > 1)}"
+    return "this process"
+
+
+@contextlib.contextmanager
+def make_executor(
+    workers: int | None = None,
+    scheduler: str | None = None,
+    dask_local: int | None = None,
+    *,
+    connect_timeout: float = 30.0,
+) -> Iterator[Executor]:
+    """The executor that runs a batch's tasks, as a context manager.
+
+    Give at most one of the three; none gives :class:`SerialExecutor`.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Local worker processes (:class:`ProcessExecutor`).
+    scheduler : str, optional
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``
+        (started with ``dask scheduler``; workers with ``dask worker ADDRESS
+        --nworkers N --nthreads 1``, in the same Python environment).
+    dask_local : int, optional
+        Start a :class:`distributed.LocalCluster` of this many worker
+        processes, one thread each, for the batch.
+    connect_timeout : float
+        Seconds to wait for the scheduler and its first worker.
+
+    Yields
+    ------
+    concurrent.futures.Executor
+        With a ``workers`` attribute: how many tasks it runs at once.
+        On leaving, it is shut down (and a local cluster closed); after an
+        exception, without waiting for the tasks still running.
+
+    Raises
+    ------
+    ValueError
+        For more than one of the three, a count below 1, or a scheduler that
+        cannot be reached (or has no worker) within ``connect_timeout``.
+    ImportError
+        For a Dask cluster without the ``distributed`` package, with the
+        command that installs it.
+    """
+    chosen = {"workers": workers, "scheduler": scheduler, "dask_local": dask_local}
+    given = [name for name, value in chosen.items() if value is not None]
+    if len(given) > 1:
+        raise ValueError(f"{given[1]}: give one of workers, scheduler and dask_local, not both")
+    if workers is not None:
+        executor: Executor = ProcessExecutor(_check_count(workers, "workers"))
+    elif scheduler is None and dask_local is None:
+        executor = SerialExecutor()
+    else:
+        with _dask_client(scheduler, dask_local, connect_timeout) as client:
+            with _shut_down(DaskExecutor(client)) as executor:
+                yield executor
+        return
+    with _shut_down(executor) as executor:
+        yield executor
+
+
+@contextlib.contextmanager
+def _shut_down(executor: Executor) -> Iterator[Executor]:
+    """Shut ``executor`` down on leaving: waiting for it, unless an exception ends the batch."""
+    try:
+        yield executor
+    except BaseException:
+        executor.shutdown(wait=False, cancel_futures=True)
+        raise
+    executor.shutdown(wait=True)
+
+
+@contextlib.contextmanager
+def _dask_client(scheduler: str | None, dask_local: int | None, timeout: float) -> Iterator[Any]:
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise ImportError(
+            "a Dask cluster needs the optional package distributed: "
+            'pip install "lfdkit[dask]" (or pip install "dask[distributed]")'
+        ) from None
+    import logging
+
+    if dask_local is not None:
+        n = _check_count(dask_local, "dask_local")
+        with (
+            LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.CRITICAL,  # workers outliving the scheduler log errors
+            ) as cluster,
+            Client(cluster) as client,
+        ):
+            client.wait_for_workers(n, timeout=timeout)
+            yield client
+        return
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ValueError(f"scheduler: expected an address like tcp://HOST:8786, got {scheduler!r}")
+    try:
+        client = Client(scheduler, timeout=timeout)
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"scheduler: cannot connect to {scheduler}: {exc}") from None
+    with client:
+        try:
+            client.wait_for_workers(1, timeout=timeout)
+        except TimeoutError:
+            raise ValueError(
+                f"scheduler: {scheduler} has no worker after {timeout:g} s; start some with "
+                f"dask worker {scheduler} --nthreads 1"
+            ) from None
+        yield client
+
+
+# ------------------------------------------------------------------ results files
+def spec_hash(spec: Mapping[str, Any]) -> str:
+    """A short hash of a batch's description (canonical JSON): what its results file is of."""
+    text = json.dumps(_jsonable(spec), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def results_header(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """The header line of a results file: ``{"lfdkit-batch": 1, "spec": ..., "hash": ...}``.
+
+    Raises
+    ------
+    ValueError
+        If the file does not start with a batch header.
+    """
+    with open(path, encoding="utf-8") as f:
+        first = f.readline()
+    try:
+        header = json.loads(first)
+    except json.JSONDecodeError:
+        header = None
+    if not isinstance(header, dict) or FORMAT not in header:
+        raise ValueError(f"{os.fspath(path)}: not an lfdkit batch results file (no header line)")
+    return header
+
+
+def read_results(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
+    """The records of a results file, one dict per finished task, in the order they finished.
+
+    A last line cut short (the batch was killed while writing it) is skipped.
+    Each record has ``task`` and either the work unit's fields or ``error``.
+    """
+    results_header(path)
+    with open(path, encoding="utf-8") as f:
+        f.readline()
+        for line in f:
+            if not line.endswith("\n"):
+                return
+            yield json.loads(line)
+
+
+def _jsonable(value: Any) -> Any:
+    """``value`` with tuples as lists, NumPy scalars and arrays as numbers, NaN and inf as None."""
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, (str, int, bool)) or value is None:
+        return value
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    tolist = getattr(value, "tolist", None)  # NumPy scalars and arrays
+    if callable(tolist):
+        return _jsonable(tolist())
+    raise TypeError(f"cannot write a {type(value).__name__} to a results file")
+
+
+class ResultsInUseError(RuntimeError):
+    """Another batch is writing the same results file (it holds the file's lock)."""
+
+
+def _lock_path(path: Path) -> Path:
+    """The sidecar naming the pid of the batch that holds ``path``'s lock (for the message)."""
+    return path.with_name(f".{path.name}.pid")
+
+
+class _ResultsFile:
+    """A results file open for appending: checked, locked, the tasks done known.
+
+    Only a missing path or a regular file is opened (a FIFO would block the
+    batch forever, a link would be written through): the path is refused as
+    :func:`lfdkit.io.atomic.check_output_path` refuses it, whatever
+    ``overwrite`` says, and opened with ``O_NOFOLLOW``. The open file is
+    locked (``flock``, exclusive, not waiting) before anything is read or
+    truncated, so a second batch on the same file is refused instead of
+    interleaving its rows with the first one's.
+    """
+
+    def __init__(self, path: Path, spec: Mapping[str, Any], *, overwrite: bool) -> None:
+        from lfdkit.io.atomic import check_output_path
+
+        self.path = path
+        self.hash = spec_hash(spec)
+        self.done: set[Hashable] = set()
+        self.failed_before = 0
+        self.duplicates = 0
+        existing = check_output_path(path, overwrite=True)  # special files and links refused
+        self.file = self._open_locked(path)
+        try:
+            resume = existing is not None and not overwrite and os.fstat(self.file.fileno()).st_size
+            if resume:
+                self._read_existing()
+                self.file.seek(0, os.SEEK_END)
+            else:
+                self.file.truncate(0)
+                header = {FORMAT: FORMAT_VERSION, "hash": self.hash, "spec": _jsonable(spec)}
+                self.file.write(json.dumps(header) + "\n")
+                self.file.flush()
+        except BaseException:
+            self.close()
+            raise
+        self.resumed = bool(resume)
+
+    def _open_locked(self, path: Path) -> Any:
+        flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+        fd = os.open(path, flags, 0o666)  # O_NONBLOCK: a FIFO put there meanwhile cannot hang us
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                from lfdkit.io.atomic import NotRegularFileError, file_kind
+
+                raise NotRegularFileError(
+                    f"{path}: is {file_kind(os.fstat(fd).st_mode)}, not a regular file; "
+                    "give another results file"
+                )
+            try:
+                import fcntl
+            except ImportError:  # pragma: no cover - Windows: no lock
+                fcntl = None
+            if fcntl is not None:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                except BlockingIOError:
+                    holder = _read_pid(_lock_path(path))
+                    who = f" (pid {holder})" if holder else ""
+                    raise ResultsInUseError(
+                        f"{path}: results file is in use by another batch{who}; wait for it to "
+                        "finish, or write to another file"
+                    ) from None
+            self._pid_file = _lock_path(path)
+            with contextlib.suppress(OSError):
+                self._pid_file.write_text(f"{os.getpid()}\n", encoding="utf-8")
+            return os.fdopen(fd, "r+", encoding="utf-8", newline="")
+        except BaseException:
+            os.close(fd)
+            raise
+
+    def _read_existing(self) -> None:
+        header = results_header(self.path)
+        if header.get("hash") != self.hash:
+            raise ValueError(
+                f"{self.path}: holds the results of another batch (spec hash "
+                f"{header.get('hash')}, this one {self.hash}); pass --force (overwrite=True) to "
+                "start over, or write to another file"
+            )
+        keep: list[bytes] = []
+        with open(self.path, "rb") as f:
+            head = f.readline()
+            size = len(head)
+            for raw in f:
+                if not raw.endswith(b"\n"):
+                    break
+                try:
+                    record = json.loads(raw)
+                    key = _key(record["task"])
+                except (json.JSONDecodeError, KeyError, TypeError):
+                    break
+                size += len(raw)
+                if key in self.done:  # written twice (e.g. by an older, unlocked run)
+                    self.duplicates += 1
+                    continue
+                self.done.add(key)
+                self.failed_before += "error" in record
+                keep.append(raw)
+        if self.duplicates:
+            # Rewrite the file with one row per task, atomically (under our lock).
+            from lfdkit.io.atomic import atomic_write
+
+            def write(f: Any) -> None:
+                f.write(head)
+                f.writelines(keep)
+
+            os.fsync(self.file.fileno())
+            atomic_write(self.path, write, binary=True, overwrite=True)
+            # The rename replaced the inode we hold locked: lock the new one.
+            old = self.file
+            self.file = self._open_locked(self.path)
+            old.close()
+            warnings.warn(
+                f"{self.path}: {self.duplicates} task row{'s' * (self.duplicates > 1)} "
+                "appeared twice; kept the first of each (the file now has one row per task)",
+                stacklevel=4,
+            )
+        elif size < self.path.stat().st_size:  # a line cut short by a kill: drop it
+            self.file.truncate(size)
+
+    def write(self, record: Mapping[str, Any]) -> None:
+        self.file.write(json.dumps(_jsonable(record), allow_nan=False) + "\n")
+        self.file.flush()
+
+    def close(self) -> None:
+        with contextlib.suppress(OSError):
+            self.file.flush()
+            os.fsync(self.file.fileno())
+        if _read_pid(getattr(self, "_pid_file", None)) == os.getpid():
+            with contextlib.suppress(OSError):
+                self._pid_file.unlink()
+        self.file.close()  # releases the lock
+
+
+def _read_pid(path: Path | None) -> int | None:
+    if path is None:
+        return None
+    try:
+        return int(path.read_text(encoding="utf-8").strip())
+    except (OSError, ValueError):
+        return None
+
+
+def _key(task_id: Any) -> Hashable:
+    """A task id as a set key (lists read back from JSON as tuples)."""
+    return tuple(task_id) if isinstance(task_id, list) else task_id
+
+
+# ------------------------------------------------------------------ running
+class ExecutorBrokenError(RuntimeError):
+    """The executor itself failed (a worker process died, the cluster went away)."""
+
+
+@dataclass
+class BatchSummary:
+    """What a :func:`run_batch` call did.
+
+    Attributes
+    ----------
+    path : Path
+        The results file.
+    total : int
+        Tasks of the batch.
+    skipped : int
+        Tasks already in the file (resumed), not run again.
+    done : int
+        Tasks run now that succeeded.
+    failed : int
+        Tasks run now that raised (recorded with their error).
+    failed_before : int
+        Failed tasks found in the file when resuming.
+    seconds : float
+        Wall time of this call.
+    errors : list of str
+        The first few errors of this call, ``"TASK: Type: message"``.
+    """
+
+    path: Path
+    total: int = 0
+    skipped: int = 0
+    done: int = 0
+    failed: int = 0
+    failed_before: int = 0
+    seconds: float = 0.0
+    errors: list[str] = field(default_factory=list)
+
+    @property
+    def throughput(self) -> float:
+        """Tasks run per second in this call (nan before any)."""
+        ran = self.done + self.failed
+        return ran / self.seconds if ran and self.seconds > 0 else float("nan")
+
+
+def run_batch(
+    executor: Executor,
+    fn: Callable[..., Mapping[str, Any]],
+    tasks: Iterable[tuple[Any, tuple[Any, ...]]],
+    results: str | os.PathLike[str],
+    *,
+    spec: Mapping[str, Any],
+    total: int | None = None,
+    overwrite: bool = False,
+    window: int | None = None,
+    progress: ProgressLike = None,
+    label: str = "batch",
+) -> BatchSummary:
+    """Run ``fn(*args)`` for every ``(task_id, args)`` and stream the results to a file.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor
+        From :func:`make_executor` (any executor works; its ``workers``
+        attribute, 1 if missing, sizes the window).
+    fn : callable
+        A picklable top-level function returning a JSON-ready mapping.
+    tasks : iterable of (task_id, args)
+        Read lazily, as tasks are submitted. ``task_id`` is a JSON value
+        (int, str, or a list of them) unique in the batch.
+    results : path
+        JSON-lines results file: a header line, then one record per task
+        ``{"task": task_id, **fn(*args)}`` or ``{"task": task_id, "error":
+        "Type: message"}``, in the order the tasks finish.
+    spec : mapping
+        What the batch is (its inputs and settings), written in the header.
+        An existing file with the same spec is resumed: its tasks are not
+        run again; one of another spec is refused unless ``overwrite``.
+    total : int, optional
+        Number of tasks (for the progress bar and its ETA); default
+        ``len(tasks)`` when it has one.
+    overwrite : bool
+        Start the file afresh.
+    window : int, optional
+        Most tasks in flight at once (default :data:`WINDOW_PER_WORKER` per
+        worker). The caller holds at most this many futures and results.
+    progress : Progress, callable, bool or None
+        A stage with a bar (count, throughput, ETA) over the tasks to run.
+    label : str
+        The progress stage's label.
+
+    Returns
+    -------
+    BatchSummary
+
+    Raises
+    ------
+    ValueError
+        If ``results`` holds another batch's results (and not ``overwrite``).
+    ExecutorBrokenError
+        If the executor breaks (a worker process killed); the tasks finished
+        so far are in the file, and running the batch again resumes.
+    """
+    started = time.perf_counter()
+    path = Path(results)
+    if total is None and hasattr(tasks, "__len__"):
+        total = len(tasks)  # type: ignore[arg-type]
+    out = _ResultsFile(path, spec, overwrite=overwrite)
+    summary = BatchSummary(path=path, total=total or 0, failed_before=out.failed_before)
+    capacity = int(getattr(executor, "workers", 1) or 1)
+    window = WINDOW_PER_WORKER * capacity if window is None else int(window)
+    if window < 1:
+        raise ValueError(f"window: expected a number of tasks >= 1, got {window}")
+    todo = None if total is None else max(0, total - len(out.done))
+    progress = as_progress(progress)
+    pending: dict[Future, Any] = {}
+    counted = 0
+    try:
+        with progress.stage(label, total=todo, unit="task") as stage:
+            queue = iter(tasks)
+
+            def fill() -> None:
+                nonlocal counted
+                while len(pending) < window:
+                    item = next(queue, None)
+                    if item is None:
+                        return
+                    task_id, args = item
+                    counted += 1
+                    if _key(_jsonable(task_id)) in out.done:
+                        summary.skipped += 1
+                        continue
+                    try:
+                        future = executor.submit(fn, *args)
+                    except (BrokenProcessPool, RuntimeError) as exc:
+                        raise ExecutorBrokenError(_broken(exc)) from None
+                    pending[future] = task_id
+
+            fill()
+            while pending:
+                finished, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in finished:
+                    task_id = pending.pop(future)
+                    record = _record(task_id, future)
+                    out.write(record)
+                    if "error" in record:
+                        summary.failed += 1
+                        if len(summary.errors) < 5:
+                            summary.errors.append(f"{task_id}: {record['error']}")
+                    else:
+                        summary.done += 1
+                    ran = summary.done + summary.failed
+                    rate = ran / (time.perf_counter() - started)
+                    shown = f"{rate:.1f}" if rate >= 1 else f"{rate:.3f}"
+                    detail = f"{shown} tasks/s" + (
+                        f", {summary.failed} failed" if summary.failed else ""
+                    )
+                    stage.advance(detail=detail)
+                fill()
+    finally:
+        for future in pending:
+            future.cancel()
+        out.close()
+        summary.seconds = time.perf_counter() - started
+        if total is None:
+            summary.total = counted
+    return summary
+
+
+def _record(task_id: Any, future: Future) -> dict[str, Any]:
+    """The results-file record of a finished task; a broken executor ends the batch."""
+    if future.cancelled():  # by the executor (a Dask cluster shutting down), not by us
+        raise ExecutorBrokenError("the executor cancelled a task; run the batch again to resume")
+    exc = future.exception()
+    if exc is None:
+        return {"task": task_id, **future.result()}
+    if isinstance(exc, BrokenProcessPool):
+        raise ExecutorBrokenError(_broken(exc))
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return {
+        "task": task_id,
+        "error": f"{type(exc).__name__}: {text}" if text else type(exc).__name__,
+    }
+
+
+def _broken(exc: BaseException) -> str:
+    return (
+        f"the executor failed ({type(exc).__name__}: {exc}); the results so far are kept: "
+        "run the batch again to resume"
+    )
+
+
+# ------------------------------------------------------------------ work units
+#: Demonstrations and scene files a folder of ``lfdkit batch learn`` may hold, by preference.
+DEMOS_NAMES = ("demos.csv", "demos.npz", "demos.json")
+SCENES_NAMES = ("scenes.csv", "scenes.json")
+
+
+def learn_task(
+    folder: str, output: str, params: Mapping[str, Any], overwrite: bool = False
+) -> dict[str, Any]:
+    """Learn one skill from a folder of demonstrations and write it: a work unit.
+
+    Parameters
+    ----------
+    folder : str
+        Holds ``demos.csv`` (or ``.npz``/``.json``) and, optionally,
+        ``scenes.csv`` (or ``.json``) naming the obstacles of the
+        demonstrations around obstacles (:func:`lfdkit.skill.learn`).
+    output : str
+        The skill file to write (atomically).
+    params : mapping
+        :class:`lfdkit.skill.Skill` parameters; ``random_state`` as given
+        (the same seed for every folder, so a folder learns the same skill
+        as ``lfdkit learn`` with that seed).
+    overwrite : bool
+        Replace an existing skill file.
+
+    Returns
+    -------
+    dict
+        ``folder``, ``skill`` (the file written), ``demos`` and ``scenes``
+        (the file names read), ``clean_demos``, ``obstacle_demos``,
+        ``classes`` (the learned obstacle classes) and ``units``.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the folder has no demonstrations file.
+    ValueError
+        For malformed files, or an obstacle reward fit that did not converge
+        (nothing is written then).
+    FileExistsError
+        If ``output`` exists and not ``overwrite``.
+    """
+    from lfdkit.core.threads import one_blas_thread
+    from lfdkit.skill import learn
+
+    where = Path(folder)
+    demos = next((where / n for n in DEMOS_NAMES if (where / n).is_file()), None)
+    if demos is None:
+        raise FileNotFoundError(f"{folder}: no {', '.join(DEMOS_NAMES)}")
+    scenes = next((where / n for n in SCENES_NAMES if (where / n).is_file()), None)
+    with one_blas_thread():
+        skill = learn(demos, scenes, **params)
+    fit = skill.ioc_info_ or {}
+    if not fit.get("converged", True):
+        raise ValueError(
+            f"the obstacle reward fit did not converge ({fit.get('convergence_message')}); "
+            "wrote nothing"
+        )
+    written = skill.save(output, overwrite=overwrite)
+    return {
+        "folder": folder,
+        "skill": os.fspath(written),
+        "demos": os.fspath(demos.name),
+        "scenes": None if scenes is None else scenes.name,
+        "clean_demos": int(skill.mimic_info_["n_demos"]),
+        "obstacle_demos": int(skill.ioc_info_["n_demos"]) if skill.ioc_info_ else 0,
+        "classes": list(skill.reward_.classes) if skill.reward_ is not None else [],
+        "units": skill.units,
+    }
+
+
+def learn_outputs(
+    folders: Iterable[str | os.PathLike[str]], output_dir: str | os.PathLike[str] | None = None
+) -> dict[str, Path]:
+    """The skill file :func:`learn_batch` writes for each folder, by folder.
+
+    ``FOLDER/skill.json``, or ``OUTPUT_DIR/NAME.json`` (``NAME`` the folder's
+    name, which must then be unique).
+
+    Raises
+    ------
+    ValueError
+        If a folder is given twice, or two share a name with ``output_dir``.
+    """
+    out: dict[str, Path] = {}
+    names: dict[str, str] = {}
+    for folder in folders:
+        key = os.fspath(folder)
+        if key in out:
+            raise ValueError(f"folders: {key} is given twice")
+        if output_dir is None:
+            out[key] = Path(folder) / "skill.json"
+            continue
+        name = Path(folder).resolve().name
+        if name in names:
+            raise ValueError(
+                f"folders: {names[name]} and {key} are both called {name!r}; their skills "
+                f"would both be {Path(output_dir) / (name + '.json')}"
+            )
+        names[name] = key
+        out[key] = Path(output_dir) / f"{name}.json"
+    return out
+
+
+def learn_batch(
+    folders: Iterable[str | os.PathLike[str]],
+    results: str | os.PathLike[str],
+    *,
+    params: Mapping[str, Any] | None = None,
+    output_dir: str | os.PathLike[str] | None = None,
+    executor: Executor | None = None,
+    overwrite: bool = False,
+    progress: ProgressLike = None,
+) -> BatchSummary:
+    """Learn one skill per folder of demonstrations (:func:`learn_task`), in batch.
+
+    Parameters
+    ----------
+    folders : iterable of path
+        Each with ``demos.csv`` (or ``.npz``/``.json``) and optionally ``scenes.csv``.
+    results : path
+        The JSON-lines results file, one record per folder (task id: the
+        folder as given); resumed when it holds this batch.
+    params : mapping, optional
+        :class:`lfdkit.skill.Skill` parameters for every folder.
+    output_dir : path, optional
+        Write ``OUTPUT_DIR/NAME.json`` instead of ``FOLDER/skill.json``
+        (:func:`learn_outputs`).
+    executor : Executor, optional
+        Default :class:`SerialExecutor`.
+    overwrite : bool
+        Replace the results file and existing skill files. Without it, a
+        skill file of a task still to run is replaced only when the batch
+        resumes (the file is then its own, from the interrupted run).
+    progress : Progress, callable, bool or None
+
+    Returns
+    -------
+    BatchSummary
+    """
+    outputs = learn_outputs(folders, output_dir)
+    params = dict(params or {})
+    spec = {
+        "kind": "learn",
+        "folders": sorted(outputs),
+        "outputs": {k: os.fspath(v) for k, v in sorted(outputs.items())},
+        "params": params,
+    }
+    path = Path(results)
+    resuming = path.exists() and not overwrite
+    tasks = [
+        (folder, (folder, os.fspath(output), params, overwrite or resuming))
+        for folder, output in outputs.items()
+    ]
+    return run_batch(
+        executor or SerialExecutor(),
+        learn_task,
+        tasks,
+        path,
+        spec=spec,
+        overwrite=overwrite,
+        progress=progress,
+        label=f"learn {len(tasks)} skill{'s' * (len(tasks) != 1)}",
+    )

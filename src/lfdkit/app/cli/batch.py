@@ -1,0 +1,258 @@
+"""``lfdkit batch``: many skills or many scenes, on local processes or Dask."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+from pathlib import Path
+
+from lfdkit import __version__
+from lfdkit.app.cli.common import (
+    CommandError,
+    UsageError,
+    add_force_option,
+    add_loudness_options,
+    add_seed_option,
+    add_skill_param_options,
+    bounded_int,
+    check_writable,
+    parse_fraction,
+    parse_numbers,
+    point_arg,
+    skill_params,
+    tell,
+    working,
+)
+from lfdkit.core.progress import Progress
+
+__all__ = ["add_options", "run_command"]
+
+
+def run_command(args: argparse.Namespace) -> None:
+    from lfdkit.app.batch import describe_executor, make_executor
+    from lfdkit.io.atomic import check_output_path
+
+    out: Path = args.output
+    if out.is_dir():
+        raise CommandError(f"--output {out}: is a directory; give a results file (.jsonl)")
+    try:  # a FIFO would hang the batch, a link be written through: refused with or without --force
+        check_output_path(out, overwrite=True)
+    except OSError as exc:
+        raise UsageError(f"--output {exc}") from None
+    if not out.parent.exists():
+        raise CommandError(f"--output {out}: folder {out.parent} does not exist")
+    check_writable(out.parent, "--output", out)
+    where = describe_executor(args.workers, args.scheduler, args.dask_local)
+    resuming = out.exists() and not args.force
+    with working(args) as progress:
+        if args.mode == "learn":
+            run, noun = _batch_learn_setup(args, resuming), "skills"
+        else:
+            run, noun = _batch_evaluate_setup(args, progress), "scenes"
+        verb = "resuming" if resuming else "starting"
+        tell(args, f"lfdkit {__version__}: {verb} the batch in {out} on {where}", level=2)
+        try:
+            with contextlib.ExitStack() as stack:
+                with progress.stage(f"start {where}"):
+                    pool = stack.enter_context(
+                        make_executor(args.workers, args.scheduler, args.dask_local)
+                    )
+                summary = run(pool, progress)
+        except ImportError as exc:
+            raise CommandError(str(exc)) from None
+    ran = summary.done + summary.failed
+    rate = f" ({summary.throughput:.3g} tasks/s)" if ran else ""
+    skipped = f"; {summary.skipped} done before, skipped" if summary.skipped else ""
+    detail = _batch_outcomes(args, out) if args.mode == "evaluate" else ""
+    tell(
+        args,
+        f"ran {ran} of {summary.total} {noun} in {summary.seconds:.1f} s{rate} on {where}"
+        f"{skipped}{detail}; results in {out}",
+    )
+    failed = summary.failed + summary.failed_before
+    if failed:
+        first = f" (first: {summary.errors[0]})" if summary.errors else ""
+        raise CommandError(
+            f"{failed} of {summary.total} tasks failed{first}; each error is in {out}; "
+            "the others' results are there too"
+        )
+
+
+def _batch_learn_setup(args: argparse.Namespace, resuming: bool):
+    from lfdkit.app.batch import learn_batch, learn_outputs
+
+    missing = [f for f in args.folders if not f.is_dir()]
+    if missing:
+        raise UsageError(f"{missing[0]}: no such folder")
+    if args.output_dir is not None and not args.output_dir.is_dir():
+        raise UsageError(f"--output-dir {args.output_dir}: no such folder")
+    outputs = learn_outputs(args.folders, args.output_dir)
+    if not args.force and not resuming:
+        clash = [p for p in outputs.values() if p.exists()]
+        if clash:
+            raise CommandError(f"{clash[0]}: exists; pass --force to overwrite it")
+    params = skill_params(args)
+
+    def run(executor, progress):
+        return learn_batch(
+            args.folders,
+            args.output,
+            params=params,
+            output_dir=args.output_dir,
+            executor=executor,
+            overwrite=args.force,
+            progress=progress,
+        )
+
+    return run
+
+
+def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
+    if (args.random is None) == (args.scenes is None):
+        raise UsageError("give the scenes: --scenes FILE or --random N")
+    if args.random is not None and (args.start is not None or args.goal is not None):
+        raise UsageError("--start/--goal are for --scenes; random scenes have their own")
+    if args.scenes is None and args.seed is None:
+        args.seed = 0
+    elif args.scenes is not None and args.seed is not None:
+        raise UsageError("--seed is for --random: the scenes of a file are given")
+    check = "mujoco" if args.simulate else args.check
+    with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
+        from lfdkit.tasks.sweeping.batch import evaluate_batch
+
+    def run(executor, progress):
+        return evaluate_batch(
+            args.skill,
+            args.output,
+            random=args.random,
+            seed=args.seed or 0,
+            scenes=args.scenes,
+            start=point_arg(args.start, "--start", 2),
+            goal=point_arg(args.goal, "--goal", 2),
+            check=check,
+            speed_fraction=args.speed_fraction,
+            executor=executor,
+            overwrite=args.force,
+            progress=progress,
+        )
+
+    return run
+
+
+def _batch_outcomes(args: argparse.Namespace, out: Path) -> str:
+    """``; N ok, M not ok (...)`` over the whole results file, read as a stream."""
+    from lfdkit.app.batch import read_results
+
+    ok = not_ok = 0
+    for record in read_results(out):
+        if "error" not in record:
+            ok += bool(record.get("ok"))
+            not_ok += not record.get("ok")
+    return f"; {ok} scenes ok, {not_ok} not (plan, robot or sweep failed)"
+
+
+def _executor_options(parser: argparse.ArgumentParser) -> None:
+    """Where a batch runs: this process (default), local processes or a Dask cluster."""
+    group = parser.add_argument_group("where the tasks run (default: in this process)")
+    where = group.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers",
+        type=bounded_int(1, 1024),
+        metavar="N",
+        help="N local worker processes",
+    )
+    where.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:PORT",
+        help="a running Dask scheduler (dask scheduler; workers started with dask worker "
+        'ADDRESS --nthreads 1, lfdkit installed on each); needs pip install "lfdkit[dask]"',
+    )
+    where.add_argument(
+        "--dask-local",
+        type=bounded_int(1, 1024),
+        metavar="N",
+        help="start a local Dask cluster of N single-threaded worker processes",
+    )
+
+
+def _results_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        metavar="RESULTS.jsonl",
+        help="results file, one JSON line per finished task; an existing one of the same "
+        "batch is resumed (its tasks skipped), of another batch refused (--force: start over)",
+    )
+
+
+def add_options(parser: argparse.ArgumentParser) -> None:
+    modes = parser.add_subparsers(dest="mode", metavar="MODE")
+    modes.required = True
+    learn = modes.add_parser(
+        "learn",
+        help="learn one skill per folder of demonstrations",
+        description="Learn one skill per folder: FOLDER/demos.csv (or .npz, .json) and, if "
+        "there, FOLDER/scenes.csv (or .json) for the demonstrations around obstacles; write "
+        "FOLDER/skill.json (or --output-dir/FOLDER-NAME.json), never over an existing one "
+        "without --force. One JSON line per folder in the results file.",
+    )
+    learn.add_argument("folders", nargs="+", type=Path, metavar="FOLDER", help="data folders")
+    learn.add_argument(
+        "--output-dir",
+        type=Path,
+        metavar="DIR",
+        help="write the skills here, named after their folders (default: in each folder)",
+    )
+    _results_option(learn)
+    add_skill_param_options(learn)
+    _executor_options(learn)
+    evaluate = modes.add_parser(
+        "evaluate",
+        help="evaluate a sweeping skill over many scenes",
+        description="Evaluate a 2-D sweeping skill (metres) over many scenes: those of a scene "
+        "file, or N random ones (a moved dustpan, a cup and a marker near the sweep; scene i "
+        "of --seed S is the same in any batch). Each scene is checked as far as --check says "
+        "(plan; kinematics: + poses and inverse kinematics; robot: + timing and URScript; "
+        "mujoco: + the simulated sweep) and written as one JSON line. Exit status 1 if a "
+        "task raised an error (recorded in the file); a scene the robot cannot sweep is an "
+        "outcome (ok false), not an error.",
+    )
+    evaluate.add_argument(
+        "skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn"
+    )
+    scenes = evaluate.add_mutually_exclusive_group()
+    scenes.add_argument(
+        "--scenes", type=Path, metavar="FILE", help="a scene file with many scenes (.csv or .json)"
+    )
+    scenes.add_argument("--random", type=bounded_int(1, 10**9), metavar="N", help="N random scenes")
+    add_seed_option(evaluate, None, "base seed of the random scenes (default 0)")
+    for end in ("start", "goal"):
+        evaluate.add_argument(
+            f"--{end}",
+            type=parse_numbers,
+            metavar="X,Y",
+            help=f"--scenes: the sweep's {end} (default: the skill's)",
+        )
+    evaluate.add_argument(
+        "--check",
+        choices=("plan", "kinematics", "robot", "mujoco"),
+        default="robot",
+        help="how far to carry each plan (default %(default)s)",
+    )
+    evaluate.add_argument(
+        "--simulate", action="store_true", help="sweep in MuJoCo: the same as --check mujoco"
+    )
+    evaluate.add_argument(
+        "--speed-fraction",
+        type=parse_fraction,
+        default=0.2,
+        metavar="F",
+        help="fraction of the UR5's joint speed limits, in (0, 1] (default %(default)s)",
+    )
+    _results_option(evaluate)
+    _executor_options(evaluate)
+    for mode in (learn, evaluate):
+        add_force_option(mode)
+        add_loudness_options(mode)

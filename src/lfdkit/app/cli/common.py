@@ -1,0 +1,526 @@
+"""What several commands share: errors, messages, progress, argument types, option groups."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import re
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from lfdkit.core.numbers import parse_decimal, parse_whole
+from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON, MODELS, PLANNERS, SKILL_DEFAULTS
+from lfdkit.core.progress import LOGGER, Progress
+from lfdkit.core.units import UNITS
+
+__all__ = [
+    "CommandError",
+    "LazyChoices",
+    "UsageError",
+    "add_force_option",
+    "add_loudness_options",
+    "add_orientation_options",
+    "add_output_folder_option",
+    "add_planner_options",
+    "add_seed_option",
+    "add_skill_file_options",
+    "add_skill_param_options",
+    "add_units_option",
+    "arm_keys",
+    "bounded_int",
+    "check_writable",
+    "elapsed",
+    "option_named",
+    "orientation_options",
+    "parse_fraction",
+    "parse_numbers",
+    "point_arg",
+    "positive_or_none",
+    "refuse_existing",
+    "skill_and_scene",
+    "skill_params",
+    "tell",
+    "working",
+]
+
+
+class CommandError(Exception):
+    """A failure to report on one line, with exit code 1."""
+
+
+class UsageError(CommandError):
+    """A wrong use of the command found after parsing (a folder not there): exit code 2."""
+
+
+def tell(args: argparse.Namespace, message: str, *, level: int = 1) -> None:
+    """Progress on stderr: level 1 is shown by default, level 2 only with --verbose."""
+    if args.verbosity >= level:
+        progress = getattr(args, "progress", None)
+        if progress is not None:  # above the bars, without tearing them
+            progress.write(message)
+        else:
+            print(message, file=sys.stderr, flush=True)
+
+
+def elapsed(args: argparse.Namespace) -> float:
+    """Seconds since the command started (the clock of every time it reports)."""
+    return time.perf_counter() - args.started
+
+
+class _StageLines(logging.Handler):
+    """``--verbose``: each stage record as one line on stderr, after the command's clock."""
+
+    def __init__(self, args: argparse.Namespace) -> None:
+        super().__init__(logging.INFO)
+        self.args = args
+
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            indent = "  " * int(getattr(record, "depth", 0))
+            line = f"[{elapsed(self.args):6.1f} s] {indent}{record.getMessage()}"
+            self.args.progress.write(line)
+        except Exception:  # a log line must never end the work
+            self.handleError(record)
+
+
+@contextmanager
+def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Progress]:
+    """The command's progress while it works: yields the :class:`~lfdkit.core.progress.Progress`.
+
+    On a terminal (stderr a TTY, not ``--quiet``) a bar per stage, under a
+    clock of the whole command (``label``, default ``lfdkit COMMAND``),
+    redrawn twice a second; with ``--verbose`` each stage's start and wall
+    time, and every 2 s how far a long stage has come, as lines
+    (:data:`lfdkit.core.progress.LOGGER` records). ``--quiet``: nothing.
+    """
+    # A bar only on a terminal: in a log file its carriage returns would garble the lines.
+    bars = args.verbosity >= 1 and _is_terminal(sys.stderr)
+    progress = Progress(bars=bars, log=args.verbosity >= 2)
+    args.progress = progress
+    handler, saved = None, (LOGGER.level, LOGGER.propagate)
+    if args.verbosity >= 2:
+        handler = _StageLines(args)
+        LOGGER.addHandler(handler)
+        LOGGER.setLevel(logging.INFO)
+        LOGGER.propagate = False  # the lines are the command's; not twice through the root
+    try:
+        with progress.stage(label or f"lfdkit {args.command}", announce=False):
+            yield progress
+    finally:
+        progress.close()
+        if handler is not None:
+            LOGGER.removeHandler(handler)
+            LOGGER.setLevel(saved[0])
+            LOGGER.propagate = saved[1]
+        args.progress = None
+
+
+def _is_terminal(stream: object) -> bool:
+    isatty = getattr(stream, "isatty", None)
+    try:
+        return bool(isatty()) if callable(isatty) else False
+    except (OSError, ValueError):  # closed or detached
+        return False
+
+
+def refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
+    """Refuse an output file before the work, not after it: exists, folder missing or read-only."""
+    if path.is_dir():
+        raise CommandError(f"{option} {path}: is a directory; give a file name")
+    if path.exists() and not force:
+        raise CommandError(f"{option} {path}: exists; pass --force to overwrite it")
+    if not path.parent.exists():
+        raise CommandError(f"{option} {path}: folder {path.parent} does not exist")
+    check_writable(path.parent, option, path)
+
+
+def check_writable(folder: Path, option: str, shown: Path) -> None:
+    """Create and remove a probe file in ``folder``: the one test that also holds for root.
+
+    ``os.access`` says yes to root on a read-only mount and knows nothing of
+    quotas; the file that is finally written goes through the same call.
+    """
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".lfdkit-probe-"):
+            pass
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise CommandError(
+            f"{option} {shown}: cannot write in folder {folder} ({reason.lower()})"
+        ) from None
+
+
+def parse_numbers(text: str) -> list[float]:
+    try:
+        values = [parse_decimal(v, finite=False) for v in text.split(",")]
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(
+            f"expected numbers separated by commas, got {text!r} ({exc})"
+        ) from None
+    if len(values) not in (2, 3) or not all(v == v and abs(v) != float("inf") for v in values):
+        raise argparse.ArgumentTypeError(
+            f"expected 2 or 3 finite numbers like 0.4,0.45, got {text!r}"
+        )
+    return values
+
+
+def _quaternion(text: str | None, option: str) -> list[float] | None:
+    """``--start-orientation``/``--goal-orientation``: ``qx,qy,qz,qw``, normalised.
+
+    Checked by the command, not by argparse, so that a bad value is one line (exit 2).
+    """
+    if text is None:
+        return None
+    try:
+        values = [parse_decimal(v, finite=False) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise UsageError(
+            f"{option}: expected 4 finite numbers qx,qy,qz,qw (a quaternion, scalar last), "
+            f"got {text!r}"
+        )
+    norm = math.hypot(*values)  # scaled inside: 1e200 components do not overflow
+    if norm < 1e-9:
+        raise UsageError(f"{option}: a zero quaternion is no orientation, got {text!r}")
+    return [v / norm for v in values]
+
+
+def orientation_options(args: argparse.Namespace) -> dict[str, list[float] | None]:
+    """The start and goal orientation options, checked, as :meth:`Skill.plan`'s keywords."""
+    return {
+        f"{end}_orientation": _quaternion(
+            getattr(args, f"{end}_orientation"), f"--{end}-orientation"
+        )
+        for end in ("start", "goal")
+    }
+
+
+def _whole(text: str) -> int:
+    """An argparse type: a whole number in decimal digits (no ``1_000``)."""
+    try:
+        return parse_whole(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def bounded_int(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: an integer from ``low`` to ``high`` (a usage error otherwise)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = parse_whole(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"expected {low} to {high:,}, got {text!r}")
+        return value
+
+    return parse
+
+
+def _obstacle(text: str):
+    """``CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY[,vz=VZ]]`` as (label, position, radius, velocity).
+
+    ``velocity`` is None for a static obstacle, else the list of the given
+    components (units/s).
+    """
+    label, sep, rest = text.partition(":")
+    if not sep or not label.strip():
+        raise argparse.ArgumentTypeError(
+            f"expected CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY], got {text!r}"
+        )
+    radius = 0.0
+    coords = []
+    velocity: dict[str, float] = {}
+    seen: set[str] = set()
+    for token in rest.split(","):
+        token = token.strip()
+        key = token.partition("=")[0].strip() if "=" in token else None
+        if key is not None:
+            if key in seen:  # the later one would silently win
+                raise argparse.ArgumentTypeError(f"{key}= is given twice in {text!r}; give it once")
+            seen.add(key)
+        if key in ("vx", "vy", "vz"):
+            try:
+                value = parse_decimal(token.partition("=")[2])
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise argparse.ArgumentTypeError(f"{key} in {text!r} is not a finite number")
+            velocity[key] = value
+        elif key == "r":
+            try:
+                radius = parse_decimal(token.partition("=")[2], finite=False)
+            except ValueError:
+                raise argparse.ArgumentTypeError(f"radius in {text!r} is not a number") from None
+            if not radius >= 0 or radius == float("inf"):
+                raise argparse.ArgumentTypeError(f"radius in {text!r} must be finite and >= 0")
+        elif key is not None:
+            raise argparse.ArgumentTypeError(
+                f"unknown key {key}= in {text!r}; expected r=, vx=, vy= or vz="
+            )
+        else:
+            coords.append(token)
+    position = parse_numbers(",".join(coords))
+    if not velocity:
+        return label.strip(), position, radius, None
+    wanted = ["vx", "vy", "vz"][: len(position)]
+    if sorted(velocity) != wanted:
+        raise argparse.ArgumentTypeError(
+            f"velocity in {text!r}: give {', '.join(w + '=' for w in wanted)} "
+            f"for a {len(position)}-D position"
+        )
+    return label.strip(), position, radius, [velocity[w] for w in wanted]
+
+
+def skill_params(args: argparse.Namespace) -> dict:
+    """The :class:`~lfdkit.skill.Skill` parameters of ``learn``'s options (defaults the Skill's)."""
+    return {
+        "mimic": args.mimic,
+        "n_points": args.n_points,
+        "random_state": args.seed,
+        "planner": args.planner,
+        "horizon": args.horizon,
+        "model": args.model,
+        "units": args.units,
+    }
+
+
+class LazyChoices:
+    """argparse choices read from a registry when argparse first needs them.
+
+    ``keys`` returns the names; the registries (mimic methods, arms) import
+    modules that ``lfdkit --help`` and the other commands should not wait for.
+    """
+
+    def __init__(self, keys: Callable[[], Iterable[str]]) -> None:
+        self._keys = keys
+
+    def __contains__(self, value: object) -> bool:
+        return value in tuple(self._keys())
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(tuple(self._keys()))
+
+
+def _mimic_keys() -> tuple[str, ...]:
+    from lfdkit.mimic import MIMIC_METHODS
+
+    return tuple(MIMIC_METHODS)
+
+
+def arm_keys() -> tuple[str, ...]:
+    from lfdkit.execute.arm import ARMS
+
+    return tuple(ARMS)
+
+
+def _scene_from_args(args: argparse.Namespace, n_dims: int):
+    from lfdkit.io.scenes import load_scene
+    from lfdkit.model.motion import ConstantVelocity
+    from lfdkit.model.scene import Obstacle, Scene
+
+    obstacles = []
+    if args.scene is not None:
+        obstacles += list(load_scene(args.scene))
+    for label, position, radius, velocity in args.obstacle or ():
+        if len(position) != n_dims:
+            hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
+            raise CommandError(
+                f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill{hint}"
+            )
+        motion = None if velocity is None else ConstantVelocity(velocity)
+        obstacles.append(Obstacle(label, position, radius, motion=motion))
+    scene = Scene(tuple(obstacles))
+    if len(scene) and scene.positions.shape[1] != n_dims:
+        raise CommandError(
+            f"--scene {args.scene}: {scene.positions.shape[1]}-D obstacles for a {n_dims}-D skill"
+        )
+    return scene
+
+
+def _load_skill(path: Path):
+    from lfdkit.skill import Skill
+
+    return Skill.load(path)
+
+
+def point_arg(values, name: str, n_dims: int):
+    if values is not None and len(values) != n_dims:
+        raise CommandError(f"{name}: {len(values)} coordinates for a {n_dims}-D skill")
+    return values
+
+
+def positive_or_none(text: str | None, option: str, what: str) -> float | None:
+    """``text`` as a positive, finite number; a one-line usage error naming ``option``."""
+    if text is None:
+        return None
+    try:
+        value = parse_decimal(text, finite=False)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value <= 0.0:
+        raise UsageError(f"{option}: expected {what}, got {text!r}")
+    return value
+
+
+def skill_and_scene(args: argparse.Namespace):
+    """The skill of ``plan``/``plot`` in ``--units``, with the scene, start and goal given."""
+    skill = _load_skill(args.skill)
+    if args.units is not None:
+        skill = skill.to_units(args.units)
+    q = skill.n_dims_
+    scene = _scene_from_args(args, q)
+    return skill, scene, point_arg(args.start, "--start", q), point_arg(args.goal, "--goal", q)
+
+
+def option_named(message: str) -> str:
+    """A library error naming an argument (``start_orientation: ...``) as its option."""
+    return re.sub(
+        r"^(duration|speed|start_orientation|goal_orientation):",
+        lambda m: "--" + m.group(1).replace("_", "-") + ":",
+        message,
+    )
+
+
+def parse_fraction(text: str) -> float:
+    """``--speed-fraction``: a number in (0, 1]."""
+    try:
+        value = parse_decimal(text, finite=False)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}") from None
+    if not 0.0 < value <= 1.0:  # also NaN
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}")
+    return value
+
+
+def add_loudness_options(parser: argparse.ArgumentParser) -> None:
+    loud = parser.add_mutually_exclusive_group()
+    loud.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=0,
+        help="print nothing on success",
+    )
+    loud.add_argument(
+        "-v",
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=2,
+        help="say more about each step",
+    )
+    parser.set_defaults(verbosity=1)
+
+
+def add_force_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-f", "--force", action="store_true", help="overwrite existing files")
+
+
+def add_planner_options(parser: argparse.ArgumentParser, *, defaults: bool) -> None:
+    """``--planner`` and ``--horizon``: with ``defaults`` the Skill's, else the skill file's."""
+    parser.add_argument(
+        "--planner",
+        choices=PLANNERS,
+        default=SKILL_DEFAULTS["planner"] if defaults else None,
+        help="receding-horizon MPC or the full-horizon optimum"
+        + (" (default %(default)s)" if defaults else " (default: the skill's)"),
+    )
+    parser.add_argument(
+        "--horizon",
+        type=_whole,
+        default=SKILL_DEFAULTS["horizon"] if defaults else None,
+        metavar="H",
+        help=f"MPC horizon, {MIN_HORIZON} to {MAX_HORIZON}"
+        + (" (default %(default)s)" if defaults else " (default: the skill's)"),
+    )
+
+
+def add_skill_file_options(parser: argparse.ArgumentParser) -> None:
+    """The skill file, and the start, goal and obstacles to use it with (``plan``, ``plot``)."""
+    parser.add_argument("skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn")
+    for end in ("start", "goal"):
+        help = f"{end} (default: the demonstrations')"
+        parser.add_argument(f"--{end}", type=parse_numbers, metavar="X,Y[,Z]", help=help)
+    parser.add_argument(
+        "--obstacle",
+        type=_obstacle,
+        action="append",
+        metavar="CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY]",
+        help="an obstacle of a learned class, optionally with its radius and, for one "
+        "moving at constant velocity, its velocity in units/s (the plan keeps clear of "
+        "where it will be when the tool passes; repeatable)",
+    )
+    parser.add_argument(
+        "--scene",
+        type=Path,
+        metavar="FILE",
+        help="obstacles from a scene file (.csv or .json, one scene)",
+    )
+
+
+def add_orientation_options(parser: argparse.ArgumentParser) -> None:
+    """``--start-orientation``/``--goal-orientation`` of a skill learned with orientation."""
+    for end in ("start", "goal"):
+        parser.add_argument(
+            f"--{end}-orientation",
+            metavar="QX,QY,QZ,QW",
+            help=f"tool orientation at the {end}, a quaternion (scalar last, normalised); only "
+            "for a skill learned with orientations (default: the demonstrations')",
+        )
+
+
+def add_output_folder_option(parser: argparse.ArgumentParser, name: str) -> None:
+    """``-o/--output``: the folder a command writes its results in (default ./NAME)."""
+    help = f"output directory (default: ./{name})"
+    parser.add_argument("-o", "--output", type=Path, default=Path(name), help=help)
+
+
+def add_units_option(parser: argparse.ArgumentParser, default: str | None, help: str) -> None:
+    """``--units m|cm|mm``: the unit of the command's lengths (a wrong one lists the choices)."""
+    parser.add_argument("--units", choices=UNITS, default=default, help=help)
+
+
+def add_seed_option(parser: argparse.ArgumentParser, default: int | None, help: str) -> None:
+    parser.add_argument("--seed", type=bounded_int(0, 2**32 - 1), default=default, help=help)
+
+
+def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
+    """The Skill parameters of ``learn`` and ``batch learn``: defaults the Skill's own."""
+    parser.add_argument(
+        "--mimic",
+        choices=LazyChoices(_mimic_keys),
+        # A metavar, or argparse lists the choices as the parser is built (seconds).
+        metavar="METHOD",
+        default=SKILL_DEFAULTS["mimic"],
+        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS (default %(default)s)",
+    )
+    parser.add_argument(
+        "--n-points",
+        type=_whole,
+        default=SKILL_DEFAULTS["n_points"],
+        help="points of the path and of plans (default %(default)s)",
+    )
+    add_seed_option(parser, SKILL_DEFAULTS["random_state"], "seed of GMR's initialisation")
+    add_planner_options(parser, defaults=True)
+    parser.add_argument(
+        "--model",
+        choices=MODELS,
+        default=SKILL_DEFAULTS["model"],
+        help="obstacle behaviour: 'auto' chooses the planner's window choice from the "
+        "demonstrations and keeps the clearance they kept; 'thesis' is the thesis's model "
+        "exactly (default %(default)s)",
+    )
+    add_units_option(
+        parser,
+        SKILL_DEFAULTS["units"],
+        "unit of the demonstrations and scenes, kept in the skill (default %(default)s)",
+    )

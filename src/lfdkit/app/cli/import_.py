@@ -1,0 +1,168 @@
+"""``lfdkit import``: demonstrations from ROS 1/2 bags and MCAP recordings."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from lfdkit.app.cli.common import (
+    CommandError,
+    LazyChoices,
+    UsageError,
+    arm_keys,
+    positive_or_none,
+    refuse_existing,
+    tell,
+)
+
+__all__ = ["add_options", "run_command"]
+
+
+def _frame_pair(text: str) -> tuple[str, str]:
+    parent, sep, child = text.partition(":")
+    if not sep or not parent.strip() or not child.strip():
+        raise argparse.ArgumentTypeError(f"expected PARENT:CHILD frames, got {text!r}")
+    return parent.strip(), child.strip()
+
+
+def run_command(args: argparse.Namespace) -> None:
+    speed = positive_or_none(args.pause_speed, "--pause-speed", "a positive speed (units/s)")
+    pause = positive_or_none(args.pause_time, "--pause-time", "a positive number of seconds")
+    refuse_existing(args.output, args.force)
+    from lfdkit.io import save_demos
+    from lfdkit.io.recordings import JOINT_STATE, list_topics, read_poses
+    from lfdkit.io.segmentation import segment_recording
+
+    demos, times, quats = [], [], []
+    total_pauses = total_returns = 0
+    for path in args.recordings:
+        topics = list_topics(path)
+        listing = "; ".join(str(t) for t in topics) or "none (the recording is empty)"
+        if args.topic is None:
+            raise UsageError(f"{path}: name the topic with --topic; topics present: {listing}")
+        msgtype = next((t.msgtype for t in topics if t.name == args.topic), None)
+        if msgtype == JOINT_STATE:
+            if args.frame is not None:
+                raise UsageError(f"--frame applies to tf topics; {args.topic} holds {msgtype}")
+            from lfdkit.execute.arm import ARMS
+            from lfdkit.execute.recordings import tool_poses_from_joint_states
+
+            rec = tool_poses_from_joint_states(path, args.topic, arm=ARMS[args.arm])
+        else:
+            rec = read_poses(path, args.topic, frame=args.frame)
+        for note in rec.notes:
+            tell(args, f"{path}: {note}")
+        positions = rec.positions[:, :2] if args.planar else rec.positions
+        try:
+            seg = segment_recording(
+                rec.times,
+                positions,
+                speed=speed,
+                pause=pause,
+                split=args.split,
+                trim=not args.no_trim,
+                returns="drop" if args.drop_returns else "keep",
+            )
+        except ValueError as exc:
+            if "never move" not in str(exc):
+                raise
+            top = str(exc).split("top speed ", 1)[1].split(")")[0]
+            raise CommandError(
+                f"{path}: the tool never moves faster than --pause-speed {speed:g} units/s "
+                f"(top speed {top}): nothing to import; lower --pause-speed"
+            ) from None
+        start = time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(rec.start_ns // 10**9))
+        tell(
+            args,
+            f"{seg.table(str(path))}\n  {rec.msgtype} on {rec.topic}"
+            + (f" ({rec.frame[0]} -> {rec.frame[1]})" if rec.frame else "")
+            + f", times from the {rec.stamps} stamps, t = 0 at {start} UTC "
+            f"+ {rec.start_ns % 10**9} ns",
+            level=2,
+        )
+        total_pauses += len(seg.pauses)
+        total_returns += len(seg.returns)
+        for a, b in seg.segments:
+            demos.append(positions[a:b])
+            times.append(rec.times[a:b])
+            quats.append(rec.orientations[a:b])
+    save_demos(args.output, demos, times=times, orientations=quats, overwrite=args.force)
+    n = sum(len(d) for d in demos)
+    duration = sum(float(t[-1] - t[0]) for t in times)
+    tell(
+        args,
+        f"imported {len(demos)} demonstrations ({n} samples, {duration:.2f} s"
+        + (f", split at {total_pauses} pauses" if args.split else "")
+        + (f", {total_returns} moves back to the start left out" if total_returns else "")
+        + f") from {len(args.recordings)} recording{'s' * (len(args.recordings) > 1)}; "
+        f"wrote {args.output}",
+    )
+
+
+def add_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "recordings",
+        type=Path,
+        nargs="+",
+        metavar="RECORDING",
+        help="a ROS 1 .bag, a ROS 2 bag folder, or an .mcap/.db3 file (one demonstration "
+        "each, or several with --split)",
+    )
+    parser.add_argument(
+        "--topic",
+        metavar="T",
+        help="the topic: PoseStamped, PoseWithCovarianceStamped, TransformStamped, Odometry, "
+        "JointState (tool poses by the arm's kinematics) or /tf with --frame; without it the "
+        "topics present are listed",
+    )
+    parser.add_argument(
+        "--frame",
+        type=_frame_pair,
+        metavar="PARENT:CHILD",
+        help="for /tf: the child's pose in the parent, chained with /tf_static",
+    )
+    parser.add_argument(
+        "--arm",
+        choices=LazyChoices(arm_keys),
+        metavar="ARM",
+        default="ur5",
+        help="for JointState: the arm (ur5 or ur10, default %(default)s)",
+    )
+    parser.add_argument(
+        "--split",
+        action="store_true",
+        help="split each recording into demonstrations at pauses (see --pause-speed, --pause-time)",
+    )
+    parser.add_argument(
+        "--pause-speed",
+        default="0.01",
+        metavar="V",
+        help="at rest below this speed, recording units/s (default %(default)s: 1 cm/s)",
+    )
+    parser.add_argument(
+        "--pause-time",
+        default="0.5",
+        metavar="S",
+        help="shortest pause that splits, seconds (default %(default)s)",
+    )
+    parser.add_argument(
+        "--drop-returns",
+        action="store_true",
+        help="with --split: leave out the pieces heading against the first one (moving back "
+        "to the start between demonstrations); -v lists them",
+    )
+    parser.add_argument(
+        "--no-trim", action="store_true", help="keep the rest at both ends of each recording"
+    )
+    parser.add_argument(
+        "--planar", action="store_true", help="write x, y only (a task on a table), not z"
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        metavar="DEMOS.csv",
+        help="demonstrations file to write: demo, t, x, y[, z], qx, qy, qz, qw",
+    )

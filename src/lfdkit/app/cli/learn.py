@@ -1,0 +1,110 @@
+"""``lfdkit learn``: a skill from demonstration files."""
+
+from __future__ import annotations
+
+import argparse
+import warnings
+from pathlib import Path
+
+from lfdkit.app.cli.common import (
+    CommandError,
+    add_skill_param_options,
+    elapsed,
+    refuse_existing,
+    skill_params,
+    tell,
+    working,
+)
+
+__all__ = ["add_options", "run_command"]
+
+
+def run_command(args: argparse.Namespace) -> None:
+    refuse_existing(args.output, args.force)
+    with warnings.catch_warnings(record=True) as caught, working(args) as progress:
+        warnings.simplefilter("always", UserWarning)
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
+            from lfdkit.skill import learn
+        skill = learn(args.demos, args.scenes, progress=progress, **skill_params(args))
+    fit = skill.ioc_info_ or {}
+    if not fit.get("converged", True):
+        raise CommandError(
+            f"the obstacle reward fit did not converge ({fit['convergence_message']}); "
+            "wrote nothing. Check the units and that each obstacle demonstration follows "
+            "the path around its scene's obstacles, add demonstrations, or try --planner full"
+        )
+    for warning in caught:  # shown once each, after the fit, as main's handler shows them
+        warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+    skill.save(args.output, overwrite=args.force)
+    if args.verbosity >= 1:
+        classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
+        tell(
+            args,
+            f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
+            + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
+            + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
+            f"{elapsed(args):.1f} s; wrote {args.output}",
+        )
+    for line in _fidelity_lines(skill):
+        tell(args, line)
+
+
+_ROUTE_NAMES = {
+    "lookahead": "MPC with lookahead along the global route",
+    "window": "the thesis's MPC (each window's best)",
+    "full": "the full-horizon optimum",
+}
+
+
+def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
+    """The model chosen, and one line per obstacle demonstration replanned badly (issue 26)."""
+    selection = getattr(skill, "model_selection_", None)
+    if not selection:
+        return []
+
+    def scores(route: str) -> str:
+        row = selection["candidates"][route]
+        if row["improvement_median"] is None:
+            return "no scene planned"
+        return (
+            f"training replanning Pr median {row['improvement_median']:.0f} %, mean "
+            f"{row['improvement_mean']:.0f} %, sides kept in {row['sides_agree']:.0%}"
+        )
+
+    chosen, runner = selection["chosen"], selection["runner_up"]
+    line = f"obstacle behaviour planned with {_ROUTE_NAMES[chosen]} ({scores(chosen)})"
+    if runner is not None:
+        line += f"; runner-up {_ROUTE_NAMES[runner]} ({scores(runner)})"
+    lines = [line]
+    if skill.clearances_:
+        kept = ", ".join(f"{c} {m:.3g} {skill.units}" for c, m in skill.clearances_.items())
+        lines.append(f"plans keep at least the clearance the demonstrations kept: {kept}")
+    for row in skill.training_fidelity_ or []:
+        name = f"obstacle demonstration {row.get('id', row['demo'])!r}"
+        if "refused" in row:
+            lines.append(f"{name}: no plan in its own scene ({row['refused']})")
+            continue
+        faults = []
+        if row["improvement"] < 0.0:
+            faults.append(f"replanned worse than its nominal (Pr {row['improvement']:.0f} %)")
+        if not row["sides_agree"]:
+            faults.append(f"passes {row['other_side']} obstacle(s) on the other side")
+        if faults:
+            lines.append(f"{name}: " + " and ".join(faults))
+    return lines
+
+
+def add_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"
+    )
+    parser.add_argument(
+        "--scenes",
+        type=Path,
+        metavar="SCENES",
+        help="obstacles of the obstacle demonstrations, by demo id (.csv or .json)",
+    )
+    parser.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="SKILL.json", help="skill file to write"
+    )
+    add_skill_param_options(parser)

@@ -1,0 +1,166 @@
+"""``lfdkit plan``: a path for a new start, goal and scene."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+from lfdkit.app.cli.common import (
+    CommandError,
+    UsageError,
+    add_orientation_options,
+    add_planner_options,
+    add_skill_file_options,
+    add_units_option,
+    option_named,
+    orientation_options,
+    positive_or_none,
+    refuse_existing,
+    skill_and_scene,
+    tell,
+    working,
+)
+from lfdkit.core.numbers import parse_decimal
+from lfdkit.core.progress import Progress
+
+__all__ = ["add_options", "run_command"]
+
+
+def _decimal(text: str) -> float:
+    """An argparse type: a decimal number, strictly (no ``1_0``, nan or inf)."""
+    try:
+        return parse_decimal(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _goal_approach(text: str) -> float | str | None:
+    """``--goal-approach``: a positive length, ``auto`` or ``none``."""
+    word = text.strip().lower()
+    if word in ("auto", "none"):
+        return None if word == "none" else "auto"
+    try:
+        value = parse_decimal(text, finite=False)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected a length, 'auto' or 'none', got {text!r}"
+        ) from None
+    if not math.isfinite(value) or value <= 0.0:
+        raise argparse.ArgumentTypeError(f"expected a positive length, got {text!r}")
+    return value
+
+
+def run_command(args: argparse.Namespace) -> None:
+    with working(args) as progress:
+        _plan_with(args, progress)
+
+
+def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
+    from lfdkit.io import path_csv, save_path
+
+    # Checked here, not by argparse, so that a bad value is one line (exit 2).
+    duration = positive_or_none(args.duration, "--duration", "a positive number of seconds")
+    speed = positive_or_none(args.speed, "--speed", "a positive speed factor")
+    if duration is not None and speed is not None:
+        raise UsageError("--speed: give --duration or --speed, not both")
+    orientations = orientation_options(args)
+    if args.output is not None:
+        refuse_existing(args.output, args.force)
+    skill, scene, start, goal = skill_and_scene(args)
+    started = time.perf_counter()
+    try:
+        timed = skill.plan(
+            start,
+            goal,
+            scene,
+            duration=duration,
+            speed=speed,
+            **orientations,
+            planner=args.planner,
+            horizon=args.horizon,
+            goal_approach=args.goal_approach,
+            clearance=args.clearance,
+            progress=progress,
+        )
+    except ValueError as exc:  # the library names the argument, the command its option
+        raise CommandError(option_named(str(exc))) from None
+    plan = timed.details
+    units = skill.units
+    clear = (
+        f"; closest obstacle {plan.clearance.min():.4g} {units} beyond radius + clearance"
+        if len(scene)
+        else ""
+    )
+    summary = (
+        f"planned {len(timed)} points around {len(scene)} obstacles in "
+        f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} {units} "
+        f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
+        f"{timed.speeds.max():.4g} {units}/s"
+    )
+    columns = {
+        "times": timed.times,
+        "velocities": timed.velocities if args.velocities else None,
+        "orientations": timed.orientations,
+    }
+    if args.output is None:
+        sys.stdout.write(path_csv(timed.points, **columns))
+        tell(args, summary, level=2)  # standard output carries the plan: details at -v only
+        return
+    save_path(args.output, timed.points, **columns, overwrite=args.force)
+    tell(args, f"{summary}; wrote {args.output}")
+
+
+def add_options(parser: argparse.ArgumentParser) -> None:
+    add_skill_file_options(parser)
+    add_orientation_options(parser)
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="PATH.csv",
+        help="CSV file to write (default: standard output)",
+    )
+    add_planner_options(parser, defaults=False)
+    parser.add_argument(
+        "--goal-approach",
+        type=_goal_approach,
+        default="auto",
+        metavar="LENGTH|auto|none",
+        help="return onto the nominal over this last stretch so the plan ends at the goal "
+        "(path units; default auto: the last tenth of the path; none: the thesis's reward, "
+        "no goal term, the plan may end beside the goal)",
+    )
+    parser.add_argument(
+        "--clearance",
+        type=_decimal,
+        default=0.0,
+        metavar="LENGTH",
+        help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
+        "plus clearance or the command fails (path units; default 0)",
+    )
+    parser.add_argument(
+        "--duration",
+        metavar="S",
+        help="seconds the plan lasts (default: the skill's, learned from the demonstrations' "
+        "times, else its duration parameter)",
+    )
+    parser.add_argument(
+        "--speed",
+        metavar="FACTOR",
+        help="run the skill's timing FACTOR times as fast (0.5: twice as long; not with "
+        "--duration)",
+    )
+    parser.add_argument(
+        "--velocities",
+        action="store_true",
+        help="add the velocity columns vx,vy[,vz] (path units per second)",
+    )
+    add_units_option(
+        parser,
+        None,
+        "unit of the start, goal, obstacles, scene file, lengths and the plan written "
+        "(default: the skill's; the skill is converted)",
+    )

@@ -1,0 +1,85 @@
+"""``lfdkit plot``: a skill's reward, demonstrations and plan."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from lfdkit.app.cli.common import (
+    add_skill_file_options,
+    add_units_option,
+    bounded_int,
+    refuse_existing,
+    skill_and_scene,
+    tell,
+    working,
+)
+from lfdkit.core.progress import Progress
+
+__all__ = ["add_options", "run_command"]
+
+
+def run_command(args: argparse.Namespace) -> None:
+    with working(args) as progress:
+        _plot_with(args, progress)
+
+
+def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
+    from lfdkit.app import plot
+    from lfdkit.io import atomic_write, load_demos
+
+    refuse_existing(args.output, args.force)
+    skill, scene, start, goal = skill_and_scene(args)
+    demos = load_demos(args.demos) if args.demos is not None else []
+    nominal = skill.nominal(start, goal)
+    plans = {}
+    if len(scene) or start is not None or goal is not None:
+        plans["plan"] = skill.plan(start, goal, scene, progress=progress).points
+    if skill.reward_ is not None:
+        fig = plot.emulation_figure(
+            skill.reward_,
+            nominal,
+            scene,
+            demos=demos,
+            plans=plans,
+            units=skill.units,
+            title=args.title or f"{args.skill.name}: reward, nominal and plan",
+        )
+    else:
+        rollout = skill.dmp_.rollout(start, goal, n_steps=200)
+        fig = plot.retargeting_figure(
+            demos,
+            skill.path_,
+            skill.dmp_.times_,
+            [(rollout.times, rollout.positions)],
+            units=skill.units,
+            title=args.title or f"{args.skill.name}: path and DMP",
+        )
+    atomic_write(
+        args.output,
+        lambda f: fig.savefig(f, format="png", dpi=args.dpi),
+        binary=True,
+        overwrite=args.force,
+    )
+    tell(args, f"wrote {args.output}")
+
+
+def add_options(parser: argparse.ArgumentParser) -> None:
+    add_skill_file_options(parser)
+    parser.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
+    parser.add_argument("--title", default="", help="figure title")
+    parser.add_argument(
+        "--dpi",
+        type=bounded_int(10, 1000),
+        default=110,
+        help="resolution, 10 to 1000 (default 110)",
+    )
+    parser.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="FIGURE.png", help="PNG file to write"
+    )
+    add_units_option(
+        parser,
+        None,
+        "unit of the start, goal, obstacles, scene and demonstrations files and of the "
+        "figure (default: the skill's; the skill is converted)",
+    )

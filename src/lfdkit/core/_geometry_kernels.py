@@ -1,0 +1,193 @@
+"""Compiled inner loop of :class:`lfdkit.core.geometry.PolylineSet` (numba).
+
+The nearest crossing of every query point's normal hyperplane with every
+polyline, pruned by bounding balls over chunks of segments. Imported lazily
+by :mod:`lfdkit.core.geometry`.
+
+One compiled function serves every size: it releases the GIL, so a large
+problem is split over threads by plain Python threads rather than a second,
+``parallel=True`` variant (whose compilation took four times as long as this
+one's, on the first large call of every fresh install). Compiling takes about
+two seconds once; the machine code is then cached on disk
+(:func:`cached_njit`).
+"""
+
+import itertools
+import os
+import threading
+
+import numba
+import numpy as np
+
+#: Problems with fewer (query, polyline) pairs run in the calling thread:
+#: starting threads costs more than it saves there, and far more when the
+#: cores are busy.
+_THREADED_PAIRS = 20_000
+
+
+def cached_njit(**options):
+    """``numba.njit(cache=True, **options)``, or without the cache where none can be written.
+
+    Numba caches machine code in ``__pycache__`` next to the source file, or
+    in the user's cache folder (``NUMBA_CACHE_DIR``) when that is read-only,
+    as in a system-wide installation. Where neither is writable it refuses to
+    cache; the function is then compiled in every process, silently.
+    """
+
+    def decorate(function):
+        try:
+            return numba.njit(cache=True, **options)(function)
+        except RuntimeError:  # "cannot cache function ...: no locator available"
+            return numba.njit(**options)(function)
+
+    return decorate
+
+
+@cached_njit(nogil=True)
+def _queries(
+    points,
+    tangents,
+    verts,
+    vert_offset,
+    n_seg,
+    centres,
+    radii,
+    chunk_offset,
+    n_chunks,
+    b,
+    same_direction,
+    tol,
+    out_pt,
+    out_seg,
+    out_dist,
+    start,
+    stop,
+    lower,
+):
+    """Queries ``start`` to ``stop`` against all polylines (see :func:`nearest_crossings`).
+
+    ``lower`` is scratch space of at least ``max(n_chunks)`` values.
+    """
+    q = points.shape[1]
+    for i in range(start, stop):
+        for j in range(n_seg.shape[0]):
+            c0 = chunk_offset[j]
+            v0 = vert_offset[j]
+            first_c = -1
+            first_lb = np.inf
+            for c in range(n_chunks[j]):
+                along = 0.0
+                d2 = 0.0
+                for k in range(q):
+                    diff = centres[c0 + c, k] - points[i, k]
+                    along += diff * tangents[i, k]
+                    d2 += diff * diff
+                # Widen each ball by the on-plane tolerance so that a vertex counted
+                # as lying on the plane is never in a pruned chunk.
+                r = radii[c0 + c] + tol
+                lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
+                lower[c] = lb
+                if lb < first_lb:
+                    first_lb = lb
+                    first_c = c
+            if first_c < 0:
+                continue
+            best = np.inf
+            seg = -1
+            for step in range(n_chunks[j]):
+                # The nearest candidate chunk first, then the others whose bound
+                # beats the best crossing found so far.
+                c = first_c if step == 0 else (step - 1 if step - 1 < first_c else step)
+                if lower[c] >= best:
+                    continue
+                first = c * b
+                last = min(first + b, n_seg[j])  # exclusive segment bound
+                side_a = 0.0
+                for k in range(q):
+                    side_a += (verts[v0 + first, k] - points[i, k]) * tangents[i, k]
+                if abs(side_a) <= tol:
+                    side_a = 0.0
+                for s in range(first, last):
+                    side_b = 0.0
+                    for k in range(q):
+                        side_b += (verts[v0 + s + 1, k] - points[i, k]) * tangents[i, k]
+                    if abs(side_b) <= tol:
+                        side_b = 0.0
+                    if same_direction:
+                        crosses = side_a <= 0.0 and side_b >= 0.0 and side_b > side_a
+                    else:
+                        crosses = (side_a <= 0.0 and side_b >= 0.0) or (
+                            side_a >= 0.0 and side_b <= 0.0
+                        )
+                    if crosses:
+                        ds = side_b - side_a
+                        u = -side_a / ds if ds != 0.0 else 0.0
+                        d2 = 0.0
+                        for k in range(q):
+                            a = verts[v0 + s, k]
+                            x = a + u * (verts[v0 + s + 1, k] - a) - points[i, k]
+                            d2 += x * x
+                        d = np.sqrt(d2)
+                        if d < best:
+                            best = d
+                            seg = s
+                            for k in range(q):
+                                a = verts[v0 + s, k]
+                                out_pt[i, j, k] = a + u * (verts[v0 + s + 1, k] - a)
+                    side_a = side_b
+            if seg >= 0:
+                out_seg[i, j] = seg
+                out_dist[i, j] = best
+
+
+def _n_threads() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def nearest_crossings(points, tangents, polylines, b, same_direction, tol, out) -> None:
+    """Nearest crossing of each query's normal hyperplane with each polyline.
+
+    See :class:`lfdkit.core.geometry.PolylineSet` for the method. ``polylines`` is the
+    tuple (verts, vert_offset, n_seg, centres, radii, chunk_offset, n_chunks);
+    results are written in place into ``out`` = (points (m, n, q), segment
+    (m, n), distance (m, n)). Large problems are split over the available
+    cores, each thread taking a block of queries.
+    """
+    m = points.shape[0]
+    most = max(1, int(polylines[6].max(initial=0)))
+    threads = min(_n_threads(), m) if m * polylines[2].shape[0] >= _THREADED_PAIRS else 1
+
+    def run(start: int, stop: int) -> None:
+        _queries(
+            points, tangents, *polylines, b, same_direction, tol, *out, start, stop, np.empty(most)
+        )
+
+    if threads <= 1:
+        run(0, m)
+        return
+    bounds = np.linspace(0, m, threads + 1).astype(int)
+    errors: list[BaseException] = []
+
+    def work(start: int, stop: int) -> None:
+        try:
+            run(start, stop)
+        except BaseException as exc:  # re-raised in the calling thread
+            errors.append(exc)
+
+    workers = [
+        threading.Thread(target=work, args=(int(lo), int(hi)), daemon=True)
+        for lo, hi in itertools.pairwise(bounds[1:])
+    ]
+    for worker in workers:
+        worker.start()
+    run(int(bounds[0]), int(bounds[1]))
+    for worker in workers:
+        worker.join()
+    if errors:
+        raise errors[0]
+
+
+__all__ = ["cached_njit", "nearest_crossings"]

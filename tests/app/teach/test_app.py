@@ -1,0 +1,558 @@
+"""The teach page's JSON API through Starlette's test client.
+
+Sessions are isolated, bodies are bounded, bad input gets one readable line
+(never a traceback), learning is exactly ``lfdkit learn`` (the skill the page
+exports is byte for byte the one the command writes from the page's own
+demos.csv and scenes.csv), plans are ``Skill.plan``'s and the exports load
+with lfdkit's readers.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("starlette", reason="the teach page needs: pip install 'lfdkit[teach]'")
+pytest.importorskip("httpx", reason="Starlette's test client needs httpx: pip install httpx")
+
+with warnings.catch_warnings():  # Starlette >= 1.0 prefers httpx2; httpx still works
+    warnings.simplefilter("ignore")
+    from starlette.testclient import TestClient
+
+from lfdkit.app.teach.app import SESSION_HEADER, STATIC, create_app
+from lfdkit.app.teach.session import LIMITS
+
+pytestmark = pytest.mark.filterwarnings("ignore::DeprecationWarning")
+
+OBSTACLE = {"id": "o1", "class": "cup", "x": 0.0, "y": 0.47, "radius": 0.03}
+
+
+def _stroke(around: bool, k: int, n: int = 45) -> list[list[float]]:
+    """A sweep from x=-0.4 to 0.4 at y=0.45; ``around``: a swerve below the cup at x=0."""
+    x = np.linspace(-0.4, 0.4, n)
+    y = 0.45 + 0.008 * math.sin(1.3 * k) * np.sin(np.pi * (x + 0.4) / 0.8)
+    if around:
+        y = y - (0.05 + 0.01 * k) * np.exp(-((x / 0.1) ** 2))
+    return np.column_stack((x, y)).tolist()
+
+
+def drawing(n_clean: int = 3, n_around: int = 2) -> dict:
+    demos = []
+    for k in range(n_clean + n_around):
+        around = k >= n_clean
+        points = _stroke(around, k % n_clean)
+        times = np.linspace(0.0, 0.6 + 0.05 * k, len(points)).tolist()
+        demos.append(
+            {
+                "id": f"demo-{k + 1}",
+                "points": points,
+                "times": times,
+                "obstacles": ["o1"] if around else [],
+            }
+        )
+    return {"demos": demos, "obstacles": [OBSTACLE]}
+
+
+def new_client(**kwargs) -> TestClient:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return TestClient(create_app(**kwargs), raise_server_exceptions=False)
+
+
+def session(client: TestClient) -> dict[str, str]:
+    answer = client.post("/api/session")
+    assert answer.status_code == 200
+    return {SESSION_HEADER: answer.json()["session"]}
+
+
+def learn(client: TestClient, headers: dict, payload: dict, seconds: float = 120) -> dict:
+    answer = client.post("/api/learn", json=payload, headers=headers)
+    assert answer.status_code == 202, answer.text
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        status = client.get("/api/learn", headers=headers).json()
+        if status["state"] != "running":
+            return status
+        time.sleep(0.1)
+    raise AssertionError("learning did not finish")
+
+
+@pytest.fixture(scope="module")
+def learned():
+    client = new_client()
+    headers = session(client)
+    status = learn(client, headers, drawing())
+    assert status["state"] == "done", status
+    return client, headers, status
+
+
+def assert_readable(answer, status: int, pattern: str) -> None:
+    assert answer.status_code == status, answer.text
+    error = answer.json()["error"]
+    assert re.search(pattern, error), error
+    assert "Traceback" not in error and "\n" not in error
+
+
+# ------------------------------------------------------------------ the page
+def test_page_and_its_files_are_served_with_a_strict_policy() -> None:
+    client = new_client()
+    page = client.get("/")
+    assert page.status_code == 200 and "/static/teach.js" in page.text
+    policy = page.headers["content-security-policy"]
+    assert "default-src 'self'" in policy and "script-src 'self'" in policy
+    for name in ("teach.js", "teach.css", "favicon.svg"):
+        assert client.get(f"/static/{name}").status_code == 200
+    assert_readable(client.get("/static/nothing.js"), 404, "Not Found")
+
+
+def test_the_page_fetches_nothing_from_elsewhere() -> None:
+    """Offline: no script, style, font or image from another host (SVG's xmlns is a name)."""
+    found = []
+    for path in STATIC.iterdir():
+        text = path.read_text(encoding="utf-8")
+        text = text.replace('xmlns="http://www.w3.org/2000/svg"', "")
+        found += [f"{path.name}: {m}" for m in re.findall(r"\w+://[^\s\"')]+", text)]
+        found += [f"{path.name}: @import" for _ in re.findall(r"@import|@font-face", text)]
+    assert found == []
+
+
+def test_files_of_the_page_ship_in_the_package() -> None:
+    text = (Path(__file__).resolve().parents[3] / "pyproject.toml").read_text()
+    assert '"app/teach/static/*"' in text
+    assert {"index.html", "teach.js", "teach.css"} <= {p.name for p in STATIC.iterdir()}
+
+
+def test_other_host_names_are_refused_on_the_loopback() -> None:
+    client = new_client()
+    answer = client.get("/", headers={"host": "attacker.example"})
+    assert answer.status_code == 400
+    assert new_client(allowed_hosts=None).get("/", headers={"host": "x.example"}).status_code == 200
+
+
+# ------------------------------------------------------------------ sessions
+def test_sessions_are_isolated(learned) -> None:
+    client, headers, _ = learned
+    other = session(client)
+    assert other != headers
+    assert client.get("/api/learn", headers=other).json()["state"] == "idle"
+    assert_readable(client.post("/api/plan", json={}, headers=other), 400, "no skill learned")
+    assert_readable(client.get("/api/export/skill", headers=other), 400, "no skill learned")
+    # The first tab still has its skill.
+    assert client.post("/api/plan", json={}, headers=headers).status_code == 200
+
+
+def test_unknown_or_missing_sessions_are_told_to_reload() -> None:
+    client = new_client()
+    assert_readable(client.post("/api/plan", json={}), 410, "reload the page")
+    answer = client.post("/api/plan", json={}, headers={SESSION_HEADER: "made-up"})
+    assert_readable(answer, 410, "reload the page")
+
+
+def test_the_least_recently_used_session_goes_first() -> None:
+    client = new_client(max_sessions=2)
+    first, second = session(client), session(client)
+    client.get("/api/learn", headers=first)  # first used again: second is the oldest
+    third = session(client)
+    assert client.get("/api/learn", headers=first).status_code == 200
+    assert client.get("/api/learn", headers=third).status_code == 200
+    assert client.get("/api/learn", headers=second).status_code == 410
+
+
+# ------------------------------------------------------------------ limits
+def test_large_bodies_are_refused_with_413() -> None:
+    client = new_client(max_body_bytes=10_000)
+    headers = session(client)
+    big = b"x" * 20_000
+    answer = client.post("/api/import/demos?format=csv", content=big, headers=headers)
+    assert_readable(answer, 413, "too large: at most 0.01 MB")
+
+    def chunks():  # no Content-Length: counted as it arrives
+        for _ in range(10):
+            yield b"y" * 2_000
+
+    answer = client.post("/api/import/demos?format=csv", content=chunks(), headers=headers)
+    assert_readable(answer, 413, "too large")
+
+
+def test_the_default_limit_is_two_megabytes() -> None:
+    assert LIMITS["max_body_bytes"] == 2_000_000
+    client = new_client()
+    headers = session(client)
+    answer = client.post("/api/plan", content=b" " * 2_000_001, headers=headers)
+    assert answer.status_code == 413
+
+
+@pytest.mark.parametrize(
+    ("body", "pattern"),
+    [
+        (b"{not json", r"not valid JSON \(.* line 1 column 2\)"),
+        (b'{"start": [NaN, 0]}', "NaN is not a number JSON allows"),
+        (b"\xff\xfe", "not UTF-8"),
+        (b"[" * 5000 + b"]" * 5000, "nested too deeply|expected an object"),
+        (b'{"start": "here"}', r"start: expected a list, got text"),
+        (b'{"start": [0.1]}', r"start: expected \[x, y\], got 1 numbers"),
+        (b'{"start": [0.1, 1e9]}', r"start\[1\]: expected a number within ±100"),
+        (b'{"goal": [true, 0]}', r"goal\[0\]: expected a number, got true/false"),
+        (b'{"obstacles": [{"class": "a b", "x": 0, "y": 0}]}', r"class: 'a b' is not a plain"),
+        (b'{"obstacles": [{"class": "cup", "x": 0, "y": 0, "radius": -1}]}', r"radius: expected"),
+        (b'{"heat": {"nx": 1000, "ny": 1000}}', r"heat: at most 20000 cells"),
+    ],
+)
+def test_bad_plan_requests_get_one_readable_line(learned, body, pattern) -> None:
+    client, headers, _ = learned
+    answer = client.post("/api/plan", content=body, headers=headers)
+    assert_readable(answer, 400, pattern)
+
+
+@pytest.mark.parametrize(
+    ("change", "pattern"),
+    [
+        (lambda d: d.update(demos="x"), r"demos: expected a list"),
+        (lambda d: d["demos"][0].update(points=[[0, 0]]), r"demos\[0\]: 1 points"),
+        (lambda d: d["demos"][1].update(id="demo-1"), r"demos\[1\].id: 'demo-1' is used twice"),
+        (lambda d: d["demos"][0].update(times=[0.0] * 45), r"demos\[0\].times: must increase"),
+        (lambda d: d["demos"][0].update(times=[0.0, 1.0]), r"2 times for 45 points"),
+        (lambda d: d["demos"][3].update(obstacles=["o9"]), r"no obstacle 'o9'"),
+        (lambda d: d["demos"][0].update(points="x" * 10), r"points: expected a list"),
+        (
+            lambda d: d.update(demos=d["demos"] * 13),
+            rf"demos: at most {LIMITS['max_demos']} allowed",
+        ),
+        (lambda d: d.update(params={"mimic": "magic"}), r"params.mimic: expected one of"),
+        (
+            lambda d: [x.update(obstacles=["o1"]) for x in d["demos"][1:]],
+            r"1 clean demonstrations .* at least 2",
+        ),
+    ],
+)
+def test_bad_drawings_are_refused_before_learning(change, pattern) -> None:
+    client = new_client()
+    headers = session(client)
+    payload = drawing()
+    change(payload)
+    assert_readable(client.post("/api/learn", json=payload, headers=headers), 400, pattern)
+    assert client.get("/api/learn", headers=headers).json()["state"] == "idle"
+
+
+def test_a_tab_learns_one_skill_at_a_time() -> None:
+    client = new_client()
+    headers = session(client)
+    assert client.post("/api/learn", json=drawing(), headers=headers).status_code == 202
+    again = client.post("/api/learn", json=drawing(), headers=headers)
+    assert_readable(again, 409, "learning already")
+    end = time.monotonic() + 120
+    while client.get("/api/learn", headers=headers).json()["state"] == "running":
+        assert time.monotonic() < end
+        time.sleep(0.1)
+
+
+def test_a_failed_fit_is_a_line_in_the_page() -> None:
+    client = new_client()
+    headers = session(client)
+    payload = drawing()
+    for demo in payload["demos"][:3]:  # the clean demos all the same point: no path
+        demo["points"] = [[0.1, 0.4]] * 45
+    status = learn(client, headers, payload)
+    assert status["state"] == "failed"
+    assert status["error"] and "\n" not in status["error"] and "Traceback" not in status["error"]
+    assert status["lines"][-1].strip().split("  ", 1)[1].startswith("failed:")
+
+
+# ------------------------------------------------------------------ learn, plan
+def test_learning_is_exactly_lfdkit_learn(learned, tmp_path) -> None:
+    """The page's skill is the one ``lfdkit learn`` writes from the page's own files."""
+    from lfdkit.app.cli import main
+
+    client, headers, status = learned
+    assert any("emulate: inverse optimal control on 2 demos" in line for line in status["lines"])
+    for kind in ("demos", "scenes"):
+        answer = client.post(f"/api/export/{kind}", json=drawing(), headers=headers)
+        assert answer.status_code == 200
+        assert answer.headers["content-disposition"] == f'attachment; filename="{kind}.csv"'
+        (tmp_path / f"{kind}.csv").write_text(answer.text, encoding="utf-8")
+    skill_file = tmp_path / "skill.json"
+    code = main(
+        [
+            "learn",
+            str(tmp_path / "demos.csv"),
+            "--scenes",
+            str(tmp_path / "scenes.csv"),
+            "-o",
+            str(skill_file),
+            "-q",
+        ]
+    )
+    assert code == 0
+    exported = client.get("/api/export/skill", headers=headers)
+    assert exported.status_code == 200
+    assert exported.content == skill_file.read_bytes()
+
+
+def test_layers_show_path_distance_space_and_class_parameters(learned) -> None:
+    from lfdkit.skill import Skill
+
+    client, headers, status = learned
+    layers = status["layers"]
+    path = np.array(layers["path"])
+    assert path.shape == (100, 2)
+    assert np.allclose(path[0], [-0.4, 0.45], atol=0.01)
+    assert np.allclose(path[-1], [0.4, 0.45], atol=0.01)
+    # Distance-Space: each clean demo's signed offset along the left normal (up here).
+    rows = np.array(layers["distance_space"], dtype=float)
+    assert rows.shape == (3, 100)
+    middle = rows[:, 40:60]
+    offsets = [0.008 * math.sin(1.3 * k) for k in range(3)]
+    expected = np.array(offsets) - np.mean(offsets)  # about: the path is their centre
+    assert np.allclose(np.nanmean(middle, axis=1), expected, atol=0.003)
+    normals = np.array(layers["normals"])
+    assert np.allclose(normals[50], [0.0, 1.0], atol=0.05)
+    # Each class's parameters, and the reach the page draws.
+    skill = Skill.from_dict(json.loads(client.get("/api/export/skill", headers=headers).text))
+    (cup,) = layers["classes"]
+    assert cup["name"] == "cup"
+    np.testing.assert_allclose(cup["precision"], skill.reward_.precisions["cup"])
+    values = np.linalg.eigvalsh(np.array(cup["precision"]))
+    np.testing.assert_allclose(cup["reach"], 1.0 / np.sqrt(values))
+    assert layers["nominal_weight"] == pytest.approx(skill.reward_.nominal_weight)
+    assert layers["fit"]["n_clean"] == 3 and layers["fit"]["n_obstacle"] == 2
+    assert layers["timing"]["source"] == "demonstrations"
+
+
+def _plan_request(obstacle=(0.08, 0.45), heat=None) -> dict:
+    body = {
+        "start": [-0.4, 0.45],
+        "goal": [0.4, 0.45],
+        "obstacles": [] if obstacle is None else [{**OBSTACLE, "x": obstacle[0], "y": obstacle[1]}],
+    }
+    if heat:
+        body["heat"] = heat
+    return body
+
+
+def test_plans_are_skill_plan_with_clearance_and_collision_check(learned) -> None:
+    from lfdkit.model.scene import Obstacle, Scene
+    from lfdkit.skill import Skill
+
+    client, headers, _ = learned
+    skill = Skill.from_dict(json.loads(client.get("/api/export/skill", headers=headers).text))
+    free = client.post("/api/plan", json=_plan_request(None), headers=headers).json()
+    on = client.post("/api/plan", json=_plan_request(), headers=headers).json()
+    scene = Scene((Obstacle("cup", [0.08, 0.45], 0.03),))
+    expected = skill.plan([-0.4, 0.45], [0.4, 0.45], scene)
+    np.testing.assert_allclose(on["points"], expected.points, atol=1e-12)
+    np.testing.assert_allclose(on["times"], expected.times, atol=1e-12)
+    assert on["collision_free"] and on["collisions"] == 0
+    distance = np.hypot(*(np.array(on["points"]) - [0.08, 0.45]).T).min() - 0.03
+    assert on["min_clearance"] == pytest.approx(distance, abs=2e-3)  # polyline vs points
+    assert on["min_clearance"] >= 0
+    assert free["clearance"] == [] and free["min_clearance"] is None
+    assert np.abs(np.array(on["points"]) - np.array(free["points"])).max() > 0.02
+    nominal = np.array(free["nominal"])
+    assert len(nominal) <= 120
+    np.testing.assert_allclose(nominal[[0, -1]], [[-0.4, 0.45], [0.4, 0.45]], atol=1e-9)
+
+
+def test_the_heat_map_is_the_learned_reward_on_a_grid(learned) -> None:
+    client, headers, _ = learned
+    heat = {"view": [-0.5, 0.5, 0.3, 0.6], "nx": 21, "ny": 7}
+    answer = client.post("/api/plan", json=_plan_request(heat=heat), headers=headers).json()
+    grid = answer["heat"]
+    values = np.array(grid["values"])
+    assert values.shape == (7, 21) and values.min() >= 0 and values.max() == 1
+    # Highest on the nominal (row y=0.45, x=-0.5 is off the path's end), low far from it.
+    assert values[3, 5] > 0.95 and values[0, 5] < values[3, 5]
+    # The cup's term lowers the reward at the obstacle (x=0.1, y=0.45).
+    without = client.post("/api/plan", json=_plan_request(None, heat=heat), headers=headers).json()[
+        "heat"
+    ]
+    assert grid["low"] < without["low"] or values[3, 12] < np.array(without["values"])[3, 12]
+
+
+def test_plans_that_cannot_be_made_say_why(learned) -> None:
+    client, headers, _ = learned
+    inside = {**_plan_request(), "start": [0.08, 0.45]}
+    assert_readable(client.post("/api/plan", json=inside, headers=headers), 422, "inside")
+    unknown = _plan_request()
+    unknown["obstacles"][0]["class"] = "vase"
+    answer = client.post("/api/plan", json=unknown, headers=headers)
+    assert_readable(answer, 422, "'vase' was never learned")
+
+
+# ------------------------------------------------------------------ files
+def test_exports_load_with_lfdkit_readers(learned, tmp_path) -> None:
+    from lfdkit.io import load_demos, load_scenes
+
+    client, headers, _ = learned
+    payload = drawing()
+    demos_csv = tmp_path / "demos.csv"
+    scenes_csv = tmp_path / "scenes.csv"
+    demos_csv.write_text(client.post("/api/export/demos", json=payload, headers=headers).text)
+    scenes_csv.write_text(client.post("/api/export/scenes", json=payload, headers=headers).text)
+    demos, times, ids = load_demos(demos_csv, return_times=True, return_ids=True)
+    assert ids == [d["id"] for d in payload["demos"]]
+    for demo, stamps, sent in zip(demos, times, payload["demos"], strict=True):
+        np.testing.assert_array_equal(demo, sent["points"])
+        np.testing.assert_array_equal(stamps, sent["times"])
+    scenes = load_scenes(scenes_csv)
+    assert sorted(scenes) == ["demo-4", "demo-5"]
+    (cup,) = scenes["demo-4"].obstacles
+    assert cup.label == "cup" and cup.radius == 0.03
+    np.testing.assert_array_equal(cup.position, [0.0, 0.47])
+    # Nothing marked: no scenes file to export.
+    clean = drawing(5, 0)
+    answer = client.post("/api/export/scenes", json=clean, headers=headers)
+    assert_readable(answer, 400, "no demonstration is marked")
+
+
+def test_plan_csv_and_urscript_exports(learned) -> None:
+    client, headers, _ = learned
+    request = _plan_request((0.1, 0.52))
+    plan = client.post("/api/plan", json=request, headers=headers).json()
+    answer = client.post("/api/export/plan", json=request, headers=headers)
+    assert answer.status_code == 200 and answer.text.splitlines()[0] == "t,x,y"
+    rows = np.loadtxt(answer.text.splitlines()[1:], delimiter=",")
+    np.testing.assert_allclose(rows[:, 0], plan["times"], atol=1e-12)
+    np.testing.assert_allclose(rows[:, 1:], plan["points"], atol=1e-12)
+    program = client.post("/api/export/urscript", json=request, headers=headers)
+    assert program.status_code == 200, program.text
+    assert program.text.startswith("# URScript program written by lfdkit")
+    assert "servoj(" in program.text
+    far = {**request, "goal": [5.0, 5.0]}
+    answer = client.post("/api/export/urscript", json=far, headers=headers)
+    assert answer.status_code == 422 and "\n" not in answer.json()["error"]
+
+
+def test_a_skill_whose_reward_fit_did_not_converge_is_tried_but_not_exported() -> None:
+    import copy
+
+    client = new_client()
+    headers = session(client)
+    status = learn(client, headers, drawing())
+    assert status["state"] == "done", status
+    tab = client.app.state.sessions.get(headers[SESSION_HEADER])
+    skill = copy.deepcopy(tab.skill)
+    skill.ioc_info_ = {**skill.ioc_info_, "converged": False}
+    tab.skill = skill
+    request = _plan_request((0.1, 0.52))
+    assert client.post("/api/plan", json=request, headers=headers).status_code == 200
+    refused = r"did not converge.*not exported.*lfdkit learn"
+    assert_readable(client.get("/api/export/skill", headers=headers), 400, refused)
+    for url in ("/api/export/plan", "/api/export/urscript"):
+        assert_readable(client.post(url, json=request, headers=headers), 400, refused)
+
+
+def test_imports_read_uploaded_bytes_without_paths(learned) -> None:
+    client, headers, _ = learned
+    payload = drawing()
+    csv = client.post("/api/export/demos", json=payload, headers=headers).content
+    got = client.post("/api/import/demos?format=csv", content=csv, headers=headers).json()
+    assert [d["id"] for d in got["demos"]] == [d["id"] for d in payload["demos"]]
+    np.testing.assert_array_equal(got["demos"][3]["points"], payload["demos"][3]["points"])
+    np.testing.assert_allclose(got["demos"][3]["times"], payload["demos"][3]["times"])
+    scenes = client.post("/api/export/scenes", json=payload, headers=headers).content
+    got = client.post("/api/import/scenes?format=csv", content=scenes, headers=headers).json()
+    assert got["marks"] == {"demo-4": ["o1"], "demo-5": ["o1"]}
+    assert got["obstacles"] == [OBSTACLE]
+    broken = b"demo,x,y\nd1,0.1,oops\n"
+    answer = client.post("/api/import/demos?format=csv", content=broken, headers=headers)
+    assert_readable(answer, 400, r"^the demonstrations file:? line 2, column .y.: could not read")
+    assert "/tmp" not in answer.json()["error"] and "upload" not in answer.json()["error"]
+    answer = client.post("/api/import/demos?format=exe", content=csv, headers=headers)
+    assert_readable(answer, 400, "must be csv, json, npz")
+    answer = client.post("/api/import/demos?format=../../etc/passwd", content=csv, headers=headers)
+    assert_readable(answer, 400, "must be csv, json, npz")
+    assert_readable(client.post("/api/import/other", content=csv, headers=headers), 404, "kind")
+    assert_readable(
+        client.post("/api/import/demos?format=csv", content=b"", headers=headers), 400, "empty"
+    )
+
+
+def test_the_example_is_the_shipped_sweeping_data() -> None:
+    client = new_client()
+    headers = session(client)
+    example = client.get("/api/example", headers=headers).json()
+    ids = [d["id"] for d in example["demos"]]
+    assert "free-1" in ids and "cup-1" in ids and len(ids) == 13
+    assert example["marks"]["cup-1"] and "free-1" not in example["marks"]
+    assert {o["class"] for o in example["obstacles"]} == {"cup", "marker"}
+
+
+# ------------------------------------------------------------------ fuzz
+def _json_values():
+    from hypothesis import strategies as st
+
+    scalars = st.none() | st.booleans() | st.integers(-(10**12), 10**12) | st.text(max_size=8)
+    scalars = scalars | st.floats(allow_nan=False, allow_infinity=False)
+    return st.recursive(
+        scalars,
+        lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner),
+        max_leaves=12,
+    )
+
+
+def _near_valid_drawings():
+    """Drawings with a field or two replaced by anything JSON can hold."""
+    from hypothesis import strategies as st
+
+    keys = st.sampled_from(["demos", "obstacles", "id", "points", "times", "class", "x", "radius"])
+    return st.tuples(st.lists(st.tuples(keys, _json_values()), max_size=3), st.integers(0, 4))
+
+
+def _spoil(payload: dict, changes, index: int) -> dict:
+    for key, value in changes:
+        demos, obstacles = payload["demos"], payload["obstacles"]
+        if key in ("demos", "obstacles"):
+            payload[key] = value
+        elif key in ("id", "points", "times"):
+            target = demos[index % len(demos)] if isinstance(demos, list) and demos else None
+            if isinstance(target, dict):
+                target[key] = value
+        elif isinstance(obstacles, list) and obstacles and isinstance(obstacles[0], dict):
+            obstacles[0][key] = value
+    return payload
+
+
+def test_random_requests_get_an_answer_or_one_line(learned) -> None:
+    """Any JSON to the plan and export endpoints: a result or a 4xx line, never a 500."""
+    from hypothesis import HealthCheck, given, settings
+
+    client, headers, _ = learned
+
+    @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(body=_json_values(), spoil=_near_valid_drawings())
+    def check(body, spoil) -> None:
+        for path, payload in (
+            ("/api/plan", body),
+            ("/api/export/demos", body),
+            ("/api/export/demos", _spoil(drawing(2, 1), *spoil)),
+            ("/api/plan", {"start": body, "obstacles": [{**OBSTACLE, "x": body}]}),
+        ):
+            answer = client.post(path, json=payload, headers=headers)
+            assert answer.status_code in (200, 400, 422), (path, payload, answer.text)
+            if answer.status_code != 200:
+                error = answer.json()["error"]
+                assert error and "\n" not in error and "Traceback" not in error
+
+    check()
+
+
+def test_imports_refuse_what_learning_would_refuse_with_its_message() -> None:
+    client = new_client()
+    headers = session(client)
+    rows = "".join(f"d1,{i * 1e-4!r},0.0\n" for i in range(6000))
+    long = ("demo,x,y\n" + rows).encode()
+    answer = client.post("/api/import/demos?format=csv", content=long, headers=headers)
+    assert_readable(answer, 400, r"^demos\[0\]\.points: ")
+    spaced = b"demo,x,y\nmy demo,0,0\nmy demo,0.1,0\nmy demo,0.2,0\n"
+    answer = client.post("/api/import/demos?format=csv", content=spaced, headers=headers)
+    assert_readable(answer, 400, r"^demos\[0\]\.id: 'my demo' is not a plain name")
+    big = b"demo,class,x,y,radius\nd1,cup,0.1,0.4,2.5\n"
+    answer = client.post("/api/import/scenes?format=csv", content=big, headers=headers)
+    assert_readable(answer, 400, r"^obstacles\[0\]\.radius: expected 0 to ")

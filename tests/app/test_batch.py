@@ -1,0 +1,388 @@
+"""Tests for lfdkit.app.batch: the executor seam, streamed and resumable results, batch learning.
+
+The generic parts run on small pure work units (``dict`` copies its
+argument, ``dict(5)`` raises): a failing task is recorded and the batch goes
+on; an interrupted batch resumes with only the missing tasks run and ends
+with the same file contents as an uninterrupted one; another batch's file is
+refused; a cut-short last line is dropped; the window of tasks in flight is
+bounded and the client's memory does not grow with the number of tasks.
+Batch learning is checked against :func:`lfdkit.skill.learn` on the same
+files, serially and on two local processes, through the command line.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import tracemalloc
+from concurrent.futures import Executor, Future, ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from lfdkit.app.batch import (
+    ExecutorBrokenError,
+    SerialExecutor,
+    learn_outputs,
+    make_executor,
+    read_results,
+    results_header,
+    run_batch,
+    spec_hash,
+)
+from lfdkit.app.cli import main
+from lfdkit.datasets import export_dataset
+from lfdkit.skill import learn
+from tests.app.test_cli import run_cli
+
+
+def tasks(n: int, fail: tuple[int, ...] = ()):
+    """``(i, ({"square": i * i},))``; the tasks in ``fail`` get ``(5,)``: ``dict(5)`` raises."""
+    for i in range(n):
+        yield i, ((5,) if i in fail else ({"square": i * i},))
+
+
+def records(path: Path) -> list[dict]:
+    return sorted(read_results(path), key=lambda r: r["task"])
+
+
+SPEC = {"kind": "squares"}
+
+
+# ------------------------------------------------------------------ executors
+def test_serial_executor_returns_finished_futures():
+    executor = SerialExecutor()
+    assert executor.submit(divmod, 7, 2).result() == (3, 1)
+    failed = executor.submit(divmod, 1, 0)
+    assert failed.done()
+    assert isinstance(failed.exception(), ZeroDivisionError)
+
+
+def test_serial_executor_lets_an_interrupt_through():
+    def interrupt():
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        SerialExecutor().submit(interrupt)
+
+
+def test_make_executor_defaults_to_serial_and_refuses_two_choices():
+    with make_executor() as executor:
+        assert isinstance(executor, SerialExecutor)
+        assert executor.workers == 1
+    with pytest.raises(ValueError, match="scheduler: give one of"):
+        with make_executor(workers=2, scheduler="tcp://localhost:1"):
+            pass
+    with pytest.raises(ValueError, match="workers: expected a whole number"):
+        with make_executor(workers=0):
+            pass
+
+
+def test_an_unreachable_scheduler_is_one_clear_error():
+    with pytest.raises(ValueError, match=r"scheduler: cannot connect to tcp://127\.0\.0\.1:9"):
+        with make_executor(scheduler="tcp://127.0.0.1:9", connect_timeout=2):
+            pass
+
+
+def test_local_processes_give_the_serial_results(tmp_path):
+    run_batch(SerialExecutor(), dict, tasks(30, fail=(4,)), tmp_path / "a.jsonl", spec=SPEC)
+    with make_executor(workers=2) as executor:
+        assert executor.workers == 2
+        summary = run_batch(executor, dict, tasks(30, fail=(4,)), tmp_path / "b.jsonl", spec=SPEC)
+    assert (summary.done, summary.failed) == (29, 1)
+    assert records(tmp_path / "a.jsonl") == records(tmp_path / "b.jsonl")
+
+
+# ------------------------------------------------------------------ results files
+def test_results_stream_to_the_file_and_a_failure_does_not_stop_the_batch(tmp_path):
+    path = tmp_path / "r.jsonl"
+    summary = run_batch(SerialExecutor(), dict, tasks(6, fail=(2, 4)), path, spec=SPEC)
+    assert (summary.total, summary.done, summary.failed, summary.skipped) == (6, 4, 2, 0)
+    assert summary.errors[0].startswith("2: TypeError: ")
+    header = results_header(path)
+    assert header["hash"] == spec_hash(SPEC)
+    assert header["spec"] == SPEC
+    got = records(path)
+    assert [r["task"] for r in got] == list(range(6))
+    assert got[3] == {"task": 3, "square": 9}
+    assert got[2]["error"].startswith("TypeError: ")
+    assert "square" not in got[4]
+
+
+def test_an_interrupted_batch_resumes_where_it_stopped(tmp_path):
+    whole, part = tmp_path / "whole.jsonl", tmp_path / "part.jsonl"
+    run_batch(SerialExecutor(), dict, tasks(20, fail=(7,)), whole, spec=SPEC)
+
+    def interrupted():
+        for k, task in enumerate(tasks(20, fail=(7,))):
+            if k == 12:
+                raise KeyboardInterrupt
+            yield task
+
+    with pytest.raises(KeyboardInterrupt):
+        run_batch(SerialExecutor(), dict, interrupted(), part, spec=SPEC)
+    assert len(records(part)) == 12
+
+    ran = []
+
+    class Counting(SerialExecutor):
+        def submit(self, fn, /, *args, **kwargs):
+            ran.append(args)
+            return super().submit(fn, *args, **kwargs)
+
+    summary = run_batch(Counting(), dict, tasks(20, fail=(7,)), part, spec=SPEC)
+    assert len(ran) == 8
+    assert (summary.skipped, summary.done, summary.failed, summary.failed_before) == (12, 8, 0, 1)
+    assert records(part) == records(whole)
+    # The same batch again: nothing left to run.
+    again = run_batch(Counting(), dict, tasks(20, fail=(7,)), part, spec=SPEC)
+    assert (again.skipped, again.done, len(ran)) == (20, 0, 8)
+
+
+def test_a_line_cut_short_is_dropped_and_its_task_run_again(tmp_path):
+    path = tmp_path / "r.jsonl"
+    run_batch(SerialExecutor(), dict, tasks(5), path, spec=SPEC)
+    text = path.read_text()
+    path.write_text(text[: text.rindex('{"task"') + 9])  # killed while writing the last record
+    assert len(list(read_results(path))) == 4
+    summary = run_batch(SerialExecutor(), dict, tasks(5), path, spec=SPEC)
+    assert (summary.skipped, summary.done) == (4, 1)
+    assert records(path) == [{"task": i, "square": i * i} for i in range(5)]
+
+
+def test_another_batchs_file_is_refused_unless_overwritten(tmp_path):
+    path = tmp_path / "r.jsonl"
+    run_batch(SerialExecutor(), dict, tasks(3), path, spec=SPEC)
+    with pytest.raises(ValueError, match="holds the results of another batch"):
+        run_batch(SerialExecutor(), dict, tasks(3), path, spec={"kind": "cubes"})
+    summary = run_batch(
+        SerialExecutor(), dict, tasks(2), path, spec={"kind": "cubes"}, overwrite=True
+    )
+    assert summary.done == 2
+    assert results_header(path)["spec"] == {"kind": "cubes"}
+    not_ours = tmp_path / "other.jsonl"
+    not_ours.write_text('{"a": 1}\n')
+    with pytest.raises(ValueError, match="not an lfdkit batch results file"):
+        run_batch(SerialExecutor(), dict, tasks(3), not_ours, spec=SPEC)
+
+
+def test_a_dead_worker_process_ends_the_batch_with_its_results_kept(tmp_path):
+    import os
+
+    path = tmp_path / "r.jsonl"
+    work = [(0, ({"a": 1},)), (1, (0,))]
+    with pytest.raises(ExecutorBrokenError, match="run the batch again to resume"):
+        with make_executor(workers=1) as executor:
+            run_batch(executor, dict, work[:1], path, spec=SPEC)
+            run_batch(executor, os._exit, work[1:], path, spec=SPEC)
+    assert records(path) == [{"task": 0, "a": 1}]
+
+
+# ------------------------------------------------------------------ bounded work in flight
+class _Watching(Executor):
+    """Threads that finish tasks one by one, counting how many are in flight at once."""
+
+    def __init__(self) -> None:
+        self._pool = ThreadPoolExecutor(2)
+        self._lock = threading.Lock()
+        self.in_flight = self.most = 0
+        self.workers = 2
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        with self._lock:
+            self.in_flight += 1
+            self.most = max(self.most, self.in_flight)
+        future = self._pool.submit(fn, *args, **kwargs)
+        future.add_done_callback(self._finished)
+        return future
+
+    def _finished(self, future: Future) -> None:
+        with self._lock:
+            self.in_flight -= 1
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+
+def test_tasks_in_flight_stay_within_the_window(tmp_path):
+    executor = _Watching()
+    consumed = []
+
+    def lazy():
+        for task in tasks(500):
+            consumed.append(task[0])
+            yield task
+
+    summary = run_batch(executor, dict, lazy(), tmp_path / "r.jsonl", spec=SPEC, window=5)
+    executor.shutdown()
+    assert summary.done == 500
+    assert 1 < executor.most <= 5
+    default = _Watching()
+    run_batch(default, dict, tasks(200), tmp_path / "d.jsonl", spec=SPEC)
+    default.shutdown()
+    assert default.most <= 8  # 4 per worker
+
+
+def _peak_bytes(n: int, path: Path) -> int:
+    tracemalloc.start()
+    try:
+        run_batch(SerialExecutor(), dict, tasks(n), path, spec=SPEC, total=n)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_the_clients_memory_does_not_grow_with_the_number_of_tasks(tmp_path):
+    small = _peak_bytes(500, tmp_path / "small.jsonl")
+    large = _peak_bytes(5_000, tmp_path / "large.jsonl")
+    assert len(list(read_results(tmp_path / "large.jsonl"))) == 5_000
+    # Accumulating the 5,000 results would take a megabyte; streaming them takes nothing more.
+    assert large < small + 64 * 1024, (small, large)
+
+
+def test_progress_reports_throughput(tmp_path):
+    from lfdkit.core.progress import Progress
+
+    heard: list[str] = []
+    progress = Progress(bars=False, log=False, callback=heard.append, heartbeat=0)
+    path = tmp_path / "r.jsonl"
+    run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC, total=4, progress=progress)
+    assert heard[0] == "batch"
+    assert heard[-1].startswith("batch: 4/4, ") and "tasks/s" in heard[-1]
+
+
+# ------------------------------------------------------------------ learning in batch
+@pytest.fixture(scope="module")
+def folders(tmp_path_factory) -> list[Path]:
+    root = tmp_path_factory.mktemp("learn")
+    made = []
+    for name in ("noisy_band", "different_extents"):
+        folder = root / name
+        folder.mkdir()
+        export_dataset(name, folder / "demos.csv", seed=1)
+        made.append(folder)
+    (root / "empty").mkdir()
+    return [*made, root / "empty"]
+
+
+def test_batch_learn_writes_each_skill_and_records_the_failing_folder(folders, capsys, tmp_path):
+    results = tmp_path / "learn.jsonl"
+    code, _, err = run_cli(capsys, "batch", "learn", *folders, "--seed", 3, "-o", results)
+    assert code == 1
+    assert "1 of 3 tasks failed" in err and "no demos.csv" in err
+    got = {r["task"]: r for r in read_results(results)}
+    assert got[str(folders[2])]["error"].startswith("FileNotFoundError: ")
+    for folder in folders[:2]:
+        row = got[str(folder)]
+        assert row["skill"] == str(folder / "skill.json")
+        assert row["clean_demos"] == 10
+        expected = learn(folder / "demos.csv", random_state=3).to_dict()
+        assert json.loads((folder / "skill.json").read_text()) == json.loads(json.dumps(expected))
+    # Run again: resumed, nothing rerun, the failure still reported.
+    code, _, err = run_cli(capsys, "batch", "learn", *folders, "--seed", 3, "-o", results)
+    assert code == 1 and "1 of 3 tasks failed" in err
+    assert len(list(read_results(results))) == 3
+    # Another batch into the same file is refused; a new file refuses to overwrite the skills.
+    code, _, err = run_cli(capsys, "batch", "learn", *folders[:2], "-o", results)
+    assert code == 1 and "another batch" in err
+    code, _, err = run_cli(capsys, "batch", "learn", *folders[:2], "-o", tmp_path / "new.jsonl")
+    assert code == 1 and "skill.json: exists; pass --force" in err
+
+
+@pytest.mark.slow  # two fresh processes import scikit-learn and numba: ~20 s on 2 cores
+def test_batch_learn_on_two_processes_learns_the_same_skills(folders, capsys, tmp_path):
+    out = tmp_path / "skills"
+    out.mkdir()
+    argv = ["batch", "learn", *folders[:2], "--seed", 3, "--output-dir", out]
+    code, _, err = run_cli(capsys, *argv, "--workers", 2, "-o", tmp_path / "p.jsonl")
+    assert code == 0, err
+    for folder in folders[:2]:
+        expected = learn(folder / "demos.csv", random_state=3).to_dict()
+        written = json.loads((out / f"{folder.name}.json").read_text())
+        assert written == json.loads(json.dumps(expected))
+
+
+def test_learn_outputs_refuses_clashing_names(tmp_path):
+    with pytest.raises(ValueError, match="both called 'x'"):
+        learn_outputs([tmp_path / "a" / "x", tmp_path / "b" / "x"], tmp_path)
+    with pytest.raises(ValueError, match="given twice"):
+        learn_outputs(["a", "a"])
+    assert learn_outputs(["a"]) == {"a": Path("a") / "skill.json"}
+
+
+def test_batch_usage_errors(capsys, tmp_path):
+    code, _, err = run_cli(capsys, "batch", "learn", tmp_path / "nope", "-o", tmp_path / "r.jsonl")
+    assert code == 2 and "no such folder" in err
+    with pytest.raises(SystemExit) as exc:
+        main(["batch", "learn", str(tmp_path), "--workers", "2", "--dask-local", "2", "-o", "r"])
+    assert exc.value.code == 2
+    assert "not allowed with argument" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ hostile results files
+def test_a_special_file_or_link_as_results_is_refused_never_written_through(tmp_path):
+    import os
+
+    fifo = tmp_path / "fifo.jsonl"
+    os.mkfifo(fifo)
+    for overwrite in (False, True):  # would block forever if opened
+        with pytest.raises(OSError, match="named pipe"):
+            run_batch(SerialExecutor(), dict, tasks(2), fifo, spec=SPEC, overwrite=overwrite)
+    target = tmp_path / "precious.txt"
+    target.write_text("keep me\n")
+    link = tmp_path / "link.jsonl"
+    link.symlink_to(target)
+    for overwrite in (False, True):
+        with pytest.raises(OSError, match="symbolic link"):
+            run_batch(SerialExecutor(), dict, tasks(2), link, spec=SPEC, overwrite=overwrite)
+    assert target.read_text() == "keep me\n" and link.is_symlink()
+
+
+def test_the_command_refuses_a_fifo_or_link_output_with_and_without_force(capsys, tmp_path):
+    import os
+
+    fifo = tmp_path / "fifo.jsonl"
+    os.mkfifo(fifo)
+    target = tmp_path / "precious.txt"
+    target.write_text("keep me\n")
+    link = tmp_path / "link.jsonl"
+    link.symlink_to(target)
+    for out, what in ((fifo, "named pipe"), (link, "symbolic link")):
+        for force in ((), ("--force",)):
+            code, _, err = run_cli(capsys, "batch", "learn", tmp_path, "-o", out, *force)
+            assert code == 2, err
+            assert f"error: --output {out}: is a {what}" in err and err.count("\n") == 1
+    assert target.read_text() == "keep me\n"
+
+
+def test_a_second_writer_of_one_results_file_is_refused(tmp_path):
+    path = tmp_path / "r.jsonl"
+    inner = []
+
+    def second(item):  # runs while the first batch holds the file
+        if not inner:
+            inner.append(True)
+            with pytest.raises(RuntimeError, match=r"in use by another batch \(pid \d+\)"):
+                run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC)
+            with pytest.raises(RuntimeError, match="in use by another batch"):
+                run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC, overwrite=True)
+        return item
+
+    summary = run_batch(SerialExecutor(), second, tasks(4), path, spec=SPEC)
+    assert inner and summary.done == 4
+    assert records(path) == [{"task": i, "square": i * i} for i in range(4)]
+    assert not (tmp_path / ".r.jsonl.pid").exists()  # the pid note goes with the lock
+    # Released: a later run resumes the file.
+    assert run_batch(SerialExecutor(), dict, tasks(4), path, spec=SPEC).skipped == 4
+
+
+def test_a_task_written_twice_is_kept_once_on_resume(tmp_path):
+    path = tmp_path / "r.jsonl"
+    run_batch(SerialExecutor(), dict, tasks(16), path, spec=SPEC)
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join([*lines, lines[5]]))  # task 4 twice: 17 rows for 16 tasks
+    with pytest.warns(UserWarning, match="1 task row appeared twice; kept the first"):
+        summary = run_batch(SerialExecutor(), dict, tasks(16), path, spec=SPEC)
+    assert (summary.skipped, summary.done) == (16, 0)
+    got = list(read_results(path))
+    assert len(got) == 16 and sorted(r["task"] for r in got) == list(range(16))
