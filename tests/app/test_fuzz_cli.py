@@ -257,7 +257,7 @@ def test_quiet_silences_progress_not_warnings(capsys):
     import argparse
     import warnings
 
-    from lfdkit.app.cli import _warnings_as_lines
+    from lfdkit.app.cli.entry import _warnings_as_lines
 
     args = argparse.Namespace(verbosity=0)
     with _warnings_as_lines(args, "lfdkit learn"):

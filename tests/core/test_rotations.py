@@ -181,7 +181,7 @@ def test_normalisation_neither_overflows_nor_underflows() -> None:
 
 
 def test_the_cli_normalises_a_huge_quaternion(capsys) -> None:
-    from lfdkit.app.cli import _quaternion
+    from lfdkit.app.cli.common import _quaternion
 
     q = _quaternion("1e200,0,0,1e200", "--goal-orientation")
     np.testing.assert_allclose(q, [np.sqrt(0.5), 0.0, 0.0, np.sqrt(0.5)])

@@ -146,7 +146,7 @@ def test_thesis_model_plans_with_the_thesis_mpc(learned) -> None:
 def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
     from types import SimpleNamespace
 
-    from lfdkit.app.cli import _fidelity_lines
+    from lfdkit.app.cli.learn import _fidelity_lines
 
     good = {"demo": 0, "id": 3, "improvement": 95.0, "sides_agree": True, "other_side": 0}
     worse = {"demo": 1, "id": 7, "improvement": -13.0, "sides_agree": False, "other_side": 2}
