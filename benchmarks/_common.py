@@ -8,6 +8,9 @@ import subprocess
 from collections.abc import Iterable
 from importlib import metadata
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 
 def package_versions(packages: Iterable[str]) -> dict[str, str | None]:
@@ -49,3 +52,26 @@ def machine_info() -> dict:
         "processor": platform.processor(),
         "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
     }
+
+
+def json_ready(value: Any, drop: Iterable[str] = ()) -> Any:
+    """A JSON-ready copy: arrays and NumPy scalars as Python, non-finite floats as ``None``.
+
+    Keys starting with ``_`` and those in ``drop`` (live objects kept for figures) are left out.
+    """
+    drop = frozenset(drop)
+    if isinstance(value, dict):
+        return {
+            str(k): json_ready(v, drop)
+            for k, v in value.items()
+            if not str(k).startswith("_") and k not in drop
+        }
+    if isinstance(value, (list, tuple)):
+        return [json_ready(v, drop) for v in value]
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    return value

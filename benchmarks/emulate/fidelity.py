@@ -639,22 +639,8 @@ def figure(rows: list[dict], path: Path, scale: float) -> str | None:
     return path.name
 
 
-def _clean(value):
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items() if not str(k).startswith("_")}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, float) and not np.isfinite(value):
-        return None
-    return value
-
-
 def main(argv: list[str] | None = None) -> int:
-    from _common import git_state, machine_info, package_versions
+    from _common import git_state, json_ready, machine_info, package_versions
 
     from lfdkit.io import atomic_write
 
@@ -731,7 +717,7 @@ def main(argv: list[str] | None = None) -> int:
         "figure": fig_name,
     }
     out = args.output / f"fidelity{suffix}.json"
-    text = json.dumps(_clean(result), indent=1)
+    text = json.dumps(json_ready(result), indent=1)
     atomic_write(out, lambda f: f.write(text), overwrite=True)
     progress(f"wrote {out}")
     return 0

@@ -8,8 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-from _common import git_state, machine_info, package_versions
+from _common import git_state, json_ready, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
 from lfdkit.datasets.emulation import load_emulation_dataset
@@ -24,25 +23,6 @@ from .spec import DATASETS, DMP_DT, DMP_WEIGHTS, HORIZON, SPEED_HORIZON, THESIS,
 from .speed import print_speed, speed
 from .targets import check_targets, print_targets
 from .transfer import composition_transfer, print_composition
-
-
-def _clean(value):
-    """JSON-ready copy: private keys (``_...``), live objects and arrays handled."""
-    if isinstance(value, dict):
-        return {
-            str(k): _clean(v)
-            for k, v in value.items()
-            if not str(k).startswith("_") and k not in ("ioc", "scene_obj", "reward_obj")
-        }
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, float) and not np.isfinite(value):
-        return None
-    return value
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -184,7 +164,9 @@ def main(argv: list[str] | None = None) -> int:
         "targets": checks,
     }
     out = args.output / "emulate.json"
-    out.write_text(json.dumps(_clean(result), indent=1))
+    out.write_text(
+        json.dumps(json_ready(result, drop=("ioc", "scene_obj", "reward_obj")), indent=1)
+    )
     progress(f"\nwrote {out} and figures in {args.output}")
     return 0
 
