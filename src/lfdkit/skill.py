@@ -848,7 +848,7 @@ class Skill(Estimator):
         if self.model == "auto":
             self.clearances_ = demonstrated_clearances(demos, scenes, nominals, ioc.classes_)
         with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
-            self._select_route(demos, scenes, goal)
+            self._select_route(demos, scenes, goal, nominals)
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
         self._warn_fidelity()
@@ -867,7 +867,13 @@ class Skill(Estimator):
         """The route of a skill whose reward was not fitted here (as before routes were chosen)."""
         return "full" if self.planner == "full" else "lookahead"
 
-    def _select_route(self, demos: list[np.ndarray], scenes: list[Scene], goal: np.ndarray) -> None:
+    def _select_route(
+        self,
+        demos: list[np.ndarray],
+        scenes: list[Scene],
+        goal: np.ndarray,
+        nominals: list[np.ndarray],
+    ) -> None:
         """Replan every training scene with each candidate route; keep the closest.
 
         Closest: fewest demonstrations refused, then fewest planned without
@@ -882,7 +888,9 @@ class Skill(Estimator):
         scores, fidelity = {}, {}
         for route in self._route_candidates():
             rows = []
-            for j, (demo, g, scene) in enumerate(zip(demos, goal, scenes, strict=True)):
+            for j, (demo, g, scene, nominal) in enumerate(
+                zip(demos, goal, scenes, nominals, strict=True)
+            ):
                 with warnings.catch_warnings(record=True) as relaxed:
                     warnings.simplefilter("always", UserWarning)
                     try:
@@ -890,7 +898,6 @@ class Skill(Estimator):
                     except UnsafePlanError as exc:
                         rows.append({"demo": j, "refused": str(exc)})
                         continue
-                nominal = self._nominal(demo[0], g)
                 row = replanning_fidelity(plan.points, nominal, demo, scene)
                 # The demonstrated clearance could not all be kept (_plan warned).
                 rows.append({"demo": j, **row, "clearance_relaxed": bool(relaxed)})
