@@ -164,10 +164,11 @@ exactly with the quadrature, the forcing ``b`` included, and agrees with
 from __future__ import annotations
 
 import warnings
-from typing import Any, Literal, NamedTuple
+from typing import Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
 
+from lfdkit.core.constraints import OneOf
 from lfdkit.core.estimator import not_fitted
 from lfdkit.core.geometry import arc_length, path_length, segment_lengths
 from lfdkit.core.options import SCALINGS, SKILL_DEFAULTS, TIMINGS
@@ -373,6 +374,12 @@ class DMP(Primitive):
         Dimension ``q``.
     """
 
+    # The shared parameters are checked by Primitive's table first.
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "scaling": OneOf(SCALINGS),
+        "end": OneOf(_END_CONDITIONS),
+    }
+
     def __init__(
         self,
         n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
@@ -399,11 +406,7 @@ class DMP(Primitive):
 
     # ------------------------------------------------------------------ learning
     def _check_params(self) -> None:
-        self._check_primitive_params()
-        if self.scaling not in SCALINGS:
-            raise ValueError(f"scaling: expected one of {SCALINGS}, got {self.scaling!r}")
-        if self.end not in _END_CONDITIONS:
-            raise ValueError(f"end: expected one of {_END_CONDITIONS}, got {self.end!r}")
+        self._validate_params()
         self._check_rest_basis(self.end)
 
     def fit(

@@ -5,9 +5,10 @@
 parameters — the basis (``n_basis``, ``basis_tol``), the spring (``k``, ``c``),
 the canonical system's decay (``alpha``), the default temporal scaling
 (``tau``) and the ridge term (``regularization``) — with one default each and
-one check each, here. The orientation DMP hands them to the position DMP it
-wraps (:meth:`Primitive.primitive_params`), so both refuse a bad value with the
-same one-line message, and a change of default reaches both.
+one check each, here (``_parameter_constraints``, checked when ``fit`` starts).
+The orientation DMP hands them to the position DMP it wraps
+(:meth:`Primitive.primitive_params`), so both refuse a bad value with the same
+one-line message, and a change of default reaches both.
 
 The defaults are the thesis's spring (``k = 156.25``, ``c = 25``, critically
 damped: ``c² = 4k``) and the Skill's basis (``n_basis="auto"``: the smallest
@@ -18,13 +19,14 @@ constraints on each dimension's weights, so at least 4 basis functions.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from lfdkit.core.constraints import Checked, Integer, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.options import SKILL_DEFAULTS
-from lfdkit.core.validation import check_count, check_positive
+from lfdkit.core.validation import check_positive
 
 __all__ = ["MAX_BASIS", "MAX_TAU", "Primitive", "check_tau"]
 
@@ -35,6 +37,14 @@ MAX_BASIS = 1000
 MAX_TAU = 1e6
 #: The canonical system's default decay: ``Z`` falls to 0.01 at the end of the movement.
 DEFAULT_ALPHA = float(np.log(100.0))
+
+
+def check_tau(tau: Any, name: str = "tau") -> float:
+    """Check a temporal scaling: finite, within ``[1/MAX_TAU, MAX_TAU]``; return it."""
+    tau = check_positive(tau, name)
+    if not 1.0 / MAX_TAU <= tau <= MAX_TAU:
+        raise ValueError(f"{name}: expected {1.0 / MAX_TAU:g} to {MAX_TAU:g}, got {tau:g}")
+    return tau
 
 
 class Primitive(Estimator):
@@ -57,6 +67,16 @@ class Primitive(Estimator):
         With ``n_basis="auto"``: the largest reproduction error accepted, as a
         fraction of the path's extent (``0 < basis_tol <= 1``).
     """
+
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "n_basis": Integer(maximum=MAX_BASIS, options=("auto",)),
+        "basis_tol": Real(maximum=1.0, meaning="a fraction of the path's extent"),
+        "k": Real(),
+        "c": Real(),
+        "alpha": Real(optional=True),
+        "tau": Checked(check_tau),
+        "regularization": Real(allow_zero=True),
+    }
 
     def __init__(
         self,
@@ -85,25 +105,6 @@ class Primitive(Estimator):
     def _auto_basis(self) -> bool:
         return isinstance(self.n_basis, str) and self.n_basis == "auto"
 
-    def _check_primitive_params(self) -> None:
-        """Refuse a bad shared parameter on one line naming it."""
-        if isinstance(self.n_basis, str) and not self._auto_basis:
-            raise ValueError(f"n_basis: expected an integer or 'auto', got {self.n_basis!r}")
-        if not self._auto_basis:
-            check_count(self.n_basis, "n_basis", maximum=MAX_BASIS)
-        tol = check_positive(self.basis_tol, "basis_tol")
-        if tol > 1.0:
-            raise ValueError(
-                f"basis_tol: expected a fraction of the path's extent, 0 < basis_tol <= 1, "
-                f"got {tol:g}"
-            )
-        check_positive(self.k, "k")
-        check_positive(self.c, "c")
-        if self.alpha is not None:
-            check_positive(self.alpha, "alpha")
-        check_tau(self.tau)
-        check_positive(self.regularization, "regularization", allow_zero=True)
-
     def _check_rest_basis(self, end: str) -> None:
         """An end at rest constrains the weights three times: at least 4 basis functions."""
         if end == "rest" and not self._auto_basis and self.n_basis < 4:
@@ -115,11 +116,3 @@ class Primitive(Estimator):
     def _phase_rate(self) -> float:
         """The canonical system's decay rate: ``alpha``, or ``ln 100`` by default."""
         return DEFAULT_ALPHA if self.alpha is None else float(self.alpha)
-
-
-def check_tau(tau: Any) -> float:
-    """Check a temporal scaling: finite, within ``[1/MAX_TAU, MAX_TAU]``; return it."""
-    tau = check_positive(tau, "tau")
-    if not 1.0 / MAX_TAU <= tau <= MAX_TAU:
-        raise ValueError(f"tau: expected {1.0 / MAX_TAU:g} to {MAX_TAU:g}, got {tau:g}")
-    return tau
