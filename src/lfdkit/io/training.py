@@ -1,0 +1,137 @@
+"""Training files: a demonstrations file and its scene file, split for learning.
+
+:func:`read_training_data` reads the demonstrations (:func:`lfdkit.io.load_demos`)
+and, optionally, the scenes they were recorded in (:func:`lfdkit.io.load_scenes`),
+and splits them as :meth:`lfdkit.skill.Skill.fit` takes them: the clean
+demonstrations (no scene, or an empty one), from which the path, the timing and
+the orientation are learned, and the demonstrations around obstacles with their
+scenes, from which the reward is learned. It checks what ties the two files
+together (every scene names a demonstration of the file, obstacles of the
+demonstration's dimension) and what learning needs (at least 2 clean
+demonstrations of at least 3 points; orientations for all of them or none),
+each refusal one line naming the file and the demonstration.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import NamedTuple
+
+import numpy as np
+
+from lfdkit.io.demos import load_demos
+from lfdkit.io.scenes import load_scenes
+from lfdkit.model.demos import DemoId
+from lfdkit.model.scene import Scene
+
+__all__ = ["TrainingData", "read_training_data"]
+
+
+class TrainingData(NamedTuple):
+    """Demonstrations from files, split by whether they were recorded around obstacles.
+
+    Attributes
+    ----------
+    free_demos : list of ndarray, each (n_j, q)
+        Demonstrations without a scene, or with an empty one: the clean
+        demonstrations the generalized path is learned from.
+    free_ids : list of int or str
+    obstacle_demos : list of ndarray, each (n_j, q)
+        Demonstrations whose scene has obstacles.
+    obstacle_ids : list of int or str
+    scenes : list of Scene
+        One per obstacle demonstration.
+    free_times : list of (ndarray (n_j,) or None)
+        Sample times of the clean demonstrations in seconds (None where the
+        file has none): the skill learns its timing from them.
+    free_orientations : list of (ndarray (n_j, 4) or None)
+        Tool orientations of the clean demonstrations, unit quaternions
+        (None where the file has none): the skill learns its orientation
+        from them.
+    """
+
+    free_demos: list[np.ndarray]
+    free_ids: list[DemoId]
+    obstacle_demos: list[np.ndarray]
+    obstacle_ids: list[DemoId]
+    scenes: list[Scene]
+    free_times: list[np.ndarray | None]
+    free_orientations: list[np.ndarray | None]
+
+
+def read_training_data(
+    demos_path: str | os.PathLike[str], scenes_path: str | os.PathLike[str] | None = None
+) -> TrainingData:
+    """Read a demonstrations file and, optionally, the scene file of the obstacle demonstrations.
+
+    Parameters
+    ----------
+    demos_path : path
+        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.io.load_demos`).
+    scenes_path : path, optional
+        Scenes by demonstration id, ``.csv`` or ``.json``
+        (:func:`lfdkit.io.load_scenes`). A demonstration it does not
+        list, or lists with no obstacle, is a clean demonstration.
+
+    Raises
+    ------
+    ValueError
+        If a file is malformed (the message names the file, line and field),
+        demonstrations mix dimensions, or the scene file names a
+        demonstration id that the demonstrations file does not have.
+    """
+    demos, times, ids, quats = load_demos(
+        demos_path, return_times=True, return_ids=True, return_orientations=True
+    )
+    dims = {demo.shape[1] for demo in demos}
+    if len(dims) > 1:
+        first = demos[0].shape[1]
+        j = next(j for j, demo in enumerate(demos) if demo.shape[1] != first)
+        raise ValueError(
+            f"{os.fspath(demos_path)}: demonstration {ids[j]!r} is {demos[j].shape[1]}-D, "
+            f"but {ids[0]!r} is {first}-D; all demonstrations must share their dimension"
+        )
+    scenes = {} if scenes_path is None else load_scenes(scenes_path)
+    known = set(ids)
+    stray = [key for key in scenes if key not in known]
+    if stray:
+        raise ValueError(
+            f"{os.fspath(scenes_path)}: demo {stray[0]!r} is not in {os.fspath(demos_path)} "
+            f"(its ids: {', '.join(map(str, ids[:5]))}{', ...' if len(ids) > 5 else ''})"
+        )
+    short = [(key, len(demo)) for demo, key in zip(demos, ids, strict=True) if len(demo) < 3]
+    if short:
+        raise ValueError(
+            f"{os.fspath(demos_path)}: demonstration {short[0][0]!r} has {short[0][1]} "
+            "points; a path needs at least 3"
+        )
+    data = TrainingData([], [], [], [], [], [], [])
+    for demo, stamps, key, quat in zip(demos, times, ids, quats, strict=True):
+        scene = scenes.get(key)
+        if scene is None or not len(scene):
+            data.free_demos.append(demo)
+            data.free_ids.append(key)
+            data.free_times.append(stamps)
+            data.free_orientations.append(quat)
+        else:
+            if scene.positions.shape[1] != demo.shape[1]:
+                raise ValueError(
+                    f"{os.fspath(scenes_path)}: demo {key!r}: {scene.positions.shape[1]}-D "
+                    f"obstacles for a {demo.shape[1]}-D demonstration"
+                )
+            data.obstacle_demos.append(demo)
+            data.obstacle_ids.append(key)
+            data.scenes.append(scene)
+    if len(data.free_demos) < 2:
+        raise ValueError(
+            f"{os.fspath(demos_path)}: needs at least 2 demonstrations without obstacles to "
+            f"learn the path from, found {len(data.free_demos)}"
+        )
+    given = [quat is not None for quat in data.free_orientations]
+    if any(given) and not all(given):
+        missing = data.free_ids[given.index(False)]
+        raise ValueError(
+            f"{os.fspath(demos_path)}: demonstration {missing!r} has no orientation (qx, qy, "
+            "qz, qw) but others have; give them for all clean demonstrations or none"
+        )
+    return data
