@@ -21,7 +21,7 @@ import numpy as np
 
 from lfdkit.io.demos import load_demos
 from lfdkit.io.scenes import load_scenes
-from lfdkit.model.demos import DemoId
+from lfdkit.model.demos import Demo, DemoId
 from lfdkit.model.scene import Scene
 
 __all__ = ["TrainingData", "read_training_data"]
@@ -30,33 +30,58 @@ __all__ = ["TrainingData", "read_training_data"]
 class TrainingData(NamedTuple):
     """Demonstrations from files, split by whether they were recorded around obstacles.
 
+    Each demonstration is one :class:`~lfdkit.model.demos.Demo` record (points,
+    times, orientations, id, scene); the ``free_*``, ``obstacle_*`` and
+    ``scenes`` properties list one field of them, in the file's order, as
+    :meth:`lfdkit.skill.Skill.fit` takes them.
+
     Attributes
     ----------
-    free_demos : list of ndarray, each (n_j, q)
+    clean : list of Demo
         Demonstrations without a scene, or with an empty one: the clean
-        demonstrations the generalized path is learned from.
-    free_ids : list of int or str
-    obstacle_demos : list of ndarray, each (n_j, q)
-        Demonstrations whose scene has obstacles.
-    obstacle_ids : list of int or str
-    scenes : list of Scene
-        One per obstacle demonstration.
-    free_times : list of (ndarray (n_j,) or None)
-        Sample times of the clean demonstrations in seconds (None where the
-        file has none): the skill learns its timing from them.
-    free_orientations : list of (ndarray (n_j, 4) or None)
-        Tool orientations of the clean demonstrations, unit quaternions
-        (None where the file has none): the skill learns its orientation
-        from them.
+        demonstrations the generalized path, the timing (from their times)
+        and the orientation (from their orientations) are learned from.
+    around_obstacles : list of Demo
+        Demonstrations whose scene has obstacles: the reward is learned from them.
     """
 
-    free_demos: list[np.ndarray]
-    free_ids: list[DemoId]
-    obstacle_demos: list[np.ndarray]
-    obstacle_ids: list[DemoId]
-    scenes: list[Scene]
-    free_times: list[np.ndarray | None]
-    free_orientations: list[np.ndarray | None]
+    clean: list[Demo]
+    around_obstacles: list[Demo]
+
+    @property
+    def free_demos(self) -> list[np.ndarray]:
+        """The clean demonstrations' points, each (n_j, q)."""
+        return [demo.points for demo in self.clean]
+
+    @property
+    def free_ids(self) -> list[DemoId]:
+        """The clean demonstrations' ids."""
+        return [demo.id for demo in self.clean]
+
+    @property
+    def free_times(self) -> list[np.ndarray | None]:
+        """The clean demonstrations' times in seconds, each (n_j,), None where the file has none."""
+        return [demo.times for demo in self.clean]
+
+    @property
+    def free_orientations(self) -> list[np.ndarray | None]:
+        """The clean demonstrations' unit quaternions, each (n_j, 4), None where none given."""
+        return [demo.orientations for demo in self.clean]
+
+    @property
+    def obstacle_demos(self) -> list[np.ndarray]:
+        """The points of the demonstrations around obstacles, each (n_j, q)."""
+        return [demo.points for demo in self.around_obstacles]
+
+    @property
+    def obstacle_ids(self) -> list[DemoId]:
+        """The ids of the demonstrations around obstacles."""
+        return [demo.id for demo in self.around_obstacles]
+
+    @property
+    def scenes(self) -> list[Scene]:
+        """One scene per demonstration around obstacles."""
+        return [demo.scene for demo in self.around_obstacles]
 
 
 def read_training_data(
@@ -105,31 +130,27 @@ def read_training_data(
             f"{os.fspath(demos_path)}: demonstration {short[0][0]!r} has {short[0][1]} "
             "points; a path needs at least 3"
         )
-    data = TrainingData([], [], [], [], [], [], [])
+    data = TrainingData([], [])
     for demo, stamps, key, quat in zip(demos, times, ids, quats, strict=True):
         scene = scenes.get(key)
+        record = Demo(demo, stamps, quat, key, scene)
         if scene is None or not len(scene):
-            data.free_demos.append(demo)
-            data.free_ids.append(key)
-            data.free_times.append(stamps)
-            data.free_orientations.append(quat)
+            data.clean.append(record)
         else:
             if scene.positions.shape[1] != demo.shape[1]:
                 raise ValueError(
                     f"{os.fspath(scenes_path)}: demo {key!r}: {scene.positions.shape[1]}-D "
                     f"obstacles for a {demo.shape[1]}-D demonstration"
                 )
-            data.obstacle_demos.append(demo)
-            data.obstacle_ids.append(key)
-            data.scenes.append(scene)
-    if len(data.free_demos) < 2:
+            data.around_obstacles.append(record)
+    if len(data.clean) < 2:
         raise ValueError(
             f"{os.fspath(demos_path)}: needs at least 2 demonstrations without obstacles to "
-            f"learn the path from, found {len(data.free_demos)}"
+            f"learn the path from, found {len(data.clean)}"
         )
-    given = [quat is not None for quat in data.free_orientations]
+    given = [demo.orientations is not None for demo in data.clean]
     if any(given) and not all(given):
-        missing = data.free_ids[given.index(False)]
+        missing = data.clean[given.index(False)].id
         raise ValueError(
             f"{os.fspath(demos_path)}: demonstration {missing!r} has no orientation (qx, qy, "
             "qz, qw) but others have; give them for all clean demonstrations or none"

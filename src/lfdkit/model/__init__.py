@@ -1,6 +1,7 @@
 """Floor two: the data records the layers pass to one another (no files, no algorithms).
 
-:mod:`.demos` (a demonstration set: arrays, times, ids; ``PathLike``),
+:mod:`.demos` (a demonstration set: arrays, times, ids; the :class:`~.demos.Demo`
+record; ``PathLike``),
 :mod:`.scene` (:class:`~.scene.Scene`, the obstacle contract
 :class:`~.scene.Obstacle` and its shapes), :mod:`.motion` (how an obstacle
 moves: constant velocity, tracked, a trajectory) and :mod:`.timed_path` (a
