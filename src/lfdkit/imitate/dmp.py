@@ -196,7 +196,7 @@ from lfdkit.imitate._dmp_numerics import (
     step_operators,
     transition,
 )
-from lfdkit.imitate.primitive import Primitive, check_tau
+from lfdkit.imitate.primitive import PRIMITIVE_DEFAULTS, Primitive, check_tau
 from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
 __all__ = [
@@ -382,15 +382,15 @@ class DMP(Primitive):
 
     def __init__(
         self,
-        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
-        k: float = 156.25,
-        c: float = 25.0,
-        alpha: float | None = None,
-        tau: float = 1.0,
+        n_basis: int | Literal["auto"] = PRIMITIVE_DEFAULTS["n_basis"],
+        k: float = PRIMITIVE_DEFAULTS["k"],
+        c: float = PRIMITIVE_DEFAULTS["c"],
+        alpha: float | None = PRIMITIVE_DEFAULTS["alpha"],
+        tau: float = PRIMITIVE_DEFAULTS["tau"],
         scaling: Scaling = SKILL_DEFAULTS["scaling"],
         end: EndCondition = "rest",
-        regularization: float = 1e-8,
-        basis_tol: float = 0.01,
+        regularization: float = PRIMITIVE_DEFAULTS["regularization"],
+        basis_tol: float = PRIMITIVE_DEFAULTS["basis_tol"],
     ) -> None:
         super().__init__(
             n_basis=n_basis,

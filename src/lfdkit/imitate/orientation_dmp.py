@@ -26,14 +26,13 @@ is refused with the sample at fault.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
-from lfdkit.core.options import SKILL_DEFAULTS
 from lfdkit.core.rotations import check_quaternions, conjugate, continuous, exp, log, multiply
 from lfdkit.imitate.dmp import DMP
-from lfdkit.imitate.primitive import Primitive
+from lfdkit.imitate.primitive import PRIMITIVE_DEFAULTS, Primitive
 
 __all__ = ["QuaternionDMP", "orientation_error"]
 
@@ -63,13 +62,13 @@ class QuaternionDMP(Primitive):
 
     def __init__(
         self,
-        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
-        k: float = 156.25,
-        c: float = 25.0,
-        alpha: float | None = None,
-        tau: float = 1.0,
-        regularization: float = 1e-8,
-        basis_tol: float = 0.01,
+        n_basis: int | str = PRIMITIVE_DEFAULTS["n_basis"],
+        k: float = PRIMITIVE_DEFAULTS["k"],
+        c: float = PRIMITIVE_DEFAULTS["c"],
+        alpha: float | None = PRIMITIVE_DEFAULTS["alpha"],
+        tau: float = PRIMITIVE_DEFAULTS["tau"],
+        regularization: float = PRIMITIVE_DEFAULTS["regularization"],
+        basis_tol: float = PRIMITIVE_DEFAULTS["basis_tol"],
     ) -> None:
         super().__init__(
             n_basis=n_basis,

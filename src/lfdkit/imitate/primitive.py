@@ -19,6 +19,7 @@ constraints on each dimension's weights, so at least 4 basis functions.
 
 from __future__ import annotations
 
+from types import MappingProxyType
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -28,7 +29,7 @@ from lfdkit.core.estimator import Estimator
 from lfdkit.core.options import SKILL_DEFAULTS
 from lfdkit.core.validation import check_positive
 
-__all__ = ["MAX_BASIS", "MAX_TAU", "Primitive", "check_tau"]
+__all__ = ["MAX_BASIS", "MAX_TAU", "PRIMITIVE_DEFAULTS", "Primitive", "check_tau"]
 
 #: Most basis functions a caller may ask for, so that a typo is an error naming the
 #: argument, not a MemoryError deep inside NumPy.
@@ -37,6 +38,19 @@ MAX_BASIS = 1000
 MAX_TAU = 1e6
 #: The canonical system's default decay: ``Z`` falls to 0.01 at the end of the movement.
 DEFAULT_ALPHA = float(np.log(100.0))
+#: The one default of each shared parameter, read by both DMPs' signatures (read-only):
+#: the thesis's critically damped spring and the Skill's basis (``alpha=None``: ln 100).
+PRIMITIVE_DEFAULTS = MappingProxyType(
+    {
+        "n_basis": SKILL_DEFAULTS["n_basis"],
+        "k": 156.25,
+        "c": 25.0,
+        "alpha": None,
+        "tau": 1.0,
+        "regularization": 1e-8,
+        "basis_tol": 0.01,
+    }
+)
 
 
 def check_tau(tau: Any, name: str = "tau") -> float:
@@ -80,13 +94,13 @@ class Primitive(Estimator):
 
     def __init__(
         self,
-        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
-        k: float = 156.25,
-        c: float = 25.0,
-        alpha: float | None = None,
-        tau: float = 1.0,
-        regularization: float = 1e-8,
-        basis_tol: float = 0.01,
+        n_basis: int | Literal["auto"] = PRIMITIVE_DEFAULTS["n_basis"],
+        k: float = PRIMITIVE_DEFAULTS["k"],
+        c: float = PRIMITIVE_DEFAULTS["c"],
+        alpha: float | None = PRIMITIVE_DEFAULTS["alpha"],
+        tau: float = PRIMITIVE_DEFAULTS["tau"],
+        regularization: float = PRIMITIVE_DEFAULTS["regularization"],
+        basis_tol: float = PRIMITIVE_DEFAULTS["basis_tol"],
     ) -> None:
         self.n_basis = n_basis
         self.k = k
