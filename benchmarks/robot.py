@@ -594,7 +594,8 @@ def _failure_kind(failure: str) -> str:
 
 def sweeping_experiment(n_scenarios: int, seed: int, quick: bool, output: Path) -> dict:
     """S2: every planner on the same random unseen scenarios, executed in MuJoCo."""
-    from lfdkit.skill import learn, read_training_data
+    from lfdkit.io.training import read_training_data
+    from lfdkit.skill import learn
     from lfdkit.tasks.sweeping import (
         default_planners,
         example_dataset,

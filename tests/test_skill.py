@@ -15,9 +15,11 @@ from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
+from lfdkit.io.training import read_training_data
 from lfdkit.mimic import DemoOrientationWarning
 from lfdkit.model.scene import Scene
-from lfdkit.skill import Skill, TimedPlan, learn, read_training_data
+from lfdkit.model.timed_path import TimedPlan
+from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import example_dataset, example_files
 
 FILES = example_files()

@@ -17,8 +17,9 @@ import numpy as np
 import pytest
 
 from lfdkit.io import load_demos, load_scenes
+from lfdkit.io.training import read_training_data
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import Skill, read_training_data
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping import example_files
 
 FILES = example_files()

@@ -6,6 +6,9 @@ lfdkit.model.scene import Scene``; ``from lfdkit import metrics`` → ``from
 lfdkit.emulate import metrics``; ``lfdkit.robot.*`` → ``lfdkit.execute.*``,
 ...) and, with ``--everywhere``, every other mention of an old dotted path
 (strings such as ``monkeypatch.setattr("lfdkit.cli._learn", ...)``, docstrings).
+Names that left a module (``from lfdkit.skill import TimedPlan`` →
+``from lfdkit.model.timed_path import TimedPlan``, :data:`MOVED_NAMES`) are
+split off the import statement to their new homes.
 Only import statements are touched otherwise, so a file's body stays as it was.
 Then run ``ruff check --fix --select I`` on the files to sort the imports.
 
@@ -54,6 +57,14 @@ _PATTERN = re.compile(
 )
 #: Modules moved out of the package root, for ``from lfdkit import NAME``.
 _ROOT = {old.split(".")[1]: new for old, new in MOVED.items() if old.count(".") == 1}
+#: Names that left a module for another: module → {name: its new module}.
+MOVED_NAMES = {
+    "lfdkit.skill": {
+        "TimedPlan": "lfdkit.model.timed_path",
+        "TrainingData": "lfdkit.io.training",
+        "read_training_data": "lfdkit.io.training",
+    },
+}
 
 
 def rewrite(text: str) -> str:
@@ -62,17 +73,23 @@ def rewrite(text: str) -> str:
 
 
 def _split_from_lfdkit(text: str) -> str:
-    """``from lfdkit import a, b`` with moved modules among the names: one statement per home."""
+    """``from lfdkit import a, b`` with moved modules (or ``from lfdkit.skill import``
+    with moved names) among the names: one statement per home."""
     tree = ast.parse(text)
     lines = text.splitlines(keepends=True)
     edits = []
     for node in ast.walk(tree):
-        if not (isinstance(node, ast.ImportFrom) and node.module == "lfdkit" and not node.level):
+        if not isinstance(node, ast.ImportFrom) or node.level:
             continue
+        if node.module != "lfdkit" and node.module not in MOVED_NAMES:
+            continue
+        moved = MOVED_NAMES.get(node.module, {})
         groups: dict[str, list[str]] = {}
         for alias in node.names:
-            home = "lfdkit"
-            if alias.name in _ROOT:
+            home = node.module
+            if alias.name in moved:
+                home = moved[alias.name]
+            elif node.module == "lfdkit" and alias.name in _ROOT:
                 home, name = _ROOT[alias.name].rsplit(".", 1)
                 if name != alias.name:  # renamed (_validation → validation): keep the old name
                     alias_text = f"{name} as {alias.asname or alias.name}"
@@ -80,7 +97,7 @@ def _split_from_lfdkit(text: str) -> str:
                     continue
             as_text = f" as {alias.asname}" if alias.asname else ""
             groups.setdefault(home, []).append(alias.name + as_text)
-        if list(groups) != ["lfdkit"]:
+        if list(groups) != [node.module]:
             indent = lines[node.lineno - 1][: node.col_offset]
             statement = "".join(
                 f"{indent if i else ''}from {home} import {', '.join(names)}\n"

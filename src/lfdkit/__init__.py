@@ -5,7 +5,8 @@ floor and those below (``tests/test_architecture.py`` holds it)::
 
     core       geometry, rotations (x, y, z, w), units, validation, the estimator base,
                options, progress, threads
-    model      the data records: demonstrations, Scene and the obstacle contract, motion
+    model      the data records: demonstrations, Scene and the obstacle contract, motion,
+               timed plans
     io         every file read or written (demonstrations, scenes, skills, recordings)
     mimic      one generalized path from noisy demonstrations (the MIMIC_METHODS registry)
     imitate    DMPs: the path carried to new starts and goals, with the learned timing

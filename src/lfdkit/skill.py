@@ -23,8 +23,8 @@ clearance the demonstrations kept per obstacle class
 DMP retargets the generalized path to the new start and goal (the *nominal*),
 and the planner (receding-horizon MPC by default, or the full-horizon
 optimum) moves along it around the scene's obstacles. The plan comes timed
-(:class:`TimedPlan`: times, points, velocities): by its own arc length with
-the duration and speed profile the skill learned from the demonstrations'
+(:class:`~lfdkit.model.timed_path.TimedPlan`: times, points, velocities): by
+its own arc length with the duration and speed profile the skill learned from the demonstrations'
 times (:attr:`Skill.timing_`, :mod:`lfdkit.imitate.timing`), or with the
 ``timing`` law over ``duration`` when they had none.
 
@@ -32,7 +32,7 @@ Demonstrations with the tool's orientation (``orientations=``, unit
 quaternions) also give the mean orientation along the path and an
 orientation DMP (:class:`lfdkit.imitate.QuaternionDMP`): plans then carry
 the orientation from a start to a goal orientation, reached exactly
-(:attr:`TimedPlan.orientations`).
+(:attr:`~lfdkit.model.timed_path.TimedPlan.orientations`).
 
 Each layer can be learned on its own (:meth:`Skill.fit_path`,
 :meth:`Skill.fit_reward`) or taken from elsewhere (:meth:`Skill.use_path`,
@@ -61,13 +61,11 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal
 
 import numpy as np
-from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.geometry import arc_length, path_length
@@ -79,7 +77,7 @@ from lfdkit.core.options import (
     TIMINGS,
 )
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
-from lfdkit.core.rotations import angle_between, check_quaternions, continuous, exp, multiply, slerp
+from lfdkit.core.rotations import check_quaternions, continuous, exp, multiply, slerp
 from lfdkit.core.units import check_units, conversion_factor
 from lfdkit.core.validation import (
     check_demos,
@@ -95,17 +93,17 @@ from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.orientation_dmp import orientation_error
 from lfdkit.imitate.timing import DURATION_RANGE
-from lfdkit.io import load_demos, skill_file
-from lfdkit.io.scenes import load_scenes
+from lfdkit.io import skill_file
 from lfdkit.io.skill_file import (
     MAX_SKILL_FILE_BYTES,
     SKILL_FILE_LIMITS,
     SKILL_FORMAT,
     SKILL_VERSION,
 )
+from lfdkit.io.training import read_training_data
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
-from lfdkit.model.demos import DemoId
 from lfdkit.model.scene import Scene
+from lfdkit.model.timed_path import TimedPlan
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
@@ -114,10 +112,7 @@ __all__ = [
     "SKILL_FORMAT",
     "SKILL_VERSION",
     "Skill",
-    "TimedPlan",
-    "TrainingData",
     "learn",
-    "read_training_data",
 ]
 
 PlannerKind = Literal["mpc", "full"]
@@ -131,109 +126,6 @@ _ORIENTATION_TOLERANCE_DEG = 0.5
 
 #: Re-plans of a moving-obstacle plan at its own (arc-length) times before it is refused.
 RETIME_ROUNDS = 3
-
-
-@dataclass(frozen=True, eq=False, repr=False)
-class TimedPlan(NDArrayOperatorsMixin):
-    """A planned path with its timing: what :meth:`Skill.plan` returns, what a robot runs.
-
-    The path is timed by its own arc length with the skill's speed profile
-    (:attr:`Skill.timing_`, :meth:`lfdkit.imitate.SpeedProfile.time_path`):
-    a plan that swerves around an obstacle is longer than the nominal, and
-    runs a little faster all along rather than fast where it swerves.
-
-    Attributes
-    ----------
-    times : ndarray, shape (n_points,)
-        Seconds, from 0 to :attr:`duration`.
-    points : ndarray, shape (n_points, q)
-        The path, first point the start (units of the skill).
-    velocities : ndarray, shape (n_points, q)
-        Units per second; zero at both ends (rest to rest) unless the skill's
-        timing is ``"uniform"``.
-    details : lfdkit.emulate.Plan
-        The planner's result (:meth:`Skill.plan_details`): ``clearance``,
-        ``goal_error``, ``cost``, ``offsets``, ...
-    orientations : ndarray, shape (n_points, 4), or None
-        The tool's orientation at each point, unit quaternions ``[x, y, z,
-        w]`` with continuous signs, when the skill learned one
-        (:attr:`Skill.orientation_dmp_`); None otherwise. The first is the
-        start orientation, the last the goal orientation.
-
-    Notes
-    -----
-    Before timing was added, :meth:`Skill.plan` returned the points as an
-    ndarray. A ``TimedPlan`` still stands for its points wherever NumPy
-    takes an array: ``np.asarray(plan)`` is ``plan.points`` (``__array__``),
-    arithmetic and comparisons act on the points and return arrays
-    (``plan - start``, ``plan == other``), and ``len(plan)``,
-    ``plan[i]``, iteration, ``plan.shape`` and ``plan.ndim`` are the
-    points'. Its fields cannot be reassigned and in-place arithmetic
-    (``plan += 1``) raises ``TypeError``: ``np.array(plan)`` is a copy to
-    change, ``plan.points`` has the other array methods.
-    """
-
-    times: np.ndarray
-    points: np.ndarray
-    velocities: np.ndarray
-    details: Plan
-    orientations: np.ndarray | None = None
-
-    @property
-    def positions(self) -> np.ndarray:
-        """The points, (n_points, q): the name :class:`lfdkit.imitate.Trajectory` uses."""
-        return self.points
-
-    @property
-    def duration(self) -> float:
-        """Seconds from the first point to the last."""
-        return float(self.times[-1])
-
-    @property
-    def speeds(self) -> np.ndarray:
-        """Speed along the path at each point, units per second, (n_points,)."""
-        return np.linalg.norm(self.velocities, axis=1)
-
-    # ----------------------------------------------- the points as an array
-    def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
-        points = self.points if dtype is None else self.points.astype(dtype, copy=False)
-        return points.copy() if copy else points
-
-    def __array_ufunc__(self, ufunc: Any, method: str, *inputs: Any, **kwargs: Any) -> Any:
-        if any(isinstance(o, TimedPlan) for o in kwargs.get("out", ())):
-            return NotImplemented  # immutable: no in-place arithmetic
-        args = [x.points if isinstance(x, TimedPlan) else x for x in inputs]
-        return getattr(ufunc, method)(*args, **kwargs)
-
-    def __len__(self) -> int:
-        return len(self.points)
-
-    def __getitem__(self, key: Any) -> Any:
-        return self.points[key]
-
-    def __iter__(self) -> Iterator[np.ndarray]:
-        return iter(self.points)
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """The points' shape, (n_points, q)."""
-        return self.points.shape
-
-    @property
-    def ndim(self) -> int:
-        """2, as the points'."""
-        return self.points.ndim
-
-    def __repr__(self) -> str:
-        n, q = self.points.shape
-        turned = ""
-        if self.orientations is not None:
-            turn = float(angle_between(self.orientations[0], self.orientations[-1]))
-            turned = f", turning {np.degrees(turn):.4g} deg"
-        return (
-            f"TimedPlan({n} points in {q}-D over {self.duration:.4g} s, "
-            f"peak speed {float(np.max(self.speeds)):.4g} units/s{turned})"
-        )
 
 
 def _check_learned_classes(skill: Skill) -> None:
@@ -1689,117 +1581,6 @@ class Skill(Estimator):
         return f"Skill({args})"
 
 
-# ------------------------------------------------------------- training files
-class TrainingData(NamedTuple):
-    """Demonstrations from files, split by whether they were recorded around obstacles.
-
-    Attributes
-    ----------
-    free_demos : list of ndarray, each (n_j, q)
-        Demonstrations without a scene, or with an empty one: the clean
-        demonstrations the generalized path is learned from.
-    free_ids : list of int or str
-    obstacle_demos : list of ndarray, each (n_j, q)
-        Demonstrations whose scene has obstacles.
-    obstacle_ids : list of int or str
-    scenes : list of Scene
-        One per obstacle demonstration.
-    free_times : list of (ndarray (n_j,) or None)
-        Sample times of the clean demonstrations in seconds (None where the
-        file has none): the skill learns its timing from them.
-    free_orientations : list of (ndarray (n_j, 4) or None)
-        Tool orientations of the clean demonstrations, unit quaternions
-        (None where the file has none): the skill learns its orientation
-        from them.
-    """
-
-    free_demos: list[np.ndarray]
-    free_ids: list[DemoId]
-    obstacle_demos: list[np.ndarray]
-    obstacle_ids: list[DemoId]
-    scenes: list[Scene]
-    free_times: list[np.ndarray | None]
-    free_orientations: list[np.ndarray | None]
-
-
-def read_training_data(
-    demos_path: str | os.PathLike[str], scenes_path: str | os.PathLike[str] | None = None
-) -> TrainingData:
-    """Read a demonstrations file and, optionally, the scene file of the obstacle demonstrations.
-
-    Parameters
-    ----------
-    demos_path : path
-        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.io.load_demos`).
-    scenes_path : path, optional
-        Scenes by demonstration id, ``.csv`` or ``.json``
-        (:func:`lfdkit.io.load_scenes`). A demonstration it does not
-        list, or lists with no obstacle, is a clean demonstration.
-
-    Raises
-    ------
-    ValueError
-        If a file is malformed (the message names the file, line and field),
-        demonstrations mix dimensions, or the scene file names a
-        demonstration id that the demonstrations file does not have.
-    """
-    demos, times, ids, quats = load_demos(
-        demos_path, return_times=True, return_ids=True, return_orientations=True
-    )
-    dims = {demo.shape[1] for demo in demos}
-    if len(dims) > 1:
-        first = demos[0].shape[1]
-        j = next(j for j, demo in enumerate(demos) if demo.shape[1] != first)
-        raise ValueError(
-            f"{os.fspath(demos_path)}: demonstration {ids[j]!r} is {demos[j].shape[1]}-D, "
-            f"but {ids[0]!r} is {first}-D; all demonstrations must share their dimension"
-        )
-    scenes = {} if scenes_path is None else load_scenes(scenes_path)
-    known = set(ids)
-    stray = [key for key in scenes if key not in known]
-    if stray:
-        raise ValueError(
-            f"{os.fspath(scenes_path)}: demo {stray[0]!r} is not in {os.fspath(demos_path)} "
-            f"(its ids: {', '.join(map(str, ids[:5]))}{', ...' if len(ids) > 5 else ''})"
-        )
-    short = [(key, len(demo)) for demo, key in zip(demos, ids, strict=True) if len(demo) < 3]
-    if short:
-        raise ValueError(
-            f"{os.fspath(demos_path)}: demonstration {short[0][0]!r} has {short[0][1]} "
-            "points; a path needs at least 3"
-        )
-    data = TrainingData([], [], [], [], [], [], [])
-    for demo, stamps, key, quat in zip(demos, times, ids, quats, strict=True):
-        scene = scenes.get(key)
-        if scene is None or not len(scene):
-            data.free_demos.append(demo)
-            data.free_ids.append(key)
-            data.free_times.append(stamps)
-            data.free_orientations.append(quat)
-        else:
-            if scene.positions.shape[1] != demo.shape[1]:
-                raise ValueError(
-                    f"{os.fspath(scenes_path)}: demo {key!r}: {scene.positions.shape[1]}-D "
-                    f"obstacles for a {demo.shape[1]}-D demonstration"
-                )
-            data.obstacle_demos.append(demo)
-            data.obstacle_ids.append(key)
-            data.scenes.append(scene)
-    if len(data.free_demos) < 2:
-        raise ValueError(
-            f"{os.fspath(demos_path)}: needs at least 2 demonstrations without obstacles to "
-            f"learn the path from, found {len(data.free_demos)}"
-        )
-    given = [quat is not None for quat in data.free_orientations]
-    if any(given) and not all(given):
-        missing = data.free_ids[given.index(False)]
-        raise ValueError(
-            f"{os.fspath(demos_path)}: demonstration {missing!r} has no orientation (qx, qy, "
-            "qz, qw) but others have; give them for all clean demonstrations or none"
-        )
-    return data
-
-
 def learn(
     demos_path: str | os.PathLike[str],
     scenes_path: str | os.PathLike[str] | None = None,
@@ -1807,7 +1588,7 @@ def learn(
     progress: ProgressLike = None,
     **params: Any,
 ) -> Skill:
-    """Learn a skill from files: :func:`read_training_data`, then :meth:`Skill.fit`.
+    """Learn a skill from files: :func:`~lfdkit.io.training.read_training_data`, then ``fit``.
 
     ``params`` are :class:`Skill`'s parameters. When the demonstrations file
     has times (a ``t`` column), the skill's timing is learned from those of

@@ -17,7 +17,8 @@ import pytest
 from lfdkit.core.rotations import angle_between
 from lfdkit.execute.poses import path_yaw, yaw_from_quaternions
 from lfdkit.io import save_demos
-from lfdkit.skill import Skill, read_training_data
+from lfdkit.io.training import read_training_data
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.examples import example_files
 from lfdkit.tasks.sweeping.execution import execute_skill
 from tests.app.test_cli import run_cli

@@ -24,7 +24,8 @@ from hypothesis import strategies as st
 
 from lfdkit import skill as skill_module
 from lfdkit.app.cli import main
-from lfdkit.skill import Skill, read_training_data
+from lfdkit.io.training import read_training_data
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping import demo as sweeping_demo
 
 REPO = Path(__file__).resolve().parents[2]

@@ -15,14 +15,43 @@ in a few lines. scikit-learn is imported only where it is used (EM in
 from __future__ import annotations
 
 import inspect
-from collections.abc import Iterable
-from typing import Any
+from collections.abc import Callable, Iterable
+from typing import Any, ClassVar
 
 __all__ = ["Estimator", "check_fitted", "not_fitted"]
 
 
 class Estimator:
-    """Parameters by constructor name: ``get_params``, ``set_params``, a short ``repr``."""
+    """Parameters by constructor name: ``get_params``, ``set_params``, a short ``repr``.
+
+    A subclass declares what its parameters may be in ``_parameter_constraints``
+    (name → constraint of :mod:`lfdkit.core.constraints`); ``fit`` calls
+    :meth:`_validate_params` once when it starts.
+    """
+
+    #: Parameter name → ``constraint(value, name)``, checked in this order (a base
+    #: class's rows first) by :meth:`_validate_params`.
+    _parameter_constraints: ClassVar[dict[str, Callable[[Any, str], Any]]] = {}
+
+    def _validate_params(self) -> dict[str, Any]:
+        """Check every parameter against the tables of the class and its bases.
+
+        Returns
+        -------
+        dict
+            The checked values by name (an ``int`` for an integer, a ``float``
+            for a number), in the tables' order.
+
+        Raises
+        ------
+        ValueError, TypeError
+            The first parameter refused, on one line naming it and its value.
+        """
+        checked: dict[str, Any] = {}
+        for cls in reversed(type(self).__mro__):
+            for name, constraint in vars(cls).get("_parameter_constraints", {}).items():
+                checked[name] = constraint(getattr(self, name), name)
+        return checked
 
     @classmethod
     def _param_names(cls) -> list[str]:

@@ -1,8 +1,10 @@
 """Imitation: carry a generalized path to new starts and goals (Dynamic Movement Primitives).
 
-:mod:`.dmp` is the DMP estimator, its numerics (exact transitions, quadrature,
-bases, quintic pieces) in ``_dmp_numerics`` and its compiled loops in
-``_dmp_kernels`` (:mod:`.orientation_dmp` the same for unit quaternions);
+:mod:`.primitive` is the base the position and orientation DMPs share (their
+parameters, checks and phase); :mod:`.dmp` is the DMP estimator, its
+numerics (exact transitions, quadrature, bases, quintic pieces) in
+``_dmp_numerics`` and its compiled loops in ``_dmp_kernels``
+(:mod:`.orientation_dmp` the same for unit quaternions);
 :mod:`.timing` the duration and speed profile of a movement along its path
 (learned from timed demonstrations, or a law), with which the DMP is trained
 and any path (a plan) is timed.

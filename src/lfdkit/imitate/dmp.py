@@ -164,11 +164,12 @@ exactly with the quadrature, the forcing ``b`` included, and agrees with
 from __future__ import annotations
 
 import warnings
-from typing import Any, Literal, NamedTuple
+from typing import Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
 
-from lfdkit.core.estimator import Estimator, not_fitted
+from lfdkit.core.constraints import OneOf
+from lfdkit.core.estimator import not_fitted
 from lfdkit.core.geometry import arc_length, path_length, segment_lengths
 from lfdkit.core.options import SCALINGS, SKILL_DEFAULTS, TIMINGS
 from lfdkit.core.validation import (
@@ -195,12 +196,12 @@ from lfdkit.imitate._dmp_numerics import (
     step_operators,
     transition,
 )
+from lfdkit.imitate.primitive import PRIMITIVE_DEFAULTS, Primitive, check_tau
 from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
 
 __all__ = [
     "BASIS_LADDER",
     "DMP",
-    "MAX_BASIS",
     "MAX_RELATIVE_MAGNITUDE",
     "MAX_ROLLOUT_SAMPLES",
     "Trajectory",
@@ -218,17 +219,14 @@ _ZERO_DISPLACEMENT = 1e-9
 _LARGE_SCALE = 10.0
 #: Basis counts ``n_basis="auto"`` tries, smallest first (module notes).
 BASIS_LADDER = (10, 15, 20, 30, 40, 60, 80, 100, 150, 200)
-#: Caps on what a caller may ask for, so that a typo is an error naming the
-#: argument, not a MemoryError or an overflow deep inside NumPy.
-MAX_BASIS = 1000
+#: Caps on what a caller may ask for (and :data:`~lfdkit.imitate.primitive.MAX_BASIS`),
+#: so that a typo is an error naming the argument, not a MemoryError or an overflow.
 #: Most samples of one rollout call (steps times rollouts).
 MAX_ROLLOUT_SAMPLES = 10_000_000
 #: Starts, goals and states farther than this many training scales from the
 #: training path (and initial velocities that would carry that far in one
 #: movement) are refused: the result would overflow or mean nothing.
 MAX_RELATIVE_MAGNITUDE = 1e6
-#: Temporal scalings outside [1/MAX_TAU, MAX_TAU] are refused.
-MAX_TAU = 1e6
 #: A step of :meth:`DMP.step` may span at most this many movement durations.
 MAX_STEP_DURATIONS = 1e3
 
@@ -299,14 +297,14 @@ class _Solution(NamedTuple):
     error: float
 
 
-class DMP(Estimator):
+class DMP(Primitive):
     """Discrete Dynamic Movement Primitive with one phase shared by all dimensions.
 
     Parameters
     ----------
     n_basis : int or "auto", default "auto"
         Number of Gaussian basis functions (weights per dimension), 1 to
-        :data:`MAX_BASIS` (1000), or ``"auto"``: the smallest count of
+        :data:`~lfdkit.imitate.primitive.MAX_BASIS` (1000), or ``"auto"``: the smallest count of
         :data:`BASIS_LADDER` whose reproduction is within ``basis_tol`` of the
         path (module notes; the count chosen is ``n_basis_``). The thesis's 10
         is ``DMP(**THESIS_DMP)`` (:data:`lfdkit.core.options.THESIS_DMP`).
@@ -376,56 +374,40 @@ class DMP(Estimator):
         Dimension ``q``.
     """
 
+    # The shared parameters are checked by Primitive's table first.
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "scaling": OneOf(SCALINGS),
+        "end": OneOf(_END_CONDITIONS),
+    }
+
     def __init__(
         self,
-        n_basis: int | Literal["auto"] = SKILL_DEFAULTS["n_basis"],
-        k: float = 156.25,
-        c: float = 25.0,
-        alpha: float | None = None,
-        tau: float = 1.0,
+        n_basis: int | Literal["auto"] = PRIMITIVE_DEFAULTS["n_basis"],
+        k: float = PRIMITIVE_DEFAULTS["k"],
+        c: float = PRIMITIVE_DEFAULTS["c"],
+        alpha: float | None = PRIMITIVE_DEFAULTS["alpha"],
+        tau: float = PRIMITIVE_DEFAULTS["tau"],
         scaling: Scaling = SKILL_DEFAULTS["scaling"],
         end: EndCondition = "rest",
-        regularization: float = 1e-8,
-        basis_tol: float = 0.01,
+        regularization: float = PRIMITIVE_DEFAULTS["regularization"],
+        basis_tol: float = PRIMITIVE_DEFAULTS["basis_tol"],
     ) -> None:
-        self.n_basis = n_basis
-        self.k = k
-        self.c = c
-        self.alpha = alpha
-        self.tau = tau
+        super().__init__(
+            n_basis=n_basis,
+            k=k,
+            c=c,
+            alpha=alpha,
+            tau=tau,
+            regularization=regularization,
+            basis_tol=basis_tol,
+        )
         self.scaling = scaling
         self.end = end
-        self.regularization = regularization
-        self.basis_tol = basis_tol
 
     # ------------------------------------------------------------------ learning
     def _check_params(self) -> None:
-        auto = isinstance(self.n_basis, str) and self.n_basis == "auto"
-        if isinstance(self.n_basis, str) and not auto:
-            raise ValueError(f"n_basis: expected an integer or 'auto', got {self.n_basis!r}")
-        if not auto:
-            check_count(self.n_basis, "n_basis", maximum=MAX_BASIS)
-        tol = check_positive(self.basis_tol, "basis_tol")
-        if tol > 1.0:
-            raise ValueError(
-                f"basis_tol: expected a fraction of the path's extent, 0 < basis_tol <= 1, "
-                f"got {tol:g}"
-            )
-        check_positive(self.k, "k")
-        check_positive(self.c, "c")
-        if self.alpha is not None:
-            check_positive(self.alpha, "alpha")
-        _check_tau(self.tau)
-        check_positive(self.regularization, "regularization", allow_zero=True)
-        if self.scaling not in SCALINGS:
-            raise ValueError(f"scaling: expected one of {SCALINGS}, got {self.scaling!r}")
-        if self.end not in _END_CONDITIONS:
-            raise ValueError(f"end: expected one of {_END_CONDITIONS}, got {self.end!r}")
-        if self.end == "rest" and not auto and self.n_basis < 4:
-            raise ValueError(
-                f"n_basis: end='rest' puts 3 constraints on the weights and needs at least 4 "
-                f"basis functions, got {self.n_basis}; use end='free' for fewer"
-            )
+        self._validate_params()
+        self._check_rest_basis(self.end)
 
     def fit(
         self,
@@ -512,7 +494,7 @@ class DMP(Estimator):
         sample = dense_sampler(None if composed else t / span, points, law)
         start, goal = points[0].copy(), points[-1].copy()
         extent = float(np.max(np.ptp(points, axis=0)))
-        self.alpha_ = float(np.log(100.0) if self.alpha is None else self.alpha)
+        self.alpha_ = self._phase_rate()
         if isinstance(self.n_basis, str):
             solution = self._choose_basis(sample, start, goal, extent)
         else:
@@ -905,7 +887,7 @@ class DMP(Estimator):
             when ``start`` or ``goal`` is 2-D.
         """
         self._check_fitted()
-        tau = _check_tau(self.tau if tau is None else tau)
+        tau = check_tau(self.tau if tau is None else tau)
         n_steps = self.path_.shape[0] if n_steps is None else n_steps
         n_steps = check_positive(n_steps, "n_steps", integer=True)
         if n_steps < 2:
@@ -1031,7 +1013,7 @@ class DMP(Estimator):
             more than :data:`MAX_STEP_DURATIONS` movement durations.
         """
         self._check_fitted()
-        tau = _check_tau(self.tau if tau is None else tau)
+        tau = check_tau(self.tau if tau is None else tau)
         time_scale = tau * self.duration_
         dt = check_positive(dt, "dt")
         if dt > MAX_STEP_DURATIONS * time_scale:
@@ -1114,13 +1096,6 @@ def _check_distinct(points: np.ndarray) -> None:
             f"path: points {row} and {row + 1} coincide; remove repeated points "
             "(lfdkit.core.geometry.remove_repeated_points) or give times"
         )
-
-
-def _check_tau(tau: Any) -> float:
-    tau = check_positive(tau, "tau")
-    if not 1.0 / MAX_TAU <= tau <= MAX_TAU:
-        raise ValueError(f"tau: expected {1.0 / MAX_TAU:g} to {MAX_TAU:g}, got {tau:g}")
-    return tau
 
 
 def _training_scale(path: np.ndarray) -> float:

@@ -30,9 +30,9 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.core.estimator import Estimator
 from lfdkit.core.rotations import check_quaternions, conjugate, continuous, exp, log, multiply
 from lfdkit.imitate.dmp import DMP
+from lfdkit.imitate.primitive import PRIMITIVE_DEFAULTS, Primitive
 
 __all__ = ["QuaternionDMP", "orientation_error"]
 
@@ -40,7 +40,7 @@ __all__ = ["QuaternionDMP", "orientation_error"]
 _MAX_HALF_ANGLE = 0.5 * np.pi - 1e-6
 
 
-class QuaternionDMP(Estimator):
+class QuaternionDMP(Primitive):
     """Orientation DMP: unit quaternions to a new start and goal orientation.
 
     Parameters
@@ -62,21 +62,23 @@ class QuaternionDMP(Estimator):
 
     def __init__(
         self,
-        n_basis: int | str = "auto",
-        k: float = 156.25,
-        c: float = 25.0,
-        alpha: float | None = None,
-        tau: float = 1.0,
-        regularization: float = 1e-8,
-        basis_tol: float = 0.01,
+        n_basis: int | str = PRIMITIVE_DEFAULTS["n_basis"],
+        k: float = PRIMITIVE_DEFAULTS["k"],
+        c: float = PRIMITIVE_DEFAULTS["c"],
+        alpha: float | None = PRIMITIVE_DEFAULTS["alpha"],
+        tau: float = PRIMITIVE_DEFAULTS["tau"],
+        regularization: float = PRIMITIVE_DEFAULTS["regularization"],
+        basis_tol: float = PRIMITIVE_DEFAULTS["basis_tol"],
     ) -> None:
-        self.n_basis = n_basis
-        self.k = k
-        self.c = c
-        self.alpha = alpha
-        self.tau = tau
-        self.regularization = regularization
-        self.basis_tol = basis_tol
+        super().__init__(
+            n_basis=n_basis,
+            k=k,
+            c=c,
+            alpha=alpha,
+            tau=tau,
+            regularization=regularization,
+            basis_tol=basis_tol,
+        )
 
     def fit(self, quaternions: Any, times: Any = None) -> QuaternionDMP:
         """Learn from one orientation trajectory.
@@ -106,17 +108,8 @@ class QuaternionDMP(Estimator):
                 f"quaternions: sample {int(np.argmax(far))} is π or more away from the goal "
                 "orientation; an orientation DMP learns movements within π of their goal"
             )
-        dmp = DMP(
-            n_basis=self.n_basis,  # type: ignore[arg-type]
-            k=self.k,
-            c=self.c,
-            alpha=self.alpha,
-            tau=self.tau,
-            scaling="translate",
-            end="rest",
-            regularization=self.regularization,
-            basis_tol=self.basis_tol,
-        )
+        # The error returns to 0 at the goal: translated, never scaled, and at rest.
+        dmp = DMP(scaling="translate", end="rest", **self.primitive_params())
         self.dmp_ = dmp.fit(e, t)
         # The error is bounded (|e| <= π/2), so the position DMP's overflow guard, scaled
         # by the training movement, must not refuse a new start when the demonstrated

@@ -10,6 +10,8 @@
   :func:`save_demos`, :func:`save_path`);
 * :mod:`.scenes`: scene files, CSV and JSON (:func:`load_scenes`,
   :func:`load_scene`, :func:`save_scenes`);
+* :mod:`.training`: a demonstrations file and its scene file split as a
+  skill learns from them (:func:`~.training.read_training_data`);
 * :mod:`.skill_file`: the skill file, a fitted skill's state as JSON
   (:func:`read_skill_file`, :func:`write_skill_file`,
   :class:`SkillDocument`, :func:`~.skill_file.to_document`), used by

@@ -29,10 +29,11 @@ from __future__ import annotations
 import itertools
 import warnings
 from collections.abc import Iterable
-from typing import Any, Literal, NamedTuple
+from typing import Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
 
+from lfdkit.core.constraints import Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.threads import one_blas_thread
 from lfdkit.core.validation import (
@@ -178,6 +179,19 @@ class GMR(Estimator):
     (20, 2)
     """
 
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "n_components": Integer(maximum=_MAX_COMPONENTS),
+        "n_points": Integer(minimum=2),  # at most MAX_POINTS
+        "covariance_reg": Real(allow_zero=True),
+        "max_iter": Integer(),
+        "tol": Real(allow_zero=True),
+        "n_init": Integer(maximum=_MAX_INIT),
+        "length_scale": Real(),
+        "time_mode": OneOf(_TIME_MODES),
+        "cov_mode": OneOf(_COV_MODES),
+        "orient": OneOf(("auto", "as_given")),
+    }
+
     def __init__(
         self,
         n_components: int = 10,
@@ -205,27 +219,6 @@ class GMR(Estimator):
         self.length_scale = length_scale
 
     # ------------------------------------------------------------------ fit
-    def _check_params(self) -> None:
-        check_positive(self.n_components, "n_components", integer=True)
-        check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
-        check_positive(self.covariance_reg, "covariance_reg", allow_zero=True)
-        check_positive(self.max_iter, "max_iter", integer=True)
-        check_positive(self.tol, "tol", allow_zero=True)
-        check_positive(self.n_init, "n_init", integer=True)
-        check_positive(self.length_scale, "length_scale")
-        if self.time_mode not in _TIME_MODES:
-            raise ValueError(f"time_mode: expected one of {_TIME_MODES}, got {self.time_mode!r}")
-        if self.cov_mode not in _COV_MODES:
-            raise ValueError(f"cov_mode: expected one of {_COV_MODES}, got {self.cov_mode!r}")
-        if self.orient not in ("auto", "as_given"):
-            raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
-        if self.n_components > _MAX_COMPONENTS:
-            raise ValueError(
-                f"n_components: at most {_MAX_COMPONENTS} components, got {self.n_components}"
-            )
-        if self.n_init > _MAX_INIT:
-            raise ValueError(f"n_init: at most {_MAX_INIT} initialisations, got {self.n_init}")
-
     def fit(self, demos: Any, times: Any = None, *, check_input: bool = True) -> GMR:
         """Fit the joint mixture of phase and position.
 
@@ -255,7 +248,7 @@ class GMR(Estimator):
             larger than the number of samples, or a singular covariance that
             ``covariance_reg`` does not cure.
         """
-        self._check_params()
+        self._validate_params()
         if check_input:
             demos = check_demos(demos, "demos", min_dims=1)
             if times is not None:
@@ -579,7 +572,7 @@ def _ladder_search(
 ) -> dict[int, float]:
     """Criterion values of the candidates :func:`select_n_components` visits (``"ladder"``)."""
     template = GMR(random_state=seed, **gmr_params)
-    template._check_params()
+    template._validate_params()
     _, _, data = template._samples(demos, times)
     mixtures: dict[int, _Mixture] = {}
     scores: dict[int, float] = {}

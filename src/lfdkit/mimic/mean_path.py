@@ -81,10 +81,11 @@ implementation decides as follows (each is a constructor option):
 from __future__ import annotations
 
 import warnings
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from lfdkit.core.constraints import Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.geometry import (
     FoldedPathError,
@@ -96,7 +97,7 @@ from lfdkit.core.geometry import (
     resample,
     resample_between,
 )
-from lfdkit.core.validation import check_count, check_demos, check_path, check_positive
+from lfdkit.core.validation import check_demos, check_path
 from lfdkit.mimic.base import MimicMethod, register
 from lfdkit.mimic.orientation import check_one_motion, orient_demos
 
@@ -205,6 +206,18 @@ class MeanPath(Estimator):
     True
     """
 
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "n_points": Integer(minimum=2),  # at most MAX_POINTS
+        "center": OneOf(("adaptive", "mean", "median", "biweight")),
+        "ends": OneOf(("consensus", "normal")),
+        "orient": OneOf(("auto", "as_given")),
+        "tol": Real(allow_zero=True),
+        "max_iter": Integer(minimum=0),
+        "max_halvings": Integer(minimum=0),
+        "extend": Real(allow_zero=True),
+        "min_support": Real(allow_zero=True, maximum=1.0, meaning="a fraction"),
+    }
+
     def __init__(
         self,
         n_points: int = 100,
@@ -251,7 +264,7 @@ class MeanPath(Estimator):
         -------
         self
         """
-        self._check_params()
+        self._validate_params()
         demos = check_demos(demos, "demos") if check_input else list(demos)
         for j, demo in enumerate(demos):
             if not np.any(np.diff(demo, axis=0)):
@@ -334,24 +347,6 @@ class MeanPath(Estimator):
         return self
 
     # ------------------------------------------------------------- helpers
-    def _check_params(self) -> None:
-        check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
-        if self.center not in ("adaptive", "mean", "median", "biweight"):
-            raise ValueError(
-                f"center: expected 'adaptive', 'mean', 'median' or 'biweight', got {self.center!r}"
-            )
-        if self.ends not in ("consensus", "normal"):
-            raise ValueError(f"ends: expected 'consensus' or 'normal', got {self.ends!r}")
-        if self.orient not in ("auto", "as_given"):
-            raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
-        check_positive(self.tol, "tol", allow_zero=True)
-        check_positive(self.max_iter, "max_iter", integer=True, allow_zero=True)
-        check_positive(self.max_halvings, "max_halvings", integer=True, allow_zero=True)
-        check_positive(self.extend, "extend", allow_zero=True)
-        support = check_positive(self.min_support, "min_support", allow_zero=True)
-        if support > 1:
-            raise ValueError(f"min_support: must be a fraction in [0, 1], got {support}")
-
     def _initial_path(self, demos: list[np.ndarray]) -> np.ndarray:
         init = self.init
         if isinstance(init, str):

@@ -20,17 +20,16 @@ random starts; the start with the lowest final loss is kept.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from lfdkit.core.constraints import Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.threads import one_blas_thread
 from lfdkit.core.validation import (
-    check_count,
     check_demos,
     check_path,
-    check_positive,
     check_random_state,
     check_values,
 )
@@ -209,6 +208,16 @@ class NLPCA(Estimator):
         Flat network parameters (``W1, b1, W2, b2, W3, b3, W4, b4``).
     """
 
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "n_hidden": Integer(maximum=_MAX_HIDDEN),
+        "alpha": Real(allow_zero=True),
+        "max_iter": Integer(),
+        "n_restarts": Integer(maximum=_MAX_RESTARTS),
+        "n_points": Integer(minimum=2),  # at most MAX_POINTS
+        "orient": OneOf(("auto", "as_given")),
+        "scaling": OneOf(_SCALINGS),
+    }
+
     def __init__(
         self,
         n_hidden: int = 10,
@@ -246,19 +255,9 @@ class NLPCA(Estimator):
         -------
         self : NLPCA
         """
-        n_hidden = check_positive(self.n_hidden, "n_hidden", integer=True)
-        if n_hidden > _MAX_HIDDEN:
-            raise ValueError(f"n_hidden: at most {_MAX_HIDDEN} units, got {n_hidden}")
-        alpha = check_positive(self.alpha, "alpha", allow_zero=True)
-        max_iter = check_positive(self.max_iter, "max_iter", integer=True)
-        n_restarts = check_positive(self.n_restarts, "n_restarts", integer=True)
-        n_points = check_count(self.n_points, "n_points", minimum=2)  # at most MAX_POINTS
-        if n_restarts > _MAX_RESTARTS:
-            raise ValueError(f"n_restarts: at most {_MAX_RESTARTS}, got {n_restarts}")
-        if self.orient not in ("auto", "as_given"):
-            raise ValueError(f"orient: expected 'auto' or 'as_given', got {self.orient!r}")
-        if self.scaling not in _SCALINGS:
-            raise ValueError(f"scaling: expected one of {_SCALINGS}, got {self.scaling!r}")
+        params = self._validate_params()
+        n_hidden, alpha, max_iter = params["n_hidden"], params["alpha"], params["max_iter"]
+        n_restarts, n_points = params["n_restarts"], params["n_points"]
         rng = check_random_state(self.random_state)
 
         demos = check_demos(demos, "demos", min_dims=1) if check_input else list(demos)

@@ -1,8 +1,11 @@
 """Floor two: the data records the layers pass to one another (no files, no algorithms).
 
-:mod:`.demos` (a demonstration set: arrays, times, ids; ``PathLike``),
+:mod:`.demos` (a demonstration set: arrays, times, ids; the :class:`~.demos.Demo`
+record; ``PathLike``),
 :mod:`.scene` (:class:`~.scene.Scene`, the obstacle contract
-:class:`~.scene.Obstacle` and its shapes) and :mod:`.motion` (how an obstacle
-moves: constant velocity, tracked, a trajectory). Files of these records are
+:class:`~.scene.Obstacle` and its shapes), :mod:`.motion` (how an obstacle
+moves: constant velocity, tracked, a trajectory) and :mod:`.timed_path` (a
+path with its times and velocities, :class:`~.timed_path.TimedPlan`, what a
+skill plans and a robot runs). Files of these records are
 :mod:`lfdkit.io`.
 """

@@ -40,8 +40,9 @@ from lfdkit.core.progress import Progress, ProgressLike, Stage, as_progress
 from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.io import atomic_write, load_demos, save_path
 from lfdkit.io.scenes import load_scenes
+from lfdkit.io.training import read_training_data
 from lfdkit.model.scene import Scene
-from lfdkit.skill import Skill, learn, read_training_data
+from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping.examples import EXAMPLE_SEED, example_dataset, example_files
 from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, PLAN_SETTINGS, execute_skill
 from lfdkit.tasks.sweeping.scenarios import (

@@ -1,0 +1,127 @@
+"""A timed path: points with their times and velocities, what a robot runs.
+
+:class:`TimedPlan` is what :meth:`lfdkit.skill.Skill.plan` returns: the planned
+points, the times at which the tool passes them (seconds from 0) and its
+velocities there, with the planner's result (``details``) and, for a skill
+that learned one, the tool's orientation at each point. It is a record of the
+data model, so every floor above may take one (execution on a robot, plots,
+files) without importing the skill. It stands for its points wherever NumPy
+takes an array (``np.asarray(plan)`` is ``plan.points``), as the bare
+``(n, q)`` array ``Skill.plan`` returned before timing was added did.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.lib.mixins import NDArrayOperatorsMixin
+
+from lfdkit.core.rotations import angle_between
+
+__all__ = ["TimedPlan"]
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class TimedPlan(NDArrayOperatorsMixin):
+    """A planned path with its timing: what :meth:`~lfdkit.skill.Skill.plan` returns.
+
+    The path is timed by its own arc length with the skill's speed profile
+    (:attr:`lfdkit.skill.Skill.timing_`, :meth:`lfdkit.imitate.SpeedProfile.time_path`):
+    a plan that swerves around an obstacle is longer than the nominal, and
+    runs a little faster all along rather than fast where it swerves.
+
+    Attributes
+    ----------
+    times : ndarray, shape (n_points,)
+        Seconds, from 0 to :attr:`duration`.
+    points : ndarray, shape (n_points, q)
+        The path, first point the start (units of the skill).
+    velocities : ndarray, shape (n_points, q)
+        Units per second; zero at both ends (rest to rest) unless the skill's
+        timing is ``"uniform"``.
+    details : lfdkit.emulate.Plan
+        The planner's result (:meth:`lfdkit.skill.Skill.plan_details`): ``clearance``,
+        ``goal_error``, ``cost``, ``offsets``, ...
+    orientations : ndarray, shape (n_points, 4), or None
+        The tool's orientation at each point, unit quaternions ``[x, y, z,
+        w]`` with continuous signs, when the skill learned one
+        (:attr:`lfdkit.skill.Skill.orientation_dmp_`); None otherwise. The first is the
+        start orientation, the last the goal orientation.
+
+    Notes
+    -----
+    Before timing was added, :meth:`lfdkit.skill.Skill.plan` returned the points as an
+    ndarray. A ``TimedPlan`` still stands for its points wherever NumPy
+    takes an array: ``np.asarray(plan)`` is ``plan.points`` (``__array__``),
+    arithmetic and comparisons act on the points and return arrays
+    (``plan - start``, ``plan == other``), and ``len(plan)``,
+    ``plan[i]``, iteration, ``plan.shape`` and ``plan.ndim`` are the
+    points'. Its fields cannot be reassigned and in-place arithmetic
+    (``plan += 1``) raises ``TypeError``: ``np.array(plan)`` is a copy to
+    change, ``plan.points`` has the other array methods.
+    """
+
+    times: np.ndarray
+    points: np.ndarray
+    velocities: np.ndarray
+    details: Any  # lfdkit.emulate.Plan (a floor above: typed by its docstring)
+    orientations: np.ndarray | None = None
+
+    @property
+    def positions(self) -> np.ndarray:
+        """The points, (n_points, q): the name :class:`lfdkit.imitate.Trajectory` uses."""
+        return self.points
+
+    @property
+    def duration(self) -> float:
+        """Seconds from the first point to the last."""
+        return float(self.times[-1])
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """Speed along the path at each point, units per second, (n_points,)."""
+        return np.linalg.norm(self.velocities, axis=1)
+
+    # ----------------------------------------------- the points as an array
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
+        points = self.points if dtype is None else self.points.astype(dtype, copy=False)
+        return points.copy() if copy else points
+
+    def __array_ufunc__(self, ufunc: Any, method: str, *inputs: Any, **kwargs: Any) -> Any:
+        if any(isinstance(o, TimedPlan) for o in kwargs.get("out", ())):
+            return NotImplemented  # immutable: no in-place arithmetic
+        args = [x.points if isinstance(x, TimedPlan) else x for x in inputs]
+        return getattr(ufunc, method)(*args, **kwargs)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    def __getitem__(self, key: Any) -> Any:
+        return self.points[key]
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return iter(self.points)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The points' shape, (n_points, q)."""
+        return self.points.shape
+
+    @property
+    def ndim(self) -> int:
+        """2, as the points'."""
+        return self.points.ndim
+
+    def __repr__(self) -> str:
+        n, q = self.points.shape
+        turned = ""
+        if self.orientations is not None:
+            turn = float(angle_between(self.orientations[0], self.orientations[-1]))
+            turned = f", turning {np.degrees(turn):.4g} deg"
+        return (
+            f"TimedPlan({n} points in {q}-D over {self.duration:.4g} s, "
+            f"peak speed {float(np.max(self.speeds)):.4g} units/s{turned})"
+        )
