@@ -25,6 +25,7 @@ branch jump.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -58,9 +59,7 @@ _RESTARTS = 16
 def check_any_arm(arm: Any) -> AnyArm:
     """``arm`` if it is an :class:`Arm` or a :class:`UrdfArm`, else a ``TypeError`` naming it."""
     if not isinstance(arm, (Arm, UrdfArm)):
-        raise TypeError(
-            f"arm: expected an Arm (lfdkit.execute.arm.UR5) or a UrdfArm, got {arm!r}"
-        )
+        raise TypeError(f"arm: expected an Arm (lfdkit.execute.arm.UR5) or a UrdfArm, got {arm!r}")
     return arm
 
 
@@ -128,8 +127,22 @@ def check_reach(poses: np.ndarray, arm: AnyArm, tool: Any = None) -> None:
 
 def _pose_error(target: np.ndarray, current: np.ndarray) -> np.ndarray:
     """(position error, rotation vector of target · current⁻¹) in the base frame, (6,)."""
-    rotation = target[:3, :3] @ current[:3, :3].T
-    return np.concatenate((target[:3, 3] - current[:3, 3], rotvec_from_matrix(rotation)))
+    r = target[:3, :3] @ current[:3, :3].T
+    axis = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    sin2 = float(np.linalg.norm(axis))  # 2 sin θ
+    cos = 0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0)
+    if sin2 < 1e-6 and cos < 0:  # θ near π: the skew part vanishes; take the general formula
+        rotvec = rotvec_from_matrix(r)
+    else:
+        angle = math.atan2(0.5 * sin2, cos)
+        rotvec = axis * (0.5 if sin2 < 1e-12 else angle / sin2)
+    return np.concatenate((target[:3, 3] - current[:3, 3], rotvec))
+
+
+def _pose_and_jacobian(arm: AnyArm, q: np.ndarray, tool: Any) -> tuple[np.ndarray, np.ndarray]:
+    if isinstance(arm, UrdfArm):
+        return arm.pose_and_jacobian(q, tool)
+    return ur5.forward(q, tool=tool, arm=arm), ur5.jacobian(q, tool=tool, arm=arm)
 
 
 def solve_pose(
@@ -141,17 +154,19 @@ def solve_pose(
     """
     lo, hi = arm.joint_limits[:, 0], arm.joint_limits[:, 1]
     q = np.clip(np.asarray(q0, dtype=np.float64), lo, hi)
-    err = _pose_error(target, forward(arm, q, tool))
+    tool = None if tool is None else np.asarray(tool, dtype=np.float64)
+    pose, jac = _pose_and_jacobian(arm, q, tool)
+    err = _pose_error(target, pose)
     for _ in range(_ITERATIONS):
         if np.linalg.norm(err[:3]) < _POSITION_TOL and np.linalg.norm(err[3:]) < _ANGLE_TOL:
             break
-        jac = jacobian(arm, q, tool)
         step = jac.T @ np.linalg.solve(jac @ jac.T + _DAMPING**2 * np.eye(6), err)
         biggest = np.abs(step).max()
         if biggest > _MAX_STEP:
             step *= _MAX_STEP / biggest
         q = np.clip(q + step, lo, hi)
-        err = _pose_error(target, forward(arm, q, tool))
+        pose, jac = _pose_and_jacobian(arm, q, tool)
+        err = _pose_error(target, pose)
     return q, float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
 
 

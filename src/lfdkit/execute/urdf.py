@@ -154,9 +154,7 @@ class UrdfArm:
         else:
             acc = np.broadcast_to(np.asarray(max_joint_acceleration, dtype=np.float64), (n,))
             if not (np.isfinite(acc).all() and (acc > 0).all()):
-                raise ValueError(
-                    f"max_joint_acceleration: must be finite and > 0, got {max_joint_acceleration!r}"
-                )
+                raise ValueError(f"max_joint_acceleration: must be finite and > 0, got {acc!r}")
             self.guessed_acceleration = False
         self.max_joint_acceleration = np.array(acc, dtype=np.float64)
         for arr in (self.joint_limits, self.max_joint_speed, self.max_joint_acceleration):
@@ -171,10 +169,6 @@ class UrdfArm:
         joints = root.findall("joint")
         by_child = {}
         for joint in joints:
-            kind = joint.get("type")
-            if kind not in _KNOWN:
-                # A floating or planar joint is not part of a serial arm: only on the chain it matters.
-                kind = kind or "?"
             parent, child = joint.find("parent"), joint.find("child")
             if parent is None or child is None:
                 raise ValueError(f"{source}: joint {joint.get('name')!r} lacks <parent> or <child>")
@@ -263,6 +257,9 @@ class UrdfArm:
         self._axes = np.array(axes)  # (n, 3) in the joint's frame
         self._tip = pending  # after the last moving joint
         self._prismatic = np.array([t == "prismatic" for t in types])
+        skews = [np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]) for x, y, z in axes]
+        self._skew = np.array(skews)  # (n, 3, 3), for one configuration's Rodrigues formula
+        self._skew2 = self._skew @ self._skew
         self.joint_names = tuple(names)
         self.joint_types = tuple(types)
         self.joint_limits = np.array(limits, dtype=np.float64)
@@ -289,7 +286,7 @@ class UrdfArm:
         return arr
 
     def _frames(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Joint frames (m, n, 4, 4) (each after its origin, before its motion) and the tip (m, 4, 4)."""
+        """Joint frames (m, n, 4, 4), each after its origin, before its motion; tip (m, 4, 4)."""
         m = len(q)
         frames = np.empty((m, self.n_joints, 4, 4))
         t = np.broadcast_to(np.eye(4), (m, 4, 4))
@@ -303,6 +300,36 @@ class UrdfArm:
                 motion[:, :3, :3] = _rotation(self._axes[j], q[:, j])
             t = t @ motion
         return frames, t @ self._tip
+
+    def _single(self, q: np.ndarray) -> tuple[list[np.ndarray], np.ndarray]:
+        """Joint frames and the tip of one configuration: the fast path of the numerical IK."""
+        frames = []
+        t = np.eye(4)
+        for j in range(self.n_joints):
+            t = t @ self._origins[j]
+            frames.append(t)
+            motion = np.eye(4)
+            if self._prismatic[j]:
+                motion[:3, 3] = q[j] * self._axes[j]
+            else:
+                s, c = math.sin(q[j]), math.cos(q[j])
+                motion[:3, :3] += s * self._skew[j] + (1.0 - c) * self._skew2[j]
+            t = t @ motion
+        return frames, t @ self._tip
+
+    def pose_and_jacobian(self, q: Any, tool: Any = None) -> tuple[np.ndarray, np.ndarray]:
+        """Tip (or tool) pose (4, 4) and geometric Jacobian (6, n) of one configuration (n,)."""
+        frames, end = self._single(np.asarray(q, dtype=np.float64))
+        if tool is not None:
+            end = end @ tool
+        jac = np.empty((6, self.n_joints))
+        for j, frame in enumerate(frames):
+            axis = frame[:3, :3] @ self._axes[j]
+            if self._prismatic[j]:
+                jac[:3, j], jac[3:, j] = axis, 0.0
+            else:
+                jac[:3, j], jac[3:, j] = np.cross(axis, end[:3, 3] - frame[:3, 3]), axis
+        return end, jac
 
     def forward(self, q: Any, *, tool: Any = None) -> np.ndarray:
         """Tip (or tool) pose in the base link's frame.

@@ -701,6 +701,7 @@ def urscript_program(
     header: str | None = None,
     workspace: Workspace = DEFAULT_WORKSPACE,
     arm: Arm = UR5,
+    speed_fraction: float = 1.0,
 ) -> str:
     """A URScript program that plays a motion on a UR controller.
 
@@ -739,6 +740,10 @@ def urscript_program(
     arm : Arm
         The UR arm that runs the program (default: the UR5); its reach, joint
         limits and kinematics are checked against.
+    speed_fraction : float
+        ``servoj`` only: in ``(0, 1]``, scales the ``movej`` to the first
+        sample (UR's defaults ``a=1.4`` rad/s², ``v=1.05`` rad/s), so that every
+        motion command stays within the fraction the stream was timed at.
 
     Returns
     -------
@@ -810,7 +815,11 @@ def urscript_program(
             f"# lookahead_time {SERVO_LOOKAHEAD} s, gain {SERVO_GAIN}; starts with movej "
             "to the first sample",
         ]
-        body = [f"movej([{_fmt_list(q[0])}], a=1.4, v=1.05)"]
+        f = _scalar(speed_fraction, "speed_fraction", 1.0, "")
+        # UR's movej defaults scaled like the speed slider: the approach as gentle as the stream.
+        body = [
+            f"movej([{_fmt_list(q[0])}], a={format_number(1.4 * f)}, v={format_number(1.05 * f)})"
+        ]
         tail = f", t={format_number(dt)}, lookahead_time={SERVO_LOOKAHEAD}, gain={SERVO_GAIN})"
         body += [f"servoj([{_fmt_list(row)}]{tail}" for row in q]
 
