@@ -67,7 +67,6 @@ from lfdkit.execute.mujoco import (
     render_camera,
     robot_xml,
 )
-from lfdkit.execute.poses import sweeping_poses
 from lfdkit.execute.timing import Timing, time_parameterize
 from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import (
@@ -78,6 +77,7 @@ from lfdkit.tasks.sweeping.scenarios import (
     Dustpan,
     SweepingTask,
     obstacle_class,
+    sweeping_poses,
 )
 
 __all__ = [
