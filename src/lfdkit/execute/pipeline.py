@@ -409,7 +409,7 @@ def robot_outputs(folder: str | os.PathLike[str], *, program: bool = True) -> li
     return [Path(folder) / name for name in names]
 
 
-def _table(columns: list[str], rows: np.ndarray) -> str:
+def _csv_text(columns: list[str], rows: np.ndarray) -> str:
     lines = [",".join(columns)] + [",".join(repr(float(v)) for v in row) for row in rows]
     return "\n".join(lines) + "\n"
 
@@ -437,11 +437,11 @@ def write_robot_execution(
         columns += ["qx", "qy", "qz", "qw"]
         rows.append(execution.plan_orientations)
     by_path = {p.name: p for p in planned}
-    write_text(by_path[_PLAN], _table(columns, np.hstack(rows)), overwrite=overwrite)
+    write_text(by_path[_PLAN], _csv_text(columns, np.hstack(rows)), overwrite=overwrite)
     t, q, qd, qdd = execution.samples
     names = execution.trajectory.joint_names
     columns = ["t", *names, *(f"{n}_vel" for n in names), *(f"{n}_acc" for n in names)]
-    table = _table(columns, np.hstack([t[:, None], q, qd, qdd]))
+    table = _csv_text(columns, np.hstack([t[:, None], q, qd, qdd]))
     write_text(by_path[_TRAJ_CSV], table, overwrite=overwrite)
     message = execution.trajectory.ros_message(execution.rate)
     write_text(by_path[_TRAJ_JSON], json.dumps(message) + "\n", overwrite=overwrite)

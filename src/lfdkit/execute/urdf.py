@@ -260,6 +260,17 @@ class UrdfArm:
         skews = [np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]) for x, y, z in axes]
         self._skew = np.array(skews)  # (n, 3, 3), for one configuration's Rodrigues formula
         self._skew2 = self._skew @ self._skew
+        self._eye3 = np.eye(3)
+        self._links = list(
+            zip(
+                self._origins,
+                self._prismatic.tolist(),
+                self._skew,
+                self._skew2,
+                self._axes,
+                strict=True,
+            )
+        )
         self.joint_names = tuple(names)
         self.joint_types = tuple(types)
         self.joint_limits = np.array(limits, dtype=np.float64)
@@ -301,19 +312,22 @@ class UrdfArm:
             t = t @ motion
         return frames, t @ self._tip
 
-    def _single(self, q: np.ndarray) -> tuple[list[np.ndarray], np.ndarray]:
-        """Joint frames and the tip of one configuration: the fast path of the numerical IK."""
-        frames = []
+    def _single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Joint frames (n, 4, 4) and the tip (4, 4) of one configuration: the IK's fast path."""
+        frames = np.empty((self.n_joints, 4, 4))
         t = np.eye(4)
-        for j in range(self.n_joints):
-            t = t @ self._origins[j]
-            frames.append(t)
-            motion = np.eye(4)
-            if self._prismatic[j]:
-                motion[:3, 3] = q[j] * self._axes[j]
+        motion = np.eye(4)
+        for j, (origin, prismatic, skew, skew2, axis) in enumerate(self._links):
+            t = t @ origin
+            frames[j] = t
+            angle = float(q[j])
+            if prismatic:
+                motion[:3, :3] = self._eye3
+                motion[:3, 3] = angle * axis
             else:
-                s, c = math.sin(q[j]), math.cos(q[j])
-                motion[:3, :3] += s * self._skew[j] + (1.0 - c) * self._skew2[j]
+                motion[:3, :3] = (
+                    self._eye3 + math.sin(angle) * skew + (1.0 - math.cos(angle)) * skew2
+                )
             t = t @ motion
         return frames, t @ self._tip
 
@@ -322,13 +336,17 @@ class UrdfArm:
         frames, end = self._single(np.asarray(q, dtype=np.float64))
         if tool is not None:
             end = end @ tool
-        jac = np.empty((6, self.n_joints))
-        for j, frame in enumerate(frames):
-            axis = frame[:3, :3] @ self._axes[j]
-            if self._prismatic[j]:
-                jac[:3, j], jac[3:, j] = axis, 0.0
-            else:
-                jac[:3, j], jac[3:, j] = np.cross(axis, end[:3, 3] - frame[:3, 3]), axis
+        axes = np.einsum("jab,jb->ja", frames[:, :3, :3], self._axes)  # (n, 3) world axes
+        r = end[:3, 3] - frames[:, :3, 3]
+        cross = np.column_stack(
+            (
+                axes[:, 1] * r[:, 2] - axes[:, 2] * r[:, 1],
+                axes[:, 2] * r[:, 0] - axes[:, 0] * r[:, 2],
+                axes[:, 0] * r[:, 1] - axes[:, 1] * r[:, 0],
+            )
+        )
+        prismatic = self._prismatic[:, None]
+        jac = np.vstack((np.where(prismatic, axes, cross).T, np.where(prismatic, 0.0, axes).T))
         return end, jac
 
     def forward(self, q: Any, *, tool: Any = None) -> np.ndarray:
