@@ -273,6 +273,11 @@ def joint_path(
     if q_start.shape != (arm.n_joints,):
         raise ValueError(f"q_start: expected shape ({arm.n_joints},), got {q_start.shape}")
     if isinstance(arm, Arm) and arm.ur_type:
-        first = ur5.nearest_solution(poses[0], q_start, tool=tool, arm=arm)
+        try:
+            first = ur5.nearest_solution(poses[0], q_start, tool=tool, arm=arm)
+        except ur5.KinematicsError as exc:  # named as the path's first pose, with its position
+            where = ", ".join(f"{v:.3f}" for v in poses[0, :3, 3])
+            text = str(exc).removeprefix("pose: ")
+            raise type(exc)(f"poses[0] at ({where}) m: {text}", 0) from None
         return ur5.inverse_path(poses, first, tool=tool, arm=arm, max_step=max_step)
     return _numeric_path(poses, arm, q_start, tool, max_step, seed)
