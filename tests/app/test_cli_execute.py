@@ -158,14 +158,6 @@ def test_without_mujoco_the_simulation_is_skipped_with_a_warning(
     assert not (out / "sweep.png").exists()
 
 
-@pytest.mark.parametrize(
-    ("argv", "fragment"),
-    [
-        (["--speed-fraction", "0"], "expected a number in (0, 1], got '0'"),
-        (["--speed-fraction", "1.5"], "expected a number in (0, 1], got '1.5'"),
-        (["--speed-fraction", "fast"], "expected a number in (0, 1], got 'fast'"),
-    ],
-)
 def test_an_unknown_arm_is_one_line(skill_path, tmp_path, capsys):
     code, _, err = run_cli(capsys, "execute", skill_path, "--arm", "ur3", "-o", tmp_path / "x")
     assert code == 1
@@ -174,6 +166,14 @@ def test_an_unknown_arm_is_one_line(skill_path, tmp_path, capsys):
     )
 
 
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["--speed-fraction", "0"], "expected a number in (0, 1], got '0'"),
+        (["--speed-fraction", "1.5"], "expected a number in (0, 1], got '1.5'"),
+        (["--speed-fraction", "fast"], "expected a number in (0, 1], got 'fast'"),
+    ],
+)
 def test_bad_options_are_usage_errors(skill_path, tmp_path, capsys, argv, fragment):
     with pytest.raises(SystemExit) as exc:
         main(["execute", str(skill_path), "-o", str(tmp_path / "x"), *argv])

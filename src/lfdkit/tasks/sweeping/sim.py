@@ -57,6 +57,7 @@ from lfdkit.core.progress import ProgressLike, Stage, as_progress
 from lfdkit.core.validation import check_path, check_positive
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.kinematics import joint_path
 from lfdkit.execute.mujoco import (
     FIXED_CONTACT,
     OBJECT_CONTACT,
@@ -605,8 +606,8 @@ def sweep_motion(
             arc_length(path) / path_length(path), arc_length(given) / path_length(given), headings
         )
     frames = sweeping_poses(path, height=brush.sweep_height, yaw=headings)
-    q_start = ur5.nearest_solution(frames[0], q_home, arm=arm)
-    return frames, ur5.inverse_path(frames, q_start, arm=arm)
+    # The generic chain's IK: the branch nearest q_home, one continuous branch after it.
+    return frames, joint_path(frames, arm, q_home)
 
 
 def _cannot_follow(task: SweepingTask, exc: Exception) -> SweepResult:
