@@ -388,6 +388,21 @@ class UrdfArm:
         jac = np.concatenate((np.swapaxes(linear, 1, 2), np.swapaxes(angular, 1, 2)), axis=1)
         return jac if arr.ndim == 2 else jac[0]
 
+    @property
+    def joint_origins(self) -> np.ndarray:
+        """Fixed transform before each joint's motion (fixed joints folded in), (n, 4, 4)."""
+        return self._origins.copy()
+
+    @property
+    def joint_axes(self) -> np.ndarray:
+        """Each joint's unit axis in its own frame, (n, 3)."""
+        return self._axes.copy()
+
+    @property
+    def tip_transform(self) -> np.ndarray:
+        """Fixed transform from the last joint's frame to the tip link, (4, 4)."""
+        return self._tip.copy()
+
     def link_origins(self) -> np.ndarray:
         """Where each joint and the tip sit at zero joint positions, (n + 1, 3), m."""
         frames, end = self._frames(np.zeros((1, self.n_joints)))

@@ -162,7 +162,9 @@ def _run_path(args: argparse.Namespace) -> None:
         tool = np.eye(4)
         tool[2, 3] = args.tool_length
         try:
-            task = TaskDescription(frame=frame, tool=tool, height=args.height, name="path")
+            task = TaskDescription(
+                frame=frame, tool=tool, height=args.height, q_start=args.q_start, name="path"
+            )
             with progress.stage(f"plan around {len(scene)} obstacles"):
                 plan = skill.plan(start, goal, scene, **orientation_options(args))
             name = args.skill.name.encode("ascii", "replace").decode("ascii")
@@ -181,11 +183,24 @@ def _run_path(args: argparse.Namespace) -> None:
             raise CommandError(f"{exc}; wrote nothing") from None
         except ValueError as exc:
             raise CommandError(option_named(str(exc))) from None
+        extra = {"skill": str(args.skill)}
+        check = None
+        if not args.no_sim:
+            with progress.stage(f"simulate in MuJoCo ({arm.name})"):
+                from lfdkit.execute.simulation import simulate_execution
+
+                try:
+                    check = simulate_execution(run, scene)
+                except ImportError as exc:
+                    warnings.warn(f"skipped the simulation: {exc}", stacklevel=1)
+            if check is not None:
+                extra["simulation"] = {
+                    "tracking_error_m": check.tracking_error,
+                    "touched": list(check.touched),
+                }
         with progress.stage(f"write the files in {out}"):
             out.mkdir(parents=True, exist_ok=True)
-            written = write_robot_execution(
-                out, run, overwrite=args.force, extra={"skill": str(args.skill)}
-            )
+            written = write_robot_execution(out, run, overwrite=args.force, extra=extra)
     robot = run.summary()["robot"]
     tell(
         args,
@@ -194,6 +209,15 @@ def _run_path(args: argparse.Namespace) -> None:
         f"{robot['samples']} samples at {rate:g} Hz, tool at most "
         f"{robot['tool_speed_max_m_s']:.2f} m/s",
     )
+    if check is not None:
+        touched = ", ".join(str(i) for i in check.touched) or "none"
+        tell(
+            args,
+            f"simulated in MuJoCo: tracking error {1e3 * check.tracking_error:.2f} mm, "
+            f"obstacles touched: {touched}",
+        )
+        if check.touched:
+            warnings.warn(f"the simulated arm touched obstacle(s) {touched}", stacklevel=1)
     if run.trajectory.slowdowns:
         warnings.warn(run.timing_note, stacklevel=1)
     else:
@@ -270,6 +294,15 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         default=0.2,
         metavar="Z",
         help="path task, 2-D skill: height of its plane, m (default %(default)s)",
+    )
+    parser.add_argument(
+        "--q-start",
+        type=float,
+        nargs="+",
+        default=None,
+        metavar="Q",
+        help="path task: a configuration near the wanted one at the start (rad), picking the "
+        "arm's branch (default: elbow up for UR arms, the middle of the limits otherwise)",
     )
     parser.add_argument(
         "--tool-length",
