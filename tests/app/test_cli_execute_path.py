@@ -78,6 +78,9 @@ def test_a_3d_skill_runs_on_a_urdf_panda(reach_skill, tmp_path, capsys):
     assert not (out / "program.script").exists()  # URScript is for UR arms only
     summary = json.loads((out / "summary.json").read_text())
     assert summary["robot"]["duration_ratio"] == pytest.approx(1.0)
+    # Simulated in MuJoCo from the URDF: tracked within 2 mm, nothing to touch.
+    assert summary["simulation"]["tracking_error_m"] <= 0.002
+    assert summary["simulation"]["touched"] == []
 
 
 def test_out_of_reach_is_one_line(reach_skill, tmp_path, capsys):
