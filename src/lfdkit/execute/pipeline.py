@@ -91,7 +91,7 @@ def _transform(value: Any, name: str) -> np.ndarray:
     return arr
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class TaskDescription:
     """Where and with what tool a skill's plan runs on an arm.
 
