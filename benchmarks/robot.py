@@ -1170,7 +1170,8 @@ def _finish(args, argv, quick, n, wall, sections, targets) -> int:
             "dh": {"d": UR5.d.tolist(), "a": UR5.a.tolist(), "alpha": UR5.alpha.tolist()},
         },
     }
-    path = args.output / "robot.json"
+    # Section A alone does not overwrite the full run's file.
+    path = args.output / ("robot_arms.json" if args.arms_only else "robot.json")
     write_json(path, sections, targets, meta)
     print(f"wrote {path}")
     return 0
