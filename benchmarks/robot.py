@@ -74,6 +74,38 @@ of every pose; the IK ratio compares one rtb solution with eight lfdkit ones.
 Absolute times are noisy on this shared two-core machine; the ratios are what
 matters. No speed targets.
 
+Any arm (section A; ``--arms-only`` runs it alone, about a minute)
+=================================================================
+
+The URDFs of ``tests/execute/data`` (a UR5 written from the thesis's DH table,
+a UR5e from UR's published DH table, a Panda from Franka's parameters), read by
+:class:`lfdkit.execute.urdf.UrdfArm`.
+
+A1. FK: random configurations within the joint limits (2,000; 300 with
+``--quick``) against pinocchio (``pip install pin``; SKIP without it) and, for
+the UR5, the DH arm. Target: max position error < 1e-9 m. Times per
+configuration: lfdkit batched (NumPy), pinocchio in a Python loop (its API).
+
+A2. Numerical IK: poses of random configurations, started 0.1 rad (uniform
+per joint) away (200; 40 with ``--quick``); lfdkit's damped least squares
+(:func:`lfdkit.execute.kinematics.solve_pose`) against the same loop on
+pinocchio's C++ kinematics (``log6`` error, same damping, step cap and
+tolerance). Success: position error < 1e-6 m. Ratio: lfdkit's time over
+pinocchio's.
+
+A3. The learned timing kept: a 6 s reach over a 0.2 m box (rest to rest)
+through :func:`lfdkit.execute.pipeline.execute_plan` at speed fractions 1,
+0.5, 0.2, 0.1 (1 and 0.5 with ``--quick``): executed over planned duration,
+and the largest joint speed and acceleration as fractions of the limits in
+force. Target: within 5 % of the learned duration at full limits.
+
+A4. Time-optimal timing of the same joint path (the arm's full limits):
+:func:`lfdkit.execute.timing.time_parameterize` against toppra (TOPP-RA,
+``SplineInterpolator`` with the same natural spline in joint arc length,
+joint velocity and acceleration constraints, ``ParametrizeConstAccel``):
+durations, the largest fraction of a limit used (sampled at 5,001 instants),
+wall times and their ratios. No target: reported side by side.
+
 Simulation
 ==========
 
@@ -144,6 +176,8 @@ VERSION_PACKAGES = [
     "pytransform3d",
     "mujoco",
     "movement_primitives",
+    "pin",
+    "toppra",
 ]
 
 N_FULL = 10_000
@@ -773,6 +807,282 @@ def simulation_targets(results: dict) -> list[dict]:
 # ------------------------------------------------------------------------------ output
 
 
+# ----------------------------------------------------------------------------- A. any arm
+DATA = Path(__file__).resolve().parents[1] / "tests" / "execute" / "data"
+ARM_FILES = {
+    "UR5 (URDF)": ("ur5.urdf", None),
+    "UR5e": ("ur5e.urdf", None),
+    "Panda": ("panda.urdf", "panda_hand_tcp"),
+}
+ARM_FK_N = (2_000, 300)  # full, quick
+ARM_IK_N = (200, 40)
+ARM_FK_TARGET = 1e-9  # m against pinocchio and the DH UR5
+TIMING_FRACTIONS = (1.0, 0.5, 0.2, 0.1)
+
+
+def _urdf_arms() -> dict:
+    from lfdkit.execute.urdf import UrdfArm
+
+    return {name: UrdfArm(DATA / f, tip_link=tip) for name, (f, tip) in ARM_FILES.items()}
+
+
+def _pinocchio_model(name: str):
+    try:
+        import pinocchio as pin
+    except ImportError:
+        return None, None
+    file, tip = ARM_FILES[name]
+    model = pin.buildModelFromUrdf(str(DATA / file))
+    return pin, (model, model.createData(), model.getFrameId(tip or "flange"))
+
+
+def arms_forward(quick: bool, rng: np.random.Generator) -> dict:
+    """A1: URDF forward kinematics against pinocchio (and the UR5's DH table), and their speed."""
+    n = ARM_FK_N[quick]
+    rows = {}
+    for name, arm in _urdf_arms().items():
+        q = rng.uniform(arm.joint_limits[:, 0], arm.joint_limits[:, 1], (n, arm.n_joints))
+        mine = arm.forward(q)
+        row: dict[str, Any] = {"joints": arm.n_joints, "n": n}
+        t_batch, _, _ = median_time(lambda q=q, arm=arm: arm.forward(q), 3)
+        t_single, _, _ = median_time(
+            lambda q=q, arm=arm: [arm.pose_and_jacobian(x) for x in q[:200]], 3
+        )
+        row["lfdkit_fk_us"] = 1e6 * t_batch / n
+        row["lfdkit_fk_and_jacobian_single_us"] = 1e6 * t_single / 200
+        if name == "UR5 (URDF)":
+            row["max_error_vs_dh_m"] = float(
+                np.abs(mine[:, :3, 3] - ur5.forward(q)[:, :3, 3]).max()
+            )
+        pin, ref = _pinocchio_model(name)
+        if pin is not None:
+            model, data, frame = ref
+            pad = model.nq - arm.n_joints
+
+            def pin_fk(q=q, model=model, data=data, frame=frame, pad=pad, pin=pin):
+                out = np.empty((len(q), 4, 4))
+                for k, x in enumerate(q):
+                    pin.framesForwardKinematics(model, data, np.r_[x, np.zeros(pad)])
+                    out[k] = data.oMf[frame].homogeneous
+                return out
+
+            t_pin, _, theirs = median_time(pin_fk, 3)
+            row["max_error_vs_pinocchio_m"] = float(np.abs(mine - theirs).max())
+            row["pinocchio_fk_us"] = 1e6 * t_pin / n
+        rows[name] = row
+    return rows
+
+
+def arms_inverse(quick: bool, rng: np.random.Generator) -> dict:
+    """A2: numerical IK from 0.1 rad away, lfdkit's DLS against the same loop on pinocchio."""
+    from lfdkit.execute.kinematics import solve_pose
+
+    n = ARM_IK_N[quick]
+    rows = {}
+    for name, arm in _urdf_arms().items():
+        lo, hi = arm.joint_limits[:, 0], arm.joint_limits[:, 1]
+        q = rng.uniform(lo + 0.2, hi - 0.2, (n, arm.n_joints))
+        start = q + rng.uniform(-0.1, 0.1, q.shape)
+        targets = arm.forward(q)
+        t0 = time.perf_counter()
+        solved = [solve_pose(arm, targets[k], start[k]) for k in range(n)]
+        seconds = time.perf_counter() - t0
+        pos = np.array([s[1] for s in solved])
+        row: dict[str, Any] = {
+            "poses": n,
+            "lfdkit_success": float(np.mean(pos < 1e-6)),
+            "lfdkit_max_position_error_m": float(pos.max()),
+            "lfdkit_ms_per_pose": 1e3 * seconds / n,
+        }
+        pin, ref = _pinocchio_model(name)
+        if pin is not None:
+            model, data, frame = ref
+            pad = model.nq - arm.n_joints
+
+            def clik(
+                target, q0, model=model, data=data, frame=frame, pad=pad, pin=pin, lo=lo, hi=hi
+            ):
+                dof = len(lo)
+                # pinocchio's documented CLIK loop (log6 error, damped pseudo-inverse), same
+                # damping, step cap and tolerance as lfdkit's.
+                goal = pin.SE3(target[:3, :3], target[:3, 3])
+                x = np.r_[q0, np.zeros(pad)]
+                for _ in range(100):
+                    pin.framesForwardKinematics(model, data, x)
+                    err = pin.log6(data.oMf[frame].actInv(goal)).vector
+                    if np.linalg.norm(err[:3]) < 1e-7 and np.linalg.norm(err[3:]) < 1e-6:
+                        break
+                    jac = pin.computeFrameJacobian(model, data, x, frame)[:, :dof]
+                    step = jac.T @ np.linalg.solve(jac @ jac.T + 1e-6 * np.eye(6), err)
+                    step *= min(1.0, 0.3 / np.abs(step).max())
+                    x[:dof] = np.clip(x[:dof] + step, lo, hi)
+                pin.framesForwardKinematics(model, data, x)
+                return float(np.linalg.norm(data.oMf[frame].translation - target[:3, 3]))
+
+            t0 = time.perf_counter()
+            theirs = np.array([clik(targets[k], start[k]) for k in range(n)])
+            seconds = time.perf_counter() - t0
+            row["pinocchio_success"] = float(np.mean(theirs < 1e-6))
+            row["pinocchio_ms_per_pose"] = 1e3 * seconds / n
+            row["time_ratio_lfdkit_over_pinocchio"] = (
+                row["lfdkit_ms_per_pose"] / row["pinocchio_ms_per_pose"]
+            )
+        rows[name] = row
+    return rows
+
+
+def _reach_plan():
+    """A 6 s reach over a 0.2 m box, rest to rest, as Skill.plan times it (metres, seconds)."""
+    from types import SimpleNamespace
+
+    t = np.linspace(0.0, 6.0, 120)
+    s = 0.5 - 0.5 * np.cos(np.pi * t / 6.0)
+    p = np.column_stack([np.full_like(t, 0.45), -0.3 + 0.6 * s, 0.15 + 0.22 * np.sin(np.pi * s)])
+    return SimpleNamespace(times=t, positions=p)
+
+
+def arms_timing(quick: bool) -> dict:
+    """A3/A4: the learned timing kept (duration ratios), and time-optimal timing against toppra."""
+    from lfdkit.execute.arm import UR5 as DH_UR5
+    from lfdkit.execute.pipeline import execute_plan
+    from lfdkit.execute.timing import time_parameterize
+
+    arms = {"UR5 (DH)": DH_UR5, **_urdf_arms()}
+    kept: dict[str, Any] = {}
+    optimal: dict[str, Any] = {}
+    plan = _reach_plan()
+    for name, arm in arms.items():
+        kept[name] = {}
+        joints = None
+        for f in TIMING_FRACTIONS[: 2 if quick else None]:
+            t0 = time.perf_counter()
+            run = execute_plan(plan, arm, speed_fraction=f, rate=500.0)
+            seconds = time.perf_counter() - t0
+            _, _, qd, qdd = run.samples
+            kept[name][f"{f:g}"] = {
+                "duration_ratio": run.trajectory.duration / run.trajectory.planned_duration,
+                "slowdowns": len(run.trajectory.slowdowns),
+                "velocity_of_limit": float((np.abs(qd) / (f * arm.max_joint_speed)).max()),
+                "acceleration_of_limit": float(
+                    (np.abs(qdd) / (f * f * arm.max_joint_acceleration)).max()
+                ),
+                "seconds": seconds,
+            }
+            joints = run.trajectory.waypoints
+        vmax, amax = arm.max_joint_speed, arm.max_joint_acceleration
+        t_mine, _, timing = median_time(
+            lambda j=joints, v=vmax, a=amax: time_parameterize(
+                j, max_velocity=v, max_acceleration=a
+            ),
+            3,
+        )
+        row: dict[str, Any] = {"lfdkit_duration_s": timing.duration, "lfdkit_ms": 1e3 * t_mine}
+        _, v, a = timing.sample(np.linspace(0, timing.duration, 5001))
+        row["lfdkit_limit_use"] = float(max((np.abs(v) / vmax).max(), (np.abs(a) / amax).max()))
+        try:
+            import toppra as ta
+            import toppra.algorithm as algo
+            import toppra.constraint as constraint
+        except ImportError:
+            row["toppra"] = "not installed"
+        else:
+            ta.setup_logging("WARNING")
+            from lfdkit.core.geometry import arc_length
+
+            keep = np.concatenate(([True], np.linalg.norm(np.diff(joints, axis=0), axis=1) > 1e-9))
+            way = joints[keep]
+
+            def run_toppra(way=way, vmax=vmax, amax=amax):
+                path = ta.SplineInterpolator(arc_length(way), way, bc_type="natural")
+                cons = [
+                    constraint.JointVelocityConstraint(np.column_stack([-vmax, vmax])),
+                    constraint.JointAccelerationConstraint(np.column_stack([-amax, amax])),
+                ]
+                return algo.TOPPRA(
+                    cons, path, parametrizer="ParametrizeConstAccel"
+                ).compute_trajectory()
+
+            t_toppra, _, traj = median_time(run_toppra, 3)
+            ts = np.linspace(0, traj.duration, 5001)
+            use = max((np.abs(traj(ts, 1)) / vmax).max(), (np.abs(traj(ts, 2)) / amax).max())
+            row.update(
+                toppra_duration_s=float(traj.duration),
+                toppra_ms=1e3 * t_toppra,
+                toppra_limit_use=float(use),
+                duration_ratio_lfdkit_over_toppra=timing.duration / float(traj.duration),
+                time_ratio_lfdkit_over_toppra=t_mine / t_toppra,
+            )
+        optimal[name] = row
+    return {"kept": kept, "optimal": optimal}
+
+
+def print_arms(results: dict) -> None:
+    print("\nA1. URDF forward kinematics (max position error, m; µs per configuration)")
+    print(f"  {'arm':<12} {'joints':>6} {'vs pin':>10} {'vs DH':>10} {'lfdkit':>8} {'pin':>8}")
+    for name, r in results["forward"].items():
+        print(
+            f"  {name:<12} {r['joints']:>6} {sci(r.get('max_error_vs_pinocchio_m')):>10} "
+            f"{sci(r.get('max_error_vs_dh_m')):>10} {r['lfdkit_fk_us']:>8.1f} "
+            f"{r.get('pinocchio_fk_us', float('nan')):>8.1f}"
+        )
+    print("\nA2. numerical IK from 0.1 rad away (success < 1e-6 m; ms per pose)")
+    for name, r in results["inverse"].items():
+        print(
+            f"  {name:<12} lfdkit {r['lfdkit_success']:.0%} {r['lfdkit_ms_per_pose']:.2f} ms   "
+            f"pinocchio CLIK {r.get('pinocchio_success', float('nan')):.0%} "
+            f"{r.get('pinocchio_ms_per_pose', float('nan')):.2f} ms   ratio "
+            f"{r.get('time_ratio_lfdkit_over_pinocchio', float('nan')):.2f}"
+        )
+    print("\nA3. the learned 6 s reach kept: executed / planned duration per speed fraction")
+    for name, by_f in results["timing"]["kept"].items():
+        cells = "  ".join(
+            f"f={f}: x{r['duration_ratio']:.3f} (v {r['velocity_of_limit']:.2f}, "
+            f"a {r['acceleration_of_limit']:.2f} of limit)"
+            for f, r in by_f.items()
+        )
+        print(f"  {name:<12} {cells}")
+    print("\nA4. time-optimal timing of the same joint path: lfdkit vs toppra")
+    for name, r in results["timing"]["optimal"].items():
+        if "toppra_duration_s" not in r:
+            print(f"  {name:<12} lfdkit {r['lfdkit_duration_s']:.3f} s; toppra {r.get('toppra')}")
+            continue
+        print(
+            f"  {name:<12} duration lfdkit {r['lfdkit_duration_s']:.3f} s, toppra "
+            f"{r['toppra_duration_s']:.3f} s (ratio {r['duration_ratio_lfdkit_over_toppra']:.3f}); "
+            f"limit use {r['lfdkit_limit_use']:.3f} / {r['toppra_limit_use']:.3f}; "
+            f"time {r['lfdkit_ms']:.0f} / {r['toppra_ms']:.0f} ms (ratio "
+            f"{r['time_ratio_lfdkit_over_toppra']:.2f})"
+        )
+
+
+def arms_targets(results: dict) -> list[dict]:
+    out = []
+    for name, r in results["forward"].items():
+        for key in ("max_error_vs_pinocchio_m", "max_error_vs_dh_m"):
+            if key in r:
+                ok = r[key] < ARM_FK_TARGET
+                out.append(
+                    {
+                        "status": "PASS" if ok else "FAIL",
+                        "name": f"A1 {name} FK {key[10:]}",
+                        "value": sci(r[key]),
+                        "target": f"< {ARM_FK_TARGET:g} m",
+                    }
+                )
+    for name, by_f in results["timing"]["kept"].items():
+        r = by_f["1"]
+        ok = abs(r["duration_ratio"] - 1.0) <= 0.05
+        out.append(
+            {
+                "status": "PASS" if ok else "FAIL",
+                "name": f"A3 {name} learned duration kept",
+                "value": f"x{r['duration_ratio']:.3f}",
+                "target": "within 5 % at full limits",
+            }
+        )
+    return out
+
+
 def write_json(path: Path, sections: dict, targets: list[dict], meta: dict) -> None:
     """Write ``meta``, the sections' results and the targets to ``path`` atomically."""
     result = {**meta, **sections, "targets": targets}
@@ -791,6 +1101,12 @@ def main(argv: list[str] | None = None) -> int:
         f"rtb IK on {RTB_IK_QUICK} instead of {RTB_IK_FULL} poses",
     )
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--arms-only",
+        action="store_true",
+        help="only section A (URDF arms: FK/IK against pinocchio, the learned timing kept, "
+        "time-optimal timing against toppra)",
+    )
     args = parser.parse_args(argv)
     quick = args.quick
     n = N_QUICK if quick else N_FULL
@@ -800,6 +1116,15 @@ def main(argv: list[str] | None = None) -> int:
 
     with threadpool_limits(limits=1):
         rng = np.random.default_rng(args.seed)
+        progress("A. URDF arms ...")
+        arms = {"forward": arms_forward(quick, rng), "inverse": arms_inverse(quick, rng)}
+        arms["timing"] = arms_timing(quick)
+        print_arms(arms)
+        sections["arms"] = arms
+        targets += arms_targets(arms)
+    with threadpool_limits(limits=1):
+        if args.arms_only:
+            return _finish(args, argv, quick, n, wall, sections, targets)
         progress("K1. FK cross-check ...")
         kin = {"crosscheck": kinematics_crosscheck(n, rng)}
         progress("K2. IK round trip ...")
@@ -819,7 +1144,10 @@ def main(argv: list[str] | None = None) -> int:
         print_simulation(simulation)
         sections["simulation"] = simulation
         targets += simulation_targets(simulation)
+    return _finish(args, argv, quick, n, wall, sections, targets)
 
+
+def _finish(args, argv, quick, n, wall, sections, targets) -> int:
     print_targets(targets)
     wall = time.perf_counter() - wall
     print(f"\nwall time {wall:.1f} s")
@@ -843,7 +1171,8 @@ def main(argv: list[str] | None = None) -> int:
             "dh": {"d": UR5.d.tolist(), "a": UR5.a.tolist(), "alpha": UR5.alpha.tolist()},
         },
     }
-    path = args.output / "robot.json"
+    # Section A alone does not overwrite the full run's file.
+    path = args.output / ("robot_arms.json" if args.arms_only else "robot.json")
     write_json(path, sections, targets, meta)
     print(f"wrote {path}")
     return 0

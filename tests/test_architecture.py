@@ -269,3 +269,25 @@ def test_the_private_check_lets_a_package_use_its_own_private_modules() -> None:
         name="lfdkit.emulate.planner",
     )
     assert private_violations(name, tree, imports) == []
+
+
+def test_the_execute_layer_holds_no_task() -> None:
+    """execute/ is generic robot code: no name of a task (sweep, brush, dustpan, table) in it.
+
+    The sweeping task's constants (its height, its poses, its table) live in
+    lfdkit.tasks.sweeping; a name defined in execute/ that speaks of them has strayed.
+    """
+    words = ("sweep", "brush", "dustpan", "table")
+    bad = []
+    for path in sorted((SRC / "execute").glob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in tree.body:
+            targets = []
+            if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+                targets = [node.name]
+            elif isinstance(node, ast.Assign):
+                targets = [t.id for t in node.targets if isinstance(t, ast.Name)]
+            elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+                targets = [node.target.id]
+            bad += [f"{path.name}: {n}" for n in targets if any(w in n.lower() for w in words)]
+    assert bad == []

@@ -159,7 +159,7 @@ def test_execute_turns_the_brush_as_demonstrated(files, capsys) -> None:
     code, _, err = run_cli(capsys, "execute", path, "--no-sim", "-q", "-o", out)
     assert code == 0, err
     assert json.loads((out / "summary.json").read_text())["robot"]["yaw"] == "demonstrated"
-    assert (out / "plan.csv").read_text().startswith("x,y,qx,qy,qz,qw\n")
+    assert (out / "plan.csv").read_text().startswith("t,x,y,qx,qy,qz,qw\n")  # with the timing
     code, _, err = run_cli(
         capsys, "execute", path, "--no-sim", "-q", "--yaw", "tangent", "-f", "-o", out
     )

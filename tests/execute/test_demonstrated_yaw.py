@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from lfdkit.core import rotations as rot
-from lfdkit.execute.poses import path_yaw, sweeping_poses, yaw_from_quaternions
+from lfdkit.execute.poses import path_yaw, yaw_from_quaternions
+from lfdkit.tasks.sweeping.scenarios import sweeping_poses
 
 
 def _path() -> np.ndarray:

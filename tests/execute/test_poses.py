@@ -20,9 +20,9 @@ from lfdkit.execute.poses import (
     pose_matrix,
     pose_vector,
     rotvec_from_matrix,
-    sweeping_poses,
     unwrap_rotvecs,
 )
+from lfdkit.tasks.sweeping.scenarios import sweeping_poses
 
 SETTINGS = settings(max_examples=50, deadline=None)
 TOL = 1e-12

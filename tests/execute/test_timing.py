@@ -309,3 +309,16 @@ def test_absurd_sizes_and_speeds_are_one_line_refusals_not_memory_errors():
     assert len(short.resample(125)[0]) == int(np.ceil(short.duration * 125 - 1e-9)) + 1
     with pytest.raises(ValueError, match=r"speed_fraction: must be in \[0.001, 1\], got 1e-300; a"):
         time_parameterize(np.eye(6)[:2], speed_fraction=1e-300)
+
+
+def test_the_toppra_backend_gives_the_same_timing():
+    """toppra (the field's TOPP-RA) on the same spline and grid: the same duration to 1e-6."""
+    pytest.importorskip("toppra")
+    rng = np.random.default_rng(5)
+    q = np.cumsum(rng.normal(0.0, 0.1, (12, 6)), axis=0)
+    mine = time_parameterize(q, speed_fraction=0.5)
+    theirs = time_parameterize(q, speed_fraction=0.5, backend="toppra")
+    assert theirs.duration == pytest.approx(mine.duration, rel=1e-6)
+    np.testing.assert_allclose(theirs.times, mine.times, rtol=1e-6)
+    with pytest.raises(ValueError, match="backend: expected 'lfdkit' or 'toppra', got 'ruckig'"):
+        time_parameterize(q, backend="ruckig")

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import lfdkit
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, UR10
-from lfdkit.execute.poses import pose_vector, sweeping_poses, unwrap_rotvecs
+from lfdkit.execute.poses import pose_vector, unwrap_rotvecs
 from lfdkit.execute.timing import time_parameterize
 from lfdkit.execute.urscript import (
     DEFAULT_WORKSPACE,
@@ -32,6 +32,7 @@ from lfdkit.execute.urscript import (
     urscript_program,
     write_urscript,
 )
+from lfdkit.tasks.sweeping.scenarios import sweeping_poses
 from tests.execute.arms import PLANAR
 
 PRECISION = 5e-10 + 1e-15  # half a unit in the 9th decimal, plus rounding

@@ -1,4 +1,7 @@
-"""Tool poses for a UR robot: rotation vectors, pose vectors and sweeping poses (thesis §6.4).
+"""Tool poses for a UR robot: rotation vectors, pose vectors and headings (thesis §6.4).
+
+The sweeping task's own poses (a brush at a fixed height) are
+:func:`lfdkit.tasks.sweeping.scenarios.sweeping_poses`.
 
 Conventions
 -----------
@@ -54,13 +57,9 @@ __all__ = [
     "pose_matrix",
     "pose_vector",
     "rotvec_from_matrix",
-    "sweeping_poses",
     "unwrap_rotvecs",
     "yaw_from_quaternions",
 ]
-
-SWEEP_HEIGHT = 0.192
-"""Height of the brush's tool frame above the robot base frame in the thesis (m, §6.4)."""
 
 _ROTATION_TOL = 1e-6  # accepted max |RᵀR − I| and |det R − 1|
 _SMALL_ANGLE = 1e-4  # below this angle (rad), series expansions replace sin θ / θ etc.
@@ -327,7 +326,7 @@ def pose_matrix(p: Any) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- #
-# Sweeping
+# Headings on a plane
 # --------------------------------------------------------------------------- #
 
 
@@ -376,8 +375,9 @@ def yaw_from_quaternions(quaternions: Any) -> np.ndarray:
     -------
     ndarray, shape (n,)
         Angle (rad, about the base +z axis from +x) of the tool x axis
-        projected on the table, unwrapped: the ψ of :func:`sweeping_poses`
-        (tool down or up alike), so ``sweeping_poses(path, yaw=...)`` holds
+        projected on the table, unwrapped: the ψ of
+        :func:`lfdkit.tasks.sweeping.scenarios.sweeping_poses` (tool down or
+        up alike), so ``sweeping_poses(path, yaw=...)`` holds
         the tool as demonstrated instead of along the path's tangent.
 
     Raises
@@ -395,77 +395,3 @@ def yaw_from_quaternions(quaternions: Any) -> np.ndarray:
             "it has no heading on the table"
         )
     return np.unwrap(np.arctan2(y, x))
-
-
-def sweeping_poses(
-    path: Any,
-    *,
-    height: float = SWEEP_HEIGHT,
-    tool_down: bool = True,
-    yaw_offset: float = 0.0,
-    yaw: Any = None,
-) -> np.ndarray:
-    """Tool poses for sweeping along a planar path at a fixed height (thesis §6.4).
-
-    The tool frame sits at ``(x, y, height)``; its x axis points along the path
-    tangent, rotated by ``yaw_offset`` about the vertical, so the brush's long
-    edge, along the tool y axis, is orthogonal to the path. With ``tool_down``
-    the tool z axis points down (roll and pitch zero with the tool facing the
-    table): ``R = Rz(ψ) Rx(π)``, columns ``x = (cos ψ, sin ψ, 0)``,
-    ``y = (sin ψ, −cos ψ, 0)``, ``z = (0, 0, −1)``; otherwise ``R = Rz(ψ)``.
-
-    Parameters
-    ----------
-    path : array_like, shape (n, 2)
-        Points on the table in the robot base frame (metres).
-    height : float
-        z coordinate of the tool frame in the base frame (metres); 0.192 in the thesis.
-    tool_down : bool
-        Point the tool z axis along −z of the base (true) or +z (false).
-    yaw_offset : float
-        Extra rotation (rad) about the vertical, e.g. for a brush mounted at an
-        angle on the flange.
-    yaw : array_like, shape (n,), optional
-        The tool's heading at each point (rad), e.g. the demonstrated one
-        (:func:`yaw_from_quaternions`), instead of the path's tangent;
-        ``yaw_offset`` is added to it.
-
-    Returns
-    -------
-    ndarray, shape (n, 4, 4)
-        Homogeneous transforms of the tool in the base frame. The yaw ψ comes
-        from :func:`path_yaw` (or ``yaw``), so it is continuous along the path. Every
-        tool-down pose is a rotation by π (about a horizontal axis), where
-        rotation vectors flip sign: convert with :func:`pose_vector` and then
-        :func:`unwrap_rotvecs` before sending them to the robot.
-
-    Raises
-    ------
-    ValueError
-        If the path is not ``(n, 2)``, has fewer than 2 points, contains
-        NaN/inf or has zero length, or if ``height``/``yaw_offset`` is not finite.
-    """
-    psi = path_yaw(path, yaw_offset=yaw_offset)
-    arr = np.asarray(path, dtype=np.float64)
-    if yaw is not None:
-        given = _as_float_array(yaw, "yaw", f"({len(arr)},)")
-        if given.shape != (len(arr),):
-            raise ValueError(
-                f"yaw: expected shape ({len(arr)},), one per path point, got {given.shape}"
-            )
-        _check_finite(given, "yaw")
-        psi = given + check_finite(yaw_offset, "yaw_offset")
-    z = check_finite(height, "height")
-    c, s = np.cos(psi), np.sin(psi)
-    T = np.zeros((len(psi), 4, 4))
-    T[:, 0, 0], T[:, 1, 0] = c, s  # tool x: along the path
-    if tool_down:
-        T[:, 0, 1], T[:, 1, 1] = s, -c  # tool y = z × x, orthogonal to the path
-        T[:, 2, 2] = -1.0
-    else:
-        T[:, 0, 1], T[:, 1, 1] = -s, c
-        T[:, 2, 2] = 1.0
-    T[:, :2, 3] = arr
-    T[:, 2, 3] = z
-    T[:, 3, 3] = 1.0
-    return T

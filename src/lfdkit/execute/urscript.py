@@ -100,7 +100,7 @@ __all__ = [
     "MAX_TOOL_ACCELERATION",
     "MAX_TOOL_SPEED",
     "MIN_SERVO_DT",
-    "TABLE_Z",
+    "MOUNT_Z",
     "URScriptError",
     "URScriptTypeError",
     "Workspace",
@@ -127,10 +127,9 @@ MAX_SERVO_DT = 1.0
 MAX_ROTATION = np.pi + 1e-9
 """Largest rotation-vector norm accepted (rad): π, plus round-off."""
 
-TABLE_Z = 0.0
-"""Height of the table plane in the robot base frame (m): the UR5 stands on the
-table (the sweeping task, :mod:`lfdkit.tasks.sweeping`), and sweeps with its tool frame
-0.192 m above it."""
+MOUNT_Z = 0.0
+"""Height of the plane the arm stands on in its base frame (m): a table top, as in
+the sweeping task (:data:`lfdkit.tasks.sweeping.scenarios.TABLE_Z`)."""
 
 SERVO_LOOKAHEAD = 0.1
 """``lookahead_time`` written in every ``servoj`` (s): smooths the stream, adds this much lag."""
@@ -320,7 +319,7 @@ class Workspace:
         Opposite corners ``(x, y, z)`` of the box (m, robot base frame); every
         tool position must satisfy ``lower <= position <= upper``. Finite and
         within ±1000 m. The default is the half-space on or above the table
-        plane (:data:`TABLE_Z`), cut at 1.2 m, beyond the UR5's reach, so that
+        plane (:data:`MOUNT_Z`), cut at 1.2 m, beyond the UR5's reach, so that
         the table and the reach check are what bind (the UR10 reaches 1.3 m:
         widen the box for it). Raise ``lower[2]`` to keep
         a mounted tool off the table: the tool frame of the sweeping set-up is
@@ -340,7 +339,7 @@ class Workspace:
     pass :meth:`Workspace.unbounded` explicitly.
     """
 
-    lower: tuple[float, float, float] = (-1.2, -1.2, TABLE_Z)
+    lower: tuple[float, float, float] = (-1.2, -1.2, MOUNT_Z)
     upper: tuple[float, float, float] = (1.2, 1.2, 1.2)
     check_reach: bool = True
     tool: tuple[tuple[float, ...], ...] | None = None
@@ -487,7 +486,7 @@ class Workspace:
             side = "below" if positions[i, k] < lo[k] else "above"
             bound = lo[k] if side == "below" else hi[k]
             hint = ""
-            if k == 2 and side == "below" and self.lower[2] == TABLE_Z:
+            if k == 2 and side == "below" and self.lower[2] == MOUNT_Z:
                 hint = " (under the table plane)"
             elif np.abs(positions[i]).max() > 10.0:
                 hint = " (millimetres passed as metres?)"
@@ -701,6 +700,7 @@ def urscript_program(
     header: str | None = None,
     workspace: Workspace = DEFAULT_WORKSPACE,
     arm: Arm = UR5,
+    speed_fraction: float = 1.0,
 ) -> str:
     """A URScript program that plays a motion on a UR controller.
 
@@ -739,6 +739,10 @@ def urscript_program(
     arm : Arm
         The UR arm that runs the program (default: the UR5); its reach, joint
         limits and kinematics are checked against.
+    speed_fraction : float
+        ``servoj`` only: in ``(0, 1]``, scales the ``movej`` to the first
+        sample (UR's defaults ``a=1.4`` rad/s², ``v=1.05`` rad/s), so that every
+        motion command stays within the fraction the stream was timed at.
 
     Returns
     -------
@@ -810,7 +814,11 @@ def urscript_program(
             f"# lookahead_time {SERVO_LOOKAHEAD} s, gain {SERVO_GAIN}; starts with movej "
             "to the first sample",
         ]
-        body = [f"movej([{_fmt_list(q[0])}], a=1.4, v=1.05)"]
+        f = _scalar(speed_fraction, "speed_fraction", 1.0, "")
+        # UR's movej defaults scaled like the speed slider: the approach as gentle as the stream.
+        body = [
+            f"movej([{_fmt_list(q[0])}], a={format_number(1.4 * f)}, v={format_number(1.05 * f)})"
+        ]
         tail = f", t={format_number(dt)}, lookahead_time={SERVO_LOOKAHEAD}, gain={SERVO_GAIN})"
         body += [f"servoj([{_fmt_list(row)}]{tail}" for row in q]
 

@@ -19,7 +19,6 @@ from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, UR10
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill, learn
-from lfdkit.tasks.sweeping import execution
 from lfdkit.tasks.sweeping.examples import example_files
 from lfdkit.tasks.sweeping.execution import (
     GOAL_APPROACH,
@@ -161,7 +160,8 @@ def test_a_ur10_sweeps_where_a_ur5_cannot_reach(skill):
 
 
 def test_a_tool_too_fast_is_refused_naming_when_and_where(skill, monkeypatch):
-    monkeypatch.setattr(execution, "MAX_TOOL_SPEED", 0.05)
+    # The check is the generic chain's (lfdkit.execute.pipeline.check_tool_speed).
+    monkeypatch.setattr("lfdkit.execute.pipeline.MAX_TOOL_SPEED", 0.05)
     too_fast = r"the tool would move at [0-9.]+ m/s at t = [0-9.]+ s, at \(.*\) m, above"
     with pytest.raises(ExecutionError, match=too_fast):
         execute_skill(skill, simulate=False)

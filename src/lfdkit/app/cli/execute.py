@@ -1,4 +1,11 @@
-"""``lfdkit execute``: a skill on a UR arm (poses, joints, URScript, a MuJoCo check)."""
+"""``lfdkit execute``: a skill on an arm (poses, joints, timing, URScript, a MuJoCo check).
+
+Two chains: a 2-D skill on a UR arm by default runs the sweeping task
+(:mod:`lfdkit.tasks.sweeping.execution`: brush, dustpan, MuJoCo); any other
+skill or arm (``--task path``, a 3-D skill, ``--arm robot.urdf``) runs the
+generic chain :func:`lfdkit.execute.pipeline.execute_plan`, which keeps the
+skill's learned timing where the arm's limits allow it.
+"""
 
 from __future__ import annotations
 
@@ -8,10 +15,8 @@ from pathlib import Path
 
 from lfdkit.app.cli.common import (
     CommandError,
-    LazyChoices,
     add_orientation_options,
     add_skill_file_options,
-    arm_keys,
     check_writable,
     elapsed,
     option_named,
@@ -26,6 +31,9 @@ __all__ = ["add_options", "run_command"]
 
 
 def run_command(args: argparse.Namespace) -> None:
+    if _task_of(args) == "path":
+        _run_path(args)
+        return
     simulate = not args.no_sim
     orientations = orientation_options(args)
     with working(args) as progress:
@@ -44,6 +52,8 @@ def run_command(args: argparse.Namespace) -> None:
         args.units = "m"
         skill, scene, start, goal = skill_and_scene(args)
         arm = ARMS[args.arm]
+        if args.rate is not None:
+            raise CommandError("--rate: the sweeping task streams at 125 Hz; use --task path")
         # The program's header comment is ASCII, whatever the skill file is called.
         name = args.skill.name.encode("ascii", "replace").decode("ascii")
         try:
@@ -98,6 +108,123 @@ def run_command(args: argparse.Namespace) -> None:
     tell(args, f"wrote {len(written)} files in {out}/ in {elapsed(args):.1f} s")
 
 
+def _task_of(args: argparse.Namespace) -> str:
+    """``--task``, or the default: the sweep for a 2-D skill on a named UR arm, else the path."""
+    if args.task is not None:
+        return args.task
+    from lfdkit.execute.arm import ARMS
+    from lfdkit.skill import Skill
+
+    if args.arm not in ARMS:  # a URDF file (or a mistake, which _arm_from names)
+        return "path"
+    return "sweep" if Skill.load(args.skill).n_dims_ == 2 else "path"
+
+
+def _arm_from(args: argparse.Namespace):
+    """``--arm``: a name of lfdkit.execute.arm.ARMS, or a URDF file (``--tip-link``)."""
+    from lfdkit.execute.arm import ARMS
+    from lfdkit.execute.urdf import UrdfArm
+
+    if args.arm in ARMS:
+        return ARMS[args.arm]
+    path = Path(args.arm)
+    if not path.is_file():
+        raise CommandError(
+            f"--arm {args.arm}: neither an arm name ({', '.join(ARMS)}) nor a URDF file"
+        )
+    try:
+        return UrdfArm(path, tip_link=args.tip_link)
+    except ValueError as exc:
+        raise CommandError(f"--arm {args.arm}: {exc}") from None
+
+
+def _run_path(args: argparse.Namespace) -> None:
+    """Any skill on any arm, its learned timing kept (``execute_plan``)."""
+    import numpy as np
+
+    with working(args) as progress:
+        with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn)"):
+            from lfdkit.execute.pipeline import (
+                DEFAULT_RATE,
+                ExecutionError,
+                TaskDescription,
+                execute_plan,
+                robot_outputs,
+                write_robot_execution,
+            )
+        arm = _arm_from(args)
+        ur = getattr(arm, "ur_type", False)
+        out = _output_folder_checked(args, robot_outputs(args.output, program=ur))
+        args.units = "m"
+        skill, scene, start, goal = skill_and_scene(args)
+        frame = np.eye(4)
+        frame[:3, 3] = args.offset
+        tool = np.eye(4)
+        tool[2, 3] = args.tool_length
+        try:
+            task = TaskDescription(
+                frame=frame, tool=tool, height=args.height, q_start=args.q_start, name="path"
+            )
+            with progress.stage(f"plan around {len(scene)} obstacles"):
+                plan = skill.plan(start, goal, scene, **orientation_options(args))
+            name = args.skill.name.encode("ascii", "replace").decode("ascii")
+            rate = DEFAULT_RATE if args.rate is None else args.rate
+            with progress.stage(f"robot: poses, inverse kinematics, timing ({arm.name})"):
+                run = execute_plan(
+                    plan,
+                    arm,
+                    task,
+                    speed_fraction=args.speed_fraction,
+                    rate=rate,
+                    header=f"lfdkit execute {name}: {arm.name}, at most {args.speed_fraction:g} "
+                    "of its joint limits",
+                )
+        except ExecutionError as exc:
+            raise CommandError(f"{exc}; wrote nothing") from None
+        except ValueError as exc:
+            raise CommandError(option_named(str(exc))) from None
+        extra = {"skill": str(args.skill)}
+        check = None
+        if not args.no_sim:
+            with progress.stage(f"simulate in MuJoCo ({arm.name})"):
+                from lfdkit.execute.simulation import simulate_execution
+
+                try:
+                    check = simulate_execution(run, scene)
+                except ImportError as exc:
+                    warnings.warn(f"skipped the simulation: {exc}", stacklevel=1)
+            if check is not None:
+                extra["simulation"] = {
+                    "tracking_error_m": check.tracking_error,
+                    "touched": list(check.touched),
+                }
+        with progress.stage(f"write the files in {out}"):
+            out.mkdir(parents=True, exist_ok=True)
+            written = write_robot_execution(out, run, overwrite=args.force, extra=extra)
+    robot = run.summary()["robot"]
+    tell(
+        args,
+        f"{arm.name}: {robot['poses']} poses, {robot['motion_s']:.2f} s "
+        f"({robot['duration_ratio']:.3f} x the plan's {run.trajectory.planned_duration:.2f} s), "
+        f"{robot['samples']} samples at {rate:g} Hz, tool at most "
+        f"{robot['tool_speed_max_m_s']:.2f} m/s",
+    )
+    if check is not None:
+        touched = ", ".join(str(i) for i in check.touched) or "none"
+        tell(
+            args,
+            f"simulated in MuJoCo: tracking error {1e3 * check.tracking_error:.2f} mm, "
+            f"obstacles touched: {touched}",
+        )
+        if check.touched:
+            warnings.warn(f"the simulated arm touched obstacle(s) {touched}", stacklevel=1)
+    if run.trajectory.slowdowns:
+        warnings.warn(run.timing_note, stacklevel=1)
+    else:
+        tell(args, run.timing_note, level=2)
+    tell(args, f"wrote {len(written)} files in {out}/ in {elapsed(args):.1f} s")
+
+
 def _output_folder_checked(args: argparse.Namespace, planned: list[Path]) -> Path:
     """``--output`` (a folder), checked before the work.
 
@@ -127,10 +254,62 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--arm",
-        choices=LazyChoices(arm_keys),
-        metavar="ARM",
+        metavar="ARM|URDF",
         default="ur5",
-        help="the robot arm: ur5 or ur10, a key of lfdkit.execute.arm.ARMS (default %(default)s)",
+        help="the robot arm: ur5 or ur10 (a key of lfdkit.execute.arm.ARMS), or a URDF file "
+        "(default %(default)s)",
+    )
+    parser.add_argument(
+        "--tip-link",
+        metavar="LINK",
+        default=None,
+        help="with a URDF arm: the link the tool is on (default: the chain's one leaf)",
+    )
+    parser.add_argument(
+        "--task",
+        choices=("sweep", "path"),
+        default=None,
+        help="sweep: the sweeping task (2-D skill, UR arm, brush, dustpan, MuJoCo); path: any "
+        "skill on any arm with its learned timing (default: sweep for a 2-D skill on ur5/ur10)",
+    )
+    parser.add_argument(
+        "--rate",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="path task: rate of the fixed-rate trajectory and servoj stream (default 125; "
+        "500 for an e-Series)",
+    )
+    parser.add_argument(
+        "--offset",
+        type=float,
+        nargs=3,
+        default=(0.0, 0.0, 0.0),
+        metavar=("X", "Y", "Z"),
+        help="path task: where the skill's origin is in the robot's base frame, m (default 0 0 0)",
+    )
+    parser.add_argument(
+        "--height",
+        type=float,
+        default=0.2,
+        metavar="Z",
+        help="path task, 2-D skill: height of its plane, m (default %(default)s)",
+    )
+    parser.add_argument(
+        "--q-start",
+        type=float,
+        nargs="+",
+        default=None,
+        metavar="Q",
+        help="path task: a configuration near the wanted one at the start (rad), picking the "
+        "arm's branch (default: elbow up for UR arms, the middle of the limits otherwise)",
+    )
+    parser.add_argument(
+        "--tool-length",
+        type=float,
+        default=0.0,
+        metavar="L",
+        help="path task: the tool point's distance along the flange's z axis, m (default 0)",
     )
     parser.add_argument(
         "--speed-fraction",

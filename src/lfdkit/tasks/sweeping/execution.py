@@ -9,7 +9,7 @@ table:
    brush's half width as the hard clearance around every obstacle;
 2. **tool poses**: the brush's flange poses every 2 mm along the plan, corners
    rounded (:func:`lfdkit.tasks.sweeping.sim.sweep_motion`,
-   :func:`lfdkit.execute.poses.sweeping_poses`);
+   :func:`lfdkit.tasks.sweeping.scenarios.sweeping_poses`);
 3. **inverse kinematics**: one continuous branch within the joint limits
    (:func:`lfdkit.execute.ur5.inverse_path`) for any UR-type
    :class:`lfdkit.execute.arm.Arm`;
@@ -50,13 +50,14 @@ from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.emulate import Plan
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.pipeline import ExecutionError, check_tool_speed
 from lfdkit.execute.poses import pose_vector, unwrap_rotvecs, yaw_from_quaternions
 from lfdkit.execute.timing import Timing, time_parameterize
-from lfdkit.execute.urscript import MAX_TOOL_SPEED, TABLE_Z, Workspace, urscript_program
+from lfdkit.execute.urscript import Workspace, urscript_program
 from lfdkit.io import atomic_write, save_path, write_text
 from lfdkit.model.scene import Scene
 from lfdkit.skill import Skill
-from lfdkit.tasks.sweeping.scenarios import BRUSH, Dustpan, SweepingTask, obstacle_class
+from lfdkit.tasks.sweeping.scenarios import BRUSH, TABLE_Z, Dustpan, SweepingTask, obstacle_class
 from lfdkit.tasks.sweeping.sim import SweepResult, simulate_sweep, sweep_motion
 
 __all__ = [
@@ -82,10 +83,6 @@ SERVO_RATE = 125.0
 _PLAN, _POSES, _JOINTS = "plan.csv", "poses.csv", "joints.csv"
 _PROGRAM, _SUMMARY = "program.script", "summary.json"
 _TOP_VIEW, _RENDER = "sweep.png", "render.png"
-
-
-class ExecutionError(ValueError):
-    """What the robot cannot do with a plan: the message names what and where."""
 
 
 @dataclass
@@ -129,6 +126,9 @@ class SweepExecution:
         orientation the skill learned from the demonstrations.
     orientations : ndarray, shape (n_points, 4), or None
         The plan's tool orientations (the skill's, when it has them).
+    plan_times : ndarray, shape (n_points,), or None
+        The plan's learned times (s): the person's timing, written in
+        ``plan.csv`` (the robot runs the sweep time-optimally instead).
     """
 
     plan: Plan
@@ -149,6 +149,7 @@ class SweepExecution:
     seconds: dict[str, float] = field(default_factory=dict)
     yaw: str = "tangent"
     orientations: np.ndarray | None = field(default=None, repr=False)
+    plan_times: np.ndarray | None = field(default=None, repr=False)
 
     def pose_table(self) -> np.ndarray:
         """Rows ``t, x, y, z, rx, ry, rz``: when the flange passes each pose, and the pose.
@@ -385,7 +386,7 @@ def execute_skill(
     seconds["timing"] = stage.seconds
     with progress.stage(f"robot: URScript servoj stream at {SERVO_RATE:g} Hz") as stage:
         times, stream, _, _ = timing.resample(SERVO_RATE)
-        _check_tool_speed(times, stream, arm)
+        check_tool_speed(times, stream, arm)
         try:
             program = urscript_program(
                 motion="servoj",
@@ -394,6 +395,7 @@ def execute_skill(
                 header=header,
                 workspace=_workspace(arm),
                 arm=arm,
+                speed_fraction=fraction,
             )
         except ValueError as exc:  # a sample over the arm's limits, named
             raise ExecutionError(f"the {arm.name} cannot run the motion: {exc}") from None
@@ -417,6 +419,7 @@ def execute_skill(
         seconds=seconds,
         yaw=yaw,
         orientations=timed.orientations,
+        plan_times=np.asarray(timed.times, dtype=np.float64),
     )
     if not simulate:
         execution.skipped = "not asked for"
@@ -455,7 +458,7 @@ def write_execution(
 ) -> list[Path]:
     """Write an execution's files in ``folder`` (which must exist), each atomically.
 
-    ``plan.csv`` (``x,y``, m, and ``qx,qy,qz,qw`` for a skill with
+    ``plan.csv`` (``t,x,y``, s and m, and ``qx,qy,qz,qw`` for a skill with
     orientation), ``poses.csv`` (:meth:`SweepExecution.pose_table`),
     ``joints.csv`` (``t, q1 … qn``: the streamed samples, s and rad),
     ``program.script`` (URScript), ``summary.json``
@@ -488,6 +491,7 @@ def write_execution(
     save_path(
         out / _PLAN,
         execution.plan.points,
+        times=execution.plan_times,
         orientations=execution.orientations,
         overwrite=overwrite,
     )
@@ -550,21 +554,6 @@ def _where(exc: ur5.KinematicsError, arm: Arm, path: np.ndarray) -> str:
         along = min(0.002 * exc.index, path_length(path))
         text += f" ({along:.3f} m along the {path_length(path):.3f} m sweep)"
     return f"the {arm.name} cannot follow the plan: {text}"
-
-
-def _check_tool_speed(times: np.ndarray, stream: np.ndarray, arm: Arm) -> None:
-    """Refuse a stream that moves the tool faster than ``MAX_TOOL_SPEED``, naming when and where."""
-    flange = ur5.forward(stream, arm=arm)[:, :3, 3]
-    dt = float(times[1] - times[0])
-    speed = np.linalg.norm(np.diff(flange, axis=0), axis=1) / dt
-    k = int(np.argmax(speed))
-    if speed[k] > MAX_TOOL_SPEED:
-        x, y, _ = flange[k + 1]
-        raise ExecutionError(
-            f"the {arm.name} cannot run the motion: the tool would move at {speed[k]:.3g} m/s "
-            f"at t = {times[k + 1]:.2f} s, at ({x:.3f}, {y:.3f}) m, above the "
-            f"{MAX_TOOL_SPEED:g} m/s limit; lower the speed fraction"
-        )
 
 
 def _table(columns: list[str], rows: np.ndarray) -> str:

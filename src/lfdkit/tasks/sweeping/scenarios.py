@@ -18,8 +18,8 @@ The objects
 * :data:`CUBE` (:class:`Cube`): the green cube that is swept, a free body.
 * :data:`BRUSH` (:class:`Brush`): the tool, a box head on a handle below the
   flange; its flange height while sweeping is the thesis's
-  :data:`lfdkit.execute.poses.SWEEP_HEIGHT` (0.192 m, the default of the robot
-  layer's sweeping poses, so it is written there).
+  :data:`SWEEP_HEIGHT` (0.192 m), the default of :func:`sweeping_poses`
+  (the brush's flange poses along a table path).
 * :class:`Dustpan`: a floor flush with the table and three low walls, placed
   per scene.
 * The obstacle classes (:data:`OBSTACLE_CLASSES`): a cup and a marker stand on
@@ -64,7 +64,7 @@ import numpy as np
 from lfdkit.core.geometry import left_normals, path_length, resample_between
 from lfdkit.core.validation import check_finite, check_path, check_positive, check_random_state
 from lfdkit.datasets.emulation import CUP_RADIUS, MARKER_RADIUS, SWEEP_GOAL, SWEEP_START
-from lfdkit.execute.poses import SWEEP_HEIGHT
+from lfdkit.execute.poses import path_yaw
 from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
@@ -76,7 +76,9 @@ __all__ = [
     "NEW_GOAL",
     "NOMINAL_DUSTPAN",
     "OBSTACLE_CLASSES",
+    "SWEEP_HEIGHT",
     "TABLE",
+    "TABLE_Z",
     "UNSEEN_DESIGNS",
     "Brush",
     "Cube",
@@ -88,8 +90,15 @@ __all__ = [
     "obstacle",
     "obstacle_class",
     "random_scenarios",
+    "sweeping_poses",
     "unseen_scenes",
 ]
+
+SWEEP_HEIGHT = 0.192
+"""Height of the brush's tool frame (the flange) above the base frame in the thesis (m, §6.4)."""
+
+TABLE_Z = 0.0
+"""Height of the table plane in the robot base frame (m): the UR5 stands on the table."""
 
 Colour = tuple[float, float, float, float]
 
@@ -139,7 +148,7 @@ class Brush:
     """A box brush head on a handle below the flange.
 
     The tool frame is the flange: sweeping poses
-    (:func:`lfdkit.execute.poses.sweeping_poses`) put it at ``sweep_height`` with
+    (:func:`sweeping_poses`) put it at ``sweep_height`` with
     its ``z`` axis down, its ``x`` axis along the path and the brush's long
     edge along its ``y`` axis; the handle runs down the tool ``z`` axis to the
     head, whose bottom is ``clearance`` above the table.
@@ -481,3 +490,79 @@ def unseen_scenes(start: Any, goal: Any = NEW_GOAL, designs: Any = UNSEEN_DESIGN
         )
         for design in designs
     ]
+
+
+def sweeping_poses(
+    path: Any,
+    *,
+    height: float = SWEEP_HEIGHT,
+    tool_down: bool = True,
+    yaw_offset: float = 0.0,
+    yaw: Any = None,
+) -> np.ndarray:
+    """Tool poses for sweeping along a planar path at a fixed height (thesis §6.4).
+
+    The tool frame sits at ``(x, y, height)``; its x axis points along the path
+    tangent, rotated by ``yaw_offset`` about the vertical, so the brush's long
+    edge, along the tool y axis, is orthogonal to the path. With ``tool_down``
+    the tool z axis points down (roll and pitch zero with the tool facing the
+    table): ``R = Rz(ψ) Rx(π)``, columns ``x = (cos ψ, sin ψ, 0)``,
+    ``y = (sin ψ, −cos ψ, 0)``, ``z = (0, 0, −1)``; otherwise ``R = Rz(ψ)``.
+
+    Parameters
+    ----------
+    path : array_like, shape (n, 2)
+        Points on the table in the robot base frame (metres).
+    height : float
+        z coordinate of the tool frame in the base frame (metres); 0.192 in the thesis.
+    tool_down : bool
+        Point the tool z axis along −z of the base (true) or +z (false).
+    yaw_offset : float
+        Extra rotation (rad) about the vertical, e.g. for a brush mounted at an
+        angle on the flange.
+    yaw : array_like, shape (n,), optional
+        The tool's heading at each point (rad), e.g. the demonstrated one
+        (:func:`lfdkit.execute.poses.yaw_from_quaternions`), instead of the path's tangent;
+        ``yaw_offset`` is added to it.
+
+    Returns
+    -------
+    ndarray, shape (n, 4, 4)
+        Homogeneous transforms of the tool in the base frame. The yaw ψ comes
+        from :func:`lfdkit.execute.poses.path_yaw` (or ``yaw``), so it is
+        continuous along the path. Every tool-down pose is a rotation by π
+        (about a horizontal axis), where rotation vectors flip sign: convert
+        with :func:`lfdkit.execute.poses.pose_vector` and then
+        :func:`lfdkit.execute.poses.unwrap_rotvecs` before sending them to the robot.
+
+    Raises
+    ------
+    ValueError
+        If the path is not ``(n, 2)``, has fewer than 2 points, contains
+        NaN/inf or has zero length, or if ``height``/``yaw_offset`` is not finite.
+    """
+    psi = path_yaw(path, yaw_offset=yaw_offset)
+    arr = np.asarray(path, dtype=np.float64)
+    if yaw is not None:
+        given = np.asarray(yaw, dtype=np.float64)
+        if given.shape != (len(arr),):
+            raise ValueError(
+                f"yaw: expected shape ({len(arr)},), one per path point, got {given.shape}"
+            )
+        if not np.isfinite(given).all():
+            raise ValueError("yaw: contains NaN or an infinite value")
+        psi = given + check_finite(yaw_offset, "yaw_offset")
+    z = check_finite(height, "height")
+    c, s = np.cos(psi), np.sin(psi)
+    T = np.zeros((len(psi), 4, 4))
+    T[:, 0, 0], T[:, 1, 0] = c, s  # tool x: along the path
+    if tool_down:
+        T[:, 0, 1], T[:, 1, 1] = s, -c  # tool y = z × x, orthogonal to the path
+        T[:, 2, 2] = -1.0
+    else:
+        T[:, 0, 1], T[:, 1, 1] = -s, c
+        T[:, 2, 2] = 1.0
+    T[:, :2, 3] = arr
+    T[:, 2, 3] = z
+    T[:, 3, 3] = 1.0
+    return T

@@ -57,6 +57,7 @@ from lfdkit.core.progress import ProgressLike, Stage, as_progress
 from lfdkit.core.validation import check_path, check_positive
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.kinematics import joint_path
 from lfdkit.execute.mujoco import (
     FIXED_CONTACT,
     OBJECT_CONTACT,
@@ -67,7 +68,6 @@ from lfdkit.execute.mujoco import (
     render_camera,
     robot_xml,
 )
-from lfdkit.execute.poses import sweeping_poses
 from lfdkit.execute.timing import Timing, time_parameterize
 from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.scenarios import (
@@ -78,6 +78,7 @@ from lfdkit.tasks.sweeping.scenarios import (
     Dustpan,
     SweepingTask,
     obstacle_class,
+    sweeping_poses,
 )
 
 __all__ = [
@@ -605,8 +606,8 @@ def sweep_motion(
             arc_length(path) / path_length(path), arc_length(given) / path_length(given), headings
         )
     frames = sweeping_poses(path, height=brush.sweep_height, yaw=headings)
-    q_start = ur5.nearest_solution(frames[0], q_home, arm=arm)
-    return frames, ur5.inverse_path(frames, q_start, arm=arm)
+    # The generic chain's IK: the branch nearest q_home, one continuous branch after it.
+    return frames, joint_path(frames, arm, q_home)
 
 
 def _cannot_follow(task: SweepingTask, exc: Exception) -> SweepResult:
