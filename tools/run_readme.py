@@ -62,7 +62,7 @@ class Block:
 
 
 def shell_blocks(text: str) -> list[Block]:
-    """The ``bash``/``sh``/``shell`` blocks of a Markdown text, in order, with their skip reasons."""
+    """The ``bash``/``sh``/``shell`` blocks of a Markdown text, in order, with skip reasons."""
     blocks: list[Block] = []
     lines = text.splitlines()
     i = 0

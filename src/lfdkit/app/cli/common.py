@@ -22,7 +22,7 @@ from lfdkit.core.options import (
     PLANNERS,
     SKILL_DEFAULTS,
 )
-from lfdkit.core.progress import LOGGER, Progress
+from lfdkit.core.progress import COMPILE_NOTE, LOGGER, Progress, kernels_compiled
 from lfdkit.core.units import MAX_EXTENT_M, MAX_MEAN_SPEED_M_S, MIN_EXTENT_M, UNITS
 
 __all__ = [
@@ -96,6 +96,10 @@ class _StageLines(logging.Handler):
             self.handleError(record)
 
 
+# The commands that run lfdkit's numba kernels (and so compile them on a first run).
+_COMPILING = frozenset({"demo", "learn", "plan", "plot", "execute", "compare", "batch"})
+
+
 @contextmanager
 def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Progress]:
     """The command's progress while it works: yields the :class:`~lfdkit.core.progress.Progress`.
@@ -116,8 +120,13 @@ def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Prog
         LOGGER.addHandler(handler)
         LOGGER.setLevel(logging.INFO)
         LOGGER.propagate = False  # the lines are the command's; not twice through the root
+    label = label or f"lfdkit {args.command}"
+    if args.command in _COMPILING and not kernels_compiled():
+        # A first run compiles the numba kernels: said, so the bars do not look stuck.
+        label = f"{label}: {COMPILE_NOTE}"
+        tell(args, f"first run here: {COMPILE_NOTE}", level=1 if bars else 2)
     try:
-        with progress.stage(label or f"lfdkit {args.command}", announce=False):
+        with progress.stage(label, announce=False):
             yield progress
     finally:
         progress.close()
