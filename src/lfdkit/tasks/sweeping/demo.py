@@ -36,6 +36,7 @@ import numpy as np
 from lfdkit import __version__
 from lfdkit.app.report import Report
 from lfdkit.core.geometry import resample
+from lfdkit.core.options import DEMONSTRATION_SPEED
 from lfdkit.core.progress import Progress, ProgressLike, Stage, as_progress
 from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.io import atomic_write, load_demos, save_path
@@ -530,10 +531,30 @@ def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float
             "reproduction_rms_mm": 1e3
             * float(np.sqrt(metrics.mse_paths(skill.nominal(), [skill.path_]))),
             "new_goal": NEW_GOAL.tolist(),
+            # The time base of the DMP figure and of every plan (issue 31: it was 1 s).
+            "duration_s": float(skill.timing_.duration),
+            "timing": skill.timing_.source,
         },
         "emulate": {"ioc": skill.ioc_info_, "parameters": parameters, "test": scores},
         "unseen": [row for item in unseen for row in item["rows"]],
     }
+
+
+def _timing_sentence(imitate: dict) -> str:
+    """Where the skill's duration came from, and how it relates to the robot's run below."""
+    duration = imitate["duration_s"]
+    if imitate["timing"] in ("minimum_jerk", "uniform"):
+        source = (
+            "the demonstrations carry no times, so it is their path's length at a hand's "
+            f"typical demonstration pace (Skill(duration='auto'), {DEMONSTRATION_SPEED:g} m/s "
+            "on average)"
+        )
+    else:
+        source = "learned from the demonstrations' times"
+    return (
+        f"The skill's movement, and every plan, lasts {duration:.1f} s ({source}); the robot "
+        "below runs its plan as fast as its speed setting allows instead, so its time differs."
+    )
 
 
 #: What the report's abbreviations and terms mean, in its glossary.
@@ -619,12 +640,12 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     report.paragraph(
         f"DMP with {imitate['n_basis']} basis functions per dimension reproduces the path to "
         f"{imitate['reproduction_rms_mm']:.3f} mm RMS and is carried to the moved dustpan at "
-        f"{tuple(round(v, 3) for v in imitate['new_goal'])} m."
+        f"{tuple(round(v, 3) for v in imitate['new_goal'])} m. " + _timing_sentence(imitate)
     )
     report.figure(
         figures["imitate.png"],
         "The clean sweeps, the generalized path (blue) and the DMP to the new goal (red dashed); "
-        "right: x and y over time.",
+        f"right: x and y over the skill's time, {imitate['duration_s']:.1f} s.",
     )
     emulate = results["emulate"]
     report.heading("Emulate: the obstacle reward")
