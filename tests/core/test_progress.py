@@ -198,28 +198,24 @@ def test_the_library_is_quiet_unless_asked(caplog, capsys):
 
 
 def test_kernels_compiled_reads_numbas_cache_index(tmp_path, monkeypatch) -> None:
-    """False while any kernel module has no numba index file; True once every one has."""
+    """False while no kernel module has a numba index file (a fresh install); True after."""
     from lfdkit.core.progress import KERNEL_MODULES, kernels_compiled
 
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     for module in KERNEL_MODULES:
-        (tmp_path / module).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / module).write_text("")
-    assert not kernels_compiled(tmp_path)
-    for module in KERNEL_MODULES[:-1]:
         source = tmp_path / module
+        source.parent.mkdir(parents=True, exist_ok=True)
+        source.write_text("")
         (source.parent / "__pycache__").mkdir(exist_ok=True)
-        (source.parent / "__pycache__" / f"{source.stem}.kernel-10.py311.nbi").write_text("")
-    assert not kernels_compiled(tmp_path)  # the last module's kernels: not yet
-    last = tmp_path / KERNEL_MODULES[-1]
-    (last.parent / "__pycache__" / f"{last.stem}.kernel-3.py311.nbi").write_text("")
+        (source.parent / "__pycache__" / f"{source.stem}.py").write_text("")  # not an index
+    assert not kernels_compiled(tmp_path)
+    planner = tmp_path / "emulate/_planner_kernels.py"
+    (planner.parent / "__pycache__" / f"{planner.stem}.grid_walk-164.py311.nbi").write_text("")
     assert kernels_compiled(tmp_path)
     elsewhere = tmp_path / "numba-cache"  # NUMBA_CACHE_DIR moves the cache
     elsewhere.mkdir()
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(elsewhere))
     assert not kernels_compiled(tmp_path)
-    for module in KERNEL_MODULES:
-        stem = (tmp_path / module).stem
-        (elsewhere / "deep" / module).parent.mkdir(parents=True, exist_ok=True)
-        (elsewhere / "deep" / f"{stem}.k-1.py311.nbi").write_text("")
+    (elsewhere / "deep" / "emulate").mkdir(parents=True)
+    (elsewhere / "deep" / "emulate" / f"{planner.stem}.k-1.py311.nbi").write_text("")
     assert kernels_compiled(tmp_path)

@@ -86,11 +86,13 @@ COMPILE_NOTE = "compiling lfdkit's kernels once (about a minute; cached afterwar
 def kernels_compiled(package: str | os.PathLike[str] | None = None) -> bool:
     """Whether numba's cache holds lfdkit's kernels: False on a first run, which compiles them.
 
-    Looks for numba's index files (``MODULE.FUNCTION-LINE.pyXY.nbi``) of each
-    of :data:`KERNEL_MODULES` in its ``__pycache__`` folder, or under
-    ``NUMBA_CACHE_DIR`` when set; nothing is imported. A cache made stale by
-    an edited source still counts as compiled (numba recompiles those
-    quietly, kernel by kernel).
+    Looks for numba's index files (``MODULE.FUNCTION-LINE.pyXY.nbi``) of
+    :data:`KERNEL_MODULES` in their ``__pycache__`` folders, or under
+    ``NUMBA_CACHE_DIR`` when set; nothing is imported. Any one found counts:
+    numba caches a kernel only once something calls it (GMR's only with
+    ``--mimic gmr``), so "none at all" is what tells a fresh install. A
+    cache made stale by an edited source also counts (numba recompiles
+    those quietly, kernel by kernel).
 
     Parameters
     ----------
@@ -103,16 +105,14 @@ def kernels_compiled(package: str | os.PathLike[str] | None = None) -> bool:
     cache_dir = os.environ.get("NUMBA_CACHE_DIR")
     for module in KERNEL_MODULES:
         source = root / module
-        if not source.is_file():
-            continue
         pattern = f"{source.stem}.*.nbi"
         if cache_dir:
             found = any(Path(cache_dir).rglob(pattern))
         else:
             found = any((source.parent / "__pycache__").glob(pattern))
-        if not found:
-            return False
-    return True
+        if found:
+            return True
+    return False
 
 
 # tqdm formats: a bar where the total is known, a count and a clock where it is not,
