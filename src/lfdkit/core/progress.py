@@ -80,7 +80,7 @@ KERNEL_MODULES = (
 #: Said once when the kernels have never been compiled here (issue 31: a first run showed
 #: "iteration 0" for 16 s with no word why). 74 s in all against 13-15 s warm for
 #: ``lfdkit demo`` on a 2-core machine: about a minute of compiling.
-COMPILE_NOTE = "compiling lfdkit's kernels once (about a minute; cached afterwards)"
+COMPILE_NOTE = "compiling kernels once (about 60 s; cached afterwards)"
 
 
 def kernels_compiled(package: str | os.PathLike[str] | None = None) -> bool:
