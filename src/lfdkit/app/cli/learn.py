@@ -129,7 +129,12 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
 
 def add_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"
+        "demos",
+        type=Path,
+        metavar="DEMOS",
+        help="demonstrations: a CSV with columns demo,x,y[,z] (one row per sample; optional "
+        "t, seconds, for their timing, and qx,qy,qz,qw for the tool's orientation), or "
+        ".npz or .json (lfdkit.io.save_demos)",
     )
     parser.add_argument(
         "--scenes",
