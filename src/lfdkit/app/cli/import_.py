@@ -94,12 +94,17 @@ def run_command(args: argparse.Namespace) -> None:
     duration = sum(float(t[-1] - t[0]) for t in times)
     tell(
         args,
-        f"imported {len(demos)} demonstrations ({n} samples, {duration:.2f} s"
-        + (f", split at {total_pauses} pauses" if args.split else "")
-        + (f", {total_returns} moves back to the start left out" if total_returns else "")
+        f"imported {_count(len(demos), 'demonstration')} ({n} samples, {duration:.2f} s"
+        + (f", split at {_count(total_pauses, 'pause')}" if args.split else "")
+        + (f", {_count(total_returns, 'move')} back to the start left out" if total_returns else "")
         + f") from {len(args.recordings)} recording{'s' * (len(args.recordings) > 1)}; "
         f"wrote {args.output}",
     )
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 pause``, ``2 pauses``."""
+    return f"{n} {noun}{'s' * (n != 1)}"
 
 
 def _list_topics(args: argparse.Namespace) -> None:

@@ -95,7 +95,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         else ""
     )
     summary = (
-        f"planned {len(timed)} points around {len(scene)} obstacles in "
+        f"planned {len(timed)} points around {len(scene)} obstacle{'s' * (len(scene) != 1)} in "
         f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} {units} "
         f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
         f"{timed.speeds.max():.4g} {units}/s{_assumed(skill, duration, speed)}"
