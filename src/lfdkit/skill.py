@@ -565,6 +565,15 @@ class Skill(Estimator):
         Skill
             ``self``; an obstacle reward learned before is kept.
 
+        Warns
+        -----
+        UnitsWarning
+            When the demonstrations are implausible in :attr:`units` (they
+            span over 20 m or under 1 mm, or timed ones move faster than 5
+            m/s on average, in metres: :func:`lfdkit.core.units.implausible_units`);
+            the message names the likely unit. ``lfdkit learn`` without
+            ``--units`` refuses them.
+
         Raises
         ------
         ValueError
