@@ -546,14 +546,14 @@ def _timing_sentence(imitate: dict) -> str:
     if imitate["timing"] in ("minimum_jerk", "uniform"):
         source = (
             "the demonstrations carry no times, so it is their path's length at a hand's "
-            f"typical demonstration pace (Skill(duration='auto'), {DEMONSTRATION_SPEED:g} m/s "
-            "on average)"
+            f"typical demonstration pace, {DEMONSTRATION_SPEED:g} m/s on average "
+            "(Skill(duration='auto'))"
         )
     else:
         source = "learned from the demonstrations' times"
     return (
-        f"The skill's movement, and every plan, lasts {duration:.1f} s ({source}); the robot "
-        "below runs its plan as fast as its speed setting allows instead, so its time differs."
+        f"The skill's movement, and every plan, lasts {duration:.1f} s: {source}. The robot "
+        "below runs its plan as fast as its speed setting allows, so its time differs."
     )
 
 
