@@ -772,11 +772,21 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     report.heading("Glossary")
     report.definition_list(GLOSSARY)
     report.heading("Files")
-    report.paragraph(
-        "skill.json (the learned skill: lfdkit plan skill.json ...), plans/unseen_*.csv, "
-        "robot/unseen_1.script (URScript for a UR5), "
-        "figures/*.png, results.json, data/ (the inputs: try lfdkit learn data/demos.csv "
-        "--scenes data/scenes.csv -o my_skill.json)."
+    report.file_list(
+        {
+            "skill.json": "the learned skill: lfdkit plan skill.json ...",
+            **{
+                f"plans/unseen_{i + 1}.csv": f"the plan of unseen scene {i + 1} (t, x, y)"
+                for i in range(len(UNSEEN_DESIGNS))
+            },
+            _URSCRIPT: "URScript for a UR5 (servoj)",
+            **{f"figures/{name}": "a figure above" for name in _FIGURES},
+            **({f"figures/{_RENDER}": "the MuJoCo render above"} if image is not None else {}),
+            "results.json": "every number of this report",
+            "data/": "the inputs: try lfdkit learn data/demos.csv --scenes data/scenes.csv "
+            "-o my_skill.json",
+        },
+        "Next to this report (links relative to its folder):",
     )
     return report
 
