@@ -153,6 +153,10 @@ def test_learn_refuses_millimetres_or_centimetres_read_as_metres(
     code, _, err = run_cli(capsys, "learn", demos, "--units", likely, "-o", out)
     assert code == 0, err
     assert Skill.load(out).units == likely
+    # Said to be metres: learned as such, with a warning in the command's words.
+    code, _, err = run_cli(capsys, "learn", demos, "--units", "m", "-o", tmp_path / "m.json")
+    assert code == 0, err
+    assert f"warning: {demos}: they span" in err and f"pass --units {likely}" in err
 
 
 def test_learn_refuses_timed_centimetres_by_their_speed(capsys, tmp_path) -> None:

@@ -42,7 +42,13 @@ def run_command(args: argparse.Namespace) -> None:
             "the path around its scene's obstacles, add demonstrations, or try --planner full"
         )
     for warning in caught:  # shown once each, after the fit, as main's handler shows them
-        warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+        message = warning.message
+        if isinstance(message, UnitsWarning):  # --units m given: learned, but said, as options
+            message = UnitsWarning(
+                f"{args.demos}: {message.detail}: if that is their unit, pass --units "
+                f"{message.likely}"
+            )
+        warnings.showwarning(message, warning.category, warning.filename, warning.lineno)
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
@@ -75,9 +81,10 @@ def timing_line(skill: Skill) -> str:  # noqa: F821 (imported lazily)
         return f"timing learned from the demonstrations' times: {moves}"
     if skill.duration == "auto":
         return (
-            f"the demonstrations carry no times: assumed {moves}, a hand's typical "
-            f"demonstration pace ({DEMONSTRATION_SPEED:g} m/s); set it with --duration S "
-            "here, or --duration/--speed on plan"
+            f"the demonstrations carry no times: assumed {timing.duration:.3g} s for the "
+            f"{length:.3g} {skill.units} path, a hand's typical demonstration pace "
+            f"({DEMONSTRATION_SPEED:g} m/s on average); set it with --duration S here, or "
+            "--duration/--speed on plan"
         )
     return f"the demonstrations carry no times: {moves}, as --duration gave"
 
