@@ -70,6 +70,7 @@ import numpy as np
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.geometry import arc_length, path_length
 from lfdkit.core.options import (
+    DEMONSTRATION_SPEED,
     MODELS,
     PLANNERS,
     SCALINGS,
@@ -78,7 +79,13 @@ from lfdkit.core.options import (
 )
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.rotations import check_quaternions, continuous, exp, multiply, slerp
-from lfdkit.core.units import check_units, conversion_factor
+from lfdkit.core.units import (
+    UnitsWarning,
+    check_units,
+    conversion_factor,
+    implausible_units,
+    likely_units,
+)
 from lfdkit.core.validation import (
     check_demos,
     check_horizon,
@@ -171,9 +178,13 @@ class Skill(Estimator):
         (:class:`lfdkit.imitate.SpeedProfile`): the DMP is trained with it
         and plans are timed with it. Demonstrations with times replace it by
         their learned speed profile (:attr:`timing_`).
-    duration : float
+    duration : float or "auto"
         Duration of the movement in seconds when the demonstrations carry no
         times (timed demonstrations give their median duration instead).
+        ``"auto"`` (default): the generalized path's length at a hand's
+        typical demonstration speed, :data:`lfdkit.core.options.DEMONSTRATION_SPEED`
+        (0.2 m/s on average, at least 1 s): an 80 cm sweep lasts about 4 s,
+        not 1 s (issue 31).
     scaling : {"translate", "spatial", "per_dimension"}
         How the DMP carries the path to a new start and goal
         (:class:`lfdkit.imitate.DMP`). ``"translate"`` keeps the shape and
@@ -336,6 +347,8 @@ class Skill(Estimator):
             if not low <= value <= high:
                 raise ValueError(f"{name}: expected {low} to {high:g}, got {value}")
         for name in ("duration", "max_slope"):
+            if name == "duration" and isinstance(self.duration, str) and self.duration == "auto":
+                continue  # the path's length gives it
             value = check_positive(getattr(self, name), name)
             if value > SKILL_FILE_LIMITS[name][1]:
                 raise ValueError(
@@ -444,6 +457,15 @@ class Skill(Estimator):
         Skill
             ``self``; an obstacle reward learned before is kept.
 
+        Warns
+        -----
+        UnitsWarning
+            When the demonstrations are implausible in :attr:`units` (they
+            span over 20 m or under 1 mm, or timed ones move faster than 5
+            m/s on average, in metres: :func:`lfdkit.core.units.implausible_units`);
+            the message names the likely unit. ``lfdkit learn`` without
+            ``--units`` refuses them.
+
         Raises
         ------
         ValueError
@@ -461,6 +483,7 @@ class Skill(Estimator):
         progress = as_progress(progress)
         stamps = check_times_list(times, demos, style="shape")
         quats = _check_orientations_list(orientations, demos)
+        self._warn_units(demos, stamps)
         started = time.perf_counter()
         method = MIMIC_METHODS[self.mimic]
         settings = MimicSettings(
@@ -565,7 +588,7 @@ class Skill(Estimator):
         self.path_ = np.array(path, dtype=np.float64)
         self.mimic_info_ = info
         if timing is None:
-            timing = SpeedProfile.from_law(self.timing, float(self.duration))
+            timing = SpeedProfile.from_law(self.timing, self._law_duration(self.path_))
         self.timing_ = timing
         # The stage says what it did once the DMP has chosen its basis count.
         with as_progress(progress).stage("imitate: DMP", announce=False) as stage:
@@ -589,6 +612,35 @@ class Skill(Estimator):
             self.ioc_ = None
             self.ioc_info_ = None
             self._reset_emulation()
+
+    def _law_duration(self, path: np.ndarray) -> float:
+        """Seconds of the ``timing`` law: ``duration``, or for "auto" the path at a hand's pace."""
+        if not (isinstance(self.duration, str) and self.duration == "auto"):
+            return float(self.duration)
+        metres = path_length(path) * conversion_factor(self.units, "m")
+        return max(1.0, metres / DEMONSTRATION_SPEED)
+
+    def _warn_units(self, demos: list[np.ndarray], stamps: list[np.ndarray | None]) -> None:
+        """A :class:`UnitsWarning` when the demonstrations are implausible in :attr:`units`."""
+        extent = max(float(np.ptp(demo, axis=0).max()) for demo in demos)
+        speeds = [
+            path_length(demo) / float(t[-1] - t[0])
+            for demo, t in zip(demos, stamps, strict=True)
+            if t is not None and t[-1] > t[0]
+        ]
+        reason = implausible_units(extent, self.units, max(speeds) if speeds else None)
+        if reason is not None:
+            likely = likely_units(extent, self.units)
+            span = extent * conversion_factor(likely, "m")
+            detail = f"{reason}; in {likely} they would span {span:.3g} m"
+            warnings.warn(
+                UnitsWarning(
+                    f"demos: {detail}: if that is their unit, learn with units={likely!r}",
+                    likely=likely,
+                    detail=detail,
+                ),
+                stacklevel=3,
+            )
 
     def _reset_emulation(self) -> None:
         """No learned clearance, route or fidelity (a skill without a fitted reward)."""
@@ -1463,7 +1515,7 @@ class Skill(Estimator):
             reward = (self.reward_.nominal_weight, self.reward_.precisions)
         timing = self.timing_
         # Stored unless it is the law the parameters give (as in files before timings).
-        learned = timing != SpeedProfile.from_law(self.timing, float(self.duration))
+        learned = timing != SpeedProfile.from_law(self.timing, self._law_duration(self.path_))
         params = self.get_params()
         if params["model"] == SKILL_DEFAULTS["model"]:
             del params["model"]  # as in files before models: they read back the same

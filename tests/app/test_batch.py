@@ -386,3 +386,31 @@ def test_a_task_written_twice_is_kept_once_on_resume(tmp_path):
     assert (summary.skipped, summary.done) == (16, 0)
     got = list(read_results(path))
     assert len(got) == 16 and sorted(r["task"] for r in got) == list(range(16))
+
+
+def test_batch_learn_refuses_millimetres_read_as_metres(capsys, tmp_path):
+    """As ``lfdkit learn``: without --units, a folder implausible in metres fails, saying why."""
+    from lfdkit.io import load_demos, save_demos
+    from lfdkit.tasks.sweeping import example_files
+
+    sweeps = load_demos(example_files()["demos"])[:4]
+    folders = []
+    for name, factor in (("in_mm", 1e3), ("in_m", 1.0)):
+        folder = tmp_path / name
+        folder.mkdir()
+        save_demos(folder / "demos.csv", [factor * d for d in sweeps])
+        folders.append(folder)
+    results = tmp_path / "learn.jsonl"
+    code, _, err = run_cli(capsys, "batch", "learn", *folders, "-o", results)
+    assert code == 1 and "1 of 2 tasks failed" in err
+    got = {r["task"]: r for r in read_results(results)}
+    error = got[str(folders[0])]["error"]
+    assert error.startswith("ValueError: ") and "more than a demonstration can (over 20 m)" in error
+    assert "in mm they would span 0.8 m" in error and "pass --units mm" in error
+    assert not (folders[0] / "skill.json").exists()
+    assert got[str(folders[1])]["units"] == "m"
+    code, _, err = run_cli(
+        capsys, "batch", "learn", folders[0], "--units", "mm", "-o", tmp_path / "mm.jsonl"
+    )
+    assert code == 0, err
+    assert json.loads((folders[0] / "skill.json").read_text())["units"] == "mm"

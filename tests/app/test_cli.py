@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from lfdkit.app.cli import main
+from lfdkit.core.geometry import path_length
 from lfdkit.emulate.metrics import clearance as path_clearance
 from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, save_demos
@@ -173,15 +174,15 @@ def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
         "planner",
         "horizon",
         "model",
-        "units",
-    }
+        "duration",
+    }  # no units without --units: the Skill's default, and implausible metres refused
     defaults = Skill().get_params()
     assert passed == {name: defaults[name] for name in passed}
     code, out, _ = usage_exit(capsys, "learn", "--help")
     assert code == 0
     text = " ".join(out.split())
     for name in ("mimic", "n_points", "planner", "horizon", "units"):
-        assert f"(default {defaults[name]})" in text, name
+        assert f"(default {defaults[name]}" in text, name
 
 
 def test_version(capsys):
@@ -462,7 +463,8 @@ def test_plan_accepts_a_negative_start_as_a_separate_argument(capsys, skill_path
 
 
 def test_plan_writes_times_in_seconds_and_with_velocities_the_velocities(capsys, skill_path):
-    # The example has no times: the skill's law, minimum jerk over its duration (1 s).
+    # The example has no times: the skill's law, minimum jerk over its duration, the
+    # path's length at a hand's pace (0.2 m/s on average: the 0.8 m sweep, about 4 s).
     skill = Skill.load(skill_path)
     expected = skill.plan(None, GOAL, scene_of(CUP))
     args = ("plan", skill_path, "--goal", f"{GOAL[0]},{GOAL[1]}", "--obstacle", obstacle_arg(CUP))
@@ -470,24 +472,28 @@ def test_plan_writes_times_in_seconds_and_with_velocities_the_velocities(capsys,
     assert code == 0, err
     assert stdout.splitlines()[0] == "t,x,y,vx,vy"
     table = read_plan_table(stdout)
-    assert table["t"][0] == 0.0 and table["t"][-1] == skill.timing_.duration == 1.0
+    assert table["t"][0] == 0.0 and table["t"][-1] == skill.timing_.duration
+    assert skill.timing_.duration == path_length(skill.path_) / 0.2
     assert np.all(np.diff(table["t"]) > 0)
     np.testing.assert_array_equal(table["t"], expected.times)
     np.testing.assert_array_equal(np.c_[table["x"], table["y"]], expected.points)
     np.testing.assert_array_equal(np.c_[table["vx"], table["vy"]], expected.velocities)
     assert table["vx"][0] == table["vy"][0] == table["vx"][-1] == table["vy"][-1] == 0.0
     # --duration and --speed rescale the times (and the velocities), not the path.
-    for option, value, total in (("--duration", "3", 3.0), ("--speed", "2", 0.5)):
+    half = skill.timing_.duration / 2
+    for option, value, total in (("--duration", "3", 3.0), ("--speed", "2", half)):
         code, stdout, err = run_cli(capsys, *args, "--velocities", option, value)
         assert code == 0, err
         scaled = read_plan_table(stdout)
         assert scaled["t"][-1] == total
-        np.testing.assert_allclose(scaled["t"], total * table["t"], rtol=1e-12)
-        np.testing.assert_allclose(scaled["vx"], table["vx"] / total, rtol=1e-12, atol=1e-15)
+        ratio = total / table["t"][-1]
+        np.testing.assert_allclose(scaled["t"], ratio * table["t"], rtol=1e-12)
+        np.testing.assert_allclose(scaled["vx"], table["vx"] / ratio, rtol=1e-12, atol=1e-15)
         np.testing.assert_array_equal(scaled["x"], table["x"])
     code, _, err = run_cli(capsys, *args, "-v")
     assert code == 0, err
-    assert "lasts 1 s, peak speed" in err and "m/s" in err
+    assert f"lasts {skill.timing_.duration:.4g} s, peak speed" in err and "m/s" in err
+    assert "duration is assumed" in err
 
 
 def test_plan_follows_the_timing_learned_from_a_timed_demonstrations_file(capsys, tmp_path):

@@ -267,3 +267,25 @@ def test_learn_in_a_pseudo_terminal_is_never_still_for_two_seconds(tmp_path):
     longest = max(gaps)
     assert longest[0] < 2.0, f"{longest[0]:.2f} s without output at {longest[1]:.1f} s"
     assert len(gaps) > 10
+
+
+# ------------------------------------------------------------- first run (issue 31)
+def test_a_first_run_says_the_kernels_compile_once(learned_on_a_terminal, tmp_path, monkeypatch):
+    """With no numba cache the bar (and -v's log) says why it may sit at 'iteration 0'."""
+    import lfdkit.app.cli.common
+
+    skill = learned_on_a_terminal.path
+    monkeypatch.setattr(lfdkit.app.cli.common, "kernels_compiled", lambda: False)
+    code, _, err = run_on(FakeTerminal(), "plan", skill, "-o", tmp_path / "a.csv")
+    assert code == 0, err
+    note = "compiling kernels once (about 60 s; cached afterwards)"
+    assert "lfdkit plan: compiling kernels once" in err  # the command's bar (cut to the width)
+    assert f"first run here: {note}" in err
+    log = io.StringIO()  # a log file: the line at -v only, no bar
+    code, _, err = run_on(log, "plan", skill, "-o", tmp_path / "b.csv", "-v")
+    assert code == 0 and f"first run here: {note}" in err
+    code, _, err = run_on(io.StringIO(), "plan", skill, "-o", tmp_path / "c.csv")
+    assert code == 0 and "compiling" not in err  # default loudness in a log: unchanged
+    monkeypatch.setattr(lfdkit.app.cli.common, "kernels_compiled", lambda: True)
+    code, _, err = run_on(FakeTerminal(), "plan", skill, "-o", tmp_path / "d.csv")
+    assert code == 0 and "compiling" not in err

@@ -126,3 +126,92 @@ def test_compare_reports_in_the_units_asked_for(capsys, tmp_path, monkeypatch) -
         assert metres[1][key] == own[1][key]
     table = (tmp_path / "m" / "mimic_table.txt").read_text().splitlines()
     assert table[2].split()[:2] == ["deburring_linear", "m"]
+
+
+# ------------------------------------------------ units and time checked where data enter (31)
+def _sweeps(factor: float) -> list[np.ndarray]:
+    """Five shipped sweeps (metres, 0.80 m across) times ``factor``."""
+    from lfdkit.io import load_demos
+
+    return [factor * d for d in load_demos(example_files()["demos"])[:5]]
+
+
+@pytest.mark.parametrize(("factor", "likely"), [(1e3, "mm"), (1e2, "cm")])
+def test_learn_refuses_millimetres_or_centimetres_read_as_metres(
+    capsys, tmp_path, factor, likely
+) -> None:
+    demos = tmp_path / "reach.csv"
+    save_demos(demos, _sweeps(factor))
+    out = tmp_path / "skill.json"
+    code, _, err = run_cli(capsys, "learn", demos, "-o", out)
+    assert code == 1 and not out.exists()
+    (line,) = err.strip().splitlines()
+    span = max(float(np.ptp(d, axis=0).max()) for d in _sweeps(factor))
+    assert f"they span {span:.4g} m, more than a demonstration can (over 20 m)" in line
+    assert f"in {likely} they would span {span / factor:.3g} m" in line
+    assert f"pass --units {likely} if that is their unit" in line
+    code, _, err = run_cli(capsys, "learn", demos, "--units", likely, "-o", out)
+    assert code == 0, err
+    assert Skill.load(out).units == likely
+    # Said to be metres: learned as such, with a warning in the command's words.
+    code, _, err = run_cli(capsys, "learn", demos, "--units", "m", "-o", tmp_path / "m.json")
+    assert code == 0, err
+    assert f"warning: {demos}: they span" in err and f"pass --units {likely}" in err
+
+
+def test_learn_refuses_timed_centimetres_by_their_speed(capsys, tmp_path) -> None:
+    # 15 cm strokes in cm over 0.5 s: span 15 (under the 20 m rule), 30 "m/s" on average.
+    x = np.linspace(0.0, 15.0, 30)
+    demos = [np.c_[x, np.sin(x / 5.0) + dy] for dy in (0.0, 0.2, 0.4)]
+    times = [np.linspace(0.0, 0.5, 30)] * 3
+    path = tmp_path / "strokes.csv"
+    save_demos(path, demos, times=times)
+    code, _, err = run_cli(capsys, "learn", path, "-o", tmp_path / "s.json")
+    assert code == 1 and "faster than a hand (over 5 m/s)" in err
+    assert "pass --units cm" in err
+
+
+def test_learn_keeps_genuinely_large_metre_data(capsys, tmp_path) -> None:
+    # A walking path of 7 m (a built-in set in metres) and 12 m paths: learned, no word on units.
+    demos = [np.c_[np.linspace(0, 12.0, 40), np.sin(np.linspace(0, 3, 40)) + dy] for dy in (0, 0.3)]
+    path = tmp_path / "walk.csv"
+    save_demos(path, demos)
+    code, _, err = run_cli(capsys, "learn", path, "-o", tmp_path / "s.json")
+    assert code == 0, err
+    assert "span" not in err and "--units" not in err
+
+
+def test_learn_says_the_assumed_duration_and_plan_follows_it(capsys, tmp_path) -> None:
+    demos = tmp_path / "sweeps.csv"
+    save_demos(demos, _sweeps(1.0))
+    out = tmp_path / "skill.json"
+    code, _, err = run_cli(capsys, "learn", demos, "-o", out)
+    assert code == 0, err
+    skill = Skill.load(out)
+    length = float(np.sum(np.linalg.norm(np.diff(skill.path_, axis=0), axis=1)))
+    assert skill.timing_.duration == pytest.approx(length / 0.2)  # 0.2 m/s, a hand's pace
+    assert 3.5 < skill.timing_.duration < 4.5  # an 80 cm sweep: about 4 s, not 1 s
+    assert f"assumed {skill.timing_.duration:.3g} s for the {length:.3g} m path" in err
+    assert "set it with --duration S" in err
+    code, _, err = run_cli(capsys, "plan", out, "-o", tmp_path / "p.csv")
+    assert code == 0, err
+    assert f"lasts {skill.timing_.duration:.4g} s" in err and "duration is assumed" in err
+    # the peak of a minimum-jerk profile is 1.875 times the mean: 0.375 m/s, a hand's
+    peak = float(err.split("peak speed ")[1].split(" ")[0])
+    assert peak == pytest.approx(1.875 * 0.2, rel=0.02)
+    code, _, err = run_cli(capsys, "plan", out, "--duration", "8", "-o", tmp_path / "q.csv")
+    assert code == 0 and "lasts 8 s" in err and "duration is assumed" not in err
+    code, _, err = run_cli(capsys, "learn", demos, "--duration", "6", "-o", tmp_path / "d.json")
+    assert code == 0 and Skill.load(tmp_path / "d.json").timing_.duration == 6.0
+    assert "as --duration gave" in err
+    code, _, err = usage_exit(capsys, "learn", demos, "--duration", "-1", "-o", tmp_path / "e.json")
+    assert code == 2 and "expected seconds > 0 or 'auto', got '-1'" in err
+
+
+def test_the_python_api_warns_of_implausible_units() -> None:
+    from lfdkit.core.units import UnitsWarning
+
+    with pytest.warns(UnitsWarning, match=r"in mm they would span 0.8 m.*units='mm'"):
+        Skill().fit_path(_sweeps(1e3))
+    skill = Skill(units="mm").fit_path(_sweeps(1e3))  # no warning with the right unit
+    assert skill.timing_.duration == pytest.approx(Skill().fit_path(_sweeps(1.0)).timing_.duration)

@@ -77,3 +77,22 @@ def test_retargeting_figure_of_a_thin_task_is_not_to_scale(tmp_path):
     ax = fig.axes[0]
     assert ax.get_title() == "(axes not to scale)"
     assert ax.yaxis.get_offset_text().get_text() == ""
+
+
+def test_the_mimic_figure_names_every_line_it_draws_in_its_legend() -> None:
+    """Issue 31: GMR's mean line was drawn but not in the legend."""
+    import matplotlib.pyplot as plt
+
+    from lfdkit.mimic import GMR
+
+    x = np.linspace(0.0, 1.0, 40)
+    demos = [np.c_[x, 0.1 * np.sin(3 * x) + dy] for dy in (-0.01, 0.0, 0.012)]
+    fig = mean_path_figure(
+        demos, MeanPath().fit(demos), gmr=GMR(n_components=3, random_state=0).fit(demos)
+    )
+    try:
+        labels = fig.axes[0].get_legend_handles_labels()[1]
+        assert {"GMR", "GMR ±2 sd", "Mean-Path"} <= set(labels)
+        assert fig.axes[0].get_xlabel() and fig.axes[0].get_ylabel()
+    finally:
+        plt.close(fig)

@@ -388,3 +388,17 @@ def test_write_to_directory_is_a_clear_error(tmp_path: Path) -> None:
 def test_write_into_missing_directory(tmp_path: Path) -> None:
     with pytest.raises(FileNotFoundError):
         Report("Nowhere").write(tmp_path / "no" / "such" / "report.html")
+
+
+def test_the_file_list_links_relative_paths_only() -> None:
+    """Issue 31: the report's files are links, relative to its folder, nothing outside it."""
+    report = Report("Files").file_list(
+        {"skill.json": "the skill", "plans/unseen 1.csv": "a plan", "data/": "inputs <x>"},
+        "Next to this report:",
+    )
+    c = parse(report.html())
+    assert [a["href"] for a in c.find("a")] == ["skill.json", "plans/unseen%201.csv", "data/"]
+    assert "inputs <x>" in report.html().replace("&lt;", "<").replace("&gt;", ">")
+    for bad in ("/etc/passwd", "http://x/y", "../up.csv", "a/../../b", "C:x"):
+        with pytest.raises(ValueError, match=r"^files: .* is not a path inside the report"):
+            Report("x").file_list({bad: "no"})

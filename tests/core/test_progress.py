@@ -195,3 +195,27 @@ def test_the_library_is_quiet_unless_asked(caplog, capsys):
     assert messages[0] == "mimic: Mean-Path of 3 demonstrations ..."
     assert any(m.startswith("imitate: DMP with") and " s" in m for m in messages)
     assert LOGGER.name == RECORDS
+
+
+def test_kernels_compiled_reads_numbas_cache_index(tmp_path, monkeypatch) -> None:
+    """False while no kernel module has a numba index file (a fresh install); True after."""
+    from lfdkit.core.progress import KERNEL_MODULES, kernels_compiled
+
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    for module in KERNEL_MODULES:
+        source = tmp_path / module
+        source.parent.mkdir(parents=True, exist_ok=True)
+        source.write_text("")
+        (source.parent / "__pycache__").mkdir(exist_ok=True)
+        (source.parent / "__pycache__" / f"{source.stem}.py").write_text("")  # not an index
+    assert not kernels_compiled(tmp_path)
+    planner = tmp_path / "emulate/_planner_kernels.py"
+    (planner.parent / "__pycache__" / f"{planner.stem}.grid_walk-164.py311.nbi").write_text("")
+    assert kernels_compiled(tmp_path)
+    elsewhere = tmp_path / "numba-cache"  # NUMBA_CACHE_DIR moves the cache
+    elsewhere.mkdir()
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(elsewhere))
+    assert not kernels_compiled(tmp_path)
+    (elsewhere / "deep" / "emulate").mkdir(parents=True)
+    (elsewhere / "deep" / "emulate" / f"{planner.stem}.k-1.py311.nbi").write_text("")
+    assert kernels_compiled(tmp_path)

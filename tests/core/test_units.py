@@ -44,3 +44,75 @@ def test_an_unknown_unit_is_refused_naming_the_argument_and_the_choices(bad) -> 
         conversion_factor(bad, "m")
     with pytest.raises(ValueError, match=r"^scale: expected one of"):
         check_units(bad, "scale")
+
+
+# ----------------------------------------------------------------- the units rule (issue 31)
+from lfdkit.core.units import (  # noqa: E402
+    MAX_EXTENT_M,
+    MAX_MEAN_SPEED_M_S,
+    MIN_EXTENT_M,
+    implausible_units,
+    likely_units,
+)
+
+
+@pytest.mark.parametrize(
+    ("extent", "units", "speed", "flagged"),
+    [
+        (0.8, "m", None, False),  # the shipped sweep
+        (11.4, "m", None, False),  # lfdkit's largest synthetic "metre" set
+        (MAX_EXTENT_M, "m", None, False),  # the bound itself passes
+        (MAX_EXTENT_M * 1.001, "m", None, True),
+        (800.0, "m", None, True),  # an 80 cm sweep in mm, read as metres
+        (80.0, "m", None, True),  # ... in cm
+        (2000.0, "mm", None, False),  # 2 m in mm
+        (0.8, "mm", None, True),  # metres read as mm: 0.8 mm
+        (MIN_EXTENT_M, "m", None, False),
+        (0.8, "m", MAX_MEAN_SPEED_M_S, False),
+        (0.8, "m", MAX_MEAN_SPEED_M_S * 1.001, True),  # faster than a hand
+        (15.0, "m", 150.0, True),  # 15 cm in cm, timed over 1 s: the speed gives it away
+        (15.0, "m", None, False),  # ... untimed, it is not caught (the rule's stated gap)
+        (300.0, "mm", 200.0, False),
+    ],
+)
+def test_the_units_rule_flags_only_implausible_sizes_and_speeds(
+    extent, units, speed, flagged
+) -> None:
+    reason = implausible_units(extent, units, speed)
+    assert (reason is not None) is flagged
+    if flagged:
+        assert f"{extent:.4g} {units}" in reason or f"{speed:.4g} {units}/s" in reason
+
+
+@pytest.mark.parametrize(
+    ("extent", "units", "likely"),
+    [
+        (800.0, "m", "mm"),
+        (80.0, "m", "cm"),
+        (300.0, "m", "mm"),
+        (30.0, "m", "cm"),
+        (0.8, "mm", "m"),
+    ],
+)
+def test_the_likely_unit_brings_the_span_nearest_half_a_metre(extent, units, likely) -> None:
+    assert likely_units(extent, units) == likely
+
+
+def test_no_built_in_data_set_trips_the_units_rule() -> None:
+    """False positives on every set lfdkit ships or loads (LASA when installed): none."""
+    np = pytest.importorskip("numpy")
+    from lfdkit.core.geometry import path_length
+    from lfdkit.datasets import catalog, dataset_demos
+
+    checked = 0
+    for info in catalog():
+        data = dataset_demos(info.name)
+        extent = max(float(np.ptp(d, axis=0).max()) for d in data.demos)
+        speeds = [
+            path_length(d) / (t[-1] - t[0])
+            for d, t in zip(data.demos, data.times or [None] * len(data.demos), strict=True)
+            if t is not None
+        ]
+        assert implausible_units(extent, info.units, max(speeds, default=None)) is None, info.name
+        checked += 1
+    assert checked >= 17

@@ -402,15 +402,18 @@ def test_import_splits_a_recording_at_its_pauses(tmp_path: Path) -> None:
         assert d.shape[1] == 3
         assert a - 0.05 < tt[0] < a + 0.15 and b - 0.15 < tt[-1] < b + 0.05  # rest trimmed
         np.testing.assert_allclose(qq, q[: len(qq)], atol=1e-12)
-    # a second write needs --force; without --topic the topics are listed (usage, exit 2)
+    # a second write needs --force; without --topic the topics are listed (exit 0, no -o)
     again = _lfdkit("import", str(out), "--topic", "/tool_pose", "-o", "d.csv", cwd=tmp_path)
     assert again.returncode == 1 and "pass --force" in again.stderr
-    bare = _lfdkit("import", str(out), "-o", "e.csv", cwd=tmp_path)
-    assert bare.returncode == 2
-    assert bare.stderr.strip().splitlines() == [
-        f"lfdkit import: error: {out}: name the topic with --topic; topics present: "
-        "/tool_pose (geometry_msgs/msg/PoseStamped, 450 messages)"
-    ]
+    for listing in (["import", str(out)], ["import", str(out), "--list-topics", "-o", "e.csv"]):
+        bare = _lfdkit(*listing, cwd=tmp_path)
+        assert bare.returncode == 0, bare.stderr
+        assert bare.stdout.splitlines() == [
+            f"{out}:",
+            "  /tool_pose (geometry_msgs/msg/PoseStamped, 450 messages)",
+        ]
+    no_output = _lfdkit("import", str(out), "--topic", "/tool_pose", cwd=tmp_path)
+    assert no_output.returncode == 2 and "-o/--output: name the demonstrations" in no_output.stderr
     wrong = _lfdkit("import", str(out), "--topic", "/pose", "-o", "e.csv", cwd=tmp_path)
     assert wrong.returncode == 1 and len(wrong.stderr.strip().splitlines()) == 1
     assert "no topic '/pose'; topics present: /tool_pose" in wrong.stderr

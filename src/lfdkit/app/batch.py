@@ -750,7 +750,9 @@ def learn_task(
     params : mapping
         :class:`lfdkit.skill.Skill` parameters; ``random_state`` as given
         (the same seed for every folder, so a folder learns the same skill
-        as ``lfdkit learn`` with that seed).
+        as ``lfdkit learn`` with that seed). Without ``units``, as
+        ``lfdkit learn`` without ``--units``: metres, and demonstrations
+        implausible in metres are refused (:func:`lfdkit.core.units.implausible_units`).
     overwrite : bool
         Replace an existing skill file.
 
@@ -766,12 +768,14 @@ def learn_task(
     FileNotFoundError
         If the folder has no demonstrations file.
     ValueError
-        For malformed files, or an obstacle reward fit that did not converge
+        For malformed files, demonstrations implausible in metres when no
+        ``units`` is given, or an obstacle reward fit that did not converge
         (nothing is written then).
     FileExistsError
         If ``output`` exists and not ``overwrite``.
     """
     from lfdkit.core.threads import one_blas_thread
+    from lfdkit.core.units import UnitsWarning
     from lfdkit.skill import learn
 
     where = Path(folder)
@@ -779,8 +783,17 @@ def learn_task(
     if demos is None:
         raise FileNotFoundError(f"{folder}: no {', '.join(DEMOS_NAMES)}")
     scenes = next((where / n for n in SCENES_NAMES if (where / n).is_file()), None)
-    with one_blas_thread():
-        skill = learn(demos, scenes, **params)
+    with one_blas_thread(), warnings.catch_warnings():
+        if "units" not in params:  # no unit given: implausible metres are refused (issue 31)
+            warnings.simplefilter("error", UnitsWarning)
+        try:
+            skill = learn(demos, scenes, **params)
+        except UnitsWarning as exc:
+            likely = exc.likely
+            raise ValueError(
+                f"{demos}: {exc.detail.removeprefix('demos: ')}; no --units was given, so they "
+                f"were read as m: pass --units {likely} if that is their unit"
+            ) from None
     fit = skill.ioc_info_ or {}
     if not fit.get("converged", True):
         raise ValueError(

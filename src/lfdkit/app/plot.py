@@ -231,7 +231,7 @@ def draw_gmr_tube(ax: Axes, gmr, n_points: int = 200, n_std: float = 2.0) -> Non
         alpha=0.2,
         label=f"GMR ±{n_std:g} sd",
     )
-    ax.plot(mean[:, 0], mean[:, 1], color=MIMIC_METHODS["gmr"].color, linewidth=1.4)
+    ax.plot(mean[:, 0], mean[:, 1], color=MIMIC_METHODS["gmr"].color, linewidth=1.4, label="GMR")
 
 
 def _scale_axes(ax: Axes, arrays: Sequence[np.ndarray]) -> bool:

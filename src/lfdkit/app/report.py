@@ -30,6 +30,7 @@ from datetime import datetime, timezone
 from html import escape
 from pathlib import Path
 from typing import TYPE_CHECKING
+from urllib.parse import quote
 
 import numpy as np
 
@@ -385,6 +386,46 @@ class Report:
             cls = ' class="num"' if _is_numeric(value) else ""
             parts.append(f"<dt>{_text(key)}</dt><dd{cls}>{_text(text)}</dd>")
         parts.append("</dl>")
+        parts.append("</div>")
+        self._blocks.append("\n".join(parts))
+        return self
+
+    def file_list(self, files: Mapping[str, str], caption: str = "") -> Report:
+        """Add links to files next to the report, each with what it holds.
+
+        Parameters
+        ----------
+        files : mapping of str to str
+            Paths relative to the report's folder (``"skill.json"``,
+            ``"figures/"``) to their descriptions. Each becomes a relative
+            link, so the list works wherever the folder is copied; nothing
+            outside it is linked.
+        caption : str
+            Text above the list.
+
+        Raises
+        ------
+        ValueError
+            For a path that is absolute, has a scheme (``http:``) or climbs
+            out of the folder (``..``), naming it.
+        """
+        parts = ['<div class="files">']
+        if caption:
+            parts.append(f'<p class="caption">{_text(caption)}</p>')
+        parts.append("<ul>")
+        for path, description in files.items():
+            name = str(path)
+            pieces = name.replace("\\", "/").split("/")
+            if not name or name.startswith("/") or ":" in name or ".." in pieces:
+                raise ValueError(
+                    f"files: {name!r} is not a path inside the report's folder; give a "
+                    "relative path such as 'skill.json'"
+                )
+            href = escape(quote(name), quote=True)
+            parts.append(
+                f'<li><a href="{href}"><code>{_text(name)}</code></a> {_text(description)}</li>'
+            )
+        parts.append("</ul>")
         parts.append("</div>")
         self._blocks.append("\n".join(parts))
         return self

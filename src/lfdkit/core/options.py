@@ -12,6 +12,7 @@ from __future__ import annotations
 from types import MappingProxyType
 
 __all__ = [
+    "DEMONSTRATION_SPEED",
     "MAX_HORIZON",
     "MIN_HORIZON",
     "MODELS",
@@ -34,6 +35,12 @@ TIMINGS = ("minimum_jerk", "uniform")
 #: :class:`~lfdkit.skill.Skill`'s ``scaling`` choices (:class:`lfdkit.imitate.DMP`).
 SCALINGS = ("translate", "spatial", "per_dimension")
 
+#: Mean speed (m/s) along the path of an untimed demonstration, which gives the skill's
+#: duration when ``duration="auto"`` (issue 31: a fixed 1 s made an 80 cm sweep peak at
+#: 1.5 m/s). A hand guiding a tool at a task: the shipped sweeps, timed at minimum jerk,
+#: move at 0.15-0.2 m/s on average. At minimum jerk the peak is 1.875 times the mean.
+DEMONSTRATION_SPEED = 0.2
+
 #: :class:`~lfdkit.skill.Skill`'s constructor defaults, by parameter (read-only).
 SKILL_DEFAULTS = MappingProxyType(
     {
@@ -42,7 +49,7 @@ SKILL_DEFAULTS = MappingProxyType(
         "n_components": 10,
         "n_basis": "auto",
         "timing": "minimum_jerk",
-        "duration": 1.0,
+        "duration": "auto",
         "scaling": "translate",
         "planner": "mpc",
         "horizon": 8,

@@ -44,7 +44,16 @@ import time
 from collections.abc import Callable
 from typing import IO, Any, TypeAlias
 
-__all__ = ["LOGGER", "Progress", "ProgressLike", "Stage", "as_progress"]
+__all__ = [
+    "COMPILE_NOTE",
+    "KERNEL_MODULES",
+    "LOGGER",
+    "Progress",
+    "ProgressLike",
+    "Stage",
+    "as_progress",
+    "kernels_compiled",
+]
 
 #: The logger of stage records (``INFO``): starts, wall times and long stages' progress.
 LOGGER = logging.getLogger("lfdkit.core.progress")
@@ -58,6 +67,53 @@ HEARTBEAT = 2.0
 REDRAW = 0.5
 #: Least seconds between two draws of a bar as its count goes up (tqdm's ``mininterval``).
 MIN_INTERVAL = 0.2
+
+#: lfdkit's numba kernel modules (``cache=True``), relative to the package folder.
+KERNEL_MODULES = (
+    "core/_geometry_kernels.py",
+    "mimic/_gmr_kernels.py",
+    "imitate/_dmp_kernels.py",
+    "emulate/_problem_kernels.py",
+    "emulate/_planner_kernels.py",
+    "emulate/_ioc_kernels.py",
+)
+#: Said once when the kernels have never been compiled here (issue 31: a first run showed
+#: "iteration 0" for 16 s with no word why). 74 s in all against 13-15 s warm for
+#: ``lfdkit demo`` on a 2-core machine: about a minute of compiling.
+COMPILE_NOTE = "compiling kernels once (about 60 s; cached afterwards)"
+
+
+def kernels_compiled(package: str | os.PathLike[str] | None = None) -> bool:
+    """Whether numba's cache holds lfdkit's kernels: False on a first run, which compiles them.
+
+    Looks for numba's index files (``MODULE.FUNCTION-LINE.pyXY.nbi``) of
+    :data:`KERNEL_MODULES` in their ``__pycache__`` folders, or under
+    ``NUMBA_CACHE_DIR`` when set; nothing is imported. Any one found counts:
+    numba caches a kernel only once something calls it (GMR's only with
+    ``--mimic gmr``), so "none at all" is what tells a fresh install. A
+    cache made stale by an edited source also counts (numba recompiles
+    those quietly, kernel by kernel).
+
+    Parameters
+    ----------
+    package : path, optional
+        The ``lfdkit`` package folder (default this one).
+    """
+    from pathlib import Path
+
+    root = Path(package) if package is not None else Path(__file__).resolve().parents[1]
+    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
+    for module in KERNEL_MODULES:
+        source = root / module
+        pattern = f"{source.stem}.*.nbi"
+        if cache_dir:
+            found = any(Path(cache_dir).rglob(pattern))
+        else:
+            found = any((source.parent / "__pycache__").glob(pattern))
+        if found:
+            return True
+    return False
+
 
 # tqdm formats: a bar where the total is known, a count and a clock where it is not,
 # and a clock alone for a stage without items.

@@ -10,6 +10,21 @@ derived from lengths follow: a reward's nominal weight ``Q`` and precisions
 The module is plain Python (no NumPy), so the command line can read
 :data:`UNITS` without loading the library.
 
+Units are checked where demonstrations enter (issue 31): a millimetre file
+learned as metres made a skill whose plans reported 436.9 m/s.
+:func:`implausible_units` is the rule. Converted to metres, demonstrations
+that span more than :data:`MAX_EXTENT_M` (20 m) or move faster than
+:data:`MAX_MEAN_SPEED_M_S` (5 m/s, mean speed over a timed demonstration; a
+hand moves at well under 2 m/s) or span less than :data:`MIN_EXTENT_M` (1 mm)
+are not in the unit claimed. 20 m, not 5: lfdkit's own synthetic "metre"
+sets span up to 11.4 m and a walking data set 7.1 m, and none of its 47
+built-in sets (LASA included) trips the rule. What it misses: untimed
+centimetre data spanning under 20 cm and untimed millimetre data under
+20 mm (their speed, when timed, still gives them away).
+:meth:`lfdkit.skill.Skill.fit` warns (:class:`UnitsWarning`);
+``lfdkit learn`` and ``lfdkit batch learn`` refuse when no ``--units`` was
+given, naming the likely unit.
+
 Examples
 --------
 >>> conversion_factor("m", "mm")
@@ -24,9 +39,20 @@ ValueError: units: expected one of 'm', 'cm', 'mm', got 'inch'
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
-__all__ = ["UNITS", "check_units", "conversion_factor"]
+__all__ = [
+    "MAX_EXTENT_M",
+    "MAX_MEAN_SPEED_M_S",
+    "MIN_EXTENT_M",
+    "UNITS",
+    "UnitsWarning",
+    "check_units",
+    "conversion_factor",
+    "implausible_units",
+    "likely_units",
+]
 
 #: Length units lfdkit knows, by name (``--units`` on the command line).
 UNITS: tuple[str, ...] = ("m", "cm", "mm")
@@ -87,3 +113,97 @@ def conversion_factor(from_units: str, to_units: str) -> float:
     source = _MICROMETRES[check_units(from_units, "from_units")]
     target = _MICROMETRES[check_units(to_units, "to_units")]
     return source / target
+
+
+#: Largest span (m) of a demonstration set accepted as given: no arm reaches, and no
+#: hand-guided demonstration spans, 20 m (lfdkit's synthetic sets span up to 11.4 m).
+MAX_EXTENT_M = 20.0
+#: Smallest span (m): a demonstration under 1 mm is metres read as millimetres.
+MIN_EXTENT_M = 1e-3
+#: Fastest mean speed (m/s) of a timed demonstration: a hand guiding a tool moves at
+#: well under 2 m/s (LASA's handwriting peaks at 0.07 m/s).
+MAX_MEAN_SPEED_M_S = 5.0
+
+# The span (m) a demonstration typically has: the suggested unit brings the data nearest it.
+_TYPICAL_EXTENT_M = 0.5
+
+
+class UnitsWarning(UserWarning):
+    """Demonstrations whose size or speed is implausible in their stated unit.
+
+    ``likely`` is the unit they are probably in (:func:`likely_units`);
+    ``detail`` the numbers without the fix, for a caller that words its own
+    (``lfdkit learn`` says ``--units mm``).
+    """
+
+    def __init__(self, message: str, likely: str | None = None, detail: str = "") -> None:
+        super().__init__(message)
+        self.likely = likely
+        self.detail = detail or message
+
+
+def likely_units(extent: float, units: str) -> str:
+    """The unit in which a span of ``extent`` (in ``units``) is nearest a typical demonstration's.
+
+    Parameters
+    ----------
+    extent : float
+        The demonstrations' largest span along one axis, in ``units``.
+    units : {"m", "cm", "mm"}
+        The unit ``extent`` was given in.
+
+    Returns
+    -------
+    str
+        One of :data:`UNITS` other than ``units``: e.g. ``"mm"`` for 800
+        read as metres (0.8 m), ``"cm"`` for 80 (0.8 m).
+    """
+    check_units(units)
+    others = [u for u in UNITS if u != units]
+    if not extent > 0.0:
+        return others[0]
+    return min(
+        others,
+        key=lambda u: abs(math.log(extent * conversion_factor(u, "m") / _TYPICAL_EXTENT_M)),
+    )
+
+
+def implausible_units(extent: float, units: str, mean_speed: float | None = None) -> str | None:
+    """Why demonstrations of this size and speed are not in ``units``; None when plausible.
+
+    Parameters
+    ----------
+    extent : float
+        The demonstrations' largest span along one axis, in ``units``.
+    units : {"m", "cm", "mm"}
+        Their stated unit.
+    mean_speed : float, optional
+        The fastest demonstration's mean speed (path length over duration),
+        in ``units`` per second; None for untimed demonstrations.
+
+    Returns
+    -------
+    str or None
+        A clause naming the numbers and the rule, e.g. ``"they span 800 m,
+        more than a demonstration can (over 20 m)"``.
+
+    Examples
+    --------
+    >>> implausible_units(0.8, "m") is None
+    True
+    >>> implausible_units(800.0, "m")
+    'they span 800 m, more than a demonstration can (over 20 m)'
+    """
+    check_units(units)
+    in_m = conversion_factor(units, "m")
+    shown = f"{extent:.4g} {units}"
+    if extent * in_m > MAX_EXTENT_M:
+        return f"they span {shown}, more than a demonstration can (over {MAX_EXTENT_M:g} m)"
+    if mean_speed is not None and mean_speed * in_m > MAX_MEAN_SPEED_M_S:
+        return (
+            f"they move at {mean_speed:.4g} {units}/s on average, faster than a hand "
+            f"(over {MAX_MEAN_SPEED_M_S:g} m/s)"
+        )
+    if extent * in_m < MIN_EXTENT_M:
+        return f"they span {shown}, less than a demonstration can (under {MIN_EXTENT_M * 1e3:g} mm)"
+    return None

@@ -122,8 +122,8 @@ SKILL_FILE_LIMITS: dict[str, tuple[float, float]] = {
 }
 """Ranges :meth:`lfdkit.skill.Skill.load` accepts for the numeric ``params`` of a skill file.
 
-``(low, high)``: integers ``low <= n <= high`` (``n_basis`` may also be
-``"auto"``); ``duration`` (seconds) and ``max_slope`` in ``(low, high]``.
+``(low, high)``: integers ``low <= n <= high`` (``n_basis`` and
+``duration`` may also be ``"auto"``); ``duration`` (seconds) and ``max_slope`` in ``(low, high]``.
 Far beyond any robot task (DMPs use tens of basis functions), they keep a
 corrupt or hostile file from asking for gigabytes or minutes
 (``n_basis = 10**4``; the DMP fit that loading does grows with
@@ -456,8 +456,8 @@ def check_file_params(params: Mapping[str, Any], source: str) -> None:
             continue
         value = params[key]
         where = f"{source}: params.{key}"
-        if key == "n_basis" and value == "auto":
-            continue  # the DMP chooses the count
+        if key in ("n_basis", "duration") and value == "auto":
+            continue  # the DMP chooses the count; the path's length gives the duration
         integer = key in _INTEGER_PARAMS
         kinds = (int,) if integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, kinds):

@@ -14,9 +14,16 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from lfdkit.core.numbers import parse_decimal, parse_whole
-from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON, MODELS, PLANNERS, SKILL_DEFAULTS
-from lfdkit.core.progress import LOGGER, Progress
-from lfdkit.core.units import UNITS
+from lfdkit.core.options import (
+    DEMONSTRATION_SPEED,
+    MAX_HORIZON,
+    MIN_HORIZON,
+    MODELS,
+    PLANNERS,
+    SKILL_DEFAULTS,
+)
+from lfdkit.core.progress import COMPILE_NOTE, LOGGER, Progress, kernels_compiled
+from lfdkit.core.units import MAX_EXTENT_M, MAX_MEAN_SPEED_M_S, MIN_EXTENT_M, UNITS
 
 __all__ = [
     "CommandError",
@@ -45,6 +52,7 @@ __all__ = [
     "skill_and_scene",
     "skill_params",
     "tell",
+    "units_refusal",
     "working",
 ]
 
@@ -88,6 +96,10 @@ class _StageLines(logging.Handler):
             self.handleError(record)
 
 
+# The commands that run lfdkit's numba kernels (and so compile them on a first run).
+_COMPILING = frozenset({"demo", "learn", "plan", "plot", "execute", "compare", "batch"})
+
+
 @contextmanager
 def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Progress]:
     """The command's progress while it works: yields the :class:`~lfdkit.core.progress.Progress`.
@@ -108,8 +120,13 @@ def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Prog
         LOGGER.addHandler(handler)
         LOGGER.setLevel(logging.INFO)
         LOGGER.propagate = False  # the lines are the command's; not twice through the root
+    label = label or f"lfdkit {args.command}"
+    if args.command in _COMPILING and not kernels_compiled():
+        # A first run compiles the numba kernels: said, so the bars do not look stuck.
+        label = f"{label}: {COMPILE_NOTE}"
+        tell(args, f"first run here: {COMPILE_NOTE}", level=1 if bars else 2)
     try:
-        with progress.stage(label or f"lfdkit {args.command}", announce=False):
+        with progress.stage(label, announce=False):
             yield progress
     finally:
         progress.close()
@@ -280,16 +297,50 @@ def _obstacle(text: str):
 
 
 def skill_params(args: argparse.Namespace) -> dict:
-    """The :class:`~lfdkit.skill.Skill` parameters of ``learn``'s options (defaults the Skill's)."""
-    return {
+    """The :class:`~lfdkit.skill.Skill` parameters of ``learn``'s options (defaults the Skill's).
+
+    ``units`` only when ``--units`` was given: without it the Skill's default
+    (metres) holds, and demonstrations implausible in metres are refused
+    (:func:`units_refusal`).
+    """
+    params = {
         "mimic": args.mimic,
         "n_points": args.n_points,
         "random_state": args.seed,
         "planner": args.planner,
         "horizon": args.horizon,
         "model": args.model,
-        "units": args.units,
+        "duration": args.duration,
     }
+    if args.units is not None:
+        params["units"] = args.units
+    return params
+
+
+def units_refusal(source: object, warning: Warning, units: str) -> str:
+    """The one line that refuses demonstrations implausible in ``units`` when no --units was given.
+
+    ``warning`` is the :class:`lfdkit.core.units.UnitsWarning` the skill raised.
+    """
+    likely = getattr(warning, "likely", None)
+    detail = getattr(warning, "detail", str(warning)).removeprefix("demos: ")
+    return (
+        f"{source}: {detail}; no --units was given, so they were read as {units}: "
+        f"pass --units {likely} if that is their unit (--units {units} to learn them as they are)"
+    )
+
+
+def _duration(text: str) -> float | str:
+    """``learn --duration``: seconds, or ``auto`` (the path's length at a hand's pace)."""
+    if text == "auto":
+        return text
+    try:
+        value = parse_decimal(text, finite=False)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value <= 0.0:
+        raise argparse.ArgumentTypeError(f"expected seconds > 0 or 'auto', got {text!r}")
+    return value
 
 
 class LazyChoices:
@@ -519,8 +570,20 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         "demonstrations and keeps the clearance they kept; 'thesis' is the thesis's model "
         "exactly (default %(default)s)",
     )
+    parser.add_argument(
+        "--duration",
+        type=_duration,
+        default=SKILL_DEFAULTS["duration"],
+        metavar="S",
+        help="seconds the movement lasts when the demonstrations carry no times (no t "
+        "column); 'auto' (default): the path's length at a hand's typical demonstration "
+        f"speed, {DEMONSTRATION_SPEED:g} m/s on average (at least 1 s). Timed "
+        "demonstrations give their own",
+    )
     add_units_option(
         parser,
-        SKILL_DEFAULTS["units"],
-        "unit of the demonstrations and scenes, kept in the skill (default %(default)s)",
+        None,
+        "unit of the demonstrations and scenes, kept in the skill (default m; "
+        f"demonstrations spanning over {MAX_EXTENT_M:g} m, under {MIN_EXTENT_M * 1e3:g} mm "
+        f"or moving faster than {MAX_MEAN_SPEED_M_S:g} m/s are refused without it)",
     )

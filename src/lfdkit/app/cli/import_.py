@@ -29,6 +29,11 @@ def _frame_pair(text: str) -> tuple[str, str]:
 def run_command(args: argparse.Namespace) -> None:
     speed = positive_or_none(args.pause_speed, "--pause-speed", "a positive speed (units/s)")
     pause = positive_or_none(args.pause_time, "--pause-time", "a positive number of seconds")
+    if args.topic is None or args.list_topics:
+        _list_topics(args)
+        return
+    if args.output is None:
+        raise UsageError("-o/--output: name the demonstrations file to write (DEMOS.csv)")
     refuse_existing(args.output, args.force)
     from lfdkit.io import save_demos
     from lfdkit.io.recordings import JOINT_STATE, list_topics, read_poses
@@ -38,9 +43,6 @@ def run_command(args: argparse.Namespace) -> None:
     total_pauses = total_returns = 0
     for path in args.recordings:
         topics = list_topics(path)
-        listing = "; ".join(str(t) for t in topics) or "none (the recording is empty)"
-        if args.topic is None:
-            raise UsageError(f"{path}: name the topic with --topic; topics present: {listing}")
         msgtype = next((t.msgtype for t in topics if t.name == args.topic), None)
         if msgtype == JOINT_STATE:
             if args.frame is not None:
@@ -92,12 +94,31 @@ def run_command(args: argparse.Namespace) -> None:
     duration = sum(float(t[-1] - t[0]) for t in times)
     tell(
         args,
-        f"imported {len(demos)} demonstrations ({n} samples, {duration:.2f} s"
-        + (f", split at {total_pauses} pauses" if args.split else "")
-        + (f", {total_returns} moves back to the start left out" if total_returns else "")
+        f"imported {_count(len(demos), 'demonstration')} ({n} samples, {duration:.2f} s"
+        + (f", split at {_count(total_pauses, 'pause')}" if args.split else "")
+        + (f", {_count(total_returns, 'move')} back to the start left out" if total_returns else "")
         + f") from {len(args.recordings)} recording{'s' * (len(args.recordings) > 1)}; "
         f"wrote {args.output}",
     )
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 pause``, ``2 pauses``."""
+    return f"{n} {noun}{'s' * (n != 1)}"
+
+
+def _list_topics(args: argparse.Namespace) -> None:
+    """Without --topic (or with --list-topics): each recording's topics on standard output."""
+    from lfdkit.io.recordings import list_topics
+
+    for path in args.recordings:
+        topics = list_topics(path)
+        print(f"{path}:")
+        for topic in topics:
+            print(f"  {topic}")
+        if not topics:
+            print("  no topics (the recording is empty)")
+    tell(args, "import one with --topic T -o DEMOS.csv")
 
 
 def add_options(parser: argparse.ArgumentParser) -> None:
@@ -114,7 +135,12 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         metavar="T",
         help="the topic: PoseStamped, PoseWithCovarianceStamped, TransformStamped, Odometry, "
         "JointState (tool poses by the arm's kinematics) or /tf with --frame; without it the "
-        "topics present are listed",
+        "topics present are listed (exit 0, nothing written)",
+    )
+    parser.add_argument(
+        "--list-topics",
+        action="store_true",
+        help="list each recording's topics (name, type, messages) and write nothing",
     )
     parser.add_argument(
         "--frame",
@@ -162,7 +188,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         "-o",
         "--output",
         type=Path,
-        required=True,
         metavar="DEMOS.csv",
-        help="demonstrations file to write: demo, t, x, y[, z], qx, qy, qz, qw",
+        help="demonstrations file to write: demo, t, x, y[, z], qx, qy, qz, qw (needed with "
+        "--topic)",
     )

@@ -13,19 +13,27 @@ from lfdkit.app.cli.common import (
     refuse_existing,
     skill_params,
     tell,
+    units_refusal,
     working,
 )
+from lfdkit.core.options import DEMONSTRATION_SPEED, SKILL_DEFAULTS
+from lfdkit.core.units import UnitsWarning
 
-__all__ = ["add_options", "run_command"]
+__all__ = ["add_options", "run_command", "timing_line"]
 
 
 def run_command(args: argparse.Namespace) -> None:
     refuse_existing(args.output, args.force)
     with warnings.catch_warnings(record=True) as caught, working(args) as progress:
         warnings.simplefilter("always", UserWarning)
+        if args.units is None:  # implausible in metres and no unit given: refused, not learned
+            warnings.simplefilter("error", UnitsWarning)
         with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
             from lfdkit.skill import learn
-        skill = learn(args.demos, args.scenes, progress=progress, **skill_params(args))
+        try:
+            skill = learn(args.demos, args.scenes, progress=progress, **skill_params(args))
+        except UnitsWarning as exc:
+            raise CommandError(units_refusal(args.demos, exc, SKILL_DEFAULTS["units"])) from None
     fit = skill.ioc_info_ or {}
     if not fit.get("converged", True):
         raise CommandError(
@@ -34,7 +42,13 @@ def run_command(args: argparse.Namespace) -> None:
             "the path around its scene's obstacles, add demonstrations, or try --planner full"
         )
     for warning in caught:  # shown once each, after the fit, as main's handler shows them
-        warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+        message = warning.message
+        if isinstance(message, UnitsWarning):  # --units m given: learned, but said, as options
+            message = UnitsWarning(
+                f"{args.demos}: {message.detail}: if that is their unit, pass --units "
+                f"{message.likely}"
+            )
+        warnings.showwarning(message, warning.category, warning.filename, warning.lineno)
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
@@ -45,8 +59,34 @@ def run_command(args: argparse.Namespace) -> None:
             + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
             f"{elapsed(args):.1f} s; wrote {args.output}",
         )
+    timing = timing_line(skill)
+    if timing:
+        tell(args, timing)
     for line in _fidelity_lines(skill):
         tell(args, line)
+
+
+def timing_line(skill: Skill) -> str:  # noqa: F821 (imported lazily)
+    """What the skill's duration is and where it came from: said, since a robot will run it."""
+    from lfdkit.core.geometry import path_length
+
+    timing = skill.timing_
+    length = path_length(skill.path_)
+    speed = length / timing.duration
+    moves = (
+        f"{timing.duration:.3g} s for the {length:.3g} {skill.units} path "
+        f"({speed:.3g} {skill.units}/s on average)"
+    )
+    if timing.source not in ("minimum_jerk", "uniform"):
+        return f"timing learned from the demonstrations' times: {moves}"
+    if skill.duration == "auto":
+        return (
+            f"the demonstrations carry no times: assumed {timing.duration:.3g} s for the "
+            f"{length:.3g} {skill.units} path, a hand's typical demonstration pace "
+            f"({DEMONSTRATION_SPEED:g} m/s on average); set it with --duration S here, or "
+            "--duration/--speed on plan"
+        )
+    return f"the demonstrations carry no times: {moves}, as --duration gave"
 
 
 _ROUTE_NAMES = {
@@ -96,7 +136,12 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
 
 def add_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "demos", type=Path, metavar="DEMOS", help="demonstrations (.csv, .npz or .json)"
+        "demos",
+        type=Path,
+        metavar="DEMOS",
+        help="demonstrations: a CSV with columns demo,x,y[,z] (one row per sample; optional "
+        "t, seconds, for their timing, and qx,qy,qz,qw for the tool's orientation), or "
+        ".npz or .json (lfdkit.io.save_demos)",
     )
     parser.add_argument(
         "--scenes",

@@ -95,10 +95,10 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         else ""
     )
     summary = (
-        f"planned {len(timed)} points around {len(scene)} obstacles in "
+        f"planned {len(timed)} points around {len(scene)} obstacle{'s' * (len(scene) != 1)} in "
         f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} {units} "
         f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
-        f"{timed.speeds.max():.4g} {units}/s"
+        f"{timed.speeds.max():.4g} {units}/s{_assumed(skill, duration, speed)}"
     )
     columns = {
         "times": timed.times,
@@ -111,6 +111,18 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         return
     save_path(args.output, timed.points, **columns, overwrite=args.force)
     tell(args, f"{summary}; wrote {args.output}")
+
+
+def _assumed(skill, duration: float | None, speed: float | None) -> str:
+    """Says so when the plan's duration is a guess: untimed demonstrations, nothing given."""
+    if duration is not None or skill.timing_.source not in ("minimum_jerk", "uniform"):
+        return ""
+    if skill.duration != "auto":
+        return ""
+    return (
+        " (the demonstrations had no times: their duration is assumed from a hand's pace; "
+        "--duration S or --speed F sets it)"
+    )
 
 
 def add_options(parser: argparse.ArgumentParser) -> None:

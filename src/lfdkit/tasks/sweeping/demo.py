@@ -36,6 +36,7 @@ import numpy as np
 from lfdkit import __version__
 from lfdkit.app.report import Report
 from lfdkit.core.geometry import resample
+from lfdkit.core.options import DEMONSTRATION_SPEED
 from lfdkit.core.progress import Progress, ProgressLike, Stage, as_progress
 from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.io import atomic_write, load_demos, save_path
@@ -531,10 +532,30 @@ def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float
             "reproduction_rms_mm": 1e3
             * float(np.sqrt(metrics.mse_paths(skill.nominal(), [skill.path_]))),
             "new_goal": NEW_GOAL.tolist(),
+            # The time base of the DMP figure and of every plan (issue 31: it was 1 s).
+            "duration_s": float(skill.timing_.duration),
+            "timing": skill.timing_.source,
         },
         "emulate": {"ioc": skill.ioc_info_, "parameters": parameters, "test": scores},
         "unseen": [row for item in unseen for row in item["rows"]],
     }
+
+
+def _timing_sentence(imitate: dict) -> str:
+    """Where the skill's duration came from, and how it relates to the robot's run below."""
+    duration = imitate["duration_s"]
+    if imitate["timing"] in ("minimum_jerk", "uniform"):
+        source = (
+            "the demonstrations carry no times, so it is their path's length at a hand's "
+            f"typical demonstration pace, {DEMONSTRATION_SPEED:g} m/s on average "
+            "(Skill(duration='auto'))"
+        )
+    else:
+        source = "learned from the demonstrations' times"
+    return (
+        f"The skill's movement, and every plan, lasts {duration:.1f} s: {source}. The robot "
+        "below runs its plan as fast as its speed setting allows, so its time differs."
+    )
 
 
 #: What the report's abbreviations and terms mean, in its glossary.
@@ -620,12 +641,12 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     report.paragraph(
         f"DMP with {imitate['n_basis']} basis functions per dimension reproduces the path to "
         f"{imitate['reproduction_rms_mm']:.3f} mm RMS and is carried to the moved dustpan at "
-        f"{tuple(round(v, 3) for v in imitate['new_goal'])} m."
+        f"{tuple(round(v, 3) for v in imitate['new_goal'])} m. " + _timing_sentence(imitate)
     )
     report.figure(
         figures["imitate.png"],
         "The clean sweeps, the generalized path (blue) and the DMP to the new goal (red dashed); "
-        "right: x and y over time.",
+        f"right: x and y over the skill's time, {imitate['duration_s']:.1f} s.",
     )
     emulate = results["emulate"]
     report.heading("Emulate: the obstacle reward")
@@ -752,11 +773,21 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
     report.heading("Glossary")
     report.definition_list(GLOSSARY)
     report.heading("Files")
-    report.paragraph(
-        "skill.json (the learned skill: lfdkit plan skill.json ...), plans/unseen_*.csv, "
-        "robot/unseen_1.script (URScript for a UR5), "
-        "figures/*.png, results.json, data/ (the inputs: try lfdkit learn data/demos.csv "
-        "--scenes data/scenes.csv -o my_skill.json)."
+    report.file_list(
+        {
+            "skill.json": "the learned skill: lfdkit plan skill.json ...",
+            **{
+                f"plans/unseen_{i + 1}.csv": f"the plan of unseen scene {i + 1} (t, x, y)"
+                for i in range(len(UNSEEN_DESIGNS))
+            },
+            _URSCRIPT: "URScript for a UR5 (servoj)",
+            **{f"figures/{name}": "a figure above" for name in _FIGURES},
+            **({f"figures/{_RENDER}": "the MuJoCo render above"} if image is not None else {}),
+            "results.json": "every number of this report",
+            "data/": "the inputs: try lfdkit learn data/demos.csv --scenes data/scenes.csv "
+            "-o my_skill.json",
+        },
+        "Next to this report (links relative to its folder):",
     )
     return report
 
