@@ -801,7 +801,7 @@ class IOC:
             why = (
                 f"obstacle {label!r} is never near any demonstration; its class cannot be "
                 "learned from these demonstrations"
-                if label in far
+                if label in far and reach[label] is not None
                 else f"obstacle class {label!r} was not learned: none of its obstacles "
                 "influenced a demonstration"
             )
