@@ -78,6 +78,10 @@ CASES: list[tuple[str, str, str, str]] = [
         "error",
     ),
     ("big cup on the path", "api", "plan_big_cup()", "result >= 0"),
+    # issue 27: refusals that became answers (or a named refusal)
+    ("rod 1e6 m long past the goal", "api", "plan_far_rod()", "result > 4.5"),
+    ("one observation beside the path", "api", "plan_one_observation()", "result > 0.1"),
+    ("learn with a moving obstacle", "api", "learn_moving()", "error"),
     ("wall across the path", "api", "plan_wall()", "error"),
     ("output onto /dev/null", "cli", "plan {w}/skill.json -o /dev/null --force", "error"),
     ("output onto a FIFO", "cli", "plan {w}/skill.json -o {w}/fifo --force", "error"),
@@ -121,6 +125,31 @@ REWARD = Reward(10.0, {"cup": [2500.0, 4000.0]})
 def plan_big_cup():
     scene = Scene((Obstacle("cup", [0.5, 0.03], radius=0.1),))
     return path_clearance(plan_path(REWARD, straight(), scene).points, scene)[0]
+
+def plan_far_rod():
+    from lfdkit.model.scene import Capsule
+    scene = Scene((Capsule("cup", [5.6, 0.0], 0.03, [5.6 + 1e6, 0.0]),))
+    return path_clearance(plan_path(REWARD, straight(), scene, clearance=0.01).points, scene)[0]
+
+def plan_one_observation():
+    import warnings
+    from lfdkit.model.motion import Observations
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # it says it takes the cup as standing
+        seen = Observations([0.0], [[0.5, 0.15]], 0.005)
+    cup = Obstacle("cup", [0.5, 0.15], 0.03, motion=seen)
+    times = np.linspace(0.0, 2.0, 100)
+    plan = plan_path(REWARD, straight(), Scene((cup,)), times=times, clearance=0.01)
+    return path_clearance(plan.points, Scene((cup.at(0.0),)))[0]
+
+def learn_moving():
+    from lfdkit.datasets import load_emulation_dataset
+    from lfdkit.model.motion import ConstantVelocity
+    from dataclasses import replace
+    data = load_emulation_dataset("sweeping", seed=0)
+    scenes = [Scene(tuple(replace(o, motion=ConstantVelocity([0.02, 0.0])) for o in s))
+              for s in data.scenes[:2]]
+    return Skill().fit(data.free_demos, data.demos[:2], scenes)
 
 def plan_wall():
     wall = Scene(tuple(Obstacle("cup", [0.5, y], radius=0.03) for y in np.arange(-0.6, 0.61, 0.05)))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,8 @@ from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import DemoOrientationWarning
-from lfdkit.model.scene import Scene
+from lfdkit.model.motion import ConstantVelocity
+from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.model.timed_path import TimedPlan
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import example_dataset, example_files
@@ -382,6 +384,44 @@ def test_training_file_errors(tmp_path: Path) -> None:
     save_scenes(few_scenes, {key: scenes[key] for key in ids[5:7]})
     with pytest.raises(ValueError, match=r"few\.csv: needs at least 2 demonstrations without"):
         read_training_data(few, few_scenes)
+
+
+def test_learning_with_a_moving_obstacle_is_refused_at_the_edge(sweeping, tmp_path) -> None:
+    """Issue 27: it failed inside the planner, about ``times``; the IOC has no time model."""
+    moving = [
+        Scene(tuple(replace(o, motion=ConstantVelocity([0.02, 0.0])) for o in scene))
+        for scene in sweeping.scenes[:2]
+    ]
+    with pytest.raises(ValueError, match=r"^scenes\[0\]: obstacle 0 \('cup'\) moves; the rew"):
+        Skill().fit(sweeping.free_demos, sweeping.demos[:2], moving)
+    scenes = load_scenes(FILES["scenes"])
+    first = next(iter(scenes))
+    scenes[first] = Scene(
+        tuple(replace(o, motion=ConstantVelocity([0.0, 0.05])) for o in scenes[first])
+    )
+    save_scenes(tmp_path / "moving.json", scenes)
+    message = rf"moving\.json: demo {first!r}: obstacle 0 \('cup'\) moves; the reward is lear"
+    with pytest.raises(ValueError, match=message):
+        learn(FILES["demos"], tmp_path / "moving.json")
+
+
+def test_obstacles_far_from_every_demonstration_are_said_and_learning_goes_on(sweeping) -> None:
+    """Issue 27: obstacles 10 m away: the fit failed replanning scenes of classes not learned."""
+    far = [Scene(tuple(o.translated([10.0, 10.0]) for o in s)) for s in sweeping.scenes]
+    with pytest.warns(UserWarning) as caught:
+        skill = Skill().fit(sweeping.free_demos, sweeping.demos, far)
+    said = [str(w.message) for w in caught]
+    for label in ("cup", "marker"):
+        assert any(
+            m.startswith(
+                f"obstacle {label!r} is never near any demonstration; its class cannot be learned"
+            )
+            for m in said
+        ), said
+    assert skill.reward_.classes == ()
+    assert skill.ioc_info_["not_learned"] == ["cup", "marker"]
+    with pytest.raises(ValueError, match="'cup' was never learned"):
+        skill.plan(scene=Scene((Obstacle("cup", [0.0, 0.45], 0.03),)))
 
 
 def test_reward_from_another_dimension_is_refused() -> None:

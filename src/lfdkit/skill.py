@@ -754,6 +754,15 @@ class Skill(Estimator):
                     f"scenes[{j}]: {scene.positions.shape[1]}-D obstacles for "
                     f"{self.n_dims_}-D demonstrations"
                 )
+            # Refused, not learned at its t = 0 place: the demonstrator avoided where
+            # it was at each moment, so a reward fitted to one place would be wrong.
+            moving = next((i for i, o in enumerate(scene) if o.moving), None)
+            if moving is not None:
+                raise ValueError(
+                    f"scenes[{j}]: obstacle {moving} ({scene.labels[moving]!r}) moves; the "
+                    "reward is learned from standing obstacles only: give where it stood "
+                    "during the demonstration, or learn without it (plans can avoid moving ones)"
+                )
         goal = self._goals(goals, len(demos))
         progress = as_progress(progress)
         with progress.stage("emulate: nominal of each obstacle demonstration (DMP)"):
@@ -792,7 +801,13 @@ class Skill(Estimator):
         if self.model == "auto":
             self.clearances_ = demonstrated_clearances(demos, scenes, nominals, ioc.classes_)
         with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
-            self._select_route(demos, scenes, goal, nominals)
+            # Obstacles of a class not learned never shaped a demonstration (the IOC
+            # warned): the training scenes are replanned without them.
+            learned = [
+                Scene(tuple(o for o in scene if o.label not in ioc.not_learned_))
+                for scene in scenes
+            ]
+            self._select_route(demos, learned, goal, nominals)
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
         self._warn_fidelity()

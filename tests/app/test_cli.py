@@ -1123,6 +1123,30 @@ def test_learn_exits_1_and_writes_nothing_when_the_reward_fit_fails(
     assert not out.exists()
 
 
+def test_learn_says_under_q_that_far_obstacles_cannot_be_learned(capsys, tmp_path, examples):
+    """Issue 27: obstacles 10 m from every demonstration exited 0 under -q with nothing said."""
+    from lfdkit.io.scenes import load_scenes
+
+    far = {
+        k: Scene(tuple(o.translated([10.0, 10.0]) for o in s))
+        for k, s in load_scenes(examples["scenes"]).items()
+    }
+    save_scenes(tmp_path / "far.csv", far)
+    out = tmp_path / "skill.json"
+    code, _, err = run_cli(
+        capsys, "learn", examples["demos"], "--scenes", tmp_path / "far.csv", "-o", out, "-q"
+    )
+    assert code == 0, err
+    lines = err.splitlines()
+    for label in ("cup", "marker"):
+        assert (
+            f"lfdkit learn: warning: obstacle {label!r} is never near any demonstration; its "
+            "class cannot be learned from these demonstrations; planning a scene with it is "
+            "refused unless a reward for it is adopted (e.g. Skill.adopt)"
+        ) in lines
+    assert out.is_file()
+
+
 def test_learn_shows_the_reward_fit_warnings_as_lines(capsys, tmp_path, examples, monkeypatch):
     import warnings
 

@@ -264,7 +264,9 @@ def test_a_class_far_from_every_demonstration_is_not_learned() -> None:
     demos, scenes = demonstrations(4)
     far = Obstacle("vase", [0.5, 10.0])  # 10 m away from paths 1 m long
     scenes = [Scene((*s.obstacles, far)) for s in scenes]
-    with pytest.warns(UserWarning, match="'vase' was not learned"):
+    with pytest.warns(
+        UserWarning, match="obstacle 'vase' is never near any demonstration; its class"
+    ):
         ioc = IOC().fit(demos, scenes, nominal())
     assert ioc.not_learned_ == ("vase",)
     assert ioc.classes_ == ("obstacle",)

@@ -8,7 +8,13 @@ import pytest
 from lfdkit.emulate import Corridor, RecedingPlanner, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.planner import moving_clearance
 from lfdkit.emulate.problem import Problem, predicted_sigma
-from lfdkit.model.motion import ConstantVelocity, ConstantVelocityKalman, Tracked, Trajectory
+from lfdkit.model.motion import (
+    ConstantVelocity,
+    ConstantVelocityKalman,
+    Observations,
+    Tracked,
+    Trajectory,
+)
 from lfdkit.model.scene import Capsule, Obstacle, Scene
 
 REWARD = Reward(100.0, {"cup": 400.0 * np.eye(2), "marker": np.diag([50.0, 900.0])})
@@ -100,6 +106,18 @@ def test_moving_scenes_need_times_and_refuse_what_cannot_be_avoided():
     with pytest.raises(UnsafePlanError, match="no collision-free move at point"):
         while not planner.done:
             planner.step(Scene((rod,)))
+
+
+def test_one_observation_of_a_cup_beside_the_path_is_planned_as_standing():
+    """Issue 27: one observation of a cup 15 cm off the path was refused (±1 m/s prior)."""
+    with pytest.warns(UserWarning, match="single observation"):
+        seen = Observations([0.0], [[0.5, 0.15]], 0.005)
+    cup = Obstacle("cup", [0.5, 0.15], 0.03, motion=seen)
+    plan = plan_path(REWARD, NOMINAL, Scene((cup,)), n_points=K, times=TIMES, clearance=0.02)
+    # As the static cup there: the same plan, clear by its 12 cm less the 2σ allowance.
+    static = plan_path(REWARD, NOMINAL, Scene((cup.at(0.0),)), n_points=K, clearance=0.02)
+    np.testing.assert_allclose(plan.points, static.points, atol=1e-6)
+    assert _gap_in_time(plan.points, cup) >= 0.15 - 1e-9
 
 
 def test_moving_clearance_measures_in_time():

@@ -25,6 +25,7 @@ from scipy.spatial.distance import cdist
 from lfdkit.app.plot import draw_scene
 from lfdkit.core.geometry import segment_polyline_distance
 from lfdkit.emulate import IOC, Capsule, Obstacle, Reward, Scene, metrics, plan_path
+from lfdkit.emulate.planner import UnsafePlanError
 from lfdkit.io import load_scenes, save_scenes
 from lfdkit.model.scene import OBSTACLE_SHAPES, register_shape
 
@@ -161,6 +162,44 @@ def test_the_planner_goes_round_the_end_of_a_rod_across_the_path(horizon) -> Non
     round_only = Scene((Obstacle("marker", 0.5 * (rod.position + rod.end), 0.01),))
     naive = plan_path(reward, straight(), round_only, horizon=horizon, clearance=0.01)
     assert metrics.collisions(naive.points, scene) == 1
+
+
+@pytest.mark.parametrize("q", [2, 3])
+def test_a_clipped_capsule_holds_every_part_of_the_rod_in_the_box(q: int) -> None:
+    rng = np.random.default_rng(10 + q)
+    lower, upper = np.zeros(q), np.ones(q)
+    for _ in range(40):
+        start, end = rng.uniform(-2.0, 3.0, (2, q))
+        rod = Capsule("marker", start, 0.05, end)
+        part = rod.clipped(lower, upper)
+        assert isinstance(part, Capsule)
+        # Independent reference: dense points of the rod's axis; those within the
+        # radius of the box (where the rod can reach into it) lie on the part's axis.
+        axis = dense_segment(start, end, 2001)
+        near = np.all((axis >= lower - 0.05) & (axis <= upper + 0.05), axis=1)
+        for point in axis[near][::50]:
+            assert segment_polyline_distance(part.position, part.end, point[None]) <= 1e-9
+        # The part is a piece of the rod: its ends lie on the axis.
+        for point in (part.position, part.end):
+            assert segment_polyline_distance(start, end, point[None]) <= 1e-9
+
+
+def test_a_kilometre_rod_far_beyond_the_goal_does_not_block_the_plan() -> None:
+    """A 1e6 m rod 4.6 m past the goal: covered whole, its balls were ~2 km wide."""
+    reward = Reward(5.0, {"marker": [2500.0, 2500.0]})
+    rod = Capsule("marker", [5.6, 0.0], 0.03, [5.6 + 1e6, 0.0])
+    assert rod.balls()[1].max() > 1000.0  # why clipping is needed
+    plan = plan_path(reward, straight(), Scene((rod,)), clearance=0.01)
+    assert metrics.clearance(plan.points, Scene((rod,)))[0] == pytest.approx(4.6 - 0.03)
+    assert plan.goal_error < 1e-3
+    # Long rods along the path, 10 cm beside it, are still avoided exactly and tightly.
+    beside = Capsule("marker", [-1e6, 0.1], 0.03, [1e6, 0.1])
+    plan = plan_path(reward, straight(), Scene((beside,)), clearance=0.01)
+    assert metrics.clearance(plan.points, Scene((beside,)))[0] >= 0.01 - 1e-9
+    # One across it still blocks every plan (clipping never makes a plan unsafe).
+    across = Capsule("marker", [0.5, -1e6], 0.03, [0.5, 1e6])
+    with pytest.raises(UnsafePlanError):
+        plan_path(reward, straight(), Scene((across,)), clearance=0.01)
 
 
 def test_a_start_inside_a_rod_is_refused_with_its_name() -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import warnings
 
 import numpy as np
 import pytest
@@ -280,6 +281,27 @@ def test_observations_predict_with_the_tracker_and_a_plugged_model():
 
     still = Obstacle("cup", observed[0], motion=Observations(times, observed, 0.003, Still))
     np.testing.assert_array_equal(still.predict([ahead])[0][0], observed[-1])
+
+
+def test_a_single_observation_is_an_obstacle_standing_where_it_was_seen():
+    """One snapshot: no velocity to track; planned as standing (noise as its σ), with a warning."""
+    with pytest.warns(UserWarning, match="single observation shows no velocity"):
+        motion = Observations([0.2], [[0.1, 0.55]], 0.004)
+    cup = Obstacle("cup", [0.1, 0.55], 0.03, motion=motion)
+    means, covs = cup.predict([0.0, 1.0, 6.0])
+    np.testing.assert_array_equal(means, np.tile([0.1, 0.55], (3, 1)))
+    np.testing.assert_allclose(covs, np.tile(0.004**2 * np.eye(2), (3, 1, 1)))
+    # Scaled (the IOC's normalisation) it stays standing, without a second warning.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scaled = motion.transformed(2.0, np.array([1.0, -1.0]))
+    np.testing.assert_allclose(scaled.predict(None, [3.0])[0], [[0.2, -1.1]])
+    # The default tracker alone would allow ±1 m/s: a plan past it 15 cm away was refused.
+    kf = ConstantVelocityKalman(0.004)
+    kf.update(0.2, [0.1, 0.55])
+    assert 2.0 * np.sqrt(kf.predict([3.0])[1][0, 0, 0]) > 2.0
+    # Two observations are tracked as before.
+    assert not Observations([0.0, 0.1], [[0, 0], [0.01, 0]], 0.004).standing
 
 
 def test_kalman_refuses_bad_input():

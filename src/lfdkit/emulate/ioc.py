@@ -798,9 +798,15 @@ class IOC:
             "; ".join(f"{s['planner']}: {s['reason']}" for s in failed) if failed else "converged"
         )
         for label in self.not_learned_:
+            why = (
+                f"obstacle {label!r} is never near any demonstration; its class cannot be "
+                "learned from these demonstrations"
+                if label in far and reach[label] is not None
+                else f"obstacle class {label!r} was not learned: none of its obstacles "
+                "influenced a demonstration"
+            )
             warnings.warn(
-                f"obstacle class {label!r} was not learned: none of its obstacles influenced "
-                "a demonstration; planning a scene with it is refused unless a reward for it "
+                f"{why}; planning a scene with it is refused unless a reward for it "
                 "is adopted (e.g. Skill.adopt)",
                 UserWarning,
                 stacklevel=3,

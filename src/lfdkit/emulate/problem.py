@@ -362,7 +362,12 @@ class Problem:
             raise ValueError(f"scene: {anchors.shape[1]}-D obstacles for a {q}-D nominal path")
         hard_radius = hard_centres = None
         if clearance is not None and len(scene):
-            hard_centres, radii, owner = scene.balls()
+            # Offsets move at most max_slope·step per point, so no plan leaves the
+            # corridor's box grown by this reach: a long shape is covered only there
+            # (a 1 km rod's balls would otherwise be metres wide; the final check is exact).
+            reach = max_slope * corridor.step * corridor.n_points + float(np.max(clearance))
+            box = (corridor.points.min(axis=0) - reach, corridor.points.max(axis=0) + reach)
+            hard_centres, radii, owner = scene.balls(within=box)
             # An obstacle of radius 0 has a barrier only with a clearance, as a point.
             extra = np.broadcast_to(np.asarray(clearance, dtype=np.float64), (len(scene),))[owner]
             hard_radius = np.where(scene.radii[owner] + extra > 0.0, radii + extra, 0.0)

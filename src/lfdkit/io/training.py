@@ -142,6 +142,13 @@ def read_training_data(
                     f"{os.fspath(scenes_path)}: demo {key!r}: {scene.positions.shape[1]}-D "
                     f"obstacles for a {demo.shape[1]}-D demonstration"
                 )
+            if scene.moving:  # named by its file and demo (Skill.fit_reward says why)
+                i = next(i for i, o in enumerate(scene) if o.moving)
+                raise ValueError(
+                    f"{os.fspath(scenes_path)}: demo {key!r}: obstacle {i} "
+                    f"({scene.labels[i]!r}) moves; the reward is learned from standing "
+                    "obstacles only: give where it stood during the demonstration"
+                )
             data.around_obstacles.append(record)
     if len(data.clean) < 2:
         raise ValueError(

@@ -38,6 +38,7 @@ prediction at every control step (a few microseconds here).
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
@@ -188,6 +189,13 @@ class Observations(Motion):
     observation is the last state's extrapolated backwards (what a controller
     that knows only the latest estimate would use).
 
+    A single observation shows no velocity: the default tracker's prior
+    (0.5 m/s either way) would grow the allowance by a metre per second and
+    block every plan, so the obstacle is taken as *standing* where it was
+    seen, with the observation noise as its uncertainty, and a warning says
+    so (a snapshot of a cup is what a static scene is). A plugged ``model``
+    is used as given.
+
     Parameters
     ----------
     times : array_like, shape (n,)
@@ -216,6 +224,18 @@ class Observations(Motion):
         self.noise = noise
         self.model = model
         self._tracker: Tracker | None = None
+        if self.standing:
+            warnings.warn(
+                "observations: a single observation shows no velocity; the obstacle is "
+                "planned as standing where it was seen (its noise the uncertainty); give "
+                "two or more observations to track its motion",
+                stacklevel=2,
+            )
+
+    @property
+    def standing(self) -> bool:
+        """Whether the obstacle is taken as standing (one observation, the default tracker)."""
+        return self.times.size == 1 and self.model is None
 
     def tracker(self) -> Tracker:
         """The tracker after every observation (built once)."""
@@ -228,12 +248,20 @@ class Observations(Motion):
         return self._tracker
 
     def predict(self, origin: np.ndarray, times: Any) -> tuple[np.ndarray, np.ndarray]:
-        return self.tracker().predict(_times(times))
+        t = _times(times)
+        if self.standing:
+            q = self.positions.shape[1]
+            return np.repeat(self.positions[:1], t.size, axis=0), np.repeat(
+                self.noise**2 * np.eye(q)[None], t.size, axis=0
+            )
+        return self.tracker().predict(t)
 
     def transformed(self, factor: float, flip: np.ndarray) -> Observations:
-        return Observations(
-            self.times, factor * flip * self.positions, factor * self.noise, self.model
-        )
+        with warnings.catch_warnings():  # said once, when the observations came in
+            warnings.simplefilter("ignore")
+            return Observations(
+                self.times, factor * flip * self.positions, factor * self.noise, self.model
+            )
 
     def __repr__(self) -> str:
         return f"Observations(<{self.times.size} samples>, noise={self.noise:g})"

@@ -171,6 +171,15 @@ class Obstacle:
         """Balls containing the obstacle: centres (k, q) and radii (k,) — itself."""
         return self.position[None], np.array([self.radius])
 
+    def clipped(self, lower: np.ndarray, upper: np.ndarray) -> Obstacle:
+        """An obstacle that holds every part of this one lying in the box ``[lower, upper]``.
+
+        The planner covers only this part with :meth:`balls` (points outside
+        the box cannot be reached), so a long shape's balls stay small; a
+        shape that is small anyway returns itself (the default).
+        """
+        return self
+
     def distance(self, path: np.ndarray) -> float:
         """Smallest distance from a polyline ``(n, q)`` to the surface; negative inside."""
         return float(polyline_distances(self.position[None], path)[0]) - self.radius
@@ -289,6 +298,32 @@ class Capsule(Obstacle):
         centres = self._axis_points(max(0.5 * self.radius, self.length / 256.0))
         gap = float(np.linalg.norm(centres[1] - centres[0]))
         return centres, np.full(centres.shape[0], float(np.hypot(self.radius, 0.5 * gap)))
+
+    def clipped(self, lower: np.ndarray, upper: np.ndarray) -> Capsule:
+        # The axis clipped to the box grown by the radius (Liang–Barsky): every
+        # point of the rod inside the box lies within the radius of that part.
+        lower, upper = (
+            np.asarray(lower, float) - self.radius,
+            np.asarray(upper, float) + self.radius,
+        )
+        axis = self.end - self.position
+        enter, leave = 0.0, 1.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            to_lower, to_upper = (lower - self.position) / axis, (upper - self.position) / axis
+        for k in range(axis.size):
+            if axis[k] == 0.0:
+                if not lower[k] <= self.position[k] <= upper[k]:
+                    enter, leave = 1.0, 0.0  # parallel to the box and outside it
+                continue
+            near, far = sorted((float(to_lower[k]), float(to_upper[k])))
+            enter, leave = max(enter, near), min(leave, far)
+        if enter > leave:  # nothing in the box: keep one end, as a ball (still part of the rod)
+            enter = leave = 0.0
+        if enter <= 0.0 and leave >= 1.0:
+            return self
+        return replace(
+            self, position=self.position + enter * axis, end=self.position + leave * axis
+        )
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         ends = np.stack([self.position, self.end])
@@ -530,11 +565,21 @@ class Scene:
         owner = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
         return np.concatenate(parts), owner
 
-    def balls(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Every obstacle's covering balls: centres (K, q), radii (K,), obstacle index (K,)."""
+    def balls(
+        self, within: tuple[np.ndarray, np.ndarray] | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every obstacle's covering balls: centres (K, q), radii (K,), obstacle index (K,).
+
+        ``within``, a box ``(lower, upper)`` of shape (q,) each: cover only
+        each static obstacle's part in that box (:meth:`Obstacle.clipped`), for
+        a planner whose paths cannot leave it; a moving obstacle is covered whole.
+        """
         if not self.obstacles:
             return np.zeros((0, 0)), np.zeros(0), np.zeros(0, dtype=np.intp)
-        parts = [o.balls() for o in self.obstacles]
+        parts = [
+            (o if within is None or o.moving else o.clipped(*within)).balls()
+            for o in self.obstacles
+        ]
         owner = np.repeat(np.arange(len(parts)), [c.shape[0] for c, _ in parts])
         return (
             np.concatenate([c for c, _ in parts]),

@@ -553,6 +553,30 @@ def test_imports_refuse_what_learning_would_refuse_with_its_message() -> None:
     spaced = b"demo,x,y\nmy demo,0,0\nmy demo,0.1,0\nmy demo,0.2,0\n"
     answer = client.post("/api/import/demos?format=csv", content=spaced, headers=headers)
     assert_readable(answer, 400, r"^demos\[0\]\.id: 'my demo' is not a plain name")
+    # Millimetres (the sweeping example × 1000): refused at import, naming the unit, with
+    # the message the page's learning gives for the same points (lfdkit learn: --units mm).
+    from lfdkit.app.teach.session import RequestError, parse_teach_data
+    from lfdkit.io import load_demos
+    from lfdkit.tasks.sweeping import example_files
+
+    demos, ids = load_demos(example_files()["demos"], return_ids=True)
+    rows = [
+        f"{key},{float(x) * 1e3!r},{float(y) * 1e3!r}"
+        for d, key in zip(demos, ids, strict=True)
+        for x, y in d
+    ]
+    millimetres = ("demo,x,y\n" + "\n".join(rows) + "\n").encode()
+    answer = client.post("/api/import/demos?format=csv", content=millimetres, headers=headers)
+    message = (
+        r"^demos\[0\]\.points\[0\]\[0\]: expected a number within ±100 \(metres from the "
+        r"robot's base\), got -400; the page works in metres: convert a file in millimetres, "
+        r"or learn from it with lfdkit learn --units mm$"
+    )
+    assert_readable(answer, 400, message)
+    drawing_mm = {"demos": [{"id": ids[0], "points": (1e3 * demos[0]).tolist()}]}
+    with pytest.raises(RequestError) as refused:
+        parse_teach_data(drawing_mm)
+    assert str(refused.value) == answer.json()["error"]
     big = b"demo,class,x,y,radius\nd1,cup,0.1,0.4,2.5\n"
     answer = client.post("/api/import/scenes?format=csv", content=big, headers=headers)
     assert_readable(answer, 400, r"^obstacles\[0\]\.radius: expected 0 to ")

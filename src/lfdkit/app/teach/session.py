@@ -146,7 +146,15 @@ def parse_point(value: Any, name: str) -> np.ndarray:
     if len(items) != 2:
         raise RequestError(f"{name}: expected [x, y], got {len(items)} numbers")
     bound = LIMITS["max_coordinate"]
-    return np.array([_number(v, f"{name}[{i}]", bound) for i, v in enumerate(items)])
+    point = np.array([_number(v, f"{name}[{i}]") for i, v in enumerate(items)])
+    far = np.flatnonzero(np.abs(point) > bound)
+    if far.size:  # most often a file in millimetres: say so (lfdkit learn has --units)
+        raise RequestError(
+            f"{name}[{far[0]}]: expected a number within ±{bound:g} (metres from the robot's "
+            f"base), got {point[far[0]]:g}; the page works in metres: convert a file in "
+            "millimetres, or learn from it with lfdkit learn --units mm"
+        )
+    return point
 
 
 def parse_obstacles(value: Any, name: str = "obstacles") -> list[tuple[str, Any]]:
