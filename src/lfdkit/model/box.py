@@ -120,7 +120,7 @@ class Box(Obstacle):
     def from_yaw(
         cls, label: str, position: Any, size: Any, yaw: float = 0.0, radius: float = 0.0
     ) -> Box:
-        """A box turned by ``yaw`` (rad, anticlockwise) about ``z``: a 2-D box, a carton on a table."""
+        """A box turned by ``yaw`` (rad, anticlockwise) about ``z``: a 2-D box."""
         half = 0.5 * float(yaw)
         return cls(label, position, radius, size, [0.0, 0.0, np.sin(half), np.cos(half)])
 
