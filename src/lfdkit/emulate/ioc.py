@@ -199,6 +199,17 @@ INFLUENCE_FLOOR = 1e-6
 STATIONARY_GRADIENT = 1e-5
 #: A parameter whose relative standard error exceeds this is reported as not identified.
 IDENTIFIED_ERROR = 0.5
+#: The MPC refinement stops after this many evaluations in a row without a lower loss
+#: (see :func:`lbfgs_stage`); L-BFGS-B's failed line search takes 20.
+STALL_EVALUATIONS = 6
+#: ... where "lower" means lower by this fraction (0.1 %: the refinement's resolution).
+STALL_IMPROVEMENT = 1e-3
+#: A trial loss this fraction above the best: it landed beyond a jump of the loss.
+JUMP_FRACTION = 0.01
+
+
+class _Stalled(Exception):
+    """Raised inside L-BFGS-B's objective to stop a run that no longer improves."""
 
 
 def prepare_demos(demos: Any, scenes: Any, nominal: Any, n_points: int) -> list[DemoInScene]:
@@ -288,6 +299,7 @@ class TrainingLoss:
         self.classes = tuple(classes)
         self.max_slope = max_slope
         self.n_dims = data[0].corridor.n_dims
+        self._classes_of: dict[int, tuple[Scene, np.ndarray]] = {}  # per scene, at every call
 
     def reward(self, theta: np.ndarray) -> Reward:
         """The reward of ``θ``."""
@@ -346,6 +358,13 @@ class TrainingLoss:
 
     def _class_of(self, scene: Scene) -> np.ndarray:
         """Class index of each reward anchor of ``scene`` (the problem's obstacles)."""
+        cached = self._classes_of.get(id(scene))
+        if cached is None or cached[0] is not scene:
+            cached = (scene, self._anchor_classes(scene))
+            self._classes_of[id(scene)] = cached
+        return cached[1]
+
+    def _anchor_classes(self, scene: Scene) -> np.ndarray:
         of_obstacle = np.array([self.classes.index(label) for label in scene.labels], int)
         return of_obstacle[scene.anchors()[1]] if len(scene) else of_obstacle
 
@@ -411,6 +430,7 @@ def lbfgs_stage(
     label: str = "",
     progress: ProgressLike = None,
     description: str | None = None,
+    stall_after: int | None = None,
 ) -> tuple[np.ndarray, dict]:
     """One bounded L-BFGS-B run on ``θ``; the stage record says honestly whether it converged.
 
@@ -429,6 +449,15 @@ def lbfgs_stage(
         Counts the iterations, with the loss (:func:`lfdkit.core.progress.as_progress`).
     description : str, optional
         The progress stage's label (default ``"IOC <label>"``).
+    stall_after : int, optional
+        Stop after this many evaluations in a row without a loss lower than
+        the best so far by ``STALL_IMPROVEMENT`` (relative), and return the
+        best (None: L-BFGS-B's own stops only). Where the loss jumps
+        (receding-horizon plans switching local optimum) the line search
+        tries ever smaller steps, each a little lower than the last, 20
+        evaluations per failed search. Such a stop is convergence to
+        ``STALL_IMPROVEMENT`` (a relative reduction test, as L-BFGS-B's
+        ``ftol`` per iteration); the reason counts the trials above a jump.
 
     Returns
     -------
@@ -440,36 +469,83 @@ def lbfgs_stage(
         stationary point (projected gradient above ``STATIONARY_GRADIENT``),
         the iteration limit, or a parameter at a bound of ``THETA_BOUNDS``.
     """
-    from scipy.optimize import minimize  # here: lfdkit.emulate loads fast
+    from scipy.optimize import OptimizeResult, minimize  # here: lfdkit.emulate loads fast
 
     history_last = [np.nan]
     run_started = time.perf_counter()
     text = f"IOC {label}" if description is None else description
+    best: dict[str, Any] = {"value": np.inf, "theta": np.asarray(theta0, float), "grad": None}
+    since_best: list[float] = []  # losses evaluated since the best
+    iterations = [0]
     with as_progress(progress).stage(text, unit="iteration") as stage:
 
         def callback(*_: Any) -> None:
-            stage.advance(detail=f"loss {history_last[0]:.4g}")
+            iterations[0] += 1
+            per = (time.perf_counter() - run_started) / iterations[0]
+            stage.advance(detail=f"loss {history_last[0]:.4g}, {per:.2g} s per iteration")
 
         def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = fun(theta)
             history_last[0] = value
+            # Lower by STALL_IMPROVEMENT at least: the tiny steps the line search
+            # takes back from a jump, each a little lower, are not progress.
+            if np.isfinite(value) and (
+                best["grad"] is None
+                or value < best["value"] - STALL_IMPROVEMENT * abs(best["value"])
+            ):
+                best.update(value=value, theta=np.array(theta, float), grad=np.array(grad, float))
+                since_best.clear()
+            else:
+                since_best.append(value)
+                if stall_after is not None and len(since_best) >= stall_after:
+                    raise _Stalled
             return value, grad
 
-        result = minimize(
-            wrapped,
-            theta0,
-            jac=True,
-            method="L-BFGS-B",
-            bounds=[THETA_BOUNDS] * theta0.size,
-            callback=callback,
-            options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
-        )
+        try:
+            result = minimize(
+                wrapped,
+                theta0,
+                jac=True,
+                method="L-BFGS-B",
+                bounds=[THETA_BOUNDS] * theta0.size,
+                callback=callback,
+                options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
+            )
+            stalled = False
+        except _Stalled:
+            stalled = True
+            result = OptimizeResult(
+                x=best["theta"],
+                fun=best["value"],
+                jac=best["grad"],
+                nit=iterations[0],
+                status=2,
+                success=False,
+                message=f"STOP: {stall_after} EVALUATIONS WITHOUT A LOWER LOSS",
+            )
     theta = np.asarray(result.x, float)
     converged, reason = bool(result.success), stated_reason(result)
+    if stalled:
+        above = np.asarray(since_best, float)
+        jumps = int(np.sum(above > best["value"] * (1.0 + JUMP_FRACTION)))
+        converged = bool(np.all(np.isfinite(above)))
+        reason = (
+            f"converged to {STALL_IMPROVEMENT:.1%}: {stall_after} evaluations in a row lowered "
+            f"the loss by less than that after {iterations[0]} iterations (largest gradient "
+            f"component {float(np.max(np.abs(result.jac))):.3g}"
+            + (
+                f"; {jumps} trial steps landed above a jump of the loss, where a plan "
+                "switches to another local optimum)"
+                if jumps
+                else ")"
+            )
+            if converged
+            else f"a non-finite loss at a trial step after {iterations[0]} iterations"
+        )
     at_bound = np.flatnonzero((theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6))
     if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
         converged, reason = False, "non-finite loss or gradient"
-    elif not converged and result.status == 2:
+    elif not converged and result.status == 2 and not stalled:
         # A failed line search at a point stationary to the accuracy of the
         # inner plans is the optimum; anywhere else it is a failure.
         jac = np.asarray(result.jac, float)
@@ -877,7 +953,12 @@ class IOC:
         return TrainingLoss(data, self.classes_, self.max_slope)
 
     def _lbfgs(
-        self, fun: Callable, theta0: np.ndarray, name: str, description: str
+        self,
+        fun: Callable,
+        theta0: np.ndarray,
+        name: str,
+        description: str,
+        stall_after: int | None = None,
     ) -> tuple[np.ndarray, dict]:
         """One bounded L-BFGS run (:func:`lbfgs_stage`), its loss in the data's units²."""
         theta, stage = lbfgs_stage(
@@ -889,6 +970,7 @@ class IOC:
             label=name,
             progress=self._progress,
             description=description,
+            stall_after=stall_after,
         )
         stage["loss"] = stage["loss"] * self._scale * self.length_scale_**2
         return theta, stage
@@ -949,9 +1031,10 @@ class IOC:
         """One L-BFGS run: its loss (plans started from the demos), θ, stage record, history."""
         warm = self._demo_offsets(data)
         run_history: list[float] = []
+        training_loss = self._training_loss(data)  # one, so its per-scene caches last the run
 
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
-            value, grad = self._training_loss(data).full_horizon(theta, warm)
+            value, grad = training_loss.full_horizon(theta, warm)
             if self.gradient == "finite_difference":
                 grad = _finite_difference(
                     lambda t: self._training_loss(data).full_horizon(t, [w.copy() for w in warm])[
@@ -1054,8 +1137,10 @@ class IOC:
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
     ) -> np.ndarray:
+        training_loss = self._training_loss(data)
+
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
-            loss, grad = self._training_loss(data).mpc(value, int(self.horizon))
+            loss, grad = training_loss.mpc(value, int(self.horizon))
             if self.gradient == "finite_difference":
                 grad = _finite_difference(
                     lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
@@ -1064,7 +1149,9 @@ class IOC:
             return loss / self._scale, grad / self._scale
 
         name = f"MPC H={int(self.horizon)}"
-        theta, stage = self._lbfgs(fun, theta, name, f"IOC {name}: refining")
+        theta, stage = self._lbfgs(
+            fun, theta, name, f"IOC {name}: refining", stall_after=STALL_EVALUATIONS
+        )
         self.stages_.append(stage)
         return theta
 

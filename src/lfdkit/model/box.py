@@ -38,6 +38,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
@@ -130,11 +131,11 @@ class Box(Obstacle):
         """Half edge lengths, shape (q,)."""
         return 0.5 * self.size
 
-    @property
+    @cached_property
     def axes(self) -> np.ndarray:
         """The box's axes as the columns of a rotation matrix, shape (q, q)."""
         q = self.n_dims
-        return matrix_from_quaternion(self.orientation)[:q, :q]
+        return _read_only(matrix_from_quaternion(self.orientation)[:q, :q])
 
     def to_local(self, points: np.ndarray) -> np.ndarray:
         """Points (n, q) in the box's frame (its centre at the origin, its edges along the axes)."""
@@ -164,12 +165,23 @@ class Box(Obstacle):
         return self.position + local @ self.axes.T, halves
 
     # ------------------------------------------------------------ the contract
+    # The IOC asks for the anchors at every evaluation of its loss: computed once
+    # (the box is immutable) and handed out read-only.
     def anchors(self) -> np.ndarray:
-        return self._grid(1.0, MAX_ANCHORS_PER_EDGE)[0]
+        return self._anchors
 
     def balls(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._balls
+
+    @cached_property
+    def _anchors(self) -> np.ndarray:
+        return _read_only(self._grid(1.0, MAX_ANCHORS_PER_EDGE)[0])
+
+    @cached_property
+    def _balls(self) -> tuple[np.ndarray, np.ndarray]:
         centres, halves = self._grid(3.0, MAX_BALLS_PER_EDGE)
-        return centres, np.full(centres.shape[0], float(np.linalg.norm(halves)) + self.radius)
+        radii = np.full(centres.shape[0], float(np.linalg.norm(halves)) + self.radius)
+        return _read_only(centres), _read_only(radii)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         corners = self.corners()
@@ -250,6 +262,12 @@ class Box(Obstacle):
 
 
 register_shape(Box)
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array = np.array(array, dtype=np.float64)
+    array.setflags(write=False)
+    return array
 
 
 def _local_signed_distance(local: np.ndarray, half: np.ndarray) -> np.ndarray:
