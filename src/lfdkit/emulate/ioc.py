@@ -35,6 +35,7 @@ converged only when its optimiser says so (see :class:`IOC`).
 
 from __future__ import annotations
 
+import itertools
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -206,6 +207,72 @@ STALL_EVALUATIONS = 6
 STALL_IMPROVEMENT = 1e-3
 #: A trial loss this fraction above the best: it landed beyond a jump of the loss.
 JUMP_FRACTION = 0.01
+
+
+#: Physically plausible rewards, in the fit's normalised units (lengths divided by
+#: the nominal's extent ℓ): a response width (precision^-1/2) between 1/1000 of ℓ
+#: (a tool's size) and 10 ℓ; widths of one class along two axes within a factor
+#: 100 (issue 34 met 3 mm against 15 m); a nominal weight Q' within 1e-3 … 1e6 (it
+#: met 3.5e-6 /m²: a path held by nothing). Outside, the loss has soft walls.
+PLAUSIBLE_WIDTHS = (1e-3, 10.0)
+PLAUSIBLE_ANISOTROPY = 100.0
+PLAUSIBLE_WEIGHTS = (1e-3, 1e6)
+#: Weight of the walls: leaving a range by a factor e costs as much as replaying
+#: the nominal (the loss is scaled to about 1); inside every range they cost nothing.
+PLAUSIBILITY_WEIGHT = 1.0
+
+
+def plausibility_penalty(theta: np.ndarray, n_dims: int) -> tuple[float, np.ndarray]:
+    """Soft walls round the plausible ranges of ``θ'`` (normalised units): value and gradient.
+
+    ``θ' = [log Q', log p' per class and axis]``; the wall is the squared excess
+    of each log-parameter beyond its range (and of each class's log-precision
+    ratio beyond ``PLAUSIBLE_ANISOTROPY²``), times ``PLAUSIBILITY_WEIGHT``.
+    Zero inside every range, so fits that stay plausible are unchanged.
+    """
+    theta = np.asarray(theta, dtype=np.float64)
+    grad = np.zeros_like(theta)
+    value = 0.0
+
+    def wall(index: np.ndarray, x: float, low: float, high: float, sign: np.ndarray) -> None:
+        nonlocal value
+        excess = max(x - high, 0.0) - max(low - x, 0.0)
+        value += excess**2
+        grad[index] += 2.0 * excess * sign
+
+    wall(np.array([0]), theta[0], *np.log(PLAUSIBLE_WEIGHTS), np.ones(1))
+    low_p, high_p = -2.0 * np.log(PLAUSIBLE_WIDTHS[1]), -2.0 * np.log(PLAUSIBLE_WIDTHS[0])
+    ratio = 2.0 * np.log(PLAUSIBLE_ANISOTROPY)
+    for start in range(1, theta.size, n_dims):
+        axes = np.arange(start, start + n_dims)
+        for i in axes:
+            wall(np.array([i]), theta[i], low_p, high_p, np.ones(1))
+        for i, j in itertools.combinations(axes, 2):
+            wall(np.array([i, j]), theta[i] - theta[j], -ratio, ratio, np.array([1.0, -1.0]))
+    return PLAUSIBILITY_WEIGHT * value, PLAUSIBILITY_WEIGHT * grad
+
+
+def implausible(theta: np.ndarray, n_dims: int, names: Sequence[str]) -> list[str]:
+    """What of ``θ'`` (normalised units) lies outside the plausible ranges, in words."""
+    out = []
+    q_low, q_high = PLAUSIBLE_WEIGHTS
+    if not q_low <= np.exp(theta[0]) <= q_high:
+        out.append(f"Q' = {np.exp(theta[0]):.3g} (normalised; plausible {q_low:g} to {q_high:g})")
+    for start in range(1, theta.size, n_dims):
+        widths = np.exp(-0.5 * theta[start : start + n_dims])
+        for i, width in enumerate(widths):
+            if not PLAUSIBLE_WIDTHS[0] <= width <= PLAUSIBLE_WIDTHS[1]:
+                out.append(
+                    f"{names[start + i]}: response width {width:.3g} of the nominal's extent "
+                    f"(plausible {PLAUSIBLE_WIDTHS[0]:g} to {PLAUSIBLE_WIDTHS[1]:g})"
+                )
+        if widths.max() > PLAUSIBLE_ANISOTROPY * widths.min():
+            label = names[start][2:].rsplit("][", 1)[0]
+            out.append(
+                f"the {label}'s response is {widths.max() / widths.min():.3g} times wider "
+                f"along one axis than along another (plausible up to {PLAUSIBLE_ANISOTROPY:g})"
+            )
+    return out
 
 
 class _Stalled(Exception):
@@ -701,10 +768,17 @@ class IOC:
         Per stage: planner, iterations, loss, seconds, message, converged.
     converged_ : bool
         False when an optimiser of the kept runs failed (line search failure
-        away from a stationary point, iteration limit, non-finite loss) or a
-        learned parameter sits at its bound.
+        away from a stationary point, iteration limit, non-finite loss), a
+        learned parameter sits at its bound, or the reward is degenerate.
     convergence_message_ : str
-        Why (not) converged.
+        Why (not) converged, never empty; for a degenerate reward what is
+        implausible and what to do.
+    degenerate_ : list of str
+        What of the learned reward lies outside the physically plausible
+        ranges (``PLAUSIBLE_WIDTHS``, ``PLAUSIBLE_ANISOTROPY``,
+        ``PLAUSIBLE_WEIGHTS``, relative to the nominal's extent), in words;
+        empty for a plausible one. The fit's loss has soft walls there
+        (:func:`plausibility_penalty`), so only data that insist end outside.
     identifiability_ : dict
         Per parameter name (``"Q"``, ``"P[<class>][<axis>]"``): ``curvature``
         (second derivative of the training loss scaled to about 1, in θ),
@@ -869,10 +943,17 @@ class IOC:
         self.loss_history_ = [value * length**2 for value in history]
         self.loss_ = float(self.stages_[-1]["loss"])
         failed = [s for s in self.stages_ if not s.get("converged", True)]
-        self.converged_ = not failed
-        self.convergence_message_ = (
-            "; ".join(f"{s['planner']}: {s['reason']}" for s in failed) if failed else "converged"
-        )
+        self.degenerate_ = implausible(theta, self._q, self._theta_names())
+        self.converged_ = not failed and not self.degenerate_
+        reasons = [f"{s['planner']}: {s['reason']}" for s in failed]
+        if self.degenerate_:
+            reasons.append(
+                "degenerate reward, outside the physically plausible ranges: "
+                + "; ".join(self.degenerate_)
+                + "; show demonstrations that pass the obstacles at several distances, or "
+                "give init= a plausible reward"
+            )
+        self.convergence_message_ = "; ".join(reasons) if reasons else "converged"
         for label in self.not_learned_:
             warnings.warn(
                 f"obstacle class {label!r} was not learned: none of its obstacles influenced "
@@ -1043,7 +1124,8 @@ class IOC:
                     theta,
                 )
             run_history.append(value)
-            return value / self._scale, grad / self._scale
+            wall, wall_grad = plausibility_penalty(theta, self._q)
+            return value / self._scale + wall, grad / self._scale + wall_grad
 
         theta, stage = self._lbfgs(fun, theta0, "full horizon", description)
         # Rank runs by the loss of plans started from the demonstrations, the
@@ -1146,7 +1228,8 @@ class IOC:
                     lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
                 )
             history.append(loss)
-            return loss / self._scale, grad / self._scale
+            wall, wall_grad = plausibility_penalty(value, self._q)
+            return loss / self._scale + wall, grad / self._scale + wall_grad
 
         name = f"MPC H={int(self.horizon)}"
         theta, stage = self._lbfgs(
