@@ -542,7 +542,8 @@ def lbfgs_stage(
     run_started = time.perf_counter()
     text = f"IOC {label}" if description is None else description
     best: dict[str, Any] = {"value": np.inf, "theta": np.asarray(theta0, float), "grad": None}
-    since_best: list[float] = []  # losses evaluated since the best
+    since_best: list[float] = []  # losses evaluated since the last progress
+    reference = [np.inf]  # the loss at the last progress
     iterations = [0]
     with as_progress(progress).stage(text, unit="iteration") as stage:
 
@@ -554,13 +555,16 @@ def lbfgs_stage(
         def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = fun(theta)
             history_last[0] = value
-            # Lower by STALL_IMPROVEMENT at least: the tiny steps the line search
-            # takes back from a jump, each a little lower, are not progress.
-            if np.isfinite(value) and (
-                best["grad"] is None
-                or value < best["value"] - STALL_IMPROVEMENT * abs(best["value"])
-            ):
+            if np.isfinite(value) and (best["grad"] is None or value < best["value"]):
                 best.update(value=value, theta=np.array(theta, float), grad=np.array(grad, float))
+            # Progress is a loss lower by STALL_IMPROVEMENT than where the count
+            # began: the tiny steps the line search takes back from a jump, each
+            # a little lower, are not.
+            if np.isfinite(value) and (
+                not np.isfinite(reference[0])
+                or value < reference[0] - STALL_IMPROVEMENT * abs(reference[0])
+            ):
+                reference[0] = value
                 since_best.clear()
             else:
                 since_best.append(value)
