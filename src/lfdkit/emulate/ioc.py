@@ -1089,8 +1089,12 @@ class IOC:
             }
         )
         best = None
+        runs_started = time.perf_counter()
         for r, theta0 in enumerate(starts):
             text = f"IOC full horizon: run {r + 1} of {len(starts)}"
+            if r:  # the runs so far say how long the rest will take
+                left = (time.perf_counter() - runs_started) / r * (len(starts) - r)
+                text += f" (about {left:.0f} s left for the runs)"
             run = self._full_horizon_run(theta0, coarse, text)
             if best is None or run[0] < best[0]:
                 best = run
