@@ -24,7 +24,8 @@ plan from the held-out start to the goal in its scene, with the
 person's clearance of 1 cm. Reported: the mean distance (cm) from the plan
 to the held-out person along the nominal's normals, the same for the DMP
 alone (the straight nominal), the side of each box the plan passes on against
-the person's, collisions, the plan's clearance against the person's, fit
+the person's (for each box the person passes within 15 cm of, or the DMP
+within 5 cm of), collisions, the plan's clearance against the person's, fit
 seconds and whether the fit converged (with its reason).
 """
 
@@ -145,7 +146,11 @@ def run_fold(data: dict, held: int, scale: float) -> dict:
     row["dmp_collisions"] = metrics.collisions(nominal, scene)
     row["clearance_cm"] = float(metrics.clearance(points, scene).min()) / scale * 100
     row["person_clearance_cm"] = float(metrics.clearance(person, scene).min()) / scale * 100
-    encounters = [b for b in scene if b.distance(person) < 0.10 * scale]
+    # A box encounter: a box the person passes within 15 cm of, or the DMP alone
+    # within 5 cm of (a box in the way).
+    encounters = [
+        b for b in scene if b.distance(person) < 0.15 * scale or b.distance(nominal) < 0.05 * scale
+    ]
     same = [
         float(passing_side(points, nominal, b) @ passing_side(person, nominal, b)) > 0
         for b in encounters
