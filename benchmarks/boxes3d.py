@@ -132,7 +132,7 @@ def run_fold(data: dict, held: int, scale: float) -> dict:
         "convergence": ioc.convergence_message_,
         "warnings": [str(w.message) for w in caught],
         "Q_per_m2": ioc.reward_.nominal_weight * scale**2,
-        "precision_per_m2": (np.asarray(ioc.reward_.precisions["box"]) * scale**2).tolist(),
+        "precision_per_m2": (np.diag(ioc.reward_.precisions["box"]) * scale**2).tolist(),
     }
     try:
         plan = plan_path(ioc.reward_, nominal, scene, horizon=8, clearance=CLEARANCE * scale)
