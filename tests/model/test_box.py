@@ -189,9 +189,7 @@ def test_scene_files_keep_boxes_to_the_bit(tmp_path_factory, data, q, suffix) ->
 
 def test_box_files_read_by_hand_and_refused_with_names(tmp_path) -> None:
     path = tmp_path / "s.csv"
-    path.write_text(
-        "class,x,y,shape,size_x,size_y,qx,qy,qz,qw\ncarton,0.5,0,box,0.2,0.1,0,0,0,1\n"
-    )
+    path.write_text("class,x,y,shape,size_x,size_y,qx,qy,qz,qw\ncarton,0.5,0,box,0.2,0.1,0,0,0,1\n")
     (box,) = load_scenes(path)[0]
     assert isinstance(box, Box) and box.distance(np.array([[0.5, 0.2]])) == pytest.approx(0.15)
     path.write_text("class,x,y,shape,size_x,size_y\ncarton,0.5,0,box,0.2,0.1\n")
