@@ -27,6 +27,11 @@ Geometry
   each of the cell's half-diagonal plus ``radius``: their union contains
   the box, overhanging a cube's faces by at most 24 % of its half-edge.
 
+Limit: the planner's hard barrier (and its refusal of a start inside) is
+keyed on ``radius + clearance > 0`` for every shape, so a sharp box (radius
+0) is a hard obstacle only when the plan has a clearance (the tool's size);
+the metrics measure it exactly either way.
+
 Files: the fields ``size`` (a point: ``size_x, size_y[, size_z]`` in CSV)
 and ``qx, qy, qz, qw`` (numbers); e.g. ``{"class": "carton", "shape":
 "box", "position": [0.5, 0.0, 0.1], "size": [0.2, 0.1, 0.2], "qx": 0,
