@@ -493,10 +493,13 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
         color = palette[obstacle.label]
         label = None if obstacle.label in labelled else obstacle.label
         labelled.add(obstacle.label)
-        if obstacle.radius > 0:
+        outline = obstacle.outline()
+        x, y = outline.T
+        if obstacle.radius > 0 or abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1))) > 0:
+            # A radius, or an outline with an area (a sharp box): drawn as a solid.
             ax.add_patch(
                 Polygon(
-                    obstacle.outline(),
+                    outline,
                     closed=True,
                     facecolor=color,
                     edgecolor="k",

@@ -26,10 +26,12 @@ from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_path
 from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
 from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
+from lfdkit.model.box import Box
 from lfdkit.model.scene import Capsule, Obstacle, Scene
 
 __all__ = [
     "IOC",
+    "Box",
     "Capsule",
     "Corridor",
     "Obstacle",

@@ -35,6 +35,7 @@ converged only when its optimiser says so (see :class:`IOC`).
 
 from __future__ import annotations
 
+import itertools
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -199,6 +200,83 @@ INFLUENCE_FLOOR = 1e-6
 STATIONARY_GRADIENT = 1e-5
 #: A parameter whose relative standard error exceeds this is reported as not identified.
 IDENTIFIED_ERROR = 0.5
+#: The MPC refinement stops after this many evaluations in a row without a lower loss
+#: (see :func:`lbfgs_stage`); L-BFGS-B's failed line search takes 20.
+STALL_EVALUATIONS = 6
+#: ... where "lower" means lower by this fraction (0.1 %: the refinement's resolution).
+STALL_IMPROVEMENT = 1e-3
+#: A trial loss this fraction above the best: it landed beyond a jump of the loss.
+JUMP_FRACTION = 0.01
+
+
+#: Physically plausible rewards, in the fit's normalised units (lengths divided by
+#: the nominal's extent ℓ): a response width (precision^-1/2) between 1/1000 of ℓ
+#: (a tool's size) and 10 ℓ; widths of one class along two axes within a factor
+#: 100 (issue 34 met 3 mm against 15 m); a nominal weight Q' within 1e-3 … 1e6 (it
+#: met 3.5e-6 /m²: a path held by nothing). Outside, the loss has soft walls.
+PLAUSIBLE_WIDTHS = (1e-3, 10.0)
+PLAUSIBLE_ANISOTROPY = 100.0
+PLAUSIBLE_WEIGHTS = (1e-3, 1e6)
+#: Weight of the walls: leaving a range by a factor e costs as much as replaying
+#: the nominal (the loss is scaled to about 1); inside every range they cost nothing.
+PLAUSIBILITY_WEIGHT = 1.0
+
+
+def plausibility_penalty(theta: np.ndarray, n_dims: int) -> tuple[float, np.ndarray]:
+    """Soft walls round the plausible ranges of ``θ'`` (normalised units): value and gradient.
+
+    ``θ' = [log Q', log p' per class and axis]``; the wall is the squared excess
+    of each log-parameter beyond its range (and of each class's log-precision
+    ratio beyond ``PLAUSIBLE_ANISOTROPY²``), times ``PLAUSIBILITY_WEIGHT``.
+    Zero inside every range, so fits that stay plausible are unchanged.
+    """
+    theta = np.asarray(theta, dtype=np.float64)
+    grad = np.zeros_like(theta)
+    value = 0.0
+
+    def wall(index: np.ndarray, x: float, low: float, high: float, sign: np.ndarray) -> None:
+        nonlocal value
+        excess = max(x - high, 0.0) - max(low - x, 0.0)
+        value += excess**2
+        grad[index] += 2.0 * excess * sign
+
+    wall(np.array([0]), theta[0], *np.log(PLAUSIBLE_WEIGHTS), np.ones(1))
+    low_p, high_p = -2.0 * np.log(PLAUSIBLE_WIDTHS[1]), -2.0 * np.log(PLAUSIBLE_WIDTHS[0])
+    ratio = 2.0 * np.log(PLAUSIBLE_ANISOTROPY)
+    for start in range(1, theta.size, n_dims):
+        axes = np.arange(start, start + n_dims)
+        for i in axes:
+            wall(np.array([i]), theta[i], low_p, high_p, np.ones(1))
+        for i, j in itertools.combinations(axes, 2):
+            wall(np.array([i, j]), theta[i] - theta[j], -ratio, ratio, np.array([1.0, -1.0]))
+    return PLAUSIBILITY_WEIGHT * value, PLAUSIBILITY_WEIGHT * grad
+
+
+def implausible(theta: np.ndarray, n_dims: int, names: Sequence[str]) -> list[str]:
+    """What of ``θ'`` (normalised units) lies outside the plausible ranges, in words."""
+    out = []
+    q_low, q_high = PLAUSIBLE_WEIGHTS
+    if not q_low <= np.exp(theta[0]) <= q_high:
+        out.append(f"Q' = {np.exp(theta[0]):.3g} (normalised; plausible {q_low:g} to {q_high:g})")
+    for start in range(1, theta.size, n_dims):
+        widths = np.exp(-0.5 * theta[start : start + n_dims])
+        for i, width in enumerate(widths):
+            if not PLAUSIBLE_WIDTHS[0] <= width <= PLAUSIBLE_WIDTHS[1]:
+                out.append(
+                    f"{names[start + i]}: response width {width:.3g} of the nominal's extent "
+                    f"(plausible {PLAUSIBLE_WIDTHS[0]:g} to {PLAUSIBLE_WIDTHS[1]:g})"
+                )
+        if widths.max() > PLAUSIBLE_ANISOTROPY * widths.min():
+            label = names[start][2:].rsplit("][", 1)[0]
+            out.append(
+                f"the {label}'s response is {widths.max() / widths.min():.3g} times wider "
+                f"along one axis than along another (plausible up to {PLAUSIBLE_ANISOTROPY:g})"
+            )
+    return out
+
+
+class _Stalled(Exception):
+    """Raised inside L-BFGS-B's objective to stop a run that no longer improves."""
 
 
 def prepare_demos(demos: Any, scenes: Any, nominal: Any, n_points: int) -> list[DemoInScene]:
@@ -288,6 +366,7 @@ class TrainingLoss:
         self.classes = tuple(classes)
         self.max_slope = max_slope
         self.n_dims = data[0].corridor.n_dims
+        self._classes_of: dict[int, tuple[Scene, np.ndarray]] = {}  # per scene, at every call
 
     def reward(self, theta: np.ndarray) -> Reward:
         """The reward of ``θ``."""
@@ -346,6 +425,13 @@ class TrainingLoss:
 
     def _class_of(self, scene: Scene) -> np.ndarray:
         """Class index of each reward anchor of ``scene`` (the problem's obstacles)."""
+        cached = self._classes_of.get(id(scene))
+        if cached is None or cached[0] is not scene:
+            cached = (scene, self._anchor_classes(scene))
+            self._classes_of[id(scene)] = cached
+        return cached[1]
+
+    def _anchor_classes(self, scene: Scene) -> np.ndarray:
         of_obstacle = np.array([self.classes.index(label) for label in scene.labels], int)
         return of_obstacle[scene.anchors()[1]] if len(scene) else of_obstacle
 
@@ -411,6 +497,7 @@ def lbfgs_stage(
     label: str = "",
     progress: ProgressLike = None,
     description: str | None = None,
+    stall_after: int | None = None,
 ) -> tuple[np.ndarray, dict]:
     """One bounded L-BFGS-B run on ``θ``; the stage record says honestly whether it converged.
 
@@ -429,6 +516,15 @@ def lbfgs_stage(
         Counts the iterations, with the loss (:func:`lfdkit.core.progress.as_progress`).
     description : str, optional
         The progress stage's label (default ``"IOC <label>"``).
+    stall_after : int, optional
+        Stop after this many evaluations in a row without a loss lower than
+        the best so far by ``STALL_IMPROVEMENT`` (relative), and return the
+        best (None: L-BFGS-B's own stops only). Where the loss jumps
+        (receding-horizon plans switching local optimum) the line search
+        tries ever smaller steps, each a little lower than the last, 20
+        evaluations per failed search. Such a stop is convergence to
+        ``STALL_IMPROVEMENT`` (a relative reduction test, as L-BFGS-B's
+        ``ftol`` per iteration); the reason counts the trials above a jump.
 
     Returns
     -------
@@ -440,36 +536,87 @@ def lbfgs_stage(
         stationary point (projected gradient above ``STATIONARY_GRADIENT``),
         the iteration limit, or a parameter at a bound of ``THETA_BOUNDS``.
     """
-    from scipy.optimize import minimize  # here: lfdkit.emulate loads fast
+    from scipy.optimize import OptimizeResult, minimize  # here: lfdkit.emulate loads fast
 
     history_last = [np.nan]
     run_started = time.perf_counter()
     text = f"IOC {label}" if description is None else description
+    best: dict[str, Any] = {"value": np.inf, "theta": np.asarray(theta0, float), "grad": None}
+    since_best: list[float] = []  # losses evaluated since the last progress
+    reference = [np.inf]  # the loss at the last progress
+    iterations = [0]
     with as_progress(progress).stage(text, unit="iteration") as stage:
 
         def callback(*_: Any) -> None:
-            stage.advance(detail=f"loss {history_last[0]:.4g}")
+            iterations[0] += 1
+            per = (time.perf_counter() - run_started) / iterations[0]
+            stage.advance(detail=f"loss {history_last[0]:.4g}, {per:.2g} s per iteration")
 
         def wrapped(theta: np.ndarray) -> tuple[float, np.ndarray]:
             value, grad = fun(theta)
             history_last[0] = value
+            if np.isfinite(value) and (best["grad"] is None or value < best["value"]):
+                best.update(value=value, theta=np.array(theta, float), grad=np.array(grad, float))
+            # Progress is a loss lower by STALL_IMPROVEMENT than where the count
+            # began: the tiny steps the line search takes back from a jump, each
+            # a little lower, are not.
+            if np.isfinite(value) and (
+                not np.isfinite(reference[0])
+                or value < reference[0] - STALL_IMPROVEMENT * abs(reference[0])
+            ):
+                reference[0] = value
+                since_best.clear()
+            else:
+                since_best.append(value)
+                if stall_after is not None and len(since_best) >= stall_after:
+                    raise _Stalled
             return value, grad
 
-        result = minimize(
-            wrapped,
-            theta0,
-            jac=True,
-            method="L-BFGS-B",
-            bounds=[THETA_BOUNDS] * theta0.size,
-            callback=callback,
-            options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
-        )
+        try:
+            result = minimize(
+                wrapped,
+                theta0,
+                jac=True,
+                method="L-BFGS-B",
+                bounds=[THETA_BOUNDS] * theta0.size,
+                callback=callback,
+                options={"maxiter": max_iter, "ftol": tol, "gtol": 1e-8},
+            )
+            stalled = False
+        except _Stalled:
+            stalled = True
+            result = OptimizeResult(
+                x=best["theta"],
+                fun=best["value"],
+                jac=best["grad"],
+                nit=iterations[0],
+                status=2,
+                success=False,
+                message=f"STOP: {stall_after} EVALUATIONS WITHOUT A LOWER LOSS",
+            )
     theta = np.asarray(result.x, float)
     converged, reason = bool(result.success), stated_reason(result)
+    if stalled:
+        above = np.asarray(since_best, float)
+        jumps = int(np.sum(above > best["value"] * (1.0 + JUMP_FRACTION)))
+        converged = bool(np.all(np.isfinite(above)))
+        reason = (
+            f"converged to {STALL_IMPROVEMENT:.1%}: {stall_after} evaluations in a row lowered "
+            f"the loss by less than that after {iterations[0]} iterations (largest gradient "
+            f"component {float(np.max(np.abs(result.jac))):.3g}"
+            + (
+                f"; {jumps} trial steps landed above a jump of the loss, where a plan "
+                "switches to another local optimum)"
+                if jumps
+                else ")"
+            )
+            if converged
+            else f"a non-finite loss at a trial step after {iterations[0]} iterations"
+        )
     at_bound = np.flatnonzero((theta <= THETA_BOUNDS[0] + 1e-6) | (theta >= THETA_BOUNDS[1] - 1e-6))
     if not np.isfinite(result.fun) or not np.all(np.isfinite(result.jac)):
         converged, reason = False, "non-finite loss or gradient"
-    elif not converged and result.status == 2:
+    elif not converged and result.status == 2 and not stalled:
         # A failed line search at a point stationary to the accuracy of the
         # inner plans is the optimum; anywhere else it is a failure.
         jac = np.asarray(result.jac, float)
@@ -625,10 +772,17 @@ class IOC:
         Per stage: planner, iterations, loss, seconds, message, converged.
     converged_ : bool
         False when an optimiser of the kept runs failed (line search failure
-        away from a stationary point, iteration limit, non-finite loss) or a
-        learned parameter sits at its bound.
+        away from a stationary point, iteration limit, non-finite loss), a
+        learned parameter sits at its bound, or the reward is degenerate.
     convergence_message_ : str
-        Why (not) converged.
+        Why (not) converged, never empty; for a degenerate reward what is
+        implausible and what to do.
+    degenerate_ : list of str
+        What of the learned reward lies outside the physically plausible
+        ranges (``PLAUSIBLE_WIDTHS``, ``PLAUSIBLE_ANISOTROPY``,
+        ``PLAUSIBLE_WEIGHTS``, relative to the nominal's extent), in words;
+        empty for a plausible one. The fit's loss has soft walls there
+        (:func:`plausibility_penalty`), so only data that insist end outside.
     identifiability_ : dict
         Per parameter name (``"Q"``, ``"P[<class>][<axis>]"``): ``curvature``
         (second derivative of the training loss scaled to about 1, in θ),
@@ -793,10 +947,17 @@ class IOC:
         self.loss_history_ = [value * length**2 for value in history]
         self.loss_ = float(self.stages_[-1]["loss"])
         failed = [s for s in self.stages_ if not s.get("converged", True)]
-        self.converged_ = not failed
-        self.convergence_message_ = (
-            "; ".join(f"{s['planner']}: {s['reason']}" for s in failed) if failed else "converged"
-        )
+        self.degenerate_ = implausible(theta, self._q, self._theta_names())
+        self.converged_ = not failed and not self.degenerate_
+        reasons = [f"{s['planner']}: {s['reason']}" for s in failed]
+        if self.degenerate_:
+            reasons.append(
+                "degenerate reward, outside the physically plausible ranges: "
+                + "; ".join(self.degenerate_)
+                + "; show demonstrations that pass the obstacles at several distances, or "
+                "give init= a plausible reward"
+            )
+        self.convergence_message_ = "; ".join(reasons) if reasons else "converged"
         for label in self.not_learned_:
             why = (
                 f"obstacle {label!r} is never near any demonstration; its class cannot be "
@@ -883,7 +1044,12 @@ class IOC:
         return TrainingLoss(data, self.classes_, self.max_slope)
 
     def _lbfgs(
-        self, fun: Callable, theta0: np.ndarray, name: str, description: str
+        self,
+        fun: Callable,
+        theta0: np.ndarray,
+        name: str,
+        description: str,
+        stall_after: int | None = None,
     ) -> tuple[np.ndarray, dict]:
         """One bounded L-BFGS run (:func:`lbfgs_stage`), its loss in the data's units²."""
         theta, stage = lbfgs_stage(
@@ -895,6 +1061,7 @@ class IOC:
             label=name,
             progress=self._progress,
             description=description,
+            stall_after=stall_after,
         )
         stage["loss"] = stage["loss"] * self._scale * self.length_scale_**2
         return theta, stage
@@ -928,8 +1095,12 @@ class IOC:
             }
         )
         best = None
+        runs_started = time.perf_counter()
         for r, theta0 in enumerate(starts):
             text = f"IOC full horizon: run {r + 1} of {len(starts)}"
+            if r:  # the runs so far say how long the rest will take
+                left = (time.perf_counter() - runs_started) / r * (len(starts) - r)
+                text += f" (about {left:.0f} s left for the runs)"
             run = self._full_horizon_run(theta0, coarse, text)
             if best is None or run[0] < best[0]:
                 best = run
@@ -955,9 +1126,10 @@ class IOC:
         """One L-BFGS run: its loss (plans started from the demos), θ, stage record, history."""
         warm = self._demo_offsets(data)
         run_history: list[float] = []
+        training_loss = self._training_loss(data)  # one, so its per-scene caches last the run
 
         def fun(theta: np.ndarray) -> tuple[float, np.ndarray]:
-            value, grad = self._training_loss(data).full_horizon(theta, warm)
+            value, grad = training_loss.full_horizon(theta, warm)
             if self.gradient == "finite_difference":
                 grad = _finite_difference(
                     lambda t: self._training_loss(data).full_horizon(t, [w.copy() for w in warm])[
@@ -966,7 +1138,8 @@ class IOC:
                     theta,
                 )
             run_history.append(value)
-            return value / self._scale, grad / self._scale
+            wall, wall_grad = plausibility_penalty(theta, self._q)
+            return value / self._scale + wall, grad / self._scale + wall_grad
 
         theta, stage = self._lbfgs(fun, theta0, "full horizon", description)
         # Rank runs by the loss of plans started from the demonstrations, the
@@ -1060,17 +1233,22 @@ class IOC:
     def _refine_mpc(
         self, theta: np.ndarray, data: list[DemoInScene], history: list[float]
     ) -> np.ndarray:
+        training_loss = self._training_loss(data)
+
         def fun(value: np.ndarray) -> tuple[float, np.ndarray]:
-            loss, grad = self._training_loss(data).mpc(value, int(self.horizon))
+            loss, grad = training_loss.mpc(value, int(self.horizon))
             if self.gradient == "finite_difference":
                 grad = _finite_difference(
                     lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
                 )
             history.append(loss)
-            return loss / self._scale, grad / self._scale
+            wall, wall_grad = plausibility_penalty(value, self._q)
+            return loss / self._scale + wall, grad / self._scale + wall_grad
 
         name = f"MPC H={int(self.horizon)}"
-        theta, stage = self._lbfgs(fun, theta, name, f"IOC {name}: refining")
+        theta, stage = self._lbfgs(
+            fun, theta, name, f"IOC {name}: refining", stall_after=STALL_EVALUATIONS
+        )
         self.stages_.append(stage)
         return theta
 

@@ -12,7 +12,8 @@ Obstacle shapes
 ---------------
 :class:`Obstacle` is the round obstacle (a disc, a ball, a standing
 cylinder seen from above) and the contract every shape implements;
-:class:`Capsule` (a rod) is a second shape. Every layer uses an obstacle only
+:class:`Capsule` (a rod) is a second shape and :class:`lfdkit.model.box.Box` (an
+oriented box, in :mod:`lfdkit.model.box`) a third. Every layer uses an obstacle only
 through the contract, so a new shape is one subclass plus
 :func:`register_shape`:
 
@@ -394,7 +395,7 @@ RESERVED_FIELD_NAMES = frozenset(
     | {"velocity", "trajectory", "observations", "format", "version", "scenes", "obstacles"}
 )
 _FIELD_KINDS = ("point", "number")
-_BUILT_IN_SHAPES = ("round", "capsule")
+_BUILT_IN_SHAPES = ("round", "capsule", "box")
 
 
 def _field_columns(name: str, kind: str) -> list[str]:
@@ -613,3 +614,9 @@ class Scene:
     def with_obstacles(self, obstacles: Iterable[Obstacle]) -> Scene:
         """A new scene with more obstacles."""
         return Scene((*self.obstacles, *obstacles))
+
+
+# The built-in box lives in its own module (one shape, one file); importing it
+# here registers it wherever scenes are used. It imports this module's names,
+# all defined by now.
+import lfdkit.model.box  # noqa: E402, F401

@@ -1,0 +1,257 @@
+"""Reward learning around boxes in 3-D: leave one demonstration out, against the DMP alone.
+
+Run ``python benchmarks/boxes3d.py`` (``--quick`` for a smoke run). Prints a
+table and writes ``boxes3d.json`` to ``--output`` (``benchmarks/results/boxes3d``).
+
+The data (issue 34): synthetic 3-D people reaching from spread starts to a
+common goal around boxes (:class:`lfdkit.model.box.Box`), generated here with a
+known reward, so that the learned one can be judged:
+
+* ``one_box`` — one carton (0.12 × 0.20 × 0.25 m, turned 25° about z) in the
+  middle of the reach, jittered by up to 2 cm per demonstration;
+* ``three_boxes`` — a carton, a tall tin and a flat tray, turned, in the way.
+
+Each person plans with the true reward (``Q = 3``, box precision ``150 /m²``:
+a response about 8 cm wide; clearance 1 cm) along the straight line from
+its start to the goal (what a DMP generalises to), then adds smooth noise
+(σ 3 mm, 15-point smoothing; a person is not an optimiser). A second
+``--noise`` and a ``--units mm`` run check that nothing is tuned to one
+generator.
+
+Per fold (one demonstration held out, the reward learned from the others
+with the Skill's staged fit, IOC with MPC H=8 refinement, 100 points): the
+plan from the held-out start to the goal in its scene, with the
+person's clearance of 1 cm. Reported: the mean distance (cm) from the plan
+to the held-out person along the nominal's normals, the same for the DMP
+alone (the straight nominal), the side of each box the plan passes on against
+the person's (for each box the person passes within 15 cm of, or the DMP
+within 5 cm of), collisions, the plan's clearance against the person's, fit
+seconds and whether the fit converged (with its reason).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import git_state, json_ready, machine_info
+
+from lfdkit.emulate import IOC, Box, Reward, Scene, metrics, plan_path
+
+TRUE_REWARD = Reward(3.0, {"box": [150.0, 150.0, 150.0]})
+GOAL = np.array([0.65, 0.0, 0.12])
+CLEARANCE = 0.01
+N_POINTS = 100
+
+
+def _box(centre, size, yaw_deg) -> Box:
+    return Box("box", centre, 0.0, size, Rotation.from_euler("z", yaw_deg, True).as_quat())
+
+
+def layout(kind: str) -> list[Box]:
+    """The boxes of a set (metres)."""
+    if kind == "one_box":
+        return [_box([0.33, 0.0, 0.125], [0.12, 0.20, 0.25], 25.0)]
+    return [
+        _box([0.25, 0.10, 0.10], [0.10, 0.14, 0.20], 20.0),
+        _box([0.42, -0.10, 0.15], [0.08, 0.08, 0.30], -10.0),
+        _box([0.50, 0.12, 0.03], [0.16, 0.12, 0.06], 40.0),
+    ]
+
+
+def _smooth_noise(rng: np.random.Generator, sigma: float) -> np.ndarray:
+    """Smooth noise (N_POINTS, 3) of standard deviation ``sigma``, zero at both ends."""
+    kernel = np.exp(-0.5 * (np.arange(-30, 31) / 5.0) ** 2)
+    raw = rng.normal(size=(N_POINTS + 60, 3))
+    smooth = np.column_stack([np.convolve(raw[:, i], kernel, "valid") for i in range(3)])
+    smooth *= sigma / smooth.std()
+    return smooth[:N_POINTS] * np.sin(np.linspace(0.0, np.pi, N_POINTS))[:, None]
+
+
+def make_set(kind: str, n_demos: int, seed: int, noise: float = 0.003) -> dict:
+    """Demonstrations, scenes, nominals (straight start → goal) and the person's clearance."""
+    rng = np.random.default_rng(seed)
+    demos, scenes, nominals = [], [], []
+    for j in range(n_demos):
+        angle = np.pi * (j + 0.5) / n_demos - 0.5 * np.pi + rng.uniform(-0.1, 0.1)
+        start = np.array([0.0, 0.3 * np.sin(angle), 0.15 + 0.1 * rng.uniform(-1, 1)])
+        scene = Scene(
+            tuple(b.translated(rng.uniform(-0.02, 0.02, 3) * [1, 1, 0]) for b in layout(kind))
+        )
+        nominal = start + np.linspace(0.0, 1.0, N_POINTS)[:, None] * (GOAL - start)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            plan = plan_path(TRUE_REWARD, nominal, scene, clearance=CLEARANCE)
+        demos.append(plan.points + _smooth_noise(rng, noise))
+        scenes.append(scene)
+        nominals.append(nominal)
+    return {"demos": demos, "scenes": scenes, "nominals": nominals}
+
+
+def passing_side(path: np.ndarray, nominal: np.ndarray, box: Box) -> np.ndarray:
+    """Unit lateral direction (3,) from the box's centre to where ``path`` passes it.
+
+    At the path's point nearest the box, the offset from the centre with its
+    component along the nominal's direction removed: two paths pass on the
+    same side when these point the same way (positive dot product).
+    """
+    k = int(np.argmin(box.signed_distances(path)))
+    direction = nominal[-1] - nominal[0]
+    direction /= np.linalg.norm(direction)
+    lateral = path[k] - box.position
+    lateral -= (lateral @ direction) * direction
+    return lateral / max(float(np.linalg.norm(lateral)), 1e-12)
+
+
+def run_fold(data: dict, held: int, scale: float) -> dict:
+    """Learn from every demonstration but ``held``, plan for it, compare with the person."""
+    keep = [j for j in range(len(data["demos"])) if j != held]
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ioc = IOC(n_points=N_POINTS, horizon=8).fit(
+            [data["demos"][j] for j in keep],
+            [data["scenes"][j] for j in keep],
+            [data["nominals"][j] for j in keep],
+        )
+    seconds = time.perf_counter() - started
+    person, nominal, scene = data["demos"][held], data["nominals"][held], data["scenes"][held]
+    row = {
+        "held_out": held,
+        "fit_s": seconds,
+        "converged": bool(ioc.converged_),
+        "convergence": ioc.convergence_message_,
+        "warnings": [str(w.message) for w in caught],
+        "Q_per_m2": ioc.reward_.nominal_weight * scale**2,
+        "precision_per_m2": (np.diag(ioc.reward_.precisions["box"]) * scale**2).tolist(),
+    }
+    try:
+        plan = plan_path(ioc.reward_, nominal, scene, horizon=8, clearance=CLEARANCE * scale)
+        points = plan.points
+    except ValueError as exc:  # a refusal is a result too
+        row.update(refused=str(exc))
+        return row
+    row["dist_plan_cm"] = metrics.held_out_distances(points, person)["mean"] / scale * 100
+    row["dist_dmp_cm"] = metrics.held_out_distances(nominal, person)["mean"] / scale * 100
+    row["collisions"] = metrics.collisions(points, scene)
+    row["dmp_collisions"] = metrics.collisions(nominal, scene)
+    row["clearance_cm"] = float(metrics.clearance(points, scene).min()) / scale * 100
+    row["person_clearance_cm"] = float(metrics.clearance(person, scene).min()) / scale * 100
+    # A box encounter: a box the person passes within 15 cm of, or the DMP alone
+    # within 5 cm of (a box in the way).
+    encounters = [
+        b for b in scene if b.distance(person) < 0.15 * scale or b.distance(nominal) < 0.05 * scale
+    ]
+    same = [
+        float(passing_side(points, nominal, b) @ passing_side(person, nominal, b)) > 0
+        for b in encounters
+    ]
+    row["encounters"], row["same_side"] = len(same), int(sum(same))
+    return row
+
+
+def scaled_set(data: dict, scale: float) -> dict:
+    """The set in other units (``scale`` units per metre)."""
+    return {
+        "demos": [d * scale for d in data["demos"]],
+        "scenes": [s.scaled(scale) for s in data["scenes"]],
+        "nominals": [n * scale for n in data["nominals"]],
+    }
+
+
+def summarise(rows: list[dict]) -> dict:
+    done = [r for r in rows if "refused" not in r]
+    mean = lambda key: float(np.mean([r[key] for r in done])) if done else float("nan")  # noqa: E731
+    encounters = sum(r["encounters"] for r in done)
+    return {
+        "folds": len(rows),
+        "refused": len(rows) - len(done),
+        "dist_plan_cm": mean("dist_plan_cm"),
+        "dist_dmp_cm": mean("dist_dmp_cm"),
+        "ratio": mean("dist_plan_cm") / mean("dist_dmp_cm") if done else float("nan"),
+        "same_side": f"{sum(r['same_side'] for r in done)}/{encounters}",
+        "collisions": int(sum(r["collisions"] for r in done)),
+        "dmp_collisions": int(sum(r["dmp_collisions"] for r in done)),
+        "clearance_ratio": float(
+            np.min([r["clearance_cm"] / r["person_clearance_cm"] for r in done])
+        )
+        if done
+        else float("nan"),
+        "fit_s_median": float(np.median([r["fit_s"] for r in rows])),
+        "fit_s_max": float(np.max([r["fit_s"] for r in rows])),
+        "not_converged": int(sum(not r["converged"] for r in rows)),
+        "empty_reasons": int(sum(r["convergence"].strip().endswith(":") for r in rows)),
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="two folds per set")
+    parser.add_argument("--output", type=Path, default=Path("benchmarks/results/boxes3d"))
+    args = parser.parse_args()
+    cases = [
+        ("one_box", 6, 0.003, 1.0),
+        ("three_boxes", 10, 0.003, 1.0),
+        ("one_box", 6, 0.006, 1.0),  # another noise level
+        ("three_boxes", 10, 0.003, 1000.0),  # millimetres
+    ]
+    if args.quick:
+        cases = cases[:2]
+    results = []
+    header = (
+        f"{'set':<12} {'noise':>5} {'units':>5} {'folds':>5} {'plan cm':>8} {'DMP cm':>7} "
+        f"{'ratio':>5} {'side':>6} {'coll':>4} {'DMP coll':>8} {'clear/p':>7} "
+        f"{'fit s med/max':>13} {'not conv':>8}"
+    )
+    print(header)
+    for kind, n_demos, noise, scale in cases:
+        data = make_set(kind, n_demos, seed=1, noise=noise)
+        if scale != 1.0:
+            data = scaled_set(data, scale)
+        folds = range(2) if args.quick else range(n_demos)
+        rows = [run_fold(data, held, scale) for held in folds]
+        summary = summarise(rows)
+        units = "m" if scale == 1.0 else "mm"
+        print(
+            f"{kind:<12} {noise * 1000:>3.0f}mm {units:>5} {summary['folds']:>5} "
+            f"{summary['dist_plan_cm']:>8.2f} {summary['dist_dmp_cm']:>7.2f} "
+            f"{summary['ratio']:>5.2f} {summary['same_side']:>6} {summary['collisions']:>4} "
+            f"{summary['dmp_collisions']:>8} {summary['clearance_ratio']:>7.2f} "
+            f"{summary['fit_s_median']:>6.1f}/{summary['fit_s_max']:<6.1f} "
+            f"{summary['not_converged']:>8}",
+            flush=True,
+        )
+        results.append(
+            {
+                "set": kind,
+                "n_demos": n_demos,
+                "noise_m": noise,
+                "units_per_m": scale,
+                "summary": summary,
+                "folds": rows,
+            }
+        )
+    args.output.mkdir(parents=True, exist_ok=True)
+    record = {
+        "benchmark": "boxes3d",
+        "true_reward": {"Q": TRUE_REWARD.nominal_weight, "precision": [150.0] * 3},
+        "results": results,
+        "git": git_state(),
+        "machine": machine_info(),
+    }
+    path = args.output / "boxes3d.json"
+    path.write_text(json.dumps(json_ready(record), indent=1))
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,336 @@
+"""An oriented box obstacle: a carton, a table top, a shelf, a wall (2-D or 3-D).
+
+One class through the obstacle contract (:class:`lfdkit.model.scene.Obstacle`):
+a centre (``position``), edge lengths (``size``, one per axis of the data)
+and an orientation (a unit quaternion ``[x, y, z, w]``, the box's own axes in
+the data's frame; a 2-D box turns about ``z`` only). ``radius`` rounds it:
+the solid is every point within ``radius`` of the box (0, the default, is a
+sharp box), as a capsule is every point within its radius of a segment.
+
+Geometry
+--------
+* :meth:`Box.distance` is exact (closed form, no sampling): in the box's
+  frame the signed distance is ``|max(e, 0)| + min(max_i e_i, 0)`` with
+  ``e = |x| − size/2``. Along one straight segment it is ``√(quadratic)``
+  wherever the segment stays in one region (below, within or above the box
+  on each axis) and linear inside, so its minimum over the segment is at an
+  end, at a region change (``x_i = ±size_i/2``, ``x_i = 0``, or two faces
+  equally near), or at the vertex of one region's quadratic: at most 49
+  candidates per segment in 3-D, each evaluated exactly.
+* :meth:`Box.anchors` (the reward's Gaussian terms): the centres of a grid
+  of cells about as long as the box's shortest edge, and at most 8 along
+  an edge (a cube is one term at its centre, a 1.0 × 0.6 table top 8 × 5
+  terms), so the response follows the box's extent, not a ball at its
+  centre.
+* :meth:`Box.balls` (the planner's hard clearance): balls about the cells of
+  a finer grid (a third of the shortest edge, at most 16 along an edge),
+  each of the cell's half-diagonal plus ``radius``: their union contains
+  the box, overhanging a cube's faces by at most 24 % of its half-edge.
+
+Limit: the planner's hard barrier (and its refusal of a start inside) is
+keyed on ``radius + clearance > 0`` for every shape, so a sharp box (radius
+0) is a hard obstacle only when the plan has a clearance (the tool's size);
+the metrics measure it exactly either way.
+
+Files: the fields ``size`` (a point: ``size_x, size_y[, size_z]`` in CSV)
+and ``qx, qy, qz, qw`` (numbers); e.g. ``{"class": "carton", "shape":
+"box", "position": [0.5, 0.0, 0.1], "size": [0.2, 0.1, 0.2], "qx": 0,
+"qy": 0, "qz": 0, "qw": 1}``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any, ClassVar
+
+import numpy as np
+
+from lfdkit.core.rotations import check_quaternions, matrix_from_quaternion, quaternion_from_matrix
+from lfdkit.model.scene import Obstacle, register_shape
+
+__all__ = ["Box"]
+
+#: Largest number of reward anchors along one edge (anchors: cells ≈ the shortest edge).
+MAX_ANCHORS_PER_EDGE = 8
+#: Largest number of covering balls along one edge (cells ≈ a third of the shortest edge).
+MAX_BALLS_PER_EDGE = 16
+#: A 2-D box's quaternion may tilt its z axis by at most this (the sine of the angle).
+PLANAR_TOLERANCE = 1e-9
+
+
+def _identity() -> np.ndarray:
+    return np.array([0.0, 0.0, 0.0, 1.0])
+
+
+@dataclass(frozen=True, eq=False)
+class Box(Obstacle):
+    """An oriented box: every point within ``radius`` of it (``radius`` 0: a sharp box).
+
+    Attributes
+    ----------
+    size : ndarray, shape (q,)
+        Edge lengths along the box's own axes (units of the paths), each >= 0.
+    orientation : ndarray, shape (4,)
+        Unit quaternion ``[x, y, z, w]`` turning the box's axes into the
+        data's frame (identity: edges along the coordinate axes). A 2-D box
+        turns about ``z`` only (``x = y = 0``); see :meth:`from_yaw`.
+    """
+
+    size: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    orientation: np.ndarray = field(default_factory=_identity)
+
+    shape: ClassVar[str] = "box"
+    field_kinds: ClassVar[Mapping[str, str]] = {
+        "size": "point",
+        "qx": "number",
+        "qy": "number",
+        "qz": "number",
+        "qw": "number",
+    }
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        size = np.asarray(self.size, dtype=np.float64)
+        if size.shape != self.position.shape:
+            raise ValueError(
+                f"size: expected {self.position.size} edge lengths for a "
+                f"{self.position.size}-D box, got shape {np.shape(self.size)} ({self.label!r})"
+            )
+        if not np.all(np.isfinite(size)) or np.any(size < 0):
+            raise ValueError(
+                f"size: edge lengths must be finite and >= 0, got {size.tolist()} ({self.label!r})"
+            )
+        try:
+            quaternion = check_quaternions(self.orientation, "orientation", n=1)[0]
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{exc} ({self.label!r})") from None
+        given = np.asarray(self.orientation, dtype=np.float64)
+        if abs(float(np.linalg.norm(given)) - 1.0) <= 1e-12:
+            quaternion = given.copy()  # unit already: kept to the bit (files round-trip)
+        quaternion = quaternion if quaternion[3] >= 0 else -quaternion  # one sign per rotation
+        rotation = matrix_from_quaternion(quaternion)
+        if self.n_dims == 2 and np.hypot(rotation[0, 2], rotation[1, 2]) > PLANAR_TOLERANCE:
+            raise ValueError(
+                f"orientation: a 2-D box turns about z only (qx = qy = 0), got "
+                f"{quaternion.tolist()} ({self.label!r}); use Box.from_yaw"
+            )
+        size.setflags(write=False)
+        quaternion.setflags(write=False)
+        object.__setattr__(self, "size", size)
+        object.__setattr__(self, "orientation", quaternion)
+
+    @classmethod
+    def from_yaw(
+        cls, label: str, position: Any, size: Any, yaw: float = 0.0, radius: float = 0.0
+    ) -> Box:
+        """A box turned by ``yaw`` (rad, anticlockwise) about ``z``: a 2-D box."""
+        half = 0.5 * float(yaw)
+        return cls(label, position, radius, size, [0.0, 0.0, np.sin(half), np.cos(half)])
+
+    # ------------------------------------------------------------ frame
+    @property
+    def half(self) -> np.ndarray:
+        """Half edge lengths, shape (q,)."""
+        return 0.5 * self.size
+
+    @cached_property
+    def axes(self) -> np.ndarray:
+        """The box's axes as the columns of a rotation matrix, shape (q, q)."""
+        q = self.n_dims
+        return _read_only(matrix_from_quaternion(self.orientation)[:q, :q])
+
+    def to_local(self, points: np.ndarray) -> np.ndarray:
+        """Points (n, q) in the box's frame (its centre at the origin, its edges along the axes)."""
+        return (np.asarray(points, dtype=np.float64) - self.position) @ self.axes
+
+    def corners(self) -> np.ndarray:
+        """The box's corners, shape (2**q, q) (without the rounding ``radius``)."""
+        signs = np.array(list(itertools.product((-1.0, 1.0), repeat=self.n_dims)))
+        return self.position + (signs * self.half) @ self.axes.T
+
+    def signed_distances(self, points: np.ndarray) -> np.ndarray:
+        """Signed distance from each point (n, q) to the surface (negative inside), shape (n,)."""
+        return _local_signed_distance(self.to_local(points), self.half) - self.radius
+
+    def _grid(self, per_shortest: float, most: int) -> tuple[np.ndarray, np.ndarray]:
+        """Centres (k, q) of a grid of cells over the box and the cells' half edges (q,).
+
+        Cells are about ``shortest edge / per_shortest`` long, at most ``most`` along an edge.
+        """
+        longest = float(self.size.max())
+        cell = max(float(self.size.min()) / per_shortest, longest / most)
+        counts = np.ones(self.n_dims, int) if cell <= 0 else np.ceil(self.size / cell - 1e-9)
+        counts = np.maximum(counts.astype(int), 1)
+        halves = self.half / counts
+        ticks = [(2.0 * np.arange(c) + 1.0 - c) * h for c, h in zip(counts, halves, strict=True)]
+        local = np.array(list(itertools.product(*ticks)))
+        return self.position + local @ self.axes.T, halves
+
+    # ------------------------------------------------------------ the contract
+    # The IOC asks for the anchors at every evaluation of its loss: computed once
+    # (the box is immutable) and handed out read-only.
+    def anchors(self) -> np.ndarray:
+        return self._anchors
+
+    def balls(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._balls
+
+    @cached_property
+    def _anchors(self) -> np.ndarray:
+        return _read_only(self._grid(1.0, MAX_ANCHORS_PER_EDGE)[0])
+
+    @cached_property
+    def _balls(self) -> tuple[np.ndarray, np.ndarray]:
+        centres, halves = self._grid(3.0, MAX_BALLS_PER_EDGE)
+        radii = np.full(centres.shape[0], float(np.linalg.norm(halves)) + self.radius)
+        return _read_only(centres), _read_only(radii)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        corners = self.corners()
+        return corners.min(axis=0) - self.radius, corners.max(axis=0) + self.radius
+
+    def distance(self, path: np.ndarray) -> float:
+        path = np.asarray(path, dtype=np.float64)
+        local = self.to_local(path)
+        if local.shape[0] == 1:
+            return float(_local_signed_distance(local, self.half)[0]) - self.radius
+        t = _segment_candidates(local[:-1], np.diff(local, axis=0), self.half)
+        points = local[:-1, None, :] + t[:, :, None] * np.diff(local, axis=0)[:, None, :]
+        best = _local_signed_distance(points.reshape(-1, self.n_dims), self.half).min()
+        return float(best) - self.radius
+
+    def outline(self, n_points: int = 64) -> np.ndarray:
+        """The top view: the convex hull of the corners (rounded by ``radius``), closed."""
+        corners = self.corners()[:, :2]
+        hull = _convex_hull(corners)
+        if self.radius > 0:
+            around = np.linspace(0.0, 2.0 * np.pi, max(n_points // len(hull), 4))
+            ring = np.column_stack([np.cos(around), np.sin(around)]) * self.radius
+            hull = _convex_hull((hull[:, None, :] + ring[None]).reshape(-1, 2))
+        return np.vstack([hull, hull[:1]])
+
+    def fields(self) -> dict[str, Any]:
+        qx, qy, qz, qw = (float(v) for v in self.orientation)
+        return {"size": self.size, "qx": qx, "qy": qy, "qz": qz, "qw": qw}
+
+    def solid(self, height: float) -> tuple[np.ndarray, dict[str, str]]:
+        """A MuJoCo box: a 2-D box stands ``height`` tall on the plane, a 3-D one is where it is.
+
+        The rounding ``radius`` is added to the half edges (MuJoCo boxes are sharp).
+        """
+        half = self.half + self.radius
+        if self.n_dims == 2:
+            centre = np.array([*self.position, 0.5 * float(height)])
+            half = np.array([*half, 0.5 * float(height)])
+        else:
+            centre = self.position.copy()
+        x, y, z, w = (float(v) for v in self.orientation)
+        return centre, {
+            "type": "box",
+            "size": " ".join(repr(float(v)) for v in half),
+            "quat": f"{w!r} {x!r} {y!r} {z!r}",  # MuJoCo: scalar first
+        }
+
+    def transformed(self, factor: float, flip: np.ndarray) -> Box:
+        flip = np.asarray(flip, dtype=np.float64)
+        full = np.ones(3)
+        full[: flip.size] = flip
+        # F R keeps the box if one of its own axes is flipped back (det +1):
+        # a box is symmetric about each of its axes.
+        own = np.ones(3)
+        own[0] = float(np.prod(full))
+        rotation = full[:, None] * matrix_from_quaternion(self.orientation) * own[None, :]
+        return Box(
+            self.label,
+            factor * flip * self.position,
+            factor * self.radius,
+            factor * self.size,
+            quaternion_from_matrix(rotation),
+            motion=None if self.motion is None else self.motion.transformed(factor, flip),
+        )
+
+    @classmethod
+    def from_fields(
+        cls, label: str, position: Any, radius: float, fields: Mapping[str, Any]
+    ) -> Box:
+        missing = [name for name in cls.field_kinds if name not in fields]
+        if missing:
+            raise ValueError(
+                f"{missing[0]}: a box needs its edge lengths 'size' and its orientation "
+                f"'qx', 'qy', 'qz', 'qw' ({label!r})"
+            )
+        quaternion = [fields[name] for name in ("qx", "qy", "qz", "qw")]
+        return cls(label, position, radius, fields["size"], quaternion)
+
+
+register_shape(Box)
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array = np.array(array, dtype=np.float64)
+    array.setflags(write=False)
+    return array
+
+
+def _local_signed_distance(local: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Signed distance (n,) of points (n, q) in a box's frame to the box of half edges ``half``."""
+    excess = np.abs(local) - half
+    outside = np.sqrt(np.sum(np.maximum(excess, 0.0) ** 2, axis=1))
+    return outside + np.minimum(excess.max(axis=1), 0.0)
+
+
+def _segment_candidates(start: np.ndarray, step: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Parameters in [0, 1] (s, c) among which each segment's nearest point to the box lies.
+
+    ``start + t · step`` (each (s, q), in the box's frame): the ends, every
+    region change on one axis (``x_i ∈ {−h_i, 0, h_i}``) or between two
+    (``|x_i| − h_i = |x_j| − h_j``, the nearest face switching inside), and
+    the vertex of the squared distance of every region outside.
+    """
+    s, q = start.shape
+    with np.errstate(divide="ignore", invalid="ignore"):
+        columns = [np.zeros(s), np.ones(s)]
+        for i in range(q):
+            for level in (-half[i], 0.0, half[i]):
+                columns.append((level - start[:, i]) / step[:, i])
+        for i, j in itertools.combinations(range(q), 2):
+            for si, sj in itertools.product((-1.0, 1.0), repeat=2):
+                columns.append(
+                    (half[i] - half[j] - si * start[:, i] + sj * start[:, j])
+                    / (si * step[:, i] - sj * step[:, j])
+                )
+        for region in itertools.product((-1, 0, 1), repeat=q):
+            used = np.array(region) != 0
+            if not used.any():
+                continue
+            offset = start[:, used] - np.array(region)[used] * half[used]
+            columns.append(
+                -np.sum(offset * step[:, used], axis=1) / np.sum(step[:, used] ** 2, axis=1)
+            )
+        t = np.column_stack(columns)
+    return np.clip(np.where(np.isfinite(t), t, 0.0), 0.0, 1.0)
+
+
+def _convex_hull(points: np.ndarray) -> np.ndarray:
+    """Vertices of the convex hull of 2-D points (n, 2), anticlockwise (Andrew's monotone chain)."""
+    unique = np.unique(points, axis=0)
+    if len(unique) < 3:
+        return unique
+
+    def half_hull(ordered: np.ndarray) -> list[np.ndarray]:
+        chain: list[np.ndarray] = []
+        for p in ordered:
+            while len(chain) >= 2:
+                a, b = chain[-2], chain[-1]
+                if (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) > 0:
+                    break
+                chain.pop()
+            chain.append(p)
+        return chain
+
+    lower = half_hull(unique)
+    upper = half_hull(unique[::-1])
+    return np.array(lower[:-1] + upper[:-1])
