@@ -88,7 +88,7 @@ def test_learn_on_a_terminal_shows_a_bar_per_stage_and_the_ioc_iterations(learne
         "mimic: Mean-Path of 5 demonstrations [",
         "imitate: DMP [",
         "emulate: inverse optimal control on 8 demos (full horizon, … [",  # shortened
-        "IOC full horizon: run 3 of 3: iteration",
+        "IOC full horizon: run 3 of 3 (about ",  # the runs so far say how long the rest take
         "IOC MPC H=8: refining: iteration",
     ):
         assert label in text, label
@@ -98,7 +98,8 @@ def test_learn_on_a_terminal_shows_a_bar_per_stage_and_the_ioc_iterations(learne
     )
     # L-BFGS iterations counted, with the loss beside them.
     counts = re.findall(
-        r"IOC full horizon: run 1 of 3: iteration (\d+) \[[^\]]*loss [0-9.e-]+\]", text
+        r"IOC full horizon: run 1 of 3: iteration (\d+) \[[^\]]*loss [0-9.e+-]+",
+        text,
     )
     assert counts and max(int(c) for c in counts) >= 5
     assert run.path.is_file()
@@ -118,8 +119,9 @@ def test_learn_verbose_lines_carry_the_clock_and_each_stages_wall_time(learned_o
         "IOC: identifiability (curvature of the loss)",
         "lfdkit learn",
     ):
-        assert f"{label} ..." in records, label
-        assert any(d.startswith(f"{label}: done in ") for d in done), label
+        # A stage may carry a note after its label (the IOC runs: time left).
+        assert any(r.startswith(label) and r.endswith(" ...") for r in records), label
+        assert any(d.startswith(label) and ": done in " in d for d in done), label
     assert any(r.startswith("imitate: DMP with ") and DONE.search(r) for r in records)
     # How far the IOC came, within its stage (told every time here).
     assert any(re.match(r"IOC full horizon: run 1 of 3: iteration \d+, loss ", r) for r in records)
@@ -141,7 +143,10 @@ def test_learn_verbose_in_a_log_file_has_lines_and_no_bars(tmp_path, monkeypatch
     assert "\r" not in err and "%|" not in err
     records = [record for _, record in verbose_lines(err)]
     assert any(r.startswith("mimic: Mean-Path of 2 demonstrations: done in ") for r in records)
-    assert err.splitlines()[-1].startswith("learned from 2 clean demonstrations")
+    # Last, or followed by the note on the assumed duration (untimed demonstrations).
+    assert any(
+        line.startswith("learned from 2 clean demonstrations") for line in err.splitlines()[-2:]
+    )
 
 
 # ------------------------------------------------------------------ plan
