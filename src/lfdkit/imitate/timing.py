@@ -169,18 +169,26 @@ class SpeedProfile:
         if not all(np.isfinite(d) and d > 0 for d in demo_durations):
             raise ValueError("demo_durations: expected positive, finite durations in seconds")
         coefficients.setflags(write=False)
-        from scipy.interpolate import BSpline  # here: lfdkit.skill loads fast
-
-        speed = BSpline(_knots(coefficients.size), coefficients, DEGREE, extrapolate=False)
-        progress = speed.antiderivative()
-        total = float(progress(1.0))
         object.__setattr__(self, "duration", float(duration))
         object.__setattr__(self, "coefficients", coefficients)
         object.__setattr__(self, "demo_durations", demo_durations)
-        object.__setattr__(self, "_speed", speed)
-        object.__setattr__(self, "_progress", progress)
-        object.__setattr__(self, "_rate", speed.derivative())
-        object.__setattr__(self, "_total", total)
+        object.__setattr__(self, "_splines", None)
+
+    def _law_splines(self) -> tuple[Any, Any, Any, float]:
+        """``(ν, σ, ν', σ(1))`` as B-splines, built on first use.
+
+        Built lazily: making a profile (loading a skill) then costs no
+        ``scipy.interpolate`` import (about 1.4 s cold), only evaluating one does.
+        """
+        if self._splines is None:
+            from scipy.interpolate import BSpline
+
+            knots = _knots(self.coefficients.size)
+            speed = BSpline(knots, self.coefficients, DEGREE, extrapolate=False)
+            progress = speed.antiderivative()
+            splines = (speed, progress, speed.derivative(), float(progress(1.0)))
+            object.__setattr__(self, "_splines", splines)
+        return self._splines
 
     # ------------------------------------------------------------ constructors
     @classmethod
@@ -209,20 +217,19 @@ class SpeedProfile:
     # ------------------------------------------------------------ evaluation
     def progress(self, u: Any) -> np.ndarray:
         """Fraction ``σ(u)`` of the path travelled at phase ``u = t / T`` (clipped to [0, 1])."""
-        return self._progress(_phase(u)) / self._total
+        _, progress, _, total = self._law_splines()
+        return progress(_phase(u)) / total
 
     def speed(self, u: Any) -> np.ndarray:
         """Normalised speed ``ν(u) = dσ/du``; the speed along the path is ``L ν / T``."""
-        return self._speed(_phase(u)) / self._total
+        speed, _, _, total = self._law_splines()
+        return speed(_phase(u)) / total
 
     def law(self, u: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``σ(u)``, ``σ'(u)`` and ``σ''(u)`` (derivatives in ``u``), ``u`` clipped to [0, 1]."""
         u = _phase(u)
-        return (
-            self._progress(u) / self._total,
-            self._speed(u) / self._total,
-            self._rate(u) / self._total,
-        )
+        speed, progress, rate, total = self._law_splines()
+        return progress(u) / total, speed(u) / total, rate(u) / total
 
     @property
     def peak_speed(self) -> float:
