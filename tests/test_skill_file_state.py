@@ -92,7 +92,8 @@ def test_plans_around_obstacles_and_steps_are_equal_too() -> None:
     goal = path[-1] + [0.05, 0.02]
     assert_same_plan(loaded.plan(goal=goal, scene=scene), skill.plan(goal=goal, scene=scene))
     state = (0.3, path[10] + 0.01, np.array([0.2, -0.1]), 0.01)
-    for a, b in zip(skill.dmp_.step(*state, goal=goal), loaded.dmp_.step(*state, goal=goal)):
+    steps = skill.dmp_.step(*state, goal=goal), loaded.dmp_.step(*state, goal=goal)
+    for a, b in zip(*steps, strict=True):
         assert np.array_equal(a, b)
 
 
@@ -145,7 +146,8 @@ def test_the_dmp_state_round_trips_alone() -> None:
         for end in ("rest", "free"):
             dmp = DMP(n_basis=25, scaling=scaling, end=end).fit(path, duration=3.0)
             again = DMP.from_state(_unpacked(dmp.to_state()))
-            for a, b in zip(dmp.rollout(goal=[2.5, 1.0]), again.rollout(goal=[2.5, 1.0])):
+            rollouts = dmp.rollout(goal=[2.5, 1.0]), again.rollout(goal=[2.5, 1.0])
+            for a, b in zip(*rollouts, strict=True):
                 assert np.array_equal(a, b)
 
 
@@ -173,7 +175,7 @@ def _edit_weights(doc: dict) -> None:
     [
         (_edit_weights, r"dmp: the stored DMP does not match its checksum"),
         (lambda d: d["path"][5].__setitem__(0, 0.123), r"dmp: the stored DMP does not match"),
-        (lambda d: d["dmp"]["knots"].update(float64le="***"), r"dmp.knots.float64le: expected base64"),
+        (lambda d: d["dmp"]["knots"].update(float64le="*"), r"knots.float64le: expected base64"),
         (lambda d: d["dmp"]["times"].update(shape=[3]), r"dmp.times.float64le: holds 60 numbers"),
         (lambda d: d["dmp"].update(version=STATE_VERSION + 1), r"dmp.version: .* newer"),
         (lambda d: d["dmp"].pop("weights"), r"dmp.weights: missing field"),
@@ -186,6 +188,6 @@ def _edit_weights(doc: dict) -> None:
 def test_a_corrupt_or_mismatched_state_is_refused_on_one_line(document, edit, message) -> None:
     doc = json.loads(json.dumps(document))
     edit(doc)
-    with pytest.raises(ValueError, match=f"^f.json: {message}") as info:
+    with pytest.raises(ValueError, match=f"^f.json: .*{message}") as info:
         Skill.from_dict(doc, source="f.json")
     assert "\n" not in str(info.value)

@@ -663,16 +663,14 @@ class DMP(Estimator):
             raise ValueError(f"{where}.times: expected one time per path point")
         if weights.shape != (n_basis, path.shape[1]):
             raise ValueError(
-                f"{where}.weights: expected shape ({n_basis}, {path.shape[1]}), "
-                f"got {weights.shape}"
+                f"{where}.weights: expected shape ({n_basis}, {path.shape[1]}), got {weights.shape}"
             )
         dmp.alpha_ = alpha
         dmp._use_basis(int(n_basis))
         n_knots = int(np.ceil(4.0 / dmp._panel)) + 1
         if knots.shape != (n_knots, 3, path.shape[1]):
             raise ValueError(
-                f"{where}.knots: expected shape ({n_knots}, 3, {path.shape[1]}), "
-                f"got {knots.shape}"
+                f"{where}.knots: expected shape ({n_knots}, 3, {path.shape[1]}), got {knots.shape}"
             )
         dmp.n_basis_ = int(n_basis)
         dmp.reproduction_error_ = float(state["reproduction_error"])
