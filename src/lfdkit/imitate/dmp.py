@@ -117,8 +117,9 @@ The ladder grows by factors of 1.33 to 1.5: the count kept is at most about
 1.5 times the smallest that would pass, in at most ten fits, and the error is
 not monotone in the count (a path passing at 40 may fail at 60), which rules
 out bisection. It starts at 10 (the default count; fewer rarely reproduce a
-generalized path to 1 %) and stops at 200 (the most a skill file holds;
-the Gram matrix costs ``20 n³`` operations, about 0.1 to 0.5 s at 200): a
+generalized path to 1 %) and stops at 200 (the Gram matrix costs
+``20 n³`` operations, about 0.1 to 0.5 s at 200; an integer ``n_basis`` may be
+up to :data:`MAX_BASIS`, and a skill file stores the fit, :meth:`DMP.to_state`): a
 path that needs more is noisy or has corners a spring cannot follow. Then
 the count with the smallest error is kept and a ``RuntimeWarning`` says what
 to do. The error is time-aligned, so it counts lag too: with
