@@ -5,8 +5,10 @@ skips ``lfdkit learn`` and the 1000-basis refit). Prints a table and writes
 ``startup.json`` to ``--output`` (``benchmarks/results/startup`` by default).
 
 Every figure is a fresh Python process (what a user or a batch worker pays),
-the median of ``--repeats`` runs (3), with numba's cache warm (each command
-runs once untimed first). "after" runs this checkout's ``src``; "before" runs
+the median of ``--repeats`` runs (3), with numba's cache and Python's
+bytecode cache warm (each command runs once untimed first;
+``PYTHONDONTWRITEBYTECODE`` is unset for them, as a package installed by pip
+has its bytecode compiled). "after" runs this checkout's ``src``; "before" runs
 the ``src`` of ``--baseline-commit`` (default :data:`BASELINE_COMMIT`, the
 commit before issue 30), extracted with ``git archive`` into the output
 folder, or ``--baseline`` (any lfdkit source tree), in the same run,
@@ -81,6 +83,8 @@ print(time.perf_counter() - start)
 def run(src: Path, args: list[str], cwd: Path) -> float:
     """Wall seconds of ``python ARGS`` with ``src`` first on the path; raises if it fails."""
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
+    # As installed: Python's bytecode cached (else every process compiles lfdkit's source).
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     start = time.perf_counter()
     done = subprocess.run(
         [sys.executable, *args], cwd=cwd, env=env, capture_output=True, text=True, check=False
