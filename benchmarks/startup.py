@@ -41,6 +41,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -52,6 +53,8 @@ from _common import git_state, machine_info, package_versions
 ROOT = Path(__file__).resolve().parent.parent
 #: The commit before issue 30 (loading refitted the DMP).
 BASELINE_COMMIT = "c7a1d8e"
+#: CPU seconds of each child run (:func:`run`), in order.
+CPU_SECONDS: list[float] = []
 PLAN_ARGS = ["--goal", "0.36,0.5", "--obstacle", "cup:-0.05,0.47,r=0.03"]
 
 # Run in a fresh process: prints the seconds Skill.load took (after the import).
@@ -81,7 +84,13 @@ print(time.perf_counter() - start)
 
 
 def run(src: Path, args: list[str], cwd: Path) -> float:
-    """Wall seconds of ``python ARGS`` with ``src`` first on the path; raises if it fails."""
+    """Wall seconds of ``python ARGS`` with ``src`` first on the path; raises if it fails.
+
+    A script that times itself prints its seconds last; those are returned.
+    The child's CPU seconds (user + system, its own children included) are
+    added to :data:`CPU_SECONDS`: on a shared machine they vary less than wall time.
+    """
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
     # As installed: Python's bytecode cached (else every process compiles lfdkit's source).
     env.pop("PYTHONDONTWRITEBYTECODE", None)
@@ -90,6 +99,8 @@ def run(src: Path, args: list[str], cwd: Path) -> float:
         [sys.executable, *args], cwd=cwd, env=env, capture_output=True, text=True, check=False
     )
     wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU_SECONDS.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(args)} ({src}) failed: {done.stderr.strip()[-400:]}")
     out = done.stdout.strip().splitlines()
@@ -102,16 +113,24 @@ def run(src: Path, args: list[str], cwd: Path) -> float:
 def measure(name: str, args: list[str], trees: dict[str, Path], cwd: Path, repeats: int) -> dict:
     """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first."""
     times: dict[str, list[float]] = {label: [] for label in trees}
+    cpu: dict[str, list[float]] = {label: [] for label in trees}
     for src in trees.values():
         run(src, args, cwd)  # warm: numba's cache, the OS's file cache
     for _ in range(repeats):
         for label, src in trees.items():
             times[label].append(run(src, args, cwd))
+            cpu[label].append(CPU_SECONDS[-1])
     row = {"what": name, **{label: statistics.median(t) for label, t in times.items()}}
+    row |= {f"{label}_cpu": statistics.median(t) for label, t in cpu.items()}
     row["runs"] = times
     if "before" in row and "after" in row:
         row["ratio"] = row["before"] / row["after"]
-    print(f"  {name}: " + ", ".join(f"{k} {row[k]:.3f} s" for k in trees), flush=True)
+        row["cpu_ratio"] = row["before_cpu"] / row["after_cpu"]
+    print(
+        f"  {name}: "
+        + ", ".join(f"{k} {row[k]:.3f} s ({row[k + '_cpu']:.3f} s CPU)" for k in trees),
+        flush=True,
+    )
     return row
 
 
@@ -228,11 +247,17 @@ def main() -> None:
     if "learn" in made:
         rows.append(measure("lfdkit learn (sweeping demo)", made["learn"], trees, out, 1))
     print()
-    print(f"{'what':42s} {'before s':>9s} {'after s':>9s} {'before/after':>13s}")
+    print(f"wall seconds (CPU seconds of the process and its children), load {os.getloadavg()}")
+    print(f"{'what':38s} {'before':>17s} {'after':>17s} {'ratio wall':>10s} {'CPU':>6s}")
     for row in rows:
-        before = f"{row['before']:9.3f}" if "before" in row else f"{'-':>9s}"
-        ratio = f"{row['ratio']:12.1f}x" if "ratio" in row else f"{'-':>13s}"
-        print(f"{row['what']:42s} {before} {row['after']:9.3f} {ratio}")
+        cells = []
+        for label in ("before", "after"):
+            if label in row:
+                cells.append(f"{row[label]:7.3f} ({row[label + '_cpu']:6.3f})")
+            else:
+                cells.append(f"{'-':>17s}")
+        ratio = f"{row['ratio']:9.1f}x {row['cpu_ratio']:5.1f}x" if "ratio" in row else ""
+        print(f"{row['what']:38s} {cells[0]:>17s} {cells[1]:>17s} {ratio}")
     record = {
         "benchmark": "startup",
         "trees": {k: str(v) for k, v in trees.items()},
