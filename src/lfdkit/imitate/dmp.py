@@ -645,9 +645,9 @@ class DMP(Estimator):
                 raise ValueError(f"{where}.{key}: contains NaN or infinite values")
         for key in ("n_basis", "alpha", "reproduction_error", "duration", "scale"):
             value = state[key]
-            kinds = (int,) if key == "n_basis" else (int, float)
-            if isinstance(value, bool) or not isinstance(value, kinds) or not value >= 0:
-                raise ValueError(f"{where}.{key}: expected a number >= 0, got {value!r}")
+            kinds, low = ((int,), 1) if key == "n_basis" else ((int, float), 0)
+            if isinstance(value, bool) or not isinstance(value, kinds) or not value >= low:
+                raise ValueError(f"{where}.{key}: expected a number >= {low}, got {value!r}")
         if state["checksum"] != _state_checksum(state):
             raise ValueError(
                 f"{where}: the stored DMP does not match its checksum (the file was edited or "
