@@ -1879,6 +1879,12 @@ def _stored_dmps(
     """
     state = document.dmp()
     if state is None:
+        if not isinstance(skill.n_basis, str) and skill.n_basis > skill_file.MAX_REFIT_BASIS:
+            raise ValueError(
+                f"params.n_basis: {skill.n_basis} basis functions, but no fitted DMP (dmp) to "
+                f"restore; a file without it holds at most {skill_file.MAX_REFIT_BASIS} "
+                "(refitting more takes tens of seconds): save the skill again with this lfdkit"
+            )
         return None
     dmp = DMP.from_state({**state, "path": path}, "dmp")
     law = timing or SpeedProfile.from_law(skill.timing, float(skill.duration))

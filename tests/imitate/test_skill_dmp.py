@@ -57,6 +57,11 @@ def test_skill_files_accept_auto_and_counts_up_to_1000(skill_file) -> None:
     assert Skill.from_dict(with_n_basis(skill_file, 200)).dmp_.n_basis_ == 200
 
 
+def test_a_file_without_the_fitted_dmp_refits_at_most_200(skill_file) -> None:
+    with pytest.raises(ValueError, match=r"^f.json: params.n_basis: 201 basis functions, but"):
+        Skill.from_dict(with_n_basis(skill_file, 201), source="f.json")
+
+
 def test_a_stored_dmp_fitted_with_another_count_is_refused(skill_file) -> None:
     edited = {**skill_file, "params": {**skill_file["params"], "n_basis": 13}}
     with pytest.raises(ValueError, match=r"^f.json: dmp.params.n_basis: .* remove the dmp field"):

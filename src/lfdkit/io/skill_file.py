@@ -97,6 +97,7 @@ from lfdkit.io.text import json_float_array, load_json
 from lfdkit.model.demos import PathLike
 
 __all__ = [
+    "MAX_REFIT_BASIS",
     "MAX_SKILL_FILE_BYTES",
     "ROUTES",
     "SKILL_FILE_LIMITS",
@@ -148,6 +149,10 @@ is 1000; a file that stores the fitted DMP loads without refitting, one
 without it refits in a time growing with ``n_basis**2``, 18 s at 1000) or
 overflowing (``duration = 1e300``). The stored ``path`` has at most the ``n_points``
 limit of rows."""
+
+#: Most basis functions a file without the fitted DMP (``dmp``) may ask to refit: the
+#: limit of every file before the DMP was stored (refitting 1000 takes about 18 s).
+MAX_REFIT_BASIS = 200
 
 # The parameters of SKILL_FILE_LIMITS that are counts (the others are reals).
 _INTEGER_PARAMS = ("n_points", "n_components", "n_basis")
