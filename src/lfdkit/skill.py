@@ -130,6 +130,9 @@ PlannerKind = Literal["mpc", "full"]
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
 
+#: Most training samples of an orientation DMP a skill file stores (3 doubles each, 0.6 MB).
+_MAX_STORED_ORIENTATION_SAMPLES = 20_000
+
 #: How closely (a rotation angle, degrees) the orientation DMP must reproduce the mean orientation.
 _ORIENTATION_TOLERANCE_DEG = 0.5
 
@@ -1612,10 +1615,20 @@ class Skill(Estimator):
             emulation=emulation,
             # The fitted DMPs as they plan: loading restores them, never refits (issue 30).
             dmp={k: v for k, v in self.dmp_.to_state().items() if k != "path"},
-            orientation_dmp=(
-                None if self.orientation_dmp_ is None else self.orientation_dmp_.to_state()
-            ),
+            orientation_dmp=self._stored_orientation_dmp(),
         )
+
+    def _stored_orientation_dmp(self) -> dict[str, Any] | None:
+        """The orientation DMP's state for the file; None (refit on load) when too long.
+
+        It holds its own training samples (``max(1000, 10 n)`` for a path of
+        ``n`` points): beyond :data:`_MAX_STORED_ORIENTATION_SAMPLES` the file
+        would outgrow :data:`MAX_SKILL_FILE_BYTES`, so that rare skill refits it.
+        """
+        dmp = self.orientation_dmp_
+        if dmp is None or len(dmp.dmp_.path_) > _MAX_STORED_ORIENTATION_SAMPLES:
+            return None
+        return dmp.to_state()
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], *, source: str = "skill") -> Skill:
