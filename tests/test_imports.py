@@ -65,3 +65,33 @@ def test_the_heavy_parts_still_load_when_used() -> None:
     )
     assert {"numba", "sklearn", "scipy"} <= loaded
     assert not loaded & {"mujoco", "matplotlib"}
+
+
+def test_loading_a_skill_imports_nothing_heavy_and_planning_no_scipy_interpolate(
+    tmp_path,
+) -> None:
+    """Issue 30: loading is reading (no refit, no SciPy); a plan needs numba, not splines."""
+    import numpy as np
+
+    from lfdkit.emulate import Reward
+    from lfdkit.skill import Skill
+
+    u = np.linspace(0.0, 1.0, 50)
+    path = np.column_stack([u, 0.2 * np.sin(np.pi * u)])
+    skill = Skill(n_basis=15).use_path(path).adopt(Reward(1.0, {"cup": 400.0 * np.eye(2)}))
+    saved = str(skill.save(tmp_path / "skill.json"))
+    load = f"from lfdkit.skill import Skill\nskill = Skill.load({saved!r})"
+    assert not _loaded(load) & set(HEAVY)
+    code = (
+        "import json, sys\n"
+        f"{load}\n"
+        "from lfdkit.model.scene import Scene\n"
+        "skill.plan(goal=[1.1, 0.1], scene=Scene.from_arrays(['cup'], [[0.5, 0.25]], [0.05]))\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True
+    )
+    modules = set(json.loads(result.stdout))
+    assert "numba" in modules  # the planner's kernels: the check can fail
+    assert not {m for m in modules if m.startswith(("scipy.interpolate", "scipy.optimize"))}

@@ -228,7 +228,7 @@ def _edited(skill: Skill, tmp_path: Path, edit) -> Path:
         (lambda d: d["params"].update(duration=0.0), r"params.duration: expected a value in "),
         (lambda d: d["params"].update(duration="1.0"), r"params.duration: expected a number"),
         (lambda d: d["params"].update(duration=True), r"params.duration: expected a number"),
-        (lambda d: d["params"].update(n_basis=10_000), r"params.n_basis: expected 1 to 200"),
+        (lambda d: d["params"].update(n_basis=10_000), r"params.n_basis: expected 1 to 1000"),
         (lambda d: d["params"].update(n_basis=20.0), r"params.n_basis: expected an integer"),
         (lambda d: d["params"].update(n_points=10**6), r"params.n_points: expected 3 to 100000"),
         (lambda d: d["params"].update(n_components="10"), "params.n_components: expected an"),
@@ -447,7 +447,7 @@ def test_skill_records_how_the_reward_fit_went(skill, tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("params", "message"),
     [
-        ({"n_basis": 10**4}, "n_basis: expected 1 to 200, got 10000"),
+        ({"n_basis": 10**4}, "n_basis: expected 1 to 1000, got 10000"),
         ({"duration": 1e300}, "duration: expected at most 1e+06"),
         ({"n_points": 10**6}, "n_points: expected 3 to 100000"),
         ({"n_components": 5000}, "n_components: expected 1 to 1000"),

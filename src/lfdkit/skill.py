@@ -50,9 +50,13 @@ and no run times (those stay on the object, in :attr:`Skill.mimic_info_` and
 :attr:`Skill.ioc_info_`, for reports), so skill files can be compared and
 cached.
 
-:meth:`Skill.load` refits the DMP from the stored path and parameters (a
-deterministic closed-form fit), so a loaded skill plans exactly as the saved
-one. A file from a newer format version, or one with a missing or broken
+:meth:`Skill.load` restores the DMPs as fitted (weights, training times,
+timing and the forced response the rollouts evaluate, stored with a
+checksum): loading is reading, never refitting, and a loaded skill plans to
+the bit as the saved one (issue 30: 2.9 s to load the sweeping skill before,
+most of it SciPy imports the refit needed). Files written before that are
+refitted from the stored path and parameters (a deterministic closed-form
+fit). A file from a newer format version, or one with a missing or broken
 field, is refused with a message naming the file and the field.
 """
 
@@ -127,6 +131,9 @@ PlannerKind = Literal["mpc", "full"]
 # Samples of a DMP rollout handed to the planner, which resamples it at
 # constant speed: dense enough that the resampled nominal follows the curve.
 _NOMINAL_OVERSAMPLING = 4
+
+#: Most training samples of an orientation DMP a skill file stores (3 doubles each, 0.6 MB).
+_MAX_STORED_ORIENTATION_SAMPLES = 20_000
 
 #: How closely (a rotation angle, degrees) the orientation DMP must reproduce the mean orientation.
 _ORIENTATION_TOLERANCE_DEG = 0.5
@@ -555,6 +562,18 @@ class Skill(Estimator):
             quaternions ``[x, y, z, w]``): the skill learns an orientation DMP
             on them (:attr:`orientation_dmp_`). Default: no orientation.
         """
+        self._use_path(path, source, timing, orientations)
+        return self
+
+    def _use_path(
+        self,
+        path: Any,
+        source: str,
+        timing: SpeedProfile | None,
+        orientations: Any,
+        fitted: tuple[DMP, QuaternionDMP | None] | None = None,
+    ) -> None:
+        """:meth:`use_path`; with ``fitted``, those DMPs instead of fitting them (loading)."""
         self._check_params()
         path = check_path(path, "path", min_points=3)
         if path.shape[1] not in (2, 3):
@@ -569,8 +588,7 @@ class Skill(Estimator):
             orientations = given if close else unit
         self.mimic_ = None
         info = {"method": "given", "source": str(source)}
-        self._set_path(path, info, None, timing, orientations)
-        return self
+        self._set_path(path, info, None, timing, orientations, fitted)
 
     def _set_path(
         self,
@@ -579,6 +597,7 @@ class Skill(Estimator):
         progress: Progress | None,
         timing: SpeedProfile | None = None,
         orientations: np.ndarray | None = None,
+        fitted: tuple[DMP, QuaternionDMP | None] | None = None,
     ) -> None:
         reward = getattr(self, "reward_", None)
         if reward is not None and reward.n_dims not in (None, path.shape[1]):
@@ -592,7 +611,7 @@ class Skill(Estimator):
         self.timing_ = timing
         # The stage says what it did once the DMP has chosen its basis count.
         with as_progress(progress).stage("imitate: DMP", announce=False) as stage:
-            self.dmp_ = self._fit_dmp(self.path_)
+            self.dmp_ = self._fit_dmp(self.path_) if fitted is None else fitted[0]
             chosen = " (n_basis='auto')" if isinstance(self.n_basis, str) else ""
             stage.describe(
                 f"imitate: DMP with {self.dmp_.n_basis_} basis functions per dimension{chosen}, "
@@ -605,7 +624,10 @@ class Skill(Estimator):
                 turned = continuous(orientations)
                 # q and -q are one rotation: the sign that starts with w >= 0, for readers.
                 self.orientations_ = -turned if turned[0, 3] < 0.0 else turned
-                self.orientation_dmp_ = self._fit_orientation_dmp(self.orientations_)
+                if fitted is None or fitted[1] is None:
+                    self.orientation_dmp_ = self._fit_orientation_dmp(self.orientations_)
+                else:
+                    self.orientation_dmp_ = fitted[1]
         self.n_dims_ = int(self.path_.shape[1])
         if not hasattr(self, "reward_"):
             self.reward_ = None
@@ -1550,15 +1572,31 @@ class Skill(Estimator):
             timing=timing.to_dict() if learned else None,
             orientations=self.orientations_,
             emulation=emulation,
+            # The fitted DMPs as they plan: loading restores them, never refits (issue 30).
+            dmp={k: v for k, v in self.dmp_.to_state().items() if k != "path"},
+            orientation_dmp=self._stored_orientation_dmp(),
         )
+
+    def _stored_orientation_dmp(self) -> dict[str, Any] | None:
+        """The orientation DMP's state for the file; None (refit on load) when too long.
+
+        It holds its own training samples (``max(1000, 10 n)`` for a path of
+        ``n`` points): beyond :data:`_MAX_STORED_ORIENTATION_SAMPLES` the file
+        would outgrow :data:`MAX_SKILL_FILE_BYTES`, so that rare skill refits it.
+        """
+        dmp = self.orientation_dmp_
+        if dmp is None or len(dmp.dmp_.path_) > _MAX_STORED_ORIENTATION_SAMPLES:
+            return None
+        return dmp.to_state()
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], *, source: str = "skill") -> Skill:
         """Rebuild a skill from :meth:`to_dict`'s output.
 
         The fields are read by :class:`lfdkit.io.skill_file.SkillDocument`;
-        the skill checks its parameters, refits the DMP on the path and
-        rebuilds the reward from them, in that order.
+        the skill checks its parameters, restores the DMP as fitted (refits
+        it on the path for a file without ``dmp``) and rebuilds the reward
+        from them, in that order.
 
         Raises
         ------
@@ -1588,7 +1626,8 @@ class Skill(Estimator):
             timing = SpeedProfile.from_dict(raw_timing, f"{source}: timing")
         orientations = document.orientations(len(path))
         try:
-            skill.use_path(path, timing=timing, orientations=orientations)
+            fitted = _stored_dmps(skill, document, path, timing, orientations)
+            skill._use_path(path, "given", timing, orientations, fitted)
             skill.mimic_info_ = document.mimic()
             reward = document.reward(n_dims)
             if reward is not None:
@@ -1686,6 +1725,52 @@ def learn(
 
 
 # ------------------------------------------------------------------ helpers
+def _stored_dmps(
+    skill: Skill,
+    document: skill_file.SkillDocument,
+    path: np.ndarray,
+    timing: SpeedProfile | None,
+    orientations: np.ndarray | None,
+) -> tuple[DMP, QuaternionDMP | None] | None:
+    """The DMPs a skill file stores, restored and checked against the skill; None to refit.
+
+    None for a file without them (before issue 30). A state that does not
+    belong to this skill (another path, timing, basis count or scaling) is
+    refused: planning with it would not be what the file says.
+    """
+    state = document.dmp()
+    if state is None:
+        if not isinstance(skill.n_basis, str) and skill.n_basis > skill_file.MAX_REFIT_BASIS:
+            raise ValueError(
+                f"params.n_basis: {skill.n_basis} basis functions, but no fitted DMP (dmp) to "
+                f"restore; a file without it holds at most {skill_file.MAX_REFIT_BASIS} "
+                "(refitting more takes tens of seconds): save the skill again with this lfdkit"
+            )
+        return None
+    dmp = DMP.from_state({**state, "path": path}, "dmp")
+    law = timing or SpeedProfile.from_law(skill.timing, skill._law_duration(path))
+    wanted = {
+        "duration": (dmp.duration_, law.duration),
+        "params.scaling": (dmp.scaling, skill.scaling),
+        "params.n_basis": (dmp.n_basis, skill.n_basis),
+        "timing": (
+            dmp.timing_ is not None and tuple(dmp.timing_.coefficients),
+            tuple(law.coefficients),
+        ),
+    }
+    for name, (stored, expected) in wanted.items():
+        if stored != expected:
+            said = "another speed profile" if name == "timing" else f"{stored!r}"
+            raise ValueError(
+                f"dmp.{name}: the stored DMP was fitted with {said}, not the skill's; "
+                "remove the dmp field to refit"
+            )
+    orientation_state = document.orientation_dmp()
+    if orientations is None or orientation_state is None:
+        return dmp, None  # a skill with orientations but none stored: fitted again
+    return dmp, QuaternionDMP.from_state(orientation_state, "orientation.dmp")
+
+
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
     if value not in choices:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")

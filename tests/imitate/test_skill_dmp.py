@@ -47,20 +47,33 @@ def skill_file(path) -> dict:
 
 
 def with_n_basis(data: dict, n_basis: object) -> dict:
-    return {**data, "params": {**data["params"], "n_basis": n_basis}}
+    """The file with another ``n_basis``, as a file without the fitted DMP (read by refitting)."""
+    refit = {key: value for key, value in data.items() if key != "dmp"}
+    return {**refit, "params": {**data["params"], "n_basis": n_basis}}
 
 
-def test_skill_files_accept_auto_and_counts_up_to_200(skill_file) -> None:
+def test_skill_files_accept_auto_and_counts_up_to_1000(skill_file) -> None:
     assert Skill.from_dict(with_n_basis(skill_file, "auto")).n_basis == "auto"
     assert Skill.from_dict(with_n_basis(skill_file, 200)).dmp_.n_basis_ == 200
+
+
+def test_a_file_without_the_fitted_dmp_refits_at_most_200(skill_file) -> None:
+    with pytest.raises(ValueError, match=r"^f.json: params.n_basis: 201 basis functions, but"):
+        Skill.from_dict(with_n_basis(skill_file, 201), source="f.json")
+
+
+def test_a_stored_dmp_fitted_with_another_count_is_refused(skill_file) -> None:
+    edited = {**skill_file, "params": {**skill_file["params"], "n_basis": 13}}
+    with pytest.raises(ValueError, match=r"^f.json: dmp.params.n_basis: .* remove the dmp field"):
+        Skill.from_dict(edited, source="f.json")
 
 
 @pytest.mark.parametrize(
     ("value", "message"),
     [
         ("automatic", "params.n_basis: expected an integer, got 'automatic'"),
-        (0, "params.n_basis: expected 1 to 200, got 0"),
-        (201, "params.n_basis: expected 1 to 200, got 201"),
+        (0, "params.n_basis: expected 1 to 1000, got 0"),
+        (1001, "params.n_basis: expected 1 to 1000, got 1001"),
         (20.0, "params.n_basis: expected an integer"),
         (True, "params.n_basis: expected an integer"),
     ],
@@ -73,8 +86,8 @@ def test_skill_files_accept_auto_and_bounded_integers_only(skill_file, value, me
 def test_a_skill_built_in_code_refuses_a_bad_count(path) -> None:
     with pytest.raises(TypeError, match="n_basis: expected an integer, got 'many'"):
         Skill(n_basis="many").use_path(path)
-    with pytest.raises(ValueError, match="n_basis: expected 1 to 200, got 500"):
-        Skill(n_basis=500).use_path(path)
+    with pytest.raises(ValueError, match="n_basis: expected 1 to 1000, got 1001"):
+        Skill(n_basis=1001).use_path(path)
 
 
 def test_the_progress_message_names_the_chosen_count() -> None:

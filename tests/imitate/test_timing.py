@@ -262,3 +262,32 @@ def test_dmp_rollouts_follow_a_learned_speed_profile_and_duration() -> None:
     np.testing.assert_allclose(2.0 * slow.velocities, run.velocities, atol=1e-9)
     with pytest.raises(ValueError, match="timing: expected one of"):
         DMP().fit(path, timing="learned")
+
+
+@pytest.mark.parametrize("n_coefficients", [5, 9, 40, 200])
+def test_the_numpy_splines_agree_with_scipy(n_coefficients: int) -> None:
+    """Issue 30: the speed law and the plan's tangents without scipy.interpolate, to rounding."""
+    from scipy.interpolate import BSpline, make_interp_spline
+
+    from lfdkit.imitate.timing import DEGREE, _interpolant_slopes, _knots
+
+    rng = np.random.default_rng(n_coefficients)
+    coefficients = rng.uniform(0.0, 3.0, n_coefficients)
+    profile = SpeedProfile(2.0, coefficients)
+    speed = BSpline(_knots(n_coefficients), coefficients, DEGREE)
+    progress = speed.antiderivative()
+    u = np.r_[0.0, np.sort(rng.uniform(0.0, 1.0, 500)), 1.0]
+    total = progress(1.0)
+    for ours, theirs in zip(
+        profile.law(u),
+        (progress(u) / total, speed(u) / total, speed.derivative()(u) / total),
+        strict=True,
+    ):
+        np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-13 * np.abs(theirs).max())
+    for n in (2, 3, 4, 7, 60):
+        x = np.r_[0.0, np.sort(rng.uniform(0.05, 0.95, n - 2)), 1.0]
+        y = rng.normal(size=(n, 3)).cumsum(axis=0)
+        expected = make_interp_spline(x, y, k=min(3, n - 1), axis=0)(x, 1)
+        np.testing.assert_allclose(
+            _interpolant_slopes(x, y), expected, rtol=0, atol=1e-12 * np.abs(expected).max()
+        )

@@ -55,7 +55,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from lfdkit.core.geometry import arc_length
 from lfdkit.core.validation import MAX_POINTS, check_path, check_positive
@@ -106,7 +105,7 @@ class Timing:
     waypoint_index: np.ndarray
     max_velocity: np.ndarray
     max_acceleration: np.ndarray
-    _spline: CubicSpline = field(repr=False)
+    _spline: Any = field(repr=False)  # scipy.interpolate.CubicSpline
     _s: np.ndarray = field(repr=False)  # (N+1,) grid of path positions
     _t: np.ndarray = field(repr=False)  # (N+1,) time at each grid position
     _sd: np.ndarray = field(repr=False)  # (N+1,) path speed ṡ at each grid position
@@ -441,6 +440,8 @@ def time_parameterize(
         )
     knots = arc_length(way)
     # Natural end conditions: two waypoints, or collinear ones, give a straight line.
+    from scipy.interpolate import CubicSpline  # here: a batch worker that only plans skips it
+
     spline = CubicSpline(knots, way, bc_type="natural", axis=0)
 
     s, knot_at = _grid(knots)

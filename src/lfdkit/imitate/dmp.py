@@ -117,11 +117,12 @@ The ladder grows by factors of 1.33 to 1.5: the count kept is at most about
 1.5 times the smallest that would pass, in at most ten fits, and the error is
 not monotone in the count (a path passing at 40 may fail at 60), which rules
 out bisection. It starts at 10 (the default count; fewer rarely reproduce a
-generalized path to 1 %) and stops at 200 (the most a skill file holds;
-the Gram matrix costs ``20 n³`` operations, about 0.1 to 0.5 s at 200): a
-path that needs more is noisy or has corners a spring cannot follow. Then
-the count with the smallest error is kept and a ``RuntimeWarning`` says what
-to do. The error is time-aligned, so it counts lag too: with
+generalized path to 1 %) and stops at 200 (the Gram matrix costs
+``20 n³`` operations, about 0.1 to 0.5 s at 200; an integer ``n_basis`` may be
+up to :data:`~lfdkit.imitate.primitive.MAX_BASIS`, and a skill file stores the
+fit, :meth:`DMP.to_state`): a path that needs more is noisy or has corners a
+spring cannot follow. Then the count with the smallest error is kept and a
+``RuntimeWarning`` says what to do. The error is time-aligned, so it counts lag too: with
 ``timing="uniform"`` the reproduction, which starts at rest, trails a path
 that starts at full speed by 4 to 10 % of its extent whatever the count
 (LASA), and ``"auto"`` warns. On the 182 leave-one-out Mean-Paths of the 26
@@ -163,7 +164,10 @@ exactly with the quadrature, the forcing ``b`` included, and agrees with
 
 from __future__ import annotations
 
+import hashlib
+import json
 import warnings
+from collections.abc import Mapping
 from typing import Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
@@ -204,6 +208,7 @@ __all__ = [
     "DMP",
     "MAX_RELATIVE_MAGNITUDE",
     "MAX_ROLLOUT_SAMPLES",
+    "STATE_VERSION",
     "Trajectory",
     "minimum_jerk_times",
 ]
@@ -229,6 +234,25 @@ MAX_ROLLOUT_SAMPLES = 10_000_000
 MAX_RELATIVE_MAGNITUDE = 1e6
 #: A step of :meth:`DMP.step` may span at most this many movement durations.
 MAX_STEP_DURATIONS = 1e3
+#: Version of :meth:`DMP.to_state`'s layout; :meth:`DMP.from_state` reads up to it.
+STATE_VERSION = 1
+#: The fields of a state, the checksum last; those that are arrays.
+_STATE_FIELDS = (
+    "version",
+    "params",
+    "n_basis",
+    "alpha",
+    "reproduction_error",
+    "duration",
+    "scale",
+    "weights",
+    "path",
+    "times",
+    "timing",
+    "knots",
+    "checksum",
+)
+_STATE_ARRAYS = ("path", "weights", "times", "knots")
 
 
 class Trajectory(NamedTuple):
@@ -518,11 +542,136 @@ class DMP(Primitive):
         self._extent = extent
         # The scale against which absurd starts, goals and states are judged.
         self.scale_ = max(extent, float(np.max(np.abs(points))), 1e-300)
+        self._knot_states = self._response_states()
+        self._set_knots()
+        return self
+
+    def _set_knots(self) -> None:
+        """The rollout's quintic pieces from :attr:`_knot_states`; empty caches."""
+        states = self._knot_states
+        spacing = 1.0 / (states.shape[0] - 1)
+        self._knots = (
+            spacing,
+            quintic_pieces(states[:, 0], states[:, 1], states[:, 2], spacing),
+        )
         self._grid_cache: dict[int, tuple[np.ndarray, ...]] = {}
-        self._knots = self._response_knots()
         self._left_cache: dict[tuple[int, float, bool], np.ndarray] = {}
         self._step_cache: dict[float, tuple[np.ndarray, ...]] = {}
-        return self
+
+    # ------------------------------------------------------------------ state
+    def to_state(self) -> dict[str, Any]:
+        """What rollouts and steps need, as plain data: restored exactly by :meth:`from_state`.
+
+        Returns
+        -------
+        dict
+            ``version`` (:data:`STATE_VERSION`), ``params`` (:meth:`get_params`),
+            ``n_basis``, ``alpha``, ``reproduction_error``, ``duration``,
+            ``scale``, ``weights`` (n_basis_, q), ``path`` (n_points, q),
+            ``times`` (n_points,), ``timing`` (:meth:`SpeedProfile.to_dict`
+            or None), ``knots`` (n_knots, 3, q): the learned forced response
+            from rest with its first two derivatives at the knots, and
+            ``checksum``, a SHA-256 of all of them, so that a state edited or
+            paired with another path is refused rather than planned with.
+        """
+        self._check_fitted()
+        state = {
+            "version": STATE_VERSION,
+            "params": self.get_params(),
+            "n_basis": int(self.n_basis_),
+            "alpha": float(self.alpha_),
+            "reproduction_error": float(self.reproduction_error_),
+            "duration": float(self.duration_),
+            "scale": float(self.scale_),
+            "weights": self.weights_,
+            "path": self.path_,
+            "times": self.times_,
+            "timing": None if self.timing_ is None else self.timing_.to_dict(),
+            "knots": self._knot_states,
+        }
+        state["checksum"] = _state_checksum(state)
+        return state
+
+    @classmethod
+    def from_state(cls, state: Mapping[str, Any], where: str = "dmp") -> DMP:
+        """The fitted DMP of :meth:`to_state`, without refitting (rollouts equal to the bit).
+
+        ``forcing_times_`` and ``forcing_target_`` (fit diagnostics) are None
+        on a restored DMP; refit it for them.
+
+        Raises
+        ------
+        ValueError
+            One line starting with ``where``, for a state of a newer version,
+            with a missing or malformed field, or whose checksum does not
+            match its contents (edited, corrupted, or given another path).
+        """
+        version = state.get("version")
+        if not isinstance(version, int) or isinstance(version, bool) or version < 1:
+            raise ValueError(f"{where}.version: expected an integer >= 1, got {version!r}")
+        if version > STATE_VERSION:
+            raise ValueError(
+                f"{where}.version: state version {version} is newer than this lfdkit reads "
+                f"({STATE_VERSION}); upgrade lfdkit"
+            )
+        missing = [key for key in _STATE_FIELDS if key not in state]
+        if missing:
+            raise ValueError(f"{where}.{missing[0]}: missing field")
+        state = dict(state)
+        for key in _STATE_ARRAYS:
+            try:
+                state[key] = np.array(state[key], dtype=np.float64)
+            except (TypeError, ValueError):
+                raise ValueError(f"{where}.{key}: expected an array of numbers") from None
+            if not np.all(np.isfinite(state[key])):
+                raise ValueError(f"{where}.{key}: contains NaN or infinite values")
+        for key in ("n_basis", "alpha", "reproduction_error", "duration", "scale"):
+            value = state[key]
+            kinds, low = ((int,), 1) if key == "n_basis" else ((int, float), 0)
+            if isinstance(value, bool) or not isinstance(value, kinds) or not value >= low:
+                raise ValueError(f"{where}.{key}: expected a number >= {low}, got {value!r}")
+        if state["checksum"] != _state_checksum(state):
+            raise ValueError(
+                f"{where}: the stored DMP does not match its checksum (the file was edited or "
+                "corrupted, or the path changed); remove the field to refit the DMP"
+            )
+        try:
+            dmp = cls(**dict(state["params"]))
+            dmp._check_params()
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{where}.params: {exc}") from None
+        path, weights, times, knots = (state[key] for key in _STATE_ARRAYS)
+        n_basis, alpha = state["n_basis"], float(state["alpha"])
+        if path.ndim != 2 or path.shape[0] < 3 or times.shape != path.shape[:1]:
+            raise ValueError(f"{where}.times: expected one time per path point")
+        if weights.shape != (n_basis, path.shape[1]):
+            raise ValueError(
+                f"{where}.weights: expected shape ({n_basis}, {path.shape[1]}), got {weights.shape}"
+            )
+        dmp.alpha_ = alpha
+        dmp._use_basis(int(n_basis))
+        n_knots = int(np.ceil(4.0 / dmp._panel)) + 1
+        if knots.shape != (n_knots, 3, path.shape[1]):
+            raise ValueError(
+                f"{where}.knots: expected shape ({n_knots}, 3, {path.shape[1]}), got {knots.shape}"
+            )
+        dmp.n_basis_ = int(n_basis)
+        dmp.reproduction_error_ = float(state["reproduction_error"])
+        dmp.weights_ = weights
+        dmp.start_, dmp.goal_ = path[0].copy(), path[-1].copy()
+        dmp.duration_ = float(state["duration"])
+        dmp.times_ = times
+        timing = state["timing"]
+        dmp.timing_ = None if timing is None else SpeedProfile.from_dict(timing, f"{where}.timing")
+        dmp.path_ = path
+        dmp.forcing_times_ = None
+        dmp.forcing_target_ = None
+        dmp.n_dims_ = path.shape[1]
+        dmp._extent = float(np.max(np.ptp(path, axis=0)))
+        dmp.scale_ = float(state["scale"])
+        dmp._knot_states = knots
+        dmp._set_knots()
+        return dmp
 
     def _use_basis(self, n_basis: int) -> None:
         """Set the basis functions and the quadrature panel for ``n_basis`` of them."""
@@ -603,22 +752,21 @@ class DMP(Primitive):
         self._use_basis(best.n_basis)
         return best
 
-    def _response_knots(self) -> tuple[float, np.ndarray]:
+    def _response_states(self) -> np.ndarray:
         """The forced response, exact, on knots a quarter quadrature panel apart.
 
-        Position, velocity and acceleration (from the ODE) at each knot define a
-        quintic Hermite interpolant whose error, about ``(Δ/σ)⁶ / 46080`` for a
-        basis of width ``σ`` at knot spacing ``Δ = σ/12``, is near 1e-11 of the
-        response: a rollout on any grid then costs a polynomial evaluation, not
-        a new integration.
+        Position, velocity and acceleration (from the ODE) at each knot, shape
+        (n_knots, 3, q), define a quintic Hermite interpolant whose error,
+        about ``(Δ/σ)⁶ / 46080`` for a basis of width ``σ`` at knot spacing
+        ``Δ = σ/12``, is near 1e-11 of the response: a rollout on any grid
+        then costs a polynomial evaluation, not a new integration.
         """
         n_knots = int(np.ceil(4.0 / self._panel)) + 1
         states = self._forced_response(n_knots)
         knots = np.linspace(0.0, 1.0, n_knots)
         forcing = self._design(knots) @ self.weights_
         curvature = -self.k * states[:, 0] - self.c * states[:, 1] + forcing
-        spacing = 1.0 / (n_knots - 1)
-        return spacing, quintic_pieces(states[:, 0], states[:, 1], curvature, spacing)
+        return np.concatenate([states, curvature[:, None, :]], axis=1)
 
     def _check_fitted(self) -> None:
         # sklearn's check_is_fitted scans every attribute: too slow for a 100 µs rollout.
@@ -1086,6 +1234,31 @@ class DMP(Primitive):
         if offsets is not None:
             drive += np.einsum("mk,m,rq->rkq", gamma, self._blend_forcing(s + nodes), offsets)
         return np.einsum("ab,rbq->raq", phi, x) + drive
+
+
+def _state_checksum(state: Mapping[str, Any]) -> str:
+    """SHA-256 over a state's fields (arrays as little-endian float64 bytes), hex."""
+    digest = hashlib.sha256()
+    try:
+        for key in _STATE_FIELDS[:-1]:
+            value = state[key]
+            if key in _STATE_ARRAYS:
+                array = np.ascontiguousarray(value, dtype="<f8")
+                digest.update(repr(array.shape).encode() + array.tobytes())
+            else:
+                plain = json.dumps(value, sort_keys=True, default=_plain_number)
+                digest.update(plain.encode())
+            digest.update(b"|")
+    except (TypeError, ValueError):
+        return ""  # not numbers where numbers belong: matches no checksum
+    return digest.hexdigest()
+
+
+def _plain_number(value: Any) -> Any:
+    """A NumPy scalar as the Python number JSON writes (for :func:`_state_checksum`)."""
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"{type(value).__name__} is not JSON data")
 
 
 def _check_distinct(points: np.ndarray) -> None:

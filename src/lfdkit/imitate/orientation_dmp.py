@@ -26,6 +26,7 @@ is refused with the sample at fault.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -119,6 +120,42 @@ class QuaternionDMP(Primitive):
         self.goal_ = goal.copy()
         self.times_ = self.dmp_.times_
         return self
+
+    def to_state(self) -> dict[str, Any]:
+        """The fitted state as plain data (:meth:`DMP.to_state` of :attr:`dmp_`, start, goal)."""
+        if not hasattr(self, "dmp_"):
+            raise ValueError("QuaternionDMP: call fit before to_state")
+        return {
+            "params": self.get_params(),
+            "start": self.start_,
+            "goal": self.goal_,
+            "dmp": self.dmp_.to_state(),
+        }
+
+    @classmethod
+    def from_state(cls, state: Mapping[str, Any], where: str = "orientation_dmp") -> QuaternionDMP:
+        """The fitted orientation DMP of :meth:`to_state`, without refitting.
+
+        Raises
+        ------
+        ValueError
+            One line starting with ``where`` for a missing or malformed field
+            (:meth:`DMP.from_state` for the inner DMP).
+        """
+        for key in ("params", "start", "goal", "dmp"):
+            if key not in state:
+                raise ValueError(f"{where}.{key}: missing field")
+        try:
+            made = cls(**dict(state["params"]))
+        except TypeError as exc:
+            raise ValueError(f"{where}.params: {exc}") from None
+        for key in ("start", "goal"):
+            check_quaternions(state[key], f"{where}.{key}")  # checked; kept as stored, to the bit
+        made.dmp_ = DMP.from_state(state["dmp"], f"{where}.dmp")
+        made.start_ = np.array(state["start"], dtype=np.float64)
+        made.goal_ = np.array(state["goal"], dtype=np.float64)
+        made.times_ = made.dmp_.times_
+        return made
 
     def rollout(
         self,

@@ -109,6 +109,79 @@ _END_WEIGHT = 1e3
 _SOURCES = ("minimum_jerk", "uniform", "demonstrations", "given")
 
 
+class _Spline:
+    """A B-spline on ``[t[degree], t[-degree-1]]``, evaluated by de Boor's algorithm.
+
+    What the speed law needs of :class:`scipy.interpolate.BSpline` (value,
+    derivative, antiderivative) in NumPy alone: importing
+    ``scipy.interpolate`` costs a fresh ``lfdkit plan`` 0.5 to 1.4 s (it pulls
+    in ``scipy.optimize``, ``sparse``, ``spatial`` and ``special``), against a
+    plan of 30 ms. Agrees with SciPy's to rounding (tests).
+    """
+
+    def __init__(self, knots: np.ndarray, coefficients: np.ndarray, degree: int) -> None:
+        self.t, self.c, self.k = knots, coefficients, degree
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        t, c, k = self.t, self.c, self.k
+        x = np.asarray(x, dtype=np.float64)
+        span = np.searchsorted(t, x, side="right") - 1
+        span = np.clip(span, k, len(t) - k - 2)  # the right end is in the last piece
+        d = [c[span - k + j] for j in range(k + 1)]
+        for r in range(1, k + 1):
+            for j in range(k, r - 1, -1):
+                left, right = t[span - k + j], t[span + 1 + j - r]
+                alpha = (x - left) / (right - left)
+                d[j] = (1.0 - alpha) * d[j - 1] + alpha * d[j]
+        return d[k]
+
+    def derivative(self) -> _Spline:
+        t, c, k = self.t, self.c, self.k
+        m = c.size
+        slopes = k * np.diff(c) / (t[k + 1 : k + m] - t[1:m])
+        return _Spline(t[1:-1], slopes, k - 1)
+
+    def antiderivative(self) -> _Spline:
+        t, c, k = self.t, self.c, self.k
+        m = c.size
+        running = np.cumsum(c * (t[k + 1 : k + 1 + m] - t[:m])) / (k + 1)
+        return _Spline(np.r_[t[0], t, t[-1]], np.r_[0.0, running], k + 1)
+
+
+def _interpolant_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``dy/dx`` at the nodes of the not-a-knot cubic spline through ``(x, y)``, (n, q).
+
+    The interpolant of :func:`scipy.interpolate.make_interp_spline` with
+    ``k=min(3, n - 1)`` (a line through 2 points, the parabola through 3),
+    solved for its node slopes as a tridiagonal system (``solve_banded``:
+    ``scipy.linalg``, which numba loads anyway, not ``scipy.interpolate``).
+    """
+    dx = np.diff(x)[:, None]
+    slope = np.diff(y, axis=0) / dx
+    n = len(x)
+    if n == 2:
+        return np.repeat(slope, 2, axis=0)
+    if n == 3:  # the parabola: its slope at each node
+        h0, h1 = dx[0], dx[1]
+        bend = (slope[1] - slope[0]) / (h0 + h1)
+        return np.stack([slope[0] - bend * h0, slope[0] + bend * h0, slope[1] + bend * h1])
+    from scipy.linalg import solve_banded
+
+    bands = np.zeros((3, n))
+    rhs = np.empty_like(y)
+    bands[1, 1:-1] = 2.0 * (dx[:-1, 0] + dx[1:, 0])
+    bands[0, 2:] = dx[:-1, 0]
+    bands[2, :-2] = dx[1:, 0]
+    rhs[1:-1] = 3.0 * (dx[1:] * slope[:-1] + dx[:-1] * slope[1:])
+    # Not-a-knot: the third derivative is continuous at the second and last-but-one nodes.
+    first, last = x[2] - x[0], x[-1] - x[-3]
+    bands[1, 0], bands[0, 1] = dx[1, 0], first
+    rhs[0] = ((dx[0] + 2.0 * first) * dx[1] * slope[0] + dx[0] ** 2 * slope[1]) / first
+    bands[1, -1], bands[2, -2] = dx[-2, 0], last
+    rhs[-1] = (dx[-1] ** 2 * slope[-2] + (2.0 * last + dx[-1]) * dx[-2] * slope[-1]) / last
+    return solve_banded((1, 1), bands, rhs)
+
+
 def _knots(n_coefficients: int) -> np.ndarray:
     """Clamped, evenly spaced knots on [0, 1] for ``n_coefficients`` quartic B-splines."""
     inner = np.linspace(0.0, 1.0, n_coefficients - DEGREE + 1)
@@ -169,18 +242,23 @@ class SpeedProfile:
         if not all(np.isfinite(d) and d > 0 for d in demo_durations):
             raise ValueError("demo_durations: expected positive, finite durations in seconds")
         coefficients.setflags(write=False)
-        from scipy.interpolate import BSpline  # here: lfdkit.skill loads fast
-
-        speed = BSpline(_knots(coefficients.size), coefficients, DEGREE, extrapolate=False)
-        progress = speed.antiderivative()
-        total = float(progress(1.0))
         object.__setattr__(self, "duration", float(duration))
         object.__setattr__(self, "coefficients", coefficients)
         object.__setattr__(self, "demo_durations", demo_durations)
-        object.__setattr__(self, "_speed", speed)
-        object.__setattr__(self, "_progress", progress)
-        object.__setattr__(self, "_rate", speed.derivative())
-        object.__setattr__(self, "_total", total)
+        object.__setattr__(self, "_splines", None)
+
+    def _law_splines(self) -> tuple[Any, Any, Any, float]:
+        """``(ν, σ, ν', σ(1))`` as B-splines, built on first use.
+
+        Built lazily: making a profile (loading a skill) then costs no
+        ``scipy.interpolate`` import (about 1.4 s cold), only evaluating one does.
+        """
+        if self._splines is None:
+            speed = _Spline(_knots(self.coefficients.size), self.coefficients, DEGREE)
+            progress = speed.antiderivative()
+            splines = (speed, progress, speed.derivative(), float(progress(np.array(1.0))))
+            object.__setattr__(self, "_splines", splines)
+        return self._splines
 
     # ------------------------------------------------------------ constructors
     @classmethod
@@ -209,20 +287,19 @@ class SpeedProfile:
     # ------------------------------------------------------------ evaluation
     def progress(self, u: Any) -> np.ndarray:
         """Fraction ``σ(u)`` of the path travelled at phase ``u = t / T`` (clipped to [0, 1])."""
-        return self._progress(_phase(u)) / self._total
+        _, progress, _, total = self._law_splines()
+        return progress(_phase(u)) / total
 
     def speed(self, u: Any) -> np.ndarray:
         """Normalised speed ``ν(u) = dσ/du``; the speed along the path is ``L ν / T``."""
-        return self._speed(_phase(u)) / self._total
+        speed, _, _, total = self._law_splines()
+        return speed(_phase(u)) / total
 
     def law(self, u: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``σ(u)``, ``σ'(u)`` and ``σ''(u)`` (derivatives in ``u``), ``u`` clipped to [0, 1]."""
         u = _phase(u)
-        return (
-            self._progress(u) / self._total,
-            self._speed(u) / self._total,
-            self._rate(u) / self._total,
-        )
+        speed, progress, rate, total = self._law_splines()
+        return progress(u) / total, speed(u) / total, rate(u) / total
 
     @property
     def peak_speed(self) -> float:
@@ -290,10 +367,7 @@ class SpeedProfile:
         lengths = segment_lengths(points)
         fractions = _fractions(points)
         u = self.phase(fractions)
-        degree = min(3, len(points) - 1)
-        from scipy.interpolate import make_interp_spline
-
-        tangent = make_interp_spline(fractions, points, k=degree, axis=0)(fractions, 1)
+        tangent = _interpolant_slopes(fractions, points)
         norms = np.linalg.norm(tangent, axis=1)
         flat = norms <= 1e-12 * float(lengths.sum())
         if np.any(flat):  # a spline cusp: the neighbours' chord instead

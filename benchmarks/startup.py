@@ -1,0 +1,265 @@
+"""Start-up: what a user waits for around the kernels (issue 30), before and after, side by side.
+
+Run ``python benchmarks/startup.py`` (``--help`` for options; ``--quick``
+skips ``lfdkit learn`` and the 1000-basis refit). Prints a table and writes
+``startup.json`` to ``--output`` (``benchmarks/results/startup`` by default).
+
+Every figure is a fresh Python process (what a user or a batch worker pays),
+the median of ``--repeats`` runs (3), with numba's cache and Python's
+bytecode cache warm (each command runs once untimed first;
+``PYTHONDONTWRITEBYTECODE`` is unset for them, as a package installed by pip
+has its bytecode compiled). "after" runs this checkout's ``src``; "before" runs
+the ``src`` of ``--baseline-commit`` (default :data:`BASELINE_COMMIT`, the
+commit before issue 30), extracted with ``git archive`` into the output
+folder, or ``--baseline`` (any lfdkit source tree), in the same run,
+alternating, so both see the same machine load. Measured:
+
+``lfdkit --help``
+    the entry point's imports and argparse (target ≤ 0.2 s).
+``import lfdkit.app.cli``
+    the command module alone.
+``lfdkit plan``
+    the README's example with one obstacle on the sweeping skill (target
+    ≤ 0.6 s warm on a 2-core machine).
+``Skill.load``
+    in a fresh process after ``import lfdkit.skill``, the sweeping skill and
+    200- and 1000-basis skills (target ≤ 50 ms for any skill file). "before"
+    reads the same file by refitting (the old reader ignores the stored
+    DMP); it refuses ``n_basis`` above 200, so the 1000 row is "after" only.
+``worker start-up``
+    a ``ProcessExecutor`` of 2 spawned workers, from creation to both
+    workers' first ``plan`` task of ``lfdkit batch evaluate`` done (target
+    ≤ 1.5 s).
+``lfdkit learn``
+    the shipped sweeping demonstrations (once each; not with ``--quick``).
+
+The skill files are made once with this checkout (``skill.json``, the
+sweeping skill; ``n_basis_1000.json``) and kept in the output folder.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from _common import git_state, machine_info, package_versions
+
+ROOT = Path(__file__).resolve().parent.parent
+#: The commit before issue 30 (loading refitted the DMP).
+BASELINE_COMMIT = "c7a1d8e"
+#: CPU seconds of each child run (:func:`run`), in order.
+CPU_SECONDS: list[float] = []
+PLAN_ARGS = ["--goal", "0.36,0.5", "--obstacle", "cup:-0.05,0.47,r=0.03"]
+
+# Run in a fresh process: prints the seconds Skill.load took (after the import).
+LOAD_SCRIPT = """
+import sys, time
+from lfdkit.skill import Skill
+start = time.perf_counter()
+Skill.load(sys.argv[1])
+print(time.perf_counter() - start)
+"""
+
+# Run in a fresh process: seconds from creating 2 spawned workers to both first tasks done.
+WORKERS_SCRIPT = """
+import sys, time
+from pathlib import Path
+start = time.perf_counter()
+from lfdkit.app.batch import ProcessExecutor
+from lfdkit.tasks.sweeping.batch import evaluate_scenario
+text = Path(sys.argv[1]).read_text()
+with ProcessExecutor(2) as pool:
+    futures = [
+        pool.submit(evaluate_scenario, text, {"seed": 0, "index": i}, "plan") for i in range(2)
+    ]
+    rows = [f.result() for f in futures]
+print(time.perf_counter() - start)
+"""
+
+
+def run(src: Path, args: list[str], cwd: Path) -> float:
+    """Wall seconds of ``python ARGS`` with ``src`` first on the path; raises if it fails.
+
+    A script that times itself prints its seconds last; those are returned.
+    The child's CPU seconds (user + system, its own children included) are
+    added to :data:`CPU_SECONDS`: on a shared machine they vary less than wall time.
+    """
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
+    # As installed: Python's bytecode cached (else every process compiles lfdkit's source).
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    start = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, *args], cwd=cwd, env=env, capture_output=True, text=True, check=False
+    )
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU_SECONDS.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(args)} ({src}) failed: {done.stderr.strip()[-400:]}")
+    out = done.stdout.strip().splitlines()
+    try:
+        return float(out[-1])  # a script that times itself
+    except (IndexError, ValueError):
+        return wall
+
+
+def measure(name: str, args: list[str], trees: dict[str, Path], cwd: Path, repeats: int) -> dict:
+    """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first."""
+    times: dict[str, list[float]] = {label: [] for label in trees}
+    cpu: dict[str, list[float]] = {label: [] for label in trees}
+    for src in trees.values():
+        run(src, args, cwd)  # warm: numba's cache, the OS's file cache
+    for _ in range(repeats):
+        for label, src in trees.items():
+            times[label].append(run(src, args, cwd))
+            cpu[label].append(CPU_SECONDS[-1])
+    row = {"what": name, **{label: statistics.median(t) for label, t in times.items()}}
+    row |= {f"{label}_cpu": statistics.median(t) for label, t in cpu.items()}
+    row["runs"] = times
+    if "before" in row and "after" in row:
+        row["ratio"] = row["before"] / row["after"]
+        row["cpu_ratio"] = row["before_cpu"] / row["after_cpu"]
+    print(
+        f"  {name}: "
+        + ", ".join(f"{k} {row[k]:.3f} s ({row[k + '_cpu']:.3f} s CPU)" for k in trees),
+        flush=True,
+    )
+    return row
+
+
+def extract(commit: str, folder: Path) -> Path:
+    """``src`` of ``commit`` under ``folder`` (once), by ``git archive``."""
+    if not (folder / "src").exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        archive = subprocess.run(
+            ["git", "archive", commit, "src"], cwd=ROOT, capture_output=True, check=True
+        ).stdout
+        subprocess.run(["tar", "-x", "-C", str(folder)], input=archive, check=True)
+    return folder / "src"
+
+
+def make_skills(out: Path, quick: bool) -> dict:
+    """The sweeping skill (learned once, untimed) and 200- and 1000-basis skills.
+
+    Returns ``{"learn": args}``, the ``lfdkit learn`` command to time (not
+    with ``quick``).
+    """
+    made = {}
+    skill = out / "skill.json"
+    cli = ["-m", "lfdkit.app.cli"]
+    data = out / "data"
+    learn = [*cli, "learn", str(data / "demos.csv"), "--scenes", str(data / "scenes.csv")]
+    learn += ["-o", str(skill), "-f", "-q"]
+    if not quick:
+        made["learn"] = learn
+    if not (data / "scenes.csv").exists():
+        data.mkdir(exist_ok=True)
+        export = ["datasets", "export", "sweeping", "-o", str(data / "demos.csv")]
+        export += ["--scenes", str(data / "scenes.csv"), "-f", "-q"]
+        run(ROOT / "src", [*cli, *export], out)
+    if not skill.exists():
+        run(ROOT / "src", learn, out)
+    for n_basis in (200, 1000):
+        big = out / f"n_basis_{n_basis}.json"
+        if not big.exists():
+            code = (
+                "import numpy as np, sys\nfrom lfdkit.skill import Skill\n"
+                "u = np.linspace(0, 1, 100)\n"
+                "path = np.column_stack([0.6 * u, 0.1 * np.sin(2 * np.pi * u)])\n"
+                f"Skill(n_basis={n_basis}).use_path(path).save(sys.argv[1], overwrite=True)\n"
+            )
+            run(ROOT / "src", ["-c", code, str(big)], out)
+    return made
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument(
+        "--baseline",
+        type=Path,
+        default=None,
+        help="source tree of the code before (default: --baseline-commit's)",
+    )
+    parser.add_argument(
+        "--baseline-commit",
+        default=BASELINE_COMMIT,
+        help=f"commit whose src is 'before' (default {BASELINE_COMMIT})",
+    )
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--quick", action="store_true", help="no learn, no 1000-basis refit")
+    parser.add_argument("--output", type=Path, default=ROOT / "benchmarks/results/startup")
+    args = parser.parse_args()
+    out = args.output.resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    baseline = args.baseline or extract(args.baseline_commit, out / "baseline")
+    trees = {"before": baseline.resolve(), "after": (ROOT / "src").resolve()}
+    print(f"machine: {machine_info()}", flush=True)
+    made = make_skills(out, args.quick)
+    cli = ["-m", "lfdkit.app.cli"]
+    skill = str(out / "skill.json")
+    rows = [
+        measure("lfdkit --help", [*cli, "--help"], trees, out, args.repeats),
+        measure("import lfdkit.app.cli", ["-c", "import lfdkit.app.cli"], trees, out, args.repeats),
+        measure(
+            "lfdkit plan (README, 1 obstacle)",
+            [*cli, "plan", skill, *PLAN_ARGS, "-o", "path.csv", "-f", "-q"],
+            trees,
+            out,
+            args.repeats,
+        ),
+        measure("Skill.load, sweeping skill", ["-c", LOAD_SCRIPT, skill], trees, out, args.repeats),
+    ]
+    for n_basis in (200, 1000):
+        big = ["-c", LOAD_SCRIPT, str(out / f"n_basis_{n_basis}.json")]
+        # Before, files held at most 200 (a 1000 file is refused) and the refit takes seconds.
+        only_after = n_basis > 200 or args.quick
+        used = {"after": trees["after"]} if only_after else trees
+        rows.append(measure(f"Skill.load, n_basis {n_basis}", big, used, out, 1))
+    rows.append(
+        measure(
+            "2 workers started, first tasks done",
+            ["-c", WORKERS_SCRIPT, skill],
+            trees,
+            out,
+            args.repeats,
+        )
+    )
+    if "learn" in made:
+        rows.append(measure("lfdkit learn (sweeping demo)", made["learn"], trees, out, 1))
+    print()
+    print(f"wall seconds (CPU seconds of the process and its children), load {os.getloadavg()}")
+    print(f"{'what':38s} {'before':>17s} {'after':>17s} {'ratio wall':>10s} {'CPU':>6s}")
+    for row in rows:
+        cells = []
+        for label in ("before", "after"):
+            if label in row:
+                cells.append(f"{row[label]:7.3f} ({row[label + '_cpu']:6.3f})")
+            else:
+                cells.append(f"{'-':>17s}")
+        ratio = f"{row['ratio']:9.1f}x {row['cpu_ratio']:5.1f}x" if "ratio" in row else ""
+        print(f"{row['what']:38s} {cells[0]:>17s} {cells[1]:>17s} {ratio}")
+    record = {
+        "benchmark": "startup",
+        "trees": {k: str(v) for k, v in trees.items()},
+        "baseline_commit": None if args.baseline else args.baseline_commit,
+        "repeats": args.repeats,
+        "quick": args.quick,
+        "rows": rows,
+        "machine": machine_info(),
+        "git": git_state(),
+        "packages": package_versions(["numpy", "scipy", "numba"]),
+    }
+    (out / "startup.json").write_text(json.dumps(record, indent=1) + "\n")
+    print(f"\nwrote {out / 'startup.json'}")
+
+
+if __name__ == "__main__":
+    main()
