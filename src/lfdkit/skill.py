@@ -90,11 +90,7 @@ from lfdkit.core.validation import (
     check_times_list,
 )
 from lfdkit.emulate import IOC, Plan, Reward, UnsafePlanError, metrics, plan_path
-from lfdkit.emulate.fidelity import (
-    close_narrow_gaps,
-    demonstrated_clearances,
-    replanning_fidelity,
-)
+from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.orientation_dmp import orientation_error
@@ -1452,8 +1448,6 @@ class Skill(Estimator):
     ) -> np.ndarray | None:
         """The learned clearance of each obstacle of ``scene`` (units), or None for none.
 
-        Gaps between two obstacles narrower than what the demonstrations
-        kept from both are closed (:func:`lfdkit.emulate.fidelity.close_narrow_gaps`).
         Where the task's own start or goal is nearer an obstacle than its
         class's learned clearance, that obstacle keeps half the distance (the
         plan must start and end there).
@@ -1464,7 +1458,6 @@ class Skill(Estimator):
         margins = np.array([learned.get(label, 0.0) for label in scene.labels])
         if not margins.any():
             return None
-        margins = close_narrow_gaps(scene, margins)
         ends = np.minimum(scene.distances(start[None]), scene.distances(goal[None]))
         room = 0.5 * np.maximum(ends - check_positive(clearance, "clearance", allow_zero=True), 0.0)
         return np.minimum(margins, room)

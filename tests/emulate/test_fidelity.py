@@ -18,9 +18,6 @@ import pytest
 from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate.fidelity import (
     CLEARANCE_FACTOR,
-    GAP_FACTOR,
-    GAP_WIDTH,
-    close_narrow_gaps,
     demonstrated_clearances,
     passing_sides,
     replanning_fidelity,
@@ -84,46 +81,6 @@ def test_no_gap_a_person_would_not_take() -> None:
     wider = skill.plan(scene=GAP, clearance=0.01)
     assert GAP.distances(wider.points).min() >= 0.05 - 1e-9
     assert wider.details.clearance.min() >= 0.0
-
-
-@pytest.mark.parametrize("units", [1.0, 1000.0])
-def test_a_gap_narrower_than_both_demonstrated_clearances_is_closed(units) -> None:
-    # Cups of radius 1 and 2 cm, 6 cm apart surface to surface; the floors 1.6
-    # and 3.2 cm (demonstrated 2 and 4 cm) leave the gap open (4.8 < 6), but a
-    # person that kept 2 and 4 cm does not thread 6 cm: closed, in proportion.
-    pair = Scene(
-        (
-            Obstacle("cup", [0.5, -0.02], radius=0.01),
-            Obstacle("box", [0.5, 0.06], radius=0.02),
-        )
-    ).scaled(units)
-    floors = np.array([0.016, 0.032]) * units
-    raised = close_narrow_gaps(pair, floors)
-    np.testing.assert_allclose(raised, GAP_FACTOR * 0.05 * units * np.array([1, 2]) / 3)
-    assert raised.sum() > 0.05 * units  # the hard radii overlap
-    # Wider than GAP_WIDTH times the demonstrated clearances: left open.
-    wide = 1.01 * GAP_WIDTH * 0.06 * units
-    apart = Scene(
-        (
-            Obstacle("cup", [0.5, -0.01 * units], radius=0.01 * units),
-            Obstacle("box", [0.5, wide + 0.01 * units], radius=0.0),
-        )
-    )
-    np.testing.assert_array_equal(close_narrow_gaps(apart, floors), floors)
-    # One obstacle, or no learned clearance: nothing to close.
-    np.testing.assert_array_equal(close_narrow_gaps(pair, np.zeros(2)), np.zeros(2))
-
-
-def test_a_skill_goes_round_a_pair_it_would_thread_with_the_floors_alone() -> None:
-    # The 2 cm gap of GAP with a 0.9 cm floor per cup: 1.8 cm of floors leave it
-    # open; the demonstrated 1.125 cm per side (2.25 cm) closes it.
-    skill = Skill().fit(FREE)
-    skill.adopt(Reward(400.0, {"cup": [400.0, 4000.0]}))
-    skill.clearances_ = {"cup": 0.009}
-    plan = skill.plan(scene=GAP)
-    corridor = Corridor.from_path(skill.nominal(), 100)
-    sides = passing_sides(plan.points, corridor, GAP)[:, 0]
-    assert np.sign(sides[0]) == np.sign(sides[1]) != 0  # both on one side: around
 
 
 def test_learned_skill_goes_around_the_gap_the_demonstrations_never_took(learned) -> None:

@@ -35,16 +35,16 @@ closer in pairs than in the single-obstacle training scenes) and a
 fixed-margin person in clutter (median 89 → 32 %), against ``model="thesis"``
 (no floor). The factor is not fitted to those people.
 
-Between two obstacles the floor is not enough: a gap wider than the two
-floors but not much wider than the two classes' demonstrated clearances
-would be threaded although no demonstration kept so little from both sides
-at once. :func:`close_narrow_gaps` closes gaps narrower than :data:`GAP_WIDTH`
-times the sum of the demonstrated clearances: it raises the two margins of
-such a pair until their hard radii overlap (each to its share of the gap, in
-proportion to the demonstrated clearances), so the plan goes round the pair
-as the demonstrations went round each obstacle. Measured (same benchmark,
-fixed-margin person, margins 2 and 4 cm): its 5.7 and 6.0 cm gaps, which it
-went round, were threaded with the floors alone (demonstrated 2.0 and 3.6 cm).
+Tried and left out (issue 26, item 4): closing every gap between two
+obstacles narrower than 1.25 times the sum of the two classes' demonstrated
+clearances (raising the pair's margins until their hard radii overlap). Same
+benchmark, seed 0, quick: gaps threaded the person went round 5 → 1 (the
+fixed-margin person's pairs, median Pr 31 → 76 %), but the thesis person's
+pairs went from 87 % to −16555 % median (it threads gaps narrower than the
+clearance it keeps from a single obstacle: its Gaussians sum to a minimum in
+the middle) and the late swerver's from 45 to −45 %. Single-obstacle
+training scenes cannot tell the two kinds of person apart, so the floor is
+per obstacle only; a demonstration between two obstacles would decide it.
 """
 
 from __future__ import annotations
@@ -62,9 +62,6 @@ __all__ = [
     "AROUND_FACTOR",
     "CLEARANCE_FACTOR",
     "CLEARANCE_QUANTILE",
-    "GAP_FACTOR",
-    "GAP_WIDTH",
-    "close_narrow_gaps",
     "demonstrated_clearances",
     "passing_sides",
     "replanning_fidelity",
@@ -74,12 +71,6 @@ __all__ = [
 CLEARANCE_QUANTILE = 0.1
 #: ... times this factor (room for demonstration noise: 20 % closer than the demonstrations).
 CLEARANCE_FACTOR = 0.8
-#: A gap is closed by margins whose sum is this much wider than it (the barrier's thin zone).
-GAP_FACTOR = 1.05
-#: A gap is open only where it is this much wider than the two demonstrated clearances
-#: (the floor's room for noise, 1 / CLEARANCE_FACTOR, the other way: a person does not
-#: thread a gap that leaves it no more than its closest pass on both sides at once).
-GAP_WIDTH = 1.0 / CLEARANCE_FACTOR
 #: An obstacle was gone around when the nominal passes it closer than this times the demo does.
 AROUND_FACTOR = 0.9
 
@@ -210,46 +201,4 @@ def replanning_fidelity(
     if around.any():
         out["clearance"] = float(scene.distances(plan)[around].min())
         out["demonstrated_clearance"] = float(scene.distances(demo)[around].min())
-    return out
-
-
-def close_narrow_gaps(scene: Scene, margins: np.ndarray) -> np.ndarray:
-    """Margins that close every gap narrower than the demonstrated clearances of its two sides.
-
-    Parameters
-    ----------
-    scene : Scene
-    margins : ndarray, shape (n_obstacles,)
-        Each obstacle's learned clearance floor (units, from
-        :func:`demonstrated_clearances`, i.e. :data:`CLEARANCE_FACTOR` times
-        the demonstrated clearance).
-
-    Returns
-    -------
-    ndarray, shape (n_obstacles,)
-        The margins, each raised where its obstacle and another leave a gap
-        (surface to surface, over their covering balls) narrower than
-        :data:`GAP_WIDTH` times the sum of their demonstrated clearances: to
-        its share of :data:`GAP_FACTOR` times the gap, in proportion to the
-        demonstrated clearances, so the two hard radii overlap and the gap
-        is closed.
-    """
-    margins = np.asarray(margins, dtype=np.float64)
-    out = margins.copy()
-    if len(scene) < 2 or not margins.any():
-        return out
-    demonstrated = margins / CLEARANCE_FACTOR
-    centres, radii, owner = scene.balls()
-    between = np.linalg.norm(centres[:, None] - centres[None], axis=-1) - radii[:, None] - radii
-    n = len(scene)
-    gap = np.full((n, n), np.inf)
-    np.minimum.at(gap, (owner[:, None], owner[None, :]), between)
-    for i in range(n):
-        for j in range(i):
-            wide = GAP_WIDTH * (demonstrated[i] + demonstrated[j])
-            if not 0.0 < gap[i, j] < wide:
-                continue  # wide enough, or touching (no gap to thread)
-            share = GAP_FACTOR * gap[i, j] / (demonstrated[i] + demonstrated[j])
-            out[i] = max(out[i], share * demonstrated[i])
-            out[j] = max(out[j], share * demonstrated[j])
     return out
