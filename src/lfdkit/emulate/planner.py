@@ -376,7 +376,9 @@ def plan_path(
     goal_approach : float, "auto" or None
         Length (path units) before the goal over which the plan returns to the
         nominal so it ends at the goal (see :func:`goal_weights`); "auto" (the
-        default) is :data:`~lfdkit.emulate.problem.GOAL_APPROACH_FRACTION` of the
+        default): the route's nearest goal-reaching path (it returns as late
+        as the action bound allows), else a ramp over
+        :data:`~lfdkit.emulate.problem.GOAL_APPROACH_FRACTION` of the
         nominal's length.
         None is the thesis's model, which has no goal term: a plan that swerves
         may end beside the goal.
