@@ -111,7 +111,11 @@ goal ramp; the person has no goal term and ends 3-5 cm beside the goal: its
 own path clipped to reach the goal within the action bound scores 76 %, so
 no goal-reaching plan reaches 90 % there), moved goal 98 %, new tasks 94 %.
 ``--quick --seed 1``: thesis 53 % / 99 %, margin −13 % / 80 %, field −88 % /
-34 %, late 62 % / 84 %.
+34 %, late 62 % / 84 %. ``--skill-option model="'path'"`` (responses in the
+nominal's frame), quick, 1×, pooled / median: seed 0 thesis 45 % / 96 %
+(new tasks −118 %), margin 61 % / 86 %, field −0 % / 46 %, late 62 % / 83 %;
+seed 1 thesis 51 % / 96 %, margin −74 % / 79 %, field −43 % / 35 %, late
+57 % / 84 %.
 """
 
 from __future__ import annotations

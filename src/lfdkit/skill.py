@@ -322,8 +322,10 @@ class Skill(Estimator):
         obstacle (:func:`lfdkit.emulate.reward.in_path_frame`): a person who
         reacts relative to the motion, not to the room. Not chosen
         automatically: demonstrations of one task cannot tell the two frames
-        apart (on the fidelity benchmark, new tasks went 95 → −118 % median
-        Pr for a thesis-model person and −528 → 33 % for a late swerver).
+        apart, and held out it helps some people and seeds and hurts others
+        (fidelity benchmark, quick, median Pr on new tasks: seed 0 thesis-model
+        person 95 → −118 %, late swerver −528 → 33 %; seed 1 fixed-margin
+        person 63 → −269 %).
 
         Either way the reward is fitted through exactly the route planner the
         skill plans with (the receding horizon ``H`` without goal term: the

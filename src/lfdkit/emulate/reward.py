@@ -296,11 +296,13 @@ def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tupl
     task that runs another way. In the path frame each obstacle's precision
     is turned by the angle from ``axis`` (the direction the reward was learned
     along) to the nominal's tangent at the obstacle's nearest point, so a
-    person's reaction keeps its shape relative to the motion (issue 26: on
-    the fidelity benchmark, seed 0, quick, median Pr of the fixed-margin
-    person 74 → 86 %, the late swerver 79 → 83 %, the potential field 40 →
-    47 %, and the thesis-model person's new tasks 95 → −118 %: it reacts in
-    world axes).
+    person's reaction keeps its shape relative to the motion. Measured
+    (issue 26, fidelity benchmark, quick, against world axes): seed 0, median
+    Pr of the fixed-margin person 74 → 86 %, the late swerver 79 → 83 %, the
+    potential field 40 → 46 %, the thesis-model person's new tasks 95 →
+    −118 % (it reacts in world axes); seed 1, new tasks of the fixed-margin
+    person 63 → −269 % and of the late swerver 30 → −130 %. Mixed, so it is
+    an option (``Skill(model="path")``), not the default.
 
     Parameters
     ----------
