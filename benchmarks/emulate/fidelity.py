@@ -98,6 +98,24 @@ person hardly swerved, the plan did). ``--quick`` (6 demonstrations, 14
 scenes, about 45 s), pooled / median Pr at 1×: thesis 26 % / 90 %, margin
 59 % / 73 %, field 63 % / 41 % (6 of 14 held-out plans refused), late
 −11 % / 76 %; 0 collisions.
+
+With the nearest goal join (branch ``emulate``, seed 0, full run, 1680 s on
+the shared machine under load; 10 demonstrations, 1×, pooled / median Pr):
+thesis 73 % / 96 %, margin 49 % / 83 %, field 52 % / 48 %, late 64 % / 84 %;
+over the 24 settings 0 collisions, 0 refused, 22 gaps threaded, sides down to
+86 % (margin, 4, 2×). Thesis medians per family: single 99 %, pair −964 %
+(two of four pairs: the person hardly swerves, and the learned clearance
+floor closes the gap it threads; ``model="thesis"`` plans them at 94 and
+98 %), clutter 92 %, pocket 100 %, near the goal 76 % (69 % with the 10 %
+goal ramp; the person has no goal term and ends 3-5 cm beside the goal: its
+own path clipped to reach the goal within the action bound scores 76 %, so
+no goal-reaching plan reaches 90 % there), moved goal 98 %, new tasks 94 %.
+``--quick --seed 1``: thesis 53 % / 99 %, margin −13 % / 80 %, field −88 % /
+34 %, late 62 % / 84 %. ``--skill-option model="'path'"`` (responses in the
+nominal's frame), quick, 1×, pooled / median: seed 0 thesis 45 % / 96 %
+(new tasks −118 %), margin 61 % / 86 %, field −0 % / 46 %, late 62 % / 83 %;
+seed 1 thesis 51 % / 96 %, margin −74 % / 79 %, field −43 % / 35 %, late
+57 % / 84 %.
 """
 
 from __future__ import annotations

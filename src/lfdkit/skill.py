@@ -101,6 +101,7 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import IOC, Plan, Reward, UnsafePlanError, metrics, plan_path
 from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
+from lfdkit.emulate.reward import in_path_frame
 from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.orientation_dmp import orientation_error
 from lfdkit.imitate.timing import DURATION_RANGE
@@ -206,7 +207,7 @@ class Skill(Estimator):
         reward fit is staged (full horizon, then MPC) for ``"mpc"``.
     horizon : int
         MPC horizon ``H``, 4 to 12.
-    model : {"auto", "thesis"}
+    model : {"auto", "thesis", "path"}
         How the obstacle behaviour is modelled and planned (issue 26).
         ``"thesis"``: the thesis's model exactly, the reward fitted through
         its receding horizon (no goal term) and planned with the same MPC
@@ -223,6 +224,18 @@ class Skill(Estimator):
           new tasks at 98 % median Pr where the lookahead gave 40 %);
         * plans keep at least the clearance the demonstrations kept from each
           class's obstacles (:attr:`clearances_`), on top of ``clearance``.
+
+        ``"path"`` (2-D, static scenes): as ``"auto"``, with each obstacle's
+        learned response turned from the direction it was learned along (the
+        generalized path's start-to-goal direction when the reward was
+        fitted, ``ioc_info_["frame_axis"]``) into the nominal's frame at the
+        obstacle (:func:`lfdkit.emulate.reward.in_path_frame`): a person who
+        reacts relative to the motion, not to the room. Not chosen
+        automatically: demonstrations of one task cannot tell the two frames
+        apart, and held out it helps some people and seeds and hurts others
+        (fidelity benchmark, quick, median Pr on new tasks: seed 0 thesis-model
+        person 95 → −118 %, late swerver −528 → 33 %; seed 1 fixed-margin
+        person 63 → −269 %).
 
         Either way the reward is fitted through exactly the route planner the
         skill plans with (the receding horizon ``H`` without goal term: the
@@ -820,7 +833,10 @@ class Skill(Estimator):
             ),
         }
         self._reset_emulation()
-        if self.model == "auto":
+        # The direction the precisions are learned along (model="path" turns them from it).
+        chord = self.path_[-1] - self.path_[0]
+        self.ioc_info_["frame_axis"] = (chord / max(float(np.linalg.norm(chord)), 1e-300)).tolist()
+        if self.model != "thesis":
             self.clearances_ = demonstrated_clearances(demos, scenes, nominals, ioc.classes_)
         with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
             # Obstacles of a class not learned never shaped a demonstration (the IOC
@@ -842,7 +858,7 @@ class Skill(Estimator):
         # The window MPC first: it is what the reward was fitted through (the
         # IOC's MPC stage), so it wins ties; the lookahead only where it
         # replans the training scenes closer.
-        return ("window", "lookahead") if self.model == "auto" else ("window",)
+        return ("window", "lookahead") if self.model != "thesis" else ("window",)
 
     def _unfitted_route(self) -> str:
         """The route of a skill whose reward was not fitted here (as before routes were chosen)."""
@@ -1395,6 +1411,8 @@ class Skill(Estimator):
             lookahead=route != "window",
         )
         margins = self._margins(scene, start, goal, clearance)
+        if self.model == "path" and len(scene) and not scene.moving:
+            reward, scene = self._in_path_frame(reward, scene, nominal)
         # The thesis's MPC can walk into a dead end the lookahead sees: then that.
         routes = [route] + (["lookahead"] if route == "window" and h is not None else [])
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
@@ -1423,6 +1441,20 @@ class Skill(Estimator):
                 )
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _in_path_frame(
+        self, reward: Reward, scene: Scene, nominal: np.ndarray
+    ) -> tuple[Reward, Scene]:
+        """``model="path"``: the reward turned into ``nominal``'s frame at each obstacle."""
+        if self.n_dims_ != 2:
+            raise ValueError(
+                f"model: 'path' turns responses in the plane only, this skill is "
+                f"{self.n_dims_}-D; use model='auto'"
+            )
+        axis = (self.ioc_info_ or {}).get("frame_axis")
+        if axis is None:  # a reward adopted: learned along this path, as far as is known
+            axis = self.path_[-1] - self.path_[0]
+        return in_path_frame(reward, scene, nominal, np.asarray(axis, dtype=np.float64))
 
     def _margins(
         self, scene: Scene, start: np.ndarray, goal: np.ndarray, clearance: float

@@ -193,3 +193,39 @@ def test_the_same_demonstrations_in_millimetres_give_the_same_behaviour(learned)
     converted = skill.to_units("mm")
     assert converted.clearances_["cup"] == pytest.approx(mm.clearances_["cup"], rel=1e-9)
     assert converted.route_ == skill.route_
+
+
+def _turned(points: np.ndarray, angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.asarray(points) @ np.array([[c, s], [-s, c]])
+
+
+def test_path_frame_responses_turn_with_the_task() -> None:
+    # A reward learned along +x, long along the motion (precision 100 along, 4000
+    # across). The same task and cup turned by 90° (the sweep now runs along +y):
+    # with model="path" the plan is the first plan turned (the response turns
+    # with the motion); in world axes it is not (the response stays long in x).
+    reward = Reward(20.0, {"cup": [100.0, 4000.0]})
+    cup = Obstacle("cup", [0.5, 0.01], radius=0.005)
+    plans, skills = {}, {}
+    for model in ("path", "auto"):
+        skill = Skill(model=model).fit(FREE).adopt(reward)
+        along_x = skill.plan(scene=Scene((cup,))).points
+        turned = Skill(model=model).fit([_turned(d, np.pi / 2) for d in FREE])
+        turned.ioc_info_ = {"frame_axis": [1.0, 0.0]}  # learned along +x
+        turned.adopt(reward)
+        scene = Scene((Obstacle("cup", _turned(cup.position, np.pi / 2), radius=0.005),))
+        plans[model] = (_turned(along_x, np.pi / 2), turned.plan(scene=scene).points)
+        skills[model] = turned
+    expected, got = plans["path"]
+    np.testing.assert_allclose(got, expected, atol=1e-6)
+    # The model and the direction it turns from survive the skill file.
+    again = Skill.from_dict(json.loads(json.dumps(skills["path"].to_dict())))
+    assert again.model == "path" and again.ioc_info_["frame_axis"] == [1.0, 0.0]
+    np.testing.assert_allclose(again.plan(scene=scene).points, got, atol=1e-12)
+    expected, got = plans["auto"]
+    assert np.abs(got - expected).max() > 0.005  # world axes: another swerve
+    three_d = Skill(model="path").fit([np.column_stack([d, 0 * X]) for d in FREE])
+    three_d.adopt(Reward(20.0, {"cup": [100.0, 4000.0, 4000.0]}))
+    with pytest.raises(ValueError, match="model: 'path'"):
+        three_d.plan(scene=Scene((Obstacle("cup", [0.5, 0.01, 0.0], radius=0.005),)))

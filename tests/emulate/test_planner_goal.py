@@ -151,3 +151,30 @@ def test_a_point_obstacle_whose_response_covers_the_goal_is_planned() -> None:
     free = plan_path(reward, path, scene, goal_approach=None)
     assert free.offsets[-10:, 0].max() < 0.0
     assert plan.offsets[-10:-1, 0].max() < 0.0
+
+
+def test_the_goal_is_joined_by_the_nearest_goal_reaching_path() -> None:
+    # An obstacle near the goal: the route (no goal term) ends beside the goal.
+    # With goal_approach="auto" the plan is that route until the action bound
+    # forces the way back, then returns at the bound (the projection of the
+    # route onto the goal-reaching paths); a length asks for the smooth ramp.
+    path = nominal(0)
+    corridor = Corridor.from_path(path, N_POINTS)
+    reward = Reward(20.0, {"obstacle": [60.0, 700.0]})
+    scene = Scene((Obstacle("obstacle", corridor.points[N_POINTS - 6] + [0.0, -0.01]),))
+    route = plan_path(
+        reward, path, scene, n_points=N_POINTS, horizon=5, lookahead=False, goal_approach=None
+    )
+    plan = plan_path(
+        reward, path, scene, n_points=N_POINTS, horizon=5, lookahead=False, goal_approach="auto"
+    )
+    step = corridor.step  # max_slope 1
+    left = (N_POINTS - 1 - np.arange(N_POINTS))[:, None] * step
+    assert abs(route.offsets[-1, 0]) > 3 * step  # the route ends well beside the goal
+    np.testing.assert_allclose(plan.offsets, np.clip(route.offsets, -left, left), atol=1e-12)
+    assert np.abs(np.diff(plan.offsets[:, 0])).max() <= step * (1 + 1e-9)
+    ramp = plan_path(
+        reward, path, scene, n_points=N_POINTS, horizon=5, lookahead=False, goal_approach=0.1
+    )
+    assert np.abs(ramp.offsets[-1]).max() < 1e-3 * corridor.extent
+    assert np.sum((ramp.offsets - route.offsets) ** 2) > np.sum((plan.offsets - route.offsets) ** 2)

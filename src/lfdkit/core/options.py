@@ -28,8 +28,9 @@ MIN_HORIZON, MAX_HORIZON = 4, 12
 
 #: :class:`~lfdkit.skill.Skill`'s ``planner`` choices: receding horizon or full-horizon optimum.
 PLANNERS = ("mpc", "full")
-#: :class:`~lfdkit.skill.Skill`'s ``model`` choices: from the demonstrations, or the thesis's.
-MODELS = ("auto", "thesis")
+#: :class:`~lfdkit.skill.Skill`'s ``model`` choices: from the demonstrations, the thesis's,
+#: or "auto" with each obstacle's response in the nominal's frame (2-D).
+MODELS = ("auto", "thesis", "path")
 #: :class:`~lfdkit.skill.Skill`'s ``timing`` choices (:meth:`lfdkit.imitate.DMP.fit`).
 TIMINGS = ("minimum_jerk", "uniform")
 #: :class:`~lfdkit.skill.Skill`'s ``scaling`` choices (:class:`lfdkit.imitate.DMP`).
