@@ -116,6 +116,13 @@ _CORE, _CUTOFF = 4.0, 8.0
 #: them; from eight, 2 % (``benchmarks/adaptive_thresholds.py``).
 _FEWEST_TO_CUT = {"line": 8, "plane": 4}
 _NO_CUT = 1e6
+#: ``center="adaptive"``: the cores it chooses from, in robust scales (the first
+#: is the default: the mean within 4 scales), and how much lower a smaller core's
+#: estimated error must be to replace it (:func:`_choose_core`).
+_CORES = (_CORE, 2.0, 1.0, 0.5, 0.25)
+_SWITCH = 0.95
+#: Normals whose intersections the choice pools, at most (evenly spread along the path).
+_CHOICE_ROWS = 200
 #: Spreads below this fraction of the coordinates' magnitude count as zero.
 _TINY = 1e-12
 
@@ -271,6 +278,14 @@ class MeanPath(Estimator):
 
         ref = self._reparametrise(ref, starts, stops)
         state = self._evaluate(ref, polylines, needed)
+        core = _CORE
+        if self.center == "adaptive":
+            core, self.center_estimates_ = _choose_core(ref, state.hits, state.found)
+            if core < _CORE:
+                state = self._evaluate(ref, polylines, needed, core=core)
+        else:
+            self.center_estimates_ = {}
+        self.center_core_ = core
         residuals = [state.e1]
         innovations = [state.e3]
         step = 1.0
@@ -281,7 +296,7 @@ class MeanPath(Estimator):
                 try:
                     candidate = self._reparametrise(ref + step * state.innovation, starts, stops)
                     # Scored on the accepted path's scales, so that both losses are one function.
-                    new = self._evaluate(candidate, polylines, needed, scale=state.scale)
+                    new = self._evaluate(candidate, polylines, needed, state.scale, core)
                 except FoldedPathError:
                     new = None  # the step folded the path back onto itself: a shorter one
                 if new is not None and new.loss <= state.loss:
@@ -388,6 +403,7 @@ class MeanPath(Estimator):
         polylines: PolylineSet,
         needed: int,
         scale: np.ndarray | None = None,
+        core: float = _CORE,
     ) -> _State:
         """Intersections, residuals and the update direction at a Reference-Path.
 
@@ -414,9 +430,9 @@ class MeanPath(Estimator):
             )
         innovation = np.zeros_like(ref)
         if self.center == "adaptive":
-            start, own_scale = _robust_start(offsets, found)
+            start, own_scale = _robust_start(offsets, found, core)
             innovation[supported] = _adaptive(
-                offsets[supported], found[supported], start[supported], own_scale[supported]
+                offsets[supported], found[supported], start[supported], own_scale[supported], core
             )
         else:
             innovation[supported] = _centre_vectors(
@@ -427,7 +443,7 @@ class MeanPath(Estimator):
         d = dist[found]
         e1 = float(np.sum(d**2))
         e3 = float(np.linalg.norm(innovation, axis=1).sum())
-        state = _State(hits.points, found, innovation, e1, e3, 0.0)
+        state = _State(hits.points, found, innovation, e1, e3, 0.0, core=core)
         if self.center == "mean":
             state.loss = e1 / n_found
         elif self.center == "adaptive":
@@ -440,9 +456,9 @@ class MeanPath(Estimator):
 class _State:
     """Evaluation of one Reference-Path (internal)."""
 
-    __slots__ = ("e1", "e3", "found", "hits", "innovation", "loss", "scale")
+    __slots__ = ("core", "e1", "e3", "found", "hits", "innovation", "loss", "scale")
 
-    def __init__(self, hits, found, innovation, e1, e3, loss, scale=None) -> None:
+    def __init__(self, hits, found, innovation, e1, e3, loss, scale=None, core=_CORE) -> None:
         self.hits = hits
         self.found = found
         self.innovation = innovation
@@ -450,6 +466,7 @@ class _State:
         self.e3 = e3
         self.loss = loss
         self.scale = scale
+        self.core = core
 
     def rescale(self, ref: np.ndarray, scale: np.ndarray | None = None) -> None:
         """``center="adaptive"``: its loss, on the given scales or on its own (``None``).
@@ -463,13 +480,13 @@ class _State:
         """
         offsets = self.hits - ref[:, None, :]
         if scale is None:
-            scale = _robust_start(offsets, self.found)[1]
+            scale = _robust_start(offsets, self.found, self.core)[1]
         self.scale = scale
         dist = np.linalg.norm(np.where(self.found[..., None], offsets, 0.0), axis=2)
         spread = scale > 0.0
         s = np.where(spread, scale, 1.0)[:, None]
         weight = float(np.median(scale[spread])) if spread.any() else 1.0
-        loss = np.where(spread[:, None], _adaptive_rho(dist / s) * s**2, weight * dist)
+        loss = np.where(spread[:, None], _adaptive_rho(dist / s, self.core) * s**2, weight * dist)
         self.loss = float(loss[self.found].sum()) / int(self.found.sum())
 
 
@@ -622,23 +639,35 @@ def _shortest_half(values: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, n
     return mid, width
 
 
-def _robust_start(offsets: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _robust_start(
+    offsets: np.ndarray, found: np.ndarray, core: float = _CORE
+) -> tuple[np.ndarray, np.ndarray]:
     """Start (m, q) and robust scale (m,) of each row's found vectors for ``"adaptive"``.
 
-    Each row's own (:func:`_own_start_and_scale`), then: rows with fewer than
-    :data:`_FEWEST_TO_CUT` values get a scale no distance comes near (their
-    centre is their mean), and the others' scales are at least their median
-    along the path.
+    Each row's own (:func:`_own_start_and_scale`), then: the scales of rows
+    with at least :data:`_FEWEST_TO_CUT` values are at least their median along
+    the path. Rows with fewer values get, with the default ``core``, a scale no
+    distance comes near (their centre is their mean); with a smaller core
+    (chosen where the intersections are heavy-tailed, :func:`_choose_core`)
+    the path's scale, the median of the rows' own, which many values make
+    steady where each row's own is not.
     """
-    start, scale = _own_start_and_scale(offsets, found)
-    few = found.sum(axis=1) < _FEWEST_TO_CUT["plane" if offsets.shape[2] > 2 else "line"]
-    # Weights all 1 and the loss the squared distance's: the mean.
-    scale = np.where(few & (scale > 0.0), _NO_CUT * scale, scale)
+    start, own = _own_start_and_scale(offsets, found)
+    count = found.sum(axis=1)
+    few = count < _FEWEST_TO_CUT["plane" if offsets.shape[2] > 2 else "line"]
     # The demonstrator's spread varies slowly along the path: a normal where some
     # values bunch by chance would otherwise cut the others, and the path jump there.
-    estimated = ~few & (scale > 0.0)
+    estimated = ~few & (own > 0.0)
+    scale = own
     if estimated.sum() > 1:
-        scale = np.where(estimated, np.maximum(scale, np.median(scale[estimated])), scale)
+        scale = np.where(estimated, np.maximum(own, np.median(own[estimated])), own)
+    if core >= _CORE:
+        # Weights all 1 and the loss the squared distance's: the mean.
+        return start, np.where(few & (own > 0.0), _NO_CUT * own, scale)
+    measured = (own > 0.0) & (count >= 2)
+    if measured.any():
+        path_scale = float(np.median(own[measured]))
+        scale = np.where(few & (own > 0.0), np.maximum(own, path_scale), scale)
     return start, scale
 
 
@@ -674,18 +703,124 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
     return start, np.where(scale <= tiny, 0.0, scale)
 
 
-def _adaptive_weight(z: np.ndarray) -> np.ndarray:
-    """Weight of an intersection ``z`` robust scales from the centre: 1, falling to 0."""
+def _psi(u: np.ndarray, core: float, mean: bool) -> np.ndarray:
+    """The adaptive centre's influence at signed distance ``u`` (robust scales); ``u`` if ``mean``."""
+    return u if mean else u * _adaptive_weight(np.abs(u), core)
+
+
+def _choose_core(
+    ref: np.ndarray, hits: np.ndarray, found: np.ndarray
+) -> tuple[float, dict[float, float]]:
+    """The adaptive centre's core for these intersections, and each candidate's estimated error.
+
+    Each intersection's signed distance (per normal-frame component) from the
+    robust start of the *other* intersections on its normal (the midpoint of
+    their shortest half, which stays with the majority where residuals lie on
+    one side), divided by the running median of the normals' robust scales, is
+    pooled along the path: one sample of the residual distribution, hundreds of
+    values strong where each normal holds a handful. (Measured from each
+    normal's own start, the values that made the start would bunch at zero and
+    Gaussian spread would look heavy-tailed.) For each core ``c`` of
+    :data:`_CORES` the centre's large-sample behaviour on that sample gives its
+    expected squared error at one normal, in squared robust scales:
+    ``t² + V / n``, ``t`` its offset from the starts (one-sided residuals pull
+    the mean, hardly the median), ``V = E[ψ²] / E[ψ']²`` its variance (Huber's
+    formula) and ``n`` the mean number of intersections on a normal. The
+    default core stays unless a smaller one's error is below :data:`_SWITCH`
+    times its own.
+    """
+    offsets = hits - ref[:, None, :]
+    _, own = _own_start_and_scale(offsets, found)
+    count = found.sum(axis=1)
+    usable = (own > 0.0) & (count >= 3)
+    estimates = {c: float("nan") for c in _CORES}
+    if not usable.any():
+        return _CORE, estimates
+    # Each normal's own scale, from a handful of values, is noisy: dividing by it
+    # would give Gaussian spread heavy tails. The running median along the path
+    # is steady and follows a spread that changes along it.
+    scale = _running_median(np.where(usable, own, np.nan), max(5, len(own) // 10))
+    rows = np.flatnonzero(usable)
+    if len(rows) > _CHOICE_ROWS:  # evenly spread normals are sample enough
+        rows = rows[np.linspace(0, len(rows) - 1, _CHOICE_ROWS).round().astype(int)]
+    frames = normal_frames(point_tangents(ref))[rows, 1:, :]
+    hit = found[rows]
+    coords = np.einsum("mnq,mkq->mnk", np.where(hit[..., None], offsets[rows], 0.0), frames)
+    n_hits = hit.shape[1]
+    others = np.array([np.delete(np.arange(n_hits), j) for j in range(n_hits)])  # (n, n - 1)
+    samples = []
+    for k in range(coords.shape[2]):
+        values = np.where(hit, coords[..., k], np.nan)
+        mid, _ = _shortest_half(
+            values[:, others].reshape(-1, n_hits - 1), hit[:, others].reshape(-1, n_hits - 1)
+        )
+        z = (values - mid.reshape(values.shape)) / scale[rows, None]
+        samples.append(z[hit])
+    n = float(count[rows].mean())
+    # The default core on normals met by few demonstrations is their plain mean.
+    few = n < _FEWEST_TO_CUT["plane" if ref.shape[1] > 2 else "line"]
+    eps = 1e-6
+    for c in _CORES:
+        mean = c >= _CORE and few
+        error = 0.0
+        for values in samples:
+            t = 0.0
+            for _ in range(200):  # the pooled centre by reweighting, as _adaptive does
+                u = values - t
+                safe = np.where(u == 0.0, 1.0, u)
+                w = np.where(u == 0.0, 1.0, _psi(u, c, mean) / safe)
+                new = float(np.sum(w * values) / max(np.sum(w), 1e-300))
+                done = abs(new - t) < 1e-9
+                t = new
+                if done:
+                    break
+            u = values - t
+            slope = np.mean((_psi(u + eps, c, mean) - _psi(u - eps, c, mean)) / (2 * eps))
+            variance = np.mean(_psi(u, c, mean) ** 2) / max(slope, 1e-12) ** 2
+            error += t**2 + variance / n
+        estimates[c] = float(error)
+    best = min(_CORES, key=lambda c: estimates[c])
+    return (best if estimates[best] < _SWITCH * estimates[_CORE] else _CORE), estimates
+
+
+def _running_median(values: np.ndarray, window: int) -> np.ndarray:
+    """Median of the non-NaN values within ``window // 2`` places of each one (NaN: none)."""
+    half = window // 2
+    padded = np.pad(values, half, constant_values=np.nan)
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # windows with no value
+        return np.nanmedian(windows, axis=1)
+
+
+def _adaptive_weight(z: np.ndarray, core: float = _CORE) -> np.ndarray:
+    """Weight of an intersection ``z`` robust scales from the centre: 1, falling to 0.
+
+    ``min(1, core / z)`` (Huber's, 1 everywhere for the default core of 4),
+    tapered smoothly from :data:`_CORE` to none at :data:`_CUTOFF`.
+    """
     v = np.clip((z - _CORE) / (_CUTOFF - _CORE), 0.0, 1.0)
-    return (1.0 - v**2) ** 2
+    taper = (1.0 - v**2) ** 2
+    if core >= _CORE:
+        return taper
+    with np.errstate(divide="ignore"):
+        return np.minimum(1.0, core / z) * taper
 
 
-def _adaptive_rho(z: np.ndarray) -> np.ndarray:
-    """The loss whose derivative is ``z * _adaptive_weight(z)``: ``z²/2`` in the core, then flat."""
+def _adaptive_rho(z: np.ndarray, core: float = _CORE) -> np.ndarray:
+    """The loss whose derivative is ``z * _adaptive_weight(z, core)``: flat beyond the cutoff.
+
+    ``z²/2`` within ``core``, Huber's ``core z - core²/2`` from there to
+    :data:`_CORE`, then the taper's integral.
+    """
     h = _CUTOFF - _CORE
     v = np.clip((z - _CORE) / h, 0.0, 1.0)
-    ramp = h * (_CORE * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0) + h * (1.0 - (1.0 - v**2) ** 3) / 6.0)
-    return 0.5 * np.minimum(z, _CORE) ** 2 + ramp
+    if core >= _CORE:
+        ramp = h * (_CORE * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0) + h * (1.0 - (1.0 - v**2) ** 3) / 6.0)
+        return 0.5 * np.minimum(z, _CORE) ** 2 + ramp
+    inner = np.minimum(z, _CORE)
+    huber = np.where(inner <= core, 0.5 * inner**2, core * inner - 0.5 * core**2)
+    return huber + core * h * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0)
 
 
 def _adaptive(
@@ -693,24 +828,26 @@ def _adaptive(
     found: np.ndarray,
     start: np.ndarray | None = None,
     scale: np.ndarray | None = None,
-    n_iter: int = 50,
+    core: float = _CORE,
 ) -> np.ndarray:
     """The adaptive centre of each row's found vectors, shape (m, q) (see the module notes).
 
     Iteratively reweighted from :func:`_robust_start` (or the given start and
     scale) with the scale fixed, so that the loss falls at every step; rows
     whose scale is zero (half the values coincide) keep their start, that
-    common value.
+    common value. ``core``: robust scales within which the loss is the square
+    (beyond it Huber's, linear; :func:`_adaptive_weight`).
     """
     if start is None or scale is None:
-        start, scale = _robust_start(points, found)
+        start, scale = _robust_start(points, found, core)
     pts = np.where(found[..., None], points, 0.0)
     degenerate = scale <= 0.0
     s = np.where(degenerate, 1.0, scale)[:, None]
     centre = start
-    for _ in range(n_iter):
+    # A small core converges linearly, as a median's reweighting does.
+    for _ in range(50 if core >= _CORE else 300):
         z = np.linalg.norm(pts - centre[:, None, :], axis=2) / s
-        w = np.where(found, _adaptive_weight(z), 0.0)
+        w = np.where(found, _adaptive_weight(z, core), 0.0)
         total = w.sum(axis=1, keepdims=True)
         new = np.where(total > 0, (pts * w[..., None]).sum(1) / np.maximum(total, 1e-300), start)
         done = np.allclose(new, centre, rtol=0.0, atol=1e-12 * (1.0 + np.abs(centre).max()))
