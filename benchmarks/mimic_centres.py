@@ -257,7 +257,7 @@ def run_case(case: dict, seed: int, peer: Callable | None) -> dict:
             row.setdefault("time_s", {})[centre] = time.perf_counter() - start
             row["e2"][centre] = _e2(mp.path_, nominal)
             if centre == "adaptive":
-                row["choice"] = float(getattr(mp, "center_core_", 4.0))
+                row["choice"] = list(getattr(mp, "center_tuning_", (4.0, 4.0, 8.0)))
                 row["reason"] = getattr(mp, "center_reason_", "")
         if peer is not None and case.get("peer"):
             row["e2"]["soft-DTW"] = _e2(peer(demos), nominal)
@@ -301,7 +301,7 @@ def print_table(summary: list[dict], n_seeds: int) -> None:
     print(head + f"{'def/best':>9}{'worst seed':>11}{'def/mean':>9}  chosen")
     for r in summary:
         e = r["e2"]
-        chosen = ",".join(f"{c:g}" for c in r["choices"])
+        chosen = ",".join("/".join(f"{x:g}" for x in c) for c in r["choices"])
         peer = f"  lfdkit/softDTW {r['ratio_peer']:.2f}" if "ratio_peer" in r else ""
         print(
             f"{r['case']:<38}{e['adaptive']:>10.4g}{e['mean']:>10.4g}{e['median']:>10.4g}"

@@ -119,10 +119,25 @@ _NO_CUT = 1e6
 #: ``center="adaptive"``: the cores it chooses from, in robust scales (the first
 #: is the default: the mean within 4 scales), and how much lower a smaller core's
 #: estimated error must be to replace it (:func:`_choose_core`).
-_CORES = (_CORE, 2.0, 1.0, 0.5, 0.25)
+Tuning = tuple[float, float, float]
+_DEFAULT: Tuning = (_CORE, _CORE, _CUTOFF)
+_TUNINGS: tuple[Tuning, ...] = (
+    _DEFAULT,
+    (2.0, _CORE, _CUTOFF),
+    (1.0, _CORE, _CUTOFF),
+    (0.5, _CORE, _CUTOFF),
+    (0.25, _CORE, _CUTOFF),
+    (0.1, _CORE, _CUTOFF),
+    (_CORE, 2.0, 4.0),
+    (_CORE, 3.0, 6.0),
+    (1.0, 2.0, 4.0),
+    (0.5, 2.0, 4.0),
+)
 _SWITCH = 0.95
-#: Normals whose intersections the choice pools, at most (evenly spread along the path).
-_CHOICE_ROWS = 200
+#: Normals (evenly spread along the path) and intersections the choice pools, at most.
+_CHOICE_ROWS, _CHOICE_VALUES = 200, 4000
+#: The choice's bootstrap: resamplings, stretches of the path, confidence to switch, seed.
+_CHOICE_DRAWS, _CHOICE_BLOCKS, _CHOICE_CONFIDENCE, _CHOICE_SEED = 40, 8, 0.9, 20261127
 #: Spreads below this fraction of the coordinates' magnitude count as zero.
 _TINY = 1e-12
 
@@ -278,14 +293,14 @@ class MeanPath(Estimator):
 
         ref = self._reparametrise(ref, starts, stops)
         state = self._evaluate(ref, polylines, needed)
-        core = _CORE
+        tuning = _DEFAULT
         if self.center == "adaptive":
-            core, self.center_estimates_ = _choose_core(ref, state.hits, state.found)
-            if core < _CORE:
-                state = self._evaluate(ref, polylines, needed, core=core)
+            tuning, self.center_estimates_ = _choose_core(ref, state.hits, state.found)
+            if tuning != _DEFAULT:
+                state = self._evaluate(ref, polylines, needed, tuning=tuning)
         else:
             self.center_estimates_ = {}
-        self.center_core_ = core
+        self.center_tuning_ = tuning
         residuals = [state.e1]
         innovations = [state.e3]
         step = 1.0
@@ -296,7 +311,7 @@ class MeanPath(Estimator):
                 try:
                     candidate = self._reparametrise(ref + step * state.innovation, starts, stops)
                     # Scored on the accepted path's scales, so that both losses are one function.
-                    new = self._evaluate(candidate, polylines, needed, state.scale, core)
+                    new = self._evaluate(candidate, polylines, needed, state.scale, tuning)
                 except FoldedPathError:
                     new = None  # the step folded the path back onto itself: a shorter one
                 if new is not None and new.loss <= state.loss:
@@ -403,7 +418,7 @@ class MeanPath(Estimator):
         polylines: PolylineSet,
         needed: int,
         scale: np.ndarray | None = None,
-        core: float = _CORE,
+        tuning: Tuning = _DEFAULT,
     ) -> _State:
         """Intersections, residuals and the update direction at a Reference-Path.
 
@@ -430,9 +445,9 @@ class MeanPath(Estimator):
             )
         innovation = np.zeros_like(ref)
         if self.center == "adaptive":
-            start, own_scale = _robust_start(offsets, found, core)
+            start, own_scale = _robust_start(offsets, found, tuning)
             innovation[supported] = _adaptive(
-                offsets[supported], found[supported], start[supported], own_scale[supported], core
+                offsets[supported], found[supported], start[supported], own_scale[supported], tuning
             )
         else:
             innovation[supported] = _centre_vectors(
@@ -443,7 +458,7 @@ class MeanPath(Estimator):
         d = dist[found]
         e1 = float(np.sum(d**2))
         e3 = float(np.linalg.norm(innovation, axis=1).sum())
-        state = _State(hits.points, found, innovation, e1, e3, 0.0, core=core)
+        state = _State(hits.points, found, innovation, e1, e3, 0.0, tuning=tuning)
         if self.center == "mean":
             state.loss = e1 / n_found
         elif self.center == "adaptive":
@@ -456,9 +471,9 @@ class MeanPath(Estimator):
 class _State:
     """Evaluation of one Reference-Path (internal)."""
 
-    __slots__ = ("core", "e1", "e3", "found", "hits", "innovation", "loss", "scale")
+    __slots__ = ("e1", "e3", "found", "hits", "innovation", "loss", "scale", "tuning")
 
-    def __init__(self, hits, found, innovation, e1, e3, loss, scale=None, core=_CORE) -> None:
+    def __init__(self, hits, found, innovation, e1, e3, loss, scale=None, tuning=_DEFAULT) -> None:
         self.hits = hits
         self.found = found
         self.innovation = innovation
@@ -466,7 +481,7 @@ class _State:
         self.e3 = e3
         self.loss = loss
         self.scale = scale
-        self.core = core
+        self.tuning = tuning
 
     def rescale(self, ref: np.ndarray, scale: np.ndarray | None = None) -> None:
         """``center="adaptive"``: its loss, on the given scales or on its own (``None``).
@@ -480,13 +495,13 @@ class _State:
         """
         offsets = self.hits - ref[:, None, :]
         if scale is None:
-            scale = _robust_start(offsets, self.found, self.core)[1]
+            scale = _robust_start(offsets, self.found, self.tuning)[1]
         self.scale = scale
         dist = np.linalg.norm(np.where(self.found[..., None], offsets, 0.0), axis=2)
         spread = scale > 0.0
         s = np.where(spread, scale, 1.0)[:, None]
         weight = float(np.median(scale[spread])) if spread.any() else 1.0
-        loss = np.where(spread[:, None], _adaptive_rho(dist / s, self.core) * s**2, weight * dist)
+        loss = np.where(spread[:, None], _adaptive_rho(dist / s, self.tuning) * s**2, weight * dist)
         self.loss = float(loss[self.found].sum()) / int(self.found.sum())
 
 
@@ -640,7 +655,7 @@ def _shortest_half(values: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, n
 
 
 def _robust_start(
-    offsets: np.ndarray, found: np.ndarray, core: float = _CORE
+    offsets: np.ndarray, found: np.ndarray, tuning: Tuning = _DEFAULT
 ) -> tuple[np.ndarray, np.ndarray]:
     """Start (m, q) and robust scale (m,) of each row's found vectors for ``"adaptive"``.
 
@@ -661,7 +676,7 @@ def _robust_start(
     scale = own
     if estimated.sum() > 1:
         scale = np.where(estimated, np.maximum(own, np.median(own[estimated])), own)
-    if core >= _CORE:
+    if tuning == _DEFAULT:
         # Weights all 1 and the loss the squared distance's: the mean.
         return start, np.where(few & (own > 0.0), _NO_CUT * own, scale)
     measured = (own > 0.0) & (count >= 2)
@@ -703,9 +718,9 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
     return start, np.where(scale <= tiny, 0.0, scale)
 
 
-def _psi(u: np.ndarray, core: float, mean: bool) -> np.ndarray:
+def _psi(u: np.ndarray, tuning: Tuning, mean: bool) -> np.ndarray:
     """The adaptive centre's influence at signed distance ``u`` (robust scales); ``u`` if ``mean``."""
-    return u if mean else u * _adaptive_weight(np.abs(u), core)
+    return u if mean else u * _adaptive_weight(np.abs(u), tuning)
 
 
 def _choose_core(
@@ -733,16 +748,17 @@ def _choose_core(
     _, own = _own_start_and_scale(offsets, found)
     count = found.sum(axis=1)
     usable = (own > 0.0) & (count >= 3)
-    estimates = {c: float("nan") for c in _CORES}
+    estimates = {c: float("nan") for c in _TUNINGS}
     if not usable.any():
-        return _CORE, estimates
+        return _DEFAULT, estimates
     # Each normal's own scale, from a handful of values, is noisy: dividing by it
     # would give Gaussian spread heavy tails. The running median along the path
     # is steady and follows a spread that changes along it.
     scale = _running_median(np.where(usable, own, np.nan), max(5, len(own) // 10))
     rows = np.flatnonzero(usable)
-    if len(rows) > _CHOICE_ROWS:  # evenly spread normals are sample enough
-        rows = rows[np.linspace(0, len(rows) - 1, _CHOICE_ROWS).round().astype(int)]
+    limit = min(_CHOICE_ROWS, max(16, _CHOICE_VALUES // found.shape[1]))
+    if len(rows) > limit:  # evenly spread normals are sample enough
+        rows = rows[np.linspace(0, len(rows) - 1, limit).round().astype(int)]
     frames = normal_frames(point_tangents(ref))[rows, 1:, :]
     hit = found[rows]
     coords = np.einsum("mnq,mkq->mnk", np.where(hit[..., None], offsets[rows], 0.0), frames)
@@ -759,28 +775,54 @@ def _choose_core(
     n = float(count[rows].mean())
     # The default core on normals met by few demonstrations is their plain mean.
     few = n < _FEWEST_TO_CUT["plane" if ref.shape[1] > 2 else "line"]
-    eps = 1e-6
-    for c in _CORES:
-        mean = c >= _CORE and few
-        error = 0.0
+    # Bootstrap over demonstrations and stretches of the path together: smooth
+    # demonstrations make neighbouring values one piece of evidence, not many.
+    rng = np.random.default_rng(_CHOICE_SEED)
+    blocks = np.minimum(np.arange(len(rows)) * _CHOICE_BLOCKS // len(rows), _CHOICE_BLOCKS - 1)
+    demo_counts = rng.multinomial(n_hits, np.full(n_hits, 1.0 / n_hits), _CHOICE_DRAWS)
+    block_counts = rng.multinomial(
+        _CHOICE_BLOCKS, np.full(_CHOICE_BLOCKS, 1.0 / _CHOICE_BLOCKS), _CHOICE_DRAWS
+    )
+    weight = block_counts[:, blocks, None] * demo_counts[:, None, :]  # (draws, rows, demos)
+    weight = np.concatenate((np.ones((1, *hit.shape)), weight))[:, hit]  # the data first
+    errors = np.zeros((len(_TUNINGS), len(weight)))
+    for i, c in enumerate(_TUNINGS):
         for values in samples:
-            t = 0.0
-            for _ in range(200):  # the pooled centre by reweighting, as _adaptive does
-                u = values - t
-                safe = np.where(u == 0.0, 1.0, u)
-                w = np.where(u == 0.0, 1.0, _psi(u, c, mean) / safe)
-                new = float(np.sum(w * values) / max(np.sum(w), 1e-300))
-                done = abs(new - t) < 1e-9
-                t = new
-                if done:
-                    break
-            u = values - t
-            slope = np.mean((_psi(u + eps, c, mean) - _psi(u - eps, c, mean)) / (2 * eps))
-            variance = np.mean(_psi(u, c, mean) ** 2) / max(slope, 1e-12) ** 2
-            error += t**2 + variance / n
-        estimates[c] = float(error)
-    best = min(_CORES, key=lambda c: estimates[c])
-    return (best if estimates[best] < _SWITCH * estimates[_CORE] else _CORE), estimates
+            t, variance = _pooled_location(values, weight, c, c == _DEFAULT and few)
+            errors[i] += t**2 + variance / n
+    estimates = {c: float(e[0]) for c, e in zip(_TUNINGS, errors, strict=True)}
+    best = int(np.argmin(errors[:, 0]))
+    # A smaller core must win on the data and in most resamplings of them.
+    wins = float(np.mean(errors[best, 1:] < errors[0, 1:]))
+    if best and errors[best, 0] < _SWITCH * errors[0, 0] and wins >= _CHOICE_CONFIDENCE:
+        return _TUNINGS[best], estimates
+    return _DEFAULT, estimates
+
+
+def _pooled_location(
+    values: np.ndarray, weight: np.ndarray, tuning: Tuning, mean: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Location ``t`` and variance ``V`` of the adaptive centre on weighted pooled values.
+
+    ``values`` (N,) in robust scales, ``weight`` (B, N) one weighting per row;
+    returns arrays of shape (B,): ``t`` solves ``Σ w ψ(v - t) = 0`` (Newton's
+    steps from 0) and ``V = E[ψ²] / E[ψ']²``.
+    """
+    total = weight.sum(axis=1)
+    eps = 1e-6
+    t = np.zeros(len(weight))
+    for _ in range(50):
+        u = values - t[:, None]
+        psi = _psi(u, tuning, mean)
+        slope = (_psi(u + eps, tuning, mean) - _psi(u - eps, tuning, mean)) / (2.0 * eps)
+        step = (weight * psi).sum(1) / np.maximum((weight * slope).sum(1), 1e-3 * total)
+        t = t + step
+        if np.max(np.abs(step)) < 1e-6:
+            break
+    u = values - t[:, None]
+    slope = (weight * (_psi(u + eps, tuning, mean) - _psi(u - eps, tuning, mean))).sum(1) / (2 * eps)
+    psi2 = (weight * _psi(u, tuning, mean) ** 2).sum(1)
+    return t, psi2 * total / np.maximum(slope, 1e-12 * total) ** 2
 
 
 def _running_median(values: np.ndarray, window: int) -> np.ndarray:
@@ -793,32 +835,34 @@ def _running_median(values: np.ndarray, window: int) -> np.ndarray:
         return np.nanmedian(windows, axis=1)
 
 
-def _adaptive_weight(z: np.ndarray, core: float = _CORE) -> np.ndarray:
+def _adaptive_weight(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
     """Weight of an intersection ``z`` robust scales from the centre: 1, falling to 0.
 
-    ``min(1, core / z)`` (Huber's, 1 everywhere for the default core of 4),
-    tapered smoothly from :data:`_CORE` to none at :data:`_CUTOFF`.
+    ``tuning = (core, lo, hi)``: ``min(1, core / z)`` (Huber's; 1 everywhere
+    when ``core >= lo``), tapered smoothly from ``lo`` to none at ``hi``.
     """
-    v = np.clip((z - _CORE) / (_CUTOFF - _CORE), 0.0, 1.0)
+    core, lo, hi = tuning
+    v = np.clip((z - lo) / (hi - lo), 0.0, 1.0)
     taper = (1.0 - v**2) ** 2
-    if core >= _CORE:
+    if core >= lo:
         return taper
     with np.errstate(divide="ignore"):
         return np.minimum(1.0, core / z) * taper
 
 
-def _adaptive_rho(z: np.ndarray, core: float = _CORE) -> np.ndarray:
-    """The loss whose derivative is ``z * _adaptive_weight(z, core)``: flat beyond the cutoff.
+def _adaptive_rho(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
+    """The loss whose derivative is ``z * _adaptive_weight(z, tuning)``: flat beyond ``hi``.
 
     ``z²/2`` within ``core``, Huber's ``core z - core²/2`` from there to
-    :data:`_CORE`, then the taper's integral.
+    ``lo``, then the taper's integral.
     """
-    h = _CUTOFF - _CORE
-    v = np.clip((z - _CORE) / h, 0.0, 1.0)
-    if core >= _CORE:
-        ramp = h * (_CORE * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0) + h * (1.0 - (1.0 - v**2) ** 3) / 6.0)
-        return 0.5 * np.minimum(z, _CORE) ** 2 + ramp
-    inner = np.minimum(z, _CORE)
+    core, lo, hi = tuning
+    h = hi - lo
+    v = np.clip((z - lo) / h, 0.0, 1.0)
+    if core >= lo:
+        ramp = h * (lo * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0) + h * (1.0 - (1.0 - v**2) ** 3) / 6.0)
+        return 0.5 * np.minimum(z, lo) ** 2 + ramp
+    inner = np.minimum(z, lo)
     huber = np.where(inner <= core, 0.5 * inner**2, core * inner - 0.5 * core**2)
     return huber + core * h * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0)
 
@@ -828,7 +872,7 @@ def _adaptive(
     found: np.ndarray,
     start: np.ndarray | None = None,
     scale: np.ndarray | None = None,
-    core: float = _CORE,
+    tuning: Tuning = _DEFAULT,
 ) -> np.ndarray:
     """The adaptive centre of each row's found vectors, shape (m, q) (see the module notes).
 
@@ -839,15 +883,15 @@ def _adaptive(
     (beyond it Huber's, linear; :func:`_adaptive_weight`).
     """
     if start is None or scale is None:
-        start, scale = _robust_start(points, found, core)
+        start, scale = _robust_start(points, found, tuning)
     pts = np.where(found[..., None], points, 0.0)
     degenerate = scale <= 0.0
     s = np.where(degenerate, 1.0, scale)[:, None]
     centre = start
     # A small core converges linearly, as a median's reweighting does.
-    for _ in range(50 if core >= _CORE else 300):
+    for _ in range(50 if tuning == _DEFAULT else 300):
         z = np.linalg.norm(pts - centre[:, None, :], axis=2) / s
-        w = np.where(found, _adaptive_weight(z, core), 0.0)
+        w = np.where(found, _adaptive_weight(z, tuning), 0.0)
         total = w.sum(axis=1, keepdims=True)
         new = np.where(total > 0, (pts * w[..., None]).sum(1) / np.maximum(total, 1e-300), start)
         done = np.allclose(new, centre, rtol=0.0, atol=1e-12 * (1.0 + np.abs(centre).max()))
