@@ -169,7 +169,10 @@ def detour_band(
     for j in range(n_demos):
         amp = rng.normal(0.0, 1.0, 4) / np.sqrt(np.arange(1, 5))
         phase = rng.uniform(0.0, 2.0 * np.pi, 4)
-        offset = sum(a * np.sin((k + 0.5) * np.pi * u + p) for k, (a, p) in enumerate(zip(amp, phase)))
+        offset = sum(
+            a * np.sin((k + 0.5) * np.pi * u + p)
+            for k, (a, p) in enumerate(zip(amp, phase, strict=True))
+        )
         offset = sigma * offset / np.sqrt(np.sum(1.0 / np.arange(1, 5)) / 2.0)
         if j in detouring:
             width = rng.uniform(0.1, 0.2)
@@ -323,7 +326,10 @@ def print_table(summary: list[dict], n_seeds: int) -> None:
             )
         print(line)
     failed = [r["case"] for r in summary if not r["pass"]]
-    print(f"{len(summary) - len(failed)} of {len(summary)} cases pass" + (f"; fail: {failed}" if failed else ""))
+    print(
+        f"{len(summary) - len(failed)} of {len(summary)} cases pass"
+        + (f"; fail: {failed}" if failed else "")
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
