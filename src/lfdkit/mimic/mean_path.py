@@ -750,11 +750,6 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
     return start, np.where(scale <= tiny, 0.0, scale)
 
 
-def _psi(u: np.ndarray, tuning: Tuning, mean: bool) -> np.ndarray:
-    """Influence of a signed distance ``u`` (robust scales) on the centre; ``u`` if ``mean``."""
-    return u if mean else u * _adaptive_weight(np.abs(u), tuning)
-
-
 def _choose_tuning(
     ref: np.ndarray, hits: np.ndarray, found: np.ndarray
 ) -> tuple[Tuning, dict[Tuning, float], str]:
@@ -858,25 +853,36 @@ def _pooled_location(
 
     ``values`` (N,) in robust scales, ``weight`` (B, N) one weighting per row;
     returns arrays of shape (B,): ``t`` solves ``Σ w ψ(v - t) = 0`` (Newton's
-    steps from 0) and ``V = E[ψ²] / E[ψ']²``.
+    steps from 0) and ``V = E[ψ²] / E[ψ']²`` (Huber's asymptotic variance).
     """
     total = weight.sum(axis=1)
-    eps = 1e-6
     t = np.zeros(len(weight))
     for _ in range(50):
-        u = values - t[:, None]
-        psi = _psi(u, tuning, mean)
-        slope = (_psi(u + eps, tuning, mean) - _psi(u - eps, tuning, mean)) / (2.0 * eps)
+        psi, slope = _psi_and_slope(values - t[:, None], tuning, mean)
         step = (weight * psi).sum(1) / np.maximum((weight * slope).sum(1), 1e-3 * total)
         t = t + step
         if np.max(np.abs(step)) < 1e-6:
             break
-    u = values - t[:, None]
-    slope = (weight * (_psi(u + eps, tuning, mean) - _psi(u - eps, tuning, mean))).sum(1) / (
-        2 * eps
-    )
-    psi2 = (weight * _psi(u, tuning, mean) ** 2).sum(1)
-    return t, psi2 * total / np.maximum(slope, 1e-12 * total) ** 2
+    psi, slope = _psi_and_slope(values - t[:, None], tuning, mean)
+    slope = (weight * slope).sum(1)
+    return t, (weight * psi**2).sum(1) * total / np.maximum(slope, 1e-12 * total) ** 2
+
+
+def _psi_and_slope(u: np.ndarray, tuning: Tuning, mean: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Influence ``ψ(u) = u w(|u|)`` of signed distances and its slope (``u`` and 1 if ``mean``)."""
+    if mean:
+        return u, np.ones_like(u)
+    core, lo, hi = tuning
+    a = np.abs(u)
+    h = hi - lo
+    v = np.clip((a - lo) / h, 0.0, 1.0)
+    taper = (1.0 - v**2) ** 2
+    taper_slope = -4.0 * v * (1.0 - v**2) / h
+    if core >= lo:
+        return u * taper, taper + a * taper_slope
+    inner = a < core
+    psi = np.where(inner, u, core * np.sign(u)) * taper
+    return psi, np.where(inner, 1.0, core * taper_slope)
 
 
 def _running_median(values: np.ndarray, window: int) -> np.ndarray:
