@@ -11,7 +11,9 @@ centres and startup with 2 seeds):
 * ``centres``: the default Mean-Path centre chosen by measurement: e2 of
   ``MeanPath(center=c)`` for every centre on every data set (mean over
   seeds), each centre's ratio to the best one, and the target: the default
-  within 1.1 times the best of the others on every set;
+  within 1.1 times the best of the others on every set
+  (``benchmarks/mimic_centres.py`` tests it on sets drawn apart from these:
+  burrs, local detours, clean data, per case and seed);
 * ``gmr``: GMR component selection, the exhaustive BIC search over 2 to 30
   components against the default ladder search (``select_n_components``), on
   10 demos × 200 points of each set: time, chosen count, BIC, and the

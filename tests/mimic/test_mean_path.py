@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
+from scipy.stats import norm
 from sklearn.base import clone
 
 from lfdkit.core.geometry import (
@@ -30,7 +31,7 @@ from lfdkit.mimic import (
     SeveralMotionsError,
     pointwise_average,
 )
-from lfdkit.mimic.mean_path import _adaptive
+from lfdkit.mimic.mean_path import _adaptive, _adaptive_rho, _adaptive_weight, _pooled_location
 
 SETTINGS = settings(max_examples=12, deadline=None)
 
@@ -936,3 +937,99 @@ def test_partial_demonstrations_explain_a_short_path():
     # Far beyond the median (a partial demonstration's length), but among the lengths.
     assert mp.length_ratio_ > 1.25
     assert 3.0 < path_length(mp.path_) < 10.0
+
+
+# ------------------------------------------------- adaptive tuning, chosen per data set
+def _profiles(n_demos, burr_sides, seed, noise=0.02, n_points=300):
+    """Straight 100-unit profiles with white noise; burrs 10-15 noise high cover ~25 %."""
+    rng = np.random.default_rng(seed)
+    x = np.linspace(0.0, 100.0, n_points)
+    demos = []
+    for _ in range(n_demos):
+        y = rng.normal(0.0, noise, n_points)
+        if burr_sides:
+            for centre in rng.uniform(0.0, 100.0, 6):
+                sign = 1.0 if burr_sides == 1 or rng.random() < 0.5 else -1.0
+                bump = np.clip(1.0 - np.abs(x - centre) / 2.0, 0.0, None)  # 4 units wide
+                y = y + sign * rng.uniform(10.0, 15.0) * noise * bump
+        demos.append(np.column_stack((x, y)))
+    return demos
+
+
+def _error(path):
+    """Mean distance of a path to the truth y = 0 (units)."""
+    return float(np.abs(path[:, 1]).mean())
+
+
+@pytest.mark.parametrize("sides", [1, 2])
+def test_adaptive_chooses_a_robust_tuning_on_burrs(sides):
+    demos = _profiles(6, sides, seed=3)
+    mp = MeanPath(n_points=100).fit(demos)
+    assert mp.center_tuning_ != (4.0, 4.0, 8.0)
+    assert "resamplings" in mp.center_reason_ and "the default" in mp.center_reason_
+    assert min(mp.center_estimates_.values()) < mp.center_estimates_[(4.0, 4.0, 8.0)]
+    errors = {
+        c: _error(MeanPath(n_points=100, center=c).fit(demos).path_) for c in ("mean", "median")
+    }
+    # Six profiles: the old rule took their mean, pulled up by the burrs.
+    assert _error(mp.path_) < 0.6 * errors["mean"]
+    assert _error(mp.path_) < 1.1 * errors["median"]
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_adaptive_keeps_the_mean_on_clean_gaussian_data(seed):
+    demos = _profiles(10, 0, seed)
+    mp = MeanPath(n_points=100).fit(demos)
+    mean = MeanPath(n_points=100, center="mean").fit(demos)
+    assert mp.center_tuning_ == (4.0, 4.0, 8.0)
+    assert mp.center_reason_.startswith("the mean, weight tapering from 4")
+    assert _error(mp.path_) <= 1.02 * _error(mean.path_)
+
+
+def test_adaptive_choice_is_deterministic():
+    demos = _profiles(8, 2, seed=5)
+    first = MeanPath(n_points=80).fit(demos)
+    second = clone(first).fit([d.copy() for d in demos])
+    assert first.center_tuning_ == second.center_tuning_
+    assert first.center_reason_ == second.center_reason_
+    np.testing.assert_array_equal(first.path_, second.path_)
+
+
+def test_fixed_centres_record_no_choice():
+    mp = MeanPath(n_points=50, center="median").fit(_profiles(5, 0, seed=0))
+    assert mp.center_estimates_ == {}
+    assert mp.center_reason_ == "center='median' as given"
+
+
+@pytest.mark.parametrize(
+    "tuning", [(4.0, 4.0, 8.0), (1.0, 4.0, 8.0), (4.0, 2.0, 4.0), (0.5, 2.0, 4.0)]
+)
+def test_adaptive_loss_is_the_integral_of_its_influence(tuning):
+    z = np.linspace(0.0, 10.0, 20001)
+    influence = z * _adaptive_weight(z, tuning)
+    integral = np.concatenate(
+        ([0.0], np.cumsum(0.5 * (influence[1:] + influence[:-1]) * np.diff(z)))
+    )
+    np.testing.assert_allclose(_adaptive_rho(z, tuning), integral, atol=1e-6)
+    assert _adaptive_rho(z, tuning)[-1] == _adaptive_rho(np.array([100.0]), tuning)[0]  # flat
+
+
+def test_pooled_location_matches_the_closed_forms():
+    rng = np.random.default_rng(0)
+    values = rng.normal(size=200_000)
+    one = np.ones((1, len(values)))
+    t, v = _pooled_location(values, one, (4.0, 4.0, 8.0), mean=False)
+    assert abs(t[0]) < 0.01 and v[0] == pytest.approx(1.0, rel=0.02)  # the mean's variance
+    # Huber's core c: V = E[min(z, c)²] / P(|z| < c)² (Huber 1964); near the median's
+    # pi / 2 as the core shrinks.
+    for core in (1.0, 0.3):
+        inside = 2.0 * norm.cdf(core) - 1.0
+        exact = (inside - 2 * core * norm.pdf(core) + 2 * core**2 * norm.sf(core)) / inside**2
+        t, v = _pooled_location(values, one, (core, 4.0, 8.0), mean=False)
+        assert abs(t[0]) < 0.01 and v[0] == pytest.approx(exact, rel=0.03)
+    # One-sided contamination: the plain mean moves by its share, the near-median hardly.
+    shifted = np.where(rng.random(len(values)) < 0.2, values + 3.0, values)
+    t_mean, _ = _pooled_location(shifted, one, (4.0, 4.0, 8.0), mean=True)
+    t_median, _ = _pooled_location(shifted, one, (0.3, 4.0, 8.0), mean=False)
+    assert t_mean[0] == pytest.approx(0.6, abs=0.02)
+    assert 0.0 < t_median[0] < 0.35

@@ -1,0 +1,384 @@
+"""Mean-Path's default centre against each fixed centre, on held-out-style data sets.
+
+The default centre (``MeanPath(center="adaptive")``) must be as good as the best
+of lfdkit's fixed centres (``mean``, ``median``, ``biweight``) on every kind of
+data a user brings, not only on the ten built-in sets it was chosen on. This
+benchmark draws its own sets, none of them the built-in generators:
+
+* machined profiles with burrs (one-sided: outwards only; two-sided: either
+  side), on a straight and on a circular profile, white measurement noise, the
+  burrs covering 5-30 % of each profile, 2-20 times the noise high, 6-20
+  profiles (the corners of that box and its middle, each a case);
+* local detours: a smooth band (sd ``sigma`` about an arch), a minority of the
+  demonstrations (2-4 of 8-14) taking one detour of the band's size (2-4 sigma);
+* clean sets: the same profiles and band without burrs or detours (Gaussian
+  noise only).
+
+For every case x seed it reports e2 (against the truth) of the default and of
+each fixed centre, the default's ratio to the best fixed one and to the plain
+mean, and what the default chose (``center_choice_``). Targets (issue 32): the
+default within 1.05 times the best fixed centre on every case (mean over
+seeds), and at most 1.02 times the plain mean's e2 on the clean sets. On the
+detour sets the soft-DTW barycentre (tslearn, if installed) runs side by side:
+goal, the best lfdkit centre at most 0.5 times its error.
+
+    python benchmarks/mimic_centres.py [--seeds 5] [--first-seed 0] [--quick]
+        [--output DIR]    # table + mimic_centres.json
+
+Seeds 0-4 are the ones the default was developed on; ``--first-seed 100``
+draws held-out ones.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+from _common import git_state, json_ready, machine_info
+
+from lfdkit.core.geometry import arc_length, left_normals, resample
+from lfdkit.emulate import metrics
+from lfdkit.mimic import MeanPath
+
+#: Fixed centres compared with the default.
+FIXED = ("mean", "median", "biweight")
+#: Targets: default / best fixed centre (every case), default / mean (clean cases).
+TARGET_BEST, TARGET_CLEAN = 1.05, 1.02
+#: Goal on the detour sets: best lfdkit centre / soft-DTW barycentre.
+TARGET_PEER = 0.5
+
+
+# ------------------------------------------------------------------ generators
+def _fine_line(length: float, n: int = 4001) -> np.ndarray:
+    return np.column_stack((np.linspace(0.0, length, n), np.zeros(n)))
+
+
+def _fine_arc(radius: float, span: float, n: int = 4001) -> np.ndarray:
+    phi = np.linspace(-0.5 * span, 0.5 * span, n)
+    return radius * np.column_stack((np.sin(phi), -np.cos(phi)))  # a bowl, clockwise normals
+
+
+def _fine_arch(n: int = 4001) -> np.ndarray:
+    """A lopsided arch (parabola with a drift), metres."""
+    x = np.linspace(0.0, 1.2, n)
+    return np.column_stack((x, 0.8 * x * (1.2 - x) + 0.1 * np.sin(3.0 * x)))
+
+
+def _bump(u: np.ndarray, shape: str) -> np.ndarray:
+    """Burr profile over ``u`` in [0, 1] (0 outside), peak 1."""
+    inside = (u > 0.0) & (u < 1.0)
+    v = np.clip(u, 0.0, 1.0)
+    if shape == "cosine":
+        h = 0.5 * (1.0 - np.cos(2.0 * np.pi * v))
+    elif shape == "triangle":
+        h = 1.0 - np.abs(2.0 * v - 1.0)
+    elif shape == "plateau":
+        h = np.minimum(1.0, np.minimum(v, 1.0 - v) / 0.15)
+    else:  # "spike": steep rise, long tail (a rolled-over burr)
+        h = np.minimum(v / 0.1, ((1.0 - v) / 0.9) ** 2)
+    return np.where(inside, h, 0.0)
+
+
+BURR_SHAPES = ("cosine", "triangle", "plateau", "spike")
+
+
+def _burr_offsets(
+    s: np.ndarray, coverage: float, heights: tuple[float, float], sides: int, rng
+) -> np.ndarray:
+    """Normal offset of one profile from its burrs: they cover ``coverage`` of its length."""
+    length = s[-1]
+    covered = np.zeros(len(s), dtype=bool)
+    offset = np.zeros(len(s))
+    for _ in range(200):
+        if covered.mean() >= coverage:
+            break
+        width = rng.uniform(0.01, 0.06) * length
+        start = rng.uniform(-0.5 * width, length - 0.5 * width)
+        u = (s - start) / width
+        sign = 1.0 if sides == 1 or rng.random() < 0.5 else -1.0
+        offset += sign * rng.uniform(*heights) * _bump(u, rng.choice(BURR_SHAPES))
+        covered |= (u > 0.0) & (u < 1.0)
+    return offset
+
+
+def burr_profiles(
+    profile: str,
+    sides: int,
+    n_profiles: int,
+    coverage: float,
+    height: float,
+    seed: int,
+    *,
+    noise: float = 0.01,
+    n_points: int = 400,
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """Measured profiles with burrs: ``(demos, nominal)`` in mm.
+
+    ``profile``: "line" (120 mm) or "arc" (radius 35 mm over 200°). Each profile
+    is sampled at ``n_points`` points equally spaced along it, with white normal
+    noise of sd ``noise``; burrs (4 shapes, widths 1-6 % of the length) cover
+    ``coverage`` of it, each of height uniform in ``[0.5, 1] * height * noise``
+    (so the set's tallest are ``height`` times the noise), outwards only
+    (``sides=1``) or to a random side (``sides=2``).
+    """
+    rng = np.random.default_rng(seed)
+    fine = _fine_line(120.0) if profile == "line" else _fine_arc(35.0, np.radians(200.0))
+    s = arc_length(fine)
+    normals = left_normals(fine)
+    sample = np.linspace(0.0, s[-1], n_points)
+    heights = (0.5 * height * noise, height * noise)
+    demos = []
+    for _ in range(n_profiles):
+        offset = _burr_offsets(s, coverage, heights, sides, rng) if coverage > 0 else 0.0
+        shifted = fine + np.asarray(offset)[..., None] * normals
+        points = np.column_stack([np.interp(sample, s, shifted[:, k]) for k in range(2)])
+        on_normals = np.column_stack([np.interp(sample, s, normals[:, k]) for k in range(2)])
+        demos.append(points + rng.normal(0.0, noise, n_points)[:, None] * on_normals)
+    return demos, fine
+
+
+def detour_band(
+    n_demos: int,
+    n_detours: int,
+    height: float,
+    seed: int,
+    *,
+    sigma: float = 0.015,
+    n_points: int = 150,
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """A smooth band about an arch, ``n_detours`` demonstrations taking one detour: metres.
+
+    Each demonstration's normal offset is a random smooth curve of sd ``sigma``
+    (a sum of four sines of random phase), plus white noise of sd ``sigma / 20``.
+    A detour is a raised-cosine bump of height ``height * sigma`` (to a random
+    side) and width 10-20 % of the length, centred in the middle 60 %.
+    """
+    rng = np.random.default_rng(seed)
+    fine = _fine_arch()
+    s = arc_length(fine)
+    u = s / s[-1]
+    normals = left_normals(fine)
+    detouring = set(rng.choice(n_demos, size=n_detours, replace=False).tolist())
+    demos = []
+    for j in range(n_demos):
+        amp = rng.normal(0.0, 1.0, 4) / np.sqrt(np.arange(1, 5))
+        phase = rng.uniform(0.0, 2.0 * np.pi, 4)
+        offset = sum(
+            a * np.sin((k + 0.5) * np.pi * u + p)
+            for k, (a, p) in enumerate(zip(amp, phase, strict=True))
+        )
+        offset = sigma * offset / np.sqrt(np.sum(1.0 / np.arange(1, 5)) / 2.0)
+        if j in detouring:
+            width = rng.uniform(0.1, 0.2)
+            centre = rng.uniform(0.2, 0.8)
+            sign = 1.0 if rng.random() < 0.5 else -1.0
+            offset = offset + sign * height * sigma * _bump((u - centre) / width + 0.5, "cosine")
+        path = fine + offset[:, None] * normals
+        demo = resample(path, n_points + int(rng.integers(-20, 21)))
+        demos.append(demo + rng.normal(0.0, sigma / 20.0, demo.shape))
+    return demos, fine
+
+
+# ------------------------------------------------------------------ cases
+def cases(quick: bool = False) -> list[dict]:
+    """Every case: its kind, label and generator (a function of the seed)."""
+    out = []
+    box = [(0.05, 2, 6), (0.05, 20, 20), (0.3, 2, 20), (0.3, 20, 6), (0.15, 6, 12)]
+    if not quick:
+        box += [(0.05, 2, 20), (0.3, 20, 20), (0.05, 20, 6), (0.3, 2, 6)]
+    for profile in ("line", "arc"):
+        for sides in (1, 2):
+            kind = f"burrs {profile} {sides}-sided"
+            for coverage, height, n in box:
+                out.append(
+                    {
+                        "kind": kind,
+                        "case": f"{kind} cov {coverage:.2f} h {height}x n {n}",
+                        "make": (
+                            lambda seed, p=profile, sd=sides, c=coverage, h=height, n=n: (
+                                burr_profiles(p, sd, n, c, h, seed)
+                            )
+                        ),
+                    }
+                )
+        out.append(
+            {
+                "kind": "clean",
+                "case": f"clean {profile} (white noise), n 10",
+                "make": lambda seed, p=profile: burr_profiles(p, 1, 10, 0.0, 0.0, seed),
+            }
+        )
+    for n_demos, n_detours, height in ((10, 3, 3.0), (8, 2, 4.0), (14, 4, 2.0), (10, 3, 4.0)):
+        out.append(
+            {
+                "kind": "detours",
+                "case": f"detours {n_detours}/{n_demos} h {height:g} sd",
+                "make": lambda seed, n=n_demos, k=n_detours, h=height: detour_band(n, k, h, seed),
+                "peer": True,
+            }
+        )
+    for n_demos in (6, 15):
+        out.append(
+            {
+                "kind": "clean",
+                "case": f"clean band (smooth), n {n_demos}",
+                "make": lambda seed, n=n_demos: detour_band(n, 0, 1.0, seed),
+            }
+        )
+    return out
+
+
+# ------------------------------------------------------------------ runs
+def _soft_dtw(demos: list[np.ndarray]) -> np.ndarray:
+    from tslearn.barycenters import softdtw_barycenter
+
+    stacked = np.vstack(demos)
+    centre, scale = stacked.mean(axis=0), stacked.std()
+    scaled = np.array([resample((d - centre) / scale, 100) for d in demos])
+    init = scaled.mean(axis=0)
+    return softdtw_barycenter(scaled, gamma=0.01, max_iter=50, init=init) * scale + centre
+
+
+def _e2(path: np.ndarray, nominal: np.ndarray) -> float:
+    return metrics.e2(resample(path, 100), nominal, n_points=100)
+
+
+def run_case(case: dict, seed: int, peer: Callable | None) -> dict:
+    demos, nominal = case["make"](seed)
+    row: dict = {"case": case["case"], "kind": case["kind"], "seed": seed, "e2": {}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for centre in ("adaptive", *FIXED):
+            start = time.perf_counter()
+            mp = MeanPath(n_points=100, center=centre).fit(demos)
+            row.setdefault("time_s", {})[centre] = time.perf_counter() - start
+            row["e2"][centre] = _e2(mp.path_, nominal)
+            if centre == "adaptive":
+                row["choice"] = list(getattr(mp, "center_tuning_", (4.0, 4.0, 8.0)))
+                row["reason"] = getattr(mp, "center_reason_", "")
+        if peer is not None and case.get("peer"):
+            row["e2"]["soft-DTW"] = _e2(peer(demos), nominal)
+    return row
+
+
+def summarise(rows: list[dict]) -> list[dict]:
+    """Per case: mean e2 over seeds of each centre, the default's ratios, the targets."""
+    out = []
+    for name in dict.fromkeys(r["case"] for r in rows):
+        mine = [r for r in rows if r["case"] == name]
+        e2 = {k: float(np.mean([r["e2"][k] for r in mine])) for k in mine[0]["e2"]}
+        best_fixed = min(e2[c] for c in FIXED)
+        best_lfdkit = min(e2[c] for c in ("adaptive", *FIXED))
+        per_seed = [r["e2"]["adaptive"] / min(r["e2"][c] for c in FIXED) for r in mine]
+        item = {
+            "case": name,
+            "kind": mine[0]["kind"],
+            "e2": e2,
+            "ratio_best": e2["adaptive"] / best_fixed,
+            "ratio_mean": e2["adaptive"] / e2["mean"],
+            "worst_seed_ratio_best": float(max(per_seed)),
+            "choices": [r["choice"] for r in mine],
+        }
+        item["pass"] = item["ratio_best"] <= TARGET_BEST and (
+            item["kind"] != "clean" or item["ratio_mean"] <= TARGET_CLEAN
+        )
+        if "soft-DTW" in e2:
+            item["ratio_peer"] = best_lfdkit / e2["soft-DTW"]
+            item["default_ratio_peer"] = e2["adaptive"] / e2["soft-DTW"]
+        out.append(item)
+    return out
+
+
+def print_table(summary: list[dict], n_seeds: int) -> None:
+    print(
+        f"\nMean-Path centres on held-out-style sets: e2 (units of the set), mean of {n_seeds} "
+        "seeds; default/best fixed centre (target <= 1.05), default/mean (clean: <= 1.02)"
+    )
+    head = f"{'case':<38}{'default':>10}{'mean':>10}{'median':>10}{'biweight':>10}"
+    print(head + f"{'def/best':>9}{'worst seed':>11}{'def/mean':>9}  chosen")
+    for r in summary:
+        e = r["e2"]
+        chosen = ",".join("/".join(f"{x:g}" for x in c) for c in r["choices"])
+        peer = f"  lfdkit/softDTW {r['ratio_peer']:.2f}" if "ratio_peer" in r else ""
+        print(
+            f"{r['case']:<38}{e['adaptive']:>10.4g}{e['mean']:>10.4g}{e['median']:>10.4g}"
+            f"{e['biweight']:>10.4g}{r['ratio_best']:>9.3f}{r['worst_seed_ratio_best']:>11.3f}"
+            f"{r['ratio_mean']:>9.3f}  {chosen}{'' if r['pass'] else '  FAIL'}{peer}"
+        )
+    print("\nworst per kind (mean over seeds):")
+    for kind in dict.fromkeys(r["kind"] for r in summary):
+        mine = [r for r in summary if r["kind"] == kind]
+        worst = max(mine, key=lambda r: r["ratio_best"])
+        line = f"  {kind:<22} default/best fixed {worst['ratio_best']:.3f} ({worst['case']})"
+        if kind == "clean":
+            line += f"; default/mean at most {max(r['ratio_mean'] for r in mine):.3f}"
+        if "ratio_peer" in worst:
+            line += (
+                f"; best lfdkit/soft-DTW at most {max(r['ratio_peer'] for r in mine):.2f}, "
+                f"default/soft-DTW at most {max(r['default_ratio_peer'] for r in mine):.2f}"
+                f" (goal <= {TARGET_PEER})"
+            )
+        print(line)
+    failed = [r["case"] for r in summary if not r["pass"]]
+    print(
+        f"{len(summary) - len(failed)} of {len(summary)} cases pass"
+        + (f"; fail: {failed}" if failed else "")
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=5)
+    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--quick", action="store_true", help="5 burr cases per kind, 2 seeds")
+    parser.add_argument("--kinds", nargs="*", help="only these kinds (e.g. detours clean)")
+    parser.add_argument("--no-peer", action="store_true", help="skip the soft-DTW barycentre")
+    parser.add_argument(
+        "--output", type=Path, default=Path(__file__).parent / "results" / "mimic_centres"
+    )
+    args = parser.parse_args(argv)
+    n_seeds = 2 if args.quick else args.seeds
+    seeds = range(args.first_seed, args.first_seed + n_seeds)
+    peer = None
+    if not args.no_peer:
+        try:
+            import tslearn  # noqa: F401
+
+            peer = _soft_dtw
+        except ImportError:
+            print("tslearn not installed: no soft-DTW peer", file=sys.stderr)
+    todo = [c for c in cases(args.quick) if not args.kinds or c["kind"].split()[0] in args.kinds]
+    rows = []
+    for i, case in enumerate(todo):
+        for seed in seeds:
+            rows.append(run_case(case, seed, peer))
+        print(f"[{i + 1}/{len(todo)}] {case['case']}", file=sys.stderr, flush=True)
+    summary = summarise(rows)
+    print_table(summary, n_seeds)
+    args.output.mkdir(parents=True, exist_ok=True)
+    out = args.output / "mimic_centres.json"
+    result = {
+        "benchmark": "mimic_centres",
+        "created": time.strftime("%Y-%m-%dT%H:%M:%S"),
+        "machine": machine_info(),
+        "git": git_state(),
+        "seeds": list(seeds),
+        "targets": {"best": TARGET_BEST, "clean_vs_mean": TARGET_CLEAN, "peer": TARGET_PEER},
+        "summary": summary,
+        "rows": rows,
+    }
+    tmp = out.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(json_ready(result), indent=1) + "\n")
+    tmp.replace(out)
+    print(f"wrote {out}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
