@@ -144,11 +144,11 @@ def main(argv: list[str] | None = None) -> int:
 
     accuracy = [held_out(name) for name in DATASETS]
     print(f"\nHeld-out accuracy: ProMP(n_basis={N_BASIS}), via-points at phases 0, 0.5, 1")
-    print(f"{'data':<10}{'demos':>6}{'free RMS m':>12}{'via RMS m':>11}{'ratio':>7}{'in 2 std':>8}")
+    print(f"{'data':<10}{'demos':>6}{'free RMS m':>12}{'via RMS m':>11}{'ratio':>7}{'in 2std':>9}")
     for r in accuracy:
         print(
             f"{r['dataset']:<10}{r['n_demos']:>6}{r['median_rms_unconditioned_m']:>12.4f}"
-            f"{r['median_rms_conditioned_m']:>11.4f}{r['ratio']:>7.2f}{r['within_2std']:>8.2f}"
+            f"{r['median_rms_conditioned_m']:>11.4f}{r['ratio']:>7.2f}{r['within_2std']:>9.2f}"
         )
     timings = speed(repeats)
     print(f"\nSpeed on walking (median of {repeats}), ms")
