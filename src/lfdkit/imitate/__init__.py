@@ -7,17 +7,21 @@ numerics (exact transitions, quadrature, bases, quintic pieces) in
 (:mod:`.orientation_dmp` the same for unit quaternions);
 :mod:`.timing` the duration and speed profile of a movement along its path
 (learned from timed demonstrations, or a law), with which the DMP is trained
-and any path (a plan) is timed.
+and any path (a plan) is timed;
+:mod:`.promp` the probabilistic movement primitive (a Gaussian over paths,
+conditioned on via-points).
 """
 
 from lfdkit.imitate.dmp import BASIS_LADDER, DMP, Trajectory, minimum_jerk_times
 from lfdkit.imitate.orientation_dmp import QuaternionDMP
+from lfdkit.imitate.promp import ProMP
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
 from lfdkit.imitate.warp import warp_path
 
 __all__ = [
     "BASIS_LADDER",
     "DMP",
+    "ProMP",
     "QuaternionDMP",
     "SpeedProfile",
     "Trajectory",

@@ -1,0 +1,277 @@
+"""ProMP: known weight distributions recovered, closed-form conditioning, seeded samples, a peer."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from lfdkit.imitate import ProMP
+
+
+def reference_features(phase: np.ndarray, n_basis: int, width: float | None = None) -> np.ndarray:
+    """The documented basis, written out independently: normalised Gaussians, even centres."""
+    width = 1.0 / (n_basis - 1) if width is None else width
+    centres = np.linspace(0.0, 1.0, n_basis)
+    bumps = np.exp(-0.5 * ((phase[:, None] - centres) / width) ** 2)
+    return bumps / bumps.sum(axis=1, keepdims=True)
+
+
+def demos_from_weights(weights: np.ndarray, phases: list[np.ndarray], n_basis: int) -> list:
+    """Paths y(s) = Ψ(s) w for each weight vector (dimension-major) at its own phases."""
+    out = []
+    for w, s in zip(weights, phases, strict=True):
+        out.append(reference_features(s, n_basis) @ w.reshape(-1, n_basis).T)
+    return out
+
+
+def known_distribution(rng: np.random.Generator, n_basis: int, n_dims: int):
+    size = n_basis * n_dims
+    mean = rng.normal(0.0, 2.0, size)
+    root = rng.normal(0.0, 0.3, (size, size))
+    return mean, root @ root.T + 0.05 * np.eye(size)
+
+
+@pytest.fixture(scope="module")
+def full_rank_model() -> ProMP:
+    """40 demonstrations of 2-D paths from a known full-rank weight distribution."""
+    rng = np.random.default_rng(7)
+    mean, cov = known_distribution(rng, 6, 2)
+    weights = rng.multivariate_normal(mean, cov, 40)
+    phases = [np.linspace(0.0, 1.0, n) for n in rng.integers(30, 70, 40)]
+    return ProMP(n_basis=6, regularization=0.0).fit(demos_from_weights(weights, phases, 6))
+
+
+def test_fit_recovers_the_demonstrations_weights_exactly_at_any_lengths_and_times():
+    rng = np.random.default_rng(0)
+    n_basis, n_dims = 7, 3
+    mean, cov = known_distribution(rng, n_basis, n_dims)
+    weights = rng.multivariate_normal(mean, cov, 5)
+    # Uneven, different-length sampling in seconds (start 2 s, durations 1.5–4 s).
+    phases, times = [], []
+    for n, duration in zip((25, 40, 61, 33, 90), (1.5, 2.0, 4.0, 3.0, 2.5), strict=True):
+        s = np.r_[0.0, np.sort(rng.uniform(0.0, 1.0, n - 2)), 1.0]
+        phases.append(s)
+        times.append(2.0 + duration * s)
+    demos = demos_from_weights(weights, phases, n_basis)
+    model = ProMP(n_basis=n_basis, regularization=0.0).fit(demos, times=times)
+    np.testing.assert_allclose(model.weights_mean_, weights.mean(axis=0), atol=1e-8)
+    np.testing.assert_allclose(model.weights_cov_, np.cov(weights.T), atol=1e-8)
+    assert model.residual_rms_ < 1e-9
+    assert model.n_dims_ == n_dims and model.n_demos_ == 5
+
+
+def test_fit_recovers_a_known_distribution_within_sampling_error():
+    rng = np.random.default_rng(1)
+    n_basis, n_dims, n_demos = 5, 2, 600
+    mean, cov = known_distribution(rng, n_basis, n_dims)
+    weights = rng.multivariate_normal(mean, cov, n_demos)
+    phases = [np.linspace(0.0, 1.0, n) for n in rng.integers(20, 50, n_demos)]
+    # Measurement noise 1 mm on paths of metres: the ridge and noise must not bias the moments.
+    demos = [d + rng.normal(0.0, 1e-3, d.shape) for d in demos_from_weights(weights, phases, 5)]
+    model = ProMP(n_basis=n_basis).fit(demos)
+    variances = np.diag(cov)
+    assert np.all(np.abs(model.weights_mean_ - mean) < 4.5 * np.sqrt(variances / n_demos))
+    # Standard error of a sample covariance entry: sqrt((Σij² + Σii Σjj) / n).
+    cov_se = np.sqrt((cov**2 + np.outer(variances, variances)) / n_demos)
+    assert np.all(np.abs(model.weights_cov_ - cov) < 5.0 * cov_se)
+
+
+def test_mean_path_and_std_follow_the_demonstrations():
+    s = np.linspace(0.0, 1.0, 80)
+    amplitudes = np.array([0.6, 0.8, 1.0, 1.2, 1.4])
+    demos = [np.c_[s, a * np.sin(np.pi * s)] for a in amplitudes]
+    model = ProMP(n_basis=20).fit(demos)
+    path, std = model.mean_path(81), model.std(81)
+    u = np.linspace(0.0, 1.0, 81)
+    # 20 bumps fit a half sine to 0.9e-3 rms, 2e-3 at the ends (measured).
+    assert model.residual_rms_ < 1.5e-3
+    np.testing.assert_allclose(path[:, 1], np.sin(np.pi * u), atol=3e-3)
+    np.testing.assert_allclose(path[:, 0], u, atol=3e-3)
+    # The spread of y is std(amplitudes) · sin(πs); x never varies.
+    np.testing.assert_allclose(std[:, 1], amplitudes.std(ddof=1) * np.sin(np.pi * u), atol=3e-3)
+    assert np.all(std[:, 0] < 1e-6)
+
+
+def test_a_via_point_with_zero_covariance_is_passed_exactly(full_rank_model):
+    point, phase = np.array([1.5, -2.0]), 0.37
+    via = full_rank_model.condition(point, [phase])
+    np.testing.assert_allclose(via.mean_at([phase])[0], point, atol=1e-9)
+    assert np.all(np.abs(via.covariance_at([phase])) < 1e-9)
+    # Elsewhere the band stays open and the source model is unchanged.
+    assert np.all(via.std(11)[[0, -1]] > 0.05)
+    assert not np.allclose(full_rank_model.mean_at([phase])[0], point)
+
+
+def test_a_via_point_with_a_covariance_follows_the_scalar_closed_form(full_rank_model):
+    """Per coordinate, with independent dimensions: m' = m + v/(v+c) (y − m), v' = v c/(v+c)."""
+    rng = np.random.default_rng(3)
+    n_basis = 6
+    mean, cov = known_distribution(rng, n_basis, 1)
+    weights = rng.multivariate_normal(mean, cov, 30)
+    phases = [np.linspace(0.0, 1.0, 50)] * 30
+    model = ProMP(n_basis=n_basis, regularization=0.0).fit(
+        demos_from_weights(weights, phases, n_basis)
+    )
+    phase, y, c = 0.62, 3.0, 0.04
+    m, v = model.mean_at([phase])[0, 0], model.covariance_at([phase])[0, 0, 0]
+    via = model.condition([[y]], [phase], covariance=c)
+    assert via.mean_at([phase])[0, 0] == pytest.approx(m + v / (v + c) * (y - m), rel=1e-9)
+    assert via.covariance_at([phase])[0, 0, 0] == pytest.approx(v * c / (v + c), rel=1e-7)
+
+
+def test_several_via_points_at_once_are_all_passed(full_rank_model):
+    points = np.array([[0.0, 0.0], [1.0, 2.0], [-1.0, 0.5]])
+    phases = np.array([0.0, 0.5, 1.0])
+    via = full_rank_model.condition(points, phases)
+    np.testing.assert_allclose(via.mean_at(phases), points, atol=1e-8)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    phases=st.lists(st.floats(0.0, 1.0), min_size=2, max_size=2),
+    offsets=st.lists(st.floats(-3.0, 3.0), min_size=4, max_size=4),
+    variances=st.lists(st.floats(1e-4, 0.5), min_size=2, max_size=2),
+)
+def test_conditioning_at_once_equals_conditioning_in_turn(
+    full_rank_model, phases, offsets, variances
+):
+    points = np.reshape(offsets, (2, 2))
+    covs = np.array([v * np.eye(2) for v in variances])
+    both = full_rank_model.condition(points, phases, covariance=covs)
+    first = full_rank_model.condition(points[0], phases[:1], covariance=covs[0])
+    in_turn = first.condition(points[1], phases[1:], covariance=covs[1])
+    np.testing.assert_allclose(both.weights_mean_, in_turn.weights_mean_, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(both.weights_cov_, in_turn.weights_cov_, rtol=1e-6, atol=1e-7)
+
+
+def test_a_point_the_demonstrations_cannot_reach_is_warned_about():
+    s = np.linspace(0.0, 1.0, 40)
+    demos = [np.c_[s, a * np.sin(np.pi * s)] for a in (0.9, 1.1)]  # x never varies
+    model = ProMP(n_basis=6).fit(demos)
+    with pytest.warns(
+        UserWarning,
+        match=r"^points\[0\]: cannot be reached; the conditioned mean misses it by 0\.2",
+    ):
+        model.condition([[0.7, 1.0]], [0.5])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        model.condition([[0.5, 1.05]], [0.5])  # reachable: no warning
+
+
+def test_exact_via_points_that_contradict_each_other_are_warned_about(full_rank_model):
+    with pytest.warns(UserWarning, match=r"^points\[\d\]: cannot be reached"):
+        full_rank_model.condition([[0.0, 0.0], [1.0, 1.0]], [0.5, 0.5])
+    # With a covariance the two become a compromise, silently and exactly halfway.
+    both = full_rank_model.condition([[0.0, 0.0], [1.0, 1.0]], [0.5, 0.5], covariance=0.01)
+    middle = full_rank_model.condition([[0.5, 0.5]], [0.5], covariance=0.005)
+    np.testing.assert_allclose(both.weights_mean_, middle.weights_mean_, atol=1e-9)
+
+
+def test_sample_statistics_match_the_model_and_the_seed_repeats(full_rank_model):
+    n = 20_000
+    samples = full_rank_model.sample(n, n_points=15, seed=11)
+    assert samples.shape == (n, 15, 2)
+    mean, std = full_rank_model.mean_path(15), full_rank_model.std(15)
+    assert np.all(np.abs(samples.mean(axis=0) - mean) < 4.5 * std / np.sqrt(n))
+    assert np.all(np.abs(samples.std(axis=0) / std - 1.0) < 4.5 / np.sqrt(2 * n))
+    # Full covariance too: at one phase, the 2×2 covariance of the samples.
+    empirical = np.cov(samples[:, 7, :].T)
+    expected = full_rank_model.covariance_at([0.5])[0]
+    np.testing.assert_allclose(empirical, expected, rtol=0.05, atol=0.02 * expected.max())
+    again = full_rank_model.sample(3, n_points=15, seed=11)
+    np.testing.assert_array_equal(again, full_rank_model.sample(3, n_points=15, seed=11))
+    np.testing.assert_allclose(samples[:3], again, rtol=1e-12, atol=1e-12)
+    assert not np.allclose(samples[:3], full_rank_model.sample(3, n_points=15, seed=12))
+
+
+def test_samples_of_a_conditioned_model_all_pass_its_via_point(full_rank_model):
+    via = full_rank_model.condition([2.0, 1.0], [0.5])
+    samples = via.sample(50, n_points=3, seed=0)  # phases 0, 0.5, 1
+    np.testing.assert_allclose(samples[:, 1, :], np.tile([2.0, 1.0], (50, 1)), atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (
+            lambda m: m.condition([[0.0, 0.0]], [1.3]),
+            r"^phases: expected phases in \[0, 1\], got 1.3",
+        ),
+        (lambda m: m.condition([[0.0, 0.0]], [-0.1]), r"^phases: .*got -0.1 at index 0"),
+        (lambda m: m.condition([[0.0, 0.0, 0.0]], [0.5]), r"^points: expected 2 coordinates"),
+        (lambda m: m.condition([[0.0, 0.0]], [0.2, 0.5]), r"^phases: got 2 phases for 1 points"),
+        (lambda m: m.condition([0.0, 0.0], [0.5], np.eye(3)), r"^covariance: expected"),
+        (lambda m: m.condition([0.0, 0.0], [0.5], -1.0), r"^covariance: must be positive"),
+        (lambda m: m.mean_at([2.0]), r"^phases: expected phases in \[0, 1\]"),
+        (lambda m: m.sample(0), r"^n_samples:"),
+    ],
+)
+def test_bad_input_is_refused_in_one_line_naming_the_argument(full_rank_model, call, message):
+    with pytest.raises(ValueError, match=message) as info:
+        call(full_rank_model)
+    assert "\n" not in str(info.value)
+
+
+def test_bad_fit_input_is_refused_in_one_line():
+    s = np.linspace(0.0, 1.0, 20)
+    demo = np.c_[s, s**2]
+    with pytest.raises(ValueError, match=r"^demos: needs at least 2 demonstrations.*got 1"):
+        ProMP().fit([demo])
+    with pytest.raises(ValueError, match=r"^demos\[1\]: expected 2 columns"):
+        ProMP().fit([demo, np.c_[s, s, s]])
+    with pytest.raises(ValueError, match=r"^times: got 1 time arrays for 2 demonstrations"):
+        ProMP().fit([demo, demo], times=[s])
+    with pytest.raises(ValueError, match=r"^n_basis:"):
+        ProMP(n_basis=1).fit([demo, demo])
+    with pytest.raises(ValueError, match=r"^width:"):
+        ProMP(width=2.0).fit([demo, demo])
+
+
+def test_use_before_fit_says_so():
+    from sklearn.exceptions import NotFittedError
+
+    with pytest.raises(NotFittedError):
+        ProMP().mean_path()
+
+
+def test_conditioned_model_keeps_the_parameters():
+    s = np.linspace(0.0, 1.0, 30)
+    demos = [np.c_[s, a * s] for a in (0.5, 1.0, 1.5)]
+    model = ProMP(n_basis=5, width=0.2, regularization=1e-4).fit(demos)
+    via = model.condition([0.5, 0.5], [0.5], covariance=1e-3)
+    assert via.get_params() == model.get_params()
+    assert via.width_ == model.width_ == 0.2
+
+
+def test_against_movement_primitives_promp():
+    """Same demonstrations in movement_primitives' ProMP: mean, band and conditioned mean agree.
+
+    Its basis differs from ours (its own widths, learned with a ridge prior), so the
+    agreement is checked to a stated fraction of the paths' extent, not bit for bit.
+    """
+    peer = pytest.importorskip("movement_primitives.promp")
+    n_demos, n_steps, n_basis = 12, 101, 10
+    rng = np.random.default_rng(5)
+    t = np.linspace(0.0, 1.0, n_steps)
+    T = np.tile(t, (n_demos, 1))
+    Y = np.empty((n_demos, n_steps, 2))
+    for j in range(n_demos):
+        Y[j, :, 0] = np.cos(2 * np.pi * t + rng.normal(0.0, 0.1))
+        Y[j, :, 1] = (1.0 + rng.normal(0.0, 0.1)) * np.sin(np.pi * t)
+    theirs = peer.ProMP(n_dims=2, n_weights_per_dim=n_basis)
+    theirs.imitate(T, Y)
+    ours = ProMP(n_basis=n_basis).fit(list(Y))
+    extent = float(np.ptp(Y))
+    tolerance = 0.03 * extent  # 3 % of the paths' extent
+    np.testing.assert_allclose(ours.mean_path(n_steps), theirs.mean_trajectory(t), atol=tolerance)
+    np.testing.assert_allclose(ours.std(n_steps), np.sqrt(theirs.var_trajectory(t)), atol=tolerance)
+    point = np.array([0.2, 1.2])
+    their_via = theirs.condition_position(point, y_cov=np.eye(2) * 1e-6, t=0.5, t_max=1.0)
+    our_via = ours.condition(point, [0.5], covariance=1e-6)
+    np.testing.assert_allclose(
+        our_via.mean_path(n_steps), their_via.mean_trajectory(t), atol=2 * tolerance
+    )
