@@ -435,6 +435,36 @@ def test_plan_bad_arguments_exit_1(capsys, tmp_path, skill_path, args, fragments
     assert not out.exists()
 
 
+def test_plan_around_an_unlearned_class_with_unknown_class(capsys, skill_path):
+    bottle = ("bottle", (-0.05, 0.47), 0.03)
+    args = ("plan", skill_path, "--goal", "0.36,0.5", "--obstacle", obstacle_arg(bottle))
+    # Refused without the option, the one error line naming it in the command's words.
+    code, stdout, err = run_cli(capsys, *args)
+    assert code == 1 and stdout == ""
+    line = error_line(err, "plan")
+    assert "'bottle' was never learned" in line
+    assert "pass --unknown-class margin=M" in line and "unknown_class=" not in line
+    # With it: radius + margin + clearance kept, and the warning says how it was planned.
+    code, stdout, err = run_cli(
+        capsys, *args, "--unknown-class", "margin=0.02", "--clearance", "0.005", "-v"
+    )
+    assert code == 0, err
+    assert "'bottle' never learned: planned around it (1 obstacle) as a hard radius plus " in err
+    assert "margin 0.02 m (plus the clearance) with no learned response" in err
+    assert "around 1 obstacle in" in err  # not "1 obstacles"
+    rows = read_plan_csv(stdout)[1]
+    assert path_clearance(rows, scene_of(bottle), 0.025)[0] >= -1e-12
+    nominal = Skill.load(skill_path).nominal(None, [0.36, 0.5])
+    assert path_clearance(nominal, scene_of(bottle), 0.025)[0] < 0.0  # it had to swerve
+
+
+@pytest.mark.parametrize("value", ["0.02", "margin=", "margin=-1", "radius=0.1", "margin=nan"])
+def test_plan_bad_unknown_class_is_a_usage_error(capsys, skill_path, value):
+    code, out, err = usage_exit(capsys, "plan", skill_path, "--unknown-class", value)
+    assert code == 2 and out == ""
+    assert "--unknown-class: expected" in err and repr(value) in err
+
+
 def test_plan_non_numeric_goal_is_a_usage_error(capsys, skill_path):
     code, out, err = usage_exit(capsys, "plan", skill_path, "--goal", "a,b")
     assert code == 2
