@@ -1752,7 +1752,7 @@ class Skill(Estimator):
 
 
 def learn(
-    demos_path: str | os.PathLike[str],
+    demos_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     scenes_path: str | os.PathLike[str] | None = None,
     *,
     progress: ProgressLike = None,
@@ -1760,6 +1760,8 @@ def learn(
 ) -> Skill:
     """Learn a skill from files: :func:`~lfdkit.io.training.read_training_data`, then ``fit``.
 
+    ``demos_path`` may be several files, one set (a CSV without a ``demo``
+    column is one demonstration, named by its file's stem).
     ``params`` are :class:`Skill`'s parameters. When the demonstrations file
     has times (a ``t`` column), the skill's timing is learned from those of
     the clean demonstrations; when it has orientations (``qx, qy, qz, qw``),

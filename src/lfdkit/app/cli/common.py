@@ -585,7 +585,9 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         # A metavar, or argparse lists the choices as the parser is built (seconds).
         metavar="METHOD",
         default=SKILL_DEFAULTS["mimic"],
-        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS (default %(default)s)",
+        # %(choices)s: the registry is read only when the help is printed.
+        help="generalized path method: %(choices)s (lfdkit.mimic.MIMIC_METHODS; default "
+        "%(default)s)",
     )
     parser.add_argument(
         "--n-points",
