@@ -586,8 +586,8 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         metavar="METHOD",
         default=SKILL_DEFAULTS["mimic"],
         # %(choices)s: the registry is read only when the help is printed.
-        help="generalized path method: %(choices)s (lfdkit.mimic.MIMIC_METHODS; default "
-        "%(default)s)",
+        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS: %(choices)s "
+        "(default %(default)s)",
     )
     parser.add_argument(
         "--n-points",

@@ -95,7 +95,8 @@ def run_command(args: argparse.Namespace) -> None:
     )
     tell(
         args,
-        f"planned a {plan['length_m']:.3f} m sweep around {len(run.scene)} obstacles{clear}; "
+        f"planned a {plan['length_m']:.3f} m sweep around {len(run.scene)} "
+        f"obstacle{'s' * (len(run.scene) != 1)}{clear}; "
         f"{arm.name}: {robot['poses']} poses, {robot['motion_s']:.1f} s at "
         f"{args.speed_fraction:.0%} of its joint limits, tool at most "
         f"{robot['tool_speed_max_m_s']:.2f} m/s",
@@ -167,7 +168,7 @@ def _run_path(args: argparse.Namespace) -> None:
             task = TaskDescription(
                 frame=frame, tool=tool, height=args.height, q_start=args.q_start, name="path"
             )
-            with progress.stage(f"plan around {len(scene)} obstacles"):
+            with progress.stage(f"plan around {len(scene)} obstacle{'s' * (len(scene) != 1)}"):
                 plan = skill.plan(
                     start,
                     goal,

@@ -53,10 +53,12 @@ def run_command(args: argparse.Namespace) -> None:
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
+        clean = skill.mimic_info_["n_demos"]
+        around = skill.ioc_info_["n_demos"] if skill.ioc_info_ else 0
         tell(
             args,
-            f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
-            + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
+            f"learned from {clean} clean demonstration{'s' * (clean != 1)}"
+            + (f" and {around} around obstacles" if skill.ioc_info_ else "")
             + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
             f"{elapsed(args):.1f} s; wrote {args.output}",
         )
