@@ -384,6 +384,23 @@ def test_an_unlearned_class_is_planned_around_only_when_asked(skill, units) -> N
         learned.plan(scene=point, unknown_class=0.0)
 
 
+def test_a_moving_unlearned_obstacle_is_kept_out_of_at_the_plans_own_times(skill) -> None:
+    from lfdkit.emulate.planner import moving_clearance
+
+    start, goal = np.array([-0.4, 0.45]), np.array([0.36, 0.5])
+    crossing = Obstacle("bottle", [0.0, 0.3], 0.02, motion=ConstantVelocity([0.0, 0.1]))
+    scene = Scene((crossing,))
+    with pytest.raises(ValueError, match="'bottle' was never learned"):
+        skill.plan(start, goal, scene, duration=4.0)
+    with pytest.warns(UserWarning, match="'bottle' never learned"):
+        plan = skill.plan(start, goal, scene, duration=4.0, clearance=0.005, unknown_class=0.02)
+    gaps = moving_clearance(plan.points, plan.times, scene, 0.025, 0.0)
+    assert gaps.min() >= -1e-9
+    # Unplanned for, the nominal at the same times passes inside radius + 25 mm.
+    nominal = resample(skill.nominal(start, goal), skill.n_points)
+    assert moving_clearance(nominal, skill.point_times(4.0), scene, 0.025, 0.0).min() < 0.0
+
+
 def test_a_skill_without_reward_plans_around_obstacles_only_when_asked() -> None:
     plain = Skill().fit_path(read_training_data(FILES["demos"]).free_demos[:5])
     cup = Scene.from_arrays(["cup"], [[0.0, 0.47]], [0.02])

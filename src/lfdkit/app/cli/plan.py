@@ -93,6 +93,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     units = skill.units
     clear = (
         f"; closest obstacle {plan.clearance.min():.4g} {units} beyond radius + clearance"
+        + (" (+ margin, unlearned classes)" if args.unknown_class is not None else "")
         if len(scene)
         else ""
     )
