@@ -345,6 +345,73 @@ def test_plan_errors(skill) -> None:
         plain.plan(scene=Scene.from_arrays(["cup"], [[0.0, 0.47]]))
 
 
+@pytest.mark.parametrize("units", ["m", "mm"])
+def test_an_unlearned_class_is_planned_around_only_when_asked(skill, units) -> None:
+    scale = {"m": 1.0, "mm": 1000.0}[units]
+    learned = skill if units == "m" else skill.to_units(units)
+    start, goal = scale * np.array([-0.4, 0.45]), scale * np.array([0.36, 0.5])
+    bottle = Scene.from_arrays(["bottle"], [scale * np.array([-0.05, 0.47])], [0.03 * scale])
+    # Without the opt-in: refused, the error naming it.
+    with pytest.raises(ValueError, match=r"'bottle' was never learned.*unknown_class=MARGIN"):
+        learned.plan(start, goal, bottle)
+    nominal = learned.nominal(start, goal)
+    for margin in (0.0, 0.02 * scale, 0.05 * scale):
+        # The plan must swerve: the nominal passes inside radius plus margin.
+        assert bottle.distances(nominal).min() < margin
+        with pytest.warns(UserWarning) as caught:
+            plan = learned.plan(start, goal, bottle, unknown_class=margin)
+        text = str(caught[0].message)
+        assert "class 'bottle' never learned: planned around it (1 obstacle)" in text
+        assert f"margin {margin:g} {units}" in text and "no learned response" in text
+        assert bottle.distances(plan.points).min() >= margin - 1e-9 * scale
+        assert plan.details.clearance[0] >= 0.0
+        np.testing.assert_allclose(plan.points[[0, -1]], [start, goal], atol=1e-9 * scale)
+    # A learned class beside it keeps its learned response: the plan still clears both.
+    mixed = Scene.from_arrays(
+        ["bottle", "cup", "bottle"],
+        scale * np.array([[-0.1, 0.47], [0.15, 0.46], [0.25, 0.6]]),
+        scale * np.array([0.02, 0.03, 0.01]),
+    )
+    with pytest.warns(UserWarning, match=r"'bottle' never learned: planned around them \(2 obst"):
+        plan = learned.plan(start, goal, mixed, unknown_class=0.01 * scale)
+    gaps = mixed.distances(plan.points)  # to each obstacle's surface
+    assert gaps[1] >= 0.0
+    assert gaps[[0, 2]].min() >= 0.01 * scale - 1e-9 * scale
+    with pytest.raises(ValueError, match="unknown_class: must be >= 0"):
+        learned.plan(scene=bottle, unknown_class=-1.0)
+    point = Scene.from_arrays(["bottle"], [scale * np.array([0.0, 0.47])])
+    with pytest.raises(ValueError, match=r"unknown_class: obstacle 0 .* give a positive margin"):
+        learned.plan(scene=point, unknown_class=0.0)
+
+
+def test_a_moving_unlearned_obstacle_is_kept_out_of_at_the_plans_own_times(skill) -> None:
+    from lfdkit.emulate.planner import moving_clearance
+
+    start, goal = np.array([-0.4, 0.45]), np.array([0.36, 0.5])
+    crossing = Obstacle("bottle", [0.0, 0.3], 0.02, motion=ConstantVelocity([0.0, 0.1]))
+    scene = Scene((crossing,))
+    with pytest.raises(ValueError, match="'bottle' was never learned"):
+        skill.plan(start, goal, scene, duration=4.0)
+    with pytest.warns(UserWarning, match="'bottle' never learned"):
+        plan = skill.plan(start, goal, scene, duration=4.0, clearance=0.005, unknown_class=0.02)
+    gaps = moving_clearance(plan.points, plan.times, scene, 0.025, 0.0)
+    assert gaps.min() >= -1e-9
+    # Unplanned for, the nominal at the same times passes inside radius + 25 mm.
+    nominal = resample(skill.nominal(start, goal), skill.n_points)
+    assert moving_clearance(nominal, skill.point_times(4.0), scene, 0.025, 0.0).min() < 0.0
+
+
+def test_a_skill_without_reward_plans_around_obstacles_only_when_asked() -> None:
+    plain = Skill().fit_path(read_training_data(FILES["demos"]).free_demos[:5])
+    cup = Scene.from_arrays(["cup"], [[0.0, 0.47]], [0.02])
+    with pytest.raises(ValueError, match=r"no obstacle reward.*unknown_class=MARGIN"):
+        plain.plan(scene=cup)
+    assert cup.distances(plain.plan().points).min() < 0.01  # the nominal passes through it
+    with pytest.warns(UserWarning, match="'cup' never learned"):
+        plan = plain.plan(scene=cup, unknown_class=0.01)
+    assert cup.distances(plan.points).min() >= 0.01 - 1e-12
+
+
 def test_fit_errors(sweeping) -> None:
     free = sweeping.free_demos
     with pytest.raises(ValueError, match="scenes: give obstacle_demos and scenes together"):

@@ -1063,7 +1063,8 @@ class Skill(Estimator):
         """The timed plan for a new start, goal and scene: positions, times and velocities.
 
         The path is :meth:`plan_details`' (its keyword ``options``:
-        ``planner``, ``horizon``, ``goal_approach``, ``clearance``; its errors
+        ``planner``, ``horizon``, ``goal_approach``, ``clearance``,
+        ``unknown_class``; its errors
         and safety guarantees), timed by its own arc length with the skill's
         speed profile :attr:`timing_` (learned from the demonstrations' times,
         or the ``timing`` law): it starts and ends at rest (unless the timing
@@ -1152,6 +1153,10 @@ class Skill(Estimator):
         from lfdkit.emulate.planner import UnsafePlanError, moving_clearance
 
         clearance = float(options.get("clearance", 0.0))
+        margin = options.get("unknown_class")
+        reward = self.reward_ if self.reward_ is not None else Reward(1.0, {})
+        unknown, margin = _unknown_margins(reward, scene, margin, clearance)
+        clearance = clearance + np.where(unknown, margin, 0.0)  # each obstacle's
         hard = scene.radii + clearance > 0.0
         start_point, goal_point = self._ends(start, goal)
         for round_ in range(RETIME_ROUNDS + 1):
@@ -1172,13 +1177,14 @@ class Skill(Estimator):
                 clearance,
                 options.get("progress"),
                 times,
+                unknown_class=options.get("unknown_class"),
             )
             times, velocities = self.timing_.time_path(details.points, total)
         o = int(np.argmin(np.where(hard, gaps, np.inf)))
         raise UnsafePlanError(
             f"no collision-free timed plan: timed by its own length, the plan passes "
             f"{-gaps[o]:.3g} inside obstacle {o} ({scene.obstacles[o].label!r}, radius plus "
-            f"clearance {clearance:g}) even after {RETIME_ROUNDS} re-plans at its own times; "
+            f"clearance {clearance[o]:g}) even after {RETIME_ROUNDS} re-plans at its own times; "
             "a longer duration or a larger clearance may help"
         )
 
@@ -1280,6 +1286,7 @@ class Skill(Estimator):
         clearance: float = 0.0,
         progress: ProgressLike = None,
         duration: float | None = None,
+        unknown_class: float | None = None,
     ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -1316,6 +1323,13 @@ class Skill(Estimator):
             ``point_times()[k]`` and each obstacle is avoided where it
             is predicted then (:func:`lfdkit.emulate.plan_path`'s ``times``).
             Not used for a static scene.
+        unknown_class : float, optional
+            Opt-in for obstacles of a class this skill never learned: a margin
+            (units, >= 0). Each such obstacle becomes a hard constraint, its
+            radius plus this margin (plus ``clearance``), with *no* learned
+            response (the plan keeps out but does not swerve as a demonstrator
+            would); a ``UserWarning`` names the classes. Default None: such a
+            scene is refused (the error names this option).
 
         Returns
         -------
@@ -1332,7 +1346,8 @@ class Skill(Estimator):
         ValueError
             For a start or goal of the wrong dimension or not finite, a scene
             with an obstacle class this skill has not learned (or with
-            obstacles when no reward is learned), a start or goal inside an
+            obstacles when no reward is learned) unless ``unknown_class`` is
+            given, a negative ``unknown_class``, a start or goal inside an
             obstacle, or a horizon outside 4-12.
         """
         start, goal = self._ends(start, goal)
@@ -1340,7 +1355,16 @@ class Skill(Estimator):
         if isinstance(scene, Scene) and scene.moving:
             times = self.point_times(duration)
         return self._plan(
-            start, goal, scene, planner, horizon, goal_approach, clearance, progress, times
+            start,
+            goal,
+            scene,
+            planner,
+            horizon,
+            goal_approach,
+            clearance,
+            progress,
+            times,
+            unknown_class=unknown_class,
         )
 
     def point_times(self, duration: float | None = None) -> np.ndarray:
@@ -1379,6 +1403,7 @@ class Skill(Estimator):
         times: np.ndarray | None = None,
         *,
         route: str | None = None,
+        unknown_class: float | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal (``route`` default :attr:`route_`)."""
         nominal = self._nominal(start, goal)
@@ -1393,12 +1418,19 @@ class Skill(Estimator):
             h = None
         reward = self.reward_
         if reward is None:
-            if len(scene):
+            if len(scene) and unknown_class is None:
                 raise ValueError(
                     "scene: has obstacles, but this skill has no obstacle reward; learn one "
-                    "with fit_reward() (demonstrations around obstacles) or adopt() it"
+                    "with fit_reward() (demonstrations around obstacles) or adopt() it; "
+                    f"{_UNKNOWN_HOW}"
                 )
             reward = Reward(1.0, {})
+        unknown, margin = _unknown_margins(reward, scene, unknown_class, clearance)
+        unknown_margin = np.where(unknown, margin, 0.0)
+        if unknown.any():
+            reach = scene.radii + clearance + unknown_margin
+            reward = _without_response(reward, scene, unknown, reach)
+            _warn_unknown(scene, unknown, margin, self.units)
         # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
         route = route or getattr(self, "route_", None) or self._unfitted_route()
         options = dict(
@@ -1422,7 +1454,7 @@ class Skill(Estimator):
             plan = None
             for way in routes:
                 options["lookahead"] = way != "window"
-                extra = clearance if margins is None else clearance + share * margins
+                extra = clearance + unknown_margin + (0.0 if margins is None else share * margins)
                 try:
                     plan = plan_path(reward, nominal, scene, clearance=extra, **options)
                     break
@@ -1720,7 +1752,7 @@ class Skill(Estimator):
 
 
 def learn(
-    demos_path: str | os.PathLike[str],
+    demos_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     scenes_path: str | os.PathLike[str] | None = None,
     *,
     progress: ProgressLike = None,
@@ -1728,6 +1760,8 @@ def learn(
 ) -> Skill:
     """Learn a skill from files: :func:`~lfdkit.io.training.read_training_data`, then ``fit``.
 
+    ``demos_path`` may be several files, one set (a CSV without a ``demo``
+    column is one demonstration, named by its file's stem).
     ``params`` are :class:`Skill`'s parameters. When the demonstrations file
     has times (a ``t`` column), the skill's timing is learned from those of
     the clean demonstrations; when it has orientations (``qx, qy, qz, qw``),
@@ -1801,6 +1835,83 @@ def _stored_dmps(
     if orientations is None or orientation_state is None:
         return dmp, None  # a skill with orientations but none stored: fitted again
     return dmp, QuaternionDMP.from_state(orientation_state, "orientation.dmp")
+
+
+#: How a plan around an obstacle class never learned is asked for (in refusals).
+_UNKNOWN_HOW = (
+    "to plan around it as a hard radius plus a margin with no learned response, pass "
+    "unknown_class=MARGIN (lfdkit plan/execute: --unknown-class margin=M)"
+)
+
+#: Width of the stand-in response of an unlearned class, as a fraction of its hard
+#: radius: ``exp(-(1/0.01)^2)`` = 0 at the constraint's edge, so it shapes nothing.
+_UNKNOWN_RESPONSE_WIDTH = 0.01
+
+
+def _unknown_margins(
+    reward: Reward, scene: Scene, margin: float | None, clearance: float
+) -> tuple[np.ndarray, float]:
+    """Which obstacles are of a class ``reward`` never learned (mask), and their margin.
+
+    Without ``margin`` a scene with such a class is refused, the error naming
+    the opt-in; with it, each such obstacle must have something to keep out
+    of (radius plus clearance plus margin above 0).
+    """
+    unknown = np.array([label not in reward.precisions for label in scene.labels], dtype=bool)
+    if margin is not None:
+        margin = check_positive(margin, "unknown_class", allow_zero=True)
+    if not unknown.any():
+        return unknown, 0.0
+    if margin is None:
+        label = scene.labels[int(np.argmax(unknown))]
+        known = ", ".join(repr(c) for c in reward.classes) or "none"
+        raise ValueError(
+            f"scene: obstacle class {label!r} was never learned (learned classes: {known}); "
+            f"{_UNKNOWN_HOW}, or demonstrate around it"
+        )
+    reach = scene.radii + check_positive(clearance, "clearance", allow_zero=True) + margin
+    point = np.flatnonzero(unknown & (reach <= 0.0))
+    if point.size:
+        o = int(point[0])
+        raise ValueError(
+            f"unknown_class: obstacle {o} ({scene.labels[o]!r}) has radius 0 and no "
+            f"clearance, so margin {margin:g} leaves nothing to keep out of; give a "
+            "positive margin"
+        )
+    return unknown, margin
+
+
+def _without_response(
+    reward: Reward, scene: Scene, unknown: np.ndarray, reach: np.ndarray
+) -> Reward:
+    """``reward`` with a stand-in for every unlearned class: a response inside its hard radius.
+
+    The planner needs a precision for every class; this one is so narrow
+    (:data:`_UNKNOWN_RESPONSE_WIDTH` of the class's smallest hard radius
+    ``reach``, units) that it is nil wherever the plan may go.
+    """
+    labels = np.array(scene.labels, dtype=object)
+    stand_ins = {}
+    for label in dict.fromkeys(labels[unknown]):
+        width = _UNKNOWN_RESPONSE_WIDTH * float(reach[labels == label].min())
+        stand_ins[label] = np.full(scene.positions.shape[1], 1.0 / width**2)
+    return Reward(reward.nominal_weight, {**reward.precisions, **stand_ins})
+
+
+def _warn_unknown(scene: Scene, unknown: np.ndarray, margin: float, units: str) -> None:
+    """Says which obstacles are planned around as bare hard radii, and what that means."""
+    classes = list(dict.fromkeys(np.array(scene.labels, dtype=object)[unknown]))
+    count = int(np.count_nonzero(unknown))
+    warnings.warn(
+        f"plan: obstacle class{'es' * (len(classes) != 1)} "
+        f"{', '.join(repr(c) for c in classes)} never learned: planned around "
+        f"{'it' if count == 1 else 'them'} ({count} obstacle{'s' * (count != 1)}) as a hard "
+        f"radius plus margin {margin:g} {units} (plus the clearance) with no learned "
+        "response: the plan keeps out but does not swerve as a demonstrator would; "
+        "demonstrate around the class to learn its response",
+        UserWarning,
+        stacklevel=5,
+    )
 
 
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:

@@ -185,6 +185,59 @@ def test_learn_option_defaults_are_the_skills(capsys, monkeypatch, small_demos):
         assert f"(default {defaults[name]}" in text, name
 
 
+def test_learn_help_lists_the_csv_columns_and_every_mimic_method(capsys):
+    from lfdkit.mimic import MIMIC_METHODS
+
+    code, out, _ = usage_exit(capsys, "learn", "--help")
+    assert code == 0
+    text = " ".join(out.split())
+    for columns in ("x,y[,z]", "demo", "t or time", "qx,qy,qz,qw", "demo,class,x,y[,z][,radius]"):
+        assert columns in text, columns
+    assert "without it the file is one demonstration" in text
+    assert "DEMOS [DEMOS ...]" in text
+    assert ", ".join(MIMIC_METHODS) in text
+    for option in ("--planner {mpc,full}", "--model {auto,thesis,path}", "--units {m,cm,mm}"):
+        assert option in text
+
+
+def test_learn_from_several_files_one_demonstration_each(capsys, tmp_path):
+    """A recorder's takes: one CSV per demonstration, no demo column; the same skill."""
+    rng = np.random.default_rng(11)
+    s = np.linspace(0.0, 1.0, 40)
+    takes = []
+    for _ in range(4):
+        take = np.column_stack([0.8 * s - 0.4, 0.45 + 0.1 * np.sin(np.pi * s)])
+        takes.append(take + 0.003 * rng.standard_normal(take.shape))
+    files = []
+    for k, take in enumerate(takes):
+        files.append(tmp_path / f"take_{k:02d}.csv")
+        files[-1].write_text("x,y\n" + "".join(f"{x!r},{y!r}\n" for x, y in take.tolist()))
+    code, _, err = run_cli(capsys, "learn", *files, "-o", tmp_path / "takes.json")
+    assert code == 0, err
+    assert "learned from 4 clean demonstrations" in err
+    # The same demonstrations in one file with a demo column give the same skill.
+    save_demos(tmp_path / "all.csv", takes)
+    code, _, err = run_cli(capsys, "learn", tmp_path / "all.csv", "-o", tmp_path / "all.json")
+    assert code == 0, err
+    np.testing.assert_array_equal(
+        Skill.load(tmp_path / "takes.json").path_, Skill.load(tmp_path / "all.json").path_
+    )
+    # A scene file names a take by its file's stem.
+    scenes = tmp_path / "scenes.csv"
+    scenes.write_text("demo,class,x,y,radius\ntake_09,cup,0,0.5,0.02\n")
+    code, _, err = run_cli(capsys, "learn", *files, "--scenes", scenes, "-o", tmp_path / "x.json")
+    assert code == 1
+    assert "demo 'take_09' is not in" in error_line(err, "learn")
+    # Files that disagree: one line naming both.
+    flat = tmp_path / "flat3d.csv"
+    flat.write_text("x,y,z\n0,0,0\n0.5,0,0\n1,0,0\n")
+    code, _, err = run_cli(capsys, "learn", files[0], flat, "-o", tmp_path / "y.json")
+    assert code == 1
+    line = error_line(err, "learn")
+    assert f"{flat}: has 3-D demonstrations, but {files[0]} has 2-D demonstrations" in line
+    assert not (tmp_path / "y.json").exists()
+
+
 def test_version(capsys):
     code, out, err = usage_exit(capsys, "--version")
     assert code == 0
@@ -433,6 +486,36 @@ def test_plan_bad_arguments_exit_1(capsys, tmp_path, skill_path, args, fragments
         assert fragment in line
     assert stdout == ""
     assert not out.exists()
+
+
+def test_plan_around_an_unlearned_class_with_unknown_class(capsys, skill_path):
+    bottle = ("bottle", (-0.05, 0.47), 0.03)
+    args = ("plan", skill_path, "--goal", "0.36,0.5", "--obstacle", obstacle_arg(bottle))
+    # Refused without the option, the one error line naming it in the command's words.
+    code, stdout, err = run_cli(capsys, *args)
+    assert code == 1 and stdout == ""
+    line = error_line(err, "plan")
+    assert "'bottle' was never learned" in line
+    assert "pass --unknown-class margin=M" in line and "unknown_class=" not in line
+    # With it: radius + margin + clearance kept, and the warning says how it was planned.
+    code, stdout, err = run_cli(
+        capsys, *args, "--unknown-class", "margin=0.02", "--clearance", "0.005", "-v"
+    )
+    assert code == 0, err
+    assert "'bottle' never learned: planned around it (1 obstacle) as a hard radius plus " in err
+    assert "margin 0.02 m (plus the clearance) with no learned response" in err
+    assert "around 1 obstacle in" in err  # not "1 obstacles"
+    rows = read_plan_csv(stdout)[1]
+    assert path_clearance(rows, scene_of(bottle), 0.025)[0] >= -1e-12
+    nominal = Skill.load(skill_path).nominal(None, [0.36, 0.5])
+    assert path_clearance(nominal, scene_of(bottle), 0.025)[0] < 0.0  # it had to swerve
+
+
+@pytest.mark.parametrize("value", ["0.02", "margin=", "margin=-1", "radius=0.1", "margin=nan"])
+def test_plan_bad_unknown_class_is_a_usage_error(capsys, skill_path, value):
+    code, out, err = usage_exit(capsys, "plan", skill_path, "--unknown-class", value)
+    assert code == 2 and out == ""
+    assert "--unknown-class: expected" in err and repr(value) in err
 
 
 def test_plan_non_numeric_goal_is_a_usage_error(capsys, skill_path):

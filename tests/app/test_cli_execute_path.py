@@ -94,3 +94,32 @@ def test_out_of_reach_is_one_line(reach_skill, tmp_path, capsys):
     code, _, err = run_cli(capsys, "execute", reach_skill, "--arm", "ur7", "-o", tmp_path / "x")
     assert code == 1
     assert err.strip().endswith("--arm ur7: neither an arm name (ur5, ur10) nor a URDF file")
+
+
+def test_an_obstacle_of_a_class_never_learned_needs_unknown_class(reach_skill, tmp_path, capsys):
+    box = ("--obstacle", "box:0.45,0,0.37,r=0.03")  # on the reach's top
+    code, _, err = run_cli(capsys, "execute", reach_skill, *box, "--no-sim", "-o", tmp_path / "a")
+    assert code == 1
+    (line,) = err.splitlines()
+    assert "no obstacle reward" in line and "pass --unknown-class margin=M" in line
+    out = tmp_path / "b"
+    code, _, err = run_cli(
+        capsys,
+        "execute",
+        reach_skill,
+        *box,
+        "--unknown-class",
+        "margin=0.02",
+        "--no-sim",
+        "-o",
+        out,
+    )
+    assert code == 0, err
+    assert "'box' never learned: planned around it (1 obstacle)" in err
+    assert "margin 0.02 m" in err
+    table = np.loadtxt(out / "plan.csv", delimiter=",", skiprows=1)
+    points = table[:, 1:4]
+    nominal = Skill.load(reach_skill).nominal()
+    centre = np.array([0.45, 0.0, 0.37])
+    assert np.linalg.norm(nominal - centre, axis=1).min() < 0.05  # it had to swerve
+    assert np.linalg.norm(points - centre, axis=1).min() >= 0.05 - 1e-9

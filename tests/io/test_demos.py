@@ -228,6 +228,59 @@ def test_csv_without_time_column_gives_none_times(tmp_path: Path) -> None:
     assert times == [None]
 
 
+def test_a_csv_without_a_demo_column_is_one_demonstration(tmp_path: Path) -> None:
+    path = _write(tmp_path / "take.csv", "t,x,y,z\n0,1,2,3\n0.5,4,5,6\n1.5,7,8,9\n")
+    demos, times, ids = load_demos(path, return_times=True, return_ids=True)
+    assert ids == [0]
+    np.testing.assert_array_equal(demos[0], [[1, 2, 3], [4, 5, 6], [7, 8, 9]])
+    np.testing.assert_array_equal(times[0], [0.0, 0.5, 1.5])
+    # Written back (with the demo column it then has), it reads the same.
+    demos_io.save_demos(tmp_path / "back.csv", demos, times=times)
+    again, again_times = load_demos(tmp_path / "back.csv", return_times=True)
+    np.testing.assert_array_equal(again[0], demos[0])
+    np.testing.assert_array_equal(again_times[0], times[0])
+
+
+def test_several_files_are_one_set_named_by_their_stems(tmp_path: Path) -> None:
+    rng = np.random.default_rng(5)
+    takes = [rng.normal(size=(n, 3)) for n in (4, 7, 5)]
+    paths = []
+    for k, take in enumerate(takes):
+        rows = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in take)
+        paths.append(_write(tmp_path / f"take_{k:02d}.csv", "x,y,z\n" + rows))
+    # A file with its own demo column keeps its ids, after the others, in the order given.
+    paths.append(_write(tmp_path / "more.csv", "demo,x,y,z\n7,0,0,0\n7,1,1,1\nb,2,2,2\nb,3,3,3\n"))
+    demos, times, ids, quats = demos_io.load_demo_files(paths)
+    assert ids == ["take_00", "take_01", "take_02", 7, "b"]
+    for got, want in zip(demos, takes, strict=False):
+        np.testing.assert_array_equal(got, want)
+    assert times == [None] * 5 and quats == [None] * 5
+    # One path: exactly load_demos, its ids kept.
+    assert demos_io.load_demo_files([paths[0]])[2] == [0]
+    assert demos_io.load_demo_files(paths[0])[2] == [0]
+
+
+@pytest.mark.parametrize(
+    ("second", "expected"),
+    [
+        ("x,y\n0,0\n1,1\n", r"b\.csv: has 2-D demonstrations, but .*a\.csv has 3-D demon"),
+        ("t,x,y,z\n0,0,0,0\n1,1,1,1\n", r"b\.csv: has times \(a t column\), but .*a\.csv has no"),
+        ("demo,x,y,z\na,0,0,0\na,1,1,1\n", r"b\.csv: demo id 'a' is also in .*a\.csv"),
+        (None, r"a\.csv: given twice; give each demonstration file once"),
+    ],
+    ids=["dimension", "times", "same-id", "twice"],
+)
+def test_files_that_disagree_are_refused_naming_both(tmp_path: Path, second, expected) -> None:
+    first = _write(tmp_path / "a.csv", "x,y,z\n0,0,0\n1,1,1\n")
+    other = first if second is None else _write(tmp_path / "b.csv", second)
+    # "a" names the first file's one demonstration; "b.csv" may reuse it as an id.
+    with pytest.raises(ValueError, match=expected) as info:
+        demos_io.load_demo_files([first, other])
+    assert "\n" not in str(info.value)
+    with pytest.raises(ValueError, match="demos: no file given"):
+        demos_io.load_demo_files([])
+
+
 # --------------------------------------------------------------------------- #
 # CSV errors: every message names the file, and the line/field where it applies
 # --------------------------------------------------------------------------- #
@@ -236,7 +289,8 @@ def test_csv_without_time_column_gives_none_times(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("text", "expected"),
     [
-        ("x,y\n0,1\n", r": missing column 'demo'; found columns: 'x', 'y'"),
+        ("x,y\n0,1\n", r": the demonstration \(no demo column\) has 1 row; each .* at least 2"),
+        ("x\n0\n1\n", r": missing column 'y'; found columns: 'x'"),
         ("demo,x\na,1\na,2\n", r": missing column 'y'; found columns: 'demo', 'x'"),
         ("demo,t\na,1\na,2\n", r": missing column 'x'; found columns: 'demo', 't'"),
         ("demo,x1\na,1\na,2\n", r": missing column 'x2'; found columns"),

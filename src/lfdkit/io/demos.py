@@ -11,8 +11,9 @@ The format is chosen from the file suffix (case-insensitive):
 
 ``.csv``
     A header row, then one row per sample. Columns: ``demo`` (the
-    demonstration id, integer or string, without surrounding spaces),
-    optionally ``t`` or ``time`` (seconds), and the coordinates, named
+    demonstration id, integer or string, without surrounding spaces; without
+    a ``demo`` column the whole file is one demonstration, id ``0``, as a
+    recorder writes one take), optionally ``t`` or ``time`` (seconds), and the coordinates, named
     ``x, y[, z]`` or ``x1, x2, ..., xq``, optionally the tool orientation
     ``qx, qy, qz, qw`` (a unit quaternion, all four or none). The rows of one demonstration are
     consecutive, in time order; demonstrations are in file order. Numbers are
@@ -34,6 +35,15 @@ The format is chosen from the file suffix (case-insensitive):
     [{"id": ..., "points": [[x, y], ...], "t": [...], "q": [[qx, qy, qz, qw],
     ...]}, ...]}`` with ``"t"``, ``"q"`` (and ``"id"``) optional per
     demonstration.
+
+Several files
+-------------
+:func:`load_demo_files` reads several files as one set (``lfdkit learn A.csv
+B.csv ...``): their demonstrations in the order given; a CSV without a
+``demo`` column is one demonstration whose id is its file's stem
+(``take_03.csv`` is ``"take_03"``, so a scene file can name it); ids must
+differ across files, and all files must agree on their dimension and on
+whether they carry times and orientations (one-line errors naming both files).
 
 Writing is atomic (see :func:`lfdkit.io.atomic.atomic_write`) and floats
 are written so that a load after a save gives back bit-identical arrays in
@@ -92,6 +102,7 @@ __all__ = [
     "MAX_NPZ_MEMBERS",
     "QUATERNION_COLUMNS",
     "SUPPORTED_SUFFIXES",
+    "load_demo_files",
     "load_demos",
     "path_csv",
     "save_demos",
@@ -235,6 +246,89 @@ def load_demos(
     if return_orientations:
         out.append(quats)
     return demos if len(out) == 1 else tuple(out)
+
+
+def load_demo_files(
+    paths: Sequence[PathLike],
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
+    """Read several demonstration files as one set: demos, times, ids and orientations.
+
+    Each file as :func:`load_demos` reads it, in the order given; a CSV
+    without a ``demo`` column is one demonstration with its file's stem as
+    its id. One path is exactly :func:`load_demos` (its ids kept).
+
+    Returns
+    -------
+    demos, times, ids, orientations
+        As :func:`load_demos` with ``return_times``, ``return_ids`` and
+        ``return_orientations``.
+
+    Raises
+    ------
+    ValueError
+        For no path, a file given twice, :func:`load_demos`' errors, an id in two files, or
+        files that differ in dimension or in having times or orientations;
+        the message names both files.
+    """
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    if not len(paths):
+        raise ValueError("demos: no file given; give one or more demonstration files")
+    keep_ids = len(paths) == 1
+    demos: list[np.ndarray] = []
+    times: list[np.ndarray | None] = []
+    ids: list[DemoId] = []
+    quats: list[np.ndarray | None] = []
+    first: dict[str, tuple[str, Any]] = {}  # property -> (first file, its value)
+    owner: dict[str, str] = {}  # id as text -> its file
+    named = [os.path.realpath(os.fspath(p)) for p in paths]
+    for j, real in enumerate(named):
+        if real in named[:j]:
+            raise ValueError(
+                f"{os.fspath(paths[j])}: given twice; give each demonstration file once"
+            )
+    for path in paths:
+        fname = os.fspath(path)
+        d, t, i, q = load_demos(path, return_times=True, return_ids=True, return_orientations=True)
+        if not keep_ids and format_of(fname, SUPPORTED_SUFFIXES) == ".csv" and not _has_demo(fname):
+            i = [_stem_id(fname)]
+        facts = {  # what every file must share: said as "has ..."
+            "dimension": f"{d[0].shape[1]}-D demonstrations",
+            "times": "times (a t column)" if t[0] is not None else "no times",
+            "orientations": "orientations (qx,qy,qz,qw)" if q[0] is not None else "no orientations",
+        }
+        for name, value in facts.items():
+            seen = first.setdefault(name, (fname, value))
+            if seen[1] != value:
+                raise ValueError(
+                    f"{fname}: has {value}, but {seen[0]} has {seen[1]}; all demonstration "
+                    f"files must agree on their {name}"
+                )
+        for did in i:
+            other = owner.setdefault(str(did), fname)
+            if other != fname:
+                raise ValueError(
+                    f"{fname}: demo id {did!r} is also in {other}; give each demonstration "
+                    "its own id (a CSV without a demo column is named by its file)"
+                )
+        demos += d
+        times += t
+        ids += i
+        quats += q
+    return demos, times, ids, quats
+
+
+def _has_demo(fname: str) -> bool:
+    """Whether a CSV file has a ``demo`` column."""
+    _, header, _ = csv_header(fname)
+    return "demo" in (h.strip().lower() for h in header)
+
+
+def _stem_id(fname: str) -> DemoId:
+    """The id of a one-demonstration CSV among several files: its stem."""
+    did = parse_id(Path(fname).stem)
+    check_file_id(did, f"{fname}: its name as a demo id")
+    return did
 
 
 def save_demos(
@@ -475,8 +569,10 @@ def _check_orientations(
     ]
 
 
-def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[int], list[str]]:
-    """Locate the demo, time and coordinate columns; return their indices and names."""
+def _csv_columns(
+    fname: str, header: list[str]
+) -> tuple[int | None, int | None, list[int], list[str]]:
+    """Locate the demo (None: absent), time and coordinate columns; their indices and names."""
     names = [h.strip() for h in header]
     found = ", ".join(repr(n) for n in names)
     keys = [n.lower() for n in names]
@@ -487,8 +583,7 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
             raise ValueError(f"{fname}: duplicate column {names[k]!r}; found columns: {found}")
     pos = {key: k for k, key in enumerate(keys)}
 
-    if "demo" not in pos:
-        raise ValueError(f"{fname}: missing column 'demo'; found columns: {found}")
+    # No demo column: the whole file is one demonstration (a recorder's take).
     if "t" in pos and "time" in pos:
         raise ValueError(
             f"{fname}: both 't' and 'time' columns present; keep one; found columns: {found}"
@@ -510,7 +605,7 @@ def _csv_columns(fname: str, header: list[str]) -> tuple[int, int | None, list[i
         if c not in pos:
             raise ValueError(f"{fname}: missing column {c!r}; found columns: {found}")
     coord_cols = [pos[c] for c in want]
-    return pos["demo"], t_col, coord_cols, [names[k] for k in coord_cols]
+    return pos.get("demo"), t_col, coord_cols, [names[k] for k in coord_cols]
 
 
 def _quaternion_columns(fname: str, header: list[str]) -> list[int] | None:
@@ -538,9 +633,9 @@ def _read_csv(
 
     groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
     quats: dict[str, list[list[float]]] = {}
-    blocks = Blocks(fname, colnames[demo_col])
+    blocks = Blocks(fname, colnames[demo_col]) if demo_col is not None else None
     for lineno, row in csv_rows(fname, lines, colnames):
-        did = blocks.id_of(row[demo_col], lineno)
+        did = blocks.id_of(row[demo_col], lineno) if blocks is not None else "0"
         row = [c.strip() for c in row]
         pts, ts, linenos = groups.setdefault(did, ([], [], []))
         pts.append(
@@ -568,8 +663,9 @@ def _read_csv(
         raise ValueError(f"{fname}: no data rows after the header")
     for did, (pts, _, _) in groups.items():
         if len(pts) < 2:
+            what = f"demo {did!r}" if demo_col is not None else "the demonstration (no demo column)"
             raise ValueError(
-                f"{fname}: demo {did!r} has {len(pts)} row; each demonstration needs at least 2"
+                f"{fname}: {what} has {len(pts)} row; each demonstration needs at least 2"
             )
     demos = check_demos([g[0] for g in groups.values()], fname)
     times: list[np.ndarray | None] = [

@@ -15,11 +15,12 @@ each refusal one line naming the file and the demonstration.
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
 
-from lfdkit.io.demos import load_demos
+from lfdkit.io.demos import load_demo_files
 from lfdkit.io.scenes import load_scenes
 from lfdkit.model.demos import Demo, DemoId
 from lfdkit.model.scene import Scene
@@ -85,14 +86,17 @@ class TrainingData(NamedTuple):
 
 
 def read_training_data(
-    demos_path: str | os.PathLike[str], scenes_path: str | os.PathLike[str] | None = None
+    demos_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    scenes_path: str | os.PathLike[str] | None = None,
 ) -> TrainingData:
     """Read a demonstrations file and, optionally, the scene file of the obstacle demonstrations.
 
     Parameters
     ----------
-    demos_path : path
-        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.io.load_demos`).
+    demos_path : path or sequence of paths
+        Demonstrations, ``.csv``, ``.npz`` or ``.json`` (:func:`lfdkit.io.load_demos`);
+        several files are one set (:func:`lfdkit.io.demos.load_demo_files`: a CSV
+        without a ``demo`` column is one demonstration named by its file's stem).
     scenes_path : path, optional
         Scenes by demonstration id, ``.csv`` or ``.json``
         (:func:`lfdkit.io.load_scenes`). A demonstration it does not
@@ -105,9 +109,11 @@ def read_training_data(
         demonstrations mix dimensions, or the scene file names a
         demonstration id that the demonstrations file does not have.
     """
-    demos, times, ids, quats = load_demos(
-        demos_path, return_times=True, return_ids=True, return_orientations=True
+    demos, times, ids, quats = load_demo_files(
+        [demos_path] if isinstance(demos_path, (str, os.PathLike)) else demos_path
     )
+    if not isinstance(demos_path, (str, os.PathLike)):  # named in errors: the first file
+        demos_path = demos_path[0] if len(demos_path) == 1 else ", ".join(map(str, demos_path))
     dims = {demo.shape[1] for demo in demos}
     if len(dims) > 1:
         first = demos[0].shape[1]

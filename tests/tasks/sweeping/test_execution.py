@@ -186,6 +186,18 @@ def test_obstacles_without_a_radius_stand_with_their_class_radius(skill):
     assert [o.radius for o in done.scene] == [0.03, 0.02]
 
 
+def test_an_obstacle_of_a_class_never_learned_is_swept_around_only_when_asked(skill):
+    # A 4 cm "bottle" stands on the sweep; the skill learned cups and markers only.
+    bottle = Scene((Obstacle("bottle", [0.0, 0.47], 0.04),))
+    with pytest.raises(ValueError, match=r"'bottle' was never learned.*unknown_class"):
+        execute_skill(skill, None, NEW_GOAL, bottle, simulate=False)
+    with pytest.warns(UserWarning, match=r"'bottle' never learned.*margin 0\.01 m"):
+        done = execute_skill(skill, None, NEW_GOAL, bottle, simulate=False, unknown_class=0.01)
+    # Beyond radius + margin + the brush's half width (the sweep's own clearance).
+    kept = bottle.distances(done.plan.points)[0]
+    assert kept >= 0.01 + 0.5 * BRUSH.width - 1e-9
+
+
 def test_bad_arguments_are_refused_naming_them(skill):
     u = np.linspace(0.0, 1.0, 20)
     flat3 = Skill().fit([np.c_[u, 0.1 * u, 0.0 * u], np.c_[u, 0.1 * u + 0.01, 0.0 * u]])

@@ -38,6 +38,7 @@ __all__ = [
     "add_skill_file_options",
     "add_skill_param_options",
     "add_units_option",
+    "add_unknown_class_option",
     "arm_keys",
     "bounded_int",
     "check_writable",
@@ -46,6 +47,7 @@ __all__ = [
     "orientation_options",
     "parse_fraction",
     "parse_numbers",
+    "parse_unknown_class",
     "point_arg",
     "positive_or_none",
     "refuse_existing",
@@ -433,8 +435,10 @@ def skill_and_scene(args: argparse.Namespace):
 
 def option_named(message: str) -> str:
     """A library error naming an argument (``start_orientation: ...``) as its option."""
+    # The library's opt-in for unlearned obstacle classes, in the command line's words.
+    message = re.sub(r"unknown_class=MARGIN \(lfdkit [^:]*: ([^)]*)\)", r"\1", message)
     return re.sub(
-        r"^(duration|speed|start_orientation|goal_orientation):",
+        r"^(duration|speed|start_orientation|goal_orientation|unknown_class):",
         lambda m: "--" + m.group(1).replace("_", "-") + ":",
         message,
     )
@@ -449,6 +453,35 @@ def parse_fraction(text: str) -> float:
     if not 0.0 < value <= 1.0:  # also NaN
         raise argparse.ArgumentTypeError(f"expected a number in (0, 1], got {text!r}")
     return value
+
+
+def parse_unknown_class(text: str) -> float:
+    """``--unknown-class margin=M``: the margin (a length >= 0) for unlearned obstacle classes."""
+    key, sep, value = text.partition("=")
+    if not sep or key.strip().lower() != "margin":
+        raise argparse.ArgumentTypeError(f"expected margin=LENGTH (e.g. margin=0.02), got {text!r}")
+    try:
+        margin = parse_decimal(value.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected margin=LENGTH with a number, got {text!r}"
+        ) from None
+    if margin < 0.0:
+        raise argparse.ArgumentTypeError(f"expected a margin >= 0, got {text!r}")
+    return margin
+
+
+def add_unknown_class_option(parser: argparse.ArgumentParser, units: str) -> None:
+    """``--unknown-class margin=M`` (``Skill.plan``'s ``unknown_class``), lengths in ``units``."""
+    parser.add_argument(
+        "--unknown-class",
+        type=parse_unknown_class,
+        default=None,
+        metavar="margin=M",
+        help="plan around obstacles of a class the skill never learned as a hard radius plus "
+        f"M ({units}; plus --clearance where there is one) with no learned response, and "
+        "warn; without it such an obstacle is refused",
+    )
 
 
 def add_loudness_options(parser: argparse.ArgumentParser) -> None:
@@ -552,7 +585,9 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         # A metavar, or argparse lists the choices as the parser is built (seconds).
         metavar="METHOD",
         default=SKILL_DEFAULTS["mimic"],
-        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS (default %(default)s)",
+        # %(choices)s: the registry is read only when the help is printed.
+        help="generalized path method, a key of lfdkit.mimic.MIMIC_METHODS: %(choices)s "
+        "(default %(default)s)",
     )
     parser.add_argument(
         "--n-points",

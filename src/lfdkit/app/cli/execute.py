@@ -17,6 +17,7 @@ from lfdkit.app.cli.common import (
     CommandError,
     add_orientation_options,
     add_skill_file_options,
+    add_unknown_class_option,
     check_writable,
     elapsed,
     option_named,
@@ -68,6 +69,7 @@ def run_command(args: argparse.Namespace) -> None:
                 render=args.render,
                 yaw=args.yaw,
                 **orientations,
+                unknown_class=args.unknown_class,
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
@@ -93,7 +95,8 @@ def run_command(args: argparse.Namespace) -> None:
     )
     tell(
         args,
-        f"planned a {plan['length_m']:.3f} m sweep around {len(run.scene)} obstacles{clear}; "
+        f"planned a {plan['length_m']:.3f} m sweep around {len(run.scene)} "
+        f"obstacle{'s' * (len(run.scene) != 1)}{clear}; "
         f"{arm.name}: {robot['poses']} poses, {robot['motion_s']:.1f} s at "
         f"{args.speed_fraction:.0%} of its joint limits, tool at most "
         f"{robot['tool_speed_max_m_s']:.2f} m/s",
@@ -165,8 +168,14 @@ def _run_path(args: argparse.Namespace) -> None:
             task = TaskDescription(
                 frame=frame, tool=tool, height=args.height, q_start=args.q_start, name="path"
             )
-            with progress.stage(f"plan around {len(scene)} obstacles"):
-                plan = skill.plan(start, goal, scene, **orientation_options(args))
+            with progress.stage(f"plan around {len(scene)} obstacle{'s' * (len(scene) != 1)}"):
+                plan = skill.plan(
+                    start,
+                    goal,
+                    scene,
+                    **orientation_options(args),
+                    unknown_class=args.unknown_class,
+                )
             name = args.skill.name.encode("ascii", "replace").decode("ascii")
             rate = DEFAULT_RATE if args.rate is None else args.rate
             with progress.stage(f"robot: poses, inverse kinematics, timing ({arm.name})"):
@@ -245,6 +254,7 @@ def _output_folder_checked(args: argparse.Namespace, planned: list[Path]) -> Pat
 def add_options(parser: argparse.ArgumentParser) -> None:
     add_skill_file_options(parser)
     add_orientation_options(parser)
+    add_unknown_class_option(parser, "m")
     parser.add_argument(
         "--yaw",
         choices=("demonstrated", "tangent"),

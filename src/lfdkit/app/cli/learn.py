@@ -24,6 +24,8 @@ __all__ = ["add_options", "run_command", "timing_line"]
 
 def run_command(args: argparse.Namespace) -> None:
     refuse_existing(args.output, args.force)
+    # Named in messages: the file, or the files (one demonstration each, as a recorder writes).
+    source = args.demos[0] if len(args.demos) == 1 else f"{args.demos[0]} (and {_others(args)})"
     with warnings.catch_warnings(record=True) as caught, working(args) as progress:
         warnings.simplefilter("always", UserWarning)
         if args.units is None:  # implausible in metres and no unit given: refused, not learned
@@ -33,7 +35,7 @@ def run_command(args: argparse.Namespace) -> None:
         try:
             skill = learn(args.demos, args.scenes, progress=progress, **skill_params(args))
         except UnitsWarning as exc:
-            raise CommandError(units_refusal(args.demos, exc, SKILL_DEFAULTS["units"])) from None
+            raise CommandError(units_refusal(source, exc, SKILL_DEFAULTS["units"])) from None
     fit = skill.ioc_info_ or {}
     if not fit.get("converged", True):
         raise CommandError(
@@ -45,17 +47,18 @@ def run_command(args: argparse.Namespace) -> None:
         message = warning.message
         if isinstance(message, UnitsWarning):  # --units m given: learned, but said, as options
             message = UnitsWarning(
-                f"{args.demos}: {message.detail}: if that is their unit, pass --units "
-                f"{message.likely}"
+                f"{source}: {message.detail}: if that is their unit, pass --units {message.likely}"
             )
         warnings.showwarning(message, warning.category, warning.filename, warning.lineno)
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
+        clean = skill.mimic_info_["n_demos"]
+        around = skill.ioc_info_["n_demos"] if skill.ioc_info_ else 0
         tell(
             args,
-            f"learned from {skill.mimic_info_['n_demos']} clean demonstrations"
-            + (f" and {skill.ioc_info_['n_demos']} around obstacles" if skill.ioc_info_ else "")
+            f"learned from {clean} clean demonstration{'s' * (clean != 1)}"
+            + (f" and {around} around obstacles" if skill.ioc_info_ else "")
             + f" (obstacle classes: {classes}; lengths in {skill.units}) in "
             f"{elapsed(args):.1f} s; wrote {args.output}",
         )
@@ -64,6 +67,12 @@ def run_command(args: argparse.Namespace) -> None:
         tell(args, timing)
     for line in _fidelity_lines(skill):
         tell(args, line)
+
+
+def _others(args: argparse.Namespace) -> str:
+    """The other demonstration files, counted: "1 other file", "3 other files"."""
+    n = len(args.demos) - 1
+    return f"{n} other file{'s' * (n != 1)}"
 
 
 def timing_line(skill: Skill) -> str:  # noqa: F821 (imported lazily)
@@ -138,16 +147,21 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "demos",
         type=Path,
+        nargs="+",
         metavar="DEMOS",
-        help="demonstrations: a CSV with columns demo,x,y[,z] (one row per sample; optional "
-        "t, seconds, for their timing, and qx,qy,qz,qw for the tool's orientation), or "
-        ".npz or .json (lfdkit.io.save_demos)",
+        help="demonstrations: CSV files with a header row and one row per sample, columns "
+        "x,y[,z] (or x1,x2,...; lengths in --units), optionally demo (the demonstration's id; "
+        "without it the file is one demonstration, named by the file's stem), t or time "
+        "(seconds, increasing; untimed demonstrations get a hand's pace), qx,qy,qz,qw (the "
+        "tool's orientation, a unit quaternion); or .npz or .json (lfdkit.io.save_demos). "
+        "Several files (one demonstration each, as a recorder writes them) are one set",
     )
     parser.add_argument(
         "--scenes",
         type=Path,
         metavar="SCENES",
-        help="obstacles of the obstacle demonstrations, by demo id (.csv or .json)",
+        help="obstacles of the obstacle demonstrations, by demo id (.csv with columns "
+        "demo,class,x,y[,z][,radius], or .json); a demonstration it does not list is clean",
     )
     parser.add_argument(
         "-o", "--output", type=Path, required=True, metavar="SKILL.json", help="skill file to write"

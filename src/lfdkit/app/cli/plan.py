@@ -15,6 +15,7 @@ from lfdkit.app.cli.common import (
     add_planner_options,
     add_skill_file_options,
     add_units_option,
+    add_unknown_class_option,
     option_named,
     orientation_options,
     positive_or_none,
@@ -83,6 +84,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             horizon=args.horizon,
             goal_approach=args.goal_approach,
             clearance=args.clearance,
+            unknown_class=args.unknown_class,
             progress=progress,
         )
     except ValueError as exc:  # the library names the argument, the command its option
@@ -91,6 +93,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     units = skill.units
     clear = (
         f"; closest obstacle {plan.clearance.min():.4g} {units} beyond radius + clearance"
+        + (" (+ margin, unlearned classes)" if args.unknown_class is not None else "")
         if len(scene)
         else ""
     )
@@ -153,6 +156,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         help="tool clearance added to every obstacle's radius; the plan keeps out of radius "
         "plus clearance or the command fails (path units; default 0)",
     )
+    add_unknown_class_option(parser, "path units")
     parser.add_argument(
         "--duration",
         metavar="S",

@@ -260,6 +260,7 @@ def execute_skill(
     yaw: str | None = None,
     start_orientation: Any = None,
     goal_orientation: Any = None,
+    unknown_class: float | None = None,
 ) -> SweepExecution:
     """Plan a sweep with a skill and carry it to the robot, checked and simulated.
 
@@ -297,6 +298,10 @@ def execute_skill(
     start_orientation, goal_orientation : array_like, shape (4,), optional
         The tool's orientation at the start and goal, for a skill with
         orientation (:meth:`lfdkit.skill.Skill.plan`); default the learned ones.
+    unknown_class : float, optional
+        Margin (m) for obstacles of a class the skill never learned: a hard
+        radius plus this, no learned response, with a warning
+        (:meth:`lfdkit.skill.Skill.plan_details`); default None refuses them.
 
     Returns
     -------
@@ -314,7 +319,7 @@ def execute_skill(
         When no plan keeps out of the obstacles.
     ValueError
         For a skill that is not 2-D in metres, bad points, a scene with a
-        class the skill has not learned or with moving obstacles,
+        class the skill has not learned (without ``unknown_class``) or with moving obstacles,
         ``speed_fraction`` outside ``(0, 1]``.
     """
     arm = check_arm(arm)
@@ -364,6 +369,7 @@ def execute_skill(
             start_orientation=start_orientation,
             goal_orientation=goal_orientation,
             **PLAN_SETTINGS,
+            unknown_class=unknown_class,
             progress=progress,
         )
         plan = timed.details
