@@ -1152,7 +1152,7 @@ class Skill(Estimator):
         from lfdkit.emulate.planner import UnsafePlanError, moving_clearance
 
         clearance = float(options.get("clearance", 0.0))
-        hard = scene.radii + clearance > 0.0
+        hard = scene.has_extent | (clearance > 0.0)
         start_point, goal_point = self._ends(start, goal)
         for round_ in range(RETIME_ROUNDS + 1):
             gaps = moving_clearance(details.points, times, scene, clearance, UNCERTAINTY_MARGIN)
