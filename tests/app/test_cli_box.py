@@ -92,3 +92,25 @@ def test_help_documents_boxes(capsys, skill_path):
     assert code == 0
     flat = " ".join(stdout.split())
     assert "sx=SX,sy=SY[,sz=SZ][,yaw=30deg|0.52rad]" in flat
+
+
+def test_a_box_in_centimetres_is_the_box_in_metres(capsys, skill_path):
+    metres = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle",
+                     "cup:0.0,0.47,sx=0.08,sy=0.05,yaw=30deg")  # fmt: skip
+    centimetres = run_cli(capsys, "plan", skill_path, "--units", "cm", "--goal", "36,50",
+                          "--obstacle", "cup:0,47,sx=8,sy=5,yaw=30deg")  # fmt: skip
+    assert metres[0] == 0 and centimetres[0] == 0, centimetres[2]
+    np.testing.assert_allclose(
+        read_plan_csv(centimetres[1])[1], 100.0 * read_plan_csv(metres[1])[1], atol=1e-6
+    )
+
+
+def test_a_3d_moving_box_is_read_with_its_height_turn_and_velocity() -> None:
+    from lfdkit.app.cli.common import _obstacle
+
+    label, position, radius, velocity, box = _obstacle(
+        "carton:0.5,0,0.1,sx=0.2,sy=0.1,sz=0.3,yaw=90deg,r=0.005,vx=0,vy=0.1,vz=0"
+    )
+    assert (label, position, radius, velocity) == ("carton", [0.5, 0.0, 0.1], 0.005, [0, 0.1, 0])
+    assert box[0] == [0.2, 0.1, 0.3] and box[1] == pytest.approx(np.pi / 2, abs=1e-15)
+    assert _obstacle("cup:0.1,0.45,r=0.03") == ("cup", [0.1, 0.45], 0.03, None, None)
