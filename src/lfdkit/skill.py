@@ -1157,7 +1157,7 @@ class Skill(Estimator):
         reward = self.reward_ if self.reward_ is not None else Reward(1.0, {})
         unknown, margin = _unknown_margins(reward, scene, margin, clearance)
         clearance = clearance + np.where(unknown, margin, 0.0)  # each obstacle's
-        hard = scene.radii + clearance > 0.0
+        hard = scene.has_extent | (clearance > 0.0)
         start_point, goal_point = self._ends(start, goal)
         for round_ in range(RETIME_ROUNDS + 1):
             gaps = moving_clearance(details.points, times, scene, clearance, UNCERTAINTY_MARGIN)

@@ -246,3 +246,49 @@ def test_plots_draw_the_box() -> None:
     ax = fig.add_subplot(projection="3d")
     draw_scene(ax, Scene((Box("carton", [0.5, 0.0, 0.1], 0.0, [0.2, 0.1, 0.2]),)))
     plt.close(fig)
+
+
+def test_a_box_with_volume_is_a_hard_barrier_and_a_point_is_not() -> None:
+    assert Box.from_yaw("carton", [0.5, 0.0], [0.2, 0.1]).has_extent
+    assert Box("carton", [0.5, 0.0, 0.0], 0.0, [0.2, 0.1, 0.3]).has_extent
+    assert not Box.from_yaw("plate", [0.5, 0.0], [0.2, 0.0]).has_extent  # a segment
+    assert Box.from_yaw("plate", [0.5, 0.0], [0.2, 0.0], radius=0.01).has_extent
+    assert not Obstacle("cup", [0.5, 0.0]).has_extent
+    assert Obstacle("cup", [0.5, 0.0], 0.01).has_extent
+    scene = Scene((Obstacle("cup", [0.5, 0.0]), Box.from_yaw("carton", [0.5, 0.0], [0.2, 0.1])))
+    np.testing.assert_array_equal(scene.has_extent, [False, True])
+
+
+def densely(points: np.ndarray, per_segment: int = 50) -> np.ndarray:
+    """The polyline resampled with ``per_segment`` points on every segment (ends included)."""
+    t = np.linspace(0.0, 1.0, per_segment, endpoint=False)[None, :, None]
+    inner = points[:-1, None] + t * np.diff(points, axis=0)[:, None]
+    return np.vstack([inner.reshape(-1, points.shape[1]), points[-1:]])
+
+
+@pytest.mark.parametrize("q", [2, 3])
+def test_a_sharp_box_planned_without_clearance_is_never_entered(q: int) -> None:
+    # A narrow response (precision 1e5: 3 mm wide) on a box 0.1 wide across
+    # the nominal: only a hard barrier keeps the plan out of it.
+    reward = Reward(5.0, {"carton": [1e5] * q})
+    size = [0.1, 0.08] + [0.1] * (q - 2)
+    position = [0.5, 0.01] + [0.0] * (q - 2)
+    if q == 2:
+        box = Box.from_yaw("carton", position, size, np.radians(10.0))
+    else:
+        box = Box("carton", position, 0.0, size, Rotation.from_euler("z", 10, True).as_quat())
+    scene = Scene((box,))
+    nominal = straight(q=q)
+    assert box.radius == 0.0 and metrics.collisions(nominal, scene) == 1
+    plan = plan_path(reward, nominal, scene, clearance=0.0)
+    assert plan.clearance.min() >= 0.0
+    assert box.distance(plan.points) > 0.0
+    assert box.signed_distances(densely(plan.points)).min() > 0.0
+    np.testing.assert_allclose(plan.points[-1], nominal[-1], atol=0.01)
+
+
+def test_a_start_inside_a_sharp_box_is_refused_without_clearance() -> None:
+    reward = Reward(5.0, {"carton": [1e5, 1e5]})
+    scene = Scene((Box.from_yaw("carton", [0.05, 0.0], [0.2, 0.1]),))
+    with pytest.raises(ValueError, match=r"start: lies inside obstacle 0 \('carton'.*box shape"):
+        plan_path(reward, straight(), scene, clearance=0.0)

@@ -328,7 +328,7 @@ class RecedingPlanner:
         # the tool moves to the candidate in `wait`, then stands there until `span`
         grid = now + np.concatenate([np.linspace(0.0, wait, 5), np.linspace(wait, span, 9)[1:]])
         early = grid <= now + 2.0 * wait + 1e-12
-        hard = [o for o in scene.obstacles if o.radius + self.clearance > 0.0]
+        hard = [o for o in scene.obstacles if o.has_extent or self.clearance > 0.0]
         predictions = [o.predict(grid) for o in hard]  # the same for every candidate
         scores = []
         for _, _, point in candidates:

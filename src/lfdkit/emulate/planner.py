@@ -981,13 +981,14 @@ def _check_ends(
 ) -> None:
     """Refuse a start (or, when the plan must reach it, a goal) inside an obstacle.
 
-    Inside means within the radius plus clearance, or, for a start, within
+    Inside means within the radius plus clearance (or inside a shape with
+    volume, :attr:`Obstacle.has_extent`), or, for a start, within
     one width of the response of an obstacle with neither (a goal may lie in
     a point obstacle's response: the plan passes through it to the goal).
     """
     if not problem.has_obstacles:
         return
-    radius = scene.radii + clearance
+    hard = scene.has_extent | (clearance > 0)  # a barrier: volume or a clearance
     anchor_owner = scene.anchors()[1]
     ends = [("start", corridor.points[0] + d0 @ corridor.normals[0])] if "start" in which else []
     if reach_goal and "goal" in which:
@@ -1001,15 +1002,16 @@ def _check_ends(
         # A start within a point obstacle's response is refused; the goal only
         # within a radius plus clearance (the way to it may pass through a response).
         response = within_response if name == "start" else np.zeros_like(within_response)
-        inside = np.flatnonzero(np.where(radius > 0, surface < clearance, response))
+        inside = np.flatnonzero(np.where(hard, surface < clearance, response))
         if inside.size:
             o = int(inside[0])
             obstacle = scene.obstacles[o]
-            what = (
-                f"its radius {scene.radii[o]:g} plus clearance {clearance[o]:g}"
-                if radius[o] > 0
-                else "one width of its response"
-            )
+            if scene.radii[o] + clearance[o] > 0:
+                what = f"its radius {scene.radii[o]:g} plus clearance {clearance[o]:g}"
+            elif hard[o]:
+                what = f"its {obstacle.shape} shape"
+            else:
+                what = "one width of its response"
             raise ValueError(
                 f"{name}: lies inside obstacle {o} ({obstacle.label!r} at "
                 f"{_coordinates(obstacle.position)}; within {what}); move the {name} or the "
@@ -1146,7 +1148,7 @@ def _verified(
         plan.clearance = moving_clearance(plan.points, times, scene, clearance, margin)
     plan.goal_error = float(np.linalg.norm(plan.points[-1] - corridor.points[-1]))
     tolerance = 1e-9 * max(corridor.extent, corridor.length)
-    hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.radii + clearance > 0))
+    hit = np.flatnonzero((plan.clearance < -tolerance) & (scene.has_extent | (clearance > 0)))
     if hit.size:
         o = int(hit[np.argmin(plan.clearance[hit])])
         obstacle = scene.obstacles[o]

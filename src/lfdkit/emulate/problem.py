@@ -368,9 +368,10 @@ class Problem:
             reach = max_slope * corridor.step * corridor.n_points + float(np.max(clearance))
             box = (corridor.points.min(axis=0) - reach, corridor.points.max(axis=0) + reach)
             hard_centres, radii, owner = scene.balls(within=box)
-            # An obstacle of radius 0 has a barrier only with a clearance, as a point.
+            # An obstacle without volume (a point: radius 0) has a barrier only with a clearance.
             extra = np.broadcast_to(np.asarray(clearance, dtype=np.float64), (len(scene),))[owner]
-            hard_radius = np.where(scene.radii[owner] + extra > 0.0, radii + extra, 0.0)
+            hard = scene.has_extent[owner] | (extra > 0.0)
+            hard_radius = np.where(hard, radii + extra, 0.0)
         if scene.moving:
             shifts, grow = _predicted_shifts(scene, corridor, times, margin)  # (n, O, q), (n, O)
             anchors = anchors[None] + shifts[:, scene.anchors()[1]]

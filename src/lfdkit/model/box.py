@@ -27,10 +27,11 @@ Geometry
   each of the cell's half-diagonal plus ``radius``: their union contains
   the box, overhanging a cube's faces by at most 24 % of its half-edge.
 
-Limit: the planner's hard barrier (and its refusal of a start inside) is
-keyed on ``radius + clearance > 0`` for every shape, so a sharp box (radius
-0) is a hard obstacle only when the plan has a clearance (the tool's size);
-the metrics measure it exactly either way.
+Hard barrier: a box with volume (every edge > 0, or ``radius`` > 0) answers
+:attr:`Box.has_extent` True, so the planner keeps out of a sharp box (radius
+0) even at clearance 0, and refuses a start inside it. A flat box (an edge
+0) at radius 0 is a plate or a segment: like a round obstacle of radius 0,
+a hard barrier only with a clearance.
 
 Files: the fields ``size`` (a point: ``size_x, size_y[, size_z]`` in CSV)
 and ``qx, qy, qz, qw`` (numbers); e.g. ``{"class": "carton", "shape":
@@ -170,6 +171,11 @@ class Box(Obstacle):
         return self.position + local @ self.axes.T, halves
 
     # ------------------------------------------------------------ the contract
+    @property
+    def has_extent(self) -> bool:
+        """True for a box with volume: every edge > 0, or rounded (``radius`` > 0)."""
+        return bool(self.radius > 0.0 or np.all(self.size > 0.0))
+
     # The IOC asks for the anchors at every evaluation of its loss: computed once
     # (the box is immutable) and handed out read-only.
     def anchors(self) -> np.ndarray:

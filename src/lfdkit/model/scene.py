@@ -24,6 +24,7 @@ method                    used by
                           planner and the IOC
 ``balls()``               the planner's hard clearance (their union contains
                           the obstacle)
+``has_extent``            whether it is a hard barrier at clearance 0 (volume)
 ``distance(path)``        clearance and collision metrics, the planner's
                           final check and its refusal of a start inside
 ``outline()``, ``bounds()``  the plots
@@ -164,6 +165,17 @@ class Obstacle:
         return replace(self, position=self.position + np.asarray(shift, float), motion=None)
 
     # ------------------------------------------------------------ the contract
+    @property
+    def has_extent(self) -> bool:
+        """Whether the obstacle has volume: a hard barrier for the planner even at clearance 0.
+
+        A round obstacle (or a rod) of radius 0 is a point (a segment): it is
+        a hard barrier only with a clearance, and otherwise only its reward
+        response keeps a plan away. A shape with volume at radius 0 (a box)
+        overrides this to answer True.
+        """
+        return self.radius > 0.0
+
     def anchors(self) -> np.ndarray:
         """Centres of the class's Gaussian reward term, shape (a, q): the centre."""
         return self.position[None]
@@ -541,6 +553,14 @@ class Scene:
     def radii(self) -> np.ndarray:
         """Physical radius of each obstacle, shape (n_obstacles,)."""
         return np.array([o.radius for o in self.obstacles], dtype=np.float64)
+
+    @property
+    def has_extent(self) -> np.ndarray:
+        """Whether each obstacle has volume (:attr:`Obstacle.has_extent`), shape (n_obstacles,).
+
+        The planner's hard barriers: ``scene.has_extent | (clearance > 0)``.
+        """
+        return np.array([o.has_extent for o in self.obstacles], dtype=bool)
 
     @property
     def labels(self) -> tuple[str, ...]:

@@ -243,20 +243,30 @@ def bounded_int(low: int, high: int) -> Callable[[str], int]:
     return parse
 
 
-def _obstacle(text: str):
-    """``CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY[,vz=VZ]]`` as (label, position, radius, velocity).
+#: ``--obstacle`` keys of a box's edge lengths, by axis.
+BOX_SIZE_KEYS = ("sx", "sy", "sz")
+#: Units of a box's ``yaw=`` (anticlockwise about z) and their size in radians.
+YAW_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 
-    ``velocity`` is None for a static obstacle, else the list of the given
-    components (units/s).
+
+def _obstacle(text: str):
+    """``CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY[,vz=VZ]]``, or a box with ``sx=,sy=[,sz=][,yaw=]``.
+
+    Returns (label, position, radius, velocity, box): ``velocity`` is None
+    for a static obstacle, else the list of the given components (units/s);
+    ``box`` is None for a round obstacle, else ``(edge lengths, yaw in rad)``.
     """
     label, sep, rest = text.partition(":")
     if not sep or not label.strip():
         raise argparse.ArgumentTypeError(
-            f"expected CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY], got {text!r}"
+            f"expected CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY] or "
+            f"CLASS:X,Y[,Z],sx=SX,sy=SY[,sz=SZ][,yaw=ANGLEdeg], got {text!r}"
         )
     radius = 0.0
     coords = []
     velocity: dict[str, float] = {}
+    sizes: dict[str, float] = {}
+    yaw = None
     seen: set[str] = set()
     for token in rest.split(","):
         token = token.strip()
@@ -273,6 +283,18 @@ def _obstacle(text: str):
             if not math.isfinite(value):
                 raise argparse.ArgumentTypeError(f"{key} in {text!r} is not a finite number")
             velocity[key] = value
+        elif key in BOX_SIZE_KEYS:
+            try:
+                value = parse_decimal(token.partition("=")[2])
+            except ValueError:
+                value = math.nan
+            if not value >= 0:  # NaN too
+                raise argparse.ArgumentTypeError(
+                    f"{key} in {text!r}: a box's edge length must be a finite number >= 0"
+                )
+            sizes[key] = value
+        elif key == "yaw":
+            yaw = _yaw(token.partition("=")[2], text)
         elif key == "r":
             try:
                 radius = parse_decimal(token.partition("=")[2], finite=False)
@@ -282,20 +304,52 @@ def _obstacle(text: str):
                 raise argparse.ArgumentTypeError(f"radius in {text!r} must be finite and >= 0")
         elif key is not None:
             raise argparse.ArgumentTypeError(
-                f"unknown key {key}= in {text!r}; expected r=, vx=, vy= or vz="
+                f"unknown key {key}= in {text!r}; expected r=, vx=, vy=, vz=, "
+                "or for a box sx=, sy=, sz=, yaw="
             )
         else:
             coords.append(token)
     position = parse_numbers(",".join(coords))
+    box = None
+    if sizes or yaw is not None:
+        wanted = list(BOX_SIZE_KEYS[: len(position)])
+        extra = sorted(set(sizes) - set(wanted))
+        if extra:
+            raise argparse.ArgumentTypeError(
+                f"{extra[0]}= in {text!r}: a {len(position)}-D box has edges "
+                f"{', '.join(w + '=' for w in wanted)} only"
+            )
+        missing = [w for w in wanted if w not in sizes]
+        if missing:
+            raise argparse.ArgumentTypeError(
+                f"box in {text!r}: missing its edge length {missing[0]}=; a "
+                f"{len(position)}-D box needs {', '.join(w + '=' for w in wanted)}"
+            )
+        box = ([sizes[w] for w in wanted], 0.0 if yaw is None else yaw)
     if not velocity:
-        return label.strip(), position, radius, None
+        return label.strip(), position, radius, None, box
     wanted = ["vx", "vy", "vz"][: len(position)]
     if sorted(velocity) != wanted:
         raise argparse.ArgumentTypeError(
             f"velocity in {text!r}: give {', '.join(w + '=' for w in wanted)} "
             f"for a {len(position)}-D position"
         )
-    return label.strip(), position, radius, [velocity[w] for w in wanted]
+    return label.strip(), position, radius, [velocity[w] for w in wanted], box
+
+
+def _yaw(value: str, text: str) -> float:
+    """A box's ``yaw=`` value (``30deg`` or ``0.52rad``: the unit is required) in radians."""
+    value = value.strip()
+    unit = next((u for u in YAW_UNITS if value.endswith(u)), None)
+    if unit is None:
+        raise argparse.ArgumentTypeError(
+            f"yaw in {text!r} has no unit; write it as e.g. yaw=30deg or yaw=0.52rad"
+        )
+    try:
+        angle = parse_decimal(value[: -len(unit)])
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"yaw in {text!r} is not a finite number") from None
+    return angle * YAW_UNITS[unit]
 
 
 def skill_params(args: argparse.Namespace) -> dict:
@@ -376,20 +430,26 @@ def arm_keys() -> tuple[str, ...]:
 
 def _scene_from_args(args: argparse.Namespace, n_dims: int):
     from lfdkit.io.scenes import load_scene
+    from lfdkit.model.box import Box
     from lfdkit.model.motion import ConstantVelocity
     from lfdkit.model.scene import Obstacle, Scene
 
     obstacles = []
     if args.scene is not None:
         obstacles += list(load_scene(args.scene))
-    for label, position, radius, velocity in args.obstacle or ():
+    for label, position, radius, velocity, box in args.obstacle or ():
         if len(position) != n_dims:
             hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
             raise CommandError(
                 f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill{hint}"
             )
         motion = None if velocity is None else ConstantVelocity(velocity)
-        obstacles.append(Obstacle(label, position, radius, motion=motion))
+        if box is None:
+            obstacles.append(Obstacle(label, position, radius, motion=motion))
+        else:
+            size, yaw = box  # turned about z: [x, y, z, w] = [0, 0, sin(yaw/2), cos(yaw/2)]
+            turn = [0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)]
+            obstacles.append(Box(label, position, radius, size, turn, motion=motion))
     scene = Scene(tuple(obstacles))
     if len(scene) and scene.positions.shape[1] != n_dims:
         raise CommandError(
@@ -541,7 +601,9 @@ def add_skill_file_options(parser: argparse.ArgumentParser) -> None:
         metavar="CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY]",
         help="an obstacle of a learned class, optionally with its radius and, for one "
         "moving at constant velocity, its velocity in units/s (the plan keeps clear of "
-        "where it will be when the tool passes; repeatable)",
+        "where it will be when the tool passes; repeatable). A box gives its edge lengths "
+        "and optionally its turn about z: CLASS:X,Y[,Z],sx=SX,sy=SY[,sz=SZ][,yaw=30deg|0.52rad]"
+        "[,r=R] (X,Y[,Z] its centre; a box is never entered, even at --clearance 0)",
     )
     parser.add_argument(
         "--scene",

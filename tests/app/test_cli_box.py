@@ -1,0 +1,116 @@
+"""``lfdkit plan --obstacle CLASS:X,Y,sx=..,sy=..[,yaw=..]``: boxes from the command line."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lfdkit.model.box import Box
+from lfdkit.model.scene import Obstacle, Scene
+from lfdkit.skill import Skill, learn
+from lfdkit.tasks.sweeping import example_files
+from tests.app.test_cli import read_plan_csv, run_cli, usage_exit
+
+GOAL = "0.36,0.5"
+
+
+@pytest.fixture(scope="module")
+def skill_path(tmp_path_factory):
+    files = example_files()
+    path = tmp_path_factory.mktemp("box") / "skill.json"
+    learn(files["demos"], files["scenes"]).save(path)
+    return path
+
+
+def densely(points: np.ndarray, per_segment: int = 50) -> np.ndarray:
+    """The polyline resampled with ``per_segment`` points on every segment (ends included)."""
+    t = np.linspace(0.0, 1.0, per_segment, endpoint=False)[None, :, None]
+    inner = points[:-1, None] + t * np.diff(points, axis=0)[:, None]
+    return np.vstack([inner.reshape(-1, points.shape[1]), points[-1:]])
+
+
+def test_a_box_on_the_command_line_is_planned_round_and_never_entered(capsys, skill_path):
+    box = Box.from_yaw("cup", [0.0, 0.47], [0.08, 0.05], np.radians(30.0))
+    skill = Skill.load(skill_path)
+    assert box.distance(skill.nominal(None, [0.36, 0.5])) < 0  # the nominal crosses it
+    arg = "cup:0.0,0.47,sx=0.08,sy=0.05,yaw=30deg"
+    by_degrees = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle", arg)
+    assert by_degrees[0] == 0, by_degrees[2]
+    rows = read_plan_csv(by_degrees[1])[1]
+    assert np.array_equal(rows, skill.plan(None, [0.36, 0.5], Scene((box,))))
+    assert box.signed_distances(densely(rows)).min() > 0.0  # at clearance 0: a hard barrier
+    # the same box in radians, keys in another order, spaces around tokens
+    arg = f"cup:0.0, 0.47, yaw={math.radians(30.0)!r}rad, sy=0.05,sx=0.08"
+    code, stdout, err = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle", arg)
+    assert code == 0, err
+    np.testing.assert_allclose(read_plan_csv(stdout)[1], rows, atol=1e-9)
+
+
+def test_a_round_obstacle_stays_round_and_a_rounded_box_keeps_its_radius(capsys, skill_path):
+    skill = Skill.load(skill_path)
+    code, stdout, err = run_cli(
+        capsys, "plan", skill_path, "--goal", GOAL, "--obstacle", "cup:0.0,0.47,r=0.03"
+    )
+    assert code == 0, err
+    round_plan = skill.plan(None, [0.36, 0.5], Scene((Obstacle("cup", [0.0, 0.47], 0.03),)))
+    assert np.array_equal(read_plan_csv(stdout)[1], round_plan)
+    arg = "cup:0.0,0.47,sx=0.04,sy=0.02,r=0.01"
+    code, stdout, err = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle", arg)
+    assert code == 0, err
+    box = Box.from_yaw("cup", [0.0, 0.47], [0.04, 0.02], 0.0, radius=0.01)
+    assert np.array_equal(read_plan_csv(stdout)[1], skill.plan(None, [0.36, 0.5], Scene((box,))))
+
+
+@pytest.mark.parametrize(
+    ("arg", "fragments"),
+    [
+        ("cup:0,0.47,sx=0.08", ["missing its edge length sy=", "sx=, sy="]),
+        ("cup:0,0.47,yaw=30deg", ["missing its edge length sx="]),
+        ("cup:0,0.47,sx=0.08,sy=-0.05", ["sy in", "edge length must be a finite number >= 0"]),
+        ("cup:0,0.47,sx=0.08,sy=nan", ["sy in", ">= 0"]),
+        ("cup:0,0.47,sx=0.08,sy=0.05,sz=0.1", ["sz=", "a 2-D box has edges sx=, sy= only"]),
+        ("cup:0,0.47,sx=0.08,sy=0.05,size=3", ["unknown key size=", "sx=, sy=, sz=, yaw="]),
+        ("cup:0,0.47,sx=0.08,sy=0.05,sx=0.1", ["sx= is given twice", "give it once"]),
+        ("cup:0,0.47,sx=0.08,sy=0.05,yaw=30", ["yaw in", "no unit", "yaw=30deg"]),
+        ("cup:0,0.47,sx=0.08,sy=0.05,yaw=1_0deg", ["yaw in", "not a finite number"]),
+    ],
+    ids=["missing", "yaw-only", "negative", "nan", "sz-2d", "unknown", "twice", "unitless", "bad"],
+)
+def test_bad_boxes_are_usage_errors_on_one_line(capsys, skill_path, arg, fragments):
+    code, _, err = usage_exit(capsys, "plan", skill_path, "--obstacle", arg)
+    assert code == 2
+    (line,) = [line for line in err.splitlines() if "error:" in line]
+    assert "--obstacle" in line
+    for fragment in fragments:
+        assert fragment in line, line
+
+
+def test_help_documents_boxes(capsys, skill_path):
+    code, stdout, _ = usage_exit(capsys, "plan", "--help")
+    assert code == 0
+    flat = " ".join(stdout.split())
+    assert "sx=SX,sy=SY[,sz=SZ][,yaw=30deg|0.52rad]" in flat
+
+
+def test_a_box_in_centimetres_is_the_box_in_metres(capsys, skill_path):
+    metres = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle",
+                     "cup:0.0,0.47,sx=0.08,sy=0.05,yaw=30deg")  # fmt: skip
+    centimetres = run_cli(capsys, "plan", skill_path, "--units", "cm", "--goal", "36,50",
+                          "--obstacle", "cup:0,47,sx=8,sy=5,yaw=30deg")  # fmt: skip
+    assert metres[0] == 0 and centimetres[0] == 0, centimetres[2]
+    np.testing.assert_allclose(
+        read_plan_csv(centimetres[1])[1], 100.0 * read_plan_csv(metres[1])[1], atol=1e-6
+    )
+
+
+def test_a_3d_moving_box_is_read_with_its_height_turn_and_velocity() -> None:
+    from lfdkit.app.cli.common import _obstacle
+
+    label, position, radius, velocity, box = _obstacle(
+        "carton:0.5,0,0.1,sx=0.2,sy=0.1,sz=0.3,yaw=90deg,r=0.005,vx=0,vy=0.1,vz=0"
+    )
+    assert (label, position, radius, velocity) == ("carton", [0.5, 0.0, 0.1], 0.005, [0, 0.1, 0])
+    assert box[0] == [0.2, 0.1, 0.3] and box[1] == pytest.approx(np.pi / 2, abs=1e-15)
+    assert _obstacle("cup:0.1,0.45,r=0.03") == ("cup", [0.1, 0.45], 0.03, None, None)
