@@ -182,12 +182,13 @@ def draw_residual_history(
     if tol:
         ax.axhline(tol, color=red, linestyle=":", linewidth=1.2, label=f"tol {tol:g} (stop below)")
     ax.set_yscale("log")
-    ax.set_ylabel("relative change of e1", color=red)
+    # Small labels: two of these panels stacked share the height of one.
+    ax.set_ylabel("relative change of e1", color=red, fontsize=8)
     ax.set_title("Mean-Path convergence")
     twin = ax.twinx() if ax_update is None else ax_update
     twin.plot(it, np.maximum(e3 / len(mean_path.path_), floor), "s--", color="k", label="e3/n")
     twin.set_yscale("log")
-    twin.set_ylabel(f"mean update e3/n [{units}]")
+    twin.set_ylabel(f"mean update e3/n [{units}]", fontsize=8)
     for axis in (ax, twin):
         axis.xaxis.set_major_locator(MaxNLocator(integer=True))
         axis.set_xlim(-0.3, max(len(e1) - 1, 1) + 0.3)
