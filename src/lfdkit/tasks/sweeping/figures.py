@@ -91,7 +91,7 @@ def sweep_figure(
     and names the cube's path and rest; it sits to the right of the axes.
     """
     if ax is None:
-        fig = Figure(figsize=(8.5, 3.4), layout="constrained")
+        fig = Figure(figsize=(8.5, _top_view_height(dustpan, scene, runs)), layout="constrained")
         ax = fig.add_subplot()
     else:
         fig = ax.figure
@@ -133,6 +133,16 @@ def sweep_figure(
     if legend:
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return fig
+
+
+def _top_view_height(dustpan: Dustpan, scene: Scene, runs: Mapping[str, SweepResult]) -> float:
+    """Figure height (in) that fits the drawing at equal scale in 8.5 in, legend at the side."""
+    points = [dustpan_outline(dustpan)]
+    points += [o.outline() for o in scene]
+    points += [r.tool_trace[:, :2] for r in runs.values() if len(r.tool_trace)]
+    width, height = np.ptp(np.vstack(points), axis=0)
+    # About 5.8 in of the width is the axes (the rest: labels and the legend).
+    return float(np.clip(5.8 * height / max(width, 1e-9) + 1.3, 2.6, 7.0))
 
 
 def mujoco_class_colors(scene: Scene) -> dict[str, tuple[float, ...]]:
