@@ -114,7 +114,7 @@ _IMAGE = (720, 960)
 RENDER_TRACES = {
     "brush path (planned)": "#1f77b4",
     "cube's path": "#404040",
-    "moving obstacle's track": "#1f3fd0",
+    "moving obstacle's track": "#c030c0",
 }
 #: Physics steps between two counts of the simulation's progress.
 _STEPS_PER_COUNT = 100
