@@ -9,7 +9,7 @@ from lfdkit.app.plot import PLAN_COLORS
 from lfdkit.model.scene import Scene
 from lfdkit.tasks.sweeping.figures import sweep_figure
 from lfdkit.tasks.sweeping.scenarios import Dustpan, obstacle
-from lfdkit.tasks.sweeping.sim import SweepResult
+from lfdkit.tasks.sweeping.sim import RENDER_TRACES, SweepResult
 
 
 def fake_run(success: bool) -> SweepResult:
@@ -40,6 +40,9 @@ def test_sweep_figure_draws_the_dustpan_obstacles_and_each_run():
     colours = {line.get_label(): line.get_color() for line in ax.get_lines()}
     assert colours["learned (ok)"] == PLAN_COLORS[0]
     assert colours["DMP (failed)"] == PLAN_COLORS[1]
+    # The render's key is the top view's: its brush path in the first run's colour.
+    assert RENDER_TRACES["brush path (planned)"] == PLAN_COLORS[0]
+    assert colours["cube's path"] == RENDER_TRACES["cube's path"]
     # The dustpan's outline: the floor's corners, the opening at x = 0.3.
     outline = next(line for line in ax.get_lines() if line.get_label() == "dustpan")
     np.testing.assert_allclose(outline.get_xdata(), [0.3, 0.42, 0.42, 0.3], atol=1e-12)
