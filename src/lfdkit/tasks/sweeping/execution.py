@@ -478,7 +478,7 @@ def write_execution(
     ``program.script`` (URScript), ``summary.json``
     (:meth:`SweepExecution.summary` with ``extra`` and the list of files) and,
     when simulated, ``sweep.png`` (top view) and ``render.png`` (MuJoCo's
-    picture, when one was rendered).
+    picture with its key, when one was rendered).
 
     Returns
     -------

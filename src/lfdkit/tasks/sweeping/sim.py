@@ -159,8 +159,9 @@ class SweepResult:
         The commanded joint waypoints, rad.
     timing : Timing or None
     image : ndarray, shape (720, 960, 3) or None
-        The rendered final scene (with the planned path in red and the cube's
-        trace in green), when asked for and OpenGL is available.
+        The rendered final scene, framed on the arm, the objects and the traces
+        (the planned path and the cube's trace in :data:`RENDER_TRACES`'
+        colours), when asked for and OpenGL is available.
     """
 
     success: bool
