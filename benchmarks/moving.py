@@ -593,9 +593,15 @@ def main() -> int:
     try:
         result = simulate_run(all_runs[pick]["predictive MPC"], scenarios[pick], render=True)
         if result.image is not None:
-            import matplotlib.pyplot as plt
+            from lfdkit.model.scene import Scene
+            from lfdkit.tasks.sweeping.figures import render_figure
 
-            plt.imsave(args.render, result.image)
+            picture = render_figure(
+                result.image,
+                Scene(scenarios[pick].obstacles),
+                title="MuJoCo at the end of the predictive sweep",
+            )
+            picture.savefig(args.render, dpi=110)
             rendered = str(args.render)
         else:
             print("no MuJoCo picture: OpenGL rendering is not available here")

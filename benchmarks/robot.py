@@ -725,9 +725,10 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
     task = SweepingTask.for_path(path, scenario.dustpan, scenario.scene)
     image = execute_sweep(path, task, render=True).image
     if image is not None:
-        from matplotlib import pyplot as plt
+        from lfdkit.tasks.sweeping.figures import render_figure
 
-        plt.imsave(output / "robot_render.png", image)
+        picture = render_figure(image, scenario.scene, title="MuJoCo at the end of a learned sweep")
+        picture.savefig(output / "robot_render.png", dpi=110)
         names.append("robot_render.png")
     return names
 

@@ -217,9 +217,10 @@ def test_emulation_figure_3d(tmp_path):
     assert ax.get_zlabel() == "z [mm]"
     assert len(ax.collections) == 1  # the sphere
     assert len(ax.lines) == 1 + 1 + 1 + 1  # centre marker, demo, nominal, plan
-    # Equal scale: a cube of limits.
-    spans = [np.ptp(lim) for lim in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())]
-    assert spans == pytest.approx([spans[0]] * 3)
+    # Equal scale: the box's sides in proportion to the limits' spans.
+    spans = np.array([np.ptp(lim) for lim in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())])
+    ratio = np.asarray(ax.get_box_aspect()) / spans
+    assert ratio == pytest.approx([ratio[0]] * 3)
     assert sorted(_legend_labels(fig)) == ["cup", "demonstrations", "nominal", "plan"]
 
 

@@ -142,13 +142,21 @@ def comparison_figure(
     label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="datalim")
+    else:
+        arrays = [*demos, *paths.values(), *([] if nominal is None else [nominal])]
+        _equal_3d(ax, [np.asarray(a, dtype=np.float64) for a in arrays])
     ax.set_title(title)
-    ax.legend(fontsize=8, loc="best")
+    _figure_legend(fig, [ax], max_cols=4)
     return fig
 
 
 def draw_residual_history(
-    ax: Axes, mean_path, units: str = "m", *, ax_update: Axes | None = None
+    ax: Axes,
+    mean_path,
+    units: str = "m",
+    *,
+    ax_update: Axes | None = None,
+    legend: bool = True,
 ) -> None:
     """How the Mean-Path settled, per iteration, on log scales (compare thesis Fig 4.9).
 
@@ -158,7 +166,8 @@ def draw_residual_history(
     has no change yet. In ``ax_update`` (black; default a second y axis on
     the right of ``ax``): the mean length of the update the iteration
     computes at each path point (e3 divided by the number of points), in
-    ``units``; it goes to zero at convergence.
+    ``units``; it goes to zero at convergence. ``legend`` False leaves the
+    legend to the figure (:func:`mean_path_figure` puts one below its panels).
     """
     e1 = np.asarray(mean_path.residual_history_, dtype=np.float64)
     e3 = np.asarray(mean_path.innovation_history_, dtype=np.float64)
@@ -173,12 +182,13 @@ def draw_residual_history(
     if tol:
         ax.axhline(tol, color=red, linestyle=":", linewidth=1.2, label=f"tol {tol:g} (stop below)")
     ax.set_yscale("log")
-    ax.set_ylabel("relative change of e1", color=red)
+    # Small labels: two of these panels stacked share the height of one.
+    ax.set_ylabel("relative change of e1", color=red, fontsize=8)
     ax.set_title("Mean-Path convergence")
     twin = ax.twinx() if ax_update is None else ax_update
     twin.plot(it, np.maximum(e3 / len(mean_path.path_), floor), "s--", color="k", label="e3/n")
     twin.set_yscale("log")
-    twin.set_ylabel(f"mean update e3/n [{units}]")
+    twin.set_ylabel(f"mean update e3/n [{units}]", fontsize=8)
     for axis in (ax, twin):
         axis.xaxis.set_major_locator(MaxNLocator(integer=True))
         axis.set_xlim(-0.3, max(len(e1) - 1, 1) + 0.3)
@@ -187,14 +197,16 @@ def draw_residual_history(
         ax.set_xlabel("iteration")
         handles, labels = ax.get_legend_handles_labels()
         more, more_labels = twin.get_legend_handles_labels()
-        twin.legend(handles + more, labels + more_labels, fontsize=8, loc="upper right")
+        if legend:
+            twin.legend(handles + more, labels + more_labels, fontsize=8, loc="upper right")
     else:
         ax.tick_params(labelbottom=False)
-        ax.legend(fontsize=8, loc="best")
+        if legend:
+            ax.legend(fontsize=8, loc="best")
         ax_update.set_xlabel("iteration")
 
 
-def draw_distance_space(ax: Axes, mean_path, units: str = "m") -> None:
+def draw_distance_space(ax: Axes, mean_path, units: str = "m", *, legend: bool = True) -> None:
     """The demonstrations in the Distance-Space of the Mean-Path (thesis Fig 4.7b).
 
     2-D paths: signed distance along the left normal against the path point
@@ -211,7 +223,8 @@ def draw_distance_space(ax: Axes, mean_path, units: str = "m") -> None:
     ax.set_ylabel(f"signed normal distance [{units}]")
     ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     ax.set_title("Distance-Space")
-    ax.legend(fontsize=8)
+    if legend:
+        ax.legend(fontsize=8)
 
 
 def draw_gmr_tube(ax: Axes, gmr, n_points: int = 200, n_std: float = 2.0) -> None:
@@ -312,9 +325,10 @@ def mean_path_figure(
         (title or "Demonstrations and generalized path")
         + ("" if to_scale else "\n(axes not to scale)")
     )
-    ax0.legend(fontsize=8)
-    draw_distance_space(ax1, mean_path, units)
-    draw_residual_history(ax2, mean_path, units, ax_update=ax3)
+    draw_distance_space(ax1, mean_path, units, legend=False)
+    draw_residual_history(ax2, mean_path, units, ax_update=ax3, legend=False)
+    # One legend below the panels, outside the data; every label drawn is in it.
+    _figure_legend(fig, [ax0, ax1, ax2, ax3], max_cols=7)
     return fig
 
 
@@ -391,9 +405,12 @@ def retargeting_figure(
     draw_rollouts(ax, path, [positions for _, positions in rollouts], goal_names=goal_names)
     label_axes(ax, q, units)
     to_scale = True
+    arrays = [path, *(demos or ()), *(p for _, p in rollouts)]
     if q == 2:
-        to_scale = _scale_axes(ax, [path, *(demos or ()), *(p for _, p in rollouts)])
-    ax.legend(fontsize=8, loc="best")
+        to_scale = _scale_axes(ax, arrays)
+    else:
+        _equal_3d(ax, [np.asarray(a, dtype=np.float64) for a in arrays])
+    _figure_legend(fig, [ax], max_cols=6)
     note = "" if to_scale else "(axes not to scale)"
     ax.set_title("\n".join(t for t in (title, note) if t))
     names = ("x", "y", "z")
@@ -653,15 +670,23 @@ def _panel_marks(goal, outlines, q: int, where: str = ""):
 
 
 def _equal_3d(ax: Axes, arrays: Sequence[np.ndarray]) -> None:
-    """Equal scale on the three axes: a cube of limits around all the data."""
-    pts = np.vstack(arrays)
+    """Equal scale on the three axes: the box's sides in proportion to the data's ranges.
+
+    Each range is padded by 5 % of the largest and kept at least 10 % of it, so
+    that flat data (a path on a table) still gets a visible box.
+    """
+    pts = np.vstack([np.asarray(a, dtype=np.float64).reshape(-1, 3) for a in arrays])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    half = 0.5 * float((hi - lo).max()) * 1.05 or 0.5
+    largest = float((hi - lo).max()) or 1.0
+    ranges = np.maximum(hi - lo, 0.1 * largest) + 0.1 * largest
     centre = 0.5 * (lo + hi)
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_box_aspect((1.0, 1.0, 1.0))
+    ax.set_xlim(centre[0] - 0.5 * ranges[0], centre[0] + 0.5 * ranges[0])
+    ax.set_ylim(centre[1] - 0.5 * ranges[1], centre[1] + 0.5 * ranges[1])
+    ax.set_zlim(centre[2] - 0.5 * ranges[2], centre[2] + 0.5 * ranges[2])
+    ax.set_box_aspect(tuple(ranges))
+    # Ticks as dense on every axis: a short side gets few, not crowded, labels.
+    for axis, extent in zip((ax.xaxis, ax.yaxis, ax.zaxis), ranges, strict=True):
+        axis.set_major_locator(MaxNLocator(nbins=max(2, round(6 * extent / ranges.max()))))
 
 
 def _emulation_panel(

@@ -228,7 +228,7 @@ def _run_into(out: Path, progress: Progress, started: float) -> dict[str, Any]:
                 pngs[name] = _png(figure)
                 stage.advance()
             image = execution.pop("image")
-            image_png = None if image is None else _image_png(image)
+            image_png = None if image is None else _png(image)
             stage.advance()
         steps.advance()
 
@@ -301,15 +301,6 @@ def _png(figure: Any) -> bytes:
     """A matplotlib figure as PNG bytes (110 dpi)."""
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=110)
-    return buffer.getvalue()
-
-
-def _image_png(image: np.ndarray) -> bytes:
-    """An RGB image as PNG bytes."""
-    from matplotlib.image import imsave
-
-    buffer = io.BytesIO()
-    imsave(buffer, image, format="png")
     return buffer.getvalue()
 
 
@@ -492,7 +483,9 @@ def _execute(skill: Skill, start: np.ndarray, scene: Scene, progress: Progress) 
         "plan": "plans/unseen_1.csv",
         "rendered": result.image is not None,
         "figure": figure,
-        "image": result.image,
+        "image": None
+        if result.image is None
+        else run.render_view("Simulated UR5 sweep, unseen scene 1 (MuJoCo render)"),
         "program": program,
     }
 

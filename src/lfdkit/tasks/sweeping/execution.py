@@ -244,6 +244,20 @@ class SweepExecution:
 
         return sweep_figure(self.dustpan, self.scene, {"learned skill": self.result}, title=title)
 
+    def render_view(self, title: str = "") -> Any:
+        """MuJoCo's picture of the simulated sweep with its key (:func:`render_figure`).
+
+        Raises
+        ------
+        ValueError
+            When nothing was rendered (``result.image`` is None).
+        """
+        if self.result is None or self.result.image is None:
+            raise ValueError("render_view: no picture was rendered; execute with render=True")
+        from lfdkit.tasks.sweeping.figures import render_figure
+
+        return render_figure(self.result.image, self.scene, title=title)
+
 
 def execute_skill(
     skill: Skill,
@@ -470,7 +484,7 @@ def write_execution(
     ``program.script`` (URScript), ``summary.json``
     (:meth:`SweepExecution.summary` with ``extra`` and the list of files) and,
     when simulated, ``sweep.png`` (top view) and ``render.png`` (MuJoCo's
-    picture, when one was rendered).
+    picture with its key, when one was rendered).
 
     Returns
     -------
@@ -519,12 +533,10 @@ def write_execution(
 
         plt.close(figure)
         if execution.result.image is not None:
-            from matplotlib.image import imsave
-
-            image = execution.result.image
+            picture = execution.render_view(f"{execution.arm.name} sweep in MuJoCo (render)")
             atomic_write(
                 out / _RENDER,
-                lambda f: imsave(f, image, format="png"),
+                lambda f: picture.savefig(f, format="png", dpi=110),
                 binary=True,
                 overwrite=overwrite,
             )

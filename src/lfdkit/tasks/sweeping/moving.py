@@ -780,6 +780,6 @@ def moving_figure(
     side.set_ylim(-60, 250)
     side.set_xlabel("t (s)")
     side.set_ylabel("brush-obstacle gap (mm); < 0: collision")
-    side.legend(fontsize=7)
+    side.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)  # off the data
     fig.tight_layout()
     return fig

@@ -83,6 +83,7 @@ from lfdkit.tasks.sweeping.scenarios import (
 
 __all__ = [
     "HOME",
+    "RENDER_TRACES",
     "SETTLE_TIME",
     "TIMESTEP",
     "TRACKING_TOLERANCE",
@@ -107,6 +108,14 @@ HOME = np.array([0.0, -1.2, 1.6, -1.97, -1.5708, 0.0])
 
 #: Height and width of a rendered image (pixels).
 _IMAGE = (720, 960)
+#: The render's traces by name, with their colours: the top view's
+#: (:func:`lfdkit.tasks.sweeping.figures.sweep_figure`: its first run's colour,
+#: ``lfdkit.app.plot.PLAN_COLORS[0]``, and the cube's path), the key of the picture.
+RENDER_TRACES = {
+    "brush path (planned)": "#1f77b4",
+    "cube's path": "#404040",
+    "moving obstacle's track": "#c030c0",
+}
 #: Physics steps between two counts of the simulation's progress.
 _STEPS_PER_COUNT = 100
 
@@ -150,8 +159,9 @@ class SweepResult:
         The commanded joint waypoints, rad.
     timing : Timing or None
     image : ndarray, shape (720, 960, 3) or None
-        The rendered final scene (with the planned path in red and the cube's
-        trace in green), when asked for and OpenGL is available.
+        The rendered final scene, framed on the arm, the objects and the traces
+        (the planned path and the cube's trace in :data:`RENDER_TRACES`'
+        colours), when asked for and OpenGL is available.
     """
 
     success: bool
@@ -537,13 +547,21 @@ def _simulate(
     if render:
         ground = np.column_stack([planned[:, :2], np.full(len(planned), 0.003)])
         cube_path = np.column_stack([traces["cube_trace"], np.full(len(times), 0.003)])
-        trace_colours = [(ground, (0.9, 0.1, 0.1, 1.0)), (cube_path, (0.1, 0.7, 0.1, 1.0))]
-        for track in mocap.values():  # a moving obstacle's track, blue
+        brush_rgba, cube_rgba, track_rgba = (_rgba(c) for c in RENDER_TRACES.values())
+        trace_colours = [(ground, brush_rgba), (cube_path, cube_rgba)]
+        for track in mocap.values():
             dots = np.column_stack([track[::25], np.full(len(track[::25]), 0.003)])
-            trace_colours.append((dots, (0.1, 0.3, 0.9, 1.0)))
+            trace_colours.append((dots, track_rgba))
         with progress.stage(f"simulate: render the {camera} camera"):
-            result.image = render_camera(model, physics.data, camera, trace_colours, size=_IMAGE)
+            result.image = render_camera(
+                model, physics.data, camera, trace_colours, size=_IMAGE, frame=True
+            )
     return result
+
+
+def _rgba(hex_colour: str) -> tuple[float, float, float, float]:
+    """``#rrggbb`` as RGBA numbers in [0, 1] (opaque)."""
+    return (*(int(hex_colour[i : i + 2], 16) / 255.0 for i in (1, 3, 5)), 1.0)
 
 
 def sweep_motion(
