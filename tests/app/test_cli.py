@@ -579,6 +579,34 @@ def test_plan_writes_times_in_seconds_and_with_velocities_the_velocities(capsys,
     assert "duration is assumed" in err
 
 
+def test_plan_at_a_fixed_rate_streams_the_same_motion(capsys, skill_path):
+    skill = Skill.load(skill_path)
+    expected = skill.plan(None, GOAL, scene_of(CUP))
+    args = ("plan", skill_path, "--goal", f"{GOAL[0]},{GOAL[1]}", "--obstacle", obstacle_arg(CUP))
+    code, stdout, err = run_cli(capsys, *args, "--velocities", "--rate", "125", "-v")
+    assert code == 0, err
+    assert "written at 125 Hz" in err
+    table = read_plan_table(stdout)
+    np.testing.assert_allclose(np.diff(table["t"]), 1 / 125, rtol=0, atol=1e-12)
+    assert table["t"][-1] >= expected.duration > table["t"][-2]
+    # The stream passes through the planned points: at the plan's own times it is the
+    # plan (between them, a cubic through points and velocities: within 0.1 mm here).
+    stream = expected.at_rate(125)
+    np.testing.assert_array_equal(np.c_[table["x"], table["y"]], stream.points)
+    np.testing.assert_array_equal(np.c_[table["vx"], table["vy"]], stream.velocities)
+    for axis, column in enumerate("xy"):
+        between = np.interp(expected.times, table["t"], table[column])
+        assert np.max(np.abs(between - expected.points[:, axis])) < 1e-4
+    np.testing.assert_array_equal(stream.points[-1], expected.points[-1])
+    for bad in ("0", "-5", "fast"):
+        code, stdout, err = run_cli(capsys, *args, "--rate", bad)
+        assert code == 2 and stdout == "", err
+        assert "--rate: expected a positive rate in Hz" in error_line(err, "plan")
+    code, stdout, err = run_cli(capsys, *args, "--rate", "1e9")
+    assert code == 1 and stdout == ""
+    assert "--rate: 1e+09 Hz over" in error_line(err, "plan") and "lower the rate" in err
+
+
 def test_plan_follows_the_timing_learned_from_a_timed_demonstrations_file(capsys, tmp_path):
     # Three sweeps recorded over 2, 3 and 4 s, at minimum jerk along the path.
     x = np.linspace(0.0, 1.0, 2000)

@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
-from lfdkit.core.rotations import angle_between
+from lfdkit.core.rotations import angle_between, slerp
+from lfdkit.core.validation import MAX_POINTS, check_positive
 
 __all__ = ["TimedPlan"]
 
@@ -84,6 +85,70 @@ class TimedPlan(NDArrayOperatorsMixin):
     def speeds(self) -> np.ndarray:
         """Speed along the path at each point, units per second, (n_points,)."""
         return np.linalg.norm(self.velocities, axis=1)
+
+    def at_rate(self, rate_hz: float) -> TimedPlan:
+        """The plan sampled at a fixed rate, as a robot controller streams it.
+
+        Samples at ``k / rate_hz`` seconds, up to the first at or after the
+        end (past the end the tool rests at the last point). Positions and
+        velocities come from the cubic Hermite curve through the plan's
+        points and velocities at their times (C¹: the acceleration may jump
+        at a planned point), so the velocities are the exact derivative of
+        the positions and the stream passes every planned point at its time.
+        Orientations are slerped between the
+        neighbouring points. ``details`` is kept (the planner's result for
+        the same path).
+
+        Parameters
+        ----------
+        rate_hz : float
+            Samples per second, e.g. 125 (a UR CB controller) or 500.
+
+        Returns
+        -------
+        TimedPlan
+            With ``times`` ``k / rate_hz`` (k = 0, 1, ...), shape (m,).
+
+        Raises
+        ------
+        ValueError
+            If ``rate_hz`` is not positive, or gives more than
+            :data:`~lfdkit.core.validation.MAX_POINTS` samples.
+        """
+        rate = check_positive(rate_hz, "rate_hz")
+        wanted = self.duration * rate
+        if not wanted < MAX_POINTS:
+            raise ValueError(
+                f"rate_hz: {rate_hz!r} Hz over {self.duration:.6g} s gives {wanted:.3g} samples; "
+                f"at most {MAX_POINTS:,}: lower the rate"
+            )
+        times = np.arange(int(np.ceil(wanted - 1e-9)) + 1) / rate
+        t = np.clip(times, self.times[0], self.times[-1])
+        # The interval holding each sample (the last one for the end itself).
+        i = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 2)
+        t0, t1 = self.times[i], self.times[i + 1]
+        h = np.maximum(t1 - t0, 1e-300)
+        s = ((t - t0) / h)[:, None]
+        p0, p1 = self.points[i], self.points[i + 1]
+        m0, m1 = self.velocities[i] * h[:, None], self.velocities[i + 1] * h[:, None]
+        s2, s3 = s * s, s * s * s
+        points = (
+            (2 * s3 - 3 * s2 + 1) * p0
+            + (s3 - 2 * s2 + s) * m0
+            + (-2 * s3 + 3 * s2) * p1
+            + (s3 - s2) * m1
+        )
+        velocities = (
+            (6 * s2 - 6 * s) * p0
+            + (3 * s2 - 4 * s + 1) * m0
+            + (-6 * s2 + 6 * s) * p1
+            + (3 * s2 - 2 * s) * m1
+        ) / h[:, None]
+        velocities[times > self.times[-1]] = 0.0  # at rest after the end
+        orientations = None
+        if self.orientations is not None:
+            orientations = slerp(self.orientations[i], self.orientations[i + 1], s[:, 0])
+        return TimedPlan(times, points, velocities, self.details, orientations)
 
     # ----------------------------------------------- the points as an array
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:

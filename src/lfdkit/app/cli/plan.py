@@ -67,6 +67,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     speed = positive_or_none(args.speed, "--speed", "a positive speed factor")
     if duration is not None and speed is not None:
         raise UsageError("--speed: give --duration or --speed, not both")
+    rate = positive_or_none(args.rate, "--rate", "a positive rate in Hz (e.g. 125)")
     orientations = orientation_options(args)
     if args.output is not None:
         refuse_existing(args.output, args.force)
@@ -103,6 +104,12 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
         f"{timed.speeds.max():.4g} {units}/s{_assumed(skill, duration, speed)}"
     )
+    if rate is not None:
+        try:
+            timed = timed.at_rate(rate)
+        except ValueError as exc:
+            raise CommandError(option_named(str(exc).replace("rate_hz", "--rate", 1))) from None
+        summary += f"; written at {rate:g} Hz: {len(timed)} samples"
     columns = {
         "times": timed.times,
         "velocities": timed.velocities if args.velocities else None,
@@ -168,6 +175,13 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         metavar="FACTOR",
         help="run the skill's timing FACTOR times as fast (0.5: twice as long; not with "
         "--duration)",
+    )
+    parser.add_argument(
+        "--rate",
+        metavar="HZ",
+        help="write the plan sampled at this fixed rate (rows k/HZ seconds apart, e.g. 125 "
+        "for a UR controller; positions and velocities from the cubic Hermite curve through "
+        "the plan; default: the planned points at their own times)",
     )
     parser.add_argument(
         "--velocities",
