@@ -119,7 +119,7 @@ class TimedPlan(NDArrayOperatorsMixin):
         wanted = self.duration * rate
         if not wanted < MAX_POINTS:
             raise ValueError(
-                f"rate_hz: {rate_hz!r} Hz over {self.duration:.6g} s gives {wanted:.3g} samples; "
+                f"rate_hz: {rate:.6g} Hz over {self.duration:.6g} s gives {wanted:.3g} samples; "
                 f"at most {MAX_POINTS:,}: lower the rate"
             )
         times = np.arange(int(np.ceil(wanted - 1e-9)) + 1) / rate
