@@ -57,7 +57,7 @@ def drawing(n_clean: int = 3, n_around: int = 2) -> dict:
                 "obstacles": ["o1"] if around else [],
             }
         )
-    return {"demos": demos, "obstacles": [OBSTACLE]}
+    return {"demos": demos, "obstacles": [dict(OBSTACLE)]}  # a copy: tests change it
 
 
 def new_client(**kwargs) -> TestClient:
