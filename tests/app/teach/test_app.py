@@ -57,7 +57,7 @@ def drawing(n_clean: int = 3, n_around: int = 2) -> dict:
                 "obstacles": ["o1"] if around else [],
             }
         )
-    return {"demos": demos, "obstacles": [OBSTACLE]}
+    return {"demos": demos, "obstacles": [dict(OBSTACLE)]}  # a copy: tests change it
 
 
 def new_client(**kwargs) -> TestClient:
@@ -580,3 +580,59 @@ def test_imports_refuse_what_learning_would_refuse_with_its_message() -> None:
     big = b"demo,class,x,y,radius\nd1,cup,0.1,0.4,2.5\n"
     answer = client.post("/api/import/scenes?format=csv", content=big, headers=headers)
     assert_readable(answer, 400, r"^obstacles\[0\]\.radius: expected 0 to ")
+
+
+# ------------------------------------------------------------- marks posted back
+def test_the_example_posted_back_keeps_its_swerve_marks(tmp_path) -> None:
+    """The example's top-level ``marks`` are honoured (they were once dropped: 13 clean)."""
+    from lfdkit.io import load_scenes
+    from lfdkit.tasks.sweeping import example_files
+
+    client = new_client()
+    headers = session(client)
+    example = client.get("/api/example", headers=headers).json()
+    answer = client.post("/api/export/scenes", json=example, headers=headers)
+    assert answer.status_code == 200, answer.text
+    (tmp_path / "scenes.csv").write_text(answer.text)
+    got = load_scenes(tmp_path / "scenes.csv")
+    # The independent reference: the shipped scene file the example was read from.
+    want = load_scenes(example_files()["scenes"])
+    assert sorted(map(str, got)) == sorted(map(str, want))
+    assert "free-1" not in map(str, got)
+    for key, scene in want.items():
+        mine = got[key] if key in got else got[str(key)]
+        assert sorted((o.label, *np.round(o.position, 9), o.radius) for o in mine) == sorted(
+            (o.label, *np.round(o.position, 9), o.radius) for o in scene
+        )
+
+
+def test_marks_in_both_forms_are_merged_once() -> None:
+    from lfdkit.app.teach.session import parse_teach_data
+
+    payload = drawing(n_clean=3, n_around=2)
+    around = [d["id"] for d in payload["demos"] if d.get("obstacles")]
+    clean = [d["id"] for d in payload["demos"] if not d.get("obstacles")]
+    # The same mark again at the top level, and a clean demo marked only there.
+    payload["marks"] = {around[0]: list(payload["demos"][3]["obstacles"]), clean[0]: ["o1"]}
+    data = parse_teach_data(payload)
+    assert set(data.scenes) == {*around, clean[0]}
+    assert len(data.scenes[around[0]]) == len(payload["demos"][3]["obstacles"])
+
+
+@pytest.mark.parametrize(
+    ("marks", "pattern"),
+    [
+        ({"nobody": ["o1"]}, r"^marks: no demonstration 'nobody'; mark only demonstrations"),
+        ({"c0": ["o9"]}, r"^marks\['c0'\]\[0\]: no obstacle 'o9'; list it under obstacles$"),
+        ({"c0": "o1"}, r"^marks\['c0'\]: "),
+        (["c0"], r"^marks: "),
+    ],
+)
+def test_unusable_marks_are_refused_in_one_line(marks, pattern) -> None:
+    client = new_client()
+    headers = session(client)
+    payload = drawing()
+    payload["demos"][0]["id"] = "c0"
+    payload["marks"] = marks
+    assert_readable(client.post("/api/learn", json=payload, headers=headers), 400, pattern)
+    assert client.get("/api/learn", headers=headers).json()["state"] == "idle"

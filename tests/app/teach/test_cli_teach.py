@@ -9,6 +9,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 import urllib.request
 from pathlib import Path
@@ -144,3 +145,68 @@ def test_help_imports_neither_starlette_nor_uvicorn() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, env=_env(), timeout=60
     )
     assert done.stdout.strip() == "[]", done.stdout + done.stderr
+
+
+def test_the_url_is_on_stdout_even_when_quiet_and_a_missing_browser_is_said() -> None:
+    """``--port 0 -q --open`` with no display and no browser: the URL, and why none opened."""
+    env = _env()
+    for name in ("DISPLAY", "WAYLAND_DISPLAY", "BROWSER"):
+        env.pop(name, None)
+    # No browser on the PATH (only this Python's folder) and none named: webbrowser finds none.
+    env["PATH"] = str(Path(sys.executable).parent)
+    env["BROWSER"] = str(Path(sys.executable).parent / "no-such-browser")
+    process = subprocess.Popen(
+        [sys.executable, "-m", "lfdkit.app.cli", "teach", "--port", "0", "-q", "--open"],
+        stderr=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    watchdog = threading.Timer(60, process.kill)  # a missing line fails, never hangs
+    watchdog.start()
+    try:
+        url = process.stdout.readline().strip()
+        assert re.fullmatch(r"http://127\.0\.0\.1:\d+/", url), url
+        assert int(url.rsplit(":", 1)[1].strip("/")) > 0
+        warning = process.stderr.readline()
+        assert "/static/teach.js" in _get(url)
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=30)
+    finally:
+        watchdog.cancel()
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 0, err
+    assert re.fullmatch(
+        rf"lfdkit teach: warning: cannot open a browser here: .+; open {re.escape(url)} by hand\n",
+        warning,
+    ), warning
+    # -q: nothing else on either stream (no "serving", no "stopped").
+    assert out == "" and err == "", (out, err)
+
+
+@pytest.mark.parametrize(
+    ("opener", "reason"),
+    [
+        (lambda url: False, "no browser found (no display?)"),
+        (lambda url: (_ for _ in ()).throw(__import__("webbrowser").Error("boom")), "boom"),
+        (lambda url: (_ for _ in ()).throw(OSError()), "OSError"),
+    ],
+)
+def test_a_browser_that_cannot_open_is_one_warning_with_the_url(opener, reason) -> None:
+    from lfdkit.app.teach.server import open_in_browser
+
+    lines: list[str] = []
+    assert open_in_browser("http://127.0.0.1:9/", lines.append, opener) is False
+    assert lines == [
+        f"warning: cannot open a browser here: {reason}; open http://127.0.0.1:9/ by hand"
+    ]
+
+
+def test_a_browser_that_opens_is_silent() -> None:
+    from lfdkit.app.teach.server import open_in_browser
+
+    lines: list[str] = []
+    opened: list[str] = []
+    assert open_in_browser("http://x/", lines.append, lambda url: opened.append(url) or True)
+    assert opened == ["http://x/"] and lines == []

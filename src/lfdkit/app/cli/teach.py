@@ -38,6 +38,10 @@ def run_command(args: argparse.Namespace) -> None:
         args.port,
         open_browser=args.open,
         say=lambda line: tell(args, f"lfdkit teach: {line}"),
+        # The URL is the command's output: on stdout, even under -q (with --port 0
+        # it is the only way to learn the port bound).
+        show_url=lambda url: print(url, flush=True),
+        warn=lambda line: tell(args, f"lfdkit teach: {line}", level=0),
     )
 
 
@@ -46,7 +50,8 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         "--port",
         type=bounded_int(0, 65535),
         default=8765,
-        help="port to listen on (default %(default)s; 0: a free one, printed)",
+        help="port to listen on (default %(default)s; 0: a free one; the page's URL is "
+        "printed on stdout, even with -q)",
     )
     parser.add_argument(
         "--host",
@@ -55,5 +60,8 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         "address exposes the page to the network and prints a warning)",
     )
     parser.add_argument(
-        "--open", action="store_true", help="open the page in the default web browser"
+        "--open",
+        action="store_true",
+        help="open the page in the default web browser (a warning with the URL to open "
+        "by hand when none can be opened, e.g. without a display)",
     )

@@ -10,7 +10,7 @@ import webbrowser
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "is_loopback", "make_server", "serve"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "is_loopback", "make_server", "open_in_browser", "serve"]
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
@@ -70,12 +70,36 @@ def url_of(sock: socket.socket) -> str:
     return f"http://{shown}:{port}/"
 
 
+def open_in_browser(
+    url: str,
+    warn: Callable[[str], Any],
+    opener: Callable[[str], bool] = webbrowser.open,
+) -> bool:
+    """Open ``url`` in the default browser, or warn in one line with the URL to open by hand.
+
+    :func:`webbrowser.open` says "no browser" by returning ``False`` (no
+    display, no browser installed) or, for some, by raising; either way the
+    user is told rather than left waiting for a window that never comes.
+    """
+    try:
+        opened = bool(opener(url))
+        reason = "no browser found (no display?)"
+    except Exception as exc:  # webbrowser.Error, OSError from a broken launcher, ...
+        opened = False
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    if not opened:
+        warn(f"warning: cannot open a browser here: {reason}; open {url} by hand")
+    return opened
+
+
 def serve(
     host: str = DEFAULT_HOST,
     port: int = DEFAULT_PORT,
     *,
     open_browser: bool = False,
     say: Callable[[str], Any] = print,
+    show_url: Callable[[str], Any] | None = None,
+    warn: Callable[[str], Any] | None = None,
 ) -> None:
     """Serve the page until Ctrl-C (or SIGTERM), then return.
 
@@ -90,6 +114,12 @@ def serve(
         Open the page in the default browser once the server listens.
     say : callable
         Where the lines for the user go (the address, the stop).
+    show_url : callable, optional
+        Given the bare URL once the port is bound, always (the command's
+        output: with ``--port 0`` it is the only way to learn the port).
+    warn : callable, optional
+        Where the warning goes when no browser can be opened (``say`` when
+        not given).
 
     Raises
     ------
@@ -98,13 +128,15 @@ def serve(
     """
     server, sock = make_server(host, port)
     url = url_of(sock)
+    if show_url is not None:
+        show_url(url)
     say(f"serving the teach page on {url} (Ctrl-C stops)")
     if open_browser:
 
         def open_when_started() -> None:
             for _ in range(200):
                 if server.started:
-                    webbrowser.open(url)
+                    open_in_browser(url, warn or say)
                     return
                 threading.Event().wait(0.05)
 

@@ -209,12 +209,20 @@ def parse_teach_data(payload: Any) -> TeachData:
 
     Each demonstration is ``{"id", "points": [[x, y], ...], "times": [t, ...]
     or null, "obstacles": [obstacle ids it swerved around]}``, in metres and
-    seconds.
+    seconds. The marks may also come as a top-level ``"marks": {demo id:
+    [obstacle ids]}``, the form ``GET /api/example`` and the scene imports
+    answer, so that a payload posted back as it came keeps its swerves (they
+    were once dropped, and every marked stroke learned as clean); both forms
+    are merged, and a mark naming no demonstration or obstacle is refused.
     """
     from lfdkit.model.scene import Scene
 
     payload = _mapping(payload, "request")
     obstacles = dict(parse_obstacles(payload.get("obstacles", [])))
+    top_marks = {
+        _name(key, "marks"): _list(value, f"marks[{key!r}]", LIMITS["max_obstacles"])
+        for key, value in _mapping(payload.get("marks") or {}, "marks").items()
+    }
     data = TeachData([], [], [], {})
     for j, item in enumerate(_list(payload.get("demos"), "demos", LIMITS["max_demos"])):
         where = f"demos[{j}]"
@@ -235,17 +243,27 @@ def parse_teach_data(payload: Any) -> TeachData:
             if np.any(np.diff(stamps) <= 0.0):
                 raise RequestError(f"{where}.times: must increase strictly")
         marks = _list(item.get("obstacles", []), f"{where}.obstacles", LIMITS["max_obstacles"])
-        around = []
-        for i, mark in enumerate(marks):
-            mark = _name(mark, f"{where}.obstacles[{i}]")
+        named = [(f"{where}.obstacles[{i}]", mark) for i, mark in enumerate(marks)]
+        named += [(f"marks[{key!r}][{i}]", mark) for i, mark in enumerate(top_marks.get(key, []))]
+        around, seen = [], set()
+        for at, mark in named:
+            mark = _name(mark, at)
             if mark not in obstacles:
-                raise RequestError(f"{where}.obstacles[{i}]: no obstacle {mark!r}")
-            around.append(obstacles[mark])
+                raise RequestError(f"{at}: no obstacle {mark!r}; list it under obstacles")
+            if mark not in seen:  # marked in both forms: one obstacle, not two
+                seen.add(mark)
+                around.append(obstacles[mark])
         data.demos.append(path)
         data.times.append(stamps)
         data.ids.append(key)
         if around:
             data.scenes[key] = Scene(tuple(around))
+    unknown = sorted(set(top_marks) - set(data.ids))
+    if unknown:
+        raise RequestError(
+            f"marks: no demonstration {', '.join(map(repr, unknown))}; "
+            "mark only demonstrations the request sends"
+        )
     return data
 
 
