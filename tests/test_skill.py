@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from lfdkit.core.geometry import arc_length, path_length, resample
+from lfdkit.core.rotations import exp
 from lfdkit.datasets import load_emulation_dataset
 from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.imitate import SpeedProfile
@@ -18,6 +19,7 @@ from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import DemoOrientationWarning
+from lfdkit.model.demos import Demo
 from lfdkit.model.motion import ConstantVelocity
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.model.timed_path import TimedPlan
@@ -790,3 +792,42 @@ def test_moving_plans_are_checked_at_the_times_they_are_run(skill) -> None:
     assert np.all(moving_clearance(plan.points, plan.times, scene, 0.0, 2.0) >= 0.0)
     assert plan.details.clearance.min() >= 0.0
     assert plan.times[-1] == pytest.approx(1.0) and plan.details.goal_error < 1e-3
+
+
+# ------------------------------------------------------------------ demonstration records
+def test_demo_records_learn_what_the_parallel_lists_learn(tmp_path) -> None:
+    demos, times, _ = timed_free_demos()
+    turns = [exp(np.c_[np.zeros((len(d), 2)), np.linspace(0.0, 0.5, len(d))]) for d in demos]
+    fields = enumerate(zip(demos, times, turns, strict=True))
+    records = [Demo(d, t, o, f"sweep-{j}") for j, (d, t, o) in fields]
+    from_records = Skill().fit_path(records)
+    from_lists = Skill().fit_path(demos, times=times, orientations=turns)
+    np.testing.assert_array_equal(from_records.path_, from_lists.path_)
+    np.testing.assert_array_equal(from_records.orientations_, from_lists.orientations_)
+    assert from_records.timing_.demo_durations == from_lists.timing_.demo_durations
+    # A file read as records is the same set.
+    path = save_demos(tmp_path / "timed.csv", records)
+    back = load_demos(path, as_records=True)
+    assert [r.id for r in back] == [r.id for r in records]
+    for got, sent in zip(back, records, strict=True):
+        np.testing.assert_array_equal(got.points, sent.points)
+        np.testing.assert_array_equal(got.times, sent.times)
+        np.testing.assert_allclose(got.orientations, sent.orientations, atol=1e-15)
+
+
+def test_demo_records_refuse_what_they_already_carry(sweeping) -> None:
+    clean = [Demo(d) for d in sweeping.free_demos]
+    pairs = zip(sweeping.demos[:2], sweeping.scenes[:2], strict=True)
+    around = [Demo(d, scene=s) for d, s in pairs]
+    with pytest.raises(ValueError, match=r"^times: the Demo records carry their own times"):
+        Skill().fit(clean, times=[None] * len(clean))
+    with pytest.raises(
+        ValueError, match=r"^demos\[1\]: recorded around obstacles \(1 in its scene"
+    ):
+        Skill().fit([clean[0], around[0], *clean[1:]])
+    with pytest.raises(ValueError, match=r"^scenes: the Demo records carry their own scenes"):
+        Skill().fit(clean, around, sweeping.scenes[:2])
+    with pytest.raises(ValueError, match=r"^obstacle_demos\[0\]: the record .* has no scene"):
+        Skill().fit(clean, [Demo(sweeping.demos[0])])
+    with pytest.raises(TypeError, match=r"^demos\[2\]: expected a Demo record like the others"):
+        Skill().fit([*clean[:2], sweeping.free_demos[2]])

@@ -114,6 +114,7 @@ from lfdkit.io.skill_file import (
 )
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
+from lfdkit.model.demos import demo_fields
 from lfdkit.model.scene import Scene
 from lfdkit.model.timed_path import TimedPlan
 
@@ -401,12 +402,15 @@ class Skill(Estimator):
 
         Parameters
         ----------
-        demos : sequence of array_like, each (n_j, q)
-            Clean demonstrations (no obstacle), at least 2, q 2 or 3.
-        obstacle_demos : sequence of array_like, each (n_j, q), optional
-            Demonstrations recorded around obstacles.
+        demos : sequence of array_like, each (n_j, q), or of Demo
+            Clean demonstrations (no obstacle), at least 2, q 2 or 3; as
+            :class:`~lfdkit.model.demos.Demo` records, with their times and
+            orientations (then ``times`` and ``orientations`` are not given).
+        obstacle_demos : sequence of array_like, each (n_j, q), or of Demo, optional
+            Demonstrations recorded around obstacles; as records, each with its
+            scene (then ``scenes`` is not given).
         scenes : sequence of Scene, optional
-            One per obstacle demonstration.
+            One per obstacle demonstration given as arrays.
         goals : array_like, shape (q,) or (n_obstacle_demos, q), optional
             Passed to :meth:`fit_reward`.
         times : sequence of (array_like (n_j,) or None), optional
@@ -427,6 +431,8 @@ class Skill(Estimator):
         Skill
             ``self``.
         """
+        demos, times, orientations = _clean_records(demos, times, orientations)
+        obstacle_demos, scenes = _obstacle_records(obstacle_demos, scenes)
         if (obstacle_demos is None) != (scenes is None):
             raise ValueError("scenes: give obstacle_demos and scenes together, or neither")
         progress = as_progress(progress)
@@ -453,8 +459,10 @@ class Skill(Estimator):
 
         Parameters
         ----------
-        demos : sequence of array_like, each (n_j, q)
-            Clean demonstrations, at least 2, all of the same dimension 2 or 3.
+        demos : sequence of array_like, each (n_j, q), or of Demo
+            Clean demonstrations, at least 2, all of the same dimension 2 or 3;
+            as :class:`~lfdkit.model.demos.Demo` records, with their times and
+            orientations (then ``times`` and ``orientations`` are not given).
         times : sequence of (array_like (n_j,) or None), optional
             Sample times of each demonstration in seconds (finite, strictly
             increasing; ``None`` for one without). The duration and speed
@@ -496,6 +504,7 @@ class Skill(Estimator):
             more away from its last (the message names ``orientations``).
         """
         self._check_params()
+        demos, times, orientations = _clean_records(demos, times, orientations)
         demos = check_demos(demos, "demos", min_demos=2, min_points=3)
         q = demos[0].shape[1]
         if q not in (2, 3):
@@ -743,7 +752,7 @@ class Skill(Estimator):
     def fit_reward(
         self,
         demos: Sequence[Any],
-        scenes: Sequence[Scene],
+        scenes: Sequence[Scene] | None = None,
         *,
         goals: Any = None,
         progress: ProgressLike = None,
@@ -758,10 +767,12 @@ class Skill(Estimator):
 
         Parameters
         ----------
-        demos : sequence of array_like, each (n_j, q)
-            Demonstrations recorded around obstacles.
+        demos : sequence of array_like, each (n_j, q), or of Demo
+            Demonstrations recorded around obstacles; as
+            :class:`~lfdkit.model.demos.Demo` records, each with its scene
+            (then ``scenes`` is not given).
         scenes : sequence of Scene
-            One per demonstration.
+            One per demonstration given as arrays.
         goals : array_like, shape (q,) or (n_demos, q), optional
             Goal of each demonstration's nominal (default: the generalized path's goal).
         progress : Progress, callable, bool or None
@@ -774,6 +785,9 @@ class Skill(Estimator):
             ``self``.
         """
         self._check_fitted()
+        demos, scenes = _obstacle_records(demos, scenes)
+        if scenes is None:
+            raise ValueError("scenes: give one scene per obstacle demonstration")
         demos = check_demos(demos, "obstacle_demos", n_dims=self.n_dims_)
         scenes = list(scenes)
         if len(scenes) != len(demos):
@@ -1773,15 +1787,7 @@ def learn(
     with progress.stage("read the demonstration and scene files"):
         data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
-    obstacle = data.obstacle_demos or None
-    skill.fit(
-        data.free_demos,
-        obstacle,
-        data.scenes if obstacle else None,
-        times=data.free_times,
-        orientations=data.free_orientations if data.free_orientations[0] is not None else None,
-        progress=progress,
-    )
+    skill.fit(data.clean, data.around_obstacles or None, progress=progress)
     # Each replanned training scene by its demonstration's id in the file.
     stored = (skill.ioc_info_ or {}).get("training_fidelity") or []
     for rows in (skill.training_fidelity_ or [], stored):
@@ -1917,6 +1923,34 @@ def _warn_unknown(scene: Scene, unknown: np.ndarray, margin: float, units: str) 
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
     if value not in choices:
         raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
+
+
+def _clean_records(demos: Any, times: Any, orientations: Any) -> tuple[Any, Any, Any]:
+    """Clean demonstrations, their times and orientations, from records or as given."""
+    fields = demo_fields(demos, "demos", given={"times": times, "orientations": orientations})
+    if fields is None:
+        return demos, times, orientations
+    for j, scene in enumerate(fields.scenes):
+        if scene is not None and len(scene):
+            raise ValueError(
+                f"demos[{j}]: recorded around obstacles ({len(scene)} in its scene, demo "
+                f"{fields.ids[j]!r}); give it in obstacle_demos, the clean demonstrations in demos"
+            )
+    return fields.points, fields.times, fields.orientations
+
+
+def _obstacle_records(demos: Any, scenes: Any) -> tuple[Any, Any]:
+    """Obstacle demonstrations and their scenes, from records or as given."""
+    fields = demo_fields(demos, "obstacle_demos", given={"scenes": scenes})
+    if fields is None:
+        return demos, scenes
+    missing = next((j for j, scene in enumerate(fields.scenes) if scene is None), None)
+    if missing is not None:
+        raise ValueError(
+            f"obstacle_demos[{missing}]: the record (demo {fields.ids[missing]!r}) has no "
+            "scene; give each record the scene it was recorded in"
+        )
+    return fields.points, fields.scenes
 
 
 def _check_orientations_list(
