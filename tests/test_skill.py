@@ -516,17 +516,19 @@ def test_skill_records_how_the_reward_fit_went(skill, tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("params", "message"),
     [
-        ({"n_basis": 10**4}, "n_basis: expected 1 to 1000, got 10000"),
-        ({"duration": 1e300}, "duration: expected at most 1e+06"),
-        ({"n_points": 10**6}, "n_points: expected 3 to 100000"),
-        ({"n_components": 5000}, "n_components: expected 1 to 1000"),
-        ({"max_slope": 1e9}, "max_slope: expected at most 1e+06"),
+        ({"n_basis": 10**4}, "n_basis: expected 1 to 1,000, got 10,000"),
+        ({"duration": 1e300}, "duration: expected 0 < duration <= 1e+06, got 1e+300"),
+        ({"n_points": 10**6}, "n_points: expected 3 to 100,000"),
+        ({"n_components": 5000}, "n_components: expected 1 to 1,000"),
+        ({"max_slope": 1e9}, "max_slope: expected 0 < max_slope <= 1e+06"),
+        ({"duration": "soon"}, "duration: expected a number or 'auto', got 'soon'"),
+        ({"classes": "cup"}, "classes: expected a list of class names, got 'cup'"),
     ],
 )
 def test_a_skill_built_in_code_is_bounded_as_a_skill_file_is(params, message) -> None:
     # What the constructor accepts, a skill file can hold (and load back).
     with pytest.raises(ValueError, match=re.escape(message)):
-        Skill(**params)._check_params()
+        Skill(**params)._validate_params()
 
 
 def test_a_mimic_warning_is_passed_on_and_kept_in_the_skill_file(tmp_path, monkeypatch) -> None:

@@ -67,10 +67,11 @@ import time
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from lfdkit.core.constraints import Checked, Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.geometry import arc_length, path_length
 from lfdkit.core.options import (
@@ -91,6 +92,7 @@ from lfdkit.core.units import (
     likely_units,
 )
 from lfdkit.core.validation import (
+    check_class_names,
     check_demos,
     check_horizon,
     check_path,
@@ -162,6 +164,11 @@ def _check_learned_classes(skill: Skill) -> None:
             f"({learned}; reward: {list(reward)}): class {stray[0]!r}; the file was edited or "
             "damaged: learn the skill again"
         )
+
+
+def _registered_mimic(value: Any, name: str) -> str:
+    """A key of :data:`~lfdkit.mimic.MIMIC_METHODS` as registered now (users may add methods)."""
+    return OneOf(tuple(MIMIC_METHODS))(value, name)
 
 
 class Skill(Estimator):
@@ -352,35 +359,31 @@ class Skill(Estimator):
         self.units = units
 
     # ------------------------------------------------------------ parameters
-    def _check_params(self) -> None:
-        _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
-        _check_choice(self.planner, "planner", PLANNERS)
-        _check_choice(self.model, "model", MODELS)
-        _check_choice(self.timing, "timing", TIMINGS)
-        _check_choice(self.scaling, "scaling", SCALINGS)
-        # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
-        # code can always be saved and loaded again.
-        for name in ("n_points", "n_components", "n_basis"):
-            if name == "n_basis" and isinstance(self.n_basis, str) and self.n_basis == "auto":
-                continue  # the DMP chooses the count
-            value = check_positive(getattr(self, name), name, integer=True)
-            low, high = SKILL_FILE_LIMITS[name]
-            if not low <= value <= high:
-                raise ValueError(f"{name}: expected {low} to {high:g}, got {value}")
-        for name in ("duration", "max_slope"):
-            if name == "duration" and isinstance(self.duration, str) and self.duration == "auto":
-                continue  # the path's length gives it
-            value = check_positive(getattr(self, name), name)
-            if value > SKILL_FILE_LIMITS[name][1]:
-                raise ValueError(
-                    f"{name}: expected at most {SKILL_FILE_LIMITS[name][1]:g}, got {value:g}"
-                )
-        check_horizon(self.horizon)
-        if self.classes is not None and (
-            isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
-        ):
-            raise ValueError(f"classes: expected a list of class names, got {self.classes!r}")
-        check_units(self.units)
+    #: What each parameter may be (:meth:`_validate_params`, when learning or
+    #: loading starts). The counts and sizes are bounded by the ranges a skill
+    #: file may hold (``SKILL_FILE_LIMITS``), so what is built in code can
+    #: always be saved and loaded again.
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "mimic": Checked(_registered_mimic),
+        "planner": OneOf(PLANNERS),
+        "model": OneOf(MODELS),
+        "timing": OneOf(TIMINGS),
+        "scaling": OneOf(SCALINGS),
+        **{
+            name: Integer(
+                minimum=int(SKILL_FILE_LIMITS[name][0]),
+                maximum=int(SKILL_FILE_LIMITS[name][1]),
+                options=("auto",) if name == "n_basis" else (),  # the DMP chooses the count
+            )
+            for name in ("n_points", "n_components", "n_basis")
+        },
+        # "auto": the path's length gives the duration.
+        "duration": Real(maximum=SKILL_FILE_LIMITS["duration"][1], options=("auto",)),
+        "max_slope": Real(maximum=SKILL_FILE_LIMITS["max_slope"][1]),
+        "horizon": Checked(check_horizon),
+        "classes": Checked(check_class_names, optional=True),
+        "units": Checked(check_units),
+    }
 
     @property
     def _horizon(self) -> int | None:
@@ -503,7 +506,7 @@ class Skill(Estimator):
             are given for some demonstrations only, or whose mean turns π or
             more away from its last (the message names ``orientations``).
         """
-        self._check_params()
+        self._validate_params()
         demos, times, orientations = _clean_records(demos, times, orientations)
         demos = check_demos(demos, "demos", min_demos=2, min_points=3)
         q = demos[0].shape[1]
@@ -596,7 +599,7 @@ class Skill(Estimator):
         fitted: tuple[DMP, QuaternionDMP | None] | None = None,
     ) -> None:
         """:meth:`use_path`; with ``fitted``, those DMPs instead of fitting them (loading)."""
-        self._check_params()
+        self._validate_params()
         path = check_path(path, "path", min_points=3)
         if path.shape[1] not in (2, 3):
             raise ValueError(f"path: expected 2-D or 3-D points, got {path.shape[1]} dimensions")
@@ -1425,7 +1428,7 @@ class Skill(Estimator):
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
         kind = self.planner if planner is None else planner
-        _check_choice(kind, "planner", PLANNERS)
+        OneOf(PLANNERS)(kind, "planner")
         if kind == "mpc":
             h = int(self.horizon) if horizon is None else horizon
         else:
@@ -1693,7 +1696,7 @@ class Skill(Estimator):
                 )
         try:
             skill = cls(**params)
-            skill._check_params()
+            skill._validate_params()
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{source}: params: {exc}") from None
         n_dims = document.n_dims()
@@ -1918,11 +1921,6 @@ def _warn_unknown(scene: Scene, unknown: np.ndarray, margin: float, units: str) 
         UserWarning,
         stacklevel=5,
     )
-
-
-def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
-    if value not in choices:
-        raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
 
 
 def _clean_records(demos: Any, times: Any, orientations: Any) -> tuple[Any, Any, Any]:
