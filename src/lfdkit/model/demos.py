@@ -12,8 +12,11 @@ shape ``(n_points_j,)`` in seconds, strictly increasing, and an id
 
 :class:`Demo` holds one demonstration with what was recorded with it (times,
 tool orientations, id, scene) as one record, so that these travel together
-instead of as parallel lists that must be kept in step
-(:class:`lfdkit.io.training.TrainingData` holds its demonstrations so).
+instead of as parallel lists that must be kept in step:
+:class:`lfdkit.io.training.TrainingData` holds its demonstrations so,
+:meth:`lfdkit.skill.Skill.fit` and :func:`lfdkit.io.save_demos` take them and
+``load_demos(path, as_records=True)`` gives them. :func:`demo_fields` is the
+one place records are split back into the lists the estimators below take.
 
 Files
 -----
