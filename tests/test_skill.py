@@ -833,3 +833,13 @@ def test_demo_records_refuse_what_they_already_carry(sweeping) -> None:
         Skill().fit(clean, [Demo(sweeping.demos[0])])
     with pytest.raises(TypeError, match=r"^demos\[2\]: expected a Demo record like the others"):
         Skill().fit([*clean[:2], sweeping.free_demos[2]])
+
+
+def test_held_out_records_are_scored_as_their_lists(skill, test_set) -> None:
+    demos, scenes = test_set
+    records = [Demo(d, scene=s) for d, s in zip(demos[:2], scenes[:2], strict=True)]
+    assert skill.evaluate(records) == skill.evaluate(demos[:2], scenes[:2])
+    with pytest.raises(ValueError, match=r"^scenes: give one scene per demonstration"):
+        skill.evaluate(demos[:2])
+    with pytest.raises(ValueError, match=r"^demos\[0\]: the record .* has no scene"):
+        skill.evaluate([Demo(demos[0])])

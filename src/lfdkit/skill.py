@@ -788,9 +788,7 @@ class Skill(Estimator):
             ``self``.
         """
         self._check_fitted()
-        demos, scenes = _obstacle_records(demos, scenes)
-        if scenes is None:
-            raise ValueError("scenes: give one scene per obstacle demonstration")
+        demos, scenes = _obstacle_records(demos, scenes, required=True)
         demos = check_demos(demos, "obstacle_demos", n_dims=self.n_dims_)
         scenes = list(scenes)
         if len(scenes) != len(demos):
@@ -1527,7 +1525,7 @@ class Skill(Estimator):
     def evaluate(
         self,
         demos: Sequence[Any],
-        scenes: Sequence[Scene],
+        scenes: Sequence[Scene] | None = None,
         *,
         goals: Any = None,
         goal_approach: float | str | None = "auto",
@@ -1542,6 +1540,8 @@ class Skill(Estimator):
         ends at the goal; None scores the thesis's model, which matches
         demonstrators that swerve late and end beside the goal. ``progress``
         counts the plans (:func:`lfdkit.core.progress.as_progress`).
+        ``demos`` may be :class:`~lfdkit.model.demos.Demo` records, each with
+        its scene (then ``scenes`` is not given).
 
         Returns
         -------
@@ -1550,6 +1550,7 @@ class Skill(Estimator):
             nominals) and ``improvement`` (Pr, percent), over 100 points per path.
         """
         self._check_fitted()
+        demos, scenes = _obstacle_records(demos, scenes, "demos", required=True)
         demos = check_demos(demos, "demos", n_dims=self.n_dims_)
         scenes = list(scenes)
         if len(scenes) != len(demos):
@@ -1937,15 +1938,22 @@ def _clean_records(demos: Any, times: Any, orientations: Any) -> tuple[Any, Any,
     return fields.points, fields.times, fields.orientations
 
 
-def _obstacle_records(demos: Any, scenes: Any) -> tuple[Any, Any]:
-    """Obstacle demonstrations and their scenes, from records or as given."""
-    fields = demo_fields(demos, "obstacle_demos", given={"scenes": scenes})
+def _obstacle_records(
+    demos: Any, scenes: Any, name: str = "obstacle_demos", *, required: bool = False
+) -> tuple[Any, Any]:
+    """Demonstrations in scenes (argument ``name``) and their scenes, from records or as given.
+
+    With ``required``, demonstrations given as arrays need ``scenes``.
+    """
+    fields = demo_fields(demos, name, given={"scenes": scenes})
     if fields is None:
+        if required and scenes is None:
+            raise ValueError("scenes: give one scene per demonstration (or Demo records)")
         return demos, scenes
     missing = next((j for j, scene in enumerate(fields.scenes) if scene is None), None)
     if missing is not None:
         raise ValueError(
-            f"obstacle_demos[{missing}]: the record (demo {fields.ids[missing]!r}) has no "
+            f"{name}[{missing}]: the record (demo {fields.ids[missing]!r}) has no "
             "scene; give each record the scene it was recorded in"
         )
     return fields.points, fields.scenes
