@@ -799,6 +799,7 @@ def test_moving_plans_are_checked_at_the_times_they_are_run(skill) -> None:
 # ------------------------------------------------------------------ demonstration records
 def test_demo_records_learn_what_the_parallel_lists_learn(tmp_path) -> None:
     demos, times, _ = timed_free_demos()
+    demos, times = demos[:3], times[:3]  # three are enough to tell the two forms apart
     turns = [exp(np.c_[np.zeros((len(d), 2)), np.linspace(0.0, 0.5, len(d))]) for d in demos]
     fields = enumerate(zip(demos, times, turns, strict=True))
     records = [Demo(d, t, o, f"sweep-{j}") for j, (d, t, o) in fields]
