@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from lfdkit.core.geometry import arc_length, path_length, resample
+from lfdkit.core.rotations import exp
 from lfdkit.datasets import load_emulation_dataset
 from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.imitate import SpeedProfile
@@ -18,6 +19,7 @@ from lfdkit.io import SKILL_VERSION, load_demos, save_demos
 from lfdkit.io.scenes import load_scenes, save_scenes
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import DemoOrientationWarning
+from lfdkit.model.demos import Demo
 from lfdkit.model.motion import ConstantVelocity
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.model.timed_path import TimedPlan
@@ -514,17 +516,19 @@ def test_skill_records_how_the_reward_fit_went(skill, tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("params", "message"),
     [
-        ({"n_basis": 10**4}, "n_basis: expected 1 to 1000, got 10000"),
-        ({"duration": 1e300}, "duration: expected at most 1e+06"),
-        ({"n_points": 10**6}, "n_points: expected 3 to 100000"),
-        ({"n_components": 5000}, "n_components: expected 1 to 1000"),
-        ({"max_slope": 1e9}, "max_slope: expected at most 1e+06"),
+        ({"n_basis": 10**4}, "n_basis: expected 1 to 1,000, got 10,000"),
+        ({"duration": 1e300}, "duration: expected 0 < duration <= 1e+06, got 1e+300"),
+        ({"n_points": 10**6}, "n_points: expected 3 to 100,000"),
+        ({"n_components": 5000}, "n_components: expected 1 to 1,000"),
+        ({"max_slope": 1e9}, "max_slope: expected 0 < max_slope <= 1e+06"),
+        ({"duration": "soon"}, "duration: expected a number or 'auto', got 'soon'"),
+        ({"classes": "cup"}, "classes: expected a list of class names, got 'cup'"),
     ],
 )
 def test_a_skill_built_in_code_is_bounded_as_a_skill_file_is(params, message) -> None:
     # What the constructor accepts, a skill file can hold (and load back).
     with pytest.raises(ValueError, match=re.escape(message)):
-        Skill(**params)._check_params()
+        Skill(**params)._validate_params()
 
 
 def test_a_mimic_warning_is_passed_on_and_kept_in_the_skill_file(tmp_path, monkeypatch) -> None:
@@ -790,3 +794,53 @@ def test_moving_plans_are_checked_at_the_times_they_are_run(skill) -> None:
     assert np.all(moving_clearance(plan.points, plan.times, scene, 0.0, 2.0) >= 0.0)
     assert plan.details.clearance.min() >= 0.0
     assert plan.times[-1] == pytest.approx(1.0) and plan.details.goal_error < 1e-3
+
+
+# ------------------------------------------------------------------ demonstration records
+def test_demo_records_learn_what_the_parallel_lists_learn(tmp_path) -> None:
+    demos, times, _ = timed_free_demos()
+    demos, times = demos[:3], times[:3]  # three are enough to tell the two forms apart
+    turns = [exp(np.c_[np.zeros((len(d), 2)), np.linspace(0.0, 0.5, len(d))]) for d in demos]
+    fields = enumerate(zip(demos, times, turns, strict=True))
+    records = [Demo(d, t, o, f"sweep-{j}") for j, (d, t, o) in fields]
+    from_records = Skill().fit_path(records)
+    from_lists = Skill().fit_path(demos, times=times, orientations=turns)
+    np.testing.assert_array_equal(from_records.path_, from_lists.path_)
+    np.testing.assert_array_equal(from_records.orientations_, from_lists.orientations_)
+    assert from_records.timing_.demo_durations == from_lists.timing_.demo_durations
+    # A file read as records is the same set.
+    path = save_demos(tmp_path / "timed.csv", records)
+    back = load_demos(path, as_records=True)
+    assert [r.id for r in back] == [r.id for r in records]
+    for got, sent in zip(back, records, strict=True):
+        np.testing.assert_array_equal(got.points, sent.points)
+        np.testing.assert_array_equal(got.times, sent.times)
+        np.testing.assert_allclose(got.orientations, sent.orientations, atol=1e-15)
+
+
+def test_demo_records_refuse_what_they_already_carry(sweeping) -> None:
+    clean = [Demo(d) for d in sweeping.free_demos]
+    pairs = zip(sweeping.demos[:2], sweeping.scenes[:2], strict=True)
+    around = [Demo(d, scene=s) for d, s in pairs]
+    with pytest.raises(ValueError, match=r"^times: the Demo records carry their own times"):
+        Skill().fit(clean, times=[None] * len(clean))
+    with pytest.raises(
+        ValueError, match=r"^demos\[1\]: recorded around obstacles \(1 in its scene"
+    ):
+        Skill().fit([clean[0], around[0], *clean[1:]])
+    with pytest.raises(ValueError, match=r"^scenes: the Demo records carry their own scenes"):
+        Skill().fit(clean, around, sweeping.scenes[:2])
+    with pytest.raises(ValueError, match=r"^obstacle_demos\[0\]: the record .* has no scene"):
+        Skill().fit(clean, [Demo(sweeping.demos[0])])
+    with pytest.raises(TypeError, match=r"^demos\[2\]: expected a Demo record like the others"):
+        Skill().fit([*clean[:2], sweeping.free_demos[2]])
+
+
+def test_held_out_records_are_scored_as_their_lists(skill, test_set) -> None:
+    demos, scenes = test_set
+    records = [Demo(d, scene=s) for d, s in zip(demos[:2], scenes[:2], strict=True)]
+    assert skill.evaluate(records) == skill.evaluate(demos[:2], scenes[:2])
+    with pytest.raises(ValueError, match=r"^scenes: give one scene per demonstration"):
+        skill.evaluate(demos[:2])
+    with pytest.raises(ValueError, match=r"^demos\[0\]: the record .* has no scene"):
+        skill.evaluate([Demo(demos[0])])

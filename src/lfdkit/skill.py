@@ -67,10 +67,11 @@ import time
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from lfdkit.core.constraints import Checked, Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.geometry import arc_length, path_length
 from lfdkit.core.options import (
@@ -91,6 +92,7 @@ from lfdkit.core.units import (
     likely_units,
 )
 from lfdkit.core.validation import (
+    check_class_names,
     check_demos,
     check_horizon,
     check_path,
@@ -114,6 +116,7 @@ from lfdkit.io.skill_file import (
 )
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
+from lfdkit.model.demos import demo_fields
 from lfdkit.model.scene import Scene
 from lfdkit.model.timed_path import TimedPlan
 
@@ -161,6 +164,11 @@ def _check_learned_classes(skill: Skill) -> None:
             f"({learned}; reward: {list(reward)}): class {stray[0]!r}; the file was edited or "
             "damaged: learn the skill again"
         )
+
+
+def _registered_mimic(value: Any, name: str) -> str:
+    """A key of :data:`~lfdkit.mimic.MIMIC_METHODS` as registered now (users may add methods)."""
+    return OneOf(tuple(MIMIC_METHODS))(value, name)
 
 
 class Skill(Estimator):
@@ -351,35 +359,31 @@ class Skill(Estimator):
         self.units = units
 
     # ------------------------------------------------------------ parameters
-    def _check_params(self) -> None:
-        _check_choice(self.mimic, "mimic", tuple(MIMIC_METHODS))
-        _check_choice(self.planner, "planner", PLANNERS)
-        _check_choice(self.model, "model", MODELS)
-        _check_choice(self.timing, "timing", TIMINGS)
-        _check_choice(self.scaling, "scaling", SCALINGS)
-        # The ranges a skill file may hold (SKILL_FILE_LIMITS), so what is built in
-        # code can always be saved and loaded again.
-        for name in ("n_points", "n_components", "n_basis"):
-            if name == "n_basis" and isinstance(self.n_basis, str) and self.n_basis == "auto":
-                continue  # the DMP chooses the count
-            value = check_positive(getattr(self, name), name, integer=True)
-            low, high = SKILL_FILE_LIMITS[name]
-            if not low <= value <= high:
-                raise ValueError(f"{name}: expected {low} to {high:g}, got {value}")
-        for name in ("duration", "max_slope"):
-            if name == "duration" and isinstance(self.duration, str) and self.duration == "auto":
-                continue  # the path's length gives it
-            value = check_positive(getattr(self, name), name)
-            if value > SKILL_FILE_LIMITS[name][1]:
-                raise ValueError(
-                    f"{name}: expected at most {SKILL_FILE_LIMITS[name][1]:g}, got {value:g}"
-                )
-        check_horizon(self.horizon)
-        if self.classes is not None and (
-            isinstance(self.classes, str) or not all(isinstance(c, str) and c for c in self.classes)
-        ):
-            raise ValueError(f"classes: expected a list of class names, got {self.classes!r}")
-        check_units(self.units)
+    #: What each parameter may be (:meth:`_validate_params`, when learning or
+    #: loading starts). The counts and sizes are bounded by the ranges a skill
+    #: file may hold (``SKILL_FILE_LIMITS``), so what is built in code can
+    #: always be saved and loaded again.
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "mimic": Checked(_registered_mimic),
+        "planner": OneOf(PLANNERS),
+        "model": OneOf(MODELS),
+        "timing": OneOf(TIMINGS),
+        "scaling": OneOf(SCALINGS),
+        **{
+            name: Integer(
+                minimum=int(SKILL_FILE_LIMITS[name][0]),
+                maximum=int(SKILL_FILE_LIMITS[name][1]),
+                options=("auto",) if name == "n_basis" else (),  # the DMP chooses the count
+            )
+            for name in ("n_points", "n_components", "n_basis")
+        },
+        # "auto": the path's length gives the duration.
+        "duration": Real(maximum=SKILL_FILE_LIMITS["duration"][1], options=("auto",)),
+        "max_slope": Real(maximum=SKILL_FILE_LIMITS["max_slope"][1]),
+        "horizon": Checked(check_horizon),
+        "classes": Checked(check_class_names, optional=True),
+        "units": Checked(check_units),
+    }
 
     @property
     def _horizon(self) -> int | None:
@@ -401,12 +405,15 @@ class Skill(Estimator):
 
         Parameters
         ----------
-        demos : sequence of array_like, each (n_j, q)
-            Clean demonstrations (no obstacle), at least 2, q 2 or 3.
-        obstacle_demos : sequence of array_like, each (n_j, q), optional
-            Demonstrations recorded around obstacles.
+        demos : sequence of array_like, each (n_j, q), or of Demo
+            Clean demonstrations (no obstacle), at least 2, q 2 or 3; as
+            :class:`~lfdkit.model.demos.Demo` records, with their times and
+            orientations (then ``times`` and ``orientations`` are not given).
+        obstacle_demos : sequence of array_like, each (n_j, q), or of Demo, optional
+            Demonstrations recorded around obstacles; as records, each with its
+            scene (then ``scenes`` is not given).
         scenes : sequence of Scene, optional
-            One per obstacle demonstration.
+            One per obstacle demonstration given as arrays.
         goals : array_like, shape (q,) or (n_obstacle_demos, q), optional
             Passed to :meth:`fit_reward`.
         times : sequence of (array_like (n_j,) or None), optional
@@ -427,6 +434,8 @@ class Skill(Estimator):
         Skill
             ``self``.
         """
+        demos, times, orientations = _clean_records(demos, times, orientations)
+        obstacle_demos, scenes = _obstacle_records(obstacle_demos, scenes)
         if (obstacle_demos is None) != (scenes is None):
             raise ValueError("scenes: give obstacle_demos and scenes together, or neither")
         progress = as_progress(progress)
@@ -453,8 +462,10 @@ class Skill(Estimator):
 
         Parameters
         ----------
-        demos : sequence of array_like, each (n_j, q)
-            Clean demonstrations, at least 2, all of the same dimension 2 or 3.
+        demos : sequence of array_like, each (n_j, q), or of Demo
+            Clean demonstrations, at least 2, all of the same dimension 2 or 3;
+            as :class:`~lfdkit.model.demos.Demo` records, with their times and
+            orientations (then ``times`` and ``orientations`` are not given).
         times : sequence of (array_like (n_j,) or None), optional
             Sample times of each demonstration in seconds (finite, strictly
             increasing; ``None`` for one without). The duration and speed
@@ -495,7 +506,8 @@ class Skill(Estimator):
             are given for some demonstrations only, or whose mean turns π or
             more away from its last (the message names ``orientations``).
         """
-        self._check_params()
+        self._validate_params()
+        demos, times, orientations = _clean_records(demos, times, orientations)
         demos = check_demos(demos, "demos", min_demos=2, min_points=3)
         q = demos[0].shape[1]
         if q not in (2, 3):
@@ -587,7 +599,7 @@ class Skill(Estimator):
         fitted: tuple[DMP, QuaternionDMP | None] | None = None,
     ) -> None:
         """:meth:`use_path`; with ``fitted``, those DMPs instead of fitting them (loading)."""
-        self._check_params()
+        self._validate_params()
         path = check_path(path, "path", min_points=3)
         if path.shape[1] not in (2, 3):
             raise ValueError(f"path: expected 2-D or 3-D points, got {path.shape[1]} dimensions")
@@ -743,7 +755,7 @@ class Skill(Estimator):
     def fit_reward(
         self,
         demos: Sequence[Any],
-        scenes: Sequence[Scene],
+        scenes: Sequence[Scene] | None = None,
         *,
         goals: Any = None,
         progress: ProgressLike = None,
@@ -758,10 +770,12 @@ class Skill(Estimator):
 
         Parameters
         ----------
-        demos : sequence of array_like, each (n_j, q)
-            Demonstrations recorded around obstacles.
+        demos : sequence of array_like, each (n_j, q), or of Demo
+            Demonstrations recorded around obstacles; as
+            :class:`~lfdkit.model.demos.Demo` records, each with its scene
+            (then ``scenes`` is not given).
         scenes : sequence of Scene
-            One per demonstration.
+            One per demonstration given as arrays.
         goals : array_like, shape (q,) or (n_demos, q), optional
             Goal of each demonstration's nominal (default: the generalized path's goal).
         progress : Progress, callable, bool or None
@@ -774,6 +788,7 @@ class Skill(Estimator):
             ``self``.
         """
         self._check_fitted()
+        demos, scenes = _obstacle_records(demos, scenes, required=True)
         demos = check_demos(demos, "obstacle_demos", n_dims=self.n_dims_)
         scenes = list(scenes)
         if len(scenes) != len(demos):
@@ -1411,7 +1426,7 @@ class Skill(Estimator):
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
         kind = self.planner if planner is None else planner
-        _check_choice(kind, "planner", PLANNERS)
+        OneOf(PLANNERS)(kind, "planner")
         if kind == "mpc":
             h = int(self.horizon) if horizon is None else horizon
         else:
@@ -1510,7 +1525,7 @@ class Skill(Estimator):
     def evaluate(
         self,
         demos: Sequence[Any],
-        scenes: Sequence[Scene],
+        scenes: Sequence[Scene] | None = None,
         *,
         goals: Any = None,
         goal_approach: float | str | None = "auto",
@@ -1525,6 +1540,8 @@ class Skill(Estimator):
         ends at the goal; None scores the thesis's model, which matches
         demonstrators that swerve late and end beside the goal. ``progress``
         counts the plans (:func:`lfdkit.core.progress.as_progress`).
+        ``demos`` may be :class:`~lfdkit.model.demos.Demo` records, each with
+        its scene (then ``scenes`` is not given).
 
         Returns
         -------
@@ -1533,6 +1550,7 @@ class Skill(Estimator):
             nominals) and ``improvement`` (Pr, percent), over 100 points per path.
         """
         self._check_fitted()
+        demos, scenes = _obstacle_records(demos, scenes, "demos", required=True)
         demos = check_demos(demos, "demos", n_dims=self.n_dims_)
         scenes = list(scenes)
         if len(scenes) != len(demos):
@@ -1679,7 +1697,7 @@ class Skill(Estimator):
                 )
         try:
             skill = cls(**params)
-            skill._check_params()
+            skill._validate_params()
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{source}: params: {exc}") from None
         n_dims = document.n_dims()
@@ -1773,15 +1791,7 @@ def learn(
     with progress.stage("read the demonstration and scene files"):
         data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
-    obstacle = data.obstacle_demos or None
-    skill.fit(
-        data.free_demos,
-        obstacle,
-        data.scenes if obstacle else None,
-        times=data.free_times,
-        orientations=data.free_orientations if data.free_orientations[0] is not None else None,
-        progress=progress,
-    )
+    skill.fit(data.clean, data.around_obstacles or None, progress=progress)
     # Each replanned training scene by its demonstration's id in the file.
     stored = (skill.ioc_info_ or {}).get("training_fidelity") or []
     for rows in (skill.training_fidelity_ or [], stored):
@@ -1914,9 +1924,39 @@ def _warn_unknown(scene: Scene, unknown: np.ndarray, margin: float, units: str) 
     )
 
 
-def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:
-    if value not in choices:
-        raise ValueError(f"{name}: expected one of {', '.join(map(repr, choices))}, got {value!r}")
+def _clean_records(demos: Any, times: Any, orientations: Any) -> tuple[Any, Any, Any]:
+    """Clean demonstrations, their times and orientations, from records or as given."""
+    fields = demo_fields(demos, "demos", given={"times": times, "orientations": orientations})
+    if fields is None:
+        return demos, times, orientations
+    for j, scene in enumerate(fields.scenes):
+        if scene is not None and len(scene):
+            raise ValueError(
+                f"demos[{j}]: recorded around obstacles ({len(scene)} in its scene, demo "
+                f"{fields.ids[j]!r}); give it in obstacle_demos, the clean demonstrations in demos"
+            )
+    return fields.points, fields.times, fields.orientations
+
+
+def _obstacle_records(
+    demos: Any, scenes: Any, name: str = "obstacle_demos", *, required: bool = False
+) -> tuple[Any, Any]:
+    """Demonstrations in scenes (argument ``name``) and their scenes, from records or as given.
+
+    With ``required``, demonstrations given as arrays need ``scenes``.
+    """
+    fields = demo_fields(demos, name, given={"scenes": scenes})
+    if fields is None:
+        if required and scenes is None:
+            raise ValueError("scenes: give one scene per demonstration (or Demo records)")
+        return demos, scenes
+    missing = next((j for j, scene in enumerate(fields.scenes) if scene is None), None)
+    if missing is not None:
+        raise ValueError(
+            f"{name}[{missing}]: the record (demo {fields.ids[missing]!r}) has no "
+            "scene; give each record the scene it was recorded in"
+        )
+    return fields.points, fields.scenes
 
 
 def _check_orientations_list(

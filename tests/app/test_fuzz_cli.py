@@ -51,7 +51,7 @@ def _fake_learn(demos_path, scenes_path=None, *, progress=None, **params):
     """``lfdkit.skill.learn`` without the learning: reads the files, checks the parameters."""
     data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
-    skill._check_params()
+    skill._validate_params()
     return skill.use_path(np.c_[_U, 0.1 * np.sin(np.pi * _U)], source=str(data.free_ids))
 
 

@@ -24,6 +24,12 @@ from lfdkit.core.estimator import Estimator
             ValueError,
             r"^x: expected a fraction, 0 < x <= 1, got 2$",
         ),
+        (
+            Real(options=("auto",)),
+            "soon",
+            ValueError,
+            r"^x: expected a number or 'auto', got 'soon'$",
+        ),
         (Integer(), 2.5, TypeError, r"^x: expected an integer, got 2.5$"),
         (Integer(), True, TypeError, r"^x: expected an integer, got True$"),
         (Integer(), 0, ValueError, r"^x: must be > 0, got 0$"),
@@ -49,6 +55,7 @@ def test_constraints_return_the_checked_value():
     assert Real()(np.float32(2.5), "x") == 2.5 and type(Real()(3, "x")) is float
     assert Integer()(np.int64(4), "x") == 4 and type(Integer()(np.int64(4), "x")) is int
     assert Integer(options=("auto",))("auto", "x") == "auto"
+    assert Real(options=("auto",))("auto", "x") == "auto" and Real(options=("auto",))(2, "x") == 2.0
     assert Real(optional=True)(None, "x") is None
     assert InstanceOf(dict, optional=True)(None, "x") is None
     assert Checked(lambda value, name: value * 2)(3, "x") == 6

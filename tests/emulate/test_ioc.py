@@ -113,6 +113,23 @@ def test_bad_inputs_are_refused() -> None:
         IOC().fit([far, demos[1]], scenes, nominal())
 
 
+@pytest.mark.parametrize(
+    ("params", "error", "message"),
+    [
+        ({"gradient": "exact"}, ValueError, "^gradient: expected one of 'implicit', 'finite_"),
+        ({"n_starts": 0}, ValueError, "^n_starts: must be > 0, got 0$"),
+        ({"max_iter": 2.5}, TypeError, "^max_iter: expected an integer, got 2.5$"),
+        ({"init": "flat"}, TypeError, "^init: expected a Reward, got str$"),
+        ({"horizon": 3}, ValueError, "^horizon: expected 4 <= H <= 12"),
+    ],
+)
+def test_bad_parameters_are_refused_before_any_work(params, error, message) -> None:
+    ioc = IOC(**params)
+    assert ioc.get_params() == {**IOC().get_params(), **params}
+    with pytest.raises(error, match=message):
+        ioc.fit([], [], nominal())  # refused before the (empty) data is looked at
+
+
 def test_score_on_held_out_demonstrations() -> None:
     demos, scenes = demonstrations(6)
     ioc = IOC().fit(demos[:4], scenes[:4], nominal())

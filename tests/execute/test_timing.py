@@ -299,12 +299,10 @@ def test_absurd_sizes_and_speeds_are_one_line_refusals_not_memory_errors():
     q = np.zeros((2, 6))
     q[1, 0] = 1e6  # a million radians: the timing exists, 125 Hz samples of it would not fit
     timing = time_parameterize(q)
-    with pytest.raises(
-        ValueError, match=r"rate_hz: 125 Hz over the trajectory's .* at most 1,000,000"
-    ):
+    with pytest.raises(ValueError, match=r"rate_hz: 125 Hz over .* s gives .* at most 1,000,000"):
         timing.resample(125)
     short = time_parameterize(np.eye(6)[:2])
-    with pytest.raises(ValueError, match=r"rate_hz: 1000000000.0 Hz over the trajectory's"):
+    with pytest.raises(ValueError, match=r"rate_hz: 1e\+09 Hz over .*split the motion"):
         short.resample(1e9)
     assert len(short.resample(125)[0]) == int(np.ceil(short.duration * 125 - 1e-9)) + 1
     with pytest.raises(ValueError, match=r"speed_fraction: must be in \[0.001, 1\], got 1e-300; a"):

@@ -84,9 +84,9 @@ def test_skill_files_accept_auto_and_bounded_integers_only(skill_file, value, me
 
 
 def test_a_skill_built_in_code_refuses_a_bad_count(path) -> None:
-    with pytest.raises(TypeError, match="n_basis: expected an integer, got 'many'"):
+    with pytest.raises(ValueError, match="n_basis: expected an integer or 'auto', got 'many'"):
         Skill(n_basis="many").use_path(path)
-    with pytest.raises(ValueError, match="n_basis: expected 1 to 1000, got 1001"):
+    with pytest.raises(ValueError, match="n_basis: expected 1 to 1,000, got 1,001"):
         Skill(n_basis=1001).use_path(path)
 
 

@@ -31,6 +31,7 @@ from lfdkit.io import (
     save_demos,
     save_path,
 )
+from lfdkit.model.demos import Demo
 
 FORMATS = [".csv", ".npz", ".json"]
 
@@ -131,6 +132,32 @@ def test_load_returns_plain_list_without_flags(tmp_path: Path) -> None:
     assert isinstance(got, list) and len(got) == 2
     _, ids = load_demos(path, return_ids=True)
     assert ids == [0, 1]
+
+
+@pytest.mark.parametrize("suffix", FORMATS)
+def test_demo_records_round_trip_as_the_parallel_lists_do(tmp_path: Path, suffix: str) -> None:
+    demos = [np.array([[0.1, -0.0], [1.0, 2.0], [3.0, 5.0]]), np.array([[1.0, 2.0], [1e22, 0.5]])]
+    times = [np.array([0.0, 0.5, 1.25]), np.array([0.0, 0.1])]
+    turn = np.array([0.0, 0.0, np.sin(0.3), np.cos(0.3)])
+    quats = [np.tile(turn, (3, 1)), np.tile([0.0, 0.0, 0.0, 1.0], (2, 1))]
+    records = [
+        Demo(d, t, q, key) for d, t, q, key in zip(demos, times, quats, ["a", 7], strict=True)
+    ]
+    path = save_demos(tmp_path / f"d{suffix}", records)
+    back = load_demos(path, as_records=True)
+    got, got_t, ids, got_q = load_demos(
+        path, return_times=True, return_ids=True, return_orientations=True
+    )
+    assert [r.id for r in back] == ids == ["a", 7]
+    for record, d, t, q in zip(back, got, got_t, got_q, strict=True):
+        assert _bits_equal(record.points, d) and _bits_equal(record.times, t)
+        np.testing.assert_array_equal(record.orientations, q)
+        assert record.scene is None
+    assert all(_bits_equal(a, b) for a, b in zip(demos, got, strict=True))
+    with pytest.raises(ValueError, match=r"^as_records: the records hold the times"):
+        load_demos(path, as_records=True, return_ids=True)
+    with pytest.raises(ValueError, match=r"^ids: the Demo records carry their own ids"):
+        save_demos(tmp_path / f"e{suffix}", records, ids=["b", "c"])
 
 
 def test_partial_times_npz_and_json(tmp_path: Path) -> None:

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lfdkit.core.rotations import exp
-from lfdkit.model.timed_path import TimedPlan
+from lfdkit.model.timed_path import TimedPlan, fixed_rate_times
 
 
 def cubic(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -82,3 +82,23 @@ def test_a_bad_rate_is_one_line_naming_it(rate, message):
     with pytest.raises(ValueError, match=message) as error:
         plan.at_rate(rate)
     assert "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize(
+    ("duration", "rate", "expected"),
+    [
+        (1.0, 4, [0.0, 0.25, 0.5, 0.75, 1.0]),  # the end is a sample
+        (1.1, 4, [0.0, 0.25, 0.5, 0.75, 1.0, 1.25]),  # the first at or after the end
+        (0.0, 125, [0.0]),
+        (0.3, 10, [0.0, 0.1, 0.2, 0.3]),  # 0.3 * 10 is 3.0000000000000004: no extra sample
+    ],
+)
+def test_the_fixed_rate_grid_ends_at_the_first_sample_at_or_after_the_end(duration, rate, expected):
+    np.testing.assert_allclose(fixed_rate_times(duration, rate), expected, atol=1e-15)
+
+
+def test_the_fixed_rate_grid_refuses_what_would_not_fit_before_making_it():
+    with pytest.raises(ValueError, match=r"^rate_hz: 1e\+09 Hz over 2 s gives 2e\+09 samples;"):
+        fixed_rate_times(2.0, 1e9)
+    with pytest.raises(ValueError, match="rate_hz: must be > 0"):
+        fixed_rate_times(2.0, 0)

@@ -52,16 +52,25 @@ class Real:
         when it exceeds ``maximum``.
     optional : bool
         Accept None (a default computed later).
+    options : tuple of str
+        Strings accepted as they are (``"auto"``).
     """
 
     allow_zero: bool = False
     maximum: float | None = None
     meaning: str = ""
     optional: bool = False
+    options: tuple[str, ...] = ()
 
-    def __call__(self, value: Any, name: str) -> float | None:
+    def __call__(self, value: Any, name: str) -> float | str | None:
         if value is None and self.optional:
             return None
+        if self.options and isinstance(value, str):
+            if value in self.options:
+                return value
+            raise ValueError(
+                f"{name}: expected a number or {choices_text(self.options)}, got {value!r}"
+            )
         value = check_positive(value, name, allow_zero=self.allow_zero)
         if self.maximum is not None and value > self.maximum:
             what = f"{self.meaning}, " if self.meaning else ""

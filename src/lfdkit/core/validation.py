@@ -16,6 +16,7 @@ from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON
 
 __all__ = [
     "MAX_POINTS",
+    "check_class_names",
     "check_count",
     "check_demos",
     "check_finite",
@@ -397,6 +398,20 @@ def check_random_state(seed: Any) -> np.random.Generator:
     if seed is None or isinstance(seed, (int, np.integer)):
         return np.random.default_rng(seed)
     raise TypeError(f"seed: expected None, an int or a numpy Generator, got {type(seed).__name__}")
+
+
+def check_class_names(classes: Any, name: str = "classes") -> list[str]:
+    """Check a list of obstacle-class names (non-empty strings); return it as a list.
+
+    A single string is refused (it would be read as its letters).
+    """
+    if (
+        isinstance(classes, str)
+        or not hasattr(classes, "__iter__")
+        or not all(isinstance(c, str) and c for c in classes)
+    ):
+        raise ValueError(f"{name}: expected a list of class names, got {classes!r}")
+    return list(classes)
 
 
 def check_horizon(value: Any, name: str = "horizon") -> int:

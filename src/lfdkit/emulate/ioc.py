@@ -40,13 +40,15 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
+from lfdkit.core.constraints import Checked, InstanceOf, Integer, OneOf, Real
+from lfdkit.core.estimator import Estimator
 from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
-from lfdkit.core.validation import check_horizon, check_path, check_positive
+from lfdkit.core.validation import check_horizon, check_path
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
@@ -707,7 +709,7 @@ def stated_reason(result: Any) -> str:
     return f"{text} ({detail})"
 
 
-class IOC:
+class IOC(Estimator):
     """Fit a :class:`Reward` to demonstrations in their scenes (thesis eq. 5.5).
 
     Lengths are normalised inside :meth:`fit`: every demonstration, nominal and
@@ -790,6 +792,18 @@ class IOC:
         parameter) and ``identified``.
     """
 
+    #: What each parameter may be, checked when :meth:`fit` starts
+    #: (:meth:`~lfdkit.core.estimator.Estimator._validate_params`).
+    _parameter_constraints: ClassVar[dict[str, Any]] = {
+        "n_points": Integer(),
+        "max_iter": Integer(),
+        "n_starts": Integer(),
+        "max_slope": Real(),
+        "gradient": OneOf(("implicit", "finite_difference")),
+        "horizon": Checked(check_horizon, optional=True),
+        "init": InstanceOf(Reward, optional=True),
+    }
+
     def __init__(
         self,
         classes: Sequence[str] | None = None,
@@ -836,20 +850,6 @@ class IOC:
         return length, [d / length for d in demos], scaled_scenes, scaled_nominal
 
     # ------------------------------------------------------------------ fit
-    def _check_params(self) -> None:
-        check_positive(self.n_points, "n_points", integer=True)
-        check_positive(self.max_iter, "max_iter", integer=True)
-        check_positive(self.n_starts, "n_starts", integer=True)
-        check_positive(self.max_slope, "max_slope")
-        if self.gradient not in ("implicit", "finite_difference"):
-            raise ValueError(
-                f"gradient: expected 'implicit' or 'finite_difference', got {self.gradient!r}"
-            )
-        if self.horizon is not None:
-            check_horizon(self.horizon)
-        if self.init is not None and not isinstance(self.init, Reward):
-            raise TypeError(f"init: expected a Reward, got {type(self.init).__name__}")
-
     def fit(self, demos: Any, scenes: Any, nominal: Any) -> IOC:
         """Learn the reward.
 
@@ -875,7 +875,7 @@ class IOC:
             demonstration (it is not learned, see ``not_learned_``), and when
             the fit did not converge.
         """
-        self._check_params()
+        self._validate_params()
         self._progress = as_progress(self.progress)
         # One BLAS thread, as the planner: the 3-D solves are many small
         # eigen-decompositions, which threads make many times slower.

@@ -57,8 +57,9 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.geometry import arc_length
-from lfdkit.core.validation import MAX_POINTS, check_path, check_positive
+from lfdkit.core.validation import check_path
 from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.model.timed_path import fixed_rate_times
 
 __all__ = [
     "DUPLICATE_TOL",
@@ -170,15 +171,7 @@ class Timing:
         q, qd, qdd : ndarray, shape (m, n_joints)
             See :meth:`sample`.
         """
-        rate = check_positive(rate_hz, "rate_hz")
-        wanted = self.duration * rate
-        if not wanted < MAX_POINTS:  # decided before any array is made (also inf)
-            raise ValueError(
-                f"rate_hz: {rate_hz!r} Hz over the trajectory's {self.duration:.6g} s gives "
-                f"{wanted:.3g} samples; at most {MAX_POINTS:,}: lower the rate or split the motion"
-            )
-        m = int(np.ceil(wanted - 1e-9)) + 1
-        times = np.arange(m) / rate
+        times = fixed_rate_times(self.duration, rate_hz)
         q, qd, qdd = self.sample(times)
         return times, q, qd, qdd
 

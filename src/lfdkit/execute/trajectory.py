@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from lfdkit.core.validation import MAX_POINTS, check_positive
+from lfdkit.model.timed_path import fixed_rate_times
 
 __all__ = ["JointTrajectory", "Slowdown", "keep_timing"]
 
@@ -119,14 +119,7 @@ class JointTrajectory:
         q, qd, qdd : ndarray, shape (k, n_joints)
             Positions, and the spline's exact velocities and accelerations.
         """
-        rate = check_positive(rate_hz, "rate_hz")
-        wanted = self.duration * rate
-        if not wanted < MAX_POINTS:
-            raise ValueError(
-                f"rate_hz: {rate_hz!r} Hz over {self.duration:.6g} s gives {wanted:.3g} samples; "
-                f"at most {MAX_POINTS:,}: lower the rate"
-            )
-        times = np.arange(int(np.ceil(wanted - 1e-9)) + 1) / rate
+        times = fixed_rate_times(self.duration, rate_hz)
         return (times, *self.sample(times))
 
     def ros_message(self, rate_hz: float) -> dict[str, Any]:

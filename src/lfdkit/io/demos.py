@@ -93,7 +93,7 @@ from lfdkit.io.text import (
     json_float_array,
     parse_id,
 )
-from lfdkit.model.demos import DemoId, PathLike
+from lfdkit.model.demos import Demo, DemoId, PathLike, demo_fields
 
 __all__ = [
     "JSON_FORMAT",
@@ -175,12 +175,17 @@ def load_demos(
 ) -> tuple[Any, ...]: ...
 
 
+@overload
+def load_demos(path: PathLike, *, as_records: Literal[True]) -> list[Demo]: ...
+
+
 def load_demos(
     path: PathLike,
     *,
     return_times: bool = False,
     return_ids: bool = False,
     return_orientations: bool = False,
+    as_records: bool = False,
 ) -> Any:
     """Read a demonstration set from a ``.csv``, ``.npz`` or ``.json`` file.
 
@@ -229,6 +234,11 @@ def load_demos(
     IsADirectoryError, NotRegularFileError
         If ``path`` is a directory, or a FIFO, device or socket (never opened).
     """
+    if as_records and (return_times or return_ids or return_orientations):
+        raise ValueError(
+            "as_records: the records hold the times, ids and orientations; "
+            "leave the return_* flags out"
+        )
     fname = os.fspath(path)
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
     quats: list[np.ndarray | None]
@@ -238,6 +248,8 @@ def load_demos(
         demos, times, ids, quats = _read_npz(fname)
     else:
         demos, times, ids, quats = _read_json(fname)
+    if as_records:
+        return [Demo(*fields) for fields in zip(demos, times, quats, ids, strict=True)]
     out: list[Any] = [demos]
     if return_times:
         out.append(times)
@@ -350,8 +362,11 @@ def save_demos(
     ----------
     path : str or os.PathLike
         Destination; its suffix selects the format.
-    demos : sequence of array_like, each shape (n_points_j, n_dims)
+    demos : sequence of array_like, each shape (n_points_j, n_dims), or of Demo
         The demonstrations; all share ``n_dims`` and have at least 2 points.
+        As :class:`~lfdkit.model.demos.Demo` records, with their times,
+        orientations and ids (then those are not given; scenes are not
+        written: :func:`lfdkit.io.save_scenes` writes them).
     times : sequence of (array_like, shape (n_points_j,), or None), optional
         Sample times in seconds, finite and strictly increasing within each
         demonstration. ``None`` entries mean "no times" for that
@@ -386,6 +401,11 @@ def save_demos(
         (an ``OutputExistsError`` is a ``FileExistsError``), ``path`` is a
         directory, or a FIFO, device, socket or symbolic link.
     """
+    separate = {"times": times, "ids": ids, "orientations": orientations}
+    fields = demo_fields(demos, "demos", given=separate)
+    if fields is not None:
+        demos, times, orientations = fields.points, fields.times, fields.orientations
+        ids = None if all(key is None for key in fields.ids) else fields.ids
     fname = os.fspath(path)
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
     arrs = check_demos(demos, "demos")

@@ -12,8 +12,11 @@ shape ``(n_points_j,)`` in seconds, strictly increasing, and an id
 
 :class:`Demo` holds one demonstration with what was recorded with it (times,
 tool orientations, id, scene) as one record, so that these travel together
-instead of as parallel lists that must be kept in step
-(:class:`lfdkit.io.training.TrainingData` holds its demonstrations so).
+instead of as parallel lists that must be kept in step:
+:class:`lfdkit.io.training.TrainingData` holds its demonstrations so,
+:meth:`lfdkit.skill.Skill.fit` and :func:`lfdkit.io.save_demos` take them and
+``load_demos(path, as_records=True)`` gives them. :func:`demo_fields` is the
+one place records are split back into the lists the estimators below take.
 
 Files
 -----
@@ -25,15 +28,16 @@ Demonstration files (CSV, NPZ, JSON) are read and written by
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 if TYPE_CHECKING:  # annotations only: this module stays import-free (PathLike for io.atomic)
     import numpy as np
 
     from lfdkit.model.scene import Scene
 
-__all__ = ["Demo", "DemoId", "PathLike"]
+__all__ = ["Demo", "DemoFields", "DemoId", "PathLike", "demo_fields"]
 
 PathLike = str | os.PathLike[str]
 """A file-system path: ``str`` or any ``os.PathLike``."""
@@ -67,3 +71,74 @@ class Demo:
     orientations: np.ndarray | None = None
     id: DemoId | None = None
     scene: Scene | None = None
+
+
+class DemoFields(NamedTuple):
+    """The fields of a list of :class:`Demo` records, one list per field, in order.
+
+    What the estimators below the records take (:func:`demo_fields`);
+    ``times``, ``orientations``, ``ids`` and ``scenes`` hold None where a
+    record has none.
+    """
+
+    points: list[Any]
+    times: list[Any]
+    orientations: list[Any]
+    ids: list[DemoId | None]
+    scenes: list[Any]
+
+
+def demo_fields(
+    demos: Any, name: str = "demos", *, given: dict[str, Any] | None = None
+) -> DemoFields | None:
+    """Split :class:`Demo` records into parallel lists; None if ``demos`` holds none.
+
+    Lets a function take either form: records, or the arrays (with their
+    times, orientations and scenes as separate arguments).
+
+    Parameters
+    ----------
+    demos : sequence of Demo, or anything else
+        The demonstrations as a caller gave them.
+    name : str
+        The argument's name, for the error.
+    given : dict, optional
+        The separate arguments the records replace, by name (``{"times":
+        times}``): with records, each must be None.
+
+    Returns
+    -------
+    DemoFields or None
+        None when ``demos`` is not a list or tuple of records (arrays, say).
+
+    Raises
+    ------
+    TypeError
+        If the sequence mixes records with other things.
+    ValueError
+        If records come with one of ``given`` too.
+    """
+    if not isinstance(demos, Sequence) or isinstance(demos, (str, bytes)):
+        return None
+    records = [isinstance(demo, Demo) for demo in demos]
+    if not any(records):
+        return None
+    if not all(records):
+        j = records.index(False)
+        raise TypeError(
+            f"{name}[{j}]: expected a Demo record like the others, got "
+            f"{type(demos[j]).__name__}; give all records or all arrays"
+        )
+    for field, value in (given or {}).items():
+        if value is not None:
+            raise ValueError(
+                f"{field}: the Demo records carry their own {field}; give {field}= "
+                "only with demonstrations as arrays"
+            )
+    return DemoFields(
+        [demo.points for demo in demos],
+        [demo.times for demo in demos],
+        [demo.orientations for demo in demos],
+        [demo.id for demo in demos],
+        [demo.scene for demo in demos],
+    )

@@ -22,7 +22,45 @@ from numpy.lib.mixins import NDArrayOperatorsMixin
 from lfdkit.core.rotations import angle_between, slerp
 from lfdkit.core.validation import MAX_POINTS, check_positive
 
-__all__ = ["TimedPlan"]
+__all__ = ["TimedPlan", "fixed_rate_times"]
+
+
+def fixed_rate_times(duration: float, rate_hz: Any) -> np.ndarray:
+    """The fixed-rate time grid a controller streams: ``k / rate_hz`` seconds.
+
+    The one home of the grid used by :meth:`TimedPlan.at_rate` and the joint
+    trajectories of :mod:`lfdkit.execute` (``resample``): samples from 0 up to
+    the first at or after ``duration`` (where the motion rests at its end).
+    The count is decided before any array is made, so an absurd rate or
+    duration is a one-line refusal, not a memory error.
+
+    Parameters
+    ----------
+    duration : float
+        Seconds of motion, >= 0.
+    rate_hz : float
+        Samples per second, e.g. 125 (a UR CB controller) or 500.
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        ``k / rate_hz`` for ``k = 0 .. m-1``, ``m = ceil(duration * rate_hz) + 1``
+        (1e-9 of a sample of slack, so round-off does not add one past the end).
+
+    Raises
+    ------
+    ValueError
+        If ``rate_hz`` is not positive, or gives more than
+        :data:`~lfdkit.core.validation.MAX_POINTS` samples.
+    """
+    rate = check_positive(rate_hz, "rate_hz")
+    wanted = duration * rate
+    if not wanted < MAX_POINTS:  # also inf and nan
+        raise ValueError(
+            f"rate_hz: {rate:.6g} Hz over {duration:.6g} s gives {wanted:.3g} samples; "
+            f"at most {MAX_POINTS:,}: lower the rate or split the motion"
+        )
+    return np.arange(int(np.ceil(wanted - 1e-9)) + 1) / rate
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -115,14 +153,7 @@ class TimedPlan(NDArrayOperatorsMixin):
             If ``rate_hz`` is not positive, or gives more than
             :data:`~lfdkit.core.validation.MAX_POINTS` samples.
         """
-        rate = check_positive(rate_hz, "rate_hz")
-        wanted = self.duration * rate
-        if not wanted < MAX_POINTS:
-            raise ValueError(
-                f"rate_hz: {rate:.6g} Hz over {self.duration:.6g} s gives {wanted:.3g} samples; "
-                f"at most {MAX_POINTS:,}: lower the rate"
-            )
-        times = np.arange(int(np.ceil(wanted - 1e-9)) + 1) / rate
+        times = fixed_rate_times(self.duration, rate_hz)
         t = np.clip(times, self.times[0], self.times[-1])
         # The interval holding each sample (the last one for the end itself).
         i = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 2)
