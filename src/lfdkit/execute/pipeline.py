@@ -129,8 +129,63 @@ class TaskDescription:
         if quat.shape != (4,) or not np.isfinite(quat).all() or np.linalg.norm(quat) < 1e-9:
             raise ValueError(f"orientation: expected a quaternion (x, y, z, w), got {quat!r}")
         object.__setattr__(self, "orientation", quat / np.linalg.norm(quat))
-        if not np.isfinite(self.height):
-            raise ValueError(f"height: must be finite, got {self.height!r}")
+        try:
+            height = float(self.height)
+        except (TypeError, ValueError):
+            height = float("nan")
+        if not np.isfinite(height):
+            raise ValueError(f"height: must be a finite number of metres, got {self.height!r}")
+        object.__setattr__(self, "height", height)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The description, JSON-ready (:meth:`from_dict` reads it back exactly)."""
+        return {
+            "name": self.name,
+            "frame": self.frame.tolist(),
+            "tool": self.tool.tolist(),
+            "height": float(self.height),
+            "orientation": self.orientation.tolist(),
+            "q_start": None if self.q_start is None else np.asarray(self.q_start, float).tolist(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: Any, source: str = "task") -> TaskDescription:
+        """A description from a mapping (a task file's JSON), one-line errors naming ``source``.
+
+        Keys: those of :meth:`to_dict`; ``offset`` ``[x, y, z]`` (m) may stand
+        for a ``frame`` that only translates, ``tool_length`` (m, along the
+        flange's ``z``) for a ``tool`` that only offsets. All are optional.
+        """
+        if not isinstance(data, dict):
+            raise ValueError(f"{source}: expected a JSON object, got {type(data).__name__}")
+        known = {"name", "frame", "tool", "height", "orientation", "q_start"}
+        unknown = sorted(set(data) - known - {"offset", "tool_length"})
+        if unknown:
+            raise ValueError(
+                f"{source}: unknown key {unknown[0]!r}; expected some of "
+                f"{', '.join(sorted(known | {'offset', 'tool_length'}))}"
+            )
+        fields = {k: v for k, v in data.items() if k in known}
+        for short, full in (("offset", "frame"), ("tool_length", "tool")):
+            if short in data and full in data:
+                raise ValueError(f"{source}: give {short!r} or {full!r}, not both")
+        try:
+            if "offset" in data:
+                offset = np.asarray(data["offset"], dtype=np.float64)
+                if offset.shape != (3,):
+                    raise ValueError(
+                        f"offset: expected [x, y, z] in metres, got {data['offset']!r}"
+                    )
+                fields["frame"] = np.eye(4)
+                fields["frame"][:3, 3] = offset
+            if "tool_length" in data:
+                fields["tool"] = np.eye(4)
+                fields["tool"][2, 3] = float(data["tool_length"])
+            if fields.get("q_start") is not None:
+                fields["q_start"] = tuple(float(v) for v in fields["q_start"])
+            return cls(**fields)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{source}: {str(exc).splitlines()[0]}") from None
 
     def start_configuration(self, arm: AnyArm) -> np.ndarray:
         """``q_start``, or the default for ``arm``."""
