@@ -33,6 +33,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import warnings
 from collections.abc import Iterator, Mapping
 from concurrent.futures import Executor
 from pathlib import Path
@@ -155,6 +156,7 @@ def evaluate_task(
     check: str = "robot",
     speed_fraction: float = 0.2,
     rate: float | None = None,
+    unknown_class: float | None = None,
 ) -> dict[str, Any]:
     """Evaluate a skill on an arm for one scene or goal: the work unit of the path task's batch.
 
@@ -177,6 +179,9 @@ def evaluate_task(
     rate : float, optional
         Rate of the fixed-rate samples (Hz; default
         :data:`lfdkit.execute.pipeline.DEFAULT_RATE`).
+    unknown_class : float, optional
+        Plan around obstacles of classes the skill never learned with this
+        margin (m; :meth:`lfdkit.skill.Skill.plan`); without it they are refused.
 
     Returns
     -------
@@ -222,7 +227,9 @@ def evaluate_task(
     }
     with one_blas_thread():
         try:
-            plan = skill.plan(start, goal, scene)
+            with warnings.catch_warnings():  # the margin was asked for: no warning per task
+                warnings.filterwarnings("ignore", r"plan: obstacle class.* never learned")
+                plan = skill.plan(start, goal, scene, unknown_class=unknown_class)
             details = plan.details
             row["plan"] = {
                 "points": len(plan.times),
@@ -285,10 +292,11 @@ def _task_list(
     check: str,
     fraction: float,
     rate: float | None,
+    unknown_class: float | None,
     wheres: Iterator[tuple[Any, dict[str, Any]]],
 ) -> Iterator[tuple[Any, tuple[Any, ...]]]:
     for key, where in wheres:
-        yield key, (skill_text, where, arm, task, check, fraction, rate)
+        yield key, (skill_text, where, arm, task, check, fraction, rate, unknown_class)
 
 
 def _point(value: Any, name: str, dims: int) -> list[float] | None:
@@ -316,6 +324,7 @@ def evaluate_task_batch(
     check: str = "robot",
     speed_fraction: float = 0.2,
     rate: float | None = None,
+    unknown_class: float | None = None,
     executor: Executor | None = None,
     overwrite: bool = False,
     window: int | None = None,
@@ -351,6 +360,8 @@ def evaluate_task_batch(
         In ``(0, 1]``.
     rate : float, optional
         Rate of the fixed-rate samples (Hz).
+    unknown_class : float, optional
+        Margin (m) for obstacles of classes the skill never learned.
     executor : Executor, optional
         Default :class:`lfdkit.app.batch.SerialExecutor`.
     overwrite, window, progress
@@ -401,10 +412,11 @@ def evaluate_task_batch(
         "check": check,
         "speed_fraction": fraction,
         "rate": rate,
+        "unknown_class": unknown_class,
         **ends,
         "lfdkit": __version__,
     }
-    settings = (text, machine, description.to_dict(), check, fraction, rate)
+    settings = (text, machine, description.to_dict(), check, fraction, rate, unknown_class)
     arm_name = _arm(machine).name
     if random is not None:
         if isinstance(random, bool) or not isinstance(random, int) or random < 1:

@@ -15,6 +15,7 @@ from lfdkit.app.cli.common import (
     add_seed_option,
     add_skill_param_options,
     add_task_description_options,
+    add_unknown_class_option,
     bounded_int,
     check_writable,
     parse_fraction,
@@ -125,6 +126,7 @@ def _evaluate_task_of(args: argparse.Namespace) -> str:
             raise CommandError(f"{args.skill}: no such file")
         path_only = [args.arm, args.tip_link, args.task_file, args.offset, args.height]
         path_only += [args.q_start, args.tool_length, args.rate, args.spread, args.summary]
+        path_only.append(args.unknown_class)
         sweep = Skill.load(args.skill).n_dims_ == 2 and all(v is None for v in path_only)
         args.task = "sweep" if sweep else "path"
     return args.task
@@ -169,6 +171,7 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
                 check=check,
                 speed_fraction=args.speed_fraction,
                 rate=args.rate,
+                unknown_class=args.unknown_class,
                 executor=executor,
                 overwrite=args.force,
                 progress=progress,
@@ -205,7 +208,7 @@ def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
                 f"--{option.replace('_', '-')}: is for --task path; the sweeping task runs on "
                 "the UR5 with its brush"
             )
-    for option in ("rate", "spread", "summary"):
+    for option in ("rate", "spread", "summary", "unknown_class"):
         if getattr(args, option) is not None:
             raise UsageError(f"--{option}: is for --task path")
     if (args.random is None) == (args.scenes is None):
@@ -393,6 +396,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.json",
         help="also write the outcome table as JSON",
     )
+    add_unknown_class_option(path, "m")
     add_task_description_options(evaluate)
     _results_option(evaluate)
     _executor_options(evaluate)
