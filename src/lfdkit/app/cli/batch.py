@@ -147,6 +147,8 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
     if args.summary is not None:
         refuse_existing(args.summary, args.force, "--summary")
     check = "mujoco" if args.simulate else args.check
+    rate = positive_or_none(args.rate, "--rate", "a rate in Hz (e.g. 125)")
+    spread = positive_or_none(args.spread, "--spread", "a radius in metres (e.g. 0.05)")
     task = task_description(args)
     with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
         from lfdkit.app.execute_batch import evaluate_task_batch
@@ -164,13 +166,13 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
                 task=task,
                 random=args.random,
                 seed=args.seed or 0,
-                spread=0.05 if args.spread is None else args.spread,
+                spread=0.05 if spread is None else spread,
                 scenes=args.scenes,
                 start=point_arg(args.start, "--start", dims),
                 goal=point_arg(args.goal, "--goal", dims),
                 check=check,
                 speed_fraction=args.speed_fraction,
-                rate=args.rate,
+                rate=rate,
                 unknown_class=args.unknown_class,
                 executor=executor,
                 overwrite=args.force,
@@ -377,14 +379,12 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     )
     path.add_argument(
         "--rate",
-        type=lambda text: positive_or_none(text, "--rate", "a rate in Hz"),
         default=None,
         metavar="HZ",
         help="rate of the fixed-rate samples (default 125)",
     )
     path.add_argument(
         "--spread",
-        type=lambda text: positive_or_none(text, "--spread", "a radius in metres"),
         default=None,
         metavar="R",
         help="--random: goals drawn uniformly within R m of the goal (default 0.05)",
