@@ -32,13 +32,22 @@ reference's speed and wander off the path (0.33 rad on the reach below).
   person's timing (its cubic spline's jerk is finite already: usually the
   timing is kept exactly).
 
-Measured (``python benchmarks/timing_backends.py``, T1): against lfdkit's
-and toppra's time-optimal timing (equal to 1e-7), the jerk-limited one is
-1.15-1.3 times longer, 1.7 mrad (the reach) to 23 mrad (a random joint walk
-with sharp corners) from their path between the states it passes, 3-6
-times slower to compute; theirs break a 50 /s jerk limit 100-500 times at
-their switches. lfdkit's stays the default; ruckig is for controllers that
-need a bounded jerk.
+Measured (``python benchmarks/timing_backends.py``; a loaded 2-core machine,
+so wall times are rough). T1, time-optimal, the same limits: lfdkit's and
+toppra's durations agree (to 1e-4 or better), and their accelerations jump
+(bang-bang) at every switch; the jerk-limited timing (50 /s) lasts 1.07-1.15
+times theirs on random 200-waypoint UR5 walks and 1.30 times on a 6 s
+reach's 601 joint waypoints (UR5, UR5e, Panda, at speed fractions 1 and
+0.2), stays within 0.6-2.6 mrad of their path on the reach and 23-35 mrad on
+the walks (where it cuts their sharp corners), and takes 1.5-7 times
+lfdkit's time (lfdkit's timing included). T2, the person's timing: the
+cubic spline of :func:`~lfdkit.execute.trajectory.keep_timing` already
+stays within the jerk limit (0.005-0.26 of it on the reach); ruckig keeps
+its timing exactly (x1.0000, within 6e-7 rad) but fills each 10 ms segment
+with a jerk-limit bang-bang profile (jerk at the limit, acceleration peaks
+up to 1.4 times the spline's). So lfdkit's stays the default everywhere;
+ruckig is there for a controller that needs a bounded jerk on a
+time-optimal motion.
 
 Jerk limits. Arms' data sheets rarely give one and URDFs never do: the
 default is :data:`JERK_PER_ACCELERATION` (50 /s) times each acceleration
