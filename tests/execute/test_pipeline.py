@@ -135,3 +135,29 @@ def test_bad_arguments_are_named():
         execute_plan(np.zeros((5, 3)), UR5)
     with pytest.raises(ValueError, match="tool: is not a rigid transform"):
         TaskDescription(tool=2 * np.eye(4))
+
+
+def test_a_task_description_round_trips_through_json_and_refuses_bad_keys():
+    frame = np.eye(4)
+    frame[:3, :3] = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    frame[:3, 3] = [0.1, -0.2, 0.3]
+    task = TaskDescription(frame=frame, height=0.05, q_start=(0.0, -1.0, 1.0, 0.0, 1.5, 0.0))
+    again = TaskDescription.from_dict(json.loads(json.dumps(task.to_dict())))
+    assert again.to_dict() == task.to_dict()
+    np.testing.assert_array_equal(
+        again.poses(np.zeros((1, 2)), None), task.poses(np.zeros((1, 2)), None)
+    )
+    short = TaskDescription.from_dict({"offset": [0.1, -0.2, 0.3], "tool_length": 0.12})
+    np.testing.assert_array_equal(short.frame[:3, 3], [0.1, -0.2, 0.3])
+    assert short.tool[2, 3] == 0.12 and short.height == 0.0
+    for bad, message in [
+        ({"offest": [0, 0, 0]}, "task.json: unknown key 'offest'; expected some of"),
+        ({"offset": [1, 2]}, r"task.json: offset: expected \[x, y, z\] in metres"),
+        ({"offset": [0, 0, 0], "frame": np.eye(4).tolist()}, "give 'offset' or 'frame'"),
+        ({"height": "high"}, "task.json: height: must be a finite number of metres"),
+        ({"tool": [[1, 0], [0, 1]]}, "task.json: tool: expected a finite 4x4 transform"),
+        ([0, 0, 0], "task.json: expected a JSON object, got list"),
+    ]:
+        with pytest.raises(ValueError, match=message) as error:
+            TaskDescription.from_dict(bad, "task.json")
+        assert "\n" not in str(error.value)
