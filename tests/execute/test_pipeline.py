@@ -161,3 +161,27 @@ def test_a_task_description_round_trips_through_json_and_refuses_bad_keys():
         with pytest.raises(ValueError, match=message) as error:
             TaskDescription.from_dict(bad, "task.json")
         assert "\n" not in str(error.value)
+
+
+def test_approach_and_retreat_move_straight_along_the_tool_axis():
+    plan = reach_over_a_box()
+    task = TaskDescription(approach=0.1, retreat=0.05)
+    run = execute_plan(plan, UR5, task, speed_fraction=0.5, rate=125.0)
+    # 0.1 m at 0.1 m/s: 1 s in; 0.05 m: 0.5 s out; the plan's 3 s kept between them.
+    assert run.trajectory.slowdowns == ()
+    assert run.trajectory.duration == pytest.approx(1.0 + 3.0 + 0.5, abs=1e-9)
+    t, tool = run.samples[0], tool_positions(run)
+    start, end = plan.positions[0], plan.positions[-1]
+    # The tool points down: it comes down onto the start from 10 cm above, and rises 5 cm.
+    up = np.array([0.0, 0.0, 1.0])
+    np.testing.assert_allclose(tool[0], start + 0.1 * up, atol=1e-5)
+    np.testing.assert_allclose(tool[t.searchsorted(1.0)], start, atol=1e-5)
+    np.testing.assert_allclose(tool[t.searchsorted(4.0)], end, atol=1e-5)
+    np.testing.assert_allclose(tool[-1], end + 0.05 * up, atol=1e-5)
+    into, out = tool[t < 1.0], tool[t > 4.0]
+    np.testing.assert_allclose(into[:, :2], np.tile(start[:2], (len(into), 1)), atol=1e-5)
+    np.testing.assert_allclose(out[:, :2], np.tile(end[:2], (len(out), 1)), atol=1e-5)
+    assert (np.diff(into[:, 2]) <= 1e-9).all() and (np.diff(out[:, 2]) >= -1e-9).all()
+    assert run.summary()["plan"]["duration_s"] == pytest.approx(3.0)
+    with pytest.raises(ValueError, match=r"approach: expected a distance from 0 to 1 m, got -0\.1"):
+        TaskDescription(approach=-0.1)

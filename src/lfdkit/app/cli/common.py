@@ -687,7 +687,14 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
 
 
 #: ``--offset``, ``--height``, ``--tool-length``, ``--q-start``: their command-line defaults.
-_TASK_OPTIONS = {"offset": (0.0, 0.0, 0.0), "height": 0.2, "tool_length": 0.0, "q_start": None}
+_TASK_OPTIONS = {
+    "offset": (0.0, 0.0, 0.0),
+    "height": 0.2,
+    "tool_length": 0.0,
+    "q_start": None,
+    "approach": 0.0,
+    "retreat": 0.0,
+}
 
 
 def add_task_description_options(parser: argparse.ArgumentParser) -> None:
@@ -701,7 +708,7 @@ def add_task_description_options(parser: argparse.ArgumentParser) -> None:
         metavar="TASK.json",
         help="the task description as JSON: any of name, frame (4x4) or offset [x, y, z], "
         "tool (4x4, flange to tool) or tool_length, height, orientation [qx, qy, qz, qw] (the "
-        "tool's when the skill learned none), q_start; metres and radians",
+        "tool's when the skill learned none), q_start, approach, retreat; metres and radians",
     )
     group.add_argument(
         "--offset",
@@ -730,6 +737,16 @@ def add_task_description_options(parser: argparse.ArgumentParser) -> None:
         metavar="L",
         help="the tool point's distance along the flange's z axis, m (default 0)",
     )
+    for move, how in (
+        ("approach", "into the first pose from"),
+        ("retreat", "out of the last pose"),
+    ):
+        group.add_argument(
+            f"--{move}",
+            type=float,
+            metavar="D",
+            help=f"a straight move along the tool's z axis {how} D m back (default 0: none)",
+        )
 
 
 def task_description(args: argparse.Namespace, name: str = "path"):
