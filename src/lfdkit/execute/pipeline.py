@@ -119,7 +119,7 @@ class TaskDescription:
         Straight moves (m) along the tool's ``z`` axis: into the plan's first
         pose from ``approach`` metres back, and out of its last pose
         ``retreat`` metres back (default 0: none), each at rest at both ends,
-        minimum jerk, at :data:`APPROACH_SPEED` on average (at least 0.5 s).
+        minimum jerk, at :data:`APPROACH_SPEED` on average (at least 1 s).
     """
 
     frame: Any = field(default_factory=lambda: np.eye(4))
@@ -368,7 +368,7 @@ def _straight(pose: np.ndarray, distance: float, into: bool) -> tuple[np.ndarray
     Returns the times (s, from 0) and poses (m, 4, 4) after the first (into: before ``pose``,
     which is left out; out: after it).
     """
-    duration = max(0.5, distance / APPROACH_SPEED)
+    duration = max(1.0, distance / APPROACH_SPEED)
     count = max(2, int(np.ceil(duration * WAYPOINT_RATE)) + 1)
     u = np.linspace(0.0, 1.0, count)
     s = u**3 * (10.0 - 15.0 * u + 6.0 * u * u)  # minimum jerk: at rest at both ends
