@@ -206,6 +206,8 @@ def test_the_command_on_a_urdf_arm_with_a_task_file(tmp_path, capsys):
         (["--task-file", "t.json", "--offset", "0", "0", "0"], "--offset: the task file describes"),
         (["--check", "kinematics"], "--check kinematics: is the sweeping task's"),
         (["--task", "sweep", "--arm", "ur10"], "--arm: is for --task path"),
+        (["--task", "sweep", "--approach", "0.1"], "--approach: is for --task path"),
+        (["--task", "sweep", "--unknown-class", "margin=0"], "--unknown-class: is for --task"),
         (["--arm", "kuka"], "--arm: kuka is neither an arm name"),
         (["--spread", "-1"], "--spread: expected a radius in metres (e.g. 0.05), got '-1'"),
         (["--task-file", "missing.json"], "--task-file missing.json: no such file"),

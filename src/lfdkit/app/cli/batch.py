@@ -126,7 +126,7 @@ def _evaluate_task_of(args: argparse.Namespace) -> str:
             raise CommandError(f"{args.skill}: no such file")
         path_only = [args.arm, args.tip_link, args.task_file, args.offset, args.height]
         path_only += [args.q_start, args.tool_length, args.rate, args.spread, args.summary]
-        path_only.append(args.unknown_class)
+        path_only += [args.unknown_class, args.approach, args.retreat]
         sweep = Skill.load(args.skill).n_dims_ == 2 and all(v is None for v in path_only)
         args.task = "sweep" if sweep else "path"
     return args.task
@@ -204,7 +204,8 @@ def _path_outcomes(args: argparse.Namespace, out: Path) -> None:
 
 
 def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
-    for option in ("arm", "tip_link", "task_file", "offset", "height", "q_start", "tool_length"):
+    described = ("arm", "tip_link", "task_file", "offset", "height", "q_start", "tool_length")
+    for option in (*described, "approach", "retreat"):
         if getattr(args, option) is not None:
             raise UsageError(
                 f"--{option.replace('_', '-')}: is for --task path; the sweeping task runs on "
@@ -212,7 +213,7 @@ def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
             )
     for option in ("rate", "spread", "summary", "unknown_class"):
         if getattr(args, option) is not None:
-            raise UsageError(f"--{option}: is for --task path")
+            raise UsageError(f"--{option.replace('_', '-')}: is for --task path")
     if (args.random is None) == (args.scenes is None):
         raise UsageError("give the scenes: --scenes FILE or --random N")
     if args.random is not None and (args.start is not None or args.goal is not None):
