@@ -36,9 +36,9 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import git_state, json_ready, machine_info, package_versions  # noqa: E402
+from _common import git_state, json_ready, machine_info, package_versions
 
-from lfdkit.io.atomic import atomic_write  # noqa: E402
+from lfdkit.io.atomic import atomic_write
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "execute" / "data"
 RATE = 5000.0  # Hz: where limits are checked
