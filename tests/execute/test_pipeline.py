@@ -135,3 +135,53 @@ def test_bad_arguments_are_named():
         execute_plan(np.zeros((5, 3)), UR5)
     with pytest.raises(ValueError, match="tool: is not a rigid transform"):
         TaskDescription(tool=2 * np.eye(4))
+
+
+def test_a_task_description_round_trips_through_json_and_refuses_bad_keys():
+    frame = np.eye(4)
+    frame[:3, :3] = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    frame[:3, 3] = [0.1, -0.2, 0.3]
+    task = TaskDescription(frame=frame, height=0.05, q_start=(0.0, -1.0, 1.0, 0.0, 1.5, 0.0))
+    again = TaskDescription.from_dict(json.loads(json.dumps(task.to_dict())))
+    assert again.to_dict() == task.to_dict()
+    np.testing.assert_array_equal(
+        again.poses(np.zeros((1, 2)), None), task.poses(np.zeros((1, 2)), None)
+    )
+    short = TaskDescription.from_dict({"offset": [0.1, -0.2, 0.3], "tool_length": 0.12})
+    np.testing.assert_array_equal(short.frame[:3, 3], [0.1, -0.2, 0.3])
+    assert short.tool[2, 3] == 0.12 and short.height == 0.0
+    for bad, message in [
+        ({"offest": [0, 0, 0]}, "task.json: unknown key 'offest'; expected some of"),
+        ({"offset": [1, 2]}, r"task.json: offset: expected \[x, y, z\] in metres"),
+        ({"offset": [0, 0, 0], "frame": np.eye(4).tolist()}, "give 'offset' or 'frame'"),
+        ({"height": "high"}, "task.json: height: must be a finite number of metres"),
+        ({"tool": [[1, 0], [0, 1]]}, "task.json: tool: expected a finite 4x4 transform"),
+        ([0, 0, 0], "task.json: expected a JSON object, got list"),
+    ]:
+        with pytest.raises(ValueError, match=message) as error:
+            TaskDescription.from_dict(bad, "task.json")
+        assert "\n" not in str(error.value)
+
+
+def test_approach_and_retreat_move_straight_along_the_tool_axis():
+    plan = reach_over_a_box()
+    task = TaskDescription(approach=0.1, retreat=0.05)
+    run = execute_plan(plan, UR5, task, speed_fraction=0.5, rate=125.0)
+    # 0.1 m at 0.1 m/s: 1 s in; 0.05 m: 1 s out (the shortest); the plan's 3 s kept between.
+    assert run.trajectory.slowdowns == ()
+    assert run.trajectory.duration == pytest.approx(1.0 + 3.0 + 1.0, abs=1e-9)
+    t, tool = run.samples[0], tool_positions(run)
+    start, end = plan.positions[0], plan.positions[-1]
+    # The tool points down: it comes down onto the start from 10 cm above, and rises 5 cm.
+    up = np.array([0.0, 0.0, 1.0])
+    np.testing.assert_allclose(tool[0], start + 0.1 * up, atol=1e-5)
+    np.testing.assert_allclose(tool[t.searchsorted(1.0)], start, atol=1e-5)
+    np.testing.assert_allclose(tool[t.searchsorted(4.0)], end, atol=1e-5)
+    np.testing.assert_allclose(tool[-1], end + 0.05 * up, atol=1e-5)
+    into, out = tool[t < 1.0], tool[t > 4.0]
+    np.testing.assert_allclose(into[:, :2], np.tile(start[:2], (len(into), 1)), atol=1e-5)
+    np.testing.assert_allclose(out[:, :2], np.tile(end[:2], (len(out), 1)), atol=1e-5)
+    assert (np.diff(into[:, 2]) <= 1e-9).all() and (np.diff(out[:, 2]) >= -1e-9).all()
+    assert run.summary()["plan"]["duration_s"] == pytest.approx(3.0)
+    with pytest.raises(ValueError, match=r"approach: expected a distance from 0 to 1 m, got -0\.1"):
+        TaskDescription(approach=-0.1)

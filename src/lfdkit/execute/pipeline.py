@@ -65,6 +65,8 @@ __all__ = [
 
 #: Rate at which the plan is resampled into tool poses for the inverse kinematics (Hz).
 WAYPOINT_RATE = 100.0
+#: Mean tool speed of a task's approach and retreat moves (m/s): a careful hand's.
+APPROACH_SPEED = 0.1
 #: Rate of the fixed-rate samples and the ``servoj`` stream (Hz): a CB-series controller's tick.
 DEFAULT_RATE = 125.0
 #: The configuration that picks a UR arm's branch: elbow up, tool down (the sweeping task's home).
@@ -113,6 +115,11 @@ class TaskDescription:
         limits otherwise.
     name : str
         Shown in messages and the summary.
+    approach, retreat : float
+        Straight moves (m) along the tool's ``z`` axis: into the plan's first
+        pose from ``approach`` metres back, and out of its last pose
+        ``retreat`` metres back (default 0: none), each at rest at both ends,
+        minimum jerk, at :data:`APPROACH_SPEED` on average (at least 1 s).
     """
 
     frame: Any = field(default_factory=lambda: np.eye(4))
@@ -121,6 +128,8 @@ class TaskDescription:
     orientation: Any = (1.0, 0.0, 0.0, 0.0)
     q_start: Any = None
     name: str = "task"
+    approach: float = 0.0
+    retreat: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "frame", _transform(self.frame, "frame"))
@@ -129,8 +138,75 @@ class TaskDescription:
         if quat.shape != (4,) or not np.isfinite(quat).all() or np.linalg.norm(quat) < 1e-9:
             raise ValueError(f"orientation: expected a quaternion (x, y, z, w), got {quat!r}")
         object.__setattr__(self, "orientation", quat / np.linalg.norm(quat))
-        if not np.isfinite(self.height):
-            raise ValueError(f"height: must be finite, got {self.height!r}")
+        try:
+            height = float(self.height)
+        except (TypeError, ValueError):
+            height = float("nan")
+        if not np.isfinite(height):
+            raise ValueError(f"height: must be a finite number of metres, got {self.height!r}")
+        object.__setattr__(self, "height", height)
+        for name in ("approach", "retreat"):
+            try:
+                value = float(getattr(self, name))
+            except (TypeError, ValueError):
+                value = float("nan")
+            if not 0.0 <= value <= 1.0:
+                raise ValueError(
+                    f"{name}: expected a distance from 0 to 1 m, got {getattr(self, name)!r}"
+                )
+            object.__setattr__(self, name, value)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The description, JSON-ready (:meth:`from_dict` reads it back exactly)."""
+        return {
+            "name": self.name,
+            "frame": self.frame.tolist(),
+            "tool": self.tool.tolist(),
+            "height": float(self.height),
+            "orientation": self.orientation.tolist(),
+            "q_start": None if self.q_start is None else np.asarray(self.q_start, float).tolist(),
+            "approach": float(self.approach),
+            "retreat": float(self.retreat),
+        }
+
+    @classmethod
+    def from_dict(cls, data: Any, source: str = "task") -> TaskDescription:
+        """A description from a mapping (a task file's JSON), one-line errors naming ``source``.
+
+        Keys: those of :meth:`to_dict`; ``offset`` ``[x, y, z]`` (m) may stand
+        for a ``frame`` that only translates, ``tool_length`` (m, along the
+        flange's ``z``) for a ``tool`` that only offsets. All are optional.
+        """
+        if not isinstance(data, dict):
+            raise ValueError(f"{source}: expected a JSON object, got {type(data).__name__}")
+        known = {"name", "frame", "tool", "height", "orientation", "q_start", "approach", "retreat"}
+        unknown = sorted(set(data) - known - {"offset", "tool_length"})
+        if unknown:
+            raise ValueError(
+                f"{source}: unknown key {unknown[0]!r}; expected some of "
+                f"{', '.join(sorted(known | {'offset', 'tool_length'}))}"
+            )
+        fields = {k: v for k, v in data.items() if k in known}
+        for short, full in (("offset", "frame"), ("tool_length", "tool")):
+            if short in data and full in data:
+                raise ValueError(f"{source}: give {short!r} or {full!r}, not both")
+        try:
+            if "offset" in data:
+                offset = np.asarray(data["offset"], dtype=np.float64)
+                if offset.shape != (3,):
+                    raise ValueError(
+                        f"offset: expected [x, y, z] in metres, got {data['offset']!r}"
+                    )
+                fields["frame"] = np.eye(4)
+                fields["frame"][:3, 3] = offset
+            if "tool_length" in data:
+                fields["tool"] = np.eye(4)
+                fields["tool"][2, 3] = float(data["tool_length"])
+            if fields.get("q_start") is not None:
+                fields["q_start"] = tuple(float(v) for v in fields["q_start"])
+            return cls(**fields)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{source}: {str(exc).splitlines()[0]}") from None
 
     def start_configuration(self, arm: AnyArm) -> np.ndarray:
         """``q_start``, or the default for ``arm``."""
@@ -286,6 +362,36 @@ def _waypoints(
     return at - times[0], points, quats
 
 
+def _straight(pose: np.ndarray, distance: float, into: bool) -> tuple[np.ndarray, np.ndarray]:
+    """A minimum-jerk move along ``pose``'s z axis: into it from ``distance`` back, or out.
+
+    Returns the times (s, from 0) and poses (m, 4, 4) after the first (into: before ``pose``,
+    which is left out; out: after it).
+    """
+    duration = max(1.0, distance / APPROACH_SPEED)
+    count = max(2, int(np.ceil(duration * WAYPOINT_RATE)) + 1)
+    u = np.linspace(0.0, 1.0, count)
+    s = u**3 * (10.0 - 15.0 * u + 6.0 * u * u)  # minimum jerk: at rest at both ends
+    back = (1.0 - s[:-1]) if into else s[1:]
+    moved = np.repeat(pose[None], len(back), axis=0)
+    moved[:, :3, 3] -= back[:, None] * distance * pose[:3, 2]
+    return u[:-1] * duration if into else u[1:] * duration, moved
+
+
+def _with_approach(
+    at: np.ndarray, poses: np.ndarray, task: TaskDescription
+) -> tuple[np.ndarray, np.ndarray]:
+    """The task's approach before and retreat after the plan's poses, with their times."""
+    if task.approach > 0.0:
+        t, moves = _straight(poses[0], task.approach, into=True)
+        step = t[1] - t[0]  # the plan's first pose comes one step after the last of the move
+        at, poses = np.concatenate((t, at + t[-1] + step)), np.concatenate((moves, poses))
+    if task.retreat > 0.0:
+        t, moves = _straight(poses[-1], task.retreat, into=False)
+        at, poses = np.concatenate((at, at[-1] + t)), np.concatenate((poses, moves))
+    return at, poses
+
+
 def check_tool_speed(times: np.ndarray, stream: np.ndarray, arm: AnyArm, tool: Any = None) -> None:
     """Refuse a stream that moves the tool faster than ``MAX_TOOL_SPEED``, naming when and where."""
     point = forward(arm, stream, tool)[:, :3, 3]
@@ -355,7 +461,7 @@ def execute_plan(
         raise ValueError(f"rate: must be in [1, 1000] Hz, got {rate!r}")
     times, positions, orientations = _check_plan(plan, arm)
     at, points, quats = _waypoints(times, positions, orientations)
-    poses = task.poses(points, quats)
+    at, poses = _with_approach(at, task.poses(points, quats), task)
     try:
         joints = joint_path(poses, arm, task.start_configuration(arm), tool=task.tool)
     except ur5.KinematicsError as exc:

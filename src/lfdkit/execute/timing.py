@@ -392,9 +392,12 @@ def time_parameterize(
         In ``(0, 1]``; velocity limits are multiplied by it and acceleration
         limits by its square, so the same path takes ``1 / speed_fraction``
         times as long (the thesis played back at 0.2).
-    backend : {"lfdkit", "toppra"}
+    backend : {"lfdkit", "toppra", "ruckig"}
         Who computes the velocity profile (module notes); ``"toppra"`` needs
-        ``pip install toppra``.
+        ``pip install toppra``. ``"ruckig"`` (``pip install ruckig``) also
+        limits the jerk and returns a
+        :class:`lfdkit.execute.jerk_limited.JerkLimitedTrajectory` (the same
+        ``times``, ``duration``, ``sample``, ``resample``).
 
     Returns
     -------
@@ -412,8 +415,18 @@ def time_parameterize(
         If ``arm`` is not an :class:`~lfdkit.execute.arm.Arm`.
     """
     arm = check_arm(arm)
-    if backend not in ("lfdkit", "toppra"):
-        raise ValueError(f"backend: expected 'lfdkit' or 'toppra', got {backend!r}")
+    if backend not in ("lfdkit", "toppra", "ruckig"):
+        raise ValueError(f"backend: expected 'lfdkit', 'toppra' or 'ruckig', got {backend!r}")
+    if backend == "ruckig":  # jerk-limited: lfdkit's timing, then ruckig through its waypoints
+        from lfdkit.execute.jerk_limited import time_parameterize_ruckig
+
+        return time_parameterize_ruckig(  # type: ignore[return-value]
+            q,
+            arm=arm,
+            max_velocity=max_velocity,
+            max_acceleration=max_acceleration,
+            speed_fraction=speed_fraction,
+        )
     arr = check_path(q, "q", min_dims=1)
     n_joints = arr.shape[1]
     f = _check_speed_fraction(speed_fraction)

@@ -14,12 +14,17 @@ from lfdkit.app.cli.common import (
     add_loudness_options,
     add_seed_option,
     add_skill_param_options,
+    add_task_description_options,
+    add_unknown_class_option,
     bounded_int,
     check_writable,
     parse_fraction,
     parse_numbers,
     point_arg,
+    positive_or_none,
+    refuse_existing,
     skill_params,
+    task_description,
     tell,
     working,
 )
@@ -47,6 +52,8 @@ def run_command(args: argparse.Namespace) -> None:
     with working(args) as progress:
         if args.mode == "learn":
             run, noun = _batch_learn_setup(args, resuming), "skills"
+        elif _evaluate_task_of(args) == "path":
+            run, noun = _batch_path_setup(args, progress), "tasks"
         else:
             run, noun = _batch_evaluate_setup(args, progress), "scenes"
         verb = "resuming" if resuming else "starting"
@@ -63,12 +70,15 @@ def run_command(args: argparse.Namespace) -> None:
     ran = summary.done + summary.failed
     rate = f" ({summary.throughput:.3g} tasks/s)" if ran else ""
     skipped = f"; {summary.skipped} done before, skipped" if summary.skipped else ""
-    detail = _batch_outcomes(args, out) if args.mode == "evaluate" else ""
+    path_task = args.mode == "evaluate" and args.task == "path"
+    detail = _batch_outcomes(args, out) if args.mode == "evaluate" and not path_task else ""
     tell(
         args,
         f"ran {ran} of {summary.total} {noun} in {summary.seconds:.1f} s{rate} on {where}"
         f"{skipped}{detail}; results in {out}",
     )
+    if path_task:
+        _path_outcomes(args, out)
     failed = summary.failed + summary.failed_before
     if failed:
         first = f" (first: {summary.errors[0]})" if summary.errors else ""
@@ -107,7 +117,103 @@ def _batch_learn_setup(args: argparse.Namespace, resuming: bool):
     return run
 
 
+def _evaluate_task_of(args: argparse.Namespace) -> str:
+    """``--task``, or the default: the sweep for a 2-D skill on ur5 with no path-task option."""
+    if args.task is None:
+        from lfdkit.skill import Skill
+
+        if not args.skill.is_file():
+            raise CommandError(f"{args.skill}: no such file")
+        path_only = [args.arm, args.tip_link, args.task_file, args.offset, args.height]
+        path_only += [args.q_start, args.tool_length, args.rate, args.spread, args.summary]
+        path_only += [args.unknown_class, args.approach, args.retreat]
+        sweep = Skill.load(args.skill).n_dims_ == 2 and all(v is None for v in path_only)
+        args.task = "sweep" if sweep else "path"
+    return args.task
+
+
+def _batch_path_setup(args: argparse.Namespace, progress: Progress):
+    """Any skill on any arm with a task description (:mod:`lfdkit.app.execute_batch`)."""
+    if (args.random is None) == (args.scenes is None):
+        raise UsageError("give the scenes or goals: --scenes FILE or --random N")
+    if args.scenes is not None and args.seed is not None:
+        raise UsageError("--seed is for --random: the scenes of a file are given")
+    if args.scenes is not None and args.spread is not None:
+        raise UsageError("--spread is for --random: it draws goals around --goal")
+    if args.check == "kinematics":
+        raise UsageError(
+            "--check kinematics: is the sweeping task's; the path task checks plan, robot or mujoco"
+        )
+    if args.summary is not None:
+        refuse_existing(args.summary, args.force, "--summary")
+    check = "mujoco" if args.simulate else args.check
+    rate = positive_or_none(args.rate, "--rate", "a rate in Hz (e.g. 125)")
+    spread = positive_or_none(args.spread, "--spread", "a radius in metres (e.g. 0.05)")
+    task = task_description(args)
+    with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
+        from lfdkit.app.execute_batch import evaluate_task_batch
+        from lfdkit.skill import Skill
+
+    dims = Skill.load(args.skill).n_dims_
+
+    def run(executor, progress):
+        try:
+            return evaluate_task_batch(
+                args.skill,
+                args.output,
+                arm=args.arm or "ur5",
+                tip_link=args.tip_link,
+                task=task,
+                random=args.random,
+                seed=args.seed or 0,
+                spread=0.05 if spread is None else spread,
+                scenes=args.scenes,
+                start=point_arg(args.start, "--start", dims),
+                goal=point_arg(args.goal, "--goal", dims),
+                check=check,
+                speed_fraction=args.speed_fraction,
+                rate=rate,
+                unknown_class=args.unknown_class,
+                executor=executor,
+                overwrite=args.force,
+                progress=progress,
+            )
+        except ValueError as exc:
+            message = str(exc).splitlines()[0]
+            for name in ("arm", "tip_link", "rate", "spread", "start", "goal"):
+                if message.startswith(f"{name}:"):
+                    message = "--" + name.replace("_", "-") + message[len(name) :]
+            raise CommandError(message) from None
+
+    return run
+
+
+def _path_outcomes(args: argparse.Namespace, out: Path) -> None:
+    """The path task's table on stdout (and ``--summary`` as JSON)."""
+    import json
+
+    from lfdkit.app.execute_batch import outcome_table
+    from lfdkit.io import write_text
+
+    summary, table = outcome_table(out)
+    if args.verbosity >= 1:
+        print(table)
+    if args.summary is not None:
+        text = json.dumps({"results": str(out), **summary}, indent=1) + "\n"
+        write_text(args.summary, text, overwrite=args.force)
+
+
 def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
+    described = ("arm", "tip_link", "task_file", "offset", "height", "q_start", "tool_length")
+    for option in (*described, "approach", "retreat"):
+        if getattr(args, option) is not None:
+            raise UsageError(
+                f"--{option.replace('_', '-')}: is for --task path; the sweeping task runs on "
+                "the UR5 with its brush"
+            )
+    for option in ("rate", "spread", "summary", "unknown_class"):
+        if getattr(args, option) is not None:
+            raise UsageError(f"--{option.replace('_', '-')}: is for --task path")
     if (args.random is None) == (args.scenes is None):
         raise UsageError("give the scenes: --scenes FILE or --random N")
     if args.random is not None and (args.start is not None or args.goal is not None):
@@ -210,14 +316,17 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     _executor_options(learn)
     evaluate = modes.add_parser(
         "evaluate",
-        help="evaluate a sweeping skill over many scenes",
+        help="evaluate a skill over many scenes or goals (the sweeping task, or any arm)",
         description="Evaluate a 2-D sweeping skill (metres) over many scenes: those of a scene "
         "file, or N random ones (a moved dustpan, a cup and a marker near the sweep; scene i "
         "of --seed S is the same in any batch). Each scene is checked as far as --check says "
         "(plan; kinematics: + poses and inverse kinematics; robot: + timing and URScript; "
         "mujoco: + the simulated sweep) and written as one JSON line. Exit status 1 if a "
         "task raised an error (recorded in the file); a scene the robot cannot sweep is an "
-        "outcome (ok false), not an error.",
+        "outcome (ok false), not an error. With --task path (the default for a 3-D skill, "
+        "a URDF arm or any task-description option) any skill runs on any arm (--arm) with a "
+        "task description, as lfdkit execute does, over the scenes of a file or N random goals "
+        "within --spread of the goal; a table of the outcomes is printed at the end.",
     )
     evaluate.add_argument(
         "skill", type=Path, metavar="SKILL.json", help="a skill from lfdkit learn"
@@ -232,14 +341,15 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         evaluate.add_argument(
             f"--{end}",
             type=parse_numbers,
-            metavar="X,Y",
-            help=f"--scenes: the sweep's {end} (default: the skill's)",
+            metavar="X,Y[,Z]",
+            help=f"the plan's {end} (default: the skill's); sweep: --scenes only; path: with "
+            f"--random the {'centre of the random goals' if end == 'goal' else 'start'}",
         )
     evaluate.add_argument(
         "--check",
         choices=("plan", "kinematics", "robot", "mujoco"),
         default="robot",
-        help="how far to carry each plan (default %(default)s)",
+        help="how far to carry each plan (default %(default)s; kinematics: sweep only)",
     )
     evaluate.add_argument(
         "--simulate", action="store_true", help="sweep in MuJoCo: the same as --check mujoco"
@@ -249,8 +359,46 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         type=parse_fraction,
         default=0.2,
         metavar="F",
-        help="fraction of the UR5's joint speed limits, in (0, 1] (default %(default)s)",
+        help="fraction of the arm's joint speed limits, in (0, 1] (default %(default)s)",
     )
+    path = evaluate.add_argument_group("the path task: any skill on any arm")
+    path.add_argument(
+        "--task",
+        choices=("sweep", "path"),
+        default=None,
+        help="sweep: the sweeping task (2-D skill, UR5, brush, dustpan); path: any skill on any "
+        "arm (default: sweep for a 2-D skill without the options below)",
+    )
+    path.add_argument(
+        "--arm",
+        metavar="ARM|URDF",
+        default=None,
+        help="the robot arm: ur5, ur10 or a URDF file (default ur5)",
+    )
+    path.add_argument(
+        "--tip-link", metavar="LINK", default=None, help="with a URDF arm: the link of the tool"
+    )
+    path.add_argument(
+        "--rate",
+        default=None,
+        metavar="HZ",
+        help="rate of the fixed-rate samples (default 125)",
+    )
+    path.add_argument(
+        "--spread",
+        default=None,
+        metavar="R",
+        help="--random: goals drawn uniformly within R m of the goal (default 0.05)",
+    )
+    path.add_argument(
+        "--summary",
+        type=Path,
+        default=None,
+        metavar="FILE.json",
+        help="also write the outcome table as JSON",
+    )
+    add_unknown_class_option(path, "m")
+    add_task_description_options(evaluate)
     _results_option(evaluate)
     _executor_options(evaluate)
     for mode in (learn, evaluate):

@@ -498,7 +498,7 @@ def option_named(message: str) -> str:
     # The library's opt-in for unlearned obstacle classes, in the command line's words.
     message = re.sub(r"unknown_class=MARGIN \(lfdkit [^:]*: ([^)]*)\)", r"\1", message)
     return re.sub(
-        r"^(duration|speed|start_orientation|goal_orientation|unknown_class):",
+        r"^(duration|speed|start_orientation|goal_orientation|unknown_class|q_start):",
         lambda m: "--" + m.group(1).replace("_", "-") + ":",
         message,
     )
@@ -684,3 +684,91 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         f"demonstrations spanning over {MAX_EXTENT_M:g} m, under {MIN_EXTENT_M * 1e3:g} mm "
         f"or moving faster than {MAX_MEAN_SPEED_M_S:g} m/s are refused without it)",
     )
+
+
+#: ``--offset``, ``--height``, ``--tool-length``, ``--q-start``: their command-line defaults.
+_TASK_OPTIONS = {
+    "offset": (0.0, 0.0, 0.0),
+    "height": 0.2,
+    "tool_length": 0.0,
+    "q_start": None,
+    "approach": 0.0,
+    "retreat": 0.0,
+}
+
+
+def add_task_description_options(parser: argparse.ArgumentParser) -> None:
+    """The path task's description (``execute``, ``batch evaluate``): options or a task file."""
+    group = parser.add_argument_group(
+        "the task description (path task): these options, or --task-file"
+    )
+    group.add_argument(
+        "--task-file",
+        type=Path,
+        metavar="TASK.json",
+        help="the task description as JSON: any of name, frame (4x4) or offset [x, y, z], "
+        "tool (4x4, flange to tool) or tool_length, height, orientation [qx, qy, qz, qw] (the "
+        "tool's when the skill learned none), q_start, approach, retreat; metres and radians",
+    )
+    group.add_argument(
+        "--offset",
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="where the skill's origin is in the robot's base frame, m (default 0 0 0)",
+    )
+    group.add_argument(
+        "--height",
+        type=float,
+        metavar="Z",
+        help="2-D skill: height of its plane, m (default 0.2)",
+    )
+    group.add_argument(
+        "--q-start",
+        type=float,
+        nargs="+",
+        metavar="Q",
+        help="a configuration near the wanted one at the start (rad), picking the arm's "
+        "branch (default: elbow up for UR arms, the middle of the limits otherwise)",
+    )
+    group.add_argument(
+        "--tool-length",
+        type=float,
+        metavar="L",
+        help="the tool point's distance along the flange's z axis, m (default 0)",
+    )
+    for move, how in (
+        ("approach", "into the first pose from"),
+        ("retreat", "out of the last pose"),
+    ):
+        group.add_argument(
+            f"--{move}",
+            type=float,
+            metavar="D",
+            help=f"a straight move along the tool's z axis {how} D m back (default 0: none)",
+        )
+
+
+def task_description(args: argparse.Namespace, name: str = "path"):
+    """The :class:`~lfdkit.execute.pipeline.TaskDescription` of the options or ``--task-file``."""
+    from lfdkit.execute.pipeline import TaskDescription
+
+    given = {key: getattr(args, key) for key in _TASK_OPTIONS if getattr(args, key) is not None}
+    if args.task_file is not None:
+        if given:
+            option = "--" + next(iter(given)).replace("_", "-")
+            raise UsageError(f"{option}: the task file describes the task; give one or the other")
+        from lfdkit.io.text import load_json
+
+        path = args.task_file
+        if not path.is_file():
+            raise UsageError(f"--task-file {path}: no such file")
+        try:
+            return TaskDescription.from_dict(load_json(str(path)), str(path))
+        except ValueError as exc:
+            raise CommandError(f"--task-file {str(exc).splitlines()[0]}") from None
+    data = {**_TASK_OPTIONS, **given, "name": name}
+    try:
+        return TaskDescription.from_dict(data, "task")
+    except ValueError as exc:  # the options are numbers already: only their meaning is wrong
+        raise CommandError(str(exc).removeprefix("task: ")) from None

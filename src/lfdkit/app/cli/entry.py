@@ -144,7 +144,8 @@ def _parser() -> argparse.ArgumentParser:
             False,
             "many skills or many scenes: on local processes or a Dask cluster",
             "Run many independent tasks: learn one skill per folder (batch learn), or evaluate "
-            "a sweeping skill over many scenes (batch evaluate); in this process, on --workers N "
+            "a skill over many scenes or goals (batch evaluate: the sweeping task, or any skill "
+            "on any arm with --task path); in this process, on --workers N "
             "local processes or on a Dask cluster (--scheduler, --dask-local N). Results are "
             "written to a JSON-lines file as tasks finish; run the same command again to resume "
             "an interrupted batch. The results do not depend on where the tasks run.",

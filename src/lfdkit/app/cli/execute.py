@@ -17,6 +17,7 @@ from lfdkit.app.cli.common import (
     CommandError,
     add_orientation_options,
     add_skill_file_options,
+    add_task_description_options,
     add_unknown_class_option,
     check_writable,
     elapsed,
@@ -24,6 +25,7 @@ from lfdkit.app.cli.common import (
     orientation_options,
     parse_fraction,
     skill_and_scene,
+    task_description,
     tell,
     working,
 )
@@ -143,14 +145,11 @@ def _arm_from(args: argparse.Namespace):
 
 def _run_path(args: argparse.Namespace) -> None:
     """Any skill on any arm, its learned timing kept (``execute_plan``)."""
-    import numpy as np
-
     with working(args) as progress:
         with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn)"):
             from lfdkit.execute.pipeline import (
                 DEFAULT_RATE,
                 ExecutionError,
-                TaskDescription,
                 execute_plan,
                 robot_outputs,
                 write_robot_execution,
@@ -160,14 +159,8 @@ def _run_path(args: argparse.Namespace) -> None:
         out = _output_folder_checked(args, robot_outputs(args.output, program=ur))
         args.units = "m"
         skill, scene, start, goal = skill_and_scene(args)
-        frame = np.eye(4)
-        frame[:3, 3] = args.offset
-        tool = np.eye(4)
-        tool[2, 3] = args.tool_length
+        task = task_description(args)
         try:
-            task = TaskDescription(
-                frame=frame, tool=tool, height=args.height, q_start=args.q_start, name="path"
-            )
             with progress.stage(f"plan around {len(scene)} obstacle{'s' * (len(scene) != 1)}"):
                 plan = skill.plan(
                     start,
@@ -290,37 +283,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         help="path task: rate of the fixed-rate trajectory and servoj stream (default 125; "
         "500 for an e-Series)",
     )
-    parser.add_argument(
-        "--offset",
-        type=float,
-        nargs=3,
-        default=(0.0, 0.0, 0.0),
-        metavar=("X", "Y", "Z"),
-        help="path task: where the skill's origin is in the robot's base frame, m (default 0 0 0)",
-    )
-    parser.add_argument(
-        "--height",
-        type=float,
-        default=0.2,
-        metavar="Z",
-        help="path task, 2-D skill: height of its plane, m (default %(default)s)",
-    )
-    parser.add_argument(
-        "--q-start",
-        type=float,
-        nargs="+",
-        default=None,
-        metavar="Q",
-        help="path task: a configuration near the wanted one at the start (rad), picking the "
-        "arm's branch (default: elbow up for UR arms, the middle of the limits otherwise)",
-    )
-    parser.add_argument(
-        "--tool-length",
-        type=float,
-        default=0.0,
-        metavar="L",
-        help="path task: the tool point's distance along the flange's z axis, m (default 0)",
-    )
+    add_task_description_options(parser)
     parser.add_argument(
         "--speed-fraction",
         type=parse_fraction,
