@@ -63,8 +63,9 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.core.validation import MAX_POINTS, check_path, check_positive
+from lfdkit.core.validation import check_path
 from lfdkit.execute.arm import UR5, Arm
+from lfdkit.model.timed_path import fixed_rate_times
 
 __all__ = [
     "JERK_PER_ACCELERATION",
@@ -172,14 +173,7 @@ class JerkLimitedTrajectory:
         times : ndarray, shape (m,)
         q, qd, qdd : ndarray, shape (m, n_joints)
         """
-        rate = check_positive(rate_hz, "rate_hz")
-        wanted = self.duration * rate
-        if not wanted < MAX_POINTS:
-            raise ValueError(
-                f"rate_hz: {rate_hz!r} Hz over {self.duration:.6g} s gives {wanted:.3g} samples; "
-                f"at most {MAX_POINTS:,}: lower the rate"
-            )
-        times = np.arange(int(np.ceil(wanted - 1e-9)) + 1) / rate
+        times = fixed_rate_times(self.duration, rate_hz)
         return (times, *self.sample(times))
 
 
