@@ -82,6 +82,11 @@ class ViaPath:
     deformation: ProMP
     miss: np.ndarray
 
+    def std(self) -> np.ndarray:
+        """Standard deviation of each coordinate at each sample, shape (n + n_via, q), units."""
+        cov = self.deformation.covariance_at(self.phases)
+        return np.sqrt(np.clip(np.einsum("nii->ni", cov), 0.0, None))
+
 
 def check_via(via: Any, n_dims: int, name: str = "via") -> tuple[np.ndarray, np.ndarray]:
     """Via-points as phases and points, each checked; one-line errors naming the entry.
@@ -190,7 +195,7 @@ def through_via_points(
     miss = np.linalg.norm(points[at_via] - via_points, axis=1)
     # The conditioning is exact to rounding: make it exact to the bit where it is.
     points[0], points[-1] = path[0], path[-1]
-    scale = max(float(np.abs(base).max()), float(np.abs(via_points).max()), 1e-300)
+    scale = max(float(np.abs(base).max()), float(np.abs(via_points).max(initial=0.0)), 1e-300)
     reached = miss <= 1e-9 * scale
     points[at_via[reached]] = via_points[reached]
     miss[reached] = 0.0
