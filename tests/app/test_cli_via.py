@@ -76,4 +76,3 @@ def test_bad_via_points_are_one_line(capsys, skill_file, via, message) -> None:
     assert code == 2
     assert out == ""
     assert re.search(message, error_line(err, "plan"))
-

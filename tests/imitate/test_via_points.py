@@ -122,4 +122,3 @@ def test_promp_state_reads_back_to_the_bit_and_scales(arch_model) -> None:
         ProMP.from_state({**state, "weights_cov": state["weights_cov"][1:, 1:]})
     with pytest.raises(ValueError, match=r"promp.width: missing field"):
         ProMP.from_state({k: v for k, v in state.items() if k != "width"})
-
