@@ -72,7 +72,7 @@ from typing import Any, Literal
 import numpy as np
 
 from lfdkit.core.estimator import Estimator, check_fitted
-from lfdkit.core.geometry import arc_length, path_length, polyline_distances
+from lfdkit.core.geometry import arc_length, path_length, polyline_distances, resample
 from lfdkit.core.options import (
     DEMONSTRATION_SPEED,
     MODELS,
@@ -562,7 +562,7 @@ class Skill(Estimator):
             means = found.orientations
             info["orientation_spread_deg"] = float(np.degrees(np.median(found.spread)))
         self._set_path(path, info, progress, timing, means)
-        self.promp_ = self._fit_promp(demos, stamps, info["reversed"])
+        self.promp_ = self._fit_promp(demos, info["reversed"])
         return self
 
     def use_path(
@@ -708,19 +708,22 @@ class Skill(Estimator):
             return dmp.fit(path, duration=self.timing_.duration, timing=self.timing_.source)
         return dmp.fit(path, timing=self.timing_)
 
-    def _fit_promp(
-        self, demos: list[np.ndarray], stamps: list[np.ndarray | None], reversed_: list[int]
-    ) -> ProMP:
+    def _fit_promp(self, demos: list[np.ndarray], reversed_: list[int]) -> ProMP | None:
         """The demonstrations' ProMP (:attr:`promp_`), each run in the path's direction.
 
-        Phase by time where every demonstration is timed, else by sample index.
+        Its phase is the fraction of each demonstration's length (resampled
+        at ``n_points`` points of equal spacing), as :meth:`via_path` bends
+        the nominal by the fraction of its length: a correspondence in space,
+        as Mean-Path's, whatever the demonstrations' speeds. None when fewer
+        than 2 demonstrations have a length.
         """
         turned = set(reversed_)
-        runs = [demo[::-1] if j in turned else demo for j, demo in enumerate(demos)]
-        times = None
-        if all(t is not None for t in stamps):
-            times = [t[-1] - t[::-1] if j in turned else t for j, t in enumerate(stamps)]
-        return ProMP(n_basis=DEFORMATION_BASIS).fit(runs, times=times)
+        runs = [
+            resample(demo[::-1] if j in turned else demo, int(self.n_points))
+            for j, demo in enumerate(demos)
+            if path_length(demo) > 0.0
+        ]
+        return ProMP(n_basis=DEFORMATION_BASIS).fit(runs) if len(runs) >= 2 else None
 
     def _fit_orientation_dmp(self, orientations: np.ndarray) -> QuaternionDMP:
         """The orientation DMP on the mean orientations, on the path DMP's clock.
@@ -1444,7 +1447,8 @@ class Skill(Estimator):
         -------
         ViaPath
             ``points`` (the nominal's samples plus one per via-point, which is
-            the via-point itself), their ``phases``, the conditioned
+            the via-point itself), their ``phases`` (fractions of the
+            nominal's length, the ProMP's phase), the conditioned
             ``deformation`` (its ``covariance_at(phases)`` is the band, units²)
             and each via-point's ``miss`` (0 unless a warning said otherwise).
         """
@@ -1454,8 +1458,12 @@ class Skill(Estimator):
             phases, points = np.zeros(0), np.zeros((0, self.n_dims_))
         else:
             phases, points = check_via(via, self.n_dims_)
-        samples = np.linspace(0.0, 1.0, len(nominal))  # equal time steps
-        return through_via_points(nominal, samples, phases, points, getattr(self, "promp_", None))
+        # The rollout is at equal time steps: the via-points' phases are fractions of
+        # time; the bending's (and the ProMP's) are fractions of the length travelled.
+        travelled = arc_length(nominal)
+        length = travelled / travelled[-1]
+        at = np.interp(phases, np.linspace(0.0, 1.0, len(nominal)), length)
+        return through_via_points(nominal, length, at, points, getattr(self, "promp_", None))
 
     def point_times(self, duration: float | None = None) -> np.ndarray:
         """When the tool reaches each of the plan's ``n_points`` points (s), on the nominal.

@@ -1,7 +1,7 @@
 """Via-points: bend a path through given points the way the demonstrations varied.
 
-What: a path ``y(s)`` at phases ``s`` in [0, 1] (a DMP's nominal, sampled at
-equal times: ``s`` is the fraction of the movement's duration) plus a
+What: a path ``y(s)`` at phases ``s`` in [0, 1] (a DMP's nominal; the skill
+uses the fraction of its length, as its ProMP does) plus a
 deformation ``δ(s) = Ψ(s) Δw`` in a ProMP's basis, ``Δw ~ N(0, Σ)``, is
 conditioned (:meth:`lfdkit.imitate.ProMP.condition`, exact) on
 
@@ -156,7 +156,8 @@ def through_via_points(
     path : array_like, shape (n, q)
         The path, e.g. a DMP rollout at equal time steps.
     phases : array_like, shape (n,)
-        Phase of each sample of ``path``, increasing from 0 to 1.
+        Phase of each sample of ``path``, non-decreasing from 0 to 1 (a
+        repeated phase where the path rests), in the ProMP's phase.
     via_phases, via_points : ndarray, shapes (n_via,) and (n_via, q)
         As :func:`check_via` returns them.
     promp : ProMP, optional
@@ -177,8 +178,8 @@ def through_via_points(
     path = check_path(path, "path", min_points=2)
     q = path.shape[1]
     s = check_values(phases, "phases")
-    if s.shape != (len(path),) or s[0] != 0.0 or s[-1] != 1.0 or np.any(np.diff(s) <= 0.0):
-        raise ValueError("phases: expected one increasing phase per path sample, from 0 to 1")
+    if s.shape != (len(path),) or s[0] != 0.0 or s[-1] != 1.0 or np.any(np.diff(s) < 0.0):
+        raise ValueError("phases: expected one non-decreasing phase per path sample, from 0 to 1")
     prior = _deformation_prior(promp, q, float(np.ptp(path, axis=0).max()))
     # One sample at each via-point's phase, so the result passes through it.
     order = np.argsort(np.concatenate([s, via_phases]), kind="stable")
