@@ -76,3 +76,12 @@ def test_bad_via_points_are_one_line(capsys, skill_file, via, message) -> None:
     assert code == 2
     assert out == ""
     assert re.search(message, error_line(err, "plan"))
+
+
+def test_plot_draws_the_via_points_and_the_band(capsys, skill_file, tmp_path) -> None:
+    out = tmp_path / "via.png"
+    code, _, err = run_cli(capsys, "plot", skill_file, "--via", "0,0.6@0.5", "-o", out)
+    assert code == 0, err
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = run_cli(capsys, "plot", skill_file, "--via", "0,0.6,1@0.5", "-o", out, "-f")
+    assert code == 2 and "3 coordinates for a 2-D skill" in error_line(err, "plot")

@@ -111,8 +111,8 @@ def via_figure(
     if demos:
         draw_demos(ax, demos)
     if q == 2:
-        draw_band(ax, free, alpha=0.15, label="demonstrations' spread (±2σ)")
-        draw_band(ax, bent, alpha=0.35, label="left after the via-points (±2σ)")
+        draw_band(ax, free, alpha=0.15, label="demonstrations' spread (±2 std)")
+        draw_band(ax, bent, alpha=0.35, label="left after the via-points (±2 std)")
     if scene is not None and len(scene):
         draw_scene(ax, scene)
     phases = np.linspace(0.0, 1.0, 200)
