@@ -38,6 +38,7 @@ and conditioning cost well under a millisecond.
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Mapping
 from typing import Any, ClassVar
@@ -311,7 +312,9 @@ class ProMP(Estimator):
         kept = values > _PINV_RCOND * max(float(values.max()), np.finfo(float).tiny)
         inverse = (vectors[:, kept] / values[kept]) @ vectors[:, kept].T
         gain = cov_observed @ inverse
-        new = type(self)(**self.get_params(deep=False))
+        # A copy without the constructor's signature inspection (a third of the call).
+        new = type(self).__new__(type(self))
+        new.__dict__.update(self.__dict__)
         new.width_ = self.width_
         new.weights_mean_ = mean + gain @ innovation
         new_cov = cov - gain @ cov_observed.T
@@ -472,8 +475,15 @@ def _check_covariance(covariance: Any, n_via: int, n_dims: int) -> np.ndarray:
         arr = np.asarray(covariance, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise TypeError("covariance: expected a number or a numeric array") from exc
-    if arr.ndim == 0:
-        arr = np.broadcast_to(float(arr) * np.eye(n_dims), (n_via, n_dims, n_dims))
+    if arr.ndim == 0:  # a variance: the one check it needs (most calls)
+        variance = float(arr)
+        if not math.isfinite(variance):
+            raise ValueError("covariance: contains NaN or an infinite value")
+        if variance < 0.0:
+            raise ValueError(
+                f"covariance: must be positive semi-definite (a variance is >= 0), got {variance!r}"
+            )
+        return np.broadcast_to(variance * np.eye(n_dims), (n_via, n_dims, n_dims))
     elif arr.shape == (n_dims, n_dims):
         arr = np.broadcast_to(arr, (n_via, n_dims, n_dims))
     elif arr.shape != (n_via, n_dims, n_dims):
