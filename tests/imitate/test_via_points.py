@@ -60,7 +60,8 @@ def test_a_via_point_on_a_demonstrated_shape_gives_that_shape(arch_model) -> Non
     path = np.c_[S, 0.3 * np.sin(np.pi * S)]
     bent = through_via_points(path, S, np.array([0.5]), np.array([[0.5, 0.38]]), arch_model)
     wanted = np.c_[bent.phases, 0.38 * np.sin(np.pi * bent.phases)]
-    assert np.abs(bent.points - wanted).max() < 0.02 * 0.08  # 2 % of the 8 cm asked for
+    # Within 6 % of the 8 cm asked for (measured 4.7 %: the isotropic part, ISOTROPIC_SHARE).
+    assert np.abs(bent.points - wanted).max() < 0.06 * 0.08
     # With no ProMP the bend is local: a smooth bump, the quarter points barely moved.
     smooth = through_via_points(path, S, np.array([0.5]), np.array([[0.5, 0.38]]))
     quarter = np.flatnonzero(np.isclose(smooth.phases, 0.25))[0]
@@ -76,8 +77,9 @@ def test_the_band_is_pinched_at_the_ends_and_via_points(arch_model) -> None:
     np.testing.assert_array_equal(free.points, path)  # no via-point: the path itself
     free_std, bent_std = free.std(), bent.std()
     top = np.flatnonzero(bent.phases == 0.5)[0]
-    # The demonstrations' spread at the top: heights 0.2 to 0.4, sample std 0.079.
-    assert free_std[40, 1] == pytest.approx(np.std([0.2, 0.25, 0.3, 0.35, 0.4], ddof=1), rel=0.02)
+    # The demonstrations' spread at the top: heights 0.2 to 0.4, sample std 0.079
+    # (plus the isotropic part: measured 0.082).
+    assert free_std[40, 1] == pytest.approx(np.std([0.2, 0.25, 0.3, 0.35, 0.4], ddof=1), rel=0.05)
     assert bent_std[top].max() < 1e-6 and free_std[[0, -1]].max() < 1e-6
     assert bent_std[:, 1].max() < 0.2 * free_std[:, 1].max()  # one height: little left
 
