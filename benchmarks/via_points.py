@@ -52,7 +52,7 @@ def _via(skill: Skill, demo: np.ndarray, fractions: np.ndarray) -> list[tuple[fl
     """The demonstration's points at these fractions of its length, at the skill's phases."""
     along = resample(demo, 1001)
     phases = skill.timing_.phase(fractions)
-    return [(float(p), along[int(round(u * 1000))]) for p, u in zip(phases, fractions, strict=True)]
+    return [(float(p), along[round(u * 1000)]) for p, u in zip(phases, fractions, strict=True)]
 
 
 def held_out(name: str, folds: int) -> dict[str, Any]:

@@ -1449,7 +1449,8 @@ class Skill(Estimator):
             ``points`` (the nominal's samples plus one per via-point, which is
             the via-point itself), their ``phases`` (fractions of the
             nominal's length, the ProMP's phase), the conditioned
-            ``deformation`` (its ``covariance_at(phases)`` is the band, units²)
+            ``deformation``, the demonstrations' ``spread`` left around it
+            (its ``covariance_at(phases)`` is the band, units²)
             and each via-point's ``miss`` (0 unless a warning said otherwise).
         """
         start, goal = self._ends(start, goal)

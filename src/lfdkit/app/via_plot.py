@@ -57,7 +57,7 @@ def draw_band(
     keep = np.r_[True, np.linalg.norm(np.diff(points, axis=0), axis=1) > 0.0]
     points, phases = points[keep], bent.phases[keep]
     normals = left_normals(points)
-    cov = bent.deformation.covariance_at(phases)
+    cov = bent.spread.covariance_at(phases)
     sigma = np.sqrt(np.clip(np.einsum("ni,nij,nj->n", normals, cov, normals), 0.0, None))
     upper = points + n_std * sigma[:, None] * normals
     lower = points - n_std * sigma[:, None] * normals
@@ -116,10 +116,9 @@ def via_figure(
     if scene is not None and len(scene):
         draw_scene(ax, scene)
     phases = np.linspace(0.0, 1.0, 200)
-    samples = bent.deformation.sample(n_samples, len(phases), seed=seed)
-    # The nominal before bending, at the samples' phases: each sample is it plus a deformation.
-    unbent = bent.points - bent.deformation.mean_at(bent.phases)
-    base = np.column_stack([np.interp(phases, bent.phases, unbent[:, k]) for k in range(q)])
+    # Each sample: the bent nominal plus a draw of the spread left around it.
+    samples = bent.spread.sample(n_samples, len(phases), seed=seed)
+    base = np.column_stack([np.interp(phases, bent.phases, bent.points[:, k]) for k in range(q)])
     for i, sample in enumerate(samples):
         ax.plot(
             *(base + sample).T,

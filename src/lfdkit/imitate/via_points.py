@@ -47,6 +47,7 @@ Why this design:
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -55,7 +56,14 @@ import numpy as np
 from lfdkit.core.validation import check_path, check_values
 from lfdkit.imitate.promp import ProMP
 
-__all__ = ["DEFORMATION_BASIS", "ISOTROPIC_SHARE", "ViaPath", "check_via", "through_via_points"]
+__all__ = [
+    "DEFORMATION_BASIS",
+    "ISOTROPIC_SHARE",
+    "SPREAD_SHARE",
+    "ViaPath",
+    "check_via",
+    "through_via_points",
+]
 
 #: Basis functions per dimension of the deformation when no ProMP is given
 #: (and of the skill's ProMP, :attr:`lfdkit.skill.Skill.promp_`): 15 resolve
@@ -66,6 +74,11 @@ DEFORMATION_BASIS = 15
 #: The isotropic part of the deformation's weight covariance, as a share of the
 #: demonstrations' mean weight variance (see the module notes: measured held out).
 ISOTROPIC_SHARE = 1.0
+
+#: The isotropic share of the band's covariance (:attr:`ViaPath.spread`): small, so
+#: the band is the demonstrations' (within 2 % at the top of the tested arches), yet
+#: enough that pinning the ends does not hang on rounding in directions they never used.
+SPREAD_SHARE = 0.01
 
 
 @dataclass(frozen=True)
@@ -80,8 +93,15 @@ class ViaPath:
         Phase of each sample, non-decreasing, 0 to 1.
     deformation : ProMP
         The conditioned deformation ``δ``: its mean is ``points`` minus the
-        input path, its :meth:`~lfdkit.imitate.ProMP.covariance_at` the band
-        left around the result (units²).
+        input path (its covariance includes the isotropic part that makes
+        every point reachable).
+    spread : ProMP
+        The demonstrations' spread alone (their weight covariance, zero mean)
+        conditioned on the same points: its
+        :meth:`~lfdkit.imitate.ProMP.covariance_at` is the band left around
+        the result (units²), pinched at the ends and at each via-point
+        (with :data:`SPREAD_SHARE` of isotropic variance); with no ProMP, a
+        band of about 1e-3 of the path's extent.
     miss : ndarray, shape (n_via,)
         Distance from each via-point to the result's sample at its phase
         (units): 0 (the sample is the via-point, to the bit), unless a
@@ -91,11 +111,12 @@ class ViaPath:
     points: np.ndarray
     phases: np.ndarray
     deformation: ProMP
+    spread: ProMP
     miss: np.ndarray
 
     def std(self) -> np.ndarray:
         """Standard deviation of each coordinate at each sample, shape (n + n_via, q), units."""
-        cov = self.deformation.covariance_at(self.phases)
+        cov = self.spread.covariance_at(self.phases)
         return np.sqrt(np.clip(np.einsum("nii->ni", cov), 0.0, None))
 
 
@@ -191,7 +212,8 @@ def through_via_points(
     s = check_values(phases, "phases")
     if s.shape != (len(path),) or s[0] != 0.0 or s[-1] != 1.0 or np.any(np.diff(s) < 0.0):
         raise ValueError("phases: expected one non-decreasing phase per path sample, from 0 to 1")
-    prior = _deformation_prior(promp, q, float(np.ptp(path, axis=0).max()))
+    extent = float(np.ptp(path, axis=0).max())
+    prior = _deformation_prior(promp, q, extent, ISOTROPIC_SHARE)
     # One sample at each via-point's phase, so the result passes through it.
     order = np.argsort(np.concatenate([s, via_phases]), kind="stable")
     inserted = np.column_stack([np.interp(via_phases, s, path[:, k]) for k in range(q)])
@@ -199,7 +221,14 @@ def through_via_points(
     base = np.concatenate([path, inserted])[order]
     ends = np.array([0.0, 1.0])
     targets = np.concatenate([np.zeros((2, q)), via_points - inserted])
-    bent = prior.condition(targets, np.concatenate([ends, via_phases]))
+    pinned = np.concatenate([ends, via_phases])
+    bent = prior.condition(targets, pinned)
+    with warnings.catch_warnings():
+        # The band: the demonstrations' own spread, pinned where the path is; what
+        # it cannot reach was said (or not) by the bending's conditioning above.
+        warnings.simplefilter("ignore")
+        zero = np.zeros_like(targets)
+        spread = _deformation_prior(promp, q, extent, SPREAD_SHARE).condition(zero, pinned)
     points = base + bent.mean_at(all_phases)
     position = np.empty_like(order)
     position[order] = np.arange(len(order))  # where each input sample went
@@ -211,10 +240,10 @@ def through_via_points(
     reached = miss <= 1e-9 * scale
     points[at_via[reached]] = via_points[reached]
     miss[reached] = 0.0
-    return ViaPath(points, all_phases, bent, miss)
+    return ViaPath(points, all_phases, bent, spread, miss)
 
 
-def _deformation_prior(promp: ProMP | None, n_dims: int, extent: float) -> ProMP:
+def _deformation_prior(promp: ProMP | None, n_dims: int, extent: float, share: float) -> ProMP:
     """A zero-mean ProMP: the demonstrations' weight covariance plus an isotropic part."""
     if promp is not None and promp.n_dims_ != n_dims:
         raise ValueError(
@@ -232,7 +261,7 @@ def _deformation_prior(promp: ProMP | None, n_dims: int, extent: float) -> ProMP
         n_weights = len(cov)
         width, n_demos, residual = promp.width_, promp.n_demos_, promp.residual_rms_
     floor = (1e-3 * max(extent, np.finfo(float).tiny)) ** 2
-    isotropic = max(ISOTROPIC_SHARE * float(np.trace(cov)) / n_weights, floor)
+    isotropic = max(share * float(np.trace(cov)) / n_weights, floor)
     return ProMP.from_state(
         {
             "params": state,
