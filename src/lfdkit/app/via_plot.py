@@ -135,7 +135,9 @@ def via_figure(
     ax.plot(*marks.T, **VIA_STYLE, label="via-points")
     if q == 2:
         for phase, point in via:
-            ax.annotate(f"  at {phase:.0%}", point, fontsize=9, va="center")
+            ax.annotate(
+                f"at {phase:.0%} of the time", point, xytext=(6, 8), textcoords="offset points"
+            )
     label_axes(ax, q, units)
     if q == 2:
         ax.set_aspect("equal", adjustable="datalim")
