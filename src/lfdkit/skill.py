@@ -2044,8 +2044,9 @@ def _warn_via_missed(points: np.ndarray, via: Sequence[tuple[float, Any]], units
         i = int(far[0])
         warnings.warn(
             f"via[{i}]: the plan passes {miss[i]:.3g} {units} from it ({far.size} of "
-            f"{len(targets)} via-points farther than {limit:.3g} {units}): an obstacle or the "
-            "planner's action bound keeps it away; move the via-point or raise max_slope",
+            f"{len(targets)} via-points farther than {limit:.3g} {units}): an obstacle (its "
+            "learned response) or the planner's action bound pulls the plan away; move the "
+            "via-point or the obstacle, or raise max_slope",
             UserWarning,
             stacklevel=3,
         )
