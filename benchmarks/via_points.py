@@ -114,7 +114,8 @@ def main(argv: list[str] | None = None) -> int:
     print(
         "\nPlan time, median ms: "
         + ", ".join(
-            f"{r['dataset']} {r['median_plan_ms']:.0f} without, {r['median_via_plan_ms']:.0f} with via"
+            f"{r['dataset']} {r['median_plan_ms']:.0f} without, "
+            f"{r['median_via_plan_ms']:.0f} with via"
             for r in rows
         )
     )
