@@ -73,7 +73,7 @@ import numpy as np
 
 from lfdkit.core.constraints import Checked, Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator, check_fitted
-from lfdkit.core.geometry import arc_length, path_length
+from lfdkit.core.geometry import arc_length, path_length, polyline_distances, resample
 from lfdkit.core.options import (
     DEMONSTRATION_SPEED,
     MODELS,
@@ -104,9 +104,10 @@ from lfdkit.emulate import IOC, Plan, Reward, UnsafePlanError, metrics, plan_pat
 from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
-from lfdkit.imitate import DMP, QuaternionDMP, SpeedProfile, learn_timing
+from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.orientation_dmp import orientation_error
 from lfdkit.imitate.timing import DURATION_RANGE
+from lfdkit.imitate.via_points import DEFORMATION_BASIS, ViaPath, check_via, through_via_points
 from lfdkit.io import skill_file
 from lfdkit.io.skill_file import (
     MAX_SKILL_FILE_BYTES,
@@ -141,6 +142,11 @@ _MAX_STORED_ORIENTATION_SAMPLES = 20_000
 
 #: How closely (a rotation angle, degrees) the orientation DMP must reproduce the mean orientation.
 _ORIENTATION_TOLERANCE_DEG = 0.5
+
+#: How far a plan may pass from a via-point, as a share of the plan's extent, before a
+#: warning says so: the nominal passes exactly, the planner's resampling at constant
+#: speed cuts it by well under this (the issue-33 benchmark), an obstacle may by more.
+VIA_TOLERANCE = 0.01
 
 #: Re-plans of a moving-obstacle plan at its own (arc-length) times before it is refused.
 RETIME_ROUNDS = 3
@@ -303,6 +309,14 @@ class Skill(Estimator):
         The orientation DMP trained on ``orientations_`` at the path's times
         (those of ``dmp_``, i.e. the same timing ``timing_``): plans carry its
         rollout to a new start and goal orientation (:meth:`plan`).
+    promp_ : ProMP or None
+        The clean demonstrations' probabilistic movement primitive
+        (:class:`lfdkit.imitate.ProMP`, 15 basis functions per dimension,
+        each demonstration in the path's direction): how they varied, which
+        shapes how plans bend through via-points (:meth:`plan`'s ``via``) and
+        the band :meth:`via_path` gives. None for a path taken from elsewhere
+        (:meth:`use_path`) or a file without it: via-points then bend the
+        path smoothly, with no preferred direction.
     clearances_ : dict
         Per obstacle class, the clearance (units, from the obstacle's
         surface) plans keep at least: the demonstrations' own
@@ -560,6 +574,7 @@ class Skill(Estimator):
             means = found.orientations
             info["orientation_spread_deg"] = float(np.degrees(np.median(found.spread)))
         self._set_path(path, info, progress, timing, means)
+        self.promp_ = self._fit_promp(demos, info["reversed"])
         return self
 
     def use_path(
@@ -612,6 +627,7 @@ class Skill(Estimator):
             close = np.abs(np.linalg.norm(given, axis=1) - 1.0).max() <= 1e-12
             orientations = given if close else unit
         self.mimic_ = None
+        self.promp_ = None  # no demonstrations: via-points bend the path smoothly
         info = {"method": "given", "source": str(source)}
         self._set_path(path, info, None, timing, orientations, fitted)
 
@@ -703,6 +719,23 @@ class Skill(Estimator):
             # The law by name: the fit skills made before timings were learned.
             return dmp.fit(path, duration=self.timing_.duration, timing=self.timing_.source)
         return dmp.fit(path, timing=self.timing_)
+
+    def _fit_promp(self, demos: list[np.ndarray], reversed_: list[int]) -> ProMP | None:
+        """The demonstrations' ProMP (:attr:`promp_`), each run in the path's direction.
+
+        Its phase is the fraction of each demonstration's length (resampled
+        at ``n_points`` points of equal spacing), as :meth:`via_path` bends
+        the nominal by the fraction of its length: a correspondence in space,
+        as Mean-Path's, whatever the demonstrations' speeds. None when fewer
+        than 2 demonstrations have a length.
+        """
+        turned = set(reversed_)
+        runs = [
+            resample(demo[::-1] if j in turned else demo, int(self.n_points))
+            for j, demo in enumerate(demos)
+            if path_length(demo) > 0.0
+        ]
+        return ProMP(n_basis=DEFORMATION_BASIS).fit(runs) if len(runs) >= 2 else None
 
     def _fit_orientation_dmp(self, orientations: np.ndarray) -> QuaternionDMP:
         """The orientation DMP on the mean orientations, on the path DMP's clock.
@@ -1106,6 +1139,14 @@ class Skill(Estimator):
             tool's orientation at the start and at the goal, unit quaternions
             ``[x, y, z, w]``; default the first and last of
             :attr:`orientations_`.
+        **options
+            :meth:`plan_details`' keywords, ``via`` among them: ``[(phase,
+            point), ...]``, points the plan passes at those fractions of its
+            duration (:meth:`via_path`). The nominal passes each exactly; the
+            plan, resampled at constant speed, within a small fraction of the
+            path's extent, and around obstacles as the planner must (a
+            :class:`UserWarning` says when a plan misses a via-point by more
+            than :data:`VIA_TOLERANCE` of the path's extent).
 
         Returns
         -------
@@ -1141,6 +1182,8 @@ class Skill(Estimator):
         orientations = None
         if ends is not None:
             orientations = self._orientations_at(times / total, *ends)
+        if options.get("via") is not None:
+            _warn_via_missed(details.points, options["via"], self.units)
         return TimedPlan(times, details.points, velocities, details, orientations)
 
     def _checked_at_own_times(
@@ -1193,6 +1236,7 @@ class Skill(Estimator):
                 options.get("progress"),
                 times,
                 unknown_class=options.get("unknown_class"),
+                via=options.get("via"),
             )
             times, velocities = self.timing_.time_path(details.points, total)
         o = int(np.argmin(np.where(hard, gaps, np.inf)))
@@ -1302,6 +1346,7 @@ class Skill(Estimator):
         progress: ProgressLike = None,
         duration: float | None = None,
         unknown_class: float | None = None,
+        via: Sequence[tuple[float, Any]] | None = None,
     ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -1345,6 +1390,11 @@ class Skill(Estimator):
             response (the plan keeps out but does not swerve as a demonstrator
             would); a ``UserWarning`` names the classes. Default None: such a
             scene is refused (the error names this option).
+        via : sequence of (float, array_like (q,)), optional
+            Via-points ``(phase, point)``: the nominal is bent through each
+            ``point`` at ``phase``, the fraction of the movement's duration
+            (strictly between 0 and 1), the way the demonstrations varied
+            (:meth:`via_path`); the planner then follows it.
 
         Returns
         -------
@@ -1363,7 +1413,9 @@ class Skill(Estimator):
             with an obstacle class this skill has not learned (or with
             obstacles when no reward is learned) unless ``unknown_class`` is
             given, a negative ``unknown_class``, a start or goal inside an
-            obstacle, or a horizon outside 4-12.
+            obstacle, a horizon outside 4-12, or a via-point that is not a
+            ``(phase, point)`` pair with a phase in (0, 1) and a point of the
+            skill's dimension.
         """
         start, goal = self._ends(start, goal)
         times = None
@@ -1380,7 +1432,54 @@ class Skill(Estimator):
             progress,
             times,
             unknown_class=unknown_class,
+            via=via,
         )
+
+    def via_path(
+        self,
+        via: Sequence[tuple[float, Any]] | None = None,
+        start: Any = None,
+        goal: Any = None,
+    ) -> ViaPath:
+        """The nominal bent through via-points, with the band the demonstrations leave around it.
+
+        The DMP carries the path to ``start`` and ``goal`` (:meth:`nominal`);
+        a deformation in the basis of :attr:`promp_`, with the demonstrations'
+        weight covariance, is conditioned to be 0 at both ends and to reach
+        each via-point (:func:`lfdkit.imitate.via_points.through_via_points`):
+        where the demonstrations varied, the path moves as they did.
+
+        Parameters
+        ----------
+        via : sequence of (float, array_like (q,)), optional
+            ``(phase, point)`` pairs, phase strictly between 0 and 1 (the
+            fraction of the movement's duration). None: no via-point (the
+            nominal, with the band of the demonstrations' spread).
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+
+        Returns
+        -------
+        ViaPath
+            ``points`` (the nominal's samples plus one per via-point, which is
+            the via-point itself), their ``phases`` (fractions of the
+            nominal's length, the ProMP's phase), the conditioned
+            ``deformation``, the demonstrations' ``spread`` left around it
+            (its ``covariance_at(phases)`` is the band, units²)
+            and each via-point's ``miss`` (0 unless a warning said otherwise).
+        """
+        start, goal = self._ends(start, goal)
+        nominal = self._nominal(start, goal)
+        if via is None:
+            phases, points = np.zeros(0), np.zeros((0, self.n_dims_))
+        else:
+            phases, points = check_via(via, self.n_dims_)
+        # The rollout is at equal time steps: the via-points' phases are fractions of
+        # time; the bending's (and the ProMP's) are fractions of the length travelled.
+        travelled = arc_length(nominal)
+        length = travelled / travelled[-1]
+        at = np.interp(phases, np.linspace(0.0, 1.0, len(nominal)), length)
+        return through_via_points(nominal, length, at, points, getattr(self, "promp_", None))
 
     def point_times(self, duration: float | None = None) -> np.ndarray:
         """When the tool reaches each of the plan's ``n_points`` points (s), on the nominal.
@@ -1419,9 +1518,13 @@ class Skill(Estimator):
         *,
         route: str | None = None,
         unknown_class: float | None = None,
+        via: Sequence[tuple[float, Any]] | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal (``route`` default :attr:`route_`)."""
-        nominal = self._nominal(start, goal)
+        if via is None:
+            nominal = self._nominal(start, goal)
+        else:
+            nominal = self.via_path(via, start, goal).points
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
@@ -1612,6 +1715,8 @@ class Skill(Estimator):
             timing=self.timing_,  # seconds and a normalised speed law: no unit to convert
             orientations=self.orientations_,
         )
+        if getattr(self, "promp_", None) is not None:
+            skill.promp_ = self.promp_.scaled(factor)
         if self.reward_ is not None:
             area = factor**2
             precisions = {c: m / area for c, m in self.reward_.precisions.items()}
@@ -1657,6 +1762,7 @@ class Skill(Estimator):
             # The fitted DMPs as they plan: loading restores them, never refits (issue 30).
             dmp={k: v for k, v in self.dmp_.to_state().items() if k != "path"},
             orientation_dmp=self._stored_orientation_dmp(),
+            promp=None if getattr(self, "promp_", None) is None else self.promp_.to_state(),
         )
 
     def _stored_orientation_dmp(self) -> dict[str, Any] | None:
@@ -1711,6 +1817,7 @@ class Skill(Estimator):
             fitted = _stored_dmps(skill, document, path, timing, orientations)
             skill._use_path(path, "given", timing, orientations, fitted)
             skill.mimic_info_ = document.mimic()
+            skill.promp_ = _stored_promp(document, n_dims)
             reward = document.reward(n_dims)
             if reward is not None:
                 weight, matrices = reward
@@ -1858,6 +1965,19 @@ _UNKNOWN_HOW = (
 _UNKNOWN_RESPONSE_WIDTH = 0.01
 
 
+def _stored_promp(document: skill_file.SkillDocument, n_dims: int) -> ProMP | None:
+    """The file's ProMP (:attr:`Skill.promp_`), of the skill's dimension; None without."""
+    state = document.promp()
+    if state is None:
+        return None
+    promp = ProMP.from_state(state, f"{document.source}: promp")
+    if promp.n_dims_ != n_dims:
+        raise ValueError(
+            f"{document.source}: promp.n_dims: {promp.n_dims_}, but the path is {n_dims}-D"
+        )
+    return promp
+
+
 def _unknown_margins(
     reward: Reward, scene: Scene, margin: float | None, clearance: float
 ) -> tuple[np.ndarray, float]:
@@ -1957,6 +2077,24 @@ def _obstacle_records(
             "scene; give each record the scene it was recorded in"
         )
     return fields.points, fields.scenes
+
+
+def _warn_via_missed(points: np.ndarray, via: Sequence[tuple[float, Any]], units: str) -> None:
+    """A warning naming the via-points a plan passes farther than :data:`VIA_TOLERANCE` from."""
+    _, targets = check_via(via, points.shape[1])
+    miss = polyline_distances(targets, points)
+    limit = VIA_TOLERANCE * _extent(points)
+    far = np.flatnonzero(miss > limit)
+    if far.size:
+        i = int(far[0])
+        warnings.warn(
+            f"via[{i}]: the plan passes {miss[i]:.3g} {units} from it ({far.size} of "
+            f"{len(targets)} via-points farther than {limit:.3g} {units}): an obstacle (its "
+            "learned response) or the planner's action bound pulls the plan away; move the "
+            "via-point or the obstacle, or raise max_slope",
+            UserWarning,
+            stacklevel=3,
+        )
 
 
 def _check_orientations_list(

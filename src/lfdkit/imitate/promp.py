@@ -38,7 +38,9 @@ and conditioning cost well under a millisecond.
 
 from __future__ import annotations
 
+import math
 import warnings
+from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -310,7 +312,9 @@ class ProMP(Estimator):
         kept = values > _PINV_RCOND * max(float(values.max()), np.finfo(float).tiny)
         inverse = (vectors[:, kept] / values[kept]) @ vectors[:, kept].T
         gain = cov_observed @ inverse
-        new = type(self)(**self.get_params(deep=False))
+        # A copy without the constructor's signature inspection (a third of the call).
+        new = type(self).__new__(type(self))
+        new.__dict__.update(self.__dict__)
         new.width_ = self.width_
         new.weights_mean_ = mean + gain @ innovation
         new_cov = cov - gain @ cov_observed.T
@@ -318,6 +322,82 @@ class ProMP(Estimator):
         new.n_dims_, new.n_demos_, new.residual_rms_ = d, self.n_demos_, self.residual_rms_
         lost = vectors[:, ~kept] @ (vectors[:, ~kept].T @ innovation)
         new._warn_unreachable(pts, s, lost.reshape(len(pts), d))
+        return new
+
+    # ---------------------------------------------------------------- state
+    def to_state(self) -> dict[str, Any]:
+        """The fitted state as plain data: parameters, the weights' mean and covariance.
+
+        :meth:`from_state` restores it to the bit (the skill file stores it,
+        :mod:`lfdkit.io.skill_file`).
+        """
+        self._check_fitted()
+        return {
+            "params": self.get_params(),
+            "width": float(self.width_),
+            "n_dims": int(self.n_dims_),
+            "n_demos": int(self.n_demos_),
+            "residual_rms": float(self.residual_rms_),
+            "weights_mean": np.array(self.weights_mean_),
+            "weights_cov": np.array(self.weights_cov_),
+        }
+
+    @classmethod
+    def from_state(cls, state: Mapping[str, Any], where: str = "promp") -> ProMP:
+        """The fitted ProMP of :meth:`to_state`, without refitting.
+
+        Raises
+        ------
+        ValueError
+            One line starting with ``where`` for a missing or malformed field.
+        """
+        keys = ("params", "width", "n_dims", "n_demos", "residual_rms")
+        for key in (*keys, "weights_mean", "weights_cov"):
+            if key not in state:
+                raise ValueError(f"{where}.{key}: missing field")
+        try:
+            made = cls(**dict(state["params"]))
+            made._validate_params()
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{where}.params: {exc}") from None
+        for key in keys[1:]:
+            value = state[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"{where}.{key}: expected a number, got {value!r}")
+        n_dims = state["n_dims"]
+        if not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
+            raise ValueError(f"{where}.n_dims: expected 1 to 3, got {n_dims!r}")
+        if not 0.0 < state["width"] <= 1.0:
+            raise ValueError(f"{where}.width: expected a value in (0, 1], got {state['width']!r}")
+        n_weights = n_dims * made.n_basis
+        mean = np.asarray(state["weights_mean"], dtype=np.float64)
+        cov = np.asarray(state["weights_cov"], dtype=np.float64)
+        if mean.shape != (n_weights,) or cov.shape != (n_weights, n_weights):
+            raise ValueError(
+                f"{where}: weights of shape {mean.shape} and {cov.shape}, expected "
+                f"({n_weights},) and ({n_weights}, {n_weights}) for {n_dims} dimensions "
+                f"of {made.n_basis} basis functions"
+            )
+        if not (np.all(np.isfinite(mean)) and np.all(np.isfinite(cov))):
+            raise ValueError(f"{where}: weights contain NaN or infinite values")
+        made.width_ = float(state["width"])
+        made.n_dims_ = n_dims
+        made.n_demos_ = int(state["n_demos"])
+        made.residual_rms_ = float(state["residual_rms"])
+        made.weights_mean_, made.weights_cov_ = mean, cov
+        return made
+
+    def scaled(self, factor: float) -> ProMP:
+        """The same model with every length times ``factor`` (a change of units).
+
+        Returns a fitted copy: weights' mean times ``factor``, covariance
+        times ``factor²``, residual times ``factor``.
+        """
+        self._check_fitted()
+        new = type(self).from_state(self.to_state())
+        new.weights_mean_ = self.weights_mean_ * factor
+        new.weights_cov_ = self.weights_cov_ * factor**2
+        new.residual_rms_ = self.residual_rms_ * abs(factor)
         return new
 
     # -------------------------------------------------------------- helpers
@@ -395,8 +475,15 @@ def _check_covariance(covariance: Any, n_via: int, n_dims: int) -> np.ndarray:
         arr = np.asarray(covariance, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise TypeError("covariance: expected a number or a numeric array") from exc
-    if arr.ndim == 0:
-        arr = np.broadcast_to(float(arr) * np.eye(n_dims), (n_via, n_dims, n_dims))
+    if arr.ndim == 0:  # a variance: the one check it needs (most calls)
+        variance = float(arr)
+        if not math.isfinite(variance):
+            raise ValueError("covariance: contains NaN or an infinite value")
+        if variance < 0.0:
+            raise ValueError(
+                f"covariance: must be positive semi-definite (a variance is >= 0), got {variance!r}"
+            )
+        return np.broadcast_to(variance * np.eye(n_dims), (n_via, n_dims, n_dims))
     elif arr.shape == (n_dims, n_dims):
         arr = np.broadcast_to(arr, (n_via, n_dims, n_dims))
     elif arr.shape != (n_via, n_dims, n_dims):

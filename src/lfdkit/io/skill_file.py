@@ -49,6 +49,12 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     :attr:`lfdkit.skill.Skill.clearances_`). A file without it plans as
     before (MPC with lookahead, no learned clearance); an older lfdkit
     reading a file with it ignores it.
+``promp``
+    Only for a skill learned from demonstrations (issue 33): their ProMP
+    (:meth:`lfdkit.imitate.ProMP.to_state`: parameters, basis width, the
+    weights' mean and covariance as :func:`pack_arrays`), which shapes how
+    plans bend through via-points. A file without it bends them smoothly; an
+    older lfdkit reading a file with it ignores it.
 ``mimic``
     How the path was made: ``{"method": ..., "n_demos": ...}`` and the
     method's diagnostics.
@@ -177,6 +183,7 @@ def to_document(
     emulation: Mapping[str, Any] | None = None,
     dmp: Mapping[str, Any] | None = None,
     orientation_dmp: Mapping[str, Any] | None = None,
+    promp: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """A skill's state as a JSON-ready dict (the format of the module notes).
 
@@ -211,6 +218,9 @@ def to_document(
     orientation_dmp : mapping or None
         The fitted orientation DMP (:meth:`lfdkit.imitate.QuaternionDMP.to_state`),
         stored as ``orientation.dmp``; None for none.
+    promp : mapping or None
+        The demonstrations' ProMP (:meth:`lfdkit.imitate.ProMP.to_state`),
+        stored as ``promp``; None for none.
 
     Returns
     -------
@@ -246,6 +256,8 @@ def to_document(
         "reward": reward_doc,
         "ioc": _without_timing(jsonable(ioc_info)),
     }
+    if promp is not None:
+        document["promp"] = pack_arrays(promp)
     if dmp is not None:  # last: the long arrays after what a reader looks at
         document["dmp"] = pack_arrays(dmp)
     return document
@@ -480,6 +492,13 @@ class SkillDocument:
         if not isinstance(value, Mapping):
             return None
         return self._stored_state(value, "dmp", "orientation.")
+
+    def promp(self) -> Mapping[str, Any] | None:
+        """The stored ProMP state, arrays decoded, or None without.
+
+        Its fields are checked by :meth:`lfdkit.imitate.ProMP.from_state`.
+        """
+        return self._stored_state(self.data, "promp")
 
     def _stored_state(
         self, data: Mapping[str, Any], key: str, prefix: str = ""

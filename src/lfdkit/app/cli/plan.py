@@ -24,6 +24,7 @@ from lfdkit.app.cli.common import (
     tell,
     working,
 )
+from lfdkit.app.cli.via import add_via_option, via_points
 from lfdkit.core.numbers import parse_decimal
 from lfdkit.core.progress import Progress
 
@@ -72,6 +73,8 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     if args.output is not None:
         refuse_existing(args.output, args.force)
     skill, scene, start, goal = skill_and_scene(args)
+    lasts = duration if duration is not None else skill.timing_.duration / (speed or 1.0)
+    via = via_points(args.via, skill.n_dims_, lasts)
     started = time.perf_counter()
     try:
         timed = skill.plan(
@@ -87,6 +90,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             clearance=args.clearance,
             unknown_class=args.unknown_class,
             progress=progress,
+            via=via,
         )
     except ValueError as exc:  # the library names the argument, the command its option
         raise CommandError(option_named(str(exc))) from None
@@ -103,6 +107,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         f"{1e3 * (time.perf_counter() - started):.0f} ms; ends {plan.goal_error:.3g} {units} "
         f"from the goal{clear}; lasts {timed.duration:.4g} s, peak speed "
         f"{timed.speeds.max():.4g} {units}/s{_assumed(skill, duration, speed)}"
+        f"{_via_summary(timed.points, via, units)}"
     )
     if rate is not None:
         try:
@@ -121,6 +126,18 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         return
     save_path(args.output, timed.points, **columns, overwrite=args.force)
     tell(args, f"{summary}; wrote {args.output}")
+
+
+def _via_summary(points, via, units: str) -> str:
+    """How closely the plan passes its via-points (nothing without)."""
+    if via is None:
+        return ""
+    import numpy as np
+
+    from lfdkit.core.geometry import polyline_distances
+
+    miss = polyline_distances(np.array([p for _, p in via], dtype=float), points)
+    return f"; passes {len(via)} via-point{'s' * (len(via) != 1)} within {miss.max():.3g} {units}"
 
 
 def _assumed(skill, duration: float | None, speed: float | None) -> str:
@@ -164,6 +181,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         "plus clearance or the command fails (path units; default 0)",
     )
     add_unknown_class_option(parser, "path units")
+    add_via_option(parser)
     parser.add_argument(
         "--duration",
         metavar="S",

@@ -14,6 +14,7 @@ from lfdkit.app.cli.common import (
     tell,
     working,
 )
+from lfdkit.app.cli.via import add_via_option, via_points
 from lfdkit.core.progress import Progress
 
 __all__ = ["add_options", "run_command"]
@@ -31,11 +32,25 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     refuse_existing(args.output, args.force)
     skill, scene, start, goal = skill_and_scene(args)
     demos = load_demos(args.demos) if args.demos is not None else []
+    via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
     nominal = skill.nominal(start, goal)
     plans = {}
-    if len(scene) or start is not None or goal is not None:
-        plans["plan"] = skill.plan(start, goal, scene, progress=progress).points
-    if skill.reward_ is not None:
+    if len(scene) or start is not None or goal is not None or via is not None:
+        plans["plan"] = skill.plan(start, goal, scene, via=via, progress=progress).points
+    if via is not None:
+        from lfdkit.app.via_plot import via_figure
+
+        fig = via_figure(
+            skill.via_path(None, start, goal),
+            skill.via_path(via, start, goal),
+            via,
+            plan=plans["plan"],
+            demos=demos,
+            scene=scene,
+            units=skill.units,
+            title=args.title or f"{args.skill.name}: via-points",
+        )
+    elif skill.reward_ is not None:
         fig = plot.emulation_figure(
             skill.reward_,
             nominal,
@@ -67,6 +82,7 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
 def add_options(parser: argparse.ArgumentParser) -> None:
     add_skill_file_options(parser)
     parser.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
+    add_via_option(parser)
     parser.add_argument("--title", default="", help="figure title")
     parser.add_argument(
         "--dpi",
