@@ -1049,7 +1049,7 @@ def _rows(values):
     return ref, hits, np.ones((m, n), dtype=bool)
 
 
-@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("seed", range(2))
 def test_cross_validation_confirms_a_robust_centre_only_where_it_predicts_better(seed):
     rng = np.random.default_rng(seed)
     clean = rng.normal(size=(120, 10))
