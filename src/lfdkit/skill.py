@@ -142,6 +142,23 @@ _ORIENTATION_TOLERANCE_DEG = 0.5
 #: Re-plans of a moving-obstacle plan at its own (arc-length) times before it is refused.
 RETIME_ROUNDS = 3
 
+#: The clearance floors a behaviour model may keep (``{level: (quantile, factor)}`` of
+#: :func:`lfdkit.emulate.fidelity.demonstrated_clearances`): none (the thesis's), the
+#: demonstrations' low quantile with room for noise, and the closest any came (a person
+#: who keeps a fixed margin).
+CLEARANCE_FLOORS = {"none": None, "demonstrated": (0.1, 0.8), "closest": (0.0, 1.0)}
+#: Fewest obstacle demonstrations for a cross-validated choice (fewer: training replanning).
+MIN_CROSS_VALIDATION_DEMOS = 3
+#: Most refits of the cross-validation: beyond this many demonstrations, each fold leaves
+#: out every ``MAX_FOLDS``-th one (10 demonstrations: 5 folds of 2).
+MAX_FOLDS = 5
+#: L-BFGS iterations of each fold's refit, started from the reward fitted on all.
+CROSS_VALIDATION_MAX_ITER = 6
+#: Cross-validated median Pr (%) below which ``fit`` warns that the skill emulates poorly.
+POOR_FIDELITY = 50.0
+#: Another model must replan the held-out demonstrations this much closer (MSE) to be chosen.
+SELECTION_MARGIN = 0.02
+
 
 def _check_learned_classes(skill: Skill) -> None:
     """Refuse a skill whose ``params.classes`` contradicts the classes its reward learned.
@@ -681,6 +698,7 @@ class Skill(Estimator):
         """No learned clearance, route or fidelity (a skill without a fitted reward)."""
         self.clearances_: dict[str, float] = {}
         self.route_: str | None = None
+        self.frame_ = "world"
         self.training_fidelity_: list[dict[str, Any]] | None = None
         self.model_selection_: dict[str, Any] | None = None
 
@@ -836,8 +854,6 @@ class Skill(Estimator):
         # The direction the precisions are learned along (model="path" turns them from it).
         chord = self.path_[-1] - self.path_[0]
         self.ioc_info_["frame_axis"] = (chord / max(float(np.linalg.norm(chord)), 1e-300)).tolist()
-        if self.model != "thesis":
-            self.clearances_ = demonstrated_clearances(demos, scenes, nominals, ioc.classes_)
         with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
             # Obstacles of a class not learned never shaped a demonstration (the IOC
             # warned): the training scenes are replanned without them.
@@ -845,90 +861,234 @@ class Skill(Estimator):
                 Scene(tuple(o for o in scene if o.label not in ioc.not_learned_))
                 for scene in scenes
             ]
-            self._select_route(demos, learned, goal, nominals)
+            self._select_model(demos, learned, goal, nominals)
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
         self._warn_fidelity()
         return self
 
-    def _route_candidates(self) -> tuple[str, ...]:
-        """The route planners :meth:`_select_route` chooses from (the first is the default)."""
-        if self.planner == "full":
-            return ("full",)
-        # The window MPC first: it is what the reward was fitted through (the
-        # IOC's MPC stage), so it wins ties; the lookahead only where it
-        # replans the training scenes closer.
-        return ("window", "lookahead") if self.model != "thesis" else ("window",)
+    def _behaviour_candidates(self) -> list[dict[str, str]]:
+        """The behaviour models :meth:`_select_model` chooses from (the first wins ties).
+
+        Each is a route planner (how far ahead the person reacts: the
+        thesis's receding horizon ``"window"``, which falls back on the MPC
+        with lookahead only at a dead end, or the whole path, ``"full"``), a
+        clearance floor (:data:`CLEARANCE_FLOORS`) and a frame of the learned
+        responses (``"world"``, or ``"path"`` for ``model="path"``). The
+        thesis's model (window, no floor, world) comes first: demonstrations
+        that cannot tell the candidates apart keep it. The frame is not a
+        candidate of ``"auto"``: demonstrations of one task cannot tell the
+        two apart (the nominal hardly turns at their obstacles).
+        """
+        routes = ("full",) if self.planner == "full" else ("window", "full")
+        if self.model == "thesis":
+            return [{"route": routes[0], "floor": "none", "frame": "world"}]
+        frame = "path" if self.model == "path" else "world"
+        return [
+            {"route": route, "floor": floor, "frame": frame}
+            for floor in CLEARANCE_FLOORS
+            for route in routes
+        ]
 
     def _unfitted_route(self) -> str:
         """The route of a skill whose reward was not fitted here (as before routes were chosen)."""
         return "full" if self.planner == "full" else "lookahead"
 
-    def _select_route(
+    def _floors(
+        self,
+        demos: Sequence[np.ndarray],
+        scenes: Sequence[Scene],
+        nominals: Sequence[np.ndarray],
+    ) -> dict[str, dict[str, float]]:
+        """Each clearance floor learned from these demonstrations, ``{level: {class: units}}``."""
+        classes = self.reward_.classes
+        return {
+            level: {}
+            if spec is None
+            else demonstrated_clearances(
+                demos, scenes, nominals, classes, quantile=spec[0], factor=spec[1]
+            )
+            for level, spec in CLEARANCE_FLOORS.items()
+        }
+
+    def _replan_candidates(
+        self,
+        demo: np.ndarray,
+        goal: np.ndarray,
+        scene: Scene,
+        nominal: np.ndarray,
+        candidates: Sequence[Mapping[str, str]],
+        reward: Reward,
+        floors: Mapping[str, Mapping[str, float]],
+    ) -> list[dict[str, Any]]:
+        """One demonstration's scene replanned with each behaviour model: fidelity rows.
+
+        A model whose clearance floor the same route's plan without a floor
+        already keeps plans the same path: that plan is reused, not planned again.
+        """
+        replay = metrics.mse_paths([nominal], [demo], int(self.n_points))
+        plans: dict[tuple[str, str], Any] = {}
+        out = []
+        for candidate in candidates:
+            route, frame = candidate["route"], candidate["frame"]
+            clearances = floors[candidate["floor"]]
+            margins = self._margins(scene, demo[0], goal, 0.0, clearances)
+            free = plans.get((route, frame))
+            reuse = free is not None and not isinstance(free, str)
+            if reuse and margins is not None:
+                reuse = bool(np.all(scene.distances(free.points) >= margins))
+            if reuse:
+                plan, relaxed = free, False
+            else:
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always", UserWarning)
+                    try:
+                        plan = self._plan(
+                            demo[0],
+                            goal,
+                            scene,
+                            "full" if route == "full" else None,
+                            None,
+                            "auto",
+                            0.0,
+                            route=route,
+                            reward=reward,
+                            clearances=clearances,
+                            frame=frame,
+                        )
+                    except UnsafePlanError as exc:
+                        plan = str(exc)
+                relaxed = bool(caught)  # the floor could not all be kept (_plan warned)
+                if margins is None:
+                    plans[(route, frame)] = plan
+            if isinstance(plan, str):
+                out.append({"refused": plan})
+                continue
+            row = replanning_fidelity(plan.points, nominal, demo, scene)
+            out.append({**row, "clearance_relaxed": relaxed, "replay_mse": replay})
+        return out
+
+    def _refit_on(
+        self,
+        keep: Sequence[int],
+        demos: list[np.ndarray],
+        scenes: list[Scene],
+        nominals: list[np.ndarray],
+    ) -> Reward:
+        """The reward refitted on demonstrations ``keep``, warm-started from the one fitted on all.
+
+        Full horizon only and without the after-fit checks (a fold's reward
+        only plans; the MPC stage would triple the cost). Classes the kept
+        demonstrations do not show keep the reward's own response.
+        """
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                ioc = IOC(
+                    self.reward_.classes,
+                    n_points=int(self.n_points),
+                    max_slope=float(self.max_slope),
+                    init=self.reward_,
+                    n_starts=1,
+                    max_iter=CROSS_VALIDATION_MAX_ITER,
+                    diagnose=False,
+                ).fit(
+                    [demos[i] for i in keep],
+                    [scenes[i] for i in keep],
+                    [nominals[i] for i in keep],
+                )
+        except ValueError:  # nothing to learn from them: the reward fitted on all
+            return self.reward_
+        learned = ioc.reward_
+        return Reward(learned.nominal_weight, {**self.reward_.precisions, **learned.precisions})
+
+    def _select_model(
         self,
         demos: list[np.ndarray],
         scenes: list[Scene],
         goal: np.ndarray,
         nominals: list[np.ndarray],
     ) -> None:
-        """Replan every training scene with each candidate route; keep the closest.
+        """Choose the behaviour model by cross-validated replanning error (issue 26).
 
-        Closest: fewest demonstrations refused, then fewest planned without
-        all of the demonstrated clearance, then the smallest mean squared
-        distance to the demonstrations (MSE_R over them, what Pr measures);
-        the first candidate unless another is closer by more than 1 %.
-        Sets :attr:`route_`, :attr:`training_fidelity_` and
-        :attr:`model_selection_`. Not cross-validated: every candidate plans
-        with the reward fitted on all of them (the route has no parameter
-        to fit, but the choice is still made on the training scenes).
+        The obstacle demonstrations are split into folds (one each, or every
+        :data:`MAX_FOLDS`-th for more): for each fold the reward is refitted
+        on the others (:meth:`_refit_on`), the clearance floors are learned
+        from the others, and each held-out demonstration's scene is replanned
+        with every candidate (:meth:`_behaviour_candidates`). A candidate's
+        score is its mean squared distance to the held-out demonstrations
+        (what Pr measures). Chosen: fewest refused, then fewest planned
+        without all of the floor, then the smallest MSE; the first (the
+        thesis's model) unless another is closer by more than
+        :data:`SELECTION_MARGIN`. With fewer than
+        :data:`MIN_CROSS_VALIDATION_DEMOS` demonstrations the training scenes
+        are replanned instead (not cross-validated, said in ``criterion``).
+        Sets :attr:`route_`, :attr:`clearances_`, :attr:`frame_`,
+        :attr:`training_fidelity_` (the chosen model with the reward fitted
+        on all, in the training scenes) and :attr:`model_selection_`.
         """
-        scores, fidelity = {}, {}
-        for route in self._route_candidates():
-            rows = []
-            for j, (demo, g, scene, nominal) in enumerate(
-                zip(demos, goal, scenes, nominals, strict=True)
-            ):
-                with warnings.catch_warnings(record=True) as relaxed:
-                    warnings.simplefilter("always", UserWarning)
-                    try:
-                        plan = self._plan(demo[0], g, scene, None, None, "auto", 0.0, route=route)
-                    except UnsafePlanError as exc:
-                        rows.append({"demo": j, "refused": str(exc)})
-                        continue
-                row = replanning_fidelity(plan.points, nominal, demo, scene)
-                # The demonstrated clearance could not all be kept (_plan warned).
-                rows.append({"demo": j, **row, "clearance_relaxed": bool(relaxed)})
-            fidelity[route] = rows
-            planned = [r for r in rows if "refused" not in r]
-            pr = [r["improvement"] for r in planned]
-            scores[route] = {
-                "refused": len(rows) - len(planned),
-                "clearance_relaxed": sum(r["clearance_relaxed"] for r in planned),
-                "mse": float(np.mean([r["mse"] for r in planned])) if planned else np.inf,
-                "improvement_median": float(np.median(pr)) if pr else None,
-                "improvement_mean": float(np.mean(pr)) if pr else None,
-                "sides_agree": (
-                    float(np.mean([r["sides_agree"] for r in planned])) if planned else None
-                ),
-            }
-        # The default (first) unless another is closer by more than 1 %: ties
-        # (no training scene where the two differ) keep the model fitted.
-        first = next(iter(scores))
+        candidates = self._behaviour_candidates()
+        names = [_behaviour_name(c) for c in candidates]
+        n = len(demos)
+        cross = n >= MIN_CROSS_VALIDATION_DEMOS
+        full_floors = self._floors(demos, scenes, nominals)
+
+        def replanned(indices: Sequence[int], models: Sequence[Mapping[str, str]], reward, floors):
+            out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in models}
+            for j in indices:
+                rows = self._replan_candidates(
+                    demos[j], goal[j], scenes[j], nominals[j], models, reward, floors
+                )
+                for candidate, row in zip(models, rows, strict=True):
+                    out[_behaviour_name(candidate)].append({"demo": j, **row})
+            return out
+
+        n_folds = min(n, MAX_FOLDS) if cross else 0
+        held_out: dict[str, list[dict[str, Any]]] = {name: [] for name in names}
+        for fold in range(n_folds):
+            held = [j for j in range(n) if j % n_folds == fold]
+            keep = [j for j in range(n) if j % n_folds != fold]
+            reward = self._refit_on(keep, demos, scenes, nominals)
+            floors = self._floors(
+                [demos[i] for i in keep], [scenes[i] for i in keep], [nominals[i] for i in keep]
+            )
+            for name, rows in replanned(held, candidates, reward, floors).items():
+                held_out[name] += rows
+        training = {} if cross else replanned(range(n), candidates, self.reward_, full_floors)
+        scores = {name: _fidelity_scores((held_out if cross else training)[name]) for name in names}
+        first = names[0]
         ranked = sorted(
-            scores,
+            names,
             key=lambda r: (
                 scores[r]["refused"],
                 scores[r]["clearance_relaxed"],
-                scores[r]["mse"] * (0.99 if r == first else 1.0),
+                scores[r]["mse"] * ((1.0 - SELECTION_MARGIN) if r == first else 1.0),
             ),
         )
-        self.route_ = ranked[0]
-        self.training_fidelity_ = fidelity[self.route_]
+        chosen = candidates[names.index(ranked[0])]
+        self.route_ = chosen["route"]
+        self.frame_ = chosen["frame"]
+        self.clearances_ = full_floors[chosen["floor"]]
+        if ranked[0] not in training:
+            training = replanned(range(n), [chosen], self.reward_, full_floors)
+        self.training_fidelity_ = [
+            {k: v for k, v in row.items() if k != "replay_mse"} for row in training[ranked[0]]
+        ]
         self.model_selection_ = {
-            "criterion": "training replanning MSE (not cross-validated)",
-            "chosen": self.route_,
+            "criterion": (
+                f"{'leave-one-demonstration-out' if n_folds == n else f'{n_folds}-fold'} "
+                "replanning MSE"
+                if cross
+                else f"training replanning MSE (not cross-validated: {n} demonstrations)"
+            ),
+            "cross_validated": cross,
+            "folds": n_folds,
+            "chosen": ranked[0],
             "runner_up": ranked[1] if len(ranked) > 1 else None,
-            "candidates": scores,
+            "candidates": {
+                name: {**candidate, **scores[name]}
+                for name, candidate in zip(names, candidates, strict=True)
+            },
         }
 
     def _warn_fidelity(self) -> None:
@@ -1404,19 +1564,29 @@ class Skill(Estimator):
         *,
         route: str | None = None,
         unknown_class: float | None = None,
+        reward: Reward | None = None,
+        clearances: Mapping[str, float] | None = None,
+        frame: str | None = None,
     ) -> Plan:
-        """:meth:`plan_details` from a checked start and goal (``route`` default :attr:`route_`)."""
+        """:meth:`plan_details` from a checked start and goal.
+
+        ``route``, ``reward``, ``clearances`` and ``frame`` default to the
+        skill's (:attr:`route_`, :attr:`reward_`, :attr:`clearances_`,
+        :attr:`frame_`); the model choice plans with others.
+        """
         nominal = self._nominal(start, goal)
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
         kind = self.planner if planner is None else planner
         _check_choice(kind, "planner", PLANNERS)
-        if kind == "mpc":
+        # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
+        route = route or getattr(self, "route_", None) or self._unfitted_route()
+        if kind == "mpc" and (route != "full" or planner == "mpc"):
             h = int(self.horizon) if horizon is None else horizon
         else:
             h = None
-        reward = self.reward_
+        reward = self.reward_ if reward is None else reward
         if reward is None:
             if len(scene) and unknown_class is None:
                 raise ValueError(
@@ -1431,8 +1601,6 @@ class Skill(Estimator):
             reach = scene.radii + clearance + unknown_margin
             reward = _without_response(reward, scene, unknown, reach)
             _warn_unknown(scene, unknown, margin, self.units)
-        # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
-        route = route or getattr(self, "route_", None) or self._unfitted_route()
         options = dict(
             horizon=h,
             n_points=int(self.n_points),
@@ -1442,8 +1610,9 @@ class Skill(Estimator):
             times=times,
             lookahead=route != "window",
         )
-        margins = self._margins(scene, start, goal, clearance)
-        if self.model == "path" and len(scene) and not scene.moving:
+        margins = self._margins(scene, start, goal, clearance, clearances)
+        frame = frame or getattr(self, "frame_", "world")
+        if (self.model == "path" or frame == "path") and len(scene) and not scene.moving:
             reward, scene = self._in_path_frame(reward, scene, nominal)
         # The thesis's MPC can walk into a dead end the lookahead sees: then that.
         routes = [route] + (["lookahead"] if route == "window" and h is not None else [])
@@ -1489,7 +1658,12 @@ class Skill(Estimator):
         return in_path_frame(reward, scene, nominal, np.asarray(axis, dtype=np.float64))
 
     def _margins(
-        self, scene: Scene, start: np.ndarray, goal: np.ndarray, clearance: float
+        self,
+        scene: Scene,
+        start: np.ndarray,
+        goal: np.ndarray,
+        clearance: float,
+        clearances: Mapping[str, float] | None = None,
     ) -> np.ndarray | None:
         """The learned clearance of each obstacle of ``scene`` (units), or None for none.
 
@@ -1497,7 +1671,7 @@ class Skill(Estimator):
         class's learned clearance, that obstacle keeps half the distance (the
         plan must start and end there).
         """
-        learned = getattr(self, "clearances_", None)
+        learned = getattr(self, "clearances_", None) if clearances is None else clearances
         if not learned or not len(scene) or scene.moving:
             return None
         margins = np.array([learned.get(label, 0.0) for label in scene.labels])
@@ -1912,6 +2086,33 @@ def _warn_unknown(scene: Scene, unknown: np.ndarray, margin: float, units: str) 
         UserWarning,
         stacklevel=5,
     )
+
+
+def _behaviour_name(candidate: Mapping[str, str]) -> str:
+    """A behaviour model's short name: ``"window"``, ``"lookahead+closest"``, ``"path:window"``."""
+    name = candidate["route"]
+    if candidate["floor"] != "none":
+        name += f"+{candidate['floor']}"
+    return f"path:{name}" if candidate["frame"] == "path" else name
+
+
+def _fidelity_scores(rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """A behaviour model's replanning scores over fidelity rows (:meth:`Skill._replan`'s)."""
+    planned = [r for r in rows if "refused" not in r]
+    pr = [r["improvement"] for r in planned]
+    replay = sum(r["replay_mse"] for r in planned)
+    mse = float(np.mean([r["mse"] for r in planned])) if planned else np.inf
+    return {
+        "refused": len(rows) - len(planned),
+        "clearance_relaxed": sum(r["clearance_relaxed"] for r in planned),
+        "mse": mse,
+        "improvement_pooled": (
+            float(100.0 * (1.0 - mse * len(planned) / replay)) if planned and replay > 0 else None
+        ),
+        "improvement_median": float(np.median(pr)) if pr else None,
+        "improvement_mean": float(np.mean(pr)) if pr else None,
+        "sides_agree": float(np.mean([r["sides_agree"] for r in planned])) if planned else None,
+    }
 
 
 def _check_choice(value: Any, name: str, choices: Sequence[str]) -> None:

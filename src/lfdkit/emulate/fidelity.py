@@ -118,6 +118,9 @@ def demonstrated_clearances(
     scenes: Sequence[Scene],
     nominals: Sequence[np.ndarray],
     classes: Sequence[str],
+    *,
+    quantile: float = CLEARANCE_QUANTILE,
+    factor: float = CLEARANCE_FACTOR,
 ) -> dict[str, float]:
     """Per class, the clearance the demonstrations kept from the obstacles they went around.
 
@@ -130,11 +133,16 @@ def demonstrated_clearances(
         Each demonstration's nominal path.
     classes : sequence of str
         The classes to learn it for.
+    quantile, factor : float
+        The clearance is ``factor`` times this quantile of the surface
+        distances kept (defaults :data:`CLEARANCE_QUANTILE`,
+        :data:`CLEARANCE_FACTOR`; ``quantile=0, factor=1`` is the closest any
+        demonstration came).
 
     Returns
     -------
     dict
-        ``{class: CLEARANCE_FACTOR × CLEARANCE_QUANTILE of the surface
+        ``{class: factor × quantile of the surface
         distances}`` (units, >= 0) for every class with at least one obstacle
         gone around; a class without one is left out (no margin).
     """
@@ -149,7 +157,7 @@ def demonstrated_clearances(
             if label in kept:
                 kept[label].append(max(float(gaps[o]), 0.0))
     return {
-        c: CLEARANCE_FACTOR * float(np.quantile(values, CLEARANCE_QUANTILE, method="lower"))
+        c: factor * float(np.quantile(values, quantile, method="lower"))
         for c, values in kept.items()
         if values
     }
