@@ -77,6 +77,7 @@ from lfdkit.core.options import (
     DEMONSTRATION_SPEED,
     MODELS,
     PLANNERS,
+    POOR_FIDELITY,
     SCALINGS,
     SKILL_DEFAULTS,
     TIMINGS,
@@ -154,8 +155,6 @@ MIN_CROSS_VALIDATION_DEMOS = 3
 MAX_FOLDS = 5
 #: L-BFGS iterations of each fold's refit, started from the reward fitted on all.
 CROSS_VALIDATION_MAX_ITER = 6
-#: Cross-validated median Pr (%) below which ``fit`` warns that the skill emulates poorly.
-POOR_FIDELITY = 50.0
 #: Another model must replan the held-out demonstrations this much closer (MSE) to be chosen.
 SELECTION_MARGIN = 0.02
 
@@ -1092,7 +1091,7 @@ class Skill(Estimator):
         }
 
     def _warn_fidelity(self) -> None:
-        """Warn when the training demonstrations are replanned poorly, saying what to do."""
+        """Warn when the demonstrations are emulated poorly (held out or replanned): what to do."""
         rows = self.training_fidelity_ or []
         pr = [r["improvement"] for r in rows if "refused" not in r]
         refused = [r["demo"] for r in rows if "refused" in r]
@@ -1104,7 +1103,20 @@ class Skill(Estimator):
                 UserWarning,
                 stacklevel=3,
             )
-        if pr and float(np.median(pr)) < 50.0:
+        selection = self.model_selection_ or {}
+        chosen = selection.get("candidates", {}).get(selection.get("chosen"), {})
+        held_out = chosen.get("improvement_median") if selection.get("cross_validated") else None
+        if held_out is not None and held_out < POOR_FIDELITY:
+            warnings.warn(
+                f"the learned skill emulates its demonstrations poorly: a demonstration left out "
+                f"of the fit is replanned at a median Pr of {held_out:.0f} % over the nominal "
+                f"(cross-validated, below {POOR_FIDELITY:.0f} %); add demonstrations with the "
+                "obstacles at several distances from the path and on both sides of it, or "
+                "check that the clean demonstrations give the path the others deviate from",
+                UserWarning,
+                stacklevel=3,
+            )
+        elif pr and float(np.median(pr)) < 50.0:
             warnings.warn(
                 f"the learned skill replans its own training demonstrations poorly (median Pr "
                 f"{np.median(pr):.0f} % over the nominal); add demonstrations with the obstacles "
@@ -1773,7 +1785,9 @@ class Skill(Estimator):
             precisions = {c: m / area for c, m in self.reward_.precisions.items()}
             skill.adopt(Reward(self.reward_.nominal_weight / area, precisions))
             skill.route_ = getattr(self, "route_", None)
+            skill.frame_ = getattr(self, "frame_", "world")
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
+            skill.model_selection_ = getattr(self, "model_selection_", None)
         return skill
 
     # ------------------------------------------------------------------ files
@@ -1799,6 +1813,8 @@ class Skill(Estimator):
         if self.reward_ is not None and (route is not None or self.clearances_):
             route = route or self._unfitted_route()
             emulation = {"route": route, "clearances": dict(self.clearances_)}
+            if getattr(self, "frame_", "world") != "world":  # as in files before frames
+                emulation["frame"] = self.frame_
         return skill_file.to_document(
             params,
             n_dims=self.n_dims_,
@@ -1874,7 +1890,7 @@ class Skill(Estimator):
             skill.ioc_info_ = document.ioc()
             emulation = document.emulation()
             if emulation is not None and skill.reward_ is not None:
-                skill.route_, skill.clearances_ = emulation
+                skill.route_, skill.clearances_, skill.frame_ = emulation
                 fit = skill.ioc_info_ or {}
                 skill.training_fidelity_ = fit.get("training_fidelity")
                 skill.model_selection_ = fit.get("model_selection")
