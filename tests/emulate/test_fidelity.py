@@ -279,3 +279,28 @@ def test_path_frame_responses_turn_with_the_task() -> None:
     three_d.adopt(Reward(20.0, {"cup": [100.0, 4000.0, 4000.0]}))
     with pytest.raises(ValueError, match="model: 'path'"):
         three_d.plan(scene=Scene((Obstacle("cup", [0.5, 0.01, 0.0], radius=0.005),)))
+
+
+def test_poor_cross_validated_fidelity_is_warned_on_one_line() -> None:
+    skill = Skill()
+    skill.training_fidelity_ = [{"demo": 0, "improvement": 90.0}]
+    selection = {"cross_validated": True, "chosen": "window", "runner_up": None}
+    for median, warned in ((30.0, True), (50.0, False), (None, False)):
+        skill.model_selection_ = {
+            **selection,
+            "candidates": {"window": {"improvement_median": median}},
+        }
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            skill._warn_fidelity()
+        assert len(caught) == warned
+        if warned:
+            message = str(caught[0].message)
+            assert "\n" not in message
+            assert "replanned at a median Pr of 30 % over the nominal (cross-validated, " in message
+            assert "below 50 %); add demonstrations with the obstacles at several" in message
+    # Not cross-validated (fewer than 3 demonstrations): the training replanning is judged.
+    skill.model_selection_ = {**selection, "cross_validated": False, "candidates": {}}
+    skill.training_fidelity_ = [{"demo": 0, "improvement": 20.0}]
+    with pytest.warns(UserWarning, match="replans its own training demonstrations poorly"):
+        skill._warn_fidelity()
