@@ -11,13 +11,16 @@ A :class:`Skill` learns, in order,
    :class:`lfdkit.emulate.Reward` term per obstacle class, by inverse optimal
    control (:class:`lfdkit.emulate.IOC`).
 
-After the reward, the skill replans every training scene with the planner
-it will plan with and keeps the result per demonstration
+After the reward, the skill chooses its behaviour model (route planner and
+clearance floor) by cross-validated replanning error: each obstacle
+demonstration left out of a refit and replanned in its own scene with every
+candidate (:attr:`Skill.model_selection_`; the thesis's model unless
+another is closer by more than 2 %). It then replans every training scene
+with the model chosen and keeps the result per demonstration
 (:attr:`Skill.training_fidelity_`: Pr over the nominal, passing sides,
-clearance against the demonstrated one), chooses the MPC's window choice
-that replans them closest (:attr:`Skill.model_selection_`) and learns the
-clearance the demonstrations kept per obstacle class
-(:attr:`Skill.clearances_`), unless ``model="thesis"`` (issue 26).
+clearance against the demonstrated one), with the clearance floor learned
+per obstacle class (:attr:`Skill.clearances_`) where that model keeps one
+(issue 26). A held-out median Pr below 50 % is warned about.
 
 :meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
 DMP retargets the generalized path to the new start and goal (the *nominal*),
@@ -229,17 +232,25 @@ class Skill(Estimator):
         its receding horizon (no goal term) and planned with the same MPC
         (each window's best optimum, ``lookahead=False``), no learned
         clearance; only where that MPC walks into a dead end (no plan) is
-        the plan the lookahead MPC's. ``"auto"`` (default): the same fitted reward, and
-
-        * the planner's window choice is chosen from the demonstrations
-          (:attr:`model_selection_`): the thesis's MPC, which the reward is
-          fitted through, unless the MPC that also looks along the global
-          route (``lookahead``, which does not walk into a concave pocket)
-          replans the training demonstrations closer by more than 1 %
-          (held out, the thesis's MPC reproduced a thesis-model person on
-          new tasks at 98 % median Pr where the lookahead gave 40 %);
-        * plans keep at least the clearance the demonstrations kept from each
-          class's obstacles (:attr:`clearances_`), on top of ``clearance``.
+        the plan the lookahead MPC's. ``"auto"`` (default): the same fitted
+        reward, planned with the behaviour model chosen from the
+        demonstrations (:attr:`model_selection_`) by cross-validated
+        replanning error (:data:`MAX_FOLDS` folds at most, each refitted
+        from the reward fitted on all). The candidates: how far ahead the
+        person reacts (the thesis's receding horizon, or the whole path's
+        optimum) times a clearance floor kept from each class's obstacles
+        (none; 0.8 times the 10 % quantile of what the demonstrations kept;
+        the closest any came, :data:`CLEARANCE_FLOORS`). The thesis's model
+        comes first and stays unless another replans the held-out
+        demonstrations closer by more than :data:`SELECTION_MARGIN`:
+        demonstrations that cannot tell the candidates apart (a floor
+        below what every demonstration kept changes no plan of theirs)
+        keep it. So a gap between two obstacles is closed only where the
+        demonstrations show a floor; single-obstacle demonstrations cannot
+        tell a person who threads gaps from one who goes around (the
+        thesis's person threads gaps narrower than twice the clearance it
+        keeps from one obstacle: fidelity benchmark, pairs, −964 % median Pr
+        with the floor, 94-98 % without).
 
         ``"path"`` (2-D, static scenes): as ``"auto"``, with each obstacle's
         learned response turned from the direction it was learned along (the
@@ -251,14 +262,16 @@ class Skill(Estimator):
         apart, and held out it helps some people and seeds and hurts others
         (fidelity benchmark, quick, median Pr on new tasks: seed 0 thesis-model
         person 95 → −118 %, late swerver −528 → 33 %; seed 1 fixed-margin
-        person 63 → −269 %).
+        person 63 → −269 %). Its candidates are ``"auto"``'s in the path frame.
 
         Either way the reward is fitted through exactly the route planner the
         skill plans with (the receding horizon ``H`` without goal term: the
         goal is joined to the route afterwards, leaving it alone,
-        :mod:`lfdkit.emulate.planner`), and the learned clearance is below
-        what every demonstration kept, so the training demonstrations are
+        :mod:`lfdkit.emulate.planner`), and the training demonstrations are
         replanned with the model they were fitted with (:attr:`training_fidelity_`).
+        The global-route candidate plans with the reward fitted through the
+        receding horizon, and the folds' refits are full-horizon only (cheap):
+        the cross-validated figures approximate those of full refits.
     max_slope : float
         Largest sideways step per step along the nominal (the action box).
     classes : sequence of str, optional
@@ -314,8 +327,12 @@ class Skill(Estimator):
     clearances_ : dict
         Per obstacle class, the clearance (units, from the obstacle's
         surface) plans keep at least: the demonstrations' own
-        (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`), with
-        ``model="auto"``; empty otherwise (and for a reward only adopted).
+        (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`) where the
+        behaviour model chosen keeps a floor; empty otherwise (and for
+        ``model="thesis"`` or a reward only adopted).
+    frame_ : {"world", "path"}
+        The frame the learned responses are planned in (``"path"`` for
+        ``model="path"``).
     route_ : {"lookahead", "window", "full"} or None
         The route planner plans use: the MPC with ``lookahead``, the thesis's
         MPC (``"window"``) or the full horizon; None before a reward is
@@ -327,10 +344,16 @@ class Skill(Estimator):
         ``demonstrated_clearance``; ``demo`` its index, ``refused`` the
         planner's reason where it found no plan). Also in :attr:`ioc_info_`.
     model_selection_ : dict or None
-        The route planners tried, each one's training replanning scores
-        (median and mean Pr, share of demonstrations on their sides), the
-        ``chosen`` one and the ``runner_up`` (``model="auto"``, planner
-        ``"mpc"``). Also in :attr:`ioc_info_`.
+        How the behaviour model was chosen: ``criterion`` (in words),
+        ``cross_validated`` (False with fewer than
+        :data:`MIN_CROSS_VALIDATION_DEMOS` obstacle demonstrations: then the
+        training scenes are replanned), ``folds``, the ``chosen`` model's
+        name and the ``runner_up``'s, and per candidate (``"window"``,
+        ``"full+closest"``, ...) its ``route``, ``floor``, ``frame`` and
+        held-out scores: ``mse`` (units²), ``improvement_pooled``,
+        ``_median`` and ``_mean`` (Pr %), ``sides_agree`` (share),
+        ``refused`` and ``clearance_relaxed`` (counts). Also in
+        :attr:`ioc_info_` and the skill file.
     """
 
     def __init__(
