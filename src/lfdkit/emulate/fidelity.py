@@ -45,6 +45,12 @@ clearance it keeps from a single obstacle: its Gaussians sum to a minimum in
 the middle) and the late swerver's from 45 to −45 %. Single-obstacle
 training scenes cannot tell the two kinds of person apart, so the floor is
 per obstacle only; a demonstration between two obstacles would decide it.
+
+Whether a skill keeps a floor at all, and which (this default, or the
+closest any demonstration came: ``quantile=0, factor=1``), is chosen with
+its route planner by cross-validated replanning error
+(:attr:`lfdkit.skill.Skill.model_selection_`): a floor stays off unless it
+brings held-out demonstrations closer.
 """
 
 from __future__ import annotations
