@@ -24,7 +24,7 @@ from lfdkit.emulate.fidelity import (
     replanning_fidelity,
 )
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import MAX_FOLDS, SELECTION_MARGIN, Skill
+from lfdkit.skill import CONSISTENT_CLEARANCE, MAX_FOLDS, SELECTION_MARGIN, Skill
 
 X = np.linspace(0.0, 1.0, 100)
 FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
@@ -103,10 +103,15 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
         for route in ("window", "full")
         for floor in ("", "+demonstrated", "+closest")
     }
-    assert next(iter(candidates)) == "window"  # the thesis's model, which wins ties
-    # The least held-out MSE wins (the thesis's model by a margin), then the runner-up.
+    assert next(iter(candidates)) == "window"  # the thesis's model
+    # The default: the demonstrated floor where the closest approach is consistent.
+    ratio = candidates["window+closest"]["mse"] / candidates["window"]["mse"]
+    assert selection["clearance_consistency"] == pytest.approx(ratio, rel=1e-12)
+    consistent = ratio <= CONSISTENT_CLEARANCE
+    assert selection["default"] == ("window+demonstrated" if consistent else "window")
+    # The least held-out MSE wins (the default by a margin), then the runner-up.
     score = {
-        name: row["mse"] * (1.0 - SELECTION_MARGIN if name == "window" else 1.0)
+        name: row["mse"] * (1.0 - SELECTION_MARGIN if name == selection["default"] else 1.0)
         for name, row in candidates.items()
     }
     ranked = sorted(score, key=score.get)
