@@ -163,9 +163,11 @@ SELECTION_MARGIN = 0.02
 #: The demonstrations keep a consistent clearance when planning each held-out one with the
 #: closest any other came costs at most this times the error of planning it with no floor;
 #: then the floor (``"demonstrated"``) is the default, not the thesis's model. Measured on
-#: the fidelity benchmark's people (seed 0, 6 demonstrations, 5 folds): the thesis's person
-#: 2.1, the late swerver 1.02, the fixed-margin person 1.28, the potential field 0.94.
-CONSISTENT_CLEARANCE = 1.5
+#: the fidelity benchmark's people (6 demonstrations, 5 folds; seed 0 / 1, 1x noise): the
+#: thesis's person 2.08 / 1.25, the late swerver 1.02 / 1.00, the fixed-margin person
+#: 1.28 / 1.21, the potential field 0.94 / 1.00. At 2x noise the thesis's person gives
+#: 1.00 (seed 1): noise hides the difference, and its pairs are then closed.
+CONSISTENT_CLEARANCE = 1.1
 
 
 def _check_learned_classes(skill: Skill) -> None:
