@@ -394,6 +394,15 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
     row["fit_warnings"] = sorted({str(w.message)[:200] for w in caught})
     info = getattr(skill, "ioc_info_", None) or {}
     row["ioc"] = {k: info.get(k) for k in ("loss", "converged", "not_learned", "seconds")}
+    selection = getattr(skill, "model_selection_", None) or {}
+    chosen = selection.get("candidates", {}).get(selection.get("chosen"), {})
+    row["model"] = {
+        "chosen": selection.get("chosen"),
+        "runner_up": selection.get("runner_up"),
+        "cv_pr_median": chosen.get("improvement_median"),
+        "cv_pr_pooled": chosen.get("improvement_pooled"),
+        "cross_validated": selection.get("cross_validated"),
+    }
     task_skills = {"train": skill}
 
     def skill_for(task: str):
@@ -532,6 +541,14 @@ def print_table(rows: list[dict], scale: float) -> None:
             f"{r['kind']:<7} "
             + " ".join(f"{_f(r['by_family'][f].get('pr_median')):>9}%" for f in P.FAMILIES)
         )
+    print("\nBehaviour model chosen (Skill.model_selection_; CV: its cross-validated Pr median):")
+    for r in rows:
+        m = r.get("model") or {}
+        if m.get("chosen"):
+            print(
+                f"{r['kind']:<7} {r['n_train']:>2} {r['noise']:>4.0f}x {m['chosen']:<22} "
+                f"CV {_f(m.get('cv_pr_median')):>5}%  runner-up {m.get('runner_up')}"
+            )
     for r in rows:
         for message in r.get("refused", [])[:3]:
             print(f"  refused ({r['kind']} n={r['n_train']} {r['noise']:.0f}x) {message}")

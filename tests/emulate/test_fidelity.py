@@ -4,7 +4,8 @@ The demonstrations here are a fixed-margin person's, drawn by hand: a smooth
 detour that keeps 5–7 cm from the surface of one cup on the path, on the side
 away from it. Known answers: the learned clearance is 0.8 times the 10 %
 quantile of what they kept; a plan with it does not pass between two cups
-2 cm apart; every training scene is replanned and scored.
+2 cm apart; every training scene is replanned and scored; the behaviour
+model is the candidate with the least cross-validated replanning error.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from lfdkit.emulate.fidelity import (
     replanning_fidelity,
 )
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import Skill
+from lfdkit.skill import CONSISTENT_CLEARANCE, MAX_FOLDS, SELECTION_MARGIN, Skill
 
 X = np.linspace(0.0, 1.0, 100)
 FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
@@ -55,11 +56,18 @@ def test_the_clearance_kept_is_learned_per_class(learned) -> None:
     skill, demos, scenes = learned
     kept = [float(s.distances(d)[0]) for d, s in zip(demos, scenes, strict=True)]
     assert min(kept) > 0.05
+    nominals = [skill.nominal(d[0]) for d in demos]
     # 10 % quantile ("lower") of six values is the smallest.
-    assert skill.clearances_ == {"cup": pytest.approx(CLEARANCE_FACTOR * min(kept), rel=1e-12)}
+    found = demonstrated_clearances(demos, scenes, nominals, ["cup"])
+    assert found == {"cup": pytest.approx(CLEARANCE_FACTOR * min(kept), rel=1e-12)}
+    closest = demonstrated_clearances(demos, scenes, nominals, ["cup"], quantile=0.0, factor=1.0)
+    assert closest == {"cup": pytest.approx(min(kept), rel=1e-12)}
+    # The skill keeps the floor of the model it chose (none for the thesis's).
+    floor = skill.model_selection_["candidates"][skill.model_selection_["chosen"]]["floor"]
+    expected = {"none": {}, "demonstrated": found, "closest": closest}[floor]
+    assert skill.clearances_ == expected
     # An obstacle off to the side, which the demonstration did not go around, says nothing.
     far = [Scene((*s.obstacles, Obstacle("marker", [0.5, 0.4]))) for s in scenes]
-    nominals = [X[:, None] * [1.0, 0.0] for _ in demos]
     found = demonstrated_clearances(demos, far, nominals, ["cup", "marker"])
     assert set(found) == {"cup"}
 
@@ -83,10 +91,36 @@ def test_no_gap_a_person_would_not_take() -> None:
     assert wider.details.clearance.min() >= 0.0
 
 
-def test_learned_skill_goes_around_the_gap_the_demonstrations_never_took(learned) -> None:
-    skill, _, _ = learned
-    plan = skill.plan(scene=GAP)
-    assert GAP.distances(plan.points).min() >= skill.clearances_["cup"] - 1e-9
+def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
+    skill, demos, _ = learned
+    selection = skill.model_selection_
+    # Six demonstrations: five folds (at most MAX_FOLDS refits), the sixth left out with the first.
+    assert len(demos) == 6 and selection["cross_validated"] and selection["folds"] == MAX_FOLDS
+    assert selection["criterion"] == f"{MAX_FOLDS}-fold replanning MSE"
+    candidates = selection["candidates"]
+    assert set(candidates) == {
+        f"{route}{floor}"
+        for route in ("window", "full")
+        for floor in ("", "+demonstrated", "+closest")
+    }
+    assert next(iter(candidates)) == "window"  # the thesis's model
+    # The default: the demonstrated floor where the closest approach is consistent.
+    ratio = candidates["window+closest"]["mse"] / candidates["window"]["mse"]
+    assert selection["clearance_consistency"] == pytest.approx(ratio, rel=1e-12)
+    consistent = ratio <= CONSISTENT_CLEARANCE
+    assert selection["default"] == ("window+demonstrated" if consistent else "window")
+    # The least held-out MSE wins (the default by a margin), then the runner-up.
+    score = {
+        name: row["mse"] * (1.0 - SELECTION_MARGIN if name == selection["default"] else 1.0)
+        for name, row in candidates.items()
+    }
+    ranked = sorted(score, key=score.get)
+    assert [selection["chosen"], selection["runner_up"]] == ranked[:2]
+    chosen = candidates[selection["chosen"]]
+    assert (skill.route_, skill.frame_) == (chosen["route"], chosen["frame"])
+    for row in candidates.values():  # every held-out demonstration planned and scored
+        assert row["refused"] == 0 and row["sides_agree"] == 1.0
+        assert row["improvement_median"] > 80.0
     thesis = Skill(model="thesis").fit(FREE).adopt(skill.reward_)
     assert thesis.clearances_ == {}
 
@@ -101,12 +135,8 @@ def test_every_training_scene_is_replanned_and_scored(learned, tmp_path) -> None
         assert row["improvement"] == pytest.approx(again["improvement"], abs=1e-9)
         assert row["sides_agree"] and row["other_side"] == 0
         assert row["demonstrated_clearance"] == pytest.approx(float(scene.distances(demo)[0]))
-        assert row["clearance"] >= skill.clearances_["cup"] - 1e-9
+        assert row["clearance"] >= skill.clearances_.get("cup", 0.0) - 1e-9
     assert np.median([r["improvement"] for r in rows]) > 80.0
-    selection = skill.model_selection_
-    assert selection["chosen"] == skill.route_ in ("lookahead", "window")
-    assert selection["runner_up"] in ("lookahead", "window")
-    assert selection["runner_up"] != skill.route_
     # Saved and read back: the same plans, fidelity and choice.
     path = skill.save(tmp_path / "skill.json")
     document = json.loads(path.read_text())
@@ -132,6 +162,9 @@ def test_a_file_without_the_emulation_field_plans_as_before(learned, tmp_path) -
     document["emulation"] = {"route": "window", "clearances": {"cup": -1.0}}
     with pytest.raises(ValueError, match=r"f.json: emulation.clearances.cup: expected a finite"):
         Skill.from_dict(document, source="f.json")
+    document["emulation"] = {"route": "window", "clearances": {}, "frame": "room"}
+    with pytest.raises(ValueError, match=r"f.json: emulation.frame: expected one of world, path"):
+        Skill.from_dict(document, source="f.json")
 
 
 def test_thesis_model_plans_with_the_thesis_mpc(learned) -> None:
@@ -139,6 +172,8 @@ def test_thesis_model_plans_with_the_thesis_mpc(learned) -> None:
     thesis = Skill(model="thesis").fit(FREE, demos[:3], scenes[:3])
     assert thesis.route_ == "window" and thesis.clearances_ == {}
     assert thesis.model_selection_["runner_up"] is None
+    assert list(thesis.model_selection_["candidates"]) == ["window"]
+    assert thesis.model_selection_["cross_validated"]  # its held-out fidelity, said
     with pytest.raises(ValueError, match="model: expected one of 'auto', 'thesis'"):
         Skill(model="person").fit(FREE)
 
@@ -159,9 +194,13 @@ def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
     }
     skill = SimpleNamespace(
         model_selection_={
+            "cross_validated": True,
             "chosen": "window",
-            "runner_up": "lookahead",
-            "candidates": {"window": scores, "lookahead": scores},
+            "runner_up": "full+closest",
+            "candidates": {
+                "window": {"route": "window", "floor": "none", "frame": "world", **scores},
+                "full+closest": {"route": "full", "floor": "closest", "frame": "world", **scores},
+            },
         },
         training_fidelity_=[good, worse, refused],
         clearances_={"cup": 0.025},
@@ -169,14 +208,27 @@ def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
     )
     lines = _fidelity_lines(skill)
     assert lines[0].startswith("obstacle behaviour planned with the thesis's MPC")
-    assert "runner-up MPC with lookahead" in lines[0]
-    assert "Pr median 41 %, mean 27 %, sides kept in 50%" in lines[0]
+    assert (
+        "runner-up the full-horizon optimum, keeping the closest clearance any demonstration "
+        "kept (cross-validated Pr median 41 %" in lines[0]
+    )
+    assert "cross-validated Pr median 41 %, mean 27 %, sides kept in 50%" in lines[0]
+    assert lines[0].endswith("; POOR: held-out demonstrations are emulated at 41 % (below 50 %)")
     assert lines[1] == "plans keep at least the clearance the demonstrations kept: cup 0.025 m"
     assert lines[2:] == [
         "obstacle demonstration 7: replanned worse than its nominal (Pr -13 %) and passes 2 "
         "obstacle(s) on the other side",
         "obstacle demonstration 'c': no plan in its own scene (no collision-free plan: ...)",
     ]
+    # A file from before the choice was cross-validated: candidates named by route only.
+    skill.model_selection_ = {
+        "chosen": "window",
+        "runner_up": "lookahead",
+        "candidates": {"window": scores, "lookahead": scores},
+    }
+    line = _fidelity_lines(skill)[0]
+    assert "runner-up MPC with lookahead along the global route (training replanning" in line
+    assert "POOR" not in line
 
 
 def test_the_same_demonstrations_in_millimetres_give_the_same_behaviour(learned) -> None:
@@ -186,12 +238,15 @@ def test_the_same_demonstrations_in_millimetres_give_the_same_behaviour(learned)
         mm = Skill(units="mm").fit(
             [1e3 * d for d in FREE], [1e3 * d for d in demos], [s.scaled(1e3) for s in scenes]
         )
+    assert mm.model_selection_["chosen"] == skill.model_selection_["chosen"]
     assert mm.route_ == skill.route_
-    assert mm.clearances_["cup"] == pytest.approx(1e3 * skill.clearances_["cup"], rel=1e-9)
+    assert mm.clearances_.keys() == skill.clearances_.keys()
+    for label, margin in skill.clearances_.items():
+        assert mm.clearances_[label] == pytest.approx(1e3 * margin, rel=1e-9)
     plan_mm = mm.plan(scene=GAP.scaled(1e3)).points
     np.testing.assert_allclose(plan_mm, 1e3 * skill.plan(scene=GAP).points, atol=1e-3)
     converted = skill.to_units("mm")
-    assert converted.clearances_["cup"] == pytest.approx(mm.clearances_["cup"], rel=1e-9)
+    assert converted.clearances_ == pytest.approx(mm.clearances_, rel=1e-9)
     assert converted.route_ == skill.route_
 
 
@@ -229,3 +284,28 @@ def test_path_frame_responses_turn_with_the_task() -> None:
     three_d.adopt(Reward(20.0, {"cup": [100.0, 4000.0, 4000.0]}))
     with pytest.raises(ValueError, match="model: 'path'"):
         three_d.plan(scene=Scene((Obstacle("cup", [0.5, 0.01, 0.0], radius=0.005),)))
+
+
+def test_poor_cross_validated_fidelity_is_warned_on_one_line() -> None:
+    skill = Skill()
+    skill.training_fidelity_ = [{"demo": 0, "improvement": 90.0}]
+    selection = {"cross_validated": True, "chosen": "window", "runner_up": None}
+    for median, warned in ((30.0, True), (50.0, False), (None, False)):
+        skill.model_selection_ = {
+            **selection,
+            "candidates": {"window": {"improvement_median": median}},
+        }
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            skill._warn_fidelity()
+        assert len(caught) == warned
+        if warned:
+            message = str(caught[0].message)
+            assert "\n" not in message
+            assert "replanned at a median Pr of 30 % over the nominal (cross-validated, " in message
+            assert "below 50 %); add demonstrations with the obstacles at several" in message
+    # Not cross-validated (fewer than 3 demonstrations): the training replanning is judged.
+    skill.model_selection_ = {**selection, "cross_validated": False, "candidates": {}}
+    skill.training_fidelity_ = [{"demo": 0, "improvement": 20.0}]
+    with pytest.warns(UserWarning, match="replans its own training demonstrations poorly"):
+        skill._warn_fidelity()

@@ -414,3 +414,14 @@ def test_parameters_not_identified_are_said_with_what_to_demonstrate() -> None:
     scenes = [Scene((Obstacle("cup", path[100 + 40 * j] + [0.0, 0.08]),)) for j in range(3)]
     with pytest.warns(UserWarning, match="none of the reward's parameters is identified"):
         IOC().fit([path] * 3, scenes, path)
+
+
+def test_a_refit_without_diagnosis_gives_the_same_reward_and_skips_the_checks() -> None:
+    # What the skill's cross-validation refits with: the same optimum from the same
+    # start, without the identifiability Hessian or the per-class check.
+    demos, scenes = demonstrations(3)
+    checked = IOC(init=TRUE, max_iter=5).fit(demos, scenes, nominal())
+    quick = IOC(init=TRUE, max_iter=5, diagnose=False).fit(demos, scenes, nominal())
+    np.testing.assert_array_equal(quick.theta_, checked.theta_)
+    assert quick.identifiability_ == {} and checked.identifiability_
+    assert quick.not_learned_ == checked.not_learned_ == ()

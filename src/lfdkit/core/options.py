@@ -17,6 +17,7 @@ __all__ = [
     "MIN_HORIZON",
     "MODELS",
     "PLANNERS",
+    "POOR_FIDELITY",
     "SCALINGS",
     "SKILL_DEFAULTS",
     "THESIS_DMP",
@@ -31,6 +32,9 @@ PLANNERS = ("mpc", "full")
 #: :class:`~lfdkit.skill.Skill`'s ``model`` choices: from the demonstrations, the thesis's,
 #: or "auto" with each obstacle's response in the nominal's frame (2-D).
 MODELS = ("auto", "thesis", "path")
+#: Cross-validated median Pr (%) of the chosen behaviour model below which a skill is said
+#: to emulate its demonstrations poorly (issue 26: ``Skill.fit`` warns, ``lfdkit learn`` says).
+POOR_FIDELITY = 50.0
 #: :class:`~lfdkit.skill.Skill`'s ``timing`` choices (:meth:`lfdkit.imitate.DMP.fit`).
 TIMINGS = ("minimum_jerk", "uniform")
 #: :class:`~lfdkit.skill.Skill`'s ``scaling`` choices (:class:`lfdkit.imitate.DMP`).

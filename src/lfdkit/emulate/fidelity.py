@@ -45,6 +45,12 @@ clearance it keeps from a single obstacle: its Gaussians sum to a minimum in
 the middle) and the late swerver's from 45 to −45 %. Single-obstacle
 training scenes cannot tell the two kinds of person apart, so the floor is
 per obstacle only; a demonstration between two obstacles would decide it.
+
+Whether a skill keeps a floor at all, and which (this default, or the
+closest any demonstration came: ``quantile=0, factor=1``), is chosen with
+its route planner by cross-validated replanning error
+(:attr:`lfdkit.skill.Skill.model_selection_`): a floor stays off unless it
+brings held-out demonstrations closer.
 """
 
 from __future__ import annotations
@@ -118,6 +124,9 @@ def demonstrated_clearances(
     scenes: Sequence[Scene],
     nominals: Sequence[np.ndarray],
     classes: Sequence[str],
+    *,
+    quantile: float = CLEARANCE_QUANTILE,
+    factor: float = CLEARANCE_FACTOR,
 ) -> dict[str, float]:
     """Per class, the clearance the demonstrations kept from the obstacles they went around.
 
@@ -130,11 +139,16 @@ def demonstrated_clearances(
         Each demonstration's nominal path.
     classes : sequence of str
         The classes to learn it for.
+    quantile, factor : float
+        The clearance is ``factor`` times this quantile of the surface
+        distances kept (defaults :data:`CLEARANCE_QUANTILE`,
+        :data:`CLEARANCE_FACTOR`; ``quantile=0, factor=1`` is the closest any
+        demonstration came).
 
     Returns
     -------
     dict
-        ``{class: CLEARANCE_FACTOR × CLEARANCE_QUANTILE of the surface
+        ``{class: factor × quantile of the surface
         distances}`` (units, >= 0) for every class with at least one obstacle
         gone around; a class without one is left out (no margin).
     """
@@ -149,7 +163,7 @@ def demonstrated_clearances(
             if label in kept:
                 kept[label].append(max(float(gaps[o]), 0.0))
     return {
-        c: CLEARANCE_FACTOR * float(np.quantile(values, CLEARANCE_QUANTILE, method="lower"))
+        c: factor * float(np.quantile(values, quantile, method="lower"))
         for c, values in kept.items()
         if values
     }

@@ -748,6 +748,11 @@ class IOC(Estimator):
     gradient : {"implicit", "finite_difference"}
         Exact implicit gradients (default), or central finite differences of the
         loss (two extra plans per parameter and demonstration; for comparison).
+    diagnose : bool
+        Run the checks after the fit (that each class's response moves the
+        plans, the identifiability of each parameter). False skips them, for
+        refits whose reward only plans (a leave-one-out model choice): then
+        ``identifiability_`` is empty and no class is dropped as weak.
     progress : Progress, callable, bool or None
         Reports the fit's stages (the starting search, each L-BFGS run with
         its iterations and loss, the MPC refinement, the checks after it);
@@ -816,6 +821,7 @@ class IOC(Estimator):
         max_iter: int = 200,
         tol: float = 1e-10,
         gradient: str = "implicit",
+        diagnose: bool = True,
         progress: ProgressLike = None,
     ) -> None:
         self.classes = classes
@@ -827,6 +833,7 @@ class IOC(Estimator):
         self.max_iter = max_iter
         self.tol = tol
         self.gradient = gradient
+        self.diagnose = diagnose
         self.progress = progress
 
     @staticmethod
@@ -930,7 +937,7 @@ class IOC(Estimator):
         label = "IOC: checking that each class's learned response moves the plans"
         with self._progress.stage(label, total=len(self.classes_)) as check:
             weak = []
-            for label in self.classes_:
+            for label in self.classes_ if self.diagnose else ():
                 if not self._moves_plans(theta, data, label):
                     weak.append(label)
                 check.advance()
@@ -940,7 +947,7 @@ class IOC(Estimator):
         theta = theta[columns]
         self.classes_ = tuple(self.classes_[i] for i in keep)
         self._data = data = self._without(data, weak)
-        self.identifiability_ = self._identifiability(theta, data)
+        self.identifiability_ = self._identifiability(theta, data) if self.diagnose else {}
         # Back to the data's units: Q and the precisions scale as 1/length².
         self.theta_ = theta - 2.0 * np.log(length)
         self.reward_ = Reward.from_theta(self.theta_, self.classes_, self._q)

@@ -43,11 +43,12 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     a file with them ignores them and refits.
 ``emulation``
     Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
-    "lookahead" | "window" | "full", "clearances": {class: units}}``, the
-    route planner its plans use and the clearance kept at least from each
-    class's obstacles (:attr:`lfdkit.skill.Skill.route_`,
-    :attr:`lfdkit.skill.Skill.clearances_`). A file without it plans as
-    before (MPC with lookahead, no learned clearance); an older lfdkit
+    "lookahead" | "window" | "full", "clearances": {class: units}[, "frame":
+    "path"]}``, the route planner its plans use, the clearance kept at least
+    from each class's obstacles and, where not the world's, the frame the
+    learned responses turn with (:attr:`lfdkit.skill.Skill.route_`,
+    :attr:`lfdkit.skill.Skill.clearances_`, :attr:`lfdkit.skill.Skill.frame_`).
+    A file without it plans as before (MPC with lookahead, no learned clearance); an older lfdkit
     reading a file with it ignores it.
 ``promp``
     Only for a skill learned from demonstrations (issue 33): their ProMP
@@ -128,6 +129,8 @@ SKILL_VERSION = 1
 
 #: Route planners a skill file may name (:attr:`lfdkit.skill.Skill.route_`).
 ROUTES = ("lookahead", "window", "full")
+#: Frames of the learned responses a skill file may name (:attr:`lfdkit.skill.Skill.frame_`).
+FRAMES = ("world", "path")
 
 # Points of a path or plan: the planner's memory grows linearly with them.
 _MAX_POINTS = 100_000
@@ -510,8 +513,8 @@ class SkillDocument:
             raise ValueError(f"{self.source}: {prefix}{key}: expected an object")
         return unpack_arrays(value, f"{self.source}: {prefix}{key}")
 
-    def emulation(self) -> tuple[str, dict[str, float]] | None:
-        """``(route, {class: clearance})`` of a fitted reward, or None where the file has none."""
+    def emulation(self) -> tuple[str, dict[str, float], str] | None:
+        """``(route, {class: clearance}, frame)`` of a fitted reward, or None (none in the file)."""
         value = self.data.get("emulation")
         if value is None:
             return None
@@ -535,7 +538,13 @@ class SkillDocument:
                     f">= 0, got {margin!r}"
                 )
             clearances[str(label)] = float(margin)
-        return route, clearances
+        frame = value.get("frame", "world")
+        if frame not in FRAMES:
+            raise ValueError(
+                f"{self.source}: emulation.frame: expected one of {', '.join(FRAMES)}, "
+                f"got {frame!r}"
+            )
+        return route, clearances, frame
 
     def mimic(self) -> dict[str, Any]:
         """How the path was made (``method``, ``n_demos`` and diagnostics)."""

@@ -16,7 +16,7 @@ from lfdkit.app.cli.common import (
     units_refusal,
     working,
 )
-from lfdkit.core.options import DEMONSTRATION_SPEED, SKILL_DEFAULTS
+from lfdkit.core.options import DEMONSTRATION_SPEED, POOR_FIDELITY, SKILL_DEFAULTS
 from lfdkit.core.units import UnitsWarning
 
 __all__ = ["add_options", "run_command", "timing_line"]
@@ -103,6 +103,21 @@ _ROUTE_NAMES = {
     "window": "the thesis's MPC (each window's best)",
     "full": "the full-horizon optimum",
 }
+_FLOOR_NAMES = {
+    "demonstrated": "keeping the clearance the demonstrations kept",
+    "closest": "keeping the closest clearance any demonstration kept",
+}
+
+
+def _behaviour(name: str, row: dict) -> str:
+    """A behaviour model in words (files before floors and frames name only the route)."""
+    words = _ROUTE_NAMES[row.get("route", name)]
+    floor = row.get("floor", "none")
+    if floor != "none":
+        words += f", {_FLOOR_NAMES[floor]}"
+    if row.get("frame", "world") == "path":
+        words += ", responses turned with the path"
+    return words
 
 
 def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
@@ -110,20 +125,30 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
     selection = getattr(skill, "model_selection_", None)
     if not selection:
         return []
+    held_out = selection.get("cross_validated", False)
+    kind = "cross-validated" if held_out else "training replanning"
 
-    def scores(route: str) -> str:
-        row = selection["candidates"][route]
+    def scores(name: str) -> str:
+        row = selection["candidates"][name]
         if row["improvement_median"] is None:
             return "no scene planned"
         return (
-            f"training replanning Pr median {row['improvement_median']:.0f} %, mean "
+            f"{kind} Pr median {row['improvement_median']:.0f} %, mean "
             f"{row['improvement_mean']:.0f} %, sides kept in {row['sides_agree']:.0%}"
         )
 
     chosen, runner = selection["chosen"], selection["runner_up"]
-    line = f"obstacle behaviour planned with {_ROUTE_NAMES[chosen]} ({scores(chosen)})"
+    candidates = selection["candidates"]
+    line = f"obstacle behaviour planned with {_behaviour(chosen, candidates[chosen])}"
+    line += f" ({scores(chosen)})"
     if runner is not None:
-        line += f"; runner-up {_ROUTE_NAMES[runner]} ({scores(runner)})"
+        line += f"; runner-up {_behaviour(runner, candidates[runner])} ({scores(runner)})"
+    median = candidates[chosen]["improvement_median"]
+    if held_out and median is not None and median < POOR_FIDELITY:
+        line += (
+            f"; POOR: held-out demonstrations are emulated at {median:.0f} % "
+            f"(below {POOR_FIDELITY:.0f} %)"
+        )
     lines = [line]
     if skill.clearances_:
         kept = ", ".join(f"{c} {m:.3g} {skill.units}" for c, m in skill.clearances_.items())

@@ -36,7 +36,7 @@ import numpy as np
 from lfdkit import __version__
 from lfdkit.app.report import Report
 from lfdkit.core.geometry import resample
-from lfdkit.core.options import DEMONSTRATION_SPEED
+from lfdkit.core.options import DEMONSTRATION_SPEED, POOR_FIDELITY
 from lfdkit.core.progress import Progress, ProgressLike, Stage, as_progress
 from lfdkit.emulate import Reward, metrics, plan_path
 from lfdkit.io import atomic_write, load_demos, save_path
@@ -691,6 +691,26 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
             report.paragraph(
                 f"Warning: the training sweeps are replanned poorly (median Pr {median:.0f} %): "
                 "the learned reward does not explain the demonstrations."
+            )
+        chosen = (selection.get("candidates") or {}).get(selection.get("chosen")) or {}
+        held_out = chosen.get("improvement_median")
+        if selection.get("cross_validated") and held_out is not None:
+            runner = (selection.get("candidates") or {}).get(selection.get("runner_up")) or {}
+            report.paragraph(
+                f"Behaviour model {selection['chosen']} chosen by {selection['criterion']}: "
+                f"held-out sweeps replanned at a median Pr of {held_out:.0f} %"
+                + (
+                    f" (runner-up {selection['runner_up']}: "
+                    f"{runner.get('improvement_median', float('nan')):.0f} %)."
+                    if runner
+                    else "."
+                )
+                + (
+                    f" Warning: below {POOR_FIDELITY:.0f} %, the skill emulates the sweeper "
+                    "poorly; add sweeps with the obstacles at several distances from the path."
+                    if held_out < POOR_FIDELITY
+                    else ""
+                )
             )
     test = emulate["test"]
     report.table(
