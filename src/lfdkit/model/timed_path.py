@@ -2,12 +2,15 @@
 
 One record for every timed movement in the package (issue 28: one home per
 concept). :class:`TimedPath` holds the times (seconds), the positions, their
-velocities, optionally accelerations and, for a tool that turns, orientations
+velocities where known, optionally accelerations and, for a tool that turns, orientations
 as unit quaternions ``[x, y, z, w]``. A DMP's rollout
 (:meth:`lfdkit.imitate.DMP.rollout`, positions possibly a batch
 ``(n_rollouts, n, q)``), a joint trajectory's samples
 (:meth:`lfdkit.execute.timing.Timing.sample`) and a plan
-(:class:`TimedPlan`, which adds the planner's ``details``) are all one.
+(:class:`TimedPlan`, which adds the planner's ``details``) are all one; so
+are a recording's poses (:class:`lfdkit.io.recordings.PoseRecording`) and an
+obstacle's track (:class:`lfdkit.model.motion.Trajectory`), which have no
+velocities and are linear between their samples.
 
 The record is immutable: its fields cannot be reassigned and its arrays are
 read-only views (``np.array(path.positions)`` is a copy to change). Its form is
@@ -171,7 +174,7 @@ class TimedPath:
     def speeds(self) -> np.ndarray:
         """Speed at each sample, units per second, shape (n,) or (n_rollouts, n)."""
         if self.velocities is None:
-            raise ValueError("velocities: this path has none; sample it or give them")
+            raise ValueError("velocities: this path has none (a recording, a track); give them")
         return np.linalg.norm(self.velocities, axis=-1)
 
     def positions_at(self, times: Any) -> np.ndarray:
