@@ -959,7 +959,7 @@ def arms_timing(quick: bool) -> dict:
             t0 = time.perf_counter()
             run = execute_plan(plan, arm, speed_fraction=f, rate=500.0)
             seconds = time.perf_counter() - t0
-            _, _, qd, qdd = run.samples
+            qd, qdd = run.samples.velocities, run.samples.accelerations
             kept[name][f"{f:g}"] = {
                 "duration_ratio": run.trajectory.duration / run.trajectory.planned_duration,
                 "slowdowns": len(run.trajectory.slowdowns),
@@ -978,7 +978,8 @@ def arms_timing(quick: bool) -> dict:
             3,
         )
         row: dict[str, Any] = {"lfdkit_duration_s": timing.duration, "lfdkit_ms": 1e3 * t_mine}
-        _, v, a = timing.sample(np.linspace(0, timing.duration, 5001))
+        samples = timing.sample(np.linspace(0, timing.duration, 5001))
+        v, a = samples.velocities, samples.accelerations
         row["lfdkit_limit_use"] = float(max((np.abs(v) / vmax).max(), (np.abs(a) / amax).max()))
         try:
             import toppra as ta

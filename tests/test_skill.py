@@ -632,7 +632,8 @@ def test_a_timed_plan_stands_for_its_points(timed) -> None:
         plan += 1.0  # immutable
     assert "100 points in 2-D" in repr(plan)
     # The planner's details come along.
-    assert plan.details.goal_error < 1e-6 and plan.details.points is points
+    assert plan.details.goal_error < 1e-6 and np.shares_memory(plan.details.points, points)
+    assert not points.flags.writeable  # a read-only view of the planner's, not a copy
 
 
 def test_duration_and_speed_rescale_the_plan(timed) -> None:

@@ -146,9 +146,9 @@ def test_the_dmp_state_round_trips_alone() -> None:
         for end in ("rest", "free"):
             dmp = DMP(n_basis=25, scaling=scaling, end=end).fit(path, duration=3.0)
             again = DMP.from_state(_unpacked(dmp.to_state()))
-            rollouts = dmp.rollout(goal=[2.5, 1.0]), again.rollout(goal=[2.5, 1.0])
-            for a, b in zip(*rollouts, strict=True):
-                assert np.array_equal(a, b)
+            first, second = dmp.rollout(goal=[2.5, 1.0]), again.rollout(goal=[2.5, 1.0])
+            for field in ("times", "positions", "velocities", "accelerations"):
+                assert np.array_equal(getattr(first, field), getattr(second, field))
 
 
 def _unpacked(state: dict) -> dict:

@@ -134,7 +134,7 @@ def test_orientations_follow_the_plans_normalised_time(skill3) -> None:
     fast = skill3.plan(speed=3.0)
     np.testing.assert_allclose(slow.orientations, fast.orientations, atol=1e-12)
     u = np.array([0.0, 0.25, 0.5, 1.0])
-    _, rollout = skill3.orientation_dmp_.rollout(n_steps=5)
+    rollout = skill3.orientation_dmp_.rollout(n_steps=5).orientations
     at = skill3.orientations_at(u)
     assert angle_between(at, rollout[[0, 1, 2, 4]]).max() < 1e-6
 

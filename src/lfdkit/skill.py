@@ -1423,7 +1423,9 @@ class Skill(Estimator):
             orientations = self._orientations_at(times / total, *ends)
         if options.get("via") is not None:
             _warn_via_missed(details.points, options["via"], self.units)
-        return TimedPlan(times, details.points, velocities, details, orientations)
+        return TimedPlan(
+            times, details.points, velocities, details=details, orientations=orientations
+        )
 
     def _checked_at_own_times(
         self,
@@ -1544,7 +1546,8 @@ class Skill(Estimator):
     ) -> np.ndarray:
         """:meth:`orientations_at` from checked phases, start and goal."""
         n_steps = max(1001, 8 * int(self.n_points))
-        _, rollout = self.orientation_dmp_.rollout(start=start, goal=goal, n_steps=n_steps)
+        run = self.orientation_dmp_.rollout(start=start, goal=goal, n_steps=n_steps)
+        rollout = run.orientations
         position = np.clip(phases, 0.0, 1.0) * (n_steps - 1)
         k = np.minimum(np.floor(position).astype(int), n_steps - 2)
         out = slerp(rollout[k], rollout[k + 1], position - k)

@@ -43,7 +43,7 @@ def panda() -> UrdfArm:
 
 
 def tool_positions(run) -> np.ndarray:
-    return forward(run.arm, run.samples[1], run.task.tool)[:, :3, 3]
+    return forward(run.arm, run.samples.positions, run.task.tool)[:, :3, 3]
 
 
 @pytest.mark.parametrize("which", ["ur5", "panda"])
@@ -55,14 +55,14 @@ def test_the_plan_runs_as_timed_and_the_tool_follows_it(which, panda):
     run = execute_plan(plan, arm, TaskDescription(tool=tool), speed_fraction=0.5, rate=125.0)
     assert run.trajectory.slowdowns == ()
     assert run.trajectory.duration == pytest.approx(3.0, abs=1e-12)
-    t = run.samples[0]
+    t = run.samples.times
     np.testing.assert_allclose(np.diff(t), 0.008, atol=1e-12)
     # At the plan's times the tool is at the plan's points (cubic in time between them).
     at = np.interp(plan.times, t, np.arange(len(t))).round().astype(int)
     on_grid = np.isclose(t[at], plan.times, atol=1e-9)
     np.testing.assert_allclose(tool_positions(run)[at[on_grid]], plan.positions[on_grid], atol=1e-5)
     # Tool pointing down (the default orientation) all along.
-    down = forward(arm, run.samples[1], tool)[:, :3, 2]
+    down = forward(arm, run.samples.positions, tool)[:, :3, 2]
     np.testing.assert_allclose(down, np.tile([0.0, 0.0, -1.0], (len(t), 1)), atol=1e-5)
     assert (run.program is not None) == (which == "ur5")
 
@@ -71,7 +71,7 @@ def test_a_slow_arm_stretches_the_plan_and_says_where(panda):
     run = execute_plan(reach_over_a_box(duration=1.0, n=40), panda, speed_fraction=0.1)
     assert run.trajectory.duration > 1.0
     assert run.timing_note.startswith("slowed for the arm's limits: 1.000 s planned")
-    _, _, qd, qdd = run.samples
+    qd, qdd = run.samples.velocities, run.samples.accelerations
     assert (np.abs(qd) <= 0.1 * panda.max_joint_speed * (1 + 1e-6)).all()
     assert (np.abs(qdd) <= 0.01 * panda.max_joint_acceleration * (1 + 1e-6)).all()
 
@@ -94,7 +94,7 @@ def test_the_urscript_moves_within_the_speed_fraction(tmp_path):
     header = (tmp_path / "trajectory.csv").read_text().splitlines()[0].split(",")
     assert header[:2] == ["t", "q1"] and header[-1] == "q6_acc" and len(header) == 19
     message = json.loads((tmp_path / "trajectory.json").read_text())
-    assert len(message["points"]) == len(run.samples[0])
+    assert len(message["points"]) == len(run.samples.times)
     summary = json.loads((tmp_path / "summary.json").read_text())
     # At 20 % of the UR5's limits the 3 s reach is slowed, and the summary says so.
     assert summary["robot"]["duration_ratio"] == pytest.approx(run.trajectory.duration / 3.0)

@@ -38,7 +38,8 @@ def random_path(seed: int, n: int | None = None, scale: float = 0.4) -> np.ndarr
 
 def assert_within_limits(timing: Timing) -> None:
     t = np.arange(0.0, timing.duration + 1.0 / RATE, 1.0 / RATE)
-    q, qd, qdd = timing.sample(t)
+    samples = timing.sample(t)
+    q, qd, qdd = samples.positions, samples.velocities, samples.accelerations
     vmax, amax = timing.max_velocity, timing.max_acceleration
     assert np.all(np.abs(qd) <= vmax)
     assert np.all(np.abs(qdd) <= amax)
@@ -63,7 +64,8 @@ def test_single_joint_matches_closed_form(distance, joint):
     assert_within_limits(timing)
     # Other joints do not move.
     t = np.linspace(0, timing.duration, 200)
-    q_s, qd_s, _ = timing.sample(t)
+    samples = timing.sample(t)
+    q_s, qd_s = samples.positions, samples.velocities
     others = np.delete(np.arange(6), joint)
     np.testing.assert_allclose(q_s[:, others], 0.0, atol=1e-12)
     np.testing.assert_allclose(qd_s[:, others], 0.0, atol=1e-12)
@@ -75,7 +77,7 @@ def test_collinear_waypoints_stay_on_the_line():
     q[:, 1] = [0.0, 0.1, 0.15, 0.9, 2.0]
     q[:, 3] = -0.5 * q[:, 1]
     timing = time_parameterize(q, max_velocity=2.0, max_acceleration=8.0)
-    qs = timing.sample(np.linspace(0, timing.duration, 500))[0]
+    qs = timing.sample(np.linspace(0, timing.duration, 500)).positions
     np.testing.assert_allclose(qs[:, 3], -0.5 * qs[:, 1], atol=1e-12)
     assert np.all(np.diff(qs[:, 1]) >= -1e-12)  # no overshoot, no going back
     # Limits bind on joint 1 (the faster one): same time as a single joint move of it.
@@ -103,7 +105,8 @@ def test_per_joint_limits_respected():
 def test_limits_are_nearly_reached():
     # Time-optimal in spirit: some joint runs close to one of its limits.
     timing = time_parameterize(random_path(3))
-    _, qd, qdd = timing.sample(np.arange(0, timing.duration, 1e-3))
+    samples = timing.sample(np.arange(0, timing.duration, 1e-3))
+    qd, qdd = samples.velocities, samples.accelerations
     ratio = max(
         (np.abs(qd) / timing.max_velocity).max(), (np.abs(qdd) / timing.max_acceleration).max()
     )
@@ -113,15 +116,14 @@ def test_limits_are_nearly_reached():
 def test_starts_and_ends_at_rest():
     q = random_path(4)
     timing = time_parameterize(q)
-    q0, qd0, _ = timing.sample(0.0)
-    q1, qd1, _ = timing.sample(timing.duration)
-    np.testing.assert_allclose(q0, q[0], atol=1e-12)
-    np.testing.assert_allclose(q1, q[-1], atol=1e-12)
-    np.testing.assert_allclose(qd0, 0.0, atol=1e-12)
-    np.testing.assert_allclose(qd1, 0.0, atol=1e-9)
+    ends = timing.sample([0.0, timing.duration])
+    np.testing.assert_allclose(ends.positions, q[[0, -1]], atol=1e-12)
+    np.testing.assert_allclose(ends.velocities[0], 0.0, atol=1e-12)
+    np.testing.assert_allclose(ends.velocities[1], 0.0, atol=1e-9)
     # Outside [0, duration] the robot holds still.
     for t, end in ((-1.0, q[0]), (timing.duration + 1.0, q[-1])):
-        qq, qd, qdd = timing.sample(t)
+        samples = timing.sample(t)
+        qq, qd, qdd = samples.positions[0], samples.velocities, samples.accelerations
         np.testing.assert_allclose(qq, end, atol=1e-12)
         np.testing.assert_array_equal(qd, 0.0)
         np.testing.assert_array_equal(qdd, 0.0)
@@ -135,7 +137,7 @@ def test_passes_through_every_waypoint():
     assert timing.times[0] == 0.0
     assert np.all(np.diff(timing.times) > 0)
     assert timing.times[-1] == pytest.approx(timing.duration)
-    np.testing.assert_allclose(timing.sample(timing.times)[0], q, atol=1e-9)
+    np.testing.assert_allclose(timing.sample(timing.times).positions, q, atol=1e-9)
     np.testing.assert_array_equal(timing.waypoint_index, np.arange(20))
 
 
@@ -144,7 +146,7 @@ def test_path_reversal():
     q[1, :2] = [1.0, 0.5]
     timing = time_parameterize(q)
     assert_within_limits(timing)
-    np.testing.assert_allclose(timing.sample(timing.times)[0], q, atol=1e-12)
+    np.testing.assert_allclose(timing.sample(timing.times).positions, q, atol=1e-12)
 
 
 def test_dense_waypoints():
@@ -152,7 +154,7 @@ def test_dense_waypoints():
     q = np.column_stack((np.sin(s), np.cos(2 * s), s / 4, 0 * s, 0.2 * np.sin(s), 0.1 * s))
     timing = time_parameterize(q)
     assert_within_limits(timing)
-    np.testing.assert_allclose(timing.sample(timing.times)[0], q, atol=1e-9)
+    np.testing.assert_allclose(timing.sample(timing.times).positions, q, atol=1e-9)
 
 
 def test_repeated_waypoints_are_dropped():
@@ -177,8 +179,10 @@ def test_speed_fraction_stretches_time():
     assert slow.duration == pytest.approx(fast.duration / 0.2, rel=1e-9)
     np.testing.assert_allclose(slow.times, fast.times / 0.2, rtol=1e-9, atol=1e-12)
     t = np.linspace(0, 0.999 * fast.duration, 50)  # inside: the end is at rest, qdd = 0 after
-    qf, qdf, qddf = fast.sample(t)
-    qs, qds, qdds = slow.sample(t / 0.2)
+    samples = fast.sample(t)
+    qf, qdf, qddf = samples.positions, samples.velocities, samples.accelerations
+    samples = slow.sample(t / 0.2)
+    qs, qds, qdds = samples.positions, samples.velocities, samples.accelerations
     np.testing.assert_allclose(qs, qf, atol=1e-9)
     np.testing.assert_allclose(qds, 0.2 * qdf, atol=1e-9)
     np.testing.assert_allclose(qdds, 0.04 * qddf, atol=1e-8)
@@ -189,7 +193,8 @@ def test_speed_fraction_stretches_time():
 def test_resample_uniform_125_hz():
     q = random_path(7)
     timing = time_parameterize(q)
-    times, qq, qd, qdd = timing.resample(125)
+    samples = timing.resample(125)
+    times, qq, qd, qdd = samples.times, samples.positions, samples.velocities, samples.accelerations
     m = len(times)
     assert qq.shape == qd.shape == qdd.shape == (m, 6)
     np.testing.assert_allclose(np.diff(times), 1 / 125, rtol=1e-12)
@@ -198,15 +203,17 @@ def test_resample_uniform_125_hz():
     np.testing.assert_allclose(qq[0], q[0], atol=1e-12)
     np.testing.assert_allclose(qq[-1], q[-1], atol=1e-12)
     np.testing.assert_allclose(qd[[0, -1]], 0.0, atol=1e-9)
-    q2, _, _ = timing.sample(times)
+    q2 = timing.sample(times).positions
     np.testing.assert_array_equal(qq, q2)
 
 
 def test_sample_shapes():
     timing = time_parameterize(random_path(8, n=4))
-    q, qd, qdd = timing.sample(0.1)
-    assert q.shape == qd.shape == qdd.shape == (6,)
-    q, qd, qdd = timing.sample([0.1, 0.2, 0.3])
+    samples = timing.sample(0.1)  # a number is one time
+    q, qd, qdd = samples.positions, samples.velocities, samples.accelerations
+    assert q.shape == qd.shape == qdd.shape == (1, 6) and samples.times.shape == (1,)
+    samples = timing.sample([0.1, 0.2, 0.3])
+    q, qd, qdd = samples.positions, samples.velocities, samples.accelerations
     assert q.shape == (3, 6)
     assert timing.n_joints == 6
 
@@ -265,7 +272,7 @@ def test_limits_come_from_the_arm():
     np.testing.assert_allclose(ur10.max_velocity, UR10.max_joint_speed)
     np.testing.assert_allclose(ur10.max_acceleration, UR10.max_joint_acceleration)
     assert_within_limits(ur10)
-    qd = ur10.sample(np.linspace(0.0, ur10.duration, 2000))[1]
+    qd = ur10.sample(np.linspace(0.0, ur10.duration, 2000)).velocities
     assert np.abs(qd[:, 0]).max() <= base
     assert np.abs(qd[:, 0]).max() > 0.98 * base  # and uses it
     best = min_time(3.0, base, 15.0)
@@ -304,7 +311,7 @@ def test_absurd_sizes_and_speeds_are_one_line_refusals_not_memory_errors():
     short = time_parameterize(np.eye(6)[:2])
     with pytest.raises(ValueError, match=r"rate_hz: 1e\+09 Hz over .*split the motion"):
         short.resample(1e9)
-    assert len(short.resample(125)[0]) == int(np.ceil(short.duration * 125 - 1e-9)) + 1
+    assert len(short.resample(125).times) == int(np.ceil(short.duration * 125 - 1e-9)) + 1
     with pytest.raises(ValueError, match=r"speed_fraction: must be in \[0.001, 1\], got 1e-300; a"):
         time_parameterize(np.eye(6)[:2], speed_fraction=1e-300)
 

@@ -36,7 +36,8 @@ def test_within_the_limits_the_plan_times_are_kept_exactly():
     assert traj.duration == traj.planned_duration == 6.0
     assert "kept" in traj.describe_slowdowns()
     # Passes every waypoint at its time, at rest at both ends.
-    q_at, qd_at, _ = traj.sample(t)
+    samples = traj.sample(t)
+    q_at, qd_at = samples.positions, samples.velocities
     np.testing.assert_allclose(q_at, q, atol=1e-12)
     np.testing.assert_allclose(qd_at[[0, -1]], 0.0, atol=1e-12)
 
@@ -44,11 +45,13 @@ def test_within_the_limits_the_plan_times_are_kept_exactly():
 @pytest.mark.parametrize("fraction", [0.5, 0.2, 0.05])
 def test_over_the_limits_it_is_within_them_everywhere(fraction):
     t, q = bump()
-    _, qd, qdd = keep_timing(t, q, [10.0, 10.0], [10.0, 10.0]).sample(t)
+    samples = keep_timing(t, q, [10.0, 10.0], [10.0, 10.0]).sample(t)
+    qd, qdd = samples.velocities, samples.accelerations
     vmax = fraction * np.abs(qd).max(axis=0)
     amax = fraction**2 * np.abs(qdd).max(axis=0)
     traj = keep_timing(t, q, vmax, amax)
-    _, v, a = dense_state(traj)
+    samples = dense_state(traj)
+    v, a = samples.velocities, samples.accelerations
     assert (np.abs(v) <= vmax * (1 + 1e-9)).all()
     assert (np.abs(a) <= amax * (1 + 1e-9)).all()
     # A uniform stretch by 1/fraction would do; a local one does no worse, and not much better.
@@ -78,15 +81,21 @@ def test_only_the_fast_stretch_is_slowed():
 def test_fixed_rate_samples_and_the_ros_message():
     t, q = bump(duration=2.0, n=201)
     traj = keep_timing(t, q, [10.0, 10.0], [50.0, 50.0], joint_names=("a", "b"))
-    times, pos, vel, acc = traj.resample(500.0)
+    samples = traj.resample(500.0)
+    times, pos, vel, acc = (
+        samples.times,
+        samples.positions,
+        samples.velocities,
+        samples.accelerations,
+    )
     np.testing.assert_allclose(np.diff(times), 0.002, atol=1e-12)
     assert times[-1] >= traj.duration and len(times) == 1001
     # The velocities are the positions' derivative (central differences, tiny step).
     h = 1e-6
     inner = times[1:-1]
-    numeric = (traj.sample(inner + h)[0] - traj.sample(inner - h)[0]) / (2 * h)
+    numeric = (traj.sample(inner + h).positions - traj.sample(inner - h).positions) / (2 * h)
     np.testing.assert_allclose(numeric, vel[1:-1], rtol=1e-6, atol=1e-6)
-    numeric = (traj.sample(inner + h)[1] - traj.sample(inner - h)[1]) / (2 * h)
+    numeric = (traj.sample(inner + h).velocities - traj.sample(inner - h).velocities) / (2 * h)
     np.testing.assert_allclose(numeric, acc[1:-1], rtol=1e-5, atol=1e-5)
     np.testing.assert_allclose(pos[[0, -1]], q[[0, -1]], atol=1e-12)  # rest to rest
     message = traj.ros_message(500.0)

@@ -520,7 +520,8 @@ def servo_stream(rate: float = 125.0, speed_fraction: float = 0.2):
         ]
     )
     timing = time_parameterize(q, speed_fraction=speed_fraction)
-    times, qq, _, _ = timing.resample(rate)
+    samples = timing.resample(rate)
+    times, qq = samples.times, samples.positions
     return times, qq
 
 
@@ -690,7 +691,8 @@ def test_servoj_round_trip_on_random_trajectories(offsets, fraction, rate):
     waypoints = Q_ABOVE + np.vstack(([0.0] * 6, offsets))
     if np.linalg.norm(np.diff(waypoints, axis=0), axis=1).max() < 1e-3:
         waypoints[-1, 0] += 0.05  # time_parameterize needs some motion
-    times, q, _, _ = time_parameterize(waypoints, speed_fraction=fraction).resample(rate)
+    samples = time_parameterize(waypoints, speed_fraction=fraction).resample(rate)
+    times, q = samples.times, samples.positions
     prog = read_program(urscript_program(motion="servoj", joint_path=q, times=times))
     got = np.array([s[0] for s in prog.servoj])
     np.testing.assert_allclose(got, q, rtol=0, atol=PRECISION)
@@ -838,7 +840,8 @@ def test_joint_stream_is_checked_against_the_arms_limits():
     """A base move timed for the UR5 (3.2 rad/s) is too fast for the UR10 (120°/s)."""
     q = np.repeat(Q_ABOVE[None], 2, axis=0)
     q[1, 0] += 2.0
-    times, stream, _, _ = time_parameterize(q).resample(125.0)
+    samples = time_parameterize(q).resample(125.0)
+    times, stream = samples.times, samples.positions
     read_program(urscript_program(motion="servoj", joint_path=stream, times=times))
     with pytest.raises(
         URScriptError,
@@ -847,7 +850,8 @@ def test_joint_stream_is_checked_against_the_arms_limits():
     ):
         urscript_program(motion="servoj", joint_path=stream, times=times, arm=UR10)
     # Timed for the UR10, the same move passes.
-    times, stream, _, _ = time_parameterize(q, arm=UR10).resample(125.0)
+    samples = time_parameterize(q, arm=UR10).resample(125.0)
+    times, stream = samples.times, samples.positions
     read_program(urscript_program(motion="servoj", joint_path=stream, times=times, arm=UR10))
     # Joint limits are the arm's too.
     narrow = dataclasses.replace(UR10, name="UR10 narrow", joint_limits=[[-1.0, 1.0]] * 6)

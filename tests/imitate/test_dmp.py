@@ -18,6 +18,7 @@ from sklearn.exceptions import NotFittedError
 from lfdkit.core.options import THESIS_DMP
 from lfdkit.imitate import DMP, minimum_jerk_times
 from lfdkit.imitate._dmp_numerics import transition as _transition
+from lfdkit.model.timed_path import TimedPath
 
 OMEGA = 12.5  # sqrt(156.25): the thesis's gains, critically damped
 
@@ -280,6 +281,8 @@ def test_batch_single_and_stepwise_rollouts_agree() -> None:
     goals = dmp.goal_ + rng.normal(size=(5, 3))
     starts = dmp.start_ + 0.1 * rng.normal(size=(5, 3))
     batch = dmp.rollout(start=starts, goal=goals, n_steps=200, tau=1.5)
+    assert isinstance(batch, TimedPath) and batch.positions.shape == (5, 200, 3)
+    assert not batch.positions.flags.writeable  # a record: np.array(...) to change a copy
     for i in range(5):
         single = dmp.rollout(start=starts[i], goal=goals[i], n_steps=200, tau=1.5)
         np.testing.assert_allclose(batch.positions[i], single.positions, atol=1e-12)

@@ -22,7 +22,8 @@ def _demo(amplitude: float = 0.25, n: int = 200, duration: float = 2.0):
 def test_reproduces_and_reaches_new_goals_exactly() -> None:
     t, q = _demo()
     dmp = QuaternionDMP().fit(q * np.where(np.arange(len(q)) % 7 == 3, -1.0, 1.0)[:, None], t)
-    times, r = dmp.rollout()
+    run = dmp.rollout()
+    times, r = run.times, run.orientations
     np.testing.assert_allclose(times, t, atol=1e-12)
     assert rot.angle_between(r, q).max() < 0.01  # the basis tolerance: 1 % of the extent
     assert rot.angle_between(r[-1], q[-1]) < 1e-9
@@ -30,7 +31,8 @@ def test_reproduces_and_reaches_new_goals_exactly() -> None:
     for _ in range(5):
         start = rot.multiply(rot.exp(rng.normal(0, 0.2, 3)), q[0])
         goal = rot.multiply(rot.exp(rng.normal(0, 0.4, 3)), q[-1])
-        times, r = dmp.rollout(start=start, goal=goal, tau=1.5, n_steps=120)
+        run = dmp.rollout(start=start, goal=goal, tau=1.5, n_steps=120)
+        times, r = run.times, run.orientations
         assert len(r) == 120 and abs(times[-1] - 1.5 * t[-1]) < 1e-9
         assert rot.angle_between(r[0], start) < 1e-9
         assert rot.angle_between(r[-1], goal) < 1e-9  # exactly, not approximately
@@ -42,9 +44,9 @@ def test_a_common_body_rotation_carries_the_whole_movement() -> None:
     """start·h and goal·h: the rollout is the reproduction·h, exactly (goal frame)."""
     t, q = _demo()
     dmp = QuaternionDMP().fit(q, t)
-    _, rep = dmp.rollout()
+    rep = dmp.rollout().orientations
     h = rot.exp(np.array([0.4, -0.9, 0.3]))
-    _, moved = dmp.rollout(start=rot.multiply(q[0], h), goal=rot.multiply(q[-1], h))
+    moved = dmp.rollout(start=rot.multiply(q[0], h), goal=rot.multiply(q[-1], h)).orientations
     assert rot.angle_between(moved, rot.multiply(rep, h)).max() < 1e-9
 
 
@@ -57,7 +59,7 @@ def test_matches_movement_primitives_on_the_reproduction() -> None:
     theirs.configure(start_y=np.r_[0, 0, 0, wxyz[0]], goal_y=np.r_[0, 0, 0, wxyz[-1]])
     _, y = theirs.open_loop()
     their_q = y[:, [4, 5, 6, 3]]
-    _, ours = QuaternionDMP().fit(q, t).rollout(n_steps=len(their_q))
+    ours = QuaternionDMP().fit(q, t).rollout(n_steps=len(their_q)).orientations
     assert rot.angle_between(their_q, q[: len(their_q)]).max() < 0.01
     assert rot.angle_between(ours, their_q).max() < 0.01
     # theirs converges to the goal; ours ends on it

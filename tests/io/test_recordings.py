@@ -17,6 +17,7 @@ from lfdkit.io.recordings import (
     read_joint_states,
     read_poses,
 )
+from lfdkit.model.timed_path import TimedPath
 from tests.io.bags import KINDS, Sample, random_trajectory, write_recording
 
 pr = pytest.importorskip("pytransform3d.rotations", reason="pip install pytransform3d")
@@ -63,6 +64,7 @@ def test_poses_read_back_exactly(tmp_path: Path, kind: str, msgtype: str) -> Non
     out = write_recording(tmp_path / "rec", kind, {"/pose": (msgtype, _samples(ns, pos, q))})
     rec = read_poses(out, "/pose")
     assert rec.msgtype == msgtype
+    assert isinstance(rec, TimedPath) and rec.velocities is None  # the one timed-path record
     np.testing.assert_allclose(rec.positions, pos, rtol=0, atol=1e-9)
     assert _same_rotation(rec.orientations, q) < 1e-9
     assert rec.start_ns == ns[0]

@@ -49,6 +49,7 @@ from lfdkit.execute.trajectory import JointTrajectory, keep_timing
 from lfdkit.execute.urdf import UrdfArm
 from lfdkit.execute.urscript import MAX_TOOL_SPEED, Workspace, urscript_program
 from lfdkit.io import write_text
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
     "DEFAULT_RATE",
@@ -253,8 +254,9 @@ class RobotExecution:
         The joint waypoints with the kept (or stretched) timing.
     rate : float
         Rate of the samples (Hz).
-    samples : tuple of ndarray
-        ``(t (k,), q, qd, qdd (k, n_joints))`` at ``rate``.
+    samples : TimedPath
+        ``times`` (k,) at ``rate``; joint ``positions``, ``velocities`` and
+        ``accelerations`` (k, n_joints).
     program : str or None
         The URScript program (UR-type arms), None otherwise.
     speed_fraction : float
@@ -268,7 +270,7 @@ class RobotExecution:
     poses: np.ndarray = field(repr=False)
     trajectory: JointTrajectory = field(repr=False)
     rate: float
-    samples: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] = field(repr=False)
+    samples: TimedPath = field(repr=False)
     program: str | None = field(repr=False)
     speed_fraction: float
 
@@ -279,7 +281,8 @@ class RobotExecution:
 
     def summary(self) -> dict[str, Any]:
         """What was planned and what the robot does, JSON-ready."""
-        t, q, qd, qdd = self.samples
+        samples = self.samples
+        t, q, qd, qdd = samples.times, samples.positions, samples.velocities, samples.accelerations
         tool = forward(self.arm, q, self.task.tool)[:, :3, 3]
         tool_speed = np.linalg.norm(np.diff(tool, axis=0), axis=1) * self.rate
         traj = self.trajectory
@@ -480,13 +483,13 @@ def execute_plan(
     samples = trajectory.resample(rate)
     program = None
     if isinstance(arm, Arm) and arm.ur_type:
-        check_tool_speed(samples[0], samples[1], arm, task.tool)
+        check_tool_speed(samples.times, samples.positions, arm, task.tool)
         try:
             program = urscript_program(
                 motion="servoj",
                 name="lfdkit_skill",
-                times=samples[0],
-                joint_path=samples[1],
+                times=samples.times,
+                joint_path=samples.positions,
                 header=header,
                 workspace=Workspace.unbounded(),
                 arm=arm,
@@ -544,7 +547,8 @@ def write_robot_execution(
         rows.append(execution.plan_orientations)
     by_path = {p.name: p for p in planned}
     write_text(by_path[_PLAN], _csv_text(columns, np.hstack(rows)), overwrite=overwrite)
-    t, q, qd, qdd = execution.samples
+    samples = execution.samples
+    t, q, qd, qdd = samples.times, samples.positions, samples.velocities, samples.accelerations
     names = execution.trajectory.joint_names
     columns = ["t", *names, *(f"{n}_vel" for n in names), *(f"{n}_acc" for n in names)]
     table = _csv_text(columns, np.hstack([t[:, None], q, qd, qdd]))

@@ -83,13 +83,13 @@ def tool_poses_from_joint_states(
     return PoseRecording(
         rec.times,
         np.ascontiguousarray(T[:, :3, 3]),
-        continuous(quaternion_from_matrix(T[:, :3, :3])),
-        rec.start_ns,
-        topic,
-        "sensor_msgs/msg/JointState",
-        ("base", "flange" if tool is None else "tool"),
-        rec.stamps,
-        rec.notes,
+        orientations=continuous(quaternion_from_matrix(T[:, :3, :3])),
+        start_ns=rec.start_ns,
+        topic=topic,
+        msgtype="sensor_msgs/msg/JointState",
+        frame=("base", "flange" if tool is None else "tool"),
+        stamps=rec.stamps,
+        notes=rec.notes,
     )
 
 

@@ -171,7 +171,8 @@ def simulate_execution(execution: Any, scene: Any = None) -> SimulationCheck:
         xml = xml.replace('<option integrator="implicitfast"/>', option)
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
-    times, q, qd = execution.samples[0], execution.samples[1], execution.samples[2]
+    samples = execution.samples
+    times, q, qd = samples.times, samples.positions, samples.velocities
     n = arm.n_joints
     data.qpos[:n] = q[0]
     mujoco.mj_forward(model, data)

@@ -59,7 +59,7 @@ import numpy as np
 from lfdkit.core.geometry import arc_length
 from lfdkit.core.validation import check_path
 from lfdkit.execute.arm import UR5, Arm, check_arm
-from lfdkit.model.timed_path import fixed_rate_times
+from lfdkit.model.timed_path import TimedPath, fixed_rate_times
 
 __all__ = [
     "DUPLICATE_TOL",
@@ -122,21 +122,23 @@ class Timing:
         """Number of joints."""
         return int(self.waypoints.shape[1])
 
-    def sample(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def sample(self, t: Any) -> TimedPath:
         """Joint positions, velocities and accelerations at given times.
 
         Parameters
         ----------
         t : float or array_like, shape (m,)
-            Times (s). Before 0 the robot is at rest at the first waypoint,
-            after :attr:`duration` at rest at the last.
+            Times (s), non-decreasing (a number is one time). Before 0 the
+            robot is at rest at the first waypoint, after :attr:`duration`
+            at rest at the last.
 
         Returns
         -------
-        q, qd, qdd : ndarray, shape (n_joints,) or (m, n_joints)
-            Positions (rad), velocities (rad/s) and accelerations (rad/s²).
-            The acceleration is piecewise continuous; at a jump the value on
-            the later side is returned.
+        TimedPath
+            ``times`` (m,) and joint ``positions`` (rad), ``velocities``
+            (rad/s) and ``accelerations`` (rad/s²), each (m, n_joints). The
+            acceleration is piecewise continuous; at a jump the value on the
+            later side is returned.
         """
         try:
             tt = np.asarray(t, dtype=np.float64)
@@ -146,15 +148,12 @@ class Timing:
             raise ValueError(f"t: expected a number or a 1-D array, got shape {tt.shape}")
         if np.isnan(tt).any():
             raise ValueError("t: contains NaN")
-        single = tt.ndim == 0
         tt = np.atleast_1d(tt)
         s, sd, sdd = self._path_state(tt)
         q, qd, qdd = self._joint_state(s, sd, sdd)
-        if single:
-            return q[0], qd[0], qdd[0]
-        return q, qd, qdd
+        return TimedPath(tt, q, qd, accelerations=qdd)
 
-    def resample(self, rate_hz: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def resample(self, rate_hz: float) -> TimedPath:
         """The trajectory at a fixed rate, e.g. 125 Hz (500 Hz on e-Series) for ``servoj``.
 
         Parameters
@@ -164,16 +163,12 @@ class Timing:
 
         Returns
         -------
-        times : ndarray, shape (m,)
-            ``k / rate_hz`` for ``k = 0 .. m-1``; the last is the first sample
-            at or after :attr:`duration`, where the robot is at rest at the
-            last waypoint.
-        q, qd, qdd : ndarray, shape (m, n_joints)
-            See :meth:`sample`.
+        TimedPath
+            :meth:`sample` at ``times`` ``k / rate_hz`` for ``k = 0 .. m-1``;
+            the last is the first sample at or after :attr:`duration`, where
+            the robot is at rest at the last waypoint.
         """
-        times = fixed_rate_times(self.duration, rate_hz)
-        q, qd, qdd = self.sample(times)
-        return times, q, qd, qdd
+        return self.sample(fixed_rate_times(self.duration, rate_hz))
 
     # ------------------------------------------------------------------ internals
     def _path_state(self, tt: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from lfdkit.model.timed_path import fixed_rate_times
+from lfdkit.model.timed_path import TimedPath, fixed_rate_times
 
 __all__ = ["JointTrajectory", "Slowdown", "keep_timing"]
 
@@ -102,25 +102,25 @@ class JointTrajectory:
         """The plan's duration (s)."""
         return float(self.planned_times[-1])
 
-    def sample(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Positions, velocities and accelerations at times ``t`` (m,), at rest outside."""
-        tt = np.clip(np.asarray(t, dtype=np.float64), 0.0, self.duration)
-        q, qd, qdd = self._spline(tt), self._spline(tt, 1), self._spline(tt, 2)
-        outside = (np.asarray(t) < 0.0) | (np.asarray(t) > self.duration)
-        qd[outside], qdd[outside] = 0.0, 0.0
-        return q, qd, qdd
-
-    def resample(self, rate_hz: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Fixed-rate samples ``k / rate_hz`` up to the first at or after the end.
+    def sample(self, t: Any) -> TimedPath:
+        """Positions, velocities and accelerations at times ``t`` (m,), at rest outside.
 
         Returns
         -------
-        times : ndarray, shape (k,)
-        q, qd, qdd : ndarray, shape (k, n_joints)
-            Positions, and the spline's exact velocities and accelerations.
+        TimedPath
+            ``times`` (m,); joint ``positions``, ``velocities`` and
+            ``accelerations`` (m, n_joints): the spline and its exact derivatives.
         """
-        times = fixed_rate_times(self.duration, rate_hz)
-        return (times, *self.sample(times))
+        given = np.atleast_1d(np.asarray(t, dtype=np.float64))
+        tt = np.clip(given, 0.0, self.duration)
+        q, qd, qdd = self._spline(tt), self._spline(tt, 1), self._spline(tt, 2)
+        outside = (given < 0.0) | (given > self.duration)
+        qd[outside], qdd[outside] = 0.0, 0.0
+        return TimedPath(given, q, qd, accelerations=qdd)
+
+    def resample(self, rate_hz: float) -> TimedPath:
+        """:meth:`sample` at fixed-rate times ``k / rate_hz``, to the first at or after the end."""
+        return self.sample(fixed_rate_times(self.duration, rate_hz))
 
     def ros_message(self, rate_hz: float) -> dict[str, Any]:
         """The fixed-rate samples shaped like ROS's ``trajectory_msgs/JointTrajectory``.
@@ -128,9 +128,10 @@ class JointTrajectory:
         ``{"joint_names": [...], "points": [{"positions", "velocities",
         "accelerations", "time_from_start": {"sec", "nanosec"}}, ...]}``.
         """
-        times, q, qd, qdd = self.resample(rate_hz)
+        stream = self.resample(rate_hz)
+        q, qd, qdd = stream.positions, stream.velocities, stream.accelerations
         points = []
-        for k, t in enumerate(times):
+        for k, t in enumerate(stream.times):
             nanos = round(float(t) * 1e9)
             points.append(
                 {

@@ -12,7 +12,7 @@ and any path (a plan) is timed;
 conditioned on via-points).
 """
 
-from lfdkit.imitate.dmp import BASIS_LADDER, DMP, Trajectory, minimum_jerk_times
+from lfdkit.imitate.dmp import BASIS_LADDER, DMP, minimum_jerk_times
 from lfdkit.imitate.orientation_dmp import QuaternionDMP
 from lfdkit.imitate.promp import ProMP
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
@@ -24,7 +24,6 @@ __all__ = [
     "ProMP",
     "QuaternionDMP",
     "SpeedProfile",
-    "Trajectory",
     "learn_timing",
     "minimum_jerk_times",
     "path_progress",

@@ -202,6 +202,7 @@ from lfdkit.imitate._dmp_numerics import (
 )
 from lfdkit.imitate.primitive import PRIMITIVE_DEFAULTS, Primitive, check_tau
 from lfdkit.imitate.timing import DURATION_RANGE, SpeedProfile
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
     "BASIS_LADDER",
@@ -209,7 +210,6 @@ __all__ = [
     "MAX_RELATIVE_MAGNITUDE",
     "MAX_ROLLOUT_SAMPLES",
     "STATE_VERSION",
-    "Trajectory",
     "minimum_jerk_times",
 ]
 
@@ -253,27 +253,6 @@ _STATE_FIELDS = (
     "checksum",
 )
 _STATE_ARRAYS = ("path", "weights", "times", "knots")
-
-
-class Trajectory(NamedTuple):
-    """A sampled movement.
-
-    Attributes
-    ----------
-    times : ndarray, shape (n_steps,)
-        Time of each sample in seconds, starting at 0.
-    positions : ndarray, shape (n_steps, q) or (n_rollouts, n_steps, q)
-        Positions, in the units of the training path.
-    velocities : ndarray, same shape as ``positions``
-        Velocities, units per second.
-    accelerations : ndarray, same shape as ``positions``
-        Accelerations, units per second squared.
-    """
-
-    times: np.ndarray
-    positions: np.ndarray
-    velocities: np.ndarray
-    accelerations: np.ndarray
 
 
 def minimum_jerk_times(path: Any, duration: float = 1.0) -> np.ndarray:
@@ -995,7 +974,7 @@ class DMP(Primitive):
         *,
         start_velocity: Any = None,
         check_input: bool = True,
-    ) -> Trajectory:
+    ) -> TimedPath:
         """Run the DMP from ``start`` to ``goal``, exactly (module notes), for one or many goals.
 
         Parameters
@@ -1029,7 +1008,7 @@ class DMP(Primitive):
 
         Returns
         -------
-        Trajectory
+        TimedPath
             ``times`` (n_steps,) in seconds; positions, velocities and
             accelerations of shape (n_steps, q), or (n_rollouts, n_steps, q)
             when ``start`` or ``goal`` is 2-D.
@@ -1081,8 +1060,8 @@ class DMP(Primitive):
         positions, velocities, accelerations = columns.transpose(0, 2, 1, 3)
         times = s * time_scale
         if not batch:
-            return Trajectory(times, positions[0], velocities[0], accelerations[0])
-        return Trajectory(times, positions, velocities, accelerations)
+            return TimedPath(times, positions[0], velocities[0], accelerations=accelerations[0])
+        return TimedPath(times, positions, velocities, accelerations=accelerations)
 
     def _rollout_coefficients(self, n_steps: int, time_scale: float, blend: bool) -> np.ndarray:
         """Left factor of the rollout product, shape (3 n_steps, 3 + q) or (…, 4 + q).

@@ -26,6 +26,7 @@ is refused with the sample at fault.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
@@ -34,6 +35,7 @@ import numpy as np
 from lfdkit.core.rotations import check_quaternions, conjugate, continuous, exp, log, multiply
 from lfdkit.imitate.dmp import DMP
 from lfdkit.imitate.primitive import PRIMITIVE_DEFAULTS, Primitive
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = ["QuaternionDMP", "orientation_error"]
 
@@ -163,7 +165,7 @@ class QuaternionDMP(Primitive):
         goal: Any = None,
         tau: float | None = None,
         n_steps: int | None = None,
-    ) -> tuple[np.ndarray, np.ndarray]:
+    ) -> TimedPath:
         """The orientation movement from ``start`` to ``goal``.
 
         Parameters
@@ -177,11 +179,13 @@ class QuaternionDMP(Primitive):
 
         Returns
         -------
-        times : ndarray, shape (n_steps,)
-            Seconds from 0 to ``tau * duration``.
-        quaternions : ndarray, shape (n_steps, 4)
-            Unit quaternions, signs continuous; the last is ``goal`` (to
-            rounding: the error ``e`` ends at exactly 0).
+        TimedPath
+            ``times`` (n_steps,), seconds from 0 to ``tau * duration``;
+            ``orientations`` (n_steps, 4), unit quaternions, signs continuous,
+            the last ``goal`` (to rounding: the error ``e`` ends at exactly 0);
+            ``positions``, ``velocities`` and ``accelerations`` (n_steps, 3)
+            are the state the DMP integrates, the error ``e = log(q ⊗ g⁻¹)``
+            (rad, ``θ/2 · axis``) and its derivatives.
         """
         if not hasattr(self, "dmp_"):
             raise ValueError("QuaternionDMP: call fit before rollout")
@@ -191,7 +195,7 @@ class QuaternionDMP(Primitive):
         traj = self.dmp_.rollout(start=e0, goal=np.zeros(3), tau=tau, n_steps=n_steps)
         q = multiply(exp(traj.positions), g)
         q = continuous(q if q[0] @ q0 >= 0.0 else -q)
-        return traj.times, q
+        return dataclasses.replace(traj, orientations=q)
 
 
 def orientation_error(q: np.ndarray, goal: np.ndarray) -> np.ndarray:

@@ -61,6 +61,7 @@ from lfdkit.core.rotations import (
     slerp,
 )
 from lfdkit.model.demos import PathLike
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
     "INSTALL_HINT",
@@ -106,9 +107,12 @@ class Topic:
         return f"{self.name} ({self.msgtype}, {self.count} messages)"
 
 
-@dataclass(frozen=True)
-class PoseRecording:
-    """Poses read from one topic of a recording.
+@dataclass(frozen=True, eq=False, repr=False, kw_only=True)
+class PoseRecording(TimedPath):
+    """Poses read from one topic of a recording: a timed path and where it came from.
+
+    A :class:`~lfdkit.model.timed_path.TimedPath` (read-only, no velocities:
+    a recording has none) with the recording's metadata.
 
     Attributes
     ----------
@@ -130,9 +134,6 @@ class PoseRecording:
         span of every transform), for the report.
     """
 
-    times: np.ndarray
-    positions: np.ndarray
-    orientations: np.ndarray
     start_ns: int
     topic: str
     msgtype: str
@@ -436,7 +437,14 @@ def read_poses(
     times, start = _seconds(ns)
     _finite(positions, name, topic)
     return PoseRecording(
-        times, positions, orientations, start, topic, msgtype, None, source, tuple(notes)
+        times,
+        positions,
+        orientations=orientations,
+        start_ns=start,
+        topic=topic,
+        msgtype=msgtype,
+        stamps=source,
+        notes=tuple(notes),
     )
 
 
@@ -592,13 +600,13 @@ def _read_tf(
     return PoseRecording(
         times,
         positions,
-        orientations,
-        start,
-        topic,
-        _normal(conns[0].msgtype),
-        (parent, child),
-        source,
-        tuple(notes),
+        orientations=orientations,
+        start_ns=start,
+        topic=topic,
+        msgtype=_normal(conns[0].msgtype),
+        frame=(parent, child),
+        stamps=source,
+        notes=tuple(notes),
     )
 
 

@@ -13,7 +13,7 @@ the plan's first point); positions are in the units of the paths.
 Motions
 -------
 * :class:`ConstantVelocity` — ``p(t) = p(0) + v t``, known exactly;
-* :class:`Trajectory` — a known path ``(times, positions)``, linearly
+* :class:`Trajectory` — a known path (a :class:`~lfdkit.model.timed_path.TimedPath`), linearly
   interpolated and held at its ends (a scripted obstacle, a replayed log);
 * :class:`Observations` — noisy observations of the position up to now; a
   tracker (by default :class:`ConstantVelocityKalman`) estimates the state
@@ -43,6 +43,8 @@ from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
+
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
     "ConstantVelocity",
@@ -153,25 +155,41 @@ class ConstantVelocity(Motion):
 class Trajectory(Motion):
     """A known path: positions at times, linearly interpolated, held before and after.
 
+    The path is a :class:`lfdkit.model.timed_path.TimedPath` without
+    velocities (:attr:`path`), so an obstacle's track is the same record as a
+    robot's movement; this class adds what a planner asks of a motion.
+
     Parameters
     ----------
     times : array_like, shape (n,)
         Seconds, strictly increasing.
     positions : array_like, shape (n, q)
         Where the reference point is (absolute, units).
+
+    Attributes
+    ----------
+    path : TimedPath
+        The times and positions, read-only.
     """
 
     kind = "trajectory"
 
     def __init__(self, times: Any, positions: Any) -> None:
-        self.times, self.positions = _track(times, positions, "trajectory")
+        self.path = TimedPath(*_track(times, positions, "trajectory"))
+
+    @property
+    def times(self) -> np.ndarray:
+        """Seconds, (n,)."""
+        return self.path.times
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Positions, (n, q)."""
+        return self.path.positions
 
     def predict(self, origin: np.ndarray, times: Any) -> tuple[np.ndarray, np.ndarray]:
-        t = _times(times)
-        means = np.column_stack(
-            [np.interp(t, self.times, self.positions[:, i]) for i in range(self.positions.shape[1])]
-        )
-        return means, np.zeros((t.size, means.shape[1], means.shape[1]))
+        means = self.path.positions_at(_times(times))
+        return means, np.zeros((means.shape[0], means.shape[1], means.shape[1]))
 
     def transformed(self, factor: float, flip: np.ndarray) -> Trajectory:
         return Trajectory(self.times, factor * flip * self.positions)

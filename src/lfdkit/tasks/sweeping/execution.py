@@ -405,7 +405,8 @@ def execute_skill(
         timing = time_parameterize(joints, arm=arm, speed_fraction=fraction)
     seconds["timing"] = stage.seconds
     with progress.stage(f"robot: URScript servoj stream at {SERVO_RATE:g} Hz") as stage:
-        times, stream, _, _ = timing.resample(SERVO_RATE)
+        samples = timing.resample(SERVO_RATE)
+        times, stream = samples.times, samples.positions
         check_tool_speed(times, stream, arm)
         try:
             program = urscript_program(

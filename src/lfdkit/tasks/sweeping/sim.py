@@ -454,11 +454,12 @@ def simulate_sweep(
     duration = timing.duration
     n_steps = math.ceil((duration + 2 * SETTLE_TIME) / TIMESTEP)
     step_times = np.arange(1, n_steps + 1) * TIMESTEP
-    q_ref, qd_ref, _ = timing.sample(step_times - SETTLE_TIME)
+    reference = timing.sample(step_times - SETTLE_TIME)
+    q_ref, qd_ref = reference.positions, reference.velocities
     result = _simulate(
         q_ref,
         qd_ref,
-        timing.sample(0.0)[0],
+        timing.sample(0.0).positions[0],
         step_times,
         duration,
         task,
