@@ -67,7 +67,8 @@ def reach_plan():
 
 
 def limit_use(traj, vmax, amax, jmax) -> dict[str, float]:
-    _, _, qd, qdd = traj.resample(RATE)
+    samples = traj.resample(RATE)
+    qd, qdd = samples.velocities, samples.accelerations
     jerk = np.diff(qdd, axis=0) * RATE
     return {
         "velocity_of_limit": float((np.abs(qd) / vmax).max()),
@@ -89,7 +90,9 @@ def path_deviation(jerk_limited, reference) -> float:
     """Largest joint distance (rad) from the reference at the same (uniformly slowed) time."""
     t = np.linspace(0.0, jerk_limited.duration, 20_001)
     slow = jerk_limited.slowdown
-    return float(np.abs(jerk_limited.sample(t)[0] - reference.sample(t / slow)[0]).max())
+    return float(
+        np.abs(jerk_limited.sample(t).positions - reference.sample(t / slow).positions).max()
+    )
 
 
 def optimal_case(name: str, q: np.ndarray, arm, f: float) -> dict[str, Any]:
@@ -141,7 +144,13 @@ def kept_case(name: str, arm, f: float) -> dict[str, Any]:
         states = spline.sample(spline.times)
         ms, traj = median_ms(
             lambda: through_states(
-                spline.times, *states, max_velocity=vmax, max_acceleration=amax, max_jerk=jmax
+                spline.times,
+                states.positions,
+                states.velocities,
+                states.accelerations,
+                max_velocity=vmax,
+                max_acceleration=amax,
+                max_jerk=jmax,
             )
         )
     except ImportError as exc:

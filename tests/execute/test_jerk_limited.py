@@ -34,7 +34,8 @@ def random_path(seed: int, n: int = 60) -> np.ndarray:
 
 def within_limits(traj, rate: float = 2000.0) -> tuple[float, float, float]:
     """Largest velocity, acceleration and finite-difference jerk over their limits."""
-    _, _, qd, qdd = traj.resample(rate)
+    samples = traj.resample(rate)
+    qd, qdd = samples.velocities, samples.accelerations
     jerk = np.diff(qdd, axis=0) * rate
     return (
         float((np.abs(qd) / traj.max_velocity).max()),
@@ -66,7 +67,8 @@ def test_a_move_limited_by_its_jerk_lasts_the_closed_form_time(distance, jerk):
 def test_the_limits_hold_and_the_chosen_waypoints_are_passed(seed):
     q = random_path(seed, 30)
     traj = time_parameterize_ruckig(q, speed_fraction=0.5)
-    at, qd, _ = traj.sample(traj.times)
+    states = traj.sample(traj.times)
+    at, qd = states.positions, states.velocities
     np.testing.assert_allclose(at, traj.waypoints, atol=1e-9)
     np.testing.assert_array_equal(traj.waypoints, q[traj.waypoint_index])
     assert traj.waypoint_index[0] == 0 and traj.waypoint_index[-1] == len(q) - 1
@@ -76,7 +78,7 @@ def test_the_limits_hold_and_the_chosen_waypoints_are_passed(seed):
     assert v <= 1 + 1e-9 and a <= 1 + 1e-9 and j <= 1 + 1e-6
     reference = time_parameterize(q, speed_fraction=0.5)
     # The bang-bang reference breaks the jerk limit; the jerk-limited one takes longer.
-    _, _, _, ref_acc = reference.resample(2000.0)
+    ref_acc = reference.resample(2000.0).accelerations
     assert (np.abs(np.diff(ref_acc, axis=0)) * 2000.0 / traj.max_jerk).max() > 2.0
     assert reference.duration <= traj.duration < 1.5 * reference.duration
     # Uniformly slowed: the kept states at the reference's times times the slowdown.
@@ -90,8 +92,8 @@ def path_distance(traj, reference) -> float:
     """Largest distance (rad, Euclidean) from the trajectory to the reference's path."""
     from scipy.spatial import cKDTree
 
-    dense = reference.sample(np.linspace(0.0, reference.duration, 40_001))[0]
-    return float(cKDTree(dense).query(traj.resample(500.0)[1])[0].max())
+    dense = reference.sample(np.linspace(0.0, reference.duration, 40_001)).positions
+    return float(cKDTree(dense).query(traj.resample(500.0).positions)[0].max())
 
 
 def test_on_a_smooth_path_it_keeps_within_a_few_milliradians_of_it():
@@ -112,7 +114,9 @@ def test_a_speed_fraction_stretches_time_by_exactly_its_inverse():
     np.testing.assert_allclose(
         full.max_jerk, JERK_PER_ACCELERATION * UR5.max_joint_acceleration, rtol=1e-12
     )
-    np.testing.assert_allclose(slow.sample(slow.times)[0], full.sample(full.times)[0], atol=1e-9)
+    np.testing.assert_allclose(
+        slow.sample(slow.times).positions, full.sample(full.times).positions, atol=1e-9
+    )
 
 
 def test_a_reference_within_the_jerk_limit_keeps_its_times():
@@ -125,7 +129,7 @@ def test_a_reference_within_the_jerk_limit_keeps_its_times():
     traj = through_states(t, q, qd, qdd, max_velocity=2.0, max_acceleration=5.0)
     np.testing.assert_allclose(traj.times, t, atol=1e-9)
     dense = np.linspace(0.0, 4.0, 4001)
-    got, _, _ = traj.sample(dense)
+    got = traj.sample(dense).positions
     # Between 10 ms waypoints ruckig's own jerk profile: within 2 micro-radians of the sine.
     np.testing.assert_allclose(got[:, 0], 0.3 * (1 - np.cos(w * dense)), atol=2e-6)
 

@@ -65,7 +65,7 @@ import numpy as np
 
 from lfdkit.core.validation import check_path
 from lfdkit.execute.arm import UR5, Arm
-from lfdkit.model.timed_path import fixed_rate_times
+from lfdkit.model.timed_path import TimedPath, fixed_rate_times
 
 __all__ = [
     "JERK_PER_ACCELERATION",
@@ -136,21 +136,23 @@ class JerkLimitedTrajectory:
         """Number of joints."""
         return int(self.waypoints.shape[1])
 
-    def sample(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def sample(self, t: Any) -> TimedPath:
         """Positions, velocities and accelerations at times ``t``; at rest outside the motion.
 
         Parameters
         ----------
         t : float or array_like, shape (m,)
+            Seconds; a single number gives a one-sample path.
 
         Returns
         -------
-        q, qd, qdd : ndarray, shape (n_joints,) or (m, n_joints)
+        TimedPath
+            ``positions``, ``velocities`` and ``accelerations`` of shape
+            (m, n_joints), as :meth:`lfdkit.execute.timing.Timing.sample`.
         """
         tt = np.asarray(t, dtype=np.float64)
         if tt.ndim > 1 or np.isnan(tt).any():
             raise ValueError(f"t: expected a number or a 1-D array of times, got shape {tt.shape}")
-        single = tt.ndim == 0
         tt = np.atleast_1d(tt)
         out = np.empty((3, len(tt), self.n_joints))
         k = np.clip(np.searchsorted(self.times, tt, side="right") - 1, 0, len(self._segments) - 1)
@@ -161,20 +163,17 @@ class JerkLimitedTrajectory:
         out[0, tt < 0.0] = self.waypoints[0]
         out[0, tt > self.duration] = self.waypoints[-1]
         out[1:, outside] = 0.0
-        if single:
-            return out[0, 0], out[1, 0], out[2, 0]
-        return out[0], out[1], out[2]
+        return TimedPath(tt, out[0], out[1], accelerations=out[2])
 
-    def resample(self, rate_hz: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def resample(self, rate_hz: float) -> TimedPath:
         """Fixed-rate samples ``k / rate_hz`` up to the first at or after the end.
 
         Returns
         -------
-        times : ndarray, shape (m,)
-        q, qd, qdd : ndarray, shape (m, n_joints)
+        TimedPath
+            :meth:`sample` on :func:`~lfdkit.model.timed_path.fixed_rate_times`.
         """
-        times = fixed_rate_times(self.duration, rate_hz)
-        return (times, *self.sample(times))
+        return self.sample(fixed_rate_times(self.duration, rate_hz))
 
 
 def _limit(value: Any, name: str, n_joints: int) -> np.ndarray:
@@ -365,7 +364,8 @@ def time_parameterize_ruckig(
     if max_jerk is not None:
         jerk = _limit(max_jerk, "max_jerk", reference.n_joints) * f**3
     times = reference.times
-    _, qd_at, qdd_at = reference.sample(times)
+    at_waypoints = reference.sample(times)
+    qd_at, qdd_at = np.array(at_waypoints.velocities), np.array(at_waypoints.accelerations)
     q_at = reference.waypoints  # exactly, not the spline's value there (equal to rounding)
     # At rest at both ends: the bang-bang reference still brakes at full acceleration as it stops.
     qd_at[[0, -1]], qdd_at[[0, -1]] = 0.0, 0.0
