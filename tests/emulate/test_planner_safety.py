@@ -29,9 +29,10 @@ from lfdkit.model.scene import Obstacle, Scene
 
 @pytest.mark.parametrize("block", range(2))
 def test_full_horizon_plan_is_the_global_optimum_over_passing_sides(block: int) -> None:
-    # 100 random scenes here (thesis model, so the reference is well conditioned);
-    # benchmarks/emulate_planner.py runs 500 against the same reference.
-    for seed in range(50 * block, 50 * block + 50):
+    # 40 random scenes here (thesis model, so the reference is well conditioned;
+    # kept few for the suite's time); benchmarks/emulate_planner.py runs 500
+    # against the same reference.
+    for seed in range(20 * block, 20 * block + 20):
         reward, path, scene = random_case(seed)
         plan = plan_path(reward, path, scene, n_points=N_POINTS, goal_approach=None)
         best = reference_cost(reward, path, scene, None)
@@ -44,7 +45,7 @@ def test_goal_reaching_plan_is_the_global_route_joined_to_the_goal() -> None:
     # over the goal approach (here no obstacle shapes the plan beyond its start).
     corridor = Corridor.from_path(nominal_path(0), N_POINTS)
     start = int(np.ceil(0.9 * (N_POINTS - 1))) - 1  # the ramp's first offset
-    for seed in range(30):
+    for seed in range(12):
         reward, path, scene = random_case(10_000 + seed)
         free = plan_path(reward, path, scene, n_points=N_POINTS, goal_approach=None)
         best = reference_cost(reward, path, scene, None)
