@@ -653,8 +653,10 @@ def _coupled_dmp(
     out_times, points = [0.0], [y.copy()]
     t = 0.0
     while t < grid[-1] - 1e-9:  # its execution time (it drifts back when stepped beyond)
-        estimate = sensor.observe(t)
-        coupling = CouplingTermObstacleAvoidance2D(estimate, gamma=gain, fast=True)
+        # The package's coupling term avoids one obstacle: the nearest estimate.
+        estimates = np.asarray(sensor.observe(t), dtype=np.float64).reshape(-1, 2)
+        nearest = estimates[np.argmin(np.linalg.norm(estimates - y, axis=1))]
+        coupling = CouplingTermObstacleAvoidance2D(nearest, gamma=gain, fast=True)
         y, yd = dmp.step(y, yd, coupling_term=coupling)
         t += dt
         out_times.append(t)
