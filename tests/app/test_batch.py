@@ -13,6 +13,8 @@ files, serially and on two local processes, through the command line.
 from __future__ import annotations
 
 import json
+import os
+import sys
 import threading
 import time
 import tracemalloc
@@ -94,6 +96,23 @@ def test_local_processes_give_the_serial_results(tmp_path):
         summary = run_batch(executor, dict, tasks(30, fail=(4,)), tmp_path / "b.jsonl", spec=SPEC)
     assert (summary.done, summary.failed) == (29, 1)
     assert records(tmp_path / "a.jsonl") == records(tmp_path / "b.jsonl")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
+def test_local_workers_start_with_numba_and_the_skill_loaded_and_nothing_heavy():
+    """Issue 30: workers fork from a server that loaded them once (lfdkit.app.worker_preload).
+
+    The probe is ``eval`` of a string, so the worker imports no test module to run it.
+    """
+    wanted = ("numpy", "numba", "lfdkit.skill", "scipy.interpolate", "matplotlib", "mujoco")
+    probe = (
+        f"([m for m in {wanted!r} if m in __import__('sys').modules], __import__('os').getpid())"
+    )
+    with make_executor(workers=2) as executor:
+        got = [executor.submit(eval, probe).result() for _ in range(2)]
+    for loaded, pid in got:
+        assert pid != os.getpid()
+        assert loaded == ["numpy", "numba", "lfdkit.skill"]
 
 
 # ------------------------------------------------------------------ results files
