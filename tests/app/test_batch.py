@@ -13,11 +13,15 @@ files, serially and on two local processes, through the command line.
 from __future__ import annotations
 
 import json
+import os
+import sys
 import threading
+import time
 import tracemalloc
 from concurrent.futures import Executor, Future, ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from lfdkit.app.batch import (
@@ -28,6 +32,7 @@ from lfdkit.app.batch import (
     read_results,
     results_header,
     run_batch,
+    run_chunk,
     spec_hash,
 )
 from lfdkit.app.cli import main
@@ -91,6 +96,23 @@ def test_local_processes_give_the_serial_results(tmp_path):
         summary = run_batch(executor, dict, tasks(30, fail=(4,)), tmp_path / "b.jsonl", spec=SPEC)
     assert (summary.done, summary.failed) == (29, 1)
     assert records(tmp_path / "a.jsonl") == records(tmp_path / "b.jsonl")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
+def test_local_workers_start_with_numba_and_the_skill_loaded_and_nothing_heavy():
+    """Issue 30: workers fork from a server that loaded them once (lfdkit.app.worker_preload).
+
+    The probe is ``eval`` of a string, so the worker imports no test module to run it.
+    """
+    wanted = ("numpy", "numba", "lfdkit.skill", "scipy.interpolate", "matplotlib", "mujoco")
+    probe = (
+        f"([m for m in {wanted!r} if m in __import__('sys').modules], __import__('os').getpid())"
+    )
+    with make_executor(workers=2) as executor:
+        got = [executor.submit(eval, probe).result() for _ in range(2)]
+    for loaded, pid in got:
+        assert pid != os.getpid()
+        assert loaded == ["numpy", "numba", "lfdkit.skill"]
 
 
 # ------------------------------------------------------------------ results files
@@ -221,6 +243,69 @@ def test_tasks_in_flight_stay_within_the_window(tmp_path):
     run_batch(default, dict, tasks(200), tmp_path / "d.jsonl", spec=SPEC)
     default.shutdown()
     assert default.most <= 8  # 4 per worker
+
+
+# ------------------------------------------------------------------ chunks of short tasks
+class _Counting(_Watching):
+    """:class:`_Watching` that keeps what each unit submitted was: a lone task or a chunk."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.units: list[int] = []
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        self.units.append(len(args[1]) if fn is run_chunk else 1)
+        return super().submit(fn, *args, **kwargs)
+
+
+def _slow_square(i: int, seconds: float) -> dict:
+    time.sleep(seconds)
+    if i == 13:
+        raise ValueError(f"task {i}: no square\nsecond line")
+    return {"square": i * i}
+
+
+def test_short_tasks_travel_in_chunks_long_ones_alone_and_the_records_are_the_same(tmp_path):
+    """Issue 30: ~5 ms tasks go tens to a chunk of 0.25 s, fewer as the batch ends."""
+    work = [(i, (i, 0.005)) for i in range(120)]
+    run_batch(SerialExecutor(), _slow_square, work, tmp_path / "serial.jsonl", spec=SPEC)
+    short = _Counting()
+    summary = run_batch(short, _slow_square, work, tmp_path / "short.jsonl", spec=SPEC)
+    short.shutdown()
+    assert (summary.done, summary.failed) == (119, 1)
+    assert summary.errors == ["13: ValueError: task 13: no square"]
+    assert records(tmp_path / "short.jsonl") == records(tmp_path / "serial.jsonl")
+    units = short.units
+    assert sum(units) == 120
+    assert units[:8] == [1] * 8  # nothing timed yet: one at a time, a window of 8
+    assert max(units) >= 10 and len(units) < 40  # sleep overshoots on a shared machine
+    # Every worker keeps a share at the end: no chunk holds over a quarter of what is left.
+    left = 120 - np.cumsum([0, *units[:-1]])
+    assert all(size <= max(1, rest // 4) for size, rest in zip(units, left, strict=True))
+    # Tasks longer than the chunk's seconds, or chunks off: one task per unit.
+    long = _Counting()
+    run_batch(long, _slow_square, work[:30], tmp_path / "long.jsonl", spec=SPEC, chunk_seconds=1e-4)
+    off = _Counting()
+    run_batch(off, _slow_square, work[:30], tmp_path / "off.jsonl", spec=SPEC, chunk_seconds=0)
+    long.shutdown()
+    off.shutdown()
+    assert long.units == [1] * 30 and off.units == [1] * 30
+    assert records(tmp_path / "long.jsonl") == records(tmp_path / "serial.jsonl")[:30]
+
+
+def test_a_chunk_records_each_failure_and_goes_on():
+    outcomes, seconds = run_chunk(dict, [({"a": 1},), (5,), ({"b": 2},)])
+    assert outcomes[0] == {"a": 1} and outcomes[2] == {"b": 2}
+    assert outcomes[1]["error"].startswith("TypeError: ")
+    assert seconds >= 0.0
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan"), float("inf")])
+def test_chunk_seconds_out_of_range_is_refused(tmp_path, bad):
+    with pytest.raises(ValueError, match="chunk_seconds: expected seconds >= 0, got"):
+        run_batch(
+            SerialExecutor(), dict, tasks(2), tmp_path / "r.jsonl", spec=SPEC, chunk_seconds=bad
+        )
 
 
 def _peak_bytes(n: int, path: Path) -> int:

@@ -14,6 +14,8 @@ serial run.
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -66,6 +68,25 @@ def test_the_checks_nest(skill_path):
     assert json.loads(json.dumps(got["robot"])) == got["robot"]  # JSON-ready
     with pytest.raises(ValueError, match="check: expected one of"):
         evaluate_scenario(text, where, "teleport")
+
+
+def test_the_plan_check_loads_neither_the_execution_pipeline_nor_scipy_interpolate(skill_path):
+    """Issue 30: a worker that only plans starts without the robot's modules and SciPy's splines."""
+    code = (
+        "import json, sys\n"
+        "from pathlib import Path\n"
+        "from lfdkit.tasks.sweeping.batch import evaluate_scenario\n"
+        f"row = evaluate_scenario(Path({str(skill_path)!r}).read_text(), "
+        "{'seed': 0, 'index': 1}, 'plan')\n"
+        "print(json.dumps([row['ok'], sorted(sys.modules)]))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True
+    )
+    ok, modules = json.loads(done.stdout)
+    assert ok and "lfdkit.emulate.planner" in modules  # it planned: the check can fail
+    heavy = ("lfdkit.execute.pipeline", "lfdkit.tasks.sweeping.execution", "scipy.interpolate")
+    assert not [m for m in modules if m.startswith(heavy)]
 
 
 @pytest.mark.slow  # two MuJoCo sweeps

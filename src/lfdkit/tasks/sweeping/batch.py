@@ -46,7 +46,13 @@ from lfdkit import __version__
 from lfdkit.app.batch import BatchSummary, SerialExecutor, run_batch
 from lfdkit.core.progress import ProgressLike
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.tasks.sweeping.scenarios import BRUSH, SweepScenario, obstacle_class, random_scenarios
+from lfdkit.tasks.sweeping.scenarios import (
+    BRUSH,
+    GOAL_APPROACH,
+    SweepScenario,
+    obstacle_class,
+    random_scenarios,
+)
 
 __all__ = [
     "CHECKS",
@@ -137,12 +143,19 @@ def evaluate_scenario(
     from lfdkit.core.geometry import path_length
     from lfdkit.core.threads import one_blas_thread
     from lfdkit.emulate import UnsafePlanError
-    from lfdkit.execute import ur5
-    from lfdkit.tasks.sweeping.execution import GOAL_APPROACH, ExecutionError, execute_skill
-    from lfdkit.tasks.sweeping.sim import sweep_motion
 
     if check not in CHECKS:
         raise ValueError(f"check: expected one of {', '.join(CHECKS)}, got {check!r}")
+    if check == "plan":
+        # Planning alone needs neither the robot nor SciPy (the execution pipeline imports
+        # it): a worker that only plans starts about a second sooner (issue 30).
+        failures: tuple[type[Exception], ...] = (UnsafePlanError,)
+    else:
+        from lfdkit.execute import ur5
+        from lfdkit.tasks.sweeping.execution import ExecutionError, execute_skill
+        from lfdkit.tasks.sweeping.sim import sweep_motion
+
+        failures = (UnsafePlanError, ExecutionError)
     skill = _skill(skill_text)
     if "index" in where:
         drawn = scenario(int(where["seed"]), int(where["index"]))
@@ -185,7 +198,7 @@ def evaluate_scenario(
                     simulate=check == "mujoco",
                 )
                 row.update(_execution_row(run, path_length))
-        except (UnsafePlanError, ExecutionError) as exc:
+        except failures as exc:
             row["failure"] = f"{type(exc).__name__}: {str(exc).splitlines()[0]}"
             return row
     simulated = row.get("simulation")

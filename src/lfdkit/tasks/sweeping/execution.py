@@ -57,7 +57,14 @@ from lfdkit.execute.urscript import Workspace, urscript_program
 from lfdkit.io import atomic_write, save_path, write_text
 from lfdkit.model.scene import Scene
 from lfdkit.skill import Skill
-from lfdkit.tasks.sweeping.scenarios import BRUSH, TABLE_Z, Dustpan, SweepingTask, obstacle_class
+from lfdkit.tasks.sweeping.scenarios import (
+    BRUSH,
+    GOAL_APPROACH,
+    TABLE_Z,
+    Dustpan,
+    SweepingTask,
+    obstacle_class,
+)
 from lfdkit.tasks.sweeping.sim import SweepResult, simulate_sweep, sweep_motion
 
 __all__ = [
@@ -71,8 +78,6 @@ __all__ = [
     "write_execution",
 ]
 
-#: Stretch before the dustpan over which plans return to the nominal (m): the dustpan's depth.
-GOAL_APPROACH = 0.1
 #: How every sweep is planned (:meth:`lfdkit.skill.Skill.plan` keywords): back on the
 #: nominal over the goal approach, and the brush's half-width from every obstacle.
 PLAN_SETTINGS = {"goal_approach": GOAL_APPROACH, "clearance": 0.5 * BRUSH.width}

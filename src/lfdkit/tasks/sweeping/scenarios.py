@@ -72,6 +72,7 @@ __all__ = [
     "CUBE",
     "CUBE_SIZE",
     "DEFAULT_OBSTACLE_CLASS",
+    "GOAL_APPROACH",
     "GOAL_DEPTH",
     "NEW_GOAL",
     "NOMINAL_DUSTPAN",
@@ -199,6 +200,10 @@ BRUSH = Brush()
 
 #: How far into the dustpan, on its centre line, the brush stops (m).
 GOAL_DEPTH = 0.02
+#: Stretch before the dustpan over which plans return to the nominal (m): the dustpan's depth.
+#: Here, not in ``execution``, so that planning alone (``batch evaluate --check plan``)
+#: does not import the execution pipeline and SciPy.
+GOAL_APPROACH = 0.1
 
 
 @dataclass(frozen=True)
