@@ -392,6 +392,12 @@ def test_an_unlearned_class_takes_the_response_of_the_learned_class_nearest_in_s
     skill.save(tmp_path / "skill.json")
     assert Skill.load(tmp_path / "skill.json").class_radii_ == skill.class_radii_
     assert skill.to_units("mm").class_radii_ == pytest.approx({"cup": 30.0, "marker": 10.0})
+    document = skill.to_dict()
+    document["emulation"]["radii"] = {"cup": "big"}
+    with pytest.raises(ValueError, match=r"f.json: emulation.radii.cup: expected a number"):
+        Skill.from_dict(document, source="f.json")
+    del document["emulation"]["radii"]  # a file from before them: no sizes, plans as before
+    assert Skill.from_dict(document).class_radii_ == {}
     start, goal = np.array([-0.4, 0.45]), np.array([0.36, 0.5])
     pen = Scene.from_arrays(["pen"], [[-0.05, 0.47]], [0.008])  # nearest a marker in size
     plans = {}
