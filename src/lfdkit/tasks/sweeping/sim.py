@@ -161,7 +161,10 @@ class SweepResult:
     image : ndarray, shape (720, 960, 3) or None
         The rendered final scene, framed on the arm, the objects and the traces
         (the planned path and the cube's trace in :data:`RENDER_TRACES`'
-        colours), when asked for and OpenGL is available.
+        colours), when asked for and OpenGL is available. The ``overview``
+        camera looks from the arm's side, so the picture is the top view's way
+        round (x to the right, the arm's base at the bottom), with the arm's
+        links see-through (:data:`ARM_ALPHA`) so as not to hide the dustpan.
     """
 
     success: bool
