@@ -1367,7 +1367,9 @@ class Skill(Estimator):
             For a start or goal of the wrong dimension or not finite, a scene
             with an obstacle class this skill has not learned (or with
             obstacles when no reward is learned) unless ``unknown_class`` is
-            given, a negative ``unknown_class``, a start or goal inside an
+            given, a negative ``unknown_class``, an ``unknown_response`` that
+            is neither ``"nearest"`` nor a learned class (or ``"nearest"`` for
+            a skill without :attr:`class_radii_`), a start or goal inside an
             obstacle, or a horizon outside 4-12.
         """
         start, goal = self._ends(start, goal)
@@ -1453,7 +1455,9 @@ class Skill(Estimator):
         if unknown.any():
             reach = scene.radii + clearance + unknown_margin
             reward = _with_stand_ins(reward, scene, unknown, reach, responses)
-            _warn_unknown(scene, unknown, margin, self.units, responses, self.class_radii_)
+            _warn_unknown(
+                scene, unknown, margin, self.units, responses, getattr(self, "class_radii_", {})
+            )
         # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
         route = route or getattr(self, "route_", None) or self._unfitted_route()
         options = dict(
