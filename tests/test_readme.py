@@ -104,7 +104,7 @@ def test_every_readme_block_runs_or_says_why_not() -> None:
     assert not any('pip install "lfdkit[' in b.code for b in blocks)
 
 
-@pytest.mark.slow  # lfdkit demo and seven more commands, each loading the library
+@pytest.mark.slow  # lfdkit demo, 30 more commands and the Python blocks (three learn a skill)
 @pytest.mark.skipif(
     not os.environ.get("LFDKIT_RUN_README"),
     reason="runs the whole README (minutes): set LFDKIT_RUN_README=1 to run it",
@@ -118,5 +118,7 @@ def test_the_readme_runs_top_to_bottom(tmp_path) -> None:
     )
     assert done.returncode == 0, done.stdout + done.stderr
     assert "every block ran" in done.stdout
-    for made in ("lfdkit-demo/report.html", "skill.json", "path.csv", "skill.png", "sweep.json"):
+    made_by_shell = ("lfdkit-demo/report.html", "skill.json", "path.csv", "skill.png", "sweep.json")
+    made_by_python = ("my_skill.json", "sweep.script")  # in the shared Python session
+    for made in made_by_shell + made_by_python:
         assert (tmp_path / made).is_file(), made
