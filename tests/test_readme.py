@@ -114,7 +114,7 @@ def test_the_readme_runs_top_to_bottom(tmp_path) -> None:
         [sys.executable, str(ROOT / "tools" / "run_readme.py"), "--keep", str(tmp_path)],
         capture_output=True,
         text=True,
-        timeout=1800,  # about 2 min unloaded; 21 min measured on a 2-core machine at load 10
+        timeout=1800,  # 14 min measured with the Python blocks on a 2-core machine at load 15
     )
     assert done.returncode == 0, done.stdout + done.stderr
     assert "every block ran" in done.stdout
