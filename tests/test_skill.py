@@ -386,6 +386,50 @@ def test_an_unlearned_class_is_planned_around_only_when_asked(skill, units) -> N
         learned.plan(scene=point, unknown_class=0.0)
 
 
+def test_an_unlearned_class_takes_the_response_of_the_learned_class_nearest_in_size(
+    skill, tmp_path
+) -> None:
+    # The example's training scenes hold 3 cm cups and 1 cm markers.
+    assert skill.class_radii_ == pytest.approx({"cup": 0.03, "marker": 0.01})
+    skill.save(tmp_path / "skill.json")
+    assert Skill.load(tmp_path / "skill.json").class_radii_ == skill.class_radii_
+    assert skill.to_units("mm").class_radii_ == pytest.approx({"cup": 30.0, "marker": 10.0})
+    document = skill.to_dict()
+    document["emulation"]["radii"] = {"cup": "big"}
+    with pytest.raises(ValueError, match=r"f.json: emulation.radii.cup: expected a number"):
+        Skill.from_dict(document, source="f.json")
+    del document["emulation"]["radii"]  # a file from before them: no sizes, plans as before
+    assert Skill.from_dict(document).class_radii_ == {}
+    start, goal = np.array([-0.4, 0.45]), np.array([0.36, 0.5])
+    pen = Scene.from_arrays(["pen"], [[-0.05, 0.47]], [0.008])  # nearest a marker in size
+    plans = {}
+    for response in (None, "nearest", "marker"):
+        with pytest.warns(UserWarning) as caught:
+            plans[response] = skill.plan(
+                start, goal, pen, unknown_class=0.01, unknown_response=response
+            )
+        text = str(caught[0].message)
+        if response is None:
+            assert "no learned response" in text
+        else:
+            assert "'pen' takes the learned response of 'marker' (radius 0.008 m" in text
+    np.testing.assert_array_equal(plans["nearest"].points, plans["marker"].points)
+    # The marker's learned response swerves wider than the bare hard radius.
+    gaps = {key: pen.distances(plan.points)[0] for key, plan in plans.items()}
+    assert gaps[None] >= 0.01 - 1e-9
+    assert gaps["marker"] > gaps[None] + 0.01
+    bottle = Scene.from_arrays(["bottle"], [[-0.05, 0.47]], [0.03])
+    with pytest.warns(UserWarning, match="'bottle' takes the learned response of 'cup'"):
+        skill.plan(start, goal, bottle, unknown_class=0.01, unknown_response="nearest")
+    with pytest.raises(ValueError, match=r"unknown_response: 'bowl' is not a learned class"):
+        skill.plan(start, goal, bottle, unknown_class=0.01, unknown_response="bowl")
+    # Without the sizes (a reward adopted), "nearest" cannot choose: it says so.
+    adopted = Skill().fit_path(read_training_data(FILES["demos"]).free_demos[:5])
+    adopted.adopt(skill.reward_)
+    with pytest.raises(ValueError, match=r"'nearest' needs the sizes.*\(cup, marker\)"):
+        adopted.plan(scene=bottle, unknown_class=0.01, unknown_response="nearest")
+
+
 def test_a_moving_unlearned_obstacle_is_kept_out_of_at_the_plans_own_times(skill) -> None:
     from lfdkit.emulate.planner import moving_clearance
 

@@ -363,6 +363,14 @@ class Skill(Estimator):
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for
         ``model="path"``).
+        (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`), with
+        ``model="auto"``; empty otherwise (and for a reward only adopted).
+    class_radii_ : dict
+        Per learned obstacle class, the median radius (units) of the obstacles
+        it was learned from: which learned class is nearest in size to one
+        never learned (``unknown_response="nearest"`` of :meth:`plan_details`).
+        Empty before a reward is fitted, for a reward only adopted and in
+        files from before it.
     route_ : {"lookahead", "window", "full"} or None
         The route planner plans use: the MPC with ``lookahead``, the thesis's
         MPC (``"window"``) or the full horizon; None before a reward is
@@ -755,6 +763,7 @@ class Skill(Estimator):
     def _reset_emulation(self) -> None:
         """No learned clearance, route or fidelity (a skill without a fitted reward)."""
         self.clearances_: dict[str, float] = {}
+        self.class_radii_: dict[str, float] = {}
         self.route_: str | None = None
         self.frame_ = "world"
         self.training_fidelity_: list[dict[str, Any]] | None = None
@@ -932,6 +941,7 @@ class Skill(Estimator):
         # The direction the precisions are learned along (model="path" turns them from it).
         chord = self.path_[-1] - self.path_[0]
         self.ioc_info_["frame_axis"] = (chord / max(float(np.linalg.norm(chord)), 1e-300)).tolist()
+        self.class_radii_ = _median_radii(scenes, ioc.classes_)
         with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
             # Obstacles of a class not learned never shaped a demonstration (the IOC
             # warned): the training scenes are replanned without them.
@@ -1291,6 +1301,10 @@ class Skill(Estimator):
         theirs = getattr(source, "clearances_", {}) if isinstance(source, Skill) else {}
         self.clearances_ = {c: m for c, m in self.clearances_.items() if c not in wanted}
         self.clearances_ |= {c: theirs[c] for c in wanted if c in theirs}
+        sizes = getattr(source, "class_radii_", {}) if isinstance(source, Skill) else {}
+        own = getattr(self, "class_radii_", {})
+        self.class_radii_ = {c: r for c, r in own.items() if c not in wanted}
+        self.class_radii_ |= {c: sizes[c] for c in wanted if c in sizes}
         return self
 
     # ------------------------------------------------------------------ use
@@ -1478,6 +1492,7 @@ class Skill(Estimator):
                 times,
                 unknown_class=options.get("unknown_class"),
                 via=options.get("via"),
+                unknown_response=options.get("unknown_response"),
             )
             times, velocities = self.timing_.time_path(details.points, total)
         o = int(np.argmin(np.where(hard, gaps, np.inf)))
@@ -1589,6 +1604,7 @@ class Skill(Estimator):
         duration: float | None = None,
         unknown_class: float | None = None,
         via: Sequence[tuple[float, Any]] | None = None,
+        unknown_response: str | None = None,
     ) -> Plan:
         """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
 
@@ -1637,6 +1653,12 @@ class Skill(Estimator):
             ``point`` at ``phase``, the fraction of the movement's duration
             (strictly between 0 and 1), the way the demonstrations varied
             (:meth:`via_path`); the planner then follows it.
+        unknown_response : str, optional
+            With ``unknown_class``, the response such an obstacle gets besides
+            its hard radius: None (default) none; ``"nearest"`` the response of
+            the learned class nearest in size (:attr:`class_radii_` against
+            the median radius of the class's obstacles in ``scene``); or the
+            name of a learned class. The warning says which class was used.
 
         Returns
         -------
@@ -1654,7 +1676,9 @@ class Skill(Estimator):
             For a start or goal of the wrong dimension or not finite, a scene
             with an obstacle class this skill has not learned (or with
             obstacles when no reward is learned) unless ``unknown_class`` is
-            given, a negative ``unknown_class``, a start or goal inside an
+            given, a negative ``unknown_class``, an ``unknown_response`` that
+            is neither ``"nearest"`` nor a learned class (or ``"nearest"`` for
+            a skill without :attr:`class_radii_`), a start or goal inside an
             obstacle, a horizon outside 4-12, or a via-point that is not a
             ``(phase, point)`` pair with a phase in (0, 1) and a point of the
             skill's dimension.
@@ -1675,6 +1699,7 @@ class Skill(Estimator):
             times,
             unknown_class=unknown_class,
             via=via,
+            unknown_response=unknown_response,
         )
 
     def via_path(
@@ -1764,6 +1789,7 @@ class Skill(Estimator):
         reward: Reward | None = None,
         clearances: Mapping[str, float] | None = None,
         frame: str | None = None,
+        unknown_response: str | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal.
 
@@ -1797,11 +1823,14 @@ class Skill(Estimator):
                 )
             reward = Reward(1.0, {})
         unknown, margin = _unknown_margins(reward, scene, unknown_class, clearance)
+        responses = self._stand_in_classes(reward, scene, unknown, unknown_response)
         unknown_margin = np.where(unknown, margin, 0.0)
         if unknown.any():
             reach = scene.radii + clearance + unknown_margin
-            reward = _without_response(reward, scene, unknown, reach)
-            _warn_unknown(scene, unknown, margin, self.units)
+            reward = _with_stand_ins(reward, scene, unknown, reach, responses)
+            _warn_unknown(
+                scene, unknown, margin, self.units, responses, getattr(self, "class_radii_", {})
+            )
         options = dict(
             horizon=h,
             n_points=int(self.n_points),
@@ -1843,6 +1872,45 @@ class Skill(Estimator):
                 )
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _stand_in_classes(
+        self, reward: Reward, scene: Scene, unknown: np.ndarray, response: str | None
+    ) -> dict[str, str | None]:
+        """For each unlearned class in ``scene``, the learned class whose response it takes.
+
+        ``response`` is :meth:`plan_details`' ``unknown_response``: None (no
+        response), ``"nearest"`` (the learned class whose obstacles'
+        median radius :attr:`class_radii_` is nearest the class's own median
+        radius in ``scene``; ties go to the first learned) or a learned class.
+        """
+        learned = tuple(reward.classes)
+        if response is not None and (not isinstance(response, str) or response == ""):
+            raise ValueError(
+                f"unknown_response: expected 'nearest', a learned class or None, got {response!r}"
+            )
+        if response not in (None, "nearest") and response not in learned:
+            known = ", ".join(repr(c) for c in learned) or "none"
+            raise ValueError(
+                f"unknown_response: {response!r} is not a learned class (learned: {known}); "
+                "name one of them, 'nearest' or none"
+            )
+        labels = np.array(scene.labels, dtype=object)
+        classes = list(dict.fromkeys(labels[unknown]))
+        if response != "nearest":
+            return {label: response for label in classes}
+        sizes = getattr(self, "class_radii_", {})
+        candidates = [c for c in learned if c in sizes]
+        if classes and not candidates:
+            raise ValueError(
+                "unknown_response: 'nearest' needs the sizes of the learned classes' "
+                "obstacles, which this skill lacks (a reward adopted, or a file from before "
+                f"them); name the class whose response to use ({', '.join(learned) or 'none'})"
+            )
+        out = {}
+        for label in classes:
+            radius = float(np.median(scene.radii[labels == label]))
+            out[label] = min(candidates, key=lambda c: abs(sizes[c] - radius))
+        return out
 
     def _in_path_frame(
         self, reward: Reward, scene: Scene, nominal: np.ndarray
@@ -1982,6 +2050,9 @@ class Skill(Estimator):
             skill.frame_ = getattr(self, "frame_", "world")
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
             skill.model_selection_ = getattr(self, "model_selection_", None)
+            skill.class_radii_ = {
+                c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
+            }
         return skill
 
     # ------------------------------------------------------------------ files
@@ -2004,11 +2075,14 @@ class Skill(Estimator):
             del params["model"]  # as in files before models: they read back the same
         emulation = None
         route = getattr(self, "route_", None)
-        if self.reward_ is not None and (route is not None or self.clearances_):
+        radii = dict(getattr(self, "class_radii_", {}))
+        if self.reward_ is not None and (route is not None or self.clearances_ or radii):
             route = route or self._unfitted_route()
             emulation = {"route": route, "clearances": dict(self.clearances_)}
             if getattr(self, "frame_", "world") != "world":  # as in files before frames
                 emulation["frame"] = self.frame_
+            if radii:
+                emulation["radii"] = radii
         return skill_file.to_document(
             params,
             n_dims=self.n_dims_,
@@ -2087,6 +2161,7 @@ class Skill(Estimator):
             emulation = document.emulation()
             if emulation is not None and skill.reward_ is not None:
                 skill.route_, skill.clearances_, skill.frame_ = emulation
+                skill.class_radii_ = document.class_radii()
                 fit = skill.ioc_info_ or {}
                 skill.training_fidelity_ = fit.get("training_fidelity")
                 skill.model_selection_ = fit.get("model_selection")
@@ -2272,34 +2347,79 @@ def _unknown_margins(
     return unknown, margin
 
 
-def _without_response(
-    reward: Reward, scene: Scene, unknown: np.ndarray, reach: np.ndarray
-) -> Reward:
-    """``reward`` with a stand-in for every unlearned class: a response inside its hard radius.
+def _median_radii(scenes: Sequence[Scene], classes: Sequence[str]) -> dict[str, float]:
+    """Per class, the median radius (units) of its obstacles over ``scenes``."""
+    radii: dict[str, list[float]] = {c: [] for c in classes}
+    for scene in scenes:
+        for label, radius in zip(scene.labels, scene.radii, strict=True):
+            if label in radii:
+                radii[label].append(float(radius))
+    return {c: float(np.median(values)) for c, values in radii.items() if values}
 
-    The planner needs a precision for every class; this one is so narrow
-    (:data:`_UNKNOWN_RESPONSE_WIDTH` of the class's smallest hard radius
-    ``reach``, units) that it is nil wherever the plan may go.
+
+def _with_stand_ins(
+    reward: Reward,
+    scene: Scene,
+    unknown: np.ndarray,
+    reach: np.ndarray,
+    responses: dict[str, str | None],
+) -> Reward:
+    """``reward`` with a stand-in for every unlearned class.
+
+    The planner needs a precision for every class. Where ``responses`` names
+    a learned class, the unlearned one takes its precision; where it names
+    none, the stand-in is so narrow (:data:`_UNKNOWN_RESPONSE_WIDTH` of the
+    class's smallest hard radius ``reach``, units) that it is nil wherever
+    the plan may go.
     """
     labels = np.array(scene.labels, dtype=object)
     stand_ins = {}
     for label in dict.fromkeys(labels[unknown]):
+        like = responses.get(label)
+        if like is not None:
+            stand_ins[label] = reward.precisions[like]
+            continue
         width = _UNKNOWN_RESPONSE_WIDTH * float(reach[labels == label].min())
         stand_ins[label] = np.full(scene.positions.shape[1], 1.0 / width**2)
     return Reward(reward.nominal_weight, {**reward.precisions, **stand_ins})
 
 
-def _warn_unknown(scene: Scene, unknown: np.ndarray, margin: float, units: str) -> None:
-    """Says which obstacles are planned around as bare hard radii, and what that means."""
-    classes = list(dict.fromkeys(np.array(scene.labels, dtype=object)[unknown]))
+def _warn_unknown(
+    scene: Scene,
+    unknown: np.ndarray,
+    margin: float,
+    units: str,
+    responses: dict[str, str | None],
+    sizes: dict[str, float],
+) -> None:
+    """Says which obstacles are planned around as hard radii, with which response (one line)."""
+    labels = np.array(scene.labels, dtype=object)
+    classes = list(dict.fromkeys(labels[unknown]))
     count = int(np.count_nonzero(unknown))
+    borrowed = []
+    for label in classes:
+        like = responses.get(label)
+        if like is None:
+            continue
+        said = f"{label!r} takes the learned response of {like!r}"
+        if like in sizes:
+            radius = float(np.median(scene.radii[labels == label]))
+            said += f" (radius {radius:.3g} {units} against {sizes[like]:.3g} {units})"
+        borrowed.append(said)
+    if not borrowed:
+        how = (
+            " with no learned response: the plan keeps out but does not swerve as a "
+            "demonstrator would; demonstrate around the class to learn its response"
+        )
+    else:
+        bare = [repr(c) for c in classes if responses.get(c) is None]
+        how = "; " + "; ".join(borrowed) + (f"; {', '.join(bare)} no response" if bare else "")
+        how += "; demonstrate around the class to learn its own response"
     warnings.warn(
         f"plan: obstacle class{'es' * (len(classes) != 1)} "
         f"{', '.join(repr(c) for c in classes)} never learned: planned around "
         f"{'it' if count == 1 else 'them'} ({count} obstacle{'s' * (count != 1)}) as a hard "
-        f"radius plus margin {margin:g} {units} (plus the clearance) with no learned "
-        "response: the plan keeps out but does not swerve as a demonstrator would; "
-        "demonstrate around the class to learn its response",
+        f"radius plus margin {margin:g} {units} (plus the clearance){how}",
         UserWarning,
         stacklevel=5,
     )

@@ -511,7 +511,37 @@ def test_plan_around_an_unlearned_class_with_unknown_class(capsys, skill_path):
     assert path_clearance(nominal, scene_of(bottle), 0.025)[0] < 0.0  # it had to swerve
 
 
-@pytest.mark.parametrize("value", ["0.02", "margin=", "margin=-1", "radius=0.1", "margin=nan"])
+def test_plan_an_unlearned_class_with_the_nearest_learned_response(capsys, skill_path):
+    pen = ("pen", (-0.05, 0.47), 0.008)
+    args = ("plan", skill_path, "--goal", "0.36,0.5", "--obstacle", obstacle_arg(pen))
+    option = ("--unknown-class", "margin=0.01,response=nearest", "-v")
+    code, stdout, err = run_cli(capsys, *args, *option)
+    assert code == 0, err
+    assert "'pen' takes the learned response of 'marker' (radius 0.008 m against 0.01 m)" in err
+    nearest = read_plan_csv(stdout)[1]
+    code, stdout, _ = run_cli(capsys, *args, "--unknown-class", "margin=0.01,response=marker")
+    assert code == 0
+    np.testing.assert_array_equal(read_plan_csv(stdout)[1], nearest)
+    code, stdout, err = run_cli(capsys, *args, "--unknown-class", "margin=0.01,response=bowl")
+    assert code == 1 and stdout == ""
+    line = error_line(err, "plan")
+    assert "error: --unknown-class response: 'bowl' is not a learned class" in line
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        "0.02",
+        "margin=",
+        "margin=-1",
+        "radius=0.1",
+        "margin=nan",
+        "margin=0.02,response=",
+        "margin=0.02,colour=red",
+        "margin=1,margin=2",
+        "response=cup",
+    ],
+)
 def test_plan_bad_unknown_class_is_a_usage_error(capsys, skill_path, value):
     code, out, err = usage_exit(capsys, "plan", skill_path, "--unknown-class", value)
     assert code == 2 and out == ""

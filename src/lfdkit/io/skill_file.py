@@ -43,12 +43,14 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     a file with them ignores them and refits.
 ``emulation``
     Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
-    "lookahead" | "window" | "full", "clearances": {class: units}[, "frame":
-    "path"]}``, the route planner its plans use, the clearance kept at least
-    from each class's obstacles and, where not the world's, the frame the
-    learned responses turn with (:attr:`lfdkit.skill.Skill.route_`,
-    :attr:`lfdkit.skill.Skill.clearances_`, :attr:`lfdkit.skill.Skill.frame_`).
-    A file without it plans as before (MPC with lookahead, no learned clearance); an older lfdkit
+    "lookahead" | "window" | "full", "clearances": {class: units}[, "radii":
+    {class: units}][, "frame": "path"]}``, the route planner its plans use, the
+    clearance kept at least from each class's obstacles, the median radius of
+    the obstacles each class was learned from and, where not the world's, the
+    frame the learned responses turn with (:attr:`lfdkit.skill.Skill.route_`,
+    :attr:`lfdkit.skill.Skill.clearances_`, :attr:`lfdkit.skill.Skill.class_radii_`,
+    :attr:`lfdkit.skill.Skill.frame_`). A file without it plans as
+    before (MPC with lookahead, no learned clearance); an older lfdkit
     reading a file with it ignores it.
 ``promp``
     Only for a skill learned from demonstrations (issue 33): their ProMP
@@ -213,7 +215,8 @@ def to_document(
         The mean orientation at each path point (unit quaternions), or None
         (then no ``orientation`` field).
     emulation : mapping or None
-        ``{"route": str, "clearances": {class: float}}``, or None (then no
+        ``{"route": str, "clearances": {class: float}, "radii": {class: float}}``
+        (``radii`` optional), or None (then no
         ``emulation`` field).
     dmp : mapping or None
         The fitted DMP (:meth:`lfdkit.imitate.DMP.to_state`) without its
@@ -525,26 +528,41 @@ class SkillDocument:
                 f"{self.source}: emulation.route: expected one of {', '.join(ROUTES)}, "
                 f"got {route!r}"
             )
-        clearances = {}
-        for label, margin in sub.get("clearances", dict).items():
-            if isinstance(margin, bool) or not isinstance(margin, (int, float)):
-                raise ValueError(
-                    f"{self.source}: emulation.clearances.{label}: expected a number, "
-                    f"got {margin!r}"
-                )
-            if not math.isfinite(margin) or margin < 0.0:
-                raise ValueError(
-                    f"{self.source}: emulation.clearances.{label}: expected a finite number "
-                    f">= 0, got {margin!r}"
-                )
-            clearances[str(label)] = float(margin)
         frame = value.get("frame", "world")
         if frame not in FRAMES:
             raise ValueError(
                 f"{self.source}: emulation.frame: expected one of {', '.join(FRAMES)}, "
                 f"got {frame!r}"
             )
-        return route, clearances, frame
+        return route, self._lengths(sub.get("clearances", dict), "clearances"), frame
+
+    def class_radii(self) -> dict[str, float]:
+        """``{class: radius}`` of the obstacles the reward was fitted on (``emulation.radii``).
+
+        Empty where the file has none (a file from before them, or a reward
+        only adopted).
+        """
+        value = self.data.get("emulation")
+        if value is None:
+            return {}
+        sub = _FieldReader(value, self.source, "emulation.")
+        return self._lengths(sub.get("radii", dict), "radii") if "radii" in value else {}
+
+    def _lengths(self, values: Mapping[str, Any], key: str) -> dict[str, float]:
+        """``emulation.<key>``: ``{class: length}``, each a finite number >= 0."""
+        out = {}
+        for label, length in values.items():
+            if isinstance(length, bool) or not isinstance(length, (int, float)):
+                raise ValueError(
+                    f"{self.source}: emulation.{key}.{label}: expected a number, got {length!r}"
+                )
+            if not math.isfinite(length) or length < 0.0:
+                raise ValueError(
+                    f"{self.source}: emulation.{key}.{label}: expected a finite number "
+                    f">= 0, got {length!r}"
+                )
+            out[str(label)] = float(length)
+        return out
 
     def mimic(self) -> dict[str, Any]:
         """How the path was made (``method``, ``n_demos`` and diagnostics)."""

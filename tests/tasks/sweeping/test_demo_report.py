@@ -71,6 +71,12 @@ def test_unseen_plans_end_at_the_goal(results):
         assert row["end_to_goal_mm"] <= 1.0, row
     learned = [row for row in rows if row["planner"] == "learned reward"]
     assert all(row["collisions"] == 0 for row in learned)
+    # Every row is held to the brush's half-width, the DMP's too (issue 31: a DMP passing
+    # 0.1 mm from a cup counted as no collision while the plans kept 25 mm).
+    margin = 1e3 * results["execution"]["clearance_m"]
+    for row in rows:
+        assert row["margin_mm"] == pytest.approx(margin) == pytest.approx(25.0), row
+        assert (row["collisions"] > 0) == (row["min_clearance_mm"] < margin - 1e-3), row
 
 
 def test_the_executed_plan_is_the_tables(demo, results):

@@ -212,6 +212,20 @@ def test_render_gives_an_image_or_none():
     assert result.image is None or result.image.shape == (720, 960, 3)
 
 
+def test_the_overview_camera_sees_the_table_as_the_top_view_does():
+    """Image right is world +x and image up is away from the arm (+y), as in sweep_figure."""
+    import mujoco
+
+    model = sim.build_model()
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_camlight(model, data)
+    axes = data.cam_xmat[model.camera("overview").id].reshape(3, 3)  # columns: x, y, z
+    assert axes[:, 0] @ [1.0, 0.0, 0.0] > 0.99  # not mirrored: the dustpan's side on the right
+    assert axes[:, 1] @ [0.0, 1.0, 0.0] > 0.5  # the arm's base at the bottom
+    assert axes[:, 2][2] > 0.9  # looking down onto the table
+
+
 def test_a_missing_opengl_backend_leaves_physics_running(tmp_path):
     """Headless, with no usable off-screen OpenGL, MuJoCo still simulates; no image."""
     import os

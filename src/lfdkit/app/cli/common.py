@@ -12,6 +12,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any, NamedTuple
 
 from lfdkit.core.numbers import parse_decimal, parse_whole
 from lfdkit.core.options import (
@@ -28,6 +29,7 @@ from lfdkit.core.units import MAX_EXTENT_M, MAX_MEAN_SPEED_M_S, MIN_EXTENT_M, UN
 __all__ = [
     "CommandError",
     "LazyChoices",
+    "UnknownClass",
     "UsageError",
     "add_force_option",
     "add_loudness_options",
@@ -55,6 +57,7 @@ __all__ = [
     "skill_params",
     "tell",
     "units_refusal",
+    "unknown_class_options",
     "working",
 ]
 
@@ -497,6 +500,7 @@ def option_named(message: str) -> str:
     """A library error naming an argument (``start_orientation: ...``) as its option."""
     # The library's opt-in for unlearned obstacle classes, in the command line's words.
     message = re.sub(r"unknown_class=MARGIN \(lfdkit [^:]*: ([^)]*)\)", r"\1", message)
+    message = re.sub(r"^unknown_response:", "--unknown-class response:", message)
     return re.sub(
         r"^(duration|speed|start_orientation|goal_orientation|unknown_class|q_start):",
         lambda m: "--" + m.group(1).replace("_", "-") + ":",
@@ -515,20 +519,53 @@ def parse_fraction(text: str) -> float:
     return value
 
 
-def parse_unknown_class(text: str) -> float:
-    """``--unknown-class margin=M``: the margin (a length >= 0) for unlearned obstacle classes."""
-    key, sep, value = text.partition("=")
-    if not sep or key.strip().lower() != "margin":
+class UnknownClass(NamedTuple):
+    """``--unknown-class margin=M[,response=R]``, parsed (``Skill.plan``'s two options)."""
+
+    margin: float
+    response: str | None = None
+
+
+def parse_unknown_class(text: str) -> UnknownClass:
+    """``--unknown-class margin=M[,response=R]``: margin (a length >= 0) and response.
+
+    ``R`` is ``none`` (the default), ``nearest`` (the learned class nearest in
+    size) or a learned class's name; whether it is learned is the skill's check.
+    """
+    fields = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        key = key.strip().lower()
+        if not sep or key not in ("margin", "response") or key in fields:
+            raise argparse.ArgumentTypeError(
+                "expected margin=LENGTH[,response=nearest|CLASS|none] (e.g. margin=0.02 or "
+                f"margin=0.02,response=nearest), got {text!r}"
+            )
+        fields[key] = value.strip()
+    if "margin" not in fields:
         raise argparse.ArgumentTypeError(f"expected margin=LENGTH (e.g. margin=0.02), got {text!r}")
     try:
-        margin = parse_decimal(value.strip())
+        margin = parse_decimal(fields["margin"])
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected margin=LENGTH with a number, got {text!r}"
         ) from None
     if margin < 0.0:
         raise argparse.ArgumentTypeError(f"expected a margin >= 0, got {text!r}")
-    return margin
+    response = fields.get("response", "none")
+    if not response:
+        raise argparse.ArgumentTypeError(
+            f"expected response=nearest, a learned class or none, got {text!r}"
+        )
+    return UnknownClass(margin, None if response.lower() == "none" else response)
+
+
+def unknown_class_options(args: argparse.Namespace) -> dict[str, Any]:
+    """``Skill.plan``'s ``unknown_class`` and ``unknown_response`` from ``--unknown-class``."""
+    option = args.unknown_class
+    if option is None:
+        return {}
+    return {"unknown_class": option.margin, "unknown_response": option.response}
 
 
 def add_unknown_class_option(parser: argparse.ArgumentParser, units: str) -> None:
@@ -537,10 +574,11 @@ def add_unknown_class_option(parser: argparse.ArgumentParser, units: str) -> Non
         "--unknown-class",
         type=parse_unknown_class,
         default=None,
-        metavar="margin=M",
+        metavar="margin=M[,response=R]",
         help="plan around obstacles of a class the skill never learned as a hard radius plus "
-        f"M ({units}; plus --clearance where there is one) with no learned response, and "
-        "warn; without it such an obstacle is refused",
+        f"M ({units}; plus --clearance where there is one), and warn; R is the response it "
+        "gets besides: none (default), nearest (the learned class nearest in size; the "
+        "warning names it) or a learned class's name. Without it such an obstacle is refused",
     )
 
 

@@ -27,6 +27,7 @@ from lfdkit.app.cli.common import (
     skill_and_scene,
     task_description,
     tell,
+    unknown_class_options,
     working,
 )
 
@@ -71,7 +72,7 @@ def run_command(args: argparse.Namespace) -> None:
                 render=args.render,
                 yaw=args.yaw,
                 **orientations,
-                unknown_class=args.unknown_class,
+                **unknown_class_options(args),
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
@@ -167,7 +168,7 @@ def _run_path(args: argparse.Namespace) -> None:
                     goal,
                     scene,
                     **orientation_options(args),
-                    unknown_class=args.unknown_class,
+                    **unknown_class_options(args),
                 )
             name = args.skill.name.encode("ascii", "replace").decode("ascii")
             rate = DEFAULT_RATE if args.rate is None else args.rate

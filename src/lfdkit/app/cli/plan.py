@@ -22,6 +22,7 @@ from lfdkit.app.cli.common import (
     refuse_existing,
     skill_and_scene,
     tell,
+    unknown_class_options,
     working,
 )
 from lfdkit.app.cli.via import add_via_option, via_points
@@ -88,7 +89,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
             horizon=args.horizon,
             goal_approach=args.goal_approach,
             clearance=args.clearance,
-            unknown_class=args.unknown_class,
+            **unknown_class_options(args),
             progress=progress,
             via=via,
         )

@@ -280,6 +280,7 @@ def execute_skill(
     start_orientation: Any = None,
     goal_orientation: Any = None,
     unknown_class: float | None = None,
+    unknown_response: str | None = None,
 ) -> SweepExecution:
     """Plan a sweep with a skill and carry it to the robot, checked and simulated.
 
@@ -321,6 +322,10 @@ def execute_skill(
         Margin (m) for obstacles of a class the skill never learned: a hard
         radius plus this, no learned response, with a warning
         (:meth:`lfdkit.skill.Skill.plan_details`); default None refuses them.
+    unknown_response : str, optional
+        The response such an obstacle gets besides: None (none), ``"nearest"``
+        (the learned class nearest in size) or a learned class's name
+        (:meth:`lfdkit.skill.Skill.plan_details`).
 
     Returns
     -------
@@ -389,6 +394,7 @@ def execute_skill(
             goal_orientation=goal_orientation,
             **PLAN_SETTINGS,
             unknown_class=unknown_class,
+            unknown_response=unknown_response,
             progress=progress,
         )
         plan = timed.details

@@ -161,7 +161,10 @@ class SweepResult:
     image : ndarray, shape (720, 960, 3) or None
         The rendered final scene, framed on the arm, the objects and the traces
         (the planned path and the cube's trace in :data:`RENDER_TRACES`'
-        colours), when asked for and OpenGL is available.
+        colours), when asked for and OpenGL is available. The ``overview``
+        camera looks from the arm's side, so the picture is the top view's way
+        round (x to the right, the arm's base at the bottom), with the arm's
+        links see-through (:data:`ARM_ALPHA`) so as not to hide the dustpan.
     """
 
     success: bool
@@ -283,12 +286,17 @@ def sweeping_mjcf(task: SweepingTask | None = None, *, brush: Brush = BRUSH, arm
     <global offwidth="{width}" offheight="{height}"/>
     <quality shadowsize="2048"/>
   </visual>
+  <asset>
+    <!-- A pale sky where the view reaches past the table's edge (black by default). -->
+    <texture type="skybox" builtin="gradient" rgb1="0.95 0.95 0.95" rgb2="0.8 0.8 0.8"
+             width="32" height="32"/>
+  </asset>
   <default>
     <geom friction="0.5 0.01 0.001" solref="0.004 1"/>
   </default>
   <worldbody>
     <light pos="0.3 0.2 2.0" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
-    <camera name="overview" pos="0.0 1.0 1.2" xyaxes="-1 0 0 0 -0.893 0.45" fovy="45"/>
+    <camera name="overview" pos="0.0 -0.45 1.4" xyaxes="1 0 0 0 0.940 0.342" fovy="45"/>
     <camera name="top" pos="0.0 0.45 1.6" xyaxes="1 0 0 0 1 0"/>
     <geom name="table" type="plane" size="{TABLE.half_size!r} {TABLE.half_size!r} 0.01"
           rgba="{mjcf_numbers(TABLE.rgba)}" {FIXED_CONTACT}/>
@@ -554,10 +562,23 @@ def _simulate(
             dots = np.column_stack([track[::25], np.full(len(track[::25]), 0.003)])
             trace_colours.append((dots, track_rgba))
         with progress.stage(f"simulate: render the {camera} camera"):
+            _see_through_arm(model)
             result.image = render_camera(
                 model, physics.data, camera, trace_colours, size=_IMAGE, frame=True
             )
     return result
+
+
+#: Opacity of the arm's links in the render: the overview camera looks over the arm (as
+#: the top view does, x to the right), and the arm reaching to the dustpan would hide it.
+ARM_ALPHA = 0.2
+
+
+def _see_through_arm(model: Any) -> None:
+    """Make the arm's links (bodies ``link1``...) see-through in ``model``; the tool stays."""
+    for g in range(model.ngeom):
+        if model.body(int(model.geom_bodyid[g])).name.startswith("link"):
+            model.geom_rgba[g, 3] = ARM_ALPHA
 
 
 def _rgba(hex_colour: str) -> tuple[float, float, float, float]:
