@@ -397,3 +397,28 @@ def test_parameters_not_identified_are_said_with_what_to_demonstrate() -> None:
     scenes = [Scene((Obstacle("cup", path[100 + 40 * j] + [0.0, 0.08]),)) for j in range(3)]
     with pytest.warns(UserWarning, match="none of the reward's parameters is identified"):
         IOC().fit([path] * 3, scenes, path)
+
+
+def test_threads_give_the_loss_to_the_bit(monkeypatch) -> None:
+    # The demonstrations are planned side by side where there are cores; each is
+    # summed in order, so one thread and several give the same numbers exactly.
+    from lfdkit.emulate import ioc
+
+    path = nominal()
+    scenes = [Scene((Obstacle("obstacle", path[i] + [0.0, 0.01]),)) for i in (120, 170)]
+    # Paths that swerve below each obstacle (not plans: the loss needs only crossings).
+    demos = [
+        path - [0.0, 0.04] * np.exp(-(((np.arange(300) - i) / 20.0) ** 2))[:, None]
+        for i in (120, 170)
+    ]
+    theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
+    results = {}
+    for cores in (1, 2):
+        monkeypatch.setattr(ioc, "available_cores", lambda cores=cores: cores)
+        loss = training_loss(demos, scenes)
+        warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
+        full = loss.full_horizon(theta, warm)
+        results[cores] = (*full, *loss.mpc(theta, 8), loss.plans_only(theta, warm), *warm)
+    for one, several in zip(results[1], results[2], strict=True):
+        np.testing.assert_array_equal(one, several)
+    assert not np.array_equal(results[1][-1], results[1][-2])  # the demonstrations differ
