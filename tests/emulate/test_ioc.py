@@ -425,3 +425,28 @@ def test_a_refit_without_diagnosis_gives_the_same_reward_and_skips_the_checks() 
     np.testing.assert_array_equal(quick.theta_, checked.theta_)
     assert quick.identifiability_ == {} and checked.identifiability_
     assert quick.not_learned_ == checked.not_learned_ == ()
+
+
+def test_threads_give_the_loss_to_the_bit(monkeypatch) -> None:
+    # The demonstrations are planned side by side where there are cores; each is
+    # summed in order, so one thread and several give the same numbers exactly.
+    from lfdkit.emulate import ioc
+
+    path = nominal()
+    scenes = [Scene((Obstacle("obstacle", path[i] + [0.0, 0.01]),)) for i in (120, 170)]
+    # Paths that swerve below each obstacle (not plans: the loss needs only crossings).
+    demos = [
+        path - [0.0, 0.04] * np.exp(-(((np.arange(300) - i) / 20.0) ** 2))[:, None]
+        for i in (120, 170)
+    ]
+    theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
+    results = {}
+    for cores in (1, 2):
+        monkeypatch.setattr(ioc, "available_cores", lambda cores=cores: cores)
+        loss = training_loss(demos, scenes)
+        warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
+        full = loss.full_horizon(theta, warm)
+        results[cores] = (*full, *loss.mpc(theta, 8), loss.plans_only(theta, warm), *warm)
+    for one, several in zip(results[1], results[2], strict=True):
+        np.testing.assert_array_equal(one, several)
+    assert not np.array_equal(results[1][-1], results[1][-2])  # the demonstrations differ

@@ -7,7 +7,7 @@ import pytest
 
 from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate._problem_kernels import planner_derivatives
-from lfdkit.emulate.problem import Problem
+from lfdkit.emulate.problem import Problem, _obstacle_terms
 from lfdkit.model.scene import Obstacle, Scene
 
 
@@ -78,3 +78,32 @@ def test_solve_is_stationary_on_its_free_actions(q: int) -> None:
     free = np.abs(actions) < problem.max_step * (1.0 - 1e-9)
     scale = 1.0 + 2.0 * problem.weight.min() * problem.max_step
     assert np.abs(action_gradient[free]).max() <= 1e-8 * scale
+
+
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("kind", ["diagonal", "full", "one class"])
+def test_obstacle_terms_are_their_definitions(q: int, kind: str) -> None:
+    # The fast forms (diagonal scaling, batched products, A once per run of anchors
+    # sharing a precision) against c = rᵀPr, b = N P r, A = N P Nᵀ written out.
+    rng = np.random.default_rng(q)
+    n, n_anchors = 30, 7
+    problem, _ = case(q, 0)
+    normals = problem.normals[:n]
+    rel = rng.normal(scale=0.1, size=(n, n_anchors, q))
+    if kind == "full":
+        root = rng.normal(size=(n_anchors, q, q))
+        precision = root @ root.transpose(0, 2, 1) * 100.0
+    else:
+        classes = [rng.uniform(50.0, 500.0, q) for _ in range(3)]
+        runs = [0, 0, 1, 1, 1, 2, 0] if kind == "diagonal" else [0] * n_anchors
+        precision = np.array([np.diag(classes[j]) for j in runs])
+    c, b, a = _obstacle_terms(rel, normals, precision)
+    pr = np.einsum("lij,klj->kli", precision, rel)
+    np.testing.assert_allclose(c, np.einsum("kli,kli->kl", rel, pr), rtol=1e-14)
+    expected_b = np.einsum("kmq,klq->klm", normals, pr)
+    np.testing.assert_allclose(b, expected_b, rtol=0, atol=1e-14 * np.abs(expected_b).max())
+    expected_a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
+    np.testing.assert_allclose(a, expected_a, rtol=0, atol=1e-14 * np.abs(expected_a).max())
+    assert all(x.flags.c_contiguous for x in (c, b, a))  # as the kernels take them
+    empty = _obstacle_terms(rel[:, :0], normals, precision[:0])
+    assert [x.shape for x in empty] == [(n, 0), (n, 0, q - 1), (n, 0, q - 1, q - 1)]

@@ -9,6 +9,7 @@ hot paths such as every plan.
 
 from __future__ import annotations
 
+import os
 from contextlib import AbstractContextManager
 
 from threadpoolctl import ThreadpoolController
@@ -22,3 +23,11 @@ def one_blas_thread() -> AbstractContextManager:
     if _controller is None:
         _controller = ThreadpoolController()
     return _controller.limit(limits=1)
+
+
+def available_cores() -> int:
+    """Cores this process may run on (its CPU affinity; all of them off Linux)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1

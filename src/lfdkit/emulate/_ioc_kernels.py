@@ -74,7 +74,7 @@ def _pseudo_solve(h, rhs):
     return vectors @ projected
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)  # the IOC runs demonstrations on threads
 def plan_sensitivity(
     c,
     b,
@@ -164,7 +164,7 @@ def plan_sensitivity(
                 out[k, i, p] = moves[v, p] if v >= 0 else anchor_sens[i, p]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)  # the IOC runs demonstrations on threads
 def mpc_sensitivity(
     c,
     b,

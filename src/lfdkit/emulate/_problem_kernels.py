@@ -206,7 +206,7 @@ def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)  # the IOC runs demonstrations on threads
 def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter):
     """Projected Newton on the actions ``a_k = d_k − d_{k−1}``, box ``|a| <= max_step``.
 

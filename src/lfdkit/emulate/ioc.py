@@ -39,6 +39,7 @@ import itertools
 import time
 import warnings
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -47,7 +48,7 @@ import numpy as np
 from lfdkit.core.constraints import Checked, InstanceOf, Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.progress import ProgressLike, as_progress
-from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.threads import available_cores, one_blas_thread
 from lfdkit.core.validation import check_horizon, check_path
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.problem import Corridor, Problem
@@ -387,15 +388,19 @@ class TrainingLoss:
         reward = self.reward(theta)
         total, gradient = 0.0, np.zeros_like(theta)
         count = sum(int(item.found[1:].sum()) for item in self.data)
-        for j, item in enumerate(self.data):
+
+        def plan(j: int, item: DemoInScene) -> tuple[np.ndarray, np.ndarray]:
             problem = self.problem(reward, item)
             d, _, _, _ = problem.solve(item.start, warm[j], tol=1e-11, max_iter=200)
-            warm[j] = d
-            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
-            total += float(np.sum(residual**2)) / count
             sensitivity = _plan_sensitivity(
                 problem, item.start, d, self._class_of(item.scene), len(self.classes)
             )
+            return d, sensitivity
+
+        for j, (item, (d, sensitivity)) in enumerate(zip(self.data, self._each(plan), strict=True)):
+            warm[j] = d
+            residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
+            total += float(np.sum(residual**2)) / count
             gradient += np.einsum("km,kmp->p", 2.0 * residual / count, sensitivity)
         return total, gradient
 
@@ -404,11 +409,17 @@ class TrainingLoss:
         reward = self.reward(theta)
         count = sum(int(item.found[1:].sum()) for item in self.data)
         total, gradient = 0.0, np.zeros_like(theta)
-        for item in self.data:
-            problem = self.problem(reward, item)
-            d, sensitivity = _mpc_with_sensitivity(
-                problem, item, horizon, self._class_of(item.scene), len(self.classes)
+
+        def plan(j: int, item: DemoInScene) -> tuple[np.ndarray, np.ndarray]:
+            return _mpc_with_sensitivity(
+                self.problem(reward, item),
+                item,
+                horizon,
+                self._class_of(item.scene),
+                len(self.classes),
             )
+
+        for item, (d, sensitivity) in zip(self.data, self._each(plan), strict=True):
             residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
             total += float(np.sum(residual**2)) / count
             gradient += np.einsum("km,kmp->p", 2.0 * residual / count, sensitivity)
@@ -419,11 +430,28 @@ class TrainingLoss:
         reward = self.reward(theta)
         count = sum(int(item.found[1:].sum()) for item in self.data)
         total = 0.0
-        for j, item in enumerate(self.data):
-            d, _, _, _ = self.problem(reward, item).solve(item.start, warm[j].copy())
+
+        def plan(j: int, item: DemoInScene) -> np.ndarray:
+            return self.problem(reward, item).solve(item.start, warm[j].copy())[0]
+
+        for item, d in zip(self.data, self._each(plan), strict=True):
             residual = np.where(item.found[1:, None], d - item.target[1:], 0.0)
             total += float(np.sum(residual**2)) / count
         return total
+
+    def _each(self, work: Callable[[int, DemoInScene], Any]) -> list:
+        """``work(j, item)`` for each demonstration, in order, on threads where there are cores.
+
+        The compiled solvers release the GIL, so the demonstrations' plans run
+        side by side (a 3-D fit spends most of its time in them: issue 34); each
+        result is the demonstration's own and the caller sums them in order, so
+        the loss is the same to the bit on any number of threads.
+        """
+        workers = min(available_cores(), len(self.data))
+        if workers <= 1:
+            return [work(j, item) for j, item in enumerate(self.data)]
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            return list(pool.map(work, range(len(self.data)), self.data))
 
     def _class_of(self, scene: Scene) -> np.ndarray:
         """Class index of each reward anchor of ``scene`` (the problem's obstacles)."""
