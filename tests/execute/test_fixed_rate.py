@@ -58,7 +58,13 @@ def within_one_interval(knots: np.ndarray, times: np.ndarray, reach: int) -> np.
 )
 def test_velocities_are_finite_differences_of_the_positions(arm, central_bound):
     run = execute_plan(reach_plan(), arm, speed_fraction=0.5, rate=RATE)
-    t, q, qd, qdd = run.samples
+    samples = run.samples
+    t, q, qd, qdd = (
+        samples.times,
+        samples.positions,
+        samples.velocities,
+        samples.accelerations,
+    )
     h = 1.0 / RATE
     np.testing.assert_allclose(np.diff(t), h, rtol=1e-12)
     knots = run.trajectory.times

@@ -170,7 +170,7 @@ def test_approach_and_retreat_move_straight_along_the_tool_axis():
     # 0.1 m at 0.1 m/s: 1 s in; 0.05 m: 1 s out (the shortest); the plan's 3 s kept between.
     assert run.trajectory.slowdowns == ()
     assert run.trajectory.duration == pytest.approx(1.0 + 3.0 + 1.0, abs=1e-9)
-    t, tool = run.samples[0], tool_positions(run)
+    t, tool = run.samples.times, tool_positions(run)
     start, end = plan.positions[0], plan.positions[-1]
     # The tool points down: it comes down onto the start from 10 cm above, and rises 5 cm.
     up = np.array([0.0, 0.0, 1.0])
