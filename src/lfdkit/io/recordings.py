@@ -28,7 +28,9 @@ the child's pose in the parent, chained through the frame tree over the
 dynamic transforms of the topic and the static ones of ``/tf_static`` (both
 directions: a frame pair that is not parent-first is inverted). Joint
 positions (:func:`read_joint_states`) from ``sensor_msgs/JointState``;
-:mod:`lfdkit.execute.recordings` turns them into tool poses.
+:mod:`lfdkit.execute.recordings` turns them into tool poses. Both come as
+timed paths (:class:`PoseRecording`, :class:`JointRecording`: each a
+:class:`~lfdkit.model.timed_path.TimedPath` with the recording's metadata).
 
 Timestamps
 ----------
