@@ -91,6 +91,10 @@ def test_the_urscript_moves_within_the_speed_fraction(tmp_path):
     ]
     plan_rows = (tmp_path / "plan.csv").read_text().splitlines()
     assert plan_rows[0] == "t,x,y,z" and len(plan_rows) == 81
+    # The plan as carried is one TimedPath, written as it is held.
+    written = np.loadtxt(tmp_path / "plan.csv", delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(written, np.column_stack([run.plan.times, run.plan.positions]))
+    assert run.plan.orientations is None and run.plan.duration == 3.0
     header = (tmp_path / "trajectory.csv").read_text().splitlines()[0].split(",")
     assert header[:2] == ["t", "q1"] and header[-1] == "q6_acc" and len(header) == 19
     message = json.loads((tmp_path / "trajectory.json").read_text())

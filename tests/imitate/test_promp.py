@@ -96,6 +96,25 @@ def test_mean_path_and_std_follow_the_demonstrations():
     assert np.all(std[:, 0] < 1e-6)
 
 
+def test_the_timed_mean_is_the_mean_path_in_seconds_with_its_exact_velocities():
+    s = np.linspace(0.0, 1.0, 60)
+    demos = [np.c_[2.0 * s, a * np.sin(np.pi * s)] for a in (0.5, 0.7, 0.9)]
+    model = ProMP(n_basis=15).fit(demos)
+    path = model.timed_mean(2.5, n_points=41)
+    np.testing.assert_array_equal(path.positions, model.mean_path(41))
+    np.testing.assert_allclose(path.times, np.linspace(0.0, 2.5, 41), rtol=0, atol=1e-15)
+    # Velocities: the derivative of mean_at in time, against central differences (step 1e-6).
+    h, u = 1e-6, np.linspace(1e-5, 1.0 - 1e-5, 41)
+    slope = (model.mean_at(u + h) - model.mean_at(u - h)) / (2 * h) / 2.5
+    inner = model.timed_mean(2.5, 41).sample(u * 2.5)  # between the samples: Hermite
+    np.testing.assert_allclose(path.velocities[1:-1], slope[1:-1], atol=1e-4)
+    np.testing.assert_allclose(inner.positions, model.mean_at(u), atol=1e-6)
+    # And the movement itself: x goes 2 units in 2.5 s.
+    np.testing.assert_allclose(path.velocities[5:-5, 0], 2.0 / 2.5, atol=0.03)
+    with pytest.raises(ValueError, match=r"^duration: .*-1"):
+        model.timed_mean(-1.0)
+
+
 def test_a_via_point_with_zero_covariance_is_passed_exactly(full_rank_model):
     point, phase = np.array([1.5, -2.0]), 0.37
     via = full_rank_model.condition(point, [phase])

@@ -277,14 +277,14 @@ def test_several_files_are_one_set_named_by_their_stems(tmp_path: Path) -> None:
         paths.append(_write(tmp_path / f"take_{k:02d}.csv", "x,y,z\n" + rows))
     # A file with its own demo column keeps its ids, after the others, in the order given.
     paths.append(_write(tmp_path / "more.csv", "demo,x,y,z\n7,0,0,0\n7,1,1,1\nb,2,2,2\nb,3,3,3\n"))
-    demos, times, ids, quats = demos_io.load_demo_files(paths)
-    assert ids == ["take_00", "take_01", "take_02", 7, "b"]
-    for got, want in zip(demos, takes, strict=False):
-        np.testing.assert_array_equal(got, want)
-    assert times == [None] * 5 and quats == [None] * 5
+    records = demos_io.load_demo_files(paths)
+    assert [demo.id for demo in records] == ["take_00", "take_01", "take_02", 7, "b"]
+    for got, want in zip(records, takes, strict=False):
+        np.testing.assert_array_equal(got.points, want)
+    assert all(demo.times is None and demo.orientations is None for demo in records)
     # One path: exactly load_demos, its ids kept.
-    assert demos_io.load_demo_files([paths[0]])[2] == [0]
-    assert demos_io.load_demo_files(paths[0])[2] == [0]
+    assert [demo.id for demo in demos_io.load_demo_files([paths[0]])] == [0]
+    assert [demo.id for demo in demos_io.load_demo_files(paths[0])] == [0]
 
 
 @pytest.mark.parametrize(

@@ -231,6 +231,8 @@ def test_joint_states_become_ur5_tool_poses(tmp_path: Path, kind: str) -> None:
     )
     raw = read_joint_states(out, "/joint_states")
     assert raw.names[0] == "gripper_joint"
+    assert isinstance(raw, TimedPath) and raw.velocities is None  # one timed-path record
+    assert raw.positions.shape == (len(ns), 7) and not raw.positions.flags.writeable
     rec = tool_poses_from_joint_states(out, "/joint_states")
     T = forward(qs)
     np.testing.assert_allclose(rec.positions, T[:, :3, 3], atol=1e-12)

@@ -243,11 +243,10 @@ class RobotExecution:
     ----------
     arm : Arm or UrdfArm
     task : TaskDescription
-    plan_times : ndarray, shape (n,)
-        The plan's times (s).
-    plan_positions : ndarray, shape (n, 2 or 3)
-        The plan's points (m, skill frame).
-    plan_orientations : ndarray, shape (n, 4) or None
+    plan : TimedPath
+        The plan as carried: ``times`` (n,) in s from 0 (repeated times
+        dropped), ``positions`` (n, 2 or 3) in m in the skill frame,
+        ``orientations`` (n, 4) or None; no velocities.
     poses : ndarray, shape (m, 4, 4)
         Tool poses at :data:`WAYPOINT_RATE`, base frame.
     trajectory : JointTrajectory
@@ -264,9 +263,7 @@ class RobotExecution:
 
     arm: AnyArm
     task: TaskDescription
-    plan_times: np.ndarray = field(repr=False)
-    plan_positions: np.ndarray = field(repr=False)
-    plan_orientations: np.ndarray | None = field(repr=False)
+    plan: TimedPath = field(repr=False)
     poses: np.ndarray = field(repr=False)
     trajectory: JointTrajectory = field(repr=False)
     rate: float
@@ -293,10 +290,10 @@ class RobotExecution:
             "task": self.task.name,
             "speed_fraction": self.speed_fraction,
             "plan": {
-                "points": len(self.plan_times),
-                "dims": int(self.plan_positions.shape[1]),
-                "length_m": path_length(self.plan_positions),
-                "duration_s": float(self.plan_times[-1] - self.plan_times[0]),
+                "points": len(self.plan.times),
+                "dims": int(self.plan.positions.shape[1]),
+                "length_m": path_length(self.plan.positions),
+                "duration_s": self.plan.duration,
             },
             "robot": {
                 "poses": len(self.poses),
@@ -500,9 +497,7 @@ def execute_plan(
     return RobotExecution(
         arm=arm,
         task=task,
-        plan_times=times - times[0],
-        plan_positions=positions,
-        plan_orientations=orientations,
+        plan=TimedPath(times - times[0], positions, orientations=orientations),
         poses=poses,
         trajectory=trajectory,
         rate=rate,
@@ -539,12 +534,13 @@ def write_robot_execution(
     clash = [p for p in planned if p.exists()]
     if clash and not overwrite:
         raise FileExistsError(f"{clash[0]}: exists; pass overwrite=True to replace it")
-    dims = execution.plan_positions.shape[1]
+    plan = execution.plan
+    dims = plan.positions.shape[1]
     columns = ["t", *"xyz"[:dims]]
-    rows = [execution.plan_times[:, None], execution.plan_positions]
-    if execution.plan_orientations is not None:
+    rows = [plan.times[:, None], plan.positions]
+    if plan.orientations is not None:
         columns += ["qx", "qy", "qz", "qw"]
-        rows.append(execution.plan_orientations)
+        rows.append(plan.orientations)
     by_path = {p.name: p for p in planned}
     write_text(by_path[_PLAN], _csv_text(columns, np.hstack(rows)), overwrite=overwrite)
     samples = execution.samples

@@ -4,7 +4,9 @@ What: each demonstration, resampled to phase ``s`` in [0, 1] (sample index or
 time, normalised), is fitted by ``n_basis`` normalised Gaussian bumps per
 dimension (ridge least squares); the weight vectors of the demonstrations give
 a Gaussian ``N(weights_mean_, weights_cov_)``. A path is ``y(s) = Ψ(s) w``, so
-the model gives a mean path, a band (``std``), samples, and — the reason it
+the model gives a mean path (:meth:`ProMP.timed_mean`: as a
+:class:`~lfdkit.model.timed_path.TimedPath` of a given duration, velocities
+exact), a band (``std``), samples, and — the reason it
 exists — closed-form Gaussian conditioning on points the movement must pass
 (Paraschos et al., 2013): with ``H`` the stacked ``Ψ(s_i)`` of all via-points,
 ``y`` their positions and ``R`` their covariances,
@@ -50,10 +52,12 @@ from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.validation import (
     check_count,
     check_demos,
+    check_positive,
     check_random_state,
     check_times,
     check_values,
 )
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = ["ProMP"]
 
@@ -224,6 +228,31 @@ class ProMP(Estimator):
         ndarray, shape (n_points, n_dims)
         """
         return self.mean_at(_even_phases(n_points))
+
+    def timed_mean(self, duration: float, n_points: int = 100) -> TimedPath:
+        """The mean path as a movement of ``duration`` seconds (phase linear in time).
+
+        Parameters
+        ----------
+        duration : float
+            Seconds the movement takes (> 0); time ``t`` is phase ``t / duration``.
+        n_points : int, default 100
+            Samples, evenly spaced in phase (and so in time).
+
+        Returns
+        -------
+        TimedPath
+            ``times`` (n_points,) in s from 0 to ``duration``; ``positions``
+            (n_points, n_dims) as :meth:`mean_path`; ``velocities`` the exact
+            derivative of the mean in time (units per second), so
+            :meth:`TimedPath.sample` follows the model between the samples.
+        """
+        seconds = check_positive(duration, "duration")
+        phases = _even_phases(n_points)
+        positions = self.mean_at(phases)
+        weights = self.weights_mean_.reshape(self.n_dims_, self.n_basis).T
+        velocities = self._feature_slopes(phases) @ weights / seconds  # dy/dt = dy/ds · ds/dt
+        return TimedPath(phases * seconds, positions, velocities)
 
     def std(self, n_points: int = 100) -> np.ndarray:
         """Standard deviation of each coordinate at ``n_points`` evenly spaced phases.
@@ -406,6 +435,17 @@ class ProMP(Estimator):
         centres = np.linspace(0.0, 1.0, self.n_basis)
         bumps = np.exp(-0.5 * ((phase[:, None] - centres) / self.width_) ** 2)
         return bumps / bumps.sum(axis=1, keepdims=True)
+
+    def _feature_slopes(self, phase: np.ndarray) -> np.ndarray:
+        """Derivatives of :meth:`_features` in phase, shape (n_points, n_basis).
+
+        With ``φ_i = b_i / Σ b`` and ``b_i' = g_i b_i``, ``g_i = −(s − c_i) / w²``:
+        ``φ_i' = φ_i (g_i − Σ_j φ_j g_j)``.
+        """
+        centres = np.linspace(0.0, 1.0, self.n_basis)
+        features = self._features(phase)
+        slopes = -(phase[:, None] - centres) / self.width_**2
+        return features * (slopes - np.sum(features * slopes, axis=1, keepdims=True))
 
     def _observation(self, phase: np.ndarray) -> np.ndarray:
         """Stacked ``Ψ(s)``: rows point-major then dimension, shape (n·n_dims, n_dims·n_basis)."""

@@ -64,6 +64,7 @@ nor written.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import json
 import math
@@ -260,10 +261,8 @@ def load_demos(
     return demos if len(out) == 1 else tuple(out)
 
 
-def load_demo_files(
-    paths: Sequence[PathLike],
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
-    """Read several demonstration files as one set: demos, times, ids and orientations.
+def load_demo_files(paths: Sequence[PathLike]) -> list[Demo]:
+    """Read several demonstration files as one set of :class:`~lfdkit.model.demos.Demo` records.
 
     Each file as :func:`load_demos` reads it, in the order given; a CSV
     without a ``demo`` column is one demonstration with its file's stem as
@@ -271,9 +270,9 @@ def load_demo_files(
 
     Returns
     -------
-    demos, times, ids, orientations
-        As :func:`load_demos` with ``return_times``, ``return_ids`` and
-        ``return_orientations``.
+    list of Demo
+        As :func:`load_demos` with ``as_records=True``: points, times,
+        orientations and id of each demonstration (no scenes).
 
     Raises
     ------
@@ -287,10 +286,7 @@ def load_demo_files(
     if not len(paths):
         raise ValueError("demos: no file given; give one or more demonstration files")
     keep_ids = len(paths) == 1
-    demos: list[np.ndarray] = []
-    times: list[np.ndarray | None] = []
-    ids: list[DemoId] = []
-    quats: list[np.ndarray | None] = []
+    records: list[Demo] = []
     first: dict[str, tuple[str, Any]] = {}  # property -> (first file, its value)
     owner: dict[str, str] = {}  # id as text -> its file
     named = [os.path.realpath(os.fspath(p)) for p in paths]
@@ -301,13 +297,16 @@ def load_demo_files(
             )
     for path in paths:
         fname = os.fspath(path)
-        d, t, i, q = load_demos(path, return_times=True, return_ids=True, return_orientations=True)
+        read = load_demos(path, as_records=True)
         if not keep_ids and format_of(fname, SUPPORTED_SUFFIXES) == ".csv" and not _has_demo(fname):
-            i = [_stem_id(fname)]
+            read = [dataclasses.replace(read[0], id=_stem_id(fname))]
+        head = read[0]
         facts = {  # what every file must share: said as "has ..."
-            "dimension": f"{d[0].shape[1]}-D demonstrations",
-            "times": "times (a t column)" if t[0] is not None else "no times",
-            "orientations": "orientations (qx,qy,qz,qw)" if q[0] is not None else "no orientations",
+            "dimension": f"{head.points.shape[1]}-D demonstrations",
+            "times": "times (a t column)" if head.times is not None else "no times",
+            "orientations": (
+                "orientations (qx,qy,qz,qw)" if head.orientations is not None else "no orientations"
+            ),
         }
         for name, value in facts.items():
             seen = first.setdefault(name, (fname, value))
@@ -316,18 +315,15 @@ def load_demo_files(
                     f"{fname}: has {value}, but {seen[0]} has {seen[1]}; all demonstration "
                     f"files must agree on their {name}"
                 )
-        for did in i:
+        for did in (demo.id for demo in read):
             other = owner.setdefault(str(did), fname)
             if other != fname:
                 raise ValueError(
                     f"{fname}: demo id {did!r} is also in {other}; give each demonstration "
                     "its own id (a CSV without a demo column is named by its file)"
                 )
-        demos += d
-        times += t
-        ids += i
-        quats += q
-    return demos, times, ids, quats
+        records += read
+    return records
 
 
 def _has_demo(fname: str) -> bool:

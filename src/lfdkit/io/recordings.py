@@ -28,7 +28,9 @@ the child's pose in the parent, chained through the frame tree over the
 dynamic transforms of the topic and the static ones of ``/tf_static`` (both
 directions: a frame pair that is not parent-first is inverted). Joint
 positions (:func:`read_joint_states`) from ``sensor_msgs/JointState``;
-:mod:`lfdkit.execute.recordings` turns them into tool poses.
+:mod:`lfdkit.execute.recordings` turns them into tool poses. Both come as
+timed paths (:class:`PoseRecording`, :class:`JointRecording`: each a
+:class:`~lfdkit.model.timed_path.TimedPath` with the recording's metadata).
 
 Timestamps
 ----------
@@ -142,25 +144,26 @@ class PoseRecording(TimedPath):
     notes: tuple[str, ...] = field(default=())
 
 
-@dataclass(frozen=True)
-class JointRecording:
-    """Joint positions read from a ``sensor_msgs/JointState`` topic.
+@dataclass(frozen=True, eq=False, repr=False, kw_only=True)
+class JointRecording(TimedPath):
+    """Joint positions read from a ``sensor_msgs/JointState`` topic: a timed path and its joints.
+
+    A :class:`~lfdkit.model.timed_path.TimedPath` (read-only, no velocities:
+    a recording has none) with the joints' names and the recording's metadata.
 
     Attributes
     ----------
     times : ndarray, shape (n,)
         Seconds after the first sample, strictly increasing.
-    names : tuple of str
-        The joints, in the column order of ``positions``.
     positions : ndarray, shape (n, n_joints)
         Radians (revolute) or metres (prismatic).
+    names : tuple of str
+        The joints, in the column order of ``positions``.
     start_ns, topic, stamps, notes
         As :class:`PoseRecording`.
     """
 
-    times: np.ndarray
     names: tuple[str, ...]
-    positions: np.ndarray
     start_ns: int
     topic: str
     stamps: str = "header"
@@ -724,4 +727,12 @@ def read_joint_states(
     positions = np.asarray(rows, dtype=np.float64)[keep]
     _finite(positions, name, topic)
     times, start = _seconds(ns)
-    return JointRecording(times, tuple(wanted or ()), positions, start, topic, source, tuple(notes))
+    return JointRecording(
+        times,
+        positions,
+        names=tuple(wanted or ()),
+        start_ns=start,
+        topic=topic,
+        stamps=source,
+        notes=tuple(notes),
+    )

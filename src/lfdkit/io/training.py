@@ -14,6 +14,7 @@ each refusal one line naming the file and the demonstration.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Sequence
 from typing import NamedTuple
@@ -109,9 +110,10 @@ def read_training_data(
         demonstrations mix dimensions, or the scene file names a
         demonstration id that the demonstrations file does not have.
     """
-    demos, times, ids, quats = load_demo_files(
+    records = load_demo_files(
         [demos_path] if isinstance(demos_path, (str, os.PathLike)) else demos_path
     )
+    demos, ids = [demo.points for demo in records], [demo.id for demo in records]
     if not isinstance(demos_path, (str, os.PathLike)):  # named in errors: the first file
         demos_path = demos_path[0] if len(demos_path) == 1 else ", ".join(map(str, demos_path))
     dims = {demo.shape[1] for demo in demos}
@@ -137,9 +139,10 @@ def read_training_data(
             "points; a path needs at least 3"
         )
     data = TrainingData([], [])
-    for demo, stamps, key, quat in zip(demos, times, ids, quats, strict=True):
+    for read in records:
+        demo, key = read.points, read.id
         scene = scenes.get(key)
-        record = Demo(demo, stamps, quat, key, scene)
+        record = dataclasses.replace(read, scene=scene)
         if scene is None or not len(scene):
             data.clean.append(record)
         else:

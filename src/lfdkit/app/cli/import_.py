@@ -38,8 +38,9 @@ def run_command(args: argparse.Namespace) -> None:
     from lfdkit.io import save_demos
     from lfdkit.io.recordings import JOINT_STATE, list_topics, read_poses
     from lfdkit.io.segmentation import segment_recording
+    from lfdkit.model.demos import Demo
 
-    demos, times, quats = [], [], []
+    demos: list[Demo] = []
     total_pauses = total_returns = 0
     for path in args.recordings:
         topics = list_topics(path)
@@ -86,12 +87,10 @@ def run_command(args: argparse.Namespace) -> None:
         total_pauses += len(seg.pauses)
         total_returns += len(seg.returns)
         for a, b in seg.segments:
-            demos.append(positions[a:b])
-            times.append(rec.times[a:b])
-            quats.append(rec.orientations[a:b])
-    save_demos(args.output, demos, times=times, orientations=quats, overwrite=args.force)
-    n = sum(len(d) for d in demos)
-    duration = sum(float(t[-1] - t[0]) for t in times)
+            demos.append(Demo(positions[a:b], rec.times[a:b], rec.orientations[a:b]))
+    save_demos(args.output, demos, overwrite=args.force)
+    n = sum(len(demo.points) for demo in demos)
+    duration = sum(float(demo.times[-1] - demo.times[0]) for demo in demos)
     tell(
         args,
         f"imported {_count(len(demos), 'demonstration')} ({n} samples, {duration:.2f} s"

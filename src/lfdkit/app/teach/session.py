@@ -34,6 +34,8 @@ from typing import Any
 
 import numpy as np
 
+from lfdkit.model.demos import Demo
+
 __all__ = [
     "LIMITS",
     "VIEW",
@@ -191,17 +193,25 @@ def parse_scene(value: Any, name: str = "obstacles") -> Any:
 
 @dataclass
 class TeachData:
-    """The page's drawing: demonstrations with their times and ids, and each one's scene.
+    """The page's drawing: its demonstrations as :class:`~lfdkit.model.demos.Demo` records.
 
-    ``scenes`` maps the id of every demonstration marked as swerving around
-    obstacles to the :class:`~lfdkit.model.scene.Scene` of those obstacles; the
-    others are clean demonstrations.
+    Each record holds the points (m), times (s) or None, and id; a
+    demonstration marked as swerving around obstacles holds the
+    :class:`~lfdkit.model.scene.Scene` of those obstacles, the others (clean
+    demonstrations) none.
     """
 
-    demos: list[np.ndarray]
-    times: list[np.ndarray | None]
-    ids: list[str]
-    scenes: dict[str, Any]
+    demos: list[Demo]
+
+    @property
+    def ids(self) -> list[str]:
+        """The demonstrations' ids, in order."""
+        return [demo.id for demo in self.demos]
+
+    @property
+    def scenes(self) -> dict[str, Any]:
+        """The scene of each marked demonstration, by id."""
+        return {demo.id: demo.scene for demo in self.demos if demo.scene is not None}
 
 
 def parse_teach_data(payload: Any) -> TeachData:
@@ -223,12 +233,13 @@ def parse_teach_data(payload: Any) -> TeachData:
         _name(key, "marks"): _list(value, f"marks[{key!r}]", LIMITS["max_obstacles"])
         for key, value in _mapping(payload.get("marks") or {}, "marks").items()
     }
-    data = TeachData([], [], [], {})
+    data = TeachData([])
+    seen_ids: set[str] = set()
     for j, item in enumerate(_list(payload.get("demos"), "demos", LIMITS["max_demos"])):
         where = f"demos[{j}]"
         item = _mapping(item, where)
         key = _name(item.get("id"), f"{where}.id")
-        if key in data.ids:
+        if key in seen_ids:
             raise RequestError(f"{where}.id: {key!r} is used twice")
         points = _list(item.get("points"), f"{where}.points", LIMITS["max_points"])
         if len(points) < 3:
@@ -253,12 +264,11 @@ def parse_teach_data(payload: Any) -> TeachData:
             if mark not in seen:  # marked in both forms: one obstacle, not two
                 seen.add(mark)
                 around.append(obstacles[mark])
-        data.demos.append(path)
-        data.times.append(stamps)
-        data.ids.append(key)
-        if around:
-            data.scenes[key] = Scene(tuple(around))
-    unknown = sorted(set(top_marks) - set(data.ids))
+        seen_ids.add(key)
+        data.demos.append(
+            Demo(path, stamps, id=key, scene=Scene(tuple(around)) if around else None)
+        )
+    unknown = sorted(set(top_marks) - seen_ids)
     if unknown:
         raise RequestError(
             f"marks: no demonstration {', '.join(map(repr, unknown))}; "
@@ -272,7 +282,7 @@ def _write_training_files(data: TeachData, folder: Path) -> tuple[Path, Path | N
     """The drawing as the files ``lfdkit learn`` reads (JSON keeps per-demo times)."""
     from lfdkit.io import save_demos, save_scenes
 
-    demos = save_demos(folder / "demos.json", data.demos, times=data.times, ids=data.ids)
+    demos = save_demos(folder / "demos.json", data.demos)  # points, times, ids (not scenes)
     scenes = None
     if data.scenes:
         scenes = save_scenes(folder / "scenes.csv", data.scenes)
@@ -285,9 +295,11 @@ def export_demos_csv(data: TeachData) -> str:
 
     if not data.demos:
         raise RequestError("demos: nothing to export; draw or import demonstrations first")
-    times = data.times if all(t is not None for t in data.times) else None
+    records = data.demos
+    if any(demo.times is None for demo in records):  # a CSV has times for all or none
+        records = [Demo(demo.points, id=demo.id) for demo in records]
     with tempfile.TemporaryDirectory(prefix="lfdkit-teach-") as folder:
-        path = save_demos(Path(folder) / "demos.csv", data.demos, times=times, ids=data.ids)
+        path = save_demos(Path(folder) / "demos.csv", records)
         return path.read_text(encoding="utf-8")
 
 
@@ -549,7 +561,7 @@ def start_learning(store: SessionStore, session: Session, payload: Any) -> Learn
     """
     data = parse_teach_data(payload)
     params = _learn_params(payload)
-    clean = sum(1 for key in data.ids if key not in data.scenes)
+    clean = sum(1 for demo in data.demos if demo.scene is None)
     if clean < 2:
         raise RequestError(
             f"demos: {clean} clean demonstrations (not marked around an obstacle); the path is "
@@ -627,7 +639,7 @@ def skill_layers(skill: Any, data: TeachData) -> dict[str, Any]:
 
     path = skill.path_
     normals = _left_normals(path)
-    clean = [d for d, key in zip(data.demos, data.ids, strict=True) if key not in data.scenes]
+    clean = [demo.points for demo in data.demos if demo.scene is None]
     vectors = metrics.distance_space(path, clean, same_direction=False)
     signed = np.einsum("jmq,mq->jm", vectors, normals)
     distance_space = [[None if not math.isfinite(v) else float(v) for v in row] for row in signed]
