@@ -27,6 +27,8 @@ import pytest
 from lfdkit.app.batch import (
     ExecutorBrokenError,
     SerialExecutor,
+    error_line,
+    evaluate_spec,
     learn_outputs,
     make_executor,
     read_results,
@@ -34,6 +36,7 @@ from lfdkit.app.batch import (
     run_batch,
     run_chunk,
     spec_hash,
+    worker_cached,
 )
 from lfdkit.app.cli import main
 from lfdkit.datasets import export_dataset
@@ -499,3 +502,26 @@ def test_batch_learn_refuses_millimetres_read_as_metres(capsys, tmp_path):
     )
     assert code == 0, err
     assert json.loads((folders[0] / "skill.json").read_text())["units"] == "mm"
+
+
+def test_a_worker_builds_each_text_once_and_keeps_one_per_kind():
+    built = []
+
+    def build(name):
+        return lambda: built.append(name) or name
+
+    assert worker_cached("test-skill", "a", build("a")) == "a"
+    assert worker_cached("test-skill", "a", build("a again")) == "a"  # not rebuilt
+    assert worker_cached("test-arm", "a", build("arm a")) == "arm a"  # kinds apart
+    assert worker_cached("test-skill", "b", build("b")) == "b"
+    assert worker_cached("test-skill", "a", build("a, rebuilt")) == "a, rebuilt"  # b replaced a
+    assert worker_cached("test-arm", "a", build("arm a again")) == "arm a"  # the arm kept
+    assert built == ["a", "arm a", "b", "a, rebuilt"]
+
+
+def test_the_evaluate_spec_and_failure_line_both_tasks_share():
+    spec = evaluate_spec("path", "{}", arm="ur5", check="plan")
+    assert list(spec) == ["kind", "task", "skill", "arm", "check", "lfdkit"]  # the header's order
+    assert spec["skill"] == "44136fa355b3678a1146ad16f7e8649e94fb4fc21fe77e8310c060f61caaff8a"
+    assert error_line(ValueError("first\nsecond")) == "ValueError: first"
+    assert error_line(RuntimeError()) == "RuntimeError"  # an empty message is still one line

@@ -144,8 +144,11 @@ def test_bad_inputs_are_one_line_errors(monkeypatch):
         through_states([1, 1], q, rest, rest, **limits)
     with pytest.raises(ValueError, match=r"expected shapes \(2,\) and \(2, 2\)"):
         through_states([0, 1, 2], q, rest, rest, **limits)
-    with pytest.raises(ValueError, match="max_jerk: expected 2 finite limits > 0"):
+    with pytest.raises(ValueError, match=r"max_jerk: must be finite and > 0, got 0\.0 for joint 1"):
         through_states([0, 1], q, rest, rest, max_jerk=0.0, **limits)
+    # One line naming the argument, not NumPy's broadcasting error (the arm's own check).
+    with pytest.raises(ValueError, match=r"max_jerk: expected a number or one per joint \(2 j"):
+        through_states([0, 1], q, rest, rest, max_jerk=[1.0, 2.0, 3.0], **limits)
     with pytest.raises(ValueError, match="backend: expected 'lfdkit', 'toppra' or 'ruckig'"):
         time_parameterize(q, max_velocity=1, max_acceleration=1, backend="reflexxes")
     monkeypatch.setitem(sys.modules, "ruckig", None)

@@ -236,7 +236,7 @@ def test_other_joint_counts():
         (np.eye(6)[:2], {"max_velocity": [1.0, 2.0]}, ValueError, r"max_velocity: expected .*6"),
         (np.eye(6)[:2], {"max_acceleration": -1}, ValueError, "max_acceleration: must be"),
         (np.eye(6)[:2], {"max_acceleration": np.inf}, ValueError, "max_acceleration: must be"),
-        (np.eye(6)[:2], {"max_velocity": "fast"}, TypeError, "max_velocity: expected a number"),
+        (np.eye(6)[:2], {"max_velocity": "fast"}, TypeError, "max_velocity: expected numbers"),
         (
             np.eye(6)[:2],
             {"speed_fraction": 0.0},

@@ -59,6 +59,10 @@ def test_ur5_urdf_reads_limits_and_names():
     given_acc = UrdfArm(UR5_URDF, max_joint_acceleration=15.0)
     assert not given_acc.guessed_acceleration
     np.testing.assert_allclose(given_acc.max_joint_acceleration, 15.0)
+    with pytest.raises(ValueError, match=r"max_joint_acceleration: must be .* for joint 3$"):
+        UrdfArm(UR5_URDF, max_joint_acceleration=[15, 15, -1, 15, 15, 15])
+    with pytest.raises(ValueError, match=r"expected a number or one per joint \(6 joints\)"):
+        UrdfArm(UR5_URDF, max_joint_acceleration=[15, 15])  # one line, not NumPy's broadcast error
 
 
 def test_batch_and_single_agree_and_tool_is_appended():

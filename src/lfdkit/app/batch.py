@@ -48,7 +48,11 @@ a warning.
 
 :func:`learn_task` is the generic work unit of ``lfdkit batch learn`` (one
 skill per folder of demonstrations); the sweeping task's scenario evaluation
-is :func:`lfdkit.tasks.sweeping.batch.evaluate_scenario`.
+is :func:`lfdkit.tasks.sweeping.batch.evaluate_scenario`, any skill on any
+arm's is :func:`lfdkit.app.execute_batch.evaluate_task`; what every
+``lfdkit batch evaluate`` shares (the arguments' checks, the results file's
+spec, a row's first fields, the skill parsed once per worker) is here, so the
+tasks' batches differ only in what their tasks do.
 
 This module imports only the standard library at import time; NumPy, the
 skill and Dask are imported where they are used.
@@ -88,7 +92,12 @@ __all__ = [
     "ProcessExecutor",
     "ResultsInUseError",
     "SerialExecutor",
+    "check_evaluate_arguments",
+    "check_random_count",
     "describe_executor",
+    "error_line",
+    "evaluate_row",
+    "evaluate_spec",
     "learn_batch",
     "learn_outputs",
     "learn_task",
@@ -97,7 +106,10 @@ __all__ = [
     "results_header",
     "run_batch",
     "run_chunk",
+    "skill_ends",
+    "skill_from_text",
     "spec_hash",
+    "worker_cached",
 ]
 
 #: The first key of a results file's header line, and its format version.
@@ -808,11 +820,11 @@ def _record(task_id: Any, future: Future) -> dict[str, Any]:
     exc = future.exception()
     if exc is None:
         return {"task": task_id, **future.result()}
-    return {"task": task_id, "error": _error_text(exc)}
+    return {"task": task_id, "error": error_line(exc)}
 
 
-def _error_text(exc: BaseException) -> str:
-    """``"Type: first line of the message"``: a failed task's record."""
+def error_line(exc: BaseException) -> str:
+    """``"Type: first line of the message"``: a failed task's record, a task's ``failure``."""
     text = str(exc).splitlines()[0] if str(exc) else ""
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
@@ -831,7 +843,7 @@ def run_chunk(
         try:
             outcomes.append(fn(*args))
         except Exception as exc:  # recorded as the task's error, as a lone task's would be
-            outcomes.append({"error": _error_text(exc)})
+            outcomes.append({"error": error_line(exc)})
     return outcomes, time.perf_counter() - started
 
 
@@ -864,6 +876,109 @@ def _broken(exc: BaseException) -> str:
         f"the executor failed ({type(exc).__name__}: {exc}); the results so far are kept: "
         "run the batch again to resume"
     )
+
+
+# ------------------------------------------------------------------ evaluate batches
+#: What this worker built from the text a batch sends it, by kind and the text's SHA-256.
+_BUILT: dict[tuple[str, str], Any] = {}
+
+
+def worker_cached(kind: str, text: str, build: Callable[[], Any]) -> Any:
+    """``build()``, once per worker process for this ``text`` of this ``kind``.
+
+    A batch sends every task the same skill (or arm) as text; the worker
+    builds it on the first task and reuses it. One object is kept per kind
+    (a new text replaces the old), so a worker serving batch after batch
+    holds one skill, not all of them.
+    """
+    key = (kind, hashlib.sha256(text.encode()).hexdigest())
+    if key not in _BUILT:
+        for old in [k for k in _BUILT if k[0] == kind]:
+            del _BUILT[old]
+        _BUILT[key] = build()
+    return _BUILT[key]
+
+
+def skill_from_text(text: str) -> Any:
+    """A skill file's JSON text as a :class:`lfdkit.skill.Skill`, parsed once per worker."""
+    from lfdkit.skill import Skill
+
+    return worker_cached("skill", text, lambda: Skill.from_dict(json.loads(text), source="skill"))
+
+
+def check_evaluate_arguments(
+    random: int | None,
+    scenes: str | os.PathLike[str] | None,
+    check: str,
+    checks: tuple[str, ...],
+    speed_fraction: float,
+) -> float:
+    """The arguments every ``lfdkit batch evaluate`` takes, checked; the speed fraction as a float.
+
+    Raises
+    ------
+    ValueError
+        Neither or both of ``random`` and ``scenes``, a ``check`` not in
+        ``checks``, or a speed fraction outside ``(0, 1]``.
+    """
+    if (random is None) == (scenes is None):
+        raise ValueError("random, scenes: give one of them")
+    if check not in checks:
+        raise ValueError(f"check: expected one of {', '.join(checks)}, got {check!r}")
+    fraction = float(speed_fraction)
+    if not 0.0 < fraction <= 1.0:
+        raise ValueError(f"speed_fraction: must be in (0, 1], got {speed_fraction!r}")
+    return fraction
+
+
+def check_random_count(random: Any, what: str) -> int:
+    """``random``, a number of random ``what`` (scenes, goals) >= 1, or a one-line error."""
+    if isinstance(random, bool) or not isinstance(random, int) or random < 1:
+        raise ValueError(f"random: expected a number of {what} >= 1, got {random!r}")
+    return random
+
+
+def evaluate_spec(task: str, skill_text: str, **settings: Any) -> dict[str, Any]:
+    """The spec of an ``lfdkit batch evaluate`` results file: what makes two batches one.
+
+    ``{"kind": "evaluate", "task": task, "skill": SHA-256 of the skill
+    file's text, **settings, "lfdkit": version}``, in that order (the
+    header line shows it so); the caller adds how the scenes are drawn
+    (``random``) or which file they are (``scenes``).
+    """
+    from lfdkit import __version__
+
+    return {
+        "kind": "evaluate",
+        "task": task,
+        "skill": hashlib.sha256(skill_text.encode()).hexdigest(),
+        **settings,
+        "lfdkit": __version__,
+    }
+
+
+def skill_ends(skill: Any, where: Mapping[str, Any]) -> tuple[Any, Any]:
+    """A task's ``start`` and ``goal`` (m): ``where``'s, or the skill's path's ends where None."""
+    import numpy as np
+
+    start = skill.path_[0] if where.get("start") is None else np.asarray(where["start"], float)
+    goal = skill.path_[-1] if where.get("goal") is None else np.asarray(where["goal"], float)
+    return start, goal
+
+
+def evaluate_row(
+    identity: Mapping[str, Any], start: Any, goal: Any, obstacles: Any, check: str
+) -> dict[str, Any]:
+    """The first fields of an evaluated task's row, not ``ok`` yet: the task then fills it in."""
+    return {
+        "scenario": identity,
+        "start": [float(v) for v in start],
+        "goal": [float(v) for v in goal],
+        "obstacles": obstacles,
+        "check": check,
+        "ok": False,
+        "failure": None,
+    }
 
 
 # ------------------------------------------------------------------ work units

@@ -31,7 +31,6 @@ duration ratios, slowdowns, tracking) as text and as JSON.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import warnings
 from collections.abc import Iterator, Mapping
@@ -41,8 +40,20 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit import __version__
-from lfdkit.app.batch import BatchSummary, SerialExecutor, read_results, run_batch
+from lfdkit.app.batch import (
+    BatchSummary,
+    SerialExecutor,
+    check_evaluate_arguments,
+    check_random_count,
+    error_line,
+    evaluate_row,
+    evaluate_spec,
+    read_results,
+    run_batch,
+    skill_ends,
+    skill_from_text,
+    worker_cached,
+)
 from lfdkit.core.progress import ProgressLike
 
 __all__ = [
@@ -59,24 +70,6 @@ __all__ = [
 TASK_CHECKS = ("plan", "robot", "mujoco")
 #: Largest simulated tool tracking error of a run counted ``ok`` (m).
 TRACKING_TOLERANCE = 0.002
-
-#: Skills and arms built in this worker, by the SHA-256 of their text (a batch sends one of each).
-_CACHE: dict[tuple[str, str], Any] = {}
-
-
-def _cached(kind: str, text: str, build: Any) -> Any:
-    key = (kind, hashlib.sha256(text.encode()).hexdigest())
-    if key not in _CACHE:
-        for old in [k for k in _CACHE if k[0] == kind]:
-            del _CACHE[old]
-        _CACHE[key] = build()
-    return _CACHE[key]
-
-
-def _skill(text: str) -> Any:
-    from lfdkit.skill import Skill
-
-    return _cached("skill", text, lambda: Skill.from_dict(json.loads(text), source="skill"))
 
 
 def arm_spec(arm: str | os.PathLike[str], tip_link: str | None = None) -> dict[str, Any]:
@@ -122,7 +115,7 @@ def _arm(spec: Mapping[str, Any]) -> Any:
         return ARMS[spec["arm"]]
     text = str(spec["urdf"])
     tip = spec.get("tip_link")
-    return _cached("arm", f"{tip}\n{text}", lambda: UrdfArm(text, tip_link=tip))
+    return worker_cached("arm", f"{tip}\n{text}", lambda: UrdfArm(text, tip_link=tip))
 
 
 def random_goal(goal: Any, spread: float, seed: int, index: int) -> np.ndarray:
@@ -204,11 +197,10 @@ def evaluate_task(
 
     if check not in TASK_CHECKS:
         raise ValueError(f"check: expected one of {', '.join(TASK_CHECKS)}, got {check!r}")
-    skill = _skill(skill_text)
+    skill = skill_from_text(skill_text)
     robot_arm = _arm(arm)
     description = TaskDescription.from_dict(dict(task))
-    start = skill.path_[0] if where.get("start") is None else np.asarray(where["start"], float)
-    goal = skill.path_[-1] if where.get("goal") is None else np.asarray(where["goal"], float)
+    start, goal = skill_ends(skill, where)
     if "index" in where:
         identity = {"seed": int(where["seed"]), "index": int(where["index"])}
         goal = random_goal(goal, float(where["spread"]), identity["seed"], identity["index"])
@@ -216,15 +208,7 @@ def evaluate_task(
     else:
         identity = {"scene": where["scene"]}
         scene = where.get("obstacles") or Scene(())
-    row: dict[str, Any] = {
-        "scenario": identity,
-        "start": [float(v) for v in start],
-        "goal": [float(v) for v in goal],
-        "obstacles": len(scene),
-        "check": check,
-        "ok": False,
-        "failure": None,
-    }
+    row = evaluate_row(identity, start, goal, len(scene), check)
     with one_blas_thread():
         try:
             with warnings.catch_warnings():  # the margin was asked for: no warning per task
@@ -260,7 +244,7 @@ def evaluate_task(
                 row["robot"] = {key: robot[key] for key in keys}
                 row["robot"]["slowed"] = bool(run.trajectory.slowdowns)
         except (UnsafePlanError, ExecutionError) as exc:
-            row["failure"] = f"{type(exc).__name__}: {str(exc).splitlines()[0]}"
+            row["failure"] = error_line(exc)
             return row
         if check == "mujoco":
             from lfdkit.execute.simulation import simulate_execution
@@ -375,13 +359,7 @@ def evaluate_task_batch(
     from lfdkit.io.text import load_json
     from lfdkit.skill import Skill
 
-    if (random is None) == (scenes is None):
-        raise ValueError("random, scenes: give one of them")
-    if check not in TASK_CHECKS:
-        raise ValueError(f"check: expected one of {', '.join(TASK_CHECKS)}, got {check!r}")
-    fraction = float(speed_fraction)
-    if not 0.0 < fraction <= 1.0:
-        raise ValueError(f"speed_fraction: must be in (0, 1], got {speed_fraction!r}")
+    fraction = check_evaluate_arguments(random, scenes, check, TASK_CHECKS, speed_fraction)
     if rate is not None and not 1.0 <= float(rate) <= 1000.0:
         raise ValueError(f"rate: must be in [1, 1000] Hz, got {rate!r}")
     if task is None:
@@ -402,25 +380,22 @@ def evaluate_task_batch(
     dims = loaded.n_dims_
     ends = {"start": _point(start, "start", dims), "goal": _point(goal, "goal", dims)}
     text = Path(skill).read_text(encoding="utf-8")
-    spec: dict[str, Any] = {
-        "kind": "evaluate",
-        "task": "path",
-        "skill": hashlib.sha256(text.encode()).hexdigest(),
-        "arm": machine.get("arm") or hashlib.sha256(machine["urdf"].encode()).hexdigest(),
-        "tip_link": tip_link,
-        "description": description.to_dict(),
-        "check": check,
-        "speed_fraction": fraction,
-        "rate": rate,
-        "unknown_class": unknown_class,
+    spec = evaluate_spec(
+        "path",
+        text,
+        arm=machine.get("arm") or hashlib.sha256(machine["urdf"].encode()).hexdigest(),
+        tip_link=tip_link,
+        description=description.to_dict(),
+        check=check,
+        speed_fraction=fraction,
+        rate=rate,
+        unknown_class=unknown_class,
         **ends,
-        "lfdkit": __version__,
-    }
+    )
     settings = (text, machine, description.to_dict(), check, fraction, rate, unknown_class)
     arm_name = _arm(machine).name
     if random is not None:
-        if isinstance(random, bool) or not isinstance(random, int) or random < 1:
-            raise ValueError(f"random: expected a number of goals >= 1, got {random!r}")
+        check_random_count(random, "goals")
         spread = float(spread)
         if not 0.0 <= spread < float("inf"):
             raise ValueError(f"spread: expected a radius >= 0 (m), got {spread!r}")

@@ -62,7 +62,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ARMS", "UR5", "UR10", "Arm", "check_arm"]
+__all__ = ["ARMS", "UR5", "UR10", "Arm", "check_arm", "per_joint"]
 
 _UR_ALPHA = (math.pi / 2, 0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0)
 _UR_TOL = 1e-12  # slack on the zero and twist entries of a UR-type DH table
@@ -87,21 +87,53 @@ def _array(value: Any, name: str) -> np.ndarray:
         raise TypeError(f"Arm.{name}: expected numbers, got {value!r}") from exc
 
 
-def _per_joint(
+def per_joint(
     value: Any, name: str, n: int, *, positive: bool, scalar_ok: bool = False
 ) -> np.ndarray:
-    """One finite value per joint (a scalar is repeated if ``scalar_ok``), read-only."""
-    arr = _array(value, name)
+    """One finite value per joint (a scalar is repeated if ``scalar_ok``), read-only.
+
+    The one check of a per-joint quantity: the arm's own fields and the
+    limits a timing is given, so each refuses bad input in the same line,
+    naming ``name`` and the joint (counted from 1).
+
+    Parameters
+    ----------
+    value : float or array_like, shape (n,)
+    name : str
+        What the errors call it (``"Arm.max_joint_speed"``, ``"max_jerk"``).
+    n : int
+        Number of joints.
+    positive : bool
+        Values must also be > 0 (limits, masses).
+    scalar_ok : bool
+        A single number stands for every joint.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        A read-only float64 copy.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not numbers.
+    ValueError
+        For another shape, or a value that is not finite (not > 0).
+    """
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name}: expected numbers, got {value!r}") from exc
     if scalar_ok and arr.ndim == 0:
         arr = np.full(n, float(arr))
     if arr.shape != (n,):
         what = "a number or one per joint" if scalar_ok else "one value per joint"
-        raise ValueError(f"Arm.{name}: expected {what} ({n} joints), got shape {arr.shape}")
+        raise ValueError(f"{name}: expected {what} ({n} joints), got shape {arr.shape}")
     bad = ~np.isfinite(arr) | ((arr <= 0) if positive else False)
     if np.any(bad):
         j = int(np.argmax(bad))
         rule = "finite and > 0" if positive else "finite"
-        raise ValueError(f"Arm.{name}: must be {rule}, got {float(arr[j])!r} for joint {j + 1}")
+        raise ValueError(f"{name}: must be {rule}, got {float(arr[j])!r} for joint {j + 1}")
     arr.setflags(write=False)
     return arr
 
@@ -194,7 +226,7 @@ class Arm:
             object.__setattr__(self, name, value)
 
         for name in ("d", "a", "alpha"):
-            put(name, _per_joint(getattr(self, name), name, n, positive=False))
+            put(name, per_joint(getattr(self, name), f"Arm.{name}", n, positive=False))
         limits = _array(self.joint_limits, "joint_limits")
         if limits.shape != (n, 2):
             raise ValueError(
@@ -212,9 +244,12 @@ class Arm:
         limits.setflags(write=False)
         put("joint_limits", limits)
         for name in ("max_joint_speed", "max_joint_acceleration"):
-            put(name, _per_joint(getattr(self, name), name, n, positive=True, scalar_ok=True))
+            put(
+                name,
+                per_joint(getattr(self, name), f"Arm.{name}", n, positive=True, scalar_ok=True),
+            )
         for name in ("link_masses", "link_radii", "kp", "kv"):
-            put(name, _per_joint(getattr(self, name), name, n, positive=True))
+            put(name, per_joint(getattr(self, name), f"Arm.{name}", n, positive=True))
         put("cos_alpha", _snapped(np.cos(self.alpha)))
         put("sin_alpha", _snapped(np.sin(self.alpha)))
         put("ur_type", self._has_ur_structure())

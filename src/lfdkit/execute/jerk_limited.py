@@ -64,7 +64,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.validation import check_path
-from lfdkit.execute.arm import UR5, Arm
+from lfdkit.execute.arm import UR5, Arm, per_joint
 from lfdkit.model.timed_path import TimedPath, fixed_rate_times
 
 __all__ = [
@@ -177,10 +177,7 @@ class JerkLimitedTrajectory:
 
 
 def _limit(value: Any, name: str, n_joints: int) -> np.ndarray:
-    arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (n_joints,)).copy()
-    if not (np.isfinite(arr).all() and (arr > 0).all()):
-        raise ValueError(f"{name}: expected {n_joints} finite limits > 0, got {value!r}")
-    return arr
+    return per_joint(value, name, n_joints, positive=True, scalar_ok=True)
 
 
 def through_states(

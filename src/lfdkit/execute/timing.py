@@ -58,7 +58,7 @@ import numpy as np
 
 from lfdkit.core.geometry import arc_length
 from lfdkit.core.validation import check_path
-from lfdkit.execute.arm import UR5, Arm, check_arm
+from lfdkit.execute.arm import UR5, Arm, check_arm, per_joint
 from lfdkit.model.timed_path import TimedPath, fixed_rate_times
 
 __all__ = [
@@ -212,21 +212,7 @@ def _check_limits(value: Any, name: str, n_joints: int, arm: Arm, field: str) ->
                 "with this many joints, or max_velocity and max_acceleration"
             )
         return getattr(arm, field)
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name}: expected a number or one number per joint") from exc
-    if arr.ndim == 0:
-        arr = np.full(n_joints, float(arr))
-    elif arr.shape != (n_joints,):
-        raise ValueError(
-            f"{name}: expected a number or one per joint ({n_joints} values), got shape {arr.shape}"
-        )
-    bad = ~np.isfinite(arr) | (arr <= 0)
-    if bad.any():
-        j = int(np.argmax(bad))
-        raise ValueError(f"{name}: must be finite and > 0, got {arr[j]!r} for joint {j}")
-    return arr
+    return per_joint(value, name, n_joints, positive=True, scalar_ok=True)
 
 
 def _check_speed_fraction(value: Any) -> float:

@@ -35,6 +35,8 @@ from typing import Any
 
 import numpy as np
 
+from lfdkit.execute.arm import per_joint
+
 __all__ = ["ACCELERATION_PER_SPEED", "UrdfArm"]
 
 #: Acceleration limit per speed limit (1/s) when neither the URDF nor the caller gives one.
@@ -152,9 +154,9 @@ class UrdfArm:
             acc = ACCELERATION_PER_SPEED * self.max_joint_speed
             self.guessed_acceleration = True
         else:
-            acc = np.broadcast_to(np.asarray(max_joint_acceleration, dtype=np.float64), (n,))
-            if not (np.isfinite(acc).all() and (acc > 0).all()):
-                raise ValueError(f"max_joint_acceleration: must be finite and > 0, got {acc!r}")
+            acc = per_joint(
+                max_joint_acceleration, "max_joint_acceleration", n, positive=True, scalar_ok=True
+            )
             self.guessed_acceleration = False
         self.max_joint_acceleration = np.array(acc, dtype=np.float64)
         for arr in (self.joint_limits, self.max_joint_speed, self.max_joint_acceleration):

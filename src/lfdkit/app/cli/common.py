@@ -51,6 +51,7 @@ __all__ = [
     "parse_numbers",
     "parse_unknown_class",
     "point_arg",
+    "positive_decimal",
     "positive_or_none",
     "refuse_existing",
     "skill_and_scene",
@@ -393,11 +394,8 @@ def _duration(text: str) -> float | str:
     """``learn --duration``: seconds, or ``auto`` (the path's length at a hand's pace)."""
     if text == "auto":
         return text
-    try:
-        value = parse_decimal(text, finite=False)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value) or value <= 0.0:
+    value = positive_decimal(text)
+    if value is None:
         raise argparse.ArgumentTypeError(f"expected seconds > 0 or 'auto', got {text!r}")
     return value
 
@@ -477,13 +475,19 @@ def positive_or_none(text: str | None, option: str, what: str) -> float | None:
     """``text`` as a positive, finite number; a one-line usage error naming ``option``."""
     if text is None:
         return None
+    value = positive_decimal(text)
+    if value is None:
+        raise UsageError(f"{option}: expected {what}, got {text!r}")
+    return value
+
+
+def positive_decimal(text: str) -> float | None:
+    """``text`` as a finite number > 0, or None where it is not one (the caller words the error)."""
     try:
         value = parse_decimal(text, finite=False)
     except ValueError:
-        value = math.nan
-    if not math.isfinite(value) or value <= 0.0:
-        raise UsageError(f"{option}: expected {what}, got {text!r}")
-    return value
+        return None
+    return value if math.isfinite(value) and value > 0.0 else None
 
 
 def skill_and_scene(args: argparse.Namespace):

@@ -33,7 +33,6 @@ any executor of :func:`lfdkit.app.batch.make_executor`.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 from collections.abc import Iterator, Mapping
 from concurrent.futures import Executor
@@ -42,8 +41,18 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit import __version__
-from lfdkit.app.batch import BatchSummary, SerialExecutor, run_batch
+from lfdkit.app.batch import (
+    BatchSummary,
+    SerialExecutor,
+    check_evaluate_arguments,
+    check_random_count,
+    error_line,
+    evaluate_row,
+    evaluate_spec,
+    run_batch,
+    skill_ends,
+    skill_from_text,
+)
 from lfdkit.core.progress import ProgressLike
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.tasks.sweeping.scenarios import (
@@ -66,26 +75,11 @@ __all__ = [
 #: How far :func:`evaluate_scenario` carries a plan, cheapest first.
 CHECKS = ("plan", "kinematics", "robot", "mujoco")
 
-#: Skills parsed in this worker, by the SHA-256 of their text (a batch sends one skill).
-_SKILLS: dict[str, Any] = {}
-
 
 def scenario(seed: int, index: int) -> SweepScenario:
     """Random scene ``index`` of the batch seeded ``seed``: the same whatever else is drawn."""
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
     return random_scenarios(1, rng)[0]
-
-
-def _skill(text: str) -> Any:
-    from lfdkit.skill import Skill
-
-    key = hashlib.sha256(text.encode()).hexdigest()
-    skill = _SKILLS.get(key)
-    if skill is None:
-        skill = Skill.from_dict(json.loads(text), source="skill")
-        _SKILLS.clear()
-        _SKILLS[key] = skill
-    return skill
 
 
 def _standing(obstacles: Any) -> Scene:
@@ -156,25 +150,16 @@ def evaluate_scenario(
         from lfdkit.tasks.sweeping.sim import sweep_motion
 
         failures = (UnsafePlanError, ExecutionError)
-    skill = _skill(skill_text)
+    skill = skill_from_text(skill_text)
     if "index" in where:
         drawn = scenario(int(where["seed"]), int(where["index"]))
         start, goal, scene = drawn.start, drawn.goal, _standing(_listed(drawn.scene))
         identity = {"seed": int(where["seed"]), "index": int(where["index"])}
     else:
-        start = skill.path_[0] if where.get("start") is None else np.asarray(where["start"], float)
-        goal = skill.path_[-1] if where.get("goal") is None else np.asarray(where["goal"], float)
+        start, goal = skill_ends(skill, where)
         scene = _standing(where.get("obstacles", ()))
         identity = {"scene": where["scene"]}
-    row: dict[str, Any] = {
-        "scenario": identity,
-        "start": [float(v) for v in start],
-        "goal": [float(v) for v in goal],
-        "obstacles": _listed(scene),
-        "check": check,
-        "ok": False,
-        "failure": None,
-    }
+    row = evaluate_row(identity, start, goal, _listed(scene), check)
     with one_blas_thread():
         try:
             if check in ("plan", "kinematics"):
@@ -199,7 +184,7 @@ def evaluate_scenario(
                 )
                 row.update(_execution_row(run, path_length))
         except failures as exc:
-            row["failure"] = f"{type(exc).__name__}: {str(exc).splitlines()[0]}"
+            row["failure"] = error_line(exc)
             return row
     simulated = row.get("simulation")
     row["ok"] = True if simulated is None else bool(simulated["success"])
@@ -322,13 +307,7 @@ def evaluate_batch(
     """
     from lfdkit.skill import Skill
 
-    if (random is None) == (scenes is None):
-        raise ValueError("random, scenes: give one of them")
-    if check not in CHECKS:
-        raise ValueError(f"check: expected one of {', '.join(CHECKS)}, got {check!r}")
-    fraction = float(speed_fraction)
-    if not 0.0 < fraction <= 1.0:
-        raise ValueError(f"speed_fraction: must be in (0, 1], got {speed_fraction!r}")
+    fraction = check_evaluate_arguments(random, scenes, check, CHECKS, speed_fraction)
     loaded = Skill.load(skill)  # the strict reader: a broken file is refused here, once
     if loaded.n_dims_ != 2 or loaded.units != "m":
         raise ValueError(
@@ -336,17 +315,9 @@ def evaluate_batch(
             "task needs a 2-D skill in metres"
         )
     text = Path(skill).read_text(encoding="utf-8")
-    spec: dict[str, Any] = {
-        "kind": "evaluate",
-        "task": "sweeping",
-        "skill": hashlib.sha256(text.encode()).hexdigest(),
-        "check": check,
-        "speed_fraction": fraction,
-        "lfdkit": __version__,
-    }
+    spec = evaluate_spec("sweeping", text, check=check, speed_fraction=fraction)
     if random is not None:
-        if isinstance(random, bool) or not isinstance(random, int) or random < 1:
-            raise ValueError(f"random: expected a number of scenes >= 1, got {random!r}")
+        check_random_count(random, "scenes")
         spec["random"] = {"seed": int(seed)}
         tasks = random_tasks(text, random, int(seed), check, fraction)
         total = random
