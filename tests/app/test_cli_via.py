@@ -85,3 +85,47 @@ def test_plot_draws_the_via_points_and_the_band(capsys, skill_file, tmp_path) ->
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     code, _, err = run_cli(capsys, "plot", skill_file, "--via", "0,0.6,1@0.5", "-o", out, "-f")
     assert code == 2 and "3 coordinates for a 2-D skill" in error_line(err, "plot")
+
+
+REACH = Path(__file__).parent / "data" / "reach3d.json"  # a stored 3-D reach in metres
+
+
+def test_execute_plans_through_the_via_points_to_the_robot(capsys, tmp_path) -> None:
+    # The reach's arch tops out at (0.45, 0, 0.35) m half-way; pass 5 cm beside it instead.
+    out = tmp_path / "run"
+    argv = ["execute", REACH, "--task", "path", "--no-sim", "--via", "0.5,0,0.3@2s", "-o", out]
+    code, _, err = run_cli(capsys, *argv)
+    assert code == 0, err
+    plan = np.loadtxt(out / "plan.csv", delimiter=",", skiprows=1)
+    via = np.array([[0.5, 0.0, 0.3]])
+    assert polyline_distances(via, plan[:, 1:4])[0] < 1e-3
+    # Without it the plan stays at least 4 cm away: the via-point moved it.
+    assert polyline_distances(via, Skill.load(REACH).plan().points)[0] > 0.04
+
+
+def test_execute_refuses_via_points_for_the_sweeping_task(capsys, skill_file, tmp_path) -> None:
+    code, _, err = run_cli(capsys, "execute", skill_file, "--via", "0,0.6@0.5", "-o", tmp_path)
+    assert code != 0
+    assert "--via: is for the path task; add --task path" in error_line(err, "execute")
+
+
+def test_batch_evaluate_plans_every_task_through_the_via_points(capsys, tmp_path) -> None:
+    import json
+
+    from lfdkit.app.batch import read_results
+    from lfdkit.app.execute_batch import random_goal
+
+    results = tmp_path / "r.jsonl"
+    argv = ["batch", "evaluate", REACH, "--task", "path", "--random", 2, "--seed", 3]
+    code, _, err = run_cli(
+        capsys, *argv, "--check", "plan", "--via", "0.5,0,0.3@50%", "-o", results
+    )
+    assert code == 0, err
+    assert json.loads(results.read_text().splitlines()[0])["spec"]["via"] == [[0.5, [0.5, 0, 0.3]]]
+    skill = Skill.load(REACH)
+    for row in read_results(results):
+        goal = random_goal(skill.path_[-1], 0.05, 3, row["scenario"]["index"])
+        plan = skill.plan(goal=goal, via=[(0.5, (0.5, 0.0, 0.3))])
+        length = np.linalg.norm(np.diff(plan.points, axis=0), axis=1).sum()
+        assert row["plan"]["length_m"] == pytest.approx(length, rel=1e-12)
+        assert polyline_distances(np.array([[0.5, 0.0, 0.3]]), plan.points)[0] < 1e-3
