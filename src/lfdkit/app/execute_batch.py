@@ -413,7 +413,11 @@ def evaluate_task_batch(
     ends = {"start": _point(start, "start", dims), "goal": _point(goal, "goal", dims)}
     if via is not None:  # checked once here, and as plain lists: the spec is JSON
         phases, points = check_via(via, dims)
-        via = [[float(s), [float(v) for v in p]] for s, p in zip(phases, points, strict=True)]
+        turns = [list(map(float, e[2])) if len(e) > 2 and e[2] is not None else None for e in via]
+        via = [
+            [float(s), [float(v) for v in p], *([q] if q is not None else [])]
+            for s, p, q in zip(phases, points, turns, strict=True)
+        ]
     text = Path(skill).read_text(encoding="utf-8")
     spec: dict[str, Any] = {
         "kind": "evaluate",
