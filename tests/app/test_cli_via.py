@@ -69,6 +69,9 @@ def test_plan_in_millimetres_takes_via_points_in_millimetres(capsys, skill_file,
         ("0.1,0.6@2min", r"unknown unit of time 'min'"),
         ("0.1,0.6@soon", r"when 'soon' is not a number"),
         ("0.1,0.6@nan", r"when 'nan' is not a number"),
+        ("0.1,0.6@0.5:0,0,1", r"the orientation has 3 values; give a unit quaternion"),
+        ("0.1,0.6@0.5:0,0,2,0", r"the orientation has norm 2; a unit quaternion's norm is 1"),
+        ("0.1,0.6@0.5:a,b,c,d", r"the orientation 'a,b,c,d' is not numbers"),
     ],
 )
 def test_bad_via_points_are_one_line(capsys, skill_file, via, message) -> None:
@@ -129,3 +132,30 @@ def test_batch_evaluate_plans_every_task_through_the_via_points(capsys, tmp_path
         length = np.linalg.norm(np.diff(plan.points, axis=0), axis=1).sum()
         assert row["plan"]["length_m"] == pytest.approx(length, rel=1e-12)
         assert polyline_distances(np.array([[0.5, 0.0, 0.3]]), plan.points)[0] < 1e-3
+
+
+def test_plan_turns_to_the_via_orientation(capsys, tmp_path) -> None:
+    from lfdkit.core.rotations import angle_between
+    from tests.test_skill_orientation import demonstrations
+
+    demos, quats = demonstrations(3, 100.0, seed=4)
+    skill = Skill(units="cm", mimic="average", n_points=60).fit_path(demos, orientations=quats)
+    path = skill.save(tmp_path / "oriented.json")
+    turn = [0.0, 0.38268343236508984, 0.0, 0.9238795325112867]  # 45 degrees about y
+    out = tmp_path / "plan.csv"
+    code, _, err = run_cli(
+        capsys, "plan", path, "--via", f"50,20,15@0.5:{','.join(map(repr, turn))}", "-o", out
+    )
+    assert code == 0, err
+    rows = np.loadtxt(out, delimiter=",", skiprows=1)
+    via = [(0.5, (50.0, 20.0, 15.0), turn)]
+    expected = Skill.load(path).plan(via=via)
+    np.testing.assert_allclose(rows[:, 4:8], expected.orientations, atol=1e-12)
+    assert angle_between(Skill.load(path).orientations_at([0.5], via=via)[0], turn) <= 1e-6
+
+
+def test_an_orientation_for_a_skill_without_one_is_one_line(capsys, skill_file) -> None:
+    code, out, err = run_cli(capsys, "plan", skill_file, "--via", "0,0.6@0.5:0,0,0,1")
+    assert code != 0 and out == ""
+    line = error_line(err, "plan")
+    assert "--via (value 1): orientation: this skill has no orientation" in line
