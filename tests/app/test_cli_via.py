@@ -106,10 +106,15 @@ def test_execute_plans_through_the_via_points_to_the_robot(capsys, tmp_path) -> 
     assert polyline_distances(via, Skill.load(REACH).plan().points)[0] > 0.04
 
 
-def test_execute_refuses_via_points_for_the_sweeping_task(capsys, skill_file, tmp_path) -> None:
-    code, _, err = run_cli(capsys, "execute", skill_file, "--via", "0,0.6@0.5", "-o", tmp_path)
-    assert code != 0
-    assert "--via: is for the path task; add --task path" in error_line(err, "execute")
+def test_execute_sweeps_through_the_via_points(capsys, skill_file, tmp_path) -> None:
+    # A 2-D skill on the UR5: the sweeping task (brush, dustpan), planned through the point.
+    out = tmp_path / "sweep"
+    code, _, err = run_cli(
+        capsys, "execute", skill_file, "--no-sim", "--via", "0,0.62@0.5", "-o", out
+    )
+    assert code == 0, err
+    plan = np.loadtxt(out / "plan.csv", delimiter=",", skiprows=1)
+    assert polyline_distances(np.array([[0.0, 0.62]]), plan[:, -2:])[0] < 1e-3
 
 
 def test_batch_evaluate_plans_every_task_through_the_via_points(capsys, tmp_path) -> None:

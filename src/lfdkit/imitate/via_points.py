@@ -52,8 +52,8 @@ Why this design:
   exact, each via-point's is met to rounding (then set to the bit), the result
   is unit and continuous; the correction is spread over ±0.1 of the movement
   as the position's is (a via-point within 0.1 of an end is overshot by up to
-  14 % of its turn between, as the basis rises from 0 that quickly). No demonstrated covariance: the skill learns no
-  orientation ProMP.
+  14 % of its turn between, as the basis rises from 0 that quickly). No
+  demonstrated covariance: the skill learns no orientation ProMP.
 """
 
 from __future__ import annotations

@@ -59,8 +59,7 @@ def run_command(args: argparse.Namespace) -> None:
         arm = ARMS[args.arm]
         if args.rate is not None:
             raise CommandError("--rate: the sweeping task streams at 125 Hz; use --task path")
-        if args.via is not None:
-            raise CommandError("--via: is for the path task; add --task path")
+        via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
         # The program's header comment is ASCII, whatever the skill file is called.
         name = args.skill.name.encode("ascii", "replace").decode("ascii")
         try:
@@ -76,6 +75,7 @@ def run_command(args: argparse.Namespace) -> None:
                 yaw=args.yaw,
                 **orientations,
                 **unknown_class_options(args),
+                via=via,
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
