@@ -5,7 +5,8 @@ Known answers on the orientation skill of ``tests/test_skill_orientation.py``
 via-point's phase is the one given (to 1e-6 rad; it is set to the bit), the
 start and goal orientations are unchanged, the movement stays unit and
 continuous, a via-orientation equal to the unbent one changes nothing, and
-the plan's orientations are :meth:`Skill.orientations_at` at its times.
+the plan has the orientation given where it passes the via-point (timed by
+its own length, a little off the phase asked).
 Bad orientations and an orientation for a skill without one are one line.
 """
 
@@ -14,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lfdkit.core.rotations import angle_between, exp, multiply
+from lfdkit.core.rotations import angle_between, exp, multiply, slerp
 from lfdkit.skill import Skill
 from tests.test_skill_orientation import demonstrations
 from tests.test_skill_via import sweeps
@@ -71,19 +72,30 @@ def test_the_unbent_orientation_as_via_changes_nothing(skill) -> None:
     )
 
 
-def test_the_plan_carries_the_via_orientation(skill) -> None:
-    target = turned(skill, 0.5, (0.2, 0.3, -0.1))
-    via = [(0.5, skill.path_[30] + (0.0, 4.0, 0.0), target)]
-    plan = skill.plan(via=via)
+def test_the_plan_has_the_via_orientation_where_it_passes_the_point(skill) -> None:
+    target = turned(skill, 0.3, (0.2, 0.3, -0.1))
+    nominal = skill.via_path().points  # equal time steps
+    point = nominal[round(0.3 * (len(nominal) - 1))] + (0.0, 4.0, 0.0)
+    plan = skill.plan(via=[(0.3, point, target)])
     phases = plan.times / plan.times[-1]
+    # Timed by its own length, the plan passes the point a little after 0.3 of its time: the
+    # orientation is turned to be the one given there (where the tool is at the point).
+    t = np.linspace(0.0, plan.times[-1], 40001)
+    dense = np.column_stack([np.interp(t, plan.times, plan.points[:, k]) for k in range(3)])
+    passing = t[np.argmin(np.linalg.norm(dense - point, axis=1))] / plan.times[-1]
+    assert 0.305 < passing < 0.33
+    moved = [(passing, point, target)]
+    # (The passing phase found to 1/40000 here: the orientations agree to that.)
     np.testing.assert_allclose(
-        plan.orientations, skill.orientations_at(phases, via=via), atol=1e-12
+        plan.orientations, skill.orientations_at(phases, via=moved), atol=2e-4
     )
+    assert angle_between(skill.orientations_at([passing], via=moved)[0], target) <= 1e-6
+    # Read off the plan's own samples (slerp between them) as the tool passes: 1 mrad.
+    j = int(np.searchsorted(phases, passing)) - 1
+    w = (passing - phases[j]) / (phases[j + 1] - phases[j])
+    assert angle_between(slerp(plan.orientations[j], plan.orientations[j + 1], w), target) < 1e-3
     assert angle_between(plan.orientations[0], skill.orientations_[0]) <= 1e-12
     assert angle_between(plan.orientations[-1], skill.orientations_[-1]) <= 1e-12
-    # The plan's sample nearest the via phase is turned most of the way (0.8 rad asked).
-    k = int(np.argmin(np.abs(phases - 0.5)))
-    assert angle_between(plan.orientations[k], target) < 0.05
 
 
 @pytest.mark.parametrize(
