@@ -13,8 +13,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from lfdkit.core.rotations import conjugate, exp, log, multiply
 from lfdkit.imitate import ProMP
-from lfdkit.imitate.via_points import check_via, through_via_points
+from lfdkit.imitate.via_points import (
+    check_via,
+    check_via_orientations,
+    orientations_through_via,
+    through_via_points,
+)
 
 S = np.linspace(0.0, 1.0, 81)
 
@@ -123,3 +129,48 @@ def test_promp_state_reads_back_to_the_bit_and_scales(arch_model) -> None:
         ProMP.from_state({**state, "weights_cov": state["weights_cov"][1:, 1:]})
     with pytest.raises(ValueError, match=r"promp.width: missing field"):
         ProMP.from_state({k: v for k, v in state.items() if k != "width"})
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    phase=st.floats(0.1, 0.9),
+    axis=st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3).filter(
+        lambda v: np.linalg.norm(v) > 0.1
+    ),
+    angle=st.floats(0.05, 1.4),
+)
+def test_a_turn_from_rest_stays_about_its_axis_and_is_met_exactly(phase, axis, angle) -> None:
+    # Known answer: from a constant orientation, the only turn asked is about one axis, so
+    # every sample is a rotation about that axis (the isotropic field has no other part),
+    # 0 at both ends and the asked one at the via-point's phase.
+    rest = np.array([0.1, -0.2, 0.3, 0.9])
+    rest /= np.linalg.norm(rest)
+    u = np.linspace(0.0, 1.0, 201)
+    direction = np.asarray(axis) / np.linalg.norm(axis)
+    target = multiply(exp(0.5 * angle * direction), rest)
+    got = orientations_through_via(
+        np.r_[u, phase], np.tile(rest, (202, 1)), np.array([phase]), target[None], rest[None]
+    )
+    turn = log(multiply(got, conjugate(rest)))  # half-angle vectors
+    np.testing.assert_allclose(np.cross(turn, direction), 0.0, atol=1e-12)
+    assert np.allclose(got[-1], target, atol=1e-15) or np.allclose(got[-1], -target, atol=1e-15)
+    np.testing.assert_array_equal(got[[0, 200]], np.tile(rest, (2, 1)))
+    # The largest turn is at (about) the via-point: the one asked, or up to 14 % more where
+    # the via-point is within 0.1 of an end (the basis must rise from 0 that quickly).
+    assert abs(u[np.argmax(np.linalg.norm(turn[:-1], axis=1))] - phase) <= 0.06
+    assert np.linalg.norm(turn[:-1], axis=1).max() <= 0.5 * angle * 1.15
+
+
+@pytest.mark.parametrize(
+    ("turn", "message"),
+    [
+        ((0, 0, 1), r"via\[0\]: orientation: has 3 values"),
+        ((0, 0, 0.5, 0.5), r"via\[0\]: orientation: has norm 0.707107"),
+        ((0, 0, 1, np.inf), r"via\[0\]: orientation"),
+    ],
+)
+def test_bad_via_orientations_name_the_entry(turn, message) -> None:
+    with pytest.raises(ValueError, match=message):
+        check_via_orientations([(0.5, (0, 0), turn)])
+    phases, turns = check_via_orientations([(0.5, (0, 0)), (0.6, (0, 0), (0, 0, 0, 1.0005))])
+    assert phases.tolist() == [0.6] and np.allclose(turns, [[0, 0, 0, 1]])

@@ -33,7 +33,7 @@ from __future__ import annotations
 import hashlib
 import os
 import warnings
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import Executor
 from pathlib import Path
 from typing import Any
@@ -150,6 +150,7 @@ def evaluate_task(
     speed_fraction: float = 0.2,
     rate: float | None = None,
     unknown_class: float | None = None,
+    via: Sequence[tuple[float, Any]] | None = None,
 ) -> dict[str, Any]:
     """Evaluate a skill on an arm for one scene or goal: the work unit of the path task's batch.
 
@@ -175,6 +176,9 @@ def evaluate_task(
     unknown_class : float, optional
         Plan around obstacles of classes the skill never learned with this
         margin (m; :meth:`lfdkit.skill.Skill.plan`); without it they are refused.
+    via : sequence of (float, array_like (q,)), optional
+        Via-points ``(phase, point)`` (m) every plan passes
+        (:meth:`lfdkit.skill.Skill.plan`'s ``via``).
 
     Returns
     -------
@@ -213,7 +217,7 @@ def evaluate_task(
         try:
             with warnings.catch_warnings():  # the margin was asked for: no warning per task
                 warnings.filterwarnings("ignore", r"plan: obstacle class.* never learned")
-                plan = skill.plan(start, goal, scene, unknown_class=unknown_class)
+                plan = skill.plan(start, goal, scene, unknown_class=unknown_class, via=via)
             details = plan.details
             row["plan"] = {
                 "points": len(plan.times),
@@ -277,10 +281,11 @@ def _task_list(
     fraction: float,
     rate: float | None,
     unknown_class: float | None,
+    via: list[Any] | None,
     wheres: Iterator[tuple[Any, dict[str, Any]]],
 ) -> Iterator[tuple[Any, tuple[Any, ...]]]:
     for key, where in wheres:
-        yield key, (skill_text, where, arm, task, check, fraction, rate, unknown_class)
+        yield key, (skill_text, where, arm, task, check, fraction, rate, unknown_class, via)
 
 
 def _point(value: Any, name: str, dims: int) -> list[float] | None:
@@ -309,6 +314,7 @@ def evaluate_task_batch(
     speed_fraction: float = 0.2,
     rate: float | None = None,
     unknown_class: float | None = None,
+    via: Sequence[tuple[float, Any]] | None = None,
     executor: Executor | None = None,
     overwrite: bool = False,
     window: int | None = None,
@@ -346,6 +352,9 @@ def evaluate_task_batch(
         Rate of the fixed-rate samples (Hz).
     unknown_class : float, optional
         Margin (m) for obstacles of classes the skill never learned.
+    via : sequence of (float, array_like (q,)), optional
+        Via-points ``(phase, point)`` (m) every plan passes, the phase a
+        fraction of the plan's duration (:meth:`lfdkit.skill.Skill.plan`).
     executor : Executor, optional
         Default :class:`lfdkit.app.batch.SerialExecutor`.
     overwrite, window, progress
@@ -356,6 +365,7 @@ def evaluate_task_batch(
     lfdkit.app.batch.BatchSummary
     """
     from lfdkit.execute.pipeline import TaskDescription
+    from lfdkit.imitate.via_points import check_via
     from lfdkit.io.text import load_json
     from lfdkit.skill import Skill
 
@@ -379,6 +389,13 @@ def evaluate_task_batch(
         )
     dims = loaded.n_dims_
     ends = {"start": _point(start, "start", dims), "goal": _point(goal, "goal", dims)}
+    if via is not None:  # checked once here, and as plain lists: the spec is JSON
+        phases, points = check_via(via, dims)
+        turns = [list(map(float, e[2])) if len(e) > 2 and e[2] is not None else None for e in via]
+        via = [
+            [float(s), [float(v) for v in p], *([q] if q is not None else [])]
+            for s, p, q in zip(phases, points, turns, strict=True)
+        ]
     text = Path(skill).read_text(encoding="utf-8")
     spec = evaluate_spec(
         "path",
@@ -392,7 +409,9 @@ def evaluate_task_batch(
         unknown_class=unknown_class,
         **ends,
     )
-    settings = (text, machine, description.to_dict(), check, fraction, rate, unknown_class)
+    if via is not None:  # only when given: a results file from before resumes as it was
+        spec["via"] = via
+    settings = (text, machine, description.to_dict(), check, fraction, rate, unknown_class, via)
     arm_name = _arm(machine).name
     if random is not None:
         check_random_count(random, "goals")

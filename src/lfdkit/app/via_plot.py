@@ -131,10 +131,10 @@ def via_figure(
     ax.plot(*bent.points.T, color=BAND_COLOR, linewidth=2.0, label="nominal through via-points")
     if plan is not None:
         ax.plot(*np.asarray(plan).T, color=PLAN_COLOR, linewidth=1.6, label="plan")
-    marks = np.array([p for _, p in via], dtype=np.float64)
+    marks = np.array([entry[1] for entry in via], dtype=np.float64)  # any orientation aside
     ax.plot(*marks.T, **VIA_STYLE, label="via-points")
     if q == 2:
-        for phase, point in via:
+        for phase, point, *_ in via:
             ax.annotate(
                 f"at {phase:.0%} of the time", point, xytext=(6, 8), textcoords="offset points"
             )

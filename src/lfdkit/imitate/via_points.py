@@ -43,6 +43,17 @@ Why this design:
 - **The via-point is a sample of the result**, inserted at its phase: the
   conditioning reaches it to rounding (1e-13 of its scale), and the sample is
   then set to it, as the ends are set to the path's own, exactly.
+- **An orientation at a via-point** (``(phase, point, [x, y, z, w])``,
+  :func:`orientations_through_via`) bends the orientation movement ``q(u)``
+  by a rotation field: ``q'(u) = exp(c(u)) ⊗ q(u)``, with ``c`` (half-angle
+  rotation vectors, the log map of :mod:`lfdkit.core.rotations`) the same
+  smooth isotropic basis conditioned to 0 at both ends and to
+  ``log(q_i ⊗ q(s_i)⁻¹)`` at each via-point. Start and goal orientation stay
+  exact, each via-point's is met to rounding (then set to the bit), the result
+  is unit and continuous; the correction is spread over ±0.1 of the movement
+  as the position's is (a via-point within 0.1 of an end is overshot by up to
+  14 % of its turn between, as the basis rises from 0 that quickly). No
+  demonstrated covariance: the skill learns no orientation ProMP.
 """
 
 from __future__ import annotations
@@ -53,6 +64,7 @@ from typing import Any
 
 import numpy as np
 
+from lfdkit.core.rotations import UNIT_NORM_TOLERANCE, conjugate, exp, log, multiply, stable_norm
 from lfdkit.core.validation import check_path, check_values
 from lfdkit.imitate.promp import ProMP
 
@@ -62,6 +74,8 @@ __all__ = [
     "SPREAD_SHARE",
     "ViaPath",
     "check_via",
+    "check_via_orientations",
+    "orientations_through_via",
     "through_via_points",
 ]
 
@@ -125,9 +139,11 @@ def check_via(via: Any, n_dims: int, name: str = "via") -> tuple[np.ndarray, np.
 
     Parameters
     ----------
-    via : sequence of (float, array_like (n_dims,))
+    via : sequence of (float, array_like (n_dims,)[, array_like (4,)])
         ``(phase, point)`` pairs: the phase is the fraction of the movement's
-        duration (strictly between 0 and 1) at which it passes ``point``.
+        duration (strictly between 0 and 1) at which it passes ``point``; an
+        optional third item, the orientation there, is checked by
+        :func:`check_via_orientations`.
     n_dims : int
         Coordinates of a point.
     name : str
@@ -152,9 +168,16 @@ def check_via(via: Any, n_dims: int, name: str = "via") -> tuple[np.ndarray, np.
     phases, points = [], []
     for i, entry in enumerate(via):
         where = f"{name}[{i}]"
-        if isinstance(entry, (str, bytes)) or not hasattr(entry, "__len__") or len(entry) != 2:
-            raise ValueError(f"{where}: expected a (phase, point) pair, got {entry!r:.60}")
-        phase, point = entry
+        if (
+            isinstance(entry, (str, bytes))
+            or not hasattr(entry, "__len__")
+            or len(entry) not in (2, 3)
+        ):
+            raise ValueError(
+                f"{where}: expected a (phase, point) pair or (phase, point, orientation), "
+                f"got {entry!r:.60}"
+            )
+        phase, point = entry[0], entry[1]
         if isinstance(phase, bool) or not isinstance(phase, (int, float, np.number)):
             raise ValueError(f"{where}: phase: expected a number in (0, 1), got {phase!r:.30}")
         phase = float(phase)
@@ -172,6 +195,103 @@ def check_via(via: Any, n_dims: int, name: str = "via") -> tuple[np.ndarray, np.
         phases.append(phase)
         points.append(coords)
     return np.array(phases), np.array(points)
+
+
+def check_via_orientations(via: Any, name: str = "via") -> tuple[np.ndarray, np.ndarray]:
+    """The via-points' orientations (the entries that give one), checked; one-line errors.
+
+    Parameters
+    ----------
+    via : sequence
+        As :func:`check_via` takes it (checked there); an entry's third item,
+        if given and not None, is a unit quaternion ``[x, y, z, w]``.
+    name : str
+        The argument's name in messages.
+
+    Returns
+    -------
+    phases : ndarray, shape (n_oriented,)
+    orientations : ndarray, shape (n_oriented, 4)
+        Normalised (norms within :data:`lfdkit.core.rotations.UNIT_NORM_TOLERANCE`
+        of 1 are accepted, as for a start orientation).
+
+    Raises
+    ------
+    ValueError
+        For an orientation that is not 4 finite numbers of norm 1.
+    """
+    phases, turns = [], []
+    for i, entry in enumerate(via):
+        if len(entry) < 3 or entry[2] is None:
+            continue
+        where = f"{name}[{i}]: orientation"
+        q = check_values(entry[2], where).ravel()
+        if q.shape != (4,):
+            raise ValueError(
+                f"{where}: has {q.size} values; give a unit quaternion [x, y, z, w] (4 values)"
+            )
+        norm = float(stable_norm(q))
+        if abs(norm - 1.0) > UNIT_NORM_TOLERANCE:
+            raise ValueError(
+                f"{where}: has norm {norm:.6g}; a unit quaternion's norm is 1 (within "
+                f"{UNIT_NORM_TOLERANCE:g}): normalise it"
+            )
+        phases.append(float(entry[0]))
+        turns.append(q / norm)
+    return np.array(phases), np.array(turns).reshape(-1, 4)
+
+
+def orientations_through_via(
+    phases: Any,
+    orientations: Any,
+    via_phases: np.ndarray,
+    via_orientations: np.ndarray,
+    at_via: np.ndarray,
+) -> np.ndarray:
+    """Bend an orientation movement through via-orientations, keeping its ends (module notes).
+
+    Parameters
+    ----------
+    phases : array_like, shape (n,)
+        Phase of each orientation, in [0, 1].
+    orientations : array_like, shape (n, 4)
+        The movement ``q(u)`` at ``phases``, unit quaternions ``[x, y, z, w]``.
+    via_phases : ndarray, shape (n_via,)
+        Strictly between 0 and 1 (:func:`check_via_orientations`).
+    via_orientations : ndarray, shape (n_via, 4)
+        Unit quaternions to have at ``via_phases``.
+    at_via : ndarray, shape (n_via, 4)
+        The movement ``q(u)`` at ``via_phases`` (unbent).
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+        ``exp(c(u)) ⊗ q(u)``: unchanged at phases 0 and 1, exactly
+        ``via_orientations[i]`` (up to sign) at ``via_phases[i]``.
+
+    Warns
+    -----
+    UserWarning
+        When via-points closer in phase than the basis resolves ask for
+        different turns (:meth:`lfdkit.imitate.ProMP.condition`).
+    """
+    u = np.asarray(phases, dtype=np.float64)
+    q = np.asarray(orientations, dtype=np.float64)
+    if len(via_phases) == 0:
+        return q.copy()
+    # The turn still needed at each via-point, as a left (world-frame) rotation.
+    turns = log(multiply(via_orientations, conjugate(at_via)))
+    prior = _deformation_prior(None, 3, np.pi, ISOTROPIC_SHARE)
+    targets = np.concatenate([np.zeros((2, 3)), turns])
+    field = prior.condition(targets, np.concatenate([[0.0, 1.0], via_phases]))
+    out = multiply(exp(field.mean_at(u)), q)
+    out /= stable_norm(out, keepdims=True)
+    out[u <= 0.0], out[u >= 1.0] = q[u <= 0.0], q[u >= 1.0]
+    # Met to rounding (1e-13 rad): set to the bit where a sample is at a via-point.
+    for s, target in zip(via_phases, via_orientations, strict=True):
+        hit = u == s
+        out[hit] = np.where((out[hit] @ target < 0.0)[:, None], -target, target)
+    return out
 
 
 def through_via_points(

@@ -28,6 +28,7 @@ from lfdkit.app.cli.common import (
     tell,
     working,
 )
+from lfdkit.app.cli.via import add_via_option, via_points
 from lfdkit.core.progress import Progress
 
 __all__ = ["add_options", "run_command"]
@@ -126,7 +127,7 @@ def _evaluate_task_of(args: argparse.Namespace) -> str:
             raise CommandError(f"{args.skill}: no such file")
         path_only = [args.arm, args.tip_link, args.task_file, args.offset, args.height]
         path_only += [args.q_start, args.tool_length, args.rate, args.spread, args.summary]
-        path_only += [args.unknown_class, args.approach, args.retreat]
+        path_only += [args.unknown_class, args.approach, args.retreat, args.via]
         sweep = Skill.load(args.skill).n_dims_ == 2 and all(v is None for v in path_only)
         args.task = "sweep" if sweep else "path"
     return args.task
@@ -154,7 +155,9 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
         from lfdkit.app.execute_batch import evaluate_task_batch
         from lfdkit.skill import Skill
 
-    dims = Skill.load(args.skill).n_dims_
+    loaded = Skill.load(args.skill)
+    dims = loaded.n_dims_
+    via = via_points(args.via, dims, loaded.timing_.duration)  # every plan lasts the skill's
 
     def run(executor, progress):
         try:
@@ -174,6 +177,7 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
                 speed_fraction=args.speed_fraction,
                 rate=rate,
                 unknown_class=args.unknown_class,
+                via=via,
                 executor=executor,
                 overwrite=args.force,
                 progress=progress,
@@ -211,7 +215,7 @@ def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
                 f"--{option.replace('_', '-')}: is for --task path; the sweeping task runs on "
                 "the UR5 with its brush"
             )
-    for option in ("rate", "spread", "summary", "unknown_class"):
+    for option in ("rate", "spread", "summary", "unknown_class", "via"):
         if getattr(args, option) is not None:
             raise UsageError(f"--{option.replace('_', '-')}: is for --task path")
     if (args.random is None) == (args.scenes is None):
@@ -398,6 +402,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         help="also write the outcome table as JSON",
     )
     add_unknown_class_option(path, "m")
+    add_via_option(path)
     add_task_description_options(evaluate)
     _results_option(evaluate)
     _executor_options(evaluate)

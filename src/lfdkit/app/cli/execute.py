@@ -30,6 +30,7 @@ from lfdkit.app.cli.common import (
     unknown_class_options,
     working,
 )
+from lfdkit.app.cli.via import add_via_option, via_points
 
 __all__ = ["add_options", "run_command"]
 
@@ -58,6 +59,7 @@ def run_command(args: argparse.Namespace) -> None:
         arm = ARMS[args.arm]
         if args.rate is not None:
             raise CommandError("--rate: the sweeping task streams at 125 Hz; use --task path")
+        via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
         # The program's header comment is ASCII, whatever the skill file is called.
         name = args.skill.name.encode("ascii", "replace").decode("ascii")
         try:
@@ -73,6 +75,7 @@ def run_command(args: argparse.Namespace) -> None:
                 yaw=args.yaw,
                 **orientations,
                 **unknown_class_options(args),
+                via=via,
                 header=f"lfdkit execute {name}: {arm.name} at {args.speed_fraction:g} of its "
                 "joint limits",
                 progress=progress,
@@ -161,6 +164,8 @@ def _run_path(args: argparse.Namespace) -> None:
         args.units = "m"
         skill, scene, start, goal = skill_and_scene(args)
         task = task_description(args)
+        # The plan lasts the skill's learned duration: a time in --via is within it.
+        via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
         try:
             with progress.stage(f"plan around {len(scene)} obstacle{'s' * (len(scene) != 1)}"):
                 plan = skill.plan(
@@ -169,6 +174,7 @@ def _run_path(args: argparse.Namespace) -> None:
                     scene,
                     **orientation_options(args),
                     **unknown_class_options(args),
+                    via=via,
                 )
             name = args.skill.name.encode("ascii", "replace").decode("ascii")
             rate = DEFAULT_RATE if args.rate is None else args.rate
@@ -249,6 +255,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     add_skill_file_options(parser)
     add_orientation_options(parser)
     add_unknown_class_option(parser, "m")
+    add_via_option(parser)
     parser.add_argument(
         "--yaw",
         choices=("demonstrated", "tangent"),

@@ -137,7 +137,7 @@ def _via_summary(points, via, units: str) -> str:
 
     from lfdkit.core.geometry import polyline_distances
 
-    miss = polyline_distances(np.array([p for _, p in via], dtype=float), points)
+    miss = polyline_distances(np.array([entry[1] for entry in via], dtype=float), points)
     return f"; passes {len(via)} via-point{'s' * (len(via) != 1)} within {miss.max():.3g} {units}"
 
 

@@ -1,25 +1,34 @@
-"""``--via X,Y[,Z]@T``: via-points on the command line (``plan``, ``plot``).
+"""``--via X,Y[,Z]@T[:QX,QY,QZ,QW]``: via-points on the command line (``plan``, ``plot``,
+``execute``, ``batch evaluate``).
 
 A via-point is a point and when to pass it: ``T`` a phase strictly between 0
 and 1 (``0.5``), a percentage of the movement (``50%``) or seconds from the
-start (``2.1s``, within the plan's duration). The option repeats, one
+start (``2.1s``, within the plan's duration); for a skill with orientation,
+optionally the tool's orientation there after a colon, a unit quaternion
+``x,y,z,w`` (``@50%:0,0,0.7071,0.7071``). The option repeats, one
 via-point each. Every mistake is one line naming the option and the value
 (:class:`~lfdkit.app.cli.common.UsageError`, exit 2): no ``@``, a coordinate
 that is not a number, the wrong count of coordinates for the skill, a phase
-outside (0, 1), a time past the plan's end, an unknown unit of time.
+outside (0, 1), a time past the plan's end, an unknown unit of time, an
+orientation that is not 4 numbers of norm 1.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import re
 
 from lfdkit.app.cli.common import UsageError
 from lfdkit.core.numbers import parse_decimal
+from lfdkit.core.rotations import UNIT_NORM_TOLERANCE
 
 __all__ = ["add_via_option", "via_points"]
 
-_FORM = "X,Y[,Z]@T (T a phase 0<T<1, a percentage like 40% or seconds like 1.5s)"
+_FORM = (
+    "X,Y[,Z]@T[:QX,QY,QZ,QW] (T a phase 0<T<1, a percentage like 40% or seconds like 1.5s; "
+    "optionally the orientation there, a unit quaternion)"
+)
 
 
 def add_via_option(parser: argparse.ArgumentParser) -> None:
@@ -27,17 +36,23 @@ def add_via_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--via",
         action="append",
-        metavar="X,Y[,Z]@T",
+        metavar="X,Y[,Z]@T[:QX,QY,QZ,QW]",
         help="pass through this point (path units) at T: a phase 0<T<1 of the movement, a "
         "percentage (40%%) or seconds from the start (1.5s); repeat for several. The nominal "
-        "bends through it the way the demonstrations varied (their ProMP)",
+        "bends through it the way the demonstrations varied (their ProMP). A skill with "
+        "orientation takes the tool's orientation there after a colon, a unit quaternion "
+        "(e.g. @50%%:0,0,0.7071,0.7071); start and goal orientation are kept",
     )
 
 
 def via_points(
     texts: list[str] | None, n_dims: int, duration: float
-) -> list[tuple[float, list[float]]] | None:
-    """The ``--via`` values as :meth:`lfdkit.skill.Skill.plan`'s ``via``: ``[(phase, point)]``.
+) -> list[tuple[float, list[float]] | tuple[float, list[float], list[float]]] | None:
+    """The ``--via`` values as :meth:`lfdkit.skill.Skill.plan`'s ``via``.
+
+    ``[(phase, point)]``, or ``(phase, point, orientation)`` for a value with
+    an orientation (whether the skill has one is :meth:`~lfdkit.skill.Skill.plan`'s
+    to say).
 
     Parameters
     ----------
@@ -58,10 +73,12 @@ def via_points(
     return [_via_point(text, n_dims, duration) for text in texts]
 
 
-def _via_point(text: str, n_dims: int, duration: float) -> tuple[float, list[float]]:
+def _via_point(text: str, n_dims: int, duration: float) -> tuple:
     where, sep, when = text.rpartition("@")
     if not sep:
         raise UsageError(f"--via {text!r}: no '@T'; expected {_FORM}")
+    when, colon, turn = when.partition(":")
+    orientation = _orientation(text, turn) if colon else None
     try:
         point = [parse_decimal(v) for v in where.split(",")]
     except ValueError:
@@ -112,4 +129,27 @@ def _via_point(text: str, n_dims: int, duration: float) -> tuple[float, list[flo
             "as a fraction of the movement (0 is the start, 1 the goal: those are --start "
             "and --goal)"
         )
-    return phase, point
+    return (phase, point) if orientation is None else (phase, point, orientation)
+
+
+def _orientation(text: str, turn: str) -> list[float]:
+    """The orientation after ``:``: four numbers of norm 1 (within the library's tolerance)."""
+    try:
+        q = [parse_decimal(v) for v in turn.split(",")]
+    except ValueError:
+        raise UsageError(
+            f"--via {text!r}: the orientation {turn!r} is not numbers separated by commas; "
+            "give a unit quaternion QX,QY,QZ,QW"
+        ) from None
+    if len(q) != 4:
+        raise UsageError(
+            f"--via {text!r}: the orientation has {len(q)} values; give a unit quaternion "
+            "QX,QY,QZ,QW (4 values)"
+        )
+    norm = math.sqrt(sum(v * v for v in q))
+    if abs(norm - 1.0) > UNIT_NORM_TOLERANCE:
+        raise UsageError(
+            f"--via {text!r}: the orientation has norm {norm:.6g}; a unit quaternion's norm is "
+            f"1 (within {UNIT_NORM_TOLERANCE:g}): normalise it"
+        )
+    return q

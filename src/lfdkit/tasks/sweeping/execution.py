@@ -281,6 +281,7 @@ def execute_skill(
     goal_orientation: Any = None,
     unknown_class: float | None = None,
     unknown_response: str | None = None,
+    via: Any = None,
 ) -> SweepExecution:
     """Plan a sweep with a skill and carry it to the robot, checked and simulated.
 
@@ -326,6 +327,9 @@ def execute_skill(
         The response such an obstacle gets besides: None (none), ``"nearest"``
         (the learned class nearest in size) or a learned class's name
         (:meth:`lfdkit.skill.Skill.plan_details`).
+    via : sequence of (float, array_like (2,)[, array_like (4,)]), optional
+        Via-points the sweep passes, ``(phase, point)`` with the phase a
+        fraction of the plan's duration (:meth:`lfdkit.skill.Skill.plan`).
 
     Returns
     -------
@@ -396,6 +400,7 @@ def execute_skill(
             unknown_class=unknown_class,
             unknown_response=unknown_response,
             progress=progress,
+            via=via,
         )
         plan = timed.details
     seconds["plan"] = stage.seconds
