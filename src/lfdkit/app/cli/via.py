@@ -21,7 +21,6 @@ import re
 
 from lfdkit.app.cli.common import UsageError
 from lfdkit.core.numbers import parse_decimal
-from lfdkit.core.rotations import UNIT_NORM_TOLERANCE
 
 __all__ = ["add_via_option", "via_points"]
 
@@ -146,6 +145,9 @@ def _orientation(text: str, turn: str) -> list[float]:
             f"--via {text!r}: the orientation has {len(q)} values; give a unit quaternion "
             "QX,QY,QZ,QW (4 values)"
         )
+    # Here, not at the top: building the parser must not load NumPy (rotations does).
+    from lfdkit.core.rotations import UNIT_NORM_TOLERANCE
+
     norm = math.sqrt(sum(v * v for v in q))
     if abs(norm - 1.0) > UNIT_NORM_TOLERANCE:
         raise UsageError(
