@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 import subprocess
@@ -75,3 +76,11 @@ def json_ready(value: Any, drop: Iterable[str] = ()) -> Any:
     if isinstance(value, float) and not np.isfinite(value):
         return None
     return value
+
+
+def write_json(path: Path, result: Any) -> Path:
+    """Write ``result`` (made :func:`json_ready`) to ``path`` atomically, replacing it."""
+    from lfdkit.io import atomic_write
+
+    text = json.dumps(json_ready(result), indent=1) + "\n"
+    return atomic_write(path, lambda f: f.write(text), overwrite=True)

@@ -37,7 +37,6 @@ draws held-out ones.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 import warnings
@@ -45,7 +44,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from _common import git_state, json_ready, machine_info
+from _common import git_state, machine_info, write_json
 
 from lfdkit.core.geometry import arc_length, left_normals, resample
 from lfdkit.emulate import metrics
@@ -391,9 +390,7 @@ def main(argv: list[str] | None = None) -> int:
         "summary": summary,
         "rows": rows,
     }
-    tmp = out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(json_ready(result), indent=1) + "\n")
-    tmp.replace(out)
+    write_json(out, result)
     print(f"wrote {out}", file=sys.stderr)
     return 0
 

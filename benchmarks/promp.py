@@ -23,7 +23,6 @@ for ``movement_primitives.promp.ProMP`` side by side where it is installed
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 import warnings
@@ -33,7 +32,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import git_state, json_ready, machine_info, package_versions
+from _common import git_state, machine_info, package_versions, write_json
 
 from lfdkit.datasets import load_dataset
 from lfdkit.imitate import ProMP
@@ -171,10 +170,7 @@ def main(argv: list[str] | None = None) -> int:
         "packages": package_versions(["numpy", "movement_primitives"]),
     }
     args.output.mkdir(parents=True, exist_ok=True)
-    out = args.output / "promp.json"
-    tmp = out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(json_ready(result), indent=1) + "\n")
-    tmp.replace(out)
+    out = write_json(args.output / "promp.json", result)
     print(f"\nwrote {out}")
     return 0
 

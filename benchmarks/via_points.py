@@ -24,7 +24,6 @@ of a plan with and without via-points (ms, same run).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 import warnings
@@ -34,7 +33,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import git_state, json_ready, machine_info, package_versions
+from _common import git_state, machine_info, package_versions, write_json
 
 from lfdkit.core.geometry import polyline_distances, resample
 from lfdkit.datasets import load_dataset
@@ -126,10 +125,7 @@ def main(argv: list[str] | None = None) -> int:
         "packages": package_versions(["numpy"]),
     }
     args.output.mkdir(parents=True, exist_ok=True)
-    out = args.output / "via_points.json"
-    tmp = out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(json_ready(result), indent=1) + "\n")
-    tmp.replace(out)
+    out = write_json(args.output / "via_points.json", result)
     print(f"\nwrote {out}")
     return 0
 
