@@ -225,9 +225,9 @@ def test_nothing_imports_the_tests_or_the_benchmarks() -> None:
     assert bad == []
 
 
-def test_the_package_root_holds_the_floors_and_the_skill_only() -> None:
+def test_the_package_root_holds_the_floors_only() -> None:
     loose = sorted(p.name for p in SRC.glob("*.py"))
-    assert loose == ["__init__.py", "skill.py"]
+    assert loose == ["__init__.py"]
 
 
 # The checks must be able to fail: each rule on made-up modules.

@@ -1246,11 +1246,13 @@ def test_learn_exits_1_and_writes_nothing_when_the_reward_fit_fails(
 ):
     import lfdkit.skill
 
-    class TwoIterations(lfdkit.skill.IOC):
+    class TwoIterations(lfdkit.skill.estimator.IOC):
         def __init__(self, *args, **kwargs):
             super().__init__(*args, **{**kwargs, "max_iter": 2})
 
-    monkeypatch.setattr(lfdkit.skill, "IOC", TwoIterations)
+    # The reward fit (estimator) and the behaviour-model refits (selection) build IOCs.
+    monkeypatch.setattr(lfdkit.skill.estimator, "IOC", TwoIterations)
+    monkeypatch.setattr(lfdkit.skill.selection, "IOC", TwoIterations)
     out = tmp_path / "skill.json"
     code, stdout, err = run_cli(
         capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out, "-q"
@@ -1293,12 +1295,14 @@ def test_learn_shows_the_reward_fit_warnings_as_lines(capsys, tmp_path, examples
 
     import lfdkit.skill
 
-    class Warns(lfdkit.skill.IOC):
+    class Warns(lfdkit.skill.estimator.IOC):
         def fit(self, *args, **kwargs):
             warnings.warn("obstacle class 'vase' was not learned: ...", UserWarning, stacklevel=2)
             return super().fit(*args, **kwargs)
 
-    monkeypatch.setattr(lfdkit.skill, "IOC", Warns)
+    # The reward fit (estimator) and the behaviour-model refits (selection) build IOCs.
+    monkeypatch.setattr(lfdkit.skill.estimator, "IOC", Warns)
+    monkeypatch.setattr(lfdkit.skill.selection, "IOC", Warns)
     out = tmp_path / "skill.json"
     code, _, err = run_cli(
         capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out

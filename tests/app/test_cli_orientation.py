@@ -22,7 +22,7 @@ from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.examples import example_files
 from lfdkit.tasks.sweeping.execution import execute_skill
 from tests.app.test_cli import run_cli
-from tests.test_skill_orientation import demonstrations
+from tests.skill.test_orientation import demonstrations
 
 #: The demonstrated brush heading across the sweep: -0.3 rad at x = -0.4 m to +0.3 at 0.4 m.
 YAW_LOW, YAW_HIGH = -0.3, 0.3

@@ -11,7 +11,7 @@ import pytest
 from lfdkit.core.geometry import polyline_distances
 from lfdkit.skill import Skill
 from tests.app.test_cli import error_line, run_cli
-from tests.test_skill_via import sweeps
+from tests.skill.test_via import sweeps
 
 
 @pytest.fixture(scope="module")
@@ -141,7 +141,7 @@ def test_batch_evaluate_plans_every_task_through_the_via_points(capsys, tmp_path
 
 def test_plan_turns_to_the_via_orientation(capsys, tmp_path) -> None:
     from lfdkit.core.rotations import angle_between
-    from tests.test_skill_orientation import demonstrations
+    from tests.skill.test_orientation import demonstrations
 
     demos, quats = demonstrations(3, 100.0, seed=4)
     skill = Skill(units="cm", mimic="average", n_points=60).fit_path(demos, orientations=quats)

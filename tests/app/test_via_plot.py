@@ -8,7 +8,7 @@ import pytest
 
 from lfdkit.app.via_plot import via_figure
 from lfdkit.skill import Skill
-from tests.test_skill_via import VIA, sweeps
+from tests.skill.test_via import VIA, sweeps
 
 matplotlib.use("Agg")
 

@@ -1,6 +1,6 @@
 """Via-points with an orientation: ``Skill.plan(via=[(phase, point, [x, y, z, w])])``.
 
-Known answers on the orientation skill of ``tests/test_skill_orientation.py``
+Known answers on the orientation skill of ``tests/skill/test_orientation.py``
 (3-D, centimetres, a turning yaw and a rising pitch): the orientation at the
 via-point's phase is the one given (to 1e-6 rad; it is set to the bit), the
 start and goal orientations are unchanged, the movement stays unit and
@@ -17,8 +17,8 @@ import pytest
 
 from lfdkit.core.rotations import angle_between, exp, multiply, slerp
 from lfdkit.skill import Skill
-from tests.test_skill_orientation import demonstrations
-from tests.test_skill_via import sweeps
+from tests.skill.test_orientation import demonstrations
+from tests.skill.test_via import sweeps
 
 U = np.linspace(0.0, 1.0, 801)
 

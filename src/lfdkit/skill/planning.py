@@ -1,0 +1,536 @@
+"""What a fitted skill plans: the nominal (the DMP's rollout), timed plans and their details.
+
+:meth:`Skill.plan <lfdkit.skill.Skill.plan>` retargets the generalized path
+(the *nominal*) and moves along it around a scene's obstacles with the
+behaviour model the skill chose (route planner, clearance floor, frame); a
+plan around moving obstacles is re-planned at its own times up to
+:data:`RETIME_ROUNDS` times before it is refused.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping, Sequence
+from typing import Any, Literal
+
+import numpy as np
+
+from lfdkit.core.constraints import OneOf
+from lfdkit.core.options import (
+    PLANNERS,
+)
+from lfdkit.core.progress import ProgressLike
+from lfdkit.core.validation import (
+    check_point,
+    check_positive,
+)
+from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
+from lfdkit.emulate.reward import in_path_frame
+from lfdkit.imitate.timing import DURATION_RANGE
+from lfdkit.model.scene import Scene
+from lfdkit.model.timed_path import TimedPlan
+from lfdkit.skill.unknown import UNKNOWN_HOW, unknown_margins, warn_unknown, with_stand_ins
+from lfdkit.skill.via import passing_phases, path_extent, warn_via_missed
+
+PlannerKind = Literal["mpc", "full"]
+# Samples of a DMP rollout handed to the planner, which resamples it at
+# constant speed: dense enough that the resampled nominal follows the curve.
+_NOMINAL_OVERSAMPLING = 4
+#: Re-plans of a moving-obstacle plan at its own (arc-length) times before it is refused.
+RETIME_ROUNDS = 3
+
+
+class Planning:
+    """What a fitted :class:`~lfdkit.skill.Skill` plans: the nominal, timed plans, their details."""
+
+    def _rollouts(self, starts: np.ndarray, goals: np.ndarray) -> np.ndarray:
+        n_steps = _NOMINAL_OVERSAMPLING * int(self.n_points)
+        # Starts and goals come checked (_ends, _goals, check_demos): not again in the DMP.
+        return self.dmp_.rollout(starts, goals, n_steps=n_steps, check_input=False).positions
+
+    def nominal(self, start: Any = None, goal: Any = None) -> np.ndarray:
+        """The generalized path carried to a new start and goal by the DMP.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+
+        Returns
+        -------
+        ndarray, shape (4 n_points, q)
+            DMP rollout positions at equal time steps (denser where the
+            skill's speed profile is slow, e.g. at the ends).
+        """
+        return self._nominal(*self._ends(start, goal))
+
+    def _ends(self, start: Any, goal: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The start and goal a caller gave, checked (default: the generalized path's)."""
+        self._check_fitted()
+        q = self.n_dims_
+        start = self.path_[0] if start is None else check_point(start, "start", q, style="point")
+        goal = self.path_[-1] if goal is None else check_point(goal, "goal", q, style="point")
+        return start, goal
+
+    def _nominal(self, start: np.ndarray, goal: np.ndarray) -> np.ndarray:
+        """:meth:`nominal` from a checked start and goal."""
+        tol = 1e-12 * path_extent(self.path_)
+        # A closed skill (an "o") goes from a point back to it; an open one cannot.
+        closed = np.allclose(self.path_[0], self.path_[-1], rtol=0.0, atol=tol)
+        if not closed and np.allclose(start, goal, rtol=0.0, atol=tol):
+            raise ValueError("goal: coincides with start; a path needs distinct ends")
+        return self._rollouts(start[None], goal[None])[0]
+
+    def plan(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        scene: Scene | None = None,
+        *,
+        duration: float | None = None,
+        speed: float | None = None,
+        start_orientation: Any = None,
+        goal_orientation: Any = None,
+        **options: Any,
+    ) -> TimedPlan:
+        """The timed plan for a new start, goal and scene: positions, times and velocities.
+
+        The path is :meth:`plan_details`' (its keyword ``options``:
+        ``planner``, ``horizon``, ``goal_approach``, ``clearance``,
+        ``unknown_class``; its errors
+        and safety guarantees), timed by its own arc length with the skill's
+        speed profile :attr:`timing_` (learned from the demonstrations' times,
+        or the ``timing`` law): it starts and ends at rest (unless the timing
+        is ``"uniform"``) and lasts the skill's duration, so a plan that
+        swerves (and is longer) runs uniformly faster, never in a burst where
+        it swerves. With moving obstacles the timed plan is checked again at
+        its own times (the planner used the nominal's) and re-planned at them
+        where it is not clear (:meth:`_checked_at_own_times`); its
+        ``details.clearance`` is then the clearance at its own times.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+        scene : Scene, optional
+            Obstacles (default none).
+        duration : float, optional
+            Seconds the plan lasts (default ``timing_.duration``).
+        speed : float, optional
+            Or a speed factor: the plan lasts ``timing_.duration / speed``
+            (2 runs twice as fast). Not with ``duration``.
+        start_orientation, goal_orientation : array_like, shape (4,), optional
+            Only for a skill with orientation (:attr:`orientation_dmp_`): the
+            tool's orientation at the start and at the goal, unit quaternions
+            ``[x, y, z, w]``; default the first and last of
+            :attr:`orientations_`.
+        **options
+            :meth:`plan_details`' keywords, ``via`` among them: ``[(phase,
+            point), ...]``, points the plan passes at those fractions of its
+            duration (:meth:`via_path`). The nominal passes each exactly; the
+            plan, resampled at constant speed, within a small fraction of the
+            path's extent, and around obstacles as the planner must (a
+            :class:`UserWarning` says when a plan misses a via-point by more
+            than :data:`VIA_TOLERANCE` of the path's extent). A skill with
+            orientation takes ``(phase, point, [x, y, z, w])``: the
+            orientations are turned to that one at the time the plan passes
+            ``point`` (:meth:`orientations_at`), start and goal kept.
+
+        Returns
+        -------
+        TimedPlan
+            ``times`` (n_points,) s, ``points`` (n_points, q), ``velocities``
+            (n_points, q) units/s, ``details`` (:meth:`plan_details`' Plan),
+            and for a skill with orientation ``orientations`` (n_points, 4):
+            the orientation DMP's movement from ``start_orientation`` to
+            ``goal_orientation``, sampled at each point's normalised time
+            ``t / duration`` (the phase the position DMP and the speed
+            profile share), so it ends *exactly* at the goal orientation.
+            It stands for its points in NumPy expressions (``np.asarray(plan)``
+            is ``plan.points``), as the ndarray this method used to return.
+
+        Raises
+        ------
+        ValueError
+            For a ``duration`` or ``speed`` that is not a positive, finite
+            number, both given, or a duration outside 1e-6 to 1e9 s; an
+            orientation that is not a unit quaternion, or one given to a
+            skill without orientation; and :meth:`plan_details`' errors.
+        """
+        total = self._plan_duration(duration, speed)
+        if scene is not None and isinstance(scene, Scene) and scene.moving:
+            options.setdefault("duration", total)  # where the tool is when: this plan's timing
+        ends = self._orientation_ends(start_orientation, goal_orientation)
+        turns = self._via_orientations(options.get("via"), ends is not None)
+        details = self.plan_details(start, goal, scene, **options)
+        times, velocities = self.timing_.time_path(details.points, total)
+        if scene is not None and isinstance(scene, Scene) and scene.moving:
+            details, times, velocities = self._checked_at_own_times(
+                details, times, velocities, total, start, goal, scene, options
+            )
+        orientations = None
+        if ends is not None:
+            if turns is not None:
+                turns = (passing_phases(details.points, times, options["via"], turns[0]), turns[1])
+            orientations = self._orientations_at(times / total, *ends, via=turns)
+        if options.get("via") is not None:
+            warn_via_missed(details.points, options["via"], self.units)
+        return TimedPlan(
+            times, details.points, velocities, details=details, orientations=orientations
+        )
+
+    def _checked_at_own_times(
+        self,
+        details: Plan,
+        times: np.ndarray,
+        velocities: np.ndarray,
+        total: float,
+        start: Any,
+        goal: Any,
+        scene: Scene,
+        options: dict[str, Any],
+    ) -> tuple[Plan, np.ndarray, np.ndarray]:
+        """A moving-obstacle plan checked at the times it is run; re-planned at them if needed.
+
+        The planner avoids each obstacle where it is when the tool reaches a
+        point on the *nominal's* timing (:meth:`point_times`); the plan is then
+        timed by its own arc length, a little different where it swerves (the
+        issue-27 battery: 1.58 mm inside a marker crossing at 4 m/s, 14 ms
+        later than planned). So the timed plan is checked at its own times
+        (:func:`lfdkit.emulate.planner.moving_clearance`); where it fails, it
+        is re-planned with those times and re-timed, up to
+        :data:`RETIME_ROUNDS` rounds, and refused if it still fails.
+        """
+        from lfdkit.emulate.planner import UnsafePlanError, moving_clearance
+
+        clearance = float(options.get("clearance", 0.0))
+        margin = options.get("unknown_class")
+        reward = self.reward_ if self.reward_ is not None else Reward(1.0, {})
+        unknown, margin = unknown_margins(reward, scene, margin, clearance)
+        clearance = clearance + np.where(unknown, margin, 0.0)  # each obstacle's
+        hard = scene.has_extent | (clearance > 0.0)
+        start_point, goal_point = self._ends(start, goal)
+        for round_ in range(RETIME_ROUNDS + 1):
+            gaps = moving_clearance(details.points, times, scene, clearance, UNCERTAINTY_MARGIN)
+            tolerance = 1e-9 * max(path_extent(details.points), 1e-300)
+            if not np.any((gaps < -tolerance) & hard):
+                details.clearance = gaps
+                return details, times, velocities
+            if round_ == RETIME_ROUNDS:
+                break
+            details = self._plan(
+                start_point,
+                goal_point,
+                scene,
+                options.get("planner"),
+                options.get("horizon"),
+                options.get("goal_approach", "auto"),
+                clearance,
+                options.get("progress"),
+                times,
+                unknown_class=options.get("unknown_class"),
+                via=options.get("via"),
+                unknown_response=options.get("unknown_response"),
+            )
+            times, velocities = self.timing_.time_path(details.points, total)
+        o = int(np.argmin(np.where(hard, gaps, np.inf)))
+        raise UnsafePlanError(
+            f"no collision-free timed plan: timed by its own length, the plan passes "
+            f"{-gaps[o]:.3g} inside obstacle {o} ({scene.obstacles[o].label!r}, radius plus "
+            f"clearance {clearance[o]:g}) even after {RETIME_ROUNDS} re-plans at its own times; "
+            "a longer duration or a larger clearance may help"
+        )
+
+    def _plan_duration(self, duration: float | None, speed: float | None) -> float:
+        """Seconds a plan lasts: ``duration``, or the skill's divided by ``speed``."""
+        self._check_fitted()
+        if duration is not None and speed is not None:
+            raise ValueError("speed: give duration or speed, not both")
+        if duration is not None:
+            total = check_positive(duration, "duration")
+        else:
+            factor = 1.0 if speed is None else check_positive(speed, "speed")
+            total = self.timing_.duration / factor
+        low, high = DURATION_RANGE
+        if not low <= total <= high:
+            what = "duration" if duration is not None else "speed"
+            raise ValueError(
+                f"{what}: the plan would last {total:g} s; expected {low:g} to {high:g} s"
+            )
+        return total
+
+    def plan_details(
+        self,
+        start: Any = None,
+        goal: Any = None,
+        scene: Scene | None = None,
+        *,
+        planner: PlannerKind | None = None,
+        horizon: int | None = None,
+        goal_approach: float | str | None = "auto",
+        clearance: float = 0.0,
+        progress: ProgressLike = None,
+        duration: float | None = None,
+        unknown_class: float | None = None,
+        via: Sequence[tuple[float, Any]] | None = None,
+        unknown_response: str | None = None,
+    ) -> Plan:
+        """The path for a new start, goal and scene: DMP-retargeted nominal, then MPC.
+
+        Parameters
+        ----------
+        start, goal : array_like, shape (q,), optional
+            Default: the generalized path's own.
+        scene : Scene, optional
+            Obstacles (default none); each class must have been learned.
+        planner : {"mpc", "full"}, optional
+            Override the skill's planner.
+        horizon : int, optional
+            Override the MPC horizon (4 to 12).
+        goal_approach : float, "auto" or None
+            Length (units of the path) before the goal over which the plan is
+            drawn back onto the nominal so that it ends at the goal; "auto"
+            (the default) is a tenth of the path. None: the thesis's reward,
+            which has no goal term; a swerve can leave the plan's end beside
+            the goal. See :func:`lfdkit.emulate.planner.goal_weights`.
+        clearance : float
+            Tool clearance (units) added to every obstacle's radius; the plan
+            keeps out of radius plus clearance (a hard constraint). With
+            ``model="auto"`` the clearance the demonstrations kept from the
+            obstacle's class (:attr:`clearances_`) comes on top (halved for
+            an obstacle nearer the start or goal than that; where no plan
+            keeps it, half of it and then none, with a warning), and the
+            plan's ``clearance`` is measured beyond both.
+        progress : Progress, callable, bool or None
+            Reports the planner's global search and its MPC steps over the
+            plan's points (:func:`lfdkit.core.progress.as_progress`); default silent.
+        duration : float, optional
+            Seconds the plan lasts (default ``timing_.duration``): with moving
+            obstacles in ``scene``, the tool reaches plan point ``k`` at
+            ``point_times()[k]`` and each obstacle is avoided where it
+            is predicted then (:func:`lfdkit.emulate.plan_path`'s ``times``).
+            Not used for a static scene.
+        unknown_class : float, optional
+            Opt-in for obstacles of a class this skill never learned: a margin
+            (units, >= 0). Each such obstacle becomes a hard constraint, its
+            radius plus this margin (plus ``clearance``), with *no* learned
+            response (the plan keeps out but does not swerve as a demonstrator
+            would); a ``UserWarning`` names the classes. Default None: such a
+            scene is refused (the error names this option).
+        via : sequence of (float, array_like (q,)), optional
+            Via-points ``(phase, point)``: the nominal is bent through each
+            ``point`` at ``phase``, the fraction of the movement's duration
+            (strictly between 0 and 1), the way the demonstrations varied
+            (:meth:`via_path`); the planner then follows it.
+        unknown_response : str, optional
+            With ``unknown_class``, the response such an obstacle gets besides
+            its hard radius: None (default) none; ``"nearest"`` the response of
+            the learned class nearest in size (:attr:`class_radii_` against
+            the median radius of the class's obstacles in ``scene``); or the
+            name of a learned class. The warning says which class was used.
+
+        Returns
+        -------
+        Plan
+            ``points`` (n_points, q), the planned path from ``start`` (with no
+            obstacle, the nominal resampled at constant speed), with its
+            ``clearance``, ``goal_error`` and ``cost``.
+
+        Raises
+        ------
+        lfdkit.emulate.UnsafePlanError
+            When no plan within the action bounds keeps out of the obstacles
+            and reaches the goal.
+        ValueError
+            For a start or goal of the wrong dimension or not finite, a scene
+            with an obstacle class this skill has not learned (or with
+            obstacles when no reward is learned) unless ``unknown_class`` is
+            given, a negative ``unknown_class``, an ``unknown_response`` that
+            is neither ``"nearest"`` nor a learned class (or ``"nearest"`` for
+            a skill without :attr:`class_radii_`), a start or goal inside an
+            obstacle, a horizon outside 4-12, or a via-point that is not a
+            ``(phase, point)`` pair with a phase in (0, 1) and a point of the
+            skill's dimension.
+        """
+        start, goal = self._ends(start, goal)
+        times = None
+        if isinstance(scene, Scene) and scene.moving:
+            times = self.point_times(duration)
+        return self._plan(
+            start,
+            goal,
+            scene,
+            planner,
+            horizon,
+            goal_approach,
+            clearance,
+            progress,
+            times,
+            unknown_class=unknown_class,
+            via=via,
+            unknown_response=unknown_response,
+        )
+
+    def point_times(self, duration: float | None = None) -> np.ndarray:
+        """When the tool reaches each of the plan's ``n_points`` points (s), on the nominal.
+
+        The skill's speed profile (:attr:`timing_`) along a path sampled at
+        constant arc length: point ``k`` is reached at
+        ``duration · phase(k / (n_points − 1))``
+        (:meth:`lfdkit.imitate.SpeedProfile.phase`). A plan that swerves is a
+        little longer; timed by its own length it runs uniformly faster, so
+        point ``k`` is reached at nearly the same time (the assumption with
+        which moving obstacles are predicted).
+
+        Parameters
+        ----------
+        duration : float, optional
+            Seconds (default ``timing_.duration``).
+
+        Returns
+        -------
+        ndarray, shape (n_points,)
+        """
+        total = self._plan_duration(duration, None)
+        return total * self.timing_.phase(np.linspace(0.0, 1.0, int(self.n_points)))
+
+    def _plan(
+        self,
+        start: np.ndarray,
+        goal: np.ndarray,
+        scene: Scene | None,
+        planner: PlannerKind | None,
+        horizon: int | None,
+        goal_approach: float | str | None,
+        clearance: float,
+        progress: ProgressLike = None,
+        times: np.ndarray | None = None,
+        *,
+        route: str | None = None,
+        unknown_class: float | None = None,
+        via: Sequence[tuple[float, Any]] | None = None,
+        reward: Reward | None = None,
+        clearances: Mapping[str, float] | None = None,
+        frame: str | None = None,
+        unknown_response: str | None = None,
+    ) -> Plan:
+        """:meth:`plan_details` from a checked start and goal.
+
+        ``route``, ``reward``, ``clearances`` and ``frame`` default to the
+        skill's (:attr:`route_`, :attr:`reward_`, :attr:`clearances_`,
+        :attr:`frame_`); the model choice plans with others. ``via`` bends the
+        nominal through via-points (:meth:`via_path`).
+        """
+        if via is None:
+            nominal = self._nominal(start, goal)
+        else:
+            nominal = self.via_path(via, start, goal).points
+        scene = Scene() if scene is None else scene
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
+        kind = self.planner if planner is None else planner
+        OneOf(PLANNERS)(kind, "planner")
+        # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
+        route = route or getattr(self, "route_", None) or self._unfitted_route()
+        if kind == "mpc" and (route != "full" or planner == "mpc"):
+            h = int(self.horizon) if horizon is None else horizon
+        else:
+            h = None
+        reward = self.reward_ if reward is None else reward
+        if reward is None:
+            if len(scene) and unknown_class is None:
+                raise ValueError(
+                    "scene: has obstacles, but this skill has no obstacle reward; learn one "
+                    "with fit_reward() (demonstrations around obstacles) or adopt() it; "
+                    f"{UNKNOWN_HOW}"
+                )
+            reward = Reward(1.0, {})
+        unknown, margin = unknown_margins(reward, scene, unknown_class, clearance)
+        responses = self._stand_in_classes(reward, scene, unknown, unknown_response)
+        unknown_margin = np.where(unknown, margin, 0.0)
+        if unknown.any():
+            reach = scene.radii + clearance + unknown_margin
+            reward = with_stand_ins(reward, scene, unknown, reach, responses)
+            warn_unknown(
+                scene, unknown, margin, self.units, responses, getattr(self, "class_radii_", {})
+            )
+        options = dict(
+            horizon=h,
+            n_points=int(self.n_points),
+            max_slope=float(self.max_slope),
+            goal_approach=goal_approach,
+            progress=progress,
+            times=times,
+            lookahead=route != "window",
+        )
+        margins = self._margins(scene, start, goal, clearance, clearances)
+        frame = frame or getattr(self, "frame_", "world")
+        if (self.model == "path" or frame == "path") and len(scene) and not scene.moving:
+            reward, scene = self._in_path_frame(reward, scene, nominal)
+        # The thesis's MPC can walk into a dead end the lookahead sees: then that.
+        routes = [route] + (["lookahead"] if route == "window" and h is not None else [])
+        shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
+        # At least the clearance the demonstrations kept; where no plan keeps it
+        # all (a narrow passage every way round), half of it, then none, said.
+        for share in shares:
+            plan = None
+            for way in routes:
+                options["lookahead"] = way != "window"
+                extra = clearance + unknown_margin + (0.0 if margins is None else share * margins)
+                try:
+                    plan = plan_path(reward, nominal, scene, clearance=extra, **options)
+                    break
+                except UnsafePlanError:
+                    if share == 0.0 and way == routes[-1]:
+                        raise
+            if plan is None:
+                continue
+            if margins is not None and share < 1.0:
+                warnings.warn(
+                    "plan: no plan keeps the clearance the demonstrations kept from the "
+                    f"obstacles (up to {margins.max():.3g} {self.units}); planned with "
+                    f"{share:.0%} of it",
+                    UserWarning,
+                    stacklevel=4,
+                )
+            return plan
+        raise AssertionError("unreachable")  # pragma: no cover
+
+    def _in_path_frame(
+        self, reward: Reward, scene: Scene, nominal: np.ndarray
+    ) -> tuple[Reward, Scene]:
+        """``model="path"``: the reward turned into ``nominal``'s frame at each obstacle."""
+        if self.n_dims_ != 2:
+            raise ValueError(
+                f"model: 'path' turns responses in the plane only, this skill is "
+                f"{self.n_dims_}-D; use model='auto'"
+            )
+        axis = (self.ioc_info_ or {}).get("frame_axis")
+        if axis is None:  # a reward adopted: learned along this path, as far as is known
+            axis = self.path_[-1] - self.path_[0]
+        return in_path_frame(reward, scene, nominal, np.asarray(axis, dtype=np.float64))
+
+    def _margins(
+        self,
+        scene: Scene,
+        start: np.ndarray,
+        goal: np.ndarray,
+        clearance: float,
+        clearances: Mapping[str, float] | None = None,
+    ) -> np.ndarray | None:
+        """The learned clearance of each obstacle of ``scene`` (units), or None for none.
+
+        Where the task's own start or goal is nearer an obstacle than its
+        class's learned clearance, that obstacle keeps half the distance (the
+        plan must start and end there).
+        """
+        learned = getattr(self, "clearances_", None) if clearances is None else clearances
+        if not learned or not len(scene) or scene.moving:
+            return None
+        margins = np.array([learned.get(label, 0.0) for label in scene.labels])
+        if not margins.any():
+            return None
+        ends = np.minimum(scene.distances(start[None]), scene.distances(goal[None]))
+        room = 0.5 * np.maximum(ends - check_positive(clearance, "clearance", allow_zero=True), 0.0)
+        return np.minimum(margins, room)
