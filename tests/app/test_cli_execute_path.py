@@ -15,26 +15,25 @@ import numpy as np
 import pytest
 
 from lfdkit.skill import Skill
+from tests.app.conftest import reach_demos
 from tests.app.test_cli import run_cli
 
 DATA = Path(__file__).parents[1] / "execute" / "data"
+#: Six reaches of 6 s over 0.6 m, 0.22 m up, each 1 cm higher or lower and off in x.
+REACH = {
+    "n_demos": 6,
+    "duration": 6.0,
+    "n_samples": 120,
+    "y_span": 0.6,
+    "height": 0.22,
+    "wobble": 0.01,
+}
 pytestmark = pytest.mark.slow  # learning the skill takes ~15 s on a busy 2-core machine
 
 
 @pytest.fixture(scope="module")
 def reach_skill(tmp_path_factory) -> Path:
-    rng = np.random.default_rng(3)
-    demos, times = [], []
-    for _ in range(6):
-        duration = 6.0 * (1 + 0.05 * rng.standard_normal())
-        t = np.linspace(0.0, duration, 120)
-        s = 0.5 - 0.5 * np.cos(np.pi * t / duration)
-        height = 0.22 + 0.01 * rng.standard_normal()
-        x = 0.45 + 0.01 * rng.standard_normal()
-        demos.append(
-            np.column_stack([np.full_like(t, x), -0.3 + 0.6 * s, 0.15 + height * np.sin(np.pi * s)])
-        )
-        times.append(t)
+    demos, times = reach_demos(**REACH)
     path = tmp_path_factory.mktemp("reach") / "reach.json"
     Skill(random_state=0).fit(demos, times=times).save(path)
     return path

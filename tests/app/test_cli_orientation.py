@@ -147,7 +147,7 @@ def test_execute_turns_the_brush_as_demonstrated(files, capsys) -> None:
     x = run.poses[:, 0, 3]
     # The flange poses follow the demonstrated heading, within 2 degrees ...
     assert np.degrees(np.abs(yaw - demonstrated_yaw(x))).max() < 2.0
-    assert np.degrees(np.abs(yaw_from_quaternions(run.orientations) - yaw[[0]])).min() < 1.0
+    assert np.degrees(np.abs(yaw_from_quaternions(run.plan.orientations) - yaw[[0]])).min() < 1.0
     # ... not the path's tangent, which points along +x.
     tangent = execute_skill(skill, simulate=False, yaw="tangent")
     assert tangent.yaw == "tangent"

@@ -1,7 +1,7 @@
 """Any skill on any arm in batch: ``evaluate_task``, ``lfdkit batch evaluate --task path``.
 
 The skill is ``data/reach3d.json``: a 3-D reach over a box (0.4 m along y,
-0.2 m up), learned from three timed 4 s demonstrations (:func:`reach_demos`;
+0.2 m up), learned from three timed 4 s demonstrations (:data:`REACH`;
 ``test_the_stored_skill_is_what_its_demonstrations_learn`` checks it is still
 what they learn). A stored skill loads in ~20 ms, where learning it takes
 ~10 s on a busy machine.
@@ -32,25 +32,15 @@ from lfdkit.app.execute_batch import (
 )
 from lfdkit.execute.pipeline import TaskDescription, execute_plan
 from lfdkit.skill import Skill
+from tests.app.conftest import reach_demos
 from tests.app.test_cli import run_cli
 
 SKILL = Path(__file__).parent / "data" / "reach3d.json"
 URDFS = Path(__file__).parents[1] / "execute" / "data"
 
 
-def reach_demos() -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """The demonstrations ``data/reach3d.json`` was learned from (``Skill(mimic="average")``)."""
-    rng = np.random.default_rng(3)
-    demos, times = [], []
-    for _ in range(3):
-        duration = 4.0 * (1 + 0.05 * rng.standard_normal())
-        t = np.linspace(0.0, duration, 40)
-        s = 0.5 - 0.5 * np.cos(np.pi * t / duration)
-        demos.append(
-            np.column_stack([np.full_like(t, 0.45), -0.2 + 0.4 * s, 0.15 + 0.2 * np.sin(np.pi * s)])
-        )
-        times.append(t)
-    return demos, times
+#: The demonstrations ``data/reach3d.json`` was learned from (``Skill(mimic="average")``).
+REACH = {"n_demos": 3, "duration": 4.0, "n_samples": 40, "y_span": 0.4, "height": 0.2}
 
 
 @pytest.fixture(scope="module")
@@ -60,7 +50,7 @@ def text() -> str:
 
 @pytest.mark.slow  # learning takes ~10 s on a busy 2-core machine
 def test_the_stored_skill_is_what_its_demonstrations_learn():
-    demos, times = reach_demos()
+    demos, times = reach_demos(**REACH)
     learned = Skill(mimic="average", random_state=0).fit(demos, times=times)
     stored = Skill.load(SKILL)
     np.testing.assert_allclose(learned.path_, stored.path_, atol=1e-9)

@@ -12,7 +12,8 @@ URDF), :mod:`.ur5` (DH forward kinematics, Jacobian, analytic inverse
 kinematics of UR-type arms), :mod:`.kinematics` (forward, reach and joint
 paths for any arm, numerical IK), :mod:`.poses` (rotation vectors, headings),
 :mod:`.timing` (time-optimal timing within the arm's joint limits),
-:mod:`.trajectory` (the person's timing kept within them), :mod:`.pipeline`
+:mod:`.trajectory` (the person's timing kept within them), :mod:`.joint_motion`
+(what the timings share), :mod:`.pipeline`
 (any timed plan to an arm: poses, IK, timing, samples, programs),
 :mod:`.simulation` (the MuJoCo check of any arm), :mod:`.urscript` (programs
 for a UR controller),

@@ -65,7 +65,8 @@ import numpy as np
 
 from lfdkit.core.validation import check_path
 from lfdkit.execute.arm import UR5, Arm, per_joint
-from lfdkit.model.timed_path import TimedPath, fixed_rate_times
+from lfdkit.execute.joint_motion import RetimedMotion
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
     "JERK_PER_ACCELERATION",
@@ -93,8 +94,11 @@ def _ruckig() -> Any:
 
 
 @dataclass(frozen=True, eq=False)
-class JerkLimitedTrajectory:
+class JerkLimitedTrajectory(RetimedMotion):
     """A chain of ruckig segments through waypoints: the interface of a timing.
+
+    ``duration``, ``planned_duration``, ``n_joints`` and ``resample`` are
+    :class:`~lfdkit.execute.joint_motion.RetimedMotion`'s.
 
     Attributes
     ----------
@@ -120,21 +124,6 @@ class JerkLimitedTrajectory:
     max_jerk: np.ndarray
     slowdown: float
     _segments: tuple[Any, ...] = field(repr=False)  # ruckig.Trajectory per segment
-
-    @property
-    def duration(self) -> float:
-        """Seconds from start to stop."""
-        return float(self.times[-1])
-
-    @property
-    def planned_duration(self) -> float:
-        """The reference's duration (s)."""
-        return float(self.planned_times[-1])
-
-    @property
-    def n_joints(self) -> int:
-        """Number of joints."""
-        return int(self.waypoints.shape[1])
 
     def sample(self, t: Any) -> TimedPath:
         """Positions, velocities and accelerations at times ``t``; at rest outside the motion.
@@ -164,16 +153,6 @@ class JerkLimitedTrajectory:
         out[0, tt > self.duration] = self.waypoints[-1]
         out[1:, outside] = 0.0
         return TimedPath(tt, out[0], out[1], accelerations=out[2])
-
-    def resample(self, rate_hz: float) -> TimedPath:
-        """Fixed-rate samples ``k / rate_hz`` up to the first at or after the end.
-
-        Returns
-        -------
-        TimedPath
-            :meth:`sample` on :func:`~lfdkit.model.timed_path.fixed_rate_times`.
-        """
-        return self.sample(fixed_rate_times(self.duration, rate_hz))
 
 
 def _limit(value: Any, name: str, n_joints: int) -> np.ndarray:

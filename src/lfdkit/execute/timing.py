@@ -59,7 +59,8 @@ import numpy as np
 from lfdkit.core.geometry import arc_length
 from lfdkit.core.validation import check_path
 from lfdkit.execute.arm import UR5, Arm, check_arm, per_joint
-from lfdkit.model.timed_path import TimedPath, fixed_rate_times
+from lfdkit.execute.joint_motion import JointMotion
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
     "DUPLICATE_TOL",
@@ -84,8 +85,10 @@ _CHECK_FRACTIONS = np.array([0.0, 0.25, 0.5, 0.75, 1.0])  # where each interval 
 
 
 @dataclass(frozen=True, eq=False)
-class Timing:
+class Timing(JointMotion):
     """A joint-space trajectory: a smooth path through waypoints and its timing.
+
+    ``n_joints`` and ``resample`` are :class:`~lfdkit.execute.joint_motion.JointMotion`'s.
 
     Attributes
     ----------
@@ -114,13 +117,8 @@ class Timing:
 
     @property
     def duration(self) -> float:
-        """Time from start to stop (s)."""
+        """Time from start to stop (s): the end of the profile's grid."""
         return float(self._t[-1])
-
-    @property
-    def n_joints(self) -> int:
-        """Number of joints."""
-        return int(self.waypoints.shape[1])
 
     def sample(self, t: Any) -> TimedPath:
         """Joint positions, velocities and accelerations at given times.
@@ -152,23 +150,6 @@ class Timing:
         s, sd, sdd = self._path_state(tt)
         q, qd, qdd = self._joint_state(s, sd, sdd)
         return TimedPath(tt, q, qd, accelerations=qdd)
-
-    def resample(self, rate_hz: float) -> TimedPath:
-        """The trajectory at a fixed rate, e.g. 125 Hz (500 Hz on e-Series) for ``servoj``.
-
-        Parameters
-        ----------
-        rate_hz : float
-            Samples per second.
-
-        Returns
-        -------
-        TimedPath
-            :meth:`sample` at ``times`` ``k / rate_hz`` for ``k = 0 .. m-1``;
-            the last is the first sample at or after :attr:`duration`, where
-            the robot is at rest at the last waypoint.
-        """
-        return self.sample(fixed_rate_times(self.duration, rate_hz))
 
     # ------------------------------------------------------------------ internals
     def _path_state(self, tt: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -351,7 +332,7 @@ def time_parameterize(
     max_acceleration: Any = None,
     speed_fraction: float = 1.0,
     backend: str = "lfdkit",
-) -> Timing:
+) -> JointMotion:
     """Time a joint-space path through waypoints, within joint velocity and acceleration limits.
 
     See the module notes for the method (cubic spline in joint-space arc

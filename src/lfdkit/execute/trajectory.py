@@ -33,7 +33,8 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from lfdkit.model.timed_path import TimedPath, fixed_rate_times
+from lfdkit.execute.joint_motion import RetimedMotion
+from lfdkit.model.timed_path import TimedPath
 
 __all__ = ["JointTrajectory", "Slowdown", "keep_timing"]
 
@@ -66,8 +67,11 @@ class Slowdown:
 
 
 @dataclass(frozen=True, eq=False)
-class JointTrajectory:
+class JointTrajectory(RetimedMotion):
     """A timed joint trajectory: waypoints, their times, and the spline through them.
+
+    ``duration``, ``planned_duration``, ``n_joints`` and ``resample`` are
+    :class:`~lfdkit.execute.joint_motion.RetimedMotion`'s.
 
     Attributes
     ----------
@@ -92,16 +96,6 @@ class JointTrajectory:
     joint_names: tuple[str, ...]
     _spline: CubicSpline = field(repr=False)
 
-    @property
-    def duration(self) -> float:
-        """Seconds from start to stop."""
-        return float(self.times[-1])
-
-    @property
-    def planned_duration(self) -> float:
-        """The plan's duration (s)."""
-        return float(self.planned_times[-1])
-
     def sample(self, t: Any) -> TimedPath:
         """Positions, velocities and accelerations at times ``t`` (m,), at rest outside.
 
@@ -117,10 +111,6 @@ class JointTrajectory:
         outside = (given < 0.0) | (given > self.duration)
         qd[outside], qdd[outside] = 0.0, 0.0
         return TimedPath(given, q, qd, accelerations=qdd)
-
-    def resample(self, rate_hz: float) -> TimedPath:
-        """:meth:`sample` at fixed-rate times ``k / rate_hz``, to the first at or after the end."""
-        return self.sample(fixed_rate_times(self.duration, rate_hz))
 
     def ros_message(self, rate_hz: float) -> dict[str, Any]:
         """The fixed-rate samples shaped like ROS's ``trajectory_msgs/JointTrajectory``.

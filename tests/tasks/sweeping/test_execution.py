@@ -57,7 +57,7 @@ def test_the_plan_keeps_clear_and_ends_at_the_goal(run):
     done, _ = run
     assert done.arm is UR5
     np.testing.assert_allclose(done.plan.points[-1], NEW_GOAL, atol=1e-3)
-    assert done.plan.clearance.min() >= 0.0  # beyond radius plus the brush's half width
+    assert done.plan.details.clearance.min() >= 0.0  # beyond radius plus the brush's half width
     np.testing.assert_allclose(done.dustpan.goal(), NEW_GOAL, atol=1e-12)
 
 

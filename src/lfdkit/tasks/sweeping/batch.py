@@ -206,7 +206,7 @@ def _execution_row(run: Any, path_length: Any) -> dict[str, Any]:
     summary = run.summary()
     robot = summary["robot"]
     out: dict[str, Any] = {
-        "plan": _plan_row(run.plan, path_length),
+        "plan": _plan_row(run.plan.details, path_length),
         "robot": {
             "poses": robot["poses"],
             "motion_s": robot["motion_s"],

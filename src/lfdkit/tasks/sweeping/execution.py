@@ -47,7 +47,6 @@ import numpy as np
 from lfdkit import __version__
 from lfdkit.core.geometry import path_length
 from lfdkit.core.progress import ProgressLike, as_progress
-from lfdkit.emulate import Plan
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, Arm, check_arm
 from lfdkit.execute.pipeline import ExecutionError, check_tool_speed
@@ -56,6 +55,7 @@ from lfdkit.execute.timing import Timing, time_parameterize
 from lfdkit.execute.urscript import Workspace, urscript_program
 from lfdkit.io import atomic_write, save_path, write_text
 from lfdkit.model.scene import Scene
+from lfdkit.model.timed_path import TimedPlan
 from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.scenarios import (
     BRUSH,
@@ -96,8 +96,13 @@ class SweepExecution:
 
     Attributes
     ----------
-    plan : Plan
-        The planned table path (m) with its clearance and goal error.
+    plan : TimedPlan
+        The plan as the skill gave it (:meth:`lfdkit.skill.Skill.plan`):
+        ``times`` (n,) s, the person's timing, written in ``plan.csv`` (the
+        robot runs the sweep time-optimally instead); ``positions`` (n, 2),
+        the table path in m; ``orientations`` (n, 4) or None, the tool's
+        (the skill's, when it has them); ``details``, the planner's result
+        with its clearance and goal error.
     start, goal : ndarray, shape (2,)
         Where the sweep starts and where it should end (in the dustpan), m.
     scene : Scene
@@ -129,14 +134,9 @@ class SweepExecution:
     yaw : {"tangent", "demonstrated"}
         Where the brush's heading came from: the path's tangent, or the
         orientation the skill learned from the demonstrations.
-    orientations : ndarray, shape (n_points, 4), or None
-        The plan's tool orientations (the skill's, when it has them).
-    plan_times : ndarray, shape (n_points,), or None
-        The plan's learned times (s): the person's timing, written in
-        ``plan.csv`` (the robot runs the sweep time-optimally instead).
     """
 
-    plan: Plan
+    plan: TimedPlan
     start: np.ndarray
     goal: np.ndarray
     scene: Scene
@@ -153,8 +153,6 @@ class SweepExecution:
     skipped: str = ""
     seconds: dict[str, float] = field(default_factory=dict)
     yaw: str = "tangent"
-    orientations: np.ndarray | None = field(default=None, repr=False)
-    plan_times: np.ndarray | None = field(default=None, repr=False)
 
     def pose_table(self) -> np.ndarray:
         """Rows ``t, x, y, z, rx, ry, rz``: when the flange passes each pose, and the pose.
@@ -191,11 +189,11 @@ class SweepExecution:
             ],
             "dustpan": {"position": self.dustpan.position.tolist(), "yaw": self.dustpan.yaw},
             "plan": {
-                "points": len(self.plan.points),
-                "length_m": path_length(self.plan.points),
-                "goal_error_m": float(self.plan.goal_error),
+                "points": len(self.plan.positions),
+                "length_m": path_length(self.plan.positions),
+                "goal_error_m": float(self.plan.details.goal_error),
                 # Beyond every obstacle's radius plus the brush's half width.
-                "clearance_m": _smallest(self.plan.clearance),
+                "clearance_m": _smallest(self.plan.details.clearance),
                 "goal_approach_m": GOAL_APPROACH,
                 "tool_clearance_m": 0.5 * BRUSH.width,
             },
@@ -440,7 +438,7 @@ def execute_skill(
 
     dustpan = Dustpan.for_sweep(start, goal)
     execution = SweepExecution(
-        plan=plan,
+        plan=timed,
         start=start,
         goal=goal,
         scene=scene,
@@ -455,8 +453,6 @@ def execute_skill(
         program=program,
         seconds=seconds,
         yaw=yaw,
-        orientations=timed.orientations,
-        plan_times=np.asarray(timed.times, dtype=np.float64),
     )
     if not simulate:
         execution.skipped = "not asked for"
@@ -527,9 +523,9 @@ def write_execution(
 
     save_path(
         out / _PLAN,
-        execution.plan.points,
-        times=execution.plan_times,
-        orientations=execution.orientations,
+        execution.plan.positions,
+        times=execution.plan.times,
+        orientations=execution.plan.orientations,
         overwrite=overwrite,
     )
     columns = ["t", "x", "y", "z", "rx", "ry", "rz"]
