@@ -31,7 +31,9 @@ Why this design:
   with 1 % noise the period is found within 0.1 %.
 - **Run-time changes and smooth start/stop**: amplitude, frequency and
   (position) centre may be callables of time; the second-order system filters
-  every change, so position and velocity stay continuous even for a step.
+  every change, so position and velocity stay continuous even for a step
+  (the phase rate follows a frequency step with a lag of a quarter period:
+  ``ẏ = Ω z``, so a step in ``Ω`` would be one in velocity).
   ``ramp`` seconds of a quintic smooth step bring the amplitude from 0 at the
   start and back to 0 before the end, where the movement settles at the
   centre at rest (critically damped: ``α/2`` per radian of phase).
@@ -282,20 +284,26 @@ class QuaternionRhythmicDMP(Estimator):
         """
         params = self._validate_params()
         q = continuous(check_quaternions(orientations, "orientations"))
-        rough = mean_quaternion(q)
-        inner = RhythmicDMP(**params).fit(_tangent(q, rough), times)
-        # Centre on the cycle's own mean (whole cycles), then learn the rhythm about it.
-        centre = multiply(exp(inner.centre_), rough)
-        tangent = _tangent(q, centre)
+        centre = mean_quaternion(q)
+        inner = RhythmicDMP(**params).fit(_tangent(q, centre), times)
+        params["period"] = inner.period_
+        # Centre on the cycle's own mean (``a₀ = 0`` over whole cycles): a few fixed-point
+        # steps (log and exp do not commute), each shrinking ``a₀`` about 100-fold.
+        for _ in range(8):
+            centre = multiply(exp(inner.centre_), centre)
+            centre /= np.linalg.norm(centre)
+            tangent = _tangent(q, centre)
+            inner = RhythmicDMP(**params).fit(tangent, times)
+            if float(np.abs(inner.centre_).max()) < 1e-13:
+                break
         turn = 2.0 * float(stable_norm(tangent).max())
         if turn > math.radians(MAX_TURN_DEG):
             raise ValueError(
                 f"orientations: turn up to {math.degrees(turn):.0f}° from their mean; a "
                 f"rhythmic orientation takes up to {MAX_TURN_DEG:.0f}°: split the movement"
             )
-        params["period"] = inner.period_
-        self.tangent_ = RhythmicDMP(**params).fit(tangent, times)
-        self.centre_ = centre / np.linalg.norm(centre)
+        self.tangent_ = inner
+        self.centre_ = centre
         self.period_ = self.tangent_.period_
         self.residual_rms_ = 2.0 * self.tangent_.residual_rms_
         return self
@@ -394,7 +402,8 @@ def estimate_period(demo: Any, times: Any, n_harmonics: int = 8) -> float:
             break
         candidates.append(_refine_period(y, t, multiple * guess, n_harmonics))
     best = min(residual for _, residual in candidates)
-    return next(period for period, residual in candidates if residual <= 1.1 * best + 1e-300)
+    floor = 1e-9 * float(np.sum(even**2)) * len(y) / len(even)  # rounding, for exact cycles
+    return next(period for period, residual in candidates if residual <= 1.1 * best + floor)
 
 
 # ---------------------------------------------------------------- internals
@@ -428,6 +437,7 @@ def _run_tangent(
     cos_part, sin_part = dmp._forcing_coefficients()
     harmonics = np.arange(1, k + 1)
     base_omega = 2.0 * math.pi / dmp.period_
+    lag_rate = 4.0 / dmp.period_  # 1/s: a quarter period
     amp_at = _schedule(amplitude, "amplitude", allow_zero=True)
     freq_at = _schedule(frequency, "frequency", allow_zero=False)
     centre_at = _centre_schedule(centre, dmp.centre_, d)
@@ -439,11 +449,14 @@ def _run_tangent(
         fall = _smooth_step((seconds - 0.5 * ramp - t) / ramp)
         return rise * fall
 
-    def derivative(t: float, y: np.ndarray, z: np.ndarray, phi: float):
-        omega = base_omega * freq_at(t)
+    def derivative(t: float, y: np.ndarray, z: np.ndarray, phi: float, speed: float):
+        # ``speed`` follows the asked frequency with a lag of a quarter period, so that
+        # a step in frequency is no step in velocity (ẏ = Ω z).
+        omega = base_omega * speed
         forcing = cos_part.T @ np.cos(harmonics * phi) + sin_part.T @ np.sin(harmonics * phi)
         drive = alpha * ((stiffness / alpha) * (centre_at(t) - y) - z)
-        return omega * z, omega * (drive + amp_at(t) * envelope(t) * forcing), omega
+        pull = (freq_at(t) - speed) * lag_rate
+        return omega * z, omega * (drive + amp_at(t) * envelope(t) * forcing), omega, pull
 
     times = np.minimum(np.arange(n_steps + 1) * step, seconds)
     positions = np.empty((n_steps + 1, d))
@@ -457,20 +470,23 @@ def _run_tangent(
     else:
         y = centre_at(0.0) if start is None else _check_vector(start, "start", d)
         z = np.zeros(d)
+    speed = freq_at(0.0)
     for i in range(n_steps + 1):
         t = times[i]
         positions[i] = y
-        velocities[i] = base_omega * freq_at(t) * z
+        velocities[i] = base_omega * speed * z
         if i == n_steps:
             break
         h = times[i + 1] - t
-        k1 = derivative(t, y, z, phi)
-        k2 = derivative(t + h / 2, y + h / 2 * k1[0], z + h / 2 * k1[1], phi + h / 2 * k1[2])
-        k3 = derivative(t + h / 2, y + h / 2 * k2[0], z + h / 2 * k2[1], phi + h / 2 * k2[2])
-        k4 = derivative(t + h, y + h * k3[0], z + h * k3[1], phi + h * k3[2])
-        y = y + h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
-        z = z + h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
-        phi = phi + h / 6 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2])
+        state = (y, z, phi, speed)
+        k1 = derivative(t, *state)
+        k2 = derivative(t + h / 2, *(x + h / 2 * dx for x, dx in zip(state, k1, strict=True)))
+        k3 = derivative(t + h / 2, *(x + h / 2 * dx for x, dx in zip(state, k2, strict=True)))
+        k4 = derivative(t + h, *(x + h * dx for x, dx in zip(state, k3, strict=True)))
+        y, z, phi, speed = (
+            x + h / 6 * (a + 2 * b + 2 * c + e)
+            for x, a, b, c, e in zip(state, k1, k2, k3, k4, strict=True)
+        )
     return _Run(times, positions, velocities)
 
 
