@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from lfdkit.core.rotations import angle_between, conjugate, exp, log, multiply
-from lfdkit.imitate import QuaternionRhythmicDMP, RhythmicDMP, estimate_period
+from lfdkit.imitate import QuaternionRhythmicDMP, RhythmicDMP, RhythmicPoseDMP, estimate_period
 
 PERIOD = 1.7
 OMEGA = 2.0 * np.pi / PERIOD
@@ -204,3 +204,22 @@ def test_an_orientation_turning_too_far_is_refused() -> None:
     q = exp(np.outer(1.5 * np.sin(OMEGA * t), [0.0, 0.0, 1.0]))  # ±172°
     with pytest.raises(ValueError, match=r"^orientations: turn up to 1[78]\d° from their mean"):
         QuaternionRhythmicDMP(period=PERIOD).fit(q, t)
+
+
+def test_a_pose_rhythm_keeps_position_and_orientation_in_step(position_data) -> None:
+    t, y = position_data
+    q = multiply(exp(rotation_vectors(t)), CENTRE_Q)
+    pose = RhythmicPoseDMP().fit(y, q, t)
+    assert pose.orientation_.period_ == pose.period_ == pose.position_.period_
+    speed = lambda s: 1.0 if s < PERIOD else 1.25  # noqa: E731 - a schedule
+    run = pose.rollout(2.5 * PERIOD, STEP, frequency=speed)
+    alone = pose.orientation_.rollout(2.5 * PERIOD, STEP, frequency=speed)
+    np.testing.assert_array_equal(run.orientations, alone.orientations)
+    # In step: at the end (frequency changed on the way), the phase at which the learned
+    # position cycle passes the position is the one at which the orientation cycle is.
+    grid = np.linspace(0.0, 2 * np.pi, 20001)
+    phase = grid[np.argmin(np.linalg.norm(pose.position_.cycle(grid) - run.positions[-1], axis=1))]
+    assert angle_between(run.orientations[-1], pose.orientation_.cycle([phase])[0]) < 2e-3
+    assert angle_between(run.orientations[-1], pose.orientation_.cycle([phase + 0.3])[0]) > 0.05
+    with pytest.raises(ValueError, match=r"^orientations: "):
+        RhythmicPoseDMP().fit(y, q[:-1], t)

@@ -16,7 +16,12 @@ DMPs for position and orientation).
 from lfdkit.imitate.dmp import BASIS_LADDER, DMP, minimum_jerk_times
 from lfdkit.imitate.orientation_dmp import QuaternionDMP
 from lfdkit.imitate.promp import ProMP
-from lfdkit.imitate.rhythmic import QuaternionRhythmicDMP, RhythmicDMP, estimate_period
+from lfdkit.imitate.rhythmic import (
+    QuaternionRhythmicDMP,
+    RhythmicDMP,
+    RhythmicPoseDMP,
+    estimate_period,
+)
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
 from lfdkit.imitate.warp import warp_path
 
@@ -27,6 +32,7 @@ __all__ = [
     "QuaternionDMP",
     "QuaternionRhythmicDMP",
     "RhythmicDMP",
+    "RhythmicPoseDMP",
     "SpeedProfile",
     "estimate_period",
     "learn_timing",

@@ -68,7 +68,7 @@ from lfdkit.core.rotations import (
 from lfdkit.core.validation import check_count, check_path, check_positive, check_times
 from lfdkit.model.timed_path import TimedPath
 
-__all__ = ["QuaternionRhythmicDMP", "RhythmicDMP", "estimate_period"]
+__all__ = ["QuaternionRhythmicDMP", "RhythmicDMP", "RhythmicPoseDMP", "estimate_period"]
 
 #: Most harmonics: beyond this a "cycle" is a recording, not a rhythm.
 MAX_HARMONICS = 50
@@ -350,6 +350,105 @@ class QuaternionRhythmicDMP(Estimator):
         quaternions = continuous(multiply(exp(run.positions), about))
         return TimedPath(
             run.times, 2.0 * run.positions, 2.0 * run.velocities, orientations=quaternions
+        )
+
+
+class RhythmicPoseDMP(Estimator):
+    """A periodic movement of the tool's pose: position and orientation on one phase.
+
+    The period is learned from the positions (:class:`RhythmicDMP`), and the
+    orientations (:class:`QuaternionRhythmicDMP`) are learned with it, so
+    both run on the same phase and stay in step under any frequency schedule.
+
+    Parameters
+    ----------
+    n_harmonics, alpha, period
+        As :class:`RhythmicDMP`, shared.
+
+    Attributes
+    ----------
+    position_ : RhythmicDMP
+    orientation_ : QuaternionRhythmicDMP
+    period_ : float
+        Seconds per cycle.
+    """
+
+    _parameter_constraints: ClassVar[dict[str, Any]] = RhythmicDMP._parameter_constraints
+
+    def __init__(self, n_harmonics: int = 8, alpha: float = 25.0, period: float | None = None):
+        self.n_harmonics = n_harmonics
+        self.alpha = alpha
+        self.period = period
+
+    def fit(self, positions: Any, orientations: Any, times: Any) -> RhythmicPoseDMP:
+        """Learn from a demonstration of several cycles.
+
+        Parameters
+        ----------
+        positions : array_like, shape (n_points, n_dims)
+        orientations : array_like, shape (n_points, 4)
+            Unit quaternions ``[x, y, z, w]``, one per position.
+        times : array_like, shape (n_points,)
+            Seconds, strictly increasing.
+
+        Returns
+        -------
+        self
+        """
+        params = self._validate_params()
+        y = check_path(positions, "positions", min_points=4, min_dims=1)
+        q = check_quaternions(orientations, "orientations", n=len(y))
+        self.position_ = RhythmicDMP(**params).fit(y, times)
+        params["period"] = self.position_.period_
+        self.orientation_ = QuaternionRhythmicDMP(**params).fit(q, times)
+        self.period_ = self.position_.period_
+        return self
+
+    def rollout(
+        self,
+        duration: float,
+        dt: float | None = None,
+        *,
+        amplitude: Schedule = 1.0,
+        frequency: Schedule = 1.0,
+        centre: Any = None,
+        orientation_centre: Any = None,
+        start: Any = None,
+        start_orientation: Any = None,
+        ramp: float = 0.0,
+    ) -> TimedPath:
+        """Run the pose rhythm: :meth:`RhythmicDMP.rollout` with the orientations on the same phase.
+
+        ``centre`` and ``start`` are the position's, ``orientation_centre``
+        and ``start_orientation`` the orientation's (unit quaternions).
+
+        Returns
+        -------
+        TimedPath
+            ``times``, ``positions``, ``velocities`` of the position and
+            ``orientations`` (n, 4).
+        """
+        check_fitted(self, "orientation_")
+        moving = self.position_.rollout(
+            duration,
+            dt,
+            amplitude=amplitude,
+            frequency=frequency,
+            centre=centre,
+            start=start,
+            ramp=ramp,
+        )
+        turning = self.orientation_.rollout(
+            duration,
+            dt,
+            amplitude=amplitude,
+            frequency=frequency,
+            centre=orientation_centre,
+            start=start_orientation,
+            ramp=ramp,
+        )
+        return TimedPath(
+            moving.times, moving.positions, moving.velocities, orientations=turning.orientations
         )
 
 
