@@ -187,7 +187,7 @@ def test_a_rotation_at_another_amplitude_speed_and_centre(orientation_data) -> N
         ),
         (
             lambda t, y: RhythmicDMP(period=PERIOD).fit(y, t).rollout(1.0, centre=[1.0]),
-            r"^centre: expected 2 finite coordinates",
+            r"^centre: expected a 2-D point, got shape \(1,\)",
         ),
     ],
 )

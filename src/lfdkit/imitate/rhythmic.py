@@ -65,7 +65,13 @@ from lfdkit.core.rotations import (
     multiply,
     stable_norm,
 )
-from lfdkit.core.validation import check_count, check_path, check_positive, check_times
+from lfdkit.core.validation import (
+    check_count,
+    check_path,
+    check_point,
+    check_positive,
+    check_times,
+)
 from lfdkit.model.timed_path import TimedPath
 
 __all__ = ["QuaternionRhythmicDMP", "RhythmicDMP", "RhythmicPoseDMP", "estimate_period"]
@@ -680,7 +686,4 @@ def _centre_schedule(value: Any, learned: np.ndarray, d: int) -> Callable[[float
 
 
 def _check_vector(value: Any, name: str, d: int) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64).reshape(-1)
-    if arr.shape != (d,) or not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: expected {d} finite coordinates, got {value!r}")
-    return arr
+    return check_point(np.asarray(value).reshape(-1), name, d, style="point")
