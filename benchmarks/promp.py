@@ -14,10 +14,14 @@ is what three via-points buy). Band: fraction of held-out coordinates within
 the unconditioned model's ±2 std (0.95 for a Gaussian spread).
 
 Speed: median of ``--repeats`` calls of fit (all demos), condition on 1 and on
-3 via-points, ``mean_path(100)`` and ``sample(100, n_points=100)``; the same
-for ``movement_primitives.promp.ProMP`` side by side where it is installed
-(``imitate`` on the demos resampled to 100 points, ``condition_position``,
-``mean_trajectory``), else "not installed".
+3 via-points, the same 1-point conditioning for 1000 sets of points at once
+(``condition_many``, time per set), ``mean_path(100)``, ``std(100)`` and
+``sample(100, n_points=100)``; the same for ``movement_primitives.promp.ProMP``
+side by side where it is installed (``imitate`` on the demos resampled to 100
+points; ``condition_position``, three in turn for 3 points, which gives the
+same model; one call per set; ``mean_trajectory``; ``var_trajectory``;
+``sample_trajectories``), else "not installed". The peer is given our fitted
+weight distribution, so both condition and roll out the same model.
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from lfdkit.imitate import ProMP
 DATASETS = ("walking", "da_vinci")
 N_BASIS = 15
 VIA_PHASES = np.array([0.0, 0.5, 1.0])
+N_SETS = 1000  # point sets conditioned at once in the batched row
 
 
 def _point_at(demo: np.ndarray, phase: float) -> np.ndarray:
@@ -90,12 +95,19 @@ def speed(repeats: int) -> list[dict[str, Any]]:
     model = ProMP(n_basis=N_BASIS).fit(demos)
     one = model.mean_at([0.5])
     three = model.mean_at(VIA_PHASES) + np.array([[0.0, 0.0], [0.3, -0.3], [0.0, 0.0]])
+    sets = one + np.random.default_rng(0).normal(0.0, 0.1, (N_SETS, 1, 2))
+    # (operation, call, how many results one call gives: times are per result)
     ours = {
-        "fit": lambda: ProMP(n_basis=N_BASIS).fit(demos),
-        "condition 1 point": lambda: model.condition(one, [0.5]),
-        "condition 3 points": lambda: model.condition(three, VIA_PHASES),
-        "mean_path(100)": lambda: model.mean_path(100),
-        "sample 100 x 100": lambda: model.sample(100, n_points=100, seed=0),
+        "fit": (lambda: ProMP(n_basis=N_BASIS).fit(demos), 1),
+        "condition 1 point": (lambda: model.condition(one, [0.5]), 1),
+        "condition 3 points": (lambda: model.condition(three, VIA_PHASES), 1),
+        f"condition 1 point, {N_SETS} sets (per set)": (
+            lambda: model.condition_many(sets, [0.5]),
+            N_SETS,
+        ),
+        "mean_path(100)": (lambda: model.mean_path(100), 1),
+        "std(100)": (lambda: model.std(100), 1),
+        "sample 100 x 100": (lambda: model.sample(100, n_points=100, seed=0), 1),
     }
     peer_calls: dict[str, Any] = {}
     try:
@@ -111,18 +123,38 @@ def speed(repeats: int) -> list[dict[str, Any]]:
                 for d in demos
             ]
         )
-        peer = PeerProMP(n_dims=2, n_weights_per_dim=N_BASIS)
-        peer.imitate(T, Y)
+        peer = PeerProMP(n_dims=2, n_weights_per_dim=N_BASIS).from_weight_distribution(
+            model.weights_mean_.copy(), model.weights_cov_.copy()
+        )
+
+        def peer_three() -> Any:
+            out = peer
+            for point, phase in zip(three, VIA_PHASES, strict=True):
+                out = out.condition_position(point, t=phase, t_max=1.0)
+            return out
+
         peer_calls = {
-            "fit": lambda: PeerProMP(n_dims=2, n_weights_per_dim=N_BASIS).imitate(T, Y),
-            "condition 1 point": lambda: peer.condition_position(one[0], t=0.5, t_max=1.0),
-            "mean_path(100)": lambda: peer.mean_trajectory(t),
-            "sample 100 x 100": lambda: peer.sample_trajectories(t, 100, np.random.RandomState(0)),
+            "fit": (lambda: PeerProMP(n_dims=2, n_weights_per_dim=N_BASIS).imitate(T, Y), 1),
+            "condition 1 point": (lambda: peer.condition_position(one[0], t=0.5, t_max=1.0), 1),
+            "condition 3 points": (peer_three, 1),
+            f"condition 1 point, {N_SETS} sets (per set)": (
+                lambda: peer.condition_position(sets[0, 0], t=0.5, t_max=1.0),
+                1,
+            ),
+            "mean_path(100)": (lambda: peer.mean_trajectory(t), 1),
+            "std(100)": (lambda: np.sqrt(peer.var_trajectory(t)), 1),
+            "sample 100 x 100": (
+                lambda: peer.sample_trajectories(t, 100, np.random.RandomState(0)),
+                1,
+            ),
         }
     rows = []
-    for what, call in ours.items():
-        ours_s = _median_time(call, repeats)
-        peer_s = _median_time(peer_calls[what], repeats) if what in peer_calls else None
+    for what, (call, per) in ours.items():
+        ours_s = _median_time(call, repeats) / per
+        peer_s = None
+        if what in peer_calls:
+            peer_call, peer_per = peer_calls[what]
+            peer_s = _median_time(peer_call, repeats) / peer_per
         rows.append(
             {
                 "operation": what,
@@ -151,7 +183,7 @@ def main(argv: list[str] | None = None) -> int:
         )
     timings = speed(repeats)
     print(f"\nSpeed on walking (median of {repeats}), ms")
-    print(f"{'operation':<22}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}")
+    print(f"{'operation':<40}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}")
     for r in timings:
         peer = (
             "not installed"
@@ -159,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
             else (f"{r['movement_primitives_ms']:.3f}")
         )
         ratio = "" if r["speedup"] is None else f"{r['speedup']:.1f}x"
-        print(f"{r['operation']:<22}{r['lfdkit_ms']:>9.3f}{peer:>21}{ratio:>10}")
+        print(f"{r['operation']:<40}{r['lfdkit_ms']:>9.4f}{peer:>21}{ratio:>10}")
 
     result = {
         "accuracy": accuracy,

@@ -167,6 +167,52 @@ def test_conditioning_at_once_equals_conditioning_in_turn(
     np.testing.assert_allclose(both.weights_cov_, in_turn.weights_cov_, rtol=1e-6, atol=1e-7)
 
 
+def test_conditioning_many_sets_at_once_equals_conditioning_each(full_rank_model):
+    rng = np.random.default_rng(4)
+    phases = np.array([0.2, 0.7])
+    sets = rng.normal(0.0, 1.0, (5, 2, 2))
+    for covariance in (0.0, 0.01, np.array([[0.02, 0.005], [0.005, 0.01]])):
+        many = full_rank_model.condition_many(sets, phases, covariance=covariance)
+        assert len(many) == 5
+        for model, points in zip(many, sets, strict=True):
+            one = full_rank_model.condition(points, phases, covariance=covariance)
+            np.testing.assert_allclose(model.weights_mean_, one.weights_mean_, rtol=0, atol=1e-12)
+            np.testing.assert_array_equal(model.weights_cov_, one.weights_cov_)
+    exact = full_rank_model.condition_many(sets, phases)
+    for model, points in zip(exact, sets, strict=True):
+        np.testing.assert_allclose(model.mean_at(phases), points, atol=1e-9)
+    # One covariance for all, read-only so that no copy can change the others.
+    assert exact[0].weights_cov_ is exact[4].weights_cov_
+    assert not exact[0].weights_cov_.flags.writeable
+    with pytest.raises(ValueError, match=r"^phases: got 1 phases for 2 points per set"):
+        full_rank_model.condition_many(sets, [0.5])
+    with pytest.raises(ValueError, match=r"^points: expected shape \(n_sets, n_via, 2\)"):
+        full_rank_model.condition_many(sets[0], phases)
+
+
+def test_conditioning_many_sets_names_the_first_set_out_of_reach():
+    s = np.linspace(0.0, 1.0, 40)
+    demos = [np.c_[s, a * np.sin(np.pi * s)] for a in (0.9, 1.1)]  # x never varies
+    model = ProMP(n_basis=6).fit(demos)
+    sets = np.array([[[0.5, 1.05]], [[0.5, 0.95]], [[0.7, 1.0]], [[0.9, 1.0]]])
+    with pytest.warns(UserWarning, match=r"^points\[2\]\[0\]: cannot be reached.* by 0\.2") as got:
+        model.condition_many(sets, [0.5])
+    assert len(got) == 1
+
+
+def test_paths_on_the_cached_even_grid_equal_those_at_the_same_phases():
+    s = np.linspace(0.0, 1.0, 30)
+    demos = [np.c_[s, a * s**2, np.cos(a * s)] for a in (0.5, 1.0, 1.5, 1.7)]
+    model = ProMP(n_basis=7).fit(demos)
+    other = ProMP(n_basis=7, width=0.3).fit(demos)  # same grid size, other width: not shared
+    u = np.linspace(0.0, 1.0, 23)
+    for m in (model, other, model):
+        np.testing.assert_array_equal(m.mean_path(23), m.mean_at(u))
+        std = np.sqrt(np.einsum("nii->ni", m.covariance_at(u)))
+        np.testing.assert_allclose(m.std(23), std, rtol=1e-12, atol=1e-15)
+    assert not np.allclose(model.std(23), other.std(23))
+
+
 def test_a_point_the_demonstrations_cannot_reach_is_warned_about():
     s = np.linspace(0.0, 1.0, 40)
     demos = [np.c_[s, a * np.sin(np.pi * s)] for a in (0.9, 1.1)]  # x never varies

@@ -9,12 +9,19 @@ numerics (exact transitions, quadrature, bases, quintic pieces) in
 (learned from timed demonstrations, or a law), with which the DMP is trained
 and any path (a plan) is timed;
 :mod:`.promp` the probabilistic movement primitive (a Gaussian over paths,
-conditioned on via-points).
+conditioned on via-points); :mod:`.rhythmic` periodic movements (rhythmic
+DMPs for position and orientation).
 """
 
 from lfdkit.imitate.dmp import BASIS_LADDER, DMP, minimum_jerk_times
 from lfdkit.imitate.orientation_dmp import QuaternionDMP
 from lfdkit.imitate.promp import ProMP
+from lfdkit.imitate.rhythmic import (
+    QuaternionRhythmicDMP,
+    RhythmicDMP,
+    RhythmicPoseDMP,
+    estimate_period,
+)
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
 from lfdkit.imitate.warp import warp_path
 
@@ -23,7 +30,11 @@ __all__ = [
     "DMP",
     "ProMP",
     "QuaternionDMP",
+    "QuaternionRhythmicDMP",
+    "RhythmicDMP",
+    "RhythmicPoseDMP",
     "SpeedProfile",
+    "estimate_period",
     "learn_timing",
     "minimum_jerk_times",
     "path_progress",

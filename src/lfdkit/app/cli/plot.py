@@ -34,9 +34,10 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     demos = load_demos(args.demos) if args.demos is not None else []
     via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
     nominal = skill.nominal(start, goal)
-    plans = {}
+    plans, timed = {}, None
     if len(scene) or start is not None or goal is not None or via is not None:
-        plans["plan"] = skill.plan(start, goal, scene, via=via, progress=progress).points
+        timed = skill.plan(start, goal, scene, via=via, progress=progress)
+        plans["plan"] = timed.points
     if via is not None:
         from lfdkit.app.via_plot import via_figure
 
@@ -45,6 +46,7 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
             skill.via_path(via, start, goal),
             via,
             plan=plans["plan"],
+            plan_orientations=timed.orientations,
             demos=demos,
             scene=scene,
             units=skill.units,
