@@ -58,7 +58,7 @@ def test_the_plans_orientation_where_it_passes_is_the_slerp_at_the_closest_point
 
 def test_an_oriented_via_point_is_drawn_as_the_asked_and_the_plans_frames(tmp_path) -> None:
     from lfdkit.core.rotations import angle_between, exp, matrix_from_quaternion, multiply
-    from tests.test_skill_orientation import demonstrations
+    from tests.skill.test_orientation import demonstrations
 
     demos, quats = demonstrations(3, 100.0, seed=4)
     skill = Skill(units="cm", mimic="average", n_points=60).fit_path(demos, orientations=quats)
