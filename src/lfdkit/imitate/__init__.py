@@ -9,13 +9,15 @@ numerics (exact transitions, quadrature, bases, quintic pieces) in
 (learned from timed demonstrations, or a law), with which the DMP is trained
 and any path (a plan) is timed;
 :mod:`.promp` the probabilistic movement primitive (a Gaussian over paths,
-conditioned on via-points).
+conditioned on via-points); :mod:`.tpgmm` the task-parameterised GMM/GMR
+(a skill carried to new poses of the task's frames).
 """
 
 from lfdkit.imitate.dmp import BASIS_LADDER, DMP, minimum_jerk_times
 from lfdkit.imitate.orientation_dmp import QuaternionDMP
 from lfdkit.imitate.promp import ProMP
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
+from lfdkit.imitate.tpgmm import TPGMM, TaskFrame, gaussian_product
 from lfdkit.imitate.warp import warp_path
 
 __all__ = [
@@ -24,6 +26,9 @@ __all__ = [
     "ProMP",
     "QuaternionDMP",
     "SpeedProfile",
+    "TPGMM",
+    "TaskFrame",
+    "gaussian_product",
     "learn_timing",
     "minimum_jerk_times",
     "path_progress",
