@@ -23,10 +23,10 @@ from lfdkit.imitate.warp import warp_path
 __all__ = [
     "BASIS_LADDER",
     "DMP",
+    "TPGMM",
     "ProMP",
     "QuaternionDMP",
     "SpeedProfile",
-    "TPGMM",
     "TaskFrame",
     "gaussian_product",
     "learn_timing",

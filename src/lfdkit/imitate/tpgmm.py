@@ -411,8 +411,9 @@ class TPGMM(Estimator):
             for j in range(self.n_frames_)
         ]
         # (T, P, d) and (T, P, d, d): each frame's conditional Gaussian, in the world.
-        means = np.stack([m @ a.T + b for (m, _), a, b in zip(local, matrices, origins)], axis=1)
-        covs = np.stack([a @ c @ a.T for (_, c), a in zip(local, matrices)], axis=1)
+        pairs = zip(local, matrices, origins, strict=True)
+        means = np.stack([m @ a.T + b for (m, _), a, b in pairs], axis=1)
+        covs = np.stack([a @ c @ a.T for (_, c), a in zip(local, matrices, strict=True)], axis=1)
         mean, cov = gaussian_product(means, covs)
         return (mean, cov) if return_cov else mean
 
