@@ -141,6 +141,32 @@ def test_start_and_goal_frames_give_the_new_start_goal_and_approach_direction(go
     assert np.sqrt(np.mean(error**2)) < 0.08
 
 
+def _conditional(mean: np.ndarray, cov: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """The Gaussian of x given the phase t, of a Gaussian over (t, x)."""
+    gain = cov[1:, 0] / cov[0, 0]
+    return mean[1:] + gain * (t - mean[0]), cov[1:, 1:] - np.outer(gain, cov[0, 1:])
+
+
+def test_each_component_is_the_product_of_its_frames_given_the_phase():
+    model = _fitted("components")
+    frames = [TaskFrame.from_angle([10.0, 20.0], 0.5), TaskFrame.from_angle([-40.0, 5.0], 2.0)]
+    weights, means, covs = model.mixture(frames)
+    np.testing.assert_array_equal(weights, model.weights_)
+    np.testing.assert_allclose(means[:, 0], model.means_[:, 0, 0])  # the shared phase
+    np.testing.assert_allclose(covs[:, 0, 0], model.covariances_[:, 0, 0, 0])
+    for k in range(len(weights)):
+        for t in (0.0, model.means_[k, 0, 0], 0.9):
+            local = [_conditional(model.means_[k, j], model.covariances_[k, j], t) for j in (0, 1)]
+            world_means = [f.to_world(m[None])[0] for f, (m, _) in zip(frames, local, strict=True)]
+            world_covs = [
+                f.matrix @ c @ f.matrix.T for f, (_, c) in zip(frames, local, strict=True)
+            ]
+            expected = gaussian_product(world_means, world_covs)
+            got = _conditional(means[k], covs[k], t)
+            np.testing.assert_allclose(got[0], expected[0], atol=1e-8)
+            np.testing.assert_allclose(got[1], expected[1], rtol=1e-7, atol=1e-12)
+
+
 # ------------------------------------------------------------ reductions and invariance
 def _noisy_sine(seed: int = 0):
     rng = np.random.default_rng(seed)
