@@ -342,6 +342,14 @@ def test_bad_frames_get_one_line_errors(case):
     assert "\n" not in str(info.value)
 
 
+def test_frames_round_trip_points_and_refuse_a_wrong_shape():
+    frame = TaskFrame(np.array([[2.0, 1.0], [0.0, 3.0]]), np.array([1.0, -2.0]))
+    points = np.random.default_rng(8).normal(size=(5, 2))
+    np.testing.assert_allclose(frame.to_local(frame.to_world(points)), points, atol=1e-12)
+    with pytest.raises(ValueError, match=r"^points: expected shape \(n, 2\) for a 2-D frame"):
+        frame.to_world(np.zeros(2))
+
+
 def test_new_frames_must_match_the_fitted_ones():
     model = _fitted("paths")
     with pytest.raises(

@@ -117,12 +117,12 @@ class TaskFrame:
     def to_local(self, points: Any) -> np.ndarray:
         """World points, shape (n, d), in this frame: ``A⁻¹ (x − b)``."""
         matrix, origin = _check_frame(self, "frame", None)
-        return np.linalg.solve(matrix, (np.asarray(points, dtype=np.float64) - origin).T).T
+        return np.linalg.solve(matrix, (_check_points(points, len(origin)) - origin).T).T
 
     def to_world(self, points: Any) -> np.ndarray:
         """Local points, shape (n, d), in world coordinates: ``A X + b``."""
         matrix, origin = _check_frame(self, "frame", None)
-        return np.asarray(points, dtype=np.float64) @ matrix.T + origin
+        return _check_points(points, len(origin)) @ matrix.T + origin
 
 
 def gaussian_product(means: Any, covariances: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -585,6 +585,17 @@ def _time_bins(
 
 def _symmetric(matrices: np.ndarray) -> np.ndarray:
     return 0.5 * (matrices + np.swapaxes(matrices, -1, -2))
+
+
+def _check_points(points: Any, d: int) -> np.ndarray:
+    """Points of shape (n, d) as float64; a one-line error otherwise."""
+    try:
+        arr = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError("points: expected numbers, shape (n, d)") from None
+    if arr.ndim != 2 or arr.shape[1] != d:
+        raise ValueError(f"points: expected shape (n, {d}) for a {d}-D frame, got {arr.shape}")
+    return arr
 
 
 def _check_frame(frame: Any, name: str, d: int | None) -> tuple[np.ndarray, np.ndarray]:
