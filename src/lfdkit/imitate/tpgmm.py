@@ -359,7 +359,7 @@ class TPGMM(Estimator):
             blocks.append(np.column_stack((phase, local.reshape(len(demo), -1) / scale)))
         data = np.vstack(blocks)
 
-        em = GMR(
+        gmr_em = GMR(  # GMR's EM and its checks, on these samples
             n_components=self.n_components,
             covariance_reg=self.covariance_reg,
             max_iter=self.max_iter,
@@ -371,7 +371,7 @@ class TPGMM(Estimator):
         start = None
         if self.init == "time":
             start = _time_bins(fitted, self.n_components, self.covariance_reg)
-        gm = em.fit_mixture(fitted, start)
+        gm = gmr_em.fit_mixture(fitted, start)
         if self.em == "phase":
             # Each sample's share of each component comes from its phase alone;
             # the components' Gaussians over every frame are the shares' moments.
