@@ -10,7 +10,8 @@ numerics (exact transitions, quadrature, bases, quintic pieces) in
 and any path (a plan) is timed;
 :mod:`.promp` the probabilistic movement primitive (a Gaussian over paths,
 conditioned on via-points); :mod:`.rhythmic` periodic movements (rhythmic
-DMPs for position and orientation).
+DMPs for position and orientation); :mod:`.tpgmm` the task-parameterised
+GMM/GMR (a skill carried to new poses of the task's frames).
 """
 
 from lfdkit.imitate.dmp import BASIS_LADDER, DMP, minimum_jerk_times
@@ -23,18 +24,22 @@ from lfdkit.imitate.rhythmic import (
     estimate_period,
 )
 from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
+from lfdkit.imitate.tpgmm import TPGMM, TaskFrame, gaussian_product
 from lfdkit.imitate.warp import warp_path
 
 __all__ = [
     "BASIS_LADDER",
     "DMP",
+    "TPGMM",
     "ProMP",
     "QuaternionDMP",
     "QuaternionRhythmicDMP",
     "RhythmicDMP",
     "RhythmicPoseDMP",
     "SpeedProfile",
+    "TaskFrame",
     "estimate_period",
+    "gaussian_product",
     "learn_timing",
     "minimum_jerk_times",
     "path_progress",

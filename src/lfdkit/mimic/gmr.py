@@ -281,6 +281,34 @@ class GMR(Estimator):
         self.path_ = self.path(self.n_points)
         return self
 
+    def fit_mixture(self, samples: np.ndarray, start: tuple[np.ndarray, ...] | None = None) -> Any:
+        """EM on joint samples as given: GMR's mixture without its path.
+
+        For models that build on GMR's mixture over other samples
+        (:class:`lfdkit.imitate.TPGMM` fits one over the phase and the
+        positions in every task frame): no orientation of demonstrations, no
+        ``length_scale`` (the caller scales) and no check that the samples
+        make one motion. Uses ``n_components``, ``covariance_reg``,
+        ``max_iter``, ``tol``, ``n_init`` and ``random_state``; sets no
+        attribute of ``self``.
+
+        Parameters
+        ----------
+        samples : ndarray, shape (n_samples, n_features)
+            Finite float64 samples, already validated.
+        start : tuple of ndarray, optional
+            ``(weights, means, covariances)`` of ``n_components`` components,
+            shapes (K,), (K, n_features), (K, n_features, n_features): one EM
+            run from them instead of ``n_init`` k-means starts.
+
+        Returns
+        -------
+        sklearn.mixture.GaussianMixture
+            The fitted full-covariance mixture.
+        """
+        self._validate_params()
+        return self._mixture(samples, _sklearn_seed(self.random_state), start)
+
     def _samples(
         self, demos: list[np.ndarray], times: list[np.ndarray] | None
     ) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
