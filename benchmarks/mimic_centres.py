@@ -232,6 +232,18 @@ def cases(quick: bool = False) -> list[dict]:
                 "floor": lambda seed, n=n_demos, k=n_detours: detour_band(n, k, 0.0, seed),
             }
         )
+    # Detours that dominate the error (12 band sd high): the only kind where the issue's
+    # 0.5 x soft-DTW goal is within reach of a centre at all; a separate kind, so that the
+    # band sets above keep their "size of the band" meaning.
+    out.append(
+        {
+            "kind": "detours-dominant",
+            "case": "detours dominant 3/10 h 12 sd",
+            "make": lambda seed: detour_band(10, 3, 12.0, seed),
+            "peer": True,
+            "floor": lambda seed: detour_band(10, 3, 0.0, seed),
+        }
+    )
     for n_demos in (6, 15):
         out.append(
             {
