@@ -29,8 +29,9 @@ the 0.5 goal is out of reach of any centre on these sets.
 
 A separate kind, ``detours-dominant`` (3 of 10 demonstrations, detours 12 band sd
 high), is the one set where the detours rather than the spread dominate: there
-the erased-detour mean is about 0.58 times soft-DTW's error (3 seeds), still
-above the 0.5 goal, so the goal needs data further from these.
+the erased-detour mean is 0.54 times soft-DTW's error and the best lfdkit
+centre 0.62 (seeds 200-209), still above the 0.5 goal, so the goal needs data
+further from these.
 
 Resolution: the table gives a 90 % interval of the default / best fixed ratio
 over resampled seeds. For the burr cases its width is about 0.06 (median; up

@@ -92,8 +92,8 @@ implementation decides as follows (each is a constructor option):
   mean's error to 1 %; but on clean smooth bands (6 and 15 demonstrations) it
   switched in 1-3 of 10 seeds 200-209 and lost 3.5 % and 11 % on average
   against the mean (90 % interval 1.02-1.26): a smooth band gives as many
-  independent values as demonstrations, and the resamplings overstate the
-  evidence there. Local detours of the
+  independent values as demonstrations, and the resamplings may overstate the
+  evidence there (a likely cause, not checked). Local detours of the
   band's size taken by a minority are where it falls short: up to 1.22 times
   the median's or biweight's error (1.29 before the second test). Five seeds
   hardly resolve 1.05 there (a 90 % interval over seeds spans about 0.2), and
