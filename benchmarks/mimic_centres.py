@@ -27,11 +27,23 @@ Measured, it is 0.91-0.95 times soft-DTW's error: the band's own spread (sd
 ``sigma`` per demonstration, smooth) dominates the error, not the detours, so
 the 0.5 goal is out of reach of any centre on these sets.
 
+A separate kind, ``detours-dominant`` (3 of 10 demonstrations, detours 12 band sd
+high), is the one set where the detours rather than the spread dominate: there
+the erased-detour mean is 0.54 times soft-DTW's error and the best lfdkit
+centre 0.62 (seeds 200-209), still above the 0.5 goal, so the goal needs data
+further from these.
+
+Resolution: the table gives a 90 % interval of the default / best fixed ratio
+over resampled seeds. For the burr cases its width is about 0.06 (median; up
+to 0.25) with 5 seeds, 0.04 (0.18) with 10, 0.03 (0.13) with 20: resolving
+the 1.05 target takes 20 seeds or more (``--seeds 20 --jobs 2``).
+
     python benchmarks/mimic_centres.py [--seeds 5] [--first-seed 0] [--quick]
+        [--kinds burrs detours clean] [--no-peer] [--jobs 2]
         [--output DIR]    # table + mimic_centres.json
 
 Seeds 0-4 are the ones the default was developed on; ``--first-seed 100``
-draws held-out ones.
+and ``--first-seed 200`` draw held-out ones.
 """
 
 from __future__ import annotations
@@ -40,7 +52,9 @@ import argparse
 import sys
 import time
 import warnings
+from collections import Counter
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -230,6 +244,18 @@ def cases(quick: bool = False) -> list[dict]:
                 "floor": lambda seed, n=n_demos, k=n_detours: detour_band(n, k, 0.0, seed),
             }
         )
+    # Detours that dominate the error (12 band sd high): the only kind where the issue's
+    # 0.5 x soft-DTW goal is within reach of a centre at all; a separate kind, so that the
+    # band sets above keep their "size of the band" meaning.
+    out.append(
+        {
+            "kind": "detours-dominant",
+            "case": "detours dominant 3/10 h 12 sd",
+            "make": lambda seed: detour_band(10, 3, 12.0, seed),
+            "peer": True,
+            "floor": lambda seed: detour_band(10, 3, 0.0, seed),
+        }
+    )
     for n_demos in (6, 15):
         out.append(
             {
@@ -279,6 +305,27 @@ def run_case(case: dict, seed: int, peer: Callable | None) -> dict:
     return row
 
 
+def _ratio_interval(mine: list[dict], draws: int = 2000) -> tuple[float, float]:
+    """90 % interval of default / best fixed centre (means over seeds), seeds resampled.
+
+    The best fixed centre is re-picked in every resampling, as in the table.
+    """
+    e2 = np.array([[r["e2"][c] for c in ("adaptive", *FIXED)] for r in mine])
+    rng = np.random.default_rng(0)
+    picks = rng.integers(0, len(mine), (draws, len(mine)))
+    means = e2[picks].mean(axis=1)  # (draws, 1 + centres)
+    ratios = means[:, 0] / means[:, 1:].min(axis=1)
+    low, high = np.quantile(ratios, [0.05, 0.95])
+    return float(low), float(high)
+
+
+def _run_job(job: tuple[bool, str, int, bool]) -> dict:
+    """One case x seed in a worker: ``(quick, case name, seed, with peer)``."""
+    quick, name, seed, with_peer = job
+    case = next(c for c in cases(quick) if c["case"] == name)
+    return run_case(case, seed, _soft_dtw if with_peer else None)
+
+
 def summarise(rows: list[dict]) -> list[dict]:
     """Per case: mean e2 over seeds of each centre, the default's ratios, the targets."""
     out = []
@@ -288,6 +335,7 @@ def summarise(rows: list[dict]) -> list[dict]:
         best_fixed = min(e2[c] for c in FIXED)
         best_lfdkit = min(e2[c] for c in ("adaptive", *FIXED))
         per_seed = [r["e2"]["adaptive"] / min(r["e2"][c] for c in FIXED) for r in mine]
+        low, high = _ratio_interval(mine)
         item = {
             "case": name,
             "kind": mine[0]["kind"],
@@ -295,6 +343,7 @@ def summarise(rows: list[dict]) -> list[dict]:
             "ratio_best": e2["adaptive"] / best_fixed,
             "ratio_mean": e2["adaptive"] / e2["mean"],
             "worst_seed_ratio_best": float(max(per_seed)),
+            "ratio_best_90": [low, high],
             "choices": [r["choice"] for r in mine],
         }
         item["pass"] = item["ratio_best"] <= TARGET_BEST and (
@@ -315,16 +364,18 @@ def print_table(summary: list[dict], n_seeds: int) -> None:
         "seeds; default/best fixed centre (target <= 1.05), default/mean (clean: <= 1.02)"
     )
     head = f"{'case':<38}{'default':>10}{'mean':>10}{'median':>10}{'biweight':>10}"
-    print(head + f"{'def/best':>9}{'worst seed':>11}{'def/mean':>9}  chosen")
+    print(head + f"{'def/best':>9}{'90% (seeds)':>14}{'def/mean':>9}  chosen")
     for r in summary:
         e = r["e2"]
-        chosen = ",".join("/".join(f"{x:g}" for x in c) for c in r["choices"])
+        counts = Counter("/".join(f"{x:g}" for x in c) for c in r["choices"])
+        chosen = ", ".join(f"{k} x{v}" for k, v in counts.most_common())
         peer = f"  lfdkit/softDTW {r['ratio_peer']:.2f}" if "ratio_peer" in r else ""
         if "floor_ratio_peer" in r:
             peer += f", detours erased/softDTW {r['floor_ratio_peer']:.2f}"
         print(
             f"{r['case']:<38}{e['adaptive']:>10.4g}{e['mean']:>10.4g}{e['median']:>10.4g}"
-            f"{e['biweight']:>10.4g}{r['ratio_best']:>9.3f}{r['worst_seed_ratio_best']:>11.3f}"
+            f"{e['biweight']:>10.4g}{r['ratio_best']:>9.3f}"
+            f"{r['ratio_best_90'][0]:>8.2f}-{r['ratio_best_90'][1]:<5.2f}"
             f"{r['ratio_mean']:>9.3f}  {chosen}{'' if r['pass'] else '  FAIL'}{peer}"
         )
     print("\nworst per kind (mean over seeds):")
@@ -356,6 +407,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="5 burr cases per kind, 2 seeds")
     parser.add_argument("--kinds", nargs="*", help="only these kinds (e.g. detours clean)")
     parser.add_argument("--no-peer", action="store_true", help="skip the soft-DTW barycentre")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (one thread each)")
     parser.add_argument(
         "--output", type=Path, default=Path(__file__).parent / "results" / "mimic_centres"
     )
@@ -371,13 +423,21 @@ def main(argv: list[str] | None = None) -> int:
         except ImportError:
             print("tslearn not installed: no soft-DTW peer", file=sys.stderr)
     todo = [c for c in cases(args.quick) if not args.kinds or c["kind"].split()[0] in args.kinds]
-    rows = []
-    for i, case in enumerate(todo):
-        for seed in seeds:
-            rows.append(run_case(case, seed, peer))
-        print(f"[{i + 1}/{len(todo)}] {case['case']}", file=sys.stderr, flush=True)
+    start = time.perf_counter()
+    jobs = [(args.quick, case["case"], seed, peer is not None) for case in todo for seed in seeds]
+    if args.jobs > 1:
+        with ProcessPoolExecutor(args.jobs) as pool:
+            rows = list(pool.map(_run_job, jobs, chunksize=1))
+    else:
+        rows = []
+        for i, job in enumerate(jobs):
+            rows.append(_run_job(job))
+            if (i + 1) % n_seeds == 0:
+                print(f"[{(i + 1) // n_seeds}/{len(todo)}] {job[1]}", file=sys.stderr, flush=True)
+    wall = time.perf_counter() - start
     summary = summarise(rows)
     print_table(summary, n_seeds)
+    print(f"{len(jobs)} case x seed runs in {wall:.0f} s ({args.jobs} processes)")
     args.output.mkdir(parents=True, exist_ok=True)
     out = args.output / "mimic_centres.json"
     result = {
@@ -386,6 +446,8 @@ def main(argv: list[str] | None = None) -> int:
         "machine": machine_info(),
         "git": git_state(),
         "seeds": list(seeds),
+        "wall_s": wall,
+        "jobs": args.jobs,
         "targets": {"best": TARGET_BEST, "clean_vs_mean": TARGET_CLEAN, "peer": TARGET_PEER},
         "summary": summary,
         "rows": rows,
