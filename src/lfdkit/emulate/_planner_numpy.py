@@ -396,7 +396,7 @@ def _first_least(values: np.ndarray) -> tuple[int, float]:
     if values.size == 0:
         return -1, np.inf
     where = int(np.argmin(values))
-    best = float(values[where])
+    best = float(values.reshape(-1)[where])
     return (where, best) if best < np.inf else (-1, np.inf)
 
 
