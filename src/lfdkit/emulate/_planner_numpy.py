@@ -39,12 +39,15 @@ def _sequential_sum(terms: np.ndarray) -> float:
     return float(np.add.accumulate(terms.reshape(-1))[-1])
 
 
-def _barrier(u: np.ndarray, inner2: np.ndarray, outer2: np.ndarray, mu: float) -> tuple:
+def _barrier(
+    u: np.ndarray, inner2: np.ndarray, outer2: np.ndarray, mu: float, slopes: bool = True
+) -> tuple:
     """The clearance barrier's value and first two derivatives in ``u`` (elementwise).
 
     As ``_problem_kernels.barrier``: 0 (and zero slopes) from ``outer2`` on,
     ``+inf`` (zero slopes) from ``inner2`` in. Computed where ``u`` lies
-    between, the rest set afterwards (no division by zero to silence).
+    between, the rest set afterwards (no division by zero to silence);
+    without ``slopes`` the derivatives are None (the cost alone needs none).
     """
     closer = u < outer2
     between = closer & (u > inner2)
@@ -54,10 +57,11 @@ def _barrier(u: np.ndarray, inner2: np.ndarray, outer2: np.ndarray, mu: float) -
     kappa = 1.0 / np.where(outer2 > inner2, outer2 - inner2, 1.0)
     t = np.where(between, (outer2 - u) * kappa, 0.5)
     one = 1.0 - t
-    value = mu * t * t * t / one
+    value = np.where(between, mu * t * t * t / one, np.where(closer, np.inf, 0.0))
+    if not slopes:
+        return value, None, None
     first = -mu * kappa * (3.0 * t * t - 2.0 * t * t * t) / (one * one)
     second = mu * kappa * kappa * (6.0 * t - 6.0 * t * t + 2.0 * t * t * t) / (one * one * one)
-    value = np.where(between, value, np.where(closer, np.inf, 0.0))
     return value, np.where(between, first, 0.0), np.where(between, second, 0.0)
 
 
@@ -86,7 +90,7 @@ def _hard_u(rr, nr, d):
 def _cost_terms(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     """Per point, the cost's terms in the compiled kernels' order (n, m + L + H)."""
     e, _ = _bumps(c, b, a, d)
-    barrier = _barrier(_hard_u(rr, nr, d), inner2[None], outer2[None], mu)[0]
+    barrier = _barrier(_hard_u(rr, nr, d), inner2[None], outer2[None], mu, slopes=False)[0]
     return np.concatenate([weight[:, None] * d * d, e, barrier], axis=1)
 
 
@@ -131,6 +135,9 @@ def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient
 
 def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
     """The reduced variable per offset component and their number (``offset_groups``)."""
+    if free.shape[1] == 1:
+        running = np.cumsum(free[:, 0])
+        return np.where(running > 0, running - 1, -1)[:, None], int(running[-1])
     index = np.empty(free.shape, dtype=np.int64)
     count = 0
     for i in range(free.shape[1]):
@@ -249,7 +256,7 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
             (actions <= lower_bound) & (action_gradient > 0.0)
         )
         free = ~held
-        worst = float(np.max(np.abs(action_gradient[free]), initial=0.0))
+        worst = float(np.abs(action_gradient[free]).max(initial=0.0))
         if worst <= tol * scale:
             return cost, iteration, True
         for _refine in range(8):
@@ -286,7 +293,7 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
                 break  # a full Newton step: nothing better to look for
         if not accepted or best is None:
             return cost, iteration + 1, worst <= 1e-6 * scale
-        moved = float(np.max(np.abs(best - d), initial=0.0))
+        moved = float(np.abs(best - d).max(initial=0.0))
         actions = best - np.concatenate((d0[None], best[:-1]))
         d[:, :] = best
         cost = planner_derivatives(*args, d, gradient, hessian)
@@ -333,19 +340,18 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
         u = rr[:, h, None]
         for i in range(m):
             u = u + (2.0 * nr[:, h, i, None] + states[i]) * states[i]
-        value = _barrier(u, inner2[h], outer2[h], mu)[0]
+        value = _barrier(u, inner2[h], outer2[h], mu, slopes=False)[0]
         total = total + np.where(hit[:, h, None], value, 0.0)
     out[:, :] = total
 
 
-def _window_min(values: np.ndarray, window: int, axis: int) -> np.ndarray:
-    """Sliding minimum over ``|t − s| ≤ window`` along ``axis`` (the edges clipped)."""
-    moved = np.moveaxis(values, axis, 0)
-    best = moved.copy()
-    for shift in range(1, min(window, moved.shape[0] - 1) + 1):
-        np.minimum(best[shift:], moved[:-shift], out=best[shift:])
-        np.minimum(best[:-shift], moved[shift:], out=best[:-shift])
-    return np.moveaxis(best, 0, axis)
+def _window_min(values: np.ndarray, window: int) -> np.ndarray:
+    """Sliding minimum over ``|t − s| ≤ window`` along the first axis (the edges clipped)."""
+    best = values.copy()
+    for shift in range(1, min(window, values.shape[0] - 1) + 1):
+        np.minimum(best[shift:], values[:-shift], out=best[shift:])
+        np.minimum(best[:-shift], values[shift:], out=best[:-shift])
+    return best
 
 
 @counted
@@ -362,10 +368,10 @@ def grid_backward(node, g_count, window, end_zero, extra, out):
         out[n - 1, keep] = last
     for k in range(n - 2, -1, -1):
         if m == 1:
-            best = _window_min(out[k + 1], window, 0)
-        else:
+            best = _window_min(out[k + 1], window)
+        else:  # along j (the state i·G + j), then along i
             square = out[k + 1].reshape(g_count, g_count)
-            best = _window_min(_window_min(square, window, 1), window, 0).reshape(-1)
+            best = _window_min(_window_min(square.T, window).T, window).reshape(-1)
         out[k] += best
 
 
