@@ -68,6 +68,10 @@ def _barrier(
 def _bumps(c, b, a, d):
     """Exponents' terms ``exp(−s)`` (n, L) and ``N P u`` (n, L, m) at offsets ``d`` (n, m)."""
     m = d.shape[1]
+    if m == 1:  # the same operations, fewer NumPy calls (most windows are 2-D)
+        b0 = b[:, :, 0]
+        value = b0 + a[:, :, 0, 0] * d
+        return np.exp(-(c + (b0 + value) * d)), value[:, :, None]
     s = c.copy()
     npu = np.empty(b.shape)
     for i in range(m):
@@ -81,6 +85,8 @@ def _bumps(c, b, a, d):
 
 def _hard_u(rr, nr, d):
     """Squared distances ``u`` (n, H) to the obstacles with a hard radius."""
+    if d.shape[1] == 1:
+        return rr + (2.0 * nr[:, :, 0] + d) * d
     u = rr.copy()
     for i in range(d.shape[1]):
         u = u + (2.0 * nr[:, :, i] + d[:, None, i]) * d[:, None, i]
