@@ -21,6 +21,11 @@ alternating, so both see the same machine load. Measured:
 ``lfdkit plan``
     the README's example with one obstacle on the sweeping skill (target
     ≤ 0.6 s warm on a 2-core machine).
+``lfdkit plan, LFDKIT_KERNELS=numba``
+    the same with numba's kernels (what ``plan`` cost before it ran NumPy's).
+``one plan, warm process``
+    CPU seconds per plan after two, in one process, with the NumPy forms of
+    the kernels and with numba's ("after" only).
 ``Skill.load``
     in a fresh process after ``import lfdkit.skill``, the sweeping skill and
     200- and 1000-basis skills (target ≤ 50 ms for any skill file). "before"

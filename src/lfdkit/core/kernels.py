@@ -4,21 +4,23 @@ Why (issue 30): before its first compiled kernel runs, a fresh process pays
 about 1.1 s of CPU for numba on a 2-core machine (importing numba 0.4 s,
 ``scipy.linalg`` for its BLAS check 0.3 s, its one-time set-up 0.5 s, the
 cached kernels 0.1 s), for a plan of the README's example that then takes
-about 30 ms. The planner's kernels (the DMP's quintics, the grid search,
+0.07 s of CPU. The planner's kernels (the DMP's quintics, the grid search,
 the projected Newton solver) also have NumPy forms
 (:mod:`lfdkit.emulate._planner_numpy`, ``lfdkit.imitate._dmp_numerics``)
-that need no numba: slower per plan (about 0.1–0.3 s for that example, see
-``benchmarks/startup.py``) but without the start-up, so a one-shot
-``lfdkit plan`` runs them and a batch runs numba's.
+that need no numba: about 7× slower per plan (0.5 s of CPU for that example
+at load 15, ``benchmarks/startup.py``) but without the start-up, so a
+one-shot ``lfdkit plan`` runs them (1.85 → 0.79 s of CPU) and a batch runs
+numba's.
 
 The rule, ``LFDKIT_KERNELS`` in the environment:
 
 ``auto`` (the default)
     numba's kernels once numba is loaded in the process (something else
     needed it: a preloaded batch worker, the IOC, GMR), or once the NumPy
-    forms have run :data:`SWITCH_SECONDS` of CPU-free wall time in it — a
-    rent-or-buy rule: a process that plans many times pays numba's start-up
-    once and at most about twice what the better choice would have cost.
+    forms have taken :data:`SWITCH_SECONDS` of CPU in it — a rent-or-buy
+    rule: a process that plans many times pays numba's start-up once and at
+    most about twice what the better choice would have cost. The choice is
+    made per kernel call, so a long plan may finish on numba's kernels.
 ``numba`` / ``numpy``
     always that form.
 
