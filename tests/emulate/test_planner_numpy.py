@@ -11,6 +11,8 @@ asserted separately where it holds by construction (2-D, no Cholesky).
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -200,11 +202,18 @@ def test_the_choice_follows_the_variable(monkeypatch) -> None:
 
 def test_auto_turns_to_numba_after_the_switch_seconds(monkeypatch) -> None:
     # numba is loaded in this test process, so auto is numba's; without it, the
-    # NumPy forms serve until they have spent SWITCH_SECONDS of CPU.
+    # NumPy forms serve until the process has spent SWITCH_SECONDS of CPU since.
     monkeypatch.setenv(kernels.KERNELS_VARIABLE, "auto")
     assert kernels.use_compiled()
-    monkeypatch.delitem(__import__("sys").modules, "numba")
-    monkeypatch.setitem(kernels._spent, "seconds", 0.0)
-    assert not kernels.use_compiled()
-    monkeypatch.setitem(kernels._spent, "seconds", kernels.SWITCH_SECONDS)
-    assert kernels.use_compiled()
+    monkeypatch.delitem(sys.modules, "numba")
+    clock = {"cpu_start": None, "next_look": 0.0, "switched": False}
+    monkeypatch.setattr(kernels, "_clock", clock)
+    names = ("planner_cost", compiled.__name__, numpy_form.__name__)
+    assert kernels.kernel(*names) is numpy_form.planner_cost
+    assert clock["cpu_start"] is not None  # the first NumPy form starts the clock
+    assert kernels.kernel(*names) is numpy_form.planner_cost
+    clock["cpu_start"] -= kernels.SWITCH_SECONDS  # as if a second of CPU had passed
+    assert kernels.kernel(*names) is numpy_form.planner_cost  # not looked at yet (wall clock)
+    clock["next_look"] = 0.0
+    assert kernels.kernel(*names) is compiled.planner_cost
+    assert clock["switched"]

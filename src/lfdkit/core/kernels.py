@@ -16,8 +16,9 @@ The rule, ``LFDKIT_KERNELS`` in the environment:
 
 ``auto`` (the default)
     numba's kernels once numba is loaded in the process (something else
-    needed it: a preloaded batch worker, the IOC, GMR), or once the NumPy
-    forms have taken :data:`SWITCH_SECONDS` of CPU in it — a rent-or-buy
+    needed it: a preloaded batch worker, the IOC, GMR), or once the process
+    has taken :data:`SWITCH_SECONDS` of CPU since its first NumPy form ran
+    (looked at every :data:`CHECK_SECONDS` of wall time) — a rent-or-buy
     rule: a process that plans many times pays numba's start-up once and at
     most about twice what the better choice would have cost. The choice is
     made per kernel call, so a long plan may finish on numba's kernels.
@@ -34,7 +35,6 @@ them to 1e-9 relative on random scenes and reports exact equality).
 
 from __future__ import annotations
 
-import functools
 import importlib
 import os
 import sys
@@ -42,17 +42,22 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["KERNELS_VARIABLE", "SWITCH_SECONDS", "counted", "kernel", "use_compiled"]
+__all__ = ["CHECK_SECONDS", "KERNELS_VARIABLE", "SWITCH_SECONDS", "kernel", "use_compiled"]
 
 #: The environment variable choosing the kernels: "auto", "numba" or "numpy".
 KERNELS_VARIABLE = "LFDKIT_KERNELS"
-#: Seconds the NumPy forms may take in one process before "auto" turns to numba
+#: CPU seconds since its first NumPy kernel after which "auto" turns a process to numba
 #: (about numba's start-up, 1.1 s of CPU here).
 SWITCH_SECONDS = 1.0
+#: Wall seconds between two looks at the CPU clock once it may have passed the switch
+#: (reading it is a system call: hundreds of µs on a loaded machine, too slow per kernel).
+CHECK_SECONDS = 0.1
 _CHOICES = ("auto", "numba", "numpy")
 
-# Seconds spent in the NumPy forms in this process, and the nesting depth of counted calls.
-_spent = {"seconds": 0.0, "depth": 0}
+# The process's CPU clock at its first NumPy kernel (None: none yet), when to look at it
+# next (a wall-clock time: wall time never runs slower than one thread's CPU time), and
+# whether it has passed the switch.
+_clock: dict = {"cpu_start": None, "next_look": 0.0, "switched": False}
 
 
 def use_compiled() -> bool:
@@ -64,34 +69,29 @@ def use_compiled() -> bool:
         )
     if mode != "auto":
         return mode == "numba"
-    return "numba" in sys.modules or _spent["seconds"] >= SWITCH_SECONDS
+    if _clock["switched"] or "numba" in sys.modules:
+        return True
+    if _clock["cpu_start"] is None:
+        return False
+    now = time.perf_counter()
+    if now < _clock["next_look"]:
+        return False
+    _clock["next_look"] = now + CHECK_SECONDS
+    _clock["switched"] = time.process_time() - _clock["cpu_start"] >= SWITCH_SECONDS
+    return _clock["switched"]
 
 
 def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
     """The function ``name`` from module ``compiled`` or ``numpy_form``, by :func:`use_compiled`.
 
-    Both modules define ``name`` with the same arguments and effects.
+    Both modules define ``name`` with the same arguments and effects. The
+    first NumPy form handed out starts the clock of the switch.
     """
-    module = compiled if use_compiled() else numpy_form
+    if use_compiled():
+        module = compiled
+    else:
+        module = numpy_form
+        if _clock["cpu_start"] is None:
+            _clock["cpu_start"] = time.process_time()
+            _clock["next_look"] = time.perf_counter() + SWITCH_SECONDS
     return getattr(importlib.import_module(module), name)
-
-
-def counted(function: Callable[..., Any]) -> Callable[..., Any]:
-    """Decorate a NumPy form: its wall seconds count towards :data:`SWITCH_SECONDS`.
-
-    Nested calls of counted functions count once (the outermost).
-    """
-
-    @functools.wraps(function)
-    def timed(*args: Any, **kwargs: Any) -> Any:
-        if _spent["depth"]:
-            return function(*args, **kwargs)
-        _spent["depth"] = 1
-        start = time.process_time()  # CPU: wall time on a loaded machine would switch early
-        try:
-            return function(*args, **kwargs)
-        finally:
-            _spent["depth"] = 0
-            _spent["seconds"] += time.process_time() - start
-
-    return timed

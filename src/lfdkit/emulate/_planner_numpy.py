@@ -19,8 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from lfdkit.core.kernels import counted
-
 __all__ = [
     "grid_backward",
     "grid_cost_to_go",
@@ -101,7 +99,6 @@ def _cost_terms(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     return np.concatenate([weight[:, None] * d * d, e, barrier], axis=1)
 
 
-@counted
 def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
     terms = _cost_terms(c, b, a, weight, rr, nr, inner2, outer2, mu, d)
@@ -118,6 +115,21 @@ def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient
     u = _hard_u(rr, nr, d)
     value, first, second = _barrier(u, inner2[None], outer2[None], mu)
     total = _sequential_sum(np.concatenate([weight[:, None] * d * d, e, value], axis=1))
+    if m == 1:  # the same operations on (n, 1) columns, fewer NumPy calls
+        grad, hess = 2.0 * weight[:, None] * d, (2.0 * weight)[:, None]
+        for o in range(c.shape[1]):
+            e_o, npu_o = e[:, o, None], npu[:, o]
+            grad = grad - 2.0 * e_o * npu_o
+            hess = hess + e_o * (4.0 * npu_o * npu_o - 2.0 * a[:, o, 0])
+        for h in range(rr.shape[1]):
+            active = value[:, h, None] != 0.0
+            near = nr[:, h] + d
+            grad = np.where(active, grad + 2.0 * first[:, h, None] * near, grad)
+            added = hess + 4.0 * second[:, h, None] * near * near + 2.0 * first[:, h, None]
+            hess = np.where(active, added, hess)
+        gradient[:, :] = grad
+        hessian[:, :, :] = hess[:, :, None]
+        return total
     grad = 2.0 * weight[:, None] * d
     hess = np.zeros((d.shape[0], m, m))
     for i in range(m):
@@ -235,7 +247,6 @@ def _clamped(d, step_d, t, start, max_step):
     return out
 
 
-@counted
 def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter):
     """Projected Newton on the actions ``a_k = d_k − d_{k−1}``, box ``|a| <= max_step``.
 
@@ -309,7 +320,6 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
     return cost, max_iter, False
 
 
-@counted
 def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     """Cost of every grid state at every point: ``out`` (n, G^m), m from its width."""
     g_count = levels.shape[0]
@@ -361,7 +371,6 @@ def _window_min(values: np.ndarray, window: int) -> np.ndarray:
     return best
 
 
-@counted
 def grid_backward(node, g_count, window, end_zero, extra, out):
     """The backward dynamic programme from states' costs ``node`` (n, G^m), into ``out``."""
     n, n_states = out.shape
@@ -382,7 +391,6 @@ def grid_backward(node, g_count, window, end_zero, extra, out):
         out[k] += best
 
 
-@counted
 def grid_cost_to_go(
     c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, out
 ):
@@ -391,7 +399,6 @@ def grid_cost_to_go(
     grid_backward(out.copy(), levels.shape[0], window, end_zero, extra, out)
 
 
-@counted
 def lateral_dp(
     c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, levels, window, end_zero, extra, out
 ):
@@ -413,7 +420,6 @@ def _first_least(values: np.ndarray) -> tuple[int, float]:
     return (where, best) if best < np.inf else (-1, np.inf)
 
 
-@counted
 def grid_walk(value, levels, window, max_step, d0, out):
     """Follow a cost-to-go table from ``d0`` for ``out``'s rows (``_planner_kernels.grid_walk``)."""
     h, m = out.shape

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.geometry import arc_length, path_length
-from lfdkit.core.kernels import counted, kernel
+from lfdkit.core.kernels import kernel
 
 __all__ = [
     "END_NODES",
@@ -222,7 +222,6 @@ def evaluate_pieces(s: np.ndarray, spacing: float, pieces: np.ndarray) -> np.nda
     return out
 
 
-@counted
 def evaluate_quintic_pieces(
     s: np.ndarray, spacing: float, pieces: np.ndarray, out: np.ndarray
 ) -> None:
