@@ -21,6 +21,11 @@ alternating, so both see the same machine load. Measured:
 ``lfdkit plan``
     the README's example with one obstacle on the sweeping skill (target
     ≤ 0.6 s warm on a 2-core machine).
+``lfdkit plan, LFDKIT_KERNELS=numba``
+    the same with numba's kernels (what ``plan`` cost before it ran NumPy's).
+``one plan, warm process``
+    CPU seconds per plan after two, in one process, with the NumPy forms of
+    the kernels and with numba's ("after" only).
 ``Skill.load``
     in a fresh process after ``import lfdkit.skill``, the sweeping skill and
     200- and 1000-basis skills (target ≤ 50 ms for any skill file). "before"
@@ -87,7 +92,25 @@ print(time.perf_counter() - start)
 """
 
 
-def run(src: Path, args: list[str], cwd: Path) -> float:
+# Run in a fresh process: CPU seconds per plan of the README's example, warm (after 2 plans),
+# with the kernels LFDKIT_KERNELS names (the NumPy forms or numba's).
+PER_PLAN_SCRIPT = """
+import sys, time
+import numpy as np
+from lfdkit.skill import Skill
+from lfdkit.model.scene import Obstacle, Scene
+skill = Skill.load(sys.argv[1])
+scene = Scene((Obstacle("cup", [-0.05, 0.47], radius=0.03),))
+for _ in range(2):
+    skill.plan(goal=[0.36, 0.5], scene=scene)
+start = time.process_time()
+for _ in range(5):
+    skill.plan(goal=[0.36, 0.5], scene=scene)
+print((time.process_time() - start) / 5)
+"""
+
+
+def run(src: Path, args: list[str], cwd: Path, env: dict | None = None) -> float:
     """Wall seconds of ``python ARGS`` with ``src`` first on the path; raises if it fails.
 
     A script that times itself prints its seconds last; those are returned.
@@ -95,7 +118,7 @@ def run(src: Path, args: list[str], cwd: Path) -> float:
     added to :data:`CPU_SECONDS`: on a shared machine they vary less than wall time.
     """
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
+    env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1", **(env or {})}
     # As installed: Python's bytecode cached (else every process compiles lfdkit's source).
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     start = time.perf_counter()
@@ -114,15 +137,25 @@ def run(src: Path, args: list[str], cwd: Path) -> float:
         return wall
 
 
-def measure(name: str, args: list[str], trees: dict[str, Path], cwd: Path, repeats: int) -> dict:
-    """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first."""
+def measure(
+    name: str,
+    args: list[str],
+    trees: dict[str, Path],
+    cwd: Path,
+    repeats: int,
+    env: dict | None = None,
+) -> dict:
+    """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first.
+
+    ``env``: extra environment variables for every run (e.g. ``LFDKIT_KERNELS``).
+    """
     times: dict[str, list[float]] = {label: [] for label in trees}
     cpu: dict[str, list[float]] = {label: [] for label in trees}
     for src in trees.values():
-        run(src, args, cwd)  # warm: numba's cache, the OS's file cache
+        run(src, args, cwd, env)  # warm: numba's cache, the OS's file cache
     for _ in range(repeats):
         for label, src in trees.items():
-            times[label].append(run(src, args, cwd))
+            times[label].append(run(src, args, cwd, env))
             cpu[label].append(CPU_SECONDS[-1])
     row = {"what": name, **{label: statistics.median(t) for label, t in times.items()}}
     row |= {f"{label}_cpu": statistics.median(t) for label, t in cpu.items()}
@@ -218,8 +251,28 @@ def main() -> None:
             out,
             args.repeats,
         ),
+        measure(
+            "lfdkit plan, LFDKIT_KERNELS=numba",
+            [*cli, "plan", skill, *PLAN_ARGS, "-o", "path.csv", "-f", "-q"],
+            trees,
+            out,
+            args.repeats,
+            {"LFDKIT_KERNELS": "numba"},
+        ),
         measure("Skill.load, sweeping skill", ["-c", LOAD_SCRIPT, skill], trees, out, args.repeats),
     ]
+    # The kernels' per-plan cost, warm, in CPU seconds (the "after" tree: "before" has numba only).
+    for form in ("numpy", "numba"):
+        rows.append(
+            measure(
+                f"one plan, warm process, {form} kernels (CPU)",
+                ["-c", PER_PLAN_SCRIPT, skill],
+                {"after": trees["after"]},
+                out,
+                args.repeats,
+                {"LFDKIT_KERNELS": form},
+            )
+        )
     for n_basis in (200, 1000):
         big = ["-c", LOAD_SCRIPT, str(out / f"n_basis_{n_basis}.json")]
         # Before, files held at most 200 (a 1000 file is refused) and the refit takes seconds.

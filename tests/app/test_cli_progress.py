@@ -281,6 +281,10 @@ def test_a_first_run_says_the_kernels_compile_once(learned_on_a_terminal, tmp_pa
 
     skill = learned_on_a_terminal.path
     monkeypatch.setattr(lfdkit.app.cli.common, "kernels_compiled", lambda: False)
+    monkeypatch.setenv("LFDKIT_KERNELS", "numpy")  # one plan with NumPy's kernels compiles none
+    code, _, err = run_on(FakeTerminal(), "plan", skill, "-o", tmp_path / "n.csv")
+    assert code == 0 and "compiling" not in err
+    monkeypatch.setenv("LFDKIT_KERNELS", "numba")
     code, _, err = run_on(FakeTerminal(), "plan", skill, "-o", tmp_path / "a.csv")
     assert code == 0, err
     note = "compiling kernels once (about 60 s; cached afterwards)"

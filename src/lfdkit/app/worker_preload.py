@@ -8,7 +8,9 @@ compiler is set up and the planner's cached kernels are loaded. Each worker
 is then a fork of that process and starts warm, instead of each one paying
 the imports and the kernel loading again (about 1.4 s of CPU a worker, most
 of it numba setting itself up; the first plan of a warm worker takes
-about 0.1 s).
+about 0.1 s). numba is imported first: with it loaded, the planner runs its
+compiled kernels, not the NumPy forms a one-shot ``lfdkit plan`` runs
+(:mod:`lfdkit.core.kernels`), which are several times slower per plan.
 
 Importing this module does the warm-up; nothing else imports it. It never
 raises: a warm-up that fails leaves the workers to load what they need
@@ -35,6 +37,7 @@ def warm_up() -> bool:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            import numba  # noqa: F401  (so the plans below, and the workers', run numba's kernels)
             import numpy as np
 
             import lfdkit.skill  # noqa: F401  (what a task unpickles a skill into)

@@ -105,6 +105,7 @@ from typing import Any
 
 import numpy as np
 
+from lfdkit.core.kernels import kernel
 from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
@@ -228,6 +229,11 @@ def _nearest_laterals(problem: Problem, centres: np.ndarray) -> list[tuple[int, 
     return [(int(k), problem.normals[k] @ rel[o, k]) for o, k in enumerate(nearest)]
 
 
+def _grid_kernel(name: str) -> Any:
+    """The grid search's kernel ``name``: numba's or its NumPy form (:mod:`lfdkit.core.kernels`)."""
+    return kernel(name, "lfdkit.emulate._planner_kernels", "lfdkit.emulate._planner_numpy")
+
+
 def _global_start(
     problem: Problem,
     d0: np.ndarray,
@@ -239,7 +245,7 @@ def _global_start(
 
     ``extra`` (n, G^m) is added to the grid states' costs (``+inf`` forbids one).
     """
-    from lfdkit.emulate._planner_kernels import lateral_dp
+    lateral_dp = _grid_kernel("lateral_dp")
 
     grid, cells = levels if levels is not None else _lateral_levels(problem, d0)
     out = np.zeros((problem.n, problem.m))
@@ -265,7 +271,7 @@ class _GridSearch:
     """
 
     def __init__(self, problem: Problem, d0: np.ndarray) -> None:
-        from lfdkit.emulate._planner_kernels import grid_node_costs
+        grid_node_costs = _grid_kernel("grid_node_costs")
 
         self.problem, self.d0, self.m = problem, d0, problem.m
         levels, window = _lateral_levels(problem, d0, fine=problem.m == 1)
@@ -283,7 +289,7 @@ class _GridSearch:
         self, end_on_nominal: bool, grid: str = "coarse", extra: np.ndarray | None = None
     ) -> np.ndarray | None:
         """The best path on a grid (None if every grid path is blocked)."""
-        from lfdkit.emulate._planner_kernels import grid_backward, grid_walk
+        grid_backward, grid_walk = _grid_kernel("grid_backward"), _grid_kernel("grid_walk")
 
         levels, window, node = self.grids[grid]
         table = np.empty_like(node)
@@ -792,7 +798,7 @@ def _receding_horizon(
     (:func:`_ranked`). A candidate leading into a dead end is never executed.
     ``progress`` counts the steps.
     """
-    from lfdkit.emulate._planner_kernels import grid_cost_to_go, grid_walk
+    grid_cost_to_go, grid_walk = _grid_kernel("grid_cost_to_go"), _grid_kernel("grid_walk")
 
     tracker = as_progress(progress)
     n, m = problem.n, problem.m

@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.geometry import PolylineSet, normal_frames, point_tangents, resample
+from lfdkit.core.kernels import kernel
 from lfdkit.core.validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
@@ -457,8 +458,7 @@ class Problem:
 
     def total_cost(self, d: np.ndarray) -> float:
         """The cost with the clearance barrier (``+inf`` inside a hard radius)."""
-        from lfdkit.emulate._problem_kernels import planner_cost
-
+        planner_cost = _kernel("planner_cost")
         return float(planner_cost(*self.kernel_arguments(), np.ascontiguousarray(d, float)))
 
     def derivatives(self, d: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -507,8 +507,7 @@ class Problem:
             Newton iterations.
         converged : bool
         """
-        from lfdkit.emulate._problem_kernels import planner_newton  # numba compiles on first use
-
+        planner_newton = _kernel("planner_newton")  # numba's compile on their first use
         d = np.array(init, dtype=np.float64, order="C").reshape(self.n, self.m)
         cost, n_iter, ok = planner_newton(
             *self.kernel_arguments(),
@@ -519,6 +518,11 @@ class Problem:
             max_iter,
         )
         return d, float(cost), int(n_iter), bool(ok)
+
+
+def _kernel(name: str) -> Any:
+    """The solver's kernel ``name``: numba's or its NumPy form (:mod:`lfdkit.core.kernels`)."""
+    return kernel(name, "lfdkit.emulate._problem_kernels", "lfdkit.emulate._planner_numpy")
 
 
 def check_times(times: Any, n_points: int) -> np.ndarray:

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.geometry import arc_length, path_length
+from lfdkit.core.kernels import kernel
 
 __all__ = [
     "END_NODES",
@@ -209,12 +210,35 @@ def quintic_pieces(
 
 
 def evaluate_pieces(s: np.ndarray, spacing: float, pieces: np.ndarray) -> np.ndarray:
-    """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (q, 3, len(s))."""
-    from lfdkit.imitate._dmp_kernels import evaluate_quintic_pieces  # numba compiles on first use
+    """Value and first two derivatives of :func:`_quintic_pieces` at ``s``, (q, 3, len(s)).
 
+    numba's kernel or :func:`evaluate_quintic_pieces`, as :mod:`lfdkit.core.kernels` chooses.
+    """
+    evaluate = kernel(
+        "evaluate_quintic_pieces", "lfdkit.imitate._dmp_kernels", "lfdkit.imitate._dmp_numerics"
+    )
     out = np.empty((pieces.shape[2], 3, s.size))
-    evaluate_quintic_pieces(np.ascontiguousarray(s, dtype=np.float64), spacing, pieces, out)
+    evaluate(np.ascontiguousarray(s, dtype=np.float64), spacing, pieces, out)
     return out
+
+
+def evaluate_quintic_pieces(
+    s: np.ndarray, spacing: float, pieces: np.ndarray, out: np.ndarray
+) -> None:
+    """NumPy form of ``_dmp_kernels.evaluate_quintic_pieces``, the same operations in order.
+
+    ``pieces`` (n_pieces, 6, q) holds each piece's monomial coefficients in
+    its local ``t = s / spacing − i``; fills ``out`` (q, 3, len(s)) with the
+    value and first two derivatives in ``s``.
+    """
+    inv, inv2 = 1.0 / spacing, 1.0 / (spacing * spacing)
+    scaled = s * inv
+    piece = np.minimum(scaled.astype(np.int64), pieces.shape[0] - 1)
+    t = scaled - piece
+    c0, c1, c2, c3, c4, c5 = (pieces[piece, power].T for power in range(6))  # each (q, len(s))
+    out[:, 0] = ((((c5 * t + c4) * t + c3) * t + c2) * t + c1) * t + c0
+    out[:, 1] = ((((5.0 * c5 * t + 4.0 * c4) * t + 3.0 * c3) * t + 2.0 * c2) * t + c1) * inv
+    out[:, 2] = (((20.0 * c5 * t + 12.0 * c4) * t + 6.0 * c3) * t + 2.0 * c2) * inv2
 
 
 def remember(cache: dict, key: Any, value: Any) -> None:

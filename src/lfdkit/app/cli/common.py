@@ -14,6 +14,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from lfdkit.core.kernels import use_compiled
 from lfdkit.core.numbers import parse_decimal, parse_whole
 from lfdkit.core.options import (
     DEMONSTRATION_SPEED,
@@ -104,6 +105,8 @@ class _StageLines(logging.Handler):
 
 # The commands that run lfdkit's numba kernels (and so compile them on a first run).
 _COMPILING = frozenset({"demo", "learn", "plan", "plot", "execute", "compare", "batch"})
+# Of those, the ones making one plan: NumPy's kernels unless LFDKIT_KERNELS=numba (issue 30).
+_ONE_PLAN = frozenset({"plan", "plot"})
 
 
 @contextmanager
@@ -127,7 +130,8 @@ def working(args: argparse.Namespace, label: str | None = None) -> Iterator[Prog
         LOGGER.setLevel(logging.INFO)
         LOGGER.propagate = False  # the lines are the command's; not twice through the root
     label = label or f"lfdkit {args.command}"
-    if args.command in _COMPILING and not kernels_compiled():
+    compiles = args.command in _COMPILING and (args.command not in _ONE_PLAN or use_compiled())
+    if compiles and not kernels_compiled():
         # A first run compiles the numba kernels: said, so the bars do not look stuck.
         label = f"{label}: {COMPILE_NOTE}"
         tell(args, f"first run here: {COMPILE_NOTE}", level=1 if bars else 2)

@@ -1,0 +1,454 @@
+"""NumPy forms of the planner's compiled kernels, for a process without numba.
+
+Same names, arguments and effects as :mod:`._problem_kernels`'
+:func:`planner_cost` and :func:`planner_newton` and :mod:`._planner_kernels`'
+grid search; :mod:`lfdkit.core.kernels` chooses between the two (a one-shot
+``lfdkit plan`` saves numba's ~1.1 s CPU start-up with these). Each point's
+arithmetic is vectorised over points and grid states, in the compiled
+kernels' order of operations: sums that the compiled loops accumulate one
+term at a time are accumulated the same way (``np.add.accumulate``, never
+NumPy's pairwise ``sum``), and terms a kernel skips are added as exact zeros.
+The steps that depend on the previous one (the line search's clamp to the
+predecessor's box, the dynamic programme's backward pass, the grid walk)
+stay loops over points. Per plan these are about 7× slower than numba's (the
+README's example: 0.5 s against 0.07 s of CPU at load 15), NumPy's overhead
+per call on short windows; a batch runs numba's.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "grid_backward",
+    "grid_cost_to_go",
+    "grid_node_costs",
+    "grid_walk",
+    "lateral_dp",
+    "planner_cost",
+    "planner_derivatives",
+    "planner_newton",
+]
+
+
+def _sequential_sum(terms: np.ndarray) -> float:
+    """``terms`` (any shape, C order) summed one at a time from 0.0, as a compiled loop does."""
+    if terms.size == 0:
+        return 0.0
+    return float(np.add.accumulate(terms.reshape(-1))[-1])
+
+
+def _barrier(
+    u: np.ndarray, inner2: np.ndarray, outer2: np.ndarray, mu: float, slopes: bool = True
+) -> tuple:
+    """The clearance barrier's value and first two derivatives in ``u`` (elementwise).
+
+    As ``_problem_kernels.barrier``: 0 (and zero slopes) from ``outer2`` on,
+    ``+inf`` (zero slopes) from ``inner2`` in. Computed where ``u`` lies
+    between, the rest set afterwards (no division by zero to silence);
+    without ``slopes`` the derivatives are None (the cost alone needs none).
+    """
+    closer = u < outer2
+    between = closer & (u > inner2)
+    if not between.any():  # the usual case: far from every hard radius, or inside one
+        zeros = np.zeros(between.shape)
+        return (np.where(closer, np.inf, 0.0) if closer.any() else zeros), zeros, zeros
+    kappa = 1.0 / np.where(outer2 > inner2, outer2 - inner2, 1.0)
+    t = np.where(between, (outer2 - u) * kappa, 0.5)
+    one = 1.0 - t
+    value = np.where(between, mu * t * t * t / one, np.where(closer, np.inf, 0.0))
+    if not slopes:
+        return value, None, None
+    first = -mu * kappa * (3.0 * t * t - 2.0 * t * t * t) / (one * one)
+    second = mu * kappa * kappa * (6.0 * t - 6.0 * t * t + 2.0 * t * t * t) / (one * one * one)
+    return value, np.where(between, first, 0.0), np.where(between, second, 0.0)
+
+
+def _bumps(c, b, a, d):
+    """Exponents' terms ``exp(−s)`` (n, L) and ``N P u`` (n, L, m) at offsets ``d`` (n, m)."""
+    m = d.shape[1]
+    if m == 1:  # the same operations, fewer NumPy calls (most windows are 2-D)
+        b0 = b[:, :, 0]
+        value = b0 + a[:, :, 0, 0] * d
+        return np.exp(-(c + (b0 + value) * d)), value[:, :, None]
+    s = c.copy()
+    npu = np.empty(b.shape)
+    for i in range(m):
+        value = b[:, :, i]
+        for j in range(m):
+            value = value + a[:, :, i, j] * d[:, None, j]
+        npu[:, :, i] = value
+        s = s + (b[:, :, i] + value) * d[:, None, i]
+    return np.exp(-s), npu
+
+
+def _hard_u(rr, nr, d):
+    """Squared distances ``u`` (n, H) to the obstacles with a hard radius."""
+    if d.shape[1] == 1:
+        return rr + (2.0 * nr[:, :, 0] + d) * d
+    u = rr.copy()
+    for i in range(d.shape[1]):
+        u = u + (2.0 * nr[:, :, i] + d[:, None, i]) * d[:, None, i]
+    return u
+
+
+def _cost_terms(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
+    """Per point, the cost's terms in the compiled kernels' order (n, m + L + H)."""
+    e, _ = _bumps(c, b, a, d)
+    barrier = _barrier(_hard_u(rr, nr, d), inner2[None], outer2[None], mu, slopes=False)[0]
+    return np.concatenate([weight[:, None] * d * d, e, barrier], axis=1)
+
+
+def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
+    """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
+    terms = _cost_terms(c, b, a, weight, rr, nr, inner2, outer2, mu, d)
+    if terms.size == 0:
+        return 0.0
+    # Each point's cost summed first, then the points' (as the compiled loop over points).
+    return _sequential_sum(np.add.accumulate(terms, axis=1)[:, -1])
+
+
+def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian):
+    """Cost; fills the gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
+    m = d.shape[1]
+    e, npu = _bumps(c, b, a, d)
+    u = _hard_u(rr, nr, d)
+    value, first, second = _barrier(u, inner2[None], outer2[None], mu)
+    total = _sequential_sum(np.concatenate([weight[:, None] * d * d, e, value], axis=1))
+    if m == 1:  # the same operations on (n, 1) columns, fewer NumPy calls
+        grad, hess = 2.0 * weight[:, None] * d, (2.0 * weight)[:, None]
+        for o in range(c.shape[1]):
+            e_o, npu_o = e[:, o, None], npu[:, o]
+            grad = grad - 2.0 * e_o * npu_o
+            hess = hess + e_o * (4.0 * npu_o * npu_o - 2.0 * a[:, o, 0])
+        for h in range(rr.shape[1]):
+            active = value[:, h, None] != 0.0
+            near = nr[:, h] + d
+            grad = np.where(active, grad + 2.0 * first[:, h, None] * near, grad)
+            added = hess + 4.0 * second[:, h, None] * near * near + 2.0 * first[:, h, None]
+            hess = np.where(active, added, hess)
+        gradient[:, :] = grad
+        hessian[:, :, :] = hess[:, :, None]
+        return total
+    grad = 2.0 * weight[:, None] * d
+    hess = np.zeros((d.shape[0], m, m))
+    for i in range(m):
+        hess[:, i, i] = 2.0 * weight
+    for o in range(c.shape[1]):
+        grad = grad - 2.0 * e[:, o, None] * npu[:, o]
+        hess = hess + e[:, o, None, None] * (
+            4.0 * npu[:, o, :, None] * npu[:, o, None, :] - 2.0 * a[:, o]
+        )
+    for h in range(rr.shape[1]):
+        active = value[:, h] != 0.0  # the compiled loop skips the others
+        near = nr[:, h] + d  # (n, m)
+        grad = np.where(active[:, None], grad + 2.0 * first[:, h, None] * near, grad)
+        added = hess + 4.0 * second[:, h, None, None] * near[:, :, None] * near[:, None, :]
+        diagonal = np.arange(m)
+        added[:, diagonal, diagonal] += 2.0 * first[:, h, None]
+        hess = np.where(active[:, None, None], added, hess)
+    gradient[:, :] = grad
+    hessian[:, :, :] = hess
+    return total
+
+
+def _groups(free: np.ndarray) -> tuple[np.ndarray, int]:
+    """The reduced variable per offset component and their number (``offset_groups``)."""
+    if free.shape[1] == 1:
+        running = np.cumsum(free[:, 0])
+        return np.where(running > 0, running - 1, -1)[:, None], int(running[-1])
+    index = np.empty(free.shape, dtype=np.int64)
+    count = 0
+    for i in range(free.shape[1]):
+        running = np.cumsum(free[:, i])
+        index[:, i] = np.where(running > 0, count + running - 1, -1)
+        count += int(running[-1]) if running.size else 0
+    return index, count
+
+
+def _positive_blocks(h00, h01, h11, floor):
+    """``_problem_kernels._positive_block`` on arrays of 2×2 blocks."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mean = 0.5 * (h00 + h11)
+        radius = np.sqrt((0.5 * (h00 - h11)) ** 2 + h01 * h01)
+        low, high = mean - radius, mean + radius
+        fixed_low, fixed_high = np.maximum(np.abs(low), floor), np.maximum(np.abs(high), floor)
+        first = np.abs(high - h00) > np.abs(high - h11)
+        ux = np.where(first, h01, high - h11)
+        uy = np.where(first, high - h00, h01)
+        norm = np.sqrt(ux * ux + uy * uy)
+        ux, uy = ux / norm, uy / norm
+        vx, vy = -uy, ux
+        p00 = fixed_high * ux * ux + fixed_low * vx * vx
+        p01 = fixed_high * ux * uy + fixed_low * vx * vy
+        p11 = fixed_high * uy * uy + fixed_low * vy * vy
+    kept = (low == fixed_low) & (high == fixed_high)
+    round_ = ~kept & (radius == 0.0)
+    p00 = np.where(kept, h00, np.where(round_, fixed_high, p00))
+    p01 = np.where(kept, h01, np.where(round_, 0.0, p01))
+    p11 = np.where(kept, h11, np.where(round_, fixed_high, p11))
+    return p00, p01, p11
+
+
+def _cholesky_solve(lower: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``x`` with ``L Lᵀ x = rhs``, each row's sum taken one term at a time."""
+    n = rhs.shape[0]
+    y = np.empty(n)
+    for i in range(n):
+        terms = np.concatenate(([rhs[i]], lower[i, :i] * y[:i]))
+        y[i] = np.subtract.accumulate(terms)[-1] / lower[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        terms = np.concatenate(([y[i]], lower[i + 1 :, i] * x[i + 1 :]))
+        x[i] = np.subtract.accumulate(terms)[-1] / lower[i, i]
+    return x
+
+
+def _from_start(start: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """Offsets (n, m) from the start offset (m,) and actions (n, m), summed one at a time."""
+    return np.add.accumulate(np.concatenate((start[None], steps)), axis=0)[1:]
+
+
+def _newton_step(gradient, hessian, index, n_vars, floor, m):
+    """The reduced Newton step per offset (n, m), zero where anchored."""
+    valid = index >= 0
+    g = np.bincount(index[valid], weights=gradient[valid], minlength=n_vars)
+    if m == 1:
+        h = np.bincount(index[valid], weights=hessian[:, 0, 0][valid[:, 0]], minlength=n_vars)
+        move = -g / np.maximum(np.abs(h), floor)
+    else:
+        rows = valid[:, 0] | valid[:, 1]
+        p00, p01, p11 = _positive_blocks(
+            hessian[rows, 0, 0], hessian[rows, 0, 1], hessian[rows, 1, 1], floor
+        )
+        i0, i1 = index[rows, 0], index[rows, 1]
+        h2 = np.zeros((n_vars, n_vars))
+        np.add.at(h2, (i0[i0 >= 0], i0[i0 >= 0]), p00[i0 >= 0])
+        np.add.at(h2, (i1[i1 >= 0], i1[i1 >= 0]), p11[i1 >= 0])
+        both = (i0 >= 0) & (i1 >= 0)
+        np.add.at(h2, (i0[both], i1[both]), p01[both])
+        np.add.at(h2, (i1[both], i0[both]), p01[both])
+        move = -_cholesky_solve(np.linalg.cholesky(h2), g)
+    return np.where(valid, move[np.maximum(index, 0)] if n_vars else 0.0, 0.0)
+
+
+def _clamped(d, step_d, t, start, max_step):
+    """Offsets ``d + t·step`` each clamped to its predecessor's box (one point after another)."""
+    target = (d + t * step_d).T.tolist()
+    out = np.empty(d.shape)
+    for i, column in enumerate(target):
+        previous = float(start[i])
+        values = []
+        for value in column:
+            value = min(max(value, previous - max_step), previous + max_step)
+            values.append(value)
+            previous = value
+        out[:, i] = values
+    return out
+
+
+def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter):
+    """Projected Newton on the actions ``a_k = d_k − d_{k−1}``, box ``|a| <= max_step``.
+
+    ``d`` (n, m) holds the start on entry and the optimum on exit. Returns
+    ``(cost, iterations, converged)``, as ``_problem_kernels.planner_newton``.
+    """
+    n, m = d.shape
+    args = (c, b, a, weight, rr, nr, inner2, outer2, mu)
+    previous = np.concatenate((d0[None], d[:-1]))
+    actions = np.minimum(np.maximum(d - previous, -max_step), max_step)
+    d[:, :] = _from_start(d0, actions)
+    gradient = np.empty((n, m))
+    hessian = np.empty((n, m, m))
+    base = weight.min()
+    floor = 1e-8 * 2.0 * base
+    scale = 1.0 + 2.0 * base * max_step
+    cost = planner_derivatives(*args, d, gradient, hessian)
+    if not np.isfinite(cost):
+        return cost, 0, False
+    upper_bound, lower_bound = max_step * (1.0 - 1e-12), -max_step * (1.0 - 1e-12)
+    upper_push, lower_push = max_step * (1.0 - 1e-9), -max_step * (1.0 - 1e-9)
+    for iteration in range(max_iter):
+        action_gradient = np.add.accumulate(gradient[::-1], axis=0)[::-1]
+        held = ((actions >= upper_bound) & (action_gradient < 0.0)) | (
+            (actions <= lower_bound) & (action_gradient > 0.0)
+        )
+        free = ~held
+        worst = float(np.abs(action_gradient[free]).max(initial=0.0))
+        if worst <= tol * scale:
+            return cost, iteration, True
+        for _refine in range(8):
+            index, n_vars = _groups(free)
+            step_d = _newton_step(gradient, hessian, index, n_vars, floor, m)
+            change = step_d - np.concatenate((np.zeros((1, m)), step_d[:-1]))
+            pushed = free & (
+                ((actions >= upper_push) & (change > 0.0))
+                | ((actions <= lower_push) & (change < 0.0))
+            )
+            if not pushed.any():
+                break
+            free = free & ~pushed
+        step_a = step_d - np.concatenate((np.zeros((1, m)), step_d[:-1]))
+        accepted, best_cost, best = False, np.inf, None
+        for retraction in range(2):
+            t = 1.0
+            for _ in range(60 if retraction else 30):
+                if retraction == 0:
+                    trial = _clamped(d, step_d, t, d0, max_step)
+                    decrease = _sequential_sum((gradient * (trial - d)).T)
+                else:
+                    action = np.minimum(np.maximum(actions + t * step_a, -max_step), max_step)
+                    decrease = _sequential_sum((action_gradient * (action - actions)).T)
+                    trial = _from_start(d0, action)
+                trial_cost = planner_cost(*args, trial)
+                if trial_cost <= cost + 1e-4 * decrease and (retraction == 1 or decrease < 0.0):
+                    if trial_cost < best_cost:
+                        best_cost, best = trial_cost, trial
+                    accepted = True
+                    break
+                t *= 0.5
+            if accepted and t == 1.0:
+                break  # a full Newton step: nothing better to look for
+        if not accepted or best is None:
+            return cost, iteration + 1, worst <= 1e-6 * scale
+        moved = float(np.abs(best - d).max(initial=0.0))
+        actions = best - np.concatenate((d0[None], best[:-1]))
+        d[:, :] = best
+        cost = planner_derivatives(*args, d, gradient, hessian)
+        if moved <= 1e-13 * max_step:
+            return cost, iteration + 1, worst <= 1e-6 * scale  # the steps stopped moving
+    return cost, max_iter, False
+
+
+def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
+    """Cost of every grid state at every point: ``out`` (n, G^m), m from its width."""
+    g_count = levels.shape[0]
+    m = 2 if out.shape[1] != g_count else 1
+    if m == 1:
+        states = [levels[None, :]]
+        lowest = c - b[:, :, 0] ** 2 / np.maximum(a[:, :, 0, 0], 1e-300)
+    else:
+        states = [np.repeat(levels, g_count)[None, :], np.tile(levels, g_count)[None, :]]
+        det = a[:, :, 0, 0] * a[:, :, 1, 1] - a[:, :, 0, 1] * a[:, :, 1, 0]
+        det = np.maximum(det, 1e-300)
+        quad = (
+            a[:, :, 1, 1] * b[:, :, 0] ** 2
+            - 2.0 * a[:, :, 0, 1] * b[:, :, 0] * b[:, :, 1]
+            + a[:, :, 0, 0] * b[:, :, 1] ** 2
+        ) / det
+        lowest = c - quad
+    near = lowest < 40.0  # (n, L): obstacles whose term matters somewhere at the point
+    closest = rr.copy()
+    for i in range(m):
+        closest = closest - nr[:, :, i] ** 2
+    hit = closest < outer2[None]  # (n, H)
+    total = weight[:, None] * states[0] * states[0]
+    for i in range(1, m):
+        total = total + weight[:, None] * states[i] * states[i]
+    for o in range(c.shape[1]):
+        s = c[:, o, None]
+        for i in range(m):
+            value = b[:, o, i, None]
+            for j in range(m):
+                value = value + a[:, o, i, j, None] * states[j]
+            s = s + (b[:, o, i, None] + value) * states[i]
+        total = total + np.where(near[:, o, None], np.exp(-s), 0.0)
+    for h in range(rr.shape[1]):
+        u = rr[:, h, None]
+        for i in range(m):
+            u = u + (2.0 * nr[:, h, i, None] + states[i]) * states[i]
+        value = _barrier(u, inner2[h], outer2[h], mu, slopes=False)[0]
+        total = total + np.where(hit[:, h, None], value, 0.0)
+    out[:, :] = total
+
+
+def _window_min(values: np.ndarray, window: int) -> np.ndarray:
+    """Sliding minimum over ``|t − s| ≤ window`` along the first axis (the edges clipped)."""
+    best = values.copy()
+    for shift in range(1, min(window, values.shape[0] - 1) + 1):
+        np.minimum(best[shift:], values[:-shift], out=best[shift:])
+        np.minimum(best[:-shift], values[shift:], out=best[:-shift])
+    return best
+
+
+def grid_backward(node, g_count, window, end_zero, extra, out):
+    """The backward dynamic programme from states' costs ``node`` (n, G^m), into ``out``."""
+    n, n_states = out.shape
+    m = 2 if n_states != g_count else 1
+    out[:, :] = node + (extra if extra.shape[0] else 0.0)
+    if end_zero:
+        zero = (g_count - 1) // 2
+        keep = zero * g_count + zero if m == 2 else zero
+        last = out[n - 1, keep]
+        out[n - 1] = np.inf
+        out[n - 1, keep] = last
+    for k in range(n - 2, -1, -1):
+        if m == 1:
+            best = _window_min(out[k + 1], window)
+        else:  # along j (the state i·G + j), then along i
+            square = out[k + 1].reshape(g_count, g_count)
+            best = _window_min(_window_min(square.T, window).T, window).reshape(-1)
+        out[k] += best
+
+
+def grid_cost_to_go(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, out
+):
+    """Backward dynamic programme on the lateral grid (``_planner_kernels.grid_cost_to_go``)."""
+    grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
+    grid_backward(out.copy(), levels.shape[0], window, end_zero, extra, out)
+
+
+def lateral_dp(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, levels, window, end_zero, extra, out
+):
+    """Globally best offsets on a lateral grid (``_planner_kernels.lateral_dp``)."""
+    n, m = out.shape
+    value = np.empty((n, levels.shape[0] ** m))
+    grid_cost_to_go(
+        c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, value
+    )
+    return grid_walk(value, levels, window, max_step, d0, out)
+
+
+def _first_least(values: np.ndarray) -> tuple[int, float]:
+    """Index and value of the first least entry; (−1, inf) when none is below ``+inf``."""
+    if values.size == 0:
+        return -1, np.inf
+    where = int(np.argmin(values))
+    best = float(values.reshape(-1)[where])
+    return (where, best) if best < np.inf else (-1, np.inf)
+
+
+def grid_walk(value, levels, window, max_step, d0, out):
+    """Follow a cost-to-go table from ``d0`` for ``out``'s rows (``_planner_kernels.grid_walk``)."""
+    h, m = out.shape
+    g_count = levels.shape[0]
+    reach = max_step * (1.0 + 1e-12)
+    states = np.arange(value.shape[1])
+    first = states // g_count if m == 2 else states
+    allowed = np.abs(levels[first] - d0[0]) <= reach
+    if m == 2:
+        allowed &= np.abs(levels[states % g_count] - d0[1]) <= reach
+    state, total = _first_least(np.where(allowed, value[0], np.inf))
+    if not np.isfinite(total):
+        return total
+    for k in range(h):
+        i0 = state // g_count if m == 2 else state
+        j0 = state % g_count
+        out[k, 0] = levels[i0]
+        if m == 2:
+            out[k, 1] = levels[j0]
+        if k == h - 1:
+            break
+        lo, hi = max(0, i0 - window), min(g_count, i0 + window + 1)
+        if m == 1:
+            found, _ = _first_least(value[k + 1, lo:hi])
+            state = lo + found if found >= 0 else -1
+        else:
+            jlo, jhi = max(0, j0 - window), min(g_count, j0 + window + 1)
+            block = value[k + 1].reshape(g_count, g_count)[lo:hi, jlo:jhi]
+            found, _ = _first_least(block)
+            width = jhi - jlo
+            state = (lo + found // width) * g_count + jlo + found % width if found >= 0 else -1
+    return total

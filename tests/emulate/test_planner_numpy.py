@@ -1,0 +1,219 @@
+"""Tests for lfdkit.emulate._planner_numpy: the NumPy kernels give numba's plans.
+
+Whole plans on random scenes (2-D and 3-D, with and without clearance, MPC
+and full horizon) are planned once with each form (``LFDKIT_KERNELS``), and
+the kernels are compared call by call on random problems. The forms do the
+same operations in the same order, so plans agree bit for bit where NumPy's
+``exp`` and LAPACK's Cholesky are the ones numba calls (this machine); the
+assertions allow round-off (1e-9), and the count of exact agreements is
+asserted separately where it holds by construction (2-D, no Cholesky).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from lfdkit.core import kernels
+from lfdkit.emulate import Corridor, Reward, plan_path
+from lfdkit.emulate import _planner_kernels as compiled_grid
+from lfdkit.emulate import _planner_numpy as numpy_form
+from lfdkit.emulate import _problem_kernels as compiled
+from lfdkit.emulate.problem import Problem
+from lfdkit.imitate import _dmp_kernels
+from lfdkit.imitate._dmp_numerics import evaluate_quintic_pieces
+from lfdkit.model.scene import Obstacle, Scene
+
+REWARD = Reward(10.0, {"a": [2500.0, 215.0], "b": [400.0, 900.0]})
+REWARD_3D = Reward(10.0, {"a": [2500.0, 300.0, 215.0], "b": [400.0, 600.0, 900.0]})
+
+
+def scene_along(nominal: np.ndarray, seed: int, count: int) -> Scene:
+    """``count`` obstacles near random points of ``nominal`` (classes a and b)."""
+    rng = np.random.default_rng(seed)
+    obstacles = []
+    for k in rng.integers(10, len(nominal) - 10, size=count):
+        centre = nominal[k] + rng.uniform(-0.06, 0.06, nominal.shape[1])
+        radius = float(rng.uniform(0.0, 0.03))
+        obstacles.append(Obstacle(str(rng.choice(["a", "b"])), centre, radius=radius))
+    return Scene(tuple(obstacles))
+
+
+def nominal_path(q: int, bend: float) -> np.ndarray:
+    t = np.linspace(0.0, 1.0, 150)
+    columns = [0.8 * t, bend * np.sin(np.pi * t)] + ([0.2 * t * t] if q == 3 else [])
+    return np.column_stack(columns)
+
+
+def both(monkeypatch: pytest.MonkeyPatch, **plan_args):
+    """The plan with numba's kernels and with the NumPy forms (or the error each raised)."""
+    plans = []
+    for form in ("numba", "numpy"):
+        monkeypatch.setenv(kernels.KERNELS_VARIABLE, form)
+        try:
+            plans.append(plan_path(**plan_args))
+        except ValueError as error:  # an unsafe scene: both must refuse it alike
+            plans.append(str(error))
+    return plans
+
+
+@settings(
+    max_examples=8, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    seed=st.integers(0, 10_000),
+    count=st.integers(1, 3),
+    bend=st.floats(-0.15, 0.15),
+    horizon=st.sampled_from([None, 4, 8]),
+    clearance=st.sampled_from([0.0, 0.01]),
+)
+def test_numpy_plans_are_numbas_in_2d(monkeypatch, seed, count, bend, horizon, clearance) -> None:
+    nominal = nominal_path(2, bend)
+    compiled_plan, numpy_plan = both(
+        monkeypatch,
+        reward=REWARD,
+        nominal=nominal,
+        scene=scene_along(nominal, seed, count),
+        horizon=horizon,
+        n_points=30,
+        clearance=clearance,
+    )
+    if isinstance(compiled_plan, str):
+        assert numpy_plan == compiled_plan
+        return
+    # Same operations in the same order, no LAPACK in 2-D: the same plan, bit for bit.
+    np.testing.assert_array_equal(numpy_plan.points, compiled_plan.points)
+    assert numpy_plan.cost == compiled_plan.cost
+    assert numpy_plan.n_iter == compiled_plan.n_iter
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("horizon", [None, 6])
+def test_numpy_plans_are_numbas_in_3d(monkeypatch, seed: int, horizon: int | None) -> None:
+    # 3-D solves a 2×2-block system by Cholesky (NumPy's LAPACK against the one numba
+    # calls): the plans agree to round-off.
+    nominal = nominal_path(3, 0.1)
+    compiled_plan, numpy_plan = both(
+        monkeypatch,
+        reward=REWARD_3D,
+        nominal=nominal,
+        scene=scene_along(nominal, seed, 2),
+        horizon=horizon,
+        n_points=30,
+        clearance=0.01,
+    )
+    scale = np.abs(compiled_plan.points).max()
+    np.testing.assert_allclose(numpy_plan.points, compiled_plan.points, rtol=0, atol=1e-9 * scale)
+    assert numpy_plan.cost == pytest.approx(compiled_plan.cost, rel=1e-9)
+
+
+def random_problem(seed: int, q: int, clearance: float) -> tuple[Problem, np.ndarray]:
+    """A problem with obstacles (hard radii when ``clearance``) and random offsets near them."""
+    nominal = nominal_path(q, 0.1)
+    reward = REWARD if q == 2 else REWARD_3D
+    corridor = Corridor.from_path(nominal, 50)
+    problem = Problem.from_scene(
+        reward, corridor, scene_along(nominal, seed, 3), 1.0, "auto", clearance=clearance
+    )
+    rng = np.random.default_rng(seed)
+    return problem, rng.uniform(-0.03, 0.03, (problem.n, problem.m))
+
+
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("seed", range(4))
+def test_kernels_agree_call_by_call(q: int, seed: int) -> None:
+    problem, d = random_problem(seed, q, 0.01)
+    args = problem.kernel_arguments()
+    assert numpy_form.planner_cost(*args, d) == compiled.planner_cost(*args, d)
+    gradients = [np.empty_like(d) for _ in range(2)]
+    hessians = [np.empty((problem.n, problem.m, problem.m)) for _ in range(2)]
+    totals = [
+        form.planner_derivatives(*args, d, g, h)
+        for form, g, h in zip((compiled, numpy_form), gradients, hessians, strict=True)
+    ]
+    assert totals[0] == totals[1]
+    np.testing.assert_array_equal(gradients[0], gradients[1])
+    np.testing.assert_array_equal(hessians[0], hessians[1])
+    # The solver from a start outside every hard radius (the nominal, if it is).
+    start = np.zeros((problem.n, problem.m))
+    results = []
+    for form in (compiled, numpy_form):
+        out = start.copy()
+        cost, n_iter, ok = form.planner_newton(
+            *args, problem.max_step, np.zeros(problem.m), out, 1e-10, 100
+        )
+        results.append((out, cost, n_iter, ok))
+    (d_c, cost_c, iter_c, ok_c), (d_n, cost_n, iter_n, ok_n) = results
+    assert ok_n == ok_c
+    if np.isfinite(cost_c):
+        np.testing.assert_allclose(d_n, d_c, rtol=0, atol=1e-9 * max(np.abs(d_c).max(), 1e-3))
+        assert cost_n == pytest.approx(cost_c, rel=1e-9)
+    if q == 2:  # no Cholesky: the same numbers
+        np.testing.assert_array_equal(d_n, d_c)
+        assert (cost_n, iter_n) == (cost_c, iter_c)
+
+
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("end_zero", [False, True])
+def test_grid_search_agrees(q: int, end_zero: bool) -> None:
+    problem, _ = random_problem(7, q, 0.01)
+    args = problem.kernel_arguments()
+    levels = np.linspace(-0.1, 0.1, 21 if q == 2 else 11)
+    rng = np.random.default_rng(q)
+    extra = np.where(rng.random((problem.n, levels.size**problem.m)) < 0.05, np.inf, 0.0)
+    outs = []
+    for form in (compiled_grid, numpy_form):
+        out = np.zeros((problem.n, problem.m))
+        total = form.lateral_dp(
+            *args, problem.max_step, np.zeros(problem.m), levels, 2, end_zero, extra, out
+        )
+        outs.append((total, out))
+    assert outs[1][0] == outs[0][0]
+    np.testing.assert_array_equal(outs[1][1], outs[0][1])
+
+
+def test_quintic_pieces_agree() -> None:
+    rng = np.random.default_rng(0)
+    pieces = rng.normal(size=(17, 6, 3))
+    s = np.concatenate([rng.uniform(0.0, 1.0, 200), [0.0, 1.0]])
+    outs = [np.empty((3, 3, s.size)) for _ in range(2)]
+    _dmp_kernels.evaluate_quintic_pieces(s, 1.0 / 17, pieces, outs[0])
+    evaluate_quintic_pieces(s, 1.0 / 17, pieces, outs[1])
+    np.testing.assert_array_equal(outs[1], outs[0])
+
+
+def test_the_choice_follows_the_variable(monkeypatch) -> None:
+    monkeypatch.setenv(kernels.KERNELS_VARIABLE, "numpy")
+    assert kernels.kernel("planner_cost", compiled.__name__, numpy_form.__name__) is (
+        numpy_form.planner_cost
+    )
+    monkeypatch.setenv(kernels.KERNELS_VARIABLE, "numba")
+    assert kernels.kernel("planner_cost", compiled.__name__, numpy_form.__name__) is (
+        compiled.planner_cost
+    )
+    monkeypatch.setenv(kernels.KERNELS_VARIABLE, "fast")
+    with pytest.raises(ValueError, match=r"LFDKIT_KERNELS='fast'.*auto, numba, numpy"):
+        kernels.use_compiled()
+
+
+def test_auto_turns_to_numba_after_the_switch_seconds(monkeypatch) -> None:
+    # numba is loaded in this test process, so auto is numba's; without it, the
+    # NumPy forms serve until the process has spent SWITCH_SECONDS of CPU since.
+    monkeypatch.setenv(kernels.KERNELS_VARIABLE, "auto")
+    assert kernels.use_compiled()
+    monkeypatch.delitem(sys.modules, "numba")
+    clock = {"cpu_start": None, "next_look": 0.0, "switched": False}
+    monkeypatch.setattr(kernels, "_clock", clock)
+    names = ("planner_cost", compiled.__name__, numpy_form.__name__)
+    assert kernels.kernel(*names) is numpy_form.planner_cost
+    assert clock["cpu_start"] is not None  # the first NumPy form starts the clock
+    assert kernels.kernel(*names) is numpy_form.planner_cost
+    clock["cpu_start"] -= kernels.SWITCH_SECONDS  # as if a second of CPU had passed
+    assert kernels.kernel(*names) is numpy_form.planner_cost  # not looked at yet (wall clock)
+    clock["next_look"] = 0.0
+    assert kernels.kernel(*names) is compiled.planner_cost
+    assert clock["switched"]
