@@ -9,11 +9,14 @@ emulation sets of :func:`load_emulation_dataset`) and :func:`export_dataset`
 writes any as files ``lfdkit learn`` reads (``lfdkit datasets``).
 """
 
-from lfdkit.datasets import builtin, emulation, lasa, synthetic
+from lfdkit.datasets import builtin, emulation, lasa, robots, synthetic
 from lfdkit.datasets.builtin import *  # noqa: F403
 from lfdkit.datasets.emulation import *  # noqa: F403
 from lfdkit.datasets.lasa import *  # noqa: F403
+from lfdkit.datasets.robots import *  # noqa: F403
 from lfdkit.datasets.synthetic import *  # noqa: F403
 
 # Each module lists what it offers; the package offers all of it.
-__all__ = sorted([*builtin.__all__, *emulation.__all__, *lasa.__all__, *synthetic.__all__])
+__all__ = sorted(
+    [*builtin.__all__, *emulation.__all__, *lasa.__all__, *robots.__all__, *synthetic.__all__]
+)
