@@ -52,7 +52,10 @@ def _list_datasets(args: argparse.Namespace) -> None:
             demos += f"+{entry.n_obstacle_demos}"
         rows.append((entry.name, entry.kind, str(entry.n_dims), demos, entry.units, entry.summary))
     if not lasa_available():
-        rows.append(
+        # Where the LASA shapes would be: before the robot motions (``reach``).
+        robot_rows = sum(entry.kind == "robot" for entry in catalog(lasa=False))
+        rows.insert(
+            len(rows) - robot_rows,
             (
                 f"{LASA_PREFIX}SHAPE",
                 "lasa",
@@ -60,7 +63,7 @@ def _list_datasets(args: argparse.Namespace) -> None:
                 "7",
                 "mm",
                 f"{len(LASA_SHAPES)} LASA handwriting shapes; not installed: {LASA_INSTALL}",
-            )
+            ),
         )
     # The example arms: not demonstrations (DIMS is their joint count), written the same way.
     rows += [
