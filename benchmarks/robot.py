@@ -77,7 +77,7 @@ matters. No speed targets.
 Any arm (section A; ``--arms-only`` runs it alone, about a minute)
 =================================================================
 
-The URDFs of ``tests/execute/data`` (a UR5 written from the thesis's DH table,
+The URDFs of ``lfdkit/datasets/urdf`` (a UR5 written from the thesis's DH table,
 a UR5e from UR's published DH table, a Panda from Franka's parameters), read by
 :class:`lfdkit.execute.urdf.UrdfArm`.
 
@@ -159,6 +159,7 @@ import numpy as np
 from _common import git_state, machine_info, package_versions
 from threadpoolctl import threadpool_limits
 
+from lfdkit.datasets import example_urdf
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5
 from lfdkit.execute.mujoco import flange_poses
@@ -626,8 +627,13 @@ def _failure_kind(failure: str) -> str:
     return failure
 
 
-def sweeping_experiment(n_scenarios: int, seed: int, quick: bool, output: Path) -> dict:
-    """S2: every planner on the same random unseen scenarios, executed in MuJoCo."""
+def sweeping_experiment(
+    n_scenarios: int, seed: int, quick: bool, output: Path, *, planner_names=None
+) -> dict:
+    """S2: every planner on the same random unseen scenarios, executed in MuJoCo.
+
+    ``planner_names`` keeps only those planners (``--figures-only``: the figure's four).
+    """
     from lfdkit.io.training import read_training_data
     from lfdkit.skill import learn
     from lfdkit.tasks.sweeping import (
@@ -651,6 +657,8 @@ def sweeping_experiment(n_scenarios: int, seed: int, quick: bool, output: Path) 
         coupling = {"skipped": f"movement_primitives not installed ({exc})"}
     order = ["learned skill", "learned, thesis end", "replay generalized path", "DMP alone"]
     order += [name for name in ("DMP + coupling", "true reward") if name in planners]
+    if planner_names is not None:
+        order = [name for name in order if name in planner_names]
     planners = {name: planners[name] for name in order}
     scenarios = random_scenarios(n_scenarios, seed)
     start = time.perf_counter()
@@ -679,6 +687,10 @@ def sweeping_experiment(n_scenarios: int, seed: int, quick: bool, output: Path) 
     }
 
 
+#: The planners drawn in ``robot_scenarios.png``.
+FIGURE_PLANNERS = ("learned skill", "DMP alone", "DMP + coupling", "replay generalized path")
+
+
 def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[str]:
     """Top views of the first four scenarios; a MuJoCo render where OpenGL is available."""
     from matplotlib.figure import Figure
@@ -686,9 +698,10 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
     from lfdkit.tasks.sweeping import SweepingTask, execute_sweep, sweep_figure
 
     output.mkdir(parents=True, exist_ok=True)
-    shown = ("learned skill", "DMP alone", "DMP + coupling", "replay generalized path")
+    shown = FIGURE_PLANNERS
     count = min(4, len(scenarios))
-    fig = Figure(figsize=(13, 2.6 * ((count + 1) // 2) + 0.8), layout="constrained")
+    # Equal-aspect panels of a 0.9 m x 0.3 m table strip: 2.1 inches a row leaves no gaps.
+    fig = Figure(figsize=(13, 2.1 * ((count + 1) // 2) + 1.0), layout="constrained")
     axes = np.atleast_1d(fig.subplots((count + 1) // 2, 2)).ravel()
     for index in range(count):
         runs = {
@@ -711,7 +724,11 @@ def sweep_figures(scenarios, rows: list[dict], learned, output: Path) -> list[st
         for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
             entries.setdefault(label.split(" (")[0], handle)
     fig.legend(
-        list(entries.values()), list(entries), loc="outside lower center", ncols=len(entries)
+        # two rows: one row of ten entries is wider than the figure (cut at both ends)
+        list(entries.values()),
+        list(entries),
+        loc="outside lower center",
+        ncols=(len(entries) + 1) // 2,
     )
     fig.suptitle(
         "Simulated sweeps: brush (flange) traces, cube traces dotted, squares where the cube "
@@ -809,7 +826,7 @@ def simulation_targets(results: dict) -> list[dict]:
 
 
 # ----------------------------------------------------------------------------- A. any arm
-DATA = Path(__file__).resolve().parents[1] / "tests" / "execute" / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 ARM_FILES = {
     "UR5 (URDF)": ("ur5.urdf", None),
     "UR5e": ("ur5e.urdf", None),
@@ -1109,8 +1126,25 @@ def main(argv: list[str] | None = None) -> int:
         help="only section A (URDF arms: FK/IK against pinocchio, the learned timing kept, "
         "time-optimal timing against toppra)",
     )
+    parser.add_argument(
+        "--figures-only",
+        action="store_true",
+        help="only redraw robot_scenarios.png and robot_render.png: the first four scenarios "
+        "of the full run (same seed, full coupling grid), the four planners drawn; no JSON",
+    )
     args = parser.parse_args(argv)
     quick = args.quick
+    if args.figures_only:
+        # random_scenarios draws scenario by scenario: the full run's first four are these.
+        with threadpool_limits(limits=1):
+            exp = sweeping_experiment(
+                4, args.seed, quick, args.output, planner_names=FIGURE_PLANNERS
+            )
+        for name in exp["figures"]:
+            print(f"wrote {args.output / name}")
+        for name, row in exp["summary"].items():
+            print(f"  {name:26s} success {row['success_rate']:.0%} of 4")
+        return 0
     n = N_QUICK if quick else N_FULL
     wall = time.perf_counter()
     sections: dict[str, dict] = {}

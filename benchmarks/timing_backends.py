@@ -11,7 +11,7 @@ same spline and grid) and ``"ruckig"`` (lfdkit's, then jerk-limited through
 its waypoints by ruckig, :mod:`lfdkit.execute.jerk_limited`). The paths:
 random 200-waypoint UR5 joint walks, and the joint path of a learned-style
 6 s reach over a box on the UR5 (DH), a UR5e and a Panda (URDFs of
-``tests/execute/data``). Per backend: duration (s), the largest velocity,
+``lfdkit/datasets/urdf``). Per backend: duration (s), the largest velocity,
 acceleration and jerk over their limits (sampled at 5 kHz, jerk by finite
 differences of the accelerations; the jerk limit is ruckig's default,
 50 /s times the acceleration limit, for every backend), wall time (ms,
@@ -38,9 +38,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import git_state, json_ready, machine_info, package_versions
 
+from lfdkit.datasets import example_urdf
 from lfdkit.io.atomic import atomic_write
 
-DATA = Path(__file__).resolve().parents[1] / "tests" / "execute" / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 RATE = 5000.0  # Hz: where limits are checked
 BACKENDS = ("lfdkit", "toppra", "ruckig")
 

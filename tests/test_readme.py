@@ -119,6 +119,8 @@ def test_the_readme_runs_top_to_bottom(tmp_path) -> None:
     assert done.returncode == 0, done.stdout + done.stderr
     assert "every block ran" in done.stdout
     made_by_shell = ("lfdkit-demo/report.html", "skill.json", "path.csv", "skill.png", "sweep.json")
-    made_by_python = ("my_skill.json", "sweep.script")  # in the shared Python session
+    # The robot section's own inputs, made by lfdkit datasets export (nothing downloaded).
+    made_by_shell += ("reach.json", "panda.urdf", "run_panda/trajectory.json", "reach_eval.json")
+    made_by_python = ("my_skill.json", "sweep.script", "run_panda_py/summary.json")
     for made in made_by_shell + made_by_python:
         assert (tmp_path / made).is_file(), made

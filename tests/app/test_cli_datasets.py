@@ -13,6 +13,7 @@ from lfdkit.datasets import (
     MIMIC_DATASETS,
     builtin,
     catalog,
+    example_urdf,
     lasa_available,
     load_dataset,
     load_emulation_dataset,
@@ -22,6 +23,8 @@ from lfdkit.skill import Skill
 from tests.app.test_cli import run_cli, usage_exit
 
 GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS]
+#: After the LASA shapes: the robot motion and the example arms (``urdf:NAME``).
+ROBOT = ["reach", "urdf:panda", "urdf:ur5", "urdf:ur5e"]
 
 
 def error_line(err: str) -> str:
@@ -43,9 +46,10 @@ def test_the_list_has_one_line_per_data_set(capsys, argv) -> None:
     lines = out.splitlines()
     assert lines[0].split()[:5] == ["NAME", "KIND", "DIMS", "DEMOS", "UNITS"]
     entries = catalog()
-    assert len(lines) == 1 + len(entries) + (0 if lasa_available() else 1)
-    for line, entry in zip(lines[1:], entries, strict=False):
-        name, kind, dims, demos, units, *what = line.split()
+    assert len(lines) == 1 + len(entries) + (0 if lasa_available() else 1) + 3  # + 3 arms
+    listed = {line.split()[0]: line for line in lines[1:]}
+    for entry in entries:
+        name, kind, dims, demos, units, *what = listed[entry.name].split()
         assert (name, kind, int(dims), units) == (entry.name, entry.kind, entry.n_dims, entry.units)
         assert demos == (
             f"{entry.n_demos}+{entry.n_obstacle_demos}"
@@ -58,6 +62,8 @@ def test_the_list_has_one_line_per_data_set(capsys, argv) -> None:
     assert by_name["da_vinci"][1:5] == ["mimic", "3", "4", "m"]
     assert by_name["sweeping"][1:5] == ["emulation", "2", "5+12", "m"]
     assert by_name["letter_a"][1:5] == ["closed", "2", "7", "mm"]
+    assert by_name["reach"][1:5] == ["robot", "3", "6", "m"]
+    assert by_name["urdf:panda"][1:5] == ["urdf", "7", "-", "m"]  # DIMS: joints
     # The note on stderr says how to write one; -q leaves it out.
     assert ("export NAME" in err) == ("-q" not in argv)
 
@@ -68,10 +74,11 @@ def test_the_list_says_how_to_install_lasa_when_it_is_missing(capsys, monkeypatc
     code, out, err = run_cli(capsys, "datasets")
     assert code == 0, err
     lines = out.splitlines()
-    assert [line.split()[0] for line in lines[1:-1]] == GENERATED
-    assert lines[-1].startswith("lasa:SHAPE")
-    assert f"{len(LASA_SHAPES)} LASA handwriting shapes" in lines[-1]
-    assert 'pip install "lfdkit[lasa]"' in lines[-1]
+    names = [line.split()[0] for line in lines[1:]]
+    assert names == [*GENERATED, "lasa:SHAPE", *ROBOT]
+    lasa_line = lines[1 + len(GENERATED)]
+    assert f"{len(LASA_SHAPES)} LASA handwriting shapes" in lasa_line
+    assert 'pip install "lfdkit[lasa]"' in lasa_line
     code, out, err = run_cli(capsys, "datasets", "export", "lasa:Angle", "-o", "never.csv")
     assert code == 1 and out == ""
     assert 'pip install "lfdkit[lasa]"' in error_line(err)
@@ -82,7 +89,7 @@ def test_the_list_names_every_lasa_shape_when_installed(capsys) -> None:
     code, out, _ = run_cli(capsys, "datasets", "-q")
     assert code == 0
     names = [line.split()[0] for line in out.splitlines()[1:]]
-    assert names == [*GENERATED, *(f"lasa:{shape}" for shape in LASA_SHAPES)]
+    assert names == [*GENERATED, *(f"lasa:{shape}" for shape in LASA_SHAPES), *ROBOT]
 
 
 def test_datasets_help(capsys) -> None:
@@ -136,6 +143,22 @@ def test_export_refuses_to_overwrite_without_force(capsys, tmp_path) -> None:
     code, _, err = run_cli(capsys, "datasets", "export", "loops", "-o", out, "--force", "-q")
     assert code == 0, err
     assert len(load_demos(out)) == 10
+
+
+def test_an_example_arm_is_exported_with_how_to_run_a_skill_on_it(capsys, tmp_path) -> None:
+    out = tmp_path / "panda.urdf"
+    code, stdout, err = run_cli(capsys, "datasets", "export", "urdf:panda", "-o", out)
+    assert code == 0 and stdout == "", err
+    assert out.read_bytes() == example_urdf("panda").read_bytes()
+    assert f"--arm {out} --tip-link panda_hand_tcp" in err  # the Panda's tip must be named
+    code, _, err = run_cli(capsys, "datasets", "export", "urdf:panda", "-o", out)
+    assert code == 1 and "--force" in error_line(err)
+    for extra, option in ((["--seed", "1"], "--seed"), (["--scenes", "s.csv"], "--scenes")):
+        code, _, err = run_cli(capsys, "datasets", "export", "urdf:ur5", "-o", "x.urdf", *extra)
+        assert code == 2 and error_line(err).startswith(f"lfdkit datasets: error: {option}: ")
+    code, _, err = run_cli(capsys, "datasets", "export", "urdf:kuka", "-o", tmp_path / "k.urdf")
+    assert code == 2 and "choose from urdf:panda, urdf:ur5, urdf:ur5e" in error_line(err)
+    assert not (tmp_path / "k.urdf").exists()
 
 
 @pytest.mark.parametrize(

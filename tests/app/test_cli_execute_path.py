@@ -14,11 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from lfdkit.datasets import example_urdf
 from lfdkit.skill import Skill
 from tests.app.conftest import reach_demos
 from tests.app.test_cli import run_cli
 
-DATA = Path(__file__).parents[1] / "execute" / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 #: Six reaches of 6 s over 0.6 m, 0.22 m up, each 1 cm higher or lower and off in x.
 REACH = {
     "n_demos": 6,

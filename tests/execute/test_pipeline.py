@@ -10,12 +10,12 @@ naming the pose, the distance and the reach, or the likely unit mistake.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from lfdkit.datasets import example_urdf
 from lfdkit.execute.arm import UR5
 from lfdkit.execute.kinematics import forward
 from lfdkit.execute.pipeline import (
@@ -26,7 +26,7 @@ from lfdkit.execute.pipeline import (
 )
 from lfdkit.execute.urdf import UrdfArm
 
-DATA = Path(__file__).parent / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 
 
 def reach_over_a_box(duration: float = 3.0, n: int = 80, scale: float = 1.0) -> SimpleNamespace:
@@ -81,6 +81,8 @@ def test_the_urscript_moves_within_the_speed_fraction(tmp_path):
     movej = next(line for line in run.program.splitlines() if line.strip().startswith("movej("))
     assert movej.endswith("a=0.28, v=0.21)")
     assert "t=0.002," in run.program
+    # A folder that is not there yet is made (README: write_robot_execution("run_panda_py/", run)).
+    assert write_robot_execution(tmp_path / "new" / "run", run)[0].is_file()
     files = write_robot_execution(tmp_path, run)
     assert [f.name for f in files] == [
         "plan.csv",

@@ -8,11 +8,10 @@ and touches the box when the box is moved into the tool's way.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from lfdkit.datasets import example_urdf
 from lfdkit.execute.arm import UR5
 from lfdkit.execute.pipeline import UR_START, TaskDescription, execute_plan
 from lfdkit.execute.urdf import UrdfArm
@@ -23,7 +22,7 @@ mujoco = pytest.importorskip("mujoco")
 
 from lfdkit.execute.simulation import simulate_execution, urdf_mjcf  # noqa: E402
 
-DATA = Path(__file__).parent / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 
 
 def arms():

@@ -12,18 +12,17 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from lfdkit.datasets import example_urdf
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5
 from lfdkit.execute.urdf import ACCELERATION_PER_SPEED, UrdfArm
 
-DATA = Path(__file__).parent / "data"
+DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
 UR5_URDF = DATA / "ur5.urdf"
 PANDA_URDF = DATA / "panda.urdf"
 UR5E_URDF = DATA / "ur5e.urdf"

@@ -7,13 +7,18 @@ its short name, a key of :data:`MIMIC_DATASETS` or :data:`CLOSED_DATASETS`.
 optional extra ``lfdkit[lasa]``). :func:`catalog` lists them all (with the
 emulation sets of :func:`load_emulation_dataset`) and :func:`export_dataset`
 writes any as files ``lfdkit learn`` reads (``lfdkit datasets``).
+:mod:`~lfdkit.datasets.robots` ships what running a skill on a robot needs
+without a robot of one's own: a timed 3-D reach and three arms' URDFs.
 """
 
-from lfdkit.datasets import builtin, emulation, lasa, synthetic
+from lfdkit.datasets import builtin, emulation, lasa, robots, synthetic
 from lfdkit.datasets.builtin import *  # noqa: F403
 from lfdkit.datasets.emulation import *  # noqa: F403
 from lfdkit.datasets.lasa import *  # noqa: F403
+from lfdkit.datasets.robots import *  # noqa: F403
 from lfdkit.datasets.synthetic import *  # noqa: F403
 
 # Each module lists what it offers; the package offers all of it.
-__all__ = sorted([*builtin.__all__, *emulation.__all__, *lasa.__all__, *synthetic.__all__])
+__all__ = sorted(
+    [*builtin.__all__, *emulation.__all__, *lasa.__all__, *robots.__all__, *synthetic.__all__]
+)

@@ -6,8 +6,13 @@ ground-truth path), the closed handwriting shapes (:data:`CLOSED_DATASETS`),
 the emulation sets (:data:`EMULATION_DATASETS`, demonstrations around
 obstacles by a demonstrator whose reward is known) and, when the optional
 package is installed (:func:`lasa_available`), the 30 LASA handwriting shapes
-as ``lasa:NAME``. Dimensions, counts and units are those of the generators'
-defaults (a test generates each and compares).
+as ``lasa:NAME``; then the timed 3-D reach for running a skill on a robot
+(``reach``, :func:`lfdkit.datasets.robots.reach_demos`). Dimensions, counts and
+units are those of the generators' defaults (a test generates each and
+compares). The example arms' URDFs (``urdf:panda``, ``urdf:ur5``,
+``urdf:ur5e``, :data:`lfdkit.datasets.robots.EXAMPLE_URDFS`) are not data sets
+of demonstrations, so not in the catalogue, but :func:`export_dataset` writes
+them too.
 
 :func:`export_dataset` writes one as a demonstrations file (CSV, NPZ or JSON,
 :func:`lfdkit.io.save_demos`) and, for an emulation set, a scene file
@@ -26,6 +31,8 @@ What an export holds
   ones are written: a demonstration around an obstacle that no scene file
   lists would be learned from as a clean one.
 * A LASA shape: its 7 demonstrations with their times (a ``t`` column).
+* ``reach``: its 6 demonstrations with their times (a ``t`` column).
+* ``urdf:NAME``: the arm's URDF, as shipped.
 
 Generated sets depend on ``seed`` (0 by default, so an export is
 reproducible); LASA shapes are recorded data and take none.
@@ -41,6 +48,7 @@ import numpy as np
 
 from lfdkit.datasets.emulation import EMULATION_DATASETS, load_emulation_dataset
 from lfdkit.datasets.lasa import LASA_SHAPES, lasa_available, load_lasa
+from lfdkit.datasets.robots import URDF_PREFIX, export_urdf, reach_demos
 from lfdkit.datasets.synthetic import CLOSED_DATASETS, MIMIC_DATASETS, load_dataset
 from lfdkit.io import check_output_path, save_demos, save_scenes
 from lfdkit.model.demos import DemoId
@@ -59,7 +67,7 @@ __all__ = [
 #: Names of the LASA shapes in the catalogue: ``lasa:Angle``, ``lasa:BendedLine``, ...
 LASA_PREFIX = "lasa:"
 
-DatasetKind = Literal["mimic", "closed", "emulation", "lasa"]
+DatasetKind = Literal["mimic", "closed", "emulation", "lasa", "robot"]
 
 
 @dataclass(frozen=True)
@@ -71,10 +79,11 @@ class DatasetInfo:
     name : str
         What :func:`export_dataset` and ``lfdkit datasets export`` take
         (``"walking"``, ``"sweeping"``, ``"lasa:Angle"``).
-    kind : {"mimic", "closed", "emulation", "lasa"}
+    kind : {"mimic", "closed", "emulation", "lasa", "robot"}
         A mimicking set with a known ground-truth path, a closed handwriting
         shape, an emulation set (demonstrations around obstacles, known true
-        reward) or a LASA shape (recorded by a person).
+        reward), a LASA shape (recorded by a person) or a timed 3-D motion
+        for running a skill on a robot (``reach``).
     n_dims : int
         Dimension of the points, 2 or 3.
     n_demos : int
@@ -115,10 +124,15 @@ _BUILT_IN: dict[str, tuple[int, int, int, str, str]] = {
     "artificial": (2, 5, 8, "m", "an S path around one obstacle a scene (thesis §5.5)"),
     "da_vinci_marker": (3, 5, 12, "m", "pick and place around a marker, 3-D (thesis §6.3)"),
     "sweeping": (2, 5, 12, "m", "sweeps around a cup or a marker (thesis §6.4)"),
+    "reach": (3, 6, 0, "m", "a timed 3-D reach over a box (6 s), for lfdkit execute"),
 }
+#: The timed motions for a robot (kind ``robot``), listed after the LASA shapes.
+_ROBOT_SETS = ("reach",)
 
 
 def _kind(name: str) -> DatasetKind:
+    if name in _ROBOT_SETS:
+        return "robot"
     if name in EMULATION_DATASETS:
         return "emulation"
     return "closed" if name in CLOSED_DATASETS else "mimic"
@@ -136,8 +150,8 @@ def catalog(*, lasa: bool | None = None) -> list[DatasetInfo]:
     Returns
     -------
     list of DatasetInfo
-        The mimicking sets, the closed shapes, the emulation sets, then the
-        LASA shapes. Nothing is generated or read.
+        The mimicking sets, the closed shapes, the emulation sets, the LASA
+        shapes, then the robot motions. Nothing is generated or read.
     """
     names = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS]
     entries = [DatasetInfo(name, _kind(name), *_BUILT_IN[name]) for name in names]
@@ -154,7 +168,7 @@ def catalog(*, lasa: bool | None = None) -> list[DatasetInfo]:
             )
             for shape in LASA_SHAPES
         ]
-    return entries
+    return entries + [DatasetInfo(name, "robot", *_BUILT_IN[name]) for name in _ROBOT_SETS]
 
 
 def dataset_info(name: str) -> DatasetInfo:
@@ -172,8 +186,8 @@ def dataset_info(name: str) -> DatasetInfo:
         raise ValueError(f"name: expected a data set name, got {type(name).__name__}")
     if name.casefold().startswith(LASA_PREFIX):
         shape = name[len(LASA_PREFIX) :].casefold()
-        for entry in catalog(lasa=True)[len(_BUILT_IN) :]:
-            if entry.name[len(LASA_PREFIX) :].casefold() == shape:
+        for entry in catalog(lasa=True):
+            if entry.kind == "lasa" and entry.name[len(LASA_PREFIX) :].casefold() == shape:
                 return entry
         raise ValueError(
             f"name: unknown LASA shape {name!r}; choose from "
@@ -184,6 +198,7 @@ def dataset_info(name: str) -> DatasetInfo:
     raise ValueError(
         f"name: unknown data set {name!r}; choose from {', '.join(_BUILT_IN)} "
         f"or {LASA_PREFIX}SHAPE (a LASA shape)"
+        + (f"; {name} is an example arm: export it to a file" if _is_urdf(name) else "")
     )
 
 
@@ -242,6 +257,9 @@ def dataset_demos(name: str, *, seed: int = 0, obstacles: bool = True) -> Datase
         shape = load_lasa(info.name[len(LASA_PREFIX) :])
         demos = [np.array(d) for d in shape.demos]
         return DatasetDemos(info, demos, list(range(len(demos))), list(shape.times), {})
+    if info.kind == "robot":
+        demos, times = reach_demos(seed=seed)
+        return DatasetDemos(info, demos, list(range(len(demos))), times, {})
     if info.kind != "emulation":
         data = load_dataset(info.name, seed=seed)
         return DatasetDemos(info, list(data.demos), list(range(data.n_demos)), None, {})
@@ -268,7 +286,7 @@ def export_dataset(
     scenes_path: str | os.PathLike[str] | None = None,
     seed: int = 0,
     overwrite: bool = False,
-) -> DatasetDemos:
+) -> DatasetDemos | None:
     """Write a built-in data set as a demonstrations file (and a scene file).
 
     Parameters
@@ -277,7 +295,8 @@ def export_dataset(
         A catalogue name (:func:`catalog`).
     demos_path : path
         The demonstrations file, ``.csv``, ``.npz`` or ``.json``
-        (:func:`lfdkit.io.save_demos`).
+        (:func:`lfdkit.io.save_demos`); for an example arm (``urdf:NAME``)
+        its URDF file.
     scenes_path : path, optional
         Emulation sets only: the scene file (``.csv`` or ``.json``) of the
         demonstrations around obstacles, which are then written too.
@@ -289,8 +308,8 @@ def export_dataset(
 
     Returns
     -------
-    DatasetDemos
-        What was written (:func:`dataset_demos`).
+    DatasetDemos or None
+        What was written (:func:`dataset_demos`); None for an example arm.
 
     Raises
     ------
@@ -300,6 +319,11 @@ def export_dataset(
     FileExistsError
         If a file exists and ``overwrite`` is false (checked before writing).
     """
+    if _is_urdf(name):
+        if scenes_path is not None:
+            raise ValueError(f"scenes_path: {name} is an example arm's URDF; it has no scenes")
+        export_urdf(name, demos_path, overwrite=overwrite)
+        return None
     info = dataset_info(name)
     if scenes_path is not None and info.kind != "emulation":
         raise ValueError(
@@ -315,3 +339,7 @@ def export_dataset(
     if scenes_path is not None:
         save_scenes(scenes_path, data.scenes, overwrite=overwrite)
     return data
+
+
+def _is_urdf(name: object) -> bool:
+    return isinstance(name, str) and name.casefold().startswith(URDF_PREFIX)

@@ -194,17 +194,17 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
     step = problem.max_step
     span = max(float(np.abs(d0).max()), 2.0 * step)
     if problem.has_obstacles:
-        for o, (k, lateral) in enumerate(_nearest_laterals(problem, problem.obstacles)):
-            across = problem.normals[k] @ problem.precision[o] @ problem.normals[k].T
-            width = 1.0 / np.sqrt(max(float(np.linalg.eigvalsh(across).min()), 1e-300))
-            if float(np.linalg.norm(lateral)) < 4.0 * width:
-                span = max(span, float(np.abs(lateral).max()) + 4.0 * width)
+        # All anchors at once (a closed loop builds a grid every step: a loop with an
+        # eigvalsh per anchor was a tenth of the moving MPC's step); the same numbers
+        # as one anchor at a time (batched matmul, eigvalsh of a 1 x 1 is its entry).
+        nearest, laterals = _nearest_lateral_arrays(problem, problem.obstacles)
+        normals = problem.normals[nearest]  # (L, m, q)
+        across = normals @ problem.precision @ np.swapaxes(normals, 1, 2)  # (L, m, m)
+        smallest = across[:, 0, 0] if m == 1 else np.linalg.eigvalsh(across)[:, 0]
+        width = 1.0 / np.sqrt(np.maximum(smallest, 1e-300))
+        span = _widest(span, laterals, 4.0 * width)
         hard = problem.hard_centres[..., problem.hard, :]
-        for (_, lateral), reach in zip(
-            _nearest_laterals(problem, hard), np.sqrt(problem.outer2), strict=True
-        ):
-            if float(np.linalg.norm(lateral)) < reach:
-                span = max(span, float(np.abs(lateral).max()) + reach)
+        span = _widest(span, _nearest_lateral_arrays(problem, hard)[1], np.sqrt(problem.outer2))
     span = min(span, float(np.abs(d0).max()) + n * step)
     cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
     if fine:
@@ -215,8 +215,16 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
     return spacing * np.arange(-count, count + 1), window
 
 
-def _nearest_laterals(problem: Problem, centres: np.ndarray) -> list[tuple[int, np.ndarray]]:
-    """For each centre (L, q): its nearest nominal point ``k`` and its lateral offset there.
+def _widest(span: float, laterals: np.ndarray, reach: np.ndarray) -> float:
+    """``span`` grown to ``max|lateral| + reach`` of each centre whose lateral is within reach."""
+    inside = np.sqrt(np.einsum("lm,lm->l", laterals, laterals)) < reach
+    if not inside.any():
+        return span
+    return max(span, float((np.abs(laterals[inside]).max(axis=1) + reach[inside]).max()))
+
+
+def _nearest_lateral_arrays(problem: Problem, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each centre (L, q): its nearest nominal point (L,) and its lateral offset there (L, m).
 
     Moving obstacles have a centre per point, (n, L, q): the nearest point is
     where the point and that point's centre are closest.
@@ -226,7 +234,14 @@ def _nearest_laterals(problem: Problem, centres: np.ndarray) -> list[tuple[int, 
     else:
         rel = centres[:, None, :] - problem.base[None]  # (L, n, q)
     nearest = np.argmin(np.einsum("lkq,lkq->lk", rel, rel), axis=1)
-    return [(int(k), problem.normals[k] @ rel[o, k]) for o, k in enumerate(nearest)]
+    closest = rel[np.arange(rel.shape[0]), nearest]  # (L, q)
+    return nearest, (problem.normals[nearest] @ closest[..., None])[..., 0]
+
+
+def _nearest_laterals(problem: Problem, centres: np.ndarray) -> list[tuple[int, np.ndarray]]:
+    """:func:`_nearest_lateral_arrays` as a list of ``(k, lateral)`` pairs."""
+    nearest, laterals = _nearest_lateral_arrays(problem, centres)
+    return list(zip(nearest.tolist(), laterals, strict=True))
 
 
 def _grid_kernel(name: str) -> Any:

@@ -569,15 +569,22 @@ def _predicted_shifts(
     margin = check_positive(margin, "margin", allow_zero=True)
     n, q = times.size - 1, corridor.n_dims
     shifts, grow = np.zeros((n, len(scene), q)), np.zeros((n, len(scene)))
-    for o, obstacle in enumerate(scene.obstacles):
-        if obstacle.motion is None:
-            continue
-        means, covs = obstacle.predict(times)
-        step = means[1:] - means[:-1]
-        move = np.sqrt(np.einsum("kq,kq->k", step, step))  # (K − 1,)
-        ahead = np.append(move[1:], move[-1])
-        shifts[:, o] = means[1:] - obstacle.position
-        grow[:, o] = margin * predicted_sigma(covs[1:]) + 0.5 * np.maximum(move, ahead)
+    moving = [o for o, obstacle in enumerate(scene.obstacles) if obstacle.motion is not None]
+    if not moving:
+        return shifts, grow
+    # The moving obstacles' predictions stacked, (M, K, q) and (M, K, q, q), and worked
+    # on at once: a closed loop builds this every step (one obstacle at a time was a
+    # fifth of the moving MPC's step); element by element the same arithmetic.
+    predictions = [scene.obstacles[o].predict(times) for o in moving]
+    means = np.stack([mean for mean, _ in predictions])
+    covs = np.stack([cov for _, cov in predictions])
+    step = means[:, 1:] - means[:, :-1]
+    move = np.sqrt(np.einsum("okq,okq->ok", step, step))  # (M, K − 1)
+    ahead = np.concatenate([move[:, 1:], move[:, -1:]], axis=1)
+    positions = np.array([scene.obstacles[o].position for o in moving])  # (M, q)
+    shifts[:, moving] = np.swapaxes(means[:, 1:] - positions[:, None], 0, 1)
+    sigma = predicted_sigma(covs[:, 1:].reshape(-1, q, q)).reshape(len(moving), n)
+    grow[:, moving] = (margin * sigma + 0.5 * np.maximum(move, ahead)).T
     return shifts, grow
 
 

@@ -529,11 +529,13 @@ def write_robot_execution(
     positions, velocities, accelerations per joint), ``trajectory.json`` (ROS
     ``JointTrajectory`` shape), ``program.script`` (UR arms) and ``summary.json``,
     each atomically; an existing file raises unless ``overwrite``, before anything is written.
+    The folder is made if it is missing (as ``lfdkit execute -o FOLDER`` does).
     """
     planned = robot_outputs(folder, program=execution.program is not None)
     clash = [p for p in planned if p.exists()]
     if clash and not overwrite:
         raise FileExistsError(f"{clash[0]}: exists; pass overwrite=True to replace it")
+    Path(folder).mkdir(parents=True, exist_ok=True)
     plan = execution.plan
     dims = plan.positions.shape[1]
     columns = ["t", *"xyz"[:dims]]

@@ -1,4 +1,4 @@
-"""``lfdkit datasets``: list the built-in data sets, or export one."""
+"""``lfdkit datasets``: list the built-in data sets and example arms, or export one."""
 
 from __future__ import annotations
 
@@ -35,7 +35,15 @@ def run_command(args: argparse.Namespace) -> None:
 def _list_datasets(args: argparse.Namespace) -> None:
     """The catalogue on standard output, one line per data set (the command's output, as
     ``plan``'s CSV is), and a note on stderr."""
-    from lfdkit.datasets import LASA_INSTALL, LASA_PREFIX, LASA_SHAPES, catalog, lasa_available
+    from lfdkit.datasets import (
+        EXAMPLE_URDFS,
+        LASA_INSTALL,
+        LASA_PREFIX,
+        LASA_SHAPES,
+        URDF_PREFIX,
+        catalog,
+        lasa_available,
+    )
 
     rows = [("NAME", "KIND", "DIMS", "DEMOS", "UNITS", "WHAT IT IS")]
     for entry in catalog():
@@ -44,7 +52,10 @@ def _list_datasets(args: argparse.Namespace) -> None:
             demos += f"+{entry.n_obstacle_demos}"
         rows.append((entry.name, entry.kind, str(entry.n_dims), demos, entry.units, entry.summary))
     if not lasa_available():
-        rows.append(
+        # Where the LASA shapes would be: before the robot motions (``reach``).
+        robot_rows = sum(entry.kind == "robot" for entry in catalog(lasa=False))
+        rows.insert(
+            len(rows) - robot_rows,
             (
                 f"{LASA_PREFIX}SHAPE",
                 "lasa",
@@ -52,8 +63,13 @@ def _list_datasets(args: argparse.Namespace) -> None:
                 "7",
                 "mm",
                 f"{len(LASA_SHAPES)} LASA handwriting shapes; not installed: {LASA_INSTALL}",
-            )
+            ),
         )
+    # The example arms: not demonstrations (DIMS is their joint count), written the same way.
+    rows += [
+        (URDF_PREFIX + name, "urdf", str(joints), "-", "m", summary)
+        for name, (joints, _, summary) in EXAMPLE_URDFS.items()
+    ]
     widths = [max(len(row[k]) for row in rows) for k in range(5)]
     for row in rows:
         cells = [cell.ljust(width) for cell, width in zip(row[:5], widths, strict=True)]
@@ -61,12 +77,20 @@ def _list_datasets(args: argparse.Namespace) -> None:
     tell(
         args,
         "DEMOS: clean demonstrations + those around obstacles (written with --scenes FILE). "
-        "Write one for lfdkit learn: lfdkit datasets export NAME -o demos.csv",
+        "Write one for lfdkit learn: lfdkit datasets export NAME -o demos.csv; "
+        "an example arm (DIMS: joints) for lfdkit execute --arm: "
+        "lfdkit datasets export urdf:panda -o panda.urdf",
     )
 
 
 def _export_dataset(args: argparse.Namespace) -> None:
-    from lfdkit.datasets import LASA_INSTALL, dataset_info, export_dataset, lasa_available
+    from lfdkit.datasets import (
+        LASA_INSTALL,
+        URDF_PREFIX,
+        dataset_info,
+        export_dataset,
+        lasa_available,
+    )
 
     if args.name is None:
         raise UsageError(
@@ -75,6 +99,9 @@ def _export_dataset(args: argparse.Namespace) -> None:
         )
     if args.output is None:
         raise UsageError("export: give the file to write with -o FILE (.csv, .npz or .json)")
+    if args.name.casefold().startswith(URDF_PREFIX):
+        _export_urdf(args)
+        return
     try:
         info = dataset_info(args.name)
     except ValueError as exc:
@@ -121,6 +148,28 @@ def _export_dataset(args: argparse.Namespace) -> None:
     tell(args, f"{wrote}; learn with: {learn} --units {info.units} -o skill.json")
 
 
+def _export_urdf(args: argparse.Namespace) -> None:
+    """An example arm's URDF, copied as shipped."""
+    from lfdkit.datasets import EXAMPLE_URDFS, example_urdf, export_urdf
+
+    for option, value in (("--scenes", args.scenes), ("--seed", args.seed)):
+        if value is not None:
+            raise UsageError(f"{option}: {args.name} is an example arm's URDF; leave it out")
+    try:
+        name = example_urdf(args.name).stem
+    except ValueError as exc:
+        raise UsageError(str(exc).removeprefix("name: ")) from None
+    refuse_existing(args.output, args.force)
+    export_urdf(name, args.output, overwrite=args.force)
+    joints, tip, _ = EXAMPLE_URDFS[name]
+    tip_option = f" --tip-link {tip}" if tip else ""
+    tell(
+        args,
+        f"wrote the example {name} arm ({joints} joints, kinematic chain) to {args.output}; "
+        f"run a skill on it with: lfdkit execute SKILL --arm {args.output}{tip_option} -o run/",
+    )
+
+
 def add_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "action",
@@ -129,7 +178,9 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         default="list",
         help="list the data sets (the default) or export one",
     )
-    parser.add_argument("name", nargs="?", metavar="NAME", help="export: the data set to write")
+    parser.add_argument(
+        "name", nargs="?", metavar="NAME", help="export: the data set (or urdf:ARM) to write"
+    )
     parser.add_argument(
         "-o",
         "--output",

@@ -1,0 +1,133 @@
+"""Examples for running a skill on a robot: a timed 3-D reach and three arms' URDFs.
+
+The README's "Your robot" section runs a 3-D skill on arms described by URDF
+files. A new user has neither, so lfdkit ships both, reachable by one command
+(``lfdkit datasets export reach -o reach.csv``, ``lfdkit datasets export
+urdf:panda -o panda.urdf``) and nothing is downloaded:
+
+* :func:`reach_demos`: six timed demonstrations of a reach over a box, in
+  metres, in front of a robot's base: x about 0.45 m, y from -0.3 to 0.3 m, up
+  from 0.15 m to about 0.37 m and down again, each about 6 s (±5 %) with a
+  minimum-jerk-like ``(1 - cos)/2`` progress, 1 cm of spread in height and
+  depth. Every pose is within reach of the UR5 (0.85 m), the UR5e and the
+  Panda, and 6 s keeps every arm within its joint limits at half speed.
+* :data:`EXAMPLE_URDFS`: kinematic chains only (no meshes or inertias), written
+  from the makers' published DH tables with their position and speed limits;
+  the Panda's hand has two fingers, so its tip link must be named
+  (``panda_hand_tcp``). :func:`example_urdf` gives a file's path,
+  :func:`export_urdf` copies one (atomically, never over a file unless asked).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from lfdkit.core.validation import check_random_state
+from lfdkit.datasets._shared import check_count_at_least
+from lfdkit.io import atomic_write, check_output_path
+
+__all__ = ["EXAMPLE_URDFS", "URDF_PREFIX", "example_urdf", "export_urdf", "reach_demos"]
+
+#: Names of the example arms in the catalogue: ``urdf:panda``, ``urdf:ur5``, ``urdf:ur5e``.
+URDF_PREFIX = "urdf:"
+
+#: The shipped URDFs: name -> (joints, tip link to name or None, what it is).
+EXAMPLE_URDFS: dict[str, tuple[int, str | None, str]] = {
+    "panda": (
+        7,
+        "panda_hand_tcp",
+        "Franka Emika Panda, kinematic chain (--tip-link panda_hand_tcp)",
+    ),
+    "ur5": (6, None, "Universal Robots UR5 from its DH table, kinematic chain"),
+    "ur5e": (6, None, "Universal Robots UR5e from its DH table, kinematic chain"),
+}
+
+_URDF_FOLDER = Path(__file__).parent / "urdf"
+
+
+def example_urdf(name: str) -> Path:
+    """The path of a shipped example URDF (``"panda"``, ``"ur5"``, ``"ur5e"``).
+
+    ``name`` may carry the ``urdf:`` prefix and the ``.urdf`` suffix, in any case.
+
+    Raises
+    ------
+    ValueError
+        If there is no such example; the message starts with ``name:`` and lists them.
+    """
+    if not isinstance(name, str):
+        raise ValueError(f"name: expected an example arm's name, got {type(name).__name__}")
+    key = name.casefold().removeprefix(URDF_PREFIX).removesuffix(".urdf")
+    if key not in EXAMPLE_URDFS:
+        raise ValueError(
+            f"name: no example URDF {name!r}; choose from "
+            + ", ".join(URDF_PREFIX + known for known in EXAMPLE_URDFS)
+        )
+    return _URDF_FOLDER / f"{key}.urdf"
+
+
+def export_urdf(name: str, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+    """Copy a shipped example URDF to ``path``, atomically, over a file only with ``overwrite``.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not an example (:func:`example_urdf`).
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is false.
+    """
+    text = example_urdf(name).read_text(encoding="utf-8")
+    check_output_path(os.fspath(path), overwrite=overwrite)
+    return atomic_write(path, lambda handle: handle.write(text), overwrite=overwrite)
+
+
+def reach_demos(
+    n_demos: int = 6, *, seed: object = 0, n_points: int = 120
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Timed demonstrations of a 3-D reach over a box, in metres and seconds.
+
+    Parameters
+    ----------
+    n_demos : int
+        Number of demonstrations (at least 1).
+    seed : None, int or numpy.random.Generator
+        Their random durations, heights and depths.
+    n_points : int
+        Samples per demonstration (at least 10), evenly spaced in time.
+
+    Returns
+    -------
+    demos : list of ndarray, each (n_points, 3)
+        Positions ``x, y, z`` (m) in the robot's base frame.
+    times : list of ndarray, each (n_points,)
+        Sample times from 0 (s), each demonstration lasting about 6 s.
+    """
+    n_demos = check_count_at_least(n_demos, "n_demos")
+    n_points = check_count_at_least(n_points, "n_points", 10)
+    rng = check_random_state(seed)
+    demos, times = [], []
+    for _ in range(n_demos):
+        duration = 6.0 * (1.0 + 0.05 * rng.standard_normal())
+        t = np.linspace(0.0, duration, n_points)
+        progress = 0.5 - 0.5 * np.cos(np.pi * t / duration)
+        height = 0.22 + 0.01 * rng.standard_normal()
+        depth = 0.45 + 0.01 * rng.standard_normal()
+        demos.append(
+            np.column_stack(
+                [
+                    np.full_like(t, depth),
+                    -0.3 + 0.6 * progress,
+                    0.15 + height * np.sin(np.pi * progress),
+                ]
+            )
+        )
+        times.append(t)
+    return demos, times
