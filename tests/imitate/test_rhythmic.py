@@ -182,6 +182,22 @@ def test_a_rotation_at_another_amplitude_speed_and_centre(orientation_data) -> N
             r"^frequency:",
         ),
         (
+            lambda t, y: (
+                RhythmicDMP(period=PERIOD)
+                .fit(y, t)
+                .rollout(1.0, frequency=lambda s: 1.0 if s < 0.5 else -1.0)
+            ),
+            r"^frequency\(0\.5\d* s\): must be > 0, got -1",
+        ),
+        (
+            lambda t, y: (
+                RhythmicDMP(period=PERIOD)
+                .fit(y, t)
+                .rollout(1.0, centre=lambda s: [0.0, 0.0] if s < 0.5 else [0.0, np.nan])
+            ),
+            r"^centre\(0\.5\d* s\): ",
+        ),
+        (
             lambda t, y: RhythmicDMP(period=PERIOD).fit(y, t).rollout(1.0, ramp=0.6),
             r"^ramp: 0\.6 s, more than half",
         ),

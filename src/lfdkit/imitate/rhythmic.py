@@ -688,9 +688,21 @@ def _sampled(value: Schedule, name: str, instants: np.ndarray, *, allow_zero: bo
     if not callable(value):
         number = check_positive(value, name, allow_zero=allow_zero)
         return np.full(len(instants), number)
-    return np.array(
-        [check_positive(value(t), f"{name}({t:g} s)", allow_zero=allow_zero) for t in instants]
-    )
+    raw = [value(t) for t in instants]
+    try:
+        values = np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError):
+        values = np.empty(0)
+    bad = ~np.isfinite(values) | (values < 0.0) | ((values == 0.0) & (not allow_zero))
+    if values.shape != instants.shape or bad.any():
+        # Checked as a whole for speed; one by one only to name the first bad sample.
+        return np.array(
+            [
+                check_positive(v, f"{name}({t:g} s)", allow_zero=allow_zero)
+                for t, v in zip(instants, raw, strict=True)
+            ]
+        )
+    return values
 
 
 def _sampled_centre(value: Any, learned: np.ndarray, d: int, instants: np.ndarray) -> np.ndarray:
@@ -698,7 +710,20 @@ def _sampled_centre(value: Any, learned: np.ndarray, d: int, instants: np.ndarra
     if value is None:
         fixed = learned
     elif callable(value):
-        return np.array([_check_vector(value(t), f"centre({t:g} s)", d) for t in instants])
+        raw = [value(t) for t in instants]
+        try:
+            centres = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            centres = np.empty(0)
+        if centres.shape != (len(instants), d) or not np.isfinite(centres).all():
+            # One by one only to name the first bad sample.
+            return np.array(
+                [
+                    _check_vector(point, f"centre({t:g} s)", d)
+                    for t, point in zip(instants, raw, strict=True)
+                ]
+            )
+        return centres
     else:
         fixed = _check_vector(value, "centre", d)
     return np.ascontiguousarray(np.broadcast_to(fixed, (len(instants), d)), dtype=np.float64)
