@@ -73,6 +73,7 @@ KERNEL_MODULES = (
     "core/_geometry_kernels.py",
     "mimic/_gmr_kernels.py",
     "imitate/_dmp_kernels.py",
+    "imitate/_rhythmic_kernels.py",
     "emulate/_problem_kernels.py",
     "emulate/_planner_kernels.py",
     "emulate/_ioc_kernels.py",

@@ -18,11 +18,17 @@ Why this design:
   out); its derivatives in phase are then exact, and so is ``f = y'' + α y' +
   αβ (y − a₀)``, again a Fourier series. The transformation system is linear,
   so with ``r``, ``Ω``, ``c`` held its periodic solution is *exactly* ``c +
-  r (y(φ) − a₀)``: the rollout reproduces the fitted cycle to the integrator's
-  error (RK4, 1e-8 of the amplitude at 400 steps a period), amplitude and
-  centre act as a user expects, and a frequency change only changes the
-  speed. (Gaussian or von Mises bumps fitted to finite-difference
-  accelerations would carry the differencing noise into the forcing term.)
+  r (y(φ) − a₀)``: amplitude and centre act as a user expects, and a
+  frequency change only changes the speed. (Gaussian or von Mises bumps
+  fitted to finite-difference accelerations would carry the differencing
+  noise into the forcing term.)
+- **A rollout fast enough to run on line.** With held schedules it *is* that
+  closed form, vectorised (about 0.1 ms a cycle of 400 points). Schedules
+  that vary, a ramp or a ``start`` run RK4 in a compiled loop (numba: about
+  0.3 ms a cycle, plus the schedule functions' calls, two a step, checked as
+  a whole); the Python RK4 loop it replaced took 130–160 ms a cycle, and
+  they agree to rounding (2e-13 m). RK4's error on a learned 8-harmonic
+  cycle at the default 400 steps a period is about 2e-7 of the stroke.
 - **Period learned from the data**: the spectrum's peak (resampled evenly,
   zero-padded 8×) gives a first guess, refined by a golden-section search of
   the Fourier fit's residual within ±10 %; the fundamental is the shortest of
@@ -529,70 +535,85 @@ def _run_tangent(
     start: Any,
     ramp: float,
 ) -> _Run:
-    """Integrate the transformation system by RK4 (see the module notes)."""
+    """Roll the transformation system out (see the module notes).
+
+    Held schedules, no ramp and no ``start``: the exact periodic solution
+    ``c + r (y(φ) − a₀)`` at ``φ = Ω t``, vectorised. Otherwise RK4 in a
+    compiled loop (:mod:`._rhythmic_kernels`) with the schedules sampled at
+    each step's start, middle and end beforehand.
+    """
     seconds = check_positive(duration, "duration")
     step = dmp.period_ / STEPS_PER_PERIOD if dt is None else check_positive(dt, "dt")
     n_steps = check_count(math.ceil(seconds / step - 1e-9), "duration / dt", maximum=10**7)
     ramp = check_positive(ramp, "ramp", allow_zero=True)
     if 2.0 * ramp > seconds:
         raise ValueError(f"ramp: {ramp:g} s, more than half the duration {seconds:g} s")
-    d, k = dmp.n_dims_, dmp.n_harmonics
+    d = dmp.n_dims_
     alpha = float(dmp.alpha)
-    stiffness = alpha * alpha / 4.0
-    cos_part, sin_part = dmp._forcing_coefficients()
-    harmonics = np.arange(1, k + 1)
     base_omega = 2.0 * math.pi / dmp.period_
-    lag_rate = 4.0 / dmp.period_  # 1/s: a quarter period
-    amp_at = _schedule(amplitude, "amplitude", allow_zero=True)
-    freq_at = _schedule(frequency, "frequency", allow_zero=False)
-    centre_at = _centre_schedule(centre, dmp.centre_, d)
-
-    def envelope(t: float) -> float:
-        if ramp <= 0.0:
-            return 1.0
-        rise = _smooth_step(t / ramp)
-        fall = _smooth_step((seconds - 0.5 * ramp - t) / ramp)
-        return rise * fall
-
-    def derivative(t: float, y: np.ndarray, z: np.ndarray, phi: float, speed: float):
-        # ``speed`` follows the asked frequency with a lag of a quarter period, so that
-        # a step in frequency is no step in velocity (ẏ = Ω z).
-        omega = base_omega * speed
-        forcing = cos_part.T @ np.cos(harmonics * phi) + sin_part.T @ np.sin(harmonics * phi)
-        drive = alpha * ((stiffness / alpha) * (centre_at(t) - y) - z)
-        pull = (freq_at(t) - speed) * lag_rate
-        return omega * z, omega * (drive + amp_at(t) * envelope(t) * forcing), omega, pull
-
     times = np.minimum(np.arange(n_steps + 1) * step, seconds)
-    positions = np.empty((n_steps + 1, d))
-    velocities = np.empty((n_steps + 1, d))
-    phi = 0.0
+    held = not (callable(amplitude) or callable(frequency) or callable(centre))
+    if held and start is None and ramp <= 0.0:
+        return _held_rhythm(dmp, times, amplitude, frequency, centre)
+    # Every instant RK4 evaluates: each step's start, middle and end.
+    instants = np.empty(2 * n_steps + 1)
+    instants[0::2] = times
+    instants[1::2] = times[:-1] + 0.5 * np.diff(times)
+    drive = _sampled(amplitude, "amplitude", instants, allow_zero=True)
+    if ramp > 0.0:
+        rise = _smooth_steps(instants / ramp)
+        fall = _smooth_steps((seconds - 0.5 * ramp - instants) / ramp)
+        drive = drive * rise * fall
+    speeds = _sampled(frequency, "frequency", instants, allow_zero=False)
+    centres = _sampled_centre(centre, dmp.centre_, d, instants)
+    if start is None:
+        y0 = centres[0].copy()
+    else:
+        y0 = _check_vector(start, "start", d)
+    z0 = np.zeros(d)
     if start is None and ramp <= 0.0:
         # On the cycle at phase 0, moving: scaled about the centre as asked.
-        c0, r0 = centre_at(0.0), amp_at(0.0)
-        y = c0 + r0 * (dmp.cycle([0.0])[0] - dmp.centre_)
-        z = r0 * _cycle_slope(dmp, 0.0)
-    else:
-        y = centre_at(0.0) if start is None else _check_vector(start, "start", d)
-        z = np.zeros(d)
-    speed = freq_at(0.0)
-    for i in range(n_steps + 1):
-        t = times[i]
-        positions[i] = y
-        velocities[i] = base_omega * speed * z
-        if i == n_steps:
-            break
-        h = times[i + 1] - t
-        state = (y, z, phi, speed)
-        k1 = derivative(t, *state)
-        k2 = derivative(t + h / 2, *(x + h / 2 * dx for x, dx in zip(state, k1, strict=True)))
-        k3 = derivative(t + h / 2, *(x + h / 2 * dx for x, dx in zip(state, k2, strict=True)))
-        k4 = derivative(t + h, *(x + h * dx for x, dx in zip(state, k3, strict=True)))
-        y, z, phi, speed = (
-            x + h / 6 * (a + 2 * b + 2 * c + e)
-            for x, a, b, c, e in zip(state, k1, k2, k3, k4, strict=True)
-        )
+        y0 = centres[0] + drive[0] * (dmp.cycle([0.0])[0] - dmp.centre_)
+        z0 = drive[0] * _cycle_slope(dmp, 0.0)
+    from lfdkit.imitate._rhythmic_kernels import rk4_rhythm  # numba compiles on first use
+
+    cos_part, sin_part = dmp._forcing_coefficients()
+    # ``speed`` follows the asked frequency with a lag of a quarter period, so that a step
+    # in frequency is no step in velocity (ẏ = Ω z).
+    coefs = np.array([alpha, alpha * alpha / 4.0, base_omega, 4.0 / dmp.period_])
+    positions, velocities = rk4_rhythm(
+        times,
+        drive,
+        speeds,
+        centres,
+        np.ascontiguousarray(cos_part),
+        np.ascontiguousarray(sin_part),
+        coefs,
+        np.asarray(y0, dtype=np.float64),
+        z0,
+        float(speeds[0]),
+    )
     return _Run(times, positions, velocities)
+
+
+def _held_rhythm(
+    dmp: RhythmicDMP, times: np.ndarray, amplitude: Any, frequency: Any, centre: Any
+) -> _Run:
+    """The exact solution for held schedules, started on the cycle (module notes)."""
+    r = check_positive(amplitude, "amplitude", allow_zero=True)
+    speed = check_positive(frequency, "frequency", allow_zero=False)
+    c = dmp.centre_ if centre is None else _check_vector(centre, "centre", dmp.n_dims_)
+    omega = 2.0 * math.pi / dmp.period_ * speed
+    phi = omega * times
+    k = dmp.n_harmonics
+    design = _fourier(phi, k)
+    positions = c + r * (design[:, 1:] @ dmp.coefficients_[1:])
+    harmonics = np.arange(1, k + 1)
+    # d/dφ: cos kφ → −k sin kφ, sin kφ → k cos kφ.
+    slope = design[:, k + 1 :] @ (-harmonics[:, None] * dmp.coefficients_[1 : k + 1]) + design[
+        :, 1 : k + 1
+    ] @ (harmonics[:, None] * dmp.coefficients_[k + 1 :])
+    return _Run(times, positions, (r * omega) * slope)
 
 
 def _cycle_slope(dmp: RhythmicDMP, phi: float) -> np.ndarray:
@@ -658,31 +679,56 @@ def _tangent(q: np.ndarray, centre: np.ndarray) -> np.ndarray:
     return log(multiply(q, conjugate(centre)))
 
 
-def _smooth_step(x: float) -> float:
+def _smooth_steps(x: np.ndarray) -> np.ndarray:
     """Quintic smooth step: 0 below 0, 1 above 1, zero slope and curvature at both."""
-    x = min(max(x, 0.0), 1.0)
+    x = np.clip(x, 0.0, 1.0)
     return x * x * x * (10.0 - 15.0 * x + 6.0 * x * x)
 
 
-def _schedule(value: Schedule, name: str, *, allow_zero: bool) -> Callable[[float], float]:
-    """A number, or a function of time returning one, as a checked function of time."""
-    if callable(value):
+def _sampled(value: Schedule, name: str, instants: np.ndarray, *, allow_zero: bool) -> np.ndarray:
+    """A number, or a function of time returning one, checked and sampled at ``instants``."""
+    if not callable(value):
+        number = check_positive(value, name, allow_zero=allow_zero)
+        return np.full(len(instants), number)
+    raw = [value(t) for t in instants]
+    try:
+        values = np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError):
+        values = np.empty(0)
+    bad = ~np.isfinite(values) | (values < 0.0) | ((values == 0.0) & (not allow_zero))
+    if values.shape != instants.shape or bad.any():
+        # Checked as a whole for speed; one by one only to name the first bad sample.
+        return np.array(
+            [
+                check_positive(v, f"{name}({t:g} s)", allow_zero=allow_zero)
+                for t, v in zip(instants, raw, strict=True)
+            ]
+        )
+    return values
 
-        def at(t: float) -> float:
-            return check_positive(value(t), f"{name}({t:g} s)", allow_zero=allow_zero)
 
-        return at
-    number = check_positive(value, name, allow_zero=allow_zero)
-    return lambda t: number
-
-
-def _centre_schedule(value: Any, learned: np.ndarray, d: int) -> Callable[[float], np.ndarray]:
+def _sampled_centre(value: Any, learned: np.ndarray, d: int, instants: np.ndarray) -> np.ndarray:
+    """The centre at ``instants``, shape (n, d)."""
     if value is None:
-        return lambda t: learned
-    if callable(value):
-        return lambda t: _check_vector(value(t), f"centre({t:g} s)", d)
-    fixed = _check_vector(value, "centre", d)
-    return lambda t: fixed
+        fixed = learned
+    elif callable(value):
+        raw = [value(t) for t in instants]
+        try:
+            centres = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            centres = np.empty(0)
+        if centres.shape != (len(instants), d) or not np.isfinite(centres).all():
+            # One by one only to name the first bad sample.
+            return np.array(
+                [
+                    _check_vector(point, f"centre({t:g} s)", d)
+                    for t, point in zip(instants, raw, strict=True)
+                ]
+            )
+        return centres
+    else:
+        fixed = _check_vector(value, "centre", d)
+    return np.ascontiguousarray(np.broadcast_to(fixed, (len(instants), d)), dtype=np.float64)
 
 
 def _check_vector(value: Any, name: str, d: int) -> np.ndarray:
