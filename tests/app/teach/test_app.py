@@ -706,7 +706,7 @@ def test_boxes_are_saved_into_the_scene_file_and_read_back(learned, tmp_path) ->
         ({"shape": "cone"}, r"obstacles\[0\]\.shape: expected 'round' or 'box', got text"),
         ({"width": 0.0}, r"obstacles\[0\]\.width: expected more than 0 and at most 2 m, got 0"),
         ({"depth": 5.0}, r"obstacles\[0\]\.depth: expected more than 0 and at most 2 m, got 5"),
-        ({"width": None}, r"obstacles\[0\]\.width: expected a number, got null"),
+        ({"width": None}, r"obstacles\[0\]\.width: expected a number, got nothing"),
         ({"yaw": "north"}, r"obstacles\[0\]\.yaw: expected a number, got text"),
     ],
 )
