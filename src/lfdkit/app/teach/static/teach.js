@@ -701,7 +701,7 @@
       else {
         const o = hitObstacle(state.trial.obstacles, world);
         if (o) {
-          target = { kind: "trial", obstacle: o };
+          target = { kind: "trial", obstacle: o, grab: [o.x - world[0], o.y - world[1]] };
           state.selected = { kind: "trial", id: o.id };
           $("try-radius").value = round(o.radius * 100, 1);
         }
@@ -718,7 +718,8 @@
       snapshot();
       if (hit) {
         state.selected = { kind: "obstacle", id: hit.id };
-        state.drag = { kind: "obstacle", obstacle: hit };
+        // Where it was grabbed stays under the pointer (a box is grabbed anywhere on it).
+        state.drag = { kind: "obstacle", obstacle: hit, grab: [hit.x - world[0], hit.y - world[1]] };
         if (hit.shape === "box") { // its size in the inputs, to be changed there
           $("obstacle-shape").value = "box";
           $("box-width").value = round(hit.width * 100, 1);
@@ -766,7 +767,10 @@
     const d = state.drag;
     if (d.kind === "start") state.trial.start = world;
     else if (d.kind === "goal") state.trial.goal = world;
-    else { d.obstacle.x = world[0]; d.obstacle.y = world[1]; }
+    else {
+      const [gx, gy] = d.grab || [0, 0];
+      d.obstacle.x = world[0] + gx; d.obstacle.y = world[1] + gy;
+    }
     if (state.mode === "try") requestPlan(false);
     draw();
   }
