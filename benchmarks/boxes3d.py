@@ -35,17 +35,19 @@ demonstrations on threads, and CPU time is what a busy machine inflates
 least) and whether the fit converged (with its reason).
 
 Why the plain plan came closer to the boxes than the person (0.76× the
-person's clearance among three boxes, fold 5): the thesis's 8-point planning
-window against a person who looks ahead over the whole path. Fitted with the
-window, the IOC widens nothing and sharpens the response across the swerve
-(precision 195–270 /m² along y and z where the person's is 150), so the plan
-passes 2 cm nearer; the same fold fitted and planned over the whole path
-learns 156–162 /m² and keeps 7.9 cm where the person kept 7.8 (noise-free
-demonstrations give the same: it is the window, not the noise). The *chosen*
-columns therefore fit both horizons and keep the one whose replans of the
-training demonstrations lie nearer to them (training data only, as the
-Skill's own behaviour-model choice does by cross-validation); their fit time
-is both fits and the replanning. The *floor* columns
+person's clearance among three boxes, fold 5): the reward fitted and planned
+with the thesis's 8-point window. Fitted with the window, the IOC sharpens
+the response across the swerve (precision 195–270 /m² along y and z where
+the person's is 150), so the plan passes 2 cm nearer; the same fold fitted
+and planned over the whole path learns 156–162 /m² and keeps 7.9 cm where
+the person kept 7.8 (noise-free demonstrations give the same: it is the
+window, not the noise, nor the box's anchors). The window fit is also worse
+for the late person, who plans with an 8-point window himself (0.67× his
+clearance), so it is the window stage of the fit, not only a person who
+looks further ahead. The *chosen* columns therefore fit both horizons and
+keep the one whose replans of the training demonstrations lie nearer to them
+(training data only, as the Skill's own behaviour-model choice does by
+cross-validation); their fit time is both fits and the replanning. The *floor* columns
 plan as a Skill with its learned clearance floor does: the clearance the
 training demonstrations kept (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`,
 0.8 × their 10 % quantile) as a hard floor on top of the person's 1 cm.
