@@ -472,7 +472,49 @@ def _class_colors(classes: Sequence[str], colors: Mapping[str, str] | None) -> d
     return out
 
 
-def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None:
+def _bounded_parts(scene, region: tuple[np.ndarray, np.ndarray] | None) -> list:
+    """Each obstacle, or, where it is unbounded (a half-space), its part in ``region``.
+
+    An unbounded obstacle is left out where no region is known.
+    """
+    parts = []
+    for obstacle in scene:
+        if np.all(np.isfinite(np.stack(obstacle.bounds()))):
+            parts.append(obstacle)
+        elif region is not None:
+            parts.append(obstacle.clipped(*region))
+    return parts
+
+
+def _drawn_region(ax: Axes, scene, q: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """The box of what the axes show so far and the bounded obstacles, grown by 10 %."""
+    boxes = []
+    limits = [ax.dataLim] if not _is_3d(ax) else [ax.xy_dataLim, ax.zz_dataLim]
+    if all(np.all(np.isfinite(b.get_points())) and b.width >= 0 for b in limits):
+        if _is_3d(ax):
+            (x0, y0), (x1, y1) = ax.xy_dataLim.get_points()
+            z0, z1 = ax.zz_dataLim.get_points()[:, 0]
+            boxes.append(np.array([[x0, y0, z0], [x1, y1, z1]]))
+        else:
+            boxes.append(ax.dataLim.get_points())
+    for obstacle in scene:
+        bounds = np.stack(obstacle.bounds())
+        if np.all(np.isfinite(bounds)):
+            boxes.append(bounds)
+    boxes = [b[:, :q] for b in boxes if b.shape[1] >= q]
+    if not boxes:
+        return None
+    lower, upper = np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], axis=0)
+    pad = 0.1 * max(float((upper - lower).max()), 1e-9)
+    return lower - pad, upper + pad
+
+
+def draw_scene(
+    ax: Axes,
+    scene,
+    colors: Mapping[str, str] | None = None,
+    region: tuple[np.ndarray, np.ndarray] | None = None,
+) -> None:
     """Obstacles as filled outlines (a round one's circle), one colour and legend entry per class.
 
     Parameters
@@ -483,18 +525,35 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
     colors : mapping of class label to colour, optional
         Overrides :data:`CLASS_COLORS`; unlisted classes take
         :data:`EXTRA_CLASS_COLORS` in turn.
+    region : (lower, upper), optional
+        The box (two points of the scene's dimension) in which an unbounded
+        obstacle (a half-space) is drawn; by default what the axes hold so far
+        and the bounded obstacles, grown by 10 %.
 
     Notes
     -----
     An obstacle of radius 0 is drawn as a marker at its centre (and a line
     along a rod's axis). In 3-D each obstacle is drawn as its covering balls
-    (:meth:`lfdkit.model.scene.Obstacle.balls`).
+    (:meth:`lfdkit.model.scene.Obstacle.balls`), a half-space as its surface.
     """
     palette = _class_colors(scene.classes, colors)
+    if len(scene) and region is None:
+        region = _drawn_region(ax, scene, scene.obstacles[0].n_dims)
+    parts = _bounded_parts(scene, region)
     if _is_3d(ax):
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
         u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 24), np.linspace(0, np.pi, 12))
         sphere = np.stack((np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)))
-        for obstacle in scene:
+        for obstacle in parts:
+            if getattr(obstacle, "region", None) is not None:  # a half-space's part: its surface
+                face = obstacle.section()[1]
+                if len(face) >= 3:
+                    surface = Poly3DCollection(
+                        [face], alpha=0.25, facecolor=palette[obstacle.label]
+                    )
+                    ax.add_collection3d(surface)
+                continue
             for centre, radius in zip(*obstacle.balls(), strict=True):
                 if radius > 0:
                     x, y, z = centre[:, None, None] + radius * sphere
@@ -506,11 +565,13 @@ def draw_scene(ax: Axes, scene, colors: Mapping[str, str] | None = None) -> None
             ax.plot(*_xy(centres), "o", color=palette[label], markersize=5, label=label)
         return
     labelled: set[str] = set()
-    for obstacle in scene:
+    for obstacle in parts:
         color = palette[obstacle.label]
         label = None if obstacle.label in labelled else obstacle.label
         labelled.add(obstacle.label)
         outline = obstacle.outline()
+        if len(outline) < 2:  # a half-space with no part where the axes draw
+            continue
         x, y = outline.T
         if obstacle.radius > 0 or abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1))) > 0:
             # A radius, or an outline with an area (a sharp box): drawn as a solid.
@@ -547,7 +608,8 @@ def _reward_extent(
     """Box around the 2-D paths and obstacles, padded by ``margin`` × its larger side."""
     pts = [np.asarray(p, dtype=np.float64)[:, :2] for p in paths]
     for obstacle in scene:
-        pts.append(np.stack(obstacle.bounds())[:, :2])
+        bounds = np.stack(obstacle.bounds())[:, :2]
+        pts.append(bounds[np.all(np.isfinite(bounds), axis=1)])  # a half-space: its finite side
     allpts = np.vstack(pts)
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     span = float((hi - lo).max()) or 1.0
@@ -714,7 +776,10 @@ def _emulation_panel(
         mappable = draw_reward(ax, reward, nominal, scene, extent=extent)
         cax = ax.inset_axes([1.03, 0.0, 0.035, 1.0])
         fig.colorbar(mappable, cax=cax, label="reward", ticks=MaxNLocator(6))
-    draw_scene(ax, scene, colors=class_colors)
+    drawn = np.vstack([nominal, *demos, *plans.values()])
+    pad = 0.1 * max(float(np.ptp(drawn, axis=0).max()), 1e-9)
+    region = (drawn.min(axis=0) - pad, drawn.max(axis=0) + pad)  # where a half-space is drawn
+    draw_scene(ax, scene, colors=class_colors, region=region)
     for name, points in outlines.items():
         ax.plot(*_xy(points), **OUTLINE_STYLE, label=name)
     for j, demo in enumerate(demos):
@@ -735,7 +800,9 @@ def _emulation_panel(
         ax.set_aspect("equal", adjustable="box")
     else:
         boxes = [np.stack(o.bounds()) for o in scene]
-        _equal_3d(ax, [nominal, *demos, *plans.values(), *boxes])
+        _equal_3d(
+            ax, [nominal, *demos, *plans.values(), *(b for b in boxes if np.isfinite(b).all())]
+        )
     ax.set_title(title)
 
 

@@ -30,6 +30,7 @@ __all__ = [
     "NormalHits",
     "PolylineSet",
     "arc_length",
+    "convex_hull_2d",
     "intersect_normals",
     "left_normals",
     "normal_frames",
@@ -580,3 +581,25 @@ def intersect_normals(
         raise ValueError(f"tangents: row {int(np.argmin(norm[:, 0]))} is the zero vector")
     hits = PolylineSet([polyline]).intersect(points, tangents / norm, same_direction=same_direction)
     return NormalHits(hits.points[:, 0], hits.segment[:, 0], hits.distance[:, 0])
+
+
+def convex_hull_2d(points: np.ndarray) -> np.ndarray:
+    """Vertices of the convex hull of 2-D points (n, 2), anticlockwise (Andrew's monotone chain)."""
+    unique = np.unique(points, axis=0)
+    if len(unique) < 3:
+        return unique
+
+    def half_hull(ordered: np.ndarray) -> list[np.ndarray]:
+        chain: list[np.ndarray] = []
+        for p in ordered:
+            while len(chain) >= 2:
+                a, b = chain[-2], chain[-1]
+                if (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) > 0:
+                    break
+                chain.pop()
+            chain.append(p)
+        return chain
+
+    lower = half_hull(unique)
+    upper = half_hull(unique[::-1])
+    return np.array(lower[:-1] + upper[:-1])

@@ -27,6 +27,7 @@ from lfdkit.emulate.problem import Corridor
 from lfdkit.emulate.reward import Reward
 from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
 from lfdkit.model.box import Box
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Capsule, Obstacle, Scene
 
 __all__ = [
@@ -34,6 +35,7 @@ __all__ = [
     "Box",
     "Capsule",
     "Corridor",
+    "HalfSpace",
     "Obstacle",
     "Plan",
     "RecedingPlanner",

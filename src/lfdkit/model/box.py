@@ -49,6 +49,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from lfdkit.core.geometry import convex_hull_2d
 from lfdkit.core.rotations import check_quaternions, matrix_from_quaternion, quaternion_from_matrix
 from lfdkit.model.scene import Obstacle, register_shape
 
@@ -211,11 +212,11 @@ class Box(Obstacle):
     def outline(self, n_points: int = 64) -> np.ndarray:
         """The top view: the convex hull of the corners (rounded by ``radius``), closed."""
         corners = self.corners()[:, :2]
-        hull = _convex_hull(corners)
+        hull = convex_hull_2d(corners)
         if self.radius > 0:
             around = np.linspace(0.0, 2.0 * np.pi, max(n_points // len(hull), 4))
             ring = np.column_stack([np.cos(around), np.sin(around)]) * self.radius
-            hull = _convex_hull((hull[:, None, :] + ring[None]).reshape(-1, 2))
+            hull = convex_hull_2d((hull[:, None, :] + ring[None]).reshape(-1, 2))
         return np.vstack([hull, hull[:1]])
 
     def fields(self) -> dict[str, Any]:
@@ -318,25 +319,3 @@ def _segment_candidates(start: np.ndarray, step: np.ndarray, half: np.ndarray) -
             )
         t = np.column_stack(columns)
     return np.clip(np.where(np.isfinite(t), t, 0.0), 0.0, 1.0)
-
-
-def _convex_hull(points: np.ndarray) -> np.ndarray:
-    """Vertices of the convex hull of 2-D points (n, 2), anticlockwise (Andrew's monotone chain)."""
-    unique = np.unique(points, axis=0)
-    if len(unique) < 3:
-        return unique
-
-    def half_hull(ordered: np.ndarray) -> list[np.ndarray]:
-        chain: list[np.ndarray] = []
-        for p in ordered:
-            while len(chain) >= 2:
-                a, b = chain[-2], chain[-1]
-                if (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) > 0:
-                    break
-                chain.pop()
-            chain.append(p)
-        return chain
-
-    lower = half_hull(unique)
-    upper = half_hull(unique[::-1])
-    return np.array(lower[:-1] + upper[:-1])

@@ -12,10 +12,11 @@ Obstacle shapes
 ---------------
 :class:`Obstacle` is the round obstacle (a disc, a ball, a standing
 cylinder seen from above) and the contract every shape implements;
-:class:`Capsule` (a rod) is a second shape and :class:`lfdkit.model.box.Box` (an
-oriented box, in :mod:`lfdkit.model.box`) a third. Every layer uses an obstacle only
-through the contract, so a new shape is one subclass plus
-:func:`register_shape`:
+:class:`Capsule` (a rod) is a second shape, :class:`lfdkit.model.box.Box` (an
+oriented box, in :mod:`lfdkit.model.box`) a third and
+:class:`lfdkit.model.half_space.HalfSpace` (a table top, a floor, a wall) a
+fourth. Every layer uses an obstacle only through the contract, so a new
+shape is one subclass plus :func:`register_shape`:
 
 ========================  ====================================================
 method                    used by
@@ -407,7 +408,7 @@ RESERVED_FIELD_NAMES = frozenset(
     | {"velocity", "trajectory", "observations", "format", "version", "scenes", "obstacles"}
 )
 _FIELD_KINDS = ("point", "number")
-_BUILT_IN_SHAPES = ("round", "capsule", "box")
+_BUILT_IN_SHAPES = ("round", "capsule", "box", "half_space")
 
 
 def _field_columns(name: str, kind: str) -> list[str]:
@@ -636,7 +637,8 @@ class Scene:
         return Scene((*self.obstacles, *obstacles))
 
 
-# The built-in box lives in its own module (one shape, one file); importing it
+# The built-in box and half-space live in their own modules (one shape, one file); importing it
 # here registers it wherever scenes are used. It imports this module's names,
 # all defined by now.
-import lfdkit.model.box  # noqa: E402, F401
+import lfdkit.model.box  # noqa: E402
+import lfdkit.model.half_space  # noqa: E402, F401

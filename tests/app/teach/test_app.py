@@ -636,3 +636,81 @@ def test_unusable_marks_are_refused_in_one_line(marks, pattern) -> None:
     payload["marks"] = marks
     assert_readable(client.post("/api/learn", json=payload, headers=headers), 400, pattern)
     assert client.get("/api/learn", headers=headers).json()["state"] == "idle"
+
+
+# ------------------------------------------------------------------ boxes
+BOX = {
+    "id": "b1",
+    "class": "cup",
+    "x": 0.05,
+    "y": 0.46,
+    "radius": 0.0,
+    "shape": "box",
+    "width": 0.14,
+    "depth": 0.05,
+    "yaw": 0.4,
+}
+
+
+def test_a_box_on_the_page_is_planned_round_as_skill_plan_does(learned) -> None:
+    from lfdkit.model.box import Box
+    from lfdkit.model.scene import Obstacle, Scene
+    from lfdkit.skill import Skill
+
+    client, headers, _ = learned
+    skill = Skill.from_dict(json.loads(client.get("/api/export/skill", headers=headers).text))
+    body = {"start": [-0.4, 0.45], "goal": [0.4, 0.45], "obstacles": [dict(BOX)]}
+    on = client.post("/api/plan", json=body, headers=headers).json()
+    box = Box.from_yaw("cup", [0.05, 0.46], [0.14, 0.05], 0.4)
+    expected = skill.plan([-0.4, 0.45], [0.4, 0.45], Scene((box,)))
+    np.testing.assert_allclose(on["points"], expected.points, atol=1e-12)
+    assert on["collision_free"] and on["min_clearance"] >= 0.0
+    assert on["min_clearance"] == pytest.approx(box.distance(np.array(on["points"])), abs=1e-9)
+    # A round cup of the box's half diagonal at its centre is planned differently.
+    round_cup = Scene((Obstacle("cup", [0.05, 0.46], 0.5 * math.hypot(0.14, 0.05)),))
+    other = skill.plan([-0.4, 0.45], [0.4, 0.45], round_cup)
+    assert np.abs(other.points - expected.points).max() > 1e-3
+
+
+def test_boxes_are_saved_into_the_scene_file_and_read_back(learned, tmp_path) -> None:
+    from lfdkit.io import load_scenes
+    from lfdkit.model.box import Box
+
+    client, headers, _ = learned
+    payload = drawing()
+    payload["obstacles"].append(dict(BOX))
+    payload["demos"][4]["obstacles"] = ["o1", "b1"]
+    scenes = client.post("/api/export/scenes", json=payload, headers=headers)
+    assert scenes.status_code == 200, scenes.text
+    path = tmp_path / "scenes.csv"
+    path.write_bytes(scenes.content)
+    box = load_scenes(path)["demo-5"].obstacles[1]
+    assert isinstance(box, Box)
+    np.testing.assert_allclose(box.size, [0.14, 0.05])
+    np.testing.assert_allclose(box.orientation, [0, 0, math.sin(0.2), math.cos(0.2)])
+    got = client.post("/api/import/scenes?format=csv", content=scenes.content, headers=headers)
+    got = got.json()
+    assert got["marks"] == {"demo-4": ["o1"], "demo-5": ["o1", "o2"]}
+    back = got["obstacles"][1]
+    assert {k: back[k] for k in ("class", "shape")} == {"class": "cup", "shape": "box"}
+    np.testing.assert_allclose(
+        [back[k] for k in ("x", "y", "radius", "width", "depth", "yaw")],
+        [BOX[k] for k in ("x", "y", "radius", "width", "depth", "yaw")],
+        atol=1e-12,
+    )
+
+
+@pytest.mark.parametrize(
+    ("change", "pattern"),
+    [
+        ({"shape": "cone"}, r"obstacles\[0\]\.shape: expected 'round' or 'box', got text"),
+        ({"width": 0.0}, r"obstacles\[0\]\.width: expected more than 0 and at most 2 m, got 0"),
+        ({"depth": 5.0}, r"obstacles\[0\]\.depth: expected more than 0 and at most 2 m, got 5"),
+        ({"width": None}, r"obstacles\[0\]\.width: expected a number, got nothing"),
+        ({"yaw": "north"}, r"obstacles\[0\]\.yaw: expected a number, got text"),
+    ],
+)
+def test_bad_boxes_get_one_readable_line(learned, change, pattern) -> None:
+    client, headers, _ = learned
+    body = {"start": [-0.4, 0.45], "goal": [0.4, 0.45], "obstacles": [{**BOX, **change}]}
+    assert_readable(client.post("/api/plan", json=body, headers=headers), 400, pattern)

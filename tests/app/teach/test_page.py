@@ -297,3 +297,55 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
     driver.switch_to.window(first)
     answer = driver.execute_async_script(FETCH, "/api/export/skill", None)
     assert answer["ok"]
+
+
+def test_a_box_is_placed_drawn_dragged_and_saved_in_chromium(server, browser, tmp_path):
+    from lfdkit.io import load_scenes
+    from lfdkit.model.box import Box
+
+    driver = browser
+    driver.get(server)
+    end = time.monotonic() + 10
+    while driver.execute_script("return document.body.dataset.ready") != "yes":
+        assert time.monotonic() < end, "the page did not get a session"
+        time.sleep(0.05)
+    driver.execute_async_script(DRAW, [_stroke(False, k) for k in range(3)], 12)
+    # A 14 × 5 cm box turned 20°, placed on the path with the obstacle tool.
+    driver.find_element("css selector", 'input[name="tool"][value="obstacle"]').click()
+    driver.execute_script(
+        "document.getElementById('obstacle-shape').value = 'box';"
+        "document.getElementById('box-width').value = '14';"
+        "document.getElementById('box-depth').value = '5';"
+        "document.getElementById('box-yaw').value = '20';"
+    )
+    driver.execute_async_script(DRAW, [[[0.0, 0.47], [0.0, 0.47]]], 5)
+    box = _state(driver)["obstacles"][0]
+    assert box["shape"] == "box"
+    assert [box["width"], box["depth"]] == pytest.approx([0.14, 0.05])
+    assert box["yaw"] == pytest.approx(math.radians(20.0))
+    # Grabbed inside its corner (outside the circle of its depth) and dragged.
+    corner = [0.0 + 0.06 * math.cos(math.radians(20)), 0.47 + 0.06 * math.sin(math.radians(20))]
+    _drag(driver, corner, [corner[0] + 0.05, corner[1] - 0.02])
+    box = _state(driver)["obstacles"][0]
+    assert [box["x"], box["y"]] == pytest.approx([0.05, 0.45], abs=0.005)
+    driver.find_element("css selector", 'input[name="tool"][value="draw"]').click()
+    driver.execute_async_script(DRAW, [_stroke(True, k) for k in range(2)], 12)
+    state = _state(driver)
+    assert [len(d["obstacles"]) for d in state["demos"]] == [0, 0, 0, 1, 1]
+    shot = _screenshot(driver, tmp_path, "box")
+    assert shot.stat().st_size > 20_000
+    if os.environ.get("LFDKIT_BOX_SCREENSHOT"):
+        shutil.copyfile(shot, os.environ["LFDKIT_BOX_SCREENSHOT"])
+    # Saved into the scene file as a box, read back by lfdkit's reader.
+    answer = driver.execute_async_script(
+        FETCH, "/api/export/scenes", driver.execute_script("return lfdkitTeach.drawing()")
+    )
+    assert answer["ok"], answer["text"]
+    path = tmp_path / "scenes.csv"
+    path.write_text(answer["text"], encoding="utf-8")
+    saved = load_scenes(path)[state["demos"][3]["id"]].obstacles[0]
+    assert isinstance(saved, Box)
+    np.testing.assert_allclose(saved.size, [0.14, 0.05])
+    np.testing.assert_allclose(saved.position, [box["x"], box["y"]])
+    half = math.radians(10.0)
+    np.testing.assert_allclose(saved.orientation, [0, 0, math.sin(half), math.cos(half)])

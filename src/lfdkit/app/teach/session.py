@@ -66,6 +66,7 @@ LIMITS: dict[str, Any] = {
     "max_obstacles": 40,
     "max_coordinate": 100.0,  # metres from the robot base, either way
     "max_radius": 1.0,  # metres
+    "max_box_edge": 2.0,  # metres, a box's width or depth
     "max_sessions": 32,  # tabs served at once; the least recently used goes first
     "max_jobs": 2,  # learning jobs at once (the machine's cores)
     "max_heat_cells": 20_000,
@@ -160,7 +161,14 @@ def parse_point(value: Any, name: str) -> np.ndarray:
 
 
 def parse_obstacles(value: Any, name: str = "obstacles") -> list[tuple[str, Any]]:
-    """``[{"id", "class", "x", "y", "radius"}, ...]`` as (id, Obstacle) pairs."""
+    """``[{"id", "class", "x", "y", "radius"}, ...]`` as (id, Obstacle) pairs.
+
+    An item with ``"shape": "box"`` is a :class:`lfdkit.model.box.Box` turned by
+    ``"yaw"`` (radians, anticlockwise; 0 by default) with edges ``"width"``
+    (along its own x) and ``"depth"`` (along its own y), in metres; its
+    ``radius`` (0 by default) rounds it.
+    """
+    from lfdkit.model.box import Box
     from lfdkit.model.scene import Obstacle
 
     found: list[tuple[str, Any]] = []
@@ -180,7 +188,23 @@ def parse_obstacles(value: Any, name: str = "obstacles") -> list[tuple[str, Any]
             raise RequestError(
                 f"{where}.radius: expected 0 to {LIMITS['max_radius']:g} m, got {radius:g}"
             )
-        found.append((key, Obstacle(label, [x, y], radius)))
+        shape = item.get("shape", "round")
+        if shape == "round":
+            found.append((key, Obstacle(label, [x, y], radius)))
+            continue
+        if shape != "box":
+            raise RequestError(f"{where}.shape: expected 'round' or 'box', got {_kind(shape)}")
+        edges = []
+        for edge in ("width", "depth"):
+            length = _number(item.get(edge), f"{where}.{edge}")
+            if not 0.0 < length <= LIMITS["max_box_edge"]:
+                raise RequestError(
+                    f"{where}.{edge}: expected more than 0 and at most "
+                    f"{LIMITS['max_box_edge']:g} m, got {length:g}"
+                )
+            edges.append(length)
+        yaw = _number(item.get("yaw", 0.0), f"{where}.yaw", 100.0)
+        found.append((key, Box.from_yaw(label, [x, y], edges, yaw, radius)))
     return found
 
 
@@ -342,13 +366,23 @@ def _read_upload(body: bytes, suffix: str, reader: Callable[[Path], Any], what: 
 
 
 def _obstacle_json(key: str, obstacle: Any) -> dict[str, Any]:
-    return {
+    """The page's form of a round obstacle or a 2-D box (see :func:`parse_obstacles`)."""
+    item = {
         "id": key,
         "class": obstacle.label,
         "x": float(obstacle.position[0]),
         "y": float(obstacle.position[1]),
         "radius": float(obstacle.radius),
     }
+    if obstacle.shape == "box":
+        qz, qw = (float(v) for v in obstacle.orientation[2:])
+        item.update(
+            shape="box",
+            width=float(obstacle.size[0]),
+            depth=float(obstacle.size[1]),
+            yaw=2.0 * math.atan2(qz, qw),
+        )
+    return item
 
 
 def _demos_json(demos: Sequence[np.ndarray], times: Sequence[Any], ids: Sequence[Any]) -> list:
@@ -390,27 +424,31 @@ def import_demos(body: bytes, fmt: Any) -> dict[str, Any]:
 def _scenes_json(scenes: Mapping[Any, Any]) -> dict[str, Any]:
     """Scenes by demo id as the page's obstacles (one per distinct obstacle) and marks."""
     obstacles: dict[tuple, str] = {}
+    kept: dict[str, Any] = {}
     marks: dict[str, list[str]] = {}
     for key, scene in scenes.items():
         for obstacle in scene:
-            if obstacle.shape != "round" or obstacle.n_dims != 2:
+            if obstacle.shape not in ("round", "box") or obstacle.n_dims != 2:
                 raise RequestError(
-                    f"scene of demo {key!r}: the page draws round 2-D obstacles, got a "
-                    f"{obstacle.n_dims}-D {obstacle.shape} one"
+                    f"scene of demo {key!r}: the page draws round obstacles and boxes in 2-D, "
+                    f"got a {obstacle.n_dims}-D {obstacle.shape} one"
                 )
-            spot = (obstacle.label, *obstacle.position.tolist(), obstacle.radius)
+            spot = (
+                obstacle.label,
+                obstacle.shape,
+                *obstacle.position.tolist(),
+                obstacle.radius,
+                *np.asarray(obstacle.fields().get("size", ())).tolist(),
+                *(obstacle.fields().get(k) for k in ("qz", "qw")),
+            )
             name = obstacles.setdefault(spot, f"o{len(obstacles) + 1}")
+            kept.setdefault(name, obstacle)
             marks.setdefault(str(key), []).append(name)
     if len(obstacles) > LIMITS["max_obstacles"]:
         raise RequestError(
             f"obstacles: at most {LIMITS['max_obstacles']} allowed, got {len(obstacles)}"
         )
-    from lfdkit.model.scene import Obstacle
-
-    listed = [
-        _obstacle_json(name, Obstacle(spot[0], spot[1:3], spot[3]))
-        for spot, name in obstacles.items()
-    ]
+    listed = [_obstacle_json(name, obstacle) for name, obstacle in kept.items()]
     parse_obstacles(listed)  # the page's learning checks (size, position), at import
     return {"obstacles": listed, "marks": marks}
 

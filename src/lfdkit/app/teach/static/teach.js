@@ -34,7 +34,7 @@
     mode: "teach",
     tool: "draw",
     demos: [], // {id, points: [[x, y]], times: [s] | null, obstacles: [ids]}
-    obstacles: [], // teach obstacles {id, class, x, y, radius, table: bool}
+    obstacles: [], // teach obstacles {id, class, x, y, radius, table: bool[, shape: "box", width, depth, yaw]}
     nextDemo: 1,
     nextObstacle: 1,
     selected: null, // {kind: "demo"|"obstacle"|"trial", id}
@@ -238,9 +238,23 @@
     ctx.restore();
   }
 
+  // A box's corners in metres (its radius rounds it: drawn as the sharp box grown by it).
+  function boxCorners(o) {
+    const c = Math.cos(o.yaw || 0), s = Math.sin(o.yaw || 0);
+    const hw = o.width / 2 + o.radius, hd = o.depth / 2 + o.radius;
+    return [[-hw, -hd], [hw, -hd], [hw, hd], [-hw, hd]].map(([u, v]) => [o.x + c * u - s * v, o.y + s * u + c * v]);
+  }
+
+  // What the server reads of an obstacle (parse_obstacles): a round one or a box.
+  function obstacleJson(o) {
+    const item = { id: o.id, class: o.class, x: o.x, y: o.y, radius: o.radius };
+    if (o.shape === "box") Object.assign(item, { shape: "box", width: o.width, depth: o.depth, yaw: o.yaw || 0 });
+    return item;
+  }
+
   function drawObstacle(o, options) {
     const [px, py] = toPx(o.x, o.y);
-    const r = Math.max(o.radius * pxPerMetre(), 3);
+    let r = Math.max(o.radius * pxPerMetre(), 3);
     const color = classColor(o.class);
     ctx.save();
     ctx.globalAlpha = options.faint ? 0.45 : 1;
@@ -248,7 +262,15 @@
     ctx.strokeStyle = color;
     ctx.lineWidth = options.selected ? 3 : 1.6;
     if (options.dashed) ctx.setLineDash([4, 3]);
-    ctx.beginPath(); ctx.arc(px, py, r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+    ctx.beginPath();
+    if (o.shape === "box") {
+      boxCorners(o).forEach((p, i) => { const [qx, qy] = toPx(p[0], p[1]); if (i) ctx.lineTo(qx, qy); else ctx.moveTo(qx, qy); });
+      ctx.closePath();
+      r = Math.max(Math.hypot(o.width, o.depth) / 2 * pxPerMetre(), 3);
+    } else {
+      ctx.arc(px, py, r, 0, 2 * Math.PI);
+    }
+    ctx.fill(); ctx.stroke();
     ctx.setLineDash([]);
     ctx.fillStyle = options.dark ? "#ffffff" : "#1d232b";
     ctx.font = "11px system-ui, sans-serif";
@@ -258,6 +280,7 @@
 
   // The learned class's term around an obstacle: where exp(-(x-O)ᵀP(x-O)) = 1/e.
   function drawReach(o, dark) {
+    if (o.shape === "box") return; // a box's response follows its extent, not one ellipse
     const c = state.layers.classes.find((k) => k.name === o.class);
     if (!c || c.reach.some((r) => r === null)) return;
     const [px, py] = toPx(o.x, o.y);
@@ -463,7 +486,10 @@
       sw.style.background = classColor(o.class);
       const name = el("span", { className: "name" }, `${o.id} ${o.class}`);
       name.onclick = () => { state.selected = { kind: "obstacle", id: o.id }; refresh(); };
-      const meta = el("span", { className: "meta" }, `r ${round(o.radius * 100, 1)} cm`);
+      const size = o.shape === "box"
+        ? `▭ ${round(o.width * 100, 1)}×${round(o.depth * 100, 1)} cm${o.yaw ? ` ${round((o.yaw * 180) / Math.PI, 0)}°` : ""}`
+        : `r ${round(o.radius * 100, 1)} cm`;
+      const meta = el("span", { className: "meta" }, size);
       const table = el("label", { className: "meta" });
       const box = el("input", { type: "checkbox" });
       box.checked = o.table;
@@ -636,6 +662,14 @@
     if (!/^[A-Za-z0-9][A-Za-z0-9_.-]*$/.test(name) || name.length > 40) {
       throw new Error("obstacle class: a plain name (letters, digits, '_', '-', '.')");
     }
+    const shape = $("obstacle-shape").value;
+    if (shape === "box") {
+      const width = Number($("box-width").value) / 100, depth = Number($("box-depth").value) / 100;
+      const yaw = (Number($("box-yaw").value) * Math.PI) / 180;
+      if (!(width > 0 && width <= 2 && depth > 0 && depth <= 2)) throw new Error("box: edges of 0.5 to 200 cm");
+      if (!Number.isFinite(yaw)) throw new Error("box: turned by a number of degrees");
+      return { name, radius: 0, shape, width, depth, yaw };
+    }
     if (!(radius > 0 && radius <= 0.5)) throw new Error("obstacle radius: 0.5 to 50 cm");
     return { name, radius };
   }
@@ -643,7 +677,13 @@
   function hitObstacle(list, world) {
     for (let i = list.length - 1; i >= 0; i--) {
       const o = list[i];
-      if (distPx(world, [o.x, o.y]) <= Math.max(o.radius * pxPerMetre(), 3) + 6) return o;
+      if (o.shape === "box") {
+        // In the box's frame: within its half edges (and radius) plus 6 px.
+        const c = Math.cos(o.yaw || 0), s = Math.sin(o.yaw || 0);
+        const dx = world[0] - o.x, dy = world[1] - o.y;
+        const slack = o.radius + 6 / pxPerMetre();
+        if (Math.abs(c * dx + s * dy) <= o.width / 2 + slack && Math.abs(-s * dx + c * dy) <= o.depth / 2 + slack) return o;
+      } else if (distPx(world, [o.x, o.y]) <= Math.max(o.radius * pxPerMetre(), 3) + 6) return o;
     }
     return null;
   }
@@ -661,7 +701,7 @@
       else {
         const o = hitObstacle(state.trial.obstacles, world);
         if (o) {
-          target = { kind: "trial", obstacle: o };
+          target = { kind: "trial", obstacle: o, grab: [o.x - world[0], o.y - world[1]] };
           state.selected = { kind: "trial", id: o.id };
           $("try-radius").value = round(o.radius * 100, 1);
         }
@@ -678,7 +718,14 @@
       snapshot();
       if (hit) {
         state.selected = { kind: "obstacle", id: hit.id };
-        state.drag = { kind: "obstacle", obstacle: hit };
+        // Where it was grabbed stays under the pointer (a box is grabbed anywhere on it).
+        state.drag = { kind: "obstacle", obstacle: hit, grab: [hit.x - world[0], hit.y - world[1]] };
+        if (hit.shape === "box") { // its size in the inputs, to be changed there
+          $("obstacle-shape").value = "box";
+          $("box-width").value = round(hit.width * 100, 1);
+          $("box-depth").value = round(hit.depth * 100, 1);
+          $("box-yaw").value = round(((hit.yaw || 0) * 180) / Math.PI, 0);
+        }
       } else {
         let inputs;
         try { inputs = obstacleInputs(); } catch (err) { state.undo.pop(); fail(err); return; }
@@ -688,6 +735,7 @@
           return;
         }
         const o = { id: newObstacleId(state.obstacles), class: inputs.name, x: world[0], y: world[1], radius: inputs.radius, table: true };
+        if (inputs.shape === "box") Object.assign(o, { shape: "box", width: inputs.width, depth: inputs.depth, yaw: inputs.yaw });
         state.obstacles.push(o);
         state.selected = { kind: "obstacle", id: o.id };
         state.drag = { kind: "obstacle", obstacle: o };
@@ -719,7 +767,10 @@
     const d = state.drag;
     if (d.kind === "start") state.trial.start = world;
     else if (d.kind === "goal") state.trial.goal = world;
-    else { d.obstacle.x = world[0]; d.obstacle.y = world[1]; }
+    else {
+      const [gx, gy] = d.grab || [0, 0];
+      d.obstacle.x = world[0] + gx; d.obstacle.y = world[1] + gy;
+    }
     if (state.mode === "try") requestPlan(false);
     draw();
   }
@@ -770,7 +821,7 @@
   function drawing() {
     return {
       demos: state.demos.map((d) => ({ id: d.id, points: d.points, times: d.times, obstacles: d.obstacles })),
-      obstacles: state.obstacles.map((o) => ({ id: o.id, class: o.class, x: o.x, y: o.y, radius: o.radius })),
+      obstacles: state.obstacles.map(obstacleJson),
       params: { mimic: $("mimic").value },
     };
   }
@@ -811,7 +862,7 @@
       goal: path[path.length - 1].slice(),
       obstacles: state.obstacles
         .filter((o) => o.table && classes.includes(o.class))
-        .map((o) => ({ id: o.id, class: o.class, x: o.x, y: o.y, radius: o.radius })),
+        .map(obstacleJson),
     };
     state.plan = null;
     state.heat = null;
@@ -825,7 +876,7 @@
     const body = {
       start: state.trial.start,
       goal: state.trial.goal,
-      obstacles: state.trial.obstacles.map((o) => ({ id: o.id, class: o.class, x: o.x, y: o.y, radius: o.radius })),
+      obstacles: state.trial.obstacles.map(obstacleJson),
     };
     if (withHeat) body.heat = { view: state.view, nx: HEAT_NX, ny: HEAT_NY };
     return body;
@@ -929,7 +980,7 @@
       const id = newObstacleId(state.obstacles);
       ids[o.id] = id;
       // Obstacles of recorded scenes: not on the table for new strokes.
-      state.obstacles.push({ id, class: o.class, x: o.x, y: o.y, radius: o.radius, table: false });
+      state.obstacles.push({ ...obstacleJson(o), id, table: false });
     });
     const missing = [];
     Object.entries(scenes.marks).forEach(([demo, marks]) => {
@@ -1035,11 +1086,25 @@
       o.radius = radius;
       requestPlan(true);
     };
+    ["box-width", "box-depth", "box-yaw"].forEach((key) => {
+      $(key).onchange = () => {
+        const s = state.selected;
+        const list = s && s.kind === "obstacle" ? state.obstacles : s && s.kind === "trial" ? state.trial.obstacles : null;
+        const o = list && list.find((x) => x.id === s.id);
+        if (!o || o.shape !== "box") return;
+        let inputs;
+        try { inputs = obstacleInputs(); } catch (err) { fail(err); return; }
+        if (inputs.shape !== "box") return;
+        snapshot();
+        Object.assign(o, { width: inputs.width, depth: inputs.depth, yaw: inputs.yaw });
+        if (state.mode === "try") requestPlan(true); else refresh();
+      };
+    });
     $("obstacle-radius").onchange = () => {
       const s = state.selected;
       const list = s && s.kind === "obstacle" ? state.obstacles : s && s.kind === "trial" ? state.trial.obstacles : null;
       const o = list && list.find((x) => x.id === s.id);
-      if (!o) return;
+      if (!o || o.shape === "box") return; // a box's size is set by its own inputs
       try { const { radius } = obstacleInputs(); snapshot(); o.radius = radius; } catch (err) { fail(err); return; }
       if (state.mode === "try") requestPlan(true); else refresh();
     };
