@@ -116,6 +116,15 @@ nominal's frame), quick, 1×, pooled / median: seed 0 thesis 45 % / 96 %
 (new tasks −118 %), margin 61 % / 86 %, field −0 % / 46 %, late 62 % / 83 %;
 seed 1 thesis 51 % / 96 %, margin −74 % / 79 %, field −43 % / 35 %, late
 57 % / 84 %.
+
+Safety floor for every model (session 38, ``lfdkit.emulate.gaps``; seed 0,
+quick, side by side with main 80cc6ac; pooled / median Pr, worst clearance
+over the person's): thesis 10 1x 96 / 97 %, 0.60 → 96 / 97 %, 0.60 (the
+floor would move that one plan's route, so it is dropped there and warned;
+median clearance 0.98 → 1.08); thesis 6 1x 96 / 97 %, 0.65 → 95 / 97 %,
+0.94; margin 6 1x 59 / 74 %, 1.03 → 69 / 89 %, 0.95 (clutter 30 → 90 %);
+margin 6 2x 69 / 79 %, 0.35 → 69 / 76 %, 0.93; thesis 2x and field
+unchanged; 0 collisions, 0 refused, gaps threaded unchanged (0-1).
 """
 
 from __future__ import annotations

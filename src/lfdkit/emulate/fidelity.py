@@ -46,11 +46,14 @@ the middle) and the late swerver's from 45 to −45 %. Single-obstacle
 training scenes cannot tell the two kinds of person apart, so the floor is
 per obstacle only; a demonstration between two obstacles would decide it.
 
-Whether a skill keeps a floor at all, and which (this default, or the
-closest any demonstration came: ``quantile=0, factor=1``), is chosen with
-its route planner by cross-validated replanning error
-(:attr:`lfdkit.skill.Skill.model_selection_`): a floor stays off unless it
-brings held-out demonstrations closer.
+Which floor a skill keeps whole (this default, or the closest any
+demonstration came: ``quantile=0, factor=1``) is chosen with its route
+planner by cross-validated replanning error
+(:attr:`lfdkit.skill.Skill.model_selection_`). A model without a floor of
+its own still keeps this one where an obstacle stands alone, and lets it
+give way between two (:func:`lfdkit.emulate.gaps.open_gap_margins`): a plan
+then never comes much closer to a lone obstacle than the demonstrations
+did, whichever model is chosen (issue 26).
 """
 
 from __future__ import annotations
@@ -71,6 +74,7 @@ __all__ = [
     "demonstrated_clearances",
     "passing_sides",
     "replanning_fidelity",
+    "same_sides",
 ]
 
 #: The learned clearance is this quantile of the surface distances kept (robust to one pass) ...
@@ -111,6 +115,28 @@ def passing_sides(path: np.ndarray, corridor: Corridor, scene: Scene) -> np.ndar
             continue
         out[o] = offsets[k] - corridor.normals[k] @ (obstacle.position - corridor.points[k])
     return out
+
+
+def same_sides(
+    path: np.ndarray, other: np.ndarray, nominal: np.ndarray, scene: Scene, n_points: int = 100
+) -> bool:
+    """Whether two paths pass every obstacle both cross the nominal's normal at on one side.
+
+    Parameters
+    ----------
+    path, other : ndarray, each (n, q)
+        The two paths, in the nominal's direction.
+    nominal : ndarray, shape (m, q)
+    scene : Scene
+    n_points : int
+        Points of the corridor the sides are read on (:func:`passing_sides`).
+    """
+    if not len(scene):
+        return True
+    corridor = Corridor.from_path(nominal, n_points)
+    a, b = passing_sides(path, corridor, scene), passing_sides(other, corridor, scene)
+    known = np.any(a != 0.0, axis=1) & np.any(b != 0.0, axis=1)
+    return not np.any(known & (np.einsum("om,om->o", a, b) <= 0.0))
 
 
 def _gone_around(demo: np.ndarray, nominal: np.ndarray, scene: Scene) -> np.ndarray:

@@ -44,12 +44,13 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
 ``emulation``
     Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
     "lookahead" | "window" | "full", "clearances": {class: units}[, "radii":
-    {class: units}][, "frame": "path"]}``, the route planner its plans use, the
-    clearance kept at least from each class's obstacles, the median radius of
-    the obstacles each class was learned from and, where not the world's, the
-    frame the learned responses turn with (:attr:`lfdkit.skill.Skill.route_`,
+    {class: units}][, "frame": "path"][, "gaps": "open"]}``, the route planner its
+    plans use, the clearance kept at least from each class's obstacles, the median
+    radius of the obstacles each class was learned from, where not the world's, the
+    frame the learned responses turn with, and where they do, that the clearances give
+    way between two obstacles (:attr:`lfdkit.skill.Skill.route_`,
     :attr:`lfdkit.skill.Skill.clearances_`, :attr:`lfdkit.skill.Skill.class_radii_`,
-    :attr:`lfdkit.skill.Skill.frame_`). A file without it plans as
+    :attr:`lfdkit.skill.Skill.frame_`, :attr:`lfdkit.skill.Skill.gaps_`). A file without it plans as
     before (MPC with lookahead, no learned clearance); an older lfdkit
     reading a file with it ignores it.
 ``promp``
@@ -133,6 +134,8 @@ SKILL_VERSION = 1
 ROUTES = ("lookahead", "window", "full")
 #: Frames of the learned responses a skill file may name (:attr:`lfdkit.skill.Skill.frame_`).
 FRAMES = ("world", "path")
+#: Whether two obstacles' clearances may close the gap between them (``emulation.gaps``).
+GAPS = ("closed", "open")
 
 # Points of a path or plan: the planner's memory grows linearly with them.
 _MAX_POINTS = 100_000
@@ -216,7 +219,7 @@ def to_document(
         (then no ``orientation`` field).
     emulation : mapping or None
         ``{"route": str, "clearances": {class: float}, "radii": {class: float}}``
-        (``radii`` optional), or None (then no
+        (``radii``, ``frame`` and ``gaps`` optional), or None (then no
         ``emulation`` field).
     dmp : mapping or None
         The fitted DMP (:meth:`lfdkit.imitate.DMP.to_state`) without its
@@ -516,8 +519,8 @@ class SkillDocument:
             raise ValueError(f"{self.source}: {prefix}{key}: expected an object")
         return unpack_arrays(value, f"{self.source}: {prefix}{key}")
 
-    def emulation(self) -> tuple[str, dict[str, float], str] | None:
-        """``(route, {class: clearance}, frame)`` of a fitted reward, or None (none in the file)."""
+    def emulation(self) -> tuple[str, dict[str, float], str, str] | None:
+        """``(route, {class: clearance}, frame, gaps)`` of a fitted reward, or None (none)."""
         value = self.data.get("emulation")
         if value is None:
             return None
@@ -534,7 +537,12 @@ class SkillDocument:
                 f"{self.source}: emulation.frame: expected one of {', '.join(FRAMES)}, "
                 f"got {frame!r}"
             )
-        return route, self._lengths(sub.get("clearances", dict), "clearances"), frame
+        gaps = value.get("gaps", "closed")
+        if gaps not in GAPS:
+            raise ValueError(
+                f"{self.source}: emulation.gaps: expected one of {', '.join(GAPS)}, got {gaps!r}"
+            )
+        return route, self._lengths(sub.get("clearances", dict), "clearances"), frame, gaps
 
     def class_radii(self) -> dict[str, float]:
         """``{class: radius}`` of the obstacles the reward was fitted on (``emulation.radii``).

@@ -19,8 +19,12 @@ another is closer by more than 2 %). It then replans every training scene
 with the model chosen and keeps the result per demonstration
 (:attr:`Skill.training_fidelity_`: Pr over the nominal, passing sides,
 clearance against the demonstrated one), with the clearance floor learned
-per obstacle class (:attr:`Skill.clearances_`) where that model keeps one
-(issue 26). A held-out median Pr below 50 % is warned about.
+per obstacle class (:attr:`Skill.clearances_`): the model's own, or for a
+model without one (except ``model="thesis"``) the demonstrated floor as a
+safety floor that gives way between two obstacles its plan passes between
+(:attr:`Skill.gaps_`, :mod:`lfdkit.emulate.gaps`; issue 26). A held-out
+median Pr below 50 % is warned about, and so is a plan where the floors
+decide a gap no demonstration showed.
 
 :meth:`Skill.plan` then does what the thesis's robot does in a new scene: the
 DMP retargets the generalized path to the new start and goal (the *nominal*),

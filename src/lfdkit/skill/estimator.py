@@ -237,9 +237,16 @@ class Skill(
     clearances_ : dict
         Per obstacle class, the clearance (units, from the obstacle's
         surface) plans keep at least: the demonstrations' own
-        (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`) where the
-        behaviour model chosen keeps a floor; empty otherwise (and for
-        ``model="thesis"`` or a reward only adopted).
+        (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`), the
+        behaviour model's floor or, for a model without one,
+        :data:`SAFETY_FLOOR` (then :attr:`gaps_` is ``"open"``); empty for
+        ``model="thesis"`` or a reward only adopted.
+    gaps_ : {"closed", "open"}
+        ``"open"``: between two obstacles whose clearances would close the
+        gap between them, the clearances give way so the plan may pass
+        (:func:`lfdkit.emulate.gaps.open_gap_margins`, the thesis's person);
+        ``"closed"``: they are kept whole and the plan goes around both (a
+        person who keeps a margin).
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for
         ``model="path"``).
@@ -643,6 +650,7 @@ class Skill(
     def _reset_emulation(self) -> None:
         """No learned clearance, route or fidelity (a skill without a fitted reward)."""
         self.clearances_: dict[str, float] = {}
+        self.gaps_ = "closed"
         self.class_radii_: dict[str, float] = {}
         self.route_: str | None = None
         self.frame_ = "world"
@@ -837,6 +845,8 @@ class Skill(
         theirs = getattr(source, "clearances_", {}) if isinstance(source, Skill) else {}
         self.clearances_ = {c: m for c, m in self.clearances_.items() if c not in wanted}
         self.clearances_ |= {c: theirs[c] for c in wanted if c in theirs}
+        if any(c in theirs for c in wanted):  # their clearances keep gaps as theirs did
+            self.gaps_ = getattr(source, "gaps_", "closed")
         sizes = getattr(source, "class_radii_", {}) if isinstance(source, Skill) else {}
         own = getattr(self, "class_radii_", {})
         self.class_radii_ = {c: r for c, r in own.items() if c not in wanted}
@@ -946,6 +956,7 @@ class Skill(
             skill.route_ = getattr(self, "route_", None)
             skill.frame_ = getattr(self, "frame_", "world")
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
+            skill.gaps_ = getattr(self, "gaps_", "closed")
             skill.model_selection_ = getattr(self, "model_selection_", None)
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()

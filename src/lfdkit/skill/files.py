@@ -58,6 +58,8 @@ class SkillFiles:
             emulation = {"route": route, "clearances": dict(self.clearances_)}
             if getattr(self, "frame_", "world") != "world":  # as in files before frames
                 emulation["frame"] = self.frame_
+            if getattr(self, "gaps_", "closed") != "closed":  # as in files before gaps
+                emulation["gaps"] = self.gaps_
             if radii:
                 emulation["radii"] = radii
         return skill_file.to_document(
@@ -137,7 +139,7 @@ class SkillFiles:
             skill.ioc_info_ = document.ioc()
             emulation = document.emulation()
             if emulation is not None and skill.reward_ is not None:
-                skill.route_, skill.clearances_, skill.frame_ = emulation
+                skill.route_, skill.clearances_, skill.frame_, skill.gaps_ = emulation
                 skill.class_radii_ = document.class_radii()
                 fit = skill.ioc_info_ or {}
                 skill.training_fidelity_ = fit.get("training_fidelity")

@@ -25,6 +25,8 @@ from lfdkit.core.validation import (
     check_positive,
 )
 from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate.fidelity import same_sides
+from lfdkit.emulate.gaps import gaps_closed_by, open_gap_margins, threaded_pairs
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
 from lfdkit.imitate.timing import DURATION_RANGE
@@ -412,6 +414,7 @@ class Planning:
         via: Sequence[tuple[float, Any]] | None = None,
         reward: Reward | None = None,
         clearances: Mapping[str, float] | None = None,
+        gaps: str | None = None,
         frame: str | None = None,
         unknown_response: str | None = None,
     ) -> Plan:
@@ -464,38 +467,113 @@ class Planning:
             times=times,
             lookahead=route != "window",
         )
+        if gaps is None:
+            gaps = getattr(self, "gaps_", "closed") if clearances is None else "closed"
         margins = self._margins(scene, start, goal, clearance, clearances)
+        if margins is not None and clearances is None:  # the skill's own plan, not a candidate's
+            self._warn_gaps(scene, margins, gaps)
         frame = frame or getattr(self, "frame_", "world")
         if (self.model == "path" or frame == "path") and len(scene) and not scene.moving:
             reward, scene = self._in_path_frame(reward, scene, nominal)
         # The thesis's MPC can walk into a dead end the lookahead sees: then that.
         routes = [route] + (["lookahead"] if route == "window" and h is not None else [])
+
+        # The model choice plans each scene without a floor several times (its reference,
+        # each safety floor's route check): planned once per reward while it runs.
+        memo = getattr(self, "_free_plans", None)
+        ends = start.tobytes() + goal.tobytes() + np.asarray(clearance, dtype=float).tobytes()
+        key = (tuple(routes), id(scene), ends, h)
+
+        def attempt(kept: np.ndarray | None, last: bool) -> Plan | None:
+            """The plan keeping ``kept`` beyond radius + clearance, by the first route."""
+            if kept is None and memo is not None and key in memo and memo[key][0] is reward:
+                return memo[key][1]
+            for way in routes:
+                options["lookahead"] = way != "window"
+                extra = clearance + unknown_margin + (0.0 if kept is None else kept)
+                try:
+                    plan = plan_path(reward, nominal, scene, clearance=extra, **options)
+                except UnsafePlanError:
+                    if last and way == routes[-1]:
+                        raise
+                    continue
+                if kept is None and memo is not None and not unknown.any() and via is None:
+                    memo[key] = (reward, plan)
+                return plan
+            return None
+
+        free: Plan | None = None
+        if margins is not None and gaps == "open":
+            capped = open_gap_margins(margins, scene)
+            if np.any(capped < margins):
+                # The learned response decides which gaps to take: the plan with no floor
+                # shows it; the floor gives way only between the obstacles it passes between.
+                free = attempt(None, last=False)
+                pairs = None if free is None else threaded_pairs(free.points, scene)
+                margins = open_gap_margins(margins, scene, pairs=pairs)
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
+        # A safety floor (gaps open) must not move the route either: where the
+        # plan passes an obstacle on another side than the plan without it
+        # (planned too, so a safety floor costs a second plan), less of it.
+        moved = False
         for share in shares:
-            plan = None
-            for way in routes:
-                options["lookahead"] = way != "window"
-                extra = clearance + unknown_margin + (0.0 if margins is None else share * margins)
-                try:
-                    plan = plan_path(reward, nominal, scene, clearance=extra, **options)
-                    break
-                except UnsafePlanError:
-                    if share == 0.0 and way == routes[-1]:
-                        raise
+            kept = None if margins is None else share * margins
+            plan = attempt(kept, last=share == 0.0)
             if plan is None:
                 continue
+            if gaps == "open" and kept is not None and share > 0.0:
+                # Compared whether or not the floor touches the final plan: a receding
+                # horizon it blocked part-way may have turned to the other side for good.
+                free = attempt(None, last=False) if free is None else free
+                if free is not None and not same_sides(plan.points, free.points, nominal, scene):
+                    moved = True
+                    continue
             if margins is not None and share < 1.0:
+                why = (
+                    "keeping all of it takes another route round the obstacles than the "
+                    "learned response"
+                    if moved
+                    else "no plan keeps all of it"
+                )
                 warnings.warn(
-                    "plan: no plan keeps the clearance the demonstrations kept from the "
-                    f"obstacles (up to {margins.max():.3g} {self.units}); planned with "
-                    f"{share:.0%} of it",
+                    "plan: the clearance the demonstrations kept from the obstacles (up to "
+                    f"{margins.max():.3g} {self.units}) is kept at {share:.0%}: {why}",
                     UserWarning,
                     stacklevel=4,
                 )
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _warn_gaps(self, scene: Scene, margins: np.ndarray, gaps: str) -> None:
+        """Warn where the learned clearances would close a gap the demonstrations never showed.
+
+        Single-obstacle demonstrations cannot tell a person who threads a
+        gap narrower than the clearance kept from one obstacle (the thesis's)
+        from one who goes around both; the plan then follows :attr:`gaps_`,
+        a guess, and says so.
+        """
+        closed = gaps_closed_by(margins, scene)
+        if not closed or (getattr(self, "model_selection_", None) or {}).get("gaps_shown", 0) > 0:
+            return
+        i, j, gap = min(closed, key=lambda pair: pair[2])
+        labels = scene.labels
+        way = (
+            "may pass between them (the clearances give way there, as for the thesis's person)"
+            if gaps == "open"
+            else "goes around both (it keeps the clearance from each)"
+        )
+        warnings.warn(
+            f"plan: obstacles {i} ({labels[i]!r}) and {j} ({labels[j]!r}) leave a gap of "
+            f"{gap:.3g} {self.units}, narrower than the clearances the demonstrations kept "
+            f"from them ({margins[i] + margins[j]:.3g} {self.units} together; "
+            f"{len(closed)} such gap(s) in this scene); no demonstration passed two obstacles "
+            f"that close, so whether the person would pass between them is not known: this "
+            f"plan {way}; show a demonstration next to two close obstacles to decide",
+            UserWarning,
+            stacklevel=5,
+        )
 
     def _in_path_frame(
         self, reward: Reward, scene: Scene, nominal: np.ndarray
@@ -523,7 +601,9 @@ class Planning:
 
         Where the task's own start or goal is nearer an obstacle than its
         class's learned clearance, that obstacle keeps half the distance (the
-        plan must start and end there).
+        plan must start and end there). Whole: where gaps stay open
+        (:attr:`gaps_`), :meth:`_plan` lowers them between the obstacles its
+        plan passes between.
         """
         learned = getattr(self, "clearances_", None) if clearances is None else clearances
         if not learned or not len(scene) or scene.moving:

@@ -22,6 +22,7 @@ from lfdkit.core.options import (
 )
 from lfdkit.emulate import IOC, Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
+from lfdkit.emulate.gaps import demonstrated_gaps
 from lfdkit.model.scene import Scene
 
 #: The clearance floors a behaviour model may keep (``{level: (quantile, factor)}`` of
@@ -29,6 +30,13 @@ from lfdkit.model.scene import Scene
 #: demonstrations' low quantile with room for noise, and the closest any came (a person
 #: who keeps a fixed margin).
 CLEARANCE_FLOORS = {"none": None, "demonstrated": (0.1, 0.8), "closest": (0.0, 1.0)}
+#: The floor level of the reference the model choice plans too, with no floor at all (the
+#: thesis's plan), for the clearance consistency of :meth:`Skill._default_model`.
+FREE_REFERENCE = "free"
+#: The floor a model without one of its own still keeps where an obstacle stands alone
+#: (issue 26: the plan's worst clearance within 0.8 of the demonstrations' low quantile,
+#: whatever model is chosen); it gives way between two obstacles, so gaps stay open.
+SAFETY_FLOOR = "demonstrated"
 #: Fewest obstacle demonstrations for a cross-validated choice (fewer: training replanning).
 MIN_CROSS_VALIDATION_DEMOS = 3
 #: Most refits of the cross-validation: beyond this many demonstrations, each fold leaves
@@ -95,6 +103,26 @@ class BehaviourSelection:
             for level, spec in CLEARANCE_FLOORS.items()
         }
 
+    def _candidate_floor(
+        self, candidate: Mapping[str, str], floors: Mapping[str, Mapping[str, float]]
+    ) -> tuple[Mapping[str, float], str]:
+        """The clearances a behaviour model keeps and whether gaps between obstacles stay open.
+
+        A model with a floor of its own keeps it whole (gaps it closes stay
+        closed). The model without one keeps :data:`SAFETY_FLOOR` where an
+        obstacle stands alone and lets it give way between two
+        (:func:`lfdkit.emulate.gaps.open_gap_margins`), so a plan never comes
+        much closer than the demonstrations did yet threads what the
+        thesis's model threads; ``model="thesis"`` keeps none (exactly the thesis's).
+        """
+        if candidate["floor"] == FREE_REFERENCE:
+            return {}, "closed"
+        if candidate["floor"] != "none":
+            return floors[candidate["floor"]], "closed"
+        if self.model == "thesis":
+            return {}, "closed"
+        return floors[SAFETY_FLOOR], "open"
+
     def _replan_candidates(
         self,
         demo: np.ndarray,
@@ -111,19 +139,27 @@ class BehaviourSelection:
         already keeps plans the same path: that plan is reused, not planned again.
         """
         replay = metrics.mse_paths([nominal], [demo], int(self.n_points))
-        plans: dict[tuple[str, str], Any] = {}
+        # Per route and frame, the plans made so far with their margins (none: zeros).
+        plans: dict[tuple[str, str], list[tuple[np.ndarray, Any]]] = {}
         out = []
         for candidate in candidates:
             route, frame = candidate["route"], candidate["frame"]
-            clearances = floors[candidate["floor"]]
+            clearances, gaps = self._candidate_floor(candidate, floors)
             margins = self._margins(scene, demo[0], goal, 0.0, clearances)
-            free = plans.get((route, frame))
-            reuse = free is not None and not isinstance(free, str)
-            if reuse and margins is not None:
-                reuse = bool(np.all(scene.distances(free.points) >= margins))
-            if reuse:
-                plan, relaxed = free, False
-            else:
+            wanted = np.zeros(len(scene)) if margins is None else margins
+            # A plan made with margins no larger that already keeps these is the plan
+            # these give too (the extra constraints are not active): reused, not replanned.
+            plan = next(
+                (
+                    made
+                    for kept, made in plans.get((route, frame), ())
+                    if np.all(kept <= wanted)
+                    and (not len(scene) or np.all(scene.distances(made.points) >= wanted))
+                ),
+                None,
+            )
+            relaxed = False
+            if plan is None:
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always", UserWarning)
                     try:
@@ -138,13 +174,14 @@ class BehaviourSelection:
                             route=route,
                             reward=reward,
                             clearances=clearances,
+                            gaps=gaps,
                             frame=frame,
                         )
                     except UnsafePlanError as exc:
                         plan = str(exc)
                 relaxed = bool(caught)  # the floor could not all be kept (_plan warned)
-                if margins is None:
-                    plans[(route, frame)] = plan
+                if not relaxed and not isinstance(plan, str):
+                    plans.setdefault((route, frame), []).append((wanted, plan))
             if isinstance(plan, str):
                 out.append({"refused": plan})
                 continue
@@ -191,13 +228,16 @@ class BehaviourSelection:
         candidates: Sequence[Mapping[str, str]],
         names: Sequence[str],
         scores: Mapping[str, Mapping[str, Any]],
+        free: float | None = None,
     ) -> tuple[str, float | None]:
         """The model that wins ties, and the clearance consistency that decided it.
 
         The thesis's model (the first candidate) unless the demonstrations
         keep a consistent clearance: planning them with the closest any other
         came (the ``"closest"`` floor, same route) costs at most
-        :data:`CONSISTENT_CLEARANCE` times the error with no floor. A person
+        :data:`CONSISTENT_CLEARANCE` times the error with no floor at all
+        (``free``, the first candidate's route planned without even the
+        safety floor; default the first candidate's error). A person
         whose closest approach is the same wherever the obstacle stands keeps
         a margin, and would not squeeze between two obstacles closer than
         that; one whose approach varies with the obstacle's place answers a
@@ -212,7 +252,8 @@ class BehaviourSelection:
         }
         if base["floor"] != "none" or not {"closest", "demonstrated"} <= same.keys():
             return names[0], None
-        free, closest = scores[names[0]]["mse"], scores[same["closest"]]["mse"]
+        free = scores[names[0]]["mse"] if free is None else free
+        closest = scores[same["closest"]]["mse"]
         if not (np.isfinite(free) and np.isfinite(closest)):
             return names[0], None
         ratio = closest / free if free > 0.0 else (1.0 if closest == 0.0 else np.inf)
@@ -245,8 +286,26 @@ class BehaviourSelection:
         :attr:`training_fidelity_` (the chosen model with the reward fitted
         on all, in the training scenes) and :attr:`model_selection_`.
         """
+        self._free_plans: dict[tuple, tuple[Reward, Any]] | None = {}  # Planning._plan's memo
+        try:
+            self._choose_model(demos, scenes, goal, nominals)
+        finally:
+            self._free_plans = None
+
+    def _choose_model(
+        self,
+        demos: list[np.ndarray],
+        scenes: list[Scene],
+        goal: np.ndarray,
+        nominals: list[np.ndarray],
+    ) -> None:
+        """:meth:`_select_model`'s work, with the plans without a floor kept while it runs."""
         candidates = self._behaviour_candidates()
         names = [_behaviour_name(c) for c in candidates]
+        # Planned first (its plans are reused where they keep a floor) and only scored for
+        # the clearance consistency: the first route with no floor at all.
+        reference = {**candidates[0], "floor": FREE_REFERENCE}
+        planned = [reference, *candidates] if len(candidates) > 1 else candidates
         n = len(demos)
         cross = n >= MIN_CROSS_VALIDATION_DEMOS
         full_floors = self._floors(demos, scenes, nominals)
@@ -262,7 +321,7 @@ class BehaviourSelection:
             return out
 
         n_folds = min(n, MAX_FOLDS) if cross else 0
-        held_out: dict[str, list[dict[str, Any]]] = {name: [] for name in names}
+        held_out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in planned}
         for fold in range(n_folds):
             held = [j for j in range(n) if j % n_folds == fold]
             keep = [j for j in range(n) if j % n_folds != fold]
@@ -270,11 +329,15 @@ class BehaviourSelection:
             floors = self._floors(
                 [demos[i] for i in keep], [scenes[i] for i in keep], [nominals[i] for i in keep]
             )
-            for name, rows in replanned(held, candidates, reward, floors).items():
+            for name, rows in replanned(held, planned, reward, floors).items():
                 held_out[name] += rows
-        training = {} if cross else replanned(range(n), candidates, self.reward_, full_floors)
-        scores = {name: _fidelity_scores((held_out if cross else training)[name]) for name in names}
-        default, consistency = self._default_model(candidates, names, scores)
+        training = {} if cross else replanned(range(n), planned, self.reward_, full_floors)
+        rows = held_out if cross else training
+        scores = {name: _fidelity_scores(rows[name]) for name in names}
+        free = (
+            _fidelity_scores(rows[_behaviour_name(reference)])["mse"] if len(planned) > 1 else None
+        )
+        default, consistency = self._default_model(candidates, names, scores, free)
         ranked = sorted(
             names,
             key=lambda r: (
@@ -286,7 +349,8 @@ class BehaviourSelection:
         chosen = candidates[names.index(ranked[0])]
         self.route_ = chosen["route"]
         self.frame_ = chosen["frame"]
-        self.clearances_ = full_floors[chosen["floor"]]
+        clearances, self.gaps_ = self._candidate_floor(chosen, full_floors)
+        self.clearances_ = dict(clearances)
         if ranked[0] not in training:
             training = replanned(range(n), [chosen], self.reward_, full_floors)
         self.training_fidelity_ = [
@@ -303,6 +367,11 @@ class BehaviourSelection:
             "folds": n_folds,
             "default": default,
             "clearance_consistency": consistency,
+            # The first route planned with no floor at all (the consistency's reference).
+            "no_floor_mse": free,
+            # Training scenes with two obstacles their floors would close: 0, the
+            # demonstrations cannot tell threading a gap from going around (a guess, warned).
+            "gaps_shown": demonstrated_gaps(scenes, full_floors[SAFETY_FLOOR]),
             "chosen": ranked[0],
             "runner_up": ranked[1] if len(ranked) > 1 else None,
             "candidates": {

@@ -152,7 +152,15 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
     lines = [line]
     if skill.clearances_:
         kept = ", ".join(f"{c} {m:.3g} {skill.units}" for c, m in skill.clearances_.items())
-        lines.append(f"plans keep at least the clearance the demonstrations kept: {kept}")
+        line = f"plans keep at least the clearance the demonstrations kept: {kept}"
+        if getattr(skill, "gaps_", "closed") == "open":
+            line += " (less between two obstacles closer than that: the gap stays open)"
+        if selection.get("gaps_shown") == 0:
+            line += (
+                "; no demonstration passed two close obstacles, so whether to pass between "
+                "them is a guess"
+            )
+        lines.append(line)
     for row in skill.training_fidelity_ or []:
         name = f"obstacle demonstration {row.get('id', row['demo'])!r}"
         if "refused" in row:

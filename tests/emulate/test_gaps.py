@@ -1,0 +1,131 @@
+"""Gaps between obstacles (issue 26): surface gaps, margins that keep them open, known answers.
+
+Two cups of radius 1 cm with centres 6 cm apart leave a 4 cm gap; margins of
+3 cm each would close it, so opened each takes a fifth of it (8 mm); a box
+far from them keeps its whole margin. A plan with a safety floor whose gaps stay open
+threads the gap the floor alone would close, keeps the floor at a lone cup,
+and says that the demonstrations never showed a gap.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from lfdkit.emulate import Reward
+from lfdkit.emulate.fidelity import same_sides
+from lfdkit.emulate.gaps import (
+    GAP_SHARE,
+    demonstrated_gaps,
+    gaps_closed_by,
+    open_gap_margins,
+    surface_gaps,
+    threaded_pairs,
+)
+from lfdkit.model.scene import Capsule, Obstacle, Scene
+from lfdkit.skill import Skill
+
+PAIR = Scene(
+    (Obstacle("cup", [0.5, 0.03], radius=0.01), Obstacle("cup", [0.5, -0.03], radius=0.01))
+)
+LONE = Obstacle("box", [2.0, 0.0], radius=0.05)
+
+
+def test_surface_gaps_are_centre_distance_minus_radii() -> None:
+    scene = Scene((*PAIR.obstacles, LONE))
+    gaps = surface_gaps(scene)
+    assert gaps[0, 1] == gaps[1, 0] == pytest.approx(0.04)
+    assert gaps[0, 2] == pytest.approx(np.hypot(1.5, 0.03) - 0.06)
+    assert np.isinf(np.diag(gaps)).all()
+    # A capsule through its covering balls (each up to 3.1 % wider than the rod): a little short.
+    rod = Capsule("rod", [0.0, 0.1], end=[1.0, 0.1], radius=0.02)
+    gap = surface_gaps(Scene((rod, Obstacle("cup", [0.5, 0.0], radius=0.01))))[0, 1]
+    assert 0.07 - 0.04 * 0.02 <= gap <= 0.07
+
+
+def test_open_gap_margins_give_way_only_between_two() -> None:
+    scene = Scene((*PAIR.obstacles, LONE))
+    margins = np.array([0.03, 0.03, 0.03])
+    assert gaps_closed_by(margins, scene) == [(0, 1, pytest.approx(0.04))]
+    # Each cup keeps a fifth of the 4 cm gap (the middle 2.4 cm stay free); the box,
+    # 1.44 m from them, keeps its whole margin.
+    opened = open_gap_margins(margins, scene)
+    np.testing.assert_allclose(opened, [GAP_SHARE * 0.04, GAP_SHARE * 0.04, 0.03])
+    assert gaps_closed_by(opened, scene) == []
+    # A margin within its share of the gap stays whole, one beyond is capped.
+    np.testing.assert_allclose(
+        open_gap_margins(np.array([0.03, 0.005, 0.5]), scene),
+        [GAP_SHARE * 0.04, 0.005, GAP_SHARE * (np.hypot(1.5, 0.03) - 0.06)],
+    )
+    # Two overlapping obstacles keep no margin between them.
+    touching = Scene(
+        (Obstacle("cup", [0.0, 0.0], radius=0.02), Obstacle("cup", [0.03, 0.0], radius=0.02))
+    )
+    np.testing.assert_array_equal(open_gap_margins(np.array([0.01, 0.01]), touching), [0.0, 0.0])
+    assert gaps_closed_by(np.array([0.01, 0.01]), touching) == []  # a wall: no gap to close
+
+
+def test_threaded_pairs_are_those_the_path_passes_between() -> None:
+    line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
+    above = Scene((Obstacle("cup", [0.5, 0.03], radius=0.01), Obstacle("cup", [0.5, 0.09], 0.01)))
+    assert threaded_pairs(line, PAIR) == [(0, 1)]
+    assert threaded_pairs(line, above) == []
+    # Beside the pair, the path passes between the lower cup above and the one below too.
+    mixed = Scene((*above.obstacles, PAIR.obstacles[1]))
+    assert threaded_pairs(line, mixed) == [(0, 2), (1, 2)]
+    # The same in 3-D (the gap in the plane z = 0).
+    lift = np.column_stack([line, np.zeros(101)])
+    spheres = Scene(tuple(Obstacle("cup", [*o.position, 0.0], o.radius) for o in PAIR))
+    assert threaded_pairs(lift, spheres) == [(0, 1)]
+
+
+def test_same_sides_compares_the_passing_side_of_each_obstacle() -> None:
+    x = np.linspace(0.0, 1.0, 101)
+    nominal = np.column_stack([x, np.zeros(101)])
+    above, below = (np.column_stack([x, s * 0.05 * np.sin(np.pi * x)]) for s in (1.0, -1.0))
+    cup = Scene((Obstacle("cup", [0.5, 0.0], radius=0.01),))
+    assert same_sides(above, above + np.array([0.0, 0.01]), nominal, cup)
+    assert not same_sides(above, below, nominal, cup)
+    assert same_sides(above, below, nominal, Scene())  # nothing to pass
+
+
+def test_demonstrated_gaps_count_scenes_with_a_closable_pair() -> None:
+    floors = {"cup": 0.03}
+    single = Scene((PAIR.obstacles[0],))
+    assert demonstrated_gaps([single, single], floors) == 0
+    assert demonstrated_gaps([single, PAIR, PAIR], floors) == 2
+    # Far apart (4 cm gap against 2 x 2 x 0.5 cm of floor): not a gap the floors decide.
+    assert demonstrated_gaps([PAIR], {"cup": 0.005}) == 0
+
+
+def test_a_safety_floor_keeps_the_clearance_but_leaves_gaps_open() -> None:
+    x = np.linspace(0.0, 1.0, 100)
+    skill = Skill().fit([np.column_stack([x, 0.002 * s * np.sin(np.pi * x)]) for s in (-1, 0, 1)])
+    # A narrow, stiff reward that threads the gap and passes a lone cup at 1-2 cm.
+    skill.adopt(Reward(400.0, {"cup": [400.0, 4000.0]}))
+    skill.clearances_, skill.gaps_ = {"cup": 0.03}, "open"
+    with pytest.warns(UserWarning, match=r"gap of 0.04 m.*no demonstration passed.*pass between"):
+        threads = skill.plan(scene=PAIR)
+    assert abs(np.interp(0.5, *threads.points.T)) < 0.01  # between the cups
+    assert PAIR.distances(threads.points).min() >= GAP_SHARE * 0.04 - 1e-9
+    lone = Scene((Obstacle("cup", [0.5, 0.005], radius=0.01),))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a lone cup: nothing to say
+        plan = skill.plan(scene=lone)
+    assert lone.distances(plan.points).min() >= 0.03 - 1e-9
+    # Two cups the free plan goes around (both above it): the floor stays whole for both.
+    above = Scene((Obstacle("cup", [0.5, 0.03], radius=0.01), Obstacle("cup", [0.5, 0.09], 0.01)))
+    with pytest.warns(UserWarning, match=r"may pass between"):
+        below = skill.plan(scene=above)
+    assert above.distances(below.points).min() >= 0.03 - 1e-9
+    skill.gaps_ = "closed"
+    with pytest.warns(UserWarning, match=r"goes around both"):
+        around = skill.plan(scene=PAIR)
+    assert PAIR.distances(around.points).min() >= 0.03 - 1e-9
+    # Where the demonstrations showed such a gap, the choice is theirs: nothing said.
+    skill.model_selection_ = {"gaps_shown": 1}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        skill.plan(scene=PAIR)
