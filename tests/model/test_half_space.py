@@ -282,3 +282,9 @@ def test_the_solid_is_a_plane_mujoco_loads() -> None:
     np.testing.assert_allclose(
         data.geom_xmat[1].reshape(3, 3)[:, 2], [np.sqrt(0.5), np.sqrt(0.5), 0.0], atol=1e-12
     )
+
+
+def test_a_tiny_normal_is_a_direction_not_zero() -> None:
+    # Its plain norm underflows to 0 (hypothesis found [0, 1.29e-211]).
+    for normal, unit in (([0.0, 1.29e-211], [0.0, 1.0]), ([5e-324, 0.0], [1.0, 0.0])):
+        np.testing.assert_array_equal(HalfSpace("table", [0.0, 0.0], 0.0, normal).normal, unit)

@@ -97,7 +97,9 @@ class HalfSpace(Obstacle):
                 f"normal: expected {self.n_dims} components for a {self.n_dims}-D half-space, "
                 f"got shape {np.shape(self.normal)} ({self.label!r})"
             )
-        length = float(np.linalg.norm(normal)) if np.all(np.isfinite(normal)) else np.nan
+        # Scaled first: the norm of a tiny normal such as [0, 1e-211] underflows to 0.
+        scale = float(np.max(np.abs(normal))) if np.all(np.isfinite(normal)) else np.nan
+        length = scale * float(np.linalg.norm(normal / scale)) if scale > 0.0 else scale
         if not np.isfinite(length) or length == 0.0:
             raise ValueError(
                 f"normal: must be finite and non-zero, got {normal.tolist()} ({self.label!r}); "
