@@ -954,7 +954,11 @@ def test_demo_command_end_to_end(tmp_path):
             quiet_run.communicate()
     assert quiet_run.returncode == 0, stderr[-2000:]
     assert stdout == ""
-    assert stderr == ""
+    # -q silences progress and summaries, never a warning that a result may be poor:
+    # the thesis's scenes hold one gap no training demonstration showed (issue 26).
+    said = stderr.splitlines()
+    assert all(line.startswith("lfdkit demo: warning: plan: obstacles") for line in said), stderr
+    assert all("whether the person would pass between them is not known" in s for s in said)
     for path in demo_outputs(quiet):
         assert path.is_file(), path
 
