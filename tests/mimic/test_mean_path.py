@@ -38,6 +38,7 @@ from lfdkit.mimic.mean_path import (
     _choose_tuning,
     _cross_validate,
     _gaussian_advantage,
+    _smoothness,
     _pooled_location,
 )
 
@@ -1102,3 +1103,12 @@ def test_gaussian_check_tells_heavy_tails_from_smooth_bunching():
     burrs = noise + np.where(rng.random(noise.shape) < 0.2, rng.uniform(3.0, 8.0, noise.shape), 0.0)
     seen, chance = _gaussian_advantage(burrs[..., None], np.ones(burrs.shape, bool), few, rng)
     assert seen > chance + 0.5
+
+
+def test_smoothness_tells_smooth_bands_from_white_noise_with_burrs():
+    band = _smooth_band(0, 10)[..., None]
+    assert _smoothness(band, np.ones(band.shape[:2], bool)) > 0.9
+    rng = np.random.default_rng(1)
+    noise = rng.normal(size=(100, 10))
+    burrs = noise + np.where(rng.random(noise.shape) < 0.3, 2.0, 0.0)  # uncorrelated along
+    assert abs(_smoothness(burrs[..., None], np.ones(burrs.shape, bool))) < 0.2
