@@ -38,8 +38,8 @@ from lfdkit.mimic.mean_path import (
     _choose_tuning,
     _cross_validate,
     _gaussian_advantage,
-    _smoothness,
     _pooled_location,
+    _smoothness,
 )
 
 SETTINGS = settings(max_examples=12, deadline=None)
