@@ -35,8 +35,11 @@ from lfdkit.mimic.mean_path import (
     _adaptive,
     _adaptive_rho,
     _adaptive_weight,
+    _choose_tuning,
     _cross_validate,
+    _gaussian_advantage,
     _pooled_location,
+    _smoothness,
 )
 
 SETTINGS = settings(max_examples=12, deadline=None)
@@ -1061,3 +1064,51 @@ def test_cross_validation_confirms_a_robust_centre_only_where_it_predicts_better
     # Gaussian intersections: the mean predicts better; confirmed no more often than chance.
     wins, why = _cross_validate(*_rows(clean), (0.1, 4.0, 8.0), np.random.default_rng(0))
     assert wins < 0.75, why
+
+
+def _smooth_band(seed, n_demos, m=100, scale=3.0):
+    """``n_demos`` smooth Gaussian offsets on ``m`` normals: random sine and cosine series.
+
+    Jointly Gaussian (no heavy tails anywhere), so their mean is the best centre,
+    but a few smooth curves often bunch by chance all along the path.
+    """
+    rng = np.random.default_rng(seed)
+    u = np.linspace(0.0, 1.0, m)
+    k = np.arange(1, 6)
+    basis = np.hstack((np.sin(np.pi * np.outer(u, k)), np.cos(np.pi * np.outer(u, k)))) / np.tile(
+        k, 2
+    )
+    values = basis @ rng.normal(size=(2 * len(k), n_demos))
+    return scale * values / values.std()
+
+
+# Before the Gaussian check each of these switched tuning (measured, session 38: 15 of
+# 120 such bands of 6, 10 and 15 curves, seeds 0-39; after it, none).
+@pytest.mark.parametrize("seed, n_demos", [(1, 6), (3, 15), (4, 15), (10, 15), (21, 10), (36, 10)])
+def test_adaptive_keeps_the_mean_on_smooth_gaussian_bands(seed, n_demos):
+    tuning, _, why = _choose_tuning(*_rows(_smooth_band(seed, n_demos)))
+    assert tuning == (4.0, 4.0, 8.0), why
+
+
+def test_gaussian_check_tells_heavy_tails_from_smooth_bunching():
+    rng = np.random.default_rng(0)
+    few = False
+    # Gaussian replicas as smooth as the data: a smooth band gains no more than they do.
+    band = _smooth_band(3, 15)[..., None]
+    seen, chance = _gaussian_advantage(band, np.ones(band.shape[:2], bool), few, rng)
+    assert seen <= chance + 0.1
+    # White noise with one-sided burrs 3-8 sd high (within the default's cut-off) on a
+    # fifth of the values: a smaller core gains far more than on Gaussian replicas.
+    noise = rng.normal(size=(100, 15))
+    burrs = noise + np.where(rng.random(noise.shape) < 0.2, rng.uniform(3.0, 8.0, noise.shape), 0.0)
+    seen, chance = _gaussian_advantage(burrs[..., None], np.ones(burrs.shape, bool), few, rng)
+    assert seen > chance + 0.5
+
+
+def test_smoothness_tells_smooth_bands_from_white_noise_with_burrs():
+    band = _smooth_band(0, 10)[..., None]
+    assert _smoothness(band, np.ones(band.shape[:2], bool)) > 0.9
+    rng = np.random.default_rng(1)
+    noise = rng.normal(size=(100, 10))
+    burrs = noise + np.where(rng.random(noise.shape) < 0.3, 2.0, 0.0)  # uncorrelated along
+    assert abs(_smoothness(burrs[..., None], np.ones(burrs.shape, bool))) < 0.2
