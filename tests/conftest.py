@@ -2,7 +2,7 @@
 session, and the ``lfdkit demo`` runs.
 
 Learning it takes ~3 s on the CI's 2-core machine and eight test modules plan
-with it, so it is learned once (``random_state=0``, the example files) and each
+with it, so it is learned once (the example files, default parameters) and each
 module takes its own copy (:func:`copy.deepcopy` of the skill, or of its file in
 the module's own folder): no module sees another's changes. The tests of
 learning itself (tests/skill/) still learn their own.
@@ -31,7 +31,7 @@ from lfdkit.tasks.sweeping import example_files
 def example_skill_once() -> Skill:
     """The example skill as :func:`~lfdkit.skill.learn` returns it (share: do not change it)."""
     files = example_files()
-    return learn(files["demos"], files["scenes"], random_state=0)
+    return learn(files["demos"], files["scenes"])
 
 
 @pytest.fixture(scope="session")
