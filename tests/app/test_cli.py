@@ -28,7 +28,7 @@ from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, save_demos
 from lfdkit.io.scenes import save_scenes
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import Skill, learn
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping import demo_outputs, example_files
 
 SUBCOMMANDS = ("demo", "import", "learn", "plan", "plot", "compare", "datasets", "batch", "bench")
@@ -270,9 +270,10 @@ def test_learn_quiet_prints_nothing(learned):
     assert learned.path.is_file()
 
 
-def test_learn_cli_matches_python_api(skill_path, examples):
+def test_learn_cli_matches_python_api(skill_path, example_skill_once):
     from_cli = json.loads(skill_path.read_text())
-    from_api = learn(examples["demos"], examples["scenes"]).to_dict()
+    # The session's learn(example demos, example scenes), default parameters.
+    from_api = example_skill_once.to_dict()
     assert from_cli["version"] == SKILL_VERSION
     cli, api = comparable(from_cli), comparable(from_api)
     for field in ("path", "reward", "params"):
