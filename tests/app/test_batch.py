@@ -353,7 +353,19 @@ def folders(tmp_path_factory) -> list[Path]:
     return [*made, root / "empty"]
 
 
-def test_batch_learn_writes_each_skill_and_records_the_failing_folder(folders, capsys, tmp_path):
+@pytest.fixture(scope="module")
+def expected_skills(folders) -> dict[Path, dict]:
+    """Each data folder's skill as the Python API learns it (seed 3), as its file reads back:
+    learned once for both batch-learn tests."""
+    return {
+        folder: json.loads(json.dumps(learn(folder / "demos.csv", random_state=3).to_dict()))
+        for folder in folders[:2]
+    }
+
+
+def test_batch_learn_writes_each_skill_and_records_the_failing_folder(
+    folders, expected_skills, capsys, tmp_path
+):
     results = tmp_path / "learn.jsonl"
     code, _, err = run_cli(capsys, "batch", "learn", *folders, "--seed", 3, "-o", results)
     assert code == 1
@@ -364,8 +376,7 @@ def test_batch_learn_writes_each_skill_and_records_the_failing_folder(folders, c
         row = got[str(folder)]
         assert row["skill"] == str(folder / "skill.json")
         assert row["clean_demos"] == 10
-        expected = learn(folder / "demos.csv", random_state=3).to_dict()
-        assert json.loads((folder / "skill.json").read_text()) == json.loads(json.dumps(expected))
+        assert json.loads((folder / "skill.json").read_text()) == expected_skills[folder]
     # Run again: resumed, nothing rerun, the failure still reported.
     code, _, err = run_cli(capsys, "batch", "learn", *folders, "--seed", 3, "-o", results)
     assert code == 1 and "1 of 3 tasks failed" in err
@@ -378,16 +389,17 @@ def test_batch_learn_writes_each_skill_and_records_the_failing_folder(folders, c
 
 
 @pytest.mark.slow  # two fresh processes import scikit-learn and numba: ~20 s on 2 cores
-def test_batch_learn_on_two_processes_learns_the_same_skills(folders, capsys, tmp_path):
+def test_batch_learn_on_two_processes_learns_the_same_skills(
+    folders, expected_skills, capsys, tmp_path
+):
     out = tmp_path / "skills"
     out.mkdir()
     argv = ["batch", "learn", *folders[:2], "--seed", 3, "--output-dir", out]
     code, _, err = run_cli(capsys, *argv, "--workers", 2, "-o", tmp_path / "p.jsonl")
     assert code == 0, err
     for folder in folders[:2]:
-        expected = learn(folder / "demos.csv", random_state=3).to_dict()
         written = json.loads((out / f"{folder.name}.json").read_text())
-        assert written == json.loads(json.dumps(expected))
+        assert written == expected_skills[folder]
 
 
 def test_learn_outputs_refuses_clashing_names(tmp_path):

@@ -28,7 +28,7 @@ from lfdkit.imitate import SpeedProfile
 from lfdkit.io import SKILL_VERSION, save_demos
 from lfdkit.io.scenes import save_scenes
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import Skill, learn
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping import demo_outputs, example_files
 
 SUBCOMMANDS = ("demo", "import", "learn", "plan", "plot", "compare", "datasets", "batch", "bench")
@@ -270,9 +270,10 @@ def test_learn_quiet_prints_nothing(learned):
     assert learned.path.is_file()
 
 
-def test_learn_cli_matches_python_api(skill_path, examples):
+def test_learn_cli_matches_python_api(skill_path, example_skill_once):
     from_cli = json.loads(skill_path.read_text())
-    from_api = learn(examples["demos"], examples["scenes"]).to_dict()
+    # The session's learn(example demos, example scenes), default parameters.
+    from_api = example_skill_once.to_dict()
     assert from_cli["version"] == SKILL_VERSION
     cli, api = comparable(from_cli), comparable(from_api)
     for field in ("path", "reward", "params"):
@@ -886,81 +887,67 @@ def test_plan_refuses_a_skill_file_with_absurd_n_points(capsys, tmp_path, skill_
 # --------------------------------------------------------------------------- #
 
 
-def test_demo_command_end_to_end(tmp_path):
-    out, quiet = tmp_path / "out", tmp_path / "quiet"
-    # The quiet run is independent: let it use the second core meanwhile.
-    quiet_run = subprocess.Popen(
-        ["lfdkit", "demo", "--output", str(quiet), "--quiet"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=tmp_path,
+def test_demo_command_end_to_end(demo_runs):
+    """Two whole demos, run at once (the session's ``demo_runs``): one with ``-v`` (its
+    output, every stage line, one clock for terminal and report; then a rerun without
+    ``--force`` is refused), one ``--quiet --force`` over a stale output folder (silent,
+    and the stale results are overwritten)."""
+    out, first = demo_runs.out, demo_runs.verbose
+    assert first.returncode == 0, first.stderr[-2000:]
+    assert "held-out sweeps" in first.stdout
+    for path in demo_outputs(out):
+        assert path.is_file(), path
+
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert html.count("data:image/png;base64,") >= 4
+    assert 'src="http' not in html
+    results_text = (out / "results.json").read_text()
+    results = json.loads(results_text)
+    assert results["emulate"]["test"]["improvement"] > 90
+    assert results["lfdkit"] == "0.1.0"
+    Skill.load(out / "skill.json")
+    # The terminal's whole-run time is the report's: one clock, one span.
+    said = re.search(r"^done in (\d+\.\d) s; open ", first.stderr, re.M)
+    assert said, first.stderr
+    assert said.group(1) == f"{results['seconds']['total']:.1f}"
+    reported = re.search(r"whole run</dt><dd[^>]*>([0-9.]+) s<", html)
+    assert reported and reported.group(1) == said.group(1)
+    # -v: every step of the demo, and the stages inside them, with their wall times.
+    for stage in (
+        "learn the skill from data/demos.csv and data/scenes.csv",
+        "IOC MPC H=8: refining",
+        "score the held-out sweeps",
+        "plan in 3 unseen scenes with a new goal",
+        "simulate the sweep in MuJoCo (UR5)",
+        "draw the figures",
+        "write the skill, the plans, the figures, the results and the report",
+    ):
+        line = rf"\] +{re.escape(stage)}: done in [0-9.]+ s$"
+        assert re.search(line, first.stderr, re.M), stage
+
+    command = ["lfdkit", "demo", "--output", str(out)]
+    again = subprocess.run(
+        command, capture_output=True, text=True, timeout=300, cwd=demo_runs.folder
     )
-    try:
-        command = ["lfdkit", "demo", "--output", str(out)]
-        first = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=tmp_path)
-        assert first.returncode == 0, first.stderr[-2000:]
-        assert "held-out sweeps" in first.stdout
-        for path in demo_outputs(out):
-            assert path.is_file(), path
+    assert again.returncode == 1
+    errors = [line for line in again.stderr.splitlines() if "error:" in line]
+    assert len(errors) == 1, again.stderr
+    assert errors[0].startswith("lfdkit demo: error: ")
+    assert "--force" in errors[0]
+    assert (out / "results.json").read_text() == results_text
 
-        html = (out / "report.html").read_text(encoding="utf-8")
-        assert html.count("data:image/png;base64,") >= 4
-        assert 'src="http' not in html
-        results_text = (out / "results.json").read_text()
-        results = json.loads(results_text)
-        assert results["emulate"]["test"]["improvement"] > 90
-        Skill.load(out / "skill.json")
-        # The terminal's whole-run time is the report's: one clock, one span.
-        said = re.search(r"^done in (\d+\.\d) s; open ", first.stderr, re.M)
-        assert said, first.stderr
-        assert said.group(1) == f"{results['seconds']['total']:.1f}"
-        reported = re.search(r"whole run</dt><dd[^>]*>([0-9.]+) s<", html)
-        assert reported and reported.group(1) == said.group(1)
-
-        again = subprocess.run(command, capture_output=True, text=True, timeout=300, cwd=tmp_path)
-        assert again.returncode == 1
-        errors = [line for line in again.stderr.splitlines() if "error:" in line]
-        assert len(errors) == 1, again.stderr
-        assert errors[0].startswith("lfdkit demo: error: ")
-        assert "--force" in errors[0]
-        assert (out / "results.json").read_text() == results_text
-
-        forced = subprocess.run(
-            [*command, "--force", "-v"], capture_output=True, text=True, timeout=300, cwd=tmp_path
-        )
-        assert forced.returncode == 0, forced.stderr[-2000:]
-        forced_results = json.loads((out / "results.json").read_text())
-        assert forced_results["lfdkit"] == "0.1.0"
-        # -v: every step of the demo, and the stages inside them, with their wall times.
-        for stage in (
-            "learn the skill from data/demos.csv and data/scenes.csv",
-            "IOC MPC H=8: refining",
-            "score the held-out sweeps",
-            "plan in 3 unseen scenes with a new goal",
-            "simulate the sweep in MuJoCo (UR5)",
-            "draw the figures",
-            "write the skill, the plans, the figures, the results and the report",
-        ):
-            line = rf"\] +{re.escape(stage)}: done in [0-9.]+ s$"
-            assert re.search(line, forced.stderr, re.M), stage
-        total = f"{forced_results['seconds']['total']:.1f}"
-        assert f"\ndone in {total} s; open " in forced.stderr
-
-        stdout, stderr = quiet_run.communicate(timeout=300)
-    finally:
-        if quiet_run.poll() is None:
-            quiet_run.kill()
-            quiet_run.communicate()
-    assert quiet_run.returncode == 0, stderr[-2000:]
-    assert stdout == ""
+    quiet = demo_runs.quiet_run
+    assert quiet.returncode == 0, quiet.stderr[-2000:]
+    assert quiet.stdout == ""
     # -q silences progress and summaries, never a warning that a result may be poor:
     # the thesis's scenes hold one gap no training demonstration showed (issue 26).
-    said = stderr.splitlines()
-    assert all(line.startswith("lfdkit demo: warning: plan: obstacles") for line in said), stderr
+    said = quiet.stderr.splitlines()
+    assert all(line.startswith("lfdkit demo: warning: plan: obstacles") for line in said), said
     assert all("whether the person would pass between them is not known" in s for s in said)
-    for path in demo_outputs(quiet):
+    for path in demo_outputs(demo_runs.quiet):
         assert path.is_file(), path
+    # --force: the stale results were overwritten.
+    assert json.loads((demo_runs.quiet / "results.json").read_text())["lfdkit"] == "0.1.0"
 
 
 # --------------------------------------------------------------------------- #

@@ -9,19 +9,16 @@ import pytest
 
 from lfdkit.model.box import Box
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import Skill, learn
-from lfdkit.tasks.sweeping import example_files
+from lfdkit.skill import Skill
 from tests.app.test_cli import read_plan_csv, run_cli, usage_exit
+from tests.conftest import example_skill_file_copy
 
 GOAL = "0.36,0.5"
 
 
 @pytest.fixture(scope="module")
-def skill_path(tmp_path_factory):
-    files = example_files()
-    path = tmp_path_factory.mktemp("box") / "skill.json"
-    learn(files["demos"], files["scenes"]).save(path)
-    return path
+def skill_path(example_skill_file_once, tmp_path_factory):
+    return example_skill_file_copy(example_skill_file_once, tmp_path_factory.mktemp("box"))
 
 
 def densely(points: np.ndarray, per_segment: int = 50) -> np.ndarray:

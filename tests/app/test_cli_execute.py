@@ -17,9 +17,8 @@ import numpy as np
 import pytest
 
 from lfdkit.app.cli import main
-from lfdkit.skill import learn
-from lfdkit.tasks.sweeping.examples import example_files
 from tests.app.test_cli import run_cli
+from tests.conftest import example_skill_file_copy
 from tests.execute.test_urscript import read_program
 
 GOAL = "0.36,0.5"
@@ -37,11 +36,8 @@ def one_error_line(err: str) -> str:
 
 
 @pytest.fixture(scope="module")
-def skill_path(tmp_path_factory) -> Path:
-    files = example_files()
-    path = tmp_path_factory.mktemp("skill") / "skill.json"
-    learn(files["demos"], files["scenes"]).save(path)
-    return path
+def skill_path(example_skill_file_once, tmp_path_factory) -> Path:
+    return example_skill_file_copy(example_skill_file_once, tmp_path_factory.mktemp("skill"))
 
 
 @pytest.fixture(scope="module")

@@ -10,9 +10,10 @@ import pytest
 import lfdkit.app.evaluation
 import lfdkit.app.plot
 from lfdkit.io import save_demos
-from lfdkit.skill import Skill, learn
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping import example_files
 from tests.app.test_cli import run_cli, usage_exit
+from tests.conftest import example_skill_file_copy
 
 SMALL = [
     np.c_[np.linspace(0, 1, 20), 0.1 * np.sin(np.linspace(0, np.pi, 20)) + dy] for dy in (0, 0.01)
@@ -24,11 +25,8 @@ def rows_of(text: str) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def skill_path(tmp_path_factory):
-    files = example_files()
-    path = tmp_path_factory.mktemp("units") / "skill.json"
-    learn(files["demos"], files["scenes"]).save(path)
-    return path
+def skill_path(example_skill_file_once, tmp_path_factory):
+    return example_skill_file_copy(example_skill_file_once, tmp_path_factory.mktemp("units"))
 
 
 @pytest.mark.parametrize(("units", "factor"), [(None, 1.0), ("m", 1.0), ("cm", 100.0), ("mm", 1e3)])

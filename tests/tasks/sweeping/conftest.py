@@ -5,15 +5,13 @@ from __future__ import annotations
 import pytest
 
 from lfdkit.emulate import Corridor
-from lfdkit.skill import learn
-from lfdkit.tasks.sweeping import example_files
 from lfdkit.tasks.sweeping.moving import SWEEP_DURATION
+from tests.conftest import example_skill_copy
 
 
 @pytest.fixture(scope="session")
-def skill():
-    files = example_files()
-    return learn(files["demos"], files["scenes"])
+def skill(example_skill_once):
+    return example_skill_copy(example_skill_once)
 
 
 @pytest.fixture(scope="session")

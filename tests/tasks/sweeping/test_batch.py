@@ -23,20 +23,17 @@ import pytest
 
 from lfdkit.app.batch import make_executor, read_results
 from lfdkit.datasets.emulation import CUP_RADIUS
-from lfdkit.skill import Skill, learn
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.batch import CHECKS, evaluate_batch, evaluate_scenario, scenario
-from lfdkit.tasks.sweeping.examples import example_files
 from lfdkit.tasks.sweeping.execution import execute_skill
 from lfdkit.tasks.sweeping.scenarios import random_scenarios
 from tests.app.test_cli import run_cli
+from tests.conftest import example_skill_file_copy
 
 
 @pytest.fixture(scope="module")
-def skill_path(tmp_path_factory) -> Path:
-    files = example_files()
-    path = tmp_path_factory.mktemp("skill") / "skill.json"
-    learn(files["demos"], files["scenes"], random_state=0).save(path)
-    return path
+def skill_path(example_skill_file_once, tmp_path_factory) -> Path:
+    return example_skill_file_copy(example_skill_file_once, tmp_path_factory.mktemp("skill"))
 
 
 def rows(path: Path) -> list[dict]:
@@ -175,20 +172,29 @@ def test_a_scene_with_a_moving_obstacle_is_refused_with_the_reason(skill_path, t
     assert not results.exists()
 
 
+@pytest.fixture(scope="module")
+def dask_cluster():
+    """One Dask LocalCluster of 2 worker processes for the module's two Dask tests: its
+    start and its workers' imports (seconds on 2 cores) are paid once."""
+    pytest.importorskip("distributed", reason='pip install "lfdkit[dask]"')
+    with make_executor(dask_local=2) as executor:
+        yield executor
+
+
 @pytest.mark.slow
-def test_200_scenarios_on_a_dask_local_cluster_equal_the_serial_run(skill_path, tmp_path):
+def test_200_scenarios_on_a_dask_local_cluster_equal_the_serial_run(
+    skill_path, tmp_path, dask_cluster
+):
     """200 random sweeping scenarios, each planned around its cup and marker to its dustpan
     (the ``plan`` check, ~30 ms a scene: a full MuJoCo sweep takes 1.5-3 s, too slow for 200
     twice on 2 cores; the next test compares simulated sweeps, ``benchmarks/batch.py`` times
     them)."""
-    pytest.importorskip("distributed", reason='pip install "lfdkit[dask]"')
     n = 200
     serial = evaluate_batch(skill_path, tmp_path / "serial.jsonl", random=n, check="plan")
-    with make_executor(dask_local=2) as executor:
-        assert executor.workers == 2
-        dask = evaluate_batch(
-            skill_path, tmp_path / "dask.jsonl", random=n, check="plan", executor=executor
-        )
+    assert dask_cluster.workers == 2
+    dask = evaluate_batch(
+        skill_path, tmp_path / "dask.jsonl", random=n, check="plan", executor=dask_cluster
+    )
     assert (serial.done, serial.failed, dask.done, dask.failed) == (n, 0, n, 0)
     expected = rows(tmp_path / "serial.jsonl")
     assert len(expected) == n
@@ -198,17 +204,19 @@ def test_200_scenarios_on_a_dask_local_cluster_equal_the_serial_run(skill_path, 
 
 
 @pytest.mark.slow
-def test_simulated_sweeps_on_dask_and_processes_equal_the_serial_run(skill_path, tmp_path):
+def test_simulated_sweeps_on_dask_and_processes_equal_the_serial_run(
+    skill_path, tmp_path, dask_cluster
+):
     """Full MuJoCo sweeps, at 0.6 of the joint limits (3 times shorter than the thesis's
     0.2) so that the test stays short."""
-    pytest.importorskip("distributed", reason='pip install "lfdkit[dask]"')
     n = 4
     settings = {"random": n, "seed": 1, "check": "mujoco", "speed_fraction": 0.6}
     serial = evaluate_batch(skill_path, tmp_path / "serial.jsonl", **settings)
     assert serial.done == n
     expected = rows(tmp_path / "serial.jsonl")
     assert all("simulation" in r for r in expected)
-    for name, kwargs in (("processes", {"workers": 2}), ("dask", {"dask_local": 2})):
-        with make_executor(**kwargs) as executor:
-            evaluate_batch(skill_path, tmp_path / f"{name}.jsonl", executor=executor, **settings)
+    with make_executor(workers=2) as processes:
+        evaluate_batch(skill_path, tmp_path / "processes.jsonl", executor=processes, **settings)
+    evaluate_batch(skill_path, tmp_path / "dask.jsonl", executor=dask_cluster, **settings)
+    for name in ("processes", "dask"):
         assert rows(tmp_path / f"{name}.jsonl") == expected, name

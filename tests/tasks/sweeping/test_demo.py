@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit.skill import learn
 from lfdkit.tasks.sweeping import demo as sweeping_demo
 from lfdkit.tasks.sweeping.demo import (
     default_planners,
@@ -26,17 +25,16 @@ from lfdkit.tasks.sweeping.demo import (
     run_experiment,
     summarize,
 )
-from lfdkit.tasks.sweeping.examples import example_files
 from lfdkit.tasks.sweeping.scenarios import random_scenarios
 from lfdkit.tasks.sweeping.sim import SweepResult
+from tests.conftest import example_skill_copy
 
 PLANNERS = ("learned skill", "learned, thesis end", "replay generalized path", "DMP alone")
 
 
 @pytest.fixture(scope="module")
-def skill():
-    files = example_files()
-    return learn(files["demos"], files["scenes"])
+def skill(example_skill_once):
+    return example_skill_copy(example_skill_once)
 
 
 @pytest.fixture(scope="module")

@@ -1,6 +1,7 @@
 """The report of ``lfdkit demo``: its content, and the page as a browser shows it.
 
-One demo run (module fixture) is checked twice: its results and report as
+One demo run (``lfdkit demo -v``, the session's ``demo_runs`` fixture, which
+the command's test also reads) is checked twice: its results and report as
 files (the unseen-scene plans end at the goal, the executed plan is the one in
 the table, every section and glossary term is there), and the page rendered
 by headless Chromium at a 1280 px wide window (every section present, every
@@ -22,7 +23,7 @@ import numpy as np
 import pytest
 
 from lfdkit.app.report import PNG_SIGNATURE
-from lfdkit.tasks.sweeping import NEW_GOAL, run_demo
+from lfdkit.tasks.sweeping import NEW_GOAL
 from lfdkit.tasks.sweeping.demo import GLOSSARY
 
 pytestmark = pytest.mark.slow
@@ -52,10 +53,10 @@ INSTALL = (
 
 
 @pytest.fixture(scope="module")
-def demo(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("demo") / "out"
-    run_demo(out)
-    return out
+def demo(demo_runs) -> Path:
+    """The folder ``lfdkit demo`` wrote (the session's run, shared with the command's test)."""
+    assert demo_runs.verbose.returncode == 0, demo_runs.verbose.stderr[-2000:]
+    return demo_runs.out
 
 
 @pytest.fixture(scope="module")

@@ -18,8 +18,7 @@ import pytest
 from lfdkit.execute import ur5
 from lfdkit.execute.arm import UR5, UR10
 from lfdkit.model.scene import Obstacle, Scene
-from lfdkit.skill import Skill, learn
-from lfdkit.tasks.sweeping.examples import example_files
+from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping.execution import (
     GOAL_APPROACH,
     SERVO_RATE,
@@ -29,6 +28,7 @@ from lfdkit.tasks.sweeping.execution import (
     write_execution,
 )
 from lfdkit.tasks.sweeping.scenarios import BRUSH, NEW_GOAL, unseen_scenes
+from tests.conftest import example_skill_copy
 from tests.execute.test_urscript import read_program
 
 #: A goal the UR10 reaches and the UR5 does not (about 0.95 m from the base).
@@ -36,9 +36,8 @@ FAR_GOAL = (0.9, 0.45)
 
 
 @pytest.fixture(scope="module")
-def skill() -> Skill:
-    files = example_files()
-    return learn(files["demos"], files["scenes"])
+def skill(example_skill_once) -> Skill:
+    return example_skill_copy(example_skill_once)
 
 
 @pytest.fixture(scope="module")
