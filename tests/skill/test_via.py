@@ -101,6 +101,11 @@ def test_a_broken_promp_in_a_file_names_the_field(skill, tmp_path: Path) -> None
     path.write_text(json.dumps(document))
     with pytest.raises(ValueError, match=r"broken.json: promp: weights of shape"):
         Skill.load(path)
+    document["promp"]["n_dims"] = 2
+    document["promp"]["weights_mean"] = {}  # not a list: NumPy's own TypeError before
+    path.write_text(json.dumps(document))
+    with pytest.raises(ValueError, match=r"broken.json: promp: weights_mean and weights_cov must"):
+        Skill.load(path)
 
 
 def test_millimetres_plan_the_same_via_points(skill) -> None:

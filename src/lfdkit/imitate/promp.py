@@ -520,8 +520,14 @@ class ProMP(Estimator):
         if not 0.0 < state["width"] <= 1.0:
             raise ValueError(f"{where}.width: expected a value in (0, 1], got {state['width']!r}")
         n_weights = n_dims * made.n_basis
-        mean = np.asarray(state["weights_mean"], dtype=np.float64)
-        cov = np.asarray(state["weights_cov"], dtype=np.float64)
+        try:
+            mean = np.asarray(state["weights_mean"], dtype=np.float64)
+            cov = np.asarray(state["weights_cov"], dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"{where}: weights_mean and weights_cov must be lists of numbers "
+                f"(a vector and a square matrix)"
+            ) from None
         if mean.shape != (n_weights,) or cov.shape != (n_weights, n_weights):
             raise ValueError(
                 f"{where}: weights of shape {mean.shape} and {cov.shape}, expected "
