@@ -138,7 +138,8 @@ def sweep_figure(
 def _top_view_height(dustpan: Dustpan, scene: Scene, runs: Mapping[str, SweepResult]) -> float:
     """Figure height (in) that fits the drawing at equal scale in 8.5 in, legend at the side."""
     points = [dustpan_outline(dustpan)]
-    points += [o.outline() for o in scene]
+    # An unbounded obstacle (a half-space) has no outline: the plot draws the part it shows.
+    points += [o.outline() for o in scene if np.all(np.isfinite(np.stack(o.bounds())))]
     points += [r.tool_trace[:, :2] for r in runs.values() if len(r.tool_trace)]
     width, height = np.ptp(np.vstack(points), axis=0)
     # About 5.8 in of the width is the axes (the rest: labels and the legend).
