@@ -24,6 +24,7 @@ from lfdkit.emulate.gaps import (
     surface_gaps,
     threaded_pairs,
 )
+from lfdkit.model.box import Box
 from lfdkit.model.scene import Capsule, Obstacle, Scene
 from lfdkit.skill import Skill
 
@@ -43,6 +44,28 @@ def test_surface_gaps_are_centre_distance_minus_radii() -> None:
     rod = Capsule("rod", [0.0, 0.1], end=[1.0, 0.1], radius=0.02)
     gap = surface_gaps(Scene((rod, Obstacle("cup", [0.5, 0.0], radius=0.01))))[0, 1]
     assert 0.07 - 0.04 * 0.02 <= gap <= 0.07
+
+
+def test_a_whole_half_space_is_judged_by_its_exact_height() -> None:
+    from lfdkit.model.half_space import HalfSpace
+
+    # A tilted wall lifted 1 cm, a cup 10 cm above its plane, a box 3 cm inside it.
+    wall = HalfSpace("wall", [0.0, 0.0], 0.01, [1.0, 1.0])
+    up = np.array([1.0, 1.0]) / np.sqrt(2.0)
+    cup = Obstacle("cup", 0.1 * up + [0.3, -0.3], radius=0.02)
+    box = Box.from_yaw("box", -0.03 * up, [0.02, 0.02], 0.0)
+    floor = HalfSpace("floor", [0.0, -1.0], 0.0, [0.0, 1.0])
+    ceiling = HalfSpace("ceiling", [5.0, 1.0], 0.005, [0.0, -1.0])
+    gaps = surface_gaps(Scene((wall, cup, box, floor, ceiling)))
+    assert gaps[0, 1] == gaps[1, 0] == pytest.approx(0.1 - 0.01 - 0.02, abs=1e-15)
+    assert gaps[0, 2] < 0.0  # overlaps
+    assert gaps[3, 4] == pytest.approx(2.0 - 0.005, abs=1e-15)  # facing planes: a slab
+    assert gaps[0, 3] == -np.inf  # planes that are not parallel meet
+    # A path between the wall and the cup threads them; one beyond the cup does not.
+    across = np.array([[-0.5, 0.5], [0.5, -0.5]]) + 0.045 * up  # midway
+    beyond = across + 0.3 * up
+    assert threaded_pairs(across, Scene((wall, cup))) == [(0, 1)]
+    assert threaded_pairs(beyond, Scene((wall, cup))) == []
 
 
 def test_open_gap_margins_give_way_only_between_two() -> None:

@@ -152,6 +152,7 @@ def test_cli_obstacle_with_a_velocity():
         0.03,
         [0.05, -0.02],
         None,  # no box sizes: a round obstacle
+        None,  # no normal: not a half-space
     )
     assert _obstacle("cup:0.1,0.2")[3] is None
     with pytest.raises(argparse.ArgumentTypeError, match="give vx=, vy="):

@@ -39,7 +39,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from lfdkit.core.geometry import polyline_distances
-from lfdkit.model.scene import Scene
+from lfdkit.model.half_space import HalfSpace
+from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
     "GAP_SHARE",
@@ -66,18 +67,49 @@ def surface_gaps(scene: Scene) -> np.ndarray:
     -------
     ndarray, shape (n_obstacles, n_obstacles)
         Units; negative where two overlap, ``inf`` on the diagonal. Each
-        shape is seen through the balls that cover it (:meth:`Obstacle.balls`).
+        shape is seen through the balls that cover it (:meth:`Obstacle.balls`),
+        a whole half-space through its exact height above its surface.
     """
     n = len(scene)
     out = np.full((n, n), np.inf)
-    balls = [o.balls() for o in scene.obstacles]
     for i in range(n):
-        ci, ri = balls[i]
         for j in range(i):
-            cj, rj = balls[j]
-            centre = np.linalg.norm(ci[:, None, :] - cj[None, :, :], axis=-1)
-            out[i, j] = out[j, i] = float((centre - ri[:, None] - rj[None, :]).min())
+            out[i, j] = out[j, i] = _nearest(scene.obstacles[i], scene.obstacles[j])[0]
     return out
+
+
+def _unbounded(obstacle: Obstacle) -> bool:
+    # A whole half-space has no finite cover of balls (only a clipped part has).
+    return isinstance(obstacle, HalfSpace) and obstacle.region is None
+
+
+def _nearest(a: Obstacle, b: Obstacle) -> tuple[float, np.ndarray, np.ndarray]:
+    """Surface gap between two obstacles, and the surface points of each nearest the other."""
+    if _unbounded(b) and not _unbounded(a):
+        gap, end_b, end_a = _nearest(b, a)
+        return gap, end_a, end_b
+    if _unbounded(a):
+        if _unbounded(b):
+            # Only two facing parallel planes leave a slab between them; others intersect.
+            if float(a.normal @ b.normal) > -1.0 + 1e-9:
+                return -np.inf, a.position, b.position
+            end_a = a.position + a.radius * a.normal
+            gap = float(a.normal @ (b.position - a.position)) - a.radius - b.radius
+            return gap, end_a, end_a + gap * a.normal
+        centres, radii = b.balls()
+        height = (centres - a.position) @ a.normal - a.radius  # of each centre above the surface
+        k = int(np.argmin(height - radii))
+        return (
+            float(height[k] - radii[k]),
+            centres[k] - height[k] * a.normal,
+            centres[k] - radii[k] * a.normal,
+        )
+    (ci, ri), (cj, rj) = a.balls(), b.balls()
+    centre = np.linalg.norm(ci[:, None, :] - cj[None, :, :], axis=-1)
+    gaps = centre - ri[:, None] - rj[None, :]
+    k, m = np.unravel_index(np.argmin(gaps), gaps.shape)
+    unit = (cj[m] - ci[k]) / centre[k, m] if centre[k, m] > 0.0 else np.zeros_like(ci[k])
+    return float(gaps[k, m]), ci[k] + ri[k] * unit, cj[m] - rj[m] * unit
 
 
 def gaps_closed_by(margins: np.ndarray, scene: Scene) -> list[tuple[int, int, float]]:
@@ -164,22 +196,15 @@ def threaded_pairs(path: np.ndarray, scene: Scene, n_samples: int = 16) -> list[
         ``(i, j)`` with ``i < j``; only pairs with a positive gap.
     """
     out = []
-    balls = [o.balls() for o in scene.obstacles]
-    gaps = surface_gaps(scene)
     t = np.linspace(0.0, 1.0, n_samples)[:, None]
     for i in range(len(scene)):
-        ci, ri = balls[i]
         for j in range(i + 1, len(scene)):
-            if not 0.0 < gaps[i, j] < np.inf:
+            # The surface points nearest each other, and the segment between them.
+            gap, end_i, end_j = _nearest(scene.obstacles[i], scene.obstacles[j])
+            if not 0.0 < gap < np.inf:
                 continue
-            cj, rj = balls[j]
-            # The two balls nearest each other, and the part of their centre line between surfaces.
-            centre = np.linalg.norm(ci[:, None, :] - cj[None, :, :], axis=-1)
-            a, b = np.unravel_index(np.argmin(centre - ri[:, None] - rj[None, :]), centre.shape)
-            unit = (cj[b] - ci[a]) / centre[a, b]
-            ends = ci[a] + ri[a] * unit, cj[b] - rj[b] * unit
-            samples = ends[0] + t * (ends[1] - ends[0])
-            if polyline_distances(samples, path).min() <= gaps[i, j] / n_samples:
+            samples = end_i + t * (end_j - end_i)
+            if polyline_distances(samples, path).min() <= gap / n_samples:
                 out.append((i, j))
     return out
 

@@ -48,6 +48,17 @@ def test_sweep_figure_draws_the_dustpan_obstacles_and_each_run():
     np.testing.assert_allclose(outline.get_xdata(), [0.3, 0.42, 0.42, 0.3], atol=1e-12)
 
 
+def test_sweep_figure_draws_the_part_of_a_wall_it_shows():
+    from lfdkit.model.half_space import HalfSpace
+
+    wall = HalfSpace("wall", [0.0, 0.6], 0.0, [0.0, -1.0])  # beyond the sweep, facing it
+    fig = sweep_figure(Dustpan((0.3, 0.45), 0.0), Scene((wall,)), {"learned": fake_run(True)})
+    (ax,) = fig.axes
+    (part,) = [p.get_xy() for p in ax.patches if p.get_label() == "wall"]
+    assert part[:, 1].min() == np.float64(0.6)  # from its surface outwards
+    assert part[:, 0].min() <= -0.3 and part[:, 0].max() >= 0.42  # under all that is drawn
+
+
 def _figures() -> dict[str, tuple[Figure, set[str]]]:
     """Each figure lfdkit writes for a sweep, with the legend entries it must have."""
     from lfdkit.app.plot import comparison_figure, mean_path_figure, retargeting_figure

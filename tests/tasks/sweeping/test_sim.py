@@ -111,6 +111,23 @@ def test_task_adds_free_cube_and_obstacles_as_their_classes_describe():
     assert "<freejoint" not in sim.sweeping_mjcf()
 
 
+def test_a_wall_is_a_static_plane_in_the_model():
+    from lfdkit.model.half_space import HalfSpace
+
+    # A wall beyond the sweep, facing the robot (MuJoCo refuses a plane in a free body).
+    wall = HalfSpace("wall", [0.0, 0.6], 0.01, [0.0, -1.0])  # its surface at y = 0.59
+    scene = Scene((wall, Obstacle("cup", np.array([0.0, 0.5]))))
+    model = sim.build_model(SweepingTask(np.array([-0.2, 0.45]), PAN, scene))
+    assert model.njnt == 6 + 1 + 1  # the arm, the cube and the cup: the wall has no joint
+    assert model.geom("obstacle0").type == mujoco.mjtGeom.mjGEOM_PLANE
+    assert model.body("obstacle0").jntnum[0] == 0
+    np.testing.assert_allclose(model.body("obstacle0").pos[:2], [0.0, 0.59], atol=1e-12)
+    # Its normal (the plane's z axis) points to the free side, towards the robot.
+    frame = np.zeros(9)
+    mujoco.mju_quat2Mat(frame, model.geom("obstacle0").quat)
+    np.testing.assert_allclose(frame.reshape(3, 3)[:, 2], [0.0, -1.0, 0.0], atol=1e-12)
+
+
 # ------------------------------------------------------------------ sweeps
 def test_straight_sweep_pushes_cube_into_dustpan(straight_sweep):
     path, task, result = straight_sweep

@@ -253,27 +253,38 @@ def bounded_int(low: int, high: int) -> Callable[[str], int]:
 
 #: ``--obstacle`` keys of a box's edge lengths, by axis.
 BOX_SIZE_KEYS = ("sx", "sy", "sz")
+#: ``--obstacle`` keys of a half-space's normal (to its free side), by axis.
+NORMAL_KEYS = ("nx", "ny", "nz")
+#: A good half-space, for the errors about a bad one.
+NORMAL_EXAMPLE = "e.g. table:0,0,0.7,nx=0,ny=0,nz=1 for a table top at height 0.7"
 #: Units of a box's ``yaw=`` (anticlockwise about z) and their size in radians.
 YAW_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 
 
 def _obstacle(text: str):
-    """``CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY[,vz=VZ]]``, or a box with ``sx=,sy=[,sz=][,yaw=]``.
+    """An ``--obstacle`` value: round, a box or a half-space (an argparse type).
 
-    Returns (label, position, radius, velocity, box): ``velocity`` is None
-    for a static obstacle, else the list of the given components (units/s);
-    ``box`` is None for a round obstacle, else ``(edge lengths, yaw in rad)``.
+    ``CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY[,vz=VZ]]``; a box adds
+    ``sx=,sy=[,sz=][,yaw=]``, a half-space ``nx=,ny=[,nz=]``.
+
+    Returns (label, position, radius, velocity, box, normal): ``velocity`` is
+    None for a static obstacle, else the list of the given components
+    (units/s); ``box`` is None unless a box, else ``(edge lengths, yaw in
+    rad)``; ``normal`` is None unless a half-space, else its normal's
+    components (a direction: not in units, not normalised here).
     """
     label, sep, rest = text.partition(":")
     if not sep or not label.strip():
         raise argparse.ArgumentTypeError(
             f"expected CLASS:X,Y[,Z][,r=RADIUS][,vx=VX,vy=VY] or "
-            f"CLASS:X,Y[,Z],sx=SX,sy=SY[,sz=SZ][,yaw=ANGLEdeg], got {text!r}"
+            f"CLASS:X,Y[,Z],sx=SX,sy=SY[,sz=SZ][,yaw=ANGLEdeg] or "
+            f"CLASS:X,Y[,Z],nx=NX,ny=NY[,nz=NZ], got {text!r}"
         )
     radius = 0.0
     coords = []
     velocity: dict[str, float] = {}
     sizes: dict[str, float] = {}
+    normal: dict[str, float] = {}
     yaw = None
     seen: set[str] = set()
     for token in rest.split(","):
@@ -301,6 +312,17 @@ def _obstacle(text: str):
                     f"{key} in {text!r}: a box's edge length must be a finite number >= 0"
                 )
             sizes[key] = value
+        elif key in NORMAL_KEYS:
+            try:
+                value = parse_decimal(token.partition("=")[2])
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise argparse.ArgumentTypeError(
+                    f"{key} in {text!r}: a half-space's normal component must be a finite "
+                    f"number; {NORMAL_EXAMPLE}"
+                )
+            normal[key] = value
         elif key == "yaw":
             yaw = _yaw(token.partition("=")[2], text)
         elif key == "r":
@@ -313,7 +335,7 @@ def _obstacle(text: str):
         elif key is not None:
             raise argparse.ArgumentTypeError(
                 f"unknown key {key}= in {text!r}; expected r=, vx=, vy=, vz=, "
-                "or for a box sx=, sy=, sz=, yaw="
+                "or for a box sx=, sy=, sz=, yaw=, or for a half-space nx=, ny=, nz="
             )
         else:
             coords.append(token)
@@ -334,15 +356,55 @@ def _obstacle(text: str):
                 f"{len(position)}-D box needs {', '.join(w + '=' for w in wanted)}"
             )
         box = ([sizes[w] for w in wanted], 0.0 if yaw is None else yaw)
+    normal_vector = _normal(normal, position, text, box is not None, bool(velocity))
     if not velocity:
-        return label.strip(), position, radius, None, box
+        return label.strip(), position, radius, None, box, normal_vector
     wanted = ["vx", "vy", "vz"][: len(position)]
     if sorted(velocity) != wanted:
         raise argparse.ArgumentTypeError(
             f"velocity in {text!r}: give {', '.join(w + '=' for w in wanted)} "
             f"for a {len(position)}-D position"
         )
-    return label.strip(), position, radius, [velocity[w] for w in wanted], box
+    return label.strip(), position, radius, [velocity[w] for w in wanted], box, None
+
+
+def _normal(
+    given: dict[str, float], position: list[float], text: str, is_box: bool, moves: bool
+) -> list[float] | None:
+    """A half-space's ``nx=,ny=[,nz=]`` in axis order (None when none is given)."""
+    if not given:
+        return None
+    example = NORMAL_EXAMPLE
+    if is_box:
+        raise argparse.ArgumentTypeError(
+            f"half-space in {text!r}: give either a box's sx=, sy= or a half-space's nx=, ny=, "
+            f"not both; {example}"
+        )
+    if moves:
+        raise argparse.ArgumentTypeError(
+            f"half-space in {text!r}: a half-space cannot move (drop vx=, vy=, vz=); {example}"
+        )
+    wanted = list(NORMAL_KEYS[: len(position)])
+    keys = ", ".join(w + "=" for w in wanted)
+    extra = sorted(set(given) - set(wanted))
+    if extra:
+        raise argparse.ArgumentTypeError(
+            f"{extra[0]}= in {text!r}: a {len(position)}-D half-space's normal has {keys} only; "
+            f"{example}"
+        )
+    missing = [w for w in wanted if w not in given]
+    if missing:
+        raise argparse.ArgumentTypeError(
+            f"half-space in {text!r}: missing its normal component {missing[0]}=; a "
+            f"{len(position)}-D half-space needs {keys}; {example}"
+        )
+    components = [given[w] for w in wanted]
+    if not any(components):
+        raise argparse.ArgumentTypeError(
+            f"half-space in {text!r}: the normal {keys} is zero; give the direction of the "
+            f"free side, {example}"
+        )
+    return components
 
 
 def _yaw(value: str, text: str) -> float:
@@ -436,20 +498,23 @@ def arm_keys() -> tuple[str, ...]:
 def _scene_from_args(args: argparse.Namespace, n_dims: int):
     from lfdkit.io.scenes import load_scene
     from lfdkit.model.box import Box
+    from lfdkit.model.half_space import HalfSpace
     from lfdkit.model.motion import ConstantVelocity
     from lfdkit.model.scene import Obstacle, Scene
 
     obstacles = []
     if args.scene is not None:
         obstacles += list(load_scene(args.scene))
-    for label, position, radius, velocity, box in args.obstacle or ():
+    for label, position, radius, velocity, box, normal in args.obstacle or ():
         if len(position) != n_dims:
             hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
             raise CommandError(
                 f"--obstacle {label}: {len(position)} coordinates for a {n_dims}-D skill{hint}"
             )
         motion = None if velocity is None else ConstantVelocity(velocity)
-        if box is None:
+        if normal is not None:  # a direction: the same in every --units
+            obstacles.append(HalfSpace(label, position, radius, normal))
+        elif box is None:
             obstacles.append(Obstacle(label, position, radius, motion=motion))
         else:
             size, yaw = box  # turned about z: [x, y, z, w] = [0, 0, sin(yaw/2), cos(yaw/2)]
@@ -650,7 +715,10 @@ def add_skill_file_options(parser: argparse.ArgumentParser) -> None:
         "moving at constant velocity, its velocity in units/s (the plan keeps clear of "
         "where it will be when the tool passes; repeatable). A box gives its edge lengths "
         "and optionally its turn about z: CLASS:X,Y[,Z],sx=SX,sy=SY[,sz=SZ][,yaw=30deg|0.52rad]"
-        "[,r=R] (X,Y[,Z] its centre; a box is never entered, even at --clearance 0)",
+        "[,r=R] (X,Y[,Z] its centre; a box is never entered, even at --clearance 0). A "
+        "table, floor or wall (a half-space: every point on or below a plane) gives a point "
+        "of its plane and its normal to the free side: CLASS:X,Y[,Z],nx=NX,ny=NY[,nz=NZ][,r=R] "
+        "(e.g. table:0,0,0.7,nx=0,ny=0,nz=1; never entered)",
     )
     parser.add_argument(
         "--scene",

@@ -96,7 +96,11 @@ def sweep_figure(
     else:
         fig = ax.figure
     draw_dustpan(ax, dustpan)
-    draw_scene(ax, scene, mujoco_class_colors(scene))
+    # A half-space is drawn over all the view shows (the runs are drawn later).
+    points = _top_view_points(dustpan, scene, runs)
+    low, high = points.min(axis=0), points.max(axis=0)
+    grow = 0.1 * (high - low)
+    draw_scene(ax, scene, mujoco_class_colors(scene), region=(low - grow, high + grow))
     colors = plan_colors(list(runs))
     cube_path = RENDER_TRACES["cube's path"]
     for name, result in runs.items():
@@ -135,12 +139,19 @@ def sweep_figure(
     return fig
 
 
+def _top_view_points(dustpan: Dustpan, scene: Scene, runs: Mapping[str, SweepResult]):
+    """Every point the top view must show: outlines, traces, a point of each half-space."""
+    points = [dustpan_outline(dustpan)]
+    for o in scene:  # an unbounded obstacle (a half-space): its plane's point, no outline
+        bounded = np.all(np.isfinite(np.stack(o.bounds())))
+        points.append(o.outline() if bounded else o.position[None, :2])
+    points += [r.tool_trace[:, :2] for r in runs.values() if len(r.tool_trace)]
+    return np.vstack(points)
+
+
 def _top_view_height(dustpan: Dustpan, scene: Scene, runs: Mapping[str, SweepResult]) -> float:
     """Figure height (in) that fits the drawing at equal scale in 8.5 in, legend at the side."""
-    points = [dustpan_outline(dustpan)]
-    points += [o.outline() for o in scene]
-    points += [r.tool_trace[:, :2] for r in runs.values() if len(r.tool_trace)]
-    width, height = np.ptp(np.vstack(points), axis=0)
+    width, height = np.ptp(_top_view_points(dustpan, scene, runs), axis=0)
     # About 5.8 in of the width is the axes (the rest: labels and the legend).
     return float(np.clip(5.8 * height / max(width, 1e-9) + 1.3, 2.6, 7.0))
 

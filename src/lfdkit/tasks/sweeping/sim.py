@@ -231,15 +231,20 @@ def _obstacle_xml(scene: Scene) -> str:
         x, y, z = (float(v) for v in centre)
         attributes = " ".join(f'{key}="{value}"' for key, value in geom.items())
         # A moving obstacle is a mocap body, driven along its motion (it pushes, is not pushed).
+        # A plane (a half-space) is static in MuJoCo: a body with no joint and no mass.
+        static = geom.get("type") == "plane"
         body = (
             f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z + 1e-4}" mocap="true">\n'
             if obstacle.moving
+            else f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z}">\n'
+            if static
             else f'    <body name="obstacle{index}" pos="{x!r} {y!r} {z + 1e-4}">\n'
             f'      <freejoint name="obstacle{index}"/>\n'
         )
+        mass = "" if static else f'mass="{kind.mass!r}" '
         lines.append(
             body + f'      <geom name="obstacle{index}" {attributes} '
-            f'mass="{kind.mass!r}" rgba="{mjcf_numbers(kind.rgba)}" {OBJECT_CONTACT}/>\n'
+            f'{mass}rgba="{mjcf_numbers(kind.rgba)}" {OBJECT_CONTACT}/>\n'
             f"    </body>"
         )
     return "\n".join(lines)
