@@ -78,6 +78,7 @@ from lfdkit.core.validation import (
     check_positive,
     check_times,
 )
+from lfdkit.imitate._dmp_numerics import minimum_jerk_law
 from lfdkit.model.timed_path import TimedPath
 
 __all__ = ["QuaternionRhythmicDMP", "RhythmicDMP", "RhythmicPoseDMP", "estimate_period"]
@@ -681,8 +682,7 @@ def _tangent(q: np.ndarray, centre: np.ndarray) -> np.ndarray:
 
 def _smooth_steps(x: np.ndarray) -> np.ndarray:
     """Quintic smooth step: 0 below 0, 1 above 1, zero slope and curvature at both."""
-    x = np.clip(x, 0.0, 1.0)
-    return x * x * x * (10.0 - 15.0 * x + 6.0 * x * x)
+    return minimum_jerk_law(np.clip(x, 0.0, 1.0))[0]
 
 
 def _sampled(value: Schedule, name: str, instants: np.ndarray, *, allow_zero: bool) -> np.ndarray:
