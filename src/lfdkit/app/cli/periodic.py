@@ -31,9 +31,11 @@ __all__ = [
     "add_run_options",
     "is_periodic",
     "learn",
+    "no_scene",
     "plan",
     "plot",
     "refuse_periodic_options",
+    "run",
 ]
 
 #: Cycles a plot runs when --cycles and --duration are not given.
@@ -322,6 +324,18 @@ def plan(args: argparse.Namespace, skill, duration: float | None, speed: float |
     tell(args, f"{summary}; wrote {args.output}")
 
 
+def run(args: argparse.Namespace, skill):
+    """``lfdkit execute`` of a periodic skill: the plan its options ask for (a TimedPath)."""
+    return _planned(skill, _run_settings(args, skill, None, None))
+
+
+def no_scene():
+    """The empty scene a periodic skill runs in (``execute`` simulates it)."""
+    from lfdkit.model.scene import Scene
+
+    return Scene(())
+
+
 def _run_summary(skill, settings: dict, run) -> str:
     """The plan in one line: cycles, period, amplitude, centre, length and peak speed."""
     import numpy as np
@@ -329,7 +343,7 @@ def _run_summary(skill, settings: dict, run) -> str:
     period = skill.period_ / settings["frequency"]
     centre = skill.centre_ if settings["centre"] is None else settings["centre"]
     cycles = settings["cycles"]
-    what = f"{cycles:g} cycles" if cycles is not None else f"{run.times[-1]:.4g} s"
+    what = _cycles(cycles) if cycles is not None else f"{run.times[-1]:.4g} s"
     peak = float(np.linalg.norm(run.velocities, axis=1).max())
     rest = ", at rest at both ends" if settings["ramp"] != 0.0 else ""
     return (
@@ -337,6 +351,10 @@ def _run_summary(skill, settings: dict, run) -> str:
         f"{','.join(f'{v:.4g}' for v in centre)} {skill.units}: {len(run.times)} points, "
         f"lasts {run.times[-1]:.4g} s{rest}, peak speed {peak:.4g} {skill.units}/s"
     )
+
+
+def _cycles(n: float) -> str:
+    return f"{n:g} cycle{'s' * (n != 1)}"
 
 
 def plot(args: argparse.Namespace, skill):
@@ -384,7 +402,7 @@ def plot(args: argparse.Namespace, skill):
         orientation_run=turn,
         units=skill.units,
         title=args.title
-        or f"{args.skill.name}: {settings['cycles']:g} cycles of {period:.3g} s at amplitude "
+        or f"{args.skill.name}: {_cycles(settings['cycles'])} of {period:.3g} s at amplitude "
         f"{settings['amplitude']:g}"
         + (" (demonstration grey)" if demo is not None else ""),
     )
