@@ -63,7 +63,12 @@ from lfdkit.core.constraints import Checked, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.units import check_units, conversion_factor
 from lfdkit.core.validation import check_count, check_path, check_positive, check_times
-from lfdkit.imitate.rhythmic import QuaternionRhythmicDMP, RhythmicDMP, RhythmicPoseDMP
+from lfdkit.imitate.rhythmic import (
+    MIN_CYCLES,
+    QuaternionRhythmicDMP,
+    RhythmicDMP,
+    RhythmicPoseDMP,
+)
 from lfdkit.io.skill_file import check_skill_path, jsonable, read_skill_file, write_skill_file
 from lfdkit.model.timed_path import TimedPath
 
@@ -86,6 +91,8 @@ RAMP_PERIODS = 0.5
 MAX_CYCLES = 10_000
 #: A fit whose residual exceeds this fraction of the demonstration's RMS about its centre is poor.
 POOR_FIT = 0.2
+#: ... and above this fraction no cycle was found: refused (0.8 cycles of a circle leave 82 %).
+NO_CYCLE = 0.5
 
 
 class PeriodicSkill(Estimator):
@@ -193,7 +200,20 @@ class PeriodicSkill(Estimator):
         self.cycles_ = float(t[-1] - t[0]) / self.position_.period_
         self.n_points_ = len(y)
         self._learned()
+        unexplained = self._unexplained(y)
+        if unexplained > NO_CYCLE:
+            del self.position_  # not fitted: nothing half-learned is left to plan with
+            raise ValueError(
+                f"positions: no repeating cycle found (the best period, {self.period_:.4g} s, "
+                f"leaves {100 * unexplained:.0f} % of the movement unexplained); record at "
+                f"least {MIN_CYCLES} cycles of one repeated movement"
+            )
         return self
+
+    def _unexplained(self, demo: np.ndarray) -> float:
+        """RMS residual of the fit over the demonstration's RMS distance from the centre."""
+        stroke = float(np.sqrt(np.mean(np.sum((demo - self.centre_) ** 2, axis=1))))
+        return self.position_.residual_rms_ / stroke if stroke > 0.0 else 0.0
 
     def _learned(self) -> None:
         """The attributes read off the rhythms (after a fit and after loading)."""
@@ -310,15 +330,13 @@ class PeriodicSkill(Estimator):
         ``demo`` is the positions the skill was fitted on.
         """
         check_fitted(self, "position_")
-        y = np.asarray(demo, dtype=np.float64)
-        stroke = float(np.sqrt(np.mean(np.sum((y - self.centre_) ** 2, axis=1))))
-        residual = self.position_.residual_rms_
-        if residual <= POOR_FIT * stroke:
+        unexplained = self._unexplained(np.asarray(demo, dtype=np.float64))
+        if unexplained <= POOR_FIT:
             return None
         return (
-            f"the learned cycle fits the demonstration poorly (RMS {residual:.3g} {self.units}, "
-            f"{100 * residual / stroke:.0f} % of the stroke): check that it repeats one "
-            "movement, or give more harmonics"
+            f"the learned cycle fits the demonstration poorly (RMS "
+            f"{self.position_.residual_rms_:.3g} {self.units}, {100 * unexplained:.0f} % of "
+            "the stroke): check that it repeats one movement, or give more harmonics"
         )
 
     def to_units(self, units: str) -> PeriodicSkill:
