@@ -59,11 +59,12 @@ from typing import Any, ClassVar
 import numpy as np
 
 from lfdkit import __version__
-from lfdkit.core.constraints import Checked, Real
+from lfdkit.core.constraints import Checked, Integer, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.units import check_units, conversion_factor
 from lfdkit.core.validation import check_count, check_path, check_positive, check_times
 from lfdkit.imitate.rhythmic import (
+    MAX_HARMONICS,
     MIN_CYCLES,
     QuaternionRhythmicDMP,
     RhythmicDMP,
@@ -141,7 +142,10 @@ class PeriodicSkill(Estimator):
     """
 
     _parameter_constraints: ClassVar[dict[str, Any]] = {
-        **RhythmicDMP._parameter_constraints,
+        # The rhythm's own (:class:`RhythmicDMP`), then the skill's.
+        "n_harmonics": Integer(minimum=1, maximum=MAX_HARMONICS),
+        "alpha": Real(),
+        "period": Real(meaning="seconds per cycle", optional=True),
         "units": Checked(check_units),
         "ramp": Real(allow_zero=True, optional=True),
     }
