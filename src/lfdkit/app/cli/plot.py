@@ -28,14 +28,14 @@ def run_command(args: argparse.Namespace) -> None:
 
 
 def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
-    from lfdkit.app import plot
-    from lfdkit.io import load_demos
-
     refuse_existing(args.output, args.force)
     loaded = load_skill_file(args.skill)
     if periodic.is_periodic(loaded):
         _save(args, periodic.plot(args, loaded))
         return
+    from lfdkit.app import plot
+    from lfdkit.io import load_demos
+
     periodic.refuse_periodic_options(args)
     skill, scene, start, goal = skill_and_scene(args, loaded)
     demos = load_demos(args.demos) if args.demos is not None else []
