@@ -81,7 +81,8 @@ def test_plan_to_standard_output_with_velocities_in_mm(capsys, wipe) -> None:
 def test_plot_draws_the_cycles(capsys, wipe, tmp_path) -> None:
     demos, skill_file, _ = wipe
     out = tmp_path / "wipe.png"
-    code, _, err = run_cli(capsys, "plot", skill_file, "--demos", demos, "--cycles", "3", "-o", out)
+    argv = ["--demos", demos, "--cycles", "1", "--dpi", "40"]
+    code, _, err = run_cli(capsys, "plot", skill_file, *argv, "-o", out)
     assert code == 0, err
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -111,18 +112,21 @@ def _timed(path: Path, points: np.ndarray, times=None) -> Path:
         ("two", 1, "2 demonstrations"),
         ("scenes", 2, "--scenes: a periodic skill has no obstacles"),
         ("harmonics", 1, "--harmonics: 40 needs at least 120 samples per cycle"),
+        ("millimetres", 1, "no --units was given, so they were read as m: pass --units mm"),
     ],
 )
 def test_learn_mistakes_are_one_line(capsys, tmp_path, case, code, message) -> None:
     t = np.linspace(0.0, 6.0, 200)
     u = 2 * np.pi * t / 1.5
-    circle = np.c_[np.cos(u), np.sin(u)]
+    circle = 0.2 * np.c_[np.cos(u), np.sin(u)]  # metres
     if case == "missing":
         demos = tmp_path / "nothing.csv"
     elif case == "line":
-        demos = _timed(tmp_path / "line.csv", np.c_[t, 2 * t], t)
+        demos = _timed(tmp_path / "line.csv", np.c_[0.1 * t, 0.2 * t], t)
     elif case == "untimed":
         demos = _timed(tmp_path / "untimed.csv", circle)
+    elif case == "millimetres":
+        demos = _timed(tmp_path / "mm.csv", 1000.0 * circle, t)
     else:
         demos = _timed(tmp_path / "circle.csv", circle, t)
     extra = {"scenes": ["--scenes", demos], "harmonics": ["--harmonics", "40"]}.get(case, [])
@@ -136,16 +140,16 @@ def test_learn_mistakes_are_one_line(capsys, tmp_path, case, code, message) -> N
 
 def test_an_untimed_recording_learns_with_its_period_or_pace(capsys, tmp_path) -> None:
     u = np.linspace(0.0, 4.5 * 2 * np.pi, 300)
-    demos = _timed(tmp_path / "untimed.csv", np.c_[np.cos(u), np.sin(u)])
+    demos = _timed(tmp_path / "untimed.csv", 0.2 * np.c_[np.cos(u), np.sin(u)])
     code, _, err = run_cli(
         capsys, "learn", "--periodic", demos, "--period", "2", "-o", tmp_path / "a.json"
     )
     assert code == 0, err
     assert PeriodicSkill.load(tmp_path / "a.json").period_ == 2.0
-    argv = ["learn", "--periodic", demos, "--pace", "0.5", "-o", tmp_path / "b.json"]
+    argv = ["learn", "--periodic", demos, "--pace", "0.1", "-o", tmp_path / "b.json"]
     code, _, err = run_cli(capsys, *argv)
     assert code == 0, err
-    # A unit circle at 0.5 units/s: 2π / 0.5 = 12.6 s a cycle.
+    # A circle of radius 0.2 m at 0.1 m/s: 0.4π / 0.1 = 12.6 s a cycle.
     assert PeriodicSkill.load(tmp_path / "b.json").period_ == pytest.approx(4 * np.pi, rel=1e-2)
 
 

@@ -119,6 +119,8 @@ def learn(args: argparse.Namespace) -> None:
             times = samples * (period / in_samples.period_)
     elif speed is not None:
         raise UsageError("--pace: the file has times (a t column); leave --pace out")
+    if args.units is None:  # implausible in metres and no unit given: refused, as learn does
+        _check_plausible(source, positions, times)
     skill = PeriodicSkill(n_harmonics=args.harmonics, period=period, units=args.units or "m")
     skill = _fitted(skill, positions, times, demo.orientations, source)
     poor = skill.fit_warning(positions)
@@ -126,6 +128,24 @@ def learn(args: argparse.Namespace) -> None:
         warnings.warn(f"{source}: {poor} (--harmonics)", stacklevel=1)
     skill.save(args.output, overwrite=args.force)
     tell(args, f"learned a periodic skill: {skill.summary()}; wrote {args.output}")
+
+
+def _check_plausible(source, positions, times) -> None:
+    """Refuse a recording implausible in metres (no --units given): one line, the unit likely."""
+    import numpy as np
+
+    from lfdkit.core.geometry import path_length
+    from lfdkit.core.units import implausible_units, likely_units
+
+    extent = float(np.ptp(positions, axis=0).max())
+    speed = path_length(positions) / float(times[-1] - times[0])
+    why = implausible_units(extent, "m", speed)
+    if why is not None:
+        raise CommandError(
+            f"{source}: {why}; no --units was given, so they were read as m: pass --units "
+            f"{likely_units(extent, 'm')} if that is their unit (--units m to learn them as "
+            "they are)"
+        )
 
 
 def _fitted(skill, positions, times, orientations=None, source=None):
