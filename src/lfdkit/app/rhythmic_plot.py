@@ -27,8 +27,8 @@ COMPONENT_STYLES = ("-", "--", ":")
 
 def rhythmic_figure(
     dmp: RhythmicDMP,
-    demo: np.ndarray,
-    times: np.ndarray,
+    demo: np.ndarray | None,
+    times: np.ndarray | None,
     run: TimedPath,
     *,
     orientation: QuaternionRhythmicDMP | None = None,
@@ -43,10 +43,10 @@ def rhythmic_figure(
     ----------
     dmp : RhythmicDMP
         Fitted on ``demo``.
-    demo : ndarray, shape (n, q), q >= 2
-        The demonstration's positions.
-    times : ndarray, shape (n,)
-        Its times in seconds.
+    demo : ndarray, shape (n, q), q >= 2, or None
+        The demonstration's positions (None: the cycle and the run only).
+    times : ndarray, shape (n,), or None
+        Its times in seconds (None: the demonstration is drawn in the plane only).
     run : TimedPath
         A rollout of ``dmp`` (:meth:`RhythmicDMP.rollout`).
     orientation : QuaternionRhythmicDMP, optional
@@ -59,13 +59,17 @@ def rhythmic_figure(
     -------
     Figure
     """
-    demo = np.asarray(demo, dtype=np.float64)
-    times = np.asarray(times, dtype=np.float64) - float(times[0])
+    if demo is not None:
+        demo = np.asarray(demo, dtype=np.float64)
+    if times is not None:
+        times = np.asarray(times, dtype=np.float64) - float(times[0])
+    timed = demo is not None and times is not None
     rows = 3 if orientation is not None else 2
     fig = Figure(figsize=(11.0, 2.4 * rows + 0.6), layout="constrained")
     grid = fig.add_gridspec(rows, 2, width_ratios=(1.0, 1.6))
     plane = fig.add_subplot(grid[:, 0])
-    plane.plot(demo[:, 0], demo[:, 1], color=DEMO_COLOR, lw=0.8, label="demonstration")
+    if demo is not None:
+        plane.plot(demo[:, 0], demo[:, 1], color=DEMO_COLOR, lw=0.8, label="demonstration")
     cycle = dmp.cycle(np.linspace(0.0, 2.0 * np.pi, 400))
     plane.plot(*run.positions[:, :2].T, color=RUN_COLOR, lw=1.2, label="rollout")
     plane.plot(cycle[:, 0], cycle[:, 1], "k--", lw=1.4, label="learned cycle")
@@ -77,24 +81,29 @@ def rhythmic_figure(
     plane.set_title(f"period {dmp.period_:.3g} s, {dmp.n_harmonics} harmonics")
 
     along = fig.add_subplot(grid[0, 1])
-    for k in range(min(demo.shape[1], 3)):
+    for k in range(min(run.positions.shape[1], 3)):
         style = COMPONENT_STYLES[k]
         name = "xyz"[k]
-        along.plot(times, demo[:, k], style, color=DEMO_COLOR, lw=0.8)
+        if timed:
+            along.plot(times, demo[:, k], style, color=DEMO_COLOR, lw=0.8)
         along.plot(run.times, run.positions[:, k], style, color=RUN_COLOR, lw=1.0, label=name)
     along.set_ylabel(f"position [{units}]")
-    along.legend(loc="upper right", fontsize=8, ncols=3, title="rollout (demo grey)")
+    heading = "rollout (demo grey)" if timed else "rollout"
+    along.legend(loc="upper right", fontsize=8, ncols=3, title=heading)
 
     speed = fig.add_subplot(grid[1, 1], sharex=along)
     speed.plot(run.times, np.linalg.norm(run.velocities, axis=1), color=RUN_COLOR, lw=1.0)
     speed.set_ylabel(f"speed [{units}/s]")
     last = speed
-    if orientation is not None and demo_orientations is not None and orientation_run is not None:
+    if orientation is not None and orientation_run is not None:
         turn = fig.add_subplot(grid[2, 1], sharex=along)
-        shown = 2.0 * log(multiply(demo_orientations, conjugate(orientation.centre_)))
+        shown = None
+        if timed and demo_orientations is not None:
+            shown = 2.0 * log(multiply(demo_orientations, conjugate(orientation.centre_)))
         for k in range(3):
             style = COMPONENT_STYLES[k]
-            turn.plot(times, shown[:, k], style, color=DEMO_COLOR, lw=0.8)
+            if shown is not None:
+                turn.plot(times, shown[:, k], style, color=DEMO_COLOR, lw=0.8)
             turn.plot(
                 orientation_run.times,
                 orientation_run.positions[:, k],

@@ -8,7 +8,7 @@ optional extra ``lfdkit[lasa]``). :func:`catalog` lists them all (with the
 emulation sets of :func:`load_emulation_dataset`) and :func:`export_dataset`
 writes any as files ``lfdkit learn`` reads (``lfdkit datasets``).
 :mod:`~lfdkit.datasets.robots` ships what running a skill on a robot needs
-without a robot of one's own: a timed 3-D reach and three arms' URDFs.
+without a robot of one's own: a timed 3-D reach, a periodic wipe and three arms' URDFs.
 """
 
 from lfdkit.datasets import builtin, emulation, lasa, robots, synthetic

@@ -32,6 +32,8 @@ What an export holds
   lists would be learned from as a clean one.
 * A LASA shape: its 7 demonstrations with their times (a ``t`` column).
 * ``reach``: its 6 demonstrations with their times (a ``t`` column).
+* ``wipe``: one recording of 4.3 cycles with its times and the tool's
+  orientation (``t`` and ``qx,qy,qz,qw`` columns), for ``lfdkit learn --periodic``.
 * ``urdf:NAME``: the arm's URDF, as shipped.
 
 Generated sets depend on ``seed`` (0 by default, so an export is
@@ -48,7 +50,7 @@ import numpy as np
 
 from lfdkit.datasets.emulation import EMULATION_DATASETS, load_emulation_dataset
 from lfdkit.datasets.lasa import LASA_SHAPES, lasa_available, load_lasa
-from lfdkit.datasets.robots import URDF_PREFIX, export_urdf, reach_demos
+from lfdkit.datasets.robots import URDF_PREFIX, export_urdf, reach_demos, wipe_demo
 from lfdkit.datasets.synthetic import CLOSED_DATASETS, MIMIC_DATASETS, load_dataset
 from lfdkit.io import check_output_path, save_demos, save_scenes
 from lfdkit.model.demos import DemoId
@@ -125,9 +127,10 @@ _BUILT_IN: dict[str, tuple[int, int, int, str, str]] = {
     "da_vinci_marker": (3, 5, 12, "m", "pick and place around a marker, 3-D (thesis §6.3)"),
     "sweeping": (2, 5, 12, "m", "sweeps around a cup or a marker (thesis §6.4)"),
     "reach": (3, 6, 0, "m", "a timed 3-D reach over a box (6 s), for lfdkit execute"),
+    "wipe": (3, 1, 0, "m", "4.3 cycles of a wipe with a rocking tool, for --periodic"),
 }
 #: The timed motions for a robot (kind ``robot``), listed after the LASA shapes.
-_ROBOT_SETS = ("reach",)
+_ROBOT_SETS = ("reach", "wipe")
 
 
 def _kind(name: str) -> DatasetKind:
@@ -219,6 +222,8 @@ class DatasetDemos:
     scenes : dict of id to Scene
         The obstacles of the demonstrations recorded around them, by id
         (empty when there are none or they were not asked for).
+    orientations : list of ndarray, each (n_j, 4), or None
+        The tool's orientation (``wipe``), else None.
     """
 
     info: DatasetInfo
@@ -226,6 +231,7 @@ class DatasetDemos:
     ids: list[DemoId]
     times: list[np.ndarray] | None
     scenes: dict[DemoId, Scene]
+    orientations: list[np.ndarray] | None = None
 
 
 def dataset_demos(name: str, *, seed: int = 0, obstacles: bool = True) -> DatasetDemos:
@@ -257,6 +263,9 @@ def dataset_demos(name: str, *, seed: int = 0, obstacles: bool = True) -> Datase
         shape = load_lasa(info.name[len(LASA_PREFIX) :])
         demos = [np.array(d) for d in shape.demos]
         return DatasetDemos(info, demos, list(range(len(demos))), list(shape.times), {})
+    if info.name == "wipe":
+        positions, t, orientations = wipe_demo(seed=seed)
+        return DatasetDemos(info, [positions], [0], [t], {}, [orientations])
     if info.kind == "robot":
         demos, times = reach_demos(seed=seed)
         return DatasetDemos(info, demos, list(range(len(demos))), times, {})
@@ -335,7 +344,14 @@ def export_dataset(
         if path is not None:
             check_output_path(os.fspath(path), overwrite=overwrite)
     data = dataset_demos(info.name, seed=seed, obstacles=scenes_path is not None)
-    save_demos(demos_path, data.demos, times=data.times, ids=data.ids, overwrite=overwrite)
+    save_demos(
+        demos_path,
+        data.demos,
+        times=data.times,
+        ids=data.ids,
+        orientations=data.orientations,
+        overwrite=overwrite,
+    )
     if scenes_path is not None:
         save_scenes(scenes_path, data.scenes, overwrite=overwrite)
     return data

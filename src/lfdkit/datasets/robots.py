@@ -25,11 +25,20 @@ from pathlib import Path
 
 import numpy as np
 
-from lfdkit.core.validation import check_random_state
+from lfdkit.core.rotations import exp, multiply
+from lfdkit.core.validation import check_positive, check_random_state
 from lfdkit.datasets._shared import check_count_at_least
 from lfdkit.io import atomic_write, check_output_path
 
-__all__ = ["EXAMPLE_URDFS", "URDF_PREFIX", "example_urdf", "export_urdf", "reach_demos"]
+__all__ = [
+    "EXAMPLE_URDFS",
+    "URDF_PREFIX",
+    "WIPE_PERIOD",
+    "example_urdf",
+    "export_urdf",
+    "reach_demos",
+    "wipe_demo",
+]
 
 #: Names of the example arms in the catalogue: ``urdf:panda``, ``urdf:ur5``, ``urdf:ur5e``.
 URDF_PREFIX = "urdf:"
@@ -131,3 +140,51 @@ def reach_demos(
         )
         times.append(t)
     return demos, times
+
+
+#: Seconds per cycle of the ``wipe`` recording.
+WIPE_PERIOD = 1.6
+
+
+def wipe_demo(
+    *, seed: object = 0, cycles: float = 4.3, n_points: int = 480
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One recording of a periodic wipe on a table, with the tool's orientation (issue 33).
+
+    A 4 × 12 cm figure-eight at 0.45 m in front of the base, 0.1 m above it,
+    :data:`WIPE_PERIOD` s a cycle, the tool pointing down (180° about x) and
+    rocking ±9.2° about x and ±5.7° about y; 1 mm and 5 mrad of noise. The
+    UR5 follows it (``tests/execute/test_rhythmic_wipe.py``).
+
+    Parameters
+    ----------
+    seed : None, int or numpy.random.Generator
+        The noise.
+    cycles : float
+        Cycles recorded (> 0; at least 1.5 to learn from).
+    n_points : int
+        Samples, evenly spaced in time (at least 10).
+
+    Returns
+    -------
+    positions : ndarray, shape (n_points, 3)
+        ``x, y, z`` (m) in the robot's base frame.
+    times : ndarray, shape (n_points,)
+        Seconds from 0.
+    orientations : ndarray, shape (n_points, 4)
+        Unit quaternions ``[x, y, z, w]``.
+    """
+    cycles = check_positive(cycles, "cycles")
+    n_points = check_count_at_least(n_points, "n_points", 10)
+    rng = check_random_state(seed)
+    t = np.linspace(0.0, cycles * WIPE_PERIOD, n_points)
+    u = 2.0 * np.pi * t / WIPE_PERIOD
+    positions = np.c_[0.45 + 0.02 * np.sin(2 * u), 0.06 * np.sin(u), np.full_like(u, 0.1)]
+    rock = np.outer(0.08 * np.sin(u), [1.0, 0.0, 0.0]) + np.outer(
+        0.05 * np.sin(2 * u + 0.3), [0.0, 1.0, 0.0]
+    )
+    down = np.array([1.0, 0.0, 0.0, 0.0])
+    orientations = multiply(exp(rock), down)
+    positions = positions + rng.normal(0.0, 1e-3, positions.shape)
+    orientations = multiply(orientations, exp(rng.normal(0.0, 2.5e-3, (n_points, 3))))
+    return positions, t, orientations

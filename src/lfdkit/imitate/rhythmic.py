@@ -54,7 +54,7 @@ Numbers: 8 harmonics fit a cycle with features down to an eighth of it;
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -227,6 +227,45 @@ class RhythmicDMP(Estimator):
         run = _run_tangent(self, duration, dt, amplitude, frequency, centre, start, ramp)
         return TimedPath(run.times, run.positions, run.velocities)
 
+    def to_state(self) -> dict[str, Any]:
+        """The fitted state as plain data: parameters, period, fit residual, Fourier coefficients.
+
+        :meth:`from_state` restores it to the bit, without refitting (the
+        periodic skill file stores it, :mod:`lfdkit.skill.periodic`).
+        """
+        check_fitted(self, "coefficients_")
+        return {
+            "params": self.get_params(),
+            "period": float(self.period_),
+            "n_dims": int(self.n_dims_),
+            "residual_rms": float(self.residual_rms_),
+            "coefficients": np.array(self.coefficients_),
+        }
+
+    @classmethod
+    def from_state(cls, state: Mapping[str, Any], where: str = "rhythm") -> RhythmicDMP:
+        """The fitted rhythm of :meth:`to_state`, without refitting.
+
+        Raises
+        ------
+        ValueError
+            One line starting with ``where`` for a missing or malformed field.
+        """
+        made = _made_from_state(cls, state, where, ("period", "n_dims", "residual_rms"))
+        period = _state_number(state, "period", where, positive=True)
+        residual = _state_number(state, "residual_rms", where, positive=False)
+        n_dims = state["n_dims"]
+        if isinstance(n_dims, bool) or not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
+            raise ValueError(f"{where}.n_dims: expected 1 to 3, got {n_dims!r}")
+        rows = 2 * made.n_harmonics + 1
+        coefficients = _state_array(state, "coefficients", where, (rows, n_dims))
+        made.coefficients_ = coefficients
+        made.period_ = period
+        made.centre_ = coefficients[0].copy()
+        made.residual_rms_ = residual
+        made.n_dims_ = n_dims
+        return made
+
     def _forcing_coefficients(self) -> tuple[np.ndarray, np.ndarray]:
         """``f = y'' + α y' + αβ (y − a₀)`` as cosine and sine coefficients, each (K, n_dims)."""
         k = np.arange(1, self.n_harmonics + 1)[:, None]
@@ -320,6 +359,49 @@ class QuaternionRhythmicDMP(Estimator):
         self.period_ = self.tangent_.period_
         self.residual_rms_ = 2.0 * self.tangent_.residual_rms_
         return self
+
+    def to_state(self) -> dict[str, Any]:
+        """The fitted state as plain data: parameters, centre, residual and the tangent rhythm.
+
+        :meth:`from_state` restores it to the bit, without refitting.
+        """
+        check_fitted(self, "tangent_")
+        return {
+            "params": self.get_params(),
+            "centre": np.array(self.centre_),
+            "residual_rms": float(self.residual_rms_),
+            "tangent": self.tangent_.to_state(),
+        }
+
+    @classmethod
+    def from_state(
+        cls, state: Mapping[str, Any], where: str = "orientation"
+    ) -> QuaternionRhythmicDMP:
+        """The fitted orientation rhythm of :meth:`to_state`, without refitting.
+
+        Raises
+        ------
+        ValueError
+            One line starting with ``where`` for a missing or malformed field.
+        """
+        made = _made_from_state(cls, state, where, ("centre", "residual_rms", "tangent"))
+        centre = _state_array(state, "centre", where, (4,))
+        check_quaternions(centre, f"{where}.centre", n=1)  # unit: kept as stored, to the bit
+        residual = _state_number(state, "residual_rms", where, positive=False)
+        if not isinstance(state["tangent"], Mapping):
+            raise ValueError(f"{where}.tangent: expected an object, got {state['tangent']!r}")
+        tangent = RhythmicDMP.from_state(state["tangent"], f"{where}.tangent")
+        if tangent.n_dims_ != 3:
+            raise ValueError(
+                f"{where}.tangent.n_dims: {tangent.n_dims_}, a rotation's tangent has 3"
+            )
+        if tangent.get_params() != {**made.get_params(), "period": tangent.period}:
+            raise ValueError(f"{where}.tangent.params: differ from {where}.params")
+        made.tangent_ = tangent
+        made.centre_ = centre
+        made.period_ = tangent.period_
+        made.residual_rms_ = residual
+        return made
 
     def cycle(self, phases: Any) -> np.ndarray:
         """The learned cycle at phases (radians), unit quaternions, shape (n, 4)."""
@@ -733,3 +815,46 @@ def _sampled_centre(value: Any, learned: np.ndarray, d: int, instants: np.ndarra
 
 def _check_vector(value: Any, name: str, d: int) -> np.ndarray:
     return check_point(np.asarray(value).reshape(-1), name, d, style="point")
+
+
+def _made_from_state(cls: type, state: Mapping[str, Any], where: str, keys: tuple[str, ...]) -> Any:
+    """An unfitted ``cls`` of ``state["params"]``, once every key is there (one-line errors)."""
+    if not isinstance(state, Mapping):
+        raise ValueError(f"{where}: expected an object, got {type(state).__name__}")
+    for key in ("params", *keys):
+        if key not in state:
+            raise ValueError(f"{where}.{key}: missing field")
+    if not isinstance(state["params"], Mapping):
+        raise ValueError(f"{where}.params: expected an object, got {state['params']!r}")
+    try:
+        made = cls(**dict(state["params"]))
+        made._validate_params()
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}.params: {exc}") from None
+    return made
+
+
+def _state_number(state: Mapping[str, Any], key: str, where: str, *, positive: bool) -> float:
+    """A finite number of a state (> 0, or >= 0), as stored."""
+    value = state[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{where}.{key}: expected a number, got {value!r}")
+    if not math.isfinite(value) or value < 0.0 or (positive and value == 0.0):
+        wanted = "a positive number" if positive else "a number >= 0"
+        raise ValueError(f"{where}.{key}: expected {wanted}, got {value!r}")
+    return float(value)
+
+
+def _state_array(
+    state: Mapping[str, Any], key: str, where: str, shape: tuple[int, ...]
+) -> np.ndarray:
+    """A finite float64 array of a state, of ``shape`` (nested lists or an array)."""
+    try:
+        array = np.array(state[key], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}.{key}: expected numbers of shape {shape}") from None
+    if array.shape != shape:
+        raise ValueError(f"{where}.{key}: shape {array.shape}, expected {shape}")
+    if not np.isfinite(array).all():
+        raise ValueError(f"{where}.{key}: contains NaN or infinite values")
+    return array

@@ -82,6 +82,9 @@ The estimator is one class, :class:`Skill`, put together from the parts below
 - :mod:`.unknown`: plans around obstacle classes never learned;
 - :mod:`.files`: :meth:`Skill.save`, :meth:`Skill.load` and the dict they
   write and read.
+
+:mod:`.periodic` holds :class:`PeriodicSkill`, the periodic counterpart
+(wiping, polishing: a rhythm learned from several cycles, with its own file).
 """
 
 from lfdkit.io.skill_file import (
@@ -91,6 +94,7 @@ from lfdkit.io.skill_file import (
     SKILL_VERSION,
 )
 from lfdkit.skill.estimator import Skill, learn
+from lfdkit.skill.periodic import PeriodicSkill
 from lfdkit.skill.planning import RETIME_ROUNDS as RETIME_ROUNDS
 from lfdkit.skill.planning import PlannerKind as PlannerKind
 from lfdkit.skill.selection import CLEARANCE_FLOORS as CLEARANCE_FLOORS
@@ -107,6 +111,7 @@ __all__ = [
     "SKILL_FILE_LIMITS",
     "SKILL_FORMAT",
     "SKILL_VERSION",
+    "PeriodicSkill",
     "Skill",
     "learn",
 ]

@@ -28,7 +28,10 @@ without ``--force``, folder missing or not writable) before the work.
 
 Modules: :mod:`.entry` (``main``, the parser, the plumbing), one module per
 command (:mod:`.learn`, :mod:`.plan`, ... each with ``run_command(args)`` and
-``add_options(parser)``) and :mod:`.common` (what several commands share).
+``add_options(parser)``), :mod:`.common` (what several commands share) and
+two option modules: :mod:`.via` (``--via``) and :mod:`.periodic` (``learn
+--periodic``, and ``plan``/``plot``/``execute`` of a periodic skill, whose file
+says which kind of skill it is).
 """
 
 from lfdkit.app.cli.entry import main

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import logging
 import math
+import os
 import re
 import sys
 import tempfile
@@ -46,10 +47,12 @@ __all__ = [
     "bounded_int",
     "check_writable",
     "elapsed",
+    "load_skill_file",
     "option_named",
     "orientation_options",
     "parse_fraction",
     "parse_numbers",
+    "parse_quaternion",
     "parse_unknown_class",
     "point_arg",
     "positive_decimal",
@@ -559,9 +562,32 @@ def positive_decimal(text: str) -> float | None:
     return value if math.isfinite(value) and value > 0.0 else None
 
 
-def skill_and_scene(args: argparse.Namespace):
-    """The skill of ``plan``/``plot`` in ``--units``, with the scene, start and goal given."""
-    skill = _load_skill(args.skill)
+def load_skill_file(path: Path):
+    """The skill file ``path``, read once: a :class:`~lfdkit.skill.Skill` or a periodic skill.
+
+    A periodic skill (``lfdkit learn --periodic``) is a
+    :class:`~lfdkit.skill.periodic.PeriodicSkill`; ``plan`` and ``plot`` take either.
+    """
+    from lfdkit.io.skill_file import read_skill_file
+    from lfdkit.skill import Skill
+    from lfdkit.skill.periodic import PeriodicSkill, is_periodic_document
+
+    data = read_skill_file(path)
+    kind = PeriodicSkill if is_periodic_document(data) else Skill
+    return kind.from_dict(data, source=os.fspath(path))
+
+
+def parse_quaternion(text: str | None, option: str) -> list[float] | None:
+    """An option's ``qx,qy,qz,qw``, normalised; a one-line usage error naming ``option``."""
+    return _quaternion(text, option)
+
+
+def skill_and_scene(args: argparse.Namespace, skill=None):
+    """The skill of ``plan``/``plot`` in ``--units``, with the scene, start and goal given.
+
+    ``skill``: the skill file already read (:func:`load_skill_file`); default read here.
+    """
+    skill = _load_skill(args.skill) if skill is None else skill
     if args.units is not None:
         skill = skill.to_units(args.units)
     q = skill.n_dims_

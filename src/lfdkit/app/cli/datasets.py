@@ -132,8 +132,11 @@ def _export_dataset(args: argparse.Namespace) -> None:
     made = "recorded, with times" if info.kind == "lasa" else f"seed {seed}"
     what = f"{info.name} ({info.n_dims}-D, {info.units}, {made})"
     learn = f"lfdkit learn {args.output}"
+    if data.orientations is not None and len(data.demos) == 1:  # one recording of cycles
+        learn = f"lfdkit learn --periodic {args.output}"
     if info.kind != "emulation":
-        wrote = f"wrote {len(data.demos)} demonstrations of {what} to {args.output}"
+        count = len(data.demos)
+        wrote = f"wrote {count} demonstration{'s' * (count != 1)} of {what} to {args.output}"
     elif args.scenes is None:
         wrote = (
             f"wrote the {info.n_demos} clean demonstrations of {what} to {args.output} (the "

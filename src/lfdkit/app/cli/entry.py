@@ -85,7 +85,8 @@ def _parser() -> argparse.ArgumentParser:
             "obstacles (with their mean tool orientation and an orientation DMP when the file "
             "has qx,qy,qz,qw columns), and the obstacle reward from those the scene file lists. "
             "If the obstacle reward fit does not converge, nothing is written and the exit "
-            "status is 1.",
+            "status is 1. With --periodic: a periodic skill (wiping, polishing) from one "
+            "recording of several cycles.",
         ),
         "plan": (
             plan.run_command,
@@ -97,7 +98,8 @@ def _parser() -> argparse.ArgumentParser:
             "(t in seconds: the plan timed along its length with the speed profile learned "
             "from the demonstrations' times, at rest at both ends; for a skill learned with "
             "orientations also qx,qy,qz,qw, the tool's orientation, ending exactly at "
-            "--goal-orientation; with --velocities also vx,vy[,vz]).",
+            "--goal-orientation; with --velocities also vx,vy[,vz]). A periodic skill "
+            "(lfdkit learn --periodic) is planned as --cycles N of its rhythm instead.",
         ),
         "plot": (
             plot.run_command,
@@ -105,7 +107,8 @@ def _parser() -> argparse.ArgumentParser:
             True,
             "draw a skill: reward contours, demonstrations and a plan",
             "Draw a learned skill as a PNG: with an obstacle reward, its contours in the scene "
-            "with the nominal, the demonstrations and the plan; otherwise the path and its DMP.",
+            "with the nominal, the demonstrations and the plan; otherwise the path and its DMP. "
+            "A periodic skill: its recording, learned cycle and a run.",
         ),
         "execute": (
             execute.run_command,
@@ -183,7 +186,21 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-_NUMBER_OPTIONS = ("--start", "--goal", "--duration", "--speed")
+_NUMBER_OPTIONS = (
+    "--start",
+    "--goal",
+    "--duration",
+    "--speed",
+    # A periodic skill's (lfdkit.app.cli.periodic): a centre may be negative, and the
+    # others' negative values are refused with a message of their own.
+    "--centre",
+    "--cycles",
+    "--amplitude",
+    "--frequency",
+    "--period",
+    "--ramp",
+    "--pace",
+)
 
 
 _NEGATIVE = re.compile(r"^-[0-9.]")

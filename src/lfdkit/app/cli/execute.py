@@ -13,6 +13,7 @@ import argparse
 import warnings
 from pathlib import Path
 
+from lfdkit.app.cli import periodic
 from lfdkit.app.cli.common import (
     CommandError,
     add_orientation_options,
@@ -21,6 +22,7 @@ from lfdkit.app.cli.common import (
     add_unknown_class_option,
     check_writable,
     elapsed,
+    load_skill_file,
     option_named,
     orientation_options,
     parse_fraction,
@@ -39,6 +41,7 @@ def run_command(args: argparse.Namespace) -> None:
     if _task_of(args) == "path":
         _run_path(args)
         return
+    periodic.refuse_periodic_options(args)
     simulate = not args.no_sim
     orientations = orientation_options(args)
     with working(args) as progress:
@@ -122,11 +125,13 @@ def _task_of(args: argparse.Namespace) -> str:
     if args.task is not None:
         return args.task
     from lfdkit.execute.arm import ARMS
-    from lfdkit.skill import Skill
 
     if args.arm not in ARMS:  # a URDF file (or a mistake, which _arm_from names)
         return "path"
-    return "sweep" if Skill.load(args.skill).n_dims_ == 2 else "path"
+    skill = load_skill_file(args.skill)
+    if periodic.is_periodic(skill):  # a rhythm runs as a path, whatever its dimension
+        return "path"
+    return "sweep" if skill.n_dims_ == 2 else "path"
 
 
 def _arm_from(args: argparse.Namespace):
@@ -162,19 +167,31 @@ def _run_path(args: argparse.Namespace) -> None:
         ur = getattr(arm, "ur_type", False)
         out = _output_folder_checked(args, robot_outputs(args.output, program=ur))
         args.units = "m"
-        skill, scene, start, goal = skill_and_scene(args)
+        loaded = load_skill_file(args.skill)
+        rhythm = periodic.is_periodic(loaded)
+        if rhythm:  # a periodic skill: its cycles, no start, goal or obstacles
+            skill, scene, via = loaded.to_units("m"), periodic.no_scene(), None
+        else:
+            periodic.refuse_periodic_options(args)
+            skill, scene, start, goal = skill_and_scene(args, loaded)
+            # The plan lasts the skill's learned duration: a time in --via is within it.
+            via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
         task = task_description(args)
-        # The plan lasts the skill's learned duration: a time in --via is within it.
-        via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
         try:
+            if rhythm:
+                plan = periodic.run(args, skill)
             with progress.stage(f"plan around {len(scene)} obstacle{'s' * (len(scene) != 1)}"):
-                plan = skill.plan(
-                    start,
-                    goal,
-                    scene,
-                    **orientation_options(args),
-                    **unknown_class_options(args),
-                    via=via,
+                plan = (
+                    plan
+                    if rhythm
+                    else skill.plan(
+                        start,
+                        goal,
+                        scene,
+                        **orientation_options(args),
+                        **unknown_class_options(args),
+                        via=via,
+                    )
                 )
             name = args.skill.name.encode("ascii", "replace").decode("ascii")
             rate = DEFAULT_RATE if args.rate is None else args.rate
@@ -256,6 +273,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     add_orientation_options(parser)
     add_unknown_class_option(parser, "m")
     add_via_option(parser)
+    periodic.add_run_options(parser)
     parser.add_argument(
         "--yaw",
         choices=("demonstrated", "tangent"),

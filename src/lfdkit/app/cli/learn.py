@@ -6,6 +6,7 @@ import argparse
 import warnings
 from pathlib import Path
 
+from lfdkit.app.cli import periodic
 from lfdkit.app.cli.common import (
     CommandError,
     add_skill_param_options,
@@ -23,6 +24,10 @@ __all__ = ["add_options", "run_command", "timing_line"]
 
 
 def run_command(args: argparse.Namespace) -> None:
+    if args.periodic:
+        periodic.learn(args)
+        return
+    periodic.refuse_learn_options(args)
     refuse_existing(args.output, args.force)
     # Named in messages: the file, or the files (one demonstration each, as a recorder writes).
     source = args.demos[0] if len(args.demos) == 1 else f"{args.demos[0]} (and {_others(args)})"
@@ -200,3 +205,4 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         "-o", "--output", type=Path, required=True, metavar="SKILL.json", help="skill file to write"
     )
     add_skill_param_options(parser)
+    periodic.add_learn_options(parser)

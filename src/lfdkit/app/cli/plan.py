@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from lfdkit.app.cli import periodic
 from lfdkit.app.cli.common import (
     CommandError,
     UsageError,
@@ -16,6 +17,7 @@ from lfdkit.app.cli.common import (
     add_skill_file_options,
     add_units_option,
     add_unknown_class_option,
+    load_skill_file,
     option_named,
     orientation_options,
     positive_or_none,
@@ -73,7 +75,12 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     orientations = orientation_options(args)
     if args.output is not None:
         refuse_existing(args.output, args.force)
-    skill, scene, start, goal = skill_and_scene(args)
+    loaded = load_skill_file(args.skill)
+    if periodic.is_periodic(loaded):
+        periodic.plan(args, loaded, duration, speed, rate)
+        return
+    periodic.refuse_periodic_options(args)
+    skill, scene, start, goal = skill_and_scene(args, loaded)
     lasts = duration if duration is not None else skill.timing_.duration / (speed or 1.0)
     via = via_points(args.via, skill.n_dims_, lasts)
     started = time.perf_counter()
@@ -183,6 +190,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     )
     add_unknown_class_option(parser, "path units")
     add_via_option(parser)
+    periodic.add_run_options(parser)
     parser.add_argument(
         "--duration",
         metavar="S",

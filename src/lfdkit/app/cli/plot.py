@@ -5,10 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from lfdkit.app.cli import periodic
 from lfdkit.app.cli.common import (
     add_skill_file_options,
     add_units_option,
     bounded_int,
+    load_skill_file,
     refuse_existing,
     skill_and_scene,
     tell,
@@ -26,11 +28,16 @@ def run_command(args: argparse.Namespace) -> None:
 
 
 def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
-    from lfdkit.app import plot
-    from lfdkit.io import atomic_write, load_demos
-
     refuse_existing(args.output, args.force)
-    skill, scene, start, goal = skill_and_scene(args)
+    loaded = load_skill_file(args.skill)
+    if periodic.is_periodic(loaded):
+        _save(args, periodic.plot(args, loaded))
+        return
+    from lfdkit.app import plot
+    from lfdkit.io import load_demos
+
+    periodic.refuse_periodic_options(args)
+    skill, scene, start, goal = skill_and_scene(args, loaded)
     demos = load_demos(args.demos) if args.demos is not None else []
     via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
     nominal = skill.nominal(start, goal)
@@ -72,6 +79,12 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
             units=skill.units,
             title=args.title or f"{args.skill.name}: path and DMP",
         )
+    _save(args, fig)
+
+
+def _save(args: argparse.Namespace, fig) -> None:
+    from lfdkit.io import atomic_write
+
     atomic_write(
         args.output,
         lambda f: fig.savefig(f, format="png", dpi=args.dpi),
@@ -85,6 +98,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     add_skill_file_options(parser)
     parser.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
     add_via_option(parser)
+    periodic.add_run_options(parser)
     parser.add_argument("--title", default="", help="figure title")
     parser.add_argument(
         "--dpi",
