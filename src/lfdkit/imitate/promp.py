@@ -69,7 +69,6 @@ from __future__ import annotations
 
 import functools
 import math
-import operator
 import warnings
 from collections.abc import Mapping
 from typing import Any, ClassVar
@@ -379,10 +378,11 @@ class ProMP(Estimator):
             in phase contradict each other. A covariance > 0 makes every
             point a compromise, never unreachable.
         """
+        if "weights_cov_" in self.__dict__:  # fitted: the one-point path may answer
+            quick = self._condition_one(points, phases, covariance)
+            if quick is not None:
+                return quick
         self._check_fitted()
-        quick = self._condition_one(points, phases, covariance)
-        if quick is not None:
-            return quick
         d = self.n_dims_
         pts = _check_points(points, d)
         s = _check_phases(phases, "phases")
@@ -471,30 +471,25 @@ class ProMP(Estimator):
         d = self.n_dims_
         if d > 3 or type(covariance) not in _SCALAR_TYPES:
             return None
+        phase = _one_number(phases)
         try:
             point = np.asarray(points, dtype=np.float64)
-            phase_array = np.asarray(phases, dtype=np.float64)
         except (TypeError, ValueError):
             return None
-        if point.shape != (d,) and point.shape != (1, d):
+        if phase is None or (point.shape != (d,) and point.shape != (1, d)):
             return None
-        if phase_array.shape not in _ONE_PHASE_SHAPES:
-            return None
-        phase, variance = phase_array.item(), float(covariance)
+        variance = float(covariance)
         # Comparisons are False for NaN: a NaN phase or variance goes to the general check.
         if not (0.0 <= phase <= 1.0 and 0.0 <= variance < math.inf):
             return None
-        coords = point.ravel().tolist()
-        if not all(map(math.isfinite, coords)):
+        point = point.ravel()
+        if not all(map(math.isfinite, point.tolist())):
             return None
         factors = self._point_factors(phase, variance)
         if factors is None:
             return None
-        prior, inverse_root, gain_root, cov = factors
-        # z = L⁻¹ (y − Ψμ): the innovation whitened by the innovation covariance's factor.
-        innovation = list(map(operator.sub, coords, prior))
-        whitened = [sum(map(operator.mul, row, innovation)) for row in inverse_root]
-        return self._with_weights(self.weights_mean_ + gain_root @ whitened, cov)
+        prior, gain, cov = factors
+        return self._with_weights(self.weights_mean_ + gain @ (point - prior), cov)
 
     def _point_factors(self, phase: float, variance: float) -> tuple | None:
         """What conditioning on one point at ``phase`` needs, whatever the point.
@@ -503,8 +498,8 @@ class ProMP(Estimator):
         ``S = H Σ Hᵀ + variance·I = L Lᵀ`` (Cholesky, closed form in Python
         floats for d ≤ 3): ``G = C L⁻ᵀ``, so the gain is ``K = G L⁻¹`` and
         ``Σ' = Σ − G Gᵀ`` (exactly symmetric). Returns the prior mean at the
-        phase (list), ``L⁻¹`` (rows of a lower triangle), ``G`` and ``Σ'``
-        (read-only, shared by every model conditioned there), or None where
+        phase ``Hμ`` (d,), ``K`` and ``Σ'`` (read-only; ``Σ'`` is shared by
+        every model conditioned there), or None where
         ``S`` is not clearly invertible. Kept per ``(phase, variance)`` for
         this model's weight arrays (up to :data:`_CACHED_PHASES` of them).
         """
@@ -529,12 +524,11 @@ class ProMP(Estimator):
         if inverse_root is None:
             factors = None
         else:
-            padded = [row + [0.0] * (d - len(row)) for row in inverse_root]
-            gain_root = observed @ np.array(padded).T  # C L⁻ᵀ
-            new_cov = cov - gain_root @ gain_root.T
-            new_cov.flags.writeable = False
-            prior = (mean.reshape(d, b) @ features).tolist()
-            factors = (prior, inverse_root, gain_root, new_cov)
+            inverse = np.array([row + [0.0] * (d - len(row)) for row in inverse_root])
+            gain_root = observed @ inverse.T  # G = C L⁻ᵀ
+            new_cov = _frozen(cov - gain_root @ gain_root.T)
+            prior = _frozen(mean.reshape(d, b) @ features)
+            factors = (prior, _frozen(gain_root @ inverse), new_cov)  # K = G L⁻¹
         if d * b <= _MAX_CACHED_WEIGHTS:
             if len(cache[2]) >= _CACHED_PHASES:
                 del cache[2][next(iter(cache[2]))]  # the oldest
@@ -783,6 +777,24 @@ def _small_inverse_cholesky(matrix: list[list[float]]) -> list[list[float]] | No
         return None
     i33 = 1.0 / math.sqrt(p3)
     return [[i11], [i21, i22], [-(l31 * i11 + l32 * i21) * i33, -l32 * i22 * i33, i33]]
+
+
+def _one_number(value: Any) -> float | None:
+    """``value`` as a float if it is one number (a scalar, or one element in a
+    list, tuple or array of shape (1,) or (1, 1)); else None."""
+    if type(value) in _SCALAR_TYPES:
+        return float(value)
+    if type(value) in (list, tuple):
+        if len(value) == 1 and type(value[0]) in _SCALAR_TYPES:
+            return float(value[0])
+        return None
+    if (
+        isinstance(value, np.ndarray)
+        and value.dtype.kind in "fiu"
+        and value.shape in _ONE_PHASE_SHAPES
+    ):
+        return float(value.reshape(()))
+    return None
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
