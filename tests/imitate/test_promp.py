@@ -177,6 +177,18 @@ def test_one_point_takes_a_quick_path_equal_to_the_general_one(n_dims):
                     )
 
 
+def test_many_via_points_at_once_under_one_blas_thread_equal_them_in_turn(full_rank_model):
+    """13 points in 2-D: a 26 × 26 innovation covariance (its eigh runs on one BLAS thread)."""
+    phases = np.linspace(0.02, 0.98, 13)
+    points = full_rank_model.mean_at(phases) + np.random.default_rng(6).normal(0.0, 0.3, (13, 2))
+    both = full_rank_model.condition(points, phases, covariance=0.01)
+    in_turn = full_rank_model
+    for point, phase in zip(points, phases, strict=True):
+        in_turn = in_turn.condition(point, [phase], covariance=0.01)
+    np.testing.assert_allclose(both.weights_mean_, in_turn.weights_mean_, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(both.weights_cov_, in_turn.weights_cov_, rtol=1e-6, atol=1e-7)
+
+
 def test_the_closed_form_cholesky_inverse_matches_numpy_and_refuses_near_singular():
     from lfdkit.imitate.promp import _small_inverse_cholesky
 

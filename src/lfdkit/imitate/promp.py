@@ -110,6 +110,11 @@ _SCALAR_TYPES = frozenset((float, int, np.float64, np.float32, np.int64, np.int3
 #: Phase shapes :func:`_check_phases` reads as one phase.
 _ONE_PHASE_SHAPES = ((), (1,), (1, 1))
 
+#: Largest ``eigh`` left to BLAS's threads: above 25 LAPACK divides and conquers
+#: in threads that, on a busy machine, wait for a core (30 × 30: 42 ms against
+#: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
+_SMALL_EIGH = 25
+
 #: Phases (with a variance) whose one-point conditioning factors a model keeps,
 #: and the most weights for which it keeps them (each holds a covariance).
 _CACHED_PHASES = 16
@@ -567,7 +572,13 @@ class ProMP(Estimator):
                 gram[i * d : (i + 1) * d, i * d : (i + 1) * d] += noise[i]
         # Pseudo-inverse by eigen-decomposition: the directions it drops are those
         # the model cannot move in, and what of a via-point's offset lies there is missed.
-        values, vectors = np.linalg.eigh(gram)
+        if m > _SMALL_EIGH:
+            from lfdkit.core.threads import one_blas_thread  # threadpoolctl: 13 ms to import
+
+            with one_blas_thread():
+                values, vectors = np.linalg.eigh(gram)
+        else:
+            values, vectors = np.linalg.eigh(gram)
         kept = values > _PINV_RCOND * max(float(values[-1]), _TINY)
         if kept.all():  # the usual case: no boolean indexing (as slow as the solve)
             inverse, dropped = (vectors / values) @ vectors.T, vectors[:, :0]
