@@ -35,8 +35,9 @@ entry on the diagonal: it takes a Cholesky factor), ``learn_mp_params_from_trajs
 on the resampled demos (batched) and the weights' mean and covariance for
 fit, ``get_traj_pos``, ``get_traj_pos_std`` and ``sample_trajectories`` (new
 inputs each call: it caches results for unchanged inputs). It has no
-conditioning on via-points. The largest differences of its mean path and band
-from ours are printed (agreement check).
+conditioning on via-points. The largest differences of its mean path and of
+its variances (``get_traj_pos_cov(reg=0)``: by default it adds 1e-4 of the
+largest variance to each) from ours are printed (agreement check).
 """
 
 from __future__ import annotations
@@ -174,9 +175,12 @@ def mp_pytorch_calls(model: ProMP, demos: list[np.ndarray], t: np.ndarray) -> di
 
     # Agreement on the same weights (their covariance has the 1e-12 jitter; ours not).
     mean_gap = float(np.abs(rollout().numpy() - model.mean_path(len(t))).max())
-    # Variances, relative: where the band is 0 (all demos start together) the
-    # square root turns the jitter's 1e-12 into 1e-6 of the band's width.
-    ours_var, theirs_var = model.std(len(t)) ** 2, band().numpy() ** 2
+    # Variances, relative (where the band is 0, all demos starting together, the
+    # square root turns the jitter's 1e-12 into 1e-6 of the band's width). Its
+    # band adds 1e-4 of the largest variance to each (``reg``); compared without.
+    cov_paths = peer.get_traj_pos_cov(times=times, params_L=root, reg=0.0)
+    theirs_var = torch.diagonal(cov_paths).reshape(model.n_dims_, -1).T.numpy()
+    ours_var = model.std(len(t)) ** 2
     std_gap = float(np.abs(theirs_var - ours_var).max() / ours_var.max())
     print(
         f"  MP_PyTorch on our weights: mean path within {mean_gap:.1e} m of ours, "

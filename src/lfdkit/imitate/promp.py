@@ -487,14 +487,18 @@ class ProMP(Estimator):
         # Comparisons are False for NaN: a NaN phase or variance goes to the general check.
         if not (0.0 <= phase <= 1.0 and 0.0 <= variance < math.inf):
             return None
-        point = point.ravel()
-        if not all(map(math.isfinite, point.tolist())):
+        coords = point.ravel().tolist()
+        if not all(map(math.isfinite, coords)):
             return None
         factors = self._point_factors(phase, variance)
         if factors is None:
             return None
-        prior, gain, cov = factors
-        return self._with_weights(self.weights_mean_ + gain @ (point - prior), cov)
+        update, cov = factors
+        # μ' = μ + K (y − Hμ) = [μ − K Hμ | K] · [1; y]: one product.
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new.weights_mean_, new.weights_cov_ = _frozen(update @ [1.0, *coords]), cov
+        return new
 
     def _point_factors(self, phase: float, variance: float) -> tuple | None:
         """What conditioning on one point at ``phase`` needs, whatever the point.
@@ -502,9 +506,9 @@ class ProMP(Estimator):
         With ``C = Σ Hᵀ`` (n_weights, d) and the innovation covariance
         ``S = H Σ Hᵀ + variance·I = L Lᵀ`` (Cholesky, closed form in Python
         floats for d ≤ 3): ``G = C L⁻ᵀ``, so the gain is ``K = G L⁻¹`` and
-        ``Σ' = Σ − G Gᵀ`` (exactly symmetric). Returns the prior mean at the
-        phase ``Hμ`` (d,), ``K`` and ``Σ'`` (read-only; ``Σ'`` is shared by
-        every model conditioned there), or None where
+        ``Σ' = Σ − G Gᵀ`` (exactly symmetric). Returns ``[μ − K Hμ | K]``
+        (n_weights, 1 + d) and ``Σ'`` (read-only; ``Σ'`` is shared by every
+        model conditioned there), or None where
         ``S`` is not clearly invertible. Kept per ``(phase, variance)`` for
         this model's weight arrays (up to :data:`_CACHED_PHASES` of them).
         """
@@ -532,8 +536,9 @@ class ProMP(Estimator):
             inverse = np.array([row + [0.0] * (d - len(row)) for row in inverse_root])
             gain_root = observed @ inverse.T  # G = C L⁻ᵀ
             new_cov = _frozen(cov - gain_root @ gain_root.T)
-            prior = _frozen(mean.reshape(d, b) @ features)
-            factors = (prior, _frozen(gain_root @ inverse), new_cov)  # K = G L⁻¹
+            gain = gain_root @ inverse  # K = G L⁻¹
+            prior = mean.reshape(d, b) @ features  # Hμ
+            factors = (_frozen(np.column_stack((mean - gain @ prior, gain))), new_cov)
         if d * b <= _MAX_CACHED_WEIGHTS:
             if len(cache[2]) >= _CACHED_PHASES:
                 del cache[2][next(iter(cache[2]))]  # the oldest
