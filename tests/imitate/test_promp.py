@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pickle
 import warnings
 
 import numpy as np
@@ -230,6 +231,14 @@ def test_weights_are_read_only_and_new_ones_replace_what_was_kept():
     np.testing.assert_allclose(
         model.sample(4000, n_points=3, seed=1).std(axis=0), model.std(3), rtol=0.05
     )
+    # What is kept for speed stays with its model: not in copies, not pickled.
+    assert "_factor_cache" not in vars(quick) and "_root_cache" not in vars(quick)
+    back = pickle.loads(pickle.dumps(model))
+    assert "_factor_cache" not in vars(back) and "_root_cache" not in vars(back)
+    assert not back.weights_cov_.flags.writeable
+    again = back.condition(point, [0.5], 0.1)
+    np.testing.assert_array_equal(again.weights_mean_, quick.weights_mean_)
+    np.testing.assert_array_equal(again.weights_cov_, quick.weights_cov_)
 
 
 @settings(max_examples=40, deadline=None)

@@ -121,6 +121,9 @@ _ONE_PHASE_SHAPES = ((), (1,), (1, 1))
 #: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
 _SMALL_EIGH = 25
 
+#: Attributes a model keeps for speed only (per-phase factors, the sampling root).
+_KEPT = ("_factor_cache", "_root_cache")
+
 #: Phases (with a variance) whose one-point conditioning factors a model keeps,
 #: and the most weights for which it keeps them (each holds a covariance).
 _CACHED_PHASES = 16
@@ -503,6 +506,8 @@ class ProMP(Estimator):
         # μ' = μ + K (y − Hμ) = [μ − K Hμ | K] · [1; y]: one product.
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
+        del new.__dict__["_factor_cache"]  # this model's, not the copy's
+        new.__dict__.pop("_root_cache", None)
         new.weights_mean_, new.weights_cov_ = _frozen(update @ [1.0, *coords]), cov
         return new
 
@@ -608,8 +613,21 @@ class ProMP(Estimator):
         """
         new = type(self).__new__(type(self))
         new.__dict__.update(self.__dict__)
+        for kept in _KEPT:  # this model's, not the copy's
+            new.__dict__.pop(kept, None)
         new.weights_mean_, new.weights_cov_ = _frozen(mean), _frozen(cov)
         return new
+
+    def __getstate__(self) -> dict[str, Any]:
+        """For pickling and copies: what is kept for speed is left out (rebuilt on use)."""
+        return {key: value for key, value in self.__dict__.items() if key not in _KEPT}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Restore a pickled model, its weight arrays read-only again."""
+        self.__dict__.update(state)
+        for name in ("weights_mean_", "weights_cov_"):
+            if name in state:
+                _frozen(state[name])
 
     # ---------------------------------------------------------------- state
     def to_state(self) -> dict[str, Any]:
