@@ -51,11 +51,11 @@ Why this design:
   does not depend on the point (basis at the phase, ``Σ Hᵀ L⁻ᵀ``, the
   conditioned covariance) is kept per phase on the model (16 phases, models
   of ≤ 200 weights). A call at a phase seen before is then the argument
-  checks, one product ``[μ − K Hμ | K] · [1; y]`` and a copy: 0.011 ms
-  against movement_primitives' 0.12 ms (~11×, walking, 2-D, 15 bumps, load
-  ~20; CPU time); before this, 0.11–0.19 ms. A new phase costs 0.05–0.10 ms
-  (about 20 small NumPy calls against the peer's ~10 larger ones): only
-  1.1–2×. Results equal the general path's to the innovation
+  checks, one product ``[μ − K Hμ | K] · [1; y]`` and a copy: 0.009–0.011
+  ms against movement_primitives' 0.07–0.12 ms (8–11×, walking, 2-D, 15
+  bumps, load ~20, CPU time; before this 0.11–0.19 ms). A new phase costs
+  0.05–0.10 ms (about 20 small NumPy calls against the peer's ~10 larger
+  ones): only 1.1–1.2×. Results equal the general path's to the innovation
   covariance's condition number times the rounding (< 3e-13 relative on 300
   random models, 1–3 dimensions, units from 1e-3 to 1e3).
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
