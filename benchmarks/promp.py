@@ -13,15 +13,31 @@ phases, to its points, against the same for the unconditioned mean (the ratio
 is what three via-points buy). Band: fraction of held-out coordinates within
 the unconditioned model's ±2 std (0.95 for a Gaussian spread).
 
-Speed: median of ``--repeats`` calls of fit (all demos), condition on 1 and on
-3 via-points, the same 1-point conditioning for 1000 sets of points at once
-(``condition_many``, time per set), ``mean_path(100)``, ``std(100)`` and
-``sample(100, n_points=100)``; the same for ``movement_primitives.promp.ProMP``
-side by side where it is installed (``imitate`` on the demos resampled to 100
-points; ``condition_position``, three in turn for 3 points, which gives the
-same model; one call per set; ``mean_trajectory``; ``var_trajectory``;
-``sample_trajectories``), else "not installed". The peer is given our fitted
-weight distribution, so both condition and roll out the same model.
+Speed: median over ``--repeats`` blocks (each about 1 ms of calls; wall and
+CPU time) of fit (all demos), condition on 1 via-point at a phase seen
+before (what does not depend on the point is kept per phase) and at a new
+phase every call, on 3 via-points, the same 1-point
+conditioning for 1000 sets of points at once (``condition_many``, time per
+set), condition and roll out (1 point, then ``mean_path(100)``),
+``mean_path(100)``, ``std(100)`` and ``sample(100, n_points=100)``; the same
+for ``movement_primitives.promp.ProMP`` side by side where it is installed
+(``imitate`` on the demos resampled to 100 points; ``condition_position``,
+three in turn for 3 points, which gives the same model; one call per set;
+``mean_trajectory``; ``var_trajectory``; ``sample_trajectories``), else "not
+installed". The peer is given our fitted weight distribution, so both
+condition and roll out the same model.
+
+MP_PyTorch (``mp_pytorch``, benchmark-only: it needs PyTorch, and lfdkit does
+not depend on either) where it imports: its ``ProMP`` (float64, linear phase,
+normalised RBFs with ``basis_bandwidth_factor=1``: the same basis as ours)
+given our weight distribution (the covariance plus 1e-12 of its largest
+entry on the diagonal: it takes a Cholesky factor), ``learn_mp_params_from_trajs``
+on the resampled demos (batched) and the weights' mean and covariance for
+fit, ``get_traj_pos``, ``get_traj_pos_std`` and ``sample_trajectories`` (new
+inputs each call: it caches results for unchanged inputs). It has no
+conditioning on via-points. The largest differences of its mean path and of
+its variances (``get_traj_pos_cov(reg=0)``: by default it adds 1e-4 of the
+largest variance to each) from ours are printed (agreement check).
 """
 
 from __future__ import annotations
@@ -81,48 +97,140 @@ def held_out(name: str) -> dict[str, Any]:
     }
 
 
-def _median_time(call: Any, repeats: int) -> float:
-    times = []
+def _median_time(call: Any, repeats: int) -> tuple[float, float]:
+    """Median wall and CPU seconds of one call, over ``repeats`` blocks.
+
+    A block runs the call as often as fits in about a millisecond (timed
+    once), so microsecond calls are not timer noise; CPU time (this process,
+    all threads) is kept too, since the machine is shared.
+    """
+    start = time.perf_counter()
+    call()
+    per_block = max(1, min(1000, int(1e-3 / max(time.perf_counter() - start, 1e-7))))
+    walls, cpus = [], []
     for _ in range(repeats):
-        start = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
+        wall, cpu = time.perf_counter(), time.process_time()
+        for _ in range(per_block):
+            call()
+        walls.append((time.perf_counter() - wall) / per_block)
+        cpus.append((time.process_time() - cpu) / per_block)
+    return float(np.median(walls)), float(np.median(cpus))
 
 
-def speed(repeats: int) -> list[dict[str, Any]]:
+def _resampled(demos: list[np.ndarray], t: np.ndarray) -> np.ndarray:
+    """The demos at phases ``t``, shape (n_demos, len(t), n_dims) (the peers' input)."""
+    return np.stack(
+        [
+            np.c_[[np.interp(t, np.linspace(0, 1, len(d)), d[:, k]) for k in range(d.shape[1])]].T
+            for d in demos
+        ]
+    )
+
+
+def mp_pytorch_calls(model: ProMP, demos: list[np.ndarray], t: np.ndarray) -> dict[str, Any]:
+    """MP_PyTorch's ProMP on our weight distribution: timed calls and an agreement check.
+
+    Returns ``{}`` with a message printed where it does not import.
+    """
+    try:
+        import torch
+        from mp_pytorch.basis_gn import NormalizedRBFBasisGenerator
+        from mp_pytorch.mp import ProMP as TorchProMP
+        from mp_pytorch.phase_gn import LinearPhaseGenerator
+    except ImportError as exc:
+        print(f"  MP_PyTorch: not installed ({exc}); pip install mp_pytorch torch to compare")
+        return {}
+    torch.set_num_threads(1)  # small tensors: threads only wait (as for BLAS below)
+    f64 = torch.float64
+
+    def make() -> Any:
+        phase = LinearPhaseGenerator(tau=1.0, dtype=f64)
+        basis = NormalizedRBFBasisGenerator(
+            phase, num_basis=N_BASIS, basis_bandwidth_factor=1, dtype=f64
+        )
+        return TorchProMP(basis, num_dof=model.n_dims_, dtype=f64)
+
+    peer = make()
+    times = torch.as_tensor(t, dtype=f64)
+    n_weights = len(model.weights_mean_)
+    cov = model.weights_cov_ + 1e-12 * np.abs(model.weights_cov_).max() * np.eye(n_weights)
+    mean = torch.tensor(np.array(model.weights_mean_))  # a copy: ours is read-only
+    root = torch.linalg.cholesky(torch.as_tensor(cov))
+    trajs = torch.as_tensor(_resampled(demos, t))
+    batch_times = times.expand(len(demos), -1)
+
+    def fit() -> Any:
+        weights = make().learn_mp_params_from_trajs(batch_times, trajs)["params"]
+        return weights.mean(0), torch.cov(weights.T)
+
+    def rollout() -> Any:
+        return peer.get_traj_pos(times=times, params=mean)
+
+    def band() -> Any:
+        return peer.get_traj_pos_std(times=times, params_L=root)
+
+    def samples() -> Any:
+        torch.manual_seed(0)
+        return peer.sample_trajectories(times=times, params=mean, params_L=root, num_smp=100)
+
+    # Agreement on the same weights (their covariance has the 1e-12 jitter; ours not).
+    mean_gap = float(np.abs(rollout().numpy() - model.mean_path(len(t))).max())
+    # Variances, relative (where the band is 0, all demos starting together, the
+    # square root turns the jitter's 1e-12 into 1e-6 of the band's width). Its
+    # band adds 1e-4 of the largest variance to each (``reg``); compared without.
+    cov_paths = peer.get_traj_pos_cov(times=times, params_L=root, reg=0.0)
+    theirs_var = torch.diagonal(cov_paths).reshape(model.n_dims_, -1).T.numpy()
+    ours_var = model.std(len(t)) ** 2
+    std_gap = float(np.abs(theirs_var - ours_var).max() / ours_var.max())
+    print(
+        f"  MP_PyTorch on our weights: mean path within {mean_gap:.1e} m of ours, "
+        f"variances within {std_gap:.1e} of the largest"
+    )
+    return {
+        "fit": (fit, 1),
+        "mean_path(100)": (rollout, 1),
+        "std(100)": (band, 1),
+        "sample 100 x 100": (samples, 1),
+        "agreement": {"mean_path_max_m": mean_gap, "variance_max_relative": std_gap},
+    }
+
+
+def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
     demos = load_dataset("walking", seed=0).demos
     model = ProMP(n_basis=N_BASIS).fit(demos)
     one = model.mean_at([0.5])
     three = model.mean_at(VIA_PHASES) + np.array([[0.0, 0.0], [0.3, -0.3], [0.0, 0.0]])
     sets = one + np.random.default_rng(0).normal(0.0, 0.1, (N_SETS, 1, 2))
+    # A new phase every call (none repeats, so nothing kept per phase helps).
+    fresh = np.random.default_rng(1).uniform(0.05, 0.95, 100 * repeats + 10).tolist()
+    ours_phases, peer_phases = iter(fresh), iter(fresh)
     # (operation, call, how many results one call gives: times are per result)
     ours = {
         "fit": (lambda: ProMP(n_basis=N_BASIS).fit(demos), 1),
-        "condition 1 point": (lambda: model.condition(one, [0.5]), 1),
+        "condition 1 point (phase seen before)": (lambda: model.condition(one, [0.5]), 1),
+        "condition 1 point (new phase)": (lambda: model.condition(one, [next(ours_phases)]), 1),
         "condition 3 points": (lambda: model.condition(three, VIA_PHASES), 1),
         f"condition 1 point, {N_SETS} sets (per set)": (
             lambda: model.condition_many(sets, [0.5]),
             N_SETS,
+        ),
+        "condition 1 point + mean_path(100)": (
+            lambda: model.condition(one, [0.5]).mean_path(100),
+            1,
         ),
         "mean_path(100)": (lambda: model.mean_path(100), 1),
         "std(100)": (lambda: model.std(100), 1),
         "sample 100 x 100": (lambda: model.sample(100, n_points=100, seed=0), 1),
     }
     peer_calls: dict[str, Any] = {}
+    t = np.linspace(0.0, 1.0, 100)
     try:
         from movement_primitives.promp import ProMP as PeerProMP
     except ImportError:
         PeerProMP = None
     if PeerProMP is not None:
-        t = np.linspace(0.0, 1.0, 100)
         T = np.tile(t, (len(demos), 1))
-        Y = np.stack(
-            [
-                np.c_[[np.interp(t, np.linspace(0, 1, len(d)), d[:, k]) for k in (0, 1)]].T
-                for d in demos
-            ]
-        )
+        Y = _resampled(demos, t)
         peer = PeerProMP(n_dims=2, n_weights_per_dim=N_BASIS).from_weight_distribution(
             model.weights_mean_.copy(), model.weights_cov_.copy()
         )
@@ -135,10 +243,21 @@ def speed(repeats: int) -> list[dict[str, Any]]:
 
         peer_calls = {
             "fit": (lambda: PeerProMP(n_dims=2, n_weights_per_dim=N_BASIS).imitate(T, Y), 1),
-            "condition 1 point": (lambda: peer.condition_position(one[0], t=0.5, t_max=1.0), 1),
+            "condition 1 point (phase seen before)": (
+                lambda: peer.condition_position(one[0], t=0.5, t_max=1.0),
+                1,
+            ),
+            "condition 1 point (new phase)": (
+                lambda: peer.condition_position(one[0], t=next(peer_phases), t_max=1.0),
+                1,
+            ),
             "condition 3 points": (peer_three, 1),
             f"condition 1 point, {N_SETS} sets (per set)": (
                 lambda: peer.condition_position(sets[0, 0], t=0.5, t_max=1.0),
+                1,
+            ),
+            "condition 1 point + mean_path(100)": (
+                lambda: peer.condition_position(one[0], t=0.5, t_max=1.0).mean_trajectory(t),
                 1,
             ),
             "mean_path(100)": (lambda: peer.mean_trajectory(t), 1),
@@ -148,22 +267,29 @@ def speed(repeats: int) -> list[dict[str, Any]]:
                 1,
             ),
         }
+    torch_calls = mp_pytorch_calls(model, demos, t)
+    agreement = torch_calls.pop("agreement", None)
     rows = []
     for what, (call, per) in ours.items():
-        ours_s = _median_time(call, repeats) / per
-        peer_s = None
-        if what in peer_calls:
-            peer_call, peer_per = peer_calls[what]
-            peer_s = _median_time(peer_call, repeats) / peer_per
-        rows.append(
-            {
-                "operation": what,
-                "lfdkit_ms": 1e3 * ours_s,
-                "movement_primitives_ms": None if peer_s is None else 1e3 * peer_s,
-                "speedup": None if peer_s is None else peer_s / ours_s,
-            }
-        )
-    return rows
+        ours_s, ours_cpu = (x / per for x in _median_time(call, repeats))
+        row: dict[str, Any] = {
+            "operation": what,
+            "lfdkit_ms": 1e3 * ours_s,
+            "lfdkit_cpu_ms": 1e3 * ours_cpu,
+        }
+        for name, calls in (("movement_primitives", peer_calls), ("mp_pytorch", torch_calls)):
+            peer_s = peer_cpu = None
+            if what in calls:
+                peer_call, peer_per = calls[what]
+                peer_s, peer_cpu = (x / peer_per for x in _median_time(peer_call, repeats))
+            row[f"{name}_ms"] = None if peer_s is None else 1e3 * peer_s
+            row[f"{name}_cpu_ms"] = None if peer_cpu is None else 1e3 * peer_cpu
+            row[f"speedup_{name}"] = None if peer_s is None else peer_s / ours_s
+            row[f"cpu_speedup_{name}"] = (
+                None if peer_cpu is None or not ours_cpu else peer_cpu / ours_cpu
+            )
+        rows.append(row)
+    return rows, agreement
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -181,25 +307,32 @@ def main(argv: list[str] | None = None) -> int:
             f"{r['dataset']:<10}{r['n_demos']:>6}{r['median_rms_unconditioned_m']:>12.4f}"
             f"{r['median_rms_conditioned_m']:>11.4f}{r['ratio']:>7.2f}{r['within_2std']:>9.2f}"
         )
-    timings = speed(repeats)
-    print(f"\nSpeed on walking (median of {repeats}), ms")
-    print(f"{'operation':<40}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}")
+    timings, agreement = speed(repeats)
+    print(f"\nSpeed on walking (median of {repeats} blocks), wall ms; speed-up = peer / lfdkit")
+    print(
+        f"{'operation':<40}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}"
+        f"{'MP_PyTorch':>12}{'speed-up':>10}"
+    )
     for r in timings:
-        peer = (
-            "not installed"
-            if r["movement_primitives_ms"] is None
-            else (f"{r['movement_primitives_ms']:.3f}")
+        cells = []
+        for name in ("movement_primitives", "mp_pytorch"):
+            ms, ratio = r[f"{name}_ms"], r[f"speedup_{name}"]
+            cells.append("-" if ms is None else f"{ms:.4f}")
+            cells.append("" if ratio is None else f"{ratio:.1f}x")
+        print(
+            f"{r['operation']:<40}{r['lfdkit_ms']:>9.4f}{cells[0]:>21}{cells[1]:>10}"
+            f"{cells[2]:>12}{cells[3]:>10}"
         )
-        ratio = "" if r["speedup"] is None else f"{r['speedup']:.1f}x"
-        print(f"{r['operation']:<40}{r['lfdkit_ms']:>9.4f}{peer:>21}{ratio:>10}")
+    print("  '-': the peer has no such operation (MP_PyTorch: no via-point conditioning)")
 
     result = {
         "accuracy": accuracy,
         "speed": timings,
+        "mp_pytorch_agreement": agreement,
         "repeats": repeats,
         "machine": machine_info(),
         "git": git_state(),
-        "packages": package_versions(["numpy", "movement_primitives"]),
+        "packages": package_versions(["numpy", "movement_primitives", "mp_pytorch", "torch"]),
     }
     args.output.mkdir(parents=True, exist_ok=True)
     out = write_json(args.output / "promp.json", result)

@@ -15,7 +15,10 @@ worst angle, and the period's relative error. The rollout starts on the cycle
 Also the time to fit and to roll out one cycle (pose: position and
 orientation, 400 points a cycle), held (the exact solution) and with a
 ramp (RK4, compiled; the first rollout compiles and is left out). No peer: movement_primitives
-has no rhythmic primitive, MP_PyTorch is not installed here.
+has no rhythmic primitive; MP_PyTorch 0.1.4 (the latest on PyPI) ships a rhythmic
+basis and phase marked "TODO" that do not import (the benchmark tries and says
+why; the ProMP comparison is in ``benchmarks/promp.py``). The reference is the
+closed form.
 """
 
 from __future__ import annotations
@@ -91,6 +94,15 @@ def one_case(case: tuple, seed: int) -> dict[str, Any]:
     }
 
 
+def mp_pytorch_rhythmic() -> str:
+    """Whether MP_PyTorch's rhythmic primitive can run here, in one line."""
+    try:
+        from mp_pytorch.basis_gn.rhytmic_basis import RhythmicBasisGenerator  # noqa: F401
+    except ImportError as exc:  # 0.1.4: its modules import names the package lacks
+        return f"MP_PyTorch rhythmic primitive: not usable ({type(exc).__name__}: {exc})"
+    return "MP_PyTorch rhythmic primitive: imports (not compared: no rollout API)"
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="2 seeds instead of 5")
@@ -120,8 +132,11 @@ def main(argv: list[str] | None = None) -> int:
         f"\nmedian fit {fit:.0f} ms (position and orientation); rollout of a pose, 400 points "
         f"a cycle: {roll:.2f} ms per cycle held, {ramp:.2f} ms with a ramp (integrated)"
     )
+    peer = mp_pytorch_rhythmic()
+    print(peer)
     result = {
         "rows": rows,
+        "peer": peer,
         "train_cycles": TRAIN,
         "test_cycles": TEST,
         "machine": machine_info(),

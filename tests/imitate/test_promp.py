@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pickle
 import warnings
 
 import numpy as np
@@ -149,6 +150,97 @@ def test_several_via_points_at_once_are_all_passed(full_rank_model):
     np.testing.assert_allclose(via.mean_at(phases), points, atol=1e-8)
 
 
+@pytest.mark.parametrize("n_dims", [1, 2, 3])
+def test_one_point_takes_a_quick_path_equal_to_the_general_one(n_dims):
+    """One point with a variance: closed-form Cholesky, factors kept per phase. The same
+    request with the variance as a matrix goes the general pseudo-inverse way."""
+    rng = np.random.default_rng(20 + n_dims)
+    for scale in (1e-3, 1.0, 1e3):  # millimetres to kilometres
+        mean, cov = known_distribution(rng, 5, n_dims)
+        weights = scale * rng.multivariate_normal(mean, cov, 12)
+        model = ProMP(n_basis=5).fit(demos_from_weights(weights, [np.linspace(0, 1, 40)] * 12, 5))
+        for phase in (0.0, 0.41, 1.0):
+            for variance in (0.0, 0.01 * scale**2):
+                point = model.mean_at([phase])[0] + scale * rng.normal(0.0, 0.5, n_dims)
+                quick = model.condition(point, [phase], variance)
+                general = model.condition(point, [phase], variance * np.eye(n_dims))
+                for ours, theirs in (
+                    (quick.weights_mean_, general.weights_mean_),
+                    (quick.weights_cov_, general.weights_cov_),
+                ):
+                    np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-12 * abs(theirs).max())
+                # What does not depend on the point is kept: the next point shares it.
+                again = model.condition(point + scale, phase, variance)
+                assert again.weights_cov_ is quick.weights_cov_
+                if variance == 0.0:
+                    np.testing.assert_allclose(
+                        again.mean_at([phase])[0], point + scale, atol=1e-9 * scale
+                    )
+
+
+def test_many_via_points_at_once_under_one_blas_thread_equal_them_in_turn(full_rank_model):
+    """13 points in 2-D: a 26 × 26 innovation covariance (its eigh runs on one BLAS thread)."""
+    phases = np.linspace(0.02, 0.98, 13)
+    points = full_rank_model.mean_at(phases) + np.random.default_rng(6).normal(0.0, 0.3, (13, 2))
+    both = full_rank_model.condition(points, phases, covariance=0.01)
+    in_turn = full_rank_model
+    for point, phase in zip(points, phases, strict=True):
+        in_turn = in_turn.condition(point, [phase], covariance=0.01)
+    np.testing.assert_allclose(both.weights_mean_, in_turn.weights_mean_, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(both.weights_cov_, in_turn.weights_cov_, rtol=1e-6, atol=1e-7)
+
+
+def test_the_closed_form_cholesky_inverse_matches_numpy_and_refuses_near_singular():
+    from lfdkit.imitate.promp import _small_inverse_cholesky
+
+    rng = np.random.default_rng(9)
+    for d in (1, 2, 3):
+        for _ in range(20):
+            root = rng.normal(0.0, 10.0 ** rng.uniform(-3, 3), (d, d))
+            matrix = root @ root.T + 1e-3 * np.abs(root).max() ** 2 * np.eye(d)
+            if np.linalg.cond(matrix) > 1e3:
+                continue
+            rows = _small_inverse_cholesky(matrix.tolist())
+            inverse = np.zeros((d, d))
+            for i, row in enumerate(rows):
+                inverse[i, : i + 1] = row
+            expected = np.linalg.inv(np.linalg.cholesky(matrix))
+            np.testing.assert_allclose(
+                inverse, expected, rtol=1e-12, atol=1e-12 * abs(expected).max()
+            )
+    assert _small_inverse_cholesky([[0.0]]) is None
+    assert _small_inverse_cholesky([[1.0, 1.0], [1.0, 1.0 + 1e-9]]) is None  # ratio 2.5e-10
+    assert _small_inverse_cholesky([[1.0, 0.0], [0.0, -1.0]]) is None
+    assert _small_inverse_cholesky(np.diag([1.0, 1.0, 1e-6]).tolist()) is None
+
+
+def test_weights_are_read_only_and_new_ones_replace_what_was_kept():
+    rng = np.random.default_rng(2)
+    mean, cov = known_distribution(rng, 5, 2)
+    weights = rng.multivariate_normal(mean, cov, 15)
+    model = ProMP(n_basis=5).fit(demos_from_weights(weights, [np.linspace(0, 1, 30)] * 15, 5))
+    with pytest.raises(ValueError, match="read-only"):
+        model.weights_cov_[0, 0] = 1.0
+    point = model.mean_at([0.5])[0] + 0.3
+    model.condition(point, [0.5])  # keeps this phase's factors
+    model.sample(2, seed=0)  # keeps the covariance's root
+    model.weights_cov_ = 4.0 * model.weights_cov_
+    quick = model.condition(point, [0.5], 0.1)
+    general = model.condition(point, [0.5], 0.1 * np.eye(2))
+    np.testing.assert_allclose(quick.weights_mean_, general.weights_mean_, rtol=1e-12)
+    np.testing.assert_allclose(
+        model.sample(4000, n_points=3, seed=1).std(axis=0), model.std(3), rtol=0.05
+    )
+    # What is kept for speed stays with its model: not in copies, not pickled.
+    assert "_factor_cache" not in vars(quick) and "_root_cache" not in vars(quick)
+    back = pickle.loads(pickle.dumps(model))
+    assert "_factor_cache" not in vars(back) and "_root_cache" not in vars(back)
+    assert not back.weights_cov_.flags.writeable
+    again = back.condition(point, [0.5], 0.1)
+    np.testing.assert_array_equal(again.weights_mean_, quick.weights_mean_)
+    np.testing.assert_array_equal(again.weights_cov_, quick.weights_cov_)
+
+
 @settings(max_examples=40, deadline=None)
 @given(
     phases=st.lists(st.floats(0.0, 1.0), min_size=2, max_size=2),
@@ -271,6 +363,10 @@ def test_samples_of_a_conditioned_model_all_pass_its_via_point(full_rank_model):
         (lambda m: m.condition([[0.0, 0.0]], [0.2, 0.5]), r"^phases: got 2 phases for 1 points"),
         (lambda m: m.condition([0.0, 0.0], [0.5], np.eye(3)), r"^covariance: expected"),
         (lambda m: m.condition([0.0, 0.0], [0.5], -1.0), r"^covariance: must be positive"),
+        (lambda m: m.condition([0.0, np.nan], [0.5]), r"^points: contains NaN"),
+        (lambda m: m.condition([0.0, 0.0], np.nan), r"^phases: contains NaN"),
+        (lambda m: m.condition([0.0, 0.0], [0.5], np.inf), r"^covariance: contains NaN"),
+        (lambda m: m.condition([[0.0], [0.0]], [0.5]), r"^points: expected 2 coordinates"),
         (lambda m: m.mean_at([2.0]), r"^phases: expected phases in \[0, 1\]"),
         (lambda m: m.sample(0), r"^n_samples:"),
     ],

@@ -42,9 +42,30 @@ Why this design:
   samples are one matrix product, not an einsum (10× slower).
   :meth:`ProMP.condition_many` conditions many point sets at the same phases:
   the gain and the conditioned covariance do not depend on the points, so
-  they are computed once. One single conditioning is ~25 NumPy calls (checks,
-  eigen-decomposition, the warning's test), about as many as the peer's
-  plain inverse; it is not 10× faster and cannot be without compiled code.
+  they are computed once.
+- **One via-point, the common call, without the general machinery**: for a
+  point of d ≤ 3 coordinates and a variance, the d × d innovation covariance
+  is factored in closed form (Cholesky in Python floats) when it is clearly
+  invertible (det / traceᵈ > 1e-4; otherwise the general pseudo-inverse and
+  its warning run), the arguments are checked with Python floats, and what
+  does not depend on the point (basis at the phase, ``Σ Hᵀ L⁻ᵀ``, the
+  conditioned covariance) is kept per phase on the model (16 phases, models
+  of ≤ 200 weights). A call at a phase seen before is then the argument
+  checks, one product ``[μ − K Hμ | K] · [1; y]`` and a copy: 0.009–0.011
+  ms against movement_primitives' 0.07–0.12 ms (8–11×, walking, 2-D, 15
+  bumps, load ~20, CPU time; before this 0.11–0.19 ms). A new phase costs
+  0.05–0.10 ms (about 20 small NumPy calls against the peer's ~10 larger
+  ones): only 1.1–1.2×. Results equal the general path's to the innovation
+  covariance's condition number times the rounding (< 3e-13 relative on 300
+  random models, 1–3 dimensions, units from 1e-3 to 1e3).
+- **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
+  3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
+  hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
+  affected). Sampling's eigen-decomposition runs under one BLAS thread
+  (:func:`lfdkit.core.threads.one_blas_thread`, ~12 µs a use) and is kept per
+  model (sample 100 × 100: 4.8–16 ms → 0.26–0.34 ms at load ~20);
+  conditioning's ``eigh`` above 25 × 25 runs on one thread too. The weight
+  arrays are read-only, so that what is kept cannot go stale.
 
 Numbers: 10 basis functions × 3 dimensions is a 30 × 30 covariance; fitting
 and conditioning cost well under a millisecond.
@@ -85,6 +106,29 @@ _PINV_RCOND = 1e-10
 #: Smallest positive float: the cut's floor for an all-zero covariance.
 _TINY = float(np.finfo(float).tiny)
 
+#: Conditioning on one point takes the closed form when the d × d innovation
+#: covariance's det / traceᵈ (a lower bound of its eigenvalue ratio) exceeds this.
+_CLOSED_FORM_RATIO = 1e-4
+
+#: Covariance types the one-point path takes as a variance (others go the general way).
+_SCALAR_TYPES = frozenset((float, int, np.float64, np.float32, np.int64, np.int32))
+
+#: Phase shapes :func:`_check_phases` reads as one phase.
+_ONE_PHASE_SHAPES = ((), (1,), (1, 1))
+
+#: Largest ``eigh`` left to BLAS's threads: above 25 LAPACK divides and conquers
+#: in threads that, on a busy machine, wait for a core (30 × 30: 42 ms against
+#: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
+_SMALL_EIGH = 25
+
+#: Attributes a model keeps for speed only (per-phase factors, the sampling root).
+_KEPT = ("_factor_cache", "_root_cache")
+
+#: Phases (with a variance) whose one-point conditioning factors a model keeps,
+#: and the most weights for which it keeps them (each holds a covariance).
+_CACHED_PHASES = 16
+_MAX_CACHED_WEIGHTS = 200
+
 
 class ProMP(Estimator):
     """Probabilistic movement primitive: a Gaussian over basis weights, learned from demonstrations.
@@ -108,6 +152,8 @@ class ProMP(Estimator):
         dimension 0, then of dimension 1, ...), in the demonstrations' units.
     weights_cov_ : ndarray, shape (n_dims * n_basis, n_dims * n_basis)
         Covariance of the weights (unbiased over demonstrations), units².
+        Both weight arrays are read-only (factors kept for conditioning and
+        sampling depend on them): assign new arrays to change them.
     n_dims_ : int
         Dimensions of a point.
     n_demos_ : int
@@ -190,9 +236,10 @@ class ProMP(Estimator):
             weights[j] = coef.T.reshape(-1)  # dimension-major
             squared_residual += float(np.sum((features @ coef - demo) ** 2))
             n_total += len(demo)
-        self.weights_mean_ = weights.mean(axis=0)
-        centred = weights - self.weights_mean_
-        self.weights_cov_ = centred.T @ centred / (len(demos) - 1)
+        mean = weights.mean(axis=0)
+        centred = weights - mean
+        self.weights_mean_ = _frozen(mean)
+        self.weights_cov_ = _frozen(centred.T @ centred / (len(demos) - 1))
         self.n_dims_ = n_dims
         self.n_demos_ = len(demos)
         self.residual_rms_ = float(np.sqrt(squared_residual / n_total))
@@ -307,10 +354,8 @@ class ProMP(Estimator):
         n_samples = check_count(n_samples, "n_samples")
         features = self._grid(n_points)
         rng = check_random_state(seed)
-        # Eigen-decomposition, not Cholesky: the covariance has rank n_demos − 1 at most.
-        values, vectors = np.linalg.eigh(self.weights_cov_)
-        root = vectors * np.sqrt(np.clip(values, 0.0, None))
-        draws = self.weights_mean_ + rng.standard_normal((n_samples, len(values))) @ root.T
+        root = self._covariance_root()
+        draws = self.weights_mean_ + rng.standard_normal((n_samples, len(root))) @ root.T
         # One product for all samples and dimensions (einsum here was 10× slower).
         paths = draws.reshape(n_samples * self.n_dims_, self.n_basis) @ features.T
         return np.ascontiguousarray(paths.reshape(n_samples, self.n_dims_, -1).transpose(0, 2, 1))
@@ -334,7 +379,9 @@ class ProMP(Estimator):
         Returns
         -------
         ProMP
-            A fitted copy; this model is unchanged.
+            A fitted copy; this model is unchanged. For one point and a
+            variance, copies conditioned at the same phase and variance share
+            one read-only covariance array.
 
         Warns
         -----
@@ -345,6 +392,10 @@ class ProMP(Estimator):
             in phase contradict each other. A covariance > 0 makes every
             point a compromise, never unreachable.
         """
+        if "weights_cov_" in self.__dict__:  # fitted: the one-point path may answer
+            quick = self._condition_one(points, phases, covariance)
+            if quick is not None:
+                return quick
         self._check_fitted()
         d = self.n_dims_
         pts = _check_points(points, d)
@@ -420,6 +471,91 @@ class ProMP(Estimator):
                     break
         return out
 
+    def _condition_one(self, points: Any, phases: Any, covariance: Any) -> ProMP | None:
+        """:meth:`condition` on one point in ≤ 3 dimensions with a variance, quickly.
+
+        None where the general path must answer: another shape, a value it
+        would reject (its check raises the one-line error), more than 3
+        dimensions, or a d × d innovation covariance not clearly invertible
+        (the pseudo-inverse and its warning are needed). Only the arguments are
+        checked, with Python floats; the point-independent work is
+        :meth:`_point_factors`' (kept per phase), so a call is the innovation,
+        one matrix-vector product and a copy of the model.
+        """
+        d = self.n_dims_
+        if d > 3 or type(covariance) not in _SCALAR_TYPES:
+            return None
+        phase = _one_number(phases)
+        try:
+            point = np.asarray(points, dtype=np.float64)
+        except (TypeError, ValueError):
+            return None
+        if phase is None or (point.shape != (d,) and point.shape != (1, d)):
+            return None
+        variance = float(covariance)
+        # Comparisons are False for NaN: a NaN phase or variance goes to the general check.
+        if not (0.0 <= phase <= 1.0 and 0.0 <= variance < math.inf):
+            return None
+        coords = point.ravel().tolist()
+        if not all(map(math.isfinite, coords)):
+            return None
+        factors = self._point_factors(phase, variance)
+        if factors is None:
+            return None
+        update, cov = factors
+        # μ' = μ + K (y − Hμ) = [μ − K Hμ | K] · [1; y]: one product.
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        del new.__dict__["_factor_cache"]  # this model's, not the copy's
+        new.__dict__.pop("_root_cache", None)
+        new.weights_mean_, new.weights_cov_ = _frozen(update @ [1.0, *coords]), cov
+        return new
+
+    def _point_factors(self, phase: float, variance: float) -> tuple | None:
+        """What conditioning on one point at ``phase`` needs, whatever the point.
+
+        With ``C = Σ Hᵀ`` (n_weights, d) and the innovation covariance
+        ``S = H Σ Hᵀ + variance·I = L Lᵀ`` (Cholesky, closed form in Python
+        floats for d ≤ 3): ``G = C L⁻ᵀ``, so the gain is ``K = G L⁻¹`` and
+        ``Σ' = Σ − G Gᵀ`` (exactly symmetric). Returns ``[μ − K Hμ | K]``
+        (n_weights, 1 + d) and ``Σ'`` (read-only; ``Σ'`` is shared by every
+        model conditioned there), or None where
+        ``S`` is not clearly invertible. Kept per ``(phase, variance)`` for
+        this model's weight arrays (up to :data:`_CACHED_PHASES` of them).
+        """
+        mean, cov = self.weights_mean_, self.weights_cov_
+        cache = self.__dict__.get("_factor_cache")
+        if cache is None or cache[0] is not mean or cache[1] is not cov:
+            cache = (mean, cov, {})
+            self._factor_cache = cache
+        key = (phase, variance)
+        factors = cache[2].get(key)
+        if factors is not None or key in cache[2]:
+            return factors
+        d, b = self.n_dims_, self.n_basis
+        scaled = _scaled_centres(self.n_basis, self.width_)
+        bumps = np.exp(np.square(scaled - phase / self.width_) * -0.5)
+        features = bumps / bumps.sum()
+        observed = (cov.reshape(d * b * d, b) @ features).reshape(d * b, d)  # Σ Hᵀ
+        innovation_cov = np.dot(features, observed.reshape(d, b, d)).tolist()  # H Σ Hᵀ
+        for k in range(d):
+            innovation_cov[k][k] += variance
+        inverse_root = _small_inverse_cholesky(innovation_cov)
+        if inverse_root is None:
+            factors = None
+        else:
+            inverse = np.array([row + [0.0] * (d - len(row)) for row in inverse_root])
+            gain_root = observed @ inverse.T  # G = C L⁻ᵀ
+            new_cov = _frozen(cov - gain_root @ gain_root.T)
+            gain = gain_root @ inverse  # K = G L⁻¹
+            prior = mean.reshape(d, b) @ features  # Hμ
+            factors = (_frozen(np.column_stack((mean - gain @ prior, gain))), new_cov)
+        if d * b <= _MAX_CACHED_WEIGHTS:
+            if len(cache[2]) >= _CACHED_PHASES:
+                del cache[2][next(iter(cache[2]))]  # the oldest
+            cache[2][key] = factors
+        return factors
+
     def _conditioning(
         self, features: np.ndarray, noise: float | np.ndarray
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -452,7 +588,13 @@ class ProMP(Estimator):
                 gram[i * d : (i + 1) * d, i * d : (i + 1) * d] += noise[i]
         # Pseudo-inverse by eigen-decomposition: the directions it drops are those
         # the model cannot move in, and what of a via-point's offset lies there is missed.
-        values, vectors = np.linalg.eigh(gram)
+        if m > _SMALL_EIGH:
+            from lfdkit.core.threads import one_blas_thread  # threadpoolctl: 13 ms to import
+
+            with one_blas_thread():
+                values, vectors = np.linalg.eigh(gram)
+        else:
+            values, vectors = np.linalg.eigh(gram)
         kept = values > _PINV_RCOND * max(float(values[-1]), _TINY)
         if kept.all():  # the usual case: no boolean indexing (as slow as the solve)
             inverse, dropped = (vectors / values) @ vectors.T, vectors[:, :0]
@@ -471,8 +613,21 @@ class ProMP(Estimator):
         """
         new = type(self).__new__(type(self))
         new.__dict__.update(self.__dict__)
-        new.weights_mean_, new.weights_cov_ = mean, cov
+        for kept in _KEPT:  # this model's, not the copy's
+            new.__dict__.pop(kept, None)
+        new.weights_mean_, new.weights_cov_ = _frozen(mean), _frozen(cov)
         return new
+
+    def __getstate__(self) -> dict[str, Any]:
+        """For pickling and copies: what is kept for speed is left out (rebuilt on use)."""
+        return {key: value for key, value in self.__dict__.items() if key not in _KEPT}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Restore a pickled model, its weight arrays read-only again."""
+        self.__dict__.update(state)
+        for name in ("weights_mean_", "weights_cov_"):
+            if name in state:
+                _frozen(state[name])
 
     # ---------------------------------------------------------------- state
     def to_state(self) -> dict[str, Any]:
@@ -521,8 +676,8 @@ class ProMP(Estimator):
             raise ValueError(f"{where}.width: expected a value in (0, 1], got {state['width']!r}")
         n_weights = n_dims * made.n_basis
         try:
-            mean = np.asarray(state["weights_mean"], dtype=np.float64)
-            cov = np.asarray(state["weights_cov"], dtype=np.float64)
+            mean = np.array(state["weights_mean"], dtype=np.float64)  # own copies: frozen below
+            cov = np.array(state["weights_cov"], dtype=np.float64)
         except (TypeError, ValueError):
             raise ValueError(
                 f"{where}: weights_mean and weights_cov must be lists of numbers "
@@ -540,7 +695,7 @@ class ProMP(Estimator):
         made.n_dims_ = n_dims
         made.n_demos_ = int(state["n_demos"])
         made.residual_rms_ = float(state["residual_rms"])
-        made.weights_mean_, made.weights_cov_ = mean, cov
+        made.weights_mean_, made.weights_cov_ = _frozen(mean), _frozen(cov)
         return made
 
     def scaled(self, factor: float) -> ProMP:
@@ -551,8 +706,8 @@ class ProMP(Estimator):
         """
         self._check_fitted()
         new = type(self).from_state(self.to_state())
-        new.weights_mean_ = self.weights_mean_ * factor
-        new.weights_cov_ = self.weights_cov_ * factor**2
+        new.weights_mean_ = _frozen(self.weights_mean_ * factor)
+        new.weights_cov_ = _frozen(self.weights_cov_ * factor**2)
         new.residual_rms_ = self.residual_rms_ * abs(factor)
         return new
 
@@ -579,6 +734,26 @@ class ProMP(Estimator):
         features = self._features(phase)
         slopes = -(phase[:, None] - centres) / self.width_**2
         return features * (slopes - np.sum(features * slopes, axis=1, keepdims=True))
+
+    def _covariance_root(self) -> np.ndarray:
+        """``R`` with ``R Rᵀ = Σ_w``, kept for this model's covariance array.
+
+        Eigen-decomposition, not Cholesky: the covariance has rank n_demos − 1
+        at most. Under one BLAS thread: with OpenBLAS's default threads a
+        30 × 30 ``eigh`` took 3–48 ms on a busy machine instead of 0.1 ms.
+        """
+        cov = self.weights_cov_
+        kept = self.__dict__.get("_root_cache")
+        if kept is not None and kept[0] is cov:
+            return kept[1]
+        from lfdkit.core.threads import one_blas_thread  # threadpoolctl: 13 ms to import
+
+        with one_blas_thread():
+            values, vectors = np.linalg.eigh(cov)
+        root = vectors * np.sqrt(np.clip(values, 0.0, None))
+        root.flags.writeable = False
+        self._root_cache = (cov, root)
+        return root
 
     def _warn_unreachable(
         self, pts: np.ndarray, phase: np.ndarray, lost: np.ndarray, name: str
@@ -607,6 +782,68 @@ class ProMP(Estimator):
         check_fitted(self, "weights_cov_")
 
 
+def _small_inverse_cholesky(matrix: list[list[float]]) -> list[list[float]] | None:
+    """``L⁻¹`` (rows of a lower triangle) for the Cholesky factor ``L`` of a 1-3 × 1-3 SPD matrix.
+
+    Closed form in Python floats (for d ≤ 3 a few hundred nanoseconds, less
+    than one NumPy call). None unless the matrix is clearly invertible:
+    ``det / traceᵈ`` bounds the ratio of its smallest to largest eigenvalue
+    from below and must exceed :data:`_CLOSED_FORM_RATIO` (the general path's
+    pseudo-inverse then drops nothing and warns of nothing either; its result
+    and this one differ by the condition number times the rounding, < 1e-12).
+    """
+    d = len(matrix)
+    a = matrix[0][0]
+    if not a > 0.0:
+        return None
+    l11 = math.sqrt(a)
+    if d == 1:
+        return [[1.0 / l11]]
+    l21 = matrix[1][0] / l11
+    p2 = matrix[1][1] - l21 * l21
+    if not p2 > 0.0:
+        return None
+    l22 = math.sqrt(p2)
+    i11, i22 = 1.0 / l11, 1.0 / l22
+    i21 = -l21 * i11 * i22
+    if d == 2:
+        if not a * p2 > _CLOSED_FORM_RATIO * (a + matrix[1][1]) ** 2:
+            return None
+        return [[i11], [i21, i22]]
+    l31 = matrix[2][0] / l11
+    l32 = (matrix[2][1] - l31 * l21) / l22
+    p3 = matrix[2][2] - l31 * l31 - l32 * l32
+    if not (p3 > 0.0 and a * p2 * p3 > _CLOSED_FORM_RATIO * (a + matrix[1][1] + matrix[2][2]) ** 3):
+        return None
+    i33 = 1.0 / math.sqrt(p3)
+    return [[i11], [i21, i22], [-(l31 * i11 + l32 * i21) * i33, -l32 * i22 * i33, i33]]
+
+
+def _one_number(value: Any) -> float | None:
+    """``value`` as a float if it is one number (a scalar, or one element in a
+    list, tuple or array of shape (1,) or (1, 1)); else None."""
+    if type(value) in _SCALAR_TYPES:
+        return float(value)
+    if type(value) in (list, tuple):
+        if len(value) == 1 and type(value[0]) in _SCALAR_TYPES:
+            return float(value[0])
+        return None
+    if (
+        isinstance(value, np.ndarray)
+        and value.dtype.kind in "fiu"
+        and value.shape in _ONE_PHASE_SHAPES
+    ):
+        return float(value.reshape(()))
+    return None
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    """``array`` made read-only: the per-phase factors and the sampling root kept
+    on a model are valid only while its weight arrays do not change in place."""
+    array.flags.writeable = False
+    return array
+
+
 def _even_phases(n_points: Any) -> np.ndarray:
     return np.linspace(0.0, 1.0, check_count(n_points, "n_points", minimum=1))
 
@@ -623,6 +860,14 @@ def _activations(phase: np.ndarray, centres: np.ndarray, width: float) -> np.nda
     """Normalised Gaussian bumps of standard deviation ``width``, shape (n, n_basis)."""
     bumps = np.exp(-0.5 * ((phase[:, None] - centres) / width) ** 2)
     return bumps / bumps.sum(axis=1, keepdims=True)
+
+
+@functools.lru_cache(maxsize=64)
+def _scaled_centres(n_basis: int, width: float) -> np.ndarray:
+    """Centres over the width, for one phase's activations in three ufunc calls."""
+    scaled = _centres(n_basis) / width
+    scaled.flags.writeable = False
+    return scaled
 
 
 @functools.lru_cache(maxsize=64)
