@@ -13,8 +13,9 @@ numba setting itself up and importing ``scipy.linalg``) would run in the one
 fork server before any worker exists, while the workers stood idle. Each
 worker instead runs the NumPy kernels from its first task and turns to
 numba's by the kernels' own rule, after a second of CPU in them: in
-parallel, on each worker's core, while it already works (two workers with
-their first plans done: 1.9 → 1.1 s on 2 cores, ``benchmarks/startup.py``).
+parallel, on each worker's core, while it already works. The fork server's
+start-up: 1.9–2.0 → 0.56–0.7 s of CPU (``python -c "import
+lfdkit.app.worker_preload"``, a loaded 2-core machine).
 A worker's task that needs numba for another kernel (the IOC, MuJoCo's
 checks) loads it then. 2-D plans are the same bit for bit with either
 kernels; 3-D plans agree to round-off (about 1e-11).
