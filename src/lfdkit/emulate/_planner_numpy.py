@@ -450,6 +450,18 @@ def grid_walk(value, levels, window, max_step, d0, out):
     state, total = _first_least(np.where(allowed, value[0], np.inf))
     if not np.isfinite(total):
         return total
+    if m == 1:  # the compiled loop on Python floats: a few cells a point, no NumPy calls
+        rows = value[1:h].tolist()
+        for k in range(h):
+            out[k, 0] = levels[state]
+            if k == h - 1:
+                break
+            row, best_state, best = rows[k], -1, np.inf
+            for t in range(max(0, state - window), min(g_count, state + window + 1)):
+                if row[t] < best:
+                    best_state, best = t, row[t]
+            state = best_state
+        return total
     for k in range(h):
         i0 = state // g_count if m == 2 else state
         j0 = state % g_count
