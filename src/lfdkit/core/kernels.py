@@ -113,7 +113,6 @@ def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
         if _clock["cpu_start"] is None:
             _clock["cpu_start"] = time.process_time()
             _clock["next_look"] = time.perf_counter() + SWITCH_SECONDS
-    # The module object from sys.modules once imported: import_module's own checks cost
-    # microseconds on every one of the planner's thousands of kernel look-ups.
-    loaded = sys.modules.get(module)
-    return getattr(loaded if loaded is not None else importlib.import_module(module), name)
+    # import_module, not a look-up in sys.modules: it waits for a module another thread
+    # is still importing (the IOC plans on threads) instead of handing out a half-made one.
+    return getattr(importlib.import_module(module), name)
