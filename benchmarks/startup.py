@@ -34,12 +34,18 @@ alternating, so both see the same machine load. Measured:
 ``worker start-up``
     a ``ProcessExecutor`` of 2 workers, from creation to both workers' first
     ``plan`` task of ``lfdkit batch evaluate`` done (target ≤ 1.5 s). Since
-    issue 30 the workers fork from a preloaded fork server on Linux: its CPU
-    seconds and its workers' are not in the CPU column (they are not
-    children the benchmark waits for); counted with ``psutil`` over the
-    process tree they were 2.0 s against 5.0 s before (load average 30).
+    issue 30 the workers fork from a preloaded fork server on Linux; its CPU
+    seconds and its workers' (no children the benchmark waits for) are
+    counted with ``psutil`` over the process tree in the CPU column.
 ``lfdkit learn``
     the shipped sweeping demonstrations (once each; not with ``--quick``).
+``batch N, --check C`` (with ``--batch N``; ``--batch-checks``, ``--batch-trees``)
+    ``lfdkit batch evaluate SKILL --random N --check C`` serial and with
+    ``--workers 2``, once each: the speed-up in wall time (target ≥ 1.85× for
+    64 tasks on 2 cores) and, for a shared machine, "by CPU": the serial
+    run's CPU seconds over the 2-worker run's critical path (the command's
+    own CPU + the fork server's + the busier worker's, polled with
+    ``psutil``), what the wall speed-up would be on 2 otherwise idle cores.
 
 The skill files are made once with this checkout (``skill.json``, the
 sweeping skill; ``n_basis_1000.json``) and kept in the output folder.
@@ -48,6 +54,7 @@ sweeping skill; ``n_basis_1000.json``) and kept in the output folder.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import resource
@@ -75,10 +82,13 @@ Skill.load(sys.argv[1])
 print(time.perf_counter() - start)
 """
 
-# Run in a fresh process: seconds from creating 2 spawned workers to both first tasks done.
+# Run in a fresh process: seconds from creating 2 workers to both first tasks done, and
+# the CPU seconds of the fork server and its workers by then (psutil; they are no children
+# the benchmark waits for, so the rusage of run() misses them).
 WORKERS_SCRIPT = """
 import sys, time
 from pathlib import Path
+import psutil
 start = time.perf_counter()
 from lfdkit.app.batch import ProcessExecutor
 from lfdkit.tasks.sweeping.batch import evaluate_scenario
@@ -88,7 +98,16 @@ with ProcessExecutor(2) as pool:
         pool.submit(evaluate_scenario, text, {"seed": 0, "index": i}, "plan") for i in range(2)
     ]
     rows = [f.result() for f in futures]
-print(time.perf_counter() - start)
+    wall = time.perf_counter() - start
+    tree = 0.0
+    for child in psutil.Process().children(recursive=True):
+        try:
+            times = child.cpu_times()
+            tree += times.user + times.system
+        except psutil.Error:
+            pass
+print(f"cpu={tree}")
+print(wall)
 """
 
 
@@ -131,10 +150,60 @@ def run(src: Path, args: list[str], cwd: Path, env: dict | None = None) -> float
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(args)} ({src}) failed: {done.stderr.strip()[-400:]}")
     out = done.stdout.strip().splitlines()
+    for line in out:  # CPU seconds of processes that are not waited-for children
+        if line.startswith("cpu="):
+            CPU_SECONDS[-1] += float(line[4:])
     try:
         return float(out[-1])  # a script that times itself
     except (IndexError, ValueError):
         return wall
+
+
+def run_tree(src: Path, args: list[str], cwd: Path) -> tuple[float, float, dict[str, float]]:
+    """Wall and CPU seconds of ``python ARGS``, and its descendants' CPU seconds by role.
+
+    The descendants (a batch's fork server, its workers, multiprocessing's
+    resource tracker) are polled with ``psutil`` every 0.1 s while the command
+    runs (their last reading kept: a worker's final 0.1 s may be missed); the
+    fork server is no child the command waits for, so rusage misses them.
+    Returns ``(wall, cpu of the command itself, {"forkserver": s, "workers":
+    [s, ...]})``.
+    """
+    import psutil
+
+    env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    child = subprocess.Popen(
+        [sys.executable, *args], cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    )
+    seen: dict[int, tuple[str, float]] = {}
+    while child.poll() is None:
+        try:
+            for process in psutil.Process(child.pid).children(recursive=True):
+                with contextlib.suppress(psutil.Error):
+                    times = process.cpu_times()
+                    role = "forkserver" if "forkserver" in " ".join(process.cmdline()) else "worker"
+                    if "resource_tracker" in " ".join(process.cmdline()):
+                        role = "tracker"
+                    seen[process.pid] = (role, times.user + times.system)
+        except psutil.Error:
+            pass
+        time.sleep(0.1)
+    wall = time.perf_counter() - start
+    stderr = child.stderr.read().decode() if child.stderr else ""
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if child.returncode != 0:
+        raise RuntimeError(f"{' '.join(args)} ({src}) failed: {stderr.strip()[-400:]}")
+    own = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+    roles: dict = {"forkserver": 0.0, "workers": []}
+    for role, cpu in seen.values():
+        if role == "forkserver":
+            roles["forkserver"] += cpu
+        elif role == "worker":
+            roles["workers"].append(cpu)
+    return wall, own, roles
 
 
 def measure(
@@ -144,14 +213,16 @@ def measure(
     cwd: Path,
     repeats: int,
     env: dict | None = None,
+    warm: bool = True,
 ) -> dict:
     """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first.
 
-    ``env``: extra environment variables for every run (e.g. ``LFDKIT_KERNELS``).
+    ``env``: extra environment variables for every run (e.g. ``LFDKIT_KERNELS``);
+    ``warm``: False for runs long enough to need no warm-up (a batch).
     """
     times: dict[str, list[float]] = {label: [] for label in trees}
     cpu: dict[str, list[float]] = {label: [] for label in trees}
-    for src in trees.values():
+    for src in trees.values() if warm else ():
         run(src, args, cwd, env)  # warm: numba's cache, the OS's file cache
     for _ in range(repeats):
         for label, src in trees.items():
@@ -216,6 +287,47 @@ def make_skills(out: Path, quick: bool) -> dict:
     return made
 
 
+def batch_rows(trees: dict[str, Path], out: Path, skill: str, args: argparse.Namespace) -> list:
+    """``lfdkit batch evaluate --random N``, serial and on 2 workers, per check; speed-ups.
+
+    Once each (a batch is long). The workers' CPU seconds are not in the CPU
+    column (the fork server is no child the benchmark waits for).
+    """
+    used = trees if args.batch_trees == "both" else {"after": trees["after"]}
+    rows = []
+    for check in args.batch_checks.split(","):
+        base = ["-m", "lfdkit.app.cli", "batch", "evaluate", skill, "--random", str(args.batch)]
+        name = f"batch {args.batch}, --check {check}"
+        for label, src in used.items():
+            results = ["--check", check, "-o", f"batch-{label}-{check}.jsonl", "-f", "-q"]
+            serial_wall, serial_cpu, _ = run_tree(src, [*base, *results], out)
+            wall, own, roles = run_tree(src, [*base, *results, "--workers", "2"], out)
+            workers = sorted(roles["workers"], reverse=True)
+            # On 2 idle cores: the command, then the fork server, then the busier worker.
+            critical = own + roles["forkserver"] + (workers[0] if workers else 0.0)
+            row = {
+                "what": f"{name} ({label})",
+                "serial_wall": serial_wall,
+                "serial_cpu": serial_cpu,
+                "workers_wall": wall,
+                "command_cpu": own,
+                "forkserver_cpu": roles["forkserver"],
+                "worker_cpu": workers,
+                "speedup_wall": serial_wall / wall,
+                "speedup_cpu": serial_cpu / critical,
+            }
+            print(
+                f"  {row['what']}: serial {serial_wall:.1f} s ({serial_cpu:.1f} s CPU); 2 workers"
+                f" {wall:.1f} s (command {own:.1f} + fork server {roles['forkserver']:.1f} +"
+                f" workers {', '.join(f'{w:.1f}' for w in workers)} s CPU); speed-up"
+                f" {row['speedup_wall']:.2f}x wall, {row['speedup_cpu']:.2f}x by CPU"
+                " (serial CPU / the 2-worker critical path; target >= 1.85x)",
+                flush=True,
+            )
+            rows.append(row)
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument(
@@ -232,6 +344,24 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="no learn, no 1000-basis refit")
     parser.add_argument("--output", type=Path, default=ROOT / "benchmarks/results/startup")
+    parser.add_argument(
+        "--batch",
+        type=int,
+        default=0,
+        metavar="N",
+        help="also time `lfdkit batch evaluate --random N`, serial and 2 workers (0: not)",
+    )
+    parser.add_argument(
+        "--batch-checks",
+        default="plan,robot",
+        help="the batches' --check values, comma-separated (e.g. plan,robot,mujoco)",
+    )
+    parser.add_argument(
+        "--batch-trees",
+        choices=("after", "both"),
+        default="after",
+        help="the trees whose batches are timed (default after: they take minutes)",
+    )
     args = parser.parse_args()
     out = args.output.resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -242,6 +372,7 @@ def main() -> None:
     cli = ["-m", "lfdkit.app.cli"]
     skill = str(out / "skill.json")
     rows = [
+        measure("python -c pass (the floor)", ["-c", "pass"], trees, out, args.repeats),
         measure("lfdkit --help", [*cli, "--help"], trees, out, args.repeats),
         measure("import lfdkit.app.cli", ["-c", "import lfdkit.app.cli"], trees, out, args.repeats),
         measure(
@@ -288,12 +419,21 @@ def main() -> None:
             args.repeats,
         )
     )
+    if args.batch:
+        rows += batch_rows(trees, out, skill, args)
     if "learn" in made:
         rows.append(measure("lfdkit learn (sweeping demo)", made["learn"], trees, out, 1))
     print()
     print(f"wall seconds (CPU seconds of the process and its children), load {os.getloadavg()}")
     print(f"{'what':38s} {'before':>17s} {'after':>17s} {'ratio wall':>10s} {'CPU':>6s}")
     for row in rows:
+        if "speedup_cpu" in row:  # a batch: serial against 2 workers
+            print(
+                f"{row['what']:38s} serial {row['serial_wall']:.1f} s, 2 workers"
+                f" {row['workers_wall']:.1f} s: {row['speedup_wall']:.2f}x wall,"
+                f" {row['speedup_cpu']:.2f}x by CPU (target >= 1.85x)"
+            )
+            continue
         cells = []
         for label in ("before", "after"):
             if label in row:

@@ -102,20 +102,27 @@ def test_local_processes_give_the_serial_results(tmp_path):
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
-def test_local_workers_start_with_numba_and_the_skill_loaded_and_nothing_heavy():
+def test_local_workers_start_with_the_skill_loaded_and_nothing_heavy():
     """Issue 30: workers fork from a server that loaded them once (lfdkit.app.worker_preload).
 
-    The probe is ``eval`` of a string, so the worker imports no test module to run it.
+    numba is not among them (each worker loads it by the kernels' rule), and the
+    kernels' CPU clock starts afresh in each worker. The probe is ``eval`` of a
+    string, so the worker imports no test module to run it.
     """
-    wanted = ("numpy", "numba", "lfdkit.skill", "scipy.interpolate", "matplotlib", "mujoco")
+    wanted = ("numpy", "numba", "lfdkit.skill", "lfdkit.emulate.planner", "scipy", "mujoco")
+    wanted += ("matplotlib", "lfdkit.emulate._planner_numpy")
+    modules = "__import__('sys').modules"
     probe = (
-        f"([m for m in {wanted!r} if m in __import__('sys').modules], __import__('os').getpid())"
+        f"([m for m in {wanted!r} if m in {modules}], __import__('os').getpid(),"
+        f" {modules}['lfdkit.core.kernels']._clock['cpu_start'])"
     )
     with make_executor(workers=2) as executor:
         got = [executor.submit(eval, probe).result() for _ in range(2)]
-    for loaded, pid in got:
+    for loaded, pid, clock in got:
         assert pid != os.getpid()
-        assert loaded == ["numpy", "numba", "lfdkit.skill"]
+        planner = ["lfdkit.emulate.planner", "lfdkit.emulate._planner_numpy"]
+        assert loaded == ["numpy", "lfdkit.skill", *planner]
+        assert clock is None  # restarted after the fork server's warm-up
 
 
 # ------------------------------------------------------------------ results files

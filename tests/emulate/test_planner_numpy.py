@@ -157,6 +157,31 @@ def test_kernels_agree_call_by_call(q: int, seed: int) -> None:
         assert (cost_n, iter_n) == (cost_c, iter_c)
 
 
+@pytest.mark.parametrize("clearance", [0.0, 0.01])
+@pytest.mark.parametrize("seed", range(3))
+def test_scalar_newton_is_numbas_on_short_windows(seed: int, clearance: float) -> None:
+    # The receding horizon's 2-D windows run on Python floats: every window of a problem
+    # (some against a bound, some near a hard radius), from random starts, bit for bit.
+    problem, _ = random_problem(seed, 2, clearance)
+    rng = np.random.default_rng(seed)
+    compared = 0
+    for start in range(0, problem.n - 8, 3):
+        window = problem.window(start, start + 8)
+        args = window.kernel_arguments()
+        assert 8 * (1 + args[0].shape[1] + args[4].shape[1]) <= numpy_form.SCALAR_TERMS
+        d0 = rng.uniform(-0.02, 0.02, 1)
+        init = rng.uniform(-0.04, 0.04, (8, 1))
+        results = []
+        for solve in (compiled.planner_newton, numpy_form.planner_newton_scalar):
+            out = init.copy()
+            results.append((solve(*args, window.max_step, d0, out, 1e-10, 100), out))
+        (found_c, d_c), (found_s, d_s) = results
+        np.testing.assert_array_equal(d_s, d_c)
+        assert tuple(found_s) == tuple(found_c)
+        compared += np.isfinite(found_c[0])
+    assert compared >= 5  # most starts lie outside the hard radii
+
+
 @pytest.mark.parametrize("q", [2, 3])
 @pytest.mark.parametrize("end_zero", [False, True])
 def test_grid_search_agrees(q: int, end_zero: bool) -> None:

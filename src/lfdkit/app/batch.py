@@ -6,8 +6,8 @@ units (:func:`make_executor`):
 * serial (the default): :class:`SerialExecutor`, in this process;
 * local processes (``workers=N``): a :class:`~concurrent.futures.ProcessPoolExecutor`
   whose workers are forks of a fresh, single-threaded ``forkserver`` process that
-  has loaded lfdkit and its kernels once (:mod:`lfdkit.app.worker_preload`), so
-  each worker starts warm; ``spawn`` where there is no ``forkserver`` (not
+  has loaded lfdkit and warmed its planner once (:mod:`lfdkit.app.worker_preload`),
+  so each worker starts warm; ``spawn`` where there is no ``forkserver`` (not
   ``fork``: MuJoCo and numba's threads in the calling process do not survive one);
 * a Dask distributed cluster (``scheduler="tcp://HOST:PORT"``, or
   ``dask_local=N`` to start a :class:`distributed.LocalCluster` of N
@@ -173,9 +173,11 @@ class ProcessExecutor(ProcessPoolExecutor):
     """Local worker processes that start warm, one BLAS thread each.
 
     On Linux the workers are forks of a ``forkserver`` process that imported
-    :data:`WORKER_PRELOAD` once (NumPy, numba, the skill, the planner's
-    kernels), so a worker's first plan takes about 0.1 s of CPU instead of
-    about 1.5 s, and 16 workers do not load the same things 16 times. The
+    :data:`WORKER_PRELOAD` once (NumPy, the skill, the planner warmed up on
+    its NumPy kernels), so a worker's first plan takes about 0.2 s of CPU
+    instead of about 1.5 s, and 16 workers do not load the same things 16
+    times; each loads numba itself, in parallel, once it has planned for a
+    second (:mod:`lfdkit.core.kernels`). The
     fork server is Python's, one per calling process, started by the first
     pool that needs it; a fork server already running without the preload
     still works (its workers load what they need themselves). Elsewhere the

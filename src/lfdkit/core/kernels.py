@@ -7,16 +7,18 @@ cached kernels 0.1 s), for a plan of the README's example that then takes
 0.07 s of CPU. The planner's kernels (the DMP's quintics, the grid search,
 the projected Newton solver) also have NumPy forms
 (:mod:`lfdkit.emulate._planner_numpy`, ``lfdkit.imitate._dmp_numerics``)
-that need no numba: about 7× slower per plan (0.5 s of CPU for that example
-at load 15, ``benchmarks/startup.py``) but without the start-up, so a
-one-shot ``lfdkit plan`` runs them (1.85 → 0.79 s of CPU) and a batch runs
-numba's.
+that need no numba: about 2× slower per plan (0.14–0.15 s of CPU for that
+example, its 2-D receding-horizon windows solved on Python floats;
+``benchmarks/startup.py``) but without the start-up, so a
+one-shot ``lfdkit plan`` runs them (1.85 → 0.79 s of CPU), and so does a
+batch worker until it has planned for a second (it starts without numba:
+:mod:`lfdkit.app.worker_preload`).
 
 The rule, ``LFDKIT_KERNELS`` in the environment:
 
 ``auto`` (the default)
     numba's kernels once numba is loaded in the process (something else
-    needed it: a preloaded batch worker, the IOC, GMR), or once the process
+    needed it: the IOC, GMR, MuJoCo's checks), or once the process
     has taken :data:`SWITCH_SECONDS` of CPU since its first NumPy form ran
     (looked at every :data:`CHECK_SECONDS` of wall time) — a rent-or-buy
     rule: a process that plans many times pays numba's start-up once and at
@@ -42,7 +44,14 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["CHECK_SECONDS", "KERNELS_VARIABLE", "SWITCH_SECONDS", "kernel", "use_compiled"]
+__all__ = [
+    "CHECK_SECONDS",
+    "KERNELS_VARIABLE",
+    "SWITCH_SECONDS",
+    "kernel",
+    "restart_clock",
+    "use_compiled",
+]
 
 #: The environment variable choosing the kernels: "auto", "numba" or "numpy".
 KERNELS_VARIABLE = "LFDKIT_KERNELS"
@@ -81,6 +90,16 @@ def use_compiled() -> bool:
     return _clock["switched"]
 
 
+def restart_clock() -> None:
+    """Forget the CPU spent in NumPy forms so far: the rule starts afresh.
+
+    For a process forked from one that warmed the NumPy forms up (a batch
+    worker's fork server): the child's CPU clock starts at zero, so the
+    parent's would otherwise hold the switch back by the parent's seconds.
+    """
+    _clock.update(cpu_start=None, next_look=0.0, switched=False)
+
+
 def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
     """The function ``name`` from module ``compiled`` or ``numpy_form``, by :func:`use_compiled`.
 
@@ -94,4 +113,6 @@ def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
         if _clock["cpu_start"] is None:
             _clock["cpu_start"] = time.process_time()
             _clock["next_look"] = time.perf_counter() + SWITCH_SECONDS
+    # import_module, not a look-up in sys.modules: it waits for a module another thread
+    # is still importing (the IOC plans on threads) instead of handing out a half-made one.
     return getattr(importlib.import_module(module), name)

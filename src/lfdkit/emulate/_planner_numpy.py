@@ -10,16 +10,22 @@ term at a time are accumulated the same way (``np.add.accumulate``, never
 NumPy's pairwise ``sum``), and terms a kernel skips are added as exact zeros.
 The steps that depend on the previous one (the line search's clamp to the
 predecessor's box, the dynamic programme's backward pass, the grid walk)
-stay loops over points. Per plan these are about 7× slower than numba's (the
-README's example: 0.5 s against 0.07 s of CPU at load 15), NumPy's overhead
-per call on short windows; a batch runs numba's.
+stay loops over points. On the receding horizon's short 2-D windows (8
+points, one obstacle) NumPy's cost per call outweighs its arithmetic, so the
+solver runs there on Python floats (:func:`planner_newton_scalar`, the
+compiled loops line by line): the README's example plans in 0.14–0.15 s of
+CPU instead of 0.33–0.34 s with the vectorised forms (numba's: about 0.07 s,
+after its ~1.1 s start-up); a batch runs numba's.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = [
+    "SCALAR_TERMS",
     "grid_backward",
     "grid_cost_to_go",
     "grid_node_costs",
@@ -28,7 +34,13 @@ __all__ = [
     "planner_cost",
     "planner_derivatives",
     "planner_newton",
+    "planner_newton_scalar",
 ]
+
+#: Most terms (points × (1 + obstacles + hard radii)) for which a 2-D solve runs on Python
+#: floats (:func:`planner_newton_scalar`): on the receding horizon's windows (8 points, one
+#: obstacle) NumPy's cost per call outweighs its vector arithmetic several times over.
+SCALAR_TERMS = 96
 
 
 def _sequential_sum(terms: np.ndarray) -> float:
@@ -252,8 +264,13 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
 
     ``d`` (n, m) holds the start on entry and the optimum on exit. Returns
     ``(cost, iterations, converged)``, as ``_problem_kernels.planner_newton``.
+    Short 2-D windows (at most :data:`SCALAR_TERMS` point terms) run
+    :func:`planner_newton_scalar`.
     """
     n, m = d.shape
+    if m == 1 and n * (1 + c.shape[1] + rr.shape[1]) <= SCALAR_TERMS:
+        args = (c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter)
+        return planner_newton_scalar(*args)
     args = (c, b, a, weight, rr, nr, inner2, outer2, mu)
     previous = np.concatenate((d0[None], d[:-1]))
     actions = np.minimum(np.maximum(d - previous, -max_step), max_step)
@@ -433,6 +450,18 @@ def grid_walk(value, levels, window, max_step, d0, out):
     state, total = _first_least(np.where(allowed, value[0], np.inf))
     if not np.isfinite(total):
         return total
+    if m == 1:  # the compiled loop on Python floats: a few cells a point, no NumPy calls
+        rows = value[1:h].tolist()
+        for k in range(h):
+            out[k, 0] = levels[state]
+            if k == h - 1:
+                break
+            row, best_state, best = rows[k], -1, np.inf
+            for t in range(max(0, state - window), min(g_count, state + window + 1)):
+                if row[t] < best:
+                    best_state, best = t, row[t]
+            state = best_state
+        return total
     for k in range(h):
         i0 = state // g_count if m == 2 else state
         j0 = state % g_count
@@ -452,3 +481,207 @@ def grid_walk(value, levels, window, max_step, d0, out):
             width = jhi - jlo
             state = (lo + found // width) * g_count + jlo + found % width if found >= 0 else -1
     return total
+
+
+def _barrier_value(u, inner2, outer2, mu):
+    """``_problem_kernels.barrier``'s value alone, on floats."""
+    if u >= outer2:
+        return 0.0
+    if u <= inner2:
+        return math.inf
+    t = (outer2 - u) * (1.0 / (outer2 - inner2))
+    return mu * t * t * t / (1.0 - t)
+
+
+def _barrier_all(u, inner2, outer2, mu):
+    """``_problem_kernels.barrier`` on floats: value and first two derivatives in ``u``."""
+    if u >= outer2:
+        return 0.0, 0.0, 0.0
+    if u <= inner2:
+        return math.inf, 0.0, 0.0
+    kappa = 1.0 / (outer2 - inner2)
+    t = (outer2 - u) * kappa
+    one = 1.0 - t
+    value = mu * t * t * t / one
+    first = -mu * kappa * (3.0 * t * t - 2.0 * t * t * t) / (one * one)
+    second = mu * kappa * kappa * (6.0 * t - 6.0 * t * t + 2.0 * t * t * t) / (one * one * one)
+    return value, first, second
+
+
+def planner_newton_scalar(
+    c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter
+):
+    """:func:`planner_newton` in 2-D (``m`` 1) on Python floats: the compiled loops line by line.
+
+    The arrays are turned into lists once; every cost and derivative of the
+    line search is then a loop over points, as in ``_problem_kernels``, with
+    the same operations in the same order (``math.exp`` is the C library's
+    ``exp`` numba calls), so the results are numba's bit for bit. ``d``
+    (n, 1) holds the start on entry and the optimum on exit.
+    """
+    n = d.shape[0]
+    mu, max_step, tol, start = float(mu), float(max_step), float(tol), float(d0[0])
+    bounds = list(zip(inner2.tolist(), outer2.tolist(), strict=True))
+    # Per point: its weight, its obstacles' (c, b, a) and its hard radii's (rr, nr, r², ρ²).
+    points = [
+        (
+            w,
+            list(zip(ck, bk, ak, strict=True)),
+            [(ro, no, lo, hi) for ro, no, (lo, hi) in zip(rk, nk, bounds, strict=True)],
+        )
+        for w, ck, bk, ak, rk, nk in zip(
+            weight.tolist(),
+            c.tolist(),
+            b[:, :, 0].tolist(),
+            a[:, :, 0, 0].tolist(),
+            rr.tolist(),
+            nr[:, :, 0].tolist(),
+            strict=True,
+        )
+    ]
+    exp = math.exp
+
+    def cost_of(offsets):
+        total = 0.0
+        for g, (w, bumps, hards) in zip(offsets, points, strict=True):
+            point = w * g * g  # 0.0 + x, the compiled point cost's first term, is x
+            for co, bo, ao in bumps:
+                point += exp(-(co + (bo + (bo + ao * g)) * g))
+            for ro, no, lo, hi in hards:
+                u = ro + (2.0 * no + g) * g
+                if u < hi:  # else the barrier adds 0.0, which changes no sum
+                    point += _barrier_value(u, lo, hi, mu)
+            total += point
+        return total
+
+    def derivatives(offsets, gradient, hessian):
+        total = 0.0
+        for k, (g, (w, bumps, hards)) in enumerate(zip(offsets, points, strict=True)):
+            total += w * g * g
+            grad, hess = 2.0 * w * g, 2.0 * w
+            for co, bo, ao in bumps:
+                npu = bo + ao * g
+                e = exp(-(co + (bo + npu) * g))
+                total += e
+                grad -= 2.0 * e * npu
+                hess += e * (4.0 * npu * npu - 2.0 * ao)
+            for ro, no, lo, hi in hards:
+                value, first, second = _barrier_all(ro + (2.0 * no + g) * g, lo, hi, mu)
+                if value == 0.0:
+                    continue
+                total += value
+                grad += 2.0 * first * (no + g)
+                hess += 4.0 * second * (no + g) * (no + g)
+                hess += 2.0 * first
+            gradient[k], hessian[k] = grad, hess
+        return total
+
+    previous, actions, offsets, running = start, [], [], start
+    for value in d[:, 0].tolist():
+        action = min(max(value - previous, -max_step), max_step)
+        previous = value
+        running += action
+        actions.append(action)
+        offsets.append(running)
+    gradient, hessian = [0.0] * n, [0.0] * n
+
+    def done(cost, iterations, converged):
+        d[:, 0] = offsets
+        return cost, iterations, converged
+
+    base = float(weight.min())
+    floor = 1e-8 * 2.0 * base
+    scale = 1.0 + 2.0 * base * max_step
+    cost = derivatives(offsets, gradient, hessian)
+    if not math.isfinite(cost):
+        return done(cost, 0, False)
+    upper_bound, lower_bound = max_step * (1.0 - 1e-12), -max_step * (1.0 - 1e-12)
+    upper_push, lower_push = max_step * (1.0 - 1e-9), -max_step * (1.0 - 1e-9)
+    action_gradient, free = [0.0] * n, [True] * n
+    low_step = -max_step
+    for iteration in range(max_iter):
+        worst, running = 0.0, 0.0
+        for k in range(n - 1, -1, -1):
+            running += gradient[k]
+            action_gradient[k] = running
+            held = (actions[k] >= upper_bound and running < 0.0) or (
+                actions[k] <= lower_bound and running > 0.0
+            )
+            free[k] = not held
+            if not held and abs(running) > worst:
+                worst = abs(running)
+        if worst <= tol * scale:
+            return done(cost, iteration, True)
+        for _refine in range(8):
+            # A free point opens a group of the reduced variables; held ones join the last.
+            step_d, total_g, total_h, opened = [], 0.0, 0.0, False
+            groups = []
+            for k in range(n):
+                if free[k]:
+                    if opened:
+                        groups.append((total_g, total_h))
+                    total_g, total_h, opened = 0.0, 0.0, True
+                if opened:
+                    total_g += gradient[k]
+                    total_h += hessian[k]
+                    step_d.append(len(groups))
+                else:
+                    step_d.append(-1)
+            if opened:
+                groups.append((total_g, total_h))
+            moves = [-g / max(abs(h), floor) for g, h in groups]
+            step_d = [moves[v] if v >= 0 else 0.0 for v in step_d]
+            changed, before = False, 0.0
+            for k in range(n):
+                change = step_d[k] - before
+                before = step_d[k]
+                if free[k] and (
+                    (actions[k] >= upper_push and change > 0.0)
+                    or (actions[k] <= lower_push and change < 0.0)
+                ):
+                    free[k] = False
+                    changed = True
+            if not changed:
+                break
+        step_a = [step - before for step, before in zip(step_d, [0.0, *step_d[:-1]], strict=True)]
+        accepted, best_cost, best = False, math.inf, offsets
+        for retraction in range(2):
+            t = 1.0
+            for _ in range(60 if retraction else 30):
+                decrease, previous, trial = 0.0, start, []
+                if retraction == 0:
+                    for dk, sk, gk in zip(offsets, step_d, gradient, strict=True):
+                        value = dk + t * sk
+                        # min(max(value, low), high) as the compiled builtins pick, without calls
+                        low, high = previous - max_step, previous + max_step
+                        value = low if low > value else value
+                        value = high if high < value else value
+                        decrease += gk * (value - dk)
+                        trial.append(value)
+                        previous = value
+                else:
+                    for ak, sk, gk in zip(actions, step_a, action_gradient, strict=True):
+                        action = ak + t * sk
+                        action = low_step if low_step > action else action
+                        action = max_step if max_step < action else action
+                        decrease += gk * (action - ak)
+                        previous = previous + action
+                        trial.append(previous)
+                trial_cost = cost_of(trial)
+                if trial_cost <= cost + 1e-4 * decrease and (retraction == 1 or decrease < 0.0):
+                    if trial_cost < best_cost:
+                        best_cost, best = trial_cost, trial
+                    accepted = True
+                    break
+                t *= 0.5
+            if accepted and t == 1.0:
+                break  # a full Newton step: nothing better to look for
+        if not accepted:
+            return done(cost, iteration + 1, worst <= 1e-6 * scale)
+        change = max(abs(new - old) for new, old in zip(best, offsets, strict=True))
+        actions = [new - old for new, old in zip(best, [start, *best[:-1]], strict=True)]
+        offsets = best
+        cost = derivatives(offsets, gradient, hessian)
+        if change <= 1e-13 * max_step:
+            return done(cost, iteration + 1, worst <= 1e-6 * scale)  # the steps stopped moving
+    return done(cost, max_iter, False)
