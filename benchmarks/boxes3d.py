@@ -147,67 +147,6 @@ def passing_side(path: np.ndarray, nominal: np.ndarray, box: Box) -> np.ndarray:
     return lateral / max(float(np.linalg.norm(lateral)), 1e-12)
 
 
-def replanning_error(reward: Reward, data: dict, keep: list[int], horizon, scale: float) -> float:
-    """Mean distance from each training demonstration to its replan with ``horizon``."""
-    errors = []
-    for j in keep:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                plan = plan_path(
-                    reward,
-                    data["nominals"][j],
-                    data["scenes"][j],
-                    horizon=horizon,
-                    clearance=CLEARANCE * scale,
-                )
-            except ValueError:
-                return float("inf")
-        errors.append(metrics.held_out_distances(plan.points, data["demos"][j])["mean"])
-    return float(np.mean(errors))
-
-
-def chosen_plan(data: dict, keep: list[int], held: int, scale: float, thesis: IOC) -> dict:
-    """Fit over the whole path too; plan with the horizon whose training replans are nearer."""
-    started = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        whole = IOC(n_points=N_POINTS, horizon=None).fit(
-            [data["demos"][j] for j in keep],
-            [data["scenes"][j] for j in keep],
-            [data["nominals"][j] for j in keep],
-        )
-    fitted = {8: thesis, None: whole}
-    errors = {h: replanning_error(f.reward_, data, keep, h, scale) for h, f in fitted.items()}
-    horizon = min(errors, key=errors.get)
-    seconds = time.perf_counter() - started
-    person, nominal, scene = data["demos"][held], data["nominals"][held], data["scenes"][held]
-    row = {
-        "chosen_horizon": "whole" if horizon is None else horizon,
-        "chosen_train_error_cm": {
-            ("whole" if h is None else str(h)): e / scale * 100 for h, e in errors.items()
-        },
-        "chosen_extra_fit_s": seconds,
-    }
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            plan = plan_path(
-                fitted[horizon].reward_,
-                nominal,
-                scene,
-                horizon=horizon,
-                clearance=CLEARANCE * scale,
-            ).points
-    except ValueError as exc:
-        row["chosen_refused"] = str(exc)
-        return row
-    row["chosen_dist_plan_cm"] = metrics.held_out_distances(plan, person)["mean"] / scale * 100
-    row["chosen_collisions"] = metrics.collisions(plan, scene)
-    row["chosen_clearance_cm"] = float(metrics.clearance(plan, scene).min()) / scale * 100
-    return row
-
-
 def run_fold(data: dict, held: int, scale: float) -> dict:
     """Learn from every demonstration but ``held``, plan for it, compare with the person."""
     keep = [j for j in range(len(data["demos"])) if j != held]
@@ -234,9 +173,13 @@ def run_fold(data: dict, held: int, scale: float) -> dict:
             for label, precision in ioc.reward_.precisions.items()
         },
     }
-    row.update(chosen_plan(data, keep, held, scale, ioc))
+    # The planner the fit kept: the 8-point window, or the whole path where its
+    # stage of the fit replans the training demonstrations closer (IOC.horizon_).
+    row["horizon"] = "whole" if ioc.horizon_ is None else ioc.horizon_
     try:
-        plan = plan_path(ioc.reward_, nominal, scene, horizon=8, clearance=CLEARANCE * scale)
+        plan = plan_path(
+            ioc.reward_, nominal, scene, horizon=ioc.horizon_, clearance=CLEARANCE * scale
+        )
         points = plan.points
     except ValueError as exc:  # a refusal is a result too
         row.update(refused=str(exc))
@@ -255,7 +198,9 @@ def run_fold(data: dict, held: int, scale: float) -> dict:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            floored = plan_path(ioc.reward_, nominal, scene, horizon=8, clearance=floor).points
+            floored = plan_path(
+                ioc.reward_, nominal, scene, horizon=ioc.horizon_, clearance=floor
+            ).points
         row["floor_dist_plan_cm"] = (
             metrics.held_out_distances(floored, person)["mean"] / scale * 100
         )
@@ -330,21 +275,7 @@ def summarise(rows: list[dict]) -> dict:
         "floor_clearance_ratio": min_of(
             [r.get("floor_clearance_cm", np.nan) / r["person_clearance_cm"] for r in done]
         ),
-        "chosen_whole": int(sum(r["chosen_horizon"] == "whole" for r in rows)),
-        "chosen_refused": int(sum("chosen_refused" in r for r in rows)),
-        "chosen_dist_plan_cm": mean_of([r.get("chosen_dist_plan_cm", np.nan) for r in rows]),
-        "chosen_collisions": int(sum(r.get("chosen_collisions", 0) for r in rows)),
-        "chosen_clearance_ratio": min_of(
-            [
-                r.get("chosen_clearance_cm", np.nan) / r["person_clearance_cm"]
-                for r in rows
-                if "person_clearance_cm" in r
-            ]
-        ),
-        "chosen_fit_s_median": float(
-            np.median([r["fit_s"] + r["chosen_extra_fit_s"] for r in rows])
-        ),
-        "chosen_fit_s_max": float(np.max([r["fit_s"] + r["chosen_extra_fit_s"] for r in rows])),
+        "whole": int(sum(r.get("horizon") == "whole" for r in rows)),
         "fit_s_median": float(np.median([r["fit_s"] for r in rows])),
         "fit_s_max": float(np.max([r["fit_s"] for r in rows])),
         "fit_cpu_s_median": float(np.median([r["fit_cpu_s"] for r in rows])),
@@ -379,8 +310,7 @@ def main() -> None:
         f"{'set':<12} {'noise':>5} {'units':>5} {'folds':>5} {'plan cm':>8} {'DMP cm':>7} "
         f"{'ratio':>5} {'side':>6} {'coll':>4} {'DMP coll':>8} {'clear/p':>7} "
         f"{'fit s med/max':>13} {'cpu s med/max':>13} {'not conv':>8} | floor: "
-        f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | chosen: {'whole':>5} {'plan cm':>7} "
-        f"{'coll':>4} {'clear/p':>7} {'fit s med/max':>13}"
+        f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | {'whole':>5}"
     )
     print(header)
     for kind, n_demos, noise, scale, look_ahead in cases:
@@ -401,11 +331,8 @@ def main() -> None:
             f"{summary['fit_cpu_s_median']:>6.1f}/{summary['fit_cpu_s_max']:<6.1f} "
             f"{summary['not_converged']:>8} |        "
             f"{summary['floor_dist_plan_cm']:>7.2f} {summary['floor_collisions']:>4} "
-            f"{summary['floor_clearance_ratio']:>7.2f} |         "
-            f"{summary['chosen_whole']:>2}/{summary['folds']:<2} "
-            f"{summary['chosen_dist_plan_cm']:>7.2f} {summary['chosen_collisions']:>4} "
-            f"{summary['chosen_clearance_ratio']:>7.2f} "
-            f"{summary['chosen_fit_s_median']:>6.1f}/{summary['chosen_fit_s_max']:<6.1f}",
+            f"{summary['floor_clearance_ratio']:>7.2f} | "
+            f"{summary['whole']:>2}/{summary['folds']:<2}",
             flush=True,
         )
         results.append(
