@@ -25,7 +25,12 @@ local optimum (the same side of each obstacle) as the demonstrator.
 The fit is staged: the full-horizon planner first (cheap, smooth), then,
 optionally, refinement with the receding-horizon planner (MPC) that is used
 at run time, its gradient by forward sensitivities through every MPC step.
-The sensitivity loops are compiled (:mod:`._ioc_kernels`).
+The sensitivity loops are compiled (:mod:`._ioc_kernels`). Both stages
+minimise the same loss, so the staged fit keeps the one that replans the
+demonstrations closer (``IOC.horizon_``): a person who looked at the whole
+path is explained by no window (issue 34, three boxes: a window fit's loss
+60× the full horizon's, its response narrower, its plans 2 cm nearer the
+boxes than the person).
 
 Lengths are normalised by the nominal's extent inside the fit, the starting
 point is the best of several basins (a coarse search over log-parameters,
