@@ -20,7 +20,9 @@ its start to the goal (what a DMP generalises to), looking ahead over the
 whole path, then adds smooth noise (σ 3 mm, 15-point smoothing; a person is
 not an optimiser). A second noise level, a run in millimetres and a *late*
 person (one who looks only 8 points ahead: the true reward planned with an
-8-point window) check that nothing is tuned to one generator.
+8-point window) and *another* person (:data:`OTHER_REWARD`: stiffer, with
+a response wide along x and narrow vertically) check that nothing is tuned
+to one generator.
 
 Per fold (one demonstration held out, the reward learned from the others
 with the Skill's staged fit, IOC with MPC H=8 refinement, 100 points): the
@@ -74,6 +76,9 @@ from lfdkit.emulate import IOC, Box, HalfSpace, Reward, Scene, metrics, plan_pat
 from lfdkit.emulate.fidelity import demonstrated_clearances
 
 TRUE_REWARD = Reward(3.0, {"box": [150.0, 150.0, 150.0], "table": [1.0, 1.0, 400.0]})
+#: Another kind of person: stiffer, and an anisotropic response (wide along x, narrow
+#: vertically: passes beside a box rather than over it).
+OTHER_REWARD = Reward(5.0, {"box": [80.0, 200.0, 400.0], "table": [1.0, 1.0, 400.0]})
 GOAL = np.array([0.65, 0.0, 0.12])
 CLEARANCE = 0.01
 N_POINTS = 100
@@ -107,11 +112,17 @@ def _smooth_noise(rng: np.random.Generator, sigma: float) -> np.ndarray:
 
 
 def make_set(
-    kind: str, n_demos: int, seed: int, noise: float = 0.003, look_ahead: int | None = None
+    kind: str,
+    n_demos: int,
+    seed: int,
+    noise: float = 0.003,
+    look_ahead: int | None = None,
+    reward: Reward = TRUE_REWARD,
 ) -> dict:
     """Demonstrations, scenes, nominals (straight start → goal) and the person's clearance.
 
-    ``look_ahead``: the person's planning window in points (None: the whole path).
+    ``look_ahead``: the person's planning window in points (None: the whole path);
+    ``reward``: the person's own.
     """
     rng = np.random.default_rng(seed)
     demos, scenes, nominals = [], [], []
@@ -126,7 +137,7 @@ def make_set(
         nominal = start + np.linspace(0.0, 1.0, N_POINTS)[:, None] * (GOAL - start)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            plan = plan_path(TRUE_REWARD, nominal, scene, horizon=look_ahead, clearance=CLEARANCE)
+            plan = plan_path(reward, nominal, scene, horizon=look_ahead, clearance=CLEARANCE)
         demos.append(plan.points + _smooth_noise(rng, noise))
         scenes.append(scene)
         nominals.append(nominal)
@@ -294,13 +305,14 @@ def main() -> None:
         "--sets", nargs="+", help="run only these sets (one_box three_boxes table_box)"
     )
     args = parser.parse_args()
-    cases = [  # set, demonstrations, noise (m), units per metre, the person's look-ahead
-        ("one_box", 6, 0.003, 1.0, None),
-        ("three_boxes", 10, 0.003, 1.0, None),
-        ("one_box", 6, 0.006, 1.0, None),  # another noise level
-        ("three_boxes", 10, 0.003, 1000.0, None),  # millimetres
-        ("three_boxes", 10, 0.003, 1.0, 8),  # a late person: looks 8 points ahead
-        ("table_box", 6, 0.003, 1.0, None),  # the carton on a table (a half-space)
+    cases = [  # set, demonstrations, noise (m), units per metre, the person's look-ahead, reward
+        ("one_box", 6, 0.003, 1.0, None, None),
+        ("three_boxes", 10, 0.003, 1.0, None, None),
+        ("one_box", 6, 0.006, 1.0, None, None),  # another noise level
+        ("three_boxes", 10, 0.003, 1000.0, None, None),  # millimetres
+        ("three_boxes", 10, 0.003, 1.0, 8, None),  # a late person: looks 8 points ahead
+        ("three_boxes", 10, 0.003, 1.0, None, "other"),  # another kind of person
+        ("table_box", 6, 0.003, 1.0, None, None),  # the carton on a table (a half-space)
     ]
     if args.sets:
         cases = [case for case in cases if case[0] in args.sets]
@@ -314,15 +326,16 @@ def main() -> None:
         f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | {'whole':>5}"
     )
     print(header)
-    for kind, n_demos, noise, scale, look_ahead in cases:
-        data = make_set(kind, n_demos, seed=1, noise=noise, look_ahead=look_ahead)
+    for kind, n_demos, noise, scale, look_ahead, person in cases:
+        reward = OTHER_REWARD if person == "other" else TRUE_REWARD
+        data = make_set(kind, n_demos, seed=1, noise=noise, look_ahead=look_ahead, reward=reward)
         if scale != 1.0:
             data = scaled_set(data, scale)
         folds = range(2) if args.quick else range(n_demos)
         rows = [run_fold(data, held, scale) for held in folds]
         summary = summarise(rows)
         units = "m" if scale == 1.0 else "mm"
-        name = kind if look_ahead is None else f"{kind}/late"
+        name = kind + ("" if look_ahead is None else "/late") + ("" if person is None else "/other")
         print(
             f"{name:<12} {noise * 1000:>3.0f}mm {units:>5} {summary['folds']:>5} "
             f"{summary['dist_plan_cm']:>8.2f} {summary['dist_dmp_cm']:>7.2f} "
@@ -343,6 +356,7 @@ def main() -> None:
                 "noise_m": noise,
                 "units_per_m": scale,
                 "person_look_ahead": look_ahead,
+                "person_reward": person or "true",
                 "summary": summary,
                 "folds": rows,
             }
