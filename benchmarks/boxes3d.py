@@ -50,7 +50,13 @@ for the full-horizon stage, 60×). The staged fit therefore keeps whichever
 of its two stages replans the training demonstrations closer
 (:attr:`lfdkit.emulate.IOC.horizon_`), at no extra fit, and the plain plan
 plans with the horizon it kept (the *whole* column counts the folds that
-kept the whole path; a person who plans with a window keeps the window). The *floor* columns
+kept the whole path). Measured (``--sets three_boxes``, seed 1, against
+1577a60): clearance 0.76 → 0.98 of the person's, distance to the held-out
+person 1.86 → 0.29 cm (DMP alone 8.21), every fold kept the whole path, at
+the same fit cost (the refinement still runs). The late person's fits keep
+the whole path too: with noise, his window swerves are explained better by
+it; a noise-free window demonstrator keeps the window
+(``tests/emulate/test_ioc.py``). The *floor* columns
 plan as a Skill with its learned clearance floor does: the clearance the
 training demonstrations kept (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`,
 0.8 × their 10 % quantile) as a hard floor on top of the person's 1 cm.
