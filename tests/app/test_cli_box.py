@@ -116,9 +116,9 @@ def test_a_3d_moving_box_is_read_with_its_height_turn_and_velocity() -> None:
 
 # ------------------------------------------------------------ half-spaces: tables and walls
 # A table under the sweep (its surface at y = 0.42, free side up) with a cup standing on it
-# (sunk 5 mm: a cup that only touches it leaves a gap of ~1e-17 m in floating point, which
-# the plan warns of). The table is of the learned class "marker": the example skill knows
-# only cups and markers.
+# (sunk 5 mm; a cup that only touches it, ~1e-17 m apart in floating point, no longer
+# warns: tests/emulate/test_gaps.py). The table is of the learned class "marker": the
+# example skill knows only cups and markers.
 TABLE = "marker:0,0.42,nx=0,ny=1"
 TABLE_CUP = "cup:-0.02,0.455,r=0.04"
 

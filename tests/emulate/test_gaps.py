@@ -68,6 +68,66 @@ def test_a_whole_half_space_is_judged_by_its_exact_height() -> None:
     assert threaded_pairs(beyond, Scene((wall, cup))) == []
 
 
+def test_a_box_above_a_half_space_is_measured_from_its_lowest_corner() -> None:
+    from lfdkit.model.half_space import HalfSpace
+
+    # A turned, rounded box over a tilted table: exact, against the closed form (the
+    # lowest corner's height less the rounding), in either order and in millimetres.
+    table = HalfSpace("table", [0.1, 0.0, 0.02], 0.005, [0.1, -0.2, 1.0])
+    turn = np.array([0.1, -0.3, 0.5, 0.8]) / np.linalg.norm([0.1, -0.3, 0.5, 0.8])
+    box = Box("box", [0.3, 0.1, 0.2], 0.004, [0.1, 0.2, 0.05], turn)
+    expected = float(table.heights(box.corners()).min()) - 0.004
+    gap, on_table, on_box = table.surface_gap(box)
+    assert gap == pytest.approx(expected, abs=1e-15)
+    assert table.heights(on_table[None])[0] == pytest.approx(0.0, abs=1e-15)
+    assert np.linalg.norm(on_box - on_table) == pytest.approx(gap, abs=1e-15)
+    reflected = box.surface_gap(table)
+    assert reflected[0] == gap
+    np.testing.assert_array_equal(reflected[1], on_box)
+    assert surface_gaps(Scene((table.scaled(1000.0), box.scaled(1000.0))))[0, 1] == pytest.approx(
+        1000.0 * expected, rel=1e-12
+    )
+    # Through the balls covering the box (as before) the gap came out short.
+    centres, radii = box.balls()
+    assert float((table.heights(centres) - radii).min()) < gap - 1e-3
+
+
+def test_a_new_shape_gets_gaps_through_the_contract_alone() -> None:
+    from dataclasses import dataclass
+
+    from lfdkit.model.half_space import HalfSpace
+
+    @dataclass(frozen=True, eq=False)
+    class Dumbbell(Obstacle):  # two balls of its radius, 10 cm apart along x
+        def balls(self):
+            return self.position + np.array([[-0.05, 0.0], [0.05, 0.0]]), np.full(2, self.radius)
+
+    bell = Dumbbell("bell", [0.0, 0.2], radius=0.01)
+    floor = HalfSpace("floor", [0.0, 0.0], 0.0, [1.0, 1.0])
+    cup = Obstacle("cup", [0.2, 0.2], radius=0.02)
+    gaps = surface_gaps(Scene((bell, floor, cup)))
+    # The lowest of its balls above the floor; the nearer ball to the cup.
+    assert gaps[0, 1] == pytest.approx((0.2 - 0.05) / np.sqrt(2.0) - 0.01, abs=1e-15)
+    assert gaps[0, 2] == pytest.approx(0.15 - 0.03, abs=1e-15)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1000.0])
+def test_a_cup_standing_on_a_table_touches_it_and_closes_no_gap(scale) -> None:
+    from lfdkit.model.half_space import HalfSpace
+
+    # A table top 30 cm up, a ball of 3 cm on it: floating point leaves 5.6e-17 m
+    # between them (0 in mm), a touch, not a gap to close.
+    table = HalfSpace("table", [0.0, 0.0, 0.0], 0.3, [0.0, 0.0, 1.0]).scaled(scale)
+    cup = Obstacle("cup", [0.4, 0.0, 0.33], radius=0.03).scaled(scale)
+    assert surface_gaps(Scene((table, cup)))[0, 1] >= 0.0
+    assert scale != 1.0 or surface_gaps(Scene((table, cup)))[0, 1] > 0.0
+    assert gaps_closed_by(np.full(2, 0.01 * scale), Scene((table, cup))) == []
+    lifted = cup.translated([0.0, 0.0, 0.001 * scale])  # 1 mm above it: a gap the floors close
+    closed = gaps_closed_by(np.full(2, 0.01 * scale), Scene((table, lifted)))
+    assert [(i, j) for i, j, _ in closed] == [(0, 1)]
+    assert closed[0][2] == pytest.approx(0.001 * scale, rel=1e-9)
+
+
 def test_open_gap_margins_give_way_only_between_two() -> None:
     scene = Scene((*PAIR.obstacles, LONE))
     margins = np.array([0.03, 0.03, 0.03])

@@ -89,6 +89,25 @@ def test_staged_fit_recovers_mpc_demonstrations() -> None:
     ]
     assert ioc.stages_[-1]["loss"] < 1e-12  # the MPC demonstrator is explained exactly
     np.testing.assert_allclose(np.exp(ioc.theta_), np.exp(TRUE.theta), rtol=1e-3)
+    assert ioc.horizon_ == 8 and ioc.loss_ == ioc.stages_[-1]["loss"]
+    assert not ioc.stages_[1]["kept"]
+
+
+def test_staged_fit_keeps_the_full_horizon_for_a_whole_path_demonstrator() -> None:
+    # A person who planned the whole path: the window cannot explain them (its fit
+    # would learn another response), so the full-horizon stage is kept, bit for bit
+    # the fit without refinement, and the fitted planner is the full horizon.
+    demos, scenes = demonstrations(3)
+    staged = IOC(horizon=8, max_iter=30).fit(demos, scenes, nominal())
+    full = IOC(max_iter=30).fit(demos, scenes, nominal())
+    assert staged.horizon_ is None and full.horizon_ is None
+    np.testing.assert_array_equal(staged.theta_, full.theta_)
+    assert staged.stages_[-1]["planner"] == "MPC H=8" and not staged.stages_[-1]["kept"]
+    assert staged.loss_ == full.loss_ < 1e-10 < staged.stages_[-1]["loss"]
+    assert staged.score(demos, scenes, nominal()) == full.score(demos, scenes, nominal())
+    # The thesis's staged fit exactly: the refinement whatever its loss.
+    thesis = IOC(horizon=8, max_iter=30, keep_full_horizon=False).fit(demos, scenes, nominal())
+    assert thesis.horizon_ == 8 and thesis.loss_ == thesis.stages_[-1]["loss"] > 1e-10
 
 
 def test_fit_is_deterministic() -> None:

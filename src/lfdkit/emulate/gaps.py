@@ -39,11 +39,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from lfdkit.core.geometry import polyline_distances
-from lfdkit.model.half_space import HalfSpace
-from lfdkit.model.scene import Obstacle, Scene
+from lfdkit.model.scene import Scene
 
 __all__ = [
     "GAP_SHARE",
+    "TOUCHING",
     "demonstrated_gaps",
     "gaps_closed_by",
     "open_gap_margins",
@@ -54,6 +54,9 @@ __all__ = [
 #: The most of the gap to another obstacle one obstacle's margin may take when gaps stay
 #: open: a plan may pass anywhere in the middle three fifths of a gap.
 GAP_SHARE = 0.2
+#: Two obstacles closer than this times the scene's size (its largest coordinate plus
+#: radius) touch: floating point leaves a cup standing on a table 3e-17 m above it.
+TOUCHING = 1e-9
 
 
 def surface_gaps(scene: Scene) -> np.ndarray:
@@ -66,50 +69,17 @@ def surface_gaps(scene: Scene) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n_obstacles, n_obstacles)
-        Units; negative where two overlap, ``inf`` on the diagonal. Each
-        shape is seen through the balls that cover it (:meth:`Obstacle.balls`),
-        a whole half-space through its exact height above its surface.
+        Units; negative where two overlap, ``inf`` on the diagonal. As each
+        pair's shapes measure it (:meth:`lfdkit.model.scene.Obstacle.surface_gap`: exact for
+        round obstacles and for anything against a whole half-space, through
+        the balls that cover them otherwise).
     """
     n = len(scene)
     out = np.full((n, n), np.inf)
     for i in range(n):
         for j in range(i):
-            out[i, j] = out[j, i] = _nearest(scene.obstacles[i], scene.obstacles[j])[0]
+            out[i, j] = out[j, i] = scene.obstacles[i].surface_gap(scene.obstacles[j])[0]
     return out
-
-
-def _unbounded(obstacle: Obstacle) -> bool:
-    # A whole half-space has no finite cover of balls (only a clipped part has).
-    return isinstance(obstacle, HalfSpace) and obstacle.region is None
-
-
-def _nearest(a: Obstacle, b: Obstacle) -> tuple[float, np.ndarray, np.ndarray]:
-    """Surface gap between two obstacles, and the surface points of each nearest the other."""
-    if _unbounded(b) and not _unbounded(a):
-        gap, end_b, end_a = _nearest(b, a)
-        return gap, end_a, end_b
-    if _unbounded(a):
-        if _unbounded(b):
-            # Only two facing parallel planes leave a slab between them; others intersect.
-            if float(a.normal @ b.normal) > -1.0 + 1e-9:
-                return -np.inf, a.position, b.position
-            end_a = a.position + a.radius * a.normal
-            gap = float(a.normal @ (b.position - a.position)) - a.radius - b.radius
-            return gap, end_a, end_a + gap * a.normal
-        centres, radii = b.balls()
-        height = (centres - a.position) @ a.normal - a.radius  # of each centre above the surface
-        k = int(np.argmin(height - radii))
-        return (
-            float(height[k] - radii[k]),
-            centres[k] - height[k] * a.normal,
-            centres[k] - radii[k] * a.normal,
-        )
-    (ci, ri), (cj, rj) = a.balls(), b.balls()
-    centre = np.linalg.norm(ci[:, None, :] - cj[None, :, :], axis=-1)
-    gaps = centre - ri[:, None] - rj[None, :]
-    k, m = np.unravel_index(np.argmin(gaps), gaps.shape)
-    unit = (cj[m] - ci[k]) / centre[k, m] if centre[k, m] > 0.0 else np.zeros_like(ci[k])
-    return float(gaps[k, m]), ci[k] + ri[k] * unit, cj[m] - rj[m] * unit
 
 
 def gaps_closed_by(margins: np.ndarray, scene: Scene) -> list[tuple[int, int, float]]:
@@ -125,10 +95,15 @@ def gaps_closed_by(margins: np.ndarray, scene: Scene) -> list[tuple[int, int, fl
     -------
     list of (int, int, float)
         ``(i, j, gap)`` with ``i < j`` and ``0 < gap < margins[i] + margins[j]``
-        (two obstacles that touch leave no gap to close).
+        (two obstacles that touch leave no gap to close: a gap within
+        :data:`TOUCHING` of the scene's size is a touch, such as a cup standing
+        on a table, 3e-17 m apart in floating point).
     """
     gaps = surface_gaps(scene)
-    closed = (margins[:, None] + margins[None, :] > gaps) & (gaps > 0.0)
+    touch = TOUCHING * float(
+        np.max(np.abs(scene.positions), initial=0.0) + np.max(scene.radii, initial=0.0)
+    )
+    closed = (margins[:, None] + margins[None, :] > gaps) & (gaps > touch)
     i, j = np.nonzero(np.triu(closed, k=1))
     return [(int(a), int(b), float(gaps[a, b])) for a, b in zip(i, j, strict=True)]
 
@@ -200,7 +175,7 @@ def threaded_pairs(path: np.ndarray, scene: Scene, n_samples: int = 16) -> list[
     for i in range(len(scene)):
         for j in range(i + 1, len(scene)):
             # The surface points nearest each other, and the segment between them.
-            gap, end_i, end_j = _nearest(scene.obstacles[i], scene.obstacles[j])
+            gap, end_i, end_j = scene.obstacles[i].surface_gap(scene.obstacles[j])
             if not 0.0 < gap < np.inf:
                 continue
             samples = end_i + t * (end_j - end_i)

@@ -209,6 +209,13 @@ class Box(Obstacle):
         best = _local_signed_distance(points.reshape(-1, self.n_dims), self.half).min()
         return float(best) - self.radius
 
+    def extreme_point(self, direction: np.ndarray) -> np.ndarray:
+        """Exact: the corner farthest along ``direction``, moved out by the rounding ``radius``."""
+        unit = np.asarray(direction, dtype=np.float64)
+        unit = unit / np.linalg.norm(unit)
+        corners = self.corners()
+        return corners[int(np.argmax(corners @ unit))] + self.radius * unit
+
     def outline(self, n_points: int = 64) -> np.ndarray:
         """The top view: the convex hull of the corners (rounded by ``radius``), closed."""
         corners = self.corners()[:, :2]

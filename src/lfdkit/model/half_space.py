@@ -257,6 +257,30 @@ class HalfSpace(Obstacle):
     def distance(self, path: np.ndarray) -> float:
         return float(self.heights(np.atleast_2d(path)).min())
 
+    def surface_gap(self, other: Obstacle) -> tuple[float, np.ndarray, np.ndarray]:
+        """Exact for the whole half-space: the height of ``other``'s lowest point above it.
+
+        Two whole half-spaces leave a slab between them only when they face
+        each other (opposite normals); any others intersect (``-inf``). A
+        clipped part is measured through the ball covers.
+        """
+        whole = self.region is None
+        other_whole = isinstance(other, HalfSpace) and other.region is None
+        if not whole:
+            if other_whole:
+                gap, theirs, mine = other.surface_gap(self)
+                return gap, mine, theirs
+            return self.cover_gap(other)
+        if other_whole:
+            if float(self.normal @ other.normal) > -1.0 + 1e-9:
+                return -np.inf, self.position, other.position
+            mine = self.surface_point
+            gap = float(self.normal @ (other.position - self.position)) - self.radius - other.radius
+            return gap, mine, mine + gap * self.normal
+        lowest = other.extreme_point(-self.normal)
+        height = float(self.heights(lowest[None])[0])
+        return height, lowest - height * self.normal, lowest
+
     def outline(self, n_points: int = 64) -> np.ndarray:
         """The top view of the clipped part: a closed polygon (empty where it has none)."""
         vertices = self.section()[0] if self.region is not None else self._region("outline")

@@ -28,6 +28,9 @@ method                    used by
 ``has_extent``            whether it is a hard barrier at clearance 0 (volume)
 ``distance(path)``        clearance and collision metrics, the planner's
                           final check and its refusal of a start inside
+``surface_gap(other)``    the gap between two obstacles (the safety floor's
+                          open gaps, :mod:`lfdkit.emulate.gaps`); by default
+                          through ``balls()``, ``extreme_point`` for a half-space
 ``outline()``, ``bounds()``  the plots
 ``fields()``/``from_fields``  scene files (:mod:`lfdkit.io.scenes`)
 ``solid(height)``         the MuJoCo simulation (a geom standing on the table)
@@ -77,6 +80,8 @@ class Obstacle:
     * :meth:`balls` — balls whose union contains the obstacle: the planner's
       hard clearance keeps out of each of them;
     * :meth:`distance` — exact distance from a path to the surface;
+    * :meth:`surface_gap` — the gap to another obstacle (by default through
+      both ball covers; :meth:`extreme_point` for the gap to a half-space);
     * :meth:`outline` — the top view, for plots; :meth:`fields` and
       :meth:`from_fields` — the shape's extra file fields;
     * :meth:`scaled` and :meth:`mirrored` — the same shape transformed.
@@ -197,6 +202,53 @@ class Obstacle:
     def distance(self, path: np.ndarray) -> float:
         """Smallest distance from a polyline ``(n, q)`` to the surface; negative inside."""
         return float(polyline_distances(self.position[None], path)[0]) - self.radius
+
+    def extreme_point(self, direction: np.ndarray) -> np.ndarray:
+        """The obstacle's point farthest along ``direction`` (q,), shape (q,).
+
+        Exact for a round obstacle; a shape that does not say answers with
+        the farthest point of its ball cover (:meth:`balls`), a little
+        beyond itself. Used for the gap to a half-space.
+        """
+        unit = np.asarray(direction, dtype=np.float64)
+        unit = unit / np.linalg.norm(unit)
+        centres, radii = self.balls()
+        k = int(np.argmax(centres @ unit + radii))
+        return centres[k] + radii[k] * unit
+
+    def surface_gap(self, other: Obstacle) -> tuple[float, np.ndarray, np.ndarray]:
+        """Surface-to-surface gap to ``other``, and the surface point of each nearest the other.
+
+        Exact for two round obstacles. A shape with an exact answer (a
+        half-space) overrides this and answers for every other shape itself
+        (with :meth:`cover_gap` where it has none, never ``super()``); the
+        default asks such a shape first, as Python's reflected operators do,
+        and otherwise measures through both ball covers (:meth:`cover_gap`).
+
+        Returns
+        -------
+        gap : float
+            Units; negative where the two overlap (``-inf``: they intersect
+            without bound, two half-spaces that are not parallel).
+        mine, theirs : ndarray, shape (q,)
+            The point of this obstacle's surface and of ``other``'s nearest each other.
+        """
+        if type(other).surface_gap is not Obstacle.surface_gap:
+            gap, theirs, mine = other.surface_gap(self)
+            return gap, mine, theirs
+        return self.cover_gap(other)
+
+    def cover_gap(self, other: Obstacle) -> tuple[float, np.ndarray, np.ndarray]:
+        """:meth:`surface_gap` through both ball covers (:meth:`balls`): the closest two balls.
+
+        Exact for round obstacles; for others at most the covers' overshoot too small.
+        """
+        (ci, ri), (cj, rj) = self.balls(), other.balls()
+        centre = np.linalg.norm(ci[:, None, :] - cj[None, :, :], axis=-1)
+        gaps = centre - ri[:, None] - rj[None, :]
+        k, m = np.unravel_index(np.argmin(gaps), gaps.shape)
+        unit = (cj[m] - ci[k]) / centre[k, m] if centre[k, m] > 0.0 else np.zeros_like(ci[k])
+        return float(gaps[k, m]), ci[k] + ri[k] * unit, cj[m] - rj[m] * unit
 
     def outline(self, n_points: int = 64) -> np.ndarray:
         """The top view (first two coordinates) as a closed polygon, shape (n_points, 2)."""

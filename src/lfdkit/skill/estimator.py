@@ -173,7 +173,11 @@ class Skill(
         replanned with the model they were fitted with (:attr:`training_fidelity_`).
         The global-route candidate plans with the reward fitted through the
         receding horizon, and the folds' refits are full-horizon only (cheap):
-        the cross-validated figures approximate those of full refits.
+        the cross-validated figures approximate those of full refits. Where
+        the full-horizon stage of the fit replans the demonstrations closer
+        than the receding horizon's (``ioc_info_["horizon"]`` None: a person
+        who planned the whole path, e.g. around boxes in 3-D, issue 34), that
+        reward is kept and the whole path is the only route (not for ``"thesis"``).
     max_slope : float
         Largest sideways step per step along the nominal (the action box).
     classes : sequence of str, optional
@@ -756,6 +760,9 @@ class Skill(
                 self.classes,
                 n_points=int(self.n_points),
                 horizon=self._horizon,
+                # The thesis's model is its staged fit exactly; the others keep the
+                # full-horizon fit where it replans the demonstrations closer.
+                keep_full_horizon=self.model != "thesis",
                 max_slope=float(self.max_slope),
                 progress=progress,
             ).fit(demos, scenes, nominals)
@@ -764,6 +771,7 @@ class Skill(
         self.ioc_info_ = {
             "n_demos": len(demos),
             "classes": list(ioc.classes_),
+            "horizon": ioc.horizon_,
             "loss": float(ioc.loss_),
             "converged": bool(ioc.converged_),
             "convergence_message": ioc.convergence_message_,

@@ -72,7 +72,10 @@ class BehaviourSelection:
         candidate of ``"auto"``: demonstrations of one task cannot tell the
         two apart (the nominal hardly turns at their obstacles).
         """
-        routes = ("full",) if self.planner == "full" else ("window", "full")
+        # A reward fitted for the whole path (the fit kept its full-horizon stage) is
+        # planned over the whole path only: a window would plan it too close.
+        fitted_full = self.planner == "full" or (self.ioc_info_ or {}).get("horizon", 0) is None
+        routes = ("full",) if fitted_full else ("window", "full")
         if self.model == "thesis":
             return [{"route": routes[0], "floor": "none", "frame": "world"}]
         frame = "path" if self.model == "path" else "world"

@@ -219,3 +219,26 @@ def test_a_moving_obstacle_is_refused_with_the_way_to_run_it(skill):
     cup = Obstacle("cup", [0.0, 0.3], 0.03, motion=ConstantVelocity([0.0, 0.05]))
     with pytest.raises(ValueError, match=r"moving obstacles.*run_moving"):
         execute_skill(skill, scene=Scene((cup,)), simulate=False)
+
+
+def test_a_wall_holding_the_arms_base_is_refused_before_planning(skill):
+    from lfdkit.model.half_space import HalfSpace
+
+    # A half-plane below the sweep (free side +y): the base at the origin is inside it,
+    # and MuJoCo's plane is infinite, so no run could start. (Its class's radius, 1 cm
+    # for a marker, lifts its surface.)
+    below = HalfSpace("marker", [0.0, 0.2], 0.0, [0.0, 1.0])
+    with pytest.raises(ValueError) as caught:
+        execute_skill(skill, scene=Scene((below,)), simulate=False)
+    assert str(caught.value) == (
+        "scene: obstacle 0 ('marker', half_space) reaches the arm's base at the origin (the "
+        "base's centre 21.0 cm inside it): the robot stands there; give a wall the normal that "
+        "points toward the arm (its free side holds the arm) or place the obstacle beyond the base"
+    )
+    # A round obstacle on the base is refused too; the base's reach is the arm's first link.
+    near = Obstacle("cup", [0.0, 0.08], 0.03)
+    reach = 100 * UR5.link_radii[0]
+    with pytest.raises(
+        ValueError, match=rf"\(5.0 cm from the base's centre, within its {reach:.1f}"
+    ):
+        execute_skill(skill, scene=Scene((near,)), simulate=False)

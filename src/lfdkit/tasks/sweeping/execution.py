@@ -384,6 +384,7 @@ def execute_skill(
             "not by the plan the obstacles were predicted for. Run the closed loop of "
             "lfdkit.tasks.sweeping.moving (run_moving, simulate_run) instead"
         )
+    _check_base_clear(scene, arm)
     progress = as_progress(progress)
     seconds: dict[str, float] = {}
 
@@ -568,6 +569,30 @@ def _standing(scene: Scene) -> Scene:
     return Scene(
         tuple(replace(o, radius=obstacle_class(o.label).cylinder_radius(o)) for o in scene)
     )
+
+
+def _check_base_clear(scene: Scene, arm: Arm) -> None:
+    """Refuse an obstacle that reaches the arm's base (the table's origin): the robot stands there.
+
+    A wall (a half-plane) below the sweep holds the base: MuJoCo's plane is
+    infinite, so the simulated arm starts inside it, and so would the real one.
+    """
+    base_radius = float(arm.link_radii[0])
+    for k, obstacle in enumerate(scene):
+        reach = obstacle.distance(np.zeros((1, 2)))
+        if reach < base_radius:
+            where = (
+                f"the base's centre {-100 * reach:.1f} cm inside it"
+                if reach < 0.0
+                else f"{100 * reach:.1f} cm from the base's centre, within its "
+                f"{100 * base_radius:.1f} cm"
+            )
+            raise ValueError(
+                f"scene: obstacle {k} ({obstacle.label!r}, {obstacle.shape}) reaches the arm's "
+                f"base at the origin ({where}): the robot stands there; give a wall the normal "
+                "that points toward the arm (its free side holds the arm) or place the "
+                "obstacle beyond the base"
+            )
 
 
 def _workspace(arm: Arm) -> Workspace:
