@@ -408,7 +408,8 @@ class MeanPath(Estimator):
         self.center_weights_ = np.ones((len(demos), len(ref)))
         if self.center == "adaptive":
             weights, why = _run_weights(ref, state.hits, state.found)
-            if why:
+            self.center_reason_ += f"; then {why}"
+            if (weights < 1.0).any():
                 # A second pass from the first centre with those runs down-weighted.
                 state = self._evaluate(ref, polylines, needed, tuning=tuning, prior=weights)
                 ref, state, more_res, more_inn, more_iter, stop_reason = self._iterate(
@@ -418,12 +419,6 @@ class MeanPath(Estimator):
                 innovations += more_inn[1:]
                 n_iter += more_iter
                 self.center_weights_ = weights.T.copy()
-                self.center_reason_ += f"; then {why}"
-            else:
-                self.center_reason_ += (
-                    "; no demonstration strays from it in a contiguous run "
-                    f"(beyond {_RUN_LO:g} robust scales of its residuals averaged along the path)"
-                )
 
         self.path_ = ref
         self.residual_history_ = np.array(residuals)
@@ -1022,27 +1017,6 @@ def _smoothness(coords: np.ndarray, hit: np.ndarray) -> float:
     return float((a * b).sum() / denominator) if denominator > 0 else 0.0
 
 
-def _gaussian_basis(coords: np.ndarray, hit: np.ndarray) -> np.ndarray:
-    """Deviations from each normal's mean, rescaled to a spread that changes slowly.
-
-    Mixed with independent Gaussian weights (one set per replica
-    demonstration, variance ``1 / (n - 1)``) they give Gaussian demonstrations
-    as smooth along the path as the data and as many (:func:`_gaussian_advantage`,
-    :func:`_run_weights`).
-    """
-    count = np.maximum(hit.sum(axis=1), 1)[:, None, None]
-    centred = np.where(hit[..., None], coords - coords.sum(axis=1, keepdims=True) / count, 0.0)
-    # Each normal's spread replaced by its running median along the path: the data's
-    # slow changes of spread stay (they too make pooled values look heavy-tailed), a
-    # burr's or a detour's local rise does not (in every replica it would look so).
-    spread = np.sqrt((centred**2).sum(axis=1, keepdims=True) / np.maximum(count - 1, 1))
-    centred = np.divide(centred, spread, out=np.zeros_like(centred), where=spread > 0)
-    window = max(5, len(coords) // 10)
-    slow = np.stack([_running_median(sd, window) for sd in spread[:, 0, :].T], axis=1)
-    centred *= np.nan_to_num(slow)[:, None, :]
-    return centred
-
-
 def _gaussian_advantage(
     coords: np.ndarray, hit: np.ndarray, few: bool, rng: np.random.Generator
 ) -> tuple[float, float]:
@@ -1062,7 +1036,16 @@ def _gaussian_advantage(
         errors = _pooled_errors(values, hit, few)
         return float(1.0 - np.nanmin(errors[1:]) / errors[0]) if np.isfinite(errors[0]) else 0.0
 
-    centred = _gaussian_basis(coords, hit)
+    count = np.maximum(hit.sum(axis=1), 1)[:, None, None]
+    centred = np.where(hit[..., None], coords - coords.sum(axis=1, keepdims=True) / count, 0.0)
+    # Each normal's spread replaced by its running median along the path: the data's
+    # slow changes of spread stay (they too make pooled values look heavy-tailed), a
+    # burr's or a detour's local rise does not (in every replica it would look so).
+    spread = np.sqrt((centred**2).sum(axis=1, keepdims=True) / np.maximum(count - 1, 1))
+    centred = np.divide(centred, spread, out=np.zeros_like(centred), where=spread > 0)
+    window = max(5, len(coords) // 10)
+    slow = np.stack([_running_median(sd, window) for sd in spread[:, 0, :].T], axis=1)
+    centred *= np.nan_to_num(slow)[:, None, :]
     n_hits = hit.shape[1]
     mixed = []
     for _ in range(_NULL_DRAWS):
@@ -1130,35 +1113,33 @@ def _cross_validate(
     )
 
 
-def _run_distances(coords: np.ndarray, found: np.ndarray) -> list[tuple[int, np.ndarray]]:
+def _run_distance(coords: np.ndarray, found: np.ndarray, half: int) -> np.ndarray:
     """Each demonstration's residuals averaged along the path, in robust scales of such averages.
 
     ``coords`` (m, n, k): residuals in the normal frames (zero where not
-    ``found``). For each stretch of :data:`_RUN_WINDOWS` (``2 half + 1``
-    normals) returns ``(half, distance)``, ``distance`` (m, n) each average's
-    distance from the robust start of the averages on its normal
-    (:func:`_own_start_and_scale`) over their robust scale (a running median
-    along the path); zero where not found.
+    ``found``), averaged over the ``2 half + 1`` normals about each (those
+    found). Returns (m, n): each average's distance from the robust start of
+    the averages on its normal (:func:`_own_start_and_scale`) over their
+    robust scale (a running median along the path); zero where not found or
+    where there is no spread to measure (e.g. half the values coincide).
     """
     m = len(coords)
     count = np.concatenate((np.zeros((1, found.shape[1])), np.cumsum(found, axis=0)))
-    total = np.concatenate((np.zeros((1, *coords.shape[1:])), np.cumsum(coords, axis=0)))
-    out = []
-    for fraction in _RUN_WINDOWS:
-        half = round(0.5 * fraction * m)
-        lo = np.clip(np.arange(m) - half, 0, m)
-        hi = np.clip(np.arange(m) + half + 1, 0, m)
-        n_in = count[hi] - count[lo]
-        averaged = (total[hi] - total[lo]) / np.maximum(n_in, 1)[..., None]
-        start, own = _own_start_and_scale(averaged, found)
-        usable = (own > 0.0) & (found.sum(axis=1) >= 3)
-        if not usable.any():
-            continue
-        scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
-        scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
-        distance = np.linalg.norm(averaged - start[:, None, :], axis=2) / scale[:, None]
-        out.append((half, np.where(found, distance, 0.0)))
-    return out
+    total = np.concatenate(
+        (np.zeros((1, *coords.shape[1:])), np.cumsum(np.where(found[..., None], coords, 0.0), 0))
+    )
+    lo = np.clip(np.arange(m) - half, 0, m)
+    hi = np.clip(np.arange(m) + half + 1, 0, m)
+    n_in = count[hi] - count[lo]
+    averaged = (total[hi] - total[lo]) / np.maximum(n_in, 1)[..., None]
+    start, own = _own_start_and_scale(averaged, found)
+    usable = (own > 0.0) & (found.sum(axis=1) >= 3)
+    if not usable.any():
+        return np.zeros(found.shape)
+    scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
+    scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
+    distance = np.linalg.norm(averaged - start[:, None, :], axis=2) / scale[:, None]
+    return np.where(found, distance, 0.0)
 
 
 def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, str]:
@@ -1184,40 +1165,46 @@ def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[
     offsets = np.where(found[..., None], hits - ref[:, None, :], 0.0)
     frames = normal_frames(point_tangents(ref))[:, 1:, :]
     coords = np.einsum("mnq,mkq->mnk", offsets, frames)
-    runs = _run_distances(coords, found)
-    if not runs or max(d.max() for _, d in runs) <= _RUN_LO:
-        return np.ones((m, n_demos)), ""  # nothing stands out even before calibrating
+    smoothness = _smoothness(coords, found)
+    if smoothness >= _SMOOTH:
+        return np.ones((m, n_demos)), (
+            f"deviations smooth along the path (rank correlation {smoothness:.2f} from one "
+            "normal to the next): averaging them along it tells no run from the spread"
+        )
+    halves = [round(0.5 * fraction * m) for fraction in _RUN_WINDOWS]
     rng = np.random.default_rng(_CHOICE_SEED)
-    # Smooth deviations: replicas as smooth as the data; otherwise white noise (mixing
-    # would carry the burrs' own smoothness into the replicas and hide them).
-    smooth = _smoothness(coords, found) >= _SMOOTH
-    basis = _gaussian_basis(coords, found) if smooth else None
-    seen = np.full(len(runs), _RUN_LO)
-    for _ in range(_RUN_DRAWS):
-        if smooth:
-            mixing = rng.normal(0.0, 1.0, (n_demos, n_demos)) / np.sqrt(max(1, n_demos - 1))
-            replica = np.einsum("ij,mjk->mik", mixing, basis)
-        else:
+    seen = np.full(len(halves), _RUN_LO)
+    if max(_run_distance(coords, found, half).max() for half in halves) > _RUN_LO:
+        for _ in range(_RUN_DRAWS):  # else nothing stands out at all
             replica = rng.normal(0.0, 1.0, coords.shape)
-        replica = np.where(found[..., None], replica, 0.0)
-        for i, (_, distance) in enumerate(_run_distances(replica, found)):
-            seen[i] = max(seen[i], distance.max())
+            seen = np.maximum(seen, [_run_distance(replica, found, h).max() for h in halves])
+    # From the shortest stretch to the longest, each on what the shorter ones kept: a
+    # narrow tall burr is erased over its own width, not smeared over a long stretch.
     weights = np.ones((m, n_demos))
-    for (half, distance), lo in zip(runs, seen, strict=True):
+    kept = found.copy()
+    beyond = np.zeros((m, n_demos), dtype=bool)
+    for i, (half, lo) in enumerate(zip(halves, seen, strict=True)):
+        distance = _run_distance(coords, kept, half)
+        if i < 2:
+            beyond |= distance > _RUN_GROW
         v = np.clip((distance - lo) / ((_RUN_TAPER - 1.0) * lo), 0.0, 1.0)
-        weight = np.where(found, (1.0 - v**2) ** 2, 1.0)
+        weight = np.where(kept, (1.0 - v**2) ** 2, 1.0)
         if half:  # the least weight of any stretch holding the point
             padded = np.pad(weight, ((half, half), (0, 0)), constant_values=1.0)
             window = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1, axis=0)
             weight = window.min(axis=2)
         weights = np.minimum(weights, weight)
+        kept = found & (weights >= 0.99)
     low = found & (weights < 0.99)
     if not low.any():
-        return np.ones((m, n_demos)), ""
+        return np.ones((m, n_demos)), (
+            f"no demonstration strays from it in a contiguous run (residuals averaged over "
+            f"{', '.join(f'{f:.0%}' for f in _RUN_WINDOWS[1:])} of the path within "
+            f"{', '.join(f'{t:.1f}' for t in seen)} robust scales)"
+        )
     # A run flagged at its peak is erased out to where the demonstration comes back
-    # among the others (within _RUN_GROW robust scales on every stretch): a detour's
-    # flanks, below the threshold, would otherwise still pull the path.
-    beyond = np.max([distance for _, distance in runs], axis=0) > _RUN_GROW
+    # among the others (within _RUN_GROW robust scales on its own normals and the
+    # shortest stretches): a detour's flanks, below the threshold, would still pull.
     for j in np.flatnonzero(low.any(axis=0)):
         grown = beyond[:, j] | low[:, j]
         edges = np.flatnonzero(np.diff(np.concatenate(([0], grown.astype(int), [0]))))
@@ -1231,7 +1218,7 @@ def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[
         f"({np.median(share):.0%} of their normals, median): residuals averaged over "
         f"{', '.join(f'{f:.0%}' for f in _RUN_WINDOWS[1:])} of the path beyond "
         f"{', '.join(f'{t:.1f}' for t in seen)} robust scales (the largest in "
-        f"{_RUN_DRAWS} Gaussian replicas as smooth, at least {_RUN_LO:g}); those runs "
+        f"{_RUN_DRAWS} replicas of white Gaussian noise, at least {_RUN_LO:g}); those runs "
         "down-weighted (center_weights_) and the path fitted again from there"
     )
     return weights, why
