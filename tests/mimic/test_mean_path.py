@@ -39,6 +39,7 @@ from lfdkit.mimic.mean_path import (
     _cross_validate,
     _gaussian_advantage,
     _pooled_location,
+    _run_weights,
     _smoothness,
 )
 
@@ -1112,3 +1113,64 @@ def test_smoothness_tells_smooth_bands_from_white_noise_with_burrs():
     noise = rng.normal(size=(100, 10))
     burrs = noise + np.where(rng.random(noise.shape) < 0.3, 2.0, 0.0)  # uncorrelated along
     assert abs(_smoothness(burrs[..., None], np.ones(burrs.shape, bool))) < 0.2
+
+
+# ------------------------------------- adaptive, second pass: contiguous runs erased
+def test_run_weights_erase_a_low_run_in_one_demonstration_only():
+    rng = np.random.default_rng(0)
+    noise = rng.normal(size=(150, 10))
+    ref, hits, found = _rows(noise)
+    weights, why = _run_weights(ref, hits, found)
+    assert np.all(weights == 1.0) and why.startswith("no demonstration strays"), why
+    # Demonstration 3 runs 3 noise levels off for 20 normals: within the pointwise
+    # cut-off (4 to 8 scales), far beyond it once averaged over the run.
+    values = noise.copy()
+    values[60:80, 3] += 3.0
+    weights, why = _run_weights(*_rows(values))
+    assert weights[62:78, 3].max() < 0.05, why
+    assert weights[:50, 3].min() == 1.0 and weights[95:, 3].min() == 1.0  # only the run
+    assert np.delete(weights, 3, axis=1).min() == 1.0
+    assert "1 of 10 demonstrations stray" in why
+
+
+def test_run_weights_leave_smooth_bands_alone():
+    weights, why = _run_weights(*_rows(_smooth_band(3, 15)))
+    assert np.all(weights == 1.0) and "smooth along the path" in why
+
+
+@pytest.mark.parametrize("noise, height", [(0.02, 4.0), (0.5, 3.0), (0.001, 6.0)])
+def test_adaptive_erases_a_wide_low_burr_from_the_one_profile_that_has_it(noise, height):
+    """Ten white-noise profiles, one with a plateau burr over a tenth of its length.
+
+    The burr is ``height`` noise levels high: the first pass keeps it (within 4
+    robust scales of the centre on each normal, or barely beyond), so the mean
+    there is pulled up by a tenth of it; the second pass erases it.
+    """
+    rng = np.random.default_rng(7)
+    length = 5000.0 * noise  # the same shape in other units
+    x = np.linspace(0.0, length, 300)
+    burr = (x > 0.4 * length) & (x < 0.5 * length)
+    demos = [np.column_stack((x, rng.normal(0.0, noise, len(x)))) for _ in range(10)]
+    demos[4][burr, 1] += height * noise
+    mp = MeanPath(n_points=100).fit(demos)
+    mean = MeanPath(n_points=100, center="mean").fit(demos)
+    inside = (mp.path_[:, 0] > 0.41 * length) & (mp.path_[:, 0] < 0.49 * length)
+    assert mp.center_weights_[4, inside].max() < 0.05, mp.center_reason_
+    assert np.delete(mp.center_weights_, 4, axis=0).min() > 0.99
+    assert "1 of 10 demonstrations stray" in mp.center_reason_
+    # There the path is the mean of the other nine (the truth's best estimate without
+    # the burr); the plain mean is pulled up by a tenth of the burr's height.
+    others = np.mean([np.interp(mp.path_[inside, 0], x, d[:, 1]) for d in demos[:4] + demos[5:]], 0)
+    np.testing.assert_allclose(mp.path_[inside, 1], others, atol=1e-3 * noise)
+    pulled = np.interp(mean.path_[inside, 0], mp.path_[:, 0], mp.path_[:, 1])
+    # (up to demonstration 4's own noise there: about a third of this tolerance)
+    assert np.mean(mean.path_[inside, 1] - pulled) == pytest.approx(0.1 * height * noise, rel=0.3)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_adaptive_second_pass_leaves_clean_white_noise_alone(seed):
+    demos = _profiles(10, 0, seed)
+    mp = MeanPath(n_points=100).fit(demos)
+    assert np.all(mp.center_weights_ == 1.0)
+    assert "no demonstration strays from it in a contiguous run" in mp.center_reason_
+    assert mp.center_weights_.shape == (10, 100)
