@@ -103,8 +103,10 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
     assert set(candidates) == {
         f"{route}{floor}"
         for route in ("window", "full")
-        for floor in ("", "+demonstrated", "+closest")
+        for floor in ("", "+demonstrated", "+closest", "/swerve")
     }
+    # the swerve candidates' stretches (before, after) per class, said
+    assert set(selection["swerve"]) == {"cup"} and len(selection["swerve"]["cup"]) == 2
     assert next(iter(candidates)) == "window"  # the thesis's model
     # The default: the demonstrated floor where the closest approach is consistent.
     # Against the route with no floor at all (the thesis's plan), planned only for this.

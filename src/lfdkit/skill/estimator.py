@@ -952,7 +952,8 @@ class Skill(
         if self.reward_ is not None:
             area = factor**2
             precisions = {c: m / area for c, m in self.reward_.precisions.items()}
-            skill.adopt(Reward(self.reward_.nominal_weight / area, precisions))
+            # the swerve's stretches are ratios: no unit
+            skill.adopt(Reward(self.reward_.nominal_weight / area, precisions, self.reward_.swerve))
             skill.route_ = getattr(self, "route_", None)
             skill.frame_ = getattr(self, "frame_", "world")
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}

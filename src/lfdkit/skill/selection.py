@@ -1,4 +1,4 @@
-"""The behaviour model a skill chooses (issue 26): route planner, clearance floor, frame.
+"""The behaviour model a skill chooses (issue 26): route planner, clearance floor, frame, swerve.
 
 Each candidate replans every obstacle demonstration left out of a refit of the
 reward (at most :data:`MAX_FOLDS` folds of :data:`CROSS_VALIDATION_MAX_ITER`
@@ -7,6 +7,16 @@ unless another replans closer by more than :data:`SELECTION_MARGIN`, or the
 demonstrations keep a consistent clearance (:data:`CONSISTENT_CLEARANCE`).
 With fewer than :data:`MIN_CROSS_VALIDATION_DEMOS` demonstrations the choice
 falls back to training replanning.
+
+The swerve candidates (``"window/swerve"``, ``"full/swerve"``) plan with a
+reward whose responses are stretched along the path before and after each
+class's obstacles (:class:`lfdkit.emulate.Reward`'s ``swerve``: 2 parameters
+a class), fitted after the thesis's reward and warm-started from it
+(:data:`SWERVE_MAX_ITER` L-BFGS iterations, full horizon), and refitted in
+each fold like the others. A person who starts early and returns slowly (a
+DMP with a potential field) or swerves late and returns slowly cannot be
+expressed by the thesis's symmetric bump; the thesis's person is, and keeps
+it unless the swerve replans closer by more than the margin.
 """
 
 from __future__ import annotations
@@ -44,6 +54,10 @@ MIN_CROSS_VALIDATION_DEMOS = 3
 MAX_FOLDS = 5
 #: L-BFGS iterations of each fold's refit, started from the reward fitted on all.
 CROSS_VALIDATION_MAX_ITER = 6
+#: L-BFGS iterations of the swerve reward's fit on all demonstrations (warm-started from
+#: the thesis's reward; full horizon) and of each fold's refit.
+SWERVE_MAX_ITER = 15
+SWERVE_FOLD_MAX_ITER = 5
 #: Another model must replan the held-out demonstrations this much closer (MSE) to be chosen.
 SELECTION_MARGIN = 0.02
 #: The demonstrations keep a consistent clearance when planning each held-out one with the
@@ -79,6 +93,9 @@ class BehaviourSelection:
         return [
             {"route": route, "floor": floor, "frame": frame}
             for floor in CLEARANCE_FLOORS
+            for route in routes
+        ] + [
+            {"route": route, "floor": "none", "frame": frame, "swerve": "learned"}
             for route in routes
         ]
 
@@ -220,8 +237,43 @@ class BehaviourSelection:
                 )
         except ValueError:  # nothing to learn from them: the reward fitted on all
             return self.reward_
-        learned = ioc.reward_
-        return Reward(learned.nominal_weight, {**self.reward_.precisions, **learned.precisions})
+        return self.reward_.combined(ioc.reward_, ioc.reward_.nominal_weight)
+
+    def _fit_swerve(
+        self,
+        init: Reward,
+        keep: Sequence[int],
+        demos: list[np.ndarray],
+        scenes: list[Scene],
+        nominals: list[np.ndarray],
+        max_iter: int,
+    ) -> Reward:
+        """The swerve reward fitted on demonstrations ``keep``, warm-started from ``init``.
+
+        Full horizon, one start, without the after-fit checks; a fit that
+        fails keeps ``init``. Classes the kept demonstrations do not show keep
+        ``init``'s response.
+        """
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                ioc = IOC(
+                    init.classes,
+                    n_points=int(self.n_points),
+                    max_slope=float(self.max_slope),
+                    init=init,
+                    n_starts=1,
+                    max_iter=max_iter,
+                    swerve=True,
+                    diagnose=False,
+                ).fit(
+                    [demos[i] for i in keep],
+                    [scenes[i] for i in keep],
+                    [nominals[i] for i in keep],
+                )
+        except ValueError:
+            return init
+        return init.combined(ioc.reward_, ioc.reward_.nominal_weight)
 
     @staticmethod
     def _default_model(
@@ -310,15 +362,28 @@ class BehaviourSelection:
         cross = n >= MIN_CROSS_VALIDATION_DEMOS
         full_floors = self._floors(demos, scenes, nominals)
 
-        def replanned(indices: Sequence[int], models: Sequence[Mapping[str, str]], reward, floors):
+        def replanned(indices: Sequence[int], models: Sequence[Mapping[str, str]], rewards, floors):
+            # rewards: (the thesis's, the swerve's) fitted on the same demonstrations
             out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in models}
-            for j in indices:
-                rows = self._replan_candidates(
-                    demos[j], goal[j], scenes[j], nominals[j], models, reward, floors
-                )
-                for candidate, row in zip(models, rows, strict=True):
-                    out[_behaviour_name(candidate)].append({"demo": j, **row})
+            for swerve, reward in zip((False, True), rewards, strict=True):
+                group = [c for c in models if ("swerve" in c) == swerve]
+                if not group:
+                    continue
+                for j in indices:
+                    rows = self._replan_candidates(
+                        demos[j], goal[j], scenes[j], nominals[j], group, reward, floors
+                    )
+                    for candidate, row in zip(group, rows, strict=True):
+                        out[_behaviour_name(candidate)].append({"demo": j, **row})
             return out
+
+        # The swerve reward on all demonstrations, from the thesis's (None: no candidate).
+        thesis_reward = self.reward_
+        swerve_reward = None
+        if any("swerve" in c for c in candidates):
+            swerve_reward = self._fit_swerve(
+                thesis_reward, range(n), demos, scenes, nominals, SWERVE_MAX_ITER
+            )
 
         n_folds = min(n, MAX_FOLDS) if cross else 0
         held_out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in planned}
@@ -326,12 +391,18 @@ class BehaviourSelection:
             held = [j for j in range(n) if j % n_folds == fold]
             keep = [j for j in range(n) if j % n_folds != fold]
             reward = self._refit_on(keep, demos, scenes, nominals)
+            fold_swerve = None
+            if swerve_reward is not None:
+                fold_swerve = self._fit_swerve(
+                    swerve_reward, keep, demos, scenes, nominals, SWERVE_FOLD_MAX_ITER
+                )
             floors = self._floors(
                 [demos[i] for i in keep], [scenes[i] for i in keep], [nominals[i] for i in keep]
             )
-            for name, rows in replanned(held, planned, reward, floors).items():
+            for name, rows in replanned(held, planned, (reward, fold_swerve), floors).items():
                 held_out[name] += rows
-        training = {} if cross else replanned(range(n), planned, self.reward_, full_floors)
+        rewards = (thesis_reward, swerve_reward)
+        training = {} if cross else replanned(range(n), planned, rewards, full_floors)
         rows = held_out if cross else training
         scores = {name: _fidelity_scores(rows[name]) for name in names}
         free = (
@@ -347,12 +418,14 @@ class BehaviourSelection:
             ),
         )
         chosen = candidates[names.index(ranked[0])]
+        if "swerve" in chosen:
+            self.reward_ = swerve_reward  # the skill plans with the swerve it was chosen for
         self.route_ = chosen["route"]
         self.frame_ = chosen["frame"]
         clearances, self.gaps_ = self._candidate_floor(chosen, full_floors)
         self.clearances_ = dict(clearances)
         if ranked[0] not in training:
-            training = replanned(range(n), [chosen], self.reward_, full_floors)
+            training = replanned(range(n), [chosen], rewards, full_floors)
         self.training_fidelity_ = [
             {k: v for k, v in row.items() if k != "replay_mse"} for row in training[ranked[0]]
         ]
@@ -379,6 +452,11 @@ class BehaviourSelection:
                 for name, candidate in zip(names, candidates, strict=True)
             },
         }
+        if swerve_reward is not None:  # what the swerve candidates learned (w_before, w_after)
+            self.model_selection_["swerve"] = {
+                c: [float(w) for w in swerve_reward.swerve.get(c, (1.0, 1.0))]
+                for c in swerve_reward.classes
+            }
 
     def _warn_fidelity(self) -> None:
         """Warn when the demonstrations are emulated poorly (held out or replanned): what to do."""
@@ -422,6 +500,8 @@ def _behaviour_name(candidate: Mapping[str, str]) -> str:
     name = candidate["route"]
     if candidate["floor"] != "none":
         name += f"+{candidate['floor']}"
+    if "swerve" in candidate:
+        name += "/swerve"
     return f"path:{name}" if candidate["frame"] == "path" else name
 
 
