@@ -833,7 +833,11 @@ class Skill(
         n_dims = getattr(self, "n_dims_", None)
         if n_dims is not None and reward.n_dims not in (None, n_dims):
             raise ValueError(f"source: {reward.n_dims}-D reward for a {n_dims}-D skill")
-        taken = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in wanted})
+        taken = Reward(
+            reward.nominal_weight,
+            {c: reward.precisions[c] for c in wanted},
+            {c: reward.swerve[c] for c in wanted if c in reward.swerve},  # a swerve comes with it
+        )
         own = getattr(self, "reward_", None)
         self.reward_ = taken if own is None else own.combined(taken)
         if not hasattr(self, "ioc_"):
