@@ -142,7 +142,11 @@ class Skill(
         person reacts (the thesis's receding horizon, or the whole path's
         optimum) times a clearance floor kept from each class's obstacles
         (none; 0.8 times the 10 % quantile of what the demonstrations kept;
-        the closest any came, :data:`CLEARANCE_FLOORS`). The thesis's model
+        the closest any came, :data:`CLEARANCE_FLOORS`), and the two routes
+        with a swerve (each class's response stretched before and after its
+        obstacle along the path, fitted after the thesis's reward and
+        warm-started from it: a person who starts early and returns slowly,
+        or swerves late; ``Reward.swerve``). The thesis's model
         comes first and stays unless another replans the held-out
         demonstrations closer by more than :data:`SELECTION_MARGIN`:
         demonstrations that cannot tell the candidates apart (a floor
@@ -274,11 +278,13 @@ class Skill(
         :data:`MIN_CROSS_VALIDATION_DEMOS` obstacle demonstrations: then the
         training scenes are replanned), ``folds``, the ``chosen`` model's
         name and the ``runner_up``'s, and per candidate (``"window"``,
-        ``"full+closest"``, ...) its ``route``, ``floor``, ``frame`` and
-        held-out scores: ``mse`` (units²), ``improvement_pooled``,
-        ``_median`` and ``_mean`` (Pr %), ``sides_agree`` (share),
-        ``refused`` and ``clearance_relaxed`` (counts). Also in
-        :attr:`ioc_info_` and the skill file.
+        ``"full+closest"``, ``"window/swerve"``, ...) its ``route``, ``floor``,
+        ``frame`` (and ``swerve``: ``"learned"``) and held-out scores:
+        ``mse`` (units²), ``improvement_pooled``, ``_median`` and ``_mean``
+        (Pr %), ``sides_agree`` (share), ``refused`` and
+        ``clearance_relaxed`` (counts); ``swerve``: the swerve candidates'
+        stretches ``[before, after]`` per class. Also in :attr:`ioc_info_`
+        and the skill file.
     """
 
     def __init__(
