@@ -22,7 +22,11 @@ The cost of offsets ``d`` (n, m), ``n = K − 1``, is the negative reward
 
 with ``Q_k`` the nominal weight (``Q``, ramped up towards the goal when a plan
 must reach it: :func:`goal_weights`) and, for obstacles with a hard radius,
-the clearance barrier of :mod:`lfdkit.emulate.planner`. :class:`Problem`
+the clearance barrier of :mod:`lfdkit.emulate.planner`. A reward with a
+swerve (issue 26) moves each point's ``O_o`` along the path
+(:func:`swerve_shifts`), a constant per point and obstacle: the terms keep
+their form, only their precomputed coefficients change, and without a swerve
+nothing is computed for it. :class:`Problem`
 precomputes the obstacle terms once per scene, so every evaluation is a few
 element-wise operations; :meth:`Problem.solve` is the compiled projected
 Newton solver (:mod:`._problem_kernels`) that the planner polishes its starts
