@@ -87,7 +87,7 @@ def swerve_theta(reward: Reward) -> np.ndarray:
 
 
 def test_full_horizon_gradient_with_a_swerve_matches_finite_differences() -> None:
-    demos, scenes = demonstrations(SWERVING, 3)
+    demos, scenes = demonstrations(SWERVING, 2)
     loss = training_loss(demos, scenes)
     theta = swerve_theta(SWERVING) + np.array([0.2, -0.2, 0.3, -0.3, 0.25])
     warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
@@ -125,3 +125,14 @@ def test_a_swerving_demonstrator_is_recovered() -> None:
     # The thesis's symmetric model cannot replay them as closely.
     thesis = IOC(init=start, n_starts=1, n_points=80, diagnose=False).fit(demos, scenes, nominal())
     assert ioc.loss_ < 0.1 * thesis.loss_
+
+
+def test_the_swerve_wall_gradient_matches_finite_differences() -> None:
+    ioc = IOC(swerve=True)
+    ioc.classes_, ioc._q = ("cup", "box"), 2
+    # Q, two precisions a class, then (before, after) a class: one stretch beyond 5.
+    theta = np.array([1.0, 2.0, 3.0, 2.5, 1.5, np.log(8.0), 0.1, -0.2, np.log(0.1)])
+    value, gradient = ioc._penalty(theta)
+    assert value == pytest.approx(np.log(8.0 / 5.0) ** 2 + np.log(0.2 / 0.1) ** 2)
+    fd = _finite_difference(lambda t: ioc._penalty(t)[0], theta, eps=1e-6)
+    np.testing.assert_allclose(gradient, fd, atol=1e-8)
