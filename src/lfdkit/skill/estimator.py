@@ -142,7 +142,7 @@ class Skill(
         person reacts (the thesis's receding horizon, or the whole path's
         optimum) times a clearance floor kept from each class's obstacles
         (none; 0.8 times the 10 % quantile of what the demonstrations kept;
-        the closest any came, :data:`CLEARANCE_FLOORS`), and the two routes
+        the closest any came, :data:`CLEARANCE_FLOORS`), and the first route
         with a swerve (each class's response stretched before and after its
         obstacle along the path, fitted after the thesis's reward and
         warm-started from it: a person who starts early and returns slowly,
