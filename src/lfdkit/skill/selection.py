@@ -9,9 +9,8 @@ With fewer than :data:`MIN_CROSS_VALIDATION_DEMOS` demonstrations the choice
 falls back to training replanning.
 
 The swerve candidate (``"window/swerve"``; ``"full/swerve"`` for
-``planner="full"``) plans with a
-reward whose responses are stretched along the path before and after each
-class's obstacles (:class:`lfdkit.emulate.Reward`'s ``swerve``: 2 parameters
+``planner="full"``) plans with a reward whose responses are stretched along
+the path before and after each class's obstacles (:class:`lfdkit.emulate.Reward`'s ``swerve``: 2 parameters
 a class), fitted after the thesis's reward and warm-started from it
 (:data:`SWERVE_MAX_ITER` L-BFGS iterations, full horizon), and refitted in
 each fold like the others. One route only: replanning is most of the choice's
