@@ -155,7 +155,7 @@ def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> Non
         scenes.append(scene)
     skill = Skill().fit(free, demos, scenes)
     selection = skill.model_selection_
-    assert selection["swerve_gain"] <= SWERVE_GAIN
+    assert selection["swerve_gain"] <= SWERVE_GAIN, selection["swerve_gain"]
     assert selection["chosen"] == "window/swerve"
     # the skill plans with the learned swerve, longer after the cup than before (its
     # sizes trade off with the response's width along the path: only the asymmetry is
