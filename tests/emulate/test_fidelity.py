@@ -25,6 +25,7 @@ from lfdkit.emulate.fidelity import (
 )
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import CONSISTENT_CLEARANCE, MAX_FOLDS, SELECTION_MARGIN, Skill
+from lfdkit.skill.selection import SWERVE_GAIN
 
 X = np.linspace(0.0, 1.0, 100)
 FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
@@ -104,7 +105,9 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
         f"{route}{floor}"
         for route in ("window", "full")
         for floor in ("", "+demonstrated", "+closest")
-    }
+    } | ({"window/swerve"} if selection["swerve_gain"] <= SWERVE_GAIN else set())
+    if "window/swerve" in candidates:  # its stretches (before, after) per class, said
+        assert set(selection["swerve"]) == {"cup"} and len(selection["swerve"]["cup"]) == 2
     assert next(iter(candidates)) == "window"  # the thesis's model
     # The default: the demonstrated floor where the closest approach is consistent.
     # Against the route with no floor at all (the thesis's plan), planned only for this.

@@ -12,7 +12,11 @@ Notation as in :class:`lfdkit.emulate.problem.Problem`: ``c`` (n, L),
 ``weight`` (n,) the nominal weight per offset, ``base`` (n, q) and ``normals``
 (n, m, q) the nominal points and their normals, ``obstacles`` (L, q) and
 ``precision`` (L, q) the obstacles' centres and diagonal precisions,
-``class_of`` (L,) their class. θ = [log Q, log p_{c,i}].
+``class_of`` (L,) their class. θ = [log Q, log p_{c,i}], and with the swerve
+model (issue 26) then ``[log w_before, log w_after]`` per class: ``shift``,
+``shift_rate`` (n, L, q) and ``shift_side`` (n, L) of
+:class:`lfdkit.emulate.problem.Problem` (arrays of size zero: no swerve, the
+thesis's model, computed exactly as before they existed).
 """
 
 import numba
@@ -22,16 +26,33 @@ from lfdkit.emulate._problem_kernels import offset_derivatives, offset_groups, o
 
 
 @numba.njit(cache=True)
-def _theta_derivative(weight, base, normals, obstacles, precision, class_of, n_classes, d, out):
+def _theta_derivative(
+    weight,
+    base,
+    normals,
+    obstacles,
+    precision,
+    class_of,
+    n_classes,
+    shift,
+    shift_rate,
+    shift_side,
+    d,
+    out,
+):
     """``∂G/∂θ`` (n, m, n_theta): derivative of the offset gradient ``G`` w.r.t. θ.
 
     For obstacle ``o`` of class ``c`` with ``u = x − O`` and ``e = exp(−uᵀPu)``
     the gradient term is ``−2e N P u``, whose derivative in ``log p_j`` is
-    ``2 e p_j u_j (u_j (N P u)_i − N_{ij})``.
+    ``2 e p_j u_j (u_j (N P u)_i − N_{ij})``. With a swerve ``u`` gains the
+    shift ``s``, whose derivative in the log-stretch of the point's side is
+    ``v`` (``shift_rate``): ``∂G_i = 2 e (2 (uᵀPv) (N P u)_i − (N P v)_i)``.
     """
     n, m = d.shape
     q = base.shape[1]
     n_obs = obstacles.shape[0]
+    swerve = shift.shape[0] > 0
+    first_swerve = 1 + n_classes * q
     out[:, :, :] = 0.0
     rel = np.empty(q)
     pu = np.empty(q)
@@ -46,6 +67,8 @@ def _theta_derivative(weight, base, normals, obstacles, precision, class_of, n_c
                 for i in range(m):
                     x += d[k, i] * normals[k, i, j]
                 rel[j] = x - obstacles[o, j]
+                if swerve:
+                    rel[j] += shift[k, o, j]
                 pu[j] = precision[o, j] * rel[j]
                 exponent += rel[j] * pu[j]
             e = np.exp(-exponent)
@@ -59,6 +82,16 @@ def _theta_derivative(weight, base, normals, obstacles, precision, class_of, n_c
             for i in range(m):
                 for j in range(q):
                     out[k, i, column + j] += 2.0 * e * pu[j] * (rel[j] * npu[i] - normals[k, i, j])
+            if swerve:
+                upv = 0.0
+                for j in range(q):
+                    upv += pu[j] * shift_rate[k, o, j]
+                column = first_swerve + 2 * class_of[o] + shift_side[k, o]
+                for i in range(m):
+                    npv = 0.0
+                    for j in range(q):
+                        npv += normals[k, i, j] * precision[o, j] * shift_rate[k, o, j]
+                    out[k, i, column] += 2.0 * e * (2.0 * upv * npu[i] - npv)
 
 
 @numba.njit(cache=True)
@@ -87,6 +120,9 @@ def plan_sensitivity(
     precision,
     class_of,
     n_classes,
+    shift,
+    shift_rate,
+    shift_side,
     anchor,
     anchor_sens,
     d,
@@ -102,8 +138,7 @@ def plan_sensitivity(
     to ``d_0`` (no free action before them) move with it.
     """
     n, m = d.shape
-    q = base.shape[1]
-    n_theta = 1 + n_classes * q
+    n_theta = out.shape[2]
     gradient = np.empty((n, m))
     hessian = np.empty((n, m, m))
     offset_derivatives(c, b, a, weight, d, gradient, hessian)
@@ -126,7 +161,20 @@ def plan_sensitivity(
                     out[k, i, p] = anchor_sens[i, p]
         return
     d_theta = np.empty((n, m, n_theta))
-    _theta_derivative(weight, base, normals, obstacles, precision, class_of, n_classes, d, d_theta)
+    _theta_derivative(
+        weight,
+        base,
+        normals,
+        obstacles,
+        precision,
+        class_of,
+        n_classes,
+        shift,
+        shift_rate,
+        shift_side,
+        d,
+        d_theta,
+    )
     rhs = np.zeros((n_vars, n_theta))
     h = np.zeros((n_vars, n_vars))
     for k in range(n):
@@ -177,6 +225,9 @@ def mpc_sensitivity(
     precision,
     class_of,
     n_classes,
+    shift,
+    shift_rate,
+    shift_side,
     start,
     guide,
     matched,
@@ -204,6 +255,7 @@ def mpc_sensitivity(
     trial = np.empty((horizon, m))
     best = np.empty((horizon, m))
     window_sens = np.empty((horizon, m, n_theta))
+    swerve = shift.shape[0] > 0
     for k in range(n):
         stop = min(k + horizon, n)
         size = stop - k
@@ -232,6 +284,9 @@ def mpc_sensitivity(
                 best_key0, best_key1 = key0, cost
                 best[:size] = d
         w = best[:size]
+        # the swerve's arrays over the window (size zero: none)
+        stop_s = stop if swerve else 0
+        k_s = k if swerve else 0
         plan_sensitivity(
             c[k:stop],
             b[k:stop],
@@ -244,6 +299,9 @@ def mpc_sensitivity(
             precision,
             class_of,
             n_classes,
+            shift[k_s:stop_s],
+            shift_rate[k_s:stop_s],
+            shift_side[k_s:stop_s],
             anchor,
             anchor_sens,
             w,

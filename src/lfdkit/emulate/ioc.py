@@ -1,6 +1,9 @@
 """Inverse optimal control: the reward whose optimal paths match the demonstrations (eq. 5.5).
 
-``θ = [log Q, log diag P_c for each class]`` minimises the mean squared
+``θ = [log Q, log diag P_c for each class]`` (with ``swerve=True`` followed by
+each class's ``log w_before, log w_after``, :class:`lfdkit.emulate.Reward`'s
+swerve: 2 parameters a class, identified from 5 noise-free demonstrations to
+5 % in ``tests/emulate/test_swerve.py``) minimises the mean squared
 distance between each demonstration and the path planned in its scene::
 
     L(θ) = Σ_d Σ_k |x̄_k(θ, scene_d) − ζ_{d,k}|² / (number of matched points)
@@ -85,8 +88,15 @@ class DemoInScene:
     found: np.ndarray  # (K,) where it crosses the normals
 
 
+#: The swerve arrays of a problem without one (the thesis's model), as the kernels take them.
+_NO_SWERVE = (np.zeros((0, 0, 0)), np.zeros((0, 0, 0)), np.zeros((0, 0), dtype=np.int64))
+
+
 def _kernel_arguments(problem: Problem, class_of: np.ndarray, n_classes: int) -> tuple:
     """The problem's arrays as :mod:`._ioc_kernels` takes them (diagonal precisions)."""
+    swerve = _NO_SWERVE
+    if problem.shift is not None:
+        swerve = (problem.shift, problem.shift_rate, problem.shift_side)
     return (
         problem.c,
         problem.b,
@@ -99,11 +109,17 @@ def _kernel_arguments(problem: Problem, class_of: np.ndarray, n_classes: int) ->
         np.ascontiguousarray(np.einsum("lii->li", problem.precision)),
         np.ascontiguousarray(class_of, dtype=np.int64),
         int(n_classes),
+        *(np.ascontiguousarray(array) for array in swerve),
     )
 
 
 def _plan_sensitivity(
-    problem: Problem, anchor: np.ndarray, d: np.ndarray, class_of: np.ndarray, n_classes: int
+    problem: Problem,
+    anchor: np.ndarray,
+    d: np.ndarray,
+    class_of: np.ndarray,
+    n_classes: int,
+    n_theta: int | None = None,
 ) -> np.ndarray:
     """Derivative (n, m, n_theta) of the full-horizon optimum ``d`` w.r.t. θ (fixed start).
 
@@ -113,7 +129,7 @@ def _plan_sensitivity(
     from lfdkit.emulate._ioc_kernels import plan_sensitivity  # numba compiles on first use
 
     n, m = d.shape
-    out = np.empty((n, m, 1 + n_classes * problem.base.shape[1]))
+    out = np.empty((n, m, n_theta or _n_theta(problem, n_classes)))
     plan_sensitivity(
         *_kernel_arguments(problem, class_of, n_classes),
         np.ascontiguousarray(anchor, dtype=np.float64),
@@ -125,7 +141,12 @@ def _plan_sensitivity(
 
 
 def _mpc_with_sensitivity(
-    problem: Problem, item: DemoInScene, horizon: int, class_of: np.ndarray, n_classes: int
+    problem: Problem,
+    item: DemoInScene,
+    horizon: int,
+    class_of: np.ndarray,
+    n_classes: int,
+    n_theta: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Receding-horizon plan and its derivative w.r.t. θ by forward sensitivities.
 
@@ -146,7 +167,7 @@ def _mpc_with_sensitivity(
 
     n, m = problem.n, problem.m
     offsets = np.zeros((n, m))
-    sensitivity = np.zeros((n, m, 1 + n_classes * problem.base.shape[1]))
+    sensitivity = np.zeros((n, m, n_theta or _n_theta(problem, n_classes)))
     mpc_sensitivity(
         *_kernel_arguments(problem, class_of, n_classes),
         np.array(item.start, dtype=np.float64),
@@ -157,6 +178,11 @@ def _mpc_with_sensitivity(
         sensitivity,
     )
     return offsets, sensitivity
+
+
+def _n_theta(problem: Problem, n_classes: int) -> int:
+    """Parameters of θ: log Q, each class's log precisions, and its two swerves if any."""
+    return 1 + n_classes * (problem.base.shape[1] + (2 if problem.shift is not None else 0))
 
 
 def _finite_difference(loss: Any, theta: np.ndarray, eps: float = 1e-4) -> np.ndarray:
@@ -229,6 +255,9 @@ HORIZON_MARGIN = 0.02
 PLAUSIBLE_WIDTHS = (1e-3, 10.0)
 PLAUSIBLE_ANISOTROPY = 100.0
 PLAUSIBLE_WEIGHTS = (1e-3, 1e6)
+#: The swerve model's stretches (issue 26) lie within 1/5 … 5: a response five times
+#: longer on one side than the other is already a hold, not a swerve.
+PLAUSIBLE_SWERVE = 5.0
 #: Weight of the walls: leaving a range by a factor e costs as much as replaying
 #: the nominal (the loss is scaled to about 1); inside every range they cost nothing.
 PLAUSIBILITY_WEIGHT = 1.0
@@ -402,7 +431,7 @@ class TrainingLoss:
             problem = self.problem(reward, item)
             d, _, _, _ = problem.solve(item.start, warm[j], tol=1e-11, max_iter=200)
             sensitivity = _plan_sensitivity(
-                problem, item.start, d, self._class_of(item.scene), len(self.classes)
+                problem, item.start, d, self._class_of(item.scene), len(self.classes), theta.size
             )
             return d, sensitivity
 
@@ -426,6 +455,7 @@ class TrainingLoss:
                 horizon,
                 self._class_of(item.scene),
                 len(self.classes),
+                theta.size,
             )
 
         for item, (d, sensitivity) in zip(self.data, self._each(plan), strict=True):
@@ -791,6 +821,13 @@ class IOC(Estimator):
     gradient : {"implicit", "finite_difference"}
         Exact implicit gradients (default), or central finite differences of the
         loss (two extra plans per parameter and demonstration; for comparison).
+    swerve : bool
+        Learn the swerve model too (issue 26): each class's response
+        stretched along the path before and after the obstacle
+        (``Reward.swerve``; θ gains ``log w_before, log w_after`` per class,
+        started from ``init``'s, or 1, and kept within
+        :data:`PLAUSIBLE_SWERVE` by soft walls). False (the default): the
+        thesis's symmetric terms.
     diagnose : bool
         Run the checks after the fit (that each class's response moves the
         plans, the identifiability of each parameter). False skips them, for
@@ -859,6 +896,7 @@ class IOC(Estimator):
         "horizon": Checked(check_horizon, optional=True),
         "keep_full_horizon": InstanceOf(bool),
         "init": InstanceOf(Reward, optional=True),
+        "swerve": InstanceOf(bool),
     }
 
     def __init__(
@@ -874,6 +912,7 @@ class IOC(Estimator):
         max_iter: int = 200,
         tol: float = 1e-10,
         gradient: str = "implicit",
+        swerve: bool = False,
         diagnose: bool = True,
         progress: ProgressLike = None,
     ) -> None:
@@ -887,6 +926,7 @@ class IOC(Estimator):
         self.max_iter = max_iter
         self.tol = tol
         self.gradient = gradient
+        self.swerve = swerve
         self.diagnose = diagnose
         self.progress = progress
 
@@ -999,18 +1039,24 @@ class IOC(Estimator):
         self.not_learned_ = tuple(c for c in wanted if c in far or c in weak)
         keep = [i for i, c in enumerate(self.classes_) if c not in weak]
         columns = [0] + [1 + i * self._q + a for i in keep for a in range(self._q)]
+        if self.swerve:
+            first = 1 + len(self.classes_) * self._q
+            columns += [first + 2 * i + side for i in keep for side in range(2)]
         theta = theta[columns]
         self.classes_ = tuple(self.classes_[i] for i in keep)
         self._data = data = self._without(data, weak)
         self.identifiability_ = self._identifiability(theta, data) if self.diagnose else {}
-        # Back to the data's units: Q and the precisions scale as 1/length².
+        # Back to the data's units: Q and the precisions scale as 1/length² (the
+        # swerve's stretches are ratios).
+        n_base = 1 + len(self.classes_) * self._q
         self.theta_ = theta - 2.0 * np.log(length)
+        self.theta_[n_base:] = theta[n_base:]
         self.reward_ = Reward.from_theta(self.theta_, self.classes_, self._q)
         self.loss_history_ = [value * length**2 for value in history]
         kept = [s for s in self.stages_ if s.get("kept", True)]
         self.loss_ = float(kept[-1]["loss"])
         failed = [s for s in kept if not s.get("converged", True)]
-        self.degenerate_ = implausible(theta, self._q, self._theta_names())
+        self.degenerate_ = implausible(theta[:n_base], self._q, self._theta_names())
         self.converged_ = not failed and not self.degenerate_
         reasons = [f"{s['planner']}: {s['reason']}" for s in failed]
         if self.degenerate_:
@@ -1101,7 +1147,22 @@ class IOC(Estimator):
 
     def _theta_names(self) -> list[str]:
         axes = "xyz"[: self._q]
-        return ["Q"] + [f"P[{c}][{a}]" for c in self.classes_ for a in axes]
+        names = ["Q"] + [f"P[{c}][{a}]" for c in self.classes_ for a in axes]
+        if self.swerve:
+            names += [f"W[{c}][{side}]" for c in self.classes_ for side in ("before", "after")]
+        return names
+
+    def _penalty(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
+        """The plausibility walls of θ' (:func:`plausibility_penalty`), swerves included."""
+        n_base = 1 + len(self.classes_) * self._q
+        value, grad = plausibility_penalty(theta[:n_base], self._q)
+        if not self.swerve:
+            return value, grad
+        limit = np.log(PLAUSIBLE_SWERVE)
+        swerves = theta[n_base:]
+        excess = np.maximum(swerves - limit, 0.0) - np.maximum(-limit - swerves, 0.0)
+        value += PLAUSIBILITY_WEIGHT * float(np.sum(excess**2))
+        return value, np.concatenate([grad, 2.0 * PLAUSIBILITY_WEIGHT * excess])
 
     def _training_loss(self, data: list[DemoInScene]) -> TrainingLoss:
         return TrainingLoss(data, self.classes_, self.max_slope)
@@ -1140,12 +1201,15 @@ class IOC(Estimator):
         else:
             warm = self._demo_offsets(coarse)
             loss = self._training_loss(coarse)
+            # the swerve starts symmetric: the search is over the thesis's parameters
+            flat = np.zeros(2 * len(self.classes_) if self.swerve else 0)
             starts = search_starts(
-                lambda theta: loss.plans_only(theta, warm),
+                lambda theta: loss.plans_only(np.concatenate([theta, flat]), warm),
                 1 + len(self.classes_) * self._q,
                 self.n_starts,
                 progress=self._progress,
             )
+            starts = [np.concatenate([theta, flat]) for theta in starts]
             message = f"best {len(starts)} distinct of the starting search"
         self.stages_.append(
             {
@@ -1201,7 +1265,7 @@ class IOC(Estimator):
                     theta,
                 )
             run_history.append(value)
-            wall, wall_grad = plausibility_penalty(theta, self._q)
+            wall, wall_grad = self._penalty(theta)
             return value / self._scale + wall, grad / self._scale + wall_grad
 
         theta, stage = self._lbfgs(fun, theta0, "full horizon", description)
@@ -1217,7 +1281,12 @@ class IOC(Estimator):
             raise ValueError(f"init: has no precision for class {missing[0]!r}")
         sub = Reward(self.init.nominal_weight, {c: self.init.precisions[c] for c in self.classes_})
         # The data are in units of the length scale: Q and P scale as length².
-        return sub.theta + 2.0 * np.log(self.length_scale_)
+        theta = sub.theta + 2.0 * np.log(self.length_scale_)
+        if not self.swerve:
+            return theta
+        # stretches are ratios: no scale
+        swerve = {c: self.init.swerve[c] for c in self.classes_ if c in self.init.swerve}
+        return np.concatenate([theta, Reward(1.0, sub.precisions, swerve).swerve_theta])
 
     def training_loss(self, reward: Reward) -> float:
         """Full-horizon training loss (units²) of any reward on the fitted data.
@@ -1235,6 +1304,9 @@ class IOC(Estimator):
             raise ValueError(f"reward: has no precision for class {missing[0]!r}")
         sub = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in self.classes_})
         theta = sub.theta + 2.0 * np.log(self.length_scale_)
+        if self.swerve:
+            swerve = {c: reward.swerve[c] for c in self.classes_ if c in reward.swerve}
+            theta = np.concatenate([theta, Reward(1.0, sub.precisions, swerve).swerve_theta])
         warm = [np.where(item.found[1:, None], item.target[1:], 0.0) for item in self._data]
         return self._training_loss(self._data).plans_only(theta, warm) * self.length_scale_**2
 
@@ -1305,7 +1377,7 @@ class IOC(Estimator):
                     lambda t: self._training_loss(data).mpc(t, int(self.horizon))[0], value
                 )
             history.append(loss)
-            wall, wall_grad = plausibility_penalty(value, self._q)
+            wall, wall_grad = self._penalty(value)
             return loss / self._scale + wall, grad / self._scale + wall_grad
 
         name = f"MPC H={int(self.horizon)}"

@@ -22,7 +22,11 @@ The cost of offsets ``d`` (n, m), ``n = K − 1``, is the negative reward
 
 with ``Q_k`` the nominal weight (``Q``, ramped up towards the goal when a plan
 must reach it: :func:`goal_weights`) and, for obstacles with a hard radius,
-the clearance barrier of :mod:`lfdkit.emulate.planner`. :class:`Problem`
+the clearance barrier of :mod:`lfdkit.emulate.planner`. A reward with a
+swerve (issue 26) moves each point's ``O_o`` along the path
+(:func:`swerve_shifts`), a constant per point and obstacle: the terms keep
+their form, only their precomputed coefficients change, and without a swerve
+nothing is computed for it. :class:`Problem`
 precomputes the obstacle terms once per scene, so every evaluation is a few
 element-wise operations; :meth:`Problem.solve` is the compiled projected
 Newton solver (:mod:`._problem_kernels`) that the planner polishes its starts
@@ -64,6 +68,7 @@ __all__ = [
     "check_times",
     "goal_weights",
     "predicted_sigma",
+    "swerve_shifts",
 ]
 
 #: Most points a plan may have (memory and time grow linearly).
@@ -235,6 +240,12 @@ class Problem:
         Centres of those balls (the obstacles' covering balls,
         :meth:`lfdkit.model.scene.Obstacle.balls`); None: the term centres
         ``obstacles``, with ``hard_radius`` of shape (L,).
+    tangents : ndarray, shape (n, q), optional
+        Unit tangents of the nominal at ``base``: needed with ``stretch``.
+    stretch : ndarray, shape (L, 2), optional
+        Each term's swerve stretches before and after its anchor along the path
+        (:func:`swerve_shifts`); None (the default): symmetric terms (the
+        thesis's model, computed exactly as without the argument).
 
     Attributes
     ----------
@@ -263,6 +274,11 @@ class Problem:
         Whether the obstacle centres are given per point.
     nr : ndarray, shape (n, H, m)
         ``N r`` of the obstacles with a barrier (units).
+    shift, shift_rate : ndarray, shape (n, L, q), or None
+        With ``stretch``: what the swerve adds to ``r`` and its derivative in
+        the log-stretch of the side the point is on (units); None without.
+    shift_side : ndarray of int, shape (n, L), or None
+        0 where the point is before the anchor along the path, 1 after.
     """
 
     def __init__(
@@ -275,6 +291,8 @@ class Problem:
         max_step: float,
         hard_radius: np.ndarray | None = None,
         hard_centres: np.ndarray | None = None,
+        tangents: np.ndarray | None = None,
+        stretch: np.ndarray | None = None,
     ) -> None:
         self.base, self.normals = base, normals  # (n, q), (n, m, q)
         self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
@@ -284,6 +302,11 @@ class Problem:
         # Moving obstacles: a centre per point, (n, L, q); static ones: (L, q).
         self.moving = obstacles.ndim == 3
         rel = base[:, None, :] - (obstacles if self.moving else obstacles[None])  # (n, L, q)
+        self.shift = self.shift_rate = self.shift_side = None
+        if stretch is not None:
+            # The swerve moves each term along the path per point: only c and b change.
+            self.shift, self.shift_rate, self.shift_side = swerve_shifts(rel, tangents, stretch)
+            rel = rel + self.shift
         self.c, self.b, self.a = _obstacle_terms(rel, normals, precision)
         self.hard_centres = obstacles if hard_centres is None else hard_centres
         radius = np.zeros(self.hard_centres.shape[-2]) if hard_radius is None else hard_radius
@@ -376,6 +399,7 @@ class Problem:
             if hard_centres is not None:
                 hard_centres = hard_centres[None] + shifts[:, owner]
                 hard_radius = np.where(hard_radius > 0.0, hard_radius[None] + grow[:, owner], 0.0)
+        stretch = reward.anchor_stretch(scene)
         return cls(
             corridor.points[1:],
             corridor.normals[1:],
@@ -385,6 +409,8 @@ class Problem:
             max_slope * corridor.step,
             hard_radius,
             hard_centres,
+            None if stretch is None else corridor.tangents[1:],
+            stretch,
         )
 
     @property
@@ -422,6 +448,10 @@ class Problem:
         if self.hard_centres.ndim == 3:
             sub.hard_centres = self.hard_centres[start:stop]
         sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
+        sub.shift = sub.shift_rate = sub.shift_side = None
+        if self.shift is not None:
+            sub.shift, sub.shift_rate = self.shift[start:stop], self.shift_rate[start:stop]
+            sub.shift_side = self.shift_side[start:stop]
         return sub
 
     def kernel_arguments(self) -> tuple:
@@ -554,6 +584,50 @@ def predicted_sigma(covs: np.ndarray) -> np.ndarray:
     else:
         largest = np.linalg.eigvalsh(covs)[:, -1]
     return np.sqrt(np.maximum(largest, 0.0))
+
+
+def swerve_shifts(
+    rel: np.ndarray, tangents: np.ndarray, stretch: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What a swerve adds to each point's offset from each anchor (issue 26).
+
+    The thesis's term is symmetric along the path: a person who starts early,
+    swerves steeply and returns slowly (a DMP's second-order lag; a late
+    reactive person the other way round) cannot be expressed by it. Each
+    point ``k`` at along-path distance ``τ = t_kᵀ r`` from an anchor (``r =
+    x_k^N − O``, ``t_k`` the nominal's tangent; negative before it) sees the
+    term as if it were at ``τ' = τ / w`` (``w = w_before`` for ``τ < 0``,
+    ``w_after`` otherwise): ``r`` gains ``(τ' − τ) t_k``. The move is along
+    the path and the planned offsets are across it, so the shift is a
+    constant per point: the cost keeps the thesis's form ``c + 2bᵀd + dᵀAd``
+    with other ``c`` and ``b`` (``A`` unchanged) and the planner's kernels
+    are the same. Continuous at ``τ = 0``; ``w = 1`` on both sides adds zero.
+
+    Parameters
+    ----------
+    rel : ndarray, shape (n, L, q)
+        ``x_k^N − O_l`` (units).
+    tangents : ndarray, shape (n, q)
+        Unit tangents of the nominal at the points.
+    stretch : ndarray, shape (L, 2)
+        ``(w_before, w_after)`` of each anchor, positive.
+
+    Returns
+    -------
+    shift : ndarray, shape (n, L, q)
+        Added to ``rel`` (units).
+    rate : ndarray, shape (n, L, q)
+        Derivative of the shift in the log-stretch of the point's side
+        (``−τ' t_k``), for the inverse optimal control.
+    side : ndarray of int, shape (n, L)
+        0 before the anchor, 1 after.
+    """
+    tau = np.einsum("klq,kq->kl", rel, tangents)
+    side = (tau >= 0.0).astype(np.int64)
+    warped = tau / stretch[np.arange(stretch.shape[0])[None], side]  # τ' (n, L)
+    shift = (warped - tau)[..., None] * tangents[:, None, :]
+    rate = -warped[..., None] * tangents[:, None, :]
+    return shift, rate, side
 
 
 def _predicted_shifts(

@@ -52,15 +52,33 @@ class Reward:
     precisions : mapping of class label to array_like, shape (q,) or (q, q)
         ``P_c = R_c⁻¹`` per obstacle class in 1/units²: a positive diagonal
         ``(q,)`` or a symmetric positive definite matrix ``(q, q)``.
+    swerve : mapping of class label to array_like, shape (2,), optional
+        The shape of a class's swerve along the path (issue 26): how much its
+        response is stretched before and after the obstacle, ``(w_before,
+        w_after)``, positive (1, 1: the thesis's symmetric Gaussian). A point
+        at along-path distance ``τ`` from the obstacle (along the nominal's
+        tangent; negative before it) sees the term as if it were at
+        ``τ / w_before`` or ``τ / w_after``: ``w_before > 1`` starts the swerve
+        earlier, ``w_after > 1`` returns more slowly
+        (:func:`lfdkit.emulate.problem.swerve_shifts`). The planner applies
+        it; a class without one (or None, the default) is symmetric.
+        :meth:`value` and the other pointwise evaluations here ignore it (they
+        have no path direction).
 
     Raises
     ------
     ValueError
         For a non-positive or non-finite weight, a precision that is not
-        symmetric positive definite, or classes of different dimensions.
+        symmetric positive definite, classes of different dimensions, or a
+        swerve that is not two positive numbers of a known class.
     """
 
-    def __init__(self, nominal_weight: float, precisions: Mapping[str, Any]) -> None:
+    def __init__(
+        self,
+        nominal_weight: float,
+        precisions: Mapping[str, Any],
+        swerve: Mapping[str, Any] | None = None,
+    ) -> None:
         self.nominal_weight = check_positive(nominal_weight, "nominal_weight")
         matrices: dict[str, np.ndarray] = {}
         dims = set()
@@ -86,6 +104,20 @@ class Reward:
         if len(dims) > 1:
             raise ValueError("precisions: classes of different dimensions")
         self.precisions = matrices
+        self.swerve: dict[str, np.ndarray] = {}
+        for label, value in (swerve or {}).items():
+            stretch = np.asarray(value, dtype=np.float64)
+            if stretch.shape != (2,) or not np.all(np.isfinite(stretch) & (stretch > 0.0)):
+                raise ValueError(
+                    f"swerve[{label!r}]: expected two positive stretches (before, after), "
+                    f"got {value!r}"
+                )
+            if str(label) not in matrices:
+                raise ValueError(
+                    f"swerve: class {label!r} has no precision; known classes: "
+                    f"{', '.join(matrices) or 'none'}"
+                )
+            self.swerve[str(label)] = stretch
 
     # ------------------------------------------------------------ parameters
     @property
@@ -110,12 +142,27 @@ class Reward:
             parts.append(np.log(np.diag(matrix)))
         return np.concatenate(parts)
 
+    @property
+    def swerve_theta(self) -> np.ndarray:
+        """``[log w_before, log w_after for each class]`` (zeros where a class has no swerve)."""
+        return (
+            np.log(
+                np.concatenate([self.swerve.get(label, np.ones(2)) for label in self.precisions])
+            )
+            if self.precisions
+            else np.zeros(0)
+        )
+
     @classmethod
     def from_theta(cls, theta: Any, classes: Sequence[str], n_dims: int) -> Reward:
-        """The reward with ``Q = exp θ₀`` and diagonal precisions ``exp θ`` per class."""
+        """The reward with ``Q = exp θ₀`` and diagonal precisions ``exp θ`` per class.
+
+        A θ with ``2 · len(classes)`` more values (the swerve model) ends with
+        each class's ``log w_before, log w_after`` (:attr:`swerve_theta`).
+        """
         theta = np.asarray(theta, dtype=np.float64)
         expected = 1 + len(classes) * n_dims
-        if theta.shape != (expected,):
+        if theta.shape not in ((expected,), (expected + 2 * len(classes),)):
             raise ValueError(f"theta: expected {expected} values, got shape {theta.shape}")
         if not np.all(np.isfinite(theta)):
             raise ValueError("theta: contains NaN or infinite values")
@@ -123,7 +170,20 @@ class Reward:
             label: np.exp(theta[1 + i * n_dims : 1 + (i + 1) * n_dims])
             for i, label in enumerate(classes)
         }
-        return cls(float(np.exp(theta[0])), precisions)
+        if theta.size == expected:
+            return cls(float(np.exp(theta[0])), precisions)
+        swerve = {
+            label: np.exp(theta[expected + 2 * i : expected + 2 * i + 2])
+            for i, label in enumerate(classes)
+        }
+        return cls(float(np.exp(theta[0])), precisions, swerve)
+
+    def anchor_stretch(self, scene: Scene) -> np.ndarray | None:
+        """Each reward anchor's swerve stretches (A, 2); None when no class swerves."""
+        if not self.swerve or not len(scene):
+            return None
+        per_obstacle = np.array([self.swerve.get(label, np.ones(2)) for label in scene.labels])
+        return per_obstacle[scene.anchors()[1]]
 
     def combined(self, other: Reward, nominal_weight: float | None = None) -> Reward:
         """One reward with the classes of both (e.g. learned from separate demonstration sets).
@@ -131,13 +191,23 @@ class Reward:
         ``nominal_weight`` defaults to this reward's; a class in both is taken from ``other``.
         """
         weight = self.nominal_weight if nominal_weight is None else nominal_weight
-        return Reward(weight, {**self.precisions, **other.precisions})
+        precisions = {**self.precisions, **other.precisions}
+        # a class taken from ``other`` takes its swerve (or none) with it
+        swerve = {k: v for k, v in self.swerve.items() if k not in other.precisions}
+        return Reward(weight, precisions, {**swerve, **other.swerve})
 
     def __repr__(self) -> str:
         parts = ", ".join(
             f"{k!r}: diag{np.round(np.diag(v), 4).tolist()}" for k, v in self.precisions.items()
         )
-        return f"Reward(Q={self.nominal_weight:.6g}, precisions={{{parts}}})"
+        extra = ""
+        if self.swerve:
+            extra = (
+                ", swerve={"
+                + ", ".join(f"{k!r}: {np.round(v, 3).tolist()}" for k, v in self.swerve.items())
+                + "}"
+            )
+        return f"Reward(Q={self.nominal_weight:.6g}, precisions={{{parts}}}{extra})"
 
     # ------------------------------------------------------------ evaluation
     def precision_of(self, scene: Scene) -> np.ndarray:
@@ -329,7 +399,7 @@ def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tupl
         raise ValueError("in_path_frame: defined for 2-D paths only; use world axes in 3-D")
     axis = axis / np.linalg.norm(axis)
     tangents = segment_tangents(nominal)
-    precisions, obstacles = {}, []
+    precisions, obstacles, swerve = {}, [], {}
     for i, obstacle in enumerate(scene.obstacles):
         k = int(np.argmin(np.linalg.norm(nominal - obstacle.position, axis=1)))
         # The segments on both sides of the nearest point (a zero-length one adds nothing).
@@ -341,5 +411,7 @@ def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tupl
         label = f"{obstacle.label}#{i}"
         matrix = turn @ reward.precision_of(Scene((obstacle,)))[0] @ turn.T
         precisions[label] = 0.5 * (matrix + matrix.T)
+        if obstacle.label in reward.swerve:  # along the path already: it turns with it
+            swerve[label] = reward.swerve[obstacle.label]
         obstacles.append(dataclasses.replace(obstacle, label=label))
-    return Reward(reward.nominal_weight, precisions), Scene(tuple(obstacles))
+    return Reward(reward.nominal_weight, precisions, swerve), Scene(tuple(obstacles))

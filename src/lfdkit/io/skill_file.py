@@ -556,6 +556,21 @@ class SkillDocument:
         sub = _FieldReader(value, self.source, "emulation.")
         return self._lengths(sub.get("radii", dict), "radii") if "radii" in value else {}
 
+    def swerve(self) -> dict[str, list[float]]:
+        """``{class: [w_before, w_after]}`` of a swerve model (``emulation.swerve``; issue 26).
+
+        Empty where the file has none (the thesis's symmetric responses, and
+        every file from before the swerve model); the reward checks the values.
+        """
+        value = self.data.get("emulation")
+        if not isinstance(value, Mapping) or "swerve" not in value:
+            return {}
+        sub = _FieldReader(value, self.source, "emulation.")
+        return {
+            str(c): sub.array(f"swerve.{c}", (2,), value=w).tolist()
+            for c, w in sub.get("swerve", dict).items()
+        }
+
     def _lengths(self, values: Mapping[str, Any], key: str) -> dict[str, float]:
         """``emulation.<key>``: ``{class: length}``, each a finite number >= 0."""
         out = {}

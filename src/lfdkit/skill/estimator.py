@@ -142,7 +142,11 @@ class Skill(
         person reacts (the thesis's receding horizon, or the whole path's
         optimum) times a clearance floor kept from each class's obstacles
         (none; 0.8 times the 10 % quantile of what the demonstrations kept;
-        the closest any came, :data:`CLEARANCE_FLOORS`). The thesis's model
+        the closest any came, :data:`CLEARANCE_FLOORS`), and the first route
+        with a swerve (each class's response stretched before and after its
+        obstacle along the path, fitted after the thesis's reward and
+        warm-started from it: a person who starts early and returns slowly,
+        or swerves late; ``Reward.swerve``). The thesis's model
         comes first and stays unless another replans the held-out
         demonstrations closer by more than :data:`SELECTION_MARGIN`:
         demonstrations that cannot tell the candidates apart (a floor
@@ -278,11 +282,13 @@ class Skill(
         :data:`MIN_CROSS_VALIDATION_DEMOS` obstacle demonstrations: then the
         training scenes are replanned), ``folds``, the ``chosen`` model's
         name and the ``runner_up``'s, and per candidate (``"window"``,
-        ``"full+closest"``, ...) its ``route``, ``floor``, ``frame`` and
-        held-out scores: ``mse`` (units²), ``improvement_pooled``,
-        ``_median`` and ``_mean`` (Pr %), ``sides_agree`` (share),
-        ``refused`` and ``clearance_relaxed`` (counts). Also in
-        :attr:`ioc_info_` and the skill file.
+        ``"full+closest"``, ``"window/swerve"``, ...) its ``route``, ``floor``,
+        ``frame`` (and ``swerve``: ``"learned"``) and held-out scores:
+        ``mse`` (units²), ``improvement_pooled``, ``_median`` and ``_mean``
+        (Pr %), ``sides_agree`` (share), ``refused`` and
+        ``clearance_relaxed`` (counts); ``swerve``: the swerve candidates'
+        stretches ``[before, after]`` per class. Also in :attr:`ioc_info_`
+        and the skill file.
     """
 
     def __init__(
@@ -841,7 +847,11 @@ class Skill(
         n_dims = getattr(self, "n_dims_", None)
         if n_dims is not None and reward.n_dims not in (None, n_dims):
             raise ValueError(f"source: {reward.n_dims}-D reward for a {n_dims}-D skill")
-        taken = Reward(reward.nominal_weight, {c: reward.precisions[c] for c in wanted})
+        taken = Reward(
+            reward.nominal_weight,
+            {c: reward.precisions[c] for c in wanted},
+            {c: reward.swerve[c] for c in wanted if c in reward.swerve},  # a swerve comes with it
+        )
         own = getattr(self, "reward_", None)
         self.reward_ = taken if own is None else own.combined(taken)
         if not hasattr(self, "ioc_"):
@@ -960,7 +970,8 @@ class Skill(
         if self.reward_ is not None:
             area = factor**2
             precisions = {c: m / area for c, m in self.reward_.precisions.items()}
-            skill.adopt(Reward(self.reward_.nominal_weight / area, precisions))
+            # the swerve's stretches are ratios: no unit
+            skill.adopt(Reward(self.reward_.nominal_weight / area, precisions, self.reward_.swerve))
             skill.route_ = getattr(self, "route_", None)
             skill.frame_ = getattr(self, "frame_", "world")
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}

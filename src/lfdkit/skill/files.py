@@ -53,7 +53,8 @@ class SkillFiles:
         emulation = None
         route = getattr(self, "route_", None)
         radii = dict(getattr(self, "class_radii_", {}))
-        if self.reward_ is not None and (route is not None or self.clearances_ or radii):
+        swerve = self.reward_ is not None and self.reward_.swerve
+        if self.reward_ is not None and (route is not None or self.clearances_ or radii or swerve):
             route = route or self._unfitted_route()
             emulation = {"route": route, "clearances": dict(self.clearances_)}
             if getattr(self, "frame_", "world") != "world":  # as in files before frames
@@ -62,6 +63,8 @@ class SkillFiles:
                 emulation["gaps"] = self.gaps_
             if radii:
                 emulation["radii"] = radii
+            if self.reward_.swerve:  # the swerve model (issue 26); older files have none
+                emulation["swerve"] = {c: w.tolist() for c, w in self.reward_.swerve.items()}
         return skill_file.to_document(
             params,
             n_dims=self.n_dims_,
@@ -135,7 +138,7 @@ class SkillFiles:
             reward = document.reward(n_dims)
             if reward is not None:
                 weight, matrices = reward
-                skill.adopt(Reward(weight, matrices))
+                skill.adopt(Reward(weight, matrices, document.swerve()))
             skill.ioc_info_ = document.ioc()
             emulation = document.emulation()
             if emulation is not None and skill.reward_ is not None:

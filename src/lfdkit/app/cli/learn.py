@@ -122,6 +122,8 @@ def _behaviour(name: str, row: dict) -> str:
         words += f", {_FLOOR_NAMES[floor]}"
     if row.get("frame", "world") == "path":
         words += ", responses turned with the path"
+    if row.get("swerve") == "learned":
+        words += ", swerve shaped along the path (early/late, steep/slow)"
     return words
 
 
