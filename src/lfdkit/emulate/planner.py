@@ -280,6 +280,8 @@ def _global_start(
     lateral_dp = _grid_kernel("lateral_dp")
 
     grid, cells = levels if levels is not None else _lateral_levels(problem, d0)
+    if problem.m == 1 and not end_on_nominal and extra is None:
+        grid = _reachable(grid, cells, problem.max_step, d0, problem.n)
     out = np.zeros((problem.n, problem.m))
     total = lateral_dp(
         *problem.kernel_arguments(),
@@ -292,6 +294,26 @@ def _global_start(
         out,
     )
     return out if np.isfinite(total) else None
+
+
+def _reachable(levels: np.ndarray, cells: int, max_step: float, d0: np.ndarray, n: int):
+    """The levels a grid path from ``d0`` over ``n`` points can reach (2-D, free end).
+
+    The search's first state is within the action bound of ``d0`` and each
+    next one within ``cells`` levels of the last, so a path never leaves the
+    levels ``cells · (n − 1)`` beyond those first states; the dynamic
+    programme's costs there do not depend on the levels outside. So the search
+    over these alone finds the same path and cost, bit for bit (same states,
+    same order), on a smaller grid: a window's grid spans ``|d0| + n · max_step``
+    on both sides of the nominal, the path only ``n · max_step`` around ``d0``
+    (about half the grid where the tool is far aside, as in a moving-obstacle
+    swerve). ``levels`` itself where no level is within reach of ``d0``.
+    """
+    first = np.flatnonzero(np.abs(levels - d0[0]) <= max_step * (1.0 + 1e-12))  # grid_walk's
+    if first.size == 0:
+        return levels
+    spread = cells * (n - 1)
+    return levels[max(0, int(first[0]) - spread) : int(first[-1]) + spread + 1]
 
 
 class _GridSearch:
