@@ -2,8 +2,9 @@
 
 :meth:`SpeedProfile.phase <lfdkit.imitate.SpeedProfile.phase>` bisects the
 progress B-spline 55 times for every point of a plan. In NumPy each step is
-a de Boor evaluation of about 150 small array operations: 47 ms of a skill's
-plan of 100 points (2-D, about half of its time; measured at load 16). This
+a de Boor evaluation of about 150 small array operations: 11 ms of CPU for
+a skill's 100-point 2-D plan (of 123 ms; 24-48 ms at load 16-20), against
+1.6 ms for the whole timing with this kernel (``benchmarks/skill_speed.py``). This
 kernel does the same floating-point operations in the same order, one point at
 a time, so its phases equal the NumPy form's bit for bit
 (``tests/imitate/test_timing_kernels.py``).
