@@ -192,20 +192,37 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
     """
     n, m = problem.n, problem.m
     step = problem.max_step
-    span = max(float(np.abs(d0).max()), 2.0 * step)
+    farthest = float(np.abs(d0).max())
+    span = max(farthest, 2.0 * step)
     if problem.has_obstacles:
         # All anchors at once (a closed loop builds a grid every step: a loop with an
         # eigvalsh per anchor was a tenth of the moving MPC's step); the same numbers
         # as one anchor at a time (batched matmul, eigvalsh of a 1 x 1 is its entry).
-        nearest, laterals = _nearest_lateral_arrays(problem, problem.obstacles)
+        # The responses' centres and the hard balls' in one pass where they stack (each
+        # row's numbers are its own: the same as two passes; fewer NumPy calls, which
+        # are most of this function's time in an MPC step).
+        obstacles = problem.obstacles
+        hard = problem.hard_centres[..., problem.hard, :]
+        n_obs = obstacles.shape[-2]
+        if hard.ndim == obstacles.ndim:
+            nearest, laterals = _nearest_lateral_arrays(
+                problem, np.concatenate([obstacles, hard], axis=-2)
+            )
+            nearest, hard_laterals = nearest[:n_obs], laterals[n_obs:]
+            laterals = laterals[:n_obs]
+        else:
+            nearest, laterals = _nearest_lateral_arrays(problem, obstacles)
+            hard_laterals = _nearest_lateral_arrays(problem, hard)[1]
         normals = problem.normals[nearest]  # (L, m, q)
         across = normals @ problem.precision @ np.swapaxes(normals, 1, 2)  # (L, m, m)
         smallest = across[:, 0, 0] if m == 1 else np.linalg.eigvalsh(across)[:, 0]
         width = 1.0 / np.sqrt(np.maximum(smallest, 1e-300))
-        span = _widest(span, laterals, 4.0 * width)
-        hard = problem.hard_centres[..., problem.hard, :]
-        span = _widest(span, _nearest_lateral_arrays(problem, hard)[1], np.sqrt(problem.outer2))
-    span = min(span, float(np.abs(d0).max()) + n * step)
+        span = _widest(
+            span,
+            np.concatenate([laterals, hard_laterals]),
+            np.concatenate([4.0 * width, np.sqrt(problem.outer2)]),
+        )
+    span = min(span, farthest + n * step)
     cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
     if fine:
         cells_per_step, budget = 2 * cells_per_step, 2 * budget
@@ -263,6 +280,8 @@ def _global_start(
     lateral_dp = _grid_kernel("lateral_dp")
 
     grid, cells = levels if levels is not None else _lateral_levels(problem, d0)
+    if problem.m == 1 and not end_on_nominal and extra is None:
+        grid = _reachable(grid, cells, problem.max_step, d0, problem.n)
     out = np.zeros((problem.n, problem.m))
     total = lateral_dp(
         *problem.kernel_arguments(),
@@ -275,6 +294,26 @@ def _global_start(
         out,
     )
     return out if np.isfinite(total) else None
+
+
+def _reachable(levels: np.ndarray, cells: int, max_step: float, d0: np.ndarray, n: int):
+    """The levels a grid path from ``d0`` over ``n`` points can reach (2-D, free end).
+
+    The search's first state is within the action bound of ``d0`` and each
+    next one within ``cells`` levels of the last, so a path never leaves the
+    levels ``cells · (n − 1)`` beyond those first states; the dynamic
+    programme's costs there do not depend on the levels outside. So the search
+    over these alone finds the same path and cost, bit for bit (same states,
+    same order), on a smaller grid: a window's grid spans ``|d0| + n · max_step``
+    on both sides of the nominal, the path only ``n · max_step`` around ``d0``
+    (about half the grid where the tool is far aside, as in a moving-obstacle
+    swerve). ``levels`` itself where no level is within reach of ``d0``.
+    """
+    first = np.flatnonzero(np.abs(levels - d0[0]) <= max_step * (1.0 + 1e-12))  # grid_walk's
+    if first.size == 0:
+        return levels
+    spread = cells * (n - 1)
+    return levels[max(0, int(first[0]) - spread) : int(first[-1]) + spread + 1]
 
 
 class _GridSearch:

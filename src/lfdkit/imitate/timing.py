@@ -75,6 +75,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.geometry import arc_length, segment_lengths
+from lfdkit.core.kernels import kernel
 from lfdkit.core.validation import (
     check_count,
     check_demos,
@@ -94,6 +95,8 @@ __all__ = [
 
 #: Degree of the B-spline of the normalised speed ``ν`` (quartic: minimum jerk is exact).
 DEGREE = 4
+#: Bisection steps of :meth:`SpeedProfile.phase`: 2⁻⁵⁵ in the phase, below a double's resolution.
+BISECTION_STEPS = 55
 #: Most coefficients a speed profile may have (a skill file holds at most this many).
 MAX_COEFFICIENTS = 200
 #: Durations (seconds) a speed profile and a :class:`lfdkit.imitate.DMP` accept.
@@ -337,16 +340,13 @@ class SpeedProfile:
         returned. ``fraction`` is clipped to [0, 1].
         """
         target = np.clip(np.asarray(fraction, dtype=np.float64), 0.0, 1.0)
-        low, high = np.zeros_like(target), np.ones_like(target)
-        for _ in range(55):  # bisection of the non-decreasing σ: 2⁻⁵⁵ in u
-            mid = 0.5 * (low + high)
-            below = self.progress(mid) < target
-            low = np.where(below, mid, low)
-            high = np.where(below, high, mid)
-        out = 0.5 * (low + high)
-        out[target <= 0.0] = 0.0
-        out[target >= 1.0] = 1.0
-        return out
+        _, progress, _, total = self._law_splines()
+        # numba's kernel (about 100x faster) or phase_bisection below, bit for bit the same.
+        bisection = kernel("phase_bisection", "lfdkit.imitate._timing_kernels", __name__)
+        flat = np.ascontiguousarray(target.reshape(-1))
+        out = np.empty_like(flat)
+        bisection(progress.t, progress.c, progress.k, total, BISECTION_STEPS, flat, out)
+        return out.reshape(target.shape)
 
     def times(self, path: Any, duration: float | None = None) -> np.ndarray:
         """Time at which each point of ``path`` is reached, seconds, by its arc length.
@@ -625,6 +625,33 @@ def _fit_speed(phases: np.ndarray, progress: np.ndarray, n_coefficients: int) ->
 # ------------------------------------------------------------------ helpers
 def _phase(u: Any) -> np.ndarray:
     return np.clip(np.asarray(u, dtype=np.float64), 0.0, 1.0)
+
+
+def phase_bisection(
+    knots: np.ndarray,
+    coefficients: np.ndarray,
+    degree: int,
+    total: float,
+    steps: int,
+    target: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """NumPy form of ``_timing_kernels.phase_bisection``: ``σ⁻¹`` by bisection, into ``out``.
+
+    ``σ`` is the progress B-spline (``knots``, ``coefficients``, ``degree``)
+    over ``total``, its value at 1; ``target`` (n,) is clipped to [0, 1].
+    Where ``ν`` is zero over an interval (a pause) the first phase is found.
+    """
+    progress = _Spline(knots, coefficients, degree)
+    low, high = np.zeros_like(target), np.ones_like(target)
+    for _ in range(steps):  # bisection of the non-decreasing σ: 2⁻⁵⁵ in u
+        mid = 0.5 * (low + high)
+        below = progress(_phase(mid)) / total < target
+        low = np.where(below, mid, low)
+        high = np.where(below, high, mid)
+    out[:] = 0.5 * (low + high)
+    out[target <= 0.0] = 0.0
+    out[target >= 1.0] = 1.0
 
 
 def _check_duration(duration: Any) -> float:

@@ -520,7 +520,11 @@ class Planning:
         moved = False
         for share in shares:
             kept = None if margins is None else share * margins
-            plan = attempt(kept, last=share == 0.0)
+            if free is not None and share == 0.0:
+                # None of the floor: the same clearances as the plan without it, planned above.
+                plan = free
+            else:
+                plan = attempt(kept, last=share == 0.0)
             if plan is None:
                 continue
             if gaps == "open" and kept is not None and share > 0.0:
