@@ -7,10 +7,14 @@ module takes its own copy (:func:`copy.deepcopy` of the skill, or of its file in
 the module's own folder): no module sees another's changes. The tests of
 learning itself (tests/skill/) still learn their own.
 
-The demo (~15 s a run) runs twice at once, one run per core, for the whole
-session: ``-v`` into ``out`` (the command's test in tests/app/test_cli.py and
-the report's in tests/tasks/sweeping/test_demo_report.py read it; neither
-writes there) and ``--quiet --force`` over a stale ``quiet/results.json``.
+The demo (~15 s a run) runs twice for the whole session: ``-v`` into ``out``
+(the command's test in tests/app/test_cli.py and the report's in
+tests/tasks/sweeping/test_demo_report.py read it; neither writes there) and
+``--quiet --force`` over a stale ``quiet/results.json``. When the collected
+tests use them, both start in the background as soon as collection ends, one
+after the other: they run on the core the (single-process) test run leaves idle
+and are done by the time the command's test asks for them, instead of holding
+the run ~26 s there (the same two runs, the same checks).
 """
 
 from __future__ import annotations
@@ -18,6 +22,8 @@ from __future__ import annotations
 import copy
 import shutil
 import subprocess
+import tempfile
+import threading
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -53,36 +59,96 @@ def example_skill_file_copy(shared: Path, folder: Path) -> Path:
     return path
 
 
+class _DemoRuns:
+    """The two demo runs, in a background thread started once for the session."""
+
+    def __init__(self) -> None:
+        self.folder = Path(tempfile.mkdtemp(prefix="lfdkit-demo-runs-"))
+        self.out, self.quiet = self.folder / "out", self.folder / "quiet"
+        self.quiet.mkdir()
+        (self.quiet / "results.json").write_text("stale")
+        self.verbose_command = ["lfdkit", "demo", "--output", str(self.out), "-v"]
+        self.quiet_command = ["lfdkit", "demo", "--output", str(self.quiet), "--quiet", "--force"]
+        self.runs: dict[str, subprocess.CompletedProcess | BaseException] = {}
+        self.running: subprocess.Popen | None = None
+        self.stopped = False
+        self.thread = threading.Thread(target=self._run_both, name="demo-runs", daemon=True)
+        self.thread.start()
+
+    def _run(self, name: str, command: list[str]) -> None:
+        try:
+            if self.stopped:
+                raise RuntimeError("the test session ended first")
+            self.running = subprocess.Popen(
+                command,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+                cwd=self.folder,
+            )
+            stdout, stderr = self.running.communicate(timeout=300)
+            self.runs[name] = subprocess.CompletedProcess(
+                command, self.running.returncode, stdout, stderr
+            )
+        except BaseException as exc:  # kept for the test that reads the run
+            if self.running is not None and self.running.poll() is None:
+                self.running.kill()
+                self.running.communicate()
+            self.runs[name] = exc
+
+    def _run_both(self) -> None:
+        self._run("verbose", self.verbose_command)
+        self._run("quiet", self.quiet_command)
+
+    def result(self) -> SimpleNamespace:
+        self.thread.join(timeout=700)
+        if self.thread.is_alive():
+            raise TimeoutError("the two demo runs took over 700 s")
+        for name in ("verbose", "quiet"):
+            if isinstance(self.runs[name], BaseException):
+                raise self.runs[name]
+        return SimpleNamespace(
+            folder=self.folder,
+            out=self.out,
+            verbose=self.runs["verbose"],
+            quiet=self.quiet,
+            quiet_run=self.runs["quiet"],
+        )
+
+    def stop(self) -> None:
+        self.stopped = True
+        if self.running is not None and self.running.poll() is None:
+            self.running.kill()
+        self.thread.join(timeout=30)
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+_demo_runs: _DemoRuns | None = None
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """Start the demo runs in the background if a collected test reads them."""
+    global _demo_runs
+    wanted = any("demo_runs" in getattr(item, "fixturenames", ()) for item in session.items)
+    if wanted and _demo_runs is None and not session.config.option.collectonly:
+        _demo_runs = _DemoRuns()
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    if _demo_runs is not None:
+        _demo_runs.stop()
+
+
 @pytest.fixture(scope="session")
-def demo_runs(tmp_path_factory) -> SimpleNamespace:
-    """``lfdkit demo -v`` and ``lfdkit demo --quiet --force``, run at once (read only).
+def demo_runs() -> SimpleNamespace:
+    """``lfdkit demo -v`` and ``lfdkit demo --quiet --force`` (read only), run in the
+    background from the end of collection (see the module's docstring).
 
     Returns ``folder`` (their working folder), ``out`` and ``verbose`` (the ``-v``
     run's folder and its :class:`subprocess.CompletedProcess`), ``quiet`` and
     ``quiet_run`` (the same for the quiet run).
     """
-    folder = tmp_path_factory.mktemp("demo")
-    out, quiet = folder / "out", folder / "quiet"
-    quiet.mkdir()
-    (quiet / "results.json").write_text("stale")
-    quiet_command = ["lfdkit", "demo", "--output", str(quiet), "--quiet", "--force"]
-    run = subprocess.Popen(
-        quiet_command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=folder
-    )
-    try:
-        verbose = subprocess.run(
-            ["lfdkit", "demo", "--output", str(out), "-v"],
-            capture_output=True,
-            text=True,
-            timeout=300,
-            cwd=folder,
-        )
-        stdout, stderr = run.communicate(timeout=300)
-    finally:
-        if run.poll() is None:
-            run.kill()
-            run.communicate()
-    quiet_run = subprocess.CompletedProcess(quiet_command, run.returncode, stdout, stderr)
-    return SimpleNamespace(
-        folder=folder, out=out, verbose=verbose, quiet=quiet, quiet_run=quiet_run
-    )
+    global _demo_runs
+    if _demo_runs is None:  # collected without the hook (e.g. another rootdir's conftest)
+        _demo_runs = _DemoRuns()
+    return _demo_runs.result()
