@@ -15,9 +15,23 @@ tests use them, both start in the background as soon as collection ends, one
 after the other: they run on the core the (single-process) test run leaves idle
 and are done by the time the command's test asks for them, instead of holding
 the run ~26 s there (the same two runs, the same checks).
+
+BLAS and OpenMP run one thread in the test process and the processes it starts
+(``OPENBLAS_NUM_THREADS`` etc., unless set; :mod:`threadpoolctl` for the
+libraries already loaded). The suite's arrays are small: SciPy's L-BFGS-B
+(the reference planner of tests/emulate/test_planner_safety.py, the IOC fits)
+spent ~95 % of its time in OpenBLAS's threads waiting on each other when the
+cores are busy (3 reference costs 20.8 s -> 1.4 s of CPU at load 20). Results
+do not change: no assertion depends on the number of threads.
 """
 
+# ruff: noqa: E402 (the thread settings come before the imports that load BLAS)
 from __future__ import annotations
+
+import os
+
+for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")  # before SciPy's own OpenBLAS loads
 
 import copy
 import shutil
@@ -31,6 +45,13 @@ import pytest
 
 from lfdkit.skill import Skill, learn
 from lfdkit.tasks.sweeping import example_files
+
+try:  # the libraries loaded before this file (NumPy's OpenBLAS): one thread too
+    from threadpoolctl import threadpool_limits
+except ImportError:  # pragma: no cover - scikit-learn brings it
+    pass
+else:
+    threadpool_limits(1)
 
 
 @pytest.fixture(scope="session")
