@@ -151,7 +151,9 @@ def pytest_collection_finish(session: pytest.Session) -> None:
     """Start the demo runs in the background if a collected test reads them."""
     global _demo_runs
     wanted = any("demo_runs" in getattr(item, "fixturenames", ()) for item in session.items)
-    if wanted and _demo_runs is None and not session.config.option.collectonly:
+    # Not in pytest-xdist's workers: each collects every test, and would start its own.
+    worker = hasattr(session.config, "workerinput")
+    if wanted and _demo_runs is None and not worker and not session.config.option.collectonly:
         _demo_runs = _DemoRuns()
 
 
