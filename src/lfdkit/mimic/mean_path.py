@@ -151,7 +151,14 @@ implementation decides as follows (each is a constructor option):
   100-104 worst 1.072, 1.063, 1.071, 1.061 (one pass: 1.075, 1.091, 1.074,
   1.104), 32 of 36 within 1.05. What it cannot see:
   one-sided burrs 1-2 noise levels high on 30 % of each profile (the two
-  cases left, 1.07-1.08; the median is best there).
+  cases left, 1.07-1.08; the median is best there). Cost: the replicas are
+  white noise in robust scales, so they depend only on the shape and which
+  intersections were found; they are drawn in a fixed order until every
+  stretch's maximum so far reaches the data's (more draws only raise the
+  thresholds, so no weight could fall: clean data take 1-3 draws), and kept
+  per shape and mask for later fits; medians of rows with NaN are taken by
+  sorting (:func:`_nanmedian`, equal to NumPy's bit for bit, 7 times faster on
+  1000 rows of 100). Weights and paths are those of all 20 draws, bit for bit.
 * **Direction.** Demonstrations recorded against the majority's direction are
   reversed (``orient="auto"``, :func:`lfdkit.mimic.orient_demos`, shared by every
   mimicking method); which ones is recorded in ``reversed_``. A path much
