@@ -32,13 +32,20 @@ from lfdkit.mimic import (
     pointwise_average,
 )
 from lfdkit.mimic.mean_path import (
+    _CHOICE_SEED,
+    _REPLICA_CACHE,
+    _RUN_DRAWS,
+    _RUN_LO,
     _adaptive,
     _adaptive_rho,
     _adaptive_weight,
     _choose_tuning,
     _cross_validate,
     _gaussian_advantage,
+    _nanmedian,
     _pooled_location,
+    _replica_maxima,
+    _run_distance,
     _run_weights,
     _smoothness,
 )
@@ -1131,6 +1138,40 @@ def test_run_weights_erase_a_low_run_in_one_demonstration_only():
     assert weights[:50, 3].min() == 1.0 and weights[95:, 3].min() == 1.0  # only the run
     assert np.delete(weights, 3, axis=1).min() == 1.0
     assert "1 of 10 demonstrations stray" in why
+
+
+def test_nanmedian_equals_numpys_bit_for_bit():
+    rng = np.random.default_rng(4)
+    for shape, axis, keepdims in [((50, 9), 1, False), ((50, 10), 0, True), ((6, 7, 8), 1, False)]:
+        values = rng.normal(size=shape)
+        values[rng.random(shape) < 0.3] = np.nan
+        values[2] = np.nan  # a row (or column) with nothing
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # NumPy: all-NaN slice
+            expected = np.nanmedian(values, axis=axis, keepdims=keepdims)
+        assert np.array_equal(_nanmedian(values, axis, keepdims), expected, equal_nan=True)
+
+
+def test_replica_thresholds_do_not_depend_on_the_cache_or_on_stopping_early():
+    shape, halves = (80, 8, 1), (0, 2, 4)
+    found = np.ones(shape[:2], dtype=bool)
+    found[10:14, 2] = False
+    rng = np.random.default_rng(_CHOICE_SEED)  # the 20 replicas, drawn directly
+    expected = np.full(len(halves), _RUN_LO)
+    for _ in range(_RUN_DRAWS):
+        replica = rng.normal(0.0, 1.0, shape)
+        expected = np.maximum(expected, [_run_distance(replica, found, h).max() for h in halves])
+    _REPLICA_CACHE.clear()
+    # Data well within the first replica's maxima: one draw, thresholds no higher.
+    first = _replica_maxima(shape, found, halves, np.zeros(len(halves)))
+    assert np.all(first >= _RUN_LO) and np.all(first <= expected)
+    assert [len(draws) for _, _, draws in _REPLICA_CACHE.values()] == [1]
+    # Data beyond every replica: all 20 drawn, resumed from where the first stopped.
+    assert np.array_equal(_replica_maxima(shape, found, halves, np.full(3, np.inf)), expected)
+    assert np.array_equal(_replica_maxima(shape, found, halves, np.full(3, np.inf)), expected)
+    _REPLICA_CACHE.clear()
+    assert np.array_equal(_replica_maxima(shape, found, halves, np.full(3, np.inf)), expected)
+    assert np.array_equal(_replica_maxima(shape, found, halves, np.zeros(3)), first)
 
 
 def test_run_weights_leave_smooth_bands_alone():
