@@ -65,8 +65,10 @@ from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
 
 #: The threads the demonstrations' plans run on, made once per process: a pool made
-#: per loss evaluation (hundreds a skill fit) started 2 threads each time, about a
-#: quarter of a 2-D skill fit's CPU time (issue 26: 10 demonstrations, 6.9 -> 5.2 s).
+#: per loss evaluation (about 320 of them in a 2-D skill fit of 10 demonstrations)
+#: started and joined its threads each time. Issue 26, CPU s of ``Skill.fit`` (median of
+#: 3 alternated runs, loaded 2 cores): field person 6.0 -> 5.0 (10 demonstrations),
+#: 4.8 -> 3.5 (6); thesis person 3.8 -> 3.7, 2.6 -> 2.6. Results the same to the bit.
 _POOL: ThreadPoolExecutor | None = None
 
 
