@@ -469,3 +469,24 @@ def test_threads_give_the_loss_to_the_bit(monkeypatch) -> None:
     for one, several in zip(results[1], results[2], strict=True):
         np.testing.assert_array_equal(one, several)
     assert not np.array_equal(results[1][-1], results[1][-2])  # the demonstrations differ
+
+
+def test_the_plan_threads_are_made_once_per_process(monkeypatch) -> None:
+    # Hundreds of loss evaluations a skill fit: each runs on the same two threads
+    # (a pool per evaluation would name a new pair each time).
+    import threading
+
+    from lfdkit.emulate import ioc
+
+    monkeypatch.setattr(ioc, "available_cores", lambda: 2)
+    monkeypatch.setattr(ioc, "_POOL", None)
+    demos, scenes = demonstrations(2)
+    loss = training_loss(demos, scenes)
+    warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
+    first = loss.plans_only(TRUE.theta, warm)
+    assert loss.plans_only(TRUE.theta, warm) == first
+    names = set()
+    for _ in range(4):
+        names |= set(loss._each(lambda j, item: threading.current_thread().name))
+    assert 1 <= len(names) <= 2 and all(n.startswith("lfdkit-ioc") for n in names)
+    ioc._shared_pool().shutdown()  # this test's own pool (monkeypatch restores the process's)
