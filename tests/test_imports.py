@@ -139,10 +139,9 @@ def test_plan_s_process_does_not_import_what_it_does_not_need(tmp_path) -> None:
     assert "lfdkit.emulate.planner" in modules and "lfdkit.imitate.dmp" in modules
     assert not modules & set(NOT_FOR_PLAN), sorted(modules & set(NOT_FOR_PLAN))
     # The names still resolve where they are listed, and load their module then.
-    names = (
-        "from lfdkit.imitate import TPGMM, RhythmicDMP\nfrom lfdkit.emulate import RecedingPlanner"
-    )
-    assert {"lfdkit.imitate.tpgmm", "lfdkit.imitate.rhythmic"} <= _modules(names)
+    names = "from lfdkit.imitate import TPGMM\nfrom lfdkit.emulate import RecedingPlanner"
+    names += "\nfrom lfdkit.skill import PeriodicSkill"
+    assert set(NOT_FOR_PLAN) - {"lfdkit.imitate.warp"} <= _modules(names)
 
 
 def _modules(statement: str) -> set[str]:
