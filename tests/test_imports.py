@@ -109,3 +109,57 @@ def test_loading_a_skill_imports_nothing_heavy_and_planning_no_scipy_interpolate
     assert "numba" in loaded["numba"]  # the planner's compiled kernels: the check can fail
     modules = loaded["numba"]
     assert not {m for m in modules if m.startswith(("scipy.interpolate", "scipy.optimize"))}
+
+
+#: Modules the packages load on first use only (PEP 562) that ``lfdkit plan`` never needs.
+NOT_FOR_PLAN = (
+    "lfdkit.emulate.moving",
+    "lfdkit.imitate.rhythmic",
+    "lfdkit.imitate.tpgmm",
+    "lfdkit.imitate.warp",
+    "lfdkit.skill.periodic",
+)
+
+
+def test_plan_s_process_does_not_import_what_it_does_not_need(tmp_path) -> None:
+    """Issue 30: ``lfdkit plan`` of a discrete skill loads no TP-GMM, rhythmic DMP or MPC."""
+    import numpy as np
+
+    from lfdkit.emulate import Reward
+    from lfdkit.skill import Skill
+
+    u = np.linspace(0.0, 1.0, 50)
+    path = np.column_stack([u, 0.2 * np.sin(np.pi * u)])
+    skill = Skill(n_basis=15).use_path(path).adopt(Reward(1.0, {"cup": 400.0 * np.eye(2)}))
+    saved = str(skill.save(tmp_path / "skill.json"))
+    argv = [saved, "--goal", "1.1,0.1", "--obstacle", "cup:0.5,0.25,r=0.05", "-o"]
+    argv += [str(tmp_path / "path.csv"), "-q"]
+    plan = f"from lfdkit.app.cli import main\nmain(['plan', *{argv!r}])"
+    modules = _modules(plan)
+    assert "lfdkit.emulate.planner" in modules and "lfdkit.imitate.dmp" in modules
+    assert not modules & set(NOT_FOR_PLAN), sorted(modules & set(NOT_FOR_PLAN))
+    # The names still resolve where they are listed, and load their module then.
+    names = "from lfdkit.imitate import TPGMM\nfrom lfdkit.emulate import RecedingPlanner"
+    names += "\nfrom lfdkit.skill import PeriodicSkill"
+    assert set(NOT_FOR_PLAN) - {"lfdkit.imitate.warp"} <= _modules(names)
+
+
+def _modules(statement: str) -> set[str]:
+    """Every module (not only top-level packages) a fresh interpreter has after ``statement``."""
+    code = statement + "\nimport json, sys\nprint(json.dumps(sorted(sys.modules)))\n"
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    return set(json.loads(result.stdout.splitlines()[-1]))
+
+
+@pytest.mark.parametrize("package", ["lfdkit.emulate", "lfdkit.imitate", "lfdkit.skill"])
+def test_a_lazy_package_lists_and_gives_every_name_of_its_all(package: str) -> None:
+    import importlib
+
+    module = importlib.import_module(package)
+    assert set(module.__all__) <= set(dir(module))
+    for name in module.__all__:
+        assert getattr(module, name) is not None
+    with pytest.raises(AttributeError, match="has no attribute 'nope'"):
+        module.nope  # noqa: B018

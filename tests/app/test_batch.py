@@ -18,6 +18,7 @@ import sys
 import threading
 import time
 import tracemalloc
+import warnings
 from concurrent.futures import Executor, Future, ThreadPoolExecutor
 from pathlib import Path
 
@@ -35,6 +36,7 @@ from lfdkit.app.batch import (
     results_header,
     run_batch,
     run_chunk,
+    run_unit,
     spec_hash,
     worker_cached,
 )
@@ -255,6 +257,62 @@ def test_tasks_in_flight_stay_within_the_window(tmp_path):
     assert default.most <= 8  # 4 per worker
 
 
+# ------------------------------------------------------------------ a worker's warnings
+class _Elsewhere(Executor):
+    """Runs each unit at once as a pool's worker would: what it shows itself, nobody sees."""
+
+    workers = 2
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a worker's own stderr
+            return SerialExecutor().submit(fn, *args, **kwargs)
+
+
+class _Poor(UserWarning):
+    def __init__(self, value: float, where: str) -> None:  # not (message,): rebuilt without it
+        super().__init__(f"task: {value} is poor at {where}")
+
+
+def _warning_square(i: int) -> dict:
+    if i % 2:
+        warnings.warn(f"task: odd {i % 3}", UserWarning, stacklevel=1)  # 2 distinct texts
+    if i == 4:
+        warnings.warn(_Poor(0.5, "four"), stacklevel=1)
+    return {"square": i * i}
+
+
+def test_a_worker_s_warnings_are_raised_again_where_the_serial_run_raises_them(tmp_path):
+    """Issue 30: the caller shows a worker's warnings as its own (same text, place, once)."""
+    work = [(i, (i,)) for i in range(9)]
+    shown = {}
+    for name, executor in (("serial", SerialExecutor()), ("units", _Elsewhere())):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("default")
+            run_batch(executor, _warning_square, work, tmp_path / f"{name}.jsonl", spec=SPEC)
+        shown[name] = sorted((str(w.message), w.category.__name__, w.lineno) for w in caught)
+        squares = [{"task": i, "square": i * i} for i in range(9)]
+        assert records(tmp_path / f"{name}.jsonl") == squares
+    assert shown["units"] == shown["serial"]
+    assert [text for text, _, _ in shown["serial"]] == [
+        "task: 0.5 is poor at four",
+        "task: odd 0",
+        "task: odd 1",
+        "task: odd 2",
+    ]
+
+
+def test_a_unit_records_its_warnings_and_prints_none(capsys):
+    outcomes, _, raised = run_unit(_warning_square, [(3,), (4,), (13,)])
+    assert outcomes == [{"square": 9}, {"square": 16}, {"square": 169}]
+    assert [(text, category) for text, category, _, _ in raised] == [
+        ("task: odd 0", UserWarning),
+        ("task: 0.5 is poor at four", _Poor),
+        ("task: odd 1", UserWarning),
+    ]
+    assert capsys.readouterr().err == ""
+
+
 # ------------------------------------------------------------------ chunks of short tasks
 class _Counting(_Watching):
     """:class:`_Watching` that keeps what each unit submitted was: a lone task or a chunk."""
@@ -264,7 +322,7 @@ class _Counting(_Watching):
         self.units: list[int] = []
 
     def submit(self, fn, /, *args, **kwargs) -> Future:
-        self.units.append(len(args[1]) if fn is run_chunk else 1)
+        self.units.append(len(args[1]) if fn is run_unit else 1)
         return super().submit(fn, *args, **kwargs)
 
 

@@ -27,6 +27,13 @@ run the same batch again and the tasks already in the file are skipped, so an
 interrupted batch resumes where it stopped. A task that raises is recorded as
 ``{"task": ID, "error": "Type: message"}`` and the batch goes on.
 
+A worker's warnings reach the user as the serial run's do: each unit runs
+under :func:`run_unit`, which records the warnings its tasks raise and sends
+them back with the results, and :func:`run_batch` raises them again in the
+calling process (where they were raised, so the same warning is shown once
+and a command line's one-line format applies), not as Python's two lines on
+the worker's stderr.
+
 Short tasks travel in chunks (issue 30): on any executor but the serial one,
 :func:`run_batch` times the tasks as they come back and sends the next ones
 as chunks of about :data:`CHUNK_SECONDS` of work (one task at a time while
@@ -106,6 +113,7 @@ __all__ = [
     "results_header",
     "run_batch",
     "run_chunk",
+    "run_unit",
     "skill_ends",
     "skill_from_text",
     "spec_hash",
@@ -728,7 +736,10 @@ def run_batch(
     chunk_seconds = CHUNK_SECONDS if chunk_seconds is None else float(chunk_seconds)
     if not (math.isfinite(chunk_seconds) and chunk_seconds >= 0.0):
         raise ValueError(f"chunk_seconds: expected seconds >= 0, got {chunk_seconds!r}")
-    chunked = chunk_seconds > 0.0 and not isinstance(executor, SerialExecutor)
+    serial = isinstance(executor, SerialExecutor)
+    chunked = chunk_seconds > 0.0 and not serial
+    # Where each worker warning was raised: its `__warningregistry__` here (once each).
+    registries: dict[str, dict[Any, Any]] = {}
     sizer = _ChunkSizer(chunk_seconds, capacity, total)
     todo = None if total is None else max(0, total - len(out.done))
     progress = as_progress(progress)
@@ -759,10 +770,10 @@ def run_batch(
                     if not ids:
                         return
                     try:
-                        if chunked:
-                            future = executor.submit(run_chunk, fn, chunk)
-                        else:
+                        if serial:
                             future = executor.submit(fn, *chunk[0])
+                        else:
+                            future = executor.submit(run_unit, fn, chunk)
                     except (BrokenProcessPool, RuntimeError) as exc:
                         raise ExecutorBrokenError(_broken(exc)) from None
                     pending[future] = ids
@@ -788,12 +799,18 @@ def run_batch(
                 finished, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for future in finished:
                     ids = pending.pop(future)
-                    if not chunked:
+                    if serial:
                         write(_record(ids[0], future))
                         continue
                     _check_unit(future)
-                    outcomes, seconds = future.result()
-                    sizer.timed(len(ids), seconds)
+                    if future.exception() is not None:  # not an Exception: run_chunk let it by
+                        for task_id in ids:
+                            write(_record(task_id, future))
+                        continue
+                    outcomes, seconds, caught = future.result()
+                    _warn_again(caught, registries)
+                    if chunked:
+                        sizer.timed(len(ids), seconds)
                     for task_id, outcome in zip(ids, outcomes, strict=True):
                         write({"task": task_id, **outcome})
                 fill()
@@ -847,6 +864,40 @@ def run_chunk(
         except Exception as exc:  # recorded as the task's error, as a lone task's would be
             outcomes.append({"error": error_line(exc)})
     return outcomes, time.perf_counter() - started
+
+
+def run_unit(
+    fn: Callable[..., Mapping[str, Any]], chunk: list[tuple[Any, ...]]
+) -> tuple[list[Mapping[str, Any]], float, list[tuple[str, type[Warning], str, int]]]:
+    """:func:`run_chunk` in a worker, with the warnings its tasks raised.
+
+    Returns :func:`run_chunk`'s outcomes and seconds, and each warning as
+    ``(message, category, filename, lineno)``: all of them (the calling
+    process's filters decide what is shown, :func:`_warn_again`), so none is
+    printed in Python's two-line form on the worker's stderr.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        outcomes, seconds = run_chunk(fn, chunk)
+    raised = [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
+    return outcomes, seconds, raised
+
+
+def _warn_again(
+    caught: Iterable[tuple[str, type[Warning], str, int]], registries: dict[str, dict[Any, Any]]
+) -> None:
+    """Raise a worker's warnings (:func:`run_unit`) in this process, where they were raised.
+
+    ``registries`` (one ``__warningregistry__`` per file, kept over a batch)
+    shows a warning raised at one place once under the ``"default"`` filter,
+    as in a serial run. The warning is rebuilt without its class's
+    ``__init__`` (a class may take other arguments), its message as raised.
+    """
+    for text, category, filename, lineno in caught:
+        message = category.__new__(category)
+        Warning.__init__(message, text)
+        registry = registries.setdefault(filename, {})
+        warnings.warn_explicit(message, category, filename, lineno, registry=registry)
 
 
 class _ChunkSizer:

@@ -20,15 +20,27 @@ Layout, each module with its compiled loops beside it:
   gradients (``_ioc_kernels``).
 """
 
-from lfdkit.emulate.ioc import IOC
-from lfdkit.emulate.moving import RecedingPlanner
-from lfdkit.emulate.planner import Plan, UnsafePlanError, plan_path
-from lfdkit.emulate.problem import Corridor
-from lfdkit.emulate.reward import Reward
+from lfdkit.core.lazy import lazy_names
 from lfdkit.io.scenes import load_scene, load_scenes, save_scenes
 from lfdkit.model.box import Box
 from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Capsule, Obstacle, Scene
+
+# Loaded on first use (PEP 562): `lfdkit plan` needs the planner, not the IOC
+# (NumPy/SciPy optimisation set-up) or the moving-obstacle MPC (issue 30).
+__getattr__, __dir__ = lazy_names(
+    __name__,
+    {
+        "IOC": "ioc",
+        "RecedingPlanner": "moving",
+        "Plan": "planner",
+        "UnsafePlanError": "planner",
+        "plan_path": "planner",
+        "Corridor": "problem",
+        "Reward": "reward",
+    },
+    globals(),
+)
 
 __all__ = [
     "IOC",

@@ -14,18 +14,32 @@ DMPs for position and orientation); :mod:`.tpgmm` the task-parameterised
 GMM/GMR (a skill carried to new poses of the task's frames).
 """
 
-from lfdkit.imitate.dmp import BASIS_LADDER, DMP, minimum_jerk_times
-from lfdkit.imitate.orientation_dmp import QuaternionDMP
-from lfdkit.imitate.promp import ProMP
-from lfdkit.imitate.rhythmic import (
-    QuaternionRhythmicDMP,
-    RhythmicDMP,
-    RhythmicPoseDMP,
-    estimate_period,
+from lfdkit.core.lazy import lazy_names
+
+# Loaded on first use (PEP 562): planning a skill needs the DMP and the timing,
+# not the ProMP, the rhythmic DMPs or TP-GMM (which imports the mimic methods).
+__getattr__, __dir__ = lazy_names(
+    __name__,
+    {
+        "BASIS_LADDER": "dmp",
+        "DMP": "dmp",
+        "minimum_jerk_times": "dmp",
+        "QuaternionDMP": "orientation_dmp",
+        "ProMP": "promp",
+        "QuaternionRhythmicDMP": "rhythmic",
+        "RhythmicDMP": "rhythmic",
+        "RhythmicPoseDMP": "rhythmic",
+        "estimate_period": "rhythmic",
+        "SpeedProfile": "timing",
+        "learn_timing": "timing",
+        "path_progress": "timing",
+        "TPGMM": "tpgmm",
+        "TaskFrame": "tpgmm",
+        "gaussian_product": "tpgmm",
+        "warp_path": "warp",
+    },
+    globals(),
 )
-from lfdkit.imitate.timing import SpeedProfile, learn_timing, path_progress
-from lfdkit.imitate.tpgmm import TPGMM, TaskFrame, gaussian_product
-from lfdkit.imitate.warp import warp_path
 
 __all__ = [
     "BASIS_LADDER",

@@ -109,6 +109,7 @@ from lfdkit.model.demos import PathLike
 __all__ = [
     "MAX_REFIT_BASIS",
     "MAX_SKILL_FILE_BYTES",
+    "PERIODIC_FORMAT",
     "ROUTES",
     "SKILL_FILE_LIMITS",
     "SKILL_FORMAT",
@@ -116,6 +117,7 @@ __all__ = [
     "SkillDocument",
     "check_file_params",
     "check_skill_path",
+    "is_periodic_document",
     "jsonable",
     "pack_arrays",
     "read_skill_file",
@@ -129,6 +131,9 @@ SKILL_FORMAT = "lfdkit-skill"
 
 SKILL_VERSION = 1
 """Newest skill-file version this module reads, and the one it writes."""
+
+PERIODIC_FORMAT = "lfdkit-periodic-skill"
+"""Value of the ``"format"`` field of a periodic skill file (:mod:`lfdkit.skill.periodic`)."""
 
 #: Route planners a skill file may name (:attr:`lfdkit.skill.Skill.route_`).
 ROUTES = ("lookahead", "window", "full")
@@ -680,3 +685,12 @@ class _FieldReader:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{where}: contains NaN or infinite values")
         return arr
+
+
+def is_periodic_document(data: Any) -> bool:
+    """Whether a parsed skill file (:func:`read_skill_file`) is periodic.
+
+    Here, with the format, so a reader tells the two kinds apart without
+    importing the periodic skill (its rhythmic DMPs) for a discrete one.
+    """
+    return isinstance(data, Mapping) and data.get("format") == PERIODIC_FORMAT

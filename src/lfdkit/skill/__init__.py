@@ -87,6 +87,7 @@ The estimator is one class, :class:`Skill`, put together from the parts below
 (wiping, polishing: a rhythm learned from several cycles, with its own file).
 """
 
+from lfdkit.core.lazy import lazy_names
 from lfdkit.io.skill_file import (
     MAX_SKILL_FILE_BYTES,
     SKILL_FILE_LIMITS,
@@ -94,7 +95,6 @@ from lfdkit.io.skill_file import (
     SKILL_VERSION,
 )
 from lfdkit.skill.estimator import Skill, learn
-from lfdkit.skill.periodic import PeriodicSkill
 from lfdkit.skill.planning import RETIME_ROUNDS as RETIME_ROUNDS
 from lfdkit.skill.planning import PlannerKind as PlannerKind
 from lfdkit.skill.selection import CLEARANCE_FLOORS as CLEARANCE_FLOORS
@@ -104,6 +104,10 @@ from lfdkit.skill.selection import MAX_FOLDS as MAX_FOLDS
 from lfdkit.skill.selection import MIN_CROSS_VALIDATION_DEMOS as MIN_CROSS_VALIDATION_DEMOS
 from lfdkit.skill.selection import SELECTION_MARGIN as SELECTION_MARGIN
 from lfdkit.skill.via import VIA_TOLERANCE as VIA_TOLERANCE
+
+# Loaded on first use (PEP 562): a periodic skill's rhythmic DMPs are not needed
+# to load or plan a discrete skill (issue 30).
+__getattr__, __dir__ = lazy_names(__name__, {"PeriodicSkill": "periodic"}, globals())
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [

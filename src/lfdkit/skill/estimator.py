@@ -50,7 +50,7 @@ from lfdkit.core.validation import (
     check_point,
     check_times_list,
 )
-from lfdkit.emulate import IOC, Reward, metrics
+from lfdkit.emulate import Reward, metrics
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
     DEFORMATION_BASIS,
@@ -761,6 +761,9 @@ class Skill(
         stages = "full horizon, then MPC" if self.planner == "mpc" else "full horizon"
         started = time.perf_counter()
         label = f"emulate: inverse optimal control on {len(demos)} demos ({stages})"
+        # Imported where it fits: loading and planning never need the IOC (issue 30).
+        from lfdkit.emulate.ioc import IOC
+
         with progress.stage(label):
             ioc = IOC(
                 self.classes,

@@ -70,7 +70,14 @@ from lfdkit.imitate.rhythmic import (
     RhythmicDMP,
     RhythmicPoseDMP,
 )
-from lfdkit.io.skill_file import check_skill_path, jsonable, read_skill_file, write_skill_file
+from lfdkit.io.skill_file import (
+    PERIODIC_FORMAT,
+    check_skill_path,
+    is_periodic_document,
+    jsonable,
+    read_skill_file,
+    write_skill_file,
+)
 from lfdkit.model.timed_path import TimedPath
 
 __all__ = [
@@ -79,9 +86,6 @@ __all__ = [
     "PeriodicSkill",
     "is_periodic_document",
 ]
-
-PERIODIC_FORMAT = "lfdkit-periodic-skill"
-"""Value of the ``"format"`` field of a periodic skill file."""
 
 PERIODIC_VERSION = 1
 """Newest periodic-skill-file version this module reads, and the one it writes."""
@@ -467,11 +471,6 @@ class PeriodicSkill(Estimator):
         """
         name = os.fspath(path)
         return cls.from_dict(read_skill_file(name), source=name)
-
-
-def is_periodic_document(data: Any) -> bool:
-    """Whether a parsed skill file (:func:`lfdkit.io.skill_file.read_skill_file`) is periodic."""
-    return isinstance(data, Mapping) and data.get("format") == PERIODIC_FORMAT
 
 
 # ---------------------------------------------------------------- internals

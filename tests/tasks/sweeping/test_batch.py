@@ -157,6 +157,34 @@ def test_scenes_of_a_file_with_one_the_skill_cannot_plan_for(skill_path, tmp_pat
     assert got["b"]["start"] == skill.path_[0].tolist()
 
 
+@pytest.mark.slow  # starts 2 worker processes: 3-8 s on 2 shared cores
+def test_a_worker_warning_reads_as_the_serial_run_s_one_line(skill_path, tmp_path, capsys):
+    """Issue 30: a plan's warning in a worker is the serial run's one line, not a UserWarning.
+
+    Two scenes with two obstacles closer than the clearances kept from them
+    warn (each its own gap); the third does not.
+    """
+    scenes = tmp_path / "scenes.csv"
+    scenes.write_text(
+        "demo,class,x,y,radius\n"
+        "a,cup,-0.05,0.47,0.03\n"
+        "a,cup,0.02,0.47,0.03\n"
+        "b,cup,0.0,0.45,0.03\n"
+        "c,cup,-0.06,0.46,0.03\n"
+        "c,marker,0.0,0.46,0.01\n"
+    )
+    argv = ["batch", "evaluate", skill_path, "--scenes", scenes, "--check", "plan", "-q"]
+    code, _, serial = run_cli(capsys, *argv, "-o", tmp_path / "serial.jsonl")
+    assert code == 0
+    code, _, workers = run_cli(capsys, *argv, "--workers", 2, "-o", tmp_path / "workers.jsonl")
+    assert code == 0
+    lines = sorted(serial.splitlines())
+    assert len(lines) == 2, serial
+    assert all(line.startswith("lfdkit batch: warning: plan: obstacles 0 (") for line in lines)
+    assert sorted(workers.splitlines()) == lines
+    assert rows(tmp_path / "workers.jsonl") == rows(tmp_path / "serial.jsonl")
+
+
 def test_evaluate_usage_errors(skill_path, tmp_path, capsys):
     out = ["-o", tmp_path / "r.jsonl"]
     code, _, err = run_cli(capsys, "batch", "evaluate", skill_path, *out)
@@ -178,7 +206,7 @@ def test_a_scene_with_a_moving_obstacle_is_refused_with_the_reason(skill_path, t
         "demo,class,x,y,radius,vx,vy\na,cup,0.0,0.5,0.03,,\nb,cup,0.1,0.6,0.03,0,-0.1\n"
     )
     results = tmp_path / "r.jsonl"
-    argv = ["batch", "evaluate", skill_path, "--scenes", scenes, "--check", "plan"]
+    argv = ["batch", "evaluate", skill_path, "--scenes", scenes, "--check", "plan", "-q"]
     code, _, err = run_cli(capsys, *argv, "-o", results)
     assert code == 1 and err.count("\n") == 1
     assert f"{scenes}: scene 'b' has a moving obstacle; batch evaluate checks standing" in err

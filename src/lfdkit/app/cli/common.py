@@ -568,12 +568,14 @@ def load_skill_file(path: Path):
     A periodic skill (``lfdkit learn --periodic``) is a
     :class:`~lfdkit.skill.periodic.PeriodicSkill`; ``plan`` and ``plot`` take either.
     """
-    from lfdkit.io.skill_file import read_skill_file
-    from lfdkit.skill import Skill
-    from lfdkit.skill.periodic import PeriodicSkill, is_periodic_document
+    from lfdkit.io.skill_file import is_periodic_document, read_skill_file
 
     data = read_skill_file(path)
-    kind = PeriodicSkill if is_periodic_document(data) else Skill
+    # Only a periodic file imports the periodic skill (its rhythmic DMPs, issue 30).
+    if is_periodic_document(data):
+        from lfdkit.skill.periodic import PeriodicSkill as kind
+    else:
+        from lfdkit.skill import Skill as kind
     return kind.from_dict(data, source=os.fspath(path))
 
 

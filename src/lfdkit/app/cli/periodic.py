@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 import warnings
 
 from lfdkit.app.cli.common import (
@@ -70,9 +71,9 @@ _PERIODIC_OPTIONS = (
 
 def is_periodic(skill: object) -> bool:
     """Whether a skill file read (:func:`load_skill_file`) is a periodic skill."""
-    from lfdkit.skill.periodic import PeriodicSkill
-
-    return isinstance(skill, PeriodicSkill)
+    # Not loaded yet: no skill read can be periodic (a discrete plan never imports it).
+    periodic = sys.modules.get("lfdkit.skill.periodic")
+    return periodic is not None and isinstance(skill, periodic.PeriodicSkill)
 
 
 # ---------------------------------------------------------------- learn
