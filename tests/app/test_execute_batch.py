@@ -143,6 +143,27 @@ def test_the_scenes_of_a_file_with_an_unlearned_class(text, tmp_path):
     assert again.failed == 2 and "unknown_class=MARGIN" in again.errors[0]
 
 
+def test_the_command_passes_the_unknown_class_margin_and_response(tmp_path, capsys):
+    # --unknown-class margin=M,response=R reaches every task's plan (it once reached the
+    # tasks as the option's record and every task failed with a TypeError).
+    scenes = tmp_path / "scenes.csv"
+    scenes.write_text("demo,class,x,y,z,radius\na,bottle,0.45,0.0,0.6,0.03\n")
+    argv = ["batch", "evaluate", SKILL, "--scenes", scenes, "--check", "plan"]
+    answers = {}
+    for option in ("margin=0.01", "margin=0.01,response=none"):
+        results = tmp_path / f"{len(answers)}.jsonl"
+        code, _, err = run_cli(capsys, *argv, "--unknown-class", option, "-o", results)
+        assert code == 0, err
+        (row,) = read_results(results)
+        assert row["ok"] and row["plan"]["clearance_m"] > 0.01
+        answers[option] = row["plan"]
+    assert answers["margin=0.01"] == answers["margin=0.01,response=none"]
+    code, _, err = run_cli(
+        capsys, *argv, "--unknown-class", "margin=0.01,response=teapot", "-o", tmp_path / "t.jsonl"
+    )
+    assert code == 1 and "teapot" in err
+
+
 def test_batch_inputs_are_refused_in_one_line(tmp_path):
     out = tmp_path / "r.jsonl"
     with pytest.raises(ValueError, match="random, scenes: give one of them"):

@@ -151,6 +151,7 @@ def evaluate_task(
     rate: float | None = None,
     unknown_class: float | None = None,
     via: Sequence[tuple[float, Any]] | None = None,
+    unknown_response: str | None = None,
 ) -> dict[str, Any]:
     """Evaluate a skill on an arm for one scene or goal: the work unit of the path task's batch.
 
@@ -179,6 +180,9 @@ def evaluate_task(
     via : sequence of (float, array_like (q,)), optional
         Via-points ``(phase, point)`` (m) every plan passes
         (:meth:`lfdkit.skill.Skill.plan`'s ``via``).
+    unknown_response : str, optional
+        With ``unknown_class``, the response such an obstacle gets besides
+        (:meth:`lfdkit.skill.Skill.plan`'s ``unknown_response``).
 
     Returns
     -------
@@ -217,7 +221,14 @@ def evaluate_task(
         try:
             with warnings.catch_warnings():  # the margin was asked for: no warning per task
                 warnings.filterwarnings("ignore", r"plan: obstacle class.* never learned")
-                plan = skill.plan(start, goal, scene, unknown_class=unknown_class, via=via)
+                plan = skill.plan(
+                    start,
+                    goal,
+                    scene,
+                    unknown_class=unknown_class,
+                    unknown_response=unknown_response,
+                    via=via,
+                )
             details = plan.details
             row["plan"] = {
                 "points": len(plan.times),
@@ -282,10 +293,25 @@ def _task_list(
     rate: float | None,
     unknown_class: float | None,
     via: list[Any] | None,
+    unknown_response: str | None,
     wheres: Iterator[tuple[Any, dict[str, Any]]],
 ) -> Iterator[tuple[Any, tuple[Any, ...]]]:
     for key, where in wheres:
-        yield key, (skill_text, where, arm, task, check, fraction, rate, unknown_class, via)
+        yield (
+            key,
+            (
+                skill_text,
+                where,
+                arm,
+                task,
+                check,
+                fraction,
+                rate,
+                unknown_class,
+                via,
+                unknown_response,
+            ),
+        )
 
 
 def _point(value: Any, name: str, dims: int) -> list[float] | None:
@@ -314,6 +340,7 @@ def evaluate_task_batch(
     speed_fraction: float = 0.2,
     rate: float | None = None,
     unknown_class: float | None = None,
+    unknown_response: str | None = None,
     via: Sequence[tuple[float, Any]] | None = None,
     executor: Executor | None = None,
     overwrite: bool = False,
@@ -352,6 +379,10 @@ def evaluate_task_batch(
         Rate of the fixed-rate samples (Hz).
     unknown_class : float, optional
         Margin (m) for obstacles of classes the skill never learned.
+    unknown_response : str, optional
+        With ``unknown_class``, the response such an obstacle gets besides:
+        None (none), ``"nearest"`` or a learned class
+        (:meth:`lfdkit.skill.Skill.plan`'s ``unknown_response``).
     via : sequence of (float, array_like (q,)), optional
         Via-points ``(phase, point)`` (m) every plan passes, the phase a
         fraction of the plan's duration (:meth:`lfdkit.skill.Skill.plan`).
@@ -411,7 +442,19 @@ def evaluate_task_batch(
     )
     if via is not None:  # only when given: a results file from before resumes as it was
         spec["via"] = via
-    settings = (text, machine, description.to_dict(), check, fraction, rate, unknown_class, via)
+    if unknown_response is not None:  # likewise
+        spec["unknown_response"] = unknown_response
+    settings = (
+        text,
+        machine,
+        description.to_dict(),
+        check,
+        fraction,
+        rate,
+        unknown_class,
+        via,
+        unknown_response,
+    )
     arm_name = _arm(machine).name
     if random is not None:
         check_random_count(random, "goals")

@@ -26,6 +26,7 @@ from lfdkit.app.cli.common import (
     skill_params,
     task_description,
     tell,
+    unknown_class_options,
     working,
 )
 from lfdkit.app.cli.via import add_via_option, via_points
@@ -176,7 +177,7 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
                 check=check,
                 speed_fraction=args.speed_fraction,
                 rate=rate,
-                unknown_class=args.unknown_class,
+                **unknown_class_options(args),
                 via=via,
                 executor=executor,
                 overwrite=args.force,
