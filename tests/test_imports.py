@@ -113,6 +113,7 @@ def test_loading_a_skill_imports_nothing_heavy_and_planning_no_scipy_interpolate
 
 #: Modules the packages load on first use only (PEP 562) that ``lfdkit plan`` never needs.
 NOT_FOR_PLAN = (
+    "lfdkit.emulate.ioc",
     "lfdkit.emulate.moving",
     "lfdkit.imitate.rhythmic",
     "lfdkit.imitate.tpgmm",
@@ -139,7 +140,7 @@ def test_plan_s_process_does_not_import_what_it_does_not_need(tmp_path) -> None:
     assert "lfdkit.emulate.planner" in modules and "lfdkit.imitate.dmp" in modules
     assert not modules & set(NOT_FOR_PLAN), sorted(modules & set(NOT_FOR_PLAN))
     # The names still resolve where they are listed, and load their module then.
-    names = "from lfdkit.imitate import TPGMM\nfrom lfdkit.emulate import RecedingPlanner"
+    names = "from lfdkit.imitate import TPGMM\nfrom lfdkit.emulate import RecedingPlanner, IOC"
     names += "\nfrom lfdkit.skill import PeriodicSkill"
     assert set(NOT_FOR_PLAN) - {"lfdkit.imitate.warp"} <= _modules(names)
 

@@ -38,7 +38,7 @@ import numpy as np
 from lfdkit.core.options import (
     POOR_FIDELITY,
 )
-from lfdkit.emulate import IOC, Reward, UnsafePlanError, metrics
+from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
 from lfdkit.emulate.gaps import demonstrated_gaps
 from lfdkit.model.scene import Scene
@@ -246,6 +246,8 @@ class BehaviourSelection:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
+                from lfdkit.emulate.ioc import IOC  # fitting only: plans need not import it
+
                 ioc = IOC(
                     self.reward_.classes,
                     n_points=int(self.n_points),
@@ -282,6 +284,8 @@ class BehaviourSelection:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
+                from lfdkit.emulate.ioc import IOC
+
                 ioc = IOC(
                     init.classes,
                     n_points=int(self.n_points),
