@@ -1235,15 +1235,14 @@ def test_a_killed_demo_leaves_nothing_behind(tmp_path):
 def test_learn_exits_1_and_writes_nothing_when_the_reward_fit_fails(
     capsys, tmp_path, examples, monkeypatch
 ):
-    import lfdkit.skill
+    import lfdkit.emulate.ioc
 
-    class TwoIterations(lfdkit.skill.estimator.IOC):
+    class TwoIterations(lfdkit.emulate.ioc.IOC):
         def __init__(self, *args, **kwargs):
             super().__init__(*args, **{**kwargs, "max_iter": 2})
 
-    # The reward fit (estimator) and the behaviour-model refits (selection) build IOCs.
-    monkeypatch.setattr(lfdkit.skill.estimator, "IOC", TwoIterations)
-    monkeypatch.setattr(lfdkit.skill.selection, "IOC", TwoIterations)
+    # The reward fit and the behaviour-model refits import the IOC where they fit.
+    monkeypatch.setattr(lfdkit.emulate.ioc, "IOC", TwoIterations)
     out = tmp_path / "skill.json"
     code, stdout, err = run_cli(
         capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out, "-q"
@@ -1284,16 +1283,15 @@ def test_learn_says_under_q_that_far_obstacles_cannot_be_learned(capsys, tmp_pat
 def test_learn_shows_the_reward_fit_warnings_as_lines(capsys, tmp_path, examples, monkeypatch):
     import warnings
 
-    import lfdkit.skill
+    import lfdkit.emulate.ioc
 
-    class Warns(lfdkit.skill.estimator.IOC):
+    class Warns(lfdkit.emulate.ioc.IOC):
         def fit(self, *args, **kwargs):
             warnings.warn("obstacle class 'vase' was not learned: ...", UserWarning, stacklevel=2)
             return super().fit(*args, **kwargs)
 
-    # The reward fit (estimator) and the behaviour-model refits (selection) build IOCs.
-    monkeypatch.setattr(lfdkit.skill.estimator, "IOC", Warns)
-    monkeypatch.setattr(lfdkit.skill.selection, "IOC", Warns)
+    # The reward fit and the behaviour-model refits import the IOC where they fit.
+    monkeypatch.setattr(lfdkit.emulate.ioc, "IOC", Warns)
     out = tmp_path / "skill.json"
     code, _, err = run_cli(
         capsys, "learn", examples["demos"], "--scenes", examples["scenes"], "-o", out
