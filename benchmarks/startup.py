@@ -184,7 +184,14 @@ def run_tree(src: Path, args: list[str], cwd: Path) -> tuple[float, float, dict[
             for process in psutil.Process(child.pid).children(recursive=True):
                 with contextlib.suppress(psutil.Error):
                     times = process.cpu_times()
-                    role = "forkserver" if "forkserver" in " ".join(process.cmdline()) else "worker"
+                    # Workers forked from the fork server keep its command line: the
+                    # server is the one the command started itself.
+                    server = process.ppid() == child.pid
+                    role = (
+                        "forkserver"
+                        if server and "forkserver" in " ".join(process.cmdline())
+                        else "worker"
+                    )
                     if "resource_tracker" in " ".join(process.cmdline()):
                         role = "tracker"
                     seen[process.pid] = (role, times.user + times.system)
