@@ -230,6 +230,43 @@ class BehaviourSelection:
             out.append({**row, "clearance_relaxed": relaxed, "replay_mse": replay})
         return out
 
+    def _warm_fit(
+        self,
+        init: Reward,
+        keep: Sequence[int],
+        demos: list[np.ndarray],
+        scenes: list[Scene],
+        nominals: list[np.ndarray],
+        max_iter: int,
+        swerve: bool = False,
+    ) -> Any:
+        """An IOC fitted on demonstrations ``keep``, warm-started from ``init``; None if it fails.
+
+        Full horizon, one start, without the after-fit checks (the reward only
+        plans; the MPC stage would triple the cost), warnings silenced.
+        """
+        from lfdkit.emulate.ioc import IOC  # fitting only: plans need not import it
+
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return IOC(
+                    init.classes,
+                    n_points=int(self.n_points),
+                    max_slope=float(self.max_slope),
+                    init=init,
+                    n_starts=1,
+                    max_iter=max_iter,
+                    swerve=swerve,
+                    diagnose=False,
+                ).fit(
+                    [demos[i] for i in keep],
+                    [scenes[i] for i in keep],
+                    [nominals[i] for i in keep],
+                )
+        except ValueError:  # nothing to learn from them
+            return None
+
     def _refit_on(
         self,
         keep: Sequence[int],
@@ -239,29 +276,11 @@ class BehaviourSelection:
     ) -> Reward:
         """The reward refitted on demonstrations ``keep``, warm-started from the one fitted on all.
 
-        Full horizon only and without the after-fit checks (a fold's reward
-        only plans; the MPC stage would triple the cost). Classes the kept
-        demonstrations do not show keep the reward's own response.
+        Classes the kept demonstrations do not show keep the reward's own
+        response; a fit that fails keeps the reward fitted on all.
         """
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                from lfdkit.emulate.ioc import IOC  # fitting only: plans need not import it
-
-                ioc = IOC(
-                    self.reward_.classes,
-                    n_points=int(self.n_points),
-                    max_slope=float(self.max_slope),
-                    init=self.reward_,
-                    n_starts=1,
-                    max_iter=CROSS_VALIDATION_MAX_ITER,
-                    diagnose=False,
-                ).fit(
-                    [demos[i] for i in keep],
-                    [scenes[i] for i in keep],
-                    [nominals[i] for i in keep],
-                )
-        except ValueError:  # nothing to learn from them: the reward fitted on all
+        ioc = self._warm_fit(self.reward_, keep, demos, scenes, nominals, CROSS_VALIDATION_MAX_ITER)
+        if ioc is None:
             return self.reward_
         return self.reward_.combined(ioc.reward_, ioc.reward_.nominal_weight)
 
@@ -276,31 +295,12 @@ class BehaviourSelection:
     ) -> tuple[Reward, float]:
         """The swerve reward fitted on demonstrations ``keep``, warm-started from ``init``.
 
-        Full horizon, one start, without the after-fit checks; a fit that
-        fails keeps ``init``. Classes the kept demonstrations do not show keep
-        ``init``'s response. Also its full-horizon training loss over
+        A fit that fails keeps ``init``. Classes the kept demonstrations do not
+        show keep ``init``'s response. Also its full-horizon training loss over
         ``init``'s (1.0 where it failed).
         """
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                from lfdkit.emulate.ioc import IOC
-
-                ioc = IOC(
-                    init.classes,
-                    n_points=int(self.n_points),
-                    max_slope=float(self.max_slope),
-                    init=init,
-                    n_starts=1,
-                    max_iter=max_iter,
-                    swerve=True,
-                    diagnose=False,
-                ).fit(
-                    [demos[i] for i in keep],
-                    [scenes[i] for i in keep],
-                    [nominals[i] for i in keep],
-                )
-        except ValueError:
+        ioc = self._warm_fit(init, keep, demos, scenes, nominals, max_iter, swerve=True)
+        if ioc is None:
             return init, 1.0
         before = ioc.training_loss(init)
         gain = ioc.loss_ / before if before > 0.0 else 1.0
