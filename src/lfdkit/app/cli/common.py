@@ -670,6 +670,36 @@ def unknown_class_options(args: argparse.Namespace) -> dict[str, Any]:
     return {"unknown_class": option.margin, "unknown_response": option.response}
 
 
+def write_timed_run(args: argparse.Namespace, timed: Any, summary: str, rate: float | None) -> None:
+    """A plan's timed path (a ``TimedPath``), at ``--rate`` if given, to ``--output`` or stdout.
+
+    Writes ``t``, the positions, velocities with ``--velocities`` and any
+    orientations; the summary line ends with the rate and the file written
+    (on standard output, which carries the path, it is shown at ``-v`` only).
+    """
+    import sys
+
+    from lfdkit.io import path_csv, save_path
+
+    if rate is not None:
+        try:
+            timed = timed.at_rate(rate)
+        except ValueError as exc:
+            raise CommandError(option_named(str(exc).replace("rate_hz", "--rate", 1))) from None
+        summary += f"; written at {rate:g} Hz: {len(timed.times)} samples"
+    columns = {
+        "times": timed.times,
+        "velocities": timed.velocities if args.velocities else None,
+        "orientations": timed.orientations,
+    }
+    if args.output is None:
+        sys.stdout.write(path_csv(timed.positions, **columns))
+        tell(args, summary, level=2)
+        return
+    save_path(args.output, timed.positions, **columns, overwrite=args.force)
+    tell(args, f"{summary}; wrote {args.output}")
+
+
 def add_unknown_class_option(parser: argparse.ArgumentParser, units: str) -> None:
     """``--unknown-class margin=M`` (``Skill.plan``'s ``unknown_class``), lengths in ``units``."""
     parser.add_argument(

@@ -24,6 +24,7 @@ from lfdkit.app.cli.common import (
     positive_or_none,
     refuse_existing,
     tell,
+    write_timed_run,
 )
 from lfdkit.core.numbers import parse_decimal
 
@@ -317,32 +318,12 @@ def _planned(skill, settings: dict):
 
 def plan(args: argparse.Namespace, skill, duration: float | None, speed: float | None, rate):
     """``lfdkit plan`` of a periodic skill: a timed run of cycles, as CSV."""
-    import sys
-
-    from lfdkit.io import path_csv, save_path
-
     if args.units is not None:
         skill = skill.to_units(args.units)
     settings = _run_settings(args, skill, duration, speed)
     run = _planned(skill, settings)
     summary = _run_summary(skill, settings, run)
-    if rate is not None:
-        try:
-            run = run.at_rate(rate)
-        except ValueError as exc:
-            raise CommandError(str(exc).replace("rate_hz", "--rate", 1)) from None
-        summary += f"; written at {rate:g} Hz: {len(run.times)} samples"
-    columns = {
-        "times": run.times,
-        "velocities": run.velocities if args.velocities else None,
-        "orientations": run.orientations,
-    }
-    if args.output is None:
-        sys.stdout.write(path_csv(run.positions, **columns))
-        tell(args, summary, level=2)
-        return
-    save_path(args.output, run.positions, **columns, overwrite=args.force)
-    tell(args, f"{summary}; wrote {args.output}")
+    write_timed_run(args, run, summary, rate)
 
 
 def run(args: argparse.Namespace, skill):

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -23,9 +22,9 @@ from lfdkit.app.cli.common import (
     positive_or_none,
     refuse_existing,
     skill_and_scene,
-    tell,
     unknown_class_options,
     working,
+    write_timed_run,
 )
 from lfdkit.app.cli.via import add_via_option, via_points
 from lfdkit.core.numbers import parse_decimal
@@ -64,8 +63,6 @@ def run_command(args: argparse.Namespace) -> None:
 
 
 def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
-    from lfdkit.io import path_csv, save_path
-
     # Checked here, not by argparse, so that a bad value is one line (exit 2).
     duration = positive_or_none(args.duration, "--duration", "a positive number of seconds")
     speed = positive_or_none(args.speed, "--speed", "a positive speed factor")
@@ -117,23 +114,7 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
         f"{timed.speeds.max():.4g} {units}/s{_assumed(skill, duration, speed)}"
         f"{_via_summary(timed.points, via, units)}"
     )
-    if rate is not None:
-        try:
-            timed = timed.at_rate(rate)
-        except ValueError as exc:
-            raise CommandError(option_named(str(exc).replace("rate_hz", "--rate", 1))) from None
-        summary += f"; written at {rate:g} Hz: {len(timed)} samples"
-    columns = {
-        "times": timed.times,
-        "velocities": timed.velocities if args.velocities else None,
-        "orientations": timed.orientations,
-    }
-    if args.output is None:
-        sys.stdout.write(path_csv(timed.points, **columns))
-        tell(args, summary, level=2)  # standard output carries the plan: details at -v only
-        return
-    save_path(args.output, timed.points, **columns, overwrite=args.force)
-    tell(args, f"{summary}; wrote {args.output}")
+    write_timed_run(args, timed, summary, rate)
 
 
 def _via_summary(points, via, units: str) -> str:
