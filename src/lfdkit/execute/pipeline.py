@@ -48,6 +48,7 @@ from lfdkit.execute.kinematics import AnyArm, check_any_arm, forward, joint_path
 from lfdkit.execute.trajectory import JointTrajectory, keep_timing
 from lfdkit.execute.urdf import UrdfArm
 from lfdkit.execute.urscript import MAX_TOOL_SPEED, Workspace, urscript_program
+from lfdkit.imitate.timing import minimum_jerk_law
 from lfdkit.io import write_text
 from lfdkit.model.timed_path import TimedPath
 
@@ -371,7 +372,7 @@ def _straight(pose: np.ndarray, distance: float, into: bool) -> tuple[np.ndarray
     duration = max(1.0, distance / APPROACH_SPEED)
     count = max(2, int(np.ceil(duration * WAYPOINT_RATE)) + 1)
     u = np.linspace(0.0, 1.0, count)
-    s = u**3 * (10.0 - 15.0 * u + 6.0 * u * u)  # minimum jerk: at rest at both ends
+    s = minimum_jerk_law(u)[0]  # at rest at both ends
     back = (1.0 - s[:-1]) if into else s[1:]
     moved = np.repeat(pose[None], len(back), axis=0)
     moved[:, :3, 3] -= back[:, None] * distance * pose[:3, 2]

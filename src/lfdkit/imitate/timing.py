@@ -83,6 +83,7 @@ from lfdkit.core.validation import (
     check_positive,
     check_times_list,
 )
+from lfdkit.imitate._dmp_numerics import minimum_jerk_law
 
 __all__ = [
     "DEGREE",
@@ -90,6 +91,7 @@ __all__ = [
     "MAX_COEFFICIENTS",
     "SpeedProfile",
     "learn_timing",
+    "minimum_jerk_law",
     "path_progress",
 ]
 
