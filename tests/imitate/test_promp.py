@@ -190,6 +190,8 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
         n_weights, m, scale = d * b, k * d, 10.0 ** rng.uniform(-3, 3)
         draws = scale * rng.normal(size=(int(rng.integers(3, 2 * n_weights)), n_weights))
         mean, cov = draws.mean(axis=0), np.atleast_2d(np.cov(draws.T))
+        for array in (mean, cov):  # read-only, as a model's: numba compiles one signature
+            array.flags.writeable = False
         width = 1.0 / (b - 1)
         phases = (np.arange(k) + rng.uniform(0.1, 0.9, k)) / k
         if trial % 4 == 0:
@@ -198,15 +200,16 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
         noise = (
             np.zeros((0, d, d)) if trial % 3 else np.tile(0.02 * scale**2 * np.eye(d), (k, 1, 1))
         )
+        noise.flags.writeable = False
         results = []
         for run in (_promp_kernels.condition_weights, promp.condition_weights):
-            out = [np.empty((2, n_weights)), np.empty((n_weights, m)), np.empty((n_weights, m))]
-            out.append(np.empty((2, m)))
-            centres = np.linspace(0.0, 1.0, b) / width
+            out = np.empty(2 * n_weights + (2 * n_weights + 2) * m)
+            centres = promp._scaled_centres(b, width)
             args = (mean, cov, centres, phases, width, sets, 0.01 * scale**2 * (trial % 2))
-            n_dropped = run(*args, noise, 1e-10, *out)
-            new_cov = promp._conditioned_covariance(cov, out[1], out[2])
-            results.append((n_dropped, out[0], new_cov, out[3]))
+            n_dropped = run(*args, noise, 1e-10, out)
+            means, _, _, lost = promp._out_parts(out, 2, n_weights, m)
+            new_cov = promp._conditioned_covariance(cov, out, 2, m)
+            results.append((n_dropped, means, new_cov, lost))
         (dropped, *ours), (expected, *theirs) = results
         assert dropped == expected
         dropped_some += dropped > 0

@@ -83,8 +83,7 @@ def _jacobi_eigh(matrix, vectors):
 
 @numba.njit(cache=True)
 def condition_weights(
-    mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond,
-    means, gain, observed, lost,
+    mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out
 ):  # fmt: skip
     """Condition ``N(mean, cov)`` on ``k`` via-points for each of ``n_sets`` point sets.
 
@@ -95,21 +94,37 @@ def condition_weights(
     sets : (n_sets, k, d) the points; variance : added to every observed coordinate;
     noise : (k, d, d) per-point covariances added too, or (0, d, d) for none.
     rcond : relative cut of the pseudo-inverse.
-    means : (n_sets, n_weights), gain : (n_weights, k·d), observed : (n_weights, k·d),
-    lost : (n_sets, k·d)
-        Written: the new means, the gain ``K``, ``Σ Hᵀ`` (the new covariance is
+    out : (n_sets·n_weights + 2·n_weights·k·d + n_sets·k·d,)
+        Written, one after the other: the new means (n_sets, n_weights), the
+        gain ``K`` and ``Σ Hᵀ`` (n_weights, k·d each; the new covariance is
         ``Σ − K (Σ Hᵀ)ᵀ``, formed by the caller when asked for) and each set's
-        offset in the dropped directions (zero if none). Passed in, not
-        returned: boxing a returned array costs about a microsecond each.
+        offset in the dropped directions (n_sets, k·d; zero if none). One
+        buffer passed in, not arrays returned: boxing a returned array costs
+        about a microsecond, as much as the rest of a one-point call.
 
     Returns
     -------
-    n_dropped : directions the pseudo-inverse dropped.
+    n_dropped : directions the pseudo-inverse dropped, or −1 for a point that
+    is not finite or a phase outside [0, 1] (nothing written: the caller's full
+    checks then say which).
     """
     n_sets, k, d = sets.shape
     b = scaled_centres.shape[0]
     n_weights = mean.shape[0]
     m = k * d
+    for i in range(k):
+        if not 0.0 <= phases[i] <= 1.0:  # NaN fails too
+            return -1
+        for n in range(n_sets):
+            for c in range(d):
+                if not np.isfinite(sets[n, i, c]):
+                    return -1
+    means = out[: n_sets * n_weights].reshape((n_sets, n_weights))
+    start = n_sets * n_weights
+    gain = out[start : start + n_weights * m].reshape((n_weights, m))
+    start += n_weights * m
+    observed = out[start : start + n_weights * m].reshape((n_weights, m))
+    lost = out[start + n_weights * m :].reshape((n_sets, m))
     features = np.empty((k, b))
     for i in range(k):
         total = 0.0

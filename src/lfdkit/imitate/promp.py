@@ -123,6 +123,10 @@ _KEPT = ("_root_cache", "_pending_cov")
 _KERNEL = ("condition_weights", "lfdkit.imitate._promp_kernels")
 _COMPILED: list = []  # numba's, once handed out
 
+#: Activations on even grids by (n_basis, width, n_points): a dict look-up before
+#: the argument check and the LRU cache (together 3× the product of a mean path).
+_GRIDS: dict = {}
+
 
 class ProMP(Estimator):
     """Probabilistic movement primitive: a Gaussian over basis weights, learned from demonstrations.
@@ -283,7 +287,8 @@ class ProMP(Estimator):
         -------
         ndarray, shape (n_points, n_dims)
         """
-        self._check_fitted()
+        if "weights_mean_" not in self.__dict__:
+            self._check_fitted()
         return self._mean_from(self._grid(n_points))
 
     def timed_mean(self, duration: float, n_points: int = 100) -> TimedPath:
@@ -320,13 +325,16 @@ class ProMP(Estimator):
         ndarray, shape (n_points, n_dims)
             In the demonstrations' units.
         """
-        self._check_fitted()
+        if "weights_mean_" not in self.__dict__:
+            self._check_fitted()
         features = self._grid(n_points)
         d, b = self.n_dims_, self.n_basis
-        # Only the diagonal blocks Σ_w[k-block, k-block] matter for the variances.
-        blocks = self.weights_cov_.reshape(d, b, d, b)[np.arange(d), :, np.arange(d), :]
-        variances = np.sum((features @ blocks) * features, axis=-1).T
-        return np.sqrt(np.clip(variances, 0.0, None))
+        # Only the diagonal blocks Σ_w[k-block, k-block] matter for the variances: side by
+        # side, one 2-D product (a stacked product and fancy indexing were 3× slower).
+        cov = self.weights_cov_.reshape(d, b, d, b)
+        blocks = cov[0, :, 0, :] if d == 1 else np.hstack([cov[k, :, k, :] for k in range(d)])
+        variances = ((features @ blocks).reshape(-1, d, b) * features[:, None, :]).sum(axis=2)
+        return np.sqrt(np.maximum(variances, 0.0))
 
     def sample(self, n_samples: int = 1, n_points: int = 100, seed: Any = None) -> np.ndarray:
         """Draw paths from the model.
@@ -389,13 +397,17 @@ class ProMP(Estimator):
         if "weights_mean_" not in self.__dict__:
             self._check_fitted()
         pts, s, variance, noise = self._checked_via(points, phases, covariance)
-        means, gain, observed, lost, n_dropped = self._conditioned(pts[None], s, variance, noise)
-        new = self._with_weights(means[0], None)
+        out, n_dropped = self._conditioned(pts[None], s, variance, noise)
+        if n_dropped < 0:  # a value the quick check let through: the full checks name it
+            self._checked_via(points, phases, covariance, full=True)
+        n_weights = len(self.weights_mean_)
+        new = self._with_weights(out[:n_weights], None)
         # The covariance is formed when first read (Σ' = Σ − K (Σ Hᵀ)ᵀ): a path's
         # mean alone does not need it.
-        new._pending_cov = (self.weights_cov_, gain, observed)
+        new._pending_cov = (self.weights_cov_, out, 1, pts.size)
         if n_dropped:
-            new._warn_unreachable(pts, s, lost[0].reshape(pts.shape), "points")
+            lost = _out_parts(out, 1, n_weights, pts.size)[3]
+            new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
         return new
 
     def condition_many(self, points: Any, phases: Any, covariance: Any = 0.0) -> list[ProMP]:
@@ -445,10 +457,11 @@ class ProMP(Estimator):
             )
         noise = _check_covariance(covariance, len(s), d)
         variance, noise = (noise, _no_noise(d)) if isinstance(noise, float) else (0.0, noise)
-        means, gain, observed, lost, n_dropped = self._conditioned(
+        out, n_dropped = self._conditioned(
             np.ascontiguousarray(sets), s, variance, np.ascontiguousarray(noise)
         )
-        cov = _frozen(_conditioned_covariance(self.weights_cov_, gain, observed))
+        means, _, _, lost = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size)
+        cov = _frozen(_conditioned_covariance(self.weights_cov_, out, len(sets), sets[0].size))
         out = [self._with_weights(mean, cov) for mean in means]
         if n_dropped:
             for j, model in enumerate(out):
@@ -457,17 +470,19 @@ class ProMP(Estimator):
         return out
 
     def _checked_via(
-        self, points: Any, phases: Any, covariance: Any
+        self, points: Any, phases: Any, covariance: Any, full: bool = False
     ) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
         """Via-point arguments checked once, here at the edge: ``(points (k, d), phases (k,),
         variance, noise (k or 0, d, d))``, or the one-line error of the full checks.
 
-        The common call (a few points, a variance) is checked with a handful of
-        Python and NumPy operations; anything else, or anything they would
-        refuse, goes through the full checks, which name what is wrong.
+        The common call (a few points, a variance) has its types and shapes
+        checked here and its values (finite points, phases in [0, 1]) by the
+        kernel, which refuses them before any work (:meth:`condition` then
+        calls this with ``full=True``); anything else goes through the full
+        checks, which name what is wrong.
         """
         d = self.n_dims_
-        if type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < math.inf:
+        if not full and type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < math.inf:
             try:
                 pts = np.asarray(points, dtype=np.float64)
                 s = np.asarray(phases, dtype=np.float64)
@@ -481,11 +496,8 @@ class ProMP(Estimator):
                 and pts.shape[1] == d
                 and 0 < len(pts) == s.size
                 and s.ndim <= 1
-                # NaN fails every comparison, so it goes to the full checks as well.
-                and (0.0 <= s.item() <= 1.0 if s.size == 1 else 0.0 <= s.min() and s.max() <= 1.0)
-                and all(map(math.isfinite, pts.ravel().tolist()))
             ):
-                return pts, s.reshape(-1), float(covariance), _no_noise(d)
+                return pts, (s if s.ndim else s.reshape(1)), float(covariance), _no_noise(d)
         pts = _check_points(points, d)
         s = _check_phases(phases, "phases")
         if len(s) != len(pts):
@@ -499,19 +511,16 @@ class ProMP(Estimator):
 
     def _conditioned(
         self, sets: np.ndarray, phases: np.ndarray, variance: float, noise: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    ) -> tuple[np.ndarray, int]:
         """:func:`condition_weights` (numba's or the NumPy twin) on this model's weights.
 
-        ``sets`` (n_sets, k, d) checked points, C-contiguous; returns the new
-        means (n_sets, n_weights; read-only), the gain ``K`` and ``Σ Hᵀ``
-        (n_weights, k·d each; :func:`_conditioned_covariance` forms the new
-        covariance from them), what each set's offset has in the dropped
-        directions (n_sets, k·d) and how many were dropped.
+        ``sets`` (n_sets, k, d) points, C-contiguous. Returns the kernel's
+        buffer (read-only; :func:`_out_parts` splits it) and its count of
+        dropped directions (−1: a value out of range, nothing computed).
         """
         n_sets, k, d = sets.shape
         n_weights = len(self.weights_mean_)
-        means, lost = np.empty((n_sets, n_weights)), np.empty((n_sets, k * d))
-        gain, observed = np.empty((n_weights, k * d)), np.empty((n_weights, k * d))
+        out = np.empty(n_sets * n_weights + (2 * n_weights + n_sets) * k * d)
         n_dropped = _condition_kernel()(
             self.weights_mean_,
             self.weights_cov_,
@@ -522,13 +531,10 @@ class ProMP(Estimator):
             variance,
             noise,
             _PINV_RCOND,
-            means,
-            gain,
-            observed,
-            lost,
+            out,
         )
-        # Read-only: the rows handed to the copies are views that inherit it.
-        return _frozen(means), gain, observed, lost, n_dropped
+        # Read-only: the means handed to the copies are views that inherit it.
+        return _frozen(out), n_dropped
 
     def _with_weights(self, mean: np.ndarray, cov: np.ndarray | None) -> ProMP:
         """A fitted copy with another weight distribution (``mean`` and ``cov`` read-only;
@@ -660,7 +666,15 @@ class ProMP(Estimator):
 
     def _grid(self, n_points: Any) -> np.ndarray:
         """:meth:`_features` at ``n_points`` even phases, cached (read-only)."""
-        return _grid_features(self.n_basis, self.width_, check_count(n_points, "n_points"))
+        if type(n_points) is not int:  # an int is checked by the cache's miss below
+            n_points = check_count(n_points, "n_points")
+        features = _GRIDS.get((self.n_basis, self.width_, n_points))
+        if features is None:
+            features = _grid_features(self.n_basis, self.width_, check_count(n_points, "n_points"))
+            if len(_GRIDS) >= 64:
+                _GRIDS.clear()
+            _GRIDS[(self.n_basis, self.width_, n_points)] = features
+        return features
 
     def _mean_from(self, features: np.ndarray) -> np.ndarray:
         """Mean positions for the activations ``features`` (n, n_basis): shape (n, n_dims)."""
@@ -735,10 +749,7 @@ def condition_weights(
     variance: float,
     noise: np.ndarray,
     rcond: float,
-    means: np.ndarray,
-    gain: np.ndarray,
-    observed: np.ndarray,
-    lost: np.ndarray,
+    out: np.ndarray,
 ) -> int:
     """Condition ``N(mean, cov)`` on ``k`` via-points for each of ``n_sets`` point sets (NumPy).
 
@@ -766,21 +777,24 @@ def condition_weights(
     rcond : float
         Eigenvalues of the innovation covariance at or below ``rcond`` times
         the largest are dropped (pseudo-inverse).
-    means : ndarray, shape (n_sets, n_weights)
-        Written: the conditioned means.
-    gain, observed : ndarray, shape (n_weights, k * d)
-        Written: the gain ``K`` and ``Σ Hᵀ`` (columns point-major, then
-        dimension); :func:`_conditioned_covariance` forms ``Σ'`` from them.
-    lost : ndarray, shape (n_sets, k * d)
-        Written: each set's offset from the prior mean in the dropped directions.
+    out : ndarray, shape (n_sets * n_weights + 2 * n_weights * k * d + n_sets * k * d,)
+        Written, one after the other: the conditioned means (n_sets,
+        n_weights); the gain ``K`` and ``Σ Hᵀ`` (n_weights, k·d each, columns
+        point-major, then dimension; :func:`_conditioned_covariance` forms
+        ``Σ'`` from them); each set's offset from the prior mean in the
+        dropped directions (n_sets, k·d).
 
     Returns
     -------
     int
-        Directions dropped.
+        Directions dropped, or −1 for a point that is not finite or a phase
+        outside [0, 1] (nothing written: the caller's full checks say which).
     """
     n_sets, k, d = sets.shape
     b, n_weights, m = len(scaled_centres), len(mean), k * d
+    if not (np.all((phases >= 0.0) & (phases <= 1.0)) and np.all(np.isfinite(sets))):
+        return -1
+    means, gain, observed, lost = _out_parts(out, n_sets, n_weights, m)
     bumps = np.exp(-0.5 * np.square(scaled_centres - (phases / width)[:, None]))
     features = bumps / bumps.sum(axis=1, keepdims=True)
     # Σ Hᵀ: column (i, c) is Σ[:, c-block] φ(s_i); one 2-D product, then reordered.
@@ -812,8 +826,24 @@ def condition_weights(
     return int(dropped.shape[1])
 
 
-def _conditioned_covariance(cov: np.ndarray, gain: np.ndarray, observed: np.ndarray) -> np.ndarray:
-    """``Σ' = Σ − K (Σ Hᵀ)ᵀ``, made exactly symmetric (averaged with its transpose)."""
+def _out_parts(
+    out: np.ndarray, n_sets: int, n_weights: int, m: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Views of :func:`condition_weights`' buffer: means, gain, ``Σ Hᵀ``, lost."""
+    ends = np.cumsum([n_sets * n_weights, n_weights * m, n_weights * m])
+    means, gain, observed, lost = np.split(out, ends)
+    return (
+        means.reshape(n_sets, n_weights),
+        gain.reshape(n_weights, m),
+        observed.reshape(n_weights, m),
+        lost.reshape(n_sets, m),
+    )
+
+
+def _conditioned_covariance(cov: np.ndarray, out: np.ndarray, n_sets: int, m: int) -> np.ndarray:
+    """``Σ' = Σ − K (Σ Hᵀ)ᵀ`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
+    coordinates), made exactly symmetric (averaged with its transpose)."""
+    _, gain, observed, _ = _out_parts(out, n_sets, len(cov), m)
     new_cov = cov - gain @ observed.T
     return 0.5 * (new_cov + new_cov.T)
 
@@ -939,4 +969,5 @@ def _check_covariance(covariance: Any, n_via: int, n_dims: int) -> float | np.nd
         raise ValueError("covariance: must be symmetric")
     if np.linalg.eigvalsh(arr).min() < -1e-12 * max(1.0, float(np.abs(arr).max())):
         raise ValueError("covariance: must be positive semi-definite (a variance is >= 0)")
-    return np.array(arr)
+    # Read-only like the model's weights: the compiled kernel is then typed (and compiled) once.
+    return _frozen(np.array(arr))
