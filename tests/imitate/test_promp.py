@@ -411,6 +411,22 @@ def test_bad_fit_input_is_refused_in_one_line():
         ProMP(width=2.0).fit([demo, demo])
 
 
+def test_a_malformed_state_is_refused_in_one_line(full_rank_model):
+    state = full_rank_model.to_state()
+    for change, message in (
+        ({"residual_rms": float("nan")}, r"^promp\.residual_rms: expected a number >= 0"),
+        ({"width": 1.5}, r"^promp\.width: expected a value in \(0, 1\]"),
+        ({"width": "0.2"}, r"^promp\.width: expected a number"),
+        ({"params": None}, r"^promp\.params: expected an object"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            ProMP.from_state({**state, **change})
+    with pytest.raises(ValueError, match=r"^promp: expected an object, got list"):
+        ProMP.from_state([])
+    back = ProMP.from_state(state)
+    np.testing.assert_array_equal(back.weights_cov_, full_rank_model.weights_cov_)
+
+
 def test_use_before_fit_says_so():
     from sklearn.exceptions import NotFittedError
 

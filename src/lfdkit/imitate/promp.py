@@ -89,8 +89,10 @@ from lfdkit.core.validation import (
     check_demos,
     check_positive,
     check_random_state,
+    check_state_number,
     check_times,
     check_values,
+    made_from_state,
 )
 from lfdkit.model.timed_path import TimedPath
 
@@ -604,23 +606,19 @@ class ProMP(Estimator):
         ValueError
             One line starting with ``where`` for a missing or malformed field.
         """
-        keys = ("params", "width", "n_dims", "n_demos", "residual_rms")
-        for key in (*keys, "weights_mean", "weights_cov"):
-            if key not in state:
-                raise ValueError(f"{where}.{key}: missing field")
-        try:
-            made = cls(**dict(state["params"]))
-            made._validate_params()
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{where}.params: {exc}") from None
-        for key in keys[1:]:
-            value = state[key]
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ValueError(f"{where}.{key}: expected a number, got {value!r}")
+        made = made_from_state(
+            cls,
+            state,
+            where,
+            ("width", "n_dims", "n_demos", "residual_rms", "weights_mean", "weights_cov"),
+        )
+        width = check_state_number(state, "width", where, positive=True)
+        check_state_number(state, "n_demos", where, positive=True)
+        check_state_number(state, "residual_rms", where, positive=False)
         n_dims = state["n_dims"]
-        if not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
+        if isinstance(n_dims, bool) or not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
             raise ValueError(f"{where}.n_dims: expected 1 to 3, got {n_dims!r}")
-        if not 0.0 < state["width"] <= 1.0:
+        if width > 1.0:
             raise ValueError(f"{where}.width: expected a value in (0, 1], got {state['width']!r}")
         n_weights = n_dims * made.n_basis
         try:
@@ -639,7 +637,7 @@ class ProMP(Estimator):
             )
         if not (np.all(np.isfinite(mean)) and np.all(np.isfinite(cov))):
             raise ValueError(f"{where}: weights contain NaN or infinite values")
-        made.width_ = float(state["width"])
+        made.width_ = width
         made.n_dims_ = n_dims
         made.n_demos_ = int(state["n_demos"])
         made.residual_rms_ = float(state["residual_rms"])
