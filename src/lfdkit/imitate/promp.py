@@ -43,29 +43,29 @@ Why this design:
   :meth:`ProMP.condition_many` conditions many point sets at the same phases:
   the gain and the conditioned covariance do not depend on the points, so
   they are computed once.
-- **One via-point, the common call, without the general machinery**: for a
-  point of d ≤ 3 coordinates and a variance, the d × d innovation covariance
-  is factored in closed form (Cholesky in Python floats) when it is clearly
-  invertible (det / traceᵈ > 1e-4; otherwise the general pseudo-inverse and
-  its warning run), the arguments are checked with Python floats, and what
-  does not depend on the point (basis at the phase, ``Σ Hᵀ L⁻ᵀ``, the
-  conditioned covariance) is kept per phase on the model (16 phases, models
-  of ≤ 200 weights). A call at a phase seen before is then the argument
-  checks, one product ``[μ − K Hμ | K] · [1; y]`` and a copy: 0.009–0.011
-  ms against movement_primitives' 0.07–0.12 ms (8–11×, walking, 2-D, 15
-  bumps, load ~20, CPU time; before this 0.11–0.19 ms). A new phase costs
-  0.05–0.10 ms (about 20 small NumPy calls against the peer's ~10 larger
-  ones): only 1.1–1.2×. Results equal the general path's to the innovation
-  covariance's condition number times the rounding (< 3e-13 relative on 300
-  random models, 1–3 dimensions, units from 1e-3 to 1e3).
+- **Conditioning is one compiled call** (:mod:`._promp_kernels`, numba, with
+  a NumPy twin :func:`condition_weights`; :func:`lfdkit.core.kernels.kernel`
+  picks one, so a one-shot command does not pay numba's start-up). A call at
+  a new phase was about 20 small NumPy calls (basis, ``Σ Hᵀ``, ``eigh``,
+  gain, mean, covariance, warning test), 0.05–0.10 ms against the peer's
+  0.07–0.12: 1.2×. Now: argument types and shapes checked in Python, values
+  (finite points, phases in [0, 1]) by the kernel before any work, one buffer
+  out (a returned array cost a microsecond to box), and the new covariance
+  ``Σ − K (Σ Hᵀ)ᵀ`` formed only when first read (``weights_cov_`` through
+  ``__getattr__``): a planned path's mean does not need it. The kernel's
+  pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut;
+  the two agree to 1e-9 of the units on random well-conditioned models
+  (1–3 dimensions, units 1e-3 to 1e3, directions dropped alike). Replaced:
+  a per-phase cache of factors and a closed-form Cholesky for one point (the
+  kernel is as fast at a new phase as they were at a seen one).
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
   affected). Sampling's eigen-decomposition runs under one BLAS thread
   (:func:`lfdkit.core.threads.one_blas_thread`, ~12 µs a use) and is kept per
-  model (sample 100 × 100: 4.8–16 ms → 0.26–0.34 ms at load ~20);
-  conditioning's ``eigh`` above 25 × 25 runs on one thread too. The weight
-  arrays are read-only, so that what is kept cannot go stale.
+  model (sample 100 × 100: 4.8–16 ms → 0.26–0.34 ms at load ~20); the NumPy
+  twin's ``eigh`` above 25 × 25 runs on one thread too. The weight arrays
+  are read-only, so that what is kept cannot go stale.
 
 Numbers: 10 basis functions × 3 dimensions is a 30 × 30 covariance; fitting
 and conditioning cost well under a millisecond.
@@ -383,9 +383,8 @@ class ProMP(Estimator):
         Returns
         -------
         ProMP
-            A fitted copy; this model is unchanged. For one point and a
-            variance, copies conditioned at the same phase and variance share
-            one read-only covariance array.
+            A fitted copy; this model is unchanged. Its ``weights_cov_`` is
+            formed when first read (a path's mean does not need it).
 
         Warns
         -----
@@ -828,13 +827,14 @@ def _out_parts(
     out: np.ndarray, n_sets: int, n_weights: int, m: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Views of :func:`condition_weights`' buffer: means, gain, ``Σ Hᵀ``, lost."""
-    ends = np.cumsum([n_sets * n_weights, n_weights * m, n_weights * m])
-    means, gain, observed, lost = np.split(out, ends)
+    gain_at = n_sets * n_weights
+    observed_at = gain_at + n_weights * m
+    lost_at = observed_at + n_weights * m
     return (
-        means.reshape(n_sets, n_weights),
-        gain.reshape(n_weights, m),
-        observed.reshape(n_weights, m),
-        lost.reshape(n_sets, m),
+        out[:gain_at].reshape(n_sets, n_weights),
+        out[gain_at:observed_at].reshape(n_weights, m),
+        out[observed_at:lost_at].reshape(n_weights, m),
+        out[lost_at:].reshape(n_sets, m),
     )
 
 
