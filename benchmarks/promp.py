@@ -14,18 +14,23 @@ is what three via-points buy). Band: fraction of held-out coordinates within
 the unconditioned model's ±2 std (0.95 for a Gaussian spread).
 
 Speed: median over ``--repeats`` blocks (each about 1 ms of calls; wall and
-CPU time) of fit (all demos), condition on 1 via-point at a phase seen
-before (what does not depend on the point is kept per phase) and at a new
-phase every call, on 3 via-points, the same 1-point
-conditioning for 1000 sets of points at once (``condition_many``, time per
-set), condition and roll out (1 point, then ``mean_path(100)``),
-``mean_path(100)``, ``std(100)`` and ``sample(100, n_points=100)``; the same
-for ``movement_primitives.promp.ProMP`` side by side where it is installed
+CPU time; the blocks of one row alternate between lfdkit and the peers, so a
+change of load falls on both) of fit (all demos); condition on 1 via-point
+at a phase seen before and at a new phase every call; on 3 via-points at
+phases seen before (0, 0.5, 1) and at 3 new phases every call; the same
+1-point conditioning for 1000 sets of points at once (``condition_many``,
+time per set); condition and roll out (1 point, then ``mean_path(100)``; 1
+point at a new phase, then ``std(100)``, which forms the conditioned
+covariance lfdkit forms only when read); ``mean_path(100)``, ``std(100)``
+and ``sample(100, n_points=100)``; the same for
+``movement_primitives.promp.ProMP`` side by side where it is installed
 (``imitate`` on the demos resampled to 100 points; ``condition_position``,
 three in turn for 3 points, which gives the same model; one call per set;
 ``mean_trajectory``; ``var_trajectory``; ``sample_trajectories``), else "not
 installed". The peer is given our fitted weight distribution, so both
-condition and roll out the same model.
+condition and roll out the same model. ``--kernels`` (default ``numba``)
+sets ``LFDKIT_KERNELS``: conditioning is a compiled kernel with a NumPy
+twin, and a process that conditions many times runs the compiled one.
 
 MP_PyTorch (``mp_pytorch``, benchmark-only: it needs PyTorch, and lfdkit does
 not depend on either) where it imports: its ``ProMP`` (float64, linear phase,
