@@ -612,7 +612,7 @@ class ProMP(Estimator):
             ("width", "n_dims", "n_demos", "residual_rms", "weights_mean", "weights_cov"),
         )
         width = check_state_number(state, "width", where, positive=True)
-        check_state_number(state, "n_demos", where, positive=True)
+        check_state_number(state, "n_demos", where, positive=False)  # 0: made, not fitted
         check_state_number(state, "residual_rms", where, positive=False)
         n_dims = state["n_dims"]
         if isinstance(n_dims, bool) or not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
