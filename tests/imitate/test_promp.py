@@ -176,6 +176,7 @@ def test_a_variance_and_the_same_variance_as_a_matrix_give_the_same_model(n_dims
                     np.testing.assert_allclose(quick.mean_at([phase])[0], point, atol=1e-9 * scale)
 
 
+@pytest.mark.slow  # numba compiles the kernel once per checkout (~5-15 s), then loads it (~3 s)
 def test_the_compiled_conditioning_equals_its_numpy_twin():
     """numba's kernel (Jacobi pseudo-inverse) against the NumPy twin (LAPACK's eigh) on random
     distributions: 1-3 dimensions, 1-3 points, units 1e-3 to 1e3, rank-deficient covariances,
