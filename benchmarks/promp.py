@@ -14,18 +14,23 @@ is what three via-points buy). Band: fraction of held-out coordinates within
 the unconditioned model's ±2 std (0.95 for a Gaussian spread).
 
 Speed: median over ``--repeats`` blocks (each about 1 ms of calls; wall and
-CPU time) of fit (all demos), condition on 1 via-point at a phase seen
-before (what does not depend on the point is kept per phase) and at a new
-phase every call, on 3 via-points, the same 1-point
-conditioning for 1000 sets of points at once (``condition_many``, time per
-set), condition and roll out (1 point, then ``mean_path(100)``),
-``mean_path(100)``, ``std(100)`` and ``sample(100, n_points=100)``; the same
-for ``movement_primitives.promp.ProMP`` side by side where it is installed
+CPU time; the blocks of one row alternate between lfdkit and the peers, so a
+change of load falls on both) of fit (all demos); condition on 1 via-point
+at a phase seen before and at a new phase every call; on 3 via-points at
+phases seen before (0, 0.5, 1) and at 3 new phases every call; the same
+1-point conditioning for 1000 sets of points at once (``condition_many``,
+time per set); condition and roll out (1 point, then ``mean_path(100)``; 1
+point at a new phase, then ``std(100)``, which forms the conditioned
+covariance lfdkit forms only when read); ``mean_path(100)``, ``std(100)``
+and ``sample(100, n_points=100)``; the same for
+``movement_primitives.promp.ProMP`` side by side where it is installed
 (``imitate`` on the demos resampled to 100 points; ``condition_position``,
 three in turn for 3 points, which gives the same model; one call per set;
 ``mean_trajectory``; ``var_trajectory``; ``sample_trajectories``), else "not
 installed". The peer is given our fitted weight distribution, so both
-condition and roll out the same model.
+condition and roll out the same model. ``--kernels`` (default ``numba``)
+sets ``LFDKIT_KERNELS``: conditioning is a compiled kernel with a NumPy
+twin, and a process that conditions many times runs the compiled one.
 
 MP_PyTorch (``mp_pytorch``, benchmark-only: it needs PyTorch, and lfdkit does
 not depend on either) where it imports: its ``ProMP`` (float64, linear phase,
@@ -43,6 +48,7 @@ largest variance to each) from ours are printed (agreement check).
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 import warnings
@@ -97,24 +103,42 @@ def held_out(name: str) -> dict[str, Any]:
     }
 
 
-def _median_time(call: Any, repeats: int) -> tuple[float, float]:
-    """Median wall and CPU seconds of one call, over ``repeats`` blocks.
-
-    A block runs the call as often as fits in about a millisecond (timed
-    once), so microsecond calls are not timer noise; CPU time (this process,
-    all threads) is kept too, since the machine is shared.
-    """
+def _block_size(call: Any) -> int:
+    """How many calls fill about a millisecond (so microsecond calls are not timer noise)."""
     start = time.perf_counter()
     call()
-    per_block = max(1, min(1000, int(1e-3 / max(time.perf_counter() - start, 1e-7))))
-    walls, cpus = [], []
+    return max(1, min(1000, int(1e-3 / max(time.perf_counter() - start, 1e-7))))
+
+
+def _time_block(call: Any, per_block: int) -> tuple[float, float]:
+    """Wall and CPU seconds (this process, all threads) of one call, over one block."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    for _ in range(per_block):
+        call()
+    return (time.perf_counter() - wall) / per_block, (time.process_time() - cpu) / per_block
+
+
+def _median_times(calls: list[Any], repeats: int) -> list[tuple[float, float]]:
+    """Median wall and CPU seconds of one call of each of ``calls``, over ``repeats`` blocks.
+
+    The calls' blocks alternate (ours, a peer's, ours, ...), so a change of the
+    machine's load falls on all of them alike; CPU time is kept too, since the
+    machine is shared.
+    """
+    sizes = [_block_size(call) for call in calls]
+    samples: list[list[tuple[float, float]]] = [[] for _ in calls]
     for _ in range(repeats):
-        wall, cpu = time.perf_counter(), time.process_time()
-        for _ in range(per_block):
-            call()
-        walls.append((time.perf_counter() - wall) / per_block)
-        cpus.append((time.process_time() - cpu) / per_block)
-    return float(np.median(walls)), float(np.median(cpus))
+        for call, size, kept in zip(calls, sizes, samples, strict=True):
+            kept.append(_time_block(call, size))
+    return [
+        (float(np.median([w for w, _ in kept])), float(np.median([c for _, c in kept])))
+        for kept in samples
+    ]
+
+
+def _new_phases(phases: Any) -> list[float]:
+    """Three new phases in increasing order (from the iterator ``phases``)."""
+    return sorted(next(phases) for _ in range(3))
 
 
 def _resampled(demos: list[np.ndarray], t: np.ndarray) -> np.ndarray:
@@ -195,6 +219,11 @@ def mp_pytorch_calls(model: ProMP, demos: list[np.ndarray], t: np.ndarray) -> di
     }
 
 
+def _peers(peer_calls: dict, torch_calls: dict) -> list[tuple[str, dict]]:
+    """The peers' names with their timed calls."""
+    return [("movement_primitives", peer_calls), ("mp_pytorch", torch_calls)]
+
+
 def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
     demos = load_dataset("walking", seed=0).demos
     model = ProMP(n_basis=N_BASIS).fit(demos)
@@ -202,20 +231,31 @@ def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
     three = model.mean_at(VIA_PHASES) + np.array([[0.0, 0.0], [0.3, -0.3], [0.0, 0.0]])
     sets = one + np.random.default_rng(0).normal(0.0, 0.1, (N_SETS, 1, 2))
     # A new phase every call (none repeats, so nothing kept per phase helps).
-    fresh = np.random.default_rng(1).uniform(0.05, 0.95, 100 * repeats + 10).tolist()
+    fresh = np.random.default_rng(1).uniform(0.05, 0.95, 6000 * (repeats + 1)).tolist()
     ours_phases, peer_phases = iter(fresh), iter(fresh)
     # (operation, call, how many results one call gives: times are per result)
     ours = {
         "fit": (lambda: ProMP(n_basis=N_BASIS).fit(demos), 1),
         "condition 1 point (phase seen before)": (lambda: model.condition(one, [0.5]), 1),
         "condition 1 point (new phase)": (lambda: model.condition(one, [next(ours_phases)]), 1),
-        "condition 3 points": (lambda: model.condition(three, VIA_PHASES), 1),
+        "condition 3 points (phases seen before)": (
+            lambda: model.condition(three, VIA_PHASES),
+            1,
+        ),
+        "condition 3 points (new phases)": (
+            lambda: model.condition(three, _new_phases(ours_phases)),
+            1,
+        ),
         f"condition 1 point, {N_SETS} sets (per set)": (
             lambda: model.condition_many(sets, [0.5]),
             N_SETS,
         ),
         "condition 1 point + mean_path(100)": (
             lambda: model.condition(one, [0.5]).mean_path(100),
+            1,
+        ),
+        "condition 1 point (new phase) + std(100)": (
+            lambda: model.condition(one, [next(ours_phases)]).std(100),
             1,
         ),
         "mean_path(100)": (lambda: model.mean_path(100), 1),
@@ -235,9 +275,9 @@ def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
             model.weights_mean_.copy(), model.weights_cov_.copy()
         )
 
-        def peer_three() -> Any:
+        def peer_three(phases: Any) -> Any:
             out = peer
-            for point, phase in zip(three, VIA_PHASES, strict=True):
+            for point, phase in zip(three, phases, strict=True):
                 out = out.condition_position(point, t=phase, t_max=1.0)
             return out
 
@@ -251,13 +291,25 @@ def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
                 lambda: peer.condition_position(one[0], t=next(peer_phases), t_max=1.0),
                 1,
             ),
-            "condition 3 points": (peer_three, 1),
+            "condition 3 points (phases seen before)": (lambda: peer_three(VIA_PHASES), 1),
+            "condition 3 points (new phases)": (
+                lambda: peer_three(_new_phases(peer_phases)),
+                1,
+            ),
             f"condition 1 point, {N_SETS} sets (per set)": (
                 lambda: peer.condition_position(sets[0, 0], t=0.5, t_max=1.0),
                 1,
             ),
             "condition 1 point + mean_path(100)": (
                 lambda: peer.condition_position(one[0], t=0.5, t_max=1.0).mean_trajectory(t),
+                1,
+            ),
+            "condition 1 point (new phase) + std(100)": (
+                lambda: np.sqrt(
+                    peer.condition_position(one[0], t=next(peer_phases), t_max=1.0).var_trajectory(
+                        t
+                    )
+                ),
                 1,
             ),
             "mean_path(100)": (lambda: peer.mean_trajectory(t), 1),
@@ -271,17 +323,22 @@ def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
     agreement = torch_calls.pop("agreement", None)
     rows = []
     for what, (call, per) in ours.items():
-        ours_s, ours_cpu = (x / per for x in _median_time(call, repeats))
+        peers = [
+            (name, calls[what]) for name, calls in _peers(peer_calls, torch_calls) if what in calls
+        ]
+        timed = _median_times([call] + [peer_call for _, (peer_call, _) in peers], repeats)
+        ours_s, ours_cpu = (x / per for x in timed[0])
         row: dict[str, Any] = {
             "operation": what,
             "lfdkit_ms": 1e3 * ours_s,
             "lfdkit_cpu_ms": 1e3 * ours_cpu,
         }
-        for name, calls in (("movement_primitives", peer_calls), ("mp_pytorch", torch_calls)):
+        peer_times = {name: t for (name, _), t in zip(peers, timed[1:], strict=True)}
+        for name, calls in _peers(peer_calls, torch_calls):
             peer_s = peer_cpu = None
-            if what in calls:
-                peer_call, peer_per = calls[what]
-                peer_s, peer_cpu = (x / peer_per for x in _median_time(peer_call, repeats))
+            if name in peer_times:
+                peer_per = calls[what][1]
+                peer_s, peer_cpu = (x / peer_per for x in peer_times[name])
             row[f"{name}_ms"] = None if peer_s is None else 1e3 * peer_s
             row[f"{name}_cpu_ms"] = None if peer_cpu is None else 1e3 * peer_cpu
             row[f"speedup_{name}"] = None if peer_s is None else peer_s / ours_s
@@ -296,8 +353,16 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="5 timing repeats instead of 50")
     parser.add_argument("--output", type=Path, default=Path("benchmarks/results/promp"))
+    parser.add_argument(
+        "--kernels",
+        choices=("auto", "numba", "numpy"),
+        default="numba",
+        help="LFDKIT_KERNELS for the run (default numba: the steady state of a process that "
+        "conditions many times, where 'auto' arrives after 1 s of CPU)",
+    )
     args = parser.parse_args(argv)
     repeats = 5 if args.quick else 50
+    os.environ["LFDKIT_KERNELS"] = args.kernels
 
     accuracy = [held_out(name) for name in DATASETS]
     print(f"\nHeld-out accuracy: ProMP(n_basis={N_BASIS}), via-points at phases 0, 0.5, 1")
@@ -308,9 +373,12 @@ def main(argv: list[str] | None = None) -> int:
             f"{r['median_rms_conditioned_m']:>11.4f}{r['ratio']:>7.2f}{r['within_2std']:>9.2f}"
         )
     timings, agreement = speed(repeats)
-    print(f"\nSpeed on walking (median of {repeats} blocks), wall ms; speed-up = peer / lfdkit")
     print(
-        f"{'operation':<40}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}"
+        f"\nSpeed on walking (median of {repeats} blocks), wall ms; speed-up = peer / lfdkit "
+        "(wall, and CPU time of this process)"
+    )
+    print(
+        f"{'operation':<42}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}{'CPU':>8}"
         f"{'MP_PyTorch':>12}{'speed-up':>10}"
     )
     for r in timings:
@@ -319,17 +387,20 @@ def main(argv: list[str] | None = None) -> int:
             ms, ratio = r[f"{name}_ms"], r[f"speedup_{name}"]
             cells.append("-" if ms is None else f"{ms:.4f}")
             cells.append("" if ratio is None else f"{ratio:.1f}x")
+        cpu = r["cpu_speedup_movement_primitives"]
         print(
-            f"{r['operation']:<40}{r['lfdkit_ms']:>9.4f}{cells[0]:>21}{cells[1]:>10}"
-            f"{cells[2]:>12}{cells[3]:>10}"
+            f"{r['operation']:<42}{r['lfdkit_ms']:>9.4f}{cells[0]:>21}{cells[1]:>10}"
+            f"{'' if cpu is None else f'{cpu:.1f}x':>8}{cells[2]:>12}{cells[3]:>10}"
         )
     print("  '-': the peer has no such operation (MP_PyTorch: no via-point conditioning)")
+    print(f"  LFDKIT_KERNELS={args.kernels}; blocks of each row alternate between the libraries")
 
     result = {
         "accuracy": accuracy,
         "speed": timings,
         "mp_pytorch_agreement": agreement,
         "repeats": repeats,
+        "kernels": args.kernels,
         "machine": machine_info(),
         "git": git_state(),
         "packages": package_versions(["numpy", "movement_primitives", "mp_pytorch", "torch"]),

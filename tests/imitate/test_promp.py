@@ -151,11 +151,11 @@ def test_several_via_points_at_once_are_all_passed(full_rank_model):
 
 
 @pytest.mark.parametrize("n_dims", [1, 2, 3])
-def test_one_point_takes_a_quick_path_equal_to_the_general_one(n_dims):
-    """One point with a variance: closed-form Cholesky, factors kept per phase. The same
-    request with the variance as a matrix goes the general pseudo-inverse way."""
+def test_a_variance_and_the_same_variance_as_a_matrix_give_the_same_model(n_dims):
+    """A variance takes the quick argument check, a matrix the full one: the same result,
+    from millimetres to kilometres; the covariance is formed when first read."""
     rng = np.random.default_rng(20 + n_dims)
-    for scale in (1e-3, 1.0, 1e3):  # millimetres to kilometres
+    for scale in (1e-3, 1.0, 1e3):
         mean, cov = known_distribution(rng, 5, n_dims)
         weights = scale * rng.multivariate_normal(mean, cov, 12)
         model = ProMP(n_basis=5).fit(demos_from_weights(weights, [np.linspace(0, 1, 40)] * 12, 5))
@@ -163,19 +163,60 @@ def test_one_point_takes_a_quick_path_equal_to_the_general_one(n_dims):
             for variance in (0.0, 0.01 * scale**2):
                 point = model.mean_at([phase])[0] + scale * rng.normal(0.0, 0.5, n_dims)
                 quick = model.condition(point, [phase], variance)
+                assert "weights_cov_" not in vars(quick)  # not formed yet
                 general = model.condition(point, [phase], variance * np.eye(n_dims))
                 for ours, theirs in (
                     (quick.weights_mean_, general.weights_mean_),
                     (quick.weights_cov_, general.weights_cov_),
                 ):
                     np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-12 * abs(theirs).max())
-                # What does not depend on the point is kept: the next point shares it.
-                again = model.condition(point + scale, phase, variance)
-                assert again.weights_cov_ is quick.weights_cov_
+                assert quick.weights_cov_ is quick.weights_cov_  # formed once, then kept
+                assert not quick.weights_cov_.flags.writeable
                 if variance == 0.0:
-                    np.testing.assert_allclose(
-                        again.mean_at([phase])[0], point + scale, atol=1e-9 * scale
-                    )
+                    np.testing.assert_allclose(quick.mean_at([phase])[0], point, atol=1e-9 * scale)
+
+
+@pytest.mark.slow  # numba compiles the kernel once per checkout (~5-15 s), then loads it (~3 s)
+def test_the_compiled_conditioning_equals_its_numpy_twin():
+    """numba's kernel (Jacobi pseudo-inverse) against the NumPy twin (LAPACK's eigh) on random
+    distributions: 1-3 dimensions, 1-3 points, units 1e-3 to 1e3, rank-deficient covariances,
+    repeated phases (directions dropped), variances and per-point covariances."""
+    from lfdkit.imitate import _promp_kernels, promp
+
+    rng = np.random.default_rng(11)
+    dropped_some = 0
+    for trial in range(40):
+        # Points well apart in phase (a few per basis function): a well-conditioned solve.
+        d, b, k = int(rng.integers(1, 4)), int(rng.integers(6, 10)), int(rng.integers(1, 4))
+        n_weights, m, scale = d * b, k * d, 10.0 ** rng.uniform(-3, 3)
+        draws = scale * rng.normal(size=(int(rng.integers(3, 2 * n_weights)), n_weights))
+        mean, cov = draws.mean(axis=0), np.atleast_2d(np.cov(draws.T))
+        for array in (mean, cov):  # read-only, as a model's: numba compiles one signature
+            array.flags.writeable = False
+        width = 1.0 / (b - 1)
+        phases = (np.arange(k) + rng.uniform(0.1, 0.9, k)) / k
+        if trial % 4 == 0:
+            phases[-1] = phases[0]  # the same phase twice: exact points contradict
+        sets = scale * rng.normal(size=(2, k, d))
+        noise = (
+            np.zeros((0, d, d)) if trial % 3 else np.tile(0.02 * scale**2 * np.eye(d), (k, 1, 1))
+        )
+        noise.flags.writeable = False
+        results = []
+        for run in (_promp_kernels.condition_weights, promp.condition_weights):
+            out = np.empty(2 * n_weights + (2 * n_weights + 2) * m)
+            centres = promp._scaled_centres(b, width)
+            args = (mean, cov, centres, phases, width, sets, 0.01 * scale**2 * (trial % 2))
+            n_dropped = run(*args, noise, 1e-10, out)
+            means, _, _, lost = promp._out_parts(out, 2, n_weights, m)
+            new_cov = promp._conditioned_covariance(cov, out, 2, m)
+            results.append((n_dropped, means, new_cov, lost))
+        (dropped, *ours), (expected, *theirs) = results
+        assert dropped == expected
+        dropped_some += dropped > 0
+        for got, want, unit in zip(ours, theirs, (scale, scale**2, scale), strict=True):
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * unit)
+    assert dropped_some >= 5
 
 
 def test_many_via_points_at_once_under_one_blas_thread_equal_them_in_turn(full_rank_model):
@@ -190,30 +231,6 @@ def test_many_via_points_at_once_under_one_blas_thread_equal_them_in_turn(full_r
     np.testing.assert_allclose(both.weights_cov_, in_turn.weights_cov_, rtol=1e-6, atol=1e-7)
 
 
-def test_the_closed_form_cholesky_inverse_matches_numpy_and_refuses_near_singular():
-    from lfdkit.imitate.promp import _small_inverse_cholesky
-
-    rng = np.random.default_rng(9)
-    for d in (1, 2, 3):
-        for _ in range(20):
-            root = rng.normal(0.0, 10.0 ** rng.uniform(-3, 3), (d, d))
-            matrix = root @ root.T + 1e-3 * np.abs(root).max() ** 2 * np.eye(d)
-            if np.linalg.cond(matrix) > 1e3:
-                continue
-            rows = _small_inverse_cholesky(matrix.tolist())
-            inverse = np.zeros((d, d))
-            for i, row in enumerate(rows):
-                inverse[i, : i + 1] = row
-            expected = np.linalg.inv(np.linalg.cholesky(matrix))
-            np.testing.assert_allclose(
-                inverse, expected, rtol=1e-12, atol=1e-12 * abs(expected).max()
-            )
-    assert _small_inverse_cholesky([[0.0]]) is None
-    assert _small_inverse_cholesky([[1.0, 1.0], [1.0, 1.0 + 1e-9]]) is None  # ratio 2.5e-10
-    assert _small_inverse_cholesky([[1.0, 0.0], [0.0, -1.0]]) is None
-    assert _small_inverse_cholesky(np.diag([1.0, 1.0, 1e-6]).tolist()) is None
-
-
 def test_weights_are_read_only_and_new_ones_replace_what_was_kept():
     rng = np.random.default_rng(2)
     mean, cov = known_distribution(rng, 5, 2)
@@ -222,7 +239,6 @@ def test_weights_are_read_only_and_new_ones_replace_what_was_kept():
     with pytest.raises(ValueError, match="read-only"):
         model.weights_cov_[0, 0] = 1.0
     point = model.mean_at([0.5])[0] + 0.3
-    model.condition(point, [0.5])  # keeps this phase's factors
     model.sample(2, seed=0)  # keeps the covariance's root
     model.weights_cov_ = 4.0 * model.weights_cov_
     quick = model.condition(point, [0.5], 0.1)
@@ -232,9 +248,13 @@ def test_weights_are_read_only_and_new_ones_replace_what_was_kept():
         model.sample(4000, n_points=3, seed=1).std(axis=0), model.std(3), rtol=0.05
     )
     # What is kept for speed stays with its model: not in copies, not pickled.
-    assert "_factor_cache" not in vars(quick) and "_root_cache" not in vars(quick)
+    assert "_root_cache" not in vars(quick)
     back = pickle.loads(pickle.dumps(model))
-    assert "_factor_cache" not in vars(back) and "_root_cache" not in vars(back)
+    assert "_root_cache" not in vars(back)
+    # A conditioned model pickles with its covariance formed.
+    copied = pickle.loads(pickle.dumps(model.condition(point, [0.5], 0.1)))
+    assert "_pending_cov" not in vars(copied)
+    np.testing.assert_array_equal(copied.weights_cov_, quick.weights_cov_)
     assert not back.weights_cov_.flags.writeable
     again = back.condition(point, [0.5], 0.1)
     np.testing.assert_array_equal(again.weights_mean_, quick.weights_mean_)
@@ -390,6 +410,22 @@ def test_bad_fit_input_is_refused_in_one_line():
         ProMP(n_basis=1).fit([demo, demo])
     with pytest.raises(ValueError, match=r"^width:"):
         ProMP(width=2.0).fit([demo, demo])
+
+
+def test_a_malformed_state_is_refused_in_one_line(full_rank_model):
+    state = full_rank_model.to_state()
+    for change, message in (
+        ({"residual_rms": float("nan")}, r"^promp\.residual_rms: expected a number >= 0"),
+        ({"width": 1.5}, r"^promp\.width: expected a value in \(0, 1\]"),
+        ({"width": "0.2"}, r"^promp\.width: expected a number"),
+        ({"params": None}, r"^promp\.params: expected an object"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            ProMP.from_state({**state, **change})
+    with pytest.raises(ValueError, match=r"^promp: expected an object, got list"):
+        ProMP.from_state([])
+    back = ProMP.from_state(state)
+    np.testing.assert_array_equal(back.weights_cov_, full_rank_model.weights_cov_)
 
 
 def test_use_before_fit_says_so():

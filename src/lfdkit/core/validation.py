@@ -7,7 +7,8 @@ input never surfaces as a traceback from deep inside NumPy.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Mapping, Sequence
 from typing import Any, Literal
 
 import numpy as np
@@ -24,9 +25,11 @@ __all__ = [
     "check_point",
     "check_positive",
     "check_random_state",
+    "check_state_number",
     "check_times",
     "check_times_list",
     "check_values",
+    "made_from_state",
 ]
 
 #: Most points a caller may ask a function to produce (paths, resamplings,
@@ -427,3 +430,41 @@ def check_horizon(value: Any, name: str = "horizon") -> int:
             f"{name}: expected {MIN_HORIZON} <= H <= {MAX_HORIZON} (thesis §5.4), got {horizon}"
         )
     return horizon
+
+
+def made_from_state(cls: type, state: Any, where: str, keys: Sequence[str]) -> Any:
+    """An unfitted ``cls(**state["params"])``, its parameters validated, once every key is there.
+
+    For an estimator's ``from_state`` (a skill file's section): ``state`` must
+    be a mapping holding ``"params"`` (a mapping of constructor arguments) and
+    each of ``keys``. Raises ``ValueError`` in one line starting with
+    ``where`` (``"promp.width: missing field"``, ``"promp.params: n_basis: ..."``).
+    """
+    if not isinstance(state, Mapping):
+        raise ValueError(f"{where}: expected an object, got {type(state).__name__}")
+    for key in ("params", *keys):
+        if key not in state:
+            raise ValueError(f"{where}.{key}: missing field")
+    if not isinstance(state["params"], Mapping):
+        raise ValueError(f"{where}.params: expected an object, got {state['params']!r}")
+    try:
+        made = cls(**dict(state["params"]))
+        made._validate_params()
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}.params: {exc}") from None
+    return made
+
+
+def check_state_number(state: Mapping[str, Any], key: str, where: str, *, positive: bool) -> float:
+    """``state[key]``, a finite number > 0 (``positive``) or >= 0, as a float.
+
+    Raises ``ValueError`` in one line naming ``where.key`` and the value (a
+    bool, a string or a list is not a number).
+    """
+    value = state[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{where}.{key}: expected a number, got {value!r}")
+    if not math.isfinite(value) or value < 0.0 or (positive and value == 0.0):
+        wanted = "a positive number" if positive else "a number >= 0"
+        raise ValueError(f"{where}.{key}: expected {wanted}, got {value!r}")
+    return float(value)

@@ -43,29 +43,29 @@ Why this design:
   :meth:`ProMP.condition_many` conditions many point sets at the same phases:
   the gain and the conditioned covariance do not depend on the points, so
   they are computed once.
-- **One via-point, the common call, without the general machinery**: for a
-  point of d ≤ 3 coordinates and a variance, the d × d innovation covariance
-  is factored in closed form (Cholesky in Python floats) when it is clearly
-  invertible (det / traceᵈ > 1e-4; otherwise the general pseudo-inverse and
-  its warning run), the arguments are checked with Python floats, and what
-  does not depend on the point (basis at the phase, ``Σ Hᵀ L⁻ᵀ``, the
-  conditioned covariance) is kept per phase on the model (16 phases, models
-  of ≤ 200 weights). A call at a phase seen before is then the argument
-  checks, one product ``[μ − K Hμ | K] · [1; y]`` and a copy: 0.009–0.011
-  ms against movement_primitives' 0.07–0.12 ms (8–11×, walking, 2-D, 15
-  bumps, load ~20, CPU time; before this 0.11–0.19 ms). A new phase costs
-  0.05–0.10 ms (about 20 small NumPy calls against the peer's ~10 larger
-  ones): only 1.1–1.2×. Results equal the general path's to the innovation
-  covariance's condition number times the rounding (< 3e-13 relative on 300
-  random models, 1–3 dimensions, units from 1e-3 to 1e3).
+- **Conditioning is one compiled call** (:mod:`._promp_kernels`, numba, with
+  a NumPy twin :func:`condition_weights`; :func:`lfdkit.core.kernels.kernel`
+  picks one, so a one-shot command does not pay numba's start-up). A call at
+  a new phase was about 20 small NumPy calls (basis, ``Σ Hᵀ``, ``eigh``,
+  gain, mean, covariance, warning test), 0.05–0.10 ms against the peer's
+  0.07–0.12: 1.2×. Now: argument types and shapes checked in Python, values
+  (finite points, phases in [0, 1]) by the kernel before any work, one buffer
+  out (a returned array cost a microsecond to box), and the new covariance
+  ``Σ − K (Σ Hᵀ)ᵀ`` formed only when first read (``weights_cov_`` through
+  ``__getattr__``): a planned path's mean does not need it. The kernel's
+  pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut;
+  the two agree to 1e-9 of the units on random well-conditioned models
+  (1–3 dimensions, units 1e-3 to 1e3, directions dropped alike). Replaced:
+  a per-phase cache of factors and a closed-form Cholesky for one point (the
+  kernel is as fast at a new phase as they were at a seen one).
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
   affected). Sampling's eigen-decomposition runs under one BLAS thread
   (:func:`lfdkit.core.threads.one_blas_thread`, ~12 µs a use) and is kept per
-  model (sample 100 × 100: 4.8–16 ms → 0.26–0.34 ms at load ~20);
-  conditioning's ``eigh`` above 25 × 25 runs on one thread too. The weight
-  arrays are read-only, so that what is kept cannot go stale.
+  model (sample 100 × 100: 4.8–16 ms → 0.26–0.34 ms at load ~20); the NumPy
+  twin's ``eigh`` above 25 × 25 runs on one thread too. The weight arrays
+  are read-only, so that what is kept cannot go stale.
 
 Numbers: 10 basis functions × 3 dimensions is a 30 × 30 covariance; fitting
 and conditioning cost well under a millisecond.
@@ -83,13 +83,16 @@ import numpy as np
 
 from lfdkit.core.constraints import Integer, Real
 from lfdkit.core.estimator import Estimator, check_fitted
+from lfdkit.core.kernels import kernel
 from lfdkit.core.validation import (
     check_count,
     check_demos,
     check_positive,
     check_random_state,
+    check_state_number,
     check_times,
     check_values,
+    made_from_state,
 )
 from lfdkit.model.timed_path import TimedPath
 
@@ -106,28 +109,25 @@ _PINV_RCOND = 1e-10
 #: Smallest positive float: the cut's floor for an all-zero covariance.
 _TINY = float(np.finfo(float).tiny)
 
-#: Conditioning on one point takes the closed form when the d × d innovation
-#: covariance's det / traceᵈ (a lower bound of its eigenvalue ratio) exceeds this.
-_CLOSED_FORM_RATIO = 1e-4
-
-#: Covariance types the one-point path takes as a variance (others go the general way).
+#: Covariance types the quick argument check takes as a variance (others: the full check).
 _SCALAR_TYPES = frozenset((float, int, np.float64, np.float32, np.int64, np.int32))
-
-#: Phase shapes :func:`_check_phases` reads as one phase.
-_ONE_PHASE_SHAPES = ((), (1,), (1, 1))
 
 #: Largest ``eigh`` left to BLAS's threads: above 25 LAPACK divides and conquers
 #: in threads that, on a busy machine, wait for a core (30 × 30: 42 ms against
 #: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
 _SMALL_EIGH = 25
 
-#: Attributes a model keeps for speed only (per-phase factors, the sampling root).
-_KEPT = ("_factor_cache", "_root_cache")
+#: Attributes a model keeps for speed only (the sampling root) or until first use (the
+#: conditioned covariance's parts): never copied to another model.
+_KEPT = ("_root_cache", "_pending_cov")
 
-#: Phases (with a variance) whose one-point conditioning factors a model keeps,
-#: and the most weights for which it keeps them (each holds a covariance).
-_CACHED_PHASES = 16
-_MAX_CACHED_WEIGHTS = 200
+#: The conditioning kernel: numba's or its NumPy twin (:func:`condition_weights`).
+_KERNEL = ("condition_weights", "lfdkit.imitate._promp_kernels")
+_COMPILED: list = []  # numba's, once handed out
+
+#: Activations on even grids by (n_basis, width, n_points): a dict look-up before
+#: the argument check and the LRU cache (together 3× the product of a mean path).
+_GRIDS: dict = {}
 
 
 class ProMP(Estimator):
@@ -289,7 +289,8 @@ class ProMP(Estimator):
         -------
         ndarray, shape (n_points, n_dims)
         """
-        self._check_fitted()
+        if "weights_mean_" not in self.__dict__:
+            self._check_fitted()
         return self._mean_from(self._grid(n_points))
 
     def timed_mean(self, duration: float, n_points: int = 100) -> TimedPath:
@@ -326,13 +327,16 @@ class ProMP(Estimator):
         ndarray, shape (n_points, n_dims)
             In the demonstrations' units.
         """
-        self._check_fitted()
+        if "weights_mean_" not in self.__dict__:
+            self._check_fitted()
         features = self._grid(n_points)
         d, b = self.n_dims_, self.n_basis
-        # Only the diagonal blocks Σ_w[k-block, k-block] matter for the variances.
-        blocks = self.weights_cov_.reshape(d, b, d, b)[np.arange(d), :, np.arange(d), :]
-        variances = np.sum((features @ blocks) * features, axis=-1).T
-        return np.sqrt(np.clip(variances, 0.0, None))
+        # Only the diagonal blocks Σ_w[k-block, k-block] matter for the variances: side by
+        # side, one 2-D product (a stacked product and fancy indexing were 3× slower).
+        cov = self.weights_cov_.reshape(d, b, d, b)
+        blocks = cov[0, :, 0, :] if d == 1 else np.hstack([cov[k, :, k, :] for k in range(d)])
+        variances = ((features @ blocks).reshape(-1, d, b) * features[:, None, :]).sum(axis=2)
+        return np.sqrt(np.maximum(variances, 0.0))
 
     def sample(self, n_samples: int = 1, n_points: int = 100, seed: Any = None) -> np.ndarray:
         """Draw paths from the model.
@@ -379,9 +383,8 @@ class ProMP(Estimator):
         Returns
         -------
         ProMP
-            A fitted copy; this model is unchanged. For one point and a
-            variance, copies conditioned at the same phase and variance share
-            one read-only covariance array.
+            A fitted copy; this model is unchanged. Its ``weights_cov_`` is
+            formed when first read (a path's mean does not need it).
 
         Warns
         -----
@@ -392,25 +395,20 @@ class ProMP(Estimator):
             in phase contradict each other. A covariance > 0 makes every
             point a compromise, never unreachable.
         """
-        if "weights_cov_" in self.__dict__:  # fitted: the one-point path may answer
-            quick = self._condition_one(points, phases, covariance)
-            if quick is not None:
-                return quick
-        self._check_fitted()
-        d = self.n_dims_
-        pts = _check_points(points, d)
-        s = _check_phases(phases, "phases")
-        if len(s) != len(pts):
-            raise ValueError(
-                f"phases: got {len(s)} phases for {len(pts)} points; give one phase per point"
-            )
-        features = self._features(s)
-        gain, cov, dropped = self._conditioning(features, _check_covariance(covariance, len(s), d))
-        innovation = (pts - self._mean_from(features)).reshape(-1)
-        new = self._with_weights(self.weights_mean_ + gain @ innovation, cov)
-        if dropped.shape[1]:
-            lost = dropped @ (dropped.T @ innovation)
-            new._warn_unreachable(pts, s, lost.reshape(len(pts), d), "points")
+        if "weights_mean_" not in self.__dict__:
+            self._check_fitted()
+        pts, s, variance, noise = self._checked_via(points, phases, covariance)
+        out, n_dropped = self._conditioned(pts[None], s, variance, noise)
+        if n_dropped < 0:  # a value the quick check let through: the full checks name it
+            self._checked_via(points, phases, covariance, full=True)
+        n_weights = len(self.weights_mean_)
+        new = self._with_weights(out[:n_weights], None)
+        # The covariance is formed when first read (Σ' = Σ − K (Σ Hᵀ)ᵀ): a path's
+        # mean alone does not need it.
+        new._pending_cov = (self.weights_cov_, out, 1, pts.size)
+        if n_dropped:
+            lost = _out_parts(out, 1, n_weights, pts.size)[3]
+            new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
         return new
 
     def condition_many(self, points: Any, phases: Any, covariance: Any = 0.0) -> list[ProMP]:
@@ -458,168 +456,119 @@ class ProMP(Estimator):
                 f"phases: got {len(s)} phases for {sets.shape[1]} points per set; "
                 "give one phase per point"
             )
-        features = self._features(s)
-        gain, cov, dropped = self._conditioning(features, _check_covariance(covariance, len(s), d))
-        cov.flags.writeable = False
-        innovations = (sets - self._mean_from(features)).reshape(len(sets), -1)
-        means = self.weights_mean_ + innovations @ gain.T
+        noise = _check_covariance(covariance, len(s), d)
+        variance, noise = (noise, _no_noise(d)) if isinstance(noise, float) else (0.0, noise)
+        out, n_dropped = self._conditioned(
+            np.ascontiguousarray(sets), s, variance, np.ascontiguousarray(noise)
+        )
+        means, _, _, lost = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size)
+        cov = _frozen(_conditioned_covariance(self.weights_cov_, out, len(sets), sets[0].size))
         out = [self._with_weights(mean, cov) for mean in means]
-        if dropped.shape[1]:
-            lost = (innovations @ dropped) @ dropped.T
+        if n_dropped:
             for j, model in enumerate(out):
                 if model._warn_unreachable(sets[j], s, lost[j].reshape(-1, d), f"points[{j}]"):
                     break
         return out
 
-    def _condition_one(self, points: Any, phases: Any, covariance: Any) -> ProMP | None:
-        """:meth:`condition` on one point in ≤ 3 dimensions with a variance, quickly.
+    def _checked_via(
+        self, points: Any, phases: Any, covariance: Any, full: bool = False
+    ) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+        """Via-point arguments checked once, here at the edge: ``(points (k, d), phases (k,),
+        variance, noise (k or 0, d, d))``, or the one-line error of the full checks.
 
-        None where the general path must answer: another shape, a value it
-        would reject (its check raises the one-line error), more than 3
-        dimensions, or a d × d innovation covariance not clearly invertible
-        (the pseudo-inverse and its warning are needed). Only the arguments are
-        checked, with Python floats; the point-independent work is
-        :meth:`_point_factors`' (kept per phase), so a call is the innovation,
-        one matrix-vector product and a copy of the model.
+        The common call (a few points, a variance) has its types and shapes
+        checked here and its values (finite points, phases in [0, 1]) by the
+        kernel, which refuses them before any work (:meth:`condition` then
+        calls this with ``full=True``); anything else goes through the full
+        checks, which name what is wrong.
         """
         d = self.n_dims_
-        if d > 3 or type(covariance) not in _SCALAR_TYPES:
-            return None
-        phase = _one_number(phases)
-        try:
-            point = np.asarray(points, dtype=np.float64)
-        except (TypeError, ValueError):
-            return None
-        if phase is None or (point.shape != (d,) and point.shape != (1, d)):
-            return None
-        variance = float(covariance)
-        # Comparisons are False for NaN: a NaN phase or variance goes to the general check.
-        if not (0.0 <= phase <= 1.0 and 0.0 <= variance < math.inf):
-            return None
-        coords = point.ravel().tolist()
-        if not all(map(math.isfinite, coords)):
-            return None
-        factors = self._point_factors(phase, variance)
-        if factors is None:
-            return None
-        update, cov = factors
-        # μ' = μ + K (y − Hμ) = [μ − K Hμ | K] · [1; y]: one product.
-        new = object.__new__(type(self))
-        new.__dict__.update(self.__dict__)
-        del new.__dict__["_factor_cache"]  # this model's, not the copy's
-        new.__dict__.pop("_root_cache", None)
-        new.weights_mean_, new.weights_cov_ = _frozen(update @ [1.0, *coords]), cov
-        return new
-
-    def _point_factors(self, phase: float, variance: float) -> tuple | None:
-        """What conditioning on one point at ``phase`` needs, whatever the point.
-
-        With ``C = Σ Hᵀ`` (n_weights, d) and the innovation covariance
-        ``S = H Σ Hᵀ + variance·I = L Lᵀ`` (Cholesky, closed form in Python
-        floats for d ≤ 3): ``G = C L⁻ᵀ``, so the gain is ``K = G L⁻¹`` and
-        ``Σ' = Σ − G Gᵀ`` (exactly symmetric). Returns ``[μ − K Hμ | K]``
-        (n_weights, 1 + d) and ``Σ'`` (read-only; ``Σ'`` is shared by every
-        model conditioned there), or None where
-        ``S`` is not clearly invertible. Kept per ``(phase, variance)`` for
-        this model's weight arrays (up to :data:`_CACHED_PHASES` of them).
-        """
-        mean, cov = self.weights_mean_, self.weights_cov_
-        cache = self.__dict__.get("_factor_cache")
-        if cache is None or cache[0] is not mean or cache[1] is not cov:
-            cache = (mean, cov, {})
-            self._factor_cache = cache
-        key = (phase, variance)
-        factors = cache[2].get(key)
-        if factors is not None or key in cache[2]:
-            return factors
-        d, b = self.n_dims_, self.n_basis
-        scaled = _scaled_centres(self.n_basis, self.width_)
-        bumps = np.exp(np.square(scaled - phase / self.width_) * -0.5)
-        features = bumps / bumps.sum()
-        observed = (cov.reshape(d * b * d, b) @ features).reshape(d * b, d)  # Σ Hᵀ
-        innovation_cov = np.dot(features, observed.reshape(d, b, d)).tolist()  # H Σ Hᵀ
-        for k in range(d):
-            innovation_cov[k][k] += variance
-        inverse_root = _small_inverse_cholesky(innovation_cov)
-        if inverse_root is None:
-            factors = None
-        else:
-            inverse = np.array([row + [0.0] * (d - len(row)) for row in inverse_root])
-            gain_root = observed @ inverse.T  # G = C L⁻ᵀ
-            new_cov = _frozen(cov - gain_root @ gain_root.T)
-            gain = gain_root @ inverse  # K = G L⁻¹
-            prior = mean.reshape(d, b) @ features  # Hμ
-            factors = (_frozen(np.column_stack((mean - gain @ prior, gain))), new_cov)
-        if d * b <= _MAX_CACHED_WEIGHTS:
-            if len(cache[2]) >= _CACHED_PHASES:
-                del cache[2][next(iter(cache[2]))]  # the oldest
-            cache[2][key] = factors
-        return factors
-
-    def _conditioning(
-        self, features: np.ndarray, noise: float | np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The gain, the conditioned covariance and the directions it cannot move in.
-
-        ``features`` (n_via, n_basis) are ``φ(s_i)``; ``noise`` a variance for
-        every coordinate or the per-point covariances (n_via, n_dims, n_dims).
-        ``H = Ψ`` is never built: each observed coordinate touches one block of
-        ``n_basis`` weights, so ``Σ Hᵀ`` and ``H Σ Hᵀ`` are products with
-        ``φ`` block by block (about a tenth of the dense products' work).
-        Returns ``K`` (n_weights, n_via·n_dims), ``Σ'`` and the unit vectors
-        (n_via·n_dims, n_dropped) of the observation space the pseudo-inverse
-        drops; rows point-major, then dimension.
-        """
-        d, b = self.n_dims_, self.n_basis
-        n, n_weights = len(features), d * b
-        m = n * d
-        cov = self.weights_cov_
-        # Σ Hᵀ: column (i, k) is Σ[:, k-block] φ(s_i); one 2-D product, then reordered.
-        cov_observed = (cov.reshape(n_weights * d, b) @ features.T).reshape(n_weights, d, n)
-        cov_observed = cov_observed.transpose(0, 2, 1).reshape(n_weights, m)
-        # H Σ Hᵀ: row (i, k) is φ(s_i)ᵀ (Σ Hᵀ)[k-block, :].
-        by_block = cov_observed.reshape(d, b, m).transpose(0, 2, 1).reshape(d * m, b)
-        gram = (by_block @ features.T).reshape(d, m, n).transpose(2, 0, 1).reshape(m, m)
+        if not full and type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < math.inf:
+            try:
+                pts = np.asarray(points, dtype=np.float64)
+                s = np.asarray(phases, dtype=np.float64)
+            except (TypeError, ValueError):
+                pts = s = None
+            if pts is not None and pts.ndim == 1:
+                pts = pts.reshape(1, -1)
+            if (
+                pts is not None
+                and pts.ndim == 2
+                and pts.shape[1] == d
+                and 0 < len(pts) == s.size
+                and s.ndim <= 1
+            ):
+                return pts, (s if s.ndim else s.reshape(1)), float(covariance), _no_noise(d)
+        pts = _check_points(points, d)
+        s = _check_phases(phases, "phases")
+        if len(s) != len(pts):
+            raise ValueError(
+                f"phases: got {len(s)} phases for {len(pts)} points; give one phase per point"
+            )
+        noise = _check_covariance(covariance, len(s), d)
         if isinstance(noise, float):
-            if noise:
-                gram.flat[:: m + 1] += noise
-        else:
-            for i in range(n):
-                gram[i * d : (i + 1) * d, i * d : (i + 1) * d] += noise[i]
-        # Pseudo-inverse by eigen-decomposition: the directions it drops are those
-        # the model cannot move in, and what of a via-point's offset lies there is missed.
-        if m > _SMALL_EIGH:
-            from lfdkit.core.threads import one_blas_thread  # threadpoolctl: 13 ms to import
+            return pts, s, noise, _no_noise(d)
+        return pts, s, 0.0, noise
 
-            with one_blas_thread():
-                values, vectors = np.linalg.eigh(gram)
-        else:
-            values, vectors = np.linalg.eigh(gram)
-        kept = values > _PINV_RCOND * max(float(values[-1]), _TINY)
-        if kept.all():  # the usual case: no boolean indexing (as slow as the solve)
-            inverse, dropped = (vectors / values) @ vectors.T, vectors[:, :0]
-        else:
-            inverse = (vectors[:, kept] / values[kept]) @ vectors[:, kept].T
-            dropped = vectors[:, ~kept]
-        gain = cov_observed @ inverse
-        new_cov = cov - gain @ cov_observed.T
-        return gain, 0.5 * (new_cov + new_cov.T), dropped
+    def _conditioned(
+        self, sets: np.ndarray, phases: np.ndarray, variance: float, noise: np.ndarray
+    ) -> tuple[np.ndarray, int]:
+        """:func:`condition_weights` (numba's or the NumPy twin) on this model's weights.
 
-    def _with_weights(self, mean: np.ndarray, cov: np.ndarray) -> ProMP:
-        """A fitted copy with another weight distribution.
+        ``sets`` (n_sets, k, d) points, C-contiguous. Returns the kernel's
+        buffer (read-only; :func:`_out_parts` splits it) and its count of
+        dropped directions (−1: a value out of range, nothing computed).
+        """
+        n_sets, k, d = sets.shape
+        n_weights = len(self.weights_mean_)
+        out = np.empty(n_sets * n_weights + (2 * n_weights + n_sets) * k * d)
+        n_dropped = _condition_kernel()(
+            self.weights_mean_,
+            self.weights_cov_,
+            _scaled_centres(self.n_basis, self.width_),
+            phases,
+            self.width_,
+            sets,
+            variance,
+            noise,
+            _PINV_RCOND,
+            out,
+        )
+        # Read-only: the means handed to the copies are views that inherit it.
+        return _frozen(out), n_dropped
+
+    def _with_weights(self, mean: np.ndarray, cov: np.ndarray | None) -> ProMP:
+        """A fitted copy with another weight distribution (``mean`` and ``cov`` read-only;
+        ``cov`` None: the caller sets ``_pending_cov``).
 
         Without the constructor's signature inspection (it was a third of a
         conditioning call); width, dimensions, demos and residual are kept.
         """
-        new = type(self).__new__(type(self))
-        new.__dict__.update(self.__dict__)
+        new = object.__new__(type(self))
+        state = new.__dict__
+        state.update(self.__dict__)
         for kept in _KEPT:  # this model's, not the copy's
-            new.__dict__.pop(kept, None)
-        new.weights_mean_, new.weights_cov_ = _frozen(mean), _frozen(cov)
+            state.pop(kept, None)
+        state["weights_mean_"] = mean
+        if cov is None:
+            del state["weights_cov_"]  # formed from _pending_cov when read
+        else:
+            state["weights_cov_"] = cov
         return new
+
+    def __getattr__(self, name: str) -> Any:
+        """``weights_cov_`` of a conditioned model, formed on first use (then an attribute)."""
+        pending = self.__dict__.pop("_pending_cov", None) if name == "weights_cov_" else None
+        if pending is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        cov = _frozen(_conditioned_covariance(*pending))
+        self.__dict__["weights_cov_"] = cov
+        return cov
 
     def __getstate__(self) -> dict[str, Any]:
         """For pickling and copies: what is kept for speed is left out (rebuilt on use)."""
+        if "_pending_cov" in self.__dict__:
+            self.weights_cov_  # noqa: B018 (formed now: a copy holds the array)
         return {key: value for key, value in self.__dict__.items() if key not in _KEPT}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -656,23 +605,19 @@ class ProMP(Estimator):
         ValueError
             One line starting with ``where`` for a missing or malformed field.
         """
-        keys = ("params", "width", "n_dims", "n_demos", "residual_rms")
-        for key in (*keys, "weights_mean", "weights_cov"):
-            if key not in state:
-                raise ValueError(f"{where}.{key}: missing field")
-        try:
-            made = cls(**dict(state["params"]))
-            made._validate_params()
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{where}.params: {exc}") from None
-        for key in keys[1:]:
-            value = state[key]
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ValueError(f"{where}.{key}: expected a number, got {value!r}")
+        made = made_from_state(
+            cls,
+            state,
+            where,
+            ("width", "n_dims", "n_demos", "residual_rms", "weights_mean", "weights_cov"),
+        )
+        width = check_state_number(state, "width", where, positive=True)
+        check_state_number(state, "n_demos", where, positive=False)  # 0: made, not fitted
+        check_state_number(state, "residual_rms", where, positive=False)
         n_dims = state["n_dims"]
-        if not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
+        if isinstance(n_dims, bool) or not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
             raise ValueError(f"{where}.n_dims: expected 1 to 3, got {n_dims!r}")
-        if not 0.0 < state["width"] <= 1.0:
+        if width > 1.0:
             raise ValueError(f"{where}.width: expected a value in (0, 1], got {state['width']!r}")
         n_weights = n_dims * made.n_basis
         try:
@@ -691,7 +636,7 @@ class ProMP(Estimator):
             )
         if not (np.all(np.isfinite(mean)) and np.all(np.isfinite(cov))):
             raise ValueError(f"{where}: weights contain NaN or infinite values")
-        made.width_ = float(state["width"])
+        made.width_ = width
         made.n_dims_ = n_dims
         made.n_demos_ = int(state["n_demos"])
         made.residual_rms_ = float(state["residual_rms"])
@@ -718,7 +663,15 @@ class ProMP(Estimator):
 
     def _grid(self, n_points: Any) -> np.ndarray:
         """:meth:`_features` at ``n_points`` even phases, cached (read-only)."""
-        return _grid_features(self.n_basis, self.width_, check_count(n_points, "n_points"))
+        if type(n_points) is not int:  # an int is checked by the cache's miss below
+            n_points = check_count(n_points, "n_points")
+        features = _GRIDS.get((self.n_basis, self.width_, n_points))
+        if features is None:
+            features = _grid_features(self.n_basis, self.width_, check_count(n_points, "n_points"))
+            if len(_GRIDS) >= 64:
+                _GRIDS.clear()
+            _GRIDS[(self.n_basis, self.width_, n_points)] = features
+        return features
 
     def _mean_from(self, features: np.ndarray) -> np.ndarray:
         """Mean positions for the activations ``features`` (n, n_basis): shape (n, n_dims)."""
@@ -779,62 +732,138 @@ class ProMP(Estimator):
         return True
 
     def _check_fitted(self) -> None:
-        check_fitted(self, "weights_cov_")
+        # The mean: a conditioned model's covariance is formed only when read.
+        check_fitted(self, "weights_mean_")
 
 
-def _small_inverse_cholesky(matrix: list[list[float]]) -> list[list[float]] | None:
-    """``L⁻¹`` (rows of a lower triangle) for the Cholesky factor ``L`` of a 1-3 × 1-3 SPD matrix.
+def condition_weights(
+    mean: np.ndarray,
+    cov: np.ndarray,
+    scaled_centres: np.ndarray,
+    phases: np.ndarray,
+    width: float,
+    sets: np.ndarray,
+    variance: float,
+    noise: np.ndarray,
+    rcond: float,
+    out: np.ndarray,
+) -> int:
+    """Condition ``N(mean, cov)`` on ``k`` via-points for each of ``n_sets`` point sets (NumPy).
 
-    Closed form in Python floats (for d ≤ 3 a few hundred nanoseconds, less
-    than one NumPy call). None unless the matrix is clearly invertible:
-    ``det / traceᵈ`` bounds the ratio of its smallest to largest eigenvalue
-    from below and must exceed :data:`_CLOSED_FORM_RATIO` (the general path's
-    pseudo-inverse then drops nothing and warns of nothing either; its result
-    and this one differ by the condition number times the rounding, < 1e-12).
+    The twin of :func:`lfdkit.imitate._promp_kernels.condition_weights` (same
+    arguments and results, to rounding); :func:`lfdkit.core.kernels.kernel`
+    picks one.
+
+    Parameters
+    ----------
+    mean : ndarray, shape (n_weights,)
+    cov : ndarray, shape (n_weights, n_weights)
+        The weights' distribution, dimension-major blocks of ``b`` weights.
+    scaled_centres : ndarray, shape (b,)
+        Basis centres divided by the basis width.
+    phases : ndarray, shape (k,)
+        Via-point phases in [0, 1].
+    width : float
+        Basis width (phase units).
+    sets : ndarray, shape (n_sets, k, d)
+        The points, in the weights' units.
+    variance : float
+        Added to every observed coordinate's variance (units²).
+    noise : ndarray, shape (k, d, d) or (0, d, d)
+        Per-point covariances added too (none for the second shape).
+    rcond : float
+        Eigenvalues of the innovation covariance at or below ``rcond`` times
+        the largest are dropped (pseudo-inverse).
+    out : ndarray, shape (n_sets * n_weights + 2 * n_weights * k * d + n_sets * k * d,)
+        Written, one after the other: the conditioned means (n_sets,
+        n_weights); the gain ``K`` and ``Σ Hᵀ`` (n_weights, k·d each, columns
+        point-major, then dimension; :func:`_conditioned_covariance` forms
+        ``Σ'`` from them); each set's offset from the prior mean in the
+        dropped directions (n_sets, k·d).
+
+    Returns
+    -------
+    int
+        Directions dropped, or −1 for a point that is not finite or a phase
+        outside [0, 1] (nothing written: the caller's full checks say which).
     """
-    d = len(matrix)
-    a = matrix[0][0]
-    if not a > 0.0:
-        return None
-    l11 = math.sqrt(a)
-    if d == 1:
-        return [[1.0 / l11]]
-    l21 = matrix[1][0] / l11
-    p2 = matrix[1][1] - l21 * l21
-    if not p2 > 0.0:
-        return None
-    l22 = math.sqrt(p2)
-    i11, i22 = 1.0 / l11, 1.0 / l22
-    i21 = -l21 * i11 * i22
-    if d == 2:
-        if not a * p2 > _CLOSED_FORM_RATIO * (a + matrix[1][1]) ** 2:
-            return None
-        return [[i11], [i21, i22]]
-    l31 = matrix[2][0] / l11
-    l32 = (matrix[2][1] - l31 * l21) / l22
-    p3 = matrix[2][2] - l31 * l31 - l32 * l32
-    if not (p3 > 0.0 and a * p2 * p3 > _CLOSED_FORM_RATIO * (a + matrix[1][1] + matrix[2][2]) ** 3):
-        return None
-    i33 = 1.0 / math.sqrt(p3)
-    return [[i11], [i21, i22], [-(l31 * i11 + l32 * i21) * i33, -l32 * i22 * i33, i33]]
+    n_sets, k, d = sets.shape
+    b, n_weights, m = len(scaled_centres), len(mean), k * d
+    if not (np.all((phases >= 0.0) & (phases <= 1.0)) and np.all(np.isfinite(sets))):
+        return -1
+    means, gain, observed, lost = _out_parts(out, n_sets, n_weights, m)
+    bumps = np.exp(-0.5 * np.square(scaled_centres - (phases / width)[:, None]))
+    features = bumps / bumps.sum(axis=1, keepdims=True)
+    # Σ Hᵀ: column (i, c) is Σ[:, c-block] φ(s_i); one 2-D product, then reordered.
+    cov_h = (cov.reshape(n_weights * d, b) @ features.T).reshape(n_weights, d, k)
+    observed[...] = cov_h.transpose(0, 2, 1).reshape(n_weights, m)
+    # H Σ Hᵀ: row (i, c) is φ(s_i)ᵀ (Σ Hᵀ)[c-block, :].
+    by_block = observed.reshape(d, b, m).transpose(0, 2, 1).reshape(d * m, b)
+    gram = (by_block @ features.T).reshape(d, m, k).transpose(2, 0, 1).reshape(m, m)
+    gram.flat[:: m + 1] += variance
+    for i in range(len(noise)):
+        gram[i * d : (i + 1) * d, i * d : (i + 1) * d] += noise[i]
+    gram = 0.5 * (gram + gram.T)
+    # Pseudo-inverse by eigen-decomposition: the directions it drops are those
+    # the model cannot move in, and what of a via-point's offset lies there is missed.
+    if m > _SMALL_EIGH:
+        from lfdkit.core.threads import one_blas_thread  # threadpoolctl: 13 ms to import
+
+        with one_blas_thread():
+            values, vectors = np.linalg.eigh(gram)
+    else:
+        values, vectors = np.linalg.eigh(gram)
+    kept = values > rcond * max(float(values[-1]), _TINY)
+    dropped = vectors[:, ~kept]
+    gain[...] = observed @ ((vectors[:, kept] / values[kept]) @ vectors[:, kept].T)
+    prior = (features @ mean.reshape(d, b).T).reshape(m)
+    offsets = sets.reshape(n_sets, m) - prior
+    means[...] = mean + offsets @ gain.T
+    lost[...] = (offsets @ dropped) @ dropped.T
+    return int(dropped.shape[1])
 
 
-def _one_number(value: Any) -> float | None:
-    """``value`` as a float if it is one number (a scalar, or one element in a
-    list, tuple or array of shape (1,) or (1, 1)); else None."""
-    if type(value) in _SCALAR_TYPES:
-        return float(value)
-    if type(value) in (list, tuple):
-        if len(value) == 1 and type(value[0]) in _SCALAR_TYPES:
-            return float(value[0])
-        return None
-    if (
-        isinstance(value, np.ndarray)
-        and value.dtype.kind in "fiu"
-        and value.shape in _ONE_PHASE_SHAPES
-    ):
-        return float(value.reshape(()))
-    return None
+def _out_parts(
+    out: np.ndarray, n_sets: int, n_weights: int, m: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Views of :func:`condition_weights`' buffer: means, gain, ``Σ Hᵀ``, lost."""
+    gain_at = n_sets * n_weights
+    observed_at = gain_at + n_weights * m
+    lost_at = observed_at + n_weights * m
+    return (
+        out[:gain_at].reshape(n_sets, n_weights),
+        out[gain_at:observed_at].reshape(n_weights, m),
+        out[observed_at:lost_at].reshape(n_weights, m),
+        out[lost_at:].reshape(n_sets, m),
+    )
+
+
+def _conditioned_covariance(cov: np.ndarray, out: np.ndarray, n_sets: int, m: int) -> np.ndarray:
+    """``Σ' = Σ − K (Σ Hᵀ)ᵀ`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
+    coordinates), made exactly symmetric (averaged with its transpose)."""
+    _, gain, observed, _ = _out_parts(out, n_sets, len(cov), m)
+    new_cov = cov - gain @ observed.T
+    return 0.5 * (new_cov + new_cov.T)
+
+
+def _condition_kernel() -> Any:
+    """:func:`condition_weights`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it.
+
+    numba's is kept once handed out (the rule never turns back within a
+    process): asking the rule again cost as much as the kernel itself.
+    """
+    if _COMPILED:
+        return _COMPILED[0]
+    run = kernel(*_KERNEL, __name__)
+    if run is not condition_weights:
+        _COMPILED.append(run)
+    return run
+
+
+@functools.lru_cache(maxsize=8)
+def _no_noise(n_dims: int) -> np.ndarray:
+    """No per-point covariance, shape (0, n_dims, n_dims) (read-only: shared)."""
+    return _frozen(np.zeros((0, n_dims, n_dims)))
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
@@ -938,4 +967,5 @@ def _check_covariance(covariance: Any, n_via: int, n_dims: int) -> float | np.nd
         raise ValueError("covariance: must be symmetric")
     if np.linalg.eigvalsh(arr).min() < -1e-12 * max(1.0, float(np.abs(arr).max())):
         raise ValueError("covariance: must be positive semi-definite (a variance is >= 0)")
-    return np.array(arr)
+    # Read-only like the model's weights: the compiled kernel is then typed (and compiled) once.
+    return _frozen(np.array(arr))

@@ -76,7 +76,9 @@ from lfdkit.core.validation import (
     check_path,
     check_point,
     check_positive,
+    check_state_number,
     check_times,
+    made_from_state,
 )
 from lfdkit.imitate._dmp_numerics import minimum_jerk_law
 from lfdkit.model.timed_path import TimedPath
@@ -251,9 +253,9 @@ class RhythmicDMP(Estimator):
         ValueError
             One line starting with ``where`` for a missing or malformed field.
         """
-        made = _made_from_state(cls, state, where, ("period", "n_dims", "residual_rms"))
-        period = _state_number(state, "period", where, positive=True)
-        residual = _state_number(state, "residual_rms", where, positive=False)
+        made = made_from_state(cls, state, where, ("period", "n_dims", "residual_rms"))
+        period = check_state_number(state, "period", where, positive=True)
+        residual = check_state_number(state, "residual_rms", where, positive=False)
         n_dims = state["n_dims"]
         if isinstance(n_dims, bool) or not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
             raise ValueError(f"{where}.n_dims: expected 1 to 3, got {n_dims!r}")
@@ -384,10 +386,10 @@ class QuaternionRhythmicDMP(Estimator):
         ValueError
             One line starting with ``where`` for a missing or malformed field.
         """
-        made = _made_from_state(cls, state, where, ("centre", "residual_rms", "tangent"))
+        made = made_from_state(cls, state, where, ("centre", "residual_rms", "tangent"))
         centre = _state_array(state, "centre", where, (4,))
         check_quaternions(centre, f"{where}.centre", n=1)  # unit: kept as stored, to the bit
-        residual = _state_number(state, "residual_rms", where, positive=False)
+        residual = check_state_number(state, "residual_rms", where, positive=False)
         if not isinstance(state["tangent"], Mapping):
             raise ValueError(f"{where}.tangent: expected an object, got {state['tangent']!r}")
         tangent = RhythmicDMP.from_state(state["tangent"], f"{where}.tangent")
@@ -815,34 +817,6 @@ def _sampled_centre(value: Any, learned: np.ndarray, d: int, instants: np.ndarra
 
 def _check_vector(value: Any, name: str, d: int) -> np.ndarray:
     return check_point(np.asarray(value).reshape(-1), name, d, style="point")
-
-
-def _made_from_state(cls: type, state: Mapping[str, Any], where: str, keys: tuple[str, ...]) -> Any:
-    """An unfitted ``cls`` of ``state["params"]``, once every key is there (one-line errors)."""
-    if not isinstance(state, Mapping):
-        raise ValueError(f"{where}: expected an object, got {type(state).__name__}")
-    for key in ("params", *keys):
-        if key not in state:
-            raise ValueError(f"{where}.{key}: missing field")
-    if not isinstance(state["params"], Mapping):
-        raise ValueError(f"{where}.params: expected an object, got {state['params']!r}")
-    try:
-        made = cls(**dict(state["params"]))
-        made._validate_params()
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{where}.params: {exc}") from None
-    return made
-
-
-def _state_number(state: Mapping[str, Any], key: str, where: str, *, positive: bool) -> float:
-    """A finite number of a state (> 0, or >= 0), as stored."""
-    value = state[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"{where}.{key}: expected a number, got {value!r}")
-    if not math.isfinite(value) or value < 0.0 or (positive and value == 0.0):
-        wanted = "a positive number" if positive else "a number >= 0"
-        raise ValueError(f"{where}.{key}: expected {wanted}, got {value!r}")
-    return float(value)
 
 
 def _state_array(
