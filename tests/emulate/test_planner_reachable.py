@@ -58,4 +58,6 @@ def test_per_plan_window_numbers_are_the_windows_own_bit_for_bit(seed):
             laterals, reach = P._obstacle_reaches(window)
             got_laterals, got_reach = reaches.at(k, stop)
             assert np.array_equal(got_laterals, laterals) and np.array_equal(got_reach, reach)
+            for span in (0.0, 2.0 * problem.max_step, 0.3):
+                assert reaches.widest(k, stop, span) == P._widest(span, laterals, reach)
             assert near(k, stop, anchor) == P._obstacle_near(window, anchor)

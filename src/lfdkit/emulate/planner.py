@@ -101,6 +101,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -186,7 +187,7 @@ def _lateral_levels(
     problem: Problem,
     d0: np.ndarray,
     fine: bool = False,
-    reaches: tuple[np.ndarray, np.ndarray] | None = None,
+    widest: Callable[[float], float] | None = None,
 ) -> tuple[np.ndarray, int]:
     """The grid of the global search: offsets ``h·j``, ``|j| ≤ J``, and cells per step.
 
@@ -194,14 +195,15 @@ def _lateral_levels(
     reaches the nominal, its lateral position plus that reach, so that every
     way around it is on the grid; the spacing is a quarter of the action bound
     (half in 3-D) unless the span needs more than the cell budget.
-    ``reaches``: :func:`_obstacle_reaches` of ``problem``, where known.
+    ``widest``: :func:`_widest` of the span and ``problem``'s
+    :func:`_obstacle_reaches`, where known (:meth:`_WindowReaches.widest`).
     """
     n, m = problem.n, problem.m
     step = problem.max_step
     farthest = float(np.abs(d0).max())
     span = max(farthest, 2.0 * step)
     if problem.has_obstacles:
-        span = _widest(span, *(_obstacle_reaches(problem) if reaches is None else reaches))
+        span = _widest(span, *_obstacle_reaches(problem)) if widest is None else widest(span)
     span = min(span, farthest + n * step)
     cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
     if fine:
@@ -277,6 +279,11 @@ class _WindowReaches:
         self.width4 = 4.0 * (1.0 / np.sqrt(np.maximum(smallest, 1e-300))).reshape(self.n_obs, n)
         self.outer = np.sqrt(problem.outer2)
         self.rows = np.arange(n_all)
+        # _widest's numbers, element by element: each centre's distance from the nominal
+        # and largest lateral component at each point, and its reach there.
+        self.norms = np.sqrt(np.einsum("lkm,lkm->lk", self.laterals, self.laterals))
+        self.largest = np.abs(self.laterals).max(axis=2)
+        self.reach = np.concatenate([self.width4, np.repeat(self.outer[:, None], n, axis=1)])
 
     @classmethod
     def usable(cls, problem: Problem) -> bool:
@@ -287,6 +294,15 @@ class _WindowReaches:
             and problem.has_obstacles
             and problem.hard_centres.ndim == 2
         )
+
+    def widest(self, start: int, stop: int, span: float) -> float:
+        """:func:`_widest` of ``span`` and the window's :meth:`at`."""
+        nearest = np.argmin(self.distance2[:, start:stop], axis=1) + start
+        reach = self.reach[self.rows, nearest]
+        inside = self.norms[self.rows, nearest] < reach
+        if not inside.any():
+            return span
+        return max(span, float((self.largest[self.rows, nearest][inside] + reach[inside]).max()))
 
     def at(self, start: int, stop: int) -> tuple[np.ndarray, np.ndarray]:
         """:func:`_obstacle_reaches` of ``problem.window(start, stop)``."""
@@ -959,7 +975,9 @@ def _receding_horizon(
                         reach_goal and stop == n,
                         None
                         if reaches is None
-                        else _lateral_levels(window, anchor, reaches=reaches.at(k, stop)),
+                        else _lateral_levels(
+                            window, anchor, widest=partial(reaches.widest, k, stop)
+                        ),
                     )
                     grid = grid if own is None else own
                 polished = []
