@@ -238,17 +238,17 @@ def _obstacle_reaches(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
     else:
         nearest, laterals = _nearest_lateral_arrays(problem, obstacles)
         hard_laterals = _nearest_lateral_arrays(problem, hard)[1]
-    width = _widths(problem, problem.normals[nearest])
+    width = _widths(problem.normals[nearest], problem.precision)
     return (
         np.concatenate([laterals, hard_laterals]),
         np.concatenate([4.0 * width, np.sqrt(problem.outer2)]),
     )
 
 
-def _widths(problem: Problem, normals: np.ndarray) -> np.ndarray:
-    """Each response's width across the nominal, given the normals (L, m, q) at its point."""
-    across = normals @ problem.precision @ np.swapaxes(normals, 1, 2)  # (L, m, m)
-    smallest = across[:, 0, 0] if problem.m == 1 else np.linalg.eigvalsh(across)[:, 0]
+def _widths(normals: np.ndarray, precision: np.ndarray) -> np.ndarray:
+    """Each response's width across the nominal: normals (L, m, q) there, precision (L, q, q)."""
+    across = normals @ precision @ np.swapaxes(normals, 1, 2)  # (L, m, m)
+    smallest = across[:, 0, 0] if normals.shape[1] == 1 else np.linalg.eigvalsh(across)[:, 0]
     return 1.0 / np.sqrt(np.maximum(smallest, 1e-300))
 
 
@@ -273,10 +273,8 @@ class _WindowReaches:
         normals = problem.normals[points]  # (L n, m, q)
         laterals = (normals @ rel.reshape(n_all * n, -1)[..., None])[..., 0]
         self.laterals = laterals.reshape(n_all, n, problem.m)
-        per_point = normals[: self.n_obs * n]
-        across = per_point @ np.repeat(problem.precision, n, axis=0) @ np.swapaxes(per_point, 1, 2)
-        smallest = across[:, 0, 0] if problem.m == 1 else np.linalg.eigvalsh(across)[:, 0]
-        self.width4 = 4.0 * (1.0 / np.sqrt(np.maximum(smallest, 1e-300))).reshape(self.n_obs, n)
+        widths = _widths(normals[: self.n_obs * n], np.repeat(problem.precision, n, axis=0))
+        self.width4 = 4.0 * widths.reshape(self.n_obs, n)
         self.outer = np.sqrt(problem.outer2)
         self.rows = np.arange(n_all)
         # _widest's numbers, element by element: each centre's distance from the nominal
