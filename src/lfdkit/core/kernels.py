@@ -67,6 +67,10 @@ _CHOICES = ("auto", "numba", "numpy")
 # next (a wall-clock time: wall time never runs slower than one thread's CPU time), and
 # whether it has passed the switch.
 _clock: dict = {"cpu_start": None, "next_look": 0.0, "switched": False}
+# The kernel modules already imported whole (import_module returned), by name: an MPC
+# plan asks for a kernel several times a step, and import_module's look-up was a tenth
+# of a 2-D plan's CPU time (issue 26).
+_modules: dict = {}
 
 
 def use_compiled() -> bool:
@@ -114,5 +118,9 @@ def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
             _clock["cpu_start"] = time.process_time()
             _clock["next_look"] = time.perf_counter() + SWITCH_SECONDS
     # import_module, not a look-up in sys.modules: it waits for a module another thread
-    # is still importing (the IOC plans on threads) instead of handing out a half-made one.
-    return getattr(importlib.import_module(module), name)
+    # is still importing (the IOC plans on threads) instead of handing out a half-made one;
+    # once it has returned, the module is whole and kept.
+    loaded = _modules.get(module)
+    if loaded is None:
+        loaded = _modules[module] = importlib.import_module(module)
+    return getattr(loaded, name)

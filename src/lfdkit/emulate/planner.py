@@ -101,6 +101,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -182,46 +183,27 @@ class Plan:
     goal_error: float = float("nan")
 
 
-def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tuple[np.ndarray, int]:
+def _lateral_levels(
+    problem: Problem,
+    d0: np.ndarray,
+    fine: bool = False,
+    widest: Callable[[float], float] | None = None,
+) -> tuple[np.ndarray, int]:
     """The grid of the global search: offsets ``h·j``, ``|j| ≤ J``, and cells per step.
 
     It spans the start and, for every obstacle whose response or radius
     reaches the nominal, its lateral position plus that reach, so that every
     way around it is on the grid; the spacing is a quarter of the action bound
     (half in 3-D) unless the span needs more than the cell budget.
+    ``widest``: :func:`_widest` of the span and ``problem``'s
+    :func:`_obstacle_reaches`, where known (:meth:`_WindowReaches.widest`).
     """
     n, m = problem.n, problem.m
     step = problem.max_step
     farthest = float(np.abs(d0).max())
     span = max(farthest, 2.0 * step)
     if problem.has_obstacles:
-        # All anchors at once (a closed loop builds a grid every step: a loop with an
-        # eigvalsh per anchor was a tenth of the moving MPC's step); the same numbers
-        # as one anchor at a time (batched matmul, eigvalsh of a 1 x 1 is its entry).
-        # The responses' centres and the hard balls' in one pass where they stack (each
-        # row's numbers are its own: the same as two passes; fewer NumPy calls, which
-        # are most of this function's time in an MPC step).
-        obstacles = problem.obstacles
-        hard = problem.hard_centres[..., problem.hard, :]
-        n_obs = obstacles.shape[-2]
-        if hard.ndim == obstacles.ndim:
-            nearest, laterals = _nearest_lateral_arrays(
-                problem, np.concatenate([obstacles, hard], axis=-2)
-            )
-            nearest, hard_laterals = nearest[:n_obs], laterals[n_obs:]
-            laterals = laterals[:n_obs]
-        else:
-            nearest, laterals = _nearest_lateral_arrays(problem, obstacles)
-            hard_laterals = _nearest_lateral_arrays(problem, hard)[1]
-        normals = problem.normals[nearest]  # (L, m, q)
-        across = normals @ problem.precision @ np.swapaxes(normals, 1, 2)  # (L, m, m)
-        smallest = across[:, 0, 0] if m == 1 else np.linalg.eigvalsh(across)[:, 0]
-        width = 1.0 / np.sqrt(np.maximum(smallest, 1e-300))
-        span = _widest(
-            span,
-            np.concatenate([laterals, hard_laterals]),
-            np.concatenate([4.0 * width, np.sqrt(problem.outer2)]),
-        )
+        span = _widest(span, *_obstacle_reaches(problem)) if widest is None else widest(span)
     span = min(span, farthest + n * step)
     cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
     if fine:
@@ -230,6 +212,102 @@ def _lateral_levels(problem: Problem, d0: np.ndarray, fine: bool = False) -> tup
     spacing = step / window
     count = min(int(np.ceil(span / spacing)), budget)
     return spacing * np.arange(-count, count + 1), window
+
+
+def _obstacle_reaches(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
+    """Each obstacle's and hard ball's lateral offset (L, m) at its nearest point, and reach (L,).
+
+    The reach of a response is four of its widths across the nominal there,
+    of a hard ball its outer radius (:func:`_lateral_levels`).
+    """
+    # All anchors at once (a closed loop builds a grid every step: a loop with an
+    # eigvalsh per anchor was a tenth of the moving MPC's step); the same numbers
+    # as one anchor at a time (batched matmul, eigvalsh of a 1 x 1 is its entry).
+    # The responses' centres and the hard balls' in one pass where they stack (each
+    # row's numbers are its own: the same as two passes; fewer NumPy calls, which
+    # are most of this function's time in an MPC step).
+    obstacles = problem.obstacles
+    hard = problem.hard_centres[..., problem.hard, :]
+    n_obs = obstacles.shape[-2]
+    if hard.ndim == obstacles.ndim:
+        nearest, laterals = _nearest_lateral_arrays(
+            problem, np.concatenate([obstacles, hard], axis=-2)
+        )
+        nearest, hard_laterals = nearest[:n_obs], laterals[n_obs:]
+        laterals = laterals[:n_obs]
+    else:
+        nearest, laterals = _nearest_lateral_arrays(problem, obstacles)
+        hard_laterals = _nearest_lateral_arrays(problem, hard)[1]
+    width = _widths(problem.normals[nearest], problem.precision)
+    return (
+        np.concatenate([laterals, hard_laterals]),
+        np.concatenate([4.0 * width, np.sqrt(problem.outer2)]),
+    )
+
+
+def _widths(normals: np.ndarray, precision: np.ndarray) -> np.ndarray:
+    """Each response's width across the nominal: normals (L, m, q) there, precision (L, q, q)."""
+    across = normals @ precision @ np.swapaxes(normals, 1, 2)  # (L, m, m)
+    smallest = across[:, 0, 0] if normals.shape[1] == 1 else np.linalg.eigvalsh(across)[:, 0]
+    return 1.0 / np.sqrt(np.maximum(smallest, 1e-300))
+
+
+class _WindowReaches:
+    """:func:`_obstacle_reaches` of every window of a static 2-D problem, from one pass.
+
+    The thesis's MPC builds a window's grid at every step near an obstacle;
+    the squared distances, lateral offsets and widths of every centre at
+    every nominal point are computed once per plan, element by element the
+    same numbers as per window (issue 26: the window's grid was two fifths of
+    an MPC step). Each window takes the first nearest point among its own.
+    """
+
+    def __init__(self, problem: Problem) -> None:
+        obstacles = problem.obstacles
+        centres = np.concatenate([obstacles, problem.hard_centres[problem.hard]], axis=-2)
+        n, n_all = problem.n, centres.shape[0]
+        self.n_obs = obstacles.shape[0]
+        rel = centres[:, None, :] - problem.base[None]  # (L, n, q)
+        self.distance2 = np.einsum("lkq,lkq->lk", rel, rel)
+        points = np.tile(np.arange(n), n_all)
+        normals = problem.normals[points]  # (L n, m, q)
+        laterals = (normals @ rel.reshape(n_all * n, -1)[..., None])[..., 0]
+        self.laterals = laterals.reshape(n_all, n, problem.m)
+        widths = _widths(normals[: self.n_obs * n], np.repeat(problem.precision, n, axis=0))
+        self.width4 = 4.0 * widths.reshape(self.n_obs, n)
+        self.outer = np.sqrt(problem.outer2)
+        self.rows = np.arange(n_all)
+        # _widest's numbers, element by element: each centre's distance from the nominal
+        # and largest lateral component at each point, and its reach there.
+        self.norms = np.sqrt(np.einsum("lkm,lkm->lk", self.laterals, self.laterals))
+        self.largest = np.abs(self.laterals).max(axis=2)
+        self.reach = np.concatenate([self.width4, np.repeat(self.outer[:, None], n, axis=1)])
+
+    @classmethod
+    def usable(cls, problem: Problem) -> bool:
+        """Whether ``problem`` is one this covers (static, 2-D, with obstacles)."""
+        return (
+            problem.m == 1
+            and not problem.moving
+            and problem.has_obstacles
+            and problem.hard_centres.ndim == 2
+        )
+
+    def widest(self, start: int, stop: int, span: float) -> float:
+        """:func:`_widest` of ``span`` and the window's :meth:`at`."""
+        nearest = np.argmin(self.distance2[:, start:stop], axis=1) + start
+        reach = self.reach[self.rows, nearest]
+        inside = self.norms[self.rows, nearest] < reach
+        if not inside.any():
+            return span
+        return max(span, float((self.largest[self.rows, nearest][inside] + reach[inside]).max()))
+
+    def at(self, start: int, stop: int) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`_obstacle_reaches` of ``problem.window(start, stop)``."""
+        nearest = np.argmin(self.distance2[:, start:stop], axis=1) + start
+        laterals = self.laterals[self.rows, nearest]
+        width4 = self.width4[self.rows[: self.n_obs], nearest[: self.n_obs]]
+        return laterals, np.concatenate([width4, self.outer])
 
 
 def _widest(span: float, laterals: np.ndarray, reach: np.ndarray) -> float:
@@ -869,6 +947,9 @@ def _receding_horizon(
             )
         if not np.isfinite(grid_walk(table, levels, cells, problem.max_step, d0, np.zeros((1, m)))):
             raise UnsafePlanError(_blocked_message(problem, reach_goal))
+    # The window grids' and the obstacle test's per-point numbers, once per plan.
+    reaches = _WindowReaches(problem) if not lookahead and _WindowReaches.usable(problem) else None
+    near = _ObstacleNear(problem) if problem.has_obstacles else None
     total_iter, all_ok = 0, True
     with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
         for k in range(n):
@@ -878,7 +959,7 @@ def _receding_horizon(
             if guess.shape[0] < stop - k:
                 guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
             anchor = offsets[k]
-            if table is None or not _obstacle_near(window, anchor):
+            if table is None or not near(k, stop, anchor):
                 d, cost, n_iter, ok = best_window(window, anchor, guess, sides=False)
             else:
                 grid = np.zeros((stop - k, m))
@@ -886,7 +967,16 @@ def _receding_horizon(
                     grid_walk(table[k:stop], levels, cells, problem.max_step, anchor, grid)
                 )
                 if not lookahead and not blocked:  # the window's own best grid path
-                    own = _global_start(window, anchor, reach_goal and stop == n)
+                    own = _global_start(
+                        window,
+                        anchor,
+                        reach_goal and stop == n,
+                        None
+                        if reaches is None
+                        else _lateral_levels(
+                            window, anchor, widest=partial(reaches.widest, k, stop)
+                        ),
+                    )
                     grid = grid if own is None else own
                 polished = []
                 for start in [guess] if blocked else [guess, grid]:
@@ -957,10 +1047,12 @@ def _cost_to_go(
     """
     if stop >= table.shape[0]:
         return 0.0
-    end = np.clip(end, levels[0], levels[-1])
+    # np.clip's value on Python floats (a tenth of the MPC step's NumPy calls was np.clip).
+    low, high = float(levels[0]), float(levels[-1])
+    end = [min(max(float(value), low), high) for value in end]
     near = np.abs(levels - end[0]) <= max_step * (1.0 + 1e-12)
     row = table[stop]
-    if end.size == 2:
+    if len(end) == 2:
         near2 = np.abs(levels - end[1]) <= max_step * (1.0 + 1e-12)
         row = row.reshape(levels.size, levels.size)[near][:, near2]
         return float(row.min()) if row.size else np.inf
@@ -1028,6 +1120,25 @@ def _obstacle_near(window: Problem, anchor: np.ndarray) -> bool:
         return True
     # rr may be below 0 for a moving obstacle's widened radius (problem.Problem): inside.
     return bool(np.any(np.sqrt(np.maximum(window.rr, 0.0)) - reach < np.sqrt(window.outer2)[None]))
+
+
+class _ObstacleNear:
+    """:func:`_obstacle_near` of ``problem.window(start, stop)``; per-point norms computed once."""
+
+    def __init__(self, problem: Problem) -> None:
+        self.problem = problem
+        self.b_norm = np.linalg.norm(problem.b, axis=2)
+        self.radius = np.sqrt(np.maximum(problem.rr, 0.0))
+        self.outer = np.sqrt(problem.outer2)[None]
+        self.max_step, self.root_m = problem.max_step, np.sqrt(problem.m)
+
+    def __call__(self, start: int, stop: int, anchor: np.ndarray) -> bool:
+        # The same operations, in the same order, as _obstacle_near's.
+        reach = float(np.linalg.norm(anchor)) + (stop - start) * self.max_step * self.root_m
+        lowest = self.problem.c[start:stop] - 2.0 * self.b_norm[start:stop] * reach
+        if bool(np.any(lowest < 28.0)):
+            return True
+        return bool(np.any(self.radius[start:stop] - reach < self.outer))
 
 
 def _check_ends(
