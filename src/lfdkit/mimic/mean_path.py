@@ -443,7 +443,7 @@ class MeanPath(Estimator):
             tuning, estimates, self.center_reason_ = _choose_tuning(ref, state.hits, state.found)
             self.center_estimates_ = estimates
             if tuning != _DEFAULT:
-                state = self._evaluate(ref, polylines, needed, tuning=tuning)
+                state = self._evaluate(ref, polylines, needed, tuning=tuning, known=state)
         else:
             self.center_estimates_ = {}
             self.center_reason_ = f"center={self.center!r} as given"
@@ -457,7 +457,9 @@ class MeanPath(Estimator):
             self.center_reason_ += f"; then {why}"
             if (weights < 1.0).any():
                 # A second pass from the first centre with those runs down-weighted.
-                state = self._evaluate(ref, polylines, needed, tuning=tuning, prior=weights)
+                state = self._evaluate(
+                    ref, polylines, needed, tuning=tuning, prior=weights, known=state
+                )
                 ref, state, more_res, more_inn, more_iter, stop_reason = self._iterate(
                     ref, state, polylines, starts, stops, needed, tuning, weights
                 )
@@ -576,6 +578,7 @@ class MeanPath(Estimator):
         scale: np.ndarray | None = None,
         tuning: Tuning = _DEFAULT,
         prior: np.ndarray | None = None,
+        known: _State | None = None,
     ) -> _State:
         """Intersections, residuals and the update direction at a Reference-Path.
 
@@ -583,10 +586,14 @@ class MeanPath(Estimator):
         the path's own (``scale=None``), or given ones (a candidate is scored
         on the accepted path's scales). ``prior`` (m, n_demos): weights of
         the intersections from a first centre (:func:`_run_weights`), fixed by
-        normal and demonstration, multiplying the centre's own.
+        normal and demonstration, multiplying the centre's own. ``known``: an
+        evaluation of this same path, whose intersections are reused.
         """
         tangents = point_tangents(ref)
-        hits = polylines.intersect(ref, tangents, same_direction=self.same_direction)
+        if known is None:
+            hits = polylines.intersect(ref, tangents, same_direction=self.same_direction)
+        else:
+            hits = known.crossings
         found = hits.found
         offsets = hits.points - ref[:, None, :]  # (M, N, q), NaN where missed
         dist = hits.distance
@@ -623,6 +630,7 @@ class MeanPath(Estimator):
         e1 = float(np.sum(d**2))
         e3 = float(np.linalg.norm(innovation, axis=1).sum())
         state = _State(hits.points, found, innovation, e1, e3, 0.0, tuning=tuning, prior=prior)
+        state.crossings = hits
         if self.center == "mean":
             state.loss = e1 / n_found
         elif self.center == "adaptive":
@@ -637,6 +645,7 @@ class _State:
     """Evaluation of one Reference-Path (internal)."""
 
     __slots__ = (
+        "crossings",
         "e1",
         "e3",
         "found",
@@ -662,6 +671,7 @@ class _State:
         self.tuning = tuning
         self.prior = prior
         self.own_scale = None  # the path's own robust scales, once computed
+        self.crossings = None  # the NormalHits behind ``hits`` and ``found``
 
     def rescale(self, ref: np.ndarray, scale: np.ndarray | None = None) -> None:
         """``center="adaptive"``: its loss, on the given scales or on its own (``None``).
