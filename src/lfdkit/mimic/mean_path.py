@@ -646,6 +646,7 @@ class _State:
 
     __slots__ = (
         "crossings",
+        "dist",
         "e1",
         "e3",
         "found",
@@ -672,6 +673,7 @@ class _State:
         self.prior = prior
         self.own_scale = None  # the path's own robust scales, once computed
         self.crossings = None  # the NormalHits behind ``hits`` and ``found``
+        self.dist = None  # distances (m, n) from the path to ``hits``, zero where not found
 
     def rescale(self, ref: np.ndarray, scale: np.ndarray | None = None) -> None:
         """``center="adaptive"``: its loss, on the given scales or on its own (``None``).
@@ -683,13 +685,16 @@ class _State:
         it is ``λ d`` instead, the median's loss, which that point minimises;
         ``λ``, the median of the other scales, puts both in units².
         """
-        offsets = self.hits - ref[:, None, :]
         if scale is None:
             if self.own_scale is None:
+                offsets = self.hits - ref[:, None, :]
                 self.own_scale = _robust_start(offsets, self.found, self.tuning)[1]
             scale = self.own_scale
         self.scale = scale
-        dist = np.linalg.norm(np.where(self.found[..., None], offsets, 0.0), axis=2)
+        if self.dist is None:  # an accepted path is scored twice: on the old scales and its own
+            offsets = np.where(self.found[..., None], self.hits - ref[:, None, :], 0.0)
+            self.dist = np.sqrt(np.einsum("mnq,mnq->mn", offsets, offsets))
+        dist = self.dist
         spread = scale > 0.0
         s = np.where(spread, scale, 1.0)[:, None]
         weight = float(np.median(scale[spread])) if spread.any() else 1.0
@@ -1485,14 +1490,14 @@ def _adaptive(
     # A small core converges linearly, as a median's reweighting does.
     for _ in range(50 if tuning == _DEFAULT else 300):
         current = centre[rows]
-        z = np.linalg.norm(at - current[:, None, :], axis=2) / sc
+        apart = at - current[:, None, :]
+        z = np.sqrt(np.einsum("mnq,mnq->mn", apart, apart)) / sc
         w = np.where(on, _adaptive_weight(z, tuning), 0.0)
         if fixed is not None:
             w = w * fixed
         total = w.sum(axis=1, keepdims=True)
-        new = np.where(
-            total > 0, (at * w[..., None]).sum(1) / np.maximum(total, 1e-300), start[rows]
-        )
+        weighted = np.einsum("mn,mnq->mq", w, at)
+        new = np.where(total > 0, weighted / np.maximum(total, 1e-300), start[rows])
         atol = 1e-12 * (1.0 + np.abs(centre).max())
         moving = (np.abs(new - current) > atol).any(axis=1)
         centre[rows] = new
