@@ -41,6 +41,7 @@ from mimic_centres import burr_profiles
 
 from lfdkit.emulate import metrics
 from lfdkit.mimic import MeanPath
+from lfdkit.mimic.mean_path import _REPLICA_CACHE
 
 #: The issue's target: lfdkit's default at least this many times faster.
 TARGET_RATIO = 40.0
@@ -176,6 +177,10 @@ def speed_table(names: list[str], repeats: int = 3) -> list[dict]:
     for name, (demos, truth) in speed_sets(names).items():
         row: dict = {"dataset": name, "n_demos": len(demos), "n_points": N_POINTS}
         for label, center in (("default", "adaptive"), ("mean", "mean")):
+            # The first fit of a shape draws the second pass's Gaussian replicas (kept per
+            # shape for later fits): a user's one fit pays that, so it is timed apart.
+            _REPLICA_CACHE.clear()
+            first = _timed(MeanPath(n_points=N_POINTS, center=center).fit, demos)
             runs = [
                 _timed(MeanPath(n_points=N_POINTS, center=center).fit, demos)
                 for _ in range(repeats)
@@ -184,10 +189,15 @@ def speed_table(names: list[str], repeats: int = 3) -> list[dict]:
             row[label] = {
                 "cpu_s": cpu,
                 "wall_s": wall,
+                "first_cpu_s": first[0],
                 "n_iter": int(fitted.n_iter_),
                 "e2": metrics.e2(fitted.path_, truth, n_points=N_POINTS),
             }
-            print(f"  {name}: lfdkit {label} {cpu:.2f} s CPU", file=sys.stderr, flush=True)
+            print(
+                f"  {name}: lfdkit {label} {cpu:.2f} s CPU (first fit {first[0]:.2f})",
+                file=sys.stderr,
+                flush=True,
+            )
         cpu, wall, (path, n_iter) = _timed(straightforward_mean_path, demos, N_POINTS)
         row["plain"] = {
             "cpu_s": cpu,
@@ -197,34 +207,39 @@ def speed_table(names: list[str], repeats: int = 3) -> list[dict]:
         }
         print(f"  {name}: plain {cpu:.1f} s CPU", file=sys.stderr, flush=True)
         row["ratio_default"] = cpu / row["default"]["cpu_s"]
+        row["ratio_default_first"] = cpu / row["default"]["first_cpu_s"]
         row["ratio_mean"] = cpu / row["mean"]["cpu_s"]
-        row["pass"] = bool(row["ratio_default"] >= TARGET_RATIO)
+        row["pass"] = bool(min(row["ratio_default"], row["ratio_default_first"]) >= TARGET_RATIO)
         rows.append(row)
     return rows
 
 
 def print_speed(rows: list[dict]) -> None:
     print(
-        f"\nMean-Path, {N_DEMOS} demonstrations x {N_POINTS} points: CPU s (wall s) [iterations], "
-        "e2 against the truth"
+        f"\nMean-Path, {N_DEMOS} demonstrations x {N_POINTS} points: CPU s, best of the repeats "
+        "(first fit: the replicas drawn), [iterations], e2 against the truth"
     )
     header = (
-        f"{'data set':<14}{'lfdkit default':>26}{'lfdkit mean':>26}{'plain Mean-Path':>28}"
-        f"{'plain/default':>15}{'plain/mean':>12}"
+        f"{'data set':<13}{'lfdkit default':>30}{'lfdkit mean':>30}{'plain Mean-Path':>24}"
+        f"{'plain/default (first)':>24}{'plain/mean':>11}"
     )
     print(header)
     print("-" * len(header))
     for r in rows:
         cells = "".join(
-            f"{r[k]['cpu_s']:>8.2f} ({r[k]['wall_s']:.1f}) [{r[k]['n_iter']}] {r[k]['e2']:>7.3g}"
-            for k in ("default", "mean", "plain")
+            f"{r[k]['cpu_s']:>8.2f} ({r[k]['first_cpu_s']:.2f}) [{r[k]['n_iter']}]"
+            f" {r[k]['e2']:>8.4g}"
+            for k in ("default", "mean")
         )
+        plain = r["plain"]
+        cells += f"{plain['cpu_s']:>9.1f} [{plain['n_iter']}] {plain['e2']:>8.4g}"
         verdict = "PASS" if r["pass"] else "FAIL"
-        print(
-            f"{r['dataset']:<14}{cells}{r['ratio_default']:>11.1f}x {verdict}"
-            f"{r['ratio_mean']:>10.1f}x"
-        )
-    print(f"target: the default >= {TARGET_RATIO:g}x faster than the plain Mean-Path, every set")
+        ratios = f"{r['ratio_default']:.1f}x ({r['ratio_default_first']:.1f}x) {verdict}"
+        print(f"{r['dataset']:<13}{cells}{ratios:>24}{r['ratio_mean']:>10.1f}x")
+    print(
+        f"target: the default >= {TARGET_RATIO:g}x faster than the plain Mean-Path on every set, "
+        "first fit included"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

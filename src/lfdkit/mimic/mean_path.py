@@ -911,7 +911,8 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
             start = _geometric_median(offsets, found, n_iter=30)
             width = None
         start = np.nan_to_num(start)
-        dist = np.where(found, np.linalg.norm(pts - start[:, None, :], axis=2), np.nan)
+        apart = pts - start[:, None, :]
+        dist = np.where(found, np.sqrt(np.einsum("mnq,mnq->mn", apart, apart)), np.nan)
         scale = np.nan_to_num(1.4826 * _nanmedian(dist, axis=1))
     tiny = _TINY * (1.0 + np.abs(pts).max())
     if width is not None:
@@ -1207,23 +1208,34 @@ def _run_distance(coords: np.ndarray, found: np.ndarray, half: int) -> np.ndarra
     robust scale (a running median along the path); zero where not found or
     where there is no spread to measure (e.g. half the values coincide).
     """
+    return _run_distances(coords, found, (half,))[0]
+
+
+def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...]) -> list:
+    """:func:`_run_distance` for several stretches, the running sums taken once."""
     m = len(coords)
-    count = np.concatenate((np.zeros((1, found.shape[1])), np.cumsum(found, axis=0)))
-    total = np.concatenate(
-        (np.zeros((1, *coords.shape[1:])), np.cumsum(np.where(found[..., None], coords, 0.0), 0))
-    )
-    lo = np.clip(np.arange(m) - half, 0, m)
-    hi = np.clip(np.arange(m) + half + 1, 0, m)
-    n_in = count[hi] - count[lo]
-    averaged = (total[hi] - total[lo]) / np.maximum(n_in, 1)[..., None]
-    start, own = _own_start_and_scale(averaged, found)
-    usable = (own > 0.0) & (found.sum(axis=1) >= 3)
-    if not usable.any():
-        return np.zeros(found.shape)
-    scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
-    scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
-    distance = np.linalg.norm(averaged - start[:, None, :], axis=2) / scale[:, None]
-    return np.where(found, distance, 0.0)
+    count = np.zeros((m + 1, found.shape[1]))
+    count[1:] = np.cumsum(found, axis=0)
+    total = np.zeros((m + 1, *coords.shape[1:]))
+    total[1:] = np.cumsum(np.where(found[..., None], coords, 0.0), axis=0)
+    enough = found.sum(axis=1) >= 3
+    out = []
+    for half in halves:
+        lo = np.clip(np.arange(m) - half, 0, m)
+        hi = np.clip(np.arange(m) + half + 1, 0, m)
+        n_in = count[hi] - count[lo]
+        averaged = (total[hi] - total[lo]) / np.maximum(n_in, 1)[..., None]
+        start, own = _own_start_and_scale(averaged, found)
+        usable = (own > 0.0) & enough
+        if not usable.any():
+            out.append(np.zeros(found.shape))
+            continue
+        scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
+        scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
+        apart = averaged - start[:, None, :]
+        distance = np.sqrt(np.einsum("mnk,mnk->mn", apart, apart)) / scale[:, None]
+        out.append(np.where(found, distance, 0.0))
+    return out
 
 
 #: :func:`_replica_maxima`'s draws by shape and mask: the replicas are white noise in
@@ -1267,7 +1279,7 @@ def _replica_maxima(
         with lock:  # one thread draws the next replica, the others reuse it
             if i == len(draws):
                 replica = rng.normal(0.0, 1.0, shape)
-                draws.append(np.array([_run_distance(replica, found, h).max() for h in halves]))
+                draws.append(np.array([d.max() for d in _run_distances(replica, found, halves)]))
         seen = np.maximum(seen, draws[i])
         if (observed <= seen).all():
             break
@@ -1304,7 +1316,7 @@ def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[
             "normal to the next): averaging them along it tells no run from the spread"
         )
     halves = [round(0.5 * fraction * m) for fraction in _RUN_WINDOWS]
-    observed = np.array([_run_distance(coords, found, half).max() for half in halves])
+    observed = np.array([d.max() for d in _run_distances(coords, found, tuple(halves))])
     seen = np.full(len(halves), _RUN_LO)
     if (observed > _RUN_LO).any():  # else nothing stands out at all
         seen = _replica_maxima(coords.shape, found, tuple(halves), observed)
