@@ -261,6 +261,7 @@ def main(argv: list[str] | None = None) -> int:
     }
     print_speed(result["rows"])
     result["machine_after"] = machine_info()
+    args.output.mkdir(parents=True, exist_ok=True)
     out = write_json(args.output / "mimic_speed.json", result)
     print(f"\nwrote {out}", file=sys.stderr)
     return 0
