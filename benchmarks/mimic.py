@@ -7,7 +7,8 @@ centres and startup with 2 seeds):
 
 * ``comparison``: one table (e1, e2 mean ± sd over seeds, penetration, median
   runtime) of every method, and the issue's accuracy targets;
-* ``scaling``: Mean-Path fit time for N demos × M points;
+* ``scaling``: Mean-Path fit time for N demos × M points (against the
+  straightforward Mean-Path side by side: ``benchmarks/mimic_speed.py``);
 * ``centres``: the default Mean-Path centre chosen by measurement: e2 of
   ``MeanPath(center=c)`` for every centre on every data set (mean over
   seeds), each centre's ratio to the best one, and the target: the default

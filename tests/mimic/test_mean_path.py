@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import norm
 from sklearn.base import clone
 
+import lfdkit.mimic.mean_path as mean_path_module
 from lfdkit.core.geometry import (
     arc_length,
     left_normals,
@@ -991,6 +992,44 @@ def test_adaptive_chooses_a_robust_tuning_on_burrs(sides):
     # Six profiles: the old rule took their mean, pulled up by the burrs.
     assert _error(mp.path_) < 0.6 * errors["mean"]
     assert _error(mp.path_) < 1.1 * errors["median"]
+
+
+def test_gaussian_replicas_are_not_drawn_where_deviations_are_rough(monkeypatch):
+    """White noise with burrs is not smooth along the path: the replica check cannot decide.
+
+    The check costs 40 evaluations of every tuning (40 % of a fit of 100 x 1000
+    burred points); the choice must be the one it was with it.
+    """
+    demos = _profiles(8, 2, seed=5)
+    before = MeanPath(n_points=80).fit(demos)
+    assert "not smooth along the path" in before.center_reason_
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("Gaussian replicas drawn on rough data")
+
+    monkeypatch.setattr(mean_path_module, "_gaussian_advantage", refuse)
+    after = MeanPath(n_points=80).fit(demos)
+    assert after.center_tuning_ == before.center_tuning_ != (4.0, 4.0, 8.0)
+    np.testing.assert_array_equal(after.path_, before.path_)
+
+
+@pytest.mark.parametrize("tuning", [(4.0, 4.0, 8.0), (4.0, 2.0, 4.0), (0.5, 2.0, 4.0)])
+def test_adaptive_centre_is_every_rows_fixed_point(tuning):
+    """Rows settle at different speeds (only the moving ones are reweighted): each must
+    end at its own fixed point, the weighted mean of its values at their weights."""
+    rng = np.random.default_rng(7)
+    points = rng.normal(0.0, 1.0, (300, 12, 2))
+    # Some rows carry outliers in the taper (slow to settle), some none (one step).
+    points[::3, :3] += rng.uniform(2.0, 6.0, (100, 3, 1)) * np.array([0.6, 0.8])
+    found = rng.random((300, 12)) > 0.1
+    prior = np.where(rng.random((300, 12)) < 0.1, 0.3, 1.0)
+    start, scale = mean_path_module._robust_start(points, found, tuning)
+    centre = _adaptive(points, found, start, scale, tuning, prior)
+    z = np.linalg.norm(points - centre[:, None, :], axis=2) / scale[:, None]
+    w = np.where(found, _adaptive_weight(z, tuning), 0.0) * prior
+    fixed_point = np.einsum("mn,mnq->mq", w, np.where(found[..., None], points, 0.0))
+    np.testing.assert_allclose(centre, fixed_point / w.sum(axis=1, keepdims=True), atol=1e-9)
+    assert np.abs(centre - points[:, :, :].mean(axis=1)).max() > 0.1  # the outliers were cut
 
 
 @pytest.mark.parametrize("seed", range(3))
