@@ -194,6 +194,9 @@ def run_tree(src: Path, args: list[str], cwd: Path) -> tuple[float, float, dict[
                     )
                     if "resource_tracker" in " ".join(process.cmdline()):
                         role = "tracker"
+                    # A role once known stays (an exiting process's command line reads empty).
+                    known = seen.get(process.pid, ("worker", 0.0))[0]
+                    role = role if known == "worker" else known
                     seen[process.pid] = (role, times.user + times.system)
         except psutil.Error:
             pass
