@@ -696,6 +696,11 @@ class BatchSummary:
         Wall time of this call.
     errors : list of str
         The first few errors of this call, ``"TASK: Type: message"``.
+    workers : int
+        Tasks the executor ran at once (its ``workers``).
+    busy_seconds : float
+        Seconds spent inside the tasks' function, summed over the units
+        (each unit timed where it ran).
     """
 
     path: Path
@@ -706,12 +711,27 @@ class BatchSummary:
     failed_before: int = 0
     seconds: float = 0.0
     errors: list[str] = field(default_factory=list)
+    workers: int = 1
+    busy_seconds: float = 0.0
 
     @property
     def throughput(self) -> float:
         """Tasks run per second in this call (nan before any)."""
         ran = self.done + self.failed
         return ran / self.seconds if ran and self.seconds > 0 else float("nan")
+
+    @property
+    def overhead_fraction(self) -> float:
+        """The share of the workers' time this call spent outside the tasks (nan before any).
+
+        ``1 - busy_seconds / (seconds * workers)``: scheduling, sending and
+        collecting, starting workers that were not started, and workers idle
+        at the end while the last tasks finish. Issue 30's bar for the
+        scheduling part: under 5 % of a batch.
+        """
+        if not (self.done + self.failed) or self.seconds <= 0:
+            return float("nan")
+        return 1.0 - self.busy_seconds / (self.seconds * self.workers)
 
 
 def run_batch(
@@ -789,8 +809,10 @@ def run_batch(
     if total is None and hasattr(tasks, "__len__"):
         total = len(tasks)  # type: ignore[arg-type]
     out = _ResultsFile(path, spec, overwrite=overwrite)
-    summary = BatchSummary(path=path, total=total or 0, failed_before=out.failed_before)
     capacity = int(getattr(executor, "workers", 1) or 1)
+    summary = BatchSummary(
+        path=path, total=total or 0, failed_before=out.failed_before, workers=capacity
+    )
     window = WINDOW_PER_WORKER * capacity if window is None else int(window)
     if window < 1:
         raise ValueError(f"window: expected a number of tasks >= 1, got {window}")
@@ -832,7 +854,9 @@ def run_batch(
                         return
                     try:
                         if serial:
+                            begun = time.perf_counter()
                             future = executor.submit(fn, *chunk[0])
+                            summary.busy_seconds += time.perf_counter() - begun
                         else:
                             future = executor.submit(run_unit, fn, chunk)
                     except (BrokenProcessPool, RuntimeError) as exc:
@@ -869,6 +893,7 @@ def run_batch(
                             write(_record(task_id, future))
                         continue
                     outcomes, seconds, caught = future.result()
+                    summary.busy_seconds += seconds
                     _warn_again(caught, registries)
                     if chunked:
                         sizer.timed(len(ids), seconds)
