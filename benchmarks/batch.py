@@ -30,7 +30,8 @@ Per-task overhead
 ``--overhead-tasks`` (2,000) tasks that do nothing (``dict`` of a small
 mapping) through :func:`lfdkit.app.batch.run_batch` on each executor: what one
 task costs the machinery (submit, pickle, schedule, return, write one line),
-in milliseconds per task of the batch's wall time.
+in milliseconds per task of the batch's wall time: in chunks (the default)
+and one task a unit (``chunk_seconds=0``: what each unit costs).
 
 Scheduling overhead
 -------------------
@@ -177,6 +178,7 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
 
 
 def overhead(out: Path, n: int) -> list[dict]:
+    """Milliseconds per do-nothing task, in chunks (the default) and one task a unit."""
     from lfdkit.app.batch import make_executor, run_batch
 
     table = []
@@ -184,13 +186,25 @@ def overhead(out: Path, n: int) -> list[dict]:
         with make_executor(**kwargs) as executor:
             work = [(i, ({"i": i},)) for i in range(2 * executor.workers)]
             run_batch(executor, dict, work, out / "warm.jsonl", spec={}, overwrite=True)
-            work = ((i, ({"i": i},)) for i in range(n))
-            summary = run_batch(
-                executor, dict, work, out / "overhead.jsonl", spec={}, total=n, overwrite=True
-            )
-        row = {"executor": name, "tasks": n, "ms_per_task": 1e3 * summary.seconds / n}
+            row = {"executor": name, "tasks": n}
+            for key, chunk in (("ms_per_task", None), ("ms_per_unit", 0.0)):
+                if chunk == 0.0 and not kwargs:
+                    row[key] = row["ms_per_task"]  # the serial executor has no units
+                    continue
+                work = ((i, ({"i": i},)) for i in range(n))
+                summary = run_batch(
+                    executor,
+                    dict,
+                    work,
+                    out / "overhead.jsonl",
+                    spec={},
+                    total=n,
+                    overwrite=True,
+                    chunk_seconds=chunk,
+                )
+                row[key] = 1e3 * summary.seconds / n
         table.append(row)
-        print(f"{name:<30} {row['ms_per_task']:8.3f}", flush=True)
+        print(f"{name:<30} {row['ms_per_task']:8.3f} {row['ms_per_unit']:13.3f}", flush=True)
     return table
 
 
@@ -353,7 +367,7 @@ def main() -> None:
         record["scheduling"] = scheduling(skill, args.output, args.scheduling_scenes, rounds)
     if not args.skip_overhead:
         print(f"\nPer-task overhead: {args.overhead_tasks:,} tasks that do nothing")
-        print(f"{'executor':<30} {'ms/task':>8}")
+        print(f"{'executor':<30} {'ms/task':>8} {'one a unit':>13}")
         record["overhead"] = overhead(args.output, args.overhead_tasks)
     if not args.skip_memory:
         print("\nMemory: lfdkit batch evaluate --random N --check plan --workers 2 (client RSS)")

@@ -8,7 +8,11 @@ units (:func:`make_executor`):
   whose workers are forks of a fresh, single-threaded ``forkserver`` process that
   has loaded lfdkit and warmed its planner once (:mod:`lfdkit.app.worker_preload`),
   so each worker starts warm; ``spawn`` where there is no ``forkserver`` (not
-  ``fork``: MuJoCo and numba's threads in the calling process do not survive one);
+  ``fork``: MuJoCo and numba's threads in the calling process do not survive one).
+  The fork server starts when the pool is made, or earlier with
+  :func:`start_worker_server` (``lfdkit batch`` calls it first thing), so it
+  loads beside the calling process; for a long batch it loads numba too, once
+  for every worker (:mod:`lfdkit.app.worker_preload_compiled`);
 * a Dask distributed cluster (``scheduler="tcp://HOST:PORT"``, or
   ``dask_local=N`` to start a :class:`distributed.LocalCluster` of N
   single-threaded worker processes): ``Client.get_executor()``.
@@ -196,11 +200,14 @@ class ProcessExecutor(ProcessPoolExecutor):
     its NumPy kernels), so a worker's first plan takes about 0.2 s of CPU
     instead of about 1.5 s, and 16 workers do not load the same things 16
     times; each loads numba itself, in parallel, once it has planned for a
-    second (:mod:`lfdkit.core.kernels`). The
-    fork server is Python's, one per calling process, started by the first
-    pool that needs it; a fork server already running without the preload
-    still works (its workers load what they need themselves). Elsewhere the
-    workers are spawned.
+    second (:mod:`lfdkit.core.kernels`), unless the fork server was started
+    for a long batch (:func:`start_worker_server`: numba loaded once, in the
+    fork server). The fork server is Python's, one per calling process,
+    started by the first pool that needs it (when the pool is made, so it
+    loads while the caller goes on) or by :func:`start_worker_server`; a
+    fork server already running without the preload still works (its
+    workers load what they need themselves). Elsewhere the workers are
+    spawned.
 
     Parameters
     ----------
