@@ -102,6 +102,26 @@ def test_local_processes_give_the_serial_results(tmp_path):
         summary = run_batch(executor, dict, tasks(30, fail=(4,)), tmp_path / "b.jsonl", spec=SPEC)
     assert (summary.done, summary.failed) == (29, 1)
     assert records(tmp_path / "a.jsonl") == records(tmp_path / "b.jsonl")
+    assert summary.workers == 2 and 0.0 < summary.busy_seconds <= 2 * summary.seconds
+
+
+def _nap(seconds: float) -> dict:
+    time.sleep(seconds)
+    return {"slept": seconds}
+
+
+def test_the_overhead_fraction_is_the_share_of_time_outside_the_tasks(tmp_path):
+    """Five 20 ms naps in this process: busy 0.1 s or more, and next to nothing outside them."""
+    summary = run_batch(
+        SerialExecutor(), _nap, [(i, (0.02,)) for i in range(5)], tmp_path / "n.jsonl", spec=SPEC
+    )
+    assert summary.busy_seconds >= 0.1
+    assert summary.busy_seconds <= summary.seconds
+    assert summary.overhead_fraction == pytest.approx(1 - summary.busy_seconds / summary.seconds)
+    assert 0.0 <= summary.overhead_fraction < 0.5
+    assert np.isnan(
+        run_batch(SerialExecutor(), _nap, [], tmp_path / "e.jsonl", spec=SPEC).overhead_fraction
+    )
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
