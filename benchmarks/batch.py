@@ -30,7 +30,22 @@ Per-task overhead
 ``--overhead-tasks`` (2,000) tasks that do nothing (``dict`` of a small
 mapping) through :func:`lfdkit.app.batch.run_batch` on each executor: what one
 task costs the machinery (submit, pickle, schedule, return, write one line),
-in milliseconds per task of the batch's wall time.
+in milliseconds per task of the batch's wall time: in chunks (the default)
+and one task a unit (``chunk_seconds=0``: what each unit costs).
+
+Scheduling overhead
+-------------------
+``--scheduling-scenes`` (64) random scenes checked ``plan`` (tasks of about
+30–70 ms, the shortest there are) through :func:`lfdkit.app.batch.run_batch`
+on serial, 2 local processes and a 2-worker Dask LocalCluster, each started
+and warmed first, once in chunks of short tasks (the default,
+:data:`lfdkit.app.batch.CHUNK_SECONDS` of work a unit) and once one task a
+unit (``chunk_seconds=0``), in the same minutes. The table gives the batch's
+seconds, its ratio to the warm serial run (throughput), and the overhead
+fraction: ``1 - (seconds inside the tasks) / (wall seconds x workers)``
+(:attr:`lfdkit.app.batch.BatchSummary.overhead_fraction`: scheduling,
+sending, collecting and the workers idle at the end; target under 5 %).
+Every run's rows must equal the serial run's.
 
 Memory
 ------
@@ -163,6 +178,7 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
 
 
 def overhead(out: Path, n: int) -> list[dict]:
+    """Milliseconds per do-nothing task, in chunks (the default) and one task a unit."""
     from lfdkit.app.batch import make_executor, run_batch
 
     table = []
@@ -170,13 +186,91 @@ def overhead(out: Path, n: int) -> list[dict]:
         with make_executor(**kwargs) as executor:
             work = [(i, ({"i": i},)) for i in range(2 * executor.workers)]
             run_batch(executor, dict, work, out / "warm.jsonl", spec={}, overwrite=True)
-            work = ((i, ({"i": i},)) for i in range(n))
-            summary = run_batch(
-                executor, dict, work, out / "overhead.jsonl", spec={}, total=n, overwrite=True
-            )
-        row = {"executor": name, "tasks": n, "ms_per_task": 1e3 * summary.seconds / n}
+            row = {"executor": name, "tasks": n}
+            for key, chunk in (("ms_per_task", None), ("ms_per_unit", 0.0)):
+                if chunk == 0.0 and not kwargs:
+                    row[key] = row["ms_per_task"]  # the serial executor has no units
+                    continue
+                work = ((i, ({"i": i},)) for i in range(n))
+                summary = run_batch(
+                    executor,
+                    dict,
+                    work,
+                    out / "overhead.jsonl",
+                    spec={},
+                    total=n,
+                    overwrite=True,
+                    chunk_seconds=chunk,
+                )
+                row[key] = 1e3 * summary.seconds / n
         table.append(row)
-        print(f"{name:<30} {row['ms_per_task']:8.3f}", flush=True)
+        print(f"{name:<30} {row['ms_per_task']:8.3f} {row['ms_per_unit']:13.3f}", flush=True)
+    return table
+
+
+def scheduling(skill: Path, out: Path, n: int, rounds: int) -> list[dict]:
+    """Warm executors, ``n`` plan tasks, chunked and one task a unit; overhead fractions."""
+    from lfdkit.app.batch import make_executor, run_batch
+    from lfdkit.tasks.sweeping.batch import evaluate_scenario, random_tasks
+
+    text = skill.read_text()
+    executors = [EXECUTORS[0], EXECUTORS[2], EXECUTORS[4]]
+    found: dict[tuple[str, str], list[dict]] = {}
+    reference = None
+    for k in range(rounds):
+        serial_s = None
+        for name, kwargs in executors:
+            with make_executor(**kwargs) as executor:
+                warm_up(executor, text)
+                modes = [("one task a unit", 0.0), ("chunks", None)]
+                for mode, chunk in modes[1:] if not kwargs else modes:
+                    results = out / "scheduling.jsonl"
+                    summary = run_batch(
+                        executor,
+                        evaluate_scenario,
+                        random_tasks(text, n, 0, "plan", 0.2),
+                        results,
+                        spec={"scheduling": n},
+                        total=n,
+                        overwrite=True,
+                        chunk_seconds=chunk,
+                    )
+                    got = rows(results)
+                    reference = reference or got
+                    serial_s = serial_s or summary.seconds
+                    run = {
+                        "round": k,
+                        "batch_s": summary.seconds,
+                        "ratio_vs_serial": serial_s / summary.seconds,
+                        "overhead_fraction": summary.overhead_fraction,
+                        "busy_s": summary.busy_seconds,
+                        "equal_to_serial": got == reference,
+                    }
+                    found.setdefault((name, mode if kwargs else "-"), []).append(run)
+                    print(
+                        f"  round {k + 1}/{rounds}: {name:<30} {mode if kwargs else '-':<16}"
+                        f" {summary.seconds:6.2f} s, overhead {summary.overhead_fraction:6.1%}",
+                        flush=True,
+                    )
+    table = []
+    print(f"{'executor':<30} {'units':<16} {'batch s':>8} {'ratio':>7} {'overhead':>9} equal")
+    for (name, mode), done in found.items():
+        row = {
+            "executor": name,
+            "units": mode,
+            "tasks": n,
+            "batch_s": statistics.median(r["batch_s"] for r in done),
+            "ratio_vs_serial": statistics.median(r["ratio_vs_serial"] for r in done),
+            "overhead_fraction": statistics.median(r["overhead_fraction"] for r in done),
+            "equal_to_serial": all(r["equal_to_serial"] for r in done),
+            "runs": done,
+        }
+        table.append(row)
+        print(
+            f"{name:<30} {mode:<16} {row['batch_s']:8.2f} {row['ratio_vs_serial']:6.2f}x"
+            f" {row['overhead_fraction']:9.1%} {'yes' if row['equal_to_serial'] else 'NO'}",
+            flush=True,
+        )
     return table
 
 
@@ -247,6 +341,8 @@ def main() -> None:
     )
     parser.add_argument("--memory-scenes", type=int, default=None, help="(10,000)")
     parser.add_argument("--overhead-tasks", type=int, default=2000)
+    parser.add_argument("--scheduling-scenes", type=int, default=64)
+    parser.add_argument("--skip-scheduling", action="store_true")
     parser.add_argument("--skip-memory", action="store_true")
     parser.add_argument("--skip-overhead", action="store_true")
     parser.add_argument("--skip-throughput", action="store_true")
@@ -266,9 +362,12 @@ def main() -> None:
     if not args.skip_throughput:
         print(f"\nThroughput: {scenes} random scenes, check {args.check}, {rounds} rounds")
         record["throughput"] = throughput(skill, args.output, scenes, args.check, rounds)
+    if not args.skip_scheduling:
+        print(f"\nScheduling overhead: {args.scheduling_scenes} plan tasks, warm executors")
+        record["scheduling"] = scheduling(skill, args.output, args.scheduling_scenes, rounds)
     if not args.skip_overhead:
         print(f"\nPer-task overhead: {args.overhead_tasks:,} tasks that do nothing")
-        print(f"{'executor':<30} {'ms/task':>8}")
+        print(f"{'executor':<30} {'ms/task':>8} {'one a unit':>13}")
         record["overhead"] = overhead(args.output, args.overhead_tasks)
     if not args.skip_memory:
         print("\nMemory: lfdkit batch evaluate --random N --check plan --workers 2 (client RSS)")

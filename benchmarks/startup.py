@@ -43,9 +43,13 @@ alternating, so both see the same machine load. Measured:
     ``lfdkit batch evaluate SKILL --random N --check C`` serial and with
     ``--workers 2``, once each: the speed-up in wall time (target ≥ 1.85× for
     64 tasks on 2 cores) and, for a shared machine, "by CPU": the serial
-    run's CPU seconds over the 2-worker run's critical path (the command's
-    own CPU + the fork server's + the busier worker's, polled with
-    ``psutil``), what the wall speed-up would be on 2 otherwise idle cores.
+    run's CPU seconds over the 2-worker run's critical path on 2 idle cores
+    (polled with ``psutil``): the command's CPU up to its first task or, if
+    later, the fork server's finish (it starts when the command starts it,
+    beside the command), then the busier worker's CPU, then the command's
+    rest. Both runs are whole commands: each pays Python's start, the
+    imports, the skill and numba's start-up (the serial one in itself, the
+    2-worker one in its fork server, once).
 
 The skill files are made once with this checkout (``skill.json``, the
 sweeping skill; ``n_basis_1000.json``) and kept in the output folder.
@@ -129,6 +133,27 @@ print((time.process_time() - start) / 5)
 """
 
 
+# Run in a fresh process: ``lfdkit ARGS``, printing on stderr this process's CPU seconds when it
+# started the workers' fork server and when it first submitted a task (for the critical path).
+BATCH_SCRIPT = """
+import sys, time
+from multiprocessing import forkserver
+from concurrent.futures import process
+marks = {}
+def mark(name, fn):
+    def marked(*args, **kwargs):
+        marks.setdefault(name, time.process_time())
+        return fn(*args, **kwargs)
+    return marked
+forkserver.ensure_running = mark("fs_at", forkserver.ensure_running)
+process.ProcessPoolExecutor.submit = mark("submit_at", process.ProcessPoolExecutor.submit)
+from lfdkit.app.cli import main
+code = main(sys.argv[1:])
+print("MARKS " + " ".join(f"{k}={v}" for k, v in marks.items()), file=sys.stderr)
+sys.exit(code)
+"""
+
+
 def run(src: Path, args: list[str], cwd: Path, env: dict | None = None) -> float:
     """Wall seconds of ``python ARGS`` with ``src`` first on the path; raises if it fails.
 
@@ -167,7 +192,8 @@ def run_tree(src: Path, args: list[str], cwd: Path) -> tuple[float, float, dict[
     runs (their last reading kept: a worker's final 0.1 s may be missed); the
     fork server is no child the command waits for, so rusage misses them.
     Returns ``(wall, cpu of the command itself, {"forkserver": s, "workers":
-    [s, ...]})``.
+    [s, ...]})``, with :data:`BATCH_SCRIPT`'s marks (``fs_at``, ``submit_at``)
+    where it ran the command.
     """
     import psutil
 
@@ -194,6 +220,9 @@ def run_tree(src: Path, args: list[str], cwd: Path) -> tuple[float, float, dict[
                     )
                     if "resource_tracker" in " ".join(process.cmdline()):
                         role = "tracker"
+                    # A role once known stays (an exiting process's command line reads empty).
+                    known = seen.get(process.pid, ("worker", 0.0))[0]
+                    role = role if known == "worker" else known
                     seen[process.pid] = (role, times.user + times.system)
         except psutil.Error:
             pass
@@ -205,6 +234,9 @@ def run_tree(src: Path, args: list[str], cwd: Path) -> tuple[float, float, dict[
         raise RuntimeError(f"{' '.join(args)} ({src}) failed: {stderr.strip()[-400:]}")
     own = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     roles: dict = {"forkserver": 0.0, "workers": []}
+    for line in stderr.splitlines():  # BATCH_SCRIPT's marks
+        if line.startswith("MARKS "):
+            roles |= {k: float(v) for k, v in (m.split("=") for m in line.split()[1:])}
     for role, cpu in seen.values():
         if role == "forkserver":
             roles["forkserver"] += cpu
@@ -303,15 +335,20 @@ def batch_rows(trees: dict[str, Path], out: Path, skill: str, args: argparse.Nam
     used = trees if args.batch_trees == "both" else {"after": trees["after"]}
     rows = []
     for check in args.batch_checks.split(","):
-        base = ["-m", "lfdkit.app.cli", "batch", "evaluate", skill, "--random", str(args.batch)]
+        base = ["-c", BATCH_SCRIPT, "batch", "evaluate", skill, "--random", str(args.batch)]
         name = f"batch {args.batch}, --check {check}"
         for label, src in used.items():
             results = ["--check", check, "-o", f"batch-{label}-{check}.jsonl", "-f", "-q"]
             serial_wall, serial_cpu, _ = run_tree(src, [*base, *results], out)
             wall, own, roles = run_tree(src, [*base, *results, "--workers", "2"], out)
             workers = sorted(roles["workers"], reverse=True)
-            # On 2 idle cores: the command, then the fork server, then the busier worker.
-            critical = own + roles["forkserver"] + (workers[0] if workers else 0.0)
+            # On 2 idle cores: the command up to its first task and, beside it from when the
+            # command started it, the fork server; then the busier worker; then the command's
+            # rest (collecting, the summary).
+            before = roles.get("submit_at", own)
+            fork_server_at = roles.get("fs_at", before)
+            critical = max(before, fork_server_at + roles["forkserver"])
+            critical += (workers[0] if workers else 0.0) + max(0.0, own - before)
             row = {
                 "what": f"{name} ({label})",
                 "serial_wall": serial_wall,
@@ -319,6 +356,8 @@ def batch_rows(trees: dict[str, Path], out: Path, skill: str, args: argparse.Nam
                 "workers_wall": wall,
                 "command_cpu": own,
                 "forkserver_cpu": roles["forkserver"],
+                "forkserver_started_at_cpu": fork_server_at,
+                "first_submit_at_cpu": before,
                 "worker_cpu": workers,
                 "speedup_wall": serial_wall / wall,
                 "speedup_cpu": serial_cpu / critical,

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import subprocess
 import sys
 import threading
 import time
@@ -101,6 +102,26 @@ def test_local_processes_give_the_serial_results(tmp_path):
         summary = run_batch(executor, dict, tasks(30, fail=(4,)), tmp_path / "b.jsonl", spec=SPEC)
     assert (summary.done, summary.failed) == (29, 1)
     assert records(tmp_path / "a.jsonl") == records(tmp_path / "b.jsonl")
+    assert summary.workers == 2 and 0.0 < summary.busy_seconds <= 2 * summary.seconds
+
+
+def _nap(seconds: float) -> dict:
+    time.sleep(seconds)
+    return {"slept": seconds}
+
+
+def test_the_overhead_fraction_is_the_share_of_time_outside_the_tasks(tmp_path):
+    """Five 20 ms naps in this process: busy 0.1 s or more, and next to nothing outside them."""
+    summary = run_batch(
+        SerialExecutor(), _nap, [(i, (0.02,)) for i in range(5)], tmp_path / "n.jsonl", spec=SPEC
+    )
+    assert summary.busy_seconds >= 0.1
+    assert summary.busy_seconds <= summary.seconds
+    assert summary.overhead_fraction == pytest.approx(1 - summary.busy_seconds / summary.seconds)
+    assert 0.0 <= summary.overhead_fraction < 0.5
+    assert np.isnan(
+        run_batch(SerialExecutor(), _nap, [], tmp_path / "e.jsonl", spec=SPEC).overhead_fraction
+    )
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
@@ -125,6 +146,49 @@ def test_local_workers_start_with_the_skill_loaded_and_nothing_heavy():
         planner = ["lfdkit.emulate.planner", "lfdkit.emulate._planner_numpy"]
         assert loaded == ["numpy", "lfdkit.skill", *planner]
         assert clock is None  # restarted after the fork server's warm-up
+
+
+def test_the_fork_server_loads_numba_once_for_a_long_batch_only(monkeypatch):
+    """Issue 30: numba in the fork server pays off from COMPILED_TASKS_PER_WORKER tasks a worker."""
+    from lfdkit.app.batch import (
+        COMPILED_TASKS_PER_WORKER,
+        WORKER_PRELOAD,
+        WORKER_PRELOAD_COMPILED,
+        worker_preload,
+    )
+
+    monkeypatch.delenv("LFDKIT_KERNELS", raising=False)
+    enough = COMPILED_TASKS_PER_WORKER * 2
+    assert worker_preload(enough, 2) == WORKER_PRELOAD_COMPILED
+    assert worker_preload(enough - 1, 2) == WORKER_PRELOAD
+    assert worker_preload(None, 16) == WORKER_PRELOAD_COMPILED  # a scene file, a learn batch
+    monkeypatch.setenv("LFDKIT_KERNELS", "numpy")
+    assert worker_preload(None, 2) == WORKER_PRELOAD
+
+
+@pytest.mark.slow  # a fresh interpreter whose fork server loads numba: ~3 s quiet
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
+def test_workers_of_a_long_batch_start_on_numba_s_kernels():
+    """The fork server started early with the compiled preload: workers plan on numba at once.
+
+    In a fresh interpreter: a process has one fork server, and this test
+    process's may already run the other preload.
+    """
+    code = (
+        "from lfdkit.app.batch import ProcessExecutor, start_worker_server\n"
+        "assert start_worker_server(64, 2)\n"
+        "probe = \"('numba' in __import__('sys').modules,"
+        " __import__('lfdkit.core.kernels').core.kernels.use_compiled())\"\n"
+        "with ProcessExecutor(2) as pool:\n"
+        "    print(pool.submit(eval, probe).result())\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "LFDKIT_KERNELS"}
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert done.returncode == 0, done.stderr[-500:]
+    loaded, compiled = eval(done.stdout.strip().splitlines()[-1])
+    assert loaded and compiled
 
 
 # ------------------------------------------------------------------ results files

@@ -8,7 +8,11 @@ units (:func:`make_executor`):
   whose workers are forks of a fresh, single-threaded ``forkserver`` process that
   has loaded lfdkit and warmed its planner once (:mod:`lfdkit.app.worker_preload`),
   so each worker starts warm; ``spawn`` where there is no ``forkserver`` (not
-  ``fork``: MuJoCo and numba's threads in the calling process do not survive one);
+  ``fork``: MuJoCo and numba's threads in the calling process do not survive one).
+  The fork server starts when the pool is made, or earlier with
+  :func:`start_worker_server` (``lfdkit batch`` calls it first thing), so it
+  loads beside the calling process; for a long batch it loads numba too, once
+  for every worker (:mod:`lfdkit.app.worker_preload_compiled`);
 * a Dask distributed cluster (``scheduler="tcp://HOST:PORT"``, or
   ``dask_local=N`` to start a :class:`distributed.LocalCluster` of N
   single-threaded worker processes): ``Client.get_executor()``.
@@ -91,8 +95,10 @@ from typing import Any
 from lfdkit.core.progress import ProgressLike, as_progress
 
 __all__ = [
+    "COMPILED_TASKS_PER_WORKER",
     "FORMAT",
     "WORKER_PRELOAD",
+    "WORKER_PRELOAD_COMPILED",
     "BatchSummary",
     "DaskExecutor",
     "ExecutorBrokenError",
@@ -117,7 +123,9 @@ __all__ = [
     "skill_ends",
     "skill_from_text",
     "spec_hash",
+    "start_worker_server",
     "worker_cached",
+    "worker_preload",
 ]
 
 #: The first key of a results file's header line, and its format version.
@@ -175,6 +183,13 @@ class SerialExecutor(Executor):
 
 #: The module a worker's fork server imports first (:class:`ProcessExecutor`).
 WORKER_PRELOAD = "lfdkit.app.worker_preload"
+#: The same with numba and the planner's compiled kernels, for a long batch
+#: (:func:`start_worker_server`).
+WORKER_PRELOAD_COMPILED = "lfdkit.app.worker_preload_compiled"
+#: Tasks a worker must have for its fork server to load numba for it: numba's
+#: start-up, about 1.1 s of CPU, against about 0.07 s a plan saved over the NumPy
+#: kernels; a worker without it would load numba itself after about 7 plans.
+COMPILED_TASKS_PER_WORKER = 8
 
 
 class ProcessExecutor(ProcessPoolExecutor):
@@ -185,11 +200,14 @@ class ProcessExecutor(ProcessPoolExecutor):
     its NumPy kernels), so a worker's first plan takes about 0.2 s of CPU
     instead of about 1.5 s, and 16 workers do not load the same things 16
     times; each loads numba itself, in parallel, once it has planned for a
-    second (:mod:`lfdkit.core.kernels`). The
-    fork server is Python's, one per calling process, started by the first
-    pool that needs it; a fork server already running without the preload
-    still works (its workers load what they need themselves). Elsewhere the
-    workers are spawned.
+    second (:mod:`lfdkit.core.kernels`), unless the fork server was started
+    for a long batch (:func:`start_worker_server`: numba loaded once, in the
+    fork server). The fork server is Python's, one per calling process,
+    started by the first pool that needs it (when the pool is made, so it
+    loads while the caller goes on) or by :func:`start_worker_server`; a
+    fork server already running without the preload still works (its
+    workers load what they need themselves). Elsewhere the workers are
+    spawned.
 
     Parameters
     ----------
@@ -202,6 +220,7 @@ class ProcessExecutor(ProcessPoolExecutor):
             max_workers=workers, mp_context=_worker_context(), initializer=_one_thread_worker
         )
         self.workers = workers
+        start_worker_server(0)  # unless started already: loads while the caller goes on
 
     def __repr__(self) -> str:
         return f"ProcessExecutor(workers={self.workers})"
@@ -250,6 +269,55 @@ def _worker_context() -> Any:
     context = multiprocessing.get_context("forkserver")
     context.set_forkserver_preload([WORKER_PRELOAD])  # read when the fork server starts
     return context
+
+
+def start_worker_server(tasks: int | None = None, workers: int = 1) -> bool:
+    """Start local workers' fork server now; whether there is one (Linux) to start.
+
+    The fork server loads its preload (:data:`WORKER_PRELOAD`, about 0.6 s of
+    CPU; with numba, :data:`WORKER_PRELOAD_COMPILED`, about 1.7 s) on its
+    own core while this process goes on with its own loading (a command's
+    NumPy, its skill), instead of after it: the first
+    :meth:`ProcessExecutor.submit` then finds it ready or nearly so. Starting
+    it does not wait for it; a second call, or a :class:`ProcessExecutor`,
+    reuses the one running (one per process, whatever it preloaded).
+
+    Parameters
+    ----------
+    tasks : int, optional
+        Tasks the batch will run (None: not known, taken as many).
+    workers : int
+        Workers that will share them. With at least
+        :data:`COMPILED_TASKS_PER_WORKER` tasks a worker (or an unknown
+        number), the fork server loads numba and the planner's compiled
+        kernels once, for every worker; with fewer, each worker starts on
+        the NumPy kernels (:mod:`lfdkit.core.kernels`), which serve a few
+        plans faster than numba's start-up.
+    """
+    context = _worker_context()
+    if context.get_start_method() != "forkserver":
+        return False
+    from multiprocessing import forkserver
+
+    context.set_forkserver_preload([worker_preload(tasks, workers)])
+    forkserver.ensure_running()
+    return True
+
+
+def worker_preload(tasks: int | None, workers: int) -> str:
+    """The module the workers' fork server preloads for ``tasks`` on ``workers``.
+
+    :data:`WORKER_PRELOAD_COMPILED` (numba loaded once, for every worker)
+    when each worker gets at least :data:`COMPILED_TASKS_PER_WORKER` tasks
+    or their number is not known (``None``: a scene file, a ``learn``
+    batch, whose IOC needs numba anyway); :data:`WORKER_PRELOAD` otherwise,
+    or with ``LFDKIT_KERNELS=numpy``.
+    """
+    if os.environ.get("LFDKIT_KERNELS", "").strip().lower() == "numpy":
+        return WORKER_PRELOAD
+    if tasks is None or tasks >= COMPILED_TASKS_PER_WORKER * max(1, workers):
+        return WORKER_PRELOAD_COMPILED
+    return WORKER_PRELOAD
 
 
 def _one_thread_worker() -> None:
@@ -635,6 +703,11 @@ class BatchSummary:
         Wall time of this call.
     errors : list of str
         The first few errors of this call, ``"TASK: Type: message"``.
+    workers : int
+        Tasks the executor ran at once (its ``workers``).
+    busy_seconds : float
+        Seconds spent inside the tasks' function, summed over the units
+        (each unit timed where it ran).
     """
 
     path: Path
@@ -645,12 +718,27 @@ class BatchSummary:
     failed_before: int = 0
     seconds: float = 0.0
     errors: list[str] = field(default_factory=list)
+    workers: int = 1
+    busy_seconds: float = 0.0
 
     @property
     def throughput(self) -> float:
         """Tasks run per second in this call (nan before any)."""
         ran = self.done + self.failed
         return ran / self.seconds if ran and self.seconds > 0 else float("nan")
+
+    @property
+    def overhead_fraction(self) -> float:
+        """The share of the workers' time this call spent outside the tasks (nan before any).
+
+        ``1 - busy_seconds / (seconds * workers)``: scheduling, sending and
+        collecting, starting workers that were not started, and workers idle
+        at the end while the last tasks finish. Issue 30's bar for the
+        scheduling part: under 5 % of a batch.
+        """
+        if not (self.done + self.failed) or self.seconds <= 0:
+            return float("nan")
+        return 1.0 - self.busy_seconds / (self.seconds * self.workers)
 
 
 def run_batch(
@@ -728,8 +816,10 @@ def run_batch(
     if total is None and hasattr(tasks, "__len__"):
         total = len(tasks)  # type: ignore[arg-type]
     out = _ResultsFile(path, spec, overwrite=overwrite)
-    summary = BatchSummary(path=path, total=total or 0, failed_before=out.failed_before)
     capacity = int(getattr(executor, "workers", 1) or 1)
+    summary = BatchSummary(
+        path=path, total=total or 0, failed_before=out.failed_before, workers=capacity
+    )
     window = WINDOW_PER_WORKER * capacity if window is None else int(window)
     if window < 1:
         raise ValueError(f"window: expected a number of tasks >= 1, got {window}")
@@ -771,7 +861,9 @@ def run_batch(
                         return
                     try:
                         if serial:
+                            begun = time.perf_counter()
                             future = executor.submit(fn, *chunk[0])
+                            summary.busy_seconds += time.perf_counter() - begun
                         else:
                             future = executor.submit(run_unit, fn, chunk)
                     except (BrokenProcessPool, RuntimeError) as exc:
@@ -808,6 +900,7 @@ def run_batch(
                             write(_record(task_id, future))
                         continue
                     outcomes, seconds, caught = future.result()
+                    summary.busy_seconds += seconds
                     _warn_again(caught, registries)
                     if chunked:
                         sizer.timed(len(ids), seconds)

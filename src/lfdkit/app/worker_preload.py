@@ -20,7 +20,12 @@ A worker's task that needs numba for another kernel (the IOC, MuJoCo's
 checks) loads it then. 2-D plans are the same bit for bit with either
 kernels; 3-D plans agree to round-off (about 1e-11).
 
-Importing this module does the warm-up; nothing else imports it. It never
+For a long batch the fork server imports
+:mod:`lfdkit.app.worker_preload_compiled` instead: numba first, then this
+module, whose warm-up then loads numba's cached kernels once for every
+worker (:func:`lfdkit.app.batch.start_worker_server` chooses).
+
+Importing this module does the warm-up; nothing else imports it but that module. It never
 raises: a warm-up that fails leaves the workers to load what they need
 themselves, as spawned workers do.
 """

@@ -36,7 +36,10 @@ __all__ = ["add_options", "run_command"]
 
 
 def run_command(args: argparse.Namespace) -> None:
-    from lfdkit.app.batch import describe_executor, make_executor
+    from lfdkit.app.batch import describe_executor, make_executor, start_worker_server
+
+    if args.workers is not None:  # the workers load beside this process (NumPy and on; issue 30)
+        start_worker_server(getattr(args, "random", None), args.workers)
     from lfdkit.io.atomic import check_output_path
 
     out: Path = args.output
