@@ -760,3 +760,8 @@ def test_recordings_around_a_box_on_the_page_learn_and_plan_round_it() -> None:
     assert metrics.collisions(points, Scene((box,))) == 0
     below = points[np.abs(points[:, 0] - 0.1) < 0.02, 1]
     assert below.size and below.max() < box.corners()[:, 1].min()
+    # The learned response keeps about the person's clearance (2.7 cm), which the hard
+    # barrier alone (clearance 0) would not.
+    drawn = Box.from_yaw("cup", [0.0, 0.47], [0.14, 0.05], 0.3)
+    person = min(drawn.distance(np.array(_box_stroke(k))) for k in range(2))
+    assert 0.8 * person <= plan["min_clearance"] <= 2.0 * person
