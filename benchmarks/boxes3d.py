@@ -55,7 +55,7 @@ kept the whole path). Measured (``--sets three_boxes``, seed 1, against
 person 1.86 → 0.29 cm (DMP alone 8.21), every fold kept the whole path, at
 the same fit cost (the refinement still ran). Since then a refinement still
 more than 20× the whole path's loss after an iteration is abandoned
-(``lfdkit.emulate.ioc.ABANDON_RATIO``): the same fits to the bit, at 3.4–4.8 s
+(``lfdkit.emulate.ioc.ABANDON_RATIO``): the same fits to the bit, at 3.0–4.8 s
 of CPU per three-box fold against 6.1–14.3 s (262b093, same minutes, loaded
 machine; whole-path people stood at 88–154× after that iteration). The late person's fits keep
 the whole path too: with noise, his window swerves are explained better by

@@ -276,9 +276,9 @@ HORIZON_MARGIN = 0.02
 #: more than this many times the full-horizon stage's: it is dropped then (the full
 #: horizon is kept) and its remaining iterations cost nothing. Issue 34, three boxes,
 #: 10 folds of a person who planned the whole path: after its first iteration the
-#: refinement stood at 88–154× the full horizon's loss and ended at 33–60×, at most
-#: 3.1× lower, so it spent half the fit's CPU on a stage it then dropped (abandoned,
-#: the fits are the same to the bit at 3.4–4.8 s of CPU instead of 6.1–14.3). A
+#: refinement stood at 88–154× the full horizon's loss and ended at 33–70×, at most
+#: 3.7× lower, so it spent half the fit's CPU on a stage it then dropped (abandoned,
+#: the fits are the same to the bit at 3.0–4.8 s of CPU instead of 6.1–14.3). A
 #: noise-free window demonstrator's refinement is below the full horizon's loss.
 ABANDON_RATIO = 20.0
 
