@@ -53,7 +53,11 @@ plans with the horizon it kept (the *whole* column counts the folds that
 kept the whole path). Measured (``--sets three_boxes``, seed 1, against
 1577a60): clearance 0.76 → 0.98 of the person's, distance to the held-out
 person 1.86 → 0.29 cm (DMP alone 8.21), every fold kept the whole path, at
-the same fit cost (the refinement still runs). The late person's fits keep
+the same fit cost (the refinement still ran). Since then a refinement still
+more than 20× the whole path's loss after an iteration is abandoned
+(``lfdkit.emulate.ioc.ABANDON_RATIO``): the same fits to the bit, at 3.0–4.8 s
+of CPU per three-box fold against 6.1–14.3 s (262b093, same minutes, loaded
+machine; whole-path people stood at 88–154× after that iteration). The late person's fits keep
 the whole path too: with noise, his window swerves are explained better by
 it; a noise-free window demonstrator keeps the window
 (``tests/emulate/test_ioc.py``). The *floor* columns

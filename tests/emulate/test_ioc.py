@@ -91,6 +91,7 @@ def test_staged_fit_recovers_mpc_demonstrations() -> None:
     np.testing.assert_allclose(np.exp(ioc.theta_), np.exp(TRUE.theta), rtol=1e-3)
     assert ioc.horizon_ == 8 and ioc.loss_ == ioc.stages_[-1]["loss"]
     assert not ioc.stages_[1]["kept"]
+    assert not ioc.stages_[-1]["reason"].startswith("abandoned")
 
 
 def test_staged_fit_keeps_the_full_horizon_for_a_whole_path_demonstrator() -> None:
@@ -103,6 +104,9 @@ def test_staged_fit_keeps_the_full_horizon_for_a_whole_path_demonstrator() -> No
     assert staged.horizon_ is None and full.horizon_ is None
     np.testing.assert_array_equal(staged.theta_, full.theta_)
     assert staged.stages_[-1]["planner"] == "MPC H=8" and not staged.stages_[-1]["kept"]
+    # Far above the full horizon's loss after its first iteration: abandoned there.
+    assert staged.stages_[-1]["iterations"] == 1
+    assert staged.stages_[-1]["reason"].startswith("abandoned after 1 iteration: its training")
     assert staged.loss_ == full.loss_ < 1e-10 < staged.stages_[-1]["loss"]
     assert staged.score(demos, scenes, nominal()) == full.score(demos, scenes, nominal())
     # The thesis's staged fit exactly: the refinement whatever its loss.

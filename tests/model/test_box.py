@@ -118,6 +118,29 @@ def test_balls_cover_the_box_tightly_and_anchors_span_it(q: int) -> None:
     assert table.anchors().shape == (8 * 5, 3)  # the response follows the top, not a ball
 
 
+@pytest.mark.parametrize("q", [2, 3])
+def test_the_extreme_point_is_the_farthest_of_the_dense_solid(q: int) -> None:
+    # The solid sampled densely: a grid of 41 points per edge through the box (ends
+    # included), a sphere (circle) of 4000 directions of the rounding radius about
+    # each; its farthest sample along a direction is the grid's plus the sphere's.
+    rng = np.random.default_rng(5)
+    sphere = rng.normal(size=(4000, q))
+    sphere /= np.linalg.norm(sphere, axis=1, keepdims=True)
+    for scale, radius in ((1.0, 0.0), (1.0, 0.05), (1e3, 20.0)):  # m and mm
+        size = rng.uniform(0.1, 0.5, q) * scale
+        turn = Rotation.from_rotvec(rng.normal(size=3) if q == 3 else [0, 0, rng.normal()])
+        box = Box("box", rng.normal(size=q) * scale, radius, size, turn.as_quat())
+        ticks = [np.linspace(-h, h, 41) for h in box.half]
+        grid = box.position + np.array(list(itertools.product(*ticks))) @ box.axes.T
+        for direction in rng.normal(size=(8, q)):
+            unit = direction / np.linalg.norm(direction)
+            point = box.extreme_point(3.0 * direction)  # any length: a direction
+            assert box.signed_distances(point[None])[0] == pytest.approx(0.0, abs=1e-12 * scale)
+            best = float(np.max(grid @ unit)) + radius * float(np.max(sphere @ unit))
+            sampling = 3e-3 * radius + 1e-12 * scale  # the sphere's directions are sampled
+            assert best - 1e-12 * scale <= float(point @ unit) <= best + sampling
+
+
 def test_transformations_keep_distances() -> None:
     rng = np.random.default_rng(2)
     for q in (2, 3):

@@ -96,6 +96,30 @@ def test_a_capsule_is_covered_by_its_balls_and_measured_exactly(q: int) -> None:
     assert np.diff(np.linalg.norm(anchors - start, axis=1)).max() <= rod.length / 16 + 1e-12
 
 
+@pytest.mark.parametrize("q", [2, 3])
+def test_a_capsules_extreme_point_is_the_farthest_of_its_dense_surface(q: int) -> None:
+    # The solid sampled densely: a sphere (circle) of 4000 directions of the radius
+    # about each of 4001 points of the axis. Its farthest sample along a direction is
+    # the farthest axis point's plus the farthest direction's (the sum of two sets), at
+    # most the sampling short of the exact answer, which lies on the surface.
+    rng = np.random.default_rng(3)
+    sphere = rng.normal(size=(4000, q))
+    sphere /= np.linalg.norm(sphere, axis=1, keepdims=True)
+    for scale in (1.0, 1e-3, 1e3):  # units of the data: m, km, mm
+        start, end = rng.normal(size=q) * scale, rng.normal(size=q) * scale
+        rod = Capsule("rod", start, 0.3 * scale, end)
+        axis = dense_segment(start, end)
+        for direction in [*rng.normal(size=(6, q)), end - start, start - end]:
+            unit = direction / np.linalg.norm(direction)
+            point = rod.extreme_point(direction * 7.0)  # any length: a direction
+            assert rod.distance(point[None]) == pytest.approx(0.0, abs=1e-12 * scale)
+            best = float(np.max(axis @ unit)) + 0.3 * scale * float(np.max(sphere @ unit))
+            assert best - 1e-12 * scale <= float(point @ unit) <= best + 2e-3 * scale
+    # Perpendicular to the axis both ends are as far: either is exact.
+    rod = Capsule("rod", [0.0, 0.0], 0.1, [1.0, 0.0])
+    np.testing.assert_allclose(rod.extreme_point([0.0, 2.0]), [0.0, 0.1])
+
+
 def test_capsule_transformations_and_bad_input() -> None:
     rod = Capsule("marker", [0.1, 0.2], 0.01, [0.3, 0.2])
     twice = rod.scaled(2.0)

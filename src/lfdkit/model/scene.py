@@ -398,6 +398,17 @@ class Capsule(Obstacle):
     def distance(self, path: np.ndarray) -> float:
         return segment_polyline_distance(self.position, self.end, path) - self.radius
 
+    def extreme_point(self, direction: np.ndarray) -> np.ndarray:
+        """Exact: the end of the axis farthest along ``direction``, moved out by ``radius``.
+
+        A capsule is the segment's points swept by a ball, and a linear function
+        is largest over a segment at an end (at ``position`` where both are equal).
+        """
+        unit = np.asarray(direction, dtype=np.float64)
+        unit = unit / np.linalg.norm(unit)
+        tip = self.end if float(self.end @ unit) > float(self.position @ unit) else self.position
+        return tip + self.radius * unit
+
     def outline(self, n_points: int = 64) -> np.ndarray:
         axis = self.end[:2] - self.position[:2]
         heading = float(np.arctan2(axis[1], axis[0])) if np.any(axis) else 0.0

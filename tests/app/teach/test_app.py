@@ -714,3 +714,54 @@ def test_bad_boxes_get_one_readable_line(learned, change, pattern) -> None:
     client, headers, _ = learned
     body = {"start": [-0.4, 0.45], "goal": [0.4, 0.45], "obstacles": [{**BOX, **change}]}
     assert_readable(client.post("/api/plan", json=body, headers=headers), 400, pattern)
+
+
+def _box_stroke(k: int, n: int = 45) -> list[list[float]]:
+    """A sweep at y=0.45 that passes below a box at x=0 (its lowest corner at y=0.423)."""
+    x = np.linspace(-0.4, 0.4, n)
+    y = 0.45 + 0.008 * math.sin(1.3 * k) * np.sin(np.pi * (x + 0.4) / 0.8)
+    return np.column_stack((x, y - (0.07 + 0.01 * k) * np.exp(-((x / 0.12) ** 2)))).tolist()
+
+
+@pytest.mark.slow  # a second learn (about 6 s of CPU): boxes, not the fixture's round cup
+def test_recordings_around_a_box_on_the_page_learn_and_plan_round_it() -> None:
+    """Demonstrations drawn round a box, learned through the API, plan round a moved box."""
+    from lfdkit.emulate import metrics
+    from lfdkit.model.box import Box
+    from lfdkit.model.scene import Scene
+
+    client = new_client()
+    headers = session(client)
+    payload = drawing(n_clean=3, n_around=0)
+    payload["obstacles"] = [{**BOX, "x": 0.0, "y": 0.47, "yaw": 0.3}]
+    for k in range(2):
+        payload["demos"].append(
+            {
+                "id": f"box-{k + 1}",
+                "points": _box_stroke(k),
+                "times": np.linspace(0.0, 0.7, 45).tolist(),
+                "obstacles": ["b1"],
+            }
+        )
+    status = learn(client, headers, payload)
+    assert status["state"] == "done", status
+    fit = status["layers"]["fit"]
+    assert fit["n_obstacle"] == 2 and fit["not_learned"] == []
+    assert [c["name"] for c in status["layers"]["classes"]] == ["cup"]
+    # The box moved along the sweep and turned the other way: the plan goes round it,
+    # below as the person did, where the DMP alone (y = 0.45) runs through it.
+    moved = {**BOX, "x": 0.1, "y": 0.465, "yaw": -0.2}
+    body = {"start": [-0.4, 0.45], "goal": [0.4, 0.45], "obstacles": [moved]}
+    plan = client.post("/api/plan", json=body, headers=headers).json()
+    assert plan["collision_free"] and plan["min_clearance"] > 0.0
+    box = Box.from_yaw("cup", [0.1, 0.465], [0.14, 0.05], -0.2)
+    points, nominal = np.array(plan["points"]), np.array(plan["nominal"])
+    assert metrics.collisions(nominal, Scene((box,))) > 0
+    assert metrics.collisions(points, Scene((box,))) == 0
+    below = points[np.abs(points[:, 0] - 0.1) < 0.02, 1]
+    assert below.size and below.max() < box.corners()[:, 1].min()
+    # The learned response keeps about the person's clearance (2.7 cm), which the hard
+    # barrier alone (clearance 0) would not.
+    drawn = Box.from_yaw("cup", [0.0, 0.47], [0.14, 0.05], 0.3)
+    person = min(drawn.distance(np.array(_box_stroke(k))) for k in range(2))
+    assert 0.8 * person <= plan["min_clearance"] <= 2.0 * person
