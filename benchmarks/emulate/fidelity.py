@@ -411,6 +411,9 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
         "cv_pr_median": chosen.get("improvement_median"),
         "cv_pr_pooled": chosen.get("improvement_pooled"),
         "cross_validated": selection.get("cross_validated"),
+        # the swerve screen's training loss over the thesis reward's, and its stretches
+        "swerve_gain": selection.get("swerve_gain"),
+        "swerve": selection.get("swerve"),
     }
     task_skills = {"train": skill}
 
@@ -557,6 +560,7 @@ def print_table(rows: list[dict], scale: float) -> None:
             print(
                 f"{r['kind']:<7} {r['n_train']:>2} {r['noise']:>4.0f}x {m['chosen']:<22} "
                 f"CV {_f(m.get('cv_pr_median')):>5}%  runner-up {m.get('runner_up')}"
+                f"  swerve gain {_f(m.get('swerve_gain'), '{:.2f}')}"
             )
     for r in rows:
         for message in r.get("refused", [])[:3]:
