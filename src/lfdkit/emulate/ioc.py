@@ -3,7 +3,8 @@
 ``θ = [log Q, log diag P_c for each class]`` (with ``swerve=True`` followed by
 each class's ``log w_before, log w_after``, :class:`lfdkit.emulate.Reward`'s
 swerve: 2 parameters a class, identified from 5 noise-free demonstrations to
-5 % in ``tests/emulate/test_swerve.py``) minimises the mean squared
+5 % in ``tests/emulate/test_swerve.py``; ``swerve_only=True`` fits those
+alone, the rest held at ``init``'s) minimises the mean squared
 distance between each demonstration and the path planned in its scene::
 
     L(θ) = Σ_d Σ_k |x̄_k(θ, scene_d) − ζ_{d,k}|² / (number of matched points)
