@@ -1,4 +1,7 @@
-"""What several app tests share: the timed 3-D reach demonstrations."""
+"""The timed 3-D reach demonstrations ``data/reach3d.json`` was learned from
+(tests/app/test_execute_batch.py). Other tests' reaches are the library's
+:func:`lfdkit.datasets.reach_demos`: this one is shorter and unwobbled, and the
+stored skill is checked against it."""
 
 from __future__ import annotations
 

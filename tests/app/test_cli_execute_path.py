@@ -14,27 +14,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lfdkit.datasets import example_urdf
+from lfdkit.datasets import example_urdf, reach_demos
 from lfdkit.skill import Skill
-from tests.app.conftest import reach_demos
 from tests.app.test_cli import run_cli
 
 DATA = example_urdf("ur5").parent  # the example arms lfdkit ships
-#: Six reaches of 6 s over 0.6 m, 0.22 m up, each 1 cm higher or lower and off in x.
-REACH = {
-    "n_demos": 6,
-    "duration": 6.0,
-    "n_samples": 120,
-    "y_span": 0.6,
-    "height": 0.22,
-    "wobble": 0.01,
-}
 pytestmark = pytest.mark.slow  # learning the skill takes ~15 s on a busy 2-core machine
 
 
 @pytest.fixture(scope="module")
 def reach_skill(tmp_path_factory) -> Path:
-    demos, times = reach_demos(**REACH)
+    # Six reaches of 6 s over 0.6 m, 0.22 m up, each 1 cm higher or lower and off in x.
+    demos, times = reach_demos(6, seed=3)
     path = tmp_path_factory.mktemp("reach") / "reach.json"
     Skill(random_state=0).fit(demos, times=times).save(path)
     return path

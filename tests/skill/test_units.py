@@ -21,6 +21,7 @@ from lfdkit.io.training import read_training_data
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 from lfdkit.tasks.sweeping import example_files
+from tests.conftest import example_skill_copy
 
 FILES = example_files()
 SCENE = Scene((Obstacle("cup", [-0.05, 0.47], radius=0.03), Obstacle("marker", [0.1, 0.44])))
@@ -37,8 +38,10 @@ def _fit(factor: float, units: str, **params) -> Skill:
 
 
 @pytest.fixture(scope="module")
-def metres() -> Skill:
-    return _fit(1.0, "m")
+def metres(example_skill_once) -> Skill:
+    # The session's example skill: learn() fits these very arrays (its fit record also
+    # names the demonstrations), so _fit(1.0, "m") would learn it a second time.
+    return example_skill_copy(example_skill_once)
 
 
 @pytest.fixture(scope="module")

@@ -75,6 +75,11 @@ def session(client: TestClient) -> dict[str, str]:
 def learn(client: TestClient, headers: dict, payload: dict, seconds: float = 120) -> dict:
     answer = client.post("/api/learn", json=payload, headers=headers)
     assert answer.status_code == 202, answer.text
+    return learning_ends(client, headers, seconds)
+
+
+def learning_ends(client: TestClient, headers: dict, seconds: float = 120) -> dict:
+    """The tab's learning status once it is no longer running."""
     end = time.monotonic() + seconds
     while time.monotonic() < end:
         status = client.get("/api/learn", headers=headers).json()
@@ -85,12 +90,21 @@ def learn(client: TestClient, headers: dict, payload: dict, seconds: float = 120
 
 
 @pytest.fixture(scope="module")
-def learned():
+def learning():
+    """The module's one learn: client, headers, the final status and the answer to a second
+    learn the tab asked for while the first ran (a learn is seconds: one for the module)."""
     client = new_client()
     headers = session(client)
-    status = learn(client, headers, drawing())
+    assert client.post("/api/learn", json=drawing(), headers=headers).status_code == 202
+    again = client.post("/api/learn", json=drawing(), headers=headers)
+    status = learning_ends(client, headers)
     assert status["state"] == "done", status
-    return client, headers, status
+    return client, headers, status, again
+
+
+@pytest.fixture(scope="module")
+def learned(learning):
+    return learning[:3]
 
 
 def assert_readable(answer, status: int, pattern: str) -> None:
@@ -241,16 +255,10 @@ def test_bad_drawings_are_refused_before_learning(change, pattern) -> None:
     assert client.get("/api/learn", headers=headers).json()["state"] == "idle"
 
 
-def test_a_tab_learns_one_skill_at_a_time() -> None:
-    client = new_client()
-    headers = session(client)
-    assert client.post("/api/learn", json=drawing(), headers=headers).status_code == 202
-    again = client.post("/api/learn", json=drawing(), headers=headers)
+def test_a_tab_learns_one_skill_at_a_time(learning) -> None:
+    *_, status, again = learning  # asked again while the first learn ran
     assert_readable(again, 409, "learning already")
-    end = time.monotonic() + 120
-    while client.get("/api/learn", headers=headers).json()["state"] == "running":
-        assert time.monotonic() < end
-        time.sleep(0.1)
+    assert status["state"] == "done"  # the first one went on
 
 
 def test_a_failed_fit_is_a_line_in_the_page() -> None:
@@ -429,17 +437,16 @@ def test_plan_csv_and_urscript_exports(learned) -> None:
     assert answer.status_code == 422 and "\n" not in answer.json()["error"]
 
 
-def test_a_skill_whose_reward_fit_did_not_converge_is_tried_but_not_exported() -> None:
+def test_a_skill_whose_reward_fit_did_not_converge_is_tried_but_not_exported(learned) -> None:
     import copy
 
-    client = new_client()
-    headers = session(client)
-    status = learn(client, headers, drawing())
-    assert status["state"] == "done", status
+    client, learned_headers, _ = learned
+    learned_tab = client.app.state.sessions.get(learned_headers[SESSION_HEADER])
+    headers = session(client)  # another tab, given a copy of the learned skill
     tab = client.app.state.sessions.get(headers[SESSION_HEADER])
-    skill = copy.deepcopy(tab.skill)
+    skill = copy.deepcopy(learned_tab.skill)
     skill.ioc_info_ = {**skill.ioc_info_, "converged": False}
-    tab.skill = skill
+    tab.skill, tab.layers = skill, learned_tab.layers
     request = _plan_request((0.1, 0.52))
     assert client.post("/api/plan", json=request, headers=headers).status_code == 200
     refused = r"did not converge.*not exported.*lfdkit learn"
