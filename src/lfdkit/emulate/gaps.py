@@ -44,6 +44,7 @@ from lfdkit.model.scene import Scene
 __all__ = [
     "GAP_SHARE",
     "TOUCHING",
+    "closes_a_threaded_gap",
     "demonstrated_gaps",
     "gaps_closed_by",
     "open_gap_margins",
@@ -182,6 +183,26 @@ def threaded_pairs(path: np.ndarray, scene: Scene, n_samples: int = 16) -> list[
             if polyline_distances(samples, path).min() <= gap / n_samples:
                 out.append((i, j))
     return out
+
+
+def closes_a_threaded_gap(margins: np.ndarray, scene: Scene, path: np.ndarray) -> bool:
+    """Whether ``margins`` close a gap between two obstacles that ``path`` passes through.
+
+    A floor that does moves the route on purpose (the plan goes round both
+    obstacles); any other change of route a floor makes is the planner's,
+    not the person's (:meth:`lfdkit.skill.Skill.plan_details` then keeps
+    less of it).
+
+    Parameters
+    ----------
+    margins : ndarray, shape (n_obstacles,)
+        Clearance kept from each obstacle's surface (units).
+    scene : Scene
+    path : ndarray, shape (n, q)
+        The plan without the margins.
+    """
+    closed = {(i, j) for i, j, _ in gaps_closed_by(margins, scene)}
+    return bool(closed) and bool(closed.intersection(threaded_pairs(path, scene)))
 
 
 def demonstrated_gaps(
