@@ -18,6 +18,7 @@ from lfdkit.emulate import Reward
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     GAP_SHARE,
+    closes_a_threaded_gap,
     demonstrated_gaps,
     gaps_closed_by,
     open_gap_margins,
@@ -162,6 +163,16 @@ def test_threaded_pairs_are_those_the_path_passes_between() -> None:
     lift = np.column_stack([line, np.zeros(101)])
     spheres = Scene(tuple(Obstacle("cup", [*o.position, 0.0], o.radius) for o in PAIR))
     assert threaded_pairs(lift, spheres) == [(0, 1)]
+
+
+def test_a_floor_moves_the_route_on_purpose_only_where_it_closes_a_threaded_gap() -> None:
+    line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
+    over = np.column_stack([line[:, 0], 0.12 * np.sin(np.pi * line[:, 0])])
+    closing, opening = np.array([0.03, 0.03]), np.array([0.019, 0.019])  # 4 cm gap
+    assert closes_a_threaded_gap(closing, PAIR, line)  # the straight path threads it
+    assert not closes_a_threaded_gap(closing, PAIR, over)  # goes round both anyway
+    assert not closes_a_threaded_gap(opening, PAIR, line)  # 3.8 cm of floor leave it open
+    assert not closes_a_threaded_gap(closing, Scene((PAIR.obstacles[0], LONE)), line)
 
 
 def test_same_sides_compares_the_passing_side_of_each_obstacle() -> None:
