@@ -307,8 +307,10 @@ class Planning:
             ``model="auto"`` the clearance the demonstrations kept from the
             obstacle's class (:attr:`clearances_`) comes on top (halved for
             an obstacle nearer the start or goal than that; where no plan
-            keeps it, half of it and then none, with a warning), and the
-            plan's ``clearance`` is measured beyond both.
+            keeps it, or keeping it passes an obstacle on another side than
+            the plan without it (:attr:`gaps_`), half of it and then none,
+            with a warning), and the plan's ``clearance`` is measured beyond
+            both.
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
             plan's points (:func:`lfdkit.core.progress.as_progress`); default silent.
