@@ -18,10 +18,10 @@ from lfdkit.emulate import Reward
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     GAP_SHARE,
-    closes_a_threaded_gap,
     demonstrated_gaps,
     gaps_closed_by,
     open_gap_margins,
+    passes_a_new_gap,
     surface_gaps,
     threaded_pairs,
 )
@@ -165,14 +165,13 @@ def test_threaded_pairs_are_those_the_path_passes_between() -> None:
     assert threaded_pairs(lift, spheres) == [(0, 1)]
 
 
-def test_a_floor_moves_the_route_on_purpose_only_where_it_closes_a_threaded_gap() -> None:
+def test_a_new_gap_is_one_the_path_passes_through_and_the_reference_goes_round() -> None:
     line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
     over = np.column_stack([line[:, 0], 0.12 * np.sin(np.pi * line[:, 0])])
-    closing, opening = np.array([0.03, 0.03]), np.array([0.019, 0.019])  # 4 cm gap
-    assert closes_a_threaded_gap(closing, PAIR, line)  # the straight path threads it
-    assert not closes_a_threaded_gap(closing, PAIR, over)  # goes round both anyway
-    assert not closes_a_threaded_gap(opening, PAIR, line)  # 3.8 cm of floor leave it open
-    assert not closes_a_threaded_gap(closing, Scene((PAIR.obstacles[0], LONE)), line)
+    assert passes_a_new_gap(line, over, PAIR)  # through the 4 cm gap; the reference over both
+    assert not passes_a_new_gap(over, line, PAIR)  # round both: a floor may close a gap
+    assert not passes_a_new_gap(line, line + np.array([0.0, 0.005]), PAIR)  # both through it
+    assert not passes_a_new_gap(line, over, Scene((PAIR.obstacles[0],)))  # no pair, no gap
 
 
 def test_same_sides_compares_the_passing_side_of_each_obstacle() -> None:

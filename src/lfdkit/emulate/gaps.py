@@ -44,10 +44,10 @@ from lfdkit.model.scene import Scene
 __all__ = [
     "GAP_SHARE",
     "TOUCHING",
-    "closes_a_threaded_gap",
     "demonstrated_gaps",
     "gaps_closed_by",
     "open_gap_margins",
+    "passes_a_new_gap",
     "surface_gaps",
     "threaded_pairs",
 ]
@@ -185,24 +185,23 @@ def threaded_pairs(path: np.ndarray, scene: Scene, n_samples: int = 16) -> list[
     return out
 
 
-def closes_a_threaded_gap(margins: np.ndarray, scene: Scene, path: np.ndarray) -> bool:
-    """Whether ``margins`` close a gap between two obstacles that ``path`` passes through.
+def passes_a_new_gap(path: np.ndarray, reference: np.ndarray, scene: Scene) -> bool:
+    """Whether ``path`` passes between two obstacles that ``reference`` does not pass between.
 
-    A floor that does moves the route on purpose (the plan goes round both
-    obstacles); any other change of route a floor makes is the planner's,
-    not the person's (:meth:`lfdkit.skill.Skill.plan_details` then keeps
-    less of it).
+    A clearance floor makes obstacles larger: it may close a gap (the plan
+    goes round both), never open one. A plan with a floor that threads a gap
+    the plan without it went round was turned there by the floor blocking a
+    receding horizon part-way (:meth:`lfdkit.skill.Skill.plan_details` then
+    keeps less of the floor).
 
     Parameters
     ----------
-    margins : ndarray, shape (n_obstacles,)
-        Clearance kept from each obstacle's surface (units).
+    path, reference : ndarray, each (n, q)
+        The plan with a floor and the plan without it.
     scene : Scene
-    path : ndarray, shape (n, q)
-        The plan without the margins.
     """
-    closed = {(i, j) for i, j, _ in gaps_closed_by(margins, scene)}
-    return bool(closed) and bool(closed.intersection(threaded_pairs(path, scene)))
+    threaded = threaded_pairs(path, scene)
+    return bool(threaded) and not set(threaded) <= set(threaded_pairs(reference, scene))
 
 
 def demonstrated_gaps(

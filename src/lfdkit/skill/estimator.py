@@ -254,9 +254,9 @@ class Skill(
         gap between them, the clearances give way so the plan may pass
         (:func:`lfdkit.emulate.gaps.open_gap_margins`, the thesis's person);
         ``"closed"``: they are kept whole and the plan goes around both (a
-        person who keeps a margin). Either way a floor that would move the
-        plan to another side of an obstacle than the plan without it, other
-        than by closing a gap that plan passes through, is kept at half, then
+        person who keeps a margin). A floor that would move the route from
+        the plan without it (open: to another side of an obstacle; closed:
+        between two obstacles that plan went round) is kept at half, then
         none (with a warning).
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for

@@ -27,9 +27,9 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
-    closes_a_threaded_gap,
     gaps_closed_by,
     open_gap_margins,
+    passes_a_new_gap,
     threaded_pairs,
 )
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
@@ -307,10 +307,9 @@ class Planning:
             ``model="auto"`` the clearance the demonstrations kept from the
             obstacle's class (:attr:`clearances_`) comes on top (halved for
             an obstacle nearer the start or goal than that; where no plan
-            keeps it, or keeping it passes an obstacle on another side than
-            the plan without it (:attr:`gaps_`), half of it and then none,
-            with a warning), and the plan's ``clearance`` is measured beyond
-            both.
+            keeps it, or where keeping it moves the route from the plan
+            without it (:attr:`gaps_`), half of it and then none, with a
+            warning), and the plan's ``clearance`` is measured beyond both.
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
             plan's points (:func:`lfdkit.core.progress.as_progress`); default silent.
@@ -522,9 +521,9 @@ class Planning:
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
         # A floor must not move the route either: where the plan passes an
-        # obstacle on another side than the plan without it (planned too, so a
-        # floor costs a second plan), less of it. Only a floor that closes a gap
-        # the plan without it passes through (gaps closed) moves it on purpose.
+        # obstacle on another side than the plan without it (gaps open), or
+        # between two it went round (closed), less of it (the plan without it
+        # is planned too: a floor costs a second plan).
         moved = False
         for share in shares:
             kept = None if margins is None else share * margins
@@ -537,13 +536,17 @@ class Planning:
                 continue
             if kept is not None and share > 0.0:
                 # Compared whether or not the floor touches the final plan: a receding
-                # horizon it blocked part-way may have turned to the other side for good
-                # (thesis person, 2x noise, seed 0: round a box on the inside, Pr 99 -> 2 %).
-                free = attempt(None, last=False) if free is None else free
-                if (
-                    free is not None
-                    and not same_sides(plan.points, free.points, nominal, scene)
-                    and (gaps == "open" or not closes_a_threaded_gap(kept, scene, free.points))
+                # horizon it blocked part-way may have turned for good. Open gaps: to
+                # another side of an obstacle. Closed: through a gap the plan without it
+                # went round (thesis person, 2x noise, seed 0: between two boxes, Pr 99 ->
+                # 2 %); a floor closes gaps, it never opens one. Else the floor is kept
+                # (the late person, seed 0: without it a new task's plan goes wild).
+                check = gaps == "open" or bool(threaded_pairs(plan.points, scene))
+                free = attempt(None, last=False) if free is None and check else free
+                if free is not None and (
+                    not same_sides(plan.points, free.points, nominal, scene)
+                    if gaps == "open"
+                    else passes_a_new_gap(plan.points, free.points, scene)
                 ):
                     moved = True
                     continue
