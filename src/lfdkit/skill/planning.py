@@ -27,8 +27,10 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
+    closes_a_threaded_gap,
     gaps_closed_by,
     open_gap_margins,
+    passable_pairs,
     passes_a_new_gap,
     threaded_pairs,
 )
@@ -513,9 +515,12 @@ class Planning:
             capped = open_gap_margins(margins, scene)
             if np.any(capped < margins):
                 # The learned response decides which gaps to take: the plan with no floor
-                # shows it; the floor gives way only between the obstacles it passes between.
+                # shows it; the floor gives way only between the obstacles it passes
+                # between, where the gap is not narrower than the floor of either alone.
                 free = attempt(None, last=False)
-                pairs = None if free is None else threaded_pairs(free.points, scene)
+                pairs = None
+                if free is not None:
+                    pairs = passable_pairs(threaded_pairs(free.points, scene), margins, scene)
                 margins = open_gap_margins(margins, scene, pairs=pairs)
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
@@ -537,7 +542,8 @@ class Planning:
             if kept is not None and share > 0.0:
                 # Compared whether or not the floor touches the final plan: a receding
                 # horizon it blocked part-way may have turned for good. Open gaps: to
-                # another side of an obstacle. Closed: through a gap the plan without it
+                # another side of an obstacle (unless round a gap the floor keeps closed,
+                # narrower than PASSABLE floors). Closed: through a gap the plan without it
                 # went round (thesis person, 2x noise, seed 0: between two boxes, Pr 99 ->
                 # 2 %); a floor closes gaps, it never opens one. Else the floor is kept
                 # (the late person, seed 0: without it a new task's plan goes wild).
@@ -545,6 +551,7 @@ class Planning:
                 free = attempt(None, last=False) if free is None and check else free
                 if free is not None and (
                     not same_sides(plan.points, free.points, nominal, scene)
+                    and not closes_a_threaded_gap(kept, scene, free.points)
                     if gaps == "open"
                     else passes_a_new_gap(plan.points, free.points, scene)
                 ):
