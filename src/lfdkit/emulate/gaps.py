@@ -17,9 +17,14 @@ the person would have done that.
 :func:`open_gap_margins` keeps the floor where an obstacle stands alone and
 lets it give way between two: each obstacle's margin takes at most
 :data:`GAP_SHARE` of the gap to any other, so the middle three fifths of a
-gap stay free to pass. The skill's model without a floor of its own plans
-with this one (a safety floor that never closes a gap). A model with a floor
-keeps the gaps closed.
+gap stay free to pass, but only where the gap is at least :data:`PASSABLE`
+times the larger floor (the clearance kept from either obstacle alone:
+a person who passed a lone cup at 2 cm does not squeeze through 1.65 cm).
+The skill's model without a floor of its own plans with this one (a safety
+floor that closes only such narrow gaps). A model with a floor keeps the
+gaps closed. Either way a floor never opens a gap: a plan it turns through
+one the plan without it went round keeps less of it
+(:func:`passes_a_new_gap`).
 
 Measured (``python benchmarks/emulate_fidelity.py --quick --seed 0 --sizes 10
 --people thesis``, 1x noise): the thesis's person passed one obstacle of a
