@@ -18,9 +18,13 @@ from lfdkit.emulate import Reward
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     GAP_SHARE,
+    PASSABLE,
+    closes_a_threaded_gap,
     demonstrated_gaps,
     gaps_closed_by,
     open_gap_margins,
+    passable_pairs,
+    passes_a_new_gap,
     surface_gaps,
     threaded_pairs,
 )
@@ -162,6 +166,32 @@ def test_threaded_pairs_are_those_the_path_passes_between() -> None:
     lift = np.column_stack([line, np.zeros(101)])
     spheres = Scene(tuple(Obstacle("cup", [*o.position, 0.0], o.radius) for o in PAIR))
     assert threaded_pairs(lift, spheres) == [(0, 1)]
+
+
+def test_a_new_gap_is_one_the_path_passes_through_and_the_reference_goes_round() -> None:
+    line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
+    over = np.column_stack([line[:, 0], 0.12 * np.sin(np.pi * line[:, 0])])
+    assert passes_a_new_gap(line, over, PAIR)  # through the 4 cm gap; the reference over both
+    assert not passes_a_new_gap(over, line, PAIR)  # round both: a floor may close a gap
+    assert not passes_a_new_gap(line, line + np.array([0.0, 0.005]), PAIR)  # both through it
+    assert not passes_a_new_gap(line, over, Scene((PAIR.obstacles[0],)))  # no pair, no gap
+
+
+def test_a_floor_closes_a_threaded_gap_only_where_the_path_passes_through_it() -> None:
+    line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
+    over = np.column_stack([line[:, 0], 0.12 * np.sin(np.pi * line[:, 0])])
+    closing, opening = np.array([0.03, 0.03]), np.array([0.019, 0.019])  # 4 cm gap
+    assert closes_a_threaded_gap(closing, PAIR, line)
+    assert not closes_a_threaded_gap(closing, PAIR, over)  # goes round both anyway
+    assert not closes_a_threaded_gap(opening, PAIR, line)  # 3.8 cm of floor leave it open
+
+
+def test_a_gap_narrower_than_either_floor_alone_is_not_passable() -> None:
+    # The 4 cm gap against floors of 3 cm (3.75 cm kept alone) and 3.3 cm (4.125 cm).
+    assert PASSABLE == pytest.approx(1.25)
+    assert passable_pairs([(0, 1)], np.array([0.03, 0.03]), PAIR) == [(0, 1)]
+    assert passable_pairs([(0, 1)], np.array([0.03, 0.033]), PAIR) == []
+    assert passable_pairs([(0, 1)], np.array([0.0, 0.0]), PAIR) == [(0, 1)]
 
 
 def test_same_sides_compares_the_passing_side_of_each_obstacle() -> None:

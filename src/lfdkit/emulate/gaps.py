@@ -17,9 +17,14 @@ the person would have done that.
 :func:`open_gap_margins` keeps the floor where an obstacle stands alone and
 lets it give way between two: each obstacle's margin takes at most
 :data:`GAP_SHARE` of the gap to any other, so the middle three fifths of a
-gap stay free to pass. The skill's model without a floor of its own plans
-with this one (a safety floor that never closes a gap). A model with a floor
-keeps the gaps closed.
+gap stay free to pass, but only where the gap is at least :data:`PASSABLE`
+times the larger floor (the clearance kept from either obstacle alone:
+a person who passed a lone cup at 2 cm does not squeeze through 1.65 cm).
+The skill's model without a floor of its own plans with this one (a safety
+floor that closes only such narrow gaps). A model with a floor keeps the
+gaps closed. Either way a floor never opens a gap: a plan it turns through
+one the plan without it went round keeps less of it
+(:func:`passes_a_new_gap`).
 
 Measured (``python benchmarks/emulate_fidelity.py --quick --seed 0 --sizes 10
 --people thesis``, 1x noise): the thesis's person passed one obstacle of a
@@ -39,14 +44,19 @@ from collections.abc import Sequence
 import numpy as np
 
 from lfdkit.core.geometry import polyline_distances
+from lfdkit.emulate.fidelity import CLEARANCE_FACTOR
 from lfdkit.model.scene import Scene
 
 __all__ = [
     "GAP_SHARE",
+    "PASSABLE",
     "TOUCHING",
+    "closes_a_threaded_gap",
     "demonstrated_gaps",
     "gaps_closed_by",
     "open_gap_margins",
+    "passable_pairs",
+    "passes_a_new_gap",
     "surface_gaps",
     "threaded_pairs",
 ]
@@ -54,6 +64,14 @@ __all__ = [
 #: The most of the gap to another obstacle one obstacle's margin may take when gaps stay
 #: open: a plan may pass anywhere in the middle three fifths of a gap.
 GAP_SHARE = 0.2
+#: A gap stays closed, gaps open or not, where it is narrower than this times the larger
+#: floor of its two obstacles: the clearance the demonstrations kept from either alone
+#: (a floor is :data:`~lfdkit.emulate.fidelity.CLEARANCE_FACTOR` of it). A person who passed
+#: a lone cup at 2 cm does not squeeze through a gap of less than 2 cm; the thesis's person
+#: threads gaps of 4.5-9 cm against the 4-5 cm it kept from a lone obstacle. Measured
+#: (fidelity benchmark, seed 1): the fixed-margin person (2 cm from a cup) went round a
+#: pocket of cups 1.65 cm apart that the plan threaded (Pr -141 %, 6 gaps).
+PASSABLE = 1.0 / CLEARANCE_FACTOR
 #: Two obstacles closer than this times the scene's size (its largest coordinate plus
 #: radius) touch: floating point leaves a cup standing on a table 3e-17 m above it.
 TOUCHING = 1e-9
@@ -149,6 +167,28 @@ def open_gap_margins(
     return np.minimum(margins, share * nearest)
 
 
+def passable_pairs(
+    pairs: Sequence[tuple[int, int]], margins: np.ndarray, scene: Scene, factor: float = PASSABLE
+) -> list[tuple[int, int]]:
+    """Those of ``pairs`` whose gap is at least ``factor`` times the larger of their two margins.
+
+    Parameters
+    ----------
+    pairs : sequence of (int, int)
+        E.g. :func:`threaded_pairs` of the plan without a floor.
+    margins : ndarray, shape (n_obstacles,)
+        The floor of each obstacle (units).
+    scene : Scene
+    factor : float
+
+    Returns
+    -------
+    list of (int, int)
+    """
+    gaps = surface_gaps(scene)
+    return [(i, j) for i, j in pairs if gaps[i, j] >= factor * max(margins[i], margins[j])]
+
+
 def threaded_pairs(path: np.ndarray, scene: Scene, n_samples: int = 16) -> list[tuple[int, int]]:
     """The pairs of obstacles a path passes between (through the gap between their surfaces).
 
@@ -182,6 +222,42 @@ def threaded_pairs(path: np.ndarray, scene: Scene, n_samples: int = 16) -> list[
             if polyline_distances(samples, path).min() <= gap / n_samples:
                 out.append((i, j))
     return out
+
+
+def closes_a_threaded_gap(margins: np.ndarray, scene: Scene, path: np.ndarray) -> bool:
+    """Whether ``margins`` close a gap between two obstacles that ``path`` passes through.
+
+    A floor that does moves the route on purpose (the plan goes round both).
+
+    Parameters
+    ----------
+    margins : ndarray, shape (n_obstacles,)
+        Clearance kept from each obstacle's surface (units).
+    scene : Scene
+    path : ndarray, shape (n, q)
+        The plan without the margins.
+    """
+    closed = {(i, j) for i, j, _ in gaps_closed_by(margins, scene)}
+    return bool(closed) and bool(closed.intersection(threaded_pairs(path, scene)))
+
+
+def passes_a_new_gap(path: np.ndarray, reference: np.ndarray, scene: Scene) -> bool:
+    """Whether ``path`` passes between two obstacles that ``reference`` does not pass between.
+
+    A clearance floor makes obstacles larger: it may close a gap (the plan
+    goes round both), never open one. A plan with a floor that threads a gap
+    the plan without it went round was turned there by the floor blocking a
+    receding horizon part-way (:meth:`lfdkit.skill.Skill.plan_details` then
+    keeps less of the floor).
+
+    Parameters
+    ----------
+    path, reference : ndarray, each (n, q)
+        The plan with a floor and the plan without it.
+    scene : Scene
+    """
+    threaded = threaded_pairs(path, scene)
+    return bool(threaded) and not set(threaded) <= set(threaded_pairs(reference, scene))
 
 
 def demonstrated_gaps(

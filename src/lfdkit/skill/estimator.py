@@ -252,9 +252,14 @@ class Skill(
     gaps_ : {"closed", "open"}
         ``"open"``: between two obstacles whose clearances would close the
         gap between them, the clearances give way so the plan may pass
-        (:func:`lfdkit.emulate.gaps.open_gap_margins`, the thesis's person);
+        (:func:`lfdkit.emulate.gaps.open_gap_margins`, the thesis's person)
+        where the plan without them passes and the gap is at least
+        :data:`~lfdkit.emulate.gaps.PASSABLE` times the larger of the two;
         ``"closed"``: they are kept whole and the plan goes around both (a
-        person who keeps a margin).
+        person who keeps a margin). A floor that would move the route from
+        the plan without it (open: to another side of an obstacle, other
+        than round a gap it keeps closed; closed: between two obstacles that
+        plan went round) is kept at half, then none (with a warning).
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for
         ``model="path"``).

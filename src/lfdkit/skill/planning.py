@@ -26,7 +26,14 @@ from lfdkit.core.validation import (
 )
 from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
-from lfdkit.emulate.gaps import gaps_closed_by, open_gap_margins, threaded_pairs
+from lfdkit.emulate.gaps import (
+    closes_a_threaded_gap,
+    gaps_closed_by,
+    open_gap_margins,
+    passable_pairs,
+    passes_a_new_gap,
+    threaded_pairs,
+)
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
 from lfdkit.imitate.timing import DURATION_RANGE
@@ -302,8 +309,9 @@ class Planning:
             ``model="auto"`` the clearance the demonstrations kept from the
             obstacle's class (:attr:`clearances_`) comes on top (halved for
             an obstacle nearer the start or goal than that; where no plan
-            keeps it, half of it and then none, with a warning), and the
-            plan's ``clearance`` is measured beyond both.
+            keeps it, or where keeping it moves the route from the plan
+            without it (:attr:`gaps_`), half of it and then none, with a
+            warning), and the plan's ``clearance`` is measured beyond both.
         progress : Progress, callable, bool or None
             Reports the planner's global search and its MPC steps over the
             plan's points (:func:`lfdkit.core.progress.as_progress`); default silent.
@@ -507,16 +515,20 @@ class Planning:
             capped = open_gap_margins(margins, scene)
             if np.any(capped < margins):
                 # The learned response decides which gaps to take: the plan with no floor
-                # shows it; the floor gives way only between the obstacles it passes between.
+                # shows it; the floor gives way only between the obstacles it passes
+                # between, where the gap is not narrower than the floor of either alone.
                 free = attempt(None, last=False)
-                pairs = None if free is None else threaded_pairs(free.points, scene)
+                pairs = None
+                if free is not None:
+                    pairs = passable_pairs(threaded_pairs(free.points, scene), margins, scene)
                 margins = open_gap_margins(margins, scene, pairs=pairs)
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
-        # A safety floor (gaps open) must not move the route either: where the
-        # plan passes an obstacle on another side than the plan without it
-        # (planned too, so a safety floor costs a second plan), less of it.
+        # A floor must not move the route either: where the plan passes an
+        # obstacle on another side than the plan without it (gaps open), or
+        # between two it went round (closed), less of it (the plan without it
+        # is planned too: a floor costs a second plan).
         moved = False
         for share in shares:
             kept = None if margins is None else share * margins
@@ -527,11 +539,22 @@ class Planning:
                 plan = attempt(kept, last=share == 0.0)
             if plan is None:
                 continue
-            if gaps == "open" and kept is not None and share > 0.0:
+            if kept is not None and share > 0.0:
                 # Compared whether or not the floor touches the final plan: a receding
-                # horizon it blocked part-way may have turned to the other side for good.
-                free = attempt(None, last=False) if free is None else free
-                if free is not None and not same_sides(plan.points, free.points, nominal, scene):
+                # horizon it blocked part-way may have turned for good. Open gaps: to
+                # another side of an obstacle (unless round a gap the floor keeps closed,
+                # narrower than PASSABLE floors). Closed: through a gap the plan without it
+                # went round (thesis person, 2x noise, seed 0: between two boxes, Pr 99 ->
+                # 2 %); a floor closes gaps, it never opens one. Else the floor is kept
+                # (the late person, seed 0: without it a new task's plan goes wild).
+                check = gaps == "open" or bool(threaded_pairs(plan.points, scene))
+                free = attempt(None, last=False) if free is None and check else free
+                if free is not None and (
+                    not same_sides(plan.points, free.points, nominal, scene)
+                    and not closes_a_threaded_gap(kept, scene, free.points)
+                    if gaps == "open"
+                    else passes_a_new_gap(plan.points, free.points, scene)
+                ):
                     moved = True
                     continue
             if margins is not None and share < 1.0:
