@@ -191,6 +191,9 @@ class BehaviourSelection:
         replay = metrics.mse_paths([nominal], [demo], int(self.n_points))
         # Per route and frame, the plans made so far with their margins (none: zeros).
         plans: dict[tuple[str, str], list[tuple[np.ndarray, Any]]] = {}
+        # A plan reused by several models is measured once (kept with its row, so its id
+        # is not another plan's).
+        measured: dict[int, tuple[Any, dict[str, Any]]] = {}
         out = []
         for candidate in candidates:
             route, frame = candidate["route"], candidate["frame"]
@@ -235,7 +238,9 @@ class BehaviourSelection:
             if isinstance(plan, str):
                 out.append({"refused": plan})
                 continue
-            row = replanning_fidelity(plan.points, nominal, demo, scene)
+            if id(plan) not in measured:
+                measured[id(plan)] = plan, replanning_fidelity(plan.points, nominal, demo, scene)
+            row = measured[id(plan)][1]
             out.append({**row, "clearance_relaxed": relaxed, "replay_mse": replay})
         return out
 
