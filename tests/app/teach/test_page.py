@@ -227,7 +227,7 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
 
     # Learn in the page, with the code of `lfdkit learn`.
     driver.find_element("id", "learn").click()
-    state = _wait(driver, lambda s: s["layers"] and s["plan"] is not None, "learning", 120)
+    state = _wait(driver, lambda s: s["layers"] and s["plan"] is not None, "learning", 400)
     assert state["mode"] == "try" and state["planError"] is None, state["planError"]
     assert len(state["trial"]["obstacles"]) == 1
     # The skill keeps the drawn speed: its duration is the strokes' median.
