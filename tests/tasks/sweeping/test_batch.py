@@ -240,7 +240,8 @@ def test_200_scenarios_on_a_dask_local_cluster_equal_the_serial_run(
     assert (serial.done, serial.failed, dask.done, dask.failed) == (n, 0, n, 0)
     expected = rows(tmp_path / "serial.jsonl")
     assert len(expected) == n
-    assert rows(tmp_path / "dask.jsonl") == expected
+    # Rows in the tasks' order, though chunks finish in any order: the same file (issue 30).
+    assert (tmp_path / "dask.jsonl").read_bytes() == (tmp_path / "serial.jsonl").read_bytes()
     assert sum(r["ok"] for r in expected) > n // 2  # most random scenes can be planned
     assert len({json.dumps(r["obstacles"]) for r in expected}) == n  # 200 different scenes
 
@@ -260,5 +261,7 @@ def test_simulated_sweeps_on_dask_and_processes_equal_the_serial_run(
     with make_executor(workers=2) as processes:
         evaluate_batch(skill_path, tmp_path / "processes.jsonl", executor=processes, **settings)
     evaluate_batch(skill_path, tmp_path / "dask.jsonl", executor=dask_cluster, **settings)
-    for name in ("processes", "dask"):
-        assert rows(tmp_path / f"{name}.jsonl") == expected, name
+    for name in ("processes", "dask"):  # the same file, byte for byte (issue 30)
+        assert (tmp_path / f"{name}.jsonl").read_bytes() == (
+            tmp_path / "serial.jsonl"
+        ).read_bytes(), name
