@@ -14,6 +14,7 @@ serial run.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -221,6 +222,30 @@ def dask_cluster():
     pytest.importorskip("distributed", reason='pip install "lfdkit[dask]"')
     with make_executor(dask_local=2) as executor:
         yield executor
+
+
+@pytest.mark.slow  # cheap with the module's cluster (started for the tests below anyway)
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
+def test_dask_local_workers_start_preloaded_as_local_processes_do(dask_cluster):
+    """Issue 30: the workers fork from the preloaded fork server, numba loaded once for them.
+
+    Run before the module's other Dask tests: no task has run on the workers yet
+    (the kernels' CPU clock, restarted after the fork server's warm-up, is unset).
+    """
+
+    def probe():
+        import os
+        import sys
+
+        wanted = ("numba", "lfdkit.skill", "lfdkit.emulate.planner")
+        clock = sys.modules["lfdkit.core.kernels"]._clock["cpu_start"]
+        return [m for m in wanted if m in sys.modules], clock, os.getpid()
+
+    got = dask_cluster.client.run(probe)
+    assert len(got) == 2
+    for loaded, clock, pid in got.values():
+        assert loaded == ["numba", "lfdkit.skill", "lfdkit.emulate.planner"]
+        assert clock is None and pid != os.getpid()
 
 
 @pytest.mark.slow
