@@ -22,7 +22,8 @@ the batch itself (tasks/s), with its ratio to serial. The executors run in
 turn, ``--rounds`` times (3); the table gives medians over the rounds (the
 ratio: the median of the per-round ratios, each against that round's serial
 run), as the machine may be shared. Every run's rows are compared with the
-first serial run's (they must be equal). On a 2-core machine
+first serial run's (they must be equal), and its file too (rows in the
+tasks' order: byte for byte the same). On a 2-core machine
 two workers can at best double the throughput; the machine may be shared.
 
 Per-task overhead
@@ -133,7 +134,7 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
                 )
             got = rows(results)
             if reference is None:
-                reference = got
+                reference, reference_file = got, results.read_bytes()
             rate = summary.throughput
             serial_rate = serial_rate or rate
             runs[name].append(
@@ -146,6 +147,8 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
                     "ratio_vs_serial": rate / serial_rate,
                     "errors": summary.failed,
                     "equal_to_serial": got == reference,
+                    # rows written in the tasks' order: the serial run's file, byte for byte
+                    "same_file_as_serial": results.read_bytes() == reference_file,
                 }
             )
             print(f"  round {k + 1}/{rounds}: {name:<30} {rate:7.3f} tasks/s", flush=True)
@@ -162,16 +165,21 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
             "tasks_per_s": statistics.median(r["tasks_per_s"] for r in done),
             "ratio_vs_serial": statistics.median(r["ratio_vs_serial"] for r in done),
             "equal_to_serial": all(r["equal_to_serial"] for r in done),
+            "same_file_as_serial": all(r["same_file_as_serial"] for r in done),
             "errors": sum(r["errors"] for r in done),
             "runs": done,
         }
         table.append(row)
-    print(f"{'executor':<30} {'start s':>8} {'batch s':>8} {'tasks/s':>8} {'ratio':>7} equal")
+    print(
+        f"{'executor':<30} {'start s':>8} {'batch s':>8} {'tasks/s':>8} {'ratio':>7} "
+        "equal same-file"
+    )
     for row in table:
         print(
             f"{row['executor']:<30} {row['startup_s']:8.1f} {row['batch_s']:8.1f} "
             f"{row['tasks_per_s']:8.3f} {row['ratio_vs_serial']:6.2f}x "
-            f"{'yes' if row['equal_to_serial'] else 'NO'}",
+            f"{'yes' if row['equal_to_serial'] else 'NO':>5} "
+            f"{'yes' if row['same_file_as_serial'] else 'NO':>9}",
             flush=True,
         )
     return table

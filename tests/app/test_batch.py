@@ -44,6 +44,7 @@ from lfdkit.app.batch import (
 from lfdkit.app.cli import main
 from lfdkit.datasets import export_dataset
 from lfdkit.skill import learn
+from tests.app.batch_work import square_late_first
 from tests.app.test_cli import run_cli
 
 
@@ -95,13 +96,16 @@ def test_an_unreachable_scheduler_is_one_clear_error():
             pass
 
 
-def test_local_processes_give_the_serial_results(tmp_path):
-    run_batch(SerialExecutor(), dict, tasks(30, fail=(4,)), tmp_path / "a.jsonl", spec=SPEC)
+def test_local_processes_write_the_serial_file_byte_for_byte(tmp_path):
+    """Rows go in the tasks' order, though task 0 finishes after the others (issue 30)."""
+    squares = [(i, (i,)) for i in range(30)]
+    run_batch(SerialExecutor(), square_late_first, squares, tmp_path / "a.jsonl", spec=SPEC)
     with make_executor(workers=2) as executor:
         assert executor.workers == 2
-        summary = run_batch(executor, dict, tasks(30, fail=(4,)), tmp_path / "b.jsonl", spec=SPEC)
+        summary = run_batch(executor, square_late_first, squares, tmp_path / "b.jsonl", spec=SPEC)
     assert (summary.done, summary.failed) == (29, 1)
-    assert records(tmp_path / "a.jsonl") == records(tmp_path / "b.jsonl")
+    assert [r["task"] for r in read_results(tmp_path / "b.jsonl")] == list(range(30))
+    assert (tmp_path / "b.jsonl").read_bytes() == (tmp_path / "a.jsonl").read_bytes()
     assert summary.workers == 2 and 0.0 < summary.busy_seconds <= 2 * summary.seconds
 
 

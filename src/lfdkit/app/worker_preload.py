@@ -6,7 +6,8 @@ BLAS/OpenMP/numba thread (set before NumPy loads), imports NumPy and the
 skill, and plans one small path around one obstacle with the planner's NumPy
 kernels (:mod:`lfdkit.core.kernels`), so the planner's modules are loaded
 and warm. Each worker is a fork of that process and starts warm, instead of
-each one paying the imports again.
+each one paying the imports again. A local Dask cluster's workers
+(``make_executor(dask_local=N)``) fork from the same server.
 
 numba is not loaded here: its start-up (about 1.1 s of CPU, most of it
 numba setting itself up and importing ``scipy.linalg``) would run in the one

@@ -38,8 +38,9 @@ __all__ = ["add_options", "run_command"]
 def run_command(args: argparse.Namespace) -> None:
     from lfdkit.app.batch import describe_executor, make_executor, start_worker_server
 
-    if args.workers is not None:  # the workers load beside this process (NumPy and on; issue 30)
-        start_worker_server(getattr(args, "random", None), args.workers)
+    local = args.workers if args.workers is not None else args.dask_local
+    if local is not None:  # the workers load beside this process (NumPy and on; issue 30)
+        start_worker_server(getattr(args, "random", None), local)
     from lfdkit.io.atomic import check_output_path
 
     out: Path = args.output
@@ -67,7 +68,12 @@ def run_command(args: argparse.Namespace) -> None:
             with contextlib.ExitStack() as stack:
                 with progress.stage(f"start {where}"):
                     pool = stack.enter_context(
-                        make_executor(args.workers, args.scheduler, args.dask_local)
+                        make_executor(
+                            args.workers,
+                            args.scheduler,
+                            args.dask_local,
+                            tasks=getattr(args, "random", None),
+                        )
                     )
                 summary = run(pool, progress)
         except ImportError as exc:
