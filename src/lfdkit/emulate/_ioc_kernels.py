@@ -274,7 +274,7 @@ def mpc_sensitivity(
                 anchor,
                 d,
                 1e-11,
-                200,
+                np.int64(200),  # int64, not the literal 200: the planner's own compiled version
             )
             key0 = 0.0
             if matched[k]:

@@ -125,14 +125,15 @@ def _kernel_arguments(problem: Problem, class_of: np.ndarray, n_classes: int) ->
     swerve = _NO_SWERVE
     if problem.shift is not None:
         swerve = (problem.shift, problem.shift_rate, problem.shift_side)
+    # All C order (a corridor's normals come as a strided view): one compiled version.
     return (
         problem.c,
         problem.b,
         problem.a,
         problem.weight,
         problem.max_step,
-        problem.base,
-        problem.normals,
+        np.ascontiguousarray(problem.base, dtype=np.float64),
+        np.ascontiguousarray(problem.normals, dtype=np.float64),
         np.ascontiguousarray(problem.obstacles, dtype=np.float64),
         np.ascontiguousarray(np.einsum("lii->li", problem.precision)),
         np.ascontiguousarray(class_of, dtype=np.int64),

@@ -413,7 +413,8 @@ class _GridSearch:
         if problem.m == 1 and window >= 2:
             half = levels.size // 2  # the zero level's index
             pick = np.arange(half % 2, levels.size, 2)
-            self.grids["coarse"] = (levels[pick], window // 2, node[:, pick])
+            # C order (a column pick is Fortran's): the kernels' one compiled version
+            self.grids["coarse"] = (levels[pick], window // 2, np.ascontiguousarray(node[:, pick]))
         else:
             self.grids["coarse"] = self.grids["fine"]
 

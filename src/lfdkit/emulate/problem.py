@@ -330,6 +330,10 @@ class Problem:
             # meets it exactly at r_k (the zone beyond keeps its width in u).
             self.rr = self.rr - (inner**2 - self.inner2[None])
         self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
+        # C order (moving obstacles' centres make Fortran-ordered terms): numba then
+        # compiles one version of each kernel, not one per layout (a copy only then).
+        self.c, self.b, self.a = (np.ascontiguousarray(x) for x in (self.c, self.b, self.a))
+        self.rr, self.nr = np.ascontiguousarray(self.rr), np.ascontiguousarray(self.nr)
 
     @classmethod
     def from_scene(
