@@ -263,9 +263,12 @@ class MarginPerson(Person):
         z = frame.zero
         if not ok[0, z] or not ok[-1, z]:
             raise PersonFailed("margin: start or goal within a margin")
-        reach = int(np.ceil(self.max_slope * frame.ds / frame.step))
+        # Rounding must not decide (the same person in mm plans the same path): a
+        # slope on a whole number of steps, and shorter only by more than round-off.
+        reach = int(np.ceil(self.max_slope * frame.ds / frame.step * (1.0 - 1e-9)))
         shifts = np.arange(-reach, reach + 1)
         step_cost = np.hypot(frame.ds, shifts * frame.step)
+        tie = 1e-9 * frame.ds
         cost = np.full(g, np.inf)
         cost[z] = 0.0
         back = np.zeros((n, g), dtype=np.int32)
@@ -278,7 +281,7 @@ class MarginPerson(Person):
                     cand[d:] = cost[: g - d] + c
                 else:
                     cand[:d] = cost[-d:] + c
-                better = cand < best
+                better = cand < best - tie
                 best[better] = cand[better]
                 arg[better] = d
             best[~ok[k]] = np.inf
