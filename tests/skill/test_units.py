@@ -77,6 +77,25 @@ def test_the_same_demonstrations_in_millimetres_learn_the_same_skill(metres, mil
     assert millimetres.ioc_info_["loss"] == pytest.approx(1e6 * metres.ioc_info_["loss"], rel=1e-4)
 
 
+def test_the_same_demonstrations_in_millimetres_choose_the_same_model(metres, millimetres):
+    # Every decision of the model choice is a ratio or a count: the same choice, its
+    # cross-validated replanning errors (units²) 1e6 times larger.
+    in_m, in_mm = metres.model_selection_, millimetres.model_selection_
+    for key in ("chosen", "runner_up", "default", "folds", "gaps_shown"):
+        assert in_mm[key] == in_m[key], key
+    assert in_mm["clearance_consistency"] == pytest.approx(in_m["clearance_consistency"], rel=1e-4)
+    assert in_mm["candidates"].keys() == in_m["candidates"].keys()
+    for name, scores in in_m["candidates"].items():
+        scaled = in_mm["candidates"][name]
+        assert scaled["mse"] == pytest.approx(1e6 * scores["mse"], rel=1e-4), name
+        for key in ("refused", "clearance_relaxed", "route", "floor"):
+            assert scaled[key] == scores[key], (name, key)
+    assert (millimetres.route_, millimetres.gaps_) == (metres.route_, metres.gaps_)
+    assert millimetres.clearances_.keys() == metres.clearances_.keys()
+    for label, clearance in metres.clearances_.items():
+        assert millimetres.clearances_[label] == pytest.approx(1000.0 * clearance, rel=1e-9)
+
+
 @pytest.mark.parametrize("planner", ["mpc", "full"])
 def test_plans_in_millimetres_are_the_plans_in_metres_times_1000(metres, millimetres, planner):
     extent = _extent(metres.path_)
