@@ -693,6 +693,18 @@ def lbfgs_stage(
                     raise _Stalled
             return value, grad
 
+        def stopped_at_best(status: int, message: str) -> OptimizeResult:
+            """The best point seen, as the result of a stage this loop stopped itself."""
+            return OptimizeResult(
+                x=best["theta"],
+                fun=best["value"],
+                jac=best["grad"],
+                nit=iterations[0],
+                status=status,
+                success=False,
+                message=message,
+            )
+
         try:
             result = minimize(
                 wrapped,
@@ -706,26 +718,10 @@ def lbfgs_stage(
             stalled = gave_up = False
         except _GaveUp as exc:
             stalled, gave_up = False, exc.reason
-            result = OptimizeResult(
-                x=best["theta"],
-                fun=best["value"],
-                jac=best["grad"],
-                nit=iterations[0],
-                status=99,
-                success=False,
-                message="STOP: GIVEN UP",
-            )
+            result = stopped_at_best(99, "STOP: GIVEN UP")
         except _Stalled:
             stalled, gave_up = True, False
-            result = OptimizeResult(
-                x=best["theta"],
-                fun=best["value"],
-                jac=best["grad"],
-                nit=iterations[0],
-                status=2,
-                success=False,
-                message=f"STOP: {stall_after} EVALUATIONS WITHOUT A LOWER LOSS",
-            )
+            result = stopped_at_best(2, f"STOP: {stall_after} EVALUATIONS WITHOUT A LOWER LOSS")
     theta = np.asarray(result.x, float)
     converged, reason = bool(result.success), stated_reason(result)
     if gave_up:
