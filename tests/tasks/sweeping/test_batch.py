@@ -231,6 +231,10 @@ def test_dask_local_workers_start_preloaded_as_local_processes_do(dask_cluster):
 
     Run before the module's other Dask tests: no task has run on the workers yet
     (the kernels' CPU clock, restarted after the fork server's warm-up, is unset).
+    A process has one fork server, started with the first batch's preload: run
+    alone, this cluster's (numba: its task count is not known) starts it; after
+    an earlier short batch in the same pytest process, the NumPy-only one
+    already runs, so numba is expected exactly when the compiled preload is there.
     """
 
     def probe():
@@ -238,13 +242,15 @@ def test_dask_local_workers_start_preloaded_as_local_processes_do(dask_cluster):
         import sys
 
         wanted = ("numba", "lfdkit.skill", "lfdkit.emulate.planner")
+        compiled = "lfdkit.app.worker_preload_compiled" in sys.modules
         clock = sys.modules["lfdkit.core.kernels"]._clock["cpu_start"]
-        return [m for m in wanted if m in sys.modules], clock, os.getpid()
+        return [m for m in wanted if m in sys.modules], compiled, clock, os.getpid()
 
     got = dask_cluster.client.run(probe)
     assert len(got) == 2
-    for loaded, clock, pid in got.values():
-        assert loaded == ["numba", "lfdkit.skill", "lfdkit.emulate.planner"]
+    assert len({compiled for _, compiled, _, _ in got.values()}) == 1  # one server for both
+    for loaded, compiled, clock, pid in got.values():
+        assert loaded == ["numba"] * compiled + ["lfdkit.skill", "lfdkit.emulate.planner"]
         assert clock is None and pid != os.getpid()
 
 
