@@ -18,8 +18,8 @@ them deciding whether it is a candidate), and refitted in
 each fold like the others. Only the stretches are fitted; ``Q`` and the
 precisions are the thesis fit's (of all demonstrations, or of the fold's):
 the training scenes hold one obstacle each, so they cannot show how a
-refitted response adds up among several. With all of θ refitted (session
-39) the potential-field person's median Pr on single obstacles rose further
+refitted response adds up among several. With all of θ refitted (this
+candidate's first form) the potential-field person's median Pr on single obstacles rose further
 (97 % against 89 %, seed 0), but its pooled Pr fell to −2 % (thesis 33 %)
 through side flips among several obstacles; with the stretches alone, 83 %
 with every side kept (fidelity benchmark, seed 0, quick, 10 demonstrations).
