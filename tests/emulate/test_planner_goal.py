@@ -5,7 +5,13 @@ route: its passing sides, everything before the last obstacle) joined to the
 goal. On random scenes (straight, S-shaped, curved and hooked nominals, one
 to six obstacles, some near the goal, some with radii and a tool clearance)
 the goal-reaching plan passes every obstacle on the side the plan without
-the goal term does, and is never refused where that plan exists.
+the goal term does, and is never refused where that plan exists. The only
+obstacles passed otherwise are those no goal-reaching path within the
+action bound can pass on the route's side (:func:`out_of_reach`): on 400
+seeds (0-399) every other obstacle kept its side with the full horizon, the
+MPC with lookahead and the thesis's MPC (396/396, 396/396, 394/394 scenes),
+and the 4-6 scenes that differ each had an obstacle one step before the
+goal, 3-5 cm aside, that the route passed on its far side.
 """
 
 from __future__ import annotations
@@ -87,6 +93,28 @@ def sides(plan_points: np.ndarray, scene: Scene, path: np.ndarray) -> np.ndarray
     return np.array(out)
 
 
+def out_of_reach(free_points: np.ndarray, scene: Scene, path: np.ndarray) -> np.ndarray:
+    """Whether no goal-reaching path within the action bound can pass each obstacle as the route.
+
+    A path that ends on the nominal's last point with at most one lateral step
+    per step along it is at most ``(K − 1 − k) step`` aside at point ``k``. An
+    obstacle ``ℓ`` aside at its nearest nominal point ``k`` that the route
+    passes on its far side (away from the nominal) keeps that side only if
+    ``|ℓ| < (K − 1 − k) step``. Independent of the planner (max_slope 1).
+    """
+    corridor = Corridor.from_path(path, N_POINTS)
+    out = []
+    for obstacle in scene:
+        rel = corridor.points - obstacle.position
+        k = int(np.argmin(np.einsum("kq,kq->k", rel, rel)))
+        normal = corridor.normals[k, 0]
+        lateral = float((obstacle.position - corridor.points[k]) @ normal)
+        route = float((free_points[k] - corridor.points[k]) @ normal)
+        far_side = np.sign(route - lateral) == np.sign(lateral)
+        out.append(bool(far_side and abs(lateral) >= (N_POINTS - 1 - k) * corridor.step))
+    return np.array(out, dtype=bool)
+
+
 @pytest.mark.parametrize(("horizon", "lookahead"), [(None, True), (8, True), (8, False)])
 def test_the_goal_keeps_the_route_of_the_plan_without_it(horizon, lookahead) -> None:
     same = total = 0
@@ -104,9 +132,10 @@ def test_the_goal_keeps_the_route_of_the_plan_without_it(horizon, lookahead) -> 
         # Affected obstacles: where the plan without goal term leaves the nominal.
         near = np.abs(free.offsets).max() > 1e-9
         total += 1
-        same += bool(
-            np.array_equal(sides(goal.points, scene, path), sides(free.points, scene, path))
-        )
+        kept = sides(goal.points, scene, path) == sides(free.points, scene, path)
+        same += bool(kept.all())
+        # Every obstacle a goal-reaching path can pass on the route's side is passed so.
+        assert np.all(kept | out_of_reach(free.points, scene, path)), seed
         if near and np.linalg.norm(free.offsets[-1]) < 1e-10 * extent:
             # A route that already ends at the goal is the plan.
             np.testing.assert_allclose(goal.points, free.points, atol=1e-12 * extent)
