@@ -20,10 +20,10 @@ from __future__ import annotations
 import contextlib
 import os
 
-from lfdkit.app.batch import ONE_THREAD_ENV
+from lfdkit.app.batch import ONE_THREAD_ENV, load_compiled
 
 os.environ.update(ONE_THREAD_ENV)  # before NumPy loads: the forks inherit the thread pools
 with contextlib.suppress(Exception):  # best effort: without numba the NumPy kernels serve
-    import numba  # noqa: F401  (loaded: the kernels' rule picks numba's from the first call)
+    load_compiled()  # numba loaded: the kernels' rule picks numba's from the first call
 
 import lfdkit.app.worker_preload  # noqa: F401  (the warm-up, now on numba's kernels)
