@@ -10,9 +10,12 @@ units (:func:`make_executor`):
   so each worker starts warm; ``spawn`` where there is no ``forkserver`` (not
   ``fork``: MuJoCo and numba's threads in the calling process do not survive one).
   The fork server starts when the pool is made, or earlier with
-  :func:`start_worker_server` (``lfdkit batch`` calls it first thing), so it
-  loads beside the calling process; for a long batch it loads numba too, once
-  for every worker (:mod:`lfdkit.app.worker_preload_compiled`);
+  :func:`start_worker_server` (``lfdkit batch`` calls it once its options are
+  checked, before loading the skill), so it loads beside the calling process;
+  for a long batch it loads numba too, once for every worker
+  (:mod:`lfdkit.app.worker_preload_compiled`), and a long batch's workers
+  forked from a server an earlier short batch started without numba load it
+  before their first task (:func:`load_compiled`), as a long serial batch does;
 * a Dask distributed cluster (``scheduler="tcp://HOST:PORT"``, or
   ``dask_local=N`` to start a :class:`distributed.LocalCluster` of N
   single-threaded worker processes): ``Client.get_executor()``. A local
