@@ -201,6 +201,8 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
     rate = positive_or_none(args.rate, "--rate", "a rate in Hz (e.g. 125)")
     spread = positive_or_none(args.spread, "--spread", "a radius in metres (e.g. 0.05)")
     task = task_description(args)
+    if args.start is None and args.goal is None and args.via is None:
+        _start_workers(args)  # nothing left to check against the skill: beside its loading
     with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
         from lfdkit.app.execute_batch import evaluate_task_batch
         from lfdkit.skill import Skill
@@ -209,7 +211,7 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
     dims = loaded.n_dims_
     via = via_points(args.via, dims, loaded.timing_.duration)  # every plan lasts the skill's
     start, goal = point_arg(args.start, "--start", dims), point_arg(args.goal, "--goal", dims)
-    _start_workers(args)
+    _start_workers(args)  # (again: harmless)
 
     def run(executor, progress):
         try:
