@@ -195,6 +195,82 @@ def test_workers_of_a_long_batch_start_on_numba_s_kernels():
     assert loaded and compiled
 
 
+class _ForkServerStarted(Exception):
+    """Raised by a stand-in for ``start_worker_server``: the command reached it."""
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--task", "sweep", "--rate", "100"],  # a path-task option for the sweep
+        ["--task", "path", "--rate", "fast"],
+        ["--task", "sweep", "--start", "0.1,0.2"],  # --start with random scenes
+        ["--task", "path", "--check", "kinematics"],
+        ["--task", "path", "--spread", "-1"],
+        ["--start", "0.1,0.2"],  # the default task: refused by the sweep once it is known
+    ],
+)
+def test_a_usage_error_starts_no_fork_server(
+    monkeypatch, capsys, tmp_path, example_skill_file_once, argv
+):
+    """Issue 30: the workers' fork server starts once the options are checked, not before.
+
+    Before, it started at the command's first line, and a usage error left it
+    loading (about 1.7 s of CPU) in the background. A valid command reaches it
+    before the skill loads (the control: the stand-in's exception ends it).
+    """
+
+    def started(*args, **kwargs):
+        raise _ForkServerStarted
+
+    monkeypatch.setattr("lfdkit.app.batch.start_worker_server", started)
+    out = tmp_path / "r.jsonl"
+    skill = example_skill_file_once
+    base = ["batch", "evaluate", skill, "--random", "4", "--workers", "2", "-o", out]
+    code, _, err = run_cli(capsys, *base, *argv)
+    assert code == 2 and "error: " in err and "_ForkServerStarted" not in err
+    code, _, err = run_cli(capsys, *base)
+    assert code == 1 and "_ForkServerStarted" in err
+    code, _, err = run_cli(
+        capsys, "batch", "learn", tmp_path / "missing", "--workers", "2", "-o", out
+    )
+    assert code == 2 and "no such folder" in err
+
+
+@pytest.mark.slow  # two fresh interpreters that load numba: ~2 s each quiet
+def test_a_long_batch_loads_numba_before_its_first_task_serial_or_on_workers():
+    """A serial batch of 64 tasks, and a long batch's workers forked from a fork server
+    an earlier short batch started without numba (a process has one), load numba
+    before their first task instead of running the NumPy kernels for a second first;
+    a short serial batch does not.
+    """
+    serial = (
+        "import sys\n"
+        "from lfdkit.app.batch import make_executor\n"
+        "with make_executor(tasks=4):\n"
+        "    short = 'numba' in sys.modules\n"
+        "with make_executor(tasks=64):\n"
+        "    print(short, 'numba' in sys.modules)\n"
+    )
+    workers = (
+        "from lfdkit.app.batch import ProcessExecutor, start_worker_server\n"
+        "start_worker_server(2, 2)\n"  # a short batch's: no numba in the fork server
+        "probe = \"'numba' in __import__('sys').modules\"\n"
+        "with ProcessExecutor(2, tasks=2) as pool:\n"
+        "    short = pool.submit(eval, probe).result()\n"
+        "with ProcessExecutor(2, tasks=64) as pool:\n"
+        "    print(short, pool.submit(eval, probe).result())\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "LFDKIT_KERNELS"}
+    codes = [serial, workers] if sys.platform.startswith("linux") else [serial]
+    for code in codes:
+        done = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
+        )
+        assert done.returncode == 0, done.stderr[-500:]
+        assert done.stdout.split() == ["False", "True"]
+
+
 # ------------------------------------------------------------------ results files
 def test_results_stream_to_the_file_and_a_failure_does_not_stop_the_batch(tmp_path):
     path = tmp_path / "r.jsonl"

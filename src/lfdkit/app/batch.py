@@ -10,9 +10,12 @@ units (:func:`make_executor`):
   so each worker starts warm; ``spawn`` where there is no ``forkserver`` (not
   ``fork``: MuJoCo and numba's threads in the calling process do not survive one).
   The fork server starts when the pool is made, or earlier with
-  :func:`start_worker_server` (``lfdkit batch`` calls it first thing), so it
-  loads beside the calling process; for a long batch it loads numba too, once
-  for every worker (:mod:`lfdkit.app.worker_preload_compiled`);
+  :func:`start_worker_server` (``lfdkit batch`` calls it once its options are
+  checked, before loading the skill), so it loads beside the calling process;
+  for a long batch it loads numba too, once for every worker
+  (:mod:`lfdkit.app.worker_preload_compiled`), and a long batch's workers
+  forked from a server an earlier short batch started without numba load it
+  before their first task (:func:`load_compiled`), as a long serial batch does;
 * a Dask distributed cluster (``scheduler="tcp://HOST:PORT"``, or
   ``dask_local=N`` to start a :class:`distributed.LocalCluster` of N
   single-threaded worker processes): ``Client.get_executor()``. A local
@@ -86,6 +89,7 @@ import json
 import math
 import os
 import stat
+import sys
 import time
 import warnings
 from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
@@ -123,6 +127,7 @@ __all__ = [
     "learn_batch",
     "learn_outputs",
     "learn_task",
+    "load_compiled",
     "make_executor",
     "read_results",
     "results_header",
@@ -225,14 +230,25 @@ class ProcessExecutor(ProcessPoolExecutor):
     ----------
     workers : int
         Number of worker processes.
+    tasks : int or None
+        Tasks the pool will run, for what its workers load before their first
+        (:func:`worker_preload`; None: not known, taken as many). 0 (not
+        told): the NumPy kernels first, numba by the kernels' rule. A long
+        batch's worker whose fork server was started without numba (by an
+        earlier, shorter batch of this process: a process has one) loads
+        numba itself before its first task, in parallel with the others.
     """
 
-    def __init__(self, workers: int) -> None:
+    def __init__(self, workers: int, *, tasks: int | None = 0) -> None:
+        compiled = worker_preload(tasks, workers) == WORKER_PRELOAD_COMPILED
         super().__init__(
-            max_workers=workers, mp_context=_worker_context(), initializer=_one_thread_worker
+            max_workers=workers,
+            mp_context=_worker_context(),
+            initializer=_start_worker,
+            initargs=(compiled,),
         )
         self.workers = workers
-        start_worker_server(0)  # unless started already: loads while the caller goes on
+        start_worker_server(tasks, workers)  # unless started already: loads while we go on
 
     def __repr__(self) -> str:
         return f"ProcessExecutor(workers={self.workers})"
@@ -290,7 +306,6 @@ def _local_cluster_start(tasks: int | None, workers: int) -> tuple[dict[str, Any
 def _worker_context() -> Any:
     """``forkserver`` preloading :data:`WORKER_PRELOAD` on Linux, else ``spawn``."""
     import multiprocessing
-    import sys
 
     if not sys.platform.startswith("linux"):  # macOS frameworks and fork do not mix
         return multiprocessing.get_context("spawn")
@@ -348,9 +363,36 @@ def worker_preload(tasks: int | None, workers: int) -> str:
     return WORKER_PRELOAD
 
 
-def _one_thread_worker() -> None:
-    """Initializer of a worker process: one BLAS/OpenMP thread (set before NumPy loads)."""
+def _start_worker(compiled: bool = False) -> None:
+    """Initializer of a worker process: one BLAS/OpenMP thread (set before NumPy loads).
+
+    With ``compiled`` (a long batch), numba too, unless the fork server had it
+    already (:func:`load_compiled`).
+    """
     os.environ.update(ONE_THREAD_ENV)
+    if compiled:
+        load_compiled()
+
+
+def load_compiled() -> bool:
+    """Load numba now, so that the planner's kernels are numba's from the first call.
+
+    For a process about to run many tasks (:func:`worker_preload`'s rule): the
+    kernels' own rule (:mod:`lfdkit.core.kernels`) would first run the NumPy
+    forms for a second of CPU, about 5 of a random sweeping scene's plans, and
+    then load numba anyway. A serial batch of 64 ``plan`` tasks: 5.0 → 3.9 s
+    of CPU (a loaded 2-core machine). Nothing is done with
+    ``LFDKIT_KERNELS=numpy``; a numba that fails to import leaves the NumPy
+    forms. Returns whether numba is loaded.
+    """
+    if os.environ.get("LFDKIT_KERNELS", "").strip().lower() == "numpy":
+        return False
+    from lfdkit.core.kernels import prepare_numba
+
+    prepare_numba()  # its BLAS check without all of scipy.linalg
+    with contextlib.suppress(Exception):
+        import numba  # noqa: F401  (loaded: the kernels' rule picks numba's from the first call)
+    return "numba" in sys.modules
 
 
 def _check_count(value: Any, name: str) -> int:
@@ -401,7 +443,10 @@ def make_executor(
     tasks : int, optional
         Tasks the batch will run (None: not known): what a local Dask
         cluster's workers preload (:func:`worker_preload`), as local
-        processes' fork server does (:func:`start_worker_server`).
+        processes' fork server and workers do (:class:`ProcessExecutor`; not
+        known: the NumPy kernels first). A serial batch of at least
+        :data:`COMPILED_TASKS_PER_WORKER` tasks loads numba before its first
+        (:func:`load_compiled`).
 
     Yields
     ------
@@ -424,8 +469,12 @@ def make_executor(
     if len(given) > 1:
         raise ValueError(f"{given[1]}: give one of workers, scheduler and dask_local, not both")
     if workers is not None:
-        executor: Executor = ProcessExecutor(_check_count(workers, "workers"))
+        # Not told: the NumPy kernels first, as ProcessExecutor's own default.
+        count = 0 if tasks is None else tasks
+        executor: Executor = ProcessExecutor(_check_count(workers, "workers"), tasks=count)
     elif scheduler is None and dask_local is None:
+        if tasks is not None and worker_preload(tasks, 1) == WORKER_PRELOAD_COMPILED:
+            load_compiled()  # a long serial batch: numba from its first task
         executor = SerialExecutor()
     else:
         with _dask_client(scheduler, dask_local, connect_timeout, tasks) as client:

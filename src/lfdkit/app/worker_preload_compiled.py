@@ -9,7 +9,11 @@ enough tasks to earn that back (:func:`lfdkit.app.batch.start_worker_server`
 decides), the fork server imports numba first and warms the planner on
 numba's cached kernels instead, once (about 1.2 s more CPU in the fork
 server, which starts while the calling process still loads its own
-modules), and every fork starts on the compiled kernels.
+modules), and every fork starts on the compiled kernels. numba's BLAS check
+is served without importing the package ``scipy.linalg``
+(:func:`lfdkit.core.kernels.prepare_numba`): the whole preload 1.19–1.50 →
+0.98–1.05 s of CPU (``python -c "import lfdkit.app.worker_preload_compiled"``,
+a loaded 2-core machine).
 
 Importing this module does the warm-up; nothing else imports it. It never
 raises (as :mod:`lfdkit.app.worker_preload`).
@@ -20,10 +24,10 @@ from __future__ import annotations
 import contextlib
 import os
 
-from lfdkit.app.batch import ONE_THREAD_ENV
+from lfdkit.app.batch import ONE_THREAD_ENV, load_compiled
 
 os.environ.update(ONE_THREAD_ENV)  # before NumPy loads: the forks inherit the thread pools
 with contextlib.suppress(Exception):  # best effort: without numba the NumPy kernels serve
-    import numba  # noqa: F401  (loaded: the kernels' rule picks numba's from the first call)
+    load_compiled()  # numba loaded: the kernels' rule picks numba's from the first call
 
 import lfdkit.app.worker_preload  # noqa: F401  (the warm-up, now on numba's kernels)

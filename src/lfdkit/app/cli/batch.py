@@ -36,20 +36,11 @@ __all__ = ["add_options", "run_command"]
 
 
 def run_command(args: argparse.Namespace) -> None:
-    from lfdkit.app.batch import describe_executor, make_executor, start_worker_server
-
-    local = args.workers if args.workers is not None else args.dask_local
-    if local is not None:  # the workers load beside this process (NumPy and on; issue 30)
-        start_worker_server(getattr(args, "random", None), local)
-    from lfdkit.io.atomic import check_output_path
+    from lfdkit.app.batch import describe_executor, make_executor
 
     out: Path = args.output
     if out.is_dir():
         raise CommandError(f"--output {out}: is a directory; give a results file (.jsonl)")
-    try:  # a FIFO would hang the batch, a link be written through: refused with or without --force
-        check_output_path(out, overwrite=True)
-    except OSError as exc:
-        raise UsageError(f"--output {exc}") from None
     if not out.parent.exists():
         raise CommandError(f"--output {out}: folder {out.parent} does not exist")
     check_writable(out.parent, "--output", out)
@@ -62,6 +53,7 @@ def run_command(args: argparse.Namespace) -> None:
             run, noun = _batch_path_setup(args, progress), "tasks"
         else:
             run, noun = _batch_evaluate_setup(args, progress), "scenes"
+        _check_results_file(out)
         verb = "resuming" if resuming else "starting"
         tell(args, f"lfdkit {__version__}: {verb} the batch in {out} on {where}", level=2)
         try:
@@ -99,6 +91,38 @@ def run_command(args: argparse.Namespace) -> None:
         )
 
 
+def _check_results_file(out: Path) -> None:
+    """Refuse a results file that is no regular file, with or without ``--force``.
+
+    A FIFO would hang the batch, a link be written through. Checked after the
+    options (:mod:`lfdkit.io` loads NumPy: the workers' fork server starts
+    first, :func:`_start_workers`).
+    """
+    from lfdkit.io.atomic import check_output_path
+
+    try:
+        check_output_path(out, overwrite=True)
+    except OSError as exc:
+        raise UsageError(f"--output {exc}") from None
+
+
+def _start_workers(args: argparse.Namespace) -> None:
+    """Start local workers' fork server, once the command line has been checked (issue 30).
+
+    It loads (NumPy, the skill, numba for a long batch: up to about 1.7 s of
+    CPU) on its own core while this process loads its own; started before the
+    checks, a usage error would leave it loading in the background for
+    nothing. Each setup calls this after its last check of the options
+    (again, harmless, where :func:`_evaluate_task_of` started it: a process
+    has one fork server).
+    """
+    local = args.workers if args.workers is not None else args.dask_local
+    if local is not None:
+        from lfdkit.app.batch import start_worker_server
+
+        start_worker_server(getattr(args, "random", None), local)
+
+
 def _batch_learn_setup(args: argparse.Namespace, resuming: bool):
     from lfdkit.app.batch import learn_batch, learn_outputs
 
@@ -113,6 +137,7 @@ def _batch_learn_setup(args: argparse.Namespace, resuming: bool):
         if clash:
             raise CommandError(f"{clash[0]}: exists; pass --force to overwrite it")
     params = skill_params(args)
+    _start_workers(args)
 
     def run(executor, progress):
         return learn_batch(
@@ -131,16 +156,31 @@ def _batch_learn_setup(args: argparse.Namespace, resuming: bool):
 def _evaluate_task_of(args: argparse.Namespace) -> str:
     """``--task``, or the default: the sweep for a 2-D skill on ur5 with no path-task option."""
     if args.task is None:
-        from lfdkit.skill import Skill
-
         if not args.skill.is_file():
             raise CommandError(f"{args.skill}: no such file")
         path_only = [args.arm, args.tip_link, args.task_file, args.offset, args.height]
         path_only += [args.q_start, args.tool_length, args.rate, args.spread, args.summary]
         path_only += [args.unknown_class, args.approach, args.retreat, args.via]
+        if all(v is None for v in path_only) and _valid_for_either_task(args):
+            _start_workers(args)  # valid whatever the skill: before loading it (0.3 s)
+        from lfdkit.skill import Skill
+
         sweep = Skill.load(args.skill).n_dims_ == 2 and all(v is None for v in path_only)
         args.task = "sweep" if sweep else "path"
     return args.task
+
+
+def _valid_for_either_task(args: argparse.Namespace) -> bool:
+    """Whether options with no path-task option pass both tasks' checks, whatever the skill.
+
+    The sweep and the path task refuse different options: with none of the
+    path task's own, only these differ, and start and goal are checked
+    against the skill's dimensions.
+    """
+    one_source = (args.random is None) != (args.scenes is None)
+    seeded_file = args.scenes is not None and args.seed is not None
+    points = args.start is not None or args.goal is not None
+    return one_source and not seeded_file and not points and args.check != "kinematics"
 
 
 def _batch_path_setup(args: argparse.Namespace, progress: Progress):
@@ -161,6 +201,8 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
     rate = positive_or_none(args.rate, "--rate", "a rate in Hz (e.g. 125)")
     spread = positive_or_none(args.spread, "--spread", "a radius in metres (e.g. 0.05)")
     task = task_description(args)
+    if args.start is None and args.goal is None and args.via is None:
+        _start_workers(args)  # nothing left to check against the skill: beside its loading
     with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba)"):
         from lfdkit.app.execute_batch import evaluate_task_batch
         from lfdkit.skill import Skill
@@ -168,6 +210,8 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
     loaded = Skill.load(args.skill)
     dims = loaded.n_dims_
     via = via_points(args.via, dims, loaded.timing_.duration)  # every plan lasts the skill's
+    start, goal = point_arg(args.start, "--start", dims), point_arg(args.goal, "--goal", dims)
+    _start_workers(args)  # (again: harmless)
 
     def run(executor, progress):
         try:
@@ -181,8 +225,8 @@ def _batch_path_setup(args: argparse.Namespace, progress: Progress):
                 seed=args.seed or 0,
                 spread=0.05 if spread is None else spread,
                 scenes=args.scenes,
-                start=point_arg(args.start, "--start", dims),
-                goal=point_arg(args.goal, "--goal", dims),
+                start=start,
+                goal=goal,
                 check=check,
                 speed_fraction=args.speed_fraction,
                 rate=rate,
@@ -237,6 +281,8 @@ def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
     elif args.scenes is not None and args.seed is not None:
         raise UsageError("--seed is for --random: the scenes of a file are given")
     check = "mujoco" if args.simulate else args.check
+    start, goal = point_arg(args.start, "--start", 2), point_arg(args.goal, "--goal", 2)
+    _start_workers(args)  # loads beside this process's own loading
     with progress.stage("load lfdkit (NumPy, SciPy, scikit-learn, numba, MuJoCo)"):
         from lfdkit.tasks.sweeping.batch import evaluate_batch
 
@@ -247,8 +293,8 @@ def _batch_evaluate_setup(args: argparse.Namespace, progress: Progress):
             random=args.random,
             seed=args.seed or 0,
             scenes=args.scenes,
-            start=point_arg(args.start, "--start", 2),
-            goal=point_arg(args.goal, "--goal", 2),
+            start=start,
+            goal=goal,
             check=check,
             speed_fraction=args.speed_fraction,
             executor=executor,
