@@ -387,9 +387,6 @@ def load_compiled() -> bool:
     """
     if os.environ.get("LFDKIT_KERNELS", "").strip().lower() == "numpy":
         return False
-    from lfdkit.core.kernels import prepare_numba
-
-    prepare_numba()  # its BLAS check without all of scipy.linalg
     with contextlib.suppress(Exception):
         import numba  # noqa: F401  (loaded: the kernels' rule picks numba's from the first call)
     return "numba" in sys.modules

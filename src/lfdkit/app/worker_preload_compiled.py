@@ -9,11 +9,7 @@ enough tasks to earn that back (:func:`lfdkit.app.batch.start_worker_server`
 decides), the fork server imports numba first and warms the planner on
 numba's cached kernels instead, once (about 1.2 s more CPU in the fork
 server, which starts while the calling process still loads its own
-modules), and every fork starts on the compiled kernels. numba's BLAS check
-is served without importing the package ``scipy.linalg``
-(:func:`lfdkit.core.kernels.prepare_numba`): the whole preload 1.19–1.50 →
-0.98–1.05 s of CPU (``python -c "import lfdkit.app.worker_preload_compiled"``,
-a loaded 2-core machine).
+modules), and every fork starts on the compiled kernels.
 
 Importing this module does the warm-up; nothing else imports it. It never
 raises (as :mod:`lfdkit.app.worker_preload`).

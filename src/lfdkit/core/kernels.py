@@ -49,7 +49,6 @@ __all__ = [
     "KERNELS_VARIABLE",
     "SWITCH_SECONDS",
     "kernel",
-    "prepare_numba",
     "restart_clock",
     "use_compiled",
 ]
@@ -105,48 +104,6 @@ def restart_clock() -> None:
     _clock.update(cpu_start=None, next_look=0.0, switched=False)
 
 
-def prepare_numba() -> None:
-    """Serve numba's BLAS check without importing ``scipy.linalg`` whole; call before numba loads.
-
-    numba's first kernel, compiled or from its cache, imports
-    ``scipy.linalg.cython_blas`` (and, for a factorization,
-    ``cython_lapack``): where its compiled code finds BLAS and LAPACK. That
-    runs the package ``scipy.linalg`` first, about 0.3–0.45 s of CPU here
-    (SciPy's array-API layer, NumPy's f2py) of numba's 1.1–1.6 s start-up,
-    though nothing of it is used. This loads the two extension modules
-    under their own names from SciPy's folder instead: numba's import finds
-    them, the same modules with the same BLAS and LAPACK, so results do not
-    change; a later ``import scipy.linalg`` runs the package as usual and
-    finds them loaded. Best effort and idempotent: anything unexpected (no
-    SciPy, another layout) leaves numba to import them itself.
-    """
-    if "numba.np.arraymath" in sys.modules or "scipy.linalg" in sys.modules:
-        return  # too late, or nothing to save
-    try:
-        import importlib.machinery
-        import importlib.util
-
-        import scipy
-
-        folder = os.path.join(os.path.dirname(scipy.__file__), "linalg")
-        for name in ("cython_blas", "cython_lapack"):
-            full = f"scipy.linalg.{name}"
-            if full in sys.modules:
-                continue
-            files = [
-                os.path.join(folder, name + suffix)
-                for suffix in importlib.machinery.EXTENSION_SUFFIXES
-            ]
-            spec = importlib.util.spec_from_file_location(
-                full, next(f for f in files if os.path.isfile(f))
-            )
-            module = importlib.util.module_from_spec(spec)
-            spec.loader.exec_module(module)
-            sys.modules[full] = module
-    except Exception:  # numba imports them the usual way
-        return
-
-
 def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
     """The function ``name`` from module ``compiled`` or ``numpy_form``, by :func:`use_compiled`.
 
@@ -155,8 +112,6 @@ def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
     """
     if use_compiled():
         module = compiled
-        if module not in _modules:  # before numba's first kernel loads
-            prepare_numba()
     else:
         module = numpy_form
         if _clock["cpu_start"] is None:
