@@ -117,10 +117,6 @@ _SCALAR_TYPES = frozenset((float, int, np.float64, np.float32, np.int64, np.int3
 #: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
 _SMALL_EIGH = 25
 
-#: Attributes a model keeps for speed only (the sampling root) or until first use (the
-#: conditioned covariance's parts): never copied to another model.
-_KEPT = ("_root_cache", "_pending_cov")
-
 #: The conditioning kernel: numba's or its NumPy twin (:func:`condition_weights`).
 _KERNEL = ("condition_weights", "lfdkit.imitate._promp_kernels")
 _COMPILED: list = []  # numba's, once handed out
@@ -128,6 +124,10 @@ _COMPILED: list = []  # numba's, once handed out
 #: Activations on even grids by (n_basis, width, n_points): a dict look-up before
 #: the argument check and the LRU cache (together 3× the product of a mean path).
 _GRIDS: dict = {}
+
+#: Attributes a model keeps for speed only (the sampling root) or until first use (the
+#: conditioned covariance's parts): never copied to another model.
+_KEPT = ("_root_cache", "_pending_cov")
 
 
 class ProMP(Estimator):
@@ -329,14 +329,12 @@ class ProMP(Estimator):
         """
         if "weights_mean_" not in self.__dict__:
             self._check_fitted()
-        features = self._grid(n_points)
-        d, b = self.n_dims_, self.n_basis
-        # Only the diagonal blocks Σ_w[k-block, k-block] matter for the variances: side by
-        # side, one 2-D product (a stacked product and fancy indexing were 3× slower).
-        cov = self.weights_cov_.reshape(d, b, d, b)
-        blocks = cov[0, :, 0, :] if d == 1 else np.hstack([cov[k, :, k, :] for k in range(d)])
-        variances = ((features @ blocks).reshape(-1, d, b) * features[:, None, :]).sum(axis=2)
-        return np.sqrt(np.maximum(variances, 0.0))
+        products, pairs = self._grid_products(n_points)
+        # Only the upper triangles of the diagonal blocks Σ_w[k-block, k-block] matter:
+        # one gather and one product with the activations' pairwise products, the
+        # off-diagonal ones doubled (a product per block, a multiply and a sum were 2.5×).
+        variances = products @ self.weights_cov_.take(pairs)
+        return np.sqrt(np.maximum(variances, 0.0, out=variances), out=variances)
 
     def sample(self, n_samples: int = 1, n_points: int = 100, seed: Any = None) -> np.ndarray:
         """Draw paths from the model.
@@ -403,11 +401,11 @@ class ProMP(Estimator):
             self._checked_via(points, phases, covariance, full=True)
         n_weights = len(self.weights_mean_)
         new = self._with_weights(out[:n_weights], None)
-        # The covariance is formed when first read (Σ' = Σ − K (Σ Hᵀ)ᵀ): a path's
-        # mean alone does not need it.
-        new._pending_cov = (self.weights_cov_, out, 1, pts.size)
+        # The covariance is formed when first read (Σ' = Σ − K H Σ): a path's mean
+        # alone does not need it.
+        new.__dict__["_pending_cov"] = (self.weights_cov_, out, 1, pts.size)
         if n_dropped:
-            lost = _out_parts(out, 1, n_weights, pts.size)[3]
+            lost = out[n_weights * (1 + 2 * pts.size) :]
             new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
         return new
 
@@ -534,8 +532,9 @@ class ProMP(Estimator):
             _PINV_RCOND,
             out,
         )
-        # Read-only: the means handed to the copies are views that inherit it.
-        return _frozen(out), n_dropped
+        # Read-only: the weights handed to the copies are views that inherit it.
+        out.flags.writeable = False
+        return out, n_dropped
 
     def _with_weights(self, mean: np.ndarray, cov: np.ndarray | None) -> ProMP:
         """A fitted copy with another weight distribution (``mean`` and ``cov`` read-only;
@@ -545,15 +544,16 @@ class ProMP(Estimator):
         conditioning call); width, dimensions, demos and residual are kept.
         """
         new = object.__new__(type(self))
-        state = new.__dict__
-        state.update(self.__dict__)
+        state = self.__dict__.copy()
         for kept in _KEPT:  # this model's, not the copy's
-            state.pop(kept, None)
+            if kept in state:
+                del state[kept]
         state["weights_mean_"] = mean
         if cov is None:
             del state["weights_cov_"]  # formed from _pending_cov when read
         else:
             state["weights_cov_"] = cov
+        new.__dict__ = state
         return new
 
     def __getattr__(self, name: str) -> Any:
@@ -673,6 +673,29 @@ class ProMP(Estimator):
             _GRIDS[(self.n_basis, self.width_, n_points)] = features
         return features
 
+    def _grid_products(self, n_points: Any) -> tuple[np.ndarray, np.ndarray]:
+        """At ``n_points`` even phases: the activations' pairwise products ``φ_i φ_j``,
+        ``i <= j`` (shape (n_points, b (b + 1) / 2), the pairs ``i < j`` doubled), and
+        the flat indices of those pairs in each diagonal block of the weight covariance
+        (shape (b (b + 1) / 2, n_dims)): a variance is their product (cached, read-only)."""
+        if type(n_points) is not int:
+            n_points = check_count(n_points, "n_points")
+        key = (self.n_basis, self.width_, n_points, self.n_dims_)
+        kept = _GRIDS.get(key)
+        if kept is None:
+            features = self._grid(n_points)
+            b, d = self.n_basis, self.n_dims_
+            rows, cols = np.triu_indices(b)
+            products = features[:, rows] * features[:, cols]
+            products[:, rows != cols] *= 2.0
+            blocks = np.arange(d)[None, :] * b
+            pairs = (rows[:, None] + blocks) * (d * b) + cols[:, None] + blocks
+            kept = (_frozen(products), _frozen(pairs))
+            if len(_GRIDS) >= 64:
+                _GRIDS.clear()
+            _GRIDS[key] = kept
+        return kept
+
     def _mean_from(self, features: np.ndarray) -> np.ndarray:
         """Mean positions for the activations ``features`` (n, n_basis): shape (n, n_dims)."""
         return features @ self.weights_mean_.reshape(self.n_dims_, self.n_basis).T
@@ -774,12 +797,12 @@ def condition_weights(
     rcond : float
         Eigenvalues of the innovation covariance at or below ``rcond`` times
         the largest are dropped (pseudo-inverse).
-    out : ndarray, shape (n_sets * n_weights + 2 * n_weights * k * d + n_sets * k * d,)
+    out : ndarray, shape (n_sets * n_weights + 2 * k * d * n_weights + n_sets * k * d,)
         Written, one after the other: the conditioned means (n_sets,
-        n_weights); the gain ``K`` and ``Σ Hᵀ`` (n_weights, k·d each, columns
-        point-major, then dimension; :func:`_conditioned_covariance` forms
-        ``Σ'`` from them); each set's offset from the prior mean in the
-        dropped directions (n_sets, k·d).
+        n_weights); the gain's transpose ``Kᵀ`` and ``H Σ`` (k·d, n_weights
+        each, rows point-major, then dimension; :func:`_conditioned_covariance`
+        forms ``Σ' = Σ − K H Σ`` from them); each set's offset from the prior
+        mean in the dropped directions (n_sets, k·d).
 
     Returns
     -------
@@ -791,12 +814,13 @@ def condition_weights(
     b, n_weights, m = len(scaled_centres), len(mean), k * d
     if not (np.all((phases >= 0.0) & (phases <= 1.0)) and np.all(np.isfinite(sets))):
         return -1
-    means, gain, observed, lost = _out_parts(out, n_sets, n_weights, m)
+    means, gain_t, observed_t, lost = _out_parts(out, n_sets, n_weights, m)
     bumps = np.exp(-0.5 * np.square(scaled_centres - (phases / width)[:, None]))
     features = bumps / bumps.sum(axis=1, keepdims=True)
     # Σ Hᵀ: column (i, c) is Σ[:, c-block] φ(s_i); one 2-D product, then reordered.
     cov_h = (cov.reshape(n_weights * d, b) @ features.T).reshape(n_weights, d, k)
-    observed[...] = cov_h.transpose(0, 2, 1).reshape(n_weights, m)
+    observed = cov_h.transpose(0, 2, 1).reshape(n_weights, m)
+    observed_t[...] = observed.T
     # H Σ Hᵀ: row (i, c) is φ(s_i)ᵀ (Σ Hᵀ)[c-block, :].
     by_block = observed.reshape(d, b, m).transpose(0, 2, 1).reshape(d * m, b)
     gram = (by_block @ features.T).reshape(d, m, k).transpose(2, 0, 1).reshape(m, m)
@@ -815,10 +839,10 @@ def condition_weights(
         values, vectors = np.linalg.eigh(gram)
     kept = values > rcond * max(float(values[-1]), _TINY)
     dropped = vectors[:, ~kept]
-    gain[...] = observed @ ((vectors[:, kept] / values[kept]) @ vectors[:, kept].T)
+    gain_t[...] = ((vectors[:, kept] / values[kept]) @ vectors[:, kept].T) @ observed_t
     prior = (features @ mean.reshape(d, b).T).reshape(m)
     offsets = sets.reshape(n_sets, m) - prior
-    means[...] = mean + offsets @ gain.T
+    means[...] = mean + offsets @ gain_t
     lost[...] = (offsets @ dropped) @ dropped.T
     return int(dropped.shape[1])
 
@@ -826,24 +850,28 @@ def condition_weights(
 def _out_parts(
     out: np.ndarray, n_sets: int, n_weights: int, m: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Views of :func:`condition_weights`' buffer: means, gain, ``Σ Hᵀ``, lost."""
+    """Views of :func:`condition_weights`' buffer: means, ``Kᵀ``, ``H Σ``, lost."""
     gain_at = n_sets * n_weights
-    observed_at = gain_at + n_weights * m
-    lost_at = observed_at + n_weights * m
+    observed_at = gain_at + m * n_weights
+    lost_at = observed_at + m * n_weights
     return (
         out[:gain_at].reshape(n_sets, n_weights),
-        out[gain_at:observed_at].reshape(n_weights, m),
-        out[observed_at:lost_at].reshape(n_weights, m),
+        out[gain_at:observed_at].reshape(m, n_weights),
+        out[observed_at:lost_at].reshape(m, n_weights),
         out[lost_at:].reshape(n_sets, m),
     )
 
 
 def _conditioned_covariance(cov: np.ndarray, out: np.ndarray, n_sets: int, m: int) -> np.ndarray:
-    """``Σ' = Σ − K (Σ Hᵀ)ᵀ`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
-    coordinates), made exactly symmetric (averaged with its transpose)."""
-    _, gain, observed, _ = _out_parts(out, n_sets, len(cov), m)
-    new_cov = cov - gain @ observed.T
-    return 0.5 * (new_cov + new_cov.T)
+    """``Σ' = Σ − K H Σ`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
+    coordinates), made exactly symmetric (averaged with its transpose): five NumPy calls."""
+    n_weights = len(cov)
+    start = n_sets * n_weights
+    gain_t, observed = out[start : start + 2 * m * n_weights].reshape(2, m, n_weights)
+    new_cov = cov - gain_t.T @ observed
+    new_cov += new_cov.T  # NumPy buffers the overlapping transpose
+    new_cov *= 0.5
+    return new_cov
 
 
 def _condition_kernel() -> Any:
