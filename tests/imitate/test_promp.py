@@ -204,11 +204,11 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
         noise.flags.writeable = False
         results = []
         for run in (_promp_kernels.condition_weights, promp.condition_weights):
-            out = np.empty(2 * n_weights + (2 * n_weights + 2) * m)
+            out = np.empty(2 * n_weights + (n_weights + 2) * m)
             centres = promp._scaled_centres(b, width)
             args = (mean, cov, centres, phases, width, sets, 0.01 * scale**2 * (trial % 2))
             n_dropped = run(*args, noise, 1e-10, out)
-            means, _, _, lost = promp._out_parts(out, 2, n_weights, m)
+            means, _, lost = promp._out_parts(out, 2, n_weights, m)
             new_cov = promp._conditioned_covariance(cov, out, 2, m)
             np.testing.assert_array_equal(new_cov, new_cov.T)  # exactly symmetric
             results.append((n_dropped, means, new_cov, lost))

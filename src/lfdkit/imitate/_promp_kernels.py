@@ -94,14 +94,16 @@ def condition_weights(
     sets : (n_sets, k, d) the points; variance : added to every observed coordinate;
     noise : (k, d, d) per-point covariances added too, or (0, d, d) for none.
     rcond : relative cut of the pseudo-inverse.
-    out : (n_sets·n_weights + 2·k·d·n_weights + n_sets·k·d,)
-        Written, one after the other: the new means (n_sets, n_weights), the
-        gain's transpose ``Kᵀ`` and ``H Σ`` (k·d, n_weights each; the new
-        covariance is ``Σ − K H Σ``, formed by the caller when asked for:
-        here it cost 2 µs, a quarter of a one-point call, that a path's mean
-        does not need) and each set's offset in the dropped directions
-        (n_sets, k·d; zero if none). One buffer passed in, not arrays
-        returned: boxing a returned array costs about a microsecond.
+    out : (n_sets·n_weights + k·d·n_weights + n_sets·k·d,)
+        Written, one after the other: the new means (n_sets, n_weights);
+        ``Z = Lᵀ H Σ`` (k·d, n_weights), ``L Lᵀ`` the innovation covariance's
+        pseudo-inverse (a zero row per dropped direction), so that the new
+        covariance is ``Σ − Zᵀ Z`` (formed by the caller when asked for, one
+        product that BLAS makes exactly symmetric: here it cost 2 µs, a
+        quarter of a one-point call, that a path's mean does not need); each
+        set's offset in the dropped directions (n_sets, k·d; zero if none).
+        One buffer passed in, not arrays returned: boxing a returned array
+        costs about a microsecond.
 
     Returns
     -------
@@ -122,10 +124,9 @@ def condition_weights(
                     return -1
     means = out[: n_sets * n_weights].reshape((n_sets, n_weights))
     start = n_sets * n_weights
-    gain_t = out[start : start + m * n_weights].reshape((m, n_weights))  # Kᵀ
-    start += m * n_weights
-    observed = out[start : start + m * n_weights].reshape((m, n_weights))  # H Σ = (Σ Hᵀ)ᵀ
+    root_h = out[start : start + m * n_weights].reshape((m, n_weights))  # Lᵀ H Σ
     lost = out[start + m * n_weights :].reshape((n_sets, m))
+    observed = np.empty((m, n_weights))  # H Σ = (Σ Hᵀ)ᵀ
     features = np.empty((k, b))
     for i in range(k):
         total = 0.0
@@ -177,40 +178,47 @@ def condition_weights(
     for e in range(m):
         largest = max(largest, values[e])
     cut = rcond * largest
-    inverse = np.zeros((m, m))
-    kept = np.empty(m, dtype=np.bool_)
+    # S⁺ = L Lᵀ, L = the kept eigenvectors over the square roots of their values
+    # (a dropped direction: a zero column). K H Σ = (Lᵀ H Σ)ᵀ (Lᵀ H Σ) and the
+    # mean's step K offset = (Lᵀ H Σ)ᵀ (Lᵀ offset): no gain needed.
+    root_t = np.zeros((m, m))  # Lᵀ
     n_dropped = 0
     for e in range(m):
-        kept[e] = values[e] > cut
-        if kept[e]:
+        if values[e] > cut:
+            scale = 1.0 / np.sqrt(values[e])
             for a in range(m):
-                scaled = vectors[a, e] / values[e]
-                for c in range(m):
-                    inverse[a, c] += scaled * vectors[c, e]
+                root_t[e, a] = vectors[a, e] * scale
         else:
             n_dropped += 1
-    for a in range(m):  # Kᵀ = S⁺ H Σ (S⁺ symmetric)
+    for e in range(m):
         for r in range(n_weights):
-            gain_t[a, r] = 0.0
-        for c in range(m):
-            factor = inverse[a, c]
+            root_h[e, r] = 0.0
+        for a in range(m):
+            factor = root_t[e, a]
             for r in range(n_weights):
-                gain_t[a, r] += factor * observed[c, r]
+                root_h[e, r] += factor * observed[a, r]
     offset = np.empty(m)
+    along_root = np.empty(m)
     for n in range(n_sets):
         for i in range(k):
             for c in range(d):
                 offset[i * d + c] = sets[n, i, c] - prior[i * d + c]
-        for r in range(n_weights):
-            acc = mean[r]
+        for e in range(m):
+            acc = 0.0
             for a in range(m):
-                acc += gain_t[a, r] * offset[a]
-            means[n, r] = acc
+                acc += root_t[e, a] * offset[a]
+            along_root[e] = acc
+        for r in range(n_weights):
+            means[n, r] = mean[r]
+        for e in range(m):
+            step = along_root[e]
+            for r in range(n_weights):
+                means[n, r] += root_h[e, r] * step
         for a in range(m):
             lost[n, a] = 0.0
         if n_dropped:
             for e in range(m):
-                if not kept[e]:
+                if not values[e] > cut:
                     along = 0.0
                     for a in range(m):
                         along += vectors[a, e] * offset[a]

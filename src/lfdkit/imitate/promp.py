@@ -405,7 +405,7 @@ class ProMP(Estimator):
         # alone does not need it.
         new.__dict__["_pending_cov"] = (self.weights_cov_, out, 1, pts.size)
         if n_dropped:
-            lost = out[n_weights * (1 + 2 * pts.size) :]
+            lost = out[n_weights * (1 + pts.size) :]
             new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
         return new
 
@@ -459,7 +459,7 @@ class ProMP(Estimator):
         out, n_dropped = self._conditioned(
             np.ascontiguousarray(sets), s, variance, np.ascontiguousarray(noise)
         )
-        means, _, _, lost = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size)
+        means, _, lost = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size)
         cov = _frozen(_conditioned_covariance(self.weights_cov_, out, len(sets), sets[0].size))
         out = [self._with_weights(mean, cov) for mean in means]
         if n_dropped:
@@ -519,7 +519,7 @@ class ProMP(Estimator):
         """
         n_sets, k, d = sets.shape
         n_weights = len(self.weights_mean_)
-        out = np.empty(n_sets * n_weights + (2 * n_weights + n_sets) * k * d)
+        out = np.empty(n_sets * n_weights + (n_weights + n_sets) * k * d)
         n_dropped = _condition_kernel()(
             self.weights_mean_,
             self.weights_cov_,
@@ -797,12 +797,13 @@ def condition_weights(
     rcond : float
         Eigenvalues of the innovation covariance at or below ``rcond`` times
         the largest are dropped (pseudo-inverse).
-    out : ndarray, shape (n_sets * n_weights + 2 * k * d * n_weights + n_sets * k * d,)
+    out : ndarray, shape (n_sets * n_weights + k * d * n_weights + n_sets * k * d,)
         Written, one after the other: the conditioned means (n_sets,
-        n_weights); the gain's transpose ``Kᵀ`` and ``H Σ`` (k·d, n_weights
-        each, rows point-major, then dimension; :func:`_conditioned_covariance`
-        forms ``Σ' = Σ − K H Σ`` from them); each set's offset from the prior
-        mean in the dropped directions (n_sets, k·d).
+        n_weights); ``Z = Lᵀ H Σ`` (k·d, n_weights; ``L Lᵀ`` the innovation
+        covariance's pseudo-inverse, a zero row per dropped direction), from
+        which :func:`_conditioned_covariance` forms ``Σ' = Σ − Zᵀ Z``; each
+        set's offset from the prior mean in the dropped directions (n_sets,
+        k·d).
 
     Returns
     -------
@@ -814,13 +815,12 @@ def condition_weights(
     b, n_weights, m = len(scaled_centres), len(mean), k * d
     if not (np.all((phases >= 0.0) & (phases <= 1.0)) and np.all(np.isfinite(sets))):
         return -1
-    means, gain_t, observed_t, lost = _out_parts(out, n_sets, n_weights, m)
+    means, root_h, lost = _out_parts(out, n_sets, n_weights, m)
     bumps = np.exp(-0.5 * np.square(scaled_centres - (phases / width)[:, None]))
     features = bumps / bumps.sum(axis=1, keepdims=True)
     # Σ Hᵀ: column (i, c) is Σ[:, c-block] φ(s_i); one 2-D product, then reordered.
     cov_h = (cov.reshape(n_weights * d, b) @ features.T).reshape(n_weights, d, k)
     observed = cov_h.transpose(0, 2, 1).reshape(n_weights, m)
-    observed_t[...] = observed.T
     # H Σ Hᵀ: row (i, c) is φ(s_i)ᵀ (Σ Hᵀ)[c-block, :].
     by_block = observed.reshape(d, b, m).transpose(0, 2, 1).reshape(d * m, b)
     gram = (by_block @ features.T).reshape(d, m, k).transpose(2, 0, 1).reshape(m, m)
@@ -839,39 +839,38 @@ def condition_weights(
         values, vectors = np.linalg.eigh(gram)
     kept = values > rcond * max(float(values[-1]), _TINY)
     dropped = vectors[:, ~kept]
-    gain_t[...] = ((vectors[:, kept] / values[kept]) @ vectors[:, kept].T) @ observed_t
+    # S⁺ = L Lᵀ: Σ' = Σ − Zᵀ Z and μ' = μ + Zᵀ Lᵀ (y − H μ), Z = Lᵀ H Σ.
+    root = vectors * np.where(kept, 1.0 / np.sqrt(np.where(kept, values, 1.0)), 0.0)
+    root_h[...] = root.T @ observed.T
     prior = (features @ mean.reshape(d, b).T).reshape(m)
     offsets = sets.reshape(n_sets, m) - prior
-    means[...] = mean + offsets @ gain_t
+    means[...] = mean + (offsets @ root) @ root_h
     lost[...] = (offsets @ dropped) @ dropped.T
     return int(dropped.shape[1])
 
 
 def _out_parts(
     out: np.ndarray, n_sets: int, n_weights: int, m: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Views of :func:`condition_weights`' buffer: means, ``Kᵀ``, ``H Σ``, lost."""
-    gain_at = n_sets * n_weights
-    observed_at = gain_at + m * n_weights
-    lost_at = observed_at + m * n_weights
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Views of :func:`condition_weights`' buffer: means, ``Z = Lᵀ H Σ``, lost."""
+    root_at = n_sets * n_weights
+    lost_at = root_at + m * n_weights
     return (
-        out[:gain_at].reshape(n_sets, n_weights),
-        out[gain_at:observed_at].reshape(m, n_weights),
-        out[observed_at:lost_at].reshape(m, n_weights),
+        out[:root_at].reshape(n_sets, n_weights),
+        out[root_at:lost_at].reshape(m, n_weights),
         out[lost_at:].reshape(n_sets, m),
     )
 
 
 def _conditioned_covariance(cov: np.ndarray, out: np.ndarray, n_sets: int, m: int) -> np.ndarray:
-    """``Σ' = Σ − K H Σ`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
-    coordinates), made exactly symmetric (averaged with its transpose): five NumPy calls."""
+    """``Σ' = Σ − Zᵀ Z`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
+    coordinates): exactly symmetric when ``Σ`` is (BLAS forms ``Zᵀ Z`` as one
+    triangle, mirrored), in three NumPy calls (averaging ``Σ − K H Σ`` with its
+    transpose took six, 3× the time)."""
     n_weights = len(cov)
     start = n_sets * n_weights
-    gain_t, observed = out[start : start + 2 * m * n_weights].reshape(2, m, n_weights)
-    new_cov = cov - gain_t.T @ observed
-    new_cov += new_cov.T  # NumPy buffers the overlapping transpose
-    new_cov *= 0.5
-    return new_cov
+    root_h = out[start : start + m * n_weights].reshape(m, n_weights)
+    return cov - root_h.T @ root_h
 
 
 def _condition_kernel() -> Any:
