@@ -279,7 +279,7 @@ class ProMP(Estimator):
         features = self._features(_check_phases(phases, "phases"))
         d, b = self.n_dims_, self.n_basis
         # Σ_y(s)[i, k] = φ(s)ᵀ Σ_w[i-block, k-block] φ(s): two matrix products, no einsum.
-        left = (features @ self.weights_cov_.reshape(d, b, d * b)).reshape(d, -1, d, b)
+        left = (features @ self._weights_cov().reshape(d, b, d * b)).reshape(d, -1, d, b)
         return np.sum(left * features[:, None, :], axis=-1).transpose(1, 0, 2)
 
     def mean_path(self, n_points: int = 100) -> np.ndarray:
@@ -333,7 +333,7 @@ class ProMP(Estimator):
         # Only the upper triangles of the diagonal blocks Σ_w[k-block, k-block] matter:
         # one gather and one product with the activations' pairwise products, the
         # off-diagonal ones doubled (a product per block, a multiply and a sum were 2.5×).
-        variances = products @ self.weights_cov_.take(pairs)
+        variances = products @ self._weights_cov().take(pairs)
         return np.sqrt(np.maximum(variances, 0.0, out=variances), out=variances)
 
     def sample(self, n_samples: int = 1, n_points: int = 100, seed: Any = None) -> np.ndarray:
@@ -393,19 +393,45 @@ class ProMP(Estimator):
             in phase contradict each other. A covariance > 0 makes every
             point a compromise, never unreachable.
         """
-        if "weights_mean_" not in self.__dict__:
+        state = self.__dict__
+        if "weights_mean_" not in state:
             self._check_fitted()
         pts, s, variance, noise = self._checked_via(points, phases, covariance)
-        out, n_dropped = self._conditioned(pts[None], s, variance, noise)
+        # The kernel's call inline (not :meth:`_conditioned`): glue is most of a one-point call.
+        mean, cov = state["weights_mean_"], state.get("weights_cov_")
+        if cov is None:  # a conditioned model's: formed now
+            cov = self._weights_cov()
+        n_weights, m = len(mean), pts.size
+        out = np.empty(n_weights + (n_weights + 1) * m)
+        n_dropped = _condition_kernel()(
+            mean,
+            cov,
+            _scaled_centres(self.n_basis, self.width_),
+            s,
+            self.width_,
+            pts[None],
+            variance,
+            noise,
+            _PINV_RCOND,
+            out,
+        )
         if n_dropped < 0:  # a value the quick check let through: the full checks name it
             self._checked_via(points, phases, covariance, full=True)
-        n_weights = len(self.weights_mean_)
-        new = self._with_weights(out[:n_weights], None)
-        # The covariance is formed when first read (Σ' = Σ − K H Σ): a path's mean
+        out.setflags(write=False)  # the new mean is a view: read-only too (`flags`: 2× slower)
+        new = object.__new__(type(self))
+        copied = state.copy()
+        for kept in _KEPT:  # this model's, not the copy's
+            if kept in copied:
+                del copied[kept]
+        copied["weights_mean_"] = out[:n_weights]
+        # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it.
-        new.__dict__["_pending_cov"] = (self.weights_cov_, out, 1, pts.size)
+        if "weights_cov_" in copied:
+            del copied["weights_cov_"]
+        copied["_pending_cov"] = (cov, out, 1, m)
+        new.__dict__ = copied
         if n_dropped:
-            lost = out[n_weights * (1 + pts.size) :]
+            lost = out[n_weights * (1 + m) :]
             new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
         return new
 
@@ -460,7 +486,7 @@ class ProMP(Estimator):
             np.ascontiguousarray(sets), s, variance, np.ascontiguousarray(noise)
         )
         means, _, lost = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size)
-        cov = _frozen(_conditioned_covariance(self.weights_cov_, out, len(sets), sets[0].size))
+        cov = _frozen(_conditioned_covariance(self._weights_cov(), out, len(sets), sets[0].size))
         out = [self._with_weights(mean, cov) for mean in means]
         if n_dropped:
             for j, model in enumerate(out):
@@ -483,8 +509,7 @@ class ProMP(Estimator):
         d = self.n_dims_
         if not full and type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < math.inf:
             try:
-                pts = np.asarray(points, dtype=np.float64)
-                s = np.asarray(phases, dtype=np.float64)
+                pts, s = _floats(points), _floats(phases)
             except (TypeError, ValueError):
                 pts = s = None
             if pts is not None and pts.ndim == 1:
@@ -522,7 +547,7 @@ class ProMP(Estimator):
         out = np.empty(n_sets * n_weights + (n_weights + n_sets) * k * d)
         n_dropped = _condition_kernel()(
             self.weights_mean_,
-            self.weights_cov_,
+            self._weights_cov(),
             _scaled_centres(self.n_basis, self.width_),
             phases,
             self.width_,
@@ -558,17 +583,24 @@ class ProMP(Estimator):
 
     def __getattr__(self, name: str) -> Any:
         """``weights_cov_`` of a conditioned model, formed on first use (then an attribute)."""
-        pending = self.__dict__.pop("_pending_cov", None) if name == "weights_cov_" else None
-        if pending is None:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        cov = _frozen(_conditioned_covariance(*pending))
-        self.__dict__["weights_cov_"] = cov
+        if name == "weights_cov_" and "_pending_cov" in self.__dict__:
+            return self._weights_cov()
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _weights_cov(self) -> np.ndarray:
+        """``weights_cov_``, formed now if pending, without the failed attribute look-up
+        that reaches :meth:`__getattr__` (5 µs: it raises and formats an AttributeError)."""
+        state = self.__dict__
+        cov = state.get("weights_cov_")
+        if cov is None:
+            cov = _frozen(_conditioned_covariance(*state.pop("_pending_cov")))
+            state["weights_cov_"] = cov
         return cov
 
     def __getstate__(self) -> dict[str, Any]:
         """For pickling and copies: what is kept for speed is left out (rebuilt on use)."""
         if "_pending_cov" in self.__dict__:
-            self.weights_cov_  # noqa: B018 (formed now: a copy holds the array)
+            self._weights_cov()  # formed now: a copy holds the array
         return {key: value for key, value in self.__dict__.items() if key not in _KEPT}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -718,7 +750,7 @@ class ProMP(Estimator):
         at most. Under one BLAS thread: with OpenBLAS's default threads a
         30 × 30 ``eigh`` took 3–48 ms on a busy machine instead of 0.1 ms.
         """
-        cov = self.weights_cov_
+        cov = self._weights_cov()
         kept = self.__dict__.get("_root_cache")
         if kept is not None and kept[0] is cov:
             return kept[1]
@@ -898,6 +930,13 @@ def _frozen(array: np.ndarray) -> np.ndarray:
     on a model are valid only while its weight arrays do not change in place."""
     array.flags.writeable = False
     return array
+
+
+def _floats(values: Any) -> np.ndarray:
+    """``values`` as a float array: a float array as it is (a third of the conversion's cost)."""
+    if type(values) is np.ndarray and values.dtype == float:
+        return values
+    return np.asarray(values, dtype=float)
 
 
 def _even_phases(n_points: Any) -> np.ndarray:
