@@ -313,6 +313,26 @@ def test_conditioning_many_sets_names_the_first_set_out_of_reach():
     assert len(got) == 1
 
 
+def test_the_band_of_a_conditioned_model_equals_that_of_its_formed_covariance(full_rank_model):
+    """std before the covariance is formed (the source's band less the reduction, the
+    source's band kept) equals std from the formed covariance, for several conditionings
+    of one model, two grid sizes and a source whose covariance is replaced in between."""
+    rng = np.random.default_rng(9)
+    model = ProMP.from_state(full_rank_model.to_state())
+    for n_points in (7, 31, 7):
+        for phases in ([0.3], [0.1, 0.8]):
+            points = model.mean_at(phases) + rng.normal(0.0, 0.2, (len(phases), 2))
+            for variance in (0.0, 1e-3):
+                band = model.condition(points, phases, variance).std(n_points)
+                formed = model.condition(points, phases, variance)
+                formed.weights_cov_  # noqa: B018 (formed: std takes the general path)
+                expected = formed.std(n_points)
+                scale = float(model.std(n_points).max())
+                np.testing.assert_allclose(band**2, expected**2, rtol=0, atol=1e-12 * scale**2)
+                assert np.all(band[np.searchsorted(np.linspace(0, 1, n_points), 0.5)] > 0)
+        model.weights_cov_ = 1.5 * model.weights_cov_  # replaced: the band kept is not reused
+
+
 def test_paths_on_the_cached_even_grid_equal_those_at_the_same_phases():
     s = np.linspace(0.0, 1.0, 30)
     demos = [np.c_[s, a * s**2, np.cos(a * s)] for a in (0.5, 1.0, 1.5, 1.7)]

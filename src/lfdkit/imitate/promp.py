@@ -125,9 +125,10 @@ _COMPILED: list = []  # numba's, once handed out
 #: the argument check and the LRU cache (together 3× the product of a mean path).
 _GRIDS: dict = {}
 
-#: Attributes a model keeps for speed only (the sampling root) or until first use (the
-#: conditioned covariance's parts): never copied to another model.
-_KEPT = ("_root_cache", "_pending_cov")
+#: Attributes a model keeps for speed only (the sampling root, the bands its conditioned
+#: models' std reads) or until first use (the conditioned covariance's parts): never
+#: copied to another model.
+_KEPT = ("_root_cache", "_pending_cov", "_band_cache")
 
 
 class ProMP(Estimator):
@@ -327,13 +328,21 @@ class ProMP(Estimator):
         ndarray, shape (n_points, n_dims)
             In the demonstrations' units.
         """
-        if "weights_mean_" not in self.__dict__:
+        state = self.__dict__
+        if "weights_mean_" not in state:
             self._check_fitted()
-        products, pairs = self._grid_products(n_points)
-        # Only the upper triangles of the diagonal blocks Σ_w[k-block, k-block] matter:
-        # one gather and one product with the activations' pairwise products, the
-        # off-diagonal ones doubled (a product per block, a multiply and a sum were 2.5×).
-        variances = products @ self._weights_cov().take(pairs)
+        pending = state.get("_pending_cov")
+        if pending is None:
+            variances = _variances(self._weights_cov(), *self._grid_products(n_points))
+        else:
+            # Conditioned, covariance not formed: its source's band (kept on the source)
+            # less the reduction, the squared norms of Zᵀ φ per coordinate (Σ' = Σ − Zᵀ Z).
+            cov, out, n_sets, m, source = pending
+            d, b = self.n_dims_, self.n_basis
+            start = n_sets * d * b
+            root_h = out[start : start + m * d * b].reshape(m * d, b)
+            reduction = np.square(self._grid(n_points) @ root_h.T)
+            variances = source._band(cov, n_points) - reduction.reshape(-1, m, d).sum(axis=1)
         return np.sqrt(np.maximum(variances, 0.0, out=variances), out=variances)
 
     def sample(self, n_samples: int = 1, n_points: int = 100, seed: Any = None) -> np.ndarray:
@@ -428,7 +437,7 @@ class ProMP(Estimator):
         # alone does not need it.
         if "weights_cov_" in copied:
             del copied["weights_cov_"]
-        copied["_pending_cov"] = (cov, out, 1, m)
+        copied["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
         new.__dict__ = copied
         if n_dropped:
             lost = out[n_weights * (1 + m) :]
@@ -593,7 +602,7 @@ class ProMP(Estimator):
         state = self.__dict__
         cov = state.get("weights_cov_")
         if cov is None:
-            cov = _frozen(_conditioned_covariance(*state.pop("_pending_cov")))
+            cov = _frozen(_conditioned_covariance(*state.pop("_pending_cov")[:4]))
             state["weights_cov_"] = cov
         return cov
 
@@ -727,6 +736,23 @@ class ProMP(Estimator):
                 _GRIDS.clear()
             _GRIDS[key] = kept
         return kept
+
+    def _band(self, cov: np.ndarray, n_points: int) -> np.ndarray:
+        """Variances of the covariance ``cov`` (this model's, now or when a model was
+        conditioned on it) at ``n_points`` even phases, kept for the next conditioned
+        model's :meth:`std` (read-only)."""
+        kept = self.__dict__.get("_band_cache")
+        if kept is None or kept[0] is not cov:
+            kept = (cov, {})
+            self.__dict__["_band_cache"] = kept
+        bands = kept[1]
+        variances = bands.get(n_points)
+        if variances is None:
+            variances = _frozen(_variances(cov, *self._grid_products(n_points)))
+            if len(bands) >= 8:
+                bands.clear()
+            bands[n_points] = variances
+        return variances
 
     def _mean_from(self, features: np.ndarray) -> np.ndarray:
         """Mean positions for the activations ``features`` (n, n_basis): shape (n, n_dims)."""
@@ -879,6 +905,17 @@ def condition_weights(
     means[...] = mean + (offsets @ root) @ root_h
     lost[...] = (offsets @ dropped) @ dropped.T
     return int(dropped.shape[1])
+
+
+def _variances(cov: np.ndarray, products: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """Variances of each coordinate, shape (n_points, n_dims), from :meth:`ProMP._grid_products`.
+
+    Only the upper triangles of the diagonal blocks ``Σ_w[k-block, k-block]``
+    matter: one gather and one product with the activations' pairwise products,
+    the off-diagonal ones doubled (a product per block, a multiply and a sum
+    were 2.4× the time).
+    """
+    return products @ cov.take(pairs)
 
 
 def _out_parts(
