@@ -1,9 +1,10 @@
 """Compiled ProMP conditioning (numba), for :mod:`lfdkit.imitate.promp`.
 
 One call does what conditioning on via-points needs after the arguments are
-checked: the basis at each phase, ``Σ Hᵀ``, the innovation covariance, its
-pseudo-inverse, the gain, the new means and the part of each offset the
-model cannot reach (the new covariance is formed when it is asked for).
+checked: the basis at each phase, ``H Σ``, the innovation covariance, its
+pseudo-inverse as ``L Lᵀ``, ``Z = Lᵀ H Σ``, the new means and the part of
+each offset the model cannot reach (the new covariance ``Σ − Zᵀ Z`` is
+formed by the caller when it is asked for).
 Why compiled: at a new phase the NumPy form is about 20 small NumPy calls
 (each ~1 µs of overhead for a few hundred flops), so it could not be 10×
 faster than movement_primitives' ~15 calls; this is one.
