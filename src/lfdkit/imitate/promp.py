@@ -439,18 +439,10 @@ class ProMP(Estimator):
         if n_dropped < 0:  # a value the quick check let through: the full checks name it
             self._checked_via(points, phases, covariance, full=True)
         out.setflags(write=False)  # the new mean is a view: read-only too (`flags`: 2× slower)
-        new = object.__new__(type(self))
-        copied = state.copy()
-        for kept in _KEPT:  # this model's, not the copy's
-            if kept in copied:
-                del copied[kept]
-        copied["weights_mean_"] = out[:n_weights]
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it.
-        if "weights_cov_" in copied:
-            del copied["weights_cov_"]
-        copied["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
-        new.__dict__ = copied
+        new = self._with_weights(out[:n_weights], None)
+        new.__dict__["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
         if n_dropped:
             lost = out[n_weights * (1 + m) :]
             new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
