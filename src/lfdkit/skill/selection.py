@@ -15,14 +15,24 @@ the path before and after each class's obstacles
 after the thesis's reward and warm-started from it (:data:`SWERVE_MAX_ITER`
 L-BFGS iterations, full horizon, the first :data:`SWERVE_SCREEN_ITER` of
 them deciding whether it is a candidate), and refitted in
-each fold like the others. Only the stretches are fitted; ``Q`` and the
-precisions are the thesis fit's (of all demonstrations, or of the fold's):
-the training scenes hold one obstacle each, so they cannot show how a
-refitted response adds up among several. With all of θ refitted (this
-candidate's first form) the potential-field person's median Pr on single obstacles rose further
-(97 % against 89 %, seed 0), but its pooled Pr fell to −2 % (thesis 33 %)
-through side flips among several obstacles; with the stretches alone, 83 %
-with every side kept (fidelity benchmark, seed 0, quick, 10 demonstrations).
+each fold like the others. The screen fits the stretches alone (``Q`` and
+the precisions the thesis fit's); the rest of the fit refits the precisions
+with them, ``Q`` held (``IOC(swerve_shape=True)``): with the stretches alone
+the width across the path stays the thesis fit's, too narrow for the
+potential-field person's swerve (its stretch before the obstacle sat on its
+1/5 wall), and its single obstacles, obstacles near the goal and moved goals
+replanned at 47-91 % (median Pr 76 %, seed 0). The training scenes hold one
+obstacle each, so they cannot show how refitted widths add up among
+several: refitted, they flipped sides in three of seed 0's multi-obstacle
+scenes (Pr −848, −378, −445 %). So among several obstacles the skill also
+plans with the stretches-only reward (the route reward, stored as width
+ratios in ``model_selection_["swerve_route"]``) and takes that plan where
+the two pass an obstacle on different sides (:meth:`_swerve_routed`; two
+plans there, one elsewhere). Field person, fidelity benchmark, quick, 10
+demonstrations, 1x, pooled / median Pr, sides: seed 0 83/76 % -> 88/88 %,
+seed 1 -14/75 %, 89 % -> 21/84 %, 93 %, seed 2 90/81 % -> 92/92 %, every
+side kept there. (With all of θ refitted, this candidate's first form, Q
+was refitted too and its pooled Pr fell to −2 % through side flips.)
 One route only: replanning is most of the choice's time (a skill of 6
 demonstrations: 2.3 of 4.4 s CPU, the swerve candidate's plans shared with
 no other). And only where the swerve explains the training
