@@ -184,7 +184,7 @@ def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> Non
     # asserted; the IOC's recovery of the values is the test above)
     before, after = skill.reward_.swerve["cup"]
     assert after > 1.5 * before
-    # the stretches alone (Q and the precisions are the thesis fit's) replan the held-out
+    # the swerve (its stretches, then its widths refitted; Q the thesis fit's) replans the held-out
     # demonstrations well, and closer than the thesis's symmetric response
     candidates = selection["candidates"]
     assert candidates["window/swerve"]["improvement_median"] > 85.0

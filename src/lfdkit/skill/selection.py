@@ -57,7 +57,7 @@ from lfdkit.core.options import (
     POOR_FIDELITY,
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
-from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
+from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity, same_sides
 from lfdkit.emulate.gaps import demonstrated_gaps
 from lfdkit.model.scene import Scene
 
@@ -589,8 +589,6 @@ class BehaviourSelection:
         obstacles with the widths refitted). Each plan's warnings are recorded
         and the returned plan's are given again.
         """
-        from lfdkit.emulate.fidelity import same_sides
-
         with warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
             plan = plan_with(self.reward_)
