@@ -292,8 +292,10 @@ class Skill(
         ``mse`` (units²), ``improvement_pooled``, ``_median`` and ``_mean``
         (Pr %), ``sides_agree`` (share), ``refused`` and
         ``clearance_relaxed`` (counts); ``swerve``: the swerve candidates'
-        stretches ``[before, after]`` per class. Also in :attr:`ioc_info_`
-        and the skill file.
+        stretches ``[before, after]`` per class; ``swerve_route`` (a swerve
+        chosen): the stretches-only reward that routes among several
+        obstacles, as each class's width ratios and stretches. Also in
+        :attr:`ioc_info_` and the skill file.
     """
 
     def __init__(

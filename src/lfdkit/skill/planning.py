@@ -440,6 +440,32 @@ class Planning:
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
+        if reward is None and len(scene) > 1 and not scene.moving:
+            route_reward = self._swerve_route_reward()
+            if route_reward is not None:  # a swerve's widths, the route among several: issue 26
+                return self._swerve_routed(
+                    lambda fitted: self._plan(
+                        start,
+                        goal,
+                        scene,
+                        planner,
+                        horizon,
+                        goal_approach,
+                        clearance,
+                        progress,
+                        times,
+                        route=route,
+                        unknown_class=unknown_class,
+                        via=via,
+                        reward=fitted,
+                        clearances=clearances,
+                        gaps=gaps,
+                        frame=frame,
+                        unknown_response=unknown_response,
+                    ),
+                    nominal,
+                    scene,
+                )
         kind = self.planner if planner is None else planner
         OneOf(PLANNERS)(kind, "planner")
         # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.

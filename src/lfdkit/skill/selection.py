@@ -15,14 +15,24 @@ the path before and after each class's obstacles
 after the thesis's reward and warm-started from it (:data:`SWERVE_MAX_ITER`
 L-BFGS iterations, full horizon, the first :data:`SWERVE_SCREEN_ITER` of
 them deciding whether it is a candidate), and refitted in
-each fold like the others. Only the stretches are fitted; ``Q`` and the
-precisions are the thesis fit's (of all demonstrations, or of the fold's):
-the training scenes hold one obstacle each, so they cannot show how a
-refitted response adds up among several. With all of θ refitted (this
-candidate's first form) the potential-field person's median Pr on single obstacles rose further
-(97 % against 89 %, seed 0), but its pooled Pr fell to −2 % (thesis 33 %)
-through side flips among several obstacles; with the stretches alone, 83 %
-with every side kept (fidelity benchmark, seed 0, quick, 10 demonstrations).
+each fold like the others. The screen fits the stretches alone (``Q`` and
+the precisions the thesis fit's); the rest of the fit refits the precisions
+with them, ``Q`` held (``IOC(swerve_shape=True)``): with the stretches alone
+the width across the path stays the thesis fit's, too narrow for the
+potential-field person's swerve (its stretch before the obstacle sat on its
+1/5 wall), and its single obstacles, obstacles near the goal and moved goals
+replanned at 47-91 % (median Pr 76 %, seed 0). The training scenes hold one
+obstacle each, so they cannot show how refitted widths add up among
+several: refitted, they flipped sides in three of seed 0's multi-obstacle
+scenes (Pr −848, −378, −445 %). So among several obstacles the skill also
+plans with the stretches-only reward (the route reward, stored as width
+ratios in ``model_selection_["swerve_route"]``) and takes that plan where
+the two pass an obstacle on different sides (:meth:`_swerve_routed`; two
+plans there, one elsewhere). Field person, fidelity benchmark, quick, 10
+demonstrations, 1x, pooled / median Pr, sides: seed 0 83/76 % -> 88/88 %,
+seed 1 -14/75 %, 89 % -> 21/84 %, 93 %, seed 2 90/81 % -> 92/92 %, every
+side kept there. (With all of θ refitted, this candidate's first form, Q
+was refitted too and its pooled Pr fell to −2 % through side flips.)
 One route only: replanning is most of the choice's time (a skill of 6
 demonstrations: 2.3 of 4.4 s CPU, the swerve candidate's plans shared with
 no other). And only where the swerve explains the training
@@ -47,7 +57,7 @@ from lfdkit.core.options import (
     POOR_FIDELITY,
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
-from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity
+from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity, same_sides
 from lfdkit.emulate.gaps import demonstrated_gaps
 from lfdkit.model.scene import Scene
 
@@ -253,6 +263,7 @@ class BehaviourSelection:
         nominals: list[np.ndarray],
         max_iter: int,
         swerve: bool = False,
+        shape: bool = False,
     ) -> Any:
         """An IOC fitted on demonstrations ``keep``, warm-started from ``init``; None if it fails.
 
@@ -273,6 +284,7 @@ class BehaviourSelection:
                     max_iter=max_iter,
                     swerve=swerve,
                     swerve_only=swerve,
+                    swerve_shape=shape,
                     diagnose=False,
                 ).fit(
                     [demos[i] for i in keep],
@@ -307,17 +319,20 @@ class BehaviourSelection:
         scenes: list[Scene],
         nominals: list[np.ndarray],
         max_iter: int,
+        shape: bool = False,
     ) -> tuple[Reward, float]:
         """The swerve reward fitted on demonstrations ``keep``, warm-started from ``init``.
 
         Only the stretches are fitted: ``Q`` and the precisions stay
         ``init``'s (a thesis fit's; ``IOC(swerve_only=True)``), since the
         single-obstacle training scenes cannot show how a refitted response
-        adds up among several obstacles. A fit that fails keeps ``init``.
+        adds up among several obstacles; with ``shape`` the precisions too
+        (``swerve_shape``; the route among several obstacles is then the
+        stretches-only reward's, :meth:`_swerve_routed`). A fit that fails keeps ``init``.
         Classes the kept demonstrations do not show keep ``init``'s response.
         Also its full-horizon training loss over ``init``'s (1.0 where it failed).
         """
-        ioc = self._warm_fit(init, keep, demos, scenes, nominals, max_iter, swerve=True)
+        ioc = self._warm_fit(init, keep, demos, scenes, nominals, max_iter, True, shape)
         if ioc is None:
             return init, 1.0
         before = ioc.training_loss(init)
@@ -428,12 +443,13 @@ class BehaviourSelection:
 
         # The swerve reward on all demonstrations, from the thesis's (None: no candidate).
         thesis_reward = self.reward_
-        swerve_reward = swerve_gain = None
+        swerve_reward = swerve_gain = route_reward = None
         if any("swerve" in c for c in candidates):
             swerve_reward, swerve_gain = self._fit_swerve(
                 thesis_reward, range(n), demos, scenes, nominals, SWERVE_SCREEN_ITER
             )
-            if swerve_gain <= SWERVE_GAIN:  # a candidate: its fit carried on
+            if swerve_gain <= SWERVE_GAIN:  # a candidate: its fit carried on, widths too
+                route_reward = swerve_reward  # the stretches alone: routes among several
                 swerve_reward = self._fit_swerve(
                     swerve_reward,
                     range(n),
@@ -441,6 +457,7 @@ class BehaviourSelection:
                     scenes,
                     nominals,
                     SWERVE_MAX_ITER - SWERVE_SCREEN_ITER,
+                    shape=True,
                 )[0]
             else:  # explains them no better: not a candidate
                 swerve_reward = None
@@ -455,10 +472,12 @@ class BehaviourSelection:
             keep = [j for j in range(n) if j % n_folds != fold]
             reward = self._refit_on(keep, demos, scenes, nominals)
             fold_swerve = None
-            if swerve_reward is not None:  # the fold's thesis reward, its stretches refitted
-                stretched = Reward(reward.nominal_weight, reward.precisions, swerve_reward.swerve)
+            if swerve_reward is not None:  # the fold's Q; the widths and stretches refitted
+                stretched = Reward(
+                    reward.nominal_weight, swerve_reward.precisions, swerve_reward.swerve
+                )
                 fold_swerve = self._fit_swerve(
-                    stretched, keep, demos, scenes, nominals, SWERVE_FOLD_MAX_ITER
+                    stretched, keep, demos, scenes, nominals, SWERVE_FOLD_MAX_ITER, shape=True
                 )[0]
             floors = self._floors(
                 [demos[i] for i in keep], [scenes[i] for i in keep], [nominals[i] for i in keep]
@@ -523,6 +542,69 @@ class BehaviourSelection:
                 c: [float(w) for w in swerve_reward.swerve.get(c, (1.0, 1.0))]
                 for c in swerve_reward.classes
             }
+        if "swerve" in chosen and route_reward is not None:
+            # The stretches-only reward that routes among several obstacles, as ratios to
+            # the chosen reward's widths (unit-free: kept through a change of units).
+            self.model_selection_["swerve_route"] = {
+                "width_ratios": {
+                    c: np.sqrt(
+                        np.diag(swerve_reward.precisions[c]) / np.diag(route_reward.precisions[c])
+                    ).tolist()
+                    for c in route_reward.classes
+                    if c in swerve_reward.precisions
+                },
+                "swerve": {c: [float(w) for w in v] for c, v in route_reward.swerve.items()},
+            }
+
+    def _swerve_route_reward(self) -> Reward | None:
+        """The stretches-only reward a swerve skill routes with among obstacles; None if none.
+
+        Rebuilt from ``model_selection_["swerve_route"]`` (stored with the
+        skill): the chosen reward's ``Q``, its precisions with each axis's
+        width scaled by the stored ratio, and the stored stretches. A class
+        whose swerve is no longer the chosen one (another reward adopted for
+        it) keeps its own response.
+        """
+        selection = getattr(self, "model_selection_", None) or {}
+        route, chosen = selection.get("swerve_route"), selection.get("swerve") or {}
+        reward = getattr(self, "reward_", None)
+        if not route or reward is None or not reward.swerve:
+            return None
+        precisions, swerve = dict(reward.precisions), dict(reward.swerve)
+        for c, ratio in route["width_ratios"].items():
+            if c in reward.swerve and np.array_equal(reward.swerve[c], chosen.get(c)):
+                ratio = np.asarray(ratio, dtype=float)
+                precisions[c] = reward.precisions[c] / np.outer(ratio, ratio)
+                swerve[c] = route["swerve"].get(c, reward.swerve[c])
+        return Reward(reward.nominal_weight, precisions, swerve)
+
+    def _swerve_routed(self, plan_with: Any, nominal: np.ndarray, scene: Scene) -> Any:
+        """A swerve skill's plan among several obstacles: its own, or the route reward's.
+
+        ``plan_with(reward)`` plans with a reward. The swerve's widths were
+        fitted on one obstacle at a time; where the plan with them passes an
+        obstacle on another side than the plan with the stretches-only reward
+        (:meth:`_swerve_route_reward`), that plan is taken (the potential-field
+        person of the fidelity benchmark, seed 0: three side flips among 2-3
+        obstacles with the widths refitted). Each plan's warnings are recorded
+        and the returned plan's are given again.
+        """
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            plan = plan_with(self.reward_)
+        with warnings.catch_warnings(record=True) as routed_warnings:
+            warnings.simplefilter("always")
+            try:
+                routed = plan_with(self._swerve_route_reward())
+            except UnsafePlanError:  # no route of its own here: the skill's plan stands
+                routed = None
+        if routed is not None and not same_sides(
+            plan.points, routed.points, nominal, scene, int(self.n_points)
+        ):
+            plan, said = routed, routed_warnings
+        for w in said:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return plan
 
     def _warn_fidelity(self) -> None:
         """Warn when the demonstrations are emulated poorly (held out or replanned): what to do."""
