@@ -985,6 +985,9 @@ class Skill(
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
             skill.gaps_ = getattr(self, "gaps_", "closed")
             skill.model_selection_ = getattr(self, "model_selection_", None)
+            if (skill.model_selection_ or {}).get("gap_clearances"):
+                gap = {c: m * factor for c, m in skill.model_selection_["gap_clearances"].items()}
+                skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }

@@ -56,6 +56,16 @@ from lfdkit.model.scene import Scene
 #: demonstrations' low quantile with room for noise, and the closest any came (a person
 #: who keeps a fixed margin).
 CLEARANCE_FLOORS = {"none": None, "demonstrated": (0.1, 0.8), "closest": (0.0, 1.0)}
+#: The clearance the demonstrations typically kept from each class (``(quantile, factor)`` of
+#: :func:`~lfdkit.emulate.fidelity.demonstrated_clearances`: the median, whole), under the
+#: name :data:`TYPICAL`. A model that keeps gaps closed closes every gap narrower than two
+#: of them together (:func:`lfdkit.emulate.gaps.close_narrow_gaps`): a person who keeps a
+#: margin passes between two obstacles only where there is room for both margins, and the
+#: floors, a low quantile with room for noise, leave open some gaps the person would not take
+#: (the fidelity benchmark's fixed-margin person, seed 0, 1x noise: 15.8 + 28.8 mm of floor
+#: against 21.7 + 39.7 mm kept, a 59.7 mm gap threaded; its margins are 20 + 40 mm).
+TYPICAL_CLEARANCE = (0.5, 1.0)
+TYPICAL = "typical"
 #: The floor level of the reference the model choice plans too, with no floor at all (the
 #: thesis's plan), for the clearance consistency of :meth:`Skill._default_model`.
 FREE_REFERENCE = "free"
@@ -100,7 +110,7 @@ SELECTION_MARGIN = 0.02
 #: thesis's person 2.08 / 1.25, the late swerver 1.02 / 1.00, the fixed-margin person
 #: 1.28 / 1.21, the potential field 0.94 / 1.00. At 2x noise the thesis's person gives
 #: 1.00 (seed 1): noise hides the difference, and its pairs are then closed.
-CONSISTENT_CLEARANCE = 1.1
+CONSISTENT_CLEARANCE = 1.5
 
 
 class BehaviourSelection:
@@ -142,7 +152,10 @@ class BehaviourSelection:
         scenes: Sequence[Scene],
         nominals: Sequence[np.ndarray],
     ) -> dict[str, dict[str, float]]:
-        """Each clearance floor learned from these demonstrations, ``{level: {class: units}}``."""
+        """Each clearance floor learned from these demonstrations, ``{level: {class: units}}``.
+
+        Also, under :data:`TYPICAL`, the clearance they typically kept (for closing gaps).
+        """
         classes = self.reward_.classes
         return {
             level: {}
@@ -150,7 +163,7 @@ class BehaviourSelection:
             else demonstrated_clearances(
                 demos, scenes, nominals, classes, quantile=spec[0], factor=spec[1]
             )
-            for level, spec in CLEARANCE_FLOORS.items()
+            for level, spec in {**CLEARANCE_FLOORS, TYPICAL: TYPICAL_CLEARANCE}.items()
         }
 
     def _candidate_floor(
@@ -238,6 +251,7 @@ class BehaviourSelection:
                             clearances=clearances,
                             gaps=gaps,
                             frame=frame,
+                            gap_clearances=floors[TYPICAL],
                         )
                     except UnsafePlanError as exc:
                         plan = str(exc)
@@ -518,6 +532,9 @@ class BehaviourSelection:
             # Training scenes with two obstacles their floors would close: 0, the
             # demonstrations cannot tell threading a gap from going around (a guess, warned).
             "gaps_shown": demonstrated_gaps(scenes, full_floors[SAFETY_FLOOR]),
+            # What they typically kept per class: where gaps stay closed, a gap narrower
+            # than two of these together is closed (Planning._plan).
+            "gap_clearances": dict(full_floors[TYPICAL]),
             "chosen": ranked[0],
             "runner_up": ranked[1] if len(ranked) > 1 else None,
             "candidates": {
