@@ -131,6 +131,45 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
     assert thesis.clearances_ == {}
 
 
+def test_each_model_is_scored_on_the_plan_it_makes(learned) -> None:
+    # A floor changes the plan even where the plan without it keeps it (the route
+    # search's cost-to-go round the obstacle): each model is scored on its own plan.
+    skill, demos, scenes = learned
+    nominals = [skill.nominal(d[0]) for d in demos]
+    floors = skill._floors(demos, scenes, nominals)
+    models = [
+        {"route": "window", "floor": floor, "frame": "world"}
+        for floor in ("free", "none", "demonstrated", "closest")
+    ]
+    differ = 0
+    for demo, scene, nominal in zip(demos[:2], scenes, nominals, strict=False):
+        goal = demo[-1]
+        rows = skill._replan_candidates(demo, goal, scene, nominal, models, skill.reward_, floors)
+        plans = []
+        for model, row in zip(models, rows, strict=True):
+            clearances, gaps = skill._candidate_floor(model, floors)
+            plan = skill._plan(
+                demo[0],
+                goal,
+                scene,
+                None,
+                None,
+                "auto",
+                0.0,
+                route="window",
+                reward=skill.reward_,
+                clearances=clearances,
+                gaps=gaps,
+                frame="world",
+            ).points
+            own = replanning_fidelity(plan, nominal, demo, scene)
+            assert row["mse"] == own["mse"] and row["improvement"] == own["improvement"]
+            plans.append(plan)
+        keeps = scene.distances(plans[0]).min() >= floors["demonstrated"]["cup"]
+        differ += keeps and not np.array_equal(plans[0], plans[2])
+    assert differ  # the free plan keeps the floor, yet the floor's plan is another
+
+
 def test_every_training_scene_is_replanned_and_scored(learned, tmp_path) -> None:
     skill, demos, scenes = learned
     rows = skill.training_fidelity_
