@@ -1,10 +1,11 @@
 """The behaviour model a skill chooses (issue 26): route planner, clearance floor, frame, swerve.
 
 Each candidate replans every obstacle demonstration left out of a refit of the
-reward, with its own route and floor (a plan is shared only by models that
-plan it with the same margins: a floor changes the plan even where the plan
-without it keeps it, so reusing that plan scored two models on one plan) (at most :data:`MAX_FOLDS` folds of :data:`CROSS_VALIDATION_MAX_ITER`
-L-BFGS iterations, warm-started from the fit on all); the thesis's model stays
+reward (at most :data:`MAX_FOLDS` folds of :data:`CROSS_VALIDATION_MAX_ITER`
+L-BFGS iterations, warm-started from the fit on all), with its own route and
+floor: a plan is shared only by models that plan it with the same margins (a
+floor changes the plan even where the plan without it keeps it, so reusing
+that plan scored two models on one plan). The thesis's model stays
 unless another replans closer by more than :data:`SELECTION_MARGIN`, or the
 demonstrations keep a consistent clearance (:data:`CONSISTENT_CLEARANCE`).
 With fewer than :data:`MIN_CROSS_VALIDATION_DEMOS` demonstrations the choice
