@@ -25,7 +25,7 @@ from lfdkit.emulate.fidelity import (
 )
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import CONSISTENT_CLEARANCE, MAX_FOLDS, SELECTION_MARGIN, Skill
-from lfdkit.skill.selection import SWERVE_GAIN
+from lfdkit.skill.selection import SWERVE_GAIN, TIE
 
 X = np.linspace(0.0, 1.0, 100)
 FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
@@ -121,6 +121,8 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
         for name, row in candidates.items()
     }
     ranked = sorted(score, key=score.get)
+    if score[ranked[1]] <= score[ranked[0]] * (1.0 + TIE):  # round-off: the first one wins
+        ranked[:2] = sorted(ranked[:2], key=list(candidates).index)
     assert [selection["chosen"], selection["runner_up"]] == ranked[:2]
     chosen = candidates[selection["chosen"]]
     assert (skill.route_, skill.frame_) == (chosen["route"], chosen["frame"])

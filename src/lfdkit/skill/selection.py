@@ -106,6 +106,8 @@ SWERVE_SCREEN_ITER = 5
 SWERVE_GAIN = 0.45
 #: Another model must replan the held-out demonstrations this much closer (MSE) to be chosen.
 SELECTION_MARGIN = 0.02
+#: Held-out errors within this fraction of each other are a tie (round-off; the first wins).
+TIE = 1e-4
 #: The demonstrations keep a consistent clearance when planning each held-out one with the
 #: closest any other came costs at most this times the error of planning it with no floor;
 #: then the floor (``"demonstrated"``, gaps closed) is the default, not the thesis's model.
@@ -501,14 +503,12 @@ class BehaviourSelection:
             _fidelity_scores(rows[_behaviour_name(reference)])["mse"] if len(planned) > 1 else None
         )
         default, consistency = self._default_model(candidates, names, scores, free)
-        ranked = sorted(
-            names,
-            key=lambda r: (
-                scores[r]["refused"],
-                scores[r]["clearance_relaxed"],
-                scores[r]["mse"] * ((1.0 - SELECTION_MARGIN) if r == default else 1.0),
-            ),
-        )
+
+        def key(r: str) -> tuple[int, int, float]:
+            error = scores[r]["mse"] * ((1.0 - SELECTION_MARGIN) if r == default else 1.0)
+            return scores[r]["refused"], scores[r]["clearance_relaxed"], error
+
+        ranked = _ties_in_order(sorted(names, key=key), key, names)
         chosen = candidates[names.index(ranked[0])]
         if "swerve" in chosen:
             self.reward_ = swerve_reward  # the skill plans with the swerve it was chosen for
@@ -600,6 +600,25 @@ def _behaviour_name(candidate: Mapping[str, str]) -> str:
     if "swerve" in candidate:
         name += "/swerve"
     return f"path:{name}" if candidate["frame"] == "path" else name
+
+
+def _ties_in_order(ranked: list[str], key, names: Sequence[str]) -> list[str]:
+    """``ranked`` with each run of tied models in the order of ``names`` (the first wins).
+
+    Errors within :data:`TIE` of each other (relative) are a tie: two models' own plans
+    may differ by the fit's round-off alone (the same demonstrations in mm and in m give
+    errors equal to about 5e-6), and round-off must not choose.
+    """
+    out: list[str] = []
+    run: list[str] = []
+    for name in ranked:
+        if run:
+            first, this = key(run[0]), key(name)
+            if first[:2] != this[:2] or not this[2] <= first[2] * (1.0 + TIE):
+                out += sorted(run, key=names.index)
+                run = []
+        run.append(name)
+    return out + sorted(run, key=names.index)
 
 
 def _fidelity_scores(rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
