@@ -19,6 +19,7 @@ from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     GAP_SHARE,
     PASSABLE,
+    close_narrow_gaps,
     closes_a_threaded_gap,
     demonstrated_gaps,
     gaps_closed_by,
@@ -154,6 +155,29 @@ def test_open_gap_margins_give_way_only_between_two() -> None:
     assert gaps_closed_by(np.array([0.01, 0.01]), touching) == []  # a wall: no gap to close
 
 
+@pytest.mark.parametrize("scale", [1.0, 1000.0])
+def test_a_gap_narrower_than_the_clearances_kept_is_closed(scale) -> None:
+    # Two cups 4 cm apart and a lone box: floors of 1.5 cm each leave the gap open; a person
+    # who kept 2.5 cm from a cup would not pass (5 cm > 4 cm), so those two keep 2.5 cm.
+    scene = Scene(
+        tuple(
+            Obstacle(o.label, scale * o.position, radius=scale * o.radius)
+            for o in (*PAIR.obstacles, LONE)
+        )
+    )
+    floors = scale * np.array([0.015, 0.015, 0.01])
+    kept = scale * np.array([0.025, 0.025, 0.02])
+    closed = close_narrow_gaps(floors, kept, scene)
+    np.testing.assert_allclose(closed, scale * np.array([0.025, 0.025, 0.01]), rtol=1e-15)
+    assert gaps_closed_by(closed, scene) == [(0, 1, pytest.approx(0.04 * scale))]
+    # Room for both clearances kept (1.9 cm each): the gap stays open, the floors whole.
+    np.testing.assert_array_equal(close_narrow_gaps(floors, floors + 0.004 * scale, scene), floors)
+    # Floors that close it already stay as they are; so does a lone obstacle's.
+    np.testing.assert_array_equal(close_narrow_gaps(2.0 * floors, kept, scene), 2.0 * floors)
+    lone = Scene((LONE,))
+    np.testing.assert_array_equal(close_narrow_gaps(floors[2:], kept[2:], lone), floors[2:])
+
+
 def test_threaded_pairs_are_those_the_path_passes_between() -> None:
     line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
     above = Scene((Obstacle("cup", [0.5, 0.03], radius=0.01), Obstacle("cup", [0.5, 0.09], 0.01)))
@@ -237,8 +261,17 @@ def test_a_safety_floor_keeps_the_clearance_but_leaves_gaps_open() -> None:
     with pytest.warns(UserWarning, match=r"goes around both"):
         around = skill.plan(scene=PAIR)
     assert PAIR.distances(around.points).min() >= 0.03 - 1e-9
+    # Floors that leave a gap open where the clearances typically kept close it: around.
+    skill.clearances_ = {"cup": 0.015}
+    threads = skill.plan(scene=PAIR)
+    assert abs(np.interp(0.5, *threads.points.T)) < 0.01  # 1.5 + 1.5 cm: between the cups
+    skill.model_selection_ = {"gaps_shown": 1, "gap_clearances": {"cup": 0.025}}
+    around = skill.plan(scene=PAIR)  # 2.5 + 2.5 cm > 4 cm: round both, 2.5 cm from each
+    assert PAIR.distances(around.points).min() >= 0.025 - 1e-9
+    skill.gaps_ = "open"  # a person who threads gaps: the floor gives way, as before
+    assert abs(np.interp(0.5, *skill.plan(scene=PAIR).points.T)) < 0.01
+    skill.gaps_, skill.clearances_ = "closed", {"cup": 0.03}
     # Where the demonstrations showed such a gap, the choice is theirs: nothing said.
-    skill.model_selection_ = {"gaps_shown": 1}
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         skill.plan(scene=PAIR)

@@ -256,8 +256,11 @@ class Skill(
         where the plan without them passes and the gap is at least
         :data:`~lfdkit.emulate.gaps.PASSABLE` times the larger of the two;
         ``"closed"``: they are kept whole and the plan goes around both (a
-        person who keeps a margin). A floor that would move the route from
-        the plan without it (open: to another side of an obstacle, other
+        person who keeps a margin), as it does round two obstacles whose gap
+        is narrower than the clearances the demonstrations typically kept
+        from their classes (``model_selection_["gap_clearances"]``, the
+        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`). A floor that
+        would move the route from the plan without it (open: to another side of an obstacle, other
         than round a gap it keeps closed; closed: between two obstacles that
         plan went round) is kept at half, then none (with a warning).
     frame_ : {"world", "path"}
@@ -987,6 +990,9 @@ class Skill(
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
             skill.gaps_ = getattr(self, "gaps_", "closed")
             skill.model_selection_ = getattr(self, "model_selection_", None)
+            if (skill.model_selection_ or {}).get("gap_clearances"):
+                gap = {c: m * factor for c, m in skill.model_selection_["gap_clearances"].items()}
+                skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }

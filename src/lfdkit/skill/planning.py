@@ -27,6 +27,7 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
+    close_narrow_gaps,
     closes_a_threaded_gap,
     gaps_closed_by,
     open_gap_margins,
@@ -425,13 +426,19 @@ class Planning:
         gaps: str | None = None,
         frame: str | None = None,
         unknown_response: str | None = None,
+        gap_clearances: Mapping[str, float] | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal.
 
         ``route``, ``reward``, ``clearances`` and ``frame`` default to the
         skill's (:attr:`route_`, :attr:`reward_`, :attr:`clearances_`,
         :attr:`frame_`); the model choice plans with others. ``via`` bends the
-        nominal through via-points (:meth:`via_path`).
+        nominal through via-points (:meth:`via_path`). ``gap_clearances``
+        (``{class: units}``, the clearance the demonstrations typically kept):
+        with gaps closed, every gap narrower than the two obstacles' together
+        is closed (:func:`lfdkit.emulate.gaps.close_narrow_gaps`); default the
+        skill's own (``model_selection_["gap_clearances"]``) for its own
+        plans, none for a candidate's.
         """
         if via is None:
             nominal = self._nominal(start, goal)
@@ -504,6 +511,14 @@ class Planning:
         if gaps is None:
             gaps = getattr(self, "gaps_", "closed") if clearances is None else "closed"
         margins = self._margins(scene, start, goal, clearance, clearances)
+        if margins is not None and gaps == "closed" and len(scene) > 1:
+            if clearances is None:  # the skill's own plan: its own (older files: none)
+                gap_clearances = (getattr(self, "model_selection_", None) or {}).get(
+                    "gap_clearances"
+                )
+            typical = self._margins(scene, start, goal, clearance, gap_clearances or {})
+            if typical is not None:
+                margins = close_narrow_gaps(margins, typical, scene)
         if margins is not None and clearances is None:  # the skill's own plan, not a candidate's
             self._warn_gaps(scene, margins, gaps)
         frame = frame or getattr(self, "frame_", "world")
