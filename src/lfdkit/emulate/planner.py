@@ -106,7 +106,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.core.kernels import kernel
+from lfdkit.core.kernels import kernel, use_compiled
 from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
@@ -951,6 +951,12 @@ def _receding_horizon(
     # The window grids' and the obstacle test's per-point numbers, once per plan.
     reaches = _WindowReaches(problem) if not lookahead and _WindowReaches.usable(problem) else None
     near = _ObstacleNear(problem) if problem.has_obstacles else None
+    compiled = near is not None and problem.m == 1 and (lookahead or reaches is not None)
+    if compiled and use_compiled():  # the loop below in one compiled call
+        with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
+            out = _compiled_loop(problem, d0, horizon, reach_goal, lookahead, table, levels, cells)
+            stage.advance(n)
+        return out
     total_iter, all_ok = 0, True
     with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
         for k in range(n):
@@ -1000,6 +1006,59 @@ def _receding_horizon(
             guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
             stage.advance()
     return offsets[1:], total_iter, all_ok
+
+
+def _compiled_loop(
+    problem: Problem,
+    d0: np.ndarray,
+    horizon: int,
+    reach_goal: bool,
+    lookahead: bool,
+    table: np.ndarray,
+    levels: np.ndarray,
+    cells: int,
+) -> tuple[np.ndarray, int, bool]:
+    """:func:`_receding_horizon`'s loop in one compiled call (2-D, with obstacles).
+
+    The same plan bit for bit as the Python loop, which stays the NumPy form
+    (and the one for 3-D and for a moving problem's own window grids): the
+    loop's glue around small kernel calls was four fifths of an MPC plan
+    (issue 26). The per-point numbers of :class:`_ObstacleNear` and
+    :class:`_WindowReaches` are computed here once, as those do.
+    """
+    near = _ObstacleNear(problem)
+    empty = np.zeros((0, 0))
+    reaches = _WindowReaches(problem) if not lookahead else None
+    per_point = (
+        (empty, empty, empty, empty)
+        if reaches is None
+        else (reaches.distance2, reaches.reach, reaches.norms, reaches.largest)
+    )
+    offsets = np.zeros((problem.n + 1, problem.m))
+    n_iter, ok, failed = _grid_kernel("receding_horizon_2d")(
+        *problem.kernel_arguments(),
+        problem.max_step,
+        np.ascontiguousarray(d0, dtype=np.float64),
+        int(horizon),
+        bool(reach_goal),
+        bool(lookahead),
+        table,
+        levels,
+        int(cells),
+        np.ascontiguousarray(near.b_norm),
+        np.ascontiguousarray(near.radius),
+        np.ascontiguousarray(near.outer[0]),
+        *(np.ascontiguousarray(x, dtype=np.float64) for x in per_point),
+        1e-10,
+        100,
+        offsets,
+    )
+    if failed >= 0:
+        raise UnsafePlanError(
+            f"no collision-free plan: at point {failed + 1} of {problem.n + 1} every move "
+            "within the action bound enters an obstacle's radius plus clearance"
+        )
+    return offsets[1:], int(n_iter), bool(ok)
 
 
 def _ranked(
