@@ -224,6 +224,7 @@ def receding_horizon_2d(
     reach_goal,
     lookahead,
     table,
+    node,
     levels,
     cells,
     b_norm,
@@ -245,7 +246,8 @@ def receding_horizon_2d(
     (``b_norm`` (n, L) the norms of ``b``, ``radius`` (n, H) and ``outer``
     (H,) the hard balls' distance and outer radius), the warm start alone away
     from obstacles, else the warm start and the grid path (the global route
-    from ``table``, the cost-to-go over ``levels`` with ``cells`` per step;
+    from ``table``, the cost-to-go over ``levels`` with ``cells`` per step,
+    ``node`` its states' costs;
     without ``lookahead`` the window's own best grid path, its grid from the
     per-point reaches ``distance2``, ``reach``, ``norms``, ``largest`` (all
     (L + H, n))) polished and ranked. Fills ``offsets`` (n + 1, 1), row 0
@@ -318,6 +320,7 @@ def receding_horizon_2d(
                 count = min(int(np.ceil(span / spacing)), 400)
                 own_levels = spacing * np.arange(-count, count + 1)
                 end_on = reach_goal and stop == n
+                offset = 0  # own_levels[i] is level i + offset - count
                 if not end_on:  # _reachable
                     first, last = -1, -1
                     for i in range(own_levels.shape[0]):
@@ -327,12 +330,23 @@ def receding_horizon_2d(
                             last = i
                     if first >= 0:
                         spread = own_cells * (h - 1)
-                        own_levels = own_levels[max(0, first - spread) : last + spread + 1]
+                        offset = max(0, first - spread)
+                        own_levels = own_levels[offset : last + spread + 1]
                 own = np.zeros((h, m))
-                total = lateral_dp(
-                    cw, bw, aw, ww, rrw, nrw, inner2, outer2, mu, max_step, anchor,
-                    own_levels, own_cells, end_on, no_extra, own,
-                )  # fmt: skip
+                # lateral_dp. On the whole path's spacing, its states' costs are node's: a
+                # state's cost depends on the point and the level alone (the same numbers).
+                g_own = own_levels.shape[0]
+                shift = (levels.shape[0] - 1) // 2 - count + offset  # node's index of level 0
+                if own_cells == cells and shift >= 0 and shift + g_own <= node.shape[1]:
+                    costs = np.ascontiguousarray(node[k:stop, shift : shift + g_own])
+                    to_go = np.empty((h, g_own))
+                    grid_backward(costs, g_own, own_cells, end_on, no_extra, to_go)
+                    total = grid_walk(to_go, own_levels, own_cells, max_step, anchor, own)
+                else:
+                    total = lateral_dp(
+                        cw, bw, aw, ww, rrw, nrw, inner2, outer2, mu, max_step, anchor,
+                        own_levels, own_cells, end_on, no_extra, own,
+                    )  # fmt: skip
                 if np.isfinite(total):
                     grid = own
             # the candidates: the warm start, the grid path polished, (lookahead) the grid path

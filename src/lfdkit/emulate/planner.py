@@ -938,23 +938,40 @@ def _receding_horizon(
     offsets = np.zeros((n + 1, m))
     offsets[0] = d0
     guess = np.zeros((min(horizon, n), m))
-    table = levels = None
+    # The window grids' and the obstacle test's per-point numbers, once per plan.
+    reaches = _WindowReaches(problem) if not lookahead and _WindowReaches.usable(problem) else None
+    near = _ObstacleNear(problem) if problem.has_obstacles else None
+    # 2-D with obstacles: the loop below in one compiled call (_compiled_loop)
+    compiled = near is not None and m == 1 and (lookahead or reaches is not None) and use_compiled()
+    table = levels = node = None
     if problem.has_obstacles:
         with tracker.stage("plan: the grid's cost-to-go (global route)"):
             levels, cells = _lateral_levels(problem, d0)
             table = np.empty((n, levels.size**m))
-            grid_cost_to_go(
-                *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
-            )
+            if compiled:  # grid_cost_to_go's two steps: the states' costs are used again
+                node = np.empty_like(table)
+                _grid_kernel("grid_node_costs")(*problem.kernel_arguments(), levels, node)
+                _grid_kernel("grid_backward")(
+                    node, levels.size, cells, reach_goal, np.zeros((0, 0)), table
+                )
+            else:
+                grid_cost_to_go(
+                    *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
+                )
         if not np.isfinite(grid_walk(table, levels, cells, problem.max_step, d0, np.zeros((1, m)))):
             raise UnsafePlanError(_blocked_message(problem, reach_goal))
-    # The window grids' and the obstacle test's per-point numbers, once per plan.
-    reaches = _WindowReaches(problem) if not lookahead and _WindowReaches.usable(problem) else None
-    near = _ObstacleNear(problem) if problem.has_obstacles else None
-    compiled = near is not None and problem.m == 1 and (lookahead or reaches is not None)
-    if compiled and use_compiled():  # the loop below in one compiled call
+    if compiled:
         with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
-            out = _compiled_loop(problem, d0, horizon, reach_goal, lookahead, table, levels, cells)
+            out = _compiled_loop(
+                problem,
+                d0,
+                horizon,
+                reach_goal,
+                lookahead,
+                (table, node, levels, cells),
+                near,
+                reaches,
+            )
             stage.advance(n)
         return out
     total_iter, all_ok = 0, True
@@ -1014,21 +1031,21 @@ def _compiled_loop(
     horizon: int,
     reach_goal: bool,
     lookahead: bool,
-    table: np.ndarray,
-    levels: np.ndarray,
-    cells: int,
+    grid: tuple[np.ndarray, np.ndarray, np.ndarray, int],
+    near: _ObstacleNear,
+    reaches: _WindowReaches | None,
 ) -> tuple[np.ndarray, int, bool]:
     """:func:`_receding_horizon`'s loop in one compiled call (2-D, with obstacles).
 
     The same plan bit for bit as the Python loop, which stays the NumPy form
     (and the one for 3-D and for a moving problem's own window grids): the
     loop's glue around small kernel calls was four fifths of an MPC plan
-    (issue 26). The per-point numbers of :class:`_ObstacleNear` and
-    :class:`_WindowReaches` are computed here once, as those do.
+    (issue 26). ``grid``: the whole path's cost-to-go table, its states'
+    costs, levels and cells per step (a window's own grid on the same
+    spacing takes its states' costs from there: the same numbers).
     """
-    near = _ObstacleNear(problem)
+    table, node, levels, cells = grid
     empty = np.zeros((0, 0))
-    reaches = _WindowReaches(problem) if not lookahead else None
     per_point = (
         (empty, empty, empty, empty)
         if reaches is None
@@ -1043,6 +1060,7 @@ def _compiled_loop(
         bool(reach_goal),
         bool(lookahead),
         table,
+        node,
         levels,
         int(cells),
         np.ascontiguousarray(near.b_norm),
