@@ -929,7 +929,9 @@ def _receding_horizon(
     route itself) are ranked by window cost plus cost-to-go, without it the
     grid path is the window's own optimum and the least window cost wins
     (:func:`_ranked`). A candidate leading into a dead end is never executed.
-    ``progress`` counts the steps.
+    ``progress`` counts the steps. In 2-D with numba's kernels the loop runs
+    compiled, bit for bit the same (:func:`_compiled_loop`); the Python loop
+    is its NumPy form and the loop of 3-D plans.
     """
     grid_cost_to_go, grid_walk = _grid_kernel("grid_cost_to_go"), _grid_kernel("grid_walk")
 
