@@ -207,7 +207,7 @@ def grid_walk(value, levels, window, max_step, d0, out):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)  # plans on threads (a Dask worker's) run side by side
 def receding_horizon_2d(
     c,
     b,
@@ -247,10 +247,12 @@ def receding_horizon_2d(
     (H,) the hard balls' distance and outer radius), the warm start alone away
     from obstacles, else the warm start and the grid path (the global route
     from ``table``, the cost-to-go over ``levels`` with ``cells`` per step,
-    ``node`` its states' costs;
-    without ``lookahead`` the window's own best grid path, its grid from the
-    per-point reaches ``distance2``, ``reach``, ``norms``, ``largest`` (all
-    (L + H, n))) polished and ranked. Fills ``offsets`` (n + 1, 1), row 0
+    ``node`` its states' costs; without ``lookahead`` the window's own best
+    grid path, its grid from the per-point reaches ``distance2``, ``reach``,
+    ``norms``, ``largest`` (all (L + H, n))) polished and ranked. A window's
+    own grid on ``levels``' spacing takes its states' costs from ``node`` (a
+    state's cost depends on its point and level alone: the same numbers, and
+    no ``exp`` per window and state). Fills ``offsets`` (n + 1, 1), row 0
     ``d0``; returns ``(iterations, converged, failed)``: ``failed`` the
     step whose every candidate entered a hard radius (−1: none).
     """
