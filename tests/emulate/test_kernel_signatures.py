@@ -84,6 +84,7 @@ def test_each_kernel_compiles_one_version() -> None:
         "lfdkit.emulate._ioc_kernels.plan_sensitivity",
         "lfdkit.emulate._planner_kernels.grid_cost_to_go",
         "lfdkit.emulate._planner_kernels.grid_backward",
+        "lfdkit.emulate._planner_kernels.receding_horizon_2d",
     ):
         assert counts.get(name) == 1, name
     several = [line for line in result.stdout.splitlines() if int(line.split()[1]) > 1]

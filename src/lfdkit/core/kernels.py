@@ -33,6 +33,10 @@ so on the machines tested they give the same plans bit for bit; where
 NumPy's ``exp`` or LAPACK's Cholesky factor differs from numba's in the last
 bit, plans agree to round-off (``tests/emulate/test_planner_numpy.py`` holds
 them to 1e-9 relative on random scenes and reports exact equality).
+The planner's 2-D receding-horizon loop is one compiled kernel
+(``receding_horizon_2d``, issue 26: its Python glue was four fifths of an MPC
+plan); its NumPy form is the planner's Python loop, which
+:func:`use_compiled` chooses the same way (``tests/emulate/test_planner_loop.py``).
 """
 
 from __future__ import annotations

@@ -3,8 +3,9 @@
 Dynamic programmes over a grid of lateral offsets for
 :mod:`lfdkit.emulate.planner`: the states' costs (:func:`grid_node_costs`),
 the backward cost-to-go (:func:`grid_backward`, :func:`grid_cost_to_go`),
-following it from a start (:func:`grid_walk`) and the whole search
-(:func:`lateral_dp`). Argument names as the attributes of
+following it from a start (:func:`grid_walk`), the whole search
+(:func:`lateral_dp`) and the 2-D receding-horizon loop
+(:func:`receding_horizon_2d`). Argument names as the attributes of
 :class:`lfdkit.emulate.problem.Problem`; the cost is the one of
 :mod:`._problem_kernels`, whose cost of one point it shares.
 
@@ -15,7 +16,7 @@ code is cached on disk next to this file.
 import numba
 import numpy as np
 
-from lfdkit.emulate._problem_kernels import point_cost
+from lfdkit.emulate._problem_kernels import planner_cost, planner_newton, point_cost
 
 
 @numba.njit(cache=True)
@@ -204,3 +205,194 @@ def grid_walk(value, levels, window, max_step, d0, out):
                         best_state, best = t * g_count + u, v
         state = best_state
     return total
+
+
+@numba.njit(cache=True, nogil=True)  # plans on threads (a Dask worker's) run side by side
+def receding_horizon_2d(
+    c,
+    b,
+    a,
+    weight,
+    rr,
+    nr,
+    inner2,
+    outer2,
+    mu,
+    max_step,
+    d0,
+    horizon,
+    reach_goal,
+    lookahead,
+    table,
+    node,
+    levels,
+    cells,
+    b_norm,
+    radius,
+    outer,
+    distance2,
+    reach,
+    norms,
+    largest,
+    tol,
+    max_iter,
+    offsets,
+):
+    """The MPC loop of ``lfdkit.emulate.planner._receding_horizon`` for a 2-D scene with obstacles.
+
+    Every step, operation for operation, as the planner's Python loop does it
+    with these kernels (issue 26: that loop's glue around small kernel calls
+    was four fifths of an MPC plan): the obstacle test of the window
+    (``b_norm`` (n, L) the norms of ``b``, ``radius`` (n, H) and ``outer``
+    (H,) the hard balls' distance and outer radius), the warm start alone away
+    from obstacles, else the warm start and the grid path (the global route
+    from ``table``, the cost-to-go over ``levels`` with ``cells`` per step,
+    ``node`` its states' costs; without ``lookahead`` the window's own best
+    grid path, its grid from the per-point reaches ``distance2``, ``reach``,
+    ``norms``, ``largest`` (all (L + H, n))) polished and ranked. A window's
+    own grid on ``levels``' spacing takes its states' costs from ``node`` (a
+    state's cost depends on its point and level alone: the same numbers, and
+    no ``exp`` per window and state). Fills ``offsets`` (n + 1, 1), row 0
+    ``d0``; returns ``(iterations, converged, failed)``: ``failed`` the
+    step whose every candidate entered a hard radius (−1: none).
+    """
+    n, m = c.shape[0], d0.shape[0]
+    n_obs, n_hard, n_rows = c.shape[1], radius.shape[1], distance2.shape[0]
+    root_m = np.sqrt(m)
+    reach_grid = max_step * (1.0 + 1e-12)
+    no_extra = np.zeros((0, 0))
+    offsets[0] = d0
+    guess = np.zeros((min(horizon, n), m))
+    total_iter, all_ok = 0, True
+    for k in range(n):
+        stop = min(k + horizon, n)
+        h = stop - k
+        if guess.shape[0] > h:
+            guess = guess[:h]
+        elif guess.shape[0] < h:
+            longer = np.empty((h, m))
+            longer[: guess.shape[0]] = guess
+            for i in range(guess.shape[0], h):
+                longer[i] = guess[guess.shape[0] - 1]
+            guess = longer
+        anchor = offsets[k].copy()
+        cw, bw, aw, ww = c[k:stop], b[k:stop], a[k:stop], weight[k:stop]
+        rrw, nrw = rr[k:stop], nr[k:stop]
+        # _ObstacleNear: the same operations in the same order
+        anchor_norm = np.sqrt(np.sum(anchor * anchor))
+        within = anchor_norm + h * max_step * root_m
+        near = False
+        for i in range(k, stop):
+            for o in range(n_obs):
+                if c[i, o] - 2.0 * b_norm[i, o] * within < 28.0:
+                    near = True
+        if not near:
+            for i in range(k, stop):
+                for o in range(n_hard):
+                    if radius[i, o] - within < outer[o]:
+                        near = True
+        if not near:  # best_window(sides=False): the warm start alone
+            d = guess.copy()
+            cost, n_iter, ok = planner_newton(
+                cw, bw, aw, ww, rrw, nrw, inner2, outer2, mu, max_step, anchor, d, tol, max_iter
+            )
+            total_iter += n_iter
+        else:
+            grid = np.zeros((h, m))
+            route = grid_walk(table[k:stop], levels, cells, max_step, anchor, grid)
+            blocked = not np.isfinite(route)
+            if not lookahead and not blocked:  # the window's own best grid path
+                farthest = np.abs(anchor).max()
+                span = max(farthest, 2.0 * max_step)
+                found, widest = False, 0.0
+                for row in range(n_rows):  # _WindowReaches.widest
+                    nearest = k
+                    for i in range(k + 1, stop):
+                        if distance2[row, i] < distance2[row, nearest]:
+                            nearest = i
+                    if norms[row, nearest] < reach[row, nearest]:
+                        value = largest[row, nearest] + reach[row, nearest]
+                        if not found or value > widest:
+                            found, widest = True, value
+                if found:
+                    span = max(span, widest)
+                span = min(span, farthest + h * max_step)
+                own_cells = max(1, min(4, int(400 * max_step / span)))
+                spacing = max_step / own_cells
+                count = min(int(np.ceil(span / spacing)), 400)
+                own_levels = spacing * np.arange(-count, count + 1)
+                end_on = reach_goal and stop == n
+                offset = 0  # own_levels[i] is level i + offset - count
+                if not end_on:  # _reachable
+                    first, last = -1, -1
+                    for i in range(own_levels.shape[0]):
+                        if abs(own_levels[i] - anchor[0]) <= reach_grid:
+                            if first < 0:
+                                first = i
+                            last = i
+                    if first >= 0:
+                        spread = own_cells * (h - 1)
+                        offset = max(0, first - spread)
+                        own_levels = own_levels[offset : last + spread + 1]
+                own = np.zeros((h, m))
+                # lateral_dp. On the whole path's spacing, its states' costs are node's: a
+                # state's cost depends on the point and the level alone (the same numbers).
+                g_own = own_levels.shape[0]
+                shift = (levels.shape[0] - 1) // 2 - count + offset  # node's index of level 0
+                if own_cells == cells and shift >= 0 and shift + g_own <= node.shape[1]:
+                    costs = np.ascontiguousarray(node[k:stop, shift : shift + g_own])
+                    to_go = np.empty((h, g_own))
+                    grid_backward(costs, g_own, own_cells, end_on, no_extra, to_go)
+                    total = grid_walk(to_go, own_levels, own_cells, max_step, anchor, own)
+                else:
+                    total = lateral_dp(
+                        cw, bw, aw, ww, rrw, nrw, inner2, outer2, mu, max_step, anchor,
+                        own_levels, own_cells, end_on, no_extra, own,
+                    )  # fmt: skip
+                if np.isfinite(total):
+                    grid = own
+            # the candidates: the warm start, the grid path polished, (lookahead) the grid path
+            n_cand = 1 if blocked else (3 if lookahead else 2)
+            found, best_score = False, np.inf
+            d, cost, ok = guess, np.inf, False
+            first_d, first_ok = guess, False
+            for j in range(n_cand):
+                if j < 2:
+                    candidate = (guess if j == 0 else grid).copy()
+                    _, n_iter, converged = planner_newton(
+                        cw, bw, aw, ww, rrw, nrw, inner2, outer2, mu, max_step, anchor,
+                        candidate, tol, max_iter,
+                    )  # fmt: skip
+                    total_iter += n_iter
+                    if j == 0:
+                        first_d, first_ok = candidate, converged
+                else:
+                    candidate, converged = grid, True
+                value = planner_cost(cw, bw, aw, ww, rrw, nrw, inner2, outer2, mu, candidate)
+                follow = 0.0  # _cost_to_go
+                if stop < n:
+                    end = min(max(candidate[h - 1, 0], levels[0]), levels[levels.shape[0] - 1])
+                    follow = np.inf
+                    for i in range(levels.shape[0]):
+                        if abs(levels[i] - end) <= reach_grid and table[stop, i] < follow:
+                            follow = table[stop, i]
+                if not np.isfinite(follow):
+                    continue
+                score = value + follow if lookahead else value
+                if not found or score < best_score:
+                    found, best_score = True, score
+                    d, cost, ok = candidate, value, converged
+            if not found:  # blocked everywhere
+                d, cost, ok = first_d, np.inf, first_ok
+        if not np.isfinite(cost):
+            return total_iter, all_ok, k
+        all_ok &= ok
+        offsets[k + 1] = d[0]
+        if h > 1:
+            shifted = np.empty((h, m))
+            shifted[: h - 1] = d[1:]
+            shifted[h - 1] = d[h - 1]
+            guess = shifted
+        else:
+            guess = d
+    return total_iter, all_ok, -1

@@ -106,7 +106,7 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.core.kernels import kernel
+from lfdkit.core.kernels import kernel, use_compiled
 from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
@@ -929,7 +929,9 @@ def _receding_horizon(
     route itself) are ranked by window cost plus cost-to-go, without it the
     grid path is the window's own optimum and the least window cost wins
     (:func:`_ranked`). A candidate leading into a dead end is never executed.
-    ``progress`` counts the steps.
+    ``progress`` counts the steps. In 2-D with numba's kernels the loop runs
+    compiled, bit for bit the same (:func:`_compiled_loop`); the Python loop
+    is its NumPy form and the loop of 3-D plans.
     """
     grid_cost_to_go, grid_walk = _grid_kernel("grid_cost_to_go"), _grid_kernel("grid_walk")
 
@@ -938,19 +940,42 @@ def _receding_horizon(
     offsets = np.zeros((n + 1, m))
     offsets[0] = d0
     guess = np.zeros((min(horizon, n), m))
-    table = levels = None
+    # The window grids' and the obstacle test's per-point numbers, once per plan.
+    reaches = _WindowReaches(problem) if not lookahead and _WindowReaches.usable(problem) else None
+    near = _ObstacleNear(problem) if problem.has_obstacles else None
+    # 2-D with obstacles: the loop below in one compiled call (_compiled_loop)
+    compiled = near is not None and m == 1 and (lookahead or reaches is not None) and use_compiled()
+    table = levels = node = None
     if problem.has_obstacles:
         with tracker.stage("plan: the grid's cost-to-go (global route)"):
             levels, cells = _lateral_levels(problem, d0)
             table = np.empty((n, levels.size**m))
-            grid_cost_to_go(
-                *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
-            )
+            if compiled:  # grid_cost_to_go's two steps: the states' costs are used again
+                node = np.empty_like(table)
+                _grid_kernel("grid_node_costs")(*problem.kernel_arguments(), levels, node)
+                _grid_kernel("grid_backward")(
+                    node, levels.size, cells, reach_goal, np.zeros((0, 0)), table
+                )
+            else:
+                grid_cost_to_go(
+                    *problem.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
+                )
         if not np.isfinite(grid_walk(table, levels, cells, problem.max_step, d0, np.zeros((1, m)))):
             raise UnsafePlanError(_blocked_message(problem, reach_goal))
-    # The window grids' and the obstacle test's per-point numbers, once per plan.
-    reaches = _WindowReaches(problem) if not lookahead and _WindowReaches.usable(problem) else None
-    near = _ObstacleNear(problem) if problem.has_obstacles else None
+    if compiled:
+        with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
+            out = _compiled_loop(
+                problem,
+                d0,
+                horizon,
+                reach_goal,
+                lookahead,
+                (table, node, levels, cells),
+                near,
+                reaches,
+            )
+            stage.advance(n)
+        return out
     total_iter, all_ok = 0, True
     with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
         for k in range(n):
@@ -1000,6 +1025,60 @@ def _receding_horizon(
             guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
             stage.advance()
     return offsets[1:], total_iter, all_ok
+
+
+def _compiled_loop(
+    problem: Problem,
+    d0: np.ndarray,
+    horizon: int,
+    reach_goal: bool,
+    lookahead: bool,
+    grid: tuple[np.ndarray, np.ndarray, np.ndarray, int],
+    near: _ObstacleNear,
+    reaches: _WindowReaches | None,
+) -> tuple[np.ndarray, int, bool]:
+    """:func:`_receding_horizon`'s loop in one compiled call (2-D, with obstacles).
+
+    The same plan bit for bit as the Python loop, which stays the NumPy form
+    (and the one for 3-D and for a moving problem's own window grids): the
+    loop's glue around small kernel calls was four fifths of an MPC plan
+    (issue 26). ``grid``: the whole path's cost-to-go table, its states'
+    costs, levels and cells per step (a window's own grid on the same
+    spacing takes its states' costs from there: the same numbers).
+    """
+    table, node, levels, cells = grid
+    empty = np.zeros((0, 0))
+    per_point = (
+        (empty, empty, empty, empty)
+        if reaches is None
+        else (reaches.distance2, reaches.reach, reaches.norms, reaches.largest)
+    )
+    offsets = np.zeros((problem.n + 1, problem.m))
+    n_iter, ok, failed = _grid_kernel("receding_horizon_2d")(
+        *problem.kernel_arguments(),
+        problem.max_step,
+        np.ascontiguousarray(d0, dtype=np.float64),
+        int(horizon),
+        bool(reach_goal),
+        bool(lookahead),
+        table,
+        node,
+        levels,
+        int(cells),
+        np.ascontiguousarray(near.b_norm),
+        np.ascontiguousarray(near.radius),
+        np.ascontiguousarray(near.outer[0]),
+        *(np.ascontiguousarray(x, dtype=np.float64) for x in per_point),
+        1e-10,
+        100,
+        offsets,
+    )
+    if failed >= 0:
+        raise UnsafePlanError(
+            f"no collision-free plan: at point {failed + 1} of {problem.n + 1} every move "
+            "within the action bound enters an obstacle's radius plus clearance"
+        )
+    return offsets[1:], int(n_iter), bool(ok)
 
 
 def _ranked(
