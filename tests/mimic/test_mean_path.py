@@ -47,6 +47,9 @@ from lfdkit.mimic.mean_path import (
     _pooled_location,
     _replica_maxima,
     _run_distance,
+    _run_distances,
+    _run_maxima,
+    _running_median,
     _run_weights,
     _smoothness,
 )
@@ -1189,6 +1192,42 @@ def test_nanmedian_equals_numpys_bit_for_bit():
             warnings.simplefilter("ignore", RuntimeWarning)  # NumPy: all-NaN slice
             expected = np.nanmedian(values, axis=axis, keepdims=keepdims)
         assert np.array_equal(_nanmedian(values, axis, keepdims), expected, equal_nan=True)
+
+
+def test_run_maxima_equal_the_full_distances_largest():
+    # The closed form (shortest half -> start, its ends -> the median distance) against
+    # every distance computed: odd and even counts, ties, coinciding halves, rows with
+    # 0-2 values, units far apart.
+    rng = np.random.default_rng(7)
+    for case in range(24):
+        m, n = int(rng.integers(12, 120)), int(rng.integers(1, 25))
+        found = rng.random((m, n)) > (0.0, 0.1, 0.6)[case % 3]
+        coords = rng.normal(size=(m, n, 1)) * 10.0 ** rng.integers(-3, 4)
+        if case % 4 == 1:
+            coords = np.round(coords, 1)
+        if case % 5 == 2:
+            coords[:, : n // 2 + 1] = 0.25
+        halves = (0, 1, int(rng.integers(0, m // 4)), int(rng.integers(0, m // 2)))
+        expected = [d.max() for d in _run_distances(coords, found, halves)]
+        assert np.allclose(_run_maxima(coords, found, halves), expected, rtol=1e-14, atol=0.0)
+
+
+def test_running_median_equals_sorting_every_window():
+    rng = np.random.default_rng(3)
+    for m, window in ((1000, 100), (60, 5), (9, 5), (41, 20)):
+        for case in range(4):
+            values = rng.normal(size=m)
+            if case == 1:
+                values = np.round(values, 1)  # ties
+            if case == 2:
+                values[rng.random(m) < 0.1] = np.nan
+            half = window // 2
+            padded = np.pad(values, half, constant_values=np.nan)
+            windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                expected = np.nanmedian(windows, axis=1)
+            assert np.array_equal(_running_median(values, window), expected, equal_nan=True)
 
 
 def test_replica_thresholds_do_not_depend_on_the_cache_or_on_stopping_early():
