@@ -49,8 +49,8 @@ from lfdkit.mimic.mean_path import (
     _run_distance,
     _run_distances,
     _run_maxima,
-    _running_median,
     _run_weights,
+    _running_median,
     _smoothness,
 )
 

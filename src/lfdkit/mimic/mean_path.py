@@ -1322,7 +1322,7 @@ def _run_maxima(
 def _line_run(
     averaged: np.ndarray, found: np.ndarray, enough: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray]:
-    """Start, robust scale (None: no spread anywhere) and extremes (m,) of (m, n) averages on a line.
+    """Start, robust scale (None: no spread) and extremes (m,) of (m, n) averages on a line.
 
     :func:`_own_start_and_scale` and the running-median scale of
     :func:`_run_distances` for one coordinate, from each row's sorted found
@@ -1568,12 +1568,11 @@ def _running_median(values: np.ndarray, window: int) -> np.ndarray:
     half = window // 2
     m = len(values)
     if values.ndim == 1 and half > 0 and m > 4 * half and not np.isnan(values).any():
-        from scipy.ndimage import median_filter  # noqa: PLC0415 (100 ms; fits use it rarely)
+        from scipy.ndimage import median_filter  # imported when first needed: 0.1 s
 
         out = median_filter(values, size=2 * half + 1, mode="nearest")
-        ends = np.concatenate(
-            (np.full(half, np.nan), values[: 2 * half], values[m - 2 * half :], np.full(half, np.nan))
-        )
+        gap = np.full(half, np.nan)
+        ends = np.concatenate((gap, values[: 2 * half], values[m - 2 * half :], gap))
         windows = np.lib.stride_tricks.sliding_window_view(ends, 2 * half + 1)
         out[:half] = _nanmedian(windows[:half], axis=1)
         out[m - half :] = _nanmedian(windows[-half:], axis=1)
