@@ -44,6 +44,7 @@ from lfdkit.mimic.mean_path import (
     _cross_validate,
     _gaussian_advantage,
     _nanmedian,
+    _own_start_and_scale,
     _pooled_location,
     _replica_maxima,
     _run_distance,
@@ -1208,8 +1209,25 @@ def test_run_maxima_equal_the_full_distances_largest():
         if case % 5 == 2:
             coords[:, : n // 2 + 1] = 0.25
         halves = (0, 1, int(rng.integers(0, m // 4)), int(rng.integers(0, m // 2)))
-        expected = [d.max() for d in _run_distances(coords, found, halves)]
-        assert np.allclose(_run_maxima(coords, found, halves), expected, rtol=1e-14, atol=0.0)
+        expected = []
+        for half, distance in zip(halves, _run_distances(coords, found, halves), strict=True):
+            # The averages as the code takes them (running sums: ties stay ties), then
+            # the general start and scale (as in 3-D) and every distance.
+            total = np.concatenate(([0.0 * coords[0]], np.cumsum(coords * found[..., None], 0)))
+            count = np.concatenate(([0.0 * found[0]], np.cumsum(found, axis=0)))
+            hi, lo = np.minimum(np.arange(m) + half + 1, m), np.maximum(np.arange(m) - half, 0)
+            taken = np.maximum(count[hi] - count[lo], 1)[..., None]
+            averaged = (total[hi] - total[lo]) / taken
+            start, own = _own_start_and_scale(averaged, found)
+            usable = (own > 0.0) & (found.sum(axis=1) >= 3)
+            reference = np.zeros((m, n))
+            if usable.any():
+                scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
+                scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
+                reference = np.abs(averaged[..., 0] - start) / scale[:, None] * found
+            assert np.allclose(distance, reference, rtol=1e-12, atol=1e-12)
+            expected.append(reference.max())
+        assert np.allclose(_run_maxima(coords, found, halves), expected, rtol=1e-12, atol=0.0)
 
 
 def test_running_median_equals_sorting_every_window():
