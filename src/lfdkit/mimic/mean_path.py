@@ -1608,12 +1608,20 @@ def _adaptive_rho(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
     core, lo, hi = tuning
     h = hi - lo
     v = np.clip((z - lo) / h, 0.0, 1.0)
+    # The taper's terms are exactly zero where v is (most intersections, within lo):
+    # the powers, the costly part, are taken beyond it only. The same numbers.
+    beyond = ~(v <= 0.0)
+    t = v[beyond]
+    ramp = np.zeros_like(v)
     if core >= lo:
-        ramp = h * (lo * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0) + h * (1.0 - (1.0 - v**2) ** 3) / 6.0)
+        ramp[beyond] = h * (
+            lo * (t - 2.0 * t**3 / 3.0 + t**5 / 5.0) + h * (1.0 - (1.0 - t**2) ** 3) / 6.0
+        )
         return 0.5 * np.minimum(z, lo) ** 2 + ramp
     inner = np.minimum(z, lo)
     huber = np.where(inner <= core, 0.5 * inner**2, core * inner - 0.5 * core**2)
-    return huber + core * h * (v - 2.0 * v**3 / 3.0 + v**5 / 5.0)
+    ramp[beyond] = core * h * (t - 2.0 * t**3 / 3.0 + t**5 / 5.0)
+    return huber + ramp
 
 
 def _adaptive(
