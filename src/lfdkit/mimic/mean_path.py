@@ -181,7 +181,10 @@ implementation decides as follows (each is a constructor option):
   the same run (loaded machine): white noise 0.62 s against 46.3 s (75x; a
   first fit, which draws the Gaussian replicas of the second pass, 0.87 s:
   53x); burrs in 10 of them 1.13 s against 50.9 s (45x; a first fit 2.22 s:
-  23x, the 20 replicas' cost); a smooth band 0.69 s. What keeps it there: the
+  23x, the 20 replicas' cost; with the line shortcut above, two machine
+  states side by side with the unchanged code: 1.09 s against 45.6 s, 42x,
+  where the old code's took 2.02 s, 27x; and 1.11 s, 41x, with load 16
+  where the old code's was 28x); a smooth band 0.69 s. What keeps it there: the
   tuning choice's Gaussian replicas are drawn only where the deviations are
   smooth (elsewhere they cannot change the choice; they were 40 % of a burred
   fit), the adaptive centre reweights only the normals still moving, a path
