@@ -44,10 +44,14 @@ from lfdkit.mimic.mean_path import (
     _cross_validate,
     _gaussian_advantage,
     _nanmedian,
+    _own_start_and_scale,
     _pooled_location,
     _replica_maxima,
     _run_distance,
+    _run_distances,
+    _run_maxima,
     _run_weights,
+    _running_median,
     _smoothness,
 )
 
@@ -1189,6 +1193,59 @@ def test_nanmedian_equals_numpys_bit_for_bit():
             warnings.simplefilter("ignore", RuntimeWarning)  # NumPy: all-NaN slice
             expected = np.nanmedian(values, axis=axis, keepdims=keepdims)
         assert np.array_equal(_nanmedian(values, axis, keepdims), expected, equal_nan=True)
+
+
+def test_run_maxima_equal_the_full_distances_largest():
+    # The closed form (shortest half -> start, its ends -> the median distance) against
+    # every distance computed: odd and even counts, ties, coinciding halves, rows with
+    # 0-2 values, units far apart.
+    rng = np.random.default_rng(7)
+    for case in range(24):
+        m, n = int(rng.integers(12, 120)), int(rng.integers(1, 25))
+        found = rng.random((m, n)) > (0.0, 0.1, 0.6)[case % 3]
+        coords = rng.normal(size=(m, n, 1)) * 10.0 ** rng.integers(-3, 4)
+        if case % 4 == 1:
+            coords = np.round(coords, 1)
+        if case % 5 == 2:
+            coords[:, : n // 2 + 1] = 0.25
+        halves = (0, 1, int(rng.integers(0, m // 4)), int(rng.integers(0, m // 2)))
+        expected = []
+        for half, distance in zip(halves, _run_distances(coords, found, halves), strict=True):
+            # The averages as the code takes them (running sums: ties stay ties), then
+            # the general start and scale (as in 3-D) and every distance.
+            total = np.concatenate(([0.0 * coords[0]], np.cumsum(coords * found[..., None], 0)))
+            count = np.concatenate(([0.0 * found[0]], np.cumsum(found, axis=0)))
+            hi, lo = np.minimum(np.arange(m) + half + 1, m), np.maximum(np.arange(m) - half, 0)
+            taken = np.maximum(count[hi] - count[lo], 1)[..., None]
+            averaged = (total[hi] - total[lo]) / taken
+            start, own = _own_start_and_scale(averaged, found)
+            usable = (own > 0.0) & (found.sum(axis=1) >= 3)
+            reference = np.zeros((m, n))
+            if usable.any():
+                scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
+                scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
+                reference = np.abs(averaged[..., 0] - start) / scale[:, None] * found
+            assert np.allclose(distance, reference, rtol=1e-12, atol=1e-12)
+            expected.append(reference.max())
+        assert np.allclose(_run_maxima(coords, found, halves), expected, rtol=1e-12, atol=0.0)
+
+
+def test_running_median_equals_sorting_every_window():
+    rng = np.random.default_rng(3)
+    for m, window in ((1000, 100), (60, 5), (9, 5), (41, 20)):
+        for case in range(4):
+            values = rng.normal(size=m)
+            if case == 1:
+                values = np.round(values, 1)  # ties
+            if case == 2:
+                values[rng.random(m) < 0.1] = np.nan
+            half = window // 2
+            padded = np.pad(values, half, constant_values=np.nan)
+            windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                expected = np.nanmedian(windows, axis=1)
+            assert np.array_equal(_running_median(values, window), expected, equal_nan=True)
 
 
 def test_replica_thresholds_do_not_depend_on_the_cache_or_on_stopping_early():
