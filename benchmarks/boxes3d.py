@@ -112,13 +112,19 @@ def layout(kind: str) -> list[Box]:
     ]
 
 
-def _smooth_noise(rng: np.random.Generator, sigma: float) -> np.ndarray:
-    """Smooth noise (N_POINTS, 3) of standard deviation ``sigma``, zero at both ends."""
-    kernel = np.exp(-0.5 * (np.arange(-30, 31) / 5.0) ** 2)
-    raw = rng.normal(size=(N_POINTS + 60, 3))
+def _smooth_noise(rng: np.random.Generator, sigma: float, n_points: int = N_POINTS) -> np.ndarray:
+    """Smooth noise (n_points, 3) of standard deviation ``sigma``, zero at both ends.
+
+    Smoothed over 5 % of the path (5 of 100 points), so a longer recording of
+    the same motion has the same noise shape.
+    """
+    width = 5.0 * n_points / N_POINTS
+    half = int(round(6 * width))
+    kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / width) ** 2)
+    raw = rng.normal(size=(n_points + 2 * half, 3))
     smooth = np.column_stack([np.convolve(raw[:, i], kernel, "valid") for i in range(3)])
     smooth *= sigma / smooth.std()
-    return smooth[:N_POINTS] * np.sin(np.linspace(0.0, np.pi, N_POINTS))[:, None]
+    return smooth[:n_points] * np.sin(np.linspace(0.0, np.pi, n_points))[:, None]
 
 
 def make_set(
@@ -128,11 +134,12 @@ def make_set(
     noise: float = 0.003,
     look_ahead: int | None = None,
     reward: Reward = TRUE_REWARD,
+    n_points: int = N_POINTS,
 ) -> dict:
     """Demonstrations, scenes, nominals (straight start → goal) and the person's clearance.
 
     ``look_ahead``: the person's planning window in points (None: the whole path);
-    ``reward``: the person's own.
+    ``reward``: the person's own; ``n_points``: samples per demonstration.
     """
     rng = np.random.default_rng(seed)
     demos, scenes, nominals = [], [], []
@@ -148,7 +155,14 @@ def make_set(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             plan = plan_path(reward, nominal, scene, horizon=look_ahead, clearance=CLEARANCE)
-        demos.append(plan.points + _smooth_noise(rng, noise))
+        points = plan.points
+        if n_points != N_POINTS:
+            # A longer recording of the same motion: the person plans at 100 points
+            # (the planner's 3-D grid spans too little at 250, see the module notes).
+            nominal = start + np.linspace(0.0, 1.0, n_points)[:, None] * (GOAL - start)
+            fraction, old = np.linspace(0.0, 1.0, n_points), np.linspace(0.0, 1.0, N_POINTS)
+            points = np.column_stack([np.interp(fraction, old, points[:, i]) for i in range(3)])
+        demos.append(points + _smooth_noise(rng, noise, n_points))
         scenes.append(scene)
         nominals.append(nominal)
     return {"demos": demos, "scenes": scenes, "nominals": nominals}
