@@ -119,7 +119,7 @@ def _smooth_noise(rng: np.random.Generator, sigma: float, n_points: int = N_POIN
     the same motion has the same noise shape.
     """
     width = 5.0 * n_points / N_POINTS
-    half = int(round(6 * width))
+    half = round(6 * width)
     kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / width) ** 2)
     raw = rng.normal(size=(n_points + 2 * half, 3))
     smooth = np.column_stack([np.convolve(raw[:, i], kernel, "valid") for i in range(3)])

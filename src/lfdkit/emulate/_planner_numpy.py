@@ -26,10 +26,10 @@ import numpy as np
 
 __all__ = [
     "SCALAR_TERMS",
+    "block_tree_solve",
     "grid_backward",
     "grid_cost_to_go",
     "grid_node_costs",
-    "block_tree_solve",
     "grid_walk",
     "lateral_dp",
     "planner_cost",
