@@ -107,3 +107,46 @@ def test_obstacle_terms_are_their_definitions(q: int, kind: str) -> None:
     assert all(x.flags.c_contiguous for x in (c, b, a))  # as the kernels take them
     empty = _obstacle_terms(rel[:, :0], normals, precision[:0])
     assert [x.shape for x in empty] == [(n, 0), (n, 0, q - 1), (n, 0, q - 1, q - 1)]
+
+
+# ------------------------------------------------------------------ issue 34
+@pytest.mark.parametrize("seed", range(4))
+def test_block_tree_solve_matches_a_dense_solve_and_its_numpy_twin(seed):
+    """The 3-D Newton step's O(n) elimination of grouped 2 x 2 blocks against the dense
+    matrix it stands for (random held actions, so groups of one component span several
+    of the other's), and the NumPy twin to the bit; an indefinite matrix is refused."""
+    from lfdkit.emulate import _planner_numpy
+    from lfdkit.emulate._problem_kernels import block_tree_solve, offset_groups
+
+    rng = np.random.default_rng(seed)
+    for _ in range(25):
+        n = int(rng.integers(2, 40))
+        free = rng.random((n, 2)) < rng.uniform(0.2, 1.0)
+        index = np.empty((n, 2), dtype=np.int64)
+        n_vars = offset_groups(free, index)
+        if n_vars == 0:
+            continue
+        root = rng.normal(size=(n, 2, 2))
+        blocks = root @ root.transpose(0, 2, 1) + 0.01 * np.eye(2)
+        h00, h01, h11 = (np.ascontiguousarray(blocks[:, i, j]) for i, j in ((0, 0), (0, 1), (1, 1)))
+        dense = np.zeros((n_vars, n_vars))
+        for k in range(n):
+            for i in range(2):
+                for j in range(2):
+                    if index[k, i] >= 0 and index[k, j] >= 0:
+                        dense[index[k, i], index[k, j]] += blocks[k, i, j]
+        rhs = rng.normal(size=(n_vars, 3))
+        x, ok = block_tree_solve(h00, h01, h11, index, n_vars, rhs)
+        assert ok
+        np.testing.assert_allclose(dense @ x, rhs, rtol=0, atol=1e-9 * np.abs(rhs).max())
+        rows = (index >= 0).any(axis=1)
+        twin, twin_ok = _planner_numpy.block_tree_solve(
+            h00[rows], h01[rows], h11[rows], index[rows], n_vars, rhs
+        )
+        assert twin_ok and np.array_equal(twin, x)
+    # a negative block: not positive definite, said
+    index = np.array([[0, 1]], dtype=np.int64)
+    _, ok = block_tree_solve(
+        np.array([-1.0]), np.array([0.0]), np.array([1.0]), index, 2, np.ones((2, 1))
+    )
+    assert not ok

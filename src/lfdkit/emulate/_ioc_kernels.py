@@ -22,7 +22,12 @@ thesis's model, computed exactly as before they existed).
 import numba
 import numpy as np
 
-from lfdkit.emulate._problem_kernels import offset_derivatives, offset_groups, offsets_newton
+from lfdkit.emulate._problem_kernels import (
+    block_tree_solve,
+    offset_derivatives,
+    offset_groups,
+    offsets_newton,
+)
 
 
 @numba.njit(cache=True)
@@ -176,7 +181,6 @@ def plan_sensitivity(
         d_theta,
     )
     rhs = np.zeros((n_vars, n_theta))
-    h = np.zeros((n_vars, n_vars))
     for k in range(n):
         for i in range(m):
             v = index[k, i]
@@ -185,19 +189,43 @@ def plan_sensitivity(
             for p in range(n_theta):
                 rhs[v, p] += d_theta[k, i, p]
             for j in range(m):
-                w = index[k, j]
-                if w >= 0:
-                    h[v, w] += hessian[k, i, j]
-                else:  # component j is anchored: it moves with d_0
+                if index[k, j] < 0:  # component j is anchored: it moves with d_0
                     for p in range(n_theta):
                         rhs[v, p] += hessian[k, i, j] * anchor_sens[j, p]
     moves = np.empty((n_vars, n_theta))
+    definite = False
+    if m == 2:
+        # The groups couple as a forest: an O(n) elimination where H is positive
+        # definite (at a minimum; issue 34), the dense solve below otherwise.
+        solved, definite = block_tree_solve(
+            np.ascontiguousarray(hessian[:, 0, 0]),
+            np.ascontiguousarray(hessian[:, 0, 1]),
+            np.ascontiguousarray(hessian[:, 1, 1]),
+            index,
+            n_vars,
+            rhs,
+        )
+        if definite:
+            for v in range(n_vars):
+                for p in range(n_theta):
+                    moves[v, p] = -solved[v, p]
+    if not definite:
+        h = np.zeros((n_vars, n_vars))
+        for k in range(n):
+            for i in range(m):
+                v = index[k, i]
+                if v < 0:
+                    continue
+                for j in range(m):
+                    w = index[k, j]
+                    if w >= 0:
+                        h[v, w] += hessian[k, i, j]
     if m == 1:  # one component: the groups do not couple, H is diagonal
         for v in range(n_vars):
             inverse = 1.0 / h[v, v] if h[v, v] != 0.0 else 0.0
             for p in range(n_theta):
                 moves[v, p] = -rhs[v, p] * inverse
-    else:
+    elif not definite:
         singular = False
         try:
             moves = -np.linalg.solve(h, rhs)

@@ -26,6 +26,7 @@ import numpy as np
 
 __all__ = [
     "SCALAR_TERMS",
+    "block_tree_solve",
     "grid_backward",
     "grid_cost_to_go",
     "grid_node_costs",
@@ -202,18 +203,49 @@ def _positive_blocks(h00, h01, h11, floor):
     return p00, p01, p11
 
 
-def _cholesky_solve(lower: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """``x`` with ``L Lᵀ x = rhs``, each row's sum taken one term at a time."""
-    n = rhs.shape[0]
-    y = np.empty(n)
-    for i in range(n):
-        terms = np.concatenate(([rhs[i]], lower[i, :i] * y[:i]))
-        y[i] = np.subtract.accumulate(terms)[-1] / lower[i, i]
-    x = np.empty(n)
-    for i in range(n - 1, -1, -1):
-        terms = np.concatenate(([y[i]], lower[i + 1 :, i] * x[i + 1 :]))
-        x[i] = np.subtract.accumulate(terms)[-1] / lower[i, i]
-    return x
+def block_tree_solve(h00, h01, h11, index, n_vars, rhs):
+    """``_problem_kernels.block_tree_solve`` on Python floats (its loops line by line)."""
+    h00, h01, h11 = h00.tolist(), h01.tolist(), h11.tolist()
+    pairs = index.tolist()
+    pivot = [0.0] * n_vars
+    last = [0] * n_vars
+    for k, (v0, v1) in enumerate(pairs):
+        if v0 >= 0:
+            pivot[v0] += h00[k]
+            last[v0] = k
+        if v1 >= 0:
+            pivot[v1] += h11[k]
+            last[v1] = k
+    parent = [-1] * n_vars
+    up = [0.0] * n_vars
+    order = []
+    for k, (v0, v1) in enumerate(pairs):
+        if v0 >= 0 and v1 >= 0:
+            if last[v0] <= last[v1]:
+                parent[v0] = v1
+                up[v0] += h01[k]
+            else:
+                parent[v1] = v0
+                up[v1] += h01[k]
+        for v in (v0, v1):
+            if v >= 0 and last[v] == k:
+                order.append(v)
+    x = np.array(rhs, dtype=np.float64).reshape(n_vars, -1).tolist()
+    factor = [0.0] * n_vars
+    for v in order:
+        if not pivot[v] > 0.0:
+            return np.array(x).reshape(n_vars, -1), False
+        w = parent[v]
+        if w >= 0:
+            factor[v] = up[v] / pivot[v]
+            pivot[w] -= factor[v] * up[v]
+            x[w] = [a - factor[v] * b for a, b in zip(x[w], x[v], strict=True)]
+    x = [[a / pivot[v] for a in row] for v, row in enumerate(x)]
+    for v in reversed(order):
+        w = parent[v]
+        if w >= 0:
+            x[v] = [a - factor[v] * b for a, b in zip(x[v], x[w], strict=True)]
+    return np.array(x).reshape(n_vars, -1), True
 
 
 def _from_start(start: np.ndarray, steps: np.ndarray) -> np.ndarray:
@@ -233,14 +265,8 @@ def _newton_step(gradient, hessian, index, n_vars, floor, m):
         p00, p01, p11 = _positive_blocks(
             hessian[rows, 0, 0], hessian[rows, 0, 1], hessian[rows, 1, 1], floor
         )
-        i0, i1 = index[rows, 0], index[rows, 1]
-        h2 = np.zeros((n_vars, n_vars))
-        np.add.at(h2, (i0[i0 >= 0], i0[i0 >= 0]), p00[i0 >= 0])
-        np.add.at(h2, (i1[i1 >= 0], i1[i1 >= 0]), p11[i1 >= 0])
-        both = (i0 >= 0) & (i1 >= 0)
-        np.add.at(h2, (i0[both], i1[both]), p01[both])
-        np.add.at(h2, (i1[both], i0[both]), p01[both])
-        move = -_cholesky_solve(np.linalg.cholesky(h2), g)
+        solved, _ = block_tree_solve(p00, p01, p11, index[rows], n_vars, g)
+        move = -solved[:, 0]
     return np.where(valid, move[np.maximum(index, 0)] if n_vars else 0.0, 0.0)
 
 
