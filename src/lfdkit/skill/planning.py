@@ -519,8 +519,9 @@ class Planning:
             typical = self._margins(scene, start, goal, clearance, gap_clearances or {})
             if typical is not None:
                 margins = close_narrow_gaps(margins, typical, scene)
-        if margins is not None and clearances is None:  # the skill's own plan, not a candidate's
-            self._warn_gaps(scene, margins, gaps)
+        # The skill's own plan, not a candidate's; said once a plan is made (a refusal says
+        # enough on its own line).
+        gap_margins = margins if clearances is None else None
         frame = frame or getattr(self, "frame_", "world")
         if (self.model == "path" or frame == "path") and len(scene) and not scene.moving:
             reward, scene = self._in_path_frame(reward, scene, nominal)
@@ -611,6 +612,8 @@ class Planning:
                     UserWarning,
                     stacklevel=4,
                 )
+            if gap_margins is not None:
+                self._warn_gaps(scene, gap_margins, gaps)
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
 
