@@ -479,18 +479,6 @@ class MeanPath(Estimator):
             weights, why = _run_weights(ref, state.hits, state.found)
             self.center_reason_ += f"; then {why}"
             if (weights < 1.0).any():
-                # The tuning was chosen with those runs in; chosen again without them
-                # where enough remain on a normal to tell spread from a run left unflagged.
-                kept = state.found & (weights >= 0.5)
-                fewest = _FEWEST_TO_CUT["plane" if ref.shape[1] > 2 else "line"]
-                again = tuning
-                if kept.sum(axis=1).mean() >= fewest:
-                    again, estimates, why_again = _choose_tuning(ref, state.hits, kept)
-                if again != tuning:
-                    self.center_reason_ += f"; without those runs: {why_again}"
-                    tuning = again
-                    self.center_tuning_ = tuning
-                    self.center_estimates_ = estimates
                 # A second pass from the first centre with those runs down-weighted.
                 state = self._evaluate(
                     ref, polylines, needed, tuning=tuning, prior=weights, known=state
