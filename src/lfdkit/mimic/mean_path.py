@@ -154,7 +154,9 @@ implementation decides as follows (each is a constructor option):
   cases left, 1.07-1.08; the median is best there). Tried and not kept
   (session 41): the choice's bias measured from the pooled values' mode (the
   shortest quarter) instead of zero (that mode lies within 0.1 scale of zero
-  there, so nothing changed); and the tuning chosen again without the runs
+  there, so nothing changed; each normal's shortest third, not half, lies
+  nearer the burrs, not farther: burrs this low overlap the noise, and the
+  densest values are where they do); and the tuning chosen again without the runs
   this pass flags (at least 8 kept per normal): two-sided burrs 15 % x 6
   noise levels x 12 profiles went 1.064 -> 1.023 on seeds 100-104, but dense
   burrs lost on both seed sets (30 % x 20 x 20 profiles 0.45 -> 0.53 one-sided,
