@@ -151,8 +151,8 @@ implementation decides as follows (each is a constructor option):
   100-104 worst 1.072, 1.063, 1.071, 1.061 (one pass: 1.075, 1.091, 1.074,
   1.104), 32 of 36 within 1.05. What it cannot see:
   one-sided burrs 1-2 noise levels high on 30 % of each profile (the two
-  cases left, 1.07-1.08; the median is best there). Tried and not kept
-  (session 41): the choice's bias measured from the pooled values' mode (the
+  cases left, 1.07-1.08; the median is best there). Tried and not kept:
+  the choice's bias measured from the pooled values' mode (the
   shortest quarter) instead of zero (that mode lies within 0.1 scale of zero
   there, so nothing changed; each normal's shortest third, not half, lies
   nearer the burrs, not farther: burrs this low overlap the noise, and the
