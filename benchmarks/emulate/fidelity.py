@@ -72,7 +72,7 @@ with the person's path:
   score above about that ceiling (seeds 0-2: 72-77 %), nor ``pair`` at 2x
   noise above the noise one (the person hardly swerves: 68-78 %). The other
   people reach the goal themselves: their ``goal`` ceiling is the noise one.
-  At 1x noise (seeds 0 and 1, quick) every family's median ceiling is 85-100 %
+  At 1x noise (quick; seed 0, and seed 1 for margin) every family's median ceiling is 85-100 %
   for the margin, field and late people (the skill's nominal costs moved_goal
   4-11 points): what they lose below that is the plan's obstacle response.
 * Fit seconds (``Skill.fit``), plan milliseconds (median per scene), refused
