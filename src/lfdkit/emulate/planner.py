@@ -49,8 +49,9 @@ path: at 250 points on a 0.6 m path 30 bounds are 8 cm, less than a box's
 reach, and feasible three-box scenes were refused), the full horizon's grid
 route is searched over every ``s``-th point with an ``s`` times wider bound
 and interpolated (:func:`_coarse_stride`; issue 34). Newton then polishes
-that path, the same path with each nearby obstacle forced to its other side (the grid ranks near-ties only to its
-resolution), and the nominal; the lowest cost wins.
+that path, the same path with each nearby obstacle forced to its other
+side (the grid ranks near-ties only to its resolution), and the nominal;
+the lowest cost wins.
 
 The receding-horizon plan (MPC, horizon ``H``) polishes, at every step, the
 warm start (the previous window shifted by one) and a grid path from the
