@@ -47,8 +47,9 @@ sides in ``O(K G w)`` (``G`` grid values, ``w`` cells per step; ``G²`` in
 least one action bound wide; where that does not cover the scene (a fine
 path: at 250 points on a 0.6 m path 30 bounds are 8 cm, less than a box's
 reach, and feasible three-box scenes were refused), the full horizon's grid
-route is searched over every ``s``-th point with an ``s`` times wider bound
-and interpolated (:func:`_coarse_stride`; issue 34). Newton then polishes
+route is also searched over every ``s``-th point with an ``s`` times wider
+bound and interpolated, where the grid's own is blocked or runs along its
+edge (:func:`_coarse_stride`; issue 34). Newton then polishes
 that path, the same path with each nearby obstacle forced to its other
 side (the grid ranks near-ties only to its resolution), and the nominal;
 the lowest cost wins.
@@ -919,17 +920,10 @@ def _grid_on_sides(
 ) -> np.ndarray | None:
     """The best grid path ending on the nominal, passing each ``(k, lateral, side)`` on ``side``.
 
-    Where the grid cannot cover the scene at every point (:func:`_coarse_stride`),
-    the path is searched over every stride-th point, each side kept at the
-    coarse point nearest its own, and interpolated.
+    Where every such path on the grid is blocked and the grid cannot cover the
+    scene (:func:`_coarse_stride`), the path over every stride-th point (each
+    side kept at the coarse point nearest its own), interpolated.
     """
-    stride = _coarse_stride(problem, anchor)
-    if stride > 1:
-        coarse = _subsampled(problem, stride)
-        last = coarse.n - 1
-        moved = [(min(max((k + 1) // stride - 1, 0), last), lat, side) for k, lat, side in sides]
-        found = _grid_on_sides(coarse, anchor, moved)
-        return None if found is None else _interpolated(found, stride, problem.n, anchor)
     levels, cells = _lateral_levels(problem, anchor)
     states = (
         levels[:, None]
@@ -939,7 +933,15 @@ def _grid_on_sides(
     extra = np.zeros((problem.n, states.shape[0]))
     for k, lateral, side in sides:
         extra[k, (states - lateral) @ side <= 0.0] = np.inf
-    return _global_start(problem, anchor, True, (levels, cells), extra)
+    found = _global_start(problem, anchor, True, (levels, cells), extra)
+    stride = 1 if found is not None else _coarse_stride(problem, anchor)
+    if stride > 1:
+        coarse = _subsampled(problem, stride)
+        last = coarse.n - 1
+        moved = [(min(max((k + 1) // stride - 1, 0), last), lat, side) for k, lat, side in sides]
+        wide = _grid_on_sides(coarse, anchor, moved)
+        found = None if wide is None else _interpolated(wide, stride, problem.n, anchor)
+    return found
 
 
 def _vector(value: Any, name: str, size: int) -> np.ndarray:
@@ -954,25 +956,42 @@ def _vector(value: Any, name: str, size: int) -> np.ndarray:
 
 
 def _full_starts(problem: Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
-    """The global grid path, in 2-D its one-obstacle flips and a finer grid's, the nominal."""
+    """The global grid path, in 2-D its one-obstacle flips and a finer grid's, the nominal.
+
+    Where the grid cannot cover the scene (:func:`_coarse_stride`) and its best
+    path is blocked or runs along the grid's edge (the cover binds), the
+    same over every stride-th point (:func:`_subsampled`), interpolated, too.
+    """
     nominal = np.zeros((problem.n, problem.m))
     if not problem.has_obstacles:
         return [nominal]
-    # Where the grid cannot cover the scene at every point, over every stride-th.
-    stride = _coarse_stride(problem, d0, fine=problem.m == 1)
-    search = _GridSearch(problem if stride == 1 else _subsampled(problem, stride), d0)
+    search = _GridSearch(problem, d0)
+    starts = _grid_starts(search, reach_goal)
+    edge = search.grids["coarse"][0][-1] * (1.0 - 1e-12)
+    if starts is None or float(np.abs(starts[0]).max()) >= edge:
+        stride = _coarse_stride(problem, d0, fine=problem.m == 1)
+        if stride > 1:
+            coarse = _grid_starts(_GridSearch(_subsampled(problem, stride), d0), reach_goal)
+            if coarse is not None:
+                wide = [_interpolated(start, stride, problem.n, d0) for start in coarse]
+                starts = wide if starts is None else [*starts, *wide]
+    if starts is None:
+        raise UnsafePlanError(_blocked_message(problem, reach_goal))
+    return [*starts, nominal]
+
+
+def _grid_starts(search: _GridSearch, reach_goal: bool) -> list[np.ndarray] | None:
+    """:func:`_full_starts`' grid paths from one search; None where every grid path is blocked."""
     grid = search.best(reach_goal)
     if grid is None:
-        raise UnsafePlanError(_blocked_message(problem, reach_goal))
+        return None
     starts = [grid]
-    if problem.m == 1:  # cheap in 2-D; in 3-D each costs a dense solve per Newton step
+    if search.m == 1:  # cheap in 2-D; in 3-D each costs a dense solve per Newton step
         starts += search.flipped(reach_goal, grid)
         if search.grids["fine"] is not search.grids["coarse"]:
             fine = search.best(reach_goal, "fine")
             starts += [] if fine is None else [fine]
-    if stride > 1:
-        starts = [_interpolated(start, stride, problem.n, d0) for start in starts]
-    return [*starts, nominal]
+    return starts
 
 
 def _blocked_message(problem: Problem, reach_goal: bool) -> str:
