@@ -43,9 +43,16 @@ first searched globally: a dynamic programme over a lateral grid of offsets
 (spacing a fraction of the action bound, every offset reachable from the
 previous one) finds the best grid path over every combination of passing
 sides in ``O(K G w)`` (``G`` grid values, ``w`` cells per step; ``G²`` in
-3-D). Newton then polishes that path, the same path with each nearby
-obstacle forced to its other side (the grid ranks near-ties only to its
-resolution), and the nominal; the lowest cost wins.
+3-D). The grid has at most 30 cells a side in 3-D (800 in 2-D), each at
+least one action bound wide; where that does not cover the scene (a fine
+path: at 250 points on a 0.6 m path 30 bounds are 8 cm, less than a box's
+reach, and feasible three-box scenes were refused), the full horizon's grid
+route is also searched over every ``s``-th point with an ``s`` times wider
+bound and interpolated, where the grid's own is blocked or runs along its
+edge (:func:`_coarse_stride`; issue 34). Newton then polishes
+that path, the same path with each nearby obstacle forced to its other
+side (the grid ranks near-ties only to its resolution), and the nominal;
+the lowest cost wins.
 
 The receding-horizon plan (MPC, horizon ``H``) polishes, at every step, the
 warm start (the previous window shifted by one) and a grid path from the
@@ -198,20 +205,94 @@ def _lateral_levels(
     ``widest``: :func:`_widest` of the span and ``problem``'s
     :func:`_obstacle_reaches`, where known (:meth:`_WindowReaches.widest`).
     """
-    n, m = problem.n, problem.m
+    step = problem.max_step
+    span = _grid_span(problem, d0, widest)
+    cells_per_step, budget = _grid_budget(problem.m, fine)
+    window = max(1, min(cells_per_step, int(budget * step / span)))
+    spacing = step / window
+    count = min(int(np.ceil(span / spacing)), budget)
+    return spacing * np.arange(-count, count + 1), window
+
+
+def _grid_span(
+    problem: Problem, d0: np.ndarray, widest: Callable[[float], float] | None = None
+) -> float:
+    """The lateral extent :func:`_lateral_levels`' grid should cover (units)."""
     step = problem.max_step
     farthest = float(np.abs(d0).max())
     span = max(farthest, 2.0 * step)
     if problem.has_obstacles:
         span = _widest(span, *_obstacle_reaches(problem)) if widest is None else widest(span)
-    span = min(span, farthest + n * step)
+    return min(span, farthest + problem.n * step)
+
+
+def _grid_budget(m: int, fine: bool = False) -> tuple[int, int]:
+    """Cells per action bound and most cells a side of :func:`_lateral_levels`' grid."""
     cells_per_step, budget = (4, 400) if m == 1 else (2, 30)
-    if fine:
-        cells_per_step, budget = 2 * cells_per_step, 2 * budget
-    window = max(1, min(cells_per_step, int(budget * step / span)))
-    spacing = step / window
-    count = min(int(np.ceil(span / spacing)), budget)
-    return spacing * np.arange(-count, count + 1), window
+    return (2 * cells_per_step, 2 * budget) if fine else (cells_per_step, budget)
+
+
+def _coarse_stride(problem: Problem, d0: np.ndarray, fine: bool = False) -> int:
+    """Every how many points the grid search must look so that its grid covers the scene.
+
+    The grid has at most a budget of cells a side, each no narrower than
+    ``spacing = max_step / cells per step`` and at least one cell per
+    step: it covers ``budget · max_step`` at most. A fine path (3-D: 30
+    action bounds, 8 cm at 250 points on a 0.6 m path) may need more to go round an
+    obstacle; its grid route is then searched over every ``stride``-th point
+    (:func:`_subsampled`, whose action bound is ``stride`` times as wide) and
+    interpolated (:func:`_interpolated`). 1 where the grid covers the span
+    (the plan then the same as without this, bit for bit).
+    """
+    if not problem.has_obstacles:
+        return 1
+    budget = _grid_budget(problem.m, fine)[1]
+    reach = budget * problem.max_step
+    span = _grid_span(problem, d0)
+    if span <= reach:
+        return 1
+    return min(int(np.ceil(span / reach)), max(1, problem.n // 2))
+
+
+def _subsampled(problem: Problem, stride: int) -> Problem:
+    """``problem`` at its points ``stride − 1, 2 stride − 1, …`` (a coarse route's problem).
+
+    The action bound is ``stride`` times as wide (``stride`` steps between
+    points) and each hard radius is widened so that the straight line between
+    two coarse points keeps the fine problem's own barrier radius: the
+    fine points interpolated on it (:func:`_interpolated`) are outside every
+    hard radius, a finite-cost start for Newton.
+    """
+    rows = slice(stride - 1, stride * (problem.n // stride), stride)
+    sub = problem.window(0, problem.n)  # the same arrays, sliced below
+    for name in ("base", "normals", "weight", "c", "b", "a", "rr", "nr"):
+        setattr(sub, name, np.ascontiguousarray(getattr(problem, name)[rows]))
+    if problem.moving:
+        sub.obstacles = np.ascontiguousarray(problem.obstacles[rows])
+    if problem.hard_centres.ndim == 3:
+        sub.hard_centres = np.ascontiguousarray(problem.hard_centres[rows])
+    if problem.shift is not None:
+        for name in ("shift", "shift_rate", "shift_side"):
+            setattr(sub, name, np.ascontiguousarray(getattr(problem, name)[rows]))
+    sub.max_step = stride * problem.max_step
+    # Problem's segment (the longest between fine points), stride times as long.
+    segment = 1.1 * np.sqrt(problem.step**2 + problem.m * problem.max_step**2) * stride
+    sub.inner2 = problem.inner2 + 0.25 * segment**2
+    smallest = np.sqrt(sub.inner2)
+    sub.outer2 = (smallest + 0.25 * np.maximum(smallest, stride * problem.step)) ** 2
+    return sub
+
+
+def _interpolated(coarse: np.ndarray, stride: int, n: int, d0: np.ndarray) -> np.ndarray:
+    """Offsets (n, m) of a :func:`_subsampled` problem's path (n // stride, m), linear from ``d0``.
+
+    Within the action bound (a coarse step of at most ``stride`` bounds over
+    ``stride`` points); after the last coarse point the path holds it.
+    """
+    at = np.arange(coarse.shape[0] + 1) * stride - 1.0
+    points = np.arange(n, dtype=np.float64)
+    values = np.vstack([d0[None], coarse])
+    return np.stack([np.interp(points, at, values[:, i]) for i in range(coarse.shape[1])], axis=1)
 
 
 def _obstacle_reaches(problem: Problem) -> tuple[np.ndarray, np.ndarray]:
@@ -837,7 +918,12 @@ def _ramp(weight: np.ndarray, gain: float) -> np.ndarray:
 def _grid_on_sides(
     problem: Problem, anchor: np.ndarray, sides: list[tuple[int, np.ndarray, np.ndarray]]
 ) -> np.ndarray | None:
-    """The best grid path ending on the nominal, passing each ``(k, lateral, side)`` on ``side``."""
+    """The best grid path ending on the nominal, passing each ``(k, lateral, side)`` on ``side``.
+
+    Where every such path on the grid is blocked and the grid cannot cover the
+    scene (:func:`_coarse_stride`), the path over every stride-th point (each
+    side kept at the coarse point nearest its own), interpolated.
+    """
     levels, cells = _lateral_levels(problem, anchor)
     states = (
         levels[:, None]
@@ -847,7 +933,15 @@ def _grid_on_sides(
     extra = np.zeros((problem.n, states.shape[0]))
     for k, lateral, side in sides:
         extra[k, (states - lateral) @ side <= 0.0] = np.inf
-    return _global_start(problem, anchor, True, (levels, cells), extra)
+    found = _global_start(problem, anchor, True, (levels, cells), extra)
+    stride = 1 if found is not None else _coarse_stride(problem, anchor)
+    if stride > 1:
+        coarse = _subsampled(problem, stride)
+        last = coarse.n - 1
+        moved = [(min(max((k + 1) // stride - 1, 0), last), lat, side) for k, lat, side in sides]
+        wide = _grid_on_sides(coarse, anchor, moved)
+        found = None if wide is None else _interpolated(wide, stride, problem.n, anchor)
+    return found
 
 
 def _vector(value: Any, name: str, size: int) -> np.ndarray:
@@ -862,21 +956,42 @@ def _vector(value: Any, name: str, size: int) -> np.ndarray:
 
 
 def _full_starts(problem: Problem, d0: np.ndarray, reach_goal: bool) -> list[np.ndarray]:
-    """The global grid path, in 2-D its one-obstacle flips and a finer grid's, the nominal."""
+    """The global grid path, in 2-D its one-obstacle flips and a finer grid's, the nominal.
+
+    Where the grid cannot cover the scene (:func:`_coarse_stride`) and its best
+    path is blocked or runs along the grid's edge (the cover binds), the
+    same over every stride-th point (:func:`_subsampled`), interpolated, too.
+    """
     nominal = np.zeros((problem.n, problem.m))
     if not problem.has_obstacles:
         return [nominal]
     search = _GridSearch(problem, d0)
+    starts = _grid_starts(search, reach_goal)
+    edge = search.grids["coarse"][0][-1] * (1.0 - 1e-12)
+    if starts is None or float(np.abs(starts[0]).max()) >= edge:
+        stride = _coarse_stride(problem, d0, fine=problem.m == 1)
+        if stride > 1:
+            coarse = _grid_starts(_GridSearch(_subsampled(problem, stride), d0), reach_goal)
+            if coarse is not None:
+                wide = [_interpolated(start, stride, problem.n, d0) for start in coarse]
+                starts = wide if starts is None else [*starts, *wide]
+    if starts is None:
+        raise UnsafePlanError(_blocked_message(problem, reach_goal))
+    return [*starts, nominal]
+
+
+def _grid_starts(search: _GridSearch, reach_goal: bool) -> list[np.ndarray] | None:
+    """:func:`_full_starts`' grid paths from one search; None where every grid path is blocked."""
     grid = search.best(reach_goal)
     if grid is None:
-        raise UnsafePlanError(_blocked_message(problem, reach_goal))
+        return None
     starts = [grid]
-    if problem.m == 1:  # cheap in 2-D; in 3-D each costs a dense solve per Newton step
+    if search.m == 1:  # cheap in 2-D; in 3-D each costs a dense solve per Newton step
         starts += search.flipped(reach_goal, grid)
         if search.grids["fine"] is not search.grids["coarse"]:
             fine = search.best(reach_goal, "fine")
             starts += [] if fine is None else [fine]
-    return [*starts, nominal]
+    return starts
 
 
 def _blocked_message(problem: Problem, reach_goal: bool) -> str:

@@ -1,0 +1,82 @@
+"""The global search's grid covers the scene at any number of points (issue 34, item 4).
+
+The grid has at most 30 cells a side in 3-D (800 in 2-D's fine grid), each at
+least one action bound wide, so at 150 points a 0.3 m ball on a 1 m path was
+out of its reach and the plan refused although paths round it exist. Then
+the grid route is searched over every stride-th point (a stride-times wider
+action bound) and interpolated.
+"""
+
+import numpy as np
+import pytest
+
+from lfdkit.emulate import Corridor, Reward, plan_path
+from lfdkit.emulate import planner as P
+from lfdkit.emulate.problem import Problem
+from lfdkit.model.scene import Obstacle, Scene
+
+CLEARANCE = 0.01
+
+
+def ball_on_the_path(q: int, radius: float) -> tuple[Reward, np.ndarray, Scene]:
+    """A straight 1 m nominal along x through the centre of a ball of ``radius`` at its middle."""
+    nominal = np.zeros((50, q))
+    nominal[:, 0] = np.linspace(0.0, 1.0, 50)
+    centre = np.zeros(q)
+    centre[0] = 0.5
+    reward = Reward(5.0, {"obstacle": [400.0] * q})
+    return reward, nominal, Scene((Obstacle("obstacle", centre, radius),))
+
+
+@pytest.mark.parametrize("goal_approach", ["auto", None])
+def test_a_ball_wider_than_the_grid_is_passed_with_the_clearance(goal_approach):
+    # 150 points: action bound 6.7 mm, 30 cells a side reach 0.20 m (0.28 m at
+    # the grid's corners) < 0.31 m, the ball's radius plus clearance
+    # (refused at c22b72d: "no collision-free plan").
+    reward, nominal, scene = ball_on_the_path(3, 0.3)
+    problem = Problem.from_scene(
+        reward, Corridor.from_path(nominal, 150), scene, 1.0, None, CLEARANCE
+    )
+    assert 30 * problem.max_step * np.sqrt(2.0) < 0.3 + CLEARANCE
+    assert P._coarse_stride(problem, np.zeros(2)) == 2
+    plan = plan_path(
+        reward, nominal, scene, clearance=CLEARANCE, n_points=150, goal_approach=goal_approach
+    )
+    assert plan.clearance.min() >= 0.0
+    # Round the ball: the path's farthest point is beyond the radius plus clearance.
+    assert np.linalg.norm(plan.offsets, axis=1).max() > 0.3 + CLEARANCE
+    steps = np.abs(np.diff(plan.offsets, axis=0)).max()
+    assert steps <= problem.max_step * (1.0 + 1e-9)
+    if goal_approach is not None:
+        assert np.linalg.norm(plan.offsets[-1]) < 1e-6
+
+
+def test_the_grid_that_covers_is_unchanged_and_the_coarse_route_is_feasible():
+    # 2-D: 800 fine cells a side cover the ball at 100 points (stride 1: the search
+    # as before); at 4000 points (0.25 mm bound, 0.2 m) they do not.
+    reward, nominal, scene = ball_on_the_path(2, 0.2)
+    d0 = np.zeros(1)
+    assert P._coarse_stride(_problem(reward, nominal, scene, 100), d0, fine=True) == 1
+    problem = _problem(reward, nominal, scene, 4000)
+    stride = P._coarse_stride(problem, d0, fine=True)
+    assert stride == 2
+    coarse = P._subsampled(problem, stride)
+    assert coarse.n == problem.n // stride
+    assert coarse.max_step == stride * problem.max_step
+    search = P._GridSearch(coarse, d0)
+    for end_on_nominal in (False, True):
+        route = search.best(end_on_nominal)
+        assert route is not None
+        fine = P._interpolated(route, stride, problem.n, d0)
+        # Every point the stride skipped is on the coarse segments: within the action
+        # bound, and outside the fine problem's hard radius (a finite cost).
+        np.testing.assert_array_equal(fine[stride - 1 :: stride][: coarse.n], route)
+        steps = np.abs(np.diff(np.vstack([d0[None], fine]), axis=0))
+        assert steps.max() <= problem.max_step * (1.0 + 1e-12)
+        assert np.isfinite(problem.total_cost(fine))
+        assert np.abs(fine).max() > 0.2 + CLEARANCE
+
+
+def _problem(reward: Reward, nominal: np.ndarray, scene: Scene, n_points: int) -> Problem:
+    corridor = Corridor.from_path(nominal, n_points)
+    return Problem.from_scene(reward, corridor, scene, 1.0, None, CLEARANCE)
