@@ -52,12 +52,15 @@ from collections.abc import Sequence
 import numpy as np
 
 from lfdkit.core.geometry import polyline_distances
-from lfdkit.emulate.fidelity import CLEARANCE_FACTOR
-from lfdkit.model.scene import Scene
+from lfdkit.emulate.fidelity import CLEARANCE_FACTOR, passing_sides
+from lfdkit.emulate.problem import Corridor
+from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
+    "BLOCKER_REACH",
     "GAP_SHARE",
     "PASSABLE",
+    "SIDE_BLOCKER",
     "TOUCHING",
     "close_narrow_gaps",
     "closes_a_threaded_gap",
@@ -66,6 +69,7 @@ __all__ = [
     "open_gap_margins",
     "passable_pairs",
     "passes_a_new_gap",
+    "side_blockers",
     "surface_gaps",
     "threaded_pairs",
 ]
@@ -81,6 +85,11 @@ GAP_SHARE = 0.2
 #: (fidelity benchmark, seed 1): the fixed-margin person (2 cm from a cup) went round a
 #: pocket of cups 1.65 cm apart that the plan threaded (Pr -141 %, 6 gaps).
 PASSABLE = 1.0 / CLEARANCE_FACTOR
+#: The label of a ball :func:`side_blockers` puts in a scene (no class of a person's).
+SIDE_BLOCKER = "<other side>"
+#: A side blocker's radius, as a fraction of its distance to the nearer of the task's start
+#: and goal: under a half, so that the ball keeps clear of both.
+BLOCKER_REACH = 0.45
 #: Two obstacles closer than this times the scene's size (its largest coordinate plus
 #: radius) touch: floating point leaves a cup standing on a table 3e-17 m above it.
 TOUCHING = 1e-9
@@ -336,3 +345,72 @@ def demonstrated_gaps(
         margins = np.array([clearances.get(label, 0.0) for label in scene.labels])
         count += bool(gaps_closed_by(within * margins, scene))
     return count
+
+
+def side_blockers(
+    path: np.ndarray,
+    nominal: np.ndarray,
+    scene: Scene,
+    margins: np.ndarray,
+    ends: np.ndarray,
+    n_points: int = 100,
+) -> list[tuple[int, Obstacle]]:
+    """Balls that keep a plan round each closed gap on the side ``path`` passes it.
+
+    Where ``margins`` close the gap between two obstacles that ``path`` (the
+    plan without them: the learned response) passes between, a plan keeping
+    them goes round both, on either side. A person meets the obstacle nearer
+    the start first and passes it as its response does (the late swerver,
+    seed 0: round a pair of cups on the side away from the first, where the
+    plan, free to choose, went round the other side: Pr 1 -> -214 %); so the
+    way round keeps the side ``path`` passes that first obstacle on. One ball
+    per such pair blocks the other way: it touches the first obstacle's
+    margin on the side away from ``path`` and reaches outwards, away from the
+    task's start and goal (radius :data:`BLOCKER_REACH` of its distance to the
+    nearer one). It has no response (label :data:`SIDE_BLOCKER`); the planner
+    keeps out of it as out of a hard radius.
+
+    Parameters
+    ----------
+    path : ndarray, shape (n, q)
+        The plan without the margins, in the nominal's direction.
+    nominal : ndarray, shape (m, q)
+    scene : Scene
+    margins : ndarray, shape (n_obstacles,)
+        Clearance kept from each obstacle's surface (units).
+    ends : ndarray, shape (2, q)
+        The task's start and goal.
+    n_points : int
+        Points of the corridor the sides are read on.
+
+    Returns
+    -------
+    list of (int, Obstacle)
+        The first obstacle and its blocker, one per closed gap that ``path``
+        threads and whose first obstacle it passes on a known side; empty
+        where there is none.
+    """
+    closed = {(i, j) for i, j, _ in gaps_closed_by(margins, scene)}
+    pairs = sorted(closed.intersection(threaded_pairs(path, scene))) if closed else []
+    if not pairs:
+        return []
+    corridor = Corridor.from_path(nominal, n_points)
+    sides = passing_sides(path, corridor, scene)
+    rel = corridor.points[None] - scene.positions[:, None]
+    nearest = np.argmin(np.einsum("okq,okq->ok", rel, rel), axis=1)  # along the nominal
+    out: list[tuple[int, Obstacle]] = []
+    for pair in pairs:
+        first = min(pair, key=lambda o: (int(nearest[o]), o))
+        if not np.any(sides[first]):
+            continue
+        away = -sides[first] @ corridor.normals[nearest[first]]
+        away /= np.linalg.norm(away)
+        obstacle = scene.obstacles[first]
+        centres, radii = obstacle.balls()
+        touch = obstacle.position + away * (
+            float(np.max((centres - obstacle.position) @ away + radii)) + margins[first]
+        )
+        reach = BLOCKER_REACH * float(np.linalg.norm(ends - touch, axis=1).min())
+        if reach > 0.0:
+            out.append((first, Obstacle(SIDE_BLOCKER, touch + away * reach, reach)))
+    return out
