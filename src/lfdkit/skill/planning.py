@@ -585,7 +585,9 @@ class Planning:
                 free = attempt(None, last=False)
                 pairs = None
                 if free is not None:
-                    pairs = passable_pairs(threaded_pairs(free.points, scene), margins, scene)
+                    pairs = threaded_pairs(free.points, scene)
+                    if not (clearances is None and self._threads_gaps()):
+                        pairs = passable_pairs(pairs, margins, scene)
                 margins = open_gap_margins(margins, scene, pairs=pairs)
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
@@ -651,6 +653,22 @@ class Planning:
                 )
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _threads_gaps(self) -> bool:
+        """Whether the demonstrations show a person who threads the gaps its response does.
+
+        They do where planning the held-out ones with the closest any other
+        came costs more than :data:`~lfdkit.skill.selection.CONSISTENT_CLEARANCE`
+        times the error with no floor (``model_selection_["threads_gaps"]``):
+        the person answers a smooth reward, not a margin, and where two
+        responses sum to a minimum between two obstacles it passes there,
+        closer to each than it came to a lone one (the thesis's person: 2.0-2.3
+        cm from each of two boxes 4.5 cm apart, 4.1-5.0 cm from a lone one,
+        seeds 1 and 2 of the fidelity benchmark). Then the safety floor gives
+        way in every gap the learned response threads, not only in those
+        :data:`~lfdkit.emulate.gaps.PASSABLE` floors wide.
+        """
+        return bool((getattr(self, "model_selection_", None) or {}).get("threads_gaps", False))
 
     def _warn_gaps(self, scene: Scene, margins: np.ndarray, gaps: str) -> None:
         """Warn where the learned clearances would close a gap the demonstrations never showed.
