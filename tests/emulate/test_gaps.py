@@ -308,6 +308,9 @@ def test_a_side_blocker_keeps_the_side_of_the_first_obstacle_met() -> None:
     assert side_blockers(line, line, STAGGERED, np.array([0.02, 0.02]), ends) == []
     over = np.column_stack([x, 0.12 * np.sin(np.pi * x)])
     assert side_blockers(over, line, STAGGERED, margins, ends) == []
+    # A third cup whose gap the margins close too: no longer a pair alone, no side to keep.
+    three = Scene((*STAGGERED.obstacles, Obstacle("cup", [0.5, 0.075], radius=0.01)))
+    assert side_blockers(line, line, three, np.full(3, 0.03), ends) == []
 
 
 def _threading_skill() -> Skill:

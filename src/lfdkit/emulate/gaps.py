@@ -375,8 +375,9 @@ def side_blockers(
     """Balls that keep a plan round each closed gap on the side ``path`` passes it.
 
     Where ``margins`` close the gap between two obstacles that ``path`` (the
-    plan without them: the learned response) passes between, a plan keeping
-    them goes round both, on either side. A person meets the obstacle nearer
+    plan without them: the learned response) passes between, and close no
+    gap from either to a third, a plan keeping them goes round both, on
+    either side. A person meets the obstacle nearer
     the start first and passes it as its response does (the late swerver,
     seed 0: round a pair of cups on the side away from the first, where the
     plan, free to choose, went round the other side: Pr 1 -> -214 %); so the
@@ -403,12 +404,20 @@ def side_blockers(
     Returns
     -------
     list of (int, Obstacle)
-        The first obstacle and its blocker, one per closed gap that ``path``
+        The first obstacle and its blocker, one per closed gap of a pair alone that ``path``
         threads and whose first obstacle it passes on a known side; empty
         where there is none.
     """
     closed = {(i, j) for i, j, _ in gaps_closed_by(margins, scene)}
-    pairs = sorted(closed.intersection(threaded_pairs(path, scene))) if closed else []
+    # A pair alone: among three or more obstacles the margins join (clutter, a pocket)
+    # there are more ways round than two, and the first one's side does not pick one
+    # (the late swerver, seed 1: round a pocket of five, Pr 87 -> -240 % with a blocker).
+    joined = np.zeros(len(scene), dtype=int)
+    for i, j in closed:
+        joined[i] += 1
+        joined[j] += 1
+    alone = {(i, j) for i, j in closed if joined[i] == joined[j] == 1}
+    pairs = sorted(alone.intersection(threaded_pairs(path, scene))) if alone else []
     if not pairs:
         return []
     corridor = Corridor.from_path(nominal, n_points)
