@@ -404,9 +404,9 @@ def side_blockers(
     Returns
     -------
     list of (int, Obstacle)
-        The first obstacle and its blocker, one per closed gap of a pair alone that ``path``
-        threads and whose first obstacle it passes on a known side; empty
-        where there is none.
+        The first obstacle and its blocker, one per closed gap of a pair
+        alone that ``path`` threads and whose first obstacle it passes on a
+        known side; empty where there is none.
     """
     closed = {(i, j) for i, j, _ in gaps_closed_by(margins, scene)}
     # A pair alone: among three or more obstacles the margins join (clutter, a pocket)
