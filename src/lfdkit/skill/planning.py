@@ -586,6 +586,7 @@ class Planning:
                 pairs = None
                 if free is not None:
                     pairs = threaded_pairs(free.points, scene)
+                    # The skill's own plans only: the model choice's are what decides it.
                     if not (clearances is None and self._threads_gaps()):
                         pairs = passable_pairs(pairs, margins, scene)
                 margins = open_gap_margins(margins, scene, pairs=pairs)
