@@ -308,6 +308,10 @@ def test_a_side_blocker_keeps_the_side_of_the_first_obstacle_met() -> None:
     assert side_blockers(line, line, STAGGERED, np.array([0.02, 0.02]), ends) == []
     over = np.column_stack([x, 0.12 * np.sin(np.pi * x)])
     assert side_blockers(over, line, STAGGERED, margins, ends) == []
+    # Two abreast (the second 5 mm on along the path, within the first's radius): met at
+    # once, the plan's own way round stands.
+    abreast = Scene((STAGGERED.obstacles[0], Obstacle("cup", [0.455, 0.035], radius=0.01)))
+    assert side_blockers(line, line, abreast, margins, ends) == []
     # A third cup whose gap the margins close too: no longer a pair alone, no side to keep.
     three = Scene((*STAGGERED.obstacles, Obstacle("cup", [0.5, 0.075], radius=0.01)))
     assert side_blockers(line, line, three, np.full(3, 0.03), ends) == []

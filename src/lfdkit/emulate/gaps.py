@@ -381,7 +381,10 @@ def side_blockers(
     the start first and passes it as its response does (the late swerver,
     seed 0: round a pair of cups on the side away from the first, where the
     plan, free to choose, went round the other side: Pr 1 -> -214 %); so the
-    way round keeps the side ``path`` passes that first obstacle on. One ball
+    way round keeps the side ``path`` passes that first obstacle on, where it
+    is met first: the other's centre lies beyond its extent along the
+    nominal (two abreast are met at once; the plan keeps its own way round,
+    the shorter). One ball
     per such pair blocks the other way: it touches the first obstacle's
     margin on the side away from ``path`` and reaches outwards, away from the
     task's start and goal (radius :data:`BLOCKER_REACH` of its distance to the
@@ -425,14 +428,25 @@ def side_blockers(
     rel = corridor.points[None] - scene.positions[:, None]
     nearest = np.argmin(np.einsum("okq,okq->ok", rel, rel), axis=1)  # along the nominal
     out: list[tuple[int, Obstacle]] = []
+    along = np.concatenate(
+        [[0.0], np.cumsum(np.linalg.norm(np.diff(corridor.points, axis=0), axis=1))]
+    )
     for pair in pairs:
-        first = min(pair, key=lambda o: (int(nearest[o]), o))
-        if not np.any(sides[first]):
+        first, second = sorted(pair, key=lambda o: (int(nearest[o]), o))
+        k = int(min(nearest[first], corridor.n_points - 2))
+        tangent = corridor.points[k + 1] - corridor.points[k]
+        tangent /= np.linalg.norm(tangent)
+        centres, radii = scene.obstacles[first].balls()
+        extent = float(np.max((centres - scene.positions[first]) @ tangent + radii))
+        # Met first only where the second lies beyond it along the path: two abreast
+        # are met at once, and the plan's own way round is the shorter one (the
+        # fixed-margin person, seed 2: two boxes 5 mm apart along the path, Pr 79 -> -314 %
+        # round the longer way).
+        if along[nearest[second]] - along[nearest[first]] <= extent or not np.any(sides[first]):
             continue
         away = -sides[first] @ corridor.normals[nearest[first]]
         away /= np.linalg.norm(away)
         obstacle = scene.obstacles[first]
-        centres, radii = obstacle.balls()
         touch = obstacle.position + away * (
             float(np.max((centres - obstacle.position) @ away + radii)) + margins[first]
         )
