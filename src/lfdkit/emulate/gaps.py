@@ -44,7 +44,9 @@ A closed gap leaves two ways round the pair, and the plan with the floor is free
 to take either; the person meets the first of the two and passes it as its
 response does. :func:`side_blockers` keeps that side (the side the plan without
 the floor passes the obstacle nearer the start on) with a ball that blocks the
-other way. Measured (``--quick --sizes 10 --people late``, seed 0): a pair of
+other way: for a pair alone (no third obstacle in a closed gap: a pocket has more
+ways round than two) whose first is met first (two abreast: the shorter way stands).
+Measured (``--quick --sizes 10 --people late``, seed 0): a pair of
 cups with a 62.5 mm gap closed, the plan went round both on the other side
 from the person (that scene's Pr 1 % then -214 %; with the blocker 74 %).
 
