@@ -17,8 +17,10 @@ import pytest
 from lfdkit.emulate import Reward
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
+    BLOCKER_REACH,
     GAP_SHARE,
     PASSABLE,
+    SIDE_BLOCKER,
     close_narrow_gaps,
     closes_a_threaded_gap,
     demonstrated_gaps,
@@ -26,6 +28,7 @@ from lfdkit.emulate.gaps import (
     open_gap_margins,
     passable_pairs,
     passes_a_new_gap,
+    side_blockers,
     surface_gaps,
     threaded_pairs,
 )
@@ -275,3 +278,80 @@ def test_a_safety_floor_keeps_the_clearance_but_leaves_gaps_open() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         skill.plan(scene=PAIR)
+
+
+#: Two cups of radius 1 cm staggered across a straight nominal along x: the first
+#: (x = 0.45) 2.5 cm below it, the second (x = 0.48) 3.5 cm above; a 4.7 cm gap.
+STAGGERED = Scene(
+    (Obstacle("cup", [0.45, -0.025], radius=0.01), Obstacle("cup", [0.48, 0.035], radius=0.01))
+)
+
+
+def test_a_side_blocker_keeps_the_side_of_the_first_obstacle_met() -> None:
+    x = np.linspace(0.0, 1.0, 101)
+    line = np.column_stack([x, np.zeros(101)])
+    ends = line[[0, -1]]
+    margins = np.array([0.03, 0.03])  # 6 cm of floor close the 4.7 cm gap
+    ((first, ball),) = side_blockers(line, line, STAGGERED, margins, ends)
+    # The line passes the first cup above it: the ball blocks the way below, touching its
+    # margin at (0.45, -0.065), radius 0.45 times the distance from there to the start.
+    touch = np.array([0.45, -0.025 - 0.01 - 0.03])
+    reach = BLOCKER_REACH * np.hypot(*touch)
+    assert first == 0 and ball.label == SIDE_BLOCKER
+    assert ball.radius == pytest.approx(reach)
+    np.testing.assert_allclose(ball.position, touch - [0.0, reach], atol=1e-12)
+    # Walked the other way, the first cup met is the upper one, passed below: blocked above.
+    back = line[::-1]
+    ((first, ball),) = side_blockers(back, back, STAGGERED, margins, ends[::-1])
+    assert first == 1 and ball.position[1] > 0.035 + 0.01 + 0.03
+    # Nothing to block: a gap the margins leave open, or a path that goes round both.
+    assert side_blockers(line, line, STAGGERED, np.array([0.02, 0.02]), ends) == []
+    over = np.column_stack([x, 0.12 * np.sin(np.pi * x)])
+    assert side_blockers(over, line, STAGGERED, margins, ends) == []
+    # Two abreast (the second 5 mm on along the path, within the first's radius): met at
+    # once, the plan's own way round stands.
+    abreast = Scene((STAGGERED.obstacles[0], Obstacle("cup", [0.455, 0.035], radius=0.01)))
+    assert side_blockers(line, line, abreast, margins, ends) == []
+    # A third cup whose gap the margins close too: no longer a pair alone, no side to keep.
+    three = Scene((*STAGGERED.obstacles, Obstacle("cup", [0.5, 0.075], radius=0.01)))
+    assert side_blockers(line, line, three, np.full(3, 0.03), ends) == []
+
+
+def _threading_skill() -> Skill:
+    """A skill whose narrow, stiff response threads gaps between cups (units m)."""
+    x = np.linspace(0.0, 1.0, 100)
+    skill = Skill().fit([np.column_stack([x, 0.002 * s * np.sin(np.pi * x)]) for s in (-1, 0, 1)])
+    skill.adopt(Reward(400.0, {"cup": [400.0, 4000.0]}))
+    return skill
+
+
+def test_a_closed_gap_is_gone_round_on_the_side_the_response_passes_the_first_cup() -> None:
+    skill = _threading_skill()
+    free = skill.plan(scene=STAGGERED).points  # no floor learned yet
+    assert threaded_pairs(free, STAGGERED) == [(0, 1)]
+    # Keeping 3 cm closes the gap. Below both is the shorter way round (6.5 cm aside
+    # against 7.5 cm), but the response passes the first cup above: so does the plan.
+    skill.clearances_, skill.gaps_ = {"cup": 0.03}, "closed"
+    skill.model_selection_ = {"gaps_shown": 1}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        around = skill.plan(scene=STAGGERED).points
+    assert threaded_pairs(around, STAGGERED) == []
+    assert np.interp(0.45, *around.T) > 0.0 and np.interp(0.48, *around.T) > 0.035
+    assert STAGGERED.distances(around).min() >= 0.03 - 1e-9
+
+
+def test_a_person_who_answers_a_reward_threads_gaps_narrower_than_passable() -> None:
+    skill = _threading_skill()
+    # 4 cm gap against floors of 3.5 cm: narrower than PASSABLE floors (4.375 cm).
+    skill.clearances_, skill.gaps_ = {"cup": 0.035}, "open"
+    skill.model_selection_ = {"gaps_shown": 1, "threads_gaps": False}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        around = skill.plan(scene=PAIR).points
+        assert threaded_pairs(around, PAIR) == []
+        # Held-out demonstrations planned with a floor fit worse than without: a reward.
+        skill.model_selection_["threads_gaps"] = True
+        threads = skill.plan(scene=PAIR).points
+    assert threaded_pairs(threads, PAIR) == [(0, 1)]
+    assert PAIR.distances(threads).min() >= GAP_SHARE * 0.04 - 1e-9

@@ -551,6 +551,9 @@ class BehaviourSelection:
             "folds": n_folds,
             "default": default,
             "clearance_consistency": consistency,
+            # Above CONSISTENT_CLEARANCE the person answers a smooth reward, not a margin:
+            # the gaps its learned response threads stay open (Planning._threads_gaps).
+            "threads_gaps": consistency is not None and consistency > CONSISTENT_CLEARANCE,
             # The first route planned with no floor at all (the consistency's reference).
             "no_floor_mse": free,
             # Training scenes with two obstacles their floors would close: 0, the
