@@ -20,6 +20,7 @@ from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate.fidelity import (
     CLEARANCE_FACTOR,
     demonstrated_clearances,
+    demonstration_reference,
     passing_sides,
     replanning_fidelity,
 )
@@ -366,3 +367,21 @@ def test_poor_cross_validated_fidelity_is_warned_on_one_line() -> None:
     skill.training_fidelity_ = [{"demo": 0, "improvement": 20.0}]
     with pytest.warns(UserWarning, match="replans its own training demonstrations poorly"):
         skill._warn_fidelity()
+
+
+def test_scores_from_a_shared_reference_are_the_scores_measured_alone() -> None:
+    # One demonstration swerving over a cup, plans over it, under it and straight through
+    # the free scene: the demonstration's side measured once gives each plan's own figures.
+    t = np.linspace(0.0, 1.0, 80)[:, None]
+    nominal = np.hstack([t, np.zeros_like(t)])
+    bump = np.exp(-(((t - 0.5) / 0.1) ** 2))
+    demo = np.hstack([t, 0.06 * bump])
+    scene = Scene((Obstacle("cup", [0.5, 0.0], radius=0.02), Obstacle("cup", [0.2, -0.3])))
+    over, under = np.hstack([t, 0.05 * bump]), np.hstack([t, -0.07 * bump])
+    for where in (scene, Scene()):
+        reference = demonstration_reference(nominal, demo, where, 60)
+        for plan in (over, under, nominal):
+            alone = replanning_fidelity(plan, nominal, demo, where, 60)
+            assert replanning_fidelity(plan, nominal, demo, where, 60, reference=reference) == alone
+    assert replanning_fidelity(over, nominal, demo, scene)["other_side"] == 0
+    assert replanning_fidelity(under, nominal, demo, scene)["other_side"] == 1

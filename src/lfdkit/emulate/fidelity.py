@@ -72,6 +72,7 @@ __all__ = [
     "CLEARANCE_FACTOR",
     "CLEARANCE_QUANTILE",
     "demonstrated_clearances",
+    "demonstration_reference",
     "passing_sides",
     "replanning_fidelity",
     "same_sides",
@@ -195,8 +196,43 @@ def demonstrated_clearances(
     }
 
 
+def demonstration_reference(
+    nominal: np.ndarray, demo: np.ndarray, scene: Scene, n_points: int = 100
+) -> dict[str, Any]:
+    """What :func:`replanning_fidelity` reads off the demonstration alone, computed once.
+
+    The model choice scores several plans in one demonstration's scene
+    (issue 26: 5-8 a scene): their shared part, passed to each as
+    ``reference``, is measured once (the same operations, so the same figures).
+
+    Returns
+    -------
+    dict
+        ``replay`` (the nominal's MSE against the demonstration, units²) and,
+        in a scene with obstacles, the ``corridor`` sides are read on, the
+        obstacles ``around`` (bool, (m,)), their ``shown`` sides and the
+        demonstration's surface ``distances`` (units, (m,)).
+    """
+    out: dict[str, Any] = {"replay": metrics.mse_paths([nominal], [demo], n_points)}
+    if len(scene):
+        corridor = Corridor.from_path(nominal, n_points)
+        out.update(
+            corridor=corridor,
+            around=_gone_around(demo, nominal, scene),
+            shown=passing_sides(demo, corridor, scene),
+            distances=scene.distances(demo),
+        )
+    return out
+
+
 def replanning_fidelity(
-    plan: np.ndarray, nominal: np.ndarray, demo: np.ndarray, scene: Scene, n_points: int = 100
+    plan: np.ndarray,
+    nominal: np.ndarray,
+    demo: np.ndarray,
+    scene: Scene,
+    n_points: int = 100,
+    *,
+    reference: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """How closely a plan in a demonstration's scene reproduces the demonstration.
 
@@ -207,6 +243,9 @@ def replanning_fidelity(
     scene : Scene
     n_points : int
         Points of the corridor the sides are read on, and of the MSE.
+    reference : dict, optional
+        :func:`demonstration_reference` of the same nominal, demonstration,
+        scene and ``n_points`` (default: computed here).
 
     Returns
     -------
@@ -219,8 +258,10 @@ def replanning_fidelity(
         of the demonstration over the obstacles gone around, units; None
         without one).
     """
+    if reference is None:
+        reference = demonstration_reference(nominal, demo, scene, n_points)
     mse = metrics.mse_paths([plan], [demo], n_points)
-    replay = metrics.mse_paths([nominal], [demo], n_points)
+    replay = reference["replay"]
     out: dict[str, Any] = {
         "improvement": metrics.improvement(replay, mse) if replay > 0.0 else 100.0,
         "mse": float(mse),
@@ -231,6 +272,16 @@ def replanning_fidelity(
     }
     if not len(scene):
         return out
+    around, shown = reference["around"], reference["shown"]
+    planned = passing_sides(plan, reference["corridor"], scene)
+    known = np.any(shown != 0.0, axis=1) & np.any(planned != 0.0, axis=1)
+    other = around & known & (np.einsum("om,om->o", shown, planned) <= 0.0)
+    out["other_side"] = int(other.sum())
+    out["sides_agree"] = not other.any()
+    if around.any():
+        out["clearance"] = float(scene.distances(plan)[around].min())
+        out["demonstrated_clearance"] = float(reference["distances"][around].min())
+    return out
     corridor = Corridor.from_path(nominal, n_points)
     around = _gone_around(demo, nominal, scene)
     shown, planned = passing_sides(demo, corridor, scene), passing_sides(plan, corridor, scene)

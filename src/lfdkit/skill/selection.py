@@ -60,7 +60,12 @@ from lfdkit.core.options import (
     POOR_FIDELITY,
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
-from lfdkit.emulate.fidelity import demonstrated_clearances, replanning_fidelity, same_sides
+from lfdkit.emulate.fidelity import (
+    demonstrated_clearances,
+    demonstration_reference,
+    replanning_fidelity,
+    same_sides,
+)
 from lfdkit.emulate.gaps import demonstrated_gaps
 from lfdkit.model.scene import Scene
 
@@ -226,6 +231,8 @@ class BehaviourSelection:
         them differently.
         """
         replay = metrics.mse_paths([nominal], [demo], int(self.n_points))
+        # The demonstration's side of the scores, measured once for all its plans.
+        reference = demonstration_reference(nominal, demo, scene)
         # Per route, frame and gap handling, the plans made so far with their margins.
         plans: dict[tuple[str, str, str], list[tuple[np.ndarray, Any]]] = {}
         # A plan reused by several models is measured once (kept with its row, so its id
@@ -279,7 +286,10 @@ class BehaviourSelection:
                 out.append({"refused": plan})
                 continue
             if id(plan) not in measured:
-                measured[id(plan)] = plan, replanning_fidelity(plan.points, nominal, demo, scene)
+                measured[id(plan)] = (
+                    plan,
+                    replanning_fidelity(plan.points, nominal, demo, scene, reference=reference),
+                )
             row = measured[id(plan)][1]
             out.append({**row, "clearance_relaxed": relaxed, "replay_mse": replay})
         return out
