@@ -67,12 +67,14 @@ training demonstrations kept (:func:`lfdkit.emulate.fidelity.demonstrated_cleara
 
 The issue's size (``--points 250``: 10 demonstrations of 250 points, one and
 three boxes, the IOC's corridor 250 points): the person plans at 100 points
-and the path is resampled to 250 (the planner refuses some of these scenes
-at 250 points in 3-D: its grid, at most 30 cells a side of at most one
-action bound, spans ±7 cm there, less than the boxes' reach). Measured at
-the end of session 41 (load 10–20, CPU s per fold median/max): one box
-5.4/6.4, three boxes 6.6/7.5, every fold converged; one fold single-threaded
-22 s at 0daa824 against 7.3–8.0 s after the 3-D Newton step's O(n) block
+and the path is resampled to 250 (the person's receding horizon refuses
+some of these scenes at 250 points in 3-D: its look-ahead grid, at most 30
+cells a side of at most one action bound, spans ±7 cm there, less than the
+boxes' reach; the whole-path planner adds a coarse route where its grid is
+too narrow). Measured on a loaded 2-core machine (load 10–20, CPU s per fold
+median/max): one box 5.4/6.4, three boxes 6.6/7.5, every fold converged;
+quiet, ``--quick``: 3.7/3.8 and 4.5/4.6 s wall. One fold single-threaded:
+22 s with the dense 3-D Newton solve against 7.3–8.0 s with the O(n) block
 solve.
 """
 
