@@ -282,14 +282,3 @@ def replanning_fidelity(
         out["clearance"] = float(scene.distances(plan)[around].min())
         out["demonstrated_clearance"] = float(reference["distances"][around].min())
     return out
-    corridor = Corridor.from_path(nominal, n_points)
-    around = _gone_around(demo, nominal, scene)
-    shown, planned = passing_sides(demo, corridor, scene), passing_sides(plan, corridor, scene)
-    known = np.any(shown != 0.0, axis=1) & np.any(planned != 0.0, axis=1)
-    other = around & known & (np.einsum("om,om->o", shown, planned) <= 0.0)
-    out["other_side"] = int(other.sum())
-    out["sides_agree"] = not other.any()
-    if around.any():
-        out["clearance"] = float(scene.distances(plan)[around].min())
-        out["demonstrated_clearance"] = float(scene.distances(demo)[around].min())
-    return out
