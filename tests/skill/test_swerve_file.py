@@ -138,7 +138,7 @@ def test_the_route_reward_decides_the_sides_only_where_they_differ(base) -> None
     ):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            plan = skill._swerve_routed(planner(own, routed), nominal, scene)
+            plan = skill._swerve_routed(planner(own, routed), route, nominal, scene)
         assert plan.points is expected
         assert [str(w.message) for w in caught] == [said]
     assert np.diag(route.precisions["cup"])[1] == 10000.0

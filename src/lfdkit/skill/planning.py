@@ -473,6 +473,7 @@ class Planning:
                         frame=frame,
                         unknown_response=unknown_response,
                     ),
+                    route_reward,
                     nominal,
                     scene,
                 )

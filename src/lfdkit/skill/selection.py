@@ -622,13 +622,15 @@ class BehaviourSelection:
                 swerve[c] = route["swerve"].get(c, reward.swerve[c])
         return Reward(reward.nominal_weight, precisions, swerve)
 
-    def _swerve_routed(self, plan_with: Any, nominal: np.ndarray, scene: Scene) -> Any:
+    def _swerve_routed(
+        self, plan_with: Any, route_reward: Reward, nominal: np.ndarray, scene: Scene
+    ) -> Any:
         """A swerve skill's plan among several obstacles: its own, or the route reward's.
 
         ``plan_with(reward)`` plans with a reward. The swerve's widths were
         fitted on one obstacle at a time; where the plan with them passes an
-        obstacle on another side than the plan with the stretches-only reward
-        (:meth:`_swerve_route_reward`), that plan is taken (the potential-field
+        obstacle on another side than the plan with the stretches-only
+        ``route_reward`` (:meth:`_swerve_route_reward`), that plan is taken (the potential-field
         person of the fidelity benchmark, seed 0: three side flips among 2-3
         obstacles with the widths refitted). Each plan's warnings are recorded
         and the returned plan's are given again.
@@ -639,7 +641,7 @@ class BehaviourSelection:
         with warnings.catch_warnings(record=True) as routed_warnings:
             warnings.simplefilter("always")
             try:
-                routed = plan_with(self._swerve_route_reward())
+                routed = plan_with(route_reward)
             except UnsafePlanError:  # no route of its own here: the skill's plan stands
                 routed = None
         if routed is not None and not same_sides(
