@@ -70,7 +70,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from lfdkit.core.geometry import polyline_distances
+from lfdkit.core.geometry import arc_length, polyline_distances
 from lfdkit.emulate.fidelity import CLEARANCE_FACTOR, passing_sides
 from lfdkit.emulate.problem import Corridor
 from lfdkit.model.scene import Obstacle, Scene
@@ -430,9 +430,7 @@ def side_blockers(
     rel = corridor.points[None] - scene.positions[:, None]
     nearest = np.argmin(np.einsum("okq,okq->ok", rel, rel), axis=1)  # along the nominal
     out: list[tuple[int, Obstacle]] = []
-    along = np.concatenate(
-        [[0.0], np.cumsum(np.linalg.norm(np.diff(corridor.points, axis=0), axis=1))]
-    )
+    along = arc_length(corridor.points)
     for pair in pairs:
         first, second = sorted(pair, key=lambda o: (int(nearest[o]), o))
         k = int(min(nearest[first], corridor.n_points - 2))
