@@ -263,17 +263,7 @@ def _subsampled(problem: Problem, stride: int) -> Problem:
     fine points interpolated on it (:func:`_interpolated`) are outside every
     hard radius, a finite-cost start for Newton.
     """
-    rows = slice(stride - 1, stride * (problem.n // stride), stride)
-    sub = problem.window(0, problem.n)  # the same arrays, sliced below
-    for name in ("base", "normals", "weight", "c", "b", "a", "rr", "nr"):
-        setattr(sub, name, np.ascontiguousarray(getattr(problem, name)[rows]))
-    if problem.moving:
-        sub.obstacles = np.ascontiguousarray(problem.obstacles[rows])
-    if problem.hard_centres.ndim == 3:
-        sub.hard_centres = np.ascontiguousarray(problem.hard_centres[rows])
-    if problem.shift is not None:
-        for name in ("shift", "shift_rate", "shift_side"):
-            setattr(sub, name, np.ascontiguousarray(getattr(problem, name)[rows]))
+    sub = problem.window(stride - 1, stride * (problem.n // stride), stride)
     sub.max_step = stride * problem.max_step
     # Problem's segment (the longest between fine points), stride times as long.
     segment = 1.1 * np.sqrt(problem.step**2 + problem.m * problem.max_step**2) * stride

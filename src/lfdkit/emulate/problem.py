@@ -437,25 +437,35 @@ class Problem:
         """Arc length between consecutive nominal points (0 with a single point)."""
         return _step_of(self.base)
 
-    def window(self, start: int, stop: int) -> Problem:
-        """The sub-problem of offsets ``start … stop − 1`` (precomputed terms sliced)."""
+    def window(self, start: int, stop: int, stride: int = 1) -> Problem:
+        """The sub-problem of offsets ``start, start + stride, …`` below ``stop`` (terms sliced).
+
+        ``stride`` > 1 (a coarse route's problem) copies the strided rows into
+        C-ordered arrays, as the compiled kernels take them; a contiguous
+        window shares its rows.
+        """
+        rows = slice(start, stop, stride)
+
+        def sliced(values: np.ndarray) -> np.ndarray:
+            return np.ascontiguousarray(values[rows])
+
         sub = object.__new__(Problem)
-        sub.base, sub.normals = self.base[start:stop], self.normals[start:stop]
+        sub.base, sub.normals = sliced(self.base), sliced(self.normals)
         sub.moving = self.moving
         sub.obstacles, sub.precision = self.obstacles, self.precision
         if self.moving:  # a centre per point
-            sub.obstacles = self.obstacles[start:stop]
-        sub.weight, sub.max_step = self.weight[start:stop], self.max_step
-        sub.c, sub.b, sub.a = self.c[start:stop], self.b[start:stop], self.a[start:stop]
+            sub.obstacles = sliced(self.obstacles)
+        sub.weight, sub.max_step = sliced(self.weight), self.max_step
+        sub.c, sub.b, sub.a = sliced(self.c), sliced(self.b), sliced(self.a)
         sub.hard, sub.inner2, sub.outer2 = self.hard, self.inner2, self.outer2
         sub.hard_centres = self.hard_centres
         if self.hard_centres.ndim == 3:
-            sub.hard_centres = self.hard_centres[start:stop]
-        sub.rr, sub.nr = self.rr[start:stop], self.nr[start:stop]
+            sub.hard_centres = sliced(self.hard_centres)
+        sub.rr, sub.nr = sliced(self.rr), sliced(self.nr)
         sub.shift = sub.shift_rate = sub.shift_side = None
         if self.shift is not None:
-            sub.shift, sub.shift_rate = self.shift[start:stop], self.shift_rate[start:stop]
-            sub.shift_side = self.shift_side[start:stop]
+            sub.shift, sub.shift_rate = sliced(self.shift), sliced(self.shift_rate)
+            sub.shift_side = sliced(self.shift_side)
         return sub
 
     def kernel_arguments(self) -> tuple:
