@@ -1311,3 +1311,69 @@ def test_adaptive_second_pass_leaves_clean_white_noise_alone(seed):
     assert np.all(mp.center_weights_ == 1.0)
     assert "no demonstration strays from it in a contiguous run" in mp.center_reason_
     assert mp.center_weights_.shape == (10, 100)
+
+
+# ------------------------------------- adaptive, smooth bands: local detours erased
+def _detour_band(seed, height, n_demos=10, n_detours=3, m=150):
+    """A smooth band about an arch (sd 1 cm), the first ``n_detours`` demos taking a detour.
+
+    Each offset is a random sine and cosine series (smooth, jointly Gaussian); a
+    detour is a raised-cosine bump ``height`` band sds high over 10-20 % of the
+    path, centred in its middle half, to a random side. Returns the demos, the
+    same demos without their detours (what no centre can beat: their mean is the
+    band's best estimate) and the truth.
+    """
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, 2001)
+    nominal = np.column_stack((2.0 * t, 0.5 * np.sin(np.pi * t)))
+    normals = left_normals(nominal)
+    sigma, k = 0.01, np.arange(1, 5)
+    clean, demos = [], []
+    for j in range(n_demos):
+        coef = rng.normal(size=(2, 4)) / k
+        offset = np.sin(np.pi * np.outer(t, k)) @ coef[0] + np.cos(np.pi * np.outer(t, k)) @ coef[1]
+        offset *= sigma / np.sqrt(np.sum(1.0 / k**2))
+        bump = 0.0
+        if j < n_detours:
+            centre, width = rng.uniform(0.25, 0.75), rng.uniform(0.1, 0.2)
+            x = np.clip((t - centre) / width, -0.5, 0.5)
+            bump = rng.choice((-1.0, 1.0)) * height * sigma * 0.5 * (1.0 + np.cos(2 * np.pi * x))
+        clean.append(resample(nominal + offset[:, None] * normals, m))
+        demos.append(resample(nominal + (offset + bump)[:, None] * normals, m))
+    return demos, clean, nominal
+
+
+def test_adaptive_erases_local_detours_of_a_minority_in_a_smooth_band():
+    """3 of 10 smooth demonstrations detour 12 band sds: the default nears the detour-free mean.
+
+    Measured on seeds 0-7: the default's e2 is 1.09 times that of the mean of the
+    same demonstrations without their detours (each seed 0.97-1.34); before the
+    detours were erased in smooth bands 1.27 (up to 1.85), the median 1.74, the
+    mean 1.67.
+    """
+    default, floor = [], []
+    for seed in range(8):
+        demos, clean, nominal = _detour_band(seed, 12.0)
+        mp = MeanPath().fit(demos)
+        default.append(e2(resample(mp.path_, 100), nominal, n_points=100))
+        floor.append(
+            e2(resample(MeanPath(center="mean").fit(clean).path_, 100), nominal, n_points=100)
+        )
+        # Only detouring demonstrations (the first three) lose weight.
+        assert mp.center_weights_[3:].min() == 1.0, (seed, mp.center_reason_)
+    assert np.sum(default) / np.sum(floor) < 1.15
+
+
+def test_detour_weights_erase_a_bump_in_a_smooth_band_and_nothing_else():
+    values = _smooth_band(5, 12)  # sd 3 robust-ish scales, smooth along the path
+    weights, why = _run_weights(*_rows(values))
+    assert np.all(weights == 1.0) and "no demonstration strays" in why, why
+    # Demonstration 7 detours 12 band sds over normals 40-55: erased there, with its flanks.
+    bump = np.zeros(100)
+    bump[40:56] = 12.0 * 3.0 * np.sin(np.linspace(0.0, np.pi, 16))
+    values[:, 7] += bump
+    weights, why = _run_weights(*_rows(values))
+    assert weights[44:52, 7].max() == 0.0, why
+    assert weights[:35, 7].min() == 1.0 and weights[62:, 7].min() == 1.0
+    assert np.delete(weights, 7, axis=1).min() == 1.0
+    assert "1 of 12 demonstrations take a local detour" in why

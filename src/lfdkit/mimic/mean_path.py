@@ -291,6 +291,11 @@ _SMOOTH = 0.7
 #: it) and the Gaussian replicas that may raise it.
 _RUN_WINDOWS = (0.0, 0.02, 0.05, 0.12)
 _RUN_LO, _RUN_TAPER, _RUN_DRAWS, _RUN_GROW = 4.0, 1.5, 20, 2.5
+#: ... where the deviations are smooth (:func:`_detour_weights`): the stretch of path
+#: over which a demonstration's own slow offset is its running median (a detour spans
+#: 10-20 % of it, a smooth band's deviations change over more), the distance from it
+#: in robust scales where a detour's peak is cut, and where its flanks end.
+_DETOUR_WINDOW, _DETOUR_LO, _DETOUR_GROW = 0.3, 5.0, 2.0
 #: Spreads below this fraction of the coordinates' magnitude count as zero.
 _TINY = 1e-12
 
@@ -491,6 +496,13 @@ class MeanPath(Estimator):
         if self.center == "adaptive":
             weights, why = _run_weights(ref, state.hits, state.found)
             self.center_reason_ += f"; then {why}"
+            if (weights < 1.0).any() and "local detour" in why:
+                # The first tuning was chosen with the detours in: on the rest, again.
+                rest = state.found & (weights >= 0.99)
+                tuning, estimates, again = _choose_tuning(ref, state.hits, rest)
+                self.center_estimates_ = estimates
+                self.center_tuning_ = tuning
+                self.center_reason_ += f"; without them {again}"
             if (weights < 1.0).any():
                 # A second pass from the first centre with those runs down-weighted.
                 state = self._evaluate(
@@ -1462,10 +1474,7 @@ def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[
     coords = np.einsum("mnq,mkq->mnk", offsets, frames)
     smoothness = _smoothness(coords, found)
     if smoothness >= _SMOOTH:
-        return np.ones((m, n_demos)), (
-            f"deviations smooth along the path (rank correlation {smoothness:.2f} from one "
-            "normal to the next): averaging them along it tells no run from the spread"
-        )
+        return _detour_weights(coords, found, smoothness)
     halves = [round(0.5 * fraction * m) for fraction in _RUN_WINDOWS]
     observed = _run_maxima(coords, found, tuple(halves))
     seen = np.full(len(halves), _RUN_LO)
@@ -1513,6 +1522,107 @@ def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[
         f"{', '.join(f'{t:.1f}' for t in seen)} robust scales (the largest in "
         f"{_RUN_DRAWS} replicas of white Gaussian noise, at least {_RUN_LO:g}); those runs "
         "down-weighted (center_weights_) and the path fitted again from there"
+    )
+    return weights, why
+
+
+def _detour_weights(
+    coords: np.ndarray, found: np.ndarray, smoothness: float
+) -> tuple[np.ndarray, str]:
+    """:func:`_run_weights` where the deviations are smooth along the path: local detours.
+
+    ``coords`` (m, n, k): residuals in the normal frames, ``found`` (m, n).
+    Each intersection's distance from the robust start of its normal, in robust
+    scales (a running median along the path), is taken per component, and from
+    each demonstration's the running median along :data:`_DETOUR_WINDOW` of the
+    path is subtracted: its own slow offset, which a smooth band's spread is and
+    a local detour (shorter than half that window) is not. What remains beyond
+    :data:`_DETOUR_LO` scales on a normal met by at least
+    :data:`_FEWEST_TO_CUT` demonstrations is a detour's peak; the weight falls
+    from 1 there to 0 at :data:`_RUN_TAPER` times it and the run takes its least
+    weight out to where the demonstration comes back within :data:`_DETOUR_GROW`
+    scales (its flanks). A minority only: where half the demonstrations on a
+    normal would lose weight, none does. Returns all ones where nothing stands
+    out, with why.
+    """
+    m, n_demos = found.shape
+    ones = np.ones((m, n_demos))
+    count = found.sum(axis=1)
+    plain = (
+        f"deviations smooth along the path (rank correlation {smoothness:.2f} from one "
+        "normal to the next)"
+    )
+    few = _FEWEST_TO_CUT["plane" if coords.shape[2] > 1 else "line"]
+    enough = count >= 3
+    if coords.shape[2] == 1:
+        mid, scale, _, _ = _line_run(coords[..., 0], found, enough)
+        start = None if scale is None else mid[:, None]
+    else:
+        start, own = _own_start_and_scale(coords, found)
+        usable = (own > 0.0) & enough
+        scale = None
+        if usable.any():
+            scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
+            scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
+    if scale is None or not (count >= few).any():
+        return ones, f"{plain}; too few demonstrations per normal to tell a detour"
+    z = (coords - start[:, None, :]) / scale[:, None, None]  # (m, n, k)
+    # Each demonstration's slow offset: its running median, gaps filled from the
+    # nearest found values (a missed normal neither pulls nor breaks the filter).
+    rows = np.arange(m)
+    filled = np.empty_like(z)
+    for j in range(n_demos):
+        have = np.flatnonzero(found[:, j])
+        if not len(have):
+            filled[:, j] = 0.0
+            continue
+        for k in range(z.shape[2]):
+            filled[:, j, k] = np.interp(rows, have, z[have, j, k])
+    from scipy.ndimage import median_filter  # imported when first needed
+
+    # On every stride-th normal (about 15 in a window; the slow offset changes slowly),
+    # interpolated between: a window of 300 normals filtered at each costs seconds.
+    stride = max(1, int(_DETOUR_WINDOW * m) // 15)
+    coarse = filled[::stride]
+    window = max(3, int(_DETOUR_WINDOW * m / stride) | 1)
+    coarse = median_filter(coarse, size=(window, 1, 1), mode="nearest")
+    at = rows / stride
+    below = np.minimum(at.astype(int), len(coarse) - 1)
+    above = np.minimum(below + 1, len(coarse) - 1)
+    frac = (at - below)[:, None, None]
+    slow = (1.0 - frac) * coarse[below] + frac * coarse[above]
+    apart = np.sqrt(np.sum((z - slow) ** 2, axis=2))
+    apart = np.where(found, apart, 0.0)
+    peak = np.where((count >= few)[:, None], apart, 0.0)
+    v = np.clip((peak - _DETOUR_LO) / ((_RUN_TAPER - 1.0) * _DETOUR_LO), 0.0, 1.0)
+    weights = np.where(found, (1.0 - v**2) ** 2, 1.0)
+    flagged = peak > _DETOUR_LO
+    if not flagged.any():
+        return ones, (
+            f"{plain}: no demonstration strays from its own slow offset by more than "
+            f"{_DETOUR_LO:g} robust scales (its running median over {_DETOUR_WINDOW:.0%} "
+            "of the path subtracted)"
+        )
+    near = apart > _DETOUR_GROW
+    for j in np.flatnonzero(flagged.any(axis=0)):
+        grown = near[:, j] | flagged[:, j]
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], grown.astype(int), [0]))))
+        for first, last in zip(edges[::2], edges[1::2], strict=True):
+            weights[first:last, j] = weights[first:last, j].min()
+    low = found & (weights < 0.99)
+    majority = low.sum(axis=1) >= 0.5 * count
+    weights[majority] = 1.0
+    low[majority] = False
+    if not low.any():
+        return ones, f"{plain}: what strays from its own slow offset is no minority"
+    strays = np.flatnonzero(low.any(axis=0))
+    share = low[:, strays].sum(axis=0) / np.maximum(found[:, strays].sum(axis=0), 1)
+    why = (
+        f"{plain}: {len(strays)} of {n_demos} demonstrations take a local detour "
+        f"({np.median(share):.0%} of their normals, median): beyond {_DETOUR_LO:g} robust "
+        f"scales from their own slow offset (running median over {_DETOUR_WINDOW:.0%} of "
+        "the path); those runs down-weighted (center_weights_), the tuning chosen again "
+        "on the rest and the path fitted again from there"
     )
     return weights, why
 
