@@ -1377,3 +1377,30 @@ def test_detour_weights_erase_a_bump_in_a_smooth_band_and_nothing_else():
     assert weights[:35, 7].min() == 1.0 and weights[62:, 7].min() == 1.0
     assert np.delete(weights, 7, axis=1).min() == 1.0
     assert "1 of 12 demonstrations take a local detour" in why
+
+
+def test_adaptive_erases_local_detours_in_3d_and_leaves_clean_bands_alone():
+    """The band of the 2-D test lifted into 3-D with a smooth vertical spread of its own.
+
+    Measured on seeds 0-3: default / detour-free mean 1.03, 1.09, 0.98, 1.11;
+    before, 1.17, 1.54, 1.00, 1.64. The clean bands (no detour) keep every weight.
+    """
+    default, floor = [], []
+    for seed in range(4):
+        rng = np.random.default_rng(seed + 50)
+        t = np.linspace(0.0, 1.0, 150)
+        lift = [
+            0.01 * (rng.normal() * np.sin(np.pi * t) + rng.normal() * np.cos(np.pi * t))
+            for _ in range(10)
+        ]
+        demos, clean, nominal = _detour_band(seed, 12.0)
+        demos = [np.column_stack((d, z)) for d, z in zip(demos, lift, strict=True)]
+        clean = [np.column_stack((d, z)) for d, z in zip(clean, lift, strict=True)]
+        nominal = np.column_stack((nominal, np.zeros(len(nominal))))
+        mp = MeanPath().fit(demos)
+        assert mp.center_weights_[:3].min() < 0.5 and mp.center_weights_[3:].min() == 1.0
+        default.append(e2(resample(mp.path_, 100), nominal, n_points=100))
+        reference = MeanPath(center="mean").fit(clean)
+        floor.append(e2(resample(reference.path_, 100), nominal, n_points=100))
+        assert np.all(MeanPath().fit(clean).center_weights_ == 1.0)
+    assert np.sum(default) / np.sum(floor) < 1.15
