@@ -191,7 +191,8 @@ implementation decides as follows (each is a constructor option):
   of the path (its slow offset, which a band's spread is and a detour over
   10-20 % of the path is not), is at most 4.2 scales on clean smooth bands of
   15 demonstrations (seeds 0-9) and 7-20 at detours 12 band sds high. Beyond
-  5 scales (on normals met by at least 8 demonstrations) the weight falls, to
+  5 scales (on normals met by at least 8 demonstrations, in 3-D too: with
+  the 4 of ``da_vinci`` the scale is too noisy) the weight falls, to
   0 at 7.5; a flagged run is grown to where the demonstration comes back
   within 2 scales of its slow offset, and where half a normal's values would
   lose weight none does (a detour is a minority's). Where any does, the
@@ -1575,7 +1576,7 @@ def _detour_weights(
     path is subtracted: its own slow offset, which a smooth band's spread is and
     a local detour (shorter than half that window) is not. What remains beyond
     :data:`_DETOUR_LO` scales on a normal met by at least
-    :data:`_FEWEST_TO_CUT` demonstrations is a detour's peak; the weight falls
+    ``_FEWEST_TO_CUT["line"]`` (8) demonstrations is a detour's peak; the weight falls
     from 1 there to 0 at :data:`_RUN_TAPER` times it and the run takes its least
     weight out to where the demonstration comes back within :data:`_DETOUR_GROW`
     scales (its flanks). A minority only: where half the demonstrations on a
@@ -1589,7 +1590,7 @@ def _detour_weights(
         f"deviations smooth along the path (rank correlation {smoothness:.2f} from one "
         "normal to the next)"
     )
-    few = _FEWEST_TO_CUT["plane" if coords.shape[2] > 1 else "line"]
+    few = _FEWEST_TO_CUT["line"]  # each component is a line's (in 3-D too)
     enough = count >= 3
     # Component by component (in 3-D, the normal plane's two axes), each on its own
     # line's start and scale: a distance in the plane would have a larger median than
