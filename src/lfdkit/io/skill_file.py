@@ -136,7 +136,7 @@ PERIODIC_FORMAT = "lfdkit-periodic-skill"
 """Value of the ``"format"`` field of a periodic skill file (:mod:`lfdkit.skill.periodic`)."""
 
 #: Route planners a skill file may name (:attr:`lfdkit.skill.Skill.route_`).
-ROUTES = ("lookahead", "window", "full")
+ROUTES = ("lookahead", "window", "full", "taut")
 #: Frames of the learned responses a skill file may name (:attr:`lfdkit.skill.Skill.frame_`).
 FRAMES = ("world", "path")
 #: Whether two obstacles' clearances may close the gap between them (``emulation.gaps``).

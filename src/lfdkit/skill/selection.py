@@ -158,11 +158,16 @@ class BehaviourSelection:
         if self.model == "thesis":
             return [{"route": routes[0], "floor": "none", "frame": "world"}]
         frame = "path" if self.model == "path" else "world"
-        return [
-            {"route": route, "floor": floor, "frame": frame}
-            for floor in CLEARANCE_FLOORS
-            for route in routes
-        ] + [{"route": routes[0], "floor": "none", "frame": frame, "swerve": "learned"}]
+        taut = [{"route": "taut", "floor": TYPICAL, "frame": "world"}] if self.n_dims_ == 2 else []
+        return (
+            [
+                {"route": route, "floor": floor, "frame": frame}
+                for floor in CLEARANCE_FLOORS
+                for route in routes
+            ]
+            + [{"route": routes[0], "floor": "none", "frame": frame, "swerve": "learned"}]
+            + taut
+        )
 
     def _unfitted_route(self) -> str:
         """The route of a skill whose reward was not fitted here (as before routes were chosen)."""
