@@ -1,29 +1,30 @@
-"""The taut plan: the shortest path round the obstacles on a plan's sides, keeping its clearances.
+"""The taut plan: the shortest path round the obstacles that keeps their clearances.
 
 A person who keeps a fixed margin from each obstacle and otherwise takes the
 shortest way (issue 26's fixed-margin person) does not swerve in a bump that
-returns to the nominal: in the nominal's frame it runs in straight lines
-tangent to each obstacle's margin, from the start to the goal. The learned
-Gaussian response cannot take that shape (it is local), so this module draws
-it from any plan: the passing sides and the hard clearances of a plan
-(:class:`lfdkit.emulate.Plan`, e.g. with the learned clearance floor) are
-kept, and the lateral offsets ``d_k`` along the nominal's normals
+returns to the nominal behind the obstacle: in the nominal's frame it runs in
+straight lines tangent to each obstacle's margin, from the start to the goal.
+The learned Gaussian response cannot take that shape (it is local). Here the
+lateral offsets ``d_k`` along the nominal's normals
 (:class:`lfdkit.emulate.problem.Corridor`) minimise
 
     Σ_k (d_k − d_{k−1})²
 
-between the plan's own ends, with every obstacle's ball cover (radius plus
-clearance, widened by half a segment as the planner's barrier is, so the
-straight segments stay out too) outside ``d_k`` on the plan's side. The
-constraints are bounds on each ``d_k`` (a corridor of intervals), so the
-minimiser is the taut string through it: the shortest path in the
+from the start's offset to the goal's, with every obstacle's ball cover
+(radius plus clearance, widened by half a segment as the planner's barrier
+is, so the straight segments stay out too) outside ``d_k`` on a chosen side.
+With the sides fixed the constraints are bounds on each ``d_k`` (a corridor
+of intervals), so the minimiser is the taut string through it
+(:func:`taut_string`, exact, O(K) per bend): the shortest path in the
 nominal's frame, which also has the smallest largest slope of any path in
 the corridor (it is within the action bound wherever any path there is).
-It is a bounded least-squares problem in ``K − 2`` unknowns
-(:func:`scipy.optimize.lsq_linear`, well under a millisecond's worth of
-work per 100 points besides SciPy's overhead). In 2-D only (one lateral
-offset a point); a 3-D plan, a moving scene or sides that leave no corridor
-give None (the plan stands).
+The sides are those of the shortest grid path round the balls (a dynamic
+programme over a lateral grid a quarter of the action bound apart, as the
+planner's); where their taut string breaks the action bound, a given path's
+sides are tried. About 5 ms for 100 points and a few obstacles (most of it
+the grid). In 2-D only (one lateral offset a point); a 3-D plan, a moving
+scene, a half-space or sides that leave no corridor give None (the caller
+plans as before).
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from lfdkit.emulate.planner import Plan, _verified
 from lfdkit.emulate.problem import Corridor
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 
 __all__ = ["taut_plan"]
@@ -84,11 +86,13 @@ def taut_plan(
         ``points`` (n_points, 2) and ``offsets`` (n_points, 1), clearances
         checked as :func:`~lfdkit.emulate.plan_path` checks them; ``cost``
         is the sum of squared sideways steps (units²). None in 3-D, for a
-        moving or empty scene, or where no path on the sides tried keeps
-        the clearances within the action bound.
+        moving or empty scene, one with a half-space, or where no path on the
+        sides tried keeps the clearances within the action bound.
     """
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     if corridor.n_dims != 2 or not len(scene) or scene.moving:
+        return None
+    if any(isinstance(o, HalfSpace) for o in scene.obstacles):  # no finite ball cover
         return None
     k_points = corridor.n_points
     extra = np.broadcast_to(np.asarray(clearance, dtype=np.float64), (len(scene),))

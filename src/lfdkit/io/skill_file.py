@@ -43,7 +43,7 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     a file with them ignores them and refits.
 ``emulation``
     Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
-    "lookahead" | "window" | "full", "clearances": {class: units}[, "radii":
+    "lookahead" | "window" | "full" | "taut", "clearances": {class: units}[, "radii":
     {class: units}][, "frame": "path"][, "gaps": "open"]}``, the route planner its
     plans use, the clearance kept at least from each class's obstacles, the median
     radius of the obstacles each class was learned from, where not the world's, the
