@@ -57,10 +57,12 @@ horizon with that floor). The learned response's bump returns to the
 nominal behind each obstacle; this person runs in straight lines tangent to
 the margins, from the start to the goal. Fidelity benchmark, quick, 10
 demonstrations, fixed-margin person, 1x / 2x, pooled / median Pr: seed 0
-68/74 %, 69/74 % -> 97/98 %, 96/96 % (clutter 27 -> 99 %); the thesis's,
-potential-field and late people keep their models (its cross-validated error
-is larger for them: their responses are local). Its plans cost no route
-search: a grid of the shortest way and a taut string (a few ms).
+68/74 %, 69/74 % -> 97/98 %, 96/96 % (clutter 27 -> 99 %); seed 1 78/84 % ->
+97/96 % (2x: not chosen); seed 2 81/79 %, 80/76 % -> 99/99 %, 98/98 %; the
+thesis's, potential-field and late people keep their models (its
+cross-validated error is larger for them: their responses are local). Its
+plans cost no route search: a grid of the shortest way and a taut string (a
+few ms).
 """
 
 from __future__ import annotations
