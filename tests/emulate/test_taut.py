@@ -86,7 +86,7 @@ def test_round_one_disc_the_taut_plan_is_the_tangent_path() -> None:
 
 
 @pytest.mark.slow
-def test_a_person_who_keeps_a_margin_on_the_shortest_way_is_emulated() -> None:
+def test_a_person_who_keeps_a_margin_on_the_shortest_way_is_emulated(tmp_path) -> None:
     rng = np.random.default_rng(3)
     demos, scenes = [], []
     for j in range(6):
@@ -109,3 +109,7 @@ def test_a_person_who_keeps_a_margin_on_the_shortest_way_is_emulated() -> None:
         metrics.mse_paths([nominal], [expected]), metrics.mse_paths([plan.positions], [expected])
     )
     assert pr > 95.0
+    # The model is kept in the skill's file: the same plan read back.
+    again = Skill.load(skill.save(tmp_path / "skill.json"))
+    assert again.route_ == "taut"
+    np.testing.assert_allclose(again.plan(scene=Scene((cup,))).positions, plan.positions)
