@@ -83,6 +83,8 @@ def test_round_one_disc_the_taut_plan_is_the_tangent_path() -> None:
     # No room within the action bound: no taut plan (the caller plans as before).
     wall = Scene(tuple(Obstacle("cup", [0.5, y], radius=0.02) for y in np.arange(-1, 1, 0.03)))
     assert taut_plan(nominal, wall, 0.0, n_points=100, max_slope=1.0) is None
+    with pytest.raises(ValueError, match="clearance: expected finite values >= 0"):
+        taut_plan(nominal, pair, [0.03, -0.01])
 
 
 @pytest.mark.slow

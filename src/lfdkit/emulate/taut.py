@@ -34,14 +34,14 @@ from typing import Any
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from lfdkit.emulate.planner import Plan, _verified
+from lfdkit.emulate.planner import Plan, UnsafePlanError, _clearances, _verified
 from lfdkit.emulate.problem import Corridor
 from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 
 __all__ = ["taut_plan"]
 
-#: Slack on the action bound and on each corridor bound (fraction of the nominal's step).
+#: Relative slack on the action bound (round-off of the taut string's slopes).
 _SLACK = 1e-6
 #: Most cells a side of the side search's lateral grid.
 _GRID_CELLS = 400
@@ -88,6 +88,12 @@ def taut_plan(
         is the sum of squared sideways steps (units²). None in 3-D, for a
         moving or empty scene, one with a half-space, or where no path on the
         sides tried keeps the clearances within the action bound.
+
+    Raises
+    ------
+    ValueError
+        For a clearance that is negative, not finite, or not one number or
+        one per obstacle.
     """
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     if corridor.n_dims != 2 or not len(scene) or scene.moving:
@@ -95,7 +101,7 @@ def taut_plan(
     if any(isinstance(o, HalfSpace) for o in scene.obstacles):  # no finite ball cover
         return None
     k_points = corridor.n_points
-    extra = np.broadcast_to(np.asarray(clearance, dtype=np.float64), (len(scene),))
+    extra = _clearances(clearance, scene)  # one each, finite and >= 0 (else a one-line error)
     max_step = max_slope * corridor.step
     balls = _ball_intervals(corridor, scene, extra, max_step)
     if not balls:
@@ -122,8 +128,8 @@ def taut_plan(
         True,
     )
     try:
-        return _verified(out, corridor, scene, np.array(extra, dtype=np.float64), False)
-    except ValueError:  # UnsafePlanError: a segment the widening did not keep out
+        return _verified(out, corridor, scene, extra, False)
+    except UnsafePlanError:  # a segment the widening did not keep out
         return None
 
 
