@@ -12,6 +12,8 @@ Layout, each module with its compiled loops beside it:
   (``_problem_kernels``);
 * :mod:`.planner`: global grid search, receding horizon and safety checks,
   :func:`plan_path` (``_planner_kernels``);
+* :mod:`.taut`: the shortest path round the obstacles that keeps their
+  clearances, :func:`taut_plan` (a person who keeps a margin);
 * :mod:`.moving`: moving obstacles in closed loop, :class:`RecedingPlanner`
   (one MPC window per control step, the obstacles where they are predicted);
 * :mod:`.metrics`: measures of paths against demonstrations and scenes
@@ -36,6 +38,7 @@ __getattr__, __dir__ = lazy_names(
         "Plan": "planner",
         "UnsafePlanError": "planner",
         "plan_path": "planner",
+        "taut_plan": "taut",
         "Corridor": "problem",
         "Reward": "reward",
     },
@@ -58,4 +61,5 @@ __all__ = [
     "load_scenes",
     "plan_path",
     "save_scenes",
+    "taut_plan",
 ]

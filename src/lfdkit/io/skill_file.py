@@ -43,7 +43,7 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
     a file with them ignores them and refits.
 ``emulation``
     Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
-    "lookahead" | "window" | "full", "clearances": {class: units}[, "radii":
+    "lookahead" | "window" | "full" | "taut", "clearances": {class: units}[, "radii":
     {class: units}][, "frame": "path"][, "gaps": "open"]}``, the route planner its
     plans use, the clearance kept at least from each class's obstacles, the median
     radius of the obstacles each class was learned from, where not the world's, the
@@ -136,7 +136,7 @@ PERIODIC_FORMAT = "lfdkit-periodic-skill"
 """Value of the ``"format"`` field of a periodic skill file (:mod:`lfdkit.skill.periodic`)."""
 
 #: Route planners a skill file may name (:attr:`lfdkit.skill.Skill.route_`).
-ROUTES = ("lookahead", "window", "full")
+ROUTES = ("lookahead", "window", "full", "taut")
 #: Frames of the learned responses a skill file may name (:attr:`lfdkit.skill.Skill.frame_`).
 FRAMES = ("world", "path")
 #: Whether two obstacles' clearances may close the gap between them (``emulation.gaps``).

@@ -274,10 +274,13 @@ class Skill(
         never learned (``unknown_response="nearest"`` of :meth:`plan_details`).
         Empty before a reward is fitted, for a reward only adopted and in
         files from before it.
-    route_ : {"lookahead", "window", "full"} or None
+    route_ : {"lookahead", "window", "full", "taut"} or None
         The route planner plans use: the MPC with ``lookahead``, the thesis's
-        MPC (``"window"``) or the full horizon; None before a reward is
-        fitted (then ``"lookahead"`` for ``planner="mpc"``).
+        MPC (``"window"``), the full horizon, or the shortest path round the
+        obstacles that keeps :attr:`clearances_` (``"taut"``, 2-D:
+        :func:`lfdkit.emulate.taut.taut_plan`; the full horizon where it
+        finds none); None before a reward is fitted (then ``"lookahead"`` for
+        ``planner="mpc"``).
     training_fidelity_ : list of dict or None
         Per obstacle demonstration, how its own scene is replanned
         (:func:`lfdkit.emulate.fidelity.replanning_fidelity`: ``improvement``

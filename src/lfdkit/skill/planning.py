@@ -40,6 +40,7 @@ from lfdkit.emulate.gaps import (
 )
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
+from lfdkit.emulate.taut import taut_plan
 from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.model.timed_path import TimedPlan
@@ -481,6 +482,9 @@ class Planning:
         OneOf(PLANNERS)(kind, "planner")
         # No route learned (a reward adopted, an older file): the MPC with lookahead, as before.
         route = route or getattr(self, "route_", None) or self._unfitted_route()
+        # The taut route (a person who keeps a margin and otherwise takes the shortest
+        # way): where it finds no path, the full-horizon plan with the same floor.
+        taut, route = route == "taut", "full" if route == "taut" else route
         if kind == "mpc" and (route != "full" or planner == "mpc"):
             h = int(self.horizon) if horizon is None else horizon
         else:
@@ -526,6 +530,19 @@ class Planning:
         # The skill's own plan, not a candidate's; said once a plan is made (a refusal says
         # enough on its own line).
         gap_margins = margins if clearances is None else None
+        if taut and not scene.moving and self.n_dims_ == 2 and len(scene):
+            kept = 0.0 if margins is None else margins
+            shortest = taut_plan(
+                nominal,
+                scene,
+                clearance + unknown_margin + kept,
+                n_points=int(self.n_points),
+                max_slope=float(self.max_slope),
+            )
+            if shortest is not None:
+                if gap_margins is not None:
+                    self._warn_gaps(scene, gap_margins, gaps)
+                return shortest
         frame = frame or getattr(self, "frame_", "world")
         if (self.model == "path" or frame == "path") and len(scene) and not scene.moving:
             reward, scene = self._in_path_frame(reward, scene, nominal)

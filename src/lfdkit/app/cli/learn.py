@@ -107,10 +107,12 @@ _ROUTE_NAMES = {
     "lookahead": "MPC with lookahead along the global route",
     "window": "the thesis's MPC (each window's best)",
     "full": "the full-horizon optimum",
+    "taut": "the shortest path round the obstacles",
 }
 _FLOOR_NAMES = {
     "demonstrated": "keeping the clearance the demonstrations kept",
     "closest": "keeping the closest clearance any demonstration kept",
+    "typical": "keeping the clearance the demonstrations typically kept",
 }
 
 
