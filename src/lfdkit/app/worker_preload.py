@@ -34,6 +34,7 @@ themselves, as spawned workers do.
 from __future__ import annotations
 
 import os
+import sys
 import warnings
 
 from lfdkit.app.batch import ONE_THREAD_ENV
@@ -71,5 +72,6 @@ def warm_up() -> bool:
     return True
 
 
-os.environ.update(ONE_THREAD_ENV)  # before NumPy loads: the forks inherit the thread pools
+if "numpy" not in sys.modules:  # a fork server: the forks inherit the thread pools
+    os.environ.update(ONE_THREAD_ENV)  # (a serial batch's process keeps its own)
 warm_up()

@@ -19,10 +19,12 @@ from __future__ import annotations
 
 import contextlib
 import os
+import sys
 
 from lfdkit.app.batch import ONE_THREAD_ENV, load_compiled
 
-os.environ.update(ONE_THREAD_ENV)  # before NumPy loads: the forks inherit the thread pools
+if "numpy" not in sys.modules:  # a fork server: the forks inherit the thread pools
+    os.environ.update(ONE_THREAD_ENV)  # (a serial batch's process keeps its own)
 with contextlib.suppress(Exception):  # best effort: without numba the NumPy kernels serve
     load_compiled()  # numba loaded: the kernels' rule picks numba's from the first call
 
