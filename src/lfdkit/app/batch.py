@@ -530,7 +530,10 @@ def make_executor(
         n = _check_count(workers, "workers")
         executor: Executor = ProcessExecutor(n, tasks=count, executes=executes)
         with _shut_down(executor) as executor:
-            executor.submit(os.getpid).result()  # the fork server loaded, a worker forked
+            try:  # the fork server loaded, a worker forked: the batch starts warm
+                executor.submit(os.getpid).result()
+            except BrokenProcessPool as exc:
+                raise ExecutorBrokenError(_broken(exc)) from None
             yield executor
         return
     if scheduler is None and dask_local is None:
