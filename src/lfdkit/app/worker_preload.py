@@ -26,7 +26,8 @@ For a long batch the fork server imports
 module, whose warm-up then loads numba's cached kernels once for every
 worker (:func:`lfdkit.app.batch.start_worker_server` chooses).
 
-Importing this module does the warm-up; nothing else imports it but that module. It never
+Importing this module does the warm-up; only the fork server, that module and
+:func:`lfdkit.app.batch.load_modules` (a Dask worker, a long serial batch) import it. It never
 raises: a warm-up that fails leaves the workers to load what they need
 themselves, as spawned workers do.
 """

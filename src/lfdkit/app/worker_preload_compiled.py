@@ -11,7 +11,8 @@ numba's cached kernels instead, once (about 1.2 s more CPU in the fork
 server, which starts while the calling process still loads its own
 modules), and every fork starts on the compiled kernels.
 
-Importing this module does the warm-up; nothing else imports it. It never
+Importing this module does the warm-up; only the fork server and
+:func:`lfdkit.app.batch.load_modules` import it. It never
 raises (as :mod:`lfdkit.app.worker_preload`).
 """
 

@@ -10,8 +10,8 @@ worker start-up 0.41-0.43 → 0.08-0.12 s of CPU). MuJoCo is not imported
 here (0.1 s): its import may load an OpenGL library the fork server would
 then fork.
 
-Importing this module does the loading; nothing else imports it but
-:func:`lfdkit.app.batch.load_modules`. It never raises: what fails to load,
+Importing this module does the loading; only the fork server and
+:func:`lfdkit.app.batch.load_modules` import it. It never raises: what fails to load,
 a task loads itself (and reports).
 """
 
