@@ -170,6 +170,54 @@ def test_the_fork_server_loads_numba_once_for_a_long_batch_only(monkeypatch):
     assert worker_preload(None, 2) == WORKER_PRELOAD
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
+def test_local_workers_are_started_before_the_batch_s_clock():
+    """Issue 30: make_executor yields once the fork server has loaded and a worker is forked.
+
+    So a batch's seconds (its tasks/s) count its tasks, as a serial batch's
+    do, not the fork server's loading. The worker is the fork server's
+    child, this process's grandchild.
+    """
+    psutil = pytest.importorskip("psutil")
+    me = os.getpid()
+    with make_executor(workers=2) as executor:
+        workers = [p for p in psutil.Process(me).children(recursive=True) if p.ppid() != me]
+        assert workers, "no worker forked yet"
+        assert executor.submit(os.getpid).result() in {p.pid for p in workers}
+
+
+def test_workers_that_execute_plans_preload_numba_and_the_pipeline(monkeypatch):
+    """Issue 30: a batch that carries plans onto a robot loads numba and the pipeline once.
+
+    Whatever its length (its rows must equal the serial run's, which the
+    NumPy form of the timing law would not, to round-off), and the pipeline
+    with SciPy, but not MuJoCo, is in the execution preload (a fresh
+    interpreter imports it).
+    """
+    from lfdkit.app.batch import (
+        WORKER_PRELOAD,
+        WORKER_PRELOAD_COMPILED,
+        WORKER_PRELOAD_EXECUTION,
+        worker_modules,
+        worker_preload,
+    )
+
+    monkeypatch.delenv("LFDKIT_KERNELS", raising=False)
+    assert worker_preload(2, 2) == WORKER_PRELOAD
+    assert worker_preload(2, 2, executes=True) == WORKER_PRELOAD_COMPILED
+    assert worker_modules(2, 2) == [WORKER_PRELOAD]
+    assert worker_modules(2, 2, True) == [WORKER_PRELOAD_COMPILED, WORKER_PRELOAD_EXECUTION]
+    probe = (
+        f"import sys, {WORKER_PRELOAD_EXECUTION}\n"
+        "print([m in sys.modules for m in ('lfdkit.execute.pipeline', 'scipy.interpolate',"
+        " 'mujoco')])\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=60, check=True
+    )
+    assert done.stdout.split() == ["[True,", "True,", "False]"]
+
+
 @pytest.mark.slow  # a fresh interpreter whose fork server loads numba: ~3 s quiet
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a forkserver on Linux only")
 def test_workers_of_a_long_batch_start_on_numba_s_kernels():

@@ -112,6 +112,7 @@ __all__ = [
     "FORMAT",
     "WORKER_PRELOAD",
     "WORKER_PRELOAD_COMPILED",
+    "WORKER_PRELOAD_EXECUTION",
     "BatchSummary",
     "DaskExecutor",
     "ExecutorBrokenError",
@@ -128,6 +129,7 @@ __all__ = [
     "learn_outputs",
     "learn_task",
     "load_compiled",
+    "load_modules",
     "make_executor",
     "read_results",
     "results_header",
@@ -139,6 +141,7 @@ __all__ = [
     "spec_hash",
     "start_worker_server",
     "worker_cached",
+    "worker_modules",
     "worker_preload",
 ]
 
@@ -203,6 +206,9 @@ WORKER_PRELOAD = "lfdkit.app.worker_preload"
 #: The same with numba and the planner's compiled kernels, for a long batch
 #: (:func:`start_worker_server`).
 WORKER_PRELOAD_COMPILED = "lfdkit.app.worker_preload_compiled"
+#: What the fork server loads too where the tasks carry plans onto a robot (``executes``):
+#: the execution pipeline and SciPy, once for every worker.
+WORKER_PRELOAD_EXECUTION = "lfdkit.app.worker_preload_execution"
 #: Tasks a worker must have for its fork server to load numba for it: numba's
 #: start-up, about 1.1 s of CPU, against about 0.07 s a plan saved over the NumPy
 #: kernels; a worker without it would load numba itself after about 7 plans.
@@ -237,10 +243,13 @@ class ProcessExecutor(ProcessPoolExecutor):
         batch's worker whose fork server was started without numba (by an
         earlier, shorter batch of this process: a process has one) loads
         numba itself before its first task, in parallel with the others.
+    executes : bool
+        Whether the tasks carry plans onto a robot: the fork server also loads
+        the execution pipeline (:data:`WORKER_PRELOAD_EXECUTION`).
     """
 
-    def __init__(self, workers: int, *, tasks: int | None = 0) -> None:
-        compiled = worker_preload(tasks, workers) == WORKER_PRELOAD_COMPILED
+    def __init__(self, workers: int, *, tasks: int | None = 0, executes: bool = False) -> None:
+        compiled = worker_preload(tasks, workers, executes) == WORKER_PRELOAD_COMPILED
         super().__init__(
             max_workers=workers,
             mp_context=_worker_context(),
@@ -248,7 +257,7 @@ class ProcessExecutor(ProcessPoolExecutor):
             initargs=(compiled,),
         )
         self.workers = workers
-        start_worker_server(tasks, workers)  # unless started already: loads while we go on
+        start_worker_server(tasks, workers, executes)  # unless started already: loads meanwhile
 
     def __repr__(self) -> str:
         return f"ProcessExecutor(workers={self.workers})"
@@ -287,7 +296,9 @@ class DaskExecutor(Executor):
         return f"DaskExecutor({self.client.scheduler.address}, workers={self.workers})"
 
 
-def _local_cluster_start(tasks: int | None, workers: int) -> tuple[dict[str, Any], list[str]]:
+def _local_cluster_start(
+    tasks: int | None, workers: int, executes: bool = False
+) -> tuple[dict[str, Any], list[str]]:
     """The Dask settings and worker preloads of a local cluster of ``workers`` for ``tasks``.
 
     On Linux the nannies fork their workers from the fork server local
@@ -298,9 +309,9 @@ def _local_cluster_start(tasks: int | None, workers: int) -> tuple[dict[str, Any
     server, against 5.2-6.1 s a worker spawned). Elsewhere each spawned worker
     imports the same preload itself at its start, before its first task.
     """
-    if start_worker_server(tasks, workers):
+    if start_worker_server(tasks, workers, executes):
         return {**DASK_WORKER_CONFIG, "distributed.worker.multiprocessing-method": "forkserver"}, []
-    return dict(DASK_WORKER_CONFIG), [worker_preload(tasks, workers)]
+    return dict(DASK_WORKER_CONFIG), worker_modules(tasks, workers, executes)
 
 
 def _worker_context() -> Any:
@@ -314,7 +325,7 @@ def _worker_context() -> Any:
     return context
 
 
-def start_worker_server(tasks: int | None = None, workers: int = 1) -> bool:
+def start_worker_server(tasks: int | None = None, workers: int = 1, executes: bool = False) -> bool:
     """Start local workers' fork server now; whether there is one (Linux) to start.
 
     The fork server loads its preload (:data:`WORKER_PRELOAD`, about 0.6 s of
@@ -336,31 +347,69 @@ def start_worker_server(tasks: int | None = None, workers: int = 1) -> bool:
         kernels once, for every worker; with fewer, each worker starts on
         the NumPy kernels (:mod:`lfdkit.core.kernels`), which serve a few
         plans faster than numba's start-up.
+    executes : bool
+        Whether the tasks carry plans onto a robot (:func:`worker_modules`).
     """
     context = _worker_context()
     if context.get_start_method() != "forkserver":
         return False
     from multiprocessing import forkserver
 
-    context.set_forkserver_preload([worker_preload(tasks, workers)])
+    context.set_forkserver_preload(worker_modules(tasks, workers, executes))
     forkserver.ensure_running()
     return True
 
 
-def worker_preload(tasks: int | None, workers: int) -> str:
+def worker_preload(tasks: int | None, workers: int, executes: bool = False) -> str:
     """The module the workers' fork server preloads for ``tasks`` on ``workers``.
 
     :data:`WORKER_PRELOAD_COMPILED` (numba loaded once, for every worker)
-    when each worker gets at least :data:`COMPILED_TASKS_PER_WORKER` tasks
-    or their number is not known (``None``: a scene file, a ``learn``
-    batch, whose IOC needs numba anyway); :data:`WORKER_PRELOAD` otherwise,
-    or with ``LFDKIT_KERNELS=numpy``.
+    when each worker gets at least :data:`COMPILED_TASKS_PER_WORKER` tasks,
+    their number is not known (``None``: a scene file, a ``learn`` batch,
+    whose IOC needs numba anyway) or the tasks carry plans onto a robot
+    (``executes``: the timing law's NumPy form agrees with numba's to
+    round-off only, about 1e-12 s in a motion's duration, so a row would
+    depend on the kernels a worker ran and not equal the serial run's; and
+    such a task takes 0.1-3 s, numba's start-up is soon earned);
+    :data:`WORKER_PRELOAD` otherwise, or with ``LFDKIT_KERNELS=numpy``.
     """
     if os.environ.get("LFDKIT_KERNELS", "").strip().lower() == "numpy":
         return WORKER_PRELOAD
-    if tasks is None or tasks >= COMPILED_TASKS_PER_WORKER * max(1, workers):
+    if executes or tasks is None or tasks >= COMPILED_TASKS_PER_WORKER * max(1, workers):
         return WORKER_PRELOAD_COMPILED
     return WORKER_PRELOAD
+
+
+def worker_modules(tasks: int | None, workers: int, executes: bool = False) -> list[str]:
+    """The modules every worker of a batch loads before its first task, in this order.
+
+    :func:`worker_preload`'s module, then, where the tasks carry plans onto a
+    robot (``executes``: checks ``robot`` and ``mujoco``),
+    :data:`WORKER_PRELOAD_EXECUTION` (SciPy's splines and rotations and the
+    execution pipeline: about 0.3 s of CPU a worker's first such task paid,
+    a loaded 2-core machine). The fork server of local processes imports
+    them (:func:`start_worker_server`), a Dask cluster's workers too
+    (:func:`load_modules`), and a long serial batch (:func:`make_executor`),
+    so every executor's tasks start from the same warm process.
+    """
+    modules = [worker_preload(tasks, workers, executes)]
+    if executes:
+        modules.append(WORKER_PRELOAD_EXECUTION)
+    return modules
+
+
+def load_modules(modules: Iterable[str]) -> None:
+    """Import ``modules`` (:func:`worker_modules`) in this process, each best effort.
+
+    What a Dask worker runs before a batch's first task (``client.run``), and a
+    long serial batch before its first; a module that fails to import leaves
+    the tasks to load what they need themselves (and to report what is missing).
+    """
+    import importlib
+
+    for name in modules:
+        with contextlib.suppress(Exception):
+            importlib.import_module(name)
 
 
 def _start_worker(compiled: bool = False) -> None:
@@ -419,6 +468,7 @@ def make_executor(
     *,
     connect_timeout: float = 30.0,
     tasks: int | None = None,
+    executes: bool = False,
 ) -> Iterator[Executor]:
     """The executor that runs a batch's tasks, as a context manager.
 
@@ -444,11 +494,20 @@ def make_executor(
         known: the NumPy kernels first). A serial batch of at least
         :data:`COMPILED_TASKS_PER_WORKER` tasks loads numba before its first
         (:func:`load_compiled`).
+    executes : bool
+        Whether the tasks carry plans onto a robot (:func:`worker_modules`).
 
     Yields
     ------
     concurrent.futures.Executor
-        With a ``workers`` attribute: how many tasks it runs at once.
+        With a ``workers`` attribute: how many tasks it runs at once. Before
+        it is yielded, the processes that run the tasks are warm, the same
+        for every executor (:func:`worker_modules`): a long serial batch has
+        loaded them in this process, local processes' fork server has (and
+        one worker is forked from it), a Dask cluster's workers have
+        (``client.run``); a short serial batch loads what its tasks need as
+        they run. A batch's seconds (:class:`BatchSummary`) count from there,
+        so its throughput compares executors on their tasks, not their start.
         On leaving, it is shut down (and a local cluster closed); after an
         exception, without waiting for the tasks still running.
 
@@ -468,13 +527,23 @@ def make_executor(
     if workers is not None:
         # Not told: the NumPy kernels first, as ProcessExecutor's own default.
         count = 0 if tasks is None else tasks
-        executor: Executor = ProcessExecutor(_check_count(workers, "workers"), tasks=count)
-    elif scheduler is None and dask_local is None:
-        if tasks is not None and worker_preload(tasks, 1) == WORKER_PRELOAD_COMPILED:
+        n = _check_count(workers, "workers")
+        executor: Executor = ProcessExecutor(n, tasks=count, executes=executes)
+        with _shut_down(executor) as executor:
+            try:  # the fork server loaded, a worker forked: the batch starts warm
+                executor.submit(os.getpid).result()
+            except BrokenProcessPool as exc:
+                raise ExecutorBrokenError(_broken(exc)) from None
+            yield executor
+        return
+    if scheduler is None and dask_local is None:
+        long = tasks is not None or executes  # (not known: a short batch's kernels' rule)
+        if long and worker_preload(tasks, 1, executes) == WORKER_PRELOAD_COMPILED:
             load_compiled()  # a long serial batch: numba from its first task
+            load_modules(worker_modules(tasks, 1, executes))  # as the workers' fork server
         executor = SerialExecutor()
     else:
-        with _dask_client(scheduler, dask_local, connect_timeout, tasks) as client:
+        with _dask_client(scheduler, dask_local, connect_timeout, tasks, executes) as client:
             with _shut_down(DaskExecutor(client)) as executor:
                 yield executor
         return
@@ -495,7 +564,11 @@ def _shut_down(executor: Executor) -> Iterator[Executor]:
 
 @contextlib.contextmanager
 def _dask_client(
-    scheduler: str | None, dask_local: int | None, timeout: float, tasks: int | None = None
+    scheduler: str | None,
+    dask_local: int | None,
+    timeout: float,
+    tasks: int | None = None,
+    executes: bool = False,
 ) -> Iterator[Any]:
     try:
         from distributed import Client, LocalCluster
@@ -510,7 +583,7 @@ def _dask_client(
         import dask
 
         n = _check_count(dask_local, "dask_local")
-        config, preload = _local_cluster_start(tasks, n)
+        config, preload = _local_cluster_start(tasks, n, executes)
         with (
             dask.config.set(config),  # the nannies hand it to their workers
             LocalCluster(
@@ -525,6 +598,7 @@ def _dask_client(
             Client(cluster) as client,
         ):
             client.wait_for_workers(n, timeout=timeout)
+            _warm_workers(client, tasks, executes)  # forked from the fork server: nothing left
             yield client
         return
     if not isinstance(scheduler, str) or not scheduler.strip():
@@ -541,7 +615,25 @@ def _dask_client(
                 f"scheduler: {scheduler} has no worker after {timeout:g} s; start some with "
                 f"dask worker {scheduler} --nthreads 1"
             ) from None
+        _warm_workers(client, tasks, executes)
         yield client
+
+
+def _warm_workers(client: Any, tasks: int | None, executes: bool) -> None:
+    """Load :func:`worker_modules` on every worker of ``client``'s cluster, in parallel.
+
+    A ``dask worker`` started without lfdkit's preload would otherwise load
+    them during its first tasks: numba only after a second of the NumPy
+    kernels (about ten random sweeping plans at 10x numba's CPU time), and
+    the first chunks' times, inflated by that start, would size the chunks
+    too small. Workers that loaded them already (forked from the fork
+    server, or started with ``--preload lfdkit.app.worker_preload_compiled``)
+    return at once. Best effort: a worker without lfdkit fails its tasks,
+    which say why.
+    """
+    n = max(1, sum(client.nthreads().values()))
+    with contextlib.suppress(Exception):
+        client.run(load_modules, worker_modules(tasks, n, executes))
 
 
 # ------------------------------------------------------------------ results files

@@ -48,6 +48,7 @@ from lfdkit.app.batch import (
     error_line,
     evaluate_row,
     evaluate_spec,
+    load_compiled,
     read_results,
     run_batch,
     skill_ends,
@@ -205,6 +206,10 @@ def evaluate_task(
 
     if check not in TASK_CHECKS:
         raise ValueError(f"check: expected one of {', '.join(TASK_CHECKS)}, got {check!r}")
+    # numba's kernels from the first task on, whatever the executor: their NumPy forms agree
+    # with them to round-off only for 3-D plans and the timing law, and a row must not
+    # depend on which kernels a process had turned to (issue 30).
+    load_compiled()
     skill = skill_from_text(skill_text)
     robot_arm = _arm(arm)
     description = TaskDescription.from_dict(dict(task))

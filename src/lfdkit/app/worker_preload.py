@@ -26,7 +26,8 @@ For a long batch the fork server imports
 module, whose warm-up then loads numba's cached kernels once for every
 worker (:func:`lfdkit.app.batch.start_worker_server` chooses).
 
-Importing this module does the warm-up; nothing else imports it but that module. It never
+Importing this module does the warm-up; only the fork server, that module and
+:func:`lfdkit.app.batch.load_modules` (a Dask worker, a long serial batch) import it. It never
 raises: a warm-up that fails leaves the workers to load what they need
 themselves, as spawned workers do.
 """
@@ -34,6 +35,7 @@ themselves, as spawned workers do.
 from __future__ import annotations
 
 import os
+import sys
 import warnings
 
 from lfdkit.app.batch import ONE_THREAD_ENV
@@ -71,5 +73,6 @@ def warm_up() -> bool:
     return True
 
 
-os.environ.update(ONE_THREAD_ENV)  # before NumPy loads: the forks inherit the thread pools
+if "numpy" not in sys.modules:  # a fork server: the forks inherit the thread pools
+    os.environ.update(ONE_THREAD_ENV)  # (a serial batch's process keeps its own)
 warm_up()

@@ -11,7 +11,8 @@ numba's cached kernels instead, once (about 1.2 s more CPU in the fork
 server, which starts while the calling process still loads its own
 modules), and every fork starts on the compiled kernels.
 
-Importing this module does the warm-up; nothing else imports it. It never
+Importing this module does the warm-up; only the fork server and
+:func:`lfdkit.app.batch.load_modules` import it. It never
 raises (as :mod:`lfdkit.app.worker_preload`).
 """
 
@@ -19,10 +20,12 @@ from __future__ import annotations
 
 import contextlib
 import os
+import sys
 
 from lfdkit.app.batch import ONE_THREAD_ENV, load_compiled
 
-os.environ.update(ONE_THREAD_ENV)  # before NumPy loads: the forks inherit the thread pools
+if "numpy" not in sys.modules:  # a fork server: the forks inherit the thread pools
+    os.environ.update(ONE_THREAD_ENV)  # (a serial batch's process keeps its own)
 with contextlib.suppress(Exception):  # best effort: without numba the NumPy kernels serve
     load_compiled()  # numba loaded: the kernels' rule picks numba's from the first call
 

@@ -297,3 +297,35 @@ def test_simulated_sweeps_on_dask_and_processes_equal_the_serial_run(
         assert (tmp_path / f"{name}.jsonl").read_bytes() == (
             tmp_path / "serial.jsonl"
         ).read_bytes(), name
+
+
+@pytest.mark.slow  # a fresh interpreter that loads numba: ~2-3 s quiet
+def test_a_robot_task_runs_on_numba_s_kernels_from_its_first_whatever_the_process(skill_path):
+    """Issue 30: a robot check's row does not depend on the kernels a process had turned to.
+
+    The timing law's NumPy form agrees with numba's to round-off only, and a
+    fresh worker used to run it for its first second of CPU: a short batch on
+    2 workers wrote rows that differed from the serial run's in the 13th digit
+    of a motion's duration. The unit loads numba before its first robot task;
+    the row in a fresh process equals this process's.
+    """
+    code = (
+        "import json, sys\n"
+        "from pathlib import Path\n"
+        "from lfdkit.tasks.sweeping.batch import evaluate_scenario\n"
+        "row = evaluate_scenario(Path(sys.argv[1]).read_text(), {'seed': 0, 'index': 3}, 'robot')\n"
+        "print(json.dumps(['numba' in sys.modules, row]))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "LFDKIT_KERNELS"}
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(skill_path)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr[-500:]
+    loaded, row = json.loads(done.stdout.strip().splitlines()[-1])
+    assert loaded
+    here = evaluate_scenario(Path(skill_path).read_text(), {"seed": 0, "index": 3}, "robot")
+    assert row == json.loads(json.dumps(here))

@@ -65,6 +65,7 @@ def run_command(args: argparse.Namespace) -> None:
                             args.scheduler,
                             args.dask_local,
                             tasks=getattr(args, "random", None),
+                            executes=_executes(args),
                         )
                     )
                 summary = run(pool, progress)
@@ -120,7 +121,17 @@ def _start_workers(args: argparse.Namespace) -> None:
     if local is not None:
         from lfdkit.app.batch import start_worker_server
 
-        start_worker_server(getattr(args, "random", None), local)
+        start_worker_server(getattr(args, "random", None), local, _executes(args))
+
+
+def _executes(args: argparse.Namespace) -> bool:
+    """Whether the batch's tasks carry plans onto a robot (the fork server loads the pipeline).
+
+    The path task's always import it; the sweep's from ``--check robot`` on.
+    """
+    if args.mode != "evaluate":
+        return False
+    return args.task == "path" or args.simulate or args.check in ("robot", "mujoco")
 
 
 def _batch_learn_setup(args: argparse.Namespace, resuming: bool):

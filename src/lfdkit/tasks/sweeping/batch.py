@@ -49,6 +49,7 @@ from lfdkit.app.batch import (
     error_line,
     evaluate_row,
     evaluate_spec,
+    load_compiled,
     run_batch,
     skill_ends,
     skill_from_text,
@@ -150,6 +151,10 @@ def evaluate_scenario(
         from lfdkit.tasks.sweeping.sim import sweep_motion
 
         failures = (UnsafePlanError, ExecutionError)
+        # numba's kernels from the first task on, whatever the executor: the timing law's
+        # NumPy form agrees with them to round-off only (a 2-D plan, bit for bit), and a row
+        # must not depend on which kernels a process had turned to (issue 30).
+        load_compiled()
     skill = skill_from_text(skill_text)
     if "index" in where:
         drawn = scenario(int(where["seed"]), int(where["index"]))
