@@ -224,7 +224,10 @@ class Skill(
     ioc_ : IOC or None
         The fitted inverse optimal control (None after :meth:`adopt` or :meth:`load`).
     ioc_info_ : dict or None
-        Summary of the reward fit: loss, stages, classes, demonstrations.
+        Summary of the reward fit: loss, stages, classes, demonstrations;
+        ``left_out``: the obstacle demonstrations the reward fitted on all
+        replanned on another side of an obstacle, left out of the fit and of
+        the model choice (said in a warning; :meth:`fit_reward`).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -718,6 +721,12 @@ class Skill(
         where the task ends (the dustpan), not where a demonstration that
         swerved around an obstacle happened to stop, so it defaults to the
         generalized path's goal.
+
+        A demonstration the reward fitted on all of them replans on another
+        side of an obstacle is left out, and the reward fitted again on the
+        rest (:meth:`_unexplained`; a ``UserWarning`` names it,
+        ``ioc_info_["left_out"]``): a side no plan of that reward takes cannot
+        be explained by its shape, and the fit bent the whole reward trying.
 
         Parameters
         ----------
