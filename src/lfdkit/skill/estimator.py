@@ -227,7 +227,8 @@ class Skill(
         Summary of the reward fit: loss, stages, classes, demonstrations;
         ``left_out``: the obstacle demonstrations the reward fitted on all
         replanned on another side of an obstacle, left out of the fit and of
-        the model choice (said in a warning; :meth:`fit_reward`).
+        the model choice (said in a warning; :meth:`fit_reward`; their rows
+        in :attr:`training_fidelity_` have ``left_out`` True).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -858,6 +859,13 @@ class Skill(
             )
         for row in self.training_fidelity_ or []:  # numbered as the caller's demonstrations
             row["demo"] = keep[row["demo"]]
+        if left_out and self.training_fidelity_ is not None:  # each said with its own plan
+            rows = [
+                self._left_out_row(j, demos[j], goal[j], learned[j], nominals[j]) for j in left_out
+            ]
+            self.training_fidelity_ = sorted(
+                self.training_fidelity_ + rows, key=lambda row: row["demo"]
+            )
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
         self._warn_fidelity()
@@ -919,6 +927,17 @@ class Skill(
                 out.append(j)
         few = 2 * len(out) < n and n - len(out) >= MIN_CROSS_VALIDATION_DEMOS
         return out if few else []
+
+    def _left_out_row(
+        self, j: int, demo: np.ndarray, goal: np.ndarray, scene: Scene, nominal: np.ndarray
+    ) -> dict[str, Any]:
+        """A left-out demonstration's fidelity row: its scene planned as the skill plans."""
+        try:
+            plan = self._plan(demo[0], goal, scene, None, None, "auto", 0.0)
+        except UnsafePlanError as exc:
+            return {"demo": j, "refused": str(exc), "left_out": True}
+        row = replanning_fidelity(plan.points, nominal, demo, scene, int(self.n_points))
+        return {"demo": j, **row, "clearance_relaxed": False, "left_out": True}
 
     def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
         """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
