@@ -154,6 +154,23 @@ seed 2 93/93 %, 100 %, 0.95 and 93/92 %, 100 %, 0.76 → 90/81 %, 100 %, 0.85 an
 points; before, the margin person demonstrated other paths in mm). The
 thesis, margin and late people do not pass the swerve's gate (0.45: their
 screens 0.98-0.99, 0.63-0.76, 0.56-0.72) and are unchanged.
+
+A demonstration no plan of the reward takes on its side, left out of the fit
+(``Skill.fit_reward``; quick, 10 demonstrations, pooled / mean / median Pr,
+sides): the potential-field person, seed 3, passes a box 5 mm beside the path
+15 cm away on its own side (demonstration 9); fitted with it, ``Q`` sat on its
+plausibility wall and nothing held plans on their nominals (1x: −41/−7/90 %,
+sides 71 %; clutter planned 10 cm off on the other side). Left out: 1x
+79/43/94 %, sides 96 %; 2x 10/−52/41 %, 79 % → −12/−4/46 %, 83 % (there the
+swerve candidate loses the choice on one fold's side flip, and window+closest
+is chosen at a cross-validated median of 56 %). Seeds 0-2 (all four people on
+seed 0) leave nothing out and are unchanged to the digit. Not this: the late
+swerver, seed 2 (−26/−3/86 %, sides 76 %): its ``Q'`` fits at 1.1e-3, at the
+wall, so on the S-curve the tails of boxes 15 cm ahead steer the plan off its
+nominal from the start (×100 ``Q``: Pr −609 → 87 %); in one clutter scene
+the route without the goal term keeps every side (Pr 78 %), but its way back
+after the last box does not fit the action bound (the person returns at a
+slope of about 3) and the goal-reaching plan takes the other side (−65 %).
 """
 
 from __future__ import annotations
