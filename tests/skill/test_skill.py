@@ -892,7 +892,9 @@ def test_held_out_records_are_scored_as_their_lists(skill, test_set) -> None:
 
 
 @pytest.mark.slow
-def test_a_demonstration_passed_on_a_side_no_reward_takes_is_left_out_of_the_fit(sweeping):
+def test_a_demonstration_passed_on_a_side_no_reward_takes_is_left_out_of_the_fit(
+    sweeping, tmp_path
+):
     """One cup 2 mm beside the path passed 12 cm away on its own side (a coin flip).
 
     The fit warm-starts each plan on its demonstration's side, so with it the whole
@@ -918,6 +920,8 @@ def test_a_demonstration_passed_on_a_side_no_reward_takes_is_left_out_of_the_fit
     rows = {row["demo"]: row for row in skill.training_fidelity_}
     assert sorted(rows) == list(range(9)) and rows[8]["left_out"]
     assert not rows[8]["sides_agree"] and not any(rows[j].get("left_out") for j in range(8))
+    loaded = Skill.load(skill.save(tmp_path / "skill.json"))
+    assert loaded.ioc_info_["left_out"] == [8] and loaded.training_fidelity_[8]["left_out"]
     test_demos, ids = load_demos(FILES["test_demos"], return_ids=True)
     test_scenes = load_scenes(FILES["test_scenes"])
     assert skill.evaluate(test_demos, [test_scenes[k] for k in ids])["improvement"] > 98.0
