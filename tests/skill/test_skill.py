@@ -889,3 +889,39 @@ def test_held_out_records_are_scored_as_their_lists(skill, test_set) -> None:
         skill.evaluate(demos[:2])
     with pytest.raises(ValueError, match=r"^demos\[0\]: the record .* has no scene"):
         skill.evaluate([Demo(demos[0])])
+
+
+@pytest.mark.slow
+def test_a_demonstration_passed_on_a_side_no_reward_takes_is_left_out_of_the_fit(
+    sweeping, tmp_path
+):
+    """One cup 2 mm beside the path passed 12 cm away on its own side (a coin flip).
+
+    The fit warm-starts each plan on its demonstration's side, so with it the whole
+    reward bent to explain that swerve (main: Q 107 against the truth's 20, held-out
+    improvement 96.2 %); replanned on the other side, it is left out and said.
+    """
+    data = example_dataset()
+    demos = [data.demos[j] for j in data.train]
+    scenes = [data.scenes[j] for j in data.train]
+    nominal = resample(Skill().fit(data.free_demos).nominal(demos[0][0]), 200)
+    left = np.column_stack((-np.gradient(nominal[:, 1]), np.gradient(nominal[:, 0])))
+    left /= np.linalg.norm(left, axis=1, keepdims=True)
+    u = np.linspace(0.0, 1.0, 200)
+    bump = np.where(np.abs(u - 0.5) < 0.25, 0.5 + 0.5 * np.cos(np.pi * (u - 0.5) / 0.25), 0.0)
+    cup = next(s.obstacles[0] for s in scenes if s.labels[0] == "cup")
+    near = Scene((replace(cup, position=nominal[100] + 0.002 * left[100]),))
+    outlier = nominal + 0.12 * bump[:, None] * left
+    with pytest.warns(UserWarning, match=r"obstacle demonstration\(s\) 8 pass an obstacle"):
+        skill = Skill().fit(data.free_demos, [*demos, outlier], [*scenes, near])
+    assert skill.ioc_info_["left_out"] == [8]
+    assert 0.5 < skill.reward_.nominal_weight / sweeping.true_reward.nominal_weight < 2.0
+    # Reported with the others, as the skill plans its scene: on the other side.
+    rows = {row["demo"]: row for row in skill.training_fidelity_}
+    assert sorted(rows) == list(range(9)) and rows[8]["left_out"]
+    assert not rows[8]["sides_agree"] and not any(rows[j].get("left_out") for j in range(8))
+    loaded = Skill.load(skill.save(tmp_path / "skill.json"))
+    assert loaded.ioc_info_["left_out"] == [8] and loaded.training_fidelity_[8]["left_out"]
+    test_demos, ids = load_demos(FILES["test_demos"], return_ids=True)
+    test_scenes = load_scenes(FILES["test_scenes"])
+    assert skill.evaluate(test_demos, [test_scenes[k] for k in ids])["improvement"] > 98.0
