@@ -12,6 +12,7 @@ whole story.
 from __future__ import annotations
 
 import os
+import re
 import time
 import warnings
 from collections.abc import Sequence
@@ -41,6 +42,7 @@ from lfdkit.core.units import (
     conversion_factor,
     implausible_units,
     likely_units,
+    misplaced_units,
 )
 from lfdkit.core.validation import (
     check_class_names,
@@ -62,6 +64,7 @@ from lfdkit.io.skill_file import (
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
 from lfdkit.model.demos import demo_fields
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 from lfdkit.skill.files import SkillFiles
 from lfdkit.skill.orientation import SkillOrientation, check_orientations_list
@@ -763,6 +766,7 @@ class Skill(
                     "reward is learned from standing obstacles only: give where it stood "
                     "during the demonstration, or learn without it (plans can avoid moving ones)"
                 )
+        self._check_obstacle_scenes(demos, scenes)
         goal = self._goals(goals, len(demos))
         progress = as_progress(progress)
         with progress.stage("emulate: nominal of each obstacle demonstration (DMP)"):
@@ -821,6 +825,59 @@ class Skill(
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
         self._warn_fidelity()
         return self
+
+    def _check_obstacle_scenes(self, demos: list[np.ndarray], scenes: list[Scene]) -> None:
+        """Refuse a demonstration that starts or ends inside its obstacle; warn for doubtful scenes.
+
+        A person's demonstration cannot start, end or pass inside a solid
+        obstacle, so one that does names a wrong position, radius or unit in
+        the scene (the fit would fail on it, or learn from it, without saying
+        which). Warned: a demonstration passing deeper than a quarter of the
+        obstacle's size inside it, and an obstacle far from every
+        demonstration that another unit would bring among them
+        (:func:`lfdkit.core.units.misplaced_units`).
+        """
+        points = np.concatenate([self.path_, *demos])
+        low, high = points.min(axis=0).tolist(), points.max(axis=0).tolist()
+        units = self.units
+        misplaced: list[tuple[str, str]] = []
+        for j, (demo, scene) in enumerate(zip(demos, scenes, strict=True)):
+            for i, obstacle in enumerate(scene):
+                name = f"scenes[{j}]: obstacle {i} ({obstacle.label!r})"
+                if obstacle.has_extent:
+                    for end, point in (("starts", demo[:1]), ("ends", demo[-1:])):
+                        depth = -obstacle.distance(point)
+                        if depth > 0.0:
+                            raise ValueError(
+                                f"{name}: its demonstration {end} {depth:.3g} {units} inside "
+                                "it, which no demonstration can; check the obstacle's position "
+                                "and size, and that the scenes are in the demonstrations' unit"
+                            )
+                    size = max(obstacle.radius, float(np.max(obstacle.balls()[1])))
+                    depth = -obstacle.distance(demo)
+                    if depth > 0.25 * size:
+                        warnings.warn(
+                            f"{name}: its demonstration passes {depth:.3g} {units} inside it "
+                            f"(its size {size:.3g} {units}); check the obstacle's position and "
+                            "size, and that the demonstration was recorded around it",
+                            UserWarning,
+                            stacklevel=4,
+                        )
+                if isinstance(obstacle, HalfSpace) or np.size(obstacle.position) != len(low):
+                    continue
+                likely = misplaced_units(obstacle.position.tolist(), low, high, units)
+                if likely is not None:
+                    shown = ", ".join(f"{v:.4g}" for v in obstacle.position)
+                    misplaced.append((f"{name}: at ({shown}) {units}", likely))
+        if misplaced:  # one line for them all: a scene file in another unit
+            (first, likely), more = misplaced[0], len(misplaced) - 1
+            others = f" (and {more} other obstacle{'s' * (more != 1)})" if more else ""
+            warnings.warn(
+                f"{first} lies far from every demonstration{others}; in {likely} it would lie "
+                f"among them: give the scenes in the demonstrations' unit ({units})",
+                UserWarning,
+                stacklevel=4,
+            )
 
     def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
         """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
@@ -1029,7 +1086,27 @@ def learn(
     with progress.stage("read the demonstration and scene files"):
         data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
-    skill.fit(data.clean, data.around_obstacles or None, progress=progress)
+    ids = data.obstacle_ids
+
+    def named(text: str) -> str:  # scenes[j] by the file's demo ids
+        return re.sub(
+            r"^scenes\[(\d+)\]", lambda m: f"{scenes_path}: demo {ids[int(m[1])]!r}", text
+        )
+
+    caught: list[warnings.WarningMessage] = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:  # the caller's filters kept
+            skill.fit(data.clean, data.around_obstacles or None, progress=progress)
+    except ValueError as exc:
+        if str(exc).startswith("scenes["):
+            raise ValueError(named(str(exc))) from None
+        raise
+    finally:
+        for warning in caught:  # re-issued to the caller, named by the file's ids
+            message = warning.message
+            if type(message) is UserWarning and str(message).startswith("scenes["):
+                message = UserWarning(named(str(message)))
+            warnings.warn_explicit(message, warning.category, warning.filename, warning.lineno)
     # Each replanned training scene by its demonstration's id in the file.
     stored = (skill.ioc_info_ or {}).get("training_fidelity") or []
     for rows in (skill.training_fidelity_ or [], stored):

@@ -507,7 +507,14 @@ def _scene_from_args(args: argparse.Namespace, n_dims: int):
 
     obstacles = []
     if args.scene is not None:
-        obstacles += list(load_scene(args.scene))
+        try:
+            obstacles += list(load_scene(args.scene))
+        except ValueError as exc:  # the library's advice names its functions, not options
+            message = str(exc).replace(
+                "load_scene expects exactly one; use load_scenes to read them all",
+                "--scene takes one: keep the rows of one demo, or leave out the demo column",
+            )
+            raise CommandError(f"--scene {message}") from None
     for label, position, radius, velocity, box, normal in args.obstacle or ():
         if len(position) != n_dims:
             hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
