@@ -63,7 +63,7 @@ def test_a_demonstration_through_its_obstacle_and_a_scene_in_metres_are_warned(s
     metres = Scene((Obstacle("cup", [0.0, 0.44], radius=0.03),))
     fitted = Skill(units="mm").fit_path(CLEAN)
     # A goal of the wrong size stops the fit right after the checks.
-    with pytest.warns(UserWarning) as caught, pytest.raises(ValueError, match="^goals"):
+    with pytest.warns(UserWarning) as caught, pytest.raises(ValueError, match=r"^goals"):
         fitted.fit_reward([AROUND, AROUND], [through, metres], goals=[1.0, 2.0, 3.0])
     said = [str(w.message) for w in caught]
     assert any(
@@ -81,5 +81,5 @@ def test_a_scene_of_the_demonstrations_unit_is_not_warned(skill) -> None:
     fitted = Skill(units="mm").fit_path(CLEAN)
     with warnings.catch_warnings():
         warnings.simplefilter("error", UserWarning)
-        with pytest.raises(ValueError, match="^goals"):
+        with pytest.raises(ValueError, match=r"^goals"):
             fitted.fit_reward([AROUND], [Scene((CUP,))], goals=[1.0, 2.0, 3.0])
