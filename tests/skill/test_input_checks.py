@@ -83,3 +83,19 @@ def test_a_scene_of_the_demonstrations_unit_is_not_warned(skill) -> None:
         warnings.simplefilter("error", UserWarning)
         with pytest.raises(ValueError, match=r"^goals"):
             fitted.fit_reward([AROUND], [Scene((CUP,))], goals=[1.0, 2.0, 3.0])
+
+
+def test_times_in_milliseconds_are_warned_and_seconds_are_not() -> None:
+    seconds = [np.linspace(0.0, 4.0 + 0.5 * j, 40) for j in range(3)]
+    with pytest.warns(UserWarning, match=r"^times: the demonstrations last 4500 s \(median\)"):
+        Skill(units="mm").fit_path(CLEAN, times=[1000.0 * t for t in seconds])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        Skill(units="mm").fit_path(CLEAN, times=seconds)
+
+
+def test_demonstrations_that_do_not_move_are_refused_without_a_units_guess() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)  # no "in cm they would span 0 m"
+        with pytest.raises(ValueError, match=r"all points coincide"):
+            Skill().fit_path([np.ones((20, 2)), np.ones((20, 2))])

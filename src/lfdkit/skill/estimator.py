@@ -28,6 +28,7 @@ from lfdkit.core.geometry import (
 )
 from lfdkit.core.options import (
     DEMONSTRATION_SPEED,
+    LONGEST_DEMONSTRATION,
     MODELS,
     PLANNERS,
     SCALINGS,
@@ -649,8 +650,23 @@ class Skill(
         return max(1.0, metres / DEMONSTRATION_SPEED)
 
     def _warn_units(self, demos: list[np.ndarray], stamps: list[np.ndarray | None]) -> None:
-        """A :class:`UnitsWarning` when the demonstrations are implausible in :attr:`units`."""
+        """A :class:`UnitsWarning` when the demonstrations are implausible in :attr:`units`.
+
+        Also a warning when their times are (the median lasting over
+        :data:`~lfdkit.core.options.LONGEST_DEMONSTRATION`: milliseconds read as seconds).
+        """
+        lasting = [float(t[-1] - t[0]) for t in stamps if t is not None]
+        if lasting and float(np.median(lasting)) > LONGEST_DEMONSTRATION:
+            warnings.warn(
+                f"times: the demonstrations last {float(np.median(lasting)):.4g} s (median), "
+                f"longer than a demonstration does (over {LONGEST_DEMONSTRATION:g} s); times "
+                "are in seconds: if they are in milliseconds, divide them by 1000",
+                UserWarning,
+                stacklevel=3,
+            )
         extent = max(float(np.ptp(demo, axis=0).max()) for demo in demos)
+        if not extent > 0.0:  # every point the same: the mimic step refuses it, saying so
+            return
         speeds = [
             path_length(demo) / float(t[-1] - t[0])
             for demo, t in zip(demos, stamps, strict=True)
