@@ -99,3 +99,12 @@ def test_demonstrations_that_do_not_move_are_refused_without_a_units_guess() -> 
         warnings.simplefilter("error", UserWarning)  # no "in cm they would span 0 m"
         with pytest.raises(ValueError, match=r"all points coincide"):
             Skill().fit_path([np.ones((20, 2)), np.ones((20, 2))])
+
+
+def test_a_scene_of_the_wrong_dimension_and_a_bad_horizon_are_named(skill) -> None:
+    # A NumPy broadcasting error before; the horizon was ignored where the route has none.
+    scene = Scene((Obstacle("cup", [0.0, 440.0, 100.0], radius=30.0),))
+    with pytest.raises(ValueError, match=r"^scene: obstacle 0 \('cup'\) has 3 coordinates for a"):
+        skill.plan(goal=[400.0, 450.0], scene=scene)
+    with pytest.raises(ValueError, match=r"^horizon: expected 4 <= H <= 12"):
+        skill.plan(goal=[400.0, 450.0], horizon=50, planner="full")

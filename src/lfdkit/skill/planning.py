@@ -23,6 +23,7 @@ from lfdkit.core.options import (
 from lfdkit.core.progress import ProgressLike
 from lfdkit.core.units import UnitsWarning, conversion_factor, misplaced_units
 from lfdkit.core.validation import (
+    check_horizon,
     check_point,
     check_positive,
 )
@@ -371,6 +372,17 @@ class Planning:
         """
         given = {"start": start, "goal": goal}
         start, goal = self._ends(start, goal)
+        if horizon is not None:  # checked even where the route plans without one
+            check_horizon(horizon)
+        if isinstance(scene, Scene) and len(scene):
+            q = self.n_dims_
+            wrong = next((i for i, o in enumerate(scene) if np.size(o.position) != q), None)
+            if wrong is not None:
+                raise ValueError(
+                    f"scene: obstacle {wrong} ({scene.labels[wrong]!r}) has "
+                    f"{np.size(scene.obstacles[wrong].position)} coordinates for a {q}-D skill; "
+                    f"give every obstacle {q}"
+                )
         self._warn_misplaced(
             {name: point for name, point in given.items() if point is not None}, scene
         )
