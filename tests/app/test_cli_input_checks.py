@@ -65,7 +65,7 @@ def test_learn_names_the_demonstration_that_starts_inside_its_obstacle(capsys, t
     assert not (tmp_path / "s.json").exists()
 
 
-def test_learn_shows_the_warnings_before_refusing_a_fit_that_did_not_converge(
+def test_learn_refuses_a_fit_that_did_not_converge_on_one_line_saying_what_would_help(
     capsys, tmp_path, monkeypatch
 ) -> None:
     def learn(*args, **kwargs):  # a fit that warns why, then does not converge
@@ -80,6 +80,9 @@ def test_learn_shows_the_warnings_before_refusing_a_fit_that_did_not_converge(
     save_demos(demos, CLEAN)
     code, _, err = run_cli(capsys, "learn", demos, "--units", "mm", "-o", tmp_path / "s.json")
     assert code == 1
-    lines = err.splitlines()
-    assert lines[0].startswith("lfdkit learn: warning: not identified: P[cup][x]"), err
-    assert lines[-1].startswith("lfdkit learn: error: the obstacle reward fit did not converge")
+    assert len(err.splitlines()) == 1, err
+    assert err.startswith(
+        "lfdkit learn: error: the obstacle reward fit did not converge (degenerate reward); "
+        "wrote nothing. Not identified: P[cup][x]; show a demonstration with the cup nearer. "
+        "Check the units"
+    ), err

@@ -42,21 +42,26 @@ def run_command(args: argparse.Namespace) -> None:
         except UnitsWarning as exc:
             raise CommandError(units_refusal(source, exc, SKILL_DEFAULTS["units"])) from None
     fit = skill.ioc_info_ or {}
+    if not fit.get("converged", True):  # one line, with what the warnings said would help
+        said = [
+            str(w.message).splitlines()[0]
+            for w in caught
+            if str(w.message) and not str(w.message).startswith("the reward fit did not")
+        ]
+        raise CommandError(
+            f"the obstacle reward fit did not converge ({fit['convergence_message']}); "
+            "wrote nothing. "
+            + "".join(f"{text[0].upper()}{text[1:]}. " for text in said)
+            + "Check the units and that each obstacle demonstration follows "
+            "the path around its scene's obstacles, add demonstrations, or try --planner full"
+        )
     for warning in caught:  # shown once each, after the fit, as main's handler shows them
         message = warning.message
-        if not fit.get("converged", True) and str(message).startswith("the reward fit did not"):
-            continue  # the error below says it
         if isinstance(message, UnitsWarning):  # --units m given: learned, but said, as options
             message = UnitsWarning(
                 f"{source}: {message.detail}: if that is their unit, pass --units {message.likely}"
             )
         warnings.showwarning(message, warning.category, warning.filename, warning.lineno)
-    if not fit.get("converged", True):  # after the warnings: they may say why
-        raise CommandError(
-            f"the obstacle reward fit did not converge ({fit['convergence_message']}); "
-            "wrote nothing. Check the units and that each obstacle demonstration follows "
-            "the path around its scene's obstacles, add demonstrations, or try --planner full"
-        )
     skill.save(args.output, overwrite=args.force)
     if args.verbosity >= 1:
         classes = ", ".join(skill.reward_.classes) if skill.reward_ is not None else "none"
