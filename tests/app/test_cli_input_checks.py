@@ -86,3 +86,31 @@ def test_learn_refuses_a_fit_that_did_not_converge_on_one_line_saying_what_would
         "wrote nothing. Not identified: P[cup][x]; show a demonstration with the cup nearer. "
         "Check the units"
     ), err
+
+
+def test_plot_says_when_the_demonstrations_drawn_are_in_another_unit(
+    capsys, skill_file, tmp_path
+) -> None:
+    metres = tmp_path / "demos_m.csv"
+    save_demos(metres, [d / 1000.0 for d in CLEAN])
+    code, _, err = run_cli(capsys, "plot", skill_file, "--demos", metres, "-o", tmp_path / "a.png")
+    assert code == 0, err
+    assert f"lfdkit plot: warning: --demos {metres}: they lie far from the skill's path" in err
+    assert "if that is their unit, pass --units m" in err
+    millimetres = tmp_path / "demos_mm.csv"
+    save_demos(millimetres, CLEAN)
+    code, _, err = run_cli(
+        capsys, "plot", skill_file, "--demos", millimetres, "-o", tmp_path / "b.png"
+    )
+    assert code == 0 and "warning" not in err, err
+
+
+def test_plan_around_obstacles_without_a_reward_names_the_command_that_learns_one(
+    capsys, skill_file
+) -> None:
+    code, _, err = run_cli(
+        capsys, "plan", skill_file, "--goal", "400,450", "--obstacle", "cup:0,440,r=30"
+    )
+    assert code == 1
+    assert "learn one with lfdkit learn --scenes (demonstrations around obstacles)" in err
+    assert "fit_reward()" not in err

@@ -609,6 +609,10 @@ def option_named(message: str) -> str:
     # The library's opt-in for unlearned obstacle classes, in the command line's words.
     message = re.sub(r"unknown_class=MARGIN \(lfdkit [^:]*: ([^)]*)\)", r"\1", message)
     message = re.sub(r"^unknown_response:", "--unknown-class response:", message)
+    message = message.replace(
+        "learn one with fit_reward() (demonstrations around obstacles) or adopt() it",
+        "learn one with lfdkit learn --scenes (demonstrations around obstacles)",
+    )
     message = re.sub(r"^via\[(\d+)\]:", lambda m: f"--via (value {int(m[1]) + 1}):", message)
     return re.sub(
         r"^(duration|speed|start_orientation|goal_orientation|unknown_class|q_start):",
