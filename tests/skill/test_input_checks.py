@@ -108,3 +108,16 @@ def test_a_scene_of_the_wrong_dimension_and_a_bad_horizon_are_named(skill) -> No
         skill.plan(goal=[400.0, 450.0], scene=scene)
     with pytest.raises(ValueError, match=r"^horizon: expected 4 <= H <= 12"):
         skill.plan(goal=[400.0, 450.0], horizon=50, planner="full")
+
+
+def test_a_class_in_one_scene_only_is_warned_as_not_cross_validated() -> None:
+    fitted = Skill(units="mm").fit_path(CLEAN)
+    marker = Scene((Obstacle("marker", [0.0, 440.0], radius=10.0),))
+    with pytest.warns(UserWarning) as caught, pytest.raises(ValueError, match=r"^goals"):
+        fitted.fit_reward([AROUND] * 3, [Scene((CUP,)), Scene((CUP,)), marker], goals=[1, 2, 3])
+    said = [str(w.message) for w in caught]
+    assert said == [
+        "scenes[2]: obstacle class 'marker' is in this scene only: its learned response rests "
+        "on one demonstration and cannot be cross-validated; show another demonstration "
+        "around a marker"
+    ]

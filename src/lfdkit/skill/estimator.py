@@ -851,7 +851,7 @@ class Skill(
         which). Warned: a demonstration passing deeper than a quarter of the
         obstacle's size inside it, and an obstacle far from every
         demonstration that another unit would bring among them
-        (:func:`lfdkit.core.units.misplaced_units`).
+        (:func:`lfdkit.core.units.misplaced_units`), and a class in one scene only.
         """
         points = np.concatenate([self.path_, *demos])
         low, high = points.min(axis=0).tolist(), points.max(axis=0).tolist()
@@ -885,6 +885,19 @@ class Skill(
                 if likely is not None:
                     shown = ", ".join(f"{v:.4g}" for v in obstacle.position)
                     misplaced.append((f"{name}: at ({shown}) {units}", likely))
+        seen: dict[str, list[int]] = {}
+        for j, scene in enumerate(scenes):
+            for label in dict.fromkeys(scene.labels):
+                seen.setdefault(label, []).append(j)
+        for label, where in seen.items():
+            if len(where) == 1 and len(demos) > 1:
+                warnings.warn(
+                    f"scenes[{where[0]}]: obstacle class {label!r} is in this scene only: its "
+                    "learned response rests on one demonstration and cannot be cross-validated; "
+                    f"show another demonstration around a {label}",
+                    UserWarning,
+                    stacklevel=4,
+                )
         if misplaced:  # one line for them all: a scene file in another unit
             (first, likely), more = misplaced[0], len(misplaced) - 1
             others = f" (and {more} other obstacle{'s' * (more != 1)})" if more else ""
