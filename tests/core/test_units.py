@@ -116,3 +116,23 @@ def test_no_built_in_data_set_trips_the_units_rule() -> None:
         assert implausible_units(extent, info.units, max(speeds, default=None)) is None, info.name
         checked += 1
     assert checked >= 17
+
+
+@pytest.mark.parametrize(
+    ("point", "units", "likely"),
+    [
+        ([0.36, 0.5], "mm", "m"),  # a goal typed in metres for a millimetre skill
+        ([360.0, 500.0], "m", "mm"),  # the reverse: --units m on millimetre numbers
+        ([360.0, 500.0], "mm", None),  # among the demonstrations
+        ([1500.0, 500.0], "mm", None),  # far, but no unit brings it among them
+        ([0.0, 0.0], "mm", None),  # the origin is the origin in every unit
+    ],
+)
+def test_a_point_is_misplaced_only_when_another_unit_brings_it_among_the_demonstrations(
+    point, units, likely
+) -> None:
+    from lfdkit.core.units import misplaced_units
+
+    factor = {"mm": 1.0, "m": 1e-3, "cm": 0.1}[units]  # the box in the point's unit
+    low, high = [factor * -400.0, factor * 450.0], [factor * 400.0, factor * 500.0]
+    assert misplaced_units(point, low, high, units) == likely

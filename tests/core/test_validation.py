@@ -47,3 +47,17 @@ def test_check_state_number_reads_numbers_and_names_the_bad_ones():
     ):
         with pytest.raises(ValueError, match=rf"^rhythm\.x: expected {wanted}, got "):
             check_state_number({"x": value}, "x", "rhythm", positive=positive)
+
+
+def test_a_transposed_demonstration_is_named_with_the_fix() -> None:
+    import numpy as np
+
+    from lfdkit.core.validation import check_demos
+
+    demo = np.c_[np.linspace(0.0, 1.0, 50), np.zeros(50)]
+    with pytest.raises(
+        ValueError, match=r"^demos\[1\]: got shape \(2, 50\), which looks transposed"
+    ):
+        check_demos([demo, demo.T], "demos")
+    with pytest.raises(ValueError, match=r"at row 3; remove or interpolate"):
+        check_demos([np.where(np.arange(50)[:, None] == 3, np.nan, demo)], "demos")

@@ -13,6 +13,7 @@ from types import MappingProxyType
 
 __all__ = [
     "DEMONSTRATION_SPEED",
+    "LONGEST_DEMONSTRATION",
     "MAX_HORIZON",
     "MIN_HORIZON",
     "MODELS",
@@ -45,6 +46,10 @@ SCALINGS = ("translate", "spatial", "per_dimension")
 #: 1.5 m/s). A hand guiding a tool at a task: the shipped sweeps, timed at minimum jerk,
 #: move at 0.15-0.2 m/s on average. At minimum jerk the peak is 1.875 times the mean.
 DEMONSTRATION_SPEED = 0.2
+
+#: Longest plausible demonstration (s): a person shows a task in seconds to a minute or two;
+#: a median over 10 minutes is a file whose times are in milliseconds (1000 times too long).
+LONGEST_DEMONSTRATION = 600.0
 
 #: :class:`~lfdkit.skill.Skill`'s constructor defaults, by parameter (read-only).
 SKILL_DEFAULTS = MappingProxyType(

@@ -40,6 +40,7 @@ ValueError: units: expected one of 'm', 'cm', 'mm', got 'inch'
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 __all__ = [
@@ -52,6 +53,7 @@ __all__ = [
     "conversion_factor",
     "implausible_units",
     "likely_units",
+    "misplaced_units",
 ]
 
 #: Length units lfdkit knows, by name (``--units`` on the command line).
@@ -206,4 +208,64 @@ def implausible_units(extent: float, units: str, mean_speed: float | None = None
         )
     if extent * in_m < MIN_EXTENT_M:
         return f"they span {shown}, less than a demonstration can (under {MIN_EXTENT_M * 1e3:g} mm)"
+    return None
+
+
+def misplaced_units(
+    point: Sequence[float], low: Sequence[float], high: Sequence[float], units: str
+) -> str | None:
+    """The unit a point far from a workspace is probably in, when another unit brings it inside.
+
+    A goal typed in metres for a skill in millimetres lies near the origin,
+    hundreds of millimetres from every demonstration; read as metres (×1000)
+    it lies among them. A point is said to be misplaced when it lies more
+    than half the workspace's largest span outside the workspace's bounding
+    box and, converted from another unit, within that box grown by a quarter
+    of the span. A point near the origin stays near it in any unit, so a
+    real target far from the demonstrations is not flagged unless a unit
+    change brings it among them.
+
+    Parameters
+    ----------
+    point : sequence of float, length q
+        The point as given, in ``units``.
+    low, high : sequence of float, length q
+        Corners of the workspace's bounding box (e.g. the demonstrations'
+        smallest and largest coordinates), in ``units``.
+    units : {"m", "cm", "mm"}
+        The unit the point was read in.
+
+    Returns
+    -------
+    str or None
+        The unit in which ``point`` lies in the workspace, or None when it
+        lies near the workspace or no unit brings it there.
+
+    Examples
+    --------
+    >>> misplaced_units([0.35, 0.5], [-400.0, 450.0], [400.0, 500.0], "mm")
+    'm'
+    >>> misplaced_units([350.0, 500.0], [-400.0, 450.0], [400.0, 500.0], "mm") is None
+    True
+    """
+    check_units(units)
+    span = max(h - lo for lo, h in zip(low, high, strict=True))
+    if not span > 0.0:
+        return None
+
+    def outside(values: Sequence[float], grow: float) -> float:
+        excess = (
+            max(lo - grow - v, v - h - grow, 0.0)
+            for v, lo, h in zip(values, low, high, strict=True)
+        )
+        return math.sqrt(sum(e * e for e in excess))
+
+    if not outside(point, 0.0) > 0.5 * span:
+        return None
+    for other in UNITS:
+        if other == units:
+            continue
+        factor = conversion_factor(other, units)
+        if outside([factor * v for v in point], 0.25 * span) == 0.0:
+            return other
     return None

@@ -77,6 +77,11 @@ def check_path(
             f"{name}: expected a 2-D array of shape (n_points, n_dims), got shape {arr.shape}"
         )
     n_points, dims = arr.shape
+    if n_points <= 3 < 10 <= dims:  # (q, n) for (n, q): no lfdkit path has 10 dimensions
+        raise ValueError(
+            f"{name}: got shape {arr.shape}, which looks transposed: one row per sample, "
+            f"shape (n_points, n_dims), is expected; pass its transpose (.T)"
+        )
     if n_dims is not None and dims != n_dims:
         raise ValueError(f"{name}: expected {n_dims} columns (dimensions), got {dims}")
     if n_dims is None and dims < min_dims:
@@ -87,7 +92,9 @@ def check_path(
     if bad.any():
         row = int(np.argwhere(bad)[0, 0])
         kind = "NaN" if np.isnan(arr[row]).any() else "an infinite value"
-        raise ValueError(f"{name}: contains {kind} at row {row}")
+        raise ValueError(
+            f"{name}: contains {kind} at row {row}; remove or interpolate the missing samples"
+        )
     return arr
 
 

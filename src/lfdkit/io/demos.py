@@ -90,6 +90,7 @@ from lfdkit.io.text import (
     csv_number,
     csv_rows,
     format_of,
+    header_hint,
     json_document,
     json_float_array,
     parse_id,
@@ -619,7 +620,9 @@ def _csv_columns(
         want = ["x", "y", "z"] if "z" in pos else ["x", "y"]
     for c in want:
         if c not in pos:
-            raise ValueError(f"{fname}: missing column {c!r}; found columns: {found}")
+            raise ValueError(
+                f"{fname}: missing column {c!r}; found columns: {found}{header_hint(names)}"
+            )
     coord_cols = [pos[c] for c in want]
     return pos.get("demo"), t_col, coord_cols, [names[k] for k in coord_cols]
 
@@ -736,7 +739,14 @@ class _NpzArchive:
         try:
             self.zip = zipfile.ZipFile(fname)
             infos = self.zip.infolist()
-        except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, EOFError, ValueError) as exc:
+        except (
+            zipfile.BadZipFile,
+            zipfile.LargeZipFile,
+            OSError,
+            EOFError,
+            ValueError,
+            NotImplementedError,  # zipfile's "zip file version 10.9", a feature it lacks
+        ) as exc:
             raise ValueError(f"{fname}: could not read as an .npz archive ({exc})") from None
         if len(infos) > MAX_NPZ_MEMBERS:
             self.zip.close()

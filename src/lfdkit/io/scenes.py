@@ -80,6 +80,7 @@ from lfdkit.io.text import (
     csv_number,
     csv_rows,
     format_of,
+    header_hint,
     json_document,
     parse_id,
 )
@@ -377,6 +378,7 @@ def _read_scenes_csv(fname: str) -> dict[DemoId, Scene]:
         if key not in pos:
             raise ValueError(
                 f"{fname} line {header_line}: missing column {key!r}; found columns: {found}"
+                + header_hint(header)
             )
     coord_keys = ["x", "y", "z"] if "z" in pos else ["x", "y"]
     coord_cols = [(pos[c], header[pos[c]]) for c in coord_keys]

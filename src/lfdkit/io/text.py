@@ -6,7 +6,8 @@ error with the file name and the line, column or JSON path at fault:
 * files: :func:`read_bytes`, :func:`read_text` and :func:`check_input_file`
   read regular files only (a FIFO, device or socket is never opened), of at
   most :data:`MAX_FILE_BYTES`, as UTF-8 text;
-* CSV: :func:`csv_header`, :func:`content_lines` (blank and ``#`` lines skipped),
+* CSV: :func:`csv_header`, :func:`header_hint` (why a header lacks a column),
+  :func:`content_lines` (blank and ``#`` lines skipped),
   :func:`csv_row`, :func:`csv_rows`, :func:`csv_number` (decimal numbers only: no ``0_5``,
   ``nan`` or ``inf``), :func:`csv_id` and :class:`Blocks` (ids without
   surrounding spaces, the rows of one id consecutive);
@@ -53,6 +54,7 @@ __all__ = [
     "csv_row",
     "csv_rows",
     "format_of",
+    "header_hint",
     "json_document",
     "json_float_array",
     "load_json",
@@ -243,6 +245,28 @@ def csv_header(fname: str) -> tuple[int, list[str], Iterator[tuple[int, str]]]:
     if first is None:
         raise ValueError(f"{fname}: no header row; the file is empty")
     return first[0], csv_row(fname, *first), lines
+
+
+def header_hint(names: Sequence[str]) -> str:
+    """Why a CSV header may lack a column: ``""``, or a clause starting ``"; "`` with the fix.
+
+    A file separated by ``;`` or tabs reads as one column named by the whole
+    header; a file without a header row has numbers for column names.
+    """
+    for separator, word in ((";", "';'"), ("\t", "tab")):
+        if len(names) == 1 and separator in names[0]:
+            return f"; the file looks {word}-separated: write it with commas"
+    if names and 2 * sum(_is_number(name) for name in names) >= len(names):
+        return "; the first row holds numbers: the file needs a header row naming its columns"
+    return ""
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def csv_rows(

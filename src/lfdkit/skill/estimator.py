@@ -12,6 +12,7 @@ whole story.
 from __future__ import annotations
 
 import os
+import re
 import time
 import warnings
 from collections.abc import Sequence
@@ -27,6 +28,7 @@ from lfdkit.core.geometry import (
 )
 from lfdkit.core.options import (
     DEMONSTRATION_SPEED,
+    LONGEST_DEMONSTRATION,
     MODELS,
     PLANNERS,
     SCALINGS,
@@ -41,6 +43,7 @@ from lfdkit.core.units import (
     conversion_factor,
     implausible_units,
     likely_units,
+    misplaced_units,
 )
 from lfdkit.core.validation import (
     check_class_names,
@@ -63,6 +66,7 @@ from lfdkit.io.skill_file import (
 from lfdkit.io.training import read_training_data
 from lfdkit.mimic import MIMIC_METHODS, DemoOrientationWarning, MimicSettings, mean_orientations
 from lfdkit.model.demos import demo_fields
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 from lfdkit.skill.files import SkillFiles
 from lfdkit.skill.orientation import SkillOrientation, check_orientations_list
@@ -654,8 +658,23 @@ class Skill(
         return max(1.0, metres / DEMONSTRATION_SPEED)
 
     def _warn_units(self, demos: list[np.ndarray], stamps: list[np.ndarray | None]) -> None:
-        """A :class:`UnitsWarning` when the demonstrations are implausible in :attr:`units`."""
+        """A :class:`UnitsWarning` when the demonstrations are implausible in :attr:`units`.
+
+        Also a warning when their times are (the median lasting over
+        :data:`~lfdkit.core.options.LONGEST_DEMONSTRATION`: milliseconds read as seconds).
+        """
+        lasting = [float(t[-1] - t[0]) for t in stamps if t is not None]
+        if lasting and float(np.median(lasting)) > LONGEST_DEMONSTRATION:
+            warnings.warn(
+                f"times: the demonstrations last {float(np.median(lasting)):.4g} s (median), "
+                f"longer than a demonstration does (over {LONGEST_DEMONSTRATION:g} s); times "
+                "are in seconds: if they are in milliseconds, divide them by 1000",
+                UserWarning,
+                stacklevel=3,
+            )
         extent = max(float(np.ptp(demo, axis=0).max()) for demo in demos)
+        if not extent > 0.0:  # every point the same: the mimic step refuses it, saying so
+            return
         speeds = [
             path_length(demo) / float(t[-1] - t[0])
             for demo, t in zip(demos, stamps, strict=True)
@@ -777,6 +796,7 @@ class Skill(
                     "reward is learned from standing obstacles only: give where it stood "
                     "during the demonstration, or learn without it (plans can avoid moving ones)"
                 )
+        self._check_obstacle_scenes(demos, scenes)
         goal = self._goals(goals, len(demos))
         progress = as_progress(progress)
         with progress.stage("emulate: nominal of each obstacle demonstration (DMP)"):
@@ -941,6 +961,72 @@ class Skill(
             return {"demo": j, "refused": str(exc), "left_out": True}
         row = replanning_fidelity(plan.points, nominal, demo, scene, int(self.n_points))
         return {"demo": j, **row, "clearance_relaxed": False, "left_out": True}
+
+    def _check_obstacle_scenes(self, demos: list[np.ndarray], scenes: list[Scene]) -> None:
+        """Refuse a demonstration that starts or ends inside its obstacle; warn for doubtful scenes.
+
+        A person's demonstration cannot start, end or pass inside a solid
+        obstacle, so one that does names a wrong position, radius or unit in
+        the scene (the fit would fail on it, or learn from it, without saying
+        which). Warned: a demonstration passing deeper than a quarter of the
+        obstacle's size inside it, and an obstacle far from every
+        demonstration that another unit would bring among them
+        (:func:`lfdkit.core.units.misplaced_units`), and a class in one scene only.
+        """
+        points = np.concatenate([self.path_, *demos])
+        low, high = points.min(axis=0).tolist(), points.max(axis=0).tolist()
+        units = self.units
+        misplaced: list[tuple[str, str]] = []
+        for j, (demo, scene) in enumerate(zip(demos, scenes, strict=True)):
+            for i, obstacle in enumerate(scene):
+                name = f"scenes[{j}]: obstacle {i} ({obstacle.label!r})"
+                if obstacle.has_extent:
+                    for end, point in (("starts", demo[:1]), ("ends", demo[-1:])):
+                        depth = -obstacle.distance(point)
+                        if depth > 0.0:
+                            raise ValueError(
+                                f"{name}: its demonstration {end} {depth:.3g} {units} inside "
+                                "it, which no demonstration can; check the obstacle's position "
+                                "and size, and that the scenes are in the demonstrations' unit"
+                            )
+                    size = max(obstacle.radius, float(np.max(obstacle.balls()[1])))
+                    depth = -obstacle.distance(demo)
+                    if depth > 0.25 * size:
+                        warnings.warn(
+                            f"{name}: its demonstration passes {depth:.3g} {units} inside it "
+                            f"(its size {size:.3g} {units}); check the obstacle's position and "
+                            "size, and that the demonstration was recorded around it",
+                            UserWarning,
+                            stacklevel=4,
+                        )
+                if isinstance(obstacle, HalfSpace) or np.size(obstacle.position) != len(low):
+                    continue
+                likely = misplaced_units(obstacle.position.tolist(), low, high, units)
+                if likely is not None:
+                    shown = ", ".join(f"{v:.4g}" for v in obstacle.position)
+                    misplaced.append((f"{name}: at ({shown}) {units}", likely))
+        seen: dict[str, list[int]] = {}
+        for j, scene in enumerate(scenes):
+            for label in dict.fromkeys(scene.labels):
+                seen.setdefault(label, []).append(j)
+        for label, where in seen.items():
+            if len(where) == 1 and len(demos) > 1:
+                warnings.warn(
+                    f"scenes[{where[0]}]: obstacle class {label!r} is in this scene only: its "
+                    "learned response rests on one demonstration and cannot be cross-validated; "
+                    f"show another demonstration around a {label}",
+                    UserWarning,
+                    stacklevel=4,
+                )
+        if misplaced:  # one line for them all: a scene file in another unit
+            (first, likely), more = misplaced[0], len(misplaced) - 1
+            others = f" (and {more} other obstacle{'s' * (more != 1)})" if more else ""
+            warnings.warn(
+                f"{first} lies far from every demonstration{others}; in {likely} it would lie "
+                f"among them: give the scenes in the demonstrations' unit ({units})",
+                UserWarning,
+                stacklevel=4,
+            )
 
     def _goals(self, goals: Any, n_demos: int) -> np.ndarray:
         """One goal per demonstration, shape (n_demos, q); default the generalized path's."""
@@ -1149,7 +1235,27 @@ def learn(
     with progress.stage("read the demonstration and scene files"):
         data = read_training_data(demos_path, scenes_path)
     skill = Skill(**params)
-    skill.fit(data.clean, data.around_obstacles or None, progress=progress)
+    ids = data.obstacle_ids
+
+    def named(text: str) -> str:  # scenes[j] by the file's demo ids
+        return re.sub(
+            r"^scenes\[(\d+)\]", lambda m: f"{scenes_path}: demo {ids[int(m[1])]!r}", text
+        )
+
+    caught: list[warnings.WarningMessage] = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:  # the caller's filters kept
+            skill.fit(data.clean, data.around_obstacles or None, progress=progress)
+    except ValueError as exc:
+        if str(exc).startswith("scenes["):
+            raise ValueError(named(str(exc))) from None
+        raise
+    finally:
+        for warning in caught:  # re-issued to the caller, named by the file's ids
+            message = warning.message
+            if type(message) is UserWarning and str(message).startswith("scenes["):
+                message = UserWarning(named(str(message)))
+            warnings.warn_explicit(message, warning.category, warning.filename, warning.lineno)
     # Each replanned training scene by its demonstration's id in the file.
     stored = (skill.ioc_info_ or {}).get("training_fidelity") or []
     for rows in (skill.training_fidelity_ or [], stored):

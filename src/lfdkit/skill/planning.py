@@ -21,7 +21,9 @@ from lfdkit.core.options import (
     PLANNERS,
 )
 from lfdkit.core.progress import ProgressLike
+from lfdkit.core.units import UnitsWarning, conversion_factor, misplaced_units
 from lfdkit.core.validation import (
+    check_horizon,
     check_point,
     check_positive,
 )
@@ -42,6 +44,7 @@ from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
 from lfdkit.emulate.taut import taut_plan
 from lfdkit.imitate.timing import DURATION_RANGE
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.model.timed_path import TimedPlan
 from lfdkit.skill.unknown import UNKNOWN_HOW, unknown_margins, warn_unknown, with_stand_ins
@@ -368,7 +371,22 @@ class Planning:
             ``(phase, point)`` pair with a phase in (0, 1) and a point of the
             skill's dimension.
         """
+        given = {"start": start, "goal": goal}
         start, goal = self._ends(start, goal)
+        if horizon is not None:  # checked even where the route plans without one
+            check_horizon(horizon)
+        if isinstance(scene, Scene) and len(scene):
+            q = self.n_dims_
+            wrong = next((i for i, o in enumerate(scene) if np.size(o.position) != q), None)
+            if wrong is not None:
+                raise ValueError(
+                    f"scene: obstacle {wrong} ({scene.labels[wrong]!r}) has "
+                    f"{np.size(scene.obstacles[wrong].position)} coordinates for a {q}-D skill; "
+                    f"give every obstacle {q}"
+                )
+        self._warn_misplaced(
+            {name: point for name, point in given.items() if point is not None}, scene
+        )
         times = None
         if isinstance(scene, Scene) and scene.moving:
             times = self.point_times(duration)
@@ -386,6 +404,40 @@ class Planning:
             via=via,
             unknown_response=unknown_response,
         )
+
+    def _warn_misplaced(self, points: Mapping[str, Any], scene: Scene | None) -> None:
+        """Warn (:class:`UnitsWarning`) for a start, goal or obstacle given in another unit.
+
+        A goal typed in metres for a skill in millimetres is a valid point near
+        the origin: the plan would run to it without a word. Each point given
+        far outside the generalized path's box that another unit brings inside
+        it (:func:`lfdkit.core.units.misplaced_units`) is named, with its unit.
+        """
+        low, high = self.path_.min(axis=0).tolist(), self.path_.max(axis=0).tolist()
+        named = [(name, np.asarray(point, float).ravel()) for name, point in points.items()]
+        if isinstance(scene, Scene):
+            named += [
+                (f"scene: obstacle {i} ({o.label!r})", np.asarray(o.position, float).ravel())
+                for i, o in enumerate(scene)
+                if not isinstance(o, HalfSpace) and np.size(o.position) == len(low)
+            ]
+        for name, point in named:
+            likely = misplaced_units(point.tolist(), low, high, self.units)
+            if likely is None:
+                continue
+            shown = ", ".join(f"{v:.4g}" for v in point)
+            factor = conversion_factor(likely, self.units)
+            warnings.warn(
+                UnitsWarning(
+                    f"{name}: ({shown}) {self.units} lies far from the skill's workspace (its "
+                    f"path spans {path_extent(self.path_):.4g} {self.units}); in {likely} it "
+                    f"would lie within it: if it is in {likely}, multiply it by {factor:g} or "
+                    f"plan with skill.to_units({likely!r})",
+                    likely=likely,
+                    detail=f"{name}: ({shown}) {self.units} lies far from the skill's workspace",
+                ),
+                stacklevel=4,
+            )
 
     def point_times(self, duration: float | None = None) -> np.ndarray:
         """When the tool reaches each of the plan's ``n_points`` points (s), on the nominal.

@@ -507,7 +507,14 @@ def _scene_from_args(args: argparse.Namespace, n_dims: int):
 
     obstacles = []
     if args.scene is not None:
-        obstacles += list(load_scene(args.scene))
+        try:
+            obstacles += list(load_scene(args.scene))
+        except ValueError as exc:  # the library's advice names its functions, not options
+            message = str(exc).replace(
+                "load_scene expects exactly one; use load_scenes to read them all",
+                "--scene takes one: keep the rows of one demo, or leave out the demo column",
+            )
+            raise CommandError(f"--scene {message}") from None
     for label, position, radius, velocity, box, normal in args.obstacle or ():
         if len(position) != n_dims:
             hint = " (a radius is given as r=R)" if len(position) == n_dims + 1 else ""
@@ -602,6 +609,10 @@ def option_named(message: str) -> str:
     # The library's opt-in for unlearned obstacle classes, in the command line's words.
     message = re.sub(r"unknown_class=MARGIN \(lfdkit [^:]*: ([^)]*)\)", r"\1", message)
     message = re.sub(r"^unknown_response:", "--unknown-class response:", message)
+    message = message.replace(
+        "learn one with fit_reward() (demonstrations around obstacles) or adopt() it",
+        "learn one with lfdkit learn --scenes (demonstrations around obstacles)",
+    )
     message = re.sub(r"^via\[(\d+)\]:", lambda m: f"--via (value {int(m[1]) + 1}):", message)
     return re.sub(
         r"^(duration|speed|start_orientation|goal_orientation|unknown_class|q_start):",

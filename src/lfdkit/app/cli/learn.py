@@ -42,10 +42,17 @@ def run_command(args: argparse.Namespace) -> None:
         except UnitsWarning as exc:
             raise CommandError(units_refusal(source, exc, SKILL_DEFAULTS["units"])) from None
     fit = skill.ioc_info_ or {}
-    if not fit.get("converged", True):
+    if not fit.get("converged", True):  # one line, with what the warnings said would help
+        said = [
+            str(w.message).splitlines()[0]
+            for w in caught
+            if str(w.message) and not str(w.message).startswith("the reward fit did not")
+        ]
         raise CommandError(
             f"the obstacle reward fit did not converge ({fit['convergence_message']}); "
-            "wrote nothing. Check the units and that each obstacle demonstration follows "
+            "wrote nothing. "
+            + "".join(f"{text[0].upper()}{text[1:]}. " for text in said)
+            + "Check the units and that each obstacle demonstration follows "
             "the path around its scene's obstacles, add demonstrations, or try --planner full"
         )
     for warning in caught:  # shown once each, after the fit, as main's handler shows them

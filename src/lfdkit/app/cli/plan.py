@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+import warnings
 from pathlib import Path
 
 from lfdkit.app.cli import periodic
@@ -29,6 +30,7 @@ from lfdkit.app.cli.common import (
 from lfdkit.app.cli.via import add_via_option, via_points
 from lfdkit.core.numbers import parse_decimal
 from lfdkit.core.progress import Progress
+from lfdkit.core.units import UnitsWarning
 
 __all__ = ["add_options", "run_command"]
 
@@ -81,24 +83,34 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     lasts = duration if duration is not None else skill.timing_.duration / (speed or 1.0)
     via = via_points(args.via, skill.n_dims_, lasts)
     started = time.perf_counter()
-    try:
-        timed = skill.plan(
-            start,
-            goal,
-            scene,
-            duration=duration,
-            speed=speed,
-            **orientations,
-            planner=args.planner,
-            horizon=args.horizon,
-            goal_approach=args.goal_approach,
-            clearance=args.clearance,
-            **unknown_class_options(args),
-            progress=progress,
-            via=via,
-        )
-    except ValueError as exc:  # the library names the argument, the command its option
-        raise CommandError(option_named(str(exc))) from None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", UserWarning)
+        try:
+            timed = skill.plan(
+                start,
+                goal,
+                scene,
+                duration=duration,
+                speed=speed,
+                **orientations,
+                planner=args.planner,
+                horizon=args.horizon,
+                goal_approach=args.goal_approach,
+                clearance=args.clearance,
+                **unknown_class_options(args),
+                progress=progress,
+                via=via,
+            )
+        except ValueError as exc:  # the library names the argument, the command its option
+            raise CommandError(option_named(str(exc))) from None
+    for warning in caught:  # a point in another unit: said with the option that converts it
+        message = warning.message
+        if isinstance(message, UnitsWarning):
+            message = UnitsWarning(
+                f"{message.detail}; in {message.likely} it would lie within it: "
+                f"if that is its unit, pass --units {message.likely}"
+            )
+        warnings.showwarning(message, warning.category, warning.filename, warning.lineno)
     plan = timed.details
     units = skill.units
     clear = (

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import warnings
 from pathlib import Path
 
 from lfdkit.app.cli import periodic
@@ -27,6 +28,26 @@ def run_command(args: argparse.Namespace) -> None:
         _plot_with(args, progress)
 
 
+def _warn_misplaced_demos(args: argparse.Namespace, skill, demos) -> None:
+    """Warn when ``--demos`` lie far from the skill and another unit would bring them onto it."""
+    if not demos or demos[0].shape[1] != skill.n_dims_:
+        return
+    import numpy as np
+
+    from lfdkit.core.units import misplaced_units
+
+    centre = np.mean([d.mean(axis=0) for d in demos], axis=0)
+    low, high = skill.path_.min(axis=0).tolist(), skill.path_.max(axis=0).tolist()
+    likely = misplaced_units(centre.tolist(), low, high, skill.units)
+    if likely is not None:
+        warnings.warn(
+            f"--demos {args.demos}: they lie far from the skill's path (in {skill.units}); in "
+            f"{likely} they would lie on it: if that is their unit, pass --units {likely}",
+            UserWarning,
+            stacklevel=2,
+        )
+
+
 def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     refuse_existing(args.output, args.force)
     loaded = load_skill_file(args.skill)
@@ -39,6 +60,7 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     periodic.refuse_periodic_options(args)
     skill, scene, start, goal = skill_and_scene(args, loaded)
     demos = load_demos(args.demos) if args.demos is not None else []
+    _warn_misplaced_demos(args, skill, demos)
     via = via_points(args.via, skill.n_dims_, skill.timing_.duration)
     nominal = skill.nominal(start, goal)
     plans, timed = {}, None
