@@ -11,6 +11,7 @@ asserted separately where it holds by construction (2-D, no Cholesky).
 
 from __future__ import annotations
 
+import math
 import sys
 
 import numpy as np
@@ -180,6 +181,37 @@ def test_scalar_newton_is_numbas_on_short_windows(seed: int, clearance: float) -
         assert tuple(found_s) == tuple(found_c)
         compared += np.isfinite(found_c[0])
     assert compared >= 5  # most starts lie outside the hard radii
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_2d_grid_node_costs_are_each_states_point_cost(seed: int) -> None:
+    # The compiled 2-D states' costs go term by term over the levels: each state's sum
+    # is still point_cost's (the weight, the obstacles not negligible at the point, the
+    # hard radii, in that order), to the bit; here on Python floats with libm's exp
+    # (numba's). The levels reach into the hard radii (+inf) and far aside.
+    problem, _ = random_problem(seed, 2, 0.02)
+    c, b, a, weight, rr, nr, inner2, outer2, mu = problem.kernel_arguments()
+    levels = np.linspace(-0.15, 0.15, 61)
+    out = np.empty((problem.n, levels.size))
+    compiled_grid.grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
+    barrier = compiled.barrier.py_func
+    expected = np.empty_like(out)
+    left_out = 0
+    for k in range(problem.n):
+        near = [o for o in range(c.shape[1]) if c[k, o] - b[k, o, 0] ** 2 / a[k, o, 0, 0] < 40.0]
+        left_out += c.shape[1] - len(near)
+        hit = [h for h in range(rr.shape[1]) if rr[k, h] - nr[k, h, 0] ** 2 < outer2[h]]
+        for s, g in enumerate(levels.tolist()):
+            total = 0.0 + float(weight[k]) * g * g
+            for o in near:
+                ck, bk, ak = float(c[k, o]), float(b[k, o, 0]), float(a[k, o, 0, 0])
+                total += math.exp(-(ck + (bk + (bk + ak * g)) * g))
+            for h in hit:
+                u = float(rr[k, h]) + (2.0 * float(nr[k, h, 0]) + g) * g
+                total += barrier(u, float(inner2[h]), float(outer2[h]), mu)[0]
+            expected[k, s] = total
+    assert np.isinf(out).any() and np.isfinite(out).mean() > 0.5 and left_out > 0
+    np.testing.assert_array_equal(out, expected)
 
 
 @pytest.mark.parametrize("q", [2, 3])

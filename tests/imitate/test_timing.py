@@ -291,3 +291,39 @@ def test_the_numpy_splines_agree_with_scipy(n_coefficients: int) -> None:
         np.testing.assert_allclose(
             _interpolant_slopes(x, y), expected, rtol=0, atol=1e-12 * np.abs(expected).max()
         )
+
+
+def _thomas_on_rows(below, diagonal, above, rhs):
+    """The tridiagonal elimination on NumPy rows (the solver's earlier form)."""
+    n = diagonal.size
+    pivot, y = np.empty(n), np.empty(rhs.shape)
+    pivot[0], y[0] = diagonal[0], rhs[0]
+    for i in range(1, n):
+        factor = below[i - 1] / pivot[i - 1]
+        pivot[i] = diagonal[i] - factor * above[i - 1]
+        y[i] = rhs[i] - factor * y[i - 1]
+    x = np.empty(rhs.shape)
+    x[-1] = y[-1] / pivot[-1]
+    for i in range(n - 2, -1, -1):
+        x[i] = (y[i] - above[i] * x[i + 1]) / pivot[i]
+    return x
+
+
+@pytest.mark.parametrize("n", [2, 5, 100, 250])
+def test_the_tridiagonal_solve_on_floats_is_the_row_elimination_bit_for_bit(n: int) -> None:
+    """The plan's tangents' solver on Python floats: the same numbers as on NumPy rows."""
+    from scipy.linalg import solve_banded
+
+    from lfdkit.imitate.timing import _solve_tridiagonal
+
+    rng = np.random.default_rng(n)
+    diagonal = rng.uniform(2.0, 4.0, n)
+    below, above = rng.uniform(-1.0, 1.0, n - 1), rng.uniform(-1.0, 1.0, n - 1)
+    for q in (1, 2, 3):
+        rhs = rng.normal(size=(n, q))
+        x = _solve_tridiagonal(below, diagonal, above, rhs)
+        assert x.shape == (n, q) and x.flags.c_contiguous
+        np.testing.assert_array_equal(x, _thomas_on_rows(below, diagonal, above, rhs))
+        bands = np.zeros((3, n))
+        bands[0, 1:], bands[1], bands[2, :-1] = above, diagonal, below
+        np.testing.assert_allclose(x, solve_banded((1, 1), bands, rhs), rtol=0, atol=1e-12)

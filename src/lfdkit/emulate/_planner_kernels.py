@@ -16,7 +16,7 @@ code is cached on disk next to this file.
 import numba
 import numpy as np
 
-from lfdkit.emulate._problem_kernels import planner_cost, planner_newton, point_cost
+from lfdkit.emulate._problem_kernels import barrier, planner_cost, planner_newton, point_cost
 
 
 @numba.njit(cache=True)
@@ -30,6 +30,9 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     g_count = levels.shape[0]
     n = out.shape[0]
     m = 2 if out.shape[1] != g_count else 1
+    if m == 1:
+        _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
+        return
     n_obs, n_hard = c.shape[1], rr.shape[1]
     point = np.empty(m)
     bumps = np.empty(n_obs, dtype=np.int64)
@@ -66,6 +69,38 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
             if m == 2:
                 point[1] = levels[s % g_count]
             out[k, s] = point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, point, near, hit)
+
+
+@numba.njit(cache=True)
+def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
+    """:func:`grid_node_costs` in 2-D (one offset component), term by term over the levels.
+
+    Each state's sum takes the same terms in the same order as
+    :func:`~._problem_kernels.point_cost` (the nominal weight, the kept
+    obstacles, the hard radii), so the same numbers bit for bit; a whole row
+    per term, not a call per state, is six times faster (issue 26).
+    """
+    n, g_count = out.shape
+    for k in range(n):
+        row = out[k]
+        w = weight[k]
+        for s in range(g_count):
+            g = levels[s]
+            row[s] = 0.0 + w * g * g
+        for o in range(c.shape[1]):
+            ck, bk, ak = c[k, o], b[k, o, 0], a[k, o, 0, 0]
+            if not ck - bk**2 / max(ak, 1e-300) < 40.0:  # negligible at every offset
+                continue
+            for s in range(g_count):
+                g = levels[s]
+                row[s] += np.exp(-(ck + (bk + (bk + ak * g)) * g))
+        for h in range(rr.shape[1]):
+            rk, nk = rr[k, h], nr[k, h, 0]
+            if not rk - nk**2 < outer2[h]:  # beyond the barrier at every offset
+                continue
+            for s in range(g_count):
+                g = levels[s]
+                row[s] += barrier(rk + (2.0 * nk + g) * g, inner2[h], outer2[h], mu)[0]
 
 
 @numba.njit(cache=True, inline="always")

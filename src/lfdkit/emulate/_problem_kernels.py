@@ -76,7 +76,7 @@ def point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g, bumps, hards):
 @numba.njit(cache=True)
 def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
-    bumps, hards = np.arange(c.shape[1]), np.arange(rr.shape[1])
+    bumps, hards = range(c.shape[1]), range(rr.shape[1])
     total = 0.0
     for k in range(d.shape[0]):
         total += point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, d[k], bumps, hards)
@@ -290,6 +290,9 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
     trial_a = np.empty((n, m))
     trial_d = np.empty((n, m))
     block00, block01, block11 = np.zeros(n), np.zeros(n), np.zeros(n)  # 3-D: positive blocks
+    # The reduced system's gradient, move and 2-D curvature: at most n m variables, each
+    # refinement's on the front of these (not three arrays a refinement).
+    g_all, move_all, h_all = np.empty(n * m), np.empty(n * m), np.empty(n * m)
     # The base weight (the smallest) sets the scales, so a goal ramp does not loosen them.
     base = weight.min()
     floor = 1e-8 * 2.0 * base
@@ -316,14 +319,16 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
         # further out is held too (the gradient alone misses it), and the step redone.
         for _refine in range(8):
             n_vars = offset_groups(free, index)
-            g = np.zeros(n_vars)
+            g = g_all[:n_vars]
+            g[:] = 0.0
             for k in range(n):
                 for i in range(m):
                     if index[k, i] >= 0:
                         g[index[k, i]] += gradient[k, i]
-            move = np.empty(n_vars)
+            move = move_all[:n_vars]
             if m == 1:
-                h = np.zeros(n_vars)
+                h = h_all[:n_vars]
+                h[:] = 0.0
                 for k in range(n):
                     if index[k, 0] >= 0:
                         h[index[k, 0]] += hessian[k, 0, 0]

@@ -195,20 +195,26 @@ def _solve_tridiagonal(
     Elimination without pivoting (the Thomas algorithm): the spline's rows
     are diagonally dominant but the two not-a-knot rows, whose elimination
     leaves a positive pivot (``x[2] − x[0]`` after the first), so it is stable.
+    On Python floats, a column at a time: the same operations as on NumPy's
+    rows (each rounded once), bit for bit, without a NumPy call per row (a
+    100-point plan's timing spent a third of its time in this loop).
     """
     n = diagonal.size
-    pivot = np.empty(n)
-    y = np.empty(rhs.shape)
-    pivot[0], y[0] = diagonal[0], rhs[0]
+    low, diag, up = below.tolist(), diagonal.tolist(), above.tolist()
+    pivot, factor = [diag[0]] * n, [0.0] * n
     for i in range(1, n):
-        factor = below[i - 1] / pivot[i - 1]
-        pivot[i] = diagonal[i] - factor * above[i - 1]
-        y[i] = rhs[i] - factor * y[i - 1]
-    x = np.empty(rhs.shape)
-    x[-1] = y[-1] / pivot[-1]
-    for i in range(n - 2, -1, -1):
-        x[i] = (y[i] - above[i] * x[i + 1]) / pivot[i]
-    return x
+        factor[i] = low[i - 1] / pivot[i - 1]
+        pivot[i] = diag[i] - factor[i] * up[i - 1]
+    columns = []
+    for y in np.asarray(rhs, dtype=np.float64).reshape(n, -1).T.tolist():
+        for i in range(1, n):
+            y[i] = y[i] - factor[i] * y[i - 1]
+        x = [0.0] * n
+        x[-1] = y[-1] / pivot[-1]
+        for i in range(n - 2, -1, -1):
+            x[i] = (y[i] - up[i] * x[i + 1]) / pivot[i]
+        columns.append(x)
+    return np.array(columns, dtype=np.float64).T.copy().reshape(np.shape(rhs))
 
 
 def _knots(n_coefficients: int) -> np.ndarray:

@@ -27,7 +27,7 @@ from lfdkit.core.validation import (
     check_point,
     check_positive,
 )
-from lfdkit.emulate import Plan, Reward, UnsafePlanError, plan_path
+from lfdkit.emulate import Corridor, Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     SIDE_BLOCKER,
@@ -561,7 +561,6 @@ class Planning:
             )
         options = dict(
             horizon=h,
-            n_points=int(self.n_points),
             max_slope=float(self.max_slope),
             goal_approach=goal_approach,
             progress=progress,
@@ -606,6 +605,8 @@ class Planning:
         memo = getattr(self, "_free_plans", None)
         ends = start.tobytes() + goal.tobytes() + np.asarray(clearance, dtype=float).tobytes()
         key = (tuple(routes), id(scene), ends, h)
+        # Every attempt moves along the same nominal: resampled and framed once.
+        corridor = Corridor.from_path(nominal, int(self.n_points))
 
         def attempt(
             kept: np.ndarray | None, last: bool, blockers: Sequence[Obstacle] = ()
@@ -634,7 +635,7 @@ class Planning:
             for way in routes:
                 options["lookahead"] = way != "window"
                 try:
-                    plan = plan_path(response, nominal, where, clearance=extra, **options)
+                    plan = plan_path(response, corridor, where, clearance=extra, **options)
                 except UnsafePlanError:
                     if last and way == routes[-1]:
                         raise
