@@ -104,6 +104,7 @@ OTHER_REWARD = Reward(5.0, {"box": [80.0, 200.0, 400.0], "table": [1.0, 1.0, 400
 GOAL = np.array([0.65, 0.0, 0.12])
 CLEARANCE = 0.01
 N_POINTS = 100
+MPC_HORIZON = 8
 
 
 def _box(centre, size, yaw_deg) -> Box:
@@ -198,7 +199,7 @@ def passing_side(path: np.ndarray, nominal: np.ndarray, box: Box) -> np.ndarray:
 def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> dict:
     """Learn from every demonstration but ``held``, plan for it, compare with the person.
 
-    ``n_points``: the IOC's points along each nominal (the plans have 100).
+    ``n_points``: the IOC's and the plans' points along each nominal.
     """
     keep = [j for j in range(len(data["demos"])) if j != held]
     started, cpu = time.perf_counter(), time.process_time()
@@ -229,7 +230,12 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
     row["horizon"] = "whole" if ioc.horizon_ is None else ioc.horizon_
     try:
         plan = plan_path(
-            ioc.reward_, nominal, scene, horizon=ioc.horizon_, clearance=CLEARANCE * scale
+            ioc.reward_,
+            nominal,
+            scene,
+            horizon=ioc.horizon_,
+            clearance=CLEARANCE * scale,
+            n_points=n_points,
         )
         points = plan.points
     except ValueError as exc:  # a refusal is a result too
@@ -250,7 +256,12 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             floored = plan_path(
-                ioc.reward_, nominal, scene, horizon=ioc.horizon_, clearance=floor
+                ioc.reward_,
+                nominal,
+                scene,
+                horizon=ioc.horizon_,
+                clearance=floor,
+                n_points=n_points,
             ).points
         row["floor_dist_plan_cm"] = (
             metrics.held_out_distances(floored, person)["mean"] / scale * 100
@@ -259,6 +270,24 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
         row["floor_clearance_cm"] = float(metrics.clearance(floored, scene).min()) / scale * 100
     except ValueError as exc:
         row["floor_refused"] = str(exc)
+    # The receding horizon (8 points) with the learned reward, whichever planner the
+    # fit kept: its look-ahead must cover the scene at any number of points.
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            mpc = plan_path(
+                ioc.reward_,
+                nominal,
+                scene,
+                horizon=MPC_HORIZON,
+                clearance=CLEARANCE * scale,
+                n_points=n_points,
+            ).points
+        row["mpc_dist_plan_cm"] = metrics.held_out_distances(mpc, person)["mean"] / scale * 100
+        row["mpc_clearance_cm"] = float(metrics.clearance(mpc, scene).min()) / scale * 100
+        row["mpc_collisions"] = metrics.collisions(mpc, scene)
+    except ValueError as exc:
+        row["mpc_refused"] = str(exc)
     row["dist_plan_cm"] = metrics.held_out_distances(points, person)["mean"] / scale * 100
     row["dist_dmp_cm"] = metrics.held_out_distances(nominal, person)["mean"] / scale * 100
     row["collisions"] = metrics.collisions(points, scene)
@@ -327,6 +356,12 @@ def summarise(rows: list[dict]) -> dict:
             [r.get("floor_clearance_cm", np.nan) / r["person_clearance_cm"] for r in done]
         ),
         "whole": int(sum(r.get("horizon") == "whole" for r in rows)),
+        "mpc_refused": int(sum("mpc_refused" in r for r in done)),
+        "mpc_dist_plan_cm": mean_of([r.get("mpc_dist_plan_cm", np.nan) for r in done]),
+        "mpc_collisions": int(sum(r.get("mpc_collisions", 0) for r in done)),
+        "mpc_clearance_ratio": min_of(
+            [r.get("mpc_clearance_cm", np.nan) / r["person_clearance_cm"] for r in done]
+        ),
         "fit_s_median": float(np.median([r["fit_s"] for r in rows])),
         "fit_s_max": float(np.max([r["fit_s"] for r in rows])),
         "fit_cpu_s_median": float(np.median([r["fit_cpu_s"] for r in rows])),
@@ -371,7 +406,8 @@ def main() -> None:
         f"{'set':<16} {'noise':>5} {'units':>5} {'folds':>5} {'plan cm':>8} {'DMP cm':>7} "
         f"{'ratio':>5} {'side':>6} {'coll':>4} {'DMP coll':>8} {'clear/p':>7} "
         f"{'fit s med/max':>13} {'cpu s med/max':>13} {'not conv':>8} | floor: "
-        f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | {'whole':>5}"
+        f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | {'whole':>5} | H=8: "
+        f"{'refused':>7} {'plan cm':>7} {'coll':>4} {'clear/p':>7}"
     )
     print(header)
     for kind, n_demos, noise, scale, look_ahead, person, n_points in cases:
@@ -407,7 +443,9 @@ def main() -> None:
             f"{summary['not_converged']:>8} |        "
             f"{summary['floor_dist_plan_cm']:>7.2f} {summary['floor_collisions']:>4} "
             f"{summary['floor_clearance_ratio']:>7.2f} | "
-            f"{summary['whole']:>2}/{summary['folds']:<2}",
+            f"{summary['whole']:>2}/{summary['folds']:<2} |      "
+            f"{summary['mpc_refused']:>7} {summary['mpc_dist_plan_cm']:>7.2f} "
+            f"{summary['mpc_collisions']:>4} {summary['mpc_clearance_ratio']:>7.2f}",
             flush=True,
         )
         results.append(
