@@ -66,16 +66,22 @@ training demonstrations kept (:func:`lfdkit.emulate.fidelity.demonstrated_cleara
 0.8 × their 10 % quantile) as a hard floor on top of the person's 1 cm.
 
 The issue's size (``--points 250``: 10 demonstrations of 250 points, one and
-three boxes, the IOC's corridor 250 points): the person plans at 100 points
-and the path is resampled to 250 (the person's receding horizon refuses
-some of these scenes at 250 points in 3-D: its look-ahead grid, at most 30
-cells a side of at most one action bound, spans ±7 cm there, less than the
-boxes' reach; the whole-path planner adds a coarse route where its grid is
-too narrow). Measured on a loaded 2-core machine (load 10–20, CPU s per fold
-median/max): one box 5.4/6.4, three boxes 6.6/7.5, every fold converged;
-quiet, ``--quick``: 3.7/3.8 and 4.5/4.6 s wall. One fold single-threaded:
-22 s with the dense 3-D Newton solve against 7.3–8.0 s with the O(n) block
-solve.
+three boxes, the IOC's corridor and the plans 250 points): the person plans
+at 100 points and the path is resampled to 250 (the sets as they were
+measured). The *H=8* columns plan with the learned reward and the thesis's
+8-point receding horizon whichever planner the fit kept. Its look-ahead
+route's grid (at most 30 cells a side of one action bound) spans ±8 cm at
+250 points, less than the boxes' reach; it is now the route over every
+stride-th point there (``lfdkit.emulate.planner._coarse_look_ahead``), as the
+whole-path planner's. Measured side by side against bf9ddff (which also
+planned these folds at plan_path's default 100 points; the whole-path
+columns are the same at 250): three boxes, H=8, refused 2 → 0 of 10 folds,
+distance to the held-out person 2.48 → 0.37 cm, clearance 0.72 → 0.97 of
+the person's; one box 0.35 → 0.27 cm, 0.89 → 0.95. Fits measured on a
+loaded 2-core machine (load 10–20, CPU s per fold median/max): one box
+5.4/6.4, three boxes 6.6/7.5, every fold converged; quiet, ``--quick``:
+3.7/3.8 and 4.5/4.6 s wall. One fold single-threaded: 22 s with the dense
+3-D Newton solve against 7.3–8.0 s with the O(n) block solve.
 """
 
 from __future__ import annotations

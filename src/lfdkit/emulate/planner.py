@@ -64,7 +64,14 @@ and the candidate executed is the one with least window cost plus the
 route's cost-to-go from the window's end. With ``lookahead=False`` it is
 the thesis's MPC: the window's own grid optimum, and the least window cost.
 Either way, a candidate from whose end the rest of the path is blocked is
-never executed.
+never executed. The route's grid has the global search's cell budget: where
+it cannot cover the scene and its route is blocked or runs along its edge,
+the route is that over every ``s``-th point (:func:`_coarse_look_ahead`),
+consulted wherever an obstacle is within ``H s`` points. So the look-ahead
+spans the same length of path at 100, 250 or 500 points (issue 34: among
+three boxes at 250 points in 3-D, horizon 8 refused 2 of 10 scenes and went
+round the other side of a third; now all 10 plan within 0.35 cm of the
+whole path's plan, as at 100 points, and within 1.1 cm at 500).
 
 Safety
 ------
