@@ -1252,7 +1252,7 @@ class _LookAhead:
         self.max_step, self.m, self.stride = max_step, m, stride
 
     def _row(self, point: int) -> tuple[int, int]:
-        """The first row at or after ``point`` a grid state of is reachable from ``point − 1``.
+        """The first row at or after ``point`` with a grid state in reach of point ``point − 1``.
 
         Returns the row (past the table's end after its last) and the steps
         from ``point − 1`` to it: enough for half a grid spacing, so that some
