@@ -66,16 +66,22 @@ training demonstrations kept (:func:`lfdkit.emulate.fidelity.demonstrated_cleara
 0.8 × their 10 % quantile) as a hard floor on top of the person's 1 cm.
 
 The issue's size (``--points 250``: 10 demonstrations of 250 points, one and
-three boxes, the IOC's corridor 250 points): the person plans at 100 points
-and the path is resampled to 250 (the person's receding horizon refuses
-some of these scenes at 250 points in 3-D: its look-ahead grid, at most 30
-cells a side of at most one action bound, spans ±7 cm there, less than the
-boxes' reach; the whole-path planner adds a coarse route where its grid is
-too narrow). Measured on a loaded 2-core machine (load 10–20, CPU s per fold
-median/max): one box 5.4/6.4, three boxes 6.6/7.5, every fold converged;
-quiet, ``--quick``: 3.7/3.8 and 4.5/4.6 s wall. One fold single-threaded:
-22 s with the dense 3-D Newton solve against 7.3–8.0 s with the O(n) block
-solve.
+three boxes, the IOC's corridor and the plans 250 points): the person plans
+at 100 points and the path is resampled to 250 (the sets as they were
+measured). The *H=8* columns plan with the learned reward and the thesis's
+8-point receding horizon whichever planner the fit kept. Its look-ahead
+route's grid (at most 30 cells a side of one action bound) spans ±8 cm at
+250 points, less than the boxes' reach; it is now the route over every
+stride-th point there (``lfdkit.emulate.planner._coarse_look_ahead``), as the
+whole-path planner's. Measured side by side against bf9ddff (which also
+planned these folds at plan_path's default 100 points; the whole-path
+columns are the same at 250): three boxes, H=8, refused 2 → 0 of 10 folds,
+distance to the held-out person 2.48 → 0.37 cm, clearance 0.72 → 0.97 of
+the person's; one box 0.35 → 0.27 cm, 0.89 → 0.95. Fits measured on a
+loaded 2-core machine (load 10–20, CPU s per fold median/max): one box
+5.4/6.4, three boxes 6.6/7.5, every fold converged; quiet, ``--quick``:
+3.7/3.8 and 4.5/4.6 s wall. One fold single-threaded: 22 s with the dense
+3-D Newton solve against 7.3–8.0 s with the O(n) block solve.
 """
 
 from __future__ import annotations
@@ -104,6 +110,7 @@ OTHER_REWARD = Reward(5.0, {"box": [80.0, 200.0, 400.0], "table": [1.0, 1.0, 400
 GOAL = np.array([0.65, 0.0, 0.12])
 CLEARANCE = 0.01
 N_POINTS = 100
+MPC_HORIZON = 8
 
 
 def _box(centre, size, yaw_deg) -> Box:
@@ -198,7 +205,7 @@ def passing_side(path: np.ndarray, nominal: np.ndarray, box: Box) -> np.ndarray:
 def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> dict:
     """Learn from every demonstration but ``held``, plan for it, compare with the person.
 
-    ``n_points``: the IOC's points along each nominal (the plans have 100).
+    ``n_points``: the IOC's and the plans' points along each nominal.
     """
     keep = [j for j in range(len(data["demos"])) if j != held]
     started, cpu = time.perf_counter(), time.process_time()
@@ -229,7 +236,12 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
     row["horizon"] = "whole" if ioc.horizon_ is None else ioc.horizon_
     try:
         plan = plan_path(
-            ioc.reward_, nominal, scene, horizon=ioc.horizon_, clearance=CLEARANCE * scale
+            ioc.reward_,
+            nominal,
+            scene,
+            horizon=ioc.horizon_,
+            clearance=CLEARANCE * scale,
+            n_points=n_points,
         )
         points = plan.points
     except ValueError as exc:  # a refusal is a result too
@@ -250,7 +262,12 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             floored = plan_path(
-                ioc.reward_, nominal, scene, horizon=ioc.horizon_, clearance=floor
+                ioc.reward_,
+                nominal,
+                scene,
+                horizon=ioc.horizon_,
+                clearance=floor,
+                n_points=n_points,
             ).points
         row["floor_dist_plan_cm"] = (
             metrics.held_out_distances(floored, person)["mean"] / scale * 100
@@ -259,6 +276,24 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
         row["floor_clearance_cm"] = float(metrics.clearance(floored, scene).min()) / scale * 100
     except ValueError as exc:
         row["floor_refused"] = str(exc)
+    # The receding horizon (8 points) with the learned reward, whichever planner the
+    # fit kept: its look-ahead must cover the scene at any number of points.
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            mpc = plan_path(
+                ioc.reward_,
+                nominal,
+                scene,
+                horizon=MPC_HORIZON,
+                clearance=CLEARANCE * scale,
+                n_points=n_points,
+            ).points
+        row["mpc_dist_plan_cm"] = metrics.held_out_distances(mpc, person)["mean"] / scale * 100
+        row["mpc_clearance_cm"] = float(metrics.clearance(mpc, scene).min()) / scale * 100
+        row["mpc_collisions"] = metrics.collisions(mpc, scene)
+    except ValueError as exc:
+        row["mpc_refused"] = str(exc)
     row["dist_plan_cm"] = metrics.held_out_distances(points, person)["mean"] / scale * 100
     row["dist_dmp_cm"] = metrics.held_out_distances(nominal, person)["mean"] / scale * 100
     row["collisions"] = metrics.collisions(points, scene)
@@ -327,6 +362,12 @@ def summarise(rows: list[dict]) -> dict:
             [r.get("floor_clearance_cm", np.nan) / r["person_clearance_cm"] for r in done]
         ),
         "whole": int(sum(r.get("horizon") == "whole" for r in rows)),
+        "mpc_refused": int(sum("mpc_refused" in r for r in done)),
+        "mpc_dist_plan_cm": mean_of([r.get("mpc_dist_plan_cm", np.nan) for r in done]),
+        "mpc_collisions": int(sum(r.get("mpc_collisions", 0) for r in done)),
+        "mpc_clearance_ratio": min_of(
+            [r.get("mpc_clearance_cm", np.nan) / r["person_clearance_cm"] for r in done]
+        ),
         "fit_s_median": float(np.median([r["fit_s"] for r in rows])),
         "fit_s_max": float(np.max([r["fit_s"] for r in rows])),
         "fit_cpu_s_median": float(np.median([r["fit_cpu_s"] for r in rows])),
@@ -371,7 +412,8 @@ def main() -> None:
         f"{'set':<16} {'noise':>5} {'units':>5} {'folds':>5} {'plan cm':>8} {'DMP cm':>7} "
         f"{'ratio':>5} {'side':>6} {'coll':>4} {'DMP coll':>8} {'clear/p':>7} "
         f"{'fit s med/max':>13} {'cpu s med/max':>13} {'not conv':>8} | floor: "
-        f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | {'whole':>5}"
+        f"{'plan cm':>7} {'coll':>4} {'clear/p':>7} | {'whole':>5} | H=8: "
+        f"{'refused':>7} {'plan cm':>7} {'coll':>4} {'clear/p':>7}"
     )
     print(header)
     for kind, n_demos, noise, scale, look_ahead, person, n_points in cases:
@@ -407,7 +449,9 @@ def main() -> None:
             f"{summary['not_converged']:>8} |        "
             f"{summary['floor_dist_plan_cm']:>7.2f} {summary['floor_collisions']:>4} "
             f"{summary['floor_clearance_ratio']:>7.2f} | "
-            f"{summary['whole']:>2}/{summary['folds']:<2}",
+            f"{summary['whole']:>2}/{summary['folds']:<2} |      "
+            f"{summary['mpc_refused']:>7} {summary['mpc_dist_plan_cm']:>7.2f} "
+            f"{summary['mpc_collisions']:>4} {summary['mpc_clearance_ratio']:>7.2f}",
             flush=True,
         )
         results.append(

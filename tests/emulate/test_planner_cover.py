@@ -13,6 +13,7 @@ import pytest
 from lfdkit.emulate import Corridor, Reward, plan_path
 from lfdkit.emulate import planner as P
 from lfdkit.emulate.problem import Problem
+from lfdkit.model.box import Box
 from lfdkit.model.scene import Obstacle, Scene
 
 CLEARANCE = 0.01
@@ -80,3 +81,42 @@ def test_the_grid_that_covers_is_unchanged_and_the_coarse_route_is_feasible():
 def _problem(reward: Reward, nominal: np.ndarray, scene: Scene, n_points: int) -> Problem:
     corridor = Corridor.from_path(nominal, n_points)
     return Problem.from_scene(reward, corridor, scene, 1.0, None, CLEARANCE)
+
+
+def three_boxes() -> tuple[Reward, np.ndarray, Scene]:
+    """A reach from (0, 0.19, 0.12) to (0.65, 0, 0.12) m among a carton, a tin and a tray."""
+    reward = Reward(3.0, {"box": [150.0, 150.0, 150.0]})
+
+    def box(centre, size, yaw_deg):
+        return Box.from_yaw("box", centre, size, np.radians(yaw_deg))
+
+    scene = Scene(
+        (
+            box([0.2435, 0.1079, 0.10], [0.10, 0.14, 0.20], 20.0),
+            box([0.4365, -0.1119, 0.15], [0.08, 0.08, 0.30], -10.0),
+            box([0.5157, 0.1389, 0.03], [0.16, 0.12, 0.06], 40.0),
+        )
+    )
+    start, goal = np.array([0.0, 0.19, 0.12]), np.array([0.65, 0.0, 0.12])
+    return reward, start + np.linspace(0.0, 1.0, 50)[:, None] * (goal - start), scene
+
+
+def test_the_receding_horizon_plans_three_boxes_alike_at_100_and_250_points():
+    # At 250 points the look-ahead grid (30 cells a side of one 2.8 mm action bound)
+    # spans ±8 cm, less than the way round the carton: refused at bf9ddff ("no
+    # collision-free plan"). Its route over every stride-th point covers the scene.
+    reward, nominal, scene = three_boxes()
+    plans = {
+        n: plan_path(reward, nominal, scene, horizon=8, clearance=CLEARANCE, n_points=n)
+        for n in (100, 250)
+    }
+    for plan in plans.values():
+        assert plan.clearance.min() >= 0.0
+        assert np.linalg.norm(plan.points[-1] - nominal[-1]) < 1e-6
+    # The same path: the 100-point plan against the 250-point one at the same fractions.
+    fine = plans[250].points
+    at = np.linspace(0.0, 1.0, len(fine))
+    coarse = np.column_stack(
+        [np.interp(at, np.linspace(0.0, 1.0, 100), plans[100].points[:, i]) for i in range(3)]
+    )
+    assert np.linalg.norm(fine - coarse, axis=1).max() < 0.01
