@@ -204,13 +204,16 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
         noise.flags.writeable = False
         results = []
         for run in (_promp_kernels.condition_weights, promp.condition_weights):
-            out = np.empty(2 * n_weights + (n_weights + 2) * m)
+            out = np.empty(promp._out_size(2, n_weights, m))
             centres = promp._scaled_centres(b, width)
             args = (mean, cov, centres, phases, width, sets, 0.01 * scale**2 * (trial % 2))
             n_dropped = run(*args, noise, 1e-10, out)
-            means, _, lost = promp._out_parts(out, 2, n_weights, m)
+            means, root_h, lost, columns, root_h_t = promp._out_parts(out, 2, n_weights, m, d)
             new_cov = promp._conditioned_covariance(cov, out, 2, m)
             np.testing.assert_array_equal(new_cov, new_cov.T)  # exactly symmetric
+            # The same numbers in the layouts a path and a band read.
+            np.testing.assert_array_equal(columns, means.reshape(2, d, b).transpose(0, 2, 1))
+            np.testing.assert_array_equal(root_h_t, root_h.reshape(m * d, b).T)
             results.append((n_dropped, means, new_cov, lost))
         (dropped, *ours), (expected, *theirs) = results
         assert dropped == expected
