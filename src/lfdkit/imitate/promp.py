@@ -60,14 +60,22 @@ Why this design:
   symmetric (averaging ``Σ − K H Σ`` with its transpose was six NumPy calls,
   3× the time), and a conditioned model's :meth:`ProMP.std` needs not even
   that: its source's band (kept on the source per grid) less the squared
-  norms of ``Z φ`` per coordinate. The one-point call's glue is inline (each
-  NumPy call or attribute miss costs ~1–5 µs here, the kernel 2.3 µs of
-  which 0.9 µs is numba's dispatch). The kernel's
-  pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut;
-  the two agree to 1e-9 of the units on random well-conditioned models
-  (1–3 dimensions, units 1e-3 to 1e3, directions dropped alike). Replaced:
-  a per-phase cache of factors and a closed-form Cholesky for one point (the
-  kernel is as fast at a new phase as they were at a seen one).
+  norms of ``Z φ`` per coordinate. One point at one phase with a variance
+  (most calls) goes to its own kernel, :func:`condition_point`: the phase a
+  float, the basis centres formed in it, 8 arguments (numba's dispatch,
+  0.5 µs, is a third of the kernel's call), its glue inline (each NumPy call
+  or method call costs 0.1–1 µs of a ~3.5 µs call; ``setflags`` by keyword
+  cost 2.5× positional). The kernel writes the new mean basis-major as well
+  and ``Z`` transposed by dimension, so that a path and a band are each one
+  ``np.dot`` with a contiguous operand (a transposed one cost 40 % more;
+  ``@`` 20 % more than ``np.dot``). The kernel's
+  pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut
+  (or, where the innovation covariance is certainly well conditioned, its
+  inverse Cholesky factor: :mod:`._promp_kernels`); the two agree to 1e-9
+  of the units on random well-conditioned models (1–3 dimensions, units
+  1e-3 to 1e3, directions dropped alike). Replaced: a per-phase cache of
+  factors and a closed-form Cholesky for one point (the kernel is as fast
+  at a new phase as they were at a seen one).
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
@@ -619,7 +627,7 @@ class ProMP(Estimator):
             out,
         )
         # Read-only: the weights handed to the copies are views that inherit it.
-        out.flags.writeable = False
+        out.setflags(False)
         return out, n_dropped
 
     def _with_weights(self, mean: np.ndarray, cov: np.ndarray | None) -> ProMP:
@@ -827,14 +835,12 @@ class ProMP(Estimator):
             self._check_fitted()
         d = state["n_dims_"]
         pending = state.get("_pending_cov")
-        if pending is not None and pending[2] == 1 and mean.base is pending[1]:
-            out, m, n = pending[1], pending[3], len(mean)  # the kernel's buffer of this mean
-            start = n * (1 + m) + m
-            columns = out[start : start + n].reshape(-1, d)
+        if pending is not None and mean.base is pending[1]:  # the kernel's buffer of this mean
+            out, m, n = pending[1], pending[3], len(mean)
+            columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, d)
         else:
             columns = _frozen(np.ascontiguousarray(mean.reshape(d, -1).T))
-        kept = (mean, columns)
-        state["_columns_cache"] = kept
+        kept = state["_columns_cache"] = (mean, columns)
         return kept
 
     def _feature_slopes(self, phase: np.ndarray) -> np.ndarray:
