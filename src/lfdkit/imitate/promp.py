@@ -154,6 +154,7 @@ _PHASE_TYPES = frozenset((float, np.float64))
 #: NumPy's float64 (a type's dtype is this one object: compared by identity, 10× faster).
 _FLOAT64 = np.dtype(np.float64)
 
+#: Infinity, a module global: an attribute look-up less in the one-point route.
 _INF = math.inf
 
 #: The one-point conditioning kernel: numba's or its NumPy twin (:func:`condition_point`).
@@ -320,11 +321,9 @@ class ProMP(Estimator):
         -------
         ndarray, shape (n_points, n_dims)
         """
-        state = self.__dict__
-        kept = state.get("_columns_cache")
-        if kept is None or kept[0] is not state.get("weights_mean_"):
-            kept = self._mean_columns()
-        return np.dot(self._grid(n_points), kept[1])
+        if "weights_mean_" not in self.__dict__:
+            self._check_fitted()
+        return self._mean_from(self._grid(n_points))
 
     def timed_mean(self, duration: float, n_points: int = 100) -> TimedPath:
         """The mean path as a movement of ``duration`` seconds (phase linear in time).
@@ -487,18 +486,10 @@ class ProMP(Estimator):
                 self._checked_via(points, phases, covariance, full=True)
             out.setflags(False)  # the new mean is a view: read-only too (by keyword: 2.5× slower)
             s, m = phase, d
-        # The copy: without the constructor's signature inspection, nor what this model
-        # keeps for speed; its covariance formed from _pending_cov when first read (a
-        # path's mean does not need it: Σ' = Σ − Zᵀ Z); self keeps the band for std.
-        new = object.__new__(type(self))
-        copied = state.copy()
-        for kept in _KEPT:
-            if kept in copied:
-                del copied[kept]
-        copied["weights_mean_"] = out[:n_weights]
-        del copied["weights_cov_"]
-        copied["_pending_cov"] = (cov, out, 1, m, self)
-        new.__dict__ = copied
+        # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
+        # alone does not need it.
+        new = self._with_weights(out[:n_weights], None)
+        new.__dict__["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
         if n_dropped:
             lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
             new._warn_unreachable(pts, np.reshape(s, -1), lost, "points")
