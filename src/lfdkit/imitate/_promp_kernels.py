@@ -37,7 +37,8 @@ _MAX_SWEEPS = 60
 #: for which its inverse Cholesky factor stands in for the pseudo-inverse's root: far
 #: from the cut of 1e-10 (nothing would be dropped), and close enough to 1 that the two
 #: routes agree to ~1e-13 of the results (both round within the condition number times
-#: the machine epsilon).
+#: the machine epsilon). 1e4 would take the Cholesky route for 79 % of the benchmark's
+#: three random phases (1e3: 38 %) but agreed only to 4e-12.
 _CHOLESKY_BOUND = 1e3
 
 
