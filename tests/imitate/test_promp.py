@@ -176,6 +176,14 @@ def test_a_variance_and_the_same_variance_as_a_matrix_give_the_same_model(n_dims
                     np.testing.assert_allclose(quick.mean_at([phase])[0], point, atol=1e-9 * scale)
 
 
+def _invariants(buffer: np.ndarray, cov: np.ndarray, n_weights: int, m: int, d: int) -> tuple:
+    """The new mean, the lost offsets and the new covariance of a one-set kernel buffer."""
+    from lfdkit.imitate import promp
+
+    means, _, lost, _, _ = promp._out_parts(buffer, 1, n_weights, m, d)
+    return means, lost, promp._conditioned_covariance(cov, buffer, 1, m)
+
+
 @pytest.mark.slow  # numba compiles the kernel once per checkout (~5-15 s), then loads it (~3 s)
 def test_the_compiled_conditioning_equals_its_numpy_twin():
     """numba's kernel (Jacobi pseudo-inverse) against the NumPy twin (LAPACK's eigh) on random
@@ -204,14 +212,33 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
         noise.flags.writeable = False
         results = []
         for run in (_promp_kernels.condition_weights, promp.condition_weights):
-            out = np.empty(2 * n_weights + (n_weights + 2) * m)
+            out = np.empty(promp._out_size(2, n_weights, m))
             centres = promp._scaled_centres(b, width)
             args = (mean, cov, centres, phases, width, sets, 0.01 * scale**2 * (trial % 2))
             n_dropped = run(*args, noise, 1e-10, out)
-            means, _, lost = promp._out_parts(out, 2, n_weights, m)
+            means, root_h, lost, columns, root_h_t = promp._out_parts(out, 2, n_weights, m, d)
             new_cov = promp._conditioned_covariance(cov, out, 2, m)
             np.testing.assert_array_equal(new_cov, new_cov.T)  # exactly symmetric
+            # The same numbers in the layouts a path and a band read.
+            np.testing.assert_array_equal(columns, means.reshape(2, d, b).transpose(0, 2, 1))
+            np.testing.assert_array_equal(root_h_t, root_h.reshape(m * d, b).T)
             results.append((n_dropped, means, new_cov, lost))
+        if k == 1 and not len(noise):  # the one-point kernel: the general one's, to rounding
+            for run in (_promp_kernels.condition_point, promp.condition_point):
+                single = np.empty(promp._out_size(1, n_weights, m))
+                general = np.empty_like(single)
+                variance = 0.01 * scale**2 * (trial % 2)
+                got = run(mean, cov, phases[0], width, sets[0], variance, 1e-10, single)
+                args = (mean, cov, centres, phases, width, sets[:1], variance, noise, 1e-10)
+                assert got == _promp_kernels.condition_weights(*args, general)
+                # Z is one root of many: compared through what is made of it.
+                for ours, theirs, unit in zip(
+                    _invariants(single, cov, n_weights, m, d),
+                    _invariants(general, cov, n_weights, m, d),
+                    (scale, scale, scale**2),
+                    strict=True,
+                ):
+                    np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-12 * unit)
         (dropped, *ours), (expected, *theirs) = results
         assert dropped == expected
         dropped_some += dropped > 0

@@ -60,14 +60,22 @@ Why this design:
   symmetric (averaging ``Σ − K H Σ`` with its transpose was six NumPy calls,
   3× the time), and a conditioned model's :meth:`ProMP.std` needs not even
   that: its source's band (kept on the source per grid) less the squared
-  norms of ``Z φ`` per coordinate. The one-point call's glue is inline (each
-  NumPy call or attribute miss costs ~1–5 µs here, the kernel 2.3 µs of
-  which 0.9 µs is numba's dispatch). The kernel's
-  pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut;
-  the two agree to 1e-9 of the units on random well-conditioned models
-  (1–3 dimensions, units 1e-3 to 1e3, directions dropped alike). Replaced:
-  a per-phase cache of factors and a closed-form Cholesky for one point (the
-  kernel is as fast at a new phase as they were at a seen one).
+  norms of ``Z φ`` per coordinate. One point at one phase with a variance
+  (most calls) goes to its own kernel, :func:`condition_point`: the phase a
+  float, the basis centres formed in it, 8 arguments (numba's dispatch,
+  0.5 µs, is a third of the kernel's call), its glue inline (each NumPy call
+  or method call costs 0.1–1 µs of a ~3.5 µs call; ``setflags`` by keyword
+  cost 2.5× positional). The kernel writes the new mean basis-major as well
+  and ``Z`` transposed by dimension, so that a path and a band are each one
+  ``np.dot`` with a contiguous operand (a transposed one cost 40 % more;
+  ``@`` 20 % more than ``np.dot``). The kernel's
+  pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut
+  (or, where the innovation covariance is certainly well conditioned, its
+  inverse Cholesky factor: :mod:`._promp_kernels`); the two agree to 1e-9
+  of the units on random well-conditioned models (1–3 dimensions, units
+  1e-3 to 1e3, directions dropped alike). Replaced: a per-phase cache of
+  factors and a closed-form Cholesky for one point (the kernel is as fast
+  at a new phase as they were at a seen one).
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
@@ -138,7 +146,20 @@ _GRIDS: dict = {}
 #: Attributes a model keeps for speed only (the sampling root, the bands its conditioned
 #: models' std reads) or until first use (the conditioned covariance's parts): never
 #: copied to another model.
-_KEPT = ("_root_cache", "_pending_cov", "_band_cache")
+_KEPT = ("_root_cache", "_pending_cov", "_band_cache", "_columns_cache")
+
+#: Phase types the one-point route takes as they are (others: an array first).
+_PHASE_TYPES = frozenset((float, np.float64))
+
+#: NumPy's float64 (a type's dtype is this one object: compared by identity, 10× faster).
+_FLOAT64 = np.dtype(np.float64)
+
+#: Infinity, a module global: an attribute look-up less in the one-point route.
+_INF = math.inf
+
+#: The one-point conditioning kernel: numba's or its NumPy twin (:func:`condition_point`).
+_POINT_KERNEL = ("condition_point", "lfdkit.imitate._promp_kernels")
+_COMPILED_POINT: list = []  # numba's, once handed out
 
 
 class ProMP(Estimator):
@@ -347,13 +368,13 @@ class ProMP(Estimator):
         else:
             # Conditioned, covariance not formed: its source's band (kept on the source)
             # less the reduction, the squared norms of Zᵀ φ per coordinate (Σ' = Σ − Zᵀ Z).
-            cov, out, n_sets, m, source = pending
-            d, b = self.n_dims_, self.n_basis
-            start = n_sets * d * b
-            root_h = out[start : start + m * d * b].reshape(m * d, b)
-            projected = self._grid(n_points) @ root_h.T
+            cov, out, _, m, source = pending
+            d = state["n_dims_"]
+            # Z split by dimension and transposed, (b, m·d): the buffer's last part.
+            root_h_t = out[len(out) - m * len(cov) :].reshape(-1, m * d)
+            projected = np.dot(self._grid(n_points), root_h_t)
             # Summed over the rows of Z by a product (a sum over the middle axis: 4×).
-            reduction = np.square(projected, out=projected) @ _summing(m, d)
+            reduction = np.dot(np.square(projected, out=projected), _summing(m, d))
             variances = source._band(cov, n_points) - reduction
         return np.sqrt(np.maximum(variances, 0.0, out=variances), out=variances)
 
@@ -415,37 +436,63 @@ class ProMP(Estimator):
             point a compromise, never unreachable.
         """
         state = self.__dict__
-        if "weights_mean_" not in state:
+        mean = state.get("weights_mean_")
+        if mean is None:
             self._check_fitted()
-        pts, s, variance, noise = self._checked_via(points, phases, covariance)
-        # The kernel's call inline (not :meth:`_conditioned`): glue is most of a one-point call.
-        mean, cov = state["weights_mean_"], state.get("weights_cov_")
+        cov = state.get("weights_cov_")
         if cov is None:  # a conditioned model's: formed now
             cov = self._weights_cov()
-        n_weights, m = len(mean), pts.size
-        out = np.empty(n_weights + (n_weights + 1) * m)
-        n_dropped = _condition_kernel()(
-            mean,
-            cov,
-            _scaled_centres(self.n_basis, self.width_),
-            s,
-            self.width_,
-            pts[None],
-            variance,
-            noise,
-            _PINV_RCOND,
-            out,
-        )
-        if n_dropped < 0:  # a value the quick check let through: the full checks name it
-            self._checked_via(points, phases, covariance, full=True)
-        out.setflags(write=False)  # the new mean is a view: read-only too (`flags`: 2× slower)
+        n_weights = len(mean)
+        # The common call, one point at one phase with a variance, goes to the one-point
+        # kernel with its argument types and shapes checked here (values by the kernel);
+        # the glue is inline: each NumPy call or method call costs 0.1–1 µs of a 3 µs call.
+        kind, phase, pts = type(phases), phases, None
+        if kind is list and len(phases) == 1:
+            phase = phases[0]
+        elif kind is np.ndarray:
+            phase = phases[0] if phases.shape == (1,) else None
+        if (
+            type(phase) in _PHASE_TYPES
+            and type(covariance) in _SCALAR_TYPES
+            and 0.0 <= covariance < _INF
+        ):
+            pts = points
+            if type(pts) is not np.ndarray or pts.dtype is not _FLOAT64:
+                try:
+                    pts = np.asarray(points, dtype=np.float64)
+                except (TypeError, ValueError):
+                    pts = None
+            d = state["n_dims_"]
+            if pts is not None and pts.shape != (1, d):
+                pts = pts.reshape(1, d) if pts.shape == (d,) else None
+        if pts is None:
+            pts, s, variance, noise = self._checked_via(points, phases, covariance)
+            out, n_dropped = self._conditioned(pts[None], s, variance, noise)
+            m = pts.size
+        else:
+            out = np.empty(2 * (1 + d) * n_weights + d)
+            width = state["width_"]
+            n_dropped = _point_kernel()(
+                mean,
+                cov,
+                phase,
+                width,
+                pts,
+                covariance if type(covariance) is float else float(covariance),
+                _PINV_RCOND,
+                out,
+            )
+            if n_dropped < 0:  # a value the quick check let through: the full checks name it
+                self._checked_via(points, phases, covariance, full=True)
+            out.setflags(False)  # the new mean is a view: read-only too (by keyword: 2.5× slower)
+            s, m = phase, d
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it.
         new = self._with_weights(out[:n_weights], None)
         new.__dict__["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
         if n_dropped:
-            lost = out[n_weights * (1 + m) :]
-            new._warn_unreachable(pts, s, lost.reshape(pts.shape), "points")
+            lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
+            new._warn_unreachable(pts, np.reshape(s, -1), lost, "points")
         return new
 
     def condition_many(self, points: Any, phases: Any, covariance: Any = 0.0) -> list[ProMP]:
@@ -498,7 +545,7 @@ class ProMP(Estimator):
         out, n_dropped = self._conditioned(
             np.ascontiguousarray(sets), s, variance, np.ascontiguousarray(noise)
         )
-        means, _, lost = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size)
+        means, _, lost, _, _ = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size, d)
         cov = _frozen(_conditioned_covariance(self._weights_cov(), out, len(sets), sets[0].size))
         out = [self._with_weights(mean, cov) for mean in means]
         if n_dropped:
@@ -557,7 +604,7 @@ class ProMP(Estimator):
         """
         n_sets, k, d = sets.shape
         n_weights = len(self.weights_mean_)
-        out = np.empty(n_sets * n_weights + (n_weights + n_sets) * k * d)
+        out = np.empty(_out_size(n_sets, n_weights, k * d))
         n_dropped = _condition_kernel()(
             self.weights_mean_,
             self._weights_cov(),
@@ -571,7 +618,7 @@ class ProMP(Estimator):
             out,
         )
         # Read-only: the weights handed to the copies are views that inherit it.
-        out.flags.writeable = False
+        out.setflags(False)
         return out, n_dropped
 
     def _with_weights(self, mean: np.ndarray, cov: np.ndarray | None) -> ProMP:
@@ -760,7 +807,32 @@ class ProMP(Estimator):
 
     def _mean_from(self, features: np.ndarray) -> np.ndarray:
         """Mean positions for the activations ``features`` (n, n_basis): shape (n, n_dims)."""
-        return features @ self.weights_mean_.reshape(self.n_dims_, self.n_basis).T
+        state = self.__dict__
+        kept = state.get("_columns_cache")
+        if kept is None or kept[0] is not state.get("weights_mean_"):
+            kept = self._mean_columns()
+        return np.dot(features, kept[1])
+
+    def _mean_columns(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(weights_mean_, its weights basis-major (n_basis, n_dims))``, kept.
+
+        A path is one product of the activations with them: contiguous, not a
+        transposed view of the mean (40 % slower). A model conditioned on one
+        point set takes them from the kernel's buffer, which holds them.
+        """
+        state = self.__dict__
+        mean = state.get("weights_mean_")
+        if mean is None:
+            self._check_fitted()
+        d = state["n_dims_"]
+        pending = state.get("_pending_cov")
+        if pending is not None and mean.base is pending[1]:  # the kernel's buffer of this mean
+            out, m, n = pending[1], pending[3], len(mean)
+            columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, d)
+        else:
+            columns = _frozen(np.ascontiguousarray(mean.reshape(d, -1).T))
+        kept = state["_columns_cache"] = (mean, columns)
+        return kept
 
     def _feature_slopes(self, phase: np.ndarray) -> np.ndarray:
         """Derivatives of :meth:`_features` in phase, shape (n_points, n_basis).
@@ -877,7 +949,7 @@ def condition_weights(
     b, n_weights, m = len(scaled_centres), len(mean), k * d
     if not (np.all((phases >= 0.0) & (phases <= 1.0)) and np.all(np.isfinite(sets))):
         return -1
-    means, root_h, lost = _out_parts(out, n_sets, n_weights, m)
+    means, root_h, lost, columns, root_h_t = _out_parts(out, n_sets, n_weights, m, d)
     bumps = np.exp(-0.5 * np.square(scaled_centres - (phases / width)[:, None]))
     features = bumps / bumps.sum(axis=1, keepdims=True)
     # Σ Hᵀ: column (i, c) is Σ[:, c-block] φ(s_i); one 2-D product, then reordered.
@@ -908,7 +980,36 @@ def condition_weights(
     offsets = sets.reshape(n_sets, m) - prior
     means[...] = mean + (offsets @ root) @ root_h
     lost[...] = (offsets @ dropped) @ dropped.T
+    columns[...] = means.reshape(n_sets, d, b).transpose(0, 2, 1)
+    root_h_t[...] = root_h.reshape(m * d, b).T
     return int(dropped.shape[1])
+
+
+def condition_point(
+    mean: np.ndarray,
+    cov: np.ndarray,
+    phase: float,
+    width: float,
+    point: np.ndarray,
+    variance: float,
+    rcond: float,
+    out: np.ndarray,
+) -> int:
+    """:func:`condition_weights` for one via-point (``point`` (1, d), ``phase`` a float)
+    with a variance: the twin of :func:`lfdkit.imitate._promp_kernels.condition_point`."""
+    d = point.shape[1]
+    return condition_weights(
+        mean,
+        cov,
+        _scaled_centres(len(mean) // d, width),
+        np.array([phase]),
+        width,
+        point.reshape(1, 1, d),
+        variance,
+        _no_noise(d),
+        rcond,
+        out,
+    )
 
 
 def _variances(cov: np.ndarray, products: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -922,16 +1023,28 @@ def _variances(cov: np.ndarray, products: np.ndarray, pairs: np.ndarray) -> np.n
     return products @ cov.take(pairs)
 
 
+def _out_size(n_sets: int, n_weights: int, m: int) -> int:
+    """Length of :func:`condition_weights`' buffer for ``m`` observed coordinates."""
+    return 2 * (n_sets + m) * n_weights + n_sets * m
+
+
 def _out_parts(
-    out: np.ndarray, n_sets: int, n_weights: int, m: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Views of :func:`condition_weights`' buffer: means, ``Z = Lᵀ H Σ``, lost."""
+    out: np.ndarray, n_sets: int, n_weights: int, m: int, n_dims: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Views of :func:`condition_weights`' buffer: means (n_sets, n_weights), ``Z = Lᵀ H Σ``
+    (m, n_weights), lost (n_sets, m), the means basis-major (n_sets, b, n_dims) and ``Z``
+    split by dimension, transposed (b, m · n_dims)."""
+    b = n_weights // n_dims
     root_at = n_sets * n_weights
     lost_at = root_at + m * n_weights
+    columns_at = lost_at + n_sets * m
+    root_t_at = columns_at + n_sets * n_weights
     return (
         out[:root_at].reshape(n_sets, n_weights),
         out[root_at:lost_at].reshape(m, n_weights),
-        out[lost_at:].reshape(n_sets, m),
+        out[lost_at:columns_at].reshape(n_sets, m),
+        out[columns_at:root_t_at].reshape(n_sets, b, n_dims),
+        out[root_t_at:].reshape(b, m * n_dims),
     )
 
 
@@ -957,6 +1070,17 @@ def _condition_kernel() -> Any:
     run = kernel(*_KERNEL, __name__)
     if run is not condition_weights:
         _COMPILED.append(run)
+    return run
+
+
+def _point_kernel() -> Any:
+    """:func:`condition_point`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it
+    (kept once handed out, as :func:`_condition_kernel`)."""
+    if _COMPILED_POINT:
+        return _COMPILED_POINT[0]
+    run = kernel(*_POINT_KERNEL, __name__)
+    if run is not condition_point:
+        _COMPILED_POINT.append(run)
     return run
 
 
