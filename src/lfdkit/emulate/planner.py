@@ -686,7 +686,7 @@ def _plan(
     corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = _vector(start_offset, "start_offset", m)
-    clearance = _clearances(clearance, scene)
+    clearance = clearance_per_obstacle(clearance, scene)
     if horizon is not None:
         horizon = check_horizon(horizon)
     reach_goal = goal_approach is not None
@@ -742,7 +742,7 @@ def _plan(
     problem.weight = goal_w  # the plan's cost includes the goal term, if any
     offsets = np.vstack([d0[None], d])
     plan = Plan(corridor.to_points(offsets), offsets, problem.cost(d), horizon, n_iter, ok)
-    return _verified(plan, corridor, scene, clearance, reach_goal, times, margin)
+    return verified_plan(plan, corridor, scene, clearance, reach_goal, times, margin)
 
 
 def _route(
@@ -1503,7 +1503,7 @@ def _check_ends(
             )
 
 
-def _clearances(value: Any, scene: Scene) -> np.ndarray:
+def clearance_per_obstacle(value: Any, scene: Scene) -> np.ndarray:
     """The clearance of each obstacle (n_obstacles,): one number for all, or one each."""
     if np.ndim(value) == 0:
         return np.full(len(scene), check_positive(value, "clearance", allow_zero=True))
@@ -1612,7 +1612,7 @@ def moving_clearance(
     return out
 
 
-def _verified(
+def verified_plan(
     plan: Plan,
     corridor: Corridor,
     scene: Scene,

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from lfdkit.emulate.planner import Plan, UnsafePlanError, _clearances, _verified
+from lfdkit.emulate.planner import Plan, UnsafePlanError, clearance_per_obstacle, verified_plan
 from lfdkit.emulate.problem import Corridor
 from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
@@ -101,7 +101,9 @@ def taut_plan(
     if any(isinstance(o, HalfSpace) for o in scene.obstacles):  # no finite ball cover
         return None
     k_points = corridor.n_points
-    extra = _clearances(clearance, scene)  # one each, finite and >= 0 (else a one-line error)
+    extra = clearance_per_obstacle(
+        clearance, scene
+    )  # one each, finite and >= 0 (else a one-line error)
     max_step = max_slope * corridor.step
     balls = _ball_intervals(corridor, scene, extra, max_step)
     if not balls:
@@ -128,7 +130,7 @@ def taut_plan(
         True,
     )
     try:
-        return _verified(out, corridor, scene, extra, False)
+        return verified_plan(out, corridor, scene, extra, False)
     except UnsafePlanError:  # a segment the widening did not keep out
         return None
 
