@@ -169,7 +169,7 @@ def test_goal_weights_ramp_smoothly_from_q_to_the_gain() -> None:
         goal_weights(corridor, 3.0, -0.1)
 
 
-def test_a_nominal_of_more_points_than_the_plan_is_resampled_with_a_warning():
+def test_a_nominal_of_far_more_points_than_the_plan_is_resampled_with_a_warning():
     # A 250-point nominal planned without n_points gave a silent 100-point plan (e3a8c41).
     x = np.linspace(0.0, 1.0, 250)
     nominal = np.column_stack([x, 0.1 * np.sin(np.pi * x)])
@@ -186,5 +186,6 @@ def test_a_nominal_of_more_points_than_the_plan_is_resampled_with_a_warning():
         np.testing.assert_array_equal(
             plan_path(reward, nominal, scene, n_points=100).points, plan.points
         )
-        # Fewer points than the plan's: resampled finer, as ever, unsaid.
+        # Up to twice the plan's points (a curve passed densely), or fewer: unsaid.
+        assert plan_path(reward, nominal[:200], scene).points.shape == (100, 2)
         assert plan_path(reward, nominal[::5], scene).points.shape == (100, 2)

@@ -67,11 +67,16 @@ Either way, a candidate from whose end the rest of the path is blocked is
 never executed. The route's grid has the global search's cell budget: where
 it cannot cover the scene and its route is blocked or runs along its edge,
 the route is that over every ``s``-th point (:func:`_coarse_look_ahead`),
-consulted wherever an obstacle is within ``H s`` points. So the look-ahead
-spans the same length of path at 100, 250 or 500 points (issue 34: among
-three boxes at 250 points in 3-D, horizon 8 refused 2 of 10 scenes and went
-round the other side of a third; now all 10 plan within 0.35 cm of the
-whole path's plan, as at 100 points, and within 1.1 cm at 500).
+consulted wherever an obstacle is within ``H s`` points, and at least
+within the share of the path ``H`` points are at 100 (``⌈H K / 100⌉`` of
+``K``; :func:`_look_ahead_reach`). So the look-ahead spans the same length
+of path at 100, 250 or 500 points (issue 34: among three boxes at 250
+points in 3-D, horizon 8 refused 2 of 10 scenes and went round the other
+side of a third; now all 10 plan within 0.35 cm of the whole path's plan,
+as at 100 points, and within 1.1 cm at 500; in 2-D at 500 points, with the
+route 8 points ahead, a ball of 0.2 m on a 1 m path was refused, and now is
+passed within 2.5 mm of the 100-point plan). Plans of 100 points or fewer
+are unchanged by this.
 
 Safety
 ------
@@ -589,9 +594,9 @@ def plan_path(
         Corridor (its own points). Default
         :data:`~lfdkit.emulate.problem.PLAN_POINTS` (100) whatever the
         nominal's count, so that a plan does not depend on how finely its
-        nominal was sampled; a nominal of more points is then planned more
-        coarsely, with a warning: pass ``n_points=len(nominal)`` to plan at
-        its own points.
+        nominal was sampled; a nominal of more than twice as many points is
+        then planned far more coarsely than it was sampled, with a warning:
+        pass ``n_points=len(nominal)`` to plan at its own points.
     start_offset : array_like, shape (q − 1,), optional
         Lateral offset of the start from the nominal's first point (default 0).
     init : array_like, shape (K, q − 1), optional
@@ -759,17 +764,18 @@ def _plan(
 
 
 def _default_points(nominal: Any) -> int:
-    """:data:`PLAN_POINTS`, warned where the nominal has more (it is resampled to fewer).
+    """:data:`PLAN_POINTS`, warned where the nominal has more than twice as many.
 
-    A nominal with more points planned at fewer is otherwise silent: a
+    A nominal planned at far fewer points than it has is otherwise silent: a
     250-point nominal gave a 100-point plan, and a comparison meant at 250
-    points was made at 100.
+    points was made at 100. Up to twice as many (a smooth curve passed
+    densely) is resampled unsaid.
     """
     try:
         count = np.shape(nominal)[0]
     except (ValueError, IndexError):  # ragged or scalar: Corridor.from_path says what is wrong
         return PLAN_POINTS
-    if count > PLAN_POINTS:
+    if count > 2 * PLAN_POINTS:
         warnings.warn(
             f"nominal: its {count} points are resampled to a plan of {PLAN_POINTS} "
             f"(n_points' default); pass n_points={count} to plan at its own points, or "
