@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.optimize import minimize
@@ -165,3 +167,25 @@ def test_goal_weights_ramp_smoothly_from_q_to_the_gain() -> None:
     assert w[-1] == pytest.approx(3.0 * (1.0 + GOAL_GAIN))
     with pytest.raises(ValueError, match="goal_approach"):
         goal_weights(corridor, 3.0, -0.1)
+
+
+def test_a_nominal_of_far_more_points_than_the_plan_is_resampled_with_a_warning():
+    # A 250-point nominal planned without n_points gave a silent 100-point plan (e3a8c41).
+    x = np.linspace(0.0, 1.0, 250)
+    nominal = np.column_stack([x, 0.1 * np.sin(np.pi * x)])
+    reward = Reward(5.0, {"cup": [400.0, 400.0]})
+    scene = Scene((Obstacle("cup", [0.5, 0.12], 0.02),))
+    with pytest.warns(
+        UserWarning, match=r"its 250 points are resampled to a plan of 100.*n_points=250"
+    ):
+        plan = plan_path(reward, nominal, scene)
+    assert plan.points.shape == (100, 2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert plan_path(reward, nominal, scene, n_points=250).points.shape == (250, 2)
+        np.testing.assert_array_equal(
+            plan_path(reward, nominal, scene, n_points=100).points, plan.points
+        )
+        # Up to twice the plan's points (a curve passed densely), or fewer: unsaid.
+        assert plan_path(reward, nominal[:200], scene).points.shape == (100, 2)
+        assert plan_path(reward, nominal[::5], scene).points.shape == (100, 2)

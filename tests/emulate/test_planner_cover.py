@@ -120,3 +120,37 @@ def test_the_receding_horizon_plans_three_boxes_alike_at_100_and_250_points():
         [np.interp(at, np.linspace(0.0, 1.0, 100), plans[100].points[:, i]) for i in range(3)]
     )
     assert np.linalg.norm(fine - coarse, axis=1).max() < 0.01
+
+
+@pytest.mark.parametrize(("radius", "horizon"), [(0.2, 8), (0.3, 12)])
+def test_the_receding_horizon_turns_at_500_points_where_it_does_at_100(radius, horizon):
+    # 2-D, 500 points: the grid covers the scene (stride 1), but the route was consulted
+    # only with the ball within the horizon's 8 (12) points, 1.6 % (2.4 %) of the path:
+    # too late to turn round it at a 45° slope, refused at e3a8c41 ("no collision-free
+    # plan" at point 104 (34) of 500). The look-ahead now spans H % of the path, as at 100.
+    reward, nominal, scene = ball_on_the_path(2, radius)
+    plans = {
+        n: plan_path(reward, nominal, scene, horizon=horizon, clearance=CLEARANCE, n_points=n)
+        for n in (100, 500)
+    }
+    fine = plans[500]
+    assert fine.clearance.min() >= 0.0
+    assert np.linalg.norm(fine.points[-1] - nominal[-1]) < 1e-6
+    at = np.linspace(0.0, 1.0, len(fine.points))
+    coarse = np.column_stack(
+        [np.interp(at, np.linspace(0.0, 1.0, 100), plans[100].points[:, i]) for i in range(2)]
+    )
+    assert np.linalg.norm(fine.points - coarse, axis=1).max() < 0.005
+
+
+def test_the_look_ahead_reach_is_the_horizon_at_100_points_and_a_share_of_the_path_beyond():
+    reach = P._look_ahead_reach
+    for n_points in (3, 40, 99, 100):  # the plans of 100 points or fewer as they were
+        assert reach(8, n_points, 1, True) == 8
+    assert reach(8, 500, 1, True) == 40
+    assert reach(12, 250, 1, True) == 30
+    assert reach(8, 101, 1, True) == 9  # ⌈8.08⌉
+    # The coarse route's own reach where it is the longer; the thesis's MPC keeps its window.
+    assert reach(8, 250, 4, True) == 32
+    assert reach(8, 500, 1, False) == 8
+    assert reach(8, 500, 3, False) == 24

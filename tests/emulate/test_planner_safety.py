@@ -83,8 +83,8 @@ def test_mpc_does_not_enter_a_pocket_the_full_horizon_avoids(horizon: int) -> No
         k = int(rng.integers(35, 60))
         radius = rng.uniform(2.0, 3.5) * width
         scene = pocket_scene(width, corridor, k, radius)
-        full = plan_path(reward, path, scene)
-        mpc = plan_path(reward, path, scene, horizon=horizon)
+        full = plan_path(reward, path, scene, n_points=100)  # the 400-point path at 100
+        mpc = plan_path(reward, path, scene, horizon=horizon, n_points=100)
         assert np.all(mpc.clearance >= 0.0)
         if in_pocket(full.points, corridor, k, radius).any():
             continue  # the gaps are wide enough to pass through: no trap

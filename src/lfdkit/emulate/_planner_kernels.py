@@ -256,6 +256,7 @@ def receding_horizon_2d(
     max_step,
     d0,
     horizon,
+    ahead,
     reach_goal,
     lookahead,
     table,
@@ -277,9 +278,10 @@ def receding_horizon_2d(
 
     Every step, operation for operation, as the planner's Python loop does it
     with these kernels (issue 26: that loop's glue around small kernel calls
-    was four fifths of an MPC plan): the obstacle test of the window
-    (``b_norm`` (n, L) the norms of ``b``, ``radius`` (n, H) and ``outer``
-    (H,) the hard balls' distance and outer radius), the warm start alone away
+    was four fifths of an MPC plan): the obstacle test of the look-ahead's
+    ``ahead`` points (at least the window's; ``b_norm`` (n, L) the norms of
+    ``b``, ``radius`` (n, H) and ``outer`` (H,) the hard balls' distance and
+    outer radius), the warm start alone away
     from obstacles, else the warm start and the grid path (the global route
     from ``table``, the cost-to-go over ``levels`` with ``cells`` per step,
     ``node`` its states' costs; without ``lookahead`` the window's own best
@@ -313,16 +315,17 @@ def receding_horizon_2d(
         anchor = offsets[k].copy()
         cw, bw, aw, ww = c[k:stop], b[k:stop], a[k:stop], weight[k:stop]
         rrw, nrw = rr[k:stop], nr[k:stop]
-        # _ObstacleNear: the same operations in the same order
+        # _ObstacleNear over the look-ahead: the same operations in the same order
+        seen = min(k + ahead, n)
         anchor_norm = np.sqrt(np.sum(anchor * anchor))
-        within = anchor_norm + h * max_step * root_m
+        within = anchor_norm + (seen - k) * max_step * root_m
         near = False
-        for i in range(k, stop):
+        for i in range(k, seen):
             for o in range(n_obs):
                 if c[i, o] - 2.0 * b_norm[i, o] * within < 28.0:
                     near = True
         if not near:
-            for i in range(k, stop):
+            for i in range(k, seen):
                 for o in range(n_hard):
                     if radius[i, o] - within < outer[o]:
                         near = True

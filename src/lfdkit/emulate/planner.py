@@ -67,11 +67,16 @@ Either way, a candidate from whose end the rest of the path is blocked is
 never executed. The route's grid has the global search's cell budget: where
 it cannot cover the scene and its route is blocked or runs along its edge,
 the route is that over every ``s``-th point (:func:`_coarse_look_ahead`),
-consulted wherever an obstacle is within ``H s`` points. So the look-ahead
-spans the same length of path at 100, 250 or 500 points (issue 34: among
-three boxes at 250 points in 3-D, horizon 8 refused 2 of 10 scenes and went
-round the other side of a third; now all 10 plan within 0.35 cm of the
-whole path's plan, as at 100 points, and within 1.1 cm at 500).
+consulted wherever an obstacle is within ``H s`` points, and at least
+within the share of the path ``H`` points are at 100 (``⌈H K / 100⌉`` of
+``K``; :func:`_look_ahead_reach`). So the look-ahead spans the same length
+of path at 100, 250 or 500 points (issue 34: among three boxes at 250
+points in 3-D, horizon 8 refused 2 of 10 scenes and went round the other
+side of a third; now all 10 plan within 0.35 cm of the whole path's plan,
+as at 100 points, and within 1.1 cm at 500; in 2-D at 500 points, with the
+route 8 points ahead, a ball of 0.2 m on a 1 m path was refused, and now is
+passed within 2.5 mm of the 100-point plan). Plans of 100 points or fewer
+are unchanged by this.
 
 Safety
 ------
@@ -113,6 +118,7 @@ A plan a robot can execute must reach its goal and keep out of obstacles:
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
@@ -126,6 +132,7 @@ from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
 from lfdkit.core.validation import check_horizon, check_positive
 from lfdkit.emulate.problem import (
+    PLAN_POINTS,
     UNCERTAINTY_MARGIN,
     Corridor,
     Problem,
@@ -558,7 +565,7 @@ def plan_path(
     scene: Scene,
     *,
     horizon: int | None = None,
-    n_points: int = 100,
+    n_points: int | None = None,
     start_offset: Any = None,
     init: Any = None,
     max_slope: float = 1.0,
@@ -581,9 +588,15 @@ def plan_path(
         Obstacles; every class must be known to ``reward``.
     horizon : int, optional
         MPC horizon ``H`` with ``4 <= H <= 12``; None for the full-horizon optimum.
-    n_points : int
+    n_points : int, optional
         Points ``K`` of the plan (the nominal is resampled at constant speed),
-        3 to :data:`lfdkit.emulate.problem.MAX_POINTS`.
+        3 to :data:`lfdkit.emulate.problem.MAX_POINTS`; ignored for a
+        Corridor (its own points). Default
+        :data:`~lfdkit.emulate.problem.PLAN_POINTS` (100) whatever the
+        nominal's count, so that a plan does not depend on how finely its
+        nominal was sampled; a nominal of more than twice as many points is
+        then planned far more coarsely than it was sampled, with a warning:
+        pass ``n_points=len(nominal)`` to plan at its own points.
     start_offset : array_like, shape (q − 1,), optional
         Lateral offset of the start from the nominal's first point (default 0).
     init : array_like, shape (K, q − 1), optional
@@ -670,7 +683,7 @@ def _plan(
     nominal: Any,
     scene: Scene,
     horizon: int | None,
-    n_points: int,
+    n_points: int | None,
     start_offset: Any,
     init: Any,
     max_slope: float,
@@ -683,7 +696,12 @@ def _plan(
 ) -> Plan:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
-    corridor = nominal if isinstance(nominal, Corridor) else Corridor.from_path(nominal, n_points)
+    if isinstance(nominal, Corridor):
+        corridor = nominal
+    else:
+        if n_points is None:
+            n_points = _default_points(nominal)
+        corridor = Corridor.from_path(nominal, n_points)
     m = corridor.n_dims - 1
     d0 = _vector(start_offset, "start_offset", m)
     clearance = clearance_per_obstacle(clearance, scene)
@@ -743,6 +761,29 @@ def _plan(
     offsets = np.vstack([d0[None], d])
     plan = Plan(corridor.to_points(offsets), offsets, problem.cost(d), horizon, n_iter, ok)
     return verified_plan(plan, corridor, scene, clearance, reach_goal, times, margin)
+
+
+def _default_points(nominal: Any) -> int:
+    """:data:`PLAN_POINTS`, warned where the nominal has more than twice as many.
+
+    A nominal planned at far fewer points than it has is otherwise silent: a
+    250-point nominal gave a 100-point plan, and a comparison meant at 250
+    points was made at 100. Up to twice as many (a smooth curve passed
+    densely) is resampled unsaid.
+    """
+    try:
+        count = np.shape(nominal)[0]
+    except (ValueError, IndexError):  # ragged or scalar: Corridor.from_path says what is wrong
+        return PLAN_POINTS
+    if count > 2 * PLAN_POINTS:
+        warnings.warn(
+            f"nominal: its {count} points are resampled to a plan of {PLAN_POINTS} "
+            f"(n_points' default); pass n_points={count} to plan at its own points, or "
+            f"n_points={PLAN_POINTS} to keep this",
+            UserWarning,
+            stacklevel=4,  # plan_path's caller
+        )
+    return PLAN_POINTS
 
 
 def _route(
@@ -1078,12 +1119,14 @@ def _receding_horizon(
                 route, compiled = coarse, False
         if not np.isfinite(route.walk(0, 1, d0)[1]):
             raise UnsafePlanError(_blocked_message(problem, reach_goal))
+    ahead = _look_ahead_reach(horizon, n + 1, 1 if route is None else route.stride, lookahead)
     if compiled:
         with tracker.stage(f"plan: MPC H={horizon} over {n + 1} points", total=n) as stage:
             out = _compiled_loop(
                 problem,
                 d0,
                 horizon,
+                ahead,
                 reach_goal,
                 lookahead,
                 (table, node, levels, cells),
@@ -1101,9 +1144,9 @@ def _receding_horizon(
             if guess.shape[0] < stop - k:
                 guess = np.vstack([guess, np.repeat(guess[-1:], stop - k - guess.shape[0], axis=0)])
             anchor = offsets[k]
-            # The route is consulted where an obstacle is within the look-ahead's reach:
-            # the horizon, over every stride-th point where the route is (its length).
-            if route is None or not near(k, min(k + horizon * route.stride, n), anchor):
+            # The route is consulted where an obstacle is within the look-ahead's reach
+            # (_look_ahead_reach).
+            if route is None or not near(k, min(k + ahead, n), anchor):
                 d, cost, n_iter, ok = best_window(window, anchor, guess, sides=False)
             else:
                 grid, total = route.walk(k, stop, anchor)
@@ -1142,10 +1185,30 @@ def _receding_horizon(
     return offsets[1:], total_iter, all_ok
 
 
+def _look_ahead_reach(horizon: int, n_points: int, stride: int, lookahead: bool) -> int:
+    """Points ahead of the receding horizon's step within which an obstacle consults the route.
+
+    The horizon, over every ``stride``-th point where the route is
+    (:func:`_coarse_look_ahead`); with ``lookahead``, at least the fraction of
+    the path the horizon spans at :data:`~lfdkit.emulate.problem.PLAN_POINTS`
+    points (``⌈H K / 100⌉`` of ``K``). A plan at 500 points then turns where
+    one at 100 does: with the horizon's 8 points alone (1.6 % of the path)
+    the route came too late to swerve round a 0.2 m ball on a 1 m path at a
+    45° slope and the plan was refused. At 100 points or fewer it is the
+    horizon (the plan bit for bit as before); without ``lookahead`` (the
+    thesis's MPC, which the IOC fits) it stays the horizon's reach.
+    """
+    reach = horizon * stride
+    if lookahead:
+        reach = max(reach, -(-horizon * n_points // PLAN_POINTS))
+    return reach
+
+
 def _compiled_loop(
     problem: Problem,
     d0: np.ndarray,
     horizon: int,
+    ahead: int,
     reach_goal: bool,
     lookahead: bool,
     grid: tuple[np.ndarray, np.ndarray, np.ndarray, int],
@@ -1159,7 +1222,8 @@ def _compiled_loop(
     loop's glue around small kernel calls was four fifths of an MPC plan
     (issue 26). ``grid``: the whole path's cost-to-go table, its states'
     costs, levels and cells per step (a window's own grid on the same
-    spacing takes its states' costs from there: the same numbers).
+    spacing takes its states' costs from there: the same numbers); ``ahead``
+    the look-ahead's reach in points (:func:`_look_ahead_reach`).
     """
     table, node, levels, cells = grid
     empty = np.zeros((0, 0))
@@ -1174,6 +1238,7 @@ def _compiled_loop(
         problem.max_step,
         np.ascontiguousarray(d0, dtype=np.float64),
         int(horizon),
+        int(ahead),
         bool(reach_goal),
         bool(lookahead),
         table,

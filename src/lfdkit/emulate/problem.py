@@ -62,6 +62,7 @@ __all__ = [
     "GOAL_APPROACH_FRACTION",
     "GOAL_GAIN",
     "MAX_POINTS",
+    "PLAN_POINTS",
     "UNCERTAINTY_MARGIN",
     "Corridor",
     "Problem",
@@ -73,6 +74,9 @@ __all__ = [
 
 #: Most points a plan may have (memory and time grow linearly).
 MAX_POINTS = 100_000
+#: Points of a plan unless told (``plan_path``'s ``n_points``); the receding horizon's
+#: look-ahead spans at least the fraction of the path its horizon spans at this many.
+PLAN_POINTS = 100
 #: Factor on the nominal weight at the goal when a plan must reach it (``goal_approach``).
 GOAL_GAIN = 1e4
 #: Default goal approach, as a fraction of the nominal path's length.
@@ -144,7 +148,7 @@ class Corridor:
     step: float
 
     @classmethod
-    def from_path(cls, nominal: Any, n_points: int = 100) -> Corridor:
+    def from_path(cls, nominal: Any, n_points: int = PLAN_POINTS) -> Corridor:
         """Resample ``nominal`` (n, q), q 2 or 3, to ``n_points`` equally spaced points."""
         path = check_path(nominal, "nominal", min_points=2)
         if path.shape[1] not in (2, 3):

@@ -189,9 +189,14 @@ def _run_into(out: Path, progress: Progress, started: float) -> dict[str, Any]:
             with progress.stage(label, total=len(test_demos)) as stage:
                 for demo, scene in zip(test_demos, test_scenes, strict=True):
                     nominal = skill.nominal(demo[0])
-                    true_plans.append(
-                        plan_path(truth.true_reward, nominal, scene, horizon=horizon).points
+                    plan = plan_path(
+                        truth.true_reward,
+                        nominal,
+                        scene,
+                        horizon=horizon,
+                        n_points=int(skill.n_points),
                     )
+                    true_plans.append(plan.points)
                     stage.advance()
             scores["mse_true_reward"] = metrics.mse_paths(true_plans, test_demos)
         steps.advance()
@@ -272,7 +277,14 @@ def _unseen(
     plan_ms = 1e3 * (time.perf_counter() - t0)
     # The demonstrator's nominal to the new goal is the straight sweep.
     true_nominal = resample(np.vstack([start, NEW_GOAL]), 500)
-    reference = plan_path(true_reward, true_nominal, scene, horizon=horizon, **PLAN_SETTINGS).points
+    reference = plan_path(
+        true_reward,
+        true_nominal,
+        scene,
+        horizon=horizon,
+        n_points=int(skill.n_points),  # as the learned plan's
+        **PLAN_SETTINGS,
+    ).points
     # Drawn in this order: the learned plan on top of the demonstrator's.
     paths = {
         _PLANNERS[2]: resample(nominal, len(learned)),
