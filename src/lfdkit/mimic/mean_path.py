@@ -905,10 +905,12 @@ def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> n
 def _on_line(offsets: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Signed lengths (m, n), NaN where not found, of 2-D offsets along their common line (m, 2)."""
     m = offsets.shape[0]
-    direction = np.nanmean(offsets, axis=1)
+    any_found = np.where(found[..., None], offsets, 0.0)
+    # NumPy's nanmean, the same sum and division without its NaN mask (NaN: none found).
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direction = any_found.sum(axis=1) / found.sum(axis=1)[:, None]
     norm = np.linalg.norm(direction, axis=1, keepdims=True)
     # Any found offset gives the line's direction when the mean is ~zero.
-    any_found = np.where(found[..., None], offsets, 0.0)
     fallback = any_found[np.arange(m), found.argmax(axis=1)]
     direction = np.where(norm > 1e-15, direction, fallback)
     norm = np.linalg.norm(direction, axis=1, keepdims=True)
@@ -928,39 +930,58 @@ def _shortest_half(values: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, n
 
 
 def _sorted_shortest_half(
-    values: np.ndarray, found: np.ndarray
+    values: np.ndarray, found: np.ndarray, groups: tuple | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_shortest_half`, with each row's found values sorted (inf after them),
     their count and the index of the shortest half's first value (all (m,) but the
-    sorted (m, n))."""
+    sorted (m, n)). ``groups``: :func:`_count_groups` of ``found``, where known."""
     m = values.shape[0]
-    ordered = np.where(found, values, np.inf)
-    ordered.sort(axis=1)
-    counts = found.sum(axis=1)
+    counts, groups = _count_groups(found) if groups is None else groups
+    if len(groups) == 1 and groups[0][1] is None and groups[0][0] == found.shape[1]:
+        ordered = np.sort(values, axis=1)  # every value found: no inf to put in
+    else:
+        ordered = np.where(found, values, np.inf)
+        ordered.sort(axis=1)
     mid = np.zeros(m)
     width = np.zeros(m)
     firsts = np.zeros(m, dtype=int)
-    for k in np.unique(counts):
-        rows = np.flatnonzero(counts == k)
-        if k == 0:
-            continue
+    for k, rows in groups:
         h = min(k, max(2, -(-k // 2)))
-        v = ordered[:, :k] if len(rows) == m else ordered[rows, :k]
-        widths = v[:, h - 1 :] - v[:, : k - h + 1]
+        # Most rows: on views of all of them (no gathered copy), those kept after.
+        v = ordered if rows is None or 2 * len(rows) > m else ordered[rows]
+        with np.errstate(invalid="ignore"):  # other rows' inf - inf: not kept
+            widths = v[:, h - 1 : k] - v[:, : k - h + 1]
         first = widths.argmin(axis=1)
-        tied = widths <= widths[np.arange(len(rows)), first][:, None]
-        n_tied = tied.sum(axis=1)
+        index = np.arange(len(v))
+        least = widths[index, first]
+        n_tied = np.count_nonzero(widths <= least[:, None], axis=1)
         several = np.flatnonzero(n_tied > 1)
         if len(several):  # of equally short intervals, the middle one
-            rank = np.cumsum(tied[several], axis=1)
+            rank = np.cumsum(widths[several] <= least[several, None], axis=1)
             middle = (n_tied[several, None] + 1) // 2
             first[several] = np.argmax(rank >= middle, axis=1)
-        lo = v[np.arange(len(rows)), first]
-        hi = v[np.arange(len(rows)), first + h - 1]
-        mid[rows] = 0.5 * (lo + hi)
-        width[rows] = hi - lo
-        firsts[rows] = first
+        lo = v[index, first]
+        hi = v[index, first + h - 1]
+        if rows is None:
+            mid, width, firsts = 0.5 * (lo + hi), hi - lo, first
+        else:
+            kept = rows if len(v) == m else slice(None)
+            mid[rows] = 0.5 * (lo[kept] + hi[kept])
+            width[rows] = hi[kept] - lo[kept]
+            firsts[rows] = first[kept]
     return mid, width, ordered, counts, firsts
+
+
+def _count_groups(found: np.ndarray) -> tuple[np.ndarray, list[tuple[int, np.ndarray | None]]]:
+    """Each row's count of found values (m,), and the rows of each count above zero
+    (``None``: all of them), for :func:`_sorted_shortest_half`."""
+    counts = found.sum(axis=1)
+    groups = []
+    for k in np.unique(counts):
+        if k > 0:
+            rows = np.flatnonzero(counts == k)
+            groups.append((int(k), None if len(rows) == len(counts) else rows))
+    return counts, groups
 
 
 def _robust_start(
@@ -1329,10 +1350,7 @@ def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...
     enough = found.sum(axis=1) >= 3
     out = []
     for half in halves:
-        lo = np.clip(np.arange(m) - half, 0, m)
-        hi = np.clip(np.arange(m) + half + 1, 0, m)
-        n_in = count[hi] - count[lo]
-        averaged = (total[hi] - total[lo]) / np.maximum(n_in, 1)[..., None]
+        averaged = _window_sums(total, half) / np.maximum(_window_sums(count, half), 1)[..., None]
         if averaged.shape[2] == 1:  # on a line: from the sorted values alone
             mid, scale, _, _ = _line_run(averaged[..., 0], found, enough)
             distance = np.abs(averaged[..., 0] - mid[:, None])
@@ -1352,17 +1370,33 @@ def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...
     return out
 
 
+def _window_sums(total: np.ndarray, half: int) -> np.ndarray:
+    """Sums over the rows within ``half`` of each, cut at the ends, from running sums.
+
+    ``total`` (m + 1, ...): running sums along the rows, zero first. Row ``r``
+    of the result is ``total[min(r + half + 1, m)] - total[max(r - half, 0)]``
+    (the same subtraction for every row, so the same numbers as indexing
+    with those clipped rows), taken on slices: no gathered copies.
+    """
+    m = len(total) - 1
+    width = 2 * half + 1
+    if width > m:
+        rows = np.arange(m)
+        return total[np.minimum(rows + half + 1, m)] - total[np.maximum(rows - half, 0)]
+    out = np.empty((m, *total.shape[1:]))
+    np.subtract(total[width:], total[: m + 1 - width], out=out[half : m - half])
+    np.subtract(total[half + 1 : width], total[0], out=out[:half])
+    np.subtract(total[m], total[m - 2 * half : m - half], out=out[m - half :])
+    return out
+
+
 def _run_counts(found: np.ndarray, halves: tuple[int, ...]) -> list[np.ndarray]:
     """For each stretch, how many found values each (m, n) average of :func:`_run_maxima` takes
     (at least 1): the same for every replica of one mask, so taken once for all of them."""
     m = len(found)
     count = np.zeros((m + 1, found.shape[1]))
     count[1:] = np.cumsum(found, axis=0)
-    rows = np.arange(m)
-    return [
-        np.maximum(count[np.clip(rows + half + 1, 0, m)] - count[np.clip(rows - half, 0, m)], 1)
-        for half in halves
-    ]
+    return [np.maximum(_window_sums(count, half), 1) for half in halves]
 
 
 def _run_maxima(
@@ -1370,26 +1404,29 @@ def _run_maxima(
     found: np.ndarray,
     halves: tuple[int, ...],
     counts: list[np.ndarray] | None = None,
+    groups: tuple | None = None,
 ) -> np.ndarray:
     """The largest :func:`_run_distance` of each stretch, (len(halves),).
 
     On a line (2-D demonstrations) from :func:`_line_run`, each row's extremes
-    only, no (m, n) distances; ``counts``: :func:`_run_counts` of ``found``.
+    only, no (m, n) distances; ``counts``: :func:`_run_counts` of ``found``,
+    ``groups``: :func:`_count_groups` of it (both the same for every replica).
     """
     if coords.shape[2] != 1:  # a plane: the start is a line's point, distances 2-D
         return np.array([d.max() for d in _run_distances(coords, found, halves)])
     m, n = found.shape
     if counts is None:
         counts = _run_counts(found, halves)
+    if groups is None:
+        groups = _count_groups(found)
     total = np.zeros((m + 1, n))
-    total[1:] = np.cumsum(np.where(found, coords[..., 0], 0.0), axis=0)
-    enough = found.sum(axis=1) >= 3
-    rows = np.arange(m)
+    np.cumsum(np.where(found, coords[..., 0], 0.0), axis=0, out=total[1:])
+    enough = groups[0] >= 3
     out = np.zeros(len(halves))
     for i, (half, taken) in enumerate(zip(halves, counts, strict=True)):
-        lo = np.clip(rows - half, 0, m)
-        hi = np.clip(rows + half + 1, 0, m)
-        mid, scale, low, high = _line_run((total[hi] - total[lo]) / taken, found, enough)
+        averaged = _window_sums(total, half)
+        averaged /= taken
+        mid, scale, low, high = _line_run(averaged, found, enough, groups)
         if scale is not None and (low < np.inf).any():
             farthest = np.maximum(np.abs(low - mid), np.abs(high - mid)) / scale
             out[i] = max(0.0, farthest[low < np.inf].max())
@@ -1397,7 +1434,7 @@ def _run_maxima(
 
 
 def _line_run(
-    averaged: np.ndarray, found: np.ndarray, enough: np.ndarray
+    averaged: np.ndarray, found: np.ndarray, enough: np.ndarray, groups: tuple | None = None
 ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray]:
     """Start, robust scale (None: no spread) and extremes (m,) of (m, n) averages on a line.
 
@@ -1411,14 +1448,15 @@ def _line_run(
     third of what they did. Equal to the full computation to the bit on every
     case tested (a difference could only come from the two ends' distances from
     the start rounding apart, one unit in the last place). Rows with no value:
-    extremes inf.
+    extremes inf. ``groups``: :func:`_count_groups` of ``found``, where known.
     """
     m, n = found.shape
     rows = np.arange(m)
-    mid, width, ordered, k, first = _sorted_shortest_half(averaged, found)
+    mid, width, ordered, k, first = _sorted_shortest_half(averaged, found, groups)
+    flat, base = ordered.ravel(), rows * n
 
     def apart(index: np.ndarray) -> np.ndarray:
-        return np.abs(ordered[rows, np.clip(index, 0, n - 1)] - mid)
+        return np.abs(flat[base + np.clip(index, 0, n - 1)] - mid)
 
     h = np.minimum(k, np.maximum(2, -(-k // 2)))
     inner = np.maximum(apart(first), apart(first + h - 1))
@@ -1429,7 +1467,7 @@ def _line_run(
     median = np.where(k % 2 == 1, inner, 0.5 * (inner + outer))
     median = np.where(k == 2, 0.5 * (apart(rows * 0) + apart(rows * 0 + 1)), median)
     own = np.where(k <= 1, 0.0, 1.4826 * median)
-    low, high = ordered[:, 0], ordered[rows, np.maximum(k - 1, 0)]
+    low, high = ordered[:, 0], flat[base + np.maximum(k - 1, 0)]
     extreme = np.where(k > 0, np.maximum(np.abs(low), np.abs(high)), 0.0)
     tiny = _TINY * (1.0 + extreme.max())
     own = np.where((width <= tiny) | (own <= tiny), 0.0, own)
@@ -1479,12 +1517,14 @@ def _replica_maxima(
     lock, rng, draws = entry
     seen = np.full(len(halves), _RUN_LO)
     counts: list[np.ndarray] = []  # the mask's, for every replica drawn here
+    groups = None
     for i in range(_RUN_DRAWS):
         with lock:  # one thread draws the next replica, the others reuse it
             if i == len(draws):
                 counts = counts or _run_counts(found, halves)
+                groups = groups or _count_groups(found)
                 replica = rng.normal(0.0, 1.0, shape)
-                draws.append(_run_maxima(replica, found, halves, counts))
+                draws.append(_run_maxima(replica, found, halves, counts, groups))
         seen = np.maximum(seen, draws[i])
         if (observed <= seen).all():
             break
@@ -1764,8 +1804,11 @@ def _adaptive_weight(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
     when ``core >= lo``), tapered smoothly from ``lo`` to none at ``hi``.
     """
     core, lo, hi = tuning
-    v = np.clip((z - lo) / (hi - lo), 0.0, 1.0)
-    taper = (1.0 - v**2) ** 2
+    # Exactly 1 within lo (most intersections): the powers are taken beyond it only.
+    beyond = ~(z <= lo)
+    taper = np.ones(z.shape)
+    v = np.clip((z[beyond] - lo) / (hi - lo), 0.0, 1.0)
+    taper[beyond] = (1.0 - v**2) ** 2
     if core >= lo:
         return taper
     with np.errstate(divide="ignore"):
