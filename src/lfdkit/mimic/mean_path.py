@@ -260,6 +260,7 @@ from lfdkit.core.constraints import Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.geometry import (
     FoldedPathError,
+    NormalHits,
     PolylineSet,
     arc_length,
     normal_frames,
@@ -563,7 +564,7 @@ class MeanPath(Estimator):
         self.innovation_history_ = np.array(innovations)
         # Report the real demonstrations only, without their virtual extensions.
         tangents = point_tangents(ref)
-        real = PolylineSet(demos).intersect(ref, tangents, same_direction=self.same_direction)
+        real = _real_hits(state.crossings, polylines, demos, ref, tangents, self.same_direction)
         self.support_ = real.found.sum(axis=1)
         unsupported = int(np.count_nonzero(self.support_ < needed))
         if unsupported > _UNSUPPORTED_WARNING * len(ref):
@@ -821,6 +822,52 @@ def _extend(demo: np.ndarray, fraction: float) -> np.ndarray:
             demo[-1] + ext * tail / np.linalg.norm(tail),
         )
     )
+
+
+def _real_hits(
+    hits: NormalHits,
+    polylines: PolylineSet,
+    demos: list[np.ndarray],
+    ref: np.ndarray,
+    tangents: np.ndarray,
+    same_direction: bool,
+) -> NormalHits:
+    """The path's normals intersected with the demonstrations themselves, not their extensions.
+
+    ``hits``: the normals (``ref``, ``tangents``) intersected with
+    ``polylines``, the demonstrations as extended by :func:`_extend`. Where
+    that nearest crossing lies on a demonstration's own segment, it is the
+    nearest of the demonstration too, computed from the same vertices in the
+    same way: it is kept. The other normals (a crossing on an extension, or
+    none) and crossings within rounding of a vertex (the two sets' on-plane
+    tolerances differ) are intersected again, so the result is that of
+    ``PolylineSet(demos).intersect`` (up to which of two crossings at exactly
+    one distance is taken); on 100 x 1000 points it costs a fifth as much.
+    """
+    points, segment, distance = hits.points.copy(), hits.segment.copy(), hits.distance.copy()
+    n_vertices = np.array([len(d) for d in demos])
+    head = np.array([len(p) for p in polylines.polylines]) - n_vertices > 0  # extended
+    own = segment - head  # the demonstration's own segment
+    kept = (segment >= 0) & (own >= 0) & (own < n_vertices - 1)
+    # Each kept crossing's segment ends' distances from the normal hyperplane: near one
+    # of them (rounding of the vertex onto the plane), intersected again.
+    verts = np.concatenate(demos)
+    first = np.concatenate(([0], np.cumsum(n_vertices)[:-1]))
+    index = np.where(kept, first + own, 0)
+    scale = max(float(np.abs(verts).max()), float(np.abs(ref).max())) + 1.0
+    for k in (index, index + 1):
+        side = np.einsum("mnq,mq->mn", verts[k] - ref[:, None, :], tangents)
+        kept &= np.abs(side) > 1e-11 * scale
+    segment[kept] = own[kept]
+    again = np.flatnonzero(~kept.all(axis=1))
+    if len(again):
+        # With the row farthest from the origin, so that the tolerance is the same.
+        rows = np.union1d(again, [int(np.argmax(np.abs(ref).max(axis=1)))])
+        redo = PolylineSet(demos).intersect(
+            ref[rows], tangents[rows], same_direction=same_direction
+        )
+        points[rows], segment[rows], distance[rows] = redo.points, redo.segment, redo.distance
+    return NormalHits(points=points, segment=segment, distance=distance)
 
 
 def _fill_unsupported(
