@@ -15,6 +15,7 @@ from sklearn.base import clone
 
 import lfdkit.mimic.mean_path as mean_path_module
 from lfdkit.core.geometry import (
+    PolylineSet,
     arc_length,
     left_normals,
     normal_frames,
@@ -41,11 +42,14 @@ from lfdkit.mimic.mean_path import (
     _adaptive_rho,
     _adaptive_weight,
     _choose_tuning,
+    _count_groups,
     _cross_validate,
+    _extend,
     _gaussian_advantage,
     _nanmedian,
     _own_start_and_scale,
     _pooled_location,
+    _real_hits,
     _replica_maxima,
     _run_distance,
     _run_distances,
@@ -53,6 +57,8 @@ from lfdkit.mimic.mean_path import (
     _run_weights,
     _running_median,
     _smoothness,
+    _sorted_shortest_half,
+    _window_sums,
 )
 
 SETTINGS = settings(max_examples=12, deadline=None)
@@ -1228,6 +1234,69 @@ def test_run_maxima_equal_the_full_distances_largest():
             assert np.allclose(distance, reference, rtol=1e-12, atol=1e-12)
             expected.append(reference.max())
         assert np.allclose(_run_maxima(coords, found, halves), expected, rtol=1e-12, atol=0.0)
+
+
+def test_window_sums_and_shortest_half_equal_the_plain_computation_bit_for_bit():
+    # The replicas' shortcuts (sums on slices, rows grouped by their count of values,
+    # the shortest half on views of all rows) against indexing and sorting row by row.
+    rng = np.random.default_rng(11)
+    for case in range(30):
+        m, n = int(rng.integers(1, 80)), int(rng.integers(1, 30))
+        total = np.concatenate((np.zeros((1, n)), np.cumsum(rng.normal(size=(m, n)), 0)))
+        for half in (0, 1, int(rng.integers(0, m + 2)), m):
+            rows = np.arange(m)
+            plain = total[np.minimum(rows + half + 1, m)] - total[np.maximum(rows - half, 0)]
+            assert np.array_equal(_window_sums(total, half), plain)
+        found = rng.random((m, n)) > (0.0, 0.05, 0.5)[case % 3]
+        values = np.where(found, rng.normal(size=(m, n)), np.nan)
+        if case % 4 == 1:
+            values = np.round(values, 1)  # ties, equally short halves
+        mid, width, ordered, counts, first = _sorted_shortest_half(values, found)
+        again = _sorted_shortest_half(values, found, _count_groups(found))
+        for got, want in zip(again, (mid, width, ordered, counts, first), strict=True):
+            assert np.array_equal(got, want)
+        for r in range(m):
+            v = np.sort(values[r][found[r]])
+            k = len(v)
+            assert counts[r] == k
+            if k == 0:
+                assert mid[r] == 0.0 and width[r] == 0.0
+                continue
+            h = min(k, max(2, -(-k // 2)))
+            widths = v[h - 1 :] - v[: k - h + 1]
+            ties = np.flatnonzero(widths <= widths.min())
+            i = ties[(len(ties) - 1) // 2]  # the middle of equally short halves
+            assert (first[r], mid[r], width[r]) == (i, 0.5 * (v[i] + v[i + h - 1]), widths[i])
+            assert np.array_equal(ordered[r, :k], v)
+
+
+@pytest.mark.parametrize("same_direction", [True, False])
+def test_real_hits_equal_intersecting_the_demonstrations(same_direction):
+    # The final intersections reuse those with the extended demonstrations: the same
+    # hits as intersecting the demonstrations themselves, where normals run past their
+    # ends (crossings on the extensions, or none), for a closed one (not extended) too.
+    rng = np.random.default_rng(5)
+    x = np.linspace(0.0, 10.0, 300)
+    demos = [
+        np.column_stack((x[a:b], np.sin(x[a:b]) + rng.normal(0, 0.05, b - a)))
+        for a, b in ((0, 300), (20, 280), (0, 250), (40, 300), (5, 290))
+    ]
+    th = np.linspace(0.0, 2 * np.pi, 200)
+    demos.append(np.column_stack((5 + 4 * np.cos(th), 4 * np.sin(th))))  # closed
+    extended = [_extend(d, 0.05) for d in demos]
+    assert [len(e) - len(d) for e, d in zip(extended, demos, strict=True)] == [2] * 5 + [0]
+    polylines = PolylineSet(extended)
+    for shift in (0.0, -0.6, 0.6):
+        ref = np.column_stack((x + shift, np.sin(x)))
+        tangents = point_tangents(ref)
+        hits = polylines.intersect(ref, tangents, same_direction=same_direction)
+        on_extension = hits.found & ~PolylineSet(demos).intersect(ref, tangents).found
+        if shift:
+            assert on_extension.any()  # some normals meet only an extension
+        got = _real_hits(hits, polylines, demos, ref, tangents, same_direction)
+        want = PolylineSet(demos).intersect(ref, tangents, same_direction=same_direction)
+        for field in ("points", "segment", "distance"):
+            assert np.array_equal(getattr(got, field), getattr(want, field), equal_nan=True)
 
 
 def test_running_median_equals_sorting_every_window():

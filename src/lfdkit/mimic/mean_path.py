@@ -178,7 +178,11 @@ implementation decides as follows (each is a constructor option):
   its largest (:func:`_run_maxima`), and the running median of the scales is
   SciPy's median filter inside the path: a replica costs a third of what it
   did, the numbers are the same to the bit (tested against the general start
-  and scale).
+  and scale). Further, with the same numbers: the stretches' sums are
+  differences of slices of one running sum (:func:`_window_sums`, no gathered
+  copies), the rows are grouped by their count of values once per mask
+  (:func:`_count_groups`) and the shortest half found on views of all rows:
+  20 replicas of 100 x 1000 cost 0.16-0.17 s against 0.20-0.28 s.
 * **Detours.** In a smooth band a minority of demonstrations may take a local
   detour (around an obstacle that was there once): on each normal three of ten
   values lie to one side, a few band widths out at the detour's peak, less on
@@ -243,7 +247,25 @@ implementation decides as follows (each is a constructor option):
   fit), the adaptive centre reweights only the normals still moving, a path
   evaluated again unchanged reuses its intersections, and the run distances of
   all stretches share one set of running sums. Burred data cost 3.6-5.3 s before
-  (the same minutes: 1.3 and 1.9-2.4 s now, warm and first fit).
+  (the same minutes: 1.3 and 1.9-2.4 s now, warm and first fit). Then, every
+  result the same to the bit (paths, distances, weights and reasons on 170
+  fits; ``benchmarks/mimic.py --sections centres`` unchanged): the replicas'
+  shortcuts under runs above, the tuning chosen from the first intersections
+  before the path is evaluated (once, not twice, where it changes), the
+  adaptive weights' taper computed beyond ``lo`` only, and the final
+  intersections with the demonstrations themselves taken from the extended
+  ones where these lie on a demonstration's own segment (:func:`_real_hits`).
+  A burred fit of 100 x 1000, fresh processes alternating with the unchanged
+  code (load 8-15 on 2 cores): first fit 1.02-1.12 s against 1.16-1.27 s
+  (median of two each, 7 pairs; 0.87 times), later fits 0.84-0.91 s against
+  0.93-1.04 s (0.88 times); in ``benchmarks/mimic_speed.py --sets burrs``,
+  two pairs of runs in the same minutes, 37.6x and 39.8x (first fit 25.6x and
+  29.9x) against 33.5x and 38.5x (25.2x and 26.3x) before, the plain
+  Mean-Path at 25.7-28.7 s beside each: one first fit per run follows the load
+  as much as the code, and with load 8-15 neither reached the 40x target for
+  the first fit. No compiled kernel was added: ``import lfdkit.mimic``
+  0.16-0.18 s of CPU and a fresh process's first burred fit 1.90-1.97 s
+  against 2.10-2.16 s.
 """
 
 from __future__ import annotations
@@ -260,6 +282,7 @@ from lfdkit.core.constraints import Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.geometry import (
     FoldedPathError,
+    NormalHits,
     PolylineSet,
     arc_length,
     normal_frames,
@@ -520,14 +543,19 @@ class MeanPath(Estimator):
         needed = max(1, int(np.ceil(self.min_support * len(demos))))
 
         ref = self._reparametrise(ref, starts, stops)
-        state = self._evaluate(ref, polylines, needed)
         tuning = _DEFAULT
         if self.center == "adaptive":
-            tuning, estimates, self.center_reason_ = _choose_tuning(ref, state.hits, state.found)
+            # The tuning from the intersections alone; the path evaluated once, with it.
+            crossings = polylines.intersect(
+                ref, point_tangents(ref), same_direction=self.same_direction
+            )
+            tuning, estimates, self.center_reason_ = _choose_tuning(
+                ref, crossings.points, crossings.found
+            )
             self.center_estimates_ = estimates
-            if tuning != _DEFAULT:
-                state = self._evaluate(ref, polylines, needed, tuning=tuning, known=state)
+            state = self._evaluate(ref, polylines, needed, tuning=tuning, known=crossings)
         else:
+            state = self._evaluate(ref, polylines, needed)
             self.center_estimates_ = {}
             self.center_reason_ = f"center={self.center!r} as given"
         self.center_tuning_ = tuning
@@ -548,7 +576,7 @@ class MeanPath(Estimator):
             if (weights < 1.0).any():
                 # A second pass from the first centre with those runs down-weighted.
                 state = self._evaluate(
-                    ref, polylines, needed, tuning=tuning, prior=weights, known=state
+                    ref, polylines, needed, tuning=tuning, prior=weights, known=state.crossings
                 )
                 ref, state, more_res, more_inn, more_iter, stop_reason = self._iterate(
                     ref, state, polylines, starts, stops, needed, tuning, weights
@@ -563,7 +591,7 @@ class MeanPath(Estimator):
         self.innovation_history_ = np.array(innovations)
         # Report the real demonstrations only, without their virtual extensions.
         tangents = point_tangents(ref)
-        real = PolylineSet(demos).intersect(ref, tangents, same_direction=self.same_direction)
+        real = _real_hits(state.crossings, polylines, demos, ref, tangents, self.same_direction)
         self.support_ = real.found.sum(axis=1)
         unsupported = int(np.count_nonzero(self.support_ < needed))
         if unsupported > _UNSUPPORTED_WARNING * len(ref):
@@ -668,7 +696,7 @@ class MeanPath(Estimator):
         scale: np.ndarray | None = None,
         tuning: Tuning = _DEFAULT,
         prior: np.ndarray | None = None,
-        known: _State | None = None,
+        known: NormalHits | None = None,
     ) -> _State:
         """Intersections, residuals and the update direction at a Reference-Path.
 
@@ -676,14 +704,14 @@ class MeanPath(Estimator):
         the path's own (``scale=None``), or given ones (a candidate is scored
         on the accepted path's scales). ``prior`` (m, n_demos): weights of
         the intersections from a first centre (:func:`_run_weights`), fixed by
-        normal and demonstration, multiplying the centre's own. ``known``: an
-        evaluation of this same path, whose intersections are reused.
+        normal and demonstration, multiplying the centre's own. ``known``: the
+        intersections of this same path (with these tangents), reused.
         """
         tangents = point_tangents(ref)
         if known is None:
             hits = polylines.intersect(ref, tangents, same_direction=self.same_direction)
         else:
-            hits = known.crossings
+            hits = known
         found = hits.found
         offsets = hits.points - ref[:, None, :]  # (M, N, q), NaN where missed
         dist = hits.distance
@@ -823,6 +851,52 @@ def _extend(demo: np.ndarray, fraction: float) -> np.ndarray:
     )
 
 
+def _real_hits(
+    hits: NormalHits,
+    polylines: PolylineSet,
+    demos: list[np.ndarray],
+    ref: np.ndarray,
+    tangents: np.ndarray,
+    same_direction: bool,
+) -> NormalHits:
+    """The path's normals intersected with the demonstrations themselves, not their extensions.
+
+    ``hits``: the normals (``ref``, ``tangents``) intersected with
+    ``polylines``, the demonstrations as extended by :func:`_extend`. Where
+    that nearest crossing lies on a demonstration's own segment, it is the
+    nearest of the demonstration too, computed from the same vertices in the
+    same way: it is kept. The other normals (a crossing on an extension, or
+    none) and crossings within rounding of a vertex (the two sets' on-plane
+    tolerances differ) are intersected again, so the result is that of
+    ``PolylineSet(demos).intersect`` (up to which of two crossings at exactly
+    one distance is taken); on 100 x 1000 points 0.02 s of CPU against 0.07 s.
+    """
+    points, segment, distance = hits.points.copy(), hits.segment.copy(), hits.distance.copy()
+    n_vertices = np.array([len(d) for d in demos])
+    head = np.array([len(p) for p in polylines.polylines]) - n_vertices > 0  # extended
+    own = segment - head  # the demonstration's own segment
+    kept = (segment >= 0) & (own >= 0) & (own < n_vertices - 1)
+    # Each kept crossing's segment ends' distances from the normal hyperplane: near one
+    # of them (rounding of the vertex onto the plane), intersected again.
+    verts = np.concatenate(demos)
+    first = np.concatenate(([0], np.cumsum(n_vertices)[:-1]))
+    index = np.where(kept, first + own, 0)
+    scale = max(float(np.abs(verts).max()), float(np.abs(ref).max())) + 1.0
+    for k in (index, index + 1):
+        side = np.einsum("mnq,mq->mn", verts[k] - ref[:, None, :], tangents)
+        kept &= np.abs(side) > 1e-11 * scale
+    segment[kept] = own[kept]
+    again = np.flatnonzero(~kept.all(axis=1))
+    if len(again):
+        # With the row farthest from the origin, so that the tolerance is the same.
+        rows = np.union1d(again, [int(np.argmax(np.abs(ref).max(axis=1)))])
+        redo = PolylineSet(demos).intersect(
+            ref[rows], tangents[rows], same_direction=same_direction
+        )
+        points[rows], segment[rows], distance[rows] = redo.points, redo.segment, redo.distance
+    return NormalHits(points=points, segment=segment, distance=distance)
+
+
 def _fill_unsupported(
     ref: np.ndarray, tangents: np.ndarray, innovation: np.ndarray, supported: np.ndarray
 ) -> np.ndarray:
@@ -905,10 +979,12 @@ def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> n
 def _on_line(offsets: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Signed lengths (m, n), NaN where not found, of 2-D offsets along their common line (m, 2)."""
     m = offsets.shape[0]
-    direction = np.nanmean(offsets, axis=1)
+    any_found = np.where(found[..., None], offsets, 0.0)
+    # NumPy's nanmean, the same sum and division without its NaN mask (NaN: none found).
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direction = any_found.sum(axis=1) / found.sum(axis=1)[:, None]
     norm = np.linalg.norm(direction, axis=1, keepdims=True)
     # Any found offset gives the line's direction when the mean is ~zero.
-    any_found = np.where(found[..., None], offsets, 0.0)
     fallback = any_found[np.arange(m), found.argmax(axis=1)]
     direction = np.where(norm > 1e-15, direction, fallback)
     norm = np.linalg.norm(direction, axis=1, keepdims=True)
@@ -928,39 +1004,58 @@ def _shortest_half(values: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, n
 
 
 def _sorted_shortest_half(
-    values: np.ndarray, found: np.ndarray
+    values: np.ndarray, found: np.ndarray, groups: tuple | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_shortest_half`, with each row's found values sorted (inf after them),
     their count and the index of the shortest half's first value (all (m,) but the
-    sorted (m, n))."""
+    sorted (m, n)). ``groups``: :func:`_count_groups` of ``found``, where known."""
     m = values.shape[0]
-    ordered = np.where(found, values, np.inf)
-    ordered.sort(axis=1)
-    counts = found.sum(axis=1)
+    counts, groups = _count_groups(found) if groups is None else groups
+    if len(groups) == 1 and groups[0][1] is None and groups[0][0] == found.shape[1]:
+        ordered = np.sort(values, axis=1)  # every value found: no inf to put in
+    else:
+        ordered = np.where(found, values, np.inf)
+        ordered.sort(axis=1)
     mid = np.zeros(m)
     width = np.zeros(m)
     firsts = np.zeros(m, dtype=int)
-    for k in np.unique(counts):
-        rows = np.flatnonzero(counts == k)
-        if k == 0:
-            continue
+    for k, rows in groups:
         h = min(k, max(2, -(-k // 2)))
-        v = ordered[:, :k] if len(rows) == m else ordered[rows, :k]
-        widths = v[:, h - 1 :] - v[:, : k - h + 1]
+        # Most rows: on views of all of them (no gathered copy), those kept after.
+        v = ordered if rows is None or 2 * len(rows) > m else ordered[rows]
+        with np.errstate(invalid="ignore"):  # other rows' inf - inf: not kept
+            widths = v[:, h - 1 : k] - v[:, : k - h + 1]
         first = widths.argmin(axis=1)
-        tied = widths <= widths[np.arange(len(rows)), first][:, None]
-        n_tied = tied.sum(axis=1)
+        index = np.arange(len(v))
+        least = widths[index, first]
+        n_tied = np.count_nonzero(widths <= least[:, None], axis=1)
         several = np.flatnonzero(n_tied > 1)
         if len(several):  # of equally short intervals, the middle one
-            rank = np.cumsum(tied[several], axis=1)
+            rank = np.cumsum(widths[several] <= least[several, None], axis=1)
             middle = (n_tied[several, None] + 1) // 2
             first[several] = np.argmax(rank >= middle, axis=1)
-        lo = v[np.arange(len(rows)), first]
-        hi = v[np.arange(len(rows)), first + h - 1]
-        mid[rows] = 0.5 * (lo + hi)
-        width[rows] = hi - lo
-        firsts[rows] = first
+        lo = v[index, first]
+        hi = v[index, first + h - 1]
+        if rows is None:
+            mid, width, firsts = 0.5 * (lo + hi), hi - lo, first
+        else:
+            kept = rows if len(v) == m else slice(None)
+            mid[rows] = 0.5 * (lo[kept] + hi[kept])
+            width[rows] = hi[kept] - lo[kept]
+            firsts[rows] = first[kept]
     return mid, width, ordered, counts, firsts
+
+
+def _count_groups(found: np.ndarray) -> tuple[np.ndarray, list[tuple[int, np.ndarray | None]]]:
+    """Each row's count of found values (m,), and the rows of each count above zero
+    (``None``: all of them), for :func:`_sorted_shortest_half`."""
+    counts = found.sum(axis=1)
+    groups = []
+    for k in np.unique(counts):
+        if k > 0:
+            rows = np.flatnonzero(counts == k)
+            groups.append((int(k), None if len(rows) == len(counts) else rows))
+    return counts, groups
 
 
 def _robust_start(
@@ -1329,10 +1424,7 @@ def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...
     enough = found.sum(axis=1) >= 3
     out = []
     for half in halves:
-        lo = np.clip(np.arange(m) - half, 0, m)
-        hi = np.clip(np.arange(m) + half + 1, 0, m)
-        n_in = count[hi] - count[lo]
-        averaged = (total[hi] - total[lo]) / np.maximum(n_in, 1)[..., None]
+        averaged = _window_sums(total, half) / np.maximum(_window_sums(count, half), 1)[..., None]
         if averaged.shape[2] == 1:  # on a line: from the sorted values alone
             mid, scale, _, _ = _line_run(averaged[..., 0], found, enough)
             distance = np.abs(averaged[..., 0] - mid[:, None])
@@ -1352,17 +1444,33 @@ def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...
     return out
 
 
+def _window_sums(total: np.ndarray, half: int) -> np.ndarray:
+    """Sums over the rows within ``half`` of each, cut at the ends, from running sums.
+
+    ``total`` (m + 1, ...): running sums along the rows, zero first. Row ``r``
+    of the result is ``total[min(r + half + 1, m)] - total[max(r - half, 0)]``
+    (the same subtraction for every row, so the same numbers as indexing
+    with those clipped rows), taken on slices: no gathered copies.
+    """
+    m = len(total) - 1
+    width = 2 * half + 1
+    if width > m:
+        rows = np.arange(m)
+        return total[np.minimum(rows + half + 1, m)] - total[np.maximum(rows - half, 0)]
+    out = np.empty((m, *total.shape[1:]))
+    np.subtract(total[width:], total[: m + 1 - width], out=out[half : m - half])
+    np.subtract(total[half + 1 : width], total[0], out=out[:half])
+    np.subtract(total[m], total[m - 2 * half : m - half], out=out[m - half :])
+    return out
+
+
 def _run_counts(found: np.ndarray, halves: tuple[int, ...]) -> list[np.ndarray]:
     """For each stretch, how many found values each (m, n) average of :func:`_run_maxima` takes
     (at least 1): the same for every replica of one mask, so taken once for all of them."""
     m = len(found)
     count = np.zeros((m + 1, found.shape[1]))
     count[1:] = np.cumsum(found, axis=0)
-    rows = np.arange(m)
-    return [
-        np.maximum(count[np.clip(rows + half + 1, 0, m)] - count[np.clip(rows - half, 0, m)], 1)
-        for half in halves
-    ]
+    return [np.maximum(_window_sums(count, half), 1) for half in halves]
 
 
 def _run_maxima(
@@ -1370,26 +1478,29 @@ def _run_maxima(
     found: np.ndarray,
     halves: tuple[int, ...],
     counts: list[np.ndarray] | None = None,
+    groups: tuple | None = None,
 ) -> np.ndarray:
     """The largest :func:`_run_distance` of each stretch, (len(halves),).
 
     On a line (2-D demonstrations) from :func:`_line_run`, each row's extremes
-    only, no (m, n) distances; ``counts``: :func:`_run_counts` of ``found``.
+    only, no (m, n) distances; ``counts``: :func:`_run_counts` of ``found``,
+    ``groups``: :func:`_count_groups` of it (both the same for every replica).
     """
     if coords.shape[2] != 1:  # a plane: the start is a line's point, distances 2-D
         return np.array([d.max() for d in _run_distances(coords, found, halves)])
     m, n = found.shape
     if counts is None:
         counts = _run_counts(found, halves)
+    if groups is None:
+        groups = _count_groups(found)
     total = np.zeros((m + 1, n))
-    total[1:] = np.cumsum(np.where(found, coords[..., 0], 0.0), axis=0)
-    enough = found.sum(axis=1) >= 3
-    rows = np.arange(m)
+    np.cumsum(np.where(found, coords[..., 0], 0.0), axis=0, out=total[1:])
+    enough = groups[0] >= 3
     out = np.zeros(len(halves))
     for i, (half, taken) in enumerate(zip(halves, counts, strict=True)):
-        lo = np.clip(rows - half, 0, m)
-        hi = np.clip(rows + half + 1, 0, m)
-        mid, scale, low, high = _line_run((total[hi] - total[lo]) / taken, found, enough)
+        averaged = _window_sums(total, half)
+        averaged /= taken
+        mid, scale, low, high = _line_run(averaged, found, enough, groups)
         if scale is not None and (low < np.inf).any():
             farthest = np.maximum(np.abs(low - mid), np.abs(high - mid)) / scale
             out[i] = max(0.0, farthest[low < np.inf].max())
@@ -1397,7 +1508,7 @@ def _run_maxima(
 
 
 def _line_run(
-    averaged: np.ndarray, found: np.ndarray, enough: np.ndarray
+    averaged: np.ndarray, found: np.ndarray, enough: np.ndarray, groups: tuple | None = None
 ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray]:
     """Start, robust scale (None: no spread) and extremes (m,) of (m, n) averages on a line.
 
@@ -1411,14 +1522,15 @@ def _line_run(
     third of what they did. Equal to the full computation to the bit on every
     case tested (a difference could only come from the two ends' distances from
     the start rounding apart, one unit in the last place). Rows with no value:
-    extremes inf.
+    extremes inf. ``groups``: :func:`_count_groups` of ``found``, where known.
     """
     m, n = found.shape
     rows = np.arange(m)
-    mid, width, ordered, k, first = _sorted_shortest_half(averaged, found)
+    mid, width, ordered, k, first = _sorted_shortest_half(averaged, found, groups)
+    flat, base = ordered.ravel(), rows * n
 
     def apart(index: np.ndarray) -> np.ndarray:
-        return np.abs(ordered[rows, np.clip(index, 0, n - 1)] - mid)
+        return np.abs(flat[base + np.clip(index, 0, n - 1)] - mid)
 
     h = np.minimum(k, np.maximum(2, -(-k // 2)))
     inner = np.maximum(apart(first), apart(first + h - 1))
@@ -1427,9 +1539,10 @@ def _line_run(
         np.where(first + h < k, apart(first + h), np.inf),
     )
     median = np.where(k % 2 == 1, inner, 0.5 * (inner + outer))
-    median = np.where(k == 2, 0.5 * (apart(rows * 0) + apart(rows * 0 + 1)), median)
+    if (k == 2).any():
+        median = np.where(k == 2, 0.5 * (apart(rows * 0) + apart(rows * 0 + 1)), median)
     own = np.where(k <= 1, 0.0, 1.4826 * median)
-    low, high = ordered[:, 0], ordered[rows, np.maximum(k - 1, 0)]
+    low, high = ordered[:, 0], flat[base + np.maximum(k - 1, 0)]
     extreme = np.where(k > 0, np.maximum(np.abs(low), np.abs(high)), 0.0)
     tiny = _TINY * (1.0 + extreme.max())
     own = np.where((width <= tiny) | (own <= tiny), 0.0, own)
@@ -1437,7 +1550,8 @@ def _line_run(
     if not usable.any():
         return mid, None, low, high
     scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
-    scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
+    if not usable.all():  # else every window has a value
+        scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
     return mid, scale, low, high
 
 
@@ -1479,12 +1593,14 @@ def _replica_maxima(
     lock, rng, draws = entry
     seen = np.full(len(halves), _RUN_LO)
     counts: list[np.ndarray] = []  # the mask's, for every replica drawn here
+    groups = None
     for i in range(_RUN_DRAWS):
         with lock:  # one thread draws the next replica, the others reuse it
             if i == len(draws):
                 counts = counts or _run_counts(found, halves)
-                replica = rng.normal(0.0, 1.0, shape)
-                draws.append(_run_maxima(replica, found, halves, counts))
+                groups = groups or _count_groups(found)
+                replica = rng.standard_normal(shape)  # normal(0, 1): the same numbers
+                draws.append(_run_maxima(replica, found, halves, counts, groups))
         seen = np.maximum(seen, draws[i])
         if (observed <= seen).all():
             break
@@ -1764,8 +1880,11 @@ def _adaptive_weight(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
     when ``core >= lo``), tapered smoothly from ``lo`` to none at ``hi``.
     """
     core, lo, hi = tuning
-    v = np.clip((z - lo) / (hi - lo), 0.0, 1.0)
-    taper = (1.0 - v**2) ** 2
+    # Exactly 1 within lo (most intersections): the powers are taken beyond it only.
+    beyond = ~(z <= lo)
+    taper = np.ones(z.shape)
+    v = np.clip((z[beyond] - lo) / (hi - lo), 0.0, 1.0)
+    taper[beyond] = (1.0 - v**2) ** 2
     if core >= lo:
         return taper
     with np.errstate(divide="ignore"):
