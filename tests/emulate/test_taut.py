@@ -87,6 +87,30 @@ def test_round_one_disc_the_taut_plan_is_the_tangent_path() -> None:
         taut_plan(nominal, pair, [0.03, -0.01])
 
 
+def test_a_gap_narrower_than_the_side_search_grid_is_taken_when_shorter() -> None:
+    # Two cups leave a gap (4.5 mm between their surfaces, 1.5 mm between their
+    # barrier covers at station 50) that no level of the side search's grid
+    # (2.5 mm apart) lies in: the grid goes round a cup, 4 cm out. The shortest
+    # way is through the gap, the taut string through its floor's one point:
+    # d_k = 0.5 mm · min(k / 50, (99 − k) / 49), exactly.
+    nominal = np.column_stack([X, np.zeros_like(X)])
+    step = 1.0 / 99.0
+    reach = np.hypot(0.02, 0.5 * 1.1 * np.hypot(step, step))  # the cover of plan_path's barrier
+    x = 50 * step
+    scene = Scene(
+        (
+            Obstacle("cup", [x, 0.0005 - reach], radius=0.02),
+            Obstacle("cup", [x, 0.0020 + reach], radius=0.02),
+        )
+    )
+    plan = taut_plan(nominal, scene, 0.0, n_points=100, max_slope=1.0)
+    assert plan is not None
+    k = np.arange(100)
+    expected = 0.0005 * np.minimum(k / 50.0, (99.0 - k) / 49.0)
+    np.testing.assert_allclose(plan.offsets[:, 0], expected, atol=1e-9)
+    assert plan.clearance.min() >= 0.0
+
+
 @pytest.mark.slow
 def test_a_person_who_keeps_a_margin_on_the_shortest_way_is_emulated(tmp_path) -> None:
     rng = np.random.default_rng(3)
