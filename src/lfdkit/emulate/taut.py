@@ -23,8 +23,8 @@ programme over a lateral grid a quarter of the action bound apart, as the
 planner's), then refined by the taut strings' exact lengths: the grid cannot
 tell apart ways round whose lengths differ by less than its spacing makes
 (clutter where going round all obstacles on the other side is 1 mm shorter
-in 0.84 m) nor pass a gap narrower than two cells, so each run of balls
-passed on one side is flipped while that shortens the string. Where no taut
+in 0.84 m) so each run of balls passed on one side is flipped while that
+shortens the string (a gap narrower than the grid's spacing stays closed). Where no taut
 string on those sides keeps the action bound, a given path's sides are
 tried. Rounding the string's corners (length plus a curvature term, within
 the same bounds) was measured against a margin person on a 4× finer grid:
@@ -51,6 +51,8 @@ __all__ = ["taut_plan"]
 
 #: Relative slack on the action bound (round-off of the taut string's slopes).
 _SLACK = 1e-6
+#: Cells of the side search's lateral grid per action bound.
+_WINDOW = 4
 #: Most cells a side of the side search's lateral grid.
 _GRID_CELLS = 400
 
@@ -185,8 +187,12 @@ def _taut_on_sides(
     passing: np.ndarray,
     ends: tuple[float, float],
     k_points: int,
+    narrowest: float = 0.0,
 ) -> np.ndarray | None:
-    """The taut string passing each ball on the side ``passing`` (±1 each); None if none."""
+    """The taut string passing each ball on the side ``passing`` (±1 each); None if none.
+
+    None also where the corridor is narrower than ``narrowest`` anywhere.
+    """
     lower = np.full(k_points, -np.inf)
     upper = np.full(k_points, np.inf)
     for (stations, lateral, half), side in zip(balls, passing, strict=True):
@@ -198,7 +204,7 @@ def _taut_on_sides(
         if not lower[k] <= y <= upper[k]:
             return None
         lower[k] = upper[k] = y
-    if np.any(lower > upper):
+    if np.any(lower > upper) or np.any(upper[1:-1] - lower[1:-1] < narrowest):
         return None
     return taut_string(lower, upper)
 
@@ -217,17 +223,19 @@ def _shortest_near(
     lengths differ by less (or a gap narrower than two cells) are told apart
     by the taut strings' exact lengths. Flipped: each run of balls (in order
     along the nominal) passed on one side that holds one the string touches,
-    while that shortens the string (at most two rounds).
+    while that shortens the string (at most two rounds). A gap the grid
+    could not pass (narrower than its spacing) stays closed: the clearances
+    are learned, and a gap that narrow is within their error.
     """
     order = np.argsort([stations[int(np.argmax(half))] for stations, _, half in balls])
 
-    def within(sides: np.ndarray) -> tuple[np.ndarray | None, float]:
-        d = _taut_on_sides(balls, sides, ends, k_points)
+    def within(sides: np.ndarray, narrowest: float) -> tuple[np.ndarray | None, float]:
+        d = _taut_on_sides(balls, sides, ends, k_points, narrowest)
         if d is None or np.abs(np.diff(d)).max() > max_step * (1.0 + _SLACK):
             return None, np.inf
         return d, float(np.sum(np.hypot(step, np.diff(d))))
 
-    best, length = within(passing)
+    best, length = within(passing, 0.0)
     if best is None:
         return None
     for _ in range(2):
@@ -247,7 +255,7 @@ def _shortest_near(
                 binds = binds or touched[order[j]]
                 if not binds:
                     continue
-                d, other = within(flipped)
+                d, other = within(flipped, max_step / _WINDOW)
                 if d is not None and other < length * (1.0 - _SLACK):
                     best, length, improved = d, other, True
                     chosen = flipped.copy()
@@ -272,7 +280,7 @@ def _shortest_sides(
     shortest way round (:func:`taut_string` then shapes it exactly). The end
     cells are the grid's nearest to the ends, free whatever covers them.
     """
-    window = 4
+    window = _WINDOW
     spacing = max_step / window
     span = max(
         max(float(np.max(np.abs(lateral) + half)) for _, lateral, half in balls),
