@@ -3,8 +3,10 @@
 Known answers: the taut string through a corridor with one bound is the two
 straight lines through that bound's point; round one disc on a straight
 nominal, the shortest path is the tangent, the arc and the tangent (closed
-form); a person who takes that path, keeping a fixed margin, is emulated by
-the taut model, which the skill chooses by cross-validated replanning.
+form), also where the side search's grid cannot tell the two sides apart
+(it stays off a gap narrower than its spacing); a person who takes that
+path, keeping a fixed margin, is emulated by the taut model, which the skill
+chooses by cross-validated replanning.
 """
 
 from __future__ import annotations
@@ -85,6 +87,37 @@ def test_round_one_disc_the_taut_plan_is_the_tangent_path() -> None:
     assert taut_plan(nominal, wall, 0.0, n_points=100, max_slope=1.0) is None
     with pytest.raises(ValueError, match="clearance: expected finite values >= 0"):
         taut_plan(nominal, pair, [0.03, -0.01])
+
+
+def test_the_shorter_side_is_taken_where_the_grid_cannot_tell_them_apart() -> None:
+    # A disc 0.1 mm above the nominal: going below is shorter, by less than the
+    # side search's grid (2.5 mm apart) can tell (on main the plan went above).
+    nominal = np.column_stack([X, np.zeros_like(X)])
+    cup = Obstacle("cup", [0.5, 0.0001], radius=0.02)
+    plan = taut_plan(nominal, Scene((cup,)), 0.03, n_points=100, max_slope=1.0)
+    assert plan is not None
+    expected = around_disc(plan.points[:, 0], cup.position, 0.05)  # below: away from the centre
+    assert np.abs(plan.points[:, 1] - expected).max() < 2e-3  # the barrier's widening: 0.6 mm
+
+
+def test_a_gap_narrower_than_the_side_search_grid_stays_closed() -> None:
+    # Two cups whose barrier covers leave 1.5 mm at station 50 (the grid is 2.5 mm
+    # apart): through it is shorter, but a gap that narrow is within the learned
+    # clearances' error, so the plan goes round a cup as the grid does.
+    nominal = np.column_stack([X, np.zeros_like(X)])
+    step = 1.0 / 99.0
+    reach = np.hypot(0.02, 0.5 * 1.1 * np.hypot(step, step))  # the cover of plan_path's barrier
+    x = 50 * step
+    scene = Scene(
+        (
+            Obstacle("cup", [x, 0.0005 - reach], radius=0.02),
+            Obstacle("cup", [x, 0.0020 + reach], radius=0.02),
+        )
+    )
+    plan = taut_plan(nominal, scene, 0.0, n_points=100, max_slope=1.0)
+    assert plan is not None
+    assert np.abs(plan.offsets[:, 0]).max() > 0.04
+    assert plan.clearance.min() >= 0.0
 
 
 @pytest.mark.slow

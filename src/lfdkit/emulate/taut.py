@@ -20,8 +20,16 @@ nominal's frame, which also has the smallest largest slope of any path in
 the corridor (it is within the action bound wherever any path there is).
 The sides are those of the shortest grid path round the balls (a dynamic
 programme over a lateral grid a quarter of the action bound apart, as the
-planner's); where their taut string breaks the action bound, a given path's
-sides are tried. About 5 ms for 100 points and a few obstacles (most of it
+planner's), then refined by the taut strings' exact lengths: the grid cannot
+tell apart ways round whose lengths differ by less than its spacing makes
+(clutter where going round all obstacles on the other side is 1 mm shorter
+in 0.84 m) so each run of balls passed on one side is flipped while that
+shortens the string (a gap narrower than the grid's spacing stays closed). Where no taut
+string on those sides keeps the action bound, a given path's sides are
+tried. Rounding the string's corners (length plus a curvature term, within
+the same bounds) was measured against a margin person on a 4× finer grid:
+the exact taut string matched it better (median Pr 99.9 % against 99.4 %),
+so the corners stay. About 5 ms for 100 points and a few obstacles (most of it
 the grid). In 2-D only (one lateral offset a point); a 3-D plan, a moving
 scene, a half-space or sides that leave no corridor give None (the caller
 plans as before).
@@ -43,6 +51,8 @@ __all__ = ["taut_plan"]
 
 #: Relative slack on the action bound (round-off of the taut string's slopes).
 _SLACK = 1e-6
+#: Cells of the side search's lateral grid per action bound.
+_WINDOW = 4
 #: Most cells a side of the side search's lateral grid.
 _GRID_CELLS = 400
 
@@ -115,10 +125,9 @@ def taut_plan(
     d = None
     for way in tries:
         if way is not None:
-            d = _taut_on_sides(balls, way, ends, k_points)
-        if d is not None and np.abs(np.diff(d)).max() <= max_step * (1.0 + _SLACK):
+            d = _shortest_near(balls, _passing(balls, way), ends, k_points, corridor.step, max_step)
+        if d is not None:
             break
-        d = None
     if d is None:
         return None
     out = Plan(
@@ -164,18 +173,32 @@ def _ball_intervals(
     return out
 
 
+def _passing(
+    balls: list[tuple[np.ndarray, np.ndarray, np.ndarray]], offsets: np.ndarray
+) -> np.ndarray:
+    """Side (+1 left, -1 right) on which the offsets (K,) pass each ball, at its widest."""
+    out = np.empty(len(balls))
+    for i, (stations, lateral, half) in enumerate(balls):
+        widest = int(np.argmax(half))
+        out[i] = 1.0 if offsets[stations[widest]] >= lateral[widest] else -1.0
+    return out
+
+
 def _taut_on_sides(
     balls: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
-    offsets: np.ndarray,
+    passing: np.ndarray,
     ends: tuple[float, float],
     k_points: int,
+    narrowest: float = 0.0,
 ) -> np.ndarray | None:
-    """The taut string passing each ball on the side ``offsets`` (K,) pass it; None if none."""
+    """The taut string passing each ball on the side ``passing`` (±1 each); None if none.
+
+    None also where the corridor is narrower than ``narrowest`` anywhere.
+    """
     lower = np.full(k_points, -np.inf)
     upper = np.full(k_points, np.inf)
-    for stations, lateral, half in balls:
-        widest = int(np.argmax(half))
-        if offsets[stations[widest]] >= lateral[widest]:
+    for (stations, lateral, half), side in zip(balls, passing, strict=True):
+        if side > 0.0:
             lower[stations] = np.maximum(lower[stations], lateral + half)
         else:
             upper[stations] = np.minimum(upper[stations], lateral - half)
@@ -183,9 +206,65 @@ def _taut_on_sides(
         if not lower[k] <= y <= upper[k]:
             return None
         lower[k] = upper[k] = y
-    if np.any(lower > upper):
+    if np.any(lower > upper) or np.any(upper[1:-1] - lower[1:-1] < narrowest):
         return None
     return taut_string(lower, upper)
+
+
+def _shortest_near(
+    balls: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
+    passing: np.ndarray,
+    ends: tuple[float, float],
+    k_points: int,
+    step: float,
+    max_step: float,
+) -> np.ndarray | None:
+    """The shortest taut string within the action bound on ``passing`` or sides flipped from it.
+
+    The grid's lengths are only as exact as its spacing: two ways round whose
+    lengths differ by less (or a gap narrower than two cells) are told apart
+    by the taut strings' exact lengths. Flipped: each run of balls (in order
+    along the nominal) passed on one side that holds one the string touches,
+    while that shortens the string (at most two rounds). A gap the grid
+    could not pass (narrower than its spacing) stays closed: the clearances
+    are learned, and a gap that narrow is within their error.
+    """
+    order = np.argsort([stations[int(np.argmax(half))] for stations, _, half in balls])
+
+    def within(sides: np.ndarray, narrowest: float) -> tuple[np.ndarray | None, float]:
+        d = _taut_on_sides(balls, sides, ends, k_points, narrowest)
+        if d is None or np.abs(np.diff(d)).max() > max_step * (1.0 + _SLACK):
+            return None, np.inf
+        return d, float(np.sum(np.hypot(step, np.diff(d))))
+
+    best, length = within(passing, 0.0)
+    if best is None:
+        return None
+    for _ in range(2):
+        improved = False
+        # A run of balls the string does not touch leaves it as it is: not tried.
+        touched = [
+            bool(np.any(np.abs(best[stations] - lateral - side * half) <= _SLACK * half))
+            for (stations, lateral, half), side in zip(balls, passing, strict=True)
+        ]
+        for i in range(order.size):
+            flipped = passing.copy()
+            binds = False
+            for j in range(i, order.size):
+                if passing[order[j]] != passing[order[i]]:
+                    break
+                flipped[order[j]] = -flipped[order[j]]
+                binds = binds or touched[order[j]]
+                if not binds:
+                    continue
+                d, other = within(flipped, max_step / _WINDOW)
+                if d is not None and other < length * (1.0 - _SLACK):
+                    best, length, improved = d, other, True
+                    chosen = flipped.copy()
+        if not improved:
+            break
+        passing = chosen
+    return best
 
 
 def _shortest_sides(
@@ -203,7 +282,7 @@ def _shortest_sides(
     shortest way round (:func:`taut_string` then shapes it exactly). The end
     cells are the grid's nearest to the ends, free whatever covers them.
     """
-    window = 4
+    window = _WINDOW
     spacing = max_step / window
     span = max(
         max(float(np.max(np.abs(lateral) + half)) for _, lateral, half in balls),
