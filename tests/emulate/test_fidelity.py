@@ -117,9 +117,10 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
     assert selection["clearance_consistency"] == pytest.approx(ratio, rel=1e-12)
     consistent = ratio <= CONSISTENT_CLEARANCE
     assert selection["default"] == ("window+demonstrated" if consistent else "window")
-    # The least held-out MSE wins (the default by a margin), then the runner-up.
+    # The least held-out error (the folds' trimmed mean MSE) wins (the default by a
+    # margin), then the runner-up.
     score = {
-        name: row["mse"] * (1.0 - SELECTION_MARGIN if name == selection["default"] else 1.0)
+        name: row["error"] * (1.0 - SELECTION_MARGIN if name == selection["default"] else 1.0)
         for name, row in candidates.items()
     }
     ranked = sorted(score, key=score.get)
