@@ -88,6 +88,7 @@ def test_the_same_demonstrations_in_millimetres_choose_the_same_model(metres, mi
     for name, scores in in_m["candidates"].items():
         scaled = in_mm["candidates"][name]
         assert scaled["mse"] == pytest.approx(1e6 * scores["mse"], rel=1e-4), name
+        assert scaled["error"] == pytest.approx(1e6 * scores["error"], rel=1e-4), name
         for key in ("refused", "clearance_relaxed", "route", "floor"):
             assert scaled[key] == scores[key], (name, key)
     assert (millimetres.route_, millimetres.gaps_) == (metres.route_, metres.gaps_)

@@ -304,7 +304,8 @@ class Skill(
         name and the ``runner_up``'s, and per candidate (``"window"``,
         ``"full+closest"``, ``"window/swerve"``, ...) its ``route``, ``floor``,
         ``frame`` (and ``swerve``: ``"learned"``) and held-out scores:
-        ``mse`` (units²), ``improvement_pooled``, ``_median`` and ``_mean``
+        ``mse`` (units²), ``error`` (units², what the choice ranks by: the
+        folds' trimmed mean MSE), ``improvement_pooled``, ``_median`` and ``_mean``
         (Pr %), ``sides_agree`` (share), ``refused`` and
         ``clearance_relaxed`` (counts); ``swerve``: the swerve candidates'
         stretches ``[before, after]`` per class; ``swerve_route`` (a swerve
