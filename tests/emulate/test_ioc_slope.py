@@ -26,7 +26,7 @@ def straight() -> np.ndarray:
 
 
 def swerve(out: float, back: float, height: float = 0.1) -> np.ndarray:
-    """Along the straight nominal: out at slope ``out`` from x = 0.4, ``height`` up, back at ``back``."""
+    """Out at slope ``out`` from x = 0.4, ``height`` up, back at ``back`` (straight nominal)."""
     x = np.linspace(0.0, 1.0, 2001)
     up = np.clip((x - 0.4) * out, 0.0, height)
     top = 0.4 + height / out
@@ -46,8 +46,7 @@ def test_plans_within_the_action_bound_are_within_it() -> None:
     scenes = [Scene((Obstacle("obstacle", path[i] + [0.0, 0.01]),)) for i in (90, 150, 210)]
     for max_slope in (0.3, 1.0):
         plans = [
-            plan_path(TRUE, path, s, goal_approach=None, max_slope=max_slope).points
-            for s in scenes
+            plan_path(TRUE, path, s, goal_approach=None, max_slope=max_slope).points for s in scenes
         ]
         slope = demonstrated_slope(prepare_demos(plans, scenes, path, 100))
         assert 0.5 * max_slope < slope <= max_slope * (1.0 + 1e-6)
@@ -55,7 +54,7 @@ def test_plans_within_the_action_bound_are_within_it() -> None:
 
 def test_a_swerve_steeper_than_the_action_bound_is_warned() -> None:
     demos, scenes = demonstrations(3)
-    steep = [swerve(1.5, 0.2) + [0.0, 0.0] for _ in range(3)]
+    steep = [swerve(1.5, 0.2) for _ in range(3)]
     flat_scenes = [Scene((Obstacle("obstacle", [0.44, 0.0]),))] * 3
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -853,6 +853,9 @@ class Skill(
             "converged": bool(ioc.converged_),
             "convergence_message": ioc.convergence_message_,
             "not_learned": list(ioc.not_learned_),
+            # How steeply the demonstrations swerved: the plans' way back to the goal
+            # may be as steep where the route's sides need it (plan_path's return_slope).
+            "demonstrated_slope": float(getattr(ioc, "demonstrated_slope_", 0.0)),
             "identifiability": skill_file.jsonable(ioc.identifiability_),
             "seconds": time.perf_counter() - started,
             "stages": skill_file.jsonable(
