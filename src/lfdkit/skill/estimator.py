@@ -232,7 +232,12 @@ class Skill(
         ``left_out``: the obstacle demonstrations the reward fitted on all
         replanned on another side of an obstacle, left out of the fit and of
         the model choice (said in a warning; :meth:`fit_reward`; their rows
-        in :attr:`training_fidelity_` have ``left_out`` True).
+        in :attr:`training_fidelity_` have ``left_out`` True);
+        ``demonstrated_slope``: how steeply the demonstrations swerved
+        (:func:`lfdkit.emulate.ioc.demonstrated_slope`), the steepest way
+        back to the goal a plan takes where ``max_slope`` cannot keep its
+        route's passing sides (:func:`lfdkit.emulate.plan_path`'s
+        ``return_slope``; absent in older files: none steeper).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
