@@ -3,7 +3,8 @@
 A person who swerves more steeply than the plan may (a late swerver: out at
 slope 1.5, against the default bound 1) cannot be followed: on the fidelity
 benchmark its plans passed a quarter of the obstacles on other sides. The
-fit measures the slope and warns.
+fit measures the slope and warns; a skill's way back to the goal may be as
+steep (``test_planner_goal.py``).
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ def test_a_swerve_steeper_than_the_action_bound_is_warned() -> None:
         ioc = IOC(max_iter=2, n_starts=1).fit(steep, flat_scenes, straight())
     said = [str(w.message) for w in caught if "steeper than max_slope 1" in str(w.message)]
     assert ioc.demonstrated_slope_ == pytest.approx(1.5, rel=0.02)
-    assert len(said) == 1 and "raise max_slope to 1.5" in said[0], said
+    assert len(said) == 1 and "max_slope=1.5 lets them" in said[0], said
     # Demonstrations the planner itself made (bound 1) or a bound as steep: nothing said.
     for fit in (
         lambda: IOC(max_iter=2, n_starts=1).fit(demos, scenes, nominal()),
