@@ -207,3 +207,45 @@ def test_the_goal_is_joined_by_the_nearest_goal_reaching_path() -> None:
     )
     assert np.abs(ramp.offsets[-1]).max() < 1e-3 * corridor.extent
     assert np.sum((ramp.offsets - route.offsets) ** 2) > np.sum((plan.offsets - route.offsets) ** 2)
+
+
+def test_a_steeper_return_keeps_the_route_where_the_action_bound_cannot() -> None:
+    """A late swerver's clutter (fidelity benchmark, seed 2): a box 17 points before the goal.
+
+    The route passes every obstacle above (a chain: no way to change sides
+    between them), and no way back within the action bound passes the last
+    box above: with ``return_slope`` the join returns as steeply as that,
+    after the box, and every side is the route's; without it the thesis's MPC
+    is refused and the other planners pass three or four of the five below.
+    """
+    reward = Reward(0.00175, {"cup": [436.0, 3978.0], "box": [357.0, 3488.0]})
+    x = np.linspace(0.0, 0.8, 200)
+    path = np.column_stack([x, np.zeros_like(x)])
+    centres = [(0.135, -0.03), (0.29, 0.029), (0.411, 0.018), (0.532, 0.045), (0.666, 0.069)]
+    labels = ["box", "cup", "cup", "cup", "box"]
+    scene = Scene(
+        tuple(
+            Obstacle(label, np.array(c), radius=0.05 if label == "box" else 0.03)
+            for label, c in zip(labels, centres, strict=True)
+        )
+    )
+    clearance = np.array([0.015, 0.03, 0.03, 0.03, 0.015])
+    last = round(0.666 / 0.8 * 99)  # the last box's nearest point
+    for horizon, lookahead in [(None, True), (8, True), (8, False)]:
+        options = dict(n_points=100, horizon=horizon, lookahead=lookahead, clearance=clearance)
+        free = plan_path(reward, path, scene, goal_approach=None, **options)
+        route = sides(free.points, scene, path)
+        assert np.all(route == 1.0)
+        try:
+            bound = sides(plan_path(reward, path, scene, **options).points, scene, path)
+            assert np.sum(bound != route) >= 3
+        except UnsafePlanError:
+            assert lookahead is False  # the thesis's MPC corners itself
+        plan = plan_path(reward, path, scene, return_slope=1.5, **options)
+        np.testing.assert_array_equal(sides(plan.points, scene, path), route)
+        np.testing.assert_allclose(plan.offsets[: last + 1], free.offsets[: last + 1], atol=1e-12)
+        slope = np.abs(np.diff(plan.offsets[:, 0])) / (0.8 / 99)
+        assert slope.max() <= 1.5 + 1e-9 and slope[:last].max() <= 1.0 + 1e-9
+        assert plan.goal_error <= 1e-3 * 0.8 and plan.clearance.min() >= 0.0
+    with pytest.raises(ValueError, match="return_slope"):
+        plan_path(reward, path, scene, return_slope=-1.0)

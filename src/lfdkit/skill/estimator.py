@@ -232,7 +232,12 @@ class Skill(
         ``left_out``: the obstacle demonstrations the reward fitted on all
         replanned on another side of an obstacle, left out of the fit and of
         the model choice (said in a warning; :meth:`fit_reward`; their rows
-        in :attr:`training_fidelity_` have ``left_out`` True).
+        in :attr:`training_fidelity_` have ``left_out`` True);
+        ``demonstrated_slope``: how steeply the demonstrations swerved
+        (:func:`lfdkit.emulate.ioc.demonstrated_slope`), the steepest way
+        back to the goal a plan takes where ``max_slope`` cannot keep its
+        route's passing sides (:func:`lfdkit.emulate.plan_path`'s
+        ``return_slope``; absent in older files: none steeper).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -854,6 +859,9 @@ class Skill(
             "converged": bool(ioc.converged_),
             "convergence_message": ioc.convergence_message_,
             "not_learned": list(ioc.not_learned_),
+            # How steeply the demonstrations swerved: the plans' way back to the goal
+            # may be as steep where the route's sides need it (plan_path's return_slope).
+            "demonstrated_slope": float(getattr(ioc, "demonstrated_slope_", 0.0)),
             "identifiability": skill_file.jsonable(ioc.identifiability_),
             "seconds": time.perf_counter() - started,
             "stages": skill_file.jsonable(

@@ -566,6 +566,9 @@ class Planning:
             progress=progress,
             times=times,
             lookahead=route != "window",
+            # As steep a way back to the goal as the demonstrations swerved, where the
+            # route's sides need it (older skill files: none steeper than max_slope).
+            return_slope=(getattr(self, "ioc_info_", None) or {}).get("demonstrated_slope") or None,
         )
         if gaps is None:
             gaps = getattr(self, "gaps_", "closed") if clearances is None else "closed"
