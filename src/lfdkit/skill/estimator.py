@@ -930,8 +930,9 @@ class Skill(
         n = len(demos)
         if self.model == "thesis" or n < 2 * MIN_CROSS_VALIDATION_DEMOS:
             return []
-        route = "full" if self.planner == "full" or ioc.horizon_ is None else "window"
+        route = self._fitted_routes(ioc.horizon_)[0]
         frame = "path" if self.model == "path" else "world"
+        n_points = int(self.n_points)
         out = []
         for j, (demo, scene, nominal) in enumerate(zip(demos, scenes, nominals, strict=True)):
             scene = Scene(tuple(o for o in scene if o.label not in ioc.not_learned_))
@@ -954,7 +955,6 @@ class Skill(
                 )
             except UnsafePlanError:  # no plan at all: the model choice reports it
                 continue
-            n_points = int(self.n_points)
             if not replanning_fidelity(plan.points, nominal, demo, scene, n_points)["sides_agree"]:
                 out.append(j)
         few = 2 * len(out) < n and n - len(out) >= MIN_CROSS_VALIDATION_DEMOS

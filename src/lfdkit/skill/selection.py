@@ -181,10 +181,7 @@ class BehaviourSelection:
         the taut route with the typical clearance (the shortest way round
         that keeps it, no learned response).
         """
-        # A reward fitted for the whole path (the fit kept its full-horizon stage) is
-        # planned over the whole path only: a window would plan it too close.
-        fitted_full = self.planner == "full" or (self.ioc_info_ or {}).get("horizon", 0) is None
-        routes = ("full",) if fitted_full else ("window", "full")
+        routes = self._fitted_routes((self.ioc_info_ or {}).get("horizon", 0))
         if self.model == "thesis":
             return [{"route": routes[0], "floor": "none", "frame": "world"}]
         frame = "path" if self.model == "path" else "world"
@@ -198,6 +195,15 @@ class BehaviourSelection:
             + [{"route": routes[0], "floor": "none", "frame": frame, "swerve": "learned"}]
             + taut
         )
+
+    def _fitted_routes(self, horizon: int | None) -> tuple[str, ...]:
+        """The route planners a reward fitted with ``horizon`` plans with, its own first.
+
+        A reward fitted for the whole path (the fit kept its full-horizon stage,
+        ``horizon`` None) is planned over the whole path only: a window would
+        plan it too close.
+        """
+        return ("full",) if self.planner == "full" or horizon is None else ("window", "full")
 
     def _unfitted_route(self) -> str:
         """The route of a skill whose reward was not fitted here (as before routes were chosen)."""
