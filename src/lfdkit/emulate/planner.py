@@ -143,6 +143,7 @@ from lfdkit.emulate.problem import (
     Problem,
     check_times,
     goal_weights,
+    longest_segment,
     predicted_sigma,
 )
 from lfdkit.emulate.reward import Reward
@@ -285,7 +286,7 @@ def _subsampled(problem: Problem, stride: int) -> Problem:
     sub = problem.window(stride - 1, stride * (problem.n // stride), stride)
     sub.max_step = stride * problem.max_step
     # Problem's segment (the longest between fine points), stride times as long.
-    segment = 1.1 * np.sqrt(problem.step**2 + problem.m * problem.max_step**2) * stride
+    segment = longest_segment(problem.step, problem.max_step, problem.m) * stride
     sub.inner2 = problem.inner2 + 0.25 * segment**2
     smallest = np.sqrt(sub.inner2)
     sub.outer2 = (smallest + 0.25 * np.maximum(smallest, stride * problem.step)) ** 2

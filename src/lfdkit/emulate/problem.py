@@ -68,6 +68,7 @@ __all__ = [
     "Problem",
     "check_times",
     "goal_weights",
+    "longest_segment",
     "predicted_sigma",
     "swerve_shifts",
 ]
@@ -81,6 +82,19 @@ PLAN_POINTS = 100
 GOAL_GAIN = 1e4
 #: Default goal approach, as a fraction of the nominal path's length.
 GOAL_APPROACH_FRACTION = 0.1
+
+
+def longest_segment(step: Any, max_step: Any, m: int) -> Any:
+    """The longest segment between neighbouring plan points (units).
+
+    The nominal ``step`` along and the largest sideways step ``max_step`` in
+    each of the ``m`` lateral directions, with 10 % slack for the normals
+    turning on a curved nominal. A segment whose ends keep
+    ``√(r² + L²/4)`` from a centre keeps ``r`` from it: the hard radii are
+    widened by half of it (:class:`Problem`; the coarse route and the taut
+    plan likewise).
+    """
+    return 1.1 * np.sqrt(step**2 + m * max_step**2)
 
 
 def goal_weights(
@@ -320,7 +334,7 @@ class Problem:
         # it; L is at most the nominal step and the largest sideways step (10 % slack
         # for the normals turning on a curved nominal).
         step = _step_of(base)
-        segment = 1.1 * np.sqrt(step**2 + normals.shape[1] * max_step**2)
+        segment = longest_segment(step, max_step, normals.shape[1])
         inner = np.sqrt(radius[..., self.hard] ** 2 + 0.25 * segment**2)  # (H,) or (n, H)
         smallest = inner if inner.ndim == 1 else inner.min(axis=0, initial=np.inf)
         self.inner2 = smallest**2

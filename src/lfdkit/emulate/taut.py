@@ -43,7 +43,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from lfdkit.emulate.planner import Plan, UnsafePlanError, clearance_per_obstacle, verified_plan
-from lfdkit.emulate.problem import Corridor
+from lfdkit.emulate.problem import Corridor, longest_segment
 from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 
@@ -154,7 +154,7 @@ def _ball_intervals(
     clearance, widened by half the longest segment, as the planner's barrier).
     """
     step = corridor.step
-    half_segment = 0.5 * 1.1 * np.hypot(step, max_step)
+    half_segment = 0.5 * longest_segment(step, max_step, 1)
     normals = corridor.normals[:, 0, :]
     out = []
     for obstacle, margin in zip(scene.obstacles, extra, strict=True):
