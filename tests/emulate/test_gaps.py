@@ -18,11 +18,13 @@ from lfdkit.emulate import Reward
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     BLOCKER_REACH,
+    DECLINED_REACH,
     GAP_SHARE,
     PASSABLE,
     SIDE_BLOCKER,
     close_narrow_gaps,
     closes_a_threaded_gap,
+    declined_gap_width,
     demonstrated_gaps,
     gaps_closed_by,
     open_gap_margins,
@@ -355,3 +357,56 @@ def test_a_person_who_answers_a_reward_threads_gaps_narrower_than_passable() -> 
         threads = skill.plan(scene=PAIR).points
     assert threaded_pairs(threads, PAIR) == [(0, 1)]
     assert PAIR.distances(threads).min() >= GAP_SHARE * 0.04 - 1e-9
+
+
+#: A straight nominal along x (through the middle of :data:`PAIR`'s 4 cm gap), a
+#: demonstration that goes round both cups (7 cm above it at x = 0.5) and one that threads.
+LINE = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
+ROUND = np.column_stack([LINE[:, 0], 0.07 * np.sin(np.pi * LINE[:, 0]) ** 4])
+#: The same cups 8 cm apart (surface to surface).
+WIDE = Scene(
+    (Obstacle("cup", [0.5, 0.05], radius=0.01), Obstacle("cup", [0.5, -0.05], radius=0.01))
+)
+
+
+def test_the_widest_declined_gap_in_the_clearances_kept_bounds_what_is_taken() -> None:
+    kept = {"cup": 0.015}  # 3 cm together: the 4 cm gap is 4/3 of them, the 8 cm one 8/3
+    declined = 4.0 / 3.0
+    assert declined_gap_width([ROUND], [PAIR], [LINE], kept) == pytest.approx(
+        DECLINED_REACH * declined
+    )
+    # Threaded, or never offered (both cups above the nominal), or one obstacle: no evidence.
+    assert declined_gap_width([LINE], [PAIR], [LINE], kept) is None
+    above = Scene(
+        tuple(Obstacle("cup", np.add(o.position, [0.0, 0.1]), 0.01) for o in PAIR.obstacles)
+    )
+    assert declined_gap_width([ROUND], [above], [LINE], kept) is None
+    assert declined_gap_width([ROUND], [Scene(PAIR.obstacles[:1])], [LINE], kept) is None
+    assert declined_gap_width([ROUND], [PAIR], [LINE], {"box": 0.01}) is None  # class unknown
+    # A wider gap threaded: the bound stays below it (midway at most).
+    both = declined_gap_width([ROUND, LINE], [PAIR, WIDE], [LINE, LINE], kept)
+    assert both == pytest.approx(min(DECLINED_REACH * declined, 0.5 * (declined + 8.0 / 3.0)))
+    wider = declined_gap_width([ROUND, LINE], [PAIR, WIDE], [LINE, LINE], kept, reach=2.5)
+    assert wider == pytest.approx(2.0)  # midway between 4/3 and 8/3
+    # A narrower gap threaded than the one declined: width does not decide.
+    assert declined_gap_width([LINE, ROUND], [PAIR, WIDE], [LINE, LINE], kept) is None
+
+
+@pytest.mark.parametrize("gaps", ["open", "closed"])
+def test_a_plan_does_not_thread_a_gap_the_demonstrations_went_round(gaps) -> None:
+    skill = _threading_skill()
+    # Floors of 1.5 cm leave the 4 cm gap open (and the typical clearances too).
+    skill.clearances_, skill.gaps_ = {"cup": 0.015}, gaps
+    skill.model_selection_ = {"gaps_shown": 1, "gap_clearances": {"cup": 0.015}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert threaded_pairs(skill.plan(scene=PAIR).points, PAIR) == [(0, 1)]
+        # Shown declining a gap 4/3 of the clearances kept: this one stays closed ...
+        skill.model_selection_["declined_gap"] = declined_gap_width(
+            [ROUND], [PAIR], [LINE], {"cup": 0.015}
+        )
+        around = skill.plan(scene=PAIR).points
+        assert threaded_pairs(around, PAIR) == []
+        assert PAIR.distances(around).min() >= 0.015 - 1e-9
+        # ... and one twice as wide, 8/3 of them, is threaded as before.
+        assert threaded_pairs(skill.plan(scene=WIDE).points, WIDE) == [(0, 1)]

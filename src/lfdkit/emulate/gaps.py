@@ -77,12 +77,14 @@ from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
     "BLOCKER_REACH",
+    "DECLINED_REACH",
     "GAP_SHARE",
     "PASSABLE",
     "SIDE_BLOCKER",
     "TOUCHING",
     "close_narrow_gaps",
     "closes_a_threaded_gap",
+    "declined_gap_width",
     "demonstrated_gaps",
     "gaps_closed_by",
     "open_gap_margins",
@@ -109,6 +111,10 @@ SIDE_BLOCKER = "<other side>"
 #: A side blocker's radius, as a fraction of its distance to the nearer of the task's start
 #: and goal: under a half, so that the ball keeps clear of both.
 BLOCKER_REACH = 0.45
+#: A gap up to this times as wide as the widest the demonstrations declined (in units of the
+#: clearances they typically kept) is declined too (:func:`declined_gap_width`): those
+#: clearances are medians of noisy demonstrations, a tenth either way.
+DECLINED_REACH = 1.1
 #: Two obstacles closer than this times the scene's size (its largest coordinate plus
 #: radius) touch: floating point leaves a cup standing on a table 3e-17 m above it.
 TOUCHING = 1e-9
@@ -364,6 +370,74 @@ def demonstrated_gaps(
         margins = np.array([clearances.get(label, 0.0) for label in scene.labels])
         count += bool(gaps_closed_by(within * margins, scene))
     return count
+
+
+def declined_gap_width(
+    demos: Sequence[np.ndarray],
+    scenes: Sequence[Scene],
+    nominals: Sequence[np.ndarray],
+    kept: dict[str, float],
+    reach: float = DECLINED_REACH,
+) -> float | None:
+    """The gap width, in the clearances typically kept, below which the demonstrations go round.
+
+    A training scene *offers* a gap where its nominal passes between two
+    obstacles; the demonstration *declines* it where it goes round both
+    instead, and *threads* it where it passes between them (offered or
+    not). Each gap is measured in units of what the person typically kept
+    from its two classes together, ``gap / (kept[a] + kept[b])``, so the
+    bound carries to other classes, units and scenes. The widest declined
+    gap that is narrower than every threaded one bounds what the person
+    takes: gaps up to ``reach`` times it are declined (but never as wide as
+    the narrowest threaded one: the bound then lies midway). Where a
+    threaded gap is narrower than every declined one, width does not
+    decide (None).
+
+    A person who keeps a margin declines gaps narrower than its two margins
+    together (width 1); a late swerver who sees the bands of several
+    obstacles ahead as one wall declines wider ones too; the thesis's person
+    threads gaps narrower than the clearance it keeps from a lone obstacle.
+    The demonstrations say which, where they show a gap.
+
+    Parameters
+    ----------
+    demos : sequence of ndarray, each (n, q)
+        The obstacle demonstrations.
+    scenes : sequence of Scene
+        Their scenes.
+    nominals : sequence of ndarray, each (m, q)
+        Each demonstration's nominal (the path without obstacles).
+    kept : dict
+        ``{class: units}``, the clearance the demonstrations typically kept
+        (e.g. the median per class); a pair with a class not in it is left out.
+    reach : float
+        How much wider than the widest declined gap is declined too (>= 1).
+
+    Returns
+    -------
+    float or None
+        The bound ``b``: a gap with ``gap < b (kept[a] + kept[b])`` is one this
+        person goes round; None where the scenes show no declined gap (then
+        nothing changes).
+    """
+    declined, threaded = [], []
+    for demo, scene, nominal in zip(demos, scenes, nominals, strict=True):
+        if len(scene) < 2:
+            continue
+        gaps = surface_gaps(scene)
+        taken = set(threaded_pairs(np.asarray(demo, dtype=np.float64), scene))
+        offered = set(threaded_pairs(np.asarray(nominal, dtype=np.float64), scene))
+        for i, j in taken | offered:
+            pair = kept.get(scene.labels[i], 0.0) + kept.get(scene.labels[j], 0.0)
+            if pair <= 0.0:
+                continue
+            (threaded if (i, j) in taken else declined).append(gaps[i, j] / pair)
+    narrowest = min(threaded, default=np.inf)
+    below = [w for w in declined if w < narrowest]
+    if not below:
+        return None
+    widest = max(below)
+    return float(min(reach * widest, 0.5 * (widest + narrowest)))
 
 
 def side_blockers(

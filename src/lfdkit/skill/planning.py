@@ -581,6 +581,13 @@ class Planning:
             typical = self._margins(scene, start, goal, clearance, gap_clearances or {})
             if typical is not None:
                 margins = close_narrow_gaps(margins, typical, scene)
+        # Gaps no wider than one the demonstrations went round stay closed, whatever the model
+        # (gaps open or closed): the skill's own plans, where the training scenes showed one.
+        declined = self._declined_clearances(scene, start, goal, clearance, clearances)
+        declined_pairs: set[tuple[int, int]] = set()
+        if margins is not None and declined is not None:
+            declined_pairs = {(i, j) for i, j, _ in gaps_closed_by(declined, scene)}
+            margins = close_narrow_gaps(margins, declined, scene)
         # The skill's own plan, not a candidate's; said once a plan is made (a refusal says
         # enough on its own line).
         gap_margins = margins if clearances is None else None
@@ -664,7 +671,15 @@ class Planning:
                     # The skill's own plans only: the model choice's are what decides it.
                     if not (clearances is None and self._threads_gaps()):
                         pairs = passable_pairs(pairs, margins, scene)
+                if declined_pairs:  # not those the person went round
+                    n = len(scene)
+                    every = [(i, j) for i in range(n) for j in range(i + 1, n)]
+                    pairs = [
+                        p for p in (every if pairs is None else pairs) if p not in declined_pairs
+                    ]
                 margins = open_gap_margins(margins, scene, pairs=pairs)
+                if declined is not None:  # an obstacle's cap from a gap opened elsewhere
+                    margins = close_narrow_gaps(margins, declined, scene)
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
@@ -682,7 +697,7 @@ class Planning:
                 plan = attempt(kept, last=share == 0.0)
             if plan is None:
                 continue
-            if kept is not None and share > 0.0 and gaps == "closed" and len(scene) > 1:
+            if kept is not None and share > 0.0 and (gaps == "closed" or declined_pairs):
                 # A closed gap the learned response threads: round both on the side it
                 # passes the first of the two (the floor alone may take either way round).
                 if gaps_closed_by(kept, scene):
@@ -731,6 +746,30 @@ class Planning:
                 self._warn_gaps(scene, gap_margins, gaps)
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _declined_clearances(
+        self,
+        scene: Scene,
+        start: np.ndarray,
+        goal: np.ndarray,
+        clearance: float,
+        clearances: Mapping[str, float] | None,
+    ) -> np.ndarray | None:
+        """Clearances that close every gap the demonstrations would go round; None for none.
+
+        The clearances typically kept (``model_selection_["gap_clearances"]``)
+        times the widest gap the training scenes showed the person declining
+        (``model_selection_["declined_gap"]``,
+        :func:`lfdkit.emulate.gaps.declined_gap_width`): two of them together
+        close each gap narrower than that. Only for the skill's own plans
+        (``clearances`` None) of a scene with two obstacles or more.
+        """
+        selection = getattr(self, "model_selection_", None) or {}
+        bound, typical = selection.get("declined_gap"), selection.get("gap_clearances")
+        if clearances is not None or not bound or not typical or len(scene) < 2:
+            return None
+        kept = self._margins(scene, start, goal, clearance, typical)
+        return None if kept is None else float(bound) * kept
 
     def _threads_gaps(self) -> bool:
         """Whether the demonstrations show a person who threads the gaps its response does.
