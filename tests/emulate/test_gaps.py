@@ -17,11 +17,13 @@ import pytest
 from lfdkit.emulate import Reward
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
+    ABREAST,
     BLOCKER_REACH,
     DECLINED_REACH,
     GAP_SHARE,
     PASSABLE,
     SIDE_BLOCKER,
+    abreast_pairs,
     close_narrow_gaps,
     closes_a_threaded_gap,
     declined_gap_width,
@@ -388,6 +390,12 @@ def test_the_widest_declined_gap_in_the_clearances_kept_bounds_what_is_taken() -
     assert both == pytest.approx(min(DECLINED_REACH * declined, 0.5 * (declined + 8.0 / 3.0)))
     wider = declined_gap_width([ROUND, LINE], [PAIR, WIDE], [LINE, LINE], kept, reach=2.5)
     assert wider == pytest.approx(2.0)  # midway between 4/3 and 8/3
+    # Two cups one behind the other on the nominal (a 4 cm gap along it): going round both
+    # says nothing about the gap (a weave or one side past both), so no evidence.
+    in_line = Scene(
+        (Obstacle("cup", [0.47, 0.0], radius=0.01), Obstacle("cup", [0.53, 0.0], radius=0.01))
+    )
+    assert declined_gap_width([ROUND], [in_line], [LINE], kept) is None
     # A narrower gap threaded than the one declined: width does not decide.
     assert declined_gap_width([LINE, ROUND], [PAIR, WIDE], [LINE, LINE], kept) is None
 
@@ -410,3 +418,28 @@ def test_a_plan_does_not_thread_a_gap_the_demonstrations_went_round(gaps) -> Non
         assert PAIR.distances(around).min() >= 0.015 - 1e-9
         # ... and one twice as wide, 8/3 of them, is threaded as before.
         assert threaded_pairs(skill.plan(scene=WIDE).points, WIDE) == [(0, 1)]
+
+
+def test_a_gap_is_across_the_path_where_it_makes_45_degrees_with_it() -> None:
+    # Centres 6 cm apart, at angles 0 (across), 40 and 50 degrees from across a line along x.
+    def pair(degrees: float) -> Scene:
+        a = np.deg2rad(degrees)
+        offset = 0.03 * np.array([np.sin(a), np.cos(a)])
+        return Scene(
+            (
+                Obstacle("cup", np.subtract([0.5, 0.0], offset), 0.01),
+                Obstacle("cup", np.add([0.5, 0.0], offset), 0.01),
+            )
+        )
+
+    assert abreast_pairs([(0, 1)], pair(0.0), LINE) == [(0, 1)]
+    assert abreast_pairs([(0, 1)], pair(40.0), LINE) == [(0, 1)]
+    assert abreast_pairs([(0, 1)], pair(50.0), LINE) == []
+    assert abreast_pairs([(0, 1)], pair(90.0), LINE) == []  # one behind the other
+    # The same pair at 50 degrees (its gap 40 degrees from x) is across a path through its
+    # middle turned 45 degrees the other way (85 degrees from it), not one turned towards it.
+    away = np.column_stack([LINE[:, 0], 0.5 - LINE[:, 0]])
+    towards = np.column_stack([LINE[:, 0], LINE[:, 0] - 0.5])
+    assert abreast_pairs([(0, 1)], pair(50.0), away) == [(0, 1)]
+    assert abreast_pairs([(0, 1)], pair(50.0), towards) == []
+    assert ABREAST == pytest.approx(np.sqrt(0.5))

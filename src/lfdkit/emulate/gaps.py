@@ -59,6 +59,18 @@ learned response threads (the thesis's person, seeds 1 and 2: 2.0-2.3 cm from
 each of two boxes 4.5-4.9 cm apart, against 4.1-5.0 cm from a lone one, which
 closed them; the pair scenes' Pr about -10,000 % to -29,000 %).
 
+Where the training scenes show a gap the person went round (the nominal passes
+between two obstacles, the demonstration round both), the demonstrations decide
+the width: :func:`declined_gap_width` is the widest such gap, in units of the
+clearances the person typically kept from the two classes, below the narrowest
+one it threaded; the skill's plans keep every gap narrower than that closed
+(whatever the model: margins raised, as :func:`close_narrow_gaps` does, and the
+side blockers). Without such a scene nothing changes. The fidelity benchmark's
+training scenes hold one obstacle each, so there it changes nothing: its late
+swerver goes round gaps 1.25-5.8 times the clearances it kept (seeds 1-3) (it sees the bands
+of every obstacle within its look-ahead as one wall and returns slowly), which
+no single-obstacle demonstration shows.
+
 :func:`gaps_closed_by` finds the pairs a floor would close.
 :func:`demonstrated_gaps` counts the training scenes that show one, which
 tells whether the demonstrations can decide between the two.
@@ -76,12 +88,16 @@ from lfdkit.emulate.problem import Corridor
 from lfdkit.model.scene import Obstacle, Scene
 
 __all__ = [
+    "ABREAST",
     "BLOCKER_REACH",
+    "DECLINED_OVERLAP",
     "DECLINED_REACH",
     "GAP_SHARE",
     "PASSABLE",
     "SIDE_BLOCKER",
     "TOUCHING",
+    "abreast_pairs",
+    "close_declined_gaps",
     "close_narrow_gaps",
     "closes_a_threaded_gap",
     "declined_gap_width",
@@ -115,6 +131,14 @@ BLOCKER_REACH = 0.45
 #: clearances they typically kept) is declined too (:func:`declined_gap_width`): those
 #: clearances are medians of noisy demonstrations, a tenth either way.
 DECLINED_REACH = 1.1
+#: A gap is across the path, one a path passes through, where the segment between the two
+#: obstacles' nearest surface points makes at least 45 degrees with the path (its cosine at
+#: most this): two obstacles one behind the other along the path leave a way past on the
+#: same side of both, or a weave from one side to the other, which their gap does not decide.
+ABREAST = float(np.cos(np.pi / 4))
+#: How far two margins that close a declined gap overlap: together this times the gap
+#: (:func:`close_declined_gaps`), so no plan point fits between them.
+DECLINED_OVERLAP = 1.05
 #: Two obstacles closer than this times the scene's size (its largest coordinate plus
 #: radius) touch: floating point leaves a cup standing on a table 3e-17 m above it.
 TOUCHING = 1e-9
@@ -205,6 +229,51 @@ def close_narrow_gaps(margins: np.ndarray, kept: np.ndarray, scene: Scene) -> np
         if margins[i] + margins[j] <= gap:
             margins[i], margins[j] = max(margins[i], kept[i]), max(margins[j], kept[j])
     return margins
+
+
+def close_declined_gaps(
+    margins: np.ndarray, kept: np.ndarray, width: float, scene: Scene, path: np.ndarray
+) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """Margins raised so that they close every gap across ``path`` narrower than ``width``.
+
+    For each pair with ``0 < gap < width (kept[i] + kept[j])`` across
+    ``path`` (:func:`abreast_pairs`, as :func:`declined_gap_width` counts
+    them) that ``margins`` leave open, each of the two keeps at least its ``kept``
+    clearance, and more where that leaves the gap open: shares of
+    :data:`DECLINED_OVERLAP` times the gap in proportion to ``kept`` (a gap
+    twice the two clearances closes with twice each, no more).
+
+    Parameters
+    ----------
+    margins : ndarray, shape (n_obstacles,)
+        Each obstacle's floor (units).
+    kept : ndarray, shape (n_obstacles,)
+        The clearance the demonstrations typically kept from each obstacle's class (units).
+    width : float
+        :func:`declined_gap_width`: gaps narrower than this many clearances kept are closed.
+    scene : Scene
+    path : ndarray, shape (n, q)
+        The nominal.
+
+    Returns
+    -------
+    margins : ndarray, shape (n_obstacles,)
+    pairs : list of (int, int)
+        The pairs narrower than ``width`` (closed now, or by ``margins`` already).
+    """
+    margins = np.asarray(margins, dtype=np.float64).copy()
+    kept = np.asarray(kept, dtype=np.float64)
+    pairs = gaps_closed_by(width * kept, scene) if len(scene) > 1 else []
+    across = set(abreast_pairs([(i, j) for i, j, _ in pairs], scene, path))
+    pairs = [(i, j, gap) for i, j, gap in pairs if (i, j) in across]
+    for i, j, gap in pairs:
+        if margins[i] + margins[j] <= gap:
+            share = max(1.0, DECLINED_OVERLAP * gap / (kept[i] + kept[j]))
+            margins[i], margins[j] = (
+                max(margins[i], share * kept[i]),
+                max(margins[j], share * kept[j]),
+            )
+    return margins, [(i, j) for i, j, _ in pairs]
 
 
 def open_gap_margins(
@@ -372,6 +441,38 @@ def demonstrated_gaps(
     return count
 
 
+def abreast_pairs(
+    pairs: Sequence[tuple[int, int]], scene: Scene, path: np.ndarray, cosine: float = ABREAST
+) -> list[tuple[int, int]]:
+    """Those of ``pairs`` whose gap lies across ``path`` (:data:`ABREAST`).
+
+    Parameters
+    ----------
+    pairs : sequence of (int, int)
+    scene : Scene
+    path : ndarray, shape (n, q)
+        E.g. the nominal; its direction is read at its point nearest the gap's middle.
+    cosine : float
+        The largest ``|cos|`` of the angle between the gap and the path.
+
+    Returns
+    -------
+    list of (int, int)
+    """
+    path = np.asarray(path, dtype=np.float64)
+    out = []
+    for i, j in pairs:
+        _, end_i, end_j = scene.obstacles[i].surface_gap(scene.obstacles[j])
+        across = end_j - end_i
+        k = int(np.argmin(np.linalg.norm(path - 0.5 * (end_i + end_j), axis=1)))
+        k = min(k, len(path) - 2)
+        tangent = path[k + 1] - path[k]
+        norms = np.linalg.norm(across) * np.linalg.norm(tangent)
+        if norms > 0.0 and abs(across @ tangent) <= cosine * norms:
+            out.append((i, j))
+    return out
+
+
 def declined_gap_width(
     demos: Sequence[np.ndarray],
     scenes: Sequence[Scene],
@@ -384,7 +485,12 @@ def declined_gap_width(
     A training scene *offers* a gap where its nominal passes between two
     obstacles; the demonstration *declines* it where it goes round both
     instead, and *threads* it where it passes between them (offered or
-    not). Each gap is measured in units of what the person typically kept
+    not). Only gaps across the nominal count (:func:`abreast_pairs`): two
+    obstacles one behind the other along it are passed on one side or
+    woven through whatever their gap (the late swerver of the fidelity
+    benchmark, in clutter: it kept one side past obstacles 20-50 cm apart
+    along the path, 2.4-13 times the clearances it kept, and wove through
+    others 3.2-4 times them). Each gap is measured in units of what the person typically kept
     from its two classes together, ``gap / (kept[a] + kept[b])``, so the
     bound carries to other classes, units and scenes. The widest declined
     gap that is narrower than every threaded one bounds what the person
@@ -427,7 +533,7 @@ def declined_gap_width(
         gaps = surface_gaps(scene)
         taken = set(threaded_pairs(np.asarray(demo, dtype=np.float64), scene))
         offered = set(threaded_pairs(np.asarray(nominal, dtype=np.float64), scene))
-        for i, j in taken | offered:
+        for i, j in abreast_pairs(sorted(taken | offered), scene, nominal):
             pair = kept.get(scene.labels[i], 0.0) + kept.get(scene.labels[j], 0.0)
             if pair <= 0.0:
                 continue

@@ -31,6 +31,7 @@ from lfdkit.emulate import Corridor, Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     SIDE_BLOCKER,
+    close_declined_gaps,
     close_narrow_gaps,
     closes_a_threaded_gap,
     gaps_closed_by,
@@ -586,8 +587,11 @@ class Planning:
         declined = self._declined_clearances(scene, start, goal, clearance, clearances)
         declined_pairs: set[tuple[int, int]] = set()
         if margins is not None and declined is not None:
-            declined_pairs = {(i, j) for i, j, _ in gaps_closed_by(declined, scene)}
-            margins = close_narrow_gaps(margins, declined, scene)
+            margins, closed = close_declined_gaps(margins, *declined, scene, nominal)
+            declined_pairs = set(closed)
+            # Never more than the room the task's own start and goal leave (as _margins).
+            room = self._margins(scene, start, goal, clearance, dict.fromkeys(scene.labels, np.inf))
+            margins = np.minimum(margins, room)
         # The skill's own plan, not a candidate's; said once a plan is made (a refusal says
         # enough on its own line).
         gap_margins = margins if clearances is None else None
@@ -679,7 +683,9 @@ class Planning:
                     ]
                 margins = open_gap_margins(margins, scene, pairs=pairs)
                 if declined is not None:  # an obstacle's cap from a gap opened elsewhere
-                    margins = close_narrow_gaps(margins, declined, scene)
+                    margins = np.minimum(
+                        close_declined_gaps(margins, *declined, scene, nominal)[0], room
+                    )
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
@@ -754,22 +760,23 @@ class Planning:
         goal: np.ndarray,
         clearance: float,
         clearances: Mapping[str, float] | None,
-    ) -> np.ndarray | None:
-        """Clearances that close every gap the demonstrations would go round; None for none.
+    ) -> tuple[np.ndarray, float] | None:
+        """What closes the gaps the demonstrations would go round; None for none.
 
-        The clearances typically kept (``model_selection_["gap_clearances"]``)
-        times the widest gap the training scenes showed the person declining
+        The clearances typically kept from each obstacle
+        (``model_selection_["gap_clearances"]``, units) and the widest gap
+        the training scenes showed the person declining, in those
         (``model_selection_["declined_gap"]``,
-        :func:`lfdkit.emulate.gaps.declined_gap_width`): two of them together
-        close each gap narrower than that. Only for the skill's own plans
-        (``clearances`` None) of a scene with two obstacles or more.
+        :func:`lfdkit.emulate.gaps.declined_gap_width`), for
+        :func:`lfdkit.emulate.gaps.close_declined_gaps`. Only for the skill's
+        own plans (``clearances`` None) of a scene with two obstacles or more.
         """
         selection = getattr(self, "model_selection_", None) or {}
-        bound, typical = selection.get("declined_gap"), selection.get("gap_clearances")
-        if clearances is not None or not bound or not typical or len(scene) < 2:
+        width, typical = selection.get("declined_gap"), selection.get("gap_clearances")
+        if clearances is not None or not width or not typical or len(scene) < 2:
             return None
         kept = self._margins(scene, start, goal, clearance, typical)
-        return None if kept is None else float(bound) * kept
+        return None if kept is None else (kept, float(width))
 
     def _threads_gaps(self) -> bool:
         """Whether the demonstrations show a person who threads the gaps its response does.
