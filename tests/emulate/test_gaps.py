@@ -19,7 +19,6 @@ from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     ABREAST,
     BLOCKER_REACH,
-    DECLINED_REACH,
     GAP_SHARE,
     PASSABLE,
     SIDE_BLOCKER,
@@ -373,23 +372,17 @@ WIDE = Scene(
 
 def test_the_widest_declined_gap_in_the_clearances_kept_bounds_what_is_taken() -> None:
     kept = {"cup": 0.015}  # 3 cm together: the 4 cm gap is 4/3 of them, the 8 cm one 8/3
-    declined = 4.0 / 3.0
-    assert declined_gap_width([ROUND], [PAIR], [LINE], kept) == pytest.approx(
-        DECLINED_REACH * declined
-    )
+    assert declined_gap_width([ROUND], [PAIR], [LINE], kept) == pytest.approx(4.0 / 3.0)
     # Threaded, or never offered (both cups above the nominal), or one obstacle: no evidence.
     assert declined_gap_width([LINE], [PAIR], [LINE], kept) is None
-    above = Scene(
-        tuple(Obstacle("cup", np.add(o.position, [0.0, 0.1]), 0.01) for o in PAIR.obstacles)
-    )
+    above = Scene(tuple(Obstacle("cup", np.add(o.position, [0.0, 0.1]), 0.01) for o in PAIR))
     assert declined_gap_width([ROUND], [above], [LINE], kept) is None
     assert declined_gap_width([ROUND], [Scene(PAIR.obstacles[:1])], [LINE], kept) is None
     assert declined_gap_width([ROUND], [PAIR], [LINE], {"box": 0.01}) is None  # class unknown
-    # A wider gap threaded: the bound stays below it (midway at most).
-    both = declined_gap_width([ROUND, LINE], [PAIR, WIDE], [LINE, LINE], kept)
-    assert both == pytest.approx(min(DECLINED_REACH * declined, 0.5 * (declined + 8.0 / 3.0)))
-    wider = declined_gap_width([ROUND, LINE], [PAIR, WIDE], [LINE, LINE], kept, reach=2.5)
-    assert wider == pytest.approx(2.0)  # midway between 4/3 and 8/3
+    # A wider gap threaded besides, or a narrower one declined: the widest declined stands.
+    both = declined_gap_width([ROUND, LINE, ROUND], [PAIR, WIDE, PAIR], [LINE] * 3, kept)
+    assert both == pytest.approx(4.0 / 3.0)
+    assert declined_gap_width([ROUND], [PAIR], [LINE], {"cup": 0.01}) == pytest.approx(2.0)
     # Two cups one behind the other on the nominal (a 4 cm gap along it): going round both
     # says nothing about the gap (a weave or one side past both), so no evidence.
     in_line = Scene(
@@ -403,20 +396,21 @@ def test_the_widest_declined_gap_in_the_clearances_kept_bounds_what_is_taken() -
 @pytest.mark.parametrize("gaps", ["open", "closed"])
 def test_a_plan_does_not_thread_a_gap_the_demonstrations_went_round(gaps) -> None:
     skill = _threading_skill()
-    # Floors of 1.5 cm leave the 4 cm gap open (and the typical clearances too).
+    # Two cups 3.7 cm apart: floors of 1.5 cm leave the gap open (the typical clearances too).
+    narrower = Scene(tuple(Obstacle("cup", 0.95 * o.position + [0.025, 0.0], 0.01) for o in PAIR))
     skill.clearances_, skill.gaps_ = {"cup": 0.015}, gaps
     skill.model_selection_ = {"gaps_shown": 1, "gap_clearances": {"cup": 0.015}}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        assert threaded_pairs(skill.plan(scene=PAIR).points, PAIR) == [(0, 1)]
-        # Shown declining a gap 4/3 of the clearances kept: this one stays closed ...
+        assert threaded_pairs(skill.plan(scene=narrower).points, narrower) == [(0, 1)]
+        # Shown going round a 4 cm gap (4/3 of the clearances kept): this one stays closed ...
         skill.model_selection_["declined_gap"] = declined_gap_width(
             [ROUND], [PAIR], [LINE], {"cup": 0.015}
         )
-        around = skill.plan(scene=PAIR).points
-        assert threaded_pairs(around, PAIR) == []
-        assert PAIR.distances(around).min() >= 0.015 - 1e-9
-        # ... and one twice as wide, 8/3 of them, is threaded as before.
+        around = skill.plan(scene=narrower).points
+        assert threaded_pairs(around, narrower) == []
+        assert narrower.distances(around).min() >= 0.015 - 1e-9
+        # ... and one twice as wide as that, 8/3 of them, is threaded as before.
         assert threaded_pairs(skill.plan(scene=WIDE).points, WIDE) == [(0, 1)]
 
 

@@ -55,6 +55,7 @@ from lfdkit.core.validation import (
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import replanning_fidelity
+from lfdkit.emulate.gaps import declined_gap_width
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
     DEFORMATION_BASIS,
@@ -276,7 +277,11 @@ class Skill(
         median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`). A floor that
         would move the route from the plan without it (open: to another side of an obstacle, other
         than round a gap it keeps closed; closed: between two obstacles that
-        plan went round) is kept at half, then none (with a warning).
+        plan went round) is kept at half, then none (with a warning). Either
+        way, a gap across the path no wider than the widest a training scene
+        showed the person going round stays closed
+        (``model_selection_["declined_gap"]``, in the clearances typically
+        kept; :func:`lfdkit.emulate.gaps.declined_gap_width`).
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for
         ``model="path"``).
@@ -315,8 +320,10 @@ class Skill(
         ``clearance_relaxed`` (counts); ``swerve``: the swerve candidates'
         stretches ``[before, after]`` per class; ``swerve_route`` (a swerve
         chosen): the stretches-only reward that routes among several
-        obstacles, as each class's width ratios and stretches. Also in
-        :attr:`ioc_info_` and the skill file.
+        obstacles, as each class's width ratios and stretches;
+        ``declined_gap``: the widest gap across the path the demonstrations
+        went round, in the clearances they typically kept (None: none shown).
+        Also in :attr:`ioc_info_` and the skill file.
     """
 
     def __init__(
@@ -888,6 +895,12 @@ class Skill(
                 [learned[j] for j in keep],
                 goal[keep],
                 [nominals[j] for j in keep],
+            )
+        if self.model_selection_ is not None:
+            # Read off every demonstration, those left out of the fit too: one that went
+            # round a gap the reward threads is replanned on another side, and left out.
+            self.model_selection_["declined_gap"] = declined_gap_width(
+                demos, learned, nominals, self.model_selection_.get("gap_clearances") or {}
             )
         for row in self.training_fidelity_ or []:  # numbered as the caller's demonstrations
             row["demo"] = keep[row["demo"]]

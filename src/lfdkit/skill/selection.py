@@ -86,7 +86,7 @@ from lfdkit.emulate.fidelity import (
     replanning_fidelity,
     same_sides,
 )
-from lfdkit.emulate.gaps import declined_gap_width, demonstrated_gaps
+from lfdkit.emulate.gaps import demonstrated_gaps
 from lfdkit.model.scene import Scene
 
 #: The clearance floors a behaviour model may keep (``{level: (quantile, factor)}`` of
@@ -610,9 +610,6 @@ class BehaviourSelection:
             # What they typically kept per class: where gaps stay closed, a gap narrower
             # than two of these together is closed (Planning._plan).
             "gap_clearances": dict(full_floors[TYPICAL]),
-            # The widest gap the person went round, in those clearances (None: the training
-            # scenes show none): narrower ones stay closed in its plans (Planning._plan).
-            "declined_gap": declined_gap_width(demos, scenes, nominals, full_floors[TYPICAL]),
             "chosen": ranked[0],
             "runner_up": ranked[1] if len(ranked) > 1 else None,
             "candidates": {
