@@ -82,7 +82,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from lfdkit.core.geometry import arc_length, polyline_distances
+from lfdkit.core.geometry import arc_length, polyline_distances, segment_tangents
 from lfdkit.emulate.fidelity import CLEARANCE_FACTOR, passing_sides
 from lfdkit.emulate.problem import Corridor
 from lfdkit.model.scene import Obstacle, Scene
@@ -455,15 +455,15 @@ def abreast_pairs(
     list of (int, int)
     """
     path = np.asarray(path, dtype=np.float64)
+    tangents = segment_tangents(path)
     out = []
     for i, j in pairs:
         _, end_i, end_j = scene.obstacles[i].surface_gap(scene.obstacles[j])
         across = end_j - end_i
         k = int(np.argmin(np.linalg.norm(path - 0.5 * (end_i + end_j), axis=1)))
-        k = min(k, len(path) - 2)
-        tangent = path[k + 1] - path[k]
-        norms = np.linalg.norm(across) * np.linalg.norm(tangent)
-        if norms > 0.0 and abs(across @ tangent) <= cosine * norms:
+        tangent = tangents[min(k, len(tangents) - 1)]
+        norm = float(np.linalg.norm(across))
+        if norm > 0.0 and abs(across @ tangent) <= cosine * norm:
             out.append((i, j))
     return out
 
