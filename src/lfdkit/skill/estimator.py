@@ -237,7 +237,10 @@ class Skill(
         (:func:`lfdkit.emulate.ioc.demonstrated_slope`), the steepest way
         back to the goal a plan takes where ``max_slope`` cannot keep its
         route's passing sides (:func:`lfdkit.emulate.plan_path`'s
-        ``return_slope``; absent in older files: none steeper).
+        ``return_slope``; absent in older files: none steeper);
+        ``side_preferences``: the classes the demonstrations keep on one side
+        even the long way round (:func:`lfdkit.emulate.fidelity.side_preferences`;
+        said in a warning: the reward cannot express it).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -900,8 +903,39 @@ class Skill(
             )
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
+        self._warn_side_preferences(demos, scenes, nominals)
         self._warn_fidelity()
         return self
+
+    def _warn_side_preferences(
+        self, demos: Sequence[np.ndarray], scenes: Sequence[Scene], nominals: Sequence[np.ndarray]
+    ) -> None:
+        """Say which classes the demonstrations pass on one side by preference.
+
+        The learned reward is symmetric about each obstacle, so its plans pass
+        an obstacle the shorter way round; a person who keeps a class on one
+        side (:func:`lfdkit.emulate.fidelity.side_preferences`) is not
+        reproduced where that side is the longer way, and nothing else says
+        so (the fidelity probe's person who keeps cups on its left: without
+        this, the only word was a demonstration left out "as a coin flip").
+        Recorded in ``ioc_info_["side_preferences"]``.
+        """
+        from lfdkit.emulate.fidelity import side_preferences
+
+        found = side_preferences(demos, scenes, nominals, int(self.n_points))
+        self.ioc_info_["side_preferences"] = skill_file.jsonable(found)
+        for label, info in found.items():
+            where = "on one side" if info["side"] == "one" else f"on their {info['side']}"
+            named = ", ".join(map(str, info["long_way"]))
+            warnings.warn(
+                f"the demonstrations keep every {label!r} {where} ({info['passes']} passes), "
+                f"going the long way round it in demonstration(s) {named}: a side preference "
+                f"the learned reward (symmetric about each obstacle) cannot express, so plans "
+                f"pass a {label!r} the shorter way round where the person would not; where the "
+                "side matters, give the plan a via point on the person's side",
+                UserWarning,
+                stacklevel=3,
+            )
 
     def _unexplained(
         self,
@@ -923,7 +957,8 @@ class Skill(
         wall (nothing held plans on their nominals; held-out sides 71 %,
         pooled Pr −41 %; without that demonstration 96 % and 79 %). Each is
         replanned with no clearance floor by the route the reward was fitted
-        for; those on another side are returned where they are a minority
+        for; those on another side are returned where they are a minority (of
+        all and of the demonstrations with each of their obstacles' classes)
         and the rest still allow a cross-validated model choice, else none
         (``model="thesis"``: none, its fit is the thesis's exactly).
         """
@@ -958,6 +993,13 @@ class Skill(
             if not replanning_fidelity(plan.points, nominal, demo, scene, n_points)["sides_agree"]:
                 out.append(j)
         few = 2 * len(out) < n and n - len(out) >= MIN_CROSS_VALIDATION_DEMOS
+        # A minority of each class too: where most of a class's demonstrations pass it on a
+        # side the reward never takes, that is how the person passes it (a side preference,
+        # :meth:`_warn_side_preferences`), and leaving them out left the class unlearned
+        # (every scene with it refused).
+        for label in {o.label for j in out for o in scenes[j]}:
+            with_it = [j for j, scene in enumerate(scenes) if label in scene.labels]
+            few = few and 2 * sum(j in out for j in with_it) < len(with_it)
         return out if few else []
 
     def _left_out_row(
