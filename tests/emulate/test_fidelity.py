@@ -438,6 +438,11 @@ def test_a_class_kept_on_one_side_the_long_way_round_is_a_side_preference() -> N
     # A person who goes the short way round (the boxes), or the long way once (a
     # near-centred obstacle's coin flip), has none.
     assert side_preferences(demos[:2], scenes[:2], nominals[:2]) == {}
+    # Round a pair both cups are passed on one side, one the long way: the pair decided.
+    pair = Scene((Obstacle("cup", [0.5, -0.02], radius=0.01), Obstacle("cup", [0.5, 0.02], 0.01)))
+    u = np.clip((X - 0.5) / 0.2, -1.0, 1.0)
+    around = np.column_stack([X, -0.09 * np.cos(0.5 * np.pi * u) ** 2])
+    assert side_preferences([around, 1.1 * around], [pair, pair], nominals[:2]) == {}
 
 
 @pytest.mark.slow
