@@ -31,7 +31,8 @@ rotation 0.6; late look-ahead 8 cm, return slope 0.2, clearances 3/1.5 cm;
 * ``asym-cup``: :class:`SidedPerson`, a fixed-margin person who always keeps
   cups on its left (goes round them on their right), whatever side of the path
   they stand; boxes as the margin person. A symmetric reward per class cannot
-  express this: see what the skill does and whether it says so.
+  express this: see what the skill does and whether it says so
+  (``asym-cup-n10``: with 10 demonstrations).
 
 People whose noise-free path comes closer than :data:`FLOOR` (8 mm; the
 fidelity study's 12 mm is for 2× noise) are redrawn, so the 1 cm margins of
@@ -163,6 +164,7 @@ def _variants() -> list[Variant]:
             ),
         ),
         Variant("asym-cup", "sided", lambda s: SidedPerson(s)),
+        Variant("asym-cup-n10", "sided", lambda s: SidedPerson(s), n=10),
     ]
     ours = {"thesis": ThesisP, "margin": MarginP, "field": FieldP, "late": LateP}
     for kind, cls in ours.items():

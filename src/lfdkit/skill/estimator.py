@@ -759,6 +759,10 @@ class Skill(
         rest (:meth:`_unexplained`; a ``UserWarning`` names it,
         ``ioc_info_["left_out"]``): a side no plan of that reward takes cannot
         be explained by its shape, and the fit bent the whole reward trying.
+        Not where the refit would leave a class unlearned that the fit on all
+        learned: those demonstrations are how the person passes that class (a
+        side preference: ``ioc_info_["side_preferences"]``, warned), not coin
+        flips, and without the class every scene with it would be refused.
 
         Parameters
         ----------
@@ -835,13 +839,23 @@ class Skill(
             ioc = fitted(range(len(demos)))
         left_out = self._unexplained(ioc, demos, scenes, goal, nominals)
         keep = [j for j in range(len(demos)) if j not in left_out]
-        if not left_out:
-            for w in said:
-                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        else:
+        if left_out:
             named = ", ".join(map(str, left_out))
-            with progress.stage(f"emulate: inverse optimal control without demo(s) {named}"):
-                ioc = fitted(keep)
+            stage = f"emulate: inverse optimal control without demo(s) {named}"
+            with progress.stage(stage), warnings.catch_warnings(record=True) as said_again:
+                warnings.simplefilter("always")
+                refit = fitted(keep)
+            # Without them a class the fit on all learned would be unlearned (every scene
+            # with it refused): they are how the person passes it (a side preference, the
+            # fidelity probe's person who keeps cups on its left), not coin flips.
+            lost = [c for c in refit.not_learned_ if c not in ioc.not_learned_]
+            if lost:
+                left_out, keep = [], list(range(len(demos)))
+            else:
+                ioc, said = refit, said_again
+        for w in said:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        if left_out:
             warnings.warn(
                 f"obstacle demonstration(s) {named} pass an obstacle on a side the reward "
                 "learned from all of them never takes (it replans them on the other side): "
@@ -957,8 +971,7 @@ class Skill(
         wall (nothing held plans on their nominals; held-out sides 71 %,
         pooled Pr −41 %; without that demonstration 96 % and 79 %). Each is
         replanned with no clearance floor by the route the reward was fitted
-        for; those on another side are returned where they are a minority (of
-        all and of the demonstrations with each of their obstacles' classes)
+        for; those on another side are returned where they are a minority
         and the rest still allow a cross-validated model choice, else none
         (``model="thesis"``: none, its fit is the thesis's exactly).
         """
@@ -993,13 +1006,6 @@ class Skill(
             if not replanning_fidelity(plan.points, nominal, demo, scene, n_points)["sides_agree"]:
                 out.append(j)
         few = 2 * len(out) < n and n - len(out) >= MIN_CROSS_VALIDATION_DEMOS
-        # A minority of each class too: where most of a class's demonstrations pass it on a
-        # side the reward never takes, that is how the person passes it (a side preference,
-        # :meth:`_warn_side_preferences`), and leaving them out left the class unlearned
-        # (every scene with it refused).
-        for label in {o.label for j in out for o in scenes[j]}:
-            with_it = [j for j, scene in enumerate(scenes) if label in scene.labels]
-            few = few and 2 * sum(j in out for j in with_it) < len(with_it)
         return out if few else []
 
     def _left_out_row(
