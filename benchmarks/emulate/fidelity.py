@@ -255,10 +255,17 @@ def _rng(seed: int, *keys: int) -> np.random.Generator:
     return np.random.default_rng([seed, *keys])
 
 
-def person_data(kind: str, seed: int, scale: float, per_family: int) -> dict:
-    """Clean paths of one person: free demos per task, training pool, held-out cases."""
-    k = P.KINDS.index(kind)
-    person = P.make_person(kind, scale)
+def person_data(
+    kind: str, seed: int, scale: float, per_family: int, person: P.Person | None = None
+) -> dict:
+    """Clean paths of one person: free demos per task, training pool, held-out cases.
+
+    ``person`` (default: ``kind``'s own, :func:`people.make_person`) is another
+    person drawn with ``kind``'s scenes (the same random streams), as
+    ``benchmarks/emulate/probe.py`` does with other parameters.
+    """
+    k = P.KINDS.index(kind) if kind in P.KINDS else len(P.KINDS)
+    person = person or P.make_person(kind, scale)
     data = {"kind": kind, "description": person.describe(), "free": {}, "train": [], "held": []}
     for t, task in enumerate(("train", *P.NEW_TASKS)):
         nominal = P.task_nominal(task, scale)

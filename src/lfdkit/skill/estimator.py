@@ -238,7 +238,10 @@ class Skill(
         (:func:`lfdkit.emulate.ioc.demonstrated_slope`), the steepest way
         back to the goal a plan takes where ``max_slope`` cannot keep its
         route's passing sides (:func:`lfdkit.emulate.plan_path`'s
-        ``return_slope``; absent in older files: none steeper).
+        ``return_slope``; absent in older files: none steeper);
+        ``side_preferences``: the classes the demonstrations keep on one side
+        even the long way round (:func:`lfdkit.emulate.fidelity.side_preferences`;
+        said in a warning: the reward cannot express it).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -763,6 +766,10 @@ class Skill(
         rest (:meth:`_unexplained`; a ``UserWarning`` names it,
         ``ioc_info_["left_out"]``): a side no plan of that reward takes cannot
         be explained by its shape, and the fit bent the whole reward trying.
+        Not where the refit would leave a class unlearned that the fit on all
+        learned: those demonstrations are how the person passes that class (a
+        side preference: ``ioc_info_["side_preferences"]``, warned), not coin
+        flips, and without the class every scene with it would be refused.
 
         Parameters
         ----------
@@ -839,13 +846,23 @@ class Skill(
             ioc = fitted(range(len(demos)))
         left_out = self._unexplained(ioc, demos, scenes, goal, nominals)
         keep = [j for j in range(len(demos)) if j not in left_out]
-        if not left_out:
-            for w in said:
-                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        else:
+        if left_out:
             named = ", ".join(map(str, left_out))
-            with progress.stage(f"emulate: inverse optimal control without demo(s) {named}"):
-                ioc = fitted(keep)
+            stage = f"emulate: inverse optimal control without demo(s) {named}"
+            with progress.stage(stage), warnings.catch_warnings(record=True) as said_again:
+                warnings.simplefilter("always")
+                refit = fitted(keep)
+            # Without them a class the fit on all learned would be unlearned (every scene
+            # with it refused): they are how the person passes it (a side preference, the
+            # fidelity probe's person who keeps cups on its left), not coin flips.
+            lost = [c for c in refit.not_learned_ if c not in ioc.not_learned_]
+            if lost:
+                left_out, keep = [], list(range(len(demos)))
+            else:
+                ioc, said = refit, said_again
+        for w in said:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        if left_out:
             warnings.warn(
                 f"obstacle demonstration(s) {named} pass an obstacle on a side the reward "
                 "learned from all of them never takes (it replans them on the other side): "
@@ -913,8 +930,39 @@ class Skill(
             )
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
+        self._warn_side_preferences(demos, scenes, nominals)
         self._warn_fidelity()
         return self
+
+    def _warn_side_preferences(
+        self, demos: Sequence[np.ndarray], scenes: Sequence[Scene], nominals: Sequence[np.ndarray]
+    ) -> None:
+        """Say which classes the demonstrations pass on one side by preference.
+
+        The learned reward is symmetric about each obstacle, so its plans pass
+        an obstacle the shorter way round; a person who keeps a class on one
+        side (:func:`lfdkit.emulate.fidelity.side_preferences`) is not
+        reproduced where that side is the longer way, and nothing else says
+        so (the fidelity probe's person who keeps cups on its left: without
+        this, the only word was a demonstration left out "as a coin flip").
+        Recorded in ``ioc_info_["side_preferences"]``.
+        """
+        from lfdkit.emulate.fidelity import side_preferences
+
+        found = side_preferences(demos, scenes, nominals, int(self.n_points))
+        self.ioc_info_["side_preferences"] = skill_file.jsonable(found)
+        for label, info in found.items():
+            where = "on one side" if info["side"] == "one" else f"on their {info['side']}"
+            named = ", ".join(map(str, info["long_way"]))
+            warnings.warn(
+                f"the demonstrations keep every {label!r} {where} ({info['passes']} passes), "
+                f"going the long way round it in demonstration(s) {named}: a side preference "
+                f"the learned reward (symmetric about each obstacle) cannot express, so plans "
+                f"pass a {label!r} the shorter way round where the person would not; where the "
+                "side matters, give the plan a via point on the person's side",
+                UserWarning,
+                stacklevel=3,
+            )
 
     def _unexplained(
         self,
