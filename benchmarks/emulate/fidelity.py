@@ -541,7 +541,7 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
         "cv_pr_median": chosen.get("improvement_median"),
         "cv_pr_pooled": chosen.get("improvement_pooled"),
         "cross_validated": selection.get("cross_validated"),
-        # the swerve screen's training loss over the thesis reward's, and its stretches
+        # the stretches' training loss over the thesis reward's, and the stretches learned
         "swerve_gain": selection.get("swerve_gain"),
         "swerve": selection.get("swerve"),
     }

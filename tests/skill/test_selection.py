@@ -75,13 +75,13 @@ def test_the_ranking_keeps_refusals_first_and_the_default_margin() -> None:
     assert _ranked(["a", "b"], scores, "b") == ["a", "b"]
 
 
-def test_the_swerve_must_halve_the_held_out_error_of_the_models_without_it() -> None:
+def test_the_swerve_must_cut_the_held_out_error_of_the_models_without_it() -> None:
     # Its folds are single obstacles of the training task: fitting a little closer there
-    # (a late swerver: 0.69-0.75 of the others' error) does not choose it; explaining what
-    # the symmetric bump cannot (a potential field: 0.08-0.09) does.
-    assert SWERVE_MARGIN == 0.5
+    # (a late swerver: 0.64-0.94 of the others' error) does not choose it; explaining what
+    # the symmetric bump cannot (a potential field: 0.07-0.20) does.
+    assert SWERVE_MARGIN == 0.35
     names = ["window+demonstrated", "taut+typical", "window/swerve"]
-    for ratio, chosen in ((0.7, "window+demonstrated"), (0.45, "window/swerve")):
+    for ratio, chosen in ((0.6, "window+demonstrated"), (0.3, "window/swerve")):
         scores = {
             "window+demonstrated": _fidelity_scores(_rows([0.10] * 5), 5),
             "taut+typical": _fidelity_scores(_rows([0.30] * 5), 5),
@@ -89,7 +89,7 @@ def test_the_swerve_must_halve_the_held_out_error_of_the_models_without_it() -> 
         }
         assert _ranked(names, scores, "window+demonstrated")[0] == chosen
     # Against the best model without it, the default's margin included: the taut route
-    # at 0.05 leaves the swerve at 0.045 behind it, first among the others.
+    # at 0.05 leaves the swerve at 0.03 behind it, first among the others.
     scores["taut+typical"] = _fidelity_scores(_rows([0.05] * 5), 5)
     assert _ranked(names, scores, "window+demonstrated") == [
         "taut+typical",
@@ -123,7 +123,7 @@ def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> Non
     before, after = skill.reward_.swerve["cup"]
     assert after > 1.5 * before
     # the swerve (its stretches, then its widths refitted; Q the thesis fit's) replans the held-out
-    # demonstrations well, and at less than half the error of the thesis's symmetric response
+    # demonstrations well, and at less than SWERVE_MARGIN of the error of the symmetric response
     candidates = selection["candidates"]
     assert candidates["window/swerve"]["improvement_median"] > 85.0
     assert candidates["window/swerve"]["error"] < SWERVE_MARGIN * candidates["window"]["error"]
