@@ -160,37 +160,6 @@ def test_the_swerve_wall_gradient_matches_finite_differences() -> None:
     np.testing.assert_allclose(gradient, fd, atol=1e-8)
 
 
-@pytest.mark.slow  # a skill's whole fit and model choice (about 5 s quiet)
-def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> None:
-    from lfdkit.skill import Skill
-    from lfdkit.skill.selection import SWERVE_GAIN
-
-    x = np.linspace(0.0, 1.0, 100)
-    free = [np.column_stack([x, 0.002 * s * np.sin(np.pi * x)]) for s in (-1.0, 0.0, 1.0)]
-    person = Reward(10.0, {"cup": [400.0, 2500.0]}, swerve={"cup": [0.5, 3.0]})
-    rng = np.random.default_rng(1)
-    demos, scenes = [], []
-    for j in range(6):
-        scene = Scene((Obstacle("cup", [0.3 + 0.08 * j, rng.uniform(-0.02, 0.02)], radius=0.01),))
-        plan = plan_path(person, free[1], scene, horizon=8, goal_approach=None, lookahead=False)
-        demos.append(plan.points)
-        scenes.append(scene)
-    skill = Skill().fit(free, demos, scenes)
-    selection = skill.model_selection_
-    assert selection["swerve_gain"] <= SWERVE_GAIN, selection["swerve_gain"]
-    assert selection["chosen"] == "window/swerve"
-    # the skill plans with the learned swerve, longer after the cup than before (its
-    # sizes trade off with the response's width along the path: only the asymmetry is
-    # asserted; the IOC's recovery of the values is the test above)
-    before, after = skill.reward_.swerve["cup"]
-    assert after > 1.5 * before
-    # the swerve (its stretches, then its widths refitted; Q the thesis fit's) replans the held-out
-    # demonstrations well, and closer than the thesis's symmetric response
-    candidates = selection["candidates"]
-    assert candidates["window/swerve"]["improvement_median"] > 85.0
-    assert candidates["window/swerve"]["mse"] < candidates["window"]["mse"]
-
-
 @pytest.mark.filterwarnings("ignore:the reward fit did not converge")  # 5 iterations: enough here
 def test_swerve_shape_fits_the_widths_with_the_stretches_and_holds_q() -> None:
     demos, scenes = demonstrations(SWERVING, 2)

@@ -3,9 +3,13 @@
 import numpy as np
 import pytest
 
+from lfdkit.emulate import Reward, plan_path
+from lfdkit.model.scene import Obstacle, Scene
+from lfdkit.skill import Skill
 from lfdkit.skill.selection import (
     FOLD_TRIM,
     SELECTION_MARGIN,
+    SWERVE_MARGIN,
     _fidelity_scores,
     _fold_error,
     _ranked,
@@ -69,3 +73,82 @@ def test_the_ranking_keeps_refusals_first_and_the_default_margin() -> None:
     # A model that finds no plan for a held-out demonstration comes after one that does.
     scores["b"] = _fidelity_scores(_rows([0.01] * 5, refused=(2,)), 5)
     assert _ranked(["a", "b"], scores, "b") == ["a", "b"]
+
+
+def test_the_swerve_must_cut_the_held_out_error_of_the_models_without_it() -> None:
+    # Its folds are single obstacles of the training task: fitting a little closer there
+    # (a late swerver: 0.64-1.07 of the others' error) does not choose it; explaining what
+    # the symmetric bump cannot (a potential field: 0.07-0.20) does.
+    assert SWERVE_MARGIN == 0.35
+    names = ["window+demonstrated", "taut+typical", "window/swerve"]
+    for ratio, chosen in ((0.6, "window+demonstrated"), (0.3, "window/swerve")):
+        scores = {
+            "window+demonstrated": _fidelity_scores(_rows([0.10] * 5), 5),
+            "taut+typical": _fidelity_scores(_rows([0.30] * 5), 5),
+            "window/swerve": _fidelity_scores(_rows([0.10 * ratio] * 5), 5),
+        }
+        assert _ranked(names, scores, "window+demonstrated")[0] == chosen
+    # Against the best model without it, the default's margin included: the taut route
+    # at 0.05 leaves the swerve at 0.03 behind it, first among the others.
+    scores["taut+typical"] = _fidelity_scores(_rows([0.05] * 5), 5)
+    assert _ranked(names, scores, "window+demonstrated") == [
+        "taut+typical",
+        "window/swerve",
+        "window+demonstrated",
+    ]
+
+
+def _skill_of(person: Reward):
+    """A skill fitted on 6 demonstrations planned by ``person`` (thesis MPC, H = 8)."""
+    x = np.linspace(0.0, 1.0, 100)
+    free = [np.column_stack([x, 0.002 * s * np.sin(np.pi * x)]) for s in (-1.0, 0.0, 1.0)]
+    rng = np.random.default_rng(1)
+    demos, scenes = [], []
+    for j in range(6):
+        scene = Scene((Obstacle("cup", [0.3 + 0.08 * j, rng.uniform(-0.02, 0.02)], radius=0.01),))
+        plan = plan_path(person, free[1], scene, horizon=8, goal_approach=None, lookahead=False)
+        demos.append(plan.points)
+        scenes.append(scene)
+    return Skill().fit(free, demos, scenes)
+
+
+@pytest.mark.slow  # a skill's whole fit and model choice (about 3 s quiet)
+def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> None:
+    skill = _skill_of(Reward(10.0, {"cup": [400.0, 2500.0]}, swerve={"cup": [0.5, 3.0]}))
+    selection = skill.model_selection_
+    assert selection["chosen"] == "window/swerve"
+    # the skill plans with the learned swerve, longer after the cup than before (its
+    # sizes trade off with the response's width along the path: only the asymmetry is
+    # asserted; the IOC's recovery of the values is the test above)
+    before, after = skill.reward_.swerve["cup"]
+    assert after > 1.5 * before
+    # the swerve (its stretches, then its widths refitted; Q the thesis fit's) replans the held-out
+    # demonstrations well, and at less than SWERVE_MARGIN of the error of the symmetric response
+    candidates = selection["candidates"]
+    assert candidates["window/swerve"]["improvement_median"] > 85.0
+    assert candidates["window/swerve"]["error"] < SWERVE_MARGIN * candidates["window"]["error"]
+
+
+@pytest.mark.slow  # a skill's whole fit and model choice per person (about 3 s quiet each)
+@pytest.mark.parametrize(
+    ("swerve", "chosen"),
+    [
+        # Starts late and returns slowly, its stretches on the walls (1/5, 5): the stretches
+        # alone lower the training loss to 0.47 of the thesis fit's (a screen at 0.45 of the
+        # training loss dropped it), held out its error is 0.28 of the others'.
+        ([0.2, 5.0], True),
+        # The thesis's model: the swerve is a candidate (its stretches lower the training
+        # loss a little, to 0.97) and replans held out no closer than the thesis's bump.
+        (None, False),
+        # Stretched alike before and after: a wider symmetric bump, which the thesis's
+        # precisions express (training loss 0.99, held-out error the same).
+        ([2.0, 2.0], False),
+    ],
+)
+def test_the_swerve_is_chosen_for_a_swerve_person_and_not_for_a_thesis_one(swerve, chosen) -> None:
+    person = Reward(10.0, {"cup": [400.0, 2500.0]}, swerve={"cup": swerve} if swerve else None)
+    selection = _skill_of(person).model_selection_
+    # a candidate each time, decided by the held-out demonstrations
+    assert "window/swerve" in selection["candidates"]
+    assert selection["swerve_gain"] < 1.0
+    assert (selection["chosen"] == "window/swerve") is chosen, selection["chosen"]
