@@ -186,3 +186,39 @@ def test_block_tree_solve_matches_a_dense_solve_and_its_numpy_twin(seed):
         np.array([-1.0]), np.array([0.0]), np.array([1.0]), index, 2, np.ones((2, 1))
     )
     assert not ok
+
+
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("clearance", [None, 0.002])
+def test_a_problem_like_another_is_the_problem_built_afresh(
+    q: int, clearance: float | None
+) -> None:
+    # The IOC builds each demonstration's problem on its first one's geometry (like=):
+    # every array must be the fresh build's to the bit, whatever the reward (another Q,
+    # other precisions, a swerve, the goal ramp).
+    corridor = Corridor.from_path(problem_nominal(q), 60)
+    scene = Scene(
+        (
+            Obstacle("a", corridor.points[20] + 0.03 * corridor.normals[20, 0], radius=0.01),
+            Obstacle("b", corridor.points[40] - 0.02 * corridor.normals[40, 0], radius=0.01),
+        )
+    )
+    first = Reward(10.0, {"a": np.full(q, 900.0), "b": np.full(q, 400.0)})
+    like = Problem.from_scene(first, corridor, scene, 1.0, clearance=clearance)
+    rewards = [
+        Reward(3.0, {"a": np.linspace(200.0, 700.0, q), "b": np.full(q, 1500.0)}),
+        Reward(5.0, {"a": np.full(q, 800.0), "b": np.full(q, 300.0)}, {"a": [0.5, 2.0]}),
+    ]
+    for reward in rewards:
+        for approach in (None, "auto"):
+            fresh = Problem.from_scene(reward, corridor, scene, 1.0, approach, clearance)
+            reused = Problem.from_scene(
+                reward, corridor, scene, 1.0, approach, clearance, like=like
+            )
+            assert set(vars(reused)) == set(vars(fresh))
+            for name, value in vars(fresh).items():
+                if isinstance(value, np.ndarray):
+                    np.testing.assert_array_equal(getattr(reused, name), value, err_msg=name)
+                else:
+                    assert getattr(reused, name) == value, name
+    assert like.weight[0] == 10.0  # the shared problem is left as it was
