@@ -757,7 +757,9 @@ def _obstacle_terms(
     else:
         b = np.einsum("kmq,klq->klm", normals, pr)
     # Runs of consecutive anchors with one precision: A once per run.
-    if n_anchors:
+    if n_anchors == 1:  # one run (a training scene's obstacle): its runs cost more than A
+        a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
+    elif n_anchors:
         changes = np.any(precision[1:] != precision[:-1], axis=(1, 2))
         starts = np.concatenate(([0], np.flatnonzero(changes) + 1))
         lengths = np.diff(np.append(starts, n_anchors))
