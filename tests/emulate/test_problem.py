@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lfdkit.emulate import Corridor, Reward
-from lfdkit.emulate._problem_kernels import planner_derivatives
+from lfdkit.emulate._problem_kernels import planner_cost, planner_derivatives, point_cost
 from lfdkit.emulate.problem import Problem, _obstacle_terms
 from lfdkit.model.scene import Obstacle, Scene
 
@@ -49,6 +49,42 @@ def test_numpy_derivatives_are_the_compiled_ones(q: int, seed: int) -> None:
         hessian, compiled_hessian, rtol=1e-12, atol=1e-12 * np.abs(compiled_hessian).max()
     )
     assert problem.cost(d) == pytest.approx(problem.total_cost(d), rel=1e-12)
+
+
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("clearance", [None, 0.002])
+def test_planner_cost_is_its_points_costs_to_the_bit(q: int, clearance: float | None) -> None:
+    # The line search's cost is written out on the offsets' rows; it must stay the sum
+    # of point_cost (what the grid search scores) over the points, to the bit, with
+    # and without hard radii (fits are reproducible to the bit across this rewrite).
+    problem, d = case(q, 0)
+    if clearance is not None:
+        corridor = Corridor.from_path(problem_nominal(q), 60)
+        reward = Reward(10.0, {"a": np.full(q, 900.0), "b": np.full(q, 400.0)})
+        scene = Scene(
+            (
+                Obstacle("a", corridor.points[20] + 0.021 * corridor.normals[20, 0], radius=0.01),
+                Obstacle("b", corridor.points[40] - 0.022 * corridor.normals[40, 0], radius=0.01),
+            )
+        )
+        problem = Problem.from_scene(reward, corridor, scene, 1.0, "auto", clearance=clearance)
+        d = np.random.default_rng(1).uniform(-0.001, 0.001, (problem.n, problem.m))
+    args = problem.kernel_arguments()
+    bumps = np.arange(problem.c.shape[1])
+    hards = np.arange(problem.rr.shape[1])
+    assert len(hards) == (0 if clearance is None else 2)
+    total = 0.0
+    for k in range(problem.n):
+        total += point_cost(*args, k, np.ascontiguousarray(d[k]), bumps, hards)
+    value = planner_cost(*args, d)
+    assert np.isfinite(value) and value == total
+    if clearance is not None:  # the barrier is in it
+        assert value > problem.cost(d)
+
+
+def problem_nominal(q: int) -> np.ndarray:
+    t = np.linspace(0.0, 1.0, 120)
+    return np.column_stack([t, 0.1 * np.sin(np.pi * t)] + ([0.05 * t] if q == 3 else []))
 
 
 @pytest.mark.parametrize("q", [2, 3])
@@ -150,3 +186,39 @@ def test_block_tree_solve_matches_a_dense_solve_and_its_numpy_twin(seed):
         np.array([-1.0]), np.array([0.0]), np.array([1.0]), index, 2, np.ones((2, 1))
     )
     assert not ok
+
+
+@pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("clearance", [None, 0.002])
+def test_a_problem_like_another_is_the_problem_built_afresh(
+    q: int, clearance: float | None
+) -> None:
+    # The IOC builds each demonstration's problem on its first one's geometry (like=):
+    # every array must be the fresh build's to the bit, whatever the reward (another Q,
+    # other precisions, a swerve, the goal ramp).
+    corridor = Corridor.from_path(problem_nominal(q), 60)
+    scene = Scene(
+        (
+            Obstacle("a", corridor.points[20] + 0.03 * corridor.normals[20, 0], radius=0.01),
+            Obstacle("b", corridor.points[40] - 0.02 * corridor.normals[40, 0], radius=0.01),
+        )
+    )
+    first = Reward(10.0, {"a": np.full(q, 900.0), "b": np.full(q, 400.0)})
+    like = Problem.from_scene(first, corridor, scene, 1.0, clearance=clearance)
+    rewards = [
+        Reward(3.0, {"a": np.linspace(200.0, 700.0, q), "b": np.full(q, 1500.0)}),
+        Reward(5.0, {"a": np.full(q, 800.0), "b": np.full(q, 300.0)}, {"a": [0.5, 2.0]}),
+    ]
+    for reward in rewards:
+        for approach in (None, "auto"):
+            fresh = Problem.from_scene(reward, corridor, scene, 1.0, approach, clearance)
+            reused = Problem.from_scene(
+                reward, corridor, scene, 1.0, approach, clearance, like=like
+            )
+            assert set(vars(reused)) == set(vars(fresh))
+            for name, value in vars(fresh).items():
+                if isinstance(value, np.ndarray):
+                    np.testing.assert_array_equal(getattr(reused, name), value, err_msg=name)
+                else:
+                    assert getattr(reused, name) == value, name
+    assert like.weight[0] == 10.0  # the shared problem is left as it was

@@ -103,11 +103,26 @@ def test_theta_round_trip_and_combination() -> None:
         ({"cup": [[1.0, 0.5], [0.0, 1.0]]}, "symmetric"),
         ({"cup": [1.0, np.inf]}, "NaN or infinite"),
         ({"cup": [1.0, 1.0], "marker": [1.0, 1.0, 1.0]}, "different dimensions"),
+        ({"cup": [1.0, 0.0]}, "positive"),
+        ({"cup": [1.0]}, "expected shape"),
+        ({"cup": [1.0, 1.0, 1.0, 1.0]}, "expected shape"),
+        ({"cup": [2.0, 3.0], "marker": [1.0, 1.0, 1.0]}, "different dimensions"),
     ],
 )
 def test_bad_precisions_are_refused(precisions, match) -> None:
     with pytest.raises(ValueError, match=match):
         Reward(1.0, precisions)
+
+
+def test_a_diagonal_given_as_its_entries_is_the_matrix() -> None:
+    # Entries skip the symmetry and Cholesky checks (positive and finite): the same
+    # matrices as given whole, and the same reward from θ.
+    entries = Reward(2.0, {"cup": [4.0, 9.0], "box": [1.0, 2.0]})
+    whole = Reward(2.0, {"cup": np.diag([4.0, 9.0]), "box": np.diag([1.0, 2.0])})
+    for label in ("cup", "box"):
+        np.testing.assert_array_equal(entries.precisions[label], whole.precisions[label])
+    again = Reward.from_theta(entries.theta, entries.classes, 2)
+    np.testing.assert_array_equal(again.theta, whole.theta)
 
 
 def test_unknown_class_and_bad_weight_are_refused(setting) -> None:

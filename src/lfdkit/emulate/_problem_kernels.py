@@ -75,11 +75,36 @@ def point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g, bumps, hards):
 
 @numba.njit(cache=True)
 def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
-    """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius."""
-    bumps, hards = range(c.shape[1]), range(rr.shape[1])
+    """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius.
+
+    :func:`point_cost` of every obstacle and hard radius at each point, summed
+    over the points, with the same operations in the same order (the same
+    number to the bit), written out on ``d``'s rows: a row's view and the
+    index ranges handed to :func:`point_cost` cost six times the arithmetic
+    (9 against 1.5 µs for 99 points and one obstacle), and the projected
+    Newton solver's line search is most of a fit's time.
+    """
+    n, m = d.shape
+    n_obs, n_hard = c.shape[1], rr.shape[1]
     total = 0.0
-    for k in range(d.shape[0]):
-        total += point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, d[k], bumps, hards)
+    for k in range(n):
+        point = 0.0
+        for i in range(m):
+            point += weight[k] * d[k, i] * d[k, i]
+        for o in range(n_obs):
+            s = c[k, o]
+            for i in range(m):
+                npu = b[k, o, i]
+                for j in range(m):
+                    npu += a[k, o, i, j] * d[k, j]
+                s += (b[k, o, i] + npu) * d[k, i]
+            point += np.exp(-s)
+        for h in range(n_hard):
+            u = rr[k, h]
+            for i in range(m):
+                u += (2.0 * nr[k, h, i] + d[k, i]) * d[k, i]
+            point += barrier(u, inner2[h], outer2[h], mu)[0]
+        total += point
     return total
 
 

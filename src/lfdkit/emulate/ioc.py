@@ -500,14 +500,24 @@ class TrainingLoss:
         self.max_slope = max_slope
         self.n_dims = data[0].corridor.n_dims
         self._classes_of: dict[int, tuple[Scene, np.ndarray]] = {}  # per scene, at every call
+        # Each demonstration's first problem: the geometry later ones share (Problem.from_scene).
+        self._geometry: dict[int, tuple[DemoInScene, Problem]] = {}
 
     def reward(self, theta: np.ndarray) -> Reward:
         """The reward of ``θ``."""
         return Reward.from_theta(theta, self.classes, self.n_dims)
 
     def problem(self, reward: Reward, item: DemoInScene) -> Problem:
-        """The planning problem of one demonstration's scene (the thesis's model, no radii)."""
-        return Problem.from_scene(reward, item.corridor, item.scene, self.max_slope)
+        """The planning problem of one demonstration's scene (the thesis's model, no radii).
+
+        Built afresh the first time; then on that one's geometry (``like``), the same numbers.
+        """
+        known = self._geometry.get(id(item))
+        like = known[1] if known is not None and known[0] is item else None
+        problem = Problem.from_scene(reward, item.corridor, item.scene, self.max_slope, like=like)
+        if like is None:
+            self._geometry[id(item)] = (item, problem)
+        return problem
 
     def full_horizon(self, theta: np.ndarray, warm: list[np.ndarray]) -> tuple[float, np.ndarray]:
         """Loss and gradient with full-horizon plans, by implicit differentiation.

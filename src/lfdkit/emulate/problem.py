@@ -313,19 +313,11 @@ class Problem:
         stretch: np.ndarray | None = None,
     ) -> None:
         self.base, self.normals = base, normals  # (n, q), (n, m, q)
-        self.obstacles, self.precision = obstacles, precision  # (L, q), (L, q, q)
-        # Nominal weight per offset: Q, or Q ramped up towards the goal.
-        self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
+        self.obstacles = obstacles  # (L, q)
         self.max_step = float(max_step)
         # Moving obstacles: a centre per point, (n, L, q); static ones: (L, q).
         self.moving = obstacles.ndim == 3
-        rel = base[:, None, :] - (obstacles if self.moving else obstacles[None])  # (n, L, q)
-        self.shift = self.shift_rate = self.shift_side = None
-        if stretch is not None:
-            # The swerve moves each term along the path per point: only c and b change.
-            self.shift, self.shift_rate, self.shift_side = swerve_shifts(rel, tangents, stretch)
-            rel = rel + self.shift
-        self.c, self.b, self.a = _obstacle_terms(rel, normals, precision)
+        self._set_terms(precision, weight, tangents, stretch)
         self.hard_centres = obstacles if hard_centres is None else hard_centres
         radius = np.zeros(self.hard_centres.shape[-2]) if hard_radius is None else hard_radius
         # balls with a barrier (a radius per point for moving obstacles: (n, B))
@@ -348,10 +340,30 @@ class Problem:
             # meets it exactly at r_k (the zone beyond keeps its width in u).
             self.rr = self.rr - (inner**2 - self.inner2[None])
         self.nr = np.einsum("kmq,khq->khm", normals, hard_rel)
+        self.rr, self.nr = np.ascontiguousarray(self.rr), np.ascontiguousarray(self.nr)
+
+    def _set_terms(
+        self,
+        precision: np.ndarray,
+        weight: float | np.ndarray,
+        tangents: np.ndarray | None,
+        stretch: np.ndarray | None,
+    ) -> None:
+        """The reward's part: precisions, nominal weight, swerve and the obstacle terms."""
+        base, obstacles = self.base, self.obstacles
+        self.precision = precision  # (L, q, q)
+        # Nominal weight per offset: Q, or Q ramped up towards the goal.
+        self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
+        rel = base[:, None, :] - (obstacles if self.moving else obstacles[None])  # (n, L, q)
+        self.shift = self.shift_rate = self.shift_side = None
+        if stretch is not None:
+            # The swerve moves each term along the path per point: only c and b change.
+            self.shift, self.shift_rate, self.shift_side = swerve_shifts(rel, tangents, stretch)
+            rel = rel + self.shift
+        c, b, a = _obstacle_terms(rel, self.normals, precision)
         # C order (moving obstacles' centres make Fortran-ordered terms): numba then
         # compiles one version of each kernel, not one per layout (a copy only then).
-        self.c, self.b, self.a = (np.ascontiguousarray(x) for x in (self.c, self.b, self.a))
-        self.rr, self.nr = np.ascontiguousarray(self.rr), np.ascontiguousarray(self.nr)
+        self.c, self.b, self.a = (np.ascontiguousarray(x) for x in (c, b, a))
 
     @classmethod
     def from_scene(
@@ -364,6 +376,7 @@ class Problem:
         clearance: float | np.ndarray | None = None,
         times: Any = None,
         margin: float = UNCERTAINTY_MARGIN,
+        like: Problem | None = None,
     ) -> Problem:
         """The problem of offsets 1 … K−1 after the fixed start, steps up to ``max_slope`` · step.
 
@@ -392,6 +405,14 @@ class Problem:
             Moving obstacles: the hard radius at point ``k`` grows by
             ``margin · σ_k`` (σ the prediction's largest standard deviation)
             plus half the obstacle's predicted move between neighbouring points.
+        like : Problem, optional
+            A problem of the same corridor, static scene, ``max_slope`` and
+            ``clearance`` under another reward (not checked): its geometry
+            (anchors, hard radii) is shared and only the reward's terms are
+            computed, the same numbers as a problem built afresh. The inverse
+            optimal control builds one per demonstration at every θ it tries,
+            and the geometry was most of a build's time. Ignored for a scene
+            with moving obstacles.
 
         Raises
         ------
@@ -403,6 +424,17 @@ class Problem:
         anchors, precision = reward.anchor_precisions(scene)
         if len(scene) and anchors.shape[1] != q:
             raise ValueError(f"scene: {anchors.shape[1]}-D obstacles for a {q}-D nominal path")
+        if like is not None and not scene.moving:
+            stretch = reward.anchor_stretch(scene)
+            problem = object.__new__(cls)
+            problem.__dict__.update(like.__dict__)  # the geometry, shared (never written to)
+            problem._set_terms(
+                precision.reshape(-1, q, q),
+                goal_weights(corridor, reward.nominal_weight, goal_approach),
+                None if stretch is None else corridor.tangents[1:],
+                stretch,
+            )
+            return problem
         hard_radius = hard_centres = None
         if clearance is not None and len(scene):
             # Offsets move at most max_slope·step per point, so no plan leaves the
@@ -725,7 +757,9 @@ def _obstacle_terms(
     else:
         b = np.einsum("kmq,klq->klm", normals, pr)
     # Runs of consecutive anchors with one precision: A once per run.
-    if n_anchors:
+    if n_anchors == 1:  # one run (a training scene's obstacle): its runs cost more than A
+        a = np.einsum("kmq,lqr,knr->klmn", normals, precision, normals)
+    elif n_anchors:
         changes = np.any(precision[1:] != precision[:-1], axis=(1, 2))
         starts = np.concatenate(([0], np.flatnonzero(changes) + 1))
         lengths = np.diff(np.append(starts, n_anchors))

@@ -87,12 +87,17 @@ class Reward:
             name = f"precisions[{label!r}]"
             if not np.all(np.isfinite(arr)):
                 raise ValueError(f"{name}: contains NaN or infinite values")
-            if arr.ndim == 1:
+            diagonal = arr.ndim == 1
+            if diagonal:
                 if np.any(arr <= 0):
                     raise ValueError(f"{name}: diagonal entries must be positive, got {arr}")
                 arr = np.diag(arr)
             if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or arr.shape[0] not in (2, 3):
                 raise ValueError(f"{name}: expected shape (q,) or (q, q) with q 2 or 3")
+            if diagonal:  # positive and finite on the diagonal: symmetric positive definite
+                dims.add(arr.shape[0])
+                matrices[str(label)] = arr
+                continue
             if not np.allclose(arr, arr.T, rtol=1e-10, atol=0.0):
                 raise ValueError(f"{name}: must be symmetric")
             try:
