@@ -228,7 +228,8 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
                 single = np.empty(promp._out_size(1, n_weights, m))
                 general = np.empty_like(single)
                 variance = 0.01 * scale**2 * (trial % 2)
-                got = run(mean, cov, phases[0], width, sets[0], variance, 1e-10, single)
+                prior = np.r_[width, 1e-10, mean, cov.ravel()]
+                got = run(prior, phases[0], sets[0], variance, single)
                 args = (mean, cov, centres, phases, width, sets[:1], variance, noise, 1e-10)
                 assert got == _promp_kernels.condition_weights(*args, general)
                 # Z is one root of many: compared through what is made of it.

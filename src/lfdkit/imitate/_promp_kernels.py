@@ -172,16 +172,23 @@ def condition_weights(
 
 
 @numba.njit(cache=True)
-def condition_point(mean, cov, phase, width, point, variance, rcond, out):
+def condition_point(prior, phase, point, variance, out):
     """:func:`condition_weights` for one point set of one via-point with a variance.
 
-    ``phase`` a float, ``point`` (1, d): the common call, with fewer arguments
-    to unbox (numba's dispatch is a third of a one-point call), no phase
-    array to make in Python, and the basis centres over the width formed
-    here (as ``np.linspace(0, 1, b) / width``, to the bit).
+    ``prior`` is the model's ``[width, rcond, mean (n), cov (n × n, row-major)]``
+    in one writeable array, ``phase`` a float, ``point`` (1, d), ``out`` the
+    buffer of one set (its length gives ``n``): the common call, with five
+    arguments to type and unbox (numba's dispatch was a third of a one-point
+    call; a read-only array takes its slow typing path), no phase array to
+    make in Python, and the basis centres over the width formed here (as
+    ``np.linspace(0, 1, b) / width``, to the bit).
     """
     d = point.shape[1]
-    b = mean.shape[0] // d
+    n = (out.shape[0] - d) // (2 * (1 + d))
+    b = n // d
+    width, rcond = prior[0], prior[1]
+    mean = prior[2 : 2 + n]
+    cov = prior[2 + n : 2 + n + n * n].reshape((n, n))
     # One allocation for all scratch (each costs about a twentieth of the kernel).
     work = np.empty(_work_size(1, d, b) + 1 + d + b)
     phases = work[:1]
