@@ -62,13 +62,18 @@ Why this design:
   that: its source's band (kept on the source per grid) less the squared
   norms of ``Z φ`` per coordinate. One point at one phase with a variance
   (most calls) goes to its own kernel, :func:`condition_point`: the phase a
-  float, the basis centres formed in it, 8 arguments (numba's dispatch,
-  0.5 µs, is a third of the kernel's call), its glue inline (each NumPy call
-  or method call costs 0.1–1 µs of a ~3.5 µs call; ``setflags`` by keyword
-  cost 2.5× positional). The kernel writes the new mean basis-major as well
-  and ``Z`` transposed by dimension, so that a path and a band are each one
-  ``np.dot`` with a contiguous operand (a transposed one cost 40 % more;
-  ``@`` 20 % more than ``np.dot``). The kernel's
+  float, the basis centres formed in it, 5 arguments, the model's width,
+  cut, mean and covariance in one writeable array kept per model (numba's
+  dispatch is a third of the kernel's call; 8 arguments with two read-only
+  arrays, which numba types by its slow path, took 0.3 µs more), its glue
+  inline (each NumPy call or method call costs 0.1–1 µs of a ~3 µs call;
+  ``setflags`` by keyword cost 2.5× positional); the conditioned copy fills
+  its own dict from the attributes kept for copies (copying the dict and
+  deleting what is kept for speed was 0.7 µs). What is kept is dropped when
+  an attribute is set (:meth:`ProMP.__setattr__`). The kernel writes the
+  new mean basis-major as well and ``Z`` transposed by dimension, so that a
+  path and a band are each one ``np.dot`` with a contiguous operand (a
+  transposed one cost 40 % more; ``@`` 20 % more than ``np.dot``). The kernel's
   pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut
   (or, where the innovation covariance is certainly well conditioned, its
   inverse Cholesky factor: :mod:`._promp_kernels`); the two agree to 1e-9
