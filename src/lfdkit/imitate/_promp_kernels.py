@@ -218,7 +218,7 @@ def _work_size(k, d, b):
     return m * d * b + k * b + 3 * m * m + 4 * m
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")  # in its two callers: 0.14 of a 1.1 µs one-point call
 def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out, work):
     """The work of :func:`condition_weights` (same arguments; ``work``: scratch of
     :func:`_work_size` floats).
