@@ -336,9 +336,21 @@ class ProMP(Estimator):
         -------
         ndarray, shape (n_points, n_dims)
         """
-        if "weights_mean_" not in self.__dict__:
+        state = self.__dict__
+        mean = state.get("weights_mean_")
+        if mean is None:
             self._check_fitted()
-        return self._mean_from(self._grid(n_points))
+        # Inline (each method call is 0.1 µs of a 1.5 µs path): the grid's activations...
+        features = None
+        if type(n_points) is int:
+            features = _GRIDS.get((state["n_basis"], state["width_"], n_points))
+        if features is None:
+            features = self._grid(n_points)
+        # ... and the mean basis-major (:meth:`_mean_columns`).
+        kept = state.get("_columns_cache")
+        if kept is None or kept[0] is not mean:
+            kept = self._mean_columns()
+        return np.dot(features, kept[1])
 
     def timed_mean(self, duration: float, n_points: int = 100) -> TimedPath:
         """The mean path as a movement of ``duration`` seconds (phase linear in time).
@@ -878,13 +890,12 @@ class ProMP(Estimator):
         mean = state.get("weights_mean_")
         if mean is None:
             self._check_fitted()
-        d = state["n_dims_"]
         pending = state.get("_pending_cov")
         if pending is not None and mean.base is pending[1]:  # the kernel's buffer of this mean
             out, m, n = pending[1], pending[3], len(mean)
-            columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, d)
+            columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, state["n_dims_"])
         else:
-            columns = _frozen(np.ascontiguousarray(mean.reshape(d, -1).T))
+            columns = _frozen(np.ascontiguousarray(mean.reshape(state["n_dims_"], -1).T))
         kept = state["_columns_cache"] = (mean, columns)
         return kept
 
