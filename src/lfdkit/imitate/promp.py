@@ -573,7 +573,7 @@ class ProMP(Estimator):
         )
         means, _, lost, _, _ = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size, d)
         cov = _frozen(_conditioned_covariance(self._weights_cov(), out, len(sets), sets[0].size))
-        out = [self._with_weights(mean, cov) for mean in means]
+        out = self._with_weights(means, cov)
         if n_dropped:
             for j, model in enumerate(out):
                 if model._warn_unreachable(sets[j], s, lost[j].reshape(-1, d), f"points[{j}]"):
@@ -647,20 +647,23 @@ class ProMP(Estimator):
         out.setflags(False)
         return out, n_dropped
 
-    def _with_weights(self, mean: np.ndarray, cov: np.ndarray) -> ProMP:
-        """A fitted copy with another weight distribution (``mean`` and ``cov`` read-only).
+    def _with_weights(self, means: np.ndarray, cov: np.ndarray) -> list[ProMP]:
+        """Fitted copies, one per mean of ``means`` (n_copies, n_weights), sharing the
+        covariance ``cov`` (all read-only).
 
         Without the constructor's signature inspection (it was a third of a
         conditioning call); width, dimensions, demos and residual are kept.
         """
-        new = object.__new__(type(self))
-        copied = self._copied_state()
-        made = new.__dict__
-        made.update(copied)
-        made["weights_mean_"] = mean
-        made["weights_cov_"] = cov
-        made["_copy_state"] = copied
-        return new
+        copied, kind, copies = self._copied_state(), type(self), []
+        for mean in means:
+            new = object.__new__(kind)
+            made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
+            made.update(copied)
+            made["weights_mean_"] = mean
+            made["weights_cov_"] = cov
+            made["_copy_state"] = copied
+            copies.append(new)
+        return copies
 
     def _copied_state(self) -> dict[str, Any]:
         """What a conditioned copy takes of this model's attributes: all but its weights
