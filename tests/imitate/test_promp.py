@@ -228,7 +228,8 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
                 single = np.empty(promp._out_size(1, n_weights, m))
                 general = np.empty_like(single)
                 variance = 0.01 * scale**2 * (trial % 2)
-                got = run(mean, cov, phases[0], width, sets[0], variance, 1e-10, single)
+                prior = np.r_[width, 1e-10, mean, cov.ravel()]
+                got = run(prior, phases[0], sets[0], variance, single)
                 args = (mean, cov, centres, phases, width, sets[:1], variance, noise, 1e-10)
                 assert got == _promp_kernels.condition_weights(*args, general)
                 # Z is one root of many: compared through what is made of it.
@@ -287,6 +288,34 @@ def test_weights_are_read_only_and_new_ones_replace_what_was_kept():
     again = back.condition(point, [0.5], 0.1)
     np.testing.assert_array_equal(again.weights_mean_, quick.weights_mean_)
     np.testing.assert_array_equal(again.weights_cov_, quick.weights_cov_)
+
+
+def test_what_conditioning_keeps_follows_attributes_set_after_it(full_rank_model):
+    """The kernel's copy of the weights and the attributes copies take are kept per model:
+    a new weight array, width or attribute set afterwards must be what the next
+    conditioning (one point: the kept copy; two: the general route) uses."""
+    model = ProMP.from_state(full_rank_model.to_state())
+    point, phase = model.mean_at([0.4])[0] + 0.2, 0.4
+    model.condition(point, [phase], 0.01)  # keeps the kernel's weights and the copied state
+    model.weights_mean_ = model.weights_mean_ + 1.0  # every path 1 higher (bumps sum to 1)
+    model.weights_cov_ = 2.0 * model.weights_cov_
+    model.width_ = 0.3
+    model.n_demos_ = 99
+    fresh = ProMP.from_state(model.to_state())
+    for points, phases in (([point], [phase]), ([point, point - 0.1], [phase, 0.8])):
+        got, want = model.condition(points, phases, 0.01), fresh.condition(points, phases, 0.01)
+        np.testing.assert_array_equal(got.weights_mean_, want.weights_mean_)
+        np.testing.assert_array_equal(got.weights_cov_, want.weights_cov_)
+        assert (got.width_, got.n_demos_) == (0.3, 99)
+    # A conditioned model conditioned again: from its own weights (formed now), not its source's.
+    via = model.condition(point, [phase], 0.01)
+    twice = via.condition(point - 0.1, [0.8], 0.01)
+    np.testing.assert_allclose(
+        twice.weights_mean_,
+        model.condition([point, point - 0.1], [phase, 0.8], 0.01).weights_mean_,
+        rtol=1e-9,
+        atol=1e-9,
+    )
 
 
 @settings(max_examples=40, deadline=None)

@@ -13,12 +13,13 @@ The pseudo-inverse comes from a cyclic Jacobi eigen-decomposition (the
 innovation covariance is at most a few tens of rows; no LAPACK call, whose
 set-up costs more than the work), with the NumPy form's cut: eigenvalues at
 or below ``rcond`` times the largest are dropped. Where the innovation
-covariance is certainly well conditioned (``tr(S) · tr(S⁻¹) <= 1e3``, a
+covariance is certainly well conditioned (``tr(S) · tr(S⁻¹) <= 1e6``, a
 bound on its condition number), nothing would be dropped and its inverse
 Cholesky factor is the root instead: three points in 2-D, 6.9 → 3.1 µs
 (Jacobi's 6 × 6 took 5 µs); results agree with the Jacobi route to 3e-13
 of their scale on 420 conditionings of 42 models (1–3 dimensions, units
-1e-3 to 1e3). Its twin with the same arguments and effects is
+1e-3 to 1e3) at bounds up to 1e3, and with LAPACK's (the NumPy twin) as
+closely as Jacobi's does up to 1e6. Its twin with the same arguments and effects is
 :func:`lfdkit.imitate.promp.condition_weights` (``lfdkit.core.kernels``
 picks one); they agree to rounding (the tests hold them to 1e-9 of the
 units). :func:`condition_point` is the one-point call with fewer arguments.
@@ -35,11 +36,13 @@ _MAX_SWEEPS = 60
 
 #: Largest bound ``tr(S) · tr(S⁻¹)`` on the innovation covariance's condition number
 #: for which its inverse Cholesky factor stands in for the pseudo-inverse's root: far
-#: from the cut of 1e-10 (nothing would be dropped), and close enough to 1 that the two
-#: routes agree to ~1e-13 of the results (both round within the condition number times
-#: the machine epsilon). 1e4 would take the Cholesky route for 79 % of the benchmark's
-#: three random phases (1e3: 38 %) but agreed only to 4e-12.
-_CHOLESKY_BOUND = 1e3
+#: from the cut of 1e-10 (nothing would be dropped). Both routes round within about the
+#: condition number times the machine epsilon: on the benchmark's three random phases
+#: (walking, 1000 draws) the 555 with a bound in (1e3, 1e6] agreed with the NumPy twin
+#: (LAPACK) to 2.6e-10 of the results' scale by Cholesky, 2.0e-10 by Jacobi; the worst
+#: of all draws, Jacobi's beyond 1e6, 3e-7. 1e3 took the Cholesky route for 40 % of the
+#: draws, 1e6 for 98 % (3 new phases: 11 → 8 µs a conditioning).
+_CHOLESKY_BOUND = 1e6
 
 
 @numba.njit(cache=True)
@@ -172,16 +175,23 @@ def condition_weights(
 
 
 @numba.njit(cache=True)
-def condition_point(mean, cov, phase, width, point, variance, rcond, out):
+def condition_point(prior, phase, point, variance, out):
     """:func:`condition_weights` for one point set of one via-point with a variance.
 
-    ``phase`` a float, ``point`` (1, d): the common call, with fewer arguments
-    to unbox (numba's dispatch is a third of a one-point call), no phase
-    array to make in Python, and the basis centres over the width formed
-    here (as ``np.linspace(0, 1, b) / width``, to the bit).
+    ``prior`` is the model's ``[width, rcond, mean (n), cov (n × n, row-major)]``
+    in one writeable array, ``phase`` a float, ``point`` (1, d), ``out`` the
+    buffer of one set (its length gives ``n``): the common call, with five
+    arguments to type and unbox (numba's dispatch was a third of a one-point
+    call; a read-only array takes its slow typing path), no phase array to
+    make in Python, and the basis centres over the width formed here (as
+    ``np.linspace(0, 1, b) / width``, to the bit).
     """
     d = point.shape[1]
-    b = mean.shape[0] // d
+    n = (out.shape[0] - d) // (2 * (1 + d))
+    b = n // d
+    width, rcond = prior[0], prior[1]
+    mean = prior[2 : 2 + n]
+    cov = prior[2 + n : 2 + n + n * n].reshape((n, n))
     # One allocation for all scratch (each costs about a twentieth of the kernel).
     work = np.empty(_work_size(1, d, b) + 1 + d + b)
     phases = work[:1]
@@ -208,7 +218,7 @@ def _work_size(k, d, b):
     return m * d * b + k * b + 3 * m * m + 4 * m
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")  # in its two callers: 0.14 of a 1.1 µs one-point call
 def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out, work):
     """The work of :func:`condition_weights` (same arguments; ``work``: scratch of
     :func:`_work_size` floats).

@@ -62,13 +62,18 @@ Why this design:
   that: its source's band (kept on the source per grid) less the squared
   norms of ``Z φ`` per coordinate. One point at one phase with a variance
   (most calls) goes to its own kernel, :func:`condition_point`: the phase a
-  float, the basis centres formed in it, 8 arguments (numba's dispatch,
-  0.5 µs, is a third of the kernel's call), its glue inline (each NumPy call
-  or method call costs 0.1–1 µs of a ~3.5 µs call; ``setflags`` by keyword
-  cost 2.5× positional). The kernel writes the new mean basis-major as well
-  and ``Z`` transposed by dimension, so that a path and a band are each one
-  ``np.dot`` with a contiguous operand (a transposed one cost 40 % more;
-  ``@`` 20 % more than ``np.dot``). The kernel's
+  float, the basis centres formed in it, 5 arguments, the model's width,
+  cut, mean and covariance in one writeable array kept per model (numba's
+  dispatch is a third of the kernel's call; 8 arguments with two read-only
+  arrays, which numba types by its slow path, took 0.3 µs more), its glue
+  inline (each NumPy call or method call costs 0.1–1 µs of a ~3 µs call;
+  ``setflags`` by keyword cost 2.5× positional); the conditioned copy fills
+  its own dict from the attributes kept for copies (copying the dict and
+  deleting what is kept for speed was 0.7 µs). What is kept is dropped when
+  an attribute is set (:meth:`ProMP.__setattr__`). The kernel writes the
+  new mean basis-major as well and ``Z`` transposed by dimension, so that a
+  path and a band are each one ``np.dot`` with a contiguous operand (a
+  transposed one cost 40 % more; ``@`` 20 % more than ``np.dot``). The kernel's
   pseudo-inverse is a Jacobi eigen-decomposition with the NumPy twin's cut
   (or, where the innovation covariance is certainly well conditioned, its
   inverse Cholesky factor: :mod:`._promp_kernels`); the two agree to 1e-9
@@ -146,7 +151,17 @@ _GRIDS: dict = {}
 #: Attributes a model keeps for speed only (the sampling root, the bands its conditioned
 #: models' std reads) or until first use (the conditioned covariance's parts): never
 #: copied to another model.
-_KEPT = ("_root_cache", "_pending_cov", "_band_cache", "_columns_cache")
+_KEPT = (
+    "_root_cache",
+    "_pending_cov",
+    "_band_cache",
+    "_columns_cache",
+    "_copy_state",
+    "_prior_cache",
+)
+
+#: What an attribute set makes stale (the others are checked against the weight arrays).
+_DROPPED_ON_SET = ("_copy_state", "_prior_cache")
 
 #: Phase types the one-point route takes as they are (others: an array first).
 _PHASE_TYPES = frozenset((float, np.float64))
@@ -321,9 +336,21 @@ class ProMP(Estimator):
         -------
         ndarray, shape (n_points, n_dims)
         """
-        if "weights_mean_" not in self.__dict__:
+        state = self.__dict__
+        mean = state.get("weights_mean_")
+        if mean is None:
             self._check_fitted()
-        return self._mean_from(self._grid(n_points))
+        # Inline (each method call is 0.1 µs of a 1.5 µs path): the grid's activations...
+        features = None
+        if type(n_points) is int:
+            features = _GRIDS.get((state["n_basis"], state["width_"], n_points))
+        if features is None:
+            features = self._grid(n_points)
+        # ... and the mean basis-major (:meth:`_mean_columns`).
+        kept = state.get("_columns_cache")
+        if kept is None or kept[0] is not mean:
+            kept = self._mean_columns()
+        return np.dot(features, kept[1])
 
     def timed_mean(self, duration: float, n_points: int = 100) -> TimedPath:
         """The mean path as a movement of ``duration`` seconds (phase linear in time).
@@ -436,13 +463,10 @@ class ProMP(Estimator):
             point a compromise, never unreachable.
         """
         state = self.__dict__
-        mean = state.get("weights_mean_")
-        if mean is None:
-            self._check_fitted()
-        cov = state.get("weights_cov_")
-        if cov is None:  # a conditioned model's: formed now
-            cov = self._weights_cov()
-        n_weights = len(mean)
+        kept = state.get("_prior_cache")
+        if kept is None:  # checks that it is fitted, forms a conditioned model's covariance
+            kept = self._kernel_prior()
+        prior, n_weights, size, shape, cov = kept
         # The common call, one point at one phase with a variance, goes to the one-point
         # kernel with its argument types and shapes checked here (values by the kernel);
         # the glue is inline: each NumPy call or method call costs 0.1–1 µs of a 3 µs call.
@@ -462,34 +486,36 @@ class ProMP(Estimator):
                     pts = np.asarray(points, dtype=np.float64)
                 except (TypeError, ValueError):
                     pts = None
-            d = state["n_dims_"]
-            if pts is not None and pts.shape != (1, d):
-                pts = pts.reshape(1, d) if pts.shape == (d,) else None
+            if pts is not None and pts.shape != shape:
+                pts = pts.reshape(shape) if pts.shape == shape[1:] else None
         if pts is None:
             pts, s, variance, noise = self._checked_via(points, phases, covariance)
             out, n_dropped = self._conditioned(pts[None], s, variance, noise)
             m = pts.size
         else:
-            out = np.empty(2 * (1 + d) * n_weights + d)
-            width = state["width_"]
-            n_dropped = _point_kernel()(
-                mean,
-                cov,
+            out = np.empty(size)
+            n_dropped = (_COMPILED_POINT[0] if _COMPILED_POINT else _point_kernel())(
+                prior,
                 phase,
-                width,
                 pts,
                 covariance if type(covariance) is float else float(covariance),
-                _PINV_RCOND,
                 out,
             )
             if n_dropped < 0:  # a value the quick check let through: the full checks name it
                 self._checked_via(points, phases, covariance, full=True)
             out.setflags(False)  # the new mean is a view: read-only too (by keyword: 2.5× slower)
-            s, m = phase, d
+            s, m = phase, shape[1]
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
-        # alone does not need it.
-        new = self._with_weights(out[:n_weights], None)
-        new.__dict__["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
+        # alone does not need it. The copy made inline (a method call is 0.1 µs).
+        copied = state.get("_copy_state")
+        if copied is None:
+            copied = self._copied_state()
+        new = object.__new__(type(self))
+        made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
+        made.update(copied)
+        made["weights_mean_"] = out[:n_weights]
+        made["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
+        made["_copy_state"] = copied
         if n_dropped:
             lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
             new._warn_unreachable(pts, np.reshape(s, -1), lost, "points")
@@ -547,7 +573,7 @@ class ProMP(Estimator):
         )
         means, _, lost, _, _ = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size, d)
         cov = _frozen(_conditioned_covariance(self._weights_cov(), out, len(sets), sets[0].size))
-        out = [self._with_weights(mean, cov) for mean in means]
+        out = self._with_weights(means, cov)
         if n_dropped:
             for j, model in enumerate(out):
                 if model._warn_unreachable(sets[j], s, lost[j].reshape(-1, d), f"points[{j}]"):
@@ -621,25 +647,68 @@ class ProMP(Estimator):
         out.setflags(False)
         return out, n_dropped
 
-    def _with_weights(self, mean: np.ndarray, cov: np.ndarray | None) -> ProMP:
-        """A fitted copy with another weight distribution (``mean`` and ``cov`` read-only;
-        ``cov`` None: the caller sets ``_pending_cov``).
+    def _with_weights(self, means: np.ndarray, cov: np.ndarray) -> list[ProMP]:
+        """Fitted copies, one per mean of ``means`` (n_copies, n_weights), sharing the
+        covariance ``cov`` (all read-only).
 
         Without the constructor's signature inspection (it was a third of a
         conditioning call); width, dimensions, demos and residual are kept.
         """
-        new = object.__new__(type(self))
-        state = self.__dict__.copy()
-        for kept in _KEPT:  # this model's, not the copy's
-            if kept in state:
-                del state[kept]
-        state["weights_mean_"] = mean
-        if cov is None:
-            del state["weights_cov_"]  # formed from _pending_cov when read
-        else:
-            state["weights_cov_"] = cov
-        new.__dict__ = state
-        return new
+        copied, kind, copies = self._copied_state(), type(self), []
+        for mean in means:
+            new = object.__new__(kind)
+            made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
+            made.update(copied)
+            made["weights_mean_"] = mean
+            made["weights_cov_"] = cov
+            made["_copy_state"] = copied
+            copies.append(new)
+        return copies
+
+    def _copied_state(self) -> dict[str, Any]:
+        """What a conditioned copy takes of this model's attributes: all but its weights
+        and what is kept for speed (kept until an attribute is set, shared by the copies).
+
+        Copying the attributes and deleting those per call was a quarter of a
+        one-point conditioning (0.7 of 3 µs of glue).
+        """
+        state = self.__dict__
+        copied = state.get("_copy_state")
+        if copied is None:
+            skipped = (*_KEPT, "weights_mean_", "weights_cov_")
+            copied = {key: value for key, value in state.items() if key not in skipped}
+            state["_copy_state"] = copied
+        return copied
+
+    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray]:
+        """For the one-point kernel: ``[width, rcond, mean, cov]`` in one writeable array
+        (private; the weights' own arrays are read-only), the weights' count, the
+        kernel buffer's length, a point's shape (1, n_dims) and ``weights_cov_``;
+        kept until an attribute is set.
+
+        Three arrays of which two read-only took numba 0.3 µs more to type and
+        unbox than one writeable array (a tenth of a one-point conditioning).
+        """
+        state = self.__dict__
+        kept = state.get("_prior_cache")
+        if kept is None:
+            self._check_fitted()
+            mean, cov = state["weights_mean_"], self._weights_cov()
+            n, d = len(mean), state["n_dims_"]
+            prior = np.empty(2 + n + n * n)
+            prior[0], prior[1] = state["width_"], _PINV_RCOND
+            prior[2 : 2 + n] = mean
+            prior[2 + n :] = cov.reshape(-1)
+            kept = state["_prior_cache"] = (prior, n, 2 * (1 + d) * n + d, (1, d), cov)
+        return kept
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        """Set an attribute, forgetting what is kept of the others for conditioning."""
+        state = self.__dict__
+        for stale in _DROPPED_ON_SET:
+            if stale in state:
+                del state[stale]
+        object.__setattr__(self, name, value)
 
     def __getattr__(self, name: str) -> Any:
         """``weights_cov_`` of a conditioned model, formed on first use (then an attribute)."""
@@ -824,13 +893,12 @@ class ProMP(Estimator):
         mean = state.get("weights_mean_")
         if mean is None:
             self._check_fitted()
-        d = state["n_dims_"]
         pending = state.get("_pending_cov")
         if pending is not None and mean.base is pending[1]:  # the kernel's buffer of this mean
             out, m, n = pending[1], pending[3], len(mean)
-            columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, d)
+            columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, state["n_dims_"])
         else:
-            columns = _frozen(np.ascontiguousarray(mean.reshape(d, -1).T))
+            columns = _frozen(np.ascontiguousarray(mean.reshape(state["n_dims_"], -1).T))
         kept = state["_columns_cache"] = (mean, columns)
         return kept
 
@@ -986,22 +1054,19 @@ def condition_weights(
 
 
 def condition_point(
-    mean: np.ndarray,
-    cov: np.ndarray,
-    phase: float,
-    width: float,
-    point: np.ndarray,
-    variance: float,
-    rcond: float,
-    out: np.ndarray,
+    prior: np.ndarray, phase: float, point: np.ndarray, variance: float, out: np.ndarray
 ) -> int:
-    """:func:`condition_weights` for one via-point (``point`` (1, d), ``phase`` a float)
-    with a variance: the twin of :func:`lfdkit.imitate._promp_kernels.condition_point`."""
+    """:func:`condition_weights` for one via-point (``point`` (1, d), ``phase`` a float) with
+    a variance, the model given as :meth:`ProMP._kernel_prior`'s ``[width, rcond, mean,
+    cov]`` (``out``'s length gives the weights): the twin of
+    :func:`lfdkit.imitate._promp_kernels.condition_point`."""
     d = point.shape[1]
+    n = (len(out) - d) // (2 * (1 + d))
+    width, rcond = float(prior[0]), float(prior[1])
     return condition_weights(
-        mean,
-        cov,
-        _scaled_centres(len(mean) // d, width),
+        prior[2 : 2 + n],
+        prior[2 + n : 2 + n + n * n].reshape(n, n),
+        _scaled_centres(n // d, width),
         np.array([phase]),
         width,
         point.reshape(1, 1, d),
