@@ -143,6 +143,7 @@ from lfdkit.emulate.problem import (
     Problem,
     check_times,
     goal_weights,
+    horizon_points,
     longest_segment,
     predicted_sigma,
 )
@@ -823,6 +824,8 @@ def _route(
 ) -> tuple[np.ndarray, int, bool]:
     """The plan of ``problem`` (its weights as they are): full horizon or receding horizon."""
     if horizon is not None:
+        if not lookahead:  # the thesis's window spans its share of the path (horizon_points)
+            horizon = horizon_points(horizon, problem.n + 1)
         return _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
     if init is not None:
         starts = [init]
@@ -1217,16 +1220,17 @@ def _look_ahead_reach(horizon: int, n_points: int, stride: int, lookahead: bool)
     The horizon, over every ``stride``-th point where the route is
     (:func:`_coarse_look_ahead`); with ``lookahead``, at least the fraction of
     the path the horizon spans at :data:`~lfdkit.emulate.problem.PLAN_POINTS`
-    points (``⌈H K / 100⌉`` of ``K``). A plan at 500 points then turns where
-    one at 100 does: with the horizon's 8 points alone (1.6 % of the path)
-    the route came too late to swerve round a 0.2 m ball on a 1 m path at a
-    45° slope and the plan was refused. At 100 points or fewer it is the
-    horizon (the plan bit for bit as before); without ``lookahead`` (the
-    thesis's MPC, which the IOC fits) it stays the horizon's reach.
+    points (:func:`~lfdkit.emulate.problem.horizon_points`). A plan at 500
+    points then turns where one at 100 does: with the horizon's 8 points
+    alone (1.6 % of the path) the route came too late to swerve round a
+    0.2 m ball on a 1 m path at a 45° slope and the plan was refused. At 100
+    points or fewer it is the horizon (the plan bit for bit as before);
+    without ``lookahead`` (the thesis's MPC, which the IOC fits) ``horizon``
+    is already the window's points (:func:`_route`).
     """
     reach = horizon * stride
     if lookahead:
-        reach = max(reach, -(-horizon * n_points // PLAN_POINTS))
+        reach = max(reach, horizon_points(horizon, n_points))
     return reach
 
 
