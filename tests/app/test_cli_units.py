@@ -166,6 +166,36 @@ def test_learn_refuses_millimetres_or_centimetres_read_as_metres(
     assert f"warning: {demos}: they span" in err and f"pass --units {likely}" in err
 
 
+def test_learn_warns_metres_given_as_centimetres(capsys, tmp_path) -> None:
+    # The shipped 0.8 m sweeps with --units cm: a 0.8 cm task, learned silently at 2f1f475.
+    demos = tmp_path / "sweeps.csv"
+    save_demos(demos, _sweeps(1.0))
+    code, _, err = run_cli(capsys, "learn", demos, "--units", "cm", "-o", tmp_path / "s.json")
+    assert code == 0, err
+    said = [line for line in err.splitlines() if "--units" in line]
+    span = max(float(np.ptp(d, axis=0).max()) for d in _sweeps(1.0))
+    assert said == [
+        f"lfdkit learn: warning: {demos}: they span {span:.4g} cm, less than a task recorded "
+        f"in centimetres does (under 2 cm; one that small is recorded in mm); in m they would "
+        f"span {span:.3g} m: if that is their unit, pass --units m"
+    ]
+
+
+def test_learn_keeps_a_small_task_in_millimetres(capsys, tmp_path) -> None:
+    # A 5 mm insertion recorded in mm (and 15 mm strokes): no word on units.
+    for size in (5.0, 15.0):
+        demos = [
+            np.c_[np.linspace(0, size, 30), 0.1 * size * np.sin(np.linspace(0, 3, 30)) + dy]
+            for dy in (0.0, 0.02 * size)
+        ]
+        path = tmp_path / f"small{size:g}.csv"
+        save_demos(path, demos)
+        out = tmp_path / f"s{size:g}.json"
+        code, _, err = run_cli(capsys, "learn", path, "--units", "mm", "-o", out)
+        assert code == 0, err
+        assert "span" not in err and "--units" not in err
+
+
 def test_learn_refuses_timed_centimetres_by_their_speed(capsys, tmp_path) -> None:
     # 15 cm strokes in cm over 0.5 s: span 15 (under the 20 m rule), 30 "m/s" on average.
     x = np.linspace(0.0, 15.0, 30)

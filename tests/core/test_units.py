@@ -50,6 +50,7 @@ def test_an_unknown_unit_is_refused_naming_the_argument_and_the_choices(bad) -> 
 from lfdkit.core.units import (  # noqa: E402
     MAX_EXTENT_M,
     MAX_MEAN_SPEED_M_S,
+    MIN_EXTENT_CM,
     MIN_EXTENT_M,
     implausible_units,
     likely_units,
@@ -73,6 +74,12 @@ from lfdkit.core.units import (  # noqa: E402
         (15.0, "m", 150.0, True),  # 15 cm in cm, timed over 1 s: the speed gives it away
         (15.0, "m", None, False),  # ... untimed, it is not caught (the rule's stated gap)
         (300.0, "mm", 200.0, False),
+        (0.8, "cm", None, True),  # a 0.8 m reach in metres read as cm (passed at 2f1f475)
+        (MIN_EXTENT_CM * 0.999, "cm", None, True),
+        (MIN_EXTENT_CM, "cm", None, False),  # the bound itself passes
+        (80.0, "cm", None, False),  # the shipped sweep in cm
+        (5.0, "mm", None, False),  # a real 5 mm task in mm
+        (1.5, "mm", None, False),
     ],
 )
 def test_the_units_rule_flags_only_implausible_sizes_and_speeds(

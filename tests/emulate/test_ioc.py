@@ -305,7 +305,8 @@ def test_a_class_far_from_every_demonstration_is_not_learned() -> None:
     far = Obstacle("vase", [0.5, 10.0])  # 10 m away from paths 1 m long
     scenes = [Scene((*s.obstacles, far)) for s in scenes]
     with pytest.warns(
-        UserWarning, match="obstacle 'vase' is never near any demonstration; its class"
+        UserWarning,
+        match=r"obstacle 'vase' is never near any demonstration \(the nearest passes 9\.71",
     ):
         ioc = IOC().fit(demos, scenes, nominal())
     assert ioc.not_learned_ == ("vase",)
@@ -315,6 +316,29 @@ def test_a_class_far_from_every_demonstration_is_not_learned() -> None:
     np.testing.assert_allclose(np.exp(ioc.theta_), np.exp(TRUE.theta), rtol=1e-2)
     with pytest.raises(ValueError, match=r"'vase' was never learned.*Skill\.adopt"):
         ioc.plan(nominal(), Scene((Obstacle("vase", [0.5, 0.2]),)))
+
+
+@pytest.mark.parametrize(
+    ("distance", "scale"), [(0.6, 1.0), (1.0, 1000.0), (3.0, 1.0), (10.0, 1000.0)]
+)
+def test_a_class_never_near_is_left_out_the_same_way_at_any_distance(distance, scale) -> None:
+    # A vase ``distance`` m beside the middle of a 1 m path (0.32 m or more from every
+    # demonstration). At 2f1f475 it was fitted up to 3.7 path spans away (in 3-D a box one
+    # span aside ended the fit degenerate), and left out, "never near", only beyond.
+    demos, scenes = demonstrations(4)
+    vase = Obstacle("vase", [0.5, distance])
+    scenes = [Scene((*s.obstacles, vase)).scaled(scale) for s in scenes]
+    reach = f"{0.25 * scale:.3g}"  # a quarter of the nominal's extent, in the data's units
+    with pytest.warns(UserWarning) as caught:
+        ioc = IOC().fit([d * scale for d in demos], scenes, nominal() * scale)
+    said = [str(w.message) for w in caught if "'vase'" in str(w.message)]
+    assert len(said) == 1
+    assert said[0].startswith("obstacle 'vase' is never near any demonstration (the nearest")
+    assert f"within {reach}, 0.25 of the nominal's extent" in said[0]
+    assert f"show one passing within {reach} of a 'vase'" in said[0]
+    assert ioc.not_learned_ == ("vase",)
+    assert ioc.classes_ == ("obstacle",)
+    assert ioc.converged_
 
 
 def test_a_class_the_demonstrations_ignore_is_not_learned() -> None:

@@ -154,3 +154,43 @@ def test_the_look_ahead_reach_is_the_horizon_at_100_points_and_a_share_of_the_pa
     assert reach(8, 250, 4, True) == 32
     assert reach(8, 500, 1, False) == 8
     assert reach(8, 500, 3, False) == 24
+
+
+@pytest.mark.parametrize(("n_points", "horizon"), [(250, 8), (500, 12)])
+def test_the_thesis_mpc_spans_its_share_of_the_path_at_any_number_of_points(n_points, horizon):
+    # lookahead=False (the thesis's MPC, what the IOC fits through): a 0.1 m ball 1 cm
+    # off a 1 m path, a response 20 cm wide. With a window of H points (1.6 % of the path
+    # at 500) it turned late and ran 14 mm (250 and 500 points) from the 100-point plan
+    # at 2f1f475; a window spanning H % of the path, as at 100 points, keeps within 2.5 mm.
+    reward, nominal, _ = ball_on_the_path(2, 0.1)
+    reward = Reward(5.0, {"obstacle": [25.0, 25.0]})
+    scene = Scene((Obstacle("obstacle", [0.5, 0.01], 0.1),))
+    plans = {
+        n: plan_path(
+            reward,
+            nominal,
+            scene,
+            horizon=horizon,
+            clearance=CLEARANCE,
+            n_points=n,
+            lookahead=False,
+        )
+        for n in (100, n_points)
+    }
+    fine = plans[n_points].points
+    at = np.linspace(0.0, 1.0, len(fine))
+    coarse = np.column_stack(
+        [np.interp(at, np.linspace(0.0, 1.0, 100), plans[100].points[:, i]) for i in range(2)]
+    )
+    assert plans[n_points].clearance.min() >= 0.0
+    assert np.linalg.norm(fine - coarse, axis=1).max() < 0.0025
+
+
+def test_the_horizon_counts_steps_of_a_100_point_path():
+    from lfdkit.emulate.problem import horizon_points
+
+    for n_points in (3, 40, 99, 100):  # plans and fits of 100 points or fewer as they were
+        assert horizon_points(8, n_points) == 8
+    assert horizon_points(8, 101) == 9  # ⌈8.08⌉
+    assert horizon_points(8, 250) == 20
+    assert horizon_points(12, 500) == 60

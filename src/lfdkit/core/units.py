@@ -15,12 +15,14 @@ learned as metres made a skill whose plans reported 436.9 m/s.
 :func:`implausible_units` is the rule. Converted to metres, demonstrations
 that span more than :data:`MAX_EXTENT_M` (20 m) or move faster than
 :data:`MAX_MEAN_SPEED_M_S` (5 m/s, mean speed over a timed demonstration; a
-hand moves at well under 2 m/s) or span less than :data:`MIN_EXTENT_M` (1 mm)
-are not in the unit claimed. 20 m, not 5: lfdkit's own synthetic "metre"
+hand moves at well under 2 m/s) or span less than :data:`MIN_EXTENT_M` (1 mm),
+or in centimetres less than :data:`MIN_EXTENT_CM` (2 cm: a 0.8 m reach in metres
+read as centimetres), are not in the unit claimed. 20 m, not 5: lfdkit's own synthetic "metre"
 sets span up to 11.4 m and a walking data set 7.1 m, and none of its 47
 built-in sets (LASA included) trips the rule. What it misses: untimed
-centimetre data spanning under 20 cm and untimed millimetre data under
-20 mm (their speed, when timed, still gives them away).
+centimetre data spanning under 20 cm read as metres, untimed millimetre data
+under 20 mm read as metres, and metres read as centimetres spanning over 2 m
+(their speed, when timed, gives the first two away).
 :meth:`lfdkit.skill.Skill.fit` warns (:class:`UnitsWarning`);
 ``lfdkit learn`` and ``lfdkit batch learn`` refuse when no ``--units`` was
 given, naming the likely unit.
@@ -46,6 +48,7 @@ from typing import Any
 __all__ = [
     "MAX_EXTENT_M",
     "MAX_MEAN_SPEED_M_S",
+    "MIN_EXTENT_CM",
     "MIN_EXTENT_M",
     "UNITS",
     "UnitsWarning",
@@ -122,6 +125,11 @@ def conversion_factor(from_units: str, to_units: str) -> float:
 MAX_EXTENT_M = 20.0
 #: Smallest span (m): a demonstration under 1 mm is metres read as millimetres.
 MIN_EXTENT_M = 1e-3
+#: Smallest span of a whole task recorded in centimetres (cm): an arm's task spans tens
+#: of centimetres, and one of a few millimetres (a small insertion) is recorded in
+#: millimetres, whose floor stays :data:`MIN_EXTENT_M`. A 0.8 m reach recorded in metres
+#: and learned as centimetres spans 0.8 cm: it passed the 1 mm floor.
+MIN_EXTENT_CM = 2.0
 #: Fastest mean speed (m/s) of a timed demonstration: a hand guiding a tool moves at
 #: well under 2 m/s (LASA's handwriting peaks at 0.07 m/s).
 MAX_MEAN_SPEED_M_S = 5.0
@@ -208,6 +216,11 @@ def implausible_units(extent: float, units: str, mean_speed: float | None = None
         )
     if extent * in_m < MIN_EXTENT_M:
         return f"they span {shown}, less than a demonstration can (under {MIN_EXTENT_M * 1e3:g} mm)"
+    if units == "cm" and extent < MIN_EXTENT_CM:
+        return (
+            f"they span {shown}, less than a task recorded in centimetres does (under "
+            f"{MIN_EXTENT_CM:g} cm; one that small is recorded in mm)"
+        )
     return None
 
 

@@ -63,7 +63,7 @@ from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.core.threads import available_cores, one_blas_thread
 from lfdkit.core.validation import check_horizon, check_path
 from lfdkit.emulate.planner import plan_path
-from lfdkit.emulate.problem import Corridor, Problem
+from lfdkit.emulate.problem import Corridor, Problem, horizon_points
 from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
 
@@ -203,7 +203,7 @@ def _mpc_with_sensitivity(
         np.array(item.start, dtype=np.float64),
         np.ascontiguousarray(np.where(item.found[1:, None], item.target[1:], 0.0)),
         np.ascontiguousarray(item.found[1:]),
-        int(horizon),
+        horizon_points(horizon, n + 1),
         offsets,
         sensitivity,
     )
@@ -254,10 +254,15 @@ THETA_BOUNDS = (-20.0, 25.0)
 #: Range of the starting search (normalised units): nominal weights and obstacle widths.
 SEARCH_WEIGHTS = (0.1, 1000.0)
 SEARCH_WIDTHS = (0.005, 1.0)
-#: An obstacle term smaller than this at every demonstration point (at the widest
-#: search width), or a class that moves no plan by more than this fraction of the
-#: demonstrations' offsets, did not shape them.
+#: A class that moves no plan by more than this fraction of the demonstrations'
+#: offsets did not shape them.
 INFLUENCE_FLOOR = 1e-6
+#: A class is identified only by demonstrations that pass within this fraction of the
+#: nominal's extent of one of its obstacles' surfaces; a class none comes that near is
+#: left out of θ, at any distance beyond (issue 34: a box one path span from every
+#: demonstration, 0.46 of the extent from the nearest, was fitted to a response 100×
+#: wider along one axis and the fit ended degenerate, while at 10 m it was left out).
+NEAR_REACH = 0.25
 #: L-BFGS-B's line search may fail at a point that is already stationary to the
 #: accuracy of the inner plans; below this projected gradient (of the loss scaled
 #: to about 1) that is accepted as convergence.
@@ -1157,10 +1162,10 @@ class IOC(Estimator):
         if missing:
             raise ValueError(f"classes: the scenes contain {missing[0]!r}, which is not listed")
         self._q = data[0].corridor.n_dims
-        # A class out of reach of every demonstration even at the widest response
-        # the search tries has no say in the loss: leave it out of θ.
-        reach = {c: self._influence(data, c, SEARCH_WIDTHS[1] ** -2) for c in wanted}
-        far = [c for c, value in reach.items() if value is None or value < INFLUENCE_FLOOR]
+        # A class no demonstration passes near (NEAR_REACH of the extent) cannot be
+        # identified from them, however far beyond: leave it out of θ.
+        nearest = {c: self._nearest(data, c) for c in wanted}
+        far = [c for c, gap in nearest.items() if gap is None or gap > NEAR_REACH]
         learnable = tuple(c for c in wanted if c not in far)
         self.classes_ = learnable
         data = self._without(data, far)
@@ -1229,9 +1234,13 @@ class IOC(Estimator):
         self.convergence_message_ = "; ".join(reasons) if reasons else "converged"
         for label in self.not_learned_:
             why = (
-                f"obstacle {label!r} is never near any demonstration; its class cannot be "
-                "learned from these demonstrations"
-                if label in far and reach[label] is not None
+                f"obstacle {label!r} is never near any demonstration (the nearest passes "
+                f"{nearest[label] * length:.3g} from one; a class is learned from "
+                f"demonstrations passing within {NEAR_REACH * length:.3g}, {NEAR_REACH:g} of "
+                f"the nominal's extent, in the data's units); its class cannot be learned "
+                f"from these demonstrations: show one passing within {NEAR_REACH * length:.3g} "
+                f"of a {label!r}"
+                if label in far and nearest[label] is not None
                 else f"obstacle class {label!r} was not learned: none of its obstacles "
                 "influenced a demonstration"
             )
@@ -1266,24 +1275,20 @@ class IOC(Estimator):
             )
         return self
 
-    def _influence(self, data: list[DemoInScene], label: str, precision: Any) -> float | None:
-        """Largest obstacle term of class ``label`` at a demonstration point (None: no obstacle).
+    @staticmethod
+    def _nearest(data: list[DemoInScene], label: str) -> float | None:
+        """Least distance from a demonstration to the surface of a ``label`` obstacle.
 
-        ``precision``: the class's diagonal precision (q,), or a scalar for an
-        isotropic one, in the units of ``data``.
+        In the units of ``data``; None where no scene has one.
         """
-        largest = None
+        out = None
         for item in data:
-            anchors, owner = item.scene.anchors()
-            mask = np.array([item.scene.labels[o] == label for o in owner], bool)
-            if not mask.any():
-                continue
-            points = item.corridor.to_points(np.where(item.found[:, None], item.target, 0.0))
-            rel = points[item.found][:, None, :] - anchors[mask][None]
-            depth = np.einsum("klq,q->kl", rel**2, np.broadcast_to(precision, (self._q,)))
-            value = float(np.exp(-depth.min()))
-            largest = value if largest is None else max(largest, value)
-        return largest
+            obstacles = [o for o in item.scene.obstacles if o.label == label]
+            if obstacles:
+                points = item.corridor.to_points(np.where(item.found[:, None], item.target, 0.0))
+                gap = min(o.distance(points[item.found]) for o in obstacles)
+                out = gap if out is None else min(out, gap)
+        return out
 
     def _moves_plans(self, theta: np.ndarray, data: list[DemoInScene], label: str) -> bool:
         """Whether class ``label``'s obstacles move a plan at ``theta`` by a noticeable amount.

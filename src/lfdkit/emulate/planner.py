@@ -62,7 +62,17 @@ than the horizon, the best ``H`` points head straight in. So by default
 current offset, from a backward dynamic programme computed once per plan,
 and the candidate executed is the one with least window cost plus the
 route's cost-to-go from the window's end. With ``lookahead=False`` it is
-the thesis's MPC: the window's own grid optimum, and the least window cost.
+the thesis's MPC: the window's own grid optimum, and the least window cost;
+its horizon counts steps of a 100-point path (the thesis's), so at ``K``
+points the window spans ``⌈H K / 100⌉`` points
+(:func:`~lfdkit.emulate.problem.horizon_points`; the IOC's MPC stage the
+same): with 8 points at 500 it saw a 0.1 m ball on a 1 m path too late
+and ran 14 mm from the 100-point plan (within 2 mm now; among three boxes
+in 3-D at 250 points, 6 of 10 folds of ``benchmarks/boxes3d.py`` within
+0.25 cm of the 100-point plan and a seventh 2.7 cm, where they were
+0.2–14 cm, at about 5× the plan's time; one fold still passes a box on
+another side, one is refused at 250 where it passes at 100 (the window's
+own 3-D grid is at most 30 action bounds a side), one is refused at both).
 Either way, a candidate from whose end the rest of the path is blocked is
 never executed. The route's grid has the global search's cell budget: where
 it cannot cover the scene and its route is blocked or runs along its edge,
@@ -143,6 +153,7 @@ from lfdkit.emulate.problem import (
     Problem,
     check_times,
     goal_weights,
+    horizon_points,
     longest_segment,
     predicted_sigma,
 )
@@ -594,7 +605,9 @@ def plan_path(
     scene : Scene
         Obstacles; every class must be known to ``reward``.
     horizon : int, optional
-        MPC horizon ``H`` with ``4 <= H <= 12``; None for the full-horizon optimum.
+        MPC horizon ``H`` with ``4 <= H <= 12``, in steps of a 100-point path
+        (without ``lookahead`` the window spans ``⌈H K / 100⌉`` of ``K > 100``
+        points); None for the full-horizon optimum.
     n_points : int, optional
         Points ``K`` of the plan (the nominal is resampled at constant speed),
         3 to :data:`lfdkit.emulate.problem.MAX_POINTS`; ignored for a
@@ -823,6 +836,8 @@ def _route(
 ) -> tuple[np.ndarray, int, bool]:
     """The plan of ``problem`` (its weights as they are): full horizon or receding horizon."""
     if horizon is not None:
+        if not lookahead:  # the thesis's window spans its share of the path (horizon_points)
+            horizon = horizon_points(horizon, problem.n + 1)
         return _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
     if init is not None:
         starts = [init]
@@ -1217,16 +1232,17 @@ def _look_ahead_reach(horizon: int, n_points: int, stride: int, lookahead: bool)
     The horizon, over every ``stride``-th point where the route is
     (:func:`_coarse_look_ahead`); with ``lookahead``, at least the fraction of
     the path the horizon spans at :data:`~lfdkit.emulate.problem.PLAN_POINTS`
-    points (``⌈H K / 100⌉`` of ``K``). A plan at 500 points then turns where
-    one at 100 does: with the horizon's 8 points alone (1.6 % of the path)
-    the route came too late to swerve round a 0.2 m ball on a 1 m path at a
-    45° slope and the plan was refused. At 100 points or fewer it is the
-    horizon (the plan bit for bit as before); without ``lookahead`` (the
-    thesis's MPC, which the IOC fits) it stays the horizon's reach.
+    points (:func:`~lfdkit.emulate.problem.horizon_points`). A plan at 500
+    points then turns where one at 100 does: with the horizon's 8 points
+    alone (1.6 % of the path) the route came too late to swerve round a
+    0.2 m ball on a 1 m path at a 45° slope and the plan was refused. At 100
+    points or fewer it is the horizon (the plan bit for bit as before);
+    without ``lookahead`` (the thesis's MPC, which the IOC fits) ``horizon``
+    is already the window's points (:func:`_route`).
     """
     reach = horizon * stride
     if lookahead:
-        reach = max(reach, -(-horizon * n_points // PLAN_POINTS))
+        reach = max(reach, horizon_points(horizon, n_points))
     return reach
 
 
