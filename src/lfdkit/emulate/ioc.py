@@ -63,7 +63,7 @@ from lfdkit.core.progress import ProgressLike, as_progress
 from lfdkit.core.threads import available_cores, one_blas_thread
 from lfdkit.core.validation import check_horizon, check_path
 from lfdkit.emulate.planner import plan_path
-from lfdkit.emulate.problem import Corridor, Problem, horizon_points
+from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
 
@@ -203,7 +203,7 @@ def _mpc_with_sensitivity(
         np.array(item.start, dtype=np.float64),
         np.ascontiguousarray(np.where(item.found[1:, None], item.target[1:], 0.0)),
         np.ascontiguousarray(item.found[1:]),
-        horizon_points(horizon, n + 1),
+        int(horizon),
         offsets,
         sensitivity,
     )
