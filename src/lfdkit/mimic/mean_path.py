@@ -811,7 +811,7 @@ class _State:
         self.scale = scale
         if self.dist is None:  # an accepted path is scored twice: on the old scales and its own
             offsets = np.where(self.found[..., None], self.hits - ref[:, None, :], 0.0)
-            self.dist = np.sqrt(np.einsum("mnq,mnq->mn", offsets, offsets))
+            self.dist = np.sqrt(_squared_norms(offsets))
         dist = self.dist
         spread = scale > 0.0
         s = np.where(spread, scale, 1.0)[:, None]
@@ -1115,7 +1115,7 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
             width = None
         start = np.nan_to_num(start)
         apart = pts - start[:, None, :]
-        dist = np.where(found, np.sqrt(np.einsum("mnq,mnq->mn", apart, apart)), np.nan)
+        dist = np.where(found, np.sqrt(_squared_norms(apart)), np.nan)
         scale = np.nan_to_num(1.4826 * _nanmedian(dist, axis=1))
     tiny = _TINY * (1.0 + np.abs(pts).max())
     if width is not None:
@@ -1439,7 +1439,7 @@ def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...
         scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
         scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
         apart = averaged - start[:, None, :]
-        distance = np.sqrt(np.einsum("mnk,mnk->mn", apart, apart)) / scale[:, None]
+        distance = np.sqrt(_squared_norms(apart)) / scale[:, None]
         out.append(np.where(found, distance, 0.0))
     return out
 
@@ -1873,6 +1873,18 @@ def _running_median(values: np.ndarray, window: int) -> np.ndarray:
         return _nanmedian(windows, axis=1)
 
 
+def _squared_norms(vectors: np.ndarray) -> np.ndarray:
+    """``np.einsum("...q,...q->...", v, v)``: the squared length of each vector, bit for bit.
+
+    With two components the sum is the two squares added in order, as NumPy's
+    einsum adds them (tested): on strided slices, three times faster than it.
+    """
+    if vectors.shape[-1] == 2:
+        x, y = vectors[..., 0], vectors[..., 1]
+        return x * x + y * y
+    return np.einsum("...q,...q->...", vectors, vectors)
+
+
 def _adaptive_weight(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
     """Weight of an intersection ``z`` robust scales from the centre: 1, falling to 0.
 
@@ -1943,11 +1955,21 @@ def _adaptive(
     # their values within the core: the mean), a few near burrs take ten or more.
     rows = np.arange(len(centre))
     at, on, sc, fixed = pts, found, s, prior
+    # In a plane the distances come from the two coordinates' contiguous copies: the
+    # same numbers as the vectors' (:func:`_squared_norms`), in a third of the time.
+    planar = pts.shape[2] == 2
+    if planar:
+        xs, ys = np.ascontiguousarray(pts[..., 0]), np.ascontiguousarray(pts[..., 1])
+        x_at, y_at = xs, ys
     # A small core converges linearly, as a median's reweighting does.
     for _ in range(50 if tuning == _DEFAULT else 300):
         current = centre[rows]
-        apart = at - current[:, None, :]
-        z = np.sqrt(np.einsum("mnq,mnq->mn", apart, apart)) / sc
+        if planar:
+            dx = x_at - current[:, :1]
+            dy = y_at - current[:, 1:]
+            z = np.sqrt(dx * dx + dy * dy) / sc
+        else:
+            z = np.sqrt(_squared_norms(at - current[:, None, :])) / sc
         w = np.where(on, _adaptive_weight(z, tuning), 0.0)
         if fixed is not None:
             w = w * fixed
@@ -1962,6 +1984,8 @@ def _adaptive(
         if moving.mean() < 0.75:  # gathering the rows costs a copy: worth it once few move
             rows = rows[moving]
             at, on, sc = pts[rows], found[rows], s[rows]
+            if planar:
+                x_at, y_at = xs[rows], ys[rows]
             fixed = None if prior is None else prior[rows]
     return np.where(degenerate[:, None], start, centre)
 
