@@ -288,7 +288,17 @@ implementation decides as follows (each is a constructor option):
   as much as the code, and with load 8-15 neither reached the 40x target for
   the first fit. No compiled kernel was added: ``import lfdkit.mimic``
   0.16-0.18 s of CPU and a fresh process's first burred fit 1.90-1.97 s
-  against 2.10-2.16 s.
+  against 2.10-2.16 s. Then, the same numbers again (94 fits compared bit for
+  bit, 2-D and 3-D): the adaptive centre's distances in a plane from the two
+  coordinates' contiguous copies, squared lengths as two products added
+  (:func:`_squared_norms`, einsum's numbers in a third of its time), and the
+  intersections' sub-chunk balls (:class:`lfdkit.core.geometry.PolylineSet`,
+  38 ms against 56 per 100 x 1000 evaluation); ``benchmarks/mimic_speed.py
+  --sets burrs``, four pairs of runs beside the unchanged code (load 4-17 on
+  2 cores): 45.1x, 41.5x, 37.1x, 46.7x (first fit 31.0x, 30.4x, 28.1x, 38.2x)
+  against 34.5x, 35.6x, 32.2x, 42.9x (27.7x, 28.5x, 26.9x, 26.3x), CPU
+  0.76-0.99 times (first fit 0.75-0.95). The first fit's 20 Gaussian
+  replicas (0.15 s) keep it below 40x on a loaded machine.
 """
 
 from __future__ import annotations
