@@ -270,7 +270,7 @@ def test_kernels_compile_without_a_writable_cache(tmp_path):
         "out = (np.full((1, 1, 2), np.nan), np.full((1, 1), -1), np.full((1, 1), np.inf))\n"
         "verts = np.array([[0.0, -1.0], [0.0, 1.0]])\n"
         "polylines = (verts, np.array([0]), np.array([1]), np.zeros((1, 2)), np.array([1.0]),\n"
-        "             np.array([0]), np.array([1]))\n"
+        "             np.array([0]), np.array([1]), np.zeros((2, 2)), np.array([1.0, 1.0]), 2, 2)\n"
         "kernels.nearest_crossings(np.zeros((1, 2)), np.array([[0.0, 1.0]]), polylines, 4,\n"
         "                          False, 1e-12, out)\n"
         "assert out[2][0, 0] == 0.0 and out[1][0, 0] == 0, out\n"
@@ -298,6 +298,27 @@ def test_long_polyline_default_chunks_match_brute_force():
     hits = PolylineSet([spiral]).intersect(pts, tan, same_direction=True)
     ref = reference_crossings(pts, tan, [spiral], True)
     assert_hits_match(hits, ref, pts, tan, [spiral])
+
+
+@pytest.mark.parametrize("same_direction", [True, False])
+def test_sub_chunk_pruning_changes_no_crossing_bit_for_bit(same_direction):
+    """Sub-chunks the hyperplane misses are skipped: every crossing is as without skipping."""
+    rng = np.random.default_rng(5)
+    t = np.linspace(0, 6 * np.pi, 1500)
+    spiral = np.column_stack((t * np.cos(t), t * np.sin(t)))
+    x = np.linspace(0.0, 120.0, 1000)
+    noisy = [np.column_stack((x, rng.normal(0.0, 0.01, x.size))) for _ in range(20)]
+    noisy[0][400:460, 1] += 0.1  # a burr
+    for polylines, path in ((noisy, noisy[1]), ([spiral, spiral[::-1]], spiral)):
+        queries = path[::7] + rng.normal(0.0, 0.05, path[::7].shape)
+        tangents = point_tangents(path)[::7]
+        pruned = PolylineSet(polylines)
+        fast = pruned.intersect(queries, tangents, same_direction=same_direction)
+        pruned._sub_radii[:] = np.inf  # every sub-chunk tested, as without them
+        every = pruned.intersect(queries, tangents, same_direction=same_direction)
+        assert fast.found.any()
+        for field in ("points", "segment", "distance"):
+            assert np.array_equal(getattr(fast, field), getattr(every, field), equal_nan=True)
 
 
 # ---------------------------------------------------------------- crossings: closed form

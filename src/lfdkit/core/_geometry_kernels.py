@@ -1,8 +1,8 @@
 """Compiled inner loop of :class:`lfdkit.core.geometry.PolylineSet` (numba).
 
 The nearest crossing of every query point's normal hyperplane with every
-polyline, pruned by bounding balls over chunks of segments. Imported lazily
-by :mod:`lfdkit.core.geometry`.
+polyline, pruned by bounding balls over chunks of segments and, inside a
+chunk, over sub-chunks. Imported lazily by :mod:`lfdkit.core.geometry`.
 
 One compiled function serves every size: it releases the GIL, so a large
 problem is split over threads by plain Python threads rather than a second,
@@ -54,6 +54,10 @@ def _queries(
     radii,
     chunk_offset,
     n_chunks,
+    sub_centres,
+    sub_radii,
+    n_sub,
+    sub,
     b,
     same_direction,
     tol,
@@ -102,39 +106,51 @@ def _queries(
                     continue
                 first = c * b
                 last = min(first + b, n_seg[j])  # exclusive segment bound
-                side_a = 0.0
-                for k in range(q):
-                    side_a += (verts[v0 + first, k] - points[i, k]) * tangents[i, k]
-                if abs(side_a) <= tol:
-                    side_a = 0.0
-                for s in range(first, last):
-                    side_b = 0.0
+                for kk in range(n_sub):
+                    s0 = first + kk * sub
+                    if s0 >= last:
+                        break
+                    # A sub-chunk whose ball the hyperplane misses has all its vertices
+                    # beyond tol on one side: none of its segments crosses.
+                    g = (c0 + c) * n_sub + kk
+                    along = 0.0
                     for k in range(q):
-                        side_b += (verts[v0 + s + 1, k] - points[i, k]) * tangents[i, k]
-                    if abs(side_b) <= tol:
+                        along += (sub_centres[g, k] - points[i, k]) * tangents[i, k]
+                    if abs(along) > sub_radii[g] + tol:
+                        continue
+                    side_a = 0.0
+                    for k in range(q):
+                        side_a += (verts[v0 + s0, k] - points[i, k]) * tangents[i, k]
+                    if abs(side_a) <= tol:
+                        side_a = 0.0
+                    for s in range(s0, min(s0 + sub, last)):
                         side_b = 0.0
-                    if same_direction:
-                        crosses = side_a <= 0.0 and side_b >= 0.0 and side_b > side_a
-                    else:
-                        crosses = (side_a <= 0.0 and side_b >= 0.0) or (
-                            side_a >= 0.0 and side_b <= 0.0
-                        )
-                    if crosses:
-                        ds = side_b - side_a
-                        u = -side_a / ds if ds != 0.0 else 0.0
-                        d2 = 0.0
                         for k in range(q):
-                            a = verts[v0 + s, k]
-                            x = a + u * (verts[v0 + s + 1, k] - a) - points[i, k]
-                            d2 += x * x
-                        d = np.sqrt(d2)
-                        if d < best:
-                            best = d
-                            seg = s
+                            side_b += (verts[v0 + s + 1, k] - points[i, k]) * tangents[i, k]
+                        if abs(side_b) <= tol:
+                            side_b = 0.0
+                        if same_direction:
+                            crosses = side_a <= 0.0 and side_b >= 0.0 and side_b > side_a
+                        else:
+                            crosses = (side_a <= 0.0 and side_b >= 0.0) or (
+                                side_a >= 0.0 and side_b <= 0.0
+                            )
+                        if crosses:
+                            ds = side_b - side_a
+                            u = -side_a / ds if ds != 0.0 else 0.0
+                            d2 = 0.0
                             for k in range(q):
                                 a = verts[v0 + s, k]
-                                out_pt[i, j, k] = a + u * (verts[v0 + s + 1, k] - a)
-                    side_a = side_b
+                                x = a + u * (verts[v0 + s + 1, k] - a) - points[i, k]
+                                d2 += x * x
+                            d = np.sqrt(d2)
+                            if d < best:
+                                best = d
+                                seg = s
+                                for k in range(q):
+                                    a = verts[v0 + s, k]
+                                    out_pt[i, j, k] = a + u * (verts[v0 + s + 1, k] - a)
+                        side_a = side_b
             if seg >= 0:
                 out_seg[i, j] = seg
                 out_dist[i, j] = best

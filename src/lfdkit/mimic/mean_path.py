@@ -82,7 +82,18 @@ implementation decides as follows (each is a constructor option):
   cross-validation, each intersection predicted by both centres of the others
   on its normal, the errors scored by a square bounded at 3 robust scales so
   that a burr or a detour costs every centre alike; the tuning is taken if it
-  predicts better in 75 % of the resamplings too. Rows with fewer than 8
+  predicts better in 75 % of the resamplings too. Short of both, on data
+  not smooth along the path, a *cheap* tuning (its variance on Gaussian values
+  at most :data:`_CHEAP`, 15 %, above the mean's: cores of 1 scale and more,
+  or the tapers from 2-4 and 3-6) is taken where its expected gain exceeds its
+  expected cost if wrong, ``w g > (1 - w) c`` (``w`` the share of resamplings
+  in which it wins, at least a half, ``g`` its estimated gain, ``c`` that
+  Gaussian cost): on one-sided burrs 1-2 noise levels high over 30 % of each
+  profile the shortest half sits 0.20-0.24 robust scales towards the burrs,
+  so the estimate sees 3-6 % of a gain that measured from the truth is 25 %
+  (1/2/4 there: 0.188 against 0.250), and no fixed test threshold tells that
+  from chance, while being wrong with such a tuning costs at most its
+  Gaussian variance. Rows with fewer than 8
   values then take the path's scale rather than the mean. Measured
   (``python benchmarks/mimic_centres.py``, 44 cases x 5 seeds): the default's
   error over the best fixed centre's is at most 1.05 on one-sided burrs and
@@ -149,9 +160,21 @@ implementation decides as follows (each is a constructor option):
   1.096 -> 1.001; cases within 1.05: 30 -> 34 of 36; where burrs 20 noise
   levels high cover 30 % of 20 profiles 0.62 -> 0.40; on held-out seeds
   100-104 worst 1.072, 1.063, 1.071, 1.061 (one pass: 1.075, 1.091, 1.074,
-  1.104), 32 of 36 within 1.05. What it cannot see:
-  one-sided burrs 1-2 noise levels high on 30 % of each profile (the two
-  cases left, 1.07-1.08; the median is best there). Tried and not kept:
+  1.104), 32 of 36 within 1.05. One-sided burrs 1-2 noise levels high on 30 %
+  of each profile were left at 1.07-1.08 (the median or biweight best there);
+  with the cheap tunings above (``--kinds burrs``, the same minutes): seeds
+  100-104 32 -> 34 of 36 within 1.05 (those cases, straight and circular,
+  1.072 and 1.071 -> 1.022 and 1.022), seeds 200-204 34 -> 35 (1.073 and
+  1.081 -> 1.034 and 1.061), seeds 0-4 36 of 36 both (1.038 and 1.039 ->
+  1.022 and 1.022); clean white noise (seeds 200-209) keeps within 0.4 % of the mean
+  (a 2/4/8 tuning, 1 % on Gaussian values, taken by chance in 4-5 of 10); smooth
+  sets are not affected. Left: two-sided burrs 15 % x 6 noise levels x 12
+  profiles on seeds 100-104 (1.06): there the best estimate is the near-median
+  core 0.1, whose variance is estimated from the few per cent of values within
+  0.1 scale of the centre and so is the noisiest (its estimates lie below both
+  neighbouring cores'); a kernel estimate of that share fixed it but lost where
+  the peak is real (two-sided burrs 20 noise levels high over 30 % of 6
+  profiles, 0.96 -> 1.07-1.11). Tried and not kept:
   the choice's bias measured from the pooled values' mode (the
   shortest quarter) instead of zero (that mode lies within 0.1 scale of zero
   there, so nothing changed; each normal's shortest third, not half, lies
@@ -265,7 +288,17 @@ implementation decides as follows (each is a constructor option):
   as much as the code, and with load 8-15 neither reached the 40x target for
   the first fit. No compiled kernel was added: ``import lfdkit.mimic``
   0.16-0.18 s of CPU and a fresh process's first burred fit 1.90-1.97 s
-  against 2.10-2.16 s.
+  against 2.10-2.16 s. Then, the same numbers again (94 fits compared bit for
+  bit, 2-D and 3-D): the adaptive centre's distances in a plane from the two
+  coordinates' contiguous copies, squared lengths as two products added
+  (:func:`_squared_norms`, einsum's numbers in a third of its time), and the
+  intersections' sub-chunk balls (:class:`lfdkit.core.geometry.PolylineSet`,
+  38 ms against 56 per 100 x 1000 evaluation); ``benchmarks/mimic_speed.py
+  --sets burrs``, four pairs of runs beside the unchanged code (load 4-17 on
+  2 cores): 45.1x, 41.5x, 37.1x, 46.7x (first fit 31.0x, 30.4x, 28.1x, 38.2x)
+  against 34.5x, 35.6x, 32.2x, 42.9x (27.7x, 28.5x, 26.9x, 26.3x), CPU
+  0.76-0.99 times (first fit 0.75-0.95). The first fit's 20 Gaussian
+  replicas (0.15 s) keep it below 40x on a loaded machine.
 """
 
 from __future__ import annotations
@@ -329,6 +362,9 @@ _TUNINGS: tuple[Tuning, ...] = (
     (0.5, 2.0, 4.0),
 )
 _SWITCH = 0.95
+#: Short of that, a tuning whose variance on Gaussian values is at most this much above
+#: the mean's is taken where its expected gain exceeds its expected cost if wrong.
+_CHEAP = 0.15
 #: Normals (evenly spread along the path) and intersections the choice pools, at most.
 _CHOICE_ROWS, _CHOICE_VALUES = 200, 4000
 #: The choice's bootstrap: resamplings, stretches of the path, confidence to switch, seed.
@@ -811,7 +847,7 @@ class _State:
         self.scale = scale
         if self.dist is None:  # an accepted path is scored twice: on the old scales and its own
             offsets = np.where(self.found[..., None], self.hits - ref[:, None, :], 0.0)
-            self.dist = np.sqrt(np.einsum("mnq,mnq->mn", offsets, offsets))
+            self.dist = np.sqrt(_squared_norms(offsets))
         dist = self.dist
         spread = scale > 0.0
         s = np.where(spread, scale, 1.0)[:, None]
@@ -1115,7 +1151,7 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
             width = None
         start = np.nan_to_num(start)
         apart = pts - start[:, None, :]
-        dist = np.where(found, np.sqrt(np.einsum("mnq,mnq->mn", apart, apart)), np.nan)
+        dist = np.where(found, np.sqrt(_squared_norms(apart)), np.nan)
         scale = np.nan_to_num(1.4826 * _nanmedian(dist, axis=1))
     tiny = _TINY * (1.0 + np.abs(pts).max())
     if width is not None:
@@ -1246,6 +1282,21 @@ def _choose_tuning(
                 f"{_describe(_TUNINGS[best])}: {figures}; confirmed by {cv_figures}",
             )
         figures = f"{figures}; not confirmed by {cv_figures}"
+    gain = 1.0 - errors[best, 0] / errors[0, 0]
+    cost = _gaussian_cost(_TUNINGS[best])
+    if (
+        cost <= _CHEAP
+        and wins >= 0.5
+        and wins * gain > (1.0 - wins) * cost
+        and _smoothness(coords, hit) < _SMOOTH
+    ):
+        return (
+            _TUNINGS[best],
+            estimates,
+            f"{_describe(_TUNINGS[best])}: {figures}; expected gain {wins * gain:.3f} "
+            f"against the expected cost {(1.0 - wins) * cost:.3f} if wrong (its variance on "
+            f"Gaussian values {cost:.1%} above the mean's)",
+        )
     return (
         _DEFAULT,
         estimates,
@@ -1255,6 +1306,21 @@ def _choose_tuning(
             f"or {_CHOICE_SUGGESTED:.0%} in both tests)"
         ),
     )
+
+
+_GAUSSIAN_COSTS: dict[Tuning, float] = {}
+
+
+def _gaussian_cost(tuning: Tuning) -> float:
+    """How much larger the tuning's variance is than the mean's on Gaussian values (a fraction)."""
+    if tuning not in _GAUSSIAN_COSTS:
+        from scipy.special import ndtri
+
+        values = ndtri((np.arange(20001) + 0.5) / 20001)
+        ones = np.ones((1, len(values)))
+        _, variance = _pooled_location(values, ones, tuning, False)
+        _GAUSSIAN_COSTS[tuning] = max(0.0, float(variance[0]) / float(np.mean(values**2)) - 1.0)
+    return _GAUSSIAN_COSTS[tuning]
 
 
 def _pooled_errors(coords: np.ndarray, hit: np.ndarray, few: bool) -> np.ndarray:
@@ -1439,7 +1505,7 @@ def _run_distances(coords: np.ndarray, found: np.ndarray, halves: tuple[int, ...
         scale = _running_median(np.where(usable, own, np.nan), max(5, m // 10))
         scale = np.where(np.isfinite(scale), scale, np.median(own[usable]))
         apart = averaged - start[:, None, :]
-        distance = np.sqrt(np.einsum("mnk,mnk->mn", apart, apart)) / scale[:, None]
+        distance = np.sqrt(_squared_norms(apart)) / scale[:, None]
         out.append(np.where(found, distance, 0.0))
     return out
 
@@ -1873,6 +1939,18 @@ def _running_median(values: np.ndarray, window: int) -> np.ndarray:
         return _nanmedian(windows, axis=1)
 
 
+def _squared_norms(vectors: np.ndarray) -> np.ndarray:
+    """``np.einsum("...q,...q->...", v, v)``: the squared length of each vector, bit for bit.
+
+    With two components the sum is the two squares added in order, as NumPy's
+    einsum adds them (tested): on strided slices, three times faster than it.
+    """
+    if vectors.shape[-1] == 2:
+        x, y = vectors[..., 0], vectors[..., 1]
+        return x * x + y * y
+    return np.einsum("...q,...q->...", vectors, vectors)
+
+
 def _adaptive_weight(z: np.ndarray, tuning: Tuning = _DEFAULT) -> np.ndarray:
     """Weight of an intersection ``z`` robust scales from the centre: 1, falling to 0.
 
@@ -1943,11 +2021,21 @@ def _adaptive(
     # their values within the core: the mean), a few near burrs take ten or more.
     rows = np.arange(len(centre))
     at, on, sc, fixed = pts, found, s, prior
+    # In a plane the distances come from the two coordinates' contiguous copies: the
+    # same numbers as the vectors' (:func:`_squared_norms`), in a third of the time.
+    planar = pts.shape[2] == 2
+    if planar:
+        xs, ys = np.ascontiguousarray(pts[..., 0]), np.ascontiguousarray(pts[..., 1])
+        x_at, y_at = xs, ys
     # A small core converges linearly, as a median's reweighting does.
     for _ in range(50 if tuning == _DEFAULT else 300):
         current = centre[rows]
-        apart = at - current[:, None, :]
-        z = np.sqrt(np.einsum("mnq,mnq->mn", apart, apart)) / sc
+        if planar:
+            dx = x_at - current[:, :1]
+            dy = y_at - current[:, 1:]
+            z = np.sqrt(dx * dx + dy * dy) / sc
+        else:
+            z = np.sqrt(_squared_norms(at - current[:, None, :])) / sc
         w = np.where(on, _adaptive_weight(z, tuning), 0.0)
         if fixed is not None:
             w = w * fixed
@@ -1962,6 +2050,8 @@ def _adaptive(
         if moving.mean() < 0.75:  # gathering the rows costs a copy: worth it once few move
             rows = rows[moving]
             at, on, sc = pts[rows], found[rows], s[rows]
+            if planar:
+                x_at, y_at = xs[rows], ys[rows]
             fixed = None if prior is None else prior[rows]
     return np.where(degenerate[:, None], start, centre)
 
