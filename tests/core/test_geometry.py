@@ -733,3 +733,15 @@ def test_smooth_path_refuses_bad_input() -> None:
         smooth_path(np.zeros((3, 2)), 0.1)
     with pytest.raises(ValueError, match="path"):
         smooth_path(np.array([[0.0, np.nan], [1.0, 0.0]]), 0.1)
+
+
+def test_project_a_polyline_s_own_vertices_at_zero_distance():
+    # The squared distances' expansion cancels; ties within its round-off are settled by
+    # exact distances (an uneven path's start projected 1.5e-8 of its 3.5 scale away).
+    rng = np.random.default_rng(7)
+    path = make_polyline(rng, "uneven", 3, int(rng.integers(2, 40)))
+    s, closest, dist = project_onto_polyline(path, path)
+    scale = 1 + np.abs(path).max()
+    assert dist.max() < 1e-13 * scale
+    np.testing.assert_allclose(closest, path, atol=1e-13 * scale)
+    np.testing.assert_allclose(s, arc_length(path), atol=1e-12 * scale)

@@ -347,9 +347,18 @@ def project_onto_polyline(
         + np.einsum("ij,ij->i", a, a)
     )
     dist2 = rel2 - 2.0 * u * p_dot_d + u * u * len2
-    k = np.argmin(dist2, axis=1)
-    rows = np.arange(len(points))
-    uk = u[rows, k]
+    # The expansion cancels: its error is about eps times the squared coordinates, so a
+    # point on the polyline can pick a segment 1e-8 of the scale away (sqrt of the
+    # error). Segments within that error of the best are compared by exact distances.
+    bound = np.einsum("mq,mq->m", points, points) + np.max(np.einsum("ij,ij->i", a, a) + len2)
+    near = dist2 <= dist2.min(axis=1, keepdims=True) + (64.0 * np.finfo(float).eps) * bound[:, None]
+    rows, segments = np.nonzero(near)
+    offsets = points[rows] - a[segments] - u[rows, segments, None] * d[segments]
+    exact = np.einsum("ij,ij->i", offsets, offsets)
+    order = np.lexsort((exact, rows))  # by row, nearest first (ties: the first segment)
+    first = order[np.flatnonzero(np.r_[True, np.diff(rows[order]) > 0])]
+    k = segments[first]
+    uk = u[np.arange(len(points)), k]
     closest = a[k] + uk[:, None] * d[k]
     s = arc_length(polyline)[k] + uk * np.sqrt(len2[k])
     return s, closest, np.linalg.norm(points - closest, axis=1)
