@@ -435,6 +435,7 @@ CEILINGS = (
     ("noise", "mse_clean"),
     ("goal", "mse_clean_goal"),
     ("nominal", "mse_clean_nominal"),
+    ("own", "mse_own_nominal"),
 )
 
 
@@ -454,6 +455,12 @@ def summary(scores: list[dict]) -> dict:
     return {
         "n": len(done),
         "pr_pooled": improvement(sum(s["mse_mp"] for s in done), sum(s["mse_r"] for s in done)),
+        # Pr against the person's noise-free path: the noise divides no figure by itself.
+        "pr_pooled_clean": improvement(
+            sum(s["mse_mp_clean"] for s in done), sum(s["mse_r_clean"] for s in done)
+        )
+        if all("mse_mp_clean" in s for s in done)
+        else None,
         "pr_mean": float(np.mean(prs)) if prs else None,
         "pr_median": float(np.median(prs)) if prs else None,
         "quiet": len(quiet),
@@ -605,6 +612,7 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
             train_scores.append(compare(plan, demo, nominal, case.scene, scale))
     row["train"] = summary(train_scores)
 
+    person_model = P.make_person(data["kind"], scale)
     gamma, beta = tune_dmp(skill, demos, scenes, P.task_nominal("train", scale)[-1], args.quick)
     row["dmp_gamma"], row["dmp_beta"] = gamma, beta
     scores, dmp_scores, times, examples = [], [], [], {}
@@ -628,6 +636,15 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
         score["mse_clean_nominal"] = mse_paths(
             carried(goal_reaching(clean, case.goal), case.nominal, nominal, scale), [person]
         )
+        score["mse_mp_clean"] = mse_paths(nominal, [clean])
+        score["mse_r_clean"] = mse_paths(plan, [clean])
+        # The person itself run on the skill's nominal (its side choice there), made to reach
+        # the goal: unlike `carried`, it keeps no side the other nominal would not give.
+        try:
+            own = person_model.clean(resample(nominal, 400), case.scene)
+            score["mse_own_nominal"] = mse_paths(goal_reaching(own, case.goal), [person])
+        except P.PersonFailed:
+            score["mse_own_nominal"] = score["mse_clean_nominal"]
         scores.append(score)
         examples.setdefault(case.family, (case, person, plan, dmp, nominal))
     row["held"] = summary(scores)
@@ -741,6 +758,18 @@ def print_table(rows: list[dict], scale: float) -> None:
                     for key in (measure, *(f"ceiling_{c}{suffix}" for c, _ in CEILINGS))
                 )
             )
+        print(
+            f"{r['kind']:<7} {r['n_train']:>2} {r['noise']:>4.0f}x "
+            + " ".join(f"{c:>15}" for c in cells)
+        )
+    print("\nPooled Pr % per family against the person's noise-free path (as measured / vs clean):")
+    for r in rows:
+        if "by_family" not in r:
+            continue
+        cells = [
+            f"{_f(b.get('pr_pooled'))}/{_f(b.get('pr_pooled_clean'))}"
+            for b in (*(r["by_family"][f] for f in P.FAMILIES), r["held"])
+        ]
         print(
             f"{r['kind']:<7} {r['n_train']:>2} {r['noise']:>4.0f}x "
             + " ".join(f"{c:>15}" for c in cells)
