@@ -81,7 +81,7 @@ tells whether the demonstrations can decide between the two.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -108,6 +108,7 @@ __all__ = [
     "open_gap_margins",
     "passable_pairs",
     "passes_a_new_gap",
+    "preferred_side_blockers",
     "side_blockers",
     "surface_gaps",
     "threaded_pairs",
@@ -622,11 +623,94 @@ def side_blockers(
             continue
         away = -sides[first] @ corridor.normals[nearest[first]]
         away /= np.linalg.norm(away)
-        obstacle = scene.obstacles[first]
-        touch = obstacle.position + away * (
-            float(np.max((centres - obstacle.position) @ away + radii)) + margins[first]
-        )
-        reach = BLOCKER_REACH * float(np.linalg.norm(ends - touch, axis=1).min())
-        if reach > 0.0:
-            out.append((first, Obstacle(SIDE_BLOCKER, touch + away * reach, reach)))
+        ball = _blocker(scene.obstacles[first], away, float(margins[first]), ends)
+        if ball is not None:
+            out.append((first, ball))
+    return out
+
+
+def _blocker(
+    obstacle: Obstacle, away: np.ndarray, margin: float, ends: np.ndarray
+) -> Obstacle | None:
+    """The ball touching ``obstacle``'s margin on the side ``away`` (unit) and reaching outwards.
+
+    Radius :data:`BLOCKER_REACH` of its touching point's distance to the nearer
+    of ``ends`` (the task's start and goal, (2, q)); None where that is 0.
+    """
+    centres, radii = obstacle.balls()
+    touch = obstacle.position + away * (
+        float(np.max((centres - obstacle.position) @ away + radii)) + margin
+    )
+    reach = BLOCKER_REACH * float(np.linalg.norm(ends - touch, axis=1).min())
+    return Obstacle(SIDE_BLOCKER, touch + away * reach, reach) if reach > 0.0 else None
+
+
+def preferred_side_blockers(
+    nominal: np.ndarray,
+    scene: Scene,
+    preferences: Mapping[str, tuple[str, float]],
+    ends: np.ndarray,
+    n_points: int = 100,
+) -> list[tuple[int, Obstacle]]:
+    """Balls that keep a plan on the side of each obstacle its class is passed on by preference.
+
+    A person who keeps a class on one side
+    (:func:`lfdkit.emulate.fidelity.side_preferences`: a cup always on their
+    left) goes the long way round where the obstacle stands on that side of
+    the path; a symmetric reward passes it the short way. Each obstacle of
+    such a class that stands in the way (the nominal passes nearer its
+    surface than the clearance the demonstrations kept from the class) gets
+    one ball on its other side: it touches the obstacle's surface there, on
+    the nominal's normal at the obstacle's nearest nominal point, and reaches
+    outwards (:data:`BLOCKER_REACH` of its distance to the nearer of the
+    task's start and goal), as :func:`side_blockers`' balls do. Any planner
+    that keeps out of hard radii then passes the obstacle on the preferred
+    side, the long way round where it must. In 2-D only (left and right of
+    the path); an obstacle beyond the nominal's start or goal gets none.
+
+    Parameters
+    ----------
+    nominal : ndarray, shape (m, 2)
+    scene : Scene
+        Static obstacles.
+    preferences : mapping
+        ``{class: (side, within)}``: ``side`` ``"left"`` or ``"right"``, the
+        side of the path the class is kept on, seen along the nominal;
+        ``within`` (units) how near the nominal must pass an obstacle's
+        surface for it to be in the way.
+    ends : ndarray, shape (2, 2)
+        The task's start and goal.
+    n_points : int
+        Points of the corridor the nominal's normals are read on.
+
+    Returns
+    -------
+    list of (int, Obstacle)
+        Each blocked obstacle and its blocker (label :data:`SIDE_BLOCKER`).
+    """
+    wanted = [
+        o
+        for o, obstacle in enumerate(scene.obstacles)
+        if obstacle.label in preferences and preferences[obstacle.label][0] in ("left", "right")
+    ]
+    if not wanted or np.shape(nominal)[1] != 2:
+        return []
+    gaps = scene.distances(np.asarray(nominal, dtype=np.float64))
+    corridor = Corridor.from_path(nominal, n_points)
+    out: list[tuple[int, Obstacle]] = []
+    for o in wanted:
+        obstacle = scene.obstacles[o]
+        side, within = preferences[obstacle.label]
+        if gaps[o] >= within:
+            continue
+        rel = corridor.points - obstacle.position
+        k = int(np.argmin(np.einsum("kq,kq->k", rel, rel)))
+        if k in (0, corridor.n_points - 1):
+            continue
+        t = corridor.tangents[k]
+        left = np.array([-t[1], t[0]]) / np.linalg.norm(t)
+        # Kept on the path's left: the path passes on the obstacle's right, blocked on its left.
+        ball = _blocker(obstacle, left if side == "left" else -left, 0.0, ends)
+        if ball is not None:
+            out.append((o, ball))
     return out
