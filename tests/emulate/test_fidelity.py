@@ -287,6 +287,12 @@ def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
         "two obstacles closer than that: the gap stays open); no demonstration passed two "
         "close obstacles, so whether to pass between them is a guess"
     )
+    # A class kept on one side: said after the clearances, before the demonstrations.
+    skill.side_preferences_ = {"cup": {"side": "left", "within": 0.021}}
+    assert _fidelity_lines(skill)[2] == (
+        "plans keep the sides the demonstrations kept, the long way round where needed: "
+        "every 'cup' on the left (within 0.021 m of the path)"
+    )
     assert lines[2:] == [
         "obstacle demonstration 7: replanned worse than its nominal (Pr -13 %) and passes 2 "
         "obstacle(s) on the other side",

@@ -74,6 +74,17 @@ its ten training scenes pairs instead, it declined gaps of 0.91-1.04 of them
 (seeds 1-3), about its two margins together, and the held-out figures stayed as
 they were; with four clutter scenes no gap across the path was shown.
 
+The same balls keep a side the demonstrations prefer (:func:`preferred_side_blockers`):
+a person who keeps a class on one side of the path (a cup always on their left,
+:func:`lfdkit.emulate.fidelity.side_preferences`) goes the long way round where
+the obstacle stands on the other side, which no symmetric reward does. A row of
+:data:`PREFERRED_CHAIN` balls beside each such obstacle near the nominal blocks
+the side the person never took; every route planner (MPC, full horizon, taut)
+then goes round it on the person's side. Measured on the fidelity probe's person
+who keeps cups on its left (``python benchmarks/emulate_probe.py --variants
+asym-cup asym-cup-n10 --seed S``; 14 held-out scenes, median Pr / sides kept,
+before → after): see :attr:`lfdkit.skill.Skill.side_preferences_`.
+
 :func:`gaps_closed_by` finds the pairs a floor would close.
 :func:`demonstrated_gaps` counts the training scenes that show one, which
 tells whether the demonstrations can decide between the two.
@@ -96,6 +107,7 @@ __all__ = [
     "DECLINED_OVERLAP",
     "GAP_SHARE",
     "PASSABLE",
+    "PREFERRED_CHAIN",
     "SIDE_BLOCKER",
     "TOUCHING",
     "abreast_pairs",
@@ -130,6 +142,11 @@ SIDE_BLOCKER = "<other side>"
 #: A side blocker's radius, as a fraction of its distance to the nearer of the task's start
 #: and goal: under a half, so that the ball keeps clear of both.
 BLOCKER_REACH = 0.45
+#: Balls in a row beside an obstacle passed on one side by preference
+#: (:func:`preferred_side_blockers`): one alone, near the goal, is small enough to go
+#: round (the probe's person who keeps cups on its left, seed 1: a cup 4 cm before the
+#: goal passed the short way round a 4.3 cm ball).
+PREFERRED_CHAIN = 3
 #: A gap is across the path, one a path passes through, where the segment between the two
 #: obstacles' nearest surface points makes at least 45 degrees with the path (its cosine at
 #: most this): two obstacles one behind the other along the path leave a way past on the
@@ -659,11 +676,13 @@ def preferred_side_blockers(
     left) goes the long way round where the obstacle stands on that side of
     the path; a symmetric reward passes it the short way. Each obstacle of
     such a class that stands in the way (the nominal passes nearer its
-    surface than the clearance the demonstrations kept from the class) gets
-    one ball on its other side: it touches the obstacle's surface there, on
-    the nominal's normal at the obstacle's nearest nominal point, and reaches
-    outwards (:data:`BLOCKER_REACH` of its distance to the nearer of the
-    task's start and goal), as :func:`side_blockers`' balls do. Any planner
+    surface than ``within``) gets a row of :data:`PREFERRED_CHAIN` balls on
+    its other side, along the nominal's normal at the obstacle's nearest
+    nominal point: the first touches the obstacle's surface, each next one
+    the last one's far side, each of radius :data:`BLOCKER_REACH` of its
+    touching point's distance to the nearer of the task's start and goal (as
+    :func:`side_blockers`' ball). One alone can be gone round where it is
+    small (near the goal); the row reaches about six times as far. Any planner
     that keeps out of hard radii then passes the obstacle on the preferred
     side, the long way round where it must. In 2-D only (left and right of
     the path); an obstacle beyond the nominal's start or goal gets none.
@@ -686,7 +705,8 @@ def preferred_side_blockers(
     Returns
     -------
     list of (int, Obstacle)
-        Each blocked obstacle and its blocker (label :data:`SIDE_BLOCKER`).
+        Each blocked obstacle and one of its blockers (label
+        :data:`SIDE_BLOCKER`), the row's balls in order.
     """
     wanted = [
         o
@@ -710,7 +730,11 @@ def preferred_side_blockers(
         t = corridor.tangents[k]
         left = np.array([-t[1], t[0]]) / np.linalg.norm(t)
         # Kept on the path's left: the path passes on the obstacle's right, blocked on its left.
-        ball = _blocker(obstacle, left if side == "left" else -left, 0.0, ends)
-        if ball is not None:
+        away, reached = left if side == "left" else -left, 0.0
+        for _ in range(PREFERRED_CHAIN):  # each ball beyond the last, larger as it leaves the ends
+            ball = _blocker(obstacle, away, reached, ends)
+            if ball is None:
+                break
             out.append((o, ball))
+            reached += 2.0 * ball.radius
     return out

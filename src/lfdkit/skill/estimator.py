@@ -55,6 +55,7 @@ from lfdkit.core.validation import (
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import (
+    SIDE_REACH,
     demonstrated_clearances,
     replanning_fidelity,
     side_preferences,
@@ -969,16 +970,21 @@ class Skill(
     ) -> dict[str, dict[str, Any]]:
         """:attr:`side_preferences_` from the preferences found (2-D: left or right).
 
-        ``within`` is the clearance the demonstrations typically kept from the
-        class's obstacles they went around (the median,
+        ``within`` is :data:`~lfdkit.emulate.fidelity.SIDE_REACH` times the
+        clearance the demonstrations typically kept from the class's obstacles
+        they went around (the median,
         :func:`lfdkit.emulate.fidelity.demonstrated_clearances`): an obstacle
-        the nominal passes nearer than that is one the person would go round.
+        the nominal passes nearer than that is kept on the person's side.
         """
         sided = [c for c, info in found.items() if info["side"] in ("left", "right")]
         if not sided:
             return {}
         typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
-        return {c: {"side": found[c]["side"], "within": typical[c]} for c in sided if c in typical}
+        return {
+            c: {"side": found[c]["side"], "within": SIDE_REACH * typical[c]}
+            for c in sided
+            if c in typical
+        }
 
     def _warn_side_preferences(self, found: dict[str, dict[str, Any]]) -> None:
         """Say which classes the demonstrations pass on one side by preference.
