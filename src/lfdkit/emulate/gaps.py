@@ -82,8 +82,15 @@ the obstacle stands on the other side, which no symmetric reward does. A row of
 the side the person never took; every route planner (MPC, full horizon, taut)
 then goes round it on the person's side. Measured on the fidelity probe's person
 who keeps cups on its left (``python benchmarks/emulate_probe.py --variants
-asym-cup asym-cup-n10 --seed S``; 14 held-out scenes, median Pr / sides kept,
-before → after): see :attr:`lfdkit.skill.Skill.side_preferences_`.
+asym-cup asym-cup-n10 --seed S``; 14 held-out scenes; pooled / median Pr, sides
+kept; before → after): seed 0, 6 demonstrations, −4 / 81 %, 77 % → 97 / 99 %,
+100 % (10: the same); seed 1, −50 / 57 %, 50 % → 86 / 98 %, 96 % (10: 65 / 98 %,
+93 %); seed 2, −41 / −23 %, 42 % → 99 / 99 %, 100 % (10: the same); 0 collisions
+and 0 refused throughout. What is left: a pair of boxes of a new task (seed 1)
+threaded after the cup before them was passed the person's way. A ball alone
+near the goal was gone round (seed 1: sides 82 %); a row that ends at twice the
+long way's width was gone round in clutter (seed 1, 86 %). The skill's plans with a
+preference take about twice as long (the taut route's grid spans the row).
 
 :func:`gaps_closed_by` finds the pairs a floor would close.
 :func:`demonstrated_gaps` counts the training scenes that show one, which

@@ -311,11 +311,10 @@ class Skill(
         the class, the median) on that side, the long way round where it must
         (:func:`lfdkit.emulate.gaps.preferred_side_blockers`; where no plan
         can, the learned response's way, warned). A symmetric reward cannot
-        express it: it passes an obstacle the shorter way. Measured (the
-        fidelity probe's person who keeps cups on its left, ``python
-        benchmarks/emulate_probe.py --variants asym-cup``): see
-        :func:`~lfdkit.emulate.gaps.preferred_side_blockers`. Empty without
-        one, for a reward only adopted and in older files.
+        express it: it passes an obstacle the shorter way (what that changes
+        on the fidelity probe's person who keeps cups on its left:
+        :mod:`lfdkit.emulate.gaps`). Empty without one, for a reward only
+        adopted (unless from a skill with one) and in older files.
     route_ : {"lookahead", "window", "full", "taut"} or None
         The route planner plans use: the MPC with ``lookahead``, the thesis's
         MPC (``"window"``), the full horizon, or the shortest path round the
