@@ -490,3 +490,7 @@ def test_a_class_kept_on_one_side_is_planned_on_that_side_in_a_new_scene() -> No
         assert Scene((cup,)).distances(plan)[0] > 0.0
     # Training scenes replanned on the demonstrations' sides.
     assert all(row["sides_agree"] for row in skill.training_fidelity_)
+    # The thesis's model plans as the thesis does: the preference is said, not kept.
+    with pytest.warns(UserWarning, match=r"a side preference the learned reward .* cannot"):
+        thesis = Skill(model="thesis").fit(FREE, demos, scenes)
+    assert thesis.side_preferences_ == {}

@@ -974,9 +974,11 @@ class Skill(
         they went around (the median,
         :func:`lfdkit.emulate.fidelity.demonstrated_clearances`): an obstacle
         the nominal passes nearer than that is kept on the person's side.
+        None for ``model="thesis"`` (the thesis's plans exactly; the
+        preference is only said).
         """
         sided = [c for c, info in found.items() if info["side"] in ("left", "right")]
-        if not sided:
+        if not sided or self.model == "thesis":  # the thesis's planner exactly: said, not kept
             return {}
         typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
         return {
