@@ -289,6 +289,12 @@ def test_learn_says_which_demonstrations_are_replanned_badly() -> None:
         "two obstacles closer than that: the gap stays open); no demonstration passed two "
         "close obstacles, so whether to pass between them is a guess"
     )
+    # A class kept on one side: said after the clearances, before the demonstrations.
+    skill.side_preferences_ = {"cup": {"side": "left", "within": 0.021}}
+    assert _fidelity_lines(skill)[2] == (
+        "plans keep the sides the demonstrations kept, the long way round where needed: "
+        "every 'cup' on the left (within 0.021 m of the path)"
+    )
     assert lines[2:] == [
         "obstacle demonstration 7: replanned worse than its nominal (Pr -13 %) and passes 2 "
         "obstacle(s) on the other side",
@@ -466,3 +472,27 @@ def test_a_side_preference_is_said_and_its_class_still_learned() -> None:
     assert "cup" in skill.reward_.precisions
     plan = skill.plan(scene=Scene((Obstacle("cup", [0.5, 0.02], radius=0.01),)))
     assert len(plan.points) == 100
+
+
+def test_a_class_kept_on_one_side_is_planned_on_that_side_in_a_new_scene() -> None:
+    """Cups passed on their right the long way round; a new cup right of the path too.
+
+    The learned reward is symmetric about each obstacle: without the side
+    kept, the plan passes the new cup the short way, on its left.
+    """
+    demos, scenes = sided_demos()
+    with pytest.warns(UserWarning, match=r"keep every 'cup' on their left .* kept: plans pass"):
+        skill = Skill().fit(FREE, demos, scenes)
+    assert skill.side_preferences_["cup"]["side"] == "left"
+    for cy in (-0.015, 0.015):  # right of the path (the long way round), then left
+        cup = Obstacle("cup", [0.55, cy], radius=0.01)
+        plan = skill.plan(scene=Scene((cup,))).points
+        passed = np.interp(0.55, plan[:, 0], plan[:, 1])
+        assert passed < cy - 0.01, cy  # on the cup's right: the cup on the plan's left
+        assert Scene((cup,)).distances(plan)[0] > 0.0
+    # Training scenes replanned on the demonstrations' sides.
+    assert all(row["sides_agree"] for row in skill.training_fidelity_)
+    # The thesis's model plans as the thesis does: the preference is said, not kept.
+    with pytest.warns(UserWarning, match=r"a side preference the learned reward .* cannot"):
+        thesis = Skill(model="thesis").fit(FREE, demos, scenes)
+    assert thesis.side_preferences_ == {}

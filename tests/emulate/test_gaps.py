@@ -21,6 +21,7 @@ from lfdkit.emulate.gaps import (
     BLOCKER_REACH,
     GAP_SHARE,
     PASSABLE,
+    PREFERRED_CHAIN,
     SIDE_BLOCKER,
     abreast_pairs,
     close_narrow_gaps,
@@ -31,6 +32,7 @@ from lfdkit.emulate.gaps import (
     open_gap_margins,
     passable_pairs,
     passes_a_new_gap,
+    preferred_side_blockers,
     side_blockers,
     surface_gaps,
     threaded_pairs,
@@ -437,3 +439,34 @@ def test_a_gap_is_across_the_path_where_it_makes_45_degrees_with_it() -> None:
     assert abreast_pairs([(0, 1)], pair(50.0), away) == [(0, 1)]
     assert abreast_pairs([(0, 1)], pair(50.0), towards) == []
     assert ABREAST == pytest.approx(np.sqrt(0.5))
+
+
+def test_a_preferred_side_is_kept_by_a_ball_on_the_other_side() -> None:
+    x = np.linspace(0.0, 1.0, 101)
+    line = np.column_stack([x, np.zeros(101)])
+    ends = line[[0, -1]]
+    # A cup 5 mm right of the path, kept on the path's left: blocked on its left (above),
+    # the ball touching its surface at (0.4, 0.005), radius 0.45 times that point's
+    # distance to the start.
+    scene = Scene((Obstacle("cup", [0.4, -0.005], radius=0.01), Obstacle("box", [0.6, 0.0], 0.02)))
+    found = preferred_side_blockers(line, scene, {"cup": ("left", 0.03)}, ends)
+    assert [o for o, _ in found] == [0] * PREFERRED_CHAIN
+    (_, ball), (_, next_ball) = found[:2]
+    touch = np.array([0.4, 0.005])
+    reach = BLOCKER_REACH * np.hypot(*touch)
+    assert ball.label == SIDE_BLOCKER and ball.radius == pytest.approx(reach)
+    np.testing.assert_allclose(ball.position, touch + np.array([0.0, reach]), atol=1e-12)
+    # The next ball in the row touches it on its far side, as large as its distance allows.
+    touch = touch + np.array([0.0, 2.0 * reach])
+    reach = BLOCKER_REACH * np.hypot(*touch)
+    np.testing.assert_allclose(next_ball.position, touch + np.array([0.0, reach]), atol=1e-12)
+    # Kept on the right: blocked below. Walked the other way, left and right swap.
+    found = preferred_side_blockers(line, scene, {"cup": ("right", 0.03)}, ends)
+    assert all(ball.position[1] < -0.015 for _, ball in found)
+    found = preferred_side_blockers(line[::-1], scene, {"cup": ("left", 0.03)}, ends)
+    assert all(ball.position[1] < -0.015 for _, ball in found)
+    # Out of the way (the path 2 cm from its surface, the person kept 1.5 cm), or a class
+    # without a preference: none.
+    aside = Scene((Obstacle("cup", [0.4, -0.03], radius=0.01),))
+    assert preferred_side_blockers(line, aside, {"cup": ("left", 0.015)}, ends) == []
+    assert preferred_side_blockers(line, scene, {"marker": ("left", 0.03)}, ends) == []

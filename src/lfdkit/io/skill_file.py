@@ -561,6 +561,28 @@ class SkillDocument:
         sub = _FieldReader(value, self.source, "emulation.")
         return self._lengths(sub.get("radii", dict), "radii") if "radii" in value else {}
 
+    def side_preferences(self) -> dict[str, dict[str, Any]]:
+        """``{class: {"side": "left" or "right", "within": units}}`` (``emulation.sides``).
+
+        The classes the demonstrations keep on one side of the path (issue 26);
+        empty where the file has none (no preference, or a file from before them).
+        """
+        value = self.data.get("emulation")
+        if not isinstance(value, Mapping) or "sides" not in value:
+            return {}
+        sub = _FieldReader(value, self.source, "emulation.")
+        out = {}
+        for label, entry in sub.get("sides", dict).items():
+            name = f"{self.source}: emulation.sides.{label}"
+            if not isinstance(entry, Mapping) or entry.get("side") not in ("left", "right"):
+                raise ValueError(
+                    f"{name}: expected {{'side': 'left' or 'right', 'within': length}}, "
+                    f"got {entry!r}"
+                )
+            within = self._lengths({str(label): entry.get("within")}, "sides.within")
+            out[str(label)] = {"side": entry["side"], "within": within[str(label)]}
+        return out
+
     def swerve(self) -> dict[str, list[float]]:
         """``{class: [w_before, w_after]}`` of a swerve model (``emulation.swerve``; issue 26).
 

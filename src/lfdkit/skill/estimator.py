@@ -54,7 +54,12 @@ from lfdkit.core.validation import (
     check_times_list,
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
-from lfdkit.emulate.fidelity import replanning_fidelity
+from lfdkit.emulate.fidelity import (
+    SIDE_REACH,
+    demonstrated_clearances,
+    replanning_fidelity,
+    side_preferences,
+)
 from lfdkit.emulate.gaps import declined_gap_width
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
@@ -241,7 +246,7 @@ class Skill(
         ``return_slope``; absent in older files: none steeper);
         ``side_preferences``: the classes the demonstrations keep on one side
         even the long way round (:func:`lfdkit.emulate.fidelity.side_preferences`;
-        said in a warning: the reward cannot express it).
+        said in a warning; in 2-D plans keep them so, :attr:`side_preferences_`).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -296,6 +301,20 @@ class Skill(
         never learned (``unknown_response="nearest"`` of :meth:`plan_details`).
         Empty before a reward is fitted, for a reward only adopted and in
         files from before it.
+    side_preferences_ : dict
+        Per obstacle class the demonstrations keep on one side of the path
+        whatever the shorter way round (2-D:
+        :func:`lfdkit.emulate.fidelity.side_preferences`),
+        ``{"side": "left" or "right", "within": units}``: every plan passes
+        each obstacle of the class whose surface its nominal passes nearer
+        than ``within`` (the clearance the demonstrations typically kept from
+        the class, the median) on that side, the long way round where it must
+        (:func:`lfdkit.emulate.gaps.preferred_side_blockers`; where no plan
+        can, the learned response's way, warned). A symmetric reward cannot
+        express it: it passes an obstacle the shorter way (what that changes
+        on the fidelity probe's person who keeps cups on its left:
+        :mod:`lfdkit.emulate.gaps`). Empty without one, for a reward only
+        adopted (unless from a skill with one) and in older files.
     route_ : {"lookahead", "window", "full", "taut"} or None
         The route planner plans use: the MPC with ``lookahead``, the thesis's
         MPC (``"window"``), the full horizon, or the shortest path round the
@@ -717,6 +736,7 @@ class Skill(
         self.class_radii_: dict[str, float] = {}
         self.route_: str | None = None
         self.frame_ = "world"
+        self.side_preferences_: dict[str, dict[str, Any]] = {}
         self.training_fidelity_: list[dict[str, Any]] | None = None
         self.model_selection_: dict[str, Any] | None = None
 
@@ -822,6 +842,11 @@ class Skill(
         with progress.stage("emulate: nominal of each obstacle demonstration (DMP)"):
             starts = np.array([demo[0] for demo in demos])
             nominals = list(self._rollouts(starts, goal))
+        # Classes kept on one side whatever the shorter way: every plan below keeps them so
+        # (the check of left-out demonstrations, the model choice, the training fidelity).
+        found = side_preferences(demos, scenes, nominals, int(self.n_points))
+        preferred = self._preferred_sides(found, demos, scenes, nominals)
+        self.side_preferences_ = preferred
         stages = "full horizon, then MPC" if self.planner == "mpc" else "full horizon"
         started = time.perf_counter()
         label = f"emulate: inverse optimal control on {len(demos)} demos ({stages})"
@@ -896,6 +921,7 @@ class Skill(
             ),
         }
         self._reset_emulation()
+        self.side_preferences_ = preferred
         # The direction the precisions are learned along (model="path" turns them from it).
         chord = self.path_[-1] - self.path_[0]
         self.ioc_info_["frame_axis"] = (chord / max(float(np.linalg.norm(chord)), 1e-300)).tolist()
@@ -930,39 +956,73 @@ class Skill(
             )
         self.ioc_info_["training_fidelity"] = skill_file.jsonable(self.training_fidelity_)
         self.ioc_info_["model_selection"] = skill_file.jsonable(self.model_selection_)
-        self._warn_side_preferences(demos, scenes, nominals)
+        self._warn_side_preferences(found)
         self._warn_fidelity()
         return self
 
-    def _warn_side_preferences(
-        self, demos: Sequence[np.ndarray], scenes: Sequence[Scene], nominals: Sequence[np.ndarray]
-    ) -> None:
+    def _preferred_sides(
+        self,
+        found: dict[str, dict[str, Any]],
+        demos: Sequence[np.ndarray],
+        scenes: Sequence[Scene],
+        nominals: Sequence[np.ndarray],
+    ) -> dict[str, dict[str, Any]]:
+        """:attr:`side_preferences_` from the preferences found (2-D: left or right).
+
+        ``within`` is :data:`~lfdkit.emulate.fidelity.SIDE_REACH` times the
+        clearance the demonstrations typically kept from the class's obstacles
+        they went around (the median,
+        :func:`lfdkit.emulate.fidelity.demonstrated_clearances`): an obstacle
+        the nominal passes nearer than that is kept on the person's side.
+        None for ``model="thesis"`` (the thesis's plans exactly; the
+        preference is only said).
+        """
+        sided = [c for c, info in found.items() if info["side"] in ("left", "right")]
+        if not sided or self.model == "thesis":  # the thesis's planner exactly: said, not kept
+            return {}
+        typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
+        return {
+            c: {"side": found[c]["side"], "within": SIDE_REACH * typical[c]}
+            for c in sided
+            if c in typical
+        }
+
+    def _warn_side_preferences(self, found: dict[str, dict[str, Any]]) -> None:
         """Say which classes the demonstrations pass on one side by preference.
 
-        The learned reward is symmetric about each obstacle, so its plans pass
-        an obstacle the shorter way round; a person who keeps a class on one
-        side (:func:`lfdkit.emulate.fidelity.side_preferences`) is not
-        reproduced where that side is the longer way, and nothing else says
-        so (the fidelity probe's person who keeps cups on its left: without
-        this, the only word was a demonstration left out "as a coin flip").
+        The learned reward is symmetric about each obstacle, so its plans
+        would pass an obstacle the shorter way round; a person who keeps a
+        class on one side (:func:`lfdkit.emulate.fidelity.side_preferences`)
+        is reproduced by the side blockers of :attr:`side_preferences_` (in
+        2-D). Said, as the model choice is, since it decides routes the
+        reward does not (the fidelity probe's person who keeps cups on its
+        left: without this, the only word was a demonstration left out "as a
+        coin flip"); in 3-D, where no side is kept, said as a limit.
         Recorded in ``ioc_info_["side_preferences"]``.
         """
-        from lfdkit.emulate.fidelity import side_preferences
-
-        found = side_preferences(demos, scenes, nominals, int(self.n_points))
         self.ioc_info_["side_preferences"] = skill_file.jsonable(found)
         for label, info in found.items():
             where = "on one side" if info["side"] == "one" else f"on their {info['side']}"
             named = ", ".join(map(str, info["long_way"]))
-            warnings.warn(
+            shown = (
                 f"the demonstrations keep every {label!r} {where} ({info['passes']} passes), "
-                f"going the long way round it in demonstration(s) {named}: a side preference "
-                f"the learned reward (symmetric about each obstacle) cannot express, so plans "
-                f"pass a {label!r} the shorter way round where the person would not; where the "
-                "side matters, give the plan a via point on the person's side",
-                UserWarning,
-                stacklevel=3,
+                f"going the long way round it in demonstration(s) {named}"
             )
+            if label in self.side_preferences_:
+                within = self.side_preferences_[label]["within"]
+                message = (
+                    f"{shown}: a side preference, kept: plans pass every {label!r} their nominal "
+                    f"comes within {within:.3g} {self.units} of {where}, the long way round "
+                    "where needed (the learned reward alone would take the shorter way)"
+                )
+            else:
+                message = (
+                    f"{shown}: a side preference the learned reward (symmetric about each "
+                    f"obstacle) cannot express, so plans pass a {label!r} the shorter way round "
+                    "where the person would not; where the side matters, give the plan a via "
+                    "point on the person's side"
+                )
+            warnings.warn(message, UserWarning, stacklevel=3)
 
     def _unexplained(
         self,
@@ -1154,6 +1214,11 @@ class Skill(
         self.clearances_ |= {c: theirs[c] for c in wanted if c in theirs}
         if any(c in theirs for c in wanted):  # their clearances keep gaps as theirs did
             self.gaps_ = getattr(source, "gaps_", "closed")
+        # So does the side a class is kept on (none where the source keeps none).
+        sides = getattr(source, "side_preferences_", {}) if isinstance(source, Skill) else {}
+        own = getattr(self, "side_preferences_", {})
+        self.side_preferences_ = {c: p for c, p in own.items() if c not in wanted}
+        self.side_preferences_ |= {c: dict(sides[c]) for c in wanted if c in sides}
         sizes = getattr(source, "class_radii_", {}) if isinstance(source, Skill) else {}
         own = getattr(self, "class_radii_", {})
         self.class_radii_ = {c: r for c, r in own.items() if c not in wanted}
@@ -1271,6 +1336,10 @@ class Skill(
                 skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
+            }
+            skill.side_preferences_ = {
+                c: {**p, "within": p["within"] * factor}
+                for c, p in getattr(self, "side_preferences_", {}).items()
             }
         return skill
 

@@ -54,7 +54,10 @@ class SkillFiles:
         route = getattr(self, "route_", None)
         radii = dict(getattr(self, "class_radii_", {}))
         swerve = self.reward_ is not None and self.reward_.swerve
-        if self.reward_ is not None and (route is not None or self.clearances_ or radii or swerve):
+        sides = getattr(self, "side_preferences_", {})
+        if self.reward_ is not None and (
+            route is not None or self.clearances_ or radii or swerve or sides
+        ):
             route = route or self._unfitted_route()
             emulation = {"route": route, "clearances": dict(self.clearances_)}
             if getattr(self, "frame_", "world") != "world":  # as in files before frames
@@ -63,6 +66,8 @@ class SkillFiles:
                 emulation["gaps"] = self.gaps_
             if radii:
                 emulation["radii"] = radii
+            if sides:  # classes kept on one side (issue 26); older files have none
+                emulation["sides"] = {c: dict(p) for c, p in sides.items()}
             if self.reward_.swerve:  # the swerve model (issue 26); older files have none
                 emulation["swerve"] = {c: w.tolist() for c, w in self.reward_.swerve.items()}
         return skill_file.to_document(
@@ -144,6 +149,7 @@ class SkillFiles:
             if emulation is not None and skill.reward_ is not None:
                 skill.route_, skill.clearances_, skill.frame_, skill.gaps_ = emulation
                 skill.class_radii_ = document.class_radii()
+                skill.side_preferences_ = document.side_preferences()
                 fit = skill.ioc_info_ or {}
                 skill.training_fidelity_ = fit.get("training_fidelity")
                 skill.model_selection_ = fit.get("model_selection")

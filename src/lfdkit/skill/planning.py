@@ -10,6 +10,7 @@ plan around moving obstacles is re-planned at its own times up to
 from __future__ import annotations
 
 import dataclasses
+import functools
 import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any, Literal
@@ -38,6 +39,7 @@ from lfdkit.emulate.gaps import (
     open_gap_margins,
     passable_pairs,
     passes_a_new_gap,
+    preferred_side_blockers,
     side_blockers,
     threaded_pairs,
 )
@@ -484,6 +486,7 @@ class Planning:
         frame: str | None = None,
         unknown_response: str | None = None,
         gap_clearances: Mapping[str, float] | None = None,
+        sided: Sequence[Obstacle] | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal.
 
@@ -495,7 +498,10 @@ class Planning:
         with gaps closed, every gap narrower than the two obstacles' together
         is closed (:func:`lfdkit.emulate.gaps.close_narrow_gaps`); default the
         skill's own (``model_selection_["gap_clearances"]``) for its own
-        plans, none for a candidate's.
+        plans, none for a candidate's. ``sided``: the balls that keep each
+        obstacle of a class passed by preference on its side
+        (:meth:`_sided_blockers`; default: found here, and where no plan keeps
+        them, none, warned).
         """
         if via is None:
             nominal = self._nominal(start, goal)
@@ -504,6 +510,42 @@ class Planning:
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
+        if sided is None:
+            sided = self._sided_blockers(nominal, scene, start, goal)
+            if sided:
+                again = functools.partial(
+                    self._plan,
+                    start,
+                    goal,
+                    scene,
+                    planner,
+                    horizon,
+                    goal_approach,
+                    clearance,
+                    progress,
+                    times,
+                    route=route,
+                    unknown_class=unknown_class,
+                    via=via,
+                    reward=reward,
+                    clearances=clearances,
+                    gaps=gaps,
+                    frame=frame,
+                    unknown_response=unknown_response,
+                    gap_clearances=gap_clearances,
+                )
+                try:
+                    return again(sided=sided)
+                except UnsafePlanError:
+                    classes = sorted({o.label for o in scene if o.label in self.side_preferences_})
+                    warnings.warn(
+                        f"plan: no plan passes every {', '.join(map(repr, classes))} on the side "
+                        "the demonstrations kept it on; planned the way the learned response "
+                        "passes it",
+                        UserWarning,
+                        stacklevel=4,
+                    )
+                    return again(sided=())
         if reward is None and len(scene) > 1 and not scene.moving:
             route_reward = self._swerve_route_reward()
             if route_reward is not None:  # a swerve's widths, the route among several: issue 26
@@ -526,6 +568,7 @@ class Planning:
                         gaps=gaps,
                         frame=frame,
                         unknown_response=unknown_response,
+                        sided=sided,
                     ),
                     route_reward,
                     nominal,
@@ -597,13 +640,19 @@ class Planning:
         gap_margins = margins if clearances is None else None
         if taut and not scene.moving and self.n_dims_ == 2 and len(scene):
             kept = 0.0 if margins is None else margins
+            where, extra = scene, clearance + unknown_margin + kept
+            if sided:  # kept out of as hard radii, as the planner's (below)
+                where = Scene(scene.obstacles + tuple(sided))
+                extra = np.concatenate([np.broadcast_to(extra, len(scene)), np.zeros(len(sided))])
             shortest = taut_plan(
                 nominal,
-                scene,
-                clearance + unknown_margin + kept,
+                where,
+                extra,
                 n_points=int(self.n_points),
                 max_slope=float(self.max_slope),
             )
+            if shortest is not None and sided:
+                shortest = dataclasses.replace(shortest, clearance=shortest.clearance[: len(scene)])
             if shortest is not None:
                 if gap_margins is not None:
                     self._warn_gaps(scene, gap_margins, gaps)
@@ -618,7 +667,7 @@ class Planning:
         # each safety floor's route check): planned once per reward while it runs.
         memo = getattr(self, "_free_plans", None)
         ends = start.tobytes() + goal.tobytes() + np.asarray(clearance, dtype=float).tobytes()
-        key = (tuple(routes), id(scene), ends, h)
+        key = (tuple(routes), id(scene), ends, h, b"".join(b.position.tobytes() for b in sided))
         # Every attempt moves along the same nominal: resampled and framed once.
         corridor = Corridor.from_path(nominal, int(self.n_points))
 
@@ -632,6 +681,7 @@ class Planning:
             """
             if kept is None and memo is not None and key in memo and memo[key][0] is reward:
                 return memo[key][1]
+            blockers = [*sided, *blockers]
             extra = clearance + unknown_margin + (0.0 if kept is None else kept)
             where, response = scene, reward
             if blockers:
@@ -655,7 +705,9 @@ class Planning:
                         raise
                     continue
                 if blockers:
-                    return dataclasses.replace(plan, clearance=plan.clearance[: len(scene)])
+                    plan = dataclasses.replace(plan, clearance=plan.clearance[: len(scene)])
+                    if len(blockers) > len(sided):  # a gap's: not the plan without a floor
+                        return plan
                 if kept is None and memo is not None and not unknown.any() and via is None:
                     memo[key] = (reward, plan)
                 return plan
@@ -752,6 +804,27 @@ class Planning:
                 self._warn_gaps(scene, gap_margins, gaps)
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _sided_blockers(
+        self, nominal: np.ndarray, scene: Scene, start: np.ndarray, goal: np.ndarray
+    ) -> list[Obstacle]:
+        """Balls that keep each obstacle of a class passed by preference on its side.
+
+        The skill's :attr:`side_preferences_` (``{class: {"side", "within"}}``),
+        for :func:`lfdkit.emulate.gaps.preferred_side_blockers`: in a static 2-D
+        scene, one ball beside each such obstacle the nominal passes nearer
+        than ``within``, on the side the person never passed it. Empty
+        without a preference (older skill files, a reward adopted).
+        """
+        preferences = getattr(self, "side_preferences_", None)
+        if not preferences or not len(scene) or scene.moving or self.n_dims_ != 2:
+            return []
+        wanted = {c: (p["side"], float(p["within"])) for c, p in preferences.items()}
+        ends = np.stack([start, goal])
+        return [
+            ball
+            for _, ball in preferred_side_blockers(nominal, scene, wanted, ends, int(self.n_points))
+        ]
 
     def _declined_clearances(
         self,

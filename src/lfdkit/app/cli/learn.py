@@ -177,6 +177,15 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
                 "them is a guess"
             )
         lines.append(line)
+    sides = getattr(skill, "side_preferences_", {})
+    if sides:
+        kept = ", ".join(
+            f"every {c!r} on the {p['side']} (within {p['within']:.3g} {skill.units} of the path)"
+            for c, p in sides.items()
+        )
+        lines.append(
+            f"plans keep the sides the demonstrations kept, the long way round where needed: {kept}"
+        )
     for row in skill.training_fidelity_ or []:
         name = f"obstacle demonstration {row.get('id', row['demo'])!r}"
         if "refused" in row:
