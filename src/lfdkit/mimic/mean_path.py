@@ -1673,6 +1673,21 @@ def _replica_maxima(
     return seen
 
 
+def _take_run_minimum(weights: np.ndarray, grown: np.ndarray) -> None:
+    """Each contiguous run of True in ``grown`` takes its smallest weight, in place.
+
+    Parameters
+    ----------
+    weights : ndarray, shape (m,)
+        One demonstration's weights along the normals (a view is written through).
+    grown : ndarray of bool, shape (m,)
+        The normals of its flagged runs grown to their flanks.
+    """
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], grown.astype(int), [0]))))
+    for first, last in zip(edges[::2], edges[1::2], strict=True):
+        weights[first:last] = weights[first:last].min()
+
+
 def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, str]:
     """Weights (m, n_demos) that erase runs where one demonstration strays, and why (or "").
 
@@ -1732,10 +1747,7 @@ def _run_weights(ref: np.ndarray, hits: np.ndarray, found: np.ndarray) -> tuple[
     # among the others (within _RUN_GROW robust scales on its own normals and the
     # shortest stretches): a detour's flanks, below the threshold, would still pull.
     for j in np.flatnonzero(low.any(axis=0)):
-        grown = beyond[:, j] | low[:, j]
-        edges = np.flatnonzero(np.diff(np.concatenate(([0], grown.astype(int), [0]))))
-        for first, last in zip(edges[::2], edges[1::2], strict=True):
-            weights[first:last, j] = weights[first:last, j].min()
+        _take_run_minimum(weights[:, j], beyond[:, j] | low[:, j])
         low[:, j] = found[:, j] & (weights[:, j] < 0.99)
     strays = np.flatnonzero(low.any(axis=0))
     share = low[:, strays].sum(axis=0) / np.maximum(found[:, strays].sum(axis=0), 1)
@@ -1827,10 +1839,7 @@ def _detour_weights(
         )
     near = apart > _DETOUR_GROW
     for j in np.flatnonzero(flagged.any(axis=0)):
-        grown = near[:, j] | flagged[:, j]
-        edges = np.flatnonzero(np.diff(np.concatenate(([0], grown.astype(int), [0]))))
-        for first, last in zip(edges[::2], edges[1::2], strict=True):
-            weights[first:last, j] = weights[first:last, j].min()
+        _take_run_minimum(weights[:, j], near[:, j] | flagged[:, j])
     low = found & (weights < 0.99)
     majority = low.sum(axis=1) >= 0.5 * count
     weights[majority] = 1.0
