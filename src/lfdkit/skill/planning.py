@@ -510,32 +510,32 @@ class Planning:
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
+        # Planning again with what this call was given: with the side blockers found here,
+        # or with a fitted swerve's reward (issue 26).
+        again = functools.partial(
+            self._plan,
+            start,
+            goal,
+            scene,
+            planner,
+            horizon,
+            goal_approach,
+            clearance,
+            progress,
+            times,
+            route=route,
+            unknown_class=unknown_class,
+            via=via,
+            clearances=clearances,
+            gaps=gaps,
+            frame=frame,
+            unknown_response=unknown_response,
+        )
         if sided is None:
             sided = self._sided_blockers(nominal, scene, start, goal)
             if sided:
-                again = functools.partial(
-                    self._plan,
-                    start,
-                    goal,
-                    scene,
-                    planner,
-                    horizon,
-                    goal_approach,
-                    clearance,
-                    progress,
-                    times,
-                    route=route,
-                    unknown_class=unknown_class,
-                    via=via,
-                    reward=reward,
-                    clearances=clearances,
-                    gaps=gaps,
-                    frame=frame,
-                    unknown_response=unknown_response,
-                    gap_clearances=gap_clearances,
-                )
                 try:
-                    return again(sided=sided)
+                    return again(reward=reward, gap_clearances=gap_clearances, sided=sided)
                 except UnsafePlanError:
                     classes = sorted({o.label for o in scene if o.label in self.side_preferences_})
                     warnings.warn(
@@ -545,31 +545,12 @@ class Planning:
                         UserWarning,
                         stacklevel=4,
                     )
-                    return again(sided=())
+                    return again(reward=reward, gap_clearances=gap_clearances, sided=())
         if reward is None and len(scene) > 1 and not scene.moving:
             route_reward = self._swerve_route_reward()
             if route_reward is not None:  # a swerve's widths, the route among several: issue 26
                 return self._swerve_routed(
-                    lambda fitted: self._plan(
-                        start,
-                        goal,
-                        scene,
-                        planner,
-                        horizon,
-                        goal_approach,
-                        clearance,
-                        progress,
-                        times,
-                        route=route,
-                        unknown_class=unknown_class,
-                        via=via,
-                        reward=fitted,
-                        clearances=clearances,
-                        gaps=gaps,
-                        frame=frame,
-                        unknown_response=unknown_response,
-                        sided=sided,
-                    ),
+                    lambda fitted: again(reward=fitted, sided=sided),
                     route_reward,
                     nominal,
                     scene,
