@@ -22,7 +22,8 @@ of their scale on 420 conditionings of 42 models (1–3 dimensions, units
 closely as Jacobi's does up to 1e6. Its twin with the same arguments and effects is
 :func:`lfdkit.imitate.promp.condition_weights` (``lfdkit.core.kernels``
 picks one); they agree to rounding (the tests hold them to 1e-9 of the
-units). :func:`condition_point` is the one-point call with fewer arguments.
+units). :func:`condition_point` is the one-point call with fewer arguments,
+:func:`condition_points` the one for several points with a variance.
 
 Imported lazily: compiling costs a few seconds once, after which the
 machine code is cached on disk next to this file.
@@ -208,6 +209,40 @@ def condition_point(prior, phase, point, variance, out):
     return _condition(
         mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out,
         work[1 + d + b :],
+    )  # fmt: skip
+
+
+@numba.njit(cache=True)
+def condition_points(prior, phases, points, variance, out):
+    """:func:`condition_weights` for one point set of ``k`` via-points with a variance.
+
+    ``prior`` as :func:`condition_point`'s, ``phases`` (k,), ``points`` (k, d),
+    ``out`` the buffer of one set (its length and ``points``' shape give the
+    weights): the call for several points, with five arguments and the model
+    in one writeable array (the general kernel's ten, three of them read-only,
+    cost a tenth of a three-point conditioning to type and unbox).
+    """
+    k, d = points.shape
+    m = k * d
+    n = (out.shape[0] - m) // (2 * (1 + m))
+    b = n // d
+    width, rcond = prior[0], prior[1]
+    mean = prior[2 : 2 + n]
+    cov = prior[2 + n : 2 + n + n * n].reshape((n, n))
+    work = np.empty(_work_size(k, d, b) + m + b)
+    sets = work[:m].reshape((1, k, d))
+    for i in range(k):
+        for c in range(d):
+            sets[0, i, c] = points[i, c]
+    scaled_centres = work[m : m + b]
+    step = 1.0 / (b - 1)
+    for j in range(b - 1):
+        scaled_centres[j] = j * step / width
+    scaled_centres[b - 1] = 1.0 / width
+    noise = work[:0].reshape((0, d, d))
+    return _condition(
+        mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out,
+        work[m + b :],
     )  # fmt: skip
 
 

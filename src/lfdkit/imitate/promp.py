@@ -176,6 +176,19 @@ _INF = math.inf
 _POINT_KERNEL = ("condition_point", "lfdkit.imitate._promp_kernels")
 _COMPILED_POINT: list = []  # numba's, once handed out
 
+#: The several-point conditioning kernel (a variance): numba's or :func:`condition_points`.
+_POINTS_KERNEL = ("condition_points", "lfdkit.imitate._promp_kernels")
+_COMPILED_POINTS: list = []  # numba's, once handed out
+
+#: One-point buffers handed out per block: one allocation and one read-only flag for this
+#: many conditionings (each was a tenth of a call), for buffers of at most
+#: ``_BLOCK_FLOATS`` floats (a model conditioned once keeps its block, at most 64 KiB).
+_BLOCK_ROWS = 16
+_BLOCK_FLOATS = 512
+
+#: What an exhausted block's iterator hands out.
+_SPENT = (None, None)
+
 
 class ProMP(Estimator):
     """Probabilistic movement primitive: a Gaussian over basis weights, learned from demonstrations.
@@ -395,7 +408,7 @@ class ProMP(Estimator):
         else:
             # Conditioned, covariance not formed: its source's band (kept on the source)
             # less the reduction, the squared norms of Zᵀ φ per coordinate (Σ' = Σ − Zᵀ Z).
-            cov, out, _, m, source = pending
+            cov, out, _, m, source, _ = pending
             d = state["n_dims_"]
             # Z split by dimension and transposed, (b, m·d): the buffer's last part.
             root_h_t = out[len(out) - m * len(cov) :].reshape(-1, m * d)
@@ -466,7 +479,7 @@ class ProMP(Estimator):
         kept = state.get("_prior_cache")
         if kept is None:  # checks that it is fitted, forms a conditioned model's covariance
             kept = self._kernel_prior()
-        prior, n_weights, size, shape, cov = kept
+        prior, n_weights, size, shape, cov, blocks = kept
         # The common call, one point at one phase with a variance, goes to the one-point
         # kernel with its argument types and shapes checked here (values by the kernel);
         # the glue is inline: each NumPy call or method call costs 0.1–1 µs of a 3 µs call.
@@ -475,11 +488,8 @@ class ProMP(Estimator):
             phase = phases[0]
         elif kind is np.ndarray:
             phase = phases[0] if phases.shape == (1,) else None
-        if (
-            type(phase) in _PHASE_TYPES
-            and type(covariance) in _SCALAR_TYPES
-            and 0.0 <= covariance < _INF
-        ):
+        quick = type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < _INF
+        if quick and type(phase) in _PHASE_TYPES:
             pts = points
             if type(pts) is not np.ndarray or pts.dtype is not _FLOAT64:
                 try:
@@ -488,23 +498,43 @@ class ProMP(Estimator):
                     pts = None
             if pts is not None and pts.shape != shape:
                 pts = pts.reshape(shape) if pts.shape == shape[1:] else None
-        if pts is None:
-            pts, s, variance, noise = self._checked_via(points, phases, covariance)
-            out, n_dropped = self._conditioned(pts[None], s, variance, noise)
-            m = pts.size
-        else:
-            out = np.empty(size)
+        if pts is not None:
+            # A buffer from the model's block (read-only view for the copy, writeable for
+            # the kernel), or its own where the buffer is large.
+            writeable, out = next(blocks[0], _SPENT) if blocks else _SPENT
+            if writeable is None:
+                writeable, out = self._next_buffer(size, blocks)
             n_dropped = (_COMPILED_POINT[0] if _COMPILED_POINT else _point_kernel())(
                 prior,
                 phase,
                 pts,
                 covariance if type(covariance) is float else float(covariance),
-                out,
+                writeable,
             )
             if n_dropped < 0:  # a value the quick check let through: the full checks name it
                 self._checked_via(points, phases, covariance, full=True)
-            out.setflags(False)  # the new mean is a view: read-only too (by keyword: 2.5× slower)
             s, m = phase, shape[1]
+        else:
+            pts = s = None
+            if quick:  # several points with a variance: types and shapes checked here
+                pts, s = self._quick_via(points, phases, shape[1])
+            if pts is not None:
+                m = pts.size
+                out = np.empty(2 * (1 + m) * n_weights + m)
+                n_dropped = (_COMPILED_POINTS[0] if _COMPILED_POINTS else _points_kernel())(
+                    prior,
+                    s,
+                    pts,
+                    covariance if type(covariance) is float else float(covariance),
+                    out,
+                )
+                if n_dropped < 0:
+                    self._checked_via(points, phases, covariance, full=True)
+                out.setflags(False)
+            else:
+                pts, s, variance, noise = self._checked_via(points, phases, covariance)
+                out, n_dropped = self._conditioned(pts[None], s, variance, noise)
+                m = pts.size
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it. The copy made inline (a method call is 0.1 µs).
         copied = state.get("_copy_state")
@@ -513,8 +543,8 @@ class ProMP(Estimator):
         new = object.__new__(type(self))
         made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
         made.update(copied)
-        made["weights_mean_"] = out[:n_weights]
-        made["_pending_cov"] = (cov, out, 1, m, self)  # self: keeps the band for std
+        mean = made["weights_mean_"] = out[:n_weights]
+        made["_pending_cov"] = (cov, out, 1, m, self, mean)  # self: keeps the band for std
         made["_copy_state"] = copied
         if n_dropped:
             lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
@@ -680,10 +710,12 @@ class ProMP(Estimator):
             state["_copy_state"] = copied
         return copied
 
-    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray]:
-        """For the one-point kernel: ``[width, rcond, mean, cov]`` in one writeable array
-        (private; the weights' own arrays are read-only), the weights' count, the
-        kernel buffer's length, a point's shape (1, n_dims) and ``weights_cov_``;
+    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray, list]:
+        """For the one- and several-point kernels: ``[width, rcond, mean, cov]`` in one
+        writeable array (private; the weights' own arrays are read-only), the weights'
+        count, the one-point buffer's length, a point's shape (1, n_dims),
+        ``weights_cov_`` and the iterator over the current block of one-point buffers
+        (in a list; empty for buffers too large for blocks, :meth:`_next_buffer`);
         kept until an attribute is set.
 
         Three arrays of which two read-only took numba 0.3 µs more to type and
@@ -699,8 +731,52 @@ class ProMP(Estimator):
             prior[0], prior[1] = state["width_"], _PINV_RCOND
             prior[2 : 2 + n] = mean
             prior[2 + n :] = cov.reshape(-1)
-            kept = state["_prior_cache"] = (prior, n, 2 * (1 + d) * n + d, (1, d), cov)
+            size = 2 * (1 + d) * n + d
+            blocks = [iter(())] if size <= _BLOCK_FLOATS else []
+            kept = state["_prior_cache"] = (prior, n, size, (1, d), cov, blocks)
         return kept
+
+    @staticmethod
+    def _next_buffer(size: int, blocks: list) -> tuple[np.ndarray, np.ndarray]:
+        """A one-point kernel buffer of ``size`` floats: writeable for the kernel, and the
+        same memory read-only for the conditioned copy (whose mean is a view of it).
+
+        From a new block of :data:`_BLOCK_ROWS` buffers where ``blocks`` holds the
+        model's exhausted iterator (it then holds the new block's; ``next`` on it is
+        atomic, so threads never share a buffer); its own for a large buffer.
+        """
+        if not blocks:
+            writeable = np.empty(size)
+            out = writeable.view()
+            out.flags.writeable = False
+            return writeable, out
+        block = np.empty((_BLOCK_ROWS, size))
+        frozen = block.view()
+        frozen.flags.writeable = False
+        pairs = iter(list(zip(block, frozen, strict=True)))
+        blocks[0] = pairs
+        return next(pairs)
+
+    def _quick_via(self, points: Any, phases: Any, n_dims: int) -> tuple[Any, Any]:
+        """Several via-points' arguments as the several-point kernel takes them, their
+        types and shapes checked (values by the kernel): ``(points (k, d), phases (k,))``
+        as float arrays, or ``(None, None)`` for the full checks of :meth:`_checked_via`."""
+        s = phases
+        if type(s) is not np.ndarray or s.dtype is not _FLOAT64:
+            try:
+                s = np.array(phases, dtype=np.float64)
+            except (TypeError, ValueError):
+                return None, None
+        pts = points
+        if type(pts) is not np.ndarray or pts.dtype is not _FLOAT64:
+            try:
+                pts = np.asarray(points, dtype=np.float64)
+            except (TypeError, ValueError):
+                return None, None
+        k = s.shape[0] if s.ndim == 1 else 0
+        if k == 0 or pts.shape != (k, n_dims):
+            return None, None
+        return pts, s
 
     def __setattr__(self, name: str, value: Any) -> None:
         """Set an attribute, forgetting what is kept of the others for conditioning."""
@@ -708,6 +784,8 @@ class ProMP(Estimator):
         for stale in _DROPPED_ON_SET:
             if stale in state:
                 del state[stale]
+        if name == "weights_cov_":  # a covariance not yet formed is replaced, not formed later
+            state.pop("_pending_cov", None)
         object.__setattr__(self, name, value)
 
     def __getattr__(self, name: str) -> Any:
@@ -894,7 +972,7 @@ class ProMP(Estimator):
         if mean is None:
             self._check_fitted()
         pending = state.get("_pending_cov")
-        if pending is not None and mean.base is pending[1]:  # the kernel's buffer of this mean
+        if pending is not None and pending[5] is mean:  # the kernel's buffer holds this mean
             out, m, n = pending[1], pending[3], len(mean)
             columns = out[n * (1 + m) + m : n * (2 + m) + m].reshape(-1, state["n_dims_"])
         else:
@@ -1077,6 +1155,30 @@ def condition_point(
     )
 
 
+def condition_points(
+    prior: np.ndarray, phases: np.ndarray, points: np.ndarray, variance: float, out: np.ndarray
+) -> int:
+    """:func:`condition_weights` for one set of ``k`` via-points (``points`` (k, d),
+    ``phases`` (k,)) with a variance, the model given as :func:`condition_point`'s:
+    the twin of :func:`lfdkit.imitate._promp_kernels.condition_points`."""
+    k, d = points.shape
+    m = k * d
+    n = (len(out) - m) // (2 * (1 + m))
+    width, rcond = float(prior[0]), float(prior[1])
+    return condition_weights(
+        prior[2 : 2 + n],
+        prior[2 + n : 2 + n + n * n].reshape(n, n),
+        _scaled_centres(n // d, width),
+        phases,
+        width,
+        points.reshape(1, k, d),
+        variance,
+        _no_noise(d),
+        rcond,
+        out,
+    )
+
+
 def _variances(cov: np.ndarray, products: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """Variances of each coordinate, shape (n_points, n_dims), from :meth:`ProMP._grid_products`.
 
@@ -1135,6 +1237,17 @@ def _condition_kernel() -> Any:
     run = kernel(*_KERNEL, __name__)
     if run is not condition_weights:
         _COMPILED.append(run)
+    return run
+
+
+def _points_kernel() -> Any:
+    """:func:`condition_points`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it
+    (kept once handed out, as :func:`_condition_kernel`)."""
+    if _COMPILED_POINTS:
+        return _COMPILED_POINTS[0]
+    run = kernel(*_POINTS_KERNEL, __name__)
+    if run is not condition_points:
+        _COMPILED_POINTS.append(run)
     return run
 
 
