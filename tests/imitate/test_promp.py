@@ -176,6 +176,64 @@ def test_a_variance_and_the_same_variance_as_a_matrix_give_the_same_model(n_dims
                     np.testing.assert_allclose(quick.mean_at([phase])[0], point, atol=1e-9 * scale)
 
 
+@pytest.mark.parametrize("n_dims", [1, 2, 3])
+def test_several_points_with_a_variance_take_their_own_kernel_with_the_general_result(n_dims):
+    """Several points with a variance (the quick route: the several-point kernel) against the
+    same variance as per-point matrices (the full checks and the general kernel): the same
+    model from millimetres to kilometres, as lists or arrays, a repeated phase included."""
+    rng = np.random.default_rng(40 + n_dims)
+    for scale in (1e-3, 1.0, 1e3):
+        mean, cov = known_distribution(rng, 6, n_dims)
+        weights = scale * rng.multivariate_normal(mean, cov, 14)
+        model = ProMP(n_basis=6).fit(demos_from_weights(weights, [np.linspace(0, 1, 40)] * 14, 6))
+        for phases in ([0.0, 0.55], [0.1, 0.47, 1.0], [0.3, 0.3]):
+            points = model.mean_at(phases) + scale * rng.normal(0.0, 0.3, (len(phases), n_dims))
+            for variance in (0.0, 0.02 * scale**2):
+                with warnings.catch_warnings(record=True) as quick_warned:
+                    warnings.simplefilter("always")
+                    quick = model.condition(points.tolist(), phases, variance)
+                    from_arrays = model.condition(points, np.array(phases), variance)
+                with warnings.catch_warnings(record=True) as general_warned:
+                    warnings.simplefilter("always")
+                    general = model.condition(
+                        points, phases, np.tile(variance * np.eye(n_dims), (len(phases), 1, 1))
+                    )
+                assert len(quick_warned) == 2 * len(general_warned)  # warned alike
+                for ours in (quick, from_arrays):
+                    assert "weights_cov_" not in vars(ours)  # formed when first read
+                    for got, want in (
+                        (ours.weights_mean_, general.weights_mean_),
+                        (ours.weights_cov_, general.weights_cov_),
+                    ):
+                        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * abs(want).max())
+                    assert not ours.weights_mean_.flags.writeable
+                if variance == 0.0 and phases[0] != phases[-1]:
+                    np.testing.assert_allclose(quick.mean_at(phases), points, atol=1e-9 * scale)
+
+
+def test_the_several_point_route_refuses_what_the_full_checks_refuse(full_rank_model):
+    """Values the quick route's type checks let through get the full checks' one-line errors."""
+    point = full_rank_model.mean_at([0.5])[0]
+    with pytest.raises(ValueError, match="phases: expected phases in"):
+        full_rank_model.condition([point, point], [0.2, 1.5])
+    with pytest.raises(ValueError, match="points: contains NaN"):
+        full_rank_model.condition([point, [np.nan, 0.0]], [0.2, 0.6])
+    with pytest.raises(ValueError, match="phases: got 3 phases for 2 points"):
+        full_rank_model.condition([point, point], [0.2, 0.6, 0.9])
+
+
+def test_a_covariance_set_on_a_conditioned_model_is_the_one_its_band_reads(full_rank_model):
+    """Setting ``weights_cov_`` before the conditioned covariance was formed replaces it: the
+    band, the covariance and a further conditioning read the new one, not the pending one."""
+    via = full_rank_model.condition(full_rank_model.mean_at([0.5]), [0.5], 0.01)
+    via.weights_cov_ = 4.0 * full_rank_model.weights_cov_
+    np.testing.assert_allclose(via.std(7), 2.0 * full_rank_model.std(7), rtol=1e-12)
+    np.testing.assert_array_equal(via.weights_cov_, 4.0 * full_rank_model.weights_cov_)
+    again = via.condition(via.mean_at([0.2]), [0.2], 0.01)
+    fresh = ProMP.from_state(via.to_state()).condition(via.mean_at([0.2]), [0.2], 0.01)
+    np.testing.assert_array_equal(again.weights_cov_, fresh.weights_cov_)
+
+
 def _invariants(buffer: np.ndarray, cov: np.ndarray, n_weights: int, m: int, d: int) -> tuple:
     """The new mean, the lost offsets and the new covariance of a one-set kernel buffer."""
     from lfdkit.imitate import promp
@@ -235,6 +293,22 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
                 # Z is one root of many: compared through what is made of it.
                 for ours, theirs, unit in zip(
                     _invariants(single, cov, n_weights, m, d),
+                    _invariants(general, cov, n_weights, m, d),
+                    (scale, scale, scale**2),
+                    strict=True,
+                ):
+                    np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-12 * unit)
+        if not len(noise):  # the several-point kernel: the general one's, to rounding
+            variance = 0.01 * scale**2 * (trial % 2)
+            prior = np.r_[width, 1e-10, mean, cov.ravel()]
+            for run in (_promp_kernels.condition_points, promp.condition_points):
+                several = np.empty(promp._out_size(1, n_weights, m))
+                general = np.empty_like(several)
+                got = run(prior, phases, sets[0], variance, several)
+                args = (mean, cov, centres, phases, width, sets[:1], variance, noise, 1e-10)
+                assert got == _promp_kernels.condition_weights(*args, general)
+                for ours, theirs, unit in zip(
+                    _invariants(several, cov, n_weights, m, d),
                     _invariants(general, cov, n_weights, m, d),
                     (scale, scale, scale**2),
                     strict=True,

@@ -180,15 +180,6 @@ _COMPILED_POINT: list = []  # numba's, once handed out
 _POINTS_KERNEL = ("condition_points", "lfdkit.imitate._promp_kernels")
 _COMPILED_POINTS: list = []  # numba's, once handed out
 
-#: One-point buffers handed out per block: one allocation and one read-only flag for this
-#: many conditionings (each was a tenth of a call), for buffers of at most
-#: ``_BLOCK_FLOATS`` floats (a model conditioned once keeps its block, at most 64 KiB).
-_BLOCK_ROWS = 16
-_BLOCK_FLOATS = 512
-
-#: What an exhausted block's iterator hands out.
-_SPENT = (None, None)
-
 
 class ProMP(Estimator):
     """Probabilistic movement primitive: a Gaussian over basis weights, learned from demonstrations.
@@ -479,7 +470,7 @@ class ProMP(Estimator):
         kept = state.get("_prior_cache")
         if kept is None:  # checks that it is fitted, forms a conditioned model's covariance
             kept = self._kernel_prior()
-        prior, n_weights, size, shape, cov, blocks = kept
+        prior, n_weights, size, shape, cov = kept
         # The common call, one point at one phase with a variance, goes to the one-point
         # kernel with its argument types and shapes checked here (values by the kernel);
         # the glue is inline: each NumPy call or method call costs 0.1–1 µs of a 3 µs call.
@@ -499,20 +490,17 @@ class ProMP(Estimator):
             if pts is not None and pts.shape != shape:
                 pts = pts.reshape(shape) if pts.shape == shape[1:] else None
         if pts is not None:
-            # A buffer from the model's block (read-only view for the copy, writeable for
-            # the kernel), or its own where the buffer is large.
-            writeable, out = next(blocks[0], _SPENT) if blocks else _SPENT
-            if writeable is None:
-                writeable, out = self._next_buffer(size, blocks)
+            out = np.empty(size)
             n_dropped = (_COMPILED_POINT[0] if _COMPILED_POINT else _point_kernel())(
                 prior,
                 phase,
                 pts,
                 covariance if type(covariance) is float else float(covariance),
-                writeable,
+                out,
             )
             if n_dropped < 0:  # a value the quick check let through: the full checks name it
                 self._checked_via(points, phases, covariance, full=True)
+            out.setflags(False)  # the new mean is a view: read-only too (by keyword: 2.5× slower)
             s, m = phase, shape[1]
         else:
             pts = s = None
@@ -534,6 +522,8 @@ class ProMP(Estimator):
             else:
                 pts, s, variance, noise = self._checked_via(points, phases, covariance)
                 out, n_dropped = self._conditioned(pts[None], s, variance, noise)
+                if n_dropped < 0:  # nothing computed: the full checks name the value
+                    self._checked_via(points, phases, covariance, full=True)
                 m = pts.size
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it. The copy made inline (a method call is 0.1 µs).
@@ -710,13 +700,11 @@ class ProMP(Estimator):
             state["_copy_state"] = copied
         return copied
 
-    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray, list]:
+    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray]:
         """For the one- and several-point kernels: ``[width, rcond, mean, cov]`` in one
         writeable array (private; the weights' own arrays are read-only), the weights'
         count, the one-point buffer's length, a point's shape (1, n_dims),
-        ``weights_cov_`` and the iterator over the current block of one-point buffers
-        (in a list; empty for buffers too large for blocks, :meth:`_next_buffer`);
-        kept until an attribute is set.
+        and ``weights_cov_``; kept until an attribute is set.
 
         Three arrays of which two read-only took numba 0.3 µs more to type and
         unbox than one writeable array (a tenth of a one-point conditioning).
@@ -731,31 +719,8 @@ class ProMP(Estimator):
             prior[0], prior[1] = state["width_"], _PINV_RCOND
             prior[2 : 2 + n] = mean
             prior[2 + n :] = cov.reshape(-1)
-            size = 2 * (1 + d) * n + d
-            blocks = [iter(())] if size <= _BLOCK_FLOATS else []
-            kept = state["_prior_cache"] = (prior, n, size, (1, d), cov, blocks)
+            kept = state["_prior_cache"] = (prior, n, 2 * (1 + d) * n + d, (1, d), cov)
         return kept
-
-    @staticmethod
-    def _next_buffer(size: int, blocks: list) -> tuple[np.ndarray, np.ndarray]:
-        """A one-point kernel buffer of ``size`` floats: writeable for the kernel, and the
-        same memory read-only for the conditioned copy (whose mean is a view of it).
-
-        From a new block of :data:`_BLOCK_ROWS` buffers where ``blocks`` holds the
-        model's exhausted iterator (it then holds the new block's; ``next`` on it is
-        atomic, so threads never share a buffer); its own for a large buffer.
-        """
-        if not blocks:
-            writeable = np.empty(size)
-            out = writeable.view()
-            out.flags.writeable = False
-            return writeable, out
-        block = np.empty((_BLOCK_ROWS, size))
-        frozen = block.view()
-        frozen.flags.writeable = False
-        pairs = iter(list(zip(block, frozen, strict=True)))
-        blocks[0] = pairs
-        return next(pairs)
 
     def _quick_via(self, points: Any, phases: Any, n_dims: int) -> tuple[Any, Any]:
         """Several via-points' arguments as the several-point kernel takes them, their
