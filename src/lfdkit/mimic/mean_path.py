@@ -2024,44 +2024,51 @@ def _adaptive(
         start, scale = _robust_start(points, found, tuning)
     pts = np.where(found[..., None], points, 0.0)
     degenerate = scale <= 0.0
-    s = np.where(degenerate, 1.0, scale)[:, None]
-    centre = np.array(start, dtype=float)
+    s = np.where(degenerate, 1.0, scale)
+    start = np.asarray(start, dtype=float)
+    centre = start.copy()
+    if pts.shape[2] == 2:
+        # In a plane, the step compiled (NumPy's numbers to the bit, one pass over each
+        # row, on the rows given without gathering them): 100 x 1000, 10 times faster.
+        from lfdkit.mimic._mean_path_kernels import adaptive_step  # compiled on first use
+
+        pts, found = np.ascontiguousarray(pts), np.ascontiguousarray(found)
+        start = np.ascontiguousarray(start)
+        fixed = np.empty((0, 0)) if prior is None else np.ascontiguousarray(prior, dtype=float)
+        core, lo, hi = (float(v) for v in tuning)
+
+        def step(rows: np.ndarray) -> np.ndarray:
+            new = np.empty((len(rows), 2))
+            adaptive_step(pts, found, s, fixed, start, centre, rows, core, lo, hi, new)
+            return new
+
+    else:  # on a line or in 3-D, NumPy's sums differ from a loop's in the last place
+
+        def step(rows: np.ndarray) -> np.ndarray:
+            every = len(rows) == len(pts)
+            at, on = (pts, found) if every else (pts[rows], found[rows])
+            z = np.sqrt(_squared_norms(at - centre[rows][:, None, :])) / s[rows, None]
+            w = np.where(on, _adaptive_weight(z, tuning), 0.0)
+            if prior is not None:
+                w = w * (prior if every else prior[rows])
+            total = w.sum(axis=1, keepdims=True)
+            weighted = np.einsum("mn,mnq->mq", w, at)
+            return np.where(total > 0, weighted / np.maximum(total, 1e-300), start[rows])
+
     # Only rows still moving are reweighted: most settle in one or two steps (all
     # their values within the core: the mean), a few near burrs take ten or more.
     rows = np.arange(len(centre))
-    at, on, sc, fixed = pts, found, s, prior
-    # In a plane the distances come from the two coordinates' contiguous copies: the
-    # same numbers as the vectors' (:func:`_squared_norms`), in a third of the time.
-    planar = pts.shape[2] == 2
-    if planar:
-        xs, ys = np.ascontiguousarray(pts[..., 0]), np.ascontiguousarray(pts[..., 1])
-        x_at, y_at = xs, ys
     # A small core converges linearly, as a median's reweighting does.
     for _ in range(50 if tuning == _DEFAULT else 300):
         current = centre[rows]
-        if planar:
-            dx = x_at - current[:, :1]
-            dy = y_at - current[:, 1:]
-            z = np.sqrt(dx * dx + dy * dy) / sc
-        else:
-            z = np.sqrt(_squared_norms(at - current[:, None, :])) / sc
-        w = np.where(on, _adaptive_weight(z, tuning), 0.0)
-        if fixed is not None:
-            w = w * fixed
-        total = w.sum(axis=1, keepdims=True)
-        weighted = np.einsum("mn,mnq->mq", w, at)
-        new = np.where(total > 0, weighted / np.maximum(total, 1e-300), start[rows])
+        new = step(rows)
         atol = 1e-12 * (1.0 + np.abs(centre).max())
         moving = (np.abs(new - current) > atol).any(axis=1)
         centre[rows] = new
         if not moving.any():
             break
-        if moving.mean() < 0.75:  # gathering the rows costs a copy: worth it once few move
+        if moving.mean() < 0.75:  # the rows that settled are left as they are
             rows = rows[moving]
-            at, on, sc = pts[rows], found[rows], s[rows]
-            if planar:
-                x_at, y_at = xs[rows], ys[rows]
-            fixed = None if prior is None else prior[rows]
     return np.where(degenerate[:, None], start, centre)
 
 
