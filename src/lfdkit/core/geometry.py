@@ -516,6 +516,23 @@ class PolylineSet:
         sub_radii += 1e-9 * self._scale
         self._sub_centres = np.ascontiguousarray(sub_centres.reshape(-1, sub_centres.shape[-1]))
         self._sub_radii = np.ascontiguousarray(sub_radii.reshape(-1))
+        # The chunks in groups of about sqrt(chunks), each with a ball around theirs: a
+        # group whose ball the hyperplane misses holds no candidate chunk (the same
+        # crossings, about half the chunk tests; 100 x 1000 against 1000 normals, 26 ms
+        # against 45 on a loaded machine).
+        group = max(2, int(np.ceil(np.sqrt(self._n_chunks.max()))))
+        n_groups = -(-self._n_chunks // group)
+        group_offset = np.concatenate(([0], np.cumsum(n_groups)[:-1])).astype(np.int64)
+        owner = np.repeat(np.arange(len(n_seg)), n_groups)
+        first = self._chunk_offset[owner] + (np.arange(len(owner)) - group_offset[owner]) * group
+        last = (self._chunk_offset + self._n_chunks - 1)[owner]
+        members = np.minimum(first[:, None] + np.arange(group), last[:, None])
+        member_centres = self._centres[members]  # (groups, group, q)
+        group_centres = 0.5 * (member_centres.min(axis=1) + member_centres.max(axis=1))
+        apart = member_centres - group_centres[:, None]
+        reach = np.sqrt(np.einsum("gkq,gkq->gk", apart, apart)) + self._radii[members]
+        self._group_centres = np.ascontiguousarray(group_centres)
+        self._group_radii = reach.max(axis=1) + 1e-9 * self._scale
         self._kernel_data = (
             self._verts,
             self._vert_offset,
@@ -528,6 +545,11 @@ class PolylineSet:
             self._sub_radii,
             n_sub,
             sub,
+            self._group_centres,
+            self._group_radii,
+            group_offset,
+            n_groups.astype(np.int64),
+            group,
         )
 
     def intersect(
