@@ -132,4 +132,68 @@ def adaptive_step(pts, found, scale, prior, start, centre, rows, core, lo, hi, o
             out[r, k] = acc[k] / max(total, 1e-300) if total > 0.0 else start[i, k]
 
 
-__all__ = ["adaptive_step"]
+@cached_njit(nogil=True)
+def shortest_halves(ordered, counts, mid, width, firsts, median):
+    """Each row's shortest half and median distance from its midpoint, from sorted values.
+
+    ``ordered`` (m, n): each row's ``counts[r]`` found values sorted first (the
+    rest inf). The half holds ``h = max(2, ceil(k / 2))`` of ``k`` values (all
+    of one or two); of equally short ones the middle is taken. Writes its
+    midpoint ``mid``, ``width`` and first index ``firsts``, and ``median``,
+    the median distance of the row's values from ``mid`` (the farther end of
+    the half for odd ``k``, else the mean of that and the nearest value
+    outside it; the mean of both distances for ``k = 2``; NaN for ``k = 0``).
+    The arithmetic of :func:`lfdkit.mimic.mean_path._sorted_shortest_half`
+    and :func:`~lfdkit.mimic.mean_path._line_run`, so the same numbers.
+    """
+    for r in range(ordered.shape[0]):
+        k = counts[r]
+        if k == 0:
+            mid[r] = 0.0
+            width[r] = 0.0
+            firsts[r] = 0
+            median[r] = np.nan
+            continue
+        h = min(k, max(2, -(-k // 2)))
+        least = np.inf
+        first = 0
+        for t in range(k - h + 1):
+            w = ordered[r, t + h - 1] - ordered[r, t]
+            if w < least:
+                least = w
+                first = t
+        n_tied = 0
+        for t in range(k - h + 1):
+            if ordered[r, t + h - 1] - ordered[r, t] <= least:
+                n_tied += 1
+        if n_tied > 1:  # of equally short intervals, the middle one
+            middle = (n_tied + 1) // 2
+            rank = 0
+            for t in range(k - h + 1):
+                if ordered[r, t + h - 1] - ordered[r, t] <= least:
+                    rank += 1
+                    if rank >= middle:
+                        first = t
+                        break
+        lo = ordered[r, first]
+        hi = ordered[r, first + h - 1]
+        centre = 0.5 * (lo + hi)
+        mid[r] = centre
+        width[r] = hi - lo
+        firsts[r] = first
+        if k == 2:
+            median[r] = 0.5 * (abs(ordered[r, 0] - centre) + abs(ordered[r, 1] - centre))
+            continue
+        inner = max(abs(lo - centre), abs(hi - centre))
+        if k % 2 == 1:
+            median[r] = inner
+            continue
+        outer = np.inf
+        if first > 0:
+            outer = abs(ordered[r, first - 1] - centre)
+        if first + h < k:
+            outer = min(outer, abs(ordered[r, first + h] - centre))
+        median[r] = 0.5 * (inner + outer)
+
+
+__all__ = ["adaptive_step", "shortest_halves"]
