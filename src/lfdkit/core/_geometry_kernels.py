@@ -198,6 +198,68 @@ def _queries(
                 out_dist[i, j] = best
 
 
+@cached_njit(nogil=True)
+def chunk_balls(verts, vert_offset, n_seg, chunk_offset, n_chunks, b, sub, n_sub, out):
+    """Bounding balls of the chunks and their sub-chunks of 2-D polylines, unwidened.
+
+    Chunk ``c`` of polyline ``j`` spans its vertices ``c b`` to ``(c + 1) b``
+    (cut at its last), sub-chunk ``k`` of a chunk its vertices ``k sub`` to
+    ``(k + 1) sub`` (cut at the chunk's last). A ball's centre is the middle of
+    its vertices' box, its radius the largest distance from it (``√(x² + y²)``,
+    einsum's sum of two squares). ``out``: the (centres (C, 2), radii (C,),
+    sub_centres (C * n_sub, 2), sub_radii (C * n_sub,)) to fill; the numbers of
+    :class:`lfdkit.core.geometry.PolylineSet`'s vectorised version, which
+    gathered every chunk's vertices into (C, b + 1, 2) copies.
+    """
+    centres, radii, sub_centres, sub_radii = out
+    for j in range(n_seg.shape[0]):
+        v0 = vert_offset[j]
+        last_vertex = n_seg[j]
+        for c in range(n_chunks[j]):
+            cc = chunk_offset[j] + c
+            lo_x = lo_y = np.inf
+            hi_x = hi_y = -np.inf
+            for t in range(b + 1):
+                v = v0 + min(c * b + t, last_vertex)
+                lo_x = min(lo_x, verts[v, 0])
+                hi_x = max(hi_x, verts[v, 0])
+                lo_y = min(lo_y, verts[v, 1])
+                hi_y = max(hi_y, verts[v, 1])
+            mx = 0.5 * (lo_x + hi_x)
+            my = 0.5 * (lo_y + hi_y)
+            centres[cc, 0] = mx
+            centres[cc, 1] = my
+            far = 0.0
+            for t in range(b + 1):
+                v = v0 + min(c * b + t, last_vertex)
+                dx = verts[v, 0] - mx
+                dy = verts[v, 1] - my
+                far = max(far, np.sqrt(dx * dx + dy * dy))
+            radii[cc] = far
+            for kk in range(n_sub):
+                g = cc * n_sub + kk
+                first = min(kk * sub, b)
+                lo_x = lo_y = np.inf
+                hi_x = hi_y = -np.inf
+                for u in range(sub + 1):
+                    v = v0 + min(c * b + min(first + u, b), last_vertex)
+                    lo_x = min(lo_x, verts[v, 0])
+                    hi_x = max(hi_x, verts[v, 0])
+                    lo_y = min(lo_y, verts[v, 1])
+                    hi_y = max(hi_y, verts[v, 1])
+                mx = 0.5 * (lo_x + hi_x)
+                my = 0.5 * (lo_y + hi_y)
+                sub_centres[g, 0] = mx
+                sub_centres[g, 1] = my
+                far = 0.0
+                for u in range(sub + 1):
+                    v = v0 + min(c * b + min(first + u, b), last_vertex)
+                    dx = verts[v, 0] - mx
+                    dy = verts[v, 1] - my
+                    far = max(far, np.sqrt(dx * dx + dy * dy))
+                sub_radii[g] = far
+
+
 def _n_threads() -> int:
     try:
         return len(os.sched_getaffinity(0))
@@ -261,4 +323,4 @@ def nearest_crossings(points, tangents, polylines, b, same_direction, tol, out) 
         raise errors[0]
 
 
-__all__ = ["cached_njit", "nearest_crossings"]
+__all__ = ["cached_njit", "chunk_balls", "nearest_crossings"]
