@@ -1056,7 +1056,8 @@ def _sorted_halves(
     The rows sorted by NumPy, the rest row by row in one compiled pass
     (:func:`lfdkit.mimic._mean_path_kernels.shortest_halves`: the arithmetic
     the vectorised version did, the same numbers bit for bit; 1000 rows of 100,
-    a fifth of its time).
+    sort and median distance included, 0.37 ms against 0.68 for the vectorised
+    shortest half alone).
     """
     from lfdkit.mimic._mean_path_kernels import shortest_halves  # compiled on first use
 
@@ -1905,19 +1906,20 @@ def _running_median(values: np.ndarray, window: int) -> np.ndarray:
 
     Without NaN the full windows inside are SciPy's median filter (the middle
     value of an odd window: the same number, 10 times faster than sorting
-    every window); the ends, where windows are cut short, are sorted.
+    every window); the ends, where windows are cut short, each the last one
+    and a value more, are kept sorted by insertion
+    (:func:`lfdkit.mimic._mean_path_kernels.running_median_ends`: the same
+    numbers as sorting each, 0.2 ms less per call on 1000 normals).
     """
     half = window // 2
     m = len(values)
     if values.ndim == 1 and half > 0 and m > 4 * half and not np.isnan(values).any():
         from scipy.ndimage import median_filter  # imported when first needed: 0.1 s
 
+        from lfdkit.mimic._mean_path_kernels import running_median_ends  # compiled
+
         out = median_filter(values, size=2 * half + 1, mode="nearest")
-        gap = np.full(half, np.nan)
-        ends = np.concatenate((gap, values[: 2 * half], values[m - 2 * half :], gap))
-        windows = np.lib.stride_tricks.sliding_window_view(ends, 2 * half + 1)
-        out[:half] = _nanmedian(windows[:half], axis=1)
-        out[m - half :] = _nanmedian(windows[-half:], axis=1)
+        running_median_ends(np.ascontiguousarray(values, dtype=float), half, out)
         return out
     padded = np.pad(values, half, constant_values=np.nan)
     windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1)
