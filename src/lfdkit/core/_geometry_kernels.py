@@ -43,16 +43,16 @@ def cached_njit(**options):
     return decorate
 
 
-@cached_njit(nogil=True, inline="always")
+@cached_njit(nogil=True)
 def _scan_chunk(
     i, j, c, points, tangents, verts, v0, c0, n_seg, sub_centres, sub_radii, n_sub, sub, b,
-    same_direction, tol, out_pt, best, seg, q,
+    same_direction, tol, out_pt, best, seg,
 ):  # fmt: skip
     """The nearest crossing in chunk ``c`` of polyline ``j`` nearer than ``best``: (best, seg).
 
-    Writes the crossing point into ``out_pt[i, j]`` when one is found; ``q``
-    the dimension (a constant where inlined for 2-D).
+    Writes the crossing point into ``out_pt[i, j]`` when one is found.
     """
+    q = points.shape[1]
     first = c * b
     last = min(first + b, n_seg[j])  # exclusive segment bound
     for kk in range(n_sub):
@@ -101,93 +101,6 @@ def _scan_chunk(
     return best, seg
 
 
-@cached_njit(nogil=True, inline="always")
-def _query_loop(
-    points,
-    tangents,
-    verts,
-    vert_offset,
-    n_seg,
-    centres,
-    radii,
-    chunk_offset,
-    n_chunks,
-    sub_centres,
-    sub_radii,
-    n_sub,
-    sub,
-    group_centres,
-    group_radii,
-    group_offset,
-    n_groups,
-    group,
-    b,
-    same_direction,
-    tol,
-    out_pt,
-    out_seg,
-    out_dist,
-    start,
-    stop,
-    lower,
-    group_lower,
-    q,
-):
-    """:func:`_queries`' loop, for dimension ``q``."""
-    for i in range(start, stop):
-        for j in range(n_seg.shape[0]):
-            c0 = chunk_offset[j]
-            v0 = vert_offset[j]
-            h0 = group_offset[j]
-            n_c = n_chunks[j]
-            first_c = -1
-            first_lb = np.inf
-            for h in range(n_groups[j]):
-                along = 0.0
-                for k in range(q):
-                    along += (group_centres[h0 + h, k] - points[i, k]) * tangents[i, k]
-                least = np.inf
-                if abs(along) <= group_radii[h0 + h] + tol:
-                    for c in range(h * group, min(h * group + group, n_c)):
-                        along = 0.0
-                        d2 = 0.0
-                        for k in range(q):
-                            diff = centres[c0 + c, k] - points[i, k]
-                            along += diff * tangents[i, k]
-                            d2 += diff * diff
-                        # Widen each ball by the on-plane tolerance so that a vertex
-                        # counted as lying on the plane is never in a pruned chunk.
-                        r = radii[c0 + c] + tol
-                        lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
-                        lower[c] = lb
-                        least = min(least, lb)
-                        if lb < first_lb:
-                            first_lb = lb
-                            first_c = c
-                group_lower[h] = least
-            if first_c < 0:
-                continue
-            # The nearest candidate chunk first, then the others, in order, whose bound
-            # beats the best crossing found so far.
-            best, seg = _scan_chunk(
-                i, j, first_c, points, tangents, verts, v0, c0, n_seg, sub_centres,
-                sub_radii, n_sub, sub, b, same_direction, tol, out_pt, np.inf, -1, q,
-            )  # fmt: skip
-            for h in range(n_groups[j]):
-                if group_lower[h] >= best:
-                    continue
-                for c in range(h * group, min(h * group + group, n_c)):
-                    if c == first_c or lower[c] >= best:
-                        continue
-                    best, seg = _scan_chunk(
-                        i, j, c, points, tangents, verts, v0, c0, n_seg, sub_centres,
-                        sub_radii, n_sub, sub, b, same_direction, tol, out_pt, best, seg, q,
-                    )  # fmt: skip
-            if seg >= 0:
-                out_seg[i, j] = seg
-                out_dist[i, j] = best
-
-
 @cached_njit(nogil=True)
 def _queries(
     points,
@@ -230,23 +143,59 @@ def _queries(
     chunks are searched in the same order as one by one, so the crossings are
     the same, bit for bit.
     """
-    # In 2-D the loop is inlined with q a constant (its dot products unrolled): about
-    # 15 % faster, the same arithmetic.
     q = points.shape[1]
-    if q == 2:
-        _query_loop(
-            points, tangents, verts, vert_offset, n_seg, centres, radii, chunk_offset,
-            n_chunks, sub_centres, sub_radii, n_sub, sub, group_centres, group_radii,
-            group_offset, n_groups, group, b, same_direction, tol, out_pt, out_seg,
-            out_dist, start, stop, lower, group_lower, 2,
-        )  # fmt: skip
-    else:
-        _query_loop(
-            points, tangents, verts, vert_offset, n_seg, centres, radii, chunk_offset,
-            n_chunks, sub_centres, sub_radii, n_sub, sub, group_centres, group_radii,
-            group_offset, n_groups, group, b, same_direction, tol, out_pt, out_seg,
-            out_dist, start, stop, lower, group_lower, q,
-        )  # fmt: skip
+    for i in range(start, stop):
+        for j in range(n_seg.shape[0]):
+            c0 = chunk_offset[j]
+            v0 = vert_offset[j]
+            h0 = group_offset[j]
+            n_c = n_chunks[j]
+            first_c = -1
+            first_lb = np.inf
+            for h in range(n_groups[j]):
+                along = 0.0
+                for k in range(q):
+                    along += (group_centres[h0 + h, k] - points[i, k]) * tangents[i, k]
+                least = np.inf
+                if abs(along) <= group_radii[h0 + h] + tol:
+                    for c in range(h * group, min(h * group + group, n_c)):
+                        along = 0.0
+                        d2 = 0.0
+                        for k in range(q):
+                            diff = centres[c0 + c, k] - points[i, k]
+                            along += diff * tangents[i, k]
+                            d2 += diff * diff
+                        # Widen each ball by the on-plane tolerance so that a vertex
+                        # counted as lying on the plane is never in a pruned chunk.
+                        r = radii[c0 + c] + tol
+                        lb = np.sqrt(d2) - r if abs(along) <= r else np.inf
+                        lower[c] = lb
+                        least = min(least, lb)
+                        if lb < first_lb:
+                            first_lb = lb
+                            first_c = c
+                group_lower[h] = least
+            if first_c < 0:
+                continue
+            # The nearest candidate chunk first, then the others, in order, whose bound
+            # beats the best crossing found so far.
+            best, seg = _scan_chunk(
+                i, j, first_c, points, tangents, verts, v0, c0, n_seg, sub_centres,
+                sub_radii, n_sub, sub, b, same_direction, tol, out_pt, np.inf, -1,
+            )  # fmt: skip
+            for h in range(n_groups[j]):
+                if group_lower[h] >= best:
+                    continue
+                for c in range(h * group, min(h * group + group, n_c)):
+                    if c == first_c or lower[c] >= best:
+                        continue
+                    best, seg = _scan_chunk(
+                        i, j, c, points, tangents, verts, v0, c0, n_seg, sub_centres,
+                        sub_radii, n_sub, sub, b, same_direction, tol, out_pt, best, seg,
+                    )  # fmt: skip
+            if seg >= 0:
+                out_seg[i, j] = seg
+                out_dist[i, j] = best
 
 
 @cached_njit(nogil=True)
