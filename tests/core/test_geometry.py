@@ -270,7 +270,8 @@ def test_kernels_compile_without_a_writable_cache(tmp_path):
         "out = (np.full((1, 1, 2), np.nan), np.full((1, 1), -1), np.full((1, 1), np.inf))\n"
         "verts = np.array([[0.0, -1.0], [0.0, 1.0]])\n"
         "polylines = (verts, np.array([0]), np.array([1]), np.zeros((1, 2)), np.array([1.0]),\n"
-        "             np.array([0]), np.array([1]), np.zeros((2, 2)), np.array([1.0, 1.0]), 2, 2)\n"
+        "             np.array([0]), np.array([1]), np.zeros((2, 2)), np.array([1.0, 1.0]), 2, 2,\n"
+        "             np.zeros((1, 2)), np.array([2.0]), np.array([0]), np.array([1]), 2)\n"
         "kernels.nearest_crossings(np.zeros((1, 2)), np.array([[0.0, 1.0]]), polylines, 4,\n"
         "                          False, 1e-12, out)\n"
         "assert out[2][0, 0] == 0.0 and out[1][0, 0] == 0, out\n"
@@ -745,3 +746,55 @@ def test_project_a_polyline_s_own_vertices_at_zero_distance():
     assert dist.max() < 1e-13 * scale
     np.testing.assert_allclose(closest, path, atol=1e-13 * scale)
     np.testing.assert_allclose(s, arc_length(path), atol=1e-12 * scale)
+
+
+def test_compiled_chunk_balls_equal_the_vectorised_ones_bit_for_bit():
+    # 2-D polylines' chunk and sub-chunk balls come from a compiled loop; the
+    # vectorised computation (every chunk's vertices gathered) gives the same numbers.
+    rng = np.random.default_rng(17)
+    for kind in ("smooth", "jagged", "grid", "repeats"):
+        polys = [make_polyline(rng, kind, 2, int(n)) for n in rng.integers(2, 300, size=4)]
+        for chunk_size in (None, 1, 3, 7, 64):
+            pset = PolylineSet(polys, chunk_size=chunk_size)
+            b, verts = pset._b, pset._verts
+            n_seg, n_chunks = pset._n_seg, pset._n_chunks
+            owner = np.repeat(np.arange(len(n_seg)), n_chunks)
+            local = np.arange(len(owner)) - pset._chunk_offset[owner]
+            idx = np.minimum(local[:, None] * b + np.arange(b + 1), n_seg[owner, None])
+            chunk = verts[idx + pset._vert_offset[owner, None]]
+            centres = 0.5 * (chunk.min(axis=1) + chunk.max(axis=1))
+            apart = chunk - centres[:, None]
+            radii = np.sqrt(np.einsum("cvq,cvq->cv", apart, apart)).max(axis=1)
+            sub = max(2, int(np.ceil(np.sqrt(b))))
+            first = np.minimum(np.arange(-(-b // sub)) * sub, b)
+            parts = chunk[:, np.minimum(first[:, None] + np.arange(sub + 1), b)]
+            sub_centres = 0.5 * (parts.min(axis=2) + parts.max(axis=2))
+            apart = parts - sub_centres[:, :, None]
+            sub_radii = np.sqrt(np.einsum("cksq,cksq->cks", apart, apart)).max(axis=2)
+            widen = 1e-9 * pset._scale
+            assert np.array_equal(pset._centres, centres)
+            assert np.array_equal(pset._radii, radii + widen)
+            assert np.array_equal(pset._sub_centres, sub_centres.reshape(-1, 2))
+            assert np.array_equal(pset._sub_radii, sub_radii.reshape(-1) + widen)
+
+
+def test_chunk_groups_give_the_crossings_of_chunks_searched_one_by_one():
+    # Groups of chunks under one ball prune whole groups; with every chunk its own
+    # group (the search chunk by chunk) the crossings are the same, bit for bit.
+    rng = np.random.default_rng(23)
+    for q, kind in ((2, "smooth"), (2, "grid"), (3, "jagged"), (2, "repeats")):
+        polys = [make_polyline(rng, kind, q, int(n)) for n in (400, 250, 90)]
+        pts, tan = make_queries(rng, polys, 300, kind)
+        pset = PolylineSet(polys, chunk_size=4)
+        grouped = pset.intersect(pts, tan, same_direction=True)
+        data = list(pset._kernel_data)
+        n_total = len(pset._centres)
+        # One group per chunk, its ball the chunk's own.
+        data[11:16] = (
+            pset._centres, pset._radii, pset._chunk_offset.copy(), pset._n_chunks.copy(), 1,
+        )  # fmt: skip
+        pset._kernel_data = tuple(data)
+        single = pset.intersect(pts, tan, same_direction=True)
+        assert n_total > 50 and grouped.found.mean() > 0.2
+        for field in ("points", "segment", "distance"):
+            assert np.array_equal(getattr(grouped, field), getattr(single, field), equal_nan=True)

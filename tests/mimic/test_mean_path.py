@@ -1541,3 +1541,114 @@ def test_adaptive_erases_local_detours_in_3d_and_leaves_clean_bands_alone():
         floor.append(e2(resample(reference.path_, 100), nominal, n_points=100))
         assert np.all(MeanPath().fit(clean).center_weights_ == 1.0)
     assert np.sum(default) / np.sum(floor) < 1.15
+
+
+# ------------------------------------------------- compiled steps against plain NumPy
+def _plain_adaptive_step(pts, found, scale, prior, start, centre, rows, core, lo, hi, out):
+    """The adaptive centre's reweighting as NumPy wrote it: gathered rows, whole arrays."""
+    at, on = pts[rows], found[rows]
+    z = np.sqrt(_squared_norms(at - centre[rows][:, None, :])) / scale[rows, None]
+    w = np.where(on, _adaptive_weight(z, (core, lo, hi)), 0.0)
+    if prior.shape[0]:
+        w = w * prior[rows]
+    total = w.sum(axis=1, keepdims=True)
+    weighted = np.einsum("mn,mnq->mq", w, at)
+    out[:] = np.where(total > 0, weighted / np.maximum(total, 1e-300), start[rows])
+
+
+def _plain_shortest_halves(ordered, counts, mid, width, firsts, median):
+    """Row by row: the shortest half (the middle of equal ones) and np.median's distance."""
+    for r, k in enumerate(counts):
+        v = ordered[r, :k]
+        if k == 0:
+            mid[r], width[r], firsts[r], median[r] = 0.0, 0.0, 0, np.nan
+            continue
+        h = min(k, max(2, -(-k // 2)))
+        widths = v[h - 1 :] - v[: k - h + 1]
+        ties = np.flatnonzero(widths <= widths.min())
+        first = ties[(len(ties) - 1) // 2]
+        mid[r], width[r], firsts[r] = 0.5 * (v[first] + v[first + h - 1]), widths[first], first
+        median[r] = np.median(np.abs(v - mid[r]))
+
+
+def test_adaptive_step_equals_numpys_bit_for_bit():
+    # The compiled step reproduces NumPy's pairwise row sums (blocks of 8, halves above
+    # 128 values) and einsum's sequential weighted sums: the same centres to the bit.
+    from lfdkit.mimic._mean_path_kernels import adaptive_step
+
+    rng = np.random.default_rng(3)
+    for n in (1, 5, 8, 100, 129, 300, 1000):
+        m = 40
+        found = rng.random((m, n)) > 0.1
+        pts = rng.standard_normal((m, n, 2)) * rng.uniform(0.01, 100.0, (m, 1, 1))
+        pts = np.where(found[..., None], pts + rng.standard_normal((m, 1, 2)), 0.0)
+        scale = rng.uniform(0.1, 3.0, m)
+        centre = rng.standard_normal((m, 2))
+        start = rng.standard_normal((m, 2))
+        rows = np.sort(rng.choice(m, 25, replace=False))
+        for tuning in ((4.0, 4.0, 8.0), (0.5, 4.0, 8.0), (4.0, 2.0, 4.0), (1.0, 2.0, 4.0)):
+            for prior in (np.empty((0, 0)), rng.random((m, n)) * (rng.random((m, n)) > 0.2)):
+                got, want = np.empty((len(rows), 2)), np.empty((len(rows), 2))
+                args = (pts, found, scale, prior, start, centre, rows, *tuning)
+                adaptive_step(*args, got)
+                _plain_adaptive_step(*args, want)
+                assert np.array_equal(got, want), (n, tuning)
+
+
+def test_shortest_halves_equal_the_plain_computation_bit_for_bit():
+    from lfdkit.mimic._mean_path_kernels import shortest_halves
+
+    rng = np.random.default_rng(8)
+    for case in range(40):
+        m, n = int(rng.integers(1, 60)), int(rng.integers(1, 40))
+        found = rng.random((m, n)) > (0.0, 0.1, 0.6)[case % 3]
+        values = rng.normal(size=(m, n))
+        if case % 4 == 1:
+            values = np.round(values, 1)  # ties, equally short halves, coinciding values
+        ordered = np.sort(np.where(found, values, np.inf), axis=1)
+        counts = found.sum(axis=1)
+        got = [np.empty(m), np.empty(m), np.empty(m, dtype=np.int64), np.empty(m)]
+        want = [np.empty(m), np.empty(m), np.empty(m, dtype=np.int64), np.empty(m)]
+        shortest_halves(ordered, counts, *got)
+        _plain_shortest_halves(ordered, counts, *want)
+        for a, b in zip(got, want, strict=True):
+            assert np.array_equal(a, b, equal_nan=True), case
+
+
+@pytest.mark.parametrize(
+    # detours: the tuning chosen twice and 40 smooth replicas, each shortest half
+    # row by row in Python (seconds)
+    "kind",
+    ["burrs", pytest.param("detours", marks=pytest.mark.slow), "clean", "3-D"],
+)
+def test_compiled_steps_fit_what_numpy_fits_bit_for_bit(kind, monkeypatch):
+    # The whole fit with the compiled steps replaced by the plain NumPy ones above:
+    # every fitted number the same (robust starts, tuning, run weights, second pass).
+    import lfdkit.mimic._mean_path_kernels as kernels
+
+    rng = np.random.default_rng(4)
+    x = np.linspace(0.0, 10.0, 150)
+    demos = []
+    for j in range(12):
+        y = 0.05 * rng.normal(size=x.size)
+        if kind == "burrs" and j < 3:
+            y += 0.6 * np.exp(-(((x - 2.0 - 2.0 * j) / 0.3) ** 2))
+        if kind == "detours":
+            y = 0.2 * np.sin(x / 3.0 + rng.uniform(0, 6)) + 0.01 * rng.normal(size=x.size)
+            y += 3.0 * (j < 3) * np.exp(-(((x - 5.0) / 0.8) ** 2))  # erased
+        demo = np.column_stack((x, y))
+        if kind == "3-D":
+            demo = np.column_stack((demo, 0.05 * rng.normal(size=x.size)))
+        demos.append(demo)
+    attrs = ("path_", "distances_", "center_weights_", "residual_history_")
+    _REPLICA_CACHE.clear()
+    fast = MeanPath(n_points=80).fit(demos)
+    monkeypatch.setattr(kernels, "adaptive_step", _plain_adaptive_step)
+    monkeypatch.setattr(kernels, "shortest_halves", _plain_shortest_halves)
+    _REPLICA_CACHE.clear()
+    plain = MeanPath(n_points=80).fit(demos)
+    for attr in attrs:
+        assert np.array_equal(getattr(fast, attr), getattr(plain, attr), equal_nan=True), attr
+    assert fast.center_reason_ == plain.center_reason_
+    if kind in ("burrs", "detours"):
+        assert (fast.center_weights_ < 1.0).any()  # the second pass ran

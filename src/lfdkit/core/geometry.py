@@ -490,32 +490,68 @@ class PolylineSet:
         self._b = b
         self._scale = float(np.abs(self._verts).max()) + 1.0
         # Chunk c of polyline j spans its vertices c*b .. min((c+1)*b, n_seg) inclusive.
-        owner = np.repeat(np.arange(len(n_seg)), n_chunks)
-        local = np.arange(len(owner)) - self._chunk_offset[owner]
-        vert_idx = np.minimum(local[:, None] * b + np.arange(b + 1), n_seg[owner, None])
-        verts = self._verts[vert_idx + self._vert_offset[owner, None]]
-        centres = 0.5 * (verts.min(axis=1) + verts.max(axis=1))
-        self._centres = np.ascontiguousarray(centres)
-        radii = np.sqrt(
-            np.einsum("cvq,cvq->cv", verts - centres[:, None], verts - centres[:, None])
-        )
-        # Inflate the balls by more than any rounding in the tests below.
-        self._radii = radii.max(axis=1) + 1e-9 * self._scale
         # Each chunk's segments in sub-chunks of about sqrt(chunk_size), each with its
         # ball: a sub-chunk whose ball the hyperplane misses holds no crossing, and its
         # segments are not tested (the same crossings, a third of the tests).
+        # Sub-chunk k of a chunk spans its vertices k*sub .. (k+1)*sub inclusive.
         sub = max(2, int(np.ceil(np.sqrt(b))))
         n_sub = -(-b // sub)
-        first = np.minimum(np.arange(n_sub) * sub, b)  # (n_sub,) in the chunk
-        sub_idx = np.minimum(first[:, None] + np.arange(sub + 1), b)  # (n_sub, sub + 1)
-        # Sub-chunk k of a chunk spans its vertices k*sub .. (k+1)*sub inclusive.
-        sub_verts = verts[:, sub_idx]  # (chunks, n_sub, sub + 1, q)
-        sub_centres = 0.5 * (sub_verts.min(axis=2) + sub_verts.max(axis=2))
-        apart = sub_verts - sub_centres[:, :, None]
-        sub_radii = np.sqrt(np.einsum("cksq,cksq->cks", apart, apart)).max(axis=2)
-        sub_radii += 1e-9 * self._scale
-        self._sub_centres = np.ascontiguousarray(sub_centres.reshape(-1, sub_centres.shape[-1]))
-        self._sub_radii = np.ascontiguousarray(sub_radii.reshape(-1))
+        q = self._verts.shape[1]
+        if q == 2:
+            # Compiled, the same numbers (100 polylines of 1050 points: 2 ms against 20).
+            from lfdkit.core._geometry_kernels import chunk_balls  # compiled on first use
+
+            n_total = int(n_chunks.sum())
+            centres, radii = np.empty((n_total, 2)), np.empty(n_total)
+            sub_centres, sub_radii = np.empty((n_total * n_sub, 2)), np.empty(n_total * n_sub)
+            chunk_balls(
+                self._verts,
+                self._vert_offset,
+                n_seg,
+                self._chunk_offset,
+                self._n_chunks,
+                b,
+                sub,
+                n_sub,
+                (centres, radii, sub_centres, sub_radii),
+            )
+        else:
+            owner = np.repeat(np.arange(len(n_seg)), n_chunks)
+            local = np.arange(len(owner)) - self._chunk_offset[owner]
+            vert_idx = np.minimum(local[:, None] * b + np.arange(b + 1), n_seg[owner, None])
+            verts = self._verts[vert_idx + self._vert_offset[owner, None]]
+            centres = 0.5 * (verts.min(axis=1) + verts.max(axis=1))
+            apart = verts - centres[:, None]
+            radii = np.sqrt(np.einsum("cvq,cvq->cv", apart, apart)).max(axis=1)
+            first = np.minimum(np.arange(n_sub) * sub, b)  # (n_sub,) in the chunk
+            sub_idx = np.minimum(first[:, None] + np.arange(sub + 1), b)  # (n_sub, sub + 1)
+            sub_verts = verts[:, sub_idx]  # (chunks, n_sub, sub + 1, q)
+            sub_centres = 0.5 * (sub_verts.min(axis=2) + sub_verts.max(axis=2))
+            apart = sub_verts - sub_centres[:, :, None]
+            sub_radii = np.sqrt(np.einsum("cksq,cksq->cks", apart, apart)).max(axis=2)
+            sub_centres, sub_radii = sub_centres.reshape(-1, q), sub_radii.reshape(-1)
+        self._centres = np.ascontiguousarray(centres)
+        # Inflate the balls by more than any rounding in the tests below.
+        self._radii = radii + 1e-9 * self._scale
+        self._sub_centres = np.ascontiguousarray(sub_centres)
+        self._sub_radii = np.ascontiguousarray(sub_radii + 1e-9 * self._scale)
+        # The chunks in groups of about sqrt(chunks), each with a ball around theirs: a
+        # group whose ball the hyperplane misses holds no candidate chunk (the same
+        # crossings, about half the chunk tests; 100 x 1000 against 1000 normals, 26 ms
+        # against 45 on a loaded machine).
+        group = max(2, int(np.ceil(np.sqrt(self._n_chunks.max()))))
+        n_groups = -(-self._n_chunks // group)
+        group_offset = np.concatenate(([0], np.cumsum(n_groups)[:-1])).astype(np.int64)
+        owner = np.repeat(np.arange(len(n_seg)), n_groups)
+        first = self._chunk_offset[owner] + (np.arange(len(owner)) - group_offset[owner]) * group
+        last = (self._chunk_offset + self._n_chunks - 1)[owner]
+        members = np.minimum(first[:, None] + np.arange(group), last[:, None])
+        member_centres = self._centres[members]  # (groups, group, q)
+        group_centres = 0.5 * (member_centres.min(axis=1) + member_centres.max(axis=1))
+        apart = member_centres - group_centres[:, None]
+        reach = np.sqrt(np.einsum("gkq,gkq->gk", apart, apart)) + self._radii[members]
+        self._group_centres = np.ascontiguousarray(group_centres)
+        self._group_radii = reach.max(axis=1) + 1e-9 * self._scale
         self._kernel_data = (
             self._verts,
             self._vert_offset,
@@ -528,6 +564,11 @@ class PolylineSet:
             self._sub_radii,
             n_sub,
             sub,
+            self._group_centres,
+            self._group_radii,
+            group_offset,
+            n_groups.astype(np.int64),
+            group,
         )
 
     def intersect(

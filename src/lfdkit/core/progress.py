@@ -72,6 +72,7 @@ MIN_INTERVAL = 0.2
 KERNEL_MODULES = (
     "core/_geometry_kernels.py",
     "mimic/_gmr_kernels.py",
+    "mimic/_mean_path_kernels.py",
     "imitate/_dmp_kernels.py",
     "imitate/_rhythmic_kernels.py",
     "emulate/_problem_kernels.py",
