@@ -212,6 +212,21 @@ before: 9/42 %, sides 83 % → 38/90 %, 83 % (window+closest → window/swerve).
 Fit CPU seconds (seed 0, 1x, two fits each, the second): thesis 2.7 → 3.2,
 margin 3.2 → 3.5, field 3.7 → 3.3, late 2.1 → 2.7 (the swerve's fit and
 folds now run for every person).
+
+The thesis target against the recorded and the noise-free path (quick, 10
+demonstrations, pooled Pr per family, as measured / vs clean; both are in
+the targets). Pairs at 2x noise: seed 0 65/94 %, seed 1 65/94 %, seed 2
+79/98 %; the person hardly swerves there (RMS 7-9 mm from the nominal, the
+noise 4 mm), so its own noise-free path scores 74-82 % against its recorded
+one and no plan can pass 90 % by that measure (per scene: the plan's 64 and
+74 % against that ceiling's 74 and 82 %, seed 0). Moved goals, seed 3:
+−108/−109 % at 1x, one scene at −136 %: the cup stands 1-2 cm from both
+nominals (the person's blended task nominal and the skill's DMP one), the
+person passes it below and the plan above; the person itself planned on the
+skill's nominal passes it above too (ceiling ``own`` −107 %), so the side is
+the two nominals' coin flip, not the obstacle response. Left below 90 % on
+both measures: seed 3 clutter 89/89 % and new tasks 88/89 %; near the goal
+77-79 % everywhere (the ``goal`` ceiling, 76-78 %).
 """
 
 from __future__ import annotations
@@ -290,6 +305,8 @@ def person_data(
     k = P.KINDS.index(kind) if kind in P.KINDS else len(P.KINDS)
     person = person or P.make_person(kind, scale)
     data = {"kind": kind, "description": person.describe(), "free": {}, "train": [], "held": []}
+    # The person itself (a probe's variant is not its kind's own): run_setting's "own" ceiling.
+    data["person"] = person
     for t, task in enumerate(("train", *P.NEW_TASKS)):
         nominal = P.task_nominal(task, scale)
         clean = person.clean(nominal, Scene())
@@ -612,7 +629,7 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
             train_scores.append(compare(plan, demo, nominal, case.scene, scale))
     row["train"] = summary(train_scores)
 
-    person_model = P.make_person(data["kind"], scale)
+    person_model = data.get("person") or P.make_person(data["kind"], scale)
     gamma, beta = tune_dmp(skill, demos, scenes, P.task_nominal("train", scale)[-1], args.quick)
     row["dmp_gamma"], row["dmp_beta"] = gamma, beta
     scores, dmp_scores, times, examples = [], [], [], {}
@@ -815,6 +832,26 @@ def check_targets(rows: list[dict]) -> list[dict]:
             f"worst: {family}, n={r['n_train']}, {r['noise']:g}x; the person's own path,"
             f" noise-free and reaching the goal: {_f(ceiling)} %",
         )
+        # The same against the person's noise-free path: at 2x noise a person who hardly
+        # swerves (pairs) leaves any plan, its own clean path included, 68-82 % against the
+        # recorded one; this says what the plan loses to the person's behaviour alone.
+        clean = [
+            (r["by_family"][f].get("pr_pooled_clean"), f, r)
+            for r in fitted
+            if r["kind"] == "thesis"
+            for f in P.FAMILIES
+            if r["by_family"][f].get("pr_pooled_clean") is not None
+        ]
+        if clean:
+            worst, family, r = min(clean, key=lambda t: t[0])
+            ceiling = r["by_family"][family].get("ceiling_goal")
+            add(
+                "thesis person: pooled Pr >= 90 % in every family, against its noise-free path",
+                worst,
+                worst >= 90.0,
+                f"worst: {family}, n={r['n_train']}, {r['noise']:g}x; the person's own path"
+                f" reaching the goal, against the recorded one: {_f(ceiling)} %",
+            )
     others = [r for r in fitted if r["kind"] != "thesis" and r["held"].get("n")]
     if others:
         r = min(others, key=lambda r: r["held"]["pr_median"] or -np.inf)

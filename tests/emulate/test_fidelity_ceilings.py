@@ -94,3 +94,41 @@ def test_every_ceiling_is_reported_pooled_and_per_scene(fidelity):
     # Per scene: goal 75 % and 50 %, nominal 50 % and 50 %.
     assert out["ceiling_goal_median"] == pytest.approx(62.5)
     assert out["ceiling_nominal_median"] == pytest.approx(50.0)
+
+
+def test_person_data_keeps_the_person_it_was_given(fidelity):
+    # The probe's variants are people other than their kind's own: the "own" ceiling must
+    # run that person, not look its variant name up (it raised for "thesis-noise3").
+    from benchmarks.emulate import people
+
+    person = people.make_person("margin")
+    data = fidelity.person_data("margin", 0, 1.0, 0, person=person)
+    assert data["person"] is person
+    assert data["held"] == []
+
+
+def _thesis_row(fidelity, family_prs):
+    """A fitted thesis row: pooled Pr against the recorded and the noise-free path per family."""
+    by_family = {f: {} for f in fidelity.P.FAMILIES}
+    for f, (pr, clean) in family_prs.items():
+        by_family[f] = {"n": 1, "pr_pooled": pr, "pr_pooled_clean": clean, "ceiling_goal": 70.0}
+    return {
+        "kind": "thesis",
+        "n_train": 10,
+        "noise": 2.0,
+        "held": {},
+        "refused": [],
+        "fit_s": 1.0,
+        "by_family": by_family,
+    }
+
+
+def test_thesis_target_is_checked_against_the_recorded_and_the_noise_free_path(fidelity):
+    row = _thesis_row(
+        fidelity, {"single": (99.0, 99.5), "pair": (65.0, 94.0), "clutter": (92.0, 88.0)}
+    )
+    checks = {c["target"]: c for c in fidelity.check_targets([row])}
+    recorded = checks["thesis person: pooled Pr >= 90 % in every family"]
+    clean = checks["thesis person: pooled Pr >= 90 % in every family, against its noise-free path"]
+    assert recorded["value"] == 65.0 and not recorded["pass"] and "pair" in recorded["note"]
+    assert clean["value"] == 88.0 and not clean["pass"] and "clutter" in clean["note"]
