@@ -441,24 +441,24 @@ def test_a_gap_is_across_the_path_where_it_makes_45_degrees_with_it() -> None:
     assert ABREAST == pytest.approx(np.sqrt(0.5))
 
 
-def test_a_box_kept_below_a_3d_path_is_blocked_on_its_other_three_sides() -> None:
+def test_a_box_kept_below_a_3d_path_is_blocked_on_its_other_sides() -> None:
     x = np.linspace(0.0, 1.0, 101)
     line = np.column_stack([x, np.zeros(101), np.zeros(101)])
     ends = line[[0, -1]]
     box = Box("box", [0.5, 0.0, 0.02], 0.0, [0.1, 0.1, 0.1])
     scene = Scene((box,))
     found = preferred_side_blockers(line, scene, {"box": ("below", 0.05)}, ends)
-    assert [o for o, _ in found] == [0] * (3 * PREFERRED_CHAIN)
+    # Rows left, right, below and on the two lower diagonals; none above or on its diagonals.
+    assert [o for o, _ in found] == [0] * (5 * PREFERRED_CHAIN)
     balls = [ball for _, ball in found]
     top = max(box.balls()[0][:, 2] + box.balls()[1])  # the box's reach upwards (its balls')
-    left = [b for b in balls if b.position[1] > 0.05]
-    right = [b for b in balls if b.position[1] < -0.05]
+    first = [balls[r * PREFERRED_CHAIN] for r in range(5)]
+    assert all(b.position[2] < box.position[2] for b in first)  # every row below its centre
+    beside = [b for b in balls if abs(b.position[2] + b.radius - top) < 1e-12]
+    assert len(beside) == 2 * PREFERRED_CHAIN  # left and right, their tops level with its top
+    assert {np.sign(b.position[1]) for b in beside} == {-1.0, 1.0}
     under = [b for b in balls if abs(b.position[1]) < 1e-12]
-    assert len(left) == len(right) == len(under) == PREFERRED_CHAIN
-    # Beside it, level with its top: the way over is open; below it, straight down.
-    for b in left + right:
-        assert b.position[2] + b.radius == pytest.approx(top, abs=1e-12)
-    assert all(b.position[2] + b.radius < box.position[2] for b in under)
+    assert len(under) == PREFERRED_CHAIN and all(b.position[2] < box.position[2] for b in under)
     # None above the path, and none near the start or goal.
     assert not any(b.position[2] - b.radius > 0.0 for b in balls)
     assert min(np.linalg.norm(ends - b.position, axis=1).min() - b.radius for b in balls) > 0
