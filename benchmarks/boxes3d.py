@@ -36,8 +36,7 @@ against 7.46 for the DMP alone (0.84), sides 10/10, 0 collisions, clearance
 0.98 of the person's, fit 3.4/5.9 s; but no preference is found (the person
 crosses the shelf's edge: its passes lean sideways more than up, and none is
 the long way round by the centre rule), and every fit is flagged degenerate
-(no vertical response, ``P[box][z]`` → 0: the IOC explains a climb over the
-box by the narrow response across the path), with that reason.
+with that reason (no vertical response: ``P[box][z]`` → 0).
 
 Per fold (one demonstration held out, the reward learned from the others
 with the Skill's staged fit, IOC with MPC H=8 refinement, 100 points): the
