@@ -21,10 +21,12 @@ from lfdkit.emulate.fidelity import (
     CLEARANCE_FACTOR,
     demonstrated_clearances,
     demonstration_reference,
+    lateral_axes,
     passing_sides,
     replanning_fidelity,
     side_preferences,
 )
+from lfdkit.model.box import Box
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import CONSISTENT_CLEARANCE, MAX_FOLDS, SELECTION_MARGIN, Skill
 from lfdkit.skill.selection import SWERVE_MARGIN, TIE
@@ -451,6 +453,53 @@ def test_a_class_kept_on_one_side_the_long_way_round_is_a_side_preference() -> N
     u = np.clip((X - 0.5) / 0.2, -1.0, 1.0)
     around = np.column_stack([X, -0.09 * np.cos(0.5 * np.pi * u) ** 2])
     assert side_preferences([around, 1.1 * around], [pair, pair], nominals[:2]) == {}
+
+
+def over_demos(sign: float = 1.0) -> tuple[list[np.ndarray], list[Scene], list[np.ndarray]]:
+    """3-D: a person who passes over every box, the long way where it stands above the path.
+
+    Boxes 10 cm a side, their centres 3, 2, 4 cm above and 2 cm below the straight
+    nominal along x (``sign`` -1: the world upside down, passed under). The
+    demonstration rises to 8 cm above the box's centre.
+    """
+    demos, scenes = [], []
+    for cy, cz in [(0.0, 0.03), (0.02, 0.02), (-0.02, 0.04), (0.0, -0.02)]:
+        box = Box("box", [0.5, cy, sign * cz], 0.0, [0.1, 0.1, 0.1])
+        u = np.clip((X - 0.5) / 0.25, -1.0, 1.0)
+        z = sign * (cz + 0.08) * np.cos(0.5 * np.pi * u) ** 2
+        demos.append(np.column_stack([X, np.zeros_like(X), z]))
+        scenes.append(Scene((box,)))
+    return demos, scenes, [np.column_stack([X, 0 * X, 0 * X])] * len(demos)
+
+
+def test_the_sides_across_a_3d_path_are_its_left_and_up() -> None:
+    np.testing.assert_allclose(lateral_axes(np.array([2.0, 0.0, 0.0])), [[0, 1, 0], [0, 0, 1]])
+    # Climbing at 45 degrees along y: left is -x, up leans back against the climb.
+    h = np.sqrt(0.5)
+    np.testing.assert_allclose(
+        lateral_axes(np.array([0.0, 1.0, 1.0])), [[-1, 0, 0], [0, -h, h]], atol=1e-12
+    )
+    assert lateral_axes(np.array([0.1, 0.0, 1.0])) is None  # near vertical: no left or up
+    np.testing.assert_allclose(lateral_axes(np.array([0.0, 3.0])), [[-1.0, 0.0]])
+
+
+def test_boxes_passed_over_the_long_way_are_kept_below_in_3d() -> None:
+    demos, scenes, nominals = over_demos()
+    found = side_preferences(demos, scenes, nominals)
+    # Over all four; the long way (centre above the nominal by a quarter of the pass) in two.
+    assert found == {"box": {"side": "below", "passes": 4, "long_way": [0, 2]}}
+    # Upside down: passed under, kept above; in millimetres the same.
+    demos_, scenes_, nominals_ = over_demos(-1.0)
+    assert side_preferences(demos_, scenes_, nominals_)["box"]["side"] == "above"
+    mm = [s.scaled(1000.0) for s in scenes]
+    assert side_preferences([1000 * d for d in demos], mm, [1000 * n for n in nominals]) == found
+    # Turned a quarter about the path (z -> y): passed on the left, kept on the right.
+    turn = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])  # up -> left (+y)
+    beside = [d @ turn for d in demos]
+    boxes = [Scene((Box("box", s.positions[0] @ turn, 0.0, [0.1, 0.1, 0.1]),)) for s in scenes]
+    assert side_preferences(beside, boxes, nominals)["box"]["side"] == "right"
+    # One pass over the box above the path, the rest the short way: no preference.
+    assert side_preferences([demos[1], demos[3]], [scenes[1], scenes[3]], nominals[:2]) == {}
 
 
 @pytest.mark.slow

@@ -441,6 +441,38 @@ def test_a_gap_is_across_the_path_where_it_makes_45_degrees_with_it() -> None:
     assert ABREAST == pytest.approx(np.sqrt(0.5))
 
 
+def test_a_box_kept_below_a_3d_path_is_blocked_on_its_other_sides() -> None:
+    x = np.linspace(0.0, 1.0, 101)
+    line = np.column_stack([x, np.zeros(101), np.zeros(101)])
+    ends = line[[0, -1]]
+    box = Box("box", [0.5, 0.0, 0.02], 0.0, [0.1, 0.1, 0.1])
+    scene = Scene((box,))
+    found = preferred_side_blockers(line, scene, {"box": ("below", 0.05)}, ends)
+    # Rows left, right, below and on the two lower diagonals; none above or on its diagonals.
+    assert [o for o, _ in found] == [0] * (5 * PREFERRED_CHAIN)
+    balls = [ball for _, ball in found]
+    top = max(box.balls()[0][:, 2] + box.balls()[1])  # the box's reach upwards (its balls')
+    first = [balls[r * PREFERRED_CHAIN] for r in range(5)]
+    assert all(b.position[2] < box.position[2] for b in first)  # every row below its centre
+    beside = [b for b in balls if abs(b.position[2] + b.radius - top) < 1e-12]
+    assert len(beside) == 2 * PREFERRED_CHAIN  # left and right, their tops level with its top
+    assert {np.sign(b.position[1]) for b in beside} == {-1.0, 1.0}
+    under = [b for b in balls if abs(b.position[1]) < 1e-12]
+    assert len(under) == PREFERRED_CHAIN and all(b.position[2] < box.position[2] for b in under)
+    # None above the path, and none near the start or goal.
+    assert not any(b.position[2] - b.radius > 0.0 for b in balls)
+    assert min(np.linalg.norm(ends - b.position, axis=1).min() - b.radius for b in balls) > 0
+    # Kept on the left in 3-D: blocked left, above and below, open on the right.
+    found = preferred_side_blockers(line, scene, {"box": ("left", 0.05)}, ends)
+    assert not any(b.position[1] < -0.05 for _, b in found)
+    # A 2-D-only reading of a 3-D path (or a side it does not know): none.
+    assert preferred_side_blockers(line, scene, {"box": ("one", 0.05)}, ends) == []
+    # A nominal that runs straight up: no left or up across it, no balls.
+    climb = line[:, [1, 2, 0]]
+    upright = Scene((Box("box", [0.0, 0.02, 0.5], 0.0, [0.1, 0.1, 0.1]),))
+    assert preferred_side_blockers(climb, upright, {"box": ("below", 0.05)}, climb[[0, -1]]) == []
+
+
 def test_a_preferred_side_is_kept_by_a_ball_on_the_other_side() -> None:
     x = np.linspace(0.0, 1.0, 101)
     line = np.column_stack([x, np.zeros(101)])

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from lfdkit.emulate import Reward
+from lfdkit.model.box import Box
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 
@@ -68,3 +69,26 @@ def test_a_bad_side_in_a_file_is_one_line_naming_it(base) -> None:
     with pytest.raises(ValueError, match=r"f\.json: emulation\.sides\.cup: expected") as caught:
         Skill.from_dict(document, source="f.json")
     assert "\n" not in str(caught.value)
+
+
+def test_a_box_kept_below_is_passed_over_in_3d_and_round_trips() -> None:
+    """A box 1 cm above the path: the learned response passes under it, the preference over."""
+    free = [np.column_stack([X, d[:, 1], d[:, 1]]) for d in FREE]
+    skill = Skill(n_points=60).fit(free).adopt(Reward(10.0, {"box": [300.0, 2500.0, 2500.0]}))
+    box = Box("box", [0.5, 0.005, 0.01], 0.0, [0.06, 0.04, 0.04])
+    scene = Scene((box,))
+
+    def passed(plan: np.ndarray) -> np.ndarray:
+        return plan[np.argmin(np.abs(plan[:, 0] - 0.5))]
+
+    assert passed(skill.plan(scene=scene).points)[2] < box.position[2] - 0.02  # the short way
+    skill.side_preferences_ = {"box": {"side": "below", "within": 0.03}}
+    plan = skill.plan(scene=scene).points
+    assert passed(plan)[2] > box.position[2] + 0.02  # over its top, the long way
+    assert 0.0 < scene.distances(plan)[0] < 0.04  # close over it, not round the blockers
+    skill.side_preferences_ = {"box": {"side": "left", "within": 0.03}}
+    assert passed(skill.plan(scene=scene).points)[1] < box.position[1] - 0.02  # on its right
+    skill.side_preferences_ = {"box": {"side": "below", "within": 0.03}}
+    loaded = Skill.from_dict(json.loads(json.dumps(skill.to_dict())))
+    assert loaded.side_preferences_ == skill.side_preferences_
+    np.testing.assert_array_equal(loaded.plan(scene=scene).points, plan)

@@ -71,9 +71,11 @@ __all__ = [
     "AROUND_FACTOR",
     "CLEARANCE_FACTOR",
     "CLEARANCE_QUANTILE",
+    "SIDES",
     "SIDE_REACH",
     "demonstrated_clearances",
     "demonstration_reference",
+    "lateral_axes",
     "passing_sides",
     "replanning_fidelity",
     "same_sides",
@@ -101,6 +103,47 @@ LONG_WAY_PASSES = 2
 #: path do not show how far off; measured on the fidelity probe's person who keeps cups on
 #: its left at every distance (seeds 1 and 2, sides kept: 1× 82 / 83 %, 3× 96 / 100 %).
 SIDE_REACH = 3.0
+#: The sides a class may be kept on, seen along the path: the side of the path the obstacle is
+#: on, as (axis of :func:`lateral_axes`, sign). In 3-D the last coordinate is up.
+SIDES = {"left": (0, 1.0), "right": (0, -1.0), "above": (1, 1.0), "below": (1, -1.0)}
+#: In 3-D, sides are not read where the path runs within about 25 degrees of vertical (the
+#: horizontal part of up, seen across the path, is less than this): there left and right
+#: turn about the vertical.
+UPRIGHT = 0.4
+
+
+def lateral_axes(tangent: np.ndarray) -> np.ndarray | None:
+    """The path's left (and, in 3-D, its up) across a path running along ``tangent``.
+
+    Parameters
+    ----------
+    tangent : ndarray, shape (q,)
+        The path's direction (any length), q = 2 or 3.
+
+    Returns
+    -------
+    ndarray, shape (q − 1, q) or None
+        Unit rows: 2-D, the left normal (``tangent`` turned a quarter
+        counter-clockwise); 3-D, left (up × tangent) and up (the last axis
+        with its part along the path removed), the axes of :data:`SIDES`.
+        None in 3-D where the path runs within about 25 degrees of vertical
+        (:data:`UPRIGHT`), and for a zero tangent.
+    """
+    t = np.asarray(tangent, dtype=np.float64)
+    norm = float(np.linalg.norm(t))
+    if norm == 0.0:
+        return None
+    t = t / norm
+    if t.shape[0] == 2:
+        return np.array([[-t[1], t[0]]])
+    up = np.zeros(3)
+    up[2] = 1.0
+    up -= t[2] * t
+    height = float(np.linalg.norm(up))
+    if height < UPRIGHT:
+        return None
+    up /= height
+    return np.stack([np.cross(up, t), up])
 
 
 def passing_sides(path: np.ndarray, corridor: Corridor, scene: Scene) -> np.ndarray:
@@ -207,7 +250,9 @@ def side_preferences(
         ``{class: {"side": ..., "passes": n, "long_way": demos}}`` for each
         class passed by preference: ``side`` is ``"left"`` or ``"right"`` in
         2-D (the side of the path the obstacle is on, seen along the
-        nominal; ``"one"`` in 3-D), ``passes`` how many obstacles of the
+        nominal; in 3-D also ``"above"`` or ``"below"``, whichever of the
+        path's left and up (:func:`lateral_axes`) the passes lean on most),
+        ``passes`` how many obstacles of the
         class were gone around, ``long_way`` the demonstrations (indices) that
         went the long way round.
     """
@@ -235,6 +280,11 @@ def side_preferences(
                 normal = corridor.normals[k, 0]
                 left_normal = t[0] * normal[1] - t[1] * normal[0] > 0.0
                 side = side * (1.0 if left_normal else -1.0)  # + : the path left of it
+            else:  # the path's way past it along the path's left and up (+: left of, above it)
+                axes = lateral_axes(corridor.tangents[k])
+                if axes is None:
+                    continue
+                side = axes @ (side @ corridor.normals[k])
             seen.setdefault(obstacle.label, []).append((side / distance, long_way, j))
     out: dict[str, dict[str, Any]] = {}
     for label, passes in seen.items():
@@ -243,9 +293,14 @@ def side_preferences(
         long_way = sorted({j for _, far, j in passes if far})
         one_side = bool(np.all(directions @ mean > 0.0))
         if one_side and len(long_way) >= LONG_WAY_PASSES:
-            side = "one"
             if directions.shape[1] == 1:
                 side = "right" if mean[0] > 0.0 else "left"  # the path left of it: on its right
+            else:  # 3-D: the axis the passes lean on most, every pass on its side of it
+                axis = int(np.argmax(np.abs(mean)))
+                if not np.all(directions[:, axis] * mean[axis] > 0.0):
+                    continue
+                # The path left of it or above it: the obstacle on its right or below.
+                side = ("right", "below")[axis] if mean[axis] > 0.0 else ("left", "above")[axis]
             out[label] = {"side": side, "passes": len(passes), "long_way": long_way}
     return out
 

@@ -91,6 +91,13 @@ threaded after the cup before them was passed the person's way. A ball alone
 near the goal was gone round (seed 1: sides 82 %); a row that ends at twice the
 long way's width was gone round in clutter (seed 1, 86 %). The skill's plans with a
 preference take about twice as long (the taut route's grid spans the row).
+In 3-D (the last axis up) a class may also be kept above or below the path (a person
+who passes over boxes): rows on the obstacle's other sides across the path, every 45
+degrees (balls on three sides alone left the corners open: the *over* person of
+``benchmarks/boxes3d.py`` slipped under a carton's corner), those beside it level with its
+top along the way passed, so the way over stays as open as
+without them (risen above it, they left only a slot and plans passed 7 cm over a box the
+learned response passes at 2.4 cm).
 
 :func:`gaps_closed_by` finds the pairs a floor would close.
 :func:`demonstrated_gaps` counts the training scenes that show one, which
@@ -104,7 +111,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from lfdkit.core.geometry import arc_length, polyline_distances, segment_tangents
-from lfdkit.emulate.fidelity import CLEARANCE_FACTOR, passing_sides
+from lfdkit.emulate.fidelity import CLEARANCE_FACTOR, SIDES, lateral_axes, passing_sides
 from lfdkit.emulate.problem import Corridor
 from lfdkit.model.scene import Obstacle, Scene
 
@@ -691,20 +698,27 @@ def preferred_side_blockers(
     :func:`side_blockers`' ball). One alone can be gone round where it is
     small (near the goal); the row reaches about six times as far. Any planner
     that keeps out of hard radii then passes the obstacle on the preferred
-    side, the long way round where it must. In 2-D only (left and right of
-    the path); an obstacle beyond the nominal's start or goal gets none.
+    side, the long way round where it must. In 3-D (the last axis up,
+    :func:`lfdkit.emulate.fidelity.lateral_axes`) a row every 45 degrees
+    round it across the path but on the side passed and the two diagonals
+    beside that: a box kept below the path gets rows on its left, right,
+    underside and lower diagonals, and the plan passes over it. An obstacle
+    beyond the nominal's start or goal gets none, nor one where the nominal
+    runs near vertical.
 
     Parameters
     ----------
-    nominal : ndarray, shape (m, 2)
+    nominal : ndarray, shape (m, q)
+        q = 2 or 3.
     scene : Scene
         Static obstacles.
     preferences : mapping
-        ``{class: (side, within)}``: ``side`` ``"left"`` or ``"right"``, the
-        side of the path the class is kept on, seen along the nominal;
+        ``{class: (side, within)}``: ``side`` ``"left"`` or ``"right"`` (in
+        3-D also ``"above"`` or ``"below"``, :data:`~lfdkit.emulate.fidelity.SIDES`),
+        the side of the path the class is kept on, seen along the nominal;
         ``within`` (units) how near the nominal must pass an obstacle's
         surface for it to be in the way.
-    ends : ndarray, shape (2, 2)
+    ends : ndarray, shape (2, q)
         The task's start and goal.
     n_points : int
         Points of the corridor the nominal's normals are read on.
@@ -715,12 +729,14 @@ def preferred_side_blockers(
         Each blocked obstacle and one of its blockers (label
         :data:`SIDE_BLOCKER`), the row's balls in order.
     """
+    q = np.shape(nominal)[1]
+    named = ("left", "right") if q == 2 else tuple(SIDES)
     wanted = [
         o
         for o, obstacle in enumerate(scene.obstacles)
-        if obstacle.label in preferences and preferences[obstacle.label][0] in ("left", "right")
+        if obstacle.label in preferences and preferences[obstacle.label][0] in named
     ]
-    if not wanted or np.shape(nominal)[1] != 2:
+    if not wanted or q not in (2, 3):
         return []
     gaps = scene.distances(np.asarray(nominal, dtype=np.float64))
     corridor = Corridor.from_path(nominal, n_points)
@@ -734,14 +750,48 @@ def preferred_side_blockers(
         k = int(np.argmin(np.einsum("kq,kq->k", rel, rel)))
         if k in (0, corridor.n_points - 1):
             continue
-        t = corridor.tangents[k]
-        left = np.array([-t[1], t[0]]) / np.linalg.norm(t)
-        # Kept on the path's left: the path passes on the obstacle's right, blocked on its left.
-        away, reached = left if side == "left" else -left, 0.0
-        for _ in range(PREFERRED_CHAIN):  # each ball beyond the last, larger as it leaves the ends
-            ball = _blocker(obstacle, away, reached, ends)
-            if ball is None:
-                break
-            out.append((o, ball))
-            reached += 2.0 * ball.radius
+        if q == 2:
+            t = corridor.tangents[k]
+            left = np.array([-t[1], t[0]]) / np.linalg.norm(t)
+            # Kept on the path's left: the path passes on the obstacle's right, blocked on its left.
+            blocked = [left if side == "left" else -left]
+        else:
+            axes = lateral_axes(corridor.tangents[k])
+            if axes is None:  # a path near vertical: no left or up across it
+                continue
+            # Kept below the path: the path passes over it, blocked on its other sides: beside
+            # it, below it and on the diagonals between (balls leave the corners open).
+            axis, sign = SIDES[side]
+            passed = -sign * axes[axis]
+            turns = np.arange(8) * np.pi / 4
+            around = np.cos(turns)[:, None] * axes[0] + np.sin(turns)[:, None] * axes[1]
+            blocked = [d for d in around if float(d @ passed) < 0.5]
+        for away in blocked:
+            reached = 0.0
+            for _ in range(PREFERRED_CHAIN):  # each ball beyond the last, larger away from the ends
+                ball = _blocker(obstacle, away, reached, ends)
+                if ball is None:
+                    break
+                reached += 2.0 * ball.radius
+                if q == 3 and abs(float(away @ passed)) < 0.5:
+                    ball = _flush(obstacle, ball, passed, ends)
+                out.append((o, ball))
     return out
+
+
+def _flush(obstacle: Obstacle, ball: Obstacle, passed: np.ndarray, ends: np.ndarray) -> Obstacle:
+    """A ball beside ``obstacle`` moved along ``passed`` (unit) until its top is level with it.
+
+    A row beside an obstacle (3-D, :func:`preferred_side_blockers`) that rose above the
+    obstacle would leave only a narrow slot to pass it the preferred way; level with the
+    obstacle's extent along ``passed`` it leaves that side open. Kept where it is where
+    moved it would come within a tenth of its radius of the task's start or goal.
+    """
+    centres, radii = obstacle.balls()
+    top = float(np.max((centres - obstacle.position) @ passed + radii))
+    moved = ball.position + passed * (
+        top - ball.radius - float((ball.position - obstacle.position) @ passed)
+    )
+    if float(np.linalg.norm(ends - moved, axis=1).min()) <= 1.1 * ball.radius:
+        return ball
+    return Obstacle(SIDE_BLOCKER, moved, ball.radius)

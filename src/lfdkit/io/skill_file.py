@@ -562,7 +562,9 @@ class SkillDocument:
         return self._lengths(sub.get("radii", dict), "radii") if "radii" in value else {}
 
     def side_preferences(self) -> dict[str, dict[str, Any]]:
-        """``{class: {"side": "left" or "right", "within": units}}`` (``emulation.sides``).
+        """``{class: {"side": "left", "right", "above" or "below", "within": units}}``.
+
+        From ``emulation.sides``.
 
         The classes the demonstrations keep on one side of the path (issue 26);
         empty where the file has none (no preference, or a file from before them).
@@ -574,9 +576,12 @@ class SkillDocument:
         out = {}
         for label, entry in sub.get("sides", dict).items():
             name = f"{self.source}: emulation.sides.{label}"
-            if not isinstance(entry, Mapping) or entry.get("side") not in ("left", "right"):
+            # The sides of lfdkit.emulate.fidelity.SIDES (above and below: 3-D only).
+            sides = ("left", "right", "above", "below")
+            if not isinstance(entry, Mapping) or entry.get("side") not in sides:
                 raise ValueError(
-                    f"{name}: expected {{'side': 'left' or 'right', 'within': length}}, "
+                    f"{name}: expected {{'side': 'left', 'right', 'above' or 'below', "
+                    "'within': length}, "
                     f"got {entry!r}"
                 )
             within = self._lengths({str(label): entry.get("within")}, "sides.within")

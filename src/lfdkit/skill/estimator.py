@@ -56,6 +56,7 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import (
     SIDE_REACH,
+    SIDES,
     demonstrated_clearances,
     replanning_fidelity,
     side_preferences,
@@ -246,7 +247,7 @@ class Skill(
         ``return_slope``; absent in older files: none steeper);
         ``side_preferences``: the classes the demonstrations keep on one side
         even the long way round (:func:`lfdkit.emulate.fidelity.side_preferences`;
-        said in a warning; in 2-D plans keep them so, :attr:`side_preferences_`).
+        said in a warning; plans keep them so, :attr:`side_preferences_`).
     n_dims_ : int
         Dimension ``q`` of the paths.
     orientations_ : ndarray, shape (n_points, 4), or None
@@ -303,9 +304,10 @@ class Skill(
         files from before it.
     side_preferences_ : dict
         Per obstacle class the demonstrations keep on one side of the path
-        whatever the shorter way round (2-D:
-        :func:`lfdkit.emulate.fidelity.side_preferences`),
-        ``{"side": "left" or "right", "within": units}``: every plan passes
+        whatever the shorter way round
+        (:func:`lfdkit.emulate.fidelity.side_preferences`),
+        ``{"side": "left" or "right" (3-D also "above" or "below", the last
+        axis up), "within": units}``: every plan passes
         each obstacle of the class whose surface its nominal passes nearer
         than ``within`` (the clearance the demonstrations typically kept from
         the class, the median) on that side, the long way round where it must
@@ -967,7 +969,7 @@ class Skill(
         scenes: Sequence[Scene],
         nominals: Sequence[np.ndarray],
     ) -> dict[str, dict[str, Any]]:
-        """:attr:`side_preferences_` from the preferences found (2-D: left or right).
+        """:attr:`side_preferences_` from the preferences found (left, right; 3-D: above, below).
 
         ``within`` is :data:`~lfdkit.emulate.fidelity.SIDE_REACH` times the
         clearance the demonstrations typically kept from the class's obstacles
@@ -977,7 +979,7 @@ class Skill(
         None for ``model="thesis"`` (the thesis's plans exactly; the
         preference is only said).
         """
-        sided = [c for c, info in found.items() if info["side"] in ("left", "right")]
+        sided = [c for c, info in found.items() if info["side"] in SIDES]
         if not sided or self.model == "thesis":  # the thesis's planner exactly: said, not kept
             return {}
         typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
@@ -993,16 +995,18 @@ class Skill(
         The learned reward is symmetric about each obstacle, so its plans
         would pass an obstacle the shorter way round; a person who keeps a
         class on one side (:func:`lfdkit.emulate.fidelity.side_preferences`)
-        is reproduced by the side blockers of :attr:`side_preferences_` (in
-        2-D). Said, as the model choice is, since it decides routes the
+        is reproduced by the side blockers of :attr:`side_preferences_` (2-D
+        and 3-D). Said, as the model choice is, since it decides routes the
         reward does not (the fidelity probe's person who keeps cups on its
         left: without this, the only word was a demonstration left out "as a
-        coin flip"); in 3-D, where no side is kept, said as a limit.
+        coin flip"); where no side is kept (``model="thesis"``), said as a limit.
         Recorded in ``ioc_info_["side_preferences"]``.
         """
         self.ioc_info_["side_preferences"] = skill_file.jsonable(found)
         for label, info in found.items():
-            where = "on one side" if info["side"] == "one" else f"on their {info['side']}"
+            where = {"above": "above them", "below": "below them"}.get(
+                info["side"], f"on their {info['side']}"
+            )
             named = ", ".join(map(str, info["long_way"]))
             shown = (
                 f"the demonstrations keep every {label!r} {where} ({info['passes']} passes), "

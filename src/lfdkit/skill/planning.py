@@ -792,13 +792,13 @@ class Planning:
         """Balls that keep each obstacle of a class passed by preference on its side.
 
         The skill's :attr:`side_preferences_` (``{class: {"side", "within"}}``),
-        for :func:`lfdkit.emulate.gaps.preferred_side_blockers`: in a static 2-D
-        scene, one ball beside each such obstacle the nominal passes nearer
+        for :func:`lfdkit.emulate.gaps.preferred_side_blockers`: in a static
+        scene (2-D or 3-D), balls beside each such obstacle the nominal passes nearer
         than ``within``, on the side the person never passed it. Empty
         without a preference (older skill files, a reward adopted).
         """
         preferences = getattr(self, "side_preferences_", None)
-        if not preferences or not len(scene) or scene.moving or self.n_dims_ != 2:
+        if not preferences or not len(scene) or scene.moving or self.n_dims_ not in (2, 3):
             return []
         wanted = {c: (p["side"], float(p["within"])) for c, p in preferences.items()}
         ends = np.stack([start, goal])
