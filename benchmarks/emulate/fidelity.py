@@ -290,6 +290,7 @@ def person_data(
     k = P.KINDS.index(kind) if kind in P.KINDS else len(P.KINDS)
     person = person or P.make_person(kind, scale)
     data = {"kind": kind, "description": person.describe(), "free": {}, "train": [], "held": []}
+    data["person"] = person
     for t, task in enumerate(("train", *P.NEW_TASKS)):
         nominal = P.task_nominal(task, scale)
         clean = person.clean(nominal, Scene())
@@ -612,7 +613,8 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
             train_scores.append(compare(plan, demo, nominal, case.scene, scale))
     row["train"] = summary(train_scores)
 
-    person_model = P.make_person(data["kind"], scale)
+    # The probe's people carry parameters of their own (and names make_person does not know).
+    person_model = data.get("person") or P.make_person(data["kind"], scale)
     gamma, beta = tune_dmp(skill, demos, scenes, P.task_nominal("train", scale)[-1], args.quick)
     row["dmp_gamma"], row["dmp_beta"] = gamma, beta
     scores, dmp_scores, times, examples = [], [], [], {}
