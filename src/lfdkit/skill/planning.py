@@ -46,6 +46,7 @@ from lfdkit.emulate.gaps import (
     side_blockers,
     threaded_pairs,
 )
+from lfdkit.emulate.ioc import PLAUSIBLE_WEIGHTS
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
 from lfdkit.emulate.taut import taut_plan
@@ -541,7 +542,13 @@ class Planning:
         )
         if sided is None:
             sided = self._sided_blockers(nominal, scene, start, goal)
-            if reward is None and clearances is None and len(scene) > 1 and self.model != "thesis":
+            if (
+                reward is None
+                and clearances is None
+                and len(scene) > 1
+                and self.model != "thesis"
+                and self._holds_nowhere()
+            ):
                 if not scene.moving and self.n_dims_ == 2:  # the skill's own plan: issue 26
                     return self._nominal_sided(again, gap_clearances, sided, nominal, scene)
             if sided:
@@ -838,6 +845,21 @@ class Planning:
         for w in said:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         return plan
+
+    def _holds_nowhere(self) -> bool:
+        """Whether the learned nominal weight ``Q`` lies on its lower plausibility wall.
+
+        In the fit's normalised units (``Q ℓ²``, ``ℓ`` the generalized path's
+        extent; :data:`lfdkit.emulate.ioc.PLAUSIBLE_WEIGHTS`), within a factor 2
+        of the wall: the demonstrations did not show what holds the path, and
+        a plan keeps any swerve it has taken until the next obstacle.
+        """
+        reward = getattr(self, "reward_", None)
+        path = getattr(self, "path_", None)
+        if reward is None or path is None:
+            return False
+        extent = float(np.ptp(path, axis=0).max())
+        return reward.nominal_weight * extent**2 <= 2.0 * PLAUSIBLE_WEIGHTS[0]
 
     def _sided_plan(
         self,
