@@ -813,8 +813,10 @@ class Planning:
         (:func:`lfdkit.emulate.gaps.nominal_side_blockers`), and that plan is
         taken where it has fewer such obstacles and none new, threads no gap
         the first plan went round, and keeps as much of the clearance floor
-        (no warning the first had not). Potential-field person, fidelity
-        probe, seed 0: clutter Pr −449 → 76 %, a curved new task −439 → ...
+        (no warning the first had not). Only where ``Q`` lies on its lower
+        plausibility wall (:meth:`_holds_nowhere`): a thesis-model person
+        does pass such obstacles on their far side in clutter. Potential-field
+        person, fidelity probe, seed 0: a clutter scene's Pr −449 → 77 %.
         Each plan's warnings are recorded and the returned plan's given again.
         """
         n_points = int(self.n_points)
