@@ -100,7 +100,6 @@ tells whether the demonstrations can decide between the two.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import replace
 
 import numpy as np
 
@@ -124,9 +123,7 @@ __all__ = [
     "closes_a_threaded_gap",
     "declined_gap_width",
     "demonstrated_gaps",
-    "far_side_obstacles",
     "gaps_closed_by",
-    "nominal_side_blockers",
     "open_gap_margins",
     "passable_pairs",
     "passes_a_new_gap",
@@ -748,79 +745,3 @@ def preferred_side_blockers(
             out.append((o, ball))
             reached += 2.0 * ball.radius
     return out
-
-
-def far_side_obstacles(
-    path: np.ndarray, nominal: np.ndarray, scene: Scene, n_points: int = 100
-) -> list[int]:
-    """Obstacles the nominal passes clear of that ``path`` passes on their far side.
-
-    An obstacle the nominal does not touch stands on one side of it; every
-    kind of person measured (the thesis's model, a fixed margin, a potential
-    field, a late swerver) passes it on the nominal's side. A plan that still
-    carries an earlier obstacle's swerve when it meets the next one (a
-    learned nominal weight ``Q`` on its lower plausibility wall holds the
-    path nowhere) may go round it on the side away from the nominal: the
-    potential-field person of the fidelity benchmark, seed 0, a box 2 cm
-    clear of the nominal passed 19 cm out on its far side (Pr −449 %).
-
-    Parameters
-    ----------
-    path : ndarray, shape (n, 2)
-        A plan, in the nominal's direction.
-    nominal : ndarray, shape (m, 2)
-    scene : Scene
-        Static obstacles.
-    n_points : int
-        Points of the corridor the sides are read on (:func:`passing_sides`).
-
-    Returns
-    -------
-    list of int
-        The obstacles' indices in ``scene``; empty outside 2-D.
-    """
-    nominal = np.asarray(nominal, dtype=np.float64)
-    if not len(scene) or nominal.shape[1] != 2:
-        return []
-    clear = scene.distances(nominal) > 0.0
-    corridor = Corridor.from_path(nominal, n_points)
-    sides = passing_sides(np.asarray(path, dtype=np.float64), corridor, scene)[:, 0]
-    # The nominal's own side of each obstacle: its offset minus the centre's, where it is 0.
-    own = passing_sides(nominal, corridor, scene)[:, 0]
-    return [o for o in range(len(scene)) if clear[o] and sides[o] * own[o] < 0.0]
-
-
-def nominal_side_blockers(
-    nominal: np.ndarray, scene: Scene, indices: Sequence[int], ends: np.ndarray, n_points: int = 100
-) -> list[Obstacle]:
-    """Balls that keep a plan on the nominal's side of each obstacle in ``indices``.
-
-    The rows of :func:`preferred_side_blockers` for each such obstacle, on
-    its far side from the nominal (:func:`far_side_obstacles`).
-
-    Parameters
-    ----------
-    nominal : ndarray, shape (m, 2)
-    scene : Scene
-        Static obstacles.
-    indices : sequence of int
-        The obstacles to keep on the nominal's side.
-    ends : ndarray, shape (2, 2)
-        The task's start and goal.
-    n_points : int
-        Points of the corridor the nominal's normals are read on.
-    """
-    nominal = np.asarray(nominal, dtype=np.float64)
-    if not len(indices) or nominal.shape[1] != 2:
-        return []
-    corridor = Corridor.from_path(nominal, n_points)
-    own = passing_sides(nominal, corridor, scene)[:, 0]
-    picked = [scene.obstacles[o] for o in indices]
-    # One label per obstacle: the nominal below the centre (own < 0) keeps it on the path's left.
-    labels = [f"#{o}" for o in indices]
-    marked = Scene(tuple(replace(ob, label=lab) for ob, lab in zip(picked, labels, strict=True)))
-    wanted = {
-        lab: ("left" if own[o] < 0.0 else "right", np.inf)
-        for o, lab in zip(indices, labels, strict=True)
-    }
-    return [ball for _, ball in preferred_side_blockers(nominal, marked, wanted, ends, n_points)]

@@ -18,7 +18,6 @@ from typing import Any, Literal
 import numpy as np
 
 from lfdkit.core.constraints import OneOf
-from lfdkit.core.geometry import polyline_distances
 from lfdkit.core.options import (
     PLANNERS,
 )
@@ -36,9 +35,7 @@ from lfdkit.emulate.gaps import (
     close_declined_gaps,
     close_narrow_gaps,
     closes_a_threaded_gap,
-    far_side_obstacles,
     gaps_closed_by,
-    nominal_side_blockers,
     open_gap_margins,
     passable_pairs,
     passes_a_new_gap,
@@ -46,7 +43,6 @@ from lfdkit.emulate.gaps import (
     side_blockers,
     threaded_pairs,
 )
-from lfdkit.emulate.ioc import PLAUSIBLE_WEIGHTS
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
 from lfdkit.emulate.reward import in_path_frame
 from lfdkit.emulate.taut import taut_plan
@@ -63,11 +59,6 @@ PlannerKind = Literal["mpc", "full"]
 _NOMINAL_OVERSAMPLING = 4
 #: Re-plans of a moving-obstacle plan at its own (arc-length) times before it is refused.
 RETIME_ROUNDS = 3
-
-
-def _deviation(path: np.ndarray, nominal: np.ndarray) -> float:
-    """Mean squared distance (units²) of a path's points from the nominal polyline."""
-    return float(np.mean(polyline_distances(np.asarray(path, dtype=np.float64), nominal) ** 2))
 
 
 class Planning:
@@ -542,17 +533,19 @@ class Planning:
         )
         if sided is None:
             sided = self._sided_blockers(nominal, scene, start, goal)
-            if (
-                reward is None
-                and clearances is None
-                and len(scene) > 1
-                and self.model != "thesis"
-                and self._holds_nowhere()
-            ):
-                if not scene.moving and self.n_dims_ == 2:  # the skill's own plan: issue 26
-                    return self._nominal_sided(again, gap_clearances, sided, nominal, scene)
             if sided:
-                return self._sided_plan(again, reward, gap_clearances, sided, scene)
+                try:
+                    return again(reward=reward, gap_clearances=gap_clearances, sided=sided)
+                except UnsafePlanError:
+                    classes = sorted({o.label for o in scene if o.label in self.side_preferences_})
+                    warnings.warn(
+                        f"plan: no plan passes every {', '.join(map(repr, classes))} on the side "
+                        "the demonstrations kept it on; planned the way the learned response "
+                        "passes it",
+                        UserWarning,
+                        stacklevel=4,
+                    )
+                    return again(reward=reward, gap_clearances=gap_clearances, sided=())
         if reward is None and len(scene) > 1 and not scene.moving:
             route_reward = self._swerve_route_reward()
             if route_reward is not None:  # a swerve's widths, the route among several: issue 26
@@ -792,100 +785,6 @@ class Planning:
                 self._warn_gaps(scene, gap_margins, gaps)
             return plan
         raise AssertionError("unreachable")  # pragma: no cover
-
-    def _nominal_sided(
-        self,
-        again: Any,
-        gap_clearances: Mapping[str, float] | None,
-        sided: Sequence[Obstacle],
-        nominal: np.ndarray,
-        scene: Scene,
-    ) -> Plan:
-        """The skill's own plan among several static obstacles, each passed on the nominal's side.
-
-        ``again(reward=..., gap_clearances=..., sided=...)`` plans this call
-        with side blockers. Planned with ``sided`` (the classes' preferred
-        sides; where no plan keeps them, without, warned); where that plan
-        goes round an obstacle the nominal passes clear of on its far side
-        (:func:`lfdkit.emulate.gaps.far_side_obstacles`: the swerve from an
-        earlier obstacle carried on), it is planned again with those
-        obstacles' far sides blocked
-        (:func:`lfdkit.emulate.gaps.nominal_side_blockers`), and that plan is
-        taken where it has fewer such obstacles and none new, threads no gap
-        the first plan went round, and keeps as much of the clearance floor
-        (no warning the first had not). Only where ``Q`` lies on its lower
-        plausibility wall (:meth:`_holds_nowhere`): a thesis-model person
-        does pass such obstacles on their far side in clutter. Potential-field
-        person, fidelity probe, seed 0: a clutter scene's Pr −449 → 77 %.
-        Each plan's warnings are recorded and the returned plan's given again.
-        """
-        n_points = int(self.n_points)
-        ends = np.stack([nominal[0], nominal[-1]])
-        with warnings.catch_warnings(record=True) as said:
-            warnings.simplefilter("always")
-            plan = self._sided_plan(again, None, gap_clearances, sided, scene)
-        far = far_side_obstacles(plan.points, nominal, scene, n_points)
-        balls = nominal_side_blockers(nominal, scene, far, ends, n_points) if far else []
-        if balls:
-            with warnings.catch_warnings(record=True) as other_said:
-                warnings.simplefilter("always")
-                try:
-                    other = again(
-                        reward=None, gap_clearances=gap_clearances, sided=[*sided, *balls]
-                    )
-                except UnsafePlanError:
-                    other = None
-            if other is not None:
-                still = set(far_side_obstacles(other.points, nominal, scene, n_points))
-                known = {str(w.message) for w in said}
-                if (
-                    still < set(far)
-                    and _deviation(other.points, nominal) < _deviation(plan.points, nominal)
-                    and all(str(w.message) in known for w in other_said)
-                ):
-                    plan, said = other, other_said
-        for w in said:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        return plan
-
-    def _holds_nowhere(self) -> bool:
-        """Whether the learned nominal weight ``Q`` lies on its lower plausibility wall.
-
-        In the fit's normalised units (``Q ℓ²``, ``ℓ`` the generalized path's
-        extent; :data:`lfdkit.emulate.ioc.PLAUSIBLE_WEIGHTS`), within a factor 2
-        of the wall: the demonstrations did not show what holds the path, and
-        a plan keeps any swerve it has taken until the next obstacle.
-        """
-        reward = getattr(self, "reward_", None)
-        path = getattr(self, "path_", None)
-        if reward is None or path is None:
-            return False
-        extent = float(np.ptp(path, axis=0).max())
-        return reward.nominal_weight * extent**2 <= 2.0 * PLAUSIBLE_WEIGHTS[0]
-
-    def _sided_plan(
-        self,
-        again: Any,
-        reward: Reward | None,
-        gap_clearances: Mapping[str, float] | None,
-        sided: Sequence[Obstacle],
-        scene: Scene,
-    ) -> Plan:
-        """The plan keeping the classes' preferred sides (``sided``); where none does, without."""
-        if not sided:
-            return again(reward=reward, gap_clearances=gap_clearances, sided=())
-        try:
-            return again(reward=reward, gap_clearances=gap_clearances, sided=sided)
-        except UnsafePlanError:
-            classes = sorted({o.label for o in scene if o.label in self.side_preferences_})
-            warnings.warn(
-                f"plan: no plan passes every {', '.join(map(repr, classes))} on the side "
-                "the demonstrations kept it on; planned the way the learned response "
-                "passes it",
-                UserWarning,
-                stacklevel=5,
-            )
-            return again(reward=reward, gap_clearances=gap_clearances, sided=())
 
     def _sided_blockers(
         self, nominal: np.ndarray, scene: Scene, start: np.ndarray, goal: np.ndarray
