@@ -629,6 +629,7 @@ def run_setting(data, n_train, level, scale, args, options) -> dict:
             train_scores.append(compare(plan, demo, nominal, case.scene, scale))
     row["train"] = summary(train_scores)
 
+    # The probe's people carry parameters of their own (and names make_person does not know).
     person_model = data.get("person") or P.make_person(data["kind"], scale)
     gamma, beta = tune_dmp(skill, demos, scenes, P.task_nominal("train", scale)[-1], args.quick)
     row["dmp_gamma"], row["dmp_beta"] = gamma, beta
