@@ -1006,6 +1006,38 @@ def test_adaptive_chooses_a_robust_tuning_on_burrs(sides):
     assert _error(mp.path_) < 1.1 * errors["median"]
 
 
+def _tall_narrow_burrs(seed, n_demos=6, noise=0.02, n_points=300):
+    """Straight 100-unit profiles (truth y = 0), white noise; two one-sided burrs
+    10-20 noise levels high, 3 units wide, on each (about 5 % of it)."""
+    rng = np.random.default_rng(seed)
+    x = np.linspace(0.0, 100.0, n_points)
+    demos = []
+    for _ in range(n_demos):
+        y = rng.normal(0.0, noise, n_points)
+        for centre in rng.uniform(0.0, 100.0, 2):
+            bump = np.clip(1.0 - np.abs(x - centre) / 1.5, 0.0, None)
+            y = y + rng.uniform(10.0, 20.0) * noise * bump
+        demos.append(np.column_stack((x, y)))
+    return demos
+
+
+@pytest.mark.parametrize("seed", [12, 19, 23])
+def test_near_median_core_is_chosen_again_once_the_runs_take_the_burrs(seed):
+    """Six profiles, tall narrow burrs: with the burrs in, the near-median core's
+    (noisiest) estimate looks best; the run weights erase the burrs, and on the rest
+    the choice falls on an efficient tuning. Before: 1.10-1.31 times the best fixed
+    centre's error (the near-median core kept); now at most the best fixed centre's."""
+    demos = _tall_narrow_burrs(seed)
+    mp = MeanPath(n_points=100).fit(demos)
+    assert "near-median core chosen again" in mp.center_reason_
+    assert mp.center_tuning_ != (0.1, 4.0, 8.0)
+    best = min(
+        _error(MeanPath(n_points=100, center=c).fit(demos).path_)
+        for c in ("mean", "median", "biweight")
+    )
+    assert _error(mp.path_) <= 1.0 * best
+
+
 def _low_burr_hits(seed, burrs=True, n_demos=20, m=100):
     """Intersections on 100 normals of a straight path (truth: offset 0) with 20
     demonstrations: unit Gaussian noise and, if ``burrs``, one-sided burrs 1-2 noise

@@ -174,7 +174,23 @@ implementation decides as follows (each is a constructor option):
   0.1 scale of the centre and so is the noisiest (its estimates lie below both
   neighbouring cores'); a kernel estimate of that share fixed it but lost where
   the peak is real (two-sided burrs 20 noise levels high over 30 % of 6
-  profiles, 0.96 -> 1.07-1.11). Tried and not kept:
+  profiles, 0.96 -> 1.07-1.11). Where the near-median core 0.1 was chosen
+  and the run pass then flags runs (not detours), the tuning is chosen again
+  on the values outside them (``center_reason_`` says so): on tall narrow burrs
+  over few profiles the runs take the burrs, and the rest is near-Gaussian,
+  where the near-median core is the least efficient. Measured
+  (``--kinds burrs``, side by side, cases within 1.05 of 36 per seed block):
+  seeds 0-4 36 -> 36 (worst 1.039 -> 1.022), 100-104 34 -> 35 (1.064 ->
+  1.051), 200-204 35 -> 35, 300-304 34 -> 35, held out 400-404 36 -> 36 and
+  500-504 33 -> 34 (1.102 -> 1.072); e.g. circular one-sided burrs 5 % x 20
+  noise levels x 6 profiles 1.051 -> 0.917 (seeds 300-304). Only some 10 of
+  180 fits per block change; the price is dense two-sided burrs (30 % x 20
+  noise levels x 6 profiles), 0.82-0.93 -> 0.91-1.01. Left: one-sided burrs
+  1-2 noise levels high over 30 % of 20 profiles (1.05-1.07 on 300-304 and
+  500-504), where the default or a cheap tuning is kept and the median-like
+  cores would be 5-13 % better. Choosing again after the runs in every case
+  lost: dense burrs' flanks, left in, make the kept values look clean (seeds
+  0-4: 36 -> 32 within 1.05). Tried and not kept:
   the choice's bias measured from the pooled values' mode (the
   shortest quarter) instead of zero (that mode lies within 0.1 scale of zero
   there, so nothing changed; each normal's shortest third, not half, lies
@@ -376,6 +392,10 @@ _TUNINGS: tuple[Tuning, ...] = (
     (0.5, 2.0, 4.0),
 )
 _SWITCH = 0.95
+#: The near-median core: its estimated variance rests on the few per cent of values
+#: within 0.1 robust scales of the centre, the noisiest of all (chosen again once the
+#: runs are known: see the module notes).
+_NOISIEST: Tuning = (0.1, _CORE, _CUTOFF)
 #: Short of that, a tuning whose variance on Gaussian values is at most this much above
 #: the mean's is taken where its expected gain exceeds its expected cost if wrong.
 _CHEAP = 0.15
@@ -616,6 +636,14 @@ class MeanPath(Estimator):
         if self.center == "adaptive":
             weights, why = _run_weights(ref, state.hits, state.found)
             self.center_reason_ += f"; then {why}"
+            if (weights < 1.0).any() and _DETOURS not in why and tuning == _NOISIEST:
+                # The near-median core was chosen on the noisiest estimate, with the burrs
+                # in; where the runs take the burrs, it is chosen again on the rest.
+                rest = state.found & (weights >= 0.99)
+                tuning, estimates, again = _choose_tuning(ref, state.hits, rest)
+                self.center_estimates_ = estimates
+                self.center_tuning_ = tuning
+                self.center_reason_ += f"; the near-median core chosen again without them: {again}"
             if (weights < 1.0).any() and _DETOURS in why:
                 # The first tuning was chosen with the detours in: on the rest, again.
                 rest = state.found & (weights >= 0.99)
