@@ -111,25 +111,30 @@ from lfdkit.model.scene import Obstacle, Scene
 __all__ = [
     "ABREAST",
     "BLOCKER_REACH",
+    "BRIDGE_FILL",
     "DECLINED_OVERLAP",
     "GAP_SHARE",
     "PASSABLE",
     "PREFERRED_CHAIN",
+    "REACH_LEVEL",
     "SIDE_BLOCKER",
     "TOUCHING",
     "abreast_pairs",
+    "bridge_blockers",
     "close_declined_gaps",
     "close_narrow_gaps",
     "closes_a_threaded_gap",
     "declined_gap_width",
     "demonstrated_gaps",
     "gaps_closed_by",
+    "held_pairs",
     "open_gap_margins",
     "passable_pairs",
     "passes_a_new_gap",
     "preferred_side_blockers",
     "side_blockers",
     "surface_gaps",
+    "swerve_reach",
     "threaded_pairs",
 ]
 
@@ -165,6 +170,12 @@ DECLINED_OVERLAP = 1.05
 #: Two obstacles closer than this times the scene's size (its largest coordinate plus
 #: radius) touch: floating point leaves a cup standing on a table 3e-17 m above it.
 TOUCHING = 1e-9
+#: The part of its largest distance from the nominal at which a demonstration counts as
+#: swerved (:func:`swerve_reach`).
+REACH_LEVEL = 0.5
+#: Radius of the balls that close a held pair (:func:`bridge_blockers`), as a fraction of the
+#: smaller obstacle's radius: inside the pair's convex hull.
+BRIDGE_FILL = 0.9
 
 
 def surface_gaps(scene: Scene) -> np.ndarray:
@@ -744,4 +755,210 @@ def preferred_side_blockers(
                 break
             out.append((o, ball))
             reached += 2.0 * ball.radius
+    return out
+
+
+def _stations(path: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Arc length along ``path`` (2-D) of each point's foot, its signed lateral offset, the foot.
+
+    Left of the path's direction is positive.
+    """
+    a, b = path[:-1], path[1:]
+    ab = b - a
+    length = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+    rel = points[:, None, :] - a[None]
+    t = np.clip(np.einsum("pij,ij->pi", rel, ab) / length, 0.0, 1.0)
+    feet = a[None] + t[..., None] * ab[None]
+    seg = np.argmin(np.linalg.norm(points[:, None, :] - feet, axis=2), axis=1)
+    rows = np.arange(len(points))
+    foot = feet[rows, seg]
+    d = points - foot
+    cross = ab[seg, 0] * d[:, 1] - ab[seg, 1] * d[:, 0]
+    lateral = np.sign(cross) * np.linalg.norm(d, axis=1)
+    starts = np.concatenate([[0.0], np.cumsum(np.sqrt(length))])
+    along = starts[seg] + t[rows, seg] * np.sqrt(length[seg])
+    return along, lateral, foot
+
+
+def swerve_reach(
+    demos: Sequence[np.ndarray],
+    scenes: Sequence[Scene],
+    nominals: Sequence[np.ndarray],
+    *,
+    level: float = REACH_LEVEL,
+) -> tuple[float, float] | None:
+    """How far along the path a demonstration's swerve round a lone obstacle lasts (2-D).
+
+    For each demonstration with one obstacle (that it swerved round at all),
+    the stretch of the nominal over which its distance from the nominal is
+    at least ``level`` times its largest: how far before the obstacle's
+    station the swerve reached that, and how far after it stayed there.
+    The medians over the demonstrations. A person who reacts late and
+    returns slowly holds its swerve long after the obstacle (the fidelity
+    benchmark's late swerver: about 8-12 cm before and 20-25 cm after); the
+    thesis's Gaussian bump is about as long on either side.
+
+    Parameters
+    ----------
+    demos, scenes, nominals : sequences
+        The obstacle demonstrations (each (n, 2)), their scenes and nominals.
+    level : float
+        The part of the largest distance that counts as swerved, in (0, 1).
+
+    Returns
+    -------
+    (before, after) : tuple of float or None
+        Units; None without a 2-D single-obstacle demonstration.
+    """
+    before, after = [], []
+    for demo, scene, nominal in zip(demos, scenes, nominals, strict=True):
+        demo, nominal = np.asarray(demo, dtype=np.float64), np.asarray(nominal, dtype=np.float64)
+        if len(scene) != 1 or demo.shape[1] != 2 or len(nominal) < 2:
+            continue
+        along, lateral, _ = _stations(nominal, demo)
+        size = np.abs(lateral)
+        if not size.max() > 0.0:
+            continue
+        station = _stations(nominal, scene.positions[:1])[0][0]
+        swerved = along[size >= level * size.max()]
+        before.append(max(station - float(swerved.min()), 0.0))
+        after.append(max(float(swerved.max()) - station, 0.0))
+    if not before:
+        return None
+    return float(np.median(before)), float(np.median(after))
+
+
+def held_pairs(
+    scene: Scene,
+    path: np.ndarray,
+    kept: np.ndarray,
+    reach: tuple[float, float],
+    cosine: float = ABREAST,
+) -> list[tuple[int, int]]:
+    """Pairs one behind the other along ``path`` that a held swerve cannot pass between (2-D).
+
+    In ``path``'s frame each obstacle covers a lateral band, its centre's
+    offset plus and minus its radius and ``kept``. Two obstacles whose bands
+    overlap leave no lateral room between them that keeps both clearances:
+    a path between them must cross from one side to the other in the
+    distance along the path between them. Where that distance is within the
+    demonstrated swerve's reach (``reach``: before + after,
+    :func:`swerve_reach`), the person is still swerved round the first when it
+    meets the second, and goes round both on one side. Abreast pairs (a gap
+    across the path, :func:`abreast_pairs`) are left to the gap rules above;
+    pairs whose surfaces touch are a wall already.
+
+    Parameters
+    ----------
+    scene : Scene
+    path : ndarray, shape (n, 2)
+        The nominal.
+    kept : ndarray, shape (n_obstacles,)
+        The clearance typically kept from each obstacle (units).
+    reach : (float, float)
+        The swerve's reach before and after an obstacle along the path (units).
+    cosine : float
+        As :func:`abreast_pairs`.
+
+    Returns
+    -------
+    list of (int, int)
+    """
+    path = np.asarray(path, dtype=np.float64)
+    n = len(scene)
+    if n < 2 or path.shape[1] != 2 or scene.moving:
+        return []
+    along, lateral, _ = _stations(path, scene.positions)
+    half = scene.radii + np.asarray(kept, dtype=np.float64)
+    span = float(reach[0]) + float(reach[1])
+    gaps = surface_gaps(scene)
+    candidates = [
+        (i, j)
+        for i in range(n)
+        for j in range(i + 1, n)
+        if gaps[i, j] > 0.0
+        and abs(lateral[i] - lateral[j]) < half[i] + half[j]
+        and abs(along[i] - along[j]) <= span
+    ]
+    abreast = set(abreast_pairs(candidates, scene, path, cosine))
+    return [p for p in candidates if p not in abreast]
+
+
+def bridge_blockers(
+    scene: Scene,
+    pairs: Sequence[tuple[int, int]],
+    path: np.ndarray,
+    kept: np.ndarray,
+    ends: np.ndarray,
+) -> list[Obstacle]:
+    """Balls that close each of ``pairs`` and keep each group's first obstacle on its near side.
+
+    Between the two centres of each pair, a row of balls of a little under
+    the smaller radius, overlapping each other and both obstacles: no path
+    passes between the two, and the row stays inside their convex hull, so
+    it blocks no way round both. The obstacles the pairs join form groups;
+    the first of a group along ``path`` is passed the shorter way, on the
+    side of the path away from its centre (a person meets it first and
+    swerves away from it), with a ball beside it on the other side
+    (:func:`_blocker`); none where its centre lies within a tenth of its
+    radius of the path, or where another of the group is met within its
+    radius along the path (a pocket's two arms: met at once).
+
+    Parameters
+    ----------
+    scene : Scene
+    pairs : sequence of (int, int)
+        E.g. :func:`held_pairs`.
+    path : ndarray, shape (n, 2)
+        The nominal.
+    kept : ndarray, shape (n_obstacles,)
+        The clearance typically kept from each obstacle (units).
+    ends : ndarray, shape (2, 2)
+        The task's start and goal.
+
+    Returns
+    -------
+    list of Obstacle
+        Labelled :data:`SIDE_BLOCKER`.
+    """
+    if not pairs:
+        return []
+    path = np.asarray(path, dtype=np.float64)
+    out: list[Obstacle] = []
+    parent = list(range(len(scene)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for i, j in pairs:
+        a, b = scene.obstacles[i], scene.obstacles[j]
+        radius = BRIDGE_FILL * min(a.radius, b.radius)
+        length = float(np.linalg.norm(b.position - a.position))
+        count = max(int(np.ceil(length / (1.5 * radius))), 1)  # overlapping
+        for t in np.linspace(0.0, 1.0, count + 1):
+            out.append(Obstacle(SIDE_BLOCKER, a.position + t * (b.position - a.position), radius))
+        parent[root(i)] = root(j)
+    along, lateral, foot = _stations(path, scene.positions)
+    groups: dict[int, list[int]] = {}
+    for i, j in pairs:
+        for o in (i, j):
+            members = groups.setdefault(root(o), [])
+            if o not in members:
+                members.append(o)
+    for members in groups.values():
+        first = min(members, key=lambda o: (along[o], o))
+        obstacle = scene.obstacles[first]
+        offset = scene.positions[first] - foot[first]
+        # Met first only where it leads the others by more than its radius: two abreast
+        # (a pocket's arms) are met at once, and the plan keeps its own way round.
+        ahead = min((along[o] - along[first] for o in members if o != first), default=np.inf)
+        if ahead <= obstacle.radius or abs(lateral[first]) <= 0.1 * obstacle.radius:
+            continue
+        ball = _blocker(
+            obstacle, offset / np.linalg.norm(offset), float(kept[first]), np.asarray(ends)
+        )
+        if ball is not None:
+            out.append(ball)
     return out

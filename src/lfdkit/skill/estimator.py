@@ -60,7 +60,7 @@ from lfdkit.emulate.fidelity import (
     replanning_fidelity,
     side_preferences,
 )
-from lfdkit.emulate.gaps import declined_gap_width
+from lfdkit.emulate.gaps import declined_gap_width, swerve_reach
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
     DEFORMATION_BASIS,
@@ -945,6 +945,8 @@ class Skill(
             self.model_selection_["declined_gap"] = declined_gap_width(
                 demos, learned, nominals, self.model_selection_.get("gap_clearances") or {}
             )
+            # How long a swerve round a lone obstacle lasts along the path (before, after).
+            self.model_selection_["swerve_reach"] = swerve_reach(demos, learned, nominals)
         for row in self.training_fidelity_ or []:  # numbered as the caller's demonstrations
             row["demo"] = keep[row["demo"]]
         if left_out and self.training_fidelity_ is not None:  # each said with its own plan
