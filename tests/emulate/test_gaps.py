@@ -510,8 +510,11 @@ def test_held_pairs_are_those_whose_bands_overlap_within_the_swerve_s_reach() ->
     # In millimetres: the same pair.
     mm = Scene(tuple(Obstacle("cup", o.position * 1e3, 10.0) for o in HELD))
     assert held_pairs(mm, LINE * 1e3, kept * 1e3, (50.0, 100.0)) == [(0, 1)]
-    # Abreast (a gap across the path) and touching pairs are left to the other rules.
-    assert held_pairs(PAIR, LINE, kept * 2, (0.05, 0.1)) == []
+    # Across the path: bands overlap where the gap is narrower than the two clearances
+    # (4 cm against 2 x 3 cm); left out on request (cosine), and touching pairs always.
+    assert held_pairs(PAIR, LINE, kept * 2, (0.05, 0.1)) == [(0, 1)]
+    assert held_pairs(PAIR, LINE, kept * 2, (0.05, 0.1), cosine=ABREAST) == []
+    assert held_pairs(PAIR, LINE, kept, (0.05, 0.1)) == []  # 4 cm against 3 cm: room
     touching = Scene((HELD.obstacles[0], Obstacle("cup", [0.4, 0.0], radius=0.01)))
     assert held_pairs(touching, LINE, kept, (0.05, 0.1)) == []
 

@@ -344,7 +344,11 @@ class Skill(
         chosen): the stretches-only reward that routes among several
         obstacles, as each class's width ratios and stretches;
         ``declined_gap``: the widest gap across the path the demonstrations
-        went round, in the clearances they typically kept (None: none shown).
+        went round, in the clearances they typically kept (None: none shown);
+        ``swerve_reach``: how far before and after a lone obstacle the
+        demonstrations stayed swerved (units, 2-D;
+        :func:`lfdkit.emulate.gaps.swerve_reach`), for the pairs one behind
+        the other that plans go round both of (:func:`lfdkit.emulate.gaps.held_pairs`).
         Also in :attr:`ioc_info_` and the skill file.
     """
 
