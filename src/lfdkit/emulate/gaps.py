@@ -859,7 +859,8 @@ def held_pairs(
     demonstrated swerve's reach (``reach``: before + after,
     :func:`swerve_reach`), the person is still swerved round the first when it
     meets the second, and goes round both on one side. Pairs whose surfaces
-    touch are a wall already. Pairs at 45 degrees or more to the path count
+    touch are a wall already; only balls of a radius count (the row of
+    :func:`bridge_blockers` fits inside their hull). Pairs at 45 degrees or more to the path count
     too (the late swerver, seed 1, 2x: two boxes 9.2 cm apart along the path
     and 9.6 cm across it, their 3.1 cm gap threaded): a gap straight across
     the path with overlapping bands is one narrower than the two clearances
@@ -890,11 +891,15 @@ def held_pairs(
     half = scene.radii + np.asarray(kept, dtype=np.float64)
     span = float(reach[0]) + float(reach[1])
     gaps = surface_gaps(scene)
+    # Balls of a radius only: a row of balls fits inside their hull.
+    round_ = [type(o) is Obstacle and o.radius > 0.0 for o in scene.obstacles]
     candidates = [
         (i, j)
         for i in range(n)
         for j in range(i + 1, n)
-        if gaps[i, j] > 0.0
+        if round_[i]
+        and round_[j]
+        and gaps[i, j] > 0.0
         and abs(lateral[i] - lateral[j]) < half[i] + half[j]
         and abs(along[i] - along[j]) <= span
     ]

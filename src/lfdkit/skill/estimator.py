@@ -1340,6 +1340,9 @@ class Skill(
             if (skill.model_selection_ or {}).get("gap_clearances"):
                 gap = {c: m * factor for c, m in skill.model_selection_["gap_clearances"].items()}
                 skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
+            if (skill.model_selection_ or {}).get("swerve_reach"):
+                reach = [r * factor for r in skill.model_selection_["swerve_reach"]]
+                skill.model_selection_ = {**skill.model_selection_, "swerve_reach": reach}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }
