@@ -483,13 +483,17 @@ def test_a_swerve_s_reach_is_how_long_it_stays_past_half_its_size() -> None:
     cup = Scene((Obstacle("cup", [0.5, -0.02], radius=0.03),))
     line = np.column_stack([x, np.zeros_like(x)])
     demo = np.column_stack([x, lateral])
-    before, after = swerve_reach([demo], [cup], [line])
+    before, after = swerve_reach([demo], [cup], [line], level=0.5)
     assert before == pytest.approx(0.15, abs=1e-3) and after == pytest.approx(0.3, abs=1e-3)
+    # Held (0.9 of it, 9 cm, the default): from x = 0.39 to 0.64.
+    assert swerve_reach([demo], [cup], [line]) == pytest.approx((0.11, 0.14), abs=1e-3)
     # The median over demonstrations, scale-free; scenes of two or none say nothing.
     short = np.column_stack([x, np.interp(x, [0.0, 0.45, 0.5, 0.55, 1.0], [0, 0, 0.1, 0, 0])])
-    reach = swerve_reach([demo, short, demo], [cup] * 3, [line] * 3)
+    reach = swerve_reach([demo, short, demo], [cup] * 3, [line] * 3, level=0.5)
     assert reach == pytest.approx((0.15, 0.3), abs=1e-3)
-    mm = swerve_reach([demo * 1e3], [Scene((Obstacle("cup", [500.0, -20.0], 30.0),))], [line * 1e3])
+    mm = swerve_reach(
+        [demo * 1e3], [Scene((Obstacle("cup", [500.0, -20.0], 30.0),))], [line * 1e3], level=0.5
+    )
     assert mm == pytest.approx((150.0, 300.0), abs=1.0)
     assert swerve_reach([demo], [STAGGERED], [line]) is None
     assert swerve_reach([line], [Scene()], [line]) is None
