@@ -61,7 +61,7 @@ from lfdkit.emulate.fidelity import (
     replanning_fidelity,
     side_preferences,
 )
-from lfdkit.emulate.gaps import declined_gap_width
+from lfdkit.emulate.gaps import declined_gap_width, swerve_reach
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
     DEFORMATION_BASIS,
@@ -346,7 +346,11 @@ class Skill(
         chosen): the stretches-only reward that routes among several
         obstacles, as each class's width ratios and stretches;
         ``declined_gap``: the widest gap across the path the demonstrations
-        went round, in the clearances they typically kept (None: none shown).
+        went round, in the clearances they typically kept (None: none shown);
+        ``swerve_reach``: how far before and after a lone obstacle the
+        demonstrations stayed swerved (units, 2-D;
+        :func:`lfdkit.emulate.gaps.swerve_reach`), for the pairs one behind
+        the other that plans go round both of (:func:`lfdkit.emulate.gaps.held_pairs`).
         Also in :attr:`ioc_info_` and the skill file.
     """
 
@@ -947,6 +951,8 @@ class Skill(
             self.model_selection_["declined_gap"] = declined_gap_width(
                 demos, learned, nominals, self.model_selection_.get("gap_clearances") or {}
             )
+            # How long a swerve round a lone obstacle lasts along the path (before, after).
+            self.model_selection_["swerve_reach"] = swerve_reach(demos, learned, nominals)
         for row in self.training_fidelity_ or []:  # numbered as the caller's demonstrations
             row["demo"] = keep[row["demo"]]
         if left_out and self.training_fidelity_ is not None:  # each said with its own plan
@@ -1338,6 +1344,9 @@ class Skill(
             if (skill.model_selection_ or {}).get("gap_clearances"):
                 gap = {c: m * factor for c, m in skill.model_selection_["gap_clearances"].items()}
                 skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
+            if (skill.model_selection_ or {}).get("swerve_reach"):
+                reach = [r * factor for r in skill.model_selection_["swerve_reach"]]
+                skill.model_selection_ = {**skill.model_selection_, "swerve_reach": reach}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }

@@ -32,10 +32,12 @@ from lfdkit.emulate import Corridor, Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     SIDE_BLOCKER,
+    bridge_blockers,
     close_declined_gaps,
     close_narrow_gaps,
     closes_a_threaded_gap,
     gaps_closed_by,
+    held_pairs,
     open_gap_margins,
     passable_pairs,
     passes_a_new_gap,
@@ -533,6 +535,19 @@ class Planning:
         )
         if sided is None:
             sided = self._sided_blockers(nominal, scene, start, goal)
+            bridges = self._held_bridges(nominal, scene, start, goal, clearance, clearances)
+            if bridges:
+                try:
+                    return again(
+                        reward=reward, gap_clearances=gap_clearances, sided=[*sided, *bridges]
+                    )
+                except UnsafePlanError:
+                    warnings.warn(
+                        "plan: no plan goes round both obstacles of each pair one behind the "
+                        "other that the demonstrated swerve holds past; planned without that",
+                        UserWarning,
+                        stacklevel=4,
+                    )
             if sided:
                 try:
                     return again(reward=reward, gap_clearances=gap_clearances, sided=sided)
@@ -806,6 +821,48 @@ class Planning:
             ball
             for _, ball in preferred_side_blockers(nominal, scene, wanted, ends, int(self.n_points))
         ]
+
+    def _held_bridges(
+        self,
+        nominal: np.ndarray,
+        scene: Scene,
+        start: np.ndarray,
+        goal: np.ndarray,
+        clearance: float,
+        clearances: Mapping[str, float] | None,
+    ) -> list[Obstacle]:
+        """Balls that keep the skill's own plan round both of each held pair, on one side.
+
+        :func:`lfdkit.emulate.gaps.held_pairs` with the clearances the
+        demonstrations typically kept (``model_selection_["gap_clearances"]``)
+        and how long their swerve lasted (``model_selection_["swerve_reach"]``),
+        closed by :func:`lfdkit.emulate.gaps.bridge_blockers`. Only for the
+        skill's own plans (``clearances`` None) of a static 2-D scene with two
+        obstacles or more, with a floor the skill keeps whole (gaps closed: a
+        person shown to keep a clearance; a person answering a smooth reward
+        threads what its response threads), and not for the taut route (a
+        person who keeps a margin and otherwise takes the shortest way passes
+        between any two obstacles that leave room for both margins).
+        """
+        selection = getattr(self, "model_selection_", None) or {}
+        reach, typical = selection.get("swerve_reach"), selection.get("gap_clearances")
+        if (
+            clearances is not None
+            or not reach
+            or not typical
+            or len(scene) < 2
+            or scene.moving
+            or self.n_dims_ != 2
+            or getattr(self, "route_", None) == "taut"
+            or getattr(self, "gaps_", "open") != "closed"
+            or not getattr(self, "clearances_", None)
+        ):
+            return []
+        kept = self._margins(scene, start, goal, clearance, typical)
+        if kept is None:
+            return []
+        pairs = held_pairs(scene, nominal, kept, (float(reach[0]), float(reach[1])))
+        return bridge_blockers(scene, pairs, nominal, kept, np.stack([start, goal]))
 
     def _declined_clearances(
         self,
