@@ -222,7 +222,9 @@ class Skill(
         of those reversed to the majority's direction under ``"reversed"``,
         the path's length over the median demonstration's under
         ``"length_ratio"``, the mimic method's warnings as text under
-        ``"warnings"``, diagnostics).
+        ``"warnings"``, the demonstrations' mean squared distance from the
+        path under ``"spread_mse"`` (units², :func:`lfdkit.emulate.metrics.demonstration_spread`),
+        diagnostics).
     dmp_ : DMP
         The DMP trained on ``path_``, timed by ``timing_``.
     timing_ : SpeedProfile
@@ -567,6 +569,11 @@ class Skill(
             str(w.message) for w in caught if not issubclass(w.category, DemoOrientationWarning)
         ]
         info = {"method": self.mimic, "n_demos": len(demos), **info}
+        # How far the person strays from their own path with no obstacle: the noise floor
+        # of every replanning error (the behaviour model choice, issue 26).
+        turned = set(info["reversed"])
+        runs = [demo[::-1] if j in turned else demo for j, demo in enumerate(demos)]
+        info["spread_mse"] = metrics.demonstration_spread(path, runs, int(self.n_points))
         info["seconds"] = time.perf_counter() - started
         self.mimic_ = estimator
         timing = None
@@ -1338,6 +1345,9 @@ class Skill(
             if (skill.model_selection_ or {}).get("gap_clearances"):
                 gap = {c: m * factor for c, m in skill.model_selection_["gap_clearances"].items()}
                 skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
+            if (skill.model_selection_ or {}).get("gap_allowance"):
+                wide = {c: m * factor for c, m in skill.model_selection_["gap_allowance"].items()}
+                skill.model_selection_ = {**skill.model_selection_, "gap_allowance": wide}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }
