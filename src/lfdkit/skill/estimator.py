@@ -285,7 +285,10 @@ class Skill(
         person who keeps a margin), as it does round two obstacles whose gap
         is narrower than the clearances the demonstrations typically kept
         from their classes (``model_selection_["gap_clearances"]``, the
-        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`). A floor that
+        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`), or within
+        :data:`~lfdkit.emulate.gaps.GAP_STANDARD_ERRORS` standard errors of
+        them (``model_selection_["gap_allowance"]``, from the demonstrations'
+        noise and how many showed each class; said). A floor that
         would move the route from the plan without it (open: to another side of an obstacle, other
         than round a gap it keeps closed; closed: between two obstacles that
         plan went round) is kept at half, then none (with a warning). Either
@@ -348,7 +351,10 @@ class Skill(
         chosen): the stretches-only reward that routes among several
         obstacles, as each class's width ratios and stretches;
         ``declined_gap``: the widest gap across the path the demonstrations
-        went round, in the clearances they typically kept (None: none shown).
+        went round, in the clearances they typically kept (None: none shown);
+        ``clearance_consistency``, measured above ``noise_mse`` (units², the
+        spread of the demonstrations without obstacles, ``mimic_info_["spread_mse"]``),
+        and ``threads_gaps``; ``gap_clearances`` and ``gap_allowance`` (units).
         Also in :attr:`ioc_info_` and the skill file.
     """
 

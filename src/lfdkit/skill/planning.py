@@ -498,8 +498,9 @@ class Planning:
         (``{class: units}``, the clearance the demonstrations typically kept):
         with gaps closed, every gap narrower than the two obstacles' together
         is closed (:func:`lfdkit.emulate.gaps.close_narrow_gaps`); default the
-        skill's own (``model_selection_["gap_clearances"]``) for its own
-        plans, none for a candidate's. ``sided``: the balls that keep each
+        skill's own (``model_selection_["gap_clearances"]``, each widened by
+        its ``model_selection_["gap_allowance"]``, warned where that closes a
+        gap) for its own plans, none for a candidate's. ``sided``: the balls that keep each
         obstacle of a class passed by preference on its side
         (:meth:`_sided_blockers`; default: found here, and where no plan keeps
         them, none, warned).
