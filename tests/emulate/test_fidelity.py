@@ -29,7 +29,7 @@ from lfdkit.emulate.fidelity import (
 from lfdkit.model.box import Box
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import CONSISTENT_CLEARANCE, MAX_FOLDS, SELECTION_MARGIN, Skill
-from lfdkit.skill.selection import SWERVE_MARGIN, TIE
+from lfdkit.skill.selection import NOISE_SHARE, SWERVE_MARGIN, TIE
 
 X = np.linspace(0.0, 1.0, 100)
 FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
@@ -116,7 +116,14 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
     assert next(iter(candidates)) == "window"  # the thesis's model
     # The default: the demonstrated floor where the closest approach is consistent.
     # Against the route with no floor at all (the thesis's plan), planned only for this.
-    ratio = candidates["window+closest"]["mse"] / selection["no_floor_mse"]
+    # Both above the demonstrations' noise (their spread without obstacles), at most
+    # NOISE_SHARE of the error with no floor.
+    noise = skill.mimic_info_["spread_mse"]
+    assert selection["noise_mse"] == noise and noise > 0.0
+    floor = min(noise, NOISE_SHARE * selection["no_floor_mse"])
+    ratio = max(candidates["window+closest"]["mse"] - floor, 0.0) / (
+        selection["no_floor_mse"] - floor
+    )
     assert selection["clearance_consistency"] == pytest.approx(ratio, rel=1e-12)
     consistent = ratio <= CONSISTENT_CLEARANCE
     assert selection["default"] == ("window+demonstrated" if consistent else "window")

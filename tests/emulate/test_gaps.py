@@ -599,3 +599,40 @@ def test_a_plan_goes_round_both_of_a_pair_its_held_swerve_cannot_pass_between() 
         # Gaps open (a person answering a smooth reward): threaded whatever the reach.
         skill.model_selection_["swerve_reach"], skill.gaps_ = (0.05, 0.1), "open"
         assert threaded_pairs(skill.plan(scene=HELD).points, HELD) == [(0, 1)]
+
+
+def test_the_clearance_allowance_is_two_standard_errors_of_the_typical_clearance() -> None:
+    from lfdkit.emulate.gaps import GAP_STANDARD_ERRORS, clearance_allowance
+
+    assert GAP_STANDARD_ERRORS == 2.0
+    # Noise of 2 mm (4e-6 m²); cups in two scenes, a box in one, a marker in none.
+    scenes = [Scene((Obstacle("cup", [0.5, 0.03], 0.01),)), Scene((LONE,))]
+    scenes.append(Scene((Obstacle("cup", [0.4, -0.03], 0.01),)))
+    allowance = clearance_allowance(scenes, ["cup", "box", "marker"], 4e-6)
+    assert allowance == {
+        "cup": pytest.approx(2.0 * 0.002 / np.sqrt(2.0), rel=1e-12),
+        "box": pytest.approx(2.0 * 0.002, rel=1e-12),
+    }
+    assert clearance_allowance(scenes, ["cup"], None) == {}  # noise unknown: none
+    assert clearance_allowance(scenes, ["cup"], 0.0) == {}
+
+
+def test_a_gap_within_the_allowance_of_the_clearances_kept_stays_closed() -> None:
+    skill = _threading_skill()
+    # The 4 cm gap against 1.9 + 1.9 cm typically kept: open, threaded. Learned from few
+    # noisy demonstrations, each may be 2 mm short: 4.2 cm closes it, round both, said.
+    skill.clearances_, skill.gaps_ = {"cup": 0.015}, "closed"
+    skill.model_selection_ = {"gaps_shown": 1, "gap_clearances": {"cup": 0.019}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert threaded_pairs(skill.plan(scene=PAIR).points, PAIR) == [(0, 1)]
+    skill.model_selection_["gap_allowance"] = {"cup": 0.002}
+    with pytest.warns(UserWarning, match=r"gap of 0.04 m.*0.038 m together.*within 2 standard"):
+        around = skill.plan(scene=PAIR).points
+    assert threaded_pairs(around, PAIR) == []
+    assert PAIR.distances(around).min() >= 0.019 - 1e-9
+    # Gaps open (a person who threads them): the allowance closes nothing.
+    skill.gaps_ = "open"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert threaded_pairs(skill.plan(scene=PAIR).points, PAIR) == [(0, 1)]

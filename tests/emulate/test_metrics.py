@@ -294,3 +294,19 @@ def test_held_out_distances_refuses_bad_input(path, demo, message):
 
     with pytest.raises(ValueError, match=message):
         held_out_distances(path, demo)
+
+
+def test_the_spread_of_demonstrations_is_their_sample_variance_about_the_path() -> None:
+    from lfdkit.emulate.metrics import demonstration_spread
+
+    # Two straight demonstrations 3 mm either side of the path: each 9e-6 m² from it,
+    # and the path is their mean, so the sample variance is twice that (n / (n - 1) = 2).
+    x = np.linspace(0.0, 1.0, 50)
+    path = np.column_stack([x, np.zeros(50)])
+    demos = [np.column_stack([x, np.full(50, s * 0.003)]) for s in (-1.0, 1.0)]
+    assert demonstration_spread(path, demos, 100) == pytest.approx(2.0 * 0.003**2, rel=1e-12)
+    # Three: offsets -3, 0, +3 mm, mean square 6e-6, times 3/2.
+    demos.append(path.copy())
+    assert demonstration_spread(path, demos, 100) == pytest.approx(9e-6, rel=1e-12)
+    with pytest.raises(ValueError, match="demos"):
+        demonstration_spread(path, demos[:1])

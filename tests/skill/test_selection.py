@@ -152,3 +152,44 @@ def test_the_swerve_is_chosen_for_a_swerve_person_and_not_for_a_thesis_one(swerv
     assert "window/swerve" in selection["candidates"]
     assert selection["swerve_gain"] < 1.0
     assert (selection["chosen"] == "window/swerve") is chosen, selection["chosen"]
+
+
+def test_the_clearance_consistency_is_measured_above_the_noise() -> None:
+    from lfdkit.skill.selection import CONSISTENT_CLEARANCE, NOISE_SHARE
+
+    # The thesis's person at 3x noise (probe, seed 0): with no floor the held-out
+    # demonstrations are replanned at 5.06e-5 m², with the closest any came at 7.20e-5;
+    # the demonstrations' own spread without obstacles is 2.53e-5. Taken whole the ratio
+    # is 1.42 (a margin: gaps closed); above the noise it is 4.67 / 2.53 = 1.85 (a reward).
+    names = ["window", "window+demonstrated", "window+closest"]
+    candidates = [
+        {"route": "window", "frame": "world", "floor": f}
+        for f in ("none", "demonstrated", "closest")
+    ]
+    scores = {"window": {"mse": 5.295e-5}, "window+demonstrated": {"mse": 5.295e-5}}
+    scores["window+closest"] = {"mse": 7.20e-5}
+    default, ratio = Skill._default_model(candidates, names, scores, 5.06e-5)
+    assert (default, ratio) == ("window+demonstrated", pytest.approx(7.20 / 5.06))
+    assert ratio < CONSISTENT_CLEARANCE
+    default, ratio = Skill._default_model(candidates, names, scores, 5.06e-5, 2.53e-5)
+    assert (default, ratio) == ("window", pytest.approx(4.67 / 2.53))
+    # A spread larger than the error itself (starts and goals that differ, not noise): at
+    # most NOISE_SHARE of the error with no floor is taken away.
+    _, ratio = Skill._default_model(candidates, names, scores, 5.06e-5, 1.0)
+    floor = NOISE_SHARE * 5.06e-5
+    assert ratio == pytest.approx((7.20e-5 - floor) / (5.06e-5 - floor))
+    # No spread known (a path given, an older skill): as before.
+    _, ratio = Skill._default_model(candidates, names, scores, 5.06e-5, None)
+    assert ratio == pytest.approx(7.20 / 5.06)
+
+
+def test_a_skill_records_the_spread_of_its_demonstrations_without_obstacles() -> None:
+    # Demonstrations 0 and +-2 mm sin(pi x) about the path: mean square 2/3 of 2e-6 m²,
+    # times 3/2 for a path fitted to them: 2e-6 m².
+    x = np.linspace(0.0, 1.0, 100)
+    skill = Skill().fit([np.column_stack([x, 0.002 * s * np.sin(np.pi * x)]) for s in (-1, 0, 1)])
+    assert skill.mimic_info_["spread_mse"] == pytest.approx(2e-6, rel=0.05)
+    mm = Skill(units="mm").fit(
+        [np.column_stack([1000 * x, 2.0 * s * np.sin(np.pi * x)]) for s in (-1, 0, 1)]
+    )
+    assert mm.mimic_info_["spread_mse"] == pytest.approx(2.0, rel=0.05)  # mm²

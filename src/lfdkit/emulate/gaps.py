@@ -129,6 +129,7 @@ tells whether the demonstrations can decide between the two.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -144,6 +145,7 @@ __all__ = [
     "BRIDGE_FILL",
     "DECLINED_OVERLAP",
     "GAP_SHARE",
+    "GAP_STANDARD_ERRORS",
     "PASSABLE",
     "PREFERRED_CHAIN",
     "REACH_LEVEL",
@@ -151,6 +153,7 @@ __all__ = [
     "TOUCHING",
     "abreast_pairs",
     "bridge_blockers",
+    "clearance_allowance",
     "close_declined_gaps",
     "close_narrow_gaps",
     "closes_a_threaded_gap",
@@ -179,6 +182,13 @@ GAP_SHARE = 0.2
 #: (fidelity benchmark, seed 1): the fixed-margin person (2 cm from a cup) went round a
 #: pocket of cups 1.65 cm apart that the plan threaded (Pr -141 %, 6 gaps).
 PASSABLE = 1.0 / CLEARANCE_FACTOR
+#: Where gaps stay closed, a gap within this many standard errors of the clearances
+#: typically kept from its two obstacles stays closed too (:func:`clearance_allowance`):
+#: a clearance learned from few noisy demonstrations is a guess. The probe's fixed-margin
+#: person, 4 demonstrations, seed 0: a 6.0 cm gap, exactly its margins (2 + 4 cm), against
+#: a box margin learned at 3.6 cm from two demonstrations (noise 2 mm): the plan threaded
+#: it where the person went round. Two standard errors (a 95 % interval).
+GAP_STANDARD_ERRORS = 2.0
 #: The label of a ball :func:`side_blockers` puts in a scene (no class of a person's).
 SIDE_BLOCKER = "<other side>"
 #: A side blocker's radius, as a fraction of its distance to the nearer of the task's start
@@ -255,6 +265,40 @@ def gaps_closed_by(margins: np.ndarray, scene: Scene) -> list[tuple[int, int, fl
     closed = (margins[:, None] + margins[None, :] > gaps) & (gaps > touch)
     i, j = np.nonzero(np.triu(closed, k=1))
     return [(int(a), int(b), float(gaps[a, b])) for a, b in zip(i, j, strict=True)]
+
+
+def clearance_allowance(
+    scenes: Sequence[Scene], classes: Sequence[str], noise: float | None
+) -> dict[str, float]:
+    """Per class, how far the clearance typically kept may be short of the person's.
+
+    Each demonstration's clearance from an obstacle is the person's margin
+    plus the noise there, so a class's typical clearance, learned from the
+    ``n`` obstacles of that class the demonstrations went round, is uncertain
+    by ``sqrt(noise / n)``; the allowance is :data:`GAP_STANDARD_ERRORS` of
+    those.
+
+    Parameters
+    ----------
+    scenes : sequence of Scene
+        The training scenes (their obstacles are counted per class).
+    classes : sequence of str
+        The classes to give an allowance.
+    noise : float or None
+        The demonstrations' noise, a mean squared distance (units²; e.g.
+        :func:`lfdkit.emulate.metrics.demonstration_spread`); None: unknown.
+
+    Returns
+    -------
+    dict
+        ``{class: units}`` for each class that some scene holds; empty where
+        ``noise`` is unknown or not positive.
+    """
+    if noise is None or not np.isfinite(noise) or noise <= 0.0:
+        return {}
+    counts = Counter(label for scene in scenes for label in scene.labels)
+    sd = float(np.sqrt(noise))
+    return {c: GAP_STANDARD_ERRORS * sd / np.sqrt(counts[c]) for c in classes if counts[c]}
 
 
 def close_narrow_gaps(margins: np.ndarray, kept: np.ndarray, scene: Scene) -> np.ndarray:

@@ -33,6 +33,7 @@ from lfdkit.model.scene import Scene
 __all__ = [
     "clearance",
     "collisions",
+    "demonstration_spread",
     "discrete_frechet",
     "distance_space",
     "e1",
@@ -255,6 +256,40 @@ def mse_paths(paths, demos, n_points: int = 100) -> float:
         diff = resample(path, n_points) - resample(demo, n_points)
         total += float(np.einsum("iq,iq->", diff, diff))
     return total / (len(demos) * n_points)
+
+
+def demonstration_spread(path, demos, n_points: int = 100) -> float:
+    """How far demonstrations stray from the path learned from them: their noise, units².
+
+    :func:`mse_paths` of ``path`` against each of ``demos``, times
+    ``n / (n - 1)`` for ``n`` demonstrations (the path is fitted to them, so
+    it sits closer to them than to a new one; the correction of a sample
+    variance). Where the person had nothing to avoid, this is the squared
+    distance any model's plan is expected to stay from a new demonstration of
+    theirs even if it were exact: the noise floor of a replanning error.
+
+    Parameters
+    ----------
+    path : array_like, shape (m, q)
+        The path learned from ``demos`` (e.g. :attr:`lfdkit.skill.Skill.path_`).
+    demos : list of array_like, each (n_d, q)
+        At least 2 demonstrations, run in the path's direction.
+    n_points : int
+        Points each path is resampled to.
+
+    Returns
+    -------
+    float
+        Mean squared distance per point, in units², corrected for the fit.
+
+    Raises
+    ------
+    ValueError
+        For fewer than 2 demonstrations, or as :func:`mse_paths`.
+    """
+    demos = check_demos(demos, "demos", min_demos=2)
+    n = len(demos)
+    return mse_paths(path, demos, n_points) * n / (n - 1)
 
 
 def discrete_frechet(a, b) -> float:

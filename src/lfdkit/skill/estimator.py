@@ -222,7 +222,9 @@ class Skill(
         of those reversed to the majority's direction under ``"reversed"``,
         the path's length over the median demonstration's under
         ``"length_ratio"``, the mimic method's warnings as text under
-        ``"warnings"``, diagnostics).
+        ``"warnings"``, the demonstrations' mean squared distance from the
+        path under ``"spread_mse"`` (units², :func:`lfdkit.emulate.metrics.demonstration_spread`),
+        diagnostics).
     dmp_ : DMP
         The DMP trained on ``path_``, timed by ``timing_``.
     timing_ : SpeedProfile
@@ -283,7 +285,10 @@ class Skill(
         person who keeps a margin), as it does round two obstacles whose gap
         is narrower than the clearances the demonstrations typically kept
         from their classes (``model_selection_["gap_clearances"]``, the
-        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`). A floor that
+        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`), or within
+        :data:`~lfdkit.emulate.gaps.GAP_STANDARD_ERRORS` standard errors of
+        them (``model_selection_["gap_allowance"]``, from the demonstrations'
+        noise and how many showed each class; said). A floor that
         would move the route from the plan without it (open: to another side of an obstacle, other
         than round a gap it keeps closed; closed: between two obstacles that
         plan went round) is kept at half, then none (with a warning). Either
@@ -351,6 +356,9 @@ class Skill(
         demonstrations stayed swerved (units, 2-D;
         :func:`lfdkit.emulate.gaps.swerve_reach`), for the pairs one behind
         the other that plans go round both of (:func:`lfdkit.emulate.gaps.held_pairs`).
+        ``clearance_consistency``, measured above ``noise_mse`` (units², the
+        spread of the demonstrations without obstacles, ``mimic_info_["spread_mse"]``),
+        and ``threads_gaps``; ``gap_clearances`` and ``gap_allowance`` (units).
         Also in :attr:`ioc_info_` and the skill file.
     """
 
@@ -571,6 +579,11 @@ class Skill(
             str(w.message) for w in caught if not issubclass(w.category, DemoOrientationWarning)
         ]
         info = {"method": self.mimic, "n_demos": len(demos), **info}
+        # How far the person strays from their own path with no obstacle: the noise floor
+        # of every replanning error (the behaviour model choice, issue 26).
+        turned = set(info["reversed"])
+        runs = [demo[::-1] if j in turned else demo for j, demo in enumerate(demos)]
+        info["spread_mse"] = metrics.demonstration_spread(path, runs, int(self.n_points))
         info["seconds"] = time.perf_counter() - started
         self.mimic_ = estimator
         timing = None
@@ -1347,6 +1360,9 @@ class Skill(
             if (skill.model_selection_ or {}).get("swerve_reach"):
                 reach = [r * factor for r in skill.model_selection_["swerve_reach"]]
                 skill.model_selection_ = {**skill.model_selection_, "swerve_reach": reach}
+            if (skill.model_selection_ or {}).get("gap_allowance"):
+                wide = {c: m * factor for c, m in skill.model_selection_["gap_allowance"].items()}
+                skill.model_selection_ = {**skill.model_selection_, "gap_allowance": wide}
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }

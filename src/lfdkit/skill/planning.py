@@ -31,6 +31,7 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import Corridor, Plan, Reward, UnsafePlanError, plan_path
 from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
+    GAP_STANDARD_ERRORS,
     SIDE_BLOCKER,
     bridge_blockers,
     close_declined_gaps,
@@ -499,8 +500,9 @@ class Planning:
         (``{class: units}``, the clearance the demonstrations typically kept):
         with gaps closed, every gap narrower than the two obstacles' together
         is closed (:func:`lfdkit.emulate.gaps.close_narrow_gaps`); default the
-        skill's own (``model_selection_["gap_clearances"]``) for its own
-        plans, none for a candidate's. ``sided``: the balls that keep each
+        skill's own (``model_selection_["gap_clearances"]``, each widened by
+        its ``model_selection_["gap_allowance"]``, warned where that closes a
+        gap) for its own plans, none for a candidate's. ``sided``: the balls that keep each
         obstacle of a class passed by preference on its side
         (:meth:`_sided_blockers`; default: found here, and where no plan keeps
         them, none, warned).
@@ -614,13 +616,19 @@ class Planning:
             gaps = getattr(self, "gaps_", "closed") if clearances is None else "closed"
         margins = self._margins(scene, start, goal, clearance, clearances)
         if margins is not None and gaps == "closed" and len(scene) > 1:
+            allowance: Mapping[str, float] = {}
             if clearances is None:  # the skill's own plan: its own (older files: none)
-                gap_clearances = (getattr(self, "model_selection_", None) or {}).get(
-                    "gap_clearances"
-                )
-            typical = self._margins(scene, start, goal, clearance, gap_clearances or {})
+                selection = getattr(self, "model_selection_", None) or {}
+                gap_clearances = selection.get("gap_clearances")
+                allowance = selection.get("gap_allowance") or {}
+            kept = dict(gap_clearances or {})
+            wide = {c: m + allowance.get(c, 0.0) for c, m in kept.items()}
+            typical = self._margins(scene, start, goal, clearance, wide)
             if typical is not None:
+                narrow = margins
                 margins = close_narrow_gaps(margins, typical, scene)
+                if allowance and np.any(margins > narrow):
+                    self._warn_allowance(scene, narrow, start, goal, clearance, kept, wide)
         # Gaps no wider than one the demonstrations went round stay closed, whatever the model
         # (gaps open or closed): the skill's own plans, where the training scenes showed one.
         declined = self._declined_clearances(scene, start, goal, clearance, clearances)
@@ -888,6 +896,47 @@ class Planning:
             return None
         kept = self._margins(scene, start, goal, clearance, typical)
         return None if kept is None else (kept, float(width))
+
+    def _warn_allowance(
+        self,
+        scene: Scene,
+        margins: np.ndarray,
+        start: np.ndarray,
+        goal: np.ndarray,
+        clearance: float,
+        kept: Mapping[str, float],
+        wide: Mapping[str, float],
+    ) -> None:
+        """Warn where a gap is closed only by the allowance for clearances learned from few.
+
+        ``kept``: the clearances typically kept, ``wide``: with
+        ``model_selection_["gap_allowance"]`` added (units).
+        """
+        typical = self._margins(scene, start, goal, clearance, kept)
+        within = self._margins(scene, start, goal, clearance, wide)
+        if typical is None or within is None:
+            return
+        closed = {(i, j) for i, j, _ in gaps_closed_by(typical, scene)}
+        only = [
+            (i, j, gap)
+            for i, j, gap in gaps_closed_by(within, scene)
+            if (i, j) not in closed and margins[i] + margins[j] <= gap
+        ]
+        if not only:
+            return
+        i, j, gap = min(only, key=lambda pair: pair[2])
+        labels = scene.labels
+        warnings.warn(
+            f"plan: obstacles {i} ({labels[i]!r}) and {j} ({labels[j]!r}) leave a gap of "
+            f"{gap:.3g} {self.units}, wider than the clearances the demonstrations kept from "
+            f"them ({typical[i] + typical[j]:.3g} {self.units} together) but within "
+            f"{GAP_STANDARD_ERRORS:g} standard errors of them ({within[i] + within[j]:.3g} "
+            f"{self.units}: few demonstrations, with noise, learned them); this plan goes "
+            f"around both ({len(only)} such gap(s) in this scene); show more demonstrations "
+            f"near a {labels[i]!r} and a {labels[j]!r} to learn their clearances closer",
+            UserWarning,
+            stacklevel=4,
+        )
 
     def _threads_gaps(self) -> bool:
         """Whether the demonstrations show a person who threads the gaps its response does.

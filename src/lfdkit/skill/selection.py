@@ -90,7 +90,7 @@ from lfdkit.emulate.fidelity import (
     replanning_fidelity,
     same_sides,
 )
-from lfdkit.emulate.gaps import demonstrated_gaps
+from lfdkit.emulate.gaps import clearance_allowance, demonstrated_gaps
 from lfdkit.model.scene import Scene
 
 #: The clearance floors a behaviour model may keep (``{level: (quantile, factor)}`` of
@@ -167,6 +167,15 @@ TIE = 1e-4
 #: the plan without a floor where it kept the floor, and the thesis's person gave 1.00-2.08
 #: against the fixed-margin person's 1.21-1.28 (the threshold was 1.1).
 CONSISTENT_CLEARANCE = 1.6
+#: The consistency compares the errors above the demonstrations' noise (their squared
+#: distance from the path learned without obstacles, ``mimic_info_["spread_mse"]``): every
+#: plan, however exact, stays that far from a new noisy demonstration, and that common part
+#: draws the ratio to 1 as noise grows (the thesis's person at 3x noise, probe seed 0:
+#: 7.20e-5 / 5.06e-5 = 1.42, so a gap it threads was closed, Pr 80 % pooled; above a noise
+#: of 2.53e-5: 1.85). At most this share of the error with no floor is taken as noise, so a
+#: spread inflated by something else (starts and goals that differ) cannot make any
+#: person look inconsistent.
+NOISE_SHARE = 0.8
 
 
 class BehaviourSelection:
@@ -432,6 +441,7 @@ class BehaviourSelection:
         names: Sequence[str],
         scores: Mapping[str, Mapping[str, Any]],
         free: float | None = None,
+        noise: float | None = None,
     ) -> tuple[str, float | None]:
         """The model that wins ties, and the clearance consistency that decided it.
 
@@ -445,7 +455,9 @@ class BehaviourSelection:
         a margin, and would not squeeze between two obstacles closer than
         that; one whose approach varies with the obstacle's place answers a
         smooth reward (the thesis's person) and may thread a gap. Then the
-        ``"demonstrated"`` floor is the default.
+        ``"demonstrated"`` floor is the default. Both errors are taken above
+        ``noise`` (units², the demonstrations' spread without obstacles; at
+        most :data:`NOISE_SHARE` of ``free``; None: none).
         """
         base = candidates[0]
         same = {
@@ -459,6 +471,9 @@ class BehaviourSelection:
         closest = scores[same["closest"]]["mse"]
         if not (np.isfinite(free) and np.isfinite(closest)):
             return names[0], None
+        if noise is not None and np.isfinite(noise) and noise > 0.0:
+            floor = min(float(noise), NOISE_SHARE * free)
+            free, closest = free - floor, max(closest - floor, 0.0)
         ratio = closest / free if free > 0.0 else (1.0 if closest == 0.0 else np.inf)
         default = same["demonstrated"] if ratio <= CONSISTENT_CLEARANCE else names[0]
         return default, float(ratio)
@@ -582,7 +597,8 @@ class BehaviourSelection:
         free = (
             _fidelity_scores(rows[_behaviour_name(reference)])["mse"] if len(planned) > 1 else None
         )
-        default, consistency = self._default_model(candidates, names, scores, free)
+        noise = (getattr(self, "mimic_info_", None) or {}).get("spread_mse")
+        default, consistency = self._default_model(candidates, names, scores, free, noise)
 
         ranked = _ranked(names, scores, default)
         chosen = candidates[names.index(ranked[0])]
@@ -608,6 +624,8 @@ class BehaviourSelection:
             "folds": n_folds,
             "default": default,
             "clearance_consistency": consistency,
+            # The noise floor the consistency is measured above (units²; None: unknown).
+            "noise_mse": noise,
             # Above CONSISTENT_CLEARANCE the person answers a smooth reward, not a margin:
             # the gaps its learned response threads stay open (Planning._threads_gaps).
             "threads_gaps": consistency is not None and consistency > CONSISTENT_CLEARANCE,
@@ -619,6 +637,9 @@ class BehaviourSelection:
             # What they typically kept per class: where gaps stay closed, a gap narrower
             # than two of these together is closed (Planning._plan).
             "gap_clearances": dict(full_floors[TYPICAL]),
+            # On top of them, how far each may be short of the person's (units): gaps within
+            # it stay closed too (few noisy demonstrations; Planning._plan).
+            "gap_allowance": clearance_allowance(scenes, list(full_floors[TYPICAL]), noise),
             "chosen": ranked[0],
             "runner_up": ranked[1] if len(ranked) > 1 else None,
             "candidates": {
