@@ -54,15 +54,20 @@ Why this design:
   0.07–0.12: 1.2×. Now: argument types and shapes checked in Python, values
   (finite points, phases in [0, 1]) by the kernel before any work, one buffer
   out (a returned array cost a microsecond to box), and the new covariance
-  formed only when first read (``weights_cov_`` through ``__getattr__``): a
-  planned path's mean does not need it. With ``S⁺ = L Lᵀ`` the kernel hands
-  back ``Z = Lᵀ H Σ``, so ``Σ' = Σ − Zᵀ Z`` is one BLAS product, exactly
-  symmetric (averaging ``Σ − K H Σ`` with its transpose was six NumPy calls,
-  3× the time), and a conditioned model's :meth:`ProMP.std` needs not even
-  that: its source's band (kept on the source per grid) less the squared
-  norms of ``Z φ`` per coordinate. One point at one phase with a variance
-  (most calls) goes to its own kernel, :func:`condition_point`: the phase a
-  float, the basis centres formed in it, 5 arguments, the model's width,
+  formed only when first read (``weights_cov_``, a descriptor on the class
+  that an instance's own array shadows once formed): a planned path's mean
+  does not need it. With ``S⁺ = L Lᵀ`` the kernel hands back ``Z = Lᵀ H Σ``,
+  so that ``Σ' = Σ − Zᵀ Z``, formed by a second small kernel
+  (:func:`conditioned_covariance`: the upper triangle, mirrored, so exactly
+  symmetric; NumPy's product and subtraction took 1.5–2× its time, and
+  ``__getattr__``, reached only after a failed look-up, added about 1 µs); a
+  conditioned model's :meth:`ProMP.std` needs not even that: its source's
+  band (kept on the source per grid) less the squared norms of ``Z φ`` per
+  coordinate. Forming it inside the conditioning kernel was not taken: its
+  work (n²·m/2 products) would fall on every call, read or not. One point
+  at one phase with a variance (most calls) goes to its own kernel,
+  :func:`condition_point`: the phase a float, the basis centres formed in
+  it, 5 arguments, the model's width,
   cut, mean and covariance in one writeable array kept per model (numba's
   dispatch is a third of the kernel's call; 8 arguments with two read-only
   arrays, which numba types by its slow path, took 0.3 µs more), its glue
