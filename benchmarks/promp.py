@@ -17,7 +17,10 @@ Speed: median over ``--repeats`` blocks (each about 1 ms of calls; wall and
 CPU time; the blocks of one row alternate between lfdkit and the peers, so a
 change of load falls on both) of fit (all demos); condition on 1 via-point
 at a phase seen before and at a new phase every call; on 3 via-points at
-phases seen before (0, 0.5, 1) and at 3 new phases every call; the same
+phases seen before (0, 0.5, 1) and at 3 new phases every call; the last two
+with the conditioned covariance read (``weights_cov_``: lfdkit forms it on
+first read, the peer in every call, so only these rows compare the same
+work; the peer's ``weight_cov`` read too); the same
 1-point conditioning for 1000 sets of points at once (``condition_many``,
 time per set); condition and roll out (1 point, then ``mean_path(100)``; 1
 point at a new phase, then ``std(100)``, which forms the conditioned
@@ -256,6 +259,16 @@ def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
             lambda: model.condition(three, _new_phases(ours_phases)),
             1,
         ),
+        # lfdkit forms a conditioned covariance when first read, the peer in every call:
+        # with it read, both do the same work.
+        "condition 1 point (new phase) + weights_cov_": (
+            lambda: model.condition(one, [next(ours_phases)]).weights_cov_,
+            1,
+        ),
+        "condition 3 points (new phases) + weights_cov_": (
+            lambda: model.condition(three, _new_phases(ours_phases)).weights_cov_,
+            1,
+        ),
         f"condition 1 point, {N_SETS} sets (per set)": (
             lambda: model.condition_many(sets, [0.5]),
             N_SETS,
@@ -304,6 +317,14 @@ def speed(repeats: int) -> tuple[list[dict[str, Any]], dict[str, Any] | None]:
             "condition 3 points (phases seen before)": (lambda: peer_three(VIA_PHASES), 1),
             "condition 3 points (new phases)": (
                 lambda: peer_three(_new_phases(peer_phases)),
+                1,
+            ),
+            "condition 1 point (new phase) + weights_cov_": (
+                lambda: peer.condition_position(one[0], t=next(peer_phases), t_max=1.0).weight_cov,
+                1,
+            ),
+            "condition 3 points (new phases) + weights_cov_": (
+                lambda: peer_three(_new_phases(peer_phases)).weight_cov,
                 1,
             ),
             f"condition 1 point, {N_SETS} sets (per set)": (
@@ -388,7 +409,7 @@ def main(argv: list[str] | None = None) -> int:
         "(wall, and CPU time of this process)"
     )
     print(
-        f"{'operation':<42}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}{'CPU':>8}"
+        f"{'operation':<48}{'lfdkit':>9}{'movement_primitives':>21}{'speed-up':>10}{'CPU':>8}"
         f"{'MP_PyTorch':>12}{'speed-up':>10}"
     )
     for r in timings:
@@ -399,7 +420,7 @@ def main(argv: list[str] | None = None) -> int:
             cells.append("" if ratio is None else f"{ratio:.1f}x")
         cpu = r["cpu_speedup_movement_primitives"]
         print(
-            f"{r['operation']:<42}{r['lfdkit_ms']:>9.4f}{cells[0]:>21}{cells[1]:>10}"
+            f"{r['operation']:<48}{r['lfdkit_ms']:>9.4f}{cells[0]:>21}{cells[1]:>10}"
             f"{'' if cpu is None else f'{cpu:.1f}x':>8}{cells[2]:>12}{cells[3]:>10}"
         )
     print("  '-': the peer has no such operation (MP_PyTorch: no via-point conditioning)")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pickle
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -234,12 +235,74 @@ def test_a_covariance_set_on_a_conditioned_model_is_the_one_its_band_reads(full_
     np.testing.assert_array_equal(again.weights_cov_, fresh.weights_cov_)
 
 
+@pytest.mark.parametrize("n_points", [1, 3])
+def test_the_covariance_formed_on_read_is_the_closed_form_exactly_symmetric(
+    full_rank_model, n_points
+):
+    """A conditioned model's ``weights_cov_`` (formed on first read by a kernel) against
+    ``Σ − Σ Hᵀ (H Σ Hᵀ + R)⁻¹ H Σ`` built from the reference basis; the compiled kernel and
+    its NumPy twin agree to 1e-12 of the covariance's scale, each exactly symmetric."""
+    from lfdkit.imitate import _promp_kernels, promp
+
+    model = full_rank_model
+    phases = np.array([0.3, 0.55, 0.8][:n_points])
+    points = model.mean_at(phases) + 0.05
+    variance = 1e-3
+    via = model.condition(points, phases, covariance=variance)
+    assert "weights_cov_" not in vars(via)  # not formed yet
+    pending = vars(via)["_pending_cov"]
+    formed = via.weights_cov_
+    assert "_pending_cov" not in vars(via) and via.weights_cov_ is formed  # formed once
+    assert not formed.flags.writeable
+    np.testing.assert_array_equal(formed, formed.T)
+    d, b, sigma = 2, 6, model.weights_cov_
+    features = reference_features(phases, b, model.width_)
+    h = np.zeros((n_points * d, d * b))
+    for i in range(n_points):
+        for c in range(d):
+            h[i * d + c, c * b : (c + 1) * b] = features[i]
+    gain = sigma @ h.T @ np.linalg.inv(h @ sigma @ h.T + variance * np.eye(n_points * d))
+    scale = np.abs(sigma).max()
+    np.testing.assert_allclose(formed, sigma - gain @ h @ sigma, rtol=0, atol=1e-9 * scale)
+    cov, out, _, m, _, _, prior = pending
+    both = []
+    for run in (_promp_kernels.conditioned_covariance, promp.conditioned_covariance):
+        result = np.empty_like(cov)
+        assert run(prior, out, len(cov), m, result) == 0
+        np.testing.assert_array_equal(result, result.T)
+        both.append(result)
+    np.testing.assert_allclose(both[0], both[1], rtol=0, atol=1e-12 * scale)
+    assert any(np.array_equal(formed, one) for one in both)  # it is one of the two
+
+
+def test_an_unfitted_model_has_no_covariance_attribute():
+    """The class's ``weights_cov_`` (forms a conditioned model's on read) is no attribute of
+    a model that is neither fitted nor conditioned."""
+    from sklearn.exceptions import NotFittedError
+
+    model = ProMP()
+    assert not hasattr(model, "weights_cov_")
+    with pytest.raises(AttributeError, match="weights_cov_"):
+        model.weights_cov_  # noqa: B018
+    with pytest.raises(NotFittedError):
+        model.condition([[0.0, 0.0]], [0.5])
+
+
 def _invariants(buffer: np.ndarray, cov: np.ndarray, n_weights: int, m: int, d: int) -> tuple:
     """The new mean, the lost offsets and the new covariance of a one-set kernel buffer."""
     from lfdkit.imitate import promp
 
     means, _, lost, _, _ = promp._out_parts(buffer, 1, n_weights, m, d)
-    return means, lost, promp._conditioned_covariance(cov, buffer, 1, m)
+    return means, lost, _new_cov(promp.conditioned_covariance, cov, buffer, 1, m)
+
+
+def _new_cov(run: Any, cov: np.ndarray, buffer: np.ndarray, n_sets: int, m: int) -> np.ndarray:
+    """``Σ − Zᵀ Z`` of a kernel buffer, formed by ``run`` (a covariance kernel)."""
+    n = len(cov)
+    prior = np.r_[0.0, 0.0, np.zeros(n), cov.ravel()]
+    result = np.empty((n, n))
+    assert run(prior, buffer, n_sets * n, m, result) == 0
+    return result
 
 
 @pytest.mark.slow  # numba compiles the kernel once per checkout (~5-15 s), then loads it (~3 s)
@@ -269,13 +332,16 @@ def test_the_compiled_conditioning_equals_its_numpy_twin():
         )
         noise.flags.writeable = False
         results = []
-        for run in (_promp_kernels.condition_weights, promp.condition_weights):
+        for run, run_cov in (
+            (_promp_kernels.condition_weights, _promp_kernels.conditioned_covariance),
+            (promp.condition_weights, promp.conditioned_covariance),
+        ):
             out = np.empty(promp._out_size(2, n_weights, m))
             centres = promp._scaled_centres(b, width)
             args = (mean, cov, centres, phases, width, sets, 0.01 * scale**2 * (trial % 2))
             n_dropped = run(*args, noise, 1e-10, out)
             means, root_h, lost, columns, root_h_t = promp._out_parts(out, 2, n_weights, m, d)
-            new_cov = promp._conditioned_covariance(cov, out, 2, m)
+            new_cov = _new_cov(run_cov, cov, out, 2, m)
             np.testing.assert_array_equal(new_cov, new_cov.T)  # exactly symmetric
             # The same numbers in the layouts a path and a band read.
             np.testing.assert_array_equal(columns, means.reshape(2, d, b).transpose(0, 2, 1))

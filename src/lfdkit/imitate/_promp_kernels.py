@@ -402,3 +402,34 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
                     for a in range(m):
                         out[at_lost + s * m + a] += along * vectors[a * m + e]
     return n_dropped
+
+
+@numba.njit(cache=True)
+def conditioned_covariance(prior, out, start, m, result):
+    """The conditioned covariance ``Σ' = Σ − Zᵀ Z`` into ``result`` (n × n), exactly symmetric.
+
+    ``prior`` is :func:`condition_point`'s model (``Σ`` row-major after the mean),
+    ``out`` the buffer :func:`condition_weights` wrote, ``Z`` (m, n) at ``start``
+    (after the means), ``m`` the observed coordinates. Each row's upper part
+    sums ``Zᵀ Z`` a row of ``Z`` at a time (the order of NumPy's ``Σ − Zᵀ Z``), is
+    taken from ``Σ`` and mirrored. Indices unsigned: a signed index is checked for
+    a negative value on every access, which kept the inner loop scalar (a sum per
+    entry over ``Z``'s column, or over a transposed copy, took 1.5–3× the time).
+    """
+    n = np.uint64(result.shape[0])
+    rows = np.uint64(m)
+    at = np.uint64(2) + n
+    first = np.uint64(start)
+    flat = result.reshape(-1)
+    for i in range(n):
+        for j in range(i, n):
+            flat[i * n + j] = 0.0
+        for e in range(rows):
+            z = out[first + e * n + i]
+            for j in range(i, n):
+                flat[i * n + j] += z * out[first + e * n + j]
+        for j in range(i, n):
+            entry = prior[at + i * n + j] - flat[i * n + j]
+            flat[i * n + j] = entry
+            flat[j * n + i] = entry
+    return 0

@@ -54,15 +54,20 @@ Why this design:
   0.07–0.12: 1.2×. Now: argument types and shapes checked in Python, values
   (finite points, phases in [0, 1]) by the kernel before any work, one buffer
   out (a returned array cost a microsecond to box), and the new covariance
-  formed only when first read (``weights_cov_`` through ``__getattr__``): a
-  planned path's mean does not need it. With ``S⁺ = L Lᵀ`` the kernel hands
-  back ``Z = Lᵀ H Σ``, so ``Σ' = Σ − Zᵀ Z`` is one BLAS product, exactly
-  symmetric (averaging ``Σ − K H Σ`` with its transpose was six NumPy calls,
-  3× the time), and a conditioned model's :meth:`ProMP.std` needs not even
-  that: its source's band (kept on the source per grid) less the squared
-  norms of ``Z φ`` per coordinate. One point at one phase with a variance
-  (most calls) goes to its own kernel, :func:`condition_point`: the phase a
-  float, the basis centres formed in it, 5 arguments, the model's width,
+  formed only when first read (``weights_cov_``, a descriptor on the class
+  that an instance's own array shadows once formed): a planned path's mean
+  does not need it. With ``S⁺ = L Lᵀ`` the kernel hands back ``Z = Lᵀ H Σ``,
+  so that ``Σ' = Σ − Zᵀ Z``, formed by a second small kernel
+  (:func:`conditioned_covariance`: the upper triangle, mirrored, so exactly
+  symmetric; NumPy's product and subtraction took 1.5–2× its time, and
+  ``__getattr__``, reached only after a failed look-up, added about 1 µs); a
+  conditioned model's :meth:`ProMP.std` needs not even that: its source's
+  band (kept on the source per grid) less the squared norms of ``Z φ`` per
+  coordinate. Forming it inside the conditioning kernel was not taken: its
+  work (n²·m/2 products) would fall on every call, read or not. One point
+  at one phase with a variance (most calls) goes to its own kernel,
+  :func:`condition_point`: the phase a float, the basis centres formed in
+  it, 5 arguments, the model's width,
   cut, mean and covariance in one writeable array kept per model (numba's
   dispatch is a third of the kernel's call; 8 arguments with two read-only
   arrays, which numba types by its slow path, took 0.3 µs more), its glue
@@ -185,6 +190,36 @@ _COMPILED_POINT: list = []  # numba's, once handed out
 _POINTS_KERNEL = ("condition_points", "lfdkit.imitate._promp_kernels")
 _COMPILED_POINTS: list = []  # numba's, once handed out
 
+#: The conditioned covariance's kernel: numba's or its twin (:func:`conditioned_covariance`).
+_COV_KERNEL = ("conditioned_covariance", "lfdkit.imitate._promp_kernels")
+_COMPILED_COV: list = []  # numba's, once handed out
+
+
+class _FormedOnRead:
+    """``ProMP.weights_cov_`` where the instance has none yet: a conditioned model's
+    covariance formed on first read (then an instance attribute, found first).
+
+    A non-data descriptor: an instance's own ``weights_cov_`` (set by ``fit`` or
+    once formed) shadows it, so a formed covariance costs a plain attribute
+    read. Replaced ``__getattr__``, reached only after a failed look-up, which
+    raised and caught an AttributeError first: about 1 µs, a third of a
+    one-point conditioning, on every first read.
+    """
+
+    def __get__(self, model: Any, owner: type | None = None) -> Any:
+        if model is None:
+            return self
+        state = model.__dict__
+        pending = state.pop("_pending_cov", None)
+        if pending is None:
+            raise AttributeError(f"{type(model).__name__!r} object has no attribute 'weights_cov_'")
+        cov, out, _, m, _, _, prior = pending
+        result = np.empty(cov.shape)
+        (_COMPILED_COV[0] if _COMPILED_COV else _cov_kernel())(prior, out, len(cov), m, result)
+        result.setflags(False)  # read-only, as every weight array (by keyword: slower)
+        state["weights_cov_"] = result
+        return result
+
 
 class ProMP(Estimator):
     """Probabilistic movement primitive: a Gaussian over basis weights, learned from demonstrations.
@@ -236,6 +271,9 @@ class ProMP(Estimator):
         "width": Real(maximum=1.0, meaning="a standard deviation in phase units", optional=True),
         "regularization": Real(allow_zero=True),
     }
+
+    #: A conditioned model's covariance is formed on first read (:class:`_FormedOnRead`).
+    weights_cov_ = _FormedOnRead()
 
     def __init__(
         self, n_basis: int = 10, width: float | None = None, regularization: float = 1e-6
@@ -404,7 +442,7 @@ class ProMP(Estimator):
         else:
             # Conditioned, covariance not formed: its source's band (kept on the source)
             # less the reduction, the squared norms of Zᵀ φ per coordinate (Σ' = Σ − Zᵀ Z).
-            cov, out, _, m, source, _ = pending
+            cov, out, _, m, source, _, _ = pending
             d = state["n_dims_"]
             # Z split by dimension and transposed, (b, m·d): the buffer's last part.
             root_h_t = out[len(out) - m * len(cov) :].reshape(-1, m * d)
@@ -539,7 +577,8 @@ class ProMP(Estimator):
         made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
         made.update(copied)
         mean = made["weights_mean_"] = out[:n_weights]
-        made["_pending_cov"] = (cov, out, 1, m, self, mean)  # self: keeps the band for std
+        # self: keeps the band for std; prior: the model as the covariance's kernel takes it.
+        made["_pending_cov"] = (cov, out, 1, m, self, mean, prior)
         made["_copy_state"] = copied
         if n_dropped:
             lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
@@ -597,7 +636,10 @@ class ProMP(Estimator):
             np.ascontiguousarray(sets), s, variance, np.ascontiguousarray(noise)
         )
         means, _, lost, _, _ = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size, d)
-        cov = _frozen(_conditioned_covariance(self._weights_cov(), out, len(sets), sets[0].size))
+        n = len(self.weights_mean_)
+        cov = np.empty((n, n))
+        _cov_kernel()(self._kernel_prior()[0], out, len(sets) * n, sets[0].size, cov)
+        cov.setflags(False)
         out = self._with_weights(means, cov)
         if n_dropped:
             for j, model in enumerate(out):
@@ -758,21 +800,10 @@ class ProMP(Estimator):
             state.pop("_pending_cov", None)
         object.__setattr__(self, name, value)
 
-    def __getattr__(self, name: str) -> Any:
-        """``weights_cov_`` of a conditioned model, formed on first use (then an attribute)."""
-        if name == "weights_cov_" and "_pending_cov" in self.__dict__:
-            return self._weights_cov()
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-
     def _weights_cov(self) -> np.ndarray:
-        """``weights_cov_``, formed now if pending, without the failed attribute look-up
-        that reaches :meth:`__getattr__` (5 µs: it raises and formats an AttributeError)."""
-        state = self.__dict__
-        cov = state.get("weights_cov_")
-        if cov is None:
-            cov = _frozen(_conditioned_covariance(*state.pop("_pending_cov")[:4]))
-            state["weights_cov_"] = cov
-        return cov
+        """``weights_cov_``, formed now if pending (a method: what the class's descriptor calls)."""
+        cov = self.__dict__.get("weights_cov_")
+        return self.weights_cov_ if cov is None else cov
 
     def __getstate__(self) -> dict[str, Any]:
         """For pickling and copies: what is kept for speed is left out (rebuilt on use)."""
@@ -1051,7 +1082,7 @@ def condition_weights(
         Written, one after the other: the conditioned means (n_sets,
         n_weights); ``Z = Lᵀ H Σ`` (k·d, n_weights; ``L Lᵀ`` the innovation
         covariance's pseudo-inverse, a zero row per dropped direction), from
-        which :func:`_conditioned_covariance` forms ``Σ' = Σ − Zᵀ Z``; each
+        which :func:`conditioned_covariance` forms ``Σ' = Σ − Zᵀ Z``; each
         set's offset from the prior mean in the dropped directions (n_sets,
         k·d).
 
@@ -1149,6 +1180,18 @@ def condition_points(
     )
 
 
+def conditioned_covariance(
+    prior: np.ndarray, out: np.ndarray, start: int, m: int, result: np.ndarray
+) -> int:
+    """``Σ' = Σ − Zᵀ Z`` into ``result`` (n, n) from :func:`condition_point`'s model ``prior``
+    and :func:`condition_weights`' buffer ``out`` (``Z`` (m, n) at ``start``): the twin of
+    :func:`lfdkit.imitate._promp_kernels.conditioned_covariance`."""
+    n = len(result)
+    root_h = out[start : start + m * n].reshape(m, n)
+    np.subtract(prior[2 + n : 2 + n + n * n].reshape(n, n), root_h.T @ root_h, out=result)
+    return 0
+
+
 def _variances(cov: np.ndarray, products: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """Variances of each coordinate, shape (n_points, n_dims), from :meth:`ProMP._grid_products`.
 
@@ -1185,17 +1228,6 @@ def _out_parts(
     )
 
 
-def _conditioned_covariance(cov: np.ndarray, out: np.ndarray, n_sets: int, m: int) -> np.ndarray:
-    """``Σ' = Σ − Zᵀ Z`` from :func:`condition_weights`' buffer ``out`` (``m`` observed
-    coordinates): exactly symmetric when ``Σ`` is (BLAS forms ``Zᵀ Z`` as one
-    triangle, mirrored), in three NumPy calls (averaging ``Σ − K H Σ`` with its
-    transpose took six, 3× the time)."""
-    n_weights = len(cov)
-    start = n_sets * n_weights
-    root_h = out[start : start + m * n_weights].reshape(m, n_weights)
-    return cov - root_h.T @ root_h
-
-
 def _condition_kernel() -> Any:
     """:func:`condition_weights`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it.
 
@@ -1218,6 +1250,17 @@ def _points_kernel() -> Any:
     run = kernel(*_POINTS_KERNEL, __name__)
     if run is not condition_points:
         _COMPILED_POINTS.append(run)
+    return run
+
+
+def _cov_kernel() -> Any:
+    """:func:`conditioned_covariance`, numba's once :mod:`lfdkit.core.kernels`' rule turns to
+    it (kept once handed out, as :func:`_condition_kernel`)."""
+    if _COMPILED_COV:
+        return _COMPILED_COV[0]
+    run = kernel(*_COV_KERNEL, __name__)
+    if run is not conditioned_covariance:
+        _COMPILED_COV.append(run)
     return run
 
 
