@@ -162,6 +162,28 @@ def test_to_units_converts_a_fitted_skill(metres, millimetres) -> None:
         metres.to_units("in")
 
 
+def test_to_units_converts_the_model_choice_s_lengths_and_areas(metres) -> None:
+    # Clearances, allowances and reaches are lengths (x 1000 in mm), replanning errors and
+    # the noise floor areas (x 1e6); ratios, shares, counts and names stay as they are.
+    chosen, converted = metres.model_selection_, metres.to_units("mm").model_selection_
+    for key in ("gap_clearances", "gap_allowance"):
+        for label, value in (chosen.get(key) or {}).items():
+            assert converted[key][label] == pytest.approx(1e3 * value, rel=1e-12), key
+    if chosen.get("swerve_reach") is not None:
+        np.testing.assert_allclose(
+            converted["swerve_reach"], 1e3 * np.asarray(chosen["swerve_reach"])
+        )
+    for key in ("noise_mse", "no_floor_mse"):
+        if chosen.get(key) is not None:
+            assert converted[key] == pytest.approx(1e6 * chosen[key], rel=1e-12), key
+    for name, scores in chosen["candidates"].items():
+        assert converted["candidates"][name]["mse"] == pytest.approx(1e6 * scores["mse"]), name
+        assert converted["candidates"][name]["route"] == scores["route"], name
+    for key in ("chosen", "runner_up", "clearance_consistency", "threads_gaps", "gaps_shown"):
+        assert converted[key] == chosen[key], key
+    assert chosen.get("no_floor_mse") is not None  # the areas are checked, not skipped
+
+
 def test_an_unknown_unit_is_refused() -> None:
     with pytest.raises(ValueError, match=r"^units: expected one of 'm', 'cm', 'mm', got 'km'"):
         Skill(units="km").fit_path([np.eye(3)[:, :2], np.eye(3)[:, :2] + 0.1])

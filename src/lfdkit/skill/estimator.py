@@ -88,6 +88,46 @@ def _registered_mimic(value: Any, name: str) -> str:
     return OneOf(tuple(MIMIC_METHODS))(value, name)
 
 
+#: ``model_selection_`` entries in the data's units and in units², each converted by
+#: :meth:`Skill.to_units` (the rest are ratios, shares, counts and names).
+_SELECTION_LENGTHS = ("gap_clearances", "gap_allowance", "swerve_reach")
+_SELECTION_AREAS = ("noise_mse", "no_floor_mse")
+
+
+def _scaled(value: Any, factor: float) -> Any:
+    """``value`` (a number, a list or a dict of them; None stays None) times ``factor``."""
+    if value is None:
+        return None
+    if isinstance(value, dict):
+        return {k: _scaled(v, factor) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_scaled(v, factor) for v in value]
+    return value * factor
+
+
+def _selection_in_units(selection: dict | None, factor: float) -> dict | None:
+    """``Skill.model_selection_`` with its lengths times ``factor`` and areas times its square."""
+    if not selection:
+        return selection
+    out = dict(selection)
+    for key in _SELECTION_LENGTHS:
+        if key in out:
+            out[key] = _scaled(out[key], factor)
+    for key in _SELECTION_AREAS:
+        if key in out:
+            out[key] = _scaled(out[key], factor**2)
+    if isinstance(out.get("candidates"), dict):
+        out["candidates"] = {
+            name: {
+                k: (_scaled(v, factor**2) if k in ("mse", "error") else v) for k, v in row.items()
+            }
+            if isinstance(row, dict)
+            else row
+            for name, row in out["candidates"].items()
+        }
+    return out
+
+
 class Skill(
     SkillFiles,
     Planning,
@@ -1353,16 +1393,9 @@ class Skill(
             skill.frame_ = getattr(self, "frame_", "world")
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
             skill.gaps_ = getattr(self, "gaps_", "closed")
-            skill.model_selection_ = getattr(self, "model_selection_", None)
-            if (skill.model_selection_ or {}).get("gap_clearances"):
-                gap = {c: m * factor for c, m in skill.model_selection_["gap_clearances"].items()}
-                skill.model_selection_ = {**skill.model_selection_, "gap_clearances": gap}
-            if (skill.model_selection_ or {}).get("swerve_reach"):
-                reach = [r * factor for r in skill.model_selection_["swerve_reach"]]
-                skill.model_selection_ = {**skill.model_selection_, "swerve_reach": reach}
-            if (skill.model_selection_ or {}).get("gap_allowance"):
-                wide = {c: m * factor for c, m in skill.model_selection_["gap_allowance"].items()}
-                skill.model_selection_ = {**skill.model_selection_, "gap_allowance": wide}
+            skill.model_selection_ = _selection_in_units(
+                getattr(self, "model_selection_", None), factor
+            )
             skill.class_radii_ = {
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }
