@@ -236,3 +236,59 @@ def running_median_ends(values, half, out):
 
 
 __all__ = ["adaptive_step", "running_median_ends", "shortest_halves"]
+
+
+@cached_njit(nogil=True)
+def pair_distances(stack, fwd, bwd):
+    """Mean distances between every pair of 2-D demonstrations, as recorded and one reversed.
+
+    ``stack`` (m, s, 2): the demonstrations sampled at ``s`` points. Writes,
+    for ``a < b``, ``fwd[a, b]`` the mean over samples of the distance from
+    ``stack[a]`` to ``stack[b]`` and ``bwd[a, b]`` to ``stack[b]`` reversed:
+    :func:`lfdkit.mimic.orientation._mean_distances`'s numbers (``x² + y²``,
+    its square root, NumPy's pairwise sum, divided by ``s``) without its
+    (m - a, s, 2) temporaries.
+    """
+    m, s = stack.shape[0], stack.shape[1]
+    d = np.empty(s)
+    e = np.empty(s)
+    for a in range(m - 1):
+        for b in range(a + 1, m):
+            for i in range(s):
+                dx = stack[b, i, 0] - stack[a, i, 0]
+                dy = stack[b, i, 1] - stack[a, i, 1]
+                d[i] = np.sqrt(dx * dx + dy * dy)
+                rx = stack[b, s - 1 - i, 0] - stack[a, i, 0]
+                ry = stack[b, s - 1 - i, 1] - stack[a, i, 1]
+                e[i] = np.sqrt(rx * rx + ry * ry)
+            fwd[a, b] = _pairwise_sum(d, 0, s) / s
+            bwd[a, b] = _pairwise_sum(e, 0, s) / s
+
+
+@cached_njit(nogil=True)
+def run_averages(values, found, half, taken, total, out):
+    """Each value's average over the ``2 half + 1`` rows about it, cut at the ends.
+
+    ``values`` (m, n), counted where ``found``; ``taken`` (m, n) how many
+    found values each average takes (at least 1); ``total`` (m + 1, n) the
+    running sums along the rows, zero first, computed here when ``half`` is
+    negative (then ``-half - 1`` is the half-width) and reused otherwise.
+    Writes ``out[r] = (total[min(r + half + 1, m)] - total[max(r - half, 0)])
+    / taken[r]``: :func:`lfdkit.mimic.mean_path._window_sums` of NumPy's
+    cumulative sum (sequential along each column), divided, the same numbers
+    without the (m, n) temporaries.
+    """
+    m, n = values.shape
+    if half < 0:
+        half = -half - 1
+        for j in range(n):
+            total[0, j] = 0.0
+            total[1, j] = values[0, j] if found[0, j] else 0.0
+        for r in range(1, m):
+            for j in range(n):
+                total[r + 1, j] = total[r, j] + (values[r, j] if found[r, j] else 0.0)
+    for r in range(m):
+        hi = min(r + half + 1, m)
+        lo = max(r - half, 0)
+        for j in range(n):
+            out[r, j] = (total[hi, j] - total[lo, j]) / taken[r, j]

@@ -1567,13 +1567,17 @@ def _run_maxima(
         counts = _run_counts(found, halves)
     if groups is None:
         groups = _count_groups(found)
-    total = np.zeros((m + 1, n))
-    np.cumsum(np.where(found, coords[..., 0], 0.0), axis=0, out=total[1:])
+    from lfdkit.mimic._mean_path_kernels import run_averages  # compiled on first use
+
+    # The running sums and each stretch's averages in one compiled pass each: NumPy's
+    # cumulative sum and window sums divided, the same numbers without temporaries.
+    values = np.ascontiguousarray(coords[..., 0], dtype=float)
+    found = np.ascontiguousarray(found)
+    total, averaged = np.empty((m + 1, n)), np.empty((m, n))
     enough = groups[0] >= 3
     out = np.zeros(len(halves))
     for i, (half, taken) in enumerate(zip(halves, counts, strict=True)):
-        averaged = _window_sums(total, half)
-        averaged /= taken
+        run_averages(values, found, -half - 1 if i == 0 else half, taken, total, averaged)
         mid, scale, low, high = _line_run(averaged, found, enough, groups)
         if scale is not None and (low < np.inf).any():
             farthest = np.maximum(np.abs(low - mid), np.abs(high - mid)) / scale
