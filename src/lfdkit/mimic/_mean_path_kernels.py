@@ -292,3 +292,88 @@ def run_averages(values, found, half, taken, total, out):
         lo = max(r - half, 0)
         for j in range(n):
             out[r, j] = (total[hi, j] - total[lo, j]) / taken[r, j]
+
+
+@cached_njit(nogil=True)
+def on_line(offsets, found, signed, unit):
+    """2-D offsets' signed lengths along each row's common line, in one pass per row.
+
+    ``offsets`` (m, n, 2), counted where ``found``; writes ``unit`` (m, 2),
+    the direction of the found offsets' mean (the first found offset where
+    that mean is ~zero; zero where there is none), and ``signed`` (m, n),
+    each offset's projection on it. :func:`lfdkit.mimic.mean_path._on_line`'s
+    numbers: the row sums in order, ``x² + y²`` under the square roots, and
+    einsum's ``x u + y v``.
+    """
+    m, n = found.shape
+    for r in range(m):
+        # NumPy's sum over the row of the offsets, zero where not found: in order.
+        sx = offsets[r, 0, 0] if found[r, 0] else 0.0
+        sy = offsets[r, 0, 1] if found[r, 0] else 0.0
+        count = 1 if found[r, 0] else 0
+        first = 0 if found[r, 0] else -1
+        for j in range(1, n):
+            if found[r, j]:
+                sx += offsets[r, j, 0]
+                sy += offsets[r, j, 1]
+                if first < 0:
+                    first = j
+                count += 1
+            else:
+                sx += 0.0
+                sy += 0.0
+        dx = sx / count if count else np.nan
+        dy = sy / count if count else np.nan
+        norm = np.sqrt(dx * dx + dy * dy)
+        if not norm > 1e-15:
+            if first >= 0:
+                dx = offsets[r, first, 0]
+                dy = offsets[r, first, 1]
+            else:
+                dx = 0.0
+                dy = 0.0
+            norm = np.sqrt(dx * dx + dy * dy)
+        if norm > 0:
+            ux = dx / norm
+            uy = dy / norm
+        else:
+            ux = 0.0
+            uy = 0.0
+        unit[r, 0] = ux
+        unit[r, 1] = uy
+        for j in range(n):
+            signed[r, j] = offsets[r, j, 0] * ux + offsets[r, j, 1] * uy
+
+
+@cached_njit(nogil=True)
+def found_distances(offsets, found, start, dist):
+    """Distances of 2-D offsets from each row's start, and their largest coordinate.
+
+    ``offsets`` (m, n, 2), ``start`` (m, 2): writes ``dist[r, j]``, the
+    distance of ``offsets[r, j]`` from ``start[r]`` where ``found`` (NaN
+    elsewhere), and returns the largest absolute coordinate of the found
+    offsets, zero for the others (NaN if any is NaN): the numbers of
+    :func:`lfdkit.mimic.mean_path._own_start_and_scale`'s NumPy (``x² + y²``
+    under the root) without its (m, n, 2) temporaries.
+    """
+    m, n = found.shape
+    largest = 0.0 if m * n else -np.inf
+    nan = False
+    for r in range(m):
+        s0 = start[r, 0]
+        s1 = start[r, 1]
+        for j in range(n):
+            if found[r, j]:
+                x = offsets[r, j, 0]
+                y = offsets[r, j, 1]
+                dx = x - s0
+                dy = y - s1
+                dist[r, j] = np.sqrt(dx * dx + dy * dy)
+                ax = abs(x)
+                ay = abs(y)
+                if np.isnan(ax) or np.isnan(ay):
+                    nan = True
+                largest = max(largest, ax, ay)
+            else:
+                dist[r, j] = np.nan
+    return np.nan if nan else largest
