@@ -325,14 +325,14 @@ def _best_signs(gain: np.ndarray) -> np.ndarray:
         return best
     with one_blas_thread():  # threaded BLAS stalls on a small matrix when cores are busy
         _, vectors = np.linalg.eigh(gain)
-    x = np.where(vectors[:, -1] >= 0, 1.0, -1.0)
-    for _ in range(n):
-        # Flipping x_i changes xᵀGx by −4 x_i (G x)_i.
-        change = -4.0 * x * (gain @ x)
-        i = int(np.argmax(change))
-        if change[i] <= 0:
-            break
-        x[i] = -x[i]
+        x = np.where(vectors[:, -1] >= 0, 1.0, -1.0)
+        for _ in range(n):
+            # Flipping x_i changes xᵀGx by −4 x_i (G x)_i.
+            change = -4.0 * x * (gain @ x)
+            i = int(np.argmax(change))
+            if change[i] <= 0:
+                break
+            x[i] = -x[i]
     return x * x[0]
 
 
@@ -360,8 +360,11 @@ def _refuse_split(
     if not len(groups):
         return
     others = 1.0 - groups
-    cross = np.sum((groups @ agreement) * others, axis=1)
-    scale = np.sum((groups @ total) * others, axis=1)
+    # One BLAS thread: threads spinning on busy cores cost 100 demonstrations 15 ms of
+    # CPU against 2, for a product of (m + 1, m) by (m, m).
+    with one_blas_thread():
+        cross = np.sum((groups @ agreement) * others, axis=1)
+        scale = np.sum((groups @ total) * others, axis=1)
     margin = np.divide(cross, scale, out=np.ones_like(cross), where=scale > 0)
     worst = int(np.argmin(margin))
     if margin[worst] < _MIN_SPLIT_MARGIN:
