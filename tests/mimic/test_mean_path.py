@@ -1603,10 +1603,10 @@ def _plain_on_line(offsets, found, signed, unit):
     signed[:] = np.einsum("mnq,mq->mn", offsets, unit)
 
 
-def _plain_found_distances(offsets, found, start, dist):
-    """Distances from the starts where found (NaN elsewhere), the largest coordinate, in NumPy."""
+def _plain_found_distances(offsets, found, start, fill, dist):
+    """Distances from the starts where found (else ``fill``), the largest coordinate, in NumPy."""
     pts = np.where(found[..., None], offsets, 0.0)
-    dist[:] = np.where(found, np.sqrt(_squared_norms(pts - start[:, None, :])), np.nan)
+    dist[:] = np.where(found, np.sqrt(_squared_norms(pts - start[:, None, :])), fill)
     return np.abs(pts).max()
 
 
@@ -1676,12 +1676,12 @@ def test_on_line_and_found_distances_equal_numpys_bit_for_bit():
         for a, b in zip(got, want, strict=True):
             assert np.array_equal(a, b, equal_nan=True), case
         start = np.nan_to_num(rng.normal(size=(m, 2)))
-        got_dist, want_dist = np.empty((m, n)), np.empty((m, n))
-        largest = found_distances(offsets, found, start, got_dist)
-        assert np.array_equal(
-            largest, _plain_found_distances(offsets, found, start, want_dist), equal_nan=True
-        )
-        assert np.array_equal(got_dist, want_dist, equal_nan=True), case
+        for fill in (np.nan, 0.0):
+            got_dist, want_dist = np.empty((m, n)), np.empty((m, n))
+            largest = found_distances(offsets, found, start, fill, got_dist)
+            want = _plain_found_distances(offsets, found, start, fill, want_dist)
+            assert np.array_equal(largest, want, equal_nan=True), case
+            assert np.array_equal(got_dist, want_dist, equal_nan=True), case
 
 
 def test_run_averages_equal_numpys_bit_for_bit():

@@ -346,11 +346,11 @@ def on_line(offsets, found, signed, unit):
 
 
 @cached_njit(nogil=True)
-def found_distances(offsets, found, start, dist):
+def found_distances(offsets, found, start, fill, dist):
     """Distances of 2-D offsets from each row's start, and their largest coordinate.
 
     ``offsets`` (m, n, 2), ``start`` (m, 2): writes ``dist[r, j]``, the
-    distance of ``offsets[r, j]`` from ``start[r]`` where ``found`` (NaN
+    distance of ``offsets[r, j]`` from ``start[r]`` where ``found`` (``fill``
     elsewhere), and returns the largest absolute coordinate of the found
     offsets, zero for the others (NaN if any is NaN): the numbers of
     :func:`lfdkit.mimic.mean_path._own_start_and_scale`'s NumPy (``x² + y²``
@@ -375,5 +375,5 @@ def found_distances(offsets, found, start, dist):
                     nan = True
                 largest = max(largest, ax, ay)
             else:
-                dist[r, j] = np.nan
+                dist[r, j] = fill
     return np.nan if nan else largest
