@@ -9,8 +9,12 @@ NumPy's to the bit: each row's sum of weights is NumPy's pairwise sum
 ``einsum("mn,mnq->mq")``'s sequential one (tested against both). 100
 demonstrations x 1000 normals: 0.6 ms a step against 3.4 (loaded machine).
 Also each row's shortest half and median distance from it after NumPy's
-sort (:func:`shortest_halves`). Imported lazily; compiled once, then cached
-on disk.
+sort (:func:`shortest_halves`), the run replicas' stretch averages
+(:func:`run_averages`), a line's direction and projections (:func:`on_line`),
+distances from each row's start (:func:`found_distances`) and orientation's
+all-pairs mean distances (:func:`pair_distances`): each NumPy's numbers, one
+pass without (m, n, 2) temporaries. Imported lazily; compiled once, then
+cached on disk.
 """
 
 import numpy as np
@@ -242,7 +246,8 @@ __all__ = ["adaptive_step", "running_median_ends", "shortest_halves"]
 def pair_distances(stack, fwd, bwd):
     """Mean distances between every pair of 2-D demonstrations, as recorded and one reversed.
 
-    ``stack`` (m, s, 2): the demonstrations sampled at ``s`` points. Writes,
+    ``stack`` (m, s, 2): the demonstrations sampled at ``s <= 128`` points
+    (NumPy's pairwise sum is then one block of eight accumulators). Writes,
     for ``a < b``, ``fwd[a, b]`` the mean over samples of the distance from
     ``stack[a]`` to ``stack[b]`` and ``bwd[a, b]`` to ``stack[b]`` reversed:
     :func:`lfdkit.mimic.orientation._mean_distances`'s numbers (``x² + y²``,
@@ -261,8 +266,8 @@ def pair_distances(stack, fwd, bwd):
                 rx = stack[b, s - 1 - i, 0] - stack[a, i, 0]
                 ry = stack[b, s - 1 - i, 1] - stack[a, i, 1]
                 e[i] = np.sqrt(rx * rx + ry * ry)
-            fwd[a, b] = _pairwise_sum(d, 0, s) / s
-            bwd[a, b] = _pairwise_sum(e, 0, s) / s
+            fwd[a, b] = _block_sum(d, 0, s) / s
+            bwd[a, b] = _block_sum(e, 0, s) / s
 
 
 @cached_njit(nogil=True)

@@ -143,7 +143,7 @@ def orient_demos(
         stack = np.array([sampled[j] for j in index])  # (m, samples, q)
         fwd = np.zeros((m, m))
         bwd = np.zeros((m, m))
-        if stack.shape[2] == 2:  # compiled, the same numbers (100 demonstrations: 2 ms, not 25)
+        if stack.shape[2] == 2 and stack.shape[1] <= 128:  # compiled: the same numbers, 2 ms not 25
             from lfdkit.mimic._mean_path_kernels import pair_distances
 
             pair_distances(stack, fwd, bwd)
