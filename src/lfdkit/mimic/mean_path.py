@@ -312,7 +312,20 @@ implementation decides as follows (each is a constructor option):
   pairs of runs beside the unchanged code (load 2-6 on 2 cores): 50.0x, 47.5x,
   48.5x (first fit 42.8x, 40.1x, 37.9x) against 38.6x, 37.5x, 38.3x (34.9x,
   28.3x, 28.2x); CPU 0.82 times (first fit 0.75-0.88). The kernels compile
-  once per installation (about 5 s more, cached after).
+  once per installation (about 5 s more, cached after). Then, the same numbers
+  again (166 fits compared bit for bit), compiled where NumPy made (m, n, 2)
+  temporaries: a line's direction and projections and the distances from each
+  row's start (robust starts and scales, 3 ms against 0.2 per 1000 x 100
+  call, and the loss's distances), the run replicas' stretch averages, and
+  orientation's all-pairs distances (25 ms against 2), with its 100 x 100
+  matrix products on one BLAS thread (15 ms of CPU against 2 where threads
+  spin on busy cores). A burred fit of 100 x 1000, fresh processes
+  alternating with the unchanged code (five pairs, load 13-20 on 2 cores):
+  CPU 0.90 times for a first fit (0.87-0.96), 0.87 times later (0.78-0.89);
+  ``benchmarks/mimic_speed.py --sets burrs``, three pairs of runs: 49.7x,
+  69.3x, 53.3x (first fit 41.5x, 55.1x, 46.2x) against 55.9x, 55.9x, 52.7x
+  (40.8x, 41.2x, 36.5x), the load deciding as much as the code. The four
+  kernels add about 2 s to the one-time compilation on a loaded machine.
 """
 
 from __future__ import annotations
