@@ -1603,6 +1603,45 @@ def _plain_shortest_halves(ordered, counts, mid, width, firsts, median):
         median[r] = np.median(np.abs(v - mid[r]))
 
 
+def _plain_run_averages(values, found, half, taken, total, out):
+    """NumPy's cumulative sum (computed when ``half < 0``) and window sums, divided."""
+    if half < 0:
+        half = -half - 1
+        total[0] = 0.0
+        np.cumsum(np.where(found, values, 0.0), axis=0, out=total[1:])
+    out[:] = _window_sums(total, half) / taken
+
+
+def _plain_pair_distances(stack, fwd, bwd):
+    """Orientation's mean distances, one demonstration against the later ones in NumPy."""
+    from lfdkit.mimic.orientation import _mean_distances
+
+    for a in range(len(stack) - 1):
+        fwd[a, a + 1 :] = _mean_distances(stack[a], stack[a + 1 :])
+        bwd[a, a + 1 :] = _mean_distances(stack[a], stack[a + 1 :, ::-1])
+
+
+def _plain_on_line(offsets, found, signed, unit):
+    """The common line's direction (the found offsets' mean) and projections, in NumPy."""
+    m = offsets.shape[0]
+    any_found = np.where(found[..., None], offsets, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direction = any_found.sum(axis=1) / found.sum(axis=1)[:, None]
+    norm = np.linalg.norm(direction, axis=1, keepdims=True)
+    fallback = any_found[np.arange(m), found.argmax(axis=1)]
+    direction = np.where(norm > 1e-15, direction, fallback)
+    norm = np.linalg.norm(direction, axis=1, keepdims=True)
+    unit[:] = np.divide(direction, norm, out=np.zeros_like(direction), where=norm > 0)
+    signed[:] = np.einsum("mnq,mq->mn", offsets, unit)
+
+
+def _plain_found_distances(offsets, found, start, fill, dist):
+    """Distances from the starts where found (else ``fill``), the largest coordinate, in NumPy."""
+    pts = np.where(found[..., None], offsets, 0.0)
+    dist[:] = np.where(found, np.sqrt(_squared_norms(pts - start[:, None, :])), fill)
+    return np.abs(pts).max()
+
+
 def test_adaptive_step_equals_numpys_bit_for_bit():
     # The compiled step reproduces NumPy's pairwise row sums (blocks of 8, halves above
     # 128 values) and einsum's sequential weighted sums: the same centres to the bit.
@@ -1647,6 +1686,56 @@ def test_shortest_halves_equal_the_plain_computation_bit_for_bit():
             assert np.array_equal(a, b, equal_nan=True), case
 
 
+def test_on_line_and_found_distances_equal_numpys_bit_for_bit():
+    from lfdkit.mimic._mean_path_kernels import found_distances, on_line
+
+    rng = np.random.default_rng(10)
+    for case in range(60):
+        m, n = int(rng.integers(1, 40)), int(rng.integers(1, 150))
+        offsets = rng.normal(size=(m, n, 2)) * 10.0 ** rng.integers(-3, 4)
+        offsets += (case % 3) * rng.normal(size=(m, 1, 2))  # lines off the origin too
+        found = rng.random((m, n)) > (0.0, 0.1, 0.7, 0.99)[case % 4]
+        if case % 5 == 0:
+            offsets[~found] = np.nan
+        if case % 6 == 0:  # signed zeros: a component exactly zero everywhere
+            offsets[..., 0] = np.where(rng.random((m, n)) < 0.5, -0.0, 0.0)
+        if case % 7 == 0:  # offsets in opposite pairs: the mean is zero, the fallback taken
+            offsets[:] = offsets[:, :1] * np.where(rng.random(n) < 0.5, -1.0, 1.0)[None, :, None]
+        got = np.empty((m, n)), np.empty((m, 2))
+        want = np.empty((m, n)), np.empty((m, 2))
+        on_line(offsets, found, *got)
+        _plain_on_line(offsets, found, *want)
+        for a, b in zip(got, want, strict=True):
+            assert np.array_equal(a, b, equal_nan=True), case
+        start = np.nan_to_num(rng.normal(size=(m, 2)))
+        for fill in (np.nan, 0.0):
+            got_dist, want_dist = np.empty((m, n)), np.empty((m, n))
+            largest = found_distances(offsets, found, start, fill, got_dist)
+            want = _plain_found_distances(offsets, found, start, fill, want_dist)
+            assert np.array_equal(largest, want, equal_nan=True), case
+            assert np.array_equal(got_dist, want_dist, equal_nan=True), case
+
+
+def test_run_averages_equal_numpys_bit_for_bit():
+    from lfdkit.mimic._mean_path_kernels import run_averages
+
+    rng = np.random.default_rng(9)
+    for case in range(30):
+        m, n = int(rng.integers(1, 200)), int(rng.integers(1, 30))
+        found = rng.random((m, n)) > (0.0, 0.1, 0.6)[case % 3]
+        values = rng.normal(size=(m, n)) * 10.0 ** rng.integers(-3, 4)
+        halves = [0, *rng.integers(0, m + 2, 3)]  # windows wider than the rows too
+        taken = [np.maximum(rng.integers(0, 2 * h + 2, (m, n)), 1).astype(float) for h in halves]
+        got_total, want_total = np.empty((m + 1, n)), np.empty((m + 1, n))
+        for i, (half, count) in enumerate(zip(halves, taken, strict=True)):
+            h = -int(half) - 1 if i == 0 else int(half)
+            got, want = np.empty((m, n)), np.empty((m, n))
+            run_averages(values, found, h, count, got_total, got)
+            _plain_run_averages(values, found, h, count, want_total, want)
+            assert np.array_equal(got_total, want_total), case
+            assert np.array_equal(got, want), (case, half)
+
+
 @pytest.mark.parametrize(
     # detours: the tuning chosen twice and 40 smooth replicas, each shortest half
     # row by row in Python (seconds)
@@ -1677,6 +1766,10 @@ def test_compiled_steps_fit_what_numpy_fits_bit_for_bit(kind, monkeypatch):
     fast = MeanPath(n_points=80).fit(demos)
     monkeypatch.setattr(kernels, "adaptive_step", _plain_adaptive_step)
     monkeypatch.setattr(kernels, "shortest_halves", _plain_shortest_halves)
+    monkeypatch.setattr(kernels, "run_averages", _plain_run_averages)
+    monkeypatch.setattr(kernels, "pair_distances", _plain_pair_distances)
+    monkeypatch.setattr(kernels, "on_line", _plain_on_line)
+    monkeypatch.setattr(kernels, "found_distances", _plain_found_distances)
     _REPLICA_CACHE.clear()
     plain = MeanPath(n_points=80).fit(demos)
     for attr in attrs:

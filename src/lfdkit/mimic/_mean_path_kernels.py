@@ -9,8 +9,12 @@ NumPy's to the bit: each row's sum of weights is NumPy's pairwise sum
 ``einsum("mn,mnq->mq")``'s sequential one (tested against both). 100
 demonstrations x 1000 normals: 0.6 ms a step against 3.4 (loaded machine).
 Also each row's shortest half and median distance from it after NumPy's
-sort (:func:`shortest_halves`). Imported lazily; compiled once, then cached
-on disk.
+sort (:func:`shortest_halves`), the run replicas' stretch averages
+(:func:`run_averages`), a line's direction and projections (:func:`on_line`),
+distances from each row's start (:func:`found_distances`) and orientation's
+all-pairs mean distances (:func:`pair_distances`): each NumPy's numbers, one
+pass without (m, n, 2) temporaries. Imported lazily; compiled once, then
+cached on disk.
 """
 
 import numpy as np
@@ -236,3 +240,145 @@ def running_median_ends(values, half, out):
 
 
 __all__ = ["adaptive_step", "running_median_ends", "shortest_halves"]
+
+
+@cached_njit(nogil=True)
+def pair_distances(stack, fwd, bwd):
+    """Mean distances between every pair of 2-D demonstrations, as recorded and one reversed.
+
+    ``stack`` (m, s, 2): the demonstrations sampled at ``s <= 128`` points
+    (NumPy's pairwise sum is then one block of eight accumulators). Writes,
+    for ``a < b``, ``fwd[a, b]`` the mean over samples of the distance from
+    ``stack[a]`` to ``stack[b]`` and ``bwd[a, b]`` to ``stack[b]`` reversed:
+    :func:`lfdkit.mimic.orientation._mean_distances`'s numbers (``x² + y²``,
+    its square root, NumPy's pairwise sum, divided by ``s``) without its
+    (m - a, s, 2) temporaries.
+    """
+    m, s = stack.shape[0], stack.shape[1]
+    d = np.empty(s)
+    e = np.empty(s)
+    for a in range(m - 1):
+        for b in range(a + 1, m):
+            for i in range(s):
+                dx = stack[b, i, 0] - stack[a, i, 0]
+                dy = stack[b, i, 1] - stack[a, i, 1]
+                d[i] = np.sqrt(dx * dx + dy * dy)
+                rx = stack[b, s - 1 - i, 0] - stack[a, i, 0]
+                ry = stack[b, s - 1 - i, 1] - stack[a, i, 1]
+                e[i] = np.sqrt(rx * rx + ry * ry)
+            fwd[a, b] = _block_sum(d, 0, s) / s
+            bwd[a, b] = _block_sum(e, 0, s) / s
+
+
+@cached_njit(nogil=True)
+def run_averages(values, found, half, taken, total, out):
+    """Each value's average over the ``2 half + 1`` rows about it, cut at the ends.
+
+    ``values`` (m, n), counted where ``found``; ``taken`` (m, n) how many
+    found values each average takes (at least 1); ``total`` (m + 1, n) the
+    running sums along the rows, zero first, computed here when ``half`` is
+    negative (then ``-half - 1`` is the half-width) and reused otherwise.
+    Writes ``out[r] = (total[min(r + half + 1, m)] - total[max(r - half, 0)])
+    / taken[r]``: :func:`lfdkit.mimic.mean_path._window_sums` of NumPy's
+    cumulative sum (sequential along each column), divided, the same numbers
+    without the (m, n) temporaries.
+    """
+    m, n = values.shape
+    if half < 0:
+        half = -half - 1
+        for j in range(n):
+            total[0, j] = 0.0
+            total[1, j] = values[0, j] if found[0, j] else 0.0
+        for r in range(1, m):
+            for j in range(n):
+                total[r + 1, j] = total[r, j] + (values[r, j] if found[r, j] else 0.0)
+    for r in range(m):
+        hi = min(r + half + 1, m)
+        lo = max(r - half, 0)
+        for j in range(n):
+            out[r, j] = (total[hi, j] - total[lo, j]) / taken[r, j]
+
+
+@cached_njit(nogil=True)
+def on_line(offsets, found, signed, unit):
+    """2-D offsets' signed lengths along each row's common line, in one pass per row.
+
+    ``offsets`` (m, n, 2), counted where ``found``; writes ``unit`` (m, 2),
+    the direction of the found offsets' mean (the first found offset where
+    that mean is ~zero; zero where there is none), and ``signed`` (m, n),
+    each offset's projection on it. :func:`lfdkit.mimic.mean_path._on_line`'s
+    numbers: the row sums in order, ``x² + y²`` under the square roots, and
+    einsum's ``x u + y v``.
+    """
+    m, n = found.shape
+    for r in range(m):
+        # NumPy's sum over the row of the offsets, zero where not found: in order.
+        sx = offsets[r, 0, 0] if found[r, 0] else 0.0
+        sy = offsets[r, 0, 1] if found[r, 0] else 0.0
+        count = 1 if found[r, 0] else 0
+        first = 0 if found[r, 0] else -1
+        for j in range(1, n):
+            if found[r, j]:
+                sx += offsets[r, j, 0]
+                sy += offsets[r, j, 1]
+                if first < 0:
+                    first = j
+                count += 1
+            else:
+                sx += 0.0
+                sy += 0.0
+        dx = sx / count if count else np.nan
+        dy = sy / count if count else np.nan
+        norm = np.sqrt(dx * dx + dy * dy)
+        if not norm > 1e-15:
+            if first >= 0:
+                dx = offsets[r, first, 0]
+                dy = offsets[r, first, 1]
+            else:
+                dx = 0.0
+                dy = 0.0
+            norm = np.sqrt(dx * dx + dy * dy)
+        if norm > 0:
+            ux = dx / norm
+            uy = dy / norm
+        else:
+            ux = 0.0
+            uy = 0.0
+        unit[r, 0] = ux
+        unit[r, 1] = uy
+        for j in range(n):
+            signed[r, j] = offsets[r, j, 0] * ux + offsets[r, j, 1] * uy
+
+
+@cached_njit(nogil=True)
+def found_distances(offsets, found, start, fill, dist):
+    """Distances of 2-D offsets from each row's start, and their largest coordinate.
+
+    ``offsets`` (m, n, 2), ``start`` (m, 2): writes ``dist[r, j]``, the
+    distance of ``offsets[r, j]`` from ``start[r]`` where ``found`` (``fill``
+    elsewhere), and returns the largest absolute coordinate of the found
+    offsets, zero for the others (NaN if any is NaN): the numbers of
+    :func:`lfdkit.mimic.mean_path._own_start_and_scale`'s NumPy (``x² + y²``
+    under the root) without its (m, n, 2) temporaries.
+    """
+    m, n = found.shape
+    largest = 0.0 if m * n else -np.inf
+    nan = False
+    for r in range(m):
+        s0 = start[r, 0]
+        s1 = start[r, 1]
+        for j in range(n):
+            if found[r, j]:
+                x = offsets[r, j, 0]
+                y = offsets[r, j, 1]
+                dx = x - s0
+                dy = y - s1
+                dist[r, j] = np.sqrt(dx * dx + dy * dy)
+                ax = abs(x)
+                ay = abs(y)
+                if np.isnan(ax) or np.isnan(ay):
+                    nan = True
+                largest = max(largest, ax, ay)
+            else:
+                dist[r, j] = fill
+    return np.nan if nan else largest

@@ -328,7 +328,20 @@ implementation decides as follows (each is a constructor option):
   pairs of runs beside the unchanged code (load 2-6 on 2 cores): 50.0x, 47.5x,
   48.5x (first fit 42.8x, 40.1x, 37.9x) against 38.6x, 37.5x, 38.3x (34.9x,
   28.3x, 28.2x); CPU 0.82 times (first fit 0.75-0.88). The kernels compile
-  once per installation (about 5 s more, cached after).
+  once per installation (about 5 s more, cached after). Then, the same numbers
+  again (166 fits compared bit for bit), compiled where NumPy made (m, n, 2)
+  temporaries: a line's direction and projections and the distances from each
+  row's start (robust starts and scales, 3 ms against 0.2 per 1000 x 100
+  call, and the loss's distances), the run replicas' stretch averages, and
+  orientation's all-pairs distances (25 ms against 2), with its 100 x 100
+  matrix products on one BLAS thread (15 ms of CPU against 2 where threads
+  spin on busy cores). A burred fit of 100 x 1000, fresh processes
+  alternating with the unchanged code (five pairs, load 13-20 on 2 cores):
+  CPU 0.90 times for a first fit (0.87-0.96), 0.87 times later (0.78-0.89);
+  ``benchmarks/mimic_speed.py --sets burrs``, three pairs of runs: 49.7x,
+  69.3x, 53.3x (first fit 41.5x, 55.1x, 46.2x) against 55.9x, 55.9x, 52.7x
+  (40.8x, 41.2x, 36.5x), the load deciding as much as the code. The four
+  kernels add about 2 s to the one-time compilation on a loaded machine.
 """
 
 from __future__ import annotations
@@ -888,8 +901,20 @@ class _State:
             scale = self.own_scale
         self.scale = scale
         if self.dist is None:  # an accepted path is scored twice: on the old scales and its own
-            offsets = np.where(self.found[..., None], self.hits - ref[:, None, :], 0.0)
-            self.dist = np.sqrt(_squared_norms(offsets))
+            if ref.shape[1] == 2 and self.found.size:  # compiled: the same numbers, 1.3 ms less
+                from lfdkit.mimic._mean_path_kernels import found_distances
+
+                self.dist = np.empty(self.found.shape)
+                found_distances(
+                    np.ascontiguousarray(self.hits, dtype=float),
+                    np.ascontiguousarray(self.found),
+                    np.ascontiguousarray(ref, dtype=float),
+                    0.0,
+                    self.dist,
+                )
+            else:
+                offsets = np.where(self.found[..., None], self.hits - ref[:, None, :], 0.0)
+                self.dist = np.sqrt(_squared_norms(offsets))
         dist = self.dist
         spread = scale > 0.0
         s = np.where(spread, scale, 1.0)[:, None]
@@ -1055,8 +1080,22 @@ def _centre_vectors(offsets: np.ndarray, found: np.ndarray, center: Center) -> n
 
 
 def _on_line(offsets: np.ndarray, found: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Signed lengths (m, n), NaN where not found, of 2-D offsets along their common line (m, 2)."""
+    """Signed lengths (m, n) of 2-D offsets along their common line (m, 2), and the line.
+
+    The line's direction is the found offsets' mean (any found offset where the
+    mean is ~zero). Computed in one compiled pass per row
+    (:func:`lfdkit.mimic._mean_path_kernels.on_line`: the same numbers as the
+    NumPy below, 0.2 ms against 3 for 1000 rows of 100).
+    """
     m = offsets.shape[0]
+    if offsets.ndim == 3 and offsets.shape[2] == 2 and offsets.size:
+        from lfdkit.mimic._mean_path_kernels import on_line  # compiled on first use
+
+        signed, unit = np.empty(found.shape), np.empty((m, 2))
+        on_line(
+            np.ascontiguousarray(offsets, dtype=float), np.ascontiguousarray(found), signed, unit
+        )
+        return signed, unit
     any_found = np.where(found[..., None], offsets, 0.0)
     # NumPy's nanmean, the same sum and division without its NaN mask (NaN: none found).
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -1172,7 +1211,6 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
     width zero).
     """
     q = offsets.shape[2]
-    pts = np.where(found[..., None], offsets, 0.0)
     with warnings.catch_warnings(), np.errstate(invalid="ignore", divide="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)  # rows that met nothing
         if q <= 2:
@@ -1186,10 +1224,23 @@ def _own_start_and_scale(offsets: np.ndarray, found: np.ndarray) -> tuple[np.nda
             start = _geometric_median(offsets, found, n_iter=30)
             width = None
         start = np.nan_to_num(start)
-        apart = pts - start[:, None, :]
-        dist = np.where(found, np.sqrt(_squared_norms(apart)), np.nan)
+        if q == 2 and found.size:  # compiled, the same numbers without the temporaries
+            from lfdkit.mimic._mean_path_kernels import found_distances
+
+            dist = np.empty(found.shape)
+            largest = found_distances(
+                np.ascontiguousarray(offsets, dtype=float),
+                np.ascontiguousarray(found),
+                start,
+                np.nan,
+                dist,
+            )
+        else:
+            pts = np.where(found[..., None], offsets, 0.0)
+            dist = np.where(found, np.sqrt(_squared_norms(pts - start[:, None, :])), np.nan)
+            largest = np.abs(pts).max()
         scale = np.nan_to_num(1.4826 * _nanmedian(dist, axis=1))
-    tiny = _TINY * (1.0 + np.abs(pts).max())
+    tiny = _TINY * (1.0 + largest)
     if width is not None:
         scale = np.where(width <= tiny, 0.0, scale)
     return start, np.where(scale <= tiny, 0.0, scale)
@@ -1595,13 +1646,17 @@ def _run_maxima(
         counts = _run_counts(found, halves)
     if groups is None:
         groups = _count_groups(found)
-    total = np.zeros((m + 1, n))
-    np.cumsum(np.where(found, coords[..., 0], 0.0), axis=0, out=total[1:])
+    from lfdkit.mimic._mean_path_kernels import run_averages  # compiled on first use
+
+    # The running sums and each stretch's averages in one compiled pass each: NumPy's
+    # cumulative sum and window sums divided, the same numbers without temporaries.
+    values = np.ascontiguousarray(coords[..., 0], dtype=float)
+    found = np.ascontiguousarray(found)
+    total, averaged = np.empty((m + 1, n)), np.empty((m, n))
     enough = groups[0] >= 3
     out = np.zeros(len(halves))
     for i, (half, taken) in enumerate(zip(halves, counts, strict=True)):
-        averaged = _window_sums(total, half)
-        averaged /= taken
+        run_averages(values, found, -half - 1 if i == 0 else half, taken, total, averaged)
         mid, scale, low, high = _line_run(averaged, found, enough, groups)
         if scale is not None and (low < np.inf).any():
             farthest = np.maximum(np.abs(low - mid), np.abs(high - mid)) / scale
