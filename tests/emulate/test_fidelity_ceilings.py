@@ -99,9 +99,7 @@ def test_every_ceiling_is_reported_pooled_and_per_scene(fidelity):
 def test_person_data_keeps_the_person_it_was_given(fidelity):
     # The probe's variants are people other than their kind's own: the "own" ceiling must
     # run that person, not look its variant name up (it raised for "thesis-noise3").
-    from benchmarks.emulate import people
-
-    person = people.make_person("margin")
+    person = fidelity.P.make_person("margin")
     data = fidelity.person_data("margin", 0, 1.0, 0, person=person)
     assert data["person"] is person
     assert data["held"] == []

@@ -9,38 +9,21 @@ problem is split over threads by plain Python threads rather than a second,
 ``parallel=True`` variant (whose compilation took four times as long as this
 one's, on the first large call of every fresh install). Compiling takes about
 two seconds once; the machine code is then cached on disk
-(:func:`cached_njit`).
+(:func:`lfdkit.core.kernels.cached_njit`).
 """
 
 import itertools
 import os
 import threading
 
-import numba
 import numpy as np
+
+from lfdkit.core.kernels import cached_njit
 
 #: Problems with fewer (query, polyline) pairs run in the calling thread:
 #: starting threads costs more than it saves there, and far more when the
 #: cores are busy.
 _THREADED_PAIRS = 20_000
-
-
-def cached_njit(**options):
-    """``numba.njit(cache=True, **options)``, or without the cache where none can be written.
-
-    Numba caches machine code in ``__pycache__`` next to the source file, or
-    in the user's cache folder (``NUMBA_CACHE_DIR``) when that is read-only,
-    as in a system-wide installation. Where neither is writable it refuses to
-    cache; the function is then compiled in every process, silently.
-    """
-
-    def decorate(function):
-        try:
-            return numba.njit(cache=True, **options)(function)
-        except RuntimeError:  # "cannot cache function ...: no locator available"
-            return numba.njit(**options)(function)
-
-    return decorate
 
 
 @cached_njit(nogil=True)
@@ -323,4 +306,4 @@ def nearest_crossings(points, tangents, polylines, b, same_direction, tol, out) 
         raise errors[0]
 
 
-__all__ = ["cached_njit", "chunk_balls", "nearest_crossings"]
+__all__ = ["chunk_balls", "nearest_crossings"]

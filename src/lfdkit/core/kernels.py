@@ -52,6 +52,7 @@ __all__ = [
     "CHECK_SECONDS",
     "KERNELS_VARIABLE",
     "SWITCH_SECONDS",
+    "cached_njit",
     "kernel",
     "restart_clock",
     "use_compiled",
@@ -128,3 +129,23 @@ def kernel(name: str, compiled: str, numpy_form: str) -> Callable[..., Any]:
     if loaded is None:
         loaded = _modules[module] = importlib.import_module(module)
     return getattr(loaded, name)
+
+
+def cached_njit(**options: Any) -> Callable[[Callable[..., Any]], Any]:
+    """``numba.njit(cache=True, **options)``, or without the cache where none can be written.
+
+    Numba caches machine code in ``__pycache__`` next to the source file, or
+    in the user's cache folder (``NUMBA_CACHE_DIR``) when that is read-only,
+    as in a system-wide installation. Where neither is writable it refuses to
+    cache; the function is then compiled in every process, silently. For the
+    compiled kernel modules of every floor; numba is imported only by them.
+    """
+    import numba
+
+    def decorate(function: Callable[..., Any]) -> Any:
+        try:
+            return numba.njit(cache=True, **options)(function)
+        except RuntimeError:  # "cannot cache function ...: no locator available"
+            return numba.njit(**options)(function)
+
+    return decorate

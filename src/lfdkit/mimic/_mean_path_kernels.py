@@ -19,7 +19,7 @@ cached on disk.
 
 import numpy as np
 
-from lfdkit.core._geometry_kernels import cached_njit
+from lfdkit.core.kernels import cached_njit
 
 
 @cached_njit(nogil=True)
