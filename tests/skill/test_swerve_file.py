@@ -10,6 +10,7 @@ import pytest
 from lfdkit.emulate import Reward
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
+from lfdkit.skill.selection import ROUTE_PULL
 
 X = np.linspace(0.0, 1.0, 60)
 FREE = [np.column_stack([X, 0.002 * s * np.sin(np.pi * X)]) for s in (-1.0, 0.0, 1.0)]
@@ -97,7 +98,7 @@ def test_the_route_reward_is_rebuilt_from_the_ratios_in_any_units(base) -> None:
     # each axis's width times its ratio: precision / ratio²
     np.testing.assert_allclose(np.diag(route.precisions["cup"]), [300.0 / 4.0, 2500.0 / 0.25])
     np.testing.assert_array_equal(route.swerve["cup"], [0.8, 1.5])
-    assert route.nominal_weight == skill.reward_.nominal_weight
+    assert route.nominal_weight == ROUTE_PULL * skill.reward_.nominal_weight
     loaded = Skill.from_dict(json.loads(json.dumps(skill.to_dict())))
     again = loaded._swerve_route_reward()
     np.testing.assert_array_equal(again.precisions["cup"], route.precisions["cup"])
