@@ -89,4 +89,4 @@ def test_dead_end_takes_the_route_step_and_says_so():
         plan = _thesis(reward, nominal, scene)
     assert metrics.collisions(plan.points, scene) == 0
     assert metrics.clearance(plan.points, scene).min() >= CLEARANCE * (1 - 1e-6)
-    assert np.linalg.norm(plan.points[-1] - GOAL) < 1e-6
+    assert np.linalg.norm(plan.points[-1] - GOAL) < 1e-3  # at the goal (1 mm)
