@@ -104,7 +104,14 @@ the two. Its horizon counts steps of a 100-point path
 (:func:`lfdkit.emulate.problem.horizon_points`: a window of 20 points at 250,
 40 at 500); with a window of 8 points it reacted late (``--points 250``,
 three boxes, at 2f1f475: 2 of 10 folds refused, up to 21.7 cm from the
-100-point plan). ``--points 500`` runs the same sets at 500 points.
+100-point plan). Two folds were still refused (at 9736a54: fold 6 at 100
+points, fold 7 at 250 and at 100): the window swerved beyond the look-ahead
+route's grid, whose dead-end check then judged from the grid's edge; now
+redone on a wider route, and at a true dead end the look-ahead's step is
+taken with a warning (:func:`lfdkit.emulate.planner._wider_look_ahead`):
+0 of 10 refused, folds 6 and 7 3.4 and 1.3 cm from their 100-point plans,
+the other eight unchanged; fold 5 still passes the tall box on the other
+side at 250 points (22.35 cm). ``--points 500`` runs the same sets at 500 points.
 """
 
 from __future__ import annotations
