@@ -1083,6 +1083,22 @@ def test_choice_takes_a_cheap_robust_tuning_on_low_dense_one_sided_burrs():
     assert sum(chosen) < 0.99 * sum(default)  # it was 0.998
 
 
+def test_choice_takes_the_most_robust_cheap_tuning_that_pays():
+    """Where several cheap tunings pass the expected-gain test, the most robust is taken:
+    the estimate sees only part of one-sided burrs' bias, so the estimated best cheap
+    one (often the nearly free core of 2 scales) leaves error on the table. Truth: 0
+    on every normal. Before (the best estimated tuning only): 0.979 of the default's
+    RMS error over these 20 sets; now 0.970, and no set worse than before."""
+    chosen, default = [], []
+    for seed in range(20):
+        ref, hits, found = _low_burr_hits(seed)
+        tuning, _, why = _choose_tuning(ref, hits, found)
+        chosen.append(_rms_centre_error(ref, hits, found, tuning))
+        default.append(_rms_centre_error(ref, hits, found, (4.0, 4.0, 8.0)))
+        assert chosen[-1] <= 1.001 * default[-1], why
+    assert sum(chosen) < 0.974 * sum(default)
+
+
 def test_choice_on_gaussian_noise_costs_at_most_a_percent():
     """Without burrs a cheap tuning may be taken by chance: it must cost little."""
     chosen, default = [], []
