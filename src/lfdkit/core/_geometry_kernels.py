@@ -200,47 +200,43 @@ def chunk_balls(verts, vert_offset, n_seg, chunk_offset, n_chunks, b, sub, n_sub
         last_vertex = n_seg[j]
         for c in range(n_chunks[j]):
             cc = chunk_offset[j] + c
-            lo_x = lo_y = np.inf
-            hi_x = hi_y = -np.inf
-            for t in range(b + 1):
-                v = v0 + min(c * b + t, last_vertex)
-                lo_x = min(lo_x, verts[v, 0])
-                hi_x = max(hi_x, verts[v, 0])
-                lo_y = min(lo_y, verts[v, 1])
-                hi_y = max(hi_y, verts[v, 1])
-            mx = 0.5 * (lo_x + hi_x)
-            my = 0.5 * (lo_y + hi_y)
+            start = c * b
+            mx, my, far = _vertex_ball(
+                verts, v0 + min(start, last_vertex), v0 + min(start + b, last_vertex)
+            )
             centres[cc, 0] = mx
             centres[cc, 1] = my
-            far = 0.0
-            for t in range(b + 1):
-                v = v0 + min(c * b + t, last_vertex)
-                dx = verts[v, 0] - mx
-                dy = verts[v, 1] - my
-                far = max(far, np.sqrt(dx * dx + dy * dy))
             radii[cc] = far
             for kk in range(n_sub):
                 g = cc * n_sub + kk
-                first = min(kk * sub, b)
-                lo_x = lo_y = np.inf
-                hi_x = hi_y = -np.inf
-                for u in range(sub + 1):
-                    v = v0 + min(c * b + min(first + u, b), last_vertex)
-                    lo_x = min(lo_x, verts[v, 0])
-                    hi_x = max(hi_x, verts[v, 0])
-                    lo_y = min(lo_y, verts[v, 1])
-                    hi_y = max(hi_y, verts[v, 1])
-                mx = 0.5 * (lo_x + hi_x)
-                my = 0.5 * (lo_y + hi_y)
+                first = start + min(kk * sub, b)
+                stop = start + min(min(kk * sub, b) + sub, b)
+                mx, my, far = _vertex_ball(
+                    verts, v0 + min(first, last_vertex), v0 + min(stop, last_vertex)
+                )
                 sub_centres[g, 0] = mx
                 sub_centres[g, 1] = my
-                far = 0.0
-                for u in range(sub + 1):
-                    v = v0 + min(c * b + min(first + u, b), last_vertex)
-                    dx = verts[v, 0] - mx
-                    dy = verts[v, 1] - my
-                    far = max(far, np.sqrt(dx * dx + dy * dy))
                 sub_radii[g] = far
+
+
+@cached_njit(nogil=True)
+def _vertex_ball(verts, first, last):
+    """The bounding ball of ``verts[first:last + 1]``: its box's middle and largest distance."""
+    lo_x = lo_y = np.inf
+    hi_x = hi_y = -np.inf
+    for v in range(first, last + 1):
+        lo_x = min(lo_x, verts[v, 0])
+        hi_x = max(hi_x, verts[v, 0])
+        lo_y = min(lo_y, verts[v, 1])
+        hi_y = max(hi_y, verts[v, 1])
+    mx = 0.5 * (lo_x + hi_x)
+    my = 0.5 * (lo_y + hi_y)
+    far = 0.0
+    for v in range(first, last + 1):
+        dx = verts[v, 0] - mx
+        dy = verts[v, 1] - my
+        far = max(far, np.sqrt(dx * dx + dy * dy))
+    return mx, my, far
 
 
 def _n_threads() -> int:
