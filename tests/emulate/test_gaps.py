@@ -553,6 +553,12 @@ def test_held_pairs_are_those_whose_bands_overlap_within_the_swerve_s_reach() ->
     assert held_pairs(PAIR, LINE, kept, (0.05, 0.1)) == []  # 4 cm against 3 cm: room
     touching = Scene((HELD.obstacles[0], Obstacle("cup", [0.4, 0.0], radius=0.01)))
     assert held_pairs(touching, LINE, kept, (0.05, 0.1)) == []
+    # Bands that overlap by 5 mm (-4.5 to 0.5 and 0 to 5 cm) are held only where the kept
+    # clearances are surer than that: 2 mm each may be over the person's, 3 mm may not.
+    assert held_pairs(HELD, LINE, kept, (0.05, 0.1), allowance=np.full(2, 0.002)) == [(0, 1)]
+    assert held_pairs(HELD, LINE, kept, (0.05, 0.1), allowance=np.full(2, 0.003)) == []
+    # Never narrower than the obstacle itself: an allowance above the clearance takes it all.
+    assert held_pairs(HELD, LINE, kept, (0.05, 0.1), allowance=np.full(2, 1.0)) == []
 
 
 def test_bridge_blockers_close_the_pair_and_keep_the_first_on_its_near_side() -> None:
@@ -596,6 +602,11 @@ def test_a_plan_goes_round_both_of_a_pair_its_held_swerve_cannot_pass_between() 
         # A short swerve: the pair is threaded as before.
         skill.model_selection_["swerve_reach"] = (0.05, 0.05)
         assert threaded_pairs(skill.plan(scene=HELD).points, HELD) == [(0, 1)]
+        # Clearances learned from few noisy demonstrations, uncertain by more than the bands
+        # overlap (3 mm each against 5 mm): the person may keep a lane between, threaded.
+        skill.model_selection_.update(swerve_reach=(0.05, 0.1), gap_allowance={"cup": 0.003})
+        assert threaded_pairs(skill.plan(scene=HELD).points, HELD) == [(0, 1)]
+        del skill.model_selection_["gap_allowance"]
         # Gaps open (a person answering a smooth reward): threaded whatever the reach.
         skill.model_selection_["swerve_reach"], skill.gaps_ = (0.05, 0.1), "open"
         assert threaded_pairs(skill.plan(scene=HELD).points, HELD) == [(0, 1)]

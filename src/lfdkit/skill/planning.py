@@ -842,8 +842,9 @@ class Planning:
         """Balls that keep the skill's own plan round both of each held pair, on one side.
 
         :func:`lfdkit.emulate.gaps.held_pairs` with the clearances the
-        demonstrations typically kept (``model_selection_["gap_clearances"]``)
-        and how long their swerve lasted (``model_selection_["swerve_reach"]``),
+        demonstrations typically kept (``model_selection_["gap_clearances"]``,
+        less their ``model_selection_["gap_allowance"]`` for the overlap of
+        the bands) and how long their swerve lasted (``model_selection_["swerve_reach"]``),
         closed by :func:`lfdkit.emulate.gaps.bridge_blockers`. Only for the
         skill's own plans (``clearances`` None) of a static 2-D scene with two
         obstacles or more, with a floor the skill keeps whole (gaps closed: a
@@ -869,7 +870,11 @@ class Planning:
         kept = self._margins(scene, start, goal, clearance, typical)
         if kept is None:
             return []
-        pairs = held_pairs(scene, nominal, kept, (float(reach[0]), float(reach[1])))
+        # Held only where the bands overlap beyond what few noisy demonstrations leave
+        # uncertain in the clearances they kept.
+        allowance = selection.get("gap_allowance") or {}
+        sure = np.array([float(allowance.get(label, 0.0)) for label in scene.labels])
+        pairs = held_pairs(scene, nominal, kept, (float(reach[0]), float(reach[1])), allowance=sure)
         return bridge_blockers(scene, pairs, nominal, kept, np.stack([start, goal]))
 
     def _declined_clearances(
