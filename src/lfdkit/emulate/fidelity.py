@@ -228,7 +228,9 @@ def side_preferences(
     one's side) is passed on one side, and at least :data:`LONG_WAY_PASSES`
     of those passes are the long way round (the centre off the nominal on
     the side passed by at least :data:`LONG_WAY_SHARE` of the pass's
-    distance from it). The fidelity benchmark's four symmetric people
+    distance from it; in 3-D along the side's axis: a pass over a box that
+    stands above the path but off to its left, leaning right, went the long
+    way up, though sideways it went the short way). The fidelity benchmark's four symmetric people
     (single obstacles, 10 demonstrations at 2× noise, seeds 0-2) show none;
     nor do 80 sets of 6 of their held-out pairs, pockets and single
     obstacles (one did before the lone-obstacle rule: a pocket passed on

@@ -1225,11 +1225,16 @@ class IOC(Estimator):
         self.converged_ = not failed and not self.degenerate_
         reasons = [f"{s['planner']}: {s['reason']}" for s in failed]
         if self.degenerate_:
+            sided = self._sided_cause(scaled_demos, scaled_scenes, scaled_nominal)
             reasons.append(
                 "degenerate reward, outside the physically plausible ranges: "
                 + "; ".join(self.degenerate_)
-                + "; show demonstrations that pass the obstacles at several distances, or "
-                "give init= a plausible reward"
+                + (
+                    f"; {sided}"
+                    if sided
+                    else "; show demonstrations that pass the obstacles at several distances, "
+                    "or give init= a plausible reward"
+                )
             )
         self.convergence_message_ = "; ".join(reasons) if reasons else "converged"
         for label in self.not_learned_:
@@ -1274,6 +1279,40 @@ class IOC(Estimator):
                 stacklevel=3,
             )
         return self
+
+    def _sided_cause(self, demos: list, scenes: list, nominal: Any) -> str:
+        """Why a degenerate reward is so, where the demonstrations keep a class on one side.
+
+        A person who keeps a class on one side (:func:`lfdkit.emulate.fidelity.side_preferences`:
+        boxes below, passed over even where one stands above the path) goes round it the
+        long way, towards its centre's side; this model's responses only push a plan
+        away from an obstacle, so no reward of it plans those passes, and the fit ends
+        at a wall (issue 34, the person who passes over: the box's precision along z
+        at its floor in 10 of 10 folds). Empty where no degenerate class is so kept.
+        """
+        from lfdkit.emulate.fidelity import side_preferences  # the fit's diagnosis only
+
+        nominals = list(nominal) if isinstance(nominal, (list, tuple)) else [nominal] * len(demos)
+        found = side_preferences(demos, scenes, nominals, int(self.n_points))
+        said = " ".join(self.degenerate_)
+        kept = [c for c in self.classes_ if c in found and (f"[{c}]" in said or f" {c}'" in said)]
+        out = []
+        for label in kept:
+            info = found[label]
+            side = info["side"]
+            vertical = side in ("above", "below")
+            where = f"{side} them" if vertical else f"on their {side}"
+            place = f"{side} the path" if vertical else f"on the path's {side}"
+            out.append(
+                f"the demonstrations keep every {label!r} {where} ({info['passes']} passes, "
+                f"the long way round in {len(info['long_way'])}), which no reward of this "
+                f"model plans (a response only pushes a plan away from a {label!r}): plan "
+                "with that side kept (a Skill keeps it, Skill.side_preferences_; or "
+                "lfdkit.emulate.gaps.preferred_side_blockers); to learn the response, also "
+                f"show passes of a {label!r} standing {place} (there the person's side is "
+                "the shorter way, which this model learns), or give init= a plausible reward"
+            )
+        return "; ".join(out)
 
     @staticmethod
     def _nearest(data: list[DemoInScene], label: str) -> float | None:
