@@ -55,6 +55,21 @@ def test_the_degenerate_reward_of_issue_34_is_said_in_words() -> None:
     assert implausible(plausible, 3, NAMES_3D) == []
 
 
+def test_a_parameter_held_at_a_wall_from_inside_is_degenerate_too() -> None:
+    # Issue 34's person who passes over boxes: P[box][z] at 0.9995 of the wall's width,
+    # inside by a hair, was called converged; 2 % inside, the data hold it.
+    def theta(width_z: float, q: float = 1.0) -> np.ndarray:
+        return np.log([q, *np.array([0.2, 0.2, width_z]) ** -2.0])
+
+    hair = PLAUSIBLE_WIDTHS[1] * 0.9995
+    said = implausible(theta(hair), 3, NAMES_3D)
+    assert len(said) == 1 and said[0].startswith("P[box][z]: response width 9.99")
+    assert "at or beyond the edge" in said[0]
+    assert implausible(theta(PLAUSIBLE_WIDTHS[1] / 1.02), 3, NAMES_3D) == []
+    assert implausible(theta(0.5, q=1.0005e-3), 3, NAMES_3D)[0].startswith("Q' = 0.001")
+    assert implausible(theta(0.5, q=1.02e-3), 3, NAMES_3D) == []
+
+
 def test_a_degenerate_fit_kept_over_boxes_by_a_side_preference_says_so_and_what_to_do() -> None:
     """3-D: a person who keeps boxes below climbs over a box standing above the path.
 
