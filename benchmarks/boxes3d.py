@@ -31,12 +31,33 @@ true reward and :func:`lfdkit.emulate.gaps.preferred_side_blockers` (side
 Every fold plans as a Skill does with the side preferences its training
 demonstrations show (:func:`lfdkit.emulate.fidelity.side_preferences`, kept
 within ``SIDE_REACH`` times their typical clearance; the *sides* of each fold
-in the JSON). Measured (seed 1, 10 folds): 6.30 cm from the held-out person
-against 7.46 for the DMP alone (0.84), sides 10/10, 0 collisions, clearance
-0.98 of the person's, fit 3.4/5.9 s; but no preference is found (the person
-crosses the shelf's edge: its passes lean sideways more than up, and none is
-the long way round by the centre rule), and every fit is flagged degenerate
-with that reason (no vertical response: ``P[box][z]`` → 0).
+in the JSON). Its passes lean sideways more than up (about 20 cm beside the
+shelf's centre and 9 cm above it: over the blockers' rows beside the shelf,
+which stand level with its top), and the long way round was read along the
+whole pass (the centre's offset from the nominal dotted with the pass): the
+short way sideways, so no preference was found (b9ab7ef, seed 1: 6.30 cm
+from the held-out person against 7.46 for the DMP alone, 0.84). In 3-D it is read along the side's axis now (up, where the
+shelf's centre stands 7-9 cm above the nominal): every fold finds ``below``.
+Measured side by side with b9ab7ef (10 folds; plan / DMP alone cm, ratio,
+sides, clearance / the person's, with the learned floor): seed 0 6.62 / 7.76,
+0.85 → 1.57, 0.20, sides 10/10, clearance 0.94 → 0.77 (floor 0.87); seed 1
+6.30 / 7.46, 0.84 → 1.24, 0.17, 0.98 → 0.79 (0.88); seed 2 6.38 / 7.57, 0.84
+→ 1.36, 0.18, 0.93 → 0.76 (0.87); 0 collisions, fit 1.1-2.5 s of CPU. The
+plans cross the blockers' tops at the person's clearance of 1 cm where the
+person kept about 4 cm above the shelf: the clearance ratio is below 0.8
+without the learned floor. Seed 3 does not: one person (demonstration 4)
+went *under* the shelf, through a hole in the blockers below it (their rows
+every 45 degrees touch only at points along each row, and a plan threads
+between two rows' first and second balls), so the 9 folds that train on it
+find no preference (every pass must be on the side), and the fold that holds
+it out plans over where that person went under (1.01 → 1.03, sides 9 → 8 of
+10, clearance 0.53 → 0.42). The learned response does not represent the
+climb: a response that pushes a plan away from a box pushes it down from
+under a shelf, so ``P[box][z]`` ends at its wall (a response 10 extents
+tall) in every fold, flagged degenerate with that reason and what to do
+(:class:`lfdkit.emulate.IOC`'s ``convergence_message_``); the blockers
+decide the climb (planned with the person's own 150 /m² along z instead,
+the plans are 0.3-0.9 cm further from the person, seed 1).
 
 Per fold (one demonstration held out, the reward learned from the others
 with the Skill's staged fit, IOC with MPC H=8 refinement, 100 points): the
