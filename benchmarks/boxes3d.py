@@ -36,8 +36,9 @@ shelf's centre and 9 cm above it: over the blockers' rows beside the shelf,
 which stand level with its top), and the long way round was read along the
 whole pass (the centre's offset from the nominal dotted with the pass): the
 short way sideways, so no preference was found (b9ab7ef, seed 1: 6.30 cm
-from the held-out person against 7.46 for the DMP alone, 0.84). In 3-D it is read along the side's axis now (up, where the
-shelf's centre stands 7-9 cm above the nominal): every fold finds ``below``.
+from the held-out person against 7.46 for the DMP alone, 0.84). In 3-D it is
+read along the side's axis now (up, where the shelf's centre stands 7-9 cm
+above the nominal): every fold finds ``below``.
 Measured side by side with b9ab7ef (10 folds; plan / DMP alone cm, ratio,
 sides, clearance / the person's, with the learned floor): seed 0 6.62 / 7.76,
 0.85 → 1.57, 0.20, sides 10/10, clearance 0.94 → 0.77 (floor 0.87); seed 1
