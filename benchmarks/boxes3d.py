@@ -43,7 +43,7 @@ Measured side by side with b9ab7ef (10 folds; plan / DMP alone cm, ratio,
 sides, clearance / the person's, with the learned floor): seed 0 6.62 / 7.76,
 0.85 → 1.57, 0.20, sides 10/10, clearance 0.94 → 0.77 (floor 0.87); seed 1
 6.30 / 7.46, 0.84 → 1.24, 0.17, 0.98 → 0.79 (0.88); seed 2 6.38 / 7.57, 0.84
-→ 1.36, 0.18, 0.93 → 0.76 (0.87); 0 collisions, fit 1.1-2.5 s of CPU. The
+→ 1.36, 0.18, 0.93 → 0.76 (0.87); 0 collisions, fit 1.0-2.1 s of CPU. The
 plans cross the blockers' tops at the person's clearance of 1 cm where the
 person kept about 4 cm above the shelf: the clearance ratio is below 0.8
 without the learned floor. Seed 3 does not: one person (demonstration 4)
