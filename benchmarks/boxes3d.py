@@ -55,7 +55,7 @@ it out plans over where that person went under (1.01 → 1.03, sides 9 → 8 of
 10, clearance 0.53 → 0.42). The learned response does not represent the
 climb: a response that pushes a plan away from a box pushes it down from
 under a shelf, so ``P[box][z]`` ends at its wall (a response 10 extents
-tall) in every fold, flagged degenerate with that reason and what to do
+tall) in every fold of seeds 0-2, flagged degenerate with that reason and what to do
 (:class:`lfdkit.emulate.IOC`'s ``convergence_message_``); the blockers
 decide the climb (planned with the person's own 150 /m² along z instead,
 the plans are 0.3-0.9 cm further from the person, seed 1).
