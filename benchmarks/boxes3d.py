@@ -42,21 +42,22 @@ above the nominal): every fold finds ``below``.
 Measured side by side with b9ab7ef (10 folds; plan / DMP alone cm, ratio,
 sides, clearance / the person's, with the learned floor): seed 0 6.62 / 7.76,
 0.85 → 1.57, 0.20, sides 10/10, clearance 0.94 → 0.77 (floor 0.87); seed 1
-6.30 / 7.46, 0.84 → 1.24, 0.17, 0.98 → 0.79 (0.88); seed 2 6.38 / 7.57, 0.84
-→ 1.36, 0.18, 0.93 → 0.76 (0.87); 0 collisions, fit 1.0-2.1 s of CPU. The
-plans cross the blockers' tops at the person's clearance of 1 cm where the
-person kept about 4 cm above the shelf: the clearance ratio is below 0.8
-without the learned floor. Seed 3 does not: one person (demonstration 4)
-went *under* the shelf, through a hole in the blockers below it (their rows
-every 45 degrees touch only at points along each row, and a plan threads
-between two rows' first and second balls), so the 9 folds that train on it
-find no preference (every pass must be on the side), and the fold that holds
-it out plans over where that person went under (1.01 → 1.03, sides 9 → 8 of
-10, clearance 0.53 → 0.42). The learned response does not represent the
-climb: a response that pushes a plan away from a box pushes it down from
-under a shelf, so ``P[box][z]`` ends at its wall (a response 10 extents
-tall) in every fold of seeds 0-2, flagged degenerate with that reason and what to do
-(:class:`lfdkit.emulate.IOC`'s ``convergence_message_``); the blockers
+6.30 / 7.46, 0.84 → 1.25, 0.17, 0.98 → 0.79 (0.88); seed 2 6.38 / 7.57, 0.84
+→ 1.36, 0.18, 0.93 → 0.76 (0.87); seed 3 8.11 / 8.00, 1.01, sides 9/10 →
+2.97 / 7.98, 0.37, 9/10, 0.53 → 0.76 (0.86); 0 collisions, fit 1.1-4.7 s of
+CPU (load 10-16). Seed 3 needed the blockers' holes filled
+(:func:`lfdkit.emulate.gaps.preferred_side_blockers`): one person
+(demonstration 4) had gone *under* the shelf between two rows of them, so 9
+folds found no preference (every pass must be on the side); its one side
+missed now is a coin flip (a nominal through the shelf's centre, passed
+over on its other edge). The plans cross the blockers' tops at the person's
+clearance of 1 cm where the person kept about 4 cm above the shelf: the
+clearance ratio is below 0.8 without the learned floor. The learned
+response does not represent the climb: a response that pushes a plan away
+from a box pushes it down from under a shelf, so ``P[box][z]`` ends at its
+wall (a response 10 extents tall) in 39 of the 40 folds, flagged degenerate
+with that reason and what to do (:class:`lfdkit.emulate.IOC`'s
+``convergence_message_``); the blockers
 decide the climb (planned with the person's own 150 /m² along z instead,
 the plans are 0.3-0.9 cm further from the person, seed 1).
 
