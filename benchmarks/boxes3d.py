@@ -31,12 +31,35 @@ true reward and :func:`lfdkit.emulate.gaps.preferred_side_blockers` (side
 Every fold plans as a Skill does with the side preferences its training
 demonstrations show (:func:`lfdkit.emulate.fidelity.side_preferences`, kept
 within ``SIDE_REACH`` times their typical clearance; the *sides* of each fold
-in the JSON). Measured (seed 1, 10 folds): 6.30 cm from the held-out person
-against 7.46 for the DMP alone (0.84), sides 10/10, 0 collisions, clearance
-0.98 of the person's, fit 3.4/5.9 s; but no preference is found (the person
-crosses the shelf's edge: its passes lean sideways more than up, and none is
-the long way round by the centre rule), and every fit is flagged degenerate
-with that reason (no vertical response: ``P[box][z]`` → 0).
+in the JSON). Its passes lean sideways more than up (about 20 cm beside the
+shelf's centre and 9 cm above it: over the blockers' rows beside the shelf,
+which stand level with its top), and the long way round was read along the
+whole pass (the centre's offset from the nominal dotted with the pass): the
+short way sideways, so no preference was found (b9ab7ef, seed 1: 6.30 cm
+from the held-out person against 7.46 for the DMP alone, 0.84). In 3-D it is
+read along the side's axis now (up, where the shelf's centre stands 7-9 cm
+above the nominal): every fold finds ``below``.
+Measured side by side with b9ab7ef (10 folds; plan / DMP alone cm, ratio,
+sides, clearance / the person's, with the learned floor): seed 0 6.62 / 7.76,
+0.85 → 1.57, 0.20, sides 10/10, clearance 0.94 → 0.77 (floor 0.87); seed 1
+6.30 / 7.46, 0.84 → 1.25, 0.17, 0.98 → 0.79 (0.88); seed 2 6.38 / 7.57, 0.84
+→ 1.36, 0.18, 0.93 → 0.76 (0.87); seed 3 8.11 / 8.00, 1.01, sides 9/10 →
+2.97 / 7.98, 0.37, 9/10, 0.53 → 0.76 (0.86); 0 collisions, fit 1.1-4.7 s of
+CPU (load 10-16). Seed 3 needed the blockers' holes filled
+(:func:`lfdkit.emulate.gaps.preferred_side_blockers`): one person
+(demonstration 4) had gone *under* the shelf between two rows of them, so 9
+folds found no preference (every pass must be on the side); its one side
+missed now is a coin flip (a nominal through the shelf's centre, passed
+over on its other edge). The plans cross the blockers' tops at the person's
+clearance of 1 cm where the person kept about 4 cm above the shelf: the
+clearance ratio is below 0.8 without the learned floor. The learned
+response does not represent the climb: a response that pushes a plan away
+from a box pushes it down from under a shelf, so ``P[box][z]`` ends at its
+wall (a response 10 extents tall) in 39 of the 40 folds, flagged degenerate
+with that reason and what to do (:class:`lfdkit.emulate.IOC`'s
+``convergence_message_``); the blockers
+decide the climb (planned with the person's own 150 /m² along z instead,
+the plans are 0.3-0.9 cm further from the person, seed 1).
 
 Per fold (one demonstration held out, the reward learned from the others
 with the Skill's staged fit, IOC with MPC H=8 refinement, 100 points): the

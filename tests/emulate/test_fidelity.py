@@ -509,6 +509,29 @@ def test_boxes_passed_over_the_long_way_are_kept_below_in_3d() -> None:
     assert side_preferences([demos[1], demos[3]], [scenes[1], scenes[3]], nominals[:2]) == {}
 
 
+def test_passes_over_boxes_that_also_lean_aside_are_the_long_way_up() -> None:
+    """3-D: the long way is read along the preference's axis, not along the whole pass.
+
+    Boxes 10 cm a side, their centres 4 cm above the nominal and 4 cm to its left
+    (then right); each demonstration passes 6 cm to the other side of the nominal
+    and 12 cm above it: the short way sideways, the long way up (over a box above
+    the path, as a person who keeps boxes below does when a box stands off the
+    path). Along the whole pass the centre points away from it (−4·10 + 4·8 < 0 cm²).
+    """
+    demos, scenes = [], []
+    for sign in (1.0, -1.0, 1.0, -1.0):
+        box = Box("box", [0.5, sign * 0.04, 0.04], 0.0, [0.1, 0.1, 0.1])
+        bump = np.cos(0.5 * np.pi * np.clip((X - 0.5) / 0.25, -1.0, 1.0)) ** 2
+        demos.append(np.column_stack([X, -sign * 0.06 * bump, 0.12 * bump]))
+        scenes.append(Scene((box,)))
+    nominals = [np.column_stack([X, 0 * X, 0 * X])] * len(demos)
+    found = side_preferences(demos, scenes, nominals)
+    assert found == {"box": {"side": "below", "passes": 4, "long_way": [0, 1, 2, 3]}}
+    # The same passes round boxes centred at the nominal's height: only the short way.
+    level = [Scene((Box("box", s.positions[0] * [1, 1, 0], 0.0, [0.1, 0.1, 0.1]),)) for s in scenes]
+    assert side_preferences(demos, level, nominals) == {}
+
+
 @pytest.mark.slow
 def test_a_side_preference_is_said_and_its_class_still_learned() -> None:
     """Three cup demonstrations go the long way round; the fourth cup stands far aside.

@@ -228,7 +228,9 @@ def side_preferences(
     one's side) is passed on one side, and at least :data:`LONG_WAY_PASSES`
     of those passes are the long way round (the centre off the nominal on
     the side passed by at least :data:`LONG_WAY_SHARE` of the pass's
-    distance from it). The fidelity benchmark's four symmetric people
+    distance from it; in 3-D along the side's axis: a pass over a box that
+    stands above the path but off to its left, leaning right, went the long
+    way up, though sideways it went the short way). The fidelity benchmark's four symmetric people
     (single obstacles, 10 demonstrations at 2× noise, seeds 0-2) show none;
     nor do 80 sets of 6 of their held-out pairs, pockets and single
     obstacles (one did before the lone-obstacle rule: a pocket passed on
@@ -256,7 +258,10 @@ def side_preferences(
         class were gone around, ``long_way`` the demonstrations (indices) that
         went the long way round.
     """
-    seen: dict[str, list[tuple[np.ndarray, bool, int]]] = {}
+    # Per pass: its direction from the centre (unit, along the sides' axes), the centre's
+    # offset from the nominal along the same axes divided by the pass's distance (2-D: the
+    # long-way share itself, along the pass), and the demonstration.
+    seen: dict[str, list[tuple[np.ndarray, np.ndarray, int]]] = {}
     for j, (demo, scene, nominal) in enumerate(zip(demos, scenes, nominals, strict=True)):
         if not len(scene):
             continue
@@ -273,9 +278,9 @@ def side_preferences(
             rel = corridor.points - obstacle.position
             k = int(np.argmin(np.einsum("kq,kq->k", rel, rel)))
             centre = corridor.normals[k] @ (obstacle.position - corridor.points[k])
-            # The obstacle on the side passed: the centre's offset points with the pass.
-            long_way = float(centre @ side) >= LONG_WAY_SHARE * distance**2
             if corridor.n_dims == 2:  # the obstacle's side of the path, seen along it
+                # The obstacle on the side passed: the centre's offset points with the pass.
+                share = np.array([float(centre @ side) / distance**2])
                 t = corridor.tangents[k]
                 normal = corridor.normals[k, 0]
                 left_normal = t[0] * normal[1] - t[1] * normal[0] > 0.0
@@ -285,22 +290,30 @@ def side_preferences(
                 if axes is None:
                     continue
                 side = axes @ (side @ corridor.normals[k])
-            seen.setdefault(obstacle.label, []).append((side / distance, long_way, j))
+                share = axes @ (centre @ corridor.normals[k]) / distance
+            seen.setdefault(obstacle.label, []).append((side / distance, share, j))
     out: dict[str, dict[str, Any]] = {}
     for label, passes in seen.items():
         directions = np.array([d for d, _, _ in passes])
         mean = directions.sum(axis=0)
-        long_way = sorted({j for _, far, j in passes if far})
-        one_side = bool(np.all(directions @ mean > 0.0))
-        if one_side and len(long_way) >= LONG_WAY_PASSES:
-            if directions.shape[1] == 1:
-                side = "right" if mean[0] > 0.0 else "left"  # the path left of it: on its right
-            else:  # 3-D: the axis the passes lean on most, every pass on its side of it
-                axis = int(np.argmax(np.abs(mean)))
-                if not np.all(directions[:, axis] * mean[axis] > 0.0):
-                    continue
-                # The path left of it or above it: the obstacle on its right or below.
-                side = ("right", "below")[axis] if mean[axis] > 0.0 else ("left", "above")[axis]
+        if not np.all(directions @ mean > 0.0):
+            continue
+        if directions.shape[1] == 1:
+            axis = 0
+            side = "right" if mean[0] > 0.0 else "left"  # the path left of it: on its right
+        else:  # 3-D: the axis the passes lean on most, every pass on its side of it
+            axis = int(np.argmax(np.abs(mean)))
+            if not np.all(directions[:, axis] * mean[axis] > 0.0):
+                continue
+            # The path left of it or above it: the obstacle on its right or below.
+            side = ("right", "below")[axis] if mean[axis] > 0.0 else ("left", "above")[axis]
+        # The long way along that axis: the centre off the nominal towards the side passed by
+        # a share of the pass's distance. In 3-D only that axis counts: a pass over a box
+        # standing above the path and off to its left that also leans right went the long
+        # way (up) however short its sideways part (issue 34, the person who passes over).
+        towards = np.sign(mean[axis]) if directions.shape[1] > 1 else 1.0
+        long_way = sorted({j for _, share, j in passes if towards * share[axis] >= LONG_WAY_SHARE})
+        if len(long_way) >= LONG_WAY_PASSES:
             out[label] = {"side": side, "passes": len(passes), "long_way": long_way}
     return out
 
