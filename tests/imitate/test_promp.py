@@ -154,8 +154,7 @@ def test_several_via_points_at_once_are_all_passed(full_rank_model):
 @pytest.mark.parametrize("n_dims", [1, 2, 3])
 def test_a_variance_and_the_same_variance_as_a_matrix_give_the_same_model(n_dims):
     """A variance takes the quick argument check, a matrix the full one: the same result,
-    from millimetres to kilometres; the covariance is formed by the one-point kernel in the
-    call, by the general one when first read."""
+    from millimetres to kilometres; the covariance is formed when first read."""
     rng = np.random.default_rng(20 + n_dims)
     for scale in (1e-3, 1.0, 1e3):
         mean, cov = known_distribution(rng, 5, n_dims)
@@ -165,9 +164,8 @@ def test_a_variance_and_the_same_variance_as_a_matrix_give_the_same_model(n_dims
             for variance in (0.0, 0.01 * scale**2):
                 point = model.mean_at([phase])[0] + scale * rng.normal(0.0, 0.5, n_dims)
                 quick = model.condition(point, [phase], variance)
-                assert "weights_cov_" in vars(quick)  # formed in the call
+                assert "weights_cov_" not in vars(quick)  # not formed yet
                 general = model.condition(point, [phase], variance * np.eye(n_dims))
-                assert "weights_cov_" not in vars(general)  # formed when first read
                 for ours, theirs in (
                     (quick.weights_mean_, general.weights_mean_),
                     (quick.weights_cov_, general.weights_cov_),
@@ -203,7 +201,7 @@ def test_several_points_with_a_variance_take_their_own_kernel_with_the_general_r
                     )
                 assert len(quick_warned) == 2 * len(general_warned)  # warned alike
                 for ours in (quick, from_arrays):
-                    assert "weights_cov_" in vars(ours)  # formed in the call
+                    assert "weights_cov_" not in vars(ours)  # formed when first read
                     for got, want in (
                         (ours.weights_mean_, general.weights_mean_),
                         (ours.weights_cov_, general.weights_cov_),
@@ -241,28 +239,22 @@ def test_a_covariance_set_on_a_conditioned_model_is_the_one_its_band_reads(full_
 def test_the_covariance_formed_on_read_is_the_closed_form_exactly_symmetric(
     full_rank_model, n_points
 ):
-    """A conditioned model's ``weights_cov_`` (per-point covariances: formed on first read by
-    a kernel; a variance: formed in the call) against ``Σ − Σ Hᵀ (H Σ Hᵀ + R)⁻¹ H Σ`` built
-    from the reference basis; the compiled kernel and its NumPy twin agree to 1e-12 of the
-    covariance's scale, each exactly symmetric."""
+    """A conditioned model's ``weights_cov_`` (formed on first read by a kernel) against
+    ``Σ − Σ Hᵀ (H Σ Hᵀ + R)⁻¹ H Σ`` built from the reference basis; the compiled kernel and
+    its NumPy twin agree to 1e-12 of the covariance's scale, each exactly symmetric."""
     from lfdkit.imitate import _promp_kernels, promp
 
     model = full_rank_model
     phases = np.array([0.3, 0.55, 0.8][:n_points])
     points = model.mean_at(phases) + 0.05
     variance = 1e-3
-    via = model.condition(
-        points, phases, covariance=np.tile(variance * np.eye(2), (n_points, 1, 1))
-    )
+    via = model.condition(points, phases, covariance=variance)
     assert "weights_cov_" not in vars(via)  # not formed yet
     pending = vars(via)["_pending_cov"]
     formed = via.weights_cov_
     assert "_pending_cov" not in vars(via) and via.weights_cov_ is formed  # formed once
     assert not formed.flags.writeable
     np.testing.assert_array_equal(formed, formed.T)
-    in_call = model.condition(points, phases, covariance=variance).weights_cov_
-    assert not in_call.flags.writeable
-    np.testing.assert_array_equal(in_call, in_call.T)
     d, b, sigma = 2, 6, model.weights_cov_
     features = reference_features(phases, b, model.width_)
     h = np.zeros((n_points * d, d * b))
@@ -271,8 +263,7 @@ def test_the_covariance_formed_on_read_is_the_closed_form_exactly_symmetric(
             h[i * d + c, c * b : (c + 1) * b] = features[i]
     gain = sigma @ h.T @ np.linalg.inv(h @ sigma @ h.T + variance * np.eye(n_points * d))
     scale = np.abs(sigma).max()
-    for got in (formed, in_call):
-        np.testing.assert_allclose(got, sigma - gain @ h @ sigma, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(formed, sigma - gain @ h @ sigma, rtol=0, atol=1e-9 * scale)
     cov, out, _, m, _, _, prior = pending
     both = []
     for run in (_promp_kernels.conditioned_covariance, promp.conditioned_covariance):
@@ -285,59 +276,53 @@ def test_the_covariance_formed_on_read_is_the_closed_form_exactly_symmetric(
 
 
 @pytest.mark.filterwarnings("ignore:points.*cannot be reached")  # exact points, few demos
-@pytest.mark.parametrize("n_points", [1, 3])
-def test_the_covariance_formed_in_the_call_is_the_one_formed_on_read_to_the_bit(n_points):
-    """The one- and several-point kernels form ``Σ' = Σ − Zᵀ Z`` in whole rows where ``Σ`` is
-    exactly symmetric: the numbers of the upper triangle mirrored (:func:`conditioned_
-    covariance`, what a read formed before), to the bit, for the compiled kernels and their
-    NumPy twins, on random models (1-3 dimensions, units 1e-3 to 1e3). A weight covariance
-    that is not exactly symmetric is left to the read, which takes its upper triangle."""
+def test_the_covariance_formed_in_rows_is_the_mirrored_upper_triangle_to_the_bit():
+    """Where ``Σ`` is exactly symmetric (every fitted or conditioned model's) the new
+    covariance is formed in whole rows: the numbers of the upper triangle mirrored, to the
+    bit, compiled and NumPy twin, on random models (1-3 dimensions, 1-3 points, units 1e-3
+    to 1e3). A covariance not exactly symmetric takes the mirrored route (its upper
+    triangle), and the result is exactly symmetric either way."""
     from lfdkit.imitate import _promp_kernels, promp
 
-    rng = np.random.default_rng(50 + n_points)
-    pairs = (
-        (_promp_kernels.condition_point, _promp_kernels.conditioned_covariance),
-        (promp.condition_point, promp.conditioned_covariance),
-    )
-    if n_points > 1:
-        pairs = (
-            (_promp_kernels.condition_points, _promp_kernels.conditioned_covariance),
-            (promp.condition_points, promp.conditioned_covariance),
-        )
-    for trial in range(12):
+    rng = np.random.default_rng(60)
+    for trial in range(16):
         d, b, unit = int(rng.integers(1, 4)), int(rng.integers(4, 9)), 10.0 ** rng.uniform(-3, 3)
+        k = int(rng.integers(1, 4))
         mean, cov = known_distribution(rng, b, d)
         weights = unit * rng.multivariate_normal(mean, cov, int(rng.integers(3, 20)))
-        model = ProMP(n_basis=b).fit(
-            demos_from_weights(weights, [np.linspace(0, 1, 30)] * len(weights), b)
-        )
-        sigma = model.weights_cov_
-        assert np.array_equal(sigma, sigma.T)  # as every fitted model's
-        n, m = len(sigma), n_points * d
-        prior = np.r_[model.width_, 1e-10, model.weights_mean_, sigma.ravel()]
-        phases = np.sort(rng.uniform(0.0, 1.0, n_points))
-        points = model.mean_at(phases) + unit * rng.normal(0.0, 0.2, (n_points, d))
+        demos = demos_from_weights(weights, [np.linspace(0, 1, 30)] * len(weights), b)
+        model = ProMP(n_basis=b).fit(demos)
+        phases = np.sort(rng.uniform(0.0, 1.0, k))
+        points = model.mean_at(phases) + unit * rng.normal(0.0, 0.2, (k, d))
         variance = [0.0, 0.01 * unit**2][trial % 2]
-        for condition, form in pairs:
-            out = np.empty(promp._formed_size(n, m))
-            if n_points > 1:
-                condition(prior, phases, points, variance, out)
-            else:
-                condition(prior, float(phases[0]), points, variance, out)
-            on_read = np.empty((n, n))
-            form(prior, out, n, m, on_read)
-            np.testing.assert_array_equal(out[promp._out_size(1, n, m) :].reshape(n, n), on_read)
-        # Not exactly symmetric: no room is given, the read forms it from the upper triangle.
-        skewed = np.array(sigma)
-        skewed[0, -1] += 1e-9 * np.abs(sigma).max()
+        via = model.condition(points, phases, variance)
+        if trial % 3 == 0:  # a conditioned model is exactly symmetric too
+            via = via.condition(points[:1], phases[:1], variance + 0.01 * unit**2)
+        cov_in, out, symmetric, m, _, _, prior = vars(via)["_pending_cov"]
+        assert symmetric and np.array_equal(cov_in, cov_in.T)
+        for rows, mirrored in (
+            (_promp_kernels.conditioned_covariance_rows, _promp_kernels.conditioned_covariance),
+            (promp.conditioned_covariance_rows, promp.conditioned_covariance),
+        ):
+            got, want = np.empty_like(cov_in), np.empty_like(cov_in)
+            rows(prior, out, len(cov_in), m, got)
+            mirrored(prior, out, len(cov_in), m, want)
+            np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(via.weights_cov_, via.weights_cov_.T)
+        # One entry off by 1e-9 of the scale: not exactly symmetric, the mirrored route.
+        skewed = np.array(model.weights_cov_)
+        skewed[0, -1] += 1e-9 * np.abs(skewed).max()
         model.weights_cov_ = skewed
         via = model.condition(points, phases, variance)
-        assert "weights_cov_" not in vars(via)
-        expected = model.condition(points, phases, np.tile(variance * np.eye(d), (n_points, 1, 1)))
-        np.testing.assert_allclose(
-            via.weights_cov_, expected.weights_cov_, rtol=0, atol=1e-12 * np.abs(sigma).max()
-        )
-        np.testing.assert_array_equal(via.weights_cov_, via.weights_cov_.T)
+        cov_in, out, symmetric, m, _, _, prior = vars(via)["_pending_cov"]
+        assert symmetric is False
+        mirrored, in_rows = np.empty_like(cov_in), np.empty_like(cov_in)
+        _promp_kernels.conditioned_covariance(prior, out, len(cov_in), m, mirrored)
+        _promp_kernels.conditioned_covariance_rows(prior, out, len(cov_in), m, in_rows)
+        assert not np.array_equal(in_rows, in_rows.T)  # rows would read the skewed entry
+        formed = via.weights_cov_
+        np.testing.assert_array_equal(formed, mirrored)
+        np.testing.assert_array_equal(formed, formed.T)
 
 
 def test_an_unfitted_model_has_no_covariance_attribute():
