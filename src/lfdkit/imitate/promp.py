@@ -653,9 +653,9 @@ class ProMP(Estimator):
         means, _, lost, _, _ = _out_parts(out, len(sets), len(self.weights_mean_), sets[0].size, d)
         n = len(self.weights_mean_)
         cov = np.empty((n, n))
-        prior, symmetric = self._kernel_prior()[::5]
-        run = _rows_kernel() if symmetric else _cov_kernel()
-        run(prior, out, len(sets) * n, sets[0].size, cov)
+        kept = self._kernel_prior()
+        run = _rows_kernel() if kept[5] else _cov_kernel()  # kept[5]: Σ exactly symmetric
+        run(kept[0], out, len(sets) * n, sets[0].size, cov)
         cov.setflags(False)
         out = self._with_weights(means, cov)
         if n_dropped:
