@@ -275,6 +275,56 @@ def test_the_covariance_formed_on_read_is_the_closed_form_exactly_symmetric(
     assert any(np.array_equal(formed, one) for one in both)  # it is one of the two
 
 
+@pytest.mark.filterwarnings("ignore:points.*cannot be reached")  # exact points, few demos
+def test_the_covariance_formed_in_rows_is_the_mirrored_upper_triangle_to_the_bit():
+    """Where ``Σ`` is exactly symmetric (every fitted or conditioned model's) the new
+    covariance is formed in whole rows: the numbers of the upper triangle mirrored, to the
+    bit, compiled and NumPy twin, on random models (1-3 dimensions, 1-3 points, units 1e-3
+    to 1e3). A covariance not exactly symmetric takes the mirrored route (its upper
+    triangle), and the result is exactly symmetric either way."""
+    from lfdkit.imitate import _promp_kernels, promp
+
+    rng = np.random.default_rng(60)
+    for trial in range(16):
+        d, b, unit = int(rng.integers(1, 4)), int(rng.integers(4, 9)), 10.0 ** rng.uniform(-3, 3)
+        k = int(rng.integers(1, 4))
+        mean, cov = known_distribution(rng, b, d)
+        weights = unit * rng.multivariate_normal(mean, cov, int(rng.integers(3, 20)))
+        demos = demos_from_weights(weights, [np.linspace(0, 1, 30)] * len(weights), b)
+        model = ProMP(n_basis=b).fit(demos)
+        phases = np.sort(rng.uniform(0.0, 1.0, k))
+        points = model.mean_at(phases) + unit * rng.normal(0.0, 0.2, (k, d))
+        variance = [0.0, 0.01 * unit**2][trial % 2]
+        via = model.condition(points, phases, variance)
+        if trial % 3 == 0:  # a conditioned model is exactly symmetric too
+            via = via.condition(points[:1], phases[:1], variance + 0.01 * unit**2)
+        cov_in, out, symmetric, m, _, _, prior = vars(via)["_pending_cov"]
+        assert symmetric and np.array_equal(cov_in, cov_in.T)
+        for rows, mirrored in (
+            (_promp_kernels.conditioned_covariance_rows, _promp_kernels.conditioned_covariance),
+            (promp.conditioned_covariance_rows, promp.conditioned_covariance),
+        ):
+            got, want = np.empty_like(cov_in), np.empty_like(cov_in)
+            rows(prior, out, len(cov_in), m, got)
+            mirrored(prior, out, len(cov_in), m, want)
+            np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(via.weights_cov_, via.weights_cov_.T)
+        # One entry off by 1e-9 of the scale: not exactly symmetric, the mirrored route.
+        skewed = np.array(model.weights_cov_)
+        skewed[0, -1] += 1e-9 * np.abs(skewed).max()
+        model.weights_cov_ = skewed
+        via = model.condition(points, phases, variance)
+        cov_in, out, symmetric, m, _, _, prior = vars(via)["_pending_cov"]
+        assert symmetric is False
+        mirrored, in_rows = np.empty_like(cov_in), np.empty_like(cov_in)
+        _promp_kernels.conditioned_covariance(prior, out, len(cov_in), m, mirrored)
+        _promp_kernels.conditioned_covariance_rows(prior, out, len(cov_in), m, in_rows)
+        assert not np.array_equal(in_rows, in_rows.T)  # rows would read the skewed entry
+        formed = via.weights_cov_
+        np.testing.assert_array_equal(formed, mirrored)
+        np.testing.assert_array_equal(formed, formed.T)
+
+
 def test_an_unfitted_model_has_no_covariance_attribute():
     """The class's ``weights_cov_`` (forms a conditioned model's on read) is no attribute of
     a model that is neither fitted nor conditioned."""
