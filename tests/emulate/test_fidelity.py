@@ -19,8 +19,10 @@ import pytest
 from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate.fidelity import (
     CLEARANCE_FACTOR,
+    SIDE_REACH,
     demonstrated_clearances,
     demonstration_reference,
+    kept_sides,
     lateral_axes,
     passing_sides,
     replanning_fidelity,
@@ -507,6 +509,26 @@ def test_boxes_passed_over_the_long_way_are_kept_below_in_3d() -> None:
     assert side_preferences(beside, boxes, nominals)["box"]["side"] == "right"
     # One pass over the box above the path, the rest the short way: no preference.
     assert side_preferences([demos[1], demos[3]], [scenes[1], scenes[3]], nominals[:2]) == {}
+
+
+def test_sides_are_kept_within_reach_of_the_typical_clearance_and_at_the_floor() -> None:
+    """Where: SIDE_REACH times the median clearance kept; how far: 0.8 times the smallest."""
+    demos, scenes, nominals = over_demos()
+    kept = [float(s.distances(d)[0]) for d, s in zip(demos, scenes, strict=True)]
+    found = side_preferences(demos, scenes, nominals)
+    sides = kept_sides(found, demos, scenes, nominals)
+    assert sides.keys() == {"box"} and sides["box"]["side"] == "below"
+    # Four passes: the median's lower value is the second smallest, the 10 % one the smallest.
+    assert sides["box"]["within"] == pytest.approx(SIDE_REACH * sorted(kept)[1])
+    assert sides["box"]["clearance"] == pytest.approx(0.8 * min(kept))
+    mm = kept_sides(
+        found,
+        [1000 * d for d in demos],
+        [s.scaled(1000.0) for s in scenes],
+        [1000 * n for n in nominals],
+    )
+    assert mm["box"]["clearance"] == pytest.approx(1000 * sides["box"]["clearance"])
+    assert kept_sides({}, demos, scenes, nominals) == {}
 
 
 def test_passes_over_boxes_that_also_lean_aside_are_the_long_way_up() -> None:

@@ -35,6 +35,7 @@ from lfdkit.emulate.gaps import (
     passable_pairs,
     passes_a_new_gap,
     preferred_side_blockers,
+    preferred_side_margins,
     side_blockers,
     surface_gaps,
     swerve_reach,
@@ -477,6 +478,15 @@ def test_a_box_kept_below_a_3d_path_is_blocked_on_its_other_sides() -> None:
     climb = line[:, [1, 2, 0]]
     upright = Scene((Box("box", [0.0, 0.02, 0.5], 0.0, [0.1, 0.1, 0.1]),))
     assert preferred_side_blockers(climb, upright, {"box": ("below", 0.05)}, climb[[0, -1]]) == []
+
+
+def test_an_obstacle_kept_on_its_side_keeps_its_classs_clearance() -> None:
+    scene = Scene((*PAIR.obstacles, LONE))
+    # Each blocked obstacle its class's (repeats: one per blocker); the rest none.
+    margins = preferred_side_margins(scene, [2, 2, 0], {"box": 0.03, "cup": 0.01})
+    np.testing.assert_array_equal(margins, [0.01, 0.0, 0.03])
+    np.testing.assert_array_equal(preferred_side_margins(scene, [2], {"cup": 0.01}), [0, 0, 0])
+    assert preferred_side_margins(scene, [], {"box": 0.03}).shape == (3,)
 
 
 def test_the_rows_round_a_box_kept_below_leave_no_hole_under_it() -> None:

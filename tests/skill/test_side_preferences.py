@@ -92,3 +92,35 @@ def test_a_box_kept_below_is_passed_over_in_3d_and_round_trips() -> None:
     loaded = Skill.from_dict(json.loads(json.dumps(skill.to_dict())))
     assert loaded.side_preferences_ == skill.side_preferences_
     np.testing.assert_array_equal(loaded.plan(scene=scene).points, plan)
+
+
+def test_a_box_kept_below_is_passed_over_at_its_sides_clearance_in_3d() -> None:
+    """Over a box kept below, the learned response pushes the plan down onto it.
+
+    Nothing learned holds the plan off the box the long way round: it kept only
+    the tool's clearance over it where the person kept more. With the side's
+    clearance (the class's learned floor) it keeps that, through the file and
+    in millimetres; without one (older files) it plans as before.
+    """
+    free = [np.column_stack([X, d[:, 1], d[:, 1]]) for d in FREE]
+    skill = Skill(n_points=60).fit(free).adopt(Reward(10.0, {"box": [300.0, 2500.0, 2500.0]}))
+    scene = Scene((Box("box", [0.5, 0.005, 0.01], 0.0, [0.06, 0.04, 0.04]),))
+    skill.side_preferences_ = {"box": {"side": "below", "within": 0.03}}
+    before = skill.plan(scene=scene).points
+    assert scene.distances(before)[0] < 0.025  # close over it: the response pushes it down
+    skill.side_preferences_ = {"box": {"side": "below", "within": 0.03, "clearance": 0.03}}
+    plan = skill.plan(scene=scene).points
+    assert scene.distances(plan)[0] >= 0.03
+    top = plan[np.argmin(np.abs(plan[:, 0] - 0.5)), 2]
+    assert top > 0.03 + 0.03 > before[np.argmin(np.abs(before[:, 0] - 0.5)), 2]  # over its top
+    document = json.loads(json.dumps(skill.to_dict()))
+    assert document["emulation"]["sides"]["box"]["clearance"] == 0.03
+    loaded = Skill.from_dict(document)
+    assert loaded.side_preferences_ == skill.side_preferences_
+    np.testing.assert_array_equal(loaded.plan(scene=scene).points, plan)
+    mm = skill.to_units("mm")
+    assert mm.side_preferences_["box"]["clearance"] == pytest.approx(30.0)
+    np.testing.assert_allclose(mm.plan(scene=scene.scaled(1000.0)).points / 1000.0, plan, atol=1e-6)
+    document["emulation"]["sides"]["box"]["clearance"] = -1.0
+    with pytest.raises(ValueError, match=r"f\.json: emulation\.sides\.clearance\.box: expected"):
+        Skill.from_dict(document, source="f.json")

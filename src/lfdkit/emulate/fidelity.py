@@ -75,6 +75,7 @@ __all__ = [
     "SIDE_REACH",
     "demonstrated_clearances",
     "demonstration_reference",
+    "kept_sides",
     "lateral_axes",
     "passing_sides",
     "replanning_fidelity",
@@ -316,6 +317,51 @@ def side_preferences(
         if len(long_way) >= LONG_WAY_PASSES:
             out[label] = {"side": side, "passes": len(passes), "long_way": long_way}
     return out
+
+
+def kept_sides(
+    found: dict[str, dict[str, Any]],
+    demos: Sequence[np.ndarray],
+    scenes: Sequence[Scene],
+    nominals: Sequence[np.ndarray],
+) -> dict[str, dict[str, float | str]]:
+    """How plans keep each class passed by preference: its side, where, and how far.
+
+    ``within`` is :data:`SIDE_REACH` times the clearance the demonstrations
+    typically kept from the class's obstacles they went around (the median of
+    :func:`demonstrated_clearances`): an obstacle the nominal passes nearer
+    than that is kept on the person's side
+    (:func:`lfdkit.emulate.gaps.preferred_side_blockers`). ``clearance`` is the
+    clearance floor learned from them (:func:`demonstrated_clearances`'
+    defaults): a plan keeps at least that from such an obstacle
+    (:func:`lfdkit.emulate.gaps.preferred_side_margins`), since the learned
+    response does not hold it off there (it pushes a plan the other way, the
+    shorter way round).
+
+    Parameters
+    ----------
+    found : dict
+        :func:`side_preferences` of these demonstrations.
+    demos, scenes, nominals : sequence
+        As :func:`side_preferences`'.
+
+    Returns
+    -------
+    dict
+        ``{class: {"side": ..., "within": units, "clearance": units}}`` for
+        each class of ``found`` kept on a side of :data:`SIDES` whose
+        obstacles a demonstration went around.
+    """
+    sided = [c for c, info in found.items() if info["side"] in SIDES]
+    if not sided:
+        return {}
+    typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
+    floors = demonstrated_clearances(demos, scenes, nominals, sided)
+    return {
+        c: {"side": found[c]["side"], "within": SIDE_REACH * typical[c], "clearance": floors[c]}
+        for c in sided
+        if c in typical
+    }
 
 
 def demonstrated_clearances(

@@ -149,7 +149,7 @@ tells whether the demonstrations can decide between the two.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -184,6 +184,7 @@ __all__ = [
     "passable_pairs",
     "passes_a_new_gap",
     "preferred_side_blockers",
+    "preferred_side_margins",
     "side_blockers",
     "surface_gaps",
     "swerve_reach",
@@ -881,6 +882,40 @@ def preferred_side_blockers(
             rows += _fill_holes(obstacle, rows, axes, passed, blocked, ends)
         out += [(o, ball) for ball in rows]
     return out
+
+
+def preferred_side_margins(
+    scene: Scene, blocked: Iterable[int], clearances: Mapping[str, float]
+) -> np.ndarray:
+    """The clearance a plan keeps from each obstacle it passes on a preferred side.
+
+    Past an obstacle kept on its side by :func:`preferred_side_blockers`, the
+    plan goes the way the learned response does not: the response pushes it
+    the other way (the shorter way round), towards the obstacle, so nothing
+    learned holds it off; without a margin it passes at the tool's clearance
+    where the person kept more. It keeps its class's learned clearance floor
+    instead (:func:`lfdkit.emulate.fidelity.kept_sides`), a hard margin like a
+    skill's floor.
+
+    Parameters
+    ----------
+    scene : Scene
+    blocked : iterable of int
+        The obstacles kept on a side (the first items of
+        :func:`preferred_side_blockers`' pairs; repeats allowed).
+    clearances : mapping
+        ``{class: units}``, the clearance kept from each class's obstacles
+        passed by preference; a class left out keeps none.
+
+    Returns
+    -------
+    ndarray, shape (n_obstacles,)
+        Units, 0 for an obstacle not blocked.
+    """
+    margins = np.zeros(len(scene))
+    for o in set(blocked):
+        margins[o] = max(float(clearances.get(scene.labels[o], 0.0)), 0.0)
+    return margins
 
 
 def _fill_holes(

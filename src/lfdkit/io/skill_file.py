@@ -568,6 +568,8 @@ class SkillDocument:
 
         The classes the demonstrations keep on one side of the path (issue 26);
         empty where the file has none (no preference, or a file from before them).
+        With ``"clearance": units`` where the file has it (how far plans keep
+        such an obstacle; older files: none).
         """
         value = self.data.get("emulation")
         if not isinstance(value, Mapping) or "sides" not in value:
@@ -586,6 +588,9 @@ class SkillDocument:
                 )
             within = self._lengths({str(label): entry.get("within")}, "sides.within")
             out[str(label)] = {"side": entry["side"], "within": within[str(label)]}
+            if "clearance" in entry:  # how far it is kept (older files: no margin of its own)
+                kept = self._lengths({str(label): entry["clearance"]}, "sides.clearance")
+                out[str(label)]["clearance"] = kept[str(label)]
         return out
 
     def swerve(self) -> dict[str, list[float]]:

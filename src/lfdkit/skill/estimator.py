@@ -54,13 +54,7 @@ from lfdkit.core.validation import (
     check_times_list,
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
-from lfdkit.emulate.fidelity import (
-    SIDE_REACH,
-    SIDES,
-    demonstrated_clearances,
-    replanning_fidelity,
-    side_preferences,
-)
+from lfdkit.emulate.fidelity import kept_sides, replanning_fidelity, side_preferences
 from lfdkit.emulate.gaps import declined_gap_width, swerve_reach
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
@@ -352,16 +346,19 @@ class Skill(
         whatever the shorter way round
         (:func:`lfdkit.emulate.fidelity.side_preferences`),
         ``{"side": "left" or "right" (3-D also "above" or "below", the last
-        axis up), "within": units}``: every plan passes
+        axis up), "within": units, "clearance": units}``: every plan passes
         each obstacle of the class whose surface its nominal passes nearer
-        than ``within`` (the clearance the demonstrations typically kept from
-        the class, the median) on that side, the long way round where it must
+        than ``within`` (:data:`~lfdkit.emulate.fidelity.SIDE_REACH` times the
+        clearance the demonstrations typically kept from the class, the
+        median) on that side, the long way round where it must
         (:func:`lfdkit.emulate.gaps.preferred_side_blockers`; where no plan
-        can, the learned response's way, warned). A symmetric reward cannot
-        express it: it passes an obstacle the shorter way (what that changes
-        on the fidelity probe's person who keeps cups on its left:
-        :mod:`lfdkit.emulate.gaps`). Empty without one, for a reward only
-        adopted (unless from a skill with one) and in older files.
+        can, the learned response's way, warned), at least ``clearance`` from
+        it (the class's learned floor,
+        :func:`lfdkit.emulate.gaps.preferred_side_margins`; none in older
+        files). A symmetric reward cannot express it: it passes an obstacle
+        the shorter way (what that changes on the fidelity probe's person
+        who keeps cups on its left: :mod:`lfdkit.emulate.gaps`). Empty
+        without one, for a reward only adopted (unless from a skill with one) and in older files.
     route_ : {"lookahead", "window", "full", "taut"} or None
         The route planner plans use: the MPC with ``lookahead``, the thesis's
         MPC (``"window"``), the full horizon, or the shortest path round the
@@ -1030,23 +1027,14 @@ class Skill(
     ) -> dict[str, dict[str, Any]]:
         """:attr:`side_preferences_` from the preferences found (left, right; 3-D: above, below).
 
-        ``within`` is :data:`~lfdkit.emulate.fidelity.SIDE_REACH` times the
-        clearance the demonstrations typically kept from the class's obstacles
-        they went around (the median,
-        :func:`lfdkit.emulate.fidelity.demonstrated_clearances`): an obstacle
-        the nominal passes nearer than that is kept on the person's side.
-        None for ``model="thesis"`` (the thesis's plans exactly; the
-        preference is only said).
+        :func:`lfdkit.emulate.fidelity.kept_sides`: where (``within``) and how
+        far (``clearance``) plans keep each such class on its side. None for
+        ``model="thesis"`` (the thesis's plans exactly; the preference is only
+        said).
         """
-        sided = [c for c, info in found.items() if info["side"] in SIDES]
-        if not sided or self.model == "thesis":  # the thesis's planner exactly: said, not kept
+        if self.model == "thesis":  # the thesis's planner exactly: said, not kept
             return {}
-        typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
-        return {
-            c: {"side": found[c]["side"], "within": SIDE_REACH * typical[c]}
-            for c in sided
-            if c in typical
-        }
+        return kept_sides(found, demos, scenes, nominals)
 
     def _warn_side_preferences(self, found: dict[str, dict[str, Any]]) -> None:
         """Say which classes the demonstrations pass on one side by preference.
@@ -1400,7 +1388,7 @@ class Skill(
                 c: r * factor for c, r in getattr(self, "class_radii_", {}).items()
             }
             skill.side_preferences_ = {
-                c: {**p, "within": p["within"] * factor}
+                c: {**p, **{k: p[k] * factor for k in ("within", "clearance") if k in p}}
                 for c, p in getattr(self, "side_preferences_", {}).items()
             }
         return skill

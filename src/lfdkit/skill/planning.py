@@ -43,6 +43,7 @@ from lfdkit.emulate.gaps import (
     passable_pairs,
     passes_a_new_gap,
     preferred_side_blockers,
+    preferred_side_margins,
     side_blockers,
     threaded_pairs,
 )
@@ -490,6 +491,7 @@ class Planning:
         unknown_response: str | None = None,
         gap_clearances: Mapping[str, float] | None = None,
         sided: Sequence[Obstacle] | None = None,
+        sided_margins: np.ndarray | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal.
 
@@ -505,7 +507,8 @@ class Planning:
         gap) for its own plans, none for a candidate's. ``sided``: the balls that keep each
         obstacle of a class passed by preference on its side
         (:meth:`_sided_blockers`; default: found here, and where no plan keeps
-        them, none, warned).
+        them, none, warned); ``sided_margins`` (n_obstacles,), the clearance
+        each obstacle kept on its side keeps (units, at least; found with them).
         """
         if via is None:
             nominal = self._nominal(start, goal)
@@ -536,12 +539,15 @@ class Planning:
             unknown_response=unknown_response,
         )
         if sided is None:
-            sided = self._sided_blockers(nominal, scene, start, goal)
+            sided, sided_margins = self._sided_blockers(nominal, scene, start, goal)
             bridges = self._held_bridges(nominal, scene, start, goal, clearance, clearances)
             if bridges:
                 try:
                     return again(
-                        reward=reward, gap_clearances=gap_clearances, sided=[*sided, *bridges]
+                        reward=reward,
+                        gap_clearances=gap_clearances,
+                        sided=[*sided, *bridges],
+                        sided_margins=sided_margins,
                     )
                 except UnsafePlanError:
                     warnings.warn(
@@ -552,7 +558,12 @@ class Planning:
                     )
             if sided:
                 try:
-                    return again(reward=reward, gap_clearances=gap_clearances, sided=sided)
+                    return again(
+                        reward=reward,
+                        gap_clearances=gap_clearances,
+                        sided=sided,
+                        sided_margins=sided_margins,
+                    )
                 except UnsafePlanError:
                     classes = sorted({o.label for o in scene if o.label in self.side_preferences_})
                     warnings.warn(
@@ -567,7 +578,7 @@ class Planning:
             route_reward = self._swerve_route_reward()
             if route_reward is not None:  # a swerve's widths, the route among several: issue 26
                 return self._swerve_routed(
-                    lambda fitted: again(reward=fitted, sided=sided),
+                    lambda fitted: again(reward=fitted, sided=sided, sided_margins=sided_margins),
                     route_reward,
                     nominal,
                     scene,
@@ -642,8 +653,18 @@ class Planning:
         # The skill's own plan, not a candidate's; said once a plan is made (a refusal says
         # enough on its own line).
         gap_margins = margins if clearances is None else None
+        # Past an obstacle kept on its side the learned response pushes the plan towards it (the
+        # shorter way round): it keeps its class's clearance there, whatever the model's floor
+        # and the gaps (lfdkit.emulate.gaps.preferred_side_margins), within the ends' room.
+        side = None
+        if sided_margins is not None and len(scene) and np.any(sided_margins > 0.0):
+            ends_room = self._margins(
+                scene, start, goal, clearance, dict.fromkeys(scene.labels, np.inf)
+            )
+            side = sided_margins if ends_room is None else np.minimum(sided_margins, ends_room)
         if taut and not scene.moving and self.n_dims_ == 2 and len(scene):
             kept = 0.0 if margins is None else margins
+            kept = kept if side is None else np.maximum(kept, side)
             where, extra = scene, clearance + unknown_margin + kept
             if sided:  # kept out of as hard radii, as the planner's (below)
                 where = Scene(scene.obstacles + tuple(sided))
@@ -742,6 +763,8 @@ class Planning:
                     margins = np.minimum(
                         close_declined_gaps(margins, *declined, scene, nominal)[0], room
                     )
+        if side is not None:
+            margins = side if margins is None else np.maximum(margins, side)
         shares = (1.0, 0.5, 0.0) if margins is not None else (0.0,)
         # At least the clearance the demonstrations kept; where no plan keeps it
         # all (a narrow passage every way round), half of it, then none, said.
@@ -811,24 +834,28 @@ class Planning:
 
     def _sided_blockers(
         self, nominal: np.ndarray, scene: Scene, start: np.ndarray, goal: np.ndarray
-    ) -> list[Obstacle]:
-        """Balls that keep each obstacle of a class passed by preference on its side.
+    ) -> tuple[list[Obstacle], np.ndarray | None]:
+        """Balls that keep each obstacle of a class passed by preference on its side, and margins.
 
-        The skill's :attr:`side_preferences_` (``{class: {"side", "within"}}``),
-        for :func:`lfdkit.emulate.gaps.preferred_side_blockers`: in a static
-        scene (2-D or 3-D), balls beside each such obstacle the nominal passes nearer
-        than ``within``, on the side the person never passed it. Empty
-        without a preference (older skill files, a reward adopted).
+        The skill's :attr:`side_preferences_` (``{class: {"side", "within",
+        "clearance"}}``), for :func:`lfdkit.emulate.gaps.preferred_side_blockers`:
+        in a static scene (2-D or 3-D), balls beside each such obstacle the
+        nominal passes nearer than ``within``, on the side the person never
+        passed it; and the clearance each obstacle keeps
+        (:func:`lfdkit.emulate.gaps.preferred_side_margins`, shape
+        (n_obstacles,); None where no obstacle is blocked or the file has no
+        clearance). Empty without a preference (older skill files, a reward
+        adopted).
         """
         preferences = getattr(self, "side_preferences_", None)
         if not preferences or not len(scene) or scene.moving or self.n_dims_ not in (2, 3):
-            return []
+            return [], None
         wanted = {c: (p["side"], float(p["within"])) for c, p in preferences.items()}
         ends = np.stack([start, goal])
-        return [
-            ball
-            for _, ball in preferred_side_blockers(nominal, scene, wanted, ends, int(self.n_points))
-        ]
+        pairs = preferred_side_blockers(nominal, scene, wanted, ends, int(self.n_points))
+        kept = {c: float(p["clearance"]) for c, p in preferences.items() if "clearance" in p}
+        margins = preferred_side_margins(scene, (o for o, _ in pairs), kept) if pairs else None
+        return [ball for _, ball in pairs], margins
 
     def _held_bridges(
         self,
