@@ -154,8 +154,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import git_state, json_ready, machine_info
 
 from lfdkit.emulate import IOC, Box, HalfSpace, Reward, Scene, metrics, plan_path
-from lfdkit.emulate.fidelity import SIDE_REACH, demonstrated_clearances, side_preferences
-from lfdkit.emulate.gaps import SIDE_BLOCKER, preferred_side_blockers
+from lfdkit.emulate.fidelity import demonstrated_clearances, kept_sides, side_preferences
+from lfdkit.emulate.gaps import SIDE_BLOCKER, preferred_side_blockers, preferred_side_margins
 
 TRUE_REWARD = Reward(3.0, {"box": [150.0, 150.0, 150.0], "table": [1.0, 1.0, 400.0]})
 #: Another kind of person: stiffer, and an anisotropic response (wide along x, narrow
@@ -207,22 +207,39 @@ def _smooth_noise(rng: np.random.Generator, sigma: float, n_points: int = N_POIN
     return smooth[:n_points] * np.sin(np.linspace(0.0, np.pi, n_points))[:, None]
 
 
-def sided(reward: Reward, scene: Scene, nominal: np.ndarray, sides: dict, clearance):
+def sided(
+    reward: Reward,
+    scene: Scene,
+    nominal: np.ndarray,
+    sides: dict,
+    clearance,
+    kept: dict | None = None,
+    tool: float | None = None,
+):
     """The reward, scene and clearances that keep each box of ``sides`` on its side.
 
     ``sides``: ``{class: (side, within)}`` (:func:`lfdkit.emulate.gaps.preferred_side_blockers`);
     the blockers are kept out of as hard radii with a response nil outside them, as a
-    :class:`lfdkit.skill.Skill`'s plans do. Unchanged where no box is blocked.
+    :class:`lfdkit.skill.Skill`'s plans do. ``kept``: ``{class: units}``, the clearance an
+    obstacle kept on its side keeps on top of ``clearance``
+    (:func:`lfdkit.emulate.gaps.preferred_side_margins`; the Skill's
+    ``side_preferences_[class]["clearance"]``), at least, on top of ``tool`` (the tool's
+    clearance; default ``clearance``). Unchanged where no box is blocked.
     """
     ends = nominal[[0, -1]]
-    balls = [ball for _, ball in preferred_side_blockers(nominal, scene, sides, ends)]
-    if not balls:
+    pairs = preferred_side_blockers(nominal, scene, sides, ends)
+    if not pairs:
         return reward, scene, clearance
+    balls = [ball for _, ball in pairs]
     narrow = 1.0 / (0.01 * min(b.radius for b in balls)) ** 2
     response = Reward(
         reward.nominal_weight, {**reward.precisions, SIDE_BLOCKER: np.full(3, narrow)}
     )
-    extra = np.concatenate([np.broadcast_to(clearance, len(scene)), np.zeros(len(balls))])
+    own = np.broadcast_to(clearance, len(scene)).astype(float)
+    if kept:  # as the Skill's: the tool's clearance plus the larger of the floor and the side's
+        side = preferred_side_margins(scene, (o for o, _ in pairs), kept)
+        own = np.maximum(own, (clearance if tool is None else tool) + side)
+    extra = np.concatenate([own, np.zeros(len(balls))])
     return response, Scene(scene.obstacles + tuple(balls)), extra
 
 
@@ -326,16 +343,20 @@ def run_fold(data: dict, held: int, scale: float, n_points: int = N_POINTS) -> d
     row["horizon"] = "whole" if ioc.horizon_ is None else ioc.horizon_
     # The classes the training demonstrations keep on one side (above, below, left or
     # right) whatever the shorter way: kept so within SIDE_REACH times the clearance
-    # they typically kept, as a Skill's plans do (Skill.side_preferences_).
+    # they typically kept, at least their learned floor from each such box, as a
+    # Skill's plans do (Skill.side_preferences_, the same function).
     train = [[data[key][j] for j in keep] for key in ("demos", "scenes", "nominals")]
-    found = side_preferences(*train, n_points)
-    typical = demonstrated_clearances(*train, sorted(found), quantile=0.5, factor=1.0)
-    sides = {c: (found[c]["side"], SIDE_REACH * typical[c]) for c in found if c in typical}
+    kept = kept_sides(side_preferences(*train, n_points), *train)
+    sides = {c: (p["side"], p["within"]) for c, p in kept.items()}
+    margins = {c: p["clearance"] for c, p in kept.items()}
     row["sides"] = {c: side for c, (side, _) in sides.items()}
+    row["side_clearance_cm"] = {c: m / scale * 100 for c, m in margins.items()}
 
     def plan_sided(clearance, **options):
         """plan_path with the learned reward, keeping the preferred sides."""
-        reward, where, clearance = sided(ioc.reward_, scene, nominal, sides, clearance)
+        reward, where, clearance = sided(
+            ioc.reward_, scene, nominal, sides, clearance, margins, CLEARANCE * scale
+        )
         plan = plan_path(reward, nominal, where, clearance=clearance, n_points=n_points, **options)
         return plan.points
 
