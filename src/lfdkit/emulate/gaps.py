@@ -106,6 +106,22 @@ the shortest row's reach, none rising above its top (:func:`_fill_holes`, at mos
 side by side with the rows alone): seed 3 ratio to the DMP alone 1.03 → 0.37, sides 8
 → 9 of 10 (the other a coin flip: a nominal through the shelf's centre), seeds 0-2 the
 same to 0.01 cm; a plan with the rows 1.16 times the CPU (39 balls against 15).
+Past an obstacle kept so, the learned response pushes the plan the other way (the
+shorter way round), towards it: nothing learned holds it off, and with the tool's
+clearance alone the *over* person's plans passed the shelf at 0.76-0.79 of the
+clearance the person kept (6.8-9.0 cm against 8.7-10.9). Such an obstacle keeps its
+class's learned floor (:func:`preferred_side_margins`, from
+:func:`lfdkit.emulate.fidelity.kept_sides`: 0.8 times the 10 % quantile of the
+clearances the demonstrations kept), as a skill's floor is kept. Measured (same
+command, side by side with 5662600, 10 folds; ratio to the DMP alone, clearance / the
+person's): seeds 0-3 0.20 / 0.17 / 0.18 / 0.37 → 0.12 / 0.11 / 0.13 / 0.32,
+0.76-0.79 → 0.92-0.95, sides and collisions unchanged. The typical clearance (the median)
+as the margin overshot (1.11-1.49 of the person's: a hard margin holds the whole pass
+as far as the person came at its nearest) and did not bring the plans nearer the
+person (seeds 0, 1, 3: 1.52 / 1.59 / 2.97 cm against 1.57 / 1.25 / 2.90); kept from
+the blockers instead, it refused 4 of 10 folds (seed 0). The fidelity probe's person
+who keeps cups on its left (``asym-cup``, seed 0) is unchanged: its chosen model's
+floor (the typical clearance) is the larger.
 
 Two obstacles one behind the other along the path are no gap across it, yet a
 person who holds its swerve does not weave between them either
