@@ -277,12 +277,21 @@ def measure(
     """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first.
 
     ``env``: extra environment variables for every run (e.g. ``LFDKIT_KERNELS``);
-    ``warm``: False for runs long enough to need no warm-up (a batch).
+    ``warm``: False for runs long enough to need no warm-up (a batch). A tree
+    other than "after" whose warm-up run fails (an older lfdkit that cannot
+    read this checkout's skill file) is left out of the row, with a note.
     """
+    trees = dict(trees)
+    for label, src in list(trees.items()) if warm else ():
+        try:
+            run(src, args, cwd, env)  # warm: numba's cache, the OS's file cache
+        except RuntimeError as error:  # an older tree may not read this checkout's files
+            if label == "after":
+                raise
+            print(f"  {name}: {label} left out, it failed: {str(error)[-200:]}", flush=True)
+            del trees[label]
     times: dict[str, list[float]] = {label: [] for label in trees}
     cpu: dict[str, list[float]] = {label: [] for label in trees}
-    for src in trees.values() if warm else ():
-        run(src, args, cwd, env)  # warm: numba's cache, the OS's file cache
     for _ in range(repeats):
         for label, src in trees.items():
             times[label].append(run(src, args, cwd, env))
