@@ -56,11 +56,14 @@ alternating, so both see the same machine load. Measured:
     numba and the workers' modules (:func:`lfdkit.app.batch.worker_modules`)
     and warmed the planner; the 2-worker run's fork server has loaded the
     same and one worker is forked. The whole command cannot reach 1.85× for
-    short tasks: 64 ``plan`` tasks are about 0.85 s of CPU (13 ms each)
-    against about 1.2 s of start-up that no worker can share (Python,
-    imports, the skill, numba), so the whole command's bound is about 1.3×;
-    the task phase is what a longer batch scales by. A "before" tree older
-    than that warm start counts its workers' start in its task phase.
+    short tasks: 64 ``plan`` tasks are about 1.4-2.0 s of CPU (21-31 ms
+    each, their scenes' declined gaps add side blockers; 2-core machine at
+    load 6) against about 1.2 s of start-up that no worker can share
+    (Python, imports, the skill, numba), so the whole command's bound is
+    about 1.4×; the task phase is what a longer batch scales by. A "before"
+    tree older than that warm start counts its workers' start in its task
+    phase. A "before" tree that cannot run a row (the default commit cannot
+    read the skill files this checkout writes) is left out of that row.
 
 The skill files are made once with this checkout (``skill.json``, the
 sweeping skill; ``n_basis_1000.json``) and kept in the output folder.
