@@ -291,7 +291,8 @@ def measure(
         except RuntimeError as error:  # an older tree may not read this checkout's files
             if label == "after":
                 raise
-            print(f"  {name}: {label} left out, it failed: {str(error)[-200:]}", flush=True)
+            reason = str(error).strip().splitlines()[-1][-160:]
+            print(f"  {name}: {label} left out, it failed: {reason}", flush=True)
             del trees[label]
     times: dict[str, list[float]] = {label: [] for label in trees}
     cpu: dict[str, list[float]] = {label: [] for label in trees}
