@@ -15,13 +15,15 @@ default ``mujoco``: plan, poses, IK, timing, URScript and the MuJoCo sweep at
 :func:`lfdkit.tasks.sweeping.batch.evaluate_batch` on each executor of
 :func:`lfdkit.app.batch.make_executor`: serial (this process), local processes
 with 1 and 2 workers, a Dask LocalCluster with 1 and 2 worker processes.
-Each executor is started and warmed up first (one ``plan`` task per worker
-slot, twice over: the imports, numba's cached kernels and MuJoCo load once
-per process); the table gives the start-up time apart and the throughput of
-the batch itself (tasks/s), with its ratio to serial. The executors run in
-turn, ``--rounds`` times (3); the table gives medians over the rounds (the
-ratio: the median of the per-round ratios, each against that round's serial
-run), as the machine may be shared. Every run's rows are compared with the
+Each executor is started as ``lfdkit batch evaluate --random N --check C``
+starts it (``make_executor(tasks=N, executes=...)``: with at least 8 tasks a
+worker, the workers' fork server loads numba once) and warmed up (one ``plan``
+task per worker slot, twice over: the imports, numba's cached kernels and
+MuJoCo load once per process); the table gives the start-up time apart and the
+throughput of the batch itself (tasks/s), with its ratio to serial. The
+executors run in turn, ``--rounds`` times (3); the table gives medians over
+the rounds (the ratio: the median of the per-round ratios, each against that
+round's serial run), as the machine may be shared. Every run's rows are compared with the
 first serial run's (they must be equal), and its file too (rows in the
 tasks' order: byte for byte the same). On a 2-core machine
 two workers can at best double the throughput; the machine may be shared.
@@ -39,7 +41,8 @@ Scheduling overhead
 ``--scheduling-scenes`` (64) random scenes checked ``plan`` (tasks of about
 30–70 ms, the shortest there are) through :func:`lfdkit.app.batch.run_batch`
 on serial, 2 local processes and a 2-worker Dask LocalCluster, each started
-and warmed first, once in chunks of short tasks (the default,
+(as the command starts it for 64 tasks: numba loaded once, before the
+tasks) and warmed first, once in chunks of short tasks (the default,
 :data:`lfdkit.app.batch.CHUNK_SECONDS` of work a unit) and once one task a
 unit (``chunk_seconds=0``), in the same minutes. The table gives the batch's
 seconds, its ratio to the warm serial run (throughput), and the overhead
@@ -126,7 +129,9 @@ def throughput(skill: Path, out: Path, n: int, check: str, rounds: int) -> list[
             tag = "_".join(f"{key}{v}" for key, v in kwargs.items()) or "serial"
             results = out / f"throughput_{tag}.jsonl"
             begin = time.perf_counter()
-            with make_executor(**kwargs) as executor:
+            # Started as `lfdkit batch evaluate --random n --check check` starts it.
+            executes = check in ("robot", "mujoco")
+            with make_executor(**kwargs, tasks=n, executes=executes) as executor:
                 warm_up(executor, text)
                 startup = time.perf_counter() - begin
                 summary = evaluate_batch(
@@ -228,7 +233,7 @@ def scheduling(skill: Path, out: Path, n: int, rounds: int) -> list[dict]:
     for k in range(rounds):
         serial_s = None
         for name, kwargs in executors:
-            with make_executor(**kwargs) as executor:
+            with make_executor(**kwargs, tasks=n) as executor:  # as the command starts it
                 warm_up(executor, text)
                 modes = [("one task a unit", 0.0), ("chunks", None)]
                 for mode, chunk in modes[1:] if not kwargs else modes:

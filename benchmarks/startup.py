@@ -56,11 +56,14 @@ alternating, so both see the same machine load. Measured:
     numba and the workers' modules (:func:`lfdkit.app.batch.worker_modules`)
     and warmed the planner; the 2-worker run's fork server has loaded the
     same and one worker is forked. The whole command cannot reach 1.85× for
-    short tasks: 64 ``plan`` tasks are about 0.85 s of CPU (13 ms each)
-    against about 1.2 s of start-up that no worker can share (Python,
-    imports, the skill, numba), so the whole command's bound is about 1.3×;
-    the task phase is what a longer batch scales by. A "before" tree older
-    than that warm start counts its workers' start in its task phase.
+    short tasks: 64 ``plan`` tasks are about 1.4-2.0 s of CPU (21-31 ms
+    each, their scenes' declined gaps add side blockers; 2-core machine at
+    load 6) against about 1.2 s of start-up that no worker can share
+    (Python, imports, the skill, numba), so the whole command's bound is
+    about 1.4×; the task phase is what a longer batch scales by. A "before"
+    tree older than that warm start counts its workers' start in its task
+    phase. A "before" tree that cannot run a row (the default commit cannot
+    read the skill files this checkout writes) is left out of that row.
 
 The skill files are made once with this checkout (``skill.json``, the
 sweeping skill; ``n_basis_1000.json``) and kept in the output folder.
@@ -277,12 +280,22 @@ def measure(
     """Median seconds of ``args`` per tree, the trees alternating; a warm-up run each first.
 
     ``env``: extra environment variables for every run (e.g. ``LFDKIT_KERNELS``);
-    ``warm``: False for runs long enough to need no warm-up (a batch).
+    ``warm``: False for runs long enough to need no warm-up (a batch). A tree
+    other than "after" whose warm-up run fails (an older lfdkit that cannot
+    read this checkout's skill file) is left out of the row, with a note.
     """
+    trees = dict(trees)
+    for label, src in list(trees.items()) if warm else ():
+        try:
+            run(src, args, cwd, env)  # warm: numba's cache, the OS's file cache
+        except RuntimeError as error:  # an older tree may not read this checkout's files
+            if label == "after":
+                raise
+            reason = str(error).strip().splitlines()[-1][-160:]
+            print(f"  {name}: {label} left out, it failed: {reason}", flush=True)
+            del trees[label]
     times: dict[str, list[float]] = {label: [] for label in trees}
     cpu: dict[str, list[float]] = {label: [] for label in trees}
-    for src in trees.values() if warm else ():
-        run(src, args, cwd, env)  # warm: numba's cache, the OS's file cache
     for _ in range(repeats):
         for label, src in trees.items():
             times[label].append(run(src, args, cwd, env))

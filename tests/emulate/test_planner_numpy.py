@@ -206,6 +206,50 @@ def test_scalar_newton_is_numbas_on_short_windows(seed: int, clearance: float) -
     assert compared >= 5  # most starts lie outside the hard radii
 
 
+@pytest.mark.parametrize("points", [8, 16])
+@pytest.mark.parametrize("seed", range(2))
+def test_short_windows_among_many_obstacles_run_on_floats(monkeypatch, seed, points) -> None:
+    # A declined gap's row of side blockers gives the receding horizon's windows 13-21
+    # obstacles and as many hard radii: far more terms than SCALAR_TERMS, but a short
+    # window still solves on Python floats (the vectorised form paid NumPy's cost per
+    # call once per term: a random sweeping scene planned 3x slower), numba's bit for bit.
+    nominal = nominal_path(2, 0.1)
+    rng = np.random.default_rng(seed)
+    # Two obstacles and a row of 14 small ones beside the path, 4-6 cm off it.
+    row = nominal[rng.choice(np.arange(20, 130), 16, replace=False)]
+    row[:, 1] += rng.uniform(0.04, 0.06, 16)
+    radii = [0.02, 0.02] + [0.009] * 14
+    labels = rng.choice(["a", "b"], 16).tolist()
+    scene = Scene(
+        tuple(Obstacle(k, c, radius=r) for k, c, r in zip(labels, row, radii, strict=True))
+    )
+    problem = Problem.from_scene(
+        REWARD, Corridor.from_path(nominal, 50), scene, 1.0, "auto", clearance=0.01
+    )
+    scalar = numpy_form.planner_newton_scalar
+    calls = []
+    monkeypatch.setattr(
+        numpy_form, "planner_newton_scalar", lambda *args: calls.append(1) or scalar(*args)
+    )
+    compared = 0
+    for start in range(0, problem.n - points, 5):
+        window = problem.window(start, start + points)
+        args = window.kernel_arguments()
+        assert points * (1 + args[0].shape[1] + args[4].shape[1]) > numpy_form.SCALAR_TERMS
+        d0 = rng.uniform(-0.02, 0.02, 1)
+        init = rng.uniform(-0.02, 0.02, (points, 1))
+        results = []
+        for solve in (compiled.planner_newton, numpy_form.planner_newton):
+            out = init.copy()
+            results.append((solve(*args, window.max_step, d0, out, 1e-10, 100), out))
+        (found_c, d_c), (found_n, d_n) = results
+        np.testing.assert_array_equal(d_n, d_c)
+        assert tuple(found_n) == tuple(found_c)
+        compared += np.isfinite(found_c[0])
+    assert len(calls) == len(range(0, problem.n - points, 5))
+    assert compared >= 3
+
+
 @pytest.mark.parametrize("seed", range(3))
 def test_2d_grid_node_costs_are_each_states_point_cost(seed: int) -> None:
     # The compiled 2-D states' costs go term by term over the levels: each state's sum

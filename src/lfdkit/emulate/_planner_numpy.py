@@ -9,13 +9,17 @@ kernels' order of operations: sums that the compiled loops accumulate one
 term at a time are accumulated the same way (``np.add.accumulate``, never
 NumPy's pairwise ``sum``), and terms a kernel skips are added as exact zeros.
 The steps that depend on the previous one (the line search's clamp to the
-predecessor's box, the dynamic programme's backward pass, the grid walk)
-stay loops over points. On the receding horizon's short 2-D windows (8
-points, one obstacle) NumPy's cost per call outweighs its arithmetic, so the
-solver runs there on Python floats (:func:`planner_newton_scalar`, the
-compiled loops line by line): the README's example plans in 0.14–0.15 s of
-CPU instead of 0.33–0.34 s with the vectorised forms (numba's: about 0.07 s,
-after its ~1.1 s start-up); a batch runs numba's.
+predecessor's box, the dynamic programme's backward pass, the grid walk) stay
+loops over points. On the receding horizon's short 2-D windows (8 points, one
+obstacle or a declined gap's row of side blockers) NumPy's cost per call
+outweighs its arithmetic, so the solver runs there on Python floats
+(:func:`planner_newton_scalar`, the compiled loops line by line): the README's
+example plans in 0.14–0.15 s of CPU instead of 0.33–0.34 s with the vectorised
+forms (numba's: about 0.07 s, after its ~1.1 s start-up); a batch runs
+numba's. Short windows run on floats whatever their obstacles
+(:data:`SCALAR_POINTS`): a random sweeping scene whose declined gap adds a
+row of side blockers (13-21 terms a point) plans in 0.2-0.5 s of CPU instead
+of 0.7-1.5 s, what a batch worker's first tasks take before numba.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ import math
 import numpy as np
 
 __all__ = [
+    "SCALAR_POINTS",
     "SCALAR_TERMS",
     "block_tree_solve",
     "grid_backward",
@@ -42,6 +47,12 @@ __all__ = [
 #: floats (:func:`planner_newton_scalar`): on the receding horizon's windows (8 points, one
 #: obstacle) NumPy's cost per call outweighs its vector arithmetic several times over.
 SCALAR_TERMS = 96
+#: Most points for which a 2-D solve runs on Python floats whatever its terms: the vectorised
+#: form pays NumPy's per-call cost once per obstacle and hard radius, the scalar form a Python
+#: step per point and term, so short windows stay scalar however many obstacles they see (a
+#: declined gap's side blockers: 13-21 terms a point; 8-point windows 0.4-0.8 ms a solve
+#: against 2.0-3.2 ms vectorised, 16 points 1.1-2.5 against 3.1-4.8 ms; about even at 32).
+SCALAR_POINTS = 16
 
 
 def _sequential_sum(terms: np.ndarray) -> float:
@@ -290,11 +301,12 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
 
     ``d`` (n, m) holds the start on entry and the optimum on exit. Returns
     ``(cost, iterations, converged)``, as ``_problem_kernels.planner_newton``.
-    Short 2-D windows (at most :data:`SCALAR_TERMS` point terms) run
+    Short 2-D windows (at most :data:`SCALAR_POINTS` points or
+    :data:`SCALAR_TERMS` point terms) run
     :func:`planner_newton_scalar`.
     """
     n, m = d.shape
-    if m == 1 and n * (1 + c.shape[1] + rr.shape[1]) <= SCALAR_TERMS:
+    if m == 1 and (n <= SCALAR_POINTS or n * (1 + c.shape[1] + rr.shape[1]) <= SCALAR_TERMS):
         args = (c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d, tol, max_iter)
         return planner_newton_scalar(*args)
     args = (c, b, a, weight, rr, nr, inner2, outer2, mu)
