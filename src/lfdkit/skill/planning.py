@@ -490,6 +490,7 @@ class Planning:
         unknown_response: str | None = None,
         gap_clearances: Mapping[str, float] | None = None,
         sided: Sequence[Obstacle] | None = None,
+        return_fraction: float | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal.
 
@@ -505,7 +506,9 @@ class Planning:
         gap) for its own plans, none for a candidate's. ``sided``: the balls that keep each
         obstacle of a class passed by preference on its side
         (:meth:`_sided_blockers`; default: found here, and where no plan keeps
-        them, none, warned).
+        them, none, warned). ``return_fraction``: the receding horizon's bound
+        on the step back toward the nominal (``plan_path``'s; default the
+        skill's :attr:`return_fraction_`; a full-horizon plan has none).
         """
         if via is None:
             nominal = self._nominal(start, goal)
@@ -534,6 +537,7 @@ class Planning:
             gaps=gaps,
             frame=frame,
             unknown_response=unknown_response,
+            return_fraction=return_fraction,
         )
         if sided is None:
             sided = self._sided_blockers(nominal, scene, start, goal)
@@ -612,6 +616,10 @@ class Planning:
             # route's sides need it (older skill files: none steeper than max_slope).
             return_slope=(getattr(self, "ioc_info_", None) or {}).get("demonstrated_slope") or None,
         )
+        if return_fraction is None:  # the skill's own (older files: 1, symmetric)
+            return_fraction = getattr(self, "return_fraction_", 1.0)
+        if h is not None and return_fraction < 1.0:  # the receding horizon's alone
+            options["return_fraction"] = return_fraction
         if gaps is None:
             gaps = getattr(self, "gaps_", "closed") if clearances is None else "closed"
         margins = self._margins(scene, start, goal, clearance, clearances)
@@ -671,7 +679,14 @@ class Planning:
         # each safety floor's route check): planned once per reward while it runs.
         memo = getattr(self, "_free_plans", None)
         ends = start.tobytes() + goal.tobytes() + np.asarray(clearance, dtype=float).tobytes()
-        key = (tuple(routes), id(scene), ends, h, b"".join(b.position.tobytes() for b in sided))
+        key = (
+            tuple(routes),
+            id(scene),
+            ends,
+            h,
+            b"".join(b.position.tobytes() for b in sided),
+            options.get("return_fraction", 1.0),
+        )
         # Every attempt moves along the same nominal: resampled and framed once.
         corridor = Corridor.from_path(nominal, int(self.n_points))
 
