@@ -4,8 +4,9 @@ Dynamic programmes over a grid of lateral offsets for
 :mod:`lfdkit.emulate.planner`: the states' costs (:func:`grid_node_costs`),
 the backward cost-to-go (:func:`grid_backward`, :func:`grid_cost_to_go`),
 following it from a start (:func:`grid_walk`), the whole search
-(:func:`lateral_dp`) and the 2-D receding-horizon loop
-(:func:`receding_horizon_2d`). Argument names as the attributes of
+(:func:`lateral_dp`), the 2-D receding-horizon loop
+(:func:`receding_horizon_2d`) and its executed step's bound on a return to
+the nominal (:func:`return_clamped`). Argument names as the attributes of
 :class:`lfdkit.emulate.problem.Problem`; the cost is the one of
 :mod:`._problem_kernels`, whose cost of one point it shares.
 
@@ -242,6 +243,23 @@ def grid_walk(value, levels, window, max_step, d0, out):
     return total
 
 
+@numba.njit(cache=True)
+def return_clamped(anchor, new, back):
+    """Bound the step from ``anchor`` to ``new`` toward the nominal by ``back``, in place.
+
+    Per component: from ``anchor > 0`` the offset falls by at most ``back``
+    (``new ≥ anchor − back``), from ``anchor < 0`` it rises by at most
+    ``back``; from 0, and away from the nominal, the step is left as it is.
+    The receding horizon's executed step of a person who swerves at the
+    action bound and returns more slowly (``back`` = ``r · max_step``).
+    """
+    for i in range(new.shape[0]):
+        if anchor[i] > 0.0 and new[i] < anchor[i] - back:
+            new[i] = anchor[i] - back
+        elif anchor[i] < 0.0 and new[i] > anchor[i] + back:
+            new[i] = anchor[i] + back
+
+
 @numba.njit(cache=True, nogil=True)  # plans on threads (a Dask worker's) run side by side
 def receding_horizon_2d(
     c,
@@ -273,6 +291,7 @@ def receding_horizon_2d(
     tol,
     max_iter,
     offsets,
+    back,
 ):
     """The MPC loop of ``lfdkit.emulate.planner._receding_horizon`` for a 2-D scene with obstacles.
 
@@ -289,9 +308,11 @@ def receding_horizon_2d(
     ``norms``, ``largest`` (all (L + H, n))) polished and ranked. A window's
     own grid on ``levels``' spacing takes its states' costs from ``node`` (a
     state's cost depends on its point and level alone: the same numbers, and
-    no ``exp`` per window and state). Fills ``offsets`` (n + 1, 1), row 0
-    ``d0``; returns ``(iterations, converged, failed)``: ``failed`` the
-    step whose every candidate entered a hard radius (−1: none).
+    no ``exp`` per window and state). ``back``: the largest executed step
+    toward the nominal (units; :func:`return_clamped`, none at ``max_step``
+    or more). Fills ``offsets`` (n + 1, 1), row 0 ``d0``; returns
+    ``(iterations, converged, failed)``: ``failed`` the step whose every
+    candidate entered a hard radius (−1: none).
     """
     n, m = c.shape[0], d0.shape[0]
     n_obs, n_hard, n_rows = c.shape[1], radius.shape[1], distance2.shape[0]
@@ -426,6 +447,8 @@ def receding_horizon_2d(
             return total_iter, all_ok, k
         all_ok &= ok
         offsets[k + 1] = d[0]
+        if back < max_step:
+            return_clamped(anchor, offsets[k + 1], back)
         if h > 1:
             shifted = np.empty((h, m))
             shifted[: h - 1] = d[1:]

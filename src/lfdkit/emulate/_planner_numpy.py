@@ -41,6 +41,7 @@ __all__ = [
     "planner_derivatives",
     "planner_newton",
     "planner_newton_scalar",
+    "return_clamped",
 ]
 
 #: Most terms (points × (1 + obstacles + hard radii)) for which a 2-D solve runs on Python
@@ -473,6 +474,19 @@ def _first_least(values: np.ndarray) -> tuple[int, float]:
     where = int(np.argmin(values))
     best = float(values.reshape(-1)[where])
     return (where, best) if best < np.inf else (-1, np.inf)
+
+
+def return_clamped(anchor, new, back):
+    """Bound the step from ``anchor`` to ``new`` toward the nominal by ``back``, in place.
+
+    ``_planner_kernels.return_clamped``: per component, ``new ≥ anchor − back``
+    from ``anchor > 0`` and ``new ≤ anchor + back`` from ``anchor < 0``.
+    """
+    new[...] = np.where(
+        anchor > 0.0,
+        np.maximum(new, anchor - back),
+        np.where(anchor < 0.0, np.minimum(new, anchor + back), new),
+    )
 
 
 def grid_walk(value, levels, window, max_step, d0, out):

@@ -97,6 +97,21 @@ route 8 points ahead, a ball of 0.2 m on a 1 m path was refused, and now is
 passed within 2.5 mm of the 100-point plan). Plans of 100 points or fewer
 are unchanged by this.
 
+A slow return (``return_fraction`` ``r < 1``, receding horizon only): each
+executed step back toward the nominal is at most ``r · max_step`` per
+component, a step away still ``max_step``
+(:func:`lfdkit.emulate._planner_kernels.return_clamped`, in the compiled
+loop and the Python one alike). A late, reactive person swerves at the
+bound and comes back slowly; the thesis's model has no action cost, so
+below the bound that cannot be expressed (the skill learns ``r``:
+:mod:`lfdkit.skill.selection`). The windows still plan with the symmetric
+box and each starts where the bounded step ended, so a window may count on
+a way back it cannot take: where the next obstacle then blocks every move,
+the plan without the bound is made instead, warned (the fidelity
+benchmark's late person, seed 2: one of 14 held-out scenes, an S-curve
+new task). Bounding the windows' own actions and the grids would plan for
+it; not done.
+
 Safety
 ------
 A plan a robot can execute must reach its goal and keep out of obstacles:
@@ -602,6 +617,7 @@ def plan_path(
     times: Any = None,
     margin: float = UNCERTAINTY_MARGIN,
     return_slope: float | None = None,
+    return_fraction: float = 1.0,
 ) -> Plan:
     """The path maximising the reward along a nominal path in a scene, safely.
 
@@ -677,6 +693,15 @@ def plan_path(
         after the route (its last points) may be steeper; the route keeps
         ``max_slope``. The skill passes the slope its demonstrations swerved
         at (``ioc_info_["demonstrated_slope"]``), where steeper.
+    return_fraction : float
+        Receding horizon only: each executed step back toward the nominal is
+        at most ``return_fraction · max_step`` per component; steps away keep
+        ``max_step`` (default 1: symmetric, the thesis's). A person who swerves
+        late and steeply and returns slowly (the skill learns it:
+        ``ioc_info_["return_fraction"]``). The windows plan with the symmetric
+        bound and each starts where the bounded step ended; the way back to
+        the goal after the route keeps ``max_step``. Where no plan with it
+        keeps out of the obstacles, the plan without it, warned.
 
     Returns
     -------
@@ -697,24 +722,48 @@ def plan_path(
     # One BLAS thread: the 3-D solver's eigen-solves are many and small, and
     # threaded BLAS makes them many times slower on a busy machine.
     tracker = as_progress(progress)
-    with one_blas_thread():
-        return _plan(
-            reward,
-            nominal,
-            scene,
-            horizon,
-            n_points,
-            start_offset,
-            init,
-            max_slope,
-            goal_approach,
-            clearance,
-            lookahead,
-            tracker,
-            times,
-            margin,
-            return_slope,
+    return_fraction = check_positive(return_fraction, "return_fraction")
+    if return_fraction > 1.0:
+        raise ValueError(
+            f"return_fraction: expected a fraction of max_step in (0, 1], got {return_fraction:g}"
         )
+    if return_fraction < 1.0 and horizon is None:
+        raise ValueError(
+            "return_fraction: bounds the receding horizon's return only; give a horizon, "
+            "or return_fraction=1 for the full horizon"
+        )
+    plan = partial(
+        _plan,
+        reward,
+        nominal,
+        scene,
+        horizon,
+        n_points,
+        start_offset,
+        init,
+        max_slope,
+        goal_approach,
+        clearance,
+        lookahead,
+        tracker,
+        times,
+        margin,
+        return_slope,
+    )
+    with one_blas_thread():
+        if return_fraction == 1.0:
+            return plan()
+        try:
+            return plan(return_fraction)
+        except UnsafePlanError:
+            warnings.warn(
+                f"plan: no plan that returns to the nominal at most {return_fraction:.2g} "
+                "times the action bound per step (the demonstrations' return) keeps out of the "
+                "obstacles; planned with the whole bound",
+                UserWarning,
+                stacklevel=2,
+            )
+            return plan()
 
 
 def _plan(
@@ -733,6 +782,7 @@ def _plan(
     times: Any = None,
     margin: float = UNCERTAINTY_MARGIN,
     return_slope: float | None = None,
+    return_fraction: float = 1.0,
 ) -> Plan:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected an lfdkit.emulate.Scene, got {type(scene).__name__}")
@@ -770,8 +820,11 @@ def _plan(
         init = init.reshape(problem.n + 1, m)[1:]
     else:
         init = None  # the receding horizon has no initial plan
+    # The receding horizon's largest step back toward the nominal (none: symmetric).
+    back = problem.max_step * return_fraction if return_fraction < 1.0 else np.inf
+    route = partial(_route, init=init, lookahead=lookahead, progress=progress, back=back)
     try:
-        d, n_iter, ok = _route(problem, d0, horizon, False, init, lookahead, progress)
+        d, n_iter, ok = route(problem, d0, horizon, False)
     except UnsafePlanError:
         if not reach_goal:
             raise
@@ -780,7 +833,7 @@ def _plan(
         d = None
     if reach_goal and d is None:
         problem.weight = goal_w.copy()
-        d, n_iter, ok = _route(problem, d0, horizon, True, init, lookahead, progress)
+        d, n_iter, ok = route(problem, d0, horizon, True)
     elif reach_goal:
         join = partial(
             _connect_to_goal,
@@ -805,7 +858,7 @@ def _plan(
             # No goal-reaching plan keeps the route (e.g. a hard radius beside the
             # goal blocks the way back): the best plan that reaches the goal.
             problem.weight = goal_w.copy()
-            d, more, ok = _route(problem, d0, horizon, True, init, lookahead, progress)
+            d, more, ok = route(problem, d0, horizon, True)
             n_iter += more
     problem.weight = goal_w  # the plan's cost includes the goal term, if any
     offsets = np.vstack([d0[None], d])
@@ -844,12 +897,16 @@ def _route(
     init: np.ndarray | None,
     lookahead: bool,
     progress: Progress,
+    back: float = np.inf,
 ) -> tuple[np.ndarray, int, bool]:
-    """The plan of ``problem`` (its weights as they are): full horizon or receding horizon."""
+    """The plan of ``problem`` (its weights as they are): full horizon or receding horizon.
+
+    ``back``: the receding horizon's largest executed step toward the nominal (units).
+    """
     if horizon is not None:
         if not lookahead:  # the thesis's window spans its share of the path (horizon_points)
             horizon = horizon_points(horizon, problem.n + 1)
-        return _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress)
+        return _receding_horizon(problem, d0, horizon, reach_goal, lookahead, progress, back)
     if init is not None:
         starts = [init]
     else:
@@ -1122,6 +1179,7 @@ def _receding_horizon(
     reach_goal: bool,
     lookahead: bool = True,
     progress: ProgressLike = None,
+    back: float = np.inf,
 ) -> tuple[np.ndarray, int, bool]:
     """MPC: each window's best optimum, judged with the grid's cost-to-go after the window.
 
@@ -1136,7 +1194,11 @@ def _receding_horizon(
     (:func:`_ranked`). A candidate leading into a dead end is never executed.
     ``progress`` counts the steps. In 2-D with numba's kernels the loop runs
     compiled, bit for bit the same (:func:`_compiled_loop`); the Python loop
-    is its NumPy form and the loop of 3-D plans.
+    is its NumPy form and the loop of 3-D plans. ``back`` (units, below
+    ``max_step``): each executed step toward the nominal is at most that
+    (:func:`lfdkit.emulate._planner_kernels.return_clamped`; the windows
+    still plan with the symmetric bound, and the next window starts where the
+    bounded step ended).
     """
     grid_cost_to_go = _grid_kernel("grid_cost_to_go")
 
@@ -1184,6 +1246,7 @@ def _receding_horizon(
                 (table, node, levels, cells),
                 near,
                 reaches,
+                back,
             )
             stage.advance(n)
         return out
@@ -1257,6 +1320,8 @@ def _receding_horizon(
             total_iter += n_iter
             all_ok &= ok
             offsets[k + 1] = d[0]
+            if back < problem.max_step:
+                _grid_kernel("return_clamped")(anchor, offsets[k + 1], back)
             guess = np.vstack([d[1:], d[-1:]]) if d.shape[0] > 1 else d
             stage.advance()
     if escapes:
@@ -1328,6 +1393,7 @@ def _compiled_loop(
     grid: tuple[np.ndarray, np.ndarray, np.ndarray, int],
     near: _ObstacleNear,
     reaches: _WindowReaches | None,
+    back: float = np.inf,
 ) -> tuple[np.ndarray, int, bool]:
     """:func:`_receding_horizon`'s loop in one compiled call (2-D, with obstacles).
 
@@ -1366,6 +1432,7 @@ def _compiled_loop(
         1e-10,
         100,
         offsets,
+        float(back),
     )
     if failed >= 0:
         raise UnsafePlanError(

@@ -44,13 +44,16 @@ every number written exactly (floats round-trip bit for bit) and no pickle:
 ``emulation``
     Only for a skill whose obstacle reward was fitted (issue 26): ``{"route":
     "lookahead" | "window" | "full" | "taut", "clearances": {class: units}[, "radii":
-    {class: units}][, "frame": "path"][, "gaps": "open"]}``, the route planner its
-    plans use, the clearance kept at least from each class's obstacles, the median
-    radius of the obstacles each class was learned from, where not the world's, the
-    frame the learned responses turn with, and where they do, that the clearances give
-    way between two obstacles (:attr:`lfdkit.skill.Skill.route_`,
+    {class: units}][, "frame": "path"][, "gaps": "open"][, "return_fraction": r]}``,
+    the route planner its plans use, the clearance kept at least from each class's
+    obstacles, the median radius of the obstacles each class was learned from, where not
+    the world's, the frame the learned responses turn with, where they do, that the
+    clearances give way between two obstacles, and where the slow-return model was
+    chosen, its bound on the step back toward the nominal (a fraction of the action
+    bound; without it, 1) (:attr:`lfdkit.skill.Skill.route_`,
     :attr:`lfdkit.skill.Skill.clearances_`, :attr:`lfdkit.skill.Skill.class_radii_`,
-    :attr:`lfdkit.skill.Skill.frame_`, :attr:`lfdkit.skill.Skill.gaps_`). A file without it plans as
+    :attr:`lfdkit.skill.Skill.frame_`, :attr:`lfdkit.skill.Skill.gaps_`,
+    :attr:`lfdkit.skill.Skill.return_fraction_`). A file without it plans as
     before (MPC with lookahead, no learned clearance); an older lfdkit
     reading a file with it ignores it.
 ``promp``
@@ -607,6 +610,27 @@ class SkillDocument:
             str(c): sub.array(f"swerve.{c}", (2,), value=w).tolist()
             for c, w in sub.get("swerve", dict).items()
         }
+
+    def return_fraction(self) -> float:
+        """The slow-return model's bound (``emulation.return_fraction``, in (0, 1]; issue 26).
+
+        1 (symmetric steps, the thesis's) where the file has none: every file
+        from before the model, and skills that did not choose it.
+        """
+        value = self.data.get("emulation")
+        if not isinstance(value, Mapping) or "return_fraction" not in value:
+            return 1.0
+        fraction = value["return_fraction"]
+        if (
+            isinstance(fraction, bool)
+            or not isinstance(fraction, (int, float))
+            or not 0.0 < fraction <= 1.0
+        ):
+            raise ValueError(
+                f"{self.source}: emulation.return_fraction: expected a number in (0, 1], "
+                f"got {fraction!r}"
+            )
+        return float(fraction)
 
     def _lengths(self, values: Mapping[str, Any], key: str) -> dict[str, float]:
         """``emulation.<key>``: ``{class: length}``, each a finite number >= 0."""

@@ -333,6 +333,11 @@ class Skill(
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for
         ``model="path"``).
+    return_fraction_ : float
+        The receding horizon's largest step back toward the nominal, as a
+        fraction of the action bound (``plan_path``'s ``return_fraction``):
+        the demonstrations' return slope where the slow-return model was
+        chosen (``model_selection_["return_fraction"]``), else 1 (symmetric).
         (:func:`lfdkit.emulate.fidelity.demonstrated_clearances`), with
         ``model="auto"``; empty otherwise (and for a reward only adopted).
     class_radii_ : dict
@@ -792,6 +797,7 @@ class Skill(
         self.class_radii_: dict[str, float] = {}
         self.route_: str | None = None
         self.frame_ = "world"
+        self.return_fraction_ = 1.0
         self.side_preferences_: dict[str, dict[str, Any]] = {}
         self.training_fidelity_: list[dict[str, Any]] | None = None
         self.model_selection_: dict[str, Any] | None = None
@@ -967,6 +973,8 @@ class Skill(
             # How steeply the demonstrations swerved: the plans' way back to the goal
             # may be as steep where the route's sides need it (plan_path's return_slope).
             "demonstrated_slope": float(getattr(ioc, "demonstrated_slope_", 0.0)),
+            # How steeply they swerved out and came back (the slow-return model's bound).
+            "demonstrated_return": skill_file.jsonable(getattr(ioc, "demonstrated_return_", None)),
             "identifiability": skill_file.jsonable(ioc.identifiability_),
             "seconds": time.perf_counter() - started,
             "stages": skill_file.jsonable(
@@ -1379,6 +1387,7 @@ class Skill(
             skill.adopt(Reward(self.reward_.nominal_weight / area, precisions, self.reward_.swerve))
             skill.route_ = getattr(self, "route_", None)
             skill.frame_ = getattr(self, "frame_", "world")
+            skill.return_fraction_ = getattr(self, "return_fraction_", 1.0)  # a ratio: no unit
             skill.clearances_ = {c: m * factor for c, m in self.clearances_.items()}
             skill.gaps_ = getattr(self, "gaps_", "closed")
             skill.model_selection_ = _selection_in_units(

@@ -70,6 +70,8 @@ class SkillFiles:
                 emulation["sides"] = {c: dict(p) for c, p in sides.items()}
             if self.reward_.swerve:  # the swerve model (issue 26); older files have none
                 emulation["swerve"] = {c: w.tolist() for c, w in self.reward_.swerve.items()}
+            if getattr(self, "return_fraction_", 1.0) < 1.0:  # older files: 1, symmetric
+                emulation["return_fraction"] = float(self.return_fraction_)
         return skill_file.to_document(
             params,
             n_dims=self.n_dims_,
@@ -150,6 +152,7 @@ class SkillFiles:
                 skill.route_, skill.clearances_, skill.frame_, skill.gaps_ = emulation
                 skill.class_radii_ = document.class_radii()
                 skill.side_preferences_ = document.side_preferences()
+                skill.return_fraction_ = document.return_fraction()
                 fit = skill.ioc_info_ or {}
                 skill.training_fidelity_ = fit.get("training_fidelity")
                 skill.model_selection_ = fit.get("model_selection")

@@ -492,6 +492,7 @@ class Planning:
         gap_clearances: Mapping[str, float] | None = None,
         sided: Sequence[Obstacle] | None = None,
         sided_margins: np.ndarray | None = None,
+        return_fraction: float | None = None,
     ) -> Plan:
         """:meth:`plan_details` from a checked start and goal.
 
@@ -509,6 +510,9 @@ class Planning:
         (:meth:`_sided_blockers`; default: found here, and where no plan keeps
         them, none, warned); ``sided_margins`` (n_obstacles,), the clearance
         each obstacle kept on its side keeps (units, at least; found with them).
+        ``return_fraction``: the receding horizon's bound on the step back
+        toward the nominal (``plan_path``'s; default the skill's
+        :attr:`return_fraction_`; a full-horizon plan has none).
         """
         if via is None:
             nominal = self._nominal(start, goal)
@@ -537,6 +541,7 @@ class Planning:
             gaps=gaps,
             frame=frame,
             unknown_response=unknown_response,
+            return_fraction=return_fraction,
         )
         if sided is None:
             sided, sided_margins = self._sided_blockers(nominal, scene, start, goal)
@@ -623,6 +628,10 @@ class Planning:
             # route's sides need it (older skill files: none steeper than max_slope).
             return_slope=(getattr(self, "ioc_info_", None) or {}).get("demonstrated_slope") or None,
         )
+        if return_fraction is None:  # the skill's own (older files: 1, symmetric)
+            return_fraction = getattr(self, "return_fraction_", 1.0)
+        if h is not None and return_fraction < 1.0:  # the receding horizon's alone
+            options["return_fraction"] = return_fraction
         if gaps is None:
             gaps = getattr(self, "gaps_", "closed") if clearances is None else "closed"
         margins = self._margins(scene, start, goal, clearance, clearances)
@@ -692,7 +701,14 @@ class Planning:
         # each safety floor's route check): planned once per reward while it runs.
         memo = getattr(self, "_free_plans", None)
         ends = start.tobytes() + goal.tobytes() + np.asarray(clearance, dtype=float).tobytes()
-        key = (tuple(routes), id(scene), ends, h, b"".join(b.position.tobytes() for b in sided))
+        key = (
+            tuple(routes),
+            id(scene),
+            ends,
+            h,
+            b"".join(b.position.tobytes() for b in sided),
+            options.get("return_fraction", 1.0),
+        )
         # Every attempt moves along the same nominal: resampled and framed once.
         corridor = Corridor.from_path(nominal, int(self.n_points))
 

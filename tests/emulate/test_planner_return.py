@@ -1,0 +1,165 @@
+"""A slow return: the receding horizon's step back toward the nominal bounded (issue 26).
+
+A late, reactive person swerves steeply and comes back slowly; the thesis's
+model has no action cost, so below the symmetric action bound that cannot be
+expressed. ``plan_path(return_fraction=r)`` bounds each executed step toward
+the nominal by ``r · max_step`` (steps away keep ``max_step``), in the
+compiled 2-D loop and in its NumPy form alike; the fit measures ``r`` from the
+demonstrations (:func:`lfdkit.emulate.ioc.demonstrated_return`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lfdkit.core import kernels
+from lfdkit.emulate import Reward, UnsafePlanError, plan_path, planner
+from lfdkit.emulate import _planner_kernels as compiled
+from lfdkit.emulate import _planner_numpy as numpy_forms
+from lfdkit.emulate.ioc import demonstrated_return, prepare_demos
+from lfdkit.model.scene import Obstacle, Scene
+
+from .test_ioc_slope import straight, swerve
+
+REWARD = Reward(10.0, {"cup": [2500.0, 215.0]})
+N_POINTS = 60
+
+
+def line() -> np.ndarray:
+    x = np.linspace(0.0, 1.0, N_POINTS)
+    return np.column_stack([x, np.zeros_like(x)])
+
+
+def steps(plan) -> tuple[np.ndarray, np.ndarray]:
+    """Each step's size toward the nominal and away from it, in action bounds (1 step = 1/59)."""
+    d = plan.offsets[:, 0]
+    step = np.diff(d) * (N_POINTS - 1)
+    toward = np.sign(d[:-1]) * step < 0.0
+    return np.where(toward, np.abs(step), 0.0), np.where(toward, 0.0, np.abs(step))
+
+
+@pytest.mark.parametrize("fraction", [0.2, 0.5])
+@pytest.mark.parametrize("lookahead", [False, True])
+def test_steps_back_are_bounded_and_steps_out_keep_the_bound(fraction, lookahead) -> None:
+    scene = Scene((Obstacle("cup", [0.4, 0.01], 0.02),))
+    args = dict(horizon=8, lookahead=lookahead, n_points=N_POINTS, goal_approach=None)
+    free = plan_path(REWARD, line(), scene, **args)
+    slow = plan_path(REWARD, line(), scene, return_fraction=fraction, **args)
+    back, out = steps(slow)
+    assert back.max() <= fraction * (1.0 + 1e-9)
+    assert out.max() == pytest.approx(1.0)  # the swerve still at the action bound
+    assert steps(free)[0].max() == pytest.approx(1.0)  # without it, back as steeply
+    # The same swerve out; it returns later and ends no farther from the nominal.
+    top = int(np.argmax(np.abs(free.offsets[:, 0])))
+    np.testing.assert_array_equal(slow.offsets[: top + 1], free.offsets[: top + 1])
+    assert np.abs(slow.offsets[top + 1 :, 0]).sum() > np.abs(free.offsets[top + 1 :, 0]).sum()
+    assert slow.clearance.min() >= 0.0
+
+
+def test_a_fraction_of_one_is_the_symmetric_plan_bit_for_bit() -> None:
+    scene = Scene((Obstacle("cup", [0.4, 0.01], 0.02), Obstacle("cup", [0.7, -0.02], 0.01)))
+    args = dict(horizon=8, lookahead=False, n_points=N_POINTS, clearance=0.01)
+    np.testing.assert_array_equal(
+        plan_path(REWARD, line(), scene, return_fraction=1.0, **args).points,
+        plan_path(REWARD, line(), scene, **args).points,
+    )
+
+
+def test_the_numpy_form_clamps_as_the_kernel() -> None:
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        m = int(rng.integers(1, 3))
+        anchor = rng.normal(0.0, 1.0, m) * (rng.random(m) > 0.2)  # some exactly 0
+        new = anchor + rng.normal(0.0, 1.0, m)
+        back = float(rng.uniform(0.05, 1.0))
+        a, b = new.copy(), new.copy()
+        compiled.return_clamped(anchor, a, back)
+        numpy_forms.return_clamped(anchor, b, back)
+        np.testing.assert_array_equal(a, b)
+        toward = np.where(anchor > 0.0, anchor - a, np.where(anchor < 0.0, a - anchor, 0.0))
+        assert np.all(toward <= back * (1.0 + 1e-12))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_compiled_loop_bounds_as_the_python_loop(monkeypatch, seed: int) -> None:
+    monkeypatch.setenv(kernels.KERNELS_VARIABLE, "numba")
+    rng = np.random.default_rng(seed)
+    path = line()
+    scene = Scene(
+        tuple(
+            Obstacle("cup", path[k] + [0.0, rng.normal(0.0, 0.03)], float(rng.uniform(0, 0.02)))
+            for k in rng.integers(10, N_POINTS - 10, size=3)
+        )
+    )
+    plans = []
+    for use in (False, True):
+        monkeypatch.setattr(planner, "use_compiled", lambda use=use: use)
+        try:
+            plans.append(
+                plan_path(
+                    REWARD,
+                    path,
+                    scene,
+                    horizon=8,
+                    lookahead=False,
+                    n_points=N_POINTS,
+                    return_fraction=0.3,
+                    clearance=0.005,
+                ).points
+            )
+        except UnsafePlanError as error:
+            plans.append(str(error))
+    if isinstance(plans[0], str):
+        assert plans[1] == plans[0]
+    else:
+        np.testing.assert_array_equal(plans[1], plans[0])
+
+
+def test_where_no_bounded_plan_passes_the_plan_without_it_is_warned() -> None:
+    # Up round the first ball, then a wide ball just above the nominal: the slow return
+    # cannot come back under it in time. The plan with the whole bound, said.
+    path = line()
+    scene = Scene((Obstacle("cup", [0.30, -0.005], 0.03), Obstacle("cup", [0.5, 0.14], 0.12)))
+    args = dict(horizon=8, lookahead=False, n_points=N_POINTS, goal_approach=None)
+    free = plan_path(REWARD, path, scene, **args)
+    with pytest.warns(UserWarning, match="returns to the nominal at most 0.05"):
+        plan = plan_path(REWARD, path, scene, return_fraction=0.05, **args)
+    np.testing.assert_array_equal(plan.points, free.points)
+
+
+@pytest.mark.parametrize(
+    "bad, match",
+    [
+        (dict(return_fraction=0.0), "return_fraction"),
+        (dict(return_fraction=1.5), "return_fraction: expected a fraction"),
+        (dict(return_fraction=0.5, horizon=None), "receding horizon's return only"),
+    ],
+)
+def test_bad_fractions_are_refused(bad, match) -> None:
+    args = {"horizon": 8, "n_points": N_POINTS, **bad}
+    with pytest.raises(ValueError, match=match):
+        plan_path(REWARD, line(), Scene((Obstacle("cup", [0.4, 0.01]),)), **args)
+
+
+@pytest.mark.parametrize("out, back", [(1.5, 0.2), (1.0, 0.4), (0.5, 0.5)])
+def test_the_return_slope_of_synthetic_swerves_is_recovered(out: float, back: float) -> None:
+    # Three swerves of different heights (the smallest still above half the largest),
+    # each out at slope `out` and back at `back` after a held top.
+    demos = [swerve(out, back, height) for height in (0.06, 0.08, 0.1)]
+    data = prepare_demos(demos, [Scene()] * 3, straight(), 100)
+    measured = demonstrated_return(data)
+    assert measured["count"] == 3
+    assert measured["back"] == pytest.approx(back, rel=0.05)
+    assert measured["out"] == pytest.approx(out, rel=0.05)
+    assert measured["ratio"] == pytest.approx(back / out, rel=0.08)
+
+
+def test_small_swerves_and_flat_demonstrations_are_not_measured() -> None:
+    demos = [swerve(1.5, 0.2, 0.1), swerve(0.5, 0.5, 0.02), straight()[::3]]
+    data = prepare_demos(demos, [Scene()] * 3, straight(), 100)
+    measured = demonstrated_return(data)
+    assert measured["count"] == 1  # the swerve of 2 cm is below half the largest
+    assert measured["back"] == pytest.approx(0.2, rel=0.05)
+    flat = demonstrated_return(prepare_demos([straight()[::3]], [Scene()], straight(), 100))
+    assert flat["count"] == 0 and np.isnan(flat["back"])
