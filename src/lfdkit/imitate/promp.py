@@ -115,7 +115,7 @@ from __future__ import annotations
 import functools
 import math
 import warnings
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -156,10 +156,6 @@ _SCALAR_TYPES = frozenset((float, int, np.float64, np.float32, np.int64, np.int3
 #: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
 _SMALL_EIGH = 25
 
-#: The conditioning kernel: numba's or its NumPy twin (:func:`condition_weights`).
-_KERNEL = ("condition_weights", "lfdkit.imitate._promp_kernels")
-_COMPILED: list = []  # numba's, once handed out
-
 #: Activations on even grids by (n_basis, width, n_points): a dict look-up before
 #: the argument check and the LRU cache (together 3× the product of a mean path).
 _GRIDS: dict = {}
@@ -188,21 +184,39 @@ _FLOAT64 = np.dtype(np.float64)
 #: Infinity, a module global: an attribute look-up less in the one-point route.
 _INF = math.inf
 
-#: The one-point conditioning kernel: numba's or its NumPy twin (:func:`condition_point`).
-_POINT_KERNEL = ("condition_point", "lfdkit.imitate._promp_kernels")
-_COMPILED_POINT: list = []  # numba's, once handed out
 
-#: The several-point conditioning kernel (a variance): numba's or :func:`condition_points`.
-_POINTS_KERNEL = ("condition_points", "lfdkit.imitate._promp_kernels")
-_COMPILED_POINTS: list = []  # numba's, once handed out
+def _kernel_getter(name: str) -> tuple[list, Callable[[], Any]]:
+    """``(kept, get)`` for the kernel ``name``: ``get()`` hands out numba's form (from
+    :mod:`._promp_kernels`) or its NumPy twin of the same name in this module, as
+    :func:`lfdkit.core.kernels.kernel`'s rule says.
 
-#: The conditioned covariance's kernel: numba's or its twin (:func:`conditioned_covariance`).
-_COV_KERNEL = ("conditioned_covariance", "lfdkit.imitate._promp_kernels")
-_COMPILED_COV: list = []  # numba's, once handed out
+    numba's is kept in ``kept`` once handed out (the rule never turns back within a
+    process; asking it again cost as much as the kernel itself): a hot path reads
+    ``kept[0]`` and calls ``get()`` only while ``kept`` is empty.
+    """
+    kept: list = []
 
-#: Its form for an exactly symmetric weight covariance: :func:`conditioned_covariance_rows`.
-_ROWS_KERNEL = ("conditioned_covariance_rows", "lfdkit.imitate._promp_kernels")
-_COMPILED_ROWS: list = []  # numba's, once handed out
+    def get() -> Any:
+        if kept:
+            return kept[0]
+        run = kernel(name, "lfdkit.imitate._promp_kernels", __name__)
+        if run is not globals()[name]:  # not the twin: numba's
+            kept.append(run)
+        return run
+
+    return kept, get
+
+
+#: The conditioning kernel (:func:`condition_weights`), the one-point kernel
+#: (:func:`condition_point`), the several-point one with a variance
+#: (:func:`condition_points`), the conditioned covariance's (:func:`conditioned_covariance`)
+#: and its form for an exactly symmetric weight covariance
+#: (:func:`conditioned_covariance_rows`): numba's once handed out, and their getters.
+_COMPILED, _condition_kernel = _kernel_getter("condition_weights")
+_COMPILED_POINT, _point_kernel = _kernel_getter("condition_point")
+_COMPILED_POINTS, _points_kernel = _kernel_getter("condition_points")
+_COMPILED_COV, _cov_kernel = _kernel_getter("conditioned_covariance")
+_COMPILED_ROWS, _rows_kernel = _kernel_getter("conditioned_covariance_rows")
 
 
 class _FormedOnRead:
@@ -1257,64 +1271,6 @@ def _out_parts(
         out[columns_at:root_t_at].reshape(n_sets, b, n_dims),
         out[root_t_at:].reshape(b, m * n_dims),
     )
-
-
-def _condition_kernel() -> Any:
-    """:func:`condition_weights`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it.
-
-    numba's is kept once handed out (the rule never turns back within a
-    process): asking the rule again cost as much as the kernel itself.
-    """
-    if _COMPILED:
-        return _COMPILED[0]
-    run = kernel(*_KERNEL, __name__)
-    if run is not condition_weights:
-        _COMPILED.append(run)
-    return run
-
-
-def _points_kernel() -> Any:
-    """:func:`condition_points`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it
-    (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_POINTS:
-        return _COMPILED_POINTS[0]
-    run = kernel(*_POINTS_KERNEL, __name__)
-    if run is not condition_points:
-        _COMPILED_POINTS.append(run)
-    return run
-
-
-def _cov_kernel() -> Any:
-    """:func:`conditioned_covariance`, numba's once :mod:`lfdkit.core.kernels`' rule turns to
-    it (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_COV:
-        return _COMPILED_COV[0]
-    run = kernel(*_COV_KERNEL, __name__)
-    if run is not conditioned_covariance:
-        _COMPILED_COV.append(run)
-    return run
-
-
-def _rows_kernel() -> Any:
-    """:func:`conditioned_covariance_rows`, numba's once :mod:`lfdkit.core.kernels`' rule
-    turns to it (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_ROWS:
-        return _COMPILED_ROWS[0]
-    run = kernel(*_ROWS_KERNEL, __name__)
-    if run is not conditioned_covariance_rows:
-        _COMPILED_ROWS.append(run)
-    return run
-
-
-def _point_kernel() -> Any:
-    """:func:`condition_point`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it
-    (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_POINT:
-        return _COMPILED_POINT[0]
-    run = kernel(*_POINT_KERNEL, __name__)
-    if run is not condition_point:
-        _COMPILED_POINT.append(run)
-    return run
 
 
 @functools.lru_cache(maxsize=16)
