@@ -181,8 +181,12 @@ _PHASE_TYPES = frozenset((float, np.float64))
 #: NumPy's float64 (a type's dtype is this one object: compared by identity, 10× faster).
 _FLOAT64 = np.dtype(np.float64)
 
-#: Infinity, a module global: an attribute look-up less in the one-point route.
+#: Infinity, NumPy's array type and allocation, a new object: module globals, an
+#: attribute look-up less each in the one-point route.
 _INF = math.inf
+_NDARRAY = np.ndarray
+_EMPTY = np.empty
+_NEW = object.__new__
 
 
 def _kernel_getter(name: str) -> tuple[list, Callable[[], Any]]:
@@ -541,19 +545,20 @@ class ProMP(Estimator):
         kept = state.get("_prior_cache")
         if kept is None:  # checks that it is fitted, forms a conditioned model's covariance
             kept = self._kernel_prior()
-        prior, n_weights, size, shape, cov, symmetric = kept
+        prior, n_weights, size, shape, cov, symmetric, copied = kept
         # The common call, one point at one phase with a variance, goes to the one-point
         # kernel with its argument types and shapes checked here (values by the kernel);
         # the glue is inline: each NumPy call or method call costs 0.1–1 µs of a 3 µs call.
         kind, phase, pts = type(phases), phases, None
         if kind is list and len(phases) == 1:
             phase = phases[0]
-        elif kind is np.ndarray:
+        elif kind is _NDARRAY:
             phase = phases[0] if phases.shape == (1,) else None
-        quick = type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < _INF
+        kind = type(covariance)
+        quick = (kind is float or kind in _SCALAR_TYPES) and 0.0 <= covariance < _INF
         if quick and type(phase) in _PHASE_TYPES:
             pts = points
-            if type(pts) is not np.ndarray or pts.dtype is not _FLOAT64:
+            if type(pts) is not _NDARRAY or pts.dtype is not _FLOAT64:
                 try:
                     pts = np.asarray(points, dtype=np.float64)
                 except (TypeError, ValueError):
@@ -561,12 +566,12 @@ class ProMP(Estimator):
             if pts is not None and pts.shape != shape:
                 pts = pts.reshape(shape) if pts.shape == shape[1:] else None
         if pts is not None:
-            out = np.empty(size)
+            out = _EMPTY(size)
             n_dropped = (_COMPILED_POINT[0] if _COMPILED_POINT else _point_kernel())(
                 prior,
                 phase,
                 pts,
-                covariance if type(covariance) is float else float(covariance),
+                covariance if kind is float else float(covariance),
                 out,
             )
             if n_dropped < 0:  # a value the quick check let through: the full checks name it
@@ -584,7 +589,7 @@ class ProMP(Estimator):
                     prior,
                     s,
                     pts,
-                    covariance if type(covariance) is float else float(covariance),
+                    covariance if kind is float else float(covariance),
                     out,
                 )
                 if n_dropped < 0:
@@ -598,17 +603,13 @@ class ProMP(Estimator):
                 m = pts.size
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it. The copy made inline (a method call is 0.1 µs).
-        copied = state.get("_copy_state")
-        if copied is None:
-            copied = self._copied_state()
-        new = object.__new__(type(self))
+        new = _NEW(type(self))
         made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
         made.update(copied)
         mean = made["weights_mean_"] = out[:n_weights]
         # self: keeps the band for std; prior: the model as the covariance's kernel takes it;
         # symmetric: whether Σ is exactly (which of its two kernels forms Σ').
         made["_pending_cov"] = (cov, out, symmetric, m, self, mean, prior)
-        made["_copy_state"] = copied
         if n_dropped:
             lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
             new._warn_unreachable(pts, np.reshape(s, -1), lost, "points")
@@ -759,7 +760,6 @@ class ProMP(Estimator):
             made.update(copied)
             made["weights_mean_"] = mean
             made["weights_cov_"] = cov
-            made["_copy_state"] = copied
             copies.append(new)
         return copies
 
@@ -775,15 +775,19 @@ class ProMP(Estimator):
         if copied is None:
             skipped = (*_KEPT, "weights_mean_", "weights_cov_")
             copied = {key: value for key, value in state.items() if key not in skipped}
+            # Its own: a copy's update with it sets it too (a dict store less per copy).
+            copied["_copy_state"] = copied
             state["_copy_state"] = copied
         return copied
 
-    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray, bool]:
+    def _kernel_prior(
+        self,
+    ) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray, bool, dict[str, Any]]:
         """For the one- and several-point kernels: ``[width, rcond, mean, cov]`` in one
         writeable array (private; the weights' own arrays are read-only), the weights'
         count, the one-point buffer's length, a point's shape (1, n_dims),
-        ``weights_cov_`` and whether it is exactly symmetric; kept until an
-        attribute is set.
+        ``weights_cov_``, whether it is exactly symmetric, and what a conditioned copy
+        takes (:meth:`_copied_state`); kept until an attribute is set.
 
         Three arrays of which two read-only took numba 0.3 µs more to type and
         unbox than one writeable array (a tenth of a one-point conditioning).
@@ -801,7 +805,7 @@ class ProMP(Estimator):
             # Exactly symmetric (every fitted or conditioned model's; checked once): the new
             # covariance is then formed in whole rows (:func:`conditioned_covariance_rows`).
             symmetric = bool(np.array_equal(cov, cov.T))
-            kept = (prior, n, 2 * (1 + d) * n + d, (1, d), cov, symmetric)
+            kept = (prior, n, 2 * (1 + d) * n + d, (1, d), cov, symmetric, self._copied_state())
             state["_prior_cache"] = kept
         return kept
 
