@@ -80,7 +80,9 @@ Why this design:
   inline (each NumPy call or method call costs 0.1–1 µs of a ~3 µs call;
   ``setflags`` by keyword cost 2.5× positional); the conditioned copy fills
   its own dict from the attributes kept for copies (copying the dict and
-  deleting what is kept for speed was 0.7 µs). What is kept is dropped when
+  deleting what is kept for speed was 0.7 µs), kept with the model's array
+  and read as an attribute (a class default ``None`` where none is kept),
+  not from ``__dict__``. What is kept is dropped when
   an attribute is set (:meth:`ProMP.__setattr__`). The kernel writes the
   new mean basis-major as well and ``Z`` transposed by dimension, so that a
   path and a band are each one ``np.dot`` with a contiguous operand (a
@@ -95,8 +97,15 @@ Why this design:
   Several points with a variance go to :func:`condition_points`, with the
   same one-array model and five arguments: the general kernel's ten, three
   of them read-only, and its Python glue were a quarter of a three-point
-  call (3 points at new phases: 11× → 15× the peer; 1 point at about 10×,
-  its kernel 1.3 µs of 2.8, of which numba's dispatch 0.3).
+  call (3 points at new phases: 11× → 15× the peer). One point: 11.2× the
+  peer at a phase seen before, 10.8× at a new one (quartiles 10.4–12.0×;
+  9.7× and 9.9× before the glue above was trimmed and the kernel's views
+  dropped; 16 runs of each, side by side, at load 3–6), a call ~3 µs: by a
+  profile half of it CPython running the glue and making the copy, under a
+  third the compiled call (the kernel's work ~1 µs, numba's dispatch and
+  unboxing ~0.3 µs), NumPy's and the C library's allocation a tenth. With
+  ``weights_cov_`` read, 6.8× (6.3× before): its 30 × 30 entries are the
+  work of another conditioning.
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
