@@ -622,6 +622,7 @@ class ProMP(Estimator):
         # self: keeps the band for std; prior: the model as the covariance's kernel takes it;
         # symmetric: whether Σ is exactly (which of its two kernels forms Σ').
         made["_pending_cov"] = (cov, out, symmetric, m, self, mean, prior)
+        made["_copy_state"] = copied
         if n_dropped:
             lost = out[n_weights * (1 + m) : n_weights * (1 + m) + m].reshape(pts.shape)
             new._warn_unreachable(pts, np.reshape(s, -1), lost, "points")
@@ -772,6 +773,7 @@ class ProMP(Estimator):
             made.update(copied)
             made["weights_mean_"] = mean
             made["weights_cov_"] = cov
+            made["_copy_state"] = copied
             copies.append(new)
         return copies
 
@@ -787,8 +789,6 @@ class ProMP(Estimator):
         if copied is None:
             skipped = (*_KEPT, "weights_mean_", "weights_cov_")
             copied = {key: value for key, value in state.items() if key not in skipped}
-            # Its own: a copy's update with it sets it too (a dict store less per copy).
-            copied["_copy_state"] = copied
             state["_copy_state"] = copied
         return copied
 
