@@ -97,15 +97,15 @@ Why this design:
   Several points with a variance go to :func:`condition_points`, with the
   same one-array model and five arguments: the general kernel's ten, three
   of them read-only, and its Python glue were a quarter of a three-point
-  call (3 points at new phases: 11× → 15× the peer). One point: 11.2× the
-  peer at a phase seen before, 10.8× at a new one (quartiles 10.4–12.0×;
-  9.7× and 9.9× before the glue above was trimmed and the kernel's views
-  dropped; 16 runs of each, side by side, at load 3–6), a call ~3 µs: by a
-  profile half of it CPython running the glue and making the copy, under a
-  third the compiled call (the kernel's work ~1 µs, numba's dispatch and
-  unboxing ~0.3 µs), NumPy's and the C library's allocation a tenth. With
-  ``weights_cov_`` read, 6.8× (6.3× before): its 30 × 30 entries are the
-  work of another conditioning.
+  call (3 points at new phases: 11× → 15× the peer). One point: 11.4× the
+  peer at a phase seen before, 10.8× at a new one (quartiles 10.8–11.9× and
+  10.1–12.0×; 10.4× and 10.3× before the glue above was trimmed and the
+  kernel's views dropped; 32 runs of each, side by side, at load 3–6), a
+  call ~3 µs: by a profile half of it CPython running the glue and making
+  the copy, under a third the compiled call (the kernel's work ~1 µs,
+  numba's dispatch and unboxing ~0.3 µs), NumPy's and the C library's
+  allocation a tenth. With ``weights_cov_`` read, 6.8× (6.1× before): its
+  30 × 30 entries are the work of another conditioning.
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
