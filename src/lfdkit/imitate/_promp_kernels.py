@@ -101,39 +101,41 @@ def _jacobi_eigh(matrix, vectors, values, m):
 
 
 @numba.njit(cache=True)
-def _inverse_cholesky(matrix, factor, inverse, m):
-    """``C⁻¹`` into ``inverse`` with ``C Cᵀ`` the symmetric ``m × m`` ``matrix`` (``C``
-    lower triangular, into ``factor``; all flat, row-major).
+def _inverse_cholesky(work, matrix, factor, inverse, m):
+    """``C⁻¹`` into ``work`` at ``inverse`` with ``C Cᵀ`` the symmetric ``m × m`` matrix at
+    ``matrix`` (``C`` lower triangular, into ``work`` at ``factor``; all flat, row-major;
+    offsets into one buffer, not views: a view costs a reference count, an atomic
+    operation, on making and on dropping).
 
     Returns ``tr(matrix) · tr(matrix⁻¹)``, a bound on its condition number
     (``tr(S⁻¹)`` is the squared Frobenius norm of ``C⁻¹``), or infinity where the
     factorisation fails (not positive definite).
     """
     for j in range(m):
-        acc = matrix[j * m + j]
+        acc = work[matrix + j * m + j]
         for p in range(j):
-            acc -= factor[j * m + p] * factor[j * m + p]
+            acc -= work[factor + j * m + p] * work[factor + j * m + p]
         if not acc > 0.0:  # NaN fails too
             return np.inf
         diagonal = np.sqrt(acc)
-        factor[j * m + j] = diagonal
+        work[factor + j * m + j] = diagonal
         for i in range(j + 1, m):
-            acc = matrix[i * m + j]
+            acc = work[matrix + i * m + j]
             for p in range(j):
-                acc -= factor[i * m + p] * factor[j * m + p]
-            factor[i * m + j] = acc / diagonal
+                acc -= work[factor + i * m + p] * work[factor + j * m + p]
+            work[factor + i * m + j] = acc / diagonal
     trace, trace_inverse = 0.0, 0.0
     for i in range(m):
-        trace += matrix[i * m + i]
+        trace += work[matrix + i * m + i]
         for j in range(m):
-            inverse[i * m + j] = 0.0
+            work[inverse + i * m + j] = 0.0
     for j in range(m):  # column j of C⁻¹: C x = e_j by forward substitution
         for i in range(j, m):
             acc = 1.0 if i == j else 0.0
             for p in range(j, i):
-                acc -= factor[i * m + p] * inverse[p * m + j]
-            entry = acc / factor[i * m + i]
-            inverse[i * m + j] = entry
+                acc -= work[factor + i * m + p] * work[inverse + p * m + j]
+            entry = acc / work[factor + i * m + i]
+            work[inverse + i * m + j] = entry
             trace_inverse += entry * entry
     return trace * trace_inverse
 
@@ -171,10 +173,13 @@ def condition_weights(
     is not finite or a phase outside [0, 1] (nothing written: the caller's full
     checks then say which).
     """
-    k, d = sets.shape[1], sets.shape[2]
+    n_sets, k, d = sets.shape
     work = np.empty(_work_size(k, d, scaled_centres.shape[0]))
     return _condition(
-        mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out, work
+        mean, 0, np.ascontiguousarray(cov).reshape(-1), 0, mean.shape[0],
+        scaled_centres, 0, phases, 0, k, width,
+        np.ascontiguousarray(sets).reshape(-1), 0, n_sets, d,
+        variance, np.ascontiguousarray(noise).reshape(-1), noise.shape[0], rcond, out, work,
     )  # fmt: skip
 
 
@@ -194,24 +199,21 @@ def condition_point(prior, phase, point, variance, out):
     n = (out.shape[0] - d) // (2 * (1 + d))
     b = n // d
     width, rcond = prior[0], prior[1]
-    mean = prior[2 : 2 + n]
-    cov = prior[2 + n : 2 + n + n * n].reshape((n, n))
-    # One allocation for all scratch (each costs about a twentieth of the kernel).
-    work = np.empty(_work_size(1, d, b) + 1 + d + b)
-    phases = work[:1]
-    phases[0] = phase
-    sets = work[1 : 1 + d].reshape((1, 1, d))
+    # One allocation for all scratch (each costs about a twentieth of the kernel): what
+    # _condition needs, then the phase, the point and the centres, as offsets (no views).
+    at = _work_size(1, d, b)
+    work = np.empty(at + 1 + d + b)
+    work[at] = phase
     for c in range(d):
-        sets[0, 0, c] = point[0, c]
-    scaled_centres = work[1 + d : 1 + d + b]
+        work[at + 1 + c] = point[0, c]
+    at_centres = at + 1 + d
     step = 1.0 / (b - 1)
     for j in range(b - 1):
-        scaled_centres[j] = j * step / width
-    scaled_centres[b - 1] = 1.0 / width
-    noise = work[:0].reshape((0, d, d))
+        work[at_centres + j] = j * step / width
+    work[at_centres + b - 1] = 1.0 / width
     return _condition(
-        mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out,
-        work[1 + d + b :],
+        prior, 2, prior, 2 + n, n, work, at_centres, work, at, 1, width, work, at + 1, 1, d,
+        variance, work, 0, rcond, out, work,
     )  # fmt: skip
 
 
@@ -230,22 +232,19 @@ def condition_points(prior, phases, points, variance, out):
     n = (out.shape[0] - m) // (2 * (1 + m))
     b = n // d
     width, rcond = prior[0], prior[1]
-    mean = prior[2 : 2 + n]
-    cov = prior[2 + n : 2 + n + n * n].reshape((n, n))
-    work = np.empty(_work_size(k, d, b) + m + b)
-    sets = work[:m].reshape((1, k, d))
+    at = _work_size(k, d, b)
+    work = np.empty(at + m + b)
     for i in range(k):
         for c in range(d):
-            sets[0, i, c] = points[i, c]
-    scaled_centres = work[m : m + b]
+            work[at + i * d + c] = points[i, c]
+    at_centres = at + m
     step = 1.0 / (b - 1)
     for j in range(b - 1):
-        scaled_centres[j] = j * step / width
-    scaled_centres[b - 1] = 1.0 / width
-    noise = work[:0].reshape((0, d, d))
+        work[at_centres + j] = j * step / width
+    work[at_centres + b - 1] = 1.0 / width
     return _condition(
-        mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out,
-        work[m + b :],
+        prior, 2, prior, 2 + n, n, work, at_centres, phases, 0, k, width, work, at, 1, d,
+        variance, work, 0, rcond, out, work,
     )  # fmt: skip
 
 
@@ -256,26 +255,32 @@ def _work_size(k, d, b):
     return m * d * b + k * b + 3 * m * m + 4 * m
 
 
-@numba.njit(cache=True, inline="always")  # in its two callers: 0.14 of a 1.1 µs one-point call
-def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, rcond, out, work):
-    """The work of :func:`condition_weights` (same arguments; ``work``: scratch of
-    :func:`_work_size` floats).
+@numba.njit(cache=True, inline="always")  # in its callers: 0.14 of a 1.1 µs one-point call
+def _condition(
+    mean, at_mean, cov, at_cov, n, centres, at_centres, phases, at_phases, k, width,
+    sets, at_sets, n_sets, d, variance, noise, n_noise, rcond, out, work,
+):  # fmt: skip
+    """The work of :func:`condition_weights`, its arrays flat (C order), each with the
+    offset where it starts: ``mean`` (n) and ``cov`` (n × n) the weights', ``centres``
+    (b) the scaled centres, ``phases`` (k), ``sets`` (n_sets × k × d), ``noise``
+    (n_noise × d × d; n_noise 0 or k); ``out`` as there and ``work`` scratch of
+    :func:`_work_size` floats.
 
-    Flat indices into ``out`` and ``work``, not views: making a view costs about
-    20 ns (a reference count), and a dozen were a fifth of a one-point call.
+    Flat indices into buffers, not views: making a view costs a reference count,
+    an atomic operation, on making and on dropping it; a dozen views were a fifth
+    of a one-point call, and the last fifteen (of the model, the scratch and the
+    innovation covariance's parts) a tenth of its time.
     ``Σ Hᵀ`` is formed from the rows of ``Σ`` (it is symmetric): a contiguous
     sweep per basis function, not a sum along each row (a third of the time).
     """
-    n_sets, k, d = sets.shape
-    b = scaled_centres.shape[0]
-    n = mean.shape[0]  # weights
+    b = n // d  # n weights, b per dimension
     m = k * d
     for i in range(k):
-        if not 0.0 <= phases[i] <= 1.0:  # NaN fails too
+        if not 0.0 <= phases[at_phases + i] <= 1.0:  # NaN fails too
             return -1
         for s in range(n_sets):
             for c in range(d):
-                if not np.isfinite(sets[s, i, c]):
+                if not np.isfinite(sets[at_sets + (s * k + i) * d + c]):
                     return -1
     # out: means (n_sets, n) | Z = Lᵀ H Σ (m, n) | lost (n_sets, m) | means basis-major
     # (n_sets, b, d) | Z by dimension, transposed (b, m·d).
@@ -295,9 +300,9 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
     at_along = at_offset + m
     for i in range(k):
         total = 0.0
-        scaled_phase = phases[i] / width
+        scaled_phase = phases[at_phases + i] / width
         for j in range(b):
-            x = scaled_centres[j] - scaled_phase
+            x = centres[at_centres + j] - scaled_phase
             bump = np.exp(-0.5 * x * x)
             work[at_features + i * b + j] = bump
             total += bump
@@ -312,13 +317,13 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
             for j in range(b):
                 f = work[at_features + i * b + j]
                 for r in range(n):
-                    work[row + r] += cov[c * b + j, r] * f
+                    work[row + r] += cov[at_cov + (c * b + j) * n + r] * f
     for i in range(k):
         for c in range(d):
             row = i * d + c
             acc = 0.0
             for j in range(b):
-                acc += work[at_features + i * b + j] * mean[c * b + j]
+                acc += work[at_features + i * b + j] * mean[at_mean + c * b + j]
             work[at_prior + row] = acc
             for col in range(m):
                 acc = 0.0
@@ -327,41 +332,40 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
                 work[at_innovation + row * m + col] = acc
     for row in range(m):
         work[at_innovation + row * m + row] += variance
-    for i in range(noise.shape[0]):
+    for i in range(n_noise):
         for a in range(d):
             for c in range(d):
-                work[at_innovation + (i * d + a) * m + i * d + c] += noise[i, a, c]
+                work[at_innovation + (i * d + a) * m + i * d + c] += noise[(i * d + a) * d + c]
     # Symmetric before the decomposition (the products above round differently).
     for a in range(m):
         for c in range(a + 1, m):
             half = 0.5 * (work[at_innovation + a * m + c] + work[at_innovation + c * m + a])
             work[at_innovation + a * m + c] = half
             work[at_innovation + c * m + a] = half
-    innovation = work[at_innovation:at_vectors]
-    vectors = work[at_vectors:at_lower]
-    values = work[at_values:at_offset]
     # S⁺ = L Lᵀ; K H Σ = (Lᵀ H Σ)ᵀ (Lᵀ H Σ) and the mean's step K offset =
     # (Lᵀ H Σ)ᵀ (Lᵀ offset): no gain needed. Where S is certainly well conditioned,
     # Lᵀ = C⁻¹ with S = C Cᵀ (Cholesky; no direction is dropped): a tenth of the work
     # of the eigen-decomposition for three points in 2-D.
     n_dropped = 0
     cut = 0.0
-    bound = _inverse_cholesky(innovation, vectors, work[at_lower:at_prior], m)
-    if not bound <= _CHOLESKY_BOUND:
-        _jacobi_eigh(innovation, vectors, values, m)
+    bound = _inverse_cholesky(work, at_innovation, at_vectors, at_lower, m)
+    if not bound <= _CHOLESKY_BOUND:  # views only here, off the common path
+        _jacobi_eigh(
+            work[at_innovation:at_vectors], work[at_vectors:at_lower], work[at_values:at_offset], m
+        )
         largest = 2.2250738585072014e-308  # the smallest positive float: an all-zero matrix
         for e in range(m):
-            largest = max(largest, values[e])
+            largest = max(largest, work[at_values + e])
         cut = rcond * largest
         # L: the kept eigenvectors over the square roots of their values (a dropped
         # direction: a zero column).
         for e in range(m):
             for a in range(m):
                 work[at_lower + e * m + a] = 0.0
-            if values[e] > cut:
-                scale = 1.0 / np.sqrt(values[e])
+            if work[at_values + e] > cut:
+                scale = 1.0 / np.sqrt(work[at_values + e])
                 for a in range(m):
-                    work[at_lower + e * m + a] = vectors[a * m + e] * scale
+                    work[at_lower + e * m + a] = work[at_vectors + a * m + e] * scale
             else:
                 n_dropped += 1
     for e in range(m):
@@ -378,7 +382,8 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
     for s in range(n_sets):
         for i in range(k):
             for c in range(d):
-                work[at_offset + i * d + c] = sets[s, i, c] - work[at_prior + i * d + c]
+                point = sets[at_sets + (s * k + i) * d + c]
+                work[at_offset + i * d + c] = point - work[at_prior + i * d + c]
         for e in range(m):
             acc = 0.0
             for a in range(m):
@@ -386,7 +391,7 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
             work[at_along + e] = acc
         row = s * n
         for r in range(n):
-            out[row + r] = mean[r]
+            out[row + r] = mean[at_mean + r]
         for e in range(m):
             step = work[at_along + e]
             for r in range(n):
@@ -398,12 +403,12 @@ def _condition(mean, cov, scaled_centres, phases, width, sets, variance, noise, 
             out[at_lost + s * m + a] = 0.0
         if n_dropped:
             for e in range(m):
-                if not values[e] > cut:
+                if not work[at_values + e] > cut:
                     along = 0.0
                     for a in range(m):
-                        along += vectors[a * m + e] * work[at_offset + a]
+                        along += work[at_vectors + a * m + e] * work[at_offset + a]
                     for a in range(m):
-                        out[at_lost + s * m + a] += along * vectors[a * m + e]
+                        out[at_lost + s * m + a] += along * work[at_vectors + a * m + e]
     return n_dropped
 
 

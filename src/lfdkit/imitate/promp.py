@@ -80,7 +80,9 @@ Why this design:
   inline (each NumPy call or method call costs 0.1–1 µs of a ~3 µs call;
   ``setflags`` by keyword cost 2.5× positional); the conditioned copy fills
   its own dict from the attributes kept for copies (copying the dict and
-  deleting what is kept for speed was 0.7 µs). What is kept is dropped when
+  deleting what is kept for speed was 0.7 µs), kept with the model's array
+  and read as an attribute (a class default ``None`` where none is kept),
+  not from ``__dict__``. What is kept is dropped when
   an attribute is set (:meth:`ProMP.__setattr__`). The kernel writes the
   new mean basis-major as well and ``Z`` transposed by dimension, so that a
   path and a band are each one ``np.dot`` with a contiguous operand (a
@@ -95,8 +97,15 @@ Why this design:
   Several points with a variance go to :func:`condition_points`, with the
   same one-array model and five arguments: the general kernel's ten, three
   of them read-only, and its Python glue were a quarter of a three-point
-  call (3 points at new phases: 11× → 15× the peer; 1 point at about 10×,
-  its kernel 1.3 µs of 2.8, of which numba's dispatch 0.3).
+  call (3 points at new phases: 11× → 15× the peer). One point: 11.4× the
+  peer at a phase seen before, 10.8× at a new one (quartiles 10.8–11.9× and
+  10.1–12.0×; 10.4× and 10.3× before the glue above was trimmed and the
+  kernel's views dropped; 32 runs of each, side by side, at load 3–6), a
+  call ~3 µs: by a profile half of it CPython running the glue and making
+  the copy, under a third the compiled call (the kernel's work ~1 µs,
+  numba's dispatch and unboxing ~0.3 µs), NumPy's and the C library's
+  allocation a tenth. With ``weights_cov_`` read, 6.8× (6.1× before): its
+  30 × 30 entries are the work of another conditioning.
 - **BLAS threads**: a 30 × 30 ``eigh`` with OpenBLAS's default threads took
   3–48 ms on a busy 2-core machine instead of 0.1 ms (its divide-and-conquer
   hands blocks to threads that wait for a core; 2 × 2 to 12 × 12 were not
@@ -115,7 +124,7 @@ from __future__ import annotations
 import functools
 import math
 import warnings
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -156,10 +165,6 @@ _SCALAR_TYPES = frozenset((float, int, np.float64, np.float32, np.int64, np.int3
 #: 0.2 ms with one thread, load 10); up to 12 × 12 the limit (~12 µs) cost more.
 _SMALL_EIGH = 25
 
-#: The conditioning kernel: numba's or its NumPy twin (:func:`condition_weights`).
-_KERNEL = ("condition_weights", "lfdkit.imitate._promp_kernels")
-_COMPILED: list = []  # numba's, once handed out
-
 #: Activations on even grids by (n_basis, width, n_points): a dict look-up before
 #: the argument check and the LRU cache (together 3× the product of a mean path).
 _GRIDS: dict = {}
@@ -185,24 +190,46 @@ _PHASE_TYPES = frozenset((float, np.float64))
 #: NumPy's float64 (a type's dtype is this one object: compared by identity, 10× faster).
 _FLOAT64 = np.dtype(np.float64)
 
-#: Infinity, a module global: an attribute look-up less in the one-point route.
+#: Infinity, NumPy's array type and allocation, a new object: module globals, an
+#: attribute look-up less each in the one-point route.
 _INF = math.inf
+_NDARRAY = np.ndarray
+_EMPTY = np.empty
+_NEW = object.__new__
 
-#: The one-point conditioning kernel: numba's or its NumPy twin (:func:`condition_point`).
-_POINT_KERNEL = ("condition_point", "lfdkit.imitate._promp_kernels")
-_COMPILED_POINT: list = []  # numba's, once handed out
 
-#: The several-point conditioning kernel (a variance): numba's or :func:`condition_points`.
-_POINTS_KERNEL = ("condition_points", "lfdkit.imitate._promp_kernels")
-_COMPILED_POINTS: list = []  # numba's, once handed out
+def _kernel_getter(name: str) -> tuple[list, Callable[[], Any]]:
+    """``(kept, get)`` for the kernel ``name``: ``get()`` hands out numba's form (from
+    :mod:`._promp_kernels`) or its NumPy twin of the same name in this module, as
+    :func:`lfdkit.core.kernels.kernel`'s rule says.
 
-#: The conditioned covariance's kernel: numba's or its twin (:func:`conditioned_covariance`).
-_COV_KERNEL = ("conditioned_covariance", "lfdkit.imitate._promp_kernels")
-_COMPILED_COV: list = []  # numba's, once handed out
+    numba's is kept in ``kept`` once handed out (the rule never turns back within a
+    process; asking it again cost as much as the kernel itself): a hot path reads
+    ``kept[0]`` and calls ``get()`` only while ``kept`` is empty.
+    """
+    kept: list = []
 
-#: Its form for an exactly symmetric weight covariance: :func:`conditioned_covariance_rows`.
-_ROWS_KERNEL = ("conditioned_covariance_rows", "lfdkit.imitate._promp_kernels")
-_COMPILED_ROWS: list = []  # numba's, once handed out
+    def get() -> Any:
+        if kept:
+            return kept[0]
+        run = kernel(name, "lfdkit.imitate._promp_kernels", __name__)
+        if run is not globals()[name]:  # not the twin: numba's
+            kept.append(run)
+        return run
+
+    return kept, get
+
+
+#: The conditioning kernel (:func:`condition_weights`), the one-point kernel
+#: (:func:`condition_point`), the several-point one with a variance
+#: (:func:`condition_points`), the conditioned covariance's (:func:`conditioned_covariance`)
+#: and its form for an exactly symmetric weight covariance
+#: (:func:`conditioned_covariance_rows`): numba's once handed out, and their getters.
+_COMPILED, _condition_kernel = _kernel_getter("condition_weights")
+_COMPILED_POINT, _point_kernel = _kernel_getter("condition_point")
+_COMPILED_POINTS, _points_kernel = _kernel_getter("condition_points")
+_COMPILED_COV, _cov_kernel = _kernel_getter("conditioned_covariance")
+_COMPILED_ROWS, _rows_kernel = _kernel_getter("conditioned_covariance_rows")
 
 
 class _FormedOnRead:
@@ -224,7 +251,7 @@ class _FormedOnRead:
         if pending is None:
             raise AttributeError(f"{type(model).__name__!r} object has no attribute 'weights_cov_'")
         cov, out, symmetric, m, _, _, prior = pending
-        result = np.empty(cov.shape)
+        result = _EMPTY(cov.shape)
         if symmetric:  # whole rows, no mirrored copy: the same numbers, 0.3 µs less
             run = _COMPILED_ROWS[0] if _COMPILED_ROWS else _rows_kernel()
         else:
@@ -288,6 +315,10 @@ class ProMP(Estimator):
 
     #: A conditioned model's covariance is formed on first read (:class:`_FormedOnRead`).
     weights_cov_ = _FormedOnRead()
+
+    #: What :meth:`_kernel_prior` keeps, where an instance has none: read as an attribute
+    #: (the instance's own found first), not from ``__dict__``, an attribute and a call less.
+    _prior_cache: tuple | None = None
 
     def __init__(
         self, n_basis: int = 10, width: float | None = None, regularization: float = 1e-6
@@ -523,23 +554,23 @@ class ProMP(Estimator):
             in phase contradict each other. A covariance > 0 makes every
             point a compromise, never unreachable.
         """
-        state = self.__dict__
-        kept = state.get("_prior_cache")
+        kept = self._prior_cache
         if kept is None:  # checks that it is fitted, forms a conditioned model's covariance
             kept = self._kernel_prior()
-        prior, n_weights, size, shape, cov, symmetric = kept
+        prior, n_weights, size, shape, cov, symmetric, copied = kept
         # The common call, one point at one phase with a variance, goes to the one-point
         # kernel with its argument types and shapes checked here (values by the kernel);
         # the glue is inline: each NumPy call or method call costs 0.1–1 µs of a 3 µs call.
         kind, phase, pts = type(phases), phases, None
         if kind is list and len(phases) == 1:
             phase = phases[0]
-        elif kind is np.ndarray:
+        elif kind is _NDARRAY:
             phase = phases[0] if phases.shape == (1,) else None
-        quick = type(covariance) in _SCALAR_TYPES and 0.0 <= covariance < _INF
+        kind = type(covariance)
+        quick = (kind is float or kind in _SCALAR_TYPES) and 0.0 <= covariance < _INF
         if quick and type(phase) in _PHASE_TYPES:
             pts = points
-            if type(pts) is not np.ndarray or pts.dtype is not _FLOAT64:
+            if type(pts) is not _NDARRAY or pts.dtype is not _FLOAT64:
                 try:
                     pts = np.asarray(points, dtype=np.float64)
                 except (TypeError, ValueError):
@@ -547,12 +578,12 @@ class ProMP(Estimator):
             if pts is not None and pts.shape != shape:
                 pts = pts.reshape(shape) if pts.shape == shape[1:] else None
         if pts is not None:
-            out = np.empty(size)
+            out = _EMPTY(size)
             n_dropped = (_COMPILED_POINT[0] if _COMPILED_POINT else _point_kernel())(
                 prior,
                 phase,
                 pts,
-                covariance if type(covariance) is float else float(covariance),
+                covariance if kind is float else float(covariance),
                 out,
             )
             if n_dropped < 0:  # a value the quick check let through: the full checks name it
@@ -570,7 +601,7 @@ class ProMP(Estimator):
                     prior,
                     s,
                     pts,
-                    covariance if type(covariance) is float else float(covariance),
+                    covariance if kind is float else float(covariance),
                     out,
                 )
                 if n_dropped < 0:
@@ -584,10 +615,7 @@ class ProMP(Estimator):
                 m = pts.size
         # The covariance is formed when first read (Σ' = Σ − Zᵀ Z): a path's mean
         # alone does not need it. The copy made inline (a method call is 0.1 µs).
-        copied = state.get("_copy_state")
-        if copied is None:
-            copied = self._copied_state()
-        new = object.__new__(type(self))
+        new = _NEW(type(self))
         made = new.__dict__  # filled, not replaced: the instance's own dict is the cheapest
         made.update(copied)
         mean = made["weights_mean_"] = out[:n_weights]
@@ -764,12 +792,14 @@ class ProMP(Estimator):
             state["_copy_state"] = copied
         return copied
 
-    def _kernel_prior(self) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray, bool]:
+    def _kernel_prior(
+        self,
+    ) -> tuple[np.ndarray, int, int, tuple[int, int], np.ndarray, bool, dict[str, Any]]:
         """For the one- and several-point kernels: ``[width, rcond, mean, cov]`` in one
         writeable array (private; the weights' own arrays are read-only), the weights'
         count, the one-point buffer's length, a point's shape (1, n_dims),
-        ``weights_cov_`` and whether it is exactly symmetric; kept until an
-        attribute is set.
+        ``weights_cov_``, whether it is exactly symmetric, and what a conditioned copy
+        takes (:meth:`_copied_state`); kept until an attribute is set.
 
         Three arrays of which two read-only took numba 0.3 µs more to type and
         unbox than one writeable array (a tenth of a one-point conditioning).
@@ -787,7 +817,7 @@ class ProMP(Estimator):
             # Exactly symmetric (every fitted or conditioned model's; checked once): the new
             # covariance is then formed in whole rows (:func:`conditioned_covariance_rows`).
             symmetric = bool(np.array_equal(cov, cov.T))
-            kept = (prior, n, 2 * (1 + d) * n + d, (1, d), cov, symmetric)
+            kept = (prior, n, 2 * (1 + d) * n + d, (1, d), cov, symmetric, self._copied_state())
             state["_prior_cache"] = kept
         return kept
 
@@ -1257,64 +1287,6 @@ def _out_parts(
         out[columns_at:root_t_at].reshape(n_sets, b, n_dims),
         out[root_t_at:].reshape(b, m * n_dims),
     )
-
-
-def _condition_kernel() -> Any:
-    """:func:`condition_weights`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it.
-
-    numba's is kept once handed out (the rule never turns back within a
-    process): asking the rule again cost as much as the kernel itself.
-    """
-    if _COMPILED:
-        return _COMPILED[0]
-    run = kernel(*_KERNEL, __name__)
-    if run is not condition_weights:
-        _COMPILED.append(run)
-    return run
-
-
-def _points_kernel() -> Any:
-    """:func:`condition_points`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it
-    (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_POINTS:
-        return _COMPILED_POINTS[0]
-    run = kernel(*_POINTS_KERNEL, __name__)
-    if run is not condition_points:
-        _COMPILED_POINTS.append(run)
-    return run
-
-
-def _cov_kernel() -> Any:
-    """:func:`conditioned_covariance`, numba's once :mod:`lfdkit.core.kernels`' rule turns to
-    it (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_COV:
-        return _COMPILED_COV[0]
-    run = kernel(*_COV_KERNEL, __name__)
-    if run is not conditioned_covariance:
-        _COMPILED_COV.append(run)
-    return run
-
-
-def _rows_kernel() -> Any:
-    """:func:`conditioned_covariance_rows`, numba's once :mod:`lfdkit.core.kernels`' rule
-    turns to it (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_ROWS:
-        return _COMPILED_ROWS[0]
-    run = kernel(*_ROWS_KERNEL, __name__)
-    if run is not conditioned_covariance_rows:
-        _COMPILED_ROWS.append(run)
-    return run
-
-
-def _point_kernel() -> Any:
-    """:func:`condition_point`, numba's once :mod:`lfdkit.core.kernels`' rule turns to it
-    (kept once handed out, as :func:`_condition_kernel`)."""
-    if _COMPILED_POINT:
-        return _COMPILED_POINT[0]
-    run = kernel(*_POINT_KERNEL, __name__)
-    if run is not condition_point:
-        _COMPILED_POINT.append(run)
-    return run
 
 
 @functools.lru_cache(maxsize=16)
