@@ -1335,6 +1335,24 @@ def _receding_horizon(
     return offsets[1:], total_iter, all_ok
 
 
+def _strided_look_ahead(
+    problem: Problem, stride: int, anchor: np.ndarray, reach_goal: bool
+) -> _LookAhead:
+    """The grid route of ``problem`` over every ``stride``-th point, laid out from ``anchor``.
+
+    The :func:`_subsampled` problem's cost-to-go table on
+    :func:`_lateral_levels`' grid (the route :func:`_coarse_look_ahead` and
+    :func:`_wider_look_ahead` follow).
+    """
+    sub = _subsampled(problem, stride)
+    levels, cells = _lateral_levels(sub, anchor)
+    table = np.empty((sub.n, levels.size**problem.m))
+    _grid_kernel("grid_cost_to_go")(
+        *sub.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
+    )
+    return _LookAhead(table, levels, cells, problem.max_step, problem.m, stride)
+
+
 def _wider_look_ahead(
     problem: Problem, anchor: np.ndarray, reach_goal: bool, route: _LookAhead | None
 ) -> _LookAhead | None:
@@ -1354,13 +1372,7 @@ def _wider_look_ahead(
     stride = _coarse_stride(problem, anchor)
     if stride <= route.stride:
         return None
-    sub = _subsampled(problem, stride)
-    levels, cells = _lateral_levels(sub, anchor)
-    table = np.empty((sub.n, levels.size**problem.m))
-    _grid_kernel("grid_cost_to_go")(
-        *sub.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
-    )
-    return _LookAhead(table, levels, cells, problem.max_step, problem.m, stride)
+    return _strided_look_ahead(problem, stride, anchor, reach_goal)
 
 
 def _look_ahead_reach(horizon: int, n_points: int, stride: int, lookahead: bool) -> int:
@@ -1586,13 +1598,7 @@ def _coarse_look_ahead(
     edge = route.levels[-1] * (1.0 - 1e-12)
     if np.isfinite(total) and float(np.abs(path).max()) < edge:
         return None
-    sub = _subsampled(problem, stride)
-    levels, cells = _lateral_levels(sub, d0)
-    table = np.empty((sub.n, levels.size**problem.m))
-    _grid_kernel("grid_cost_to_go")(
-        *sub.kernel_arguments(), levels, cells, reach_goal, np.zeros((0, 0)), table
-    )
-    return _LookAhead(table, levels, cells, problem.max_step, problem.m, stride)
+    return _strided_look_ahead(problem, stride, d0, reach_goal)
 
 
 def _cost_to_go(
