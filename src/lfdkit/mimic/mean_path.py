@@ -1381,14 +1381,13 @@ def _choose_tuning(
         return total
 
     def drifts(i: int, j: int) -> bool:
-        """Whether tuning ``i``'s centre lies off tuning ``j``'s, on one side consistently."""
+        """Whether tuning ``i``'s pooled centre lies off tuning ``j``'s on one side (that of
+        the data, along their difference) in :data:`_DRIFT_CONFIDENCE` of the resamplings."""
         data = locations[_TUNINGS[i], 1][:, 0] - locations[_TUNINGS[j], 1][:, 0]
         draws = locations[_TUNINGS[i], _CHOICE_DRAWS] - locations[_TUNINGS[j], _CHOICE_DRAWS]
-        side = np.sign(data)
-        if not side.any():
+        if not data.any():
             return False
-        agree = np.mean(np.all(np.sign(draws) == side[:, None], axis=0))
-        return bool(agree >= _DRIFT_CONFIDENCE)
+        return bool(np.mean(data @ draws > 0.0) >= _DRIFT_CONFIDENCE)
 
     # Every candidate on the data, then only the best and the default resampled.
     errors = np.full((len(_TUNINGS), len(weight)), np.nan)
