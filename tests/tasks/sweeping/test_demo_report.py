@@ -80,6 +80,13 @@ def test_unseen_plans_end_at_the_goal(results):
         assert (row["collisions"] > 0) == (row["min_clearance_mm"] < margin - 1e-3), row
 
 
+def test_results_carry_what_plans_keep_besides_the_reward(results):
+    behaviour = results["emulate"]["behaviour"]
+    assert 0.0 < behaviour["return_fraction"] <= 1.0 and behaviour["max_slope"] > 0.0
+    for preference in behaviour["sides"].values():
+        assert preference["side"] in ("left", "right") and preference["clearance"] >= 0.0
+
+
 def test_the_executed_plan_is_the_tables(demo, results):
     run = results["execution"]
     assert run["plan"] == "plans/unseen_1.csv"

@@ -6,6 +6,7 @@ import argparse
 import warnings
 from pathlib import Path
 
+from lfdkit.app.behaviour import side_words, slow_return_words
 from lfdkit.app.cli import periodic
 from lfdkit.app.cli.common import (
     CommandError,
@@ -133,6 +134,8 @@ def _behaviour(name: str, row: dict) -> str:
         words += ", responses turned with the path"
     if row.get("swerve") == "learned":
         words += ", swerve shaped along the path (early/late, steep/slow)"
+    if row.get("return") == "slow":
+        words += ", with a slow return"
     return words
 
 
@@ -157,6 +160,16 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
     candidates = selection["candidates"]
     line = f"obstacle behaviour planned with {_behaviour(chosen, candidates[chosen])}"
     line += f" ({scores(chosen)})"
+    if candidates[chosen].get("return") == "slow":
+        fit = getattr(skill, "ioc_info_", None) or {}
+        slow = slow_return_words(
+            float(getattr(skill, "return_fraction_", 1.0)),
+            fit.get("demonstrated_return"),
+            float(skill.max_slope),
+            skill.units,
+        )
+        if slow is not None:
+            line += f"; {slow}"
     if runner is not None:
         line += f"; runner-up {_behaviour(runner, candidates[runner])} ({scores(runner)})"
     median = candidates[chosen]["improvement_median"]
@@ -179,12 +192,9 @@ def _fidelity_lines(skill: Skill) -> list[str]:  # noqa: F821 (imported lazily)
         lines.append(line)
     sides = getattr(skill, "side_preferences_", {})
     if sides:
-        kept = ", ".join(
-            f"every {c!r} on the {p['side']} (within {p['within']:.3g} {skill.units} of the path)"
-            for c, p in sides.items()
-        )
         lines.append(
-            f"plans keep the sides the demonstrations kept, the long way round where needed: {kept}"
+            "plans keep the sides the demonstrations kept, the long way round where needed: "
+            + side_words(sides, skill.units)
         )
     for row in skill.training_fidelity_ or []:
         name = f"obstacle demonstration {row.get('id', row['demo'])!r}"

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit import __version__
+from lfdkit.app.behaviour import side_words, slow_return_words
 from lfdkit.app.report import Report
 from lfdkit.core.geometry import resample
 from lfdkit.core.options import DEMONSTRATION_SPEED, POOR_FIDELITY
@@ -562,9 +563,49 @@ def _results(skill: Skill, truth, scores, unseen, learn_s: float, total_s: float
             "duration_s": float(skill.timing_.duration),
             "timing": skill.timing_.source,
         },
-        "emulate": {"ioc": skill.ioc_info_, "parameters": parameters, "test": scores},
+        "emulate": {
+            "ioc": skill.ioc_info_,
+            "parameters": parameters,
+            "test": scores,
+            # What plans keep besides the reward (issue 26): the slow return's bound (1: none)
+            # on the step bound's slope, and the classes kept on one side (metres).
+            "behaviour": {
+                "return_fraction": float(skill.return_fraction_),
+                "max_slope": float(skill.max_slope),
+                "sides": {c: dict(p) for c, p in skill.side_preferences_.items()},
+            },
+        },
         "unseen": [row for item in unseen for row in item["rows"]],
     }
+
+
+def _behaviour_sentences(emulate: dict) -> list[str]:
+    """The slow return and the sides plans keep, in words (lengths in mm); none: nothing.
+
+    ``emulate`` is the results' ``"emulate"`` (its ``"behaviour"``: absent in
+    results from before it).
+    """
+    behaviour = emulate.get("behaviour") or {}
+    out = []
+    slow = slow_return_words(
+        behaviour.get("return_fraction", 1.0),
+        (emulate.get("ioc") or {}).get("demonstrated_return"),
+        behaviour.get("max_slope", 1.0),
+        "m",
+    )
+    if slow is not None:
+        out.append(f"{slow[0].upper()}{slow[1:]}.")
+    sides = behaviour.get("sides") or {}
+    if sides:
+        in_mm = {
+            c: {k: 1e3 * v if k in ("within", "clearance") else v for k, v in p.items()}
+            for c, p in sides.items()
+        }
+        out.append(
+            "Plans keep the sides the sweeps kept, the long way round where needed: "
+            f"{side_words(in_mm, 'mm')}."
+        )
+    return out
 
 
 def _timing_sentence(imitate: dict) -> str:
@@ -745,6 +786,8 @@ def _report(results: dict, figures: dict, image: bytes | None = None) -> Report:
                     else ""
                 )
             )
+    for sentence in _behaviour_sentences(emulate):
+        report.paragraph(sentence)
     test = emulate["test"]
     report.table(
         [
