@@ -10,6 +10,8 @@ demonstrations (:func:`lfdkit.emulate.ioc.demonstrated_return`).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -114,6 +116,31 @@ def test_the_compiled_loop_bounds_as_the_python_loop(monkeypatch, seed: int) -> 
         assert plans[1] == plans[0]
     else:
         np.testing.assert_array_equal(plans[1], plans[0])
+
+
+@pytest.mark.xfail(
+    strict=True,
+    raises=UserWarning,
+    reason="a slow return cannot cross the nominal in time for an S-curve's next obstacle: "
+    "the bounded plan is refused and the plan without the bound made (planner's design record)",
+)
+def test_an_s_curve_is_planned_with_the_slow_return() -> None:
+    # Below the nominal round the first cup, above it round the second. Returning at 0.3
+    # of the bound, the way across takes longer than the gap between the cups allows.
+    scene = Scene((Obstacle("cup", [0.3, -0.02], 0.02), Obstacle("cup", [0.6, 0.02], 0.02)))
+    args = dict(horizon=8, lookahead=False, n_points=N_POINTS, goal_approach=None)
+    free = plan_path(REWARD, line(), scene, **args)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no fallback to the plan without the bound
+        slow = plan_path(REWARD, line(), scene, return_fraction=0.3, **args)
+    d = slow.offsets[:, 0]
+    at = [round(u * (N_POINTS - 1)) for u in (0.3, 0.6)]
+    assert d[at[0]] > 0.0 > d[at[1]]  # above the first cup, below the second
+    assert free.offsets[at[0], 0] > 0.0 > free.offsets[at[1], 0]  # as without the bound
+    # Every step back that does not go on across the nominal is slow.
+    back, _ = steps(slow)
+    across = [np.any(np.sign(d[k + 1 : k + 9]) * np.sign(d[k]) < 0.0) for k in range(len(d) - 1)]
+    assert back[~np.array(across)].max() <= 0.3 * (1.0 + 1e-9)
 
 
 def test_where_no_bounded_plan_passes_the_plan_without_it_is_warned() -> None:

@@ -109,8 +109,19 @@ box and each starts where the bounded step ended, so a window may count on
 a way back it cannot take: where the next obstacle then blocks every move,
 the plan without the bound is made instead, warned (the fidelity
 benchmark's late person, seed 2: one of 14 held-out scenes, an S-curve
-new task). Bounding the windows' own actions and the grids would plan for
-it; not done.
+new task). There the windows' foresight is not what refuses: the route
+passes the first obstacle 5.1 cm below the nominal and must pass the next
+above it; at 0.21 of the bound the way across takes 27 steps, so the walk
+is refused 34 points in whatever the windows plan. Tried and not adopted:
+each window's Newton solve with a box per action (toward the nominal at
+most ``r · max_step`` on its start's side) moved the plans by round-off
+and fell back in the same 4 plans of that run; adding that a step whose
+window crosses the nominal is a swerve (the whole bound) passes the
+S-curve bounded, but its slow return after the last obstacle scored Pr
+−195 % there instead of the fallback's −128 % (pooled 44 → 36 %; medians,
+sides and gaps unchanged on seeds 0–3), and the gap in that scene is
+threaded by both plans alike (the same sides): the gap, not the return,
+decides that scene.
 
 Safety
 ------
