@@ -20,6 +20,7 @@ from lfdkit.emulate import Reward, UnsafePlanError, plan_path, planner
 from lfdkit.emulate import _planner_kernels as compiled
 from lfdkit.emulate import _planner_numpy as numpy_forms
 from lfdkit.emulate.ioc import demonstrated_return, prepare_demos
+from lfdkit.emulate.problem import Corridor
 from lfdkit.model.scene import Obstacle, Scene
 
 from .test_ioc_slope import straight, swerve
@@ -145,7 +146,8 @@ def test_an_s_curve_is_planned_with_the_slow_return() -> None:
 
 def test_where_no_bounded_plan_passes_the_plan_without_it_is_warned() -> None:
     # Up round the first ball, then a wide ball just above the nominal: the slow return
-    # cannot come back under it in time. The plan with the whole bound, said.
+    # cannot come back under it in time. The plan with the whole bound, said; the whole
+    # path's plan returns no more slowly here, so the receding horizon's.
     path = line()
     scene = Scene((Obstacle("cup", [0.30, -0.005], 0.03), Obstacle("cup", [0.5, 0.14], 0.12)))
     args = dict(horizon=8, lookahead=False, n_points=N_POINTS, goal_approach=None)
@@ -153,6 +155,48 @@ def test_where_no_bounded_plan_passes_the_plan_without_it_is_warned() -> None:
     with pytest.warns(UserWarning, match="returns to the nominal at most 0.05"):
         plan = plan_path(REWARD, path, scene, return_fraction=0.05, **args)
     np.testing.assert_array_equal(plan.points, free.points)
+
+
+def test_the_fast_return_of_offsets_is_summed_past_the_bound() -> None:
+    # Out 0.1, back 0.05 (0.04 past 0.01), across the nominal from 0.05 to -0.02 (only
+    # the 0.05 down to 0 is toward it: 0.04 past), out again, back 0.005 (within).
+    d = np.array([[0.0], [0.1], [0.05], [-0.02], [-0.03], [-0.025]])
+    assert planner.fast_return(d, 0.01) == pytest.approx(0.08)
+    assert planner.fast_return(d, 0.1) == 0.0
+    two = np.column_stack([d[:, 0], -d[:, 0]])  # per component: twice
+    assert planner.fast_return(two, 0.01) == pytest.approx(0.16)
+
+
+def test_a_refused_slow_return_keeps_the_side_the_whole_path_plan_keeps() -> None:
+    # The fidelity benchmark's late person, seed 2, an S-curve new task (rounded): the
+    # first box passed 5.7 cm below the nominal; the windows then cross over the second
+    # box, which a return at 0.21 of the bound cannot, so the bounded plan is refused.
+    # The person, still below, goes under the second box; so does the plan over the
+    # whole path, which returns far less steeply, and is the plan made.
+    u = np.linspace(0.0, 1.0, 400)
+    nominal = np.column_stack([0.8 * u, 0.08 * np.sin(2.0 * np.pi * u)])
+    reward = Reward(0.00175, {"box": [357.0, 3488.0], "cup": [436.0, 3978.0]})
+    scene = Scene(
+        (
+            Obstacle("box", [0.1475, 0.0906], 0.05),
+            Obstacle("box", [0.3624, 0.0048], 0.05),
+            Obstacle("cup", [0.6952, -0.1428], 0.03),
+        )
+    )
+    args = dict(
+        n_points=100, max_slope=1.0, goal_approach="auto", clearance=[0.0094, 0.0094, 0.023]
+    )
+    windows = plan_path(reward, nominal, scene, horizon=8, lookahead=False, **args)
+    with pytest.warns(UserWarning, match="returns to the nominal at most 0.21"):
+        plan = plan_path(
+            reward, nominal, scene, horizon=8, lookahead=False, return_fraction=0.21, **args
+        )
+    first, second = 18, 45  # the points nearest the two boxes
+    assert windows.offsets[first, 0] < 0.0 < windows.offsets[second, 0]  # a weave
+    assert plan.offsets[first, 0] < 0.0 and plan.offsets[second, 0] < 0.0  # under both
+    back = 0.21 * 1.0 * Corridor.from_path(nominal, 100).step
+    assert planner.fast_return(plan.offsets, back) < planner.fast_return(windows.offsets, back)
+    assert plan.clearance.min() >= 0.0
 
 
 @pytest.mark.parametrize(
