@@ -1340,6 +1340,20 @@ class IOC(Estimator):
             )
         self.convergence_message_ = "; ".join(reasons) if reasons else "converged"
         for label in self.not_learned_:
+            # Learned classes standing in its scenes: their responses may fit its swerves.
+            company = [
+                c
+                for c in self.classes_
+                if any(label in sc.labels and c in sc.labels for sc in scaled_scenes)
+            ]
+            influence = (
+                "the fitted reward gives it no response that moves a plan: the responses of "
+                f"{', '.join(map(repr, company))}, in the same scenes, fit the demonstrations "
+                f"without it; show demonstrations around a {label!r} with "
+                f"{'them' if len(company) > 1 else 'it'} elsewhere or absent"
+                if company
+                else "none of its obstacles influenced a demonstration"
+            )
             why = (
                 f"obstacle {label!r} is never near any demonstration (the nearest passes "
                 f"{nearest[label] * length:.3g} from one; a class is learned from "
@@ -1348,8 +1362,7 @@ class IOC(Estimator):
                 f"from these demonstrations: show one passing within {NEAR_REACH * length:.3g} "
                 f"of a {label!r}"
                 if label in far and nearest[label] is not None
-                else f"obstacle class {label!r} was not learned: none of its obstacles "
-                "influenced a demonstration"
+                else f"obstacle class {label!r} was not learned: {influence}"
             )
             warnings.warn(
                 f"{why}; planning a scene with it is refused unless a reward for it "
