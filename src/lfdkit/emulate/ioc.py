@@ -1346,11 +1346,12 @@ class IOC(Estimator):
                 for c in self.classes_
                 if any(label in sc.labels and c in sc.labels for sc in scaled_scenes)
             ]
+            names = ", ".join(map(repr, company))
             influence = (
-                "the fitted reward gives it no response that moves a plan: the responses of "
-                f"{', '.join(map(repr, company))}, in the same scenes, fit the demonstrations "
-                f"without it; show demonstrations around a {label!r} with "
-                f"{'them' if len(company) > 1 else 'it'} elsewhere or absent"
+                "the fitted reward gives it no response that moves a plan; either it "
+                f"influenced no demonstration or the response{'s' * (len(company) > 1)} of "
+                f"{names}, in the same scenes, took its part: if the demonstrations go "
+                f"round a {label!r}, show some with {names} elsewhere or absent"
                 if company
                 else "none of its obstacles influenced a demonstration"
             )
