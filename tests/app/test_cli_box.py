@@ -72,8 +72,23 @@ def test_a_round_obstacle_stays_round_and_a_rounded_box_keeps_its_radius(capsys,
         ("cup:0,0.47,sx=0.08,sy=0.05,sx=0.1", ["sx= is given twice", "give it once"]),
         ("cup:0,0.47,sx=0.08,sy=0.05,yaw=30", ["yaw in", "no unit", "yaw=30deg"]),
         ("cup:0,0.47,sx=0.08,sy=0.05,yaw=1_0deg", ["yaw in", "not a finite number"]),
+        # A 3-D box's centre and edges in a row, as it is often written: the edges by name.
+        ("box:0.3,0,0.2,0.1,0.3,0.16", ["6 numbers", "box:0.3,0,0.2,sx=0.1,sy=0.3,sz=0.16"]),
+        ("cup:0,0.47,0.08,0.05", ["4 numbers", "cup:0,0.47,sx=0.08,sy=0.05"]),
     ],
-    ids=["missing", "yaw-only", "negative", "nan", "sz-2d", "unknown", "twice", "unitless", "bad"],
+    ids=[
+        "missing",
+        "yaw-only",
+        "negative",
+        "nan",
+        "sz-2d",
+        "unknown",
+        "twice",
+        "unitless",
+        "bad",
+        "positional-3d",
+        "positional-2d",
+    ],
 )
 def test_bad_boxes_are_usage_errors_on_one_line(capsys, skill_path, arg, fragments):
     code, _, err = usage_exit(capsys, "plan", skill_path, "--obstacle", arg)

@@ -352,6 +352,27 @@ def test_a_class_the_demonstrations_ignore_is_not_learned() -> None:
     assert not ioc.identifiability_["Q"]["identified"]  # nothing swerves: Q is free
 
 
+def test_a_class_whose_swerves_another_class_fits_is_said_so(monkeypatch) -> None:
+    # A second class standing with the first in every scene (a table under a box): where
+    # the fit leaves it moving no plan, its demonstrations were still swerved, and the
+    # warning said only "none of its obstacles influenced a demonstration". It names the
+    # class whose response may have taken its part, and what to show.
+    demos, scenes = demonstrations(3)
+    shadow = [Scene((*s.obstacles, Obstacle("table", s.obstacles[0].position))) for s in scenes]
+    monkeypatch.setattr(IOC, "_moves_plans", lambda self, theta, data, label: label != "table")
+    with pytest.warns(UserWarning) as caught:
+        ioc = IOC().fit(demos, shadow, nominal())
+    said = [str(w.message) for w in caught if "'table'" in str(w.message)]
+    assert said == [
+        "obstacle class 'table' was not learned: the fitted reward gives it no response that "
+        "moves a plan; either it influenced no demonstration or the response of 'obstacle', in "
+        "the same scenes, took its part: if the demonstrations go round a 'table', show some "
+        "with 'obstacle' elsewhere or absent; planning a scene with it is refused unless a "
+        "reward for it is adopted (e.g. Skill.adopt)"
+    ]
+    assert ioc.not_learned_ == ("table",) and ioc.classes_ == ("obstacle",)
+
+
 # ------------------------------------------------------------- identifiability
 def test_identifiability_of_noise_free_and_noisy_fits() -> None:
     demos, scenes = demonstrations(6)

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from lfdkit.core.units import UnitsWarning
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Obstacle, Scene
 from lfdkit.skill import Skill
 
@@ -121,3 +122,25 @@ def test_a_class_in_one_scene_only_is_warned_as_not_cross_validated() -> None:
         "on one demonstration and cannot be cross-validated; show another demonstration "
         "around a marker"
     ]
+
+
+def test_a_table_half_space_in_a_scene_is_checked_not_refused_as_unbounded() -> None:
+    # An unbounded shape has no covering balls of its own: the check of how deep a
+    # demonstration passes inside its obstacle raised "balls: half-space 'floor' is
+    # unbounded" (lfdkit learn with a table in the scene file). It is sized by its part
+    # among the demonstrations now, and a demonstration through it is still warned.
+    fitted = Skill(units="mm").fit_path(CLEAN)
+    floor = HalfSpace("floor", [0.0, 440.0], normal=[0.0, 1.0])  # 10 mm under the starts
+    dip = AROUND - np.c_[np.zeros(40), 3.0 * _BUMP]  # about 80 mm below the floor
+    depth = 440.0 - dip[:, 1].min()
+    with pytest.warns(UserWarning) as caught, pytest.raises(ValueError, match=r"^goals"):
+        fitted.fit_reward(
+            [AROUND, AROUND, dip],
+            [Scene((floor, CUP)), Scene((floor,)), Scene((floor,))],
+            goals=[1, 2, 3],
+        )
+    said = [str(w.message) for w in caught]
+    inside = [m for m in said if "inside it" in m]
+    assert len(inside) == 1 and inside[0].startswith(
+        f"scenes[2]: obstacle 0 ('floor'): its demonstration passes {depth:.3g} mm inside"
+    ), said

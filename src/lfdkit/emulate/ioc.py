@@ -1340,6 +1340,21 @@ class IOC(Estimator):
             )
         self.convergence_message_ = "; ".join(reasons) if reasons else "converged"
         for label in self.not_learned_:
+            # Learned classes standing in its scenes: their responses may fit its swerves.
+            company = [
+                c
+                for c in self.classes_
+                if any(label in sc.labels and c in sc.labels for sc in scaled_scenes)
+            ]
+            names = ", ".join(map(repr, company))
+            influence = (
+                "the fitted reward gives it no response that moves a plan; either it "
+                f"influenced no demonstration or the response{'s' * (len(company) > 1)} of "
+                f"{names}, in the same scenes, took its part: if the demonstrations go "
+                f"round a {label!r}, show some with {names} elsewhere or absent"
+                if company
+                else "none of its obstacles influenced a demonstration"
+            )
             why = (
                 f"obstacle {label!r} is never near any demonstration (the nearest passes "
                 f"{nearest[label] * length:.3g} from one; a class is learned from "
@@ -1348,8 +1363,7 @@ class IOC(Estimator):
                 f"from these demonstrations: show one passing within {NEAR_REACH * length:.3g} "
                 f"of a {label!r}"
                 if label in far and nearest[label] is not None
-                else f"obstacle class {label!r} was not learned: none of its obstacles "
-                "influenced a demonstration"
+                else f"obstacle class {label!r} was not learned: {influence}"
             )
             warnings.warn(
                 f"{why}; planning a scene with it is refused unless a reward for it "

@@ -1178,7 +1178,9 @@ class Skill(
                                 "it, which no demonstration can; check the obstacle's position "
                                 "and size, and that the scenes are in the demonstrations' unit"
                             )
-                    size = max(obstacle.radius, float(np.max(obstacle.balls()[1])))
+                    # An unbounded shape (a table's half-space) by its part among the points.
+                    balls = obstacle.clipped(np.array(low), np.array(high)).balls()[1]
+                    size = max(obstacle.radius, float(np.max(balls)))
                     depth = -obstacle.distance(demo)
                     if depth > 0.25 * size:
                         warnings.warn(

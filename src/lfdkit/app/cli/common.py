@@ -342,6 +342,14 @@ def _obstacle(text: str):
             )
         else:
             coords.append(token)
+    if len(coords) in (4, 6) and not sizes and not normal:
+        # A box's centre and edge lengths in a row: the edges go by name.
+        half = len(coords) // 2
+        named = ",".join(f"{k}={v}" for k, v in zip(BOX_SIZE_KEYS, coords[half:], strict=False))
+        raise argparse.ArgumentTypeError(
+            f"{len(coords)} numbers in {text!r}: a position has 2 or 3; a box gives its edge "
+            f"lengths by name, e.g. {label.strip()}:{','.join(coords[:half])},{named}"
+        )
     position = parse_numbers(",".join(coords))
     box = None
     if sizes or yaw is not None:
