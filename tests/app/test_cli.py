@@ -1124,6 +1124,25 @@ def test_existing_output_is_refused_before_learning(capsys, monkeypatch, tmp_pat
     assert error_line(err, "learn").endswith(f"{out}: exists; pass --force to overwrite it")
 
 
+@pytest.mark.parametrize("command", ["learn", "plan", "plot"])
+def test_a_link_as_output_is_refused_before_the_work_even_with_force(
+    capsys, monkeypatch, tmp_path, command
+):
+    # --force replaces a regular file only; a link (or a device) is said before any work.
+    monkeypatch.setattr("lfdkit.skill.learn", _no_learning)
+    monkeypatch.setattr("lfdkit.app.cli.common._load_skill", _no_learning)
+    target = tmp_path / "kept.csv"
+    target.write_text("kept\n")
+    out = tmp_path / "out.json"
+    out.symlink_to(target)
+    first = tmp_path / "demos.csv" if command == "learn" else tmp_path / "skill.json"
+    code, stdout, err = run_cli(capsys, command, first, "-o", out, "--force")
+    assert code == 1
+    line = error_line(err, command)
+    assert f"--output {out}: is a symbolic link" in line
+    assert target.read_text() == "kept\n" and stdout == ""
+
+
 def test_flipped_demonstration_is_reported_only_with_verbose(capsys, tmp_path):
     # Demonstration 2 of three is recorded backwards: learned forwards, said at -v.
     rows = ["demo,x,y"]

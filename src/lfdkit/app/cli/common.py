@@ -159,7 +159,8 @@ def _is_terminal(stream: object) -> bool:
 
 
 def refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
-    """Refuse an output file before the work, not after it: exists, folder missing or read-only."""
+    """Refuse an output file before the work, not after it: exists, folder missing or
+    read-only, or not a regular file (a device, FIFO or link, which is never written)."""
     if path.is_dir():
         raise CommandError(f"{option} {path}: is a directory; give a file name")
     if path.exists() and not force:
@@ -167,6 +168,12 @@ def refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
     if not path.parent.exists():
         raise CommandError(f"{option} {path}: folder {path.parent} does not exist")
     check_writable(path.parent, option, path)
+    from lfdkit.io.atomic import NotRegularFileError, check_output_path  # not for --help
+
+    try:  # a device, FIFO or link is never written, --force or not: say so before the work
+        check_output_path(path, overwrite=True)
+    except NotRegularFileError as exc:
+        raise CommandError(f"{option} {exc}") from None
 
 
 def check_writable(folder: Path, option: str, shown: Path) -> None:
