@@ -159,8 +159,11 @@ def _is_terminal(stream: object) -> bool:
 
 
 def refuse_existing(path: Path, force: bool, option: str = "--output") -> None:
-    """Refuse an output file before the work, not after it: exists, folder missing or
-    read-only, or not a regular file (a device, FIFO or link, which is never written)."""
+    """Refuse an output file before the work, not after it.
+
+    Refused: an existing file without ``force``, a missing or read-only folder,
+    and anything but a regular file (a device, FIFO or link is never written).
+    """
     if path.is_dir():
         raise CommandError(f"{option} {path}: is a directory; give a file name")
     if path.exists() and not force:
