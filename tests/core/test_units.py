@@ -143,3 +143,23 @@ def test_a_point_is_misplaced_only_when_another_unit_brings_it_among_the_demonst
     factor = {"mm": 1.0, "m": 1e-3, "cm": 0.1}[units]  # the box in the point's unit
     low, high = [factor * -400.0, factor * 450.0], [factor * 400.0, factor * 500.0]
     assert misplaced_units(point, low, high, units) == likely
+
+
+@pytest.mark.parametrize(
+    ("point", "size", "likely"),
+    [
+        ([0.3, 0.2], 0.2, "m"),  # a 20 cm carton typed in metres near the skill's origin
+        ([300.0, 200.0], 200.0, None),  # the same carton in millimetres
+        ([0.3, 0.2], 0.0, None),  # a point obstacle has no size to tell
+        ([0.3, 0.2], 0.9, "cm"),  # 900 mm in metres is larger than the workspace; 9 mm in cm
+        ([3.0, 2.0], 0.5, "cm"),  # in metres it would stand far outside the workspace
+        ([0.3, 0.2], 0.0005, None),  # no unit makes it 1 mm
+    ],
+)
+def test_an_obstacle_too_small_for_its_unit_is_misplaced_where_another_unit_fits_it(
+    point, size, likely
+) -> None:
+    from lfdkit.core.units import misplaced_units
+
+    # A reach from the robot's base, in millimetres: the origin is inside the workspace.
+    assert misplaced_units(point, [-400.0, 0.0], [400.0, 500.0], "mm", size=size) == likely

@@ -50,6 +50,29 @@ def test_an_obstacle_in_metres_for_a_millimetre_skill_is_warned(skill) -> None:
             skill.plan(goal=[400.0, 450.0], scene=scene)
 
 
+def test_a_box_in_metres_for_a_millimetre_skill_is_warned_by_its_size() -> None:
+    # A reach from the base (the origin) out to 600 mm: a box typed in metres stands
+    # among the demonstrations' own coordinates, so only its size (0.1 mm) gives it away.
+    from lfdkit.model.box import Box
+
+    t = np.linspace(0.0, 1.0, 40)
+    reach = [np.c_[600.0 * t, 400.0 * t + dy] for dy in (0.0, 3.0, -4.0)]
+    skill = Skill(units="mm").fit_path(reach)
+    in_metres = Box("carton", [0.3, 0.2], size=[0.1, 0.05])
+    with pytest.warns(
+        UnitsWarning,
+        match=r"^scene: obstacle 0 \('carton'\): 0\.1 mm across .* in m it would be 100 mm",
+    ):
+        with pytest.raises(ValueError):  # no reward for it: refused after the warning
+            skill.plan(goal=[600.0, 400.0], scene=Scene((in_metres,)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitsWarning)
+        with pytest.raises(ValueError):
+            skill.plan(
+                goal=[600.0, 400.0], scene=Scene((Box("carton", [300, 200], size=[100, 50]),))
+            )
+
+
 @pytest.mark.parametrize(("end", "index"), [("starts", 0), ("ends", -1)])
 def test_a_demonstration_starting_or_ending_inside_its_obstacle_is_refused(skill, end, index):
     scene = Scene((Obstacle("cup", AROUND[index], radius=30.0),))

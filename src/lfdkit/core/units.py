@@ -225,7 +225,11 @@ def implausible_units(extent: float, units: str, mean_speed: float | None = None
 
 
 def misplaced_units(
-    point: Sequence[float], low: Sequence[float], high: Sequence[float], units: str
+    point: Sequence[float],
+    low: Sequence[float],
+    high: Sequence[float],
+    units: str,
+    size: float = 0.0,
 ) -> str | None:
     """The unit a point far from a workspace is probably in, when another unit brings it inside.
 
@@ -236,7 +240,11 @@ def misplaced_units(
     box and, converted from another unit, within that box grown by a quarter
     of the span. A point near the origin stays near it in any unit, so a
     real target far from the demonstrations is not flagged unless a unit
-    change brings it among them.
+    change brings it among them. An obstacle (``size`` > 0) near the origin
+    is misplaced too where its size is below :data:`MIN_EXTENT_M` (a box
+    given in metres to a skill in millimetres: a carton 0.2 mm long) and
+    another unit makes it at least that large, no larger than the
+    workspace's span, and brings its position within the grown box.
 
     Parameters
     ----------
@@ -247,6 +255,8 @@ def misplaced_units(
         smallest and largest coordinates), in ``units``.
     units : {"m", "cm", "mm"}
         The unit the point was read in.
+    size : float
+        An obstacle's largest extent in ``units`` (0: a point, or not known).
 
     Returns
     -------
@@ -260,6 +270,10 @@ def misplaced_units(
     'm'
     >>> misplaced_units([350.0, 500.0], [-400.0, 450.0], [400.0, 500.0], "mm") is None
     True
+    >>> misplaced_units([0.3, 0.2], [-400.0, 0.0], [400.0, 500.0], "mm") is None
+    True
+    >>> misplaced_units([0.3, 0.2], [-400.0, 0.0], [400.0, 500.0], "mm", size=0.2)
+    'm'
     """
     check_units(units)
     span = max(h - lo for lo, h in zip(low, high, strict=True))
@@ -274,6 +288,15 @@ def misplaced_units(
         return math.sqrt(sum(e * e for e in excess))
 
     if not outside(point, 0.0) > 0.5 * span:
+        tiny = 0.0 < size * conversion_factor(units, "m") < MIN_EXTENT_M
+        if not tiny:
+            return None
+        for other in UNITS:  # largest first: metres typed for millimetres is the usual slip
+            factor = conversion_factor(other, units)
+            grown = size * factor
+            if factor > 1.0 and conversion_factor(units, "m") * grown >= MIN_EXTENT_M:
+                if grown <= span and outside([factor * v for v in point], 0.25 * span) == 0.0:
+                    return other
         return None
     for other in UNITS:
         if other == units:

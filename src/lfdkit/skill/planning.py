@@ -421,27 +421,40 @@ class Planning:
         it (:func:`lfdkit.core.units.misplaced_units`) is named, with its unit.
         """
         low, high = self.path_.min(axis=0).tolist(), self.path_.max(axis=0).tolist()
-        named = [(name, np.asarray(point, float).ravel()) for name, point in points.items()]
+        named = [(name, np.asarray(point, float).ravel(), 0.0) for name, point in points.items()]
         if isinstance(scene, Scene):
             named += [
-                (f"scene: obstacle {i} ({o.label!r})", np.asarray(o.position, float).ravel())
+                (
+                    f"scene: obstacle {i} ({o.label!r})",
+                    np.asarray(o.position, float).ravel(),
+                    _extent(o),
+                )
                 for i, o in enumerate(scene)
                 if not isinstance(o, HalfSpace) and np.size(o.position) == len(low)
             ]
-        for name, point in named:
-            likely = misplaced_units(point.tolist(), low, high, self.units)
+        for name, point, size in named:
+            likely = misplaced_units(point.tolist(), low, high, self.units, size=size)
             if likely is None:
                 continue
             shown = ", ".join(f"{v:.4g}" for v in point)
             factor = conversion_factor(likely, self.units)
+            detail = f"{name}: ({shown}) {self.units} lies far from the skill's workspace"
+            why = (
+                f"{detail} (its path spans {path_extent(self.path_):.4g} {self.units}); "
+                f"in {likely} it would lie within it"
+            )
+            if misplaced_units(point.tolist(), low, high, self.units) is None:  # by its size
+                detail = f"{name}: {size:.3g} {self.units} across is smaller than any obstacle"
+                why = (
+                    f"{detail}; in {likely} it would be {size * factor:.4g} {self.units} across "
+                    "and lie among the demonstrations"
+                )
             warnings.warn(
                 UnitsWarning(
-                    f"{name}: ({shown}) {self.units} lies far from the skill's workspace (its "
-                    f"path spans {path_extent(self.path_):.4g} {self.units}); in {likely} it "
-                    f"would lie within it: if it is in {likely}, multiply it by {factor:g} or "
-                    f"plan with skill.to_units({likely!r})",
+                    f"{why}: if it is in {likely}, multiply it by {factor:g} or plan with "
+                    f"skill.to_units({likely!r})",
                     likely=likely,
-                    detail=f"{name}: ({shown}) {self.units} lies far from the skill's workspace",
+                    detail=detail,
                 ),
                 stacklevel=4,
             )
@@ -1070,3 +1083,14 @@ class Planning:
         ends = np.minimum(scene.distances(start[None]), scene.distances(goal[None]))
         room = 0.5 * np.maximum(ends - check_positive(clearance, "clearance", allow_zero=True), 0.0)
         return np.minimum(margins, room)
+
+
+def _extent(obstacle: Any) -> float:
+    """An obstacle's largest extent (units): a box's longest edge, else its covering balls'."""
+    edges = getattr(obstacle, "size", None)
+    if edges is not None and np.size(edges) == np.size(obstacle.position):
+        return float(np.max(edges)) + 2.0 * float(obstacle.radius)
+    centres, radii = obstacle.balls()
+    centres = np.atleast_2d(np.asarray(centres, float))
+    radii = np.asarray(radii, float).reshape(-1, 1)
+    return float(np.max((centres + radii).max(axis=0) - (centres - radii).min(axis=0)))
