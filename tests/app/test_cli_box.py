@@ -72,9 +72,12 @@ def test_a_round_obstacle_stays_round_and_a_rounded_box_keeps_its_radius(capsys,
         ("cup:0,0.47,sx=0.08,sy=0.05,sx=0.1", ["sx= is given twice", "give it once"]),
         ("cup:0,0.47,sx=0.08,sy=0.05,yaw=30", ["yaw in", "no unit", "yaw=30deg"]),
         ("cup:0,0.47,sx=0.08,sy=0.05,yaw=1_0deg", ["yaw in", "not a finite number"]),
-        # A 3-D box's centre and edges in a row, as it is often written: the edges by name.
-        ("box:0.3,0,0.2,0.1,0.3,0.16", ["6 numbers", "box:0.3,0,0.2,sx=0.1,sy=0.3,sz=0.16"]),
-        ("cup:0,0.47,0.08,0.05", ["4 numbers", "cup:0,0.47,sx=0.08,sy=0.05"]),
+        # In a row: 4-7 or 10 values only, numbers, edges >= 0, one turn, a unit quaternion.
+        ("box:0.3,0,0.2,0.1,0.3,0.16,0,0", ["8 values", "CX,CY[,CZ],LX,LY[,LZ]"]),
+        ("cup:0,0.47,0.08,-0.05", ["edge lengths must be finite numbers >= 0"]),
+        ("cup:0,0.47,0.08,0.05,30", ["yaw in", "no unit"]),
+        ("cup:0,0.47,0.08,0.05,30deg,yaw=1rad", ["yaw is given twice"]),
+        ("box:0.3,0,0.2,0.1,0.3,0.16,0,0,0,0", ["quaternion"]),
     ],
     ids=[
         "missing",
@@ -86,8 +89,11 @@ def test_a_round_obstacle_stays_round_and_a_rounded_box_keeps_its_radius(capsys,
         "twice",
         "unitless",
         "bad",
-        "positional-3d",
-        "positional-2d",
+        "row-count",
+        "row-negative",
+        "row-unitless",
+        "row-yaw-twice",
+        "row-zero-quaternion",
     ],
 )
 def test_bad_boxes_are_usage_errors_on_one_line(capsys, skill_path, arg, fragments):
@@ -104,6 +110,36 @@ def test_help_documents_boxes(capsys, skill_path):
     assert code == 0
     flat = " ".join(stdout.split())
     assert "sx=SX,sy=SY[,sz=SZ][,yaw=30deg|0.52rad]" in flat
+
+
+@pytest.mark.parametrize(
+    "row",
+    [
+        "cup:0.0,0.47,0.08,0.05,30deg",  # centre, edges, yaw
+        "cup:0.0,0.47,0.08,0.05,0.5235987755982988rad",
+    ],
+)
+def test_a_box_in_a_row_is_the_box_by_name(capsys, skill_path, row):
+    by_name = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle",
+                      "cup:0.0,0.47,sx=0.08,sy=0.05,yaw=30deg")  # fmt: skip
+    in_a_row = run_cli(capsys, "plan", skill_path, "--goal", GOAL, "--obstacle", row)
+    assert by_name[0] == 0 and in_a_row[0] == 0, in_a_row[2]
+    np.testing.assert_allclose(read_plan_csv(in_a_row[1])[1], read_plan_csv(by_name[1])[1])
+
+
+def test_a_3d_box_in_a_row_takes_a_quaternion() -> None:
+    from lfdkit.app.cli.common import _obstacle
+
+    half = np.sqrt(0.5)
+    quaternion = _obstacle(f"carton:0.3,0,0.2,0.1,0.3,0.16,0,0,{half},{half}")
+    by_yaw = _obstacle("carton:0.3,0,0.2,sx=0.1,sy=0.3,sz=0.16,yaw=90deg")
+    assert quaternion[:4] == by_yaw[:4] == ("carton", [0.3, 0.0, 0.2], 0.0, None)
+    assert quaternion[4][0] == by_yaw[4][0] == [0.1, 0.3, 0.16]
+    np.testing.assert_allclose(quaternion[4][1], by_yaw[4][1], atol=1e-15)
+    tilted = _obstacle("carton:0.3,0,0.2,0.1,0.3,0.16,0.38268343,0,0,0.92387953")  # 45° about x
+    np.testing.assert_allclose(
+        tilted[4][1], [np.sin(np.pi / 8), 0, 0, np.cos(np.pi / 8)], atol=1e-8
+    )
 
 
 def test_a_box_in_centimetres_is_the_box_in_metres(capsys, skill_path):
@@ -124,7 +160,8 @@ def test_a_3d_moving_box_is_read_with_its_height_turn_and_velocity() -> None:
         "carton:0.5,0,0.1,sx=0.2,sy=0.1,sz=0.3,yaw=90deg,r=0.005,vx=0,vy=0.1,vz=0"
     )
     assert (label, position, radius, velocity) == ("carton", [0.5, 0.0, 0.1], 0.005, [0, 0.1, 0])
-    assert box[0] == [0.2, 0.1, 0.3] and box[1] == pytest.approx(np.pi / 2, abs=1e-15)
+    assert box[0] == [0.2, 0.1, 0.3]
+    np.testing.assert_allclose(box[1], [0.0, 0.0, np.sqrt(0.5), np.sqrt(0.5)], atol=1e-15)
     assert normal is None
     assert _obstacle("cup:0.1,0.45,r=0.03") == ("cup", [0.1, 0.45], 0.03, None, None, None)
 

@@ -278,12 +278,14 @@ def _obstacle(text: str):
     """An ``--obstacle`` value: round, a box or a half-space (an argparse type).
 
     ``CLASS:X,Y[,Z][,r=R][,vx=VX,vy=VY[,vz=VZ]]``; a box adds
-    ``sx=,sy=[,sz=][,yaw=]``, a half-space ``nx=,ny=[,nz=]``.
+    ``sx=,sy=[,sz=][,yaw=]`` or is written in a row,
+    ``CLASS:CX,CY[,CZ],LX,LY[,LZ][,YAW|,QX,QY,QZ,QW]``; a half-space adds
+    ``nx=,ny=[,nz=]``.
 
     Returns (label, position, radius, velocity, box, normal): ``velocity`` is
     None for a static obstacle, else the list of the given components
-    (units/s); ``box`` is None unless a box, else ``(edge lengths, yaw in
-    rad)``; ``normal`` is None unless a half-space, else its normal's
+    (units/s); ``box`` is None unless a box, else ``(edge lengths, unit
+    quaternion [x, y, z, w])``; ``normal`` is None unless a half-space, else its normal's
     components (a direction: not in units, not normalised here).
     """
     label, sep, rest = text.partition(":")
@@ -352,14 +354,9 @@ def _obstacle(text: str):
             )
         else:
             coords.append(token)
-    if len(coords) in (4, 6) and not sizes and not normal:
-        # A box's centre and edge lengths in a row: the edges go by name.
-        half = len(coords) // 2
-        named = ",".join(f"{k}={v}" for k, v in zip(BOX_SIZE_KEYS, coords[half:], strict=False))
-        raise argparse.ArgumentTypeError(
-            f"{len(coords)} numbers in {text!r}: a position has 2 or 3; a box gives its edge "
-            f"lengths by name, e.g. {label.strip()}:{','.join(coords[:half])},{named}"
-        )
+    turn = None
+    if len(coords) > 3:
+        coords, sizes, yaw, turn = _box_in_a_row(coords, sizes, yaw, normal, text)
     position = parse_numbers(",".join(coords))
     box = None
     if sizes or yaw is not None:
@@ -376,7 +373,10 @@ def _obstacle(text: str):
                 f"box in {text!r}: missing its edge length {missing[0]}=; a "
                 f"{len(position)}-D box needs {', '.join(w + '=' for w in wanted)}"
             )
-        box = ([sizes[w] for w in wanted], 0.0 if yaw is None else yaw)
+        if turn is None:  # about z: [x, y, z, w] = [0, 0, sin(yaw/2), cos(yaw/2)]
+            angle = 0.0 if yaw is None else yaw
+            turn = [0.0, 0.0, math.sin(0.5 * angle), math.cos(0.5 * angle)]
+        box = ([sizes[w] for w in wanted], turn)
     normal_vector = _normal(normal, position, text, box is not None, bool(velocity))
     if not velocity:
         return label.strip(), position, radius, None, box, normal_vector
@@ -426,6 +426,54 @@ def _normal(
             f"free side, {example}"
         )
     return components
+
+
+def _box_in_a_row(
+    coords: list[str], sizes: dict[str, float], yaw: float | None, normal: dict, text: str
+) -> tuple[list[str], dict[str, float], float | None, list[float] | None]:
+    """A box written ``CX,CY[,CZ],LX,LY[,LZ][,YAW|,QX,QY,QZ,QW]``: centre, edges, turn.
+
+    4 or 5 values are a 2-D box (the fifth its yaw, with its unit), 6 or 7 a
+    3-D one, 10 a 3-D box and its orientation as a unit quaternion ``x, y, z,
+    w``. Returns the centre's tokens, the edges by name, the yaw and the
+    quaternion (None: about z by the yaw).
+    """
+    n = len(coords)
+    if sizes or normal or n not in (4, 5, 6, 7, 10):
+        raise argparse.ArgumentTypeError(
+            f"{n} values in {text!r}: a position has 2 or 3; a box is CX,CY[,CZ],LX,LY[,LZ] "
+            "with an optional yaw (e.g. 30deg) or quaternion QX,QY,QZ,QW, or its edges by name "
+            "(sx=,sy=[,sz=])"
+        )
+    q = 2 if n in (4, 5) else 3
+    numbers = coords if n == 10 else coords[: 2 * q]
+    try:
+        values = [parse_decimal(v) for v in numbers]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: a box's values must be numbers") from None
+    edges = values[q : 2 * q]
+    if not all(v >= 0 for v in edges):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: a box's edge lengths must be finite numbers >= 0"
+        )
+    named = dict(zip(BOX_SIZE_KEYS, edges, strict=False))
+    if n in (5, 7):
+        if yaw is not None:
+            raise argparse.ArgumentTypeError(f"yaw is given twice in {text!r}; give it once")
+        return coords[:q], named, _yaw(coords[-1], text), None
+    if n == 10:
+        if yaw is not None:
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: give the box's quaternion or its yaw, not both"
+            )
+        from lfdkit.core.rotations import check_quaternions
+
+        try:
+            turn = check_quaternions(values[6:10], "quaternion", n=1)[0]
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(f"{text!r}: {exc}") from None
+        return coords[:q], named, None, [float(v) for v in turn]
+    return coords[:q], named, yaw, None
 
 
 def _yaw(value: str, text: str) -> float:
@@ -545,8 +593,7 @@ def _scene_from_args(args: argparse.Namespace, n_dims: int):
         elif box is None:
             obstacles.append(Obstacle(label, position, radius, motion=motion))
         else:
-            size, yaw = box  # turned about z: [x, y, z, w] = [0, 0, sin(yaw/2), cos(yaw/2)]
-            turn = [0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw)]
+            size, turn = box
             obstacles.append(Box(label, position, radius, size, turn, motion=motion))
     scene = Scene(tuple(obstacles))
     if len(scene) and scene.positions.shape[1] != n_dims:
@@ -802,7 +849,8 @@ def add_skill_file_options(parser: argparse.ArgumentParser) -> None:
         "moving at constant velocity, its velocity in units/s (the plan keeps clear of "
         "where it will be when the tool passes; repeatable). A box gives its edge lengths "
         "and optionally its turn about z: CLASS:X,Y[,Z],sx=SX,sy=SY[,sz=SZ][,yaw=30deg|0.52rad]"
-        "[,r=R] (X,Y[,Z] its centre; a box is never entered, even at --clearance 0). A "
+        "[,r=R] (X,Y[,Z] its centre; a box is never entered, even at --clearance 0), or "
+        "in a row: CLASS:CX,CY[,CZ],LX,LY[,LZ][,30deg|,QX,QY,QZ,QW] (a quaternion x, y, z, w). A "
         "table, floor or wall (a half-space: every point on or below a plane) gives a point "
         "of its plane and its normal to the free side: CLASS:X,Y[,Z],nx=NX,ny=NY[,nz=NZ][,r=R] "
         "(e.g. table:0,0,0.7,nx=0,ny=0,nz=1; never entered)",
