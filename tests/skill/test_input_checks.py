@@ -73,6 +73,28 @@ def test_a_box_in_metres_for_a_millimetre_skill_is_warned_by_its_size() -> None:
             )
 
 
+def test_a_scene_file_s_box_in_metres_is_warned_by_its_size_before_the_fit(monkeypatch) -> None:
+    # The demonstrations (mm) swerve round a carton at (300, 200) mm; the scene gives it
+    # in metres, near the reach's origin: only its size tells.
+    from lfdkit.model.box import Box
+
+    t = np.linspace(0.0, 1.0, 40)
+    bump = 60.0 * np.exp(-((t - 0.5) ** 2) / (2 * 0.1**2))
+    demos = [np.c_[600.0 * t, 400.0 * t - bump + dy] for dy in (0.0, 3.0, -4.0)]
+    scenes = [Scene((Box("carton", [0.3, 0.2], size=[0.1, 0.05]),))] * 3
+
+    class Checked(Exception):
+        """Raised right after the scenes' checks: the fit itself is not wanted here."""
+
+    def stop(*args, **kwargs):
+        raise Checked
+
+    monkeypatch.setattr(Skill, "_goals", stop)
+    with pytest.warns(UserWarning, match=r"0\.1 mm across is smaller than any obstacle.*in m it"):
+        with pytest.raises(Checked):
+            Skill(units="mm").fit(demos, demos, scenes)
+
+
 @pytest.mark.parametrize(("end", "index"), [("starts", 0), ("ends", -1)])
 def test_a_demonstration_starting_or_ending_inside_its_obstacle_is_refused(skill, end, index):
     scene = Scene((Obstacle("cup", AROUND[index], radius=30.0),))

@@ -71,7 +71,7 @@ from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 from lfdkit.skill.files import SkillFiles
 from lfdkit.skill.orientation import SkillOrientation, check_orientations_list
-from lfdkit.skill.planning import PlannerKind, Planning
+from lfdkit.skill.planning import PlannerKind, Planning, obstacle_extent
 from lfdkit.skill.selection import MIN_CROSS_VALIDATION_DEMOS, BehaviourSelection
 from lfdkit.skill.unknown import UnknownClasses, median_radii
 from lfdkit.skill.via import ViaPoints
@@ -1158,8 +1158,9 @@ class Skill(
         obstacle, so one that does names a wrong position, radius or unit in
         the scene (the fit would fail on it, or learn from it, without saying
         which). Warned: a demonstration passing deeper than a quarter of the
-        obstacle's size inside it, and an obstacle far from every
-        demonstration that another unit would bring among them
+        obstacle's size inside it, an obstacle far from every demonstration or
+        too small for the unit (a box in metres near a millimetre reach's
+        origin) that another unit would bring among them
         (:func:`lfdkit.core.units.misplaced_units`), and a class in one scene only.
         """
         points = np.concatenate([self.path_, *demos])
@@ -1192,10 +1193,17 @@ class Skill(
                         )
                 if isinstance(obstacle, HalfSpace) or np.size(obstacle.position) != len(low):
                     continue
-                likely = misplaced_units(obstacle.position.tolist(), low, high, units)
-                if likely is not None:
-                    shown = ", ".join(f"{v:.4g}" for v in obstacle.position)
-                    misplaced.append((f"{name}: at ({shown}) {units}", likely))
+                at = obstacle.position.tolist()
+                size = obstacle_extent(obstacle)
+                likely = misplaced_units(at, low, high, units, size=size)
+                if likely is None:
+                    continue
+                if misplaced_units(at, low, high, units) is None:  # by its size
+                    said = f"{name}: {size:.3g} {units} across is smaller than any obstacle"
+                else:
+                    shown = ", ".join(f"{v:.4g}" for v in at)
+                    said = f"{name}: at ({shown}) {units} lies far from every demonstration"
+                misplaced.append((said, likely))
         seen: dict[str, list[int]] = {}
         for j, scene in enumerate(scenes):
             for label in dict.fromkeys(scene.labels):
@@ -1213,8 +1221,8 @@ class Skill(
             (first, likely), more = misplaced[0], len(misplaced) - 1
             others = f" (and {more} other obstacle{'s' * (more != 1)})" if more else ""
             warnings.warn(
-                f"{first} lies far from every demonstration{others}; in {likely} it would lie "
-                f"among them: give the scenes in the demonstrations' unit ({units})",
+                f"{first}{others}; in {likely} it would lie among them: give the scenes in "
+                f"the demonstrations' unit ({units})",
                 UserWarning,
                 stacklevel=4,
             )

@@ -427,7 +427,7 @@ class Planning:
                 (
                     f"scene: obstacle {i} ({o.label!r})",
                     np.asarray(o.position, float).ravel(),
-                    _extent(o),
+                    obstacle_extent(o),
                 )
                 for i, o in enumerate(scene)
                 if not isinstance(o, HalfSpace) and np.size(o.position) == len(low)
@@ -1085,7 +1085,7 @@ class Planning:
         return np.minimum(margins, room)
 
 
-def _extent(obstacle: Any) -> float:
+def obstacle_extent(obstacle: Any) -> float:
     """An obstacle's largest extent (units): a box's longest edge, else its covering balls'."""
     edges = getattr(obstacle, "size", None)
     if edges is not None and np.size(edges) == np.size(obstacle.position):
