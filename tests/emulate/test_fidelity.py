@@ -464,6 +464,42 @@ def test_a_class_kept_on_one_side_the_long_way_round_is_a_side_preference() -> N
     assert side_preferences([around, 1.1 * around], [pair, pair], nominals[:2]) == {}
 
 
+def _swerve(cx: float, offset: float) -> np.ndarray:
+    """A swerve 15 cm either side of ``cx`` along the sweep, ``offset`` across it at its peak."""
+    return offset * np.cos(0.5 * np.pi * np.clip((X - cx) / 0.15, -1.0, 1.0)) ** 2
+
+
+def test_obstacles_passed_one_after_another_each_show_their_side() -> None:
+    """Issue 34: a cup kept on the left, then a box passed the short way, 50 cm further on.
+
+    Cups (radius 1 cm) 2-3 cm either side of the sweep at x = 0.25, passed 5 cm
+    from their surface on their right (the long way where the cup stands right);
+    boxes (radius 2 cm) at x = 0.75 passed the short way. Each demonstration goes
+    around both, one after the other: the nominal comes nearer the cup than the
+    demonstration did only at x = 0.20-0.30, nearer the box only at 0.69-0.81,
+    so each is gone around alone.
+    """
+    cups, boxes = (-0.02, 0.02, -0.03, -0.025), (0.02, -0.03, 0.025, -0.02)
+    demos, scenes = [], []
+    for cy, by in zip(cups, boxes, strict=True):
+        y = _swerve(0.25, cy - 0.06) + _swerve(0.75, by - np.sign(by) * 0.07)
+        demos.append(np.column_stack([X, y]))
+        cup, box = Obstacle("cup", [0.25, cy], radius=0.01), Obstacle("box", [0.75, by], 0.02)
+        scenes.append(Scene((cup, box)))
+    nominals = [X[:, None] * [1.0, 0.0]] * len(demos)
+    assert side_preferences(demos, scenes, nominals) == {
+        "cup": {"side": "left", "passes": 4, "long_way": [0, 2, 3]}
+    }
+    # The box beside each cup instead (5 cm along, across the cup from the pass): the
+    # pair is gone around as one, its stretches shared, and no side is read.
+    pairs = [
+        Scene((s.obstacles[0], Obstacle("box", s.positions[0] + [0.05, 0.04], 0.02)))
+        for s in scenes
+    ]
+    around = [np.column_stack([X, _swerve(0.25, cy - 0.06)]) for cy in cups]
+    assert side_preferences(around, pairs, nominals) == {}
+
+
 def over_demos(sign: float = 1.0) -> tuple[list[np.ndarray], list[Scene], list[np.ndarray]]:
     """3-D: a person who passes over every box, the long way where it stands above the path.
 
