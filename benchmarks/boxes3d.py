@@ -257,7 +257,8 @@ def sided(
     balls = [ball for _, ball in pairs]
     narrow = 1.0 / (0.01 * min(b.radius for b in balls)) ** 2
     response = Reward(
-        reward.nominal_weight, {**reward.precisions, SIDE_BLOCKER: np.full(3, narrow)}
+        reward.nominal_weight,
+        {**reward.precisions, SIDE_BLOCKER: np.full(nominal.shape[1], narrow)},
     )
     own = np.broadcast_to(clearance, len(scene)).astype(float)
     if kept:  # as the Skill's: the tool's clearance plus the larger of the floor and the side's
