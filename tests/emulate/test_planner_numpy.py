@@ -316,6 +316,41 @@ def test_3d_grid_node_costs_are_each_states_point_cost(seed: int) -> None:
     np.testing.assert_array_equal(falling[:, ::-1], out)
 
 
+@pytest.mark.parametrize("seed", range(2))
+def test_3d_windows_share_their_points_states_costs(monkeypatch, seed: int) -> None:
+    # The 3-D receding horizon's windows on the same levels take each point's states'
+    # costs from the last window (planner._WindowNodes, issue 34): the same plan, to the
+    # bit, as each window computing its own.
+    from lfdkit.emulate import planner
+
+    nominal = nominal_path(3, 0.1)
+    scene = scene_along(nominal, seed, 3)
+    args = {"horizon": 8, "lookahead": False, "goal_approach": None, "clearance": 0.01}
+    asked, computed = [], []
+    original = planner._WindowNodes
+
+    class Counted(original):
+        def costs(self, start, stop, levels):
+            before = (self.levels, self.first, self.stop)
+            out = super().costs(start, stop, levels)
+            again = before[0] != self.levels or not before[1] <= start <= before[2]
+            asked.append(stop - start)
+            computed.append(stop - start if again else max(stop - before[2], 0))
+            return out
+
+    monkeypatch.setattr(planner, "_WindowNodes", Counted)
+    shared = plan_path(REWARD_3D, nominal, scene, **args).points
+
+    class Fresh(original):
+        def costs(self, start, stop, levels):
+            return original(self.problem).costs(start, stop, levels)
+
+    monkeypatch.setattr(planner, "_WindowNodes", Fresh)
+    own = plan_path(REWARD_3D, nominal, scene, **args).points
+    assert asked and sum(computed) < sum(asked)
+    np.testing.assert_array_equal(shared, own)
+
+
 @pytest.mark.parametrize("q", [2, 3])
 @pytest.mark.parametrize("end_zero", [False, True])
 def test_grid_search_agrees(q: int, end_zero: bool) -> None:
