@@ -281,6 +281,76 @@ def test_2d_grid_node_costs_are_each_states_point_cost(seed: int) -> None:
     np.testing.assert_array_equal(out, expected)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_3d_grid_node_costs_are_each_states_point_cost(seed: int) -> None:
+    # The compiled 3-D states' costs go term by term over the states, and each hard
+    # radius only over the states of its disc: each state's sum is still point_cost's
+    # (the weight, the obstacles not negligible at the point, the hard radii, in that
+    # order), to the bit. The levels reach into the hard radii (+inf) and far aside;
+    # falling levels take the state-by-state path, the same numbers.
+    problem, _ = random_problem(seed, 3, 0.02)
+    args = problem.kernel_arguments()
+    c, b, a, _, rr, nr, inner2, outer2, _ = args
+    levels = np.linspace(-0.12, 0.12, 25)
+    g_count = levels.size
+    out = np.empty((problem.n, g_count**2))
+    compiled_grid.grid_node_costs(*args, levels, out)
+    expected = np.empty_like(out)
+    in_barrier = 0
+    for k in range(problem.n):
+        (a00, a01), (a10, a11) = a[k, :, 0].T, a[k, :, 1].T
+        b0, b1 = b[k].T
+        det = np.maximum(a00 * a11 - a01 * a10, 1e-300)
+        lowest = c[k] - (a11 * b0**2 - 2.0 * a01 * b0 * b1 + a00 * b1**2) / det
+        near = np.flatnonzero(lowest < 40.0)
+        hit = np.flatnonzero(rr[k] - nr[k, :, 0] ** 2 - nr[k, :, 1] ** 2 < outer2)
+        for s in range(g_count**2):
+            g = np.array([levels[s // g_count], levels[s % g_count]])
+            expected[k, s] = compiled.point_cost(*args, k, g, near, hit)
+            u = rr[k, hit] + ((2.0 * nr[k, hit] + g) * g).sum(axis=1)
+            in_barrier += int(np.any((u < outer2[hit]) & (u > inner2[hit])))
+    assert np.isinf(out).any() and np.isfinite(out).mean() > 0.5 and in_barrier > 0
+    np.testing.assert_array_equal(out, expected)
+    falling = np.empty_like(out)
+    compiled_grid.grid_node_costs(*args, levels[::-1].copy(), falling)
+    np.testing.assert_array_equal(falling[:, ::-1], out)
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_3d_windows_share_their_points_states_costs(monkeypatch, seed: int) -> None:
+    # The 3-D receding horizon's windows on the same levels take each point's states'
+    # costs from the last window (planner._WindowNodes, issue 34): the same plan, to the
+    # bit, as each window computing its own.
+    from lfdkit.emulate import planner
+
+    nominal = nominal_path(3, 0.1)
+    scene = scene_along(nominal, seed, 3)
+    args = {"horizon": 8, "lookahead": False, "goal_approach": None, "clearance": 0.01}
+    asked, computed = [], []
+    original = planner._WindowNodes
+
+    class Counted(original):
+        def costs(self, start, stop, levels):
+            before = (self.levels, self.first, self.stop)
+            out = super().costs(start, stop, levels)
+            again = before[0] != self.levels or not before[1] <= start <= before[2]
+            asked.append(stop - start)
+            computed.append(stop - start if again else max(stop - before[2], 0))
+            return out
+
+    monkeypatch.setattr(planner, "_WindowNodes", Counted)
+    shared = plan_path(REWARD_3D, nominal, scene, **args).points
+
+    class Fresh(original):
+        def costs(self, start, stop, levels):
+            return original(self.problem).costs(start, stop, levels)
+
+    monkeypatch.setattr(planner, "_WindowNodes", Fresh)
+    own = plan_path(REWARD_3D, nominal, scene, **args).points
+    assert asked and sum(computed) < sum(asked)
+    np.testing.assert_array_equal(shared, own)
+
+
 @pytest.mark.parametrize("q", [2, 3])
 @pytest.mark.parametrize("end_zero", [False, True])
 def test_grid_search_agrees(q: int, end_zero: bool) -> None:

@@ -76,6 +76,33 @@ def test_distance_to_a_path_is_exact(seed: int, q: int, n: int, radius: float, s
 
 
 @pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
+def test_path_distance_is_every_segments_least_to_the_bit(q: int, scale: float) -> None:
+    # Box.distance looks only at the segments that may hold the nearest point (issue 34):
+    # the same number as the least candidate of every segment, past, through and along it.
+    from lfdkit.model.box import _local_signed_distance, _segment_candidates
+
+    rng = np.random.default_rng(q)
+    for trial in range(60):
+        box = random_box(rng, q, [0.0, 0.05][trial % 2])
+        box = box.transformed(scale, np.ones(q))
+        a, b = box.position + scale * rng.normal(size=(2, q))
+        if trial % 3 == 1:  # through the box
+            b = 2.0 * box.position - a
+        m = int(rng.integers(2, 150))
+        path = a + np.linspace(0.0, 1.0, m)[:, None] * (b - a)
+        path += scale * rng.normal(0.0, 0.02, path.shape)
+        if trial % 3 == 2:  # each point twice: empty segments
+            path = np.repeat(path, 2, axis=0)
+        local = box.to_local(path)
+        step = np.diff(local, axis=0)
+        t = _segment_candidates(local[:-1], step, box.half)
+        points = (local[:-1, None, :] + t[:, :, None] * step[:, None, :]).reshape(-1, q)
+        want = float(_local_signed_distance(points, box.half).min()) - box.radius
+        assert box.distance(path) == want
+
+
+@pytest.mark.parametrize("q", [2, 3])
 def test_point_distances_inside_on_and_outside(q: int) -> None:
     rng = np.random.default_rng(5)
     box = random_box(rng, q)

@@ -34,6 +34,9 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     if m == 1:
         _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
         return
+    if _ascending(levels):
+        _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out)
+        return
     n_obs, n_hard = c.shape[1], rr.shape[1]
     point = np.empty(m)
     bumps = np.empty(n_obs, dtype=np.int64)
@@ -102,6 +105,94 @@ def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
             for s in range(g_count):
                 g = levels[s]
                 row[s] += barrier(rk + (2.0 * nk + g) * g, inner2[h], outer2[h], mu)[0]
+
+
+@numba.njit(cache=True)
+def _ascending(levels):
+    """Whether ``levels`` rise strictly (the lateral grid's do), all finite."""
+    for s in range(levels.shape[0]):
+        if not np.isfinite(levels[s]) or (s > 0 and not levels[s] > levels[s - 1]):
+            return False
+    return True
+
+
+@numba.njit(cache=True)
+def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
+    """:func:`grid_node_costs` in 3-D (two offset components), term by term over the states.
+
+    Each state's sum takes the same terms in the same order as
+    :func:`~._problem_kernels.point_cost` (the nominal weight, the kept
+    obstacles, the hard radii), so the same numbers bit for bit. A hard
+    radius adds ``0.0`` (nothing) wherever its squared distance is beyond the
+    barrier, which outside a disc of the grid it is at every state: each row
+    of states (``levels[i]`` first) goes only over the columns within that
+    disc, widened by ``1e-9`` of the terms' size (far more than their
+    rounding) and a cell. With 3-D side blockers (a hundred hard radii at a
+    point) the states' costs took most of a fit's replanning (issue 34).
+    ``levels`` must rise (:func:`_ascending`).
+    """
+    n = out.shape[0]
+    g_count = levels.shape[0]
+    n_obs, n_hard = c.shape[1], rr.shape[1]
+    widest = 0.0
+    for s in range(g_count):
+        widest = max(widest, abs(levels[s]))
+    bumps = np.empty(n_obs, dtype=np.int64)
+    for k in range(n):
+        row = out[k]
+        w = weight[k]
+        for i in range(g_count):
+            g0 = levels[i]
+            for j in range(g_count):
+                g1 = levels[j]
+                row[i * g_count + j] = (0.0 + w * g0 * g0) + w * g1 * g1
+        n_bumps = 0
+        for o in range(n_obs):
+            # as grid_node_costs: min over d of c + 2bᵀd + dᵀAd is c − bᵀA⁻¹b
+            det = a[k, o, 0, 0] * a[k, o, 1, 1] - a[k, o, 0, 1] * a[k, o, 1, 0]
+            det = max(det, 1e-300)
+            quad = (
+                a[k, o, 1, 1] * b[k, o, 0] ** 2
+                - 2.0 * a[k, o, 0, 1] * b[k, o, 0] * b[k, o, 1]
+                + a[k, o, 0, 0] * b[k, o, 1] ** 2
+            ) / det
+            if c[k, o] - quad < 40.0:
+                bumps[n_bumps] = o
+                n_bumps += 1
+        for t in range(n_bumps):
+            o = bumps[t]
+            ck, b0, b1 = c[k, o], b[k, o, 0], b[k, o, 1]
+            a00, a01, a10, a11 = a[k, o, 0, 0], a[k, o, 0, 1], a[k, o, 1, 0], a[k, o, 1, 1]
+            for i in range(g_count):
+                g0 = levels[i]
+                p0 = b0 + a00 * g0
+                p1 = b1 + a10 * g0
+                for j in range(g_count):
+                    g1 = levels[j]
+                    s = (ck + (b0 + (p0 + a01 * g1)) * g0) + (b1 + (p1 + a11 * g1)) * g1
+                    row[i * g_count + j] += np.exp(-s)
+        for h in range(n_hard):
+            r0, n0, n1 = rr[k, h], nr[k, h, 0], nr[k, h, 1]
+            if not (r0 - n0**2) - n1**2 < outer2[h]:  # beyond the barrier at every offset
+                continue
+            # (2n + g)g = (g + n)² − n²: within the barrier only where (g1 + n1)² < reach
+            tol = 1e-9 * (abs(r0) + n0**2 + n1**2 + abs(outer2[h]) + 2.0 * widest**2)
+            for i in range(g_count):
+                g0 = levels[i]
+                part = r0 + (2.0 * n0 + g0) * g0
+                reach = outer2[h] - part + n1**2 + tol
+                if reach < 0.0:
+                    continue
+                if np.isfinite(reach):
+                    half = np.sqrt(reach)
+                    first = max(np.searchsorted(levels, -n1 - half) - 1, 0)
+                    last = min(np.searchsorted(levels, -n1 + half, "right") + 1, g_count)
+                else:
+                    first, last = 0, g_count
+                for j in range(first, last):
+                    g1 = levels[j]
+                    u = part + (2.0 * n1 + g1) * g1
+                    row[i * g_count + j] += barrier(u, inner2[h], outer2[h], mu)[0]
 
 
 @numba.njit(cache=True, inline="always")

@@ -58,7 +58,7 @@ did, whichever model is chosen (issue 26).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -73,8 +73,10 @@ __all__ = [
     "CLEARANCE_QUANTILE",
     "SIDES",
     "SIDE_REACH",
+    "clearance_quantiles",
     "demonstrated_clearances",
     "demonstration_reference",
+    "kept_clearances",
     "kept_sides",
     "lateral_axes",
     "passing_sides",
@@ -450,20 +452,46 @@ def demonstrated_clearances(
         distances}`` (units, >= 0) for every class with at least one obstacle
         gone around; a class without one is left out (no margin).
     """
-    kept: dict[str, list[float]] = {c: [] for c in classes}
-    for demo, scene, nominal in zip(demos, scenes, nominals, strict=True):
-        if not len(scene):
-            continue
-        around = _gone_around(demo, nominal, scene)
-        gaps = scene.distances(demo)
-        for o in np.flatnonzero(around):
-            label = scene.labels[o]
-            if label in kept:
-                kept[label].append(max(float(gaps[o]), 0.0))
+    each = [kept_clearances(d, s, n) for d, s, n in zip(demos, scenes, nominals, strict=True)]
+    return clearance_quantiles(each, classes, quantile=quantile, factor=factor)
+
+
+def kept_clearances(demo: np.ndarray, scene: Scene, nominal: np.ndarray) -> dict[str, list[float]]:
+    """One demonstration's surface distances (>= 0) from the obstacles it went around, per class.
+
+    In the scene's order; what :func:`demonstrated_clearances` takes the
+    quantiles of, over the demonstrations (:func:`clearance_quantiles`).
+    """
+    kept: dict[str, list[float]] = {}
+    if not len(scene):
+        return kept
+    around = _gone_around(demo, nominal, scene)
+    gaps = scene.distances(demo)
+    for o in np.flatnonzero(around):
+        kept.setdefault(scene.labels[o], []).append(max(float(gaps[o]), 0.0))
+    return kept
+
+
+def clearance_quantiles(
+    kept: Sequence[Mapping[str, Sequence[float]]],
+    classes: Sequence[str],
+    *,
+    quantile: float = CLEARANCE_QUANTILE,
+    factor: float = CLEARANCE_FACTOR,
+) -> dict[str, float]:
+    """:func:`demonstrated_clearances` from each demonstration's :func:`kept_clearances`.
+
+    So that several quantiles, or several subsets of the demonstrations (the
+    model choice's folds), go round the obstacles once (issue 34).
+    """
+    values: dict[str, list[float]] = {c: [] for c in classes}
+    for one in kept:
+        for c, gaps in values.items():
+            gaps.extend(one.get(c, ()))
     return {
-        c: factor * float(np.quantile(values, quantile, method="lower"))
-        for c, values in kept.items()
-        if values
+        c: factor * float(np.quantile(gaps, quantile, method="lower"))
+        for c, gaps in values.items()
+        if gaps
     }
 
 

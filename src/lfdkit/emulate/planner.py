@@ -503,10 +503,13 @@ def _global_start(
     end_on_nominal: bool,
     levels: tuple[np.ndarray, int] | None = None,
     extra: np.ndarray | None = None,
+    node: np.ndarray | None = None,
 ) -> np.ndarray | None:
     """The best path on the lateral grid (:func:`._planner_kernels.lateral_dp`), None if blocked.
 
     ``extra`` (n, G^m) is added to the grid states' costs (``+inf`` forbids one).
+    ``node`` (n, G^m): the states' costs on ``levels`` where known
+    (:class:`_WindowNodes`), for lateral_dp's backward programme and walk alone.
     """
     lateral_dp = _grid_kernel("lateral_dp")
 
@@ -514,6 +517,19 @@ def _global_start(
     if problem.m == 1 and not end_on_nominal and extra is None:
         grid = _reachable(grid, cells, problem.max_step, d0, problem.n)
     out = np.zeros((problem.n, problem.m))
+    if node is not None:  # lateral_dp's two steps after the states' costs
+        table = np.empty_like(node)
+        _grid_kernel("grid_backward")(
+            node,
+            grid.size,
+            cells,
+            end_on_nominal,
+            np.zeros((0, 0)) if extra is None else extra,
+            table,
+        )
+        d0 = np.ascontiguousarray(d0, dtype=np.float64)
+        total = _grid_kernel("grid_walk")(table, grid, cells, problem.max_step, d0, out)
+        return out if np.isfinite(total) else None
     total = lateral_dp(
         *problem.kernel_arguments(),
         problem.max_step,
@@ -545,6 +561,37 @@ def _reachable(levels: np.ndarray, cells: int, max_step: float, d0: np.ndarray, 
         return levels
     spread = cells * (n - 1)
     return levels[max(0, int(first[0]) - spread) : int(first[-1]) + spread + 1]
+
+
+class _WindowNodes:
+    """A 3-D receding horizon's grid states' costs per point, while its windows' levels stay.
+
+    A window's rows are the whole problem's (:meth:`Problem.window`) and
+    each point's states' costs depend on its own row and the levels alone
+    (:func:`._planner_kernels.grid_node_costs`), so the next window on the
+    same levels computes only the points it has new: about half the windows
+    of the stress set's side-blocked plans, each of ``H`` points (issue 34).
+    """
+
+    def __init__(self, problem: Problem) -> None:
+        self.problem = problem
+        self.levels: bytes | None = None
+        self.first = self.stop = 0
+        self.node = np.empty((0, 0))
+
+    def costs(self, start: int, stop: int, levels: np.ndarray) -> np.ndarray:
+        """The states' costs (stop − start, G²) of points ``start … stop − 1`` on ``levels``."""
+        key = levels.tobytes()
+        if key != self.levels or not self.first <= start <= self.stop:
+            self.levels, self.first, self.stop = key, start, start
+            self.node = np.empty((0, levels.size**2))
+        if stop > self.stop:
+            new = np.empty((stop - self.stop, levels.size**2))
+            window = self.problem.window(self.stop, stop)
+            _grid_kernel("grid_node_costs")(*window.kernel_arguments(), levels, new)
+            self.node = np.concatenate([self.node[start - self.first :], new])
+            self.first, self.stop = start, stop
+        return np.ascontiguousarray(self.node[start - self.first : stop - self.first])
 
 
 class _GridSearch:
@@ -1330,6 +1377,7 @@ def _receding_horizon(
             stage.advance(n)
         return out
     total_iter, all_ok, widened, escapes = 0, True, False, []
+    nodes = _WindowNodes(problem) if m == 2 and use_compiled() else None
 
     def step(k: int, stop: int, window: Problem, guess: np.ndarray, anchor: np.ndarray, look):
         """The window's executed candidate: offsets, window cost, Newton iterations, ok.
@@ -1343,14 +1391,13 @@ def _receding_horizon(
         grid, total = route.walk(k, stop, anchor)
         blocked = not np.isfinite(total)
         if not look and not blocked:  # the window's own best grid path
-            own = _global_start(
-                window,
-                anchor,
-                reach_goal and stop == n,
-                None
+            levels = (
+                _lateral_levels(window, anchor)
                 if reaches is None
-                else _lateral_levels(window, anchor, widest=partial(reaches.widest, k, stop)),
+                else _lateral_levels(window, anchor, widest=partial(reaches.widest, k, stop))
             )
+            node = None if nodes is None else nodes.costs(k, stop, levels[0])
+            own = _global_start(window, anchor, reach_goal and stop == n, levels, node=node)
             grid = grid if own is None else own
         polished, n_iter = [], 0
         for start in [guess] if blocked else [guess, grid]:

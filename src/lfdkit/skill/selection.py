@@ -105,8 +105,9 @@ from lfdkit.core.options import (
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import (
-    demonstrated_clearances,
+    clearance_quantiles,
     demonstration_reference,
+    kept_clearances,
     replanning_fidelity,
     same_sides,
 )
@@ -290,18 +291,21 @@ class BehaviourSelection:
         demos: Sequence[np.ndarray],
         scenes: Sequence[Scene],
         nominals: Sequence[np.ndarray],
+        kept: Sequence[Mapping[str, Sequence[float]]] | None = None,
     ) -> dict[str, dict[str, float]]:
         """Each clearance floor learned from these demonstrations, ``{level: {class: units}}``.
 
         Also, under :data:`TYPICAL`, the clearance they typically kept (for closing gaps).
+        ``kept``: each demonstration's :func:`~lfdkit.emulate.fidelity.kept_clearances`,
+        where known (the model choice's folds share them).
         """
         classes = self.reward_.classes
+        if kept is None:
+            kept = [kept_clearances(*each) for each in zip(demos, scenes, nominals, strict=True)]
         return {
             level: {}
             if spec is None
-            else demonstrated_clearances(
-                demos, scenes, nominals, classes, quantile=spec[0], factor=spec[1]
-            )
+            else clearance_quantiles(kept, classes, quantile=spec[0], factor=spec[1])
             for level, spec in {**CLEARANCE_FLOORS, TYPICAL: TYPICAL_CLEARANCE}.items()
         }
 
@@ -594,7 +598,8 @@ class BehaviourSelection:
         planned = [reference, *candidates] if len(candidates) > 1 else candidates
         n = len(demos)
         cross = n >= MIN_CROSS_VALIDATION_DEMOS
-        full_floors = self._floors(demos, scenes, nominals)
+        kept = [kept_clearances(*each) for each in zip(demos, scenes, nominals, strict=True)]
+        full_floors = self._floors(demos, scenes, nominals, kept)
 
         def replanned(indices: Sequence[int], models: Sequence[Mapping[str, str]], rewards, floors):
             # rewards: (the thesis's, the swerve's) fitted on the same demonstrations
@@ -652,7 +657,10 @@ class BehaviourSelection:
                     stretched, keep, demos, scenes, nominals, SWERVE_FOLD_MAX_ITER, shape=True
                 )[0]
             floors = self._floors(
-                [demos[i] for i in keep], [scenes[i] for i in keep], [nominals[i] for i in keep]
+                [demos[i] for i in keep],
+                [scenes[i] for i in keep],
+                [nominals[i] for i in keep],
+                [kept[i] for i in keep],
             )
             for name, rows in replanned(held, planned, (reward, fold_swerve), floors).items():
                 held_out[name] += rows
