@@ -48,14 +48,7 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
             if m == 1:
                 lowest = c[k, o] - b[k, o, 0] ** 2 / max(a[k, o, 0, 0], 1e-300)
             else:
-                det = a[k, o, 0, 0] * a[k, o, 1, 1] - a[k, o, 0, 1] * a[k, o, 1, 0]
-                det = max(det, 1e-300)
-                quad = (
-                    a[k, o, 1, 1] * b[k, o, 0] ** 2
-                    - 2.0 * a[k, o, 0, 1] * b[k, o, 0] * b[k, o, 1]
-                    + a[k, o, 0, 0] * b[k, o, 1] ** 2
-                ) / det
-                lowest = c[k, o] - quad
+                lowest = _lowest_2d(c, b, a, k, o)
             if lowest < 40.0:
                 bumps[n_bumps] = o
                 n_bumps += 1
@@ -107,6 +100,23 @@ def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
                 row[s] += barrier(rk + (2.0 * nk + g) * g, inner2[h], outer2[h], mu)[0]
 
 
+@numba.njit(cache=True, inline="always")
+def _lowest_2d(c, b, a, k, o):
+    """Obstacle term ``o``'s least exponent at point ``k`` over every 2-D offset.
+
+    The least of ``c + 2bᵀd + dᵀAd`` over ``d`` is ``c − bᵀA⁻¹b`` (A positive
+    definite); terms whose least is above 40 are negligible at every offset.
+    """
+    det = a[k, o, 0, 0] * a[k, o, 1, 1] - a[k, o, 0, 1] * a[k, o, 1, 0]
+    det = max(det, 1e-300)
+    quad = (
+        a[k, o, 1, 1] * b[k, o, 0] ** 2
+        - 2.0 * a[k, o, 0, 1] * b[k, o, 0] * b[k, o, 1]
+        + a[k, o, 0, 0] * b[k, o, 1] ** 2
+    ) / det
+    return c[k, o] - quad
+
+
 @numba.njit(cache=True)
 def _ascending(levels):
     """Whether ``levels`` rise strictly (the lateral grid's do), all finite."""
@@ -148,15 +158,7 @@ def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
                 row[i * g_count + j] = (0.0 + w * g0 * g0) + w * g1 * g1
         n_bumps = 0
         for o in range(n_obs):
-            # as grid_node_costs: min over d of c + 2bᵀd + dᵀAd is c − bᵀA⁻¹b
-            det = a[k, o, 0, 0] * a[k, o, 1, 1] - a[k, o, 0, 1] * a[k, o, 1, 0]
-            det = max(det, 1e-300)
-            quad = (
-                a[k, o, 1, 1] * b[k, o, 0] ** 2
-                - 2.0 * a[k, o, 0, 1] * b[k, o, 0] * b[k, o, 1]
-                + a[k, o, 0, 0] * b[k, o, 1] ** 2
-            ) / det
-            if c[k, o] - quad < 40.0:
+            if _lowest_2d(c, b, a, k, o) < 40.0:
                 bumps[n_bumps] = o
                 n_bumps += 1
         for t in range(n_bumps):
