@@ -203,14 +203,17 @@ def same_sides(
     return not np.any(known & (np.einsum("om,om->o", a, b) <= 0.0))
 
 
-def _gone_around(demo: np.ndarray, nominal: np.ndarray, scene: Scene) -> np.ndarray:
-    """Which obstacles the demonstration went around (its nominal passes closer)."""
-    kept, nominal_gap = scene.distances(demo), scene.distances(nominal)
-    return nominal_gap < AROUND_FACTOR * kept
+def _gone_around(kept: np.ndarray, nominal: np.ndarray, scene: Scene) -> np.ndarray:
+    """Which obstacles a demonstration went around (its nominal passes closer).
+
+    ``kept``: the demonstration's surface distances, ``scene.distances(demo)``
+    (its callers need them too; each is a pass over the path per obstacle).
+    """
+    return scene.distances(nominal) < AROUND_FACTOR * kept
 
 
 def _gone_around_alone(
-    demo: np.ndarray, corridor: Corridor, scene: Scene, around: np.ndarray
+    kept: np.ndarray, corridor: Corridor, scene: Scene, around: np.ndarray
 ) -> np.ndarray:
     """Which obstacles gone around were gone around alone, not as one of a group.
 
@@ -219,8 +222,8 @@ def _gone_around_alone(
     clearance the person kept from it; at least its nearest point). One gone
     around is alone where no point of its stretch is in another's: passed one
     after another, each counts; a pair or a pocket passed as a group does not.
+    ``kept``: the demonstration's surface distances (:func:`_gone_around`).
     """
-    kept = scene.distances(demo)
     stretch = np.zeros((len(scene), corridor.n_points), dtype=bool)
     for o in np.flatnonzero(around):
         gaps = np.array([scene.obstacles[o].distance(p[None]) for p in corridor.points])
@@ -325,7 +328,8 @@ def side_preferences(
         corridor = Corridor.from_path(nominal, n_points)
         shown = passing_sides(demo, corridor, scene)
         # Round a group (a pocket, a pair), its sides decide each one's: only lone passes.
-        alone = _gone_around_alone(demo, corridor, scene, _gone_around(demo, nominal, scene))
+        kept = scene.distances(demo)
+        alone = _gone_around_alone(kept, corridor, scene, _gone_around(kept, nominal, scene))
         for o, obstacle in enumerate(scene.obstacles):
             side = shown[o]
             distance = float(np.linalg.norm(side))
@@ -410,8 +414,9 @@ def kept_sides(
     sided = [c for c, info in found.items() if info["side"] in SIDES]
     if not sided:
         return {}
-    typical = demonstrated_clearances(demos, scenes, nominals, sided, quantile=0.5, factor=1.0)
-    floors = demonstrated_clearances(demos, scenes, nominals, sided)
+    kept = [kept_clearances(*each) for each in zip(demos, scenes, nominals, strict=True)]
+    typical = clearance_quantiles(kept, sided, quantile=0.5, factor=1.0)
+    floors = clearance_quantiles(kept, sided)
     return {
         c: {"side": found[c]["side"], "within": SIDE_REACH * typical[c], "clearance": floors[c]}
         for c in sided
@@ -465,9 +470,8 @@ def kept_clearances(demo: np.ndarray, scene: Scene, nominal: np.ndarray) -> dict
     kept: dict[str, list[float]] = {}
     if not len(scene):
         return kept
-    around = _gone_around(demo, nominal, scene)
     gaps = scene.distances(demo)
-    for o in np.flatnonzero(around):
+    for o in np.flatnonzero(_gone_around(gaps, nominal, scene)):
         kept.setdefault(scene.labels[o], []).append(max(float(gaps[o]), 0.0))
     return kept
 
@@ -515,11 +519,12 @@ def demonstration_reference(
     out: dict[str, Any] = {"replay": metrics.mse_paths([nominal], [demo], n_points)}
     if len(scene):
         corridor = Corridor.from_path(nominal, n_points)
+        distances = scene.distances(demo)
         out.update(
             corridor=corridor,
-            around=_gone_around(demo, nominal, scene),
+            around=_gone_around(distances, nominal, scene),
             shown=passing_sides(demo, corridor, scene),
-            distances=scene.distances(demo),
+            distances=distances,
         )
     return out
 
