@@ -267,7 +267,7 @@ def side_preferences(
     show their own side; a pair or a pocket passed as one does not. Before,
     only a demonstration that went around a single obstacle of its scene
     counted, and a person among three boxes showed nothing (issue 34).
-    Measured on such a person (a stress set kept out of the repository: 8
+    Measured on such a person (``python benchmarks/boxes_sides.py``: 8
     demonstrations in mm, a 1 m reach from spread starts, boxes3d's
     planning person, three boxes of three classes about 30 cm apart along
     each nominal, the "carton" kept on the left with
