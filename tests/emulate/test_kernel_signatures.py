@@ -82,7 +82,8 @@ def test_each_kernel_compiles_one_version() -> None:
         "lfdkit.emulate._problem_kernels.planner_newton",
         "lfdkit.emulate._ioc_kernels.mpc_sensitivity",
         "lfdkit.emulate._ioc_kernels.plan_sensitivity",
-        "lfdkit.emulate._planner_kernels.grid_cost_to_go",
+        "lfdkit.emulate._planner_kernels.grid_state_costs",
+        "lfdkit.emulate._planner_kernels.grid_hard_costs",
         "lfdkit.emulate._planner_kernels.grid_backward",
         "lfdkit.emulate._planner_kernels.receding_horizon_2d",
     ):

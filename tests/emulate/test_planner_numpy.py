@@ -352,6 +352,59 @@ def test_3d_windows_share_their_points_states_costs(monkeypatch, seed: int) -> N
 
 
 @pytest.mark.parametrize("q", [2, 3])
+@pytest.mark.parametrize("seed", range(2))
+def test_states_costs_shared_across_hard_radii_are_the_same_numbers(
+    monkeypatch, q: int, seed: int
+) -> None:
+    # planner._node_costs takes the obstacles' terms from a memo keyed by the reward's
+    # arrays and the levels, and adds each problem's own hard radii (issue 34): on a
+    # second problem of the same scene with other radii (a hit), and in either kernel
+    # form, the numbers are grid_node_costs' to the bit; other levels are not a hit.
+    from lfdkit.emulate import planner
+
+    nominal = nominal_path(q, 0.1)
+    reward = REWARD if q == 2 else REWARD_3D
+    corridor = Corridor.from_path(nominal, 50)
+    scene = scene_along(nominal, seed, 3)
+    levels = np.linspace(-0.12, 0.12, 41 if q == 2 else 21)
+    width = levels.size ** (q - 1)
+    memo = planner._StateCostMemo()
+    for name, form in (("numba", compiled_grid), ("numpy", numpy_form)):
+        monkeypatch.setenv(kernels.KERNELS_VARIABLE, name)
+        for clearance in (0.0, 0.01, 0.02):
+            problem = Problem.from_scene(reward, corridor, scene, 1.0, "auto", clearance=clearance)
+            args = problem.kernel_arguments()
+            whole = np.empty((problem.n, width))
+            form.grid_node_costs(*args, levels, whole)
+            parts = np.empty_like(whole)
+            form.grid_state_costs(*args[:4], levels, parts)
+            form.grid_hard_costs(*args[4:], levels, parts)
+            np.testing.assert_array_equal(parts, whole)
+            np.testing.assert_array_equal(planner._node_costs(problem, levels), whole)
+    # The memo itself: one entry per reward and levels, a copy handed out each time.
+    problem = Problem.from_scene(reward, corridor, scene, 1.0, "auto", clearance=0.01)
+    first = memo.costs(problem.kernel_arguments(), levels, width)
+    first[:] = -1.0  # the caller adds to it: the kept one is not changed
+    again = memo.costs(problem.kernel_arguments(), levels, width)
+    assert len(memo._items) == 1 and not np.any(again == -1.0)
+    memo.costs(problem.kernel_arguments(), levels * 0.5, width)
+    assert len(memo._items) == 2
+
+
+def test_states_cost_memo_keeps_to_its_size(monkeypatch) -> None:
+    from lfdkit.emulate import planner
+
+    problem, _ = random_problem(0, 3, 0.01)
+    levels = np.linspace(-0.1, 0.1, 11)
+    memo = planner._StateCostMemo()
+    one = problem.n * levels.size**2 * 8
+    monkeypatch.setattr(memo, "MAX_BYTES", 2 * one)
+    for scale in (1.0, 0.9, 0.8):
+        memo.costs(problem.kernel_arguments(), levels * scale, levels.size**2)
+    assert len(memo._items) == 2 and memo._bytes == 2 * one
+
+
+@pytest.mark.parametrize("q", [2, 3])
 @pytest.mark.parametrize("end_zero", [False, True])
 def test_grid_search_agrees(q: int, end_zero: bool) -> None:
     problem, _ = random_problem(7, q, 0.01)

@@ -1,7 +1,8 @@
 """Compiled global search of the planner on a lateral grid (numba).
 
 Dynamic programmes over a grid of lateral offsets for
-:mod:`lfdkit.emulate.planner`: the states' costs (:func:`grid_node_costs`),
+:mod:`lfdkit.emulate.planner`: the states' costs (:func:`grid_node_costs`; in two parts,
+:func:`grid_state_costs` and :func:`grid_hard_costs`),
 the backward cost-to-go (:func:`grid_backward`, :func:`grid_cost_to_go`),
 following it from a start (:func:`grid_walk`), the whole search
 (:func:`lateral_dp`), the 2-D receding-horizon loop
@@ -69,6 +70,33 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
 
 
 @numba.njit(cache=True)
+def grid_state_costs(c, b, a, weight, levels, out):
+    """:func:`grid_node_costs`' first terms into ``out`` (n, G^m): the weight's, the obstacles'.
+
+    With :func:`grid_hard_costs` after it, :func:`grid_node_costs` bit for
+    bit. They depend on the reward and the levels alone, not on the hard
+    radii a plan keeps, so plans of one scene with other floors or blockers
+    share them (``planner._node_costs``). ``levels`` must rise.
+    """
+    if out.shape[1] == levels.shape[0]:
+        _state_costs_1d(c, b, a, weight, levels, out)
+    else:
+        _state_costs_2d(c, b, a, weight, levels, out)
+
+
+@numba.njit(cache=True)
+def grid_hard_costs(rr, nr, inner2, outer2, mu, levels, out):
+    """:func:`grid_node_costs`' last terms added to ``out`` (n, G^m): the hard radii's barriers.
+
+    ``levels`` must rise.
+    """
+    if out.shape[1] == levels.shape[0]:
+        _hard_costs_1d(rr, nr, inner2, outer2, mu, levels, out)
+    else:
+        _hard_costs_2d(rr, nr, inner2, outer2, mu, levels, out)
+
+
+@numba.njit(cache=True)
 def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     """:func:`grid_node_costs` in 2-D (one offset component), term by term over the levels.
 
@@ -77,6 +105,13 @@ def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     obstacles, the hard radii), so the same numbers bit for bit; a whole row
     per term, not a call per state, is six times faster (issue 26).
     """
+    _state_costs_1d(c, b, a, weight, levels, out)
+    _hard_costs_1d(rr, nr, inner2, outer2, mu, levels, out)
+
+
+@numba.njit(cache=True)
+def _state_costs_1d(c, b, a, weight, levels, out):
+    """:func:`_node_costs_1d`'s first terms: the nominal weight's and the kept obstacles'."""
     n, g_count = out.shape
     for k in range(n):
         row = out[k]
@@ -91,6 +126,14 @@ def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
             for s in range(g_count):
                 g = levels[s]
                 row[s] += np.exp(-(ck + (bk + (bk + ak * g)) * g))
+
+
+@numba.njit(cache=True)
+def _hard_costs_1d(rr, nr, inner2, outer2, mu, levels, out):
+    """:func:`_node_costs_1d`'s last terms, added to ``out``: the hard radii's barriers."""
+    n, g_count = out.shape
+    for k in range(n):
+        row = out[k]
         for h in range(rr.shape[1]):
             rk, nk = rr[k, h], nr[k, h, 0]
             if not rk - nk**2 < outer2[h]:  # beyond the barrier at every offset
@@ -141,13 +184,16 @@ def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     point) the states' costs took most of a fit's replanning (issue 34).
     ``levels`` must rise (:func:`_ascending`).
     """
+    _state_costs_2d(c, b, a, weight, levels, out)
+    _hard_costs_2d(rr, nr, inner2, outer2, mu, levels, out)
+
+
+@numba.njit(cache=True)
+def _state_costs_2d(c, b, a, weight, levels, out):
+    """:func:`_node_costs_2d`'s first terms: the nominal weight's and the kept obstacles'."""
     n = out.shape[0]
     g_count = levels.shape[0]
-    n_obs, n_hard = c.shape[1], rr.shape[1]
-    widest = 0.0
-    for s in range(g_count):
-        widest = max(widest, abs(levels[s]))
-    bumps = np.empty(n_obs, dtype=np.int64)
+    bumps = np.empty(c.shape[1], dtype=np.int64)
     for k in range(n):
         row = out[k]
         w = weight[k]
@@ -157,7 +203,7 @@ def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
                 g1 = levels[j]
                 row[i * g_count + j] = (0.0 + w * g0 * g0) + w * g1 * g1
         n_bumps = 0
-        for o in range(n_obs):
+        for o in range(c.shape[1]):
             if _lowest_2d(c, b, a, k, o) < 40.0:
                 bumps[n_bumps] = o
                 n_bumps += 1
@@ -173,7 +219,19 @@ def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
                     g1 = levels[j]
                     s = (ck + (b0 + (p0 + a01 * g1)) * g0) + (b1 + (p1 + a11 * g1)) * g1
                     row[i * g_count + j] += np.exp(-s)
-        for h in range(n_hard):
+
+
+@numba.njit(cache=True)
+def _hard_costs_2d(rr, nr, inner2, outer2, mu, levels, out):
+    """:func:`_node_costs_2d`'s last terms, added to ``out``: each hard radius over its disc."""
+    n = out.shape[0]
+    g_count = levels.shape[0]
+    widest = 0.0
+    for s in range(g_count):
+        widest = max(widest, abs(levels[s]))
+    for k in range(n):
+        row = out[k]
+        for h in range(rr.shape[1]):
             r0, n0, n1 = rr[k, h], nr[k, h, 0], nr[k, h, 1]
             if not (r0 - n0**2) - n1**2 < outer2[h]:  # beyond the barrier at every offset
                 continue

@@ -34,7 +34,9 @@ __all__ = [
     "block_tree_solve",
     "grid_backward",
     "grid_cost_to_go",
+    "grid_hard_costs",
     "grid_node_costs",
+    "grid_state_costs",
     "grid_walk",
     "lateral_dp",
     "planner_cost",
@@ -378,13 +380,25 @@ def planner_newton(c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, d,
 
 def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     """Cost of every grid state at every point: ``out`` (n, G^m), m from its width."""
+    grid_state_costs(c, b, a, weight, levels, out)
+    grid_hard_costs(rr, nr, inner2, outer2, mu, levels, out)
+
+
+def _grid_states(levels: np.ndarray, width: int) -> list[np.ndarray]:
+    """Each offset component of every grid state, (1, G^m) each."""
     g_count = levels.shape[0]
-    m = 2 if out.shape[1] != g_count else 1
+    if width == g_count:
+        return [levels[None, :]]
+    return [np.repeat(levels, g_count)[None, :], np.tile(levels, g_count)[None, :]]
+
+
+def grid_state_costs(c, b, a, weight, levels, out):
+    """:func:`grid_node_costs`' first terms (``_planner_kernels.grid_state_costs``)."""
+    states = _grid_states(levels, out.shape[1])
+    m = len(states)
     if m == 1:
-        states = [levels[None, :]]
         lowest = c - b[:, :, 0] ** 2 / np.maximum(a[:, :, 0, 0], 1e-300)
     else:
-        states = [np.repeat(levels, g_count)[None, :], np.tile(levels, g_count)[None, :]]
         det = a[:, :, 0, 0] * a[:, :, 1, 1] - a[:, :, 0, 1] * a[:, :, 1, 0]
         det = np.maximum(det, 1e-300)
         quad = (
@@ -394,10 +408,6 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
         ) / det
         lowest = c - quad
     near = lowest < 40.0  # (n, L): obstacles whose term matters somewhere at the point
-    closest = rr.copy()
-    for i in range(m):
-        closest = closest - nr[:, :, i] ** 2
-    hit = closest < outer2[None]  # (n, H)
     total = weight[:, None] * states[0] * states[0]
     for i in range(1, m):
         total = total + weight[:, None] * states[i] * states[i]
@@ -409,9 +419,20 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
                 value = value + a[:, o, i, j, None] * states[j]
             s = s + (b[:, o, i, None] + value) * states[i]
         total = total + np.where(near[:, o, None], np.exp(-s), 0.0)
+    out[:, :] = total
+
+
+def grid_hard_costs(rr, nr, inner2, outer2, mu, levels, out):
+    """:func:`grid_node_costs`' last terms, added (``_planner_kernels.grid_hard_costs``)."""
+    states = _grid_states(levels, out.shape[1])
+    closest = rr.copy()
+    for i in range(len(states)):
+        closest = closest - nr[:, :, i] ** 2
+    hit = closest < outer2[None]  # (n, H)
+    total = out
     for h in range(rr.shape[1]):
         u = rr[:, h, None]
-        for i in range(m):
+        for i in range(len(states)):
             u = u + (2.0 * nr[:, h, i, None] + states[i]) * states[i]
         value = _barrier(u, inner2[h], outer2[h], mu, slopes=False)[0]
         total = total + np.where(hit[:, h, None], value, 0.0)

@@ -879,12 +879,21 @@ class Planning:
         preferences = getattr(self, "side_preferences_", None)
         if not preferences or not len(scene) or scene.moving or self.n_dims_ not in (2, 3):
             return [], None
+        # The model choice replans each training scene with every candidate: found once.
+        memo = getattr(self, "_sided_memo", None)
+        key = (id(scene), nominal.tobytes(), start.tobytes(), goal.tobytes())
+        if memo is not None and key in memo:
+            balls, margins = memo[key][1:]
+            return list(balls), None if margins is None else margins.copy()
         wanted = {c: (p["side"], float(p["within"])) for c, p in preferences.items()}
         ends = np.stack([start, goal])
         pairs = preferred_side_blockers(nominal, scene, wanted, ends, int(self.n_points))
         kept = {c: float(p["clearance"]) for c, p in preferences.items() if "clearance" in p}
         margins = preferred_side_margins(scene, (o for o, _ in pairs), kept) if pairs else None
-        return [ball for _, ball in pairs], margins
+        balls = [ball for _, ball in pairs]
+        if memo is not None:  # the scene kept with them: its id is not another's meanwhile
+            memo[key] = (scene, tuple(balls), None if margins is None else margins.copy())
+        return balls, margins
 
     def _held_bridges(
         self,

@@ -577,10 +577,11 @@ class BehaviourSelection:
         on all, in the training scenes) and :attr:`model_selection_`.
         """
         self._free_plans: dict[tuple, tuple[Reward, Any]] | None = {}  # Planning._plan's memo
+        self._sided_memo: dict[tuple, tuple] | None = {}  # Planning._sided_blockers'
         try:
             self._choose_model(demos, scenes, goal, nominals)
         finally:
-            self._free_plans = None
+            self._free_plans = self._sided_memo = None
 
     def _choose_model(
         self,
