@@ -118,9 +118,9 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
     assert next(iter(candidates)) == "window"  # the thesis's model
     # The default: the demonstrated floor where the closest approach is consistent.
     # Against the route with no floor at all (the thesis's plan), planned only for this.
-    # Both above the demonstrations' noise (their spread without obstacles), at most
-    # NOISE_SHARE of the error with no floor.
-    noise = skill.mimic_info_["spread_mse"]
+    # Both above the demonstrations' noise (their spread without obstacles about the path
+    # carried to each one's ends), at most NOISE_SHARE of the error with no floor.
+    noise = skill.mimic_info_["noise_mse"]
     assert selection["noise_mse"] == noise and noise > 0.0
     floor = min(noise, NOISE_SHARE * selection["no_floor_mse"])
     ratio = max(candidates["window+closest"]["mse"] - floor, 0.0) / (

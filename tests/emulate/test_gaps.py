@@ -190,6 +190,24 @@ def test_a_gap_narrower_than_the_clearances_kept_is_closed(scale) -> None:
     np.testing.assert_array_equal(close_narrow_gaps(floors[2:], kept[2:], lone), floors[2:])
 
 
+def test_the_allowance_closes_only_gaps_across_the_path() -> None:
+    # Two cups 4 cm apart (surfaces) and the typical clearances 1.9 cm each: open. With
+    # the allowance (2.1 cm each) the gap closes where the path runs between them, not
+    # where they stand one behind the other along it (a way past on one side of both).
+    x = np.linspace(0.0, 1.0, 101)
+    floors, kept, wide = np.full(2, 0.015), np.full(2, 0.019), np.full(2, 0.021)
+    across = Scene((Obstacle("cup", [0.5, -0.03], 0.01), Obstacle("cup", [0.5, 0.03], 0.01)))
+    along = Scene((Obstacle("cup", [0.47, 0.02], 0.01), Obstacle("cup", [0.53, 0.02], 0.01)))
+    line = np.column_stack([x, np.zeros_like(x)])
+    for scene, expected in ((across, wide), (along, floors)):
+        assert gaps_closed_by(kept, scene) == []
+        closed = close_narrow_gaps(floors, kept, scene, wide=wide, path=line)
+        np.testing.assert_array_equal(closed, expected)
+        # Without a path the allowance is not used; the typical clearances close any pair.
+        np.testing.assert_array_equal(close_narrow_gaps(floors, kept, scene), floors)
+        np.testing.assert_array_equal(close_narrow_gaps(floors, wide, scene), wide)
+
+
 def test_threaded_pairs_are_those_the_path_passes_between() -> None:
     line = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101)])
     above = Scene((Obstacle("cup", [0.5, 0.03], radius=0.01), Obstacle("cup", [0.5, 0.09], 0.01)))
@@ -682,6 +700,20 @@ def test_a_gap_within_the_allowance_of_the_clearances_kept_stays_closed() -> Non
         around = skill.plan(scene=PAIR).points
     assert threaded_pairs(around, PAIR) == []
     assert PAIR.distances(around).min() >= 0.019 - 1e-9
+    # The same cups one behind the other along the path (4 cm apart, both beside it): a way
+    # past on one side of both, which the allowance does not decide: the floors alone, as
+    # with no allowance, and nothing said.
+    along = Scene(
+        (Obstacle("cup", [0.47, 0.02], radius=0.01), Obstacle("cup", [0.53, 0.02], radius=0.01))
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        allowed = skill.plan(scene=along).points
+    del skill.model_selection_["gap_allowance"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_array_equal(allowed, skill.plan(scene=along).points)
+    skill.model_selection_["gap_allowance"] = {"cup": 0.002}
     # Gaps open (a person who threads them): the allowance closes nothing.
     skill.gaps_ = "open"
     with warnings.catch_warnings():

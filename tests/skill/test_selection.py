@@ -193,3 +193,20 @@ def test_a_skill_records_the_spread_of_its_demonstrations_without_obstacles() ->
         [np.column_stack([1000 * x, 2.0 * s * np.sin(np.pi * x)]) for s in (-1, 0, 1)]
     )
     assert mm.mimic_info_["spread_mse"] == pytest.approx(2.0, rel=0.05)  # mm²
+    # From one start and to one goal, the noise is the spread.
+    assert skill.mimic_info_["noise_mse"] == pytest.approx(2e-6, rel=0.05)
+
+
+def test_the_noise_of_demonstrations_from_spread_starts_is_not_their_starts_spread() -> None:
+    # Lines from starts 10 cm apart to one goal with +-2 mm sin(pi x) on three of four:
+    # mean square 3/4 of 2e-6 m², times 4/3 (fitted): 2e-6 m². Against the one learned
+    # path their spread is the starts' (5.6e-3 m²), which made the gap allowance
+    # (GAP_STANDARD_ERRORS of it) close gaps 20 cm wide (boxes_sides, 3-D).
+    x = np.linspace(0.0, 1.0, 100)
+    demos = [
+        np.column_stack([x, y0 * (1.0 - x) + 0.002 * s * np.sin(np.pi * x)])
+        for y0, s in zip((-0.15, -0.05, 0.05, 0.15), (-1, 1, 0, -1), strict=True)
+    ]
+    skill = Skill().fit(demos)
+    assert skill.mimic_info_["spread_mse"] > 1e-3
+    assert skill.mimic_info_["noise_mse"] == pytest.approx(2e-6, rel=0.05)

@@ -340,7 +340,14 @@ def clearance_allowance(
     return {c: GAP_STANDARD_ERRORS * sd / np.sqrt(counts[c]) for c in classes if counts[c]}
 
 
-def close_narrow_gaps(margins: np.ndarray, kept: np.ndarray, scene: Scene) -> np.ndarray:
+def close_narrow_gaps(
+    margins: np.ndarray,
+    kept: np.ndarray,
+    scene: Scene,
+    *,
+    wide: np.ndarray | None = None,
+    path: np.ndarray | None = None,
+) -> np.ndarray:
     """Margins raised so that they close every gap narrower than the clearances kept.
 
     A person who keeps a margin from each obstacle passes between two only
@@ -360,21 +367,39 @@ def close_narrow_gaps(margins: np.ndarray, kept: np.ndarray, scene: Scene) -> np
         The clearance the demonstrations typically kept from each obstacle's
         class (units; e.g. the median, the person's margin give or take noise).
     scene : Scene
+    wide : ndarray, shape (n_obstacles,), optional
+        ``kept`` with room for how uncertain it is (:func:`clearance_allowance`):
+        gaps across ``path`` (:func:`abreast_pairs`) narrower than these close
+        too, with them. Not a gap one behind the other along the path: it
+        leaves a way past on the same side of both, and a margin learned a
+        little short does not decide a weave (issue 34's boxes, 22 cm apart
+        along the path, 2 mm past the typical clearances together: closed,
+        the plan kept 17 cm from a box the person passed at 11).
+    path : ndarray, shape (n, q), optional
+        The nominal, with ``wide``.
 
     Returns
     -------
     ndarray, shape (n_obstacles,)
         ``margins`` where no such gap is left open; ``max(margins, kept)`` for
         the obstacles of each pair ``(i, j)`` with ``0 < gap < kept[i] +
-        kept[j]`` (:func:`gaps_closed_by` with ``kept``) that ``margins`` leave open.
+        kept[j]`` (:func:`gaps_closed_by` with ``kept``) that ``margins`` leave
+        open, ``max(margins, wide)`` for those across ``path`` with ``0 < gap
+        < wide[i] + wide[j]``.
     """
     margins = np.asarray(margins, dtype=np.float64).copy()
     kept = np.asarray(kept, dtype=np.float64)
     if len(scene) < 2:
         return margins
-    for i, j, gap in gaps_closed_by(kept, scene):
+    closing = {(i, j): (gap, kept) for i, j, gap in gaps_closed_by(kept, scene)}
+    if wide is not None and path is not None:
+        wide = np.asarray(wide, dtype=np.float64)
+        widened = {(i, j): gap for i, j, gap in gaps_closed_by(wide, scene)}
+        for pair in abreast_pairs(list(widened), scene, path):
+            closing[pair] = (widened[pair], wide)
+    for (i, j), (gap, by) in sorted(closing.items()):
         if margins[i] + margins[j] <= gap:
-            margins[i], margins[j] = max(margins[i], kept[i]), max(margins[j], kept[j])
+            margins[i], margins[j] = max(margins[i], by[i]), max(margins[j], by[j])
     return margins
 
 

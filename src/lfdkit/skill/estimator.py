@@ -257,8 +257,9 @@ class Skill(
         the path's length over the median demonstration's under
         ``"length_ratio"``, the mimic method's warnings as text under
         ``"warnings"``, the demonstrations' mean squared distance from the
-        path under ``"spread_mse"`` (units², :func:`lfdkit.emulate.metrics.demonstration_spread`),
-        diagnostics).
+        path under ``"spread_mse"`` and from the path carried to each one's
+        own start and goal under ``"noise_mse"``, their noise (units²,
+        :func:`lfdkit.emulate.metrics.demonstration_spread`), diagnostics).
     dmp_ : DMP
         The DMP trained on ``path_``, timed by ``timing_``.
     timing_ : SpeedProfile
@@ -319,10 +320,10 @@ class Skill(
         person who keeps a margin), as it does round two obstacles whose gap
         is narrower than the clearances the demonstrations typically kept
         from their classes (``model_selection_["gap_clearances"]``, the
-        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`), or within
-        :data:`~lfdkit.emulate.gaps.GAP_STANDARD_ERRORS` standard errors of
-        them (``model_selection_["gap_allowance"]``, from the demonstrations'
-        noise and how many showed each class; said). A floor that
+        median; :func:`lfdkit.emulate.gaps.close_narrow_gaps`), or, across
+        the path, within :data:`~lfdkit.emulate.gaps.GAP_STANDARD_ERRORS`
+        standard errors of them (``model_selection_["gap_allowance"]``, from
+        the demonstrations' noise and how many showed each class; said). A floor that
         would move the route from the plan without it (open: to another side of an obstacle, other
         than round a gap it keeps closed; closed: between two obstacles that
         plan went round) is kept at half, then none (with a warning). Either
@@ -399,7 +400,7 @@ class Skill(
         :func:`lfdkit.emulate.gaps.swerve_reach`), for the pairs one behind
         the other that plans go round both of (:func:`lfdkit.emulate.gaps.held_pairs`).
         ``clearance_consistency``, measured above ``noise_mse`` (units², the
-        spread of the demonstrations without obstacles, ``mimic_info_["spread_mse"]``),
+        noise of the demonstrations without obstacles, ``mimic_info_["noise_mse"]``),
         and ``threads_gaps``; ``gap_clearances`` and ``gap_allowance`` (units).
         Also in :attr:`ioc_info_` and the skill file.
     """
@@ -644,6 +645,10 @@ class Skill(
             means = found.orientations
             info["orientation_spread_deg"] = float(np.degrees(np.median(found.spread)))
         self._set_path(path, info, progress, timing, means)
+        # The noise proper: each run against the path carried to its own start and goal
+        # (runs from spread starts stray from the one path by the starts' spread).
+        nominals = self._rollouts(np.stack([r[0] for r in runs]), np.stack([r[-1] for r in runs]))
+        info["noise_mse"] = metrics.demonstration_spread(list(nominals), runs, int(self.n_points))
         self.promp_ = self._fit_promp(demos, info["reversed"])
         return self
 

@@ -33,6 +33,7 @@ from lfdkit.emulate.fidelity import same_sides
 from lfdkit.emulate.gaps import (
     GAP_STANDARD_ERRORS,
     SIDE_BLOCKER,
+    abreast_pairs,
     bridge_blockers,
     close_declined_gaps,
     close_narrow_gaps,
@@ -656,12 +657,13 @@ class Planning:
                 allowance = selection.get("gap_allowance") or {}
             kept = dict(gap_clearances or {})
             wide = {c: m + allowance.get(c, 0.0) for c, m in kept.items()}
-            typical = self._margins(scene, start, goal, clearance, wide)
+            typical = self._margins(scene, start, goal, clearance, kept)
             if typical is not None:
                 narrow = margins
-                margins = close_narrow_gaps(margins, typical, scene)
+                within = self._margins(scene, start, goal, clearance, wide)
+                margins = close_narrow_gaps(margins, typical, scene, wide=within, path=nominal)
                 if allowance and np.any(margins > narrow):
-                    self._warn_allowance(scene, narrow, start, goal, clearance, kept, wide)
+                    self._warn_allowance(scene, narrow, nominal, typical, within)
         # Gaps no wider than one the demonstrations went round stay closed, whatever the model
         # (gaps open or closed): the skill's own plans, where the training scenes showed one.
         declined = self._declined_clearances(scene, start, goal, clearance, clearances)
@@ -971,26 +973,22 @@ class Planning:
         self,
         scene: Scene,
         margins: np.ndarray,
-        start: np.ndarray,
-        goal: np.ndarray,
-        clearance: float,
-        kept: Mapping[str, float],
-        wide: Mapping[str, float],
+        nominal: np.ndarray,
+        typical: np.ndarray,
+        within: np.ndarray,
     ) -> None:
-        """Warn where a gap is closed only by the allowance for clearances learned from few.
+        """Warn where a gap across the path is closed only by the allowance for a clearance's error.
 
-        ``kept``: the clearances typically kept, ``wide``: with
-        ``model_selection_["gap_allowance"]`` added (units).
+        ``typical``: the clearances typically kept (n_obstacles,), ``within``:
+        with ``model_selection_["gap_allowance"]`` added (units); ``margins``
+        the floors before either closed a gap.
         """
-        typical = self._margins(scene, start, goal, clearance, kept)
-        within = self._margins(scene, start, goal, clearance, wide)
-        if typical is None or within is None:
-            return
         closed = {(i, j) for i, j, _ in gaps_closed_by(typical, scene)}
+        widened = {(i, j): gap for i, j, gap in gaps_closed_by(within, scene)}
         only = [
-            (i, j, gap)
-            for i, j, gap in gaps_closed_by(within, scene)
-            if (i, j) not in closed and margins[i] + margins[j] <= gap
+            (i, j, widened[i, j])
+            for i, j in abreast_pairs(list(widened), scene, nominal)
+            if (i, j) not in closed and margins[i] + margins[j] <= widened[i, j]
         ]
         if not only:
             return

@@ -210,7 +210,8 @@ TIE = 1e-4
 #: against the fixed-margin person's 1.21-1.28 (the threshold was 1.1).
 CONSISTENT_CLEARANCE = 1.6
 #: The consistency compares the errors above the demonstrations' noise (their squared
-#: distance from the path learned without obstacles, ``mimic_info_["spread_mse"]``): every
+#: distance from the path learned without obstacles carried to each one's start and goal,
+#: ``mimic_info_["noise_mse"]``): every
 #: plan, however exact, stays that far from a new noisy demonstration, and that common part
 #: draws the ratio to 1 as noise grows (the thesis's person at 3x noise, probe seed 0:
 #: 7.20e-5 / 5.06e-5 = 1.42, so a gap it threads was closed, Pr 80 % pooled; above a noise
@@ -526,7 +527,7 @@ class BehaviourSelection:
         that; one whose approach varies with the obstacle's place answers a
         smooth reward (the thesis's person) and may thread a gap. Then the
         ``"demonstrated"`` floor is the default. Both errors are taken above
-        ``noise`` (units², the demonstrations' spread without obstacles; at
+        ``noise`` (units², the demonstrations' noise without obstacles; at
         most :data:`NOISE_SHARE` of ``free``; None: none).
         """
         base = candidates[0]
@@ -672,7 +673,8 @@ class BehaviourSelection:
         free = (
             _fidelity_scores(rows[_behaviour_name(reference)])["mse"] if len(planned) > 1 else None
         )
-        noise = (getattr(self, "mimic_info_", None) or {}).get("spread_mse")
+        info = getattr(self, "mimic_info_", None) or {}
+        noise = info.get("noise_mse", info.get("spread_mse"))  # older files: the spread
         default, consistency = self._default_model(candidates, names, scores, free, noise)
 
         ranked = _ranked(names, scores, default)
