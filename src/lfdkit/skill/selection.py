@@ -211,13 +211,13 @@ TIE = 1e-4
 CONSISTENT_CLEARANCE = 1.6
 #: The consistency compares the errors above the demonstrations' noise (their squared
 #: distance from the path learned without obstacles carried to each one's start and goal,
-#: ``mimic_info_["noise_mse"]``): every
+#: ``mimic_info_["noise_mse"]``; older files: from the one path, ``"spread_mse"``): every
 #: plan, however exact, stays that far from a new noisy demonstration, and that common part
 #: draws the ratio to 1 as noise grows (the thesis's person at 3x noise, probe seed 0:
 #: 7.20e-5 / 5.06e-5 = 1.42, so a gap it threads was closed, Pr 80 % pooled; above a noise
 #: of 2.53e-5: 1.85). At most this share of the error with no floor is taken as noise, so a
-#: spread inflated by something else (starts and goals that differ) cannot make any
-#: person look inconsistent.
+#: spread inflated by something else (a person who varies the whole path, an older file's
+#: spread from several starts) cannot make any person look inconsistent.
 NOISE_SHARE = 0.8
 
 
