@@ -206,6 +206,10 @@ def test_the_allowance_closes_only_gaps_across_the_path() -> None:
         # Without a path the allowance is not used; the typical clearances close any pair.
         np.testing.assert_array_equal(close_narrow_gaps(floors, kept, scene), floors)
         np.testing.assert_array_equal(close_narrow_gaps(floors, wide, scene), wide)
+    with pytest.raises(ValueError, match=r"^wide, path: give both"):
+        close_narrow_gaps(floors, kept, across, wide=wide)
+    with pytest.raises(ValueError, match=r"^wide: expected one clearance per obstacle, shape \(2,"):
+        close_narrow_gaps(floors, kept, across, wide=wide[:1], path=line)
 
 
 def test_threaded_pairs_are_those_the_path_passes_between() -> None:

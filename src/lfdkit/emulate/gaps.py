@@ -389,6 +389,15 @@ def close_narrow_gaps(
     """
     margins = np.asarray(margins, dtype=np.float64).copy()
     kept = np.asarray(kept, dtype=np.float64)
+    if (wide is None) != (path is None):
+        raise ValueError(
+            "wide, path: give both (the allowance closes only gaps across the path) or neither"
+        )
+    if wide is not None and np.shape(wide) != (len(scene),):
+        raise ValueError(
+            f"wide: expected one clearance per obstacle, shape ({len(scene)},), "
+            f"got {np.shape(wide)}"
+        )
     if len(scene) < 2:
         return margins
     closing = {(i, j): (gap, kept) for i, j, gap in gaps_closed_by(kept, scene)}
