@@ -338,6 +338,10 @@ def test_plan_errors(skill) -> None:
         skill.plan(start=[np.nan, 0.0])
     with pytest.raises(ValueError, match="goal: coincides with start"):
         skill.plan(start=[0.0, 0.0], goal=[0.0, 0.0])
+    # A negative tool clearance, with obstacles or without (it was taken without any).
+    for scene in (None, Scene.from_arrays(["cup"], [[0.0, 0.47]])):
+        with pytest.raises(ValueError, match=r"^clearance: must be >= 0, got -0.01"):
+            skill.plan(scene=scene, clearance=-0.01)
     with pytest.raises(ValueError, match="inside"):
         skill.plan(scene=Scene.from_arrays(["cup"], [[-0.39, 0.45]], [0.03]))
     with pytest.raises(ValueError, match="not fitted"):

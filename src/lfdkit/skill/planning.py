@@ -375,7 +375,8 @@ class Planning:
             given, a negative ``unknown_class``, an ``unknown_response`` that
             is neither ``"nearest"`` nor a learned class (or ``"nearest"`` for
             a skill without :attr:`class_radii_`), a start or goal inside an
-            obstacle, a horizon outside 4-12, or a via-point that is not a
+            obstacle, a horizon outside 4-12, a negative or non-finite
+            ``clearance``, or a via-point that is not a
             ``(phase, point)`` pair with a phase in (0, 1) and a point of the
             skill's dimension.
         """
@@ -383,6 +384,8 @@ class Planning:
         start, goal = self._ends(start, goal)
         if horizon is not None:  # checked even where the route plans without one
             check_horizon(horizon)
+        # Checked even without obstacles: a negative margin is a mistake whatever the scene.
+        clearance = check_positive(clearance, "clearance", allow_zero=True)
         if isinstance(scene, Scene) and len(scene):
             q = self.n_dims_
             wrong = next((i for i, o in enumerate(scene) if np.size(o.position) != q), None)
