@@ -1005,12 +1005,14 @@ def _fill_holes(
     todo = height <= top - 0.1 * smallest  # the blocked side, below the way over
     todo &= np.linalg.norm(points - centre, axis=1) <= reach
 
-    def outside(balls_at: np.ndarray, radii: np.ndarray) -> np.ndarray:
-        gap = np.linalg.norm(points[:, None] - balls_at[None], axis=2) - radii[None]
-        return np.all(gap > 0.0, axis=1)
+    def outside(balls_at: np.ndarray, radii: np.ndarray) -> None:
+        # Only the points still to do: the same numbers for them, a fraction of the work.
+        among = np.flatnonzero(todo)
+        gap = np.linalg.norm(points[among, None] - balls_at[None], axis=2) - radii[None]
+        todo[among] = np.all(gap > 0.0, axis=1)
 
-    todo &= outside(cover, cover_radii)
-    todo &= outside(np.array([b.position for b in rows]), np.array([b.radius for b in rows]))
+    outside(cover, cover_radii)
+    outside(np.array([b.position for b in rows]), np.array([b.radius for b in rows]))
     order = np.argsort(np.linalg.norm(points - centre, axis=1), kind="stable")
     out: list[Obstacle] = []
     for i in order:
