@@ -222,3 +222,31 @@ def test_a_problem_like_another_is_the_problem_built_afresh(
                 else:
                     assert getattr(reused, name) == value, name
     assert like.weight[0] == 10.0  # the shared problem is left as it was
+
+
+@pytest.mark.parametrize("q", [2, 3])
+def test_a_corridor_is_made_once_per_path_and_point_count(monkeypatch, q: int) -> None:
+    # Corridor.from_path keeps what it made by the path's digest (a skill plans one nominal
+    # many times): the same object again, read-only, equal to one made afresh; another
+    # path or point count is another corridor; the oldest go first past the bound.
+    from lfdkit.emulate import problem as module
+
+    t = np.linspace(0.0, 1.0, 80)
+    path = np.column_stack([t, 0.1 * np.sin(np.pi * t)] + ([0.05 * t * t] if q == 3 else []))
+    first = Corridor.from_path(path, 40)
+    assert Corridor.from_path(path.copy(), 40) is first
+    assert Corridor.from_path(np.asfortranarray(path), 40) is first
+    for array in (first.points, first.normals, first.tangents):
+        assert not array.flags.writeable
+        with pytest.raises(ValueError):
+            array[0] = 0.0
+    monkeypatch.setattr(module, "_CORRIDORS", {})
+    fresh = Corridor.from_path(path, 40)
+    assert fresh is not first
+    for name in ("points", "normals", "tangents", "step"):
+        np.testing.assert_array_equal(getattr(fresh, name), getattr(first, name))
+    assert Corridor.from_path(path, 41) is not fresh
+    assert Corridor.from_path(path + 1e-12, 40) is not fresh
+    monkeypatch.setattr(module, "_CORRIDORS_KEPT", 2)
+    Corridor.from_path(path, 42)
+    assert len(module._CORRIDORS) == 2 and Corridor.from_path(path, 40) is not fresh
