@@ -552,12 +552,12 @@ _STATE_COSTS = _StateCostMemo()
 def _node_costs(problem: Problem, levels: np.ndarray) -> np.ndarray:
     """The states' costs (n, G^m) of ``problem`` on ``levels`` (``grid_node_costs``'s).
 
-    On rising levels (the lateral grid's) the obstacles' terms come from
-    :data:`_STATE_COSTS` and the hard radii's are added, the same numbers.
+    On rising finite levels (the lateral grid's) the obstacles' terms come
+    from :data:`_STATE_COSTS` and the hard radii's are added, the same numbers.
     """
     arguments = problem.kernel_arguments()
     width = levels.size**problem.m
-    if levels.size > 1 and not np.all(np.diff(levels) > 0.0):
+    if not (np.all(np.isfinite(levels)) and np.all(np.diff(levels) > 0.0)):
         out = np.empty((problem.n, width))
         _grid_kernel("grid_node_costs")(*arguments, levels, out)
         return out
@@ -1390,7 +1390,6 @@ def _receding_horizon(
     still plan with the symmetric bound, and the next window starts where the
     bounded step ended).
     """
-
     tracker = as_progress(progress)
     n, m = problem.n, problem.m
     offsets = np.zeros((n + 1, m))
