@@ -54,7 +54,7 @@ window costs; every figure the same): the issue's 10 s is missed here,
 where :mod:`boxes3d`'s own sets fit in 3-5 s.
 
 Since (stop 48): the grid states' obstacle terms shared across a scene's plans
-(``planner._StateCostMemo``) and the side blockers found once per scene, every
+(``planner._STATE_COSTS``) and the side blockers found once per scene, every
 figure the same, fit wall time median over the 8 folds 16.5 → 12.0 s (CPU
 19.8 → 15.0 s; one fold, whose candidates include the thesis's receding
 horizon in 3-D, 26-31 s); then a box's segment candidates in one array

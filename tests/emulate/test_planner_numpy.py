@@ -22,6 +22,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from lfdkit.core import kernels
+from lfdkit.core.memo import DigestMemo
 from lfdkit.emulate import Corridor, Reward, plan_path
 from lfdkit.emulate import _planner_kernels as compiled_grid
 from lfdkit.emulate import _planner_numpy as numpy_form
@@ -368,7 +369,8 @@ def test_states_costs_shared_across_hard_radii_are_the_same_numbers(
     scene = scene_along(nominal, seed, 3)
     levels = np.linspace(-0.12, 0.12, 41 if q == 2 else 21)
     width = levels.size ** (q - 1)
-    memo = planner._StateCostMemo()
+    memo = DigestMemo(max_bytes=64 << 20)
+    monkeypatch.setattr(planner, "_STATE_COSTS", memo)
     for name, form in (("numba", compiled_grid), ("numpy", numpy_form)):
         monkeypatch.setenv(kernels.KERNELS_VARIABLE, name)
         for clearance in (0.0, 0.01, 0.02):
@@ -381,27 +383,17 @@ def test_states_costs_shared_across_hard_radii_are_the_same_numbers(
             form.grid_hard_costs(*args[4:], levels, parts)
             np.testing.assert_array_equal(parts, whole)
             np.testing.assert_array_equal(planner._node_costs(problem, levels), whole)
-    # The memo itself: one entry per reward and levels, a copy handed out each time.
+    # One entry per reward, levels and kernel form, whatever the hard radii.
+    assert len(memo) == 2
+    # A copy handed out each time: the caller's changes do not reach the kept one.
     problem = Problem.from_scene(reward, corridor, scene, 1.0, "auto", clearance=0.01)
-    first = memo.costs(problem.kernel_arguments(), levels, width)
-    first[:] = -1.0  # the caller adds to it: the kept one is not changed
-    again = memo.costs(problem.kernel_arguments(), levels, width)
-    assert len(memo._items) == 1 and not np.any(again == -1.0)
-    memo.costs(problem.kernel_arguments(), levels * 0.5, width)
-    assert len(memo._items) == 2
-
-
-def test_states_cost_memo_keeps_to_its_size(monkeypatch) -> None:
-    from lfdkit.emulate import planner
-
-    problem, _ = random_problem(0, 3, 0.01)
-    levels = np.linspace(-0.1, 0.1, 11)
-    memo = planner._StateCostMemo()
-    one = problem.n * levels.size**2 * 8
-    monkeypatch.setattr(memo, "MAX_BYTES", 2 * one)
-    for scale in (1.0, 0.9, 0.8):
-        memo.costs(problem.kernel_arguments(), levels * scale, levels.size**2)
-    assert len(memo._items) == 2 and memo._bytes == 2 * one
+    first = planner._node_costs(problem, levels)
+    expected = first.copy()
+    first[:] = -1.0
+    np.testing.assert_array_equal(planner._node_costs(problem, levels), expected)
+    assert len(memo) == 2
+    planner._node_costs(problem, levels * 0.5)
+    assert len(memo) == 3
 
 
 @pytest.mark.parametrize("q", [2, 3])

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lfdkit.core.memo import DigestMemo
 from lfdkit.emulate import Corridor, Reward
 from lfdkit.emulate._problem_kernels import planner_cost, planner_derivatives, point_cost
 from lfdkit.emulate.problem import Problem, _obstacle_terms
@@ -240,13 +241,13 @@ def test_a_corridor_is_made_once_per_path_and_point_count(monkeypatch, q: int) -
         assert not array.flags.writeable
         with pytest.raises(ValueError):
             array[0] = 0.0
-    monkeypatch.setattr(module, "_CORRIDORS", {})
+    monkeypatch.setattr(module, "_CORRIDORS", DigestMemo(max_items=256))
     fresh = Corridor.from_path(path, 40)
     assert fresh is not first
     for name in ("points", "normals", "tangents", "step"):
         np.testing.assert_array_equal(getattr(fresh, name), getattr(first, name))
     assert Corridor.from_path(path, 41) is not fresh
     assert Corridor.from_path(path + 1e-12, 40) is not fresh
-    monkeypatch.setattr(module, "_CORRIDORS_KEPT", 2)
+    monkeypatch.setattr(module._CORRIDORS, "max_items", 2)
     Corridor.from_path(path, 42)
     assert len(module._CORRIDORS) == 2 and Corridor.from_path(path, 40) is not fresh

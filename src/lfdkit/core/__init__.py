@@ -6,6 +6,7 @@ quaternions, x, y, z, w), :mod:`.units` (length units and their factors),
 :mod:`.validation` (the checks of arguments, one-line errors),
 :mod:`.estimator` (the scikit-learn-style base: ``get_params``, fitted
 checks), :mod:`.options` (defaults and choices users set by name; imports
-nothing), :mod:`.progress` (what long work reports) and :mod:`.threads` (one
-BLAS thread for hot loops). Nothing here imports another floor of lfdkit.
+nothing), :mod:`.progress` (what long work reports), :mod:`.threads` (one
+BLAS thread for hot loops) and :mod:`.memo` (values kept by a digest of the
+arrays they were made from). Nothing here imports another floor of lfdkit.
 """

@@ -401,7 +401,7 @@ def close_narrow_gaps(
     if len(scene) < 2:
         return margins
     closing = {(i, j): (gap, kept) for i, j, gap in gaps_closed_by(kept, scene)}
-    if wide is not None and path is not None:
+    if wide is not None:  # and path, checked above
         wide = np.asarray(wide, dtype=np.float64)
         widened = {(i, j): gap for i, j, gap in gaps_closed_by(wide, scene)}
         for pair in abreast_pairs(list(widened), scene, path):

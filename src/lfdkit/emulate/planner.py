@@ -182,8 +182,6 @@ A plan a robot can execute must reach its goal and keep out of obstacles:
 from __future__ import annotations
 
 import copy
-import hashlib
-import threading
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -193,6 +191,7 @@ from typing import Any
 import numpy as np
 
 from lfdkit.core.kernels import kernel, use_compiled
+from lfdkit.core.memo import DigestMemo, array_digest
 from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.threads import one_blas_thread
@@ -499,54 +498,14 @@ def _grid_kernel(name: str) -> Any:
     return kernel(name, "lfdkit.emulate._planner_kernels", "lfdkit.emulate._planner_numpy")
 
 
-class _StateCostMemo:
-    """The grid states' costs without the hard radii, by reward, nominal and levels (issue 34).
-
-    A skill's model choice plans each training scene a dozen times with one
-    reward and other floors and side blockers: the hard radii differ, the
-    obstacles' terms (:func:`._planner_kernels.grid_state_costs`, nine
-    tenths of the states' costs in 3-D: 3,721 states × 99 points × a dozen
-    response terms) do not. Kept here by a digest of their arrays, at most
-    :attr:`MAX_BYTES` of them, least recently used out first: the stress
-    set's 3-D fit computes 22 distinct ones in 82 plans (2.7 → 0.8 s).
-    Safe across threads; bit for bit what :func:`._planner_kernels.grid_node_costs` gives.
-    """
-
-    MAX_BYTES = 64 << 20
-
-    def __init__(self) -> None:
-        self._items: dict[bytes, np.ndarray] = {}
-        self._bytes = 0
-        self._lock = threading.Lock()
-
-    def costs(self, arguments: tuple, levels: np.ndarray, width: int) -> np.ndarray:
-        """The states' costs (n, ``width``) of ``Problem.kernel_arguments()`` on ``levels``."""
-        c, b, a, weight = arguments[:4]
-        n = weight.shape[0]
-        state_costs = _grid_kernel("grid_state_costs")
-        digest = hashlib.blake2b(digest_size=20)
-        # The kernel's form is in the key: NumPy's exp may differ from numba's in the last bit.
-        digest.update(f"{state_costs.__module__}{c.shape}{levels.shape}{width}".encode())
-        for array in (c, b, a, weight, levels):
-            digest.update(np.ascontiguousarray(array, dtype=np.float64).data)
-        key = digest.digest()
-        with self._lock:
-            found = self._items.pop(key, None)
-            if found is not None:
-                self._items[key] = found  # the most recently used last
-                return found.copy()
-        found = np.empty((n, width))
-        state_costs(c, b, a, weight, levels, found)
-        with self._lock:
-            if key not in self._items and found.nbytes <= self.MAX_BYTES:
-                self._items[key] = found
-                self._bytes += found.nbytes
-                while self._bytes > self.MAX_BYTES:
-                    self._bytes -= self._items.pop(next(iter(self._items))).nbytes
-        return found.copy()
-
-
-_STATE_COSTS = _StateCostMemo()
+#: The grid states' costs without the hard radii (:func:`._planner_kernels.grid_state_costs`),
+#: by a digest of the reward's arrays, the levels and the kernel's form (NumPy's exp may
+#: differ from numba's in the last bit), at most 64 MB of them (issue 34). A skill's model
+#: choice plans each training scene a dozen times with one reward and other floors and
+#: side blockers: the hard radii differ, the obstacles' terms (nine tenths of the states'
+#: costs in 3-D: 3,721 states × 99 points × a dozen response terms) do not; the stress
+#: set's 3-D fit computes 22 distinct ones in 82 plans (2.7 → 0.8 s).
+_STATE_COSTS: DigestMemo[np.ndarray] = DigestMemo(max_bytes=64 << 20)
 
 
 def _node_costs(problem: Problem, levels: np.ndarray) -> np.ndarray:
@@ -561,7 +520,14 @@ def _node_costs(problem: Problem, levels: np.ndarray) -> np.ndarray:
         out = np.empty((problem.n, width))
         _grid_kernel("grid_node_costs")(*arguments, levels, out)
         return out
-    out = _STATE_COSTS.costs(arguments, levels, width)
+    state_costs = _grid_kernel("grid_state_costs")
+    key = array_digest(*arguments[:4], levels, label=f"{state_costs.__module__} {width}")
+    found = _STATE_COSTS.get(key)
+    if found is None:
+        found = np.empty((problem.n, width))
+        state_costs(*arguments[:4], levels, found)
+        found = _STATE_COSTS.put(key, found)
+    out = found.copy()  # the hard radii's terms are added to it
     _grid_kernel("grid_hard_costs")(*arguments[4:], levels, out)
     return out
 

@@ -46,8 +46,6 @@ dimension), and :func:`goal_weights` its goal approach.
 
 from __future__ import annotations
 
-import hashlib
-import threading
 from dataclasses import dataclass
 from typing import Any
 
@@ -55,6 +53,7 @@ import numpy as np
 
 from lfdkit.core.geometry import PolylineSet, normal_frames, point_tangents, resample
 from lfdkit.core.kernels import kernel
+from lfdkit.core.memo import DigestMemo, array_digest
 from lfdkit.core.validation import check_path, check_positive
 from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
@@ -189,14 +188,10 @@ class Corridor:
             raise ValueError(f"n_points: expected 3 to {MAX_POINTS} points, got {n_points}")
         # A skill plans one nominal many times over (its model choice: every candidate in
         # every training scene); in 3-D its frames' transport is a loop over the points.
-        key = hashlib.blake2b(np.ascontiguousarray(path).data, digest_size=20)
-        key.update(f"{path.shape}{n_points}".encode())
-        digest = key.digest()
-        with _CORRIDORS_LOCK:
-            found = _CORRIDORS.pop(digest, None)
-            if found is not None:
-                _CORRIDORS[digest] = found  # the most recently used last
-                return found
+        key = array_digest(path, label=str(n_points))
+        found = _CORRIDORS.get(key)
+        if found is not None:
+            return found
         points = resample(path, n_points)
         tangents = point_tangents(points)
         frames = normal_frames(tangents)
@@ -204,12 +199,7 @@ class Corridor:
         normals = frames[:, 1:, :]  # a view, as it always was (einsum's paths follow strides)
         for array in (points, normals, tangents):  # shared by every caller: never written to
             array.setflags(write=False)
-        made = cls(points, normals, tangents, step)
-        with _CORRIDORS_LOCK:
-            _CORRIDORS[digest] = made
-            while len(_CORRIDORS) > _CORRIDORS_KEPT:
-                _CORRIDORS.pop(next(iter(_CORRIDORS)))
-        return made
+        return _CORRIDORS.put(key, cls(points, normals, tangents, step))
 
     @property
     def n_points(self) -> int:
@@ -252,11 +242,9 @@ class Corridor:
 
 
 #: Corridors made by :meth:`Corridor.from_path`, by a digest of the path and the point
-#: count, the most recently used last: the same numbers, made once (a 3-D fit's
-#: model choice made 269, most of them of the same few nominals: 0.6 s).
-_CORRIDORS: dict[bytes, Corridor] = {}
-_CORRIDORS_KEPT = 256
-_CORRIDORS_LOCK = threading.Lock()
+#: count, the 256 most recently used: the same numbers, made once (a 3-D fit's model
+#: choice made 269, most of them of the same few nominals: 0.6 s).
+_CORRIDORS: DigestMemo[Corridor] = DigestMemo(max_items=256)
 
 #: Moving obstacles: standard deviations of the prediction added to the hard radius.
 UNCERTAINTY_MARGIN = 2.0

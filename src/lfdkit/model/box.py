@@ -373,7 +373,7 @@ def _candidate_tables(q: int) -> tuple:
         np.array([f[3] for f in faces]),
     )
     regions = np.array([r for r in itertools.product((-1.0, 0.0, 1.0), repeat=q) if any(r)])
-    tables = (axes, signs, *pairs, regions, regions != 0.0)
-    for table in tables:  # shared by every call: never written to
+    used = regions != 0.0
+    for table in (axes, signs, *pairs, regions, used):  # shared by every call: never written to
         table.setflags(write=False)
-    return axes, signs, pairs, regions, regions != 0.0
+    return axes, signs, pairs, regions, used
