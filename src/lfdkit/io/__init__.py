@@ -21,43 +21,48 @@ The data these files hold are :mod:`lfdkit.model.demos` and :mod:`lfdkit.model.s
 (and the skill's state).
 """
 
-from lfdkit.io.atomic import (
-    STALE_TEMP_SECONDS,
-    NotRegularFileError,
-    OutputExistsError,
-    atomic_write,
-    check_output_path,
-    write_text,
+from lfdkit.core.lazy import lazy_names
+
+# Loaded on first use (PEP 562): a batch's results file needs .atomic, not the
+# demonstration and scene readers (and NumPy) behind them (0.2 s in a fresh process).
+__getattr__, __dir__ = lazy_names(
+    __name__,
+    {
+        "STALE_TEMP_SECONDS": "atomic",
+        "NotRegularFileError": "atomic",
+        "OutputExistsError": "atomic",
+        "atomic_write": "atomic",
+        "check_output_path": "atomic",
+        "write_text": "atomic",
+        "JSON_FORMAT": "demos",
+        "JSON_VERSION": "demos",
+        "MAX_NPZ_ARRAY_BYTES": "demos",
+        "MAX_NPZ_MEMBERS": "demos",
+        "SUPPORTED_SUFFIXES": "demos",
+        "load_demos": "demos",
+        "path_csv": "demos",
+        "save_demos": "demos",
+        "save_path": "demos",
+        "SCENE_JSON_FORMAT": "scenes",
+        "SCENE_JSON_VERSION": "scenes",
+        "SCENE_SUFFIXES": "scenes",
+        "load_scene": "scenes",
+        "load_scenes": "scenes",
+        "save_scenes": "scenes",
+        "MAX_SKILL_FILE_BYTES": "skill_file",
+        "SKILL_FILE_LIMITS": "skill_file",
+        "SKILL_FORMAT": "skill_file",
+        "SKILL_VERSION": "skill_file",
+        "SkillDocument": "skill_file",
+        "read_skill_file": "skill_file",
+        "write_skill_file": "skill_file",
+        "MAX_FILE_BYTES": "text",
+        "MAX_JSON_DEPTH": "text",
+        "json_float_array": "text",
+        "load_json": "text",
+    },
+    globals(),
 )
-from lfdkit.io.demos import (
-    JSON_FORMAT,
-    JSON_VERSION,
-    MAX_NPZ_ARRAY_BYTES,
-    MAX_NPZ_MEMBERS,
-    SUPPORTED_SUFFIXES,
-    load_demos,
-    path_csv,
-    save_demos,
-    save_path,
-)
-from lfdkit.io.scenes import (
-    SCENE_JSON_FORMAT,
-    SCENE_JSON_VERSION,
-    SCENE_SUFFIXES,
-    load_scene,
-    load_scenes,
-    save_scenes,
-)
-from lfdkit.io.skill_file import (
-    MAX_SKILL_FILE_BYTES,
-    SKILL_FILE_LIMITS,
-    SKILL_FORMAT,
-    SKILL_VERSION,
-    SkillDocument,
-    read_skill_file,
-    write_skill_file,
-)
-from lfdkit.io.text import MAX_FILE_BYTES, MAX_JSON_DEPTH, json_float_array, load_json
 
 __all__ = [
     "JSON_FORMAT",
