@@ -1,4 +1,5 @@
-"""Tests for lfdkit.core.threads: the one-thread limit reaches every BLAS loaded."""
+"""Tests for lfdkit.core.threads: the one-thread limit reaches every BLAS loaded; the
+shared pool; warnings caught per thread."""
 
 from __future__ import annotations
 
@@ -6,6 +7,8 @@ import json
 import os
 import subprocess
 import sys
+
+import pytest
 
 from lfdkit.core.threads import available_cores, one_blas_thread
 
@@ -53,3 +56,74 @@ def test_the_limit_is_undone_on_leaving() -> None:
 
 def test_available_cores_is_at_least_one() -> None:
     assert 1 <= available_cores() <= (os.cpu_count() or 1)
+
+
+def test_each_thread_catches_its_own_warnings_side_by_side() -> None:
+    """Two threads, each warning in turn: each list holds its own thread's, nothing is shown."""
+    import threading
+    import warnings
+
+    from lfdkit.core.threads import caught_in_thread, warnings_by_thread
+
+    turns = threading.Barrier(2)
+
+    def work(name: str) -> list[str]:
+        with caught_in_thread() as caught:
+            for k in range(20):
+                turns.wait()  # interleaved: a shared list or filter would mix them
+                warnings.warn(f"{name} {k}", UserWarning, stacklevel=1)
+        return [str(w.message) for w in caught]
+
+    with warnings.catch_warnings(record=True) as shown:
+        warnings.simplefilter("always")
+        with warnings_by_thread():
+            results: dict[str, list[str]] = {}
+            threads = [
+                threading.Thread(target=lambda n=n: results.__setitem__(n, work(n))) for n in "ab"
+            ]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            warnings.warn("outside", UserWarning, stacklevel=1)  # no list: shown as before
+        warnings.warn("after", UserWarning, stacklevel=1)
+    assert results == {n: [f"{n} {k}" for k in range(20)] for n in "ab"}
+    assert [str(w.message) for w in shown] == ["outside", "after"]
+
+
+def test_caught_blocks_nest_and_work_alone() -> None:
+    import warnings
+
+    from lfdkit.core.threads import caught_in_thread
+
+    hook, filters = warnings.showwarning, list(warnings.filters)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the caller's filters: UserWarning is still caught
+        with caught_in_thread() as outer:
+            warnings.warn("one", UserWarning, stacklevel=1)
+            with caught_in_thread() as inner:
+                warnings.warn("two", UserWarning, stacklevel=1)
+            warnings.warn("three", UserWarning, stacklevel=1)
+            warnings.warn("ignored", DeprecationWarning, stacklevel=1)
+    assert [str(w.message) for w in outer] == ["one", "three"]
+    assert [str(w.message) for w in inner] == ["two"]
+    assert warnings.showwarning is hook and warnings.filters == filters
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="os.fork: POSIX only")
+def test_the_shared_pool_is_made_once_and_anew_in_a_forked_child() -> None:
+    from lfdkit.core.threads import shared_pool
+
+    assert shared_pool() is shared_pool()
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: the parent's threads are not there, a new pool is made
+        try:
+            from lfdkit.core import threads
+
+            ok = threads._POOL is None and shared_pool().submit(int, "7").result() == 7
+            os.write(write, b"1" if ok else b"0")
+        finally:
+            os._exit(0)
+    os.waitpid(pid, 0)
+    assert os.read(read, 1) == b"1"

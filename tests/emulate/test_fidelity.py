@@ -200,6 +200,45 @@ def test_each_model_is_scored_on_the_plan_it_makes(learned) -> None:
     assert differ  # the free plan keeps the floor, yet the floor's plan is another
 
 
+def test_replans_side_by_side_are_the_serial_ones(learned, monkeypatch) -> None:
+    """The model choice replans on threads: the same rows, and a plan's warning marks its own.
+
+    One model's plans warn (as a floor kept only in part does): only its rows are
+    marked relaxed, on one thread or two, and nothing reaches the caller.
+    """
+    from lfdkit.skill import selection
+
+    skill, demos, scenes = learned
+    nominals = [skill.nominal(d[0]) for d in demos]
+    floors = skill._floors(demos, scenes, nominals)
+    models = [
+        {"route": "window", "floor": floor, "frame": "world"}
+        for floor in ("none", "demonstrated", "closest")
+    ]
+    work = [
+        (d, d[-1], s, n, models, skill.reward_, floors)
+        for d, s, n in zip(demos[:4], scenes, nominals, strict=False)
+    ]
+    plan = type(skill)._plan
+
+    def warning_plan(self, *args, **kwargs):
+        if kwargs["clearances"] is floors["closest"]:
+            warnings.warn("plan: kept at 50 %", UserWarning, stacklevel=2)
+        return plan(self, *args, **kwargs)
+
+    monkeypatch.setattr(type(skill), "_plan", warning_plan)
+    results = {}
+    for cores in (1, 2):
+        monkeypatch.setattr(selection, "available_cores", lambda cores=cores: cores)
+        with warnings.catch_warnings(record=True) as shown:
+            warnings.simplefilter("always")
+            results[cores] = skill._replan_side_by_side(work)
+        assert not shown
+    assert results[1] == results[2]
+    relaxed = [[row["clearance_relaxed"] for row in rows] for rows in results[2]]
+    assert relaxed == [[False, False, True]] * len(work)
+
+
 def test_every_training_scene_is_replanned_and_scored(learned, tmp_path) -> None:
     skill, demos, scenes = learned
     rows = skill.training_fidelity_

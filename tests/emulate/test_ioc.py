@@ -525,10 +525,12 @@ def test_the_plan_threads_are_made_once_per_process(monkeypatch) -> None:
     # (a pool per evaluation would name a new pair each time).
     import threading
 
+    from lfdkit.core import threads
     from lfdkit.emulate import ioc
 
     monkeypatch.setattr(ioc, "available_cores", lambda: 2)
-    monkeypatch.setattr(ioc, "_POOL", None)
+    monkeypatch.setattr(threads, "available_cores", lambda: 2)
+    monkeypatch.setattr(threads, "_POOL", None)
     demos, scenes = demonstrations(2)
     loss = training_loss(demos, scenes)
     warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
@@ -537,5 +539,5 @@ def test_the_plan_threads_are_made_once_per_process(monkeypatch) -> None:
     names = set()
     for _ in range(4):
         names |= set(loss._each(lambda j, item: threading.current_thread().name))
-    assert 1 <= len(names) <= 2 and all(n.startswith("lfdkit-ioc") for n in names)
-    ioc._shared_pool().shutdown()  # this test's own pool (monkeypatch restores the process's)
+    assert 1 <= len(names) <= 2 and all(n.startswith("lfdkit_") for n in names)
+    threads.shared_pool().shutdown()  # this test's own pool (monkeypatch restores the process's)

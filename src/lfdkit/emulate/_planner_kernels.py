@@ -12,7 +12,9 @@ the nominal (:func:`return_clamped`). Argument names as the attributes of
 :mod:`._problem_kernels`, whose cost of one point it shares.
 
 Imported lazily: compiling costs a few seconds once, after which the machine
-code is cached on disk next to this file.
+code is cached on disk next to this file. Every entry point releases the GIL
+(``nogil``): plans run side by side on threads (a Dask worker's, a skill's
+model choice: issue 34).
 """
 
 import numba
@@ -21,7 +23,7 @@ import numpy as np
 from lfdkit.emulate._problem_kernels import barrier, planner_cost, planner_newton, point_cost
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     """Cost of every grid state at every point: ``out`` (n, G^m), m from its width.
 
@@ -69,7 +71,7 @@ def grid_node_costs(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
             out[k, s] = point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, point, near, hit)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def grid_state_costs(c, b, a, weight, levels, out):
     """:func:`grid_node_costs`' first terms into ``out`` (n, G^m): the weight's, the obstacles'.
 
@@ -84,7 +86,7 @@ def grid_state_costs(c, b, a, weight, levels, out):
         _state_costs_2d(c, b, a, weight, levels, out)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def grid_hard_costs(rr, nr, inner2, outer2, mu, levels, out):
     """:func:`grid_node_costs`' last terms added to ``out`` (n, G^m): the hard radii's barriers.
 
@@ -96,7 +98,7 @@ def grid_hard_costs(rr, nr, inner2, outer2, mu, levels, out):
         _hard_costs_2d(rr, nr, inner2, outer2, mu, levels, out)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     """:func:`grid_node_costs` in 2-D (one offset component), term by term over the levels.
 
@@ -109,7 +111,7 @@ def _node_costs_1d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     _hard_costs_1d(rr, nr, inner2, outer2, mu, levels, out)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _state_costs_1d(c, b, a, weight, levels, out):
     """:func:`_node_costs_1d`'s first terms: the nominal weight's and the kept obstacles'."""
     n, g_count = out.shape
@@ -128,7 +130,7 @@ def _state_costs_1d(c, b, a, weight, levels, out):
                 row[s] += np.exp(-(ck + (bk + (bk + ak * g)) * g))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _hard_costs_1d(rr, nr, inner2, outer2, mu, levels, out):
     """:func:`_node_costs_1d`'s last terms, added to ``out``: the hard radii's barriers."""
     n, g_count = out.shape
@@ -160,7 +162,7 @@ def _lowest_2d(c, b, a, k, o):
     return c[k, o] - quad
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _ascending(levels):
     """Whether ``levels`` rise strictly (the lateral grid's do), all finite."""
     for s in range(levels.shape[0]):
@@ -169,7 +171,7 @@ def _ascending(levels):
     return True
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     """:func:`grid_node_costs` in 3-D (two offset components), term by term over the states.
 
@@ -188,7 +190,7 @@ def _node_costs_2d(c, b, a, weight, rr, nr, inner2, outer2, mu, levels, out):
     _hard_costs_2d(rr, nr, inner2, outer2, mu, levels, out)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _state_costs_2d(c, b, a, weight, levels, out):
     """:func:`_node_costs_2d`'s first terms: the nominal weight's and the kept obstacles'."""
     n = out.shape[0]
@@ -221,7 +223,7 @@ def _state_costs_2d(c, b, a, weight, levels, out):
                     row[i * g_count + j] += np.exp(-s)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _hard_costs_2d(rr, nr, inner2, outer2, mu, levels, out):
     """:func:`_node_costs_2d`'s last terms, added to ``out``: each hard radius over its disc."""
     n = out.shape[0]
@@ -271,7 +273,7 @@ def _window_min(values, start, stride, g_count, window, out, out_start):
         out[out_start + s * stride] = best
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _box_min(values, g_count, m, window, inner, out):
     """``out[s]`` = the smallest of ``values`` over the states within ``window`` cells of ``s``.
 
@@ -287,7 +289,7 @@ def _box_min(values, g_count, m, window, inner, out):
         _window_min(inner, j, g_count, g_count, window, out, j)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def grid_cost_to_go(
     c, b, a, weight, rr, nr, inner2, outer2, mu, levels, window, end_zero, extra, out
 ):
@@ -302,7 +304,7 @@ def grid_cost_to_go(
     grid_backward(out.copy(), levels.shape[0], window, end_zero, extra, out)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def grid_backward(node, g_count, window, end_zero, extra, out):
     """:func:`grid_cost_to_go` from states' costs ``node`` (n, G^m) computed before."""
     n, n_states = out.shape
@@ -324,7 +326,7 @@ def grid_backward(node, g_count, window, end_zero, extra, out):
             out[k, s] += best[s]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def lateral_dp(
     c, b, a, weight, rr, nr, inner2, outer2, mu, max_step, d0, levels, window, end_zero, extra, out
 ):
@@ -349,7 +351,7 @@ def lateral_dp(
     return grid_walk(value, levels, window, max_step, d0, out)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def grid_walk(value, levels, window, max_step, d0, out):
     """Follow a cost-to-go table (:func:`grid_cost_to_go`) from ``d0`` for ``out``'s rows.
 
@@ -394,7 +396,7 @@ def grid_walk(value, levels, window, max_step, d0, out):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def return_clamped(anchor, new, back):
     """Bound the step from ``anchor`` to ``new`` toward the nominal by ``back``, in place.
 

@@ -18,7 +18,9 @@ the readable NumPy form of :func:`planner_derivatives` (without the barrier);
 ``tests/emulate/test_problem.py`` holds the two to the same numbers.
 
 Imported lazily: compiling costs a few seconds once, after which the machine
-code is cached on disk next to this file.
+code is cached on disk next to this file. Every entry point releases the GIL
+(``nogil``): plans run side by side on threads (a Dask worker's, a skill's
+model choice: issue 34).
 """
 
 import numba
@@ -73,7 +75,7 @@ def point_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, k, g, bumps, hards):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     """The planner cost of offsets ``d`` (n, m); ``+inf`` inside a hard radius.
 
@@ -108,7 +110,7 @@ def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian):
     """Cost; fills the gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
     n, n_obs = c.shape
@@ -152,20 +154,20 @@ def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _without_radii(n, m):
     """The hard-radius arrays of a problem without any (the thesis's model)."""
     return np.zeros((n, 0)), np.zeros((n, 0, m)), np.zeros(0), np.zeros(0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def offset_derivatives(c, b, a, weight, d, gradient, hessian):
     """:func:`planner_derivatives` without hard radii (the thesis's model)."""
     rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])
     return planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, 0.0, d, gradient, hessian)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def offset_groups(free, index):
     """Reduced-variable index per offset component (−1: anchored); returns their number."""
     n, m = free.shape
@@ -180,7 +182,7 @@ def offset_groups(free, index):
     return count
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _positive_block(h00, h01, h11, floor):
     """A symmetric 2×2 block with its eigenvalues replaced by ``max(|λ|, floor)``."""
     mean = 0.5 * (h00 + h11)
@@ -203,7 +205,7 @@ def _positive_block(h00, h01, h11, floor):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def block_tree_solve(h00, h01, h11, index, n_vars, rhs):
     """``x`` (n_vars, p) with ``H x = rhs`` for two components' grouped 2×2 blocks, in O(n).
 
@@ -276,7 +278,7 @@ def block_tree_solve(h00, h01, h11, index, n_vars, rhs):
     return x, True
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def offsets_newton(c, b, a, weight, max_step, d0, d, tol, max_iter):
     """:func:`planner_newton` without hard radii (the thesis's model)."""
     rr, nr, inner2, outer2 = _without_radii(d.shape[0], d.shape[1])

@@ -47,11 +47,9 @@ converged only when its optimiser says so (see :class:`IOC`).
 from __future__ import annotations
 
 import itertools
-import os
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -60,36 +58,12 @@ import numpy as np
 from lfdkit.core.constraints import Checked, InstanceOf, Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.progress import ProgressLike, as_progress
-from lfdkit.core.threads import available_cores, one_blas_thread
+from lfdkit.core.threads import available_cores, one_blas_thread, shared_pool
 from lfdkit.core.validation import check_horizon, check_path
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.problem import Corridor, Problem
 from lfdkit.emulate.reward import Reward
 from lfdkit.model.scene import Scene
-
-#: The threads the demonstrations' plans run on, made once per process: a pool made
-#: per loss evaluation (about 320 of them in a 2-D skill fit of 10 demonstrations)
-#: started and joined its threads each time. Issue 26, CPU s of ``Skill.fit`` (median of
-#: 3 alternated runs, loaded 2 cores): field person 6.0 -> 5.0 (10 demonstrations),
-#: 4.8 -> 3.5 (6); thesis person 3.8 -> 3.7, 2.6 -> 2.6. Results the same to the bit.
-_POOL: ThreadPoolExecutor | None = None
-
-
-def _shared_pool() -> ThreadPoolExecutor:
-    """The process's pool of :func:`available_cores` threads (made on first use)."""
-    global _POOL
-    if _POOL is None:
-        _POOL = ThreadPoolExecutor(max_workers=available_cores(), thread_name_prefix="lfdkit-ioc")
-    return _POOL
-
-
-def _forget_pool() -> None:
-    global _POOL
-    _POOL = None
-
-
-# A forked child (batch workers) has none of the parent's threads: it makes its own.
-os.register_at_fork(after_in_child=_forget_pool)
 
 __all__ = [
     "IOC",
@@ -690,7 +664,7 @@ class TrainingLoss:
         """
         if min(available_cores(), len(self.data)) <= 1:
             return [work(j, item) for j, item in enumerate(self.data)]
-        return list(_shared_pool().map(work, range(len(self.data)), self.data))
+        return list(shared_pool().map(work, range(len(self.data)), self.data))
 
     def _class_of(self, scene: Scene) -> np.ndarray:
         """Class index of each reward anchor of ``scene`` (the problem's obstacles)."""

@@ -103,6 +103,13 @@ import numpy as np
 from lfdkit.core.options import (
     POOR_FIDELITY,
 )
+from lfdkit.core.threads import (
+    available_cores,
+    caught_in_thread,
+    one_blas_thread,
+    shared_pool,
+    warnings_by_thread,
+)
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import (
     clearance_quantiles,
@@ -385,8 +392,7 @@ class BehaviourSelection:
             )
             relaxed = False
             if plan is None:
-                with warnings.catch_warnings(record=True) as caught:
-                    warnings.simplefilter("always", UserWarning)
+                with caught_in_thread() as caught:  # replans run side by side: per thread
                     try:
                         plan = self._plan(
                             demo[0],
@@ -420,6 +426,33 @@ class BehaviourSelection:
             row = measured[id(plan)][1]
             out.append({**row, "clearance_relaxed": relaxed, "replay_mse": replay})
         return out
+
+    def _replan_side_by_side(self, work: Sequence[tuple[Any, ...]]) -> list[list[dict[str, Any]]]:
+        """:meth:`_replan_candidates` of each argument tuple, on the process's threads.
+
+        The compiled planner kernels release the GIL, so the model choice's
+        replans (most of a 3-D fit: issue 34) run side by side; each is its
+        demonstration's own, so the rows are the same on any number of
+        threads. A plan's warnings are caught per thread
+        (:func:`lfdkit.core.threads.caught_in_thread`: ``catch_warnings`` side
+        by side undo each other's); those outside a plan are given again here.
+        BLAS keeps one thread throughout (the plans' own limits, entered and
+        left side by side, would otherwise restore each other's).
+        """
+
+        def replan(arguments: tuple[Any, ...]) -> tuple[Any, list[warnings.WarningMessage]]:
+            with caught_in_thread() as caught:
+                return self._replan_candidates(*arguments), caught
+
+        with one_blas_thread(), warnings_by_thread():
+            if min(available_cores(), len(work)) <= 1:
+                done = [replan(arguments) for arguments in work]
+            else:
+                done = list(shared_pool().map(replan, work))
+        for _, caught in done:
+            for w in caught:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return [rows for rows, _ in done]
 
     def _warm_fit(
         self,
@@ -603,20 +636,34 @@ class BehaviourSelection:
         kept = [kept_clearances(*each) for each in zip(demos, scenes, nominals, strict=True)]
         full_floors = self._floors(demos, scenes, nominals, kept)
 
-        def replanned(indices: Sequence[int], models: Sequence[Mapping[str, str]], rewards, floors):
-            # rewards: (the thesis's, the swerve's) fitted on the same demonstrations
-            out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in models}
-            for swerve, reward in zip((False, True), rewards, strict=True):
-                group = [c for c in models if ("swerve" in c) == swerve]
-                if not group:
-                    continue
-                for j in indices:
-                    rows = self._replan_candidates(
-                        demos[j], goal[j], scenes[j], nominals[j], group, reward, floors
-                    )
-                    for candidate, row in zip(group, rows, strict=True):
-                        out[_behaviour_name(candidate)].append({"demo": j, **row})
-            return out
+        def replanned(
+            batches: Sequence[tuple[Sequence[int], Sequence[Mapping[str, str]], Any, Any]],
+        ):
+            """Each batch's ``(indices, models, rewards, floors)`` replans, ``{name: rows}`` each.
+
+            ``rewards``: (the thesis's, the swerve's) fitted on the same
+            demonstrations. Each demonstration's replans with one reward are one
+            piece of work (:meth:`_replan_side_by_side`); the rows come in a
+            serial run's order.
+            """
+            work, where = [], []
+            for b, (indices, models, rewards, floors) in enumerate(batches):
+                for swerve, reward in zip((False, True), rewards, strict=True):
+                    group = [c for c in models if ("swerve" in c) == swerve]
+                    if not group:
+                        continue
+                    for j in indices:
+                        work.append(
+                            (demos[j], goal[j], scenes[j], nominals[j], group, reward, floors)
+                        )
+                        where.append((b, j, group))
+            outs: list[dict[str, list[dict[str, Any]]]] = [
+                {_behaviour_name(c): [] for c in models} for _, models, _, _ in batches
+            ]
+            for (b, j, group), rows in zip(where, self._replan_side_by_side(work), strict=True):
+                for candidate, row in zip(group, rows, strict=True):
+                    outs[b][_behaviour_name(candidate)].append({"demo": j, **row})
+            return outs
 
         # The swerve reward on all demonstrations, from the thesis's (None: no candidate).
         thesis_reward = self.reward_
@@ -645,7 +692,9 @@ class BehaviourSelection:
                 planned = [p for p in planned if "swerve" not in p]
 
         n_folds = min(n, MAX_FOLDS) if cross else 0
-        held_out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in planned}
+        # Each fold's reward and floors first (the refits run their demonstrations on
+        # threads), then every fold's replans side by side.
+        folds = []
         for fold in range(n_folds):
             held = [j for j in range(n) if j % n_folds == fold]
             keep = [j for j in range(n) if j % n_folds != fold]
@@ -664,10 +713,13 @@ class BehaviourSelection:
                 [nominals[i] for i in keep],
                 [kept[i] for i in keep],
             )
-            for name, rows in replanned(held, planned, (reward, fold_swerve), floors).items():
+            folds.append((held, planned, (reward, fold_swerve), floors))
+        held_out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in planned}
+        for out in replanned(folds):
+            for name, rows in out.items():
                 held_out[name] += rows
         rewards = (thesis_reward, swerve_reward)
-        training = {} if cross else replanned(range(n), planned, rewards, full_floors)
+        training = {} if cross else replanned([(range(n), planned, rewards, full_floors)])[0]
         rows = held_out if cross else training
         scores = {name: _fidelity_scores(rows[name], n_folds) for name in names}
         free = (
@@ -688,7 +740,7 @@ class BehaviourSelection:
         clearances, self.gaps_ = self._candidate_floor(chosen, full_floors)
         self.clearances_ = dict(clearances)
         if ranked[0] not in training:
-            training = replanned(range(n), [chosen], rewards, full_floors)
+            training = replanned([(range(n), [chosen], rewards, full_floors)])[0]
         self.training_fidelity_ = [
             {k: v for k, v in row.items() if k != "replay_mse"} for row in training[ranked[0]]
         ]
