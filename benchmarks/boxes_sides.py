@@ -75,16 +75,20 @@ on its left: 2 → 1 of 3), distance 60 → 56 mm (line 114), least clearance
 0.68 → 0.68 (a fold that passes two of three boxes on the other side, before
 and after).
 
-Then (stop 49) the model choice's replans run side by side on the process's
-threads (every compiled planner kernel releases the GIL; each fold's skill,
-plans and scores the same to the bit): the table now gives the fit's wall
-time (the issue's target) with its CPU over every thread. Side by side with
-2e07075 (this benchmark's timing copied there), seed 0: wall median 13.6 →
-12.3 s, slowest fold 29.1 → 20.1 s (the first fold's compile left out of
-both), CPU 16.9 → 18.8 s; every other figure the same. The issue's 10 s is
-still missed: a median fold spends about 7 s in its 14 IOC fits (the full
-fit and the model choice's warm refits; their Newton solves, 1.7 ms each,
-are half the fit's CPU) and 2–3 s replanning.
+Then (stop 49) the model choice's work runs side by side on the process's
+threads (every compiled planner kernel releases the GIL): the folds' refits,
+every fold's replans, and the fit's check for demonstrations the reward
+replans on another side (``lfdkit.core.threads.side_by_side``); each fold's
+skill, plans and scores are the same to the bit. The table now gives the
+fit's wall time (the issue's target) with its CPU over every thread. Seed 0,
+runs one after the other on this 2-core machine (the first fold's compile left
+out): wall median 13.6 s at 2e07075 (this benchmark's timing copied there),
+12.3 s with the replans side by side, 10.8 s with the refits and the check
+too; slowest fold 29.1 → 20.1 → 18.9 s; CPU 16.9 → 18.8 → 17.2 s; every
+other figure the same. The issue's 10 s is still missed by about a second
+at the median: a median fold spends 4-5 s in the reward fit on all (its
+search, runs and the after-fit checks; a refit where a demonstration is
+left out), whose Newton solves, 1.7 ms each, are half the fit's CPU.
 """
 
 from __future__ import annotations

@@ -127,3 +127,59 @@ def test_the_shared_pool_is_made_once_and_anew_in_a_forked_child() -> None:
             os._exit(0)
     os.waitpid(pid, 0)
     assert os.read(read, 1) == b"1"
+
+
+def test_side_by_side_keeps_the_order_and_says_each_task_s_warnings_in_it(monkeypatch) -> None:
+    """Results and warnings in the items' order, whichever thread finished first.
+
+    The first task sleeps, so on two threads the second finishes first; the
+    tasks' warnings are said once all are done, in order, identical ones once.
+    """
+    import time
+    import warnings
+
+    from lfdkit.core import threads
+
+    monkeypatch.setattr(threads, "available_cores", lambda: 2)
+
+    def work(k: int) -> int:
+        if k == 0:
+            time.sleep(0.05)
+        warnings.warn(f"task {k}", UserWarning, stacklevel=1)
+        warnings.warn("the same", UserWarning, stacklevel=1)
+        return k * k
+
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("default")
+        assert threads.side_by_side(work, range(4)) == [0, 1, 4, 9]
+    assert [str(w.message) for w in said] == ["task 0", "the same", "task 1", "task 2", "task 3"]
+
+
+def test_side_by_side_on_its_own_threads_may_use_the_pool(monkeypatch) -> None:
+    """Tasks that hand work to the shared pool and wait run on threads of their own.
+
+    On the pool itself two such tasks would take both its threads and wait for ever.
+    """
+    import warnings
+
+    from lfdkit.core import threads
+
+    monkeypatch.setattr(threads, "available_cores", lambda: 2)
+    monkeypatch.setattr(threads, "_POOL", None)
+
+    def work(k: int) -> list[int]:
+        # The pool's tasks say into the caller's list (map_on_threads carries it).
+        def inner(i: int) -> int:
+            warnings.warn(f"inner {k}.{i}", UserWarning, stacklevel=1)
+            return 10 * k + i
+
+        return threads.map_on_threads(inner, range(3))
+
+    try:
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            got = threads.side_by_side(work, range(2), own_threads=True)
+    finally:
+        threads.shared_pool().shutdown()  # this test's own pool
+    assert got == [[0, 1, 2], [10, 11, 12]]
+    assert [str(w.message) for w in said] == [f"inner {k}.{i}" for k in range(2) for i in range(3)]

@@ -206,7 +206,7 @@ def test_replans_side_by_side_are_the_serial_ones(learned, monkeypatch) -> None:
     One model's plans warn (as a floor kept only in part does): only its rows are
     marked relaxed, on one thread or two, and nothing reaches the caller.
     """
-    from lfdkit.skill import selection
+    from lfdkit.core import threads
 
     skill, demos, scenes = learned
     nominals = [skill.nominal(d[0]) for d in demos]
@@ -229,7 +229,7 @@ def test_replans_side_by_side_are_the_serial_ones(learned, monkeypatch) -> None:
     monkeypatch.setattr(type(skill), "_plan", warning_plan)
     results = {}
     for cores in (1, 2):
-        monkeypatch.setattr(selection, "available_cores", lambda cores=cores: cores)
+        monkeypatch.setattr(threads, "available_cores", lambda cores=cores: cores)
         with warnings.catch_warnings(record=True) as shown:
             warnings.simplefilter("always")
             results[cores] = skill._replan_side_by_side(work)

@@ -498,7 +498,7 @@ def test_a_refit_without_diagnosis_gives_the_same_reward_and_skips_the_checks() 
 def test_threads_give_the_loss_to_the_bit(monkeypatch) -> None:
     # The demonstrations are planned side by side where there are cores; each is
     # summed in order, so one thread and several give the same numbers exactly.
-    from lfdkit.emulate import ioc
+    from lfdkit.core import threads
 
     path = nominal()
     scenes = [Scene((Obstacle("obstacle", path[i] + [0.0, 0.01]),)) for i in (120, 170)]
@@ -510,7 +510,7 @@ def test_threads_give_the_loss_to_the_bit(monkeypatch) -> None:
     theta = TRUE.theta + np.array([0.3, -0.2, 0.4])
     results = {}
     for cores in (1, 2):
-        monkeypatch.setattr(ioc, "available_cores", lambda cores=cores: cores)
+        monkeypatch.setattr(threads, "available_cores", lambda cores=cores: cores)
         loss = training_loss(demos, scenes)
         warm = [np.where(d.found[1:, None], d.target[1:], 0.0) for d in loss.data]
         full = loss.full_horizon(theta, warm)
@@ -526,9 +526,7 @@ def test_the_plan_threads_are_made_once_per_process(monkeypatch) -> None:
     import threading
 
     from lfdkit.core import threads
-    from lfdkit.emulate import ioc
 
-    monkeypatch.setattr(ioc, "available_cores", lambda: 2)
     monkeypatch.setattr(threads, "available_cores", lambda: 2)
     monkeypatch.setattr(threads, "_POOL", None)
     demos, scenes = demonstrations(2)

@@ -29,11 +29,14 @@ import os
 import sys
 import threading
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import AbstractContextManager
+from typing import Any, TypeVar
 
 from threadpoolctl import ThreadpoolController
+
+T = TypeVar("T")
 
 _controller: ThreadpoolController | None = None
 _modules_seen = -1  # len(sys.modules) when the controller was made
@@ -79,6 +82,63 @@ def shared_pool() -> ThreadPoolExecutor:
     if _POOL is None:
         _POOL = ThreadPoolExecutor(max_workers=available_cores(), thread_name_prefix="lfdkit")
     return _POOL
+
+
+def map_on_threads(work: Callable[..., T], *arguments: Iterable[Any]) -> list[T]:
+    """``[work(*a) for a in zip(*arguments)]``, on :func:`shared_pool` where there are cores.
+
+    In order; serially with one core or one item. A task runs with the
+    caller's :func:`caught_in_thread` list, if any: a warning it shows goes
+    where the caller's would. ``work`` must not itself wait on the pool.
+    """
+    items = list(zip(*arguments, strict=True))
+    if min(available_cores(), len(items)) <= 1:
+        return [work(*item) for item in items]
+    caught = getattr(_sinks, "caught", None)
+
+    def run(item: tuple[Any, ...]) -> T:
+        outer = getattr(_sinks, "caught", None)
+        _sinks.caught = caught
+        try:
+            return work(*item)
+        finally:
+            _sinks.caught = outer
+
+    return list(shared_pool().map(run, items))
+
+
+def side_by_side(
+    work: Callable[[Any], T], items: Iterable[Any], *, own_threads: bool = False
+) -> list[T]:
+    """``[work(x) for x in items]`` on threads, each one's warnings given again here, in order.
+
+    Each task's warnings are caught in its thread (:func:`caught_in_thread`)
+    and given again by the caller once all are done, in the items' order
+    (identical ones once per call, as the "default" filter would), so what is
+    said does not depend on which thread ran first; BLAS keeps one thread
+    throughout (limits entered and left side by side would restore each
+    other's). ``own_threads``: the tasks run on threads made for this call,
+    not :func:`shared_pool`'s, for work that itself hands tasks to the pool
+    and waits for them.
+    """
+    items = list(items)
+
+    def run(item: Any) -> tuple[T, list[warnings.WarningMessage]]:
+        with caught_in_thread() as caught:
+            return work(item), caught
+
+    with one_blas_thread(), warnings_by_thread():
+        workers = min(available_cores(), len(items))
+        if not own_threads or workers <= 1:
+            done = map_on_threads(run, items)
+        else:
+            with ThreadPoolExecutor(workers, thread_name_prefix="lfdkit-own") as pool:
+                done = list(pool.map(run, items))
+    registry: dict[Any, Any] = {}
+    for _, caught in done:
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, registry=registry)
+    return [result for result, _ in done]
 
 
 def _forget_pool() -> None:

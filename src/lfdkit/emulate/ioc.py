@@ -58,7 +58,7 @@ import numpy as np
 from lfdkit.core.constraints import Checked, InstanceOf, Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator
 from lfdkit.core.progress import ProgressLike, as_progress
-from lfdkit.core.threads import available_cores, one_blas_thread, shared_pool
+from lfdkit.core.threads import map_on_threads, one_blas_thread
 from lfdkit.core.validation import check_horizon, check_path
 from lfdkit.emulate.planner import plan_path
 from lfdkit.emulate.problem import Corridor, Problem
@@ -662,9 +662,7 @@ class TrainingLoss:
         result is the demonstration's own and the caller sums them in order, so
         the loss is the same to the bit on any number of threads.
         """
-        if min(available_cores(), len(self.data)) <= 1:
-            return [work(j, item) for j, item in enumerate(self.data)]
-        return list(shared_pool().map(work, range(len(self.data)), self.data))
+        return map_on_threads(work, range(len(self.data)), self.data)
 
     def _class_of(self, scene: Scene) -> np.ndarray:
         """Class index of each reward anchor of ``scene`` (the problem's obstacles)."""

@@ -37,6 +37,7 @@ from lfdkit.core.options import (
 )
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
 from lfdkit.core.rotations import check_quaternions, continuous
+from lfdkit.core.threads import side_by_side
 from lfdkit.core.units import (
     UnitsWarning,
     check_units,
@@ -1118,14 +1119,14 @@ class Skill(
         route = self._fitted_routes(ioc.horizon_)[0]
         frame = "path" if self.model == "path" else "world"
         n_points = int(self.n_points)
-        out = []
-        for j, (demo, scene, nominal) in enumerate(zip(demos, scenes, nominals, strict=True)):
-            scene = Scene(tuple(o for o in scene if o.label not in ioc.not_learned_))
+
+        def other_side(j: int) -> bool:
+            scene = Scene(tuple(o for o in scenes[j] if o.label not in ioc.not_learned_))
             if not len(scene):
-                continue
+                return False
             try:
                 plan = self._plan(
-                    demo[0],
+                    demos[j][0],
                     goal[j],
                     scene,
                     "full" if route == "full" else None,
@@ -1139,9 +1140,12 @@ class Skill(
                     frame=frame,
                 )
             except UnsafePlanError:  # no plan at all: the model choice reports it
-                continue
-            if not replanning_fidelity(plan.points, nominal, demo, scene, n_points)["sides_agree"]:
-                out.append(j)
+                return False
+            fidelity = replanning_fidelity(plan.points, nominals[j], demos[j], scene, n_points)
+            return not fidelity["sides_agree"]
+
+        # Each demonstration's plan is its own: side by side on the process's threads.
+        out = [j for j, other in enumerate(side_by_side(other_side, range(n))) if other]
         few = 2 * len(out) < n and n - len(out) >= MIN_CROSS_VALIDATION_DEMOS
         return out if few else []
 

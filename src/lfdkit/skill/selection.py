@@ -104,11 +104,8 @@ from lfdkit.core.options import (
     POOR_FIDELITY,
 )
 from lfdkit.core.threads import (
-    available_cores,
     caught_in_thread,
-    one_blas_thread,
-    shared_pool,
-    warnings_by_thread,
+    side_by_side,
 )
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import (
@@ -431,28 +428,12 @@ class BehaviourSelection:
         """:meth:`_replan_candidates` of each argument tuple, on the process's threads.
 
         The compiled planner kernels release the GIL, so the model choice's
-        replans (most of a 3-D fit: issue 34) run side by side; each is its
+        replans (most of a 3-D fit: issue 34) run side by side
+        (:func:`lfdkit.core.threads.side_by_side`); each is its
         demonstration's own, so the rows are the same on any number of
-        threads. A plan's warnings are caught per thread
-        (:func:`lfdkit.core.threads.caught_in_thread`: ``catch_warnings`` side
-        by side undo each other's); those outside a plan are given again here.
-        BLAS keeps one thread throughout (the plans' own limits, entered and
-        left side by side, would otherwise restore each other's).
+        threads, and a plan's warnings are caught in its own thread.
         """
-
-        def replan(arguments: tuple[Any, ...]) -> tuple[Any, list[warnings.WarningMessage]]:
-            with caught_in_thread() as caught:
-                return self._replan_candidates(*arguments), caught
-
-        with one_blas_thread(), warnings_by_thread():
-            if min(available_cores(), len(work)) <= 1:
-                done = [replan(arguments) for arguments in work]
-            else:
-                done = list(shared_pool().map(replan, work))
-        for _, caught in done:
-            for w in caught:
-                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        return [rows for rows, _ in done]
+        return side_by_side(lambda arguments: self._replan_candidates(*arguments), work)
 
     def _warm_fit(
         self,
@@ -473,8 +454,7 @@ class BehaviourSelection:
         from lfdkit.emulate.ioc import IOC  # fitting only: plans need not import it
 
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
+            with caught_in_thread():  # silenced; folds are fitted side by side (_fold_models)
                 return IOC(
                     init.classes,
                     n_points=int(self.n_points),
@@ -692,10 +672,9 @@ class BehaviourSelection:
                 planned = [p for p in planned if "swerve" not in p]
 
         n_folds = min(n, MAX_FOLDS) if cross else 0
-        # Each fold's reward and floors first (the refits run their demonstrations on
-        # threads), then every fold's replans side by side.
-        folds = []
-        for fold in range(n_folds):
+
+        def fold_model(fold: int) -> tuple[list[int], Any, tuple[Reward, Any], Any]:
+            """The fold's held-out demonstrations, models, rewards and floors."""
             held = [j for j in range(n) if j % n_folds == fold]
             keep = [j for j in range(n) if j % n_folds != fold]
             reward = self._refit_on(keep, demos, scenes, nominals)
@@ -713,7 +692,13 @@ class BehaviourSelection:
                 [nominals[i] for i in keep],
                 [kept[i] for i in keep],
             )
-            folds.append((held, planned, (reward, fold_swerve), floors))
+            return held, planned, (reward, fold_swerve), floors
+
+        # Each fold's reward and floors first, the folds side by side (each refit is its
+        # own, warm-started from the reward fitted on all: the same on any number of
+        # threads), then every fold's replans side by side.
+        # Each refit hands its demonstrations' plans to the shared pool and waits for them.
+        folds = side_by_side(fold_model, range(n_folds), own_threads=True)
         held_out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in planned}
         for out in replanned(folds):
             for name, rows in out.items():
