@@ -165,6 +165,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 import warnings
@@ -174,6 +175,13 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+# The people's paths are plans: under the default rule the first ones of a process are
+# the NumPy forms' until numba comes in, at a moment that depends on timing, and in 3-D
+# the two agree to round-off only, so the data (and every figure after them) differed
+# in the last digits from one run to the next. numba's kernels throughout, as a fit
+# loads them anyway. boxes_sides imports this module: the same for it.
+os.environ.setdefault("LFDKIT_KERNELS", "numba")
 
 from _common import git_state, json_ready, machine_info
 
