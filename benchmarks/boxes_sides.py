@@ -81,14 +81,17 @@ every fold's replans, and the fit's check for demonstrations the reward
 replans on another side (``lfdkit.core.threads.side_by_side``); each fold's
 skill, plans and scores are the same to the bit. The table now gives the
 fit's wall time (the issue's target) with its CPU over every thread. Seed 0,
-runs one after the other on this 2-core machine (the first fold's compile left
-out): wall median 13.6 s at 2e07075 (this benchmark's timing copied there),
-12.3 s with the replans side by side, 10.8 s with the refits and the check
-too; slowest fold 29.1 → 20.1 → 18.9 s; CPU 16.9 → 18.8 → 17.2 s; every
-other figure the same. The issue's 10 s is still missed by about a second
-at the median: a median fold spends 4-5 s in the reward fit on all (its
-search, runs and the after-fit checks; a refit where a demonstration is
-left out), whose Newton solves, 1.7 ms each, are half the fit's CPU.
+alternated with 2e07075 (this benchmark's timing copied there), two runs each
+at a quiet moment of this 2-core machine: wall median 10.6 and 10.2 s before,
+7.8 and 7.6 s after; slowest fold (6, whose candidates include the thesis's
+receding horizon in 3-D) 23.1 and 22.9 → 15.4 and 14.0 s; CPU median 13.2
+and 13.1 → 13.0 and 12.5 s; every other figure the same. Runs one after the
+other at a busier moment: 13.6 s before, 12.3 s with the replans alone side
+by side, 10.8 s with the refits and the check too. The issue's 10 s per
+fold is met at the median and missed by the slowest fold. A median fold
+spends about half its time in the reward fit on all (its search, runs and
+after-fit checks; a refit where a demonstration is left out), whose Newton
+solves, 1.7 ms each, are half the fit's CPU.
 """
 
 from __future__ import annotations
