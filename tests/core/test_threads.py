@@ -183,3 +183,24 @@ def test_side_by_side_on_its_own_threads_may_use_the_pool(monkeypatch) -> None:
         threads.shared_pool().shutdown()  # this test's own pool
     assert got == [[0, 1, 2], [10, 11, 12]]
     assert [str(w.message) for w in said] == [f"inner {k}.{i}" for k in range(2) for i in range(3)]
+
+
+def test_a_pool_task_that_maps_on_threads_runs_its_work_itself(monkeypatch) -> None:
+    """Two pool tasks each mapping on the pool would take both threads and wait for ever."""
+    import threading
+
+    from lfdkit.core import threads
+
+    monkeypatch.setattr(threads, "available_cores", lambda: 2)
+    monkeypatch.setattr(threads, "_POOL", None)
+
+    def outer(k: int) -> tuple[str, list[str]]:
+        names = threads.map_on_threads(lambda i: threading.current_thread().name, range(3))
+        return threading.current_thread().name, names
+
+    try:
+        got = threads.map_on_threads(outer, range(2))
+    finally:
+        threads.shared_pool().shutdown()
+    for name, inner in got:
+        assert inner == [name] * 3  # in the task's own thread

@@ -76,7 +76,7 @@ def shared_pool() -> ThreadPoolExecutor:
     """The process's pool of :func:`available_cores` threads (made on first use).
 
     Work submitted to it must not wait on other work submitted to it (a full
-    pool would wait for ever).
+    pool would wait for ever): :func:`map_on_threads` runs serially there.
     """
     global _POOL
     if _POOL is None:
@@ -87,22 +87,24 @@ def shared_pool() -> ThreadPoolExecutor:
 def map_on_threads(work: Callable[..., T], *arguments: Iterable[Any]) -> list[T]:
     """``[work(*a) for a in zip(*arguments)]``, on :func:`shared_pool` where there are cores.
 
-    In order; serially with one core or one item. A task runs with the
-    caller's :func:`caught_in_thread` list, if any: a warning it shows goes
-    where the caller's would. ``work`` must not itself wait on the pool.
+    In order; serially with one core, one item, or when called from one of
+    the pool's own tasks (waiting there on the pool could wait for ever: every
+    thread of a full pool waiting for a task none is free to run). A task
+    runs with the caller's :func:`caught_in_thread` list, if any: a warning it
+    shows goes where the caller's would.
     """
     items = list(zip(*arguments, strict=True))
-    if min(available_cores(), len(items)) <= 1:
+    if min(available_cores(), len(items)) <= 1 or getattr(_sinks, "in_pool", False):
         return [work(*item) for item in items]
     caught = getattr(_sinks, "caught", None)
 
     def run(item: tuple[Any, ...]) -> T:
         outer = getattr(_sinks, "caught", None)
-        _sinks.caught = caught
+        _sinks.caught, _sinks.in_pool = caught, True
         try:
             return work(*item)
         finally:
-            _sinks.caught = outer
+            _sinks.caught, _sinks.in_pool = outer, False
 
     return list(shared_pool().map(run, items))
 
@@ -149,7 +151,8 @@ def _forget_pool() -> None:
 # A forked child (batch workers) has none of the parent's threads: it makes its own.
 os.register_at_fork(after_in_child=_forget_pool)
 
-_sinks = threading.local()  # .caught: the list the current thread's warnings go to
+# .caught: the list the current thread's warnings go to; .in_pool: a task of the pool's
+_sinks = threading.local()
 _hooks = 0  # warnings_by_thread contexts open (the hook is the process's)
 _hooks_lock = threading.Lock()
 
