@@ -454,7 +454,7 @@ class BehaviourSelection:
         from lfdkit.emulate.ioc import IOC  # fitting only: plans need not import it
 
         try:
-            with caught_in_thread():  # silenced; folds are fitted side by side (_fold_models)
+            with caught_in_thread():  # silenced, in this thread alone: folds fit side by side
                 return IOC(
                     init.classes,
                     n_points=int(self.n_points),
@@ -696,8 +696,8 @@ class BehaviourSelection:
 
         # Each fold's reward and floors first, the folds side by side (each refit is its
         # own, warm-started from the reward fitted on all: the same on any number of
-        # threads), then every fold's replans side by side.
-        # Each refit hands its demonstrations' plans to the shared pool and waits for them.
+        # threads; on threads of their own, as each refit hands its demonstrations' plans
+        # to the shared pool and waits for them), then every fold's replans side by side.
         folds = side_by_side(fold_model, range(n_folds), own_threads=True)
         held_out: dict[str, list[dict[str, Any]]] = {_behaviour_name(c): [] for c in planned}
         for out in replanned(folds):
