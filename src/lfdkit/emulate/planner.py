@@ -1236,7 +1236,10 @@ def _grid_on_sides(
     extra = np.zeros((problem.n, states.shape[0]))
     for k, lateral, side in sides:
         extra[k, (states - lateral) @ side <= 0.0] = np.inf
-    found = _global_start(problem, anchor, True, (levels, cells), extra)
+    # The states' costs through the memo (_node_costs): a scene's plans search it with
+    # other sides and floors, its obstacles' terms the same (lateral_dp's own numbers).
+    node = _node_costs(problem, levels)
+    found = _global_start(problem, anchor, True, (levels, cells), extra, node=node)
     stride = 1 if found is not None else _coarse_stride(problem, anchor)
     if stride > 1:
         coarse = _subsampled(problem, stride)
