@@ -90,3 +90,30 @@ def test_dead_end_takes_the_route_step_and_says_so():
     assert metrics.collisions(plan.points, scene) == 0
     assert metrics.clearance(plan.points, scene).min() >= CLEARANCE * (1 - 1e-6)
     assert np.linalg.norm(plan.points[-1] - GOAL) < 1e-3  # at the goal (1 mm)
+
+
+def test_the_goal_join_polishes_its_starts_side_by_side_with_the_same_plan(monkeypatch):
+    """In 3-D the join's two polished tails run on two threads: the plan of one thread."""
+    from lfdkit.core import threads
+    from lfdkit.emulate import planner
+
+    reward, nominal, scene = _fold(6)
+    sizes = []
+    mapped = planner.map_on_threads
+
+    def counting(work, *items):
+        sizes.append(len(items[0]))
+        return mapped(work, *items)
+
+    monkeypatch.setattr(planner, "map_on_threads", counting)
+    plans = {}
+    for cores in (1, 2):
+        monkeypatch.setattr(threads, "available_cores", lambda cores=cores: cores)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            plans[cores] = plan_path(
+                reward, nominal, scene, clearance=CLEARANCE, goal_approach=0.2
+            ).points
+    assert sizes == [2, 2]  # the route's tail and the grid's, each time
+    np.testing.assert_array_equal(plans[1], plans[2])
+    assert np.linalg.norm(plans[2][-1] - GOAL) < 1e-3

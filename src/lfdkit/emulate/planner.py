@@ -194,7 +194,7 @@ from lfdkit.core.kernels import kernel, use_compiled
 from lfdkit.core.memo import DigestMemo, array_digest
 from lfdkit.core.options import MAX_HORIZON, MIN_HORIZON  # the horizons the thesis found to work
 from lfdkit.core.progress import Progress, ProgressLike, as_progress
-from lfdkit.core.threads import one_blas_thread
+from lfdkit.core.threads import map_on_threads, one_blas_thread
 from lfdkit.core.validation import check_horizon, check_positive
 from lfdkit.emulate.fidelity import passing_sides
 from lfdkit.emulate.problem import (
@@ -1163,8 +1163,13 @@ def _connect_to_goal(
         if grid is not None:
             starts.append(grid)
         best, total = None, 0
-        for guess in starts:
-            d, cost, n_iter, ok = tail.solve(anchor, guess)
+        # In 3-D each polish is a whole tail's Newton solve (tens of ms): side by side.
+        polished = (
+            map_on_threads(partial(tail.solve, anchor), starts)
+            if problem.m == 2
+            else [tail.solve(anchor, guess) for guess in starts]
+        )
+        for d, cost, n_iter, ok in polished:
             total += n_iter
             if not np.isfinite(cost) or float(np.linalg.norm(d[-1])) > tolerance:
                 continue
