@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from lfdkit.core.geometry import (
@@ -617,6 +617,7 @@ def _check_frames(frames, tangents):
 
 @SETTINGS
 @given(seed=st.integers(0, 2**32 - 1), q=st.sampled_from([2, 3, 5]))
+@example(seed=1480, q=3)  # a sharp turn: one Gram-Schmidt pass left 3e-12 (CI, stop 49)
 def test_normal_frames_orthonormal(seed, q):
     rng = np.random.default_rng(seed)
     path = make_polyline(rng, "jagged", q, int(rng.integers(2, 30)))
