@@ -4,10 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from lfdkit.core.memo import DigestMemo
-from lfdkit.emulate import Corridor, Reward
-from lfdkit.emulate._problem_kernels import planner_cost, planner_derivatives, point_cost
+from lfdkit.emulate import Corridor, Reward, _problem_kernels
+from lfdkit.emulate._problem_kernels import (
+    LISTED_TERMS,
+    live_terms,
+    planner_cost,
+    planner_derivatives,
+    point_cost,
+)
 from lfdkit.emulate.problem import Problem, _obstacle_terms
 from lfdkit.model.scene import Obstacle, Scene
 
@@ -251,3 +259,79 @@ def test_a_corridor_is_made_once_per_path_and_point_count(monkeypatch, q: int) -
     monkeypatch.setattr(module._CORRIDORS, "max_items", 2)
     Corridor.from_path(path, 42)
     assert len(module._CORRIDORS) == 2 and Corridor.from_path(path, 40) is not fresh
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    m=st.sampled_from([1, 2, 3]),
+    scale=st.sampled_from([1e-3, 1.0, 1e3]),
+)
+def test_a_term_left_off_the_live_lists_is_exactly_zero_nearby(seed: int, m: int, scale: float):
+    # live_terms leaves a bump out only where exp(-s) is 0.0 and a hard radius only
+    # where the barrier is 0.0, for every offset within the radius: points drawn in
+    # the ball and on its surface, with curvatures of either sign, in any unit.
+    rng = np.random.default_rng(seed)
+    n, n_obs, n_hard = 4, 8, 8
+    c = rng.uniform(-5.0, 3000.0, (n, n_obs))
+    b = rng.normal(0.0, 300.0, (n, n_obs, m)) / scale
+    a = rng.normal(0.0, 1.0, (n, n_obs, m, m)) * rng.uniform(0.0, 2e5, (n, n_obs, 1, 1))
+    a /= scale**2
+    nr = rng.normal(0.0, 0.2, (n, n_hard, m)) * scale
+    rr = np.einsum("khi,khi->kh", nr, nr) + rng.uniform(0.0, 0.01, (n, n_hard)) * scale**2
+    outer2 = (rng.uniform(0.01, 0.2, n_hard) * scale) ** 2
+    centre = rng.normal(0.0, 0.05, (n, m)) * scale
+    radius = float(rng.uniform(0.0, 0.1)) * scale
+    bumps, hards = np.empty((n, n_obs), np.int64), np.empty((n, n_hard), np.int64)
+    n_bumps, n_hards = np.empty(n, np.int64), np.empty(n, np.int64)
+    live_terms(c, b, a, rr, nr, outer2, centre, radius, bumps, n_bumps, hards, n_hards)
+    directions = rng.normal(size=(400, m))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    lengths = radius * np.concatenate([np.ones(100), rng.uniform(0.0, 1.0, 300) ** (1.0 / m)])
+    for k in range(n):
+        listed_bumps, listed_hards = bumps[k, : n_bumps[k]], hards[k, : n_hards[k]]
+        assert np.all(np.diff(listed_bumps) > 0) and np.all(np.diff(listed_hards) > 0)
+        d = centre[k] + lengths[:, None] * directions
+        for o in sorted(set(range(n_obs)) - set(listed_bumps.tolist())):
+            s = (
+                c[k, o]
+                + np.einsum("pi,i->p", d, 2.0 * b[k, o])
+                + np.einsum("pi,ij,pj->p", d, a[k, o], d)
+            )
+            assert np.all(np.exp(-s) == 0.0)
+        for h in sorted(set(range(n_hard)) - set(listed_hards.tolist())):
+            u = rr[k, h] + np.einsum("pi,pi->p", 2.0 * nr[k, h] + d, d)
+            assert np.all(u >= outer2[h])
+
+
+def test_a_solve_over_listed_terms_is_the_solve_over_all_of_them() -> None:
+    # A 3-D plan among many obstacles (more than LISTED_TERMS terms a point, most far
+    # off): the Newton solve sums only each point's live terms, and ends on the same
+    # offsets, cost and iterations to the bit as sums over every term (the NumPy form).
+    from lfdkit.emulate import _planner_numpy
+
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 1.0, 120)
+    corridor = Corridor.from_path(np.column_stack([t, 0.1 * np.sin(np.pi * t), 0.05 * t]), 60)
+    reward = Reward(10.0, {"a": [2500.0, 300.0, 215.0], "b": [400.0, 600.0, 900.0]})
+    obstacles = []
+    for j in rng.integers(5, 55, size=24):
+        lateral = rng.uniform(-0.15, 0.15, 2) @ corridor.normals[j]
+        centre = corridor.points[j] + lateral
+        obstacles.append(Obstacle(str(rng.choice(["a", "b"])), centre, radius=0.004))
+    scene = Scene(tuple(obstacles))
+    problem = Problem.from_scene(reward, corridor, scene, 1.0, "auto", clearance=0.004)
+    args = problem.kernel_arguments()
+    assert args[0].shape[1] + args[4].shape[1] > LISTED_TERMS
+    results = []
+    for form in (_problem_kernels, _planner_numpy):
+        d = np.zeros((problem.n, problem.m))
+        cost, n_iter, ok = form.planner_newton(
+            *args, problem.max_step, np.zeros(problem.m), d, 1e-10, 100
+        )
+        results.append((d, cost, n_iter, ok))
+    (d_listed, *listed), (d_all, *every) = results
+    assert listed[2] and listed[1] > 20  # converged, after many line searches
+    np.testing.assert_allclose(d_listed, d_all, rtol=0.0, atol=1e-12 * np.abs(d_all).max())
+    assert listed[0] == pytest.approx(every[0], rel=1e-12)
+    assert listed[1] == every[1]
