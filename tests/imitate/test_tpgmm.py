@@ -271,6 +271,49 @@ def test_demo_records_bring_their_times():
     assert not np.allclose(a.means_, c.means_)  # the times changed the phases
 
 
+def test_frames_recorded_in_a_demonstrations_file_fit_the_same_model(tmp_path):
+    # The object's pose written as frame_<name>_x, _y, _angle columns: the records read
+    # back carry the frames, and the model is the one fitted on the frames themselves.
+    from lfdkit.io import load_demos, save_demos
+
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 1.0, 70)
+    demos, poses, frames = [], [], []
+    for _ in range(6):
+        pose = {"start": np.r_[rng.uniform(-200, 200, 2), rng.uniform(-3, 3)]}
+        pose["object"] = np.r_[rng.uniform(-200, 200, 2), rng.uniform(-3, 3)]
+        goal = TaskFrame.from_vector(pose["object"])
+        demos.append(goal.to_world(_local_shape(t)) + 0.3 * rng.normal(size=(len(t), 2)))
+        poses.append(pose)
+        frames.append([TaskFrame.from_vector(pose["start"]), goal])
+    path = save_demos(tmp_path / "hooks.csv", demos, frames=poses)
+    records = load_demos(path, as_records=True)
+    model = TPGMM(n_components=8, length_scale=100.0, random_state=0)
+    from_file = model.fit(records)
+    assert from_file.frame_names_ == ["start", "object"]
+    given = TPGMM(n_components=8, length_scale=100.0, random_state=0).fit(demos, frames)
+    np.testing.assert_array_equal(from_file.means_, given.means_)
+    assert given.frame_names_ is None
+    with pytest.raises(ValueError, match=r"^frames: the Demo records carry their own task"):
+        TPGMM(n_components=8).fit(records, frames)
+    with pytest.raises(ValueError, match=r"^frames: give one list of task frames per demo"):
+        TPGMM(n_components=8).fit(demos)
+    renamed = [records[0], Demo(records[1].points, frames={"lid": poses[1]["object"]})]
+    with pytest.raises(ValueError, match=r"^demos\[1\]: task frames lid, but demos\[0\] has"):
+        TPGMM(n_components=2).fit(renamed)
+
+
+def test_a_pose_vector_is_a_frame():
+    np.testing.assert_array_equal(
+        TaskFrame.from_vector([1.0, 2.0, 0.5]).matrix, TaskFrame.from_angle([1, 2], 0.5).matrix
+    )
+    q = [0.0, 0.0, np.sin(0.4), np.cos(0.4)]
+    frame = TaskFrame.from_vector([1.0, 2.0, 3.0, *q])
+    np.testing.assert_allclose(frame.matrix, matrix_from_quaternion(np.array(q)))
+    with pytest.raises(ValueError, match=r"^pose: expected \[x, y, angle\] \(2-D\) or"):
+        TaskFrame.from_vector([1.0, 2.0])
+
+
 def test_length_scale_makes_the_path_independent_of_the_unit():
     demos, frames = _start_goal_task(5, seed=6)
     in_mm = [d * 1000.0 for d in demos]

@@ -866,6 +866,14 @@ def test_demo_records_learn_what_the_parallel_lists_learn(tmp_path) -> None:
         np.testing.assert_allclose(got.orientations, sent.orientations, atol=1e-15)
 
 
+def test_task_frames_a_skill_does_not_use_are_said(sweeping) -> None:
+    framed = [Demo(d, frames={"pan": [0.4, 0.5, 1.0]}) for d in sweeping.free_demos[:3]]
+    with pytest.warns(UserWarning, match=r"^demos: the demonstrations carry task frames \(pan\)"):
+        skill = Skill().fit_path(framed)
+    plain = Skill().fit_path(sweeping.free_demos[:3])
+    np.testing.assert_array_equal(skill.path_, plain.path_)
+
+
 def test_demo_records_refuse_what_they_already_carry(sweeping) -> None:
     clean = [Demo(d) for d in sweeping.free_demos]
     pairs = zip(sweeping.demos[:2], sweeping.scenes[:2], strict=True)

@@ -114,6 +114,26 @@ class TaskFrame:
         q = check_quaternions(orientation, "orientation", n=1)[0]
         return cls(matrix_from_quaternion(q), np.asarray(position, dtype=np.float64))
 
+    @classmethod
+    def from_vector(cls, pose: Any) -> TaskFrame:
+        """A frame from a file's pose (:attr:`lfdkit.model.demos.Demo.frames`).
+
+        ``[x, y, angle]`` in 2-D (:meth:`from_angle`) or ``[x, y, z, qx, qy,
+        qz, qw]`` in 3-D (:meth:`from_pose`).
+        """
+        try:
+            vector = np.asarray(pose, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise TypeError("pose: expected [x, y, angle] or [x, y, z, qx, qy, qz, qw]") from None
+        if vector.shape == (3,):
+            return cls.from_angle(vector[:2], vector[2])
+        if vector.shape == (7,):
+            return cls.from_pose(vector[:3], vector[3:])
+        raise ValueError(
+            f"pose: expected [x, y, angle] (2-D) or [x, y, z, qx, qy, qz, qw] (3-D), got "
+            f"shape {vector.shape}"
+        )
+
     def to_local(self, points: Any) -> np.ndarray:
         """World points, shape (n, d), in this frame: ``A⁻¹ (x − b)``."""
         matrix, origin = _check_frame(self, "frame", None)
@@ -238,6 +258,10 @@ class TPGMM(Estimator):
         The matching blocks of the joint covariances (each frame's marginal).
     n_frames_ : int
         Number of task frames ``P``.
+    frame_names_ : list of str or None
+        The frames' names, in order, when the demonstrations were
+        :class:`~lfdkit.model.demos.Demo` records carrying them (a file's
+        ``frame_<name>_...`` columns); None when the frames were given.
     n_dims_ : int
         Spatial dimension ``d``.
     n_samples_ : int
@@ -313,19 +337,23 @@ class TPGMM(Estimator):
         self.length_scale = length_scale
 
     # ------------------------------------------------------------------ fit
-    def fit(self, demos: Any, frames: Any, times: Any = None) -> TPGMM:
+    def fit(self, demos: Any, frames: Any = None, times: Any = None) -> TPGMM:
         """Fit the joint mixture of the phase and the positions in every frame.
 
         Parameters
         ----------
         demos : list of array_like, each shape (n_i, d), or list of Demo
             Demonstrations, possibly of different lengths, in one length unit.
-            :class:`lfdkit.model.Demo` records bring their own times.
+            :class:`lfdkit.model.Demo` records bring their own times, and
+            their task frames (``Demo.frames``, as ``load_demos(path,
+            as_records=True)`` reads them from a file's ``frame_<name>_...``
+            columns): then ``frames`` is not given, and :attr:`frame_names_`
+            keeps the frames' names.
         frames : sequence, one per demonstration, of sequences of P frames
             ``frames[i][j]`` is frame ``j`` when demonstration ``i`` was
             recorded: a :class:`TaskFrame` or a ``(matrix, origin)`` pair of
             shapes (d, d) and (d,). Every demonstration has the same frames
-            in the same order.
+            in the same order. Required unless the records carry them.
         times : list of array_like, each shape (n_i,), optional
             Increasing sample times (any unit; only their spacing matters:
             each demonstration's phase runs from 0 to 1). Default equal steps.
@@ -343,8 +371,15 @@ class TPGMM(Estimator):
         """
         self._validate_params()
         records = demo_fields(demos, "demos", given={"times": times})
+        names = None
         if records is not None:
             demos, times = records.points, records.times
+            frames, names = _recorded_frames(records.frames, frames)
+        if frames is None:
+            raise ValueError(
+                "frames: give one list of task frames per demonstration, or Demo records "
+                "that carry them (a file's frame_<name>_... columns)"
+            )
         demos = check_demos(demos, "demos", min_dims=1)
         times = check_times_list(times, demos, missing=True, increasing=True, style="shape")
         d = demos[0].shape[1]
@@ -391,6 +426,7 @@ class TPGMM(Estimator):
         self.weights_ = np.asarray(weights, dtype=np.float64)
         self.means_ = means[:, index]
         self.covariances_ = covariances[:, index[:, :, None], index[:, None, :]]
+        self.frame_names_ = names
         self.n_frames_ = int(n_frames)
         self.n_dims_ = int(d)
         self.n_samples_ = int(data.shape[0])
@@ -585,6 +621,34 @@ def _time_bins(
 
 def _symmetric(matrices: np.ndarray) -> np.ndarray:
     return 0.5 * (matrices + np.swapaxes(matrices, -1, -2))
+
+
+def _recorded_frames(recorded: list[Any], frames: Any) -> tuple[Any, list[str] | None]:
+    """The records' task frames as :class:`TaskFrame` lists and their names; or ``frames``."""
+    if all(poses is None for poses in recorded):
+        return frames, None
+    if frames is not None:
+        raise ValueError(
+            "frames: the Demo records carry their own task frames; give frames= only with "
+            "demonstrations as arrays (or records without frames)"
+        )
+    names = None
+    out = []
+    for i, poses in enumerate(recorded):
+        if not poses:
+            raise ValueError(
+                f"demos[{i}]: has no task frames, but demos[0] has; every demonstration needs "
+                "the same task frames"
+            )
+        if names is None:
+            names = list(poses)
+        elif list(poses) != names:
+            raise ValueError(
+                f"demos[{i}]: task frames {', '.join(poses)}, but demos[0] has "
+                f"{', '.join(names)}; every demonstration needs the same frames in the same order"
+            )
+        out.append([TaskFrame.from_vector(poses[name]) for name in names])
+    return out, names
 
 
 def _check_points(points: Any, d: int) -> np.ndarray:

@@ -15,7 +15,12 @@ The format is chosen from the file suffix (case-insensitive):
     a ``demo`` column the whole file is one demonstration, id ``0``, as a
     recorder writes one take), optionally ``t`` or ``time`` (seconds), and the coordinates, named
     ``x, y[, z]`` or ``x1, x2, ..., xq``, optionally the tool orientation
-    ``qx, qy, qz, qw`` (a unit quaternion, all four or none). The rows of one demonstration are
+    ``qx, qy, qz, qw`` (a unit quaternion, all four or none), and optionally
+    the pose of each task frame (:attr:`lfdkit.model.demos.Demo.frames`):
+    ``frame_<name>_x, frame_<name>_y, frame_<name>_angle`` in 2-D,
+    ``frame_<name>_x, _y, _z, _qx, _qy, _qz, _qw`` in 3-D, one pose per
+    demonstration (the same on each of its rows; every demonstration has
+    the same frames). The rows of one demonstration are
     consecutive, in time order; demonstrations are in file order. Numbers are
     decimal (``-0.5``, ``1e-3``; not ``0_5``, ``nan`` or ``inf``). Blank lines
     and lines starting with ``#`` are ignored. Columns with other names are
@@ -33,8 +38,10 @@ The format is chosen from the file suffix (case-insensitive):
 ``.json``
     ``{"format": "lfdkit-demos", "version": 1, "n_dims": q, "demos":
     [{"id": ..., "points": [[x, y], ...], "t": [...], "q": [[qx, qy, qz, qw],
-    ...]}, ...]}`` with ``"t"``, ``"q"`` (and ``"id"``) optional per
-    demonstration.
+    ...], "frames": {"pan": {"position": [x, y], "angle": a}}}, ...]}`` with
+    ``"t"``, ``"q"`` (and ``"id"``) optional per demonstration; ``"frames"``
+    for every demonstration or none (in 3-D ``{"position": [x, y, z],
+    "orientation": [qx, qy, qz, qw]}``). NPZ files hold no task frames.
 
 Several files
 -------------
@@ -43,7 +50,8 @@ B.csv ...``): their demonstrations in the order given; a CSV without a
 ``demo`` column is one demonstration whose id is its file's stem
 (``take_03.csv`` is ``"take_03"``, so a scene file can name it); ids must
 differ across files, and all files must agree on their dimension and on
-whether they carry times and orientations (one-line errors naming both files).
+whether they carry times, orientations and which task frames (one-line errors
+naming both files).
 
 Writing is atomic (see :func:`lfdkit.io.atomic.atomic_write`) and floats
 are written so that a load after a save gives back bit-identical arrays in
@@ -72,7 +80,7 @@ import os
 import re
 import zipfile
 import zlib
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import IO, Any, Literal, overload
 
@@ -98,6 +106,7 @@ from lfdkit.io.text import (
 from lfdkit.model.demos import Demo, DemoId, PathLike, demo_fields
 
 __all__ = [
+    "FRAME_POSE_FIELDS",
     "JSON_FORMAT",
     "JSON_VERSION",
     "MAX_NPZ_ARRAY_BYTES",
@@ -116,6 +125,13 @@ SUPPORTED_SUFFIXES: tuple[str, ...] = (".csv", ".json", ".npz")
 
 QUATERNION_COLUMNS: tuple[str, ...] = ("qx", "qy", "qz", "qw")
 """CSV columns of the optional tool orientation, a unit quaternion (scalar last)."""
+
+FRAME_POSE_FIELDS: dict[int, tuple[str, ...]] = {
+    2: ("x", "y", "angle"),
+    3: ("x", "y", "z", "qx", "qy", "qz", "qw"),
+}
+"""A task frame's pose in a file, by the demonstrations' dimension: its CSV columns are
+``frame_<name>_<field>`` (:attr:`lfdkit.model.demos.Demo.frames` holds the same numbers)."""
 
 JSON_FORMAT = "lfdkit-demos"
 """Value of the ``"format"`` field of a demonstrations JSON file."""
@@ -136,6 +152,8 @@ _INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
 _NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
 _NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
 _NPZ_QUAT = re.compile(r"quat_(0|[1-9][0-9]*)")
+_FRAME_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
+_FRAME_COLUMN = re.compile(r"frame_([A-Za-z0-9][A-Za-z0-9_-]*)_(x|y|z|angle|qx|qy|qz|qw)", re.I)
 
 
 # --------------------------------------------------------------------------- #
@@ -206,6 +224,10 @@ def load_demos(
         ids give ``0, 1, ..., n_demos - 1``.
     return_orientations : bool
         Also return the tool orientations (CSV columns ``qx, qy, qz, qw``).
+    as_records : bool
+        Return one :class:`~lfdkit.model.demos.Demo` record per demonstration
+        instead (points, times, orientations, id and task frames together;
+        the task frames are read only so).
 
     Returns
     -------
@@ -245,13 +267,16 @@ def load_demos(
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
     quats: list[np.ndarray | None]
     if fmt == ".csv":
-        demos, times, ids, quats = _read_csv(fname)
+        demos, times, ids, quats, frames = _read_csv(fname)
     elif fmt == ".npz":
-        demos, times, ids, quats = _read_npz(fname)
+        demos, times, ids, quats, frames = _read_npz(fname)
     else:
-        demos, times, ids, quats = _read_json(fname)
+        demos, times, ids, quats, frames = _read_json(fname)
     if as_records:
-        return [Demo(*fields) for fields in zip(demos, times, quats, ids, strict=True)]
+        return [
+            Demo(points, t, quat, did, None, frame)
+            for points, t, quat, did, frame in zip(demos, times, quats, ids, frames, strict=True)
+        ]
     out: list[Any] = [demos]
     if return_times:
         out.append(times)
@@ -273,14 +298,14 @@ def load_demo_files(paths: Sequence[PathLike]) -> list[Demo]:
     -------
     list of Demo
         As :func:`load_demos` with ``as_records=True``: points, times,
-        orientations and id of each demonstration (no scenes).
+        orientations, id and task frames of each demonstration (no scenes).
 
     Raises
     ------
     ValueError
         For no path, a file given twice, :func:`load_demos`' errors, an id in two files, or
-        files that differ in dimension or in having times or orientations;
-        the message names both files.
+        files that differ in dimension, in having times or orientations, or in
+        their task frames; the message names both files.
     """
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
@@ -307,6 +332,9 @@ def load_demo_files(paths: Sequence[PathLike]) -> list[Demo]:
             "times": "times (a t column)" if head.times is not None else "no times",
             "orientations": (
                 "orientations (qx,qy,qz,qw)" if head.orientations is not None else "no orientations"
+            ),
+            "task frames": (
+                f"task frames {', '.join(head.frames)}" if head.frames else "no task frames"
             ),
         }
         for name, value in facts.items():
@@ -347,6 +375,7 @@ def save_demos(
     times: Sequence[Any | None] | None = None,
     ids: Sequence[DemoId] | None = None,
     orientations: Sequence[Any | None] | None = None,
+    frames: Sequence[Mapping[str, Any] | None] | None = None,
     overwrite: bool = False,
 ) -> Path:
     """Write a demonstration set to a ``.csv``, ``.npz`` or ``.json`` file.
@@ -380,6 +409,13 @@ def save_demos(
         none), NPZ arrays ``quat_j``, JSON fields ``"q"``. Each row is
         normalised; NaN/inf or a norm off 1 by more than
         :data:`lfdkit.core.rotations.UNIT_NORM_TOLERANCE` is refused.
+    frames : sequence of (mapping of str to array_like, or None), optional
+        The task frames' poses per demonstration, by name
+        (:attr:`lfdkit.model.demos.Demo.frames`: 2-D ``[x, y, angle]``, 3-D
+        ``[x, y, z, qx, qy, qz, qw]``): the same names in the same order for
+        every demonstration, or None for all. CSV columns
+        ``frame_<name>_<field>`` (:data:`FRAME_POSE_FIELDS`), JSON fields
+        ``"frames"``; an NPZ file holds none (refused).
     overwrite : bool
         Replace an existing file. When false an existing file raises
         ``FileExistsError``.
@@ -398,11 +434,12 @@ def save_demos(
         (an ``OutputExistsError`` is a ``FileExistsError``), ``path`` is a
         directory, or a FIFO, device, socket or symbolic link.
     """
-    separate = {"times": times, "ids": ids, "orientations": orientations}
+    separate = {"times": times, "ids": ids, "orientations": orientations, "frames": frames}
     fields = demo_fields(demos, "demos", given=separate)
     if fields is not None:
         demos, times, orientations = fields.points, fields.times, fields.orientations
         ids = None if all(key is None for key in fields.ids) else fields.ids
+        frames = None if all(f is None for f in fields.frames) else fields.frames
     fname = os.fspath(path)
     fmt = format_of(fname, SUPPORTED_SUFFIXES)
     arrs = check_demos(demos, "demos")
@@ -410,6 +447,7 @@ def save_demos(
     time_arrs = check_times_list(times, arrs)
     id_list = check_ids(ids, n)
     quats = _check_orientations(orientations, arrs, fmt)
+    poses = _check_frames(frames, arrs, fmt)
 
     check_output_path(fname, overwrite=overwrite)
 
@@ -420,7 +458,8 @@ def save_demos(
                 "times has None for some demonstrations only"
             )
 
-        return write_text(fname, _csv_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
+        text = _csv_text(arrs, time_arrs, id_list, quats, poses)
+        return write_text(fname, text, overwrite=overwrite)
     if fmt == ".npz":
         arrays: dict[str, np.ndarray] = {}
         for j, (a, t) in enumerate(zip(arrs, time_arrs, strict=True)):
@@ -437,7 +476,8 @@ def save_demos(
 
         return atomic_write(fname, write_npz, binary=True, overwrite=overwrite)
 
-    return write_text(fname, _json_text(arrs, time_arrs, id_list, quats), overwrite=overwrite)
+    text = _json_text(arrs, time_arrs, id_list, quats, poses)
+    return write_text(fname, text, overwrite=overwrite)
 
 
 def path_csv(
@@ -537,17 +577,21 @@ def _csv_text(
     times: list[np.ndarray | None],
     ids: list[DemoId],
     quats: list[np.ndarray | None] | None = None,
+    frames: list[dict[str, np.ndarray]] | None = None,
 ) -> str:
     f = io.StringIO()
     q = demos[0].shape[1]
     has_t = times[0] is not None
     w = csv.writer(f, lineterminator="\n")
     extra = list(QUATERNION_COLUMNS) if quats is not None else []
+    if frames is not None:
+        extra += [f"frame_{name}_{field}" for name in frames[0] for field in FRAME_POSE_FIELDS[q]]
     w.writerow(["demo", *(["t"] if has_t else []), *_coord_header(q), *extra])
     for j, (a, t, i) in enumerate(zip(demos, times, ids, strict=True)):
         sid = str(i)
         tl = t.tolist() if t is not None else None
         ql = quats[j].tolist() if quats is not None and quats[j] is not None else None
+        poses = [repr(v) for pose in frames[j].values() for v in pose.tolist()] if frames else []
         for k, row in enumerate(a.tolist()):
             # repr() of a Python float is the shortest string that reads back exactly.
             w.writerow(
@@ -556,6 +600,7 @@ def _csv_text(
                     *([repr(tl[k])] if tl is not None else []),
                     *map(repr, row),
                     *(map(repr, ql[k]) if ql is not None else []),
+                    *poses,
                 ]
             )
     return f.getvalue()
@@ -584,6 +629,53 @@ def _check_orientations(
         None if o is None else check_quaternions(o, f"orientations[{j}]", n=len(d))
         for j, (o, d) in enumerate(zip(orientations, demos, strict=True))
     ]
+
+
+def _check_frames(
+    frames: Sequence[Mapping[str, Any] | None] | None, demos: list[np.ndarray], fmt: str
+) -> list[dict[str, np.ndarray]] | None:
+    """The task frames' poses per demonstration (:data:`FRAME_POSE_FIELDS`), checked; or None."""
+    if frames is None or all(f is None for f in frames):
+        return None
+    if isinstance(frames, Mapping) or len(frames) != len(demos):
+        got = "one mapping" if isinstance(frames, Mapping) else f"{len(frames)}"
+        raise ValueError(
+            f"frames: expected one mapping of named poses for each of the {len(demos)} "
+            f"demonstrations, got {got}"
+        )
+    if fmt == ".npz":
+        raise ValueError(
+            "frames: an .npz demonstrations file holds no task frames; save as .csv or .json"
+        )
+    q = demos[0].shape[1]
+    if q not in FRAME_POSE_FIELDS:
+        raise ValueError(f"frames: task frames need 2-D or 3-D demonstrations, these are {q}-D")
+    fields = FRAME_POSE_FIELDS[q]
+    out: list[dict[str, np.ndarray]] = []
+    for j, given in enumerate(frames):
+        if not isinstance(given, Mapping) or not given:
+            raise ValueError(
+                f"frames[{j}]: expected a mapping of frame names to poses, got {given!r}; give "
+                "every demonstration the same task frames (or none)"
+            )
+        poses: dict[str, list[float]] = {}
+        for name, pose in given.items():
+            _check_frame_name(name, f"frames[{j}]")
+            try:
+                arr = np.asarray(pose, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise TypeError(f"frames[{j}][{name!r}]: expected {len(fields)} numbers") from None
+            if arr.shape != (len(fields),):
+                raise ValueError(
+                    f"frames[{j}][{name!r}]: expected the {len(fields)} numbers "
+                    f"[{', '.join(fields)}] of a {q}-D pose, got shape {arr.shape}"
+                )
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"frames[{j}][{name!r}]: contains NaN or an infinite value")
+            poses[name] = arr.tolist()
+        out.append(_frame_poses("frames", q, poses, f"demos[{j}]"))
+    _same_frames("frames", out, [f"demos[{j}]" for j in range(len(out))])
+    return out
 
 
 def _csv_columns(
@@ -641,17 +733,72 @@ def _quaternion_columns(fname: str, header: list[str]) -> list[int] | None:
     return [keys.index(c) for c in QUATERNION_COLUMNS]
 
 
+def _frame_columns(fname: str, header: list[str], q: int) -> dict[str, list[int]]:
+    """Each task frame's pose columns (:data:`FRAME_POSE_FIELDS` order), by name; {} if none."""
+    names = [h.strip() for h in header]
+    found: dict[str, dict[str, int]] = {}
+    for k, name in enumerate(names):
+        if (m := _FRAME_COLUMN.fullmatch(name)) is not None:
+            found.setdefault(m.group(1), {})[m.group(2).lower()] = k
+    if not found:
+        return {}
+    if q not in FRAME_POSE_FIELDS:
+        raise ValueError(
+            f"{fname}: task frame columns (frame_{next(iter(found))}_...) need 2-D or 3-D "
+            f"demonstrations, these are {q}-D"
+        )
+    fields = FRAME_POSE_FIELDS[q]
+    columns: dict[str, list[int]] = {}
+    for frame, have in found.items():
+        missing = [f"frame_{frame}_{f}" for f in fields if f not in have]
+        extra = [names[have[f]] for f in have if f not in fields]
+        if missing or extra:
+            wrong = f"missing {', '.join(missing)}" if missing else f"has {', '.join(extra)}"
+            raise ValueError(
+                f"{fname}: task frame {frame!r} {wrong}; a {q}-D frame's pose is "
+                f"frame_{frame}_{{{','.join(fields)}}}"
+            )
+        columns[frame] = [have[f] for f in fields]
+    return columns
+
+
+def _frame_poses(fname: str, q: int, poses: dict[str, list[float]], where: str) -> dict[str, Any]:
+    """One demonstration's frame poses, checked (a 3-D frame's quaternion normalised)."""
+    out: dict[str, np.ndarray] = {}
+    for frame, pose in poses.items():
+        arr = np.asarray(pose, dtype=np.float64)
+        if q == 3:
+            try:
+                arr[3:] = check_quaternions(arr[3:], "q")[0]
+            except ValueError as exc:
+                why = str(exc).removeprefix("q: row 0 ")
+                raise ValueError(
+                    f"{fname}: {where}, task frame {frame!r}: the orientation {why}"
+                ) from None
+        arr.setflags(write=False)
+        out[frame] = arr
+    return out
+
+
 def _read_csv(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
+) -> tuple[
+    list[np.ndarray],
+    list[np.ndarray | None],
+    list[DemoId],
+    list[np.ndarray | None],
+    list[dict[str, np.ndarray] | None],
+]:
     _, header, lines = csv_header(fname)
     demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
     q_cols = _quaternion_columns(fname, header)
+    frame_cols = _frame_columns(fname, header, len(coord_cols))
     colnames = [h.strip() for h in header]
     t_name = colnames[t_col] if t_col is not None else ""
 
     groups: dict[str, tuple[list[list[float]], list[float], list[int]]] = {}
     quats: dict[str, list[list[float]]] = {}
+    frames: dict[str, dict[str, tuple[list[float], int]]] = {}
     blocks = Blocks(fname, colnames[demo_col]) if demo_col is not None else None
     for lineno, row in csv_rows(fname, lines, colnames):
         did = blocks.id_of(row[demo_col], lineno) if blocks is not None else "0"
@@ -667,6 +814,17 @@ def _read_csv(
             quats.setdefault(did, []).append(
                 [csv_number(fname, lineno, colnames[c], row[c]) for c in q_cols]
             )
+        for frame, cols in frame_cols.items():
+            pose = [csv_number(fname, lineno, colnames[c], row[c]) for c in cols]
+            first, first_line = frames.setdefault(did, {}).setdefault(frame, (pose, lineno))
+            for c, value, before in zip(cols, pose, first, strict=True):
+                if value != before:
+                    raise ValueError(
+                        f"{fname} line {lineno}, column {colnames[c]!r}: task frame {frame!r} "
+                        f"moves within demo {did!r} ({value!r} here, {before!r} on line "
+                        f"{first_line}); a task frame is one pose per demonstration: give the "
+                        "pose the object had on every row"
+                    )
         if t_col is not None:
             t = csv_number(fname, lineno, t_name, row[t_col])
             if ts and t <= ts[-1]:
@@ -702,7 +860,14 @@ def _read_csv(
                     f"{fname} line {linenos[int(row)]}, columns qx, qy, qz, qw: "
                     f"the orientation of demo {did!r} {why}"
                 ) from None
-    return demos, times, [parse_id(d) for d in groups], orientations
+    q = len(coord_cols)
+    poses: list[dict[str, np.ndarray] | None] = [
+        _frame_poses(fname, q, {f: p for f, (p, _) in frames[did].items()}, f"demo {did!r}")
+        if frame_cols
+        else None
+        for did in groups
+    ]
+    return demos, times, [parse_id(d) for d in groups], orientations, poses
 
 
 # --------------------------------------------------------------------------- #
@@ -837,7 +1002,7 @@ class _RefusedArray(ValueError):
 
 def _read_npz(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
+) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None], list]:
     with _NpzArchive(fname) as npz:
         demos, times, ids = _read_npz_arrays(fname, npz)
         quat_idx = sorted(int(m.group(1)) for k in npz.members if (m := _NPZ_QUAT.fullmatch(k)))
@@ -849,7 +1014,7 @@ def _read_npz(
             quats[j] = check_quaternions(
                 npz.read(f"quat_{j}"), f"{fname}: array 'quat_{j}'", n=len(demos[j])
             )
-    return demos, times, ids, quats
+    return demos, times, ids, quats, [None] * len(demos)  # NPZ holds no task frames
 
 
 def _read_npz_arrays(
@@ -945,6 +1110,7 @@ def _json_text(
     times: list[np.ndarray | None],
     ids: list[DemoId],
     quats: list[np.ndarray | None] | None = None,
+    frames: list[dict[str, np.ndarray]] | None = None,
 ) -> str:
     # One demonstration per line keeps the file readable and diff-friendly.
     # json writes floats with repr(), so values read back exactly.
@@ -960,6 +1126,14 @@ def _json_text(
             item["t"] = t.tolist()
         if quats is not None and quats[j] is not None:
             item["q"] = quats[j].tolist()
+        if frames is not None:
+            q = a.shape[1]
+            item["frames"] = {
+                name: {"position": pose[:q].tolist(), "angle": float(pose[2])}
+                if q == 2
+                else {"position": pose[:q].tolist(), "orientation": pose[q:].tolist()}
+                for name, pose in frames[j].items()
+            }
         sep = "," if j < len(demos) - 1 else ""
         buf.write(f"    {json.dumps(item, allow_nan=False)}{sep}\n")
     buf.write("  ]\n}\n")
@@ -968,7 +1142,13 @@ def _json_text(
 
 def _read_json(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None]]:
+) -> tuple[
+    list[np.ndarray],
+    list[np.ndarray | None],
+    list[DemoId],
+    list[np.ndarray | None],
+    list[dict[str, np.ndarray] | None],
+]:
     doc = json_document(fname, JSON_FORMAT, JSON_VERSION, "demonstrations")
     q = doc.get("n_dims")
     if isinstance(q, bool) or not isinstance(q, int) or q < 2:
@@ -981,6 +1161,7 @@ def _read_json(
     times: list[np.ndarray | None] = []
     ids: list[DemoId] = []
     quats: list[np.ndarray | None] = []
+    frames: list[dict[str, np.ndarray] | None] = []
     seen: dict[str, int] = {}
     for j, item in enumerate(items):
         where = f"{fname}: demos[{j}]"
@@ -1021,5 +1202,72 @@ def _read_json(
             if item.get("q") is not None
             else None
         )
+        frames.append(_json_frames(fname, item.get("frames"), q, j, did))
         ids.append(did)
-    return check_demos(demos, fname, n_dims=q), times, ids, quats
+    _same_frames(fname, frames, [f"demos[{j}] (id {did!r})" for j, did in enumerate(ids)])
+    return check_demos(demos, fname, n_dims=q), times, ids, quats, frames
+
+
+def _json_frames(
+    fname: str, value: Any, q: int, j: int, did: DemoId
+) -> dict[str, np.ndarray] | None:
+    """``demos[j].frames`` of a JSON file as poses (:data:`FRAME_POSE_FIELDS`), or None."""
+    if value is None:
+        return None
+    where = f"{fname}: demos[{j}] (id {did!r}) field 'frames'"
+    if q not in FRAME_POSE_FIELDS:
+        raise ValueError(f"{where}: task frames need 2-D or 3-D demonstrations, these are {q}-D")
+    turn = "angle" if q == 2 else "orientation"
+    if not isinstance(value, dict) or not value:
+        raise ValueError(
+            f"{where}: expected an object of named frames, e.g. "
+            f'{{"pan": {{"position": [...], "{turn}": ...}}}}'
+        )
+    poses: dict[str, list[float]] = {}
+    for name, frame in value.items():
+        at = f"{where}[{name!r}]"
+        _check_frame_name(name, at)
+        if not isinstance(frame, dict) or set(frame) != {"position", turn}:
+            got = sorted(frame) if isinstance(frame, dict) else type(frame).__name__
+            raise ValueError(f"{at}: expected the keys 'position' and {turn!r}, got {got}")
+        position = json_float_array(frame["position"], f"{at}.position", 1)
+        if position.shape != (q,):
+            raise ValueError(f"{at}.position: expected {q} numbers, got {position.shape[0]}")
+        if q == 2:
+            angle = frame["angle"]
+            if isinstance(angle, bool) or not isinstance(angle, (int, float)):
+                raise TypeError(f"{at}.angle: expected a number (rad), got {angle!r}")
+            rest = [float(angle)]
+        else:
+            rest = json_float_array(frame["orientation"], f"{at}.orientation", 1).tolist()
+            if len(rest) != 4:
+                raise ValueError(f"{at}.orientation: expected [qx, qy, qz, qw], got {len(rest)}")
+        pose = [*position.tolist(), *rest]
+        if not all(math.isfinite(v) for v in pose):
+            raise ValueError(f"{at}: contains NaN or an infinite value")
+        poses[name] = pose
+    return _frame_poses(fname, q, poses, f"demos[{j}] (id {did!r})")
+
+
+def _check_frame_name(name: Any, where: str) -> None:
+    """A task frame's name: letters, digits, ``_`` and ``-`` (it names CSV columns)."""
+    if not isinstance(name, str) or _FRAME_NAME.fullmatch(name) is None:
+        raise ValueError(
+            f"{where}: a task frame's name is letters, digits, '_' and '-', starting with a "
+            f"letter or digit (it names CSV columns frame_<name>_x, ...), got {name!r}"
+        )
+
+
+def _same_frames(fname: str, frames: Sequence[Mapping[str, Any] | None], names: list[str]) -> None:
+    """Every demonstration has the same task frames, in the same order, or none has any."""
+    first = frames[0]
+    for frame, name in zip(frames, names, strict=True):
+        if (frame is None) != (first is None) or (
+            frame is not None and first is not None and list(frame) != list(first)
+        ):
+            mine = ", ".join(frame) if frame else "none"
+            theirs = ", ".join(first) if first else "none"
+            raise ValueError(
+                f"{fname}: {name} has task frames {mine}, but {names[0]} has {theirs}; every "
+                "demonstration needs the same task frames in the same order (or none)"
+            )

@@ -11,7 +11,7 @@ shape ``(n_points_j,)`` in seconds, strictly increasing, and an id
 (:data:`DemoId`) that matches it with its scene.
 
 :class:`Demo` holds one demonstration with what was recorded with it (times,
-tool orientations, id, scene) as one record, so that these travel together
+tool orientations, id, scene, task frames) as one record, so that these travel together
 instead of as parallel lists that must be kept in step:
 :class:`lfdkit.io.training.TrainingData` holds its demonstrations so,
 :meth:`lfdkit.skill.Skill.fit` and :func:`lfdkit.io.save_demos` take them and
@@ -64,6 +64,12 @@ class Demo:
     scene : Scene or None
         The obstacles it was recorded around; None (or an empty scene) for a
         clean demonstration.
+    frames : dict of str to ndarray, or None
+        The poses of the task frames while it was recorded (the objects it
+        acts on, its start), by name in the file's order: in 2-D ``[x, y,
+        angle]`` (angle in rad, anticlockwise), in 3-D ``[x, y, z, qx, qy,
+        qz, qw]`` (a unit quaternion); what :class:`lfdkit.imitate.TPGMM`
+        learns in. None when not recorded.
     """
 
     points: np.ndarray
@@ -71,14 +77,15 @@ class Demo:
     orientations: np.ndarray | None = None
     id: DemoId | None = None
     scene: Scene | None = None
+    frames: dict[str, np.ndarray] | None = None
 
 
 class DemoFields(NamedTuple):
     """The fields of a list of :class:`Demo` records, one list per field, in order.
 
     What the estimators below the records take (:func:`demo_fields`);
-    ``times``, ``orientations``, ``ids`` and ``scenes`` hold None where a
-    record has none.
+    ``times``, ``orientations``, ``ids``, ``scenes`` and ``frames`` hold None
+    where a record has none.
     """
 
     points: list[Any]
@@ -86,6 +93,7 @@ class DemoFields(NamedTuple):
     orientations: list[Any]
     ids: list[DemoId | None]
     scenes: list[Any]
+    frames: list[Any]
 
 
 def demo_fields(
@@ -141,4 +149,5 @@ def demo_fields(
         [demo.orientations for demo in demos],
         [demo.id for demo in demos],
         [demo.scene for demo in demos],
+        [demo.frames for demo in demos],
     )

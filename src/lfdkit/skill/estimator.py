@@ -1492,6 +1492,15 @@ def _clean_records(demos: Any, times: Any, orientations: Any) -> tuple[Any, Any,
                 f"demos[{j}]: recorded around obstacles ({len(scene)} in its scene, demo "
                 f"{fields.ids[j]!r}); give it in obstacle_demos, the clean demonstrations in demos"
             )
+    framed = next((poses for poses in fields.frames if poses), None)
+    if framed is not None:  # recorded for TP-GMM: said, not silently dropped
+        warnings.warn(
+            f"demos: the demonstrations carry task frames ({', '.join(framed)}), which a Skill "
+            "does not use: it carries the path to a new start and goal only; to reproduce in "
+            "new frame poses fit lfdkit.imitate.TPGMM on them",
+            UserWarning,
+            stacklevel=3,
+        )
     return fields.points, fields.times, fields.orientations
 
 
