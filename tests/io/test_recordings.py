@@ -14,6 +14,7 @@ from lfdkit.core import rotations as rot
 from lfdkit.io.recordings import (
     RecordingError,
     list_topics,
+    read_frame_poses,
     read_joint_states,
     read_poses,
 )
@@ -422,6 +423,56 @@ def test_import_splits_a_recording_at_its_pauses(tmp_path: Path) -> None:
     assert wrong.returncode == 1 and len(wrong.stderr.strip().splitlines()) == 1
     assert "no topic '/pose'; topics present: /tool_pose" in wrong.stderr
     assert not (tmp_path / "e.csv").exists()
+
+
+def test_a_task_frame_is_posed_where_each_demonstration_starts(tmp_path: Path) -> None:
+    # Three strokes split at their pauses; a dustpan standing still (/tf_static, under a
+    # table frame) and a lid moved by hand between strokes (/tf): each demonstration gets
+    # both frames' poses at its first sample, planar ones as x, y and the turn about z.
+    t, pos, strokes = _with_pauses(12)
+    ns = (1_700_000_000 * 10**9 + np.round(t * 1e9)).astype(np.int64)
+    q = np.tile(_rot([0, 0, 1], 0.2), (len(t), 1))
+    table = Sample(1, 1, (0.5, 0.0, 0.0), _rot([0, 0, 1], 0.5), "world", "table")
+    pan = Sample(1, 1, (0.2, 0.1, 0.0), _rot([0, 0, 1], 0.25), "table", "pan")
+    lid_x = np.interp(t, [0.0, 3.0, 3.2, 9.0], [0.3, 0.3, 0.6, 0.6])  # moved in the 1st pause
+    lid = _tf_messages(ns, np.c_[lid_x, 0 * t, 0 * t], q, "world", "lid")
+    out = write_recording(
+        tmp_path / "rec",
+        "mcap",
+        {
+            "/tool_pose": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q)),
+            "/tf": ("tf2_msgs/msg/TFMessage", lid),
+            "/tf_static": ("tf2_msgs/msg/TFMessage", [Sample(1, 1, transforms=[table, pan])]),
+        },
+    )
+    starts = ns[[int(np.searchsorted(t, a)) for a, _ in strokes]]
+    positions, turns = read_frame_poses(out, ("world", "pan"), starts)
+    want = np.array([0.5, 0.0]) + 0.2 * np.array([np.cos(0.5), np.sin(0.5)])
+    want += 0.1 * np.array([-np.sin(0.5), np.cos(0.5)])
+    np.testing.assert_allclose(positions[:, :2], np.tile(want, (3, 1)), atol=1e-12)
+    np.testing.assert_allclose(turns, np.tile(_rot([0, 0, 1], 0.75), (3, 1)), atol=1e-12)
+    lid_at, _ = read_frame_poses(out, ("world", "lid"), [ns[0], ns[len(ns) // 2]])
+    np.testing.assert_allclose(lid_at[:, 0], [0.3, 0.6], atol=1e-12)
+    with pytest.raises(RecordingError, match=r"task frame world:lid has no transform at -1\.000 s"):
+        read_frame_poses(out, ("world", "lid"), [ns[0] - 10**9])
+    done = _lfdkit(
+        "import", str(out), "--topic", "/tool_pose", "--split", "--planar",
+        "--task-frame", "world:pan", "--task-frame", "world:lid=moved_lid",
+        "-o", "d.csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    from lfdkit.io import load_demos
+
+    records = load_demos(tmp_path / "d.csv", as_records=True)
+    assert len(records) == 3 and [list(r.frames) for r in records] == [["pan", "moved_lid"]] * 3
+    for record in records:
+        np.testing.assert_allclose(record.frames["pan"], [*want, 0.75], atol=1e-12)
+    assert [round(float(r.frames["moved_lid"][0]), 9) for r in records] == [0.3, 0.6, 0.6]
+    bad = _lfdkit(
+        "import", str(out), "--topic", "/tool_pose", "--task-frame", "world:a/b", "-o", "e.csv",
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert bad.returncode == 2 and "rename it with world:a/b=NAME" in bad.stderr
 
 
 def test_import_then_learn(tmp_path: Path) -> None:

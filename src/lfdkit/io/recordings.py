@@ -26,7 +26,10 @@ and ``tf2_msgs/TFMessage`` (``/tf``; ROS 1's ``tf/tfMessage`` too) with a
 frame pair ``(parent, child)``:
 the child's pose in the parent, chained through the frame tree over the
 dynamic transforms of the topic and the static ones of ``/tf_static`` (both
-directions: a frame pair that is not parent-first is inverted). Joint
+directions: a frame pair that is not parent-first is inverted);
+:func:`read_frame_poses` gives a frame pair's pose at given times (static or
+interpolated), the task frames an import writes beside each demonstration
+(an object's pose where the demonstration starts). Joint
 positions (:func:`read_joint_states`) from ``sensor_msgs/JointState``;
 :mod:`lfdkit.execute.recordings` turns them into tool poses. Both come as
 timed paths (:class:`PoseRecording`, :class:`JointRecording`: each a
@@ -74,6 +77,7 @@ __all__ = [
     "Topic",
     "joint_names",
     "list_topics",
+    "read_frame_poses",
     "read_joint_states",
     "read_poses",
 ]
@@ -536,10 +540,49 @@ def _chain(edges: dict[str, _Edge], frame: str) -> list[str]:
 def _read_tf(
     reader: Any, conns: list[Any], name: str, topic: str, frame: tuple[str, str]
 ) -> PoseRecording:
+    edges = _collect_tf(reader, conns, name)
+    chain = _tf_chain(edges, frame, name, topic, moving=True)
+    times, start = _seconds(chain.ns)
+    _finite(chain.positions, name, topic)
+    return PoseRecording(
+        times,
+        chain.positions,
+        orientations=chain.orientations,
+        start_ns=start,
+        topic=topic,
+        msgtype=_normal(conns[0].msgtype),
+        frame=chain.frame,
+        stamps=chain.stamps,
+        notes=tuple(chain.notes),
+    )
+
+
+@dataclass
+class _Chain:
+    """A frame pair's poses over the transforms recorded: at ``ns`` (one pose if static)."""
+
+    frame: tuple[str, str]
+    ns: np.ndarray
+    positions: np.ndarray
+    orientations: np.ndarray
+    stamps: str
+    notes: list[str]
+    static: bool
+
+
+def _tf_chain(
+    edges: dict[str, _Edge], frame: tuple[str, str], name: str, topic: str, *, moving: bool
+) -> _Chain:
+    """The child's pose in the parent, chained through ``edges``.
+
+    At the samples of the chain's dynamic transform with the most samples
+    (within the span of every other dynamic one, interpolated there); a
+    chain of static transforms only is one pose (``ns`` 0), refused where
+    ``moving`` (a tool that never moves).
+    """
     parent, child = (_frame(f) for f in frame)
     if parent == child:
         raise RecordingError(f"{name}: the frame pair names {parent!r} twice; give PARENT:CHILD")
-    edges = _collect_tf(reader, conns, name)
     notes: list[str] = []
     known = sorted({*edges, *(e.parent for e in edges.values())})
     for f in (parent, child):
@@ -560,28 +603,31 @@ def _read_tf(
     down_parent = up_parent[: up_parent.index(common)]
     used = [edges[f] for f in down_child + down_parent]
     dynamic = [e for e in used if not e.static]
-    if not dynamic:
+    if not dynamic and moving:
         raise RecordingError(
             f"{name}: the transform {parent}:{child} is static only (one pose); "
             "nothing moves to import"
         )
-    for e in dynamic:
-        _need_samples(len(e.ns), name, topic)
-    # Sample times: those of the dynamic transform with the most samples, within the
-    # span of every other dynamic transform (interpolated there).
-    main = max(dynamic, key=lambda e: len(e.ns))
-    keep, ns, source, order_notes = _order(main.ns, main.from_header)
-    notes += order_notes
-    lo = max(min(e.ns) for e in dynamic)
-    hi = min(max(e.ns) for e in dynamic)
-    inside = (ns >= lo) & (ns <= hi)
-    if not inside.all():
-        notes.append(
-            f"{int((~inside).sum())} samples of {len(ns)} lie outside the time span of "
-            "another transform in the chain; left out"
-        )
-    keep, ns = keep[inside], ns[inside]
-    _need_samples(len(ns), name, topic)
+    if dynamic:
+        for e in dynamic:
+            _need_samples(len(e.ns), name, topic)
+        # Sample times: those of the dynamic transform with the most samples, within the
+        # span of every other dynamic transform (interpolated there).
+        main = max(dynamic, key=lambda e: len(e.ns))
+        keep, ns, source, order_notes = _order(main.ns, main.from_header)
+        notes += order_notes
+        lo = max(min(e.ns) for e in dynamic)
+        hi = min(max(e.ns) for e in dynamic)
+        inside = (ns >= lo) & (ns <= hi)
+        if not inside.all():
+            notes.append(
+                f"{int((~inside).sum())} samples of {len(ns)} lie outside the time span of "
+                "another transform in the chain; left out"
+            )
+        keep, ns = keep[inside], ns[inside]
+        _need_samples(len(ns), name, topic)
+    else:  # one pose, at no time in particular
+        main, keep, ns, source = None, np.zeros(1, dtype=np.int64), np.zeros(1, np.int64), "static"
 
     def poses_along(down: list[str]) -> tuple[np.ndarray, np.ndarray]:
         """T_common_frame for the chain from common down to a frame, at times ns."""
@@ -598,23 +644,81 @@ def _read_tf(
     q_pinv = conjugate(q_p)
     positions = np.einsum("nij,nj->ni", matrix_from_quaternion(q_pinv), t_c - t_p)
     orientations = continuous(multiply(q_pinv, q_c))
-    times, start = _seconds(ns)
-    _finite(positions, name, topic)
-    return PoseRecording(
-        times,
-        positions,
-        orientations=orientations,
-        start_ns=start,
-        topic=topic,
-        msgtype=_normal(conns[0].msgtype),
-        frame=(parent, child),
-        stamps=source,
-        notes=tuple(notes),
-    )
+    return _Chain((parent, child), ns, positions, orientations, source, notes, not dynamic)
+
+
+def read_frame_poses(
+    path: PathLike, frame: tuple[str, str], at_ns: Any, *, topic: str = "/tf"
+) -> tuple[np.ndarray, np.ndarray]:
+    """A task frame's pose (an object's, from ``/tf`` and ``/tf_static``) at given times.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The recording.
+    frame : (str, str)
+        ``(parent, child)``: the child's pose in the parent (the frame the
+        tool's poses are in), chained through the frame tree as
+        :func:`read_poses` does.
+    at_ns : array_like of int, shape (k,)
+        Absolute times (ns since the epoch, as ``PoseRecording.start_ns``
+        plus seconds × 1e9), e.g. where each demonstration starts.
+    topic : str
+        The tf topic (default ``"/tf"``; a recording with ``/tf_static``
+        alone holds static frames).
+
+    Returns
+    -------
+    positions : ndarray, shape (k, 3)
+    orientations : ndarray, shape (k, 4)
+        Unit quaternions ``[x, y, z, w]``. A static chain's one pose at every
+        time; a moving one's interpolated between its samples (slerp).
+
+    Raises
+    ------
+    RecordingError
+        As :func:`read_poses` for /tf, and for a time outside the span of the
+        chain's transforms (naming it and the span).
+    """
+    name = os.fspath(path)
+    at = np.asarray(at_ns, dtype=np.int64).reshape(-1)
+    with _open(path) as reader:
+        present = {c.topic for c in reader.connections}
+        if topic in present:
+            conns = _connections(
+                reader, path, topic, ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
+            )
+        elif _TF_STATIC in present:
+            conns = []  # static frames only
+        else:
+            raise RecordingError(
+                f"{name}: no {topic!r} or {_TF_STATIC} topic: the task frame "
+                f"{frame[0]}:{frame[1]} needs the transforms recorded"
+            )
+        chain = _tf_chain(_collect_tf(reader, conns, name), frame, name, topic, moving=False)
+    if chain.static:
+        return np.repeat(chain.positions, len(at), axis=0), np.repeat(
+            chain.orientations, len(at), 0
+        )
+    outside = (at < chain.ns[0]) | (at > chain.ns[-1])
+    if outside.any():
+        k = int(np.argmax(outside))
+        span = (chain.ns[-1] - chain.ns[0]) / 1e9
+        raise RecordingError(
+            f"{name}: the task frame {chain.frame[0]}:{chain.frame[1]} has no transform at "
+            f"{(at[k] - chain.ns[0]) / 1e9:+.3f} s from its first ({span:.3f} s recorded); "
+            "record the object's transform for the whole demonstration"
+        )
+    j = np.clip(np.searchsorted(chain.ns, at, side="right") - 1, 0, max(len(chain.ns) - 2, 0))
+    if len(chain.ns) == 1:
+        return chain.positions[j], chain.orientations[j]
+    u = np.clip((at - chain.ns[j]) / (chain.ns[j + 1] - chain.ns[j]), 0.0, 1.0)
+    positions = chain.positions[j] + u[:, None] * (chain.positions[j + 1] - chain.positions[j])
+    return positions, slerp(chain.orientations[j], chain.orientations[j + 1], u)
 
 
 def _edge_at(
-    edge: _Edge, ns: np.ndarray, main: _Edge, keep: np.ndarray, name: str, topic: str
+    edge: _Edge, ns: np.ndarray, main: _Edge | None, keep: np.ndarray, name: str, topic: str
 ) -> tuple[np.ndarray, np.ndarray]:
     """The edge's translation (n, 3) and rotation (n, 4) at times ``ns``."""
     t = np.asarray(edge.t, dtype=np.float64)

@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import re
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # annotations only: the CLI's start-up imports no NumPy
+    import numpy as np
 
 from lfdkit.app.cli.common import (
     CommandError,
@@ -24,6 +29,47 @@ def _frame_pair(text: str) -> tuple[str, str]:
     if not sep or not parent.strip() or not child.strip():
         raise argparse.ArgumentTypeError(f"expected PARENT:CHILD frames, got {text!r}")
     return parent.strip(), child.strip()
+
+
+def _task_frame(text: str) -> tuple[str, str, str]:
+    """``PARENT:CHILD[=NAME]``: a task frame's tf pair and its name in the file (CHILD)."""
+    pair, _, name = text.partition("=")
+    parent, child = _frame_pair(pair)
+    name = name.strip() or child.lstrip("/")
+    if re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", name) is None:
+        raise argparse.ArgumentTypeError(
+            f"task frame name {name!r}: letters, digits, '_' and '-' only (it names the "
+            f"columns frame_<name>_x, ...); rename it with {pair}=NAME"
+        )
+    return parent, child, name
+
+
+def _frame_poses(
+    path: Path, args: argparse.Namespace, rec: Any, segments: list[tuple[int, int]]
+) -> list[dict[str, np.ndarray]]:
+    """Each segment's task frames (``--task-frame``), posed where the segment starts."""
+    import numpy as np
+
+    from lfdkit.io.recordings import read_frame_poses
+
+    starts = [rec.start_ns + round(float(rec.times[a]) * 1e9) for a, _ in segments]
+    out: list[dict[str, np.ndarray]] = [{} for _ in segments]
+    for parent, child, name in args.task_frame:
+        if args.frame is not None and parent.lstrip("/") != args.frame[0].lstrip("/"):
+            raise UsageError(
+                f"--task-frame {parent}:{child}: the tool's poses are in {args.frame[0]!r} "
+                f"(--frame); give the task frame in it too ({args.frame[0]}:{child})"
+            )
+        positions, turns = read_frame_poses(path, (parent, child), starts)
+        for poses, p, q in zip(out, positions, turns, strict=True):
+            if args.planar:  # the turn about z (yaw) of the object's pose
+                yaw = np.arctan2(
+                    2.0 * (q[3] * q[2] + q[0] * q[1]), 1.0 - 2.0 * (q[1] ** 2 + q[2] ** 2)
+                )
+                poses[name] = np.array([p[0], p[1], yaw])
+            else:
+                poses[name] = np.concatenate([p, q])
+    return out
 
 
 def run_command(args: argparse.Namespace) -> None:
@@ -86,8 +132,16 @@ def run_command(args: argparse.Namespace) -> None:
         )
         total_pauses += len(seg.pauses)
         total_returns += len(seg.returns)
-        for a, b in seg.segments:
-            demos.append(Demo(positions[a:b], rec.times[a:b], rec.orientations[a:b]))
+        frames = _frame_poses(path, args, rec, seg.segments) if args.task_frame else None
+        for k, (a, b) in enumerate(seg.segments):
+            demos.append(
+                Demo(
+                    positions[a:b],
+                    rec.times[a:b],
+                    rec.orientations[a:b],
+                    frames=None if frames is None else frames[k],
+                )
+            )
     save_demos(args.output, demos, overwrite=args.force)
     n = sum(len(demo.points) for demo in demos)
     duration = sum(float(demo.times[-1] - demo.times[0]) for demo in demos)
@@ -181,7 +235,19 @@ def add_options(parser: argparse.ArgumentParser) -> None:
         "--no-trim", action="store_true", help="keep the rest at both ends of each recording"
     )
     parser.add_argument(
-        "--planar", action="store_true", help="write x, y only (a task on a table), not z"
+        "--planar",
+        action="store_true",
+        help="write x, y only (a task on a table), not z; task frames as x, y and their turn "
+        "about z",
+    )
+    parser.add_argument(
+        "--task-frame",
+        type=_task_frame,
+        action="append",
+        metavar="PARENT:CHILD[=NAME]",
+        help="an object's pose from /tf and /tf_static, where each demonstration starts, as "
+        "columns frame_NAME_x, ... (NAME: CHILD by default; PARENT: the frame the tool's "
+        "poses are in); repeat for several; for TP-GMM (lfdkit.imitate.TPGMM)",
     )
     parser.add_argument(
         "-o",
