@@ -67,7 +67,13 @@ import numpy as np
 from lfdkit.core.constraints import Integer, OneOf, Real
 from lfdkit.core.estimator import Estimator, check_fitted
 from lfdkit.core.rotations import check_quaternions, matrix_from_quaternion
-from lfdkit.core.validation import check_count, check_demos, check_times_list, check_values
+from lfdkit.core.validation import (
+    check_count,
+    check_demos,
+    check_times_list,
+    check_values,
+    made_from_state,
+)
 from lfdkit.mimic.gmr import GMR
 from lfdkit.model.demos import demo_fields
 
@@ -424,8 +430,11 @@ class TPGMM(Estimator):
         # Frame j's marginal: the phase and its own d local coordinates.
         index = np.array([[0, *range(1 + j * d, 1 + (j + 1) * d)] for j in range(n_frames)])
         self.weights_ = np.asarray(weights, dtype=np.float64)
-        self.means_ = means[:, index]
-        self.covariances_ = covariances[:, index[:, :, None], index[:, None, :]]
+        # C order, as a skill file gives them back: reproductions the same to the bit
+        self.means_ = np.ascontiguousarray(means[:, index])
+        self.covariances_ = np.ascontiguousarray(
+            covariances[:, index[:, :, None], index[:, None, :]]
+        )
         self.frame_names_ = names
         self.n_frames_ = int(n_frames)
         self.n_dims_ = int(d)
@@ -527,6 +536,85 @@ class TPGMM(Estimator):
         n = check_count(self.n_points if n_points is None else n_points, "n_points", minimum=2)
         return self.predict(np.linspace(0.0, 1.0, n), frames)
 
+    # ---------------------------------------------------------------- state
+    def to_state(self) -> dict[str, Any]:
+        """The fitted model as plain data (parameters, then the mixture): a skill file's section.
+
+        Arrays as nested lists of Python floats, which JSON writes exactly;
+        :meth:`from_state` rebuilds the same model to the bit, without EM.
+        """
+        check_fitted(self, ("weights_", "means_", "covariances_"))
+        if not (self.random_state is None or isinstance(self.random_state, int)):
+            raise ValueError(
+                "random_state: a Generator cannot be stored; give an int seed (or None) to save"
+            )
+        return {
+            "params": self.get_params(),
+            "weights": self.weights_.tolist(),
+            "means": self.means_.tolist(),
+            "covariances": self.covariances_.tolist(),
+            "frame_names": None if self.frame_names_ is None else list(self.frame_names_),
+            "n_samples": int(self.n_samples_),
+            "log_likelihood": float(self.log_likelihood_),
+            "converged": bool(self.converged_),
+            "n_iter": int(self.n_iter_),
+        }
+
+    @classmethod
+    def from_state(cls, state: Any, where: str = "tpgmm") -> TPGMM:
+        """A model from :meth:`to_state`'s output; one-line errors name the field (``where``)."""
+        keys = ("weights", "means", "covariances", "frame_names", "n_samples", "log_likelihood")
+        made = made_from_state(cls, state, where, (*keys, "converged", "n_iter"))
+        k = int(made.n_components)
+        weights = _state_array(state["weights"], f"{where}.weights", 1)
+        means = _state_array(state["means"], f"{where}.means", 3)
+        covariances = _state_array(state["covariances"], f"{where}.covariances", 4)
+        if weights.shape != (k,) or means.shape[0] != k or means.shape[2] < 2:
+            raise ValueError(
+                f"{where}: weights {weights.shape} and means {means.shape} do not hold "
+                f"n_components = {k} components of (phase, position) in each frame"
+            )
+        n_frames, width = means.shape[1], means.shape[2]
+        if covariances.shape != (k, n_frames, width, width):
+            raise ValueError(
+                f"{where}.covariances: expected shape {(k, n_frames, width, width)} for means "
+                f"of shape {means.shape}, got {covariances.shape}"
+            )
+        if not np.array_equal(covariances, np.swapaxes(covariances, -1, -2)):
+            raise ValueError(f"{where}.covariances: not symmetric; the file was edited")
+        try:
+            np.linalg.cholesky(covariances)
+        except np.linalg.LinAlgError:
+            raise ValueError(f"{where}.covariances: not positive definite") from None
+        if not (np.all(weights > 0.0) and abs(float(weights.sum()) - 1.0) <= 1e-9):
+            raise ValueError(f"{where}.weights: expected positive weights summing to 1")
+        names = state["frame_names"]
+        if names is not None and (
+            not isinstance(names, list)
+            or len(names) != n_frames
+            or not all(isinstance(n, str) and n for n in names)
+            or len(set(names)) != len(names)
+        ):
+            raise ValueError(
+                f"{where}.frame_names: expected null or {n_frames} different names, got {names!r}"
+            )
+        if not isinstance(state["converged"], bool):
+            raise ValueError(f"{where}.converged: expected true or false")
+        for key in ("n_samples", "n_iter"):
+            value = state[key]
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f"{where}.{key}: expected a count, got {value!r}")
+        log_likelihood = state["log_likelihood"]
+        if isinstance(log_likelihood, bool) or not isinstance(log_likelihood, (int, float)):
+            raise ValueError(f"{where}.log_likelihood: expected a number, got {log_likelihood!r}")
+        made.weights_, made.means_, made.covariances_ = weights, means, covariances
+        made.frame_names_ = None if names is None else list(names)
+        made.n_frames_, made.n_dims_ = int(n_frames), int(width - 1)
+        made.n_samples_, made.n_iter_ = state["n_samples"], state["n_iter"]
+        made.log_likelihood_ = float(log_likelihood)
+        made.converged_ = state["converged"]
+        return made
+
     def _frames(self, frames: Any) -> tuple[np.ndarray, np.ndarray]:
         """Checked maps (P, d, d) and origins (P, d) of new frames."""
         check_fitted(self, ("weights_", "means_", "covariances_"))
@@ -621,6 +709,19 @@ def _time_bins(
 
 def _symmetric(matrices: np.ndarray) -> np.ndarray:
     return 0.5 * (matrices + np.swapaxes(matrices, -1, -2))
+
+
+def _state_array(value: Any, where: str, ndim: int) -> np.ndarray:
+    """A stored array of ``ndim`` dimensions, finite float64; a one-line error naming ``where``."""
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: expected nested lists of numbers") from None
+    if arr.ndim != ndim or 0 in arr.shape:
+        raise ValueError(f"{where}: expected a {ndim}-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{where}: contains NaN or infinite values")
+    return arr
 
 
 def _recorded_frames(recorded: list[Any], frames: Any) -> tuple[Any, list[str] | None]:

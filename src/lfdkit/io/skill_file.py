@@ -118,6 +118,7 @@ __all__ = [
     "SKILL_FORMAT",
     "SKILL_VERSION",
     "SkillDocument",
+    "TASK_FRAME_FORMAT",
     "check_file_params",
     "check_skill_path",
     "is_periodic_document",
@@ -137,6 +138,9 @@ SKILL_VERSION = 1
 
 PERIODIC_FORMAT = "lfdkit-periodic-skill"
 """Value of the ``"format"`` field of a periodic skill file (:mod:`lfdkit.skill.periodic`)."""
+
+TASK_FRAME_FORMAT = "lfdkit-task-frame-skill"
+"""Value of the ``"format"`` field of a task-frame skill file (:mod:`lfdkit.skill.task_frames`)."""
 
 #: Route planners a skill file may name (:attr:`lfdkit.skill.Skill.route_`).
 ROUTES = ("lookahead", "window", "full", "taut")

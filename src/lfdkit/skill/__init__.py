@@ -84,7 +84,10 @@ The estimator is one class, :class:`Skill`, put together from the parts below
   write and read.
 
 :mod:`.periodic` holds :class:`PeriodicSkill`, the periodic counterpart
-(wiping, polishing: a rhythm learned from several cycles, with its own file).
+(wiping, polishing: a rhythm learned from several cycles, with its own file);
+:mod:`.task_frames` :class:`TaskFrameSkill`, the task-frame one (a movement
+learned in the frames of the objects it acts on, TP-GMM, planned for new
+poses of them, with its own file).
 """
 
 from lfdkit.core.lazy import lazy_names
@@ -107,7 +110,9 @@ from lfdkit.skill.via import VIA_TOLERANCE as VIA_TOLERANCE
 
 # Loaded on first use (PEP 562): a periodic skill's rhythmic DMPs are not needed
 # to load or plan a discrete skill (issue 30).
-__getattr__, __dir__ = lazy_names(__name__, {"PeriodicSkill": "periodic"}, globals())
+__getattr__, __dir__ = lazy_names(
+    __name__, {"PeriodicSkill": "periodic", "TaskFrameSkill": "task_frames"}, globals()
+)
 
 # The skill-file constants live with the format (lfdkit.io.skill_file); re-exported here.
 __all__ = [
@@ -117,5 +122,6 @@ __all__ = [
     "SKILL_VERSION",
     "PeriodicSkill",
     "Skill",
+    "TaskFrameSkill",
     "learn",
 ]

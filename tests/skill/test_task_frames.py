@@ -1,0 +1,143 @@
+"""Tests of lfdkit.skill.task_frames: a movement learned in its task frames, planned in new ones."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from lfdkit.imitate import TaskFrame
+from lfdkit.io import load_demos, save_demos
+from lfdkit.model.demos import Demo
+from lfdkit.skill import TaskFrameSkill
+
+
+def _hook(t: np.ndarray) -> np.ndarray:
+    """The last 30 cm into a dustpan, in the dustpan's frame (m): along its x axis, then in."""
+    return np.c_[-0.3 * (1 - t) ** 2, 0.05 * np.sin(np.pi * t) * (1 - t)]
+
+
+def _demos(n: int, seed: int, q: int = 2, scale: float = 1.0) -> list[Demo]:
+    """Sweeps into a dustpan moved and turned at random, each with its start and pan frames."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, 80)
+    demos = []
+    for _ in range(n):
+        angle = rng.uniform(-1.2, 1.2)
+        if q == 2:
+            pan = np.r_[rng.uniform(0.4, 0.7, 2), angle]
+            start = np.r_[rng.uniform(-0.05, 0.05, 2), 0.0]
+            shape = _hook(t)
+        else:
+            pan = np.r_[
+                rng.uniform(0.4, 0.7, 2), 0.1, 0.0, 0.0, np.sin(angle / 2), np.cos(angle / 2)
+            ]
+            start = np.r_[rng.uniform(-0.05, 0.05, 2), 0.1, 0.0, 0.0, 0.0, 1.0]
+            shape = np.c_[_hook(t), 0.02 * np.sin(np.pi * t)]
+        path = TaskFrame.from_vector(pan).to_world(shape) + 0.001 * rng.normal(size=shape.shape)
+        frames = {"start": start, "pan": pan}
+        if scale != 1.0:  # the same demonstration in another unit
+            frames = {k: np.r_[v[:q] * scale, v[q:]] for k, v in frames.items()}
+        demos.append(Demo(path * scale, 1.5 * t, frames=frames))
+    return demos
+
+
+@pytest.mark.parametrize("q", [2, 3])
+def test_a_plan_arrives_along_a_new_pose_of_the_pan(q: int) -> None:
+    skill = TaskFrameSkill(n_components=8).fit(_demos(8, seed=0, q=q))
+    angle = 2.0  # beyond every training turn (±1.2 rad)
+    if q == 2:
+        pan = [0.5, 0.3, angle]
+        new = {"start": [0.0, 0.0, 0.0], "pan": pan}
+        local = _hook(np.linspace(0.0, 1.0, 100))
+    else:
+        pan = [0.5, 0.3, 0.1, 0.0, 0.0, np.sin(angle / 2), np.cos(angle / 2)]
+        new = {"start": [0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 1.0], "pan": pan}
+        t = np.linspace(0.0, 1.0, 100)
+        local = np.c_[_hook(t), 0.02 * np.sin(np.pi * t)]
+    plan = skill.plan(new)
+    known = TaskFrame.from_vector(pan).to_world(local)
+    assert plan.positions.shape == (100, q) and plan.times[-1] == 1.5  # timed as shown
+    assert np.linalg.norm(plan.positions[-1] - known[-1]) < 0.01  # m, at the pan
+    assert np.sqrt(np.mean(np.sum((plan.positions - known) ** 2, axis=1))) < 0.005  # 1 mm noise
+    # it arrives as the hook does into the turned pan: the last 15 points' direction
+    end, want = plan.positions[-1] - plan.positions[-15], known[-1] - known[-15]
+    cosine = end @ want / (np.linalg.norm(end) * np.linalg.norm(want))
+    assert np.degrees(np.arccos(min(cosine, 1.0))) < 10.0
+    np.testing.assert_allclose(plan.velocities, np.gradient(plan.positions, plan.times, axis=0))
+
+
+def test_the_file_round_trips_to_the_bit(tmp_path) -> None:
+    skill = TaskFrameSkill(n_components=6).fit(_demos(6, seed=1))
+    first = skill.save(tmp_path / "sweep.json")
+    loaded = TaskFrameSkill.load(first)
+    second = loaded.save(tmp_path / "again.json")
+    assert first.read_bytes() == second.read_bytes()
+    new = {"start": [0.01, 0.0, 0.0], "pan": [0.6, 0.4, -0.5]}
+    np.testing.assert_array_equal(loaded.plan(new).positions, skill.plan(new).positions)
+    assert loaded.frame_names_ == ["start", "pan"] and loaded.duration_ == 1.5
+    with pytest.raises(FileExistsError):
+        skill.save(first)
+
+
+def test_a_demonstrations_file_with_frame_columns_learns_the_same_skill(tmp_path) -> None:
+    demos = _demos(6, seed=2)
+    path = save_demos(tmp_path / "sweeps.csv", demos)
+    from_file = TaskFrameSkill(n_components=6).fit(load_demos(path, as_records=True))
+    direct = TaskFrameSkill(n_components=6).fit(demos)
+    new = {"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5, 0.3]}
+    np.testing.assert_array_equal(from_file.plan(new).positions, direct.plan(new).positions)
+    arrays = TaskFrameSkill(n_components=6).fit(
+        [d.points for d in demos], frames=[d.frames for d in demos]
+    )
+    assert arrays.duration_ is None  # arrays carry no times
+    with pytest.raises(ValueError, match=r"^duration: the demonstrations had no times"):
+        arrays.plan(new)
+    np.testing.assert_allclose(arrays.plan(new, duration=1.5).times[-1], 1.5)
+
+
+def test_millimetres_plan_the_metres_path_times_1000() -> None:
+    new_m = {"start": [0.0, 0.0, 0.0], "pan": [0.55, 0.35, 0.7]}
+    new_mm = {"start": [0.0, 0.0, 0.0], "pan": [550.0, 350.0, 0.7]}
+    metres = TaskFrameSkill(n_components=6).fit(_demos(6, seed=3)).plan(new_m)
+    millimetres = TaskFrameSkill(n_components=6, units="mm").fit(_demos(6, seed=3, scale=1e3))
+    np.testing.assert_allclose(
+        millimetres.plan(new_mm).positions, 1e3 * metres.positions, rtol=0, atol=1e-6
+    )
+
+
+def test_bad_input_gets_one_line_errors(tmp_path) -> None:
+    skill = TaskFrameSkill(n_components=6).fit(_demos(6, seed=4))
+    with pytest.raises(ValueError, match=r"^frames: missing pan; this skill was learned in"):
+        skill.plan({"start": [0.0, 0.0, 0.0]})
+    with pytest.raises(ValueError, match=r"^frames: unknown lid; this skill was learned in"):
+        skill.plan({"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5, 0.0], "lid": [0, 0, 0]})
+    with pytest.raises(ValueError, match=r"^frames\['pan'\]: pose: expected \[x, y, angle\]"):
+        skill.plan({"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5]})
+    with pytest.raises(ValueError, match=r"^frames\['pan'\]: this skill is 2-D; give"):
+        skill.plan({"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5, 0.0, 0, 0, 0, 1]})
+    with pytest.raises(TypeError, match=r"^frames: expected a mapping of the frames' names"):
+        skill.plan([[0.0, 0.0, 0.0], [0.5, 0.5, 0.0]])
+    plain = [Demo(d.points, d.times) for d in _demos(3, seed=5)]
+    with pytest.raises(ValueError, match=r"^demos\[0\]: has no task frames; a task-frame"):
+        TaskFrameSkill().fit(plain)
+    with pytest.raises(ValueError, match=r"^frames: give each demonstration's task frames"):
+        TaskFrameSkill().fit([d.points for d in plain])
+    with pytest.raises(ValueError, match=r"^random_state: expected an int seed or None"):
+        TaskFrameSkill(random_state=np.random.default_rng(0)).fit(_demos(3, seed=5))
+    document = skill.to_dict()
+    edited = json.loads(json.dumps(document))
+    edited["frames"] = ["start", "lid"]
+    with pytest.raises(ValueError, match=r"^f\.json: frames: \['start', 'lid'\], but the mixture"):
+        TaskFrameSkill.from_dict(edited, source="f.json")
+    edited = json.loads(json.dumps(document))
+    edited["tpgmm"]["covariances"][0][0][0][1] += 1.0
+    with pytest.raises(ValueError, match=r"^f\.json: tpgmm\.covariances: not symmetric"):
+        TaskFrameSkill.from_dict(edited, source="f.json")
+    edited = json.loads(json.dumps(document))
+    edited["version"] = 2
+    with pytest.raises(ValueError, match=r"^f\.json: version 2 was written by a newer lfdkit"):
+        TaskFrameSkill.from_dict(edited, source="f.json")
+    with pytest.raises(ValueError, match=r"not an lfdkit task-frame skill \(format 'lfdkit-skill'"):
+        TaskFrameSkill.from_dict({**document, "format": "lfdkit-skill"})
