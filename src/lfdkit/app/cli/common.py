@@ -635,17 +635,20 @@ def positive_decimal(text: str) -> float | None:
 
 
 def load_skill_file(path: Path):
-    """The skill file ``path``, read once: a :class:`~lfdkit.skill.Skill` or a periodic skill.
+    """The skill file ``path``, read once: a :class:`~lfdkit.skill.Skill`, periodic or task-frame.
 
     A periodic skill (``lfdkit learn --periodic``) is a
-    :class:`~lfdkit.skill.periodic.PeriodicSkill`; ``plan`` and ``plot`` take either.
+    :class:`~lfdkit.skill.periodic.PeriodicSkill`, a task-frame one
+    (``--task-frames``) a :class:`~lfdkit.skill.task_frames.TaskFrameSkill`.
     """
-    from lfdkit.io.skill_file import is_periodic_document, read_skill_file
+    from lfdkit.io.skill_file import TASK_FRAME_FORMAT, is_periodic_document, read_skill_file
 
     data = read_skill_file(path)
     # Only a periodic file imports the periodic skill (its rhythmic DMPs, issue 30).
     if is_periodic_document(data):
         from lfdkit.skill.periodic import PeriodicSkill as kind
+    elif data.get("format") == TASK_FRAME_FORMAT:
+        from lfdkit.skill.task_frames import TaskFrameSkill as kind
     else:
         from lfdkit.skill import Skill as kind
     return kind.from_dict(data, source=os.fspath(path))

@@ -13,7 +13,7 @@ import argparse
 import warnings
 from pathlib import Path
 
-from lfdkit.app.cli import periodic
+from lfdkit.app.cli import periodic, task_frames
 from lfdkit.app.cli.common import (
     CommandError,
     add_orientation_options,
@@ -129,6 +129,8 @@ def _task_of(args: argparse.Namespace) -> str:
     if args.arm not in ARMS:  # a URDF file (or a mistake, which _arm_from names)
         return "path"
     skill = load_skill_file(args.skill)
+    if task_frames.is_task_frame(skill):
+        task_frames.refuse(args, "execute")
     if periodic.is_periodic(skill):  # a rhythm runs as a path, whatever its dimension
         return "path"
     return "sweep" if skill.n_dims_ == 2 else "path"
@@ -168,6 +170,8 @@ def _run_path(args: argparse.Namespace) -> None:
         out = _output_folder_checked(args, robot_outputs(args.output, program=ur))
         args.units = "m"
         loaded = load_skill_file(args.skill)
+        if task_frames.is_task_frame(loaded):
+            task_frames.refuse(args, "execute")
         rhythm = periodic.is_periodic(loaded)
         if rhythm:  # a periodic skill: its cycles, no start, goal or obstacles
             skill, scene, via = loaded.to_units("m"), periodic.no_scene(), None

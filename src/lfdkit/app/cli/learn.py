@@ -7,7 +7,7 @@ import warnings
 from pathlib import Path
 
 from lfdkit.app.behaviour import side_words, slow_return_words
-from lfdkit.app.cli import periodic
+from lfdkit.app.cli import periodic, task_frames
 from lfdkit.app.cli.common import (
     CommandError,
     add_skill_param_options,
@@ -25,6 +25,10 @@ __all__ = ["add_options", "run_command", "timing_line"]
 
 
 def run_command(args: argparse.Namespace) -> None:
+    if args.task_frames:
+        task_frames.learn(args)
+        return
+    task_frames.refuse_learn_options(args)
     if args.periodic:
         periodic.learn(args)
         return
@@ -236,3 +240,4 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     )
     add_skill_param_options(parser)
     periodic.add_learn_options(parser)
+    task_frames.add_learn_options(parser)

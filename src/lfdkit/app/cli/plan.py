@@ -8,7 +8,7 @@ import time
 import warnings
 from pathlib import Path
 
-from lfdkit.app.cli import periodic
+from lfdkit.app.cli import periodic, task_frames
 from lfdkit.app.cli.common import (
     CommandError,
     UsageError,
@@ -75,6 +75,10 @@ def _plan_with(args: argparse.Namespace, progress: Progress) -> None:
     if args.output is not None:
         refuse_existing(args.output, args.force)
     loaded = load_skill_file(args.skill)
+    if task_frames.is_task_frame(loaded):
+        task_frames.plan(args, loaded, duration, speed, rate)
+        return
+    task_frames.refuse_frame_options(args)
     if periodic.is_periodic(loaded):
         periodic.plan(args, loaded, duration, speed, rate)
         return
@@ -184,6 +188,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     add_unknown_class_option(parser, "path units")
     add_via_option(parser)
     periodic.add_run_options(parser)
+    task_frames.add_run_options(parser)
     parser.add_argument(
         "--duration",
         metavar="S",

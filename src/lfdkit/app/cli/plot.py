@@ -6,7 +6,7 @@ import argparse
 import warnings
 from pathlib import Path
 
-from lfdkit.app.cli import periodic
+from lfdkit.app.cli import periodic, task_frames
 from lfdkit.app.cli.common import (
     add_skill_file_options,
     add_units_option,
@@ -51,6 +51,8 @@ def _warn_misplaced_demos(args: argparse.Namespace, skill, demos) -> None:
 def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     refuse_existing(args.output, args.force)
     loaded = load_skill_file(args.skill)
+    if task_frames.is_task_frame(loaded):
+        task_frames.refuse(args, "plot")
     if periodic.is_periodic(loaded):
         _save(args, periodic.plot(args, loaded))
         return
