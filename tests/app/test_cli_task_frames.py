@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import json
 
 import numpy as np
 import pytest
@@ -54,6 +55,11 @@ def test_learn_then_plan_the_new_poses(capsys, sweeps, tmp_path) -> None:
     np.testing.assert_array_equal(table[:, 1:3], plan.positions)
     np.testing.assert_array_equal(table[:, 3:], plan.velocities)
     assert np.linalg.norm(table[-1, 1:3] - [0.55, 0.35]) < 0.01  # into the pan
+    mm = ["--frame", "start=10,-20,0", "--frame", "pan=550,350,1.7", "--units", "mm"]
+    code, written, err = run_cli(capsys, "plan", skill_file, *mm)
+    assert code == 0, err
+    in_mm = np.loadtxt(io.StringIO(written), delimiter=",", skiprows=1)
+    np.testing.assert_allclose(in_mm[:, 1:3], 1e3 * plan.positions, rtol=0, atol=1e-6)
     code, written, err = run_cli(capsys, "plan", skill_file, *poses, "--speed", 2, "--points", 11)
     assert code == 0, err
     faster = np.loadtxt(io.StringIO(written), delimiter=",", skiprows=1)  # to standard output
@@ -72,10 +78,6 @@ def test_learn_then_plan_the_new_poses(capsys, sweeps, tmp_path) -> None:
         (
             ["--frame", "start=0,0,0", "--frame", "pan=0.5,0.3,1", "--goal", "1,1"],
             "--goal: ",
-        ),
-        (
-            ["--frame", "start=0,0,0", "--frame", "pan=0.5,0.3,1", "--units", "mm"],
-            "--units: a task-frame skill plans in its own unit (m)",
         ),
         (
             ["--frame", "start=0,0,0", "--frame", "start=0,0,1", "--frame", "pan=0.5,0.3,1"],
@@ -98,8 +100,6 @@ def test_the_other_commands_and_kinds_refuse_on_one_line(capsys, sweeps, tmp_pat
     skill_file = folder / "learned.json"
     if not skill_file.exists():
         assert run_cli(capsys, "learn", demos, "--task-frames", "-o", skill_file)[0] == 0
-    code, _, err = run_cli(capsys, "plot", skill_file, "-o", tmp_path / "x.png")
-    assert code == 1 and "a task-frame skill; lfdkit plot does not take one yet" in err
     code, _, err = run_cli(capsys, "plan", REACH, "--frame", "pan=0,0,0")
     assert code == 2
     assert "--frame: only for a task-frame skill" in error_line(err, "plan")
@@ -109,3 +109,26 @@ def test_the_other_commands_and_kinds_refuse_on_one_line(capsys, sweeps, tmp_pat
     code, _, err = run_cli(capsys, "learn", plain, "--task-frames", "-o", tmp_path / "t.json")
     assert code == 1 and "carry no task frames" in error_line(err, "learn")
     assert not (tmp_path / "t.json").exists()
+
+
+def test_plot_and_execute_take_a_task_frame_skill(capsys, sweeps, tmp_path) -> None:
+    demos, folder = sweeps
+    skill_file = folder / "learned.json"
+    if not skill_file.exists():
+        assert run_cli(capsys, "learn", demos, "--task-frames", "-o", skill_file)[0] == 0
+    poses = ["--frame", "start=0.6,0.05,0", "--frame", "pan=0.5,0.3,1.5"]
+    png = tmp_path / "frames.png"
+    code, _, err = run_cli(capsys, "plot", skill_file, *poses, "--demos", demos, "-o", png)
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, _, err = run_cli(capsys, "plot", skill_file, "-o", tmp_path / "none.png")
+    assert code == 2 and "--frame: give each frame's new pose" in error_line(err, "plot")
+    out = tmp_path / "run"
+    code, _, err = run_cli(capsys, "execute", skill_file, *poses, "--no-sim", "-o", out)
+    assert code == 0, err
+    summary = json.loads((out / "summary.json").read_text())
+    planned = np.loadtxt(out / "plan.csv", delimiter=",", skiprows=1)
+    plan = TaskFrameSkill.load(skill_file).plan({"start": [0.6, 0.05, 0.0], "pan": [0.5, 0.3, 1.5]})
+    assert len(planned) == len(plan.times) and summary["robot"]["poses"] >= len(plan.times)
+    code, _, err = run_cli(capsys, "execute", REACH, "--frame", "pan=0,0,0", "-o", tmp_path / "r")
+    assert code == 2 and "--frame: only for a task-frame skill" in error_line(err, "execute")

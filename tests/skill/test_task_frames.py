@@ -141,3 +141,15 @@ def test_bad_input_gets_one_line_errors(tmp_path) -> None:
         TaskFrameSkill.from_dict(edited, source="f.json")
     with pytest.raises(ValueError, match=r"not an lfdkit task-frame skill \(format 'lfdkit-skill'"):
         TaskFrameSkill.from_dict({**document, "format": "lfdkit-skill"})
+
+
+def test_a_skill_converted_to_millimetres_plans_its_path_times_1000() -> None:
+    skill = TaskFrameSkill(n_components=6).fit(_demos(6, seed=6))
+    mm = skill.to_units("mm")
+    assert mm.units == "mm" and mm.tpgmm_.length_scale == 1000.0
+    metres = skill.plan({"start": [0.0, 0.0, 0.0], "pan": [0.55, 0.35, 0.7]}).positions
+    in_mm = mm.plan({"start": [0.0, 0.0, 0.0], "pan": [550.0, 350.0, 0.7]}).positions
+    np.testing.assert_allclose(in_mm, 1e3 * metres, rtol=0, atol=1e-8)
+    back = mm.to_units("m").plan({"start": [0.0, 0.0, 0.0], "pan": [0.55, 0.35, 0.7]})
+    np.testing.assert_allclose(back.positions, metres, rtol=0, atol=1e-12)
+    assert TaskFrameSkill.from_dict(mm.to_dict()).units == "mm"  # a valid file

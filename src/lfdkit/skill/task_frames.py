@@ -281,6 +281,32 @@ class TaskFrameSkill(Estimator):
             f"{self.tpgmm_.n_iter_} iterations)"
         )
 
+    def to_units(self, units: str) -> TaskFrameSkill:
+        """The same skill in another length unit (a new object): its plans times the factor.
+
+        The mixture's positions are scaled (means by the factor, covariances by
+        its square, the phase's cross terms by it) and EM's length scale with
+        them; frames' origins are then given in the new unit, angles and
+        quaternions as before.
+        """
+        check_fitted(self, "tpgmm_")
+        units = check_units(units)
+        factor = conversion_factor(self.units, units)
+        state = self.tpgmm_.to_state()
+        scale = np.ones(self.n_dims_ + 1)
+        scale[1:] = factor
+        state["means"] = (np.asarray(state["means"]) * scale).tolist()
+        state["covariances"] = (
+            np.asarray(state["covariances"]) * np.multiply.outer(scale, scale)
+        ).tolist()
+        state["params"] = {**state["params"], "length_scale": conversion_factor("m", units)}
+        state["log_likelihood"] -= self.tpgmm_.n_frames_ * self.n_dims_ * math.log(factor)
+        made = type(self)(**{**self.get_params(), "units": units})
+        made.tpgmm_ = TPGMM.from_state(state, "tpgmm")
+        made.frame_names_ = list(self.frame_names_)
+        made.duration_, made.n_demos_, made.n_dims_ = self.duration_, self.n_demos_, self.n_dims_
+        return made
+
     # ------------------------------------------------------------------ files
     def to_dict(self) -> dict[str, Any]:
         """The skill as a JSON-ready dict (the format of the module notes); the same each time."""

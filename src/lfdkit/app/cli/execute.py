@@ -129,9 +129,8 @@ def _task_of(args: argparse.Namespace) -> str:
     if args.arm not in ARMS:  # a URDF file (or a mistake, which _arm_from names)
         return "path"
     skill = load_skill_file(args.skill)
-    if task_frames.is_task_frame(skill):
-        task_frames.refuse(args, "execute")
-    if periodic.is_periodic(skill):  # a rhythm runs as a path, whatever its dimension
+    # A rhythm, and a movement planned in its task frames, run as a path, whatever its dimension.
+    if periodic.is_periodic(skill) or task_frames.is_task_frame(skill):
         return "path"
     return "sweep" if skill.n_dims_ == 2 else "path"
 
@@ -170,10 +169,11 @@ def _run_path(args: argparse.Namespace) -> None:
         out = _output_folder_checked(args, robot_outputs(args.output, program=ur))
         args.units = "m"
         loaded = load_skill_file(args.skill)
-        if task_frames.is_task_frame(loaded):
-            task_frames.refuse(args, "execute")
-        rhythm = periodic.is_periodic(loaded)
-        if rhythm:  # a periodic skill: its cycles, no start, goal or obstacles
+        framed = task_frames.is_task_frame(loaded)
+        if not framed:
+            task_frames.refuse_frame_options(args)
+        rhythm = periodic.is_periodic(loaded) or framed
+        if rhythm:  # periodic or task frames: no start, goal or obstacles
             skill, scene, via = loaded.to_units("m"), periodic.no_scene(), None
         else:
             periodic.refuse_periodic_options(args)
@@ -183,7 +183,7 @@ def _run_path(args: argparse.Namespace) -> None:
         task = task_description(args)
         try:
             if rhythm:
-                plan = periodic.run(args, skill)
+                plan = task_frames.run(args, skill) if framed else periodic.run(args, skill)
             with progress.stage(f"plan around {len(scene)} obstacle{'s' * (len(scene) != 1)}"):
                 plan = (
                     plan
@@ -278,6 +278,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     add_unknown_class_option(parser, "m")
     add_via_option(parser)
     periodic.add_run_options(parser)
+    task_frames.add_run_options(parser)
     parser.add_argument(
         "--yaw",
         choices=("demonstrated", "tangent"),

@@ -52,7 +52,9 @@ def _plot_with(args: argparse.Namespace, progress: Progress) -> None:
     refuse_existing(args.output, args.force)
     loaded = load_skill_file(args.skill)
     if task_frames.is_task_frame(loaded):
-        task_frames.refuse(args, "plot")
+        _save(args, task_frames.plot(args, loaded))
+        return
+    task_frames.refuse_frame_options(args)
     if periodic.is_periodic(loaded):
         _save(args, periodic.plot(args, loaded))
         return
@@ -123,6 +125,7 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--demos", type=Path, metavar="FILE", help="demonstrations to draw too")
     add_via_option(parser)
     periodic.add_run_options(parser)
+    task_frames.add_run_options(parser)
     parser.add_argument("--title", default="", help="figure title")
     parser.add_argument(
         "--dpi",

@@ -5,8 +5,8 @@ is learned from demonstrations recorded with their task frames' poses (the
 ``frame_<name>_...`` columns ``lfdkit import --task-frame`` writes) and
 planned for new poses of those frames (``--frame NAME=POSE``). Its file says
 which kind it is, so ``plan`` takes any skill file and hands this one here;
+``plot`` draws the plan among its frames, ``execute`` runs it on an arm;
 options of the other kinds are refused on one line (exit 2), not ignored.
-``plot`` and ``execute`` do not take one yet (refused with the reason).
 """
 
 from __future__ import annotations
@@ -31,9 +31,10 @@ __all__ = [
     "is_task_frame",
     "learn",
     "plan",
-    "refuse",
+    "plot",
     "refuse_frame_options",
     "refuse_learn_options",
+    "run",
 ]
 
 #: Components of a task-frame skill's mixture when --components is not given.
@@ -173,32 +174,14 @@ def refuse_frame_options(args: argparse.Namespace) -> None:
             )
 
 
-def refuse(args: argparse.Namespace, command: str) -> None:
-    """``plot`` or ``execute`` of a task-frame skill: not yet, said on one line."""
-    raise CommandError(
-        f"{args.skill}: a task-frame skill; lfdkit {command} does not take one yet: "
-        "lfdkit plan it (--frame NAME=POSE ... -o plan.csv)"
-    )
-
-
-def plan(
-    args: argparse.Namespace,
-    skill,
-    duration: float | None,
-    speed: float | None,
-    rate: float | None,
-) -> None:
-    """``lfdkit plan`` of a task-frame skill: the movement for the frames' new poses, as CSV."""
+def _planned(args: argparse.Namespace, skill, duration: float | None, speed: float | None):
+    """The plan ``--frame`` asks for (a ``TimedPath``); usage errors name the options."""
     for attr, option, default in _OTHER_OPTIONS:
         if getattr(args, attr, default) != default:
             raise UsageError(
                 f"{option}: {args.skill} is a task-frame skill (planned for its frames' "
                 "poses: --frame NAME=POSE)"
             )
-    if args.units is not None and args.units != skill.units:
-        raise UsageError(
-            f"--units: a task-frame skill plans in its own unit ({skill.units}); leave --units out"
-        )
     given = dict(args.frame or [])
     if len(given) != len(args.frame or []):
         raise UsageError("--frame: a frame given twice; give each once")
@@ -212,18 +195,76 @@ def plan(
             raise UsageError("--speed: the demonstrations had no times; give --duration S instead")
         duration = skill.duration_ / speed
     try:
-        run = skill.plan(given, n_points=args.points, duration=duration)
+        return skill.plan(given, n_points=args.points, duration=duration)
     except (TypeError, ValueError) as exc:  # the library names the argument: here --frame
         message = re.sub(r"^frames\['([^']*)'\]", r"--frame \1", str(exc))
         message = message.replace("frames:", "--frame:")
         message = message.replace("duration:", "--duration:").replace("n_points:", "--points:")
         raise CommandError(message) from None
+
+
+def _in_units(args: argparse.Namespace, skill):
+    """The skill in ``--units``: its plan, and the poses' origins given, in that unit."""
+    return skill if args.units is None else skill.to_units(args.units)
+
+
+def plan(
+    args: argparse.Namespace,
+    skill,
+    duration: float | None,
+    speed: float | None,
+    rate: float | None,
+) -> None:
+    """``lfdkit plan`` of a task-frame skill: the movement for the frames' new poses, as CSV."""
     import numpy as np
 
-    peak = float(np.linalg.norm(run.velocities, axis=1).max())
+    skill = _in_units(args, skill)
+    timed = _planned(args, skill, duration, speed)
+    peak = float(np.linalg.norm(timed.velocities, axis=1).max())
     summary = (
-        f"planned {len(run.times)} points in the task frames "
-        f"{', '.join(skill.frame_names_)}; lasts {run.times[-1]:.4g} s, peak speed "
+        f"planned {len(timed.times)} points in the task frames "
+        f"{', '.join(skill.frame_names_)}; lasts {timed.times[-1]:.4g} s, peak speed "
         f"{peak:.4g} {skill.units}/s"
     )
-    write_timed_run(args, run, summary, rate)
+    write_timed_run(args, timed, summary, rate)
+
+
+def run(args: argparse.Namespace, skill):
+    """``lfdkit execute`` of a task-frame skill: the plan ``--frame`` asks for (a ``TimedPath``)."""
+    return _planned(args, skill, None, None)
+
+
+def plot(args: argparse.Namespace, skill):
+    """``lfdkit plot`` of a task-frame skill: the plan among its frames (and ``--demos``)."""
+    from lfdkit.app.task_frame_plot import task_frame_figure
+    from lfdkit.imitate import TaskFrame
+
+    skill = _in_units(args, skill)
+    timed = _planned(args, skill, None, None)
+    given = dict(args.frame)
+    frames = {name: TaskFrame.from_vector(given[name]) for name in skill.frame_names_}
+    demos = []
+    if args.demos is not None:
+        from lfdkit.io import load_demos
+
+        if args.units is not None:
+            raise UsageError("--demos: drawn in the skill's own unit; leave --units out")
+        for record in load_demos(args.demos, as_records=True):
+            if record.points.shape[1] != skill.n_dims_ or not record.frames:
+                raise CommandError(
+                    f"--demos {args.demos}: expected {skill.n_dims_}-D demonstrations with "
+                    "their task frames (frame_<name>_... columns)"
+                )
+            own = {name: TaskFrame.from_vector(pose) for name, pose in record.frames.items()}
+            demos.append((record.points, own))
+    where = ", ".join(
+        f"{name} at ({', '.join(f'{v:.3g}' for v in given[name][: skill.n_dims_])})"
+        for name in skill.frame_names_
+    )
+    return task_frame_figure(
+        timed.positions,
+        frames,
+        demos,
+        units=skill.units,
+        title=args.title or f"{args.skill.name}: planned for {where}",
+    )
