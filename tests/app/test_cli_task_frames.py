@@ -132,3 +132,26 @@ def test_plot_and_execute_take_a_task_frame_skill(capsys, sweeps, tmp_path) -> N
     assert len(planned) == len(plan.times) and summary["robot"]["poses"] >= len(plan.times)
     code, _, err = run_cli(capsys, "execute", REACH, "--frame", "pan=0,0,0", "-o", tmp_path / "r")
     assert code == 2 and "--frame: only for a task-frame skill" in error_line(err, "execute")
+
+
+def test_millimetres_without_units_are_refused_then_learned_with_them(capsys, sweeps, tmp_path):
+    demos, _ = sweeps
+    from lfdkit.io import load_demos
+
+    records = load_demos(demos, as_records=True)
+    in_mm = [
+        Demo(
+            r.points * 1e3,
+            r.times,
+            frames={k: np.r_[v[:2] * 1e3, v[2:]] for k, v in r.frames.items()},
+        )
+        for r in records
+    ]
+    path = save_demos(tmp_path / "sweeps_mm.csv", in_mm)
+    code, _, err = run_cli(capsys, "learn", path, "--task-frames", "-o", tmp_path / "a.json")
+    assert code == 1 and "pass --units mm if that is their unit" in error_line(err, "learn")
+    code, _, err = run_cli(
+        capsys, "learn", path, "--task-frames", "--units", "mm", "-o", tmp_path / "b.json"
+    )
+    assert code == 0, err
+    assert TaskFrameSkill.load(tmp_path / "b.json").units == "mm"
