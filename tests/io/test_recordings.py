@@ -468,6 +468,14 @@ def test_a_task_frame_is_posed_where_each_demonstration_starts(tmp_path: Path) -
     for record in records:
         np.testing.assert_allclose(record.frames["pan"], [*want, 0.75], atol=1e-12)
     assert [round(float(r.frames["moved_lid"][0]), 9) for r in records] == [0.3, 0.6, 0.6]
+    done = _lfdkit(
+        "import", str(out), "--topic", "/tool_pose", "--split", "--task-frame", "world:pan",
+        "-o", "d3.csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    for record in load_demos(tmp_path / "d3.csv", as_records=True):  # 3-D: x, y, z and quaternion
+        np.testing.assert_allclose(record.frames["pan"][:2], want, atol=1e-12)
+        np.testing.assert_allclose(record.frames["pan"][3:], _rot([0, 0, 1], 0.75), atol=1e-12)
     bad = _lfdkit(
         "import", str(out), "--topic", "/tool_pose", "--task-frame", "world:a/b", "-o", "e.csv",
         cwd=tmp_path,
