@@ -24,7 +24,7 @@ from tests.app.test_cli import run_cli, usage_exit
 
 GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS]
 #: After the LASA shapes: the robot motion and the example arms (``urdf:NAME``).
-ROBOT = ["reach", "wipe", "urdf:panda", "urdf:ur5", "urdf:ur5e"]
+ROBOT = ["reach", "wipe", "dustpan", "urdf:panda", "urdf:ur5", "urdf:ur5e"]
 
 
 def error_line(err: str) -> str:

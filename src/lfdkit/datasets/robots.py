@@ -31,9 +31,12 @@ from lfdkit.datasets._shared import check_count_at_least
 from lfdkit.io import atomic_write, check_output_path
 
 __all__ = [
+    "DUSTPAN_DURATION",
     "EXAMPLE_URDFS",
     "URDF_PREFIX",
     "WIPE_PERIOD",
+    "dustpan_demos",
+    "dustpan_sweep",
     "example_urdf",
     "export_urdf",
     "reach_demos",
@@ -188,3 +191,71 @@ def wipe_demo(
     positions = positions + rng.normal(0.0, 1e-3, positions.shape)
     orientations = multiply(orientations, exp(rng.normal(0.0, 2.5e-3, (n_points, 3))))
     return positions, t, orientations
+
+
+#: Seconds of each sweep of the ``dustpan`` set.
+DUSTPAN_DURATION = 1.5
+
+
+def dustpan_sweep(start: np.ndarray, pan: np.ndarray, n_points: int = 100) -> np.ndarray:
+    """The noise-free sweep from a brush's start pose into a dustpan's, shape (n_points, 2), m.
+
+    The known answer of the ``dustpan`` set: leaving the start along its
+    axis (0.4 m with a 8 cm bow) blended, by a smoothstep of the phase, into
+    arriving along the pan's axis (from 0.4 m behind it with a 5 cm bow),
+    each shape fixed in its own frame. Poses ``[x, y, angle]`` (m, rad).
+    """
+    t = np.linspace(0.0, 1.0, n_points)
+    leave = np.c_[0.4 * t, 0.08 * np.sin(np.pi * t)]
+    arrive = np.c_[-0.4 * (1.0 - t), 0.05 * np.sin(np.pi * (1.0 - t))]
+
+    def world(pose: np.ndarray, local: np.ndarray) -> np.ndarray:
+        c, s = np.cos(pose[2]), np.sin(pose[2])
+        return local @ np.array([[c, s], [-s, c]]) + pose[:2]
+
+    blend = (t * t * (3.0 - 2.0 * t))[:, None]
+    return (1.0 - blend) * world(start, leave) + blend * world(pan, arrive)
+
+
+def dustpan_demos(
+    *, seed: object = 0, n_demos: int = 8, n_points: int = 100
+) -> tuple[list[np.ndarray], list[np.ndarray], list[dict[str, np.ndarray]]]:
+    """Sweeps into a dustpan moved and turned, with both task frames' poses (issue 33).
+
+    A table task in front of an arm (within a UR5's reach): the brush starts
+    near (0.2, -0.25) m turned up to ±0.3 rad, the dustpan stands about
+    0.43 m ahead turned up to ±1 rad and moved up to ±8 cm; each sweep is :func:`dustpan_sweep` with
+    a smooth 3 mm wiggle and 0.5 mm of noise, :data:`DUSTPAN_DURATION` s long.
+    What ``lfdkit learn --task-frames`` learns from (``frame_start_*`` and
+    ``frame_pan_*`` columns).
+
+    Returns
+    -------
+    demos : list of ndarray, each (n_points, 2)
+        Positions, m.
+    times : list of ndarray, each (n_points,)
+        Seconds from 0.
+    frames : list of dict
+        Each sweep's ``{"start": [x, y, angle], "pan": [x, y, angle]}`` (m, rad).
+    """
+    n_demos = check_count_at_least(n_demos, "n_demos", 1)
+    n_points = check_count_at_least(n_points, "n_points", 10)
+    rng = check_random_state(seed)
+    t = np.linspace(0.0, 1.0, n_points)
+    demos, times, frames = [], [], []
+    for _ in range(n_demos):
+        start = np.r_[np.array([0.2, -0.25]) + rng.uniform(-0.05, 0.05, 2), rng.uniform(-0.3, 0.3)]
+        ahead = start[:2] + np.array([0.4, 0.15]) + rng.uniform(-0.08, 0.08, 2)
+        pan = np.r_[ahead, rng.uniform(-1.0, 1.0)]
+        wiggle = sum(
+            0.003
+            * rng.normal(size=2)
+            * np.sin((k + 1) * np.pi * t + rng.uniform(0.0, 6.0))[:, None]
+            for k in range(3)
+        )
+        demos.append(
+            dustpan_sweep(start, pan, n_points) + wiggle + rng.normal(0, 5e-4, (n_points, 2))
+        )
+        times.append(DUSTPAN_DURATION * t)
+        frames.append({"start": start, "pan": pan})
+    return demos, times, frames

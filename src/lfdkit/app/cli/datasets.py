@@ -134,6 +134,8 @@ def _export_dataset(args: argparse.Namespace) -> None:
     learn = f"lfdkit learn {args.output}"
     if data.orientations is not None and len(data.demos) == 1:  # one recording of cycles
         learn = f"lfdkit learn --periodic {args.output}"
+    if data.frames is not None:  # recorded with their task frames' poses
+        learn = f"lfdkit learn --task-frames {args.output}"
     if info.kind != "emulation":
         count = len(data.demos)
         wrote = f"wrote {count} demonstration{'s' * (count != 1)} of {what} to {args.output}"
