@@ -152,6 +152,14 @@ _INDEXED_COORD = re.compile(r"x([1-9][0-9]*)")
 _NPZ_DEMO = re.compile(r"demo_(0|[1-9][0-9]*)")
 _NPZ_TIME = re.compile(r"time_(0|[1-9][0-9]*)")
 _NPZ_QUAT = re.compile(r"quat_(0|[1-9][0-9]*)")
+# What a reader gives: points, times, ids, orientations and task frames per demonstration.
+_Read = tuple[
+    list[np.ndarray],
+    list[np.ndarray | None],
+    list[DemoId],
+    list[np.ndarray | None],
+    list[dict[str, np.ndarray] | None],
+]
 _FRAME_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _FRAME_COLUMN = re.compile(r"frame_([A-Za-z0-9][A-Za-z0-9_-]*)_(x|y|z|angle|qx|qy|qz|qw)", re.I)
 
@@ -782,13 +790,7 @@ def _frame_poses(fname: str, q: int, poses: dict[str, list[float]], where: str) 
 
 def _read_csv(
     fname: str,
-) -> tuple[
-    list[np.ndarray],
-    list[np.ndarray | None],
-    list[DemoId],
-    list[np.ndarray | None],
-    list[dict[str, np.ndarray] | None],
-]:
+) -> _Read:
     _, header, lines = csv_header(fname)
     demo_col, t_col, coord_cols, coord_names = _csv_columns(fname, header)
     q_cols = _quaternion_columns(fname, header)
@@ -1002,7 +1004,7 @@ class _RefusedArray(ValueError):
 
 def _read_npz(
     fname: str,
-) -> tuple[list[np.ndarray], list[np.ndarray | None], list[DemoId], list[np.ndarray | None], list]:
+) -> _Read:
     with _NpzArchive(fname) as npz:
         demos, times, ids = _read_npz_arrays(fname, npz)
         quat_idx = sorted(int(m.group(1)) for k in npz.members if (m := _NPZ_QUAT.fullmatch(k)))
@@ -1142,13 +1144,7 @@ def _json_text(
 
 def _read_json(
     fname: str,
-) -> tuple[
-    list[np.ndarray],
-    list[np.ndarray | None],
-    list[DemoId],
-    list[np.ndarray | None],
-    list[dict[str, np.ndarray] | None],
-]:
+) -> _Read:
     doc = json_document(fname, JSON_FORMAT, JSON_VERSION, "demonstrations")
     q = doc.get("n_dims")
     if isinstance(q, bool) or not isinstance(q, int) or q < 2:

@@ -98,7 +98,7 @@ import binascii
 import json
 import math
 import os
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -117,12 +117,13 @@ __all__ = [
     "SKILL_FILE_LIMITS",
     "SKILL_FORMAT",
     "SKILL_VERSION",
-    "SkillDocument",
     "TASK_FRAME_FORMAT",
+    "SkillDocument",
     "check_file_params",
     "check_skill_path",
     "is_periodic_document",
     "jsonable",
+    "made_from_document",
     "pack_arrays",
     "read_skill_file",
     "to_document",
@@ -745,6 +746,60 @@ class _FieldReader:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{where}: contains NaN or infinite values")
         return arr
+
+
+def made_from_document(
+    cls: type,
+    data: Any,
+    fmt: str,
+    newest: int,
+    keys: Sequence[str],
+    *,
+    source: str,
+    kind: str,
+) -> Any:
+    """An unfitted ``cls(**data["params"])`` of a skill file of another kind, once its header holds.
+
+    Checks what every kind's file shares: a JSON object, ``format`` = ``fmt``,
+    a ``version`` from 1 to ``newest``, each of ``keys`` (besides ``params``)
+    present, the parameters valid for ``cls``, and ``units`` equal to the
+    parameters' (when the file has both). One-line ``ValueError`` starting
+    with ``source`` and naming the field; ``kind`` names the file's kind
+    (``"periodic skill"``).
+    """
+    from lfdkit import __version__
+
+    if not isinstance(data, Mapping):
+        raise ValueError(f"{source}: expected a JSON object at the top level")
+    if data.get("format") != fmt:
+        raise ValueError(
+            f"{source}: not an lfdkit {kind} (format {data.get('format')!r}, expected {fmt!r})"
+        )
+    version = data.get("version")
+    if isinstance(version, bool) or not isinstance(version, int) or version < 1:
+        raise ValueError(f"{source}: version: expected a positive integer, got {version!r}")
+    if version > newest:
+        raise ValueError(
+            f"{source}: version {version} was written by a newer lfdkit "
+            f"({data.get('lfdkit', '?')}); this lfdkit {__version__} reads up to version "
+            f"{newest}: upgrade lfdkit"
+        )
+    for key in ("params", *keys):
+        if key not in data:
+            raise ValueError(f"{source}: {key}: missing field")
+    params = data["params"]
+    if not isinstance(params, Mapping):
+        raise ValueError(f"{source}: params: expected an object, got {params!r}")
+    try:
+        made = cls(**params)
+        made._validate_params()
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{source}: params: {exc}") from None
+    if "units" in data and data["units"] != getattr(made, "units", data["units"]):
+        raise ValueError(
+            f"{source}: units: {data['units']!r} does not match params.units {made.units!r}"
+        )
+    return made
 
 
 def is_periodic_document(data: Any) -> bool:

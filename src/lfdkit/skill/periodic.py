@@ -75,6 +75,7 @@ from lfdkit.io.skill_file import (
     check_skill_path,
     is_periodic_document,
     jsonable,
+    made_from_document,
     read_skill_file,
     write_skill_file,
 )
@@ -390,37 +391,10 @@ class PeriodicSkill(Estimator):
             For another format, a newer version, or a missing or broken field;
             one line starting with ``source`` and naming the field.
         """
-        if not isinstance(data, Mapping):
-            raise ValueError(f"{source}: expected a JSON object at the top level")
-        if data.get("format") != PERIODIC_FORMAT:
-            raise ValueError(
-                f"{source}: not an lfdkit periodic skill (format {data.get('format')!r}, "
-                f"expected {PERIODIC_FORMAT!r})"
-            )
-        version = data.get("version")
-        if isinstance(version, bool) or not isinstance(version, int) or version < 1:
-            raise ValueError(f"{source}: version: expected a positive integer, got {version!r}")
-        if version > PERIODIC_VERSION:
-            raise ValueError(
-                f"{source}: version {version} was written by a newer lfdkit "
-                f"({data.get('lfdkit', '?')}); this lfdkit {__version__} reads up to version "
-                f"{PERIODIC_VERSION}: upgrade lfdkit"
-            )
-        for key in ("params", "n_dims", "units", "fit", "position"):
-            if key not in data:
-                raise ValueError(f"{source}: {key}: missing field")
-        params = data["params"]
-        if not isinstance(params, Mapping):
-            raise ValueError(f"{source}: params: expected an object, got {params!r}")
-        try:
-            skill = cls(**params)
-            skill._validate_params()
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{source}: params: {exc}") from None
-        if data["units"] != skill.units:
-            raise ValueError(
-                f"{source}: units: {data['units']!r} does not match params.units {skill.units!r}"
-            )
+        skill = made_from_document(
+            cls, data, PERIODIC_FORMAT, PERIODIC_VERSION, ("n_dims", "units", "fit", "position"),
+            source=source, kind="periodic skill",
+        )  # fmt: skip
         n_dims = data["n_dims"]
         if isinstance(n_dims, bool) or n_dims not in (2, 3):
             raise ValueError(f"{source}: n_dims: expected 2 or 3, got {n_dims!r}")

@@ -55,6 +55,7 @@ from lfdkit.io.skill_file import (
     TASK_FRAME_FORMAT,
     check_skill_path,
     jsonable,
+    made_from_document,
     read_skill_file,
     write_skill_file,
 )
@@ -334,37 +335,11 @@ class TaskFrameSkill(Estimator):
             For another format, a newer version, or a missing or broken field;
             one line starting with ``source`` and naming the field.
         """
-        if not isinstance(data, Mapping):
-            raise ValueError(f"{source}: expected a JSON object at the top level")
-        if data.get("format") != TASK_FRAME_FORMAT:
-            raise ValueError(
-                f"{source}: not an lfdkit task-frame skill (format {data.get('format')!r}, "
-                f"expected {TASK_FRAME_FORMAT!r})"
-            )
-        version = data.get("version")
-        if isinstance(version, bool) or not isinstance(version, int) or version < 1:
-            raise ValueError(f"{source}: version: expected a positive integer, got {version!r}")
-        if version > TASK_FRAME_VERSION:
-            raise ValueError(
-                f"{source}: version {version} was written by a newer lfdkit "
-                f"({data.get('lfdkit', '?')}); this lfdkit {__version__} reads up to version "
-                f"{TASK_FRAME_VERSION}: upgrade lfdkit"
-            )
-        for key in ("params", "units", "n_dims", "frames", "duration", "n_demos", "tpgmm"):
-            if key not in data:
-                raise ValueError(f"{source}: {key}: missing field")
-        params = data["params"]
-        if not isinstance(params, Mapping):
-            raise ValueError(f"{source}: params: expected an object, got {params!r}")
-        try:
-            skill = cls(**params)
-            skill._validate_params()
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{source}: params: {exc}") from None
-        if data["units"] != skill.units:
-            raise ValueError(
-                f"{source}: units: {data['units']!r} does not match params.units {skill.units!r}"
-            )
+        keys = ("units", "n_dims", "frames", "duration", "n_demos", "tpgmm")
+        skill = made_from_document(
+            cls, data, TASK_FRAME_FORMAT, TASK_FRAME_VERSION, keys,
+            source=source, kind="task-frame skill",
+        )  # fmt: skip
         model = TPGMM.from_state(data["tpgmm"], f"{source}: tpgmm")
         wanted = {
             "n_components": skill.n_components,

@@ -58,6 +58,7 @@ __all__ = [
     "positive_decimal",
     "positive_or_none",
     "refuse_existing",
+    "refuse_implausible_metres",
     "skill_and_scene",
     "skill_params",
     "tell",
@@ -519,10 +520,28 @@ def units_refusal(source: object, warning: Warning, units: str) -> str:
     """
     likely = getattr(warning, "likely", None)
     detail = getattr(warning, "detail", str(warning)).removeprefix("demos: ")
+    return _units_line(source, detail, likely, units)
+
+
+def _units_line(source: object, detail: str, likely: str | None, units: str) -> str:
     return (
         f"{source}: {detail}; no --units was given, so they were read as {units}: "
         f"pass --units {likely} if that is their unit (--units {units} to learn them as they are)"
     )
+
+
+def refuse_implausible_metres(source: object, extent: float, speed: float | None) -> None:
+    """Demonstrations of this size (units) and fastest mean speed (units/s) read as metres.
+
+    Refused on the one line :func:`units_refusal` gives, when implausible in
+    metres (``--periodic`` and ``--task-frames`` learn without the skill's
+    own check, so they call this when no --units was given).
+    """
+    from lfdkit.core.units import implausible_units, likely_units
+
+    why = implausible_units(extent, "m", speed)
+    if why is not None:
+        raise CommandError(_units_line(source, why, likely_units(extent, "m"), "m"))
 
 
 def _duration(text: str) -> float | str:

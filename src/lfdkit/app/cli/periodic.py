@@ -23,12 +23,15 @@ from lfdkit.app.cli.common import (
     point_arg,
     positive_or_none,
     refuse_existing,
+    refuse_implausible_metres,
     tell,
     write_timed_run,
 )
 from lfdkit.core.numbers import parse_decimal
 
 __all__ = [
+    "DISCRETE_OPTIONS",
+    "PERIODIC_OPTIONS",
     "add_learn_options",
     "add_run_options",
     "is_periodic",
@@ -44,7 +47,7 @@ __all__ = [
 PLOT_CYCLES = 2.0
 
 # ``plan``/``plot`` options of a skill from a start to a goal: (attribute, option, its default).
-_DISCRETE_OPTIONS = (
+DISCRETE_OPTIONS = (
     ("start", "--start", None),
     ("goal", "--goal", None),
     ("obstacle", "--obstacle", None),
@@ -59,7 +62,7 @@ _DISCRETE_OPTIONS = (
     ("unknown_class", "--unknown-class", None),
 )
 # Their periodic counterparts, refused for a skill from a start to a goal.
-_PERIODIC_OPTIONS = (
+PERIODIC_OPTIONS = (
     ("cycles", "--cycles"),
     ("amplitude", "--amplitude"),
     ("frequency", "--frequency"),
@@ -137,17 +140,10 @@ def _check_plausible(source, positions, times) -> None:
     import numpy as np
 
     from lfdkit.core.geometry import path_length
-    from lfdkit.core.units import implausible_units, likely_units
 
     extent = float(np.ptp(positions, axis=0).max())
     speed = path_length(positions) / float(times[-1] - times[0])
-    why = implausible_units(extent, "m", speed)
-    if why is not None:
-        raise CommandError(
-            f"{source}: {why}; no --units was given, so they were read as m: pass --units "
-            f"{likely_units(extent, 'm')} if that is their unit (--units m to learn them as "
-            "they are)"
-        )
+    refuse_implausible_metres(source, extent, speed)
 
 
 def _fitted(skill, positions, times, orientations=None, source=None):
@@ -246,7 +242,7 @@ def add_run_options(parser: argparse.ArgumentParser) -> None:
 
 def refuse_periodic_options(args: argparse.Namespace) -> None:
     """A skill from a start to a goal: the periodic options are refused (exit 2)."""
-    for attr, option in _PERIODIC_OPTIONS:
+    for attr, option in PERIODIC_OPTIONS:
         if getattr(args, attr, None) is not None:
             raise UsageError(
                 f"{option}: only for a periodic skill (lfdkit learn --periodic); "
@@ -255,7 +251,7 @@ def refuse_periodic_options(args: argparse.Namespace) -> None:
 
 
 def _refuse_discrete_options(args: argparse.Namespace) -> None:
-    for attr, option, default in _DISCRETE_OPTIONS:
+    for attr, option, default in DISCRETE_OPTIONS:
         if getattr(args, attr, default) != default:
             raise UsageError(
                 f"{option}: {args.skill} is a periodic skill (no start, goal or obstacles); "

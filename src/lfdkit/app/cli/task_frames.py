@@ -20,9 +20,11 @@ from lfdkit.app.cli.common import (
     UsageError,
     bounded_int,
     refuse_existing,
+    refuse_implausible_metres,
     tell,
     write_timed_run,
 )
+from lfdkit.app.cli.periodic import DISCRETE_OPTIONS, PERIODIC_OPTIONS
 from lfdkit.core.numbers import parse_decimal
 
 __all__ = [
@@ -42,25 +44,8 @@ DEFAULT_COMPONENTS = 10
 
 # ``plan`` options of the other kinds of skill: (attribute, option, its default).
 _OTHER_OPTIONS = (
-    ("start", "--start", None),
-    ("goal", "--goal", None),
-    ("obstacle", "--obstacle", None),
-    ("scene", "--scene", None),
-    ("via", "--via", None),
-    ("start_orientation", "--start-orientation", None),
-    ("goal_orientation", "--goal-orientation", None),
-    ("planner", "--planner", None),
-    ("horizon", "--horizon", None),
-    ("clearance", "--clearance", 0.0),
-    ("goal_approach", "--goal-approach", "auto"),
-    ("unknown_class", "--unknown-class", None),
-    ("cycles", "--cycles", None),
-    ("amplitude", "--amplitude", None),
-    ("frequency", "--frequency", None),
-    ("period", "--period", None),
-    ("centre", "--centre", None),
-    ("centre_orientation", "--centre-orientation", None),
-    ("ramp", "--ramp", None),
+    *DISCRETE_OPTIONS,
+    *((attr, option, None) for attr, option in PERIODIC_OPTIONS),
 )
 
 
@@ -147,7 +132,6 @@ def _check_plausible(source, records) -> None:
     import numpy as np
 
     from lfdkit.core.geometry import path_length
-    from lfdkit.core.units import implausible_units, likely_units
 
     points = np.vstack([record.points for record in records])
     extent = float(np.ptp(points, axis=0).max())
@@ -157,13 +141,7 @@ def _check_plausible(source, records) -> None:
         if timed
         else None
     )
-    why = implausible_units(extent, "m", speed)
-    if why is not None:
-        raise CommandError(
-            f"{source}: {why}; no --units was given, so they were read as m: pass --units "
-            f"{likely_units(extent, 'm')} if that is their unit (--units m to learn them as "
-            "they are)"
-        )
+    refuse_implausible_metres(source, extent, speed)
 
 
 # ---------------------------------------------------------------- plan
