@@ -119,6 +119,15 @@ def test_bad_input_gets_one_line_errors(tmp_path) -> None:
         skill.plan({"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5, 0.0, 0, 0, 0, 1]})
     with pytest.raises(TypeError, match=r"^frames: expected a mapping of the frames' names"):
         skill.plan([[0.0, 0.0, 0.0], [0.5, 0.5, 0.0]])
+    with pytest.raises(ValueError, match=r"^frames\['pan'\]: contains NaN or an infinite value"):
+        skill.plan({"start": [0.0, 0.0, 0.0], "pan": [np.nan, 0.5, 0.0]})
+    with pytest.raises(ValueError, match=r"^frames\['pan'\]: the origin is 1e\+300 from 0, beyond"):
+        skill.plan({"start": [0.0, 0.0, 0.0], "pan": [1e300, 0.5, 0.0]})
+    flat = np.random.default_rng(0).random((10, 3))
+    with pytest.raises(ValueError, match=r"^demos\[0\]: task frame 'a' is a 2-D pose, the demo"):
+        TaskFrameSkill(n_components=2).fit([Demo(flat, frames={"a": [0, 0, 0]})])
+    with pytest.raises(ValueError, match=r"^demos\[0\]: task frame 'a': orientation: row 0 has"):
+        TaskFrameSkill(n_components=2).fit([Demo(flat, frames={"a": [0, 0, 0, 0, 0, 0, 2]})] * 2)
     plain = [Demo(d.points, d.times) for d in _demos(3, seed=5)]
     with pytest.raises(ValueError, match=r"^demos\[0\]: has no task frames; a task-frame"):
         TaskFrameSkill().fit(plain)

@@ -389,6 +389,14 @@ class TPGMM(Estimator):
         demos = check_demos(demos, "demos", min_dims=1)
         times = check_times_list(times, demos, missing=True, increasing=True, style="shape")
         d = demos[0].shape[1]
+        for i, recorded in enumerate(frames if names is not None else []):
+            for name, frame in zip(names, recorded, strict=True):
+                if frame.origin.shape != (d,):
+                    raise ValueError(
+                        f"demos[{i}]: task frame {name!r} is a {len(frame.origin)}-D pose, the "
+                        f"demonstrations are {d}-D; give [x, y, angle] in 2-D, [x, y, z, qx, qy, "
+                        "qz, qw] in 3-D"
+                    )
         matrices, origins = _check_frame_sets(frames, len(demos), d)
         n_frames = matrices.shape[1]
         inverses = np.linalg.inv(matrices)  # (N, P, d, d), well conditioned (checked)
@@ -748,8 +756,21 @@ def _recorded_frames(recorded: list[Any], frames: Any) -> tuple[Any, list[str] |
                 f"demos[{i}]: task frames {', '.join(poses)}, but demos[0] has "
                 f"{', '.join(names)}; every demonstration needs the same frames in the same order"
             )
-        out.append([TaskFrame.from_vector(poses[name]) for name in names])
+        out.append(
+            [_recorded_frame(poses[name], f"demos[{i}]: task frame {name!r}") for name in names]
+        )
     return out, names
+
+
+def _recorded_frame(pose: Any, where: str) -> TaskFrame:
+    """A recorded pose as a frame; its errors start with ``where`` (the demonstration, the name)."""
+    try:
+        frame = TaskFrame.from_vector(pose)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    if not (np.all(np.isfinite(frame.matrix)) and np.all(np.isfinite(frame.origin))):
+        raise ValueError(f"{where}: contains NaN or an infinite value")
+    return frame
 
 
 def _check_points(points: Any, d: int) -> np.ndarray:

@@ -67,6 +67,10 @@ __all__ = ["TASK_FRAME_FORMAT", "TASK_FRAME_VERSION", "TaskFrameSkill"]
 TASK_FRAME_VERSION = 1
 """Newest task-frame-skill-file version this module reads, and the one it writes."""
 
+#: A frame's origin is refused beyond this many times the demonstrations' extent (as a
+#: skill's goal is, :mod:`lfdkit.core.validation`): a typo or another unit, not a task.
+MAX_REACH = 1e6
+
 
 class TaskFrameSkill(Estimator):
     """A movement learned in its task frames (TP-GMM), planned for new poses of them.
@@ -256,7 +260,8 @@ class TaskFrameSkill(Estimator):
                 f"frames: {said}; this skill was learned in the frames "
                 f"{', '.join(self.frame_names_)}"
             )
-        posed = [_frame(frames[name], name, self.n_dims_) for name in self.frame_names_]
+        reach = MAX_REACH * self._extent()
+        posed = [_frame(frames[name], name, self.n_dims_, reach) for name in self.frame_names_]
         n = check_count(self.n_points if n_points is None else n_points, "n_points", minimum=2)
         if duration is None:
             if self.duration_ is None:
@@ -269,6 +274,12 @@ class TaskFrameSkill(Estimator):
         times = np.linspace(0.0, duration, n)
         velocities = np.gradient(positions, times, axis=0)
         return TimedPath(times, positions, velocities)
+
+    def _extent(self) -> float:
+        """The demonstrations' size (units): the mixture's largest local mean or position spread."""
+        means = self.tpgmm_.means_[..., 1:]
+        spread = np.sqrt(np.diagonal(self.tpgmm_.covariances_, axis1=-2, axis2=-1)[..., 1:])
+        return float(max(np.abs(means).max(), spread.max(), 1e-12))
 
     # ------------------------------------------------------------------ reports
     def summary(self) -> str:
@@ -393,8 +404,12 @@ class TaskFrameSkill(Estimator):
         return cls.from_dict(read_skill_file(name), source=name)
 
 
-def _frame(pose: Any, name: str, n_dims: int) -> TaskFrame:
-    """A frame's new pose as a :class:`TaskFrame` of ``n_dims``; one-line errors naming it."""
+def _frame(pose: Any, name: str, n_dims: int, reach: float) -> TaskFrame:
+    """A frame's new pose as a :class:`TaskFrame` of ``n_dims``; one-line errors naming it.
+
+    ``reach``: the largest origin accepted (units), :data:`MAX_REACH` times the
+    demonstrations' extent: beyond it the plan's numbers would lose all meaning.
+    """
     if isinstance(pose, TaskFrame):
         frame = pose
     else:
@@ -405,4 +420,13 @@ def _frame(pose: Any, name: str, n_dims: int) -> TaskFrame:
     if np.asarray(frame.origin).shape != (n_dims,):
         want = "[x, y, angle]" if n_dims == 2 else "[x, y, z, qx, qy, qz, qw]"
         raise ValueError(f"frames[{name!r}]: this skill is {n_dims}-D; give {want}")
+    origin, matrix = np.asarray(frame.origin, dtype=float), np.asarray(frame.matrix, dtype=float)
+    if not (np.all(np.isfinite(origin)) and np.all(np.isfinite(matrix))):
+        raise ValueError(f"frames[{name!r}]: contains NaN or an infinite value")
+    far = float(np.abs(origin).max())
+    if far > reach:
+        raise ValueError(
+            f"frames[{name!r}]: the origin is {far:.3g} from 0, beyond {MAX_REACH:g} times the "
+            f"demonstrations' extent ({reach:.3g}); check the pose and its unit"
+        )
     return frame
