@@ -87,6 +87,34 @@ CASES: list[tuple[str, str, str, str]] = [
     ("output onto a FIFO", "cli", "plan {w}/skill.json -o {w}/fifo --force", "error"),
     ("output into a missing folder", "cli", "plan {w}/skill.json -o {w}/no/such.csv", "error"),
     ("output exists, no --force", "cli", "plan {w}/skill.json -o {w}/exists.csv", "error"),
+    # ------------------------------------------------------------------ task frames (issue 33)
+    (
+        "frame moves within a demo",
+        "cli",
+        "learn {w}/moving.csv --task-frames -o {w}/o.json",
+        "error",
+    ),
+    ("frame column missing", "cli", "learn {w}/half.csv --task-frames -o {w}/o.json", "error"),
+    (
+        "task frames, none recorded",
+        "cli",
+        "learn {w}/clean.csv --task-frames -o {w}/o.json",
+        "error",
+    ),
+    (
+        "frame NaN",
+        "cli",
+        "plan {w}/pan.json --frame start=0.2,-0.25,0 --frame pan=nan,0,0",
+        "error",
+    ),
+    (
+        "frame 1e300",
+        "cli",
+        "plan {w}/pan.json --frame start=0.2,-0.25,0 --frame pan=1e300,0,0",
+        "error",
+    ),
+    ("frame missing", "cli", "plan {w}/pan.json --frame pan=0.6,-0.1,1", "error"),
+    ("frame for a discrete skill", "cli", "plan {w}/skill.json --frame pan=0.6,-0.1,1", "error"),
     # ------------------------------------------------------------------ API
     ("plan start_offset NaN", "api", "plan_path_offset(np.nan)", "error"),
     ("plan 1e7 points", "api", "plan_points(10**7)", "error"),
@@ -224,6 +252,19 @@ def make_files(work: Path) -> None:
         data = json.loads(json.dumps(skill))
         change(data)
         (work / f"{name}.json").write_text(json.dumps(data))
+    (work / "clean.csv").write_text(CLEAN_DEMOS + "\n")
+    from lfdkit.datasets import export_dataset
+    from lfdkit.io import load_demos
+    from lfdkit.skill import TaskFrameSkill
+
+    export_dataset("dustpan", work / "dustpan.csv")
+    TaskFrameSkill().fit(load_demos(work / "dustpan.csv", as_records=True)).save(work / "pan.json")
+    rows = (work / "dustpan.csv").read_text().splitlines()
+    moved = rows[2].split(",")
+    moved[-3] = str(float(moved[-3]) + 0.01)  # the pan 1 cm further on one row of demo 0
+    (work / "moving.csv").write_text("\n".join([rows[0], rows[1], ",".join(moved), *rows[3:]]))
+    half = [",".join(row.split(",")[:-1]) for row in rows]  # no frame_pan_angle
+    (work / "half.csv").write_text("\n".join(half) + "\n")
     os.mkfifo(work / "fifo")
     (work / "exists.csv").write_text("precious\n")
 
