@@ -162,3 +162,32 @@ def test_a_skill_converted_to_millimetres_plans_its_path_times_1000() -> None:
     back = mm.to_units("m").plan({"start": [0.0, 0.0, 0.0], "pan": [0.55, 0.35, 0.7]})
     np.testing.assert_allclose(back.positions, metres, rtol=0, atol=1e-12)
     assert TaskFrameSkill.from_dict(mm.to_dict()).units == "mm"  # a valid file
+
+
+def test_orientations_it_does_not_learn_are_said() -> None:
+    demos = _demos(4, seed=7)
+    turned = [
+        Demo(d.points, d.times, np.tile([0.0, 0.0, 0.0, 1.0], (len(d.points), 1)), frames=d.frames)
+        for d in demos
+    ]
+    with pytest.warns(UserWarning, match=r"^demos: the demonstrations carry tool orientations"):
+        skill = TaskFrameSkill(n_components=4).fit(turned)
+    new = {"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5, 0.2]}
+    plain = TaskFrameSkill(n_components=4).fit(demos)
+    np.testing.assert_array_equal(skill.plan(new).positions, plain.plan(new).positions)
+
+
+def test_em_that_did_not_converge_is_said_once(monkeypatch) -> None:
+    from lfdkit.imitate import tpgmm
+
+    fit = tpgmm.TPGMM.fit
+
+    def two_iterations(self, *args, **kwargs):
+        self.max_iter = 2
+        return fit(self, *args, **kwargs)
+
+    monkeypatch.setattr(tpgmm.TPGMM, "fit", two_iterations)
+    with pytest.warns(UserWarning) as caught:
+        TaskFrameSkill(n_components=5).fit(_demos(3, seed=8))
+    said = [str(w.message) for w in caught]
+    assert said == [said[0]] and said[0].startswith("demos: the mixture's EM did not converge in 2")

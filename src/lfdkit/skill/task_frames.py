@@ -39,11 +39,13 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
+from sklearn.exceptions import ConvergenceWarning
 
 from lfdkit import __version__
 from lfdkit.core.constraints import Checked, Integer, OneOf
@@ -194,6 +196,14 @@ class TaskFrameSkill(Estimator):
                 f"demos[{j}]: has no task frames; a task-frame skill learns from demonstrations "
                 "recorded with the poses of their frames (frame_<name>_... columns)"
             )
+        if any(turns is not None for turns in records.orientations):  # said, not dropped silently
+            warnings.warn(
+                "demos: the demonstrations carry tool orientations, which a task-frame skill "
+                "does not learn: its plans are positions only; keep the tool's orientation "
+                "with the task's (e.g. the pan's) when executing",
+                UserWarning,
+                stacklevel=2,
+            )
         scale = conversion_factor("m", params["units"])  # EM in metres, whatever the unit
         model = TPGMM(
             n_components=params["n_components"],
@@ -202,7 +212,17 @@ class TaskFrameSkill(Estimator):
             random_state=seed,
             length_scale=scale,
         )
-        self.tpgmm_ = model.fit(demos)
+        with warnings.catch_warnings():  # scikit-learn's words for it; said below in ours
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            self.tpgmm_ = model.fit(demos)
+        if not self.tpgmm_.converged_:  # a poor fit is said
+            warnings.warn(
+                f"demos: the mixture's EM did not converge in {self.tpgmm_.n_iter_} iterations; "
+                "plans may not follow the demonstrations: give fewer n_components or more "
+                "demonstrations",
+                UserWarning,
+                stacklevel=2,
+            )
         if self.tpgmm_.n_dims_ not in (2, 3):
             raise ValueError(f"demos: {self.tpgmm_.n_dims_}-D; a tool moves in 2 or 3")
         self.frame_names_ = list(self.tpgmm_.frame_names_ or [])
