@@ -425,6 +425,29 @@ def test_import_splits_a_recording_at_its_pauses(tmp_path: Path) -> None:
     assert not (tmp_path / "e.csv").exists()
 
 
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_static_task_frame_reads_alike_in_every_recording_kind(tmp_path: Path, kind: str) -> None:
+    # /tf_static alone (no /tf topic): the chain world -> table -> pan, one pose at any time.
+    table = Sample(1, 1, (0.5, 0.0, 0.0), _rot([0, 0, 1], 0.5), "world", "table")
+    pan = Sample(1, 1, (0.2, 0.1, 0.0), _rot([0, 0, 1], 0.25), "table", "pan")
+    ns, pos, q = random_trajectory(5, seed=2)
+    out = write_recording(
+        tmp_path / "rec",
+        kind,
+        {
+            "/tool_pose": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q)),
+            "/tf_static": ("tf2_msgs/msg/TFMessage", [Sample(1, 1, transforms=[table, pan])]),
+        },
+    )
+    positions, turns = read_frame_poses(out, ("world", "pan"), ns[[0, -1]])
+    want = np.array([0.5, 0.0, 0.0]) + 0.2 * np.array([np.cos(0.5), np.sin(0.5), 0.0])
+    want += 0.1 * np.array([-np.sin(0.5), np.cos(0.5), 0.0])
+    np.testing.assert_allclose(positions, np.tile(want, (2, 1)), atol=1e-12)
+    np.testing.assert_allclose(turns, np.tile(_rot([0, 0, 1], 0.75), (2, 1)), atol=1e-12)
+    with pytest.raises(RecordingError, match=r"no frame 'lid' in the transforms"):
+        read_frame_poses(out, ("world", "lid"), ns[:1])
+
+
 def test_a_task_frame_is_posed_where_each_demonstration_starts(tmp_path: Path) -> None:
     # Three strokes split at their pauses; a dustpan standing still (/tf_static, under a
     # table frame) and a lid moved by hand between strokes (/tf): each demonstration gets
