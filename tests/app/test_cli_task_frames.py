@@ -155,3 +155,23 @@ def test_millimetres_without_units_are_refused_then_learned_with_them(capsys, sw
     )
     assert code == 0, err
     assert TaskFrameSkill.load(tmp_path / "b.json").units == "mm"
+
+
+def test_a_skill_with_the_tools_orientation_plans_it(capsys, tmp_path) -> None:
+    from tests.skill.test_task_frames import _turned_demos
+
+    demos = save_demos(tmp_path / "turned.csv", _turned_demos(6, seed=12))
+    skill_file = tmp_path / "turned.json"
+    code, _, err = run_cli(
+        capsys, "learn", demos, "--task-frames", "--components", 6, "-o", skill_file
+    )
+    assert code == 0, err
+    assert "2-D movement with the tool's orientation in the task frames start, pan" in err
+    out = tmp_path / "plan.csv"
+    poses = ["--frame", "start=0.2,-0.25,0", "--frame", "pan=0.6,-0.1,0.5"]
+    assert run_cli(capsys, "plan", skill_file, *poses, "-o", out)[0] == 0
+    assert out.read_text().splitlines()[0] == "t,x,y,qx,qy,qz,qw"
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    plan = TaskFrameSkill.load(skill_file).plan({"start": [0.2, -0.25, 0], "pan": [0.6, -0.1, 0.5]})
+    # the written quaternions normalised once more (as every orientation file's): to an ulp
+    np.testing.assert_allclose(table[:, 3:], plan.orientations, rtol=0, atol=1e-15)

@@ -164,17 +164,82 @@ def test_a_skill_converted_to_millimetres_plans_its_path_times_1000() -> None:
     assert TaskFrameSkill.from_dict(mm.to_dict()).units == "mm"  # a valid file
 
 
-def test_orientations_it_does_not_learn_are_said() -> None:
-    demos = _demos(4, seed=7)
-    turned = [
-        Demo(d.points, d.times, np.tile([0.0, 0.0, 0.0, 1.0], (len(d.points), 1)), frames=d.frames)
-        for d in demos
-    ]
-    with pytest.warns(UserWarning, match=r"^demos: the demonstrations carry tool orientations"):
-        skill = TaskFrameSkill(n_components=4).fit(turned)
-    new = {"start": [0.0, 0.0, 0.0], "pan": [0.5, 0.5, 0.2]}
-    plain = TaskFrameSkill(n_components=4).fit(demos)
-    np.testing.assert_array_equal(skill.plan(new).positions, plain.plan(new).positions)
+DOWN = np.array([1.0, 0.0, 0.0, 0.0])  # a tool pointing down
+
+
+def _turn(angle: float) -> np.ndarray:
+    return np.array([0.0, 0.0, np.sin(angle / 2), np.cos(angle / 2)])
+
+
+def _held_tool(start: np.ndarray, pan: np.ndarray, n: int = 100) -> np.ndarray:
+    """The known orientation: down in the start's frame, turned 0.3 rad in the pan's, blended."""
+    from lfdkit.core.rotations import multiply, slerp
+
+    t = np.linspace(0.0, 1.0, n)
+    leave = multiply(_turn(start[2]), DOWN)
+    arrive = multiply(_turn(pan[2]), multiply(_turn(0.3), DOWN))
+    return slerp(np.tile(leave, (n, 1)), np.tile(arrive, (n, 1)), t * t * (3 - 2 * t))
+
+
+def _turned_demos(n: int, seed: int) -> list[Demo]:
+    from lfdkit.core.rotations import exp, multiply
+    from lfdkit.datasets import dustpan_sweep
+
+    rng = np.random.default_rng(seed)
+    demos = []
+    for _ in range(n):
+        start = np.r_[np.array([0.2, -0.25]) + rng.uniform(-0.05, 0.05, 2), rng.uniform(-0.3, 0.3)]
+        ahead = start[:2] + np.array([0.4, 0.15]) + rng.uniform(-0.08, 0.08, 2)
+        pan = np.r_[ahead, rng.uniform(-1.0, 1.0)]
+        path = dustpan_sweep(start, pan, 100) + 1e-3 * rng.normal(size=(100, 2))
+        turns = multiply(_held_tool(start, pan), exp(0.005 * rng.normal(size=(100, 3))))
+        demos.append(
+            Demo(path, np.linspace(0.0, 1.5, 100), turns, frames={"start": start, "pan": pan})
+        )
+    return demos
+
+
+def test_the_tool_orientation_is_learned_in_the_frames() -> None:
+    # Pointing down, its heading held in the start's frame when leaving and turned 0.3 rad
+    # in the pan's on arriving: a plan for new poses leaves and arrives so (within 0.5
+    # degrees; a few degrees between, where the product of the frames is not the blend).
+    from lfdkit.core.rotations import angle_between
+
+    skill = TaskFrameSkill(n_components=8).fit(_turned_demos(8, seed=9))
+    for start, pan in (
+        ([0.2, -0.25, 0.1], [0.6, -0.1, 0.7]),
+        ([0.22, -0.2, -0.2], [0.55, -0.05, -0.9]),
+    ):
+        plan = skill.plan({"start": start, "pan": pan})
+        error = np.degrees(
+            angle_between(plan.orientations, _held_tool(np.array(start), np.array(pan)))
+        )
+        assert error[0] < 0.5 and error[-1] < 0.5 and error.max() < 8.0
+        np.testing.assert_allclose(np.linalg.norm(plan.orientations, axis=1), 1.0, atol=1e-12)
+        assert np.all(np.sum(plan.orientations[1:] * plan.orientations[:-1], axis=1) > 0)
+
+
+def test_orientations_round_trip_through_the_file_and_must_be_all_or_none(tmp_path) -> None:
+    demos = _turned_demos(5, seed=10)
+    skill = TaskFrameSkill(n_components=5).fit(demos)
+    first = skill.save(tmp_path / "turned.json")
+    loaded = TaskFrameSkill.load(first)
+    assert loaded.save(tmp_path / "again.json").read_bytes() == first.read_bytes()
+    new = {"start": [0.2, -0.25, 0.0], "pan": [0.6, -0.1, 0.4]}
+    np.testing.assert_array_equal(loaded.plan(new).orientations, skill.plan(new).orientations)
+    np.testing.assert_array_equal(
+        skill.to_units("mm").plan({**new, "pan": [600.0, -100.0, 0.4]}).orientations,
+        skill.plan(new).orientations,
+    )
+    mixed = [demos[0], Demo(demos[1].points, demos[1].times, frames=demos[1].frames)]
+    with pytest.raises(ValueError, match=r"^demos\[1\]: has no tool orientations, but demos\[0\]"):
+        TaskFrameSkill(n_components=2).fit(mixed)
+    document = json.loads(first.read_text())
+    document["orientation"]["references"][0] = [0.0, 0.0, 0.0, 2.0]
+    with pytest.raises(ValueError, match=r"^f\.json: orientation\.references: not unit"):
+        TaskFrameSkill.from_dict(document, source="f.json")
+    plain = TaskFrameSkill(n_components=5).fit(_demos(5, seed=11))
+    assert plain.plan({"start": [0, 0, 0], "pan": [0.5, 0.5, 0.0]}).orientations is None
 
 
 def test_em_that_did_not_converge_is_said_once(monkeypatch) -> None:
