@@ -175,3 +175,6 @@ def test_a_skill_with_the_tools_orientation_plans_it(capsys, tmp_path) -> None:
     plan = TaskFrameSkill.load(skill_file).plan({"start": [0.2, -0.25, 0], "pan": [0.6, -0.1, 0.5]})
     # the written quaternions normalised once more (as every orientation file's): to an ulp
     np.testing.assert_allclose(table[:, 3:], plan.orientations, rtol=0, atol=1e-15)
+    png = tmp_path / "turned.png"  # the tool's axis drawn along the plan
+    assert run_cli(capsys, "plot", skill_file, *poses, "--demos", demos, "-o", png)[0] == 0
+    assert png.read_bytes()[:4] == b"\x89PNG"

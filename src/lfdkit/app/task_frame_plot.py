@@ -25,6 +25,7 @@ def task_frame_figure(
     frames: Mapping[str, Any],
     demos: Sequence[tuple[np.ndarray, Mapping[str, Any]]] = (),
     *,
+    orientations: np.ndarray | None = None,
     units: str = "m",
     title: str | None = None,
 ):
@@ -38,6 +39,10 @@ def task_frame_figure(
         The frames it was planned for.
     demos : sequence of (ndarray (m, d), mapping of str to TaskFrame)
         Demonstrations with their own frames, drawn faintly (optional).
+    orientations : ndarray, shape (n, 4), optional
+        The plan's tool orientations (unit quaternions ``[x, y, z, w]``): the
+        tool's x axis is drawn at every tenth point (in 2-D, its projection on
+        the plane).
     units : str
         Unit of the lengths, for the axes' labels.
     title : str, optional
@@ -74,6 +79,15 @@ def task_frame_figure(
         for frame in own.values():
             draw_frame(None, frame, 0.25)
     ax.plot(*plan.T, color="tab:orange", lw=2.2, label="plan")
+    if orientations is not None:
+        from lfdkit.core.rotations import matrix_from_quaternion
+
+        every = slice(0, len(plan), max(1, len(plan) // 10))
+        axes = matrix_from_quaternion(np.asarray(orientations)[every])[:, :d, 0]
+        tips = plan[every] + 0.6 * arrow * axes
+        for k, (base, tip) in enumerate(zip(plan[every], tips, strict=True)):
+            label = "tool's x axis" if k == 0 else None
+            ax.plot(*np.c_[base, tip], color="tab:purple", lw=1.2, label=label)
     ax.plot(*plan[0], "o", color="tab:orange", ms=5, label="plan's start")
     for name, frame in frames.items():
         draw_frame(name, frame, 1.0)

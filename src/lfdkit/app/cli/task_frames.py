@@ -269,6 +269,7 @@ def plot(args: argparse.Namespace, skill):
         timed.positions,
         frames,
         demos,
+        orientations=timed.orientations,
         units=skill.units,
         title=args.title or f"{args.skill.name}: planned for {where}",
     )
