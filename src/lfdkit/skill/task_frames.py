@@ -72,6 +72,7 @@ from lfdkit.core.rotations import (
 )
 from lfdkit.core.units import check_units, conversion_factor
 from lfdkit.core.validation import check_count, check_positive
+from lfdkit.imitate.dmp import MAX_RELATIVE_MAGNITUDE
 from lfdkit.imitate.tpgmm import TPGMM, TaskFrame
 from lfdkit.io.skill_file import (
     TASK_FRAME_FORMAT,
@@ -91,9 +92,6 @@ TASK_FRAME_VERSION = 1
 
 #: Gauss-Newton steps of the product of the frames' orientation Gaussians, at most.
 ORIENTATION_STEPS = 10
-#: A frame's origin is refused beyond this many times the demonstrations' extent (as a
-#: skill's goal is, :mod:`lfdkit.core.validation`): a typo or another unit, not a task.
-MAX_REACH = 1e6
 
 
 class TaskFrameSkill(Estimator):
@@ -373,7 +371,7 @@ class TaskFrameSkill(Estimator):
                 f"frames: {said}; this skill was learned in the frames "
                 f"{', '.join(self.frame_names_)}"
             )
-        reach = MAX_REACH * self._extent()
+        reach = MAX_RELATIVE_MAGNITUDE * self._extent()
         posed = [_frame(frames[name], name, self.n_dims_, reach) for name in self.frame_names_]
         n = check_count(self.n_points if n_points is None else n_points, "n_points", minimum=2)
         if duration is None:
@@ -537,8 +535,9 @@ class TaskFrameSkill(Estimator):
 def _frame(pose: Any, name: str, n_dims: int, reach: float) -> TaskFrame:
     """A frame's new pose as a :class:`TaskFrame` of ``n_dims``; one-line errors naming it.
 
-    ``reach``: the largest origin accepted (units), :data:`MAX_REACH` times the
-    demonstrations' extent: beyond it the plan's numbers would lose all meaning.
+    ``reach``: the largest origin accepted (units),
+    :data:`~lfdkit.imitate.dmp.MAX_RELATIVE_MAGNITUDE` times the demonstrations'
+    extent, as a skill's goal (a typo or another unit, not a task).
     """
     if isinstance(pose, TaskFrame):
         frame = pose
@@ -556,8 +555,9 @@ def _frame(pose: Any, name: str, n_dims: int, reach: float) -> TaskFrame:
     far = float(np.abs(origin).max())
     if far > reach:
         raise ValueError(
-            f"frames[{name!r}]: the origin is {far:.3g} from 0, beyond {MAX_REACH:g} times the "
-            f"demonstrations' extent ({reach:.3g}); check the pose and its unit"
+            f"frames[{name!r}]: the origin is {far:.3g} from 0, beyond "
+            f"{MAX_RELATIVE_MAGNITUDE:g} times the demonstrations' extent ({reach:.3g}); "
+            "check the pose and its unit"
         )
     return frame
 
