@@ -228,7 +228,9 @@ def test_orientations_round_trip_through_the_file_and_must_be_all_or_none(tmp_pa
     new = {"start": [0.2, -0.25, 0.0], "pan": [0.6, -0.1, 0.4]}
     np.testing.assert_array_equal(loaded.plan(new).orientations, skill.plan(new).orientations)
     np.testing.assert_array_equal(
-        skill.to_units("mm").plan({**new, "pan": [600.0, -100.0, 0.4]}).orientations,
+        skill.to_units("mm")
+        .plan({"start": [200.0, -250.0, 0.0], "pan": [600.0, -100.0, 0.4]})
+        .orientations,
         skill.plan(new).orientations,
     )
     mixed = [demos[0], Demo(demos[1].points, demos[1].times, frames=demos[1].frames)]
@@ -256,3 +258,36 @@ def test_em_that_did_not_converge_is_said_once(monkeypatch) -> None:
         TaskFrameSkill(n_components=5).fit(_demos(3, seed=8))
     said = [str(w.message) for w in caught]
     assert said == [said[0]] and said[0].startswith("demos: the mixture's EM did not converge in 2")
+
+
+def test_plans_beyond_the_demonstrated_poses_are_said() -> None:
+    import warnings
+
+    demos = _demos(8, seed=0)
+    skill = TaskFrameSkill(n_components=6).fit(demos)
+    mean = {name: np.mean([d.frames[name] for d in demos], axis=0) for name in ("start", "pan")}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # within the demonstrated poses: nothing to say
+        skill.plan(mean)
+    with pytest.warns(UserWarning, match=r"^plan: pan turned \+1\.\d+ rad about z from the demo"):
+        skill.plan({**mean, "pan": np.r_[mean["pan"][:2], 2.0]})
+    far = {**mean, "pan": np.r_[mean["pan"][:2] + 0.5, mean["pan"][2]]}
+    with pytest.warns(UserWarning, match=r"^plan: pan at \(.*\) m, beyond the demonstrated x"):
+        skill.plan(far)
+    # A frame that never moved: what the skill does for its other poses is a guess.
+    fixed = [Demo(d.points, d.times, frames={**d.frames, "start": [0.0, 0.0, 0.0]}) for d in demos]
+    with pytest.warns(UserWarning, match=r"^demos: task frame\(s\) start stand still in every"):
+        TaskFrameSkill(n_components=6).fit(fixed)
+    # Kept in the file, converted with the unit, and an edited box refused.
+    document = json.loads(json.dumps(skill.to_dict()))
+    assert TaskFrameSkill.from_dict(document).frame_ranges_ == skill.frame_ranges_
+    mm = skill.to_units("mm").frame_ranges_["pan"]
+    np.testing.assert_allclose(mm["low"], 1e3 * np.array(skill.frame_ranges_["pan"]["low"]))
+    del document["frame_ranges"]  # a file without them plans as before, without the warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        TaskFrameSkill.from_dict(document).plan(far)
+    document = json.loads(json.dumps(skill.to_dict()))
+    document["frame_ranges"]["pan"]["low"] = [9.0, 9.0]
+    with pytest.raises(ValueError, match=r"^f\.json: frame_ranges\.pan: not a box, a rotation"):
+        TaskFrameSkill.from_dict(document, source="f.json")

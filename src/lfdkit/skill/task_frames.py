@@ -38,7 +38,10 @@ File
 One JSON object, ``{"format": "lfdkit-task-frame-skill", "version": 1, ...}``:
 ``params`` (the constructor's), ``units``, ``n_dims``, ``frames`` (the frames'
 names, in order), ``duration`` (the demonstrations' median, s; null without
-times), ``n_demos``, ``tpgmm`` (:meth:`lfdkit.imitate.TPGMM.to_state`:
+times), ``n_demos``, ``frame_ranges`` (each frame's demonstrated poses: its
+origins' box, mean rotation and rotation vectors' box, from which a plan for
+poses beyond them is warned as an extrapolation; optional), ``tpgmm``
+(:meth:`lfdkit.imitate.TPGMM.to_state`:
 its parameters and mixture, every number exact) and ``orientation`` (null, or
 each frame's reference quaternion and mixture). Loading never refits:
 save → load → save gives the same bytes and the loaded skill's plans are the
@@ -92,6 +95,13 @@ TASK_FRAME_VERSION = 1
 
 #: Gauss-Newton steps of the product of the frames' orientation Gaussians, at most.
 ORIENTATION_STEPS = 10
+#: A frame stands still when its origins spread over at most this share of the
+#: demonstrations' extent and it turns at most :data:`STILL_TURN` (rad): warned at the fit.
+STILL_SHARE = 1e-3
+STILL_TURN = float(np.radians(1.0))
+#: A plan's frame turned more than this (rad) past the largest turn the demonstrations
+#: showed, from their mean rotation, extrapolates: warned.
+BEYOND_TURN = 0.25
 
 
 class TaskFrameSkill(Estimator):
@@ -256,6 +266,22 @@ class TaskFrameSkill(Estimator):
         durations = [float(t[-1] - t[0]) for t in records.times if t is not None]
         self.duration_ = float(np.median(durations)) if durations else None
         self.n_demos_ = len(records.points)
+        self.frame_ranges_ = _frame_ranges(records.frames, self.frame_names_, self.tpgmm_.n_dims_)
+        extent = float(np.ptp(np.vstack(records.points), axis=0).max())
+        still = [
+            name
+            for name, shown in self.frame_ranges_.items()
+            if float(np.max(np.subtract(shown["high"], shown["low"]))) <= STILL_SHARE * extent
+            and float(np.max(np.abs(np.r_[shown["turn_low"], shown["turn_high"]]))) <= STILL_TURN
+        ]
+        if still and self.n_demos_ > 1:
+            warnings.warn(
+                f"demos: task frame(s) {', '.join(still)} stand still in every demonstration "
+                "(within 0.1 % of their extent and 1 degree): plans for other poses of them "
+                "extrapolate; show demonstrations with them moved and turned",
+                UserWarning,
+                stacklevel=2,
+            )
         self.n_dims_ = int(self.tpgmm_.n_dims_)
         return self
 
@@ -373,6 +399,7 @@ class TaskFrameSkill(Estimator):
             )
         reach = MAX_RELATIVE_MAGNITUDE * self._extent()
         posed = [_frame(frames[name], name, self.n_dims_, reach) for name in self.frame_names_]
+        self._warn_beyond(dict(zip(self.frame_names_, posed, strict=True)))
         n = check_count(self.n_points if n_points is None else n_points, "n_points", minimum=2)
         if duration is None:
             if self.duration_ is None:
@@ -389,6 +416,49 @@ class TaskFrameSkill(Estimator):
             turns = [_frame_rotation(_pose_vector(frame)) for frame in posed]
             orientations = self._orientations(np.linspace(0.0, 1.0, n), turns)
         return TimedPath(times, positions, velocities, orientations=orientations)
+
+    def _warn_beyond(self, posed: Mapping[str, TaskFrame]) -> None:
+        """Warn where a frame's new pose lies beyond the poses the demonstrations showed.
+
+        Beyond: an origin outside the demonstrated ones' box widened by a quarter
+        of its size on each side (at least 1e-9 of the path's size), or a rotation
+        vector from their mean rotation more than :data:`BEYOND_TURN` outside the
+        box of theirs (in 2-D: the angle outside the demonstrated interval).
+        """
+        ranges = getattr(self, "frame_ranges_", None)
+        if not ranges:
+            return  # an older file: the demonstrated poses were not kept
+        beyond = []
+        for name, frame in posed.items():
+            shown = ranges[name]
+            low, high = np.asarray(shown["low"]), np.asarray(shown["high"])
+            margin = np.maximum(0.25 * (high - low), 1e-9 * self._extent())
+            origin = np.asarray(frame.origin, dtype=np.float64)
+            turned = _turn_vectors(_frame_rotation(_pose_vector(frame)), np.asarray(shown["mean"]))
+            turn = turned[0]
+            turn_low, turn_high = np.asarray(shown["turn_low"]), np.asarray(shown["turn_high"])
+            if np.any(origin < low - margin) or np.any(origin > high + margin):
+                span = ", ".join(
+                    f"{'xyz'[i]} {low[i]:.3g} to {high[i]:.3g}" for i in range(len(low))
+                )
+                beyond.append(
+                    f"{name} at ({', '.join(f'{v:.3g}' for v in origin)}) {self.units}, "
+                    f"beyond the demonstrated {span}"
+                )
+            elif np.any(turn < turn_low - BEYOND_TURN) or np.any(turn > turn_high + BEYOND_TURN):
+                axis = int(np.argmax(np.maximum(turn_low - turn, turn - turn_high)))
+                beyond.append(
+                    f"{name} turned {turn[axis]:+.2f} rad about {'xyz'[axis]} from the "
+                    f"demonstrations' mean, beyond the {turn_low[axis]:+.2f} to "
+                    f"{turn_high[axis]:+.2f} rad they showed"
+                )
+        if beyond:
+            warnings.warn(
+                f"plan: {'; '.join(beyond)}: the plan extrapolates the demonstrations "
+                "(check it, or show demonstrations with such poses)",
+                UserWarning,
+                stacklevel=3,
+            )
 
     def _extent(self) -> float:
         """The demonstrations' size (units): the mixture's largest local mean or position spread."""
@@ -433,6 +503,11 @@ class TaskFrameSkill(Estimator):
         made.tpgmm_ = TPGMM.from_state(state, "tpgmm")
         made.frame_names_ = list(self.frame_names_)
         made.duration_, made.n_demos_, made.n_dims_ = self.duration_, self.n_demos_, self.n_dims_
+        made.frame_ranges_ = None if self.frame_ranges_ is None else {
+            name: {**shown, "low": [factor * v for v in shown["low"]],
+                   "high": [factor * v for v in shown["high"]]}
+            for name, shown in self.frame_ranges_.items()
+        }  # fmt: skip
         # Orientations do not depend on the unit.
         made.orientation_references_ = self.orientation_references_
         made.orientation_models_ = self.orientation_models_
@@ -452,6 +527,7 @@ class TaskFrameSkill(Estimator):
             "frames": list(self.frame_names_),
             "duration": self.duration_,
             "n_demos": int(self.n_demos_),
+            "frame_ranges": jsonable(self.frame_ranges_),
             "tpgmm": jsonable(self.tpgmm_.to_state()),
             "orientation": None
             if self.orientation_models_ is None
@@ -509,6 +585,12 @@ class TaskFrameSkill(Estimator):
             raise ValueError(f"{source}: n_demos: expected a count, got {n_demos!r}")
         skill.orientation_references_, skill.orientation_models_ = _orientation_state(
             data.get("orientation"), len(model.frame_names_), f"{source}: orientation"
+        )
+        ranges = data.get("frame_ranges")  # absent: written before it was kept (no warnings)
+        skill.frame_ranges_ = (
+            None
+            if ranges is None
+            else _ranges_state(ranges, model.frame_names_, model.n_dims_, f"{source}: frame_ranges")
         )
         skill.tpgmm_ = model
         skill.frame_names_ = list(model.frame_names_)
@@ -599,3 +681,64 @@ def _orientation_state(value: Any, n_frames: int, where: str) -> tuple[Any, Any]
     if any(m.n_dims_ != 3 or m.n_frames_ != 1 for m in made):
         raise ValueError(f"{where}.models: expected mixtures of 3-D rotation vectors, one frame")
     return references, made
+
+
+def _frame_ranges(
+    frames: Sequence[Mapping[str, Any]], names: Sequence[str], n_dims: int
+) -> dict[str, dict[str, Any]]:
+    """Each frame's demonstrated poses: the origins' box, the mean rotation, the largest turn."""
+    out: dict[str, dict[str, Any]] = {}
+    for name in names:
+        poses = np.array([np.asarray(f[name], dtype=np.float64) for f in frames])
+        origins = poses[:, :n_dims]
+        turns = np.array([_frame_rotation(p) for p in poses])
+        mean = mean_quaternion(turns)
+        turned = _turn_vectors(turns, mean)
+        out[name] = {
+            "low": origins.min(axis=0).tolist(),
+            "high": origins.max(axis=0).tolist(),
+            "mean": mean.tolist(),
+            "turn_low": turned.min(axis=0).tolist(),
+            "turn_high": turned.max(axis=0).tolist(),
+        }
+    return out
+
+
+def _turn_vectors(turns: np.ndarray, mean: np.ndarray) -> np.ndarray:
+    """Rotation vectors (rad, in the mean's axes) of ``turns`` (m, 4) from ``mean``, (m, 3)."""
+    return 2.0 * log(multiply(conjugate(mean), np.atleast_2d(turns)))
+
+
+def _ranges_state(value: Any, names: Sequence[str], n_dims: int, where: str) -> dict:
+    """A file's ``frame_ranges``: each frame's origins' box, mean rotation and turns' box."""
+    if not isinstance(value, Mapping) or list(value) != list(names):
+        raise ValueError(f"{where}: expected an object with the frames {', '.join(names)}")
+    keys = ("low", "high", "mean", "turn_low", "turn_high")
+    out = {}
+    for name in names:
+        shown = value[name]
+        if not isinstance(shown, Mapping) or set(shown) != set(keys):
+            raise ValueError(f"{where}.{name}: expected {', '.join(keys)}")
+        try:
+            low, high, mean, turn_low, turn_high = (
+                np.array(shown[k], dtype=np.float64) for k in keys
+            )
+        except (TypeError, ValueError):
+            raise ValueError(f"{where}.{name}: expected numbers") from None
+        if (
+            low.shape != (n_dims,)
+            or high.shape != (n_dims,)
+            or mean.shape != (4,)
+            or turn_low.shape != (3,)
+            or turn_high.shape != (3,)
+            or not np.all(np.isfinite(np.r_[low, high, mean, turn_low, turn_high]))
+            or np.any(low > high)
+            or np.any(turn_low > turn_high)
+            or abs(float(np.linalg.norm(mean)) - 1.0) > 1e-9
+        ):
+            raise ValueError(
+                f"{where}.{name}: not a box, a rotation and turns; the file was edited"
+            )
+        arrays = (low, high, mean, turn_low, turn_high)
+        out[name] = {k: v.tolist() for k, v in zip(keys, arrays, strict=True)}
+    return out
