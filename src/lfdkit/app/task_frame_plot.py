@@ -50,18 +50,17 @@ def task_frame_figure(
     Returns
     -------
     matplotlib.figure.Figure
+        Not registered with pyplot (save it with ``fig.savefig``).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     plan = np.asarray(plan, dtype=np.float64)
     d = plan.shape[1]
     everything = [plan, *(np.asarray(points) for points, _ in demos)]
     extent = float(np.ptp(np.vstack(everything), axis=0).max()) or 1.0
     arrow = 0.08 * extent
-    fig = plt.figure(figsize=(7.0, 6.0))
+    # A Figure of its own, no pyplot state: headless, and a user's backend left alone.
+    fig = Figure(figsize=(7.0, 6.0), layout="constrained")
     ax = fig.add_subplot(projection="3d" if d == 3 else None)
 
     def draw_frame(name: str | None, frame: Any, alpha: float) -> None:
@@ -106,5 +105,4 @@ def task_frame_figure(
         ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     ax.set_title(title or "task-frame skill: the plan in its frames")
-    fig.tight_layout()
     return fig
