@@ -100,7 +100,7 @@ import math
 import os
 from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 import numpy as np
 
@@ -118,6 +118,7 @@ __all__ = [
     "SKILL_FORMAT",
     "SKILL_VERSION",
     "TASK_FRAME_FORMAT",
+    "SavedToSkillFile",
     "SkillDocument",
     "check_file_params",
     "check_skill_path",
@@ -800,6 +801,42 @@ def made_from_document(
             f"{source}: units: {data['units']!r} does not match params.units {made.units!r}"
         )
     return made
+
+
+class SavedToSkillFile:
+    """``save`` and ``load`` of a skill kind that has ``to_dict`` and ``from_dict``.
+
+    One home for what every kind of skill file shares: the write is atomic
+    and never over a file unless asked (:func:`write_skill_file`), the read
+    strict and bounded (:func:`read_skill_file`); the kind's ``from_dict``
+    checks the fields, naming the file, and never refits.
+    """
+
+    def save(self, path: PathLike, *, overwrite: bool = False) -> Path:
+        """Write the skill as JSON, atomically; returns the file written.
+
+        Raises ``FileExistsError`` if ``path`` exists and ``overwrite`` is
+        false, ``IsADirectoryError`` if it is a directory.
+        """
+        target = check_skill_path(path)
+        return write_skill_file(target, self.to_dict(), overwrite=overwrite)  # type: ignore[attr-defined]
+
+    @classmethod
+    def load(cls, path: PathLike) -> Self:
+        """Read a skill written by :meth:`save` (strict JSON, bounded size; never refits).
+
+        Raises
+        ------
+        FileNotFoundError
+            If the file does not exist.
+        ValueError
+            For a file that is binary (e.g. a pickle), larger than
+            :data:`MAX_SKILL_FILE_BYTES`, not valid JSON, of another kind,
+            from a newer version, or with a broken or out-of-range field (the
+            message names the file and the field).
+        """
+        name = os.fspath(path)
+        return cls.from_dict(read_skill_file(name), source=name)  # type: ignore[attr-defined]
 
 
 def is_periodic_document(data: Any) -> bool:

@@ -8,9 +8,7 @@ files written before the fitted state was stored.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Mapping
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -29,7 +27,7 @@ if TYPE_CHECKING:  # annotations only: the estimator imports this module
 _MAX_STORED_ORIENTATION_SAMPLES = 20_000
 
 
-class SkillFiles:
+class SkillFiles(skill_file.SavedToSkillFile):
     """A :class:`~lfdkit.skill.Skill` to and from its file (:mod:`lfdkit.io.skill_file`)."""
 
     # ------------------------------------------------------------------ files
@@ -162,37 +160,6 @@ class SkillFiles:
                 raise
             raise ValueError(f"{source}: {exc}") from None
         return skill
-
-    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Write the skill to a JSON file, atomically (:mod:`lfdkit.io.skill_file`).
-
-        Returns the file written. Raises ``FileExistsError`` if ``path``
-        exists and ``overwrite`` is false, ``IsADirectoryError`` if it is a
-        directory (:func:`lfdkit.io.skill_file.write_skill_file`).
-        """
-        target = skill_file.check_skill_path(path)
-        return skill_file.write_skill_file(target, self.to_dict(), overwrite=overwrite)
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> Skill:
-        """Read a skill written by :meth:`save`.
-
-        Parsing is strict (:func:`lfdkit.io.load_json`: no repeated keys,
-        no NaN, bounded size and depth) and the parameters must lie in
-        :data:`SKILL_FILE_LIMITS`.
-
-        Raises
-        ------
-        FileNotFoundError
-            If the file does not exist.
-        ValueError
-            For a file that is binary (e.g. a pickle), larger than
-            :data:`MAX_SKILL_FILE_BYTES`, not valid JSON, not a skill, from a
-            newer version, or with a broken or out-of-range field (the message
-            names the file and field).
-        """
-        name = os.fspath(path)
-        return cls.from_dict(skill_file.read_skill_file(name), source=name)
 
 
 def _check_learned_classes(skill: Skill) -> None:

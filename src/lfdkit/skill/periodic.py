@@ -51,9 +51,7 @@ loaded skill's plans are the saved one's to the bit.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable, Mapping
-from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -72,12 +70,10 @@ from lfdkit.imitate.rhythmic import (
 )
 from lfdkit.io.skill_file import (
     PERIODIC_FORMAT,
-    check_skill_path,
+    SavedToSkillFile,
     is_periodic_document,
     jsonable,
     made_from_document,
-    read_skill_file,
-    write_skill_file,
 )
 from lfdkit.model.timed_path import TimedPath
 
@@ -101,7 +97,7 @@ POOR_FIT = 0.2
 NO_CYCLE = 0.5
 
 
-class PeriodicSkill(Estimator):
+class PeriodicSkill(SavedToSkillFile, Estimator):
     """A periodic movement of the tool, learned from several cycles, planned at any speed and size.
 
     Parameters
@@ -421,30 +417,6 @@ class PeriodicSkill(Estimator):
         skill.position_, skill.orientation_ = position, orientation
         skill._learned()
         return skill
-
-    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Write the skill as JSON, atomically; returns the file.
-
-        Raises ``FileExistsError`` if ``path`` exists and ``overwrite`` is
-        false, ``IsADirectoryError`` if it is a directory.
-        """
-        target = check_skill_path(path)
-        return write_skill_file(target, self.to_dict(), overwrite=overwrite)
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> PeriodicSkill:
-        """Read a skill written by :meth:`save` (strict JSON, bounded size; never refits).
-
-        Raises
-        ------
-        FileNotFoundError
-            If the file does not exist.
-        ValueError
-            For a file that is not valid JSON, not a periodic skill, from a
-            newer version, or with a broken field (naming the file and field).
-        """
-        name = os.fspath(path)
-        return cls.from_dict(read_skill_file(name), source=name)
 
 
 # ---------------------------------------------------------------- internals

@@ -51,10 +51,8 @@ saved one's to the bit.
 from __future__ import annotations
 
 import math
-import os
 import warnings
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -79,11 +77,9 @@ from lfdkit.imitate.dmp import MAX_RELATIVE_MAGNITUDE
 from lfdkit.imitate.tpgmm import TPGMM, TaskFrame
 from lfdkit.io.skill_file import (
     TASK_FRAME_FORMAT,
-    check_skill_path,
+    SavedToSkillFile,
     jsonable,
     made_from_document,
-    read_skill_file,
-    write_skill_file,
 )
 from lfdkit.model.demos import Demo, demo_fields
 from lfdkit.model.timed_path import TimedPath
@@ -104,7 +100,7 @@ STILL_TURN = float(np.radians(1.0))
 BEYOND_TURN = 0.25
 
 
-class TaskFrameSkill(Estimator):
+class TaskFrameSkill(SavedToSkillFile, Estimator):
     """A movement learned in its task frames (TP-GMM), planned for new poses of them.
 
     Parameters
@@ -597,21 +593,6 @@ class TaskFrameSkill(Estimator):
         skill.duration_ = None if duration is None else float(duration)
         skill.n_demos_, skill.n_dims_ = n_demos, int(model.n_dims_)
         return skill
-
-    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Write the skill as JSON, atomically; returns the file.
-
-        Raises ``FileExistsError`` if ``path`` exists and ``overwrite`` is
-        false, ``IsADirectoryError`` if it is a directory.
-        """
-        target = check_skill_path(path)
-        return write_skill_file(target, self.to_dict(), overwrite=overwrite)
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> TaskFrameSkill:
-        """Read a skill written by :meth:`save` (strict JSON, bounded size; never refits)."""
-        name = os.fspath(path)
-        return cls.from_dict(read_skill_file(name), source=name)
 
 
 def _frame(pose: Any, name: str, n_dims: int, reach: float) -> TaskFrame:
