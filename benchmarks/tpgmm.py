@@ -142,6 +142,17 @@ def _angle(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.arccos(np.clip(cosine, -1.0, 1.0)))
 
 
+def _score_against_truth(
+    scores: dict[str, list[float]], path: np.ndarray, truth: np.ndarray, target: np.ndarray
+) -> None:
+    """Append the RMS distance to the known path, the end's distance from ``target``, and the
+    arrival's angle off the known one (the last :data:`ARRIVAL` samples)."""
+    scores["truth"].append(float(np.sqrt(np.mean(np.sum((path - truth) ** 2, axis=1)))))
+    scores["end"].append(float(np.linalg.norm(path[-1] - target)))
+    arrival = path[-1] - path[-ARRIVAL]
+    scores["arrival"].append(_angle(arrival, truth[-1] - truth[-ARRIVAL]))
+
+
 def held_out(d: int, n_demos: int, noise: float, seed: int) -> tuple[list[dict], dict]:
     rng = np.random.default_rng(seed)
     frames = [frames_of_task(d, rng) for _ in range(n_demos)]
@@ -163,10 +174,7 @@ def held_out(d: int, n_demos: int, noise: float, seed: int) -> tuple[list[dict],
                 )
             s = scores[method]
             s["demo"].append(float(np.sqrt(np.mean(np.sum((path - demos[j]) ** 2, axis=1)))))
-            s["truth"].append(float(np.sqrt(np.mean(np.sum((path - truth) ** 2, axis=1)))))
-            s["end"].append(float(np.linalg.norm(path[-1] - frames[j][1].origin)))
-            arrival = path[-1] - path[-ARRIVAL]
-            s["arrival"].append(_angle(arrival, truth[-1] - truth[-ARRIVAL]))
+            _score_against_truth(s, path, truth, frames[j][1].origin)
             s["fit"].append(fit_s)
             s["reproduce"].append(reproduce_s)
             if j == 0:
@@ -228,10 +236,7 @@ def skills_held_out(n_demos: int, seed: int) -> list[dict]:
                         path = np.asarray(skill.plan(demos[j][0], pan[:2]).points)
                     done = time.perf_counter()
                 s = scores[name]
-                s["truth"].append(float(np.sqrt(np.mean(np.sum((path - truth) ** 2, axis=1)))))
-                s["end"].append(float(np.linalg.norm(path[-1] - pan[:2])))
-                arrival = path[-1] - path[-ARRIVAL]
-                s["arrival"].append(_angle(arrival, truth[-1] - truth[-ARRIVAL]))
+                _score_against_truth(s, path, truth, pan[:2])
                 s["fit"].append(fitted - began)
                 s["plan"].append(done - fitted)
     return [
