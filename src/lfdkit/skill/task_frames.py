@@ -234,6 +234,9 @@ class TaskFrameSkill(SavedToSkillFile, Estimator):
                 f"demos[{j}]: has no tool orientations, but demos[{turned.index(True)}] has; give "
                 "every demonstration its orientations (qx, qy, qz, qw columns) or none"
             )
+        n_dims = int(np.shape(records.points[0])[-1])
+        if n_dims not in (2, 3):  # before EM: its time spent on a refusal
+            raise ValueError(f"demos: {n_dims}-D; a tool moves in 2 or 3")
         scale = conversion_factor("m", params["units"])  # EM in metres, whatever the unit
         model = TPGMM(
             n_components=params["n_components"],
@@ -253,8 +256,6 @@ class TaskFrameSkill(SavedToSkillFile, Estimator):
                 UserWarning,
                 stacklevel=2,
             )
-        if self.tpgmm_.n_dims_ not in (2, 3):
-            raise ValueError(f"demos: {self.tpgmm_.n_dims_}-D; a tool moves in 2 or 3")
         self.frame_names_ = list(self.tpgmm_.frame_names_ or [])
         self.orientation_references_, self.orientation_models_ = None, None
         if all(turned):
@@ -395,7 +396,8 @@ class TaskFrameSkill(SavedToSkillFile, Estimator):
             )
         reach = MAX_RELATIVE_MAGNITUDE * self._extent()
         posed = [_frame(frames[name], name, self.n_dims_, reach) for name in self.frame_names_]
-        self._warn_beyond(dict(zip(self.frame_names_, posed, strict=True)))
+        turns = [_rotation_of(frame) for frame in posed]
+        self._warn_beyond(posed, turns)
         n = check_count(self.n_points if n_points is None else n_points, "n_points", minimum=2)
         if duration is None:
             if self.duration_ is None:
@@ -409,12 +411,11 @@ class TaskFrameSkill(SavedToSkillFile, Estimator):
         velocities = np.gradient(positions, times, axis=0)
         orientations = None
         if self.orientation_models_ is not None:
-            turns = [_frame_rotation(_pose_vector(frame)) for frame in posed]
             orientations = self._orientations(np.linspace(0.0, 1.0, n), turns)
         return TimedPath(times, positions, velocities, orientations=orientations)
 
-    def _warn_beyond(self, posed: Mapping[str, TaskFrame]) -> None:
-        """Warn where a frame's new pose lies beyond the poses the demonstrations showed.
+    def _warn_beyond(self, posed: Sequence[TaskFrame], turns: Sequence[np.ndarray]) -> None:
+        """Warn where a frame's new pose (its rotation ``turns``) lies beyond those shown.
 
         Beyond: an origin outside the demonstrated ones' box widened by a quarter
         of its size on each side (at least 1e-9 of the path's size), or a rotation
@@ -425,13 +426,12 @@ class TaskFrameSkill(SavedToSkillFile, Estimator):
         if not ranges:
             return  # an older file: the demonstrated poses were not kept
         beyond = []
-        for name, frame in posed.items():
+        for name, frame, rotation in zip(self.frame_names_, posed, turns, strict=True):
             shown = ranges[name]
             low, high = np.asarray(shown["low"]), np.asarray(shown["high"])
             margin = np.maximum(0.25 * (high - low), 1e-9 * self._extent())
             origin = np.asarray(frame.origin, dtype=np.float64)
-            turned = _turn_vectors(_frame_rotation(_pose_vector(frame)), np.asarray(shown["mean"]))
-            turn = turned[0]
+            turn = _turn_vectors(rotation, np.asarray(shown["mean"]))[0]
             turn_low, turn_high = np.asarray(shown["turn_low"]), np.asarray(shown["turn_high"])
             if np.any(origin < low - margin) or np.any(origin > high + margin):
                 span = ", ".join(
@@ -633,12 +633,12 @@ def _frame_rotation(pose: Any) -> np.ndarray:
     return pose[3:] / np.linalg.norm(pose[3:])
 
 
-def _pose_vector(frame: TaskFrame) -> np.ndarray:
-    """A frame's pose as :meth:`TaskFrame.from_vector` takes it (its rotation's part)."""
+def _rotation_of(frame: TaskFrame) -> np.ndarray:
+    """A frame's rotation as a unit quaternion (a 2-D one's about z), as `_frame_rotation`."""
     matrix = np.asarray(frame.matrix, dtype=np.float64)
     if matrix.shape == (2, 2):
-        return np.r_[frame.origin, np.arctan2(matrix[1, 0], matrix[0, 0])]
-    return np.r_[frame.origin, quaternion_from_matrix(matrix)]
+        return _frame_rotation(np.r_[frame.origin, np.arctan2(matrix[1, 0], matrix[0, 0])])
+    return _frame_rotation(np.r_[frame.origin, quaternion_from_matrix(matrix)])
 
 
 def _orientation_state(value: Any, n_frames: int, where: str) -> tuple[Any, Any]:
