@@ -530,16 +530,27 @@ def _units_line(source: object, detail: str, likely: str | None, units: str) -> 
     )
 
 
-def refuse_implausible_metres(source: object, extent: float, speed: float | None) -> None:
-    """Demonstrations of this size (units) and fastest mean speed (units/s) read as metres.
+def refuse_implausible_metres(source: object, paths: Any, times: Any) -> None:
+    """Demonstrations (``paths``, ``times`` per path or None) refused when implausible in metres.
 
-    Refused on the one line :func:`units_refusal` gives, when implausible in
-    metres (``--periodic`` and ``--task-frames`` learn without the skill's
-    own check, so they call this when no --units was given).
+    Their largest extent along an axis and the fastest one's mean speed
+    (path length over duration; untimed ones count for the extent only), on
+    the one line :func:`units_refusal` gives. ``--periodic`` and
+    ``--task-frames`` learn without the skill's own check, so they call this
+    when no --units was given.
     """
+    import numpy as np
+
+    from lfdkit.core.geometry import path_length
     from lfdkit.core.units import implausible_units, likely_units
 
-    why = implausible_units(extent, "m", speed)
+    extent = float(np.ptp(np.vstack(paths), axis=0).max())
+    speeds = [
+        path_length(path) / float(t[-1] - t[0])
+        for path, t in zip(paths, times, strict=True)
+        if t is not None and t[-1] > t[0]
+    ]
+    why = implausible_units(extent, "m", max(speeds) if speeds else None)
     if why is not None:
         raise CommandError(_units_line(source, why, likely_units(extent, "m"), "m"))
 

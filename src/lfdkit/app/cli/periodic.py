@@ -125,7 +125,7 @@ def learn(args: argparse.Namespace) -> None:
     elif speed is not None:
         raise UsageError("--pace: the file has times (a t column); leave --pace out")
     if args.units is None:  # implausible in metres and no unit given: refused, as learn does
-        _check_plausible(source, positions, times)
+        refuse_implausible_metres(source, [positions], [times])
     skill = PeriodicSkill(n_harmonics=args.harmonics, period=period, units=args.units or "m")
     skill = _fitted(skill, positions, times, demo.orientations, source)
     poor = skill.fit_warning(positions)
@@ -133,17 +133,6 @@ def learn(args: argparse.Namespace) -> None:
         warnings.warn(f"{source}: {poor} (--harmonics)", stacklevel=1)
     skill.save(args.output, overwrite=args.force)
     tell(args, f"learned a periodic skill: {skill.summary()}; wrote {args.output}")
-
-
-def _check_plausible(source, positions, times) -> None:
-    """Refuse a recording implausible in metres (no --units given): one line, the unit likely."""
-    import numpy as np
-
-    from lfdkit.core.geometry import path_length
-
-    extent = float(np.ptp(positions, axis=0).max())
-    speed = path_length(positions) / float(times[-1] - times[0])
-    refuse_implausible_metres(source, extent, speed)
 
 
 def _fitted(skill, positions, times, orientations=None, source=None):

@@ -116,7 +116,9 @@ def learn(args: argparse.Namespace) -> None:
             "learns from frame_<name>_x, ... columns (lfdkit import --task-frame writes them)"
         )
     if args.units is None:  # implausible in metres and no unit given: refused, as learn does
-        _check_plausible(args.demos[0], records)
+        refuse_implausible_metres(
+            args.demos[0], [r.points for r in records], [r.times for r in records]
+        )
     components = DEFAULT_COMPONENTS if args.components is None else args.components
     skill = TaskFrameSkill(n_components=components, units=args.units or "m")
     try:
@@ -125,23 +127,6 @@ def learn(args: argparse.Namespace) -> None:
         raise CommandError(f"{args.demos[0]}: {exc}") from None
     skill.save(args.output, overwrite=args.force)
     tell(args, f"learned a task-frame skill: {skill.summary()}; wrote {args.output}")
-
-
-def _check_plausible(source, records) -> None:
-    """Refuse demonstrations implausible in metres (no --units given): one line, the unit likely."""
-    import numpy as np
-
-    from lfdkit.core.geometry import path_length
-
-    points = np.vstack([record.points for record in records])
-    extent = float(np.ptp(points, axis=0).max())
-    timed = [r for r in records if r.times is not None and r.times[-1] > r.times[0]]
-    speed = (
-        max(path_length(r.points) / float(r.times[-1] - r.times[0]) for r in timed)
-        if timed
-        else None
-    )
-    refuse_implausible_metres(source, extent, speed)
 
 
 # ---------------------------------------------------------------- plan
