@@ -113,6 +113,7 @@ __all__ = [
     "MAX_NPZ_MEMBERS",
     "QUATERNION_COLUMNS",
     "SUPPORTED_SUFFIXES",
+    "is_frame_name",
     "load_demo_files",
     "load_demos",
     "path_csv",
@@ -160,8 +161,9 @@ _Read = tuple[
     list[np.ndarray | None],
     list[dict[str, np.ndarray] | None],
 ]
-_FRAME_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
-_FRAME_COLUMN = re.compile(r"frame_([A-Za-z0-9][A-Za-z0-9_-]*)_(x|y|z|angle|qx|qy|qz|qw)", re.I)
+# A task frame's name: it names CSV columns frame_<name>_<field>.
+_FRAME_NAME = r"[A-Za-z0-9][A-Za-z0-9_-]*"
+_FRAME_COLUMN = re.compile(rf"frame_({_FRAME_NAME})_(x|y|z|angle|qx|qy|qz|qw)", re.I)
 
 
 # --------------------------------------------------------------------------- #
@@ -1245,9 +1247,15 @@ def _json_frames(
     return _frame_poses(fname, q, poses, f"demos[{j}] (id {did!r})")
 
 
+def is_frame_name(name: Any) -> bool:
+    """Whether ``name`` can name a task frame: letters, digits, ``_`` and ``-``, starting
+    with a letter or digit (it names the CSV columns ``frame_<name>_x, ...``)."""
+    return isinstance(name, str) and re.fullmatch(_FRAME_NAME, name) is not None
+
+
 def _check_frame_name(name: Any, where: str) -> None:
-    """A task frame's name: letters, digits, ``_`` and ``-`` (it names CSV columns)."""
-    if not isinstance(name, str) or _FRAME_NAME.fullmatch(name) is None:
+    """A task frame's name (:func:`is_frame_name`), or a one-line error starting with ``where``."""
+    if not is_frame_name(name):
         raise ValueError(
             f"{where}: a task frame's name is letters, digits, '_' and '-', starting with a "
             f"letter or digit (it names CSV columns frame_<name>_x, ...), got {name!r}"

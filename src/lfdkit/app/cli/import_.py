@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import re
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -36,7 +35,9 @@ def _task_frame(text: str) -> tuple[str, str, str]:
     pair, _, name = text.partition("=")
     parent, child = _frame_pair(pair)
     name = name.strip() or child.lstrip("/")
-    if re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", name) is None:
+    from lfdkit.io.demos import is_frame_name  # the files' rule (NumPy: only with --task-frame)
+
+    if not is_frame_name(name):
         raise argparse.ArgumentTypeError(
             f"task frame name {name!r}: letters, digits, '_' and '-' only (it names the "
             f"columns frame_<name>_x, ...); rename it with {pair}=NAME"
