@@ -709,12 +709,7 @@ def read_frame_poses(
             f"{(at[k] - chain.ns[0]) / 1e9:+.3f} s from its first ({span:.3f} s recorded); "
             "record the object's transform for the whole demonstration"
         )
-    j = np.clip(np.searchsorted(chain.ns, at, side="right") - 1, 0, max(len(chain.ns) - 2, 0))
-    if len(chain.ns) == 1:
-        return chain.positions[j], chain.orientations[j]
-    u = np.clip((at - chain.ns[j]) / (chain.ns[j + 1] - chain.ns[j]), 0.0, 1.0)
-    positions = chain.positions[j] + u[:, None] * (chain.positions[j + 1] - chain.positions[j])
-    return positions, slerp(chain.orientations[j], chain.orientations[j + 1], u)
+    return _interpolated(chain.ns, chain.positions, chain.orientations, at)
 
 
 def _edge_at(
@@ -729,12 +724,24 @@ def _edge_at(
         return t[keep], q[keep]
     k, e_ns, _, _ = _order(edge.ns, edge.from_header)
     t, q = t[k], continuous(q[k])
-    j = np.clip(np.searchsorted(e_ns, ns, side="right") - 1, 0, max(len(e_ns) - 2, 0))
-    if len(e_ns) == 1:
-        return np.repeat(t, len(ns), axis=0), np.repeat(q, len(ns), axis=0)
+    return _interpolated(e_ns, t, q, ns)
+
+
+def _interpolated(
+    stamps: np.ndarray, positions: np.ndarray, turns: np.ndarray, at: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (linear) and rotations (slerp) at times ``at`` (ns) between samples at ``stamps``.
+
+    Held at the first and last sample outside their span; one sample is held everywhere.
+    """
+    j = np.clip(np.searchsorted(stamps, at, side="right") - 1, 0, max(len(stamps) - 2, 0))
+    if len(stamps) == 1:
+        return positions[j], turns[j]
     # differences in integer nanoseconds: as floats, epoch times carry 256 ns of rounding
-    u = np.clip((ns - e_ns[j]) / (e_ns[j + 1] - e_ns[j]), 0.0, 1.0)
-    return t[j] + u[:, None] * (t[j + 1] - t[j]), slerp(q[j], q[j + 1], u)
+    u = np.clip((at - stamps[j]) / (stamps[j + 1] - stamps[j]), 0.0, 1.0)
+    return positions[j] + u[:, None] * (positions[j + 1] - positions[j]), slerp(
+        turns[j], turns[j + 1], u
+    )
 
 
 # --------------------------------------------------------------------------- #
