@@ -25,6 +25,7 @@ __all__ = [
     "check_point",
     "check_positive",
     "check_random_state",
+    "check_state_array",
     "check_state_number",
     "check_times",
     "check_times_list",
@@ -460,6 +461,28 @@ def made_from_state(cls: type, state: Any, where: str, keys: Sequence[str]) -> A
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where}.params: {exc}") from None
     return made
+
+
+def check_state_array(
+    state: Mapping[str, Any], key: str, where: str, shape: tuple[int | None, ...]
+) -> np.ndarray:
+    """``state[key]`` as a finite float64 array of ``shape`` (None: any non-zero size there).
+
+    For an estimator's ``from_state`` (nested lists from a skill file, or an
+    array). Raises ``ValueError`` in one line naming ``where.key``.
+    """
+    try:
+        array = np.array(state[key], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}.{key}: expected numbers of shape {shape}") from None
+    if array.ndim != len(shape) or any(
+        n == 0 or (want is not None and n != want)
+        for n, want in zip(array.shape, shape, strict=False)
+    ):
+        raise ValueError(f"{where}.{key}: shape {array.shape}, expected {shape}")
+    if not np.isfinite(array).all():
+        raise ValueError(f"{where}.{key}: contains NaN or infinite values")
+    return array
 
 
 def check_state_number(state: Mapping[str, Any], key: str, where: str, *, positive: bool) -> float:

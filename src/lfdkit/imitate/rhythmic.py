@@ -76,6 +76,7 @@ from lfdkit.core.validation import (
     check_path,
     check_point,
     check_positive,
+    check_state_array,
     check_state_number,
     check_times,
     made_from_state,
@@ -260,7 +261,7 @@ class RhythmicDMP(Estimator):
         if isinstance(n_dims, bool) or not isinstance(n_dims, int) or not 1 <= n_dims <= 3:
             raise ValueError(f"{where}.n_dims: expected 1 to 3, got {n_dims!r}")
         rows = 2 * made.n_harmonics + 1
-        coefficients = _state_array(state, "coefficients", where, (rows, n_dims))
+        coefficients = check_state_array(state, "coefficients", where, (rows, n_dims))
         made.coefficients_ = coefficients
         made.period_ = period
         made.centre_ = coefficients[0].copy()
@@ -387,7 +388,7 @@ class QuaternionRhythmicDMP(Estimator):
             One line starting with ``where`` for a missing or malformed field.
         """
         made = made_from_state(cls, state, where, ("centre", "residual_rms", "tangent"))
-        centre = _state_array(state, "centre", where, (4,))
+        centre = check_state_array(state, "centre", where, (4,))
         check_quaternions(centre, f"{where}.centre", n=1)  # unit: kept as stored, to the bit
         residual = check_state_number(state, "residual_rms", where, positive=False)
         if not isinstance(state["tangent"], Mapping):
@@ -817,18 +818,3 @@ def _sampled_centre(value: Any, learned: np.ndarray, d: int, instants: np.ndarra
 
 def _check_vector(value: Any, name: str, d: int) -> np.ndarray:
     return check_point(np.asarray(value).reshape(-1), name, d, style="point")
-
-
-def _state_array(
-    state: Mapping[str, Any], key: str, where: str, shape: tuple[int, ...]
-) -> np.ndarray:
-    """A finite float64 array of a state, of ``shape`` (nested lists or an array)."""
-    try:
-        array = np.array(state[key], dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{where}.{key}: expected numbers of shape {shape}") from None
-    if array.shape != shape:
-        raise ValueError(f"{where}.{key}: shape {array.shape}, expected {shape}")
-    if not np.isfinite(array).all():
-        raise ValueError(f"{where}.{key}: contains NaN or infinite values")
-    return array

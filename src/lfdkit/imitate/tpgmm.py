@@ -70,6 +70,7 @@ from lfdkit.core.rotations import check_quaternions, matrix_from_quaternion
 from lfdkit.core.validation import (
     check_count,
     check_demos,
+    check_state_array,
     check_times_list,
     check_values,
     made_from_state,
@@ -574,9 +575,9 @@ class TPGMM(Estimator):
         keys = ("weights", "means", "covariances", "frame_names", "n_samples", "log_likelihood")
         made = made_from_state(cls, state, where, (*keys, "converged", "n_iter"))
         k = int(made.n_components)
-        weights = _state_array(state["weights"], f"{where}.weights", 1)
-        means = _state_array(state["means"], f"{where}.means", 3)
-        covariances = _state_array(state["covariances"], f"{where}.covariances", 4)
+        weights = check_state_array(state, "weights", where, (None,))
+        means = check_state_array(state, "means", where, (None, None, None))
+        covariances = check_state_array(state, "covariances", where, (None, None, None, None))
         if weights.shape != (k,) or means.shape[0] != k or means.shape[2] < 2:
             raise ValueError(
                 f"{where}: weights {weights.shape} and means {means.shape} do not hold "
@@ -717,19 +718,6 @@ def _time_bins(
 
 def _symmetric(matrices: np.ndarray) -> np.ndarray:
     return 0.5 * (matrices + np.swapaxes(matrices, -1, -2))
-
-
-def _state_array(value: Any, where: str, ndim: int) -> np.ndarray:
-    """A stored array of ``ndim`` dimensions, finite float64; a one-line error naming ``where``."""
-    try:
-        arr = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{where}: expected nested lists of numbers") from None
-    if arr.ndim != ndim or 0 in arr.shape:
-        raise ValueError(f"{where}: expected a {ndim}-D array, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{where}: contains NaN or infinite values")
-    return arr
 
 
 def _recorded_frames(recorded: list[Any], frames: Any) -> tuple[Any, list[str] | None]:
