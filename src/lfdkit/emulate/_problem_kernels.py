@@ -48,6 +48,10 @@ LISTED_TERMS = 32
 #: radii a point) 4 lists the terms again about once in three Newton steps, and the solves
 #: take 0.18 of the time (2, 8 and 16 action bounds: 0.30, 0.19 and 0.26).
 LIVE_REACH = 4.0
+# The term lists that stand for every term (``every`` True: read by none), made once: a
+# planner_cost call in the receding horizon's loops allocated two arrays each time.
+_NO_IDS = np.empty((0, 0), dtype=np.int64)
+_NO_COUNTS = np.empty(0, dtype=np.int64)
 
 
 @numba.njit(cache=True, inline="always")
@@ -109,26 +113,19 @@ def planner_cost(c, b, a, weight, rr, nr, inner2, outer2, mu, d):
     (9 against 1.5 µs for 99 points and one obstacle), and the projected
     Newton solver's line search is most of a fit's time.
     """
-    ids, counts = _every_term(d.shape[0])
     return _listed_cost(
-        c, b, a, weight, rr, nr, inner2, outer2, mu, d, True, ids, counts, ids, counts
-    )
+        c, b, a, weight, rr, nr, inner2, outer2, mu, d, True, _NO_IDS, _NO_COUNTS, _NO_IDS,
+        _NO_COUNTS,
+    )  # fmt: skip
 
 
 @numba.njit(cache=True, nogil=True)
 def planner_derivatives(c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian):
     """Cost; fills the gradient (n, m) and Hessian blocks (n, m, m) in the offsets."""
-    ids, counts = _every_term(d.shape[0])
     return _listed_derivatives(
         c, b, a, weight, rr, nr, inner2, outer2, mu, d, gradient, hessian,
-        True, ids, counts, ids, counts,
+        True, _NO_IDS, _NO_COUNTS, _NO_IDS, _NO_COUNTS,
     )  # fmt: skip
-
-
-@numba.njit(cache=True, inline="always")
-def _every_term(n):
-    """The term lists that stand for every term (``every`` True: read by none)."""
-    return np.empty((n, 0), dtype=np.int64), np.empty(n, dtype=np.int64)
 
 
 @numba.njit(cache=True, inline="always")
