@@ -78,7 +78,7 @@ from lfdkit.core.validation import (
 from lfdkit.mimic.gmr import GMR
 from lfdkit.model.demos import demo_fields
 
-__all__ = ["TPGMM", "TaskFrame", "gaussian_product"]
+__all__ = ["TPGMM", "TaskFrame", "frame_from_pose", "gaussian_product"]
 
 Product = Literal["components", "paths"]
 CovMode = Literal["thesis", "law_of_total_covariance"]
@@ -745,13 +745,13 @@ def _recorded_frames(recorded: list[Any], frames: Any) -> tuple[Any, list[str] |
                 f"{', '.join(names)}; every demonstration needs the same frames in the same order"
             )
         out.append(
-            [_recorded_frame(poses[name], f"demos[{i}]: task frame {name!r}") for name in names]
+            [frame_from_pose(poses[name], f"demos[{i}]: task frame {name!r}") for name in names]
         )
     return out, names
 
 
-def _recorded_frame(pose: Any, where: str) -> TaskFrame:
-    """A recorded pose as a frame; its errors start with ``where`` (the demonstration, the name)."""
+def frame_from_pose(pose: Any, where: str) -> TaskFrame:
+    """A pose vector as a finite frame (:meth:`TaskFrame.from_vector`); errors begin ``where``."""
     try:
         frame = TaskFrame.from_vector(pose)
     except (TypeError, ValueError) as exc:

@@ -74,7 +74,7 @@ from lfdkit.core.rotations import (
 from lfdkit.core.units import check_units, conversion_factor
 from lfdkit.core.validation import check_count, check_positive
 from lfdkit.imitate.dmp import MAX_RELATIVE_MAGNITUDE
-from lfdkit.imitate.tpgmm import TPGMM, TaskFrame
+from lfdkit.imitate.tpgmm import TPGMM, TaskFrame, frame_from_pose
 from lfdkit.io.skill_file import (
     TASK_FRAME_FORMAT,
     SavedToSkillFile,
@@ -602,19 +602,17 @@ def _frame(pose: Any, name: str, n_dims: int, reach: float) -> TaskFrame:
     :data:`~lfdkit.imitate.dmp.MAX_RELATIVE_MAGNITUDE` times the demonstrations'
     extent, as a skill's goal (a typo or another unit, not a task).
     """
+    where = f"frames[{name!r}]"
     if isinstance(pose, TaskFrame):
         frame = pose
+        if not (np.all(np.isfinite(frame.origin)) and np.all(np.isfinite(frame.matrix))):
+            raise ValueError(f"{where}: contains NaN or an infinite value")
     else:
-        try:
-            frame = TaskFrame.from_vector(pose)
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"frames[{name!r}]: {exc}") from None
+        frame = frame_from_pose(pose, where)
     if np.asarray(frame.origin).shape != (n_dims,):
         want = "[x, y, angle]" if n_dims == 2 else "[x, y, z, qx, qy, qz, qw]"
-        raise ValueError(f"frames[{name!r}]: this skill is {n_dims}-D; give {want}")
-    origin, matrix = np.asarray(frame.origin, dtype=float), np.asarray(frame.matrix, dtype=float)
-    if not (np.all(np.isfinite(origin)) and np.all(np.isfinite(matrix))):
-        raise ValueError(f"frames[{name!r}]: contains NaN or an infinite value")
+        raise ValueError(f"{where}: this skill is {n_dims}-D; give {want}")
+    origin = np.asarray(frame.origin, dtype=float)
     far = float(np.abs(origin).max())
     if far > reach:
         raise ValueError(
