@@ -407,13 +407,15 @@ def _widths(normals: np.ndarray, precision: np.ndarray) -> np.ndarray:
 
 
 class _WindowReaches:
-    """:func:`_obstacle_reaches` of every window of a static 2-D problem, from one pass.
+    """:func:`_obstacle_reaches` of every window of a static problem, from one pass.
 
     The thesis's MPC builds a window's grid at every step near an obstacle;
     the squared distances, lateral offsets and widths of every centre at
     every nominal point are computed once per plan, element by element the
     same numbers as per window (issue 26: the window's grid was two fifths of
     an MPC step). Each window takes the first nearest point among its own.
+    In 3-D too (issue 34: 1.1 of the 20 s of CPU of ``benchmarks/boxes_sides.py``'s
+    slowest fold, whose model choice replans with the thesis's MPC).
     """
 
     def __init__(self, problem: Problem) -> None:
@@ -439,9 +441,9 @@ class _WindowReaches:
 
     @classmethod
     def usable(cls, problem: Problem) -> bool:
-        """Whether ``problem`` is one this covers (static, 2-D, with obstacles)."""
+        """Whether ``problem`` is one this covers (static, with obstacles)."""
         return (
-            problem.m == 1
+            problem.m in (1, 2)
             and not problem.moving
             and problem.has_obstacles
             and problem.hard_centres.ndim == 2
@@ -606,16 +608,27 @@ class _WindowNodes:
     (:func:`._planner_kernels.grid_node_costs`), so the next window on the
     same levels computes only the points it has new: about half the windows
     of the stress set's side-blocked plans, each of ``H`` points (issue 34).
+
+    A window's levels that are levels of the whole path's grid (``whole``:
+    its levels and states' costs; the same spacing, or twice it, within its
+    span) take their costs from there, the same numbers: 3,539 of 4,490
+    windows of ``benchmarks/boxes_sides.py``'s slowest fold (seed 0, fold 6),
+    whose states' costs had been a sixth of its fit.
     """
 
-    def __init__(self, problem: Problem) -> None:
+    def __init__(self, problem: Problem, whole: tuple[np.ndarray, np.ndarray] | None = None):
         self.problem = problem
         self.levels: bytes | None = None
         self.first = self.stop = 0
         self.node = np.empty((0, 0))
+        self.whole = whole
 
     def costs(self, start: int, stop: int, levels: np.ndarray) -> np.ndarray:
         """The states' costs (stop − start, G²) of points ``start … stop − 1`` on ``levels``."""
+        if self.whole is not None:
+            shared = _shared_states(*self.whole, start, stop, levels)
+            if shared is not None:
+                return shared
         key = levels.tobytes()
         if key != self.levels or not self.first <= start <= self.stop:
             self.levels, self.first, self.stop = key, start, start
@@ -625,6 +638,29 @@ class _WindowNodes:
             self.node = np.concatenate([self.node[start - self.first :], new])
             self.first, self.stop = start, stop
         return np.ascontiguousarray(self.node[start - self.first : stop - self.first])
+
+
+def _shared_states(
+    whole_levels: np.ndarray, whole_node: np.ndarray, start: int, stop: int, levels: np.ndarray
+) -> np.ndarray | None:
+    """Points ``start … stop − 1``'s states' costs on 3-D ``levels`` from a wider grid's, or None.
+
+    ``whole_node`` (n, G²): the states' costs on ``whole_levels``. ``levels``
+    must be every level, or every other one, of ``whole_levels`` round zero
+    (exactly equal: ``s·2j`` and ``2s·j`` round alike, as ``s·2`` is exact);
+    a state's cost depends on its point and levels alone, so the slice holds
+    the same numbers as :func:`_node_costs` on ``levels``.
+    """
+    centre, half = (whole_levels.size - 1) // 2, (levels.size - 1) // 2
+    if half < 1 or levels.size != 2 * half + 1 or whole_levels.size != 2 * centre + 1:
+        return None
+    stride = 1 if levels[half + 1] == whole_levels[centre + 1] else 2
+    first, last = centre - stride * half, centre + stride * half + 1
+    if first < 0 or not np.array_equal(whole_levels[first:last:stride], levels):
+        return None
+    size = whole_levels.size
+    states = whole_node.reshape(-1, size, size)[start:stop, first:last:stride, first:last:stride]
+    return np.ascontiguousarray(states).reshape(stop - start, levels.size**2)
 
 
 class _GridSearch:
@@ -1374,7 +1410,7 @@ def _receding_horizon(
     near = _ObstacleNear(problem) if problem.has_obstacles else None
     # 2-D with obstacles: the loop below in one compiled call (_compiled_loop)
     compiled = near is not None and m == 1 and (lookahead or reaches is not None) and use_compiled()
-    table = levels = node = route = None
+    table = levels = node = route = whole = None
     if problem.has_obstacles:
         with tracker.stage("plan: the grid's cost-to-go (global route)"):
             levels, cells = _lateral_levels(problem, d0)
@@ -1385,6 +1421,7 @@ def _receding_horizon(
                 states, levels.size, cells, reach_goal, np.zeros((0, 0)), table
             )
             node = states if compiled else None
+            whole = (levels, states) if m == 2 else None
             route = _LookAhead(table, levels, cells, problem.max_step, m)
             coarse = _coarse_look_ahead(problem, d0, reach_goal, route)
             if coarse is not None:  # the grid cannot cover the scene: every stride-th point
@@ -1409,7 +1446,7 @@ def _receding_horizon(
             stage.advance(n)
         return out
     total_iter, all_ok, widened, escapes = 0, True, False, []
-    nodes = _WindowNodes(problem) if m == 2 and use_compiled() else None
+    nodes = _WindowNodes(problem, whole) if m == 2 and use_compiled() else None
 
     def step(k: int, stop: int, window: Problem, guess: np.ndarray, anchor: np.ndarray, look):
         """The window's executed candidate: offsets, window cost, Newton iterations, ok.
