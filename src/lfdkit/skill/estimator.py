@@ -15,7 +15,7 @@ import os
 import re
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -278,6 +278,10 @@ class Skill(
         replanned on another side of an obstacle, left out of the fit and of
         the model choice (said in a warning; :meth:`fit_reward`; their rows
         in :attr:`training_fidelity_` have ``left_out`` True);
+        ``preference_passes``: those going the long way round a class kept
+        on one side (:attr:`side_preferences_`), left out of the reward fit
+        and the model choice's refits but replanned and scored (the blockers
+        explain their side, not the reward: :meth:`_long_way_passes`);
         ``demonstrated_slope``: how steeply the demonstrations swerved
         (:func:`lfdkit.emulate.ioc.demonstrated_slope`), the steepest way
         back to the goal a plan takes where ``max_slope`` cannot keep its
@@ -858,6 +862,10 @@ class Skill(
         learned: those demonstrations are how the person passes that class (a
         side preference: ``ioc_info_["side_preferences"]``, warned), not coin
         flips, and without the class every scene with it would be refused.
+        A demonstration that goes the long way round a class the plans keep on
+        one side is left out of the fit from the start (the side blockers
+        explain its side; ``ioc_info_["preference_passes"]``), unless only
+        such passes show a class.
 
         Parameters
         ----------
@@ -934,17 +942,28 @@ class Skill(
             ).fit([demos[j] for j in keep], [scenes[j] for j in keep], [nominals[j] for j in keep])
 
         # Its warnings are given once it stands (a refit without some demonstrations has its own).
+        # The long way round a kept class is the side blockers' doing, not the reward's.
+        by_preference = self._long_way_passes(found, len(demos))
+        shown = {c for j in by_preference for c in scenes[j].labels}
+        others = {c for j in range(len(demos)) if j not in by_preference for c in scenes[j].labels}
+        if not shown <= others:  # a class only they show: learned from them after all
+            by_preference = []
         with progress.stage(label), warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
-            ioc = fitted(range(len(demos)))
-        left_out = self._unexplained(ioc, demos, scenes, goal, nominals)
+            ioc = fitted([j for j in range(len(demos)) if j not in by_preference])
+            if by_preference and shown & set(ioc.not_learned_):
+                by_preference = []  # a class only they come near: learned from them after all
+                said.clear()  # the first fit's warnings are not this one's
+                ioc = fitted(range(len(demos)))
+        unexplained = self._unexplained(ioc, demos, scenes, goal, nominals)
+        left_out = [j for j in unexplained if j not in by_preference]
         keep = [j for j in range(len(demos)) if j not in left_out]
         if left_out:
             named = ", ".join(map(str, left_out))
             stage = f"emulate: inverse optimal control without demo(s) {named}"
             with progress.stage(stage), warnings.catch_warnings(record=True) as said_again:
                 warnings.simplefilter("always")
-                refit = fitted(keep)
+                refit = fitted([j for j in keep if j not in by_preference])
             # Without them a class the fit on all learned would be unlearned (every scene
             # with it refused): they are how the person passes it (a side preference, the
             # fidelity probe's person who keeps cups on its left), not coin flips.
@@ -970,6 +989,8 @@ class Skill(
             "n_demos": len(demos),
             # Obstacle demonstrations left out of the fit (:meth:`_unexplained`).
             "left_out": left_out,
+            # Those going the long way round a kept class: out of the reward fit alone.
+            "preference_passes": list(by_preference),
             "classes": list(ioc.classes_),
             "horizon": ioc.horizon_,
             "loss": float(ioc.loss_),
@@ -1003,12 +1024,17 @@ class Skill(
                 Scene(tuple(o for o in scene if o.label not in ioc.not_learned_))
                 for scene in scenes
             ]
-            self._select_model(
-                [demos[j] for j in keep],
-                [learned[j] for j in keep],
-                goal[keep],
-                [nominals[j] for j in keep],
-            )
+            # The model choice's refits leave them out too (numbered as its demonstrations).
+            self._preference_passes = [i for i, j in enumerate(keep) if j in by_preference]
+            try:
+                self._select_model(
+                    [demos[j] for j in keep],
+                    [learned[j] for j in keep],
+                    goal[keep],
+                    [nominals[j] for j in keep],
+                )
+            finally:
+                self._preference_passes = []
         if self.model_selection_ is not None:
             # Read off every demonstration, those left out of the fit too: one that went
             # round a gap the reward threads is replanned on another side, and left out.
@@ -1088,6 +1114,26 @@ class Skill(
                     "point on the person's side"
                 )
             warnings.warn(message, UserWarning, stacklevel=3)
+
+    def _long_way_passes(self, found: Mapping[str, Mapping[str, Any]], n: int) -> list[int]:
+        """Obstacle demonstrations that go the long way round a class kept on one side.
+
+        Plans keep such a class on its side by blockers
+        (:attr:`side_preferences_`), so these passes are the preference's, and
+        a reward symmetric about each obstacle fitted to them bends to explain
+        the long way round: ``benchmarks/boxes_sides.py`` (3-D, seed 2, fold 4:
+        two of seven demonstrations) learned a ``Q`` 3.3× the person's, with
+        a training loss half the person's own reward's, and its plan wove
+        through the three boxes (one of three sides, 122 mm from the person)
+        where the person's reward, planned the same way, kept all three
+        (6 mm); fitted without those two, 1 of 3 → 3 of 3 sides, 5.6 mm. The
+        reward is fitted on the others where at least
+        :data:`~lfdkit.skill.selection.MIN_CROSS_VALIDATION_DEMOS` remain;
+        none where no side is kept (``model="thesis"``).
+        """
+        kept = [info for label, info in found.items() if label in self.side_preferences_]
+        passes = sorted({int(j) for info in kept for j in info.get("long_way", ())})
+        return passes if n - len(passes) >= MIN_CROSS_VALIDATION_DEMOS else []
 
     def _unexplained(
         self,

@@ -228,6 +228,10 @@ NOISE_SHARE = 0.8
 class BehaviourSelection:
     """How a skill chooses its behaviour model (route planner, clearance floor, frame)."""
 
+    #: The model choice's demonstrations its refits leave out: those going the long
+    #: way round a class kept on one side (``Skill._long_way_passes``), set while it runs.
+    _preference_passes: Sequence[int] = ()
+
     def _behaviour_candidates(self) -> list[dict[str, str]]:
         """The behaviour models :meth:`_select_model` chooses from (the first wins ties).
 
@@ -453,6 +457,9 @@ class BehaviourSelection:
         """
         from lfdkit.emulate.ioc import IOC  # fitting only: plans need not import it
 
+        # Passes the long way round a kept class are the blockers' (Skill._long_way_passes).
+        kept = [i for i in keep if i not in self._preference_passes]
+        keep = kept if len(kept) >= MIN_CROSS_VALIDATION_DEMOS - 1 else keep
         try:
             with caught_in_thread():  # silenced, in this thread alone: folds fit side by side
                 return IOC(
