@@ -777,3 +777,105 @@ def test_recordings_around_a_box_on_the_page_learn_and_plan_round_it() -> None:
     drawn = Box.from_yaw("cup", [0.0, 0.47], [0.14, 0.05], 0.3)
     person = min(drawn.distance(np.array(_box_stroke(k))) for k in range(2))
     assert 0.8 * person <= plan["min_clearance"] <= 2.0 * person
+
+
+# ------------------------------------------------------------------ task frames
+def framed(n: int = 4) -> dict:
+    """Clean sweeps drawn with two task frames on the table, moved and turned between them."""
+    payload = drawing(n, 0)
+    for k, demo in enumerate(payload["demos"]):
+        demo["frames"] = {
+            "dustpan": [0.3 + 0.02 * k, 0.45 - 0.01 * k, 0.2 * k - 0.3],
+            "brush": [-0.4, 0.45, 0.0],
+        }
+    return payload
+
+
+def test_task_frames_drawn_with_the_demos_export_to_a_file_lfdkit_learns_from(
+    learned, tmp_path
+) -> None:
+    # Each stroke keeps the frames' poses when it was drawn (issue 33): demos.csv gets
+    # frame_<name>_x, _y, _angle columns, which lfdkit's readers give back bit for bit,
+    # the page imports back, and `lfdkit learn --task-frames` learns a TaskFrameSkill from.
+    from lfdkit.app.cli import main
+    from lfdkit.io import load_demos
+    from lfdkit.skill import TaskFrameSkill
+
+    client, headers, _ = learned
+    payload = framed()
+    answer = client.post("/api/export/demos", json=payload, headers=headers)
+    assert answer.status_code == 200, answer.text
+    header = answer.text.splitlines()[0].split(",")
+    assert header == ["demo", "t", "x", "y"] + [
+        f"frame_{name}_{field}" for name in ("dustpan", "brush") for field in ("x", "y", "angle")
+    ]
+    path = tmp_path / "demos.csv"
+    path.write_text(answer.text)
+    for record, sent in zip(load_demos(path, as_records=True), payload["demos"], strict=True):
+        assert list(record.frames) == ["dustpan", "brush"]
+        for name, pose in sent["frames"].items():
+            np.testing.assert_array_equal(record.frames[name], pose)
+    back = client.post("/api/import/demos?format=csv", content=answer.content, headers=headers)
+    assert [d["frames"] for d in back.json()["demos"]] == [d["frames"] for d in payload["demos"]]
+    skill_file = tmp_path / "skill.json"
+    assert main(["learn", str(path), "--task-frames", "--output", str(skill_file), "-q"]) == 0
+    skill = TaskFrameSkill.load(skill_file)
+    assert sorted(skill.frame_names_) == ["brush", "dustpan"]
+
+
+def test_frames_on_the_table_do_not_change_the_skill_the_page_learns(learned) -> None:
+    # The page learns a Skill (start, goal, obstacles): the same file, to the byte,
+    # from the same strokes drawn with task frames on the table.
+    client, headers, _ = learned
+    payload = drawing()
+    for k, demo in enumerate(payload["demos"]):
+        demo["frames"] = {"dustpan": [0.3, 0.45, 0.1 * k]}
+    other = session(client)
+    status = learn(client, other, payload)
+    assert status["state"] == "done", status
+    framed_skill = client.get("/api/export/skill", headers=other)
+    assert framed_skill.status_code == 200
+    assert framed_skill.content == client.get("/api/export/skill", headers=headers).content
+
+
+@pytest.mark.parametrize(
+    ("change", "pattern"),
+    [
+        (lambda d: d["demos"][0].update(frames=[1, 2, 3]), r"demos\[0\].frames: expected an obj"),
+        (
+            lambda d: d["demos"][0]["frames"].update({"bad name": [0, 0, 0]}),
+            r"demos\[0\].frames: 'bad name' cannot name a task frame",
+        ),
+        (
+            lambda d: d["demos"][1]["frames"].update(brush=[0.1, 0.2]),
+            r"demos\[1\].frames\['brush'\]: expected \[x, y, angle\], got 2 numbers",
+        ),
+        (
+            lambda d: d["demos"][1]["frames"].update(brush=[0.1, 2000.0, 0.0]),
+            r"demos\[1\].frames\['brush'\]\[1\]: expected a number within ±100",
+        ),
+        (
+            lambda d: d["demos"][2]["frames"].update(brush=[0.1, 0.2, "x"]),
+            r"demos\[2\].frames\['brush'\]\[2\]: expected a number",
+        ),
+        (
+            lambda d: d["demos"][0].update(frames={f"f{i}": [0, 0, 0] for i in range(9)}),
+            rf"at most {LIMITS['max_frames']} allowed, got 9",
+        ),
+        (
+            lambda d: d["demos"][2].pop("frames"),
+            r"frames: demonstration 'demo-3' recorded the task frames none, 'demo-1' dustpan, "
+            r"brush; every demonstration .* delete the strokes drawn before",
+        ),
+        (
+            lambda d: d["demos"][3]["frames"].pop("brush"),
+            r"'demo-4' recorded the task frames dustpan, 'demo-1' dustpan, brush",
+        ),
+    ],
+)
+def test_bad_task_frames_get_one_readable_line(learned, change, pattern) -> None:
+    client, headers, _ = learned
+    payload = framed()
+    change(payload)
+    answer = client.post("/api/export/demos", json=payload, headers=headers)
+    assert_readable(answer, 400, pattern)

@@ -85,7 +85,8 @@ let i = 0;
 
 STATE = """
 const s = window.lfdkitTeach.state;
-return JSON.stringify({demos: s.demos, obstacles: s.obstacles, layers: s.layers !== null,
+return JSON.stringify({demos: s.demos, obstacles: s.obstacles, frames: s.frames,
+  layers: s.layers !== null,
   timing: s.layers && s.layers.timing,
   learning: s.learning, plan: s.plan, planError: s.planError, planBusy: s.planBusy,
   planCount: s.planCount, trial: s.trial, mode: s.mode, heat: s.heat !== null,
@@ -349,3 +350,59 @@ def test_a_box_is_placed_drawn_dragged_and_saved_in_chromium(server, browser, tm
     np.testing.assert_allclose(saved.position, [box["x"], box["y"]])
     half = math.radians(10.0)
     np.testing.assert_allclose(saved.orientation, [0, 0, math.sin(half), math.cos(half)])
+
+
+def test_task_frames_are_placed_moved_and_recorded_with_each_stroke_in_chromium(
+    server, browser, tmp_path
+):
+    # Issue 33: a frame placed with the ⊹ tool, a stroke, the frame dragged and turned,
+    # another stroke: each stroke keeps the frame's pose when it was drawn, and the
+    # exported demos.csv holds those poses for `lfdkit learn --task-frames`.
+    from lfdkit.io import load_demos
+
+    driver = browser
+    driver.get(server)
+    end = time.monotonic() + 10
+    while driver.execute_script("return document.body.dataset.ready") != "yes":
+        assert time.monotonic() < end, "the page did not get a session"
+        time.sleep(0.05)
+    driver.find_element("css selector", 'input[name="tool"][value="frame"]').click()
+    driver.execute_script(
+        "document.getElementById('frame-name').value = 'dustpan';"
+        "document.getElementById('frame-angle').value = '30';"
+    )
+    driver.execute_async_script(DRAW, [[[0.3, 0.55], [0.3, 0.55]]], 5)
+    driver.find_element("css selector", 'input[name="tool"][value="draw"]').click()
+    driver.execute_async_script(DRAW, [_stroke(False, 0)], 12)
+    driver.find_element("css selector", 'input[name="tool"][value="frame"]').click()
+    _drag(driver, [0.3, 0.55], [0.35, 0.6])  # grabbed at its origin, dropped further on
+    driver.execute_script(
+        "const a = document.getElementById('frame-angle'); a.value = '-20';"
+        "a.dispatchEvent(new Event('change'));"
+    )
+    driver.find_element("css selector", 'input[name="tool"][value="draw"]').click()
+    driver.execute_async_script(DRAW, [_stroke(False, 1)], 12)
+    state = _state(driver)
+    assert state["message"] is None, state["message"]
+    (frame,) = state["frames"]
+    assert frame["name"] == "dustpan"
+    assert [frame["x"], frame["y"]] == pytest.approx([0.35, 0.6], abs=0.005)
+    recorded = [d["frames"]["dustpan"] for d in state["demos"]]
+    assert recorded[0] == pytest.approx([0.3, 0.55, math.radians(30.0)], abs=0.005)
+    assert recorded[1] == pytest.approx([0.35, 0.6, math.radians(-20.0)], abs=0.005)
+    driver.execute_script("lfdkitTeach.state.selected = {kind: 'demo', id: 'demo-1'};")
+    driver.execute_script("lfdkitTeach.refresh()")
+    _screenshot(driver, tmp_path, "frames")
+    answer = driver.execute_async_script(
+        FETCH, "/api/export/demos", driver.execute_script("return lfdkitTeach.drawing()")
+    )
+    assert answer["ok"], answer["text"]
+    assert (
+        answer["text"]
+        .splitlines()[0]
+        .endswith("frame_dustpan_x,frame_dustpan_y,frame_dustpan_angle")
+    )
+    path = tmp_path / "demos.csv"
+    path.write_text(answer["text"], encoding="utf-8")
+    for record, pose in zip(load_demos(path, as_records=True), recorded, strict=True):
+        np.testing.assert_array_equal(record.frames["dustpan"], pose)

@@ -64,6 +64,7 @@ LIMITS: dict[str, Any] = {
     "max_demos": 60,
     "max_points": 5_000,  # per demonstration
     "max_obstacles": 40,
+    "max_frames": 8,  # task frames a demonstration records (TaskFrameSkill's)
     "max_coordinate": 100.0,  # metres from the robot base, either way
     "max_radius": 1.0,  # metres
     "max_box_edge": 2.0,  # metres, a box's width or depth
@@ -215,6 +216,35 @@ def parse_scene(value: Any, name: str = "obstacles") -> Any:
     return Scene(tuple(obstacle for _, obstacle in parse_obstacles(value, name)))
 
 
+def parse_frames(value: Any, name: str) -> dict[str, np.ndarray] | None:
+    """``{frame name: [x, y, angle]}`` (metres, radians) as a demonstration's task frames.
+
+    The poses of the objects the task acts on while it was drawn
+    (:attr:`lfdkit.model.demos.Demo.frames`); None or ``{}``: none recorded.
+    """
+    from lfdkit.io.demos import is_frame_name
+
+    if value is None:
+        return None
+    items = _mapping(value, name)
+    if len(items) > LIMITS["max_frames"]:
+        raise RequestError(f"{name}: at most {LIMITS['max_frames']} allowed, got {len(items)}")
+    frames: dict[str, np.ndarray] = {}
+    for key, pose in items.items():
+        if not is_frame_name(key) or len(key) > LIMITS["max_name_chars"]:
+            raise RequestError(
+                f"{name}: {key!r} cannot name a task frame (letters, digits, '_' and '-', "
+                f"starting with a letter or digit; at most {LIMITS['max_name_chars']} characters)"
+            )
+        at = f"{name}[{key!r}]"
+        numbers = _list(pose, at, 3)
+        if len(numbers) != 3:
+            raise RequestError(f"{at}: expected [x, y, angle], got {len(numbers)} numbers")
+        x, y = parse_point(numbers[:2], at)
+        frames[key] = np.array([x, y, _number(numbers[2], f"{at}[2]", 100.0)])
+    return frames or None
+
+
 @dataclass
 class TeachData:
     """The page's drawing: its demonstrations as :class:`~lfdkit.model.demos.Demo` records.
@@ -222,7 +252,8 @@ class TeachData:
     Each record holds the points (m), times (s) or None, and id; a
     demonstration marked as swerving around obstacles holds the
     :class:`~lfdkit.model.scene.Scene` of those obstacles, the others (clean
-    demonstrations) none.
+    demonstrations) none; one drawn with task frames on the table, their
+    poses (``frames``).
     """
 
     demos: list[Demo]
@@ -242,12 +273,13 @@ def parse_teach_data(payload: Any) -> TeachData:
     """Check the drawing a request carries: ``{"demos": [...], "obstacles": [...]}``.
 
     Each demonstration is ``{"id", "points": [[x, y], ...], "times": [t, ...]
-    or null, "obstacles": [obstacle ids it swerved around]}``, in metres and
-    seconds. The marks may also come as a top-level ``"marks": {demo id:
-    [obstacle ids]}``, the form ``GET /api/example`` and the scene imports
-    answer, so that a payload posted back as it came keeps its swerves (they
-    were once dropped, and every marked stroke learned as clean); both forms
-    are merged, and a mark naming no demonstration or obstacle is refused.
+    or null, "obstacles": [obstacle ids it swerved around], "frames": {name:
+    [x, y, angle]} or null}``, in metres, seconds and radians. The marks may
+    also come as a top-level ``"marks": {demo id: [obstacle ids]}``, the form
+    ``GET /api/example`` and the scene imports answer, so that a payload
+    posted back as it came keeps its swerves (they were once dropped, and
+    every marked stroke learned as clean); both forms are merged, and a mark
+    naming no demonstration or obstacle is refused.
     """
     from lfdkit.model.scene import Scene
 
@@ -289,8 +321,11 @@ def parse_teach_data(payload: Any) -> TeachData:
                 seen.add(mark)
                 around.append(obstacles[mark])
         seen_ids.add(key)
+        frames = parse_frames(item.get("frames"), f"{where}.frames")
         data.demos.append(
-            Demo(path, stamps, id=key, scene=Scene(tuple(around)) if around else None)
+            Demo(
+                path, stamps, id=key, scene=Scene(tuple(around)) if around else None, frames=frames
+            )
         )
     unknown = sorted(set(top_marks) - seen_ids)
     if unknown:
@@ -306,7 +341,9 @@ def _write_training_files(data: TeachData, folder: Path) -> tuple[Path, Path | N
     """The drawing as the files ``lfdkit learn`` reads (JSON keeps per-demo times)."""
     from lfdkit.io import save_demos, save_scenes
 
-    demos = save_demos(folder / "demos.json", data.demos)  # points, times, ids (not scenes)
+    # points, times, ids (not scenes; nor frames: the skill learned here does not use them)
+    records = [Demo(demo.points, demo.times, id=demo.id) for demo in data.demos]
+    demos = save_demos(folder / "demos.json", records)
     scenes = None
     if data.scenes:
         scenes = save_scenes(folder / "scenes.csv", data.scenes)
@@ -314,17 +351,49 @@ def _write_training_files(data: TeachData, folder: Path) -> tuple[Path, Path | N
 
 
 def export_demos_csv(data: TeachData) -> str:
-    """``demos.csv`` (:func:`lfdkit.io.save_demos`), with ``t`` when every demo has times."""
+    """``demos.csv`` (:func:`lfdkit.io.save_demos`), with ``t`` when every demo has times.
+
+    With the task frames' poses (``frame_<name>_x, _y, _angle``) where the
+    demonstrations recorded them: ``lfdkit learn demos.csv --task-frames``
+    learns a :class:`lfdkit.skill.TaskFrameSkill` from it.
+    """
     from lfdkit.io import save_demos
 
     if not data.demos:
         raise RequestError("demos: nothing to export; draw or import demonstrations first")
-    records = data.demos
-    if any(demo.times is None for demo in records):  # a CSV has times for all or none
-        records = [Demo(demo.points, id=demo.id) for demo in records]
+    names = _common_frames(data.demos)
+    timed = all(demo.times is not None for demo in data.demos)  # a CSV has all or none
+    records = [
+        Demo(
+            demo.points,
+            demo.times if timed else None,
+            id=demo.id,
+            frames={name: demo.frames[name] for name in names} if names else None,
+        )
+        for demo in data.demos
+    ]
     with tempfile.TemporaryDirectory(prefix="lfdkit-teach-") as folder:
         path = save_demos(Path(folder) / "demos.csv", records)
         return path.read_text(encoding="utf-8")
+
+
+def _common_frames(demos: Sequence[Demo]) -> list[str]:
+    """The task frames every demonstration recorded, in the first one's order (``[]``: none).
+
+    A CSV gives each demonstration the same frames' columns
+    (``frame_<name>_x, _y, _angle``, what ``lfdkit learn --task-frames`` reads).
+    """
+    names = list(demos[0].frames or {})
+    for demo in demos:
+        have = list(demo.frames or {})
+        if sorted(have) != sorted(names):
+            raise RequestError(
+                f"frames: demonstration {demo.id!r} recorded the task frames "
+                f"{', '.join(have) or 'none'}, {demos[0].id!r} {', '.join(names) or 'none'}; "
+                "every demonstration of a file records the same ones: delete the strokes drawn "
+                "before a frame was placed (or after one was removed)"
+            )
+    return names
 
 
 def export_scenes_csv(data: TeachData) -> str:
@@ -385,17 +454,24 @@ def _obstacle_json(key: str, obstacle: Any) -> dict[str, Any]:
     return item
 
 
-def _demos_json(demos: Sequence[np.ndarray], times: Sequence[Any], ids: Sequence[Any]) -> list:
+def _demos_json(records: Sequence[Demo]) -> list:
+    """Demonstration records as the page's demos (their task frames' poses too)."""
     out = []
-    for demo, stamps, key in zip(demos, times, ids, strict=True):
-        if demo.shape[1] != 2:
-            raise RequestError(f"demo {key!r}: is {demo.shape[1]}-D; the page draws 2-D paths")
+    for demo in records:
+        key, stamps = demo.id, demo.times
+        if demo.points.shape[1] != 2:
+            raise RequestError(
+                f"demo {key!r}: is {demo.points.shape[1]}-D; the page draws 2-D paths"
+            )
         out.append(
             {
                 "id": str(key),
-                "points": demo.tolist(),
+                "points": demo.points.tolist(),
                 "times": None if stamps is None else (stamps - stamps[0]).tolist(),
                 "obstacles": [],
+                "frames": None
+                if demo.frames is None
+                else {name: pose.tolist() for name, pose in demo.frames.items()},
             }
         )
     if len(out) > LIMITS["max_demos"]:
@@ -404,17 +480,18 @@ def _demos_json(demos: Sequence[np.ndarray], times: Sequence[Any], ids: Sequence
 
 
 def import_demos(body: bytes, fmt: Any) -> dict[str, Any]:
-    """An uploaded demonstrations file (``csv``, ``json`` or ``npz``) as the page's demos."""
+    """An uploaded demonstrations file (``csv``, ``json`` or ``npz``) as the page's demos.
+
+    Task frames recorded in the file (``frame_<name>_x, _y, _angle``) come with
+    each demonstration.
+    """
     from lfdkit.io import load_demos
 
     suffix = _upload_suffix("demos", fmt)
-    demos, times, ids = _read_upload(
-        body,
-        suffix,
-        lambda path: load_demos(path, return_times=True, return_ids=True),
-        "demonstrations",
+    records = _read_upload(
+        body, suffix, lambda path: load_demos(path, as_records=True), "demonstrations"
     )
-    result = {"demos": _demos_json(demos, times, ids)}
+    result = {"demos": _demos_json(records)}
     # The page's learning checks (parse_teach_data) at import: a file the page
     # would refuse to learn from is refused now, with the same message.
     parse_teach_data({"demos": result["demos"], "obstacles": []})
@@ -467,8 +544,7 @@ def example_data() -> dict[str, Any]:
     from lfdkit.tasks.sweeping import example_files
 
     files = example_files()
-    demos, times, ids = load_demos(files["demos"], return_times=True, return_ids=True)
-    out = {"demos": _demos_json(demos, times, ids)}
+    out = {"demos": _demos_json(load_demos(files["demos"], as_records=True))}
     out.update(_scenes_json(load_scenes(files["scenes"])))
     return out
 

@@ -33,7 +33,8 @@
     defaultView: [-0.7, 0.7, 0.0, 0.8],
     mode: "teach",
     tool: "draw",
-    demos: [], // {id, points: [[x, y]], times: [s] | null, obstacles: [ids]}
+    demos: [], // {id, points: [[x, y]], times: [s] | null, obstacles: [ids], frames: {name: [x, y, angle]} | null}
+    frames: [], // task frames on the table {name, x, y, angle (rad)}: each new stroke records their poses
     obstacles: [], // teach obstacles {id, class, x, y, radius, table: bool[, shape: "box", width, depth, yaw]}
     nextDemo: 1,
     nextObstacle: 1,
@@ -129,7 +130,7 @@
   // ------------------------------------------------------------ undo
   function snapshot() {
     state.undo.push(JSON.stringify({
-      demos: state.demos, obstacles: state.obstacles, trial: state.trial,
+      demos: state.demos, obstacles: state.obstacles, frames: state.frames, trial: state.trial,
     }));
     if (state.undo.length > 60) state.undo.shift();
   }
@@ -139,6 +140,7 @@
     const saved = JSON.parse(last);
     state.demos = saved.demos;
     state.obstacles = saved.obstacles;
+    state.frames = saved.frames || [];
     state.trial = saved.trial;
     state.selected = null;
     refresh();
@@ -296,6 +298,28 @@
     ctx.restore();
   }
 
+  // A task frame: its x axis (red) and y axis (green), 5 cm each, and its name.
+  const FRAME_AXIS = 0.05;
+  function drawFrame(f, options) {
+    const [px, py] = toPx(f.x, f.y);
+    const c = Math.cos(f.angle), s = Math.sin(f.angle);
+    ctx.save();
+    ctx.globalAlpha = options.faint ? 0.5 : 1;
+    ctx.lineWidth = options.selected ? 3.5 : 2.2;
+    if (options.faint) ctx.setLineDash([4, 3]);
+    [["#d62728", c, s], ["#2ca02c", -s, c]].forEach(([color, ux, uy]) => {
+      const [qx, qy] = toPx(f.x + FRAME_AXIS * ux, f.y + FRAME_AXIS * uy);
+      ctx.strokeStyle = color;
+      ctx.beginPath(); ctx.moveTo(px, py); ctx.lineTo(qx, qy); ctx.stroke();
+    });
+    ctx.setLineDash([]);
+    ctx.fillStyle = "#1d232b";
+    ctx.beginPath(); ctx.arc(px, py, 3.5, 0, 2 * Math.PI); ctx.fill();
+    ctx.font = "11px system-ui, sans-serif";
+    ctx.fillText(options.label || f.name, px + 6, py + 14);
+    ctx.restore();
+  }
+
   function drawHandle(point, color, letter) {
     const [px, py] = toPx(point[0], point[1]);
     ctx.save();
@@ -413,6 +437,14 @@
         ctx.fillStyle = demoColor(i);
         ctx.beginPath(); ctx.arc(px, py, 3, 0, 2 * Math.PI); ctx.fill();
       });
+      // The frames as the selected demonstration recorded them, then those on the table.
+      const shown = state.selected && state.selected.kind === "demo" && state.demos.find((d) => d.id === state.selected.id);
+      if (shown && shown.frames) {
+        Object.entries(shown.frames).forEach(([name, [x, y, angle]]) => drawFrame({ name, x, y, angle }, { faint: true, label: `${name} (${shown.id})` }));
+      }
+      state.frames.forEach((f) => drawFrame(f, {
+        selected: state.selected && state.selected.kind === "frame" && state.selected.id === f.name,
+      }));
       if (state.stroke) line(state.stroke.points, "#1d232b", 2.2);
     }
     drawDistanceSpace();
@@ -500,6 +532,21 @@
       li.append(sw, name, meta, table, del);
       olist.append(li);
     });
+    const flist = $("frame-list");
+    flist.replaceChildren();
+    if (!state.frames.length) flist.append(el("li", { className: "empty" }, "none: pick ⊹ and click where an object of the task stands"));
+    state.frames.forEach((f) => {
+      const li = el("li", { "data-id": f.name });
+      if (state.selected && state.selected.kind === "frame" && state.selected.id === f.name) li.className = "selected";
+      const name = el("span", { className: "name" }, `⊹ ${f.name}`);
+      name.onclick = () => { state.selected = { kind: "frame", id: f.name }; $("frame-angle").value = round((f.angle * 180) / Math.PI, 0); refresh(); };
+      const meta = el("span", { className: "meta" },
+        `${round(f.x * 100, 1)}, ${round(f.y * 100, 1)} cm, ${round((f.angle * 180) / Math.PI, 0)}°`);
+      const del = el("button", { className: "del", type: "button", title: "delete", "aria-label": `delete frame ${f.name}` }, "×");
+      del.onclick = () => deleteFrame(f.name);
+      li.append(name, meta, del);
+      flist.append(li);
+    });
     const dlist = $("demo-list");
     dlist.replaceChildren();
     if (!state.demos.length) dlist.append(el("li", { className: "empty" }, "none yet: draw strokes from start to goal"));
@@ -511,8 +558,9 @@
       const name = el("span", { className: "name" }, d.id);
       name.onclick = () => { state.selected = { kind: "demo", id: d.id }; refresh(); };
       const duration = demoDuration(d);
+      const framesSaid = d.frames ? `, ⊹ ${Object.keys(d.frames).length}` : "";
       const meta = el("span", { className: "meta" },
-        `${d.points.length} pts${duration !== null ? `, ${round(duration, 2)} s` : ""}`);
+        `${d.points.length} pts${duration !== null ? `, ${round(duration, 2)} s` : ""}${framesSaid}`);
       li.append(sw, name, meta);
       // Every obstacle's chip on the selected demonstration (or with few obstacles);
       // on the others only the marked ones, so that long lists stay short.
@@ -542,10 +590,13 @@
     const learned = state.layers
       ? `skill learned (${state.layers.classes.map((c) => c.name).join(", ") || "no obstacle class"})`
       : "no skill yet";
-    $("status").textContent = `${state.demos.length} demonstrations (${clean} clean) · ${state.obstacles.length} obstacles · ${learned}`;
+    const n = state.frames.length;
+    const frames = n ? ` · ${n} task frame${n > 1 ? "s" : ""}` : "";
+    $("status").textContent = `${state.demos.length} demonstrations (${clean} clean) · ${state.obstacles.length} obstacles${frames} · ${learned}`;
     const hints = {
       draw: "Draw each demonstration from start to goal with the mouse, a pen or a finger; its speed is kept.",
       obstacle: "Click to place an obstacle of the class and radius above; drag one to move it; Delete removes the selected one.",
+      frame: "Click to place a task frame (an object the task acts on) or move the one of that name; drag it, turn it with the angle. Each new stroke records where the frames are: move them between strokes, then export demos.csv for lfdkit learn --task-frames.",
       try: "Drag S, G and the obstacles: the plan follows. Green: collision-free; red: it touches an obstacle.",
     };
     $("hint").textContent = state.mode === "try" ? hints.try : hints[state.tool];
@@ -632,10 +683,17 @@
     state.selected = null;
     refresh();
   }
+  function deleteFrame(name) {
+    snapshot();
+    state.frames = state.frames.filter((f) => f.name !== name);
+    state.selected = null;
+    refresh();
+  }
   function deleteSelected() {
     const s = state.selected;
     if (!s) return;
-    if (s.kind === "demo") deleteDemo(s.id);
+    if (s.kind === "frame") deleteFrame(s.id);
+    else if (s.kind === "demo") deleteDemo(s.id);
     else if (s.kind === "obstacle") deleteObstacle(s.id);
     else if (s.kind === "trial") {
       snapshot();
@@ -674,6 +732,22 @@
     return { name, radius };
   }
 
+  function frameInputs() {
+    const name = $("frame-name").value.trim();
+    const angle = (Number($("frame-angle").value) * Math.PI) / 180;
+    if (!/^[A-Za-z0-9][A-Za-z0-9_-]*$/.test(name) || name.length > 40) {
+      throw new Error("task frame name: a plain name (letters, digits, '_', '-')");
+    }
+    if (!Number.isFinite(angle)) throw new Error("task frame: turned by a number of degrees");
+    return { name, angle };
+  }
+  function hitFrame(world) {
+    for (let i = state.frames.length - 1; i >= 0; i--) {
+      if (distPx(world, [state.frames[i].x, state.frames[i].y]) <= 10) return state.frames[i];
+    }
+    return null;
+  }
+
   function hitObstacle(list, world) {
     for (let i = list.length - 1; i >= 0; i--) {
       const o = list[i];
@@ -710,6 +784,34 @@
       snapshot();
       state.drag = target;
       safeCapture(ev.pointerId);
+      ev.preventDefault();
+      return;
+    }
+    if (state.tool === "frame") {
+      const hit = hitFrame(world);
+      snapshot();
+      let f = hit;
+      if (f) {
+        $("frame-name").value = f.name;
+        $("frame-angle").value = round((f.angle * 180) / Math.PI, 0);
+      } else {
+        let inputs;
+        try { inputs = frameInputs(); } catch (err) { state.undo.pop(); fail(err); return; }
+        f = state.frames.find((x) => x.name === inputs.name);
+        if (f) Object.assign(f, { x: world[0], y: world[1], angle: inputs.angle });
+        else if (state.frames.length >= state.limits.max_frames) {
+          state.undo.pop();
+          fail(new Error(`at most ${state.limits.max_frames} task frames`));
+          return;
+        } else {
+          f = { name: inputs.name, x: world[0], y: world[1], angle: inputs.angle };
+          state.frames.push(f);
+        }
+      }
+      state.selected = { kind: "frame", id: f.name };
+      state.drag = { kind: "frame", obstacle: f, grab: hit ? [f.x - world[0], f.y - world[1]] : [0, 0] };
+      safeCapture(ev.pointerId);
+      refresh();
       ev.preventDefault();
       return;
     }
@@ -806,6 +908,7 @@
         points: s.points.map((p) => [p[0], p[1]]),
         times: s.stamps.map((t) => (t - t0) / 1000),
         obstacles: state.obstacles.filter((o) => o.table).map((o) => o.id),
+        frames: state.frames.length ? Object.fromEntries(state.frames.map((f) => [f.name, [f.x, f.y, f.angle]])) : null,
       });
       refresh();
       return;
@@ -820,7 +923,7 @@
   // ------------------------------------------------------------ learn & plan
   function drawing() {
     return {
-      demos: state.demos.map((d) => ({ id: d.id, points: d.points, times: d.times, obstacles: d.obstacles })),
+      demos: state.demos.map((d) => ({ id: d.id, points: d.points, times: d.times, obstacles: d.obstacles, frames: d.frames || null })),
       obstacles: state.obstacles.map(obstacleJson),
       params: { mimic: $("mimic").value },
     };
@@ -969,7 +1072,7 @@
         id = newDemoId();
         renamed.push(d.id);
       }
-      state.demos.push({ id, points: d.points, times: d.times, obstacles: [] });
+      state.demos.push({ id, points: d.points, times: d.times, obstacles: [], frames: d.frames || null });
     });
     return renamed;
   }
@@ -1062,6 +1165,7 @@
       snapshot();
       state.demos = [];
       state.obstacles = [];
+      state.frames = [];
       state.selected = null;
       state.view = state.defaultView.slice();
       refresh();
@@ -1100,6 +1204,16 @@
         if (state.mode === "try") requestPlan(true); else refresh();
       };
     });
+    $("frame-angle").onchange = () => {
+      const s = state.selected;
+      const f = s && s.kind === "frame" && state.frames.find((x) => x.name === s.id);
+      if (!f) return;
+      let inputs;
+      try { inputs = frameInputs(); } catch (err) { fail(err); return; }
+      snapshot();
+      f.angle = inputs.angle;
+      refresh();
+    };
     $("obstacle-radius").onchange = () => {
       const s = state.selected;
       const list = s && s.kind === "obstacle" ? state.obstacles : s && s.kind === "trial" ? state.trial.obstacles : null;
@@ -1134,6 +1248,6 @@
   }
 
   // For tests and the curious: the page's state and its API calls.
-  window.lfdkitTeach = { state, api, apiJson, requestPlan, setMode, toPx, toWorld, drawing, planRequest };
+  window.lfdkitTeach = { state, api, apiJson, requestPlan, setMode, toPx, toWorld, drawing, planRequest, refresh };
   start();
 })();
