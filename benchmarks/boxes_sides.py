@@ -107,9 +107,9 @@ reward's ``Q`` had been 3.3× the person's and the plan wove through the boxes;
 fold 2, 3 → 1: it passes the tray and the tin over, where the person passed
 under, both on their right), 56 → 37 mm (median 47 → 16), least clearance 0.68
 → 0.91; 2-D, sides 24 → 24, 3 → 2 mm, least clearance 0.90 → 0.97. Fit wall
-median / slowest fold, one run each at a quiet moment: 7.2 / 10.1 s (seed 0),
-6.2 / 6.9 s (seed 1), 7.1 / 11.6 s (seed 2): the issue's 10 s per fold is met
-at the median and missed by the slowest folds of seeds 0 and 2.
+median / slowest fold, one run each at a quiet moment (load 1.1-1.4): 6.0 /
+9.4 s (seed 0), 6.7 / 7.0 s (seed 1), 6.5 / 9.6 s (seed 2), every fold within
+the issue's 10 s; at a busier moment 7.2 / 10.1, 6.2 / 6.9 and 7.1 / 11.6 s.
 """
 
 from __future__ import annotations
