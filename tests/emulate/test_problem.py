@@ -334,4 +334,51 @@ def test_a_solve_over_listed_terms_is_the_solve_over_all_of_them() -> None:
     assert listed[2] and listed[1] > 20  # converged, after many line searches
     np.testing.assert_allclose(d_listed, d_all, rtol=0.0, atol=1e-12 * np.abs(d_all).max())
     assert listed[0] == pytest.approx(every[0], rel=1e-12)
-    assert listed[1] == every[1]
+    # The forms' exp differ in the last bit, so the final convergence test may pass one
+    # iteration apart (the offsets then agree to 1e-17).
+    assert abs(listed[1] - every[1]) <= 1
+
+
+def test_3d_newton_steps_use_the_exact_hessian_where_the_reduced_system_is_definite(
+    monkeypatch,
+) -> None:
+    # A 3-D solve's reduced Newton system sums each point's 2×2 block over the offsets
+    # an action held at its bound ties together. Each block was made positive first: where
+    # one point of a group curves down (on a response's flank) and the group's sum is
+    # still positive definite, that lengthened the curvature and shortened every step,
+    # and the solve crept along linearly (3-D IOC plans: median 20 iterations, 9 % stopped
+    # at 200). Now the blocks as they are, where the reduced system is definite (pivots
+    # above the floor), else made positive as before: the same optima in far fewer
+    # iterations (issue 34).
+    from lfdkit.emulate import _planner_numpy
+
+    exact = _planner_numpy.block_tree_solve
+
+    def floored_first(h00, h01, h11, index, n_vars, rhs, least=0.0):
+        if least > 0.0:  # the exact attempt refused: each block made positive, as before
+            return np.zeros((n_vars, 1)), False
+        return exact(h00, h01, h11, index, n_vars, rhs)
+
+    t = np.linspace(0.0, 1.0, 120)
+    corridor = Corridor.from_path(np.column_stack([t, 0.1 * np.sin(np.pi * t), 0.05 * t]), 50)
+    reward = Reward(3.0, {"a": [150.0] * 3})
+    iterations, same = {"exact": 0, "floored": 0}, 0
+    for seed in range(8):
+        rng = np.random.default_rng(seed)
+        centres = corridor.points[rng.integers(10, 40, size=3)] + rng.uniform(-0.03, 0.03, (3, 3))
+        scene = Scene(tuple(Obstacle("a", centre, radius=0.0) for centre in centres))
+        problem = Problem.from_scene(reward, corridor, scene, 0.5, None)
+        solved = {}
+        for name, solve in (("exact", exact), ("floored", floored_first)):
+            monkeypatch.setattr(_planner_numpy, "block_tree_solve", solve)
+            d = np.zeros((problem.n, problem.m))
+            cost, n_iter, ok = _planner_numpy.planner_newton(
+                *problem.kernel_arguments(), problem.max_step, np.zeros(2), d, 1e-11, 300
+            )
+            assert ok, (seed, name)
+            iterations[name] += n_iter
+            solved[name] = (cost, d)
+        same += abs(solved["exact"][0] - solved["floored"][0]) <= 1e-12 * solved["floored"][0]
+        np.testing.assert_allclose(solved["exact"][1], solved["floored"][1], atol=1e-7)
+    assert same == 8
+    assert iterations["exact"] < 0.6 * iterations["floored"], iterations

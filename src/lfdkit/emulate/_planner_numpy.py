@@ -217,7 +217,7 @@ def _positive_blocks(h00, h01, h11, floor):
     return p00, p01, p11
 
 
-def block_tree_solve(h00, h01, h11, index, n_vars, rhs):
+def block_tree_solve(h00, h01, h11, index, n_vars, rhs, least=0.0):
     """``_problem_kernels.block_tree_solve`` on Python floats (its loops line by line)."""
     h00, h01, h11 = h00.tolist(), h01.tolist(), h11.tolist()
     pairs = index.tolist()
@@ -247,7 +247,7 @@ def block_tree_solve(h00, h01, h11, index, n_vars, rhs):
     x = np.array(rhs, dtype=np.float64).reshape(n_vars, -1).tolist()
     factor = [0.0] * n_vars
     for v in order:
-        if not pivot[v] > 0.0:
+        if not pivot[v] > least:
             return np.array(x).reshape(n_vars, -1), False
         w = parent[v]
         if w >= 0:
@@ -276,10 +276,11 @@ def _newton_step(gradient, hessian, index, n_vars, floor, m):
         move = -g / np.maximum(np.abs(h), floor)
     else:
         rows = valid[:, 0] | valid[:, 1]
-        p00, p01, p11 = _positive_blocks(
-            hessian[rows, 0, 0], hessian[rows, 0, 1], hessian[rows, 1, 1], floor
-        )
-        solved, _ = block_tree_solve(p00, p01, p11, index[rows], n_vars, g)
+        h00, h01, h11 = hessian[rows, 0, 0], hessian[rows, 0, 1], hessian[rows, 1, 1]
+        solved, definite = block_tree_solve(h00, h01, h11, index[rows], n_vars, g, floor)
+        if not definite:  # each point's block made positive first
+            p00, p01, p11 = _positive_blocks(h00, h01, h11, floor)
+            solved, _ = block_tree_solve(p00, p01, p11, index[rows], n_vars, g)
         move = -solved[:, 0]
     return np.where(valid, move[np.maximum(index, 0)] if n_vars else 0.0, 0.0)
 

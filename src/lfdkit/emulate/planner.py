@@ -29,12 +29,15 @@ Newton method (Bertsekas) needs it only on the free actions: actions held at
 a bound lock neighbouring offsets together, the free ones move whole groups,
 and in 2-D the Newton system in the group moves is again diagonal, solved in
 O(K). In 3-D the two normal components of a group couple through the 2×2
-blocks: each block is made positive definite (eigenvalues by their magnitude)
-and the small dense reduced system is solved by Cholesky; 3-D plans are
-therefore slower. Negative curvature (the flanks of an obstacle's bump) is
-replaced by its magnitude to keep each step a descent step of sensible
-length; an Armijo search along the projection arc gives global convergence,
-and Newton steps near the optimum converge quadratically
+blocks, and the reduced system is a forest solved in O(K) (``block_tree_solve``):
+with the blocks as they are where it is definite (each pivot above a floor),
+else with each block made positive definite first (eigenvalues by their
+magnitude; making them so always had slowed 3-D solves to a linear crawl
+where a group's point curved down). As in 2-D, negative curvature the
+group cannot carry (the flanks of an obstacle's bump) is replaced by its
+magnitude to keep each step a descent step of sensible length; an Armijo
+search along the projection arc gives global convergence, and Newton steps
+near the optimum converge quadratically
 (:meth:`Problem.solve <lfdkit.emulate.problem.Problem.solve>`).
 
 The obstacle term is not convex: an obstacle can be passed on either side,
