@@ -358,6 +358,8 @@ def test_task_frames_are_placed_moved_and_recorded_with_each_stroke_in_chromium(
     # Issue 33: a frame placed with the ⊹ tool, a stroke, the frame dragged and turned,
     # another stroke: each stroke keeps the frame's pose when it was drawn, and the
     # exported demos.csv holds those poses for `lfdkit learn --task-frames`.
+    from selenium.webdriver.common.keys import Keys
+
     from lfdkit.io import load_demos
 
     driver = browser
@@ -406,3 +408,12 @@ def test_task_frames_are_placed_moved_and_recorded_with_each_stroke_in_chromium(
     path.write_text(answer["text"], encoding="utf-8")
     for record, pose in zip(load_demos(path, as_records=True), recorded, strict=True):
         np.testing.assert_array_equal(record.frames["dustpan"], pose)
+    # Delete removes the selected frame (the strokes keep what they recorded); undo
+    # brings it back where it was.
+    driver.execute_script("lfdkitTeach.state.selected = {kind: 'frame', id: 'dustpan'};")
+    driver.find_element("tag name", "body").send_keys(Keys.DELETE)
+    state = _state(driver)
+    assert state["frames"] == [] and [d["frames"]["dustpan"] for d in state["demos"]] == recorded
+    driver.find_element("id", "undo").click()
+    (back,) = _state(driver)["frames"]
+    assert back == frame
