@@ -1424,7 +1424,7 @@ def _receding_horizon(
                 states, levels.size, cells, reach_goal, np.zeros((0, 0)), table
             )
             node = states if compiled else None
-            whole = (levels, states) if m == 2 else None
+            whole = (levels, states)  # the 3-D windows take their states from it
             route = _LookAhead(table, levels, cells, problem.max_step, m)
             coarse = _coarse_look_ahead(problem, d0, reach_goal, route)
             if coarse is not None:  # the grid cannot cover the scene: every stride-th point

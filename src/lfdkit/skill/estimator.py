@@ -943,15 +943,12 @@ class Skill(
 
         # Its warnings are given once it stands (a refit without some demonstrations has its own).
         # The long way round a kept class is the side blockers' doing, not the reward's.
-        by_preference = self._long_way_passes(found, len(demos))
-        shown = {c for j in by_preference for c in scenes[j].labels}
-        others = {c for j in range(len(demos)) if j not in by_preference for c in scenes[j].labels}
-        if not shown <= others:  # a class only they show: learned from them after all
-            by_preference = []
+        by_preference = self._long_way_passes(found, scenes)
         with progress.stage(label), warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
             ioc = fitted([j for j in range(len(demos)) if j not in by_preference])
-            if by_preference and shown & set(ioc.not_learned_):
+            shown = {c for j in by_preference for c in scenes[j].labels}
+            if shown & set(ioc.not_learned_):
                 by_preference = []  # a class only they come near: learned from them after all
                 said.clear()  # the first fit's warnings are not this one's
                 ioc = fitted(range(len(demos)))
@@ -1024,17 +1021,14 @@ class Skill(
                 Scene(tuple(o for o in scene if o.label not in ioc.not_learned_))
                 for scene in scenes
             ]
-            # The model choice's refits leave them out too (numbered as its demonstrations).
-            self._preference_passes = [i for i, j in enumerate(keep) if j in by_preference]
-            try:
-                self._select_model(
-                    [demos[j] for j in keep],
-                    [learned[j] for j in keep],
-                    goal[keep],
-                    [nominals[j] for j in keep],
-                )
-            finally:
-                self._preference_passes = []
+            self._select_model(
+                [demos[j] for j in keep],
+                [learned[j] for j in keep],
+                goal[keep],
+                [nominals[j] for j in keep],
+                # The model choice's refits leave them out too (numbered as its demonstrations).
+                [i for i, j in enumerate(keep) if j in by_preference],
+            )
         if self.model_selection_ is not None:
             # Read off every demonstration, those left out of the fit too: one that went
             # round a gap the reward threads is replanned on another side, and left out.
@@ -1115,7 +1109,9 @@ class Skill(
                 )
             warnings.warn(message, UserWarning, stacklevel=3)
 
-    def _long_way_passes(self, found: Mapping[str, Mapping[str, Any]], n: int) -> list[int]:
+    def _long_way_passes(
+        self, found: Mapping[str, Mapping[str, Any]], scenes: Sequence[Scene]
+    ) -> list[int]:
         """Obstacle demonstrations that go the long way round a class kept on one side.
 
         Plans keep such a class on its side by blockers
@@ -1128,12 +1124,20 @@ class Skill(
         where the person's reward, planned the same way, kept all three
         (6 mm); fitted without those two, 1 of 3 → 3 of 3 sides, 5.6 mm. The
         reward is fitted on the others where at least
-        :data:`~lfdkit.skill.selection.MIN_CROSS_VALIDATION_DEMOS` remain;
-        none where no side is kept (``model="thesis"``).
+        :data:`~lfdkit.skill.selection.MIN_CROSS_VALIDATION_DEMOS` remain
+        and their ``scenes`` show every class these passes' do (a class only
+        they show is learned from them); none where no side is kept
+        (``model="thesis"``).
         """
         kept = [info for label, info in found.items() if label in self.side_preferences_]
         passes = sorted({int(j) for info in kept for j in info.get("long_way", ())})
-        return passes if n - len(passes) >= MIN_CROSS_VALIDATION_DEMOS else []
+        others = [scene for j, scene in enumerate(scenes) if j not in passes]
+        shown = {c for j in passes for c in scenes[j].labels}
+        if len(others) < MIN_CROSS_VALIDATION_DEMOS or not shown <= {
+            c for scene in others for c in scene.labels
+        }:
+            return []
+        return passes
 
     def _unexplained(
         self,

@@ -228,8 +228,8 @@ NOISE_SHARE = 0.8
 class BehaviourSelection:
     """How a skill chooses its behaviour model (route planner, clearance floor, frame)."""
 
-    #: The model choice's demonstrations its refits leave out: those going the long
-    #: way round a class kept on one side (``Skill._long_way_passes``), set while it runs.
+    #: The model choice's demonstrations its refits leave out, while it runs
+    #: (:meth:`_select_model`'s ``preference_passes``).
     _preference_passes: Sequence[int] = ()
 
     def _behaviour_candidates(self) -> list[dict[str, str]]:
@@ -575,6 +575,7 @@ class BehaviourSelection:
         scenes: list[Scene],
         goal: np.ndarray,
         nominals: list[np.ndarray],
+        preference_passes: Sequence[int] = (),
     ) -> None:
         """Choose the behaviour model by cross-validated replanning error (issue 26).
 
@@ -596,13 +597,18 @@ class BehaviourSelection:
         Sets :attr:`route_`, :attr:`clearances_`, :attr:`frame_`,
         :attr:`training_fidelity_` (the chosen model with the reward fitted
         on all, in the training scenes) and :attr:`model_selection_`.
+        ``preference_passes``: demonstrations (by their place here) the
+        refits leave out, those going the long way round a class kept on one
+        side (``Skill._long_way_passes``); they are still replanned and scored.
         """
         self._free_plans: dict[tuple, tuple[Reward, Any]] | None = {}  # Planning._plan's memo
         self._sided_memo: dict[tuple, tuple] | None = {}  # Planning._sided_blockers'
+        self._preference_passes = preference_passes
         try:
             self._choose_model(demos, scenes, goal, nominals)
         finally:
             self._free_plans = self._sided_memo = None
+            self._preference_passes = ()
 
     def _choose_model(
         self,

@@ -775,7 +775,7 @@
       else {
         const o = hitObstacle(state.trial.obstacles, world);
         if (o) {
-          target = { kind: "trial", obstacle: o, grab: [o.x - world[0], o.y - world[1]] };
+          target = { kind: "trial", item: o, grab: [o.x - world[0], o.y - world[1]] };
           state.selected = { kind: "trial", id: o.id };
           $("try-radius").value = round(o.radius * 100, 1);
         }
@@ -809,7 +809,7 @@
         }
       }
       state.selected = { kind: "frame", id: f.name };
-      state.drag = { kind: "frame", obstacle: f, grab: hit ? [f.x - world[0], f.y - world[1]] : [0, 0] };
+      state.drag = { kind: "frame", item: f, grab: hit ? [f.x - world[0], f.y - world[1]] : [0, 0] };
       safeCapture(ev.pointerId);
       refresh();
       ev.preventDefault();
@@ -821,7 +821,7 @@
       if (hit) {
         state.selected = { kind: "obstacle", id: hit.id };
         // Where it was grabbed stays under the pointer (a box is grabbed anywhere on it).
-        state.drag = { kind: "obstacle", obstacle: hit, grab: [hit.x - world[0], hit.y - world[1]] };
+        state.drag = { kind: "obstacle", item: hit, grab: [hit.x - world[0], hit.y - world[1]] };
         if (hit.shape === "box") { // its size in the inputs, to be changed there
           $("obstacle-shape").value = "box";
           $("box-width").value = round(hit.width * 100, 1);
@@ -840,7 +840,7 @@
         if (inputs.shape === "box") Object.assign(o, { shape: "box", width: inputs.width, depth: inputs.depth, yaw: inputs.yaw });
         state.obstacles.push(o);
         state.selected = { kind: "obstacle", id: o.id };
-        state.drag = { kind: "obstacle", obstacle: o };
+        state.drag = { kind: "obstacle", item: o };
       }
       safeCapture(ev.pointerId);
       refresh();
@@ -871,7 +871,7 @@
     else if (d.kind === "goal") state.trial.goal = world;
     else {
       const [gx, gy] = d.grab || [0, 0];
-      d.obstacle.x = world[0] + gx; d.obstacle.y = world[1] + gy;
+      d.item.x = world[0] + gx; d.item.y = world[1] + gy;
     }
     if (state.mode === "try") requestPlan(false);
     draw();
