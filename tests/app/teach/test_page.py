@@ -169,6 +169,15 @@ def _wait(driver, test, what: str, seconds: float = 90.0) -> dict:
     raise AssertionError(f"timed out waiting for {what}; page state: {str(_state(driver))[:600]}")
 
 
+def _open(driver, url: str, what: str = "the page") -> None:
+    """Load the page and wait (10 s at most) until it has its session."""
+    driver.get(url)
+    end = time.monotonic() + 10
+    while driver.execute_script("return document.body.dataset.ready") != "yes":
+        assert time.monotonic() < end, f"{what} did not get a session"
+        time.sleep(0.05)
+
+
 def _plan_after(driver, count: int) -> dict:
     return _wait(
         driver,
@@ -194,12 +203,7 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
     from lfdkit.skill import Skill
 
     driver = browser
-    driver.get(server)
-    _wait(driver, lambda s: True, "the page", 10)
-    end = time.monotonic() + 10
-    while driver.execute_script("return document.body.dataset.ready") != "yes":
-        assert time.monotonic() < end, "the page did not get a session"
-        time.sleep(0.05)
+    _open(driver, server)
 
     # Learning from nothing: a readable line in the page.
     driver.find_element("id", "learn").click()
@@ -285,11 +289,7 @@ def test_draw_learn_drag_and_export_in_chromium(server, browser, tmp_path):
     # A second tab has a session of its own: nothing drawn, nothing learned.
     first = driver.current_window_handle
     driver.switch_to.new_window("tab")
-    driver.get(server)
-    end = time.monotonic() + 10
-    while driver.execute_script("return document.body.dataset.ready") != "yes":
-        assert time.monotonic() < end, "the second tab did not get a session"
-        time.sleep(0.05)
+    _open(driver, server, "the second tab")
     other = _state(driver)
     assert other["demos"] == [] and not other["layers"]
     answer = driver.execute_async_script(FETCH, "/api/export/skill", None)
@@ -305,11 +305,7 @@ def test_a_box_is_placed_drawn_dragged_and_saved_in_chromium(server, browser, tm
     from lfdkit.model.box import Box
 
     driver = browser
-    driver.get(server)
-    end = time.monotonic() + 10
-    while driver.execute_script("return document.body.dataset.ready") != "yes":
-        assert time.monotonic() < end, "the page did not get a session"
-        time.sleep(0.05)
+    _open(driver, server)
     driver.execute_async_script(DRAW, [_stroke(False, k) for k in range(3)], 12)
     # A 14 × 5 cm box turned 20°, placed on the path with the obstacle tool.
     driver.find_element("css selector", 'input[name="tool"][value="obstacle"]').click()
@@ -363,11 +359,7 @@ def test_task_frames_are_placed_moved_and_recorded_with_each_stroke_in_chromium(
     from lfdkit.io import load_demos
 
     driver = browser
-    driver.get(server)
-    end = time.monotonic() + 10
-    while driver.execute_script("return document.body.dataset.ready") != "yes":
-        assert time.monotonic() < end, "the page did not get a session"
-        time.sleep(0.05)
+    _open(driver, server)
     driver.find_element("css selector", 'input[name="tool"][value="frame"]').click()
     driver.execute_script(
         "document.getElementById('frame-name').value = 'dustpan';"
