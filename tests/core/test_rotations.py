@@ -65,6 +65,20 @@ def test_slerp_and_distance_match_pytransform3d() -> None:
         assert abs(rot.angle_between(qa, qb) - pr.quaternion_dist(_wxyz(qa), _wxyz(qb))) < 1e-12
 
 
+def test_heading_is_the_yaw_of_a_zyx_decomposition_and_nan_where_x_is_vertical() -> None:
+    q = _random(50, 7)
+    R = rot.matrix_from_quaternion(q)
+    want = [pr.euler_from_matrix(m, 2, 1, 0, extrinsic=False)[0] for m in R]
+    np.testing.assert_allclose(rot.heading(q), want, atol=1e-12)
+    np.testing.assert_array_equal(rot.heading(-q), rot.heading(q))  # q and -q: one rotation
+    angles = np.linspace(-3.1, 3.1, 9)  # about z alone: its own angle
+    about_z = np.c_[np.zeros((9, 2)), np.sin(angles / 2), np.cos(angles / 2)]
+    np.testing.assert_allclose(rot.heading(about_z), angles, atol=1e-14)
+    assert rot.heading(about_z.reshape(3, 3, 4)).shape == (3, 3)
+    pitched = np.array([0.0, np.sin(np.pi / 4), 0.0, np.cos(np.pi / 4)])  # x axis straight down
+    assert np.isnan(rot.heading(pitched)) and rot.heading(pitched).shape == ()
+
+
 def test_means_markley_and_robust() -> None:
     rng = np.random.default_rng(4)
     centre = _random(1, 5)[0]

@@ -457,6 +457,7 @@ def test_a_task_frame_is_posed_where_each_demonstration_starts(tmp_path: Path) -
     q = np.tile(_rot([0, 0, 1], 0.2), (len(t), 1))
     table = Sample(1, 1, (0.5, 0.0, 0.0), _rot([0, 0, 1], 0.5), "world", "table")
     pan = Sample(1, 1, (0.2, 0.1, 0.0), _rot([0, 0, 1], 0.25), "table", "pan")
+    upright = Sample(1, 1, (0.1, 0.0, 0.0), _rot([0, 1, 0], -np.pi / 2), "world", "upright")
     lid_x = np.interp(t, [0.0, 3.0, 3.2, 9.0], [0.3, 0.3, 0.6, 0.6])  # moved in the 1st pause
     lid = _tf_messages(ns, np.c_[lid_x, 0 * t, 0 * t], q, "world", "lid")
     out = write_recording(
@@ -465,7 +466,10 @@ def test_a_task_frame_is_posed_where_each_demonstration_starts(tmp_path: Path) -
         {
             "/tool_pose": ("geometry_msgs/msg/PoseStamped", _samples(ns, pos, q)),
             "/tf": ("tf2_msgs/msg/TFMessage", lid),
-            "/tf_static": ("tf2_msgs/msg/TFMessage", [Sample(1, 1, transforms=[table, pan])]),
+            "/tf_static": (
+                "tf2_msgs/msg/TFMessage",
+                [Sample(1, 1, transforms=[table, pan, upright])],
+            ),
         },
     )
     starts = ns[[int(np.searchsorted(t, a)) for a, _ in strokes]]
@@ -504,6 +508,22 @@ def test_a_task_frame_is_posed_where_each_demonstration_starts(tmp_path: Path) -
         cwd=tmp_path,
     )  # fmt: skip
     assert bad.returncode == 2 and "rename it with world:a/b=NAME" in bad.stderr
+    # A frame whose x axis points up has no turn about z: refused for --planar, 3-D kept.
+    bad = _lfdkit(
+        "import", str(out), "--topic", "/tool_pose", "--split", "--planar",
+        "--task-frame", "world:upright", "-o", "e.csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert bad.returncode == 2 and not (tmp_path / "e.csv").exists()
+    assert (
+        "--task-frame world:upright: where demonstration 1 of rec starts, its x axis "
+        "points straight up or down" in bad.stderr
+    ), bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1
+    done = _lfdkit(
+        "import", str(out), "--topic", "/tool_pose", "--split", "--task-frame", "world:upright",
+        "-o", "e.csv", cwd=tmp_path,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
 
 
 def test_import_then_learn(tmp_path: Path) -> None:

@@ -13,6 +13,8 @@ average orientations pick signs themselves.
 * :func:`slerp`, :func:`continuous` (signs flipped so consecutive quaternions
   are on the same hemisphere);
 * :func:`matrix_from_quaternion`, :func:`quaternion_from_matrix`;
+* :func:`heading` (the turn about +z of the rotated x axis: a tool's heading
+  on the table, a task frame's angle in a planar import);
 * :func:`mean_quaternion` (Markley et al. 2007: the eigenvector of the largest
   eigenvalue of ``sum w_i q_i q_iᵀ``, the rotation minimising the weighted
   squared chordal distances) and :func:`robust_mean_quaternion` (the same,
@@ -35,6 +37,7 @@ __all__ = [
     "conjugate",
     "continuous",
     "exp",
+    "heading",
     "log",
     "matrix_from_quaternion",
     "mean_quaternion",
@@ -224,6 +227,28 @@ def matrix_from_quaternion(q: np.ndarray) -> np.ndarray:
         ),
         axis=-2,
     )
+
+
+def heading(q: Any) -> np.ndarray:
+    """The turn about +z of unit quaternions: where each rotation points the x axis on the xy plane.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Unit quaternions ``[x, y, z, w]``.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Angle (rad, in [-π, π], anticlockwise from +x) of the rotated x axis
+        projected on the xy plane: a rotation about z alone by its own angle,
+        in general the yaw of a z-y-x (yaw, pitch, roll) decomposition. NaN
+        where that axis is within 1e-6 of vertical (it has no heading).
+    """
+    x, y, z, w = np.moveaxis(np.asarray(q, dtype=np.float64), -1, 0)
+    # The rotation matrix's first column (matrix_from_quaternion's, to the bit).
+    along, across = 1 - 2 * (y * y + z * z), 2 * (x * y + z * w)
+    return np.where(np.hypot(along, across) < 1e-6, np.nan, np.arctan2(across, along))
 
 
 def quaternion_from_matrix(R: np.ndarray) -> np.ndarray:

@@ -45,7 +45,7 @@ from lfdkit.core.geometry import point_tangents
 from lfdkit.core.rotations import (
     MAX_ROTATION_ANGLE,
     check_quaternions,
-    matrix_from_quaternion,
+    heading,
     quaternion_from_matrix,
     stable_norm,
 )
@@ -386,12 +386,11 @@ def yaw_from_quaternions(quaternions: Any) -> np.ndarray:
         If a quaternion is NaN or not unit, or a tool x axis is vertical
         (no heading).
     """
-    R = matrix_from_quaternion(check_quaternions(quaternions, "quaternions"))
-    x, y = R[:, 0, 0], R[:, 1, 0]
-    flat = np.hypot(x, y) < 1e-6
+    angles = heading(check_quaternions(quaternions, "quaternions"))
+    flat = np.isnan(angles)
     if flat.any():
         raise ValueError(
             f"quaternions: row {int(np.argmax(flat))} points the tool x axis vertically; "
             "it has no heading on the table"
         )
-    return np.unwrap(np.arctan2(y, x))
+    return np.unwrap(angles)

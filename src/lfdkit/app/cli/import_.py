@@ -51,6 +51,7 @@ def _frame_poses(
     """Each segment's task frames (``--task-frame``), posed where the segment starts."""
     import numpy as np
 
+    from lfdkit.core.rotations import heading
     from lfdkit.io.recordings import read_frame_poses
 
     starts = [rec.start_ns + round(float(rec.times[a]) * 1e9) for a, _ in segments]
@@ -62,14 +63,18 @@ def _frame_poses(
                 f"(--frame); give the task frame in it too ({args.frame[0]}:{child})"
             )
         positions, turns = read_frame_poses(path, (parent, child), starts)
-        for poses, p, q in zip(out, positions, turns, strict=True):
-            if args.planar:  # the turn about z (yaw) of the object's pose
-                yaw = np.arctan2(
-                    2.0 * (q[3] * q[2] + q[0] * q[1]), 1.0 - 2.0 * (q[1] ** 2 + q[2] ** 2)
-                )
-                poses[name] = np.array([p[0], p[1], yaw])
-            else:
+        yaws = heading(turns) if args.planar else None  # the object's turn about z
+        for k, (poses, p, q) in enumerate(zip(out, positions, turns, strict=True)):
+            if yaws is None:
                 poses[name] = np.concatenate([p, q])
+            elif np.isnan(yaws[k]):
+                raise UsageError(
+                    f"--task-frame {parent}:{child}: where demonstration {k + 1} of "
+                    f"{path.name} starts, its x axis points straight up or down, so it has no "
+                    "turn about z for --planar; import without --planar (3-D poses)"
+                )
+            else:
+                poses[name] = np.array([p[0], p[1], yaws[k]])
     return out
 
 
