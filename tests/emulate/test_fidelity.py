@@ -130,13 +130,16 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
     consistent = ratio <= CONSISTENT_CLEARANCE
     assert selection["default"] == ("window+demonstrated" if consistent else "window")
     # The least held-out error (the folds' trimmed mean MSE) wins (the default by a
-    # margin, the swerve only within SWERVE_MARGIN of the others), then the runner-up.
+    # margin, the swerve only within SWERVE_MARGIN of the symmetric models), then the
+    # runner-up.
     score = {
-        name: row["error"]
-        * (1.0 - SELECTION_MARGIN if name == selection["default"] else 1.0)
-        / (SWERVE_MARGIN if name.endswith("/swerve") else 1.0)
+        name: row["error"] * (1.0 - SELECTION_MARGIN if name == selection["default"] else 1.0)
         for name, row in candidates.items()
     }
+    least_symmetric = min(v for k, v in score.items() if not k.endswith(("/swerve", "/return")))
+    for name in score:
+        if name.endswith("/swerve") and score[name] > SWERVE_MARGIN * least_symmetric:
+            score[name] /= SWERVE_MARGIN
 
     def best(names):  # the least, and of those within round-off of it the first
         least = min(score[name] for name in names)

@@ -98,6 +98,34 @@ def test_the_swerve_must_cut_the_held_out_error_of_the_models_without_it() -> No
     ]
 
 
+def test_a_swerve_that_beats_the_symmetric_models_meets_the_slow_return_on_its_error() -> None:
+    # Both explain an asymmetric person; the margin is the swerve's case against the
+    # thesis's symmetric bump only. Past it, the closer of the two wins.
+    names = ["window", "window+demonstrated", "window/swerve", "window+demonstrated/return"]
+
+    def ranked(swerve: float, slow: float) -> list[str]:
+        scores = {
+            "window": _fidelity_scores(_rows([0.10] * 5), 5),
+            "window+demonstrated": _fidelity_scores(_rows([0.12] * 5), 5),
+            "window/swerve": _fidelity_scores(_rows([swerve] * 5), 5),
+            "window+demonstrated/return": _fidelity_scores(_rows([slow] * 5), 5),
+        }
+        return _ranked(names, scores, "window")
+
+    # 0.3 of the best symmetric model's error: against the slow return at 0.25 (which
+    # would have kept it behind, 0.3 / SWERVE_MARGIN = 0.86) by the errors alone.
+    assert ranked(0.030, 0.025)[:2] == ["window+demonstrated/return", "window/swerve"]
+    assert ranked(0.030, 0.040)[:2] == ["window/swerve", "window+demonstrated/return"]
+    # Not past the margin (0.5 of the symmetric model's): scaled against every model.
+    assert ranked(0.050, 0.080)[:2] == ["window+demonstrated/return", "window"]
+    assert ranked(0.050, 0.200)[:3] == ["window", "window+demonstrated", "window/swerve"]
+    # The default's margin counts in the symmetric models' least error: 0.35 x 0.10 x 0.98
+    # = 0.0343. Just within it the swerve wins on its error; just beyond, scaled (0.0986),
+    # it loses to the slow return at 0.09.
+    assert ranked(0.0342, 0.090)[0] == "window/swerve"
+    assert ranked(0.0345, 0.090)[0] == "window+demonstrated/return"
+
+
 def _skill_of(person: Reward):
     """A skill fitted on 6 demonstrations planned by ``person`` (thesis MPC, H = 8)."""
     x = np.linspace(0.0, 1.0, 100)
