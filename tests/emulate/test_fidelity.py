@@ -419,6 +419,51 @@ def test_path_frame_responses_turn_with_the_task() -> None:
         three_d.plan(scene=Scene((Obstacle("cup", [0.5, 0.01, 0.0], radius=0.005),)))
 
 
+def test_a_plan_passing_a_class_running_a_way_it_was_never_shown_says_so() -> None:
+    # The reward of the test above, learned along +x; the task turned by 90 and 30 degrees.
+    reward = Reward(20.0, {"cup": [100.0, 4000.0]})
+    cup = Obstacle("cup", [0.5, 0.01], radius=0.005)
+
+    def said(model: str, angle: float, info: dict | None = None) -> list[str]:
+        skill = Skill(model=model).fit([_turned(d, angle) for d in FREE])
+        skill.ioc_info_ = info or {"frame_axis": [1.0, 0.0]}  # learned along +x
+        skill.adopt(reward)
+        scene = Scene((Obstacle("cup", _turned(cup.position, angle), radius=0.005),))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            skill.plan(scene=scene)
+        return [str(w.message) for w in caught if "from every direction" in str(w.message)]
+
+    (message,) = said("auto", np.pi / 2)
+    assert "\n" not in message
+    assert message.startswith(
+        "plan: obstacle 0 ('cup') is passed 90° from every direction the demonstrations "
+        "passed a 'cup' in; its learned response, kept in room axes, is 6.3 times as wide "
+        "across the path and 0.16 times along it as they showed"
+    )
+    assert message.endswith(
+        "or plan with Skill(model='path') for a person who reacts relative to the motion"
+    )
+    # Within a quarter of its width across (30 degrees: 1.15), the same task, or a person
+    # planned relative to the motion (or by the thesis's model, in room axes by choice): none.
+    assert said("auto", np.pi / 6) == [] and said("auto", 0.0) == []
+    assert said("path", np.pi / 2) == [] and said("thesis", np.pi / 2) == []
+    # Shown running that way too (a fit's record of the directions): none.
+    shown = {"frame_axis": [1.0, 0.0], "shown_directions": {"cup": [0.0, round(np.pi / 2, 4)]}}
+    assert said("auto", np.pi / 2, shown) == []
+
+
+def test_a_fit_records_the_directions_each_class_was_shown_in(learned) -> None:
+    skill, _, _ = learned
+    shown = skill.ioc_info_["shown_directions"]
+    assert set(shown) == {"cup"} and shown["cup"] == sorted(set(shown["cup"]))
+    # The training task runs along +x: every cup was passed running (nearly) that way.
+    turns = np.asarray(shown["cup"])
+    assert np.all(np.minimum(turns, np.pi - turns) < np.radians(10.0))
+    again = Skill.from_dict(json.loads(json.dumps(skill.to_dict())))
+    assert again.ioc_info_["shown_directions"] == shown
+
+
 def test_poor_cross_validated_fidelity_is_warned_on_one_line() -> None:
     skill = Skill()
     skill.training_fidelity_ = [{"demo": 0, "improvement": 90.0}]

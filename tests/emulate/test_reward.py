@@ -135,3 +135,43 @@ def test_unknown_class_and_bad_weight_are_refused(setting) -> None:
         Obstacle("cup", [np.nan, 0.0])
     with pytest.raises(ValueError, match="mixed 2-D and 3-D"):
         Scene((Obstacle("cup", [0.0, 0.0]), Obstacle("cup", [0.0, 0.0, 0.0])))
+
+
+def _turn(points, angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.asarray(points, dtype=float) @ np.array([[c, s], [-s, c]])
+
+
+def test_a_response_shown_one_way_is_judged_by_its_width_across_a_path_running_another() -> None:
+    from lfdkit.emulate.reward import shown_directions, unshown_widths
+    from lfdkit.model.half_space import HalfSpace
+
+    x = np.linspace(0.0, 1.0, 101)
+    along_x = np.column_stack([x, 0.0 * x])
+    cup = Obstacle("cup", [0.5, 0.01], radius=0.02)
+    # Shown running +x and running back (-x): one direction, a Gaussian being symmetric.
+    shown = shown_directions([Scene((cup,)), Scene((cup,))], [along_x, along_x[::-1]], np.ones(2))
+    assert shown == {"cup": [0.0]}
+    long = Reward(20.0, {"cup": [100.0, 4000.0]})  # long along x: 6.3 times as wide as across
+
+    def judged(angle: float, reward: Reward = long, obstacle=cup) -> list:
+        turned = Obstacle(obstacle.label, _turn(obstacle.position, angle), radius=0.02)
+        return unshown_widths(reward, Scene((turned,)), _turn(along_x, angle), shown)
+
+    assert judged(0.0) == [] and judged(np.pi) == []
+    # Turned by 90 degrees: across the path is the response's long axis now.
+    ((i, degrees, across, along),) = judged(np.pi / 2)
+    assert (i, degrees) == (0, pytest.approx(90.0))
+    assert across == pytest.approx(np.sqrt(40.0)) and along == pytest.approx(np.sqrt(1 / 40))
+    # Across (n' P n)^-1/2 against the shown (0, 1)' P (0, 1): a quarter wider at 40 degrees.
+    for turn, widened in ((30.0, None), (37.0, None), (45.0, np.sqrt(4000.0 / 2050.0))):
+        got = judged(np.radians(turn))
+        assert (got[0][2] if got else None) == (pytest.approx(widened) if widened else None)
+    # A round response is the same in any frame; a far obstacle is not reacted to.
+    assert judged(np.pi / 2, Reward(20.0, {"cup": [1000.0, 1000.0]})) == []
+    far = Obstacle("cup", [0.5, 0.5], radius=0.02)  # 3 widest widths: 3 / sqrt(100) = 0.3
+    assert judged(np.pi / 2, obstacle=far) == []
+    # A class never shown, and a half-space (no centre to pass), are not judged.
+    assert unshown_widths(long, Scene((Obstacle("pan", [0.0, 0.5]),)), along_x, shown) == []
+    table = HalfSpace("cup", [0.0, -0.05], 0.0, [0.0, 1.0])
+    assert unshown_widths(long, Scene((table,)), _turn(along_x, np.pi / 2), shown) == []

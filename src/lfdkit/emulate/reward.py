@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -36,9 +37,10 @@ import numpy as np
 
 from lfdkit.core.geometry import project_onto_polyline, segment_tangents
 from lfdkit.core.validation import check_positive
+from lfdkit.model.half_space import HalfSpace
 from lfdkit.model.scene import Scene
 
-__all__ = ["Reward", "in_path_frame"]
+__all__ = ["Reward", "in_path_frame", "passing_directions", "shown_directions", "unshown_widths"]
 
 
 class Reward:
@@ -363,6 +365,104 @@ def _distances_to_polyline(points: np.ndarray, polyline: np.ndarray) -> np.ndarr
     return np.sqrt(best)
 
 
+def passing_directions(nominal: np.ndarray, points: np.ndarray, fallback: np.ndarray) -> np.ndarray:
+    """The direction a path runs where it passes each point: unit tangents, shape (n_points, q).
+
+    The tangent at the path's point nearest each of ``points`` (n_points, q),
+    from the segments on both sides of it (a zero-length one adds nothing);
+    ``fallback`` (unit, (q,)) where the path stands still or folds back there.
+    """
+    tangents = segment_tangents(nominal)
+    out = np.empty((len(points), nominal.shape[1]))
+    for i, point in enumerate(points):
+        k = int(np.argmin(np.linalg.norm(nominal - point, axis=1)))
+        t = tangents[max(k - 1, 0)] + tangents[min(k, len(tangents) - 1)]
+        norm = float(np.linalg.norm(t))
+        out[i] = t / norm if norm > 1e-9 else fallback
+    return out
+
+
+def shown_directions(
+    scenes: Sequence[Scene], nominals: Sequence[np.ndarray], fallback: np.ndarray
+) -> dict[str, list[float]]:
+    """The directions each class's response was shown in: ``{class: angles}`` (2-D).
+
+    Each angle (rad, in [0, π): a direction and its reverse alike, as a
+    Gaussian response is the same turned by π) is the direction its
+    demonstration's nominal ran where it passed an obstacle of the class
+    (:func:`passing_directions`), rounded to 1e-4 rad, sorted, without repeats.
+    """
+    shown: dict[str, set[float]] = {}
+    for scene, nominal in zip(scenes, nominals, strict=True):
+        if not len(scene):
+            continue
+        t = passing_directions(np.asarray(nominal, dtype=np.float64), scene.positions, fallback)
+        for label, angle in zip(scene.labels, np.arctan2(t[:, 1], t[:, 0]) % np.pi, strict=True):
+            shown.setdefault(label, set()).add(round(float(angle), 4) % round(math.pi, 4))
+    return {label: sorted(angles) for label, angles in sorted(shown.items())}
+
+
+def unshown_widths(
+    reward: Reward, scene: Scene, nominal: Any, shown: Mapping[str, Sequence[float]]
+) -> list[tuple[int, float, float, float]]:
+    """Obstacles passed in a direction their class's response was never shown in, where it
+    matters: ``(index, degrees, across, along)`` for each (2-D, world-axis responses).
+
+    A response learned in world axes from demonstrations that passed the class's
+    obstacles running one way keeps its shape in the room when a task passes one
+    running another way; a person who reacts relative to the motion keeps it
+    relative to the path (:func:`in_path_frame`). Demonstrations in one
+    direction cannot tell the two apart. ``across`` and ``along`` are the
+    room-axis response's widths across and along the path at the obstacle over
+    the widths its class showed across and along the nearest direction it was
+    shown in (``degrees`` from it); the width along a unit direction ``u`` is
+    ``(uᵀ P u)^(-1/2)``. Listed where the width across the path (how far the
+    plan swerves, which gaps it takes) differs by more than a quarter (a
+    factor outside [0.8, 1.25]) and the nominal passes within the obstacle's
+    reach plus three of its widest widths (it reacts to it). Across is what
+    is judged: a response ten times as long as it is wide changes that by a
+    quarter at a turn of about 40° (its width along the path, mixed with the
+    far larger precision across, by a third at 10°).
+    """
+    nominal = np.asarray(nominal, dtype=np.float64)
+    out: list[tuple[int, float, float, float]] = []
+    if nominal.ndim != 2 or nominal.shape[1] != 2 or not len(scene):
+        return out
+    learned = [
+        i
+        for i, o in enumerate(scene.obstacles)
+        # A half-space (a table, a wall) has no centre to be passed in a direction.
+        if shown.get(o.label) and o.label in reward.precisions and not isinstance(o, HalfSpace)
+    ]
+    if not learned:
+        return out
+    directions = passing_directions(nominal, scene.positions, np.array([1.0, 0.0]))
+    for i in learned:
+        obstacle = scene.obstacles[i]
+        precision = reward.precision_of(Scene((obstacle,)))[0]
+        widest = 1.0 / math.sqrt(float(np.linalg.eigvalsh(precision)[0]))
+        near = float(np.min(np.linalg.norm(nominal - obstacle.position, axis=1)))
+        centres, radii = obstacle.balls()
+        offsets = np.atleast_2d(np.asarray(centres, dtype=np.float64)) - obstacle.position
+        reach = float(np.max(np.linalg.norm(offsets, axis=1) + np.asarray(radii, dtype=float)))
+        if near > reach + 3.0 * widest:
+            continue
+        beta = math.atan2(directions[i, 1], directions[i, 0])
+        turns = [(beta - a + math.pi / 2) % math.pi - math.pi / 2 for a in shown[obstacle.label]]
+        turn = min(turns, key=abs)
+        alpha = beta - turn
+        widths = []
+        for angle in (alpha, beta):
+            along = np.array([math.cos(angle), math.sin(angle)])
+            across = np.array([-along[1], along[0]])
+            widths.append((across @ precision @ across, along @ precision @ along))
+        across = math.sqrt(widths[0][0] / widths[1][0])
+        along = math.sqrt(widths[0][1] / widths[1][1])
+        if abs(math.log(across)) > math.log(1.25):
+            out.append((i, math.degrees(abs(turn)), across, along))
+    return out
+
+
 def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tuple[Reward, Scene]:
     """The reward with each obstacle's precision turned into the nominal's frame (2-D).
 
@@ -403,14 +503,10 @@ def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tupl
     if nominal.ndim != 2 or nominal.shape[1] != 2 or axis.shape != (2,):
         raise ValueError("in_path_frame: defined for 2-D paths only; use world axes in 3-D")
     axis = axis / np.linalg.norm(axis)
-    tangents = segment_tangents(nominal)
+    directions = passing_directions(nominal, scene.positions, axis)
     precisions, obstacles, swerve = {}, [], {}
     for i, obstacle in enumerate(scene.obstacles):
-        k = int(np.argmin(np.linalg.norm(nominal - obstacle.position, axis=1)))
-        # The segments on both sides of the nearest point (a zero-length one adds nothing).
-        t = tangents[max(k - 1, 0)] + tangents[min(k, len(tangents) - 1)]
-        norm = float(np.linalg.norm(t))
-        t = t / norm if norm > 1e-9 else axis  # a standstill or a fold: no turn
+        t = directions[i]
         cos, sin = float(axis @ t), float(axis[0] * t[1] - axis[1] * t[0])
         turn = np.array([[cos, -sin], [sin, cos]])
         label = f"{obstacle.label}#{i}"

@@ -57,6 +57,7 @@ from lfdkit.core.validation import (
 from lfdkit.emulate import Reward, UnsafePlanError, metrics
 from lfdkit.emulate.fidelity import kept_sides, replanning_fidelity, side_preferences
 from lfdkit.emulate.gaps import declined_gap_width, swerve_reach
+from lfdkit.emulate.reward import shown_directions
 from lfdkit.imitate import DMP, ProMP, QuaternionDMP, SpeedProfile, learn_timing
 from lfdkit.imitate.via_points import (
     DEFORMATION_BASIS,
@@ -1013,6 +1014,10 @@ class Skill(
         # The direction the precisions are learned along (model="path" turns them from it).
         chord = self.path_[-1] - self.path_[0]
         self.ioc_info_["frame_axis"] = (chord / max(float(np.linalg.norm(chord)), 1e-300)).tolist()
+        if self.n_dims_ == 2:  # the directions each class's response was shown in (planning warns)
+            self.ioc_info_["shown_directions"] = shown_directions(
+                scenes, nominals, np.asarray(self.ioc_info_["frame_axis"])
+            )
         self.class_radii_ = median_radii(scenes, ioc.classes_)
         with progress.stage("emulate: replanning the training scenes (fidelity, model choice)"):
             # Obstacles of a class not learned never shaped a demonstration (the IOC

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any, Literal
@@ -49,7 +50,7 @@ from lfdkit.emulate.gaps import (
     threaded_pairs,
 )
 from lfdkit.emulate.problem import UNCERTAINTY_MARGIN
-from lfdkit.emulate.reward import in_path_frame
+from lfdkit.emulate.reward import in_path_frame, unshown_widths
 from lfdkit.emulate.taut import taut_plan
 from lfdkit.imitate.timing import DURATION_RANGE
 from lfdkit.model.half_space import HalfSpace
@@ -538,6 +539,8 @@ class Planning:
         scene = Scene() if scene is None else scene
         if not isinstance(scene, Scene):
             raise TypeError(f"scene: expected a Scene, got {type(scene).__name__}")
+        if reward is None and sided is None and route is None and frame is None:
+            self._warn_unshown_directions(nominal, scene)  # the skill's own plan, said once
         # Planning again with what this call was given: with the side blockers found here,
         # or with a fitted swerve's reward (issue 26).
         again = functools.partial(
@@ -1052,6 +1055,55 @@ class Planning:
             f"plan {way}; show a demonstration next to two close obstacles to decide",
             UserWarning,
             stacklevel=5,
+        )
+
+    def _warn_unshown_directions(self, nominal: np.ndarray, scene: Scene) -> None:
+        """Warn where the plan meets an obstacle running a way its class was never shown in,
+        and the learned response's width there depends on which frame the person reacts in.
+
+        Demonstrations passing a class's obstacles in one direction cannot tell a
+        person who reacts in room axes (the thesis's model, what ``"auto"``
+        plans) from one who reacts relative to the motion (``model="path"``);
+        on a task that passes it another way the two differ
+        (:func:`lfdkit.emulate.reward.unshown_widths`). Fidelity benchmark, seed
+        11, in mm, the late swerver's new task (a diagonal): planned in room
+        axes, Pr −2662 %, the box's response 1.4× as wide across the path as
+        shown; relative to the motion, 94 %. Only ``model="auto"`` in 2-D with a
+        learned response that is planned with (not the taut route).
+        """
+        if (
+            self.model != "auto"
+            or self.n_dims_ != 2
+            or not len(scene)
+            or scene.moving
+            or self.reward_ is None
+            or getattr(self, "frame_", "world") != "world"
+            or getattr(self, "route_", None) == "taut"
+        ):
+            return
+        info = self.ioc_info_ or {}
+        shown = info.get("shown_directions")
+        if shown is None:  # older files, an adopted reward: the direction it was learned along
+            axis = np.asarray(info.get("frame_axis") or self.path_[-1] - self.path_[0], float)
+            angle = math.atan2(axis[1], axis[0]) % math.pi
+            shown = {label: [angle] for label in self.reward_.classes}
+        found = unshown_widths(self.reward_, scene, nominal, shown)
+        if not found:
+            return
+        i, degrees, across, along = max(found, key=lambda f: abs(math.log(f[2])))
+        label = scene.labels[i]
+        others = len(found) - 1
+        more = f" (and {others} more obstacle{'s' * (others > 1)})" if others else ""
+        warnings.warn(
+            f"plan: obstacle {i} ({label!r}) is passed {degrees:.0f}° from every direction "
+            f"the demonstrations passed a {label!r} in{more}; its learned response, kept in "
+            f"room axes, is {across:.2g} times as wide across the path and {along:.2g} times "
+            "along it as they showed, and whether the person reacts in room axes or relative "
+            f"to the motion is not known from them: show a demonstration passing a {label!r} "
+            "running this way, or plan with Skill(model='path') for a person who reacts "
+            "relative to the motion",
+            UserWarning,
+            stacklevel=4,
         )
 
     def _in_path_frame(
