@@ -879,3 +879,295 @@ def test_bad_task_frames_get_one_readable_line(learned, change, pattern) -> None
     change(payload)
     answer = client.post("/api/export/demos", json=payload, headers=headers)
     assert_readable(answer, 400, pattern)
+
+
+# ------------------------------------------------------------------ the task-frame skill
+STROKE_LENGTH = 0.4  # m, along the frame's x axis
+
+
+def _pan_stroke(pose, k: int, n: int = 45) -> np.ndarray:
+    """A stroke from the frame's origin along its x axis (the known answer), (n, 2) m.
+
+    ``pose`` is ``[x, y, angle]`` (m, rad); a 4 mm wiggle across the axis, different
+    in each stroke, keeps the demonstrations from being copies.
+    """
+    s = np.linspace(0.0, STROKE_LENGTH, n)
+    local = np.column_stack((s, 0.004 * math.sin(1.3 * k) * np.sin(np.pi * s / STROKE_LENGTH)))
+    c, si = math.cos(pose[2]), math.sin(pose[2])
+    return local @ np.array([[c, si], [-si, c]]) + np.asarray(pose[:2])
+
+
+def frame_drawing(n: int = 5) -> dict:
+    """Clean strokes, each drawn with the frame ``pan`` moved and turned (-0.3 to 0.3 rad)."""
+    demos = []
+    for k in range(n):
+        pose = [-0.3 + 0.03 * k, 0.40 + 0.02 * (k % 2), -0.3 + 0.6 * k / (n - 1)]
+        demos.append(
+            {
+                "id": f"demo-{k + 1}",
+                "points": _pan_stroke(pose, k).tolist(),
+                "times": np.linspace(0.0, 0.8 + 0.05 * k, 45).tolist(),
+                "obstacles": [],
+                "frames": {"pan": pose},
+            }
+        )
+    return {"demos": demos, "obstacles": []}
+
+
+@pytest.fixture(scope="module")
+def frame_learned():
+    client = new_client()
+    headers = session(client)
+    status = learn(client, headers, frame_drawing())
+    assert status["state"] == "done", status
+    return client, headers, status
+
+
+def _records(payload: dict) -> list:
+    from lfdkit.model.demos import Demo
+
+    return [
+        Demo(np.array(d["points"]), np.array(d["times"]), id=d["id"], frames=d["frames"])
+        for d in payload["demos"]
+    ]
+
+
+def _plan_frames(client, headers, frames) -> dict:
+    answer = client.post("/api/plan/frames", json={"frames": frames}, headers=headers)
+    assert answer.status_code == 200, answer.text
+    return answer.json()
+
+
+def test_a_drawing_with_task_frames_also_learns_a_task_frame_skill(frame_learned) -> None:
+    client, headers, status = frame_learned
+    said = [line.strip().split("  ", 1)[1] for line in status["lines"]]
+    assert "task frames: a task-frame skill (TP-GMM) in pan" in said
+    assert any(
+        line.startswith("task frames: 2-D movement in the task frames pan from 5 demonstrations")
+        for line in said
+    ), said
+    layer = status["layers"]["task_frames"]
+    assert layer["frames"] == ["pan"]
+    # Where the page starts the frame: as the last stroke recorded it.
+    assert layer["poses"] == {"pan": frame_drawing()["demos"][-1]["frames"]["pan"]}
+    assert layer["duration"] == pytest.approx(np.median([0.8 + 0.05 * k for k in range(5)]))
+    assert status["warnings"] == []
+    # The obstacle skill is learned as ever beside it.
+    assert client.get("/api/export/skill", headers=headers).status_code == 200
+
+
+def test_the_frame_plan_leaves_the_frame_along_its_turned_x_axis(frame_learned) -> None:
+    # Known answer: every stroke left the frame's origin along its x axis for 0.4 m, so
+    # for a new pose the plan does too: within 2 mm of that segment everywhere and at
+    # both ends (the strokes' wiggles, ±4 mm at most, average out).
+    client, headers, _ = frame_learned
+    pose = [-0.25, 0.42, 0.2]
+    plan = _plan_frames(client, headers, {"pan": pose})
+    points = np.array(plan["points"])
+    assert points.shape == (100, 2)
+    axis = np.array([math.cos(pose[2]), math.sin(pose[2])])
+    offset = points - pose[:2]
+    along, across = offset @ axis, offset @ np.array([-axis[1], axis[0]])
+    assert np.linalg.norm(points[0] - pose[:2]) < 0.002
+    assert np.linalg.norm(points[-1] - (pose[:2] + STROKE_LENGTH * axis)) < 0.002
+    assert np.abs(across).max() < 0.002
+    assert np.all(np.diff(along) > 0)  # forward all the way
+    assert plan["warnings"] == []  # within the poses the strokes showed
+    assert plan["frames"] == {"pan": pose}
+    assert plan["times"][0] == 0.0 and plan["duration"] == pytest.approx(0.9)
+    # Turned the other way: the plan turns with the frame.
+    turned = np.array(_plan_frames(client, headers, {"pan": [-0.25, 0.42, -0.25]})["points"])
+    heading = math.atan2(*(turned[-1] - turned[0])[::-1])
+    assert heading == pytest.approx(-0.25, abs=0.01)
+
+
+def test_the_frame_plan_is_task_frame_skill_plan_on_the_same_records(frame_learned) -> None:
+    from lfdkit.skill import TaskFrameSkill
+
+    client, headers, _ = frame_learned
+    direct = TaskFrameSkill().fit(_records(frame_drawing()))
+    for pose in ([-0.25, 0.42, 0.2], [-0.2, 0.41, -0.1]):
+        plan = _plan_frames(client, headers, {"pan": pose})
+        timed = direct.plan({"pan": pose})
+        np.testing.assert_allclose(plan["points"], timed.positions, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(plan["times"], timed.times, rtol=0, atol=1e-12)
+
+
+def test_a_frame_posed_beyond_the_demonstrations_is_planned_with_a_warning(frame_learned) -> None:
+    client, headers, _ = frame_learned
+    plan = _plan_frames(client, headers, {"pan": [-0.25, 0.42, 1.5]})
+    (warning,) = plan["warnings"]
+    assert warning.startswith("plan: pan turned +1.50 rad about z") and "\n" not in warning
+    assert "extrapolates" in warning
+    assert len(plan["points"]) == 100
+
+
+def test_the_task_frame_skill_file_is_lfdkit_learn_task_frames(frame_learned, tmp_path) -> None:
+    """Byte for byte what ``lfdkit learn demos.csv --task-frames`` writes from the page's
+    demos.csv; the loaded file plans as the page, to the bit."""
+    from lfdkit.app.cli import main
+    from lfdkit.skill import TaskFrameSkill
+
+    client, headers, _ = frame_learned
+    exported = client.get("/api/export/task-frame-skill", headers=headers)
+    assert exported.status_code == 200, exported.text
+    disposition = exported.headers["content-disposition"]
+    assert disposition == 'attachment; filename="task-frame-skill.json"'
+    demos = client.post("/api/export/demos", json=frame_drawing(), headers=headers)
+    (tmp_path / "demos.csv").write_text(demos.text, encoding="utf-8")
+    skill_file = tmp_path / "pan.json"
+    argv = ["learn", str(tmp_path / "demos.csv"), "--task-frames", "-o", str(skill_file), "-q"]
+    assert main(argv) == 0
+    assert exported.content == skill_file.read_bytes()
+    (tmp_path / "page.json").write_bytes(exported.content)
+    loaded = TaskFrameSkill.load(tmp_path / "page.json")
+    pose = [-0.22, 0.41, 0.1]
+    plan = _plan_frames(client, headers, {"pan": pose})
+    timed = loaded.plan({"pan": pose})
+    np.testing.assert_array_equal(np.array(plan["points"]), timed.positions)
+    np.testing.assert_array_equal(np.array(plan["times"]), timed.times)
+
+
+@pytest.mark.parametrize(
+    ("body", "pattern"),
+    [
+        (
+            {"frames": {"pan": [0.0, 0.4, 0.0], "lid": [0.1, 0.4, 0.0]}},
+            r"^frames: no task frame 'lid' in this skill; give the poses of pan only$",
+        ),
+        ({"frames": {}}, r"^frames: missing 'pan'; give the pose of each frame of this skill"),
+        ({}, r"^frames: missing 'pan'"),
+        ({"frames": [0.0, 0.4, 0.0]}, r"^frames: expected an object, got a list"),
+        ({"frames": {"pan": [0.0, 0.4]}}, r"^frames\['pan'\]: expected \[x, y, angle\], got 2"),
+        ({"frames": {"pan": [0.0, "a", 0.0]}}, r"^frames\['pan'\]\[1\]: expected a number, got"),
+        ({"frames": {"pan": [0.0, 0.4, 1e9]}}, r"^frames\['pan'\]\[2\]: expected a number within"),
+        ({"frames": {"pan": [0.0, 500.0, 0.0]}}, r"^frames\['pan'\]\[1\]: .*metres"),
+        ({"frames": {"bad name": [0.0, 0.4, 0.0]}}, r"^frames: 'bad name' cannot name a task"),
+    ],
+)
+def test_bad_frame_plan_requests_get_one_readable_line(frame_learned, body, pattern) -> None:
+    client, headers, _ = frame_learned
+    assert_readable(client.post("/api/plan/frames", json=body, headers=headers), 400, pattern)
+
+
+def test_nan_in_a_frame_pose_gets_one_readable_line(frame_learned) -> None:
+    client, headers, _ = frame_learned
+    body = b'{"frames": {"pan": [0.0, NaN, 0.0]}}'
+    answer = client.post(
+        "/api/plan/frames",
+        content=body,
+        headers={**headers, "content-type": "application/json"},
+    )
+    assert_readable(answer, 400, r"^request: NaN is not a number JSON allows$")
+
+
+def test_without_a_task_frame_skill_plans_and_exports_say_how_to_get_one(learned) -> None:
+    client, headers, status = learned  # learned from strokes drawn without frames
+    assert status["layers"]["task_frames"] is None
+    assert not any("task frames" in line for line in status["lines"])  # nothing to say
+    pattern = r"^frames: no task-frame skill learned in this tab; place a task frame"
+    body = {"frames": {"pan": [0.0, 0.4, 0.0]}}
+    assert_readable(client.post("/api/plan/frames", json=body, headers=headers), 400, pattern)
+    assert_readable(client.get("/api/export/task-frame-skill", headers=headers), 400, pattern)
+
+
+def test_frames_not_common_to_all_strokes_learn_no_task_frame_skill_and_say_why() -> None:
+    client = new_client()
+    headers = session(client)
+    payload = frame_drawing()
+    payload["demos"][2]["frames"] = None  # drawn before the frame was placed
+    status = learn(client, headers, payload)
+    assert status["state"] == "done", status  # the obstacle skill is learned all the same
+    assert status["layers"]["task_frames"] is None
+    said = [line for line in status["lines"] if "task frames" in line]
+    assert len(said) == 1, said
+    assert re.search(
+        r"task frames: no task-frame skill: frames: demonstration 'demo-3' recorded the task "
+        r"frames none, 'demo-1' pan; .* delete the strokes drawn before a frame was placed",
+        said[0],
+    ), said[0]
+    assert client.get("/api/export/skill", headers=headers).status_code == 200
+    assert_readable(
+        client.get("/api/export/task-frame-skill", headers=headers), 400, "no task-frame skill"
+    )
+
+
+def test_too_few_samples_for_the_task_frame_skill_is_one_line_not_a_failed_job() -> None:
+    # Two 4-point strokes: 8 samples for the mixture's 10 components (TaskFrameSkill's
+    # refusal), while the obstacle skill learns from them.
+    client = new_client()
+    headers = session(client)
+    payload = frame_drawing(2)
+    for demo in payload["demos"]:
+        demo["points"] = demo["points"][::14]  # 4 points
+        demo["times"] = demo["times"][::14]
+    status = learn(client, headers, payload)
+    assert status["state"] == "done", status
+    assert status["layers"]["task_frames"] is None
+    (line,) = [line for line in status["lines"] if "no task-frame skill" in line]
+    assert line.split("no task-frame skill: ", 1)[1].startswith(
+        "n_components: 10 components need at least as many data points"
+    )
+
+
+def test_a_new_learn_without_frames_forgets_the_task_frame_skill() -> None:
+    client = new_client()
+    headers = session(client)
+    assert learn(client, headers, frame_drawing())["layers"]["task_frames"]["frames"] == ["pan"]
+    plain = frame_drawing()
+    for demo in plain["demos"]:
+        demo["frames"] = None
+    assert learn(client, headers, plain)["layers"]["task_frames"] is None
+    answer = client.post("/api/plan/frames", json={"frames": {"pan": [0, 0.4, 0]}}, headers=headers)
+    assert_readable(answer, 400, "no task-frame skill learned in this tab")
+
+
+def test_random_frame_plan_requests_get_an_answer_or_one_line(frame_learned) -> None:
+    """Any JSON to the frame plan: a plan or a 4xx line, never a 500."""
+    from hypothesis import HealthCheck, given, settings
+
+    client, headers, _ = frame_learned
+
+    @settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(body=_json_values())
+    def check(body) -> None:
+        for payload in (body, {"frames": body}, {"frames": {"pan": body}}):
+            answer = client.post("/api/plan/frames", json=payload, headers=headers)
+            assert answer.status_code in (200, 400, 422), (payload, answer.text)
+            if answer.status_code != 200:
+                error = answer.json()["error"]
+                assert error and "\n" not in error and "Traceback" not in error
+
+    check()
+
+
+def test_a_frame_skill_from_strokes_without_times_lasts_as_the_obstacle_skill() -> None:
+    # An imported file without times: TaskFrameSkill has no duration of its own, and the
+    # page plans it as long as the obstacle skill's plan.
+    client = new_client()
+    headers = session(client)
+    payload = frame_drawing()
+    for demo in payload["demos"]:
+        demo["times"] = None
+    status = learn(client, headers, payload)
+    assert status["state"] == "done", status
+    assert status["layers"]["task_frames"]["duration"] is None
+    plan = _plan_frames(client, headers, {"pan": [-0.25, 0.42, 0.2]})
+    assert plan["duration"] == pytest.approx(status["layers"]["timing"]["duration"], rel=1e-12)
+    assert plan["times"][-1] == plan["duration"]
+
+
+def test_the_task_frame_skill_fit_warnings_reach_the_page() -> None:
+    # A second frame that never moved: TaskFrameSkill warns at the fit, and the job's
+    # warnings (shown in the page) carry it on one line; the skill is learned all the same.
+    client = new_client()
+    headers = session(client)
+    payload = frame_drawing()
+    for demo in payload["demos"]:
+        demo["frames"]["bin"] = [0.3, 0.6, 0.0]
+    status = learn(client, headers, payload)
+    assert status["state"] == "done", status
+    assert status["layers"]["task_frames"]["frames"] == ["pan", "bin"]
+    (warning,) = [w for w in status["warnings"] if w.startswith("task-frame skill:")]
+    assert warning.startswith("task-frame skill: demos: task frame(s) bin stand still")
+    assert "\n" not in warning

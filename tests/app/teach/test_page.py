@@ -409,3 +409,147 @@ def test_task_frames_are_placed_moved_and_recorded_with_each_stroke_in_chromium(
     driver.find_element("id", "undo").click()
     (back,) = _state(driver)["frames"]
     assert back == frame
+
+
+FRAME_STATE = """
+const s = window.lfdkitTeach.state;
+return JSON.stringify({framePlan: s.framePlan, framePlanError: s.framePlanError,
+  framePlanBusy: s.framePlanBusy, framePlanCount: s.framePlanCount, trialFrames: s.trial.frames,
+  taskFrames: s.layers && s.layers.task_frames, selected: s.selected,
+  exportDisabled: document.getElementById('export-frame-skill').disabled,
+  legendHidden: document.getElementById('frames-layer').hidden,
+  info: document.getElementById('frame-plan-info').textContent});
+"""
+
+
+def _pan_stroke(pose, n: int = 45) -> list[list[float]]:
+    """A stroke from the frame's origin along its x axis, 0.4 m (m)."""
+    s = np.linspace(0.0, 0.4, n)
+    c, si = math.cos(pose[2]), math.sin(pose[2])
+    return (np.column_stack((c * s, si * s)) + np.asarray(pose[:2])).tolist()
+
+
+def _frame_state(driver) -> dict:
+    return json.loads(driver.execute_script(FRAME_STATE))
+
+
+def _frame_plan_after(driver, count: int) -> dict:
+    end = time.monotonic() + 30
+    while time.monotonic() < end:
+        state = _frame_state(driver)
+        if state["framePlanCount"] > count and not state["framePlanBusy"] and state["framePlan"]:
+            return state
+        time.sleep(0.1)
+    raise AssertionError(f"no new task-frame plan; page state: {str(_frame_state(driver))[:600]}")
+
+
+def _assert_plan_leaves_along(points, pose, tolerance: float) -> None:
+    """The plan starts at the frame's origin and runs 0.4 m along its x axis (the strokes')."""
+    points = np.asarray(points)
+    axis = np.array([math.cos(pose[2]), math.sin(pose[2])])
+    assert np.linalg.norm(points[0] - pose[:2]) < tolerance, points[0]
+    assert np.linalg.norm(points[-1] - (np.asarray(pose[:2]) + 0.4 * axis)) < tolerance
+    across = (points - pose[:2]) @ np.array([-axis[1], axis[0]])
+    assert np.abs(across).max() < tolerance
+
+
+def test_a_task_frame_skill_is_learned_and_tried_with_the_frame_dragged_and_turned_in_chromium(
+    server, browser, tmp_path
+):
+    # A frame placed with ⊹ and moved and turned between four strokes, each leaving it
+    # along its x axis; Learn learns the obstacle skill from the (clean) strokes and a
+    # task-frame skill beside it; in Try the frame is dragged and turned, and the
+    # orange plan the page shows leaves the frame's new origin along its turned axis.
+    driver = browser
+    _open(driver, server)
+    poses = [[-0.35, 0.36, -0.3], [-0.3, 0.45, 0.3], [-0.25, 0.38, 0.0], [-0.32, 0.42, 0.15]]
+    driver.execute_script("document.getElementById('frame-name').value = 'pan';")
+    for pose in poses:
+        driver.find_element("css selector", 'input[name="tool"][value="frame"]').click()
+        driver.execute_script(
+            "document.getElementById('frame-angle').value = arguments[0];", math.degrees(pose[2])
+        )
+        driver.execute_async_script(DRAW, [[pose[:2], pose[:2]]], 5)  # moved and turned here
+        driver.find_element("css selector", 'input[name="tool"][value="draw"]').click()
+        driver.execute_async_script(DRAW, [_pan_stroke(pose)], 12)
+    state = _state(driver)
+    assert state["message"] is None, state["message"]
+    recorded = [d["frames"]["pan"] for d in state["demos"]]
+    np.testing.assert_allclose(recorded, poses, atol=0.002)
+    assert _frame_state(driver)["exportDisabled"]  # nothing learned yet
+
+    driver.find_element("id", "learn").click()
+    _wait(driver, lambda s: s["layers"] and s["plan"] is not None, "learning", 400)
+    learned = _frame_plan_after(driver, 0)
+    assert learned["taskFrames"]["frames"] == ["pan"]
+    assert not learned["exportDisabled"] and not learned["legendHidden"]
+    log = driver.find_element("id", "learn-log").text
+    assert "task frames: 2-D movement in the task frames pan from 4 demonstrations" in log
+    # The frame starts where it stands on the table (the last stroke's pose) ...
+    (frame,) = learned["trialFrames"]
+    start_pose = [frame["x"], frame["y"], frame["angle"]]
+    np.testing.assert_allclose(start_pose, poses[-1], atol=0.002)
+    _assert_plan_leaves_along(learned["framePlan"]["points"], start_pose, 0.01)
+
+    # ... is dragged by its origin to a new place ...
+    count = learned["framePlanCount"]
+    target = [-0.28, 0.40]
+    _drag(driver, start_pose[:2], target)
+    dragged = _frame_plan_after(driver, count)
+    (frame,) = dragged["trialFrames"]
+    assert [frame["x"], frame["y"]] == pytest.approx(target, abs=0.003)
+    assert frame["angle"] == pytest.approx(poses[-1][2])
+    assert dragged["selected"] == {"kind": "trialframe", "id": "pan"}
+    _assert_plan_leaves_along(dragged["framePlan"]["points"], [*target, frame["angle"]], 0.01)
+
+    # ... and turned to -10 degrees with the try panel's angle: the plan turns with it.
+    count = dragged["framePlanCount"]
+    driver.execute_script(
+        "const a = document.getElementById('try-frame-angle'); a.value = '-10';"
+        "a.dispatchEvent(new Event('change'));"
+    )
+    turned = _frame_plan_after(driver, count)
+    (frame,) = turned["trialFrames"]
+    pose = [frame["x"], frame["y"], frame["angle"]]
+    assert pose[2] == pytest.approx(math.radians(-10.0))
+    points = np.array(turned["framePlan"]["points"])
+    _assert_plan_leaves_along(points, pose, 0.01)
+    heading = math.atan2(points[-1, 1] - points[0, 1], points[-1, 0] - points[0, 0])
+    assert heading == pytest.approx(math.radians(-10.0), abs=0.02)
+    assert turned["framePlan"]["warnings"] == []  # within the poses shown
+    assert turned["info"].strip().startswith("task-frame plan: 100 points")
+    # What the page shows is the server's answer for the frame's pose.
+    answer = driver.execute_async_script(
+        FETCH, "/api/plan/frames", driver.execute_script("return lfdkitTeach.framePlanRequest()")
+    )
+    assert answer["ok"], answer["text"]
+    assert json.loads(answer["text"])["points"] == turned["framePlan"]["points"]
+
+    # Turned beyond what the strokes showed: the plan comes with its warning, shown.
+    count = turned["framePlanCount"]
+    driver.execute_script(
+        "const a = document.getElementById('try-frame-angle'); a.value = '90';"
+        "a.dispatchEvent(new Event('change'));"
+    )
+    beyond = _frame_plan_after(driver, count)
+    assert "extrapolates" in beyond["info"], beyond["info"]
+    driver.execute_script(
+        "const a = document.getElementById('try-frame-angle'); a.value = '-10';"
+        "a.dispatchEvent(new Event('change'));"
+    )
+    _frame_plan_after(driver, beyond["framePlanCount"])
+    _wait(driver, lambda s: s["heat"] and not s["planBusy"], "the heat map", 30)
+    time.sleep(0.3)  # drawn
+    shot = _screenshot(driver, tmp_path, "frames-try")
+    assert shot.stat().st_size > 20_000
+    if os.environ.get("LFDKIT_FRAMES_SCREENSHOT"):
+        shutil.copyfile(shot, os.environ["LFDKIT_FRAMES_SCREENSHOT"])
+
+    # The task-frame skill the page exports plans as the page does.
+    from lfdkit.skill import TaskFrameSkill
+
+    answer = driver.execute_async_script(FETCH, "/api/export/task-frame-skill", None)
+    assert answer["ok"], answer["text"]
+    (tmp_path / "pan.json").write_text(answer["text"], encoding="utf-8")
+    again = TaskFrameSkill.load(tmp_path / "pan.json").plan({"pan": pose})
+    np.testing.assert_array_equal(again.positions, points)

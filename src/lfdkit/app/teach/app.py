@@ -9,19 +9,29 @@ API (every ``/api`` request but ``POST /api/session`` carries the tab's id in
 the ``X-Lfdkit-Session`` header; a custom header also keeps other web sites'
 pages from posting to the server, which answers no cross-origin request):
 
-=======================  =====================================================
-``POST /api/session``    a new session id, the limits and the default view
-``GET  /api/example``    the shipped sweeping demonstrations and scenes
-``POST /api/import/K``   an uploaded file (body, ``?format=csv|json|npz``),
-                         ``K`` is ``demos`` or ``scenes``
-``POST /api/export/K``   ``demos.csv`` / ``scenes.csv`` of the drawing sent
-``POST /api/learn``      learn from the drawing sent (a worker thread)
-``GET  /api/learn``      the job's state and progress lines; the layers when done
-``POST /api/plan``       plan for a start, goal and obstacles (+ heat map)
-``GET  /api/export/skill``       the skill file (``Skill.save``'s bytes)
-``POST /api/export/plan``        the plan as ``t,x,y`` CSV
-``POST /api/export/urscript``    the UR5 program of the plan
-=======================  =====================================================
+=====================================  ========================================================
+``POST /api/session``                  a new session id, the limits and the default view
+``GET  /api/example``                  the shipped sweeping demonstrations and scenes
+``POST /api/import/K``                 an uploaded file (body, ``?format=csv|json|npz``),
+                                       ``K`` is ``demos`` or ``scenes``
+``POST /api/export/K``                 ``demos.csv`` / ``scenes.csv`` of the drawing sent
+``POST /api/learn``                    learn from the drawing sent (a worker thread)
+``GET  /api/learn``                    the job's state and progress lines; the layers when done
+``POST /api/plan``                     plan for a start, goal and obstacles (+ heat map)
+``POST /api/plan/frames``              the task-frame skill's plan for the frames' poses,
+                                       ``{"frames": {name: [x, y, angle]}}`` (m, rad), and
+                                       its warnings
+``GET  /api/export/skill``             the skill file (``Skill.save``'s bytes)
+``GET  /api/export/task-frame-skill``  the task-frame skill's file (``TaskFrameSkill.save``'s
+                                       bytes, ``lfdkit learn --task-frames``'s)
+``POST /api/export/plan``              the plan as ``t,x,y`` CSV
+``POST /api/export/urscript``          the UR5 program of the plan
+=====================================  ========================================================
+
+A learn from demonstrations that all recorded the same task frames also
+learns a task-frame skill (``GET /api/learn``'s ``layers.task_frames``: its
+frames and where to start them; null when none was learned, and a progress
+line says why).
 
 Errors are ``{"error": "<one line>"}`` with a 4xx status (5xx for a bug, whose
 traceback goes to the server's log, never to the page). Bodies over
@@ -218,6 +228,18 @@ async def plan(request: Request) -> Response:
     return JSONResponse(await run_in_threadpool(work.plan_response, session, payload))
 
 
+async def plan_frames(request: Request) -> Response:
+    session = _session(request)
+    payload = await _json(request)
+    return JSONResponse(await run_in_threadpool(work.frame_plan_response, session, payload))
+
+
+async def export_frame_skill(request: Request) -> Response:
+    session = _session(request)
+    data = await run_in_threadpool(work.export_frame_skill, session)
+    return _download(data, "application/json", "task-frame-skill.json")
+
+
 async def export_skill(request: Request) -> Response:
     session = _session(request)
     data = await run_in_threadpool(work.export_skill, session)
@@ -288,12 +310,14 @@ def create_app(
         Route("/api/example", example),
         Route("/api/import/{kind:str}", import_file, methods=["POST"]),
         Route("/api/export/skill", export_skill),
+        Route("/api/export/task-frame-skill", export_frame_skill),
         Route("/api/export/plan", export_plan, methods=["POST"]),
         Route("/api/export/urscript", export_urscript, methods=["POST"]),
         Route("/api/export/{kind:str}", export_drawing, methods=["POST"]),
         Route("/api/learn", learn, methods=["POST"]),
         Route("/api/learn", learn_status, methods=["GET"]),
         Route("/api/plan", plan, methods=["POST"]),
+        Route("/api/plan/frames", plan_frames, methods=["POST"]),
         Mount("/static", StaticFiles(directory=STATIC), name="static"),
     ]
     limit = int(max_body_bytes or LIMITS["max_body_bytes"])

@@ -16,18 +16,32 @@ is :meth:`lfdkit.skill.Skill.plan` with :func:`lfdkit.emulate.metrics.clearance`
 URScript program is :func:`lfdkit.tasks.sweeping.execution.execute_skill`'s.
 No file path ever comes from the browser: uploads are written to a private
 temporary file whose name the server chooses.
+
+Task frames: when every demonstration recorded the same task frames (the
+rule of ``demos.csv``), the same learning job also fits a
+:class:`lfdkit.skill.TaskFrameSkill` on the records ``demos.csv`` holds, as
+``lfdkit learn demos.csv --task-frames`` does (same defaults, metres: its
+file is that command's, byte for byte), kept beside the obstacle skill
+(:attr:`Session.frame_skill`); the obstacle skill is learned as without
+frames. Frames that differ between demonstrations, or a fit that fails, cost
+the frame skill only (one progress line), never the job.
+:func:`frame_plan_response` plans it for the frames' new poses
+(:meth:`TaskFrameSkill.plan`, its extrapolation warnings as lines) and
+:func:`export_frame_skill` gives its file.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 import re
 import secrets
 import tempfile
 import threading
 import time
+import warnings
 from collections import OrderedDict
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -46,12 +60,16 @@ __all__ = [
     "TeachData",
     "example_data",
     "export_demos_csv",
+    "export_frame_skill",
     "export_plan_csv",
     "export_scenes_csv",
     "export_skill",
     "export_urscript",
+    "frame_layer",
+    "frame_plan_response",
     "import_demos",
     "import_scenes",
+    "parse_frame_plan_request",
     "parse_teach_data",
     "plan_response",
     "skill_layers",
@@ -81,6 +99,10 @@ VIEW: tuple[float, float, float, float] = (-0.7, 0.7, 0.0, 0.8)
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
 _UPLOAD_FORMATS = {"demos": (".csv", ".json", ".npz"), "scenes": (".csv", ".json")}
 _LOG_LINES = 200
+
+
+# warnings.catch_warnings swaps process-wide state: one block at a time (_said_here).
+_WARNINGS_LOCK = threading.Lock()
 
 
 class RequestError(ValueError):
@@ -361,20 +383,30 @@ def export_demos_csv(data: TeachData) -> str:
 
     if not data.demos:
         raise RequestError("demos: nothing to export; draw or import demonstrations first")
-    names = _common_frames(data.demos)
-    timed = all(demo.times is not None for demo in data.demos)  # a CSV has all or none
-    records = [
+    with tempfile.TemporaryDirectory(prefix="lfdkit-teach-") as folder:
+        path = save_demos(Path(folder) / "demos.csv", _csv_records(data.demos))
+        return path.read_text(encoding="utf-8")
+
+
+def _csv_records(demos: Sequence[Demo]) -> list[Demo]:
+    """The records ``demos.csv`` holds: points, times (all or none), ids, the common frames.
+
+    What :func:`export_demos_csv` writes and what the task-frame skill is
+    learned from, so that the page's frame skill is the one ``lfdkit learn
+    demos.csv --task-frames`` learns. Raises :class:`RequestError` where the
+    demonstrations recorded different task frames (:func:`_common_frames`).
+    """
+    names = _common_frames(demos)
+    timed = all(demo.times is not None for demo in demos)  # a CSV has all or none
+    return [
         Demo(
             demo.points,
             demo.times if timed else None,
             id=demo.id,
             frames={name: demo.frames[name] for name in names} if names else None,
         )
-        for demo in data.demos
+        for demo in demos
     ]
-    with tempfile.TemporaryDirectory(prefix="lfdkit-teach-") as folder:
-        path = save_demos(Path(folder) / "demos.csv", records)
-        return path.read_text(encoding="utf-8")
 
 
 def _common_frames(demos: Sequence[Demo]) -> list[str]:
@@ -390,8 +422,9 @@ def _common_frames(demos: Sequence[Demo]) -> list[str]:
             raise RequestError(
                 f"frames: demonstration {demo.id!r} recorded the task frames "
                 f"{', '.join(have) or 'none'}, {demos[0].id!r} {', '.join(names) or 'none'}; "
-                "every demonstration of a file records the same ones: delete the strokes drawn "
-                "before a frame was placed (or after one was removed)"
+                "every demonstration of a file (and of a task-frame skill) records the same "
+                "ones: delete the strokes drawn before a frame was placed (or after one was "
+                "removed)"
             )
     return names
 
@@ -579,10 +612,16 @@ class LearnJob:
 
 @dataclass
 class Session:
-    """One tab's server-side state: its skill, the layers to show, its learning job."""
+    """One tab's server-side state: its skills, the layers to show, its learning job.
+
+    ``skill`` is the obstacle skill (:class:`lfdkit.skill.Skill`), ``frame_skill``
+    the :class:`lfdkit.skill.TaskFrameSkill` learned beside it when every
+    demonstration recorded the same task frames (None otherwise).
+    """
 
     id: str
     skill: Any = None
+    frame_skill: Any = None
     layers: dict[str, Any] | None = None
     job: LearnJob | None = None
     used: float = field(default_factory=time.monotonic)
@@ -596,6 +635,16 @@ class Session:
         if self.skill is None:
             raise RequestError("no skill learned yet in this tab; draw demonstrations and learn")
         return self.skill
+
+    def frame_fitted(self) -> Any:
+        """The task-frame skill, or a :class:`RequestError` saying how to get one."""
+        if self.frame_skill is None:
+            raise RequestError(
+                "frames: no task-frame skill learned in this tab; place a task frame (⊹), draw "
+                "every demonstration with it on the table (moved and turned between strokes) "
+                "and learn"
+            )
+        return self.frame_skill
 
     def exportable(self) -> Any:
         """The skill, for a file that leaves the page: refused where ``lfdkit learn`` refuses it.
@@ -712,11 +761,13 @@ def _learn_worker(
                 "add demonstrations around the obstacles"
             )
         job.warnings += [str(w) for w in skill.mimic_info_.get("warnings", [])]
+        frame_skill = _learn_frame_skill(data, job)
         job.say("layers: distance space, classes; first plan (compiles the planner once)")
         layers = skill_layers(skill, data)
+        layers["task_frames"] = None if frame_skill is None else frame_layer(frame_skill, data)
         skill.plan()  # the first plan compiles the planner: here, not on the first drag
         with session.lock:
-            session.skill, session.layers = skill, layers
+            session.skill, session.frame_skill, session.layers = skill, frame_skill, layers
             job.seconds = time.perf_counter() - job.started
             job.say(f"done in {job.seconds:.1f} s")
             job.state = "done"
@@ -730,6 +781,78 @@ def _learn_worker(
         job.state = "failed"
     finally:
         store.jobs.release()
+
+
+@contextlib.contextmanager
+def _said_here() -> Iterator[list[str]]:
+    """The warnings lfdkit raises at calls made on this module's lines, one line each.
+
+    Filled when the block ends. :class:`~lfdkit.skill.TaskFrameSkill` warns at
+    its caller (``stacklevel``): those are this module's. A warning another
+    thread raised meanwhile is handed on, as it would have gone.
+    """
+    lines: list[str] = []
+    with _WARNINGS_LOCK, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        yield lines
+    for said in caught:
+        if said.filename == __file__:
+            lines.append(str(said.message).splitlines()[0])
+        else:
+            warnings.warn_explicit(said.message, said.category, said.filename, said.lineno)
+
+
+def _learn_frame_skill(data: TeachData, job: LearnJob) -> Any:
+    """The :class:`~lfdkit.skill.TaskFrameSkill` of the drawing's task frames, or None.
+
+    Fitted on the records ``demos.csv`` holds (:func:`_csv_records`: every
+    demonstration, the obstacle-marked ones too, as the file has them) with
+    ``lfdkit learn --task-frames``'s defaults, in metres. No frames recorded:
+    None, silently. Frames that differ between demonstrations, or a fit that
+    fails: None and one progress line why (the obstacle skill is learned all
+    the same). The fit's warnings (EM not converged, a frame that never
+    moved) join the job's.
+    """
+    from lfdkit.app.cli.task_frames import DEFAULT_COMPONENTS
+    from lfdkit.skill import TaskFrameSkill
+
+    if not any(demo.frames for demo in data.demos):
+        return None
+    try:
+        records = _csv_records(data.demos)
+    except RequestError as exc:
+        job.say(f"task frames: no task-frame skill: {exc}")
+        return None
+    names = list(records[0].frames or {})
+    job.say(f"task frames: a task-frame skill (TP-GMM) in {', '.join(names)}")
+    skill = TaskFrameSkill(n_components=DEFAULT_COMPONENTS, units="m")
+    try:
+        with _said_here() as said:
+            skill.fit(records)
+    except Exception as exc:  # the frame skill's failure, never the job's
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if not isinstance(exc, (ValueError, TypeError)):
+            text = f"unexpected {type(exc).__name__}: {text}"
+        job.say(f"task frames: no task-frame skill: {text}")
+        return None
+    job.warnings += [f"task-frame skill: {line}" for line in said]
+    job.say(f"task frames: {skill.summary()}")
+    return skill
+
+
+def frame_layer(skill: Any, data: TeachData) -> dict[str, Any]:
+    """What the page shows of a task-frame skill: its frames, where to start them, a summary.
+
+    ``poses``: each frame's pose ``[x, y, angle]`` (m, rad) as the last
+    demonstration recorded it, where the page puts the frames to try first.
+    """
+    last = data.demos[-1].frames or {}
+    return {
+        "frames": list(skill.frame_names_),
+        "poses": {name: np.asarray(last[name], float).tolist() for name in skill.frame_names_},
+        "summary": skill.summary(),
+        "duration": skill.duration_,
+    }
 
 
 def _left_normals(path: np.ndarray) -> np.ndarray:
@@ -903,7 +1026,76 @@ def plan_response(session: Session, payload: Any) -> dict[str, Any]:
     return out
 
 
+def parse_frame_plan_request(payload: Any, names: Sequence[str]) -> dict[str, np.ndarray]:
+    """``{"frames": {name: [x, y, angle]}}`` (m, rad) with exactly the skill's frames, checked.
+
+    Parameters
+    ----------
+    payload : object
+        The request's JSON.
+    names : sequence of str
+        The task-frame skill's frames (:attr:`TaskFrameSkill.frame_names_`).
+
+    Returns
+    -------
+    dict of str to ndarray, shape (3,)
+        Each frame's pose, as :func:`parse_frames` reads a demonstration's.
+    """
+    payload = _mapping(payload, "request")
+    frames = parse_frames(payload.get("frames"), "frames") or {}
+    missing = [name for name in names if name not in frames]
+    unknown = [name for name in frames if name not in names]
+    if unknown:
+        raise RequestError(
+            f"frames: no task frame {', '.join(map(repr, unknown))} in this skill; give the "
+            f"poses of {', '.join(names)} only"
+        )
+    if missing:
+        raise RequestError(
+            f"frames: missing {', '.join(map(repr, missing))}; give the pose of each frame of "
+            f"this skill ({', '.join(names)}) as [x, y, angle] (metres, radians)"
+        )
+    return frames
+
+
+def frame_plan_response(session: Session, payload: Any) -> dict[str, Any]:
+    """Plan the tab's task-frame skill (:meth:`TaskFrameSkill.plan`) for the frames' poses.
+
+    Returns
+    -------
+    dict
+        ``points`` (n, 2) m and ``times`` (n,) s, downsampled as the obstacle
+        plan's nominal (at most 120 points; the skill plans 100); ``duration``
+        s; ``warnings``: one line each (a frame posed beyond the
+        demonstrations' poses: the plan extrapolates); ``plan_ms``.
+    """
+    skill = session.frame_fitted()
+    frames = parse_frame_plan_request(payload, skill.frame_names_)
+    # Drawn without times (an imported file): as long as the obstacle skill's plan.
+    duration = None if skill.duration_ is not None else float(session.fitted().timing_.duration)
+    started = time.perf_counter()
+    with _said_here() as said:
+        timed = skill.plan(frames, duration=duration)
+    plan_ms = 1e3 * (time.perf_counter() - started)
+    keep = _downsample(np.arange(len(timed.times)))
+    return {
+        "frames": {name: pose.tolist() for name, pose in frames.items()},
+        "points": timed.positions[keep].tolist(),
+        "times": timed.times[keep].tolist(),
+        "duration": float(timed.times[-1]),
+        "warnings": said,
+        "plan_ms": plan_ms,
+    }
+
+
 # ----------------------------------------------------------------- exports
+def export_frame_skill(session: Session) -> bytes:
+    """The task-frame skill's file (:meth:`TaskFrameSkill.save`'s bytes, ``lfdkit learn``'s)."""
+    skill = session.frame_fitted()
+    with tempfile.TemporaryDirectory(prefix="lfdkit-teach-") as folder:
+        return skill.save(Path(folder) / "task-frame-skill.json").read_bytes()
+
+
 def export_skill(session: Session) -> bytes:
     """The skill file :meth:`Skill.save` writes, byte for byte."""
     skill = session.exportable()

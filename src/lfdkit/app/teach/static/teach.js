@@ -20,6 +20,7 @@
   const MIN_STEP_PX = 1.5;
   const MIN_POINTS = 5;
   const HEAT_NX = 84, HEAT_NY = 48;
+  const FRAME_PLAN_COLOR = "#f28e2b"; // the task-frame skill's plan: apart from green/red, purple, blue
 
   const $ = (id) => document.getElementById(id);
   const canvas = $("canvas");
@@ -44,16 +45,21 @@
     undo: [],
     layers: null,
     learning: false,
-    trial: { start: null, goal: null, obstacles: [] },
+    trial: { start: null, goal: null, obstacles: [], frames: [] }, // frames: {name, x, y, angle (rad)}
     plan: null,
     planError: null,
+    framePlan: null, // the task-frame skill's plan for trial.frames (POST /api/plan/frames)
+    framePlanError: null,
+    framePlanBusy: false,
+    framePlanAgain: false,
+    framePlanCount: 0,
     heat: null,
     heatImage: null,
     roundTrip: null,
     planBusy: false,
     planAgain: false,
     planCount: 0,
-    show: { heat: true, band: true, demos: true, path: true, nominal: true, plan: true },
+    show: { heat: true, band: true, demos: true, path: true, nominal: true, plan: true, frames: true },
   };
 
   // ------------------------------------------------------------ server
@@ -144,7 +150,7 @@
     state.trial = saved.trial;
     state.selected = null;
     refresh();
-    if (state.mode === "try") requestPlan(true);
+    if (state.mode === "try") { requestPlan(true); requestFramePlan(); showFrameAngle(); }
   }
 
   // ------------------------------------------------------------ drawing
@@ -314,9 +320,42 @@
     });
     ctx.setLineDash([]);
     ctx.fillStyle = "#1d232b";
+    ctx.strokeStyle = "#ffffff";
+    ctx.lineWidth = 1.5;
     ctx.beginPath(); ctx.arc(px, py, 3.5, 0, 2 * Math.PI); ctx.fill();
+    if (options.patch) { // in Try: a ring in the plan's colour marks the frame as a handle
+      ctx.stroke();
+      ctx.strokeStyle = FRAME_PLAN_COLOR;
+      ctx.lineWidth = 2.5;
+      ctx.beginPath(); ctx.arc(px, py, 8, 0, 2 * Math.PI); ctx.stroke();
+    }
     ctx.font = "11px system-ui, sans-serif";
-    ctx.fillText(options.label || f.name, px + 6, py + 14);
+    const text = options.label || f.name;
+    if (options.patch) { // readable on any colour of the heat map
+      ctx.fillStyle = "rgba(255,255,255,0.8)";
+      ctx.fillRect(px + 4, py + 4, ctx.measureText(text).width + 4, 13);
+      ctx.fillStyle = "#1d232b";
+    }
+    ctx.fillText(text, px + 6, py + 14);
+    ctx.restore();
+  }
+
+  // The task-frame skill's plan, labelled at its end. A dark rim, not the obstacle plan's
+  // white one: orange alone fades into the reward's yellows and oranges.
+  function drawFramePlan() {
+    const plan = state.framePlan;
+    if (!plan) return;
+    line(plan.points, "#1d232b", 6);
+    line(plan.points, FRAME_PLAN_COLOR, 3.2);
+    const end = plan.points[plan.points.length - 1];
+    const [px, py] = toPx(end[0], end[1]);
+    ctx.save();
+    ctx.font = "bold 11px system-ui, sans-serif";
+    const text = "task-frame plan";
+    ctx.fillStyle = "rgba(255,255,255,0.85)";
+    ctx.fillRect(px + 8, py - 20, ctx.measureText(text).width + 6, 15);
+    ctx.fillStyle = "#b35806";
+    ctx.fillText(text, px + 11, py - 9);
     ctx.restore();
   }
 
@@ -416,6 +455,8 @@
         line(state.plan.points, "#ffffff", 6);
         line(state.plan.points, ok ? "#1a9850" : "#d73027", 3.2);
       }
+      const framed = state.layers.task_frames && state.show.frames;
+      if (framed) drawFramePlan();
       state.trial.obstacles.forEach((o) => drawReach(o, dark));
       state.trial.obstacles.forEach((o) => drawObstacle(o, {
         dark,
@@ -423,6 +464,12 @@
       }));
       drawHandle(state.trial.start, "#1a9850", "S");
       drawHandle(state.trial.goal, "#d73027", "G");
+      // Over the handles: a frame often stands where the path starts or ends.
+      if (framed) (state.trial.frames || []).forEach((f) => drawFrame(f, {
+        patch: true,
+        selected: state.selected && state.selected.kind === "trialframe" && state.selected.id === f.name,
+        label: `⊹ ${f.name}`,
+      }));
     } else {
       state.obstacles.forEach((o) => drawObstacle(o, {
         dashed: !o.table,
@@ -587,8 +634,10 @@
 
   function renderStatus() {
     const clean = state.demos.filter((d) => !d.obstacles.length).length;
+    const framed = state.layers && state.layers.task_frames;
     const learned = state.layers
-      ? `skill learned (${state.layers.classes.map((c) => c.name).join(", ") || "no obstacle class"})`
+      ? `skill learned (${state.layers.classes.map((c) => c.name).join(", ") || "no obstacle class"})` +
+        (framed ? ` + task-frame skill (⊹ ${framed.frames.join(", ")})` : "")
       : "no skill yet";
     const n = state.frames.length;
     const frames = n ? ` · ${n} task frame${n > 1 ? "s" : ""}` : "";
@@ -598,13 +647,17 @@
       obstacle: "Click to place an obstacle of the class and radius above; drag one to move it; Delete removes the selected one.",
       frame: "Click to place a task frame (an object the task acts on) or move the one of that name; drag it, turn it with the angle. Each new stroke records where the frames are: move them between strokes, then export demos.csv for lfdkit learn --task-frames.",
       try: "Drag S, G and the obstacles: the plan follows. Green: collision-free; red: it touches an obstacle.",
+      tryFrames: " Drag the task frames (⊹) and turn them below: the orange task-frame plan follows them.",
     };
-    $("hint").textContent = state.mode === "try" ? hints.try : hints[state.tool];
+    $("hint").textContent = state.mode === "try" ? hints.try + (framed ? hints.tryFrames : "") : hints[state.tool];
     document.querySelector('#modes [data-mode="try"]').disabled = !state.layers;
     document.querySelectorAll("#modes button").forEach((b) => b.classList.toggle("on", b.dataset.mode === state.mode));
     $("teach-panel").hidden = state.mode === "try";
     $("try-panel").hidden = state.mode !== "try";
     $("learn").disabled = state.learning;
+    $("try-frames").hidden = !framed;
+    $("frames-layer").hidden = !framed;
+    $("export-frame-skill").disabled = !framed;
   }
 
   function renderPlanInfo() {
@@ -624,6 +677,21 @@
     info.append(el("br"));
     info.append(el("span", { className: "meta" },
       `round trip ${Math.round(state.roundTrip)} ms (planner ${Math.round(p.plan_ms)} ms) · ends ${round(p.goal_error * 1000, 1)} mm from the goal`));
+  }
+
+  function renderFramePlanInfo() {
+    const info = $("frame-plan-info");
+    info.replaceChildren();
+    if (!state.layers || !state.layers.task_frames) return;
+    if (state.framePlanError) {
+      info.append(el("span", { className: "bad" }, "no task-frame plan: "), state.framePlanError);
+      return;
+    }
+    const p = state.framePlan;
+    if (!p) return;
+    const key = el("i", { className: "key frames" });
+    info.append(key, ` task-frame plan: ${p.points.length} points, ${round(p.duration, 2)} s (planner ${Math.round(p.plan_ms)} ms)`);
+    p.warnings.forEach((w) => { info.append(el("br"), el("span", { className: "warn" }, `⚠ ${w}`)); });
   }
 
   function renderClasses() {
@@ -657,6 +725,11 @@
       `${round(layers.timing.duration, 2)} s (${layers.timing.source}); ` +
       `reward from ${fit.n_obstacle} demos${fit.converged === false ? " (did not converge)" : ""}`));
     table.append(tr);
+    if (layers.task_frames) {
+      const row = el("tr");
+      row.append(el("td", {}, "⊹ frames"), el("td", { colspan: "2" }, `task-frame skill: ${layers.task_frames.summary}`));
+      table.append(row);
+    }
     const select = $("try-class");
     select.replaceChildren();
     layers.classes.forEach((c) => select.append(el("option", { value: c.name }, c.name)));
@@ -769,10 +842,22 @@
     const world = eventWorld(ev);
     if (state.mode === "try") {
       if (!state.layers) return;
-      let target = null;
-      if (distPx(world, state.trial.start) < 12) target = { kind: "start" };
-      else if (distPx(world, state.trial.goal) < 12) target = { kind: "goal" };
-      else {
+      // The nearest handle under the pointer: S, G or a task frame's origin (a frame
+      // often stands where the path starts or ends).
+      let target = null, nearest = Infinity;
+      const handles = [[state.trial.start, 12, { kind: "start" }], [state.trial.goal, 12, { kind: "goal" }]];
+      if (state.layers.task_frames && state.show.frames) {
+        (state.trial.frames || []).forEach((f) => handles.push([[f.x, f.y], 10, { kind: "trialframe", item: f, grab: [f.x - world[0], f.y - world[1]] }]));
+      }
+      handles.forEach(([point, reach, candidate]) => {
+        const d = distPx(world, point);
+        if (d < reach && d < nearest) { nearest = d; target = candidate; }
+      });
+      if (target && target.kind === "trialframe") {
+        state.selected = { kind: "trialframe", id: target.item.name };
+        $("try-frame").value = target.item.name;
+        showFrameAngle();
+      } else if (!target) {
         const o = hitObstacle(state.trial.obstacles, world);
         if (o) {
           target = { kind: "trial", item: o, grab: [o.x - world[0], o.y - world[1]] };
@@ -873,7 +958,8 @@
       const [gx, gy] = d.grab || [0, 0];
       d.item.x = world[0] + gx; d.item.y = world[1] + gy;
     }
-    if (state.mode === "try") requestPlan(false);
+    if (d.kind === "trialframe") requestFramePlan(); // the obstacle plan does not see frames
+    else if (state.mode === "try") requestPlan(false);
     draw();
   }
 
@@ -914,8 +1000,10 @@
       return;
     }
     if (state.drag) {
+      const kind = state.drag.kind;
       state.drag = null;
-      if (state.mode === "try") requestPlan(true);
+      if (kind === "trialframe") { requestFramePlan(); draw(); }
+      else if (state.mode === "try") requestPlan(true);
       else refresh();
     }
   }
@@ -966,13 +1054,66 @@
       obstacles: state.obstacles
         .filter((o) => o.table && classes.includes(o.class))
         .map(obstacleJson),
+      frames: trialFrames(layers.task_frames),
     };
     state.plan = null;
     state.heat = null;
     state.heatImage = null;
+    state.framePlan = null;
+    state.framePlanError = null;
     renderClasses();
+    renderFrameSelect();
     setMode("try");
     requestPlan(true);
+    requestFramePlan();
+  }
+
+  // The frames to try a task-frame skill with: where they stand on the table, else where
+  // the last demonstration recorded them.
+  function trialFrames(learnedFrames) {
+    if (!learnedFrames) return [];
+    return learnedFrames.frames.map((name) => {
+      const table = state.frames.find((f) => f.name === name);
+      const [x, y, angle] = learnedFrames.poses[name];
+      return table ? { name, x: table.x, y: table.y, angle: table.angle } : { name, x, y, angle };
+    });
+  }
+
+  function renderFrameSelect() {
+    const select = $("try-frame");
+    select.replaceChildren();
+    (state.trial.frames || []).forEach((f) => select.append(el("option", { value: f.name }, `⊹ ${f.name}`)));
+    showFrameAngle();
+  }
+  function showFrameAngle() {
+    const f = (state.trial.frames || []).find((x) => x.name === $("try-frame").value);
+    if (f) $("try-frame-angle").value = round((f.angle * 180) / Math.PI, 0);
+  }
+
+  function framePlanRequest() {
+    return { frames: Object.fromEntries((state.trial.frames || []).map((f) => [f.name, [f.x, f.y, f.angle]])) };
+  }
+
+  // As requestPlan: one task-frame plan in flight at a time; the latest poses win.
+  async function requestFramePlan() {
+    if (!state.layers || !state.layers.task_frames) return;
+    if (state.framePlanBusy) { state.framePlanAgain = true; return; }
+    state.framePlanBusy = true;
+    try {
+      state.framePlan = await apiJson("POST", "/api/plan/frames", framePlanRequest());
+      state.framePlanError = null;
+      state.framePlanCount++;
+    } catch (err) {
+      state.framePlan = null;
+      state.framePlanError = err.message;
+    } finally {
+      state.framePlanBusy = false;
+      renderFramePlanInfo();
+      draw();
+      const again = state.framePlanAgain;
+      state.framePlanAgain = false;
+      if (again) requestFramePlan();
+    }
   }
 
   function planRequest(withHeat) {
@@ -1139,7 +1280,7 @@
     state.mode = mode;
     state.selected = null;
     refresh();
-    if (mode === "try") { renderClasses(); renderPlanInfo(); }
+    if (mode === "try") { renderClasses(); renderPlanInfo(); renderFramePlanInfo(); }
   }
 
   // ------------------------------------------------------------ start
@@ -1156,6 +1297,7 @@
       box.onchange = () => {
         state.show[box.dataset.layer] = box.checked;
         if (box.dataset.layer === "heat" && box.checked) requestPlan(true);
+        if (box.dataset.layer === "frames") renderFramePlanInfo();
         draw();
       };
     });
@@ -1178,6 +1320,22 @@
     $("export-demos").onclick = () => download("POST", "/api/export/demos", drawing(), "demos.csv");
     $("export-scenes").onclick = () => download("POST", "/api/export/scenes", drawing(), "scenes.csv");
     $("export-skill").onclick = () => download("GET", "/api/export/skill", undefined, "skill.json");
+    $("export-frame-skill").onclick = () => download("GET", "/api/export/task-frame-skill", undefined, "task-frame-skill.json");
+    $("try-frame").onchange = () => {
+      state.selected = { kind: "trialframe", id: $("try-frame").value };
+      showFrameAngle();
+      draw();
+    };
+    $("try-frame-angle").onchange = () => {
+      const f = (state.trial.frames || []).find((x) => x.name === $("try-frame").value);
+      const angle = (Number($("try-frame-angle").value) * Math.PI) / 180;
+      if (!f) return;
+      if (!Number.isFinite(angle)) { fail(new Error("task frame: turned by a number of degrees")); return; }
+      snapshot();
+      f.angle = angle;
+      requestFramePlan();
+      draw();
+    };
     $("export-plan").onclick = () => download("POST", "/api/export/plan", planRequest(false), "plan.csv");
     $("export-urscript").onclick = () => download("POST", "/api/export/urscript", planRequest(false), "program.script");
     $("try-radius").onchange = () => {
@@ -1248,6 +1406,9 @@
   }
 
   // For tests and the curious: the page's state and its API calls.
-  window.lfdkitTeach = { state, api, apiJson, requestPlan, setMode, toPx, toWorld, drawing, planRequest, refresh };
+  window.lfdkitTeach = {
+    state, api, apiJson, requestPlan, requestFramePlan, setMode, toPx, toWorld, drawing, planRequest,
+    framePlanRequest, refresh,
+  };
   start();
 })();
