@@ -941,7 +941,7 @@ def _plan_frames(client, headers, frames) -> dict:
 def test_a_drawing_with_task_frames_also_learns_a_task_frame_skill(frame_learned) -> None:
     client, headers, status = frame_learned
     said = [line.strip().split("  ", 1)[1] for line in status["lines"]]
-    assert "task frames: a task-frame skill (TP-GMM) in pan" in said
+    assert "task frames: a task-frame skill (TP-GMM) in pan from 5 clean strokes" in said
     assert any(
         line.startswith("task frames: 2-D movement in the task frames pan from 5 demonstrations")
         for line in said
@@ -954,6 +954,45 @@ def test_a_drawing_with_task_frames_also_learns_a_task_frame_skill(frame_learned
     assert status["warnings"] == []
     # The obstacle skill is learned as ever beside it.
     assert client.get("/api/export/skill", headers=headers).status_code == 200
+
+
+def test_the_task_frame_skill_learns_from_the_clean_strokes_alone() -> None:
+    # A stroke marked around an obstacle shows the person's swerve round it, not the
+    # task in its frames: the frame skill is the one of the clean strokes, to the bit.
+    from lfdkit.skill import TaskFrameSkill
+
+    payload = frame_drawing()
+    pose = [-0.2, 0.41, 0.1]
+    swerve = _pan_stroke(pose, 9)
+    swerve[:, 1] += 0.06 * np.sin(np.pi * np.linspace(0.0, 1.0, len(swerve)))  # 6 cm out
+    payload["demos"].append(
+        {
+            "id": "demo-6",
+            "points": swerve.tolist(),
+            "times": np.linspace(0.0, 0.9, len(swerve)).tolist(),
+            "obstacles": ["o1"],
+            "frames": {"pan": pose},
+        }
+    )
+    # Last, marked and without frames: the frames are still common to the clean strokes,
+    # and the page starts them where the last clean stroke recorded them.
+    marked = dict(payload["demos"][-1], id="demo-7", frames=None)
+    payload["demos"].append({k: v for k, v in marked.items() if v is not None})
+    payload["obstacles"] = [{**OBSTACLE, "x": -0.0, "y": 0.43, "radius": 0.02}]
+    client = new_client()
+    headers = session(client)
+    status = learn(client, headers, payload)
+    assert status["state"] == "done", status
+    said = [line.strip().split("  ", 1)[1] for line in status["lines"]]
+    assert (
+        "task frames: a task-frame skill (TP-GMM) in pan from 5 clean strokes "
+        "(2 marked around obstacles left out)" in said
+    ), said
+    last_clean = frame_drawing()["demos"][-1]["frames"]["pan"]
+    assert status["layers"]["task_frames"]["poses"] == {"pan": last_clean}
+    direct = TaskFrameSkill().fit(_records(frame_drawing()))
+    plan = _plan_frames(client, headers, {"pan": pose})
+    np.testing.assert_allclose(plan["points"], direct.plan({"pan": pose}).positions, atol=1e-12)
 
 
 def test_the_frame_plan_leaves_the_frame_along_its_turned_x_axis(frame_learned) -> None:

@@ -28,8 +28,8 @@ pages from posting to the server, which answers no cross-origin request):
 ``POST /api/export/urscript``          the UR5 program of the plan
 =====================================  ========================================================
 
-A learn from demonstrations that all recorded the same task frames also
-learns a task-frame skill (``GET /api/learn``'s ``layers.task_frames``: its
+A learn whose clean demonstrations all recorded the same task frames also
+learns a task-frame skill from them (``GET /api/learn``'s ``layers.task_frames``: its
 frames and where to start them; null when none was learned, and a progress
 line says why).
 

@@ -17,11 +17,12 @@ URScript program is :func:`lfdkit.tasks.sweeping.execution.execute_skill`'s.
 No file path ever comes from the browser: uploads are written to a private
 temporary file whose name the server chooses.
 
-Task frames: when every demonstration recorded the same task frames (the
+Task frames: when every clean demonstration recorded the same task frames (the
 rule of ``demos.csv``), the same learning job also fits a
-:class:`lfdkit.skill.TaskFrameSkill` on the records ``demos.csv`` holds, as
-``lfdkit learn demos.csv --task-frames`` does (same defaults, metres: its
-file is that command's, byte for byte), kept beside the obstacle skill
+:class:`lfdkit.skill.TaskFrameSkill` on the clean ones (those not marked
+around an obstacle), as ``lfdkit learn demos.csv --task-frames`` does on a
+``demos.csv`` of them (same defaults, metres: its file is that command's,
+byte for byte), kept beside the obstacle skill
 (:attr:`Session.frame_skill`); the obstacle skill is learned as without
 frames. Frames that differ between demonstrations, or a fit that fails, cost
 the frame skill only (one progress line), never the job.
@@ -805,26 +806,34 @@ def _said_here() -> Iterator[list[str]]:
 def _learn_frame_skill(data: TeachData, job: LearnJob) -> Any:
     """The :class:`~lfdkit.skill.TaskFrameSkill` of the drawing's task frames, or None.
 
-    Fitted on the records ``demos.csv`` holds (:func:`_csv_records`: every
-    demonstration, the obstacle-marked ones too, as the file has them) with
-    ``lfdkit learn --task-frames``'s defaults, in metres. No frames recorded:
-    None, silently. Frames that differ between demonstrations, or a fit that
-    fails: None and one progress line why (the obstacle skill is learned all
-    the same). The fit's warnings (EM not converged, a frame that never
-    moved) join the job's.
+    Fitted on the clean demonstrations (those not marked around an obstacle:
+    they show the task in its frames, as they give the obstacle skill its
+    path; a swerve round a cup is not part of it), as ``demos.csv`` holds
+    them (:func:`_csv_records`), with ``lfdkit learn --task-frames``'s
+    defaults, in metres: its file is that command's for a ``demos.csv`` of
+    those strokes. No frames recorded: None, silently. Frames that differ
+    between the clean demonstrations, or a fit that fails: None and one
+    progress line why (the obstacle skill is learned all the same). The
+    fit's warnings (EM not converged, a frame that never moved) join the job's.
     """
     from lfdkit.app.cli.task_frames import DEFAULT_COMPONENTS
     from lfdkit.skill import TaskFrameSkill
 
-    if not any(demo.frames for demo in data.demos):
+    clean = [demo for demo in data.demos if demo.scene is None]
+    if not any(demo.frames for demo in clean):
         return None
     try:
-        records = _csv_records(data.demos)
+        records = _csv_records(clean)
     except RequestError as exc:
         job.say(f"task frames: no task-frame skill: {exc}")
         return None
     names = list(records[0].frames or {})
-    job.say(f"task frames: a task-frame skill (TP-GMM) in {', '.join(names)}")
+    marked = len(data.demos) - len(clean)
+    left_out = f" ({marked} marked around obstacles left out)" if marked else ""
+    job.say(
+        f"task frames: a task-frame skill (TP-GMM) in {', '.join(names)} from "
+        f"{len(clean)} clean strokes{left_out}"
+    )
     skill = TaskFrameSkill(n_components=DEFAULT_COMPONENTS, units="m")
     try:
         with _said_here() as said:
@@ -843,10 +852,11 @@ def _learn_frame_skill(data: TeachData, job: LearnJob) -> Any:
 def frame_layer(skill: Any, data: TeachData) -> dict[str, Any]:
     """What the page shows of a task-frame skill: its frames, where to start them, a summary.
 
-    ``poses``: each frame's pose ``[x, y, angle]`` (m, rad) as the last
-    demonstration recorded it, where the page puts the frames to try first.
+    ``poses``: each frame's pose ``[x, y, angle]`` (m, rad) as the last clean
+    demonstration (one the skill learned from) recorded it, where the page puts
+    the frames to try first.
     """
-    last = data.demos[-1].frames or {}
+    last = next(d.frames for d in reversed(data.demos) if d.scene is None and d.frames)
     return {
         "frames": list(skill.frame_names_),
         "poses": {name: np.asarray(last[name], float).tolist() for name in skill.frame_names_},
