@@ -442,7 +442,8 @@ def test_a_plan_passing_a_class_running_a_way_it_was_never_shown_says_so() -> No
         "across the path and 0.16 times along it as they showed"
     )
     assert message.endswith(
-        "or plan with Skill(model='path') for a person who reacts relative to the motion"
+        "or, for a person who reacts relative to the motion, learn the skill with "
+        "model='path' (lfdkit learn --model path)"
     )
     # Within a quarter of its width across (30 degrees: 1.15), the same task, or a person
     # planned relative to the motion (or by the thesis's model, in room axes by choice): none.

@@ -1100,8 +1100,8 @@ class Planning:
             f"room axes, is {across:.2g} times as wide across the path and {along:.2g} times "
             "along it as they showed, and whether the person reacts in room axes or relative "
             f"to the motion is not known from them: show a demonstration passing a {label!r} "
-            "running this way, or plan with Skill(model='path') for a person who reacts "
-            "relative to the motion",
+            "running this way, or, for a person who reacts relative to the motion, learn the "
+            "skill with model='path' (lfdkit learn --model path)",
             UserWarning,
             stacklevel=4,
         )

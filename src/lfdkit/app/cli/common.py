@@ -948,7 +948,8 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         default=SKILL_DEFAULTS["model"],
         help="obstacle behaviour: 'auto' chooses the planner's window choice from the "
         "demonstrations and keeps the clearance they kept; 'thesis' is the thesis's model "
-        "exactly (default %(default)s)",
+        "exactly; 'path' is 'auto' with each learned response turned with the path at its "
+        "obstacle, for a person who reacts relative to the motion (2-D) (default %(default)s)",
     )
     parser.add_argument(
         "--duration",
