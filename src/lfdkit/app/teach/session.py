@@ -616,8 +616,8 @@ class Session:
     """One tab's server-side state: its skills, the layers to show, its learning job.
 
     ``skill`` is the obstacle skill (:class:`lfdkit.skill.Skill`), ``frame_skill``
-    the :class:`lfdkit.skill.TaskFrameSkill` learned beside it when every
-    demonstration recorded the same task frames (None otherwise).
+    the :class:`lfdkit.skill.TaskFrameSkill` learned beside it from the clean
+    demonstrations when every one of them recorded the same task frames (None otherwise).
     """
 
     id: str
