@@ -17,7 +17,7 @@ from lfdkit.app.cli.learn import _fidelity_lines
 from lfdkit.skill import Skill
 
 SMALL_DEMOS = "demo,x,y\n1,0,0\n1,0.5,0.1\n1,1,0\n2,0,0\n2,0.5,0.05\n2,1,0\n"
-SLOW = "window+demonstrated/return"
+SLOW = "path:window+demonstrated/return"  # asymmetric: planned in the path frame
 
 
 def _edited(path: Path, *, new: bool) -> dict:
@@ -72,7 +72,8 @@ def test_learn_says_the_slow_return_and_the_sides_clearance(
     chosen = next(line for line in lines if line.startswith("obstacle behaviour planned with"))
     assert chosen.startswith(
         "obstacle behaviour planned with the thesis's MPC (each window's best), keeping the "
-        "clearance the demonstrations kept, with a slow return (cross-validated Pr median"
+        "clearance the demonstrations kept, with a slow return, in the path frame "
+        "(cross-validated Pr median"
     )
     assert (
         "; slow return: back at most 0.18 of the step bound (a slope of 0.27 m across per m "
@@ -114,6 +115,6 @@ def test_an_older_file_says_neither(monkeypatch, capsys, tmp_path, example_file)
     line = _fidelity_lines(Skill.from_dict(document, source="runner.json"))[0]
     assert (
         "; runner-up the thesis's MPC (each window's best), keeping the clearance the "
-        "demonstrations kept, with a slow return (cross-validated Pr median"
+        "demonstrations kept, with a slow return, in the path frame (cross-validated Pr median"
     ) in line
     assert "slow return:" not in line

@@ -112,8 +112,8 @@ def test_the_model_is_chosen_by_cross_validated_replanning(learned) -> None:
         f"{route}{floor}"
         for route in ("window", "full")
         for floor in ("", "+demonstrated", "+closest")
-    } | ({"window/swerve"} if selection["swerve_gain"] < 1.0 else set()) | {"taut+typical"}
-    if "window/swerve" in candidates:  # its stretches (before, after) per class, said
+    } | ({"path:window/swerve"} if selection["swerve_gain"] < 1.0 else set()) | {"taut+typical"}
+    if "path:window/swerve" in candidates:  # its stretches (before, after) per class, said
         assert set(selection["swerve"]) == {"cup"} and len(selection["swerve"]["cup"]) == 2
     assert next(iter(candidates)) == "window"  # the thesis's model
     # The default: the demonstrated floor where the closest approach is consistent.

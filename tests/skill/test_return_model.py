@@ -98,11 +98,39 @@ def test_the_candidate_is_offered_only_for_a_slow_return(base, measured, offered
     assert skill._demonstrated_return() == offered
     assert len(names) == (offered is not None)
     if offered is not None:
+        # Asymmetric along the motion: planned relative to it (the path frame, 2-D).
         assert names[0] == {
             "route": "window",
             "floor": "demonstrated",
-            "frame": "world",
+            "frame": "path",
             "return": "slow",
         }
     skill.ioc_info_ = {"horizon": None, "demonstrated_return": measured}  # a full-horizon fit
     assert not [c for c in skill._behaviour_candidates() if "return" in c]
+
+
+@pytest.mark.parametrize("model", ["auto", "path", "thesis"])
+def test_asymmetric_candidates_plan_in_the_path_frame_in_the_plane_only(model) -> None:
+    slow = {"out": 1.5, "back": 0.2, "ratio": 0.13, "count": 7}
+    frames = {}
+    for dims in (2, 3):
+        free = FREE if dims == 2 else [np.column_stack([d, 0.0 * X]) for d in FREE]
+        reward = REWARD if dims == 2 else Reward(10.0, {"cup": [300.0, 2500.0, 2500.0]})
+        skill = Skill(n_points=60, model=model).fit(free).adopt(reward)
+        skill.ioc_info_ = {"horizon": 8, "demonstrated_return": slow}
+        frames[dims] = {
+            ("swerve" in c or "return" in c, c["route"]): c["frame"]
+            for c in skill._behaviour_candidates()
+        }
+    if model == "thesis":  # one candidate, the thesis's model exactly
+        assert frames == {2: {(False, "window"): "world"}, 3: {(False, "window"): "world"}}
+        return
+    symmetric = "path" if model == "path" else "world"
+    assert frames[2] == {
+        (True, "window"): "path",  # the swerve and the slow return turn with the motion
+        (False, "window"): symmetric,
+        (False, "full"): symmetric,
+        (False, "taut"): "world",  # no learned response to turn
+    }
+    # In space the responses are not turned (model="path" refuses to plan there).
+    assert set(frames[3].values()) == {symmetric}

@@ -144,7 +144,7 @@ def _skill_of(person: Reward):
 def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> None:
     skill = _skill_of(Reward(10.0, {"cup": [400.0, 2500.0]}, swerve={"cup": [0.5, 3.0]}))
     selection = skill.model_selection_
-    assert selection["chosen"] == "window/swerve"
+    assert selection["chosen"] == "path:window/swerve"
     # the skill plans with the learned swerve, longer after the cup than before (its
     # sizes trade off with the response's width along the path: only the asymmetry is
     # asserted; the IOC's recovery of the values is the test above)
@@ -153,8 +153,8 @@ def test_a_skill_of_a_swerving_person_chooses_and_plans_with_the_swerve() -> Non
     # the swerve (its stretches, then its widths refitted; Q the thesis fit's) replans the held-out
     # demonstrations well, and at less than SWERVE_MARGIN of the error of the symmetric response
     candidates = selection["candidates"]
-    assert candidates["window/swerve"]["improvement_median"] > 85.0
-    assert candidates["window/swerve"]["error"] < SWERVE_MARGIN * candidates["window"]["error"]
+    assert candidates["path:window/swerve"]["improvement_median"] > 85.0
+    assert candidates["path:window/swerve"]["error"] < SWERVE_MARGIN * candidates["window"]["error"]
 
 
 @pytest.mark.slow  # a skill's whole fit and model choice per person (about 3 s quiet each)
@@ -177,9 +177,9 @@ def test_the_swerve_is_chosen_for_a_swerve_person_and_not_for_a_thesis_one(swerv
     person = Reward(10.0, {"cup": [400.0, 2500.0]}, swerve={"cup": swerve} if swerve else None)
     selection = _skill_of(person).model_selection_
     # a candidate each time, decided by the held-out demonstrations
-    assert "window/swerve" in selection["candidates"]
+    assert "path:window/swerve" in selection["candidates"]
     assert selection["swerve_gain"] < 1.0
-    assert (selection["chosen"] == "window/swerve") is chosen, selection["chosen"]
+    assert (selection["chosen"] == "path:window/swerve") is chosen, selection["chosen"]
 
 
 def test_the_clearance_consistency_is_measured_above_the_noise() -> None:

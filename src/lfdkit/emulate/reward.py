@@ -463,21 +463,33 @@ def unshown_widths(
     return out
 
 
-def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tuple[Reward, Scene]:
-    """The reward with each obstacle's precision turned into the nominal's frame (2-D).
+def in_path_frame(
+    reward: Reward,
+    scene: Scene,
+    nominal: Any,
+    axis: Any,
+    shown: Mapping[str, Sequence[float]] | None = None,
+) -> tuple[Reward, Scene]:
+    """The reward with each obstacle's precision turned with the nominal's direction (2-D).
 
     The thesis's precisions are in world axes: a response learned long along
     the training task's direction stays long along that world direction on a
     task that runs another way. In the path frame each obstacle's precision
-    is turned by the angle from ``axis`` (the direction the reward was learned
-    along) to the nominal's tangent at the obstacle's nearest point, so a
-    person's reaction keeps its shape relative to the motion. Measured
-    (issue 26, fidelity benchmark, quick, against world axes): seed 0, median
-    Pr of the fixed-margin person 74 → 86 %, the late swerver 79 → 83 %, the
-    potential field 40 → 46 %, the thesis-model person's new tasks 95 →
-    −118 % (it reacts in world axes); seed 1, new tasks of the fixed-margin
-    person 63 → −269 % and of the late swerver 30 → −130 %. Mixed, so it is
-    an option (``Skill(model="path")``), not the default.
+    is turned by the angle from the direction its class's response was shown
+    in (the nearest of ``shown``'s, else ``axis``: the direction the reward
+    was learned along) to the direction the nominal runs past the obstacle
+    (:func:`passing_directions`), so a person's reaction keeps its shape
+    relative to the motion. An obstacle passed in a direction it was shown
+    in is planned exactly as in world axes: the fit saw the response so, and
+    demonstrations of one task cannot tell the frames apart (turned from
+    ``axis`` alone, the few degrees the training nominals run off it turned
+    responses 10 times as long as they are wide, and the potential-field
+    person's held-out swerve error rose 206 → 235 mm², fidelity benchmark
+    seed 1, mm, 4 demonstrations, 2× noise).
+
+    Measured (fidelity benchmark, ``--sizes 4 10``, against world axes, issue
+    26's ``model="auto"`` planning its asymmetric swerves so): see
+    :meth:`lfdkit.skill.Skill` (``model``).
 
     Parameters
     ----------
@@ -489,7 +501,10 @@ def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tupl
         The nominal path planned along.
     axis : array_like, shape (2,)
         The direction (unit or not) the precisions' first axis was learned
-        along (the training task's direction).
+        along (the training task's direction): for classes ``shown`` lacks.
+    shown : mapping of str to sequence of float, optional
+        Per class, the angles (rad, mod π) its response was shown in
+        (:func:`shown_directions`, ``ioc_info_["shown_directions"]``).
 
     Returns
     -------
@@ -503,14 +518,23 @@ def in_path_frame(reward: Reward, scene: Scene, nominal: Any, axis: Any) -> tupl
     if nominal.ndim != 2 or nominal.shape[1] != 2 or axis.shape != (2,):
         raise ValueError("in_path_frame: defined for 2-D paths only; use world axes in 3-D")
     axis = axis / np.linalg.norm(axis)
+    learned_along = [math.atan2(axis[1], axis[0])]
     directions = passing_directions(nominal, scene.positions, axis)
     precisions, obstacles, swerve = {}, [], {}
     for i, obstacle in enumerate(scene.obstacles):
-        t = directions[i]
-        cos, sin = float(axis @ t), float(axis[0] * t[1] - axis[1] * t[0])
-        turn = np.array([[cos, -sin], [sin, cos]])
+        beta = math.atan2(directions[i, 1], directions[i, 0])
+        # A Gaussian response is the same turned by π: the smallest turn from a shown direction.
+        turn = min(
+            (
+                (beta - a + math.pi / 2) % math.pi - math.pi / 2
+                for a in (shown or {}).get(obstacle.label) or learned_along
+            ),
+            key=abs,
+        )
+        cos, sin = math.cos(turn), math.sin(turn)
+        rotation = np.array([[cos, -sin], [sin, cos]])
         label = f"{obstacle.label}#{i}"
-        matrix = turn @ reward.precision_of(Scene((obstacle,)))[0] @ turn.T
+        matrix = rotation @ reward.precision_of(Scene((obstacle,)))[0] @ rotation.T
         precisions[label] = 0.5 * (matrix + matrix.T)
         if obstacle.label in reward.swerve:  # along the path already: it turns with it
             swerve[label] = reward.swerve[obstacle.label]

@@ -206,17 +206,21 @@ class Skill(
         keeps from one obstacle: fidelity benchmark, pairs, −964 % median Pr
         with the floor, 94-98 % without).
 
-        ``"path"`` (2-D, static scenes): as ``"auto"``, with each obstacle's
-        learned response turned from the direction it was learned along (the
-        generalized path's start-to-goal direction when the reward was
-        fitted, ``ioc_info_["frame_axis"]``) into the nominal's frame at the
-        obstacle (:func:`lfdkit.emulate.reward.in_path_frame`): a person who
-        reacts relative to the motion, not to the room. Not chosen
-        automatically: demonstrations of one task cannot tell the two frames
-        apart, and held out it helps some people and seeds and hurts others
-        (fidelity benchmark, quick, median Pr on new tasks: seed 0 thesis-model
-        person 95 → −118 %, late swerver −528 → 33 %; seed 1 fixed-margin
-        person 63 → −269 %). Its candidates are ``"auto"``'s in the path frame.
+        ``"path"`` (2-D, static scenes): as ``"auto"``, with every model's
+        learned responses in the path frame: each obstacle's response turned
+        from the nearest direction its class was shown in
+        (``ioc_info_["shown_directions"]``; else the direction it was learned
+        along, ``ioc_info_["frame_axis"]``) to the direction the nominal runs
+        past it (:func:`lfdkit.emulate.reward.in_path_frame`): a person who
+        reacts relative to the motion, not to the room. ``"auto"`` plans the
+        swerve and the slow return so (their shape is along the motion) and
+        the symmetric models in world axes (the thesis's model): the
+        demonstrations of one task cannot tell the frames apart. Measured
+        (fidelity benchmark, ``--sizes 4 10``, seeds 0, 1, 11 and 14, against
+        world axes): the potential-field person's pooled Pr 54 → 68 %, new
+        tasks 63 → 83 %; the late swerver's pooled 40 → 56 %, new tasks −251 →
+        17 % (median over the rows); the thesis-model person's new tasks need
+        world axes (seed 0: 95 %, −118 % in the path frame).
 
         Either way the reward is fitted through exactly the route planner the
         skill plans with (the receding horizon ``H`` without goal term: the
@@ -339,7 +343,7 @@ class Skill(
         kept; :func:`lfdkit.emulate.gaps.declined_gap_width`).
     frame_ : {"world", "path"}
         The frame the learned responses are planned in (``"path"`` for
-        ``model="path"``).
+        ``model="path"``, and in 2-D for a chosen swerve or slow return).
     return_fraction_ : float
         The receding horizon's largest step back toward the nominal, as a
         fraction of the action bound (``plan_path``'s ``return_fraction``):

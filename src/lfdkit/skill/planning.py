@@ -1109,7 +1109,7 @@ class Planning:
     def _in_path_frame(
         self, reward: Reward, scene: Scene, nominal: np.ndarray
     ) -> tuple[Reward, Scene]:
-        """``model="path"``: the reward turned into ``nominal``'s frame at each obstacle."""
+        """The reward turned with ``nominal``'s direction at each obstacle (the path frame)."""
         if self.n_dims_ != 2:
             raise ValueError(
                 f"model: 'path' turns responses in the plane only, this skill is "
@@ -1118,7 +1118,8 @@ class Planning:
         axis = (self.ioc_info_ or {}).get("frame_axis")
         if axis is None:  # a reward adopted: learned along this path, as far as is known
             axis = self.path_[-1] - self.path_[0]
-        return in_path_frame(reward, scene, nominal, np.asarray(axis, dtype=np.float64))
+        shown = (self.ioc_info_ or {}).get("shown_directions")
+        return in_path_frame(reward, scene, nominal, np.asarray(axis, dtype=np.float64), shown)
 
     def _margins(
         self,

@@ -245,26 +245,32 @@ class BehaviourSelection:
         responses (``"world"``, or ``"path"`` for ``model="path"``). The
         thesis's model (window, no floor, world) comes first: demonstrations
         that cannot tell the candidates apart keep it. The frame is not a
-        candidate of ``"auto"``: demonstrations of one task cannot tell the
-        two apart (the nominal hardly turns at their obstacles). Last, in 2-D,
-        the taut route with the typical clearance (the shortest way round
-        that keeps it, no learned response).
+        candidate of its own: demonstrations of one task cannot tell the two
+        apart (the nominal hardly turns at their obstacles). It goes with the
+        model instead: in 2-D the swerve and the slow return, shaped along
+        the motion, are planned in the path frame (turned from the directions
+        shown, so exactly as fitted on the training scenes), the symmetric
+        ones (the thesis's Gaussian, in room axes) in ``"world"``. Last, in
+        2-D, the taut route with the typical clearance (the shortest way
+        round that keeps it, no learned response).
         """
         routes = self._fitted_routes((self.ioc_info_ or {}).get("horizon", 0))
         if self.model == "thesis":
             return [{"route": routes[0], "floor": "none", "frame": "world"}]
         frame = "path" if self.model == "path" else "world"
+        # An asymmetric swerve is a reaction to the motion: planned relative to it (2-D).
+        moving = "path" if self.n_dims_ == 2 else frame
         taut = [{"route": "taut", "floor": TYPICAL, "frame": "world"}] if self.n_dims_ == 2 else []
         slow = []
         if routes[0] == "window" and self._demonstrated_return() is not None:
-            slow = [{"route": "window", "floor": "demonstrated", "frame": frame, "return": "slow"}]
+            slow = [{"route": "window", "floor": "demonstrated", "frame": moving, "return": "slow"}]
         return (
             [
                 {"route": route, "floor": floor, "frame": frame}
                 for floor in CLEARANCE_FLOORS
                 for route in routes
             ]
-            + [{"route": routes[0], "floor": "none", "frame": frame, "swerve": "learned"}]
+            + [{"route": routes[0], "floor": "none", "frame": moving, "swerve": "learned"}]
             + slow
             + taut
         )

@@ -946,10 +946,11 @@ def add_skill_param_options(parser: argparse.ArgumentParser) -> None:
         "--model",
         choices=MODELS,
         default=SKILL_DEFAULTS["model"],
-        help="obstacle behaviour: 'auto' chooses the planner's window choice from the "
-        "demonstrations and keeps the clearance they kept; 'thesis' is the thesis's model "
-        "exactly; 'path' is 'auto' with each learned response turned with the path at its "
-        "obstacle, for a person who reacts relative to the motion (2-D) (default %(default)s)",
+        help="obstacle behaviour: 'auto' chooses the model from the demonstrations (how far "
+        "ahead the person reacts, the clearance kept, a late or slow swerve, which turns with "
+        "the path in 2-D); 'thesis' is the thesis's model exactly; 'path' is 'auto' with "
+        "every learned response turned with the path at its obstacle, for a person who "
+        "reacts relative to the motion (2-D) (default %(default)s)",
     )
     parser.add_argument(
         "--duration",

@@ -134,12 +134,12 @@ def _behaviour(name: str, row: dict) -> str:
     floor = row.get("floor", "none")
     if floor != "none":
         words += f", {_FLOOR_NAMES[floor]}"
-    if row.get("frame", "world") == "path":
-        words += ", responses turned with the path"
     if row.get("swerve") == "learned":
         words += ", swerve shaped along the path (early/late, steep/slow)"
     if row.get("return") == "slow":
         words += ", with a slow return"
+    if row.get("frame", "world") == "path":  # the responses turn with the motion
+        words += ", in the path frame"
     return words
 
 
