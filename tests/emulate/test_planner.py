@@ -189,3 +189,23 @@ def test_a_nominal_of_far_more_points_than_the_plan_is_resampled_with_a_warning(
         # Up to twice the plan's points (a curve passed densely), or fewer: unsaid.
         assert plan_path(reward, nominal[:200], scene).points.shape == (100, 2)
         assert plan_path(reward, nominal[::5], scene).points.shape == (100, 2)
+
+
+@pytest.mark.parametrize("inside", [0.005, 0.011, 0.02])
+def test_a_response_along_the_path_bends_with_it_and_keeps_the_short_way_round(inside) -> None:
+    # A trough (an arc of radius 0.3 m about (0, 0.3)) and a box `inside` the bend at its
+    # lowest point; the box's response ten times as long along the path as across it.
+    # Kept straight (world axes, or turned only where the box is passed) its band lies
+    # across the outside of the bend on both sides, and the plan goes the long way round,
+    # inside the bend; along the path it bends with the trough: the short way, outside.
+    angles = np.radians(np.linspace(-150.0, -30.0, 200))
+    nominal = np.column_stack([0.3 * np.cos(angles), 0.3 + 0.3 * np.sin(angles)])
+    box = Scene((Obstacle("box", [0.0, inside], radius=0.05),))
+    sides = {}
+    for along in (False, True):
+        reward = Reward(20.0, {"box": [40.0, 4000.0]}, along_path=along)
+        plan = plan_path(reward, nominal, box, horizon=8, lookahead=False, clearance=0.005)
+        lowest = plan.points[np.argmin(np.abs(plan.points[:, 0]))]
+        sides[along] = "inside" if lowest[1] > inside else "outside"
+        assert plan.clearance.min() >= 0.005 - 1e-9
+    assert sides == {False: "inside", True: "outside"}

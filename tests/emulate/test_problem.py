@@ -382,3 +382,65 @@ def test_3d_newton_steps_use_the_exact_hessian_where_the_reduced_system_is_defin
         np.testing.assert_allclose(solved["exact"][1], solved["floored"][1], atol=1e-7)
     assert same == 8
     assert iterations["exact"] < 0.6 * iterations["floored"], iterations
+
+
+def _along_path(reward: Reward, turn: float) -> Reward:
+    """``reward`` with its precisions in the axes of a path running at ``turn`` (rad)."""
+    c, s = np.cos(turn), np.sin(turn)
+    axes = np.array([[c, -s], [s, c]])  # columns: along and across, in the room
+    precisions = {k: axes.T @ p @ axes for k, p in reward.precisions.items()}
+    return Reward(reward.nominal_weight, precisions, reward.swerve, along_path=True)
+
+
+@pytest.mark.parametrize("degrees", [0.0, 30.0, 135.0])
+def test_a_reward_along_a_straight_path_has_the_world_axis_terms(degrees) -> None:
+    # Straightening a straight nominal out is a rigid motion: the same terms, to
+    # rounding, anchors beyond either end included (their arc length runs on).
+    turn = np.radians(degrees)
+    direction = np.array([np.cos(turn), np.sin(turn)])
+    nominal = np.outer(np.linspace(0.0, 0.8, 50), direction) + np.array([0.1, -0.2])
+    corridor = Corridor.from_path(nominal, 60)
+    reward = Reward(
+        20.0,
+        {"cup": [[300.0, 120.0], [120.0, 2500.0]], "box": [40.0, 900.0]},
+        swerve={"box": [0.5, 2.0]},
+    )
+    left = np.array([-direction[1], direction[0]])
+    scene = Scene(
+        (
+            Obstacle("cup", nominal[0] + 0.3 * direction + 0.02 * left, radius=0.01),
+            Obstacle("box", nominal[0] - 0.05 * direction - 0.03 * left, radius=0.02),
+            Obstacle("box", nominal[-1] + 0.04 * direction + 0.01 * left, radius=0.02),
+        )
+    )
+    world = Problem.from_scene(reward, corridor, scene, 1.0)
+    unrolled = Problem.from_scene(_along_path(reward, turn), corridor, scene, 1.0)
+    assert world.unrolled is None and unrolled.unrolled is not None
+    for name in ("c", "b", "a"):
+        np.testing.assert_allclose(
+            getattr(unrolled, name), getattr(world, name), rtol=1e-9, atol=1e-9
+        )
+    # The geometry's precisions (widths, reach): back in world axes.
+    np.testing.assert_allclose(unrolled.precision, world.precision, rtol=1e-12, atol=1e-9)
+
+
+def test_a_reward_along_a_bending_path_keeps_its_shape_along_it() -> None:
+    # A trough: an arc of radius R about (0, R), run anticlockwise, so the left
+    # normal points to the centre. An anchor δ inside the bend at its lowest point is at
+    # arc length s_o = R·π/3 and lateral offset δ; a point k at (s_k, d) sees
+    # u = (s_k − s_o, d − δ) through the precision in the path's axes.
+    radius, delta = 0.3, 0.011
+    angles = np.radians(np.linspace(-150.0, -30.0, 121))
+    nominal = np.column_stack([radius * np.cos(angles), radius + radius * np.sin(angles)])
+    corridor = Corridor.from_path(nominal, 121)
+    precision = np.array([[40.0, 15.0], [15.0, 4000.0]])
+    reward = Reward(20.0, {"box": precision}, along_path=True)
+    problem = Problem.from_scene(reward, corridor, Scene((Obstacle("box", [0.0, delta]),)), 1.0)
+    s = corridor.step * np.arange(1, 121)
+    s_o = radius * np.pi / 3  # the chord-sampled arc is shorter by about 1e-5
+    u = np.column_stack([s - s_o, np.full(120, -delta)])
+    np.testing.assert_allclose(
+        problem.c[:, 0], np.einsum("ki,ij,kj->k", u, precision, u), rtol=2e-3, atol=1e-6
+    )
+    np.testing.assert_allclose(problem.b[:, 0, 0], u @ precision[:, 1], rtol=2e-3, atol=1e-6)
+    np.testing.assert_allclose(problem.a[:, 0, 0, 0], precision[1, 1])

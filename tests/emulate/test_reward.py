@@ -177,7 +177,7 @@ def test_a_response_shown_one_way_is_judged_by_its_width_across_a_path_running_a
     assert unshown_widths(long, Scene((table,)), _turn(along_x, np.pi / 2), shown) == []
 
 
-def test_the_path_frame_turns_a_response_from_the_nearest_direction_it_was_shown_in() -> None:
+def test_the_path_frame_keeps_a_response_as_shown_in_the_nearest_direction() -> None:
     from lfdkit.emulate.reward import in_path_frame
 
     x = np.linspace(0.0, 1.0, 101)
@@ -188,26 +188,25 @@ def test_the_path_frame_turns_a_response_from_the_nearest_direction_it_was_shown
         path = _turn(np.column_stack([x, 0.0 * x]), angle)
         scene = Scene((Obstacle("cup", _turn([0.5, 0.01], angle), radius=0.02),))
         reward, relabelled = in_path_frame(long, scene, path, [1.0, 0.0], shown)
-        assert relabelled.labels == ("cup#0",) and list(reward.swerve) == ["cup#0"]
+        assert reward.along_path and relabelled.labels == ("cup#0",)
+        assert list(reward.swerve) == ["cup#0"]
         np.testing.assert_array_equal(reward.swerve["cup#0"], [0.5, 2.0])  # along the path
         return reward.precision_of(relabelled)[0]
 
-    def turned(angle: float) -> np.ndarray:
+    def in_axes_of(angle: float) -> np.ndarray:
+        """The learned (world) precision in the axes of a path running at ``angle``."""
         c, s = np.cos(angle), np.sin(angle)
-        rotation = np.array([[c, -s], [s, c]])
-        return rotation @ learned @ rotation.T
+        axes = np.array([[c, -s], [s, c]])
+        return axes.T @ learned @ axes
 
-    # Passed running a way it was shown in: exactly the world-axis response the fit saw,
-    # also where that is not the direction it was learned along (axis, +x).
-    np.testing.assert_array_equal(framed(0.0, None), learned)
-    np.testing.assert_allclose(framed(np.pi / 3, {"cup": [np.pi / 3]}), learned, atol=1e-9)
-    # Shown along x and along y: running at 80 degrees turns it by -10 from y (not 80 from
-    # x); running at 100 degrees, by +10 from y; and at 170 degrees, by -10 from x (mod pi).
+    # Learned along +x and passed so: the path's axes are the room's.
+    np.testing.assert_allclose(framed(0.0, None), learned, atol=1e-9)
+    np.testing.assert_allclose(framed(np.pi / 3, {"cup": [np.pi / 3]}), in_axes_of(np.pi / 3))
+    # Shown along x and along y: running at 80 or 100 degrees, the response as shown along
+    # y (not along x); at 170 degrees, as shown along x (mod pi). Whatever the exact turn.
     shown = {"cup": [0.0, np.pi / 2]}
-    for angle, turn in ((80.0, -10.0), (100.0, 10.0), (170.0, -10.0)):
+    for angle, nearest in ((80.0, 90.0), (100.0, 90.0), (170.0, 0.0)):
         got = framed(np.radians(angle), shown)
-        np.testing.assert_allclose(got, turned(np.radians(turn)), rtol=1e-9, atol=1e-6)
-    # A class the mapping lacks turns from the axis it was learned along.
-    np.testing.assert_allclose(
-        framed(np.radians(80.0), {"pan": [np.pi / 2]}), turned(np.radians(80.0)), atol=1e-6
-    )
+        np.testing.assert_allclose(got, in_axes_of(np.radians(nearest)), rtol=1e-9, atol=1e-6)
+    # A class the mapping lacks: as learned, along the axis (+x).
+    np.testing.assert_allclose(framed(np.radians(80.0), {"pan": [np.pi / 2]}), learned, atol=1e-9)

@@ -51,7 +51,13 @@ from typing import Any
 
 import numpy as np
 
-from lfdkit.core.geometry import PolylineSet, normal_frames, point_tangents, resample
+from lfdkit.core.geometry import (
+    PolylineSet,
+    normal_frames,
+    point_tangents,
+    project_onto_polyline,
+    resample,
+)
 from lfdkit.core.kernels import kernel
 from lfdkit.core.memo import DigestMemo, array_digest
 from lfdkit.core.validation import check_path, check_positive
@@ -73,6 +79,7 @@ __all__ = [
     "longest_segment",
     "predicted_sigma",
     "swerve_shifts",
+    "unrolled_terms",
 ]
 
 #: Most points a plan may have (memory and time grow linearly).
@@ -341,12 +348,15 @@ class Problem:
         hard_centres: np.ndarray | None = None,
         tangents: np.ndarray | None = None,
         stretch: np.ndarray | None = None,
+        unrolled: tuple[np.ndarray, ...] | None = None,
     ) -> None:
         self.base, self.normals = base, normals  # (n, q), (n, m, q)
         self.obstacles = obstacles  # (L, q)
         self.max_step = float(max_step)
         # Moving obstacles: a centre per point, (n, L, q); static ones: (L, q).
         self.moving = obstacles.ndim == 3
+        # A reward along the path: its terms in the nominal's arc-length coordinates.
+        self.unrolled = unrolled
         self._set_terms(precision, weight, tangents, stretch)
         self.hard_centres = obstacles if hard_centres is None else hard_centres
         radius = np.zeros(self.hard_centres.shape[-2]) if hard_radius is None else hard_radius
@@ -379,9 +389,17 @@ class Problem:
         tangents: np.ndarray | None,
         stretch: np.ndarray | None,
     ) -> None:
-        """The reward's part: precisions, nominal weight, swerve and the obstacle terms."""
-        base, obstacles = self.base, self.obstacles
-        self.precision = precision  # (L, q, q)
+        """The reward's part: precisions, nominal weight, swerve and the obstacle terms.
+
+        With :attr:`unrolled` (a reward along the path, :func:`unrolled_terms`)
+        the terms are those of the nominal straightened out: points at
+        ``(s_k, d_k)``, each anchor at its arc length and lateral offset, its
+        precision turned into the path's frame where it is passed.
+        """
+        base, obstacles, normals = self.base, self.obstacles, self.normals
+        self.precision = precision  # (L, q, q): world axes, for the planner's geometry
+        if self.unrolled is not None:
+            base, normals, obstacles, precision, tangents = self.unrolled
         # Nominal weight per offset: Q, or Q ramped up towards the goal.
         self.weight = np.broadcast_to(np.asarray(weight, dtype=np.float64), (base.shape[0],)).copy()
         rel = base[:, None, :] - (obstacles if self.moving else obstacles[None])  # (n, L, q)
@@ -390,7 +408,7 @@ class Problem:
             # The swerve moves each term along the path per point: only c and b change.
             self.shift, self.shift_rate, self.shift_side = swerve_shifts(rel, tangents, stretch)
             rel = rel + self.shift
-        c, b, a = _obstacle_terms(rel, self.normals, precision)
+        c, b, a = _obstacle_terms(rel, normals, precision)
         # C order (moving obstacles' centres make Fortran-ordered terms): numba then
         # compiles one version of each kernel, not one per layout (a copy only then).
         self.c, self.b, self.a = (np.ascontiguousarray(x) for x in (c, b, a))
@@ -484,6 +502,9 @@ class Problem:
                 hard_centres = hard_centres[None] + shifts[:, owner]
                 hard_radius = np.where(hard_radius > 0.0, hard_radius[None] + grow[:, owner], 0.0)
         stretch = reward.anchor_stretch(scene)
+        unrolled = None
+        if getattr(reward, "along_path", False) and q == 2 and not scene.moving and len(anchors):
+            unrolled, precision = unrolled_terms(corridor, anchors, precision.reshape(-1, q, q))
         return cls(
             corridor.points[1:],
             corridor.normals[1:],
@@ -495,6 +516,7 @@ class Problem:
             hard_centres,
             None if stretch is None else corridor.tangents[1:],
             stretch,
+            unrolled,
         )
 
     @property
@@ -531,7 +553,7 @@ class Problem:
 
         sub = object.__new__(Problem)
         sub.base, sub.normals = sliced(self.base), sliced(self.normals)
-        sub.moving = self.moving
+        sub.moving, sub.unrolled = self.moving, None  # its terms are sliced, not recomputed
         sub.obstacles, sub.precision = self.obstacles, self.precision
         if self.moving:  # a centre per point
             sub.obstacles = sliced(self.obstacles)
@@ -754,6 +776,64 @@ def _predicted_shifts(
     sigma = predicted_sigma(covs[:, 1:].reshape(-1, q, q)).reshape(len(moving), n)
     grow[:, moving] = (margin * sigma + 0.5 * np.maximum(move, ahead)).T
     return shifts, grow
+
+
+def unrolled_terms(
+    corridor: Corridor, anchors: np.ndarray, precision: np.ndarray
+) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """A reward along the path: its terms' geometry with the nominal straightened out (2-D).
+
+    A person who reacts relative to the motion keeps the shape of a response
+    along the path as the path bends. A response ten times as long as it is
+    wide, kept straight along the direction where its obstacle is passed,
+    lies across the region outside a bend on both sides of it: at the trough
+    of an S-curve plans passed a box 1-3 cm inside the bend on the far side,
+    the long way round (the fidelity benchmark's late swerver, seed 14, new
+    tasks: Pr −255 %; straightened, 95 %). Here each point is ``(s_k, d_k)``
+    (arc length, lateral offset), each anchor its arc length and lateral
+    offset from the nominal (beyond an end, the arc length runs on along the
+    end's tangent), each precision as given (in the path's axes, along and
+    across).
+
+    Parameters
+    ----------
+    corridor : Corridor
+        2-D.
+    anchors : ndarray, shape (A, 2)
+    precision : ndarray, shape (A, 2, 2)
+        In the path's axes (along, across).
+
+    Returns
+    -------
+    terms : tuple
+        ``(base (n, 2), normals (n, 1, 2), anchors (A, 2), precision (A, 2, 2),
+        tangents (n, 2))`` of points ``1 … K−1`` in the straightened frame.
+    world : ndarray, shape (A, 2, 2)
+        Each precision turned into world axes where its anchor is passed (the
+        nominal's direction at its nearest point): for the planner's geometry
+        (the responses' widths and reach), not for the terms.
+    """
+    points, tangents = corridor.points, corridor.tangents
+    arc, foot, _ = project_onto_polyline(anchors, points)
+    # The direction at the foot: the points' tangents interpolated (smooth over vertices).
+    where = np.clip(arc / corridor.step, 0.0, len(points) - 1.0)
+    below = np.minimum(where.astype(np.int64), len(points) - 2)
+    share = (where - below)[:, None]
+    tangent = (1.0 - share) * tangents[below] + share * tangents[below + 1]
+    tangent = tangent / np.linalg.norm(tangent, axis=1, keepdims=True)
+    left = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    offset = anchors - foot
+    total = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))  # as arc measures
+    ends = (arc <= 1e-12 * total) | (arc >= (1.0 - 1e-12) * total)
+    along = arc + np.where(ends, np.einsum("aq,aq->a", offset, tangent), 0.0)
+    lateral = np.einsum("aq,aq->a", offset, left)
+    axes = np.stack([tangent, left], axis=2)  # columns: the path's axes in the room
+    world = np.einsum("aiq,aqr,ajr->aij", axes, precision, axes)
+    n = len(points) - 1
+    base = np.column_stack([corridor.step * np.arange(1, n + 1), np.zeros(n)])
+    normals = np.broadcast_to(np.array([[[0.0, 1.0]]]), (n, 1, 2))
+    along_x = np.broadcast_to(np.array([[1.0, 0.0]]), (n, 2))
+    return (base, normals, np.column_stack([along, lateral]), precision, along_x), world
 
 
 def _obstacle_terms(

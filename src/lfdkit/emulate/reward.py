@@ -66,6 +66,13 @@ class Reward:
         it; a class without one (or None, the default) is symmetric.
         :meth:`value` and the other pointwise evaluations here ignore it (they
         have no path direction).
+    along_path : bool, default False
+        2-D: the precisions are in the path's axes (along, across), and the
+        planner evaluates each obstacle's term in the nominal's arc-length
+        coordinates, so its shape follows the path as it bends
+        (:func:`lfdkit.emulate.problem.unrolled_terms`; :func:`in_path_frame`
+        makes such a reward). The pointwise evaluations here take the
+        precisions as world axes.
 
     Raises
     ------
@@ -75,13 +82,19 @@ class Reward:
         swerve that is not two positive numbers of a known class.
     """
 
+    #: Precisions in the path's axes, planned along the bending path (see ``along_path``).
+    along_path: bool = False
+
     def __init__(
         self,
         nominal_weight: float,
         precisions: Mapping[str, Any],
         swerve: Mapping[str, Any] | None = None,
+        *,
+        along_path: bool = False,
     ) -> None:
         self.nominal_weight = check_positive(nominal_weight, "nominal_weight")
+        self.along_path = bool(along_path)
         matrices: dict[str, np.ndarray] = {}
         dims = set()
         for label, value in precisions.items():
@@ -470,26 +483,25 @@ def in_path_frame(
     axis: Any,
     shown: Mapping[str, Sequence[float]] | None = None,
 ) -> tuple[Reward, Scene]:
-    """The reward with each obstacle's precision turned with the nominal's direction (2-D).
+    """The reward with each obstacle's response kept in the path's axes (2-D).
 
     The thesis's precisions are in world axes: a response learned long along
     the training task's direction stays long along that world direction on a
-    task that runs another way. In the path frame each obstacle's precision
-    is turned by the angle from the direction its class's response was shown
-    in (the nearest of ``shown``'s, else ``axis``: the direction the reward
-    was learned along) to the direction the nominal runs past the obstacle
-    (:func:`passing_directions`), so a person's reaction keeps its shape
-    relative to the motion. An obstacle passed in a direction it was shown
-    in is planned exactly as in world axes: the fit saw the response so, and
-    demonstrations of one task cannot tell the frames apart (turned from
-    ``axis`` alone, the few degrees the training nominals run off it turned
-    responses 10 times as long as they are wide, and the potential-field
-    person's held-out swerve error rose 206 → 235 mm², fidelity benchmark
-    seed 1, mm, 4 demonstrations, 2× noise).
-
-    Measured (fidelity benchmark, ``--sizes 4 10``, against world axes, issue
-    26's ``model="auto"`` planning its asymmetric swerves so): see
-    :meth:`lfdkit.skill.Skill` (``model``).
+    task that runs another way. In the path frame each obstacle's response
+    keeps the shape it was shown with relative to the motion: its precision
+    is expressed in the axes (along, across) of the direction its class was
+    shown in (``Rᵀ P R``; the nearest of ``shown``'s directions, mod π, to the
+    direction the nominal runs past the obstacle, :func:`passing_directions`;
+    else ``axis``, the direction the reward was learned along), and the
+    planner evaluates it in the nominal's arc-length coordinates
+    (``along_path``, :func:`lfdkit.emulate.problem.unrolled_terms`), so it
+    follows the path as the path bends. An obstacle passed in a direction it
+    was shown in, on a straight stretch, is planned exactly as in world axes:
+    the fit saw the response so, and demonstrations of one task cannot tell
+    the frames apart (turned from ``axis`` alone, the few degrees the training
+    nominals run off it turned responses 10 times as long as they are wide,
+    and the potential-field person's held-out swerve error rose 206 → 235 mm²,
+    fidelity benchmark seed 1, mm, 4 demonstrations, 2× noise).
 
     Parameters
     ----------
@@ -509,7 +521,8 @@ def in_path_frame(
     Returns
     -------
     reward : Reward
-        One class per obstacle, ``"<label>#<index>"``, with the turned precision.
+        One class per obstacle, ``"<label>#<index>"``, its precision in the
+        path's axes (along, across), ``along_path`` set.
     scene : Scene
         The obstacles relabelled so.
     """
@@ -523,20 +536,20 @@ def in_path_frame(
     precisions, obstacles, swerve = {}, [], {}
     for i, obstacle in enumerate(scene.obstacles):
         beta = math.atan2(directions[i, 1], directions[i, 0])
-        # A Gaussian response is the same turned by π: the smallest turn from a shown direction.
-        turn = min(
-            (
-                (beta - a + math.pi / 2) % math.pi - math.pi / 2
-                for a in (shown or {}).get(obstacle.label) or learned_along
-            ),
-            key=abs,
+        # A Gaussian response is the same turned by π: the shown direction nearest mod π.
+        alpha = min(
+            (shown or {}).get(obstacle.label) or learned_along,
+            key=lambda a: abs((beta - a + math.pi / 2) % math.pi - math.pi / 2),
         )
-        cos, sin = math.cos(turn), math.sin(turn)
-        rotation = np.array([[cos, -sin], [sin, cos]])
+        cos, sin = math.cos(alpha), math.sin(alpha)
+        axes = np.array([[cos, -sin], [sin, cos]])  # columns: along and across, in the room
         label = f"{obstacle.label}#{i}"
-        matrix = rotation @ reward.precision_of(Scene((obstacle,)))[0] @ rotation.T
+        matrix = axes.T @ reward.precision_of(Scene((obstacle,)))[0] @ axes
         precisions[label] = 0.5 * (matrix + matrix.T)
         if obstacle.label in reward.swerve:  # along the path already: it turns with it
             swerve[label] = reward.swerve[obstacle.label]
         obstacles.append(dataclasses.replace(obstacle, label=label))
-    return Reward(reward.nominal_weight, precisions, swerve), Scene(tuple(obstacles))
+    return (
+        Reward(reward.nominal_weight, precisions, swerve, along_path=True),
+        Scene(tuple(obstacles)),
+    )

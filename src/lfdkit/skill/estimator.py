@@ -207,20 +207,24 @@ class Skill(
         with the floor, 94-98 % without).
 
         ``"path"`` (2-D, static scenes): as ``"auto"``, with every model's
-        learned responses in the path frame: each obstacle's response turned
-        from the nearest direction its class was shown in
+        learned responses in the path frame: each obstacle's response in the
+        axes of the nearest direction its class was shown in
         (``ioc_info_["shown_directions"]``; else the direction it was learned
-        along, ``ioc_info_["frame_axis"]``) to the direction the nominal runs
-        past it (:func:`lfdkit.emulate.reward.in_path_frame`): a person who
-        reacts relative to the motion, not to the room. ``"auto"`` plans the
+        along, ``ioc_info_["frame_axis"]``), evaluated in the nominal's
+        arc-length coordinates so that it bends with the path
+        (:func:`lfdkit.emulate.reward.in_path_frame`,
+        :func:`lfdkit.emulate.problem.unrolled_terms`): a person who reacts
+        relative to the motion, not to the room. ``"auto"`` plans the
         swerve and the slow return so (their shape is along the motion) and
         the symmetric models in world axes (the thesis's model): the
         demonstrations of one task cannot tell the frames apart. Measured
         (fidelity benchmark, ``--sizes 4 10``, seeds 0, 1, 11 and 14, against
-        world axes): the potential-field person's pooled Pr 54 → 68 %, new
-        tasks 63 → 83 %; the late swerver's pooled 40 → 56 %, new tasks −251 →
-        17 % (median over the rows); the thesis-model person's new tasks need
-        world axes (seed 0: 95 %, −118 % in the path frame).
+        world axes, the responses turned where passed): the potential-field
+        person's pooled Pr 54 → 68 %, new tasks 63 → 83 %; the late swerver's
+        pooled 40 → 56 %, new tasks −251 → 17 % (median over the rows); bent
+        with the path too (and seed 17), new tasks 90 % and 91 %; the
+        thesis-model person's new tasks need world axes (seed 0: 95 %, −118 %
+        in the path frame).
 
         Either way the reward is fitted through exactly the route planner the
         skill plans with (the receding horizon ``H`` without goal term: the

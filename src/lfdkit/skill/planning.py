@@ -757,6 +757,7 @@ class Planning:
                     reward.nominal_weight,
                     {**reward.precisions, SIDE_BLOCKER: np.full(scene.positions.shape[1], narrow)},
                     reward.swerve,
+                    along_path=reward.along_path,
                 )
             for way in routes:
                 options["lookahead"] = way != "window"
@@ -1109,7 +1110,7 @@ class Planning:
     def _in_path_frame(
         self, reward: Reward, scene: Scene, nominal: np.ndarray
     ) -> tuple[Reward, Scene]:
-        """The reward turned with ``nominal``'s direction at each obstacle (the path frame)."""
+        """The reward in the path frame: each response as shown, bent with ``nominal``."""
         if self.n_dims_ != 2:
             raise ValueError(
                 f"model: 'path' turns responses in the plane only, this skill is "

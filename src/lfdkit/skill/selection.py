@@ -248,8 +248,8 @@ class BehaviourSelection:
         candidate of its own: demonstrations of one task cannot tell the two
         apart (the nominal hardly turns at their obstacles). It goes with the
         model instead: in 2-D the swerve and the slow return, shaped along
-        the motion, are planned in the path frame (turned from the directions
-        shown, so exactly as fitted on the training scenes), the symmetric
+        the motion, are planned in the path frame (as shown, bent with the
+        path: exactly as fitted on straight training scenes), the symmetric
         ones (the thesis's Gaussian, in room axes) in ``"world"``. Last, in
         2-D, the taut route with the typical clearance (the shortest way
         round that keeps it, no learned response).

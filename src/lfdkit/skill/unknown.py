@@ -138,7 +138,12 @@ def with_stand_ins(
             continue
         width = _UNKNOWN_RESPONSE_WIDTH * float(reach[labels == label].min())
         stand_ins[label] = np.full(scene.positions.shape[1], 1.0 / width**2)
-    return Reward(reward.nominal_weight, {**reward.precisions, **stand_ins}, reward.swerve)
+    return Reward(
+        reward.nominal_weight,
+        {**reward.precisions, **stand_ins},
+        reward.swerve,
+        along_path=reward.along_path,
+    )
 
 
 def warn_unknown(
