@@ -394,7 +394,8 @@ class Problem:
         With :attr:`unrolled` (a reward along the path, :func:`unrolled_terms`)
         the terms are those of the nominal straightened out: points at
         ``(s_k, d_k)``, each anchor at its arc length and lateral offset, its
-        precision turned into the path's frame where it is passed.
+        precision in the path's axes (along, across), as the reward gives it;
+        :attr:`precision` is the world-axis one where it is passed.
         """
         base, obstacles, normals = self.base, self.obstacles, self.normals
         self.precision = precision  # (L, q, q): world axes, for the planner's geometry
