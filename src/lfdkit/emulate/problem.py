@@ -54,6 +54,7 @@ import numpy as np
 from lfdkit.core.geometry import (
     PolylineSet,
     normal_frames,
+    path_length,
     point_tangents,
     project_onto_polyline,
     resample,
@@ -824,7 +825,7 @@ def unrolled_terms(
     tangent = tangent / np.linalg.norm(tangent, axis=1, keepdims=True)
     left = np.column_stack([-tangent[:, 1], tangent[:, 0]])
     offset = anchors - foot
-    total = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))  # as arc measures
+    total = path_length(points)  # as ``arc`` measures it (the corridor's length to rounding)
     ends = (arc <= 1e-12 * total) | (arc >= (1.0 - 1e-12) * total)
     along = arc + np.where(ends, np.einsum("aq,aq->a", offset, tangent), 0.0)
     lateral = np.einsum("aq,aq->a", offset, left)

@@ -51,13 +51,11 @@
     framePlan: null, // the task-frame skill's plan for trial.frames (POST /api/plan/frames)
     framePlanError: null,
     framePlanBusy: false,
-    framePlanAgain: false,
     framePlanCount: 0,
     heat: null,
     heatImage: null,
     roundTrip: null,
     planBusy: false,
-    planAgain: false,
     planCount: 0,
     show: { heat: true, band: true, demos: true, path: true, nominal: true, plan: true, frames: true },
   };
@@ -1094,11 +1092,27 @@
     return { frames: Object.fromEntries((state.trial.frames || []).map((f) => [f.name, [f.x, f.y, f.angle]])) };
   }
 
-  // As requestPlan: one task-frame plan in flight at a time; the latest poses win.
-  async function requestFramePlan() {
+  // One request of a kind in flight at a time (state[busy] while it runs): calls meanwhile
+  // are merged (merge(pending, arg)) into one more run when it ends, so the latest wins.
+  function singleFlight(busy, run, merge) {
+    let pending = null;
+    return async function request(arg) {
+      if (state[busy]) { pending = merge(pending, arg); return; }
+      state[busy] = true;
+      try {
+        await run(arg);
+      } finally {
+        state[busy] = false;
+        const again = pending;
+        pending = null;
+        if (again !== null) request(again);
+      }
+    };
+  }
+
+  // The task-frame skill's plan for the frames' poses; the latest poses win.
+  const requestFramePlan = singleFlight("framePlanBusy", async () => {
     if (!state.layers || !state.layers.task_frames) return;
-    if (state.framePlanBusy) { state.framePlanAgain = true; return; }
-    state.framePlanBusy = true;
     try {
       state.framePlan = await apiJson("POST", "/api/plan/frames", framePlanRequest());
       state.framePlanError = null;
@@ -1106,15 +1120,10 @@
     } catch (err) {
       state.framePlan = null;
       state.framePlanError = err.message;
-    } finally {
-      state.framePlanBusy = false;
-      renderFramePlanInfo();
-      draw();
-      const again = state.framePlanAgain;
-      state.framePlanAgain = false;
-      if (again) requestFramePlan();
     }
-  }
+    renderFramePlanInfo();
+    draw();
+  }, () => true);
 
   function planRequest(withHeat) {
     const body = {
@@ -1126,11 +1135,10 @@
     return body;
   }
 
-  // One plan in flight at a time; the latest position wins.
-  async function requestPlan(final) {
+  // The obstacle skill's plan; the latest position wins, final (with the heat map) if any
+  // call meanwhile was.
+  const requestPlan = singleFlight("planBusy", async (final) => {
     if (!state.layers) return;
-    if (state.planBusy) { state.planAgain = final ? "final" : state.planAgain || true; return; }
-    state.planBusy = true;
     const sent = performance.now();
     try {
       const plan = await apiJson("POST", "/api/plan", planRequest(final && state.show.heat));
@@ -1142,15 +1150,10 @@
     } catch (err) {
       state.plan = null;
       state.planError = err.message;
-    } finally {
-      state.planBusy = false;
-      renderPlanInfo();
-      refresh();
-      const again = state.planAgain;
-      state.planAgain = false;
-      if (again) requestPlan(again === "final");
     }
-  }
+    renderPlanInfo();
+    refresh();
+  }, (pending, final) => Boolean(pending) || Boolean(final));
 
   function addTrialObstacle() {
     const name = $("try-class").value;
